@@ -1,0 +1,150 @@
+"""Virtual-time loop vs SimPy: a sleep-heavy and a queue ping-pong workload.
+
+Run: ``python benchmarks/bench_loop.py``. Prints events/second for both
+engines and the ratio (ours / SimPy; > 1 means we are faster). Not a test:
+wall-clock numbers belong here, never in the test suite.
+"""
+
+from __future__ import annotations
+
+import argparse
+import asyncio
+import time
+
+import numpy as np
+
+from homesim.vloop import VirtualEventLoop
+
+
+def _delays(n_procs: int, n_steps: int, seed: int) -> np.ndarray:
+    rng = np.random.default_rng(seed)
+    return rng.uniform(0.001, 0.1, size=(n_procs, n_steps)).round(6)
+
+
+def sleep_homesim(delays: np.ndarray) -> int:
+    loop = VirtualEventLoop()
+    count = 0
+
+    async def proc(row: list[float]) -> None:
+        nonlocal count
+        sleep = asyncio.sleep
+        for d in row:
+            await sleep(d)
+            count += 1
+
+    for i, row in enumerate(delays.tolist()):
+        loop.spawn(proc(row), name=f"p{i}")
+    loop.run()
+    loop.close()
+    return count
+
+
+def sleep_simpy(delays: np.ndarray) -> int:
+    import simpy
+
+    env = simpy.Environment()
+    count = 0
+
+    def proc(row: list[float]):
+        nonlocal count
+        timeout = env.timeout
+        for d in row:
+            yield timeout(d)
+            count += 1
+
+    for row in delays.tolist():
+        env.process(proc(row))
+    env.run()
+    return count
+
+
+def pingpong_homesim(n_pairs: int, n_msgs: int) -> int:
+    loop = VirtualEventLoop()
+    count = 0
+
+    async def ping(inbox: asyncio.Queue[int], outbox: asyncio.Queue[int]) -> None:
+        nonlocal count
+        for i in range(n_msgs):
+            await asyncio.sleep(0.001)
+            outbox.put_nowait(i)
+            await inbox.get()
+            count += 2
+
+    async def pong(inbox: asyncio.Queue[int], outbox: asyncio.Queue[int]) -> None:
+        for _ in range(n_msgs):
+            v = await inbox.get()
+            outbox.put_nowait(v)
+
+    for p in range(n_pairs):
+        a: asyncio.Queue[int] = asyncio.Queue()
+        b: asyncio.Queue[int] = asyncio.Queue()
+        loop.spawn(ping(a, b), name=f"ping{p}")
+        loop.spawn(pong(b, a), name=f"pong{p}")
+    loop.run()
+    loop.close()
+    return count
+
+
+def pingpong_simpy(n_pairs: int, n_msgs: int) -> int:
+    import simpy
+
+    env = simpy.Environment()
+    count = 0
+
+    def ping(inbox, outbox):
+        nonlocal count
+        for i in range(n_msgs):
+            yield env.timeout(0.001)
+            outbox.put(i)
+            yield inbox.get()
+            count += 2
+
+    def pong(inbox, outbox):
+        for _ in range(n_msgs):
+            v = yield inbox.get()
+            outbox.put(v)
+
+    for _ in range(n_pairs):
+        a = simpy.Store(env)
+        b = simpy.Store(env)
+        env.process(ping(a, b))
+        env.process(pong(b, a))
+    env.run()
+    return count
+
+
+def _best(fn, *args, repeat: int) -> tuple[float, int]:
+    best = float("inf")
+    n = 0
+    for _ in range(repeat):
+        t0 = time.perf_counter()
+        n = fn(*args)
+        best = min(best, time.perf_counter() - t0)
+    return best, n
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__)
+    ap.add_argument("--procs", type=int, default=200)
+    ap.add_argument("--steps", type=int, default=500)
+    ap.add_argument("--pairs", type=int, default=100)
+    ap.add_argument("--msgs", type=int, default=1000)
+    ap.add_argument("--repeat", type=int, default=3)
+    args = ap.parse_args()
+    delays = _delays(args.procs, args.steps, seed=1)
+    rows = []
+    for name, ours, theirs, a in (
+        ("sleep", sleep_homesim, sleep_simpy, (delays,)),
+        ("pingpong", pingpong_homesim, pingpong_simpy, (args.pairs, args.msgs)),
+    ):
+        t_ours, n_ours = _best(ours, *a, repeat=args.repeat)
+        t_simpy, n_simpy = _best(theirs, *a, repeat=args.repeat)
+        assert n_ours == n_simpy, (name, n_ours, n_simpy)
+        rows.append((name, n_ours / t_ours, n_simpy / t_simpy))
+    print(f"{'workload':<10} {'homesim ev/s':>14} {'simpy ev/s':>14} {'ratio':>7}")
+    for name, ours_rate, simpy_rate in rows:
+        print(f"{name:<10} {ours_rate:>14,.0f} {simpy_rate:>14,.0f} {ours_rate / simpy_rate:>7.2f}")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,99 @@
+"""One error hierarchy for the whole project.
+
+Every error that comes from user input names where the problem is (file,
+line, element) and which rule was broken, so that a researcher can fix a
+scenario or a state machine without reading our code.
+"""
+
+from __future__ import annotations
+
+
+class HomesimError(Exception):
+    """Base of every error homesim raises on purpose."""
+
+
+class InputError(HomesimError):
+    """Bad input: a file or document that cannot be accepted.
+
+    ``source`` is the file name (or a label such as ``<bus:/robot/x>``),
+    ``line`` the 1-based line number when known, ``element`` the tag or id
+    concerned when known.
+    """
+
+    def __init__(
+        self,
+        message: str,
+        *,
+        source: str | None = None,
+        line: int | None = None,
+        element: str | None = None,
+    ) -> None:
+        self.message = message
+        self.source = source
+        self.line = line
+        self.element = element
+        super().__init__(self._format())
+
+    def _format(self) -> str:
+        where = self.source or "<input>"
+        if self.line is not None:
+            where += f":{self.line}"
+        if self.element:
+            where += f": <{self.element}>"
+        return f"{where}: {self.message}"
+
+
+class XMLInputError(InputError):
+    """An XML document is malformed, unsafe or too large."""
+
+
+class SchemaValidationError(InputError):
+    """A document does not satisfy its XML Schema."""
+
+
+class ScenarioError(InputError):
+    """A scenario file cannot be loaded."""
+
+
+class AFSMError(InputError):
+    """A state machine document cannot be loaded or is semantically invalid."""
+
+
+class SimulationError(HomesimError):
+    """The simulation itself cannot go on."""
+
+
+class DeadlockError(SimulationError):
+    """Nothing is ready, no timer is pending, yet tasks are still waiting."""
+
+
+class RealIOError(SimulationError):
+    """Real I/O (threads, sockets, subprocesses) was requested inside a simulation."""
+
+
+class TaskFailedError(SimulationError):
+    """A simulated task or callback raised an exception that nobody handled."""
+
+
+class ClockError(SimulationError):
+    """Virtual time was asked to go backwards or to an invalid value."""
+
+
+class BusError(HomesimError):
+    """A message could not be sent or a call could not be made."""
+
+
+class MessageValidationError(BusError):
+    """A message does not match the schema of its channel or method."""
+
+
+class UnknownParticipantError(BusError):
+    """A call named a server or method that is not registered."""
+
+
+class RemoteCallTimeout(BusError):
+    """A remote procedure call got no reply within its virtual-time timeout."""
+
+
+class RemoteCallFailed(BusError):
+    """The server of a remote procedure call raised an error."""

@@ -1,0 +1,535 @@
+"""A virtual-time asyncio event loop with a stepping API.
+
+Ordinary asyncio code (``asyncio.sleep``, ``wait_for``, ``asyncio.timeout``,
+``Queue``, ``Event``, ``TaskGroup``, ``call_later``/``call_at``) runs on
+:class:`VirtualEventLoop` unchanged, but every clock reading is virtual:
+when nothing is ready to run, the clock jumps straight to the earliest timer.
+
+Why not asyncio's own loop: its timer heap orders equal deadlines by heap
+position, not by scheduling order, and it polls a selector on every round.
+Here timers are keyed by ``(nanoseconds, sequence)`` so callbacks due at the
+same virtual time run in the order they were scheduled, time is an integer
+count of nanoseconds (no float drift over hours), and there is no selector:
+a simulation does no real I/O, and asks for it (executors, sockets,
+subprocesses, threads) are refused with :class:`RealIOError`.
+
+Stepping (SimPy's ``step/peek/run(until)``, sismic's ``execute_once``) works
+from plain code and from inside a running asyncio loop in the same thread
+(a Jupyter kernel): each step installs this loop as the thread's running loop
+for the duration of the step and puts the caller's loop back afterwards.
+
+How it fails: an exception escaping a callback, or a task spawned with
+:meth:`VirtualEventLoop.spawn`, stops the run and is re-raised from
+``step``/``run`` as :class:`TaskFailedError`. When nothing is ready, no timer
+is pending and tasks are still waiting, :meth:`run` raises
+:class:`DeadlockError` naming the waiting tasks instead of hanging.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import heapq
+import itertools
+import math
+import sys
+from asyncio import events
+from collections.abc import Awaitable, Callable, Coroutine
+from asyncio import futures as _futures
+from contextvars import Context, copy_context
+from typing import Any, Protocol, TypeVar
+
+from .errors import ClockError, DeadlockError, RealIOError, TaskFailedError
+
+T = TypeVar("T")
+
+NS_PER_S = 1_000_000_000
+
+# Why the scheduling loop stopped.
+_FAILED, _EMPTY, _UNTIL, _ROUNDS, _PREDICATE = range(5)
+
+
+def to_ns(seconds: float) -> int:
+    """Convert seconds to integer nanoseconds (rounded to the nearest ns)."""
+    return int(round(seconds * NS_PER_S))
+
+
+# Callbacks that asyncio itself schedules and that read no context variables:
+# running them without a copied context is indistinguishable and much cheaper.
+_CONTEXT_FREE = frozenset({_futures._set_result_unless_cancelled})
+
+
+class _Handle(events.Handle):
+    """A slimmer :class:`asyncio.Handle` (no debug traceback capture)."""
+
+    __slots__ = ()
+
+    def __init__(self, callback: Callable[..., Any], args: tuple[Any, ...], loop: Any, context: Context | None) -> None:
+        self._callback = callback
+        self._args = args
+        self._loop = loop
+        self._context = context
+        self._cancelled = False
+        self._repr = None
+        self._source_traceback = None
+
+
+class _TimerHandle(events.TimerHandle):
+    """A slimmer :class:`asyncio.TimerHandle`; the heap key lives outside it."""
+
+    __slots__ = ()
+
+    def __init__(self, when: float, callback: Callable[..., Any], args: tuple[Any, ...], loop: Any, context: Context | None) -> None:
+        self._callback = callback
+        self._args = args
+        self._loop = loop
+        self._context = context
+        self._cancelled = False
+        self._repr = None
+        self._source_traceback = None
+        self._when = when
+        self._scheduled = True
+
+    def cancel(self) -> None:
+        if not self._cancelled:
+            self._cancelled = True
+            self._scheduled = False
+            self._callback = None
+            self._args = None
+
+
+class Pacer(Protocol):
+    """Called before the clock jumps forward; real-time mode sleeps here."""
+
+    def before_advance(self, from_ns: int, to_ns: int) -> None: ...
+
+
+class VirtualEventLoop(asyncio.BaseEventLoop):
+    """An asyncio loop whose clock is virtual and whose order is deterministic.
+
+    Timers due at the same virtual time run in the order they were scheduled.
+    ``now_ns`` never decreases. Use :meth:`step`, :meth:`peek`, :meth:`run`,
+    :meth:`run_until` and :meth:`run_until_complete` to drive it.
+    """
+
+    def __init__(self, *, start: float = 0.0, pacer: Pacer | None = None) -> None:
+        self._inside = False
+        super().__init__()
+        if start < 0 or not math.isfinite(start):
+            raise ClockError(f"start time must be finite and >= 0, got {start!r}")
+        self._now_ns = to_ns(start)
+        self._timers: list[tuple[int, int, asyncio.TimerHandle]] = []
+        self._seq = itertools.count()
+        self._clock_resolution = 1e-9
+        self._pacer = pacer
+        self._failure: BaseException | None = None
+        self._failure_where: str = ""
+        self._spawned: list[asyncio.Task[Any]] = []
+        self._saved_loop: asyncio.AbstractEventLoop | None = None
+        self._saved_hooks: Any = None
+        self.rounds = 0
+
+    # ------------------------------------------------------------------ clock
+    def time(self) -> float:
+        """Virtual time in seconds."""
+        return self._now_ns / NS_PER_S
+
+    @property
+    def now(self) -> float:
+        """Virtual time in seconds."""
+        return self._now_ns / NS_PER_S
+
+    @property
+    def now_ns(self) -> int:
+        """Virtual time in integer nanoseconds (exact)."""
+        return self._now_ns
+
+    # ------------------------------------------------------------- scheduling
+    def call_soon(self, callback: Callable[..., Any], *args: Any, context: Context | None = None) -> asyncio.Handle:  # type: ignore[override]
+        if context is None:
+            context = copy_context()
+        handle = _Handle(callback, args, self, context)
+        self._ready.append(handle)
+        return handle
+
+    def call_at(self, when: float, callback: Callable[..., Any], *args: Any, context: Context | None = None) -> asyncio.TimerHandle:  # type: ignore[override]
+        return self.call_at_ns(to_ns(when), callback, *args, context=context)
+
+    def call_later(self, delay: float, callback: Callable[..., Any], *args: Any, context: Context | None = None) -> asyncio.TimerHandle:  # type: ignore[override]
+        when_ns = self._now_ns + int(round(delay * NS_PER_S))
+        if when_ns < self._now_ns:
+            when_ns = self._now_ns
+        if context is None and callback not in _CONTEXT_FREE:
+            context = copy_context()
+        handle = _TimerHandle(when_ns / NS_PER_S, callback, args, self, context)
+        heapq.heappush(self._timers, (when_ns, next(self._seq), handle))
+        return handle
+
+    def call_at_ns(self, when_ns: int, callback: Callable[..., Any], *args: Any, context: Context | None = None) -> asyncio.TimerHandle:
+        """Schedule ``callback`` at an exact virtual time in nanoseconds.
+
+        A time in the past is treated as "now" (asyncio's rule), keeping its
+        place after everything already scheduled for now.
+        """
+        if when_ns < self._now_ns:
+            when_ns = self._now_ns
+        if context is None and callback not in _CONTEXT_FREE:
+            context = copy_context()
+        handle = _TimerHandle(when_ns / NS_PER_S, callback, args, self, context)
+        heapq.heappush(self._timers, (when_ns, next(self._seq), handle))
+        return handle
+
+    def call_later_ns(self, delay_ns: int, callback: Callable[..., Any], *args: Any, context: Context | None = None) -> asyncio.TimerHandle:
+        """Schedule ``callback`` after an exact delay in nanoseconds."""
+        return self.call_at_ns(self._now_ns + delay_ns, callback, *args, context=context)
+
+    def _timer_handle_cancelled(self, handle: asyncio.TimerHandle) -> None:
+        # Cancelled timers are dropped lazily when they reach the heap's top.
+        pass
+
+    def spawn(self, coro: Coroutine[Any, Any, T], *, name: str) -> asyncio.Task[T]:
+        """Start a top-level simulated task whose failure fails the whole run."""
+        task = self.create_task(coro, name=name)
+        self._spawned.append(task)
+        task.add_done_callback(self._spawned_done)
+        return task
+
+    def _spawned_done(self, task: asyncio.Task[Any]) -> None:
+        if task.cancelled():
+            return
+        exc = task.exception()
+        if exc is not None:
+            self._record_failure(exc, f"task {task.get_name()!r}")
+
+    def _record_failure(self, exc: BaseException, where: str) -> None:
+        if self._failure is None:
+            self._failure = exc
+            self._failure_where = where
+
+    def call_exception_handler(self, context: dict[str, Any]) -> None:
+        """Any unhandled error in a simulated callback fails the run loudly."""
+        exc = context.get("exception")
+        message = context.get("message", "unhandled error")
+        if exc is None:
+            exc = RuntimeError(message)
+        where = message
+        handle = context.get("handle") or context.get("task")
+        if handle is not None:
+            where = f"{message} in {handle!r}"
+        self._record_failure(exc, where)
+
+    # ------------------------------------------------------------- stepping
+    def peek(self) -> float:
+        """Time of the next scheduling round; ``inf`` when nothing is scheduled."""
+        if self._ready:
+            return self.time()
+        self._drop_cancelled()
+        if self._timers:
+            return self._timers[0][0] / NS_PER_S
+        return math.inf
+
+    def _drop_cancelled(self) -> None:
+        timers = self._timers
+        while timers and timers[0][2]._cancelled:
+            heapq.heappop(timers)
+
+    def step(self) -> bool:
+        """Run one scheduling round; return False when there was nothing to run.
+
+        A round advances the clock to the next timer if nothing is ready, then
+        runs every callback that was ready at its start (asyncio's semantics).
+        """
+        with self._entered():
+            outcome = self._drive(None, None, 1)
+        self._raise_failure()
+        return outcome == _ROUNDS
+
+    def run(self, until: float | None = None) -> None:
+        """Run until virtual time ``until`` (or until nothing is left to do).
+
+        As in SimPy, everything scheduled strictly before ``until`` runs,
+        nothing scheduled at or after it does, and the clock ends at exactly
+        ``until``. Raises :class:`DeadlockError` when tasks are still waiting
+        but nothing can ever wake them, :class:`TaskFailedError` when a task
+        failed, :class:`ClockError` when ``until`` lies in the past.
+        """
+        until_ns = None if until is None else to_ns(until)
+        if until_ns is not None and until_ns < self._now_ns:
+            raise ClockError(f"time can't go backwards: run(until={until}) but now is {self.now}")
+        with self._entered():
+            outcome = self._drive(until_ns, None, None)
+            if outcome == _EMPTY:
+                self._check_deadlock()
+            if until_ns is not None and outcome != _FAILED:
+                self._advance_to(until_ns)
+        self._raise_failure()
+
+    def run_until(self, predicate: Callable[[], bool], *, timeout: float | None = None) -> bool:
+        """Step until ``predicate()`` holds (checked after every round).
+
+        Returns True when it held, False when ``timeout`` virtual seconds
+        passed first (the clock then stands at the timeout). Raises
+        :class:`DeadlockError` when nothing is left to run but tasks wait.
+        """
+        if predicate():
+            return True
+        deadline_ns = None if timeout is None else self._now_ns + to_ns(timeout)
+        with self._entered():
+            outcome = self._drive(deadline_ns, predicate, None)
+            if outcome == _EMPTY:
+                self._check_deadlock()
+            elif outcome == _UNTIL and deadline_ns is not None:
+                self._advance_to(deadline_ns)
+        self._raise_failure()
+        return outcome == _PREDICATE
+
+    def run_until_complete(self, future: Awaitable[T]) -> T:  # type: ignore[override]
+        """Run until ``future`` (a coroutine, task or future) is done; return its result."""
+        fut = asyncio.ensure_future(future, loop=self)
+        with self._entered():
+            if not fut.done():
+                outcome = self._drive(None, fut.done, None)
+                if outcome == _EMPTY:
+                    self._check_deadlock(extra=fut)
+        self._raise_failure()
+        return fut.result()
+
+    def run_forever(self) -> None:
+        """Run until nothing is left to do (same as :meth:`run` with no limit)."""
+        self.run()
+
+    def _drive(self, until_ns: int | None, stop: Callable[[], bool] | None, max_rounds: int | None) -> int:
+        """The one scheduling loop behind step/run/run_until; returns why it stopped.
+
+        A round: if nothing is ready, jump the clock to the earliest timer
+        (but never to or past ``until_ns``); move every timer due now to the
+        ready queue in (time, sequence) order; run the callbacks that were
+        ready at the round's start. Everything is inlined: this is the
+        simulator's hottest code.
+        """
+        ready = self._ready
+        timers = self._timers
+        popleft = ready.popleft
+        heappop = heapq.heappop
+        pacer = self._pacer
+        rounds = 0
+        handle = None
+        while True:
+            if self._failure is not None:
+                return _FAILED
+            if not ready:
+                while timers and timers[0][2]._cancelled:
+                    heappop(timers)
+                if not timers:
+                    return _EMPTY
+                when = timers[0][0]
+                if until_ns is not None and when >= until_ns:
+                    return _UNTIL
+                if when > self._now_ns:
+                    if pacer is not None:
+                        pacer.before_advance(self._now_ns, when)
+                    self._now_ns = when
+            now = self._now_ns
+            while timers and timers[0][0] <= now:
+                handle = heappop(timers)[2]
+                if not handle._cancelled:
+                    handle._scheduled = False
+                    ready.append(handle)
+            ntodo = len(ready)
+            try:
+                for _ in range(ntodo):
+                    handle = popleft()
+                    if handle._cancelled:
+                        continue
+                    ctx = handle._context
+                    if ctx is None:
+                        handle._callback(*handle._args)
+                    else:
+                        ctx.run(handle._callback, *handle._args)
+            except (SystemExit, KeyboardInterrupt):
+                raise
+            except BaseException as exc:  # one failing callback fails the run
+                self._record_failure(exc, f"callback {handle!r}")
+            handle = None
+            rounds += 1
+            self.rounds += 1
+            if max_rounds is not None and rounds >= max_rounds:
+                return _ROUNDS
+            if stop is not None and stop():
+                return _PREDICATE
+
+    # -------------------------------------------------------------- internals
+    def _advance_to(self, when_ns: int) -> None:
+        if when_ns < self._now_ns:
+            raise ClockError(f"time can't go backwards: from {self._now_ns} ns to {when_ns} ns")
+        if when_ns > self._now_ns:
+            if self._pacer is not None:
+                self._pacer.before_advance(self._now_ns, when_ns)
+            self._now_ns = when_ns
+
+    def _run_once(self) -> None:  # asyncio's internal entry point
+        self._drive(None, None, 1)
+
+    def _raise_failure(self) -> None:
+        exc = self._failure
+        if exc is None:
+            return
+        self._failure = None
+        raise TaskFailedError(f"simulation failed at t={self.now:.9f} s: {self._failure_where}: {exc!r}") from exc
+
+    def waiting_tasks(self) -> list[asyncio.Task[Any]]:
+        """Tasks of this loop that are not done, sorted by name (deterministic)."""
+        return sorted((t for t in asyncio.all_tasks(self) if not t.done()), key=lambda t: t.get_name())
+
+    def _check_deadlock(self, extra: asyncio.Future[Any] | None = None) -> None:
+        waiting = self.waiting_tasks()
+        if not waiting and extra is None:
+            return
+        lines = [f"{t.get_name()} ({_where(t)})" for t in waiting]
+        raise DeadlockError(
+            f"deadlock at t={self.now:.9f} s: nothing is ready and no timer is pending, "
+            f"but {len(waiting)} task(s) are still waiting: " + "; ".join(lines or ["<the awaited future>"])
+        )
+
+    class _Entered:
+        __slots__ = ("loop",)
+
+        def __init__(self, loop: VirtualEventLoop) -> None:
+            self.loop = loop
+
+        def __enter__(self) -> None:
+            loop = self.loop
+            if loop._inside:
+                raise RuntimeError("the simulation is already running: step/run cannot be called from inside a simulated task")
+            loop._check_closed()
+            loop._inside = True
+            loop._saved_loop = events._get_running_loop()
+            loop._saved_hooks = sys.get_asyncgen_hooks()
+            sys.set_asyncgen_hooks(firstiter=loop._asyncgen_firstiter_hook, finalizer=loop._asyncgen_finalizer_hook)
+            events._set_running_loop(loop)
+
+        def __exit__(self, *exc: object) -> None:
+            loop = self.loop
+            events._set_running_loop(loop._saved_loop)
+            sys.set_asyncgen_hooks(*loop._saved_hooks)
+            loop._saved_loop = None
+            loop._inside = False
+
+    def _entered(self) -> VirtualEventLoop._Entered:
+        return VirtualEventLoop._Entered(self)
+
+    def is_running(self) -> bool:
+        return self._inside
+
+    # ------------------------------------------------------- refused real I/O
+    def _refuse(self, what: str) -> Any:
+        raise RealIOError(
+            f"{what} is not allowed inside a simulation: it would make the run depend on "
+            "real time and threads. Model the work in virtual time instead (asyncio.sleep)."
+        )
+
+    def run_in_executor(self, executor: Any, func: Any, *args: Any) -> Any:  # type: ignore[override]
+        return self._refuse("run_in_executor")
+
+    def call_soon_threadsafe(self, callback: Any, *args: Any, context: Any = None) -> Any:  # type: ignore[override]
+        return self._refuse("call_soon_threadsafe (threads)")
+
+    async def getaddrinfo(self, *args: Any, **kwargs: Any) -> Any:  # type: ignore[override]
+        return self._refuse("getaddrinfo (network)")
+
+    async def getnameinfo(self, *args: Any, **kwargs: Any) -> Any:  # type: ignore[override]
+        return self._refuse("getnameinfo (network)")
+
+    async def create_connection(self, *args: Any, **kwargs: Any) -> Any:  # type: ignore[override]
+        return self._refuse("create_connection (sockets)")
+
+    async def create_server(self, *args: Any, **kwargs: Any) -> Any:  # type: ignore[override]
+        return self._refuse("create_server (sockets)")
+
+    async def create_datagram_endpoint(self, *args: Any, **kwargs: Any) -> Any:  # type: ignore[override]
+        return self._refuse("create_datagram_endpoint (sockets)")
+
+    async def create_unix_connection(self, *args: Any, **kwargs: Any) -> Any:
+        return self._refuse("create_unix_connection (sockets)")
+
+    async def create_unix_server(self, *args: Any, **kwargs: Any) -> Any:
+        return self._refuse("create_unix_server (sockets)")
+
+    async def connect_read_pipe(self, *args: Any, **kwargs: Any) -> Any:  # type: ignore[override]
+        return self._refuse("connect_read_pipe (pipes)")
+
+    async def connect_write_pipe(self, *args: Any, **kwargs: Any) -> Any:  # type: ignore[override]
+        return self._refuse("connect_write_pipe (pipes)")
+
+    async def subprocess_exec(self, *args: Any, **kwargs: Any) -> Any:  # type: ignore[override]
+        return self._refuse("subprocess_exec (subprocesses)")
+
+    async def subprocess_shell(self, *args: Any, **kwargs: Any) -> Any:  # type: ignore[override]
+        return self._refuse("subprocess_shell (subprocesses)")
+
+    async def sock_recv(self, *args: Any, **kwargs: Any) -> Any:  # type: ignore[override]
+        return self._refuse("sock_recv (sockets)")
+
+    async def sock_sendall(self, *args: Any, **kwargs: Any) -> Any:  # type: ignore[override]
+        return self._refuse("sock_sendall (sockets)")
+
+    async def sock_connect(self, *args: Any, **kwargs: Any) -> Any:  # type: ignore[override]
+        return self._refuse("sock_connect (sockets)")
+
+    async def sock_accept(self, *args: Any, **kwargs: Any) -> Any:  # type: ignore[override]
+        return self._refuse("sock_accept (sockets)")
+
+    def add_reader(self, *args: Any, **kwargs: Any) -> Any:
+        return self._refuse("add_reader (file descriptors)")
+
+    def add_writer(self, *args: Any, **kwargs: Any) -> Any:
+        return self._refuse("add_writer (file descriptors)")
+
+    def add_signal_handler(self, *args: Any, **kwargs: Any) -> Any:
+        return self._refuse("add_signal_handler (signals)")
+
+    def _process_events(self, event_list: Any) -> None:
+        pass
+
+    def _write_to_self(self) -> None:
+        pass
+
+    def close(self) -> None:
+        """Cancel every waiting task (so nothing warns at exit) and close the loop."""
+        if self.is_closed():
+            return
+        pending = self.waiting_tasks()
+        for task in pending:
+            task.cancel()
+        if pending and not self._inside:
+            try:
+                with self._entered():
+                    for _ in range(4):
+                        if not self._ready:
+                            break
+                        self._drive(None, None, 1)
+            except RuntimeError:
+                pass
+        self._failure = None
+        self._timers.clear()
+        self._ready.clear()
+        super().close()
+
+
+def _where(task: asyncio.Task[Any]) -> str:
+    """Where a waiting task is suspended: ``file:line in function``."""
+    coro = task.get_coro()
+    frame = None
+    while coro is not None:
+        frame = getattr(coro, "cr_frame", None) or getattr(coro, "gi_frame", None)
+        nxt = getattr(coro, "cr_await", None) or getattr(coro, "gi_yieldfrom", None)
+        if nxt is None or not hasattr(nxt, "cr_frame") and not hasattr(nxt, "gi_frame"):
+            break
+        coro = nxt
+    if frame is None:
+        return "not started"
+    return f"{frame.f_code.co_filename.rsplit('/', 1)[-1]}:{frame.f_lineno} in {frame.f_code.co_name}"
+
+
+def new_loop(*, start: float = 0.0, pacer: Pacer | None = None) -> VirtualEventLoop:
+    """Create a virtual-time loop (convenience for tests and notebooks)."""
+    return VirtualEventLoop(start=start, pacer=pacer)
