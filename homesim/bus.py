@@ -1,0 +1,597 @@
+"""An XCF-like XML message bus on virtual time.
+
+Participants publish XML documents on hierarchical channels
+(``/robot/attention/persons``), subscribe to channels or subtrees
+(``/robot/attention/**``), and call named methods of named servers, awaited
+with a virtual-time timeout or fire-and-forget. Channels and methods may be
+typed by an XSD: every message is validated when sent, and an invalid one is
+refused with an error naming the channel, the schema and libxml2's message,
+and is delivered to nobody.
+
+Each message reaches each receiver after a delay drawn from the link between
+their hosts (:mod:`homesim.network`); per (sender, receiver) pair delivery is
+FIFO. Interceptors see every send, delivery and drop and change nothing: the
+trace recorder is one.
+
+How it fails: sending on a closed participant or calling an unknown server
+raises at once; a call whose reply does not come in time raises
+:class:`RemoteCallTimeout`; a server whose handler raises makes the call raise
+:class:`RemoteCallFailed`. Exceptions raised by subscription handlers fail the
+whole run (see :mod:`homesim.vloop`).
+"""
+
+from __future__ import annotations
+
+import asyncio
+import inspect
+import os
+from collections import deque
+from collections.abc import Awaitable, Callable, Mapping
+from dataclasses import dataclass
+from typing import Any, Union
+
+from lxml import etree
+
+from .errors import (
+    BusError,
+    MessageValidationError,
+    RemoteCallFailed,
+    RemoteCallTimeout,
+    UnknownParticipantError,
+)
+from .message import ERROR, PUBLISH, REPLY, REQUEST, Attachment, Message
+from .network import Network
+from .vloop import NS_PER_S, VirtualEventLoop, to_ns
+from .xmlio import Schema, load_schema, parse_bytes
+
+XMLLike = Union[etree._Element, str, bytes]
+Handler = Callable[[Message], Any]
+SchemaLike = Union[Schema, str, "os.PathLike[str]", None]
+
+SEND = "send"
+DELIVER = "deliver"
+DROP = "drop"
+
+
+@dataclass(frozen=True, slots=True)
+class Observation:
+    """What an interceptor sees: a send, a delivery or a drop, at a time.
+
+    For a send, ``receivers`` lists every intended receiver (sorted); for a
+    delivery or a drop, the one receiver concerned. ``reason`` says why a
+    message was dropped ("lost", "receiver closed", "receiver hung",
+    "overflow").
+    """
+
+    t_ns: int
+    event: str
+    message: Message
+    receivers: tuple[str, ...]
+    reason: str = ""
+
+
+Interceptor = Callable[[Observation], None]
+
+
+def _as_schema(schema: SchemaLike) -> Schema | None:
+    if schema is None or isinstance(schema, Schema):
+        return schema
+    return load_schema(schema)
+
+
+class Subscription:
+    """Messages of one channel (or subtree) for one participant.
+
+    Either a ``handler`` is called at each delivery, or messages queue up to
+    be awaited with :meth:`get` / ``async for``. With ``maxlen`` the oldest
+    queued message is dropped when the queue is full (a sensor stream where
+    only the latest matters).
+    """
+
+    def __init__(self, participant: Participant, pattern: str, handler: Handler | None, maxlen: int | None) -> None:
+        self.participant = participant
+        self.pattern = pattern
+        self.handler = handler
+        self.maxlen = maxlen
+        self._items: deque[Message] = deque()
+        self._waiters: deque[asyncio.Future[None]] = deque()
+        self.closed = False
+        self.delivered = 0
+
+    def _push(self, msg: Message) -> Message | None:
+        """Queue one message; return the message dropped for overflow, if any."""
+        dropped = None
+        if self.maxlen is not None and len(self._items) >= self.maxlen:
+            dropped = self._items.popleft()
+        self._items.append(msg)
+        while self._waiters:
+            w = self._waiters.popleft()
+            if not w.done():
+                w.set_result(None)
+                break
+        return dropped
+
+    async def get(self) -> Message:
+        """Wait (in virtual time) for the next message."""
+        while not self._items:
+            if self.closed:
+                raise BusError(f"subscription {self.pattern!r} of {self.participant.name!r} is closed")
+            fut = self.participant.bus.loop.create_future()
+            self._waiters.append(fut)
+            await fut
+        self.delivered += 1
+        return self._items.popleft()
+
+    def get_nowait(self) -> Message | None:
+        """The next queued message, or None."""
+        if self._items:
+            self.delivered += 1
+            return self._items.popleft()
+        return None
+
+    def drain(self) -> list[Message]:
+        """Every queued message, oldest first; the queue is left empty."""
+        items = list(self._items)
+        self._items.clear()
+        self.delivered += len(items)
+        return items
+
+    def qsize(self) -> int:
+        return len(self._items)
+
+    def __aiter__(self) -> Subscription:
+        return self
+
+    async def __anext__(self) -> Message:
+        if self.closed and not self._items:
+            raise StopAsyncIteration
+        return await self.get()
+
+    def close(self) -> None:
+        """Stop receiving; queued messages stay readable."""
+        if not self.closed:
+            self.closed = True
+            self.participant.bus._remove_subscription(self)
+            for w in self._waiters:
+                if not w.done():
+                    w.set_result(None)
+
+
+@dataclass(slots=True)
+class _Method:
+    server: Participant
+    name: str
+    handler: Callable[[Message], Any]
+    request_schema: Schema | None
+    reply_schema: Schema | None
+
+
+class Participant:
+    """A named module's connection to the bus (one per module)."""
+
+    def __init__(self, bus: Bus, name: str, host: str) -> None:
+        self.bus = bus
+        self.name = name
+        self.host = host
+        self.closed = False
+        self.hung = False
+        self._counter = 0
+        self.published: set[str] = set()
+        self.subscriptions: list[Subscription] = []
+
+    def __repr__(self) -> str:
+        return f"Participant({self.name!r}, host={self.host!r})"
+
+    # ----------------------------------------------------------- publishing
+    def publish(
+        self,
+        channel: str,
+        xml: XMLLike,
+        *,
+        attachments: Mapping[str, Attachment] | None = None,
+        causes: tuple[str, ...] | list[str] = (),
+        created: float | None = None,
+    ) -> Message:
+        """Validate and send ``xml`` on ``channel``; return the sent message."""
+        msg = self._make(PUBLISH, channel, xml, attachments, causes, created)
+        self.bus._publish(self, msg)
+        return msg
+
+    def subscribe(self, pattern: str, handler: Handler | None = None, *, maxlen: int | None = None) -> Subscription:
+        """Receive messages on ``pattern``: a channel, or ``/prefix/**`` for a subtree."""
+        self._check_open()
+        _check_channel_name(pattern, allow_subtree=True)
+        sub = Subscription(self, pattern, handler, maxlen)
+        self.subscriptions.append(sub)
+        self.bus._add_subscription(sub)
+        return sub
+
+    # ------------------------------------------------------------------ RPC
+    def serve(
+        self,
+        method: str,
+        handler: Callable[[Message], etree._Element | Awaitable[etree._Element]],
+        *,
+        request_schema: SchemaLike = None,
+        reply_schema: SchemaLike = None,
+    ) -> None:
+        """Expose ``handler`` as ``<this participant>/<method>``.
+
+        The handler gets the request message and returns the reply element
+        (or an awaitable of it); raising makes the caller's call fail.
+        """
+        self._check_open()
+        key = (self.name, method)
+        if key in self.bus._methods:
+            raise BusError(f"method {self.name}/{method} is already served")
+        self.bus._methods[key] = _Method(self, method, handler, _as_schema(request_schema), _as_schema(reply_schema))
+
+    def unserve(self, method: str) -> None:
+        """Withdraw a method (calls in flight get no reply and time out)."""
+        self.bus._methods.pop((self.name, method), None)
+
+    async def call(
+        self,
+        server: str,
+        method: str,
+        xml: XMLLike,
+        *,
+        timeout: float = 1.0,
+        causes: tuple[str, ...] | list[str] = (),
+        attachments: Mapping[str, Attachment] | None = None,
+    ) -> Message:
+        """Call ``server/method`` and await its reply message (virtual-time timeout)."""
+        _, fut = self._send_request(server, method, xml, causes, attachments, want_reply=True)
+        assert fut is not None
+        try:
+            async with asyncio.timeout(timeout):
+                return await fut
+        except TimeoutError:
+            raise RemoteCallTimeout(
+                f"{self.name}: call {server}/{method} got no reply within {timeout} s (virtual)"
+            ) from None
+
+    def call_nowait(
+        self,
+        server: str,
+        method: str,
+        xml: XMLLike,
+        *,
+        causes: tuple[str, ...] | list[str] = (),
+        attachments: Mapping[str, Attachment] | None = None,
+    ) -> Message:
+        """Fire-and-forget call: the request is sent, any reply is discarded."""
+        msg, _ = self._send_request(server, method, xml, causes, attachments, want_reply=False)
+        return msg
+
+    def _send_request(
+        self,
+        server: str,
+        method: str,
+        xml: XMLLike,
+        causes: tuple[str, ...] | list[str],
+        attachments: Mapping[str, Attachment] | None,
+        *,
+        want_reply: bool,
+    ) -> tuple[Message, asyncio.Future[Message] | None]:
+        entry = self.bus._methods.get((server, method))
+        if entry is None:
+            known = sorted(m for (s, m) in self.bus._methods if s == server)
+            what = f"server {server!r} has no method {method!r} (it serves {known})" if known else f"no server {server!r} is registered"
+            raise UnknownParticipantError(f"{self.name}: cannot call {server}/{method}: {what}")
+        msg = self._make(REQUEST, f"{server}/{method}", xml, attachments, causes, None, schema=entry.request_schema)
+        fut: asyncio.Future[Message] | None = self.bus.loop.create_future() if want_reply else None
+        self.bus._request(self, entry, msg, fut)
+        return msg, fut
+
+    # ------------------------------------------------------------- internals
+    def _make(
+        self,
+        kind: str,
+        channel: str,
+        xml: XMLLike,
+        attachments: Mapping[str, Attachment] | None,
+        causes: tuple[str, ...] | list[str],
+        created: float | None,
+        *,
+        schema: Schema | None = None,
+    ) -> Message:
+        self._check_open()
+        if not isinstance(xml, etree._Element):
+            xml = parse_bytes(xml, source=f"<bus:{channel}>")
+        if kind == PUBLISH:
+            schema = self.bus._channel_schemas.get(channel)
+        if schema is not None and not schema.is_valid(xml):
+            errors = schema.errors(xml)
+            detail = errors[0][1] if errors else "invalid"
+            raise MessageValidationError(
+                f"{self.name}: message on {channel} refused (nothing delivered): "
+                f"schema {schema.name}: {detail}"
+            )
+        now = self.bus.loop.now_ns
+        self._counter += 1
+        msg = Message(
+            id=f"{self.name}#{self._counter}",
+            kind=kind,
+            sender=self.name,
+            channel=channel,
+            xml=xml,
+            created_ns=now if created is None else to_ns(created),
+            sent_ns=now,
+            causes=tuple(causes),
+            attachments=dict(attachments) if attachments else {},
+        )
+        return msg
+
+    def _check_open(self) -> None:
+        if self.closed:
+            raise BusError(f"participant {self.name!r} is closed")
+
+    def close(self) -> None:
+        """Leave the bus: subscriptions end, methods are withdrawn, the name is freed."""
+        if self.closed:
+            return
+        for sub in list(self.subscriptions):
+            sub.close()
+        for key in [k for k in self.bus._methods if k[0] == self.name]:
+            del self.bus._methods[key]
+        self.closed = True
+        self.bus._participants.pop(self.name, None)
+
+
+def _check_channel_name(name: str, *, allow_subtree: bool = False) -> None:
+    body = name[:-3] if allow_subtree and name.endswith("/**") else name
+    if not body.startswith("/") or "//" in body or (len(body) > 1 and body.endswith("/")) or "*" in body:
+        raise BusError(f"bad channel name {name!r}: use /a/b/c (subscriptions may end in /**)")
+
+
+class Bus:
+    """The message bus of one simulation: participants, channels, methods, links."""
+
+    def __init__(self, loop: VirtualEventLoop, *, network: Network) -> None:
+        self.loop = loop
+        self.network = network
+        self._participants: dict[str, Participant] = {}
+        self._exact: dict[str, list[Subscription]] = {}
+        self._subtree: list[Subscription] = []
+        self._route_cache: dict[str, tuple[Subscription, ...]] = {}
+        self._methods: dict[tuple[str, str], _Method] = {}
+        self._channel_schemas: dict[str, Schema] = {}
+        self._interceptors: list[Interceptor] = []
+        self._last_delivery: dict[tuple[str, str], int] = {}
+        self.sent = 0
+        self.delivered = 0
+        self.dropped = 0
+
+    # -------------------------------------------------------- registration
+    def participant(self, name: str, *, host: str = "robot") -> Participant:
+        """Register a participant; names are unique while registered."""
+        if not name or "/" in name or "#" in name:
+            raise BusError(f"bad participant name {name!r}: no '/' or '#', not empty")
+        if name in self._participants:
+            raise BusError(f"a participant named {name!r} is already registered")
+        self.network.ensure_host(host)
+        p = Participant(self, name, host)
+        self._participants[name] = p
+        return p
+
+    def get(self, name: str) -> Participant:
+        """The registered participant ``name``."""
+        try:
+            return self._participants[name]
+        except KeyError:
+            raise UnknownParticipantError(f"no participant named {name!r} is registered") from None
+
+    def registry(self) -> list[dict[str, Any]]:
+        """Every participant with its host, channels, subscriptions and methods (sorted)."""
+        out = []
+        for name in sorted(self._participants):
+            p = self._participants[name]
+            out.append(
+                {
+                    "name": name,
+                    "host": p.host,
+                    "hung": p.hung,
+                    "publishes": sorted(p.published),
+                    "subscribes": sorted(s.pattern for s in p.subscriptions if not s.closed),
+                    "methods": sorted(m for (s, m) in self._methods if s == name),
+                }
+            )
+        return out
+
+    def declare_channel(self, channel: str, schema: SchemaLike) -> None:
+        """Type a channel: every message published on it must satisfy ``schema``."""
+        _check_channel_name(channel)
+        sch = _as_schema(schema)
+        if sch is None:
+            self._channel_schemas.pop(channel, None)
+        else:
+            self._channel_schemas[channel] = sch
+
+    def channel_schema(self, channel: str) -> Schema | None:
+        return self._channel_schemas.get(channel)
+
+    def add_interceptor(self, interceptor: Interceptor) -> None:
+        """Observe every send, delivery and drop (called synchronously, in order)."""
+        self._interceptors.append(interceptor)
+
+    def remove_interceptor(self, interceptor: Interceptor) -> None:
+        self._interceptors.remove(interceptor)
+
+    # ------------------------------------------------------ subscriptions
+    def _add_subscription(self, sub: Subscription) -> None:
+        if sub.pattern.endswith("/**"):
+            self._subtree.append(sub)
+        else:
+            self._exact.setdefault(sub.pattern, []).append(sub)
+        self._route_cache.clear()
+
+    def _remove_subscription(self, sub: Subscription) -> None:
+        if sub.pattern.endswith("/**"):
+            self._subtree.remove(sub)
+        else:
+            lst = self._exact.get(sub.pattern, [])
+            if sub in lst:
+                lst.remove(sub)
+        if sub in sub.participant.subscriptions:
+            sub.participant.subscriptions.remove(sub)
+        self._route_cache.clear()
+
+    def _routes(self, channel: str) -> tuple[Subscription, ...]:
+        cached = self._route_cache.get(channel)
+        if cached is not None:
+            return cached
+        subs = list(self._exact.get(channel, ()))
+        for s in self._subtree:
+            prefix = s.pattern[:-3]
+            if prefix == "" or channel == prefix or channel.startswith(prefix + "/"):
+                subs.append(s)
+        # Order: registration order is deterministic; keep it.
+        routes = tuple(subs)
+        self._route_cache[channel] = routes
+        return routes
+
+    # ---------------------------------------------------------- delivery
+    def _observe(self, obs: Observation) -> None:
+        for fn in self._interceptors:
+            fn(obs)
+
+    def _schedule(self, sender: Participant, receiver: Participant, msg: Message, action: Callable[..., None], *args: Any) -> None:
+        """Deliver ``msg`` to ``receiver`` after the link's delay, FIFO per pair."""
+        delay = self.network.delay_ns(sender.host, receiver.host)
+        if delay is None:
+            self._drop(msg, receiver.name, "lost")
+            return
+        key = (sender.name, receiver.name)
+        when = self.loop.now_ns + delay
+        last = self._last_delivery.get(key, 0)
+        if when < last:
+            when = last
+        self._last_delivery[key] = when
+        self.loop.call_at_ns(when, action, receiver, msg, *args)
+
+    def _drop(self, msg: Message, receiver: str, reason: str) -> None:
+        self.dropped += 1
+        if self._interceptors:
+            self._observe(Observation(self.loop.now_ns, DROP, msg, (receiver,), reason))
+
+    def _receivable(self, receiver: Participant, msg: Message) -> bool:
+        if receiver.closed:
+            self._drop(msg, receiver.name, "receiver closed")
+            return False
+        if receiver.hung:
+            self._drop(msg, receiver.name, "receiver hung")
+            return False
+        return True
+
+    def _publish(self, sender: Participant, msg: Message) -> None:
+        sender.published.add(msg.channel)
+        routes = self._routes(msg.channel)
+        self.sent += 1
+        if self._interceptors:
+            receivers = tuple(sorted({s.participant.name for s in routes}))
+            self._observe(Observation(msg.sent_ns, SEND, msg, receivers))
+        for sub in routes:
+            self._schedule(sender, sub.participant, msg, self._deliver_publish, sub)
+
+    def _deliver_publish(self, receiver: Participant, msg: Message, sub: Subscription) -> None:
+        if sub.closed:
+            self._drop(msg, receiver.name, "receiver closed")
+            return
+        if not self._receivable(receiver, msg):
+            return
+        self.delivered += 1
+        if self._interceptors:
+            self._observe(Observation(self.loop.now_ns, DELIVER, msg, (receiver.name,)))
+        if sub.handler is not None:
+            sub.delivered += 1
+            sub.handler(msg)
+        else:
+            dropped = sub._push(msg)
+            if dropped is not None:
+                self._drop(dropped, receiver.name, "overflow")
+
+    def _request(self, caller: Participant, entry: _Method, msg: Message, fut: asyncio.Future[Message] | None) -> None:
+        self.sent += 1
+        if self._interceptors:
+            self._observe(Observation(msg.sent_ns, SEND, msg, (entry.server.name,)))
+        self._schedule(caller, entry.server, msg, self._deliver_request, entry, caller, fut)
+
+    def _deliver_request(self, server: Participant, msg: Message, entry: _Method, caller: Participant, fut: asyncio.Future[Message] | None) -> None:
+        if self._methods.get((server.name, entry.name)) is not entry:
+            self._drop(msg, server.name, "method withdrawn")
+            return
+        if not self._receivable(server, msg):
+            return
+        self.delivered += 1
+        if self._interceptors:
+            self._observe(Observation(self.loop.now_ns, DELIVER, msg, (server.name,)))
+        try:
+            result = entry.handler(msg)
+        except Exception as exc:  # the server's failure becomes the caller's error
+            self._reply_error(server, caller, msg, fut, exc)
+            return
+        if inspect.isawaitable(result):
+            task = self.loop.create_task(_await(result), name=f"{server.name}/{entry.name}<-{msg.id}")
+            task.add_done_callback(lambda t: self._reply_from_task(t, server, caller, msg, entry, fut))
+        else:
+            self._reply(server, caller, msg, entry, fut, result)
+
+    def _reply_from_task(self, task: asyncio.Task[Any], server: Participant, caller: Participant, request: Message, entry: _Method, fut: asyncio.Future[Message] | None) -> None:
+        if task.cancelled():
+            return
+        exc = task.exception()
+        if exc is not None:
+            self._reply_error(server, caller, request, fut, exc)
+        else:
+            self._reply(server, caller, request, entry, fut, task.result())
+
+    def _reply(self, server: Participant, caller: Participant, request: Message, entry: _Method, fut: asyncio.Future[Message] | None, result: Any) -> None:
+        if server.closed or server.hung:
+            return
+        if not isinstance(result, etree._Element):
+            exc = BusError(f"handler of {server.name}/{entry.name} returned {type(result).__name__}, not an XML element")
+            self._reply_error(server, caller, request, fut, exc)
+            return
+        try:
+            reply = server._make(REPLY, request.channel, result, None, (request.id,), None, schema=entry.reply_schema)
+        except MessageValidationError as exc:
+            self._reply_error(server, caller, request, fut, exc)
+            return
+        self._send_reply(server, caller, reply, fut)
+
+    def _reply_error(self, server: Participant, caller: Participant, request: Message, fut: asyncio.Future[Message] | None, exc: BaseException) -> None:
+        if server.closed:
+            return
+        err = etree.Element("error", type=type(exc).__name__)
+        err.text = str(exc)
+        reply = server._make(ERROR, request.channel, err, None, (request.id,), None)
+        self._send_reply(server, caller, reply, fut)
+
+    def _send_reply(self, server: Participant, caller: Participant, reply: Message, fut: asyncio.Future[Message] | None) -> None:
+        self.sent += 1
+        if self._interceptors:
+            self._observe(Observation(reply.sent_ns, SEND, reply, (caller.name,)))
+        self._schedule(server, caller, reply, self._deliver_reply, fut)
+
+    def _deliver_reply(self, caller: Participant, reply: Message, fut: asyncio.Future[Message] | None) -> None:
+        if not self._receivable(caller, reply):
+            return
+        self.delivered += 1
+        if self._interceptors:
+            self._observe(Observation(self.loop.now_ns, DELIVER, reply, (caller.name,)))
+        if fut is None or fut.done():
+            return
+        if reply.kind == ERROR:
+            fut.set_exception(RemoteCallFailed(f"{reply.channel} failed on the server: {reply.xml.get('type')}: {reply.xml.text}"))
+        else:
+            fut.set_result(reply)
+
+
+async def _await(result: Awaitable[Any]) -> Any:
+    return await result
+
+
+def seconds(ns: int) -> float:
+    """Integer nanoseconds to float seconds."""
+    return ns / NS_PER_S

@@ -1,0 +1,107 @@
+"""Heartbeats: modules fail perceptibly.
+
+The papers: "messages which are initiated by the main loop of each module and
+sent in fixed intervals"; a module that stops sending them "stopped working
+correctly", and corrective action can be taken. :class:`Heartbeat` is called
+from a module's main loop (so a hung loop stops beating);
+:class:`HeartbeatMonitor` watches every module's beats and publishes
+``module_failed`` once a module has missed ``misses`` beats in a row, and
+``module_recovered`` when beats come back.
+"""
+
+from __future__ import annotations
+
+import asyncio
+
+from lxml import etree
+
+from .bus import Participant
+from .message import Message
+from .vloop import NS_PER_S, to_ns
+
+HEARTBEAT_PREFIX = "/system/heartbeat"
+HEALTH_CHANNEL = "/system/health"
+
+
+class Heartbeat:
+    """Sends ``<heartbeat module= seq= interval=/>`` at most every ``interval`` seconds."""
+
+    def __init__(self, participant: Participant, interval: float) -> None:
+        if interval <= 0:
+            raise ValueError(f"heartbeat interval must be > 0, got {interval}")
+        self.participant = participant
+        self.interval = interval
+        self.channel = f"{HEARTBEAT_PREFIX}/{participant.name}"
+        self._interval_ns = to_ns(interval)
+        self._next_ns: int | None = None
+        self.seq = 0
+
+    def beat(self) -> bool:
+        """Send a heartbeat if one is due; return whether one was sent."""
+        now = self.participant.bus.loop.now_ns
+        if self._next_ns is not None and now < self._next_ns:
+            return False
+        self.seq += 1
+        el = etree.Element("heartbeat", module=self.participant.name, seq=str(self.seq), interval=repr(self.interval))
+        self.participant.publish(self.channel, el)
+        self._next_ns = now + self._interval_ns
+        return True
+
+
+class HeartbeatMonitor:
+    """Watches heartbeats; publishes ``module_failed``/``module_recovered`` on /system/health.
+
+    A module is watched from its first beat on (or from :meth:`watch`). It has
+    failed when no beat arrived for ``misses`` of its intervals (plus a grace
+    of ``slack`` seconds for latency). The check runs every ``period`` seconds.
+    """
+
+    def __init__(self, participant: Participant, *, misses: int = 3, period: float = 0.1, slack: float = 0.05) -> None:
+        self.participant = participant
+        self.misses = misses
+        self.period = period
+        self.slack = slack
+        self.last_beat_ns: dict[str, int] = {}
+        self.intervals: dict[str, float] = {}
+        self.failed: dict[str, int] = {}
+        participant.subscribe(HEARTBEAT_PREFIX + "/**", self._on_beat)
+
+    def watch(self, module: str, interval: float) -> None:
+        """Watch ``module`` even before its first beat (its silence counts from now)."""
+        self.intervals[module] = interval
+        self.last_beat_ns.setdefault(module, self.participant.bus.loop.now_ns)
+
+    def _on_beat(self, msg: Message) -> None:
+        name = msg.xml.get("module", msg.sender)
+        self.last_beat_ns[name] = msg.created_ns
+        self.intervals[name] = float(msg.xml.get("interval", "1.0"))
+        if name in self.failed:
+            del self.failed[name]
+            el = etree.Element("module_recovered", module=name, t=repr(msg.created_ns / NS_PER_S))
+            self.participant.publish(HEALTH_CHANNEL, el, causes=(msg.id,))
+
+    def check(self) -> list[str]:
+        """Publish ``module_failed`` for newly silent modules; return their names."""
+        now = self.participant.bus.loop.now_ns
+        newly = []
+        for name in sorted(self.last_beat_ns):
+            if name in self.failed:
+                continue
+            limit = to_ns(self.misses * self.intervals[name] + self.slack)
+            if now - self.last_beat_ns[name] > limit:
+                self.failed[name] = now
+                newly.append(name)
+                el = etree.Element(
+                    "module_failed",
+                    module=name,
+                    last_beat=repr(self.last_beat_ns[name] / NS_PER_S),
+                    missed=str(self.misses),
+                )
+                self.participant.publish(HEALTH_CHANNEL, el)
+        return newly
+
+    async def run(self) -> None:
+        """Check periodically, forever."""
+        while True:
+            self.check()
+            await asyncio.sleep(self.period)

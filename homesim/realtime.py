@@ -1,0 +1,36 @@
+"""Real-time pacing: the one place in homesim that reads the wall clock.
+
+A simulation normally runs as fast as it can. For live demos, a
+:class:`RealtimePacer` makes virtual time follow the wall clock, scaled
+(``scale=2.0`` runs twice as fast as real time). The code that runs is the
+same; only the loop's clock jumps are delayed, so a paced run produces the
+same trace as an unpaced one.
+"""
+
+from __future__ import annotations
+
+import time
+
+from .errors import ClockError
+from .vloop import NS_PER_S
+
+
+class RealtimePacer:
+    """Sleep before each clock jump so that virtual time tracks wall time x scale."""
+
+    def __init__(self, scale: float = 1.0) -> None:
+        if not scale > 0:
+            raise ClockError(f"real-time scale must be > 0, got {scale!r}")
+        self.scale = scale
+        self._origin_wall: float | None = None
+        self._origin_ns = 0
+
+    def before_advance(self, from_ns: int, to_ns: int) -> None:
+        """Block until the wall clock has caught up with ``to_ns``."""
+        now_wall = time.monotonic()
+        if self._origin_wall is None:
+            self._origin_wall = now_wall
+            self._origin_ns = from_ns
+        due = self._origin_wall + (to_ns - self._origin_ns) / NS_PER_S / self.scale
+        if due > now_wall:
+            time.sleep(due - now_wall)

@@ -1,0 +1,163 @@
+"""Simulation: the one owner of virtual time, the bus and the random streams.
+
+A run is built around one :class:`Simulation`: it owns the virtual-time
+loop (:mod:`homesim.vloop`), the bus (:mod:`homesim.bus`) with its network,
+one seeded numpy Generator per named stream, the registered modules and
+fault injection. Same seed + same construction = the same run, to the
+nanosecond and the byte.
+"""
+
+from __future__ import annotations
+
+import os
+import zlib
+from collections.abc import Awaitable, Callable, Coroutine
+from typing import Any, TypeVar
+
+import numpy as np
+from lxml import etree
+
+from .bus import Bus
+from .errors import HomesimError
+from .network import Network
+from .realtime import RealtimePacer
+from .trace import FileTrace, MemoryTrace, TraceRecorder
+from .vloop import VirtualEventLoop, to_ns
+
+T = TypeVar("T")
+
+FAULT_CHANNEL = "/system/faults"
+
+
+class Simulation:
+    """Virtual time, bus and seeded randomness for one run.
+
+    ``realtime`` (a scale factor) paces the run against the wall clock for
+    live demos; the run's results are unchanged.
+    """
+
+    def __init__(self, *, seed: int = 0, scenario: str = "", realtime: float | None = None) -> None:
+        if not isinstance(seed, (int, np.integer)) or seed < 0:
+            raise HomesimError(f"seed must be a non-negative integer, got {seed!r}")
+        self.seed = int(seed)
+        self.scenario = scenario
+        self._rngs: dict[str, np.random.Generator] = {}
+        self.loop = VirtualEventLoop(pacer=RealtimePacer(realtime) if realtime else None)
+        self.network = Network(self.rng("homesim.network"))
+        self.bus = Bus(self.loop, network=self.network)
+        self.modules: dict[str, Any] = {}
+        self._system = self.bus.participant("simulator", host="simulator")
+        self.traces: list[TraceRecorder] = []
+
+    # ------------------------------------------------------------ randomness
+    def rng(self, name: str) -> np.random.Generator:
+        """The generator of stream ``name``: stable per (seed, name), one object per name."""
+        gen = self._rngs.get(name)
+        if gen is None:
+            key = zlib.crc32(name.encode("utf-8"))
+            gen = np.random.Generator(np.random.PCG64(np.random.SeedSequence(self.seed, spawn_key=(key,))))
+            self._rngs[name] = gen
+        return gen
+
+    # ------------------------------------------------------------------ time
+    @property
+    def now(self) -> float:
+        """Virtual time in seconds."""
+        return self.loop.now
+
+    @property
+    def now_ns(self) -> int:
+        """Virtual time in integer nanoseconds."""
+        return self.loop.now_ns
+
+    def spawn(self, coro: Coroutine[Any, Any, T], *, name: str) -> Any:
+        """Start a top-level task; an exception in it fails the run."""
+        return self.loop.spawn(coro, name=name)
+
+    def step(self) -> bool:
+        """Run one scheduling round (see :meth:`VirtualEventLoop.step`)."""
+        return self.loop.step()
+
+    def peek(self) -> float:
+        """Time of the next round; ``inf`` when nothing is scheduled."""
+        return self.loop.peek()
+
+    def run(self, until: float | None = None) -> None:
+        """Run until virtual time ``until`` (exclusive, as in SimPy)."""
+        self.loop.run(until)
+
+    def run_until(self, predicate: Callable[[], bool], *, timeout: float | None = None) -> bool:
+        """Step until ``predicate()`` holds or ``timeout`` virtual seconds pass."""
+        return self.loop.run_until(predicate, timeout=timeout)
+
+    def run_until_complete(self, aw: Awaitable[T]) -> T:
+        """Run until the awaitable is done and return its result."""
+        return self.loop.run_until_complete(aw)
+
+    def call_at(self, t: float, callback: Callable[..., Any], *args: Any) -> Any:
+        """Schedule a plain callback at virtual time ``t`` (seconds)."""
+        return self.loop.call_at_ns(to_ns(t), callback, *args)
+
+    # ----------------------------------------------------------------- trace
+    def record_trace(self, path: str | os.PathLike[str] | None = None) -> TraceRecorder:
+        """Record the bus to a JSON Lines file, or to memory when ``path`` is None."""
+        rec: TraceRecorder
+        if path is None:
+            rec = MemoryTrace(self.bus, scenario=self.scenario, seed=self.seed)
+        else:
+            rec = FileTrace(self.bus, path, scenario=self.scenario, seed=self.seed)
+        self.traces.append(rec)
+        return rec
+
+    # --------------------------------------------------------------- modules
+    def _register_module(self, module: Any) -> None:
+        if module.name in self.modules:
+            raise HomesimError(f"a module named {module.name!r} is already registered")
+        self.modules[module.name] = module
+
+    def start(self) -> None:
+        """Start every registered module that is not running yet (in registration order)."""
+        for module in list(self.modules.values()):
+            module.start()
+
+    # ---------------------------------------------------------------- faults
+    def inject_fault(self, module: str, kind: str, *, at: float | None = None) -> None:
+        """Crash or hang ``module`` now or at virtual time ``at``.
+
+        ``crash``: its main loop is cancelled and it leaves the bus (calls to
+        it fail, messages to it are dropped). ``hang``: its main loop is
+        cancelled but it stays registered and swallows what it receives (a
+        stuck process: calls to it time out). Both stop its heartbeats. The
+        fault is announced on ``/system/faults`` so it shows in the trace.
+        """
+        if kind not in ("crash", "hang"):
+            raise HomesimError(f"unknown fault {kind!r}: use 'crash' or 'hang'")
+        if module not in self.modules:
+            raise HomesimError(f"cannot inject a fault into unknown module {module!r}; known: {sorted(self.modules)}")
+        if at is None:
+            self._apply_fault(module, kind)
+        else:
+            self.call_at(at, self._apply_fault, module, kind)
+
+    def _apply_fault(self, name: str, kind: str) -> None:
+        mod = self.modules[name]
+        self._system.publish(FAULT_CHANNEL, etree.Element("fault", module=name, kind=kind))
+        if mod.task is not None and not mod.task.done():
+            mod.task.cancel()
+        if kind == "crash":
+            mod.bus.close()
+        else:
+            mod.bus.hung = True
+
+    def close(self) -> None:
+        """Flush traces and close the loop (cancelling tasks still waiting)."""
+        for rec in self.traces:
+            rec.close()
+        self.traces.clear()
+        self.loop.close()
+
+    def __enter__(self) -> Simulation:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()

@@ -1,0 +1,118 @@
+"""The system-wide trace: every bus send, delivery and drop as JSON Lines.
+
+Line 1 is a header ``{"homesim_trace": 1, "scenario", "seed",
+"homesim_version"}``. Each later line is one observation, in the order the
+bus made them (``seq`` counts them):
+
+* a send: ``{"t", "seq", "kind" (publish|request|reply|error), "sender",
+  "channel", "receivers", "id", "causes", "created", "xml"}`` plus
+  ``"attachments"`` (name -> sha256, dtype, shape; never inline);
+* a delivery: ``{"t", "seq", "kind": "deliver", "id", "receivers": [name]}``;
+* a drop: the same with ``"kind": "drop"`` and a ``"reason"``.
+
+The recorder is an interceptor: it reads, never changes. Same scenario and
+seed give a byte-identical file.
+"""
+
+from __future__ import annotations
+
+import io
+import json
+import os
+from collections.abc import Iterator
+from pathlib import Path
+from typing import IO, Any
+
+from lxml import etree
+
+from . import __version__
+from .bus import DELIVER, DROP, SEND, Bus, Observation
+from .message import describe_attachment
+from .vloop import NS_PER_S
+
+TRACE_FORMAT = 1
+
+
+def _dumps(obj: dict[str, Any]) -> str:
+    return json.dumps(obj, ensure_ascii=False, separators=(",", ":"), allow_nan=False)
+
+
+def observation_record(obs: Observation, seq: int) -> dict[str, Any]:
+    """The JSON object for one observation (pure; used by the recorder and tests)."""
+    msg = obs.message
+    rec: dict[str, Any] = {"t": obs.t_ns / NS_PER_S, "seq": seq}
+    if obs.event == SEND:
+        rec["kind"] = msg.kind
+        rec["sender"] = msg.sender
+        rec["channel"] = msg.channel
+        rec["receivers"] = list(obs.receivers)
+        rec["id"] = msg.id
+        rec["causes"] = list(msg.causes)
+        rec["created"] = msg.created_ns / NS_PER_S
+        rec["xml"] = etree.tostring(msg.xml, encoding="unicode")
+        if msg.attachments:
+            rec["attachments"] = {k: describe_attachment(v) for k, v in sorted(msg.attachments.items())}
+    else:
+        rec["kind"] = "deliver" if obs.event == DELIVER else "drop"
+        rec["id"] = msg.id
+        rec["receivers"] = list(obs.receivers)
+        if obs.event == DROP:
+            rec["reason"] = obs.reason
+    return rec
+
+
+class TraceRecorder:
+    """Writes the trace of a bus to a text stream (a file, or memory)."""
+
+    def __init__(self, bus: Bus, stream: IO[str], *, scenario: str, seed: int) -> None:
+        self.bus = bus
+        self.stream = stream
+        self.seq = 0
+        header = {"homesim_trace": TRACE_FORMAT, "scenario": scenario, "seed": seed, "homesim_version": __version__}
+        stream.write(_dumps(header) + "\n")
+        bus.add_interceptor(self)
+
+    def __call__(self, obs: Observation) -> None:
+        self.seq += 1
+        self.stream.write(_dumps(observation_record(obs, self.seq)) + "\n")
+
+    def close(self) -> None:
+        """Stop recording and flush (the stream is closed if we opened it)."""
+        if self in self.bus._interceptors:
+            self.bus.remove_interceptor(self)
+        self.stream.flush()
+
+
+class FileTrace(TraceRecorder):
+    """A trace written to a file path (opened and closed by the recorder)."""
+
+    def __init__(self, bus: Bus, path: str | os.PathLike[str], *, scenario: str, seed: int) -> None:
+        self.path = Path(path)
+        self.path.parent.mkdir(parents=True, exist_ok=True)
+        super().__init__(bus, open(self.path, "w", encoding="utf-8", newline="\n"), scenario=scenario, seed=seed)
+
+    def close(self) -> None:
+        super().close()
+        self.stream.close()
+
+
+class MemoryTrace(TraceRecorder):
+    """A trace kept in memory (notebooks, tests)."""
+
+    def __init__(self, bus: Bus, *, scenario: str, seed: int) -> None:
+        super().__init__(bus, io.StringIO(), scenario=scenario, seed=seed)
+
+    def text(self) -> str:
+        assert isinstance(self.stream, io.StringIO)
+        return self.stream.getvalue()
+
+    def records(self) -> list[dict[str, Any]]:
+        return [json.loads(line) for line in self.text().splitlines()]
+
+
+def read_trace(path: str | os.PathLike[str]) -> Iterator[dict[str, Any]]:
+    """Iterate the records of a trace file (header first)."""
+    with open(path, encoding="utf-8") as fh:
+        for line in fh:
+            if line.strip():
+                yield json.loads(line)
