@@ -97,3 +97,28 @@ class RemoteCallTimeout(BusError):
 
 class RemoteCallFailed(BusError):
     """The server of a remote procedure call raised an error."""
+
+
+class AFSMProblems(AFSMError):
+    """A state machine document has several problems; ``problems`` lists every one.
+
+    The message is the first problem plus a count, so a single-line report
+    still says where to start; ``homesim afsm check`` prints them all.
+    """
+
+    def __init__(self, problems: list[AFSMError]) -> None:
+        if not problems:
+            raise ValueError("AFSMProblems needs at least one problem")
+        self.problems = list(problems)
+        first = problems[0]
+        more = len(problems) - 1
+        msg = first.message + (f" (and {more} more problem{'s' if more > 1 else ''})" if more else "")
+        super().__init__(msg, source=first.source, line=first.line, element=first.element)
+
+
+class AFSMModificationRefused(AFSMError):
+    """A run-time replacement or extension of a running AFSM was refused (the reason says why)."""
+
+
+class SupervisorError(HomesimError):
+    """The execution supervisor was used wrongly (e.g. the same event queued twice)."""
