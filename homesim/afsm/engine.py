@@ -1,0 +1,411 @@
+"""The execution supervisor's event queue and AFSM processing (DESIGN.md §2.2), time injected.
+
+Pure: no bus, no asyncio, no clock. The caller passes virtual time as
+integer nanoseconds; :meth:`Engine.queue` only enqueues, :meth:`Engine.process`
+runs the scan and returns records of what happened (sismic's
+``queue``/``execute_once``). The bus module :mod:`robot.supervisor` wraps it.
+
+The rules, exactly:
+
+* The queue is ordered by creation time; ties keep arrival order. An event
+  created earlier but delivered later is inserted before newer ones.
+* :meth:`process` scans from the oldest event. For each event: (1) if
+  ``now >= created + lifetime`` it is removed and rejected as *expired*;
+  (2) else if the current state (or, failing that, an enclosing state, as
+  in SCXML) has a transition on its name whose guard holds, it is removed,
+  the transition's sends are evaluated, the state changes, and the scan
+  restarts from the oldest; (3) else if any transition on its name is
+  written on the current *category* (the innermost compound state around
+  the current state) or on any state inside it, it is *retained*; (4) else
+  it is removed and rejected as *inapplicable*.
+* :meth:`next_deadline` is the earliest expiry among queued events: call
+  :meth:`process` then, and expired events are rejected exactly at their
+  expiry.
+* Conservation: ``stats()['queued'] == applied + expired + inapplicable +
+  len(queue)`` always holds; an id cannot be queued twice while queued.
+
+How it fails: time going backwards raises :class:`ClockError`; a duplicate
+queued id raises :class:`SupervisorError`; a replacement or extension that
+is invalid, or that would remove the current state, raises
+:class:`AFSMModificationRefused` and leaves everything as it was.
+"""
+
+from __future__ import annotations
+
+import math
+from bisect import insort
+from collections import deque
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from typing import Any
+
+from lxml import etree
+
+from ..errors import AFSMModificationRefused, AFSMProblems, ClockError, SupervisorError
+from .model import Machine, Send, Transition, merge, validate
+
+EXPIRED = "expired"
+INAPPLICABLE = "inapplicable"
+WAITING = "waiting"
+RETAINED = "retained"
+
+ParamValue = str | tuple[Any, ...]
+
+
+@dataclass(slots=True)
+class Event:
+    """An event for the ES. ``lifetime_ns`` None: the machine's default for ``name``."""
+
+    id: str
+    name: str
+    source: str
+    created_ns: int
+    lifetime_ns: int | None = None
+    payload: etree._Element | None = None
+
+
+@dataclass(slots=True)
+class Queued:
+    """An event in the queue: its arrival sequence, expiry and status."""
+
+    event: Event
+    seq: int
+    arrived_ns: int
+    expires_ns: int
+    status: str = WAITING
+    retained_in: str | None = None  # the state it was last retained in
+
+    @property
+    def key(self) -> tuple[int, int]:
+        return (self.event.created_ns, self.seq)
+
+
+@dataclass(frozen=True, slots=True)
+class Output:
+    """An order or condition to send: parameters already copied out of the event.
+
+    Parameter values are strings, or tuples of the nodes/strings the XPath
+    selected (nodes still belong to the event payload: copy before reuse).
+    """
+
+    kind: str
+    target: str
+    name: str
+    params: tuple[tuple[str, ParamValue], ...]
+    event_id: str
+
+
+@dataclass(frozen=True, slots=True)
+class Applied:
+    """An event took a transition."""
+
+    at_ns: int
+    event: Event
+    source_state: str
+    target_state: str
+    owner: str  # the state the transition is written on
+    outputs: tuple[Output, ...]
+    kind: str = field(default="applied", init=False)
+
+
+@dataclass(frozen=True, slots=True)
+class Rejected:
+    """An event left the queue unapplied; ``reason`` is EXPIRED or INAPPLICABLE."""
+
+    at_ns: int
+    event: Event
+    state: str
+    reason: str
+    detail: str
+    kind: str = field(default="rejected", init=False)
+
+
+@dataclass(frozen=True, slots=True)
+class Retained:
+    """An event was kept in the queue because the current category can use it (first time per state)."""
+
+    at_ns: int
+    event: Event
+    state: str
+    category: str
+    kind: str = field(default="retained", init=False)
+
+
+Record = Applied | Rejected | Retained
+
+
+def _xpath_true(value: Any) -> bool:
+    """XPath's boolean() of an evaluation result."""
+    if isinstance(value, bool):
+        return value
+    if isinstance(value, float):
+        return value == value and value != 0.0
+    if isinstance(value, list):
+        return bool(value)
+    return bool(value)
+
+
+@dataclass(frozen=True, slots=True)
+class _Compiled:
+    transition: Transition
+    owner: str
+    target_leaf: str  # the leaf entered (the source leaf for targetless)
+    guard: Callable[[Any], Any] | None
+    sends: tuple[tuple[Send, tuple[tuple[str, Callable[[Any], Any]], ...]], ...]
+
+
+class _Tables:
+    """Per-leaf look-up tables of a machine (built once per machine version)."""
+
+    def __init__(self, m: Machine) -> None:
+        self.machine = m
+        xp_cache: dict[str, Callable[[Any], Any]] = {}
+
+        def xp(expr: str) -> Callable[[Any], Any]:
+            f = xp_cache.get(expr)
+            if f is None:
+                f = etree.XPath(expr)
+                xp_cache[expr] = f
+            return f
+
+        self.candidates: dict[str, dict[str, tuple[_Compiled, ...]]] = {}
+        self.retain: dict[str, frozenset[str]] = {}
+        self.category: dict[str, str | None] = {}
+        for leaf in m.leaves():
+            table: dict[str, list[_Compiled]] = {}
+            for owner in m.ancestors(leaf):  # innermost first: the state's own transitions win
+                for t in m.states[owner].transitions:
+                    target = leaf if t.target is None else m.resolve_leaf(t.target)
+                    sends = tuple((s, tuple((p.name, xp(p.expr)) for p in s.params)) for s in t.sends)
+                    comp = _Compiled(t, owner, target, xp(t.cond) if t.cond is not None else None, sends)
+                    table.setdefault(t.event, []).append(comp)
+            self.candidates[leaf] = {k: tuple(v) for k, v in table.items()}
+            cat = m.category_of(leaf)
+            self.category[leaf] = cat
+            names: set[str] = set()
+            if cat is not None:
+                for sid in [cat, *m.descendants(cat)]:
+                    for t in m.states[sid].transitions:
+                        names.add(t.event)
+            self.retain[leaf] = frozenset(names)
+
+
+class Engine:
+    """An AFSM and its event queue. Deterministic: same calls, same records."""
+
+    def __init__(self, machine: Machine, *, history: int = 1000) -> None:
+        problems = validate(machine)
+        if problems:
+            raise AFSMProblems(problems)
+        self._tables = _Tables(machine)
+        self.state = machine.initial_leaf()
+        self._queue: list[Queued] = []
+        self._ids: dict[str, Queued] = {}
+        self._seq = 0
+        self._now = -math.inf
+        self.history: deque[Record] = deque(maxlen=history)
+        self.counts = {"queued": 0, "applied": 0, "expired": 0, "inapplicable": 0}
+
+    # ------------------------------------------------------------- queries
+    @property
+    def machine(self) -> Machine:
+        return self._tables.machine
+
+    @property
+    def category(self) -> str | None:
+        """The category (innermost compound state) of the current state, if any."""
+        return self._tables.category[self.state]
+
+    def __len__(self) -> int:
+        return len(self._queue)
+
+    def queued(self) -> list[Queued]:
+        """The queue, oldest first (a copy; the items are live, do not modify)."""
+        return list(self._queue)
+
+    def next_deadline(self) -> int | None:
+        """Earliest expiry (ns) among queued events; None when the queue is empty."""
+        if not self._queue:
+            return None
+        return min(q.expires_ns for q in self._queue)
+
+    def stats(self) -> dict[str, int]:
+        """Counts of events queued, applied, expired, inapplicable, and still waiting."""
+        out = dict(self.counts)
+        out["pending"] = len(self._queue)
+        return out
+
+    # ----------------------------------------------------------- time guard
+    def _advance(self, now_ns: int) -> None:
+        if now_ns < self._now:
+            raise ClockError(f"time can't go backwards: engine is at {self._now} ns, asked for {now_ns} ns")
+        self._now = now_ns
+
+    # --------------------------------------------------------------- queue
+    def queue(self, event: Event, now_ns: int) -> Queued:
+        """Insert ``event`` (arriving at ``now_ns``) by creation time; nothing is processed."""
+        self._advance(now_ns)
+        if event.id in self._ids:
+            raise SupervisorError(f"event {event.id!r} is already queued (an event is handled exactly once)")
+        lifetime = event.lifetime_ns
+        if lifetime is None:
+            lifetime = self._tables.machine.lifetime_ns(event.name)
+            event.lifetime_ns = lifetime
+        self._seq += 1
+        item = Queued(event, self._seq, now_ns, event.created_ns + lifetime)
+        insort(self._queue, item, key=_key)
+        self._ids[event.id] = item
+        self.counts["queued"] += 1
+        return item
+
+    # ------------------------------------------------------------- process
+    def process(self, now_ns: int) -> list[Record]:
+        """Scan the queue at ``now_ns`` per §2.2; return what happened, in order."""
+        self._advance(now_ns)
+        records: list[Record] = []
+        q = self._queue
+        tables = self._tables
+        i = 0
+        while i < len(q):
+            item = q[i]
+            ev = item.event
+            if now_ns >= item.expires_ns:
+                del q[i]
+                records.append(self._reject(item, now_ns, EXPIRED, f"lifetime ended at {item.expires_ns} ns"))
+                continue
+            comp = None
+            cands = tables.candidates[self.state].get(ev.name)
+            if cands is not None:
+                payload = ev.payload
+                for c in cands:
+                    g = c.guard
+                    if g is None or (payload is not None and _xpath_true(g(payload))):
+                        comp = c
+                        break
+            if comp is not None:
+                del q[i]
+                records.append(self._apply(item, comp, now_ns))
+                i = 0
+                continue
+            if ev.name in tables.retain[self.state]:
+                if item.status != RETAINED or item.retained_in != self.state:
+                    item.status = RETAINED
+                    item.retained_in = self.state
+                    rec = Retained(now_ns, ev, self.state, tables.category[self.state])  # type: ignore[arg-type]
+                    records.append(rec)
+                    self.history.append(rec)
+                i += 1
+                continue
+            del q[i]
+            why = "a guard does not hold" if cands else "no transition on it"
+            records.append(self._reject(item, now_ns, INAPPLICABLE, f"not applicable in state {self.state!r}: {why}"))
+        return records
+
+    def _reject(self, item: Queued, now_ns: int, reason: str, detail: str) -> Rejected:
+        del self._ids[item.event.id]
+        self.counts[reason] += 1
+        rec = Rejected(now_ns, item.event, self.state, reason, detail)
+        self.history.append(rec)
+        return rec
+
+    def _apply(self, item: Queued, comp: _Compiled, now_ns: int) -> Applied:
+        ev = item.event
+        del self._ids[ev.id]
+        self.counts["applied"] += 1
+        outputs = tuple(
+            Output(s.kind, s.target, s.name, tuple((name, _param_value(f, ev.payload)) for name, f in params), ev.id)
+            for s, params in comp.sends
+        )
+        rec = Applied(now_ns, ev, self.state, comp.target_leaf, comp.owner, outputs)
+        self.state = comp.target_leaf
+        self.history.append(rec)
+        return rec
+
+    # -------------------------------------------------------- modification
+    def replace(self, machine: Machine) -> None:
+        """Swap in ``machine`` (validated first); the queue survives, retention is re-decided.
+
+        Refused, with the reason, if the machine is invalid or if the current
+        state would not exist (as a leaf) afterwards.
+        """
+        problems = validate(machine)
+        if problems:
+            raise AFSMModificationRefused(
+                f"refused: the new machine is invalid: {problems[0].message}"
+                + (f" (and {len(problems) - 1} more)" if len(problems) > 1 else ""),
+                source=problems[0].source, line=problems[0].line, element=problems[0].element,
+            )
+        st = machine.states.get(self.state)
+        if st is None or st.children:
+            what = "would not exist" if st is None else "would become a category, not a state"
+            raise AFSMModificationRefused(
+                f"refused: the current state {self.state!r} {what} after the change", source=machine.source
+            )
+        self._tables = _Tables(machine)
+        for item in self._queue:
+            item.status = WAITING
+            item.retained_in = None
+
+    def extend(self, extension: Machine) -> Machine:
+        """Merge states/transitions of ``extension`` into the running machine (see :func:`merge`)."""
+        merged = merge(self.machine, extension)
+        self.replace(merged)
+        return merged
+
+    # ------------------------------------------------------- introspection
+    def snapshot(self) -> dict[str, Any]:
+        """Current state, category, queue with statuses and expiry, counts (JSON-ready)."""
+        return {
+            "state": self.state,
+            "category": self.category,
+            "queue": [
+                {
+                    "id": q.event.id,
+                    "name": q.event.name,
+                    "source": q.event.source,
+                    "created_ns": q.event.created_ns,
+                    "expires_ns": q.expires_ns,
+                    "status": q.status,
+                }
+                for q in self._queue
+            ],
+            "stats": self.stats(),
+        }
+
+
+def _key(item: Queued) -> tuple[int, int]:
+    return (item.event.created_ns, item.seq)
+
+
+def _param_value(f: Callable[[Any], Any], payload: etree._Element | None) -> ParamValue:
+    """Evaluate a parameter XPath: node-sets become tuples, scalars strings."""
+    if payload is None:
+        return ""
+    v = f(payload)
+    if isinstance(v, list):
+        return tuple(x if isinstance(x, etree._Element) else str(x) for x in v)
+    if isinstance(v, bool):
+        return "true" if v else "false"
+    if isinstance(v, float):
+        return str(int(v)) if v.is_integer() else repr(v)
+    return str(v)
+
+
+def record_dict(rec: Record) -> dict[str, Any]:
+    """A record as plain JSON-ready data (traces, introspection, determinism checks)."""
+    ev = rec.event
+    out: dict[str, Any] = {"kind": rec.kind, "at_ns": rec.at_ns, "event": ev.id, "name": ev.name, "source": ev.source}
+    if isinstance(rec, Applied):
+        out.update(source_state=rec.source_state, target_state=rec.target_state, owner=rec.owner,
+                   outputs=[{"kind": o.kind, "target": o.target, "name": o.name,
+                             "params": {n: (v if isinstance(v, str) else [_node_text(x) for x in v]) for n, v in o.params}}
+                            for o in rec.outputs])
+    elif isinstance(rec, Rejected):
+        out.update(state=rec.state, reason=rec.reason, detail=rec.detail)
+    else:
+        out.update(state=rec.state, category=rec.category)
+    return out
+
+
+def _node_text(x: Any) -> str:
+    return etree.tostring(x, encoding="unicode") if isinstance(x, etree._Element) else str(x)
