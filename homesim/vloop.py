@@ -38,7 +38,7 @@ from asyncio import futures as _futures
 from contextvars import Context, copy_context
 from typing import Any, Protocol, TypeVar
 
-from .errors import ClockError, DeadlockError, RealIOError, TaskFailedError
+from .errors import ClockError, DeadlockError, RealIOError, SimulationError, TaskFailedError
 
 T = TypeVar("T")
 
@@ -399,7 +399,7 @@ class VirtualEventLoop(asyncio.BaseEventLoop):
         def __enter__(self) -> None:
             loop = self.loop
             if loop._inside:
-                raise RuntimeError("the simulation is already running: step/run cannot be called from inside a simulated task")
+                raise SimulationError("the simulation is already running: step/run cannot be called from inside a simulated task")
             loop._check_closed()
             loop._inside = True
             loop._saved_loop = events._get_running_loop()
@@ -507,7 +507,7 @@ class VirtualEventLoop(asyncio.BaseEventLoop):
                         if not self._ready:
                             break
                         self._drive(None, None, 1)
-            except RuntimeError:
+            except SimulationError:
                 pass
         self._failure = None
         self._timers.clear()
@@ -516,18 +516,16 @@ class VirtualEventLoop(asyncio.BaseEventLoop):
 
 
 def _where(task: asyncio.Task[Any]) -> str:
-    """Where a waiting task is suspended: ``file:line in function``."""
-    coro = task.get_coro()
-    frame = None
+    """Where a waiting task is suspended: its await chain, outermost first."""
+    parts = []
+    coro: Any = task.get_coro()
     while coro is not None:
         frame = getattr(coro, "cr_frame", None) or getattr(coro, "gi_frame", None)
-        nxt = getattr(coro, "cr_await", None) or getattr(coro, "gi_yieldfrom", None)
-        if nxt is None or not hasattr(nxt, "cr_frame") and not hasattr(nxt, "gi_frame"):
+        if frame is None:
             break
-        coro = nxt
-    if frame is None:
-        return "not started"
-    return f"{frame.f_code.co_filename.rsplit('/', 1)[-1]}:{frame.f_lineno} in {frame.f_code.co_name}"
+        parts.append(f"{frame.f_code.co_filename.rsplit('/', 1)[-1]}:{frame.f_lineno} in {frame.f_code.co_name}")
+        coro = getattr(coro, "cr_await", None) or getattr(coro, "gi_yieldfrom", None)
+    return " -> ".join(parts) if parts else "not started"
 
 
 def new_loop(*, start: float = 0.0, pacer: Pacer | None = None) -> VirtualEventLoop:

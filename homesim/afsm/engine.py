@@ -409,3 +409,42 @@ def record_dict(rec: Record) -> dict[str, Any]:
 
 def _node_text(x: Any) -> str:
     return etree.tostring(x, encoding="unicode") if isinstance(x, etree._Element) else str(x)
+
+
+@dataclass(frozen=True, slots=True)
+class Delivery:
+    """An event and the virtual time it reaches the ES (created + latency)."""
+
+    event: Event
+    at_ns: int
+
+
+def run_deliveries(engine: Engine, deliveries: list[Delivery], *, until_ns: int | None = None) -> list[Record]:
+    """Drive ``engine`` as the supervisor does, without a loop: all records, in order.
+
+    Deliveries are taken in order of arrival (ties: list order). Before each
+    arrival the engine is processed at every expiry deadline that comes first,
+    so expired events are rejected exactly at their expiry; then the event is
+    queued and processed. Afterwards deadlines are followed up to ``until_ns``
+    (every remaining one when None). Raises :class:`ClockError` if an arrival
+    lies before the engine's current time.
+    """
+    records: list[Record] = []
+    order = sorted(range(len(deliveries)), key=lambda k: (deliveries[k].at_ns, k))
+    for k in order:
+        d = deliveries[k]
+        _follow_deadlines(engine, d.at_ns, records, inclusive=False)
+        engine.queue(d.event, d.at_ns)
+        records.extend(engine.process(d.at_ns))
+    _follow_deadlines(engine, until_ns, records, inclusive=True)
+    if until_ns is not None:
+        records.extend(engine.process(until_ns))
+    return records
+
+
+def _follow_deadlines(engine: Engine, limit: int | None, records: list[Record], *, inclusive: bool) -> None:
+    while True:
+        d = engine.next_deadline()
+        if d is None or (limit is not None and (d > limit or (d == limit and not inclusive))):
+            return
+        records.extend(engine.process(max(d, engine._now)))  # type: ignore[arg-type]

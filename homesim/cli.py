@@ -1,0 +1,46 @@
+"""The ``homesim`` command.
+
+Each subcommand lives in its own module, which exposes
+``register(subparsers)``; this file only lists them. Errors from user input
+(``HomesimError``) print one clear line and exit with status 2.
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+import sys
+
+from . import __version__
+from .errors import HomesimError
+
+#: Modules that add subcommands (each has ``register(subparsers)``).
+SUBCOMMAND_MODULES: list[str] = [
+    "homesim.demo",
+]
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(prog="homesim", description="Deterministic simulator of BIRON's home tour.")
+    parser.add_argument("--version", action="version", version=f"homesim {__version__}")
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND")
+    for name in SUBCOMMAND_MODULES:
+        importlib.import_module(name).register(sub)
+    return parser
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    if not getattr(args, "func", None):
+        parser.print_help()
+        return 2
+    try:
+        return int(args.func(args) or 0)
+    except HomesimError as exc:
+        print(f"homesim: error: {exc}", file=sys.stderr)
+        return 2
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,228 @@
+"""Semantic checks of a scenario: what the XSD cannot say.
+
+Names are unique (one namespace for everything a script can refer to),
+references resolve to the right kind of thing, furniture is convex, door
+gaps fit their walls, start poses lie inside a room and clear of walls and
+furniture, objects stand on what they say they stand on, radios only say
+and wait, and a script never has actions after a ``repeat`` that runs for
+ever. The first problem found raises a :class:`ScenarioError` naming the
+file, the line and the element.
+"""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Iterable, Iterator
+
+import numpy as np
+
+from ..errors import ScenarioError
+from ..world.geometry import (
+    distance_points_segments,
+    is_convex,
+    point_in_polygon,
+    polygon_area,
+    polygon_edges,
+    split_wall,
+    wall_rectangle,
+)
+from .model import Action, Expectation, Face, Leave, PointAt, Repeat, Say, Scenario, Target, Wait, WaitFor, WalkTo
+
+ROBOT_RADIUS = 0.30
+HUMAN_RADIUS = 0.25
+
+# Which target kinds each action accepts.
+_TARGET_KINDS = {
+    "walk-to": {"place", "room", "object", "furniture", "human", "robot", "point"},
+    "face": {"place", "room", "object", "furniture", "human", "robot", "point", "angle"},
+    "point": {"place", "room", "object", "furniture", "point"},
+    "reached": {"place", "room", "object", "furniture", "human", "robot", "point"},
+    "robot-near": {"place", "room", "object", "furniture", "human", "point"},
+}
+
+
+def check(sc: Scenario) -> None:
+    """Raise ScenarioError for the first semantic problem in ``sc``."""
+    _Checker(sc).run()
+
+
+class _Checker:
+    def __init__(self, sc: Scenario) -> None:
+        self.sc = sc
+        self.kinds: dict[str, tuple[str, int | None]] = {}
+
+    def fail(self, line: int | None, element: str, message: str) -> ScenarioError:
+        return ScenarioError(message, source=self.sc.source, line=line, element=element)
+
+    def run(self) -> None:
+        sc = self.sc
+        self.names()
+        for room in sc.rooms:
+            if len(room.polygon) < 3 or abs(polygon_area(np.array(room.polygon))) < 1e-6:
+                raise self.fail(room.line, "room", f"room {room.name!r} has no area")
+        for wall in sc.walls:
+            if np.hypot(wall.end[0] - wall.start[0], wall.end[1] - wall.start[1]) < 1e-6:
+                raise self.fail(wall.line, "wall", "a wall needs two distinct end points")
+            try:
+                split_wall(wall.start, wall.end, [(d.at, d.width) for d in wall.doors])
+            except ValueError as exc:
+                raise self.fail(wall.line, "wall", str(exc)) from exc
+        for f in sc.furniture:
+            poly = np.array(f.polygon)
+            if not is_convex(poly):
+                raise self.fail(f.line, "furniture", f"furniture {f.name!r} is not convex: split it into convex pieces")
+            if f.clearance >= f.height:
+                raise self.fail(f.line, "furniture", f"furniture {f.name!r}: clearance {f.clearance} m must be below its height {f.height} m")
+            if f.clearance > 0:
+                span = poly.max(axis=0) - poly.min(axis=0)
+                if 2 * f.leg >= span.min():
+                    raise self.fail(f.line, "furniture", f"furniture {f.name!r}: legs of {f.leg} m do not fit under it")
+        for p in sc.places:
+            self.inside_flat((p.x, p.y), p.line, "place", f"place {p.name!r}")
+        for o in sc.objects:
+            if o.on is not None:
+                if self.kinds.get(o.on, ("",))[0] != "furniture":
+                    raise self.fail(o.line, "object", f"object {o.name!r} stands on {o.on!r}, which is not a piece of furniture")
+                if not point_in_polygon((o.x, o.y), np.array(sc.piece(o.on).polygon)):
+                    raise self.fail(o.line, "object", f"object {o.name!r} at ({o.x}, {o.y}) is not on {o.on!r}")
+            else:
+                self.inside_flat((o.x, o.y), o.line, "object", f"object {o.name!r}")
+        r = sc.robot
+        self.clear((r.x, r.y), ROBOT_RADIUS, r.line, "robot", "the robot's start")
+        for h in sc.humans:
+            self.clear((h.x, h.y), HUMAN_RADIUS, h.line, "human", f"human {h.name!r}")
+            self.script(h.script, h.name, person=True)
+        for s in sc.sources:
+            self.inside_flat((s.x, s.y), s.line, s.kind, f"{s.kind} {s.name!r}")
+            self.script(s.script, s.name, person=False)
+        for e in sc.expectations:
+            self.expectation(e)
+
+    # ---------------------------------------------------------------- names
+    def names(self) -> None:
+        sc = self.sc
+        named: list[tuple[str, str, int | None]] = []
+        named += [("room", x.name, x.line) for x in sc.rooms]
+        named += [("furniture", x.name, x.line) for x in sc.furniture]
+        named += [("place", x.name, x.line) for x in sc.places]
+        named += [("door", d.name, d.line) for w in sc.walls for d in w.doors if d.name]
+        named += [("object", x.name, x.line) for x in sc.objects]
+        named += [("human", x.name, x.line) for x in sc.humans]
+        named += [(x.kind, x.name, x.line) for x in sc.sources]
+        for kind, name, line in named:
+            if name == "robot":
+                raise self.fail(line, kind, "the name 'robot' is reserved for the robot")
+            if name in self.kinds:
+                other, oline = self.kinds[name]
+                raise self.fail(line, kind, f"name {name!r} is already used by the {other} at line {oline}")
+            self.kinds[name] = (kind, line)
+
+    # ------------------------------------------------------------- geometry
+    def inside_flat(self, xy: tuple[float, float], line: int | None, element: str, what: str) -> None:
+        if not any(point_in_polygon(xy, np.array(room.polygon)) for room in self.sc.rooms):
+            raise self.fail(line, element, f"{what} at ({xy[0]}, {xy[1]}) is not inside any room")
+
+    def clear(self, xy: tuple[float, float], radius: float, line: int | None, element: str, what: str) -> None:
+        self.inside_flat(xy, line, element, what)
+        for wall in self.sc.walls:
+            for a, b in split_wall(wall.start, wall.end, [(d.at, d.width) for d in wall.doors]):
+                rect = wall_rectangle(a, b, wall.thickness)
+                if _overlaps(xy, radius, rect):
+                    raise self.fail(line, element, f"{what} at ({xy[0]}, {xy[1]}) overlaps the wall at line {wall.line}")
+        for f in self.sc.furniture:
+            if _overlaps(xy, radius, np.array(f.polygon)):
+                raise self.fail(line, element, f"{what} at ({xy[0]}, {xy[1]}) overlaps furniture {f.name!r}")
+
+    # -------------------------------------------------------------- scripts
+    def script(self, actions: tuple[Action, ...], owner: str, *, person: bool) -> None:
+        for i, act in enumerate(actions):
+            tag = _action_tag(act)
+            if not person and tag not in ("say", "wait", "wait-for", "repeat"):
+                raise self.fail(act.line, tag, f"{owner!r} is a sound source: it can only say, wait, wait-for and repeat")
+            if isinstance(act, (WalkTo, Face, PointAt)):
+                self.target(act.target, tag, act.line, owner)
+            elif isinstance(act, WaitFor):
+                if act.robot_says is None and act.robot_within is None:
+                    raise self.fail(act.line, tag, "wait-for needs robot-says or robot-within")
+                if act.robot_says is not None:
+                    try:
+                        re.compile(act.robot_says)
+                    except re.error as exc:
+                        raise self.fail(act.line, tag, f"robot-says={act.robot_says!r} is not a regular expression: {exc}") from exc
+            elif isinstance(act, Leave):
+                exits = [d for _, d in self.sc.exits()]
+                if not exits:
+                    raise self.fail(act.line, tag, "nobody can leave: no door of the flat has exit=\"true\"")
+                if act.door is not None and act.door not in [d.name for d in exits]:
+                    raise self.fail(act.line, tag, f"door {act.door!r} is not an exit door")
+                if i != len(actions) - 1:
+                    raise self.fail(actions[i + 1].line, _action_tag(actions[i + 1]), f"{owner!r} has left the flat: nothing can follow <leave>")
+            elif isinstance(act, Repeat):
+                if not act.body:
+                    raise self.fail(act.line, tag, "repeat needs at least one action")
+                if act.times is None and i != len(actions) - 1:
+                    raise self.fail(actions[i + 1].line, _action_tag(actions[i + 1]), "unreachable: the repeat before it runs for ever")
+                if act.times is None and not _takes_time(act.body):
+                    raise self.fail(act.line, tag, "a repeat that runs for ever must wait, walk or say, or it never lets time pass")
+                self.script(act.body, owner, person=person)
+
+    def target(self, t: Target, tag: str, line: int | None, owner: str | None = None) -> None:
+        if t.kind not in _TARGET_KINDS[tag]:
+            raise self.fail(line, tag, f"<{tag}> cannot take a {t.kind} as its target")
+        if t.kind in ("robot", "point", "angle"):
+            return
+        found = self.kinds.get(t.name or "")
+        if found is None or found[0] != t.kind:
+            known = ", ".join(sorted(n for n, (k, _) in self.kinds.items() if k == t.kind)) or "none"
+            raise self.fail(line, tag, f"there is no {t.kind} named {t.name!r} (known: {known})")
+        if t.kind == "human" and t.name == owner:
+            raise self.fail(line, tag, f"{owner!r} cannot target themselves")
+
+    def expectation(self, e: Expectation) -> None:
+        if e.kind == "reached":
+            who = e.get("who")
+            if self.kinds.get(str(who), ("",))[0] != "human":
+                raise self.fail(e.line, e.kind, f"there is no human named {who!r}")
+            self.target(e.get("target"), "reached", e.line, str(who))  # type: ignore[arg-type]
+            by = e.get("by")
+            if by is not None and float(by) > self.sc.duration:  # type: ignore[arg-type]
+                raise self.fail(e.line, e.kind, f"by={by} is after the end of the run ({self.sc.duration} s)")
+        if e.kind == "robot-near":
+            self.target(e.get("target"), "robot-near", e.line)  # type: ignore[arg-type]
+        window = e.get("between")
+        if window is not None and window[1] > self.sc.duration:  # type: ignore[index]
+            raise self.fail(e.line, e.kind, f"the window ends at {window[1]} s, after the run ({self.sc.duration} s)")  # type: ignore[index]
+
+
+def _overlaps(xy: tuple[float, float], radius: float, polygon: np.ndarray) -> bool:
+    if point_in_polygon(xy, polygon):
+        return True
+    a, b = polygon_edges(polygon)
+    return bool(distance_points_segments(np.array([xy]), a, b).min() < radius)
+
+
+def _action_tag(act: Action) -> str:
+    return {
+        WalkTo: "walk-to",
+        Face: "face",
+        Say: "say",
+        PointAt: "point",
+        Wait: "wait",
+        WaitFor: "wait-for",
+        Leave: "leave",
+        Repeat: "repeat",
+    }[type(act)]
+
+
+def _takes_time(actions: Iterable[Action]) -> bool:
+    for a in _walk(actions):
+        if isinstance(a, (Wait, Say, WalkTo, PointAt, WaitFor)) and not (isinstance(a, Wait) and a.duration <= 0):
+            return True
+    return False
+
+
+def _walk(actions: Iterable[Action]) -> Iterator[Action]:
+    for a in actions:
+        yield a
+        if isinstance(a, Repeat):
+            yield from _walk(a.body)

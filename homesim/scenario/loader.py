@@ -1,0 +1,347 @@
+"""Load a scenario file: checked pipeline text -> parse -> XSD -> model -> checks.
+
+1. :func:`homesim.xmlio.parse_file` (the one hardened parser);
+2. ``scenarios/scenario.xsd`` (structure and value types);
+3. build the plain :class:`~homesim.scenario.model.Scenario` (units converted);
+4. :func:`homesim.scenario.checks.check` (names, references, geometry).
+
+Every failure is a :class:`~homesim.errors.ScenarioError` that names the
+file, the line, the element and the problem, re-raised ``from`` the
+underlying error. The model is built completely and checked before it is
+returned, so a caller never sees a half-loaded scenario.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from pathlib import Path
+
+from lxml import etree
+
+from ..errors import InputError, ScenarioError
+from ..xmlio import Schema, load_schema, parse_bytes, parse_file
+from . import checks
+from .model import (
+    COLOURS,
+    RGB,
+    Action,
+    Door,
+    Expectation,
+    Face,
+    Furniture,
+    HumanSpec,
+    Leave,
+    ObjectSpec,
+    Place,
+    PointAt,
+    Repeat,
+    RobotSpec,
+    Room,
+    Say,
+    Scenario,
+    SourceSpec,
+    Target,
+    Wait,
+    WaitFor,
+    WalkTo,
+    Wall,
+)
+
+#: Where the scenario schema lives (the repository's ``scenarios/`` folder).
+SCHEMA_PATH = Path(__file__).resolve().parents[2] / "scenarios" / "scenario.xsd"
+
+_TARGET_KEYS = ("place", "room", "object", "furniture", "human", "robot", "point")
+
+
+def scenario_schema() -> Schema:
+    """The compiled scenario XSD (loaded once per process)."""
+    return load_schema(SCHEMA_PATH)
+
+
+def load_scenario(path: str | os.PathLike[str]) -> Scenario:
+    """Load and check one scenario file; raise ScenarioError naming file and line."""
+    source = str(path)
+    try:
+        root = parse_file(path)
+    except InputError as exc:
+        raise ScenarioError(exc.message, source=source, line=exc.line, element=exc.element) from exc
+    return _from_root(root, source)
+
+
+def load_scenario_text(text: str | bytes, *, source: str = "<scenario>") -> Scenario:
+    """Load a scenario given as text (tests, notebooks); same checks as a file."""
+    try:
+        root = parse_bytes(text, source=source)
+    except InputError as exc:
+        raise ScenarioError(exc.message, source=source, line=exc.line, element=exc.element) from exc
+    return _from_root(root, source)
+
+
+def _from_root(root: etree._Element, source: str) -> Scenario:
+    schema = scenario_schema()
+    problems = schema.errors(root)
+    if problems:
+        line, message = problems[0]
+        more = f" (and {len(problems) - 1} more problem(s))" if len(problems) > 1 else ""
+        raise ScenarioError(f"does not satisfy scenario.xsd: {message}{more}", source=source, line=line or None)
+    try:
+        scenario = _Builder(source).scenario(root)
+    except ScenarioError:
+        raise
+    except (ValueError, KeyError) as exc:  # a value the XSD let through but we cannot use
+        raise ScenarioError(str(exc), source=source) from exc
+    checks.check(scenario)
+    return scenario
+
+
+class _Builder:
+    """Turns a schema-valid element tree into model objects (degrees -> radians)."""
+
+    def __init__(self, source: str) -> None:
+        self.source = source
+
+    def fail(self, el: etree._Element, message: str) -> ScenarioError:
+        return ScenarioError(message, source=self.source, line=el.sourceline, element=_tag(el))
+
+    # ----------------------------------------------------------- attributes
+    def num(self, el: etree._Element, key: str, default: float | None = None) -> float:
+        raw = el.get(key)
+        if raw is None:
+            if default is None:
+                raise self.fail(el, f"attribute {key!r} is required")
+            return default
+        try:
+            v = float(raw)
+        except ValueError as exc:
+            raise self.fail(el, f"attribute {key}={raw!r} is not a number") from exc
+        if not math.isfinite(v):
+            raise self.fail(el, f"attribute {key}={raw!r} is not a finite number")
+        return v
+
+    def opt(self, el: etree._Element, key: str) -> float | None:
+        return None if el.get(key) is None else self.num(el, key)
+
+    def flag(self, el: etree._Element, key: str, default: bool = False) -> bool:
+        raw = el.get(key)
+        return default if raw is None else raw.strip() in ("true", "1")
+
+    def point(self, el: etree._Element, key: str) -> tuple[float, float]:
+        raw = el.get(key, "")
+        try:
+            x, y = (float(v) for v in raw.split())
+        except ValueError as exc:
+            raise self.fail(el, f"attribute {key}={raw!r} is not a point 'x y'") from exc
+        return x, y
+
+    def polygon(self, el: etree._Element) -> tuple[tuple[float, float], ...]:
+        raw = el.get("points", "")
+        pts = []
+        try:
+            for pair in raw.split():
+                x, y = pair.split(",")
+                pts.append((float(x), float(y)))
+        except ValueError as exc:
+            raise self.fail(el, f"points={raw!r} is not a list of 'x,y' pairs") from exc
+        return tuple(pts)
+
+    def colour(self, el: etree._Element, key: str, default: str) -> tuple[RGB, str]:
+        raw = el.get(key, default)
+        if raw.startswith("#"):
+            return (int(raw[1:3], 16) / 255, int(raw[3:5], 16) / 255, int(raw[5:7], 16) / 255), raw
+        if raw not in COLOURS:
+            known = ", ".join(COLOURS)
+            raise self.fail(el, f"unknown colour {raw!r}; use one of {known} or #rrggbb")
+        return COLOURS[raw], raw
+
+    def window(self, el: etree._Element) -> tuple[float, float] | None:
+        raw = el.get("between")
+        if raw is None:
+            return None
+        t0, t1 = (float(v) for v in raw.split())
+        if t1 < t0:
+            raise self.fail(el, f"between={raw!r}: the window ends before it starts")
+        return t0, t1
+
+    def target(self, el: etree._Element, *, allow_angle: bool = False, required: bool = True) -> Target | None:
+        given = [k for k in _TARGET_KEYS if el.get(k) is not None]
+        if allow_angle and el.get("angle") is not None:
+            given.append("angle")
+        if len(given) > 1:
+            raise self.fail(el, f"give one target, not {len(given)} ({', '.join(given)})")
+        if not given:
+            if not required:
+                return None
+            options = ", ".join(_TARGET_KEYS + (("angle",) if allow_angle else ()))
+            raise self.fail(el, f"a target is required: one of {options}")
+        kind = given[0]
+        if kind == "point":
+            x, y = self.point(el, "point")
+            return Target("point", x=x, y=y)
+        if kind == "angle":
+            return Target("angle", angle=math.radians(self.num(el, "angle")))
+        if kind == "robot":
+            if not self.flag(el, "robot"):
+                raise self.fail(el, 'robot="false" is not a target; leave the attribute out')
+            return Target("robot")
+        return Target(kind, name=el.get(kind))
+
+    # -------------------------------------------------------------- elements
+    def scenario(self, root: etree._Element) -> Scenario:
+        flat = root.find("flat")
+        walls_el = flat.find("walls")
+        default_thickness = self.num(walls_el, "thickness", 0.1)
+        desc = root.find("description")
+        objects_el = root.find("objects")
+        humans_el = root.find("humans")
+        sources_el = root.find("sources")
+        expect_el = root.find("expect")
+        return Scenario(
+            name=root.get("name"),
+            source=self.source,
+            seed=int(root.get("seed", "0")),
+            duration=self.num(root, "duration"),
+            world_rate=self.num(root, "world-rate", 50.0),
+            description=" ".join((desc.text or "").split()) if desc is not None else "",
+            robot=self.robot(root.find("robot")),
+            rooms=tuple(Room(r.get("name"), self.polygon(r), r.sourceline) for r in flat.iterfind("room")),
+            walls=tuple(self.wall(w, default_thickness) for w in walls_el.iterfind("wall")),
+            furniture=tuple(self.furniture(f) for f in flat.iterfind("furniture")),
+            places=tuple(Place(p.get("name"), self.num(p, "x"), self.num(p, "y"), p.sourceline) for p in flat.iterfind("place")),
+            objects=tuple(self.obj(o) for o in objects_el.iterfind("object")) if objects_el is not None else (),
+            humans=tuple(self.human(h) for h in humans_el.iterfind("human")) if humans_el is not None else (),
+            sources=tuple(self.sound_source(s) for s in _elements(sources_el)) if sources_el is not None else (),
+            expectations=tuple(self.expectation(e) for e in _elements(expect_el)) if expect_el is not None else (),
+        )
+
+    def robot(self, el: etree._Element) -> RobotSpec:
+        return RobotSpec(
+            x=self.num(el, "x"),
+            y=self.num(el, "y"),
+            heading=math.radians(self.num(el, "heading", 0.0)),
+            max_speed=self.num(el, "max-speed", 0.5),
+            max_turn=math.radians(self.num(el, "max-turn", 100.0)),
+            laser_rate=self.num(el, "laser-rate", 10.0),
+            camera_rate=self.num(el, "camera-rate", 10.0),
+            audio_rate=self.num(el, "audio-rate", 10.0),
+            odometry_rate=self.num(el, "odometry-rate", 10.0),
+            object_confusion=self.num(el, "object-confusion", 0.05),
+            line=el.sourceline,
+        )
+
+    def wall(self, el: etree._Element, default_thickness: float) -> Wall:
+        doors = tuple(
+            Door(
+                at=self.num(d, "at"),
+                width=self.num(d, "width"),
+                name=d.get("name"),
+                exit=self.flag(d, "exit"),
+                line=d.sourceline,
+            )
+            for d in el.iterfind("door")
+        )
+        return Wall(self.point(el, "from"), self.point(el, "to"), self.num(el, "thickness", default_thickness), doors, el.sourceline)
+
+    def furniture(self, el: etree._Element) -> Furniture:
+        return Furniture(
+            name=el.get("name"),
+            type=el.get("type"),
+            polygon=self.polygon(el),
+            height=self.num(el, "height"),
+            clearance=self.num(el, "clearance", 0.0),
+            leg=self.num(el, "leg", 0.05),
+            line=el.sourceline,
+        )
+
+    def obj(self, el: etree._Element) -> ObjectSpec:
+        rgb, cname = self.colour(el, "colour", "grey")
+        return ObjectSpec(
+            name=el.get("name"),
+            type=el.get("type"),
+            colour=rgb,
+            colour_name=cname,
+            size=self.num(el, "size", 0.1),
+            height=self.num(el, "height", 0.1),
+            x=self.num(el, "x"),
+            y=self.num(el, "y"),
+            on=el.get("on"),
+            line=el.sourceline,
+        )
+
+    def human(self, el: etree._Element) -> HumanSpec:
+        rgb, cname = self.colour(el, "torso", "blue")
+        return HumanSpec(
+            name=el.get("name"),
+            x=self.num(el, "x"),
+            y=self.num(el, "y"),
+            heading=math.radians(self.num(el, "heading", 0.0)),
+            height=self.num(el, "height", 1.75),
+            torso=rgb,
+            torso_name=cname,
+            speed=self.num(el, "speed", 1.0),
+            script=self.script(el.find("script")),
+            line=el.sourceline,
+        )
+
+    def sound_source(self, el: etree._Element) -> SourceSpec:
+        return SourceSpec(
+            name=el.get("name"),
+            kind=_tag(el),
+            x=self.num(el, "x"),
+            y=self.num(el, "y"),
+            height=self.num(el, "height", 1.0),
+            loudness=self.num(el, "loudness", 60.0),
+            script=self.script(el.find("script")),
+            line=el.sourceline,
+        )
+
+    def script(self, el: etree._Element | None) -> tuple[Action, ...]:
+        if el is None:
+            return ()
+        return tuple(self.action(a) for a in _elements(el))
+
+    def action(self, el: etree._Element) -> Action:
+        tag, line = _tag(el), el.sourceline
+        if tag == "walk-to":
+            return WalkTo(self.target(el), stop_at=self.num(el, "stop-at", 0.0), speed=self.opt(el, "speed"), line=line)
+        if tag == "face":
+            return Face(self.target(el, allow_angle=True), body=self.flag(el, "body"), line=line)
+        if tag == "say":
+            return Say(el.get("text"), loudness=self.num(el, "loudness", 60.0), duration=self.opt(el, "duration"), line=line)
+        if tag == "point":
+            return PointAt(self.target(el), duration=self.num(el, "duration", 2.0), line=line)
+        if tag == "wait":
+            return Wait(self.num(el, "for"), line=line)
+        if tag == "wait-for":
+            return WaitFor(el.get("robot-says"), self.opt(el, "robot-within"), self.opt(el, "timeout"), line=line)
+        if tag == "leave":
+            return Leave(el.get("door"), line=line)
+        if tag == "repeat":
+            times = el.get("times")
+            return Repeat(tuple(self.action(a) for a in _elements(el)), None if times is None else int(times), line=line)
+        raise self.fail(el, f"unknown action <{tag}>")  # the XSD forbids this
+
+    def expectation(self, el: etree._Element) -> Expectation:
+        tag = _tag(el)
+        attrs: list[tuple[str, object]] = []
+        if tag == "reached":
+            attrs += [("who", el.get("who")), ("target", self.target(el)), ("within", self.num(el, "within", 0.5))]
+            if el.get("by") is not None:
+                attrs.append(("by", self.num(el, "by")))
+        elif tag in ("legs-seen", "face-seen", "sound-heard"):
+            attrs += [("bearing", math.radians(self.num(el, "bearing"))), ("tolerance", math.radians(self.num(el, "tolerance", 10.0)))]
+            attrs.append(("between", self.window(el)))
+        elif tag == "robot-near":
+            attrs += [("target", self.target(el)), ("within", self.num(el, "within", 1.0)), ("between", self.window(el))]
+        else:  # pragma: no cover - the XSD forbids this
+            raise self.fail(el, f"unknown expectation <{tag}>")
+        return Expectation(tag, tuple(attrs), el.sourceline)
+
+
+def _tag(el: etree._Element) -> str:
+    return etree.QName(el).localname if isinstance(el.tag, str) else "#comment"
+
+
+def _elements(el: etree._Element):  # type: ignore[no-untyped-def]
+    """Child elements only (comments and processing instructions skipped)."""
+    return (c for c in el if isinstance(c.tag, str))

@@ -1,0 +1,290 @@
+"""A scenario as plain data: the flat, the robot, the people, their scripts.
+
+Frozen dataclasses, no I/O, no time, no pymunk (sismic's ``model/``). The
+loader (:mod:`homesim.scenario.loader`) builds these from XML and checks
+them; the world, the human scripts and the hardware read them. Every item
+keeps the line it came from so later checks can name it. Units: metres,
+seconds, radians (the XML says degrees; the loader converts).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Union
+
+Point = tuple[float, float]
+RGB = tuple[float, float, float]
+
+#: Colour names a scenario may use, as RGB in [0, 1] (or write ``#rrggbb``).
+COLOURS: dict[str, RGB] = {
+    "black": (0.05, 0.05, 0.05),
+    "white": (0.95, 0.95, 0.95),
+    "grey": (0.5, 0.5, 0.5),
+    "red": (0.85, 0.1, 0.1),
+    "green": (0.1, 0.65, 0.2),
+    "blue": (0.1, 0.25, 0.85),
+    "yellow": (0.95, 0.85, 0.1),
+    "orange": (0.95, 0.55, 0.1),
+    "purple": (0.55, 0.2, 0.7),
+    "pink": (0.95, 0.55, 0.7),
+    "brown": (0.5, 0.3, 0.15),
+    "beige": (0.9, 0.85, 0.7),
+}
+
+
+@dataclass(frozen=True)
+class Room:
+    name: str
+    polygon: tuple[Point, ...]
+    line: int | None = None
+
+
+@dataclass(frozen=True)
+class Door:
+    """A gap in a wall: centre ``at`` metres from the wall's start, ``width`` wide.
+
+    An ``exit`` door leads out of the flat (people ``leave`` through it).
+    """
+
+    at: float
+    width: float
+    name: str | None = None
+    exit: bool = False
+    line: int | None = None
+
+
+@dataclass(frozen=True)
+class Wall:
+    start: Point
+    end: Point
+    thickness: float
+    doors: tuple[Door, ...] = ()
+    line: int | None = None
+
+
+@dataclass(frozen=True)
+class Furniture:
+    """A convex piece of furniture.
+
+    ``clearance`` is the height of its underside: 0 for a cupboard or sofa
+    that stands on the floor, e.g. 0.7 for a table whose top floats on legs
+    of ``leg`` metres (square, at the corners). A laser at 0.30 m sees a
+    piece whose solid part spans its height, and only the legs of a table.
+    """
+
+    name: str
+    type: str
+    polygon: tuple[Point, ...]
+    height: float
+    clearance: float = 0.0
+    leg: float = 0.05
+    line: int | None = None
+
+
+@dataclass(frozen=True)
+class Place:
+    name: str
+    x: float
+    y: float
+    line: int | None = None
+
+
+@dataclass(frozen=True)
+class ObjectSpec:
+    """A small object (a cup, a plant) standing on a piece of furniture or the floor."""
+
+    name: str
+    type: str
+    colour: RGB
+    colour_name: str
+    size: float
+    height: float
+    x: float
+    y: float
+    on: str | None = None
+    line: int | None = None
+
+
+@dataclass(frozen=True)
+class Target:
+    """What an action refers to: ``kind`` is one of place, room, object,
+    furniture, human, robot, point, angle; ``name`` or (x, y) or angle."""
+
+    kind: str
+    name: str | None = None
+    x: float = 0.0
+    y: float = 0.0
+    angle: float = 0.0
+
+
+@dataclass(frozen=True)
+class WalkTo:
+    target: Target
+    stop_at: float = 0.0  # stop this far from the target (people stop short of the robot)
+    speed: float | None = None
+    line: int | None = None
+
+
+@dataclass(frozen=True)
+class Face:
+    target: Target
+    body: bool = False  # turn the whole body, not only the head
+    line: int | None = None
+
+
+@dataclass(frozen=True)
+class Say:
+    text: str
+    loudness: float = 60.0  # dB SPL at 1 m
+    duration: float | None = None  # None: from the word count
+    line: int | None = None
+
+
+@dataclass(frozen=True)
+class PointAt:
+    target: Target
+    duration: float = 2.0
+    line: int | None = None
+
+
+@dataclass(frozen=True)
+class Wait:
+    duration: float
+    line: int | None = None
+
+
+@dataclass(frozen=True)
+class WaitFor:
+    """Wait until the robot says something matching ``robot_says`` (a regular
+    expression, case-insensitive) or comes within ``robot_within`` metres,
+    at most ``timeout`` seconds (None: forever)."""
+
+    robot_says: str | None = None
+    robot_within: float | None = None
+    timeout: float | None = None
+    line: int | None = None
+
+
+@dataclass(frozen=True)
+class Leave:
+    door: str | None = None
+    line: int | None = None
+
+
+@dataclass(frozen=True)
+class Repeat:
+    body: tuple[Action, ...]
+    times: int | None = None  # None: for ever
+    line: int | None = None
+
+
+Action = Union[WalkTo, Face, Say, PointAt, Wait, WaitFor, Leave, Repeat]
+
+
+@dataclass(frozen=True)
+class RobotSpec:
+    x: float
+    y: float
+    heading: float
+    max_speed: float = 0.5
+    max_turn: float = 1.7453292519943295  # 100 deg/s
+    laser_rate: float = 10.0
+    camera_rate: float = 10.0
+    audio_rate: float = 10.0
+    odometry_rate: float = 10.0
+    object_confusion: float = 0.05
+    line: int | None = None
+
+
+@dataclass(frozen=True)
+class HumanSpec:
+    name: str
+    x: float
+    y: float
+    heading: float
+    height: float = 1.75
+    torso: RGB = COLOURS["blue"]
+    torso_name: str = "blue"
+    speed: float = 1.0
+    script: tuple[Action, ...] = ()
+    line: int | None = None
+
+
+@dataclass(frozen=True)
+class SourceSpec:
+    """A sound source with no person: a radio or a TV."""
+
+    name: str
+    kind: str
+    x: float
+    y: float
+    height: float = 1.0
+    loudness: float = 60.0
+    script: tuple[Action, ...] = ()
+    line: int | None = None
+
+
+@dataclass(frozen=True)
+class Expectation:
+    """A check made at the end of a run. ``kind`` names it (reached,
+    legs-seen, face-seen, sound-heard, robot-near, said); ``attrs`` holds
+    its typed parameters."""
+
+    kind: str
+    attrs: tuple[tuple[str, object], ...]
+    line: int | None = None
+
+    def get(self, key: str, default: object = None) -> object:
+        for k, v in self.attrs:
+            if k == key:
+                return v
+        return default
+
+    def describe(self) -> str:
+        args = " ".join(f'{k}="{v}"' for k, v in self.attrs)
+        return f"<{self.kind} {args}/>"
+
+
+@dataclass(frozen=True)
+class Scenario:
+    name: str
+    source: str
+    seed: int
+    duration: float
+    robot: RobotSpec
+    rooms: tuple[Room, ...] = ()
+    walls: tuple[Wall, ...] = ()
+    furniture: tuple[Furniture, ...] = ()
+    places: tuple[Place, ...] = ()
+    objects: tuple[ObjectSpec, ...] = ()
+    humans: tuple[HumanSpec, ...] = ()
+    sources: tuple[SourceSpec, ...] = ()
+    expectations: tuple[Expectation, ...] = ()
+    description: str = ""
+    world_rate: float = 50.0
+
+    def room(self, name: str) -> Room:
+        return _named(self.rooms, name, "room")
+
+    def place(self, name: str) -> Place:
+        return _named(self.places, name, "place")
+
+    def object(self, name: str) -> ObjectSpec:
+        return _named(self.objects, name, "object")
+
+    def piece(self, name: str) -> Furniture:
+        return _named(self.furniture, name, "furniture")
+
+    def human(self, name: str) -> HumanSpec:
+        return _named(self.humans, name, "human")
+
+    def exits(self) -> list[tuple[Wall, Door]]:
+        """Every door that leads out of the flat, in file order."""
+        return [(w, d) for w in self.walls for d in w.doors if d.exit]
+
+
+def _named(items: tuple, name: str, what: str):  # type: ignore[no-untyped-def]
+    for it in items:
+        if it.name == name:
+            return it
+    raise KeyError(f"no {what} named {name!r}")

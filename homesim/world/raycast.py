@@ -1,0 +1,221 @@
+"""The vectorised 2D raycast kernel (the laser, and line-of-sight checks).
+
+Why our own kernel and not pymunk's segment queries: one pymunk query per
+beam costs about 1.4 ms for a 361-beam scan, a numpy pass over all
+(beam, segment) pairs about 0.3 ms. The kernel is a pure function of the
+geometry (IR-SIM's ``cast_rays``): segments (polygon edges of walls and
+furniture) and circles (legs, bodies). :class:`RayCaster` does the same
+with scratch buffers it keeps between calls, so a running laser allocates
+nothing per scan. A test checks both against pymunk's segment queries.
+
+A ray that starts inside a circle hits it at range 0. A ray parallel to a
+segment never hits that segment (its end points are caught by the
+neighbouring edges of the closed polygon). Rays that hit nothing return
+``max_range``, as a SICK scanner does.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import numpy as np
+
+FloatArray = np.ndarray
+
+_EMPTY2 = np.zeros((0, 2))
+_EMPTY1 = np.zeros(0)
+
+
+def cast_rays(
+    origin: Sequence[float],
+    angles: FloatArray,
+    seg_a: FloatArray = _EMPTY2,
+    seg_b: FloatArray = _EMPTY2,
+    circ_c: FloatArray = _EMPTY2,
+    circ_r: FloatArray = _EMPTY1,
+    max_range: float = np.inf,
+) -> FloatArray:
+    """Range along each world-frame angle (N,) from ``origin`` to the first hit.
+
+    Pure and allocating; for repeated scans use :class:`RayCaster`.
+    """
+    return RayCaster().cast(origin, angles, seg_a, seg_b, circ_c, circ_r, max_range)
+
+
+class RayCaster:
+    """:func:`cast_rays` with scratch buffers reused from call to call.
+
+    Buffers grow when a call needs more beams or obstacles and are never
+    shrunk, so after the first scans a laser allocates nothing. One instance
+    per sensor: calls are not re-entrant (the simulation is single-threaded).
+    """
+
+    __slots__ = ("_seg_shape", "_circ_shape", "_den", "_u", "_t", "_mask", "_cb", "_ck", "_ck2", "_dx", "_dy")
+
+    def __init__(self) -> None:
+        self._seg_shape = (0, 0)
+        self._circ_shape = (0, 0)
+        self._dx = self._dy = np.empty(0)
+
+    def _buffers(self, n: int, m: int, k: int) -> None:
+        if self._dx.shape[0] < n:
+            self._dx = np.empty(n)
+            self._dy = np.empty(n)
+        sn, sm = self._seg_shape
+        if m and (n > sn or m > sm):
+            shape = (max(n, sn), max(m, sm))
+            self._den = np.empty(shape)
+            self._u = np.empty(shape)
+            self._t = np.empty(shape)
+            self._mask = np.empty(shape, dtype=bool)
+            self._seg_shape = shape
+        cn, ck = self._circ_shape
+        if k and (n > cn or k > ck):
+            shape = (max(n, cn), max(k, ck))
+            self._cb = np.empty(shape)
+            self._ck = np.empty(shape)
+            self._ck2 = np.empty(shape, dtype=bool)
+            self._circ_shape = shape
+
+    def cast(
+        self,
+        origin: Sequence[float],
+        angles: FloatArray,
+        seg_a: FloatArray = _EMPTY2,
+        seg_b: FloatArray = _EMPTY2,
+        circ_c: FloatArray = _EMPTY2,
+        circ_r: FloatArray = _EMPTY1,
+        max_range: float = np.inf,
+        *,
+        out: FloatArray | None = None,
+    ) -> FloatArray:
+        """Ranges (N,) to the first segment or circle hit along each angle.
+
+        ``seg_a``/``seg_b`` are segment end points (M, 2), ``circ_c``/``circ_r``
+        circle centres (K, 2) and radii (K,). Segments and circles wholly
+        beyond ``max_range`` are culled first. ``out`` receives the result
+        when given (shape (N,)).
+        """
+        ox, oy = float(origin[0]), float(origin[1])
+        angles = np.asarray(angles, dtype=float)
+        n = angles.shape[0]
+        result = np.empty(n) if out is None else out
+        result.fill(max_range)
+        seg_a = np.asarray(seg_a, dtype=float).reshape(-1, 2)
+        seg_b = np.asarray(seg_b, dtype=float).reshape(-1, 2)
+        circ_c = np.asarray(circ_c, dtype=float).reshape(-1, 2)
+        circ_r = np.asarray(circ_r, dtype=float).reshape(-1)
+        if np.isfinite(max_range):
+            seg_a, seg_b = _cull_segments(ox, oy, seg_a, seg_b, max_range)
+            if circ_c.shape[0]:
+                keep = np.hypot(circ_c[:, 0] - ox, circ_c[:, 1] - oy) - circ_r <= max_range
+                circ_c, circ_r = circ_c[keep], circ_r[keep]
+        m, k = seg_a.shape[0], circ_c.shape[0]
+        if n == 0 or (m == 0 and k == 0):
+            return result
+        self._buffers(n, m, k)
+        dx, dy = self._dx[:n], self._dy[:n]
+        np.cos(angles, out=dx)
+        np.sin(angles, out=dy)
+        if m:
+            self._segments(ox, oy, dx, dy, seg_a, seg_b, result)
+        if k:
+            self._circles(ox, oy, dx, dy, circ_c, circ_r, result)
+        return result
+
+    def _segments(self, ox: float, oy: float, dx: FloatArray, dy: FloatArray, a: FloatArray, b: FloatArray, result: FloatArray) -> None:
+        n, m = dx.shape[0], a.shape[0]
+        ex = b[:, 0] - a[:, 0]
+        ey = b[:, 1] - a[:, 1]
+        fx = a[:, 0] - ox
+        fy = a[:, 1] - oy
+        den, u, t, mask = self._den[:n, :m], self._u[:n, :m], self._t[:n, :m], self._mask[:n, :m]
+        dxc, dyc = dx[:, None], dy[:, None]
+        # den = d x e ; t = (f x e) / den ; u = (f x d) / den
+        np.multiply(dxc, ey, out=den)
+        np.multiply(dyc, ex, out=t)
+        np.subtract(den, t, out=den)
+        np.multiply(fx, dyc, out=u)
+        np.multiply(fy, dxc, out=t)
+        np.subtract(u, t, out=u)
+        tnum = fx * ey - fy * ex  # (m,)
+        # Multiply through by sign(den) instead of dividing everywhere.
+        sign = np.sign(den)
+        np.multiply(u, sign, out=u)
+        np.abs(den, out=den)
+        np.multiply(tnum, sign, out=t)  # t * |den|
+        np.greater_equal(t, 0.0, out=mask)
+        mask &= u >= 0.0
+        mask &= u <= den
+        mask &= den > 1e-15
+        # Parameter along the ray where valid, inf elsewhere.
+        np.divide(t, den, out=t, where=mask)
+        t[~mask] = np.inf
+        np.minimum(result, t.min(axis=1), out=result)
+
+    def _circles(self, ox: float, oy: float, dx: FloatArray, dy: FloatArray, c: FloatArray, r: FloatArray, result: FloatArray) -> None:
+        n, k = dx.shape[0], c.shape[0]
+        fx = c[:, 0] - ox
+        fy = c[:, 1] - oy
+        ff = fx * fx + fy * fy
+        rr = r * r
+        tca, disc, hit = self._cb[:n, :k], self._ck[:n, :k], self._ck2[:n, :k]
+        np.multiply(dx[:, None], fx, out=tca)
+        tca += dy[:, None] * fy
+        # disc = r^2 - (|f|^2 - tca^2)
+        np.multiply(tca, tca, out=disc)
+        disc += rr - ff
+        np.greater_equal(disc, 0.0, out=hit)
+        np.sqrt(disc, out=disc, where=hit)
+        np.subtract(tca, disc, out=disc, where=hit)
+        hit &= disc >= 0.0
+        disc[~hit] = np.inf
+        inside = ff <= rr
+        if inside.any():
+            disc[:, inside] = 0.0
+        np.minimum(result, disc.min(axis=1), out=result)
+
+
+def _cull_segments(ox: float, oy: float, a: FloatArray, b: FloatArray, max_range: float) -> tuple[FloatArray, FloatArray]:
+    """Drop segments whose closest point is farther than ``max_range``."""
+    if a.shape[0] == 0:
+        return a, b
+    ab = b - a
+    ao = np.array([ox, oy]) - a
+    denom = (ab * ab).sum(1)
+    denom[denom < 1e-18] = 1.0
+    t = np.clip((ao * ab).sum(1) / denom, 0.0, 1.0)
+    cx = a[:, 0] + t * ab[:, 0] - ox
+    cy = a[:, 1] + t * ab[:, 1] - oy
+    keep = cx * cx + cy * cy <= max_range * max_range
+    if keep.all():
+        return a, b
+    return a[keep], b[keep]
+
+
+def line_of_sight(
+    origin: Sequence[float],
+    targets: FloatArray,
+    seg_a: FloatArray = _EMPTY2,
+    seg_b: FloatArray = _EMPTY2,
+    circ_c: FloatArray = _EMPTY2,
+    circ_r: FloatArray = _EMPTY1,
+    *,
+    margin: float = 1e-6,
+    caster: RayCaster | None = None,
+) -> FloatArray:
+    """For each target point (N, 2): True when nothing blocks the view from ``origin``.
+
+    A hit counts as blocking only when it lies more than ``margin`` before
+    the target (so the target's own surface, if it is in the circles, can be
+    excluded by passing a margin of its radius).
+    """
+    targets = np.atleast_2d(np.asarray(targets, dtype=float))
+    if targets.shape[0] == 0:
+        return np.zeros(0, dtype=bool)
+    d = targets - np.asarray(origin, dtype=float)[:2]
+    dist = np.hypot(d[:, 0], d[:, 1])
+    ang = np.arctan2(d[:, 1], d[:, 0])
+    rc = caster or RayCaster()
+    hit = rc.cast(origin, ang, seg_a, seg_b, circ_c, circ_r, float(dist.max()) + 1.0)
+    return hit >= dist - margin

@@ -1,0 +1,303 @@
+"""The virtual-time loop: asyncio works unchanged, order is deterministic, time is exact."""
+
+from __future__ import annotations
+
+import asyncio
+import math
+
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from homesim.errors import ClockError, DeadlockError, RealIOError, SimulationError, TaskFailedError
+from homesim.vloop import NS_PER_S, VirtualEventLoop, to_ns
+
+from .conftest import examples
+
+
+@pytest.fixture
+def loop():
+    lp = VirtualEventLoop()
+    yield lp
+    lp.close()
+
+
+def test_asyncio_primitives_run_unchanged_on_virtual_time(loop):
+    seen = []
+
+    async def worker(name, delay):
+        for _ in range(2):
+            await asyncio.sleep(delay)
+            seen.append((name, loop.time()))
+
+    async def main():
+        async with asyncio.TaskGroup() as tg:
+            tg.create_task(worker("a", 0.5))
+            tg.create_task(worker("b", 0.75))
+        with pytest.raises(TimeoutError):
+            async with asyncio.timeout(1.0):
+                await asyncio.sleep(60)
+        assert loop.time() == pytest.approx(2.5)
+        q: asyncio.Queue[str] = asyncio.Queue()
+        loop.call_later(0.25, q.put_nowait, "x")
+        assert await asyncio.wait_for(q.get(), timeout=1.0) == "x"
+        ev = asyncio.Event()
+        loop.call_at(loop.time() + 0.125, ev.set)
+        await ev.wait()
+        with pytest.raises(TimeoutError):
+            await asyncio.wait_for(asyncio.Event().wait(), timeout=0.5)
+        return loop.time()
+
+    assert loop.run_until_complete(main()) == pytest.approx(3.375)
+    assert seen == [("a", 0.5), ("b", 0.75), ("a", 1.0), ("b", 1.5)]
+
+
+def test_same_deadline_callbacks_run_in_scheduling_order(loop):
+    order = []
+    for i in range(50):
+        loop.call_at(1.0, order.append, i)
+    loop.call_later(1.0, order.append, 50)
+    loop.run()
+    assert order == list(range(51))
+
+
+def test_hours_of_simulated_time_do_not_drift(loop):
+    async def ticker():
+        for _ in range(36_000):
+            await asyncio.sleep(0.1)
+
+    loop.run_until_complete(ticker())
+    assert loop.now_ns == 3600 * NS_PER_S
+    assert loop.time() == 3600.0
+    naive = 0.0
+    for _ in range(36_000):
+        naive += 0.1
+    assert naive != 3600.0  # what integer nanoseconds protect us from
+
+
+def test_run_until_stops_exactly_and_excludes_the_boundary(loop):
+    ran = []
+    for t in (0.5, 1.0, 1.5):
+        loop.call_at(t, ran.append, t)
+    loop.run(until=1.0)
+    assert loop.now == 1.0 and ran == [0.5]
+    assert loop.peek() == 1.0
+    loop.run(until=10.0)
+    assert ran == [0.5, 1.0, 1.5] and loop.now == 10.0
+    with pytest.raises(ClockError, match="time can't go backwards"):
+        loop.run(until=5.0)
+
+
+def test_step_and_peek(loop):
+    assert loop.peek() == math.inf
+    assert loop.step() is False
+    loop.call_at(2.0, lambda: None)
+    assert loop.peek() == 2.0
+    assert loop.step() is True
+    assert loop.now == 2.0
+
+
+def test_run_until_predicate_and_timeout(loop):
+    box = []
+
+    async def producer():
+        for i in range(10):
+            await asyncio.sleep(1.0)
+            box.append(i)
+
+    loop.spawn(producer(), name="producer")
+    assert loop.run_until(lambda: len(box) == 3)
+    assert loop.now == 3.0
+    assert loop.run_until(lambda: len(box) == 99, timeout=2.5) is False
+    assert loop.now == 5.5
+
+
+def test_deadlock_names_the_waiting_tasks(loop):
+    async def stuck_forever():
+        await asyncio.Event().wait()
+
+    loop.spawn(stuck_forever(), name="dialog")
+    with pytest.raises(DeadlockError, match=r"dialog \(.*stuck_forever"):
+        loop.run()
+
+
+def test_unhandled_exception_in_a_task_fails_the_run(loop):
+    async def broken():
+        await asyncio.sleep(1.0)
+        raise ValueError("sensor exploded")
+
+    loop.spawn(broken(), name="laser")
+    with pytest.raises(TaskFailedError, match="laser.*sensor exploded") as info:
+        loop.run(until=5)
+    assert isinstance(info.value.__cause__, ValueError)
+    assert loop.now == 1.0
+
+
+def test_unhandled_exception_in_a_callback_fails_the_run(loop):
+    loop.call_later(0.5, lambda: 1 / 0)
+    with pytest.raises(TaskFailedError, match="ZeroDivisionError"):
+        loop.run()
+
+
+@pytest.mark.parametrize(
+    "action",
+    [
+        lambda: asyncio.get_running_loop().run_in_executor(None, print),
+        lambda: asyncio.open_connection("example.org", 80),
+        lambda: asyncio.create_subprocess_exec("true"),
+        lambda: asyncio.to_thread(print),
+    ],
+    ids=["executor", "socket", "subprocess", "to_thread"],
+)
+def test_real_io_is_refused(loop, action):
+    async def main():
+        await action()
+
+    with pytest.raises((RealIOError, TaskFailedError), match="not allowed inside a simulation"):
+        loop.run_until_complete(main())
+
+
+def test_stepping_works_inside_a_running_asyncio_loop():
+    """A Jupyter kernel already runs a loop in the thread; stepping must still work."""
+
+    async def notebook_cell():
+        outer = asyncio.get_running_loop()
+        sim_loop = VirtualEventLoop()
+        hits = []
+
+        async def module():
+            while True:
+                await asyncio.sleep(0.5)
+                hits.append((sim_loop.time(), asyncio.get_running_loop() is sim_loop))
+
+        sim_loop.spawn(module(), name="module")
+        sim_loop.step()
+        sim_loop.run(until=2.0)
+        assert sim_loop.run_until(lambda: len(hits) >= 5, timeout=10)
+        assert asyncio.get_running_loop() is outer  # the kernel's loop is back
+        await asyncio.sleep(0)  # and it still works
+        sim_loop.close()
+        return hits
+
+    hits = asyncio.run(notebook_cell())
+    assert [t for t, _ in hits] == [0.5, 1.0, 1.5, 2.0, 2.5]
+    assert all(ok for _, ok in hits)
+
+
+def test_stepping_from_inside_the_simulation_is_refused(loop):
+    async def reentrant():
+        loop.step()
+
+    with pytest.raises(SimulationError, match="already running"):
+        loop.run_until_complete(reentrant())
+
+
+# --------------------------------------------------------------------------
+# Property: the loop's execution order equals a small reference model.
+#
+# A program is a forest of callbacks. Each callback, when it runs, schedules
+# its children, each with call_soon, call_later(d) or call_at(absolute t).
+# The reference model below states asyncio's rule directly, with lists and
+# sorting: a round moves every due timer, in (time, scheduling order), behind
+# the already-ready callbacks, then runs exactly the callbacks ready at the
+# round's start; the clock jumps to the earliest timer only when nothing is
+# ready.
+# --------------------------------------------------------------------------
+
+delays = st.sampled_from([0, 0, 1, 2, 3, 5, 8]).map(lambda k: k * 0.25)
+node = st.deferred(
+    lambda: st.tuples(st.sampled_from(["soon", "later", "at"]), delays, st.lists(node, max_size=3))
+)
+programs = st.lists(node, min_size=1, max_size=6)
+
+
+def _flatten(program):
+    """Number every node; return {id: (how, delay, child ids)} and the root ids."""
+    table = {}
+
+    def visit(n):
+        how, d, kids = n
+        nid = len(table)
+        table[nid] = None
+        table[nid] = (how, d, [visit(k) for k in kids])
+        return nid
+
+    roots = [visit(n) for n in program]
+    return table, roots
+
+
+def _reference(table, roots):
+    now = 0
+    seq = 0
+    ready: list[int] = []
+    timers: list[tuple[int, int, int]] = []
+    order = []
+
+    def schedule(nid):
+        nonlocal seq
+        how, d, _ = table[nid]
+        if how == "soon":
+            ready.append(nid)
+        else:
+            when = now + to_ns(d) if how == "later" else max(now, to_ns(d))
+            timers.append((when, seq, nid))
+        seq += 1
+
+    for r in roots:
+        schedule(r)
+    while ready or timers:
+        if not ready:
+            now = min(timers)[0]
+        due = sorted(t for t in timers if t[0] <= now)
+        timers[:] = [t for t in timers if t[0] > now]
+        ready.extend(nid for _, _, nid in due)
+        batch, ready[:] = list(ready), []
+        for nid in batch:
+            order.append((now, nid))
+            for kid in table[nid][2]:
+                schedule(kid)
+    return order
+
+
+@settings(max_examples=examples(200, 500))
+@given(programs)
+def test_execution_order_matches_reference_model(program):
+    table, roots = _flatten(program)
+    loop = VirtualEventLoop()
+    order = []
+
+    def run(nid):
+        order.append((loop.now_ns, nid))
+        for kid in table[nid][2]:
+            sched(kid)
+
+    def sched(nid):
+        how, d, _ = table[nid]
+        if how == "soon":
+            loop.call_soon(run, nid)
+        elif how == "later":
+            loop.call_later(d, run, nid)
+        else:
+            loop.call_at(d, run, nid)
+
+    for r in roots:
+        sched(r)
+    loop.run()
+    loop.close()
+    assert order == _reference(table, roots)
+    times = [t for t, _ in order]
+    assert times == sorted(times), "virtual time went backwards"
+
+
+@settings(max_examples=examples(100, 500))
+@given(st.lists(st.integers(0, 40), min_size=1, max_size=30), st.integers(0, 45))
+def test_run_until_is_exact(ticks, until_tick):
+    loop = VirtualEventLoop()
+    ran = []
+    for i, k in enumerate(ticks):
+        loop.call_at(k * 0.25, ran.append, i)
+    until = until_tick * 0.25
+    loop.run(until=until)
+    assert loop.now == until
+    assert sorted(ran) == sorted(i for i, k in enumerate(ticks) if k * 0.25 < until)
+    loop.close()
