@@ -88,13 +88,17 @@ class RayCaster:
         max_range: float = np.inf,
         *,
         out: FloatArray | None = None,
+        backfaces: bool = True,
     ) -> FloatArray:
         """Ranges (N,) to the first segment or circle hit along each angle.
 
         ``seg_a``/``seg_b`` are segment end points (M, 2), ``circ_c``/``circ_r``
         circle centres (K, 2) and radii (K,). Segments and circles wholly
         beyond ``max_range`` are culled first. ``out`` receives the result
-        when given (shape (N,)).
+        when given (shape (N,)). ``backfaces=False`` drops segments whose
+        right-hand side faces the origin: correct (and about twice as fast)
+        when the segments are edges of counter-clockwise closed polygons and
+        the origin lies outside all of them.
         """
         ox, oy = float(origin[0]), float(origin[1])
         angles = np.asarray(angles, dtype=float)
@@ -105,6 +109,10 @@ class RayCaster:
         seg_b = np.asarray(seg_b, dtype=float).reshape(-1, 2)
         circ_c = np.asarray(circ_c, dtype=float).reshape(-1, 2)
         circ_r = np.asarray(circ_r, dtype=float).reshape(-1)
+        if not backfaces and seg_a.shape[0]:
+            # Outward normal of a CCW edge is (ey, -ex); keep edges facing the origin.
+            facing = (seg_b[:, 1] - seg_a[:, 1]) * (ox - seg_a[:, 0]) - (seg_b[:, 0] - seg_a[:, 0]) * (oy - seg_a[:, 1]) > 0
+            seg_a, seg_b = seg_a[facing], seg_b[facing]
         if np.isfinite(max_range):
             seg_a, seg_b = _cull_segments(ox, oy, seg_a, seg_b, max_range)
             if circ_c.shape[0]:

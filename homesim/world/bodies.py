@@ -1,0 +1,252 @@
+"""The moving bodies of the world: the PeopleBot and the people.
+
+The robot is a dynamic pymunk body driven like a differential-drive base:
+each physics step sets its velocity from the commanded (v, omega), limited
+in speed and acceleration, and the contact solver stops it at walls,
+furniture and people. People are kinematic bodies (their scripts move
+them): a collision circle for the body and two leg circles that swing in an
+alternating gait while they walk; only the legs reach the laser's height.
+Head direction is separate from body direction.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+import pymunk
+
+from .geometry import wrap_angle
+
+# Shape categories (bit masks) for collision filtering and queries.
+CAT_WALL = 1
+CAT_FURNITURE = 2
+CAT_ROBOT = 4
+CAT_HUMAN = 8
+CAT_LEGS = 16
+CAT_LASER = 32  # added to every shape that reaches the laser's height
+LASER_FILTER = pymunk.ShapeFilter(mask=CAT_LASER)
+
+# PeopleBot: footprint 0.51 m long, 0.43 m wide (radius about 0.30 m).
+ROBOT_LENGTH = 0.51
+ROBOT_WIDTH = 0.43
+ROBOT_RADIUS = 0.30
+LASER_OFFSET = 0.13  # laser at the front, metres ahead of the centre
+LASER_HEIGHT = 0.30
+CAMERA_HEIGHT = 1.41
+MIC_HEIGHT = 1.06
+MIC_SPACING = 0.281
+MIC_OFFSET = 0.10  # microphones at the front of the upper platform
+
+# People.
+HUMAN_RADIUS = 0.25
+LEG_RADIUS = 0.06
+LEG_SPREAD = 0.10  # lateral offset of each leg from the body centre
+STRIDE = 0.6  # metres per full gait cycle
+HEAD_LIMIT = math.radians(80)  # how far a head turns from the body's direction
+
+
+class RobotBody:
+    """The PeopleBot base in the world: commanded velocities in, pose out."""
+
+    def __init__(self, space: pymunk.Space, x: float, y: float, heading: float, *, max_speed: float = 0.5, max_turn: float = math.radians(100)) -> None:
+        self.max_speed = max_speed
+        self.max_turn = max_turn
+        self.max_accel = 1.0  # m/s^2
+        self.max_turn_accel = math.radians(300)  # rad/s^2
+        self.body = pymunk.Body(40.0, math.inf)
+        self.body.position = (x, y)
+        self.body.angle = heading
+        hw, hl = ROBOT_WIDTH / 2, ROBOT_LENGTH / 2
+        self.shape = pymunk.Poly(self.body, [(-hl, -hw), (hl, -hw), (hl, hw), (-hl, hw)], radius=0.01)
+        self.shape.filter = pymunk.ShapeFilter(categories=CAT_ROBOT)
+        self.shape.friction = 0.0
+        self.shape.collision_type = CAT_ROBOT
+        space.add(self.body, self.shape)
+        self.cmd_v = 0.0
+        self.cmd_w = 0.0
+        self.v = 0.0
+        self.w = 0.0
+        self.odometer = 0.0  # metres actually travelled
+        self.in_contact = False
+
+    @property
+    def pose(self) -> tuple[float, float, float]:
+        p = self.body.position
+        return float(p.x), float(p.y), float(wrap_angle(self.body.angle))
+
+    def command(self, v: float, w: float) -> None:
+        """Set the wanted forward speed (m/s) and turn rate (rad/s); limits apply."""
+        self.cmd_v = float(np.clip(v, -self.max_speed, self.max_speed))
+        self.cmd_w = float(np.clip(w, -self.max_turn, self.max_turn))
+
+    def before_step(self, dt: float) -> None:
+        dv = np.clip(self.cmd_v - self.v, -self.max_accel * dt, self.max_accel * dt)
+        dw = np.clip(self.cmd_w - self.w, -self.max_turn_accel * dt, self.max_turn_accel * dt)
+        self.v += float(dv)
+        self.w += float(dw)
+        th = self.body.angle
+        self.body.velocity = (self.v * math.cos(th), self.v * math.sin(th))
+        self.body.angular_velocity = self.w
+
+    def after_step(self, dt: float, before: tuple[float, float]) -> None:
+        p = self.body.position
+        moved = math.hypot(p.x - before[0], p.y - before[1])
+        self.odometer += moved
+        # What the base really achieved (a wall stops it): the wheels follow.
+        if dt > 0 and moved < abs(self.v) * dt * 0.5:
+            self.v = math.copysign(moved / dt, self.v) if self.v else 0.0
+
+    def world_point(self, forward: float, left: float = 0.0) -> tuple[float, float]:
+        x, y, th = self.pose
+        c, s = math.cos(th), math.sin(th)
+        return x + c * forward - s * left, y + s * forward + c * left
+
+
+@dataclass
+class Pointing:
+    """A person's pointing gesture: the arm from the shoulder to ``target`` (x, y, z)."""
+
+    target_name: str
+    target: tuple[float, float, float]
+    until: float
+
+
+class HumanBody:
+    """A scripted person in the world: position, body and head direction, legs.
+
+    Scripts call :meth:`walk_velocity` (or :meth:`stand`) and set
+    :attr:`head`; the world calls :meth:`advance` after each physics step
+    to move the gait. ``present`` turns False when the person has left.
+    """
+
+    def __init__(self, space: pymunk.Space, name: str, x: float, y: float, heading: float, *, height: float, torso: tuple[float, float, float], speed: float) -> None:
+        self.name = name
+        self.height = height
+        self.torso = torso
+        self.speed = speed
+        self.heading = heading
+        self.head = 0.0  # head yaw relative to the body
+        self.phase = 0.0
+        self.gait_amp = 0.0
+        self.present = True
+        self.pointing: Pointing | None = None
+        self.space = space
+        self.body = pymunk.Body(body_type=pymunk.Body.KINEMATIC)
+        self.body.position = (x, y)
+        self.shape = pymunk.Circle(self.body, HUMAN_RADIUS)
+        self.shape.filter = pymunk.ShapeFilter(categories=CAT_HUMAN, mask=CAT_ROBOT)
+        self.shape.collision_type = CAT_HUMAN
+        self.legs = [pymunk.Circle(self.body, LEG_RADIUS, (0.0, s * LEG_SPREAD)) for s in (1.0, -1.0)]
+        for leg in self.legs:
+            leg.sensor = True
+            leg.filter = pymunk.ShapeFilter(categories=CAT_LEGS | CAT_LASER, mask=0)
+        space.add(self.body, self.shape, *self.legs)
+        self._place_legs()
+
+    # ------------------------------------------------------------ state
+    @property
+    def position(self) -> tuple[float, float]:
+        p = self.body.position
+        return float(p.x), float(p.y)
+
+    @property
+    def pose(self) -> tuple[float, float, float]:
+        x, y = self.position
+        return x, y, self.heading
+
+    @property
+    def gaze(self) -> float:
+        """World direction the face looks towards."""
+        return float(wrap_angle(self.heading + self.head))
+
+    @property
+    def face_z(self) -> float:
+        return self.height - 0.12
+
+    @property
+    def shoulder_z(self) -> float:
+        return self.height * 0.82
+
+    @property
+    def torso_z(self) -> float:
+        return self.height * 0.7
+
+    def face_point(self) -> tuple[float, float, float]:
+        x, y = self.position
+        return x, y, self.face_z
+
+    def hand_point(self) -> tuple[float, float, float] | None:
+        """Where the pointing hand is (0.6 m along the arm), or None."""
+        if self.pointing is None:
+            return None
+        x, y = self.position
+        sx, sy, sz = x, y, self.shoulder_z
+        tx, ty, tz = self.pointing.target
+        d = np.array([tx - sx, ty - sy, tz - sz])
+        n = float(np.linalg.norm(d))
+        if n < 1e-9:
+            return sx, sy, sz
+        d *= 0.6 / n
+        return sx + d[0], sy + d[1], sz + d[2]
+
+    def leg_centres(self) -> np.ndarray:
+        """World positions (2, 2) of the two legs."""
+        x, y = self.position
+        c, s = math.cos(self.heading), math.sin(self.heading)
+        out = np.empty((2, 2))
+        for i, leg in enumerate(self.legs):
+            ox, oy = leg.offset
+            out[i] = (x + c * ox - s * oy, y + s * ox + c * oy)
+        return out
+
+    # ---------------------------------------------------------- motion
+    def walk_velocity(self, vx: float, vy: float) -> None:
+        """Move with this world velocity; the body turns to the walking direction."""
+        self.body.velocity = (vx, vy)
+        if vx * vx + vy * vy > 1e-8:
+            self.heading = math.atan2(vy, vx)
+
+    def stand(self) -> None:
+        self.body.velocity = (0.0, 0.0)
+
+    def turn_to(self, heading: float) -> None:
+        self.heading = float(wrap_angle(heading))
+
+    def look(self, world_direction: float) -> None:
+        """Turn the head towards a world direction (the body follows beyond the head's limit)."""
+        rel = float(wrap_angle(world_direction - self.heading))
+        if abs(rel) > HEAD_LIMIT:
+            self.heading = float(wrap_angle(world_direction - math.copysign(HEAD_LIMIT, rel)))
+            rel = math.copysign(HEAD_LIMIT, rel)
+        self.head = rel
+
+    def teleport(self, x: float, y: float) -> None:
+        self.body.position = (x, y)
+        self.space.reindex_shapes_for_body(self.body)
+
+    def advance(self, dt: float) -> None:
+        """After a physics step: move the gait by the distance walked."""
+        v = self.body.velocity
+        speed = math.hypot(v.x, v.y)
+        self.phase = (self.phase + 2 * math.pi * speed * dt / STRIDE) % (2 * math.pi)
+        target_amp = STRIDE / 4 * min(1.0, speed / 0.4)
+        self.gait_amp += (target_amp - self.gait_amp) * min(1.0, 8.0 * dt)
+        self._place_legs()
+
+    def _place_legs(self) -> None:
+        # The body frame turns with the heading; legs are offset in it.
+        self.body.angle = self.heading
+        swing = self.gait_amp * math.sin(self.phase)
+        for leg, side, sign in zip(self.legs, (1.0, -1.0), (1.0, -1.0)):
+            leg.unsafe_set_offset((sign * swing, side * LEG_SPREAD))
+        if self.body.space is not None:
+            self.space.reindex_shapes_for_body(self.body)
+
+    def remove(self) -> None:
+        """Leave the world (walked out of the flat)."""
+        if self.present:
+            self.space.remove(self.body, self.shape, *self.legs)
+            self.present = False
+            self.pointing = None

@@ -1,0 +1,276 @@
+"""The simulated flat: pymunk physics plus the geometry the sensors query.
+
+:class:`World` is built from a :class:`~homesim.scenario.model.Scenario`:
+walls (with door gaps) and furniture become static pymunk polygons, the
+robot a dynamic differential-drive body, people kinematic bodies with
+legs. ``step(dt)`` advances physics by an integer step count (time is
+``steps * dt``, no float drift). The world keeps numpy arrays of the static
+geometry for the raycast kernel, split by height so that the laser at
+0.30 m sees walls, table legs and furniture reaching down to the floor but
+not table tops, and the camera is occluded only by things tall enough.
+
+The world is ground truth. Robot modules never hold a reference to it:
+hardware models read it and publish noisy measurements on the bus.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+import numpy as np
+import pymunk
+
+from ..scenario.model import Furniture, Scenario, Target
+from .acoustics import SoundField
+from .bodies import (
+    CAT_FURNITURE,
+    CAT_HUMAN,
+    CAT_LASER,
+    CAT_ROBOT,
+    CAT_WALL,
+    HUMAN_RADIUS,
+    LASER_HEIGHT,
+    LEG_RADIUS,
+    HumanBody,
+    RobotBody,
+)
+from .geometry import is_convex, polygon_area, polygon_centroid, polygon_edges, split_wall, wall_rectangle
+from .raycast import RayCaster
+
+StepListener = Callable[["World"], None]
+
+
+class Obstacle:
+    """A static convex polygon with the vertical span it occupies."""
+
+    __slots__ = ("name", "kind", "polygon", "bottom", "top")
+
+    def __init__(self, name: str, kind: str, polygon: np.ndarray, bottom: float, top: float) -> None:
+        self.name = name
+        self.kind = kind  # "wall", "furniture", "leg"
+        self.polygon = polygon
+        self.bottom = bottom
+        self.top = top
+
+
+class World:
+    """Physics and geometry of one scenario's flat (see the module docstring)."""
+
+    def __init__(self, scenario: Scenario, *, dt: float | None = None) -> None:
+        self.scenario = scenario
+        self.dt = 1.0 / scenario.world_rate if dt is None else dt
+        self.steps = 0
+        self.space = pymunk.Space()
+        self.space.gravity = (0.0, 0.0)
+        self.space.iterations = 20
+        self.sound = SoundField()
+        self.obstacles: list[Obstacle] = []
+        self._listeners: list[StepListener] = []
+        self._contacts: list[tuple[float, str]] = []
+        self._build_static(scenario)
+        r = scenario.robot
+        self.robot = RobotBody(self.space, r.x, r.y, r.heading, max_speed=r.max_speed, max_turn=r.max_turn)
+        self.humans: dict[str, HumanBody] = {}
+        for h in scenario.humans:
+            self.humans[h.name] = HumanBody(self.space, h.name, h.x, h.y, h.heading, height=h.height, torso=h.torso, speed=h.speed)
+        self.sources = {s.name: (s.x, s.y, s.height) for s in scenario.sources}
+        self.objects = {o.name: o for o in scenario.objects}
+        self._seg_cache: dict[tuple[str, float], tuple[np.ndarray, np.ndarray]] = {}
+        self.space.on_collision(CAT_ROBOT, None, begin=self._on_robot_contact)
+        self._laser_segments = self.segments_at(LASER_HEIGHT)
+        self.caster = RayCaster()
+
+    # ------------------------------------------------------------ building
+    def _build_static(self, sc: Scenario) -> None:
+        sb = self.space.static_body
+        for wall in sc.walls:
+            for a, b in split_wall(wall.start, wall.end, [(d.at, d.width) for d in wall.doors]):
+                rect = wall_rectangle(a, b, wall.thickness)
+                self._add_static(Obstacle(f"wall@{wall.line}", "wall", rect, 0.0, 3.0), CAT_WALL | CAT_LASER, sb)
+        for f in sc.furniture:
+            poly = np.array(f.polygon, dtype=float)
+            if not is_convex(poly):
+                raise ValueError(f"furniture {f.name!r} is not convex")
+            laser = CAT_LASER if f.clearance <= LASER_HEIGHT <= f.height else 0
+            self._add_static(Obstacle(f.name, "furniture", poly, f.clearance, f.height), CAT_FURNITURE | laser, sb)
+            if f.clearance > 0:
+                for leg in table_legs(f):
+                    # Legs carry the top: the robot meets the top first, so legs are sensors.
+                    self._add_static(Obstacle(f"{f.name}/leg", "leg", leg, 0.0, f.clearance), CAT_FURNITURE | CAT_LASER, sb, sensor=True)
+
+    def _add_static(self, ob: Obstacle, categories: int, body: pymunk.Body, *, sensor: bool = False) -> None:
+        if polygon_area(ob.polygon) < 0:  # keep every polygon counter-clockwise (backface culling)
+            ob.polygon = ob.polygon[::-1].copy()
+        self.obstacles.append(ob)
+        shape = pymunk.Poly(body, [tuple(p) for p in ob.polygon])
+        shape.filter = pymunk.ShapeFilter(categories=categories)
+        shape.friction = 0.0
+        shape.sensor = sensor
+        shape.collision_type = CAT_WALL if ob.kind == "wall" else CAT_FURNITURE
+        self.space.add(shape)
+
+    def _on_robot_contact(self, arbiter: pymunk.Arbiter, space: pymunk.Space, data: object) -> None:
+        a, b = arbiter.shapes
+        other = b if a.body is self.robot.body else a
+        if other.sensor:
+            return
+        if other.collision_type == CAT_HUMAN:
+            what = next((n for n, h in self.humans.items() if h.shape is other), "human")
+        elif other.collision_type == CAT_WALL:
+            what = "wall"
+        else:
+            what = "furniture"
+        self._contacts.append((self.time, what))
+
+    # --------------------------------------------------------------- time
+    @property
+    def time(self) -> float:
+        """World time in seconds: the step count times dt."""
+        return self.steps * self.dt
+
+    def add_listener(self, fn: StepListener) -> None:
+        """Call ``fn(world)`` after every step (ground truth, plots); it must not change the world."""
+        self._listeners.append(fn)
+
+    def step(self, dt: float | None = None) -> None:
+        """Advance physics by one step of ``dt`` (the world's own dt by default)."""
+        dt = self.dt if dt is None else dt
+        rb = self.robot
+        rb.before_step(dt)
+        before = rb.body.position
+        self.space.step(dt)
+        rb.after_step(dt, (before.x, before.y))
+        for h in self.humans.values():
+            if h.present:
+                h.advance(dt)
+        self.steps += 1
+        for fn in self._listeners:
+            fn(self)
+
+    @property
+    def contacts(self) -> list[tuple[float, str]]:
+        """(time, what) of every contact the robot began: walls, furniture, people."""
+        return list(self._contacts)
+
+    # ------------------------------------------------------------ geometry
+    def segments_at(self, z: float, *, mode: str = "span") -> tuple[np.ndarray, np.ndarray]:
+        """Edges (a, b) of every static obstacle at height ``z``.
+
+        ``mode="span"``: obstacles whose vertical extent contains z (what a
+        horizontal beam at z hits). ``mode="above"``: obstacles at least z
+        high (what blocks a sight line that never dips below z).
+        """
+        key = (mode, round(z, 3))
+        got = self._seg_cache.get(key)
+        if got is not None:
+            return got
+        if mode == "span":
+            chosen = [o for o in self.obstacles if o.bottom <= z <= o.top]
+        elif mode == "above":
+            chosen = [o for o in self.obstacles if o.top >= z and o.kind != "leg"]
+        else:
+            raise ValueError(f"unknown mode {mode!r}")
+        if chosen:
+            pairs = [polygon_edges(o.polygon) for o in chosen]
+            a = np.concatenate([p[0] for p in pairs])
+            b = np.concatenate([p[1] for p in pairs])
+        else:
+            a = b = np.zeros((0, 2))
+        self._seg_cache[key] = (a, b)
+        return a, b
+
+    def leg_circles(self) -> tuple[np.ndarray, np.ndarray]:
+        """Centres (K, 2) and radii (K,) of every present person's legs."""
+        present = [h for h in self.humans.values() if h.present]
+        if not present:
+            return np.zeros((0, 2)), np.zeros(0)
+        return np.concatenate([h.leg_centres() for h in present]), np.full(2 * len(present), LEG_RADIUS)
+
+    def body_circles(self, *, exclude: str | None = None) -> tuple[np.ndarray, np.ndarray, list[str]]:
+        """Centres, radii and names of present people's bodies (for occlusion)."""
+        people = [h for n, h in self.humans.items() if h.present and n != exclude]
+        if not people:
+            return np.zeros((0, 2)), np.zeros(0), []
+        return np.array([h.position for h in people]), np.full(len(people), HUMAN_RADIUS * 0.8), [h.name for h in people]
+
+    def laser_ranges(self, origin: tuple[float, float], angles: np.ndarray, max_range: float, out: np.ndarray | None = None) -> np.ndarray:
+        """Exact ranges at laser height along world angles (no noise): walls, furniture, legs."""
+        a, b = self._laser_segments
+        c, r = self.leg_circles()
+        return self.caster.cast(origin, angles, a, b, c, r, max_range, out=out, backfaces=False)
+
+    def target_point(self, t: Target, *, who: str | None = None) -> tuple[float, float, float]:
+        """World point (x, y, z) of a script or expectation target."""
+        sc = self.scenario
+        if t.kind == "point":
+            return t.x, t.y, 0.0
+        if t.kind == "robot":
+            x, y, _ = self.robot.pose
+            return x, y, 1.0
+        if t.kind == "place":
+            p = sc.place(t.name or "")
+            return p.x, p.y, 0.0
+        if t.kind == "room":
+            cx, cy = polygon_centroid(np.array(sc.room(t.name or "").polygon))
+            return cx, cy, 0.0
+        if t.kind == "object":
+            return self.object_point(t.name or "")
+        if t.kind == "furniture":
+            f = sc.piece(t.name or "")
+            cx, cy = polygon_centroid(np.array(f.polygon))
+            return cx, cy, f.height
+        if t.kind == "human":
+            h = self.humans[t.name or ""]
+            x, y = h.position
+            return x, y, h.face_z
+        raise ValueError(f"{t.kind!r} is not a point target")
+
+    def object_point(self, name: str) -> tuple[float, float, float]:
+        """Centre of an object: on its furniture's top, or on the floor."""
+        o = self.objects[name]
+        base = self.scenario.piece(o.on).height if o.on else 0.0
+        return o.x, o.y, base + o.height / 2
+
+    def source_point(self, name: str) -> tuple[float, float, float] | None:
+        """Where a sound source is: a present person's mouth, a radio, the robot's speaker."""
+        if name == "robot":
+            x, y = self.robot.world_point(0.1)
+            return x, y, 1.2
+        h = self.humans.get(name)
+        if h is not None:
+            return h.face_point() if h.present else None
+        return self.sources.get(name)
+
+    def room_of(self, x: float, y: float) -> str | None:
+        """Name of the room containing (x, y), or None outside the flat."""
+        from .geometry import point_in_polygon
+
+        for room in self.scenario.rooms:
+            if point_in_polygon((x, y), np.array(room.polygon)):
+                return room.name
+        return None
+
+    def bounds(self) -> tuple[float, float, float, float]:
+        """(xmin, ymin, xmax, ymax) of the rooms and walls."""
+        pts = [p for r in self.scenario.rooms for p in r.polygon]
+        pts += [w.start for w in self.scenario.walls] + [w.end for w in self.scenario.walls]
+        arr = np.array(pts, dtype=float)
+        lo, hi = arr.min(axis=0), arr.max(axis=0)
+        return float(lo[0]), float(lo[1]), float(hi[0]), float(hi[1])
+
+
+def table_legs(f: Furniture) -> list[np.ndarray]:
+    """Square legs (side ``f.leg``) just inside each corner of a raised piece."""
+    poly = np.array(f.polygon, dtype=float)
+    cx, cy = polygon_centroid(poly)
+    legs = []
+    h = f.leg / 2
+    for vx, vy in poly:
+        d = np.array([cx - vx, cy - vy])
+        n = float(np.hypot(*d))
+        ux, uy = (d / n) if n > 1e-9 else (0.0, 0.0)
+        # Inset so the square lies inside the top (diagonal of the square is leg*sqrt2).
+        px, py = vx + ux * f.leg * 1.5, vy + uy * f.leg * 1.5
+        legs.append(np.array([[px - h, py - h], [px + h, py - h], [px + h, py + h], [px - h, py + h]]))
+    return legs
+
