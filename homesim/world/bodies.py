@@ -26,7 +26,8 @@ CAT_ROBOT = 4
 CAT_HUMAN = 8
 CAT_LEGS = 16
 CAT_LASER = 32  # added to every shape that reaches the laser's height
-LASER_FILTER = pymunk.ShapeFilter(mask=CAT_LASER)
+CAT_QUERY = 64  # the category of geometry queries (shapes that only queries may find mask this in)
+LASER_FILTER = pymunk.ShapeFilter(categories=CAT_QUERY, mask=CAT_LASER)
 
 # PeopleBot: footprint 0.51 m long, 0.43 m wide (radius about 0.30 m).
 ROBOT_LENGTH = 0.51
@@ -141,7 +142,7 @@ class HumanBody:
         self.legs = [pymunk.Circle(self.body, LEG_RADIUS, (0.0, s * LEG_SPREAD)) for s in (1.0, -1.0)]
         for leg in self.legs:
             leg.sensor = True
-            leg.filter = pymunk.ShapeFilter(categories=CAT_LEGS | CAT_LASER, mask=0)
+            leg.filter = pymunk.ShapeFilter(categories=CAT_LEGS | CAT_LASER, mask=CAT_QUERY)
         space.add(self.body, self.shape, *self.legs)
         self._place_legs()
 

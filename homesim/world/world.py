@@ -147,6 +147,16 @@ class World:
         for fn in self._listeners:
             fn(self)
 
+    def place_robot(self, x: float, y: float, heading: float) -> None:
+        """Put the robot somewhere at rest (tests, notebooks); no collision check."""
+        b = self.robot.body
+        b.position = (x, y)
+        b.angle = heading
+        b.velocity = (0.0, 0.0)
+        b.angular_velocity = 0.0
+        self.robot.v = self.robot.w = 0.0
+        self.space.reindex_shapes_for_body(b)
+
     @property
     def contacts(self) -> list[tuple[float, str]]:
         """(time, what) of every contact the robot began: walls, furniture, people."""

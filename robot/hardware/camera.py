@@ -1,0 +1,258 @@
+"""Sony EVI-D31 pan-tilt camera: pure detection kernels on the world's geometry.
+
+The camera sits at 1.41 m on the robot's top. Pan +-100 deg (up to 80
+deg/s), tilt +-25 deg (up to 50 deg/s), horizontal field of view 48.8 deg
+(vertical 37.6 deg, 4:3). What it reports, each a pure function here:
+
+- faces: frontal only (the person looks at the camera within about
+  +-30 deg), in the field of view, not occluded (raycast against walls,
+  tall furniture and other people), 0.5-4 m away; bearing, distance from
+  the face's size (noise grows with distance) and height;
+- torsos: colour (RGB with noise) and bearing, any facing direction;
+- pointing gestures: when the pointing hand is in view; the arm's
+  direction in the robot frame;
+- objects: type through a confusion model, colour, bearing, distance.
+
+Bearings are in the robot frame (0 ahead, + left). The module wrapper is
+in :mod:`robot.hardware.camera_module`.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from homesim.world.geometry import wrap_angle
+from homesim.world.raycast import RayCaster, line_of_sight
+from homesim.world.world import World
+
+
+@dataclass(frozen=True)
+class CameraSpec:
+    height: float = 1.41
+    offset: float = 0.05  # metres ahead of the robot's centre
+    hfov: float = math.radians(48.8)
+    vfov: float = math.radians(37.6)
+    pan_limit: float = math.radians(100)
+    tilt_limit: float = math.radians(25)
+    pan_speed: float = math.radians(80)
+    tilt_speed: float = math.radians(50)
+    face_range: tuple[float, float] = (0.5, 4.0)
+    frontal: float = math.radians(30)
+    torso_range: tuple[float, float] = (0.5, 5.0)
+    gesture_range: float = 3.5
+    object_range: tuple[float, float] = (0.3, 3.5)
+    bearing_noise: float = math.radians(1.0)
+    distance_noise: float = 0.06  # relative (face size -> distance)
+    height_noise: float = 0.03
+    colour_noise: float = 0.04
+    direction_noise: float = math.radians(5.0)
+    rate: float = 10.0
+
+
+@dataclass
+class PanTilt:
+    """The pan-tilt unit's state and target (radians)."""
+
+    pan: float = 0.0
+    tilt: float = 0.0
+    target_pan: float = 0.0
+    target_tilt: float = 0.0
+
+
+def ptu_step(ptu: PanTilt, dt: float, spec: CameraSpec) -> PanTilt:
+    """Move towards the (clamped) target at most at the unit's speeds; returns a new state."""
+    tp = float(np.clip(ptu.target_pan, -spec.pan_limit, spec.pan_limit))
+    tt = float(np.clip(ptu.target_tilt, -spec.tilt_limit, spec.tilt_limit))
+    pan = ptu.pan + float(np.clip(tp - ptu.pan, -spec.pan_speed * dt, spec.pan_speed * dt))
+    tilt = ptu.tilt + float(np.clip(tt - ptu.tilt, -spec.tilt_speed * dt, spec.tilt_speed * dt))
+    return PanTilt(pan, tilt, tp, tt)
+
+
+def camera_point(pose: tuple[float, float, float], spec: CameraSpec) -> tuple[float, float, float]:
+    x, y, th = pose
+    return x + spec.offset * math.cos(th), y + spec.offset * math.sin(th), spec.height
+
+
+def view_angles(cam: tuple[float, float, float], robot_heading: float, points: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Robot-frame bearing, elevation and 3D distance from the camera to points (N, 3)."""
+    p = np.atleast_2d(np.asarray(points, dtype=float))
+    d = p - np.asarray(cam)
+    horiz = np.hypot(d[:, 0], d[:, 1])
+    bearing = wrap_angle(np.arctan2(d[:, 1], d[:, 0]) - robot_heading)
+    elev = np.arctan2(d[:, 2], horiz)
+    return bearing, elev, np.hypot(horiz, d[:, 2])
+
+
+def in_field_of_view(bearing: np.ndarray, elev: np.ndarray, ptu: PanTilt, spec: CameraSpec) -> np.ndarray:
+    """Whether robot-frame directions fall inside the image at the current pan and tilt."""
+    return (np.abs(wrap_angle(bearing - ptu.pan)) <= spec.hfov / 2) & (np.abs(elev - ptu.tilt) <= spec.vfov / 2)
+
+
+def visible(world: World, cam: tuple[float, float, float], points: np.ndarray, *, exclude: list[str | None], caster: RayCaster | None = None) -> np.ndarray:
+    """Line of sight from the camera to each point (N, 3): walls, furniture tall enough, people.
+
+    ``exclude[i]`` names the person point i belongs to (their own body does
+    not hide their face). Furniture blocks a sight line when it is at least
+    as high as the lower end of the line.
+    """
+    p = np.atleast_2d(np.asarray(points, dtype=float))
+    out = np.zeros(p.shape[0], dtype=bool)
+    for i in range(p.shape[0]):
+        a, b = world.segments_at(min(cam[2], float(p[i, 2])), mode="above")
+        c, r, _ = world.body_circles(exclude=exclude[i])
+        out[i] = bool(line_of_sight(cam[:2], p[i : i + 1, :2], a, b, c, r, caster=caster)[0])
+    return out
+
+
+@dataclass(frozen=True)
+class FaceDetection:
+    bearing: float  # robot frame, radians
+    distance: float
+    height: float
+    truth: str  # who it was (ground truth; kept out of bus messages)
+
+
+def detect_faces(world: World, pose: tuple[float, float, float], ptu: PanTilt, spec: CameraSpec, rng: np.random.Generator | None, *, caster: RayCaster | None = None) -> list[FaceDetection]:
+    """Faces in frontal view, in the image, unoccluded and 0.5-4 m away."""
+    people = [h for h in world.humans.values() if h.present]
+    if not people:
+        return []
+    cam = camera_point(pose, spec)
+    faces = np.array([h.face_point() for h in people])
+    bearing, elev, dist = view_angles(cam, pose[2], faces)
+    gaze = np.array([h.gaze for h in people])
+    # Direction from each face to the camera vs where the face looks.
+    to_cam = np.arctan2(cam[1] - faces[:, 1], cam[0] - faces[:, 0])
+    frontal = np.abs(wrap_angle(gaze - to_cam)) <= spec.frontal
+    ok = frontal & in_field_of_view(bearing, elev, ptu, spec) & (dist >= spec.face_range[0]) & (dist <= spec.face_range[1])
+    idx = np.flatnonzero(ok)
+    if idx.size:
+        sight = visible(world, cam, faces[idx], exclude=[people[i].name for i in idx], caster=caster)
+        idx = idx[sight]
+    out = []
+    for i in idx:
+        b, d, z = float(bearing[i]), float(dist[i]), float(faces[i, 2])
+        if rng is not None:
+            b += float(rng.normal(0.0, spec.bearing_noise))
+            d *= float(1.0 + rng.normal(0.0, spec.distance_noise))
+            z += float(rng.normal(0.0, spec.height_noise))
+        out.append(FaceDetection(float(wrap_angle(b)), max(0.1, d), z, people[i].name))
+    return out
+
+
+@dataclass(frozen=True)
+class TorsoDetection:
+    bearing: float
+    colour: tuple[float, float, float]
+    truth: str
+
+
+def detect_torsos(world: World, pose: tuple[float, float, float], ptu: PanTilt, spec: CameraSpec, rng: np.random.Generator | None, *, caster: RayCaster | None = None) -> list[TorsoDetection]:
+    """Torsos (clothing colour and bearing) of people in view, whichever way they face."""
+    people = [h for h in world.humans.values() if h.present]
+    if not people:
+        return []
+    cam = camera_point(pose, spec)
+    pts = np.array([(*h.position, h.torso_z) for h in people])
+    bearing, elev, dist = view_angles(cam, pose[2], pts)
+    ok = in_field_of_view(bearing, elev, ptu, spec) & (dist >= spec.torso_range[0]) & (dist <= spec.torso_range[1])
+    idx = np.flatnonzero(ok)
+    if idx.size:
+        idx = idx[visible(world, cam, pts[idx], exclude=[people[i].name for i in idx], caster=caster)]
+    out = []
+    for i in idx:
+        b = float(bearing[i])
+        rgb = np.array(people[i].torso, dtype=float)
+        if rng is not None:
+            b += float(rng.normal(0.0, spec.bearing_noise * 2))
+            rgb = np.clip(rgb + rng.normal(0.0, spec.colour_noise, 3), 0.0, 1.0)
+        out.append(TorsoDetection(float(wrap_angle(b)), (float(rgb[0]), float(rgb[1]), float(rgb[2])), people[i].name))
+    return out
+
+
+@dataclass(frozen=True)
+class GestureDetection:
+    """A pointing gesture: where the hand is and which way the arm points (robot frame)."""
+
+    bearing: float  # of the hand
+    distance: float
+    direction: float  # of the arm, robot frame
+    elevation: float  # of the arm (negative: pointing down)
+    hand_height: float
+    truth: str
+    target: str
+
+
+def detect_gestures(world: World, pose: tuple[float, float, float], ptu: PanTilt, spec: CameraSpec, rng: np.random.Generator | None, *, caster: RayCaster | None = None) -> list[GestureDetection]:
+    """Pointing gestures whose hand is in the image, unoccluded and near enough."""
+    out = []
+    cam = camera_point(pose, spec)
+    for h in world.humans.values():
+        hand = h.hand_point() if h.present else None
+        if hand is None or h.pointing is None:
+            continue
+        bearing, elev, dist = view_angles(cam, pose[2], np.array([hand]))
+        if not (in_field_of_view(bearing, elev, ptu, spec)[0] and dist[0] <= spec.gesture_range):
+            continue
+        if not visible(world, cam, np.array([hand]), exclude=[h.name], caster=caster)[0]:
+            continue
+        x, y = h.position
+        arm = np.array(hand) - np.array([x, y, h.shoulder_z])
+        direction = math.atan2(arm[1], arm[0]) - pose[2]
+        arm_elev = math.atan2(arm[2], math.hypot(arm[0], arm[1]))
+        b = float(bearing[0])
+        if rng is not None:
+            direction += float(rng.normal(0.0, spec.direction_noise))
+            arm_elev += float(rng.normal(0.0, spec.direction_noise))
+            b += float(rng.normal(0.0, spec.bearing_noise))
+        out.append(GestureDetection(float(wrap_angle(b)), float(dist[0]), float(wrap_angle(direction)), arm_elev, float(hand[2]), h.name, h.pointing.target_name))
+    return out
+
+
+@dataclass(frozen=True)
+class ObjectDetection:
+    type: str
+    colour: tuple[float, float, float]
+    bearing: float
+    distance: float
+    truth: str
+
+
+def confuse(true_type: str, types: list[str], p: float, rng: np.random.Generator | None) -> str:
+    """The confusion model: with probability ``p`` report another known type."""
+    others = [t for t in types if t != true_type]
+    if rng is None or not others or p <= 0 or rng.random() >= p:
+        return true_type
+    return others[int(rng.integers(len(others)))]
+
+
+def detect_objects(world: World, pose: tuple[float, float, float], ptu: PanTilt, spec: CameraSpec, rng: np.random.Generator | None, *, confusion: float = 0.05, caster: RayCaster | None = None) -> list[ObjectDetection]:
+    """Objects in the image, unoccluded, 0.3-3.5 m away; types through :func:`confuse`."""
+    names = list(world.objects)
+    if not names:
+        return []
+    types = sorted({world.objects[n].type for n in names})
+    cam = camera_point(pose, spec)
+    pts = np.array([world.object_point(n) for n in names])
+    bearing, elev, dist = view_angles(cam, pose[2], pts)
+    ok = in_field_of_view(bearing, elev, ptu, spec) & (dist >= spec.object_range[0]) & (dist <= spec.object_range[1])
+    idx = np.flatnonzero(ok)
+    if idx.size:
+        # An object's own furniture does not hide it: look at its top.
+        lifted = pts[idx].copy()
+        lifted[:, 2] += np.array([world.objects[names[i]].height / 2 for i in idx])
+        idx = idx[visible(world, cam, lifted, exclude=[None] * len(idx), caster=caster)]
+    out = []
+    for i in idx:
+        o = world.objects[names[i]]
+        b, d = float(bearing[i]), float(dist[i])
+        rgb = np.array(o.colour, dtype=float)
+        if rng is not None:
+            b += float(rng.normal(0.0, spec.bearing_noise))
+            d *= float(1.0 + rng.normal(0.0, spec.distance_noise))
+            rgb = np.clip(rgb + rng.normal(0.0, spec.colour_noise, 3), 0.0, 1.0)
+        out.append(ObjectDetection(confuse(o.type, types, confusion, rng), (float(rgb[0]), float(rgb[1]), float(rgb[2])), float(wrap_angle(b)), max(0.05, d), o.name))
+    return out
