@@ -307,7 +307,7 @@ class _Builder:
         if tag == "face":
             return Face(self.target(el, allow_angle=True), body=self.flag(el, "body"), line=line)
         if tag == "say":
-            return Say(el.get("text"), loudness=self.num(el, "loudness", 60.0), duration=self.opt(el, "duration"), line=line)
+            return Say(el.get("text"), loudness=self.opt(el, "loudness"), duration=self.opt(el, "duration"), line=line)
         if tag == "point":
             return PointAt(self.target(el), duration=self.num(el, "duration", 2.0), line=line)
         if tag == "wait":
@@ -335,7 +335,7 @@ class _Builder:
             attrs += [("target", self.target(el)), ("within", self.num(el, "within", 1.0)), ("between", self.window(el))]
         else:  # pragma: no cover - the XSD forbids this
             raise self.fail(el, f"unknown expectation <{tag}>")
-        return Expectation(tag, tuple(attrs), el.sourceline)
+        return Expectation(tag, tuple(attrs), el.sourceline, tuple((str(k), str(v)) for k, v in el.attrib.items()))
 
 
 def _tag(el: etree._Element) -> str:

@@ -135,7 +135,7 @@ class Face:
 @dataclass(frozen=True)
 class Say:
     text: str
-    loudness: float = 60.0  # dB SPL at 1 m
+    loudness: float | None = None  # dB SPL at 1 m; None: the speaker's own (60 for people)
     duration: float | None = None  # None: from the word count
     line: int | None = None
 
@@ -233,6 +233,7 @@ class Expectation:
     kind: str
     attrs: tuple[tuple[str, object], ...]
     line: int | None = None
+    written: tuple[tuple[str, str], ...] = ()  # the attributes as written in the file
 
     def get(self, key: str, default: object = None) -> object:
         for k, v in self.attrs:
@@ -241,7 +242,7 @@ class Expectation:
         return default
 
     def describe(self) -> str:
-        args = " ".join(f'{k}="{v}"' for k, v in self.attrs)
+        args = " ".join(f'{k}="{v}"' for k, v in (self.written or self.attrs))
         return f"<{self.kind} {args}/>"
 
 

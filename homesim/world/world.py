@@ -15,6 +15,7 @@ hardware models read it and publish noisy measurements on the bus.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 
 import numpy as np
@@ -35,6 +36,7 @@ from .bodies import (
     RobotBody,
 )
 from .geometry import is_convex, polygon_area, polygon_centroid, polygon_edges, split_wall, wall_rectangle
+from .pathplan import Grid
 from .raycast import RayCaster
 
 StepListener = Callable[["World"], None]
@@ -64,6 +66,8 @@ class World:
         self.space.gravity = (0.0, 0.0)
         self.space.iterations = 20
         self.sound = SoundField()
+        self.avatar: dict[str, object] = {"pan": 0.0, "tilt": 0.0, "expression": "neutral"}  # the robot display's face
+        self.ptu = (0.0, 0.0)  # the camera's pan and tilt (radians), set by the camera model
         self.obstacles: list[Obstacle] = []
         self._listeners: list[StepListener] = []
         self._contacts: list[tuple[float, str]] = []
@@ -79,6 +83,7 @@ class World:
         self.space.on_collision(CAT_ROBOT, None, begin=self._on_robot_contact)
         self._laser_segments = self.segments_at(LASER_HEIGHT)
         self.caster = RayCaster()
+        self._grids: dict[float, Grid] = {}
 
     # ------------------------------------------------------------ building
     def _build_static(self, sc: Scenario) -> None:
@@ -259,6 +264,27 @@ class World:
             if point_in_polygon((x, y), np.array(room.polygon)):
                 return room.name
         return None
+
+    def walk_grid(self, clearance: float = 0.28) -> Grid:
+        """The occupancy grid people plan their walks on (built once per clearance)."""
+        grid = self._grids.get(clearance)
+        if grid is None:
+            polys = [o.polygon for o in self.obstacles if o.kind != "leg"]
+            grid = self._grids[clearance] = Grid(polys, self.bounds(), clearance=clearance)
+        return grid
+
+    def exit_points(self, door: str | None = None) -> tuple[tuple[float, float], tuple[float, float]]:
+        """(inside, outside) points 0.6 m either side of an exit door (the first when None)."""
+        for wall, d in self.scenario.exits():
+            if door is not None and d.name != door:
+                continue
+            (ax, ay), (bx, by) = wall.start, wall.end
+            n = math.hypot(bx - ax, by - ay)
+            ux, uy = (bx - ax) / n, (by - ay) / n
+            cx, cy = ax + ux * d.at, ay + uy * d.at
+            p1, p2 = (cx - uy * 0.6, cy + ux * 0.6), (cx + uy * 0.6, cy - ux * 0.6)
+            return (p1, p2) if self.room_of(*p1) is not None else (p2, p1)
+        raise KeyError(f"no exit door named {door!r}" if door else "the flat has no exit door")
 
     def bounds(self) -> tuple[float, float, float, float]:
         """(xmin, ymin, xmax, ymax) of the rooms and walls."""

@@ -1,0 +1,27 @@
+"""Put a scenario's people and sound sources on a stage.
+
+``install(stage)`` is what :class:`homesim.world.stage.Stage` calls (it loads
+this module by name, so the kernel never imports ``humans``). Each person
+and each radio runs its script as one top-level task, named
+``human:<name>`` or ``<kind>:<name>``, so a failing script fails the run.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+from .person import Person
+from .script import Actor, Radio
+
+
+def install(stage: Any) -> dict[str, Actor]:
+    """Create and start an actor for every human and sound source of the stage's scenario."""
+    actors: dict[str, Actor] = {}
+    for spec in stage.scenario.humans:
+        actors[spec.name] = Person(stage.world, spec)
+        stage.sim.spawn(actors[spec.name].run(), name=f"human:{spec.name}")
+    for src in stage.scenario.sources:
+        actors[src.name] = Radio(stage.world, src)
+        stage.sim.spawn(actors[src.name].run(), name=f"{src.kind}:{src.name}")
+    stage.actors.update(actors)
+    return actors

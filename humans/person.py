@@ -1,0 +1,147 @@
+"""A scripted person: walks (around obstacles), faces, points, talks, waits, leaves.
+
+:class:`Person` drives one :class:`~homesim.world.bodies.HumanBody` through
+its script. Walking plans a path on the world's occupancy grid and moves
+the kinematic body along it in short legs (re-planned every half second
+when the goal moves, e.g. walking up to the robot); while walking the head
+looks ahead. ``face`` turns the head (the body follows beyond the head's
+reach) or, with ``body="true"``, the whole body. ``point`` raises an arm
+towards the target for its duration. ``leave`` walks out through an exit
+door and removes the person from the world.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import math
+
+from homesim.scenario.model import Action, Face, HumanSpec, Leave, PointAt, Target, WalkTo
+from homesim.world.bodies import HUMAN_RADIUS, HumanBody, Pointing
+from homesim.world.pathplan import NoPathError
+from homesim.world.world import World
+
+from .script import Actor
+
+ARRIVED = 0.05  # metres: close enough to a waypoint
+LEG_TIME = 0.5  # seconds between re-planning checks while walking
+ROBOT_STOP = 0.9  # default distance to keep from the robot when walking to it
+
+
+class Person(Actor):
+    """Runs a :class:`~homesim.scenario.model.HumanSpec`'s script on its body."""
+
+    def __init__(self, world: World, spec: HumanSpec) -> None:
+        super().__init__(world, spec.name, spec.script, loudness=60.0)
+        self.spec = spec
+        self.body: HumanBody = world.humans[spec.name]
+
+    async def perform(self, act: Action) -> None:
+        if not self.body.present:
+            return
+        if isinstance(act, WalkTo):
+            await self.walk_to(act.target, stop_at=act.stop_at, speed=act.speed)
+        elif isinstance(act, Face):
+            self.face(act.target, body=act.body)
+        elif isinstance(act, PointAt):
+            await self.point(act)
+        elif isinstance(act, Leave):
+            await self.leave(act)
+        else:
+            await super().perform(act)
+
+    # ------------------------------------------------------------ walking
+    def goal_of(self, target: Target) -> tuple[float, float]:
+        x, y, _ = self.world.target_point(target, who=self.name)
+        return x, y
+
+    async def walk_to(self, target: Target, *, stop_at: float = 0.0, speed: float | None = None) -> bool:
+        """Walk until within ``stop_at`` of the target (or at the nearest free spot).
+
+        Returns False when no path exists (the person then stays put).
+        """
+        speed = speed or self.body.speed
+        if target.kind == "robot" and stop_at <= 0:
+            stop_at = ROBOT_STOP
+        moving = target.kind in ("robot", "human")
+        goal = self.goal_of(target)
+        try:
+            path = self.world.walk_grid().plan(self.body.position, goal)
+        except NoPathError:
+            return False
+        while True:
+            here = self.body.position
+            if math.hypot(goal[0] - here[0], goal[1] - here[1]) <= max(stop_at, ARRIVED):
+                break
+            if not path:
+                break
+            wx, wy = path[0]
+            # Stop short of the goal along the last leg.
+            if len(path) == 1 and stop_at > 0:
+                d = math.hypot(wx - here[0], wy - here[1])
+                if d <= stop_at:
+                    break
+            dx, dy = wx - here[0], wy - here[1]
+            dist = math.hypot(dx, dy)
+            if dist <= ARRIVED:
+                path.pop(0)
+                continue
+            travel = dist - (stop_at if len(path) == 1 else 0.0)
+            t = min(LEG_TIME, travel / speed)
+            t = max(t, self.world.dt)
+            v = min(speed, travel / t)
+            self.body.head = 0.0
+            self.body.walk_velocity(v * dx / dist, v * dy / dist)
+            await asyncio.sleep(t)
+            if moving:
+                new_goal = self.goal_of(target)
+                if math.hypot(new_goal[0] - goal[0], new_goal[1] - goal[1]) > 0.2:
+                    goal = new_goal
+                    try:
+                        path = self.world.walk_grid().plan(self.body.position, goal)
+                    except NoPathError:
+                        break
+        self.body.stand()
+        return True
+
+    # ------------------------------------------------------- facing, pointing
+    def direction_to(self, target: Target) -> float:
+        if target.kind == "angle":
+            return target.angle
+        gx, gy = self.goal_of(target)
+        x, y = self.body.position
+        return math.atan2(gy - y, gx - x)
+
+    def face(self, target: Target, *, body: bool = False) -> None:
+        """Turn the head (or the whole body) towards a target or a world angle."""
+        d = self.direction_to(target)
+        if body:
+            self.body.turn_to(d)
+            self.body.head = 0.0
+        else:
+            self.body.look(d)
+
+    async def point(self, act: PointAt) -> None:
+        """Raise an arm at the target for the gesture's duration."""
+        point = self.world.target_point(act.target, who=self.name)
+        name = act.target.name or act.target.kind
+        self.body.pointing = Pointing(name, point, self.now + act.duration)
+        try:
+            await asyncio.sleep(act.duration)
+        finally:
+            self.body.pointing = None
+
+    # ---------------------------------------------------------------- leave
+    async def leave(self, act: Leave) -> None:
+        """Walk out through an exit door and disappear from the world."""
+        inside, outside = self.world.exit_points(act.door)
+        await self.walk_to(Target("point", x=inside[0], y=inside[1]))
+        # Through the door: a straight line, the gap is wider than a person.
+        x, y = self.body.position
+        dx, dy = outside[0] - x, outside[1] - y
+        dist = math.hypot(dx, dy)
+        if dist > 1e-6:
+            v = self.body.speed
+            self.body.walk_velocity(v * dx / dist, v * dy / dist)
+            await asyncio.sleep(dist / v + HUMAN_RADIUS / v)
+        self.body.stand()
+        self.body.remove()

@@ -1,0 +1,126 @@
+"""Script interpretation shared by people and other sound sources.
+
+A script is a tuple of actions from :mod:`homesim.scenario.model`. An
+:class:`Actor` runs it as one asyncio coroutine in virtual time: ``say``
+puts an utterance into the world's sound field and lasts as long as the
+words take, ``wait`` sleeps, ``wait-for`` polls what the robot said and
+where it is (so scripts react to the robot, not only to the clock), and
+``repeat`` loops. :class:`~humans.person.Person` adds the bodily actions;
+:class:`Radio` is an actor with no body (a radio or a TV).
+
+Every action is recorded in ``log`` as (start, end, description), the
+actor's own ground truth for transcripts and expectations.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import math
+import re
+
+from homesim.scenario.model import Action, Repeat, Say, SourceSpec, Wait, WaitFor
+from homesim.world.world import World
+
+POLL = 0.1  # seconds between checks of a wait-for condition
+
+
+class Actor:
+    """Runs a script of say / wait / wait-for / repeat actions."""
+
+    def __init__(self, world: World, name: str, script: tuple[Action, ...], *, loudness: float = 60.0) -> None:
+        self.world = world
+        self.name = name
+        self.script = script
+        self.loudness = loudness
+        self.log: list[tuple[float, float, str]] = []
+        self.done = False
+
+    @property
+    def now(self) -> float:
+        return asyncio.get_running_loop().time()
+
+    async def run(self) -> None:
+        """Play the whole script, then stay idle."""
+        await self.play(self.script)
+        self.done = True
+
+    async def play(self, actions: tuple[Action, ...]) -> None:
+        for act in actions:
+            start = self.now
+            await self.perform(act)
+            self.log.append((start, self.now, _describe(act)))
+
+    async def perform(self, act: Action) -> None:
+        """Carry out one action (subclasses add the bodily ones)."""
+        if isinstance(act, Say):
+            await self.say(act)
+        elif isinstance(act, Wait):
+            await asyncio.sleep(act.duration)
+        elif isinstance(act, WaitFor):
+            await self.wait_for(act)
+        elif isinstance(act, Repeat):
+            n = 0
+            while act.times is None or n < act.times:
+                await self.play(act.body)
+                n += 1
+        else:
+            raise TypeError(f"{self.name!r} cannot perform {type(act).__name__}")
+
+    async def say(self, act: Say) -> None:
+        u = self.world.sound.say(self.name, act.text, self.now, loudness=act.loudness if act.loudness is not None else self.loudness, duration=act.duration)
+        self.on_speaking(True)
+        try:
+            await asyncio.sleep(u.end - u.start)
+        finally:
+            self.on_speaking(False)
+
+    def on_speaking(self, speaking: bool) -> None:
+        """Hook: people open their mouths (nothing to do for a radio)."""
+
+    def robot_within(self) -> float | None:
+        """Distance to the robot (None when this actor has no position)."""
+        p = self.world.source_point(self.name)
+        if p is None:
+            return None
+        x, y, _ = self.world.robot.pose
+        return math.hypot(p[0] - x, p[1] - y)
+
+    async def wait_for(self, act: WaitFor) -> bool:
+        """Wait until the robot says a matching phrase or comes close; False on timeout."""
+        since = self.now
+        pattern = re.compile(act.robot_says, re.IGNORECASE) if act.robot_says else None
+        deadline = math.inf if act.timeout is None else since + act.timeout
+        while True:
+            if pattern is not None:
+                # An utterance counts once it has been heard to its end.
+                for u in self.world.sound.by("robot", since=since):
+                    if u.end <= self.now and pattern.search(u.text):
+                        return True
+            if act.robot_within is not None:
+                d = self.robot_within()
+                if d is not None and d <= act.robot_within:
+                    return True
+            if self.now >= deadline:
+                return False
+            await asyncio.sleep(min(POLL, max(deadline - self.now, 0.0)) if deadline < math.inf else POLL)
+
+
+class Radio(Actor):
+    """A radio or TV: a sound source with a script and no body."""
+
+    def __init__(self, world: World, spec: SourceSpec) -> None:
+        super().__init__(world, spec.name, spec.script, loudness=spec.loudness)
+        self.spec = spec
+
+
+def _describe(act: Action) -> str:
+    name = type(act).__name__
+    if isinstance(act, Say):
+        return f"say {act.text!r}"
+    if isinstance(act, Wait):
+        return f"wait {act.duration:g} s"
+    if hasattr(act, "target"):
+        t = act.target  # type: ignore[union-attr]
+        what = t.name if t.name else (f"({t.x:g}, {t.y:g})" if t.kind == "point" else t.kind)
+        return f"{name.lower()} {t.kind} {what}"
+    return name.lower()

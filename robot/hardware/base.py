@@ -1,0 +1,106 @@
+"""The PeopleBot base: velocity commands in, odometry with drift out.
+
+Commands arrive on ``/robot/base/cmd`` as ``<velocity v="m/s" w="rad/s"/>``;
+the base holds the last one and stops when none came for ``watchdog``
+seconds (a crashed controller must not drive the robot into a wall). The
+world's contact solver stops the robot at walls, furniture and people.
+
+Odometry integrates the base's real motion with multiplicative noise on
+each distance and turn increment plus a slow heading drift, so the pose it
+reports wanders away from the truth as a real base's does. It is published
+on ``/robot/odometry`` as ``<odometry x y theta v w/>`` at its rate.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import math
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+import numpy as np
+from lxml import etree
+
+from homesim.message import Message
+from homesim.module import Module
+from homesim.world.geometry import wrap_angle
+
+if TYPE_CHECKING:
+    from homesim.sim import Simulation
+    from homesim.world.world import World
+
+CMD_CHANNEL = "/robot/base/cmd"
+ODOMETRY_CHANNEL = "/robot/odometry"
+
+
+@dataclass(frozen=True)
+class OdometrySpec:
+    distance_noise: float = 0.02  # relative, per increment
+    turn_noise: float = 0.03  # relative, per increment
+    drift: float = 0.01  # rad of heading drift per metre driven (std)
+    rate: float = 10.0
+    watchdog: float = 0.5
+
+
+def odometry_step(
+    odo: tuple[float, float, float],
+    before: tuple[float, float, float],
+    after: tuple[float, float, float],
+    spec: OdometrySpec,
+    rng: np.random.Generator | None,
+) -> tuple[float, float, float]:
+    """Advance an odometry pose by the true motion before -> after, with noise.
+
+    The increment is taken in the robot's own frame (distance along its
+    heading and turn), disturbed, and applied to the odometry pose, so
+    errors accumulate exactly as dead reckoning does.
+    """
+    dx, dy = after[0] - before[0], after[1] - before[1]
+    c, s = math.cos(before[2]), math.sin(before[2])
+    forward = c * dx + s * dy
+    side = -s * dx + c * dy
+    turn = float(wrap_angle(after[2] - before[2]))
+    if rng is not None:
+        forward *= 1.0 + float(rng.normal(0.0, spec.distance_noise))
+        turn = turn * (1.0 + float(rng.normal(0.0, spec.turn_noise))) + float(rng.normal(0.0, spec.drift * math.sqrt(abs(forward) + 1e-12)))
+    ox, oy, oth = odo
+    co, so = math.cos(oth), math.sin(oth)
+    return ox + co * forward - so * side, oy + so * forward + co * side, float(wrap_angle(oth + turn))
+
+
+class Base(Module):
+    """Drives the world's robot from bus commands and publishes odometry."""
+
+    def __init__(self, sim: Simulation, world: World, spec: OdometrySpec | None = None, *, name: str = "base") -> None:
+        super().__init__(sim, name, host="robot")
+        self.world = world
+        self.spec = spec or OdometrySpec()
+        self.last_cmd = -math.inf
+        self.odometry = (0.0, 0.0, 0.0)  # starts at the origin, as a real base does
+        self._last_true = world.robot.pose
+        self.bus.subscribe(CMD_CHANNEL, self._on_cmd)
+
+    def _on_cmd(self, msg: Message) -> None:
+        v = float(msg.xml.get("v", "0"))
+        w = float(msg.xml.get("w", "0"))
+        if not (math.isfinite(v) and math.isfinite(w)):
+            return
+        self.world.robot.command(v, w)
+        self.last_cmd = self.now
+
+    async def run(self) -> None:
+        period = 1.0 / self.spec.rate
+        while True:
+            self.beat()
+            if self.now - self.last_cmd > self.spec.watchdog:
+                self.world.robot.command(0.0, 0.0)
+            true = self.world.robot.pose
+            self.odometry = odometry_step(self.odometry, self._last_true, true, self.spec, self.rng)
+            self._last_true = true
+            x, y, th = self.odometry
+            rb = self.world.robot
+            self.bus.publish(
+                ODOMETRY_CHANNEL,
+                etree.Element("odometry", x=f"{x:.5f}", y=f"{y:.5f}", theta=f"{th:.5f}", v=f"{rb.v:.4f}", w=f"{rb.w:.4f}", stalled="true" if rb.cmd_v and abs(rb.v) < 1e-3 else "false"),
+            )
+            await asyncio.sleep(period)

@@ -1,0 +1,98 @@
+"""The pan-tilt camera as a bus module (kernels in :mod:`robot.hardware.camera`).
+
+Takes ``<ptu pan="deg" tilt="deg"/>`` on ``/robot/ptu/cmd`` (targets; the
+unit moves there at its speeds). At its rate it moves the unit and
+publishes, all bearings in degrees in the robot frame:
+
+- ``/robot/ptu/state``: ``<ptu pan tilt target_pan target_tilt/>``
+- ``/robot/camera/faces``: ``<faces><face bearing distance height/>...</faces>``
+- ``/robot/camera/torsos``: ``<torsos><torso bearing r g b/>...</torsos>``
+- ``/robot/camera/gestures``: ``<gestures><pointing bearing distance direction elevation hand_height/>...</gestures>``
+- ``/robot/camera/objects``: ``<objects><object type bearing distance r g b/>...</objects>``
+
+Every message carries the capture time and the pan/tilt it was taken with.
+Ground-truth identities never leave this module.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import math
+from typing import TYPE_CHECKING
+
+from lxml import etree
+
+from homesim.message import Message
+from homesim.module import Module
+from homesim.world.raycast import RayCaster
+
+from .camera import CameraSpec, PanTilt, detect_faces, detect_gestures, detect_objects, detect_torsos, ptu_step
+
+if TYPE_CHECKING:
+    from homesim.sim import Simulation
+    from homesim.world.world import World
+
+PTU_CMD = "/robot/ptu/cmd"
+PTU_STATE = "/robot/ptu/state"
+FACES = "/robot/camera/faces"
+TORSOS = "/robot/camera/torsos"
+GESTURES = "/robot/camera/gestures"
+OBJECTS = "/robot/camera/objects"
+
+
+def _deg(a: float) -> str:
+    return f"{math.degrees(a):.3f}"
+
+
+class Camera(Module):
+    """Publishes the camera's detections and the pan-tilt state at ``spec.rate``."""
+
+    def __init__(self, sim: Simulation, world: World, spec: CameraSpec | None = None, *, confusion: float = 0.05, name: str = "camera") -> None:
+        super().__init__(sim, name, host="robot")
+        self.world = world
+        self.spec = spec or CameraSpec()
+        self.confusion = confusion
+        self.ptu = PanTilt()
+        self.caster = RayCaster()
+        self.bus.subscribe(PTU_CMD, self._on_cmd)
+
+    def _on_cmd(self, msg: Message) -> None:
+        pan = float(msg.xml.get("pan", "nan"))
+        tilt = float(msg.xml.get("tilt", "nan"))
+        self.ptu = PanTilt(
+            self.ptu.pan,
+            self.ptu.tilt,
+            math.radians(pan) if math.isfinite(pan) else self.ptu.target_pan,
+            math.radians(tilt) if math.isfinite(tilt) else self.ptu.target_tilt,
+        )
+
+    async def run(self) -> None:
+        period = 1.0 / self.spec.rate
+        while True:
+            self.beat()
+            self.ptu = ptu_step(self.ptu, period, self.spec)
+            self.world.ptu = (self.ptu.pan, self.ptu.tilt)
+            self.publish_frame()
+            await asyncio.sleep(period)
+
+    def publish_frame(self) -> None:
+        """Detect in the current world and publish one message per kind."""
+        pose, ptu, spec, rng, w = self.world.robot.pose, self.ptu, self.spec, self.rng, self.world
+        stamp = {"time": f"{self.now:.6f}", "pan": _deg(ptu.pan), "tilt": _deg(ptu.tilt)}
+        self.bus.publish(PTU_STATE, etree.Element("ptu", pan=_deg(ptu.pan), tilt=_deg(ptu.tilt), target_pan=_deg(ptu.target_pan), target_tilt=_deg(ptu.target_tilt)))
+        faces = etree.Element("faces", stamp)
+        for f in detect_faces(w, pose, ptu, spec, rng, caster=self.caster):
+            etree.SubElement(faces, "face", bearing=_deg(f.bearing), distance=f"{f.distance:.3f}", height=f"{f.height:.3f}")
+        self.bus.publish(FACES, faces)
+        torsos = etree.Element("torsos", stamp)
+        for t in detect_torsos(w, pose, ptu, spec, rng, caster=self.caster):
+            etree.SubElement(torsos, "torso", bearing=_deg(t.bearing), r=f"{t.colour[0]:.3f}", g=f"{t.colour[1]:.3f}", b=f"{t.colour[2]:.3f}")
+        self.bus.publish(TORSOS, torsos)
+        gestures = etree.Element("gestures", stamp)
+        for g in detect_gestures(w, pose, ptu, spec, rng, caster=self.caster):
+            etree.SubElement(gestures, "pointing", bearing=_deg(g.bearing), distance=f"{g.distance:.3f}", direction=_deg(g.direction), elevation=_deg(g.elevation), hand_height=f"{g.hand_height:.3f}")
+        self.bus.publish(GESTURES, gestures)
+        objects = etree.Element("objects", stamp)
+        for o in detect_objects(w, pose, ptu, spec, rng, confusion=self.confusion, caster=self.caster):
+            etree.SubElement(objects, "object", type=o.type, bearing=_deg(o.bearing), distance=f"{o.distance:.3f}", r=f"{o.colour[0]:.3f}", g=f"{o.colour[1]:.3f}", b=f"{o.colour[2]:.3f}")
+        self.bus.publish(OBJECTS, objects)

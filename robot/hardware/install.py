@@ -1,0 +1,39 @@
+"""Put the PeopleBot's hardware models on a stage.
+
+``install(stage)`` is what :class:`homesim.world.stage.Stage` calls (by
+module name; the kernel never imports ``robot``). Rates and the object
+confusion come from the scenario's ``<robot>`` element.
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+from typing import Any
+
+from homesim.module import Module
+
+from .audio import Microphones
+from .base import Base, OdometrySpec
+from .camera import CameraSpec
+from .camera_module import Camera
+from .laser import Laser, LaserSpec
+from .microphones import MicSpec
+from .speaker import Display, Speaker
+
+
+def install(stage: Any) -> dict[str, Module]:
+    """Create the laser, camera, microphones, base, speaker and display modules."""
+    r = stage.scenario.robot
+    sim, world = stage.sim, stage.world
+    modules: dict[str, Module] = {
+        "laser": Laser(sim, world, replace(LaserSpec(), rate=r.laser_rate)),
+        "camera": Camera(sim, world, replace(CameraSpec(), rate=r.camera_rate), confusion=r.object_confusion),
+        "microphones": Microphones(sim, world, replace(MicSpec(), rate=r.audio_rate)),
+        "base": Base(sim, world, replace(OdometrySpec(), rate=r.odometry_rate)),
+        "speaker": Speaker(sim, world),
+        "display": Display(sim, world),
+    }
+    for m in modules.values():
+        m.start()
+    stage.hardware.update(modules)
+    return modules
