@@ -11,6 +11,7 @@ DOCTYPE is how entity-expansion and external-entity attacks arrive.
 from __future__ import annotations
 
 import os
+import re
 from functools import lru_cache
 from pathlib import Path
 
@@ -23,6 +24,11 @@ from .errors import SchemaValidationError, XMLInputError
 MAX_DOCUMENT_BYTES = 16 * 1024 * 1024
 
 _Element = etree._Element
+
+# A DOCTYPE may only follow the XML declaration, comments, processing
+# instructions and white space; finding it there lets us refuse it before
+# libxml2 looks at any entity or external DTD.
+_PROLOG_DOCTYPE = re.compile(rb"\A(?:\xef\xbb\xbf)?(?:\s|<\?.*?\?>|<!--.*?-->)*<!DOCTYPE", re.S)
 
 
 def _new_parser() -> etree.XMLParser:
@@ -61,6 +67,13 @@ def parse_bytes(data: bytes | str, *, source: str = "<string>") -> _Element:
         raise XMLInputError(
             f"document is {len(data)} bytes, larger than the limit of {MAX_DOCUMENT_BYTES}",
             source=source,
+        )
+    m = _PROLOG_DOCTYPE.match(data)
+    if m is not None:
+        raise XMLInputError(
+            "documents with a DOCTYPE are refused (no DTDs or entities are allowed)",
+            source=source,
+            line=data.count(b"\n", 0, m.end()) + 1,
         )
     try:
         root = etree.fromstring(data, _PARSER)

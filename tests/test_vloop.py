@@ -205,10 +205,13 @@ def test_stepping_from_inside_the_simulation_is_refused(loop):
 # --------------------------------------------------------------------------
 
 delays = st.sampled_from([0, 0, 1, 2, 3, 5, 8]).map(lambda k: k * 0.25)
-node = st.deferred(
-    lambda: st.tuples(st.sampled_from(["soon", "later", "at"]), delays, st.lists(node, max_size=3))
+hows = st.sampled_from(["soon", "later", "at"])
+node = st.recursive(
+    st.tuples(hows, delays, st.just([])),
+    lambda kids: st.tuples(hows, delays, st.lists(kids, max_size=3)),
+    max_leaves=20,
 )
-programs = st.lists(node, min_size=1, max_size=6)
+programs = st.lists(node, min_size=1, max_size=5)
 
 
 def _flatten(program):

@@ -1,0 +1,294 @@
+"""The XCF-like bus: delivery, FIFO, latency, typed channels, RPC, faults."""
+
+from __future__ import annotations
+
+import asyncio
+from collections import defaultdict
+
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from lxml import etree
+
+from homesim.errors import (
+    BusError,
+    MessageValidationError,
+    RemoteCallFailed,
+    RemoteCallTimeout,
+    UnknownParticipantError,
+    XMLInputError,
+)
+from homesim.network import LinkModel
+from homesim.sim import Simulation
+from homesim.xmlio import schema_from_text
+
+from .conftest import examples
+
+PERSON_XSD = """<xs:schema xmlns:xs="http://www.w3.org/2001/XMLSchema">
+  <xs:element name="person">
+    <xs:complexType>
+      <xs:sequence>
+        <xs:element name="bearing" type="xs:double"/>
+        <xs:element name="distance" type="xs:double" minOccurs="0"/>
+      </xs:sequence>
+      <xs:attribute name="id" type="xs:positiveInteger" use="required"/>
+      <xs:attribute name="speaking" type="xs:boolean" use="required"/>
+    </xs:complexType>
+  </xs:element>
+</xs:schema>"""
+VALID_PERSON = '<person id="3" speaking="true"><bearing>0.5</bearing><distance>1.2</distance></person>'
+
+
+@pytest.fixture
+def sim():
+    s = Simulation(seed=3)
+    yield s
+    s.close()
+
+
+def test_publish_reaches_exact_and_subtree_subscribers_only(sim):
+    a = sim.bus.participant("a")
+    b = sim.bus.participant("b")
+    c = sim.bus.participant("c")
+    got = defaultdict(list)
+    b.subscribe("/robot/attention/persons", lambda m: got["b"].append(m.channel))
+    c.subscribe("/robot/attention/**", lambda m: got["c"].append(m.channel))
+    a.publish("/robot/attention/persons", "<p/>")
+    a.publish("/robot/attention/state", "<s/>")
+    a.publish("/robot/attentionx", "<x/>")
+    sim.run()
+    assert got == {"b": ["/robot/attention/persons"], "c": ["/robot/attention/persons", "/robot/attention/state"]}
+
+
+def test_latency_follows_the_link_between_hosts(sim):
+    sim.network.add_host("pc1", link="lan")
+    sim.network.add_host("pc2", link="lan")
+    sim.network.add_host("laptop", link="wlan")
+    src = sim.bus.participant("src", host="pc1")
+    delays = defaultdict(list)
+    for name, host in (("same", "pc1"), ("lan", "pc2"), ("wlan", "laptop")):
+        sim.bus.participant(name, host=host).subscribe("/x", lambda m, n=name: delays[n].append(sim.now - m.sent))
+
+    async def send():
+        for _ in range(200):
+            src.publish("/x", "<x/>")
+            await asyncio.sleep(0.05)
+
+    sim.run_until_complete(send())
+    sim.run()
+    assert all(0.00005 <= d <= 0.0002 + 1e-9 for d in delays["same"])
+    assert all(0.001 <= d <= 0.003 + 1e-9 for d in delays["lan"])
+    assert all(d >= 0.005 for d in delays["wlan"])
+    assert sum(delays["wlan"]) / 200 > 3 * sum(delays["lan"]) / 200
+
+
+def test_invalid_message_is_refused_and_delivered_to_nobody(sim):
+    sim.bus.declare_channel("/robot/persons", schema_from_text("person.xsd", PERSON_XSD))
+    a = sim.bus.participant("a")
+    got = []
+    sim.bus.participant("b").subscribe("/robot/persons", got.append)
+    with pytest.raises(MessageValidationError, match=r"/robot/persons.*person\.xsd.*speaking"):
+        a.publish("/robot/persons", '<person id="3"><bearing>0.5</bearing></person>')
+    a.publish("/robot/persons", VALID_PERSON)
+    sim.run()
+    assert len(got) == 1 and sim.bus.sent == 1
+
+
+def test_doctype_is_refused_on_the_bus(sim):
+    a = sim.bus.participant("a")
+    with pytest.raises(XMLInputError, match="DOCTYPE"):
+        a.publish("/x", '<!DOCTYPE x [<!ENTITY e "boom">]><x>&e;</x>')
+
+
+# Mutations that each make VALID_PERSON invalid by construction.
+MUTATIONS = {
+    "drop required attribute": lambda el, v: el.attrib.pop("speaking"),
+    "non-integer id": lambda el, v: el.set("id", v or "x"),
+    "non-boolean flag": lambda el, v: el.set("speaking", "maybe" + v),
+    "unknown child": lambda el, v: el.append(etree.Element("legs" + v.replace(" ", ""))),
+    "missing required child": lambda el, v: el.remove(el.find("bearing")),
+    "text where number is due": lambda el, v: setattr(el.find("bearing"), "text", "north" + v),
+    "renamed root": lambda el, v: setattr(el, "tag", "human"),
+    "children swapped": lambda el, v: el.insert(0, el.find("distance")),
+    "unknown attribute": lambda el, v: el.set("colour", v),
+}
+
+
+@settings(max_examples=examples(60, 300))
+@given(st.sampled_from(sorted(MUTATIONS)), st.text(alphabet="abcxyz -", max_size=5))
+def test_validation_refuses_every_mutated_invalid_message(mutation, value):
+    with Simulation(seed=0) as s:
+        s.bus.declare_channel("/robot/persons", schema_from_text("person.xsd", PERSON_XSD))
+        sender = s.bus.participant("a")
+        got = []
+        s.bus.participant("b").subscribe("/robot/persons", got.append)
+        el = etree.fromstring(VALID_PERSON)
+        MUTATIONS[mutation](el, value)
+        with pytest.raises(MessageValidationError):
+            sender.publish("/robot/persons", el)
+        s.run()
+        assert got == [] and s.bus.sent == 0
+
+
+sends = st.lists(
+    st.tuples(st.integers(0, 2), st.integers(0, 3), st.integers(0, 20)),
+    min_size=1,
+    max_size=40,
+)
+
+
+@settings(max_examples=examples(80, 300))
+@given(sends, st.integers(0, 2**32 - 1))
+def test_nothing_lost_or_duplicated_and_fifo_per_link(plan, seed):
+    """Each (message, subscriber) is delivered exactly once, in send order per pair."""
+    with Simulation(seed=seed) as s:
+        s.network.add_host("robot", link="lan")
+        s.network.add_host("laptop", link="wlan")
+        senders = [s.bus.participant(f"s{i}", host=("robot", "laptop")[i % 2]) for i in range(3)]
+        received = defaultdict(list)
+        channels = ["/a", "/b", "/a/c", "/d"]
+        for j, host in enumerate(("robot", "laptop", "robot")):
+            p = s.bus.participant(f"r{j}", host=host)
+            p.subscribe(channels[j] if j < 2 else "/a/**", lambda m, j=j: received[j].append(m.id))
+        expected = defaultdict(list)
+        sent_ids = []
+
+        def send(si, ci):
+            m = senders[si].publish(channels[ci], "<m/>")
+            sent_ids.append((si, ci, m.id))
+
+        for si, ci, tick in plan:
+            s.call_at(tick * 0.001, send, si, ci)
+        s.run()
+        for si, ci, mid in sent_ids:
+            ch = channels[ci]
+            for j in range(3):
+                if (j < 2 and ch == channels[j]) or (j == 2 and ch.startswith("/a")):
+                    expected[j].append((si, mid))
+        for j in range(3):
+            assert sorted(received[j]) == sorted(mid for _, mid in expected[j])
+            for si in range(3):
+                got = [mid for mid in received[j] if mid.startswith(f"s{si}#")]
+                want = [mid for sj, mid in expected[j] if sj == si]
+                assert got == want, "per-link FIFO violated"
+
+
+def test_loss_drops_messages_and_every_drop_is_observed(sim):
+    sim.network.set_link(LinkModel("lossy", 0.005, 0.02, loss=0.3))
+    sim.network.add_host("laptop", link="lossy")
+    a = sim.bus.participant("a", host="robot")
+    got = []
+    sim.bus.participant("b", host="laptop").subscribe("/x", got.append)
+    drops = []
+    sim.bus.add_interceptor(lambda o: drops.append(o) if o.event == "drop" else None)
+    for i in range(1000):
+        sim.call_at(i * 0.001, a.publish, "/x", "<x/>")
+    sim.run()
+    assert len(got) + len(drops) == 1000
+    assert 200 < len(drops) < 400
+    assert {d.reason for d in drops} == {"lost"}
+
+
+def test_rpc_reply_error_timeout_and_unknown_server(sim):
+    sim.network.add_host("laptop", link="wlan")
+    server = sim.bus.participant("scene_model", host="robot")
+    client = sim.bus.participant("dialog", host="laptop")
+
+    def query(msg):
+        if msg.xml.get("fail"):
+            raise ValueError("no such object")
+        return etree.Element("objects", n="2")
+
+    async def slow(msg):
+        await asyncio.sleep(5.0)
+        return etree.Element("late")
+
+    server.serve("query", query)
+    server.serve("slow", slow)
+
+    async def main():
+        reply = await client.call("scene_model", "query", "<q/>", timeout=1.0)
+        assert reply.xml.get("n") == "2" and reply.causes[0].startswith("dialog#")
+        with pytest.raises(RemoteCallFailed, match="ValueError: no such object"):
+            await client.call("scene_model", "query", '<q fail="1"/>')
+        t0 = sim.now
+        with pytest.raises(RemoteCallTimeout, match="scene_model/slow.*0.5 s"):
+            await client.call("scene_model", "slow", "<q/>", timeout=0.5)
+        assert sim.now - t0 == pytest.approx(0.5)
+        with pytest.raises(UnknownParticipantError, match="no server 'planner'"):
+            await client.call("planner", "plan", "<q/>")
+        with pytest.raises(UnknownParticipantError, match="has no method 'store'.*query"):
+            client.call_nowait("scene_model", "store", "<q/>")
+
+    sim.run_until_complete(main())
+
+
+def test_typed_method_refuses_invalid_request_and_reply(sim):
+    xsd = schema_from_text("person.xsd", PERSON_XSD)
+    server = sim.bus.participant("pta")
+    client = sim.bus.participant("es")
+    server.serve("who", lambda m: etree.Element("nobody"), request_schema=xsd, reply_schema=xsd)
+
+    async def main():
+        with pytest.raises(MessageValidationError, match="pta/who"):
+            await client.call("pta", "who", "<q/>")
+        with pytest.raises(RemoteCallFailed, match="MessageValidationError"):
+            await client.call("pta", "who", VALID_PERSON)
+
+    sim.run_until_complete(main())
+
+
+def test_runtime_registration_and_removal(sim):
+    a = sim.bus.participant("a")
+    got = []
+    b = sim.bus.participant("b")
+    sub = b.subscribe("/x", got.append)
+    a.publish("/x", "<one/>")
+    sim.run()
+    sub.close()
+    a.publish("/x", "<two/>")
+    sim.run()
+    assert [m.xml.tag for m in got] == ["one"]
+    assert [p["name"] for p in sim.bus.registry()] == ["a", "b", "simulator"]
+    b.close()
+    assert [p["name"] for p in sim.bus.registry()] == ["a", "simulator"]
+    with pytest.raises(BusError, match="already registered"):
+        sim.bus.participant("a")
+    sim.bus.participant("b")  # the name is free again
+
+
+def test_subscription_queue_and_overflow(sim):
+    a = sim.bus.participant("a")
+    sub = sim.bus.participant("b").subscribe("/scan", maxlen=2)
+    for i in range(5):
+        a.publish("/scan", etree.Element("scan", n=str(i)))
+    sim.run()
+    assert [m.xml.get("n") for m in sub.drain()] == ["3", "4"]
+
+
+def test_crash_and_hang_faults(sim):
+    from homesim.module import Module
+
+    class Server(Module):
+        async def run(self):
+            self.bus.serve("ping", lambda m: etree.Element("pong"))
+            while True:
+                self.beat()
+                await asyncio.sleep(0.1)
+
+    Server(sim, "crashy")
+    Server(sim, "hangy")
+    client = sim.bus.participant("client")
+    sim.start()
+    sim.run(until=0.5)
+    sim.inject_fault("crashy", "crash")
+    sim.inject_fault("hangy", "hang")
+
+    async def main():
+        with pytest.raises(UnknownParticipantError):
+            await client.call("crashy", "ping", "<p/>")
+        with pytest.raises(RemoteCallTimeout):
+            await client.call("hangy", "ping", "<p/>", timeout=0.3)
+
+    sim.run_until_complete(main())
+    assert [p["name"] for p in sim.bus.registry() if p["hung"]] == ["hangy"]

@@ -1,0 +1,48 @@
+"""Determinism hygiene: nothing outside the real-time pacer reads the wall clock."""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+FORBIDDEN = re.compile(
+    r"time\.time\(|time\.monotonic\(|time\.perf_counter\(|datetime\.now\(|datetime\.utcnow\(|"
+    r"uuid4\(|^\s*import random\b|^\s*from random import|\brandom\.(random|randint|choice|uniform|seed|shuffle)\(|"
+    r"np\.random\.(seed|rand|randn|randint|random|choice|normal|uniform)\(",
+    re.M,
+)
+ALLOWED = {Path("homesim/realtime.py")}
+
+
+def test_no_wall_clock_or_global_randomness_in_the_product():
+    offenders = []
+    for pkg in ("homesim", "robot", "humans"):
+        for path in sorted((ROOT / pkg).rglob("*.py")):
+            rel = path.relative_to(ROOT)
+            if rel in ALLOWED:
+                continue
+            for m in FORBIDDEN.finditer(path.read_text(encoding="utf-8")):
+                line = path.read_text(encoding="utf-8").count("\n", 0, m.start()) + 1
+                offenders.append(f"{rel}:{line}: {m.group(0).strip()}")
+    assert offenders == []
+
+
+def test_matplotlib_is_imported_only_by_the_viz_module():
+    offenders = []
+    for pkg in ("homesim", "robot", "humans"):
+        for path in sorted((ROOT / pkg).rglob("*.py")):
+            rel = path.relative_to(ROOT)
+            if rel.name == "viz.py" or "viz" in rel.parts:
+                continue
+            if re.search(r"^\s*(import|from)\s+matplotlib", path.read_text(encoding="utf-8"), re.M):
+                offenders.append(str(rel))
+    assert offenders == []
+
+
+def test_kernel_never_imports_the_robot_or_humans():
+    offenders = []
+    for path in sorted((ROOT / "homesim").rglob("*.py")):
+        if re.search(r"^\s*(import|from)\s+(robot|humans)\b", path.read_text(encoding="utf-8"), re.M):
+            offenders.append(str(path.relative_to(ROOT)))
+    assert offenders == []

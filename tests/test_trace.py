@@ -1,0 +1,60 @@
+"""The trace: its format, and byte-identical runs across processes."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+
+import numpy as np
+
+from homesim.sim import Simulation
+
+
+def test_header_and_record_format():
+    with Simulation(seed=5, scenario="fmt") as sim:
+        tr = sim.record_trace()
+        a = sim.bus.participant("a")
+        sim.bus.participant("b").subscribe("/img", lambda m: None)
+        first = a.publish("/img", "<patch w='2'/>", attachments={"pixels": np.arange(6, dtype=np.uint8).reshape(2, 3)})
+        a.publish("/img", "<patch/>", causes=(first.id,), created=0.0)
+        sim.run()
+        recs = tr.records()
+    assert recs[0] == {"homesim_trace": 1, "scenario": "fmt", "seed": 5, "homesim_version": "0.1.0"}
+    send = recs[1]
+    assert list(send) == ["t", "seq", "kind", "sender", "channel", "receivers", "id", "causes", "created", "xml", "attachments"]
+    assert send["attachments"]["pixels"]["dtype"] == "uint8"
+    assert send["attachments"]["pixels"]["shape"] == [2, 3]
+    assert len(send["attachments"]["pixels"]["sha256"]) == 64
+    assert recs[2]["causes"] == [first.id]
+    delivers = [r for r in recs if r.get("kind") == "deliver"]
+    assert [r["id"] for r in delivers] == ["a#1", "a#2"]
+    assert [r["seq"] for r in recs[1:]] == list(range(1, len(recs)))
+
+
+def test_demo_trace_is_byte_identical_across_processes(tmp_path):
+    paths = [tmp_path / "one.jsonl", tmp_path / "two.jsonl"]
+    for p in paths:
+        subprocess.run(
+            [sys.executable, "-m", "homesim.cli", "demo", "--seed", "7", "--duration", "4", "--trace", str(p)],
+            check=True,
+            capture_output=True,
+        )
+    one, two = (p.read_bytes() for p in paths)
+    assert one == two
+    kinds = {json.loads(line).get("kind") for line in one.splitlines()[1:]}
+    assert {"publish", "deliver"} <= kinds
+    assert b"module_failed" in one
+
+
+def test_different_seeds_give_different_traces(tmp_path):
+    out = []
+    for seed in (1, 2):
+        with Simulation(seed=seed) as sim:
+            tr = sim.record_trace()
+            from homesim import demo
+
+            demo.build(sim, duration=2.0)
+            sim.run(until=2.0)
+            out.append(tr.text())
+    assert out[0] != out[1]
