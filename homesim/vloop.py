@@ -28,6 +28,7 @@ is pending and tasks are still waiting, :meth:`run` raises
 from __future__ import annotations
 
 import asyncio
+import functools
 import heapq
 import itertools
 import math
@@ -55,22 +56,18 @@ def to_ns(seconds: float) -> int:
 
 # Callbacks that asyncio itself schedules and that read no context variables:
 # running them without a copied context is indistinguishable and much cheaper.
-_CONTEXT_FREE = frozenset({_futures._set_result_unless_cancelled})
+_set_result_unless_cancelled = _futures._set_result_unless_cancelled
+_CONTEXT_FREE = frozenset({_set_result_unless_cancelled})
 
 
 class _Handle(events.Handle):
-    """A slimmer :class:`asyncio.Handle` (no debug traceback capture)."""
+    """A slimmer :class:`asyncio.Handle`, filled in without an ``__init__`` frame."""
 
     __slots__ = ()
 
-    def __init__(self, callback: Callable[..., Any], args: tuple[Any, ...], loop: Any, context: Context | None) -> None:
-        self._callback = callback
-        self._args = args
-        self._loop = loop
-        self._context = context
-        self._cancelled = False
-        self._repr = None
-        self._source_traceback = None
+    def __repr__(self) -> str:
+        cb = self._callback
+        return f"<Handle {getattr(cb, '__qualname__', cb)!s}{' cancelled' if self._cancelled else ''}>"
 
 
 class _TimerHandle(events.TimerHandle):
@@ -78,23 +75,18 @@ class _TimerHandle(events.TimerHandle):
 
     __slots__ = ()
 
-    def __init__(self, when: float, callback: Callable[..., Any], args: tuple[Any, ...], loop: Any, context: Context | None) -> None:
-        self._callback = callback
-        self._args = args
-        self._loop = loop
-        self._context = context
-        self._cancelled = False
-        self._repr = None
-        self._source_traceback = None
-        self._when = when
-        self._scheduled = True
+    def __repr__(self) -> str:
+        cb = self._callback
+        return f"<TimerHandle when={self._when} {getattr(cb, '__qualname__', cb)!s}>"
 
     def cancel(self) -> None:
         if not self._cancelled:
             self._cancelled = True
-            self._scheduled = False
             self._callback = None
             self._args = None
+
+
+_new = object.__new__
 
 
 class Pacer(Protocol):
@@ -114,6 +106,8 @@ class VirtualEventLoop(asyncio.BaseEventLoop):
     def __init__(self, *, start: float = 0.0, pacer: Pacer | None = None) -> None:
         self._inside = False
         super().__init__()
+        # A C-level factory: no Python frame per future (the hottest call in asyncio.sleep).
+        self.create_future = functools.partial(_futures.Future, loop=self)  # type: ignore[method-assign]
         if start < 0 or not math.isfinite(start):
             raise ClockError(f"start time must be finite and >= 0, got {start!r}")
         self._now_ns = to_ns(start)
@@ -126,7 +120,6 @@ class VirtualEventLoop(asyncio.BaseEventLoop):
         self._spawned: list[asyncio.Task[Any]] = []
         self._saved_loop: asyncio.AbstractEventLoop | None = None
         self._saved_hooks: Any = None
-        self.rounds = 0
 
     # ------------------------------------------------------------------ clock
     def time(self) -> float:
@@ -147,7 +140,12 @@ class VirtualEventLoop(asyncio.BaseEventLoop):
     def call_soon(self, callback: Callable[..., Any], *args: Any, context: Context | None = None) -> asyncio.Handle:  # type: ignore[override]
         if context is None:
             context = copy_context()
-        handle = _Handle(callback, args, self, context)
+        handle = _new(_Handle)
+        handle._callback = callback
+        handle._args = args
+        handle._context = context
+        handle._cancelled = False
+        handle._loop = self
         self._ready.append(handle)
         return handle
 
@@ -155,14 +153,7 @@ class VirtualEventLoop(asyncio.BaseEventLoop):
         return self.call_at_ns(to_ns(when), callback, *args, context=context)
 
     def call_later(self, delay: float, callback: Callable[..., Any], *args: Any, context: Context | None = None) -> asyncio.TimerHandle:  # type: ignore[override]
-        when_ns = self._now_ns + int(round(delay * NS_PER_S))
-        if when_ns < self._now_ns:
-            when_ns = self._now_ns
-        if context is None and callback not in _CONTEXT_FREE:
-            context = copy_context()
-        handle = _TimerHandle(when_ns / NS_PER_S, callback, args, self, context)
-        heapq.heappush(self._timers, (when_ns, next(self._seq), handle))
-        return handle
+        return self.call_at_ns(self._now_ns + int(round(delay * NS_PER_S)), callback, *args, context=context)
 
     def call_at_ns(self, when_ns: int, callback: Callable[..., Any], *args: Any, context: Context | None = None) -> asyncio.TimerHandle:
         """Schedule ``callback`` at an exact virtual time in nanoseconds.
@@ -174,7 +165,14 @@ class VirtualEventLoop(asyncio.BaseEventLoop):
             when_ns = self._now_ns
         if context is None and callback not in _CONTEXT_FREE:
             context = copy_context()
-        handle = _TimerHandle(when_ns / NS_PER_S, callback, args, self, context)
+        handle = _new(_TimerHandle)
+        handle._callback = callback
+        handle._args = args
+        handle._context = context
+        handle._cancelled = False
+        handle._loop = self
+        handle._when = when_ns / NS_PER_S
+        handle._scheduled = True
         heapq.heappush(self._timers, (when_ns, next(self._seq), handle))
         return handle
 
@@ -332,7 +330,6 @@ class VirtualEventLoop(asyncio.BaseEventLoop):
             while timers and timers[0][0] <= now:
                 handle = heappop(timers)[2]
                 if not handle._cancelled:
-                    handle._scheduled = False
                     ready.append(handle)
             ntodo = len(ready)
             try:
@@ -342,7 +339,13 @@ class VirtualEventLoop(asyncio.BaseEventLoop):
                         continue
                     ctx = handle._context
                     if ctx is None:
-                        handle._callback(*handle._args)
+                        cb = handle._callback
+                        if cb is _set_result_unless_cancelled:  # asyncio.sleep's timer
+                            fut, result = handle._args
+                            if not fut.cancelled():
+                                fut.set_result(result)
+                        else:
+                            cb(*handle._args)
                     else:
                         ctx.run(handle._callback, *handle._args)
             except (SystemExit, KeyboardInterrupt):
@@ -351,7 +354,6 @@ class VirtualEventLoop(asyncio.BaseEventLoop):
                 self._record_failure(exc, f"callback {handle!r}")
             handle = None
             rounds += 1
-            self.rounds += 1
             if max_rounds is not None and rounds >= max_rounds:
                 return _ROUNDS
             if stop is not None and stop():
