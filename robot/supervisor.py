@@ -1,0 +1,334 @@
+"""BIRON's execution supervisor (ES): the AFSM engine as a bus module.
+
+Modules publish events (``<event name="greeting" lifetime="3">payload</event>``)
+on ``/robot/es/events``; heartbeat failures from ``/system/health`` become
+events too (``module_failed`` / ``module_recovered``). The ES queues each event
+with the bus message's creation time (so latency puts it where it belongs),
+runs the engine of :mod:`homesim.afsm.engine` at once, and again at the
+earliest expiry among retained events, so an expired event is rejected exactly
+at ``created + lifetime``.
+
+What comes out, all as typed bus messages (``robot/schemas/es-*.xsd``):
+
+* orders on ``/robot/es/orders/<module>`` and conditions on
+  ``/robot/es/conditions/<module>``, parameters copied from the triggering
+  event by the AFSM's XPaths (the ES interprets no data);
+* a rejected event whose source is the dialog goes back to it on
+  ``/robot/es/rejected/dialog`` with the reason and a copy of the event;
+* every decision (applied / rejected / retained) on ``/robot/es/log`` and a
+  status snapshot on ``/robot/es/status`` after each state change, so both
+  land in the trace.
+
+RPC methods of the ``supervisor`` participant: ``introspect`` (reply
+``<es_status>``), ``replace`` and ``extend`` (request: an SCXML document;
+validated before the swap, refused with the reason, the queue survives).
+
+Time: decisions are taken when an event arrives or expires; the ES then
+needs ``cost`` virtual seconds per transition to reconfigure the system
+(the papers: under 20 ms), so the outputs of the k-th transition in a row are
+sent ``k * cost`` after the ES became free.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import os
+from copy import deepcopy
+from decimal import Decimal
+from pathlib import Path
+from typing import Any
+
+from lxml import etree
+
+from homesim.afsm.engine import Applied, Engine, Event, Output, Record, Rejected, record_dict
+from homesim.afsm.loader import from_element, load, loads, to_element
+from homesim.afsm.model import CONDITION, Machine
+from homesim.errors import AFSMError, AFSMModificationRefused
+from homesim.heartbeat import HEALTH_CHANNEL
+from homesim.message import Message
+from homesim.module import Module
+from homesim.vloop import NS_PER_S, to_ns
+
+EVENT_CHANNEL = "/robot/es/events"
+ORDER_PREFIX = "/robot/es/orders"
+CONDITION_PREFIX = "/robot/es/conditions"
+REJECTED_PREFIX = "/robot/es/rejected"
+LOG_CHANNEL = "/robot/es/log"
+STATUS_CHANNEL = "/robot/es/status"
+
+SCHEMAS = Path(__file__).with_name("schemas")
+BIRON_AFSM = Path(__file__).with_name("afsm") / "biron.scxml"
+
+
+def event_xml(name: str, *, lifetime: float | None = None, attrs: dict[str, str] | None = None,
+              children: tuple[etree._Element, ...] = ()) -> etree._Element:
+    """Build an ES event document (what modules publish on ``/robot/es/events``)."""
+    el = etree.Element("event", name=name)
+    if lifetime is not None:
+        el.set("lifetime", repr(float(lifetime)))
+    for k, v in (attrs or {}).items():
+        el.set(k, v)
+    for c in children:
+        el.append(deepcopy(c))
+    return el
+
+
+def _seconds(ns: int) -> str:
+    return format(Decimal(ns) / Decimal(NS_PER_S), "f")
+
+
+def declare_channels(bus: Any, machine: Machine) -> None:
+    """Type every ES channel on ``bus`` with its XSD (events, outputs per module, log, status)."""
+    bus.declare_channel(EVENT_CHANNEL, SCHEMAS / "es-event.xsd")
+    bus.declare_channel(LOG_CHANNEL, SCHEMAS / "es-log.xsd")
+    bus.declare_channel(STATUS_CHANNEL, SCHEMAS / "es-status.xsd")
+    for name in machine.modules:
+        bus.declare_channel(f"{ORDER_PREFIX}/{name}", SCHEMAS / "es-order.xsd")
+        bus.declare_channel(f"{CONDITION_PREFIX}/{name}", SCHEMAS / "es-condition.xsd")
+        bus.declare_channel(f"{REJECTED_PREFIX}/{name}", SCHEMAS / "es-rejected.xsd")
+
+
+def output_xml(out: Output, state: str) -> etree._Element:
+    """An order/condition element; copied nodes are deep copies (the event stays intact)."""
+    el = etree.Element(out.kind, name=out.name, target=out.target, event=out.event_id, state=state)
+    for pname, value in out.params:
+        p = etree.SubElement(el, "param", name=pname)
+        if isinstance(value, str):
+            p.text = value
+        else:
+            texts = []
+            for v in value:
+                if isinstance(v, etree._Element):
+                    p.append(deepcopy(v))
+                else:
+                    texts.append(v)
+            if texts:
+                p.text = " ".join(texts)
+    return el
+
+
+def record_xml(rec: Record) -> etree._Element:
+    """One decision as an ``<es_record>`` for the log channel."""
+    ev = rec.event
+    el = etree.Element("es_record", kind=rec.kind, event=ev.id, name=ev.name, source=ev.source,
+                       created=_seconds(ev.created_ns))
+    if isinstance(rec, Applied):
+        el.set("state", rec.source_state)
+        el.set("to", rec.target_state)
+        el.set("outputs", str(len(rec.outputs)))
+    elif isinstance(rec, Rejected):
+        el.set("state", rec.state)
+        el.set("reason", rec.reason)
+        el.set("detail", rec.detail)
+    else:
+        el.set("state", rec.state)
+        el.set("category", rec.category)
+    return el
+
+
+class ExecutionSupervisor(Module):
+    """The ES module. ``machine``: a :class:`Machine`, or a path to an SCXML file (default BIRON's).
+
+    ``cost`` is the reconfiguration time per transition in virtual seconds;
+    ``return_to`` names the source modules whose rejected events are sent
+    back (the dialog, per the papers); ``history`` bounds the remembered
+    records. Raises :class:`AFSMProblems` if the machine does not load.
+    """
+
+    def __init__(
+        self,
+        sim: Any,
+        machine: Machine | str | os.PathLike[str] = BIRON_AFSM,
+        *,
+        name: str = "supervisor",
+        host: str = "robot",
+        cost: float = 0.005,
+        heartbeat: float | None = 0.5,
+        return_to: tuple[str, ...] = ("dialog",),
+        history: int = 1000,
+        health_channel: str | None = HEALTH_CHANNEL,
+        typed: bool = True,
+    ) -> None:
+        super().__init__(sim, name, host=host, heartbeat=heartbeat)
+        m = machine if isinstance(machine, Machine) else load(machine)
+        self.engine = Engine(m, history=history)
+        self.cost_ns = to_ns(cost)
+        self.return_to = tuple(return_to)
+        self._loop = sim.loop
+        self._busy_until = 0
+        self._timer: asyncio.TimerHandle | None = None
+        self._timer_at: int | None = None
+        if typed:
+            declare_channels(sim.bus, m)
+        self.bus.subscribe(EVENT_CHANNEL, self._on_event)
+        if health_channel is not None:
+            self.bus.subscribe(health_channel, self._on_health)
+        self.bus.serve("introspect", lambda msg: self.status_xml(), reply_schema=SCHEMAS / "es-status.xsd")
+        self.bus.serve("replace", self._rpc_replace)
+        self.bus.serve("extend", self._rpc_extend)
+
+    # ------------------------------------------------------------ main loop
+    async def run(self) -> None:
+        """Beat the heartbeat; events are handled as they are delivered."""
+        self.publish_status()
+        while True:
+            self.beat()
+            await asyncio.sleep(self.heartbeat.interval if self.heartbeat else 1.0)
+
+    @property
+    def state(self) -> str:
+        """The current AFSM state."""
+        return self.engine.state
+
+    # --------------------------------------------------------------- input
+    def _on_event(self, msg: Message) -> None:
+        xml = msg.xml
+        lt = xml.get("lifetime")
+        ev = Event(msg.id, xml.get("name"), msg.sender, msg.created_ns,
+                   to_ns(float(lt)) if lt is not None else None, xml)
+        self.submit(ev)
+
+    def _on_health(self, msg: Message) -> None:
+        tag = msg.xml.tag
+        if tag in ("module_failed", "module_recovered") and msg.xml.get("module") != self.name:
+            self.submit(Event(msg.id, str(tag), msg.sender, msg.created_ns, None, msg.xml))
+
+    def submit(self, event: Event) -> list[Record]:
+        """Queue ``event`` now and process; returns the records (also published)."""
+        now = self._loop.now_ns
+        self.engine.queue(event, now)
+        return self._process(now)
+
+    def _wake(self) -> None:
+        self._timer = None
+        self._timer_at = None
+        if self.bus.closed or self.bus.hung:
+            return
+        self._process(self._loop.now_ns)
+
+    def _process(self, now: int) -> list[Record]:
+        before = self.engine.state
+        records = self.engine.process(now)
+        self._emit(records, now)
+        if any(isinstance(r, Applied) for r in records) or before != self.engine.state:
+            self.publish_status()
+        self._arm()
+        return records
+
+    def _arm(self) -> None:
+        """Wake at the earliest expiry among retained events (one timer at a time)."""
+        deadline = self.engine.next_deadline()
+        if deadline == self._timer_at:
+            return
+        if self._timer is not None:
+            self._timer.cancel()
+            self._timer = None
+        self._timer_at = deadline
+        if deadline is not None:
+            self._timer = self._loop.call_at_ns(deadline, self._wake)
+
+    # -------------------------------------------------------------- output
+    def _emit(self, records: list[Record], now: int) -> None:
+        for rec in records:
+            self.bus.publish(LOG_CHANNEL, record_xml(rec), causes=(rec.event.id,))
+            if isinstance(rec, Applied):
+                start = max(now, self._busy_until)
+                self._busy_until = start + self.cost_ns
+                if rec.outputs:
+                    self._loop.call_at_ns(self._busy_until, self._send_outputs, rec)
+            elif isinstance(rec, Rejected) and rec.event.source in self.return_to:
+                el = etree.Element("rejected", event=rec.event.id, name=rec.event.name, reason=rec.reason,
+                                   state=rec.state, detail=rec.detail)
+                if rec.event.payload is not None:
+                    el.append(deepcopy(rec.event.payload))
+                self.bus.publish(f"{REJECTED_PREFIX}/{rec.event.source}", el, causes=(rec.event.id,))
+
+    def _send_outputs(self, rec: Applied) -> None:
+        if self.bus.closed or self.bus.hung:
+            return
+        for out in rec.outputs:
+            prefix = CONDITION_PREFIX if out.kind == CONDITION else ORDER_PREFIX
+            self.bus.publish(f"{prefix}/{out.target}", output_xml(out, rec.target_state), causes=(out.event_id,))
+
+    # ------------------------------------------------------- introspection
+    def introspect(self) -> dict[str, Any]:
+        """Current state, queue (status, expiry), counts and recent history as plain data."""
+        snap = self.engine.snapshot()
+        snap["machine"] = self.engine.machine.name
+        snap["t_ns"] = self._loop.now_ns
+        snap["history"] = [record_dict(r) for r in self.engine.history]
+        return snap
+
+    def status_xml(self, *, history: int = 20) -> etree._Element:
+        """The introspection as an ``<es_status>`` element (reply of ``introspect``)."""
+        eng = self.engine
+        s = eng.stats()
+        el = etree.Element("es_status", machine=eng.machine.name, state=eng.state, t=_seconds(self._loop.now_ns),
+                           **{k: str(s[k]) for k in ("queued", "applied", "expired", "inapplicable", "pending")})
+        if eng.category is not None:
+            el.set("category", eng.category)
+        q = etree.SubElement(el, "queue")
+        for item in eng.queued():
+            etree.SubElement(q, "queued", event=item.event.id, name=item.event.name, source=item.event.source,
+                             created=_seconds(item.event.created_ns), expires=_seconds(item.expires_ns),
+                             status=item.status)
+        h = etree.SubElement(el, "history")
+        recent = list(eng.history)[-history:] if history else []
+        for rec in recent:
+            h.append(record_xml(rec))
+        return el
+
+    def publish_status(self) -> Message | None:
+        """Publish the status on ``/robot/es/status`` (it lands in the trace)."""
+        if self.bus.closed or self.bus.hung:
+            return None
+        return self.bus.publish(STATUS_CHANNEL, self.status_xml())
+
+    # -------------------------------------------------------- modification
+    def replace(self, machine: Machine | str | os.PathLike[str]) -> None:
+        """Swap the AFSM without restarting; refused (AFSMModificationRefused) with the reason."""
+        m = self._as_machine(machine)
+        self.engine.replace(m)
+        self._after_change(m)
+
+    def extend(self, extension: Machine | str | os.PathLike[str]) -> None:
+        """Merge states/transitions into the running AFSM; refused with the reason if invalid."""
+        ext = self._as_machine(extension)
+        try:
+            merged = self.engine.extend(ext)
+        except AFSMModificationRefused:
+            raise
+        except AFSMError as exc:
+            raise AFSMModificationRefused(f"refused: {exc.message}", source=exc.source, line=exc.line,
+                                          element=exc.element) from exc
+        self._after_change(merged)
+
+    def _as_machine(self, machine: Machine | str | os.PathLike[str]) -> Machine:
+        if isinstance(machine, Machine):
+            return machine
+        text = str(machine)
+        if text.lstrip().startswith("<"):
+            return loads(text, source="<replace>")
+        return load(machine)
+
+    def _after_change(self, m: Machine) -> None:
+        if self._typed_bus():
+            declare_channels(self.sim.bus, m)
+        now = self._loop.now_ns
+        self._process(now)
+        self.publish_status()
+
+    def _typed_bus(self) -> bool:
+        return self.sim.bus.channel_schema(EVENT_CHANNEL) is not None
+
+    def _rpc_replace(self, msg: Message) -> etree._Element:
+        self.replace(from_element(msg.xml, source=f"<rpc {msg.id}>"))
+        return etree.Element("ok", state=self.state, machine=self.engine.machine.name)
+
+    def _rpc_extend(self, msg: Message) -> etree._Element:
+        self.extend(from_element(msg.xml, source=f"<rpc {msg.id}>"))
+        return etree.Element("ok", state=self.state, machine=self.engine.machine.name)
+
+    def machine_xml(self) -> etree._Element:
+        """The running machine as SCXML (after any run-time changes)."""
+        return to_element(self.engine.machine)
