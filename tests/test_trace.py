@@ -58,3 +58,16 @@ def test_different_seeds_give_different_traces(tmp_path):
             sim.run(until=2.0)
             out.append(tr.text())
     assert out[0] != out[1]
+
+
+def test_realtime_pacing_changes_nothing_but_the_pace():
+    from homesim import demo
+
+    texts = []
+    for realtime in (None, 2000.0):
+        with Simulation(seed=3, scenario="rt", realtime=realtime) as sim:
+            tr = sim.record_trace()
+            demo.build(sim, duration=2.0)
+            sim.run(until=2.0)
+            texts.append(tr.text())
+    assert texts[0] == texts[1]
