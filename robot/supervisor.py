@@ -293,7 +293,7 @@ class ExecutionSupervisor(Module):
 
     def extend(self, extension: Machine | str | os.PathLike[str]) -> None:
         """Merge states/transitions into the running AFSM; refused with the reason if invalid."""
-        ext = self._as_machine(extension)
+        ext = self._as_machine(extension, fragment=True)
         try:
             merged = self.engine.extend(ext)
         except AFSMModificationRefused:
@@ -303,13 +303,13 @@ class ExecutionSupervisor(Module):
                                           element=exc.element) from exc
         self._after_change(merged)
 
-    def _as_machine(self, machine: Machine | str | os.PathLike[str]) -> Machine:
+    def _as_machine(self, machine: Machine | str | os.PathLike[str], *, fragment: bool = False) -> Machine:
         if isinstance(machine, Machine):
             return machine
         text = str(machine)
         if text.lstrip().startswith("<"):
-            return loads(text, source="<replace>")
-        return load(machine)
+            return loads(text, source="<extend>" if fragment else "<replace>", fragment=fragment)
+        return load(machine, fragment=fragment)
 
     def _after_change(self, m: Machine) -> None:
         if self._typed_bus():
@@ -326,7 +326,7 @@ class ExecutionSupervisor(Module):
         return etree.Element("ok", state=self.state, machine=self.engine.machine.name)
 
     def _rpc_extend(self, msg: Message) -> etree._Element:
-        self.extend(from_element(msg.xml, source=f"<rpc {msg.id}>"))
+        self.extend(from_element(msg.xml, source=f"<rpc {msg.id}>", fragment=True))
         return etree.Element("ok", state=self.state, machine=self.engine.machine.name)
 
     def machine_xml(self) -> etree._Element:

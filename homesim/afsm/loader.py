@@ -233,8 +233,13 @@ def _build_transition(el: etree._Element) -> Transition:
 
 
 # --------------------------------------------------------------- public API
-def check_root(root: etree._Element, *, source: str) -> tuple[Machine | None, list[AFSMError]]:
-    """Run every stage after parsing; return the machine (None if it could not be built) and all problems."""
+def check_root(root: etree._Element, *, source: str, fragment: bool = False) -> tuple[Machine | None, list[AFSMError]]:
+    """Run every stage after parsing; return the machine (None if it could not be built) and all problems.
+
+    A ``fragment`` (an extension to merge into a running machine) gets the
+    structural checks only: its targets and modules may live in the machine
+    it extends, so the semantic checks run on the merged result instead.
+    """
     problems = _profile_problems(root, source)
     if problems and root.tag != _S + "scxml":
         return None, problems
@@ -245,7 +250,7 @@ def check_root(root: etree._Element, *, source: str) -> tuple[Machine | None, li
         machine, dup = _build(root, source)
     except (InvalidOperation, ValueError) as exc:  # pragma: no cover - the XSD types lifetimes
         return None, [AFSMError(f"cannot read the document: {exc}", source=source)]
-    problems = sorted(dup + validate(machine), key=lambda p: p.line or 0)
+    problems = sorted(dup + ([] if fragment else validate(machine)), key=lambda p: p.line or 0)
     return machine, problems
 
 
@@ -267,22 +272,22 @@ def check_file(path: str | os.PathLike[str]) -> list[AFSMError]:
     return check_root(root, source=str(path))[1]
 
 
-def from_element(root: etree._Element, *, source: str) -> Machine:
+def from_element(root: etree._Element, *, source: str, fragment: bool = False) -> Machine:
     """The machine of a parsed document; raises :class:`AFSMProblems` listing every problem."""
-    machine, problems = check_root(root, source=source)
+    machine, problems = check_root(root, source=source, fragment=fragment)
     if problems or machine is None:
         raise AFSMProblems(problems)
     return machine
 
 
-def loads(data: bytes | str, *, source: str = "<string>") -> Machine:
+def loads(data: bytes | str, *, source: str = "<string>", fragment: bool = False) -> Machine:
     """Load an AFSM from text. Raises XMLInputError (malformed) or AFSMProblems."""
-    return from_element(parse_bytes(data, source=source), source=source)
+    return from_element(parse_bytes(data, source=source), source=source, fragment=fragment)
 
 
-def load(path: str | os.PathLike[str]) -> Machine:
+def load(path: str | os.PathLike[str], *, fragment: bool = False) -> Machine:
     """Load an AFSM file. Raises XMLInputError (malformed) or AFSMProblems naming file and lines."""
-    return from_element(parse_file(path), source=str(path))
+    return from_element(parse_file(path), source=str(path), fragment=fragment)
 
 
 # --------------------------------------------------------------------- dump

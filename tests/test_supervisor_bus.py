@@ -1,0 +1,237 @@
+"""The supervisor as a bus module: events in, typed orders/conditions out, rejections returned,
+run-time modification and introspection by API and RPC, processing cost, trace."""
+
+from __future__ import annotations
+
+import pytest
+from lxml import etree
+
+from homesim.errors import AFSMModificationRefused, MessageValidationError, RemoteCallFailed
+from homesim.network import LinkModel
+from homesim.sim import Simulation
+from robot.supervisor import (
+    CONDITION_PREFIX,
+    EVENT_CHANNEL,
+    LOG_CHANNEL,
+    ORDER_PREFIX,
+    REJECTED_PREFIX,
+    STATUS_CHANNEL,
+    ExecutionSupervisor,
+    event_xml,
+)
+
+PERSON = etree.fromstring('<PERSON id="p7" bearing="0.1"/>')
+SPEECH = etree.fromstring("<SPEECH><GREETING/></SPEECH>")
+
+EXTENSION = """<scxml xmlns="http://www.w3.org/2005/07/scxml" xmlns:es="urn:homesim:afsm:1" version="1.0">
+  <state id="Interacting">
+    <transition event="dance" target="Dancing">
+      <send event="dance" target="player" es:kind="order"><param name="style" expr="@style"/></send>
+    </transition>
+  </state>
+  <state id="Interaction">
+    <!-- Dancing: added at run time -->
+    <state id="Dancing"><transition event="stop" target="Interacting"/></state>
+  </state>
+</scxml>"""
+
+
+class World:
+    """A simulation with the ES on the robot, the dialog on a slow WLAN laptop, the attention on the LAN."""
+
+    def __init__(self, *, dialog_delay: float = 0.3, cost: float = 0.005) -> None:
+        self.sim = Simulation(seed=3, scenario="es")
+        self.sim.network.set_link(LinkModel("slow", dialog_delay, dialog_delay))
+        self.sim.network.add_host("laptop", link="slow")
+        self.trace = self.sim.record_trace()
+        self.es = ExecutionSupervisor(self.sim, cost=cost)
+        self.dialog = self.sim.bus.participant("dialog", host="laptop")
+        self.attention = self.sim.bus.participant("person_attention", host="robot")
+        self.conditions = self.dialog.subscribe(f"{CONDITION_PREFIX}/dialog")
+        self.returned = self.dialog.subscribe(f"{REJECTED_PREFIX}/dialog")
+        self.orders = self.attention.subscribe(f"{ORDER_PREFIX}/person_attention")
+        self.sim.start()
+
+    def greet(self, *, created: float | None = None) -> None:
+        self.dialog.publish(EVENT_CHANNEL, event_xml("greeting", children=(SPEECH,)), created=created)
+
+    def see_partner(self, *, created: float | None = None) -> None:
+        self.attention.publish(EVENT_CHANNEL, event_xml("potential_partner", children=(PERSON,)), created=created)
+
+    def at(self, t: float, fn, *args, **kw) -> None:
+        self.sim.call_at(t, lambda: fn(*args, **kw))
+
+
+@pytest.fixture
+def world():
+    w = World()
+    yield w
+    w.sim.close()
+
+
+def test_greeting_then_partner_sends_typed_orders_with_copied_parameters(world):
+    world.at(1.0, world.greet)
+    world.at(1.5, world.see_partner)
+    world.sim.run(until=3.0)
+    assert world.es.state == "Interacting"
+    names = [m.xml.get("name") for m in world.orders.drain()]
+    assert names == ["interact"]
+    conds = world.conditions.drain()
+    assert [c.xml.get("name") for c in conds] == ["person_info", "partner_found"]
+    person = conds[0].xml.find("param/PERSON")
+    assert person is not None and person.get("id") == "p7"  # copied from the attention's event
+    assert conds[1].xml.find("param/SPEECH/GREETING") is not None
+
+
+def test_outputs_leave_after_the_processing_cost(world):
+    world.at(1.0, world.see_partner)
+    world.sim.run(until=2.0)
+    (info,) = world.conditions.drain()
+    event_arrival = [r for r in world.trace.records() if r.get("channel") == LOG_CHANNEL][0]["t"]
+    assert info.sent == pytest.approx(event_arrival + 0.005)
+
+
+def test_radio_greeting_is_rejected_at_expiry_and_returned_to_the_dialog(world):
+    world.at(1.0, world.greet)
+    world.sim.run(until=6.0)
+    assert world.es.state == "LookingAround"
+    (back,) = world.returned.drain()
+    assert back.xml.get("reason") == "expired" and back.xml.get("name") == "greeting"
+    assert back.xml.find("event/SPEECH") is not None  # the dialog gets its event back
+    # rejected exactly at created + lifetime (3 s), not when the ES next happened to look
+    assert back.sent == pytest.approx(1.0 + 3.0)
+    log = [r for r in world.trace.records() if r.get("channel") == LOG_CHANNEL]
+    assert any('reason="expired"' in r["xml"] for r in log)  # visible in the trace
+
+
+def test_partner_created_first_but_delivered_late_still_pairs(world):
+    """The greeting (created later, fast link) waits; the older partner event is put before it."""
+    slow = World(dialog_delay=0.001)
+    try:
+        slow.sim.network.set_link(LinkModel("slowattention", 0.4, 0.4))
+        slow.sim.network.add_host("camera_pc", link="slowattention")
+        cam = slow.sim.bus.participant("attention2", host="camera_pc")
+        slow.at(1.0, lambda: cam.publish(EVENT_CHANNEL, event_xml("potential_partner", children=(PERSON,))))
+        slow.at(1.1, slow.greet)
+        slow.sim.run(until=3.0)
+        assert slow.es.state == "Interacting"
+        applied = [r for r in slow.es.introspect()["history"] if r["kind"] == "applied"]
+        assert [a["name"] for a in applied] == ["potential_partner", "greeting"]
+        assert applied[0]["at_ns"] == applied[1]["at_ns"]  # paired on the late arrival
+    finally:
+        slow.sim.close()
+
+
+def test_inapplicable_dialog_event_is_returned_with_its_reason(world):
+    world.at(1.0, lambda: world.dialog.publish(EVENT_CHANNEL, event_xml("stop")))
+    world.sim.run(until=2.0)
+    (back,) = world.returned.drain()
+    assert back.xml.get("reason") == "inapplicable"
+    assert "LookingAround" in back.xml.get("detail")
+
+
+def test_attention_rejections_are_logged_but_not_returned(world):
+    world.at(1.0, lambda: world.attention.publish(EVENT_CHANNEL, event_xml("partner_too_fast")))
+    world.sim.run(until=2.0)
+    assert world.returned.drain() == []
+    assert world.es.engine.stats()["inapplicable"] == 1
+
+
+def test_malformed_event_is_refused_by_the_typed_channel(world):
+    with pytest.raises(MessageValidationError):
+        world.dialog.publish(EVENT_CHANNEL, etree.Element("event"))  # no name
+
+
+def test_introspection_by_api_rpc_and_trace(world):
+    world.at(1.0, world.greet)
+    results = {}
+
+    async def ask():
+        reply = await world.attention.call("supervisor", "introspect", etree.Element("introspect"))
+        results["xml"] = reply.xml
+
+    world.at(1.4, lambda: world.sim.spawn(ask(), name="asker"))  # the greeting arrives at 1.3 (WLAN)
+    world.sim.run(until=1.5)
+    snap = world.es.introspect()
+    assert snap["state"] == "LookingAround" and snap["category"] == "Observing"
+    (q,) = snap["queue"]
+    assert (q["name"], q["status"]) == ("greeting", "retained")
+    assert q["expires_ns"] == snap["queue"][0]["created_ns"] + 3_000_000_000
+    st = results["xml"]
+    assert st.get("state") == "LookingAround"
+    assert st.find("queue/queued").get("status") == "retained"
+    assert any(r.get("channel") == STATUS_CHANNEL for r in world.trace.records())
+
+
+def test_extend_by_rpc_keeps_the_queue_and_adds_a_state(world):
+    world.at(0.5, world.see_partner)
+    world.at(0.6, world.greet)
+    world.sim.run(until=1.0)
+    assert world.es.state == "Interacting"
+    out = {}
+
+    async def extend():
+        reply = await world.attention.call("supervisor", "extend", EXTENSION.encode())
+        out["reply"] = reply.xml
+
+    world.at(1.0, lambda: world.sim.spawn(extend(), name="extender"))
+    world.at(1.5, lambda: world.attention.publish(EVENT_CHANNEL, event_xml("dance", attrs={"style": "waltz"})))
+    world.sim.run(until=2.0)
+    assert out["reply"].get("state") == "Interacting"
+    assert world.es.state == "Dancing"
+    assert "Dancing" in world.es.engine.machine.states
+
+
+def test_replace_refused_when_the_current_state_would_vanish(world):
+    world.at(0.5, world.greet)  # retained in LookingAround
+    world.sim.run(until=1.0)
+    tiny = """<scxml xmlns="http://www.w3.org/2005/07/scxml" xmlns:es="urn:homesim:afsm:1" version="1.0">
+      <state id="Elsewhere"/></scxml>"""
+    with pytest.raises(AFSMModificationRefused, match="LookingAround.*would not exist"):
+        world.es.replace(tiny)
+    assert world.es.state == "LookingAround" and len(world.es.engine) == 1  # unchanged, queue kept
+    errors = {}
+
+    async def by_rpc():
+        try:
+            await world.attention.call("supervisor", "replace", tiny.encode())
+        except RemoteCallFailed as exc:
+            errors["e"] = str(exc)
+
+    world.at(1.0, lambda: world.sim.spawn(by_rpc(), name="replacer"))
+    world.sim.run(until=1.5)
+    assert "would not exist" in errors["e"]
+
+
+def test_replace_with_an_invalid_machine_is_refused_with_the_reason(world):
+    bad = """<scxml xmlns="http://www.w3.org/2005/07/scxml" xmlns:es="urn:homesim:afsm:1" version="1.0">
+      <state id="LookingAround"><transition event="x" target="Nowhere"/></state></scxml>"""
+    with pytest.raises(Exception, match="Nowhere"):
+        world.es.replace(bad)
+    assert world.es.engine.machine.name == "biron"
+
+
+def test_heartbeat_failure_reaches_the_es(world):
+    from homesim.heartbeat import HEALTH_CHANNEL
+
+    mon = world.sim.bus.participant("monitor")
+    world.at(1.0, lambda: mon.publish(HEALTH_CHANNEL, etree.Element("module_failed", module="laser")))
+    world.sim.run(until=2.0)
+    assert world.es.state == "TechnicalFailure"
+    names = [c.xml.get("name") for c in world.conditions.drain()]
+    assert names == ["technical_failure"]
+
+
+def test_same_seed_same_trace():
+    def run() -> str:
+        w = World()
+        w.at(1.0, w.greet)
+        w.at(1.2, w.see_partner)
+        w.at(2.0, lambda: w.dialog.publish(EVENT_CHANNEL, event_xml("follow")))
+        w.at(3.0, lambda: w.dialog.publish(EVENT_CHANNEL, event_xml("stop")))
+        w.sim.run(until=5.0)
+        text = w.trace.text()
+        w.sim.close()
+        return text
+
+    assert run() == run()
