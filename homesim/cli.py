@@ -18,6 +18,7 @@ from .errors import HomesimError
 SUBCOMMAND_MODULES: list[str] = [
     "homesim.demo",
     "homesim.world.cli",
+    "homesim.afsm.cli",
 ]
 
 
