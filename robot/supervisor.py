@@ -90,21 +90,30 @@ def declare_channels(bus: Any, machine: Machine) -> None:
 
 def output_xml(out: Output, state: str) -> etree._Element:
     """An order/condition element; copied nodes are deep copies (the event stays intact)."""
-    el = etree.Element(out.kind, name=out.name, target=out.target, event=out.event_id, state=state)
+    el = _Element(out.kind)
+    el.set("name", out.name)
+    el.set("target", out.target)
+    el.set("event", out.event_id)
+    el.set("state", state)
     for pname, value in out.params:
-        p = etree.SubElement(el, "param", name=pname)
+        p = _SubElement(el, "param")
+        p.set("name", pname)
         if isinstance(value, str):
             p.text = value
         else:
             texts = []
             for v in value:
-                if isinstance(v, etree._Element):
-                    p.append(deepcopy(v))
-                else:
+                if isinstance(v, str):
                     texts.append(v)
+                else:
+                    p.append(v.__deepcopy__(None))
             if texts:
                 p.text = " ".join(texts)
     return el
+
+
+_Element = etree.Element
+_SubElement = etree.SubElement
 
 
 def record_xml(rec: Record) -> etree._Element:

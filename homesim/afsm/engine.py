@@ -37,7 +37,7 @@ from bisect import insort
 from collections import deque
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, NamedTuple
 
 from lxml import etree
 
@@ -80,8 +80,7 @@ class Queued:
         return (self.event.created_ns, self.seq)
 
 
-@dataclass(frozen=True, slots=True)
-class Output:
+class Output(NamedTuple):
     """An order or condition to send: parameters already copied out of the event.
 
     Parameter values are strings, or tuples of the nodes/strings the XPath
@@ -95,9 +94,8 @@ class Output:
     event_id: str
 
 
-@dataclass(frozen=True, slots=True)
-class Applied:
-    """An event took a transition."""
+class Applied(NamedTuple):
+    """An event took a transition (records are immutable: observers cannot change them)."""
 
     at_ns: int
     event: Event
@@ -105,11 +103,10 @@ class Applied:
     target_state: str
     owner: str  # the state the transition is written on
     outputs: tuple[Output, ...]
-    kind: str = field(default="applied", init=False)
+    kind: str = "applied"
 
 
-@dataclass(frozen=True, slots=True)
-class Rejected:
+class Rejected(NamedTuple):
     """An event left the queue unapplied; ``reason`` is EXPIRED or INAPPLICABLE."""
 
     at_ns: int
@@ -117,18 +114,17 @@ class Rejected:
     state: str
     reason: str
     detail: str
-    kind: str = field(default="rejected", init=False)
+    kind: str = "rejected"
 
 
-@dataclass(frozen=True, slots=True)
-class Retained:
+class Retained(NamedTuple):
     """An event was kept in the queue because the current category can use it (first time per state)."""
 
     at_ns: int
     event: Event
     state: str
     category: str
-    kind: str = field(default="retained", init=False)
+    kind: str = "retained"
 
 
 Record = Applied | Rejected | Retained
@@ -312,10 +308,13 @@ class Engine:
         ev = item.event
         del self._ids[ev.id]
         self.counts["applied"] += 1
-        outputs = tuple(
-            Output(s.kind, s.target, s.name, tuple((name, _param_value(f, ev.payload)) for name, f in params), ev.id)
-            for s, params in comp.sends
-        )
+        outputs: tuple[Output, ...] = ()
+        if comp.sends:
+            payload = ev.payload
+            outputs = tuple([
+                Output(s.kind, s.target, s.name, tuple([(name, _param_value(f, payload)) for name, f in params]), ev.id)
+                for s, params in comp.sends
+            ])
         rec = Applied(now_ns, ev, self.state, comp.target_leaf, comp.owner, outputs)
         self.state = comp.target_leaf
         self.history.append(rec)

@@ -1,0 +1,177 @@
+"""Execution supervisor throughput and latency, ours vs sismic, on the same event stream.
+
+Run: ``python benchmarks/bench_supervisor.py [--events N]``. Not a test:
+wall-clock numbers belong here, never in the test suite.
+
+The stream is BIRON's interaction cycle, repeated: potential_partner,
+greeting, follow, stop, goodbye (each event an XML document with a payload).
+Per event, both sides do the whole job:
+
+* ours: parse the XML bytes with the hardened parser, queue the event in the
+  engine (BIRON's AFSM from ``robot/afsm/biron.scxml``), process, build every
+  order/condition element with its parameters copied by XPath, and validate
+  each against its XSD (the typed channel's check);
+* sismic: parse the same XML bytes, queue a sismic ``Event`` carrying the
+  payload, ``execute_once`` on an equivalent statechart (same states and
+  categories as composite states, same transitions, actions that ``notify``
+  one meta-event per order/condition with the payload).
+
+Prints events/s, p50/p99 latency per event, and the ratio ours/sismic.
+"""
+
+from __future__ import annotations
+
+import argparse
+import time
+
+import numpy as np
+
+from homesim.afsm.engine import Applied, Engine, Event
+from homesim.afsm.loader import load
+from homesim.xmlio import load_schema, parse_bytes
+from robot.supervisor import BIRON_AFSM, SCHEMAS, output_xml
+
+CYCLE = [
+    ("potential_partner", "person_attention", b'<event name="potential_partner"><PERSON id="p1" bearing="0.12" distance="1.4"/></event>'),
+    ("greeting", "dialog", b'<event name="greeting"><SPEECH><GREETING/></SPEECH></event>'),
+    ("follow", "dialog", b'<event name="follow"><SPEECH><FOLLOW/></SPEECH></event>'),
+    ("stop", "dialog", b'<event name="stop"><SPEECH><STOP/></SPEECH></event>'),
+    ("goodbye", "dialog", b'<event name="goodbye"><SPEECH><GOODBYE/></SPEECH></event>'),
+]
+
+SISMIC_YAML = """
+statechart:
+  name: biron-cycle
+  root state:
+    name: root
+    initial: Operational
+    states:
+    - name: Operational
+      initial: Observing
+      states:
+      - name: Observing
+        initial: LookingAround
+        states:
+        - name: LookingAround
+          transitions:
+          - target: PotentialPartner
+            event: potential_partner
+            action: notify('person_info', person=event.payload)
+        - name: PotentialPartner
+          transitions:
+          - target: Interacting
+            event: greeting
+            action: |
+              notify('interact')
+              notify('show_attention')
+              notify('partner_found', utterance=event.payload)
+      - name: Interaction
+        initial: Interacting
+        transitions:
+        - target: LookingAround
+          event: goodbye
+          action: |
+            notify('look_around')
+            notify('interaction_ended')
+        states:
+        - name: Interacting
+          transitions:
+          - target: Following
+            event: follow
+            action: |
+              notify('follow')
+              notify('following')
+        - name: Following
+          transitions:
+          - target: Interacting
+            event: stop
+            action: |
+              notify('stop')
+              notify('interact')
+              notify('stopped')
+"""
+
+
+def stream(n: int) -> list[tuple[str, str, bytes]]:
+    return [CYCLE[i % len(CYCLE)] for i in range(n)]
+
+
+def run_ours(events: list[tuple[str, str, bytes]]) -> tuple[float, np.ndarray, int]:
+    engine = Engine(load(BIRON_AFSM), history=64)
+    schemas = {"order": load_schema(SCHEMAS / "es-order.xsd"), "condition": load_schema(SCHEMAS / "es-condition.xsd")}
+    lat = np.empty(len(events), dtype=np.int64)
+    outputs = 0
+    now = 0
+    clock = time.perf_counter_ns
+    t0 = clock()
+    for i, (name, source, data) in enumerate(events):
+        s = clock()
+        now += 1_000_000  # 1 ms of virtual time between events
+        xml = parse_bytes(data, source="<bench>")
+        engine.queue(Event(f"{source}#{i}", xml.get("name"), source, now, None, xml), now)
+        for rec in engine.process(now):
+            if isinstance(rec, Applied):
+                for out in rec.outputs:
+                    el = output_xml(out, rec.target_state)
+                    if not schemas[out.kind].is_valid(el):
+                        raise AssertionError(f"invalid {out.kind}: {el}")
+                    outputs += 1
+        lat[i] = clock() - s
+    total = (clock() - t0) / 1e9
+    assert engine.stats()["applied"] == len(events), engine.stats()
+    return total, lat, outputs
+
+
+def run_sismic(events: list[tuple[str, str, bytes]]) -> tuple[float, np.ndarray, int]:
+    from sismic.interpreter import Interpreter
+    from sismic.io import import_from_yaml
+    from sismic.model import Event as SEvent
+
+    chart = import_from_yaml(text=SISMIC_YAML)
+    interp = Interpreter(chart)
+    count = [0]
+    internal = {"step started", "step ended", "event consumed", "event sent", "state entered", "state exited",
+                "transition processed", "execution started", "execution stopped"}
+    interp.attach(lambda meta: count.__setitem__(0, count[0] + 1) if meta.name not in internal else None)
+    interp.execute_once()  # enter the initial states
+    lat = np.empty(len(events), dtype=np.int64)
+    clock = time.perf_counter_ns
+    t0 = clock()
+    for i, (name, _source, data) in enumerate(events):
+        s = clock()
+        xml = parse_bytes(data, source="<bench>")
+        interp.queue(SEvent(xml.get("name"), payload=xml))
+        step = interp.execute_once()
+        if step is None or not step.transitions:
+            raise AssertionError(f"sismic did not take a transition on {name}")
+        lat[i] = clock() - s
+    total = (clock() - t0) / 1e9
+    return total, lat, count[0]
+
+
+def report(label: str, total: float, lat: np.ndarray, n: int, outputs: int) -> float:
+    rate = n / total
+    p50, p99 = np.percentile(lat, [50, 99]) / 1000.0
+    print(f"{label:8s} {rate:12,.0f} events/s   p50 {p50:7.1f} µs   p99 {p99:7.1f} µs   ({outputs} outputs)")
+    return rate
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--events", type=int, default=50_000)
+    ap.add_argument("--sismic-events", type=int, default=10_000)
+    args = ap.parse_args()
+    run_ours(stream(2_000))  # warm up (schema compilation, caches)
+    total, lat, outs = run_ours(stream(args.events))
+    ours = report("homesim", total, lat, args.events, outs)
+    try:
+        total, lat, outs = run_sismic(stream(args.sismic_events))
+    except ImportError:
+        print("sismic not installed (pip install sismic): no comparison")
+        return
+    theirs = report("sismic", total, lat, args.sismic_events, outs)
+    print(f"ratio    {ours / theirs:.1f}x (homesim / sismic events per second)")
+
+
+if __name__ == "__main__":
+    main()
