@@ -49,7 +49,7 @@ class Param:
 
     name: str
     expr: str
-    line: int | None = None
+    line: int | None = field(default=None, compare=False)  # where it was written; not part of its meaning
 
 
 @dataclass(frozen=True, slots=True)
@@ -60,7 +60,7 @@ class Send:
     target: str  # module name
     name: str  # message name (SCXML ``event`` attribute of <send>)
     params: tuple[Param, ...] = ()
-    line: int | None = None
+    line: int | None = field(default=None, compare=False)  # where it was written; not part of its meaning
 
 
 @dataclass(frozen=True, slots=True)
@@ -71,7 +71,7 @@ class Transition:
     target: str | None
     cond: str | None = None
     sends: tuple[Send, ...] = ()
-    line: int | None = None
+    line: int | None = field(default=None, compare=False)  # where it was written; not part of its meaning
 
 
 @dataclass(slots=True)
@@ -90,7 +90,7 @@ class State:
     transitions: list[Transition] = field(default_factory=list)
     initial: str | None = None
     doc: str = ""
-    line: int | None = None
+    line: int | None = field(default=None, compare=False)  # where it was written; not part of its meaning
 
     @property
     def is_category(self) -> bool:
@@ -103,7 +103,7 @@ class ModuleDecl:
 
     name: str
     layer: str
-    line: int | None = None
+    line: int | None = field(default=None, compare=False)  # where it was written; not part of its meaning
 
 
 @dataclass(frozen=True, slots=True)
@@ -113,7 +113,7 @@ class EventDecl:
     name: str
     lifetime_ns: int | None = None
     source: str | None = None
-    line: int | None = None
+    line: int | None = field(default=None, compare=False)  # where it was written; not part of its meaning
 
 
 @dataclass(slots=True)
@@ -128,7 +128,7 @@ class Machine:
     events: dict[str, EventDecl] = field(default_factory=dict)
     default_lifetime_ns: int = DEFAULT_LIFETIME_NS
     source: str = "<machine>"
-    line: int | None = None
+    line: int | None = field(default=None, compare=False)  # where it was written; not part of its meaning
 
     # ------------------------------------------------------------ structure
     def leaves(self) -> list[str]:
