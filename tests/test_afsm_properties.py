@@ -120,6 +120,12 @@ class SupervisorQueue(RuleBasedStateMachine):
         self.now = target
         self._process(target)
 
+    @rule()
+    def swap_in_an_equal_machine(self) -> None:
+        """Run-time replacement keeps the queue; nothing changes for the reference."""
+        self.engine.replace(self.m.copy())
+        self._process(self.now)
+
     @invariant()
     def conservation(self) -> None:
         if not hasattr(self, "engine"):

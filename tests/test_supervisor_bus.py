@@ -4,11 +4,14 @@ run-time modification and introspection by API and RPC, processing cost, trace."
 from __future__ import annotations
 
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 from lxml import etree
 
 from homesim.errors import AFSMModificationRefused, MessageValidationError, RemoteCallFailed
 from homesim.network import LinkModel
 from homesim.sim import Simulation
+from .conftest import examples
 from robot.supervisor import (
     CONDITION_PREFIX,
     EVENT_CHANNEL,
@@ -235,3 +238,29 @@ def test_same_seed_same_trace():
         return text
 
     assert run() == run()
+
+
+@settings(max_examples=examples(15, 100))
+@given(st.lists(st.tuples(st.sampled_from(["greeting", "potential_partner", "potential_partner_lost", "follow", "stop"]),
+                          st.integers(0, 40), st.sampled_from(["dialog", "person_attention"])), max_size=12),
+       st.floats(0.001, 0.5))
+def test_on_the_bus_every_event_ends_once_and_expiry_is_never_late(events, wlan):
+    """Random events over a random-latency link: the log shows each event end once, expiries on time."""
+    w = World(dialog_delay=wlan)
+    try:
+        senders = {"dialog": w.dialog, "person_attention": w.attention}
+        for name, tenth, src in events:
+            w.at(tenth / 10, lambda n=name, s=src: senders[s].publish(EVENT_CHANNEL, event_xml(n, children=(PERSON,))))
+        w.sim.run(until=12.0)
+        ends = [r for r in w.es.introspect()["history"] if r["kind"] != "retained"]
+        assert len(ends) == len(events) == len({r["event"] for r in ends})
+        lifetimes = w.es.engine.machine
+        for r in ends:
+            if r["kind"] == "rejected" and r["reason"] == "expired":
+                sent = [x for x in w.trace.records() if x.get("id") == r["event"]][0]
+                expiry = round(sent["created"] * 1e9) + lifetimes.lifetime_ns(r["name"])
+                arrival = [x for x in w.trace.records() if x.get("kind") == "deliver" and x["id"] == r["event"]
+                           and x["receivers"] == ["supervisor"]][0]["t"]
+                assert r["at_ns"] == max(expiry, round(arrival * 1e9))
+    finally:
+        w.sim.close()
