@@ -100,7 +100,7 @@ class Actor:
                 d = self.robot_within()
                 if d is not None and d <= act.robot_within:
                     return True
-            if self.now >= deadline:
+            if self.now >= deadline - 1e-6:  # virtual time is integer ns: never sleep 0
                 return False
             await asyncio.sleep(min(POLL, max(deadline - self.now, 0.0)) if deadline < math.inf else POLL)
 

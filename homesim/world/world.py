@@ -144,6 +144,7 @@ class World:
         rb.before_step(dt)
         before = rb.body.position
         self.space.step(dt)
+        self._resolve_robot_contacts()
         rb.after_step(dt, (before.x, before.y))
         for h in self.humans.values():
             if h.present:
@@ -151,6 +152,34 @@ class World:
         self.steps += 1
         for fn in self._listeners:
             fn(self)
+
+    def _resolve_robot_contacts(self) -> None:
+        """Hard contacts: push the robot out of whatever it overlaps after a step.
+
+        The robot's velocity is commanded every step, so the solver's soft
+        correction alone would let it lean several centimetres into a wall;
+        a bumper-like projection keeps it within the solver's slop.
+        """
+        body = self.robot.body
+        for _ in range(3):
+            worst = None
+            for info in self.space.shape_query(self.robot.shape):
+                if info.shape is None or info.shape.sensor:
+                    continue
+                cps = info.contact_point_set
+                # shape_query reports only overlapping shapes; the sign of the
+                # distance depends on the pair's order in Chipmunk, so use its size.
+                depth = max((abs(p.distance) for p in cps.points), default=0.0)
+                if depth > 1e-4 and (worst is None or depth > worst[0]):
+                    worst = (depth, cps.normal)
+            if worst is None:
+                return
+            depth, n = worst
+            body.position = (body.position.x - n.x * depth, body.position.y - n.y * depth)
+            vn = body.velocity.x * n.x + body.velocity.y * n.y
+            if vn > 0:
+                body.velocity = (body.velocity.x - vn * n.x, body.velocity.y - vn * n.y)
+            self.space.reindex_shapes_for_body(body)
 
     def place_robot(self, x: float, y: float, heading: float) -> None:
         """Put the robot somewhere at rest (tests, notebooks); no collision check."""

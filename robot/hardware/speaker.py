@@ -55,7 +55,7 @@ class Speaker(Module):
         text = msg.xml.get("text") or (msg.xml.text or "")
         u = self.world.sound.say("robot", text, self.now, loudness=self.loudness)
         self.bus.publish(STATUS_CHANNEL, etree.Element("speaking", text=text, start=f"{u.start:.6f}", end=f"{u.end:.6f}"), causes=(msg.id,))
-        while self.now < u.end:
+        while self.now < u.end - 1e-6:  # (virtual time is integer ns: never sleep 0)
             self.beat()
             nxt = self.queue.get_nowait()
             if nxt is not None:  # a new utterance interrupts this one
