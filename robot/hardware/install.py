@@ -2,7 +2,10 @@
 
 ``install(stage)`` is what :class:`homesim.world.stage.Stage` calls (by
 module name; the kernel never imports ``robot``). Rates and the object
-confusion come from the scenario's ``<robot>`` element.
+confusion come from the scenario's ``<robot>`` element. Every channel the
+hardware publishes on or takes commands from is typed first
+(:func:`robot.hardware.channels.declare_channels`), so the bus validates each
+message against its XSD in ``robot/schemas/hardware/`` when it is sent.
 """
 
 from __future__ import annotations
@@ -16,15 +19,17 @@ from .audio import Microphones
 from .base import Base, OdometrySpec
 from .camera import CameraSpec
 from .camera_module import Camera
+from .channels import declare_channels
 from .laser import Laser, LaserSpec
 from .microphones import MicSpec
 from .speaker import Display, Speaker
 
 
 def install(stage: Any) -> dict[str, Module]:
-    """Create the laser, camera, microphones, base, speaker and display modules."""
+    """Type the hardware channels, then create the laser, camera, microphones, base, speaker and display modules."""
     r = stage.scenario.robot
     sim, world = stage.sim, stage.world
+    declare_channels(sim.bus)
     modules: dict[str, Module] = {
         "laser": Laser(sim, world, replace(LaserSpec(), rate=r.laser_rate)),
         "camera": Camera(sim, world, replace(CameraSpec(), rate=r.camera_rate), confusion=r.object_confusion),
