@@ -23,8 +23,10 @@ whole run (see :mod:`homesim.vloop`).
 from __future__ import annotations
 
 import asyncio
+import copy
 import inspect
 import os
+import re
 from collections import deque
 from collections.abc import Awaitable, Callable, Mapping
 from dataclasses import dataclass
@@ -35,12 +37,16 @@ from lxml import etree
 from .errors import (
     BusError,
     MessageValidationError,
+    SubscriptionClosed,
+    XMLInputError,
     RemoteCallFailed,
     RemoteCallTimeout,
     UnknownParticipantError,
 )
 from .message import ERROR, PUBLISH, REPLY, REQUEST, Attachment, Message
 from .network import Network
+import numpy as np
+
 from .vloop import NS_PER_S, VirtualEventLoop, to_ns
 from .xmlio import Schema, load_schema, parse_bytes
 
@@ -89,6 +95,8 @@ class Subscription:
     """
 
     def __init__(self, participant: Participant, pattern: str, handler: Handler | None, maxlen: int | None) -> None:
+        if maxlen is not None and maxlen < 1:
+            raise BusError(f"subscription {pattern!r}: maxlen must be >= 1 (or None), got {maxlen}")
         self.participant = participant
         self.pattern = pattern
         self.handler = handler
@@ -104,21 +112,37 @@ class Subscription:
         if self.maxlen is not None and len(self._items) >= self.maxlen:
             dropped = self._items.popleft()
         self._items.append(msg)
+        self._wake_next()
+        return dropped
+
+    def _wake_next(self) -> None:
         while self._waiters:
             w = self._waiters.popleft()
             if not w.done():
                 w.set_result(None)
-                break
-        return dropped
+                return
 
     async def get(self) -> Message:
-        """Wait (in virtual time) for the next message."""
+        """Wait (in virtual time) for the next message.
+
+        Raises :class:`SubscriptionClosed` when the subscription is closed
+        and nothing is left to read.
+        """
         while not self._items:
             if self.closed:
-                raise BusError(f"subscription {self.pattern!r} of {self.participant.name!r} is closed")
+                raise SubscriptionClosed(f"subscription {self.pattern!r} of {self.participant.name!r} is closed")
             fut = self.participant.bus.loop.create_future()
             self._waiters.append(fut)
-            await fut
+            try:
+                await fut
+            except asyncio.CancelledError:
+                # As asyncio.Queue: a cancelled reader must not swallow the wake-up.
+                fut.cancel()
+                if fut in self._waiters:
+                    self._waiters.remove(fut)
+                if self._items:
+                    self._wake_next()
+                raise
         self.delivered += 1
         return self._items.popleft()
 
@@ -143,9 +167,11 @@ class Subscription:
         return self
 
     async def __anext__(self) -> Message:
-        if self.closed and not self._items:
-            raise StopAsyncIteration
-        return await self.get()
+        """Iterate until the subscription is closed and drained."""
+        try:
+            return await self.get()
+        except SubscriptionClosed:
+            raise StopAsyncIteration from None
 
     def close(self) -> None:
         """Stop receiving; queued messages stay readable."""
@@ -175,7 +201,6 @@ class Participant:
         self.host = host
         self.closed = False
         self.hung = False
-        self._counter = 0
         self.published: set[str] = set()
         self.subscriptions: list[Subscription] = []
 
@@ -297,8 +322,7 @@ class Participant:
         schema: Schema | None = None,
     ) -> Message:
         self._check_open()
-        if not isinstance(xml, etree._Element):
-            xml = parse_bytes(xml, source=f"<bus:{channel}>")
+        xml = _own_payload(xml, f"<bus:{channel}>")
         if kind == PUBLISH:
             schema = self.bus._channel_schemas.get(channel)
         if schema is not None and not schema.is_valid(xml):
@@ -309,9 +333,10 @@ class Participant:
                 f"schema {schema.name}: {detail}"
             )
         now = self.bus.loop.now_ns
-        self._counter += 1
+        n = self.bus._counters.get(self.name, 0) + 1
+        self.bus._counters[self.name] = n
         msg = Message(
-            id=f"{self.name}#{self._counter}",
+            id=f"{self.name}#{n}",
             kind=kind,
             sender=self.name,
             channel=channel,
@@ -319,7 +344,7 @@ class Participant:
             created_ns=now if created is None else to_ns(created),
             sent_ns=now,
             causes=tuple(causes),
-            attachments=dict(attachments) if attachments else {},
+            attachments=_frozen_attachments(attachments, channel) if attachments else {},
         )
         return msg
 
@@ -337,6 +362,45 @@ class Participant:
             del self.bus._methods[key]
         self.closed = True
         self.bus._participants.pop(self.name, None)
+
+
+def _own_payload(xml: XMLLike, source: str) -> etree._Element:
+    """The payload as a fresh document the sender can no longer change.
+
+    Text is parsed with the hardened parser. An element is deep-copied into a
+    document of its own (so receivers cannot see its parent, siblings or
+    tail, and later changes by the sender do not reach them); an element
+    carrying a DTD or unexpanded entity references is refused, as text with
+    a DOCTYPE is.
+    """
+    if not isinstance(xml, etree._Element):
+        return parse_bytes(xml, source=source)
+    docinfo = xml.getroottree().docinfo
+    if docinfo.doctype or docinfo.internalDTD is not None:
+        raise XMLInputError("elements from documents with a DOCTYPE are refused on the bus", source=source)
+    own = copy.deepcopy(xml)
+    own.tail = None
+    for _ in own.iter(etree.Entity):
+        raise XMLInputError("entity references are refused on the bus", source=source)
+    return own
+
+
+def _frozen_attachments(attachments: Mapping[str, Attachment], channel: str) -> dict[str, Attachment]:
+    """Read-only copies of numpy attachments (bytes are immutable already)."""
+    out: dict[str, Attachment] = {}
+    for name, value in attachments.items():
+        if isinstance(value, np.ndarray):
+            if value.dtype.hasobject:
+                raise BusError(f"attachment {name!r} on {channel}: object arrays are refused (not data, not reproducible)")
+            value = np.array(value, copy=True)
+            value.flags.writeable = False
+        elif not isinstance(value, bytes):
+            raise BusError(f"attachment {name!r} on {channel}: must be bytes or a numpy array, not {type(value).__name__}")
+        out[name] = value
+    return out
+
+
+_XML_UNSAFE = re.compile("[\x00-\x08\x0b\x0c\x0e-\x1f\ufffe\uffff]")
 
 
 def _check_channel_name(name: str, *, allow_subtree: bool = False) -> None:
@@ -359,6 +423,8 @@ class Bus:
         self._channel_schemas: dict[str, Schema] = {}
         self._interceptors: list[Interceptor] = []
         self._last_delivery: dict[tuple[str, str], int] = {}
+        # Message counters per participant name: ids stay unique across re-registration.
+        self._counters: dict[str, int] = {}
         self.sent = 0
         self.delivered = 0
         self.dropped = 0
@@ -491,8 +557,12 @@ class Bus:
         if self._interceptors:
             receivers = tuple(sorted({s.participant.name for s in routes}))
             self._observe(Observation(msg.sent_ns, SEND, msg, receivers))
-        for sub in routes:
-            self._schedule(sender, sub.participant, msg, self._deliver_publish, sub)
+        last = len(routes) - 1
+        for i, sub in enumerate(routes):
+            # Each receiver gets a payload of its own (as XCF deserialises one
+            # per receiver): one receiver moving nodes cannot change another's.
+            own = msg if i == last else _copy_message(msg)
+            self._schedule(sender, sub.participant, own, self._deliver_publish, sub)
 
     def _deliver_publish(self, receiver: Participant, msg: Message, sub: Subscription) -> None:
         if sub.closed:
@@ -505,7 +575,9 @@ class Bus:
             self._observe(Observation(self.loop.now_ns, DELIVER, msg, (receiver.name,)))
         if sub.handler is not None:
             sub.delivered += 1
-            sub.handler(msg)
+            result = sub.handler(msg)
+            if inspect.isawaitable(result):
+                self.loop.create_task(_await(result), name=f"{receiver.name}:{sub.pattern}<-{msg.id}")
         else:
             dropped = sub._push(msg)
             if dropped is not None:
@@ -561,10 +633,10 @@ class Bus:
         self._send_reply(server, caller, reply, fut)
 
     def _reply_error(self, server: Participant, caller: Participant, request: Message, fut: asyncio.Future[Message] | None, exc: BaseException) -> None:
-        if server.closed:
+        if server.closed or server.hung:
             return
         err = etree.Element("error", type=type(exc).__name__)
-        err.text = str(exc)
+        err.text = _XML_UNSAFE.sub("\ufffd", str(exc))
         reply = server._make(ERROR, request.channel, err, None, (request.id,), None)
         self._send_reply(server, caller, reply, fut)
 
@@ -586,6 +658,10 @@ class Bus:
             fut.set_exception(RemoteCallFailed(f"{reply.channel} failed on the server: {reply.xml.get('type')}: {reply.xml.text}"))
         else:
             fut.set_result(reply)
+
+
+def _copy_message(msg: Message) -> Message:
+    return Message(msg.id, msg.kind, msg.sender, msg.channel, copy.deepcopy(msg.xml), msg.created_ns, msg.sent_ns, msg.causes, msg.attachments)
 
 
 async def _await(result: Awaitable[Any]) -> Any:

@@ -83,6 +83,10 @@ class BusError(HomesimError):
     """A message could not be sent or a call could not be made."""
 
 
+class SubscriptionClosed(BusError):
+    """The subscription was closed while a reader waited for a message."""
+
+
 class MessageValidationError(BusError):
     """A message does not match the schema of its channel or method."""
 

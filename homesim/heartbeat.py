@@ -12,6 +12,7 @@ from a module's main loop (so a hung loop stops beating);
 from __future__ import annotations
 
 import asyncio
+from pathlib import Path
 
 from lxml import etree
 
@@ -21,6 +22,8 @@ from .vloop import NS_PER_S, to_ns
 
 HEARTBEAT_PREFIX = "/system/heartbeat"
 HEALTH_CHANNEL = "/system/health"
+#: The kernel's message types (heartbeat, module_failed/recovered, fault).
+SYSTEM_SCHEMA = Path(__file__).with_name("schemas") / "system.xsd"
 
 
 class Heartbeat:
@@ -32,6 +35,7 @@ class Heartbeat:
         self.participant = participant
         self.interval = interval
         self.channel = f"{HEARTBEAT_PREFIX}/{participant.name}"
+        participant.bus.declare_channel(self.channel, SYSTEM_SCHEMA)
         self._interval_ns = to_ns(interval)
         self._next_ns: int | None = None
         self.seq = 0
@@ -64,6 +68,7 @@ class HeartbeatMonitor:
         self.last_beat_ns: dict[str, int] = {}
         self.intervals: dict[str, float] = {}
         self.failed: dict[str, int] = {}
+        participant.bus.declare_channel(HEALTH_CHANNEL, SYSTEM_SCHEMA)
         participant.subscribe(HEARTBEAT_PREFIX + "/**", self._on_beat)
 
     def watch(self, module: str, interval: float) -> None:

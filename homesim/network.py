@@ -91,8 +91,19 @@ class Network:
             return self._links["local"]
         a = self._links[self._hosts[host_a]]
         b = self._links[self._hosts[host_b]]
-        return a if (a.max_s + a.jitter_s, a.loss) >= (b.max_s + b.jitter_s, b.loss) else b
+        return a if (a.max_s + a.jitter_s) >= (b.max_s + b.jitter_s) else b
 
     def delay_ns(self, host_a: str, host_b: str) -> int | None:
-        """Draw one delay from ``host_a`` to ``host_b``; None when lost."""
-        return self.link_between(host_a, host_b).sample_ns(self._rng)
+        """Draw one delay from ``host_a`` to ``host_b``; None when lost.
+
+        The delay follows the slower link; a message is lost if either
+        host's link loses it (both losses apply).
+        """
+        if host_a == host_b:
+            return self._links["local"].sample_ns(self._rng)
+        a = self._links[self._hosts[host_a]]
+        b = self._links[self._hosts[host_b]]
+        slow, other = (a, b) if (a.max_s + a.jitter_s) >= (b.max_s + b.jitter_s) else (b, a)
+        if other.loss > 0.0 and self._rng.random() < other.loss:
+            return None
+        return slow.sample_ns(self._rng)

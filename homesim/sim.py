@@ -9,8 +9,9 @@ nanosecond and the byte.
 
 from __future__ import annotations
 
+import hashlib
 import os
-import zlib
+from pathlib import Path
 from collections.abc import Awaitable, Callable, Coroutine
 from typing import Any, TypeVar
 
@@ -27,6 +28,12 @@ from .vloop import VirtualEventLoop, to_ns
 T = TypeVar("T")
 
 FAULT_CHANNEL = "/system/faults"
+
+
+def stream_key(name: str) -> tuple[int, ...]:
+    """A random stream's spawn key: 128 bits of sha256(name), so names never collide in practice."""
+    digest = hashlib.sha256(name.encode("utf-8")).digest()
+    return tuple(int.from_bytes(digest[i : i + 4], "little") for i in range(0, 16, 4))
 
 
 class Simulation:
@@ -47,6 +54,7 @@ class Simulation:
         self.bus = Bus(self.loop, network=self.network)
         self.modules: dict[str, Any] = {}
         self._system = self.bus.participant("simulator", host="simulator")
+        self.bus.declare_channel(FAULT_CHANNEL, Path(__file__).with_name("schemas") / "system.xsd")
         self.traces: list[TraceRecorder] = []
 
     # ------------------------------------------------------------ randomness
@@ -54,8 +62,7 @@ class Simulation:
         """The generator of stream ``name``: stable per (seed, name), one object per name."""
         gen = self._rngs.get(name)
         if gen is None:
-            key = zlib.crc32(name.encode("utf-8"))
-            gen = np.random.Generator(np.random.PCG64(np.random.SeedSequence(self.seed, spawn_key=(key,))))
+            gen = np.random.Generator(np.random.PCG64(np.random.SeedSequence(self.seed, spawn_key=stream_key(name))))
             self._rngs[name] = gen
         return gen
 

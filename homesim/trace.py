@@ -107,12 +107,14 @@ class MemoryTrace(TraceRecorder):
         return self.stream.getvalue()
 
     def records(self) -> list[dict[str, Any]]:
-        return [json.loads(line) for line in self.text().splitlines()]
+        # Split on "\n" only: str.splitlines() also splits on U+2028 and
+        # friends, which JSON leaves unescaped inside strings.
+        return [json.loads(line) for line in self.text().split("\n") if line]
 
 
 def read_trace(path: str | os.PathLike[str]) -> Iterator[dict[str, Any]]:
     """Iterate the records of a trace file (header first)."""
     with open(path, encoding="utf-8") as fh:
-        for line in fh:
+        for line in fh:  # text-mode files split on "\n" only
             if line.strip():
                 yield json.loads(line)

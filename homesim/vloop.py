@@ -81,6 +81,8 @@ class _TimerHandle(events.TimerHandle):
 
     def cancel(self) -> None:
         if not self._cancelled:
+            if self._scheduled:
+                self._loop._timer_handle_cancelled(self)
             self._cancelled = True
             self._callback = None
             self._args = None
@@ -112,12 +114,13 @@ class VirtualEventLoop(asyncio.BaseEventLoop):
             raise ClockError(f"start time must be finite and >= 0, got {start!r}")
         self._now_ns = to_ns(start)
         self._timers: list[tuple[int, int, asyncio.TimerHandle]] = []
+        self._cancelled_timers = 0
         self._seq = itertools.count()
         self._clock_resolution = 1e-9
         self._pacer = pacer
         self._failure: BaseException | None = None
         self._failure_where: str = ""
-        self._spawned: list[asyncio.Task[Any]] = []
+        self._orphans: list[tuple[asyncio.Task[Any], int]] = []
         self._saved_loop: asyncio.AbstractEventLoop | None = None
         self._saved_hooks: Any = None
 
@@ -138,6 +141,8 @@ class VirtualEventLoop(asyncio.BaseEventLoop):
 
     # ------------------------------------------------------------- scheduling
     def call_soon(self, callback: Callable[..., Any], *args: Any, context: Context | None = None) -> asyncio.Handle:  # type: ignore[override]
+        if self._closed:
+            raise RuntimeError("Event loop is closed")
         if context is None:
             context = copy_context()
         handle = _new(_Handle)
@@ -150,9 +155,13 @@ class VirtualEventLoop(asyncio.BaseEventLoop):
         return handle
 
     def call_at(self, when: float, callback: Callable[..., Any], *args: Any, context: Context | None = None) -> asyncio.TimerHandle:  # type: ignore[override]
+        if not math.isfinite(when):
+            return self._never(when, callback, args, context)
         return self.call_at_ns(to_ns(when), callback, *args, context=context)
 
     def call_later(self, delay: float, callback: Callable[..., Any], *args: Any, context: Context | None = None) -> asyncio.TimerHandle:  # type: ignore[override]
+        if not math.isfinite(delay):
+            return self._never(delay, callback, args, context)
         return self.call_at_ns(self._now_ns + int(round(delay * NS_PER_S)), callback, *args, context=context)
 
     def call_at_ns(self, when_ns: int, callback: Callable[..., Any], *args: Any, context: Context | None = None) -> asyncio.TimerHandle:
@@ -161,9 +170,11 @@ class VirtualEventLoop(asyncio.BaseEventLoop):
         A time in the past is treated as "now" (asyncio's rule), keeping its
         place after everything already scheduled for now.
         """
+        if self._closed:
+            raise RuntimeError("Event loop is closed")
         if when_ns < self._now_ns:
             when_ns = self._now_ns
-        if context is None and callback not in _CONTEXT_FREE:
+        if context is None and callback is not _set_result_unless_cancelled:
             context = copy_context()
         handle = _new(_TimerHandle)
         handle._callback = callback
@@ -180,14 +191,59 @@ class VirtualEventLoop(asyncio.BaseEventLoop):
         """Schedule ``callback`` after an exact delay in nanoseconds."""
         return self.call_at_ns(self._now_ns + delay_ns, callback, *args, context=context)
 
+    def _never(self, when: float, callback: Callable[..., Any], args: tuple[Any, ...], context: Context | None) -> asyncio.TimerHandle:
+        """A timer at +inf: a valid handle that is never scheduled (``sleep(math.inf)``)."""
+        if when != math.inf:
+            raise ValueError(f"a timer needs a finite time or +inf, got {when!r}")
+        handle = _new(_TimerHandle)
+        handle._callback = callback
+        handle._args = args
+        handle._context = context
+        handle._cancelled = False
+        handle._loop = self
+        handle._when = math.inf
+        handle._scheduled = False
+        return handle
+
     def _timer_handle_cancelled(self, handle: asyncio.TimerHandle) -> None:
-        # Cancelled timers are dropped lazily when they reach the heap's top.
-        pass
+        # Cancelled timers leave the heap lazily; _drive compacts it when
+        # they become the majority (a long asyncio.timeout rescheduled often).
+        self._cancelled_timers += 1
+
+    # ------------------------------------------------------ failing loudly
+    def create_task(self, coro: Any, *, name: str | None = None, context: Context | None = None) -> asyncio.Task[Any]:  # type: ignore[override]
+        """Create a task; if it dies with an exception nobody takes, the run fails.
+
+        asyncio only logs such an exception when the garbage collector meets
+        the task (late, and at a time that depends on the collector). Here a
+        task that ends with an exception is remembered; when the current
+        ``step``/``run``/``run_until`` returns, any such exception that no
+        awaiting task, TaskGroup, gather or done callback has taken fails the
+        run, naming the task and when it died. Deterministic, and never lost.
+        """
+        task = super().create_task(coro, name=name, context=context)
+        task.add_done_callback(self._task_done)
+        return task
+
+    def _task_done(self, task: asyncio.Task[Any]) -> None:
+        if not task.cancelled() and task._log_traceback:  # type: ignore[attr-defined]
+            self._orphans.append((task, self._now_ns))
+
+    def _check_orphans(self) -> None:
+        orphans, self._orphans = self._orphans, []
+        for task, died_ns in orphans:
+            if task._log_traceback:  # type: ignore[attr-defined]
+                exc = task.exception()
+                assert exc is not None
+                self._record_failure(
+                    exc,
+                    f"task {task.get_name()!r} died at t={died_ns / NS_PER_S:.9f} s and nobody took its exception "
+                    "(await it, or handle it in a done callback)",
+                )
 
     def spawn(self, coro: Coroutine[Any, Any, T], *, name: str) -> asyncio.Task[T]:
-        """Start a top-level simulated task whose failure fails the whole run."""
+        """Start a top-level simulated task; its failure fails the whole run."""
         task = self.create_task(coro, name=name)
-        self._spawned.append(task)
         task.add_done_callback(self._spawned_done)
         return task
 
@@ -215,6 +271,12 @@ class VirtualEventLoop(asyncio.BaseEventLoop):
             where = f"{message} in {handle!r}"
         self._record_failure(exc, where)
 
+    def _asyncgen_finalizer_hook(self, agen: Any) -> None:
+        # asyncio's version goes through call_soon_threadsafe, which we refuse.
+        self._asyncgens.discard(agen)
+        if not self.is_closed():
+            self.call_soon(self.create_task, agen.aclose())
+
     # ------------------------------------------------------------- stepping
     def peek(self) -> float:
         """Time of the next scheduling round; ``inf`` when nothing is scheduled."""
@@ -229,6 +291,7 @@ class VirtualEventLoop(asyncio.BaseEventLoop):
         timers = self._timers
         while timers and timers[0][2]._cancelled:
             heapq.heappop(timers)
+            self._cancelled_timers -= 1
 
     def step(self) -> bool:
         """Run one scheduling round; return False when there was nothing to run.
@@ -242,20 +305,24 @@ class VirtualEventLoop(asyncio.BaseEventLoop):
         return outcome == _ROUNDS
 
     def run(self, until: float | None = None) -> None:
-        """Run until virtual time ``until`` (or until nothing is left to do).
+        """Run until virtual time ``until``, or without it until nothing is left to do.
 
         As in SimPy, everything scheduled strictly before ``until`` runs,
         nothing scheduled at or after it does, and the clock ends at exactly
-        ``until``. Raises :class:`DeadlockError` when tasks are still waiting
-        but nothing can ever wake them, :class:`TaskFailedError` when a task
-        failed, :class:`ClockError` when ``until`` lies in the past.
+        ``until`` (also when everything falls quiet earlier: tasks may be
+        waiting for input the caller will give). Without ``until``, tasks
+        still waiting when nothing can wake them raise
+        :class:`DeadlockError` naming them. A failed task raises
+        :class:`TaskFailedError`; ``until`` in the past :class:`ClockError`.
         """
         until_ns = None if until is None else to_ns(until)
         if until_ns is not None and until_ns < self._now_ns:
             raise ClockError(f"time can't go backwards: run(until={until}) but now is {self.now}")
+        if until_ns is not None and until_ns == self._now_ns:
+            return
         with self._entered():
             outcome = self._drive(until_ns, None, None)
-            if outcome == _EMPTY:
+            if outcome == _EMPTY and until_ns is None:
                 self._check_deadlock()
             if until_ns is not None and outcome != _FAILED:
                 self._advance_to(until_ns)
@@ -265,17 +332,18 @@ class VirtualEventLoop(asyncio.BaseEventLoop):
         """Step until ``predicate()`` holds (checked after every round).
 
         Returns True when it held, False when ``timeout`` virtual seconds
-        passed first (the clock then stands at the timeout). Raises
-        :class:`DeadlockError` when nothing is left to run but tasks wait.
+        passed first (the clock then stands at the timeout). Without a
+        timeout, :class:`DeadlockError` when nothing is left that could make
+        the predicate true.
         """
         if predicate():
             return True
         deadline_ns = None if timeout is None else self._now_ns + to_ns(timeout)
         with self._entered():
             outcome = self._drive(deadline_ns, predicate, None)
-            if outcome == _EMPTY:
-                self._check_deadlock()
-            elif outcome == _UNTIL and deadline_ns is not None:
+            if outcome == _EMPTY and deadline_ns is None:
+                self._check_deadlock(extra="the predicate")
+            elif outcome in (_UNTIL, _EMPTY) and deadline_ns is not None:
                 self._advance_to(deadline_ns)
         self._raise_failure()
         return outcome == _PREDICATE
@@ -287,7 +355,7 @@ class VirtualEventLoop(asyncio.BaseEventLoop):
             if not fut.done():
                 outcome = self._drive(None, fut.done, None)
                 if outcome == _EMPTY:
-                    self._check_deadlock(extra=fut)
+                    self._check_deadlock(extra="the awaited future")
         self._raise_failure()
         return fut.result()
 
@@ -299,10 +367,10 @@ class VirtualEventLoop(asyncio.BaseEventLoop):
         """The one scheduling loop behind step/run/run_until; returns why it stopped.
 
         A round: if nothing is ready, jump the clock to the earliest timer
-        (but never to or past ``until_ns``); move every timer due now to the
-        ready queue in (time, sequence) order; run the callbacks that were
-        ready at the round's start. Everything is inlined: this is the
-        simulator's hottest code.
+        (but never to or past ``until_ns``); move every timer due now (and
+        before ``until_ns``) to the ready queue in (time, sequence) order;
+        run the callbacks that were ready at the round's start. Everything is
+        inlined: this is the simulator's hottest code.
         """
         ready = self._ready
         timers = self._timers
@@ -314,9 +382,12 @@ class VirtualEventLoop(asyncio.BaseEventLoop):
         while True:
             if self._failure is not None:
                 return _FAILED
+            if self._cancelled_timers > 64 and self._cancelled_timers * 2 > len(timers):
+                self._compact_timers()
             if not ready:
                 while timers and timers[0][2]._cancelled:
                     heappop(timers)
+                    self._cancelled_timers -= 1
                 if not timers:
                     return _EMPTY
                 when = timers[0][0]
@@ -326,10 +397,13 @@ class VirtualEventLoop(asyncio.BaseEventLoop):
                     if pacer is not None:
                         pacer.before_advance(self._now_ns, when)
                     self._now_ns = when
-            now = self._now_ns
-            while timers and timers[0][0] <= now:
+            limit = self._now_ns if until_ns is None or until_ns > self._now_ns else until_ns - 1
+            while timers and timers[0][0] <= limit:
                 handle = heappop(timers)[2]
-                if not handle._cancelled:
+                if handle._cancelled:
+                    self._cancelled_timers -= 1
+                else:
+                    handle._scheduled = False
                     ready.append(handle)
             ntodo = len(ready)
             try:
@@ -359,6 +433,12 @@ class VirtualEventLoop(asyncio.BaseEventLoop):
             if stop is not None and stop():
                 return _PREDICATE
 
+    def _compact_timers(self) -> None:
+        # In place: _drive holds a reference to this list.
+        self._timers[:] = [t for t in self._timers if not t[2]._cancelled]
+        heapq.heapify(self._timers)
+        self._cancelled_timers = 0
+
     # -------------------------------------------------------------- internals
     def _advance_to(self, when_ns: int) -> None:
         if when_ns < self._now_ns:
@@ -372,6 +452,8 @@ class VirtualEventLoop(asyncio.BaseEventLoop):
         self._drive(None, None, 1)
 
     def _raise_failure(self) -> None:
+        if self._orphans:
+            self._check_orphans()
         exc = self._failure
         if exc is None:
             return
@@ -382,14 +464,14 @@ class VirtualEventLoop(asyncio.BaseEventLoop):
         """Tasks of this loop that are not done, sorted by name (deterministic)."""
         return sorted((t for t in asyncio.all_tasks(self) if not t.done()), key=lambda t: t.get_name())
 
-    def _check_deadlock(self, extra: asyncio.Future[Any] | None = None) -> None:
+    def _check_deadlock(self, extra: str | None = None) -> None:
         waiting = self.waiting_tasks()
         if not waiting and extra is None:
             return
-        lines = [f"{t.get_name()} ({_where(t)})" for t in waiting]
+        lines = [f"{t.get_name()} ({_where(t)})" for t in waiting] or [f"<{extra}>"]
         raise DeadlockError(
             f"deadlock at t={self.now:.9f} s: nothing is ready and no timer is pending, "
-            f"but {len(waiting)} task(s) are still waiting: " + "; ".join(lines or ["<the awaited future>"])
+            f"but {len(waiting)} task(s) are still waiting: " + "; ".join(lines)
         )
 
     class _Entered:
@@ -495,26 +577,38 @@ class VirtualEventLoop(asyncio.BaseEventLoop):
     def _write_to_self(self) -> None:
         pass
 
-    def close(self) -> None:
-        """Cancel every waiting task (so nothing warns at exit) and close the loop."""
+    def close(self, *, cleanup_budget: float = 60.0) -> None:
+        """Cancel every waiting task, let its cleanup run, then close the loop.
+
+        Cleanup (``finally`` blocks, async generators' ``aclose``) runs in
+        virtual time for at most ``cleanup_budget`` seconds. An exception
+        raised by cleanup code is not swallowed: it is raised as
+        :class:`TaskFailedError` after the loop is closed.
+        """
         if self.is_closed():
             return
+        if self._inside:
+            raise SimulationError("cannot close the simulation from inside a simulated task")
+        self._failure = None
         pending = self.waiting_tasks()
         for task in pending:
             task.cancel()
-        if pending and not self._inside:
-            try:
-                with self._entered():
-                    for _ in range(4):
-                        if not self._ready:
-                            break
-                        self._drive(None, None, 1)
-            except SimulationError:
-                pass
+        if pending or self._asyncgens:
+            deadline = self._now_ns + to_ns(cleanup_budget)
+            with self._entered():
+                self._drive(deadline, lambda: all(t.done() for t in pending), None)
+                if self._asyncgens and self._failure is None:
+                    shutdown = self.create_task(self.shutdown_asyncgens())
+                    self._drive(deadline, shutdown.done, None)
+                self._drive(self._now_ns + 1, None, None)  # the done callbacks of the cleanup
+        self._check_orphans()
+        failure, where = self._failure, self._failure_where
         self._failure = None
         self._timers.clear()
         self._ready.clear()
         super().close()
+        if failure is not None:
+            raise TaskFailedError(f"cleanup failed while closing the simulation: {where}: {failure!r}") from failure
 
 
 def _where(task: asyncio.Task[Any]) -> str:

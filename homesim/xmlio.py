@@ -28,7 +28,9 @@ _Element = etree._Element
 # A DOCTYPE may only follow the XML declaration, comments, processing
 # instructions and white space; finding it there lets us refuse it before
 # libxml2 looks at any entity or external DTD.
-_PROLOG_DOCTYPE = re.compile(rb"\A(?:\xef\xbb\xbf)?(?:\s|<\?.*?\?>|<!--.*?-->)*<!DOCTYPE", re.S)
+# The repetition is possessive (``*+``): without it, a prolog of many
+# processing instructions or comments backtracks exponentially.
+_PROLOG_DOCTYPE = re.compile(rb"\A(?:\xef\xbb\xbf)?(?:\s|<\?.*?\?>|<!--.*?-->)*+<!DOCTYPE", re.S)
 
 
 def _new_parser() -> etree.XMLParser:

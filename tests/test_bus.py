@@ -292,3 +292,158 @@ def test_crash_and_hang_faults(sim):
 
     sim.run_until_complete(main())
     assert [p["name"] for p in sim.bus.registry() if p["hung"]] == ["hangy"]
+
+
+# --------------------------------------------------------------------------
+# Regressions found in review: each of these failed before its fix.
+# --------------------------------------------------------------------------
+
+
+def test_a_cancelled_reader_does_not_swallow_the_wake_up(sim):
+    a = sim.bus.participant("a")
+    sub = sim.bus.participant("b").subscribe("/x")
+    got = []
+
+    async def reader(tag):
+        got.append((tag, (await sub.get()).id))
+
+    ta = sim.spawn(reader("A"), name="A")
+    sim.spawn(reader("B"), name="B")
+    sim.run(until=0.1)
+    a.publish("/x", "<m/>")
+    sim.run_until(lambda: sub.qsize() == 1)
+    ta.cancel()
+    sim.run(until=5)
+    assert got == [("B", "a#1")]
+
+
+def test_closing_a_subscription_ends_async_iteration(sim):
+    a = sim.bus.participant("a")
+    sub = sim.bus.participant("b").subscribe("/x")
+    got = []
+
+    async def consume():
+        async for m in sub:
+            got.append(m.id)
+        got.append("end")
+
+    sim.spawn(consume(), name="consumer")
+    sim.call_at(0.5, a.publish, "/x", "<m/>")
+    sim.call_at(1.0, sub.close)
+    sim.run(until=2)
+    assert got == ["a#1", "end"]
+
+
+def test_async_subscription_handlers_run(sim):
+    a = sim.bus.participant("a")
+    got = []
+
+    async def handler(msg):
+        await asyncio.sleep(0.5)
+        got.append((msg.id, sim.now))
+
+    sim.bus.participant("b").subscribe("/x", handler)
+    a.publish("/x", "<m/>")
+    sim.run(until=2)
+    assert len(got) == 1 and got[0][0] == "a#1" and got[0][1] > 0.5
+
+
+def test_message_ids_stay_unique_across_re_registration(sim):
+    p = sim.bus.participant("laser")
+    first = p.publish("/scan", "<s/>")
+    p.close()
+    second = sim.bus.participant("laser").publish("/scan", "<s/>")
+    assert (first.id, second.id) == ("laser#1", "laser#2")
+
+
+def test_sender_cannot_change_what_receivers_get(sim):
+    sim.bus.declare_channel("/robot/persons", schema_from_text("person.xsd", PERSON_XSD))
+    scene = etree.fromstring(f"<scene>{VALID_PERSON}tail<secret/></scene>")
+    person = scene[0]
+    a = sim.bus.participant("a")
+    got = []
+    sim.bus.participant("b").subscribe("/robot/persons", got.append)
+    tr = sim.record_trace()
+    a.publish("/robot/persons", person)
+    person.set("speaking", "maybe")  # after validation: must not reach anyone
+    person.append(etree.Element("junk"))
+    sim.run()
+    msg = got[0]
+    assert msg.xml.get("speaking") == "true" and msg.xml.find("junk") is None
+    assert msg.xml.getparent() is None and msg.xml.tail is None
+    assert msg.xml.xpath("/person") == [msg.xml]
+    assert "tail" not in tr.text() and "secret" not in tr.text()
+
+
+def test_receivers_get_payloads_of_their_own(sim):
+    a = sim.bus.participant("a")
+    seen = []
+
+    def greedy(msg):  # moves a node out of its payload, as an ES copying parameters might
+        etree.SubElement(etree.Element("order"), "x").append(msg.xml[0])
+
+    sim.bus.participant("b").subscribe("/x", greedy)
+    sim.bus.participant("c").subscribe("/x", lambda m: seen.append(len(m.xml)))
+    a.publish("/x", "<e><who/></e>")
+    sim.run()
+    assert seen == [1]
+
+
+def test_attachments_are_read_only_copies_and_object_arrays_refused(sim):
+    import numpy as np
+
+    a = sim.bus.participant("a")
+    got = []
+    sim.bus.participant("b").subscribe("/img", got.append)
+    img = np.zeros((2, 2))
+    a.publish("/img", "<i/>", attachments={"px": img})
+    img[0, 0] = 9
+    sim.run()
+    px = got[0].attachments["px"]
+    assert px[0, 0] == 0 and not px.flags.writeable
+    with pytest.raises(BusError, match="object arrays are refused"):
+        a.publish("/img", "<i/>", attachments={"px": np.array([object()])})
+
+
+def test_a_doctype_cannot_travel_inside_an_element(sim):
+    a = sim.bus.participant("a")
+    el = etree.fromstring(b'<!DOCTYPE x [<!ENTITY e "boom">]><x>&e;</x>')
+    with pytest.raises(XMLInputError, match="DOCTYPE"):
+        a.publish("/x", el)
+
+
+def test_hung_server_sends_no_error_replies_and_odd_errors_travel(sim):
+    server = sim.bus.participant("db")
+    client = sim.bus.participant("client")
+
+    async def failing(msg):
+        await asyncio.sleep(0.5)
+        raise RuntimeError("db down")
+
+    server.serve("slow", failing)
+    server.serve("odd", lambda m: (_ for _ in ()).throw(ValueError("bad \x1b[31m colour \x00")))
+
+    async def main():
+        with pytest.raises(RemoteCallFailed, match="bad \ufffd\\[31m colour \ufffd"):
+            await client.call("db", "odd", "<q/>")
+        call = asyncio.ensure_future(client.call("db", "slow", "<q/>", timeout=2.0))
+        await asyncio.sleep(0.1)
+        server.hung = True
+        with pytest.raises(RemoteCallTimeout):
+            await call
+
+    sim.run_until_complete(main())
+
+
+def test_maxlen_zero_is_refused(sim):
+    with pytest.raises(BusError, match="maxlen must be >= 1"):
+        sim.bus.participant("b").subscribe("/x", maxlen=0)
+
+
+def test_loss_of_either_host_applies():
+    with Simulation(seed=1) as s:
+        s.network.set_link(LinkModel("lossy-lan", 0.001, 0.003, loss=0.5))
+        s.network.add_host("pc", link="lossy-lan")
+        s.network.add_host("laptop", link="wlan")
+        lost = sum(s.network.delay_ns("pc", "laptop") is None for _ in range(2000))
+        assert 800 < lost < 1200

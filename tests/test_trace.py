@@ -71,3 +71,40 @@ def test_realtime_pacing_changes_nothing_but_the_pace():
             sim.run(until=2.0)
             texts.append(tr.text())
     assert texts[0] == texts[1]
+
+
+def test_pacer_sleeps_so_virtual_time_tracks_the_wall_clock(monkeypatch):
+    from homesim import realtime
+
+    wall = [100.0]
+    sleeps = []
+    monkeypatch.setattr(realtime.time, "monotonic", lambda: wall[0])
+
+    def fake_sleep(dt):
+        sleeps.append(round(dt, 6))
+        wall[0] += dt
+
+    monkeypatch.setattr(realtime.time, "sleep", fake_sleep)
+    pacer = realtime.RealtimePacer(scale=2.0)
+    pacer.before_advance(0, 1_000_000_000)  # 1 virtual s at 2x: 0.5 s of wall time
+    wall[0] += 0.2  # the simulation itself took 0.2 s
+    pacer.before_advance(1_000_000_000, 2_000_000_000)
+    assert sleeps == [0.5, 0.3]
+
+
+def test_memory_trace_records_survive_unicode_line_separators():
+    with Simulation(seed=1) as sim:
+        tr = sim.record_trace()
+        a = sim.bus.participant("a")
+        a.publish("/x", "<say>Hello\u2028BIRON\u0085!</say>")
+        assert tr.records()[1]["xml"] == "<say>Hello\u2028BIRON\u0085!</say>"
+
+
+def test_random_streams_are_stable_and_distinct():
+    a, b = Simulation(seed=4), Simulation(seed=4)
+    # CRC32 would give these two names the same stream.
+    assert a.rng("plumless").random() != a.rng("buckeroo").random()
+    assert a.rng("laser").random() == b.rng("laser").random()
+    assert a.rng("laser") is a.rng("laser")
+    a.close()
+    b.close()

@@ -304,3 +304,182 @@ def test_run_until_is_exact(ticks, until_tick):
     assert loop.now == until
     assert sorted(ran) == sorted(i for i, k in enumerate(ticks) if k * 0.25 < until)
     loop.close()
+
+
+# --------------------------------------------------------------------------
+# Regressions found in review: each of these failed before its fix.
+# --------------------------------------------------------------------------
+
+
+def test_async_generator_cleanup_runs(loop):
+    log = []
+
+    async def gen():
+        try:
+            for i in range(10):
+                yield i
+                await asyncio.sleep(0.1)
+        finally:
+            log.append(("cleanup", loop.time()))
+
+    async def main():
+        async for x in gen():
+            if x == 2:
+                break
+        await asyncio.sleep(1)
+
+    loop.run_until_complete(main())
+    assert log == [("cleanup", pytest.approx(0.2))]
+
+
+def test_sleeping_forever_works_with_timeouts(loop):
+    async def main():
+        with pytest.raises(TimeoutError):
+            async with asyncio.timeout(2):
+                await asyncio.sleep(math.inf)
+        with pytest.raises(TimeoutError):
+            await asyncio.wait_for(asyncio.sleep(math.inf), timeout=1)
+        async with asyncio.timeout(math.inf):
+            await asyncio.sleep(0.5)
+        return loop.time()
+
+    assert loop.run_until_complete(main()) == 3.5
+    with pytest.raises(ValueError, match="finite time or \\+inf"):
+        loop.call_later(math.nan, print)
+
+
+def test_sleep_forever_alone_is_a_deadlock(loop):
+    loop.spawn(asyncio.sleep(math.inf), name="sleeper")
+    with pytest.raises(DeadlockError, match="sleeper"):
+        loop.run()
+
+
+def test_unhashable_callbacks_can_be_scheduled(loop):
+    class Callback:
+        __hash__ = None  # type: ignore[assignment]
+
+        def __init__(self):
+            self.calls = 0
+
+        def __eq__(self, other):
+            return False
+
+        def __call__(self):
+            self.calls += 1
+
+    cb = Callback()
+    loop.call_later(1, cb)
+    loop.call_soon(cb)
+    loop.run()
+    assert cb.calls == 2
+
+
+def test_close_runs_cleanup_in_virtual_time():
+    loop = VirtualEventLoop()
+    done = []
+
+    async def module():
+        try:
+            await asyncio.sleep(math.inf)
+        finally:
+            await asyncio.sleep(0.01)  # say goodbye over the bus
+            done.append(loop.time())
+
+    loop.spawn(module(), name="module")
+    loop.run(until=1)
+    loop.close()
+    assert done == [pytest.approx(1.01)]
+
+
+def test_close_reports_failing_cleanup():
+    loop = VirtualEventLoop()
+
+    async def module():
+        try:
+            await asyncio.sleep(math.inf)
+        finally:
+            raise RuntimeError("cleanup broke")
+
+    loop.spawn(module(), name="module")
+    loop.run(until=1)
+    with pytest.raises(TaskFailedError, match="cleanup broke"):
+        loop.close()
+    assert loop.is_closed()
+
+
+def test_an_unawaited_task_that_dies_fails_the_run(loop):
+    async def fuse():
+        await asyncio.sleep(1)
+        raise ValueError("helper died")
+
+    async def module():
+        helper = asyncio.get_running_loop().create_task(fuse(), name="fuse")  # kept, never awaited
+        await asyncio.sleep(100)
+        return helper
+
+    loop.spawn(module(), name="module")
+    with pytest.raises(TaskFailedError, match=r"'fuse' died at t=1\.000000000 s.*helper died"):
+        loop.run(until=10)
+
+
+def test_exceptions_taken_by_await_gather_or_taskgroup_do_not_fail_the_run(loop):
+    async def boom(delay):
+        await asyncio.sleep(delay)
+        raise KeyError("taken")
+
+    async def main():
+        with pytest.raises(KeyError):
+            await asyncio.create_task(boom(0.1))
+        res = await asyncio.gather(boom(0.1), asyncio.sleep(0.2), return_exceptions=True)
+        assert isinstance(res[0], KeyError)
+        with pytest.raises(ExceptionGroup):
+            async with asyncio.TaskGroup() as tg:
+                tg.create_task(boom(0.1))
+                tg.create_task(asyncio.sleep(5))
+        t = asyncio.create_task(boom(0.1))
+        t.add_done_callback(lambda t: t.exception())  # handled by its owner
+        await asyncio.sleep(1)
+        return "ok"
+
+    assert loop.run_until_complete(main()) == "ok"
+
+
+def test_run_until_never_runs_timers_at_the_boundary(loop):
+    ran = []
+    loop.call_at(1.0, ran.append, "timer at 1.0")
+    loop.run(until=1.0)
+    loop.call_soon(ran.append, "soon")
+    loop.run(until=1.0)  # now == until: nothing at or after 1.0 may run
+    assert ran == []
+    loop.call_at(2.0, ran.append, "timer at 2.0")
+    loop.run(until=2.0)
+    assert ran == ["soon", "timer at 1.0"]
+
+
+def test_run_until_a_time_advances_even_when_tasks_wait_for_input(loop):
+    """A notebook user runs to 3 s, then publishes by hand: no deadlock error."""
+    q: asyncio.Queue[str] = asyncio.Queue()
+    got = []
+
+    async def listener():
+        got.append((await q.get(), loop.time()))
+
+    loop.spawn(listener(), name="listener")
+    loop.run(until=3.0)
+    assert loop.now == 3.0 and got == []
+    q.put_nowait("hello")
+    loop.run(until=4.0)
+    assert got == [("hello", 3.0)]
+    assert loop.run_until(lambda: False, timeout=2.0) is False
+    assert loop.now == 6.0
+
+
+def test_cancelled_timers_do_not_pile_up(loop):
+    async def reader():
+        async with asyncio.timeout(600):
+            for _ in range(6000):
+                async with asyncio.timeout(300):
+                    await asyncio.sleep(0.01)
+
+    loop.run_until_complete(reader())
+    assert len(loop._timers) < 200

@@ -92,3 +92,25 @@ def test_schema_errors_name_schema_source_and_line():
 
     with pytest.raises(SchemaValidationError, match=r"in\.xml:2: does not satisfy schema count\.xsd: .*'x'"):
         schema.check(parse_bytes("\n<count>x</count>"), source="in.xml")
+
+
+def test_the_parser_itself_is_hardened():
+    """Bypass the DOCTYPE pre-check: the lxml parser must still be safe on its own."""
+    from lxml import etree
+
+    from homesim.xmlio import hardened_parser
+
+    parser = hardened_parser()
+    internal = b'<!DOCTYPE r [<!ENTITY e "EXPANDED">]><r>&e;</r>'
+    root = etree.fromstring(internal, parser)
+    assert "EXPANDED" not in etree.tostring(root).decode()  # entities stay unresolved
+    with pytest.raises(etree.XMLSyntaxError):
+        etree.fromstring(b'<!DOCTYPE r SYSTEM "http://127.0.0.1:9/x.dtd"><r/>', parser)
+    depth = 300
+    with pytest.raises(etree.XMLSyntaxError, match="depth"):
+        etree.fromstring(b"<a>" * depth + b"</a>" * depth, parser)
+
+
+def test_many_processing_instructions_do_not_blow_up_the_doctype_check():
+    doc = b"<?pi x?>" * 5000 + b"<!---->" * 5000 + b"<r/>"
+    assert parse_bytes(doc).tag == "r"
