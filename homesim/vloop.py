@@ -195,15 +195,7 @@ class VirtualEventLoop(asyncio.BaseEventLoop):
         """A timer at +inf: a valid handle that is never scheduled (``sleep(math.inf)``)."""
         if when != math.inf:
             raise ValueError(f"a timer needs a finite time or +inf, got {when!r}")
-        handle = _new(_TimerHandle)
-        handle._callback = callback
-        handle._args = args
-        handle._context = context
-        handle._cancelled = False
-        handle._loop = self
-        handle._when = math.inf
-        handle._scheduled = False
-        return handle
+        return _TimerHandle(math.inf, callback, args, self, context)  # asyncio's __init__: never scheduled
 
     def _timer_handle_cancelled(self, handle: asyncio.TimerHandle) -> None:
         # Cancelled timers leave the heap lazily; _drive compacts it when
