@@ -5,10 +5,13 @@ from __future__ import annotations
 import math
 
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from homesim.errors import ScenarioError
 from homesim.scenario.loader import load_scenario, load_scenario_text
 from homesim.scenario.model import Repeat, Say, WaitFor, WalkTo
+from tests.conftest import examples
 from tests.world_helpers import EXAMPLE, ROOM
 
 ROOM_TEXT = ROOM.read_text(encoding="utf-8")
@@ -149,3 +152,35 @@ def test_a_good_script_loads_into_plain_actions():
     walk, say = sc.human("ann").script
     assert isinstance(walk, WalkTo) and walk.target.kind == "robot" and walk.stop_at == 1.2
     assert isinstance(say, Say) and say.loudness == 70 and say.duration is None
+
+
+@pytest.mark.parametrize(
+    "old,new,anchor",
+    [
+        ('points="0,0 8,0 8,6 0,6"', 'points="0,0 8..1,0 8,6 0,6"', "<room "),
+        ('from="0 0" to="8 0"', 'from="0 0" to="8. ."', '<wall from="0 0"'),
+        ("</humans>", '</humans>\n  <expect>\n    <face-seen bearing="0" between="1..2 3"/>\n  </expect>', "<face-seen"),
+        ("</humans>", '</humans>\n  <expect>\n    <face-seen bearing="0" between="1e999 3"/>\n  </expect>', "<face-seen"),
+        ('points="0,0 8,0 8,6 0,6"', 'points="0,0 8,0 8,6e999 0,6"', "<room "),
+    ],
+)
+def test_malformed_numbers_in_lists_name_the_line(old, new, anchor):
+    """Numbers inside points, polygons and windows: a typo is an error on its own line, never a line-less one."""
+    text = _mutated(old, new)
+    with pytest.raises(ScenarioError) as exc:
+        _load(text)
+    assert exc.value.line == _line_of(text, anchor), str(exc.value)
+
+
+_NUMBERISH = st.text(alphabet="0123456789.-+eE ,", min_size=1, max_size=12)
+
+
+@settings(max_examples=examples(60, 300))
+@given(window=_NUMBERISH, point=_NUMBERISH)
+def test_every_loading_error_of_a_number_has_a_line(window, point):
+    text = _mutated("</humans>", f'</humans>\n  <expect>\n    <face-seen bearing="0" between="{window}"/>\n  </expect>')
+    text = text.replace('<wall from="5 4.5"', f'<wall from="{point}"', 1)
+    try:
+        _load(text)
+    except ScenarioError as exc:
+        assert exc.line is not None, str(exc)

@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import math
 import os
+import re
 from pathlib import Path
 
 from lxml import etree
@@ -85,12 +86,7 @@ def _from_root(root: etree._Element, source: str) -> Scenario:
         line, message = problems[0]
         more = f" (and {len(problems) - 1} more problem(s))" if len(problems) > 1 else ""
         raise ScenarioError(f"does not satisfy scenario.xsd: {message}{more}", source=source, line=line or None)
-    try:
-        scenario = _Builder(source).scenario(root)
-    except ScenarioError:
-        raise
-    except (ValueError, KeyError) as exc:  # a value the XSD let through but we cannot use
-        raise ScenarioError(str(exc), source=source) from exc
+    scenario = _Builder(source).scenario(root)
     checks.check(scenario)
     return scenario
 
@@ -111,12 +107,16 @@ class _Builder:
             if default is None:
                 raise self.fail(el, f"attribute {key!r} is required")
             return default
+        return self.number(el, key, raw, raw)
+
+    def number(self, el: etree._Element, key: str, raw: str, text: str) -> float:
+        """One finite number ``text`` (part of attribute ``key``'s value ``raw``), or an error with the line."""
         try:
-            v = float(raw)
+            v = float(text)
         except ValueError as exc:
-            raise self.fail(el, f"attribute {key}={raw!r} is not a number") from exc
+            raise self.fail(el, f"attribute {key}={raw!r}: {text!r} is not a number") from exc
         if not math.isfinite(v):
-            raise self.fail(el, f"attribute {key}={raw!r} is not a finite number")
+            raise self.fail(el, f"attribute {key}={raw!r}: {text!r} is not a finite number")
         return v
 
     def opt(self, el: etree._Element, key: str) -> float | None:
@@ -128,21 +128,18 @@ class _Builder:
 
     def point(self, el: etree._Element, key: str) -> tuple[float, float]:
         raw = el.get(key, "")
-        try:
-            x, y = (float(v) for v in raw.split())
-        except ValueError as exc:
-            raise self.fail(el, f"attribute {key}={raw!r} is not a point 'x y'") from exc
-        return x, y
+        parts = raw.split()
+        if len(parts) != 2:
+            raise self.fail(el, f"attribute {key}={raw!r} is not a point 'x y'")
+        return self.number(el, key, raw, parts[0]), self.number(el, key, raw, parts[1])
 
     def polygon(self, el: etree._Element) -> tuple[tuple[float, float], ...]:
         raw = el.get("points", "")
         pts = []
-        try:
-            for pair in raw.split():
-                x, y = pair.split(",")
-                pts.append((float(x), float(y)))
-        except ValueError as exc:
-            raise self.fail(el, f"points={raw!r} is not a list of 'x,y' pairs") from exc
+        for pair in _pairs(raw):
+            if len(pair) != 2:
+                raise self.fail(el, f"points={raw!r} is not a list of 'x,y' pairs")
+            pts.append((self.number(el, "points", raw, pair[0]), self.number(el, "points", raw, pair[1])))
         return tuple(pts)
 
     def colour(self, el: etree._Element, key: str, default: str) -> tuple[RGB, str]:
@@ -158,7 +155,10 @@ class _Builder:
         raw = el.get("between")
         if raw is None:
             return None
-        t0, t1 = (float(v) for v in raw.split())
+        parts = raw.split()
+        if len(parts) != 2:
+            raise self.fail(el, f"between={raw!r} is not a time window 't0 t1'")
+        t0, t1 = (self.number(el, "between", raw, v) for v in parts)
         if t1 < t0:
             raise self.fail(el, f"between={raw!r}: the window ends before it starts")
         return t0, t1
@@ -336,6 +336,11 @@ class _Builder:
         else:  # pragma: no cover - the XSD forbids this
             raise self.fail(el, f"unknown expectation <{tag}>")
         return Expectation(tag, tuple(attrs), el.sourceline, tuple((str(k), str(v)) for k, v in el.attrib.items()))
+
+
+def _pairs(raw: str) -> list[list[str]]:
+    """The "x,y" pairs of a points attribute (the XSD allows blanks around the comma)."""
+    return [p.split(",") for p in re.sub(r"\s*,\s*", ",", raw.strip()).split()]
 
 
 def _tag(el: etree._Element) -> str:
