@@ -2,7 +2,7 @@
 
 Names are unique (one namespace for everything a script can refer to),
 references resolve to the right kind of thing, furniture is convex, door
-gaps fit their walls, start poses lie inside a room and clear of walls and
+gaps fit their walls, rooms are simple polygons that do not overlap, start poses lie inside a room and clear of walls and
 furniture, objects stand on what they say they stand on, radios only say
 and wait, and a script never has actions after a ``repeat`` that runs for
 ever. The first problem found raises a :class:`ScenarioError` naming the
@@ -23,6 +23,8 @@ from ..world.geometry import (
     point_in_polygon,
     polygon_area,
     polygon_edges,
+    polygon_problem,
+    polygons_overlap,
     split_wall,
     wall_rectangle,
 )
@@ -57,9 +59,15 @@ class _Checker:
     def run(self) -> None:
         sc = self.sc
         self.names()
-        for room in sc.rooms:
-            if len(room.polygon) < 3 or abs(polygon_area(np.array(room.polygon))) < 1e-6:
+        for k, room in enumerate(sc.rooms):
+            problem = polygon_problem(np.array(room.polygon))
+            if problem is not None:
+                raise self.fail(room.line, "room", f"room {room.name!r} is not a simple polygon: {problem}")
+            if abs(polygon_area(np.array(room.polygon))) < 1e-6:
                 raise self.fail(room.line, "room", f"room {room.name!r} has no area")
+            for other in sc.rooms[:k]:
+                if polygons_overlap(np.array(room.polygon), np.array(other.polygon)):
+                    raise self.fail(room.line, "room", f"room {room.name!r} overlaps room {other.name!r} (line {other.line}); rooms may share walls, not floor")
         for wall in sc.walls:
             if np.hypot(wall.end[0] - wall.start[0], wall.end[1] - wall.start[1]) < 1e-6:
                 raise self.fail(wall.line, "wall", "a wall needs two distinct end points")

@@ -169,3 +169,84 @@ def split_wall(a: Point, b: Point, gaps: Sequence[tuple[float, float]]) -> list[
     if length - pos > 1e-3:
         pieces.append(((ax + ux * pos, ay + uy * pos), (bx, by)))
     return pieces
+
+
+def _on_segment(p: Point, a: Point, b: Point, eps: float = 1e-9) -> bool:
+    """Whether p lies on the closed segment a-b (within ``eps``)."""
+    cross = (b[0] - a[0]) * (p[1] - a[1]) - (b[1] - a[1]) * (p[0] - a[0])
+    if abs(cross) > eps * max(1.0, math.hypot(b[0] - a[0], b[1] - a[1])):
+        return False
+    return min(a[0], b[0]) - eps <= p[0] <= max(a[0], b[0]) + eps and min(a[1], b[1]) - eps <= p[1] <= max(a[1], b[1]) + eps
+
+
+def _segments_touch(p: Point, q: Point, a: Point, b: Point) -> bool:
+    """Whether closed segments p-q and a-b share any point (crossing, touching or overlapping)."""
+    if bool(segments_intersect(np.array([p]), np.array([q]), np.array([a]), np.array([b]))[0, 0]):
+        return True
+    return _on_segment(p, a, b) or _on_segment(q, a, b) or _on_segment(a, p, q) or _on_segment(b, p, q)
+
+
+def polygon_problem(points: FloatArray) -> str | None:
+    """Why ``points`` is not a simple polygon (None when it is).
+
+    Simple: at least three vertices, no repeated vertex, no edge that
+    touches or crosses a non-adjacent edge, no edge that folds back on the
+    previous one.
+    """
+    p = [(float(x), float(y)) for x, y in np.asarray(points, dtype=float)]
+    n = len(p)
+    if n < 3:
+        return "a polygon needs at least three vertices"
+    for i in range(n):
+        for j in range(i + 1, n):
+            if math.hypot(p[i][0] - p[j][0], p[i][1] - p[j][1]) < 1e-9:
+                return f"vertices {i + 1} and {j + 1} are the same point {p[i]}"
+    edges = [(p[i], p[(i + 1) % n]) for i in range(n)]
+    for i in range(n):
+        (a, b), (_, c) = edges[i], edges[(i + 1) % n]
+        # Adjacent edges share b; they overlap only if c lies back on a-b (or a on b-c).
+        if _on_segment(c, a, b) or _on_segment(a, b, c):
+            return f"edges {i + 1} and {(i + 1) % n + 1} fold back on each other at {b}"
+    for i in range(n):
+        for j in range(i + 2, n):
+            if i == 0 and j == n - 1:
+                continue  # adjacent through the closing vertex
+            if _segments_touch(*edges[i], *edges[j]):
+                return f"edges {i + 1} ({edges[i][0]}-{edges[i][1]}) and {j + 1} ({edges[j][0]}-{edges[j][1]}) cross or touch"
+    return None
+
+
+def _strictly_inside(q: Point, polygon: FloatArray, eps: float = 1e-6) -> bool:
+    a, b = polygon_edges(polygon)
+    return point_in_polygon(q, polygon) and float(distance_points_segments(np.array([q]), a, b).min()) > eps
+
+
+def _probe_points(polygon: FloatArray) -> list[Point]:
+    """Points of a simple polygon to test for overlap: vertices, edge midpoints, interior points."""
+    p = np.asarray(polygon, dtype=float)
+    n = len(p)
+    pts: list[Point] = [(float(x), float(y)) for x, y in p]
+    pts += [(float((p[i, 0] + p[(i + 1) % n, 0]) / 2), float((p[i, 1] + p[(i + 1) % n, 1]) / 2)) for i in range(n)]
+    cands = [polygon_centroid(p)] + [tuple((p[i - 1] + p[i] + p[(i + 1) % n]) / 3) for i in range(n)]
+    pts += [(float(c[0]), float(c[1])) for c in cands if _strictly_inside((float(c[0]), float(c[1])), p)]
+    return pts
+
+
+def polygons_overlap(p: FloatArray, q: FloatArray) -> bool:
+    """Whether two simple polygons share area (touching along edges or at vertices is no overlap)."""
+    p = np.asarray(p, dtype=float)
+    q = np.asarray(q, dtype=float)
+    pa, pb = polygon_edges(p)
+    qa, qb = polygon_edges(q)
+    # Proper crossings: interior points of both edges.
+    r = (pb - pa)[:, None, :]
+    s = (qb - qa)[None, :, :]
+    den = r[..., 0] * s[..., 1] - r[..., 1] * s[..., 0]
+    ap = qa[None, :, :] - pa[:, None, :]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t = (ap[..., 0] * s[..., 1] - ap[..., 1] * s[..., 0]) / den
+        u = (ap[..., 0] * r[..., 1] - ap[..., 1] * r[..., 0]) / den
+    eps = 1e-9
+    if bool(np.any((np.abs(den) > 1e-12) & (t > eps) & (t < 1 - eps) & (u > eps) & (u < 1 - eps))):
+        return True
+    return any(_strictly_inside(x, q) for x in _probe_points(p)) or any(_strictly_inside(x, p) for x in _probe_points(q))
