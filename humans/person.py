@@ -35,6 +35,10 @@ class Person(Actor):
         self.spec = spec
         self.body: HumanBody = world.humans[spec.name]
 
+    @property
+    def active(self) -> bool:
+        return self.body.present
+
     async def perform(self, act: Action) -> None:
         if not self.body.present:
             return

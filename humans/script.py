@@ -5,7 +5,8 @@ A script is a tuple of actions from :mod:`homesim.scenario.model`. An
 puts an utterance into the world's sound field and lasts as long as the
 words take, ``wait`` sleeps, ``wait-for`` polls what the robot said and
 where it is (so scripts react to the robot, not only to the clock), and
-``repeat`` loops. :class:`~humans.person.Person` adds the bodily actions;
+``repeat`` loops (a pass that took no virtual time is followed by one world
+step, so a repeat can never hang the simulation). :class:`~humans.person.Person` adds the bodily actions;
 :class:`Radio` is an actor with no body (a radio or a TV).
 
 Every action is recorded in ``log`` as (start, end, description), the
@@ -59,12 +60,32 @@ class Actor:
         elif isinstance(act, WaitFor):
             await self.wait_for(act)
         elif isinstance(act, Repeat):
-            n = 0
-            while act.times is None or n < act.times:
-                await self.play(act.body)
-                n += 1
+            await self.repeat(act)
         else:
             raise TypeError(f"{self.name!r} cannot perform {type(act).__name__}")
+
+    @property
+    def active(self) -> bool:
+        """Whether the actor can still act (a person who has left cannot)."""
+        return True
+
+    async def repeat(self, act: Repeat) -> None:
+        """Play the body ``times`` times (for ever when None), always letting time pass.
+
+        A pass can take no virtual time at all (a walk-to where the person
+        already stands, a wait-for whose condition already holds): the loop
+        would then never yield and the whole simulation would hang at that
+        instant. Such a pass is followed by one world step (``world.dt``),
+        so the repeat polls at the world's rate instead. It ends when the
+        actor is no longer active (the person has left).
+        """
+        n = 0
+        while (act.times is None or n < act.times) and self.active:
+            start = self.now
+            await self.play(act.body)
+            n += 1
+            if self.now <= start:
+                await asyncio.sleep(self.world.dt)
 
     async def say(self, act: Say) -> None:
         u = self.world.sound.say(self.name, act.text, self.now, loudness=act.loudness if act.loudness is not None else self.loudness, duration=act.duration)

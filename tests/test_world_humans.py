@@ -2,13 +2,16 @@
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
+import numpy as np
 import pytest
 
 from lxml import etree
 
 from homesim.scenario.loader import load_scenario_text
+from homesim.scenario.model import Face, Leave, Repeat, Say, Target, WalkTo
 from homesim.sim import Simulation
 from homesim.world.stage import Stage
 from tests.world_helpers import ROOM
@@ -99,3 +102,41 @@ def test_walk_to_the_robot_stops_short_of_it():
     rx, ry, _ = st.world.robot.pose
     assert 0.9 < math.hypot(x - rx, y - ry) <= 1.05
     assert st.world.contacts == []
+
+
+# ---------------------------------------------------------------- repeat never hangs
+@pytest.mark.timeout(60)
+@pytest.mark.parametrize(
+    "body",
+    [
+        '<walk-to place="middle"/>',  # already there after the first pass
+        '<wait-for robot-within="5"/>',  # the robot is within 5 m from the start
+        '<face robot="true"/><wait for="0"/><walk-to place="middle"/>',
+    ],
+)
+def test_a_repeat_whose_passes_take_no_time_lets_the_world_run(body):
+    st = _stage(f"<repeat>{body}</repeat>", duration=5)
+    st.run(5)  # used to spin for ever at one instant
+    assert st.world.time == pytest.approx(5.0, abs=st.world.dt + 1e-9)
+    passes = [(a, b) for a, b, d in st.actors["ann"].log if d != "repeat"]
+    assert len(passes) > 10
+    # After the first pass (the walk), a pass takes no time: one world step apart.
+    starts = sorted({a for a, _ in passes if a > 2.5})
+    assert min(np.diff(starts)) == pytest.approx(st.world.dt)
+
+
+@pytest.mark.timeout(60)
+def test_run_time_guards_cover_scripts_built_without_the_loader():
+    """The loader refuses these; a scenario built in code still never hangs the run."""
+    sc = load_scenario_text(ROOM_TEXT, source="humans.xml")
+    ann = sc.human("ann")
+    forever_face = Repeat((Face(Target("robot")),), times=10**9)
+    leave_again = Repeat((WalkTo(Target("place", name="middle")), Leave()), times=None)
+    for script in ((forever_face, Say("done")), (leave_again,)):
+        scn = dataclasses.replace(sc, humans=(dataclasses.replace(ann, script=script),), duration=12.0)
+        sim = Simulation(seed=1, scenario=scn.name)
+        st = Stage(sim, scn, actors=("humans.install",))
+        st.run(12)
+        assert st.world.time == pytest.approx(12.0, abs=st.world.dt + 1e-9)
+        sim.close()
+    assert not st.world.humans["ann"].present and st.actors["ann"].done  # left once, then the repeat ended

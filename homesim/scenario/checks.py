@@ -1,12 +1,14 @@
 """Semantic checks of a scenario: what the XSD cannot say.
 
 Names are unique (one namespace for everything a script can refer to),
-references resolve to the right kind of thing, furniture is convex, door
-gaps fit their walls, rooms are simple polygons that do not overlap, start poses lie inside a room and clear of walls and
-furniture, objects stand on what they say they stand on, radios only say
-and wait, and a script never has actions after a ``repeat`` that runs for
-ever. The first problem found raises a :class:`ScenarioError` naming the
-file, the line and the element.
+references resolve to the right kind of thing, rooms are simple polygons
+that do not overlap, furniture is convex, door gaps fit their walls, start
+poses lie inside a room and clear of walls and furniture, objects stand on
+what they say they stand on, radios only say and wait, a script never
+has actions after a ``repeat`` that runs for ever, and every ``repeat``
+contains an action that can take time and no ``leave``. The first
+problem found raises a :class:`ScenarioError` naming the file, the line
+and the element.
 """
 
 from __future__ import annotations
@@ -142,7 +144,7 @@ class _Checker:
                 raise self.fail(line, element, f"{what} at ({xy[0]}, {xy[1]}) overlaps furniture {f.name!r}")
 
     # -------------------------------------------------------------- scripts
-    def script(self, actions: tuple[Action, ...], owner: str, *, person: bool) -> None:
+    def script(self, actions: tuple[Action, ...], owner: str, *, person: bool, repeat: Repeat | None = None) -> None:
         for i, act in enumerate(actions):
             tag = _action_tag(act)
             if not person and tag not in ("say", "wait", "wait-for", "repeat"):
@@ -163,6 +165,8 @@ class _Checker:
                     raise self.fail(act.line, tag, "nobody can leave: no door of the flat has exit=\"true\"")
                 if act.door is not None and act.door not in [d.name for d in exits]:
                     raise self.fail(act.line, tag, f"door {act.door!r} is not an exit door")
+                if repeat is not None:
+                    raise self.fail(act.line, tag, f"<leave> cannot be inside the <repeat> at line {repeat.line}: {owner!r} can leave the flat only once")
                 if i != len(actions) - 1:
                     raise self.fail(actions[i + 1].line, _action_tag(actions[i + 1]), f"{owner!r} has left the flat: nothing can follow <leave>")
             elif isinstance(act, Repeat):
@@ -170,9 +174,9 @@ class _Checker:
                     raise self.fail(act.line, tag, "repeat needs at least one action")
                 if act.times is None and i != len(actions) - 1:
                     raise self.fail(actions[i + 1].line, _action_tag(actions[i + 1]), "unreachable: the repeat before it runs for ever")
-                if act.times is None and not _takes_time(act.body):
-                    raise self.fail(act.line, tag, "a repeat that runs for ever must wait, walk or say, or it never lets time pass")
-                self.script(act.body, owner, person=person)
+                if not _takes_time(act.body):
+                    raise self.fail(act.line, tag, "a repeat must wait, walk, point or say, or it never lets time pass")
+                self.script(act.body, owner, person=person, repeat=act)
 
     def target(self, t: Target, tag: str, line: int | None, owner: str | None = None) -> None:
         if t.kind not in _TARGET_KINDS[tag]:
