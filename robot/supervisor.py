@@ -2,7 +2,8 @@
 
 Modules publish events (``<event name="greeting" lifetime="3">payload</event>``)
 on ``/robot/es/events``; heartbeat failures from ``/system/health`` become
-events too (``module_failed`` / ``module_recovered``). The ES queues each event
+events too (``module_failed`` / ``module_recovered``, with ``still_failed``: how
+many modules the ES knows to be failed after this one). The ES queues each event
 with the bus message's creation time (so latency puts it where it belongs),
 runs the engine of :mod:`homesim.afsm.engine` at once, and again at the
 earliest expiry among retained events, so an expired event is rejected exactly
@@ -167,6 +168,7 @@ class ExecutionSupervisor(Module):
         self._busy_until = 0
         self._timer: asyncio.TimerHandle | None = None
         self._timer_at: int | None = None
+        self._failed: set[str] = set()
         if typed:
             declare_channels(sim.bus, m)
         self.bus.subscribe(EVENT_CHANNEL, self._on_event)
@@ -198,9 +200,31 @@ class ExecutionSupervisor(Module):
         self.submit(ev)
 
     def _on_health(self, msg: Message) -> None:
-        tag = msg.xml.tag
-        if tag in ("module_failed", "module_recovered") and msg.xml.get("module") != self.name:
-            self.submit(Event(msg.id, str(tag), msg.sender, msg.created_ns, None, msg.xml))
+        """A health message becomes an event; its payload says how many modules are still failed.
+
+        The heartbeat monitor reports each module on its own; the AFSM must
+        know whether *any* module is still down (a second failure must not be
+        forgotten when the first recovers), so the ES keeps the set of failed
+        modules and adds ``still_failed`` (its size after this message).
+        """
+        xml = msg.xml
+        tag = xml.tag
+        module = xml.get("module")
+        if tag not in ("module_failed", "module_recovered") or module == self.name:
+            return
+        key = module if module is not None else msg.sender
+        if tag == "module_failed":
+            self._failed.add(key)
+        else:
+            self._failed.discard(key)
+        payload = etree.Element(tag, dict(xml.attrib))
+        payload.set("still_failed", str(len(self._failed)))
+        self.submit(Event(msg.id, str(tag), msg.sender, msg.created_ns, None, payload))
+
+    @property
+    def failed_modules(self) -> frozenset[str]:
+        """Modules the heartbeat monitor reported failed and not recovered yet."""
+        return frozenset(self._failed)
 
     def submit(self, event: Event) -> list[Record]:
         """Queue ``event`` now and process; returns the records (also published)."""

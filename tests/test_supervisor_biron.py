@@ -175,3 +175,20 @@ def test_instructions_retained_while_teaching_are_taken_in_the_order_given(biron
     assert [k for k in kinds(recs) if k[0] == "applied"] == [
         ("applied", "object_recognized", "Interacting"), ("applied", "follow", "Following"),
         ("applied", "stop", "Interacting")]
+
+
+def test_technical_failure_ends_only_when_no_module_is_still_failed(biron):
+    e = Engine(biron)
+
+    def health(n: int, tag: str, module: str, still: int) -> list:
+        return kinds(step(e, ev(n, tag, n * S, "monitor", f'<{tag} module="{module}" still_failed="{still}"/>')))
+
+    assert health(1, "module_failed", "laser", 1) == [("applied", "module_failed", "TechnicalFailure")]
+    assert health(2, "module_failed", "camera", 2) == [("applied", "module_failed", "TechnicalFailure")]
+    assert health(3, "module_recovered", "laser", 1) == [("applied", "module_recovered", "TechnicalFailure")]
+    assert health(4, "module_recovered", "camera", 0) == [("applied", "module_recovered", "LookingAround")]
+    # without the count (not from the supervisor's health input) the robot never resumes on its own
+    e2 = Engine(biron)
+    step(e2, ev(1, "module_failed", 1 * S, "monitor", '<module_failed module="laser"/>'))
+    step(e2, ev(2, "module_recovered", 2 * S, "monitor", '<module_recovered module="laser"/>'))
+    assert e2.state == "TechnicalFailure"

@@ -264,3 +264,25 @@ def test_on_the_bus_every_event_ends_once_and_expiry_is_never_late(events, wlan)
                 assert r["at_ns"] == max(expiry, round(arrival * 1e9))
     finally:
         w.sim.close()
+
+
+def test_a_second_failure_is_not_forgotten_when_the_first_module_recovers(world):
+    from homesim.heartbeat import HEALTH_CHANNEL
+
+    mon = world.sim.bus.participant("monitor")
+    for t, tag, module in [(1.0, "module_failed", "laser"), (1.5, "module_failed", "camera"),
+                           (2.0, "module_recovered", "laser"), (3.0, "module_recovered", "camera")]:
+        world.at(t, lambda tag=tag, module=module: mon.publish(HEALTH_CHANNEL, etree.Element(tag, module=module)))
+    world.sim.run(until=2.5)
+    assert world.es.state == "TechnicalFailure"  # the camera is still down
+    assert world.es.failed_modules == {"camera"}
+    world.sim.run(until=4.0)
+    assert world.es.state == "LookingAround" and not world.es.failed_modules
+    said = [(c.xml.get("name"), {p.get("name"): p.text for p in c.xml.findall("param")}) for c in world.conditions.drain()]
+    assert said == [
+        ("technical_failure", {"module": "laser", "still_failed": "1"}),
+        ("technical_failure", {"module": "camera", "still_failed": "2"}),  # consumed, the dialog hears of it
+        ("module_recovered", {"module": "laser", "still_failed": "1"}),
+        ("recovered", {"module": "camera"}),
+    ]
+    assert world.es.engine.stats()["inapplicable"] == 0

@@ -158,4 +158,4 @@ def test_a_missing_heartbeat_fails_perceptibly_from_any_state(biron):
     (rec,) = e.process(2 * S)
     assert rec.target_state == "TechnicalFailure"
     cond = [o for o in rec.outputs if o.kind == "condition"][0]
-    assert cond.name == "technical_failure" and cond.params == (("module", ("laser",)),)
+    assert cond.name == "technical_failure" and cond.params[0] == ("module", ("laser",))
