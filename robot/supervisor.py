@@ -24,16 +24,23 @@ RPC methods of the ``supervisor`` participant: ``introspect`` (reply
 ``<es_status>``), ``replace`` and ``extend`` (request: an SCXML document;
 validated before the swap, refused with the reason, the queue survives).
 
-Time: decisions are taken when an event arrives or expires; the ES then
-needs ``cost`` virtual seconds per transition to reconfigure the system
-(the papers: under 20 ms), so the outputs of the k-th transition in a row are
-sent ``k * cost`` after the ES became free.
+Time: the ES is a serial processor. When it is free, it decides at once on
+an event's arrival and at the earliest expiry among queued events. A
+transition costs ``cost`` virtual seconds (the papers: under 20 ms to
+reconfigure the system): its orders and conditions leave at ``decision +
+cost``, and the next decision (the scan restarting from the oldest event) is
+taken then, so a burst of k transitions is decided at t, t+cost, ... While
+busy the ES only queues arrivals and rejects events whose lifetime ends,
+exactly at their expiry; no event is ever applied at or after it. Messages
+to other modules (orders, conditions, rejections returned to the dialog)
+leave in decision order: nothing decided later overtakes them.
 """
 
 from __future__ import annotations
 
 import asyncio
 import os
+from collections import deque
 from copy import deepcopy
 from decimal import Decimal
 from pathlib import Path
@@ -166,6 +173,7 @@ class ExecutionSupervisor(Module):
         self.return_to = tuple(return_to)
         self._loop = sim.loop
         self._busy_until = 0
+        self._outbox: deque[tuple[int, Applied | Rejected]] = deque()
         self._timer: asyncio.TimerHandle | None = None
         self._timer_at: int | None = None
         self._failed: set[str] = set()
@@ -227,58 +235,106 @@ class ExecutionSupervisor(Module):
         return frozenset(self._failed)
 
     def submit(self, event: Event) -> list[Record]:
-        """Queue ``event`` now and process; returns the records (also published)."""
+        """Queue ``event`` now; decide at once if the ES is free. Returns the records decided now."""
         now = self._loop.now_ns
         self.engine.queue(event, now)
-        return self._process(now)
+        return self._tick(now)
+
+    @property
+    def busy_until_ns(self) -> int:
+        """Virtual time (ns) until which the ES pays its last transition's cost (no decisions before)."""
+        return self._busy_until
 
     def _wake(self) -> None:
         self._timer = None
         self._timer_at = None
         if self.bus.closed or self.bus.hung:
             return
-        self._process(self._loop.now_ns)
+        self._tick(self._loop.now_ns)
 
-    def _process(self, now: int) -> list[Record]:
+    def _tick(self, now: int) -> list[Record]:
+        """Everything due at ``now``, in decision order.
+
+        Held messages whose time has come leave first. While the ES pays a
+        transition's cost it takes no decision; it only rejects events whose
+        lifetime ends (exactly at their expiry). Once free it scans the queue
+        up to the first transition (§2.2); that transition makes it busy for
+        ``cost``, and the scan goes on, from the oldest event, when it is
+        free again.
+        """
         before = self.engine.state
-        records = self.engine.process(now)
-        self._emit(records, now)
-        if any(isinstance(r, Applied) for r in records) or before != self.engine.state:
+        records: list[Record] = []
+        while True:
+            self._flush(now)
+            if now < self._busy_until:
+                recs: list[Record] = list(self.engine.expire(now))
+                self._emit(recs, now)
+                records += recs
+                break
+            recs = self.engine.process(now, max_applied=1)
+            self._emit(recs, now)
+            records += recs
+            if not recs or not isinstance(recs[-1], Applied):
+                break
+            self._busy_until = now + self.cost_ns
+            if self.cost_ns:
+                break
+        if self.engine.state != before:
             self.publish_status()
-        self._arm()
+        self._arm(now)
         return records
 
-    def _arm(self) -> None:
-        """Wake at the earliest expiry among retained events (one timer at a time)."""
-        deadline = self.engine.next_deadline()
-        if deadline == self._timer_at:
+    def _arm(self, now: int) -> None:
+        """One timer: the earliest of the next expiry, the end of the busy time, the next held message."""
+        wake = self.engine.next_deadline()
+        if self._busy_until > now and (wake is None or self._busy_until < wake):
+            wake = self._busy_until
+        if self._outbox and (wake is None or self._outbox[0][0] < wake):
+            wake = self._outbox[0][0]
+        if wake == self._timer_at:
             return
         if self._timer is not None:
             self._timer.cancel()
             self._timer = None
-        self._timer_at = deadline
-        if deadline is not None:
-            self._timer = self._loop.call_at_ns(deadline, self._wake)
+        self._timer_at = wake
+        if wake is not None:
+            self._timer = self._loop.call_at_ns(wake, self._wake)
 
     # -------------------------------------------------------------- output
     def _emit(self, records: list[Record], now: int) -> None:
+        """Log every decision now; orders, conditions and returned rejections go through the outbox.
+
+        The outbox keeps decision order: a transition's outputs leave ``cost``
+        after its decision, and nothing decided later overtakes them.
+        """
         for rec in records:
             self.bus.publish(LOG_CHANNEL, record_xml(rec), causes=(rec.event.id,))
             if isinstance(rec, Applied):
-                start = max(now, self._busy_until)
-                self._busy_until = start + self.cost_ns
                 if rec.outputs:
-                    self._loop.call_at_ns(self._busy_until, self._send_outputs, rec)
+                    self._outbox.append((now + self.cost_ns, rec))
             elif isinstance(rec, Rejected) and rec.event.source in self.return_to:
-                el = etree.Element("rejected", event=rec.event.id, name=rec.event.name, reason=rec.reason,
-                                   state=rec.state, detail=rec.detail)
-                if rec.event.payload is not None:
-                    el.append(deepcopy(rec.event.payload))
-                self.bus.publish(f"{REJECTED_PREFIX}/{rec.event.source}", el, causes=(rec.event.id,))
+                self._outbox.append((now, rec))
+        self._flush(now)
+
+    def _flush(self, now: int) -> None:
+        box = self._outbox
+        while box and box[0][0] <= now:
+            _, rec = box.popleft()
+            if self.bus.closed or self.bus.hung:
+                continue
+            if isinstance(rec, Applied):
+                self._send_outputs(rec)
+            else:
+                self._send_rejection(rec)
+
+    def _send_rejection(self, rec: Rejected) -> None:
+        el = etree.Element("rejected", event=rec.event.id, name=rec.event.name, reason=rec.reason,
+                           state=rec.state, detail=rec.detail)
+        if rec.event.payload is not None:
+            el.append(deepcopy(rec.event.payload))
+        self.bus.publish(f"{REJECTED_PREFIX}/{rec.event.source}", el, causes=(rec.event.id,))
 
     def _send_outputs(self, rec: Applied) -> None:
-        if self.bus.closed or self.bus.hung:
-            return
         for out in rec.outputs:
             prefix = CONDITION_PREFIX if out.kind == CONDITION else ORDER_PREFIX
             self.bus.publish(f"{prefix}/{out.target}", output_xml(out, rec.target_state), causes=(out.event_id,))
@@ -347,8 +403,7 @@ class ExecutionSupervisor(Module):
     def _after_change(self, m: Machine) -> None:
         if self._typed_bus():
             declare_channels(self.sim.bus, m)
-        now = self._loop.now_ns
-        self._process(now)
+        self._tick(self._loop.now_ns)
         self.publish_status()
 
     def _typed_bus(self) -> bool:

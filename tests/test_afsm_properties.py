@@ -183,3 +183,38 @@ def test_scxml_round_trip_keeps_the_machine(m: Machine) -> None:
                 for t in b.transitions] == \
                [(t.event, t.target, t.cond, [(x.kind, x.target, x.name, [(p.name, p.expr) for p in x.params]) for x in t.sends])
                 for t in s.transitions]
+
+
+@settings(max_examples=examples(60, 500))
+@given(machines(), event_streams())
+def test_one_transition_at_a_time_gives_the_same_records(m: Machine, stream: list) -> None:
+    """``process(now, max_applied=1)`` repeated (the supervisor with cost 0) = one full scan."""
+    full = Engine(m)
+    stepped = Engine(copy.deepcopy(m))
+    for d in sorted(stream, key=lambda d: d.at_ns):
+        full.queue(copy.deepcopy(d.event), d.at_ns)
+        stepped.queue(copy.deepcopy(d.event), d.at_ns)
+        want = full.process(d.at_ns)
+        got: list = []
+        while True:
+            recs = stepped.process(d.at_ns, max_applied=1)
+            got += recs
+            if not recs or not isinstance(recs[-1], Applied):
+                break
+            assert sum(isinstance(r, Applied) for r in recs) == 1
+        assert project(got) == project(want)
+        assert stepped.state == full.state
+
+
+@settings(max_examples=examples(60, 500))
+@given(machines(), event_streams())
+def test_expire_rejects_exactly_the_expired_and_nothing_else(m: Machine, stream: list) -> None:
+    engine = Engine(m)
+    for d in sorted(stream, key=lambda d: d.at_ns):
+        engine.queue(d.event, d.at_ns)
+        state = engine.state
+        before = {q.event.id: q.expires_ns for q in engine.queued()}
+        recs = engine.expire(d.at_ns)
+        assert all(r.reason == EXPIRED and r.at_ns == d.at_ns for r in recs)
+        assert {r.event.id for r in recs} == {i for i, x in before.items() if x <= d.at_ns}
+        assert engine.state == state

@@ -120,7 +120,8 @@ def test_partner_created_first_but_delivered_late_still_pairs(world):
         assert slow.es.state == "Interacting"
         applied = [r for r in slow.es.introspect()["history"] if r["kind"] == "applied"]
         assert [a["name"] for a in applied] == ["potential_partner", "greeting"]
-        assert applied[0]["at_ns"] == applied[1]["at_ns"]  # paired on the late arrival
+        # paired on the late arrival; the second decision waits for the first one's processing cost
+        assert applied[1]["at_ns"] == applied[0]["at_ns"] + slow.es.cost_ns
     finally:
         slow.sim.close()
 
@@ -286,3 +287,109 @@ def test_a_second_failure_is_not_forgotten_when_the_first_module_recovers(world)
         ("recovered", {"module": "camera"}),
     ]
     assert world.es.engine.stats()["inapplicable"] == 0
+
+
+# ------------------------------------------------------------ processing cost
+def test_an_event_expiring_while_the_es_pays_a_cost_is_rejected_at_its_expiry_not_applied():
+    """Greeting valid 30 ms, partner 10 ms later, cost 20 ms: the greeting ends before the ES is free."""
+    w = World(dialog_delay=0.0001, cost=0.020)
+    try:
+        w.at(1.000, lambda: w.dialog.publish(EVENT_CHANNEL, event_xml("greeting", lifetime=0.030, children=(SPEECH,))))
+        w.at(1.010, w.see_partner)
+        w.sim.run(until=2.0)
+        assert w.es.state == "PotentialPartner"
+        hist = w.es.introspect()["history"]
+        (rej,) = [r for r in hist if r["kind"] == "rejected"]
+        assert rej["name"] == "greeting" and rej["reason"] == "expired"
+        assert rej["at_ns"] == 1_030_000_000  # exactly at created + lifetime, while busy
+        (back,) = w.returned.drain()
+        (info,) = w.conditions.drain()
+        assert back.xml.get("reason") == "expired"
+        # the earlier decision's output leaves first (same instant: the ES's send order)
+        assert info.sent <= back.sent and int(info.id.split("#")[1]) < int(back.id.split("#")[1])
+    finally:
+        w.sim.close()
+
+
+def test_rejections_do_not_overtake_the_outputs_of_earlier_decisions():
+    w = World(dialog_delay=0.0001, cost=0.020)
+    try:
+        w.at(1.000, w.greet)
+        w.at(1.001, w.greet)
+        w.at(1.010, w.see_partner)
+        w.sim.run(until=2.0)
+        got = sorted([(m.sent, m.xml.get("name")) for m in w.conditions.drain()]
+                     + [(m.sent, "rejected " + m.xml.get("reason")) for m in w.returned.drain()])
+        assert [what for _, what in got] == ["person_info", "partner_found", "rejected inapplicable"]
+        # decisions are cost apart: partner at arrival, greeting 20 ms later, the second greeting 20 ms after
+        applied = [r["at_ns"] for r in w.es.introspect()["history"] if r["kind"] == "applied"]
+        assert applied[1] - applied[0] == 20_000_000
+    finally:
+        w.sim.close()
+
+
+def test_while_busy_an_arriving_event_is_only_queued():
+    w = World(dialog_delay=0.0001, cost=0.020)
+    try:
+        w.at(1.000, w.see_partner)
+        w.at(1.005, w.greet)  # arrives while the ES pays for the partner's transition
+        w.sim.run(until=1.010)
+        assert w.es.state == "PotentialPartner" and len(w.es.engine) == 1
+        assert w.es.busy_until_ns > w.sim.loop.now_ns
+        w.sim.run(until=1.5)
+        assert w.es.state == "Interacting"
+        greet = [r for r in w.es.introspect()["history"] if r["name"] == "greeting"]
+        assert [r["kind"] for r in greet] == ["applied"]  # never decided (retained) while busy
+    finally:
+        w.sim.close()
+
+
+@settings(max_examples=examples(20, 500), deadline=None)
+@given(st.lists(st.tuples(st.sampled_from(["greeting", "potential_partner", "potential_partner_lost", "follow", "stop",
+                                            "goodbye", "object_teaching", "partner_lost"]),
+                          st.integers(0, 400), st.sampled_from(["dialog", "person_attention"]),
+                          st.one_of(st.none(), st.integers(1, 100))),
+                max_size=14),
+       st.floats(0.0005, 0.3), st.integers(1, 60))
+def test_with_a_cost_no_event_is_applied_after_expiry_and_outputs_leave_in_decision_order(events, wlan, cost_ms):
+    """Bus level, nonzero cost: decisions are ``cost`` apart, none after an expiry, messages in record order."""
+    w = World(dialog_delay=wlan, cost=cost_ms / 1000)
+    cost = w.es.cost_ns
+    try:
+        senders = {"dialog": w.dialog, "person_attention": w.attention}
+        for name, ms10, src, life in events:
+            lifetime = None if life is None else life / 100
+            w.at(ms10 / 100, lambda n=name, s=src, lt=lifetime:
+                 senders[s].publish(EVENT_CHANNEL, event_xml(n, lifetime=lt, children=(PERSON,))))
+        w.sim.run(until=20.0)
+        hist = list(w.es.engine.history)
+        arrival = {x["id"]: round(x["t"] * 1e9) for x in w.trace.records()
+                   if x.get("kind") == "deliver" and x["receivers"] == ["supervisor"]}
+        ends = [r for r in hist if r.kind != "retained"]
+        assert len(ends) == len(events) == len({r.event.id for r in ends})  # conservation
+        last_applied = None
+        expected, release = [], None
+        for r in hist:
+            expiry = r.event.created_ns + r.event.lifetime_ns
+            if r.kind == "applied":
+                assert r.at_ns < expiry, "applied at or after its expiry"
+                if last_applied is not None:
+                    assert r.at_ns >= last_applied + cost, "a decision taken while the ES was busy"
+                last_applied = r.at_ns
+                for o in r.outputs:
+                    prefix = CONDITION_PREFIX if o.kind == "condition" else ORDER_PREFIX
+                    expected.append((f"{prefix}/{o.target}", r.event.id, r.at_ns + cost))
+                if r.outputs:
+                    release = r.at_ns + cost
+            elif r.kind == "rejected":
+                if r.reason == "expired":
+                    assert r.at_ns == max(expiry, arrival[r.event.id]), "expiry not exact"
+                if r.event.source == "dialog":
+                    t = r.at_ns if release is None else max(r.at_ns, release)
+                    expected.append((f"{REJECTED_PREFIX}/dialog", r.event.id, t))
+        sent = [(x["channel"], x["causes"][0], round(x["t"] * 1e9)) for x in w.trace.records()
+                if x.get("kind") == "publish" and x["sender"] == "supervisor"
+                and x["channel"].startswith(("/robot/es/orders/", "/robot/es/conditions/", "/robot/es/rejected/"))]
+        assert sent == expected
+    finally:
+        w.sim.close()

@@ -21,6 +21,9 @@ The rules, exactly:
 * :meth:`next_deadline` is the earliest expiry among queued events: call
   :meth:`process` then, and expired events are rejected exactly at their
   expiry.
+* ``process(now, max_applied=1)`` stops after one transition, for a caller
+  whose transitions take time (the supervisor's cost): it calls again when
+  it can decide; :meth:`expire` is step 1 alone, for the time in between.
 * Conservation: ``stats()['queued'] == applied + expired + inapplicable +
   len(queue)`` always holds; an id cannot be queued twice while queued.
 
@@ -255,10 +258,17 @@ class Engine:
         return item
 
     # ------------------------------------------------------------- process
-    def process(self, now_ns: int) -> list[Record]:
-        """Scan the queue at ``now_ns`` per §2.2; return what happened, in order."""
+    def process(self, now_ns: int, *, max_applied: int | None = None) -> list[Record]:
+        """Scan the queue at ``now_ns`` per §2.2; return what happened, in order.
+
+        ``max_applied`` stops the scan right after that many transitions (the
+        scan would restart from the oldest event anyway): a caller whose
+        transitions take time (the supervisor's processing cost) calls again
+        at the virtual time the next decision can be taken.
+        """
         self._advance(now_ns)
         records: list[Record] = []
+        applied = 0
         q = self._queue
         tables = self._tables
         i = 0
@@ -281,6 +291,9 @@ class Engine:
             if comp is not None:
                 del q[i]
                 records.append(self._apply(item, comp, now_ns))
+                applied += 1
+                if max_applied is not None and applied >= max_applied:
+                    return records
                 i = 0
                 continue
             if ev.name in tables.retain[self.state]:
@@ -296,6 +309,27 @@ class Engine:
             why = "a guard does not hold" if cands else "no transition on it"
             records.append(self._reject(item, now_ns, INAPPLICABLE, f"not applicable in state {self.state!r}: {why}"))
         return records
+
+    def expire(self, now_ns: int) -> list[Rejected]:
+        """Only step 1 of the scan: reject (expired) every event with ``now >= created + lifetime``.
+
+        For a caller that cannot take decisions now (the supervisor while it
+        pays a transition's processing cost) but must still reject expired
+        events exactly at their expiry. Oldest first; nothing else changes.
+        """
+        self._advance(now_ns)
+        q = self._queue
+        if not q or min(item.expires_ns for item in q) > now_ns:
+            return []
+        out: list[Rejected] = []
+        keep: list[Queued] = []
+        for item in q:
+            if now_ns >= item.expires_ns:
+                out.append(self._reject(item, now_ns, EXPIRED, f"lifetime ended at {item.expires_ns} ns"))
+            else:
+                keep.append(item)
+        q[:] = keep
+        return out
 
     def _reject(self, item: Queued, now_ns: int, reason: str, detail: str) -> Rejected:
         del self._ids[item.event.id]
