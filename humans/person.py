@@ -7,7 +7,9 @@ when the goal moves, e.g. walking up to the robot); while walking the head
 looks ahead. ``face`` turns the head (the body follows beyond the head's
 reach) or, with ``body="true"``, the whole body. ``point`` raises an arm
 towards the target for its duration. ``leave`` walks out through an exit
-door and removes the person from the world.
+door and removes the person from the world. A walk whose goal walls or
+furniture close off fails the run with a :class:`~humans.script.ScriptError`
+naming the action's file and line; nobody walks through a wall.
 """
 
 from __future__ import annotations
@@ -16,11 +18,11 @@ import asyncio
 import math
 
 from homesim.scenario.model import Action, Face, HumanSpec, Leave, PointAt, Target, WalkTo
-from homesim.world.bodies import HUMAN_RADIUS, HumanBody, Pointing
+from homesim.world.bodies import HumanBody, Pointing
 from homesim.world.pathplan import NoPathError
 from homesim.world.world import World
 
-from .script import Actor
+from .script import Actor, ScriptError
 
 ARRIVED = 0.05  # metres: close enough to a waypoint
 LEG_TIME = 0.5  # seconds between re-planning checks while walking
@@ -42,36 +44,40 @@ class Person(Actor):
     async def perform(self, act: Action) -> None:
         if not self.body.present:
             return
-        if isinstance(act, WalkTo):
-            await self.walk_to(act.target, stop_at=act.stop_at, speed=act.speed)
-        elif isinstance(act, Face):
-            self.face(act.target, body=act.body)
-        elif isinstance(act, PointAt):
-            await self.point(act)
-        elif isinstance(act, Leave):
-            await self.leave(act)
-        else:
-            await super().perform(act)
+        try:
+            if isinstance(act, WalkTo):
+                await self.walk_to(act.target, stop_at=act.stop_at, speed=act.speed)
+            elif isinstance(act, Face):
+                self.face(act.target, body=act.body)
+            elif isinstance(act, PointAt):
+                await self.point(act)
+            elif isinstance(act, Leave):
+                await self.leave(act)
+            else:
+                await super().perform(act)
+        except NoPathError as exc:
+            # Never a straight line through walls: the run fails, naming the action.
+            self.body.stand()
+            tag = "walk-to" if isinstance(act, WalkTo) else "leave"
+            raise ScriptError(f"{self.name!r} at ({self.body.position[0]:.2f}, {self.body.position[1]:.2f}) cannot get there: {exc}", source=self.world.scenario.source, line=act.line, element=tag) from exc
 
     # ------------------------------------------------------------ walking
     def goal_of(self, target: Target) -> tuple[float, float]:
         x, y, _ = self.world.target_point(target, who=self.name)
         return x, y
 
-    async def walk_to(self, target: Target, *, stop_at: float = 0.0, speed: float | None = None) -> bool:
+    async def walk_to(self, target: Target, *, stop_at: float = 0.0, speed: float | None = None) -> None:
         """Walk until within ``stop_at`` of the target (or at the nearest free spot).
 
-        Returns False when no path exists (the person then stays put).
+        Raises NoPathError when walls or furniture close the goal off (the
+        person never walks through them).
         """
         speed = speed or self.body.speed
         if target.kind == "robot" and stop_at <= 0:
             stop_at = ROBOT_STOP
         moving = target.kind in ("robot", "human")
         goal = self.goal_of(target)
-        try:
-            path = self.world.walk_grid().plan(self.body.position, goal)
-        except NoPathError:
-            return False
+        path = self.world.walk_grid().plan(self.body.position, goal)
         while True:
             here = self.body.position
             if math.hypot(goal[0] - here[0], goal[1] - here[1]) <= max(stop_at, ARRIVED):
@@ -100,12 +106,8 @@ class Person(Actor):
                 new_goal = self.goal_of(target)
                 if math.hypot(new_goal[0] - goal[0], new_goal[1] - goal[1]) > 0.2:
                     goal = new_goal
-                    try:
-                        path = self.world.walk_grid().plan(self.body.position, goal)
-                    except NoPathError:
-                        break
+                    path = self.world.walk_grid().plan(self.body.position, goal)
         self.body.stand()
-        return True
 
     # ------------------------------------------------------- facing, pointing
     def direction_to(self, target: Target) -> float:
@@ -136,16 +138,8 @@ class Person(Actor):
 
     # ---------------------------------------------------------------- leave
     async def leave(self, act: Leave) -> None:
-        """Walk out through an exit door and disappear from the world."""
-        inside, outside = self.world.exit_points(act.door)
-        await self.walk_to(Target("point", x=inside[0], y=inside[1]))
-        # Through the door: a straight line, the gap is wider than a person.
-        x, y = self.body.position
-        dx, dy = outside[0] - x, outside[1] - y
-        dist = math.hypot(dx, dy)
-        if dist > 1e-6:
-            v = self.body.speed
-            self.body.walk_velocity(v * dx / dist, v * dy / dist)
-            await asyncio.sleep(dist / v + HUMAN_RADIUS / v)
+        """Walk out through an exit door (a planned path, like any walk) and disappear from the world."""
+        _, outside = self.world.exit_points(act.door)
+        await self.walk_to(Target("point", x=outside[0], y=outside[1]))
         self.body.stand()
         self.body.remove()

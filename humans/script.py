@@ -19,10 +19,15 @@ import asyncio
 import math
 import re
 
+from homesim.errors import ScenarioError
 from homesim.scenario.model import Action, Repeat, Say, SourceSpec, Wait, WaitFor
 from homesim.world.world import World
 
 POLL = 0.1  # seconds between checks of a wait-for condition
+
+
+class ScriptError(ScenarioError):
+    """A script action cannot be carried out (e.g. no path to a walk's goal): names file and line."""
 
 
 class Actor:

@@ -7,13 +7,20 @@ import math
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from lxml import etree
 
+from homesim.errors import ScenarioError, TaskFailedError
 from homesim.scenario.loader import load_scenario_text
-from homesim.scenario.model import Face, Leave, Repeat, Say, Target, WalkTo
+from homesim.scenario.model import Door, Face, Leave, Repeat, Say, Target, WalkTo, Wall
 from homesim.sim import Simulation
+from homesim.world.geometry import split_wall, wall_rectangle
+from homesim.world.pathplan import MIN_DOOR_WIDTH, Grid, door_frame, door_sides
 from homesim.world.stage import Stage
+from humans.script import ScriptError
+from tests.conftest import examples
 from tests.world_helpers import ROOM
 
 ROOM_TEXT = ROOM.read_text(encoding="utf-8")
@@ -140,3 +147,90 @@ def test_run_time_guards_cover_scripts_built_without_the_loader():
         assert st.world.time == pytest.approx(12.0, abs=st.world.dt + 1e-9)
         sim.close()
     assert not st.world.humans["ann"].present and st.actors["ann"].done  # left once, then the repeat ended
+
+
+# ------------------------------------------------------- paths, doors, no wall walking
+def _crossings(track: np.ndarray, x_wall: float) -> list[float]:
+    """The y where a track crosses the vertical line x = x_wall (either way)."""
+    out = []
+    for (_, x0, y0), (_, x1, y1) in zip(track, track[1:]):
+        if (x0 - x_wall) * (x1 - x_wall) < 0:
+            out.append(y0 + (y1 - y0) * (x_wall - x0) / (x1 - x0))
+    return out
+
+
+def test_people_go_through_a_narrow_inner_door_never_through_its_wall():
+    """The review's leave2.py: a 0.6 m door used to be impassable on the 10 cm grid, and
+    the failed plan was silent, so the walk and then <leave> went straight through walls."""
+    text = ROOM_TEXT.replace('<wall from="5 4.5" to="5 5.9"/>', '<wall from="5 0" to="5 6"><door name="inner" at="3" width="0.6"/></wall>')
+    text = text.replace('<object name="book" type="book" colour="blue" x="4.0" y="3.0"/>', "")
+    text = text.replace('<human name="ann" x="3" y="3" heading="180" height="1.70" torso="yellow"/>', '<human name="ann" x="6.5" y="4.5" heading="180" height="1.70" torso="yellow"><script><walk-to point="2 4.5"/><leave/></script></human>')
+    sc = load_scenario_text(text, source="leave2.xml")
+    sim = Simulation(seed=1, scenario=sc.name)
+    st = Stage(sim, sc, actors=("humans.install",), truth_every=1)
+    st.run(15)
+    track = st.truth.track("ann")
+    inner, west = _crossings(track, 5.0), _crossings(track, 0.0)
+    assert len(inner) == 1 and 2.7 + 0.2 <= inner[0] <= 3.3 - 0.2  # through the gap, body clear of its edges
+    assert len(west) == 1 and 2.55 + 0.2 <= west[0] <= 3.45 - 0.2
+    assert not st.world.humans["ann"].present
+    sim.close()
+
+
+@settings(max_examples=examples(40, 300))
+@given(width=st.floats(MIN_DOOR_WIDTH, 1.2), at=st.floats(1.0, 5.0), angle=st.floats(0.0, math.pi), thickness=st.sampled_from([0.05, 0.1, 0.2]))
+def test_a_door_a_person_fits_through_is_passable_wherever_it_lies(width, at, angle, thickness):
+    """Passability used to depend on how the gap fell on the 10 cm grid (0.65 m at y=3.00 no, at 3.04 yes)."""
+    c, s = math.cos(angle), math.sin(angle)
+    wall = Wall((1.0, 1.0), (1.0 + 6 * c, 1.0 + 6 * s), thickness, (Door(at, width),))
+    polys = [wall_rectangle(a, b, thickness) for a, b in split_wall(wall.start, wall.end, [(at, width)])]
+    grid = Grid(polys, (1.0 - 6, 1.0 - 6, 1.0 + 6, 1.0 + 6))
+    assert grid.passable(wall, wall.doors[0])
+    inside, outside = door_sides(wall, wall.doors[0])
+    path = [inside] + grid.plan(inside, outside)
+    # Straight through: every waypoint stays within the gap's width of the door's centre line.
+    (cx, cy), (ux, uy) = door_frame(wall, wall.doors[0])
+    assert all(abs((x - cx) * ux + (y - cy) * uy) <= width / 2 for x, y in path)
+
+
+@pytest.mark.parametrize(
+    "old,new,message",
+    [
+        ('at="3" width="0.9" exit="true"', 'at="3" width="0.55" exit="true"', "door 'exit' is 0.55 m wide: a person"),
+        ('<place name="middle"', '<furniture name="chest" type="chest" points="0.1,2.5 0.5,2.5 0.5,3.5 0.1,3.5" height="0.8"/>\n    <place name="middle"', "door 'exit' cannot be walked through"),
+    ],
+)
+def test_doors_a_person_cannot_use_are_refused_naming_the_door(old, new, message):
+    text = ROOM_TEXT.replace(old, new)
+    with pytest.raises(ScenarioError, match=message) as exc:
+        load_scenario_text(text, source="doors.xml")
+    assert exc.value.line == text[: text.index("<door ")].count("\n") + 1
+
+
+def test_a_walk_to_a_closed_off_place_is_refused_naming_the_action():
+    # A closed box around the place 'middle': nobody can get in.
+    box = '<wall from="3 2" to="5 2"/><wall from="5 2" to="5 4"/><wall from="5 4" to="3 4"/><wall from="3 4" to="3 2"/>'
+    text = ROOM_TEXT.replace('<wall from="5 4.5" to="5 5.9"/>', box).replace('<object name="book" type="book" colour="blue" x="4.0" y="3.0"/>', "")
+    text = text.replace('x="3" y="3" heading="180"', 'x="2" y="5" heading="180"').replace('torso="yellow"/>', 'torso="yellow"><script>\n<wait for="1"/>\n<walk-to place="middle"/></script></human>')
+    with pytest.raises(ScenarioError, match="'ann' cannot reach place 'middle'") as exc:
+        load_scenario_text(text, source="box.xml")
+    assert exc.value.line == text[: text.index("<walk-to")].count("\n") + 1
+
+
+def test_a_failed_plan_at_run_time_fails_the_run_naming_the_action_never_walks_through_a_wall():
+    """Built in code (the loader would refuse it): the walk fails loudly and ann stays put."""
+    sc = load_scenario_text(ROOM_TEXT, source="humans.xml")
+    corners = [(3.0, 2.0), (5.0, 2.0), (5.0, 4.0), (3.0, 4.0)]
+    box = tuple(Wall(corners[i], corners[(i + 1) % 4], 0.1) for i in range(4))
+    walk = WalkTo(Target("point", x=4.0, y=3.0), line=42)  # inside the closed box
+    ann = dataclasses.replace(sc.human("ann"), x=2.0, y=5.0, script=(walk,))
+    scn = dataclasses.replace(sc, walls=sc.walls + box, humans=(ann,), objects=())
+    sim = Simulation(seed=1, scenario=scn.name)
+    st = Stage(sim, scn, actors=("humans.install",))
+    with pytest.raises(TaskFailedError) as exc:
+        st.run(5)
+    cause = exc.value.__cause__
+    assert isinstance(cause, ScriptError) and cause.line == 42 and cause.element == "walk-to"
+    assert "humans.xml:42" in str(exc.value)
+    assert st.world.humans["ann"].position == pytest.approx((2.0, 5.0))
+    sim.close()

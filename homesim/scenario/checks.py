@@ -6,7 +6,9 @@ that do not overlap, furniture is convex, door gaps fit their walls, start
 poses lie inside a room and clear of walls and furniture, objects stand on
 what they say they stand on, radios only say and wait, a script never
 has actions after a ``repeat`` that runs for ever, and every ``repeat``
-contains an action that can take time and no ``leave``. The first
+contains an action that can take time and no ``leave``. Every door is
+wide enough for a person and not blocked; every fixed place a person walks
+to, and the exit they leave by, is reachable from where they start. The first
 problem found raises a :class:`ScenarioError` naming the file, the line
 and the element.
 """
@@ -24,16 +26,19 @@ from ..world.geometry import (
     is_convex,
     point_in_polygon,
     polygon_area,
+    polygon_centroid,
     polygon_edges,
     polygon_problem,
     polygons_overlap,
     split_wall,
     wall_rectangle,
 )
+from ..world.pathplan import MIN_DOOR_WIDTH, WALKER_RADIUS, Grid, door_sides
 from .model import Action, Expectation, Face, Leave, PointAt, Repeat, Say, Scenario, Target, Wait, WaitFor, WalkTo
 
 ROBOT_RADIUS = 0.30
 HUMAN_RADIUS = 0.25
+MAX_EXTENT = 50.0  # metres: the largest flat (rooms and walls) a scenario may describe
 
 # Which target kinds each action accepts.
 _TARGET_KINDS = {
@@ -61,6 +66,7 @@ class _Checker:
     def run(self) -> None:
         sc = self.sc
         self.names()
+        self.extent()
         for k, room in enumerate(sc.rooms):
             problem = polygon_problem(np.array(room.polygon))
             if problem is not None:
@@ -105,6 +111,7 @@ class _Checker:
         for s in sc.sources:
             self.inside_flat((s.x, s.y), s.line, s.kind, f"{s.kind} {s.name!r}")
             self.script(s.script, s.name, person=False)
+        self.walkable()
         for e in sc.expectations:
             self.expectation(e)
 
@@ -128,6 +135,17 @@ class _Checker:
             self.kinds[name] = (kind, line)
 
     # ------------------------------------------------------------- geometry
+    def extent(self) -> None:
+        """The flat (rooms and walls) fits in a MAX_EXTENT square: people plan walks on a 5 cm grid of it."""
+        items = [(r.line, "room", list(r.polygon)) for r in self.sc.rooms]
+        items += [(w.line, "wall", [w.start, w.end]) for w in self.sc.walls]
+        pts = np.array([p for _, _, ps in items for p in ps], dtype=float)
+        lo = pts.min(axis=0)
+        for line, element, ps in items:
+            far = np.array(ps, dtype=float) - lo
+            if far.max() > MAX_EXTENT:
+                raise self.fail(line, element, f"this {element} reaches {far.max():.0f} m from the flat's corner at ({lo[0]:g}, {lo[1]:g}): a flat must fit in {MAX_EXTENT:g} x {MAX_EXTENT:g} m")
+
     def inside_flat(self, xy: tuple[float, float], line: int | None, element: str, what: str) -> None:
         if not any(point_in_polygon(xy, np.array(room.polygon)) for room in self.sc.rooms):
             raise self.fail(line, element, f"{what} at ({xy[0]}, {xy[1]}) is not inside any room")
@@ -177,6 +195,48 @@ class _Checker:
                 if not _takes_time(act.body):
                     raise self.fail(act.line, tag, "a repeat must wait, walk, point or say, or it never lets time pass")
                 self.script(act.body, owner, person=person, repeat=act)
+
+    # ------------------------------------------------------------- walking
+    def walkable(self) -> None:
+        """Every door lets a person through; every fixed walk target and exit is reachable."""
+        sc = self.sc
+        grid = Grid.for_scenario(sc)
+        for wall in sc.walls:
+            for d in wall.doors:
+                what = f"door {d.name!r}" if d.name else f"the door at {d.at:g} m"
+                if d.width < MIN_DOOR_WIDTH - 1e-9:
+                    raise self.fail(d.line, "door", f"{what} is {d.width:g} m wide: a person ({WALKER_RADIUS:g} m radius) needs at least {MIN_DOOR_WIDTH:.2f} m")
+                if not grid.passable(wall, d):
+                    raise self.fail(d.line, "door", f"{what} cannot be walked through: walls or furniture next to it leave no room for a person ({WALKER_RADIUS:g} m radius)")
+        for h in sc.humans:
+            home = grid.component((h.x, h.y))
+            for act in _walk(h.script):
+                if isinstance(act, WalkTo) and act.target.kind not in ("robot", "human"):
+                    goal = self.fixed_point(act.target)
+                    what = f"{act.target.kind} {act.target.name!r}" if act.target.name else f"({goal[0]:g}, {goal[1]:g})"
+                elif isinstance(act, Leave):
+                    wall, door = next((w, d) for w, d in sc.exits() if act.door is None or d.name == act.door)
+                    a, b = door_sides(wall, door)
+                    goal = b if any(point_in_polygon(a, np.array(r.polygon)) for r in sc.rooms) else a
+                    what = f"the exit {door.name!r}" if door.name else "the exit"
+                else:
+                    continue
+                if grid.component(goal) != home:
+                    raise self.fail(act.line, _action_tag(act), f"{h.name!r} cannot reach {what} from the start at ({h.x:g}, {h.y:g}): walls or furniture close it off")
+
+    def fixed_point(self, t: Target) -> tuple[float, float]:
+        """Where a fixed target is (as World.target_point)."""
+        sc = self.sc
+        if t.kind == "point":
+            return t.x, t.y
+        if t.kind == "place":
+            p = sc.place(t.name or "")
+            return p.x, p.y
+        if t.kind == "object":
+            o = sc.object(t.name or "")
+            return o.x, o.y
+        poly = sc.room(t.name or "").polygon if t.kind == "room" else sc.piece(t.name or "").polygon
+        return polygon_centroid(np.array(poly))
 
     def target(self, t: Target, tag: str, line: int | None, owner: str | None = None) -> None:
         if t.kind not in _TARGET_KINDS[tag]:

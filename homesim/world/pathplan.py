@@ -1,57 +1,124 @@
 """Paths around obstacles for scripted people: an occupancy grid and A*.
 
-The grid covers the flat at ``cell`` metres; a cell is blocked when its
-centre lies inside a wall or a piece of furniture, or closer to one than
-the walker's ``clearance``. A* (8-connected, octile costs, ties broken by
-insertion order so paths are deterministic) finds a cell path, which is
-then shortened by line-of-sight smoothing over the grid. Doors are just
-gaps in the walls, so paths go through them when they are wide enough.
+The grid covers the flat (plus a margin outside it, for people leaving
+through a door) at ``cell`` metres (5 cm). A cell is blocked when its centre
+lies inside a wall or a piece of furniture, or closer to one than the
+walker's ``clearance`` (a person's radius, 0.25 m): a free cell is a place
+where a person's body fits. A* (8-connected, no corner cutting, octile
+costs, ties broken by insertion order so paths are deterministic) finds a
+cell path, which is then shortened by line-of-sight smoothing.
+
+Doors are gaps in the walls. A gap at least :data:`MIN_DOOR_WIDTH` wide
+(a person's diameter plus 10 cm) always leaves a corridor of free cells
+through it, however the door lies against the grid; the scenario checks
+refuse narrower or obstructed doors (:meth:`Grid.passable`), and targets a
+person cannot reach from where they start (:meth:`Grid.component`).
+
+``plan(..., avoid=[(x, y, r)])`` also keeps clear of discs (the robot's
+footprint), so people walk around the robot instead of into it.
 """
 
 from __future__ import annotations
 
 import heapq
 import math
+from collections import deque
+from collections.abc import Iterable, Sequence
 
 import numpy as np
 
-from .geometry import distance_points_segments, points_in_polygon, polygon_edges
+from ..scenario.model import Door, Scenario, Wall
+from .geometry import distance_points_segments, points_in_polygon, polygon_edges, split_wall, wall_rectangle
 
 Point = tuple[float, float]
+Disc = tuple[float, float, float]
 
-_MOVES = ((1, 0, 1.0), (-1, 0, 1.0), (0, 1, 1.0), (0, -1, 1.0), (1, 1, math.sqrt(2)), (1, -1, math.sqrt(2)), (-1, 1, math.sqrt(2)), (-1, -1, math.sqrt(2)))
+#: A scripted person's radius, which is the grid's clearance from obstacles.
+WALKER_RADIUS = 0.25
+#: Grid resolution (metres).
+CELL = 0.05
+#: The narrowest door a person can be planned through, whatever its position.
+MIN_DOOR_WIDTH = 2 * WALKER_RADIUS + 0.10
+#: How far outside the flat the grid reaches (people leave through exits).
+PAD = 1.5
+
+_SQRT2 = math.sqrt(2.0)
 
 
 class NoPathError(ValueError):
     """No free path between two points (a closed door, a walled-in goal)."""
 
 
+def walk_polygons(sc: Scenario) -> list[np.ndarray]:
+    """What people walk around: every wall piece (doors are gaps) and every piece of furniture."""
+    polys = []
+    for wall in sc.walls:
+        for a, b in split_wall(wall.start, wall.end, [(d.at, d.width) for d in wall.doors]):
+            polys.append(wall_rectangle(a, b, wall.thickness))
+    polys += [np.array(f.polygon, dtype=float) for f in sc.furniture]
+    return polys
+
+
+def door_frame(wall: Wall, door: Door) -> tuple[Point, Point]:
+    """The centre of a door gap and the unit direction of its wall."""
+    (ax, ay), (bx, by) = wall.start, wall.end
+    n = math.hypot(bx - ax, by - ay)
+    ux, uy = (bx - ax) / n, (by - ay) / n
+    return (ax + ux * door.at, ay + uy * door.at), (ux, uy)
+
+
+def door_sides(wall: Wall, door: Door) -> tuple[Point, Point]:
+    """Two points straight through a door, one each side, where a person stands clear of the wall."""
+    (cx, cy), (ux, uy) = door_frame(wall, door)
+    d = max(0.6, wall.thickness / 2 + WALKER_RADIUS + 0.1)
+    return (cx - uy * d, cy + ux * d), (cx + uy * d, cy - ux * d)
+
+
+def scenario_bounds(sc: Scenario) -> tuple[float, float, float, float]:
+    """(xmin, ymin, xmax, ymax) of the rooms and walls."""
+    pts = [p for r in sc.rooms for p in r.polygon]
+    pts += [w.start for w in sc.walls] + [w.end for w in sc.walls]
+    arr = np.array(pts, dtype=float)
+    lo, hi = arr.min(axis=0), arr.max(axis=0)
+    return float(lo[0]), float(lo[1]), float(hi[0]), float(hi[1])
+
+
 class Grid:
     """Blocked cells of the flat for one walker size."""
 
-    def __init__(self, polygons: list[np.ndarray], bounds: tuple[float, float, float, float], *, cell: float = 0.1, clearance: float = 0.25) -> None:
+    def __init__(self, polygons: Sequence[np.ndarray], bounds: tuple[float, float, float, float], *, cell: float = CELL, clearance: float = WALKER_RADIUS) -> None:
         xmin, ymin, xmax, ymax = bounds
-        pad = 1.5  # room outside the flat, for people leaving through a door
         self.cell = cell
-        self.x0, self.y0 = xmin - pad, ymin - pad
-        self.nx = int(math.ceil((xmax - xmin + 2 * pad) / cell))
-        self.ny = int(math.ceil((ymax - ymin + 2 * pad) / cell))
+        self.clearance = clearance
+        self.x0, self.y0 = xmin - PAD, ymin - PAD
+        self.nx = int(math.ceil((xmax - xmin + 2 * PAD) / cell))
+        self.ny = int(math.ceil((ymax - ymin + 2 * PAD) / cell))
         xs = self.x0 + (np.arange(self.nx) + 0.5) * cell
         ys = self.y0 + (np.arange(self.ny) + 0.5) * cell
-        gx, gy = np.meshgrid(xs, ys, indexing="ij")
-        centres = np.stack((gx.ravel(), gy.ravel()), axis=1)
-        blocked = np.zeros(centres.shape[0], dtype=bool)
+        blocked = np.zeros((self.nx, self.ny), dtype=bool)
         for poly in polygons:
+            poly = np.asarray(poly, dtype=float)
             lo, hi = poly.min(axis=0) - clearance - cell, poly.max(axis=0) + clearance + cell
-            near = np.flatnonzero(np.all((centres >= lo) & (centres <= hi), axis=1))
-            if near.size == 0:
+            i0, i1 = np.searchsorted(xs, lo[0]), np.searchsorted(xs, hi[0], side="right")
+            j0, j1 = np.searchsorted(ys, lo[1]), np.searchsorted(ys, hi[1], side="right")
+            if i0 >= i1 or j0 >= j1:
                 continue
-            pts = centres[near]
+            gx, gy = np.meshgrid(xs[i0:i1], ys[j0:j1], indexing="ij")
+            pts = np.stack((gx.ravel(), gy.ravel()), axis=1)
             a, b = polygon_edges(poly)
             hit = points_in_polygon(pts, poly) | (distance_points_segments(pts, a, b).min(axis=1) < clearance)
-            blocked[near[hit]] = True
-        self.blocked = blocked.reshape(self.nx, self.ny)
+            blocked[i0:i1, j0:j1] |= hit.reshape(i1 - i0, j1 - j0)
+        # A blocked border: the search never needs bounds checks on flat indices.
+        blocked[0, :] = blocked[-1, :] = True
+        blocked[:, 0] = blocked[:, -1] = True
+        self.blocked = blocked
+        self._components: np.ndarray | None = None
 
+    @classmethod
+    def for_scenario(cls, sc: Scenario, *, clearance: float = WALKER_RADIUS) -> Grid:
+        return cls(walk_polygons(sc), scenario_bounds(sc), clearance=clearance)
+
+    # ------------------------------------------------------------- cells
     def cell_of(self, p: Point) -> tuple[int, int]:
         i = int(math.floor((p[0] - self.x0) / self.cell))
         j = int(math.floor((p[1] - self.y0) / self.cell))
@@ -60,82 +127,194 @@ class Grid:
     def centre(self, c: tuple[int, int]) -> Point:
         return self.x0 + (c[0] + 0.5) * self.cell, self.y0 + (c[1] + 0.5) * self.cell
 
-    def free(self, c: tuple[int, int]) -> bool:
-        return 0 <= c[0] < self.nx and 0 <= c[1] < self.ny and not self.blocked[c]
+    def free(self, c: tuple[int, int], blocked: np.ndarray | None = None) -> bool:
+        b = self.blocked if blocked is None else blocked
+        return 0 <= c[0] < self.nx and 0 <= c[1] < self.ny and not b[c]
 
-    def nearest_free(self, c: tuple[int, int], *, max_radius: int = 15) -> tuple[int, int] | None:
-        """The free cell nearest to ``c`` (ring by ring, deterministic order)."""
-        if self.free(c):
+    def nearest_free(self, c: tuple[int, int], *, max_distance: float = 1.5, blocked: np.ndarray | None = None) -> tuple[int, int] | None:
+        """The free cell nearest to ``c`` within ``max_distance`` metres (deterministic ties)."""
+        b = self.blocked if blocked is None else blocked
+        if self.free(c, b):
             return c
-        for r in range(1, max_radius + 1):
-            ring = [(c[0] + di, c[1] + dj) for di in range(-r, r + 1) for dj in range(-r, r + 1) if max(abs(di), abs(dj)) == r]
-            ring = [q for q in ring if self.free(q)]
-            if ring:
-                return min(ring, key=lambda q: ((q[0] - c[0]) ** 2 + (q[1] - c[1]) ** 2, q))
-        return None
+        r = max(1, int(math.ceil(max_distance / self.cell)))
+        i0, i1 = max(c[0] - r, 0), min(c[0] + r + 1, self.nx)
+        j0, j1 = max(c[1] - r, 0), min(c[1] + r + 1, self.ny)
+        free = ~b[i0:i1, j0:j1]
+        if not free.any():
+            return None
+        di = np.arange(i0, i1)[:, None] - c[0]
+        dj = np.arange(j0, j1)[None, :] - c[1]
+        d2 = np.where(free, di * di + dj * dj, np.iinfo(np.int64).max)
+        k = int(np.argmin(d2))  # row-major: ties go to the smaller (i, j)
+        if d2.flat[k] > r * r:
+            return None
+        return i0 + k // (j1 - j0), j0 + k % (j1 - j0)
 
-    def line_free(self, a: Point, b: Point) -> bool:
+    def with_discs(self, discs: Iterable[Disc]) -> np.ndarray:
+        """A copy of the blocked cells with each disc (x, y, r), grown by the clearance, blocked too."""
+        blocked = self.blocked.copy()
+        for x, y, r in discs:
+            rr = r + self.clearance
+            i0, j0 = self.cell_of((x - rr, y - rr))
+            i1, j1 = self.cell_of((x + rr, y + rr))
+            xs = self.x0 + (np.arange(i0, i1 + 1) + 0.5) * self.cell
+            ys = self.y0 + (np.arange(j0, j1 + 1) + 0.5) * self.cell
+            blocked[i0 : i1 + 1, j0 : j1 + 1] |= (xs[:, None] - x) ** 2 + (ys[None, :] - y) ** 2 < rr * rr
+        return blocked
+
+    def line_free(self, a: Point, b: Point, blocked: np.ndarray | None = None) -> bool:
         """Whether the straight walk a -> b crosses only free cells."""
+        bl = self.blocked if blocked is None else blocked
         n = max(2, int(math.hypot(b[0] - a[0], b[1] - a[1]) / (self.cell * 0.5)) + 1)
-        for k in range(n + 1):
-            t = k / n
-            if not self.free(self.cell_of((a[0] + (b[0] - a[0]) * t, a[1] + (b[1] - a[1]) * t))):
-                return False
-        return True
+        t = np.linspace(0.0, 1.0, n + 1)
+        i = np.clip(np.floor((a[0] + (b[0] - a[0]) * t - self.x0) / self.cell).astype(int), 0, self.nx - 1)
+        j = np.clip(np.floor((a[1] + (b[1] - a[1]) * t - self.y0) / self.cell).astype(int), 0, self.ny - 1)
+        return not bool(bl[i, j].any())
 
-    def plan(self, start: Point, goal: Point) -> list[Point]:
+    # ------------------------------------------------------------ planning
+    def plan(self, start: Point, goal: Point, *, avoid: Iterable[Disc] = ()) -> list[Point]:
         """Waypoints from ``start`` to ``goal`` (excluding start, ending at goal or the
-        nearest free point to it). Raises NoPathError when the goal is unreachable."""
-        s = self.nearest_free(self.cell_of(start))
-        g = self.nearest_free(self.cell_of(goal))
+        nearest free point to it), keeping clear of the ``avoid`` discs.
+        Raises NoPathError when the goal is unreachable."""
+        avoid = list(avoid)
+        blocked = self.with_discs(avoid) if avoid else self.blocked
+        s = self.nearest_free(self.cell_of(start), blocked=blocked)
+        g = self.nearest_free(self.cell_of(goal), blocked=blocked)
         if s is None or g is None:
-            raise NoPathError(f"no free space near {start if s is None else goal}")
-        end = goal if self.free(self.cell_of(goal)) else self.centre(g)
-        if self.line_free(start, end) and self.free(self.cell_of(start)):
+            raise NoPathError(f"no free space near ({(start if s is None else goal)[0]:.2f}, {(start if s is None else goal)[1]:.2f})")
+        end = goal if self.free(self.cell_of(goal), blocked) else self.centre(g)
+        if self.free(self.cell_of(start), blocked) and self.line_free(start, end, blocked):
             return [end]
-        cells = self._astar(s, g)
+        cells = self._astar(blocked, s, g)
         pts = [self.centre(c) for c in cells[1:-1]] + [end]
-        return self._smooth(start, pts)
+        return self._smooth(start, pts, blocked)
 
-    def _astar(self, s: tuple[int, int], g: tuple[int, int]) -> list[tuple[int, int]]:
-        def h(c: tuple[int, int]) -> float:
-            dx, dy = abs(c[0] - g[0]), abs(c[1] - g[1])
-            return max(dx, dy) + (math.sqrt(2) - 1) * min(dx, dy)
-
+    def _astar(self, blocked: np.ndarray, s: tuple[int, int], g: tuple[int, int]) -> list[tuple[int, int]]:
+        ny = self.ny
+        free = (~blocked).ravel().tolist()
+        start, goal = s[0] * ny + s[1], g[0] * ny + g[1]
+        gi, gj = g
+        straight = ((ny, 1.0), (-ny, 1.0), (1, 1.0), (-1, 1.0))
+        # Diagonal moves with the two orthogonal cells they must not cut.
+        diagonal = ((ny + 1, ny, 1), (ny - 1, ny, -1), (-ny + 1, -ny, 1), (-ny - 1, -ny, -1))
+        k = _SQRT2 - 1.0
+        cost = {start: 0.0}
+        came: dict[int, int] = {}
         counter = 0
-        frontier: list[tuple[float, int, tuple[int, int]]] = [(h(s), counter, s)]
-        came: dict[tuple[int, int], tuple[int, int] | None] = {s: None}
-        cost = {s: 0.0}
+        frontier: list[tuple[float, int, int]] = [(0.0, 0, start)]
+        closed = set()
+        push, pop = heapq.heappush, heapq.heappop
         while frontier:
-            _, _, c = heapq.heappop(frontier)
-            if c == g:
+            _, _, c = pop(frontier)
+            if c == goal:
                 path = [c]
-                while came[path[-1]] is not None:
-                    path.append(came[path[-1]])  # type: ignore[arg-type]
-                return path[::-1]
-            for di, dj, w in _MOVES:
-                n = (c[0] + di, c[1] + dj)
-                if not self.free(n):
-                    continue
-                if di and dj and not (self.free((c[0] + di, c[1])) and self.free((c[0], c[1] + dj))):
-                    continue  # no corner cutting
-                nc = cost[c] + w
+                while path[-1] != start:
+                    path.append(came[path[-1]])
+                return [divmod(q, ny) for q in reversed(path)]
+            if c in closed:
+                continue
+            closed.add(c)
+            base = cost[c]
+            steps = [(c + d, w) for d, w in straight if free[c + d]]
+            steps += [(c + d, _SQRT2) for d, o1, o2 in diagonal if free[c + d] and free[c + o1] and free[c + o2]]
+            for n, w in steps:
+                nc = base + w
                 if nc < cost.get(n, math.inf):
                     cost[n] = nc
                     came[n] = c
+                    ni, nj = divmod(n, ny)
+                    dx, dy = abs(ni - gi), abs(nj - gj)
                     counter += 1
-                    heapq.heappush(frontier, (nc + h(n), counter, n))
-        raise NoPathError(f"no path from {self.centre(s)} to {self.centre(g)}")
+                    push(frontier, (nc + (dx + dy + (k - 1.0) * min(dx, dy)), counter, n))
+        raise NoPathError(f"no path from ({self.centre(s)[0]:.2f}, {self.centre(s)[1]:.2f}) to ({self.centre(g)[0]:.2f}, {self.centre(g)[1]:.2f})")
 
-    def _smooth(self, start: Point, pts: list[Point]) -> list[Point]:
+    def _smooth(self, start: Point, pts: list[Point], blocked: np.ndarray) -> list[Point]:
         out: list[Point] = []
         here = start
         i = 0
         while i < len(pts):
             j = len(pts) - 1
-            while j > i and not self.line_free(here, pts[j]):
+            while j > i and not self.line_free(here, pts[j], blocked):
                 j -= 1
             out.append(pts[j])
             here = pts[j]
             i = j + 1
         return out
+
+    # ------------------------------------------------- reachability (checks)
+    def component(self, p: Point) -> int:
+        """Which connected region of free space ``p`` (or the free cell nearest to it) is in; -1: none."""
+        if self._components is None:
+            self._components = self._label()
+        c = self.nearest_free(self.cell_of(p))
+        return -1 if c is None else int(self._components[c])
+
+    def _label(self) -> np.ndarray:
+        """Connected regions of free cells, 4-connected (as A* without corner cutting)."""
+        ny = self.ny
+        free = (~self.blocked).ravel().tolist()
+        labels = [0] * len(free)
+        steps = (ny, -ny, 1, -1)
+        n = 0
+        for seed in range(len(free)):
+            if not free[seed] or labels[seed]:
+                continue
+            n += 1
+            labels[seed] = n
+            todo = [seed]
+            while todo:
+                c = todo.pop()
+                for d in steps:
+                    q = c + d
+                    if free[q] and not labels[q]:  # the blocked border keeps q in range
+                        labels[q] = n
+                        todo.append(q)
+        return np.array(labels, dtype=np.int32).reshape(self.nx, self.ny)
+
+    def passable(self, wall: Wall, door: Door) -> bool:
+        """Whether a person can walk through a door gap, staying near it.
+
+        From any free cell on one side of the wall to any on the other,
+        within a box around the gap (0.5 m beyond its edges along the wall,
+        0.6 m beyond the clearance zone across it).
+        """
+        (cx, cy), (ux, uy) = door_frame(wall, door)
+        nx_, ny_ = -uy, ux
+        half_w = door.width / 2 + 0.5
+        half_t = wall.thickness / 2
+        half_d = half_t + self.clearance + 0.6
+
+        def where(c: tuple[int, int]) -> tuple[float, float]:
+            x, y = self.centre(c)
+            dx, dy = x - cx, y - cy
+            return dx * ux + dy * uy, dx * nx_ + dy * ny_
+
+        corners = [(cx + a * half_w * ux + b * half_d * nx_, cy + a * half_w * uy + b * half_d * ny_) for a in (-1, 1) for b in (-1, 1)]
+        lo = self.cell_of((min(p[0] for p in corners), min(p[1] for p in corners)))
+        hi = self.cell_of((max(p[0] for p in corners), max(p[1] for p in corners)))
+        box = set()
+        sources, targets = [], set()
+        for i in range(lo[0], hi[0] + 1):
+            for j in range(lo[1], hi[1] + 1):
+                if self.blocked[i, j]:
+                    continue
+                s, t = where((i, j))
+                if abs(s) > half_w or abs(t) > half_d:
+                    continue
+                box.add((i, j))
+                if t > half_t:
+                    sources.append((i, j))
+                elif t < -half_t:
+                    targets.add((i, j))
+        seen = set(sources)
+        todo = deque(sources)
+        while todo:
+            c = todo.popleft()
+            if c in targets:
+                return True
+            for d in ((1, 0), (-1, 0), (0, 1), (0, -1)):
+                n = (c[0] + d[0], c[1] + d[1])
+                if n in box and n not in seen:
+                    seen.add(n)
+                    todo.append(n)
+        return False

@@ -36,7 +36,7 @@ from .bodies import (
     RobotBody,
 )
 from .geometry import is_convex, polygon_area, polygon_centroid, polygon_edges, split_wall, wall_rectangle
-from .pathplan import Grid
+from .pathplan import WALKER_RADIUS, Grid, door_sides, scenario_bounds
 from .raycast import RayCaster
 
 StepListener = Callable[["World"], None]
@@ -294,34 +294,25 @@ class World:
                 return room.name
         return None
 
-    def walk_grid(self, clearance: float = 0.28) -> Grid:
+    def walk_grid(self, clearance: float = WALKER_RADIUS) -> Grid:
         """The occupancy grid people plan their walks on (built once per clearance)."""
         grid = self._grids.get(clearance)
         if grid is None:
-            polys = [o.polygon for o in self.obstacles if o.kind != "leg"]
-            grid = self._grids[clearance] = Grid(polys, self.bounds(), clearance=clearance)
+            grid = self._grids[clearance] = Grid.for_scenario(self.scenario, clearance=clearance)
         return grid
 
     def exit_points(self, door: str | None = None) -> tuple[tuple[float, float], tuple[float, float]]:
-        """(inside, outside) points 0.6 m either side of an exit door (the first when None)."""
+        """(inside, outside) points straight through an exit door, clear of the wall (the first exit when None)."""
         for wall, d in self.scenario.exits():
             if door is not None and d.name != door:
                 continue
-            (ax, ay), (bx, by) = wall.start, wall.end
-            n = math.hypot(bx - ax, by - ay)
-            ux, uy = (bx - ax) / n, (by - ay) / n
-            cx, cy = ax + ux * d.at, ay + uy * d.at
-            p1, p2 = (cx - uy * 0.6, cy + ux * 0.6), (cx + uy * 0.6, cy - ux * 0.6)
+            p1, p2 = door_sides(wall, d)
             return (p1, p2) if self.room_of(*p1) is not None else (p2, p1)
         raise KeyError(f"no exit door named {door!r}" if door else "the flat has no exit door")
 
     def bounds(self) -> tuple[float, float, float, float]:
         """(xmin, ymin, xmax, ymax) of the rooms and walls."""
-        pts = [p for r in self.scenario.rooms for p in r.polygon]
-        pts += [w.start for w in self.scenario.walls] + [w.end for w in self.scenario.walls]
-        arr = np.array(pts, dtype=float)
-        lo, hi = arr.min(axis=0), arr.max(axis=0)
-        return float(lo[0]), float(lo[1]), float(hi[0]), float(hi[1])
+        return scenario_bounds(self.scenario)
 
 
 def table_legs(f: Furniture) -> list[np.ndarray]:
