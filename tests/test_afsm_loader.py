@@ -127,3 +127,42 @@ def test_cli_show_renders_dot_and_mermaid(capsys):
     assert main(["afsm", "show", "robot/afsm/biron.scxml", "--format", "mermaid"]) == 0
     mm = capsys.readouterr().out
     assert mm.startswith("stateDiagram-v2") and "state Interaction {" in mm
+
+
+# ------------------------------------------- every problem, in one run (check_all)
+H2 = ('<scxml xmlns="http://www.w3.org/2005/07/scxml" xmlns:es="urn:homesim:afsm:1" version="1.0" initial="A">\n'
+      '<es:module name="dialog" layer="deliberative"/>\n')
+
+
+@pytest.mark.parametrize("body, expected", [
+    pytest.param('<state id="A">\n<onentry/>\n<transition event="x" target="Nowhere"/>\n</state>',
+                 [(4, "<onentry> is not supported"), (5, "target 'Nowhere' does not exist")], id="unsupported+semantic"),
+    pytest.param('<state id="A" colour="red">\n<transition event="x" target="Nowhere"/>\n</state>',
+                 [(3, "attribute 'colour'"), (4, "target 'Nowhere' does not exist")], id="attribute+semantic"),
+    pytest.param('<state id="A">\n<foo/>\n<bar/>\n<transition event="x" target="A"/>\n</state>',
+                 [(4, "'foo': This element is not expected"), (5, "'bar': This element is not expected")],
+                 id="two-unknown-elements"),
+    pytest.param('<state id="A">\n<foo/>\n<transition event="x" target="A" colour="r"/>\n</state>',
+                 [(4, "'foo': This element is not expected"), (5, "attribute 'colour'")],
+                 id="unknown-element-then-attribute"),
+    pytest.param('<state id="A">\n<transition event="x" target="A">\n<send event="o" target="dialog" es:kind="sometimes"/>\n'
+                 '</transition>\n<transition event="y" target="Nowhere"/>\n</state>\n<es:event name="e" lifetime="-1"/>',
+                 [(5, "'sometimes'"), (7, "target 'Nowhere' does not exist"), (9, "'-1'")], id="bad-values+semantic"),
+    pytest.param('<es:module name="m" layer="sideways"/>\n<state id="A">\n<transition event="x" target="A">\n'
+                 '<send event="o" target="m" es:kind="order"/></transition>\n</state>',
+                 [(3, "'sideways'")], id="bad-module-not-repeated-as-unknown-module"),
+])
+def test_check_reports_schema_and_semantic_problems_together(body, expected):
+    found = [(p.line, p.message) for p in check(H2 + body + "\n</scxml>", source="m.scxml")]
+    assert len(found) == len(expected), found
+    for (line, words), (fline, fmsg) in zip(expected, found):
+        assert fline == line and words in fmsg, found
+
+
+def test_problems_name_the_line_an_element_starts_on():
+    text = (HEAD + ' initial="A">\n<state id="A">\n  <transition\n      event="x"\n      target="Nowhere"/>\n'
+            '  <transition event="y"\n      target="A"\n      cond="@a ="/>\n</state>\n<state\n   id="B"\n   colour="c"/>\n</scxml>')
+    found = [(p.line, p.message) for p in check(text, source="m.scxml")]
+    assert [line for line, _ in found] == [3, 6, 10, 10], found
+    assert "Nowhere" in found[0][1] and "XPath" in found[1][1]
+    assert {"colour" in found[2][1] or "colour" in found[3][1], "unreachable" in found[2][1] + found[3][1]} == {True}

@@ -23,8 +23,9 @@ file, the line and the rule broken. SCXML features the engine does not
 implement (``<parallel>``, ``<onentry>``, ``delay`` ...) are named as such
 rather than left to a generic schema message. :func:`check` returns every
 problem found; :func:`load`/:func:`loads` raise :class:`AFSMProblems` carrying
-them all. Malformed XML stops at the parser; schema problems stop before the
-semantic stage (whose checks would only repeat them).
+them all. Malformed XML stops at the parser; after a schema problem, the
+offending element or attribute is taken out and the rest is checked again,
+then modelled and checked semantically, so one run reports every problem.
 """
 
 from __future__ import annotations
@@ -97,6 +98,49 @@ def _seconds_ns(text: str) -> int:
     return int(Decimal(text.strip()) * 1_000_000_000)
 
 
+# ------------------------------------------------------------------ parsing
+_TOKENS = re.compile(rb"<!--.*?-->|<!\[CDATA\[.*?\]\]>|<\?.*?\?>|</[^>]*>|<([^\s/>!?]+)", re.S)
+
+
+def _start_lines(root: etree._Element, data: bytes) -> None:
+    """Give every element the line its start tag *begins* on.
+
+    libxml2 records the line where a start tag ends, so an element whose
+    attributes span several lines would be reported at its last line. ``<``
+    cannot occur inside attribute values, so the k-th start tag in the text
+    is the k-th element in document order; if the counts disagree nothing is
+    changed.
+    """
+    starts = []
+    line, pos = 1, 0
+    for m in _TOKENS.finditer(data):
+        if m.group(1) is not None:
+            line += data.count(b"\n", pos, m.start())
+            pos = m.start()
+            starts.append(line)
+    elements = list(root.iter(etree.Element))
+    if len(starts) != len(elements):
+        return
+    for el, line in zip(elements, starts):
+        if el.sourceline != line and line < 65535:
+            el.sourceline = line
+
+
+def _parse(data: bytes | str, source: str) -> etree._Element:
+    raw = data.encode("utf-8") if isinstance(data, str) else data
+    root = parse_bytes(raw, source=source)
+    _start_lines(root, raw)
+    return root
+
+
+def _parse_path(path: str | os.PathLike[str]) -> etree._Element:
+    try:
+        raw = Path(path).read_bytes()
+    except OSError:
+        return parse_file(path)  # the hardened parser names the problem
+    return _parse(raw, str(path))
+
+
 # ------------------------------------------------------------------- stages
 def _profile_problems(root: etree._Element, source: str) -> list[AFSMError]:
     """SCXML features outside the ES profile, named precisely (before the XSD's generic words)."""
@@ -146,13 +190,114 @@ def _without_unsupported(root: etree._Element) -> etree._Element:
     return copy
 
 
-def _schema_problems(root: etree._Element, source: str) -> list[AFSMError]:
-    out = []
-    for line, message in profile_schema().errors(_without_unsupported(root)):
-        m = re.match(r"Element '([^']*)'", message)
-        element = _label(m.group(1)) if m else None
-        out.append(AFSMError(f"schema {PROFILE_XSD.name}: {_label(message)}", source=source, line=line or None, element=element))
-    return out
+#: Attributes the profile requires: an element whose required attribute is
+#: missing or invalid cannot be understood and is left out of the model.
+REQUIRED_ATTRIBUTES = {
+    _S + "state": ("id",),
+    _S + "transition": ("event",),
+    _S + "send": ("event", "target", _E + "kind"),
+    _S + "param": ("name", "expr"),
+    _E + "module": ("name", "layer"),
+    _E + "event": ("name",),
+}
+
+_ATTRIBUTE_IN_MESSAGE = re.compile(r"^Element '[^']*', attribute '([^']*)'")
+_PATH_STEP = re.compile(r"^(?:([^:\[]+):)?([^\[]+)(?:\[(\d+)\])?$")
+
+
+def _resolve_path(root: etree._Element, path: str | None) -> etree._Element | None:
+    """The element a libxml2 node path (``/*/*[2]/es:module[3]``) names, or None.
+
+    libxml2 writes ``*[n]`` for an element in a default namespace (n counts
+    every element sibling) and ``prefix:name[n]`` for a prefixed one (n counts
+    siblings with that prefix and name).
+    """
+    if not path or not path.startswith("/"):
+        return None
+    steps = path[1:].split("/")
+    cur: etree._Element | None = None
+    for k, step in enumerate(steps):
+        m = _PATH_STEP.match(step)
+        if m is None:
+            return None
+        prefix, name, index = m.group(1), m.group(2), int(m.group(3) or 1)
+        siblings = [root] if k == 0 else [c for c in cur if isinstance(c.tag, str)]  # type: ignore[union-attr]
+        if name != "*":
+            siblings = [c for c in siblings if etree.QName(c).localname == name and c.prefix == prefix]
+        if index > len(siblings):
+            return None
+        cur = siblings[index - 1]
+    return cur
+
+
+def _schema_pass(root: etree._Element, source: str) -> tuple[etree._Element, list[AFSMError], set[str]]:
+    """Every schema problem, and a stripped copy of ``root`` that satisfies the schema.
+
+    libxml2 stops checking a parent's later children after one unexpected
+    element, so one validation does not find every problem. Each round takes
+    out what the reported problems point at (an unexpected element; an
+    attribute that is not allowed or has a bad value; an element whose
+    required attribute is missing or bad) and validates again, until no new
+    problem appears. The copy keeps every line number, so the model built
+    from it and its semantic problems name the right lines. Returns the copy,
+    the problems and the names (state ids, module names) of elements taken
+    out, so that problems that only follow from them are not repeated.
+    """
+    copy = _without_unsupported(root)
+    xsd = profile_schema()._xsd
+    seen: set[tuple[int, str]] = set()
+    problems: list[AFSMError] = []
+    withdrawn: set[str] = set()
+    for _round in range(len(copy.xpath("//*")) + 2):  # each round removes something, or stops
+        if xsd.validate(copy):
+            break
+        entries = list(xsd.error_log)
+        fresh = False
+        actions: list[tuple[etree._Element, str | None, bool]] = []
+        for e in entries:
+            key = (e.line, e.message)
+            if key not in seen:
+                seen.add(key)
+                fresh = True
+                m = re.match(r"Element '([^']*)'", e.message)
+                element = _label(m.group(1)) if m else None
+                problems.append(AFSMError(f"schema {PROFILE_XSD.name}: {_label(e.message)}", source=source,
+                                          line=e.line or None, element=element))
+            node = _resolve_path(copy, e.path)
+            if node is None:
+                continue
+            am = _ATTRIBUTE_IN_MESSAGE.match(e.message)
+            attr = am.group(1) if am else None
+            if "This element is not expected" in e.message:
+                actions.append((node, None, True))
+            elif attr is not None and "is required but missing" not in e.message \
+                    and attr not in REQUIRED_ATTRIBUTES.get(node.tag, ()):
+                actions.append((node, attr, False))
+            else:
+                actions.append((node, None, True))
+        if not fresh or not actions:
+            break
+        for node, attr, drop in actions:
+            if drop:
+                parent = node.getparent()
+                if parent is None:
+                    continue  # the root stays; its problems are reported
+                for el in node.iter(_S + "state", _E + "module"):
+                    name = el.get("id") if el.tag == _S + "state" else el.get("name")
+                    if name:
+                        withdrawn.add(name)
+                parent.remove(node)
+            else:
+                node.attrib.pop(attr, None)  # type: ignore[arg-type]
+    return copy, problems, withdrawn
+
+
+def _follows_from_withdrawn(problem: AFSMError, withdrawn: set[str]) -> bool:
+    """A semantic problem that only repeats a schema problem (a target or module taken out)."""
+    msg = problem.message
+    if "does not exist" not in msg and "unknown module" not in msg:
+        return False
+    return any(f"{name!r}" in msg for name in withdrawn)
 
 
 def _doc_comment(el: etree._Element) -> str:
@@ -243,21 +388,23 @@ def check_root(root: etree._Element, *, source: str, fragment: bool = False) -> 
     problems = _profile_problems(root, source)
     if problems and root.tag != _S + "scxml":
         return None, problems
-    problems += _schema_problems(root, source)
-    if problems:
-        return None, sorted(problems, key=lambda p: p.line or 0)
+    stripped, schema_problems, withdrawn = _schema_pass(root, source)
+    problems += schema_problems
     try:
-        machine, dup = _build(root, source)
-    except (InvalidOperation, ValueError) as exc:  # pragma: no cover - the XSD types lifetimes
-        return None, [AFSMError(f"cannot read the document: {exc}", source=source)]
-    problems = sorted(dup + ([] if fragment else validate(machine)), key=lambda p: p.line or 0)
-    return machine, problems
+        machine, dup = _build(stripped, source)
+    except (InvalidOperation, ValueError) as exc:  # pragma: no cover - bad values are stripped
+        return None, sorted(problems + [AFSMError(f"cannot read the document: {exc}", source=source)],
+                            key=lambda p: p.line or 0)
+    semantic = dup + ([] if fragment else validate(machine))
+    problems += [p for p in semantic if not _follows_from_withdrawn(p, withdrawn)]
+    problems.sort(key=lambda p: p.line or 0)
+    return (None if problems else machine), problems
 
 
 def check(data: bytes | str, *, source: str = "<string>") -> list[AFSMError]:
     """Every problem of an AFSM document given as text (empty list when it loads)."""
     try:
-        root = parse_bytes(data, source=source)
+        root = _parse(data, source)
     except XMLInputError as exc:
         return [AFSMError(exc.message, source=exc.source, line=exc.line)]
     return check_root(root, source=source)[1]
@@ -266,7 +413,7 @@ def check(data: bytes | str, *, source: str = "<string>") -> list[AFSMError]:
 def check_file(path: str | os.PathLike[str]) -> list[AFSMError]:
     """Every problem of an AFSM file (empty list when it loads)."""
     try:
-        root = parse_file(path)
+        root = _parse_path(path)
     except XMLInputError as exc:
         return [AFSMError(exc.message, source=exc.source, line=exc.line)]
     return check_root(root, source=str(path))[1]
@@ -282,12 +429,12 @@ def from_element(root: etree._Element, *, source: str, fragment: bool = False) -
 
 def loads(data: bytes | str, *, source: str = "<string>", fragment: bool = False) -> Machine:
     """Load an AFSM from text. Raises XMLInputError (malformed) or AFSMProblems."""
-    return from_element(parse_bytes(data, source=source), source=source, fragment=fragment)
+    return from_element(_parse(data, source), source=source, fragment=fragment)
 
 
 def load(path: str | os.PathLike[str], *, fragment: bool = False) -> Machine:
     """Load an AFSM file. Raises XMLInputError (malformed) or AFSMProblems naming file and lines."""
-    return from_element(parse_file(path), source=str(path), fragment=fragment)
+    return from_element(_parse_path(path), source=str(path), fragment=fragment)
 
 
 # --------------------------------------------------------------------- dump
