@@ -375,22 +375,29 @@ class ExecutionSupervisor(Module):
 
     # -------------------------------------------------------- modification
     def replace(self, machine: Machine | str | os.PathLike[str]) -> None:
-        """Swap the AFSM without restarting; refused (AFSMModificationRefused) with the reason."""
+        """Swap the AFSM without restarting; refused (AFSMModificationRefused) with the reason.
+
+        Everything is checked before anything changes: a refused replacement
+        leaves the machine, the queue (with each event's status) and the
+        bus channels exactly as they were.
+        """
         m = self._as_machine(machine)
-        self.engine.replace(m)
-        self._after_change(m)
+        self._change(lambda: (self.engine.replace(m), m)[1])
 
     def extend(self, extension: Machine | str | os.PathLike[str]) -> None:
-        """Merge states/transitions into the running AFSM; refused with the reason if invalid."""
+        """Merge states/transitions into the running AFSM; refused with the reason, changing nothing."""
         ext = self._as_machine(extension, fragment=True)
+        self._change(lambda: self.engine.extend(ext))
+
+    def _change(self, swap: Any) -> None:
         try:
-            merged = self.engine.extend(ext)
+            m = swap()  # validates (module names included) before it swaps, or raises
         except AFSMModificationRefused:
             raise
         except AFSMError as exc:
             raise AFSMModificationRefused(f"refused: {exc.message}", source=exc.source, line=exc.line,
                                           element=exc.element) from exc
-        self._after_change(merged)
+        self._after_change(m)
 
     def _as_machine(self, machine: Machine | str | os.PathLike[str], *, fragment: bool = False) -> Machine:
         if isinstance(machine, Machine):

@@ -166,3 +166,15 @@ def test_problems_name_the_line_an_element_starts_on():
     assert [line for line, _ in found] == [3, 6, 10, 10], found
     assert "Nowhere" in found[0][1] and "XPath" in found[1][1]
     assert {"colour" in found[2][1] or "colour" in found[3][1], "unreachable" in found[2][1] + found[3][1]} == {True}
+
+
+@pytest.mark.parametrize("name", ["arm*", "arm/left", "two words", "1arm", "es:arm"])
+def test_module_names_are_ncnames_in_the_schema_and_in_validate(name):
+    from homesim.afsm.model import ModuleDecl, validate
+
+    found = problems(doc(f'<es:module name="{name}" layer="reactive"/>\n<state id="A"/>'))
+    assert any(line == 3 and "NCName" in msg for line, msg in found), found
+    m = loads(doc('<state id="A"/>'), source="m.scxml")
+    m.modules[name] = ModuleDecl(name, "reactive", 9)
+    (p,) = validate(m)
+    assert (p.source, p.line) == ("m.scxml", 9) and "NCName" in p.message

@@ -8,7 +8,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from lxml import etree
 
-from homesim.errors import AFSMModificationRefused, MessageValidationError, RemoteCallFailed
+from homesim.errors import AFSMError, AFSMModificationRefused, MessageValidationError, RemoteCallFailed
 from homesim.network import LinkModel
 from homesim.sim import Simulation
 from .conftest import examples
@@ -393,3 +393,64 @@ def test_with_a_cost_no_event_is_applied_after_expiry_and_outputs_leave_in_decis
         assert sent == expected
     finally:
         w.sim.close()
+
+
+# ------------------------------------------- refused changes change nothing
+def _arm_extension(module: str) -> "Machine":
+    from homesim.afsm.model import Machine, ModuleDecl, Send, State, Transition
+
+    wave = Transition("wave", "LookingAround", sends=(Send("order", module, "wave", (), 4),), line=3)
+    return Machine(name="ext", states={"LookingAround": State("LookingAround", transitions=[wave], line=3)},
+                   roots=["LookingAround"], modules={module: ModuleDecl(module, "reactive", 2)}, source="ext.scxml")
+
+
+def _everything(es) -> tuple:
+    from homesim.afsm.loader import dumps
+
+    queue = [(q.event.id, q.status, q.retained_in, q.expires_ns) for q in es.engine.queued()]
+    channels = {ch: es.sim.bus.channel_schema(ch) for ch in
+                [f"{ORDER_PREFIX}/arm", f"{ORDER_PREFIX}/arm*", f"{CONDITION_PREFIX}/arm", f"{REJECTED_PREFIX}/arm"]}
+    return dumps(es.engine.machine), es.state, queue, channels, es.engine.stats()
+
+
+@pytest.mark.parametrize("change", [
+    pytest.param(lambda es: es.extend(_arm_extension("arm*")), id="module-name-api"),
+    pytest.param(lambda es: es.extend(EXTENSION.replace('target="player"', 'target="arm*"').replace(
+        "<state id=\"Interacting\">", '<es:module name="arm*" layer="reactive"/><state id="Interacting">')), id="module-name-text"),
+    pytest.param(lambda es: es.extend(EXTENSION.replace('target="Dancing"', 'target="Ghost"')), id="bad-target"),
+    pytest.param(lambda es: es.extend('<scxml xmlns="http://www.w3.org/2005/07/scxml" xmlns:es="urn:homesim:afsm:1" '
+                                      'version="1.0"><es:module name="dialog" layer="reactive"/></scxml>'), id="layer-conflict"),
+    pytest.param(lambda es: es.replace('<scxml xmlns="http://www.w3.org/2005/07/scxml" version="1.0">'
+                                       '<state id="Elsewhere"/></scxml>'), id="state-would-vanish"),
+])
+def test_a_refused_change_leaves_machine_queue_and_channels_exactly_as_before(world, change):
+    world.at(0.5, world.greet)  # retained in LookingAround
+    world.sim.run(until=1.0)
+    before = _everything(world.es)
+    with pytest.raises(AFSMError):
+        change(world.es)
+    assert _everything(world.es) == before
+    world.sim.run(until=1.5)  # and the ES still runs
+
+
+def test_an_accepted_extension_declares_the_new_module_channels(world):
+    world.es.extend(_arm_extension("arm"))
+    assert world.sim.bus.channel_schema(f"{ORDER_PREFIX}/arm") is not None
+
+
+def test_a_machine_with_a_bad_module_name_is_refused_at_construction_with_file_and_line():
+    from homesim.afsm.loader import load
+    from robot.supervisor import BIRON_AFSM
+
+    m = load(BIRON_AFSM)
+    from homesim.afsm.model import ModuleDecl
+
+    m.modules["arm/left"] = ModuleDecl("arm/left", "reactive", 7)
+    sim = Simulation(seed=1)
+    try:
+        with pytest.raises(AFSMError) as info:
+            ExecutionSupervisor(sim, m)
+        assert info.value.source == str(BIRON_AFSM) and info.value.line == 7
+        assert "NCName" in str(info.value)
+    finally:
+        sim.close()

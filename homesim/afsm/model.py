@@ -41,6 +41,9 @@ LAYER_OF_KIND = {CONDITION: ("deliberative",), ORDER: ("intermediate", "reactive
 DEFAULT_LIFETIME_NS = 5_000_000_000
 
 _EVENT_NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_.\-]*$")
+#: A module name: an XML NCName (letters, digits, ``_ . -``, not starting with a
+#: digit, ``.`` or ``-``); it becomes a bus channel segment, so no ``/ * :`` or spaces.
+_MODULE_NAME = re.compile(r"^[^\W\d][\w.\-]*$")
 
 
 @dataclass(frozen=True, slots=True)
@@ -262,8 +265,8 @@ def reachable_leaves(m: Machine) -> list[str]:
 def validate(m: Machine) -> list[AFSMError]:
     """Every semantic problem of ``m`` (empty list when it can run).
 
-    Rules: at least one state; the initial states exist (a category's initial
-    is one of its descendants); every target exists; event names are plain
+    Rules: at least one state; module names are NCNames; the initial states
+    exist (a category's initial is one of its descendants); every target exists; event names are plain
     names (no SCXML wildcards or prefix lists); guards and parameters are
     valid XPath; every send goes to a declared module, orders downward and
     conditions upward; lifetimes are positive; every leaf is reachable.
@@ -277,7 +280,10 @@ def validate(m: Machine) -> list[AFSMError]:
         add(_err(m, f"initial state {m.initial!r} does not exist (rule: initial names a state)", m.line, "scxml"))
     if m.default_lifetime_ns <= 0:
         add(_err(m, "default lifetime must be positive", m.line, "scxml"))
-    for decl in m.modules.values():
+    for key, decl in m.modules.items():
+        if not isinstance(decl.name, str) or not _MODULE_NAME.fullmatch(decl.name) or key != decl.name:
+            add(_err(m, f"module name {decl.name!r} is not an NCName (rule: module names are XML NCNames, "
+                        "used as bus channel segments: letters, digits, _ . -)", decl.line, "es:module"))
         if decl.layer not in LAYERS:
             add(_err(m, f"module {decl.name!r} has unknown layer {decl.layer!r} (one of {', '.join(LAYERS)})", decl.line, "es:module"))
     for decl in m.events.values():
@@ -306,7 +312,7 @@ def validate(m: Machine) -> list[AFSMError]:
 
 
 def _check_transition(m: Machine, st: State, t: Transition, add: Any) -> None:
-    if not _EVENT_NAME.match(t.event):
+    if not _EVENT_NAME.fullmatch(t.event):
         add(_err(m, f"transition in {st.id!r}: event {t.event!r} is not a plain event name (wildcards and prefix matching are not supported)", t.line, "transition"))
     if t.target is not None and t.target not in m.states:
         add(_err(m, f"transition in {st.id!r} on {t.event!r}: target {t.target!r} does not exist (rule: targets name a state)", t.line, "transition"))
