@@ -203,3 +203,33 @@ def test_rendering_shows_categories_and_current_state():
     view = AFSMView(m, current="A")
     assert view._repr_markdown_().startswith("```mermaid\nstateDiagram-v2")
     assert "2 states" not in repr(view) and "3 states, 1 categories" in repr(view)
+
+
+@pytest.mark.parametrize("body, line, words", [
+    ('<state id="A">\n\n<transition event="new" target="Ghost"/></state>', 4, "target 'Ghost' does not exist"),
+    ('<state id="A"><transition event="new" target="A">\n\n<send event="o" target="ghost" es:kind="order"/>'
+     '</transition></state>', 4, "unknown module 'ghost'"),
+    ('<state id="A"><transition event="new" target="A">\n<send event="o" target="attention" es:kind="order">\n'
+     '<param name="p" expr="@a ="/></send></transition></state>', 4, "invalid XPath"),
+    ('<state id="Cat">\n<state id="D"/></state>', 3, "'D' is unreachable"),
+])
+def test_errors_in_an_extension_name_the_extension_file_and_line(engine, tmp_path, body, line, words):
+    path = tmp_path / "ext.scxml"
+    path.write_text('<scxml xmlns="http://www.w3.org/2005/07/scxml" xmlns:es="urn:homesim:afsm:1" version="1.0">\n'
+                    + body + "\n</scxml>\n", encoding="utf-8")
+    from homesim.afsm.loader import load
+
+    with pytest.raises(AFSMModificationRefused) as info:
+        engine.extend(load(path, fragment=True))
+    assert (info.value.source, info.value.line) == (str(path), line), str(info.value)
+    assert words in info.value.message
+
+
+def test_a_problem_in_the_base_still_names_the_base_after_merging(engine):
+    from homesim.afsm.model import Machine, State, merge, validate
+
+    ext = Machine(name="ext", states={"A": State("A", transitions=[Transition("new", "Ghost", line=2)])},
+                  roots=["A"], source="api-ext")
+    (p,) = validate(merge(engine.machine, ext))
+    assert (p.source, p.line) == ("api-ext", 2)  # built by API: the extension's source
+    assert all(t.file == "t.scxml" for _, t in merge(engine.machine, ext).transitions() if t.event != "new")

@@ -335,14 +335,14 @@ def _build(root: etree._Element, source: str) -> tuple[Machine, list[AFSMError]]
             if name in m.modules:
                 problems.append(AFSMError(f"module {name!r} declared twice (first at line {m.modules[name].line})", source=source, line=el.sourceline, element="es:module"))
                 continue
-            m.modules[name] = ModuleDecl(name, el.get("layer"), el.sourceline)
+            m.modules[name] = ModuleDecl(name, el.get("layer"), el.sourceline, source)
         elif el.tag == _E + "event":
             name = el.get("name")
             if name in m.events:
                 problems.append(AFSMError(f"event {name!r} declared twice (first at line {m.events[name].line})", source=source, line=el.sourceline, element="es:event"))
                 continue
             lt = el.get("lifetime")
-            m.events[name] = EventDecl(name, _seconds_ns(lt) if lt else None, el.get("source"), el.sourceline)
+            m.events[name] = EventDecl(name, _seconds_ns(lt) if lt else None, el.get("source"), el.sourceline, source)
         elif el.tag == _S + "state":
             _build_state(m, el, None, problems)
     return m, problems
@@ -354,7 +354,7 @@ def _build_state(m: Machine, el: etree._Element, parent: str | None, problems: l
         first = m.states[sid].line
         problems.append(AFSMError(f"duplicate state id {sid!r} (first defined at line {first}; rule: ids are unique)", source=m.source, line=el.sourceline, element="state"))
         return
-    st = State(id=sid, parent=parent, initial=el.get("initial"), doc=_doc_comment(el), line=el.sourceline)
+    st = State(id=sid, parent=parent, initial=el.get("initial"), doc=_doc_comment(el), line=el.sourceline, file=m.source)
     m.states[sid] = st
     if parent is None:
         m.roots.append(sid)
@@ -362,19 +362,19 @@ def _build_state(m: Machine, el: etree._Element, parent: str | None, problems: l
         m.states[parent].children.append(sid)
     for child in el:
         if child.tag == _S + "transition":
-            st.transitions.append(_build_transition(child))
+            st.transitions.append(_build_transition(child, m.source))
         elif child.tag == _S + "state":
             _build_state(m, child, sid, problems)
 
 
-def _build_transition(el: etree._Element) -> Transition:
+def _build_transition(el: etree._Element, source: str) -> Transition:
     sends = []
     for s in el:
         if s.tag != _S + "send":
             continue
-        params = tuple(Param(p.get("name"), p.get("expr"), p.sourceline) for p in s if p.tag == _S + "param")
-        sends.append(Send(s.get(_E + "kind"), s.get("target"), s.get("event"), params, s.sourceline))
-    return Transition(el.get("event"), el.get("target"), el.get("cond"), tuple(sends), el.sourceline)
+        params = tuple(Param(p.get("name"), p.get("expr"), p.sourceline, source) for p in s if p.tag == _S + "param")
+        sends.append(Send(s.get(_E + "kind"), s.get("target"), s.get("event"), params, s.sourceline, source))
+    return Transition(el.get("event"), el.get("target"), el.get("cond"), tuple(sends), el.sourceline, source)
 
 
 # --------------------------------------------------------------- public API

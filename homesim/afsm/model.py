@@ -53,6 +53,7 @@ class Param:
     name: str
     expr: str
     line: int | None = field(default=None, compare=False)  # where it was written; not part of its meaning
+    file: str | None = field(default=None, compare=False)  # the file it was written in (None: the machine's)
 
 
 @dataclass(frozen=True, slots=True)
@@ -64,6 +65,7 @@ class Send:
     name: str  # message name (SCXML ``event`` attribute of <send>)
     params: tuple[Param, ...] = ()
     line: int | None = field(default=None, compare=False)  # where it was written; not part of its meaning
+    file: str | None = field(default=None, compare=False)  # the file it was written in (None: the machine's)
 
 
 @dataclass(frozen=True, slots=True)
@@ -75,6 +77,7 @@ class Transition:
     cond: str | None = None
     sends: tuple[Send, ...] = ()
     line: int | None = field(default=None, compare=False)  # where it was written; not part of its meaning
+    file: str | None = field(default=None, compare=False)  # the file it was written in (None: the machine's)
 
 
 @dataclass(slots=True)
@@ -94,6 +97,7 @@ class State:
     initial: str | None = None
     doc: str = ""
     line: int | None = field(default=None, compare=False)  # where it was written; not part of its meaning
+    file: str | None = field(default=None, compare=False)  # the file it was written in (None: the machine's)
 
     @property
     def is_category(self) -> bool:
@@ -107,6 +111,7 @@ class ModuleDecl:
     name: str
     layer: str
     line: int | None = field(default=None, compare=False)  # where it was written; not part of its meaning
+    file: str | None = field(default=None, compare=False)  # the file it was written in (None: the machine's)
 
 
 @dataclass(frozen=True, slots=True)
@@ -117,6 +122,7 @@ class EventDecl:
     lifetime_ns: int | None = None
     source: str | None = None
     line: int | None = field(default=None, compare=False)  # where it was written; not part of its meaning
+    file: str | None = field(default=None, compare=False)  # the file it was written in (None: the machine's)
 
 
 @dataclass(slots=True)
@@ -214,8 +220,9 @@ class Machine:
 
 
 # ---------------------------------------------------------------- validation
-def _err(m: Machine, msg: str, line: int | None, element: str | None) -> AFSMError:
-    return AFSMError(msg, source=m.source, line=line, element=element)
+def _err(m: Machine, msg: str, where: Any, element: str | None) -> AFSMError:
+    """A problem at ``where`` (an element of ``m``, or ``m``): in its own file, else the machine's."""
+    return AFSMError(msg, source=getattr(where, "file", None) or m.source, line=where.line, element=element)
 
 
 def _xpath_problem(expr: str) -> str | None:
@@ -274,27 +281,27 @@ def validate(m: Machine) -> list[AFSMError]:
     problems: list[AFSMError] = []
     add = problems.append
     if not m.states:
-        add(_err(m, "the machine has no states (rule: at least one <state>)", m.line, "scxml"))
+        add(_err(m, "the machine has no states (rule: at least one <state>)", m, "scxml"))
         return problems
     if m.initial is not None and m.initial not in m.states:
-        add(_err(m, f"initial state {m.initial!r} does not exist (rule: initial names a state)", m.line, "scxml"))
+        add(_err(m, f"initial state {m.initial!r} does not exist (rule: initial names a state)", m, "scxml"))
     if m.default_lifetime_ns <= 0:
-        add(_err(m, "default lifetime must be positive", m.line, "scxml"))
+        add(_err(m, "default lifetime must be positive", m, "scxml"))
     for key, decl in m.modules.items():
         if not isinstance(decl.name, str) or not _MODULE_NAME.fullmatch(decl.name) or key != decl.name:
             add(_err(m, f"module name {decl.name!r} is not an NCName (rule: module names are XML NCNames, "
-                        "used as bus channel segments: letters, digits, _ . -)", decl.line, "es:module"))
+                        "used as bus channel segments: letters, digits, _ . -)", decl, "es:module"))
         if decl.layer not in LAYERS:
-            add(_err(m, f"module {decl.name!r} has unknown layer {decl.layer!r} (one of {', '.join(LAYERS)})", decl.line, "es:module"))
+            add(_err(m, f"module {decl.name!r} has unknown layer {decl.layer!r} (one of {', '.join(LAYERS)})", decl, "es:module"))
     for decl in m.events.values():
         if decl.lifetime_ns is not None and decl.lifetime_ns <= 0:
-            add(_err(m, f"event {decl.name!r}: lifetime must be positive", decl.line, "es:event"))
+            add(_err(m, f"event {decl.name!r}: lifetime must be positive", decl, "es:event"))
         if decl.source is not None and decl.source not in m.modules:
-            add(_err(m, f"event {decl.name!r} comes from unknown module {decl.source!r} (rule: declare it with <es:module>)", decl.line, "es:event"))
+            add(_err(m, f"event {decl.name!r} comes from unknown module {decl.source!r} (rule: declare it with <es:module>)", decl, "es:event"))
     for st in m.states.values():
         if st.initial is not None and st.initial not in m.descendants(st.id):
             what = "does not exist" if st.initial not in m.states else f"is not inside {st.id!r}"
-            add(_err(m, f"initial state {st.initial!r} of {st.id!r} {what} (rule: a category's initial is one of its states)", st.line, "state"))
+            add(_err(m, f"initial state {st.initial!r} of {st.id!r} {what} (rule: a category's initial is one of its states)", st, "state"))
         for t in st.transitions:
             _check_transition(m, st, t, add)
     try:
@@ -307,38 +314,38 @@ def validate(m: Machine) -> list[AFSMError]:
         for leaf in m.leaves():
             if leaf not in reach:
                 st = m.states[leaf]
-                add(_err(m, f"state {leaf!r} is unreachable from the initial state (rule: every state is reachable)", st.line, "state"))
+                add(_err(m, f"state {leaf!r} is unreachable from the initial state (rule: every state is reachable)", st, "state"))
     return problems
 
 
 def _check_transition(m: Machine, st: State, t: Transition, add: Any) -> None:
     if not _EVENT_NAME.fullmatch(t.event):
-        add(_err(m, f"transition in {st.id!r}: event {t.event!r} is not a plain event name (wildcards and prefix matching are not supported)", t.line, "transition"))
+        add(_err(m, f"transition in {st.id!r}: event {t.event!r} is not a plain event name (wildcards and prefix matching are not supported)", t, "transition"))
     if t.target is not None and t.target not in m.states:
-        add(_err(m, f"transition in {st.id!r} on {t.event!r}: target {t.target!r} does not exist (rule: targets name a state)", t.line, "transition"))
+        add(_err(m, f"transition in {st.id!r} on {t.event!r}: target {t.target!r} does not exist (rule: targets name a state)", t, "transition"))
     if t.cond is not None:
         why = _xpath_problem(t.cond)
         if why:
-            add(_err(m, f"transition in {st.id!r} on {t.event!r}: guard {why}", t.line, "transition"))
+            add(_err(m, f"transition in {st.id!r} on {t.event!r}: guard {why}", t, "transition"))
     for s in t.sends:
         if s.kind not in SEND_KINDS:
-            add(_err(m, f"send {s.name!r}: kind must be order or condition, not {s.kind!r}", s.line, "send"))
+            add(_err(m, f"send {s.name!r}: kind must be order or condition, not {s.kind!r}", s, "send"))
             continue
         decl = m.modules.get(s.target)
         if decl is None:
-            add(_err(m, f"{s.kind} {s.name!r} is sent to unknown module {s.target!r} (rule: declare it with <es:module>)", s.line, "send"))
+            add(_err(m, f"{s.kind} {s.name!r} is sent to unknown module {s.target!r} (rule: declare it with <es:module>)", s, "send"))
         elif decl.layer in LAYERS and decl.layer not in LAYER_OF_KIND[s.kind]:
             direction = "upward" if s.kind == ORDER else "downward"
             rule = "orders go down to intermediate/reactive modules" if s.kind == ORDER else "conditions go up to deliberative modules"
-            add(_err(m, f"{s.kind} {s.name!r} sent {direction} to {decl.layer} module {s.target!r} (rule: {rule})", s.line, "send"))
+            add(_err(m, f"{s.kind} {s.name!r} sent {direction} to {decl.layer} module {s.target!r} (rule: {rule})", s, "send"))
         names: dict[str, None] = {}
         for p in s.params:
             if p.name in names:
-                add(_err(m, f"{s.kind} {s.name!r}: duplicate parameter {p.name!r}", p.line, "param"))
+                add(_err(m, f"{s.kind} {s.name!r}: duplicate parameter {p.name!r}", p, "param"))
             names[p.name] = None
             why = _xpath_problem(p.expr)
             if why:
-                add(_err(m, f"{s.kind} {s.name!r} parameter {p.name!r}: {why}", p.line, "param"))
+                add(_err(m, f"{s.kind} {s.name!r} parameter {p.name!r}: {why}", p, "param"))
 
 
 def merge(base: Machine, ext: Machine) -> Machine:
@@ -348,9 +355,12 @@ def merge(base: Machine, ext: Machine) -> Machine:
     transitions (appended after the existing ones) and its new children; a
     new id is added under its parent in ``ext`` (or at top level). Modules
     and events are added; a module redeclared with another layer is a
-    conflict. The result is not validated here (see :func:`validate`).
+    conflict. What comes from ``ext`` keeps its own file (``file``, or
+    ``ext.source``), so problems found in the result name the extension's
+    file and line. The result is not validated here (see :func:`validate`).
     """
     out = base.copy()
+    here = ext.source
     for decl in ext.modules.values():
         old = out.modules.get(decl.name)
         if old is not None and old.layer != decl.layer:
@@ -358,9 +368,9 @@ def merge(base: Machine, ext: Machine) -> Machine:
                 f"module {decl.name!r} redeclared as {decl.layer} (was {old.layer})",
                 source=ext.source, line=decl.line, element="es:module",
             )
-        out.modules.setdefault(decl.name, decl)
+        out.modules.setdefault(decl.name, decl if decl.file else replace(decl, file=here))
     for decl in ext.events.values():
-        out.events[decl.name] = decl
+        out.events[decl.name] = decl if decl.file else replace(decl, file=here)
     for st in ext.states.values():
         if st.id in out.states:
             cur = out.states[st.id]
@@ -369,16 +379,26 @@ def merge(base: Machine, ext: Machine) -> Machine:
                     f"state {st.id!r} exists under {cur.parent!r}, cannot move it under {st.parent!r}",
                     source=ext.source, line=st.line, element="state",
                 )
-            cur.transitions.extend(st.transitions)
+            cur.transitions.extend(_in_file(t, st.file or here) for t in st.transitions)
             if st.initial is not None:
                 cur.initial = st.initial
         else:
-            out.states[st.id] = replace(st, children=[], transitions=list(st.transitions))
+            out.states[st.id] = replace(st, children=[], file=st.file or here,
+                                        transitions=[_in_file(t, st.file or here) for t in st.transitions])
             if st.parent is None:
                 out.roots.append(st.id)
             else:
                 out.states[st.parent].children.append(st.id)
     return out
+
+
+def _in_file(t: Transition, file: str) -> Transition:
+    """``t`` with ``file`` on it and on its sends and parameters that name none (errors point there)."""
+    if t.file and all(snd.file and all(p.file for p in snd.params) for snd in t.sends):
+        return t
+    sends = tuple(replace(snd, file=snd.file or file, params=tuple(p if p.file else replace(p, file=file) for p in snd.params))
+                  for snd in t.sends)
+    return replace(t, file=t.file or file, sends=sends)
 
 
 def iter_problems(items: Iterable[AFSMError]) -> list[str]:
