@@ -3,9 +3,12 @@
 :class:`Person` drives one :class:`~homesim.world.bodies.HumanBody` through
 its script. Walking plans a path on the world's occupancy grid and moves
 the kinematic body along it in short legs (re-planned every half second
-when the goal moves, e.g. walking up to the robot); while walking the head
-looks ahead. ``face`` turns the head (the body follows beyond the head's
-reach) or, with ``body="true"``, the whole body. ``point`` raises an arm
+when the goal moves, e.g. walking up to the robot). Paths keep clear of the
+robot where it stands; a person the robot gets in the way of is held back
+by the world (never pushes it) and re-plans around it, or waits when the
+robot blocks the only way. While walking the head looks ahead. ``face``
+turns the head (the body follows beyond the head's reach) or, with
+``body="true"``, the whole body. ``point`` raises an arm
 towards the target for its duration. ``leave`` walks out through an exit
 door and removes the person from the world. A walk whose goal walls or
 furniture close off fails the run with a :class:`~humans.script.ScriptError`
@@ -18,7 +21,7 @@ import asyncio
 import math
 
 from homesim.scenario.model import Action, Face, HumanSpec, Leave, PointAt, Target, WalkTo
-from homesim.world.bodies import HumanBody, Pointing
+from homesim.world.bodies import ROBOT_REACH, HumanBody, Pointing
 from homesim.world.pathplan import NoPathError
 from homesim.world.world import World
 
@@ -77,7 +80,7 @@ class Person(Actor):
             stop_at = ROBOT_STOP
         moving = target.kind in ("robot", "human")
         goal = self.goal_of(target)
-        path = self.world.walk_grid().plan(self.body.position, goal)
+        path = self.plan(goal)
         while True:
             here = self.body.position
             if math.hypot(goal[0] - here[0], goal[1] - here[1]) <= max(stop_at, ARRIVED):
@@ -85,29 +88,49 @@ class Person(Actor):
             if not path:
                 break
             wx, wy = path[0]
-            # Stop short of the goal along the last leg.
-            if len(path) == 1 and stop_at > 0:
-                d = math.hypot(wx - here[0], wy - here[1])
-                if d <= stop_at:
-                    break
             dx, dy = wx - here[0], wy - here[1]
             dist = math.hypot(dx, dy)
+            travel = dist
+            if len(path) == 1 and stop_at > 0:
+                # Stop short of the goal along the last leg (the last waypoint may
+                # already be short of it: the free spot nearest to a goal inside
+                # furniture or next to the robot).
+                travel = dist - max(0.0, stop_at - math.hypot(goal[0] - wx, goal[1] - wy))
+                if travel <= ARRIVED:
+                    break
             if dist <= ARRIVED:
                 path.pop(0)
                 continue
-            travel = dist - (stop_at if len(path) == 1 else 0.0)
             t = min(LEG_TIME, travel / speed)
             t = max(t, self.world.dt)
             v = min(speed, travel / t)
             self.body.head = 0.0
             self.body.walk_velocity(v * dx / dist, v * dy / dist)
+            held = self.body.held_time
             await asyncio.sleep(t)
             if moving:
                 new_goal = self.goal_of(target)
                 if math.hypot(new_goal[0] - goal[0], new_goal[1] - goal[1]) > 0.2:
                     goal = new_goal
-                    path = self.world.walk_grid().plan(self.body.position, goal)
+                    path = self.plan(goal)
+                    continue
+            if self.body.held_time > held:
+                path = self.plan(goal)  # the robot got in the way: around it, or wait for it
         self.body.stand()
+
+    def plan(self, goal: tuple[float, float]) -> list[tuple[float, float]]:
+        """A path to ``goal`` around walls, furniture and the robot where it stands now.
+
+        When the robot blocks the only way (it stands in a doorway) the path
+        goes through it: the world holds the person back at the robot until
+        it moves. NoPathError when walls and furniture alone close the goal off.
+        """
+        grid = self.world.walk_grid()
+        x, y, _ = self.world.robot.pose
+        try:
+            return grid.plan(self.body.position, goal, avoid=[(x, y, ROBOT_REACH)])
+        except NoPathError:
+            return grid.plan(self.body.position, goal)
 
     # ------------------------------------------------------- facing, pointing
     def direction_to(self, target: Target) -> float:

@@ -249,7 +249,7 @@ def _short_run() -> list[tuple[str, bytes]]:
         (2.5, "/robot/speaker/say", '<say text="Hello Anna nice to meet you"/>'),
         (2.8, "/robot/speaker/say", "<say>Hello</say>"),
         (3.0, "/robot/display/cmd", '<gaze pan="-20" tilt="3"/>'),
-        (8.0, "/robot/ptu/cmd", '<ptu pan="30" tilt="-10"/>'),
+        (5.0, "/robot/ptu/cmd", '<ptu pan="30" tilt="-10"/>'),
         (9.0, "/robot/base/cmd", '<velocity v="0.0" w="0.2"/>'),
         (9.3, "/robot/base/cmd", '<velocity v="0.1" w="0"/>'),
     ]

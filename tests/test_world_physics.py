@@ -5,11 +5,18 @@ from __future__ import annotations
 import math
 
 import numpy as np
+import pymunk
 import pytest
+from hypothesis import assume, given, settings
+from hypothesis import strategies as st
 
-from homesim.world.bodies import ROBOT_LENGTH
-from homesim.world.geometry import split_wall, wrap_angle
-from tests.world_helpers import put_person, room
+from homesim.scenario.loader import load_scenario_text
+from homesim.sim import Simulation
+from homesim.world.bodies import HUMAN_RADIUS, ROBOT_LENGTH
+from homesim.world.geometry import point_in_polygon, split_wall, wrap_angle
+from homesim.world.stage import Stage
+from tests.conftest import examples
+from tests.world_helpers import ROOM, put_person, room
 
 
 def _drive(world, v, w, seconds):
@@ -115,3 +122,86 @@ def test_laser_segments_at_30cm_exclude_table_tops():
     names = {o.name for o in world.obstacles if o.bottom <= 0.30 <= o.top}
     assert "table" not in names and "cupboard" in names
     assert a.shape[0] == sum(len(o.polygon) for o in world.obstacles if o.bottom <= 0.30 <= o.top)
+
+
+# ------------------------------------------------- people never push the robot
+def _static_penetration(world) -> float:
+    """How deep (m) the robot overlaps walls or furniture (0 when clear)."""
+    deepest = 0.0
+    for info in world.space.shape_query(world.robot.shape):
+        if info.shape.sensor or info.shape.body.body_type != pymunk.Body.STATIC:
+            continue
+        deepest = max(deepest, max((abs(p.distance) for p in info.contact_point_set.points), default=0.0))
+    return deepest
+
+
+def test_a_person_walking_at_the_robot_by_a_wall_stops_instead_of_pushing_it_through():
+    """The review's push.py: the person used to shove the robot 1.9 m through the south wall."""
+    world = room()
+    world.place_robot(2.0, 0.4, 0.0)
+    put_person(world, "ann", 2.0, 2.0, heading=-math.pi / 2)
+    h = world.humans["ann"]
+    h.walk_velocity(0.0, -1.0)
+    for _ in range(150):
+        world.step()
+    assert world.robot.pose == pytest.approx((2.0, 0.4, 0.0))
+    assert world.contacts == []
+    gap = world.robot.shape.point_query(h.position).distance - HUMAN_RADIUS
+    assert 0.0 < gap <= 0.03 and h.held
+    h.walk_velocity(0.0, 1.0)  # and walks away again
+    world.step()
+    assert h.position[1] > 0.9 and not h.held
+
+
+def test_squeezed_between_a_person_and_a_wall_the_wall_wins():
+    """Even if a person ends up overlapping a robot at a wall, the robot never goes into the wall."""
+    world = room()
+    reach = ROBOT_LENGTH / 2 + 0.01  # half-length plus the shape's rounding
+    world.place_robot(2.0, 0.06 + reach, math.pi / 2)  # 1 cm from the wall's inner face (0.05)
+    put_person(world, "ann", 2.0, 0.06 + 2 * reach + HUMAN_RADIUS - 0.1, heading=-math.pi / 2)  # 10 cm into the robot
+    world.step()
+    assert _static_penetration(world) < 0.005
+    assert world.robot.pose[1] == pytest.approx(0.06 + reach, abs=0.011)
+    x, y = world.humans["ann"].position
+    assert y >= world.robot.pose[1] + reach + HUMAN_RADIUS - 0.005  # the person was moved back
+
+
+def test_a_scripted_person_walks_around_the_robot_not_through_it():
+    """The review's push2.py: ann's straight path ran through the robot standing by the wall."""
+    text = ROOM.read_text(encoding="utf-8").replace('<robot x="1" y="3" heading="0"/>', '<robot x="1.2" y="1.0" heading="90"/>')
+    text = text.replace('<human name="ann" x="3" y="3" heading="180" height="1.70" torso="yellow"/>', '<human name="ann" x="1.2" y="3" heading="270" height="1.70" torso="yellow"><script><walk-to point="1.2 0.4"/></script></human>')
+    sc = load_scenario_text(text, source="push2.xml")
+    sim = Simulation(seed=1, scenario=sc.name)
+    st = Stage(sim, sc, actors=("humans.install",))
+    st.run(8)
+    assert st.world.robot.pose == pytest.approx((1.2, 1.0, math.pi / 2))
+    assert st.world.contacts == []
+    assert math.dist(st.world.humans["ann"].position, (1.2, 0.4)) < 0.06
+    sim.close()
+
+
+@settings(max_examples=examples(30, 300))
+@given(
+    robot=st.tuples(st.floats(0.35, 7.65), st.floats(0.35, 5.65), st.floats(-math.pi, math.pi)),
+    person=st.tuples(st.floats(0.3, 7.7), st.floats(0.3, 5.7)),
+    walks=st.lists(st.tuples(st.floats(0.0, 1.5), st.floats(-0.6, 0.6)), min_size=1, max_size=8),
+    drive=st.tuples(st.floats(-0.5, 0.5), st.floats(-1.7, 1.7)),
+)
+def test_people_never_push_the_robot_into_walls_or_out_of_the_flat(robot, person, walks, drive):
+    """People walk (roughly) at the robot, which drives about; it never ends in a wall or outside."""
+    world = room()
+    world.place_robot(*robot)
+    assume(_static_penetration(world) == 0.0)
+    put_person(world, "ann", *person)
+    assume(world.robot.shape.point_query(person).distance > HUMAN_RADIUS + 0.05)
+    world.robot.command(*drive)
+    room_poly = np.array(world.scenario.room("room").polygon)
+    h = world.humans["ann"]
+    for speed, off in walks:
+        rx, ry, _ = world.robot.pose
+        a = math.atan2(ry - h.position[1], rx - h.position[0]) + off
+        h.walk_velocity(speed * math.cos(a), speed * math.sin(a))
+        for _ in range(15):
+            world.step()
+            assert _static_penetration(world) < 0.01
+            assert point_in_polygon(world.robot.pose[:2], room_poly)

@@ -6,7 +6,9 @@ in speed and acceleration, and the contact solver stops it at walls,
 furniture and people. People are kinematic bodies (their scripts move
 them): a collision circle for the body and two leg circles that swing in an
 alternating gait while they walk; only the legs reach the laser's height.
-Head direction is separate from body direction.
+Head direction is separate from body direction. A kinematic body would
+shove the robot (it has infinite mass), so the world holds a person back
+rather than let a step bump into the robot.
 """
 
 from __future__ import annotations
@@ -33,6 +35,7 @@ LASER_FILTER = pymunk.ShapeFilter(categories=CAT_QUERY, mask=CAT_LASER)
 ROBOT_LENGTH = 0.51
 ROBOT_WIDTH = 0.43
 ROBOT_RADIUS = 0.30
+ROBOT_REACH = math.hypot(0.51 / 2, 0.43 / 2) + 0.01  # the footprint's bounding circle (0.34 m)
 LASER_OFFSET = 0.13  # laser at the front, metres ahead of the centre
 LASER_HEIGHT = 0.30
 CAMERA_HEIGHT = 1.41
@@ -133,6 +136,9 @@ class HumanBody:
         self.gait_amp = 0.0
         self.present = True
         self.pointing: Pointing | None = None
+        self.walk = (0.0, 0.0)  # the velocity the script wants; the world may hold the person back
+        self.held = False  # the last step was refused (the robot was in the way)
+        self.held_time = 0.0  # seconds spent held back, in total
         self.space = space
         self.body = pymunk.Body(body_type=pymunk.Body.KINEMATIC)
         self.body.position = (x, y)
@@ -204,12 +210,18 @@ class HumanBody:
 
     # ---------------------------------------------------------- motion
     def walk_velocity(self, vx: float, vy: float) -> None:
-        """Move with this world velocity; the body turns to the walking direction."""
-        self.body.velocity = (vx, vy)
+        """Walk with this world velocity (from the next step); the body turns to the walking direction.
+
+        The world applies it step by step and holds the person back
+        instead when the step would bump into the robot.
+        """
+        self.walk = (float(vx), float(vy))
+        self.body.velocity = self.walk
         if vx * vx + vy * vy > 1e-8:
             self.heading = math.atan2(vy, vx)
 
     def stand(self) -> None:
+        self.walk = (0.0, 0.0)
         self.body.velocity = (0.0, 0.0)
 
     def turn_to(self, heading: float) -> None:

@@ -41,6 +41,9 @@ from .raycast import RayCaster
 
 StepListener = Callable[["World"], None]
 
+#: How close (metres) a person's body may walk up to the robot's footprint.
+PERSON_GAP = 0.02
+
 
 class Obstacle:
     """A static convex polygon with the vertical span it occupies."""
@@ -143,6 +146,7 @@ class World:
         rb = self.robot
         rb.before_step(dt)
         before = rb.body.position
+        self._hold_people_back(dt)
         self.space.step(dt)
         self._resolve_robot_contacts()
         rb.after_step(dt, (before.x, before.y))
@@ -153,33 +157,83 @@ class World:
         for fn in self._listeners:
             fn(self)
 
+    def _hold_people_back(self, dt: float) -> None:
+        """People never push the robot: a step that would bring someone within
+        PERSON_GAP of the robot's footprint (and closer than now) is not taken.
+
+        Scripts set the velocity they want (``HumanBody.walk``); the person
+        stands still for this step instead, and walks on when the way is free.
+        """
+        shape = self.robot.shape
+        for h in self.humans.values():
+            if not h.present:
+                continue
+            vx, vy = h.walk
+            held = False
+            if vx or vy:
+                x, y = h.position
+                now = shape.point_query((x, y)).distance
+                nxt = shape.point_query((x + vx * dt, y + vy * dt)).distance
+                held = nxt < HUMAN_RADIUS + PERSON_GAP and nxt < now
+            h.body.velocity = (0.0, 0.0) if held else (vx, vy)
+            h.held = held
+            if held:
+                h.held_time += dt
+
     def _resolve_robot_contacts(self) -> None:
-        """Hard contacts: push the robot out of whatever it overlaps after a step.
+        """Hard contacts: push the robot out of whatever it overlaps after a step; walls win.
 
         The robot's velocity is commanded every step, so the solver's soft
         correction alone would let it lean several centimetres into a wall;
-        a bumper-like projection keeps it within the solver's slop.
+        a bumper-like projection keeps it within the solver's slop. Walls
+        and furniture are resolved first. A person the robot overlaps
+        pushes it back only if that does not put it into a wall or furniture;
+        otherwise the person is moved back instead (the robot squeezed
+        between a person and a wall never goes through the wall).
         """
         body = self.robot.body
-        for _ in range(3):
-            worst = None
-            for info in self.space.shape_query(self.robot.shape):
-                if info.shape is None or info.shape.sensor:
-                    continue
-                cps = info.contact_point_set
-                # shape_query reports only overlapping shapes; the sign of the
-                # distance depends on the pair's order in Chipmunk, so use its size.
-                depth = max((abs(p.distance) for p in cps.points), default=0.0)
-                if depth > 1e-4 and (worst is None or depth > worst[0]):
-                    worst = (depth, cps.normal)
-            if worst is None:
+        for _ in range(4):
+            static = self._worst_overlap(static=True)
+            if static is not None:
+                self._push_robot(*static)
+                continue
+            person = self._worst_overlap(static=False)
+            if person is None:
                 return
-            depth, n = worst
-            body.position = (body.position.x - n.x * depth, body.position.y - n.y * depth)
-            vn = body.velocity.x * n.x + body.velocity.y * n.y
-            if vn > 0:
-                body.velocity = (body.velocity.x - vn * n.x, body.velocity.y - vn * n.y)
-            self.space.reindex_shapes_for_body(body)
+            depth, n, shape = person
+            old = body.position
+            self._push_robot(depth, n)
+            if self._worst_overlap(static=True) is not None:
+                body.position = old
+                self.space.reindex_shapes_for_body(body)
+                hb = shape.body
+                hb.position = (hb.position.x + n.x * depth, hb.position.y + n.y * depth)
+                hb.velocity = (0.0, 0.0)
+                self.space.reindex_shapes_for_body(hb)
+
+    def _worst_overlap(self, *, static: bool) -> tuple[float, pymunk.Vec2d, pymunk.Shape] | None:
+        """The deepest overlap of the robot with a static shape (or with a person): depth,
+        the normal pointing from the robot into the other shape, the shape."""
+        worst = None
+        for info in self.space.shape_query(self.robot.shape):
+            shape = info.shape
+            if shape is None or shape.sensor or (shape.body.body_type == pymunk.Body.STATIC) != static:
+                continue
+            cps = info.contact_point_set
+            # shape_query reports only overlapping shapes; the sign of the
+            # distance depends on the pair's order in Chipmunk, so use its size.
+            depth = max((abs(p.distance) for p in cps.points), default=0.0)
+            if depth > 1e-4 and (worst is None or depth > worst[0]):
+                worst = (depth, cps.normal, shape)
+        return worst
+
+    def _push_robot(self, depth: float, n: pymunk.Vec2d, _shape: object = None) -> None:
+        body = self.robot.body
+        body.position = (body.position.x - n.x * depth, body.position.y - n.y * depth)
+        vn = body.velocity.x * n.x + body.velocity.y * n.y
+        if vn > 0:
+            body.velocity = (body.velocity.x - vn * n.x, body.velocity.y - vn * n.y)
+        self.space.reindex_shapes_for_body(body)
 
     def place_robot(self, x: float, y: float, heading: float) -> None:
         """Put the robot somewhere at rest (tests, notebooks); no collision check."""
