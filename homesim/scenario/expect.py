@@ -1,7 +1,8 @@
 """Expectations: what a scenario says must have happened, checked after a run.
 
 Two kinds of evidence, never mixed up: ground truth (where people were,
-from :class:`~homesim.world.truth.GroundTruth`) for ``reached`` and
+from :class:`~homesim.world.truth.GroundTruth`, frame by frame: a moving
+target is where it was in the same frame) for ``reached`` and
 ``robot-near``; the robot's own sensor messages as they went over the bus
 for ``legs-seen`` (a leg pair found in a laser scan by the reference
 detector), ``face-seen`` (a face detection) and ``sound-heard`` (a sound
@@ -102,15 +103,24 @@ def _reached(e: Expectation, world: World, truth: GroundTruth) -> Verdict:
     within = float(e.get("within"))  # type: ignore[arg-type]
     by = e.get("by")
     deadline = math.inf if by is None else float(by)  # type: ignore[arg-type]
-    goal = _target_xy(world, target)
+    fixed = _target_xy(world, target) if target.kind not in ("human", "robot") else None
     best = math.inf
     for f in truth.frames:
         if f.t > deadline + 1e-9:
             break
+        # A person or the robot is a moving target: where it was in this very frame.
+        goal = fixed
+        if target.kind == "robot":
+            goal = f.robot[:2]
+        elif target.kind == "human":
+            there = [p for p in f.people if p.name == target.name and p.present]
+            if not there:
+                continue
+            goal = (there[0].x, there[0].y)
         for p in f.people:
             if p.name != who or not p.present:
                 continue
-            if goal is None:
+            if target.kind == "room":
                 if p.room == target.name:
                     return Verdict(e, True, f"{who} was in {target.name} at t={f.t:.2f} s")
                 continue
@@ -118,7 +128,7 @@ def _reached(e: Expectation, world: World, truth: GroundTruth) -> Verdict:
             best = min(best, d)
             if d <= within:
                 return Verdict(e, True, f"{who} came within {d:.2f} m at t={f.t:.2f} s")
-    if goal is None:
+    if target.kind == "room":
         return Verdict(e, False, f"{who} never entered {target.name}" + (f" by {deadline:g} s" if by is not None else ""))
     return Verdict(e, False, f"{who} came no closer than {best:.2f} m" + (f" by {deadline:g} s" if by is not None else ""))
 

@@ -1,0 +1,50 @@
+"""Expectations checked after a run: each holds when it should and fails when it should."""
+
+from __future__ import annotations
+
+import math
+
+from homesim.scenario.loader import load_scenario_text
+from homesim.sim import Simulation
+from homesim.world.stage import Stage
+from tests.world_helpers import ROOM
+
+ROOM_TEXT = ROOM.read_text(encoding="utf-8")
+
+
+def _run(people: str, expect: str, *, until: float = 10.0):
+    text = ROOM_TEXT.replace('<human name="ann" x="3" y="3" heading="180" height="1.70" torso="yellow"/>', people)
+    text = text.replace("</humans>", f"</humans>\n  <expect>\n    {expect}\n  </expect>")
+    sc = load_scenario_text(text, source="expect.xml")
+    sim = Simulation(seed=1, scenario=sc.name)
+    st = Stage(sim, sc, actors=("humans.install",), truth_every=1)
+    st.run(until)
+    verdicts = st.verdicts()
+    sim.close()
+    return st, verdicts
+
+
+def test_reached_a_moving_person_uses_where_they_were_at_that_moment():
+    """The review's reached.py: bob passed where ann would end up, long before she got there;
+    compared with her final position, 'reached' passed at t=0 though they were never within 1.2 m."""
+    people = (
+        '<human name="ann" x="3" y="3" heading="180" height="1.70" torso="yellow"><script><wait for="5"/><walk-to point="6 3.5"/></script></human>\n'
+        '    <human name="bob" x="6" y="3"><script><walk-to point="1.5 5"/></script></human>'
+    )
+    st, (v,) = _run(people, '<reached who="bob" human="ann" within="1"/>')
+    closest = min(math.hypot(a.x - b.x, a.y - b.y) for f in st.truth.frames for a in f.people for b in f.people if (a.name, b.name) == ("ann", "bob"))
+    assert closest > 1.0
+    assert not v.passed and f"{closest:.2f}" in v.detail
+
+
+def test_reached_a_person_walking_up_to_them():
+    people = (
+        '<human name="ann" x="6" y="3" height="1.70" torso="yellow"><script><walk-to point="6 5"/></script></human>\n'
+        '    <human name="bob" x="3" y="3"><script><wait for="1"/><walk-to human="ann" stop-at="0.8"/></script></human>'
+    )
+    st, (v,) = _run(people, '<reached who="bob" human="ann" within="0.9" by="8"/>')
+    assert v.passed, v.detail
+    t = float(v.detail.split("t=")[1].split(" ")[0])
+    frame = st.truth.at(t)
+    ann, bob = (next(p for p in frame.people if p.name == n) for n in ("ann", "bob"))
+    assert math.hypot(ann.x - bob.x, ann.y - bob.y) <= 0.9
