@@ -16,6 +16,7 @@ from homesim.errors import ScenarioError, TaskFailedError
 from homesim.scenario.loader import load_scenario_text
 from homesim.scenario.model import Door, Face, Leave, Repeat, Say, Target, WalkTo, Wall
 from homesim.sim import Simulation
+from homesim.world.acoustics import SoundField, first_words, speech_duration, words_spoken
 from homesim.world.geometry import split_wall, wall_rectangle
 from homesim.world.pathplan import MIN_DOOR_WIDTH, Grid, door_frame, door_sides
 from homesim.world.stage import Stage
@@ -234,3 +235,53 @@ def test_a_failed_plan_at_run_time_fails_the_run_naming_the_action_never_walks_t
     assert "humans.xml:42" in str(exc.value)
     assert st.world.humans["ann"].position == pytest.approx((2.0, 5.0))
     sim.close()
+
+
+# ------------------------------------------------------------- speech in the air
+def test_a_cut_short_utterance_keeps_only_the_words_said_before_the_cut():
+    """The review's cut.py: cut after 0.3 s, 'now please follow me to the kitchen' kept its
+    whole text, so ann heard 'follow me' and the recogniser returned every word."""
+    st = _stage('<wait-for robot-says="follow me" timeout="8"/>\n<say text="ok I follow"/>', hardware=True)
+    dialog = st.sim.bus.participant("dialog", host="robot")
+    st.sim.call_at(1.0, lambda: dialog.publish("/robot/speaker/say", etree.Element("say", text="now please follow me to the kitchen")))
+    st.sim.call_at(1.3, lambda: dialog.publish("/robot/speaker/say", etree.Element("say", text="sorry")))
+    st.run(10)
+    first, second = st.world.sound.by("robot")
+    assert (first.text, first.cut) == ("", True) and first.end == second.start < 1.5
+    assert (second.text, second.cut) == ("sorry", False)
+    assert [u.start for u in st.world.sound.by("ann")] == [pytest.approx(8.0)]  # timed out: never heard "follow me"
+    heard = [m for m in st.messages if m.channel == "/robot/audio/speech" and m.xml.get("self") == "true"]
+    assert [(m.xml.text or "") for m in heard][0] == ""
+
+
+def test_words_said_before_a_cut_follow_the_speech_timing():
+    field = SoundField()
+    u = field.say("robot", "One, two three four!", 10.0)  # 0.15 s onset, 0.4 s a word, 0.15 s offset
+    assert u.end == pytest.approx(10.0 + 0.3 + 1.6)
+    cut = field.say("robot", "stop", 10.0 + 0.15 + 2 * 0.4 + 0.01)
+    first = field.all()[0]
+    assert (first.text, first.cut, first.end) == ("One, two", True, cut.start)
+
+
+@given(words=st.integers(1, 12), explicit=st.one_of(st.none(), st.floats(0.05, 10.0)), a=st.floats(0, 1), b=st.floats(0, 1))
+def test_the_words_kept_at_a_cut_are_a_prefix_that_grows_with_time(words, explicit, a, b):
+    text = " ".join(f"w{i}" for i in range(words))
+    dur = speech_duration(text) if explicit is None else explicit
+    ka, kb = (words_spoken(text, dur, x * dur) for x in sorted((a, b)))
+    assert 0 <= ka <= kb <= words
+    assert words_spoken(text, dur, dur) == words and words_spoken(text, dur, 0.0) == 0
+    assert first_words(text, ka) == " ".join(text.split()[:ka])
+
+
+def test_wait_for_hears_a_robot_sentence_that_began_before_the_wait():
+    """The review's waitfor.py: the robot said 'please follow me' from 1.5 to 3.0 s; ann began
+    waiting at 2.0 s (after her walk) and, ignoring it, timed out at 10 s."""
+    st = _stage('<walk-to point="5 3"/>\n<wait-for robot-says="follow" timeout="8"/>\n<say text="ok"/>', hardware=True)
+    dialog = st.sim.bus.participant("dialog", host="robot")
+    st.sim.call_at(1.5, lambda: dialog.publish("/robot/speaker/say", etree.Element("say", text="please follow me")))
+    st.run(12)
+    robot = st.world.sound.by("robot")[0]
+    walk_end = st.actors["ann"].log[0][1]
+    assert robot.start < walk_end < robot.end  # the wait began in the middle of the sentence
+    (ok,) = st.world.sound.by("ann")
+    assert robot.end <= ok.start <= robot.end + 0.15

@@ -28,12 +28,37 @@ def speech_duration(text: str) -> float:
     return SPEECH_OVERHEAD + SECONDS_PER_WORD * max(1, len(words_of(text)))
 
 
+def words_spoken(text: str, duration: float, elapsed: float) -> int:
+    """How many words of ``text``, said in ``duration`` seconds, are finished ``elapsed`` seconds in.
+
+    Half the fixed overhead is the onset, then the words take equal shares
+    of the rest (of the whole duration when it is shorter than the overhead).
+    """
+    n = len(words_of(text))
+    if n == 0:
+        return 0
+    speech = duration - SPEECH_OVERHEAD if duration > SPEECH_OVERHEAD else duration
+    onset = (duration - speech) / 2
+    k = int((elapsed - onset) / (speech / n) + 1e-9) if elapsed > onset else 0
+    return max(0, min(n, k))
+
+
+def first_words(text: str, k: int) -> str:
+    """``text`` up to the end of its ``k``-th word (as written: case and punctuation kept)."""
+    if k <= 0:
+        return ""
+    spans = [m.end() for m in re.finditer(r"[\w']+", text)]
+    return text if k >= len(spans) else text[: spans[k - 1]]
+
+
 @dataclass(frozen=True)
 class Utterance:
     """One thing said by one source from ``start`` to ``end`` (virtual seconds).
 
     ``loudness`` is dB SPL at 1 m. ``source`` is "robot", a human's or a
-    radio's name. ``n`` numbers utterances in the order they started.
+    radio's name. ``n`` numbers utterances in the order they started. An
+    utterance cut short by its source's next one keeps only the words
+    finished before the cut (``cut`` is True).
     """
 
     n: int
@@ -42,6 +67,7 @@ class Utterance:
     start: float
     end: float
     loudness: float
+    cut: bool = False  # cut short: ``text`` holds only the words said before the cut
 
     @property
     def words(self) -> tuple[str, ...]:
@@ -61,7 +87,8 @@ class SoundField:
         """Start an utterance at ``t``; the duration defaults to the word count's.
 
         A source that starts speaking while its previous utterance is still
-        going cuts the previous one short (one mouth, one voice).
+        going cuts the previous one short (one mouth, one voice): it ends at
+        ``t`` with only the words finished by then.
         """
         dur = speech_duration(text) if duration is None else float(duration)
         if dur <= 0:
@@ -69,7 +96,8 @@ class SoundField:
         for i in range(len(self._log) - 1, -1, -1):
             u = self._log[i]
             if u.source == source and u.end > t:
-                self._log[i] = Utterance(u.n, u.source, u.text, u.start, max(u.start, t), u.loudness)
+                said = first_words(u.text, words_spoken(u.text, u.end - u.start, t - u.start))
+                self._log[i] = Utterance(u.n, u.source, said, u.start, max(u.start, t), u.loudness, cut=True)
                 break
         u = Utterance(len(self._log), source, text, t, t + dur, loudness)
         self._log.append(u)

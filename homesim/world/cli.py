@@ -46,7 +46,7 @@ def run_scenario(path: str | Path, *, seed: int | None = None, until: float | No
             print("transcript:")
             for u in stage.world.sound.all():
                 if u.start < end:
-                    print(f"  {u.start:7.2f}-{min(u.end, end):6.2f} s  {u.source:>10}: {u.text}")
+                    print(f"  {u.start:7.2f}-{min(u.end, end):6.2f} s  {u.source:>10}: {u.text}{' [cut short]' if u.cut else ''}")
             counts = Counter(m.channel for m in stage.messages)
             print("sensor messages: " + ", ".join(f"{ch} {n}" for ch, n in sorted(counts.items())))
             if stage.world.contacts:
