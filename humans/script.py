@@ -118,9 +118,10 @@ class Actor:
         deadline = math.inf if act.timeout is None else since + act.timeout
         while True:
             if pattern is not None:
-                # An utterance counts once it has been heard to its end.
-                for u in self.world.sound.by("robot", since=since):
-                    if u.end <= self.now and pattern.search(u.text):
+                # An utterance counts once it has been heard to its end, after the
+                # wait began (it may have started before: the person hears it end).
+                for u in self.world.sound.ended(since, self.now):
+                    if u.source == "robot" and pattern.search(u.text):
                         return True
             if act.robot_within is not None:
                 d = self.robot_within()
