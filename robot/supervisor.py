@@ -82,7 +82,10 @@ def event_xml(name: str, *, lifetime: float | None = None, attrs: dict[str, str]
 
 
 def _seconds(ns: int) -> str:
-    return format(Decimal(ns) / Decimal(NS_PER_S), "f")
+    """Integer nanoseconds as exact decimal seconds (``1.5``, ``0``, ``-0.000000001``)."""
+    whole, frac = divmod(abs(ns), NS_PER_S)
+    text = f"{whole}.{frac:09d}".rstrip("0").rstrip(".") if frac else str(whole)
+    return "-" + text if ns < 0 else text
 
 
 def declare_channels(bus: Any, machine: Machine) -> None:
@@ -349,29 +352,37 @@ class ExecutionSupervisor(Module):
         return snap
 
     def status_xml(self, *, history: int = 20) -> etree._Element:
-        """The introspection as an ``<es_status>`` element (reply of ``introspect``)."""
+        """The introspection as an ``<es_status>`` element (reply of ``introspect``).
+
+        ``history``: how many recent records to include (0: no ``<history>``,
+        as on the status channel).
+        """
         eng = self.engine
         s = eng.stats()
-        el = etree.Element("es_status", machine=eng.machine.name, state=eng.state, t=_seconds(self._loop.now_ns),
+        el = etree.Element("es_status", machine=eng.machine_name, state=eng.state, t=_seconds(self._loop.now_ns),
                            **{k: str(s[k]) for k in ("queued", "applied", "expired", "inapplicable", "pending")})
-        if eng.category is not None:
-            el.set("category", eng.category)
+        cat = eng.category
+        if cat is not None:
+            el.set("category", cat)
         q = etree.SubElement(el, "queue")
         for item in eng.queued():
             etree.SubElement(q, "queued", event=item.event.id, name=item.event.name, source=item.event.source,
                              created=_seconds(item.event.created_ns), expires=_seconds(item.expires_ns),
                              status=item.status)
-        h = etree.SubElement(el, "history")
-        recent = list(eng.history)[-history:] if history else []
-        for rec in recent:
-            h.append(record_xml(rec))
+        if history:
+            h = etree.SubElement(el, "history")
+            for rec in list(eng.history)[-history:]:
+                h.append(record_xml(rec))
         return el
 
     def publish_status(self) -> Message | None:
-        """Publish the status on ``/robot/es/status`` (it lands in the trace)."""
+        """Publish the snapshot (no history) on ``/robot/es/status``; the ES does so on each change of state.
+
+        The history stays available by the ``introspect`` RPC and in the log channel.
+        """
         if self.bus.closed or self.bus.hung:
             return None
-        return self.bus.publish(STATUS_CHANNEL, self.status_xml())
+        return self.bus.publish(STATUS_CHANNEL, self.status_xml(history=0))
 
     # -------------------------------------------------------- modification
     def replace(self, machine: Machine | str | os.PathLike[str]) -> None:

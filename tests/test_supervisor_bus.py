@@ -454,3 +454,37 @@ def test_a_machine_with_a_bad_module_name_is_refused_at_construction_with_file_a
         assert "NCName" in str(info.value)
     finally:
         sim.close()
+
+
+# ------------------------------------------------------------------ status
+def test_status_is_published_only_on_a_change_of_state_and_without_history(world):
+    status = world.attention.subscribe(STATUS_CHANNEL)
+    world.at(0.5, world.see_partner)
+    world.at(0.6, world.greet)  # -> Interacting (via PotentialPartner)
+    world.at(1.5, lambda: world.dialog.publish(EVENT_CHANNEL, event_xml("stop")))  # targetless: no change
+    world.at(2.5, lambda: world.dialog.publish(EVENT_CHANNEL, event_xml("query_object")))  # targetless
+    world.sim.run(until=3.0)
+    msgs = status.drain()
+    assert [m.xml.get("state") for m in msgs] == ["LookingAround", "PotentialPartner", "Interacting"]  # start, changes
+    assert all(m.xml.find("history") is None for m in msgs)
+    out = {}
+
+    async def ask():
+        out["reply"] = (await world.attention.call("supervisor", "introspect", etree.Element("introspect"))).xml
+
+    world.at(3.0, lambda: world.sim.spawn(ask(), name="asker"))
+    world.sim.run(until=3.5)
+    assert len(out["reply"].find("history")) == 4  # the history stays available by RPC
+
+
+def test_bench_supervisor_full_path_runs_and_every_event_is_applied():
+    import sys
+    from pathlib import Path
+
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
+    try:
+        import bench_supervisor as bench
+    finally:
+        sys.path.pop(0)
+    total, lat, outputs = bench.run_bus(bench.stream(50))
+    assert len(lat) == 50 and outputs == 110 and total > 0

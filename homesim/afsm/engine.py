@@ -211,6 +211,11 @@ class Engine:
         return self._tables.machine
 
     @property
+    def machine_name(self) -> str:
+        """The running machine's name (cheap: no copy)."""
+        return self._tables.machine.name
+
+    @property
     def category(self) -> str | None:
         """The category (innermost compound state) of the current state, if any."""
         return self._tables.category[self.state]
