@@ -233,3 +233,19 @@ def test_a_problem_in_the_base_still_names_the_base_after_merging(engine):
     (p,) = validate(merge(engine.machine, ext))
     assert (p.source, p.line) == ("api-ext", 2)  # built by API: the extension's source
     assert all(t.file == "t.scxml" for _, t in merge(engine.machine, ext).transitions() if t.event != "new")
+
+
+def test_engine_setup_computes_each_category_once(monkeypatch):
+    """Retention names per category, not per leaf: 4000 leaves in one category stay linear."""
+    from homesim.afsm.model import Machine
+
+    n = 4000
+    text = ('<scxml xmlns="http://www.w3.org/2005/07/scxml" version="1.0"><state id="C">'
+            + "".join(f'<state id="s{i}"><transition event="e" target="s{(i + 1) % n}"/></state>' for i in range(n))
+            + "</state></scxml>")
+    m = loads(text)
+    calls = []
+    real = Machine.descendants
+    monkeypatch.setattr(Machine, "descendants", lambda self, sid: calls.append(sid) or real(self, sid))
+    Engine(m)
+    assert calls.count("C") <= 2  # validation may ask too; never once per leaf

@@ -170,6 +170,7 @@ class _Tables:
         self.candidates: dict[str, dict[str, tuple[_Compiled, ...]]] = {}
         self.retain: dict[str, frozenset[str]] = {}
         self.category: dict[str, str | None] = {}
+        by_category: dict[str, frozenset[str]] = {}
         for leaf in m.leaves():
             table: dict[str, list[_Compiled]] = {}
             for owner in m.ancestors(leaf):  # innermost first: the state's own transitions win
@@ -181,12 +182,14 @@ class _Tables:
             self.candidates[leaf] = {k: tuple(v) for k, v in table.items()}
             cat = m.category_of(leaf)
             self.category[leaf] = cat
-            names: set[str] = set()
-            if cat is not None:
-                for sid in [cat, *m.descendants(cat)]:
-                    for t in m.states[sid].transitions:
-                        names.add(t.event)
-            self.retain[leaf] = frozenset(names)
+            if cat is None:
+                self.retain[leaf] = frozenset()
+                continue
+            names = by_category.get(cat)
+            if names is None:  # once per category, not per leaf (setup stays linear)
+                names = frozenset(t.event for sid in [cat, *m.descendants(cat)] for t in m.states[sid].transitions)
+                by_category[cat] = names
+            self.retain[leaf] = names
 
 
 class Engine:
