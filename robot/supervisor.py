@@ -42,7 +42,6 @@ import asyncio
 import os
 from collections import deque
 from copy import deepcopy
-from decimal import Decimal
 from pathlib import Path
 from typing import Any
 
@@ -51,7 +50,7 @@ from lxml import etree
 from homesim.afsm.engine import Applied, Engine, Event, Output, Record, Rejected, record_dict
 from homesim.afsm.loader import from_element, load, loads, to_element
 from homesim.afsm.model import CONDITION, Machine
-from homesim.errors import AFSMError, AFSMModificationRefused
+from homesim.errors import AFSMError, AFSMModificationRefused, InputError
 from homesim.heartbeat import HEALTH_CHANNEL
 from homesim.message import Message
 from homesim.module import Module
@@ -410,13 +409,26 @@ class ExecutionSupervisor(Module):
                                           element=exc.element) from exc
         self._after_change(m)
 
-    def _as_machine(self, machine: Machine | str | os.PathLike[str], *, fragment: bool = False) -> Machine:
+    def _as_machine(self, machine: Machine | str | os.PathLike[str] | etree._Element, *, fragment: bool = False,
+                    source: str | None = None) -> Machine:
+        """The machine to swap in; a document that does not load is refused like an invalid machine."""
         if isinstance(machine, Machine):
             return machine
-        text = str(machine)
-        if text.lstrip().startswith("<"):
-            return loads(text, source="<extend>" if fragment else "<replace>", fragment=fragment)
-        return load(machine, fragment=fragment)
+        label = source or ("<extend>" if fragment else "<replace>")
+        try:
+            if isinstance(machine, etree._Element):
+                return from_element(machine, source=label, fragment=fragment)
+            text = str(machine)
+            if text.lstrip().startswith("<"):
+                return loads(text, source=label, fragment=fragment)
+            return load(machine, fragment=fragment)
+        except AFSMModificationRefused:
+            raise
+        except InputError as exc:  # AFSMProblems (every problem listed) or malformed XML
+            refused = AFSMModificationRefused(f"refused: {exc.message}", source=exc.source, line=exc.line,
+                                              element=exc.element)
+            refused.problems = list(getattr(exc, "problems", [exc]))  # type: ignore[attr-defined]
+            raise refused from exc
 
     def _after_change(self, m: Machine) -> None:
         if self._typed_bus():
@@ -428,11 +440,11 @@ class ExecutionSupervisor(Module):
         return self.sim.bus.channel_schema(EVENT_CHANNEL) is not None
 
     def _rpc_replace(self, msg: Message) -> etree._Element:
-        self.replace(from_element(msg.xml, source=f"<rpc {msg.id}>"))
+        self.replace(self._as_machine(msg.xml, source=f"<rpc {msg.id}>"))
         return etree.Element("ok", state=self.state, machine=self.engine.machine.name)
 
     def _rpc_extend(self, msg: Message) -> etree._Element:
-        self.extend(from_element(msg.xml, source=f"<rpc {msg.id}>", fragment=True))
+        self.extend(self._as_machine(msg.xml, source=f"<rpc {msg.id}>", fragment=True))
         return etree.Element("ok", state=self.state, machine=self.engine.machine.name)
 
     def machine_xml(self) -> etree._Element:

@@ -488,3 +488,17 @@ def test_bench_supervisor_full_path_runs_and_every_event_is_applied():
         sys.path.pop(0)
     total, lat, outputs = bench.run_bus(bench.stream(50))
     assert len(lat) == 50 and outputs == 110 and total > 0
+
+
+@pytest.mark.parametrize("how, doc, words", [
+    ("replace", '<scxml xmlns="http://www.w3.org/2005/07/scxml" version="1.0"><state id="LookingAround">'
+                '<transition event="x" target="Nowhere"/></state></scxml>', "Nowhere"),
+    ("replace", "<scxml><state", "malformed XML"),
+    ("replace", "/no/such/machine.scxml", "cannot read file"),
+    ("extend", '<scxml xmlns="http://www.w3.org/2005/07/scxml" version="1.0"><parallel id="P"/></scxml>', "<parallel>"),
+])
+def test_a_document_that_does_not_load_is_refused_as_documented(world, how, doc, words):
+    with pytest.raises(AFSMModificationRefused, match=words) as info:
+        getattr(world.es, how)(doc)
+    assert info.value.problems and str(info.value).startswith(("<replace>", "<extend>", "/no/such"))
+    assert world.es.engine.machine.name == "biron"
