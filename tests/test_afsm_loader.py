@@ -72,6 +72,10 @@ def test_a_non_scxml_root_is_refused():
         ('<state id="A"><transition event="x" target="A" cond="nosuch()"/></state>', 3, "cannot be evaluated"),
         ('<state id="A"><transition event="a.*" target="A"/></state>', 3, "wildcards"),
         ('<state id="A" initial="B"/><state id="B"/>', 3, "initial state 'B' of 'A'"),
+        ('<state id="A"><transition event="error" target="A"/><transition event="error.send" target="A"/></state>',
+         3, "'error' is a prefix of 'error.send'; SCXML would match"),
+        ('<es:event name="ping.late"/>\n<state id="A"><transition event="ping" target="A"/></state>', 4,
+         "'ping' is a prefix of 'ping.late'"),
     ],
 )
 def test_semantic_rules(body: str, line: int, words: str):

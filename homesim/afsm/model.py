@@ -274,7 +274,8 @@ def validate(m: Machine) -> list[AFSMError]:
 
     Rules: at least one state; module names are NCNames; the initial states
     exist (a category's initial is one of its descendants); every target exists; event names are plain
-    names (no SCXML wildcards or prefix lists); guards and parameters are
+    names (no SCXML wildcards or prefix lists) and no transition's event is a dot-prefix of another
+    name in the machine (SCXML would match it by prefix, the ES matches exactly); guards and parameters are
     valid XPath; every send goes to a declared module, orders downward and
     conditions upward; lifetimes are positive; every leaf is reachable.
     """
@@ -304,6 +305,16 @@ def validate(m: Machine) -> list[AFSMError]:
             add(_err(m, f"initial state {st.initial!r} of {st.id!r} {what} (rule: a category's initial is one of its states)", st, "state"))
         for t in st.transitions:
             _check_transition(m, st, t, add)
+    # SCXML matches a transition's event by prefix ("error" matches "error.send"); the ES matches
+    # names exactly. A name that is a dot-prefix of another name in the machine would behave
+    # differently from SCXML without a word, so it is refused.
+    names = {t.event for _sid, t in m.transitions()} | set(m.events)
+    for sid, t in m.transitions():
+        longer = sorted(n for n in names if n.startswith(t.event + "."))
+        if longer:
+            add(_err(m, f"transition in {sid!r}: event {t.event!r} is a prefix of {longer[0]!r}; SCXML would match "
+                        f"{longer[0]!r} to it, the ES matches names exactly (rule: no event name is a dot-prefix "
+                        "of another; write the full name)", t, "transition"))
     try:
         m.initial_leaf()
         start_ok = True
