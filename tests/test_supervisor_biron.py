@@ -192,3 +192,19 @@ def test_technical_failure_ends_only_when_no_module_is_still_failed(biron):
     step(e2, ev(1, "module_failed", 1 * S, "monitor", '<module_failed module="laser"/>'))
     step(e2, ev(2, "module_recovered", 2 * S, "monitor", '<module_recovered module="laser"/>'))
     assert e2.state == "TechnicalFailure"
+
+
+@pytest.mark.parametrize("word, target, says", [("stop", "Interacting", "stopped"),
+                                                ("goodbye", "LookingAround", "interaction_ended")])
+def test_stop_and_goodbye_end_a_navigation(biron, word, target, says):
+    e = interacting(biron)
+    step(e, ev(1, "goto", 1 * S, xml="<event><SPEECH><PLACE>kitchen</PLACE></SPEECH></event>"))
+    assert e.state == "Navigating"
+    (rec,) = step(e, ev(2, word, 2 * S))
+    assert isinstance(rec, Applied) and rec.target_state == target
+    sent = [(o.target, o.name) for o in rec.outputs]
+    assert ("player", "stop") in sent and ("sequencer", "cancel") in sent
+    assert ("planner", "navigation_cancelled") in sent and ("dialog", says) in sent
+    # a late plan step from the cancelled plan cannot move the robot any more
+    assert kinds(step(e, ev(3, "plan_step", 2 * S + 1, "sequencer", "<event><POSE/></event>"))) == [
+        ("rejected", "plan_step", "inapplicable")]
