@@ -10,7 +10,8 @@ detection threshold go unheard.
 
 Speech recognition is modelled, not performed: the words of an utterance
 come through with errors whose rate grows with distance, with the angle off
-the robot's axis and with competing sources (low signal-to-noise ratio).
+the robot's axis (most from behind) and with competing sources (low
+signal-to-noise ratio).
 """
 
 from __future__ import annotations
@@ -108,11 +109,14 @@ def hear(
 def word_error_rate(distance: float, angle: float, snr_db: float) -> float:
     """Expected word error rate of distant speech recognition.
 
-    About 3 % close up and straight ahead; +6 % per metre beyond 1 m; up to
-    +12 % at 90 degrees off axis (beam-forming helps less there); and up to
-    +60 % when competing sources drown the speaker (low SNR). Capped at 95 %.
+    About 3 % close up and straight ahead; +6 % per metre beyond 1 m; off
+    the robot's axis the error grows with the angle, +12 % at 90 degrees and
+    +24 % from straight behind (the microphones face forward and the robot's
+    body shadows speech from behind); and up to +60 % when competing sources
+    drown the speaker (low SNR). Capped at 95 %. Non-decreasing in distance
+    and in the absolute (wrapped) angle.
     """
-    wer = 0.03 + 0.06 * max(0.0, distance - 1.0) + 0.12 * abs(math.sin(angle))
+    wer = 0.03 + 0.06 * max(0.0, distance - 1.0) + 0.12 * (1.0 - math.cos(angle))
     wer += 0.6 / (1.0 + math.exp((snr_db - 5.0) / 3.0))
     return min(0.95, wer)
 
