@@ -345,7 +345,7 @@ class ExecutionSupervisor(Module):
     def introspect(self) -> dict[str, Any]:
         """Current state, queue (status, expiry), counts and recent history as plain data."""
         snap = self.engine.snapshot()
-        snap["machine"] = self.engine.machine.name
+        snap["machine"] = self.engine.machine_name
         snap["t_ns"] = self._loop.now_ns
         snap["history"] = [record_dict(r) for r in self.engine.history]
         return snap
@@ -441,11 +441,11 @@ class ExecutionSupervisor(Module):
 
     def _rpc_replace(self, msg: Message) -> etree._Element:
         self.replace(self._as_machine(msg.xml, source=f"<rpc {msg.id}>"))
-        return etree.Element("ok", state=self.state, machine=self.engine.machine.name)
+        return etree.Element("ok", state=self.state, machine=self.engine.machine_name)
 
     def _rpc_extend(self, msg: Message) -> etree._Element:
         self.extend(self._as_machine(msg.xml, source=f"<rpc {msg.id}>", fragment=True))
-        return etree.Element("ok", state=self.state, machine=self.engine.machine.name)
+        return etree.Element("ok", state=self.state, machine=self.engine.machine_name)
 
     def machine_xml(self) -> etree._Element:
         """The running machine as SCXML (after any run-time changes)."""

@@ -249,3 +249,20 @@ def test_engine_setup_computes_each_category_once(monkeypatch):
     monkeypatch.setattr(Machine, "descendants", lambda self, sid: calls.append(sid) or real(self, sid))
     Engine(m)
     assert calls.count("C") <= 2  # validation may ask too; never once per leaf
+
+
+def test_the_engine_does_not_change_the_callers_event_or_share_its_machine():
+    m = loads(MACHINE, source="t.scxml")
+    e = Engine(m)
+    event = ev(1, "go", 0)
+    e.queue(event, 0)
+    (rec,) = e.process(0)
+    assert event.lifetime_ns is None  # the caller's event is untouched
+    assert rec.event.lifetime_ns == 1_000_000_000 and rec.event.id == "e#1"  # the engine's own copy
+    m.states["B"].transitions.clear()  # the caller changes its machine afterwards...
+    m.name = "changed"
+    assert e.machine.name == "t" and e.machine.states["B"].transitions  # ...the engine's is its own
+    e.machine.states["B"].transitions.clear()  # and what it hands out is a copy
+    assert e.machine.states["B"].transitions
+    e.queue(ev(2, "need", 1), 1)
+    assert kinds(e.process(1)) == [("applied", "e#2", "A")]

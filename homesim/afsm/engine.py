@@ -199,7 +199,7 @@ class Engine:
         problems = validate(machine)
         if problems:
             raise AFSMProblems(problems)
-        self._tables = _Tables(machine)
+        self._tables = _Tables(machine.copy())  # the caller's machine stays the caller's
         self.state = machine.initial_leaf()
         self._queue: list[Queued] = []
         self._ids: dict[str, Queued] = {}
@@ -211,7 +211,8 @@ class Engine:
     # ------------------------------------------------------------- queries
     @property
     def machine(self) -> Machine:
-        return self._tables.machine
+        """A copy of the running machine (changing it changes nothing here: use replace/extend)."""
+        return self._tables.machine.copy()
 
     @property
     def machine_name(self) -> str:
@@ -257,7 +258,8 @@ class Engine:
         lifetime = event.lifetime_ns
         if lifetime is None:
             lifetime = self._tables.machine.lifetime_ns(event.name)
-            event.lifetime_ns = lifetime
+            # the caller's event is left as it was; records carry this copy
+            event = Event(event.id, event.name, event.source, event.created_ns, lifetime, event.payload)
         self._seq += 1
         item = Queued(event, self._seq, now_ns, event.created_ns + lifetime)
         insort(self._queue, item, key=_key)
@@ -382,14 +384,14 @@ class Engine:
             raise AFSMModificationRefused(
                 f"refused: the current state {self.state!r} {what} after the change", source=machine.source
             )
-        self._tables = _Tables(machine)
+        self._tables = _Tables(machine.copy())
         for item in self._queue:
             item.status = WAITING
             item.retained_in = None
 
     def extend(self, extension: Machine) -> Machine:
         """Merge states/transitions of ``extension`` into the running machine (see :func:`merge`)."""
-        merged = merge(self.machine, extension)
+        merged = merge(self._tables.machine, extension)
         self.replace(merged)
         return merged
 
