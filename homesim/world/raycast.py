@@ -227,3 +227,109 @@ def line_of_sight(
     rc = caster or RayCaster()
     hit = rc.cast(origin, ang, seg_a, seg_b, circ_c, circ_r, float(dist.max()) + 1.0)
     return hit >= dist - margin
+
+
+# ----------------------------------------------------------- 3D sight lines
+class Prisms:
+    """Convex vertical prisms (a polygon footprint from ``bottom`` to ``top``), packed for
+    :func:`sight_lines_clear`: every edge's start point and outward normal, grouped by prism."""
+
+    __slots__ = ("a", "normal", "first", "bottom", "top")
+
+    def __init__(self, polygons: Sequence[FloatArray], bottom: Sequence[float], top: Sequence[float]) -> None:
+        starts, normals, first = [], [], []
+        n = 0
+        for poly in polygons:
+            p = np.asarray(poly, dtype=float)
+            if p.shape[0] >= 3 and _signed_area(p) < 0:
+                p = p[::-1]
+            e = np.roll(p, -1, axis=0) - p
+            starts.append(p)
+            normals.append(np.stack((e[:, 1], -e[:, 0]), axis=1))  # outward for a counter-clockwise polygon
+            first.append(n)
+            n += p.shape[0]
+        self.a = np.concatenate(starts) if starts else _EMPTY2
+        self.normal = np.concatenate(normals) if normals else _EMPTY2
+        self.first = np.array(first, dtype=np.intp)
+        self.bottom = np.asarray(bottom, dtype=float)
+        self.top = np.asarray(top, dtype=float)
+
+    def __len__(self) -> int:
+        return int(self.first.shape[0])
+
+
+def _signed_area(p: FloatArray) -> float:
+    return 0.5 * float(np.dot(p[:, 0], np.roll(p[:, 1], -1)) - np.dot(p[:, 1], np.roll(p[:, 0], -1)))
+
+
+def _height_span_blocks(z0: float, dz: FloatArray, t_in: FloatArray, t_out: FloatArray, bottom: FloatArray, top: FloatArray) -> FloatArray:
+    """Whether the line's heights over [t_in, t_out] meet [bottom, top] (where t_in <= t_out)."""
+    meet = t_in <= t_out
+    za, zb = z0 + dz * np.where(meet, t_in, 0.0), z0 + dz * np.where(meet, t_out, 0.0)
+    lo, hi = np.minimum(za, zb), np.maximum(za, zb)
+    return meet & (lo <= top) & (hi >= bottom)
+
+
+def sight_lines_clear(
+    origin: Sequence[float],
+    targets: FloatArray,
+    prisms: Prisms,
+    cyl_c: FloatArray = _EMPTY2,
+    cyl_r: FloatArray = _EMPTY1,
+    cyl_top: FloatArray = _EMPTY1,
+    *,
+    skip: FloatArray | None = None,
+    margin: float = 1e-6,
+) -> FloatArray:
+    """For each 3D target (N, 3): True when the straight line from the 3D ``origin`` reaches it.
+
+    Obstacles have heights: ``prisms`` (walls, furniture, table legs, each
+    from its bottom to its top) and upright cylinders standing on the
+    floor (people: centres (K, 2), radii (K,), tops (K,)). An obstacle
+    blocks a line only where the line, at its height there, passes
+    through it: over a short cupboard, under a table top, past a child's
+    head to an adult's face. ``skip`` (N, K) marks cylinders a target
+    belongs to (a person's own body does not hide their face). The last
+    ``margin`` metres before a target never block (its own surface).
+    """
+    tg = np.atleast_2d(np.asarray(targets, dtype=float))
+    n = tg.shape[0]
+    if n == 0:
+        return np.zeros(0, dtype=bool)
+    ox, oy, oz = float(origin[0]), float(origin[1]), float(origin[2])
+    d = tg[:, :2] - (ox, oy)  # (N, 2): the line is origin + t d, t in [0, 1]
+    dz = tg[:, 2] - oz
+    length = np.hypot(d[:, 0], d[:, 1])
+    t_end = np.clip(1.0 - margin / np.maximum(length, 1e-12), 0.0, 1.0)
+    blocked = np.zeros(n, dtype=bool)
+    if len(prisms):
+        # Cyrus-Beck clipping of every line against every convex prism footprint.
+        num = ((prisms.a - (ox, oy)) * prisms.normal).sum(axis=1)  # (E,)
+        den = d @ prisms.normal.T  # (N, E)
+        with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+            t = num[None, :] / den
+        enter = np.where(den < 0, t, -np.inf)
+        enter = np.where((den == 0) & (num[None, :] < 0), np.inf, enter)  # parallel and outside this edge
+        leave = np.where(den > 0, t, np.inf)
+        t_in = np.maximum(np.maximum.reduceat(enter, prisms.first, axis=1), 0.0)  # (N, M)
+        t_out = np.minimum(np.minimum.reduceat(leave, prisms.first, axis=1), t_end[:, None])
+        blocked |= _height_span_blocks(oz, dz[:, None], t_in, t_out, prisms.bottom[None, :], prisms.top[None, :]).any(axis=1)
+    c = np.asarray(cyl_c, dtype=float).reshape(-1, 2)
+    if c.shape[0]:
+        r = np.asarray(cyl_r, dtype=float)
+        f = (ox, oy) - c  # (K, 2)
+        a = (d * d).sum(axis=1)[:, None]  # (N, 1)
+        b = 2.0 * (d @ f.T)  # (N, K)
+        cc = (f * f).sum(axis=1) - r * r  # (K,)
+        disc = b * b - 4.0 * a * cc[None, :]
+        root = np.sqrt(np.maximum(disc, 0.0))
+        with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+            t1 = np.where(disc >= 0, (-b - root) / (2.0 * a), np.inf)
+            t2 = np.where(disc >= 0, (-b + root) / (2.0 * a), -np.inf)
+        t_in = np.maximum(t1, 0.0)
+        t_out = np.minimum(t2, t_end[:, None])
+        hit = _height_span_blocks(oz, dz[:, None], t_in, t_out, np.zeros_like(r)[None, :], np.asarray(cyl_top, dtype=float)[None, :])
+        if skip is not None:
+            hit &= ~np.asarray(skip, dtype=bool)
+        blocked |= hit.any(axis=1)
+    return ~blocked

@@ -7,7 +7,9 @@ legs. ``step(dt)`` advances physics by an integer step count (time is
 ``steps * dt``, no float drift). The world keeps numpy arrays of the static
 geometry for the raycast kernel, split by height so that the laser at
 0.30 m sees walls, table legs and furniture reaching down to the floor but
-not table tops, and the camera is occluded only by things tall enough.
+not table tops; the camera's sloping sight lines are checked in 3D against
+every obstacle's vertical extent (:attr:`World.prisms`) and people's
+heights.
 
 The world is ground truth. Robot modules never hold a reference to it:
 hardware models read it and publish noisy measurements on the bus.
@@ -37,7 +39,7 @@ from .bodies import (
 )
 from .geometry import is_convex, polygon_area, polygon_centroid, polygon_edges, split_wall, wall_rectangle
 from .pathplan import WALKER_RADIUS, Grid, door_sides, scenario_bounds
-from .raycast import RayCaster
+from .raycast import Prisms, RayCaster
 
 StepListener = Callable[["World"], None]
 
@@ -82,11 +84,12 @@ class World:
             self.humans[h.name] = HumanBody(self.space, h.name, h.x, h.y, h.heading, height=h.height, torso=h.torso, speed=h.speed)
         self.sources = {s.name: (s.x, s.y, s.height) for s in scenario.sources}
         self.objects = {o.name: o for o in scenario.objects}
-        self._seg_cache: dict[tuple[str, float], tuple[np.ndarray, np.ndarray]] = {}
+        self._seg_cache: dict[float, tuple[np.ndarray, np.ndarray]] = {}
         self.space.on_collision(CAT_ROBOT, None, begin=self._on_robot_contact)
         self._laser_segments = self.segments_at(LASER_HEIGHT)
         self.caster = RayCaster()
         self._grids: dict[float, Grid] = {}
+        self._prisms: Prisms | None = None
 
     # ------------------------------------------------------------ building
     def _build_static(self, sc: Scenario) -> None:
@@ -251,23 +254,14 @@ class World:
         return list(self._contacts)
 
     # ------------------------------------------------------------ geometry
-    def segments_at(self, z: float, *, mode: str = "span") -> tuple[np.ndarray, np.ndarray]:
-        """Edges (a, b) of every static obstacle at height ``z``.
-
-        ``mode="span"``: obstacles whose vertical extent contains z (what a
-        horizontal beam at z hits). ``mode="above"``: obstacles at least z
-        high (what blocks a sight line that never dips below z).
-        """
-        key = (mode, round(z, 3))
+    def segments_at(self, z: float) -> tuple[np.ndarray, np.ndarray]:
+        """Edges (a, b) of every static obstacle whose vertical extent contains height ``z``
+        (what a horizontal beam at z hits). Sloping sight lines use :attr:`prisms`."""
+        key = round(z, 3)
         got = self._seg_cache.get(key)
         if got is not None:
             return got
-        if mode == "span":
-            chosen = [o for o in self.obstacles if o.bottom <= z <= o.top]
-        elif mode == "above":
-            chosen = [o for o in self.obstacles if o.top >= z and o.kind != "leg"]
-        else:
-            raise ValueError(f"unknown mode {mode!r}")
+        chosen = [o for o in self.obstacles if o.bottom <= z <= o.top]
         if chosen:
             pairs = [polygon_edges(o.polygon) for o in chosen]
             a = np.concatenate([p[0] for p in pairs])
@@ -284,12 +278,21 @@ class World:
             return np.zeros((0, 2)), np.zeros(0)
         return np.concatenate([h.leg_centres() for h in present]), np.full(2 * len(present), LEG_RADIUS)
 
-    def body_circles(self, *, exclude: str | None = None) -> tuple[np.ndarray, np.ndarray, list[str]]:
-        """Centres, radii and names of present people's bodies (for occlusion)."""
-        people = [h for n, h in self.humans.items() if h.present and n != exclude]
+    def person_cylinders(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, list[str]]:
+        """Present people as upright cylinders for occlusion: centres (K, 2), radii, heights, names."""
+        people = [h for h in self.humans.values() if h.present]
         if not people:
-            return np.zeros((0, 2)), np.zeros(0), []
-        return np.array([h.position for h in people]), np.full(len(people), HUMAN_RADIUS * 0.8), [h.name for h in people]
+            return np.zeros((0, 2)), np.zeros(0), np.zeros(0), []
+        k = len(people)
+        return np.array([h.position for h in people]), np.full(k, HUMAN_RADIUS * 0.8), np.array([h.height for h in people]), [h.name for h in people]
+
+    @property
+    def prisms(self) -> Prisms:
+        """Every static obstacle as a vertical prism (footprint, bottom, top) for 3D sight lines."""
+        if self._prisms is None:
+            obs = self.obstacles
+            self._prisms = Prisms([o.polygon for o in obs], [o.bottom for o in obs], [o.top for o in obs])
+        return self._prisms
 
     def laser_ranges(self, origin: tuple[float, float], angles: np.ndarray, max_range: float, out: np.ndarray | None = None) -> np.ndarray:
         """Exact ranges at laser height along world angles (no noise): walls, furniture, legs."""

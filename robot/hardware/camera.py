@@ -5,8 +5,8 @@ deg/s), tilt +-25 deg (up to 50 deg/s), horizontal field of view 48.8 deg
 (vertical 37.6 deg, 4:3). What it reports, each a pure function here:
 
 - faces: frontal only (the person looks at the camera within about
-  +-30 deg), in the field of view, not occluded (raycast against walls,
-  tall furniture and other people), 0.5-4 m away; bearing, distance from
+  +-30 deg), in the field of view, not occluded (3D sight lines against
+  walls, furniture and other people, each with its height), 0.5-4 m away; bearing, distance from
   the face's size (noise grows with distance) and height;
 - torsos: colour (RGB with noise) and bearing, any facing direction;
 - pointing gestures: when the pointing hand is in view; the arm's
@@ -25,7 +25,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from homesim.world.geometry import wrap_angle
-from homesim.world.raycast import RayCaster, line_of_sight
+from homesim.world.raycast import sight_lines_clear
 from homesim.world.world import World
 
 
@@ -91,20 +91,19 @@ def in_field_of_view(bearing: np.ndarray, elev: np.ndarray, ptu: PanTilt, spec: 
     return (np.abs(wrap_angle(bearing - ptu.pan)) <= spec.hfov / 2) & (np.abs(elev - ptu.tilt) <= spec.vfov / 2)
 
 
-def visible(world: World, cam: tuple[float, float, float], points: np.ndarray, *, exclude: list[str | None], caster: RayCaster | None = None) -> np.ndarray:
-    """Line of sight from the camera to each point (N, 3): walls, furniture tall enough, people.
+def visible(world: World, cam: tuple[float, float, float], points: np.ndarray, *, exclude: list[str | None]) -> np.ndarray:
+    """Line of sight from the camera to each point (N, 3), in 3D.
 
-    ``exclude[i]`` names the person point i belongs to (their own body does
-    not hide their face). Furniture blocks a sight line when it is at least
-    as high as the lower end of the line.
+    Walls, furniture (from its underside to its top) and people (upright
+    cylinders as tall as they are) block a sight line only where the line,
+    at its height there, passes through them: the camera looks over a
+    child or a sofa at a face behind, and under a table top. ``exclude[i]``
+    names the person point i belongs to (their own body does not hide it).
     """
     p = np.atleast_2d(np.asarray(points, dtype=float))
-    out = np.zeros(p.shape[0], dtype=bool)
-    for i in range(p.shape[0]):
-        a, b = world.segments_at(min(cam[2], float(p[i, 2])), mode="above")
-        c, r, _ = world.body_circles(exclude=exclude[i])
-        out[i] = bool(line_of_sight(cam[:2], p[i : i + 1, :2], a, b, c, r, caster=caster)[0])
-    return out
+    c, r, top, names = world.person_cylinders()
+    skip = np.array([[n == ex for n in names] for ex in exclude], dtype=bool).reshape(p.shape[0], len(names))
+    return sight_lines_clear(cam, p, world.prisms, c, r, top, skip=skip)
 
 
 @dataclass(frozen=True)
@@ -115,7 +114,7 @@ class FaceDetection:
     truth: str  # who it was (ground truth; kept out of bus messages)
 
 
-def detect_faces(world: World, pose: tuple[float, float, float], ptu: PanTilt, spec: CameraSpec, rng: np.random.Generator | None, *, caster: RayCaster | None = None) -> list[FaceDetection]:
+def detect_faces(world: World, pose: tuple[float, float, float], ptu: PanTilt, spec: CameraSpec, rng: np.random.Generator | None) -> list[FaceDetection]:
     """Faces in frontal view, in the image, unoccluded and 0.5-4 m away."""
     people = [h for h in world.humans.values() if h.present]
     if not people:
@@ -130,7 +129,7 @@ def detect_faces(world: World, pose: tuple[float, float, float], ptu: PanTilt, s
     ok = frontal & in_field_of_view(bearing, elev, ptu, spec) & (dist >= spec.face_range[0]) & (dist <= spec.face_range[1])
     idx = np.flatnonzero(ok)
     if idx.size:
-        sight = visible(world, cam, faces[idx], exclude=[people[i].name for i in idx], caster=caster)
+        sight = visible(world, cam, faces[idx], exclude=[people[i].name for i in idx])
         idx = idx[sight]
     out = []
     for i in idx:
@@ -150,7 +149,7 @@ class TorsoDetection:
     truth: str
 
 
-def detect_torsos(world: World, pose: tuple[float, float, float], ptu: PanTilt, spec: CameraSpec, rng: np.random.Generator | None, *, caster: RayCaster | None = None) -> list[TorsoDetection]:
+def detect_torsos(world: World, pose: tuple[float, float, float], ptu: PanTilt, spec: CameraSpec, rng: np.random.Generator | None) -> list[TorsoDetection]:
     """Torsos (clothing colour and bearing) of people in view, whichever way they face."""
     people = [h for h in world.humans.values() if h.present]
     if not people:
@@ -161,7 +160,7 @@ def detect_torsos(world: World, pose: tuple[float, float, float], ptu: PanTilt, 
     ok = in_field_of_view(bearing, elev, ptu, spec) & (dist >= spec.torso_range[0]) & (dist <= spec.torso_range[1])
     idx = np.flatnonzero(ok)
     if idx.size:
-        idx = idx[visible(world, cam, pts[idx], exclude=[people[i].name for i in idx], caster=caster)]
+        idx = idx[visible(world, cam, pts[idx], exclude=[people[i].name for i in idx])]
     out = []
     for i in idx:
         b = float(bearing[i])
@@ -186,7 +185,7 @@ class GestureDetection:
     target: str
 
 
-def detect_gestures(world: World, pose: tuple[float, float, float], ptu: PanTilt, spec: CameraSpec, rng: np.random.Generator | None, *, caster: RayCaster | None = None) -> list[GestureDetection]:
+def detect_gestures(world: World, pose: tuple[float, float, float], ptu: PanTilt, spec: CameraSpec, rng: np.random.Generator | None) -> list[GestureDetection]:
     """Pointing gestures whose hand is in the image, unoccluded and near enough."""
     out = []
     cam = camera_point(pose, spec)
@@ -197,7 +196,7 @@ def detect_gestures(world: World, pose: tuple[float, float, float], ptu: PanTilt
         bearing, elev, dist = view_angles(cam, pose[2], np.array([hand]))
         if not (in_field_of_view(bearing, elev, ptu, spec)[0] and dist[0] <= spec.gesture_range):
             continue
-        if not visible(world, cam, np.array([hand]), exclude=[h.name], caster=caster)[0]:
+        if not visible(world, cam, np.array([hand]), exclude=[h.name])[0]:
             continue
         x, y = h.position
         arm = np.array(hand) - np.array([x, y, h.shoulder_z])
@@ -229,7 +228,7 @@ def confuse(true_type: str, types: list[str], p: float, rng: np.random.Generator
     return others[int(rng.integers(len(others)))]
 
 
-def detect_objects(world: World, pose: tuple[float, float, float], ptu: PanTilt, spec: CameraSpec, rng: np.random.Generator | None, *, confusion: float = 0.05, caster: RayCaster | None = None) -> list[ObjectDetection]:
+def detect_objects(world: World, pose: tuple[float, float, float], ptu: PanTilt, spec: CameraSpec, rng: np.random.Generator | None, *, confusion: float = 0.05) -> list[ObjectDetection]:
     """Objects in the image, unoccluded, 0.3-3.5 m away; types through :func:`confuse`."""
     names = list(world.objects)
     if not names:
@@ -244,7 +243,7 @@ def detect_objects(world: World, pose: tuple[float, float, float], ptu: PanTilt,
         # An object's own furniture does not hide it: look at its top.
         lifted = pts[idx].copy()
         lifted[:, 2] += np.array([world.objects[names[i]].height / 2 for i in idx])
-        idx = idx[visible(world, cam, lifted, exclude=[None] * len(idx), caster=caster)]
+        idx = idx[visible(world, cam, lifted, exclude=[None] * len(idx))]
     out = []
     for i in idx:
         o = world.objects[names[i]]
