@@ -118,3 +118,31 @@ def test_same_seed_same_sensor_stream():
 
     assert digest(5) == digest(5)
     assert digest(5) != digest(6)
+
+
+def _odometry_errors(rate: float, runs: int, seconds: float = 2.0, v: float = 0.5, w: float = 0.4) -> np.ndarray:
+    """(runs, 3) final odometry errors (x, y, theta) for one true arc sampled at ``rate``."""
+    spec = OdometrySpec()
+    n = int(round(seconds * rate))
+    t = np.arange(n + 1) / rate
+    th = w * t
+    truth = np.stack((v / w * np.sin(th), v / w * (1.0 - np.cos(th)), th), axis=1)
+    rng = np.random.default_rng(int(rate))
+    out = np.empty((runs, 3))
+    for k in range(runs):
+        odo = (0.0, 0.0, 0.0)
+        for i in range(n):
+            odo = odometry_step(odo, tuple(truth[i]), tuple(truth[i + 1]), spec, rng)
+        out[k] = (odo[0] - truth[-1, 0], odo[1] - truth[-1, 1], math.remainder(odo[2] - truth[-1, 2], 2 * math.pi))
+    return out
+
+
+def test_odometry_error_does_not_depend_on_the_publishing_rate():
+    """Multiplicative noise per increment shrank the error as the rate grew (sqrt(10) from 5 to 50 Hz)."""
+    slow, fast = _odometry_errors(5.0, 400), _odometry_errors(50.0, 400)
+    for axis in range(3):
+        ratio = np.sqrt((fast[:, axis] ** 2).mean() / (slow[:, axis] ** 2).mean())
+        assert 0.8 < ratio < 1.25, (axis, ratio)
+    # And the size is the documented one: 2 cm per sqrt(m) along the 1 m arc.
+    along = np.sqrt(((slow[:, :2] ** 2).sum(axis=1)).mean())
+    assert 0.015 < along < 0.035

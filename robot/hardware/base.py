@@ -5,9 +5,11 @@ the base holds the last one and stops when none came for ``watchdog``
 seconds (a crashed controller must not drive the robot into a wall). The
 world's contact solver stops the robot at walls, furniture and people.
 
-Odometry integrates the base's real motion with multiplicative noise on
-each distance and turn increment plus a slow heading drift, so the pose it
-reports wanders away from the truth as a real base's does. It is published
+Odometry integrates the base's real motion with noise on each distance
+and turn increment plus a slow heading drift, each a random walk (variance
+proportional to the distance or angle travelled, so the error does not
+depend on the publishing rate), so the pose it reports wanders away from
+the truth as a real base's does. It is published
 on ``/robot/odometry`` as ``<odometry x y theta v w/>`` at its rate.
 """
 
@@ -35,9 +37,13 @@ ODOMETRY_CHANNEL = "/robot/odometry"
 
 @dataclass(frozen=True)
 class OdometrySpec:
-    distance_noise: float = 0.02  # relative, per increment
-    turn_noise: float = 0.03  # relative, per increment
-    drift: float = 0.01  # rad of heading drift per metre driven (std)
+    """Odometry noise as random walks: each standard deviation grows with the square root
+    of the distance (or angle) travelled, so the error after a drive does not depend on
+    how often the base publishes."""
+
+    distance_noise: float = 0.02  # m per sqrt(m) driven: 2 cm after 1 m, 6 cm after 10 m (std)
+    turn_noise: float = 0.03  # rad per sqrt(rad) turned: 4 deg after a full turn (std)
+    drift: float = 0.01  # rad of heading drift per sqrt(m) driven (std)
     rate: float = 10.0
     watchdog: float = 0.5
 
@@ -53,7 +59,10 @@ def odometry_step(
 
     The increment is taken in the robot's own frame (distance along its
     heading and turn), disturbed, and applied to the odometry pose, so
-    errors accumulate exactly as dead reckoning does.
+    errors accumulate exactly as dead reckoning does. The noise of an
+    increment has a variance proportional to its size (a standard deviation
+    proportional to its square root): split a drive into more, smaller
+    increments and the total error stays the same.
     """
     dx, dy = after[0] - before[0], after[1] - before[1]
     c, s = math.cos(before[2]), math.sin(before[2])
@@ -61,8 +70,9 @@ def odometry_step(
     side = -s * dx + c * dy
     turn = float(wrap_angle(after[2] - before[2]))
     if rng is not None:
-        forward *= 1.0 + float(rng.normal(0.0, spec.distance_noise))
-        turn = turn * (1.0 + float(rng.normal(0.0, spec.turn_noise))) + float(rng.normal(0.0, spec.drift * math.sqrt(abs(forward) + 1e-12)))
+        dist, ang = abs(forward), abs(turn)
+        forward += float(rng.normal(0.0, spec.distance_noise * math.sqrt(dist)))
+        turn += float(rng.normal(0.0, spec.turn_noise * math.sqrt(ang))) + float(rng.normal(0.0, spec.drift * math.sqrt(dist)))
     ox, oy, oth = odo
     co, so = math.cos(oth), math.sin(oth)
     return ox + co * forward - so * side, oy + so * forward + co * side, float(wrap_angle(oth + turn))
