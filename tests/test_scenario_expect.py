@@ -4,6 +4,9 @@ from __future__ import annotations
 
 import math
 
+import pytest
+
+from homesim.errors import ScenarioError
 from homesim.scenario.loader import load_scenario_text
 from homesim.sim import Simulation
 from homesim.world.stage import Stage
@@ -12,12 +15,14 @@ from tests.world_helpers import ROOM
 ROOM_TEXT = ROOM.read_text(encoding="utf-8")
 
 
-def _run(people: str, expect: str, *, until: float = 10.0):
+def _run(people: str, expect: str, *, until: float = 10.0, drive: tuple[float, float] | None = None):
     text = ROOM_TEXT.replace('<human name="ann" x="3" y="3" heading="180" height="1.70" torso="yellow"/>', people)
     text = text.replace("</humans>", f"</humans>\n  <expect>\n    {expect}\n  </expect>")
     sc = load_scenario_text(text, source="expect.xml")
     sim = Simulation(seed=1, scenario=sc.name)
     st = Stage(sim, sc, actors=("humans.install",), truth_every=1)
+    if drive is not None:
+        st.world.robot.command(*drive)
     st.run(until)
     verdicts = st.verdicts()
     sim.close()
@@ -48,3 +53,22 @@ def test_reached_a_person_walking_up_to_them():
     frame = st.truth.at(t)
     ann, bob = (next(p for p in frame.people if p.name == n) for n in ("ann", "bob"))
     assert math.hypot(ann.x - bob.x, ann.y - bob.y) <= 0.9
+
+
+ANN = '<human name="ann" x="3" y="3" heading="180" height="1.70" torso="yellow"/>'
+
+
+def test_no_collision_fails_when_the_robot_drives_into_a_wall():
+    expect = '<no-collision/>\n    <no-collision with="wall"/>\n    <no-collision with="ann"/>\n    <no-collision with="wall" between="0 1"/>'
+    st, verdicts = _run(ANN.replace('x="3" y="3"', 'x="3" y="5"'), expect, drive=(0.5, -math.pi / 4))
+    hits = st.world.contacts
+    assert hits and {w for _, w in hits} == {"wall"} and hits[0][0] > 1.0
+    assert [v.passed for v in verdicts] == [False, False, True, True]
+    assert f"the robot touched wall at t={hits[0][0]:.2f} s" in verdicts[0].detail
+
+
+def test_no_collision_names_only_walls_furniture_or_people():
+    text = ROOM_TEXT.replace("</humans>", '</humans>\n  <expect>\n    <no-collision with="bob"/>\n  </expect>')
+    with pytest.raises(ScenarioError, match="with='bob': use 'wall', 'furniture' or the name of a human") as exc:
+        load_scenario_text(text, source="expect.xml")
+    assert exc.value.line == text[: text.index("<no-collision")].count("\n") + 1

@@ -37,7 +37,8 @@ def test_the_example_flat_loads_with_everything_in_it():
     assert [h.name for h in sc.humans] == ["anna", "tom"]
     assert [(s.kind, s.name) for s in sc.sources] == [("radio", "radio")]
     assert sc.piece("table").clearance == pytest.approx(0.7)
-    assert sc.human("anna").heading == pytest.approx(math.radians(160))  # degrees in, radians out
+    assert sc.human("tom").heading == 0.0 and sc.human("anna").heading == 0.0
+    assert sc.human("tom").x == pytest.approx(0.9)
     assert sc.robot.max_turn == pytest.approx(math.radians(100)) and sc.robot.laser_rate == 10
     assert [d.name for _, d in sc.exits()] == ["front door"]
     anna = sc.human("anna").script
@@ -46,7 +47,8 @@ def test_the_example_flat_loads_with_everything_in_it():
     assert isinstance(sc.human("tom").script[0], Repeat) and sc.human("tom").script[0].times == 2
     radio = sc.sources[0].script
     assert isinstance(radio[1], Repeat) and radio[1].times is None
-    assert len(sc.expectations) == 5 and sc.expectations[0].line is not None
+    assert len(sc.expectations) == 7 and sc.expectations[0].line is not None
+    assert [e.get("absent") for e in sc.expectations[1:3]] == [True, False]
 
 
 def test_malformed_xml_names_file_and_line():

@@ -8,11 +8,13 @@ import numpy as np
 import pytest
 
 from homesim.cli import main
-from homesim.scenario.loader import load_scenario
+from homesim.scenario.loader import load_scenario, load_scenario_text
 from homesim.sim import Simulation
 from homesim.world.geometry import distance_points_segments, polygon_edges
 from homesim.world.legs import detect_leg_pairs
 from homesim.world.stage import Stage
+from homesim.world.world import World
+from humans.person import Person
 from tests.world_helpers import EXAMPLE
 
 
@@ -28,7 +30,7 @@ def stage() -> Stage:
 
 def test_every_expectation_of_the_example_holds(stage):
     verdicts = stage.verdicts()
-    assert len(verdicts) == 5
+    assert [v.expectation.kind for v in verdicts] == ["legs-seen", "face-seen", "face-seen", "sound-heard", "reached", "reached", "no-collision"]
     assert all(v.passed for v in verdicts), [v.line() for v in verdicts]
 
 
@@ -86,7 +88,7 @@ def test_cli_run_is_byte_identical_and_passes(capsys):
     first = capsys.readouterr().out
     assert main(["scenario", "run", str(EXAMPLE), "--quiet"]) == 0
     assert capsys.readouterr().out == first
-    assert "verdict: PASS (5/5" in first
+    assert "verdict: PASS (7/7" in first
 
 
 def test_cli_plot_writes_a_png(tmp_path, capsys):
@@ -102,3 +104,70 @@ def test_cli_reports_a_broken_scenario_with_file_and_line(tmp_path, capsys):
     assert main(["scenario", "run", str(bad)]) == 2
     err = capsys.readouterr().err
     assert f"{bad}:" in err and "no room named 'garage'" in err
+
+
+# ------------------------------------------- the example's expectations have teeth
+EXAMPLE_TEXT = EXAMPLE.read_text(encoding="utf-8")
+LATE = '    <reached who="anna" room="kitchen" within="1.0" by="20"/>\n'
+
+
+def _failing(text: str, *, duration: float = 13.0) -> set[str]:
+    """Run a (mutated) example for its first ``duration`` seconds; which expectations fail."""
+    assert LATE in text
+    text = text.replace(LATE, "").replace('duration="40"', f'duration="{duration:g}"')
+    sc = load_scenario_text(text, source="mutant.xml")
+    sim = Simulation(seed=sc.seed, scenario=sc.name)
+    st = Stage(sim, sc)
+    st.run()
+    failed = {v.expectation.describe() for v in st.verdicts() if not v.passed}
+    sim.close()
+    return failed
+
+
+def _mutant(old: str, new: str) -> str:
+    assert old in EXAMPLE_TEXT, old
+    return EXAMPLE_TEXT.replace(old, new, 1)
+
+
+SOUND = '<sound-heard bearing="-18" tolerance="6" between="1 2.5"/>'
+NO_FACE = '<face-seen bearing="-18" tolerance="6" between="0 0.9" absent="true"/>'
+FACE = '<face-seen bearing="-18" tolerance="6" between="1.2 3"/>'
+TOM = '<reached who="tom" place="stove" within="0.3" by="12"/>'
+LEGS = '<legs-seen bearing="-18" tolerance="8" between="0 1"/>'
+
+
+def test_the_unmutated_first_seconds_pass():
+    assert _failing(EXAMPLE_TEXT) == set()
+
+
+def test_without_annas_hello_nothing_is_heard_at_her_bearing():
+    """The review: sound-heard passed without Anna speaking (Tom's voice from the stove was within 12 deg)."""
+    assert _failing(_mutant('<say text="Hello BIRON"/>', '<wait for="1.1"/>')) == {SOUND}
+
+
+def test_a_face_turned_to_the_robot_from_the_start_breaks_the_frontal_check():
+    """The review: Anna faced the robot from t=0, so face-seen never exercised the frontal test."""
+    failed = _failing(_mutant('<human name="anna" x="4.5" y="1.5" heading="0"', '<human name="anna" x="4.5" y="1.5" heading="160"'))
+    assert failed == {NO_FACE}
+
+
+def test_without_turning_to_the_robot_anna_shows_no_face():
+    assert FACE in _failing(_mutant('<wait for="1"/>\n        <face robot="true"/>', '<wait for="1"/>'))
+
+
+def test_the_laser_must_really_see_her_legs(monkeypatch):
+    monkeypatch.setattr(World, "leg_circles", lambda self: (np.zeros((0, 2)), np.zeros(0)))
+    assert LEGS in _failing(EXAMPLE_TEXT)
+
+
+def test_tom_reaches_the_stove_only_by_walking_around_the_robot(monkeypatch):
+    """The review: 'reached tom stove' held at t=0.3 s (he started 0.8 m away). Now he starts
+    behind the robot; a planner that ignored the robot would leave him waiting there."""
+    monkeypatch.setattr(Person, "plan", lambda self, goal: self.world.walk_grid().plan(self.body.position, goal))
+    assert _failing(EXAMPLE_TEXT) == {TOM}
+
+
+def test_a_person_who_pushed_the_robot_would_fail_no_collision(monkeypatch):
+    monkeypatch.setattr(Person, "plan", lambda self, goal: self.world.walk_grid().plan(self.body.position, goal))
+    monkeypatch.setattr(World, "_hold_people_back", lambda self, dt: None)
+    assert "<no-collision/>" in _failing(EXAMPLE_TEXT)

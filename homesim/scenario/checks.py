@@ -261,6 +261,10 @@ class _Checker:
                 raise self.fail(e.line, e.kind, f"by={by} is after the end of the run ({self.sc.duration} s)")
         if e.kind == "robot-near":
             self.target(e.get("target"), "robot-near", e.line)  # type: ignore[arg-type]
+        if e.kind == "no-collision":
+            what = e.get("with")
+            if what is not None and what not in ("wall", "furniture") and self.kinds.get(str(what), ("",))[0] != "human":
+                raise self.fail(e.line, e.kind, f"with={what!r}: use 'wall', 'furniture' or the name of a human")
         window = e.get("between")
         if window is not None and window[1] > self.sc.duration:  # type: ignore[index]
             raise self.fail(e.line, e.kind, f"the window ends at {window[1]} s, after the run ({self.sc.duration} s)")  # type: ignore[index]

@@ -3,11 +3,12 @@
 Two kinds of evidence, never mixed up: ground truth (where people were,
 from :class:`~homesim.world.truth.GroundTruth`, frame by frame: a moving
 target is where it was in the same frame) for ``reached`` and
-``robot-near``; the robot's own sensor messages as they went over the bus
-for ``legs-seen`` (a leg pair found in a laser scan by the reference
-detector), ``face-seen`` (a face detection) and ``sound-heard`` (a sound
-direction). So "the laser saw legs at -18 deg" is checked on what the laser
-published, not on where the person was.
+``robot-near``, and the world's contact log for ``no-collision``; the
+robot's own sensor messages as they went over the bus for ``legs-seen`` (a
+leg pair found in a laser scan by the reference detector), ``face-seen``
+(a face detection) and ``sound-heard`` (a sound direction); with ``absent="true"`` a percept must *not* be there (no face
+while the person looks away). So "the laser saw legs at -18 deg" is checked
+on what the laser published, not on where the person was.
 """
 
 from __future__ import annotations
@@ -62,6 +63,8 @@ def _check(e: Expectation, sc: Scenario, world: World, truth: GroundTruth, msgs:
         return _reached(e, world, truth)
     if e.kind == "robot-near":
         return _robot_near(e, sc, world, truth)
+    if e.kind == "no-collision":
+        return _no_collision(e, sc, world)
     t0, t1 = _window(e, sc)
     want = float(e.get("bearing"))  # type: ignore[arg-type]
     tol = float(e.get("tolerance"))  # type: ignore[arg-type]
@@ -82,12 +85,27 @@ def _check(e: Expectation, sc: Scenario, world: World, truth: GroundTruth, msgs:
         what = "sound directions"
     else:
         return Verdict(e, False, f"unknown expectation kind {e.kind!r}")
+    absent = bool(e.get("absent", False))
     if not seen:
-        return Verdict(e, False, f"no {what} at all between {t0:g} and {t1:g} s")
+        return Verdict(e, absent, f"no {what} at all between {t0:g} and {t1:g} s")
     errs = [abs(float(wrap_angle(b - want))) for b in seen]
     best = int(np.argmin(errs))
-    ok = errs[best] <= tol
-    return Verdict(e, ok, f"closest of {len(seen)} {what} at {math.degrees(seen[best]):.1f} deg (wanted {math.degrees(want):.1f} +- {math.degrees(tol):.1f})")
+    near = errs[best] <= tol
+    closest = f"closest of {len(seen)} {what} at {math.degrees(seen[best]):.1f} deg"
+    wanted = f"{math.degrees(want):.1f} +- {math.degrees(tol):.1f}"
+    if absent:
+        return Verdict(e, not near, f"{closest} ({'inside' if near else 'outside'} {wanted}, where none should be)")
+    return Verdict(e, near, f"{closest} (wanted {wanted})")
+
+
+def _no_collision(e: Expectation, sc: Scenario, world: World) -> Verdict:
+    t0, t1 = _window(e, sc)
+    what = e.get("with")
+    hits = [(t, w) for t, w in world.contacts if t0 - 1e-9 <= t <= t1 + 1e-9 and (what is None or w == what)]
+    if not hits:
+        return Verdict(e, True, f"the robot touched {'nothing' if what is None else f'no {what}'} between {t0:g} and {t1:g} s")
+    more = f" (and {len(hits) - 1} more contacts)" if len(hits) > 1 else ""
+    return Verdict(e, False, f"the robot touched {hits[0][1]} at t={hits[0][0]:.2f} s{more}")
 
 
 def _target_xy(world: World, t: Target) -> tuple[float, float] | None:

@@ -330,7 +330,9 @@ class _Builder:
                 attrs.append(("by", self.num(el, "by")))
         elif tag in ("legs-seen", "face-seen", "sound-heard"):
             attrs += [("bearing", math.radians(self.num(el, "bearing"))), ("tolerance", math.radians(self.num(el, "tolerance", 10.0)))]
-            attrs.append(("between", self.window(el)))
+            attrs += [("between", self.window(el)), ("absent", self.flag(el, "absent"))]
+        elif tag == "no-collision":
+            attrs += [("with", el.get("with")), ("between", self.window(el))]
         elif tag == "robot-near":
             attrs += [("target", self.target(el)), ("within", self.num(el, "within", 1.0)), ("between", self.window(el))]
         else:  # pragma: no cover - the XSD forbids this

@@ -227,13 +227,13 @@ class SourceSpec:
 @dataclass(frozen=True)
 class Expectation:
     """A check made at the end of a run. ``kind`` names it (reached,
-    legs-seen, face-seen, sound-heard, robot-near, said); ``attrs`` holds
+    legs-seen, face-seen, sound-heard, robot-near, no-collision); ``attrs`` holds
     its typed parameters."""
 
     kind: str
     attrs: tuple[tuple[str, object], ...]
     line: int | None = None
-    written: tuple[tuple[str, str], ...] = ()  # the attributes as written in the file
+    written: tuple[tuple[str, str], ...] | None = None  # the attributes as written in the file
 
     def get(self, key: str, default: object = None) -> object:
         for k, v in self.attrs:
@@ -242,8 +242,8 @@ class Expectation:
         return default
 
     def describe(self) -> str:
-        args = " ".join(f'{k}="{v}"' for k, v in (self.written or self.attrs))
-        return f"<{self.kind} {args}/>"
+        args = "".join(f' {k}="{v}"' for k, v in (self.attrs if self.written is None else self.written))
+        return f"<{self.kind}{args}/>"
 
 
 @dataclass(frozen=True)
