@@ -23,7 +23,6 @@ whole run (see :mod:`homesim.vloop`).
 from __future__ import annotations
 
 import asyncio
-import copy
 import inspect
 import os
 import re
@@ -43,11 +42,11 @@ from .errors import (
     RemoteCallTimeout,
     UnknownParticipantError,
 )
-from .message import ERROR, PUBLISH, REPLY, REQUEST, Attachment, Message
+from .message import _NO_ATTACHMENTS, ERROR, PUBLISH, REPLY, REQUEST, Attachment, Message
 from .network import Network
 import numpy as np
 
-from .vloop import NS_PER_S, VirtualEventLoop, to_ns
+from .vloop import BARE, NS_PER_S, VirtualEventLoop, to_ns
 from .xmlio import Schema, load_schema, parse_bytes
 
 XMLLike = Union[etree._Element, str, bytes]
@@ -216,9 +215,17 @@ class Participant:
         attachments: Mapping[str, Attachment] | None = None,
         causes: tuple[str, ...] | list[str] = (),
         created: float | None = None,
+        transfer: bool = False,
     ) -> Message:
-        """Validate and send ``xml`` on ``channel``; return the sent message."""
-        msg = self._make(PUBLISH, channel, xml, attachments, causes, created)
+        """Validate and send ``xml`` on ``channel``; return the sent message.
+
+        The payload is copied into a document of its own, so later changes by
+        the sender reach nobody. ``transfer=True`` hands over a parentless
+        element the sender has just built and will not touch again: it is
+        sent without that copy (a hot-path saving for modules such as the
+        supervisor). Receivers beyond the first still get copies.
+        """
+        msg = self._make(PUBLISH, channel, xml, attachments, causes, created, transfer=transfer)
         self.bus._publish(self, msg)
         return msg
 
@@ -320,9 +327,11 @@ class Participant:
         created: float | None,
         *,
         schema: Schema | None = None,
+        transfer: bool = False,
     ) -> Message:
-        self._check_open()
-        xml = _own_payload(xml, f"<bus:{channel}>")
+        if self.closed:
+            raise BusError(f"participant {self.name!r} is closed")
+        xml = _own_payload(xml, channel, transfer)
         if kind == PUBLISH:
             schema = self.bus._channel_schemas.get(channel)
         if schema is not None and not schema.is_valid(xml):
@@ -332,21 +341,21 @@ class Participant:
                 f"{self.name}: message on {channel} refused (nothing delivered): "
                 f"schema {schema.name}: {detail}"
             )
-        now = self.bus.loop.now_ns
-        n = self.bus._counters.get(self.name, 0) + 1
-        self.bus._counters[self.name] = n
-        msg = Message(
-            id=f"{self.name}#{n}",
-            kind=kind,
-            sender=self.name,
-            channel=channel,
-            xml=xml,
-            created_ns=now if created is None else to_ns(created),
-            sent_ns=now,
-            causes=tuple(causes),
-            attachments=_frozen_attachments(attachments, channel) if attachments else {},
+        bus = self.bus
+        now = bus.loop._now_ns
+        n = bus._counters.get(self.name, 0) + 1
+        bus._counters[self.name] = n
+        return Message(
+            f"{self.name}#{n}",
+            kind,
+            self.name,
+            channel,
+            xml,
+            now if created is None else to_ns(created),
+            now,
+            tuple(causes),
+            _frozen_attachments(attachments, channel) if attachments else _NO_ATTACHMENTS,
         )
-        return msg
 
     def _check_open(self) -> None:
         if self.closed:
@@ -364,7 +373,7 @@ class Participant:
         self.bus._participants.pop(self.name, None)
 
 
-def _own_payload(xml: XMLLike, source: str) -> etree._Element:
+def _own_payload(xml: XMLLike, channel: str, transfer: bool = False) -> etree._Element:
     """The payload as a fresh document the sender can no longer change.
 
     Text is parsed with the hardened parser. An element is deep-copied into a
@@ -374,14 +383,17 @@ def _own_payload(xml: XMLLike, source: str) -> etree._Element:
     a DOCTYPE is.
     """
     if not isinstance(xml, etree._Element):
-        return parse_bytes(xml, source=source)
+        return parse_bytes(xml, source=f"<bus:{channel}>")
     docinfo = xml.getroottree().docinfo
     if docinfo.doctype or docinfo.internalDTD is not None:
-        raise XMLInputError("elements from documents with a DOCTYPE are refused on the bus", source=source)
-    own = copy.deepcopy(xml)
+        raise XMLInputError("elements from documents with a DOCTYPE are refused on the bus", source=f"<bus:{channel}>")
+    if transfer and xml.getparent() is None:
+        own = xml
+    else:
+        own = xml.__copy__()  # lxml copies the whole subtree, in C
     own.tail = None
     for _ in own.iter(etree.Entity):
-        raise XMLInputError("entity references are refused on the bus", source=source)
+        raise XMLInputError("entity references are refused on the bus", source=f"<bus:{channel}>")
     return own
 
 
@@ -534,7 +546,9 @@ class Bus:
         if when < last:
             when = last
         self._last_delivery[key] = when
-        self.loop.call_at_ns(when, action, receiver, msg, *args)
+        # Deliveries run in no copied context: a receiver does not inherit the
+        # sender's context variables (and copying one per message is costly).
+        self.loop.call_at_ns(when, action, receiver, msg, *args, context=BARE)
 
     def _drop(self, msg: Message, receiver: str, reason: str) -> None:
         self.dropped += 1
@@ -661,7 +675,7 @@ class Bus:
 
 
 def _copy_message(msg: Message) -> Message:
-    return Message(msg.id, msg.kind, msg.sender, msg.channel, copy.deepcopy(msg.xml), msg.created_ns, msg.sent_ns, msg.causes, msg.attachments)
+    return msg._replace(xml=msg.xml.__copy__())
 
 
 async def _await(result: Awaitable[Any]) -> Any:

@@ -10,8 +10,8 @@ from __future__ import annotations
 
 import hashlib
 from collections.abc import Mapping
-from dataclasses import dataclass, field
-from typing import Any, Union
+from types import MappingProxyType
+from typing import Any, NamedTuple, Union
 
 import numpy as np
 from lxml import etree
@@ -26,14 +26,18 @@ REPLY = "reply"
 ERROR = "error"
 
 
-@dataclass(frozen=True, slots=True)
-class Message:
+_NO_ATTACHMENTS: Mapping[str, Attachment] = MappingProxyType({})
+
+
+class Message(NamedTuple):
     """One message on the bus. Treat ``xml`` and attachments as read-only.
 
     ``id`` is ``"<sender>#<n>"`` (stable, from a per-sender counter);
     ``channel`` is the channel name, or ``"<server>/<method>"`` for calls;
     ``created_ns`` is when the sender created the content (it may predate
     sending, e.g. a percept's capture time); ``sent_ns`` when it was sent.
+    Immutable (a named tuple: cheap to build, which matters on the bus's hot
+    path); the bus gives every receiver a payload of its own.
     """
 
     id: str
@@ -44,7 +48,7 @@ class Message:
     created_ns: int
     sent_ns: int
     causes: tuple[str, ...] = ()
-    attachments: Mapping[str, Attachment] = field(default_factory=dict)
+    attachments: Mapping[str, Attachment] = _NO_ATTACHMENTS
 
     @property
     def created(self) -> float:

@@ -18,6 +18,41 @@ from .errors import HomesimError
 from .vloop import NS_PER_S
 
 
+class Draws:
+    """Standard uniform and normal numbers from a seeded generator, drawn in blocks.
+
+    One numpy call per block instead of one per message: the bus draws a
+    delay for every delivery. Deterministic: the same generator gives the
+    same sequence of draws, whatever the block boundaries.
+    """
+
+    __slots__ = ("_rng", "_u", "_ui", "_n", "_ni", "block")
+
+    def __init__(self, rng: np.random.Generator, *, block: int = 1024) -> None:
+        self._rng = rng
+        self.block = block
+        self._u: list[float] = []
+        self._ui = 0
+        self._n: list[float] = []
+        self._ni = 0
+
+    def uniform(self) -> float:
+        """A number in [0, 1)."""
+        if self._ui == len(self._u):
+            self._u = self._rng.random(self.block).tolist()
+            self._ui = 0
+        self._ui += 1
+        return self._u[self._ui - 1]
+
+    def normal(self) -> float:
+        """A standard normal number."""
+        if self._ni == len(self._n):
+            self._n = self._rng.standard_normal(self.block).tolist()
+            self._ni = 0
+        self._ni += 1
+        return self._n[self._ni - 1]
+
+
 @dataclass(frozen=True, slots=True)
 class LinkModel:
     """One kind of link: delay uniform in [min_s, max_s] plus optional loss.
@@ -40,13 +75,13 @@ class LinkModel:
         if not (0.0 <= self.loss < 1.0):
             raise HomesimError(f"link {self.name!r}: loss must be in [0, 1), got {self.loss}")
 
-    def sample_ns(self, rng: np.random.Generator) -> int | None:
+    def sample_ns(self, draws: Draws) -> int | None:
         """One delay in integer nanoseconds, or None when the message is lost."""
-        if self.loss > 0.0 and rng.random() < self.loss:
+        if self.loss > 0.0 and draws.uniform() < self.loss:
             return None
-        delay = self.min_s if self.max_s == self.min_s else rng.uniform(self.min_s, self.max_s)
+        delay = self.min_s + (self.max_s - self.min_s) * draws.uniform()
         if self.jitter_s > 0.0:
-            delay += abs(rng.normal(0.0, self.jitter_s))
+            delay += abs(draws.normal()) * self.jitter_s
         return int(round(delay * NS_PER_S))
 
 
@@ -62,7 +97,7 @@ class Network:
     """Hosts and the links they sit on; draws per-message delays."""
 
     def __init__(self, rng: np.random.Generator) -> None:
-        self._rng = rng
+        self._draws = Draws(rng)
         self._links: dict[str, LinkModel] = dict(DEFAULT_LINKS)
         self._hosts: dict[str, str] = {}
 
@@ -100,10 +135,10 @@ class Network:
         host's link loses it (both losses apply).
         """
         if host_a == host_b:
-            return self._links["local"].sample_ns(self._rng)
+            return self._links["local"].sample_ns(self._draws)
         a = self._links[self._hosts[host_a]]
         b = self._links[self._hosts[host_b]]
         slow, other = (a, b) if (a.max_s + a.jitter_s) >= (b.max_s + b.jitter_s) else (b, a)
-        if other.loss > 0.0 and self._rng.random() < other.loss:
+        if other.loss > 0.0 and self._draws.uniform() < other.loss:
             return None
-        return slow.sample_ns(self._rng)
+        return slow.sample_ns(self._draws)

@@ -57,6 +57,21 @@ def to_ns(seconds: float) -> int:
 # Callbacks that asyncio itself schedules and that read no context variables:
 # running them without a copied context is indistinguishable and much cheaper.
 _set_result_unless_cancelled = _futures._set_result_unless_cancelled
+
+
+class _Bare:
+    """Marker for ``context=BARE``: run the callback without a copied context."""
+
+    __slots__ = ()
+
+    def __repr__(self) -> str:
+        return "BARE"
+
+
+#: Pass as ``context=BARE`` to :meth:`VirtualEventLoop.call_at_ns` for kernel
+#: callbacks that read no context variables (bus deliveries): it saves a
+#: context copy per message.
+BARE: Any = _Bare()
 _CONTEXT_FREE = frozenset({_set_result_unless_cancelled})
 
 
@@ -174,8 +189,11 @@ class VirtualEventLoop(asyncio.BaseEventLoop):
             raise RuntimeError("Event loop is closed")
         if when_ns < self._now_ns:
             when_ns = self._now_ns
-        if context is None and callback is not _set_result_unless_cancelled:
-            context = copy_context()
+        if context is None:
+            if callback is not _set_result_unless_cancelled:
+                context = copy_context()
+        elif context is BARE:
+            context = None
         handle = _new(_TimerHandle)
         handle._callback = callback
         handle._args = args

@@ -310,7 +310,7 @@ class ExecutionSupervisor(Module):
         after its decision, and nothing decided later overtakes them.
         """
         for rec in records:
-            self.bus.publish(LOG_CHANNEL, record_xml(rec), causes=(rec.event.id,))
+            self.bus.publish(LOG_CHANNEL, record_xml(rec), causes=(rec.event.id,), transfer=True)
             if isinstance(rec, Applied):
                 if rec.outputs:
                     self._outbox.append((now + self.cost_ns, rec))
@@ -334,12 +334,14 @@ class ExecutionSupervisor(Module):
                            state=rec.state, detail=rec.detail)
         if rec.event.payload is not None:
             el.append(deepcopy(rec.event.payload))
-        self.bus.publish(f"{REJECTED_PREFIX}/{rec.event.source}", el, causes=(rec.event.id,))
+        self.bus.publish(f"{REJECTED_PREFIX}/{rec.event.source}", el, causes=(rec.event.id,), transfer=True)
 
     def _send_outputs(self, rec: Applied) -> None:
         for out in rec.outputs:
             prefix = CONDITION_PREFIX if out.kind == CONDITION else ORDER_PREFIX
-            self.bus.publish(f"{prefix}/{out.target}", output_xml(out, rec.target_state), causes=(out.event_id,))
+            self.bus.publish(
+                f"{prefix}/{out.target}", output_xml(out, rec.target_state), causes=(out.event_id,), transfer=True
+            )
 
     # ------------------------------------------------------- introspection
     def introspect(self) -> dict[str, Any]:
@@ -381,7 +383,7 @@ class ExecutionSupervisor(Module):
         """
         if self.bus.closed or self.bus.hung:
             return None
-        return self.bus.publish(STATUS_CHANNEL, self.status_xml(history=0))
+        return self.bus.publish(STATUS_CHANNEL, self.status_xml(history=0), transfer=True)
 
     # -------------------------------------------------------- modification
     def replace(self, machine: Machine | str | os.PathLike[str]) -> None:

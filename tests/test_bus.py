@@ -447,3 +447,17 @@ def test_loss_of_either_host_applies():
         s.network.add_host("laptop", link="wlan")
         lost = sum(s.network.delay_ns("pc", "laptop") is None for _ in range(2000))
         assert 800 < lost < 1200
+
+
+def test_transfer_skips_the_copy_but_keeps_isolation_rules(sim):
+    a = sim.bus.participant("a")
+    got = []
+    sim.bus.participant("b").subscribe("/x", got.append)
+    fresh = etree.Element("order", name="interact")
+    m = a.publish("/x", fresh, transfer=True)
+    assert m.xml is fresh  # handed over, not copied
+    parent = etree.fromstring("<scene><order/>tail</scene>")
+    m2 = a.publish("/x", parent[0], transfer=True)
+    assert m2.xml is not parent[0] and m2.xml.getparent() is None and m2.xml.tail is None
+    sim.run()
+    assert [g.xml.tag for g in got] == ["order", "order"]
