@@ -10,13 +10,15 @@ import pytest
 from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
+from homesim.errors import ScenarioError
 from homesim.scenario.loader import load_scenario_text
 from homesim.sim import Simulation
 from homesim.world.bodies import HUMAN_RADIUS, ROBOT_LENGTH
 from homesim.world.geometry import point_in_polygon, split_wall, wrap_angle
 from homesim.world.stage import Stage
+from homesim.world.world import World
 from tests.conftest import examples
-from tests.world_helpers import ROOM, put_person, room
+from tests.world_helpers import EXAMPLE, ROOM, put_person, room, scenario
 
 
 def _drive(world, v, w, seconds):
@@ -205,3 +207,31 @@ def test_people_never_push_the_robot_into_walls_or_out_of_the_flat(robot, person
             world.step()
             assert _static_penetration(world) < 0.01
             assert point_in_polygon(world.robot.pose[:2], room_poly)
+
+
+# ------------------------------------------------------------ no tunnelling
+@pytest.mark.parametrize("speed,rate", [(0.5, 1), (2.0, 1), (3.0, 1), (3.0, 50), (0.5, 50)])
+def test_a_fast_robot_or_a_slow_world_rate_never_carries_the_robot_through_a_wall(speed, rate):
+    """The review's tunnel2.py: 2 m/s at 1 Hz ended at x=39.5, through the wall at x=8."""
+    text = ROOM.read_text(encoding="utf-8").replace('<robot x="1" y="3" heading="0"/>', f'<robot x="0.5" y="2" heading="0" max-speed="{speed}"/>')
+    world = World(load_scenario_text(text.replace('duration="10"', f'duration="10" world-rate="{rate}"')))
+    world.humans["ann"].remove()
+    world.robot.command(speed, 0.0)
+    for _ in range(max(1, int(20 * rate))):
+        world.step()
+    x = world.robot.pose[0]
+    assert 7.0 < x + ROBOT_LENGTH / 2 <= 7.95 + 0.02
+    assert _static_penetration(world) < 0.01
+
+
+@pytest.mark.parametrize("attr", ['max-speed="8"', 'max-turn="1000"'])
+def test_robot_limits_beyond_the_physics_are_refused_with_the_line(attr):
+    text = ROOM.read_text(encoding="utf-8").replace('<robot x="1" y="3" heading="0"/>', f'<robot x="1" y="3" heading="0" {attr}/>')
+    with pytest.raises(ScenarioError, match="scenario.xsd") as exc:
+        load_scenario_text(text, source="fast.xml")
+    assert exc.value.line == text[: text.index("<robot ")].count("\n") + 1
+
+
+def test_default_rates_take_one_sub_step():
+    world = World(scenario(EXAMPLE))
+    assert world.substeps(world.dt) == 1

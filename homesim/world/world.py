@@ -34,6 +34,7 @@ from .bodies import (
     HUMAN_RADIUS,
     LASER_HEIGHT,
     LEG_RADIUS,
+    ROBOT_REACH,
     HumanBody,
     RobotBody,
 )
@@ -45,6 +46,8 @@ StepListener = Callable[["World"], None]
 
 #: How close (metres) a person's body may walk up to the robot's footprint.
 PERSON_GAP = 0.02
+#: The farthest (metres) anything moves in one physics sub-step (no tunnelling through walls).
+MAX_SUBSTEP_MOVE = 0.05
 
 
 class Obstacle:
@@ -144,8 +147,32 @@ class World:
         self._listeners.append(fn)
 
     def step(self, dt: float | None = None) -> None:
-        """Advance physics by one step of ``dt`` (the world's own dt by default)."""
+        """Advance physics by one step of ``dt`` (the world's own dt by default).
+
+        A step is split into equal sub-steps so that nothing moves more than
+        MAX_SUBSTEP_MOVE in one (a fast robot or a low world rate would
+        otherwise carry the robot through a wall between two contact checks).
+        At the default rate and speeds a step is a single sub-step.
+        """
         dt = self.dt if dt is None else dt
+        n = self.substeps(dt)
+        h = dt / n
+        for _ in range(n):
+            self._substep(h)
+        self.steps += 1
+        for fn in self._listeners:
+            fn(self)
+
+    def substeps(self, dt: float) -> int:
+        """How many sub-steps a step of ``dt`` needs (the fastest point moves at most MAX_SUBSTEP_MOVE in each)."""
+        rb = self.robot
+        fastest = max(rb.max_speed, abs(rb.v)) + max(rb.max_turn, abs(rb.w)) * ROBOT_REACH
+        for hb in self.humans.values():
+            if hb.present:
+                fastest = max(fastest, math.hypot(*hb.walk))
+        return max(1, math.ceil(fastest * dt / MAX_SUBSTEP_MOVE - 1e-9))
+
+    def _substep(self, dt: float) -> None:
         rb = self.robot
         rb.before_step(dt)
         before = rb.body.position
@@ -156,9 +183,6 @@ class World:
         for h in self.humans.values():
             if h.present:
                 h.advance(dt)
-        self.steps += 1
-        for fn in self._listeners:
-            fn(self)
 
     def _hold_people_back(self, dt: float) -> None:
         """People never push the robot: a step that would bring someone within
