@@ -48,6 +48,8 @@ StepListener = Callable[["World"], None]
 PERSON_GAP = 0.02
 #: The farthest (metres) anything moves in one physics sub-step (no tunnelling through walls).
 MAX_SUBSTEP_MOVE = 0.05
+#: Overlap with a wall (metres) beyond which the robot's last move is undone.
+STUCK_DEPTH = 0.003
 
 
 class Obstacle:
@@ -176,9 +178,20 @@ class World:
         rb = self.robot
         rb.before_step(dt)
         before = rb.body.position
+        angle = rb.body.angle
         self._hold_people_back(dt)
         self.space.step(dt)
         self._resolve_robot_contacts()
+        if self._stuck():
+            # Turning in a tight spot (between a wall and a table): the solver cannot
+            # stop a turn (the base's turn rate is imposed), so the turn is blocked.
+            rb.body.angle = angle
+            rb.body.angular_velocity = rb.w = 0.0
+            self.space.reindex_shapes_for_body(rb.body)
+            self._resolve_robot_contacts()
+            if self._stuck():
+                rb.body.position = before
+                self.space.reindex_shapes_for_body(rb.body)
         rb.after_step(dt, (before.x, before.y))
         for h in self.humans.values():
             if h.present:
@@ -237,6 +250,11 @@ class World:
                 hb.position = (hb.position.x + n.x * depth, hb.position.y + n.y * depth)
                 hb.velocity = (0.0, 0.0)
                 self.space.reindex_shapes_for_body(hb)
+
+    def _stuck(self) -> bool:
+        """Whether the robot still overlaps a wall or furniture by more than the solver's slop."""
+        worst = self._worst_overlap(static=True)
+        return worst is not None and worst[0] > STUCK_DEPTH
 
     def _worst_overlap(self, *, static: bool) -> tuple[float, pymunk.Vec2d, pymunk.Shape] | None:
         """The deepest overlap of the robot with a static shape (or with a person): depth,
