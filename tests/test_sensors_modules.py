@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 from lxml import etree
 
-from homesim.scenario.loader import load_scenario
+from homesim.scenario.loader import load_scenario, load_scenario_text
 from homesim.sim import Simulation
 from homesim.world.stage import Stage
 from robot.hardware.base import OdometrySpec, odometry_step
@@ -146,3 +146,20 @@ def test_odometry_error_does_not_depend_on_the_publishing_rate():
     # And the size is the documented one: 2 cm per sqrt(m) along the 1 m arc.
     along = np.sqrt(((slow[:, :2] ** 2).sum(axis=1)).mean())
     assert 0.015 < along < 0.035
+
+
+def test_recognised_speech_carries_measured_not_true_direction_and_level():
+    """audio.py published the noise-free level (and the exact TDOA when the noisy reading fell below
+    the threshold): a speech message leaked ground truth the source messages never show."""
+    text = ROOM.read_text(encoding="utf-8").replace('torso="yellow"/>', 'torso="yellow"><script><face robot="true"/><repeat times="30"><say text="hello"/><wait for="0.3"/></repeat></script></human>')
+    sc = load_scenario_text(text, source="speech.xml")
+    sim = Simulation(seed=5, scenario=sc.name)
+    st = Stage(sim, sc)
+    st.run(30.0)
+    speech = [m for m in st.messages if m.channel == "/robot/audio/speech" and m.xml.get("self") != "true"]
+    assert len(speech) == 30
+    levels = np.array([float(m.xml.get("level")) for m in speech])
+    tdoas = np.array([float(m.xml.get("tdoa")) for m in speech])
+    assert 0.5 < levels.std() < 1.5  # 1 dB of measurement noise, as on /robot/audio/sources
+    assert tdoas.std() > 5.0  # microseconds (20 us of noise)
+    sim.close()

@@ -5,7 +5,8 @@ At its rate it publishes every audible active source on
 (bearing in degrees, front half-plane: the pair cannot tell front from
 back). When an utterance ends it publishes what the recogniser would make
 of it on ``/robot/audio/speech``:
-``<utterance start end tdoa bearing level wer>recognised words</utterance>``.
+``<utterance start end tdoa bearing level wer>recognised words</utterance>``
+(TDOA, bearing and level measured with the same noise as the sources).
 The robot's own voice is heard too (as a real robot hears itself); its
 utterances carry ``self="true"`` so the speech module can ignore them.
 """
@@ -13,6 +14,7 @@ utterances carry ``self="true"`` so the speech module can ignore them.
 from __future__ import annotations
 
 import asyncio
+import dataclasses
 import math
 from typing import TYPE_CHECKING
 
@@ -39,6 +41,7 @@ class Microphones(Module):
         super().__init__(sim, name, host="robot")
         self.world = world
         self.spec = spec or MicSpec()
+        self._unthresholded = dataclasses.replace(self.spec, threshold_db=-math.inf)
         self._last = -math.inf
 
     def _positions(self, utterances: list[Utterance]) -> tuple[np.ndarray, np.ndarray, list[str], list[Utterance]]:
@@ -86,16 +89,16 @@ class Microphones(Module):
         angle = math.atan2(centre[1] - pose[1], centre[0] - pose[0]) - pose[2]
         wer = word_error_rate(dist, angle, snr_db(me.level, others, self.spec.noise_floor_db))
         words = recognise(u.words, wer, self.rng)
-        noisy = hear(pts[:1], loud[:1], names[:1], pose, self.spec, self.rng)
-        tdoa = noisy[0].tdoa if noisy else me.tdoa
-        bearing = noisy[0].bearing if noisy else me.bearing
+        # What goes on the bus is measured, with noise, like every other percept
+        # (the noise-free values above only drive the recognition model).
+        (noisy,) = hear(pts[:1], loud[:1], names[:1], pose, self._unthresholded, self.rng)
         el = etree.Element(
             "utterance",
             start=f"{u.start:.6f}",
             end=f"{u.end:.6f}",
-            tdoa=f"{tdoa * 1e6:.2f}",
-            bearing=f"{math.degrees(bearing):.3f}",
-            level=f"{me.level:.2f}",
+            tdoa=f"{noisy.tdoa * 1e6:.2f}",
+            bearing=f"{math.degrees(noisy.bearing):.3f}",
+            level=f"{noisy.level:.2f}",
             wer=f"{wer:.3f}",
         )
         if u.source == "robot":
