@@ -30,6 +30,7 @@ from .script import Actor, ScriptError
 ARRIVED = 0.05  # metres: close enough to a waypoint
 LEG_TIME = 0.5  # seconds between re-planning checks while walking
 ROBOT_STOP = 0.9  # default distance to keep from the robot when walking to it
+HUMAN_STOP = 0.8  # default distance to keep from a person when walking to them (not on top of them)
 
 
 class Person(Actor):
@@ -76,8 +77,8 @@ class Person(Actor):
         person never walks through them).
         """
         speed = speed or self.body.speed
-        if target.kind == "robot" and stop_at <= 0:
-            stop_at = ROBOT_STOP
+        if stop_at <= 0 and target.kind in ("robot", "human"):
+            stop_at = ROBOT_STOP if target.kind == "robot" else HUMAN_STOP
         moving = target.kind in ("robot", "human")
         goal = self.goal_of(target)
         path = self.plan(goal)

@@ -285,3 +285,15 @@ def test_wait_for_hears_a_robot_sentence_that_began_before_the_wait():
     assert robot.start < walk_end < robot.end  # the wait began in the middle of the sentence
     (ok,) = st.world.sound.by("ann")
     assert robot.end <= ok.start <= robot.end + 0.15
+
+
+def test_walking_up_to_a_person_stops_at_a_conversational_distance_by_default():
+    """Without stop-at, walk-to human= used to end on top of the other person."""
+    text = ROOM_TEXT.replace('<human name="ann" x="3" y="3" heading="180" height="1.70" torso="yellow"/>', '<human name="ann" x="3" y="3" heading="180" height="1.70" torso="yellow"/>\n    <human name="bob" x="6" y="4"><script><walk-to human="ann"/></script></human>')
+    sc = load_scenario_text(text, source="meet.xml")
+    sim = Simulation(seed=1, scenario=sc.name)
+    st = Stage(sim, sc, actors=("humans.install",))
+    st.run(8)
+    d = math.dist(st.world.humans["bob"].position, st.world.humans["ann"].position)
+    assert 0.7 <= d <= 0.85
+    sim.close()
