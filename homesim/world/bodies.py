@@ -86,10 +86,9 @@ class RobotBody:
         self.cmd_w = float(np.clip(w, -self.max_turn, self.max_turn))
 
     def before_step(self, dt: float) -> None:
-        dv = np.clip(self.cmd_v - self.v, -self.max_accel * dt, self.max_accel * dt)
-        dw = np.clip(self.cmd_w - self.w, -self.max_turn_accel * dt, self.max_turn_accel * dt)
-        self.v += float(dv)
-        self.w += float(dw)
+        a, b = self.max_accel * dt, self.max_turn_accel * dt
+        self.v += min(max(self.cmd_v - self.v, -a), a)
+        self.w += min(max(self.cmd_w - self.w, -b), b)
         th = self.body.angle
         self.body.velocity = (self.v * math.cos(th), self.v * math.sin(th))
         self.body.angular_velocity = self.w

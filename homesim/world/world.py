@@ -43,6 +43,7 @@ from .pathplan import WALKER_RADIUS, Grid, door_sides, scenario_bounds
 from .raycast import Prisms, RayCaster
 
 StepListener = Callable[["World"], None]
+Overlap = tuple[float, pymunk.Vec2d, pymunk.Shape]
 
 #: How close (metres) a person's body may walk up to the robot's footprint.
 PERSON_GAP = 0.02
@@ -181,15 +182,13 @@ class World:
         angle = rb.body.angle
         self._hold_people_back(dt)
         self.space.step(dt)
-        self._resolve_robot_contacts()
-        if self._stuck():
+        if self._resolve_robot_contacts():
             # Turning in a tight spot (between a wall and a table): the solver cannot
             # stop a turn (the base's turn rate is imposed), so the turn is blocked.
             rb.body.angle = angle
             rb.body.angular_velocity = rb.w = 0.0
             self.space.reindex_shapes_for_body(rb.body)
-            self._resolve_robot_contacts()
-            if self._stuck():
+            if self._resolve_robot_contacts():
                 rb.body.position = before
                 self.space.reindex_shapes_for_body(rb.body)
         rb.after_step(dt, (before.x, before.y))
@@ -205,6 +204,7 @@ class World:
         stands still for this step instead, and walks on when the way is free.
         """
         shape = self.robot.shape
+        rp = self.robot.body.position
         for h in self.humans.values():
             if not h.present:
                 continue
@@ -212,15 +212,17 @@ class World:
             held = False
             if vx or vy:
                 x, y = h.position
-                now = shape.point_query((x, y)).distance
-                nxt = shape.point_query((x + vx * dt, y + vy * dt)).distance
-                held = nxt < HUMAN_RADIUS + PERSON_GAP and nxt < now
+                far = ROBOT_REACH + HUMAN_RADIUS + PERSON_GAP + math.hypot(vx, vy) * dt
+                if (x - rp.x) ** 2 + (y - rp.y) ** 2 < far * far:  # near enough to matter
+                    now = shape.point_query((x, y)).distance
+                    nxt = shape.point_query((x + vx * dt, y + vy * dt)).distance
+                    held = nxt < HUMAN_RADIUS + PERSON_GAP and nxt < now
             h.body.velocity = (0.0, 0.0) if held else (vx, vy)
             h.held = held
             if held:
                 h.held_time += dt
 
-    def _resolve_robot_contacts(self) -> None:
+    def _resolve_robot_contacts(self) -> bool:
         """Hard contacts: push the robot out of whatever it overlaps after a step; walls win.
 
         The robot's velocity is commanded every step, so the solver's soft
@@ -230,47 +232,49 @@ class World:
         pushes it back only if that does not put it into a wall or furniture;
         otherwise the person is moved back instead (the robot squeezed
         between a person and a wall never goes through the wall).
+        Returns whether the robot is still stuck in a wall or furniture.
         """
         body = self.robot.body
         for _ in range(4):
-            static = self._worst_overlap(static=True)
+            static, person = self._overlaps()
             if static is not None:
-                self._push_robot(*static)
+                self._push_robot(static[0], static[1])
                 continue
-            person = self._worst_overlap(static=False)
             if person is None:
-                return
+                return False
             depth, n, shape = person
             old = body.position
             self._push_robot(depth, n)
-            if self._worst_overlap(static=True) is not None:
+            if self._overlaps()[0] is not None:
                 body.position = old
                 self.space.reindex_shapes_for_body(body)
                 hb = shape.body
                 hb.position = (hb.position.x + n.x * depth, hb.position.y + n.y * depth)
                 hb.velocity = (0.0, 0.0)
                 self.space.reindex_shapes_for_body(hb)
+        static = self._overlaps()[0]
+        return static is not None and static[0] > STUCK_DEPTH
 
-    def _stuck(self) -> bool:
-        """Whether the robot still overlaps a wall or furniture by more than the solver's slop."""
-        worst = self._worst_overlap(static=True)
-        return worst is not None and worst[0] > STUCK_DEPTH
-
-    def _worst_overlap(self, *, static: bool) -> tuple[float, pymunk.Vec2d, pymunk.Shape] | None:
-        """The deepest overlap of the robot with a static shape (or with a person): depth,
-        the normal pointing from the robot into the other shape, the shape."""
-        worst = None
+    def _overlaps(self) -> tuple[Overlap | None, Overlap | None]:
+        """The deepest overlaps of the robot with a wall or furniture, and with a person:
+        (depth, the normal pointing from the robot into the other shape, the shape)."""
+        static = person = None
         for info in self.space.shape_query(self.robot.shape):
             shape = info.shape
-            if shape is None or shape.sensor or (shape.body.body_type == pymunk.Body.STATIC) != static:
+            if shape is None or shape.sensor:
                 continue
             cps = info.contact_point_set
             # shape_query reports only overlapping shapes; the sign of the
             # distance depends on the pair's order in Chipmunk, so use its size.
             depth = max((abs(p.distance) for p in cps.points), default=0.0)
-            if depth > 1e-4 and (worst is None or depth > worst[0]):
-                worst = (depth, cps.normal, shape)
-        return worst
+            if depth <= 1e-4:
+                continue
+            if shape.body.body_type == pymunk.Body.STATIC:
+                if static is None or depth > static[0]:
+                    static = (depth, cps.normal, shape)
+            elif person is None or depth > person[0]:
+                person = (depth, cps.normal, shape)
+        return static, person
 
     def _push_robot(self, depth: float, n: pymunk.Vec2d, _shape: object = None) -> None:
         body = self.robot.body
