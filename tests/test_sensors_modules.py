@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import asyncio
 import math
 
 import numpy as np
@@ -13,7 +12,7 @@ from homesim.scenario.loader import load_scenario, load_scenario_text
 from homesim.sim import Simulation
 from homesim.world.stage import Stage
 from robot.hardware.base import OdometrySpec, odometry_step
-from tests.world_helpers import ROOM
+from tests.world_helpers import ROOM, drive_base
 
 
 def _stage(seed: int = 3) -> Stage:
@@ -36,14 +35,7 @@ def test_laser_publishes_ten_scans_a_second_with_the_ranges_attached():
 def test_base_drives_from_commands_and_stops_when_they_stop():
     st = _stage()
     st.world.humans["ann"].remove()
-    driver = st.sim.bus.participant("driver", host="robot")
-
-    async def drive():
-        for _ in range(10):  # 2 s of commands
-            driver.publish("/robot/base/cmd", etree.Element("velocity", v="0.4", w="0"))
-            await asyncio.sleep(0.2)
-
-    st.sim.spawn(drive(), name="driver")
+    drive_base(st, 0.4, 0.0, times=10)  # 2 s of commands
     st.run(6.0)
     x, y, _ = st.world.robot.pose
     # About 2 s at 0.4 m/s plus the watchdog's half second, minus acceleration.
@@ -54,14 +46,7 @@ def test_base_drives_from_commands_and_stops_when_they_stop():
 def test_odometry_drifts_but_follows_the_motion():
     st = _stage(seed=11)
     st.world.humans["ann"].remove()
-    driver = st.sim.bus.participant("driver", host="robot")
-
-    async def drive():
-        while True:
-            driver.publish("/robot/base/cmd", etree.Element("velocity", v="0.3", w="0.2"))
-            await asyncio.sleep(0.2)
-
-    st.sim.spawn(drive(), name="driver")
+    drive_base(st, 0.3, 0.2)
     st.run(10.0)
     odo = [m for m in st.messages if m.channel == "/robot/odometry"][-1]
     ox, oy, oth = (float(odo.xml.get(k)) for k in ("x", "y", "theta"))

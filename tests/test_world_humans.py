@@ -22,7 +22,7 @@ from homesim.world.pathplan import MIN_DOOR_WIDTH, Grid, door_frame, door_sides
 from homesim.world.stage import Stage
 from humans.script import ScriptError
 from tests.conftest import examples
-from tests.world_helpers import ROOM
+from tests.world_helpers import ROOM, drive_base
 
 ROOM_TEXT = ROOM.read_text(encoding="utf-8")
 
@@ -75,16 +75,7 @@ def test_wait_for_times_out_when_the_robot_stays_silent():
 
 def test_wait_for_robot_within_a_distance():
     st = _stage('<wait-for robot-within="1.5" timeout="15"/>\n<say text="there you are"/>', start='x="5" y="3"', hardware=True)
-    driver = st.sim.bus.participant("driver", host="robot")
-
-    async def drive():
-        import asyncio
-
-        while True:
-            driver.publish("/robot/base/cmd", etree.Element("velocity", v="0.5", w="0"))
-            await asyncio.sleep(0.2)
-
-    st.sim.spawn(drive(), name="driver")
+    drive_base(st, 0.5, 0.0)
     st.run(12)
     (u,) = st.world.sound.by("ann")
     # The robot starts 4 m away at 0.5 m/s: within 1.5 m after about 5 s (plus acceleration).

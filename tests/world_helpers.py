@@ -2,8 +2,12 @@
 
 from __future__ import annotations
 
+import asyncio
 import math
 from pathlib import Path
+from typing import Any
+
+from lxml import etree
 
 from homesim.scenario.loader import load_scenario
 from homesim.scenario.model import Scenario
@@ -44,3 +48,20 @@ def at_bearing(origin: tuple[float, float], heading: float, bearing: float, dist
     """The world point at a bearing (radians, + left) and distance from a pose."""
     a = heading + bearing
     return origin[0] + distance * math.cos(a), origin[1] + distance * math.sin(a)
+
+
+def drive_base(stage: Any, v: float, w: float, *, period: float = 0.2, times: int | None = None) -> None:
+    """Command the base like a navigation module would: a velocity every ``period`` s.
+
+    Forever by default, or ``times`` commands (the base's watchdog then stops it).
+    """
+    driver = stage.sim.bus.participant("driver", host="robot")
+
+    async def drive() -> None:
+        n = 0
+        while times is None or n < times:
+            driver.publish("/robot/base/cmd", etree.Element("velocity", v=repr(v), w=repr(w)))
+            n += 1
+            await asyncio.sleep(period)
+
+    stage.sim.spawn(drive(), name="driver")
