@@ -1,0 +1,31 @@
+"""Put BIRON's modules (everything above the hardware) on a run.
+
+The runner (the composition root) calls :func:`install` after the hardware and
+the supervisor. Each subsystem package listed in :data:`SUBSYSTEMS` exposes
+``install(run) -> dict[str, Module]``; ``run`` gives ``run.sim`` (the
+Simulation) and ``run.config`` (the scenario's robot options as plain values),
+never the world: robot modules see only the bus (docs/robot-contract.md).
+Subsystems are named, not imported, so a run can leave one out.
+"""
+
+from __future__ import annotations
+
+import importlib
+from collections.abc import Sequence
+from typing import Any
+
+from homesim.module import Module
+
+#: Subsystem packages, installed in this order.
+SUBSYSTEMS: tuple[str, ...] = ()
+
+
+def install(run: Any, subsystems: Sequence[str] = SUBSYSTEMS) -> dict[str, Module]:
+    """Install every subsystem in ``subsystems``; refuse two modules of the same name."""
+    modules: dict[str, Module] = {}
+    for name in subsystems:
+        for key, module in importlib.import_module(name).install(run).items():
+            if key in modules:
+                raise ValueError(f"{name}: module {key!r} is already installed")
+            modules[key] = module
+    return modules
