@@ -21,12 +21,13 @@ from .camera import CameraSpec
 from .camera_module import Camera
 from .channels import declare_channels
 from .laser import Laser, LaserSpec
+from .map_server import MapServer
 from .microphones import MicSpec
 from .speaker import Display, Speaker
 
 
 def install(stage: Any) -> dict[str, Module]:
-    """Type the hardware channels, then create the laser, camera, microphones, base, speaker and display modules."""
+    """Type the hardware channels, then create the laser, camera, microphones, base, speaker, display and map server modules."""
     r = stage.scenario.robot
     sim, world = stage.sim, stage.world
     declare_channels(sim.bus)
@@ -37,6 +38,7 @@ def install(stage: Any) -> dict[str, Module]:
         "base": Base(sim, world, replace(OdometrySpec(), rate=r.odometry_rate)),
         "speaker": Speaker(sim, world),
         "display": Display(sim, world),
+        "map_server": MapServer(sim, stage.scenario),
     }
     for m in modules.values():
         m.start()
