@@ -15,7 +15,8 @@ from homesim.sim import Simulation
 from homesim.world.raycast import cast_rays
 from homesim.world.stage import Stage
 from homesim.xmlio import load_schema
-from robot.hardware.map_server import MAP_SCHEMA, MapFormatError, floor_plan, map_element, parse_map
+from robot.floorplan import MapFormatError, parse_map
+from robot.hardware.map_server import MAP_SCHEMA, floor_plan, map_element
 from tests.world_helpers import EXAMPLE, scenario
 
 
