@@ -126,3 +126,20 @@ class AFSMModificationRefused(AFSMError):
 
 class SupervisorError(HomesimError):
     """The execution supervisor was used wrongly (e.g. the same event queued twice)."""
+
+
+class MemoryQueryError(InputError):
+    """An active-memory request cannot be carried out: a bad XPath, an unknown document id,
+    a document that is not acceptable (the message says which rule)."""
+
+
+class MemoryStoreError(InputError):
+    """A memory store on disk cannot be used: corrupt, from a newer homesim, or unwritable.
+
+    ``kept_at`` is where the refused file now is (moved aside when corrupt, left in
+    place when it comes from a newer version); nothing was overwritten.
+    """
+
+    def __init__(self, message: str, *, source: str | None = None, kept_at: str | None = None) -> None:
+        self.kept_at = kept_at
+        super().__init__(message, source=source)

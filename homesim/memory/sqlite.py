@@ -1,0 +1,329 @@
+"""Persistence of active memories on SQLite (the standard library's sqlite3).
+
+One store file holds any number of named memories. Every change is its own
+transaction (``BEGIN IMMEDIATE`` ... ``COMMIT``, rollback journal,
+``synchronous=FULL``): a document and its attachments are written together
+or not at all, and what was committed survives a killed process (SQLite
+rolls a hot journal back at the next open).
+
+The schema is versioned (``PRAGMA user_version``; ``application_id`` marks
+the file as a homesim memory store). An older store is migrated step by step
+(:data:`MIGRATIONS`) inside one transaction, so a failed migration leaves the
+file as it was. Opening refuses, with :class:`MemoryStoreError`:
+
+* a corrupt file (not SQLite, failing ``quick_check``, a foreign
+  application id, or a document that does not parse with the hardened
+  parser): the file is **moved aside** to ``<name>.corrupt-<n>`` (the first
+  free ``n``; never overwriting anything), so the next run starts a fresh
+  store and the broken one stays for inspection;
+* a store written by a newer homesim (``user_version`` above
+  :data:`SCHEMA_VERSION`): the file is **left where it is, untouched** (it
+  belongs to that newer homesim, which must still find it); the run stops.
+
+Everything is read and checked at open, before any memory sees it, so a
+refused store leaves nothing half-loaded.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import sqlite3
+from collections.abc import Callable, Mapping
+from pathlib import Path
+
+import numpy as np
+from lxml import etree
+
+from ..errors import MemoryStoreError, XMLInputError
+from ..xmlio import parse_bytes, serialize
+
+#: The schema this code writes. Bump it with a new entry in MIGRATIONS.
+SCHEMA_VERSION = 2
+#: ``PRAGMA application_id`` of homesim memory stores ("hmem").
+APPLICATION_ID = 0x686D656D
+
+Attachment = bytes | np.ndarray
+
+_V1 = (
+    "CREATE TABLE meta (key TEXT PRIMARY KEY, value TEXT NOT NULL)",
+    "CREATE TABLE documents (memory TEXT NOT NULL, id INTEGER NOT NULL, xml BLOB NOT NULL, PRIMARY KEY (memory, id))",
+)
+
+
+def _migrate_1_to_2(db: sqlite3.Connection) -> None:
+    """Version 2 adds attachments and a per-memory id counter (ids are never reused)."""
+    db.execute("CREATE TABLE memories (name TEXT PRIMARY KEY, next_id INTEGER NOT NULL)")
+    db.execute("INSERT INTO memories (name, next_id) SELECT memory, MAX(id) + 1 FROM documents GROUP BY memory")
+    db.execute(
+        "CREATE TABLE attachments (memory TEXT NOT NULL, doc_id INTEGER NOT NULL, name TEXT NOT NULL, "
+        "dtype TEXT NOT NULL, shape TEXT NOT NULL, data BLOB NOT NULL, PRIMARY KEY (memory, doc_id, name))"
+    )
+
+
+#: from_version -> step to from_version + 1
+MIGRATIONS: dict[int, Callable[[sqlite3.Connection], None]] = {1: _migrate_1_to_2}
+
+
+def create_v1(path: str | os.PathLike[str], documents: Mapping[str, Mapping[int, bytes]]) -> None:
+    """Write a version-1 store (tests of the migration path; the old layout as it was)."""
+    db = sqlite3.connect(os.fspath(path), isolation_level=None)
+    try:
+        db.execute("BEGIN")
+        for stmt in _V1:
+            db.execute(stmt)
+        db.execute(f"PRAGMA application_id = {APPLICATION_ID}")
+        for memory, docs in documents.items():
+            db.executemany("INSERT INTO documents VALUES (?, ?, ?)", [(memory, i, x) for i, x in docs.items()])
+        db.execute("PRAGMA user_version = 1")
+        db.execute("COMMIT")
+    finally:
+        db.close()
+
+
+def _free_aside(path: Path, tag: str) -> Path:
+    n = 1
+    while True:
+        cand = path.with_name(f"{path.name}.{tag}-{n}")
+        if not cand.exists() and not cand.is_symlink():
+            return cand
+        n += 1
+
+
+def _move_aside(path: Path, tag: str) -> Path:
+    """Move ``path`` (and its rollback journal) to a free ``<name>.<tag>-<n>``; never overwrites."""
+    while True:
+        dest = _free_aside(path, tag)
+        try:
+            os.link(path, dest)  # fails if dest exists: no overwrite even in a race
+        except FileExistsError:
+            continue
+        os.unlink(path)
+        journal = path.with_name(path.name + "-journal")
+        if journal.exists():
+            jdest = dest.with_name(dest.name + "-journal")
+            if not jdest.exists():
+                os.link(journal, jdest)
+                os.unlink(journal)
+        return dest
+
+
+def encode_attachment(value: Attachment) -> tuple[str, str, bytes]:
+    """(dtype, shape, data) for a row: numpy arrays as dtype string, shape JSON, C-order bytes."""
+    if isinstance(value, np.ndarray):
+        arr = np.ascontiguousarray(value)
+        return arr.dtype.str, json.dumps(list(arr.shape)), arr.tobytes()
+    return "bytes", "[]", bytes(value)
+
+
+def decode_attachment(dtype: str, shape: str, data: bytes) -> Attachment:
+    """Inverse of :func:`encode_attachment` (arrays come back read-only)."""
+    if dtype == "bytes":
+        return bytes(data)
+    arr = np.frombuffer(data, dtype=np.dtype(dtype)).reshape(json.loads(shape)).copy()
+    arr.flags.writeable = False
+    return arr
+
+
+LoadedDocs = dict[int, tuple[etree._Element, dict[str, Attachment]]]
+
+
+class SqliteStore:
+    """A memory store file; see the module docstring for what it guarantees and refuses.
+
+    ``SqliteStore(path)`` opens (creating the file and its directory if
+    needed), migrates an older schema, and reads every memory in it.
+    :meth:`load` hands a memory its documents; :meth:`put` and
+    :meth:`delete` commit one change each.
+    """
+
+    def __init__(self, path: str | os.PathLike[str]) -> None:
+        self.path = Path(path)
+        self.migrated_from: int | None = None
+        self._db: sqlite3.Connection | None = None
+        self._loaded: dict[str, tuple[LoadedDocs, int]] = {}
+        try:
+            self.path.parent.mkdir(parents=True, exist_ok=True)
+        except OSError as exc:
+            raise MemoryStoreError(f"cannot create the store's directory: {exc.strerror}", source=str(self.path)) from exc
+        self._open()
+
+    # ------------------------------------------------------------ opening
+    def _refuse_corrupt(self, why: str, exc: BaseException | None = None) -> MemoryStoreError:
+        if self._db is not None:
+            self._db.close()
+            self._db = None
+        kept = _move_aside(self.path, "corrupt")
+        err = MemoryStoreError(
+            f"corrupt memory store ({why}); it was moved aside to {kept} and nothing was loaded from it",
+            source=str(self.path), kept_at=str(kept),
+        )
+        if exc is not None:
+            err.__cause__ = exc
+        return err
+
+    def _open(self) -> None:
+        fresh = not self.path.exists() or self.path.stat().st_size == 0
+        try:
+            self._db = sqlite3.connect(os.fspath(self.path), isolation_level=None)
+        except sqlite3.Error as exc:
+            raise MemoryStoreError(f"cannot open the memory store: {exc}", source=str(self.path)) from exc
+        db = self._db
+        try:
+            if not fresh:
+                check = db.execute("PRAGMA quick_check").fetchall()
+                if check != [("ok",)]:
+                    raise self._refuse_corrupt(f"SQLite integrity check: {'; '.join(str(r[0]) for r in check[:3])}")
+            app = db.execute("PRAGMA application_id").fetchone()[0]
+            version = db.execute("PRAGMA user_version").fetchone()[0]
+            tables = {r[0] for r in db.execute("SELECT name FROM sqlite_master WHERE type = 'table'")}
+        except sqlite3.DatabaseError as exc:
+            raise self._refuse_corrupt(f"not a readable SQLite database: {exc}", exc) from exc
+        if app == 0 and version == 0 and not tables:
+            self._create()
+        elif app != APPLICATION_ID:
+            raise self._refuse_corrupt(f"not a homesim memory store (application id {app:#x})")
+        elif version > SCHEMA_VERSION:
+            db.close()
+            self._db = None
+            raise MemoryStoreError(
+                f"memory store written by a newer homesim (schema version {version}; this one reads up to "
+                f"{SCHEMA_VERSION}); the file was left untouched where it is, use a newer homesim or another store",
+                source=str(self.path), kept_at=str(self.path),
+            )
+        elif version < SCHEMA_VERSION:
+            self._migrate(version)
+        try:
+            self._read_all()
+        except sqlite3.DatabaseError as exc:
+            raise self._refuse_corrupt(f"cannot read its rows: {exc}", exc) from exc
+
+    def _pragmas(self) -> None:
+        assert self._db is not None
+        self._db.execute("PRAGMA journal_mode = DELETE")
+        self._db.execute("PRAGMA synchronous = FULL")
+
+    def _create(self) -> None:
+        db = self._db
+        assert db is not None
+        self._pragmas()
+        db.execute("BEGIN IMMEDIATE")
+        try:
+            for stmt in _V1:
+                db.execute(stmt)
+            _migrate_1_to_2(db)
+            db.execute(f"PRAGMA application_id = {APPLICATION_ID}")
+            db.execute(f"PRAGMA user_version = {SCHEMA_VERSION}")
+            db.execute("COMMIT")
+        except BaseException:
+            db.execute("ROLLBACK")
+            raise
+
+    def _migrate(self, version: int) -> None:
+        db = self._db
+        assert db is not None
+        self._pragmas()
+        if version < 1 or any(v not in MIGRATIONS for v in range(version, SCHEMA_VERSION)):
+            raise self._refuse_corrupt(f"schema version {version} has no migration path")
+        db.execute("BEGIN IMMEDIATE")
+        try:
+            for v in range(version, SCHEMA_VERSION):
+                MIGRATIONS[v](db)
+            db.execute(f"PRAGMA user_version = {SCHEMA_VERSION}")
+            db.execute("COMMIT")
+        except sqlite3.DatabaseError as exc:
+            db.execute("ROLLBACK")
+            raise self._refuse_corrupt(f"migration from version {version} failed: {exc}", exc) from exc
+        self.migrated_from = version
+
+    def _read_all(self) -> None:
+        db = self._db
+        assert db is not None
+        self._pragmas()
+        loaded: dict[str, tuple[LoadedDocs, int]] = {}
+        for name, next_id in db.execute("SELECT name, next_id FROM memories ORDER BY name"):
+            loaded[name] = ({}, int(next_id))
+        for memory, doc_id, xml in db.execute("SELECT memory, id, xml FROM documents ORDER BY memory, id"):
+            source = f"{self.path}: memory {memory!r} document {doc_id}"
+            try:
+                root = parse_bytes(bytes(xml), source=source)
+            except XMLInputError as exc:
+                raise self._refuse_corrupt(f"memory {memory!r} document {doc_id} does not parse: {exc.message}", exc) from exc
+            docs, next_id = loaded.setdefault(memory, ({}, 1))
+            if doc_id >= next_id:
+                raise self._refuse_corrupt(f"memory {memory!r} document {doc_id} is beyond its id counter {next_id}")
+            docs[int(doc_id)] = (root, {})
+        for memory, doc_id, name, dtype, shape, data in db.execute(
+            "SELECT memory, doc_id, name, dtype, shape, data FROM attachments ORDER BY memory, doc_id, name"
+        ):
+            entry = loaded.get(memory, ({}, 1))[0].get(doc_id)
+            if entry is None:
+                raise self._refuse_corrupt(f"attachment {name!r} of memory {memory!r} belongs to no document ({doc_id})")
+            try:
+                entry[1][name] = decode_attachment(dtype, shape, data)
+            except (ValueError, TypeError) as exc:
+                raise self._refuse_corrupt(f"attachment {name!r} of document {doc_id} does not decode: {exc}", exc) from exc
+        self._loaded = loaded
+
+    # ------------------------------------------------------------ reading
+    @property
+    def version(self) -> int:
+        return SCHEMA_VERSION
+
+    def memories(self) -> list[str]:
+        """Names of the memories the store held when opened (or has written since)."""
+        return sorted(self._loaded)
+
+    def load(self, memory: str) -> tuple[LoadedDocs, int]:
+        """The documents of ``memory`` as read at open, and its next id (1 for a new memory)."""
+        docs, next_id = self._loaded.get(memory, ({}, 1))
+        self._loaded[memory] = ({}, next_id)  # handed over once; the memory owns them now
+        return docs, next_id
+
+    # ------------------------------------------------------------ writing
+    def _tx(self, stmts: list[tuple[str, tuple]]) -> None:
+        db = self._db
+        if db is None:
+            raise MemoryStoreError("the memory store is closed", source=str(self.path))
+        try:
+            db.execute("BEGIN IMMEDIATE")
+            try:
+                for sql, args in stmts:
+                    db.execute(sql, args)
+                db.execute("COMMIT")
+            except BaseException:
+                db.execute("ROLLBACK")
+                raise
+        except sqlite3.Error as exc:
+            raise MemoryStoreError(f"cannot write to the memory store (nothing was changed): {exc}", source=str(self.path)) from exc
+
+    def put(self, memory: str, doc_id: int, doc: etree._Element, attachments: Mapping[str, Attachment], *, next_id: int) -> None:
+        """Write (insert or replace) one document with exactly these attachments, in one transaction."""
+        stmts: list[tuple[str, tuple]] = [
+            ("INSERT OR REPLACE INTO documents (memory, id, xml) VALUES (?, ?, ?)", (memory, doc_id, serialize(doc))),
+            ("DELETE FROM attachments WHERE memory = ? AND doc_id = ?", (memory, doc_id)),
+        ]
+        for name in sorted(attachments):
+            dtype, shape, data = encode_attachment(attachments[name])
+            stmts.append(("INSERT INTO attachments VALUES (?, ?, ?, ?, ?, ?)", (memory, doc_id, name, dtype, shape, data)))
+        stmts.append(("INSERT OR REPLACE INTO memories (name, next_id) VALUES (?, ?)", (memory, next_id)))
+        self._tx(stmts)
+
+    def delete(self, memory: str, doc_id: int) -> None:
+        """Remove one document and its attachments, in one transaction."""
+        self._tx([
+            ("DELETE FROM attachments WHERE memory = ? AND doc_id = ?", (memory, doc_id)),
+            ("DELETE FROM documents WHERE memory = ? AND id = ?", (memory, doc_id)),
+        ])
+
+    def close(self) -> None:
+        """Close the file (every change is already committed)."""
+        if self._db is not None:
+            self._db.close()
+            self._db = None
+
+    def __enter__(self) -> SqliteStore:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()

@@ -1,0 +1,241 @@
+"""BIRON's knowledge bases: objects and places, each an active memory.
+
+The bases give the documents their meaning; :mod:`homesim.memory` only stores
+them. Each base turns what the modules send (speech frames, object
+attention's ``OBJECT``, the ES's ``POSE``) into one canonical document,
+checked against ``robot/schemas/knowledge.xsd`` before it is stored:
+
+``<OBJECT type name owner use colour x y size frame="map" taught><POSITION relation landmark/>?</OBJECT>``
+(visual features, e.g. a colour histogram, are binary attachments of the
+document, never inline XML), and ``<PLACE name x y theta frame="map" taught/>``.
+
+Objects are indexed by type, name and owner, places by name, so the common
+look-ups stay fast as the memory grows. Teaching the same thing again
+updates it (a place by name; an object by type, name and owner when these
+single it out, else by type within :data:`SAME_OBJECT` metres).
+
+How it fails: a document that cannot be made canonical (no type, no
+position, no pose, a number that does not read) raises
+:class:`MemoryQueryError` saying what is missing; nothing is stored.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from pathlib import Path
+
+from lxml import etree
+
+from homesim.errors import MemoryQueryError
+from homesim.memory.core import ActiveMemory, Attachment, Record
+from homesim.memory.protocol import decode_inline
+from homesim.memory.sqlite import SqliteStore
+from homesim.xmlio import load_schema
+
+from .where import TaughtPlace
+
+SCHEMA = Path(__file__).resolve().parent.parent / "schemas" / "knowledge.xsd"
+SAME_OBJECT = 0.5
+
+OBJECT_INDEXES = {"type": "@type", "name": "@name", "owner": "@owner"}
+PLACE_INDEXES = {"name": "@name"}
+
+
+def _clean(text: str | None) -> str:
+    return " ".join((text or "").lower().split())
+
+
+def _child_name(el: etree._Element, tag: str) -> str:
+    c = el.find(tag)
+    return _clean(c.get("name")) if c is not None else ""
+
+
+def _number(el: etree._Element, attr: str, what: str) -> float:
+    text = el.get(attr)
+    try:
+        v = float(text)  # type: ignore[arg-type]
+    except (TypeError, ValueError):
+        raise MemoryQueryError(f"{what} needs a number {attr}=, got {text!r}", source="<knowledge>", element=el.tag) from None
+    if not math.isfinite(v):
+        raise MemoryQueryError(f"{what}: {attr}={text!r} is not finite", source="<knowledge>", element=el.tag)
+    return v
+
+
+def _fmt(v: float) -> str:
+    return f"{v:.4f}"
+
+
+def describe(el: etree._Element) -> dict[str, str]:
+    """type, name, owner, colour, use of an OBJECT given as attributes or speech-frame children."""
+    out = {
+        "type": _clean(el.get("type")),
+        "name": _clean(el.get("name")) or _child_name(el, "TITLE"),
+        "owner": _clean(el.get("owner")) or _child_name(el, "OWNER"),
+        "colour": _clean(el.get("colour")) or _child_name(el, "COLOUR"),
+        "use": _clean(el.get("use")) or _child_name(el, "USE"),
+    }
+    return out
+
+
+def said_position(el: etree._Element) -> tuple[str, str] | None:
+    """(relation, landmark) of ``POSITION`` as stored or as a speech frame has it; None without one."""
+    pos = el.find("POSITION")
+    if pos is None:
+        return None
+    rel = _clean(pos.get("relation")) or _child_name(pos, "RELATION")
+    landmark = _clean(pos.get("landmark")) or _child_name(pos, "TITLE")
+    return (rel or "near", landmark) if landmark else None
+
+
+class KnowledgeBase:
+    """One base: an active memory, its indexes and the canonical form of its documents."""
+
+    kind = ""
+    tag = ""
+
+    def __init__(self, memory: ActiveMemory) -> None:
+        self.memory = memory
+        self._schema = load_schema(SCHEMA)
+
+    def canonical(self, doc: etree._Element, attachments: Mapping[str, Attachment], now: float) -> tuple[etree._Element, dict[str, Attachment]]:
+        raise NotImplementedError
+
+    def check(self, doc: etree._Element) -> None:
+        self._schema.check(doc, source=f"<knowledge {self.kind}>")
+
+    def same_as(self, doc: etree._Element) -> int | None:
+        """The id of the stored document this one is a new version of, if any."""
+        raise NotImplementedError
+
+    def store(self, doc: etree._Element, attachments: Mapping[str, Attachment] | None = None, *, now: float = 0.0) -> tuple[int, bool]:
+        """Store (or update the earlier version of) a document; return (id, was_update)."""
+        canon, att = self.canonical(doc, attachments or {}, now)
+        self.check(canon)
+        old = self.same_as(canon)
+        if old is None:
+            return self.memory.insert(canon, att), False
+        self.memory.update(old, canon, att if att else None)
+        return old, True
+
+
+class ObjectBase(KnowledgeBase):
+    """Objects: type, name, owner, use, colour, position, size, visual features (attachments)."""
+
+    kind = "objects"
+    tag = "OBJECT"
+
+    def __init__(self, *, store: SqliteStore | None = None) -> None:
+        super().__init__(ActiveMemory("objects", store=store, indexes=OBJECT_INDEXES))
+
+    def canonical(self, doc: etree._Element, attachments: Mapping[str, Attachment], now: float) -> tuple[etree._Element, dict[str, Attachment]]:
+        if doc.tag != "OBJECT":
+            raise MemoryQueryError(f"the object base stores <OBJECT>, not <{doc.tag}>", source="<knowledge objects>")
+        d = describe(doc)
+        if not d["type"]:
+            raise MemoryQueryError("an object needs a type", source="<knowledge objects>", element="OBJECT")
+        if doc.get("frame", "map") != "map":
+            raise MemoryQueryError(f"object positions are stored in the map frame, not {doc.get('frame')!r}", source="<knowledge objects>")
+        out = etree.Element("OBJECT", type=d["type"], name=d["name"] or d["type"])
+        for key in ("owner", "use", "colour"):
+            if d[key]:
+                out.set(key, d[key])
+        out.set("x", _fmt(_number(doc, "x", "an object")))
+        out.set("y", _fmt(_number(doc, "y", "an object")))
+        if doc.get("z") is not None:
+            out.set("z", _fmt(_number(doc, "z", "an object")))
+        if doc.get("size") is not None:
+            out.set("size", _fmt(_number(doc, "size", "an object")))
+        out.set("frame", "map")
+        out.set("taught", _fmt(float(doc.get("taught", now))))
+        said = said_position(doc)
+        if said is not None:
+            etree.SubElement(out, "POSITION", relation=said[0], landmark=said[1])
+        att = dict(attachments)
+        for a in doc.iterchildren("attachment"):  # features sent inline (ES orders carry no binaries)
+            if a.get("encoding") == "base64":
+                att[a.get("name") or "features"] = decode_inline(a)
+        return out, att
+
+    def same_as(self, doc: etree._Element) -> int | None:
+        t, n, o = doc.get("type"), doc.get("name"), doc.get("owner", "")
+        ids = self.memory.query_ids(where={"type": t, "name": n})
+        ids = [i for i in ids if self.memory.get(i).xml.get("owner", "") == o]
+        if ids and (o or n != t):
+            return ids[-1]
+        x, y = float(doc.get("x")), float(doc.get("y"))  # type: ignore[arg-type]
+        for i in reversed(ids):
+            r = self.memory.get(i).xml
+            if math.hypot(float(r.get("x")) - x, float(r.get("y")) - y) <= SAME_OBJECT:  # type: ignore[arg-type]
+                return i
+        return None
+
+    def find(self, query: etree._Element) -> list[Record]:
+        """Stored objects that fit a query frame (``<OBJECT type><OWNER name/></OBJECT>``), best first.
+
+        A stored object fits when its type or name is the one asked for and
+        nothing given in the question contradicts it (owner, colour, name);
+        more agreeing details rank higher, then the most recently taught.
+        """
+        q = describe(query)
+        ids: dict[int, None] = {}
+        if q["type"]:
+            ids.update(dict.fromkeys(self.memory.query_ids(where={"type": q["type"]})))
+        if q["name"]:
+            ids.update(dict.fromkeys(self.memory.query_ids(where={"name": q["name"]})))
+            ids.update(dict.fromkeys(self.memory.query_ids(where={"type": q["name"]})))
+        scored = []
+        for i in sorted(ids):
+            rec = self.memory.get(i)
+            s = describe(rec.xml)
+            score, ok = 0, True
+            for key in ("owner", "colour", "name"):
+                if q[key] and s[key]:
+                    if q[key] == s[key] or (key == "name" and q[key] == s["type"]):
+                        score += 1
+                    else:
+                        ok = False
+            if q["type"] and s["type"] == q["type"]:
+                score += 1
+            if ok:
+                scored.append((score, float(rec.xml.get("taught", "0")), i, rec))
+        scored.sort(key=lambda t: (t[0], t[1], t[2]), reverse=True)
+        return [t[3] for t in scored]
+
+
+class PlaceBase(KnowledgeBase):
+    """Places: a name and the robot's pose (map frame) when it was told."""
+
+    kind = "places"
+    tag = "PLACE"
+
+    def __init__(self, *, store: SqliteStore | None = None) -> None:
+        super().__init__(ActiveMemory("places", store=store, indexes=PLACE_INDEXES))
+
+    def canonical(self, doc: etree._Element, attachments: Mapping[str, Attachment], now: float) -> tuple[etree._Element, dict[str, Attachment]]:
+        if doc.tag != "PLACE":
+            raise MemoryQueryError(f"the place base stores <PLACE>, not <{doc.tag}>", source="<knowledge places>")
+        name = _clean(doc.get("name")) or _child_name(doc, "TITLE")
+        if not name:
+            raise MemoryQueryError("a place needs a name (name= or <TITLE name>)", source="<knowledge places>", element="PLACE")
+        pose = doc.find("POSE") if doc.get("x") is None else doc
+        if pose is None:
+            raise MemoryQueryError(f"place {name!r} has no pose: the robot did not know where it was", source="<knowledge places>", element="PLACE")
+        if pose.get("frame", "map") != "map":
+            raise MemoryQueryError(f"place poses are stored in the map frame, not {pose.get('frame')!r}", source="<knowledge places>")
+        out = etree.Element("PLACE", name=name, x=_fmt(_number(pose, "x", "a place pose")), y=_fmt(_number(pose, "y", "a place pose")),
+                            theta=f"{_number(pose, 'theta', 'a place pose'):.5f}", frame="map")
+        out.set("taught", _fmt(float(doc.get("taught", now))))
+        return out, dict(attachments)
+
+    def same_as(self, doc: etree._Element) -> int | None:
+        ids = self.memory.query_ids(where={"name": doc.get("name", "")})
+        return ids[-1] if ids else None
+
+    def taught(self) -> list[TaughtPlace]:
+        """Every place, in the order it was first taught."""
+        out = []
+        for rec in self.memory.query():
+            x = rec.xml
+            out.append(TaughtPlace(x.get("name", ""), float(x.get("x", "0")), float(x.get("y", "0")), float(x.get("theta", "0"))))
+        return out

@@ -1,0 +1,215 @@
+"""The scene model on the bus: the ES's orders (store_place, store_object, query) end to end with the
+real supervisor, the KB-manager's request interface, refusals, and where-is answers from a store
+reloaded by a later run."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from lxml import etree
+
+from homesim.errors import MemoryStoreError
+from homesim.sim import Simulation
+from homesim.xmlio import load_schema
+from robot.knowledge import SceneModel, install
+from robot.knowledge.scene_model import REFUSED
+from robot.supervisor import CONDITION_PREFIX, EVENT_CHANNEL, ExecutionSupervisor, event_xml
+
+KNOWLEDGE = load_schema("robot/schemas/knowledge.xsd")
+
+
+def el(text: str) -> etree._Element:
+    return etree.fromstring(text)
+
+
+class Tour:
+    """The real supervisor and scene model on a Simulation; the dialog, person and object attention
+    are played by bare participants publishing the events their modules would."""
+
+    def __init__(self, store_dir=None, *, seed: int = 1) -> None:
+        self.sim = Simulation(seed=seed, scenario="knowledge")
+        self.es = ExecutionSupervisor(self.sim)
+        self.scene = SceneModel(self.sim, store_dir=store_dir)
+        self.dialog = self.sim.bus.participant("dialog")
+        self.attention = self.sim.bus.participant("person_attention")
+        self.objects = self.sim.bus.participant("object_attention")
+        self.conditions = self.dialog.subscribe(f"{CONDITION_PREFIX}/dialog")
+        self.refused = self.dialog.subscribe(REFUSED)
+        self.sim.start()
+        self.t = 0.0
+
+    def send(self, who, name: str, *children: etree._Element) -> None:
+        who.publish(EVENT_CHANNEL, event_xml(name, children=children))
+        self.t += 0.5
+        self.sim.run(until=self.t)
+
+    def engage(self) -> None:
+        self.send(self.attention, "potential_partner", el('<PERSON id="t1" bearing="0" distance="1.2" speaking="true" facing="true"/>'))
+        self.send(self.dialog, "greeting", el("<SPEECH><GREETING/></SPEECH>"))
+        assert self.es.state == "Interacting"
+
+    def teach_place(self, name: str, x: float, y: float, theta: float = 0.0) -> None:
+        self.send(self.dialog, "place_teaching", el(f'<SPEECH><PLACE><TITLE name="{name}"/></PLACE></SPEECH>'),
+                  el(f'<POSE x="{x}" y="{y}" theta="{theta}" frame="map"/>'))
+
+    def teach_object(self, obj: etree._Element) -> None:
+        self.send(self.dialog, "object_teaching", el('<SPEECH><OBJECT type="cup"/></SPEECH>'))
+        assert self.es.state == "ObjectTeaching"
+        self.send(self.objects, "object_recognized", obj)
+        assert self.es.state == "Interacting"
+
+    def ask(self, frame: str) -> etree._Element:
+        self.conditions.drain()
+        self.send(self.dialog, "query_object", el(f"<SPEECH>{frame}</SPEECH>"))
+        infos = [m for m in self.conditions.drain() if m.xml.get("name") == "object_info"]
+        assert len(infos) == 1
+        result = infos[0].xml.find("param/RESULT")
+        KNOWLEDGE.check(result)
+        return result
+
+    def close(self) -> None:
+        self.scene.close()
+        self.sim.close()
+
+
+CUP = '<OBJECT type="cup" name="cup" owner="speaker" colour="red" x="3.5" y="1.8" size="0.1" frame="map"/>'
+
+
+@pytest.fixture
+def tour():
+    t = Tour()
+    yield t
+    t.close()
+
+
+def test_where_is_my_cup_from_taught_places_and_object(tour):
+    tour.engage()
+    tour.teach_place("living room", 2.0, 1.0)
+    tour.teach_place("table", 3.0, 1.5)
+    tour.teach_place("kitchen", 8.0, 1.0)
+    tour.teach_object(el(CUP))
+    result = tour.ask('<OBJECT type="cup"><OWNER name="speaker"/></OBJECT>')
+    assert result.get("found") == "true"
+    assert result.get("phrase") == "on the table in the living room"
+    obj = result.find("OBJECT")
+    assert (obj.get("type"), obj.get("owner"), obj.get("colour")) == ("cup", "speaker", "red")
+    assert float(obj.get("x")) == pytest.approx(3.5)
+    assert result.find("PLACE").get("name") == "living room"
+    assert len(tour.scene.places.memory) == 3 and len(tour.scene.objects.memory) == 1
+
+
+def test_unknown_object_is_answered_not_found(tour):
+    tour.engage()
+    tour.teach_object(el(CUP))
+    result = tour.ask('<OBJECT type="plant"><TITLE name="flower"/></OBJECT>')
+    assert result.get("found") == "false"
+    assert result.find("OBJECT").get("type") == "plant"
+
+
+def test_someone_elses_cup_is_not_mine(tour):
+    tour.engage()
+    tour.teach_object(el(CUP.replace('owner="speaker"', 'owner="tom"')))
+    assert tour.ask('<OBJECT type="cup"><OWNER name="speaker"/></OBJECT>').get("found") == "false"
+    assert tour.ask('<OBJECT type="cup"><OWNER name="tom"/></OBJECT>').get("found") == "true"
+
+
+def test_the_colour_asked_for_picks_among_two_cups(tour):
+    tour.engage()
+    tour.teach_place("kitchen", 8.0, 1.0)
+    tour.teach_place("living room", 2.0, 1.0)
+    tour.teach_object(el(CUP))
+    tour.teach_object(el('<OBJECT type="cup" colour="blue" x="8.4" y="1.2" frame="map"/>'))
+    assert tour.ask('<OBJECT type="cup"><COLOUR name="blue"/></OBJECT>').get("phrase") == "in the kitchen"
+    assert tour.ask('<OBJECT type="cup"><COLOUR name="red"/></OBJECT>').get("phrase") == "in the living room"
+
+
+def test_reteaching_a_place_moves_it_and_a_place_without_pose_is_refused(tour):
+    tour.engage()
+    tour.teach_place("kitchen", 8.0, 1.0)
+    tour.teach_place("kitchen", 9.0, 2.0)
+    recs = tour.scene.places.memory.query()
+    assert [(r.xml.get("name"), r.xml.get("x")) for r in recs] == [("kitchen", "9.0000")]
+    tour.send(tour.dialog, "place_teaching", el('<SPEECH><PLACE><TITLE name="hall"/></PLACE></SPEECH>'))
+    refused = tour.refused.drain()
+    assert len(refused) == 1 and "no pose" in refused[0].xml.get("reason")
+    assert len(tour.scene.places.memory) == 1
+
+
+def test_visual_features_travel_inline_and_are_stored_as_an_attachment(tour):
+    hist = np.linspace(0.0, 1.0, 8)
+    from homesim.memory.protocol import attachment_element
+    obj = el(CUP)
+    obj.append(attachment_element("colour_histogram", hist, inline=True))
+    tour.engage()
+    tour.teach_object(obj)
+    rec = tour.scene.objects.memory.query()[0]
+    np.testing.assert_array_equal(rec.attachments["colour_histogram"], hist)
+    assert rec.xml.find("attachment") is None
+
+
+def test_request_interface_routes_to_the_right_base(tour):
+    client = tour.sim.bus.participant("planner")
+    events = client.subscribe("/robot/scene_model/events/planner")
+
+    async def talk():
+        sub = await client.call("scene_model", "request", '<request kb="places" op="subscribe" xpath="/PLACE" channel="/robot/scene_model/events/planner"/>')
+        assert sub.xml.get("ok") == "true"
+        ins = await client.call("scene_model", "request", '<request op="insert"><PLACE name="kitchen"><POSE x="8" y="1" theta="0.5"/></PLACE></request>')
+        assert ins.xml.get("ok") == "true"
+        obj = await client.call("scene_model", "request", f'<request kb="objects" op="insert">{CUP}</request>')
+        assert obj.xml.get("ok") == "true"
+        q = await client.call("scene_model", "request", '<request kb="places" op="query"><where index="name" value="kitchen"/></request>')
+        bad = await client.call("scene_model", "request", '<request kb="people" op="query"/>')
+        badx = await client.call("scene_model", "request", '<request kb="objects" op="query" xpath="//["/>')
+        return q, bad, badx
+
+    q, bad, badx = tour.sim.run_until_complete(talk())
+    assert q.xml.get("count") == "1"
+    place = q.xml.find("doc/PLACE")
+    assert (place.get("name"), place.get("x"), place.get("theta")) == ("kitchen", "8.0000", "0.50000")
+    assert bad.xml.get("ok") == "false" and "people" in bad.xml.get("reason")
+    assert badx.xml.get("ok") == "false" and "XPath" in badx.xml.get("reason")
+    tour.sim.run(until=tour.sim.now + 0.1)
+    notes = events.drain()
+    assert [(n.xml.get("action"), n.xml.find("PLACE").get("name")) for n in notes] == [("insert", "kitchen")]
+
+
+def test_install_reads_the_store_directory_from_the_run_config(tmp_path):
+    class Run:
+        def __init__(self, sim, config):
+            self.sim, self.config = sim, config
+
+    with Simulation(seed=0) as sim:
+        mods = install(Run(sim, {"memory_dir": str(tmp_path)}))
+        assert mods["scene_model"].store is not None
+        mods["scene_model"].close()
+    assert (tmp_path / "scene_model.sqlite").exists()
+    with Simulation(seed=0) as sim:
+        assert install(Run(sim, {}))["scene_model"].store is None
+
+
+def test_where_is_my_cup_answered_in_a_later_run_from_the_store(tmp_path):
+    first = Tour(tmp_path)
+    first.engage()
+    first.teach_place("living room", 2.0, 1.0)
+    first.teach_place("table", 3.0, 1.5)
+    first.teach_object(el(CUP))
+    first.close()
+
+    second = Tour(tmp_path, seed=2)  # a fresh Simulation that only loads the store
+    assert len(second.scene.objects.memory) == 1
+    second.engage()
+    result = second.ask('<OBJECT type="cup"><OWNER name="speaker"/></OBJECT>')
+    assert result.get("found") == "true"
+    assert result.get("phrase") == "on the table in the living room"
+    second.close()
+
+
+def test_a_corrupt_store_stops_the_scene_model_and_is_kept(tmp_path):
+    (tmp_path / "scene_model.sqlite").write_bytes(b"not a database, honestly" * 100)
+    with Simulation(seed=0) as sim:
+        with pytest.raises(MemoryStoreError, match="corrupt") as err:
+            SceneModel(sim, store_dir=tmp_path)
+    kept = tmp_path / "scene_model.sqlite.corrupt-1"
+    assert err.value.kept_at == str(kept)
+    assert kept.read_bytes() == b"not a database, honestly" * 100
