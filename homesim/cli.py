@@ -17,7 +17,7 @@ from .errors import HomesimError
 #: Modules that add subcommands (each has ``register(subparsers)``).
 SUBCOMMAND_MODULES: list[str] = [
     "homesim.demo",
-    "homesim.world.cli",
+    "homesim.run_cli",
     "homesim.afsm.cli",
 ]
 

@@ -34,3 +34,34 @@ class RealtimePacer:
         due = self._origin_wall + (to_ns - self._origin_ns) / NS_PER_S / self.scale
         if due > now_wall:
             time.sleep(due - now_wall)
+
+
+class Stopwatch:
+    """Wall-clock and CPU time since construction, for run summaries and speed reports.
+
+    Only the run's reports read it (``wall_time_s``, simulated seconds per
+    CPU second); nothing in a run's behaviour or trace depends on it.
+    """
+
+    def __init__(self) -> None:
+        self._wall0 = time.perf_counter()
+        self._cpu0 = time.process_time()
+
+    def wall(self) -> float:
+        """Wall-clock seconds since construction."""
+        return time.perf_counter() - self._wall0
+
+    def cpu(self) -> float:
+        """CPU seconds of this process since construction."""
+        return time.process_time() - self._cpu0
+
+
+def peak_memory_mb() -> float:
+    """The process's peak resident set size in MiB (Linux and macOS; 0.0 where unknown)."""
+    try:
+        import resource
+        import sys
+    except ImportError:  # pragma: no cover - Windows
+        return 0.0
+    peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+    return peak / (1024 * 1024) if sys.platform == "darwin" else peak / 1024

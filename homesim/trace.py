@@ -1,7 +1,8 @@
 """The system-wide trace: every bus send, delivery and drop as JSON Lines.
 
 Line 1 is a header ``{"homesim_trace": 1, "scenario", "seed",
-"homesim_version"}``. Each later line is one observation, in the order the
+"homesim_version"}`` plus what the writer adds (the runner: ``run`` with the
+scenario file, its content digest and the options ``homesim replay`` needs). Each later line is one observation, in the order the
 bus made them (``seq`` counts them):
 
 * a send: ``{"t", "seq", "kind" (publish|request|reply|error), "sender",
@@ -64,11 +65,11 @@ def observation_record(obs: Observation, seq: int) -> dict[str, Any]:
 class TraceRecorder:
     """Writes the trace of a bus to a text stream (a file, or memory)."""
 
-    def __init__(self, bus: Bus, stream: IO[str], *, scenario: str, seed: int) -> None:
+    def __init__(self, bus: Bus, stream: IO[str], *, scenario: str, seed: int, header: dict[str, Any] | None = None) -> None:
         self.bus = bus
         self.stream = stream
         self.seq = 0
-        header = {"homesim_trace": TRACE_FORMAT, "scenario": scenario, "seed": seed, "homesim_version": __version__}
+        header = {"homesim_trace": TRACE_FORMAT, "scenario": scenario, "seed": seed, "homesim_version": __version__, **(header or {})}
         stream.write(_dumps(header) + "\n")
         bus.add_interceptor(self)
 
@@ -86,10 +87,10 @@ class TraceRecorder:
 class FileTrace(TraceRecorder):
     """A trace written to a file path (opened and closed by the recorder)."""
 
-    def __init__(self, bus: Bus, path: str | os.PathLike[str], *, scenario: str, seed: int) -> None:
+    def __init__(self, bus: Bus, path: str | os.PathLike[str], *, scenario: str, seed: int, header: dict[str, Any] | None = None) -> None:
         self.path = Path(path)
         self.path.parent.mkdir(parents=True, exist_ok=True)
-        super().__init__(bus, open(self.path, "w", encoding="utf-8", newline="\n"), scenario=scenario, seed=seed)
+        super().__init__(bus, open(self.path, "w", encoding="utf-8", newline="\n"), scenario=scenario, seed=seed, header=header)
 
     def close(self) -> None:
         super().close()

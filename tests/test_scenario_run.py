@@ -22,7 +22,7 @@ from tests.world_helpers import EXAMPLE
 def stage() -> Stage:
     sc = load_scenario(EXAMPLE)
     sim = Simulation(seed=sc.seed, scenario=sc.name)
-    st = Stage(sim, sc)
+    st = Stage(sim, sc, keep_messages=True)
     st.run()
     yield st
     sim.close()

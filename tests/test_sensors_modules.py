@@ -18,7 +18,7 @@ from tests.world_helpers import ROOM, drive_base
 def _stage(seed: int = 3) -> Stage:
     sc = load_scenario(ROOM)
     sim = Simulation(seed=seed, scenario=sc.name)
-    return Stage(sim, sc, actors=("robot.hardware.install",))
+    return Stage(sim, sc, actors=("robot.hardware.install",), keep_messages=True)
 
 
 def test_laser_publishes_ten_scans_a_second_with_the_ranges_attached():
@@ -139,7 +139,7 @@ def test_recognised_speech_carries_measured_not_true_direction_and_level():
     text = ROOM.read_text(encoding="utf-8").replace('torso="yellow"/>', 'torso="yellow"><script><face robot="true"/><repeat times="30"><say text="hello"/><wait for="0.3"/></repeat></script></human>')
     sc = load_scenario_text(text, source="speech.xml")
     sim = Simulation(seed=5, scenario=sc.name)
-    st = Stage(sim, sc)
+    st = Stage(sim, sc, keep_messages=True)
     st.run(30.0)
     speech = [m for m in st.messages if m.channel == "/robot/audio/speech" and m.xml.get("self") != "true"]
     assert len(speech) == 30

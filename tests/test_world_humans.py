@@ -33,7 +33,7 @@ def _stage(script: str, *, start: str = 'x="3" y="3"', hardware: bool = False, d
     sc = load_scenario_text(text, source="humans.xml")
     sim = Simulation(seed=sc.seed, scenario=sc.name)
     actors = ("humans.install", "robot.hardware.install") if hardware else ("humans.install",)
-    return Stage(sim, sc, actors=actors)
+    return Stage(sim, sc, actors=actors, keep_messages=hardware)
 
 
 def test_walk_to_goes_around_furniture_and_never_through_it():

@@ -114,6 +114,9 @@ class _Checker:
         self.walkable()
         for e in sc.expectations:
             self.expectation(e)
+        for f in sc.faults:
+            if f.at > sc.duration:
+                raise self.fail(f.line, f.kind, f"at={f.at:g} is after the end of the run ({sc.duration:g} s)")
 
     # ---------------------------------------------------------------- names
     def names(self) -> None:
@@ -261,6 +264,16 @@ class _Checker:
                 raise self.fail(e.line, e.kind, f"by={by} is after the end of the run ({self.sc.duration} s)")
         if e.kind == "robot-near":
             self.target(e.get("target"), "robot-near", e.line)  # type: ignore[arg-type]
+        if e.kind == "following-distance":
+            who = e.get("who")
+            if self.kinds.get(str(who), ("",))[0] != "human":
+                raise self.fail(e.line, e.kind, f"there is no human named {who!r}")
+        for key in ("after", "by"):
+            t = e.get(key)
+            if e.kind != "reached" and t is not None and float(t) > self.sc.duration:  # type: ignore[arg-type]
+                raise self.fail(e.line, e.kind, f"{key}={t} is after the end of the run ({self.sc.duration} s)")
+        if e.get("after") is not None and e.get("by") is not None and float(e.get("after")) > float(e.get("by")):  # type: ignore[arg-type]
+            raise self.fail(e.line, e.kind, f"after={float(e.get('after')):g} is later than by={float(e.get('by')):g}")  # type: ignore[arg-type]
         if e.kind == "no-collision":
             what = e.get("with")
             if what is not None and what not in ("wall", "furniture") and self.kinds.get(str(what), ("",))[0] != "human":

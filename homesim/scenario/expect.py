@@ -1,34 +1,54 @@
-"""Expectations: what a scenario says must have happened, checked after a run.
+"""Expectations: what a scenario says must happen, checked *as the run goes*.
 
-Two kinds of evidence, never mixed up: ground truth (where people were,
-from :class:`~homesim.world.truth.GroundTruth`, frame by frame: a moving
-target is where it was in the same frame) for ``reached`` and
-``robot-near``, and the world's contact log for ``no-collision``; the
-robot's own sensor messages as they went over the bus for ``legs-seen`` (a
-leg pair found in a laser scan by the reference detector), ``face-seen``
-(a face detection) and ``sound-heard`` (a sound direction); with ``absent="true"`` a percept must *not* be there (no face
-while the person looks away). So "the laser saw legs at -18 deg" is checked
-on what the laser published, not on where the person was.
+Each expectation of a scenario becomes one streaming check that sees the
+messages sent on the channels it names (through one
+:class:`~homesim.observe.Dispatcher`) and, if it needs ground truth, the
+world after each physics step; it keeps a few numbers, never the messages,
+so a run's memory does not grow with its length. At the end
+:meth:`Expectations.verdicts` turns each check into a :class:`Verdict` that
+names the expectation's file and line and says why it failed.
+
+Evidence is never mixed up:
+
+* ground truth (the world, step by step) for ``reached``, ``robot-near``,
+  ``following-distance`` and the contact log for ``no-collision``;
+* the robot's own sensor messages for ``legs-seen`` (the reference leg
+  detector on each published scan), ``face-seen``, ``sound-heard``;
+* what the robot did, as it went over the bus: ``robot-says`` (the dialog's
+  ``/robot/speaker/say``), ``state-reached`` and ``event-rejected`` (the
+  supervisor's decision log ``/robot/es/log``);
+* what the robot knows at the end (its scene model, queried by the runner):
+  ``object-learned``, ``place-learned``;
+* the run's metrics (``homesim.metrics``): ``metric``.
+
+``absent``/``never="true"`` turns a check around: nothing of the kind may
+happen in the window.
 """
 
 from __future__ import annotations
 
 import math
-from collections.abc import Iterable
+import re
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
+from lxml import etree
 
 from ..message import Message
+from ..observe import Dispatcher
 from ..world.geometry import wrap_angle
 from ..world.legs import detect_leg_pairs
-from ..world.truth import GroundTruth
 from ..world.world import World
 from .model import Expectation, Scenario, Target
 
 SCAN = "/robot/laser/scan"
 FACES = "/robot/camera/faces"
 SOURCES = "/robot/audio/sources"
+SAY = "/robot/speaker/say"
+ES_LOG = "/robot/es/log"
+ES_STATUS = "/robot/es/status"
 
 
 @dataclass(frozen=True)
@@ -36,142 +56,481 @@ class Verdict:
     expectation: Expectation
     passed: bool
     detail: str
+    source: str = ""
+
+    @property
+    def name(self) -> str:
+        return self.expectation.describe()
+
+    @property
+    def where(self) -> str:
+        """``file:line`` of the expectation (what a user opens to fix it)."""
+        line = self.expectation.line
+        if self.source and line:
+            return f"{self.source}:{line}"
+        return self.source or (f"line {line}" if line else "")
 
     def line(self) -> str:
         mark = "PASS" if self.passed else "FAIL"
-        where = f"line {self.expectation.line}: " if self.expectation.line else ""
+        where = f"{self.where}: " if self.where else ""
         return f"{mark} {where}{self.expectation.describe()}: {self.detail}"
 
-
-def evaluate(scenario: Scenario, world: World, truth: GroundTruth, messages: Iterable[Message]) -> list[Verdict]:
-    """Check every expectation of ``scenario``; one verdict each, in file order."""
-    msgs = list(messages)
-    return [_check(e, scenario, world, truth, msgs) for e in scenario.expectations]
+    def as_dict(self) -> dict[str, Any]:
+        return {"name": self.name, "where": self.where, "passed": self.passed, "detail": self.detail}
 
 
-def _window(e: Expectation, scenario: Scenario) -> tuple[float, float]:
-    w = e.get("between")
-    return (0.0, scenario.duration) if w is None else (float(w[0]), float(w[1]))  # type: ignore[index]
+class Check:
+    """One streaming expectation. Subclasses set ``channels`` and/or ``steps``."""
+
+    channels: tuple[str, ...] = ()
+    steps = False  # call on_step after every world step
+
+    def __init__(self, e: Expectation, scenario: Scenario, world: World) -> None:
+        self.e = e
+        self.world = world
+        w = e.get("between")
+        self.t0, self.t1 = (0.0, scenario.duration) if w is None else (float(w[0]), float(w[1]))  # type: ignore[index]
+        after, by = e.get("after"), e.get("by")
+        if after is not None:
+            self.t0 = max(self.t0, float(after))  # type: ignore[arg-type]
+        if by is not None:
+            self.t1 = min(self.t1, float(by))  # type: ignore[arg-type]
+        self.never = bool(e.get("never", False) or e.get("absent", False))
+
+    def on_message(self, msg: Message) -> None:  # pragma: no cover - overridden
+        pass
+
+    def on_step(self, world: World) -> None:  # pragma: no cover - overridden
+        pass
+
+    def verdict(self, end: float, context: Mapping[str, Any]) -> tuple[bool, str]:
+        raise NotImplementedError
+
+    def window(self) -> str:
+        return f"between {self.t0:g} and {self.t1:g} s"
 
 
-def _in(msgs: list[Message], channel: str, t0: float, t1: float) -> list[Message]:
-    return [m for m in msgs if m.channel == channel and t0 <= m.created <= t1]
+class EventCheck(Check):
+    """Something happens (the first time, with its detail) or, with never=, must not."""
+
+    def __init__(self, *args: Any) -> None:
+        super().__init__(*args)
+        self.first: tuple[float, str] | None = None
+        self.count = 0
+
+    def hit(self, t: float, what: str) -> None:
+        if self.t0 - 1e-9 <= t <= self.t1 + 1e-9:
+            self.count += 1
+            if self.first is None:
+                self.first = (t, what)
+
+    def verdict(self, end: float, context: Mapping[str, Any]) -> tuple[bool, str]:
+        if self.first is None:
+            return self.never, f"no {self.what()} {self.window()}"
+        t, what = self.first
+        more = f" ({self.count - 1} more)" if self.count > 1 else ""
+        if self.never:
+            return False, f"{what} at t={t:.2f} s{more}, where none should be"
+        return True, f"{what} at t={t:.2f} s"
+
+    def what(self) -> str:
+        return "match"
 
 
-def _check(e: Expectation, sc: Scenario, world: World, truth: GroundTruth, msgs: list[Message]) -> Verdict:
-    if e.kind == "reached":
-        return _reached(e, world, truth)
-    if e.kind == "robot-near":
-        return _robot_near(e, sc, world, truth)
-    if e.kind == "no-collision":
-        return _no_collision(e, sc, world)
-    t0, t1 = _window(e, sc)
-    want = float(e.get("bearing"))  # type: ignore[arg-type]
-    tol = float(e.get("tolerance"))  # type: ignore[arg-type]
-    seen: list[float] = []
-    if e.kind == "legs-seen":
-        for m in _in(msgs, SCAN, t0, t1):
+# ----------------------------------------------------------------- percepts
+class PerceptCheck(Check):
+    """legs-seen / face-seen / sound-heard: the closest percept to a bearing in a window."""
+
+    def __init__(self, *args: Any) -> None:
+        super().__init__(*args)
+        self.want = float(self.e.get("bearing"))  # type: ignore[arg-type]
+        self.tol = float(self.e.get("tolerance"))  # type: ignore[arg-type]
+        self.n = 0
+        self.best = math.inf
+        self.best_bearing = 0.0
+        kind = self.e.kind
+        self.channels = {"legs-seen": (SCAN,), "face-seen": (FACES,), "sound-heard": (SOURCES,)}[kind]
+        self.noun = {"legs-seen": "leg pairs", "face-seen": "faces", "sound-heard": "sound directions"}[kind]
+
+    def bearings(self, m: Message) -> list[float]:
+        if self.e.kind == "legs-seen":
             ranges = np.asarray(m.attachments["ranges"])
             start = math.radians(float(m.xml.get("min_angle")))
             step = math.radians(float(m.xml.get("resolution")))
-            bearings = start + step * np.arange(ranges.shape[0])
-            seen += [p.bearing for p in detect_leg_pairs(ranges, bearings, max_range=float(m.xml.get("max_range"))) if not p.single]
-        what = "leg pairs"
-    elif e.kind == "face-seen":
-        seen = [math.radians(float(f.get("bearing"))) for m in _in(msgs, FACES, t0, t1) for f in m.xml.iterfind("face")]
-        what = "faces"
-    elif e.kind == "sound-heard":
-        seen = [math.radians(float(s.get("bearing"))) for m in _in(msgs, SOURCES, t0, t1) for s in m.xml.iterfind("source")]
-        what = "sound directions"
-    else:
-        return Verdict(e, False, f"unknown expectation kind {e.kind!r}")
-    absent = bool(e.get("absent", False))
-    if not seen:
-        return Verdict(e, absent, f"no {what} at all between {t0:g} and {t1:g} s")
-    errs = [abs(float(wrap_angle(b - want))) for b in seen]
-    best = int(np.argmin(errs))
-    near = errs[best] <= tol
-    closest = f"closest of {len(seen)} {what} at {math.degrees(seen[best]):.1f} deg"
-    wanted = f"{math.degrees(want):.1f} +- {math.degrees(tol):.1f}"
-    if absent:
-        return Verdict(e, not near, f"{closest} ({'inside' if near else 'outside'} {wanted}, where none should be)")
-    return Verdict(e, near, f"{closest} (wanted {wanted})")
+            angles = start + step * np.arange(ranges.shape[0])
+            pairs = detect_leg_pairs(ranges, angles, max_range=float(m.xml.get("max_range")))
+            return [p.bearing for p in pairs if not p.single]
+        tag = "face" if self.e.kind == "face-seen" else "source"
+        return [math.radians(float(x.get("bearing"))) for x in m.xml.iterfind(tag)]
+
+    def on_message(self, m: Message) -> None:
+        if not (self.t0 <= m.created <= self.t1):
+            return
+        for b in self.bearings(m):
+            self.n += 1
+            err = abs(float(wrap_angle(b - self.want)))
+            if err < self.best:
+                self.best, self.best_bearing = err, b
+
+    def verdict(self, end: float, context: Mapping[str, Any]) -> tuple[bool, str]:
+        if not self.n:
+            return self.never, f"no {self.noun} at all between {self.t0:g} and {self.t1:g} s"
+        near = self.best <= self.tol
+        closest = f"closest of {self.n} {self.noun} at {math.degrees(self.best_bearing):.1f} deg"
+        wanted = f"{math.degrees(self.want):.1f} +- {math.degrees(self.tol):.1f}"
+        if self.never:
+            return not near, f"{closest} ({'inside' if near else 'outside'} {wanted}, where none should be)"
+        return near, f"{closest} (wanted {wanted})"
 
 
-def _no_collision(e: Expectation, sc: Scenario, world: World) -> Verdict:
-    t0, t1 = _window(e, sc)
-    what = e.get("with")
-    hits = [(t, w) for t, w in world.contacts if t0 - 1e-9 <= t <= t1 + 1e-9 and (what is None or w == what)]
-    if not hits:
-        return Verdict(e, True, f"the robot touched {'nothing' if what is None else f'no {what}'} between {t0:g} and {t1:g} s")
-    more = f" (and {len(hits) - 1} more contacts)" if len(hits) > 1 else ""
-    return Verdict(e, False, f"the robot touched {hits[0][1]} at t={hits[0][0]:.2f} s{more}")
-
-
-def _target_xy(world: World, t: Target) -> tuple[float, float] | None:
-    if t.kind == "room":
-        return None  # a room is reached by being in it
+# ------------------------------------------------------------- ground truth
+def _where(world: World, t: Target) -> tuple[float, float] | None:
+    """Where a target is now (None: a person who is not in the flat)."""
+    if t.kind == "human":
+        h = world.humans[t.name or ""]
+        return tuple(h.position) if h.present else None  # type: ignore[return-value]
     x, y, _ = world.target_point(t)
     return x, y
 
 
-def _reached(e: Expectation, world: World, truth: GroundTruth) -> Verdict:
-    who = str(e.get("who"))
-    target: Target = e.get("target")  # type: ignore[assignment]
-    within = float(e.get("within"))  # type: ignore[arg-type]
-    by = e.get("by")
-    deadline = math.inf if by is None else float(by)  # type: ignore[arg-type]
-    fixed = _target_xy(world, target) if target.kind not in ("human", "robot") else None
-    best = math.inf
-    for f in truth.frames:
-        if f.t > deadline + 1e-9:
-            break
-        # A person or the robot is a moving target: where it was in this very frame.
-        goal = fixed
-        if target.kind == "robot":
-            goal = f.robot[:2]
-        elif target.kind == "human":
-            there = [p for p in f.people if p.name == target.name and p.present]
-            if not there:
-                continue
-            goal = (there[0].x, there[0].y)
-        for p in f.people:
-            if p.name != who or not p.present:
-                continue
-            if target.kind == "room":
-                if p.room == target.name:
-                    return Verdict(e, True, f"{who} was in {target.name} at t={f.t:.2f} s")
-                continue
-            d = math.hypot(p.x - goal[0], p.y - goal[1])
-            best = min(best, d)
-            if d <= within:
-                return Verdict(e, True, f"{who} came within {d:.2f} m at t={f.t:.2f} s")
-    if target.kind == "room":
-        return Verdict(e, False, f"{who} never entered {target.name}" + (f" by {deadline:g} s" if by is not None else ""))
-    return Verdict(e, False, f"{who} came no closer than {best:.2f} m" + (f" by {deadline:g} s" if by is not None else ""))
+class ReachedCheck(Check):
+    """A person came within ``within`` of a target (a moving target where it was at that step)."""
+
+    steps = True
+
+    def __init__(self, *args: Any) -> None:
+        super().__init__(*args)
+        self.who = str(self.e.get("who"))
+        self.target: Target = self.e.get("target")  # type: ignore[assignment]
+        self.within = float(self.e.get("within"))  # type: ignore[arg-type]
+        by = self.e.get("by")
+        self.deadline = math.inf if by is None else float(by)  # type: ignore[arg-type]
+        self.best = math.inf
+        self.done: str | None = None
+
+    def on_step(self, world: World) -> None:
+        if self.done is not None or world.time > self.deadline + 1e-9:
+            return
+        h = world.humans[self.who]
+        if not h.present:
+            return
+        x, y = h.position
+        if self.target.kind == "room":
+            if world.room_of(x, y) == self.target.name:
+                self.done = f"{self.who} was in {self.target.name} at t={world.time:.2f} s"
+            return
+        goal = _where(world, self.target)
+        if goal is None:
+            return
+        d = math.hypot(x - goal[0], y - goal[1])
+        self.best = min(self.best, d)
+        if d <= self.within:
+            self.done = f"{self.who} came within {d:.2f} m at t={world.time:.2f} s"
+
+    def verdict(self, end: float, context: Mapping[str, Any]) -> tuple[bool, str]:
+        if self.done is not None:
+            return True, self.done
+        by = f" by {self.deadline:g} s" if math.isfinite(self.deadline) else ""
+        if self.target.kind == "room":
+            return False, f"{self.who} never entered {self.target.name}{by}"
+        return False, f"{self.who} came no closer than {self.best:.2f} m{by}"
 
 
-def _robot_near(e: Expectation, sc: Scenario, world: World, truth: GroundTruth) -> Verdict:
-    target: Target = e.get("target")  # type: ignore[assignment]
-    within = float(e.get("within"))  # type: ignore[arg-type]
-    t0, t1 = _window(e, sc)
-    best = math.inf
-    for f in truth.frames:
-        if not (t0 <= f.t <= t1):
-            continue
-        if target.kind == "human":
-            ps = [p for p in f.people if p.name == target.name and p.present]
-            if not ps:
-                continue
-            gx, gy = ps[0].x, ps[0].y
-        elif target.kind == "room":
-            if world.room_of(f.robot[0], f.robot[1]) == target.name:
-                return Verdict(e, True, f"the robot was in {target.name} at t={f.t:.2f} s")
-            continue
+class RobotNearCheck(Check):
+    """The robot came within ``within`` of a target inside the window."""
+
+    steps = True
+
+    def __init__(self, *args: Any) -> None:
+        super().__init__(*args)
+        self.target: Target = self.e.get("target")  # type: ignore[assignment]
+        self.within = float(self.e.get("within"))  # type: ignore[arg-type]
+        self.best = math.inf
+        self.done: str | None = None
+
+    def on_step(self, world: World) -> None:
+        t = world.time
+        if self.done is not None or not (self.t0 <= t <= self.t1):
+            return
+        rx, ry, _ = world.robot.pose
+        if self.target.kind == "room":
+            if world.room_of(rx, ry) == self.target.name:
+                self.done = f"the robot was in {self.target.name} at t={t:.2f} s"
+            return
+        goal = _where(world, self.target)
+        if goal is None:
+            return
+        d = math.hypot(rx - goal[0], ry - goal[1])
+        self.best = min(self.best, d)
+        if d <= self.within:
+            self.done = f"the robot came within {d:.2f} m at t={t:.2f} s"
+
+    def verdict(self, end: float, context: Mapping[str, Any]) -> tuple[bool, str]:
+        if self.done is not None:
+            return True, self.done
+        if self.target.kind == "room":
+            return False, f"the robot never entered {self.target.name} {self.window()}"
+        return False, f"the robot came no closer than {self.best:.2f} m {self.window()}"
+
+
+class NoCollisionCheck(Check):
+    def verdict(self, end: float, context: Mapping[str, Any]) -> tuple[bool, str]:
+        what = self.e.get("with")
+        hits = [(t, w) for t, w in self.world.contacts if self.t0 - 1e-9 <= t <= self.t1 + 1e-9 and (what is None or w == what)]
+        if not hits:
+            return True, f"the robot touched {'nothing' if what is None else f'no {what}'} {self.window()}"
+        more = f" (and {len(hits) - 1} more contacts)" if len(hits) > 1 else ""
+        return False, f"the robot touched {hits[0][1]} at t={hits[0][0]:.2f} s{more}"
+
+
+# --------------------------------------------------------- what the robot did
+def _say_text(m: Message) -> str:
+    return m.xml.get("text") or (m.xml.text or "").strip()
+
+
+class RobotSaysCheck(EventCheck):
+    """The robot says something matching ``pattern`` (a case-insensitive regular expression)."""
+
+    channels = (SAY,)
+
+    def __init__(self, *args: Any) -> None:
+        super().__init__(*args)
+        self.pattern = re.compile(str(self.e.get("pattern")), re.IGNORECASE)
+
+    def on_message(self, m: Message) -> None:
+        text = _say_text(m)
+        if self.pattern.search(text):
+            self.hit(m.created, f"the robot said {text!r}")
+
+    def what(self) -> str:
+        return f"robot speech matching /{self.pattern.pattern}/"
+
+
+class StateTracker:
+    """The supervisor's current state, from its status and decision log (what the trace shows)."""
+
+    def __init__(self) -> None:
+        self.state: str | None = None
+        self.since = 0.0
+
+    def update(self, m: Message) -> str | None:
+        """Return the new state when ``m`` changes it."""
+        if m.channel == ES_LOG:
+            if m.xml.get("kind") != "applied":
+                return None
+            new = m.xml.get("to")
         else:
-            gx, gy, _ = world.target_point(target)
-        d = math.hypot(f.robot[0] - gx, f.robot[1] - gy)
-        best = min(best, d)
-        if d <= within:
-            return Verdict(e, True, f"the robot came within {d:.2f} m at t={f.t:.2f} s")
-    return Verdict(e, False, f"the robot came no closer than {best:.2f} m")
+            new = m.xml.get("state")
+        if new is None or new == self.state:
+            return None
+        self.state, self.since = new, m.created
+        return new
+
+
+class StateReachedCheck(EventCheck):
+    """The supervisor enters ``state`` (or, with never=, does not)."""
+
+    channels = (ES_LOG, ES_STATUS)
+
+    def __init__(self, *args: Any) -> None:
+        super().__init__(*args)
+        self.state = str(self.e.get("state"))
+        self.tracker = StateTracker()
+
+    def on_message(self, m: Message) -> None:
+        if self.tracker.update(m) == self.state:
+            self.hit(m.created, f"the supervisor entered {self.state}")
+
+    def what(self) -> str:
+        return f"entry into state {self.state}"
+
+
+class EventRejectedCheck(EventCheck):
+    """The supervisor rejects an event named ``event`` (with ``reason``, in ``state`` if given)."""
+
+    channels = (ES_LOG,)
+
+    def __init__(self, *args: Any) -> None:
+        super().__init__(*args)
+        self.event = str(self.e.get("event"))
+        self.reason = self.e.get("reason")
+        self.state = self.e.get("state")
+
+    def on_message(self, m: Message) -> None:
+        x = m.xml
+        if x.get("kind") != "rejected" or x.get("name") != self.event:
+            return
+        if self.reason is not None and x.get("reason") != self.reason:
+            return
+        if self.state is not None and x.get("state") != self.state:
+            return
+        self.hit(m.created, f"{self.event} from {x.get('source')} rejected ({x.get('reason')}) in {x.get('state')}")
+
+    def what(self) -> str:
+        reason = f" as {self.reason}" if self.reason else ""
+        return f"rejection of {self.event}{reason}"
+
+
+# ------------------------------------------------------------ what it knows
+def matches(doc: etree._Element, wanted: Mapping[str, str]) -> bool:
+    """Does a knowledge document say every ``key=value`` of ``wanted``?
+
+    A key is said by an attribute of the document (``type="cup"``) or by a
+    descendant element of that name with ``name=`` (``<COLOUR name="red"/>``;
+    ``name`` is also said by a ``<TITLE name=>``), case-insensitively.
+    """
+    for key, value in wanted.items():
+        v = value.lower()
+        said = {str(val).lower() for k, val in doc.attrib.items() if str(k).lower() == key}
+        for el in doc.iter():
+            if not isinstance(el.tag, str):
+                continue
+            tag = etree.QName(el).localname.lower()
+            if tag == key or (key == "name" and tag == "title"):
+                said.add((el.get("name") or el.get("val") or (el.text or "")).strip().lower())
+            elif key == "attribute" and tag == "attribute":
+                said.add((el.get("name") or "").lower())
+        if v not in said:
+            return False
+    return True
+
+
+class LearnedCheck(Check):
+    """``object-learned`` / ``place-learned``: the scene model holds a matching document at the end."""
+
+    def __init__(self, *args: Any) -> None:
+        super().__init__(*args)
+        self.kb = "objects" if self.e.kind == "object-learned" else "places"
+        self.wanted = {k: str(v) for k, v in self.e.attrs if k not in ("never",) and v is not None}
+
+    def verdict(self, end: float, context: Mapping[str, Any]) -> tuple[bool, str]:
+        docs = context.get("knowledge", {}).get(self.kb)
+        if docs is None:
+            return False, f"no scene model answered a query of the {self.kb} base at the end of the run"
+        found = [d for d in docs if matches(d, self.wanted)]
+        if self.never:
+            return not found, f"{len(found)} of {len(docs)} {self.kb} match"
+        if found:
+            return True, f"the scene model holds {etree.tostring(found[0], encoding='unicode')[:160]}"
+        return False, f"none of the {len(docs)} {self.kb} in the scene model matches {self.wanted}"
+
+
+class FollowingDistanceCheck(Check):
+    """While the supervisor is in Following (after ``settle`` s), the true distance to ``who`` stays in [min, max]."""
+
+    steps = True
+    channels = (ES_LOG, ES_STATUS)
+
+    def __init__(self, *args: Any) -> None:
+        super().__init__(*args)
+        self.who = str(self.e.get("who"))
+        self.lo = float(self.e.get("min"))  # type: ignore[arg-type]
+        self.hi = float(self.e.get("max"))  # type: ignore[arg-type]
+        self.fraction = float(self.e.get("fraction"))  # type: ignore[arg-type]
+        self.settle = float(self.e.get("settle"))  # type: ignore[arg-type]
+        self.tracker = StateTracker()
+        self.n = self.inside = 0
+        self.closest, self.farthest = math.inf, 0.0
+
+    def on_message(self, m: Message) -> None:
+        self.tracker.update(m)
+
+    def on_step(self, world: World) -> None:
+        t = world.time
+        if self.tracker.state != "Following" or t - self.tracker.since < self.settle or not (self.t0 <= t <= self.t1):
+            return
+        h = world.humans[self.who]
+        if not h.present:
+            return
+        rx, ry, _ = world.robot.pose
+        x, y = h.position
+        d = math.hypot(x - rx, y - ry)
+        self.n += 1
+        self.inside += self.lo <= d <= self.hi
+        self.closest, self.farthest = min(self.closest, d), max(self.farthest, d)
+
+    def verdict(self, end: float, context: Mapping[str, Any]) -> tuple[bool, str]:
+        if not self.n:
+            return False, f"the robot never followed {self.who} (Following for more than {self.settle:g} s) {self.window()}"
+        share = self.inside / self.n
+        detail = (f"{100 * share:.0f}% of {self.n} steps in [{self.lo:g}, {self.hi:g}] m "
+                  f"(wanted >= {100 * self.fraction:.0f}%; closest {self.closest:.2f} m, farthest {self.farthest:.2f} m)")
+        return share >= self.fraction, detail
+
+
+class MetricCheck(Check):
+    """A metric of the run's summary (``following.mean_distance``) lies within [min, max]."""
+
+    def verdict(self, end: float, context: Mapping[str, Any]) -> tuple[bool, str]:
+        name = str(self.e.get("name"))
+        value: Any = context.get("metrics", {})
+        for part in name.split("."):
+            if not isinstance(value, Mapping) or part not in value:
+                return False, f"the run has no metric {name!r}"
+            value = value[part]
+        if not isinstance(value, (int, float)) or isinstance(value, bool) or not math.isfinite(value):
+            return False, f"metric {name} is {value!r}, not a number"
+        lo, hi = self.e.get("min"), self.e.get("max")
+        ok = (lo is None or value >= float(lo)) and (hi is None or value <= float(hi))  # type: ignore[arg-type]
+        bounds = f"[{'-inf' if lo is None else lo}, {'inf' if hi is None else hi}]"
+        return ok, f"{name} = {value:.4g} ({'within' if ok else 'outside'} {bounds})"
+
+
+CHECKS: dict[str, Callable[..., Check]] = {
+    "legs-seen": PerceptCheck,
+    "face-seen": PerceptCheck,
+    "sound-heard": PerceptCheck,
+    "reached": ReachedCheck,
+    "robot-near": RobotNearCheck,
+    "no-collision": NoCollisionCheck,
+    "robot-says": RobotSaysCheck,
+    "state-reached": StateReachedCheck,
+    "event-rejected": EventRejectedCheck,
+    "object-learned": LearnedCheck,
+    "place-learned": LearnedCheck,
+    "following-distance": FollowingDistanceCheck,
+    "metric": MetricCheck,
+}
+
+#: Kinds that need the scene model's contents at the end (the runner queries it).
+KNOWLEDGE_KINDS = frozenset({"object-learned", "place-learned"})
+
+
+class Expectations:
+    """The streaming checks of one scenario on one run (see the module docstring)."""
+
+    def __init__(self, scenario: Scenario, world: World, dispatcher: Dispatcher) -> None:
+        self.scenario = scenario
+        self.checks: list[Check] = [CHECKS[e.kind](e, scenario, world) for e in scenario.expectations]
+        for c in self.checks:
+            if c.channels:
+                dispatcher.add(c.channels, c.on_message)
+        stepped = [c.on_step for c in self.checks if c.steps]
+        if stepped:
+            def step(w: World) -> None:
+                for fn in stepped:
+                    fn(w)
+
+            world.add_listener(step)
+
+    @property
+    def needs_knowledge(self) -> bool:
+        return any(c.e.kind in KNOWLEDGE_KINDS for c in self.checks)
+
+    def verdicts(self, end: float, context: Mapping[str, Any] | None = None) -> list[Verdict]:
+        """One verdict per expectation, in file order. ``context``: ``metrics``, ``knowledge``."""
+        ctx = context or {}
+        out = []
+        for c in self.checks:
+            ok, detail = c.verdict(end, ctx)
+            out.append(Verdict(c.e, ok, detail, self.scenario.source))
+        return out
+
+
+def window_of(e: Expectation, duration: float) -> tuple[float, float]:
+    """The time window an expectation looks at (``between``, ``after``/``by``; default the run)."""
+    w = e.get("between")
+    return (0.0, duration) if w is None else (float(w[0]), float(w[1]))  # type: ignore[index]
+
+
+__all__: Sequence[str] = ("Verdict", "Expectations", "CHECKS", "matches", "window_of")

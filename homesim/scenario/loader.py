@@ -30,6 +30,7 @@ from .model import (
     Door,
     Expectation,
     Face,
+    Fault,
     Furniture,
     HumanSpec,
     Leave,
@@ -196,6 +197,7 @@ class _Builder:
         humans_el = root.find("humans")
         sources_el = root.find("sources")
         expect_el = root.find("expect")
+        faults_el = root.find("faults")
         return Scenario(
             name=root.get("name"),
             source=self.source,
@@ -212,6 +214,7 @@ class _Builder:
             humans=tuple(self.human(h) for h in humans_el.iterfind("human")) if humans_el is not None else (),
             sources=tuple(self.sound_source(s) for s in _elements(sources_el)) if sources_el is not None else (),
             expectations=tuple(self.expectation(e) for e in _elements(expect_el)) if expect_el is not None else (),
+            faults=tuple(Fault(_tag(f), f.get("module"), self.num(f, "at"), f.sourceline) for f in _elements(faults_el)) if faults_el is not None else (),
         )
 
     def robot(self, el: etree._Element) -> RobotSpec:
@@ -226,8 +229,25 @@ class _Builder:
             audio_rate=self.num(el, "audio-rate", 10.0),
             odometry_rate=self.num(el, "odometry-rate", 10.0),
             object_confusion=self.num(el, "object-confusion", 0.05),
+            options=self.options(el),
             line=el.sourceline,
         )
+
+    def options(self, el: etree._Element) -> tuple[tuple[str, str], ...]:
+        seen: dict[str, int] = {}
+        out = []
+        for o in el.iterfind("option"):
+            name = o.get("name")
+            if name in seen:
+                raise self.fail(o, f"option {name!r} is already given on line {seen[name]}")
+            seen[name] = o.sourceline
+            out.append((name, o.get("value")))
+        return tuple(out)
+
+    def when(self, el: etree._Element) -> list[tuple[str, object]]:
+        """between / after / by / never of a robot-level check."""
+        attrs: list[tuple[str, object]] = [("between", self.window(el)), ("after", self.opt(el, "after")), ("by", self.opt(el, "by"))]
+        return attrs + [("never", self.flag(el, "never"))]
 
     def wall(self, el: etree._Element, default_thickness: float) -> Wall:
         doors = tuple(
@@ -335,6 +355,32 @@ class _Builder:
             attrs += [("with", el.get("with")), ("between", self.window(el))]
         elif tag == "robot-near":
             attrs += [("target", self.target(el)), ("within", self.num(el, "within", 1.0)), ("between", self.window(el))]
+        elif tag == "robot-says":
+            pattern = el.get("pattern")
+            try:
+                re.compile(pattern)
+            except re.error as exc:
+                raise self.fail(el, f"pattern={pattern!r} is not a regular expression: {exc}") from exc
+            attrs += [("pattern", pattern)] + self.when(el)
+        elif tag == "state-reached":
+            attrs += [("state", el.get("state"))] + self.when(el)
+        elif tag == "event-rejected":
+            attrs += [("event", el.get("event")), ("reason", el.get("reason")), ("state", el.get("state"))] + self.when(el)
+        elif tag in ("object-learned", "place-learned"):
+            keys = ("type", "name", "owner", "colour", "attribute") if tag == "object-learned" else ("name",)
+            attrs += [(k, el.get(k)) for k in keys if el.get(k) is not None]
+            if not attrs:
+                raise self.fail(el, f"<{tag}> needs at least one of {', '.join(keys)}")
+            attrs.append(("never", self.flag(el, "never")))
+        elif tag == "following-distance":
+            attrs += [("who", el.get("who")), ("min", self.num(el, "min")), ("max", self.num(el, "max")),
+                      ("fraction", self.num(el, "fraction", 0.9)), ("settle", self.num(el, "settle", 2.0)), ("between", self.window(el))]
+            if attrs[2][1] < attrs[1][1]:  # type: ignore[operator]
+                raise self.fail(el, f"max={el.get('max')} is below min={el.get('min')}")
+        elif tag == "metric":
+            attrs += [("name", el.get("name")), ("min", self.opt(el, "min")), ("max", self.opt(el, "max"))]
+            if el.get("min") is None and el.get("max") is None:
+                raise self.fail(el, "<metric> needs min=, max= or both")
         else:  # pragma: no cover - the XSD forbids this
             raise self.fail(el, f"unknown expectation <{tag}>")
         return Expectation(tag, tuple(attrs), el.sourceline, tuple((str(k), str(v)) for k, v in el.attrib.items()))

@@ -193,6 +193,7 @@ class RobotSpec:
     audio_rate: float = 10.0
     odometry_rate: float = 10.0
     object_confusion: float = 0.05
+    options: tuple[tuple[str, str], ...] = ()  # <option name value/>: for BIRON's modules
     line: int | None = None
 
 
@@ -225,10 +226,19 @@ class SourceSpec:
 
 
 @dataclass(frozen=True)
+class Fault:
+    """A robot module crashes or hangs at virtual time ``at`` (``kind``: crash | hang)."""
+
+    kind: str
+    module: str
+    at: float
+    line: int | None = None
+
+
+@dataclass(frozen=True)
 class Expectation:
-    """A check made at the end of a run. ``kind`` names it (reached,
-    legs-seen, face-seen, sound-heard, robot-near, no-collision); ``attrs`` holds
-    its typed parameters."""
+    """A check on a run (see :mod:`homesim.scenario.expect` for the kinds);
+    ``attrs`` holds its typed parameters."""
 
     kind: str
     attrs: tuple[tuple[str, object], ...]
@@ -261,6 +271,7 @@ class Scenario:
     humans: tuple[HumanSpec, ...] = ()
     sources: tuple[SourceSpec, ...] = ()
     expectations: tuple[Expectation, ...] = ()
+    faults: tuple[Fault, ...] = ()
     description: str = ""
     world_rate: float = 50.0
 

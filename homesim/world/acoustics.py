@@ -122,5 +122,12 @@ class SoundField:
                 return u
         return None
 
+    def __len__(self) -> int:
+        return len(self._log)
+
+    def since(self, n: int) -> list[Utterance]:
+        """Utterances numbered ``n`` and later (what started since a reader's last look)."""
+        return self._log[n:]
+
     def all(self) -> list[Utterance]:
         return list(self._log)

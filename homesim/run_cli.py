@@ -1,0 +1,231 @@
+"""``homesim run``, ``homesim replay`` and ``homesim scenario run|plot``.
+
+``homesim run SCENARIO`` builds the whole run (:mod:`homesim.runner`),
+prints a live transcript (virtual time, speaker, words; supervisor state
+changes; rejections with their reasons; faults and heartbeat failures), a
+progress bar when stdout is a terminal, one line per expectation and the
+verdict; exit status 0 when every expectation holds, 1 when one fails, 2
+for bad input (a message naming file and line). ``--summary FILE`` writes
+the run summary as JSON, ``--trace FILE`` the bus trace (JSON Lines) whose
+header lets ``homesim replay TRACE`` run the same scenario, seed and
+options again and compare every line: the first differing line is printed
+and the exit status is 1 (also when the scenario file has changed since).
+``homesim scenario run`` is the same as ``homesim run``; ``homesim scenario
+plot FILE --at T -o out.png`` draws the flat at one moment.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import sys
+from pathlib import Path
+from typing import IO, Any
+
+from .errors import HomesimError
+from .message import Message
+from .runner import Run, RunOptions, file_digest
+from .trace import TRACE_FORMAT
+
+BAR = 30
+
+
+class Console:
+    """Transcript lines and a progress bar on one output stream."""
+
+    def __init__(self, out: IO[str], *, quiet: bool, bar: bool) -> None:
+        self.out = out
+        self.quiet = quiet
+        self.bar = bar and not quiet
+        self._drawn = False
+
+    def line(self, t: float, who: str, text: str) -> None:
+        if self.quiet:
+            return
+        self._clear()
+        self.out.write(f"{t:8.2f}  {who:>12}: {text}\n")
+
+    def progress(self, now: float, end: float) -> None:
+        if not self.bar:
+            return
+        done = int(BAR * now / end) if end > 0 else BAR
+        self.out.write(f"\r[{'#' * done}{'.' * (BAR - done)}] {now:7.1f} / {end:g} s")
+        self.out.flush()
+        self._drawn = True
+
+    def _clear(self) -> None:
+        if self._drawn:
+            self.out.write("\r\033[K")
+            self._drawn = False
+
+    def text(self, s: str) -> None:
+        self._clear()
+        self.out.write(s + "\n")
+
+
+def _options(a: argparse.Namespace) -> RunOptions:
+    if a.until is not None and not (math.isfinite(a.until) and a.until >= 0):
+        raise HomesimError(f"--until must be a finite number of seconds >= 0, got {a.until}")
+    if a.realtime is not None and not (math.isfinite(a.realtime) and a.realtime > 0):
+        raise HomesimError(f"--realtime must be a finite scale > 0, got {a.realtime}")
+    if a.seed is not None and a.seed < 0:
+        raise HomesimError(f"--seed must be >= 0, got {a.seed}")
+    return RunOptions(seed=a.seed, until=a.until, trace=a.trace, memory=a.memory, realtime=a.realtime)
+
+
+def run_command(a: argparse.Namespace) -> int:
+    """``homesim run``: transcript, verdict, summary; the exit status says whether every expectation held."""
+    out = sys.stdout
+    console = Console(out, quiet=a.quiet, bar=out.isatty())
+    run = Run.from_file(a.scenario, _options(a), on_line=console.line)
+    with run:
+        sc = run.scenario
+        if not a.quiet:
+            console.text(f"scenario {sc.name} ({a.scenario}): seed {run.sim.seed}, {run.end:g} of {sc.duration:g} s, "
+                         f"{len(sc.humans)} people, {len(sc.sources)} other sound sources, "
+                         f"robot modules: {', '.join(sorted(run.modules)) or 'none'}")
+        run.run(progress=console.progress)
+        verdicts = run.finish()
+        summary = run.summary()
+        console._clear()
+        if a.summary is not None:
+            a.summary.parent.mkdir(parents=True, exist_ok=True)
+            a.summary.write_text(json.dumps(summary, indent=2, ensure_ascii=False) + "\n", encoding="utf-8")
+        if not run.complete():
+            print(f"verdict: not checked (stopped at {summary['sim_time_s']:g} s of {sc.duration:g} s)", file=out)
+            return 0
+        for v in verdicts:
+            if not a.quiet or not v.passed:
+                print("  " + v.line(), file=out)
+        passed = sum(v.passed for v in verdicts)
+        print(f"verdict: {summary['verdict']} ({passed}/{len(verdicts)} expectations hold)", file=out)
+        return 0 if summary["verdict"] == "PASS" else 1
+
+
+# ------------------------------------------------------------------ replay
+class Comparison:
+    """A text stream that compares each trace line written to it with the original file's."""
+
+    def __init__(self, path: Path) -> None:
+        self.fh = open(path, encoding="utf-8")
+        self.line = 0
+        self.diverged: tuple[int, str, str] | None = None
+
+    def write(self, s: str) -> int:
+        if self.diverged is None:  # the recorder writes one whole line per call
+            self.line += 1
+            want = self.fh.readline()
+            if want != s:
+                self.diverged = (self.line, want.rstrip("\n"), s.rstrip("\n"))
+        return len(s)
+
+    def flush(self) -> None:
+        pass
+
+    def rest(self) -> str:
+        """The original's next line, if any (a replay that ends early differs there)."""
+        return self.fh.readline().rstrip("\n")
+
+    def close(self) -> None:
+        self.fh.close()
+
+
+def replay(trace: Path, *, out: IO[str] | None = None) -> int:
+    """Re-run what ``trace``'s header names; 0 when the new trace is identical, 1 otherwise."""
+    out = sys.stdout if out is None else out
+    try:
+        with open(trace, encoding="utf-8") as fh:
+            header = json.loads(fh.readline())
+    except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
+        raise HomesimError(f"{trace}: not a homesim trace ({exc})") from exc
+    if not isinstance(header, dict) or header.get("homesim_trace") != TRACE_FORMAT or not isinstance(header.get("run"), dict):
+        raise HomesimError(f"{trace}:1: the header does not name a run (write the trace with 'homesim run --trace')")
+    h = header["run"]
+    path = Path(str(h.get("scenario_file")))
+    if not path.is_file():
+        raise HomesimError(f"{trace}:1: the scenario file {path} named in the header does not exist")
+    digest = file_digest(path)
+    if digest != h.get("scenario_digest"):
+        print(f"replay: {path} has changed since the trace was written ({h.get('scenario_digest')} then, {digest} now)", file=out)
+        return 1
+    cmp = Comparison(trace)
+    try:
+        opts = RunOptions(seed=h.get("seed"), until=h.get("until"), trace=cmp,  # type: ignore[arg-type]
+                          memory=None if h.get("memory") is None else Path(h["memory"]),
+                          subsystems=None if h.get("subsystems") is None else tuple(h["subsystems"]),
+                          metrics=None if h.get("metrics") is None else tuple(h["metrics"]))
+        with Run.from_file(path, opts) as run:
+            run.run(stop=lambda: cmp.diverged is not None)
+        if cmp.diverged is None:
+            extra = cmp.rest()
+            if extra:
+                cmp.diverged = (cmp.line + 1, extra, "<the replay's trace ends here>")
+    finally:
+        cmp.close()
+    if cmp.diverged is not None:
+        n, want, got = cmp.diverged
+        print(f"replay: {trace}:{n} differs\n  trace:  {want[:400]}\n  replay: {got[:400]}", file=out)
+        return 1
+    print(f"replay: identical ({cmp.line} lines; {h.get('scenario_file')}, seed {h.get('seed')})", file=out)
+    return 0
+
+
+# -------------------------------------------------------------------- plot
+def plot_command(a: argparse.Namespace) -> int:
+    """Run to ``--at`` and save the top-down view of that moment with the latest scan and sounds."""
+    from . import viz
+
+    latest: dict[str, Message] = {}
+    run = Run.from_file(a.file, RunOptions(seed=a.seed, until=a.at))
+    with run:
+        run.dispatcher.add(("/robot/laser/scan", "/robot/audio/sources"), lambda m: latest.__setitem__(m.channel, m))
+        run.run()
+        scan: Any = None
+        sounds: list[float] = []
+        if "/robot/laser/scan" in latest:
+            m = latest["/robot/laser/scan"]
+            ranges = m.attachments["ranges"]
+            start = math.radians(float(m.xml.get("min_angle")))
+            step = math.radians(float(m.xml.get("resolution")))
+            import numpy as np
+
+            scan = (start + step * np.arange(len(ranges)), np.asarray(ranges))
+        src = latest.get("/robot/audio/sources")
+        if src is not None and run.sim.now - src.created < 0.2:
+            sounds = [math.radians(float(s.get("bearing"))) for s in src.xml.iterfind("source")]
+        fig = viz.plot_moment(run.world, scan=scan, sound_bearings=sounds)
+        a.output.parent.mkdir(parents=True, exist_ok=True)
+        fig.savefig(a.output, dpi=120)
+        print(f"wrote {a.output} ({run.scenario.name} at t = {run.sim.now:g} s)")
+    return 0
+
+
+def _run_arguments(p: argparse.ArgumentParser) -> None:
+    p.add_argument("scenario", type=Path, help="a scenario file (scenarios/*.xml)")
+    p.add_argument("--seed", type=int, default=None, help="override the scenario's seed")
+    p.add_argument("--until", type=float, default=None, help="stop early (virtual seconds; expectations are not checked)")
+    p.add_argument("--trace", type=Path, default=None, help="write the bus trace (JSON Lines; replay it with 'homesim replay')")
+    p.add_argument("--summary", type=Path, default=None, help="write the run summary (JSON)")
+    p.add_argument("--memory", type=Path, default=None, help="the robot's knowledge store: load it at the start, save to it")
+    p.add_argument("--realtime", type=float, default=None, metavar="X", help="pace the run at X times real time")
+    p.add_argument("--quiet", action="store_true", help="print the verdict (and failed expectations) only")
+    p.set_defaults(func=run_command)
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    """Add ``homesim run``, ``homesim replay`` and ``homesim scenario run|plot``."""
+    _run_arguments(sub.add_parser("run", help="run a scenario: transcript, expectations, verdict"))
+    r = sub.add_parser("replay", help="re-run a trace's scenario and check the new trace is identical")
+    r.add_argument("trace", type=Path)
+    r.set_defaults(func=lambda a: replay(a.trace))
+    p = sub.add_parser("scenario", help="run or plot a scenario file")
+    ssub = p.add_subparsers(dest="scenario_command", metavar="ACTION")
+    _run_arguments(ssub.add_parser("run", help="the same as 'homesim run'"))
+    q = ssub.add_parser("plot", help="draw the top-down view at one moment")
+    q.add_argument("file", type=Path)
+    q.add_argument("--at", type=float, required=True, help="virtual time in seconds")
+    q.add_argument("-o", "--output", type=Path, default=Path("out/scenario.png"))
+    q.add_argument("--seed", type=int, default=None)
+    q.set_defaults(func=plot_command)
+    p.set_defaults(func=lambda a: (p.print_help(), 2)[1])

@@ -1,0 +1,334 @@
+"""The composition root: one scenario becomes one complete run.
+
+:class:`Run` is the only place that knows every part of a run. From a
+loaded scenario it builds, in this order:
+
+1. the :class:`~homesim.sim.Simulation` (seed, optional real-time pacing)
+   and, if asked, the trace (its header names the scenario file, its
+   content digest and the options, so ``homesim replay`` can re-run it);
+2. the :class:`~homesim.world.stage.Stage`: the world stepping in virtual
+   time, the scripted people and sound sources (``humans.install``), the
+   PeopleBot's hardware (``robot.hardware.install``) and the scenario's
+   expectations, checked as the run goes;
+3. the execution supervisor (``robot.supervisor.ExecutionSupervisor`` with
+   ``robot/afsm/biron.scxml``) and a heartbeat monitor on
+   ``/system/health``;
+4. BIRON's modules: ``robot.install.install(run)`` with the subsystems of
+   ``robot.install.SUBSYSTEMS`` (each sees ``run.sim`` and ``run.config``,
+   never the world);
+5. the streaming metrics (:mod:`homesim.metrics`), the transcript hooks
+   and the scenario's faults (a module crashes or hangs at a time).
+
+The kernel never imports ``robot`` or ``humans``: they are named here as
+strings and imported by name. After :meth:`Run.run`, :meth:`Run.finish`
+asks the scene model what it knows (``scene_model/request``, the contract's
+RPC), evaluates the expectations and returns the summary (see
+:func:`Run.summary` and docs/architecture.md for its fields).
+"""
+
+from __future__ import annotations
+
+import hashlib
+import importlib
+import os
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import IO, Any
+
+from lxml import etree
+
+from . import metrics as metrics_pkg
+from .errors import HomesimError, ScenarioError
+from .heartbeat import HEALTH_CHANNEL, HeartbeatMonitor
+from .message import Message
+from .metrics.es import EsRecord
+from .realtime import Stopwatch, peak_memory_mb
+from .scenario.expect import Verdict
+from .scenario.loader import load_scenario
+from .scenario.model import Scenario
+from .sim import FAULT_CHANNEL, Simulation
+from .trace import FileTrace, TraceRecorder
+from .world.stage import Stage
+
+#: What a run puts on the stage (by module name: the kernel never imports them).
+ACTORS: tuple[str, ...] = ("humans.install", "robot.hardware.install")
+#: The supervisor: module and class name.
+SUPERVISOR: tuple[str, str] = ("robot.supervisor", "ExecutionSupervisor")
+#: The module with ``install(run, subsystems)`` and ``SUBSYSTEMS`` for BIRON's modules.
+ROBOT: str = "robot.install"
+#: Virtual seconds per run chunk (progress, replay's early stop); results do not depend on it.
+CHUNK = 1.0
+
+Line = Callable[[float, str, str], None]
+
+
+def file_digest(path: str | os.PathLike[str]) -> str:
+    """``sha256:<hex>`` of a file's bytes (what a trace header pins)."""
+    return "sha256:" + hashlib.sha256(Path(path).read_bytes()).hexdigest()
+
+
+@dataclass(frozen=True)
+class RunOptions:
+    """How to run a scenario (the command line's options, as plain values)."""
+
+    seed: int | None = None  # None: the scenario's
+    until: float | None = None  # None: the scenario's duration
+    trace: Path | IO[str] | None = None
+    memory: Path | None = None  # the scene model's store; None: start empty, write nothing
+    realtime: float | None = None
+    subsystems: tuple[str, ...] | None = None  # None: robot.install.SUBSYSTEMS
+    metrics: tuple[str, ...] | None = None  # None: every registered metric
+
+
+@dataclass(frozen=True)
+class RobotConfig:
+    """``run.config``: what BIRON's modules may know of the run, as plain values (never the world)."""
+
+    seed: int
+    memory_dir: str | None  # the knowledge store (--memory DIR); None: start empty, write nothing
+    max_speed: float
+    max_turn: float
+    laser_rate: float
+    camera_rate: float
+    audio_rate: float
+    odometry_rate: float
+    options: Mapping[str, str] = field(default_factory=dict)
+
+
+class Run:
+    """One scenario on one simulation, every part wired (see the module docstring)."""
+
+    def __init__(self, scenario: Scenario, options: RunOptions = RunOptions(), *, on_line: Line | None = None,
+                 scenario_file: str | None = None, digest: str | None = None) -> None:
+        self.scenario = scenario
+        self.options = options
+        self.on_line = on_line
+        seed = scenario.seed if options.seed is None else options.seed
+        self.sim = Simulation(seed=seed, scenario=scenario.name, realtime=options.realtime)
+        self.header = {
+            "scenario_file": scenario_file if scenario_file is not None else scenario.source,
+            "scenario_digest": digest,
+            "seed": seed,
+            "until": options.until,
+            "memory": None if options.memory is None else str(options.memory),
+            "subsystems": None if options.subsystems is None else list(options.subsystems),
+            "metrics": None if options.metrics is None else list(options.metrics),
+        }
+        try:
+            self._build(scenario, options, seed)
+        except BaseException:
+            self.sim.close()
+            raise
+        self.knowledge: dict[str, list[etree._Element] | None] = {}
+        self._verdicts: list[Verdict] | None = None
+
+    def _build(self, scenario: Scenario, options: RunOptions, seed: int) -> None:
+        """Steps 1-5 of the module docstring (a failure closes the half-built simulation)."""
+        self.trace: TraceRecorder | None = None
+        if options.trace is not None:
+            if isinstance(options.trace, (str, os.PathLike)):
+                self.trace = FileTrace(self.sim.bus, options.trace, scenario=scenario.name, seed=seed, header={"run": self.header})
+            else:
+                self.trace = TraceRecorder(self.sim.bus, options.trace, scenario=scenario.name, seed=seed, header={"run": self.header})
+            self.sim.traces.append(self.trace)
+        r = scenario.robot
+        self.config = RobotConfig(
+            seed=seed, memory_dir=self.header["memory"], max_speed=r.max_speed, max_turn=r.max_turn,
+            laser_rate=r.laser_rate, camera_rate=r.camera_rate, audio_rate=r.audio_rate,
+            odometry_rate=r.odometry_rate, options=dict(r.options),
+        )
+        self.stopwatch = Stopwatch()
+        self.es = EsRecord()
+        self.stage = Stage(self.sim, scenario, actors=ACTORS, truth_every=None)
+        self.world = self.stage.world
+        self.dispatcher = self.stage.dispatcher
+        self.dispatcher.add(EsRecord.channels, self._on_es)
+        self.dispatcher.add(("/robot/es/log", FAULT_CHANNEL, HEALTH_CHANNEL), self._on_system)
+        self._heard = 0
+        self.world.add_listener(self._on_step)
+        module, cls = SUPERVISOR
+        self.supervisor = getattr(importlib.import_module(module), cls)(self.sim)
+        self.monitor = HeartbeatMonitor(self.sim.bus.participant("monitor", host="robot"))
+        self.sim.spawn(self.monitor.run(), name="monitor")
+        robot = importlib.import_module(ROBOT)
+        subsystems = robot.SUBSYSTEMS if options.subsystems is None else options.subsystems
+        self.modules: dict[str, Any] = robot.install(self, subsystems)
+        for f in scenario.faults:
+            if f.module not in self.sim.modules:
+                raise ScenarioError(f"<{f.kind} module={f.module!r}>: no such module in this run; "
+                                    f"modules: {', '.join(sorted(self.sim.modules))}",
+                                    source=scenario.source, line=f.line, element=f.kind)
+            self.sim.inject_fault(f.module, f.kind, at=f.at)
+        self.sim.start()
+        self.metrics = metrics_pkg.install(self, options.metrics)
+
+    # ------------------------------------------------------------- building
+    @classmethod
+    def from_file(cls, path: str | os.PathLike[str], options: RunOptions = RunOptions(), *,
+                  on_line: Line | None = None) -> Run:
+        """Load a scenario file (every error names file and line) and build its run."""
+        scenario = load_scenario(path)
+        return cls(scenario, options, on_line=on_line, scenario_file=str(path), digest=file_digest(path))
+
+    @property
+    def es_state(self) -> str | None:
+        """The supervisor's state as its log and status last said."""
+        return self.es.state
+
+    @property
+    def end(self) -> float:
+        """Where this run stops: ``until`` if given (never past the scenario's duration)."""
+        until = self.options.until
+        return self.scenario.duration if until is None else max(0.0, min(until, self.scenario.duration))
+
+    # ----------------------------------------------------------- transcript
+    def _say(self, t: float, who: str, text: str) -> None:
+        if self.on_line is not None:
+            self.on_line(t, who, text)
+
+    def _on_es(self, m: Message) -> None:
+        change = self.es.on_message(m)
+        if change is not None and change[0]:
+            cause = f" ({m.xml.get('name')})" if m.channel == "/robot/es/log" else ""
+            self._say(m.created, "ES", f"{change[0]} -> {change[1]}{cause}")
+
+    def _on_system(self, m: Message) -> None:
+        x = m.xml
+        if m.channel == "/robot/es/log":
+            if x.get("kind") == "rejected":
+                detail = f": {x.get('detail')}" if x.get("detail") else ""
+                self._say(m.created, "ES", f"rejected {x.get('name')} from {x.get('source')} "
+                                           f"({x.get('reason')} in {x.get('state')}){detail}")
+        elif m.channel == FAULT_CHANNEL:
+            self._say(m.created, "fault", f"{x.get('module')} {x.get('kind')}es")
+        else:
+            self._say(m.created, "health", f"{x.tag} {x.get('module')}")
+
+    def _on_step(self, world: Any) -> None:
+        sound = world.sound
+        if len(sound) > self._heard:
+            for u in sound.since(self._heard):
+                self._say(u.start, u.source, u.text)
+            self._heard = len(sound)
+
+    # ------------------------------------------------------------------ run
+    def run(self, *, progress: Callable[[float, float], None] | None = None,
+            stop: Callable[[], bool] | None = None) -> float:
+        """Run to :attr:`end` in chunks (``progress(now, end)`` after each; ``stop()`` ends early); return the time reached."""
+        end = self.end
+        t = self.sim.now
+        while t < end:
+            t = min(end, t + CHUNK)
+            self.sim.run(until=t)
+            if progress is not None:
+                progress(t, end)
+            if stop is not None and stop():
+                break
+        return t
+
+    def query_knowledge(self, timeout: float = 1.0) -> dict[str, list[etree._Element] | None]:
+        """Ask the scene model for every object and place it holds (the contract's RPC); None where it cannot answer."""
+        if "scene_model" not in self.sim.modules:
+            self.knowledge = {"objects": None, "places": None}
+            return self.knowledge
+        p = self.sim.bus.participant(f"runner{len(self.knowledge)}", host="simulator")
+        for kb in ("objects", "places"):
+            try:
+                reply = self.sim.run_until_complete(p.call("scene_model", "request", etree.Element("request", kb=kb, op="query"), timeout=timeout))
+                docs = [c for c in reply.xml if isinstance(c.tag, str)]
+                # The active memory wraps each document: <doc id>DOC<attachment/>*</doc>.
+                self.knowledge[kb] = [next((x for x in d if isinstance(x.tag, str) and x.tag != "attachment"), d) if d.tag == "doc" else d for d in docs]
+            except HomesimError:
+                self.knowledge[kb] = None
+        return self.knowledge
+
+    def finish(self) -> list[Verdict]:
+        """After :meth:`run`: query the scene model, evaluate every expectation (once)."""
+        if self._verdicts is None:
+            self.sim_time = self.sim.now
+            self.query_knowledge()
+            context = {"metrics": self.metric_values(), "knowledge": self.knowledge}
+            self._verdicts = self.stage.verdicts(context)
+        return self._verdicts
+
+    def metric_values(self) -> dict[str, Any]:
+        return {name: obs.summary() for name, obs in self.metrics.items()}
+
+    def complete(self) -> bool:
+        """Did the run reach the scenario's end (so its expectations mean something)?"""
+        return getattr(self, "sim_time", self.sim.now) >= self.scenario.duration - 1e-9
+
+    def summary(self) -> dict[str, Any]:
+        """The run summary (JSON; fields in docs/architecture.md, "Running the home tour")."""
+        verdicts = self.finish()
+        sim_time = getattr(self, "sim_time", self.sim.now)
+        cpu = self.stopwatch.cpu()
+        return {
+            "scenario": self.scenario.name,
+            "scenario_file": self.header["scenario_file"],
+            "seed": self.sim.seed,
+            "sim_time_s": round(sim_time, 6),
+            "wall_time_s": round(self.stopwatch.wall(), 3),
+            "cpu_time_s": round(cpu, 3),
+            "speed_sim_s_per_cpu_s": round(sim_time / cpu, 2) if cpu > 0 else None,
+            "peak_memory_mb": round(peak_memory_mb(), 1),
+            "verdict": self.verdict(),
+            "es": self.es.summary(),
+            "utterances": [
+                {"t": round(u.start, 3), "end": round(u.end, 3), "speaker": u.source, "text": u.text, **({"cut": True} if u.cut else {})}
+                for u in self.world.sound.all() if u.start <= sim_time
+            ],
+            "learned": {kb: None if docs is None else [element_dict(d) for d in docs] for kb, docs in self.knowledge.items()},
+            "expectations": [v.as_dict() for v in verdicts],
+            "metrics": self.metric_values(),
+        }
+
+    def verdict(self) -> str:
+        """PASS, FAIL, or "not checked" when the run stopped before the scenario's end."""
+        if not self.complete():
+            return "not checked"
+        return "PASS" if all(v.passed for v in self.finish()) else "FAIL"
+
+    def close(self) -> None:
+        self.sim.close()
+
+    def __enter__(self) -> Run:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
+
+
+def element_dict(el: etree._Element) -> dict[str, Any]:
+    """A knowledge document as JSON: its attributes, and each child element by lower-case tag
+    (its ``name=``/text when that is all it says, else its own dict; repeated tags become lists)."""
+    out: dict[str, Any] = {"kind": etree.QName(el).localname}
+    out.update({str(k): v for k, v in el.attrib.items()})
+    for c in el:
+        if not isinstance(c.tag, str):
+            continue
+        key = etree.QName(c).localname.lower()
+        value: Any
+        if len(c) == 0 and set(c.attrib) <= {"name"} and (c.get("name") or not (c.text or "").strip()):
+            value = c.get("name", "")
+        elif len(c) == 0 and not c.attrib:
+            value = (c.text or "").strip()
+        else:
+            value = element_dict(c)
+        if key in out:
+            out[key] = (out[key] if isinstance(out[key], list) else [out[key]]) + [value]
+        else:
+            out[key] = value
+    return out
+
+
+def run_file(path: str | os.PathLike[str], options: RunOptions = RunOptions(), *,
+             on_line: Line | None = None) -> dict[str, Any]:
+    """Build, run and summarise one scenario file (notebooks, tests)."""
+    with Run.from_file(path, options, on_line=on_line) as run:
+        run.run()
+        return run.summary()
+
+
+__all__: Sequence[str] = ("Run", "RunOptions", "RobotConfig", "run_file", "file_digest", "element_dict")
