@@ -44,6 +44,8 @@ from homesim.memory.sqlite import SqliteStore
 from homesim.message import Message
 from homesim.module import Module
 
+from robot.floorplan import MapFormatError
+
 from .bases import SCHEMA, KnowledgeBase, ObjectBase, PlaceBase, said_position
 from .where import Plan, locate, parse_plan
 
@@ -94,7 +96,7 @@ class SceneModel(Module):
             return  # no map server on this bus: rooms and furniture come from teaching only
         try:
             self.plan = parse_plan(msg.xml)
-        except ValueError as exc:
+        except MapFormatError as exc:
             raise InputError(f"the map server's floor plan does not read: {exc}", source="<bus:map_server/map>") from exc
 
     def close(self) -> None:

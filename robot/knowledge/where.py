@@ -31,6 +31,8 @@ from dataclasses import dataclass
 import numpy as np
 from lxml import etree
 
+from robot.floorplan import parse_map
+
 #: Words that name rooms (a taught place with one of them, or containing "room", is a room).
 ROOM_WORDS = frozenset({
     "kitchen", "living room", "bedroom", "bathroom", "hall", "hallway", "corridor", "dining room",
@@ -140,25 +142,12 @@ def distance_to_polygon(x: float, y: float, poly: np.ndarray) -> float:
 
 
 def parse_plan(el: etree._Element) -> Plan:
-    """The parts of a ``map_server/map`` reply the knowledge uses (rooms, furniture without legs).
-
-    Raises ValueError when a number or a point list does not read.
-    """
-    rooms, furniture = [], []
-    for c in el:
-        if c.tag == "room":
-            rooms.append(Outline(c.get("name", ""), _points(c.get("points", ""))))
-        elif c.tag == "obstacle" and c.get("type") != "leg":
-            furniture.append(Footprint(c.get("name", ""), c.get("type", ""), _points(c.get("points", "")),
-                                       float(c.get("bottom", "0")), float(c.get("top", "0"))))
-    return Plan(tuple(rooms), tuple(furniture))
-
-
-def _points(text: str) -> np.ndarray:
-    pts = [tuple(float(v) for v in tok.split(",")) for tok in text.split()]
-    if len(pts) < 3 or any(len(p) != 2 for p in pts):
-        raise ValueError(f"a polygon needs at least three x,y points, got {text!r}")
-    return np.array(pts, dtype=float)
+    """The parts of a ``map_server/map`` reply the knowledge uses: room outlines and furniture
+    (table legs left out). Raises :class:`robot.floorplan.MapFormatError` on a reply that does not read."""
+    fp = parse_map(el)
+    rooms = tuple(Outline(r.name, np.array(r.points, dtype=float)) for r in fp.rooms)
+    furniture = tuple(Footprint(o.name, o.type, o.polygon(), o.bottom, o.top) for o in fp.obstacles if o.type != "leg")
+    return Plan(rooms, furniture)
 
 
 def _nearest(places: Sequence[TaughtPlace], x: float, y: float) -> tuple[TaughtPlace | None, float]:

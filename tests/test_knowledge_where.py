@@ -1,0 +1,80 @@
+"""Where an object is, in words: from taught places, the floor plan's rooms and furniture, and what the
+user said; with the real map server on the example flat."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from lxml import etree
+
+from homesim.scenario.loader import load_scenario
+from homesim.sim import Simulation
+from robot.hardware.map_server import MapServer
+from robot.knowledge import SceneModel
+from robot.knowledge.where import Footprint, Outline, Plan, TaughtPlace, distance_to_polygon, locate, point_in_polygon
+
+from .conftest import examples
+
+SQUARE = np.array([[0.0, 0.0], [2.0, 0.0], [2.0, 2.0], [0.0, 2.0]])
+FLAT = Plan(
+    rooms=(Outline("living room", np.array([[0, 0], [6, 0], [6, 5], [0, 5]], float)),
+           Outline("kitchen", np.array([[6, 0], [9.5, 0], [9.5, 5], [6, 5]], float))),
+    furniture=(Footprint("table", "table", np.array([[3.4, 3.3], [4.6, 3.3], [4.6, 4.2], [3.4, 4.2]]), 0.7, 0.75),
+               Footprint("sofa", "sofa", np.array([[0.3, 0.3], [2.5, 0.3], [2.5, 1.1], [0.3, 1.1]]), 0.0, 0.8),
+               Footprint("bin", "bin", np.array([[5.0, 0.2], [5.3, 0.2], [5.3, 0.5], [5.0, 0.5]]), 0.0, 0.15)),
+)
+
+
+def test_on_the_table_in_the_room_taught_inside_the_same_outline():
+    places = [TaughtPlace("kitchen", 7.0, 1.0), TaughtPlace("lounge", 2.0, 2.5)]
+    loc = locate(4.0, 3.7, places, FLAT)
+    assert loc.phrase() == "on the table in the lounge"
+    assert (loc.room_source, loc.furniture_source) == ("place", "map")
+
+
+def test_a_room_is_never_named_across_a_wall():
+    # the kitchen was taught just across the wall; the object's room was never taught: the plan names it
+    loc = locate(5.8, 2.0, [TaughtPlace("kitchen", 6.2, 2.0)], FLAT)
+    assert (loc.room, loc.room_source) == ("living room", "map")
+    without_plan = locate(5.8, 2.0, [TaughtPlace("kitchen", 6.2, 2.0)])
+    assert without_plan.room == "kitchen"  # without a plan only distance is known
+
+
+def test_low_things_are_next_to_not_on_and_speech_fills_in_without_furniture():
+    assert locate(5.15, 0.6, [], FLAT).phrase() == "next to the bin in the living room"
+    loc = locate(1.0, 4.0, [], FLAT, said=("at", "window"))
+    assert (loc.phrase(), loc.furniture_source) == ("at the window in the living room", "speech")
+
+
+def test_nothing_known_gives_no_phrase():
+    assert locate(1.0, 1.0, []).phrase() == ""
+    assert locate(100.0, 100.0, [TaughtPlace("kitchen", 0.0, 0.0)]).phrase() == ""
+
+
+@settings(max_examples=examples(100, 500))
+@given(st.floats(-1, 3), st.floats(-1, 3))
+def test_point_in_polygon_and_distance_agree_with_the_square(x, y):
+    inside = 0 < x < 2 and 0 < y < 2
+    if min(abs(x), abs(x - 2), abs(y), abs(y - 2)) > 1e-9:
+        assert point_in_polygon(x, y, SQUARE) == inside
+    dx = max(0.0, -x, x - 2)
+    dy = max(0.0, -y, y - 2)
+    expected = 0.0 if inside else math.hypot(dx, dy) if (dx or dy) else min(abs(x), abs(x - 2), abs(y), abs(y - 2))
+    assert distance_to_polygon(x, y, SQUARE) == __import__("pytest").approx(expected, abs=1e-9)
+
+
+def test_scene_model_asks_the_map_server_for_the_plan():
+    scenario = load_scenario("scenarios/two_people_radio.xml")
+    with Simulation(seed=0) as sim:
+        MapServer(sim, scenario)
+        scene = SceneModel(sim)
+        sim.start()
+        sim.run(until=0.5)
+        assert scene.plan is not None and {r.name for r in scene.plan.rooms} == {"living room", "kitchen"}
+        scene.places.store(etree.fromstring('<PLACE name="Kitchen"><POSE x="7.5" y="2" theta="0"/></PLACE>'))
+        scene.objects.store(etree.fromstring('<OBJECT type="kettle" x="9.1" y="1.0" frame="map"/>'))
+        result = scene.answer(etree.fromstring('<OBJECT type="kettle"/>'))
+        assert result.get("phrase") == "on the counter in the kitchen"
