@@ -272,9 +272,13 @@ class ActiveMemory:
             if not ids:
                 return ()
             sets.append(ids)
+        if len(sets) == 1:
+            return sorted(sets[0])
         sets.sort(key=len)
-        first, rest = sets[0], sets[1:]
-        return sorted(i for i in first if all(i in s for s in rest))
+        common = sets[0].keys() & sets[1].keys()  # set operations on dict views run in C
+        for s in sets[2:]:
+            common &= s.keys()
+        return sorted(common)
 
     def _select(self, xpath: str | None, where: Mapping[str, str] | None, limit: int | None) -> list[tuple[int, etree._Element, dict[str, Attachment]]]:
         xp = compile_xpath(xpath) if xpath is not None else None
