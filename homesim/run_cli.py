@@ -157,6 +157,8 @@ def replay(trace: Path, *, out: IO[str] | None = None) -> int:
                           metrics=None if h.get("metrics") is None else tuple(h["metrics"]))
         with Run.from_file(path, opts) as run:
             run.run(stop=lambda: cmp.diverged is not None)
+            if cmp.diverged is None:
+                run.finish()  # the closing questions to the scene model are in the trace too
         if cmp.diverged is None:
             extra = cmp.rest()
             if extra:
