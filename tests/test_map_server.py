@@ -23,7 +23,7 @@ from tests.world_helpers import EXAMPLE, scenario
 def _fetch_map(seed: int = 1) -> tuple[Stage, etree._Element]:
     sc = scenario(EXAMPLE)
     sim = Simulation(seed=seed, scenario=sc.name)
-    stage = Stage(sim, sc)
+    stage = Stage(sim, sc, keep_messages=True)
     client = sim.bus.participant("client", host="robot")
     got = {}
 
@@ -86,7 +86,7 @@ def test_a_malformed_reply_is_refused_by_the_schema_and_the_parser():
 def test_the_server_refuses_to_send_an_untyped_reply():
     sc = scenario(EXAMPLE)
     sim = Simulation(seed=1, scenario=sc.name)
-    stage = Stage(sim, sc)
+    stage = Stage(sim, sc, keep_messages=True)
     server = stage.hardware["map_server"]
     bad = map_element(server.plan)
     bad.find("start").set("theta", "7")  # degrees by mistake: outside [-pi, pi]
