@@ -78,3 +78,50 @@ def test_scene_model_asks_the_map_server_for_the_plan():
         scene.objects.store(etree.fromstring('<OBJECT type="kettle" x="9.1" y="1.0" frame="map"/>'))
         result = scene.answer(etree.fromstring('<OBJECT type="kettle"/>'))
         assert result.get("phrase") == "on the counter in the kitchen"
+
+
+ROOM_NAMES = ("kitchen", "living room", "bedroom", "table", "window")
+coords = st.tuples(st.floats(0.05, 9.45), st.floats(0.05, 4.95))
+
+
+@settings(max_examples=examples(100, 500))
+@given(st.lists(st.tuples(st.sampled_from(ROOM_NAMES), coords), max_size=6), coords)
+def test_a_taught_room_is_only_named_for_objects_in_the_same_outline(taught, obj):
+    places = [TaughtPlace(n, x, y) for n, (x, y) in taught]
+    loc = locate(obj[0], obj[1], places, FLAT)
+    outline = next(r for r in FLAT.rooms if point_in_polygon(obj[0], obj[1], r.points))
+    if loc.room_source == "place":
+        assert loc.room_place is not None and loc.room_place.is_room
+        assert point_in_polygon(loc.room_place.x, loc.room_place.y, outline.points)
+        assert loc.phrase().endswith(f"in the {loc.room}")
+    else:
+        # no room word taught inside this outline: the plan's own name
+        assert not any(p.is_room and point_in_polygon(p.x, p.y, outline.points) for p in places)
+        assert (loc.room, loc.room_source) == (outline.name, "map")
+
+
+objects = st.tuples(st.sampled_from(("cup", "plant")), st.sampled_from(("", "anna", "tom")), st.sampled_from(("", "red", "blue")))
+
+
+@settings(max_examples=examples(60, 300))
+@given(st.lists(objects, max_size=8), objects)
+def test_found_objects_never_contradict_the_question(stored, question):
+    from robot.knowledge.bases import ObjectBase
+
+    base = ObjectBase()
+    for k, (t, owner, colour) in enumerate(stored):
+        attrs = f'type="{t}"' + (f' owner="{owner}"' if owner else "") + (f' colour="{colour}"' if colour else "")
+        base.memory.insert(etree.fromstring(f'<OBJECT {attrs} name="{t}" x="{k}" y="0" frame="map" taught="{k}"/>'))
+    t, owner, colour = question
+    q = etree.fromstring(f'<OBJECT type="{t}">' + (f'<OWNER name="{owner}"/>' if owner else "") +
+                         (f'<COLOUR name="{colour}"/>' if colour else "") + "</OBJECT>")
+    found = base.find(q)
+    for rec in found:
+        assert rec.xml.get("type") == t
+        assert not owner or rec.xml.get("owner") in (None, owner)
+        assert not colour or rec.xml.get("colour") in (None, colour)
+    fits = [k for k, (st_, o, c) in enumerate(stored) if st_ == t and (not owner or not o or o == owner) and (not colour or not c or c == colour)]
+    assert len(found) == len(fits)
+    if found:  # the best fit agrees on the most details
+        score = lambda r: (r.xml.get("owner") == owner and bool(owner)) + (r.xml.get("colour") == colour and bool(colour))
+        assert score(found[0]) == max(score(r) for r in found)
