@@ -185,3 +185,32 @@ def test_without_a_store_nothing_is_written(tmp_path, monkeypatch):
     m.insert("<a/>", {"b": b"x"})
     m.remove(1)
     assert list(tmp_path.iterdir()) == []
+
+
+def test_memory_show_prints_a_store_read_only_and_moves_nothing(tmp_path, capsys):
+    from homesim.cli import main
+
+    path = tmp_path / "scene_model.sqlite"
+    with SqliteStore(path) as s:
+        m = ActiveMemory("objects", store=s)
+        m.insert('<OBJECT type="cup" name="cup"/>', {"hist": np.arange(3.0)})
+        m.insert('<OBJECT type="plant" name="flower"/>')
+        ActiveMemory("places", store=s).insert('<PLACE name="kitchen"/>')
+    before = path.read_bytes()
+    assert main(["memory", "show", str(path), "--memory", "objects", "--xpath", "/OBJECT[@type='cup']"]) == 0
+    out = capsys.readouterr().out
+    assert "[objects] 1 of 2 document(s)" in out and '#1 <OBJECT type="cup" name="cup"/>' in out
+    assert "attachment hist: dtype <f8 shape 3" in out and "kitchen" not in out
+    assert path.read_bytes() == before
+
+    path.write_bytes(b"garbage" * 100)
+    assert main(["memory", "show", str(path)]) == 2
+    assert "cannot read the memory store" in capsys.readouterr().err
+    assert path.read_bytes() == b"garbage" * 100 and sorted(p.name for p in tmp_path.iterdir()) == ["scene_model.sqlite"]
+
+    old = tmp_path / "old.sqlite"
+    create_v1(old, {"objects": {1: b"<a/>"}})
+    with pytest.raises(MemoryStoreError, match="schema version 1"):
+        SqliteStore(old, readonly=True)
+    with SqliteStore(old) as s:  # a run migrates it
+        assert s.migrated_from == 1

@@ -137,16 +137,48 @@ class SqliteStore:
     :meth:`delete` commit one change each.
     """
 
-    def __init__(self, path: str | os.PathLike[str]) -> None:
+    def __init__(self, path: str | os.PathLike[str], *, readonly: bool = False) -> None:
         self.path = Path(path)
+        self.readonly = readonly
         self.migrated_from: int | None = None
         self._db: sqlite3.Connection | None = None
         self._loaded: dict[str, tuple[LoadedDocs, int]] = {}
+        if readonly:
+            self._open_readonly()
+            return
         try:
             self.path.parent.mkdir(parents=True, exist_ok=True)
         except OSError as exc:
             raise MemoryStoreError(f"cannot create the store's directory: {exc.strerror}", source=str(self.path)) from exc
         self._open()
+
+    def _open_readonly(self) -> None:
+        """Inspection (``homesim memory``): read, never write, move or migrate; refusals leave the file as it is."""
+        def refuse(why: str) -> MemoryStoreError:
+            if self._db is not None:
+                self._db.close()
+                self._db = None
+            return MemoryStoreError(f"cannot read the memory store: {why} (left as it is)", source=str(self.path), kept_at=str(self.path))
+
+        if not self.path.is_file():
+            raise refuse("no such file")
+        try:
+            self._db = sqlite3.connect(f"file:{self.path.resolve()}?mode=ro", uri=True, isolation_level=None)
+            db = self._db
+            if db.execute("PRAGMA quick_check").fetchall() != [("ok",)]:
+                raise refuse("it fails SQLite's integrity check")
+            app = db.execute("PRAGMA application_id").fetchone()[0]
+            version = db.execute("PRAGMA user_version").fetchone()[0]
+        except sqlite3.DatabaseError as exc:
+            raise refuse(f"not a readable SQLite database ({exc})") from exc
+        if app != APPLICATION_ID:
+            raise refuse(f"not a homesim memory store (application id {app:#x})")
+        if version != SCHEMA_VERSION:
+            raise refuse(f"schema version {version}; this homesim reads {SCHEMA_VERSION} (a run migrates older stores)")
+        try:
+            self._read_all(refuse=refuse)
+        except sqlite3.DatabaseError as exc:
+            raise refuse(f"cannot read its rows ({exc})") from exc
 
     # ------------------------------------------------------------ opening
     def _refuse_corrupt(self, why: str, exc: BaseException | None = None) -> MemoryStoreError:
@@ -236,10 +268,12 @@ class SqliteStore:
             raise self._refuse_corrupt(f"migration from version {version} failed: {exc}", exc) from exc
         self.migrated_from = version
 
-    def _read_all(self) -> None:
+    def _read_all(self, refuse: Callable[[str], MemoryStoreError] | None = None) -> None:
         db = self._db
         assert db is not None
-        self._pragmas()
+        if refuse is None:
+            self._pragmas()
+            refuse = self._refuse_corrupt
         loaded: dict[str, tuple[LoadedDocs, int]] = {}
         for name, next_id in db.execute("SELECT name, next_id FROM memories ORDER BY name"):
             loaded[name] = ({}, int(next_id))
@@ -248,21 +282,21 @@ class SqliteStore:
             try:
                 root = parse_bytes(bytes(xml), source=source)
             except XMLInputError as exc:
-                raise self._refuse_corrupt(f"memory {memory!r} document {doc_id} does not parse: {exc.message}", exc) from exc
+                raise refuse(f"memory {memory!r} document {doc_id} does not parse: {exc.message}") from exc
             docs, next_id = loaded.setdefault(memory, ({}, 1))
             if doc_id >= next_id:
-                raise self._refuse_corrupt(f"memory {memory!r} document {doc_id} is beyond its id counter {next_id}")
+                raise refuse(f"memory {memory!r} document {doc_id} is beyond its id counter {next_id}")
             docs[int(doc_id)] = (root, {})
         for memory, doc_id, name, dtype, shape, data in db.execute(
             "SELECT memory, doc_id, name, dtype, shape, data FROM attachments ORDER BY memory, doc_id, name"
         ):
             entry = loaded.get(memory, ({}, 1))[0].get(doc_id)
             if entry is None:
-                raise self._refuse_corrupt(f"attachment {name!r} of memory {memory!r} belongs to no document ({doc_id})")
+                raise refuse(f"attachment {name!r} of memory {memory!r} belongs to no document ({doc_id})")
             try:
                 entry[1][name] = decode_attachment(dtype, shape, data)
             except (ValueError, TypeError) as exc:
-                raise self._refuse_corrupt(f"attachment {name!r} of document {doc_id} does not decode: {exc}", exc) from exc
+                raise refuse(f"attachment {name!r} of document {doc_id} does not decode: {exc}") from exc
         self._loaded = loaded
 
     # ------------------------------------------------------------ reading
