@@ -34,6 +34,12 @@ busy the ES only queues arrivals and rejects events whose lifetime ends,
 exactly at their expiry; no event is ever applied at or after it. Messages
 to other modules (orders, conditions, rejections returned to the dialog)
 leave in decision order: nothing decided later overtakes them.
+
+Same instant (docs/architecture.md): what expires at ``t`` is rejected before
+anything arriving at ``t`` is queued, in the state held as ``t`` began; the
+decision that ends a cost at ``t`` is taken after the arrivals at ``t`` are
+queued. Link latency, which orders deliveries against the ES's own timers,
+changes none of its decisions.
 """
 
 from __future__ import annotations
@@ -174,7 +180,7 @@ class ExecutionSupervisor(Module):
         self.cost_ns = to_ns(cost)
         self.return_to = tuple(return_to)
         self._loop = sim.loop
-        self._busy_until = 0
+        self._busy_until = -1  # busy while now <= this (closed: the end instant's arrivals queue first)
         self._outbox: deque[tuple[int, Applied | Rejected]] = deque()
         self._timer: asyncio.TimerHandle | None = None
         self._timer_at: int | None = None
@@ -239,8 +245,12 @@ class ExecutionSupervisor(Module):
     def submit(self, event: Event) -> list[Record]:
         """Queue ``event`` now; decide at once if the ES is free. Returns the records decided now."""
         now = self._loop.now_ns
+        # The same-instant rule: events whose lifetime ends now are dead before this one is queued,
+        # whether the ES's expiry timer for now has run yet or not (link latency decides that).
+        expired: list[Record] = list(self.engine.expire(now))
+        self._emit(expired, now)
         self.engine.queue(event, now)
-        return self._tick(now)
+        return expired + self._tick(now)
 
     @property
     def busy_until_ns(self) -> int:
@@ -250,6 +260,23 @@ class ExecutionSupervisor(Module):
     def _wake(self) -> None:
         self._timer = None
         self._timer_at = None
+        if self.bus.closed or self.bus.hung:
+            return
+        now = self._loop.now_ns
+        if now == self._busy_until:
+            # The cost ends now. Decide only after every delivery already due at this instant
+            # (a timer scheduled now runs after them): whether an event arriving at the same
+            # instant was scheduled before or after this wake (link latency) changes nothing.
+            self._flush(now)
+            self._timer = self._loop.call_at_ns(now, self._free)
+            self._timer_at = now
+            return
+        self._tick(now)
+
+    def _free(self) -> None:
+        self._timer = None
+        self._timer_at = None
+        self._busy_until = -1
         if self.bus.closed or self.bus.hung:
             return
         self._tick(self._loop.now_ns)
@@ -268,7 +295,7 @@ class ExecutionSupervisor(Module):
         records: list[Record] = []
         while True:
             self._flush(now)
-            if now < self._busy_until:
+            if now <= self._busy_until:
                 recs: list[Record] = list(self.engine.expire(now))
                 self._emit(recs, now)
                 records += recs
@@ -278,8 +305,8 @@ class ExecutionSupervisor(Module):
             records += recs
             if not recs or not isinstance(recs[-1], Applied):
                 break
-            self._busy_until = now + self.cost_ns
             if self.cost_ns:
+                self._busy_until = now + self.cost_ns
                 break
         if self.engine.state != before:
             self.publish_status()
@@ -289,7 +316,7 @@ class ExecutionSupervisor(Module):
     def _arm(self, now: int) -> None:
         """One timer: the earliest of the next expiry, the end of the busy time, the next held message."""
         wake = self.engine.next_deadline()
-        if self._busy_until > now and (wake is None or self._busy_until < wake):
+        if self._busy_until >= now and (wake is None or self._busy_until < wake):
             wake = self._busy_until
         if self._outbox and (wake is None or self._outbox[0][0] < wake):
             wake = self._outbox[0][0]

@@ -79,6 +79,11 @@ class ReferenceES:
 
     def process(self, now: int) -> list[tuple]:
         out: list[tuple] = []
+        # the same-instant rule (docs/architecture.md): expiry first, in the state held as `now` begins
+        for it in sorted(self.pending, key=lambda it: (it.created, it.seq)):
+            if now >= it.expires:
+                self.pending.remove(it)
+                out.append(("rejected", it.id, self.state, "expired"))
         pos = 0
         while True:
             ordered = sorted(self.pending, key=lambda it: (it.created, it.seq))

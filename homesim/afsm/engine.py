@@ -9,15 +9,23 @@ The rules, exactly:
 
 * The queue is ordered by creation time; ties keep arrival order. An event
   created earlier but delivered later is inserted before newer ones.
-* :meth:`process` scans from the oldest event. For each event: (1) if
-  ``now >= created + lifetime`` it is removed and rejected as *expired*;
-  (2) else if the current state (or, failing that, an enclosing state, as
+* :meth:`process` first rejects, as *expired*, every queued event with
+  ``now >= created + lifetime`` (oldest first, in the state held before
+  anything else is decided at ``now``: the same-instant rule below); then it
+  scans from the oldest event. For each event: (1) (expiry, done already);
+  (2) if the current state (or, failing that, an enclosing state, as
   in SCXML) has a transition on its name whose guard holds, it is removed,
   the transition's sends are evaluated, the state changes, and the scan
   restarts from the oldest; (3) else if any transition on its name is
   written on the current *category* (the innermost compound state around
   the current state) or on any state inside it, it is *retained*; (4) else
   it is removed and rejected as *inapplicable*.
+* The same-instant rule (``docs/architecture.md``): at one instant, expiry
+  comes first. An event whose lifetime ends at ``t`` is already dead at
+  ``t``, so it is rejected in the state the ES held as ``t`` began, before an
+  event arriving at ``t`` is queued or any transition is taken at ``t``.
+  Whether the caller processes the expiry before or after queueing a
+  same-instant arrival then changes nothing (link latency can't reorder it).
 * :meth:`next_deadline` is the earliest expiry among queued events: call
   :meth:`process` then, and expired events are rejected exactly at their
   expiry.
@@ -276,8 +284,7 @@ class Engine:
         transitions take time (the supervisor's processing cost) calls again
         at the virtual time the next decision can be taken.
         """
-        self._advance(now_ns)
-        records: list[Record] = []
+        records: list[Record] = list(self.expire(now_ns))  # expiry first: see the same-instant rule
         applied = 0
         q = self._queue
         tables = self._tables
@@ -285,10 +292,6 @@ class Engine:
         while i < len(q):
             item = q[i]
             ev = item.event
-            if now_ns >= item.expires_ns:
-                del q[i]
-                records.append(self._reject(item, now_ns, EXPIRED, f"lifetime ended at {item.expires_ns} ns"))
-                continue
             comp = None
             cands = tables.candidates[self.state].get(ev.name)
             if cands is not None:
@@ -467,8 +470,9 @@ def run_deliveries(engine: Engine, deliveries: list[Delivery], *, until_ns: int 
 
     Deliveries are taken in order of arrival (ties: list order). Before each
     arrival the engine is processed at every expiry deadline that comes first,
-    so expired events are rejected exactly at their expiry; then the event is
-    queued and processed. Afterwards deadlines are followed up to ``until_ns``
+    and events expiring at the arrival's instant are rejected, so expired
+    events are rejected exactly at their expiry and before anything arriving
+    then (the same-instant rule); then the event is queued and processed. Afterwards deadlines are followed up to ``until_ns``
     (every remaining one when None). Raises :class:`ClockError` if an arrival
     lies before the engine's current time.
     """
@@ -477,6 +481,7 @@ def run_deliveries(engine: Engine, deliveries: list[Delivery], *, until_ns: int 
     for k in order:
         d = deliveries[k]
         _follow_deadlines(engine, d.at_ns, records, inclusive=False)
+        records.extend(engine.expire(d.at_ns))  # the same-instant rule: expiry at the arrival's instant first
         engine.queue(d.event, d.at_ns)
         records.extend(engine.process(d.at_ns))
     _follow_deadlines(engine, until_ns, records, inclusive=True)
