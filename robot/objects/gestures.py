@@ -1,0 +1,95 @@
+"""Gesture detection: deictic pointing from the camera's percepts, as a ray in the map frame.
+
+The camera reports a pointing arm only while the hand is in its image
+(which is why the person attention looks at the partner's hands in
+Interaction and Object): ``<pointing bearing distance direction elevation
+hand_height/>`` in the robot frame, each direction with ~5 degrees of noise.
+:class:`GestureTracker` turns each detection into a :class:`Pointing` in the
+map frame with the localised pose of the robot at the image's capture time,
+keeps the last ``window`` seconds (a bounded deque), and :meth:`pointing`
+averages the largest group of consistent detections (hands within 0.5 m)
+into one ray: averaging n detections divides the direction noise by sqrt(n).
+A single detection is not a gesture (``min_count``).
+
+The camera's mount (height, offset ahead of the base's centre) is the
+robot's own geometry, not knowledge of the world.
+"""
+
+from __future__ import annotations
+
+import math
+from collections import deque
+
+from .resolve import Pointing
+
+CAMERA_HEIGHT = 1.41  # metres, the EVI-D31 on the PeopleBot
+CAMERA_OFFSET = 0.05  # metres ahead of the base's centre
+
+
+def camera_to_map(pose: tuple[float, float, float], bearing: float, distance: float, height: float) -> tuple[float, float]:
+    """Map (x, y) of a point seen at ``bearing`` (rad, robot frame) and 3D ``distance`` from the
+    camera, at ``height`` metres above the floor."""
+    x, y, th = pose
+    cx, cy = x + CAMERA_OFFSET * math.cos(th), y + CAMERA_OFFSET * math.sin(th)
+    dz = CAMERA_HEIGHT - height
+    horiz = math.sqrt(max(distance * distance - dz * dz, 0.0))
+    return cx + horiz * math.cos(th + bearing), cy + horiz * math.sin(th + bearing)
+
+
+class GestureTracker:
+    """Recent pointing detections (map frame) and their consensus ray."""
+
+    def __init__(self, *, window: float = 4.0, min_count: int = 2, maxlen: int = 200) -> None:
+        self.window = window
+        self.min_count = min_count
+        self._seen: deque[tuple[float, Pointing]] = deque(maxlen=maxlen)
+
+    def add(self, t: float, pose: tuple[float, float, float], bearing_deg: float, distance: float, direction_deg: float, elevation_deg: float, hand_height: float) -> Pointing:
+        """One camera detection taken at ``t`` from ``pose`` (map frame) -> its ray (kept)."""
+        hx, hy = camera_to_map(pose, math.radians(bearing_deg), distance, hand_height)
+        p = Pointing(hx, hy, hand_height, math.remainder(pose[2] + math.radians(direction_deg), 2 * math.pi), math.radians(elevation_deg))
+        self._seen.append((t, p))
+        return p
+
+    def recent(self, now: float) -> list[Pointing]:
+        while self._seen and self._seen[0][0] < now - self.window:
+            self._seen.popleft()
+        return [p for _, p in self._seen]
+
+    def pointing(self, now: float) -> Pointing | None:
+        """The averaged ray of the largest group of consistent recent detections, or None."""
+        seen = self.recent(now)
+        if len(seen) < self.min_count:
+            return None
+        groups: list[list[Pointing]] = []
+        for p in seen:
+            for g in groups:
+                if math.hypot(g[0].x - p.x, g[0].y - p.y) < 0.5 and abs(math.remainder(g[0].direction - p.direction, 2 * math.pi)) < math.radians(30):
+                    g.append(p)
+                    break
+            else:
+                groups.append([p])
+        best = max(groups, key=len)  # first of the largest: the earliest group on ties
+        if len(best) < self.min_count:
+            return None
+        n = len(best)
+        sx = sum(math.sin(p.direction) for p in best)
+        cx = sum(math.cos(p.direction) for p in best)
+        return Pointing(
+            sum(p.x for p in best) / n, sum(p.y for p in best) / n, sum(p.z for p in best) / n,
+            math.atan2(sx, cx), sum(p.elevation for p in best) / n,
+        )
+
+    def target(self, now: float, floor_heights: tuple[float, ...] = (0.75, 0.0)) -> tuple[float, float, float] | None:
+        """Where the ray comes down to the first of ``floor_heights`` (a table top, then the
+        floor) within 3 m of the hand: the region to look at. None without a gesture."""
+        p = self.pointing(now)
+        if p is None:
+            return None
+        for h in floor_heights:
+            drop = p.z - h
+            if drop > 0 and p.elevation < -math.radians(3):
+                reach = drop / math.tan(-p.elevation)
+                if reach <= 3.0:
+                    return p.x + reach * math.cos(p.direction), p.y + reach * math.sin(p.direction), h
+        return p.x + 1.0 * math.cos(p.direction), p.y + 1.0 * math.sin(p.direction), max(p.z - 0.3, 0.0)

@@ -1,0 +1,284 @@
+"""Reference resolution: which seen object the partner means.
+
+Pure functions, no bus and no time. The object attention collects the
+camera's object detections into :class:`Candidate` s (one per physical
+object: detections within ``MERGE`` metres of each other in the map frame
+and of the same reported type), then :func:`resolve` scores every candidate
+against what was said (the speech frame's type, name, colour) and shown
+(the pointing ray from :mod:`robot.objects.gestures`):
+
+- type: the detector confuses types now and then, so a candidate whose
+  detections mostly say another type is only scored down; one seen
+  ``TYPE_EVIDENCE`` times and never as the named type does not fit;
+- colour: the distance between the candidate's mean colour and the named
+  colour's RGB (the robot's own colour vocabulary, :data:`COLOURS`); a
+  candidate clearly of another colour does not fit;
+- gesture: the angle between the pointing direction and the direction from
+  the hand to the candidate (deictic pointing is coarse: ~10-15 degrees);
+  far off the ray does not fit;
+- distance: nearer to the hand (or to the robot without a gesture) is
+  slightly preferred.
+
+The result is ``one`` (a clear best), ``ambiguous`` (two or more fit and the
+best is not clearly better: ask) or ``none`` (nothing fits). :func:`option_texts`
+words the clarification options ("the red cup", "the blue one").
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+#: The robot's colour vocabulary (RGB in [0, 1]), as people name colours.
+COLOURS: dict[str, tuple[float, float, float]] = {
+    "black": (0.05, 0.05, 0.05),
+    "white": (0.95, 0.95, 0.95),
+    "grey": (0.5, 0.5, 0.5),
+    "red": (0.85, 0.1, 0.1),
+    "green": (0.1, 0.65, 0.2),
+    "blue": (0.1, 0.25, 0.85),
+    "yellow": (0.95, 0.85, 0.1),
+    "orange": (0.95, 0.55, 0.1),
+    "purple": (0.55, 0.2, 0.7),
+    "pink": (0.95, 0.55, 0.7),
+    "brown": (0.5, 0.3, 0.15),
+    "beige": (0.9, 0.85, 0.7),
+}
+COLOUR_ALIASES = {"gray": "grey"}
+
+MERGE = 0.2  # metres: detections closer than this are one object (without a viewpoint)
+MERGE_BEARING = math.radians(4.0)  # seen from the robot: 4x the camera's bearing noise
+MERGE_RANGE = 0.25  # of the range: 4x the camera's relative distance noise
+COLOUR_FIT = 0.3  # RGB distance under which a colour "is" the named one
+GESTURE_SIGMA = math.radians(12.0)
+GESTURE_FIT = math.radians(30.0)  # further off the pointing ray: not the object pointed at
+TYPE_EVIDENCE = 3  # detections, none of the named type, that rule a candidate out
+CLEAR = 3.0  # the best candidate's score ratio over the second to decide without asking
+
+
+def colour_name(rgb: tuple[float, float, float] | np.ndarray) -> str:
+    """The nearest name in :data:`COLOURS` for an RGB colour."""
+    c = np.asarray(rgb, dtype=float)
+    return min(COLOURS, key=lambda n: float(np.sum((np.asarray(COLOURS[n]) - c) ** 2)))
+
+
+@dataclass
+class Candidate:
+    """One object seen by the camera, its detections merged (map frame)."""
+
+    x: float
+    y: float
+    z: float
+    types: dict[str, int] = field(default_factory=dict)
+    rgb_sum: np.ndarray = field(default_factory=lambda: np.zeros(3))
+    rgb_sq: np.ndarray = field(default_factory=lambda: np.zeros(3))
+    n: int = 0
+
+    def add(self, type_: str, x: float, y: float, z: float, rgb: tuple[float, float, float]) -> None:
+        """Merge one detection (running mean of the position, colour sums, type votes)."""
+        k = self.n + 1
+        self.x += (x - self.x) / k
+        self.y += (y - self.y) / k
+        self.z += (z - self.z) / k
+        c = np.asarray(rgb, dtype=float)
+        self.rgb_sum += c
+        self.rgb_sq += c * c
+        self.types[type_] = self.types.get(type_, 0) + 1
+        self.n = k
+
+    @property
+    def type(self) -> str:
+        """The type most detections reported (ties: alphabetical, for determinism)."""
+        return max(sorted(self.types), key=lambda t: self.types[t])
+
+    @property
+    def rgb(self) -> np.ndarray:
+        return self.rgb_sum / max(1, self.n)
+
+    @property
+    def colour(self) -> str:
+        return colour_name(self.rgb)
+
+    def features(self) -> np.ndarray:
+        """Visual features: mean RGB, RGB standard deviation, and an 8-bin hue/brightness
+        signature (soft votes of the mean colour), float64 (14,)."""
+        mean = self.rgb
+        std = np.sqrt(np.maximum(self.rgb_sq / max(1, self.n) - mean * mean, 0.0))
+        r, g, b = mean
+        mx, mn = float(max(mean)), float(min(mean))
+        hue = 0.0
+        if mx - mn > 1e-6:
+            if mx == r:
+                hue = ((g - b) / (mx - mn)) % 6
+            elif mx == g:
+                hue = (b - r) / (mx - mn) + 2
+            else:
+                hue = (r - g) / (mx - mn) + 4
+        bins = np.zeros(8)
+        sat = 0.0 if mx < 1e-6 else (mx - mn) / mx
+        bins[int(hue / 6 * 6) % 6] += sat  # six hue sectors weighted by saturation
+        bins[6] += (1 - sat) * mx  # grey-white
+        bins[7] += (1 - sat) * (1 - mx)  # grey-black
+        return np.concatenate([mean, std, bins / max(bins.sum(), 1e-9)])
+
+
+def merge(detections: list[tuple[str, float, float, float, tuple[float, float, float]]], origin: tuple[float, float] | None = None) -> list[Candidate]:
+    """Detections (type, x, y, z, rgb) -> candidates, in order of first sight.
+
+    The camera measures bearings well (~1 degree) and distances poorly (~6 %), so two
+    detections are one object when, seen from ``origin`` (the robot), their bearings differ by
+    less than ``MERGE_BEARING`` and their ranges by less than ``MERGE_RANGE`` of the range, and
+    their colours are alike; without an origin, when they lie within ``MERGE`` metres.
+    Candidates seen in fewer than a quarter of the frames the best was seen in are dropped
+    (a stray reading, a glimpse while the camera turned).
+    """
+    out: list[Candidate] = []
+    for type_, x, y, z, rgb in detections:
+        best, bd = None, math.inf
+        for c in out:
+            if float(np.linalg.norm(c.rgb - np.asarray(rgb))) > 0.35:
+                continue
+            if origin is None:
+                d = math.hypot(c.x - x, c.y - y)
+                ok = d < MERGE
+            else:
+                r1, r2 = math.hypot(c.x - origin[0], c.y - origin[1]), math.hypot(x - origin[0], y - origin[1])
+                da = abs(math.remainder(math.atan2(c.y - origin[1], c.x - origin[0]) - math.atan2(y - origin[1], x - origin[0]), 2 * math.pi))
+                ok = da < MERGE_BEARING and abs(r1 - r2) < MERGE_RANGE * max(r1, r2)
+                d = da
+            if ok and d < bd:
+                best, bd = c, d
+        if best is None:
+            best = Candidate(x, y, z)
+            out.append(best)
+        best.add(type_, x, y, z, rgb)
+    top = max((c.n for c in out), default=0)
+    return [c for c in out if c.n * 4 >= top]
+
+
+@dataclass(frozen=True)
+class Pointing:
+    """A pointing ray in the map frame: the hand (x, y, z) and the arm's direction and elevation (rad)."""
+
+    x: float
+    y: float
+    z: float
+    direction: float
+    elevation: float
+
+    def angle_to(self, x: float, y: float, z: float) -> float:
+        """Angle (rad) between the ray and the direction from the hand to a point."""
+        d = np.array([x - self.x, y - self.y, z - self.z])
+        n = float(np.linalg.norm(d))
+        if n < 1e-9:
+            return 0.0
+        u = np.array([math.cos(self.elevation) * math.cos(self.direction), math.cos(self.elevation) * math.sin(self.direction), math.sin(self.elevation)])
+        return math.acos(max(-1.0, min(1.0, float(d @ u) / n)))
+
+    def angle_horizontal(self, x: float, y: float) -> float:
+        """Angle (rad) between the ray's heading and the hand-to-point heading, on the floor plan."""
+        return abs(math.remainder(math.atan2(y - self.y, x - self.x) - self.direction, 2 * math.pi))
+
+
+@dataclass(frozen=True)
+class Wanted:
+    """What the speech frame says of the object (lower case; empty: not said)."""
+
+    type: str = ""
+    name: str = ""
+    colour: str = ""
+    owner: str = ""
+    attribute: str = ""
+
+
+@dataclass(frozen=True)
+class Scored:
+    candidate: Candidate
+    score: float
+    fits: bool
+    why: str
+
+
+@dataclass(frozen=True)
+class Resolution:
+    kind: str  # "one", "ambiguous", "none"
+    ranked: tuple[Scored, ...]
+    reason: str = ""
+
+    @property
+    def best(self) -> Candidate | None:
+        return self.ranked[0].candidate if self.ranked and self.ranked[0].fits else None
+
+    def fitting(self) -> list[Candidate]:
+        return [s.candidate for s in self.ranked if s.fits]
+
+
+def score(c: Candidate, wanted: Wanted, pointing: Pointing | None, origin: tuple[float, float]) -> Scored:
+    """How well one candidate fits what was said and shown (a likelihood, up to a constant)."""
+    s, fits, why = 1.0, True, []
+    kinds = {t for t in (wanted.type, wanted.name) if t}
+    if kinds:
+        share = sum(v for t, v in c.types.items() if t in kinds) / max(1, c.n)
+        s *= 0.1 + 0.9 * share  # a confused detector: other types only score down
+        if share == 0.0:
+            why.append(f"seen as {c.type}")
+            s *= 0.5
+            if c.n >= TYPE_EVIDENCE:  # confusion is rare: this many detections, none of the type
+                fits = False
+    if wanted.colour:
+        ref = COLOURS.get(COLOUR_ALIASES.get(wanted.colour, wanted.colour))
+        if ref is not None:
+            d = float(np.linalg.norm(c.rgb - np.asarray(ref)))
+            s *= math.exp(-0.5 * (d / 0.15) ** 2) + 1e-3
+            if d > COLOUR_FIT:
+                fits = False
+                why.append(f"{c.colour}, not {wanted.colour}")
+    if pointing is not None:
+        a = pointing.angle_horizontal(c.x, c.y)
+        s *= math.exp(-0.5 * (a / GESTURE_SIGMA) ** 2) + 1e-3
+        if a > GESTURE_FIT:
+            fits = False
+            why.append(f"{math.degrees(a):.0f} deg off the pointing")
+        dist = math.hypot(c.x - pointing.x, c.y - pointing.y)
+    else:
+        dist = math.hypot(c.x - origin[0], c.y - origin[1])
+    s *= 1.0 / (1.0 + 0.2 * dist)
+    if kinds and all(t not in c.types for t in kinds) and not wanted.colour and pointing is None:
+        fits = False  # nothing but the type to go by, and the type is wrong
+    return Scored(c, s, fits, "; ".join(why))
+
+
+def resolve(candidates: list[Candidate], wanted: Wanted, pointing: Pointing | None, origin: tuple[float, float]) -> Resolution:
+    """Rank the candidates; decide one, ambiguous (ask) or none (see the module docstring)."""
+    if not candidates:
+        return Resolution("none", (), "nothing_seen")
+    ranked = sorted((score(c, wanted, pointing, origin) for c in candidates), key=lambda r: -r.score)
+    fit = [r for r in ranked if r.fits]
+    # Fitting candidates first, each group best first (sorted is stable).
+    ranked = sorted(ranked, key=lambda r: not r.fits)
+    if not fit:
+        return Resolution("none", tuple(ranked), "no_match")
+    if len(fit) == 1 or fit[0].score >= CLEAR * fit[1].score:
+        return Resolution("one", tuple(ranked))
+    return Resolution("ambiguous", tuple(ranked))
+
+
+def option_texts(cands: list[Candidate], wanted: Wanted, robot_pose: tuple[float, float, float]) -> list[str]:
+    """Words that tell the candidates apart: "the red cup", "the blue one"; by side or distance
+    when the colours are the same ("the cup on the left", "the one on the right")."""
+    noun = wanted.name or wanted.type or cands[0].type
+    colours = [c.colour for c in cands]
+    if len(set(colours)) == len(colours):
+        return [f"the {col} {noun}" if i == 0 else f"the {col} one" for i, col in enumerate(colours)]
+    x, y, th = robot_pose
+    side = [math.remainder(math.atan2(c.y - y, c.x - x) - th, 2 * math.pi) for c in cands]
+    order = sorted(range(len(cands)), key=lambda i: -side[i])  # leftmost first
+    words = {}
+    if len(cands) == 2:
+        words[order[0]], words[order[1]] = "on the left", "on the right"
+    else:
+        for rank, i in enumerate(order):
+            words[i] = "on the left" if rank == 0 else "on the right" if rank == len(cands) - 1 else "in the middle"
+    return [f"the {noun} {words[i]}" if i == 0 else f"the one {words[i]}" for i in range(len(cands))]

@@ -1,0 +1,187 @@
+"""Object attention: gestures, reference resolution with one, two (clarification) and no candidates,
+objects placed in the map frame from the localised pose."""
+
+from __future__ import annotations
+
+import asyncio
+import math
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from lxml import etree
+
+from homesim.memory.protocol import decode_inline
+from homesim.scenario.loader import load_scenario_text
+from homesim.sim import Simulation
+from homesim.world.stage import Stage
+from robot.localisation import install as install_localiser
+from robot.objects import install as install_objects
+from robot.objects.gestures import GestureTracker
+from robot.objects.resolve import CLEAR, COLOURS, Candidate, Pointing, Wanted, merge, option_texts, resolve
+from tests.world_helpers import HERE
+
+SCENARIO = (HERE / "scenarios" / "teaching_cups.xml").read_text()
+
+
+def _cand(x, y, colour, type_="cup", n=10):
+    c = Candidate(x, y, 0.8)
+    for _ in range(n):
+        c.add(type_, x, y, 0.8, COLOURS[colour])
+    return c
+
+
+# ------------------------------------------------------------ resolution, pure
+
+HAND = Pointing(3.4, 2.4, 1.1, math.pi, math.radians(-25))  # behind the table, pointing at -x
+
+
+def test_one_candidate_pointed_at_is_the_one():
+    red, blue = _cand(2.7, 2.35, "red"), _cand(2.7, 3.3, "blue")
+    res = resolve([red, blue], Wanted(type="cup"), HAND, (1.0, 2.5))
+    assert res.kind == "one" and res.best is red
+    assert [s.fits for s in res.ranked] == [True, False]  # blue is 45 degrees off the pointing
+
+
+def test_two_fitting_candidates_are_ambiguous_until_the_colour_is_said():
+    red, blue = _cand(2.7, 2.25, "red"), _cand(2.7, 2.55, "blue")  # both within the pointing's spread
+    res = resolve([red, blue], Wanted(type="cup"), HAND, (1.0, 2.5))
+    assert res.kind == "ambiguous" and set(map(id, res.fitting())) == {id(red), id(blue)}
+    assert option_texts(res.fitting(), Wanted(type="cup"), (1.0, 2.5, 0.0))[1] == "the blue one"
+    said = resolve([red, blue], Wanted(type="cup", colour="blue"), HAND, (1.0, 2.5))
+    assert said.kind == "one" and said.best is blue
+
+
+def test_no_candidate_when_nothing_fits_or_nothing_was_seen():
+    red = _cand(2.7, 2.35, "red")
+    assert resolve([], Wanted(type="cup"), HAND, (1.0, 2.5)).reason == "nothing_seen"
+    plate = resolve([red], Wanted(type="plate"), HAND, (1.0, 2.5))  # ten detections, none a plate
+    assert plate.kind == "none" and plate.reason == "no_match"
+    green = resolve([red], Wanted(type="cup", colour="green"), HAND, (1.0, 2.5))
+    assert green.kind == "none"
+
+
+def test_a_confused_detection_does_not_hide_the_object():
+    c = Candidate(2.7, 2.35, 0.8)
+    for i in range(10):
+        c.add("cup" if i % 4 else "bowl", 2.7, 2.35, 0.8, COLOURS["red"])  # a quarter seen as bowls
+    res = resolve([c], Wanted(type="cup"), HAND, (1.0, 2.5))
+    assert res.kind == "one" and c.type == "cup"
+
+
+def test_options_by_side_when_the_colours_are_the_same():
+    a, b = _cand(2.7, 2.2, "red"), _cand(2.7, 2.8, "red")
+    assert option_texts([a, b], Wanted(type="cup"), (1.0, 2.5, 0.0)) == ["the cup on the right", "the one on the left"]
+
+
+colours = st.sampled_from(sorted(COLOURS))
+cands = st.lists(st.tuples(st.floats(1.5, 4.0), st.floats(1.0, 4.0), colours, st.sampled_from(["cup", "book", "plant"])), min_size=0, max_size=6)
+
+
+@settings(max_examples=60, deadline=None)
+@given(cands, st.sampled_from(["", "cup", "book"]), st.sampled_from(["", "red", "blue"]), st.booleans())
+def test_resolution_rules(specs, typ, colour, pointed):
+    """The chosen object always fits; 'one' means a single fit or a clear winner; 'ambiguous'
+    means at least two fit with no clear winner; every fitting candidate is ranked before every
+    misfit; merging keeps every detection."""
+    cs = [_cand(x, y, col, t) for x, y, col, t in specs]
+    res = resolve(cs, Wanted(type=typ, colour=colour), HAND if pointed else None, (1.0, 2.5))
+    fits = [s for s in res.ranked if s.fits]
+    assert [s.fits for s in res.ranked] == sorted((s.fits for s in res.ranked), reverse=True)
+    if res.kind == "one":
+        assert res.best is not None and (len(fits) == 1 or fits[0].score >= CLEAR * fits[1].score)
+    elif res.kind == "ambiguous":
+        assert len(fits) >= 2 and fits[0].score < CLEAR * fits[1].score
+    else:
+        assert not fits
+    dets = [(t, x, y, 0.8, COLOURS[col]) for x, y, col, t in specs]
+    assert sum(c.n for c in merge(dets)) == len(dets)
+
+
+def test_gestures_average_into_one_ray_and_a_single_one_is_not_enough():
+    g = GestureTracker()
+    rng = np.random.default_rng(1)
+    g.add(0.0, (1.0, 2.5, 0.0), -3.0, 2.35, 180 + rng.normal(0, 5), -20.0, 1.1)
+    assert g.pointing(0.1) is None
+    for i in range(1, 12):
+        g.add(0.1 * i, (1.0, 2.5, 0.0), -3.0, 2.35, 180 + rng.normal(0, 5), -20.0, 1.1)
+    p = g.pointing(1.2)
+    assert abs(math.remainder(p.direction - math.pi, 2 * math.pi)) < math.radians(4)
+    assert g.pointing(10.0) is None  # old gestures are forgotten
+
+
+# ------------------------------------------------------------ on the bus, in a flat
+
+def _run(pointing: str, frame: str, answer: int | None = 1, until: float = 9.0):
+    sc = load_scenario_text(SCENARIO.replace("POINTING", pointing), source="teaching_cups.xml")
+    sim = Simulation(seed=sc.seed, scenario=sc.name)
+    stage = Stage(sim, sc, keep_messages=True)
+
+    class Run:
+        pass
+
+    run = Run()
+    run.sim, run.config = sim, None
+    install_localiser(run)
+    oa = install_objects(run)["object_attention"]
+    test = sim.bus.participant("tester", host="robot")
+    asked, events = [], []
+    test.subscribe("/robot/es/events", handler=lambda m: events.append(m))
+    # The person attention's part in Object: the camera looks where object attention says.
+    test.subscribe(
+        "/robot/objects/focus",
+        handler=lambda m: test.publish("/robot/ptu/cmd", etree.Element("ptu", pan=m.xml.get("bearing"), tilt=f"{-math.degrees(math.atan2(0.6, float(m.xml.get('distance')))):.2f}")),
+    )
+    dialog = sim.bus.participant("dialog", host="robot")
+
+    def ask(msg):
+        asked.append([o.get("text") for o in msg.xml.iterfind("option")])
+        return etree.Element("answer", none="true") if answer is None else etree.Element("answer", index=str(answer))
+
+    dialog.serve("ask", ask)
+
+    async def teach():
+        test.publish("/robot/ptu/cmd", etree.Element("ptu", pan="0", tilt="-5"))  # looking at the partner's hands
+        await asyncio.sleep(1.5)
+        order = etree.Element("order", name="find_object", target="object_attention", event="object_teaching", state="ObjectTeaching")
+        etree.SubElement(order, "param", name="object").append(etree.fromstring(frame))
+        test.publish("/robot/es/orders/object_attention", order)
+
+    sim.spawn(teach(), name="teach")
+    stage.run(until=until)
+    sim.close()
+    return stage, oa, asked, events
+
+
+def test_pointing_at_the_red_cup_teaches_it_in_the_map_frame():
+    stage, oa, asked, events = _run('<point object="red cup" duration="8"/>', '<OBJECT type="cup"><OWNER name="speaker"/><ATTRIBUTE name="favourite"/></OBJECT>')
+    assert asked == [] and len(events) == 1
+    ev = events[0].xml
+    assert ev.get("name") == "object_recognized"
+    obj = ev.find("OBJECT")
+    assert (obj.get("type"), obj.get("name"), obj.get("owner"), obj.get("colour"), obj.get("frame")) == ("cup", "cup", "partner", "red", "map")
+    assert math.hypot(float(obj.get("x")) - 2.7, float(obj.get("y")) - 2.3) < 0.15  # from the localised pose
+    assert obj.find("ATTRIBUTE").get("name") == "favourite"
+    feats = decode_inline(obj.find("attachment"))
+    assert feats.shape == (14,) and feats[0] > 0.6 and feats[2] < 0.3  # mean RGB: red
+    focus = [m for m in stage.messages if m.channel == "/robot/objects/focus"]
+    assert focus and all(abs(float(m.xml.get("bearing")) + 10) < 8 for m in focus)  # towards the red cup, right of ahead
+
+
+def test_pointing_between_two_cups_asks_and_uses_the_answer():
+    stage, oa, asked, events = _run('<point point="2.7 2.5" duration="8"/>', '<OBJECT type="cup"/>', answer=1)
+    assert len(asked) == 1 and sorted(asked[0]) in (["the blue one", "the red cup"], ["the blue cup", "the red one"])
+    chosen = asked[0][1]
+    obj = events[-1].xml.find("OBJECT")
+    assert events[-1].xml.get("name") == "object_recognized"
+    assert obj.get("colour") in chosen  # the answer picked this one
+    want_y = 2.7 if obj.get("colour") == "blue" else 2.3
+    assert math.hypot(float(obj.get("x")) - 2.7, float(obj.get("y")) - want_y) < 0.15
+
+
+def test_no_answer_and_no_such_object_end_in_object_not_found():
+    _, _, asked, events = _run('<point point="2.7 2.5" duration="8"/>', '<OBJECT type="cup"/>', answer=None)
+    assert len(asked) == 1 and events[-1].xml.get("name") == "object_not_found" and events[-1].xml.get("reason") == "unclear"
+    _, _, asked, events = _run('<point object="red cup" duration="8"/>', '<OBJECT type="plate"/>')
+    assert asked == [] and events[-1].xml.get("name") == "object_not_found" and events[-1].xml.get("reason") == "no_match"
