@@ -85,6 +85,16 @@ def bench_answer(n: int) -> float:
         return timed(lambda: scene.answer(q), 2000)
 
 
+def bench_orders() -> tuple[float, float]:
+    """CPU per store_object and store_place order's work (canonical form, XSD check, dedupe, insert/update)."""
+    with Simulation(seed=0) as sim:
+        scene = SceneModel(sim, map_server=None)
+        k = iter(range(10**9))
+        obj = lambda: etree.fromstring(f'<OBJECT type="cup" x="{next(k) % 50}" y="1" frame="map"><TITLE name="cup"/><OWNER name="o{next(k) % 7}"/></OBJECT>')
+        place = lambda: etree.fromstring(f'<PLACE><TITLE name="p{next(k) % 20}"/><POSE x="1" y="2" theta="0.3" frame="map"/></PLACE>')
+        return timed(lambda: scene.objects.store(obj()), 2000), timed(lambda: scene.places.store(place()), 2000)
+
+
 def bench_writes(n: int) -> tuple[float, float]:
     m = ActiveMemory("objects", indexes=OBJECT_INDEXES)
     t0 = time.process_time()
@@ -115,6 +125,8 @@ def main() -> None:
         print(f"{n:>8} | {r['indexed ids'] * us:>11.2f} | {r['indexed copies'] * us:>12.2f} | {r['two indexes'] * us:>10.1f} | "
               f"{r['free compiled'] * us:>10.0f} | {r['free .xpath()'] * us:>13.0f} | {a * us:>9.1f}")
     mem, disk = bench_writes(max(args.sizes))
+    so, sp = bench_orders()
+    print(f"orders: store_object {so * us:.0f} µs, store_place {sp * us:.0f} µs (memory only)")
     print(f"insert: {mem * us:.1f} µs in memory, {disk * 1e3:.2f} ms with the SQLite store (one committed transaction)")
 
 

@@ -214,3 +214,10 @@ def test_memory_show_prints_a_store_read_only_and_moves_nothing(tmp_path, capsys
         SqliteStore(old, readonly=True)
     with SqliteStore(old) as s:  # a run migrates it
         assert s.migrated_from == 1
+
+
+def test_one_memory_name_is_opened_once_per_store(tmp_path):
+    with SqliteStore(tmp_path / "m.sqlite") as s:
+        ActiveMemory("objects", store=s)
+        with pytest.raises(MemoryStoreError, match="already open"):
+            ActiveMemory("objects", store=s)

@@ -143,6 +143,7 @@ class SqliteStore:
         self.migrated_from: int | None = None
         self._db: sqlite3.Connection | None = None
         self._loaded: dict[str, tuple[LoadedDocs, int]] = {}
+        self._claimed: set[str] = set()
         if readonly:
             self._open_readonly()
             return
@@ -310,6 +311,9 @@ class SqliteStore:
 
     def load(self, memory: str) -> tuple[LoadedDocs, int]:
         """The documents of ``memory`` as read at open, and its next id (1 for a new memory)."""
+        if memory in self._claimed:
+            raise MemoryStoreError(f"memory {memory!r} of this store is already open (one ActiveMemory per name)", source=str(self.path))
+        self._claimed.add(memory)
         docs, next_id = self._loaded.get(memory, ({}, 1))
         self._loaded[memory] = ({}, next_id)  # handed over once; the memory owns them now
         return docs, next_id
