@@ -221,3 +221,29 @@ def test_one_memory_name_is_opened_once_per_store(tmp_path):
         ActiveMemory("objects", store=s)
         with pytest.raises(MemoryStoreError, match="already open"):
             ActiveMemory("objects", store=s)
+
+
+from hypothesis import given, settings  # noqa: E402
+from hypothesis import strategies as st  # noqa: E402
+from hypothesis.extra import numpy as hnp  # noqa: E402
+
+from homesim.memory.sqlite import decode_attachment, encode_attachment  # noqa: E402
+
+from .conftest import examples  # noqa: E402
+
+arrays = hnp.arrays(
+    dtype=st.one_of(hnp.integer_dtypes(), hnp.unsigned_integer_dtypes(), hnp.floating_dtypes(), hnp.complex_number_dtypes(), hnp.boolean_dtypes()),
+    shape=hnp.array_shapes(min_dims=0, max_dims=3, min_side=0, max_side=4),
+)
+
+
+@settings(max_examples=examples(100, 500))
+@given(st.one_of(arrays, st.binary(max_size=64)))
+def test_attachments_round_trip_exactly(value):
+    back = decode_attachment(*encode_attachment(value))
+    if isinstance(value, bytes):
+        assert back == value
+    else:
+        assert back.dtype == value.dtype and back.shape == value.shape
+        assert back.tobytes() == value.tobytes()  # bit for bit, NaNs included
+        assert not back.flags.writeable

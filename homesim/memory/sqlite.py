@@ -111,8 +111,8 @@ def _move_aside(path: Path, tag: str) -> Path:
 def encode_attachment(value: Attachment) -> tuple[str, str, bytes]:
     """(dtype, shape, data) for a row: numpy arrays as dtype string, shape JSON, C-order bytes."""
     if isinstance(value, np.ndarray):
-        arr = np.ascontiguousarray(value)
-        return arr.dtype.str, json.dumps(list(arr.shape)), arr.tobytes()
+        # tobytes() is C order whatever the layout (ascontiguousarray would turn a 0-d array into 1-d)
+        return value.dtype.str, json.dumps(list(value.shape)), value.tobytes(order="C")
     return "bytes", "[]", bytes(value)
 
 
@@ -120,7 +120,7 @@ def decode_attachment(dtype: str, shape: str, data: bytes) -> Attachment:
     """Inverse of :func:`encode_attachment` (arrays come back read-only)."""
     if dtype == "bytes":
         return bytes(data)
-    arr = np.frombuffer(data, dtype=np.dtype(dtype)).reshape(json.loads(shape)).copy()
+    arr = np.frombuffer(data, dtype=np.dtype(dtype)).reshape(tuple(json.loads(shape))).copy()
     arr.flags.writeable = False
     return arr
 
