@@ -382,8 +382,10 @@ class ExecutionSupervisor(Module):
     def status_xml(self, *, history: int = 20) -> etree._Element:
         """The introspection as an ``<es_status>`` element (reply of ``introspect``).
 
-        ``history``: how many recent records to include (0: no ``<history>``,
-        as on the status channel).
+        ``history``: how many recent records to include (0: no ``<history>``
+        and no ``<accepts>``, as on the status channel). ``<accepts>`` lists the
+        events the current state applies now and those it would retain (what
+        the dialog's self-explanation tells the user).
         """
         eng = self.engine
         s = eng.stats()
@@ -398,6 +400,12 @@ class ExecutionSupervisor(Module):
                              created=_seconds(item.event.created_ns), expires=_seconds(item.expires_ns),
                              status=item.status)
         if history:
+            applies, waits = eng.accepts()
+            acc = etree.SubElement(el, "accepts")
+            for name in applies:
+                etree.SubElement(acc, "event", name=name, status="applies")
+            for name in waits:
+                etree.SubElement(acc, "event", name=name, status="waits")
             h = etree.SubElement(el, "history")
             for rec in list(eng.history)[-history:]:
                 h.append(record_xml(rec))

@@ -239,6 +239,17 @@ class Engine:
         """The queue, oldest first (a copy; the items are live, do not modify)."""
         return list(self._queue)
 
+    def accepts(self) -> tuple[list[str], list[str]]:
+        """Events the current state applies now, and events it would retain (sorted names).
+
+        What the robot can do now, for self-explanation: an applicable event
+        has a transition from the current state or a state containing it; a
+        retained one waits for another state of the category.
+        """
+        applies = sorted(self._tables.candidates[self.state])
+        waits = sorted(self._tables.retain[self.state] - set(applies))
+        return applies, waits
+
     def next_deadline(self) -> int | None:
         """Earliest expiry (ns) among queued events; None when the queue is empty."""
         if not self._queue:

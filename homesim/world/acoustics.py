@@ -103,6 +103,19 @@ class SoundField:
         self._log.append(u)
         return u
 
+    def cut(self, source: str, t: float) -> Utterance | None:
+        """Silence ``source`` at ``t``: what it is saying ends there with the words finished so far.
+
+        Returns the cut utterance, or None when the source was not speaking.
+        """
+        for i in range(len(self._log) - 1, -1, -1):
+            u = self._log[i]
+            if u.source == source and u.start <= t < u.end:
+                said = first_words(u.text, words_spoken(u.text, u.end - u.start, t - u.start))
+                self._log[i] = Utterance(u.n, u.source, said, u.start, max(u.start, t), u.loudness, cut=True)
+                return self._log[i]
+        return None
+
     def active(self, t: float) -> list[Utterance]:
         """Utterances going on at ``t`` (start <= t < end), in start order."""
         return [u for u in self._log if u.start <= t < u.end]

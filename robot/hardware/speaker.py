@@ -4,7 +4,10 @@ The speaker takes ``<say text="..."/>`` on ``/robot/speaker/say``, puts the
 utterance into the world's air (people's scripts hear it and can react) and
 publishes ``<speaking text start end/>`` when it starts and ``<done text/>``
 when it ends on ``/robot/speaker/status``; a new utterance cuts the previous
-one short. The duration comes from the word count.
+one short. The duration comes from the word count. A say with no words
+(``<say/>``, ``<say text=""/>``) only silences the robot: the utterance in
+progress is cut (``<interrupted text/>``) and nothing new is said (the
+dialog's barge-in).
 
 The display takes ``<gaze pan="deg" tilt="deg"/>`` (where the avatar's eyes
 look, robot frame) or ``<expression name="..."/>`` on ``/robot/display/cmd``
@@ -53,6 +56,8 @@ class Speaker(Module):
 
     async def say(self, msg: Message) -> None:
         text = msg.xml.get("text") or (msg.xml.text or "")
+        if not text.strip():
+            return  # silence: nothing in progress (a cut utterance was handled by the loop below)
         u = self.world.sound.say("robot", text, self.now, loudness=self.loudness)
         self.bus.publish(STATUS_CHANNEL, etree.Element("speaking", text=text, start=f"{u.start:.6f}", end=f"{u.end:.6f}"), causes=(msg.id,))
         while self.now < u.end - 1e-6:  # (virtual time is integer ns: never sleep 0)
@@ -60,6 +65,8 @@ class Speaker(Module):
             nxt = self.queue.get_nowait()
             if nxt is not None:  # a new utterance interrupts this one
                 self.bus.publish(STATUS_CHANNEL, etree.Element("interrupted", text=text), causes=(msg.id,))
+                if not (nxt.xml.get("text") or (nxt.xml.text or "")).strip():
+                    self.world.sound.cut("robot", self.now)  # barge-in: stop talking, say nothing
                 await self.say(nxt)
                 return
             await asyncio.sleep(min(0.1, u.end - self.now))

@@ -1,0 +1,432 @@
+"""The dialog manager: slot filling, policies, and a stack of sub-dialogs (no bus, no time).
+
+Inputs are the XML the dialog module receives (frames, conditions,
+rejections); outputs are :class:`Say`, :class:`Send` and :class:`Explain`
+requests that the module turns into bus messages at the right virtual time.
+Everything here is deterministic and synchronous, so it is tested directly.
+
+Routing (DESIGN.md §2.4, the papers' sub-dialog strategy):
+
+* an answer goes to the topmost dialog waiting for it: "yes"/"no" to a
+  pending confirmation, a frame that fills the slot a pending question asked
+  for;
+* any other frame starts the dialog its act triggers, on top of the stack
+  (the dialog below is *interrupted*; it *resumes* when the new one ends,
+  saying its resume sentence and repeating its open question);
+* a condition goes to the topmost dialog with a fill for it, else starts the
+  dialog it triggers (``clears`` empties the stack first: the interaction
+  ended, a technical failure);
+* a rejection goes to the dialog that sent the event and becomes the
+  document's most specific sentence for (event, reason, state); a rejection
+  nobody waits for is still said.
+
+Repairs: nothing understood -> the open question is asked again (up to
+``max_reasks``, then the dialog gives up), or, with no open question, the
+user is asked to say it again; a frame below ``confirm_below`` fills its
+slot with status ``filled`` so the policy confirms it.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from copy import deepcopy
+from dataclasses import dataclass, field
+from typing import Any
+
+from lxml import etree
+
+from .model import Action, DialogDef, Dialogs, Fill, render
+
+#: Said when a dialog gives up after too many failed re-asks.
+GIVE_UP = "Let us leave that for now."
+
+
+@dataclass(frozen=True, slots=True)
+class Say:
+    """Speech output (the module joins the sentences of one step into one utterance)."""
+
+    text: str
+    dialog: str
+
+
+@dataclass(frozen=True, slots=True)
+class Send:
+    """An event for the supervisor; ``pose``: add the latest localisation pose."""
+
+    event: str
+    children: tuple[etree._Element, ...]
+    lifetime: float | None
+    pose: bool
+    dialog: str
+
+
+@dataclass(frozen=True, slots=True)
+class Explain:
+    """Self-explanation: the module asks the supervisor for its state and says what the robot can do."""
+
+    dialog: str
+
+
+Output = Say | Send | Explain
+
+
+@dataclass(slots=True)
+class Slot:
+    status: str = "empty"
+    value: Any = None
+
+
+@dataclass(slots=True)
+class Instance:
+    """A running sub-dialog."""
+
+    d: DialogDef
+    serial: int
+    slots: dict[str, Slot]
+    last_sig: tuple[str, ...] | None = None
+    pending: tuple[str, str, str] | None = None  # (ask|confirm, slot, question)
+    reasks: int = 0
+    sent: list[str] = field(default_factory=list)
+    rejection: tuple[str, str, str] | None = None  # (event, reason, state) of the last one
+    interrupted: bool = False
+    done: bool = False
+    success: bool = False
+    on_end: Callable[[Instance], None] | None = None
+
+    def values(self) -> dict[str, Any]:
+        return {k: s.value for k, s in self.slots.items()}
+
+    def sig(self) -> tuple[str, ...]:
+        return tuple(s.status for s in self.slots.values())
+
+    def holds(self, whens: tuple[tuple[str, str], ...]) -> bool:
+        return all(self.slots[s].status == st for s, st in whens)
+
+
+def _merge(old: Any, new: Any) -> Any:
+    """A refilled element keeps what the new one does not say ("this is my ..." + "a cup")."""
+    if not (isinstance(old, etree._Element) and isinstance(new, etree._Element)) or old.tag != new.tag:
+        return new
+    out = deepcopy(old)
+    for k, v in new.attrib.items():
+        out.set(k, v)
+    new_tags = {c.tag for c in new}
+    for c in list(out):
+        if c.tag in new_tags:
+            out.remove(c)
+    order = ["GESTURE", "TITLE", "OWNER", "COLOUR", "ATTRIBUTE", "POSITION"]
+    kids = list(out) + [deepcopy(c) for c in new]
+    for c in list(out):
+        out.remove(c)
+    for c in sorted(kids, key=lambda e: order.index(e.tag) if e.tag in order else len(order)):
+        out.append(c)
+    return out
+
+
+def _select(fill: Fill, el: etree._Element) -> Any:
+    """The value a fill takes from ``el``: the selected node/text, or ``el`` itself; None if the select is empty."""
+    if fill.select is None:
+        return deepcopy(el)
+    res = fill.select(el)
+    if isinstance(res, list):
+        if not res:
+            return None
+        res = res[0]
+    if isinstance(res, etree._Element):
+        return deepcopy(res)
+    if isinstance(res, bool):
+        return None if not res else "true"
+    text = " ".join(str(res).split())
+    return text or None
+
+
+class DialogManager:
+    """The sub-dialog stack over a loaded :class:`Dialogs` document."""
+
+    def __init__(self, doc: Dialogs) -> None:
+        self.doc = doc
+        self.stack: list[Instance] = []
+        self.es_state = ""  # the supervisor's current state, from its status channel
+        self._serial = 0
+        self.metrics: dict[str, Any] = {
+            "user_turns": 0, "robot_turns": 0, "not_understood": 0, "reasks": 0, "confirmations": 0,
+            "give_ups": 0, "rejections": 0, "rejections_explained": 0, "interruptions": 0, "resumptions": 0,
+            "barge_ins": 0, "events_sent": 0, "ignored_frames": 0, "unhandled_conditions": 0,
+            "dialogs": {},
+        }
+
+    # ------------------------------------------------------------------ queries
+    @property
+    def top(self) -> Instance | None:
+        return self.stack[-1] if self.stack else None
+
+    def attending(self) -> bool:
+        """Someone is there to talk to (the supervisor is not just looking around)."""
+        s = self.doc.states.get("attending")
+        return self.es_state in s if s is not None else bool(self.es_state)
+
+    def summary(self) -> dict[str, Any]:
+        """Dialog metrics (turns, repairs, rejections explained, task success per sub-dialog)."""
+        out = {k: v for k, v in self.metrics.items() if k != "dialogs"}
+        out["repairs"] = self.metrics["reasks"] + self.metrics["confirmations"] + self.metrics["not_understood"]
+        out["dialogs"] = {k: dict(v) for k, v in sorted(self.metrics["dialogs"].items())}
+        return out
+
+    def _count(self, did: str, key: str) -> None:
+        per = self.metrics["dialogs"].setdefault(did, {"started": 0, "succeeded": 0, "failed": 0, "abandoned": 0})
+        per[key] += 1
+
+    # ------------------------------------------------------------------- inputs
+    def on_frame(self, msg: etree._Element) -> list[Output]:
+        """An ``<understood>`` or ``<not_understood>`` from the understanding."""
+        self.metrics["user_turns"] += 1
+        speech = msg.find("SPEECH")
+        if msg.tag != "understood" or speech is None or len(speech) == 0:
+            return self._not_understood()
+        act_el = speech[0]
+        act = str(act_el.tag)
+        conf = float(msg.get("confidence", "1"))
+        out: list[Output] = []
+        # 1. an answer to the topmost open question
+        for inst in reversed(self.stack):
+            if inst.pending is None:
+                continue
+            kind, slot, _ = inst.pending
+            if kind == "confirm" and act in ("YES", "NO"):
+                inst.pending = None
+                inst.reasks = 0
+                inst.slots[slot].status = "true" if act == "YES" else "false"
+                self._step(inst, out)
+                return out
+            fills = [f for f in inst.d.fills if f.frame and act in f.frame]
+            if fills and (kind == "ask" or any(f.slot == slot for f in fills)):
+                inst.pending = None
+                inst.reasks = 0
+                self._fill_frame(inst, fills, act_el, conf)
+                self._step(inst, out)
+                return out
+            break  # only the topmost open question takes answers
+        # 2. a new sub-dialog
+        d = self.doc.by_trigger(act)
+        if d is None or (d.in_states is not None and self.es_state not in d.in_states):
+            self.metrics["ignored_frames"] += 1
+            return out
+        inst = self._push(d, out)
+        self._fill_frame(inst, [f for f in d.fills if f.frame and act in f.frame], act_el, conf)
+        self._step(inst, out)
+        return out
+
+    def on_condition(self, cond: etree._Element) -> list[Output]:
+        """A condition from the supervisor (``<condition name ...><param>...``)."""
+        name = cond.get("name", "")
+        out: list[Output] = []
+        for inst in reversed(self.stack):
+            fills = [f for f in inst.d.fills if f.condition == name]
+            if fills:
+                self._fill_other(inst, fills, cond)
+                self._step(inst, out)
+                return out
+        d = self.doc.by_condition(name)
+        if d is None:
+            self.metrics["unhandled_conditions"] += 1
+            return out
+        if d.clears:
+            while self.stack:
+                self._finish(self.stack[-1], out, abandoned=True, resume=False)
+        inst = self._push(d, out)
+        self._fill_other(inst, [f for f in d.fills if f.condition == name], cond)
+        self._step(inst, out)
+        return out
+
+    def on_rejected(self, rej: etree._Element) -> list[Output]:
+        """A rejected event returned by the supervisor (``<rejected name reason state>``)."""
+        name, reason, state = rej.get("name", ""), rej.get("reason", ""), rej.get("state", "")
+        self.metrics["rejections"] += 1
+        out: list[Output] = []
+        for inst in reversed(self.stack):
+            fills = [f for f in inst.d.fills if f.rejected == name]
+            if fills and name in inst.sent:
+                inst.rejection = (name, reason, state)
+                self._fill_other(inst, fills, rej)
+                self._step(inst, out)
+                if not any(isinstance(o, Say) for o in out):
+                    self._say(out, self.doc.rejection_text(name, reason, state), inst.d.id)
+                self.metrics["rejections_explained"] += 1
+                return out
+        self._say(out, self.doc.rejection_text(name, reason, state), "")
+        self.metrics["rejections_explained"] += 1
+        return out
+
+    def start(self, did: str, values: dict[str, Any] | None = None,
+              on_end: Callable[[Instance], None] | None = None) -> tuple[Instance | None, list[Output]]:
+        """Start dialog ``did`` directly (e.g. a clarification), its slots preset to ``values`` (status true)."""
+        out: list[Output] = []
+        d = self.doc.dialogs.get(did)
+        if d is None:
+            return None, out
+        inst = self._push(d, out)
+        inst.on_end = on_end
+        for k, v in (values or {}).items():
+            if k in inst.slots:
+                inst.slots[k] = Slot("true", v)
+        self._step(inst, out)
+        return inst, out
+
+    def cancel(self, inst: Instance) -> list[Output]:
+        """Abandon a running dialog (e.g. a clarification that timed out)."""
+        out: list[Output] = []
+        if inst in self.stack:
+            self._finish(inst, out, abandoned=True)
+        return out
+
+    def barge_in(self) -> None:
+        """The partner spoke while the robot talked (the module cut the robot's sentence)."""
+        self.metrics["barge_ins"] += 1
+
+    def explanation(self, state: str, applies: list[str]) -> str:
+        """What the robot is doing and can do now, from the supervisor's state and applicable events."""
+        parts = []
+        phrase = self.doc.state_phrases.get(state)
+        if phrase:
+            parts.append(phrase)
+        caps = [text for e, text in self.doc.capabilities.items() if e in applies]
+        if caps:
+            listed = caps[0] if len(caps) == 1 else ", ".join(caps[:-1]) + " or " + caps[-1]
+            parts.append(f"Now you can {listed}.")
+        return " ".join(parts) if parts else self.doc.rejection_text("", "", state)
+
+    # ---------------------------------------------------------------- internals
+    def _say(self, out: list[Output], text: str, did: str) -> None:
+        if text:
+            out.append(Say(text, did))
+
+    def _not_understood(self) -> list[Output]:
+        out: list[Output] = []
+        self.metrics["not_understood"] += 1
+        for inst in reversed(self.stack):
+            if inst.pending is None:
+                continue
+            inst.reasks += 1
+            if inst.reasks > self.doc.max_reasks:
+                self.metrics["give_ups"] += 1
+                self._say(out, GIVE_UP, inst.d.id)
+                self._finish(inst, out, abandoned=False)
+            else:
+                self.metrics["reasks"] += 1
+                self._say(out, self.doc.not_understood, inst.d.id)
+                self._say(out, inst.pending[2], inst.d.id)
+            return out
+        if self.attending():
+            self.metrics["reasks"] += 1
+            self._say(out, self.doc.not_understood, "")
+        return out
+
+    def _push(self, d: DialogDef, out: list[Output]) -> Instance:
+        for old in [i for i in self.stack if i.d.id == d.id]:  # said again: the new request replaces the old
+            self._finish(old, out, abandoned=True, resume=False)
+        while len(self.stack) >= self.doc.max_depth:
+            self._finish(self.stack[0], out, abandoned=True, resume=False)
+        if self.stack:
+            self.stack[-1].interrupted = True
+            self.metrics["interruptions"] += 1
+        self._serial += 1
+        inst = Instance(d, self._serial, {s: Slot() for s in d.slots})
+        self.stack.append(inst)
+        self._count(d.id, "started")
+        return inst
+
+    def _fill_frame(self, inst: Instance, fills: list[Fill], act_el: etree._Element, conf: float) -> None:
+        for f in fills:
+            value = _select(f, act_el)
+            if value is None:
+                continue
+            slot = inst.slots[f.slot]
+            status = f.status or ("true" if conf >= self.doc.confirm_below else "filled")
+            slot.value = _merge(slot.value, value) if slot.status != "false" else value
+            slot.status = status
+
+    def _fill_other(self, inst: Instance, fills: list[Fill], el: etree._Element) -> None:
+        for f in fills:
+            value = _select(f, el)
+            if value is None and f.select is not None:
+                continue
+            slot = inst.slots[f.slot]
+            if f.status is not None:
+                slot.status = f.status
+            elif f.test is not None:
+                slot.status = "true" if bool(f.test(el)) else "false"
+            else:
+                slot.status = "true"
+            slot.value = value
+
+    def _step(self, inst: Instance, out: list[Output]) -> None:
+        """Fire the policy while the state changes (each state fires at most once)."""
+        for _ in range(16):
+            if inst.done:
+                return
+            sig = inst.sig()
+            if sig == inst.last_sig:
+                return
+            inst.last_sig = sig
+            rule = next((r for r in inst.d.rules if inst.holds(r.whens)), None)
+            if rule is None:
+                return
+            for a in rule.actions:
+                self._act(inst, a, out)
+                if inst.done:
+                    return
+
+    def _act(self, inst: Instance, a: Action, out: list[Output]) -> None:
+        did = inst.d.id
+        values = inst.values()
+        if a.kind == "say":
+            self._say(out, render(a.text, values), did)
+        elif a.kind in ("ask", "confirm"):
+            q = render(a.text, values)
+            inst.pending = (a.kind, a.slot or "", q)
+            if a.kind == "confirm":
+                self.metrics["confirmations"] += 1
+            self._say(out, q, did)
+        elif a.kind == "send":
+            children = []
+            for slot, wrapper in a.copies:
+                v = inst.slots[slot].value
+                if isinstance(v, etree._Element):
+                    if v.tag == wrapper:
+                        children.append(deepcopy(v))
+                    else:
+                        w = etree.Element(wrapper)
+                        w.append(deepcopy(v))
+                        children.append(w)
+            inst.sent.append(a.event or "")
+            self.metrics["events_sent"] += 1
+            out.append(Send(a.event or "", tuple(children), a.lifetime, a.pose, did))
+        elif a.kind == "explain":
+            out.append(Explain(did))
+        elif a.kind == "explain-rejection":
+            ev, reason, state = inst.rejection or ("", "", self.es_state)
+            self._say(out, self.doc.rejection_text(ev, reason, state), did)
+        elif a.kind == "clear":
+            inst.slots[a.slot or ""] = Slot()
+        elif a.kind == "end":
+            self._finish(inst, out, abandoned=False)
+
+    def _finish(self, inst: Instance, out: list[Output], *, abandoned: bool, resume: bool = True) -> None:
+        if inst.done:
+            return
+        inst.done = True
+        inst.success = not abandoned and inst.holds(inst.d.goal)
+        self._count(inst.d.id, "abandoned" if abandoned else ("succeeded" if inst.success else "failed"))
+        was_top = self.stack and self.stack[-1] is inst
+        self.stack.remove(inst)
+        if inst.on_end is not None:
+            inst.on_end(inst)
+        if resume and was_top and self.stack:
+            below = self.stack[-1]
+            if below.interrupted:
+                below.interrupted = False
+                self.metrics["resumptions"] += 1
+                if below.d.resume:
+                    self._say(out, render(below.d.resume, below.values()), below.d.id)
+                if below.pending is not None:
+                    self._say(out, below.pending[2], below.d.id)

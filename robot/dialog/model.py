@@ -1,0 +1,197 @@
+"""The sub-dialog model: what a dialog document says, immutable once loaded.
+
+A :class:`Dialogs` holds the sub-dialogs (:class:`DialogDef`), the sentences
+for rejections and self-explanation, and the repair parameters. A dialog's
+state is the combination of its slots' statuses (:data:`STATUSES`); its
+policy is an ordered list of :class:`Rule` s from such combinations to
+actions. Templates (``{slot}``, ``{slot:xpath}``, ``{slot:xpath|default}``)
+put slot values into sentences; :func:`render` never raises (a missing value
+gives the default, or nothing).
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass
+from typing import Any
+
+from lxml import etree
+
+#: Slot statuses (DESIGN.md §2.4).
+STATUSES = ("empty", "filled", "true", "false")
+
+#: Dialog acts of the understanding's frames (the children of <SPEECH>).
+ACTS = (
+    "GREETING", "GOODBYE", "CAPABILITIES", "FOLLOW", "STOP", "WAIT", "YES", "NO", "THAT_ONE",
+    "GOTO", "WHERE", "OBJECT", "PLACE",
+)
+
+#: Events the dialog sends to the supervisor (docs/robot-contract.md).
+DIALOG_EVENTS = (
+    "greeting", "follow", "stop", "goodbye", "object_teaching", "query_object", "place_teaching", "goto",
+)
+
+
+@dataclass(frozen=True, slots=True)
+class Fill:
+    """How a slot is filled: from a frame act, a condition, or the rejection of an event."""
+
+    slot: str
+    frame: tuple[str, ...] | None
+    condition: str | None
+    rejected: str | None
+    select: etree.XPath | None  # value, relative to the act element / the condition / the rejection
+    status: str | None  # fixed status; None: from the confidence (frames) or the test
+    test: etree.XPath | None
+    line: int | None = None
+
+
+@dataclass(frozen=True, slots=True)
+class Action:
+    """One policy action: say, send, ask, confirm, explain, explain-rejection, clear, end."""
+
+    kind: str
+    slot: str | None = None
+    text: str = ""
+    event: str | None = None
+    lifetime: float | None = None
+    copies: tuple[tuple[str, str], ...] = ()
+    pose: bool = False
+    line: int | None = None
+
+
+@dataclass(frozen=True, slots=True)
+class Rule:
+    """When every (slot, status) holds, do the actions (in order)."""
+
+    whens: tuple[tuple[str, str], ...]
+    actions: tuple[Action, ...]
+    line: int | None = None
+
+
+@dataclass(frozen=True, slots=True)
+class DialogDef:
+    """One sub-dialog: slots, how they fill, goal, policy."""
+
+    id: str
+    trigger: tuple[str, ...]
+    condition: str | None
+    in_states: frozenset[str] | None
+    interrupts: bool
+    clears: bool
+    slots: tuple[str, ...]
+    fills: tuple[Fill, ...]
+    goal: tuple[tuple[str, str], ...]
+    resume: str | None
+    rules: tuple[Rule, ...]
+    line: int | None = None
+
+
+@dataclass(frozen=True, slots=True)
+class Rejection:
+    """A sentence for a rejected event; ``None`` fields match anything."""
+
+    event: str | None
+    reason: str | None
+    state: str | None
+    text: str
+    line: int | None = None
+
+    def score(self, event: str, reason: str, state: str) -> int:
+        """How specifically this entry matches (-1: it does not)."""
+        s = 0
+        for mine, theirs in ((self.event, event), (self.reason, reason), (self.state, state)):
+            if mine is None:
+                continue
+            if mine != theirs:
+                return -1
+            s += 1
+        return s
+
+
+@dataclass(frozen=True, slots=True)
+class Dialogs:
+    """A loaded dialog document."""
+
+    name: str
+    confirm_below: float
+    max_reasks: int
+    max_depth: int
+    states: dict[str, frozenset[str]]
+    capabilities: dict[str, str]
+    state_phrases: dict[str, str]
+    rejections: tuple[Rejection, ...]
+    not_understood: str
+    dialogs: dict[str, DialogDef]
+
+    def rejection_text(self, event: str, reason: str, state: str) -> str:
+        """The most specific sentence for a rejection (ties: the first in the document)."""
+        best, best_score = "", -1
+        for r in self.rejections:
+            sc = r.score(event, reason, state)
+            if sc > best_score:
+                best, best_score = r.text, sc
+        return best
+
+    def by_trigger(self, act: str) -> DialogDef | None:
+        for d in self.dialogs.values():
+            if act in d.trigger:
+                return d
+        return None
+
+    def by_condition(self, name: str) -> DialogDef | None:
+        for d in self.dialogs.values():
+            if d.condition == name:
+                return d
+        return None
+
+
+_FIELD = re.compile(r"\{(\w+)(?::([^}|]*))?(?:\|([^}]*))?\}")
+
+
+def template_fields(text: str) -> list[tuple[str, str, str | None]]:
+    """(slot, xpath, default) of each ``{...}`` field of a template."""
+    return [(m.group(1), m.group(2) or "", m.group(3)) for m in _FIELD.finditer(text)]
+
+
+def value_text(value: Any, xpath: str = "") -> str:
+    """A slot value (element or text) as words, optionally through an XPath."""
+    if value is None:
+        return ""
+    if xpath:
+        if not isinstance(value, etree._Element):
+            return ""
+        try:
+            res = value.xpath(xpath)
+        except etree.XPathError:
+            return ""
+        if isinstance(res, list):
+            res = res[0] if res else ""
+        if isinstance(res, etree._Element):
+            return value_text(res)
+        if isinstance(res, bool):
+            return "yes" if res else ""
+        if isinstance(res, float):
+            return "" if res != res else (str(int(res)) if res == int(res) else str(res))
+        return " ".join(str(res).split())
+    if isinstance(value, etree._Element):
+        if value.tag == "param" and len(value):  # a condition's parameter: what it holds
+            return value_text(value[0])
+        name = value.get("name") if value.tag != "param" else None
+        if name:
+            return name
+        title = value.find("TITLE")
+        if title is not None and title.get("name"):
+            return title.get("name", "")
+        return " ".join("".join(value.itertext()).split())
+    return " ".join(str(value).split())
+
+
+def render(text: str, values: dict[str, Any]) -> str:
+    """Fill a template's fields from slot values; never raises."""
+
+    def one(m: re.Match[str]) -> str:
+        got = value_text(values.get(m.group(1)), m.group(2) or "")
+        return got if got else (m.group(3) or "")
+
+    return " ".join(_FIELD.sub(one, text).split())

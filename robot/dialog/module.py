@@ -1,0 +1,296 @@
+"""The ``dialog`` module: frames and supervisor feedback in, speech and ES events out.
+
+Listens to ``/robot/speech/frames`` (the understanding), ``/robot/es/conditions/dialog``,
+``/robot/es/rejected/dialog`` and ``/robot/es/status`` (the supervisor),
+``/robot/localisation/pose`` (for place teaching), ``/robot/speaker/status``
+and ``/robot/audio/sources`` (barge-in). Publishes ES events on
+``/robot/es/events`` and is the only module that speaks
+(``/robot/speaker/say``). Serves ``dialog/ask`` for the object attention's
+clarification questions (``<ask timeout><option index text/>+</ask>`` ->
+``<answer index/>`` or ``<answer none="true"/>``).
+
+Timing (virtual, DESIGN.md §2.7): the dialog is a serial processor; each input
+costs ``dialog_cost``; its events leave then, and what the robot says leaves
+``generation_time`` later (language generation and synthesis onset), so an
+answer starts about 200 ms (the papers' Fig. 6) after understanding ended.
+Sentences are queued while the robot is still talking: a new ``<say>`` would
+cut the one in progress.
+
+Barge-in: while the robot talks, a sound source other than the robot's own
+voice (the loudest, at least ``own_voice_level`` dB: the loudspeaker is next
+to the microphones) at ``barge_in_level`` dB or more means the partner speaks:
+the robot's sentence is cut (an empty ``<say/>``), queued sentences are
+dropped and the robot listens.
+
+Metrics: :meth:`summary` (turns, repairs, rejections explained, task success
+per sub-dialog, barge-ins) for the run summary.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import os
+from collections import deque
+from typing import Any
+
+from lxml import etree
+
+from homesim.errors import BusError
+from homesim.message import Message
+from homesim.module import Module
+from homesim.vloop import to_ns
+
+from .loader import BIRON_DIALOGS, load
+from .manager import DialogManager, Explain, Instance, Output, Say, Send
+from .model import Dialogs
+
+FRAMES = "/robot/speech/frames"
+EVENTS = "/robot/es/events"
+CONDITIONS = "/robot/es/conditions/dialog"
+REJECTED = "/robot/es/rejected/dialog"
+ES_STATUS = "/robot/es/status"
+POSE = "/robot/localisation/pose"
+SAY = "/robot/speaker/say"
+SPEAKER_STATUS = "/robot/speaker/status"
+SOURCES = "/robot/audio/sources"
+
+
+def question(options: list[str]) -> str:
+    """"Do you mean the red cup or the blue one?" from option texts (a repeated last word becomes "one")."""
+    if not options:
+        return "Which one do you mean?"
+    texts = [" ".join(o.split()) for o in options]
+    nouns = [t.split()[-1] if t else "" for t in texts]
+    out = [texts[0]]
+    for t, n in zip(texts[1:], nouns[1:]):
+        words = t.split()
+        if len(words) > 1 and n == nouns[0]:
+            words[-1] = "one"
+        out.append(" ".join(words))
+    listed = out[0] if len(out) == 1 else ", the ".join(out[:-1]) + " or the " + out[-1]
+    return f"Do you mean the {listed}?"
+
+
+def choose(options: list[tuple[int, str]], answer: Any) -> int | None:
+    """The option an answer picks (THAT_ONE with index/colour, an OBJECT, YES to a single option); None if unclear."""
+    if not isinstance(answer, etree._Element) or not options:
+        return None
+    if answer.tag == "NO":
+        return None
+    if answer.tag == "YES":
+        return options[0][0] if len(options) == 1 else None
+    index = answer.get("index")
+    if index is not None:
+        if index == "last":
+            return options[-1][0]
+        if index.isdigit() and 1 <= int(index) <= len(options):
+            return options[int(index) - 1][0]
+        if index == "other" and len(options) == 2:
+            return options[1][0]
+        return None
+    words = {c.get("name", "") for c in answer.iter() if c.get("name")}
+    if answer.get("type"):
+        words.add(answer.get("type", "").replace("_", " "))
+    scores = [(sum(w in text.split() or w == text for w in words), idx) for idx, text in options]
+    best = max(s for s, _ in scores)
+    winners = [idx for s, idx in scores if s == best]
+    return winners[0] if best > 0 and len(winners) == 1 else None
+
+
+class Dialog(Module):
+    """BIRON's dialog control as a bus module (participant ``dialog``)."""
+
+    def __init__(
+        self,
+        sim: Any,
+        dialogs: Dialogs | str | os.PathLike[str] = BIRON_DIALOGS,
+        *,
+        name: str = "dialog",
+        host: str = "robot",
+        dialog_cost: float = 0.03,
+        generation_time: float = 0.17,
+        barge_in_level: float = 45.0,
+        own_voice_level: float = 68.0,
+        ask_timeout: float = 10.0,
+    ) -> None:
+        super().__init__(sim, name, host=host)
+        self.doc = dialogs if isinstance(dialogs, Dialogs) else load(dialogs)
+        self.manager = DialogManager(self.doc)
+        self.dialog_cost = dialog_cost
+        self.generation_time = generation_time
+        self.barge_in_level = barge_in_level
+        self.own_voice_level = own_voice_level
+        self.ask_timeout = ask_timeout
+        self._busy_until = 0.0
+        self._pose: etree._Element | None = None
+        self._talking = False  # a <say> is out and not yet done/interrupted
+        self._cut = False  # this utterance was already cut by a barge-in
+        self._queue: deque[tuple[str, tuple[str, ...]]] = deque()
+        self._said = 0  # serial of the last <say> sent
+        bus = self.bus
+        bus.subscribe(FRAMES, self._on_frame)
+        bus.subscribe(CONDITIONS, self._on_condition)
+        bus.subscribe(REJECTED, self._on_rejected)
+        bus.subscribe(ES_STATUS, self._on_status)
+        bus.subscribe(POSE, self._on_pose)
+        bus.subscribe(SPEAKER_STATUS, self._on_speaker)
+        bus.subscribe(SOURCES, self._on_sources)
+        bus.serve("ask", self._rpc_ask)
+
+    async def run(self) -> None:
+        """Beat; everything else happens as messages are delivered."""
+        while True:
+            self.beat()
+            await asyncio.sleep(self.heartbeat.interval if self.heartbeat else 1.0)
+
+    def summary(self) -> dict[str, Any]:
+        """Dialog metrics for the run summary (plain data)."""
+        return self.manager.summary()
+
+    # ------------------------------------------------------------------ inputs
+    def _on_frame(self, msg: Message) -> None:
+        self._emit(self.manager.on_frame(msg.xml), msg.id)
+
+    def _on_condition(self, msg: Message) -> None:
+        self._emit(self.manager.on_condition(msg.xml), msg.id)
+
+    def _on_rejected(self, msg: Message) -> None:
+        self._emit(self.manager.on_rejected(msg.xml), msg.id)
+
+    def _on_status(self, msg: Message) -> None:
+        self.manager.es_state = msg.xml.get("state", "")
+
+    def _on_pose(self, msg: Message) -> None:
+        x = msg.xml
+        self._pose = etree.Element("POSE", x=x.get("x", "0"), y=x.get("y", "0"), theta=x.get("theta", "0"),
+                                   frame=x.get("frame", "map"))
+
+    def _on_speaker(self, msg: Message) -> None:
+        tag = msg.xml.tag
+        if tag == "speaking":
+            self._talking = True
+            self._cut = False
+        elif tag in ("done", "interrupted"):
+            if tag == "done" or not self._queue:
+                self._talking = False
+            self._say_next()
+
+    def _on_sources(self, msg: Message) -> None:
+        if not self._talking or self._cut:
+            return
+        levels = sorted((float(s.get("level", "0")) for s in msg.xml.iterfind("source")), reverse=True)
+        if levels and levels[0] >= self.own_voice_level:
+            levels = levels[1:]  # the robot's own voice
+        if levels and levels[0] >= self.barge_in_level:
+            self._cut = True
+            self._queue.clear()
+            self.manager.barge_in()
+            self.bus.publish(SAY, etree.Element("say", text=""), causes=(msg.id,))
+
+    # ----------------------------------------------------------------- outputs
+    def _slot(self) -> float:
+        """When the next input's processing ends (serial processor)."""
+        t = max(self.now, self._busy_until) + self.dialog_cost
+        self._busy_until = t
+        return t
+
+    def _emit(self, outs: list[Output], cause: str) -> None:
+        if not outs:
+            return
+        t = self._slot()
+        if any(isinstance(o, Explain) for o in outs):
+            self.sim.spawn(self._emit_with_explanation(outs, t, cause), name=f"{self.name}-explain")
+            return
+        self.sim.loop.call_at_ns(to_ns(t), self._send_events, outs, cause)
+        texts = [o.text for o in outs if isinstance(o, Say)]
+        if texts:
+            self.sim.loop.call_at_ns(to_ns(t + self.generation_time), self._enqueue, " ".join(texts), cause)
+
+    async def _emit_with_explanation(self, outs: list[Output], t: float, cause: str) -> None:
+        await asyncio.sleep(max(0.0, t - self.now))
+        self._send_events(outs, cause)
+        texts: list[str] = []
+        for o in outs:
+            if isinstance(o, Say):
+                texts.append(o.text)
+            elif isinstance(o, Explain):
+                texts.append(await self._explanation())
+        await asyncio.sleep(max(0.0, t + self.generation_time - self.now))
+        self._enqueue(" ".join(x for x in texts if x), cause)
+
+    async def _explanation(self) -> str:
+        """Ask the supervisor what it is doing and what it accepts now."""
+        try:
+            reply = await self.bus.call("supervisor", "introspect", etree.Element("introspect"), timeout=1.0)
+        except BusError:
+            return self.manager.explanation(self.manager.es_state, [])
+        st = reply.xml
+        applies = [e.get("name", "") for e in st.iterfind("accepts/event") if e.get("status") == "applies"]
+        return self.manager.explanation(st.get("state", ""), applies)
+
+    def _send_events(self, outs: list[Output], cause: str) -> None:
+        if self.bus.closed or self.bus.hung:
+            return
+        for o in outs:
+            if isinstance(o, Send):
+                el = etree.Element("event", name=o.event)
+                if o.lifetime is not None:
+                    el.set("lifetime", repr(float(o.lifetime)))
+                for c in o.children:
+                    el.append(c)
+                if o.pose and self._pose is not None:
+                    el.append(etree.Element("POSE", dict(self._pose.attrib)))
+                self.bus.publish(EVENTS, el, causes=(cause,), transfer=True)
+
+    def _enqueue(self, text: str, cause: str) -> None:
+        if not text:
+            return
+        self._queue.append((text, (cause,)))
+        if not self._talking:
+            self._say_next()
+
+    def _say_next(self) -> None:
+        if not self._queue or self.bus.closed or self.bus.hung:
+            return
+        text, causes = self._queue.popleft()
+        self._talking = True
+        self._cut = False
+        self._said += 1
+        self.manager.metrics["robot_turns"] += 1
+        self.bus.publish(SAY, etree.Element("say", text=text), causes=causes)
+        # Without a word from the speaker (none installed, or its status lost) the
+        # queue must not stall: give up waiting well after the sentence would end.
+        patience = 0.5 + 0.45 * max(1, len(text.split()))
+        self.sim.loop.call_at_ns(to_ns(self.now + patience), self._speaker_silent, self._said)
+
+    def _speaker_silent(self, serial: int) -> None:
+        if serial == self._said and self._talking:
+            self._talking = False
+            self._say_next()
+
+    # ---------------------------------------------------------------------- RPC
+    async def _rpc_ask(self, msg: Message) -> etree._Element:
+        """Clarification: ask the partner which option they mean; reply with its index or none."""
+        req = msg.xml
+        options = [(int(o.get("index", str(i))), o.get("text", "")) for i, o in enumerate(req.iterfind("option"))]
+        timeout = float(req.get("timeout", str(self.ask_timeout)))
+        fut: asyncio.Future[Instance] = self.sim.loop.create_future()
+
+        def ended(inst: Instance) -> None:
+            if not fut.done():
+                fut.set_result(inst)
+
+        inst, outs = self.manager.start("clarify", {"question": question([t for _, t in options])}, on_end=ended)
+        if inst is None:
+            return etree.Element("answer", none="true")
+        self._emit(outs, msg.id)
+        try:
+            async with asyncio.timeout(timeout):
+                done = await fut
+        except TimeoutError:
+            self._emit(self.manager.cancel(inst), msg.id)
+            return etree.Element("answer", none="true")
+        picked = choose(options, done.slots["choice"].value) if done.success else None
+        if picked is None:
+            return etree.Element("answer", none="true")
+        return etree.Element("answer", index=str(picked))

@@ -1,0 +1,159 @@
+"""The ``understanding`` module: recognised utterances in, typed speech frames out.
+
+Input: ``/robot/audio/speech`` (``<utterance start end bearing level confidence>words</utterance>``;
+the older recogniser's ``wer`` stands in for a missing confidence as ``1 - wer``,
+and its ``self="true"`` utterances are skipped).
+
+Output: ``/robot/speech/frames`` (``robot/schemas/speech-frames.xsd``):
+``<understood start end confidence [unknown ignored corrected partial]><SPEECH>..</SPEECH><words>..</words></understood>``
+or ``<not_understood start end confidence [unknown] reason>words</not_understood>``.
+
+Timing (virtual, DESIGN.md §2.7 / the papers' Fig. 6): recognition takes most
+of the time and grows with the utterance's length, ``recognition_base +
+recognition_per_word * words`` after the utterance ends; then understanding
+costs ``understanding_cost``. The module is one serial processor: an utterance
+that ends while another is still being recognised waits for it.
+
+Own voice: the robot hears itself. An utterance that overlaps what the robot
+says (``/robot/speaker/status``) and is at least ``own_voice_level`` dB loud
+(the robot's loudspeaker is a hand's breadth from the microphones, far louder
+than anybody in the room) is the robot's echo and is dropped.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import re
+from collections import deque
+from pathlib import Path
+from typing import Any
+
+from lxml import etree
+
+from homesim.message import Message
+from homesim.module import Module
+from homesim.vloop import to_ns
+
+from .grammar import Understander, Understanding
+
+SPEECH_IN = "/robot/audio/speech"
+FRAMES = "/robot/speech/frames"
+SPEAKER_STATUS = "/robot/speaker/status"
+FRAMES_XSD = Path(__file__).resolve().parent.parent / "schemas" / "speech-frames.xsd"
+
+_SHARED: list[Understander] = []
+
+
+def shared_understander() -> Understander:
+    """One grammar per process (loading the lexicon and building the LALR tables takes ~0.1 s)."""
+    if not _SHARED:
+        _SHARED.append(Understander())
+    return _SHARED[0]
+
+
+_NOT_XML = re.compile("[^\u0009\u000a\u000d\u0020-\ud7ff\ue000-\ufffd\U00010000-\U0010ffff]")
+
+
+def _xml_safe(text: str) -> str:
+    """``text`` without the characters XML cannot carry (control characters, lone surrogates)."""
+    return _NOT_XML.sub("", text)
+
+
+def frame_message(u: Understanding, start: float, end: float, confidence: float) -> etree._Element:
+    """The frames-channel element for one understanding."""
+    if u.frame is None:
+        el = etree.Element("not_understood", start=f"{start:.6f}", end=f"{end:.6f}", confidence=f"{confidence:.3f}",
+                           reason=u.reason)
+        if u.unknown:
+            el.set("unknown", _xml_safe(" ".join(u.unknown)))
+        el.text = _xml_safe(u.words)
+        return el
+    conf = confidence * u.coverage
+    el = etree.Element("understood", start=f"{start:.6f}", end=f"{end:.6f}", confidence=f"{conf:.3f}")
+    for attr, words in (("unknown", u.unknown), ("ignored", u.ignored), ("corrected", u.corrected)):
+        if words:
+            el.set(attr, _xml_safe(" ".join(words)))
+    if u.partial:
+        el.set("partial", "true")
+    el.append(u.frame)
+    etree.SubElement(el, "words").text = _xml_safe(u.words)
+    return el
+
+
+class SpeechUnderstanding(Module):
+    """Bus module running the semantic grammar on each recognised utterance."""
+
+    def __init__(
+        self,
+        sim: Any,
+        *,
+        name: str = "understanding",
+        host: str = "robot",
+        recognition_base: float = 0.25,
+        recognition_per_word: float = 0.12,
+        understanding_cost: float = 0.01,
+        own_voice_level: float = 68.0,
+        understander: Understander | None = None,
+        typed: bool = True,
+    ) -> None:
+        super().__init__(sim, name, host=host)
+        self.understander = understander or shared_understander()
+        self.recognition_base = recognition_base
+        self.recognition_per_word = recognition_per_word
+        self.understanding_cost = understanding_cost
+        self.own_voice_level = own_voice_level
+        self._busy_until = 0.0
+        self._robot_speech: deque[tuple[float, float]] = deque(maxlen=8)
+        self.counts = {"utterances": 0, "understood": 0, "not_understood": 0, "own_voice": 0}
+        if typed and sim.bus.channel_schema(FRAMES) is None:
+            sim.bus.declare_channel(FRAMES, FRAMES_XSD)
+        self.bus.subscribe(SPEECH_IN, self._on_utterance)
+        self.bus.subscribe(SPEAKER_STATUS, self._on_speaker)
+
+    async def run(self) -> None:
+        """Beat; utterances are handled as they are delivered."""
+        while True:
+            self.beat()
+            await asyncio.sleep(self.heartbeat.interval if self.heartbeat else 1.0)
+
+    def recognition_time(self, words: int) -> float:
+        """Virtual seconds the recogniser needs after an utterance of ``words`` words ends."""
+        return self.recognition_base + self.recognition_per_word * max(1, words)
+
+    def _on_speaker(self, msg: Message) -> None:
+        if msg.xml.tag == "speaking":
+            self._robot_speech.append((float(msg.xml.get("start", "0")), float(msg.xml.get("end", "0"))))
+
+    def _own_voice(self, start: float, end: float, level: float) -> bool:
+        if level < self.own_voice_level:
+            return False
+        return any(s < end and start < e for s, e in self._robot_speech)
+
+    def _on_utterance(self, msg: Message) -> None:
+        xml = msg.xml
+        if xml.get("self") == "true":
+            return
+        start, end = float(xml.get("start", "0")), float(xml.get("end", "0"))
+        if self._own_voice(start, end, float(xml.get("level", "0"))):
+            self.counts["own_voice"] += 1
+            return
+        words = xml.text or ""
+        conf_text = xml.get("confidence")
+        if conf_text is not None:
+            confidence = float(conf_text)
+        else:
+            confidence = 1.0 - float(xml.get("wer", "0"))
+        confidence = min(1.0, max(0.0, confidence))
+        n_words = len(words.split())
+        now = self.now
+        ready = max(now, end + self.recognition_time(n_words), self._busy_until) + self.understanding_cost
+        self._busy_until = ready
+        self.sim.loop.call_at_ns(to_ns(ready), self._publish, msg.id, words, start, end, confidence)
+
+    def _publish(self, cause: str, words: str, start: float, end: float, confidence: float) -> None:
+        if self.bus.closed or self.bus.hung:
+            return
+        u = self.understander.understand(words)
+        self.counts["utterances"] += 1
+        self.counts["understood" if u.frame is not None else "not_understood"] += 1
+        self.bus.publish(FRAMES, frame_message(u, start, end, confidence), causes=(cause,), transfer=True)

@@ -1,0 +1,269 @@
+"""Understanding and dialog on the bus with the supervisor: greetings synchronised, rejections explained,
+timing in virtual time, self-explanation, clarification, barge-in."""
+
+from __future__ import annotations
+
+import pytest
+from lxml import etree
+
+from homesim.scenario.loader import load_scenario
+from homesim.sim import Simulation
+from homesim.world.stage import Stage
+from robot.dialog.module import Dialog
+from robot.dialog.transcript import transcript
+from robot.speech.module import SpeechUnderstanding
+from robot.supervisor import EVENT_CHANNEL, ExecutionSupervisor, event_xml
+from tests.world_helpers import ROOM
+
+PERSON = etree.fromstring('<PERSON id="t1" bearing="0" distance="1.2" speaking="true" facing="true"/>')
+
+
+class Robot:
+    """Supervisor, understanding and dialog; the microphones and the person attention are played by the test."""
+
+    def __init__(self, seed: int = 1, **dialog_options) -> None:
+        self.sim = Simulation(seed=seed, scenario="dialog")
+        self.trace = self.sim.record_trace()
+        self.es = ExecutionSupervisor(self.sim)
+        self.understanding = SpeechUnderstanding(self.sim)
+        self.dialog = Dialog(self.sim, **dialog_options)
+        self.mic = self.sim.bus.participant("microphones")
+        self.attention = self.sim.bus.participant("person_attention")
+        self.probe = self.sim.bus.participant("probe")
+        self.said = self.probe.subscribe("/robot/speaker/say")
+        self.speaker = self.sim.bus.participant("speaker")
+        self.speaker.subscribe("/robot/speaker/say", self._speak)
+        self.sim.start()
+
+    def _speak(self, msg) -> None:
+        """The loudspeaker's status reports (its duration model: 0.3 s + 0.4 s a word)."""
+        text = msg.xml.get("text", "")
+        if not text:
+            return
+        now = self.sim.now
+        end = now + 0.3 + 0.4 * len(text.split())
+        self.speaker.publish("/robot/speaker/status", etree.Element("speaking", text=text, start=f"{now:.6f}", end=f"{end:.6f}"))
+        self.sim.call_at(end, lambda: self.speaker.publish("/robot/speaker/status", etree.Element("done", text=text)))
+
+    def utter(self, words: str, start: float, end: float, *, confidence: float = 0.9, level: float = 60.0) -> None:
+        def go() -> None:
+            el = etree.Element("utterance", start=f"{start:.3f}", end=f"{end:.3f}", bearing="0", level=f"{level}",
+                               confidence=f"{confidence}")
+            el.text = words
+            self.mic.publish("/robot/audio/speech", el, created=end)
+        self.sim.call_at(end, go)
+
+    def partner(self, t: float) -> None:
+        self.sim.call_at(t, lambda: self.attention.publish(EVENT_CHANNEL, event_xml("potential_partner", children=(PERSON,))))
+
+    def sentences(self) -> list[str]:
+        return [m.xml.get("text") for m in self.said.drain()]
+
+    def records(self, channel: str) -> list[dict]:
+        return [r for r in self.trace.records() if r.get("kind") == "publish" and r.get("channel") == channel]
+
+    def greet(self) -> None:
+        self.utter("hello biron", 0.3, 1.0)
+        self.partner(1.1)
+
+
+@pytest.fixture
+def robot():
+    r = Robot()
+    yield r
+    r.sim.close()
+
+
+def test_hello_biron_with_a_potential_partner_gets_the_spoken_answer(robot):
+    robot.greet()
+    robot.sim.run(until=4.0)
+    assert robot.sentences() == ["Hello, I am BIRON. What can I do for you?"]
+    assert robot.es.state == "Interacting"
+    # the answer comes only after the supervisor's synchronisation (condition partner_found)
+    found = [r for r in robot.records("/robot/es/conditions/dialog") if 'name="partner_found"' in r["xml"]]
+    (say,) = robot.records("/robot/speaker/say")
+    assert found and found[0]["t"] < say["t"]
+
+
+def test_a_greeting_the_supervisor_rejects_is_explained_in_words(robot):
+    robot.utter("hello biron", 0.3, 1.0)  # a radio: nobody faces the robot
+    robot.sim.run(until=6.0)
+    assert robot.sentences() == ["I can't see you. Please look at me."]
+    (rej,) = robot.records("/robot/es/rejected/dialog")
+    assert 'reason="expired"' in rej["xml"] and robot.es.state == "LookingAround"
+    assert robot.dialog.summary()["rejections_explained"] == 1
+
+
+def test_transcript_shows_the_answer_and_the_explained_rejection():
+    r = Robot()
+    try:
+        r.utter("hello biron", 0.3, 1.0)  # nobody there: rejected
+        r.utter("hello biron", 6.0, 6.8)  # now someone faces the robot
+        r.partner(6.9)
+        r.sim.run(until=10.0)
+        text = "\n".join(transcript(r.trace.records()))
+    finally:
+        r.sim.close()
+    assert 'user        "hello biron"' in text
+    assert "ES          rejected greeting (expired) in LookingAround" in text
+    assert 'BIRON       "I can\'t see you. Please look at me."' in text
+    assert "ES          greeting: PotentialPartner -> Interacting" in text
+    assert 'BIRON       "Hello, I am BIRON. What can I do for you?"' in text
+    assert text.index("look at me") < text.index("I am BIRON")
+
+
+def test_answer_starts_about_200_ms_after_understanding_ends(robot):
+    robot.greet()
+    robot.utter("follow me", 7.0, 7.8)  # after the robot's greeting ended (at 6.04 s)
+    robot.sim.run(until=10.0)
+    frames = robot.records("/robot/speech/frames")
+    says = robot.records("/robot/speaker/say")
+    assert len(frames) == 2 and len(says) == 2
+    for f, s in zip(frames, says):
+        delay = s["t"] - f["t"]
+        # dialog processing + generation (0.2 s) plus the supervisor's reconfiguration and the messages
+        assert 0.2 <= delay <= 0.25, delay
+
+
+def test_answer_delay_follows_the_parameters():
+    r = Robot(dialog_cost=0.05, generation_time=0.45)
+    try:
+        r.greet()
+        r.sim.run(until=4.0)
+        (f,) = r.records("/robot/speech/frames")
+        (s,) = r.records("/robot/speaker/say")
+        # the frame and the supervisor's condition each cost the dialog 50 ms, then 450 ms of generation
+        assert 0.55 <= s["t"] - f["t"] <= 0.57
+    finally:
+        r.sim.close()
+
+
+def test_recognition_time_grows_with_the_utterance_length(robot):
+    robot.utter("stop", 0.5, 1.0)
+    robot.utter("this is my favourite red cup at the window", 5.0, 8.0)
+    robot.sim.run(until=12.0)
+    short, long_ = robot.records("/robot/speech/frames")
+    lag_short = short["t"] - 1.0
+    lag_long = long_["t"] - 8.0
+    u = robot.understanding
+    assert lag_short == pytest.approx(u.recognition_time(1) + u.understanding_cost, abs=1e-6)
+    assert lag_long == pytest.approx(u.recognition_time(9) + u.understanding_cost, abs=1e-6)
+    assert lag_long > lag_short
+
+
+def test_the_robots_own_voice_is_not_understood(robot):
+    robot.sim.call_at(0.5, lambda: robot.probe.publish(
+        "/robot/speaker/status", etree.Element("speaking", text="hello biron", start="0.5", end="1.5")))
+    robot.utter("hello biron", 0.5, 1.5, level=72.0)  # the loudspeaker, a hand's breadth from the microphones
+    robot.utter("hello biron", 0.6, 1.4, level=58.0)  # someone else at the same time
+    robot.sim.run(until=3.0)
+    assert len(robot.records("/robot/speech/frames")) == 1
+    assert robot.understanding.counts["own_voice"] == 1
+
+
+def test_what_can_you_do_is_answered_from_the_supervisors_state(robot):
+    robot.greet()
+    robot.utter("what can you do", 7.0, 7.8)
+    robot.sim.run(until=10.0)
+    _, answer = robot.sentences()
+    assert answer.startswith("I am listening to you. Now you can ")
+    assert "ask me to follow you" in answer and "greet me" not in answer
+    r2 = Robot()
+    try:
+        r2.partner(0.5)
+        r2.utter("what can you do", 0.3, 1.0)
+        r2.sim.run(until=3.0)
+        (answer2,) = r2.sentences()
+    finally:
+        r2.sim.close()
+    assert answer2.startswith("I can see you.") and "greet me" in answer2 and "follow you" not in answer2
+
+
+def test_place_teaching_sends_the_latest_pose(robot):
+    loc = robot.sim.bus.participant("localiser")
+    robot.sim.call_at(2.0, lambda: loc.publish("/robot/localisation/pose", etree.Element(
+        "pose", time="2", x="1.5", y="2.0", theta="0.3", cxx="0.01", cyy="0.01", ctt="0.001", frame="map")))
+    robot.greet()
+    robot.utter("this is the kitchen", 7.0, 8.0)
+    robot.sim.run(until=15.0)
+    ev = [r for r in robot.records(EVENT_CHANNEL) if 'name="place_teaching"' in r["xml"]]
+    assert ev and '<POSE x="1.5" y="2.0" theta="0.3" frame="map"/>' in ev[0]["xml"]
+    assert robot.sentences()[-1] == "OK, this is the kitchen. I will remember it."
+    orders = [r for r in robot.records("/robot/es/orders/scene_model") if "store_place" in r["xml"]]
+    assert orders and "<POSE " in orders[0]["xml"]
+
+
+def test_teaching_while_following_is_explained_when_it_expires(robot):
+    robot.greet()
+    robot.utter("follow me", 7.0, 7.6)
+    robot.utter("this is my favourite cup", 12.0, 13.5)
+    robot.sim.run(until=30.0)
+    said = robot.sentences()
+    assert said[:2] == ["Hello, I am BIRON. What can I do for you?", "OK, I am following you."]
+    assert said[-1] == "I am still following you; say stop first."
+
+
+def test_clarification_question_from_the_object_attention(robot):
+    robot.greet()
+    obj = robot.sim.bus.participant("object_attention")
+    replies = []
+
+    async def ask() -> None:
+        req = etree.fromstring('<ask timeout="8"><option index="0" text="red cup"/><option index="1" text="blue cup"/></ask>')
+        replies.append(await obj.call("dialog", "ask", req, timeout=10.0))
+
+    robot.sim.call_at(7.0, lambda: robot.sim.spawn(ask(), name="asker"))
+    robot.utter("the blue one", 11.0, 11.8)
+    robot.sim.run(until=15.0)
+    assert robot.sentences()[1:] == ["Do you mean the red cup or the blue one?", "Thank you."]
+    assert replies and replies[0].xml.get("index") == "1"
+
+
+def test_clarification_without_an_answer_times_out_to_none(robot):
+    obj = robot.sim.bus.participant("object_attention")
+    replies = []
+
+    async def ask() -> None:
+        req = etree.fromstring('<ask timeout="2"><option index="0" text="cup"/><option index="1" text="plant"/></ask>')
+        replies.append(await obj.call("dialog", "ask", req, timeout=5.0))
+
+    robot.sim.call_at(1.0, lambda: robot.sim.spawn(ask(), name="asker"))
+    robot.sim.run(until=5.0)
+    assert replies and replies[0].xml.get("none") == "true"
+    assert robot.dialog.manager.stack == []
+
+
+def test_same_seed_same_trace():
+    def run() -> list[str]:
+        r = Robot(seed=4)
+        try:
+            r.greet()
+            r.utter("uh this is my red no blue cup", 7.0, 9.0, confidence=0.4)
+            r.utter("yes", 11.0, 11.5)
+            r.sim.run(until=16.0)
+            return [f"{x['t']}|{x.get('channel')}|{x.get('xml')}" for x in r.trace.records() if x.get("kind") == "publish"]
+        finally:
+            r.sim.close()
+
+    a = run()
+    assert a == run()
+    assert any("Is this cup?" in line or "Is this" in line for line in a)
+
+
+def test_barge_in_cuts_the_robots_sentence_in_the_world():
+    sc = load_scenario(ROOM)
+    sim = Simulation(seed=3, scenario=sc.name)
+    st = Stage(sim, sc, actors=("robot.hardware.install",))
+    dialog = Dialog(sim)
+    try:
+        long_text = "I am BIRON and I can follow you, learn your objects and places and tell you where things are."
+        sim.call_at(0.5, lambda: dialog._enqueue(long_text, "test"))
+        sim.call_at(1.5, lambda: st.world.sound.say("ann", "stop talking please", 1.5))
+        st.run(6.0)
+        (robot_u,) = st.world.sound.by("robot")
+        assert robot_u.cut and robot_u.end < 2.0 and robot_u.text != long_text
+        assert dialog.summary()["barge_ins"] == 1
+        status = [m.xml.tag for m in st.messages if m.channel == "/robot/speaker/status"]
+        assert status == ["speaking", "interrupted"]
+    finally:
+        sim.close()

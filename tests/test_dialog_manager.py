@@ -1,0 +1,337 @@
+"""The dialog manager on its own: every sub-dialog's normal path, interruptions, rejections in words, repairs."""
+
+from __future__ import annotations
+
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from lxml import etree
+
+from robot.dialog.loader import load
+from robot.dialog.manager import GIVE_UP, DialogManager, Explain, Say, Send
+from robot.dialog.module import choose, question
+
+DOC = load()
+
+
+def frame(act: str, confidence: float = 0.9) -> etree._Element:
+    return etree.fromstring(f'<understood start="0" end="1" confidence="{confidence}"><SPEECH>{act}</SPEECH><words>w</words></understood>')
+
+
+def not_understood() -> etree._Element:
+    return etree.fromstring('<not_understood start="0" end="1" confidence="0.5" reason="no parse">mumble</not_understood>')
+
+
+def cond(name: str, *params: str) -> etree._Element:
+    return etree.fromstring(f'<condition name="{name}" target="dialog" event="e1" state="S">{"".join(params)}</condition>')
+
+
+def rejected(name: str, reason: str, state: str) -> etree._Element:
+    return etree.fromstring(f'<rejected event="dialog#1" name="{name}" reason="{reason}" state="{state}" detail="d"><event name="{name}"/></rejected>')
+
+
+def says(outs) -> list[str]:
+    return [o.text for o in outs if isinstance(o, Say)]
+
+
+def sends(outs) -> list[Send]:
+    return [o for o in outs if isinstance(o, Send)]
+
+
+@pytest.fixture
+def dm() -> DialogManager:
+    m = DialogManager(DOC)
+    m.es_state = "Interacting"
+    return m
+
+
+CUP = '<OBJECT type="cup"><GESTURE val="probably_pointing"/><TITLE name="cup"/><OWNER name="speaker"/></OBJECT>'
+
+
+def test_greeting_then_partner_found_is_answered(dm):
+    dm.es_state = "LookingAround"
+    out = dm.on_frame(frame('<GREETING name="biron"/>'))
+    (s,) = sends(out)
+    assert s.event == "greeting" and etree.tostring(s.children[0]) == b'<SPEECH><GREETING name="biron"/></SPEECH>'
+    assert says(out) == []  # nothing is said before the supervisor agrees
+    assert says(dm.on_condition(cond("partner_found"))) == ["Hello, I am BIRON. What can I do for you?"]
+    assert dm.summary()["dialogs"]["greeting"]["succeeded"] == 1 and dm.stack == []
+
+
+def test_greeting_without_a_partner_is_explained(dm):
+    dm.es_state = "LookingAround"
+    dm.on_frame(frame("<GREETING/>"))
+    assert says(dm.on_rejected(rejected("greeting", "expired", "LookingAround"))) == ["I can't see you. Please look at me."]
+    s = dm.summary()
+    assert s["rejections_explained"] == 1 and s["dialogs"]["greeting"]["failed"] == 1
+
+
+def test_follow_normal_path(dm):
+    (s,) = sends(dm.on_frame(frame("<FOLLOW/>")))
+    assert s.event == "follow"
+    assert says(dm.on_condition(cond("following"))) == ["OK, I am following you."]
+
+
+def test_follow_while_following(dm):
+    dm.on_frame(frame("<FOLLOW/>"))
+    assert says(dm.on_condition(cond("already_following"))) == ["I am already following you."]
+
+
+def test_stop_and_wait_are_never_confirmed(dm):
+    (s,) = sends(dm.on_frame(frame("<WAIT/>", confidence=0.2)))
+    assert s.event == "stop"
+    assert says(dm.on_condition(cond("stopped"))) == ["OK, I stopped."]
+    dm.on_frame(frame("<STOP/>"))
+    assert says(dm.on_condition(cond("not_moving"))) == ["I am not moving."]
+
+
+def test_object_teaching_normal_path(dm):
+    out = dm.on_frame(frame(CUP))
+    (s,) = sends(out)
+    assert s.event == "object_teaching" and etree.tostring(s.children[0]).decode() == f"<SPEECH>{CUP}</SPEECH>"
+    assert says(out) == ["Let me have a look."]
+    learned = cond("object_learned", '<param name="object"><OBJECT type="cup" name="cup"/></param>')
+    assert says(dm.on_condition(learned)) == ["OK, I have learned the cup."]
+    assert dm.summary()["dialogs"]["object_teaching"] == {"started": 1, "succeeded": 1, "failed": 0, "abandoned": 0}
+
+
+def test_object_teaching_asks_for_the_missing_object_and_merges_the_answer(dm):
+    out = dm.on_frame(frame('<OBJECT><GESTURE val="probably_pointing"/><OWNER name="speaker"/></OBJECT>'))
+    assert says(out) == ["What is it?"] and not sends(out)
+    out = dm.on_frame(frame('<OBJECT type="cup"><TITLE name="cup"/></OBJECT>'))
+    (s,) = sends(out)
+    assert etree.tostring(s.children[0]).decode() == f"<SPEECH>{CUP}</SPEECH>"
+
+
+def test_object_not_found_is_told(dm):
+    dm.on_frame(frame(CUP))
+    out = dm.on_condition(cond("object_not_found", '<param name="reason">nothing pointed at</param>'))
+    assert says(out) == ["Sorry, I could not find the cup. Please point at it again."]
+    assert dm.summary()["dialogs"]["object_teaching"]["failed"] == 1
+
+
+def test_place_teaching_sends_the_place_with_the_pose(dm):
+    (s,) = sends(dm.on_frame(frame('<PLACE><TITLE name="kitchen"/></PLACE>')))
+    assert s.event == "place_teaching" and s.pose
+    assert says(dm.on_condition(cond("place_learned"))) == ["OK, this is the kitchen. I will remember it."]
+
+
+def test_place_teaching_asks_which_room(dm):
+    assert says(dm.on_frame(frame("<PLACE/>"))) == ["Which room is this?"]
+    (s,) = sends(dm.on_frame(frame('<PLACE><TITLE name="hall"/></PLACE>')))
+    assert s.children[0].find("PLACE/TITLE").get("name") == "hall"
+
+
+def test_goto_normal_path_and_arrival(dm):
+    (s,) = sends(dm.on_frame(frame('<GOTO><PLACE><TITLE name="kitchen"/></PLACE></GOTO>')))
+    assert s.event == "goto" and etree.tostring(s.children[0]) == b'<SPEECH><PLACE><TITLE name="kitchen"/></PLACE></SPEECH>'
+    assert says(dm.on_condition(cond("navigating"))) == ["OK, I am going to the kitchen."]
+    arrived = cond("arrived", '<param name="goal"><PLACE><TITLE name="kitchen"/></PLACE></param>')
+    assert says(dm.on_condition(arrived)) == ["I have arrived at the kitchen."]
+
+
+def test_goto_without_a_goal_asks_where(dm):
+    assert says(dm.on_frame(frame("<GOTO><PLACE/></GOTO>"))) == ["Where shall I go?"]
+    (s,) = sends(dm.on_frame(frame('<PLACE><TITLE name="bedroom"/></PLACE>')))
+    assert s.event == "goto"
+
+
+def test_where_is_my_cup_normal_path(dm):
+    (s,) = sends(dm.on_frame(frame('<WHERE><OBJECT type="cup"><TITLE name="cup"/><OWNER name="speaker"/></OBJECT></WHERE>')))
+    assert s.event == "query_object" and s.children[0].find("OBJECT").get("type") == "cup"
+    found = cond("object_info", '<param name="result"><RESULT found="true"><OBJECT type="cup"/><PLACE name="kitchen"/></RESULT></param>')
+    assert says(dm.on_condition(found)) == ["The cup is in the kitchen."]
+
+
+def test_where_unknown_object(dm):
+    dm.on_frame(frame('<WHERE><OBJECT type="keys"><TITLE name="keys"/></OBJECT></WHERE>'))
+    out = dm.on_condition(cond("object_info", '<param name="result"><RESULT found="false"/></param>'))
+    assert says(out) == ["Sorry, I don't know where to find the keys."]
+
+
+def test_goodbye_normal_path(dm):
+    (s,) = sends(dm.on_frame(frame("<GOODBYE/>")))
+    assert s.event == "goodbye"
+    assert says(dm.on_condition(cond("interaction_ended"))) == ["Good-bye! It was nice talking to you."]
+
+
+def test_capabilities_asks_the_supervisor(dm):
+    out = dm.on_frame(frame("<CAPABILITIES/>"))
+    assert [type(o) for o in out] == [Explain]
+    text = dm.explanation("Following", ["follow", "stop", "partner_too_fast"])
+    assert text == "I am following you. Now you can ask me to follow you or tell me to stop."
+    assert "greet me" in dm.explanation("LookingAround", ["greeting", "potential_partner"])
+
+
+# ------------------------------------------------------------------ interruption and resumption
+def test_question_during_teaching_interrupts_and_the_teaching_resumes(dm):
+    assert says(dm.on_frame(frame("<OBJECT><GESTURE val=\"probably_pointing\"/></OBJECT>"))) == ["What is it?"]
+    out = dm.on_frame(frame("<CAPABILITIES/>"))
+    assert isinstance(out[0], Explain)
+    # the explanation ended the capabilities dialog; teaching resumes and asks again
+    assert says(out) == ["Now, back to your object.", "What is it?"]
+    (s,) = sends(dm.on_frame(frame('<OBJECT type="plant"><TITLE name="flower"/></OBJECT>')))
+    assert s.event == "object_teaching"
+    s = dm.summary()
+    assert s["interruptions"] == 1 and s["resumptions"] == 1
+
+
+def test_teaching_waiting_for_the_robot_survives_an_interruption(dm):
+    dm.on_frame(frame(CUP))
+    out = dm.on_frame(frame("<CAPABILITIES/>"))
+    assert says(out) == ["Now, back to your cup."]
+    assert says(dm.on_condition(cond("object_learned", '<param name="object"><OBJECT/></param>'))) == ["OK, I have learned the cup."]
+
+
+def test_stop_interrupts_a_pending_goto_question(dm):
+    dm.on_frame(frame("<GOTO><PLACE/></GOTO>"))
+    dm.on_frame(frame("<STOP/>"))
+    out = dm.on_condition(cond("not_moving"))
+    assert says(out) == ["I am not moving.", "Where shall I go?"]
+
+
+def test_condition_reaches_a_dialog_below_the_top(dm):
+    dm.on_frame(frame(CUP))  # waits for object_learned
+    dm.on_frame(frame("<GOTO><PLACE/></GOTO>"))  # on top, asking where
+    out = dm.on_condition(cond("object_learned", '<param name="object"><OBJECT/></param>'))
+    assert says(out) == ["OK, I have learned the cup."]
+    assert [i.d.id for i in dm.stack] == ["goto"]
+
+
+def test_interaction_ended_clears_the_stack(dm):
+    dm.on_frame(frame(CUP))
+    dm.on_frame(frame("<GOTO><PLACE/></GOTO>"))
+    out = dm.on_condition(cond("interaction_ended", '<param name="reason">partner left</param>'))
+    assert says(out) == ["You left, so I will look around."] and dm.stack == []
+    assert dm.summary()["dialogs"]["object_teaching"]["abandoned"] == 1
+
+
+def test_technical_failure_and_too_fast_are_said(dm):
+    out = dm.on_condition(cond("technical_failure", '<param name="module">laser</param>', '<param name="still_failed">1</param>'))
+    assert says(out) == ["I have a technical problem: my laser does not respond. Please call technical support."]
+    assert says(dm.on_condition(cond("warn_too_fast", '<param name="distance">3.1</param>'))) == [
+        "Please slow down, I can't keep up with you."]
+
+
+# ------------------------------------------------------------------ rejections in words
+@pytest.mark.parametrize("event,reason,state,sentence", [
+    ("greeting", "expired", "LookingAround", "I can't see you. Please look at me."),
+    ("greeting", "inapplicable", "Interacting", "We are already talking. What can I do for you?"),
+    ("object_teaching", "expired", "Following", "I am still following you; say stop first."),
+    ("goto", "expired", "Following", "I am still following you; say stop first."),
+    ("follow", "inapplicable", "Navigating", "I am driving to my goal; say stop first."),
+    ("place_teaching", "expired", "ObjectTeaching", "I am still looking at the object you showed me. Please wait a moment."),
+    ("follow", "inapplicable", "TechnicalFailure", "I have a technical problem. Please call technical support."),
+    ("follow", "inapplicable", "PotentialPartner", "Please say hello to me first."),
+    ("query_object", "inapplicable", "AskingForHelp", "Please say hello to me first."),
+    ("goodbye", "inapplicable", "LookingAround", "Please look at me and say hello first."),
+    ("follow", "expired", "Interacting", "Sorry, that took too long. Please say it again."),
+    ("follow", "inapplicable", "Dancing", "Sorry, I can't do that now."),
+])
+def test_every_rejection_becomes_a_sentence(dm, event, reason, state, sentence):
+    trigger = {"greeting": "<GREETING/>", "object_teaching": CUP, "goto": '<GOTO><PLACE><TITLE name="hall"/></PLACE></GOTO>',
+               "follow": "<FOLLOW/>", "place_teaching": '<PLACE><TITLE name="hall"/></PLACE>', "goodbye": "<GOODBYE/>",
+               "query_object": f"<WHERE>{CUP}</WHERE>"}[event]
+    assert [s.event for s in sends(dm.on_frame(frame(trigger)))] == [event]
+    assert says(dm.on_rejected(rejected(event, reason, state)))[-1] == sentence
+    assert dm.summary()["rejections_explained"] == 1
+
+
+def test_a_rejection_nobody_waits_for_is_still_explained(dm):
+    assert says(dm.on_rejected(rejected("follow", "expired", "Following"))) == ["I am still following you; say stop first."]
+
+
+# ------------------------------------------------------------------ repairs
+def test_not_understood_reasks_the_open_question_then_gives_up(dm):
+    dm.on_frame(frame("<GOTO><PLACE/></GOTO>"))
+    for _ in range(DOC.max_reasks):
+        assert says(dm.on_frame(not_understood())) == [DOC.not_understood, "Where shall I go?"]
+    assert says(dm.on_frame(not_understood())) == [GIVE_UP]
+    assert dm.stack == [] and dm.summary()["give_ups"] == 1
+
+
+def test_not_understood_without_a_question_asks_to_repeat_only_when_someone_is_there(dm):
+    assert says(dm.on_frame(not_understood())) == [DOC.not_understood]
+    dm.es_state = "LookingAround"
+    assert says(dm.on_frame(not_understood())) == []  # the radio mumbling: the robot stays quiet
+
+
+def test_low_confidence_is_confirmed_yes(dm):
+    out = dm.on_frame(frame('<GOTO><PLACE><TITLE name="kitchen"/></PLACE></GOTO>', confidence=0.3))
+    assert says(out) == ["Shall I go to the kitchen?"] and not sends(out)
+    (s,) = sends(dm.on_frame(frame("<YES/>")))
+    assert s.event == "goto"
+    assert dm.summary()["confirmations"] == 1
+
+
+def test_low_confidence_is_confirmed_no(dm):
+    dm.on_frame(frame(CUP, confidence=0.3))
+    out = dm.on_frame(frame("<NO/>"))
+    assert says(out) == ["Sorry.", "What is it?"] and not sends(out)
+    (s,) = sends(dm.on_frame(frame('<OBJECT type="glass"><TITLE name="glass"/></OBJECT>')))
+    assert s.children[0].find("OBJECT").get("type") == "glass"
+
+
+def test_frames_for_the_interaction_are_ignored_while_nobody_is_there(dm):
+    dm.es_state = "LookingAround"
+    assert dm.on_frame(frame("<FOLLOW/>")) == []
+    assert dm.summary()["ignored_frames"] == 1
+
+
+# ------------------------------------------------------------------ clarification
+def test_question_and_choice():
+    assert question(["red cup", "blue cup"]) == "Do you mean the red cup or the blue one?"
+    assert question(["cup", "plant", "book"]) == "Do you mean the cup, the plant or the book?"
+    opts = [(0, "red cup"), (1, "blue cup")]
+    assert choose(opts, etree.fromstring('<THAT_ONE><COLOUR name="blue"/></THAT_ONE>')) == 1
+    assert choose(opts, etree.fromstring('<THAT_ONE index="1"/>')) == 0
+    assert choose(opts, etree.fromstring('<OBJECT type="cup"><TITLE name="cup"/><COLOUR name="red"/></OBJECT>')) == 0
+    assert choose(opts, etree.fromstring("<THAT_ONE/>")) is None
+    assert choose(opts, etree.fromstring("<NO/>")) is None
+
+
+def test_clarify_dialog_asks_and_ends_with_the_choice(dm):
+    ended = []
+    inst, out = dm.start("clarify", {"question": "Do you mean the red cup or the blue one?"}, on_end=ended.append)
+    assert says(out) == ["Do you mean the red cup or the blue one?"]
+    out = dm.on_frame(frame('<THAT_ONE><COLOUR name="red"/></THAT_ONE>'))
+    assert says(out) == ["Thank you."] and ended == [inst] and inst.success
+
+
+# ------------------------------------------------------------------ invariants
+INPUTS = [
+    ("f", "<GREETING/>"), ("f", "<FOLLOW/>"), ("f", "<STOP/>"), ("f", CUP), ("f", "<OBJECT/>"), ("f", "<PLACE/>"),
+    ("f", '<PLACE><TITLE name="hall"/></PLACE>'), ("f", "<GOTO><PLACE/></GOTO>"), ("f", "<YES/>"), ("f", "<NO/>"),
+    ("f", "<CAPABILITIES/>"), ("f", "<GOODBYE/>"), ("f", f"<WHERE>{CUP}</WHERE>"), ("f", '<THAT_ONE index="2"/>'),
+    ("n", ""), ("c", "partner_found"), ("c", "following"), ("c", "stopped"), ("c", "object_learned"),
+    ("c", "object_not_found"), ("c", "place_learned"), ("c", "navigating"), ("c", "interaction_ended"),
+    ("c", "warn_too_fast"), ("c", "person_info"), ("c", "technical_failure"),
+    ("r", "greeting"), ("r", "follow"), ("r", "object_teaching"), ("r", "goto"),
+]
+
+
+@settings(max_examples=200, deadline=None)
+@given(st.lists(st.tuples(st.sampled_from(INPUTS), st.floats(0.0, 1.0), st.sampled_from(["Interacting", "LookingAround", "Following"])),
+                max_size=25))
+def test_any_input_sequence_keeps_the_stack_bounded_and_every_dialog_counted_once(seq):
+    dm = DialogManager(DOC)
+    for (kind, what), conf, state in seq:
+        dm.es_state = state
+        if kind == "f":
+            outs = dm.on_frame(frame(what, confidence=conf))
+        elif kind == "n":
+            outs = dm.on_frame(not_understood())
+        elif kind == "c":
+            outs = dm.on_condition(cond(what))
+        else:
+            outs = dm.on_rejected(rejected(what, "expired", state))
+        assert len(dm.stack) <= DOC.max_depth
+        assert all(o.text.strip() and "{" not in o.text for o in outs if isinstance(o, Say))
+    per = dm.summary()["dialogs"]
+    running: dict[str, int] = {}
+    for i in dm.stack:
+        running[i.d.id] = running.get(i.d.id, 0) + 1
+    for did, c in per.items():
+        assert c["started"] == c["succeeded"] + c["failed"] + c["abandoned"] + running.get(did, 0)
+    s = dm.summary()
+    assert s["rejections_explained"] == s["rejections"]

@@ -1,0 +1,160 @@
+"""Speech understanding: the home-tour grammar turns recognised words into the frames of DESIGN.md §2.4.
+
+The corpus (tests/data/utterances.tsv) holds every utterance with the frame a
+person expects, including fillers, repetitions, self-corrections, fragments and
+recogniser-style dropped and substituted words.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from lxml import etree
+
+from homesim.xmlio import load_schema, parse_bytes
+from robot.speech.grammar import Understander
+from robot.speech.lexicon import Lexicon, LexiconError
+from robot.speech.module import FRAMES_XSD, frame_message, shared_understander
+
+CORPUS = Path(__file__).with_name("data") / "utterances.tsv"
+SCHEMA = load_schema(FRAMES_XSD)
+
+
+def _corpus() -> list[tuple[str, str, str]]:
+    rows = []
+    for line in CORPUS.read_text(encoding="utf-8").splitlines():
+        if line.startswith("#") or not line.strip("\t"):
+            continue
+        words, frame, note = line.split("\t")
+        rows.append((words, frame, note))
+    return rows
+
+
+ROWS = _corpus()
+
+
+@pytest.fixture(scope="module")
+def u() -> Understander:
+    return shared_understander()
+
+
+def _text(el: etree._Element | None) -> str:
+    return "NOT_UNDERSTOOD" if el is None else etree.tostring(el, encoding="unicode")
+
+
+def test_corpus_is_large_and_covers_every_act():
+    assert len(ROWS) >= 200
+    acts = {parse_bytes(f)[0].tag for _, f, _ in ROWS if f != "NOT_UNDERSTOOD" and len(parse_bytes(f))}
+    assert acts >= {"GREETING", "GOODBYE", "CAPABILITIES", "FOLLOW", "STOP", "WAIT", "YES", "NO", "THAT_ONE",
+                    "GOTO", "WHERE", "OBJECT", "PLACE"}
+    notes = " ".join(n for _, _, n in ROWS)
+    for kind in ("self-correction", "repetition", "fragment", "dropped", "->", "unknown"):
+        assert kind in notes
+
+
+@pytest.mark.parametrize("words,expected,note", ROWS, ids=[f"{i}:{w[:30]}" for i, (w, _, _) in enumerate(ROWS)])
+def test_corpus_utterance_gives_its_expected_frame(u, words, expected, note):
+    assert _text(u.understand(words).frame) == expected, note
+
+
+def test_design_example_frame_exactly(u):
+    r = u.understand("This flower at the window")
+    assert _text(r.frame) == (
+        '<SPEECH><OBJECT type="plant"><GESTURE val="probably_pointing"/><TITLE name="flower"/>'
+        '<POSITION><RELATION name="at"/><TITLE name="window"/></POSITION></OBJECT></SPEECH>'
+    )
+    assert not r.partial and not r.unknown
+
+
+def test_unknown_words_are_skipped_and_reported(u):
+    r = u.understand("hello dear old biron xyzzy")
+    assert _text(r.frame) == '<SPEECH><GREETING name="biron"/></SPEECH>'
+    assert r.unknown == ["dear", "xyzzy"]
+    msg = frame_message(r, 1.0, 2.0, 0.9)
+    assert msg.get("unknown") == "dear xyzzy"
+    SCHEMA.check(msg)
+
+
+def test_self_correction_reports_what_it_took_out(u):
+    r = u.understand("the red, no, the blue cup")
+    assert r.corrected == ["the", "red", "no"]
+    assert r.frame.find("OBJECT/COLOUR").get("name") == "blue"
+
+
+def test_fragment_is_partial_and_lowers_confidence(u):
+    full = frame_message(u.understand("this is my cup"), 0, 1, 0.9)
+    part = u.understand("this is my favourite it")
+    msg = frame_message(part, 0, 1, 0.9)
+    assert msg.get("partial") == "true" and msg.find("SPEECH/OBJECT").get("type") is None
+    assert float(msg.get("confidence")) < float(full.get("confidence")) == 0.9
+    SCHEMA.check(msg)
+
+
+def test_not_understood_is_a_valid_message_with_the_words(u):
+    r = u.understand("blah blah")
+    msg = frame_message(r, 0.5, 1.5, 0.8)
+    assert msg.tag == "not_understood" and msg.text == "blah blah" and msg.get("reason") == "no known words"
+    SCHEMA.check(msg)
+
+
+def test_every_corpus_frame_is_schema_valid(u):
+    for words, _, _ in ROWS:
+        SCHEMA.check(frame_message(u.understand(words), 0.0, 1.0, 1.0), source=words or "<silence>")
+
+
+VOCAB = sorted({w for k in Lexicon.load().entries for w in k if w.isalpha()})
+JUNK = ["zorp", "the", "and", "uh", "blorb", "no", "sorry", "'s", ",", "anna's", "??", "1", "élan", "POSS", "-"]
+
+
+@settings(max_examples=300, deadline=None)
+@given(st.lists(st.sampled_from(VOCAB + JUNK), max_size=14))
+def test_random_word_strings_give_a_valid_frame_or_a_clear_not_understood(words):
+    u = shared_understander()
+    text = " ".join(words)
+    r = u.understand(text)
+    msg = frame_message(r, 0.0, 1.0, 0.7)
+    SCHEMA.check(msg, source=text)  # valid on the typed channel, whatever the words
+    if r.frame is None:
+        assert msg.tag == "not_understood" and r.reason
+    else:
+        assert len(r.frame) == 1  # exactly one act
+        assert 0.0 <= float(msg.get("confidence")) <= 0.7
+    assert set(r.unknown) <= set(Lexicon.words(text))
+
+
+@settings(max_examples=100, deadline=None)
+@given(st.text(max_size=60))
+def test_any_text_never_crashes(text):
+    r = shared_understander().understand(text)
+    SCHEMA.check(frame_message(r, 0.0, 1.0, 1.0))
+
+
+@settings(max_examples=100, deadline=None)
+@given(st.sampled_from([w for w, f, _ in ROWS if f != "NOT_UNDERSTOOD" and "correction" not in _]),
+       st.sampled_from(["uh", "um", "er", "hmm", "well"]), st.integers(0, 8))
+def test_hesitations_never_change_the_frame(words, filler, at):
+    u = shared_understander()
+    ws = words.split()
+    at = min(at, len(ws))
+    noisy = " ".join(ws[:at] + [filler] + ws[at:])
+    assert _text(u.understand(noisy).frame) == _text(u.understand(words).frame)
+
+
+def test_malformed_lexicon_names_file_and_line(tmp_path):
+    p = tmp_path / "lex.tsv"
+    p.write_text("# comment\ncup\tOBJ\tcup\nbroken line\n", encoding="utf-8")
+    with pytest.raises(LexiconError, match=r"lex.tsv:3"):
+        Lexicon.load(p)
+    p.write_text("cup\tOBJ\tcup\ncup\tOBJ\tmug\n", encoding="utf-8")
+    with pytest.raises(LexiconError, match=r"lex.tsv:2: phrase 'cup' is listed twice"):
+        Lexicon.load(p)
+
+
+def test_lexicon_terminal_missing_from_grammar_is_refused(tmp_path):
+    p = tmp_path / "lex.tsv"
+    p.write_text("cup\tOBJ\tcup\nzap\tZAP\tzap\n", encoding="utf-8")
+    with pytest.raises(ValueError, match="ZAP"):
+        Understander(Lexicon.load(p))
