@@ -267,3 +267,28 @@ def test_barge_in_cuts_the_robots_sentence_in_the_world():
         assert status == ["speaking", "interrupted"]
     finally:
         sim.close()
+
+
+def test_introspection_lists_what_the_current_state_accepts(robot):
+    robot.sim.run(until=0.5)
+    st = robot.es.status_xml()
+    accepts = {e.get("name"): e.get("status") for e in st.iterfind("accepts/event")}
+    assert accepts["potential_partner"] == "applies" and accepts["greeting"] == "waits"
+    assert "follow" not in accepts
+    assert robot.es.status_xml(history=0).find("accepts") is None  # the status channel stays small
+
+
+def test_an_empty_say_silences_the_speaker_without_a_new_utterance():
+    sc = load_scenario(ROOM)
+    sim = Simulation(seed=3, scenario=sc.name)
+    st = Stage(sim, sc, actors=("robot.hardware.install",))
+    p = sim.bus.participant("dialog")
+    try:
+        sim.call_at(0.5, lambda: p.publish("/robot/speaker/say", etree.Element("say", text="one two three four five six")))
+        sim.call_at(1.0, lambda: p.publish("/robot/speaker/say", etree.Element("say")))
+        st.run(4.0)
+        (u,) = st.world.sound.by("robot")
+        assert u.cut and u.end == pytest.approx(1.0, abs=0.11) and u.text == "one"
+        assert st.world.sound.cut("robot", 3.0) is None  # nothing left to cut
+    finally:
+        sim.close()
