@@ -255,6 +255,8 @@ def test_barge_in_cuts_the_robots_sentence_in_the_world():
     sim = Simulation(seed=3, scenario=sc.name)
     st = Stage(sim, sc, actors=("robot.hardware.install",))
     dialog = Dialog(sim)
+    status: list[str] = []
+    sim.bus.participant("probe").subscribe("/robot/speaker/status", lambda m: status.append(m.xml.tag))
     try:
         long_text = "I am BIRON and I can follow you, learn your objects and places and tell you where things are."
         sim.call_at(0.5, lambda: dialog._enqueue(long_text, "test"))
@@ -263,7 +265,6 @@ def test_barge_in_cuts_the_robots_sentence_in_the_world():
         (robot_u,) = st.world.sound.by("robot")
         assert robot_u.cut and robot_u.end < 2.0 and robot_u.text != long_text
         assert dialog.summary()["barge_ins"] == 1
-        status = [m.xml.tag for m in st.messages if m.channel == "/robot/speaker/status"]
         assert status == ["speaking", "interrupted"]
     finally:
         sim.close()

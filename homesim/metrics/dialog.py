@@ -4,7 +4,9 @@ Counts people's utterances (ground truth: the world's sound field, by
 source), recognised utterances (``/robot/audio/speech``), frames understood
 and not understood (``/robot/speech/frames``), what the robot said
 (``/robot/speaker/say``), and the supervisor's rejections returned to the
-dialog by reason (``/robot/es/rejected/dialog``).
+dialog by reason (``/robot/es/rejected/dialog``); ``subdialogs`` is the dialog
+module's own ``summary()`` (turns, repairs, rejections explained, task success
+per sub-dialog).
 """
 
 from __future__ import annotations
@@ -53,7 +55,15 @@ class Dialog(Observer):
             "understood_share": round(self.understood / heard, 4) if heard else None,
             "robot_said": self.robot_said,
             "rejected_returned": dict(sorted(self.rejected.items())),
+            # The dialog module's own record (turns, repairs, rejections explained, task success
+            # per sub-dialog), when the run has one that offers summary().
+            "subdialogs": self._module_summary(),
         }
+
+    def _module_summary(self) -> dict[str, Any] | None:
+        module = (getattr(self.run, "modules", None) or {}).get("dialog")
+        summary = getattr(module, "summary", None)
+        return summary() if callable(summary) else None
 
 
 OBSERVERS = {"dialog": Dialog}

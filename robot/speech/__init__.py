@@ -10,7 +10,13 @@ from .module import SpeechUnderstanding
 
 
 def install(run: Any) -> dict[str, Module]:
-    """The ``understanding`` module on ``run.sim``; options from ``run.config["understanding"]``."""
-    config = getattr(run, "config", None) or {}
-    options = dict(config.get("understanding", {})) if isinstance(config, dict) else {}
-    return {"understanding": SpeechUnderstanding(run.sim, **options)}
+    """The ``understanding`` module on ``run.sim``; numeric options ``understanding.<name>`` from the robot options."""
+    return {"understanding": SpeechUnderstanding(run.sim, **options_for(run, "understanding"))}
+
+
+def options_for(run: Any, module: str) -> dict[str, float]:
+    """Numeric options ``<module>.<name>`` from the scenario's robot options (``run.config.options``)."""
+    config = getattr(run, "config", None)
+    raw = getattr(config, "options", None) or (config if isinstance(config, dict) else {})
+    prefix = module + "."
+    return {k[len(prefix):]: float(v) for k, v in raw.items() if isinstance(k, str) and k.startswith(prefix)}
