@@ -70,6 +70,10 @@ class Lexicon:
         for k in entries:
             lengths.setdefault(k[0], set()).add(len(k))
         self.lengths = {w: sorted(ls, reverse=True) for w, ls in lengths.items()}
+        # Fillers that may fall inside a phrase ("the living, uh, room"): single dropped words
+        # that are part of no multi-word phrase go before the phrases are matched.
+        in_phrases = {w for k in entries if len(k) > 1 for w in k}
+        self.hesitations = frozenset(k[0] for k, (t, _) in entries.items() if len(k) == 1 and t == DROP and k[0] not in in_phrases)
         self.terminals = frozenset(t for t, _ in entries.values())
 
     @classmethod
@@ -108,6 +112,8 @@ class Lexicon:
     def tokens(self, text: str) -> Tokens:
         """The grammar tokens of ``text`` after fillers, unknown words, corrections and repetitions."""
         words = self.words(text)
+        hes = self.hesitations
+        words = [w for w in words if w not in hes]
         toks: list[Tok] = []
         unknown: list[str] = []
         i, n = 0, len(words)
@@ -128,7 +134,7 @@ class Lexicon:
             else:
                 unknown.append(words[i])
                 i += 1
-        out = Tokens(toks, unknown, words=len(words))
+        out = Tokens(toks, unknown, words=n)
         out.tokens = _repairs(out.tokens, out.corrected)
         out.tokens = _repetitions(out.tokens, out.repeated)
         return out
