@@ -167,27 +167,71 @@ def _profile_problems(root: etree._Element, source: str) -> list[AFSMError]:
                     f"SCXML attribute {attr!r} of <{local}> is not supported by the ES engine",
                     source=source, line=el.sourceline, element=local,
                 ))
+        why = _refused_form(el, local)
+        if why is not None:
+            out.append(AFSMError(why, source=source, line=el.sourceline, element=local))
     return out
 
 
-def _without_unsupported(root: etree._Element) -> etree._Element:
+def _refused_form(el: etree._Element, local: str) -> str | None:
+    """Standard SCXML forms of supported elements that the ES does not implement, named (or None).
+
+    Eventless transitions (the ES only ever reacts to an event), event lists
+    (``event="a b"``) and an ``initial`` naming several states (parallel
+    entry). Left to the XSD they would read as a missing attribute or a
+    regular-expression facet error.
+    """
+    if local == "transition":
+        event = el.get("event")
+        if event is None:
+            return ("eventless transitions are not supported by the ES engine (it only reacts to events): "
+                    "give the transition an event=\"...\"")
+        names = event.split()
+        if len(names) > 1:
+            return (f"event lists are not supported by the ES engine (event={event!r}): one event name per "
+                    f"transition; write one <transition> for each of {', '.join(repr(n) for n in names)}")
+    elif local in ("scxml", "state"):
+        initial = el.get("initial")
+        if initial is not None and len(initial.split()) > 1:
+            return (f"an initial naming several states is not supported by the ES engine (initial={initial!r}: "
+                    "parallel regions are not implemented); name one state")
+    return None
+
+
+def _without_unsupported(root: etree._Element) -> tuple[etree._Element, set[str], set[str]]:
     """A copy without the SCXML features the profile check already named.
 
     libxml2 stops checking a parent's later children after one unexpected
-    element, so leaving them in would hide the problems that follow.
+    element, so leaving them in would hide the problems that follow. Also
+    returns the ids the removed elements declared (``<final id="pass">``:
+    a target or initial naming them would only repeat the refusal) and the
+    states a refused transition or initial named (they may look unreachable
+    only because of it).
     """
     copy = deepcopy(root)
-    doomed = [el for el in copy.iter(etree.Element)
-              if isinstance(el.tag, str) and el.tag.startswith(_S) and el.tag[len(_S):] in UNSUPPORTED_ELEMENTS]
+    withdrawn: set[str] = set()
+    named: set[str] = set()
+    doomed = []
+    for el in copy.iter(etree.Element):
+        if not isinstance(el.tag, str) or not el.tag.startswith(_S):
+            continue
+        local = el.tag[len(_S):]
+        if local in UNSUPPORTED_ELEMENTS or (local == "transition" and _refused_form(el, local)):
+            doomed.append(el)
+            named.update((el.get("target") or "").split())
     for el in doomed:
         parent = el.getparent()
         if parent is not None:
+            withdrawn.update(d.get("id") for d in el.iter(etree.Element) if d.get("id"))
             parent.remove(el)
     for el in copy.iter(etree.Element):
         if isinstance(el.tag, str) and el.tag.startswith(_S):
-            for attr in UNSUPPORTED_ATTRIBUTES.get(el.tag[len(_S):], ()):
+            local = el.tag[len(_S):]
+            for attr in UNSUPPORTED_ATTRIBUTES.get(local, ()):
                 el.attrib.pop(attr, None)
-    return copy
+            if local in ("scxml", "state") and _refused_form(el, local):
+                named.update(el.attrib.pop("initial").split())
+    return copy, withdrawn - {None}, named  # type: ignore[operator]
 
 
 #: Attributes the profile requires: an element whose required attribute is
@@ -230,7 +274,7 @@ def _resolve_path(root: etree._Element, path: str | None) -> etree._Element | No
     return cur
 
 
-def _schema_pass(root: etree._Element, source: str) -> tuple[etree._Element, list[AFSMError], set[str]]:
+def _schema_pass(root: etree._Element, source: str) -> tuple[etree._Element, list[AFSMError], set[str], set[str]]:
     """Every schema problem, and a stripped copy of ``root`` that satisfies the schema.
 
     libxml2 stops checking a parent's later children after one unexpected
@@ -240,14 +284,14 @@ def _schema_pass(root: etree._Element, source: str) -> tuple[etree._Element, lis
     required attribute is missing or bad) and validates again, until no new
     problem appears. The copy keeps every line number, so the model built
     from it and its semantic problems name the right lines. Returns the copy,
-    the problems and the names (state ids, module names) of elements taken
-    out, so that problems that only follow from them are not repeated.
+    the problems, the names (state ids, module names) of elements taken
+    out, and the states named by refused transitions and initials, so that
+    problems that only follow from them are not repeated.
     """
-    copy = _without_unsupported(root)
+    copy, withdrawn, named = _without_unsupported(root)
     xsd = profile_schema()._xsd
     seen: set[tuple[int, str]] = set()
     problems: list[AFSMError] = []
-    withdrawn: set[str] = set()
     for _round in range(len(copy.xpath("//*")) + 2):  # each round removes something, or stops
         if xsd.validate(copy):
             break
@@ -289,12 +333,28 @@ def _schema_pass(root: etree._Element, source: str) -> tuple[etree._Element, lis
                 parent.remove(node)
             else:
                 node.attrib.pop(attr, None)  # type: ignore[arg-type]
-    return copy, problems, withdrawn
+    return copy, problems, withdrawn, _states_within(copy, named)
 
 
-def _follows_from_withdrawn(problem: AFSMError, withdrawn: set[str]) -> bool:
-    """A semantic problem that only repeats a schema problem (a target or module taken out)."""
+def _states_within(root: etree._Element, ids: set[str]) -> set[str]:
+    """``ids`` and the ids of every state inside the states they name."""
+    out = set(ids)
+    for el in root.iter(_S + "state"):
+        if el.get("id") in ids:
+            out.update(d.get("id") for d in el.iter(_S + "state") if d.get("id"))
+    return out
+
+
+def _follows_from_withdrawn(problem: AFSMError, withdrawn: set[str], named: set[str] = frozenset()) -> bool:  # type: ignore[assignment]
+    """A semantic problem that only repeats an earlier refusal.
+
+    A target, initial or module naming an element taken out ("does not
+    exist", "unknown module"), or a state that is unreachable only because
+    the refused transition or initial that named it was taken out.
+    """
     msg = problem.message
+    if "is unreachable" in msg:
+        return any(f"state {name!r} is unreachable" in msg for name in named)
     if "does not exist" not in msg and "unknown module" not in msg:
         return False
     return any(f"{name!r}" in msg for name in withdrawn)
@@ -388,7 +448,7 @@ def check_root(root: etree._Element, *, source: str, fragment: bool = False) -> 
     problems = _profile_problems(root, source)
     if problems and root.tag != _S + "scxml":
         return None, problems
-    stripped, schema_problems, withdrawn = _schema_pass(root, source)
+    stripped, schema_problems, withdrawn, named = _schema_pass(root, source)
     problems += schema_problems
     try:
         machine, dup = _build(stripped, source)
@@ -396,7 +456,7 @@ def check_root(root: etree._Element, *, source: str, fragment: bool = False) -> 
         return None, sorted(problems + [AFSMError(f"cannot read the document: {exc}", source=source)],
                             key=lambda p: p.line or 0)
     semantic = dup + ([] if fragment else validate(machine))
-    problems += [p for p in semantic if not _follows_from_withdrawn(p, withdrawn)]
+    problems += [p for p in semantic if not _follows_from_withdrawn(p, withdrawn, named)]
     problems.sort(key=lambda p: p.line or 0)
     return (None if problems else machine), problems
 

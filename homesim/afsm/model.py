@@ -225,6 +225,31 @@ def _err(m: Machine, msg: str, where: Any, element: str | None) -> AFSMError:
     return AFSMError(msg, source=getattr(where, "file", None) or m.source, line=where.line, element=element)
 
 
+_BOOLEAN_WORD = re.compile(r"\s*(true|false)\s*", re.I)
+_SCXML_EVENT_VAR = re.compile(r"(?<![\w.\-:])\$?_event(?![\w\-])")
+
+
+def _guard_problem(cond: str) -> str | None:
+    """A guard written as SCXML users write them, that as XPath never means what it says (or None).
+
+    The ES refuses these rather than guess: ``cond="true"`` is a path to a
+    child element named ``true`` of the event (it holds only if the event
+    happens to have one), and SCXML's ``_event`` is not defined here (the
+    guard's context node is the event element itself).
+    """
+    m = _BOOLEAN_WORD.fullmatch(cond)
+    if m:
+        word = m.group(1)
+        return (f"{cond!r} is not a boolean: as XPath it selects a child element <{word}> of the event "
+                f"and holds only if the event has one; write {word.lower()}() for the constant"
+                + (" (or leave cond out)" if word.lower() == "true" else "")
+                + ", or test the event, e.g. @confidence > 0.5 or SPEECH/GREETING")
+    if _SCXML_EVENT_VAR.search(cond):
+        return (f"{cond!r} uses SCXML's _event, which the ES does not define: the guard is an XPath "
+                "evaluated on the <event> element itself; write @attr or CHILD/... (e.g. SPEECH/GREETING)")
+    return None
+
+
 def _xpath_problem(expr: str) -> str | None:
     """None when ``expr`` compiles and evaluates on an empty event, else the reason."""
     try:
@@ -335,7 +360,7 @@ def _check_transition(m: Machine, st: State, t: Transition, add: Any) -> None:
     if t.target is not None and t.target not in m.states:
         add(_err(m, f"transition in {st.id!r} on {t.event!r}: target {t.target!r} does not exist (rule: targets name a state)", t, "transition"))
     if t.cond is not None:
-        why = _xpath_problem(t.cond)
+        why = _guard_problem(t.cond) or _xpath_problem(t.cond)
         if why:
             add(_err(m, f"transition in {st.id!r} on {t.event!r}: guard {why}", t, "transition"))
     for s in t.sends:
