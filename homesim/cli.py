@@ -19,6 +19,7 @@ SUBCOMMAND_MODULES: list[str] = [
     "homesim.demo",
     "homesim.run_cli",
     "homesim.afsm.cli",
+    "homesim.check",
     "homesim.memory.cli",
 ]
 

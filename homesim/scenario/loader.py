@@ -81,15 +81,91 @@ def load_scenario_text(text: str | bytes, *, source: str = "<scenario>") -> Scen
 
 
 def _from_root(root: etree._Element, source: str) -> Scenario:
-    schema = scenario_schema()
-    problems = schema.errors(root)
+    problems = schema_problems(root, source)
     if problems:
-        line, message = problems[0]
+        first = problems[0]
         more = f" (and {len(problems) - 1} more problem(s))" if len(problems) > 1 else ""
-        raise ScenarioError(f"does not satisfy scenario.xsd: {message}{more}", source=source, line=line or None)
+        raise ScenarioError(first.message + more, source=source, line=first.line)
     scenario = _Builder(source).scenario(root)
     checks.check(scenario)
     return scenario
+
+
+def schema_problems(root: etree._Element, source: str) -> list[ScenarioError]:
+    """Every scenario.xsd problem of ``root``, in words a scenario author can act on."""
+    return [ScenarioError(f"does not satisfy scenario.xsd: {readable(message)}", source=source, line=line or None)
+            for line, message in scenario_schema().errors(root)]
+
+
+def check_scenario_file(path: str | os.PathLike[str]) -> list[InputError]:
+    """Every problem of a scenario file ([] when it loads): all schema problems, else the first semantic one.
+
+    The builder and the checks stop at the first problem (later ones may only
+    follow from it); the schema stage reports them all.
+    """
+    source = str(path)
+    try:
+        root = parse_file(path)
+    except InputError as exc:
+        return [ScenarioError(exc.message, source=source, line=exc.line, element=exc.element)]
+    problems: list[InputError] = list(schema_problems(root, source))
+    if problems:
+        return problems
+    try:
+        checks.check(_Builder(source).scenario(root))
+    except InputError as exc:
+        return [exc]
+    return []
+
+
+#: What each pattern-restricted value of scenario.xsd must look like (by simple type or attribute name).
+FORMS = {
+    "name": "a name: a letter, then at most 63 letters, digits, '_', '-' or spaces",
+    "polygon": "'x,y x,y ...' with at least 3 points (at most 65), numbers such as 1.5 or -2e3",
+    "point": "'x y': two numbers separated by a space",
+    "colour": "a colour name in lower case (e.g. red) or '#rrggbb'",
+    "window": "'t0 t1': two times in seconds (not negative), separated by a space",
+    "metric": "a dotted name of a summary value, e.g. following.mean_distance_m",
+}
+
+_FACET = re.compile(r"^Element '([^']*)'(?:, attribute '([^']*)')?: \[facet 'pattern'\] "
+                    r"The value '(.*)' is not accepted by the pattern '(.*)'\.?$", re.S)
+
+
+def _pattern_forms() -> dict[str, str]:
+    """Pattern text -> the words for it, read from scenario.xsd (the simple type or attribute it restricts)."""
+    global _FORMS_BY_PATTERN
+    if _FORMS_BY_PATTERN is None:
+        xs = "{http://www.w3.org/2001/XMLSchema}"
+        out: dict[str, str] = {}
+        for pat in parse_file(SCHEMA_PATH).iter(xs + "pattern"):
+            owner = pat.getparent()
+            while owner is not None and owner.get("name") is None:
+                owner = owner.getparent()
+            name = "" if owner is None else owner.get("name", "")
+            if owner is not None and owner.tag == xs + "attribute":  # an anonymous type: say whose attribute
+                host = owner.getparent()
+                while host is not None and host.get("name") is None:
+                    host = host.getparent()
+                if host is not None and host.get("name") in FORMS:
+                    name = host.get("name", "")
+            out[pat.get("value", "")] = FORMS.get(name, f"the form of {name!r} in scenario.xsd")
+        _FORMS_BY_PATTERN = out
+    return _FORMS_BY_PATTERN
+
+
+_FORMS_BY_PATTERN: dict[str, str] | None = None
+
+
+def readable(message: str) -> str:
+    """A libxml2 pattern-facet message (value + a long regular expression) as what is expected instead."""
+    m = _FACET.match(message)
+    if m is None:
+        return message
+    element, attribute, value, pattern = m.groups()
+    form = _pattern_forms().get(pattern, "the form scenario.xsd requires")
+    what = f"<{element}> {attribute}={value!r}" if attribute else f"<{element}> text {value!r}"
+    return f"{what} is not valid; expected {attribute or 'text'}: {form}"
 
 
 class _Builder:

@@ -1,0 +1,136 @@
+"""``homesim check FILE...``: validate any of the project's documents, chosen by its root element.
+
+Each kind of document (scenario, AFSM, and those other packages add, such as
+the dialog's) registers a :class:`DocumentType`: the root element's QName in
+Clark notation (``scenario``, ``{http://www.w3.org/2005/07/scxml}scxml``), a
+short name for messages and a function ``check(path) -> [InputError]`` that
+returns every problem it finds (empty when the document loads). A package
+outside the kernel registers its type without the kernel importing it, by an
+entry point in ``pyproject.toml``::
+
+    [project.entry-points."homesim.documents"]
+    dialog = "robot.dialog.document:DOCUMENT_TYPE"
+
+(the kernel never imports ``robot``), or at run time with :func:`register_document`.
+
+``homesim check`` prints every problem as ``file:line: <element>: message``,
+one ``file: ok (kind)`` line per good file, and exits 1 when any file has a
+problem (2 for a bad command line), 0 otherwise.
+
+How it fails: a file that does not parse is reported like any other problem
+(the hardened parser's message with its line); a root element nobody
+registered is a problem naming the kinds that are known.
+"""
+
+from __future__ import annotations
+
+import sys
+from collections.abc import Callable, Iterable
+from dataclasses import dataclass
+from importlib.metadata import entry_points
+from typing import Any
+
+from lxml import etree
+
+from .errors import InputError
+from .xmlio import parse_file
+
+ENTRY_POINT_GROUP = "homesim.documents"
+
+
+@dataclass(frozen=True)
+class DocumentType:
+    """One kind of document: its root element (Clark QName), a name, and its checker."""
+
+    root: str
+    kind: str
+    check: Callable[[str], list[InputError]]
+
+
+def _afsm(path: str) -> list[InputError]:
+    from .afsm.loader import check_file
+
+    return list(check_file(path))
+
+
+def _scenario(path: str) -> list[InputError]:
+    from .scenario.loader import check_scenario_file
+
+    return check_scenario_file(path)
+
+
+#: The kernel's own document types (others come from entry points or :func:`register_document`).
+BUILTIN: tuple[DocumentType, ...] = (
+    DocumentType("scenario", "scenario", _scenario),
+    DocumentType("{http://www.w3.org/2005/07/scxml}scxml", "AFSM", _afsm),
+)
+
+_registered: dict[str, DocumentType] = {}
+
+
+def register_document(doc_type: DocumentType) -> None:
+    """Add (or replace) the checker for ``doc_type.root``."""
+    _registered[doc_type.root] = doc_type
+
+
+def document_types() -> dict[str, DocumentType]:
+    """Root QName -> document type: built-in, then entry points, then :func:`register_document`'s."""
+    out = {d.root: d for d in BUILTIN}
+    for ep in sorted(entry_points(group=ENTRY_POINT_GROUP), key=lambda e: e.name):
+        d = ep.load()
+        if not isinstance(d, DocumentType):
+            raise TypeError(f"entry point {ep.name} = {ep.value} in {ENTRY_POINT_GROUP} is not a DocumentType")
+        out[d.root] = d
+    out.update(_registered)
+    return out
+
+
+def _label(qname: str) -> str:
+    q = etree.QName(qname)
+    return f"<{q.localname}>" if q.namespace is None else f"<{q.localname} xmlns=\"{q.namespace}\">"
+
+
+def check_path(path: str, types: dict[str, DocumentType] | None = None) -> tuple[str | None, list[InputError]]:
+    """The kind of the document at ``path`` (None if unknown or unreadable) and every problem found."""
+    types = document_types() if types is None else types
+    try:
+        root = parse_file(path)
+    except InputError as exc:  # malformed, unreadable, not a regular file ...: a problem like any other
+        return None, [exc]
+    doc_type = types.get(root.tag) if isinstance(root.tag, str) else None
+    if doc_type is None:
+        known = ", ".join(f"{_label(r)} ({d.kind})" for r, d in types.items())
+        return None, [InputError(f"root element {_label(str(root.tag))} is not a document homesim knows; known: {known}",
+                                 source=path, line=root.sourceline)]
+    return doc_type.kind, doc_type.check(path)
+
+
+def check_paths(paths: Iterable[str], out: Any = None, err: Any = None) -> int:
+    """Check every file; print problems and ok lines; 1 if any file has a problem, else 0."""
+    out = sys.stdout if out is None else out
+    err = sys.stderr if err is None else err
+    types = document_types()
+    bad = 0
+    total = 0
+    for path in paths:
+        kind, problems = check_path(path, types)
+        for p in problems:
+            print(p, file=out)
+        if problems:
+            bad += 1
+            total += len(problems)
+        else:
+            print(f"{path}: ok ({kind})", file=out)
+    if bad:
+        print(f"homesim check: {total} problem{'s' if total != 1 else ''} in {bad} file{'s' if bad != 1 else ''}",
+              file=err)
+        return 1
+    return 0
+
+
+def register(sub: Any) -> None:
+    """Add ``homesim check FILE...``."""
+    p = sub.add_parser("check", help="validate scenario, AFSM (and other registered) documents: every problem, file:line")
+    p.add_argument("files", nargs="+", metavar="FILE", help="documents to check (the kind is read from the root element)")
+    p.set_defaults(func=lambda a: check_paths(a.files))
+
