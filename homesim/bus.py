@@ -440,6 +440,7 @@ class Bus:
         self.sent = 0
         self.delivered = 0
         self.dropped = 0
+        self.unheard = 0  # published on a channel nobody subscribes to (sent, never delivered, not a drop)
 
     # -------------------------------------------------------- registration
     def participant(self, name: str, *, host: str = "robot") -> Participant:
@@ -568,6 +569,8 @@ class Bus:
         sender.published.add(msg.channel)
         routes = self._routes(msg.channel)
         self.sent += 1
+        if not routes:
+            self.unheard += 1
         if self._interceptors:
             receivers = tuple(sorted({s.participant.name for s in routes}))
             self._observe(Observation(msg.sent_ns, SEND, msg, receivers))

@@ -93,7 +93,9 @@ def run_demo(*, seed: int, duration: float, trace: Path | None, realtime: float 
         handles = build(sim, duration=duration)
         sim.run(until=duration)
         print(f"kernel demo: seed {seed}, {duration:g} s of virtual time")
-        print(f"  bus: {sim.bus.sent} sent, {sim.bus.delivered} delivered, {sim.bus.dropped} dropped")
+        bus = sim.bus
+        print(f"  bus: {bus.sent} messages sent, {bus.delivered} delivered, {bus.unheard} had no subscriber "
+              f"(nobody listening, e.g. ticks to the crashed peer: not lost), {bus.dropped} dropped")
         for msg in handles["health"]:
             print(f"  t={msg.sent:.3f} s  {msg.xml.tag}: {msg.xml.get('module')} (last beat {msg.xml.get('last_beat')} s)")
         failed = sorted(handles["monitor"].failed)
@@ -106,8 +108,9 @@ def run_demo(*, seed: int, duration: float, trace: Path | None, realtime: float 
 
 def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("demo", help="kernel demo: typed messages over WLAN, heartbeats, a crash")
-    p.add_argument("--seed", type=int, default=1)
+    p.add_argument("--seed", type=int, default=1, help="seed of every random stream (link delays); same seed, same trace")
     p.add_argument("--duration", type=float, default=6.0, help="virtual seconds")
-    p.add_argument("--trace", type=Path, default=Path("out/demo-trace.jsonl"))
+    p.add_argument("--trace", type=Path, default=Path("out/demo-trace.jsonl"),
+                   help="write the bus trace here (JSON Lines; default %(default)s)")
     p.add_argument("--realtime", type=float, default=None, metavar="SCALE", help="pace against the wall clock")
     p.set_defaults(func=lambda a: run_demo(seed=a.seed, duration=a.duration, trace=a.trace, realtime=a.realtime))
