@@ -119,3 +119,10 @@ def test_a_malformed_number_list_says_what_is_expected_not_the_regex(swap, words
         return
     assert words in msg and msg.startswith("s.xml:15: ")
     assert "[0-9]" not in msg and "facet" not in msg and len(msg) < 250
+
+
+def test_every_document_shipped_in_the_repository_checks_ok(capsys):
+    files = sorted(str(p) for p in [*(ROOT / "scenarios").glob("*.xml"), *(ROOT / "robot").rglob("*.scxml")])
+    assert len(files) >= 2
+    assert main(["check", *files]) == 0, capsys.readouterr().out
+    assert capsys.readouterr().out.count(": ok (") == len(files)
