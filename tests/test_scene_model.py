@@ -72,7 +72,8 @@ class Tour:
         self.sim.close()
 
 
-CUP = '<OBJECT type="cup" name="cup" owner="speaker" colour="red" x="3.5" y="1.8" size="0.1" frame="map"/>'
+# as the object attention sends it: owner="partner" for "my", z instead of size, the frame's ATTRIBUTE copied
+CUP = '<OBJECT type="cup" name="cup" owner="partner" colour="red" x="3.5" y="1.8" z="0.8" frame="map"><ATTRIBUTE name="favourite"/></OBJECT>'
 
 
 @pytest.fixture
@@ -92,7 +93,8 @@ def test_where_is_my_cup_from_taught_places_and_object(tour):
     assert result.get("found") == "true"
     assert result.get("phrase") == "on the table in the living room"
     obj = result.find("OBJECT")
-    assert (obj.get("type"), obj.get("owner"), obj.get("colour")) == ("cup", "speaker", "red")
+    assert (obj.get("type"), obj.get("owner"), obj.get("colour")) == ("cup", "partner", "red")  # "my" = the partner
+    assert obj.find("ATTRIBUTE").get("name") == "favourite"
     assert float(obj.get("x")) == pytest.approx(3.5)
     assert result.find("PLACE").get("name") == "living room"
     assert len(tour.scene.places.memory) == 3 and len(tour.scene.objects.memory) == 1
@@ -108,7 +110,7 @@ def test_unknown_object_is_answered_not_found(tour):
 
 def test_someone_elses_cup_is_not_mine(tour):
     tour.engage()
-    tour.teach_object(el(CUP.replace('owner="speaker"', 'owner="tom"')))
+    tour.teach_object(el(CUP.replace('owner="partner"', 'owner="tom"')))
     assert tour.ask('<OBJECT type="cup"><OWNER name="speaker"/></OBJECT>').get("found") == "false"
     assert tour.ask('<OBJECT type="cup"><OWNER name="tom"/></OBJECT>').get("found") == "true"
 

@@ -5,7 +5,8 @@ them. Each base turns what the modules send (speech frames, object
 attention's ``OBJECT``, the ES's ``POSE``) into one canonical document,
 checked against ``robot/schemas/knowledge.xsd`` before it is stored:
 
-``<OBJECT type name owner use colour x y size frame="map" taught><POSITION relation landmark/>?</OBJECT>``
+``<OBJECT type name owner use colour x y z size frame="map" taught><ATTRIBUTE name/>*<POSITION relation landmark/>?</OBJECT>``
+(``owner="partner"``: the person who was talking to the robot, whatever word the frame used)
 (visual features, e.g. a colour histogram, are binary attachments of the
 document, never inline XML), and ``<PLACE name x y theta frame="map" taught/>``.
 
@@ -66,12 +67,23 @@ def _fmt(v: float) -> str:
     return f"{v:.4f}"
 
 
+#: Words for "the person talking to the robot": the speech frame says "speaker" for "my", the
+#: object attention "partner"; both are stored and matched as "partner".
+PARTNER_WORDS = frozenset({"partner", "speaker", "my", "me", "mine", "i"})
+
+
+def owner_of(el: etree._Element) -> str:
+    """The owner as stored: lower case, any word for the partner as "partner"."""
+    owner = _clean(el.get("owner")) or _child_name(el, "OWNER")
+    return "partner" if owner in PARTNER_WORDS else owner
+
+
 def describe(el: etree._Element) -> dict[str, str]:
     """type, name, owner, colour, use of an OBJECT given as attributes or speech-frame children."""
     out = {
         "type": _clean(el.get("type")),
         "name": _clean(el.get("name")) or _child_name(el, "TITLE"),
-        "owner": _clean(el.get("owner")) or _child_name(el, "OWNER"),
+        "owner": owner_of(el),
         "colour": _clean(el.get("colour")) or _child_name(el, "COLOUR"),
         "use": _clean(el.get("use")) or _child_name(el, "USE"),
     }
@@ -148,6 +160,9 @@ class ObjectBase(KnowledgeBase):
             out.set("size", _fmt(_number(doc, "size", "an object")))
         out.set("frame", "map")
         out.set("taught", _fmt(float(doc.get("taught", now))))
+        for name in dict.fromkeys(_clean(a.get("name")) for a in doc.iterchildren("ATTRIBUTE")):
+            if name:
+                etree.SubElement(out, "ATTRIBUTE", name=name)  # "favourite"
         said = said_position(doc)
         if said is not None:
             etree.SubElement(out, "POSITION", relation=said[0], landmark=said[1])
