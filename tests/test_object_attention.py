@@ -113,7 +113,7 @@ def test_gestures_average_into_one_ray_and_a_single_one_is_not_enough():
 
 # ------------------------------------------------------------ on the bus, in a flat
 
-def _run(pointing: str, frame: str, answer: int | None = 1, until: float = 9.0):
+def _run(pointing: str, frame: str, answer: int | None = 1, until: float = 9.0, setup=None):
     sc = load_scenario_text(SCENARIO.replace("POINTING", pointing), source="teaching_cups.xml")
     sim = Simulation(seed=sc.seed, scenario=sc.name)
     stage = Stage(sim, sc, keep_messages=True)
@@ -149,6 +149,8 @@ def _run(pointing: str, frame: str, answer: int | None = 1, until: float = 9.0):
         test.publish("/robot/es/orders/object_attention", order)
 
     sim.spawn(teach(), name="teach")
+    if setup is not None:
+        setup(sim, stage)
     stage.run(until=until)
     sim.close()
     return stage, oa, asked, events
