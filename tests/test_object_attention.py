@@ -84,7 +84,8 @@ cands = st.lists(st.tuples(st.floats(1.5, 4.0), st.floats(1.0, 4.0), colours, st
 def test_resolution_rules(specs, typ, colour, pointed):
     """The chosen object always fits; 'one' means a single fit or a clear winner; 'ambiguous'
     means at least two fit with no clear winner; every fitting candidate is ranked before every
-    misfit; merging keeps every detection."""
+    misfit; merging keeps every detection in one candidate, and drops only candidates seen
+    less than a quarter as often as the best."""
     cs = [_cand(x, y, col, t) for x, y, col, t in specs]
     res = resolve(cs, Wanted(type=typ, colour=colour), HAND if pointed else None, (1.0, 2.5))
     fits = [s for s in res.ranked if s.fits]
@@ -96,7 +97,9 @@ def test_resolution_rules(specs, typ, colour, pointed):
     else:
         assert not fits
     dets = [(t, x, y, 0.8, COLOURS[col]) for x, y, col, t in specs]
-    assert sum(c.n for c in merge(dets)) == len(dets)
+    assert sum(c.n for c in merge(dets, (1.0, 2.5), min_share=0.0)) == len(dets)
+    kept = merge(dets, (1.0, 2.5))
+    assert all(4 * c.n >= max(k.n for k in kept) for c in kept)
 
 
 def test_gestures_average_into_one_ray_and_a_single_one_is_not_enough():

@@ -124,15 +124,20 @@ class Candidate:
         return np.concatenate([mean, std, bins / max(bins.sum(), 1e-9)])
 
 
-def merge(detections: list[tuple[str, float, float, float, tuple[float, float, float]]], origin: tuple[float, float] | None = None) -> list[Candidate]:
+def merge(
+    detections: list[tuple[str, float, float, float, tuple[float, float, float]]],
+    origin: tuple[float, float] | None = None,
+    *,
+    min_share: float = 0.25,
+) -> list[Candidate]:
     """Detections (type, x, y, z, rgb) -> candidates, in order of first sight.
 
     The camera measures bearings well (~1 degree) and distances poorly (~6 %), so two
     detections are one object when, seen from ``origin`` (the robot), their bearings differ by
     less than ``MERGE_BEARING`` and their ranges by less than ``MERGE_RANGE`` of the range, and
     their colours are alike; without an origin, when they lie within ``MERGE`` metres.
-    Candidates seen in fewer than a quarter of the frames the best was seen in are dropped
-    (a stray reading, a glimpse while the camera turned).
+    Candidates seen in fewer than ``min_share`` of the frames the best was seen in are
+    dropped (a stray reading, a glimpse while the camera turned).
     """
     out: list[Candidate] = []
     for type_, x, y, z, rgb in detections:
@@ -155,7 +160,7 @@ def merge(detections: list[tuple[str, float, float, float, tuple[float, float, f
             out.append(best)
         best.add(type_, x, y, z, rgb)
     top = max((c.n for c in out), default=0)
-    return [c for c in out if c.n * 4 >= top]
+    return [c for c in out if c.n >= min_share * top]
 
 
 @dataclass(frozen=True)
