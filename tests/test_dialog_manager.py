@@ -161,6 +161,11 @@ def test_capabilities_asks_the_supervisor(dm):
     text = dm.explanation("Following", ["follow", "stop", "partner_too_fast"])
     assert text == "I am following you. Now you can ask me to follow you or tell me to stop."
     assert "greet me" in dm.explanation("LookingAround", ["greeting", "potential_partner"])
+    # nothing of the dialog applies while looking around: the greeting the supervisor would keep is offered
+    assert dm.explanation("LookingAround", ["potential_partner"], ["greeting"]) == (
+        'I am looking around for someone to talk to. Now you can greet me, for example with "Hello BIRON".')
+    # while following, instructions that would only wait are not advertised
+    assert "object" not in dm.explanation("Following", ["follow", "stop"], ["object_teaching"])
 
 
 # ------------------------------------------------------------------ interruption and resumption

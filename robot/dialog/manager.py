@@ -283,13 +283,22 @@ class DialogManager:
         """The partner spoke while the robot talked (the module cut the robot's sentence)."""
         self.metrics["barge_ins"] += 1
 
-    def explanation(self, state: str, applies: list[str]) -> str:
-        """What the robot is doing and can do now, from the supervisor's state and applicable events."""
+    def explanation(self, state: str, applies: list[str], waits: tuple[str, ...] | list[str] = ()) -> str:
+        """What the robot is doing and can do now, from the supervisor's state and the events it takes.
+
+        ``applies``: events the current state applies at once; ``waits``: events
+        it keeps until another state of its category (a greeting waits for a
+        potential partner). Waiting events are offered only when none of the
+        dialog's events applies now (while following, a waiting "this is my
+        cup" is no capability to advertise).
+        """
         parts = []
         phrase = self.doc.state_phrases.get(state)
         if phrase:
             parts.append(phrase)
         caps = [text for e, text in self.doc.capabilities.items() if e in applies]
+        if not caps:
+            caps = [text for e, text in self.doc.capabilities.items() if e in waits]
         if caps:
             listed = caps[0] if len(caps) == 1 else ", ".join(caps[:-1]) + " or " + caps[-1]
             parts.append(f"Now you can {listed}.")

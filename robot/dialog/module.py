@@ -226,7 +226,8 @@ class Dialog(Module):
             return self.manager.explanation(self.manager.es_state, [])
         st = reply.xml
         applies = [e.get("name", "") for e in st.iterfind("accepts/event") if e.get("status") == "applies"]
-        return self.manager.explanation(st.get("state", ""), applies)
+        waits = [e.get("name", "") for e in st.iterfind("accepts/event") if e.get("status") == "waits"]
+        return self.manager.explanation(st.get("state", ""), applies, waits)
 
     def _send_events(self, outs: list[Output], cause: str) -> None:
         if self.bus.closed or self.bus.hung:
