@@ -163,7 +163,7 @@ def test_capabilities_asks_the_supervisor(dm):
     assert "greet me" in dm.explanation("LookingAround", ["greeting", "potential_partner"])
     # nothing of the dialog applies while looking around: the greeting the supervisor would keep is offered
     assert dm.explanation("LookingAround", ["potential_partner"], ["greeting"]) == (
-        'I am looking around for someone to talk to. Now you can greet me, for example with "Hello BIRON".')
+        'I am looking around for someone to talk to. Now you can greet me with "Hello BIRON".')
     # while following, instructions that would only wait are not advertised
     assert "object" not in dm.explanation("Following", ["follow", "stop"], ["object_teaching"])
 
