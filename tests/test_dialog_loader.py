@@ -92,3 +92,22 @@ def test_several_problems_are_reported_together_and_nothing_loads():
 def test_wrong_root_is_refused():
     (p,) = check('<scxml xmlns="http://www.w3.org/2005/07/scxml"/>', source="x.xml")
     assert "root element must be <dialogs>" in p.message
+
+
+from hypothesis import given, settings  # noqa: E402
+from hypothesis import strategies as st  # noqa: E402
+
+LINES = GOOD.splitlines(keepends=True)
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.integers(0, len(LINES) - 1), st.sampled_from(["", "<slot/>\n", "<dialog id=\"x\">\n", "</policy>\n", "<when slot=\"request\" status=\"true\"/>\n"]))
+def test_a_damaged_document_loads_or_names_every_problem(at, replacement):
+    text = "".join(LINES[:at] + [replacement] + LINES[at + 1:])
+    problems = check(text, source="damaged.xml")
+    if problems:
+        assert all(p.source == "damaged.xml" and p.line is not None and p.message for p in problems)
+        with pytest.raises(DialogProblems):
+            loads(text, source="damaged.xml")
+    else:
+        assert loads(text, source="damaged.xml").dialogs
