@@ -43,6 +43,9 @@ class Tok:
     value: str
     text: str
 
+    def __str__(self) -> str:  # lark makes a str of each token's value: keep it cheap (no dataclass repr)
+        return self.text
+
 
 @dataclass(slots=True)
 class Tokens:
