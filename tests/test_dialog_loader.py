@@ -111,3 +111,16 @@ def test_a_damaged_document_loads_or_names_every_problem(at, replacement):
             loads(text, source="damaged.xml")
     else:
         assert loads(text, source="damaged.xml").dialogs
+
+
+def test_homesim_check_knows_the_dialog_document(tmp_path, capsys):
+    from homesim.cli import main
+
+    assert main(["check", str(BIRON_DIALOGS)]) == 0
+    assert "ok (dialogs)" in capsys.readouterr().out
+    bad = tmp_path / "bad.xml"
+    bad.write_text(GOOD.replace('trigger="CAPABILITIES"', 'trigger="DANCE"', 1), encoding="utf-8")
+    assert main(["check", str(bad)]) == 1
+    out = capsys.readouterr().out
+    line = _line_of(GOOD, 'trigger="CAPABILITIES"')
+    assert f"{bad}:{line}: <dialog>: dialog 'capabilities': trigger 'DANCE'" in out
