@@ -109,7 +109,7 @@ def test_every_hardware_channel_used_in_the_example_is_typed_with_its_schema(exa
     bus = stage.sim.bus
     used = _channels_used(stage, rec)
     robot_channels = {c for c in used if not c.startswith(HEARTBEATS)}
-    assert {"/robot/laser/scan", "/robot/camera/faces", "/robot/audio/sources", "/robot/audio/speech",
+    assert {"/robot/laser/scan", "/robot/camera/faces", "/robot/audio/sources", "/robot/audio/steer",
             "/robot/odometry", "/robot/ptu/state", "/robot/base/cmd", "/robot/ptu/cmd",
             "/robot/speaker/say", "/robot/display/cmd"} <= robot_channels
     untyped = sorted(c for c in used if bus.channel_schema(c) is None)
@@ -245,6 +245,8 @@ def _short_run() -> list[tuple[str, bytes]]:
     driver = sim.bus.participant("driver", host="robot")
     commands = [
         (0.5, "/robot/display/cmd", '<expression name="happy"/>'),
+        (0.6, "/robot/audio/steer", '<steer bearing="-18"/>'),  # Anna's "Hello BIRON" is recognised
+        (4.0, "/robot/audio/steer", '<steer off="true"/>'),
         (1.0, "/robot/ptu/cmd", '<ptu pan="5" tilt="-5"/>'),
         (2.5, "/robot/speaker/say", '<say text="Hello Anna nice to meet you"/>'),
         (2.8, "/robot/speaker/say", "<say>Hello</say>"),

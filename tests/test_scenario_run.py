@@ -40,7 +40,8 @@ def test_sensor_streams_run_at_their_rates(stage):
         counts[m.channel] = counts.get(m.channel, 0) + 1
     for ch in ("/robot/laser/scan", "/robot/camera/faces", "/robot/audio/sources", "/robot/odometry"):
         assert counts[ch] == 400, ch  # 10 Hz for 40 s
-    assert counts["/robot/audio/speech"] == len(stage.world.sound.all())
+    # Nobody steers the recogniser's beam in a hardware-only run: nothing is recognised.
+    assert "/robot/audio/speech" not in counts
 
 
 def test_laser_legs_follow_the_true_people_through_the_run(stage):
@@ -79,8 +80,12 @@ def _near_furniture(world, x, y, margin=0.6):
 def test_the_radio_speaks_with_nobody_there_and_is_heard_from_the_kitchen(stage):
     radio = stage.world.sound.by("radio")
     assert len(radio) == 4 and all("Hello BIRON" in u.text for u in radio)
-    speech = [m for m in stage.messages if m.channel == "/robot/audio/speech" and m.created == pytest.approx(radio[0].end)]
-    assert len(speech) == 1
+    # Straight through the open kitchen door (no wall on the way): a faint direction about 2 deg left.
+    rx, ry, _ = stage.world.scenario.robot.x, stage.world.scenario.robot.y, 0
+    bearing = math.degrees(math.atan2(2.5 - ry, 9.1 - rx))
+    u = radio[0]
+    heard = [float(s.get("bearing")) for m in stage.messages if m.channel == "/robot/audio/sources" and u.start + 0.3 < m.created < u.end for s in m.xml]
+    assert heard and any(abs(b - bearing) < 4 for b in heard)
 
 
 def test_cli_run_is_byte_identical_and_passes(capsys):

@@ -1,29 +1,65 @@
-"""The microphone pair as a bus module (kernels in :mod:`robot.hardware.microphones`).
+"""The microphone pair and the speech recogniser as a bus module (kernels in :mod:`robot.hardware.microphones`).
 
-At its rate it publishes every audible active source on
-``/robot/audio/sources`` as ``<sources time><source tdoa bearing level/>...</sources>``
-(bearing in degrees, front half-plane: the pair cannot tell front from
-back). When an utterance ends it publishes what the recogniser would make
-of it on ``/robot/audio/speech``:
-``<utterance start end tdoa bearing level wer>recognised words</utterance>``
-(TDOA, bearing and level measured with the same noise as the sources).
-The robot's own voice is heard too (as a real robot hears itself); its
-utterances carry ``self="true"`` so the speech module can ignore them.
+What two microphones and one recogniser really deliver, nothing more:
+
+- ``/robot/audio/sources``, every frame (``rate``):
+  ``<sources time><source tdoa bearing level unit_tdoa="us"/>...</sources>``,
+  the *directions* the mixture shows, not the sources: every active sound
+  (people, the radio, the robot's own voice after echo cancellation) is
+  summed at the microphones with its level (distance, walls and closed
+  furniture crossed, frame-to-frame fluctuation); sources closer than the
+  pair resolves merge, a loud one masks a quiet one, at most two peaks
+  (:func:`~robot.hardware.microphones.mixture_peaks`); directions appear after
+  an onset delay with jitter and stay for a hangover
+  (:class:`~robot.hardware.microphones.OnsetTracker`). Bearings lie in the
+  front half-plane (a pair cannot tell front from back).
+- ``/robot/audio/speech``: ONE recognition stream, from the beam steered at
+  ``/robot/audio/steer`` (``<steer bearing="deg"/>`` or ``<steer off="true"/>``,
+  sent by the person attention system). An utterance is recognised when the
+  beam was on it (the utterance's direction, folded to the front half-plane,
+  within ``beam_width`` of the steering) for at least half its duration;
+  overlapping sound raises the word errors (sources outside the beam count
+  ``beam_rejection_db`` less). It publishes
+  ``<utterance start end tdoa bearing level confidence>words</utterance>``
+  at the utterance's end (start and end as its energy segmentation found
+  them, with jitter); the confidence comes from the recogniser's word
+  scores, never the true error rate.
+- Echo cancellation: the speaker publishes what it plays on
+  ``/robot/speaker/status`` (``<speaking text start end/>``,
+  ``<interrupted/>``); this module subtracts exactly that signal
+  (``aec_db``) from what the microphones hear, so the robot's own voice is
+  neither a sound direction nor recognised. What the speaker did not
+  announce is not cancelled.
 """
 
 from __future__ import annotations
 
 import asyncio
-import dataclasses
 import math
 from typing import TYPE_CHECKING
 
 import numpy as np
 from lxml import etree
 
+from homesim.message import Message
 from homesim.module import Module
+from homesim.world.geometry import polygon_edges
 
-from .microphones import MicSpec, hear, recognise, snr_db, word_error_rate
+from .microphones import (
+    SPEED_OF_SOUND,
+    MicSpec,
+    OnsetTracker,
+    Peak,
+    bearing_from_tdoa,
+    level_db,
+    mic_positions,
+    mixture_peaks,
+    path_loss_db,
+    recognise_scored,
+    snr_db,
+    tdoa,
+    word_error_rate,
+)
 
 if TYPE_CHECKING:
     from homesim.sim import Simulation
@@ -32,76 +68,166 @@ if TYPE_CHECKING:
 
 SOURCES = "/robot/audio/sources"
 SPEECH = "/robot/audio/speech"
+STEER = "/robot/audio/steer"
+SPEAKER_STATUS = "/robot/speaker/status"
+
+
+def _edges(polys: list[np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
+    if not polys:
+        return np.zeros((0, 2)), np.zeros((0, 2))
+    pairs = [polygon_edges(p) for p in polys]
+    return np.concatenate([p[0] for p in pairs]), np.concatenate([p[1] for p in pairs])
 
 
 class Microphones(Module):
-    """Publishes sound directions and modelled recognition results."""
+    """Publishes the mixture's sound directions and the steered beam's recognition results."""
 
     def __init__(self, sim: Simulation, world: World, spec: MicSpec | None = None, *, name: str = "microphones") -> None:
         super().__init__(sim, name, host="robot")
         self.world = world
         self.spec = spec or MicSpec()
-        self._unthresholded = dataclasses.replace(self.spec, threshold_db=-math.inf)
         self._last = -math.inf
+        self._onsets = OnsetTracker(self.spec)
+        self._walls = _edges([o.polygon for o in world.obstacles if o.kind == "wall"])
+        # Closed furniture: standing on the floor (a table's top on legs lets sound through).
+        self._furniture = _edges([o.polygon for o in world.obstacles if o.kind == "furniture" and o.bottom <= 0.0 and o.top >= 0.5])
+        # The beam's history: (since, bearing or None), the last few seconds only.
+        self._steer: list[tuple[float, float | None]] = [(-math.inf, None)]
+        # What the speaker announced it plays: (start, text) -> end (the AEC's reference).
+        self._played: dict[tuple[float, str], float] = {}
+        self.bus.subscribe(STEER, self._on_steer)
+        self.bus.subscribe(SPEAKER_STATUS, self._on_speaker)
 
-    def _positions(self, utterances: list[Utterance]) -> tuple[np.ndarray, np.ndarray, list[str], list[Utterance]]:
-        pts, loud, names, kept = [], [], [], []
+    # ------------------------------------------------------------ inputs
+    def _on_steer(self, msg: Message) -> None:
+        el = msg.xml
+        bearing: float | None = None
+        if el.get("off") not in ("true", "1"):
+            b = float(el.get("bearing", "nan"))
+            bearing = math.radians(b) if math.isfinite(b) else None
+        self._steer.append((self.now, bearing))
+
+    def _on_speaker(self, msg: Message) -> None:
+        el = msg.xml
+        if el.tag == "speaking":
+            self._played[(round(float(el.get("start", "0")), 6), el.get("text", ""))] = float(el.get("end", "0"))
+
+    def _cancelled(self, u: Utterance) -> bool:
+        """Whether the echo canceller has this utterance's signal (the speaker announced playing it)."""
+        return (round(u.start, 6), u.text) in self._played or any(
+            abs(start - u.start) < 1e-6 and u.cut and text.startswith(u.text) for (start, text) in self._played
+        )
+
+    # ------------------------------------------------------------ physics of the mixture
+    def _levels(self, utterances: list[Utterance], pose: tuple[float, float, float]) -> tuple[np.ndarray, np.ndarray, list[Utterance]]:
+        """TDOA (s) and level (dB, before fluctuation) at the pair of each audible utterance."""
+        pts, loud, kept = [], [], []
         for u in utterances:
             p = self.world.source_point(u.source)
             if p is None:
                 continue
             pts.append(p)
-            loud.append(u.loudness)
-            names.append(u.source)
+            loud.append(u.loudness - (self.spec.aec_db if self._cancelled(u) else 0.0))
             kept.append(u)
-        return np.array(pts, dtype=float).reshape(-1, 3), np.array(loud, dtype=float), names, kept
+        if not kept:
+            return np.zeros(0), np.zeros(0), []
+        pts_a = np.array(pts, dtype=float)
+        mics = mic_positions(pose, self.spec)
+        centre = mics.mean(axis=0)
+        dist = np.linalg.norm(pts_a - centre, axis=1)
+        levels = level_db(np.array(loud), dist) - path_loss_db(pts_a[:, :2], (float(centre[0]), float(centre[1])), self._walls, self._furniture, self.spec)
+        return tdoa(pts_a, mics), levels, kept
 
+    # ------------------------------------------------------------ main loop
     async def run(self) -> None:
         period = 1.0 / self.spec.rate
+        spec, rng = self.spec, self.rng
+        max_dt = spec.spacing / SPEED_OF_SOUND
         while True:
             self.beat()
             now = self.now
             pose = self.world.robot.pose
-            active = self.world.sound.active(now)
-            pts, loud, names, _ = self._positions(active)
+            dts, levels, _ = self._levels(self.world.sound.active(now), pose)
+            if len(levels):
+                levels = levels + rng.normal(0.0, spec.level_jitter_db, len(levels))
+            peaks = []
+            for pk in mixture_peaks(dts, levels, spec):
+                # The peak's position is less certain when it barely stands out of the room noise.
+                snr = max(pk.level - spec.noise_floor_db, 1.0)
+                noise = spec.tdoa_noise * min(4.0, math.sqrt(10.0 / snr))
+                peaks.append(Peak(float(np.clip(pk.tdoa + rng.normal(0.0, noise), -max_dt, max_dt)), pk.level + float(rng.normal(0.0, 1.0))))
             el = etree.Element("sources", time=f"{now:.6f}")
-            for p in hear(pts, loud, names, pose, self.spec, self.rng):
-                etree.SubElement(el, "source", tdoa=f"{p.tdoa * 1e6:.2f}", bearing=f"{math.degrees(p.bearing):.3f}", level=f"{p.level:.2f}", unit_tdoa="us")
+            for pk in self._onsets.update(peaks, rng):
+                b = float(bearing_from_tdoa(pk.tdoa, spec))
+                etree.SubElement(el, "source", tdoa=f"{pk.tdoa * 1e6:.2f}", bearing=f"{math.degrees(b):.3f}", level=f"{pk.level:.2f}", unit_tdoa="us")
             self.bus.publish(SOURCES, el)
             for u in self.world.sound.ended(self._last, now):
-                self.publish_utterance(u, pose)
+                self.recognise(u, pose)
             self._last = now
+            self._forget(now)
             await asyncio.sleep(period)
 
-    def publish_utterance(self, u: Utterance, pose: tuple[float, float, float]) -> None:
-        """Model recognition of a finished utterance against what else was audible."""
+    def _forget(self, now: float) -> None:
+        """Keep only the recent beam history and playback log (bounded memory)."""
+        keep = now - 60.0
+        if len(self._steer) > 1 and self._steer[1][0] < keep:
+            i = 1
+            while i < len(self._steer) and self._steer[i][0] < keep:
+                i += 1
+            self._steer = self._steer[i - 1 :]
+        if len(self._played) > 64:
+            for k in [k for k, end in self._played.items() if end < keep]:
+                del self._played[k]
+
+    def _beam_share(self, start: float, end: float, front_bearing: float) -> float:
+        """Fraction of [start, end) during which the beam was steered at ``front_bearing``."""
+        if end <= start:
+            return 0.0
+        on = 0.0
+        hist = self._steer
+        for i, (since, b) in enumerate(hist):
+            until = hist[i + 1][0] if i + 1 < len(hist) else math.inf
+            lo, hi = max(since, start), min(until, end)
+            if hi <= lo or b is None:
+                continue
+            fb = math.asin(max(-1.0, min(1.0, math.sin(b))))  # the pair's beam is front/back symmetric
+            if abs(fb - front_bearing) <= self.spec.beam_width:
+                on += hi - lo
+        return on / (end - start)
+
+    def recognise(self, u: Utterance, pose: tuple[float, float, float]) -> None:
+        """Run the recogniser on a finished utterance if the beam was on it; publish words and confidence."""
+        spec, rng = self.spec, self.rng
         mid = (u.start + u.end) / 2
-        pts, loud, names, kept = self._positions([u] + [o for o in self.world.sound.active(mid) if o.n != u.n])
-        if not names or names[0] != u.source:
-            return  # the speaker left the flat
-        heard = {p.truth: p for p in hear(pts, loud, names, pose, self.spec, None)}
-        me = heard.get(u.source)
-        if me is None:
-            return  # too quiet to hear at all
-        others = [p.level for n, p in heard.items() if n != u.source]
-        centre = pts[0]
-        dist = math.hypot(centre[0] - pose[0], centre[1] - pose[1])
-        angle = math.atan2(centre[1] - pose[1], centre[0] - pose[0]) - pose[2]
-        wer = word_error_rate(dist, angle, snr_db(me.level, others, self.spec.noise_floor_db))
-        words = recognise(u.words, wer, self.rng)
-        # What goes on the bus is measured, with noise, like every other percept
-        # (the noise-free values above only drive the recognition model).
-        (noisy,) = hear(pts[:1], loud[:1], names[:1], pose, self._unthresholded, self.rng)
+        others = [o for o in self.world.sound.active(mid) if o.n != u.n]
+        dts, levels, kept = self._levels([u] + others, pose)
+        if not kept or kept[0].n != u.n or self._cancelled(u):
+            return  # the speaker left the flat, or it is the robot's own (cancelled) voice
+        front = float(bearing_from_tdoa(dts[0], spec))
+        if levels[0] < spec.threshold_db or self._beam_share(u.start, u.end, front) < 0.5:
+            return  # too quiet to segment, or the beam was elsewhere
+        interference = []
+        for k in range(1, len(kept)):
+            ob = float(bearing_from_tdoa(dts[k], spec))
+            interference.append(float(levels[k]) - (0.0 if abs(ob - front) <= spec.beam_width else spec.beam_rejection_db))
+        src = self.world.source_point(u.source)
+        assert src is not None
+        dist = math.hypot(src[0] - pose[0], src[1] - pose[1])
+        angle = math.atan2(src[1] - pose[1], src[0] - pose[0]) - pose[2]
+        wer = word_error_rate(dist, angle, snr_db(float(levels[0]), interference, spec.noise_floor_db))
+        words, confidence = recognise_scored(u.words, wer, rng)
+        max_dt = spec.spacing / SPEED_OF_SOUND
+        noisy_dt = float(np.clip(dts[0] + rng.normal(0.0, spec.tdoa_noise), -max_dt, max_dt))
+        start = max(0.0, u.start + float(rng.normal(0.0, spec.boundary_jitter)))
+        end = max(start, u.end + float(rng.normal(0.0, spec.boundary_jitter)))
         el = etree.Element(
             "utterance",
-            start=f"{u.start:.6f}",
-            end=f"{u.end:.6f}",
-            tdoa=f"{noisy.tdoa * 1e6:.2f}",
-            bearing=f"{math.degrees(noisy.bearing):.3f}",
-            level=f"{noisy.level:.2f}",
-            wer=f"{wer:.3f}",
+            start=f"{start:.6f}",
+            end=f"{end:.6f}",
+            tdoa=f"{noisy_dt * 1e6:.2f}",
+            bearing=f"{math.degrees(float(bearing_from_tdoa(noisy_dt, spec))):.3f}",
+            level=f"{float(levels[0]) + float(rng.normal(0.0, 1.0)):.2f}",
+            confidence=f"{confidence:.3f}",
         )
-        if u.source == "robot":
-            el.set("self", "true")
         el.text = " ".join(words)
         self.bus.publish(SPEECH, el, created=u.end)

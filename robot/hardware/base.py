@@ -10,7 +10,9 @@ and turn increment plus a slow heading drift, each a random walk (variance
 proportional to the distance or angle travelled, so the error does not
 depend on the publishing rate), so the pose it reports wanders away from
 the truth as a real base's does. It is published
-on ``/robot/odometry`` as ``<odometry x y theta v w/>`` at its rate.
+on ``/robot/odometry`` as ``<odometry x y theta v w/>`` at its rate; ``v`` and
+``w`` are measured from the odometry increments (:func:`measured_velocities`),
+noisy as the encoders are, never the base's true velocities.
 """
 
 from __future__ import annotations
@@ -78,6 +80,17 @@ def odometry_step(
     return ox + co * forward - so * side, oy + so * forward + co * side, float(wrap_angle(oth + turn))
 
 
+def measured_velocities(before: tuple[float, float, float], after: tuple[float, float, float], dt: float) -> tuple[float, float]:
+    """Forward speed and turn rate as the encoders measure them: the odometry increment over ``dt``.
+
+    A real base knows its velocities only from its (noisy) wheel encoders,
+    so these carry the same errors as the odometry pose, never the truth.
+    """
+    dx, dy = after[0] - before[0], after[1] - before[1]
+    forward = math.cos(before[2]) * dx + math.sin(before[2]) * dy
+    return forward / dt, float(wrap_angle(after[2] - before[2])) / dt
+
+
 class Base(Module):
     """Drives the world's robot from bus commands and publishes odometry."""
 
@@ -105,12 +118,14 @@ class Base(Module):
             if self.now - self.last_cmd > self.spec.watchdog:
                 self.world.robot.command(0.0, 0.0)
             true = self.world.robot.pose
+            before = self.odometry
             self.odometry = odometry_step(self.odometry, self._last_true, true, self.spec, self.rng)
             self._last_true = true
             x, y, th = self.odometry
+            v, w = measured_velocities(before, self.odometry, period)
             rb = self.world.robot
             self.bus.publish(
                 ODOMETRY_CHANNEL,
-                etree.Element("odometry", x=f"{x:.5f}", y=f"{y:.5f}", theta=f"{th:.5f}", v=f"{rb.v:.4f}", w=f"{rb.w:.4f}", stalled="true" if rb.cmd_v and abs(rb.v) < 1e-3 else "false"),
+                etree.Element("odometry", x=f"{x:.5f}", y=f"{y:.5f}", theta=f"{th:.5f}", v=f"{v:.4f}", w=f"{w:.4f}", stalled="true" if rb.cmd_v and abs(v) < 1e-3 else "false"),
             )
             await asyncio.sleep(period)

@@ -19,7 +19,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from .audio import SOURCES, SPEECH
+from .audio import SOURCES, SPEECH, STEER
 from .base import CMD_CHANNEL, ODOMETRY_CHANNEL
 from .camera_module import FACES, GESTURES, OBJECTS, PTU_CMD, PTU_STATE, TORSOS
 from .laser import SCAN_CHANNEL
@@ -53,6 +53,7 @@ CHANNELS: tuple[TypedChannel, ...] = (
     TypedChannel(PTU_CMD, "ptu-cmd.xsd", "in", "camera"),
     TypedChannel(SOURCES, "audio-sources.xsd", "out", "microphones"),
     TypedChannel(SPEECH, "audio-speech.xsd", "out", "microphones"),
+    TypedChannel(STEER, "audio-steer.xsd", "in", "microphones"),
     TypedChannel(CMD_CHANNEL, "base-cmd.xsd", "in", "base"),
     TypedChannel(ODOMETRY_CHANNEL, "odometry.xsd", "out", "base"),
     TypedChannel(SAY_CHANNEL, "speaker-say.xsd", "in", "speaker"),
