@@ -1,0 +1,149 @@
+"""Leg detection on the raw laser scan: segments, features, rules, pairs.
+
+The classic pipeline (Arras et al. 2007 features, rules instead of a trained
+classifier, which the simulator's clean geometry does not need):
+
+1. Segment the scan where neighbouring ranges jump by more than ``jump`` or
+   a beam has no echo.
+2. Per segment, vectorised over all segments with ``np.add.reduceat``: the
+   number of points, the width (first to last point), the linearity (the
+   spread across the best line, smallest eigenvalue of the point covariance)
+   and the mean range, and whether it stands in front of both neighbours.
+3. Rules: a leg is 2+ points (1 far away), as wide as a leg seen at that
+   range (the segment covers whole beams, so a beam spacing is added to its
+   measured width), in front of its background. Width between ``blob_width``
+   bounds and not straight: both legs seen as one blob (standing with the
+   legs together; a flat piece of furniture is straight). Straightness does
+   not separate one leg from a square table leg under 1 cm range noise; the
+   width (a 5 cm table leg) and the pairing do.
+4. Pairing: leg candidates at most ``pair_distance`` apart, nearest first,
+   make a person candidate at their midpoint; a leftover single leg is a weak
+   candidate (its partner hidden), which the tracker uses only to keep an
+   existing track alive, never to start one. Table and chair legs stand 0.7 m
+   or more apart, so they do not pair.
+
+Input: ranges (metres) and beam bearings of the laser frame; output in the
+robot frame (the laser's ``offset`` ahead of the centre added).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+PAIR, BLOB, SINGLE = 0, 1, 2
+
+
+@dataclass(frozen=True)
+class LegSpec:
+    jump: float = 0.10  # m: a range jump larger than this splits segments
+    min_width: float = 0.07  # m: a leg seen at any angle (with a beam spacing added)
+    max_width: float = 0.22
+    blob_width: tuple[float, float] = (0.22, 0.40)  # both legs merged into one segment
+    max_linearity: float = 0.015  # m: a blob must spread more than this across its best line (not a flat piece)
+    background: float = 0.15  # m: a leg stands this much in front of its neighbours
+    pair_distance: float = 0.55  # m: two legs of one person
+    max_range: float = 6.5  # m: beyond it legs are too sparse to trust
+    offset: float = 0.13  # laser ahead of the robot centre
+
+
+@dataclass(frozen=True)
+class Detections:
+    """Person candidates in the robot frame: positions (K, 2), kinds (K,) PAIR/BLOB/SINGLE; legs (L, 2)."""
+
+    xy: np.ndarray
+    kind: np.ndarray
+    legs: np.ndarray
+
+    def __len__(self) -> int:
+        return int(self.xy.shape[0])
+
+
+EMPTY = Detections(np.zeros((0, 2)), np.zeros(0, dtype=np.int8), np.zeros((0, 2)))
+
+
+def segment_features(ranges: np.ndarray, bearings: np.ndarray, spec: LegSpec) -> dict[str, np.ndarray]:
+    """Split the scan at range jumps and compute each segment's features (arrays, one entry per segment)."""
+    r = np.asarray(ranges, dtype=float)
+    valid = r < spec.max_range
+    xs = r * np.cos(bearings)
+    ys = r * np.sin(bearings)
+    d = np.abs(np.diff(r))
+    brk = np.flatnonzero((d > spec.jump) | ~valid[1:] | ~valid[:-1]) + 1
+    starts = np.concatenate(([0], brk))
+    ends = np.concatenate((brk, [r.shape[0]]))
+    if r.shape[0] == 0:
+        z = np.zeros(0)
+        return {"start": starts[:0], "end": ends[:0], "n": z, "mx": z, "my": z, "width": z, "lin": z, "range": z, "front": z.astype(bool)}
+    keep = valid[starts]  # (segments are all valid or all no-echo)
+    sx = np.add.reduceat(xs, starts)[keep]
+    sy = np.add.reduceat(ys, starts)[keep]
+    sxx = np.add.reduceat(xs * xs, starts)[keep]
+    syy = np.add.reduceat(ys * ys, starts)[keep]
+    sxy = np.add.reduceat(xs * ys, starts)[keep]
+    sr = np.add.reduceat(r, starts)[keep]
+    starts, ends = starts[keep], ends[keep]
+    n = (ends - starts).astype(float)
+    mx, my = sx / n, sy / n
+    cxx, cyy, cxy = sxx / n - mx * mx, syy / n - my * my, sxy / n - mx * my
+    tr, det = cxx + cyy, cxx * cyy - cxy * cxy
+    small = np.maximum(tr / 2 - np.sqrt(np.maximum(tr * tr / 4 - det, 0.0)), 0.0)
+    last = ends - 1
+    width = np.hypot(xs[last] - xs[starts], ys[last] - ys[starts])
+    mean_r = sr / n
+    before = np.where(starts > 0, r[np.maximum(starts - 1, 0)], np.inf)
+    after = np.where(ends < r.shape[0], r[np.minimum(ends, r.shape[0] - 1)], np.inf)
+    before = np.where(before >= spec.max_range, np.inf, before)
+    after = np.where(after >= spec.max_range, np.inf, after)
+    front = (before > mean_r + spec.background) & (after > mean_r + spec.background)
+    return {"start": starts, "end": ends, "n": n, "mx": mx, "my": my, "width": width, "lin": np.sqrt(small), "range": mean_r, "front": front}
+
+
+def detect(ranges: np.ndarray, bearings: np.ndarray, spec: LegSpec = LegSpec()) -> Detections:
+    """Person candidates (robot frame) from one scan; see the module docstring."""
+    f = segment_features(ranges, bearings, spec)
+    if len(f["n"]) == 0:
+        return EMPTY
+    spacing = f["range"] * abs(float(bearings[1] - bearings[0]))
+    width = f["width"] + spacing  # the segment's beams cover half a spacing beyond each end point
+    # Straightness tells only for wide segments: across a leg's visible arc the 1 cm range noise
+    # is as large as the curvature, but two legs side by side are far from a straight wall piece.
+    round_ = (f["lin"] > spec.max_linearity) & (f["n"] >= 4)
+    few_ok = (f["n"] >= 2) | (f["range"] > 3.0)
+    front = f["front"]
+    leg = front & few_ok & (width >= spec.min_width) & (width <= spec.max_width)
+    blob = front & (f["n"] >= 3) & (width > spec.blob_width[0]) & (width <= spec.blob_width[1]) & round_
+    # A segment's points lie on the near surface: push the centre back by about a leg radius.
+    norm = np.maximum(np.hypot(f["mx"], f["my"]), 1e-9)
+    cx = f["mx"] + 0.05 * f["mx"] / norm + spec.offset
+    cy = f["my"] + 0.05 * f["my"] / norm
+    legs = np.column_stack((cx[leg], cy[leg]))
+    out_xy: list[np.ndarray] = []
+    kinds: list[int] = []
+    k = legs.shape[0]
+    used = np.zeros(k, dtype=bool)
+    if k > 1:
+        dist = np.hypot(legs[:, None, 0] - legs[None, :, 0], legs[:, None, 1] - legs[None, :, 1])
+        iu, ju = np.triu_indices(k, 1)
+        dd = dist[iu, ju]
+        for m in np.argsort(dd, kind="stable"):
+            if dd[m] > spec.pair_distance:
+                break
+            i, j = int(iu[m]), int(ju[m])
+            if used[i] or used[j]:
+                continue
+            used[i] = used[j] = True
+            out_xy.append((legs[i] + legs[j]) / 2)
+            kinds.append(PAIR)
+    for x, y in zip(cx[blob], cy[blob]):
+        out_xy.append(np.array([x, y]))
+        kinds.append(BLOB)
+    for i in np.flatnonzero(~used):
+        out_xy.append(legs[i])
+        kinds.append(SINGLE)
+    if not out_xy:
+        return Detections(np.zeros((0, 2)), np.zeros(0, dtype=np.int8), legs)
+    return Detections(np.array(out_xy), np.array(kinds, dtype=np.int8), legs)
+

@@ -1,0 +1,406 @@
+"""The person attention system as a bus module: participant ``person_attention``.
+
+Per laser scan (``/robot/laser/scan``): detect legs (:mod:`.legs`), move the
+candidates into the odom frame with the odometry pose extrapolated to the
+scan's time, anchor them to tracks (:mod:`.tracker`), read the categories
+from the speaking/facing attributes (:mod:`.cues`, fed by
+``/robot/audio/sources`` and ``/robot/camera/faces`` as they arrive), select
+the person of interest (:mod:`.selection`), advance the attention FSM
+(:mod:`.fsm`) and act:
+
+- ``/robot/attention/tracks`` every scan, ``/robot/attention/state`` on each
+  change and once a second, ``/robot/attention/partner`` every scan while a
+  partner exists (docs/robot-contract.md);
+- ES events on ``/robot/es/events``: ``potential_partner`` (``<PERSON id
+  bearing distance speaking facing/>``) when the selected person speaks
+  while facing the robot, repeated every ``pp_repeat`` s while it lasts;
+  ``potential_partner_lost`` when they stop; ``partner_lost`` in a
+  top-down state when the partner's track has had no laser update for
+  ``partner_lost_after`` s (once per loss). Lifetimes are the AFSM's;
+- ``/robot/ptu/cmd``: the camera on the person (face, hands, torso) or the
+  object focus (``/robot/objects/focus``), ahead while sleeping;
+- ``/robot/base/cmd``: turning on the spot towards the person in Listen,
+  Interaction and Object (a zero command when it faces them or leaves
+  those states); never in Follow, where the follower drives;
+- ``/robot/audio/steer``: the recogniser's beam on the selected person
+  while they speak facing the robot (bottom-up), on the partner in the
+  top-down states, off otherwise.
+
+Orders arrive on ``/robot/es/orders/person_attention``; an unknown order
+changes nothing and is kept, with the reason, in
+:attr:`PersonAttention.refused` (bounded).
+"""
+
+from __future__ import annotations
+
+import asyncio
+import math
+from collections import deque
+from dataclasses import dataclass, field, replace
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from lxml import etree
+
+from homesim.message import Message
+from homesim.module import Module
+
+from .cues import CueSpec, Hysteresis, bearings_from, match_faces, match_sounds
+from .fsm import CAMERA, TURNS, AttentionFSM, OrderRefused
+from .legs import LegSpec, detect
+from .selection import SelectionParams, Selector
+from .tracker import Tracks, TrackerSpec
+
+SCHEMAS = Path(__file__).resolve().parent.parent / "schemas"
+TRACKS = "/robot/attention/tracks"
+STATE = "/robot/attention/state"
+PARTNER = "/robot/attention/partner"
+STEER = "/robot/audio/steer"
+PTU_CMD = "/robot/ptu/cmd"
+BASE_CMD = "/robot/base/cmd"
+EVENTS = "/robot/es/events"
+ORDERS = "/robot/es/orders/person_attention"
+SCAN = "/robot/laser/scan"
+ODOMETRY = "/robot/odometry"
+FACES = "/robot/camera/faces"
+SOUNDS = "/robot/audio/sources"
+FOCUS = "/robot/objects/focus"
+
+#: The attention system's own typed channels (declared by :func:`declare_channels`).
+CHANNEL_SCHEMAS = {
+    TRACKS: SCHEMAS / "attention-tracks.xsd",
+    STATE: SCHEMAS / "attention-state.xsd",
+    PARTNER: SCHEMAS / "attention-partner.xsd",
+}
+
+
+def declare_channels(bus: Any) -> None:
+    """Type the attention system's channels on ``bus``."""
+    for ch, path in CHANNEL_SCHEMAS.items():
+        bus.declare_channel(ch, path)
+
+
+@dataclass(frozen=True)
+class AttentionParams:
+    """Every time limit and gain of the attention behaviour, with its default."""
+
+    pp_repeat: float = 1.0  # s: potential_partner repeated while it lasts (its lifetime is 1.5 s)
+    partner_lost_after: float = 2.0  # s without a laser update of the partner's track
+    turn_start: float = math.radians(12.0)  # start turning when the person is further off the axis
+    turn_stop: float = math.radians(4.0)  # stop turning when within this
+    turn_gain: float = 1.5  # rad/s per rad of bearing
+    max_turn: float = 0.8  # rad/s
+    camera_height: float = 1.41
+    heights: dict[str, float] = field(default_factory=lambda: {"face": 1.60, "hands": 1.0, "torso": 1.25})
+    ptu_deadband: float = math.radians(1.5)
+    ptu_refresh: float = 1.0  # s
+    steer_deadband: float = math.radians(3.0)
+    state_refresh: float = 1.0  # s
+    cue_max_age: float = 0.3  # s: an odometry pose older than this is extrapolated
+    max_refused: int = 32
+
+
+def _deg(a: float) -> str:
+    return f"{math.degrees(a):.3f}"
+
+
+class PersonAttention(Module):
+    """Leg detection, anchoring, selection and the attention FSM on the bus (see the module docstring)."""
+
+    def __init__(
+        self,
+        sim: Any,
+        *,
+        name: str = "person_attention",
+        legs: LegSpec = LegSpec(),
+        tracker: TrackerSpec = TrackerSpec(),
+        cues: CueSpec = CueSpec(),
+        selection: SelectionParams = SelectionParams(),
+        params: AttentionParams = AttentionParams(),
+        typed: bool = True,
+    ) -> None:
+        super().__init__(sim, name, host="robot")
+        self.legs, self.cues, self.params = legs, cues, params
+        self.tracks = Tracks(tracker)
+        self.selector = Selector(selection)
+        self.fsm = AttentionFSM()
+        self.speaking = Hysteresis(cues.speaking_on, cues.speaking_off)
+        self.facing = Hysteresis(cues.facing_on, cues.facing_off)
+        self.partner: int | None = None
+        self.partner_lost_sent = False
+        self.pp_sent: int | None = None
+        self._pp_at = -math.inf
+        self._last_pp: tuple[int, float] | None = None  # last potential partner and when
+        self.refused: deque[str] = deque(maxlen=params.max_refused)
+        self._odom: tuple[float, float, float, float, float, float] | None = None  # t, x, y, th, v, w
+        self._bearings: np.ndarray | None = None
+        self._bearings_key: tuple[str, str, str] | None = None
+        self._focus: tuple[float, float] | None = None
+        self._turning = False
+        self._ptu_sent: tuple[float, float] | None = None
+        self._ptu_at = -math.inf
+        self._steer_sent: float | None | str = "unset"
+        self._state_sent: tuple[str, int | None, int | None] | None = None
+        self._state_at = -math.inf
+        self.scans = 0
+        if typed:
+            declare_channels(sim.bus)
+        self.bus.subscribe(SCAN, self._on_scan)
+        self.bus.subscribe(ODOMETRY, self._on_odometry)
+        self.bus.subscribe(FACES, self._on_faces)
+        self.bus.subscribe(SOUNDS, self._on_sounds)
+        self.bus.subscribe(FOCUS, self._on_focus)
+        self.bus.subscribe(ORDERS, self._on_order)
+
+    async def run(self) -> None:
+        while True:
+            self.beat()
+            await asyncio.sleep(0.25)
+
+    # ------------------------------------------------------------ frames
+    def _pose_at(self, t: float) -> tuple[float, float, float]:
+        """The odometry pose extrapolated to ``t`` with the measured velocities."""
+        if self._odom is None:
+            return 0.0, 0.0, 0.0
+        t0, x, y, th, v, w = self._odom
+        dt = min(max(t - t0, 0.0), self.params.cue_max_age)
+        th2 = th + w * dt
+        mid = th + w * dt / 2
+        return x + v * dt * math.cos(mid), y + v * dt * math.sin(mid), th2
+
+    @staticmethod
+    def _to_odom(pose: tuple[float, float, float], xy: np.ndarray) -> np.ndarray:
+        x, y, th = pose
+        c, s = math.cos(th), math.sin(th)
+        return np.column_stack((x + c * xy[:, 0] - s * xy[:, 1], y + s * xy[:, 0] + c * xy[:, 1]))
+
+    @staticmethod
+    def _to_robot(pose: tuple[float, float, float], xy: np.ndarray) -> np.ndarray:
+        x, y, th = pose
+        c, s = math.cos(th), math.sin(th)
+        dx, dy = xy[:, 0] - x, xy[:, 1] - y
+        return np.column_stack((c * dx + s * dy, -s * dx + c * dy))
+
+    # ------------------------------------------------------------ inputs
+    def _on_odometry(self, msg: Message) -> None:
+        el = msg.xml
+        self._odom = (msg.created, float(el.get("x")), float(el.get("y")), float(el.get("theta")), float(el.get("v")), float(el.get("w")))
+
+    def _on_focus(self, msg: Message) -> None:
+        el = msg.xml
+        self._focus = (math.radians(float(el.get("bearing", "0"))), float(el.get("distance", "1")))
+
+    def _robot_xy(self, t: float) -> np.ndarray:
+        return self._to_robot(self._pose_at(t), self.tracks.x[:, :2])
+
+    def _on_sounds(self, msg: Message) -> None:
+        t = msg.created
+        ids = self.tracks.ids
+        bearings = np.array([math.radians(float(s.get("bearing"))) for s in msg.xml], dtype=float)
+        rows = match_sounds(bearings_from(self._robot_xy(t), self.cues.mic_offset), bearings, self.cues.sound_tolerance) if len(ids) else []
+        self.speaking.feed(t, ids, {int(ids[r]) for r in rows})
+
+    def _on_faces(self, msg: Message) -> None:
+        t = msg.created
+        ids = self.tracks.ids
+        faces = np.array([(math.radians(float(f.get("bearing"))), float(f.get("distance"))) for f in msg.xml], dtype=float).reshape(-1, 2)
+        rows = match_faces(self._robot_xy(t), faces, self.cues) if len(ids) else []
+        self.facing.feed(t, ids, {int(ids[r]) for r in rows})
+
+    def _on_order(self, msg: Message) -> None:
+        name = msg.xml.get("name", "")
+        try:
+            state = self.fsm.order(name)
+        except OrderRefused as exc:
+            self.refused.append(str(exc))
+            return
+        if state in ("Interaction", "Follow", "Object"):
+            if self.partner is None or self.tracks.row(self.partner) < 0:
+                self.partner = self._choose_partner()
+                self.partner_lost_sent = False
+        else:
+            self.partner = None
+            self.partner_lost_sent = False
+        self.pp_sent = None
+        self._publish_state(self.now, force=True)
+
+    def _choose_partner(self) -> int | None:
+        """The partner on interact: the last potential partner if still tracked, else the selected person."""
+        if self._last_pp is not None and self.tracks.row(self._last_pp[0]) >= 0:
+            return self._last_pp[0]
+        sel = self.selector.selected
+        return sel if sel is not None and self.tracks.row(sel) >= 0 else None
+
+    # ------------------------------------------------------------ the scan
+    def _on_scan(self, msg: Message) -> None:
+        el = msg.xml
+        t = float(el.get("time"))
+        key = (el.get("beams"), el.get("min_angle"), el.get("resolution"))
+        if key != self._bearings_key:
+            n = int(key[0])
+            self._bearings = math.radians(float(key[1])) + math.radians(float(key[2])) * np.arange(n)
+            self._bearings_key = key
+            self.legs = replace(self.legs, offset=float(el.get("offset", self.legs.offset)))
+        self.process(t, np.asarray(msg.attachments["ranges"]))
+
+    def process(self, t: float, ranges: np.ndarray) -> None:
+        """Everything one scan does (also the benchmark's entry point)."""
+        assert self._bearings is not None
+        self.scans += 1
+        pose = self._pose_at(t)
+        det = detect(ranges, self._bearings, self.legs)
+        z = self._to_odom(pose, det.xy) if len(det) else det.xy
+        assigned = self.tracks.step(t, z, det.kind)
+        tr = self.tracks
+        alive = set(tr.ids.tolist())
+        if self.scans % 50 == 0:
+            self.speaking.forget(alive)
+            self.facing.forget(alive)
+            self.selector.forget(alive)
+        rxy = self._to_robot(pose, tr.x[:, :2]) if len(tr) else np.zeros((0, 2))
+        bearing = np.arctan2(rxy[:, 1], rxy[:, 0]) if len(tr) else np.zeros(0)
+        dist = np.hypot(rxy[:, 0], rxy[:, 1]) if len(tr) else np.zeros(0)
+        cats: dict[int, int] = {}
+        for i in np.flatnonzero(tr.confirmed).tolist():
+            tid = int(tr.ids[i])
+            cats[tid] = 3 if self.speaking.on(tid) and self.facing.on(tid) else 2 if self.speaking.on(tid) else 1
+        if self.fsm.top_down:
+            self._top_down(t, cats)
+            selected = self.partner
+        else:
+            selected = self.selector.update(t, cats)
+            self.fsm.bottom_up(t, bool(cats), cats.get(selected) if selected is not None else None)
+            self._bottom_up_events(t, selected, cats, bearing, dist)
+        self._publish_tracks(t, cats, bearing, dist)
+        row = tr.row(selected) if selected is not None else -1
+        self._act(t, row, bearing, dist)
+        if self.partner is not None:
+            prow = tr.row(self.partner)
+            if prow >= 0:
+                self._publish_partner(t, prow, bearing, dist, bool(np.any(assigned == prow)))
+        self._publish_state(t)
+
+    # ------------------------------------------------------------ decisions
+    def _bottom_up_events(self, t: float, selected: int | None, cats: dict[int, int], bearing: np.ndarray, dist: np.ndarray) -> None:
+        pp = selected if selected is not None and cats.get(selected) == 3 else None
+        if pp is not None:
+            self._last_pp = (pp, t)
+            if pp != self.pp_sent or t - self._pp_at >= self.params.pp_repeat - 1e-9:
+                i = self.tracks.row(pp)
+                person = etree.Element("PERSON", id=f"t{pp}", bearing=_deg(float(bearing[i])), distance=f"{float(dist[i]):.3f}", speaking="true", facing="true")
+                self._event("potential_partner", (person,))
+                self.pp_sent, self._pp_at = pp, t
+        elif self.pp_sent is not None:
+            self._event("potential_partner_lost")
+            self.pp_sent = None
+
+    def _top_down(self, t: float, cats: dict[int, int]) -> None:
+        tr = self.tracks
+        row = tr.row(self.partner) if self.partner is not None else -1
+        if row < 0 or t - float(tr.last_update[row]) >= self.params.partner_lost_after:
+            if self.partner is not None and not self.partner_lost_sent:
+                self._event("partner_lost")
+                self.partner_lost_sent = True
+            if row < 0:
+                self.partner = None
+                # The partner may come back: someone speaking while facing the robot takes the place.
+                threes = sorted(i for i, c in cats.items() if c == 3)
+                if threes:
+                    self.partner, self.partner_lost_sent = threes[0], False
+        else:
+            self.partner_lost_sent = False
+
+    def _event(self, name: str, children: tuple[etree._Element, ...] = ()) -> None:
+        el = etree.Element("event", name=name)
+        for c in children:
+            el.append(c)
+        self.bus.publish(EVENTS, el)
+
+    # ------------------------------------------------------------ actions
+    def _act(self, t: float, row: int, bearing: np.ndarray, dist: np.ndarray) -> None:
+        p = self.params
+        state = self.fsm.state
+        target = CAMERA[state]
+        # Camera.
+        pan = tilt = 0.0
+        if target == "object" and self._focus is not None:
+            pan, d = self._focus
+            tilt = math.atan2(0.8 - p.camera_height, max(d, 0.3))
+        elif target in p.heights and row >= 0:
+            pan = float(bearing[row])
+            tilt = math.atan2(p.heights[target] - p.camera_height, max(float(dist[row]), 0.3))
+        self._ptu(t, pan, tilt)
+        # Base: turn on the spot to the person in Listen, Interaction and Object.
+        if state in TURNS and row >= 0:
+            b = float(bearing[row])
+            if self._turning and abs(b) < p.turn_stop:
+                self._base(0.0)
+                self._turning = False
+            elif self._turning or abs(b) > p.turn_start:
+                self._turning = True
+                self._base(max(-p.max_turn, min(p.max_turn, p.turn_gain * b)))
+        elif self._turning:
+            self._base(0.0)
+            self._turning = False
+        # Gated recognition: the beam on a person speaking while facing the robot, or the partner.
+        steer: float | None = None
+        if row >= 0 and (self.fsm.top_down or (self.selector.selected is not None and self.pp_sent == self.selector.selected)):
+            steer = float(bearing[row])
+        self._steer(steer)
+
+    def _ptu(self, t: float, pan: float, tilt: float) -> None:
+        p = self.params
+        last = self._ptu_sent
+        if last is None or abs(last[0] - pan) > p.ptu_deadband or abs(last[1] - tilt) > p.ptu_deadband or t - self._ptu_at >= p.ptu_refresh:
+            self.bus.publish(PTU_CMD, etree.Element("ptu", pan=_deg(pan), tilt=_deg(tilt)))
+            self._ptu_sent, self._ptu_at = (pan, tilt), t
+
+    def _base(self, w: float) -> None:
+        self.bus.publish(BASE_CMD, etree.Element("velocity", v="0", w=f"{w:.4f}"))
+
+    def _steer(self, bearing: float | None) -> None:
+        last = self._steer_sent
+        if bearing is None:
+            if last is not None:
+                self.bus.publish(STEER, etree.Element("steer", off="true"))
+                self._steer_sent = None
+            return
+        if not isinstance(last, float) or abs(last - bearing) > self.params.steer_deadband:
+            b = math.remainder(bearing, 2 * math.pi)
+            self.bus.publish(STEER, etree.Element("steer", bearing=_deg(b)))
+            self._steer_sent = bearing
+
+    # ------------------------------------------------------------ outputs
+    def _publish_tracks(self, t: float, cats: dict[int, int], bearing: np.ndarray, dist: np.ndarray) -> None:
+        tr = self.tracks
+        el = etree.Element("tracks", time=f"{t:.6f}", frame="odom")
+        for i in range(len(tr)):
+            tid = int(tr.ids[i])
+            x = tr.x[i]
+            P = tr.P[i]
+            etree.SubElement(
+                el, "track", id=f"t{tid}", x=f"{x[0]:.3f}", y=f"{x[1]:.3f}", vx=f"{x[2]:.3f}", vy=f"{x[3]:.3f}",
+                cxx=f"{P[0, 0]:.5f}", cxy=f"{P[0, 1]:.5f}", cyy=f"{P[1, 1]:.5f}", bearing=_deg(float(bearing[i])),
+                distance=f"{float(dist[i]):.3f}", confirmed="true" if tr.confirmed[i] else "false",
+                speaking="true" if cats.get(tid, 0) >= 2 else "false", facing="true" if self.facing.on(tid) and tid in cats else "false",
+            )
+        self.bus.publish(TRACKS, el)
+
+    def _publish_partner(self, t: float, row: int, bearing: np.ndarray, dist: np.ndarray, visible: bool) -> None:
+        tr = self.tracks
+        x = tr.x[row]
+        self.bus.publish(PARTNER, etree.Element(
+            "partner", id=f"t{int(tr.ids[row])}", bearing=_deg(float(bearing[row])), distance=f"{float(dist[row]):.3f}",
+            x=f"{x[0]:.3f}", y=f"{x[1]:.3f}", vx=f"{x[2]:.3f}", vy=f"{x[3]:.3f}", visible="true" if visible else "false",
+            lost_for=f"{max(0.0, t - float(tr.last_update[row])):.3f}",
+        ))
+
+    def _publish_state(self, t: float, *, force: bool = False) -> None:
+        sel = self.partner if self.fsm.top_down else self.selector.selected
+        key = (self.fsm.state, sel, self.partner)
+        if force or key != self._state_sent or t - self._state_at >= self.params.state_refresh:
+            self.bus.publish(STATE, etree.Element(
+                "attention", state=key[0], selected=f"t{sel}" if sel is not None else "", partner=f"t{self.partner}" if self.partner is not None else "", time=f"{t:.6f}",
+            ))
+            self._state_sent, self._state_at = key, t
