@@ -19,7 +19,7 @@ def attention_stage(source: Path | str, *, seed: int | None = None, text: bool =
     """A stage of ``source`` (a path, or XML text with ``text=True``) with the ES and person_attention installed."""
     sc = load_scenario_text(source, source="test.xml") if text else load_scenario(source)
     sim = Simulation(seed=sc.seed if seed is None else seed, scenario=sc.name)
-    st = Stage(sim, sc)
+    st = Stage(sim, sc, keep_messages=True)
     for make in observers:
         make(st)
     es = ExecutionSupervisor(sim)

@@ -1,0 +1,282 @@
+"""Person tracking and attention scored against ground truth (streaming, constant memory).
+
+``tracking`` (:class:`TrackingMetric`) reads every ``/robot/attention/tracks``
+message and compares the confirmed tracks with where the people really are
+at that moment:
+
+- CLEAR-MOT (Bernardin and Stiefelhagen 2008), computed exactly as
+  py-motmetrics' ``MOTAccumulator`` does (:class:`StreamingMOT`: keep last
+  frame's correspondences that are still within ``max_d``, assign the rest
+  with ``scipy.optimize.linear_sum_assignment``, a switch when a person's
+  match changes), but with running counts instead of an event table, so a
+  run's memory does not grow with its length: MOTA, MOTP in metres (plain
+  Euclidean distances), matches, misses, false positives, identity
+  switches; the tests check every count against motmetrics itself;
+- IDF1 (Ristani et al. 2016) from a gt-id x track-id co-occurrence count
+  (bounded by the number of ids, not of frames) and the global id
+  assignment, again as motmetrics computes it.
+
+What counts: a person is a ground-truth object when the laser could see
+them: present, in front of the laser (within ``fov``), closer than
+``max_range`` and with no wall on the line from the laser (people and
+furniture occluding them do count: the tracker must coast through that).
+A confirmed track is a hypothesis when it lies in the same region.
+Positions come from the message's robot-frame ``bearing`` and ``distance``
+placed with the robot's true pose, so odometry drift does not count
+against the tracker.
+
+``attention`` in the same summary: while the supervisor is in an
+interaction state, the share of scans on which the attention system's
+partner track is on the right person (the one who spoke while facing the
+robot when the interaction began) within ``max_d``.
+
+:func:`detection_scores` scores a leg detector's candidates (precision and
+recall per scan) for the benchmark and tests, which run the robot's
+detector themselves (the kernel never imports the robot).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Hashable, Sequence
+from typing import Any
+
+import numpy as np
+from scipy.optimize import linear_sum_assignment
+
+from ..world.geometry import polygon_edges, segments_intersect, wrap_angle
+from . import Observer
+
+INTERACTION_STATES = frozenset({"Interacting", "Following", "ObjectTeaching"})
+FACING = math.radians(30)
+
+
+class StreamingMOT:
+    """CLEAR-MOT and IDF1 over a stream of frames, in memory bounded by the number of ids."""
+
+    def __init__(self, max_d: float = 1.0) -> None:
+        self.max_d = max_d
+        self.frames = 0
+        self.objects = 0  # ground-truth objects summed over frames
+        self.hyps = 0
+        self.matches = 0
+        self.misses = 0
+        self.false_positives = 0
+        self.switches = 0
+        self.distance = 0.0
+        self._m: dict[Hashable, Hashable] = {}  # current correspondences gt -> hyp
+        self._gt_frames: dict[Hashable, int] = {}
+        self._hyp_frames: dict[Hashable, int] = {}
+        self._co: dict[tuple[Hashable, Hashable], int] = {}
+
+    def update(self, gt_ids: Sequence[Hashable], gt_xy: np.ndarray, hyp_ids: Sequence[Hashable], hyp_xy: np.ndarray) -> None:
+        """One frame: ground-truth ids and positions (N, 2), hypothesis ids and positions (M, 2)."""
+        self.frames += 1
+        n, m = len(gt_ids), len(hyp_ids)
+        self.objects += n
+        self.hyps += m
+        gt_xy = np.asarray(gt_xy, dtype=float).reshape(n, 2)
+        hyp_xy = np.asarray(hyp_xy, dtype=float).reshape(m, 2)
+        d = np.hypot(gt_xy[:, None, 0] - hyp_xy[None, :, 0], gt_xy[:, None, 1] - hyp_xy[None, :, 1]) if n and m else np.zeros((n, m))
+        valid = d <= self.max_d
+        for o in gt_ids:
+            self._gt_frames[o] = self._gt_frames.get(o, 0) + 1
+        for h in hyp_ids:
+            self._hyp_frames[h] = self._hyp_frames.get(h, 0) + 1
+        for i, j in zip(*np.nonzero(valid)):
+            key = (gt_ids[int(i)], hyp_ids[int(j)])
+            self._co[key] = self._co.get(key, 0) + 1
+        gi = {o: i for i, o in enumerate(gt_ids)}
+        hj = {h: j for j, h in enumerate(hyp_ids)}
+        used_g = np.zeros(n, dtype=bool)
+        used_h = np.zeros(m, dtype=bool)
+        # 1. Last frame's correspondences that still hold.
+        for o, h in list(self._m.items()):
+            i, j = gi.get(o), hj.get(h)
+            if i is not None and j is not None and valid[i, j] and not used_h[j]:
+                used_g[i] = used_h[j] = True
+                self.matches += 1
+                self.distance += float(d[i, j])
+        # 2. The rest: minimum total distance among valid pairs.
+        rows = np.flatnonzero(~used_g)
+        cols = np.flatnonzero(~used_h)
+        if rows.size and cols.size:
+            sub = d[np.ix_(rows, cols)]
+            ok = valid[np.ix_(rows, cols)]
+            if ok.any():
+                r, c = linear_sum_assignment(np.where(ok, sub, 1e9))
+                for a, b in zip(r, c):
+                    if not ok[a, b]:
+                        continue
+                    i, j = int(rows[a]), int(cols[b])
+                    o, h = gt_ids[i], hyp_ids[j]
+                    if o in self._m and self._m[o] != h:
+                        self.switches += 1  # a switch is a correspondence too, but not counted a match (as motmetrics)
+                    else:
+                        self.matches += 1
+                    self._m[o] = h
+                    used_g[i] = used_h[j] = True
+                    self.distance += float(d[i, j])
+        self.misses += int((~used_g).sum())
+        self.false_positives += int((~used_h).sum())
+
+    def idf1(self) -> tuple[float, int]:
+        """IDF1 and the identity true positives of the best global id assignment."""
+        if not self._co:
+            return (0.0, 0) if self.objects + self.hyps else (1.0, 0)
+        gts = sorted(self._gt_frames, key=str)
+        hyps = sorted(self._hyp_frames, key=str)
+        gi = {o: i for i, o in enumerate(gts)}
+        hj = {h: j for j, h in enumerate(hyps)}
+        c = np.zeros((len(gts), len(hyps)))
+        for (o, h), k in self._co.items():
+            c[gi[o], hj[h]] = k
+        r, cc = linear_sum_assignment(-c)
+        idtp = int(c[r, cc].sum())
+        return 2.0 * idtp / (self.objects + self.hyps), idtp
+
+    def summary(self) -> dict[str, Any]:
+        mota = 1.0 - (self.misses + self.false_positives + self.switches) / self.objects if self.objects else None
+        idf1, idtp = self.idf1()
+        return {
+            "frames": self.frames,
+            "objects": self.objects,
+            "mota": None if mota is None else round(mota, 4),
+            "motp_m": round(self.distance / (self.matches + self.switches), 4) if self.matches + self.switches else None,
+            "idf1": round(idf1, 4),
+            "idtp": idtp,
+            "matches": self.matches,
+            "misses": self.misses,
+            "false_positives": self.false_positives,
+            "id_switches": self.switches,
+            "gt_ids": len(self._gt_frames),
+            "track_ids": len(self._hyp_frames),
+        }
+
+
+def detection_scores(det_xy: np.ndarray, truth_xy: np.ndarray, radius: float = 0.35) -> tuple[int, int, int]:
+    """(true positives, false positives, false negatives) of one scan's person candidates (world frame).
+
+    One-to-one: candidates and people paired by minimum distance within ``radius``.
+    """
+    det_xy = np.asarray(det_xy, dtype=float).reshape(-1, 2)
+    truth_xy = np.asarray(truth_xy, dtype=float).reshape(-1, 2)
+    if det_xy.shape[0] == 0 or truth_xy.shape[0] == 0:
+        return 0, det_xy.shape[0], truth_xy.shape[0]
+    d = np.hypot(det_xy[:, None, 0] - truth_xy[None, :, 0], det_xy[:, None, 1] - truth_xy[None, :, 1])
+    r, c = linear_sum_assignment(np.where(d <= radius, d, 1e9))
+    tp = int((d[r, c] <= radius).sum())
+    return tp, det_xy.shape[0] - tp, truth_xy.shape[0] - tp
+
+
+def visible_region(walls: tuple[np.ndarray, np.ndarray], pose: tuple[float, float, float], xy: np.ndarray, *, fov: float = math.pi, max_range: float = 6.5, offset: float = 0.13) -> np.ndarray:
+    """Which points (N, 2) the laser could see: in its field of view and range, no wall in between."""
+    xy = np.asarray(xy, dtype=float).reshape(-1, 2)
+    if xy.shape[0] == 0:
+        return np.zeros(0, dtype=bool)
+    x, y, th = pose
+    ox, oy = x + offset * math.cos(th), y + offset * math.sin(th)
+    dx, dy = xy[:, 0] - ox, xy[:, 1] - oy
+    b = np.asarray(wrap_angle(np.arctan2(dy, dx) - th))
+    ok = (np.abs(b) <= fov / 2) & (np.hypot(dx, dy) <= max_range)
+    a, e = walls
+    if ok.any() and a.shape[0]:
+        crosses = segments_intersect(np.broadcast_to(np.array([ox, oy]), xy.shape), xy, a, e).any(axis=1)
+        ok &= ~crosses
+    return ok
+
+
+def wall_edges(world: Any) -> tuple[np.ndarray, np.ndarray]:
+    """Edges (a, b) of every wall piece of the world (door gaps are not walls)."""
+    polys = [o.polygon for o in world.obstacles if o.kind == "wall"]
+    if not polys:
+        return np.zeros((0, 2)), np.zeros((0, 2))
+    pairs = [polygon_edges(p) for p in polys]
+    return np.concatenate([p[0] for p in pairs]), np.concatenate([p[1] for p in pairs])
+
+
+class TrackingMetric(Observer):
+    """CLEAR-MOT, IDF1 and attention-on-the-right-person for ``person_attention`` (module docstring)."""
+
+    channels = ("/robot/attention/",)
+
+    def __init__(self, run: Any, *, max_d: float = 1.0) -> None:
+        super().__init__(run)
+        self.mot = StreamingMOT(max_d)
+        self.max_d = max_d
+        self.walls = wall_edges(run.world)
+        self.partner: str | None = None  # the attention system's partner track
+        self.right: str | None = None  # who the partner really is (ground truth)
+        self.on_right = 0
+        self.in_interaction = 0
+        self.interactions = 0
+
+    def on_message(self, m: Any) -> None:
+        if m.channel == "/robot/attention/state":
+            self.partner = m.xml.get("partner") or None
+        elif m.channel == "/robot/attention/tracks":
+            self._frame(m)
+
+    def _frame(self, m: Any) -> None:
+        world = self.run.world
+        pose = world.robot.pose
+        people = [(n, h.position) for n, h in world.humans.items() if h.present]
+        gt_xy = np.array([p for _, p in people], dtype=float).reshape(-1, 2)
+        vis = visible_region(self.walls, pose, gt_xy)
+        ids, xy = [], []
+        x, y, th = pose
+        for t in m.xml:
+            if t.get("confirmed") != "true":
+                continue
+            b = math.radians(float(t.get("bearing"))) + th
+            d = float(t.get("distance"))
+            ids.append(t.get("id"))
+            xy.append((x + d * math.cos(b), y + d * math.sin(b)))
+        hyp_xy = np.array(xy, dtype=float).reshape(-1, 2)
+        hvis = visible_region(self.walls, pose, hyp_xy)
+        self.mot.update([people[i][0] for i in np.flatnonzero(vis)], gt_xy[vis], [ids[j] for j in np.flatnonzero(hvis)], hyp_xy[hvis])
+        self._attention(ids, hyp_xy, people)
+
+    def _attention(self, ids: list[str], hyp_xy: np.ndarray, people: list[tuple[str, tuple[float, float]]]) -> None:
+        if self.run.es_state not in INTERACTION_STATES:
+            self.right = None
+            return
+        if self.right is None:
+            self.right = self._greeter()
+            self.interactions += 1
+        if self.right is None:
+            return
+        self.in_interaction += 1
+        if self.partner in ids:
+            px, py = hyp_xy[ids.index(self.partner)]
+            where = dict(people).get(self.right)
+            if where is not None and math.hypot(where[0] - px, where[1] - py) <= self.max_d:
+                self.on_right += 1
+
+    def _greeter(self) -> str | None:
+        """The person who spoke (now or in the last 3 s) while facing the robot, nearest first."""
+        world = self.run.world
+        now = self.run.sim.now
+        rx, ry, _ = world.robot.pose
+        best: tuple[float, str] | None = None
+        for name, h in world.humans.items():
+            if not h.present:
+                continue
+            said = [u for u in world.sound.by(name, since=now - 10.0) if u.start <= now and u.end >= now - 3.0]
+            hx, hy = h.position
+            facing = abs(float(wrap_angle(h.gaze - math.atan2(ry - hy, rx - hx)))) <= FACING
+            if said and facing:
+                d = math.hypot(hx - rx, hy - ry)
+                if best is None or d < best[0]:
+                    best = (d, name)
+        return best[1] if best else None
+
+    def summary(self) -> dict[str, Any]:
+        out = self.mot.summary()
+        out["attention_on_partner_share"] = round(self.on_right / self.in_interaction, 4) if self.in_interaction else None
+        out["attention_scans_in_interaction"] = self.in_interaction
+        out["interactions"] = self.interactions
+        return out
+
+
+OBSERVERS = {"tracking": TrackingMetric}

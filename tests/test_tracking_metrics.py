@@ -1,0 +1,76 @@
+"""The streaming CLEAR-MOT/IDF1 scorer computes what py-motmetrics computes, in bounded memory."""
+
+from __future__ import annotations
+
+import math
+
+import motmetrics as mm
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from homesim.metrics.tracking import StreamingMOT, detection_scores
+
+MAX_D = 1.0
+
+
+@st.composite
+def sequences(draw):
+    """Frames of 0-3 people walking and 0-4 tracks near them, with ids that appear, vanish and swap."""
+    frames = []
+    n_frames = draw(st.integers(1, 12))
+    for _ in range(n_frames):
+        gts = draw(st.lists(st.sampled_from([1, 2, 3]), unique=True, max_size=3))
+        gxy = [draw(st.tuples(st.floats(0, 4), st.floats(0, 4))) for _ in gts]
+        hyps = draw(st.lists(st.sampled_from([11, 12, 13, 14]), unique=True, max_size=4))
+        hxy = [draw(st.tuples(st.floats(0, 4), st.floats(0, 4))) for _ in hyps]
+        frames.append((gts, gxy, hyps, hxy))
+    return frames
+
+
+def _motmetrics(frames):
+    acc = mm.MOTAccumulator(auto_id=True)
+    for gts, gxy, hyps, hxy in frames:
+        g = np.array(gxy, dtype=float).reshape(-1, 2)
+        h = np.array(hxy, dtype=float).reshape(-1, 2)
+        d = np.hypot(g[:, None, 0] - h[None, :, 0], g[:, None, 1] - h[None, :, 1]) if len(gts) and len(hyps) else np.zeros((len(gts), len(hyps)))
+        acc.update(gts, hyps, np.where(d <= MAX_D, d, np.nan))
+    mh = mm.metrics.create()
+    return mh.compute(acc, metrics=["num_objects", "num_matches", "num_misses", "num_false_positives", "num_switches", "mota", "motp", "idf1"], name="x")
+
+
+@settings(max_examples=20, deadline=None)
+@given(frames=sequences())
+def test_streaming_scores_equal_motmetrics(frames):
+    ours = StreamingMOT(MAX_D)
+    for gts, gxy, hyps, hxy in frames:
+        ours.update(gts, np.array(gxy).reshape(-1, 2), hyps, np.array(hxy).reshape(-1, 2))
+    ref = _motmetrics(frames).iloc[0]
+    s = ours.summary()
+    assert s["objects"] == ref["num_objects"]
+    assert s["matches"] == ref["num_matches"]
+    assert s["misses"] == ref["num_misses"]
+    assert s["false_positives"] == ref["num_false_positives"]
+    assert s["id_switches"] == ref["num_switches"]
+    if ref["num_objects"]:
+        assert s["mota"] == pytest.approx(ref["mota"], abs=1e-4)
+    if ref["num_matches"] + ref["num_switches"]:
+        assert s["motp_m"] == pytest.approx(ref["motp"], abs=1e-4)  # metres: plain Euclidean distances
+    if not math.isnan(ref["idf1"]):
+        assert ours.idf1()[0] == pytest.approx(ref["idf1"], abs=1e-9)
+
+
+def test_a_perfect_tracker_scores_one_and_a_swap_is_one_switch():
+    mot = StreamingMOT(1.0)
+    for k in range(10):
+        mot.update(["a", "b"], np.array([[k * 0.1, 0.0], [k * 0.1, 2.0]]), ["t1", "t2"], np.array([[k * 0.1, 0.05], [k * 0.1, 2.05]]))
+    assert mot.summary()["mota"] == 1.0 and mot.summary()["motp_m"] == pytest.approx(0.05)
+    mot.update(["a", "b"], np.array([[1.0, 0.0], [1.0, 2.0]]), ["t2", "t1"], np.array([[1.0, 0.0], [1.0, 2.0]]))
+    assert mot.summary()["id_switches"] == 2  # both people changed track
+
+
+def test_detection_scores_pair_one_to_one():
+    det = np.array([[0.0, 0.0], [0.1, 0.0], [5.0, 5.0]])
+    truth = np.array([[0.05, 0.0], [2.0, 2.0]])
+    assert detection_scores(det, truth) == (1, 2, 1)
