@@ -20,7 +20,8 @@ What counts: a person is a ground-truth object when the laser could see
 them: present, in front of the laser (within ``fov``), closer than
 ``max_range`` and with no wall on the line from the laser (people and
 furniture occluding them do count: the tracker must coast through that).
-A confirmed track is a hypothesis when it lies in the same region.
+A confirmed track is a hypothesis when it lies in the same region and is
+not within ``max_d`` of a person outside it (those are "don't care").
 Positions come from the message's robot-frame ``bearing`` and ``distance``
 placed with the robot's true pose, so odometry drift does not count
 against the tracker.
@@ -234,6 +235,11 @@ class TrackingMetric(Observer):
             xy.append((x + d * math.cos(b), y + d * math.sin(b)))
         hyp_xy = np.array(xy, dtype=float).reshape(-1, 2)
         hvis = visible_region(self.walls, pose, hyp_xy)
+        # A track on a person the laser cannot see (behind a wall's edge) is "don't care", not a false positive.
+        hidden = gt_xy[~vis]
+        if hidden.shape[0] and hyp_xy.shape[0]:
+            near = np.hypot(hyp_xy[:, None, 0] - hidden[None, :, 0], hyp_xy[:, None, 1] - hidden[None, :, 1]).min(axis=1) <= self.max_d
+            hvis &= ~near
         self.mot.update([people[i][0] for i in np.flatnonzero(vis)], gt_xy[vis], [ids[j] for j in np.flatnonzero(hvis)], hyp_xy[hvis])
         self._attention(ids, hyp_xy, people)
 

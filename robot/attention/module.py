@@ -207,6 +207,7 @@ class PersonAttention(Module):
         faces = np.array([(math.radians(float(f.get("bearing"))), float(f.get("distance"))) for f in msg.xml], dtype=float).reshape(-1, 2)
         rows = match_faces(self._robot_xy(t), faces, self.cues) if len(ids) else []
         self.facing.feed(t, ids, {int(ids[r]) for r in rows})
+        self.tracks.support([r for r in rows if self.tracks.confirmed[r]], t)
 
     def _on_order(self, msg: Message) -> None:
         name = msg.xml.get("name", "")

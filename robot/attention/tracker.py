@@ -22,8 +22,10 @@ Association: Mahalanobis distance of every candidate to every track's
 predicted position (batched 2x2 innovation covariances), gated at the
 chi-square 99 % point, then global nearest neighbour with
 ``scipy.optimize.linear_sum_assignment``. Pairs and blobs can start tracks;
-single legs (the other hidden, or a table leg) only support a track that a
-pair or blob confirmed recently. Birth: a tentative track per unassigned
+single legs (the other hidden, or a table leg) only feed confirmed tracks,
+and alone (with frontal faces, :meth:`Tracks.support`) keep one for at most
+``single_support`` seconds after a pair or blob last fed it, so a track that
+lost its person does not live on a table leg. Birth: a tentative track per unassigned
 pair/blob, confirmed after ``confirm_hits`` hits within ``confirm_window``
 seconds (repeated evidence); a tentative track that misses is dropped; a
 confirmed track dies ``death_timeout`` seconds after its last update (its
@@ -51,7 +53,7 @@ class TrackerSpec:
     single_std: float = 0.12  # m: a single leg is up to a leg spread off the person's centre
     gate: float = GATE_99  # squared Mahalanobis distance
     single_gate: float = 4.0  # tighter for single legs (clutter)
-    single_support: float = 1.5  # s: singles feed a track only this long after a pair/blob did
+    single_support: float = 8.0  # s: singles (or faces) alone keep a track only this long after a pair/blob fed it
     confirm_hits: int = 3
     confirm_window: float = 0.6  # s
     death_timeout: float = 2.5  # s without an update: the track is gone
@@ -114,8 +116,8 @@ class Tracks:
         if n and m:
             d2 = mahalanobis2(self.x, self.P, z, r)
             gate = np.where(single, spec.single_gate, spec.gate)[None, :]
-            # Singles may only feed a track that a pair or blob fed recently.
-            allowed = (d2 <= gate) & ~(single[None, :] & ((t - self.last_strong)[:, None] > spec.single_support))
+            # Singles may only feed confirmed tracks (they never make or confirm one).
+            allowed = (d2 <= gate) & ~(single[None, :] & ~self.confirmed[:, None])
             if allowed.any():
                 cost = np.where(allowed, d2, 1e6)
                 rows, cols = linear_sum_assignment(cost)
@@ -131,6 +133,7 @@ class Tracks:
         young = ~self.confirmed
         self.confirmed |= young & (self.hits >= spec.confirm_hits) & (t - self.born <= spec.confirm_window + 1e-9)
         dead = (~self.confirmed & (self.last_update < t - 1e-9)) | (t - self.last_update > spec.death_timeout)
+        dead |= t - self.last_strong > spec.single_support  # a table leg must not keep a track forever
         dead |= ~self.confirmed & (t - self.born > spec.confirm_window + 1e-9)
         if dead.any():
             keep = ~dead
@@ -176,6 +179,12 @@ class Tracks:
     def _keep(self, keep: np.ndarray) -> None:
         for name in ("x", "P", "ids", "hits", "born", "last_update", "last_strong", "confirmed"):
             setattr(self, name, getattr(self, name)[keep])
+
+    def support(self, rows: list[int], t: float) -> None:
+        """Other strong evidence that tracks ``rows`` are people (a frontal face matched them at ``t``)."""
+        if rows:
+            idx = np.asarray(rows, dtype=np.int64)
+            self.last_strong[idx] = np.maximum(self.last_strong[idx], t)
 
     # ------------------------------------------------------------ views
     def row(self, track_id: int) -> int:
