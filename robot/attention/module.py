@@ -46,9 +46,10 @@ from lxml import etree
 from homesim.message import Message
 from homesim.module import Module
 
+from .clutter import FurnitureLegs
 from .cues import CueSpec, Hysteresis, bearings_from, match_faces, match_sounds
 from .fsm import CAMERA, TURNS, AttentionFSM, OrderRefused
-from .legs import LegSpec, detect
+from .legs import Detections, LegSpec, detect
 from .selection import SelectionParams, Selector
 from .tracker import Tracks, TrackerSpec
 
@@ -66,6 +67,7 @@ ODOMETRY = "/robot/odometry"
 FACES = "/robot/camera/faces"
 SOUNDS = "/robot/audio/sources"
 FOCUS = "/robot/objects/focus"
+POSE = "/robot/localisation/pose"
 
 #: The attention system's own typed channels (declared by :func:`declare_channels`).
 CHANNEL_SCHEMAS = {
@@ -144,6 +146,9 @@ class PersonAttention(Module):
         self._state_sent: tuple[str, int | None, int | None] | None = None
         self._state_at = -math.inf
         self.scans = 0
+        self.furniture: FurnitureLegs | None = None  # from map_server/map, once it answered
+        self._map_pose: tuple[float, float, float, float] | None = None  # t, x, y, theta (localiser)
+        self._map_odom: tuple[float, float, float] | None = None  # odometry when that pose came
         if typed:
             declare_channels(sim.bus)
         self.bus.subscribe(SCAN, self._on_scan)
@@ -152,8 +157,10 @@ class PersonAttention(Module):
         self.bus.subscribe(SOUNDS, self._on_sounds)
         self.bus.subscribe(FOCUS, self._on_focus)
         self.bus.subscribe(ORDERS, self._on_order)
+        self.bus.subscribe(POSE, self._on_pose)
 
     async def run(self) -> None:
+        await self._load_map()
         while True:
             self.beat()
             await asyncio.sleep(0.25)
@@ -181,6 +188,37 @@ class PersonAttention(Module):
         c, s = math.cos(th), math.sin(th)
         dx, dy = xy[:, 0] - x, xy[:, 1] - y
         return np.column_stack((c * dx + s * dy, -s * dx + c * dy))
+
+    async def _load_map(self) -> None:
+        """Ask ``map_server/map`` for the floor plan (raised furniture's legs); without it, no filtering."""
+        from homesim.errors import HomesimError
+        from robot.floorplan import MapFormatError, parse_map
+
+        try:
+            reply = await self.bus.call("map_server", "map", etree.Element("map_request"), timeout=2.0)
+            self.furniture = FurnitureLegs(parse_map(reply.xml))
+        except (HomesimError, MapFormatError, TimeoutError) as exc:
+            self.refused.append(f"no floor plan, furniture legs are not filtered: {exc}")
+
+    def _on_pose(self, msg: Message) -> None:
+        el = msg.xml
+        self._map_pose = (msg.created, float(el.get("x")), float(el.get("y")), float(el.get("theta")))
+        self._map_odom = self._pose_at(msg.created)
+
+    def _robot_in_map(self, t: float) -> tuple[float, float, float]:
+        """The robot's pose in the map frame: the localiser's last pose moved on by odometry since, else start + odometry."""
+        assert self.furniture is not None
+        odom = self._pose_at(t)
+        if self._map_pose is None or self._map_odom is None:
+            return self.furniture.map_pose(odom)
+        _, mx, my, mth = self._map_pose
+        ox, oy, oth = self._map_odom
+        # The odometry increment since the localiser's pose, in that pose's own frame.
+        c, s = math.cos(oth), math.sin(oth)
+        dx, dy = odom[0] - ox, odom[1] - oy
+        fx, fy = c * dx + s * dy, -s * dx + c * dy
+        cm, sm = math.cos(mth), math.sin(mth)
+        return mx + cm * fx - sm * fy, my + sm * fx + cm * fy, mth + odom[2] - oth
 
     # ------------------------------------------------------------ inputs
     def _on_odometry(self, msg: Message) -> None:
@@ -251,6 +289,10 @@ class PersonAttention(Module):
         self.scans += 1
         pose = self._pose_at(t)
         det = detect(ranges, self._bearings, self.legs)
+        if len(det) and self.furniture is not None:
+            keep = ~self.furniture.inside(self._to_odom(self._robot_in_map(t), det.xy))
+            if not keep.all():
+                det = Detections(det.xy[keep], det.kind[keep], det.legs)
         z = self._to_odom(pose, det.xy) if len(det) else det.xy
         assigned = self.tracks.step(t, z, det.kind)
         tr = self.tracks
