@@ -29,6 +29,7 @@ robot frame (the laser's ``offset`` ahead of the centre added).
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -101,8 +102,14 @@ def segment_features(ranges: np.ndarray, bearings: np.ndarray, spec: LegSpec) ->
     return {"start": starts, "end": ends, "n": n, "mx": mx, "my": my, "width": width, "lin": np.sqrt(small), "range": mean_r, "front": front}
 
 
-def detect(ranges: np.ndarray, bearings: np.ndarray, spec: LegSpec = LegSpec()) -> Detections:
-    """Person candidates (robot frame) from one scan; see the module docstring."""
+def detect(ranges: np.ndarray, bearings: np.ndarray, spec: LegSpec = LegSpec(), reject: Callable[[np.ndarray], np.ndarray] | None = None) -> Detections:
+    """Person candidates (robot frame) from one scan; see the module docstring.
+
+    ``reject`` (optional) marks leg-like segments that are known not to be
+    people (robot-frame points (K, 2) -> bool (K,), e.g. inside a table's
+    footprint); they are dropped before pairing, so a table leg never pairs
+    with a person's leg.
+    """
     f = segment_features(ranges, bearings, spec)
     if len(f["n"]) == 0:
         return EMPTY
@@ -119,6 +126,14 @@ def detect(ranges: np.ndarray, bearings: np.ndarray, spec: LegSpec = LegSpec()) 
     norm = np.maximum(np.hypot(f["mx"], f["my"]), 1e-9)
     cx = f["mx"] + 0.05 * f["mx"] / norm + spec.offset
     cy = f["my"] + 0.05 * f["my"] / norm
+    if reject is not None:
+        pts = np.column_stack((cx, cy))
+        bad = np.zeros(cx.shape[0], dtype=bool)
+        cand = leg | blob
+        if cand.any():
+            bad[cand] = reject(pts[cand])
+        leg &= ~bad
+        blob &= ~bad
     legs = np.column_stack((cx[leg], cy[leg]))
     out_xy: list[np.ndarray] = []
     kinds: list[int] = []

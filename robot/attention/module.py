@@ -49,7 +49,7 @@ from homesim.module import Module
 from .clutter import FurnitureLegs
 from .cues import CueSpec, Hysteresis, bearings_from, match_faces, match_sounds
 from .fsm import CAMERA, TURNS, AttentionFSM, OrderRefused
-from .legs import Detections, LegSpec, detect
+from .legs import LegSpec, detect
 from .selection import SelectionParams, Selector
 from .tracker import Tracks, TrackerSpec
 
@@ -288,11 +288,12 @@ class PersonAttention(Module):
         assert self._bearings is not None
         self.scans += 1
         pose = self._pose_at(t)
-        det = detect(ranges, self._bearings, self.legs)
-        if len(det) and self.furniture is not None:
-            keep = ~self.furniture.inside(self._to_odom(self._robot_in_map(t), det.xy))
-            if not keep.all():
-                det = Detections(det.xy[keep], det.kind[keep], det.legs)
+        reject = None
+        if self.furniture is not None:
+            in_map = self._robot_in_map(t)
+            furniture = self.furniture
+            reject = lambda xy: furniture.inside(self._to_odom(in_map, xy))  # noqa: E731
+        det = detect(ranges, self._bearings, self.legs, reject)
         z = self._to_odom(pose, det.xy) if len(det) else det.xy
         assigned = self.tracks.step(t, z, det.kind)
         tr = self.tracks
