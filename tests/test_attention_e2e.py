@@ -11,16 +11,16 @@ import re
 
 import pytest
 
-from tests.attention_helpers import attention_stage, channel, events
+from tests.attention_helpers import attention_run, channel, events
 from tests.world_helpers import EXAMPLE
 
 
 @pytest.fixture(scope="module")
 def example():
-    st = attention_stage(EXAMPLE)
-    st.run(40.0)
-    yield st
-    st.sim.close()
+    run = attention_run(EXAMPLE, subsystems=("robot.attention", "robot.knowledge"))
+    run.run()
+    yield run
+    run.close()
 
 
 def test_annas_greeting_makes_her_a_potential_partner_from_sensor_data(example):

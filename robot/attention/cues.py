@@ -29,7 +29,7 @@ class CueSpec:
     speaking_on: int = 2  # frames
     speaking_off: float = 0.7  # s: longer than a pause between words
     facing_on: int = 2
-    facing_off: float = 0.5
+    facing_off: float = 0.3  # s: a face missing where the camera looks means the person looked away
     mic_offset: float = 0.10  # m ahead of the robot centre
     camera_offset: float = 0.05
 

@@ -47,6 +47,7 @@ class LegSpec:
     background: float = 0.15  # m: a leg stands this much in front of its neighbours
     pair_distance: float = 0.55  # m: two legs of one person
     max_range: float = 6.5  # m: beyond it legs are too sparse to trust
+    sparse_range: float = 4.0  # m: beyond it a 1-2 beam segment may be a leg whatever its width
     offset: float = 0.13  # laser ahead of the robot centre
 
 
@@ -120,7 +121,9 @@ def detect(ranges: np.ndarray, bearings: np.ndarray, spec: LegSpec = LegSpec(), 
     round_ = (f["lin"] > spec.max_linearity) & (f["n"] >= 4)
     few_ok = (f["n"] >= 2) | (f["range"] > 3.0)
     front = f["front"]
-    leg = front & few_ok & (width >= spec.min_width) & (width <= spec.max_width)
+    # Far away a leg spans one or two beams: its width cannot be measured, only bounded.
+    sparse = (f["n"] <= 2) & (f["range"] > spec.sparse_range)
+    leg = front & few_ok & ((width >= spec.min_width) | sparse) & (width <= spec.max_width)
     blob = front & (f["n"] >= 3) & (width > spec.blob_width[0]) & (width <= spec.blob_width[1]) & round_
     # A segment's points lie on the near surface: push the centre back by about a leg radius.
     norm = np.maximum(np.hypot(f["mx"], f["my"]), 1e-9)

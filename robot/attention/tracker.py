@@ -22,12 +22,13 @@ Association: Mahalanobis distance of every candidate to every track's
 predicted position (batched 2x2 innovation covariances), gated at the
 chi-square 99 % point, then global nearest neighbour with
 ``scipy.optimize.linear_sum_assignment``. Pairs and blobs can start tracks;
-single legs (the other hidden, or a table leg) only feed confirmed tracks,
-and alone (with frontal faces, :meth:`Tracks.support`) keep one for at most
+single legs (the other hidden, or a table leg) feed tracks but never start
+or confirm one, and alone (with frontal faces, :meth:`Tracks.support`) keep one for at most
 ``single_support`` seconds after a pair or blob last fed it, so a track that
 lost its person does not live on a table leg. Birth: a tentative track per unassigned
-pair/blob, confirmed after ``confirm_hits`` hits within ``confirm_window``
-seconds (repeated evidence); a tentative track that misses is dropped; a
+pair/blob, confirmed after ``confirm_hits`` pair/blob hits within
+``confirm_window`` seconds (repeated evidence; a far person's legs pair only
+now and then); a tentative track unseen for ``tentative_gap`` is dropped; a
 confirmed track dies ``death_timeout`` seconds after its last update (its
 prediction coasts through occlusions and crossings meanwhile, with its
 velocity damped so it does not run away).
@@ -55,7 +56,8 @@ class TrackerSpec:
     single_gate: float = 4.0  # tighter for single legs (clutter)
     single_support: float = 8.0  # s: singles (or faces) alone keep a track only this long after a pair/blob fed it
     confirm_hits: int = 3
-    confirm_window: float = 0.6  # s
+    confirm_window: float = 1.0  # s: ... within this long after birth
+    tentative_gap: float = 0.35  # s: a tentative track not seen for longer is dropped
     death_timeout: float = 2.5  # s without an update: the track is gone
     coast_damping: float = 0.5  # 1/s: an unobserved track's velocity decays at this rate
     max_speed: float = 2.5  # m/s: clamp (nobody walks faster indoors)
@@ -116,8 +118,7 @@ class Tracks:
         if n and m:
             d2 = mahalanobis2(self.x, self.P, z, r)
             gate = np.where(single, spec.single_gate, spec.gate)[None, :]
-            # Singles may only feed confirmed tracks (they never make or confirm one).
-            allowed = (d2 <= gate) & ~(single[None, :] & ~self.confirmed[:, None])
+            allowed = d2 <= gate
             if allowed.any():
                 cost = np.where(allowed, d2, 1e6)
                 rows, cols = linear_sum_assignment(cost)
@@ -128,11 +129,11 @@ class Tracks:
                 self.last_update[rows] = t
                 strong = ~single[cols]
                 self.last_strong[rows[strong]] = t
-                self.hits[rows] += 1
+                self.hits[rows[strong]] += 1  # only pairs and blobs confirm a track
         # Confirmation on repeated evidence; a tentative track that missed this scan is dropped.
         young = ~self.confirmed
         self.confirmed |= young & (self.hits >= spec.confirm_hits) & (t - self.born <= spec.confirm_window + 1e-9)
-        dead = (~self.confirmed & (self.last_update < t - 1e-9)) | (t - self.last_update > spec.death_timeout)
+        dead = (~self.confirmed & (t - self.last_update > spec.tentative_gap + 1e-9)) | (t - self.last_update > spec.death_timeout)
         dead |= t - self.last_strong > spec.single_support  # a table leg must not keep a track forever
         dead |= ~self.confirmed & (t - self.born > spec.confirm_window + 1e-9)
         if dead.any():

@@ -1,0 +1,227 @@
+"""Person attention parts: selection rules (Hypothesis), the FSM, the batched Kalman filter against
+filterpy, the leg detector on synthetic scans, cue matching and hysteresis."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from robot.attention.cues import Hysteresis, match_sounds
+from robot.attention.fsm import AttentionFSM, OrderRefused
+from robot.attention.legs import PAIR, SINGLE, LegSpec, detect
+from robot.attention.selection import SelectionParams, Selector
+from robot.attention.tracker import Tracks, TrackerSpec, cv_model
+
+P = SelectionParams(max_selection=5.0, inhibition=3.0)
+
+# ------------------------------------------------------------------ selection
+frames = st.lists(
+    st.tuples(st.floats(0.05, 1.5), st.dictionaries(st.integers(1, 5), st.integers(1, 3), max_size=5)),
+    min_size=1, max_size=60,
+)
+
+
+@settings(max_examples=200, deadline=None)
+@given(seq=frames)
+def test_selection_rules_hold_at_every_step(seq):
+    """Category 3 at once; otherwise the highest category among the unblocked; a category 1/2
+    selection ends after max_selection when someone else is there; a released person stays blocked."""
+    sel = Selector(P)
+    now = 0.0
+    for dt, cats in seq:
+        now += dt
+        prev, prev_since = sel.selected, sel.since
+        got = sel.update(now, cats)
+        if not cats:
+            assert got is None
+            continue
+        assert got in cats
+        if 3 in cats.values():
+            assert cats[got] == 3  # a potential partner is selected at once
+            continue
+        free = [i for i in cats if sel.blocked_until.get(i, -math.inf) <= now]
+        pool = free or list(cats)
+        assert cats[got] == max(cats[i] for i in pool)  # the highest category wins
+        assert got in pool  # a blocked person only when nobody else is free
+        if got == prev and len(cats) > 1:
+            assert now - prev_since < P.max_selection + 1e-9  # the time limit
+
+
+@settings(max_examples=100, deadline=None)
+@given(ids=st.lists(st.integers(1, 9), min_size=2, max_size=5, unique=True), cat=st.integers(1, 2), order=st.permutations(range(5)))
+def test_ties_go_to_the_one_not_selected_for_the_longest_time(ids, cat, order):
+    sel = Selector(P)
+    cats = {i: cat for i in ids}
+    history = [ids[k % len(ids)] for k in order]
+    for t, i in enumerate(history):  # select each in turn (everyone else absent)
+        sel.update(float(t * 10), {i: cat})
+    t = 100.0
+    got = sel.update(t, cats)
+    never = [i for i in ids if i not in history]
+    if never:
+        assert got == min(never)
+    else:
+        last = {i: max(k for k, h in enumerate(history) if h == i) for i in ids}
+        assert got == min(ids, key=lambda i: last[i])
+
+
+def test_inhibition_of_return_then_the_other_then_back():
+    sel = Selector(P)
+    cats = {1: 1, 2: 1}
+    picks = [(t / 10, sel.update(t / 10, cats)) for t in range(0, 200)]
+    first = picks[0][1]
+    switch = next(t for t, i in picks if i != first)
+    assert switch == pytest.approx(P.max_selection)
+    back = next(t for t, i in picks if t > switch and i == first)
+    assert back == pytest.approx(2 * P.max_selection)  # the other one had its full time meanwhile
+
+
+def test_a_speaking_person_takes_the_focus_from_a_silent_one_and_category_3_from_both():
+    sel = Selector(P)
+    assert sel.update(0.0, {1: 1, 2: 1}) == 1
+    assert sel.update(0.1, {1: 1, 2: 2}) == 2
+    assert sel.update(0.2, {1: 3, 2: 2}) == 1
+    assert sel.update(60.0, {1: 3, 2: 2}) == 1  # no time limit for a potential partner
+
+
+# ------------------------------------------------------------------ FSM
+def test_top_down_states_only_by_orders_and_unknown_orders_refused():
+    fsm = AttentionFSM()
+    assert fsm.bottom_up(0.0, True, 1) == "Alertness"
+    assert fsm.bottom_up(0.1, True, 2) == "Listen"
+    assert fsm.order("interact") == "Interaction"
+    assert fsm.bottom_up(0.2, False, None) == "Interaction"  # tracks never leave a top-down state
+    assert fsm.order("follow") == "Follow"
+    assert fsm.order("focus_object") == "Object"
+    assert fsm.order("look_around") == "Alertness"
+    assert fsm.bottom_up(0.3, False, None) == "Alertness"
+    assert fsm.bottom_up(2.4, False, None) == "Sleeping"  # nobody for sleep_after seconds
+    assert fsm.order("sleep") == "Sleeping" and fsm.bottom_up(3.0, True, 3) == "Sleeping"
+    with pytest.raises(OrderRefused, match="'dance'.*known: focus_object, follow, interact, look_around, sleep"):
+        fsm.order("dance")
+
+
+# ------------------------------------------------------------------ Kalman
+@settings(max_examples=50, deadline=None)
+@given(
+    n=st.integers(1, 4),
+    dt=st.floats(0.02, 0.5),
+    seed=st.integers(0, 2**31 - 1),
+)
+def test_batched_filter_equals_one_filterpy_kalman_filter_per_track(n, dt, seed):
+    rng = np.random.default_rng(seed)
+    spec = TrackerSpec()
+    tr = Tracks(spec)
+    tr._birth(0.0, rng.uniform(-3, 3, (n, 2)), np.full(n, spec.meas_std**2))
+    tr._t = 0.0
+    tr.x[:, 2:] = rng.uniform(-1, 1, (n, 2))
+    kfs = [tr.filterpy(i) for i in range(n)]
+    F, Q = cv_model(dt, spec.accel_noise)
+    tr.last_update[:] = dt  # not coasting: no damping
+    tr.predict(dt)
+    z = rng.uniform(-3, 3, (n, 2))
+    rows = np.arange(n)
+    tr._update(rows, z, np.full(n, spec.meas_std**2))
+    for i, kf in enumerate(kfs):
+        kf.predict(F=F, Q=Q)
+        kf.update(z[i], R=np.eye(2) * spec.meas_std**2)
+        assert np.allclose(tr.x[i], kf.x.ravel(), atol=1e-9)
+        assert np.allclose(tr.P[i], kf.P, atol=1e-9)
+
+
+def test_a_track_is_born_on_repeated_evidence_and_dies_after_the_timeout():
+    spec = TrackerSpec()
+    tr = Tracks(spec)
+    for k in range(3):
+        tr.step(k * 0.1, np.array([[2.0 + 0.05 * k, 0.0]]), np.array([PAIR], dtype=np.int8))
+    assert len(tr) == 1 and tr.confirmed[0]
+    tr.step(0.3, np.array([[5.0, 5.0]]), np.array([SINGLE], dtype=np.int8))  # a lone leg elsewhere: no birth
+    assert len(tr) == 1
+    t = 0.3
+    while len(tr) and t < 10:
+        t += 0.1
+        tr.step(t, np.zeros((0, 2)), np.zeros(0, dtype=np.int8))
+    assert t == pytest.approx(0.2 + spec.death_timeout + 0.1, abs=0.11)
+
+
+def test_two_crossing_walkers_keep_their_tracks():
+    tr = Tracks()
+    ids = None
+    for k in range(40):
+        t = k * 0.1
+        a = (1.0 + 0.9 * t, 0.0 + 0.9 * t)  # ... crossing at (2.8, 1.8) about t = 2
+        b = (1.0 + 0.9 * t, 3.6 - 0.9 * t)
+        tr.step(t, np.array([a, b]), np.array([PAIR, PAIR], dtype=np.int8))
+        if k == 5:
+            ids = (int(tr.ids[np.argmin(tr.x[:, 1])]), int(tr.ids[np.argmax(tr.x[:, 1])]))
+    assert ids is not None
+    # After the crossing the one that started low is high: the same id follows each walker.
+    assert int(tr.ids[np.argmax(tr.x[:, 1])]) == ids[0]
+
+
+# ------------------------------------------------------------------ leg detector
+BEARINGS = np.radians(-90 + 0.5 * np.arange(361))
+
+
+def _scan(circles=(), squares=(), wall=6.0):
+    """Exact ranges against a wall at x=wall and some circles (cx, cy, r) / squares (cx, cy, side) in the laser frame."""
+    d = np.stack([np.cos(BEARINGS), np.sin(BEARINGS)], 1)
+    r = np.where(d[:, 0] > 1e-6, wall / np.maximum(d[:, 0], 1e-6), 8.19)
+    r = np.minimum(r, 8.19)
+    for cx, cy, rad in circles:
+        b = d @ np.array([cx, cy])
+        disc = b * b - (cx * cx + cy * cy - rad * rad)
+        hit = (disc >= 0) & (b > 0)
+        r = np.where(hit, np.minimum(r, b - np.sqrt(np.maximum(disc, 0))), r)
+    for cx, cy, side in squares:
+        h = side / 2
+        for x0 in (cx - h,):  # the face towards the laser
+            t = x0 / np.maximum(d[:, 0], 1e-9)
+            y = t * d[:, 1]
+            hit = (np.abs(y - cy) <= h) & (d[:, 0] > 0)
+            r = np.where(hit, np.minimum(r, t), r)
+    return r
+
+
+def test_two_legs_make_a_pair_a_lone_leg_a_single_and_table_legs_no_pair():
+    spec = LegSpec(offset=0.0)
+    person = detect(_scan(circles=[(2.5, 0.1, 0.06), (2.5, -0.1, 0.06)]), BEARINGS, spec)
+    assert list(person.kind) == [PAIR] and np.allclose(person.xy[0], [2.55, 0.0], atol=0.05)
+    table = detect(_scan(squares=[(3.0, 0.5, 0.05), (3.0, -0.4, 0.05)]), BEARINGS, spec)
+    assert PAIR not in table.kind  # 0.9 m apart: never one person
+    wall_only = detect(_scan(), BEARINGS, spec)
+    assert len(wall_only) == 0
+
+
+def test_known_furniture_legs_are_dropped_before_pairing():
+    spec = LegSpec(offset=0.0)
+    ranges = _scan(circles=[(2.5, 0.1, 0.06)], squares=[(2.5, -0.16, 0.11)])  # a thick post as wide as a leg
+    without = detect(ranges, BEARINGS, spec)
+    assert PAIR in without.kind  # a person's leg next to a table leg looks like a pair...
+    with_map = detect(ranges, BEARINGS, spec, reject=lambda xy: xy[:, 1] < -0.05)
+    assert list(with_map.kind) == [SINGLE]  # ... unless the map says the table leg is furniture
+
+
+# ------------------------------------------------------------------ cues
+def test_a_sound_direction_speaks_for_the_track_in_front_or_behind_and_only_one():
+    tracks = np.radians([20.0, 160.0, -60.0])
+    assert match_sounds(tracks, np.radians([21.0]), math.radians(9)) == [0]  # nearest of the two mirror images
+    assert match_sounds(tracks, np.radians([-62.0]), math.radians(9)) == [2]
+    assert match_sounds(tracks, np.radians([45.0]), math.radians(9)) == []
+
+
+def test_hysteresis_needs_two_frames_on_and_a_pause_to_go_off():
+    h = Hysteresis(on_frames=2, off_after=0.7)
+    ids = np.array([7])
+    h.feed(0.0, ids, {7})
+    assert not h.on(7)
+    h.feed(0.1, ids, {7})
+    assert h.on(7)
+    h.feed(0.5, ids, set())  # a pause between words
+    assert h.on(7)
+    h.feed(0.9, ids, set())
+    assert not h.on(7)
