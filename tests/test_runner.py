@@ -206,9 +206,10 @@ def test_homesim_run_writes_a_summary_and_replay_confirms_its_trace(tmp_path, ca
     assert "1.00          anna: Hello BIRON" in out and "verdict: not checked" in out
     s = json.loads(summary.read_text(encoding="utf-8"))
     assert {"scenario", "seed", "sim_time_s", "wall_time_s", "es", "utterances", "learned", "expectations", "metrics"} <= set(s)
-    assert s["seed"] == 7 and s["sim_time_s"] == 12.0 and s["es"]["final_state"] == "LookingAround"
+    # Anna faced the robot and greeted it: potential partner (person attention) + greeting (dialog).
+    assert s["seed"] == 7 and s["sim_time_s"] == 12.0 and s["es"]["final_state"] == "Interacting"
     assert s["utterances"][0] == {"t": 1.0, "end": pytest.approx(2.1, abs=0.2), "speaker": "anna", "text": "Hello BIRON"}
-    assert set(s["metrics"]) >= {"timing", "dialog", "following"}
+    assert set(s["metrics"]) >= {"timing", "dialog", "following", "tracking"}
     header = json.loads(trace.read_text(encoding="utf-8").split("\n", 1)[0])
     assert header["run"]["scenario_digest"].startswith("sha256:") and header["run"]["until"] == 12
     assert main(["replay", str(trace)]) == 0
@@ -240,7 +241,8 @@ def test_replay_refuses_a_file_that_is_not_a_run_trace(tmp_path, capsys):
 
 
 def test_quiet_prints_the_verdict_only_and_a_failure_exits_one(tmp_path, capsys):
-    text = EXAMPLE.read_text(encoding="utf-8").replace('<no-collision/>', '<robot-says pattern="hello" by="5"/>')
+    # (The robot does answer Anna's greeting now that person attention and dialog run: ask for what it never says.)
+    text = EXAMPLE.read_text(encoding="utf-8").replace('<no-collision/>', '<robot-says pattern="ballroom" by="5"/>')
     path = tmp_path / "needs_a_robot.xml"
     path.write_text(text, encoding="utf-8")
     assert main(["run", str(path), "--quiet"]) == 1
