@@ -6,12 +6,15 @@ from __future__ import annotations
 from pathlib import Path
 
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from homesim import check as checkmod
 from homesim.check import DocumentType, check_path, register_document
 from homesim.cli import main
 from homesim.errors import InputError, ScenarioError
 from homesim.scenario.loader import load_scenario_text
+from .conftest import examples
 
 ROOT = Path(__file__).resolve().parents[1]
 EXAMPLE = ROOT / "scenarios" / "two_people_radio.xml"
@@ -126,3 +129,20 @@ def test_every_document_shipped_in_the_repository_checks_ok(capsys):
     assert len(files) >= 2
     assert main(["check", *files]) == 0, capsys.readouterr().out
     assert capsys.readouterr().out.count(": ok (") == len(files)
+
+
+@settings(max_examples=examples(30, 200), deadline=None)
+@given(st.text(alphabet="0123456789,;. -eE", min_size=0, max_size=30),
+       st.sampled_from([("room", "points"), ("furniture", "points")]))
+def test_any_refused_number_list_is_reported_as_the_expected_form(value, where):
+    """Whatever the pattern refuses, the message names the element, the attribute and the form, never the regex."""
+    element, attribute = where
+    old = {"room": 'points="0,0 6,0 6,5 0,5"', "furniture": 'points="0.3,0.3 2.5,0.3 2.5,1.1 0.3,1.1"'}[element]
+    text = EXAMPLE_TEXT.replace(old, f'{attribute}="{value}"', 1)
+    try:
+        load_scenario_text(text, source="s.xml")
+    except ScenarioError as exc:
+        msg = exc.message
+        if "does not satisfy scenario.xsd" in msg and f"<{element}> {attribute}=" in msg:
+            assert "expected points: 'x,y x,y ...' with at least 3 points" in msg
+            assert "facet" not in msg and "[0-9]" not in msg

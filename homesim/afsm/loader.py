@@ -222,7 +222,7 @@ def _without_unsupported(root: etree._Element) -> tuple[etree._Element, set[str]
     for el in doomed:
         parent = el.getparent()
         if parent is not None:
-            withdrawn.update(d.get("id") for d in el.iter(etree.Element) if d.get("id"))
+            withdrawn.update(str(d.get("id")) for d in el.iter(etree.Element) if d.get("id"))
             parent.remove(el)
     for el in copy.iter(etree.Element):
         if isinstance(el.tag, str) and el.tag.startswith(_S):
@@ -231,7 +231,7 @@ def _without_unsupported(root: etree._Element) -> tuple[etree._Element, set[str]
                 el.attrib.pop(attr, None)
             if local in ("scxml", "state") and _refused_form(el, local):
                 named.update(el.attrib.pop("initial").split())
-    return copy, withdrawn - {None}, named  # type: ignore[operator]
+    return copy, withdrawn, named
 
 
 #: Attributes the profile requires: an element whose required attribute is
