@@ -11,7 +11,7 @@ likelihood field's random term, and its spread is the covariance the
 contract publishes. With a likelihood field (Thrun et al., Probabilistic
 Robotics §6.4: a precomputed distance-to-nearest-obstacle grid from
 :func:`scipy.ndimage.distance_transform_edt`) a beam costs one table look-up,
-so 200 particles x 36 beams is one vectorised gather of 7200 cells.
+so 120 particles x 30 beams is one vectorised gather of 3600 cells.
 
 Cost control: the filter corrects only after the robot moved ``update_dist``
 metres or turned ``update_angle`` radians (as AMCL), uses every
@@ -58,7 +58,7 @@ def compose(a: Pose, d: Pose) -> Pose:
 class MCLParams:
     """Filter settings (defaults: a PeopleBot in a flat, SICK at 10 Hz)."""
 
-    particles: int = 200
+    particles: int = 120
     beams: int = 30  # beams used per correction (subsampled evenly)
     resolution: float = 0.02  # likelihood-field cell, metres (quantisation is +-res/2 of error)
     sigma_hit: float = 0.08  # metres: beam end point to nearest obstacle (noise + plan error + cells)
