@@ -32,3 +32,9 @@ def test_plot_names_the_moment_that_was_asked_for(tmp_path, capsys):
     out = tmp_path / "m.png"
     assert main(["scenario", "plot", str(EXAMPLE), "--at", "9", "-o", str(out)]) == 0
     assert "at t = 9 s)" in capsys.readouterr().out
+
+
+def test_quiet_prints_no_header_and_no_transcript(capsys):
+    """'--quiet: the verdict only': a run stopped early prints exactly its one verdict line."""
+    assert main(["run", str(EXAMPLE), "--quiet", "--until", "1"]) == 0
+    assert capsys.readouterr().out.splitlines() == ["verdict: not checked (stopped at 1 s of 40 s)"]
