@@ -340,3 +340,12 @@ def test_any_input_sequence_keeps_the_stack_bounded_and_every_dialog_counted_onc
         assert c["started"] == c["succeeded"] + c["failed"] + c["abandoned"] + running.get(did, 0)
     s = dm.summary()
     assert s["rejections_explained"] == s["rejections"]
+
+
+def test_the_other_conditions_are_said(dm):
+    assert says(dm.on_condition(cond("partner_lost"))) == ["I have lost you. Please come back to me."]
+    assert says(dm.on_condition(cond("need_help", '<param name="reason">blocked</param>'))) == [
+        "I could not get there. Can somebody help me, please?"]
+    assert says(dm.on_condition(cond("recovered", '<param name="module">laser</param>'))) == ["I am working again."]
+    assert says(dm.on_condition(cond("interaction_ended"))) == ["Good-bye."]
+    assert dm.on_condition(cond("person_info")) == [] and dm.summary()["unhandled_conditions"] == 1

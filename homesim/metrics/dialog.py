@@ -37,7 +37,7 @@ class Dialog(Observer):
             else:
                 self.not_understood += 1
         elif ch == "/robot/speaker/say":
-            self.robot_said += 1
+            self.robot_said += bool((m.xml.get("text") or m.xml.text or "").strip())  # <say/> only silences
         else:
             key = f"{m.xml.get('name')}:{m.xml.get('reason')}"
             self.rejected[key] = self.rejected.get(key, 0) + 1

@@ -41,6 +41,8 @@ class Timing(Observer):
             if created is not None and m.xml.get("kind") != "retained":
                 self.decision.add(m.created - float(created))
             return
+        if ch == "/robot/speaker/say" and not (m.xml.get("text") or m.xml.text or "").strip():
+            return  # an empty say only silences the robot (barge-in): no answer
         stage = {"/robot/speech/frames": "to_frame", "/robot/speaker/say": "to_answer"}.get(ch)
         if ch == "/robot/es/events" and m.sender == "dialog":
             stage = "to_event"
