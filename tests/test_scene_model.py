@@ -215,3 +215,22 @@ def test_a_corrupt_store_stops_the_scene_model_and_is_kept(tmp_path):
     kept = tmp_path / "scene_model.sqlite.corrupt-1"
     assert err.value.kept_at == str(kept)
     assert kept.read_bytes() == b"not a database, honestly" * 100
+
+
+def test_the_dialog_says_the_scene_models_words_for_where(tour):
+    """The RESULT the ES hands to the dialog becomes the sentence the user hears."""
+    from robot.dialog.loader import load
+    from robot.dialog.manager import DialogManager, Say
+
+    tour.engage()
+    tour.teach_place("living room", 2.0, 1.0)
+    tour.teach_place("table", 3.0, 1.5)
+    tour.teach_object(el(CUP))
+    dm = DialogManager(load())
+    dm.es_state = "Interacting"  # the dialog attends a partner
+    dm.on_frame(el('<understood start="0" end="1" confidence="0.9"><SPEECH><WHERE><OBJECT type="cup"><TITLE name="cup"/>'
+                   '<OWNER name="speaker"/></OBJECT></WHERE></SPEECH><words>w</words></understood>'))
+    condition = el('<condition name="object_info" target="dialog" event="e1" state="Interacting"><param name="result"/></condition>')
+    condition[0].append(tour.ask('<OBJECT type="cup"><OWNER name="speaker"/></OBJECT>'))
+    said = [o.text for o in dm.on_condition(condition) if isinstance(o, Say)]
+    assert said == ["The cup is on the table in the living room."]
