@@ -1,0 +1,142 @@
+"""Person attention benchmark: CPU per laser scan, leg detector precision/recall, tracking scores.
+
+Run: ``python benchmarks/bench_attention.py``. Prints
+
+- CPU per scan (process time, microseconds) of person_attention's work on
+  recorded scans of ``scenarios/attention/three_crossing.xml`` (three
+  people): the leg detector alone; detection + anchoring (the batched
+  Kalman tracks, gating, GNN); detection + anchoring + cues + selection +
+  FSM (everything the module does per scan except building and sending
+  its messages); and the whole per-scan step with its bus messages;
+- the leg detector's precision and recall per scan against ground truth
+  (people the laser could see: in front, within 6.5 m, no wall between),
+  on every scenario in ``scenarios/attention/`` and the example flat;
+- each scenario's CLEAR-MOT/IDF1 figures from the ``tracking`` metric of a
+  full run (the runner, the supervisor and person_attention).
+
+Not a test: wall-clock and CPU figures belong here, never in the test suite.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from pathlib import Path
+
+import numpy as np
+
+from homesim.metrics.tracking import detection_scores, visible_region, wall_edges
+from homesim.runner import Run, RunOptions
+from homesim.scenario.loader import load_scenario
+from homesim.sim import Simulation
+from homesim.world.stage import Stage
+from robot.attention.clutter import FurnitureLegs
+from robot.attention.legs import detect
+from robot.attention.module import PersonAttention
+from robot.hardware.map_server import floor_plan
+
+ROOT = Path(__file__).resolve().parents[1]
+SCENARIOS = sorted((ROOT / "scenarios" / "attention").glob("*.xml")) + [ROOT / "scenarios" / "two_people_radio.xml"]
+BEARINGS = np.radians(-90 + 0.5 * np.arange(361))
+
+
+def record(path: Path, until: float | None = None):
+    """Scans (t, ranges), odometry (t, x, y, th, v, w) and the truth (robot pose, people) at each scan."""
+    sc = load_scenario(path)
+    sim = Simulation(seed=sc.seed, scenario=sc.name)
+    st = Stage(sim, sc, keep_messages=True)
+    plan = floor_plan(sc)
+    rows, odom = [], []
+    world = st.world
+
+    def on_scan(m):
+        people = np.array([h.position for h in world.humans.values() if h.present], dtype=float).reshape(-1, 2)
+        rows.append((m.created, np.asarray(m.attachments["ranges"]).copy(), world.robot.pose, people))
+
+    st.dispatcher.add("/robot/laser/scan", on_scan)
+    st.dispatcher.add("/robot/odometry", lambda m: odom.append((m.created, *(float(m.xml.get(k)) for k in ("x", "y", "theta", "v", "w")))))
+    st.run(until)
+    walls = wall_edges(world)
+    sim.close()
+    return rows, odom, plan, walls
+
+
+def cpu_per_scan(path: Path, repeat: int = 5) -> dict[str, float]:
+    rows, odom, plan, _ = record(path)
+    sim = Simulation(seed=0, scenario="bench")
+    pa = PersonAttention(sim)
+    pa.furniture = FurnitureLegs(plan)
+    pa._bearings = BEARINGS
+    pa.legs = pa.legs.__class__(offset=0.13)
+    odo_at = {round(o[0], 3): o for o in odom}
+    out: dict[str, float] = {}
+    # Detection alone.
+    t0 = time.process_time()
+    for _ in range(repeat):
+        for _, r, _, _ in rows:
+            detect(r, BEARINGS, pa.legs)
+    out["legs"] = (time.process_time() - t0) / (repeat * len(rows)) * 1e6
+    # The whole step, with and without building/sending its messages.
+    for label, quiet in (("all but messages", True), ("whole step with messages", False)):
+        best = math.inf
+        for _ in range(repeat):
+            p = PersonAttention(sim, name=f"pa{label[:3]}{_}", typed=False)
+            p.furniture, p._bearings, p.legs = pa.furniture, BEARINGS, pa.legs
+            if quiet:
+                p._publish_tracks = lambda *a, **k: None
+                p._publish_state = lambda *a, **k: None
+                p._publish_partner = lambda *a, **k: None
+                p._act = lambda *a, **k: None
+            t0 = time.process_time()
+            for t, r, _, _ in rows:
+                o = odo_at.get(round(t, 3))
+                if o is not None:
+                    p._odom = o
+                p.process(t, r)
+            best = min(best, (time.process_time() - t0) / len(rows) * 1e6)
+        out[label] = best
+    sim.close()
+    return out
+
+
+def detector_scores(path: Path) -> tuple[int, int, int, int]:
+    rows, _, plan, walls = record(path)
+    furniture = FurnitureLegs(plan)
+    tp = fp = fn = 0
+    for _, r, pose, people in rows:
+        x, y, th = pose
+        c, s = math.cos(th), math.sin(th)
+
+        def to_world(xy):
+            return np.column_stack((x + c * xy[:, 0] - s * xy[:, 1], y + s * xy[:, 0] + c * xy[:, 1]))
+
+        det = detect(r, BEARINGS, reject=lambda xy: furniture.inside(to_world(xy)))
+        strong = det.kind != 2  # pairs and blobs: what may start a track
+        vis = visible_region(walls, pose, people)
+        a, b, cnt = detection_scores(to_world(det.xy[strong]) if strong.any() else np.zeros((0, 2)), people[vis])
+        tp, fp, fn = tp + a, fp + b, fn + cnt
+    return tp, fp, fn, len(rows)
+
+
+def main() -> None:
+    three = ROOT / "scenarios" / "attention" / "three_crossing.xml"
+    print("person_attention CPU per scan, three people (three_crossing.xml), microseconds:")
+    for k, v in cpu_per_scan(three).items():
+        print(f"  {k:28s} {v:8.1f}")
+    print("\nleg detector (pairs and blobs) against ground truth, per scan:")
+    print(f"  {'scenario':24s} {'scans':>6s} {'precision':>10s} {'recall':>8s}")
+    for p in SCENARIOS:
+        tp, fp, fn, n = detector_scores(p)
+        print(f"  {p.stem:24s} {n:6d} {tp / max(tp + fp, 1):10.3f} {tp / max(tp + fn, 1):8.3f}")
+    print("\ntracking (runner + supervisor + person_attention), CLEAR-MOT / IDF1:")
+    print(f"  {'scenario':24s} {'MOTA':>6s} {'MOTP m':>7s} {'IDF1':>6s} {'miss':>5s} {'FP':>4s} {'IDsw':>5s} {'gt':>3s} {'tracks':>6s}")
+    for p in SCENARIOS:
+        run = Run.from_file(p, RunOptions(subsystems=("robot.attention",), metrics=("tracking",)))
+        run.run()
+        s = run.metric_values()["tracking"]
+        run.close()
+        print(f"  {p.stem:24s} {s['mota']:6.3f} {s['motp_m']:7.3f} {s['idf1']:6.3f} {s['misses']:5d} {s['false_positives']:4d} {s['id_switches']:5d} {s['gt_ids']:3d} {s['track_ids']:6d}")
+
+
+if __name__ == "__main__":
+    main()
