@@ -80,12 +80,9 @@ def segment_features(ranges: np.ndarray, bearings: np.ndarray, spec: LegSpec) ->
         z = np.zeros(0)
         return {"start": starts[:0], "end": ends[:0], "n": z, "mx": z, "my": z, "width": z, "lin": z, "range": z, "front": z.astype(bool)}
     keep = valid[starts]  # (segments are all valid or all no-echo)
-    sx = np.add.reduceat(xs, starts)[keep]
-    sy = np.add.reduceat(ys, starts)[keep]
-    sxx = np.add.reduceat(xs * xs, starts)[keep]
-    syy = np.add.reduceat(ys * ys, starts)[keep]
-    sxy = np.add.reduceat(xs * ys, starts)[keep]
-    sr = np.add.reduceat(r, starts)[keep]
+    cols = np.stack((xs, ys, xs * xs, ys * ys, xs * ys, r), axis=1)
+    sums = np.add.reduceat(cols, starts, axis=0)[keep]  # one pass for every segment sum
+    sx, sy, sxx, syy, sxy, sr = sums.T
     starts, ends = starts[keep], ends[keep]
     n = (ends - starts).astype(float)
     mx, my = sx / n, sy / n
