@@ -11,11 +11,12 @@ loaded scenario it builds, in this order:
    PeopleBot's hardware (``robot.hardware.install``) and the scenario's
    expectations, checked as the run goes;
 3. the execution supervisor (``robot.supervisor.ExecutionSupervisor`` with
-   ``robot/afsm/biron.scxml``) and a heartbeat monitor on
-   ``/system/health``;
+   ``robot/afsm/biron.scxml``);
 4. BIRON's modules: ``robot.install.install(run)`` with the subsystems of
    ``robot.install.SUBSYSTEMS`` (each sees ``run.sim`` and ``run.config``,
-   never the world);
+   never the world), and a heartbeat monitor on ``/system/health`` unless
+   one of them monitors heartbeats itself (``monitors_heartbeats``: BIRON's
+   watchdog, which also restarts failed modules);
 5. the streaming metrics (:mod:`homesim.metrics`), the transcript hooks
    and the scenario's faults (a module crashes or hangs at a time).
 
@@ -149,11 +150,15 @@ class Run:
         self.world.add_listener(self._on_step)
         module, cls = SUPERVISOR
         self.supervisor = getattr(importlib.import_module(module), cls)(self.sim)
-        self.monitor = HeartbeatMonitor(self.sim.bus.participant("monitor", host="robot"))
-        self.sim.spawn(self.monitor.run(), name="monitor")
         robot = importlib.import_module(ROBOT)
         subsystems = robot.SUBSYSTEMS if options.subsystems is None else options.subsystems
         self.modules: dict[str, Any] = robot.install(self, subsystems)
+        # One heartbeat monitor: the robot's own (its watchdog, which also restarts modules) if
+        # a subsystem brought one, else the kernel's (two would report every failure twice).
+        self.monitor: HeartbeatMonitor | None = None
+        if not any(getattr(m, "monitors_heartbeats", False) for m in self.modules.values()):
+            self.monitor = HeartbeatMonitor(self.sim.bus.participant("monitor", host="robot"))
+            self.sim.spawn(self.monitor.run(), name="monitor")
         for f in scenario.faults:
             if f.module not in self.sim.modules:
                 raise ScenarioError(f"<{f.kind} module={f.module!r}>: no such module in this run; "

@@ -156,6 +156,20 @@ class Simulation:
         else:
             mod.bus.hung = True
 
+    def remove_module(self, name: str) -> Any:
+        """Take a (failed) module off the run so a fresh instance may take its name: its main loop
+        is cancelled, its participant leaves the bus, and it is unregistered. Returns the old
+        module. This is what a process manager does before restarting a process; raises
+        :class:`HomesimError` for an unknown name."""
+        mod = self.modules.get(name)
+        if mod is None:
+            raise HomesimError(f"cannot remove unknown module {name!r}; known: {sorted(self.modules)}")
+        if mod.task is not None and not mod.task.done():
+            mod.task.cancel()
+        mod.bus.close()
+        del self.modules[name]
+        return mod
+
     def close(self) -> None:
         """Flush traces and close the loop (cancelling tasks still waiting)."""
         for rec in self.traces:

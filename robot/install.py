@@ -17,7 +17,17 @@ from typing import Any
 from homesim.module import Module
 
 #: Subsystem packages, installed in this order.
-SUBSYSTEMS: tuple[str, ...] = ("robot.localisation", "robot.attention", "robot.knowledge", "robot.objects", "robot.speech", "robot.dialog")
+SUBSYSTEMS: tuple[str, ...] = (
+    "robot.localisation",
+    "robot.attention",
+    "robot.knowledge",
+    "robot.objects",
+    "robot.speech",
+    "robot.dialog",
+    "robot.watchdog",
+    "robot.navigation",
+    "robot.player",
+)
 
 
 def install(run: Any, subsystems: Sequence[str] = SUBSYSTEMS) -> dict[str, Module]:

@@ -281,8 +281,8 @@ def test_a_second_failure_is_not_forgotten_when_the_first_module_recovers(world)
     assert world.es.state == "LookingAround" and not world.es.failed_modules
     said = [(c.xml.get("name"), {p.get("name"): p.text for p in c.xml.findall("param")}) for c in world.conditions.drain()]
     assert said == [
-        ("technical_failure", {"module": "laser", "still_failed": "1"}),
-        ("technical_failure", {"module": "camera", "still_failed": "2"}),  # consumed, the dialog hears of it
+        ("technical_failure", {"module": "laser", "still_failed": "1", "restarting": None}),
+        ("technical_failure", {"module": "camera", "still_failed": "2", "restarting": None}),  # consumed, the dialog hears of it
         ("module_recovered", {"module": "laser", "still_failed": "1"}),
         ("recovered", {"module": "camera"}),
     ]

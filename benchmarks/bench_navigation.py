@@ -1,0 +1,117 @@
+"""Navigation benchmark: CPU cost per control step of the follower and the player, and of planning.
+
+Run: ``python benchmarks/bench_navigation.py``. Prints, on this machine:
+
+- the dynamic window alone (:func:`robot.navigation.local.dwa`) on a real 361-beam scan
+  (a room with two people), and the scan to points conversion (legs inflated to bodies);
+- one whole control step of the follower and of the player (``control_step``: their
+  inputs already delivered; the bus publish of the velocity and the status included);
+- the planner: building the inflated grid from the map once, and one path across the flat;
+- the metrics' per-physics-step observers;
+
+and what each means per simulated second at 10 Hz control (the tour's budget is 3.3 ms
+of CPU per simulated second for everything). Not a test: wall-clock numbers belong here.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from pathlib import Path
+
+import numpy as np
+from lxml import etree
+
+from homesim.metrics.following import Following
+from homesim.metrics.navigation import Navigation
+from homesim.scenario.loader import load_scenario
+from homesim.sim import Simulation
+from homesim.world.stage import Stage
+from robot.hardware.laser import LaserSpec, simulate_scan
+from robot.navigation.config import Limits
+from robot.navigation.grid import OccupancyGrid, parse_map
+from robot.navigation.local import dwa, scan_points
+
+ROOT = Path(__file__).resolve().parents[1]
+DOOR = ROOT / "tests" / "scenarios" / "follow_door.xml"
+GOTO = ROOT / "tests" / "scenarios" / "nav_goto.xml"
+
+
+def per_call(fn, n: int) -> float:
+    """Mean wall-clock microseconds of ``fn()`` over ``n`` calls (after one warm-up call)."""
+    fn()
+    t0 = time.perf_counter()
+    for _ in range(n):
+        fn()
+    return (time.perf_counter() - t0) / n * 1e6
+
+
+def main() -> None:
+    import sys
+
+    sys.path.insert(0, str(ROOT))
+    from tests.nav_helpers import map_reply, start_run
+
+    sc = load_scenario(GOTO)
+    sim = Simulation(seed=1)
+    stage = Stage(sim, sc)
+    sim.run(until=0.1)
+    spec = LaserSpec()
+    ranges = simulate_scan(stage.world, stage.world.robot.pose, spec, np.random.default_rng(0))
+    lim = Limits()
+    pts = scan_points(ranges, -spec.fov / 2, spec.resolution, spec.max_range, spec.offset)
+    r = {}
+    r["scan -> points (legs as bodies)"] = per_call(lambda: scan_points(ranges, -spec.fov / 2, spec.resolution, spec.max_range, spec.offset), 2000)
+    r["dwa (one decision)"] = per_call(lambda: dwa(0.3, 0.0, (2.0, 0.5), pts, lim, v_pref=0.4), 1000)
+
+    run = start_run("follow_door", tracks={"anna": "t1"})
+    run.at(0.3, lambda: run.oracle.follow("t1"))
+    run.until(6.0)
+    fol = run.modules["follower"]
+    r["follower control step"] = per_call(fol.control_step, 1000)
+    run.close()
+
+    run = start_run("nav_goto", text=GOTO.read_text(encoding="utf-8").replace('x="6.0" y="2.0"', 'x="1.0" y="3.2"'))
+    run.at(0.5, run.engage)
+    run.at(1.0, lambda: run.teach_place("kitchen", 8.2, 1.2))
+    run.at(1.5, lambda: run.goto("kitchen"))
+    run.until(4.0)
+    pl = run.modules["player"]
+    goal = pl.goal
+    def step() -> None:
+        pl.goal = goal
+        pl.control_step()
+    r["player control step (move_to)"] = per_call(step, 1000)
+    run.close()
+
+    m = map_reply(sc)
+    plan = parse_map(m)
+    t0 = time.perf_counter()
+    grid = OccupancyGrid(plan, radius=lim.radius)
+    build = (time.perf_counter() - t0) * 1e3
+    grid.plan((1.5, 1.0), (8.2, 1.2))
+    r["planner: one path across the flat"] = per_call(lambda: grid.plan((1.5, 1.0), (8.2, 1.2)), 50)
+
+    class _Run:
+        world = stage.world
+        config = None
+        es_state = "Following"
+
+    fm = Following(_Run())
+    fm.partner = "tom"
+    nm = Navigation(_Run())
+    nm.active, nm.last = True, (1.5, 1.0)
+    r["metrics per physics step (following + go-to)"] = per_call(lambda: (fm.on_step(stage.world), nm.on_step(stage.world)), 5000)
+
+    print(f"{'what':48s} {'us/call':>10s} {'ms per simulated s':>20s}")
+    for k, v in r.items():
+        rate = 50.0 if "physics" in k else 10.0 if "step" in k or "dwa" in k or "scan" in k else 0.0
+        per_s = f"{v * rate / 1000:.3f} (x{rate:g}/s)" if rate else "once per go-to"
+        print(f"{k:48s} {v:10.1f} {per_s:>20s}")
+    print(f"{'planner: grid build from the map (once per run)':48s} {build * 1000:10.1f} {'once per run':>20s}")
+    print(f"grid: {grid.nx} x {grid.ny} cells of {grid.cell} m")
+    sim.close()
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,154 @@
+"""Go-to and failure metrics (ground truth): how the robot drove, and how failures were handled.
+
+:class:`Navigation` (metric ``navigation``): a go-to episode starts with each plan on
+``/robot/navigation/plan`` and ends with the sequencer's ``goal_reached`` or
+``navigation_failed`` (or a ``cancel`` order). Per episode, from the world:
+the path driven (the true robot position after every step), its ratio to
+the shortest collision-free path for the robot's radius (the world's own
+planner, :class:`homesim.world.pathplan.Grid`, from where the robot stood to
+the plan's last waypoint), the time, the closest distance from the robot's
+centre to any person's centre, and the robot's contacts (none allowed).
+
+:class:`Failures` (metric ``failures``): faults injected (``/system/faults``), failures
+detected (``module_failed`` on ``/system/health``; time to detect = from the
+fault to the report), recovered (``module_recovered``).
+
+Both are registered streaming observers (:mod:`homesim.metrics`); they keep running
+totals (and one small record per go-to: a tour has a handful); ``summary()`` reports them.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+from ..world.pathplan import Grid, NoPathError
+from . import Observer
+
+ROBOT_RADIUS = 0.30
+
+
+class Navigation(Observer):
+    """Streaming go-to figures (see the module docstring)."""
+
+    channels = ("/robot/navigation/plan", "/robot/es/events", "/robot/es/orders/sequencer")
+    step_every = 1
+
+    def __init__(self, run: Any) -> None:
+        super().__init__(run)
+        self.world = run.world
+        self.active = False
+        self.started = 0.0
+        self.goal: tuple[float, float] | None = None
+        self.length = 0.0
+        self.shortest = 0.0
+        self.last: tuple[float, float] | None = None
+        self.episodes: list[dict[str, Any]] = []  # one small dict per go-to (a tour has a handful)
+        self.closest_person = math.inf
+        self._contacts_before = 0
+        self._grid: Grid | None = None
+
+    def _shortest(self, start: tuple[float, float], goal: tuple[float, float]) -> float | None:
+        if self._grid is None:
+            self._grid = self.world.walk_grid(clearance=ROBOT_RADIUS)
+        try:
+            pts = self._grid.plan(start, goal)
+        except (NoPathError, ValueError):
+            return None
+        return float(sum(math.hypot(b[0] - a[0], b[1] - a[1]) for a, b in zip([start, *pts], pts)))
+
+    def on_message(self, m: Any) -> None:
+        if m.channel == "/robot/navigation/plan":
+            wps = m.xml.findall("waypoint")
+            if self.active:
+                self._end("replanned", m.created)
+            if m.xml.get("failed") or not wps:
+                return
+            self.active = True
+            self.started = m.created
+            self.goal = (float(wps[-1].get("x")), float(wps[-1].get("y")))
+            x, y, _ = self.world.robot.pose
+            self.last = (x, y)
+            self.length = 0.0
+            self.closest_person = math.inf
+            self._contacts_before = len(self.world.contacts)
+            self.shortest = self._shortest((x, y), self.goal) or 0.0
+        elif m.channel == "/robot/es/events" and self.active:
+            name = m.xml.get("name")
+            if name == "goal_reached":
+                self._end("reached", m.created)
+            elif name == "navigation_failed":
+                self._end(f"failed: {m.xml.get('reason')}", m.created)
+        elif m.channel == "/robot/es/orders/sequencer" and self.active and m.xml.get("name") == "cancel":
+            self._end("cancelled", m.created)
+
+    def on_step(self, world: Any) -> None:
+        if not self.active:
+            return
+        x, y, _ = world.robot.pose
+        if self.last is not None:
+            self.length += math.hypot(x - self.last[0], y - self.last[1])
+        self.last = (x, y)
+        for h in world.humans.values():
+            if h.present:
+                hx, hy = h.position
+                self.closest_person = min(self.closest_person, math.hypot(hx - x, hy - y))
+
+    def _end(self, outcome: str, t: float) -> None:
+        self.active = False
+        x, y, _ = self.world.robot.pose
+        self.episodes.append({
+            "outcome": outcome,
+            "time": round(t - self.started, 3),
+            "path_length": round(self.length, 3),
+            "shortest": round(self.shortest, 3),
+            "ratio": round(self.length / self.shortest, 3) if self.shortest > 0 else None,
+            "goal_error": round(math.hypot(x - self.goal[0], y - self.goal[1]), 3) if self.goal else None,
+            "closest_person": round(self.closest_person, 3) if math.isfinite(self.closest_person) else None,
+            "collisions": len(self.world.contacts) - self._contacts_before,
+        })
+
+    def summary(self) -> dict[str, Any]:
+        return {"goto": list(self.episodes), "collisions": sum(e["collisions"] for e in self.episodes)}
+
+
+class Failures(Observer):
+    """Faults injected, failures detected and recovered, time to detect (bus only)."""
+
+    channels = ("/system/faults", "/system/health")
+
+    def __init__(self, run: Any) -> None:
+        super().__init__(run)
+        self.injected: dict[str, float] = {}
+        self.faults = 0
+        self.detected = 0
+        self.recovered = 0
+        self.restarting = 0
+        self.detect_sum = 0.0
+        self.detect_max = 0.0
+
+    def on_message(self, m: Any) -> None:
+        if m.channel == "/system/faults":
+            self.faults += 1
+            self.injected[str(m.xml.get("module"))] = m.created
+        elif m.channel == "/system/health":
+            module = str(m.xml.get("module"))
+            if m.xml.tag == "module_failed":
+                self.detected += 1
+                self.restarting += m.xml.get("restarting") == "true"
+                t0 = self.injected.pop(module, None)
+                if t0 is not None:
+                    dt = m.created - t0
+                    self.detect_sum += dt
+                    self.detect_max = max(self.detect_max, dt)
+            elif m.xml.tag == "module_recovered":
+                self.recovered += 1
+
+    def summary(self) -> dict[str, Any]:
+        n = self.detected
+        return {"faults": self.faults, "detected": n, "restarting": self.restarting, "recovered": self.recovered,
+                "time_to_detect_mean": round(self.detect_sum / n, 3) if n else None,
+                "time_to_detect_max": round(self.detect_max, 3) if n else None}
+
+
+OBSERVERS = {"navigation": Navigation, "failures": Failures}

@@ -1,0 +1,244 @@
+"""The follower: drives after the communication partner at a social distance while the attention says Follow.
+
+Inputs (docs/robot-contract.md): ``/robot/attention/state`` (only ``Follow``
+lets it drive; its ``partner`` attribute is the track to follow),
+``/robot/attention/partner`` (that track's bearing, distance, position and
+velocity in ``odom``; messages about any other track are ignored, so a
+person crossing between the robot and the partner never becomes the
+followed one), ``/robot/laser/scan`` (obstacles) and ``/robot/odometry``
+(the robot's own pose in ``odom`` and speed).
+
+Control, every ``1/rate`` seconds:
+
+* The partner's position is predicted to now from the last track message
+  (constant velocity), and its path is kept as a *trail* of odom-frame points
+  (every 15 cm). The robot steers along the trail, not straight at the partner,
+  so it goes round furniture and through door frames where the partner went.
+* Speed: ``v = v_partner,radial + gain (d - distance)``, clipped to the base's
+  limits: it closes in when the partner is beyond 1.2 m and waits inside the
+  1.0-1.5 m band; below 1.0 m (a partner who turns back) it backs off
+  slowly, turning to face them, so it never approaches closer than 0.8 m.
+* Obstacles: the dynamic window (:mod:`robot.navigation.local`) on the laser
+  echoes, without the echoes of the partner's own legs.
+* Too fast: while the commanded speed is at the limit for ``too_fast_time`` and
+  the distance is beyond ``too_fast_distance`` and still growing, the ES gets
+  ``partner_too_fast`` with ``@distance`` (at most every ``warn_every`` s).
+* Lost: not seen for ``lost_after`` s: it stops (the attention's
+  ``partner_lost`` makes the ES stop the player and the dialog ask).
+
+``/robot/follow/status`` (``<follow distance speed at_limit state/>``) goes out
+every control step while following. The follower drives only in Follow, and
+sends one zero command when it stops driving.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import math
+from collections import deque
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from lxml import etree
+
+from homesim.message import Message
+from homesim.module import Module
+
+from .config import Limits
+from .local import DWAParams, dwa, scan_points
+
+STATE = "/robot/attention/state"
+PARTNER = "/robot/attention/partner"
+SCAN = "/robot/laser/scan"
+ODOMETRY = "/robot/odometry"
+BASE_CMD = "/robot/base/cmd"
+STATUS = "/robot/follow/status"
+EVENTS = "/robot/es/events"
+SCHEMA = Path(__file__).resolve().parent.parent / "schemas" / "navigation" / "follow-status.xsd"
+
+
+def speed_law(d: float, v_radial: float, *, distance: float, band: tuple[float, float], minimum: float,
+              gain: float, limits: Limits) -> float:
+    """The forward speed that keeps a partner ``d`` metres away (moving away at ``v_radial``) at ``distance``.
+
+    Inside the band it only matches the partner's own motion away (never
+    closes in toward them); beyond it, it also closes the gap; below the
+    band's lower end it backs off (faster below ``minimum``).
+    """
+    v = v_radial + gain * (d - distance)
+    if d < band[0]:
+        v = min(v, -0.5 * (band[0] - d) - (0.1 if d < minimum else 0.0))
+    elif d <= band[1]:
+        v = min(v, max(v_radial, 0.0))
+    return float(min(max(v, -limits.max_reverse), limits.max_speed))
+
+
+class Follower(Module):
+    """Follows the partner track in Follow (see the module docstring)."""
+
+    def __init__(self, sim: Any, *, name: str = "follower", limits: Limits | None = None, rate: float = 10.0,
+                 distance: float = 1.2, band: tuple[float, float] = (1.0, 1.5), minimum: float = 0.8,
+                 gain: float = 0.8, lost_after: float = 1.0, too_fast_distance: float = 2.0,
+                 too_fast_time: float = 1.0, warn_every: float = 5.0, params: DWAParams = DWAParams()) -> None:
+        super().__init__(sim, name)
+        self.limits = limits or Limits()
+        self.period = 1.0 / rate
+        self.distance, self.band, self.minimum, self.gain = distance, band, minimum, gain
+        self.lost_after = lost_after
+        self.too_fast_distance, self.too_fast_time, self.warn_every = too_fast_distance, too_fast_time, warn_every
+        self.params = params
+        sim.bus.declare_channel(STATUS, SCHEMA)
+        self.following = False
+        self.partner_id: str | None = None
+        self.track: dict[str, float] | None = None  # the partner's last message (odom frame) and when
+        self.odom: tuple[float, float, float] | None = None
+        self.v = self.w = 0.0
+        self.points = np.zeros((0, 2))
+        self.trail: deque[tuple[float, float]] = deque(maxlen=200)
+        self.driving = False
+        self._limit_since: float | None = None
+        self._history: deque[tuple[float, float]] = deque(maxlen=64)  # (t, d) while at the limit
+        self._warned_at = -math.inf
+        self.bus.subscribe(STATE, self._on_state)
+        self.bus.subscribe(PARTNER, self._on_partner)
+        self.bus.subscribe(SCAN, self._on_scan)
+        self.bus.subscribe(ODOMETRY, self._on_odometry)
+
+    def respawn(self) -> Follower:
+        return Follower(self.sim, name=self.name, limits=self.limits, rate=1.0 / self.period, distance=self.distance,
+                        band=self.band, minimum=self.minimum, gain=self.gain, lost_after=self.lost_after,
+                        too_fast_distance=self.too_fast_distance, too_fast_time=self.too_fast_time,
+                        warn_every=self.warn_every, params=self.params)
+
+    # ------------------------------------------------------------- inputs
+    def _on_state(self, msg: Message) -> None:
+        follow = msg.xml.get("state") == "Follow"
+        partner = msg.xml.get("partner") or None
+        if follow and not self.following:
+            self.trail.clear()
+            self._history.clear()
+            self._limit_since = None
+        if follow and partner != self.partner_id:
+            self.partner_id = partner
+            if self.track is not None and self.track.get("id") != partner:
+                self.track = None
+        self.following = follow
+
+    def _on_partner(self, msg: Message) -> None:
+        x = msg.xml
+        pid = x.get("id")
+        if self.partner_id is not None and pid != self.partner_id:
+            return  # another track: never followed
+        if self.partner_id is None and self.following:
+            self.partner_id = pid
+        self.track = {
+            "id": pid, "t": self.now, "x": float(x.get("x")), "y": float(x.get("y")),
+            "vx": float(x.get("vx", "0")), "vy": float(x.get("vy", "0")),
+            "visible": x.get("visible", "true") == "true", "lost_for": float(x.get("lost_for", "0")),
+        }  # type: ignore[dict-item]
+
+    def _on_scan(self, msg: Message) -> None:
+        x = msg.xml
+        self.points = scan_points(msg.attachments["ranges"], math.radians(float(x.get("min_angle"))),
+                                  math.radians(float(x.get("resolution"))), float(x.get("max_range")),
+                                  float(x.get("offset")))
+
+    def _on_odometry(self, msg: Message) -> None:
+        x = msg.xml
+        self.odom = (float(x.get("x")), float(x.get("y")), float(x.get("theta")))
+        self.v, self.w = float(x.get("v", "0")), float(x.get("w", "0"))
+
+    # ------------------------------------------------------------- control
+    def _to_robot(self, px: float, py: float) -> tuple[float, float]:
+        ox, oy, oth = self.odom  # type: ignore[misc]
+        c, s = math.cos(oth), math.sin(oth)
+        return c * (px - ox) + s * (py - oy), -s * (px - ox) + c * (py - oy)
+
+    def _command(self, v: float, w: float) -> None:
+        self.bus.publish(BASE_CMD, etree.Element("velocity", v=f"{v:.4f}", w=f"{w:.4f}"))
+        self.driving = True
+
+    def _halt(self) -> None:
+        if self.driving:
+            self.bus.publish(BASE_CMD, etree.Element("velocity", v="0", w="0"))
+            self.driving = False
+
+    def _status(self, d: float, at_limit: bool, state: str) -> None:
+        self.bus.publish(STATUS, etree.Element("follow", distance=f"{max(d, 0.0):.4f}", speed=f"{self.v:.4f}",
+                                               at_limit="true" if at_limit else "false", state=state))
+
+    def control_step(self) -> tuple[float, float] | None:
+        """One control step; returns the command sent (None when not driving)."""
+        if not self.following:
+            self._halt()
+            return None
+        tr = self.track
+        if tr is None or self.odom is None:
+            self._halt()
+            self._status(0.0, False, "searching")
+            return None
+        age = self.now - tr["t"]
+        unseen = (0.0 if tr["visible"] else tr["lost_for"]) + age
+        if unseen > self.lost_after:
+            self._halt()
+            self._status(0.0, False, "stopped")
+            return None
+        # the partner now (constant velocity over the message's age), in odom and robot frames
+        horizon = min(age, 0.5)
+        px, py = tr["x"] + tr["vx"] * horizon, tr["y"] + tr["vy"] * horizon
+        if not self.trail or math.hypot(px - self.trail[-1][0], py - self.trail[-1][1]) > 0.15:
+            self.trail.append((px, py))
+        rx, ry = self._to_robot(px, py)
+        d = math.hypot(rx, ry)
+        # radial speed: the partner's velocity along the line robot -> partner
+        c, s = math.cos(self.odom[2]), math.sin(self.odom[2])
+        vrx, vry = c * tr["vx"] + s * tr["vy"], -s * tr["vx"] + c * tr["vy"]
+        v_radial = (vrx * rx + vry * ry) / d if d > 1e-6 else 0.0
+        v_des = speed_law(d, v_radial, distance=self.distance, band=self.band, minimum=self.minimum,
+                          gain=self.gain, limits=self.limits)
+        bearing = math.atan2(ry, rx)
+        if v_des <= 0.05:
+            # wait (or back off) facing the partner; reversing is slow and straight (no laser behind)
+            w = max(-self.limits.max_turn, min(self.limits.max_turn, 1.8 * bearing))
+            v = v_des if v_des < 0 else 0.0
+            state = "waiting"
+        else:
+            # steer along the partner's trail (round furniture, through doors), dodging laser echoes
+            while len(self.trail) > 1 and math.hypot(*self._to_robot(*self.trail[0])) < 0.6:
+                self.trail.popleft()
+            goal = self._to_robot(*self.trail[0]) if self.trail else (rx, ry)
+            pts = self.points
+            if len(pts):
+                pts = pts[np.hypot(pts[:, 0] - rx, pts[:, 1] - ry) > 0.45]  # not the partner's own legs
+            cmd = dwa(self.v, self.w, goal, pts, self.limits, v_pref=v_des, params=self.params)
+            v, w = cmd.v, cmd.w
+            state = "following" if cmd.ok else "waiting"
+        self._command(v, w)
+        at_limit = v_des >= self.limits.max_speed - 1e-6
+        self._too_fast(d, at_limit)
+        self._status(d, at_limit, state if tr["visible"] else "searching")
+        return v, w
+
+    def _too_fast(self, d: float, at_limit: bool) -> None:
+        now = self.now
+        if not at_limit:
+            self._limit_since = None
+            self._history.clear()
+            return
+        if self._limit_since is None:
+            self._limit_since = now
+        self._history.append((now, d))
+        while self._history and now - self._history[0][0] > self.too_fast_time:
+            self._history.popleft()
+        t0, d0 = self._history[0]
+        if (now - self._limit_since >= self.too_fast_time and d > self.too_fast_distance and d - d0 > 0.05
+                and now - self._warned_at >= self.warn_every):
+            self._warned_at = now
+            self.bus.publish(EVENTS, etree.Element("event", name="partner_too_fast", distance=f"{d:.2f}"))
+
+    async def run(self) -> None:
+        while True:
+            self.beat()
+            self.control_step()
+            await asyncio.sleep(self.period)

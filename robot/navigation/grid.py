@@ -1,0 +1,250 @@
+"""The planner's world model: an occupancy grid from the floor plan, and shortest paths on it.
+
+The map server's reply (``<map frame="map">`` with wall pieces, furniture
+footprints and the start pose, docs/robot-contract.md) is rasterised at
+``cell`` metres: a cell is occupied when its centre lies in a wall piece or
+a footprint that stands below the robot's top (everything on a floor plan
+does: the robot cannot drive under a table top). The free space is then
+eroded by the robot's radius with ``scipy.ndimage.distance_transform_edt``
+(the distance of every cell to the nearest occupied one), so a free cell is a
+place where the robot's centre may be. Cells a little further from obstacles
+than that cost a little more, so paths keep to the middle of doorways.
+
+Paths: Dijkstra (``scipy.sparse.csgraph.dijkstra``, C code) on the
+8-connected free cells, with octile step lengths times the clearance cost,
+diagonal moves only when both side cells are free (no corner cutting). The
+cell path is shortened by line-of-sight smoothing on the free cells.
+
+How it fails: :class:`MapError` for a map reply it cannot read (naming what
+is wrong), :class:`NoPathError` when start or goal is not free (after a
+search for the nearest free cell within 0.5 m) or when they are not
+connected.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from lxml import etree
+from scipy import ndimage
+from scipy.sparse import csr_matrix
+from scipy.sparse.csgraph import dijkstra
+
+from homesim.errors import HomesimError
+from robot import floorplan
+from robot.floorplan import MapFormatError
+
+Point = tuple[float, float]
+
+#: Grid resolution (metres).
+CELL = 0.05
+#: Extra cost weight for cells within ``soft`` metres of the inflated obstacles.
+SOFT_WEIGHT = 2.0
+
+
+class MapError(HomesimError):
+    """A floor plan the planner cannot read."""
+
+
+class NoPathError(HomesimError):
+    """No free path between start and goal (the ``reason`` says which end or that they are apart)."""
+
+    def __init__(self, message: str, reason: str) -> None:
+        super().__init__(message)
+        self.reason = reason
+
+
+@dataclass(frozen=True)
+class Plan2D:
+    """What the planner knows of the flat: occupied polygons (map frame) and the start pose."""
+
+    polygons: tuple[np.ndarray, ...]
+    start: tuple[float, float, float]
+
+
+def parse_map(el: etree._Element, *, robot_height: float = 1.4) -> Plan2D:
+    """The contract's ``<map>`` reply (parsed by :func:`robot.floorplan.parse_map`) as the polygons
+    the robot cannot cross: every wall piece and every obstacle that starts below the robot's top."""
+    try:
+        plan = floorplan.parse_map(el)
+    except MapFormatError as e:
+        raise MapError(str(e)) from e
+    polys = [w.rectangle() for w in plan.walls] + [o.polygon() for o in plan.obstacles if o.bottom < robot_height]
+    if not polys:
+        raise MapError("map: no walls or obstacles: not a floor plan")
+    return Plan2D(tuple(polys), plan.start)
+
+
+def _inside(px: np.ndarray, py: np.ndarray, poly: np.ndarray) -> np.ndarray:
+    """Even-odd point-in-polygon test for arrays of points (vectorised over the points)."""
+    inside = np.zeros(px.shape, dtype=bool)
+    n = len(poly)
+    for i in range(n):
+        x1, y1 = poly[i]
+        x2, y2 = poly[(i + 1) % n]
+        cond = (y1 > py) != (y2 > py)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            xint = (x2 - x1) * (py - y1) / (y2 - y1) + x1
+        inside ^= cond & (px < xint)
+    return inside
+
+
+class OccupancyGrid:
+    """The floor plan rasterised at ``cell`` m and inflated by ``radius`` (see the module docstring)."""
+
+    def __init__(self, plan: Plan2D, *, radius: float, cell: float = CELL, soft: float = 0.3, margin: float = 0.08, pad: float = 0.5) -> None:
+        self.cell = cell
+        self.radius = radius
+        allp = np.concatenate(plan.polygons)
+        xmin, ymin = allp.min(axis=0) - pad
+        xmax, ymax = allp.max(axis=0) + pad
+        self.origin = (float(xmin), float(ymin))
+        self.nx = int(math.ceil((xmax - xmin) / cell))
+        self.ny = int(math.ceil((ymax - ymin) / cell))
+        xs = xmin + (np.arange(self.nx) + 0.5) * cell
+        ys = ymin + (np.arange(self.ny) + 0.5) * cell
+        gx, gy = np.meshgrid(xs, ys, indexing="ij")
+        occ = np.zeros((self.nx, self.ny), dtype=bool)
+        for poly in plan.polygons:
+            lo, hi = poly.min(axis=0), poly.max(axis=0)
+            i0, i1 = max(int((lo[0] - xmin) / cell) - 1, 0), min(int((hi[0] - xmin) / cell) + 2, self.nx)
+            j0, j1 = max(int((lo[1] - ymin) / cell) - 1, 0), min(int((hi[1] - ymin) / cell) + 2, self.ny)
+            if i0 >= i1 or j0 >= j1:
+                continue
+            sub = _inside(gx[i0:i1, j0:j1], gy[i0:i1, j0:j1], poly)
+            # thin walls: also mark every cell a polygon's outline passes through
+            occ[i0:i1, j0:j1] |= sub
+            for k in range(len(poly)):
+                a, b = poly[k], poly[(k + 1) % len(poly)]
+                m = max(int(np.hypot(*(b - a)) / (cell / 2)) + 2, 2)
+                t = np.linspace(0.0, 1.0, m)
+                ii = ((a[0] + (b[0] - a[0]) * t - xmin) / cell).astype(int)
+                jj = ((a[1] + (b[1] - a[1]) * t - ymin) / cell).astype(int)
+                ok = (ii >= 0) & (ii < self.nx) & (jj >= 0) & (jj < self.ny)
+                occ[ii[ok], jj[ok]] = True
+        self.occupied = occ
+        #: metres from each cell centre to the nearest occupied cell (0 inside obstacles)
+        # (centre to centre, less half a cell: an occupied cell's centre lies inside the obstacle)
+        self.clearance = np.maximum(ndimage.distance_transform_edt(~occ) * cell - cell / 2, 0.0)
+        self.free = self.clearance > radius
+        #: where smoothed shortcuts may run: ``margin`` more than the radius from anything
+        self.roomy = self.clearance > radius + margin
+        extra = np.clip((radius + soft - self.clearance) / soft, 0.0, 1.0)
+        self.cost = 1.0 + SOFT_WEIGHT * extra
+        self._graph: csr_matrix | None = None
+
+    # ------------------------------------------------------------- cells
+    def cell_of(self, p: Point) -> tuple[int, int]:
+        return int((p[0] - self.origin[0]) / self.cell), int((p[1] - self.origin[1]) / self.cell)
+
+    def centre(self, c: tuple[int, int]) -> Point:
+        return self.origin[0] + (c[0] + 0.5) * self.cell, self.origin[1] + (c[1] + 0.5) * self.cell
+
+    def inside(self, c: tuple[int, int]) -> bool:
+        return 0 <= c[0] < self.nx and 0 <= c[1] < self.ny
+
+    def is_free(self, p: Point) -> bool:
+        c = self.cell_of(p)
+        return self.inside(c) and bool(self.free[c])
+
+    def nearest_free(self, p: Point, *, within: float = 0.5) -> tuple[int, int] | None:
+        """The free cell nearest to ``p`` within ``within`` metres (ties: lowest index), or None."""
+        ci, cj = self.cell_of(p)
+        r = int(math.ceil(within / self.cell))
+        i0, i1 = max(ci - r, 0), min(ci + r + 1, self.nx)
+        j0, j1 = max(cj - r, 0), min(cj + r + 1, self.ny)
+        if i0 >= i1 or j0 >= j1:
+            return None
+        sub = self.free[i0:i1, j0:j1]
+        ii, jj = np.nonzero(sub)
+        if len(ii) == 0:
+            return None
+        d2 = (ii + i0 - ci) ** 2 + (jj + j0 - cj) ** 2
+        k = int(np.argmin(d2))
+        if d2[k] > r * r:
+            return None
+        return int(ii[k] + i0), int(jj[k] + j0)
+
+    # ------------------------------------------------------------- graph
+    def _build_graph(self) -> csr_matrix:
+        """The 8-connected graph of free cells: edge weight = step length x mean cell cost."""
+        nx, ny = self.nx, self.ny
+        idx = np.arange(nx * ny).reshape(nx, ny)
+        free, cost = self.free, self.cost
+        rows, cols, vals = [], [], []
+        for di, dj in ((1, 0), (0, 1), (1, 1), (1, -1)):
+            j0, j1 = max(0, -dj), ny - max(0, dj)
+            a = (slice(0, nx - di), slice(j0, j1))
+            b = (slice(di, nx), slice(j0 + dj, j1 + dj))
+            ok = free[a] & free[b]
+            if di and dj:  # no corner cutting: both side cells free too
+                ok &= free[(slice(di, nx), slice(j0, j1))] & free[(slice(0, nx - di), slice(j0 + dj, j1 + dj))]
+            w = math.hypot(di, dj) * self.cell * 0.5 * (cost[a] + cost[b])
+            ai, bi, wk = idx[a][ok], idx[b][ok], w[ok]
+            rows += [ai, bi]
+            cols += [bi, ai]
+            vals += [wk, wk]
+        n = nx * ny
+        return csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))), shape=(n, n))
+
+    def plan(self, start: Point, goal: Point) -> list[Point]:
+        """A smoothed free path start -> goal (map frame), first point ``start``, last ``goal``.
+
+        Raises :class:`NoPathError` (reason ``start_blocked``, ``goal_blocked`` or
+        ``no_path``).
+        """
+        s = self.cell_of(start) if self.is_free(start) else self.nearest_free(start)
+        if s is None:
+            raise NoPathError(f"the robot's position ({start[0]:.2f}, {start[1]:.2f}) is not free on the map", "start_blocked")
+        g = self.cell_of(goal) if self.is_free(goal) else self.nearest_free(goal)
+        if g is None:
+            raise NoPathError(f"the goal ({goal[0]:.2f}, {goal[1]:.2f}) is not reachable by the robot's body", "goal_blocked")
+        if self._graph is None:
+            self._graph = self._build_graph()
+        si, gi = s[0] * self.ny + s[1], g[0] * self.ny + g[1]
+        dist, pred = dijkstra(self._graph, directed=False, indices=si, return_predecessors=True)
+        if not np.isfinite(dist[gi]):
+            raise NoPathError(f"no free path from ({start[0]:.2f}, {start[1]:.2f}) to ({goal[0]:.2f}, {goal[1]:.2f})", "no_path")
+        cells = [gi]
+        while cells[-1] != si:
+            cells.append(int(pred[cells[-1]]))
+        cells.reverse()
+        pts = [self.centre((k // self.ny, k % self.ny)) for k in cells]
+        goal_pt = goal if self.is_free(goal) else pts[-1]
+        return self._smooth([start, *pts[1:-1], goal_pt])
+
+    def line_free(self, a: Point, b: Point, *, roomy: bool = True) -> bool:
+        """Every cell the segment a-b passes (sampled at a quarter cell) is free (``roomy``: radius + margin clear)."""
+        n = max(int(math.hypot(b[0] - a[0], b[1] - a[1]) / (self.cell / 4)) + 2, 2)
+        t = np.linspace(0.0, 1.0, n)
+        i = ((a[0] + (b[0] - a[0]) * t - self.origin[0]) / self.cell).astype(int)
+        j = ((a[1] + (b[1] - a[1]) * t - self.origin[1]) / self.cell).astype(int)
+        if (i < 0).any() or (i >= self.nx).any() or (j < 0).any() or (j >= self.ny).any():
+            return False
+        grid = self.roomy if roomy else self.free
+        return bool(grid[i, j][1:-1].all())
+
+    def _smooth(self, pts: list[Point]) -> list[Point]:
+        """Greedy line-of-sight shortening: from each kept point jump to the furthest visible one."""
+        if len(pts) <= 2:
+            return pts
+        out = [pts[0]]
+        i = 0
+        while i < len(pts) - 1:
+            j = len(pts) - 1
+            while j > i + 1 and not self.line_free(pts[i], pts[j]):
+                j -= 1
+            if j == i + 1:  # a tight passage: shortcuts only on free cells
+                j = len(pts) - 1
+                while j > i + 1 and not self.line_free(pts[i], pts[j], roomy=False):
+                    j -= 1
+            out.append(pts[j])
+            i = j
+        return out
+
+
+def path_length(points: list[Point]) -> float:
+    """Length of a polyline (metres)."""
+    return float(sum(math.hypot(b[0] - a[0], b[1] - a[1]) for a, b in zip(points, points[1:])))

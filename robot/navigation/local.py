@@ -1,0 +1,236 @@
+"""Local obstacle avoidance: a dynamic window approach (Fox, Burgard and Thrun 1997) on the laser scan.
+
+Pure functions, no state, no bus: the follower and the player's ``move_to``
+both call :func:`dwa` once per control step.
+
+Every control step looks at the velocities the base can reach within one
+step from its present (v, w) (the *dynamic window*, from the acceleration
+limits), simulates each as an arc for ``horizon`` seconds, and measures how
+close the PeopleBot's rectangular footprint comes to any laser point along
+it. Arcs that would come closer than ``margin`` before the robot could
+brake are inadmissible. Among the others it picks the best by
+
+    score = - w_goal * distance from the arc's end to the goal
+            - w_heading * |bearing of the goal from the arc's end|
+            + w_clear * min(clearance, clear_cap)
+            - w_speed * |v - v_pref|
+
+``v_pref`` is what the caller wants (the follower's distance law, the
+player's approach speed). When nothing is admissible the answer is to stop
+(``ok`` False): waiting is always safe, since the base brakes within its
+window.
+
+Points: the scan as (N, 2) points in the robot frame (metres, x forward,
+y left), e.g. from :func:`scan_points`.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from .config import Limits
+
+#: The PeopleBot's footprint: half length and half width (m), centred on the base.
+HALF_LENGTH = 0.51 / 2
+HALF_WIDTH = 0.43 / 2
+
+
+@dataclass(frozen=True)
+class DWAParams:
+    """Tuning of :func:`dwa` (weights are per metre / radian / m/s)."""
+
+    horizon: float = 1.6  # s of simulated motion per arc
+    steps: int = 8  # poses per arc
+    nv: int = 7  # speed samples in the window
+    nw: int = 11  # turn-rate samples in the window
+    window: float = 0.25  # s of acceleration the window spans (a few control steps)
+    margin: float = 0.10  # m: an arc closer than this to a laser echo (or a body ring) is inadmissible
+    clear_cap: float = 0.5
+    w_goal: float = 1.0
+    w_heading: float = 0.35
+    w_clear: float = 0.6
+    w_speed: float = 0.8
+    reach: float = 2.5  # m: laser points further than this from the robot are ignored
+    period: float = 0.1  # s: the caller's control period (the robot keeps a command that long)
+
+
+@dataclass(frozen=True)
+class Command:
+    """The chosen velocity; ``ok`` False means no admissible motion (stop and wait)."""
+
+    v: float
+    w: float
+    ok: bool
+    clearance: float
+
+
+def scan_points(ranges: np.ndarray, min_angle: float, resolution: float, max_range: float, offset: float, *,
+                stride: int = 2, bodies: bool = True) -> np.ndarray:
+    """Laser echoes as (N, 2) robot-frame points (angles in radians, ``offset`` m ahead of the centre).
+
+    ``bodies``: a narrow isolated cluster of echoes (under :data:`NARROW` m wide,
+    set off from what is behind it) is a leg or a table leg; the laser sees a
+    person only at the knees, but their body is wider, so a pair of such
+    clusters gets a ring of points :data:`BODY_RING` m around their middle
+    (a lone one :data:`LONE_RING`), which keeps the footprint clear of the body.
+    """
+    r_all = np.asarray(ranges, dtype=float)
+    a_all = min_angle + resolution * np.arange(len(r_all))
+    r, a = r_all[::stride], a_all[::stride]
+    keep = r < max_range - 1e-6
+    pts = np.column_stack((offset + r[keep] * np.cos(a[keep]), r[keep] * np.sin(a[keep])))
+    if not bodies:
+        return pts
+    centres = narrow_clusters(r_all, a_all, max_range)
+    if not len(centres):
+        return pts
+    cx = offset + centres[:, 0] * np.cos(centres[:, 1])
+    cy = centres[:, 0] * np.sin(centres[:, 1])
+    discs = []  # (x, y, radius): a pair of legs is a body between them, a lone cluster a smaller disc
+    used = np.zeros(len(cx), dtype=bool)
+    for i in range(len(cx)):
+        if used[i]:
+            continue
+        j = next((j for j in range(i + 1, len(cx)) if not used[j] and math.hypot(cx[j] - cx[i], cy[j] - cy[i]) < PAIR), None)
+        if j is None:
+            discs.append((cx[i], cy[i], LONE_RING))
+        else:
+            used[j] = True
+            discs.append(((cx[i] + cx[j]) / 2, (cy[i] + cy[j]) / 2, BODY_RING))
+    d = np.array(discs)
+    ring = np.linspace(0.0, 2 * math.pi, 10, endpoint=False)
+    rx = (d[:, 0:1] + d[:, 2:3] * np.cos(ring)[None, :]).ravel()
+    ry = (d[:, 1:2] + d[:, 2:3] * np.sin(ring)[None, :]).ravel()
+    return np.concatenate((pts, np.column_stack((rx, ry))))
+
+
+#: A cluster of echoes narrower than this (m) is a leg (or a table leg).
+NARROW = 0.2
+#: Radius (m) of the ring of points standing for a body between a pair of legs.
+BODY_RING = 0.25
+#: Radius (m) of the ring around a lone narrow cluster (one leg hiding the other, or a table leg).
+LONE_RING = 0.15
+#: Two narrow clusters closer than this (m) are one person's legs.
+PAIR = 0.45
+JUMP = 0.15  # m: a range jump between neighbouring beams separates clusters
+
+
+def narrow_clusters(r: np.ndarray, a: np.ndarray, max_range: float, *, near: float = 4.0) -> np.ndarray:
+    """(K, 2) (range, angle) of a point 6 cm behind the middle of each narrow cluster within ``near`` m."""
+    valid = r < max_range - 1e-6
+    if not valid.any():
+        return np.zeros((0, 2))
+    breaks = np.flatnonzero((np.abs(np.diff(r)) > JUMP) | ~valid[1:] | ~valid[:-1]) + 1
+    starts = np.concatenate(([0], breaks))
+    ends = np.concatenate((breaks, [len(r)]))
+    out = []
+    for s0, e0 in zip(starts, ends):
+        if not valid[s0] or r[s0:e0].min() > near:
+            continue
+        x = r[s0:e0] * np.cos(a[s0:e0])
+        y = r[s0:e0] * np.sin(a[s0:e0])
+        if math.hypot(x[-1] - x[0], y[-1] - y[0]) >= NARROW:
+            continue
+        # set off from its neighbours: both sides further away (or nothing)
+        left = r[e0] if e0 < len(r) and valid[e0] else max_range
+        right = r[s0 - 1] if s0 > 0 and valid[s0 - 1] else max_range
+        mid = float(r[s0:e0].mean())
+        if left > mid + JUMP and right > mid + JUMP:
+            out.append((mid + 0.06, float(a[s0:e0].mean())))
+    return np.array(out, dtype=float).reshape(-1, 2)
+
+
+def footprint_distance(px: np.ndarray, py: np.ndarray) -> np.ndarray:
+    """Distance from points (in a pose's frame) to the footprint rectangle (0 inside)."""
+    dx = np.maximum(np.abs(px) - HALF_LENGTH, 0.0)
+    dy = np.maximum(np.abs(py) - HALF_WIDTH, 0.0)
+    return np.hypot(dx, dy)
+
+
+def arcs(v: np.ndarray, w: np.ndarray, times: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Poses (x, y, theta), each (len(v), len(times)), along constant-(v, w) arcs from the origin."""
+    vv, ww, tt = v[:, None], w[:, None], times[None, :]
+    th = ww * tt
+    small = np.abs(ww) < 1e-6
+    safe_w = np.where(small, 1.0, ww)
+    x = np.where(small, vv * tt, vv / safe_w * np.sin(th))
+    y = np.where(small, 0.0, vv / safe_w * (1.0 - np.cos(th)))
+    return x, y, th
+
+
+def stopping_time(v: np.ndarray, limits: Limits, params: DWAParams) -> np.ndarray:
+    """Seconds at constant ``v`` that cover one more control step plus the braking distance v^2/2a."""
+    return params.period + np.abs(v) / (2 * limits.max_accel)
+
+
+def arcs_at(v: np.ndarray, w: np.ndarray, t: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The pose of each arc at its own time ``t[k]``, each (K, 1)."""
+    small = np.abs(w) < 1e-6
+    safe_w = np.where(small, 1.0, w)
+    th = w * t
+    x = np.where(small, v * t, v / safe_w * np.sin(th))
+    y = np.where(small, 0.0, v / safe_w * (1.0 - np.cos(th)))
+    return x[:, None], y[:, None], th[:, None]
+
+
+def dwa(v0: float, w0: float, goal: tuple[float, float], points: np.ndarray, limits: Limits, *, v_pref: float,
+        params: DWAParams = DWAParams()) -> Command:
+    """The best admissible (v, w) toward ``goal`` (robot frame) given the laser ``points`` (see module docstring)."""
+    p = params
+    dv, dw = limits.max_accel * p.window, limits.max_turn_accel * p.window
+    vlo = max(v0 - dv, -limits.max_reverse if v_pref < 0 else 0.0)
+    vhi = min(v0 + dv, limits.max_speed)
+    if vlo > vhi:  # moving faster backwards/forwards than the window allows: brake
+        vlo = vhi = min(max(0.0, vlo), vhi) if v0 > 0 else max(vlo, min(0.0, vhi))
+    vs = np.linspace(vlo, vhi, p.nv)
+    if not np.any(np.isclose(vs, 0.0)) and vlo <= 0.0 <= vhi:
+        vs = np.append(vs, 0.0)
+    ws = np.linspace(max(w0 - dw, -limits.max_turn), min(w0 + dw, limits.max_turn), p.nw)
+    V, W = (a.ravel() for a in np.meshgrid(vs, ws, indexing="ij"))
+    times = np.linspace(p.horizon / p.steps, p.horizon, p.steps)
+    x, y, th = arcs(V, W, times)
+
+    pts = points
+    if len(pts):
+        near = np.hypot(pts[:, 0], pts[:, 1]) < p.reach
+        pts = pts[near]
+    if len(pts):
+        # each obstacle point in each pose's frame: (K, S, N)
+        dxw = pts[None, None, :, 0] - x[:, :, None]
+        dyw = pts[None, None, :, 1] - y[:, :, None]
+        c, s = np.cos(th)[:, :, None], np.sin(th)[:, :, None]
+        lx = c * dxw + s * dyw
+        ly = -s * dxw + c * dyw
+        d = footprint_distance(lx, ly).min(axis=2)  # (K, S)
+        # hard limit: the part of the arc the robot covers if it keeps v for one more control
+        # step and then brakes (its stopping distance, at constant v: t_stop), end point included
+        t_stop = stopping_time(V, limits, p)
+        hard = np.where(times[None, :] <= t_stop[:, None], d, np.inf).min(axis=1)
+        sx, sy, sth = (a[:, 0] for a in arcs_at(V, W, t_stop))
+        dxs, dys = pts[None, :, 0] - sx[:, None], pts[None, :, 1] - sy[:, None]
+        cs, ss = np.cos(sth)[:, None], np.sin(sth)[:, None]
+        hard = np.minimum(hard, footprint_distance(cs * dxs + ss * dys, -ss * dxs + cs * dys).min(axis=1))
+        here = footprint_distance(pts[:, 0], pts[:, 1]).min()
+        clear = d.min(axis=1)
+    else:
+        hard = clear = np.full(len(V), np.inf)
+        here = np.inf
+    admissible = hard > p.margin
+    # in contact already: only arcs that do not get closer
+    if here <= p.margin:
+        admissible = admissible | (d.min(axis=1) >= here - 1e-3) if len(pts) else admissible
+    if not admissible.any():
+        return Command(0.0, 0.0, False, float(here))
+    gx, gy = goal
+    ex, ey, eth = x[:, -1], y[:, -1], th[:, -1]
+    dist = np.hypot(gx - ex, gy - ey)
+    head = np.abs(np.remainder(np.arctan2(gy - ey, gx - ex) - eth + math.pi, 2 * math.pi) - math.pi)
+    head = np.where(dist < 0.15, 0.0, head)
+    score = (-p.w_goal * dist - p.w_heading * head + p.w_clear * np.minimum(clear, p.clear_cap)
+             - p.w_speed * np.abs(V - v_pref))
+    score = np.where(admissible, score, -np.inf)
+    k = int(np.argmax(score))
+    return Command(float(V[k]), float(W[k]), True, float(clear[k]))

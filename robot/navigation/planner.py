@@ -1,0 +1,183 @@
+"""The planner (deliberative layer): a global path to a learned place.
+
+On the ES condition ``navigate`` (``/robot/es/conditions/planner``, param
+``goal`` = the ``SPEECH/PLACE`` frame, e.g. ``<PLACE><TITLE name="kitchen"/></PLACE>``)
+it
+
+1. asks the scene model for the place (``scene_model/request``,
+   ``<request kb="places" op="query"><where index="name" value="kitchen"/></request>``)
+   and takes the pose of the stored ``<PLACE name x y theta frame="map"/>`` (the
+   last one, if the place was taught twice);
+2. gets the floor plan once (``map_server/map``) and builds the inflated
+   occupancy grid (:mod:`robot.navigation.grid`);
+3. plans from the latest localised pose (``/robot/localisation/pose``) and
+   publishes ``/robot/navigation/plan`` (map frame).
+
+Anything that prevents a plan (unknown place, no map, not localised, no
+free path) is published as a plan with ``failed`` set, so the sequencer
+reports ``navigation_failed`` with that reason. ``navigation_cancelled``
+drops a request still being planned.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import math
+from collections import deque
+from pathlib import Path
+from typing import Any
+
+from lxml import etree
+
+from homesim.errors import BusError, HomesimError
+from homesim.message import Message
+from homesim.module import Module
+
+from .config import Limits, limits_from_config
+from .grid import MapError, NoPathError, OccupancyGrid, parse_map, path_length
+
+CONDITIONS = "/robot/es/conditions/planner"
+PLAN = "/robot/navigation/plan"
+POSE = "/robot/localisation/pose"
+SCHEMA = Path(__file__).resolve().parent.parent / "schemas" / "navigation" / "plan.xsd"
+
+
+def place_title(place: etree._Element | None) -> str | None:
+    """The name in a PLACE frame's TITLE (``<PLACE><TITLE name="kitchen"/></PLACE>``), or None."""
+    if place is None:
+        return None
+    title = place.find(".//TITLE")
+    if title is not None and title.get("name"):
+        return str(title.get("name"))
+    return place.get("name")
+
+
+def find_place_pose(reply: etree._Element, title: str) -> tuple[float, float, float] | None:
+    """The pose of the last place in a KB reply named ``title`` (case-insensitive), or None.
+
+    A stored place (docs/robot-contract.md) is ``<PLACE name x y theta frame="map"/>``
+    (inside ``<doc id>``); a PLACE speech frame with a ``POSE`` inside or beside it
+    (``<PLACE><TITLE name/></PLACE><POSE x y theta/>``) is read too.
+    """
+    found = None
+    want = title.strip().lower()
+    for doc in reply.iter():
+        if not isinstance(doc.tag, str) or doc.tag.upper() != "PLACE":
+            continue
+        if (place_title(doc) or "").strip().lower() != want:
+            continue
+        pose = doc if doc.get("x") is not None else _first_pose(doc)
+        parent = doc.getparent()
+        if pose is None and parent is not None and parent is not reply:
+            pose = _first_pose(parent)  # stored beside the PLACE frame, in one document
+        if pose is None:
+            continue
+        try:
+            x, y = float(pose.get("x")), float(pose.get("y"))  # type: ignore[arg-type]
+            th = float(pose.get("theta", "0"))
+        except (TypeError, ValueError):
+            continue
+        if all(math.isfinite(v) for v in (x, y, th)):
+            found = (x, y, th)
+    return found
+
+
+def _first_pose(el: etree._Element) -> etree._Element | None:
+    return next((p for p in el.iter() if isinstance(p.tag, str) and p.tag.upper() == "POSE"), None)
+
+
+class Planner(Module):
+    """Plans a path to the place named in ``navigate`` (see the module docstring)."""
+
+    def __init__(self, sim: Any, *, name: str = "planner", limits: Limits | None = None, timeout: float = 2.0) -> None:
+        super().__init__(sim, name)
+        self.limits = limits or Limits()
+        self.timeout = timeout
+        sim.bus.declare_channel(PLAN, SCHEMA)
+        self.grid: OccupancyGrid | None = None
+        self.pose: tuple[float, float, float] | None = None
+        self._request = 0  # the navigate request being planned (cancel bumps it)
+        self._pending: deque[tuple[int, etree._Element | None]] = deque(maxlen=4)
+        self.bus.subscribe(CONDITIONS, self._on_condition)
+        self.bus.subscribe(POSE, self._on_pose)
+
+    def respawn(self) -> Planner:
+        return Planner(self.sim, name=self.name, limits=self.limits, timeout=self.timeout)
+
+    def _on_pose(self, msg: Message) -> None:
+        x = msg.xml
+        self.pose = (float(x.get("x")), float(x.get("y")), float(x.get("theta")))
+
+    def _on_condition(self, msg: Message) -> None:
+        name = msg.xml.get("name")
+        if name == "navigate":
+            self._request += 1
+            goal = msg.xml.find("param[@name='goal']/PLACE")
+            self._pending.append((self._request, goal))
+        elif name == "navigation_cancelled":
+            self._request += 1
+
+    async def _map(self) -> OccupancyGrid:
+        if self.grid is None:
+            reply = await self.bus.call("map_server", "map", etree.Element("request"), timeout=self.timeout)
+            self.grid = OccupancyGrid(parse_map(reply.xml), radius=self.limits.radius)
+        return self.grid
+
+    async def _place(self, title: str) -> tuple[float, float, float] | None:
+        req = etree.Element("request", kb="places", op="query")
+        etree.SubElement(req, "where", index="name", value=title.strip().lower())
+        reply = await self.bus.call("scene_model", "request", req, timeout=self.timeout)
+        return find_place_pose(reply.xml, title)
+
+    def _publish(self, title: str, points: list[tuple[float, float]], theta: float | None = None, failed: str | None = None) -> None:
+        el = etree.Element("plan", goal=title, length=f"{path_length(points):.4f}" if points else "0")
+        if failed:
+            el.set("failed", failed)
+        for i, (x, y) in enumerate(points):
+            wp = etree.SubElement(el, "waypoint", x=f"{x:.4f}", y=f"{y:.4f}")
+            if theta is not None and i == len(points) - 1:
+                wp.set("theta", f"{theta:.5f}")
+        self.bus.publish(PLAN, el)
+
+    async def plan_for(self, goal: etree._Element | None) -> list[tuple[float, float]] | None:
+        """Plan to the PLACE frame ``goal`` and publish the result (or the reason it failed)."""
+        req = self._request
+        title = place_title(goal) or ""
+        if not title:
+            self._publish("unknown", [], failed="unknown_place")
+            return None
+        try:
+            place = await self._place(title)
+        except (BusError, HomesimError, asyncio.TimeoutError):
+            place = None
+        if req != self._request:
+            return None
+        if place is None:
+            self._publish(title, [], failed="unknown_place")
+            return None
+        try:
+            grid = await self._map()
+        except (BusError, MapError, HomesimError, asyncio.TimeoutError):
+            self._publish(title, [], failed="no_map")
+            return None
+        if req != self._request:
+            return None
+        if self.pose is None:
+            self._publish(title, [], failed="not_localised")
+            return None
+        try:
+            points = grid.plan(self.pose[:2], place[:2])
+        except NoPathError as e:
+            self._publish(title, [], failed=e.reason)
+            return None
+        self._publish(title, points, theta=place[2])
+        return points
+
+    async def run(self) -> None:
+        while True:
+            self.beat()
+            while self._pending:
+                req, goal = self._pending.popleft()
+                if req == self._request:
+                    await self.plan_for(goal)
+            await asyncio.sleep(0.05)

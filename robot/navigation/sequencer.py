@@ -1,0 +1,152 @@
+"""The sequencer (intermediate layer): a plan as single commands for the execution supervisor.
+
+The ES handles single commands only (the papers' split between planner,
+sequencer and ES). The sequencer takes each ``/robot/navigation/plan`` and
+sends the ES one ``plan_step`` event per waypoint after the first (the
+robot's own position), ``<POSE x y theta frame="map" tolerance align/>``:
+heading along the next leg, the place's heading on the last step, which the
+player turns to (``align``). The ES turns each into a ``move_to`` order for
+the player; the player's ``/robot/player/status`` says when a step is
+``reached``, and the next step goes out. After the last: ``goal_reached``
+with the ``PLACE`` frame.
+
+Failures, as ``navigation_failed`` with ``@reason``:
+
+* a failed plan (``failed`` on the plan: unknown_place, no_path, ...);
+* ``blocked``: the player reports ``blocked`` and is still blocked after
+  ``blocked_timeout`` seconds (a person who steps aside in time lets the
+  robot drive on: no failure, no help request);
+* ``no_response``: the player did not start a step within
+  ``start_timeout`` (e.g. the ES rejected the step).
+
+The ES's ``cancel`` order drops the plan.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import math
+from typing import Any
+
+from lxml import etree
+
+from homesim.message import Message
+from homesim.module import Module
+
+EVENTS = "/robot/es/events"
+PLAN = "/robot/navigation/plan"
+PLAYER = "/robot/player/status"
+ORDERS = "/robot/es/orders/sequencer"
+
+
+def steps_of(plan: etree._Element, *, tolerance: float = 0.25, final_tolerance: float = 0.15) -> list[dict[str, str]]:
+    """The POSE attributes of each plan step (every waypoint after the start)."""
+    pts = [(float(w.get("x")), float(w.get("y"))) for w in plan.findall("waypoint")]
+    last = plan.findall("waypoint")[-1] if pts else None
+    out = []
+    for i in range(1, len(pts)):
+        (x0, y0), (x, y) = pts[i - 1], pts[i]
+        final = i == len(pts) - 1
+        if final and last is not None and last.get("theta") is not None:
+            th, align = float(last.get("theta")), "true"  # type: ignore[arg-type]
+        else:
+            th, align = math.atan2(y - y0, x - x0), "false"
+        out.append({"x": f"{x:.4f}", "y": f"{y:.4f}", "theta": f"{th:.5f}", "frame": "map",
+                    "tolerance": f"{final_tolerance if final else tolerance:g}", "align": align})
+    return out
+
+
+class Sequencer(Module):
+    """Hands the plan to the ES step by step (see the module docstring)."""
+
+    def __init__(self, sim: Any, *, name: str = "sequencer", blocked_timeout: float = 10.0, start_timeout: float = 3.0) -> None:
+        super().__init__(sim, name)
+        self.blocked_timeout = blocked_timeout
+        self.start_timeout = start_timeout
+        self.goal = ""
+        self.steps: list[dict[str, str]] = []
+        self.index = -1
+        self.sent_at = 0.0
+        self.started = False
+        self.blocked_since: float | None = None
+        self.bus.subscribe(PLAN, self._on_plan)
+        self.bus.subscribe(PLAYER, self._on_player)
+        self.bus.subscribe(ORDERS, self._on_order)
+
+    def respawn(self) -> Sequencer:
+        return Sequencer(self.sim, name=self.name, blocked_timeout=self.blocked_timeout, start_timeout=self.start_timeout)
+
+    @property
+    def active(self) -> bool:
+        return 0 <= self.index < len(self.steps)
+
+    def _event(self, name: str, *, attrs: dict[str, str] | None = None, child: etree._Element | None = None) -> None:
+        el = etree.Element("event", name=name, **(attrs or {}))
+        if child is not None:
+            el.append(child)
+        self.bus.publish(EVENTS, el)
+
+    def _fail(self, reason: str) -> None:
+        self.steps, self.index, self.blocked_since = [], -1, None
+        self._event("navigation_failed", attrs={"reason": reason})
+
+    def _on_plan(self, msg: Message) -> None:
+        plan = msg.xml
+        self.goal = plan.get("goal", "")
+        if plan.get("failed"):
+            self._fail(str(plan.get("failed")))
+            return
+        self.steps = steps_of(plan)
+        self.index = -1
+        self._next()
+
+    def _next(self) -> None:
+        self.index += 1
+        self.blocked_since = None
+        if self.index >= len(self.steps):
+            place = etree.Element("PLACE")
+            etree.SubElement(place, "TITLE", name=self.goal)
+            self.steps, self.index = [], -1
+            self._event("goal_reached", child=place)
+            return
+        self.sent_at, self.started = self.now, False
+        self._event("plan_step", child=etree.Element("POSE", **self.steps[self.index]))
+
+    def _on_player(self, msg: Message) -> None:
+        if not self.active:
+            return
+        state = msg.xml.get("state")
+        step = self.steps[self.index]
+        here = msg.xml.get("x") is not None and abs(float(msg.xml.get("x")) - float(step["x"])) < 1e-3 \
+            and abs(float(msg.xml.get("y")) - float(step["y"])) < 1e-3
+        if state in ("moving", "blocked", "reached") and not here:
+            return  # about an earlier step
+        if state == "moving":
+            self.started, self.blocked_since = True, None
+        elif state == "blocked":
+            self.started = True
+            if self.blocked_since is None:
+                self.blocked_since = self.now
+        elif state == "reached":
+            self._next()
+        elif state == "stopped":
+            self.steps, self.index = [], -1
+
+    def _on_order(self, msg: Message) -> None:
+        if msg.xml.get("name") == "cancel":
+            self.steps, self.index, self.blocked_since = [], -1, None
+
+    def check(self) -> None:
+        """Fail a step that stays blocked or never starts (called every 0.1 s)."""
+        if not self.active:
+            return
+        if self.blocked_since is not None and self.now - self.blocked_since >= self.blocked_timeout:
+            self._fail("blocked")
+        elif not self.started and self.now - self.sent_at >= self.start_timeout:
+            self._fail("no_response")
+
+    async def run(self) -> None:
+        while True:
+            self.beat()
+            self.check()
+            await asyncio.sleep(0.1)

@@ -1,0 +1,220 @@
+"""The Player-like hardware interface: the execution supervisor's orders to the base and display.
+
+Orders arrive on ``/robot/es/orders/player`` (docs/robot-contract.md):
+
+* ``move_to`` (param ``pose``: ``<POSE x y theta frame="map" [tolerance] [align]/>``):
+  a local controller drives there. Each control step it takes the localised
+  pose (``/robot/localisation/pose``, advanced by the odometry since that
+  pose's time), the laser scan and the base's speed, and asks the dynamic
+  window (:func:`robot.navigation.local.dwa`) for a velocity toward the pose
+  that keeps the footprint clear of every laser echo, so people and
+  furniture that are not on the map are driven around, or waited for.
+  Within ``tolerance`` (default 0.2 m) it turns to ``theta`` when ``align`` is
+  true, then stops and reports ``reached``.
+* ``stop``: zero velocity at once, the goal is dropped.
+* ``show_attention``: the avatar's attentive expression on the display.
+
+``/robot/player/status`` says ``moving``, ``blocked`` (no admissible arc, or
+less than 5 cm of progress in ``stall_time``: the way is blocked, it waits),
+``reached`` or ``stopped`` on each change; the sequencer decides how long
+waiting is acceptable. The player drives the base only while executing a
+``move_to`` (the base's watchdog stops the robot when it goes quiet).
+"""
+
+from __future__ import annotations
+
+import asyncio
+import math
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from lxml import etree
+
+from homesim.message import Message
+from homesim.module import Module
+
+from .navigation.config import Limits, limits_from_config
+from .navigation.local import DWAParams, dwa, scan_points
+
+ORDERS = "/robot/es/orders/player"
+STATUS = "/robot/player/status"
+POSE = "/robot/localisation/pose"
+SCAN = "/robot/laser/scan"
+ODOMETRY = "/robot/odometry"
+BASE_CMD = "/robot/base/cmd"
+DISPLAY_CMD = "/robot/display/cmd"
+SCHEMA = Path(__file__).with_name("schemas") / "navigation" / "player-status.xsd"
+
+
+def wrap(a: float) -> float:
+    return math.remainder(a, 2 * math.pi)
+
+
+class Odometry:
+    """The latest odometry pose and speed, and the motion between two odometry poses."""
+
+    def __init__(self) -> None:
+        self.pose: tuple[float, float, float] | None = None
+        self.v = 0.0
+        self.w = 0.0
+
+    def update(self, xml: etree._Element) -> None:
+        self.pose = (float(xml.get("x")), float(xml.get("y")), float(xml.get("theta")))
+        self.v, self.w = float(xml.get("v", "0")), float(xml.get("w", "0"))
+
+
+def compose_delta(map_pose: tuple[float, float, float], odo_then: tuple[float, float, float],
+                  odo_now: tuple[float, float, float]) -> tuple[float, float, float]:
+    """``map_pose`` moved by the odometry increment odo_then -> odo_now (taken in the robot frame)."""
+    dx, dy = odo_now[0] - odo_then[0], odo_now[1] - odo_then[1]
+    c, s = math.cos(odo_then[2]), math.sin(odo_then[2])
+    fx, fy = c * dx + s * dy, -s * dx + c * dy
+    x, y, th = map_pose
+    cm, sm = math.cos(th), math.sin(th)
+    return x + cm * fx - sm * fy, y + sm * fx + cm * fy, wrap(th + odo_now[2] - odo_then[2])
+
+
+class Player(Module):
+    """Executes ``move_to``/``stop``/``show_attention`` (see the module docstring)."""
+
+    def __init__(self, sim: Any, *, name: str = "player", limits: Limits | None = None, rate: float = 10.0,
+                 tolerance: float = 0.2, stall_time: float = 2.0, params: DWAParams = DWAParams()) -> None:
+        super().__init__(sim, name)
+        self.limits = limits or Limits()
+        self.period = 1.0 / rate
+        self.tolerance = tolerance
+        self.stall_time = stall_time
+        self.params = params
+        sim.bus.declare_channel(STATUS, SCHEMA)
+        self.goal: tuple[float, float, float, float, bool] | None = None  # x, y, theta, tolerance, align
+        self.state = "idle"
+        self.odo = Odometry()
+        self.map_pose: tuple[float, float, float] | None = None
+        self._odo_at_pose: tuple[float, float, float] | None = None
+        self.points = np.zeros((0, 2))
+        self._best = math.inf
+        self._best_t = 0.0
+        self.bus.subscribe(ORDERS, self._on_order)
+        self.bus.subscribe(POSE, self._on_pose)
+        self.bus.subscribe(SCAN, self._on_scan)
+        self.bus.subscribe(ODOMETRY, self._on_odometry)
+
+    def respawn(self) -> Player:
+        """A fresh instance with the same configuration (what a process manager's restart gives)."""
+        return Player(self.sim, name=self.name, limits=self.limits, rate=1.0 / self.period, tolerance=self.tolerance,
+                      stall_time=self.stall_time, params=self.params)
+
+    # ------------------------------------------------------------- inputs
+    def _on_order(self, msg: Message) -> None:
+        name = msg.xml.get("name")
+        if name == "move_to":
+            pose = msg.xml.find("param[@name='pose']/POSE")
+            if pose is None:
+                return
+            try:
+                x, y = float(pose.get("x")), float(pose.get("y"))
+                th = float(pose.get("theta", "0"))
+                tol = float(pose.get("tolerance", str(self.tolerance)))
+            except (TypeError, ValueError):
+                return
+            self.goal = (x, y, th, tol, pose.get("align") == "true")
+            self._best, self._best_t = math.inf, self.now
+            self.state = ""  # a new pose: say "moving" even when it was already moving
+            self._set_state("moving")
+        elif name == "stop":
+            self.goal = None
+            self.bus.publish(BASE_CMD, etree.Element("velocity", v="0", w="0"))
+            self._set_state("stopped")
+        elif name == "show_attention":
+            self.bus.publish(DISPLAY_CMD, etree.Element("expression", name="attentive"))
+
+    def _on_pose(self, msg: Message) -> None:
+        x = msg.xml
+        self.map_pose = (float(x.get("x")), float(x.get("y")), float(x.get("theta")))
+        self._odo_at_pose = self.odo.pose
+
+    def _on_scan(self, msg: Message) -> None:
+        x = msg.xml
+        self.points = scan_points(msg.attachments["ranges"], math.radians(float(x.get("min_angle"))),
+                                  math.radians(float(x.get("resolution"))), float(x.get("max_range")),
+                                  float(x.get("offset")))
+
+    def _on_odometry(self, msg: Message) -> None:
+        self.odo.update(msg.xml)
+
+    # ------------------------------------------------------------- control
+    def pose(self) -> tuple[float, float, float] | None:
+        """The localised pose advanced by odometry since it was estimated (None before the first)."""
+        if self.map_pose is None:
+            return None
+        if self._odo_at_pose is None or self.odo.pose is None:
+            return self.map_pose
+        return compose_delta(self.map_pose, self._odo_at_pose, self.odo.pose)
+
+    def _set_state(self, state: str, distance: float | None = None) -> None:
+        if state == self.state:
+            return
+        self.state = state
+        el = etree.Element("player", state=state)
+        if self.goal is not None and state not in ("idle", "stopped"):
+            el.set("x", f"{self.goal[0]:.4f}")
+            el.set("y", f"{self.goal[1]:.4f}")
+            if distance is not None:
+                el.set("distance", f"{distance:.4f}")
+        self.bus.publish(STATUS, el)
+
+    def control_step(self) -> tuple[float, float] | None:
+        """One step of ``move_to``: the velocity sent, or None when not driving."""
+        if self.goal is None:
+            return None
+        pose = self.pose()
+        if pose is None:
+            self._set_state("blocked")
+            return None
+        gx, gy, gth, tol, align = self.goal
+        x, y, th = pose
+        dist = math.hypot(gx - x, gy - y)
+        if dist <= tol:
+            turn = wrap(gth - th) if align else 0.0
+            if abs(turn) < math.radians(8):
+                self.bus.publish(BASE_CMD, etree.Element("velocity", v="0", w="0"))
+                self._set_state("reached", dist)
+                self.goal = None
+                return (0.0, 0.0)
+            w = max(-self.limits.max_turn, min(self.limits.max_turn, 1.5 * turn))
+            self.bus.publish(BASE_CMD, etree.Element("velocity", v="0", w=f"{w:.4f}"))
+            return (0.0, w)
+        c, s = math.cos(th), math.sin(th)
+        local = (c * (gx - x) + s * (gy - y), -s * (gx - x) + c * (gy - y))
+        v_pref = min(self.limits.max_speed, 0.25 + 0.6 * dist)
+        cmd = dwa(self.odo.v, self.odo.w, local, self.points, self.limits, v_pref=v_pref, params=self.params)
+        self.bus.publish(BASE_CMD, etree.Element("velocity", v=f"{cmd.v:.4f}", w=f"{cmd.w:.4f}"))
+        if self.state == "blocked":
+            # blocked until the way is really clear: 0.3 m of progress, not a nudge
+            if dist < self._best - 0.3:
+                self._best, self._best_t = dist, self.now
+                self._set_state("moving", dist)
+            return (cmd.v, cmd.w)
+        if dist < self._best - 0.05:
+            self._best, self._best_t = dist, self.now
+        stalled = self.now - self._best_t > self.stall_time
+        if not cmd.ok or stalled:
+            self._best = min(self._best, dist)
+            self._set_state("blocked", dist)
+        else:
+            self._set_state("moving", dist)
+        return (cmd.v, cmd.w)
+
+    async def run(self) -> None:
+        while True:
+            self.beat()
+            self.control_step()
+            await asyncio.sleep(self.period)
+
+
+def install(run: Any) -> dict[str, Module]:
+    """The player module with the run's speed limits (``run.config``: max_speed, max_turn)."""
+    player = Player(run.sim, limits=limits_from_config(getattr(run, "config", {}) or {}))
+    player.start()
+    return {"player": player}

@@ -1,0 +1,137 @@
+"""Following at a social distance: door frames, a partner who turns back, one who walks too fast.
+
+The attention is stood in for by ``tests.nav_helpers.Oracle``: each scripted person is one
+track (Anna ``t1``, Tom ``t2``) on ``/robot/attention/partner``; the attention state says
+Follow with partner ``t1``. Distances are ground truth, centre to centre (FollowingMetrics).
+"""
+
+from __future__ import annotations
+
+import math
+
+import pytest
+from lxml import etree
+
+from tests.nav_helpers import start_run
+
+
+def _follow(name: str, until: float, *, tracks=None, setup=None):
+    run = start_run(name, tracks=tracks or {"anna": "t1"})
+    run.status = []
+    run.sim.bus.participant("follow_watch").subscribe(
+        "/robot/follow/status", lambda m: run.status.append((m.created, dict(m.xml.attrib))))
+    if setup:
+        setup(run)
+    run.at(0.3, lambda: run.oracle.follow("t1"))
+    run.until(until)
+    return run
+
+
+@pytest.fixture(scope="module")
+def door():
+    run = _follow("follow_door", 30.0)
+    yield run
+    run.close()
+
+
+@pytest.fixture(scope="module")
+def turn_back():
+    run = _follow("follow_turn_back", 22.0, tracks={"anna": "t1", "tom": "t2"})
+    yield run
+    run.close()
+
+
+def test_it_follows_through_a_door_frame_and_round_the_corner_without_touching_anything(door):
+    x, y, _ = door.world.robot.pose
+    assert x > 6.0 and y > 2.2  # in the study, round the corner behind the door
+    assert door.world.contacts == []
+    s = door.metric("following")
+    assert s["partner"] == "anna" and s["identity_switches"] == 0
+    assert s["distance_m"]["min"] > 1.0 and s["distance_m"]["max"] < 1.8
+    assert 1.1 < s["mean_distance_m"] < 1.45
+    assert s["zone_share"]["intimate"] == 0.0
+    assert s["time_outside_1_0_1_5_s"] < 0.15 * s["time_s"]
+    # it ends at rest at the social distance
+    assert float(door.status[-1][1]["distance"]) == pytest.approx(1.2, abs=0.1)
+
+
+def test_a_partner_who_turns_back_is_never_approached_closer_than_0_8_m(turn_back):
+    s = turn_back.metric("following")
+    assert s["distance_m"]["min"] >= 0.8
+    # she came back to 0.9 m from where the robot stood: it backed off to keep its distance
+    backed = [st for _, st in turn_back.status if float(st["speed"]) < -0.05]
+    assert backed
+    assert float(turn_back.status[-1][1]["distance"]) == pytest.approx(1.2, abs=0.15)
+    assert turn_back.world.contacts == []
+
+
+def test_a_person_crossing_between_does_not_become_the_followed_one(turn_back):
+    s = turn_back.metric("following")
+    assert s["identity_switches"] == 0 and s["partner"] == "anna"
+    # Tom's track t2 was on the partner channel all along: the follower kept to t1
+    assert turn_back.modules["follower"].partner_id == "t1"
+    assert all(float(st["distance"]) < 2.0 for _, st in turn_back.status)  # never Tom's distance when he crossed far off
+
+
+def _too_fast_setup(run):
+    run.at(0.1, run.engage)
+    run.at(0.2, lambda: run.say("follow", etree.Element("FOLLOW")))
+    run.at(9.0, lambda: run.oracle.hidden.add("anna"))
+
+
+@pytest.fixture(scope="module")
+def too_fast():
+    run = _follow("follow_too_fast", 12.0, setup=_too_fast_setup)
+    yield run
+    run.close()
+
+
+def test_a_partner_who_walks_too_fast_is_told_so(too_fast):
+    warnings = [e for e in too_fast.events if e[1] == "partner_too_fast"]
+    assert warnings and float(warnings[0][2]["distance"]) > 2.0
+    first = warnings[0][0]
+    # the robot was at its speed limit and the gap kept growing before the warning
+    before = [(t, float(st["distance"])) for t, st in too_fast.status if first - 1.0 <= t < first]
+    assert before and all(st for t, st in too_fast.status if first - 1.0 <= t < first and st["at_limit"] == "true")
+    assert before[-1][1] > before[0][1]
+    # at most one warning every 5 s; the ES (Following) asks the dialog to say so
+    assert all(b[0] - a[0] >= 5.0 for a, b in zip(warnings, warnings[1:]))
+    warn = [c for c in too_fast.conditions if c[1] == "warn_too_fast"]
+    assert warn and warn[0][2]["distance"] == warnings[0][2]["distance"]
+
+
+def test_a_lost_partner_stops_the_robot(too_fast):
+    after = [(t, st) for t, st in too_fast.status if t > 9.0 + 1.3]
+    assert after and all(st["state"] == "stopped" for _, st in after)
+    assert abs(too_fast.world.robot.v) < 1e-6  # standing still by the end
+    assert too_fast.world.robot.odometer < 0.5 * 11.0  # it never went faster than its limit
+
+
+def test_the_follower_drives_only_in_follow():
+    run = start_run("follow_door", tracks={"anna": "t1"})
+    run.until(3.0)  # attention in Interaction: the partner walks off, the robot stays
+    assert run.world.robot.odometer == pytest.approx(0.0, abs=1e-6)
+    run.close()
+
+
+def test_speed_law_keeps_the_band_and_limits():
+    from hypothesis import given, strategies as st
+
+    from robot.navigation.config import Limits
+    from robot.navigation.follow import speed_law
+
+    lim = Limits()
+
+    @given(st.floats(0.1, 8.0), st.floats(-1.5, 1.5))
+    def prop(d, vr):
+        v = speed_law(d, vr, distance=1.2, band=(1.0, 1.5), minimum=0.8, gain=0.8, limits=lim)
+        assert -lim.max_reverse <= v <= lim.max_speed
+        if d < 1.0:
+            assert v < 0  # backs off when the partner is too close
+        elif d <= 1.5:
+            assert v <= max(vr, 0.0) + 1e-12  # never closes in inside the band
+        if d > 1.5 and vr >= 0:
+            assert v > 0
+
+    prop()
+    assert math.isclose(speed_law(5.0, 0.0, distance=1.2, band=(1.0, 1.5), minimum=0.8, gain=0.8, limits=lim), lim.max_speed)
