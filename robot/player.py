@@ -93,6 +93,7 @@ class Player(Module):
         self.map_pose: tuple[float, float, float] | None = None
         self._odo_at_pose: tuple[float, float, float] | None = None
         self.points = np.zeros((0, 2))
+        self._scan: Message | None = None
         self._best = math.inf
         self._best_t = 0.0
         self.bus.subscribe(ORDERS, self._on_order)
@@ -135,10 +136,18 @@ class Player(Module):
         self._odo_at_pose = self.odo.pose
 
     def _on_scan(self, msg: Message) -> None:
-        x = msg.xml
-        self.points = scan_points(msg.attachments["ranges"], math.radians(float(x.get("min_angle"))),
-                                  math.radians(float(x.get("resolution"))), float(x.get("max_range")),
-                                  float(x.get("offset")))
+        self._scan = msg  # turned into points only when a control step needs them
+
+    def scan_points(self) -> np.ndarray:
+        """The latest scan as robot-frame obstacle points (legs inflated to bodies), computed once per scan."""
+        msg = self._scan
+        if msg is not None:
+            x = msg.xml
+            self.points = scan_points(msg.attachments["ranges"], math.radians(float(x.get("min_angle"))),
+                                      math.radians(float(x.get("resolution"))), float(x.get("max_range")),
+                                      float(x.get("offset")))
+            self._scan = None
+        return self.points
 
     def _on_odometry(self, msg: Message) -> None:
         self.odo.update(msg.xml)
@@ -188,7 +197,7 @@ class Player(Module):
         c, s = math.cos(th), math.sin(th)
         local = (c * (gx - x) + s * (gy - y), -s * (gx - x) + c * (gy - y))
         v_pref = min(self.limits.max_speed, 0.25 + 0.6 * dist)
-        cmd = dwa(self.odo.v, self.odo.w, local, self.points, self.limits, v_pref=v_pref, params=self.params)
+        cmd = dwa(self.odo.v, self.odo.w, local, self.scan_points(), self.limits, v_pref=v_pref, params=self.params)
         self.bus.publish(BASE_CMD, etree.Element("velocity", v=f"{cmd.v:.4f}", w=f"{cmd.w:.4f}"))
         if self.state == "blocked":
             # blocked until the way is really clear: 0.3 m of progress, not a nudge

@@ -95,6 +95,7 @@ class Follower(Module):
         self.odom: tuple[float, float, float] | None = None
         self.v = self.w = 0.0
         self.points = np.zeros((0, 2))
+        self._scan: Message | None = None
         self.trail: deque[tuple[float, float]] = deque(maxlen=200)
         self.driving = False
         self._limit_since: float | None = None
@@ -139,10 +140,18 @@ class Follower(Module):
         }  # type: ignore[dict-item]
 
     def _on_scan(self, msg: Message) -> None:
-        x = msg.xml
-        self.points = scan_points(msg.attachments["ranges"], math.radians(float(x.get("min_angle"))),
-                                  math.radians(float(x.get("resolution"))), float(x.get("max_range")),
-                                  float(x.get("offset")))
+        self._scan = msg  # turned into points only when a control step needs them
+
+    def scan_points(self) -> np.ndarray:
+        """The latest scan as robot-frame obstacle points (legs inflated to bodies), computed once per scan."""
+        msg = self._scan
+        if msg is not None:
+            x = msg.xml
+            self.points = scan_points(msg.attachments["ranges"], math.radians(float(x.get("min_angle"))),
+                                      math.radians(float(x.get("resolution"))), float(x.get("max_range")),
+                                      float(x.get("offset")))
+            self._scan = None
+        return self.points
 
     def _on_odometry(self, msg: Message) -> None:
         x = msg.xml
@@ -208,7 +217,7 @@ class Follower(Module):
             while len(self.trail) > 1 and math.hypot(*self._to_robot(*self.trail[0])) < 0.6:
                 self.trail.popleft()
             goal = self._to_robot(*self.trail[0]) if self.trail else (rx, ry)
-            pts = self.points
+            pts = self.scan_points()
             if len(pts):
                 pts = pts[np.hypot(pts[:, 0] - rx, pts[:, 1] - ry) > 0.45]  # not the partner's own legs
             cmd = dwa(self.v, self.w, goal, pts, self.limits, v_pref=v_des, params=self.params)

@@ -43,9 +43,10 @@ class DWAParams:
     """Tuning of :func:`dwa` (weights are per metre / radian / m/s)."""
 
     horizon: float = 1.6  # s of simulated motion per arc
-    steps: int = 8  # poses per arc
-    nv: int = 7  # speed samples in the window
-    nw: int = 11  # turn-rate samples in the window
+    steps: int = 6  # poses per arc
+    nv: int = 5  # speed samples in the window
+    nw: int = 9  # turn-rate samples in the window
+    sectors: int = 90  # the nearest echo per sector of 360/sectors degrees round the centre is kept
     window: float = 0.25  # s of acceleration the window spans (a few control steps)
     margin: float = 0.10  # m: an arc closer than this to a laser echo (or a body ring) is inadmissible
     clear_cap: float = 0.5
@@ -126,21 +127,21 @@ def narrow_clusters(r: np.ndarray, a: np.ndarray, max_range: float, *, near: flo
     breaks = np.flatnonzero((np.abs(np.diff(r)) > JUMP) | ~valid[1:] | ~valid[:-1]) + 1
     starts = np.concatenate(([0], breaks))
     ends = np.concatenate((breaks, [len(r)]))
-    out = []
-    for s0, e0 in zip(starts, ends):
-        if not valid[s0] or r[s0:e0].min() > near:
-            continue
-        x = r[s0:e0] * np.cos(a[s0:e0])
-        y = r[s0:e0] * np.sin(a[s0:e0])
-        if math.hypot(x[-1] - x[0], y[-1] - y[0]) >= NARROW:
-            continue
-        # set off from its neighbours: both sides further away (or nothing)
-        left = r[e0] if e0 < len(r) and valid[e0] else max_range
-        right = r[s0 - 1] if s0 > 0 and valid[s0 - 1] else max_range
-        mid = float(r[s0:e0].mean())
-        if left > mid + JUMP and right > mid + JUMP:
-            out.append((mid + 0.06, float(a[s0:e0].mean())))
-    return np.array(out, dtype=float).reshape(-1, 2)
+    ok = valid[starts]  # clusters of echoes (a run of no-echo beams is a cluster too: dropped below)
+    last = ends - 1
+    x, y = r * np.cos(a), r * np.sin(a)
+    width = np.hypot(x[last] - x[starts], y[last] - y[starts])
+    sums = np.add.reduceat(np.where(valid, r, 0.0), starts)
+    counts = ends - starts
+    mid = sums / counts
+    amid = np.add.reduceat(a, starts) / counts
+    nearest = np.minimum.reduceat(np.where(valid, r, np.inf), starts)
+    # set off from its neighbours: both sides further away (or nothing)
+    pad = np.concatenate((np.where(valid, r, max_range), [max_range]))
+    left = pad[ends]
+    right = np.where(starts > 0, pad[np.maximum(starts - 1, 0)], max_range)
+    keep = ok & (width < NARROW) & (nearest <= near) & (left > mid + JUMP) & (right > mid + JUMP)
+    return np.column_stack((mid[keep] + 0.06, amid[keep]))
 
 
 def footprint_distance(px: np.ndarray, py: np.ndarray) -> np.ndarray:
@@ -159,6 +160,26 @@ def arcs(v: np.ndarray, w: np.ndarray, times: np.ndarray) -> tuple[np.ndarray, n
     x = np.where(small, vv * tt, vv / safe_w * np.sin(th))
     y = np.where(small, 0.0, vv / safe_w * (1.0 - np.cos(th)))
     return x, y, th
+
+
+def nearest_per_sector(points: np.ndarray, reach: float, sectors: int) -> np.ndarray:
+    """The nearest point within ``reach`` of the centre in each of ``sectors`` equal angular sectors.
+
+    What can hit the footprint in the next second is the nearest thing in each
+    direction; this keeps the dynamic window's cost bounded by ``sectors``
+    whatever the scan holds (4 degrees: 7 cm apart at a metre).
+    """
+    if not len(points):
+        return points
+    r = np.hypot(points[:, 0], points[:, 1])
+    keep = r < reach
+    if not keep.any():
+        return points[:0]
+    pts, r = points[keep], r[keep]
+    sector = ((np.arctan2(pts[:, 1], pts[:, 0]) + math.pi) * (sectors / (2 * math.pi))).astype(int) % sectors
+    order = np.lexsort((r, sector))
+    _, first = np.unique(sector[order], return_index=True)
+    return pts[order[first]]
 
 
 def stopping_time(v: np.ndarray, limits: Limits, params: DWAParams) -> np.ndarray:
@@ -193,10 +214,7 @@ def dwa(v0: float, w0: float, goal: tuple[float, float], points: np.ndarray, lim
     times = np.linspace(p.horizon / p.steps, p.horizon, p.steps)
     x, y, th = arcs(V, W, times)
 
-    pts = points
-    if len(pts):
-        near = np.hypot(pts[:, 0], pts[:, 1]) < p.reach
-        pts = pts[near]
+    pts = nearest_per_sector(points, p.reach, p.sectors)
     if len(pts):
         # each obstacle point in each pose's frame: (K, S, N)
         dxw = pts[None, None, :, 0] - x[:, :, None]

@@ -180,4 +180,4 @@ class Planner(Module):
                 req, goal = self._pending.popleft()
                 if req == self._request:
                     await self.plan_for(goal)
-            await asyncio.sleep(0.05)
+            await asyncio.sleep(0.1)
