@@ -1,14 +1,13 @@
 """Test stand-ins for the modules the navigation is built against, and a run harness.
 
 Runs are real runs (:class:`homesim.runner.Run`: world, people, hardware with the map
-server, the supervisor with BIRON's AFSM, the scene model, the watchdog, the navigation
-modules and the player, the metrics). Until the person attention and the localiser are
-on main, :class:`Oracle` stands in for them with the contract's messages
-(docs/robot-contract.md) made from ground truth, here in the tests (never in ``robot/``):
-``/robot/attention/state`` and ``/robot/attention/partner`` for scripted people (each
-person one track id) and ``/robot/localisation/pose`` (the true pose: a perfect
-localiser). The dialog is stood in for by a participant named ``dialog`` that sends the
-ES the events the dialog would send and records the conditions it gets.
+server, the supervisor with BIRON's AFSM, the localiser, the scene model, the watchdog,
+the navigation modules and the player, the metrics). Until the person attention is on
+main, :class:`Oracle` stands in for it with the contract's messages (docs/robot-contract.md)
+made from ground truth, here in the tests (never in ``robot/``): ``/robot/attention/state``
+and ``/robot/attention/partner`` for scripted people (each person one track id). The
+dialog is stood in for by a participant named ``dialog`` that sends the ES the events the
+dialog would send and records the conditions it gets.
 """
 
 from __future__ import annotations
@@ -25,14 +24,14 @@ from homesim.scenario.loader import load_scenario, load_scenario_text
 from robot.supervisor import event_xml
 
 HERE = Path(__file__).resolve().parent / "scenarios"
-#: What the navigation runs install (no attention, localiser or dialog yet: the oracle and the test stand in).
-SUBSYSTEMS = ("robot.knowledge", "robot.watchdog", "robot.navigation", "robot.player")
+#: What the navigation runs install (no attention or dialog yet: the oracle and the test stand in for them).
+SUBSYSTEMS = ("robot.localisation", "robot.knowledge", "robot.watchdog", "robot.navigation", "robot.player")
 
 
 class Oracle:
     """Ground truth in the contract's formats (see the module docstring)."""
 
-    def __init__(self, stage: Stage, *, tracks: dict[str, str] | None = None, rate: float = 10.0) -> None:
+    def __init__(self, stage: Any, *, tracks: dict[str, str] | None = None, rate: float = 10.0, pose: bool = False) -> None:
         self.stage = stage
         self.world = stage.world
         self.tracks = tracks or {}  # person -> track id published on /robot/attention/partner
@@ -43,6 +42,7 @@ class Oracle:
         self._prev: dict[str, tuple[float, float, float]] = {}
         self.bus = stage.sim.bus.participant("oracle", host="robot")
         self.period = 1.0 / rate
+        self.pose = pose  # publish the true pose as the localiser would (when no localiser runs)
         stage.sim.spawn(self._run(), name="oracle")
 
     def follow(self, partner: str) -> None:
@@ -69,9 +69,10 @@ class Oracle:
     def _tick(self) -> None:
         w = self.world
         rx, ry, rth = w.robot.pose
-        self.bus.publish("/robot/localisation/pose", etree.Element(
-            "pose", time=f"{w.time:.3f}", x=f"{rx:.4f}", y=f"{ry:.4f}", theta=f"{rth:.5f}", cxx="0.0001", cyy="0.0001",
-            ctt="0.0001", frame="map"))
+        if self.pose:
+            self.bus.publish("/robot/localisation/pose", etree.Element(
+                "pose", time=f"{w.time:.3f}", x=f"{rx:.4f}", y=f"{ry:.4f}", theta=f"{rth:.5f}", cxx="0.0001", cyy="0.0001",
+                ctt="0.0001", frame="map"))
         base = self.stage.hardware.get("base")
         if base is None:
             return
