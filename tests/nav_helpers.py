@@ -101,6 +101,12 @@ class Oracle:
                 lost_for=f"{t - self._lost.get(name, t):.3f}"))
 
 
+def _param_value(p: etree._Element) -> str | None:
+    """A condition's param as text: its text, or the name in a copied frame's TITLE."""
+    title = p.find(".//TITLE")
+    return title.get("name") if title is not None else p.text
+
+
 class NavRun:
     """A :class:`Run` of ``tests/scenarios/<name>.xml`` with the oracle and a dialog stand-in."""
 
@@ -117,7 +123,7 @@ class NavRun:
         self.conditions: list[tuple[float, str, dict[str, str | None]]] = []
         self.user = self.sim.bus.participant("dialog", host="robot")
         self.user.subscribe("/robot/es/conditions/dialog", lambda m: self.conditions.append(
-            (m.created, m.xml.get("name"), {p.get("name"): p.text for p in m.xml.findall("param")})))
+            (m.created, m.xml.get("name"), {p.get("name"): _param_value(p) for p in m.xml.findall("param")})))
         self.sim.bus.participant("event_watch", host="robot").subscribe(
             "/robot/es/events", lambda m: self.events.append((m.created, m.xml.get("name"), dict(m.xml.attrib))))
 

@@ -61,7 +61,7 @@ def test_a_person_who_stays_in_the_way_makes_the_robot_ask_for_help(stays):
     blocked_at = next(t for t, s in stays.player_states if s == "blocked")
     assert failed[0][0] - blocked_at == pytest.approx(10.0, abs=0.2)  # the sequencer's timeout
     help_ = [c for c in stays.conditions if c[1] == "need_help"]
-    assert len(help_) == 1 and help_[0][2]["reason"] == "blocked"
+    assert len(help_) == 1 and help_[0][2]["reason"] == "blocked" and help_[0][2]["goal"] == "kitchen"
     assert stays.es.state == "AskingForHelp"
     assert stays.world.contacts == []
     x, y, _ = stays.world.robot.pose

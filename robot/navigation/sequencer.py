@@ -10,7 +10,8 @@ the player; the player's ``/robot/player/status`` says when a step is
 ``reached``, and the next step goes out. After the last: ``goal_reached``
 with the ``PLACE`` frame.
 
-Failures, as ``navigation_failed`` with ``@reason``:
+Failures, as ``navigation_failed`` with ``@reason`` and the goal's ``PLACE`` (the ES
+passes both to the dialog's ``need_help``: "I cannot get to the kitchen"):
 
 * a failed plan (``failed`` on the plan: unknown_place, no_path, ...);
 * ``blocked``: the player reports ``blocked`` and is still blocked after
@@ -88,7 +89,13 @@ class Sequencer(Module):
 
     def _fail(self, reason: str) -> None:
         self.steps, self.index, self.blocked_since = [], -1, None
-        self._event("navigation_failed", attrs={"reason": reason})
+        self._event("navigation_failed", attrs={"reason": reason}, child=self._place())
+
+    def _place(self) -> etree._Element:
+        """The goal as a PLACE frame (``<PLACE><TITLE name/></PLACE>``), what the dialog names."""
+        place = etree.Element("PLACE")
+        etree.SubElement(place, "TITLE", name=self.goal)
+        return place
 
     def _on_plan(self, msg: Message) -> None:
         plan = msg.xml
@@ -104,10 +111,8 @@ class Sequencer(Module):
         self.index += 1
         self.blocked_since = None
         if self.index >= len(self.steps):
-            place = etree.Element("PLACE")
-            etree.SubElement(place, "TITLE", name=self.goal)
             self.steps, self.index = [], -1
-            self._event("goal_reached", child=place)
+            self._event("goal_reached", child=self._place())
             return
         self.sent_at, self.started = self.now, False
         self._event("plan_step", child=etree.Element("POSE", **self.steps[self.index]))
