@@ -28,6 +28,7 @@ from homesim.scenario.loader import load_scenario
 from homesim.sim import Simulation
 from homesim.world.stage import Stage
 from robot.hardware.laser import LaserSpec, simulate_scan
+from robot.hardware.map_server import floor_plan, map_element
 from robot.navigation.config import Limits
 from robot.navigation.grid import OccupancyGrid, parse_map
 from robot.navigation.local import dwa, scan_points
@@ -55,7 +56,7 @@ def main() -> None:
     import sys
 
     sys.path.insert(0, str(ROOT))
-    from tests.nav_helpers import map_reply, start_run
+    from tests.nav_helpers import start_run
 
     sc = load_scenario(GOTO)
     sim = Simulation(seed=1)
@@ -97,7 +98,7 @@ def main() -> None:
     r["player control step (move_to)"] = per_call(step, 1000)
     run.close()
 
-    m = map_reply(sc)
+    m = map_element(floor_plan(sc))
     plan = parse_map(m)
     t0 = time.perf_counter()
     grid = OccupancyGrid(plan, radius=lim.radius)
