@@ -28,8 +28,10 @@ from lxml import etree
 
 from . import __version__
 from .bus import DELIVER, DROP, SEND, Bus, Observation
+from .errors import InputError
 from .message import describe_attachment
 from .vloop import NS_PER_S
+from .xmlio import open_regular
 
 TRACE_FORMAT = 1
 
@@ -114,8 +116,8 @@ class MemoryTrace(TraceRecorder):
 
 
 def read_trace(path: str | os.PathLike[str]) -> Iterator[dict[str, Any]]:
-    """Iterate the records of a trace file (header first)."""
-    with open(path, encoding="utf-8") as fh:
+    """Iterate the records of a trace file (header first); regular files only (no FIFO or device)."""
+    with os.fdopen(open_regular(path, error=InputError), encoding="utf-8") as fh:
         for line in fh:  # text-mode files split on "\n" only
             if line.strip():
                 yield json.loads(line)

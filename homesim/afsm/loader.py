@@ -40,7 +40,7 @@ from pathlib import Path
 from lxml import etree
 
 from ..errors import AFSMError, AFSMProblems, XMLInputError
-from ..xmlio import Schema, parse_bytes, parse_file
+from ..xmlio import Schema, load_schema, parse_bytes, read_input
 from .model import (
     DEFAULT_LIFETIME_NS,
     EventDecl,
@@ -82,10 +82,8 @@ _NS_LABEL = re.compile(r"\{([^}]*)\}")
 @lru_cache(maxsize=1)
 def profile_schema() -> Schema:
     """The compiled profile XSD (SCXML subset + ES namespace), loaded once."""
-    root = parse_file(PROFILE_XSD)
-    # The profile imports afsm-es.xsd by a relative location: give the tree its URL.
-    root.getroottree().docinfo.URL = str(PROFILE_XSD)
-    return Schema(PROFILE_XSD.name, etree.XMLSchema(root))
+    # load_schema lets the profile import its sibling afsm-es.xsd, nothing else.
+    return load_schema(PROFILE_XSD)
 
 
 def _label(text: str) -> str:
@@ -134,11 +132,7 @@ def _parse(data: bytes | str, source: str) -> etree._Element:
 
 
 def _parse_path(path: str | os.PathLike[str]) -> etree._Element:
-    try:
-        raw = Path(path).read_bytes()
-    except OSError:
-        return parse_file(path)  # the hardened parser names the problem
-    return _parse(raw, str(path))
+    return _parse(read_input(path), str(path))  # regular files of bounded size only
 
 
 # ------------------------------------------------------------------- stages
