@@ -12,6 +12,7 @@ import importlib
 import sys
 
 from . import __version__
+from .cliargs import OneLineParser
 from .errors import HomesimError
 
 #: Modules that add subcommands (each has ``register(subparsers)``).
@@ -25,7 +26,7 @@ SUBCOMMAND_MODULES: list[str] = [
 
 
 def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(prog="homesim", description="Deterministic simulator of BIRON's home tour.")
+    parser = OneLineParser(prog="homesim", description="Deterministic simulator of BIRON's home tour.")
     parser.add_argument("--version", action="version", version=f"homesim {__version__}")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
     for name in SUBCOMMAND_MODULES:
@@ -43,6 +44,10 @@ def main(argv: list[str] | None = None) -> int:
         return int(args.func(args) or 0)
     except HomesimError as exc:
         print(f"homesim: error: {exc}", file=sys.stderr)
+        return 2
+    except OSError as exc:  # the environment (disk full, permissions), not the program: one line
+        where = f"{exc.filename}: " if exc.filename else ""
+        print(f"homesim: error: {where}{exc.strerror or exc}", file=sys.stderr)
         return 2
 
 

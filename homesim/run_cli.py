@@ -19,11 +19,15 @@ from __future__ import annotations
 import argparse
 import json
 import math
+import os
 import sys
 from pathlib import Path
 from typing import IO, Any
 
-from .errors import HomesimError
+from . import cliargs
+from .cliargs import OptionError
+from .errors import HomesimError, InputError
+from .xmlio import open_regular
 from .message import Message
 from .runner import Run, RunOptions, file_digest
 from .trace import TRACE_FORMAT
@@ -108,7 +112,7 @@ class Comparison:
     """A text stream that compares each trace line written to it with the original file's."""
 
     def __init__(self, path: Path) -> None:
-        self.fh = open(path, encoding="utf-8")
+        self.fh = os.fdopen(open_regular(path, error=InputError), encoding="utf-8")
         self.line = 0
         self.diverged: tuple[int, str, str] | None = None
 
@@ -135,8 +139,8 @@ def replay(trace: Path, *, out: IO[str] | None = None) -> int:
     """Re-run what ``trace``'s header names; 0 when the new trace is identical, 1 otherwise."""
     out = sys.stdout if out is None else out
     try:
-        with open(trace, encoding="utf-8") as fh:
-            header = json.loads(fh.readline())
+        with os.fdopen(open_regular(trace, error=InputError), encoding="utf-8") as fh:
+            header = json.loads(fh.readline(1 << 20))
     except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
         raise HomesimError(f"{trace}: not a homesim trace ({exc})") from exc
     if not isinstance(header, dict) or header.get("homesim_trace") != TRACE_FORMAT or not isinstance(header.get("run"), dict):
@@ -181,6 +185,8 @@ def plot_command(a: argparse.Namespace) -> int:
     latest: dict[str, Message] = {}
     run = Run.from_file(a.file, RunOptions(seed=a.seed, until=a.at))
     with run:
+        if a.at > run.scenario.duration:
+            raise OptionError("--at", f"{a.at:g} s is outside the scenario ({run.scenario.name}: 0 to {run.scenario.duration:g} s)")
         run.dispatcher.add(("/robot/laser/scan", "/robot/audio/sources"), lambda m: latest.__setitem__(m.channel, m))
         run.run()
         scan: Any = None
@@ -205,12 +211,12 @@ def plot_command(a: argparse.Namespace) -> int:
 
 def _run_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("scenario", type=Path, help="a scenario file (scenarios/*.xml)")
-    p.add_argument("--seed", type=int, default=None, help="override the scenario's seed")
-    p.add_argument("--until", type=float, default=None, help="stop early (virtual seconds; expectations are not checked)")
-    p.add_argument("--trace", type=Path, default=None, help="write the bus trace (JSON Lines; replay it with 'homesim replay')")
-    p.add_argument("--summary", type=Path, default=None, help="write the run summary (JSON)")
-    p.add_argument("--memory", type=Path, default=None, help="the robot's knowledge store: load it at the start, save to it")
-    p.add_argument("--realtime", type=float, default=None, metavar="X", help="pace the run at X times real time")
+    p.add_argument("--seed", type=cliargs.seed, default=None, help="override the scenario's seed")
+    p.add_argument("--until", type=cliargs.seconds(), default=None, help="stop early (virtual seconds; expectations are not checked)")
+    p.add_argument("--trace", type=cliargs.output_file, default=None, help="write the bus trace (JSON Lines; replay it with 'homesim replay')")
+    p.add_argument("--summary", type=cliargs.output_file, default=None, help="write the run summary (JSON)")
+    p.add_argument("--memory", type=cliargs.output_file, default=None, help="the robot's knowledge store: load it at the start, save to it")
+    p.add_argument("--realtime", type=cliargs.realtime_scale, default=None, metavar="X", help="pace the run at X times real time")
     p.add_argument("--quiet", action="store_true", help="print the verdict (and failed expectations) only")
     p.set_defaults(func=run_command)
 
@@ -226,8 +232,8 @@ def register(sub: argparse._SubParsersAction) -> None:
     _run_arguments(ssub.add_parser("run", help="the same as 'homesim run'"))
     q = ssub.add_parser("plot", help="draw the top-down view at one moment")
     q.add_argument("file", type=Path)
-    q.add_argument("--at", type=float, required=True, help="virtual time in seconds")
-    q.add_argument("-o", "--output", type=Path, default=Path("out/scenario.png"))
-    q.add_argument("--seed", type=int, default=None)
+    q.add_argument("--at", type=cliargs.seconds(), required=True, help="virtual time in seconds (within the scenario)")
+    q.add_argument("-o", "--output", type=cliargs.output_file, default=Path("out/scenario.png"))
+    q.add_argument("--seed", type=cliargs.seed, default=None)
     q.set_defaults(func=plot_command)
     p.set_defaults(func=lambda a: (p.print_help(), 2)[1])

@@ -11,6 +11,7 @@ import argparse
 import sys
 from typing import Any
 
+from ..cliargs import OptionError
 from .loader import check_file, load
 from .render import to_dot, to_mermaid
 
@@ -33,6 +34,9 @@ def register(subparsers: Any) -> None:
 
 def _show(args: argparse.Namespace) -> int:
     m = load(args.file)
+    if args.current is not None and args.current not in m.states:
+        near = ", ".join(sorted(m.leaves())[:8])
+        raise OptionError("--current", f"no state {args.current!r} in {args.file} (states include: {near})")
     render = to_dot if args.format == "dot" else to_mermaid
     sys.stdout.write(render(m, current=args.current, sends=not args.no_sends))
     return 0

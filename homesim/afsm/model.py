@@ -186,7 +186,7 @@ class Machine:
             if st.initial is not None and sid not in self.states:
                 raise KeyError(sid)
             seen += 1
-            if seen > len(self.states):  # pragma: no cover - cycles impossible in a tree
+            if seen > len(self.states):  # an initial outside its category (validate reports it with its line)
                 raise AFSMError("cyclic initial states", source=self.source)
         return sid
 
@@ -286,7 +286,7 @@ def reachable_leaves(m: Machine) -> list[str]:
                     continue
                 try:
                     nxt = m.resolve_leaf(t.target)
-                except KeyError:
+                except (KeyError, AFSMError):  # missing or cyclic initial: reported by validate
                     continue
                 if nxt not in seen:
                     seen.add(nxt)
@@ -343,8 +343,8 @@ def validate(m: Machine) -> list[AFSMError]:
     try:
         m.initial_leaf()
         start_ok = True
-    except KeyError:
-        start_ok = False  # already reported; every state would look unreachable
+    except (KeyError, AFSMError):
+        start_ok = False  # a missing or cyclic initial, already reported with its line above
     if start_ok:
         reach = set(reachable_leaves(m))
         for leaf in m.leaves():
