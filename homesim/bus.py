@@ -34,6 +34,7 @@ from typing import Any, Union
 from lxml import etree
 
 from .errors import (
+    BadMessageError,
     BusError,
     MessageValidationError,
     SubscriptionClosed,
@@ -333,7 +334,7 @@ class Participant:
             raise BusError(f"participant {self.name!r} is closed")
         xml = _own_payload(xml, channel, transfer)
         if kind == PUBLISH:
-            schema = self.bus._channel_schemas.get(channel)
+            schema = self.bus.channel_schema(channel)
         if schema is not None and not schema.is_valid(xml):
             errors = schema.errors(xml)
             detail = errors[0][1] if errors else "invalid"
@@ -433,6 +434,7 @@ class Bus:
         self._route_cache: dict[str, tuple[Subscription, ...]] = {}
         self._methods: dict[tuple[str, str], _Method] = {}
         self._channel_schemas: dict[str, Schema] = {}
+        self._schema_cache: dict[str, Schema | None] = {}
         self._interceptors: list[Interceptor] = []
         self._last_delivery: dict[tuple[str, str], int] = {}
         # Message counters per participant name: ids stay unique across re-registration.
@@ -479,16 +481,36 @@ class Bus:
         return out
 
     def declare_channel(self, channel: str, schema: SchemaLike) -> None:
-        """Type a channel: every message published on it must satisfy ``schema``."""
-        _check_channel_name(channel)
+        """Type a channel: every message published on it must satisfy ``schema``.
+
+        ``/a/b/**`` types every channel under ``/a/b/`` that has no type of its
+        own (the kernel types ``/system/heartbeat/**`` so that nobody can put
+        an untyped heartbeat there); the longest declared prefix wins.
+        """
+        _check_channel_name(channel, allow_subtree=True)
         sch = _as_schema(schema)
         if sch is None:
             self._channel_schemas.pop(channel, None)
         else:
             self._channel_schemas[channel] = sch
+        self._schema_cache.clear()
 
     def channel_schema(self, channel: str) -> Schema | None:
-        return self._channel_schemas.get(channel)
+        """The schema messages on ``channel`` must satisfy (its own, else its nearest typed subtree's)."""
+        try:
+            return self._schema_cache[channel]
+        except KeyError:
+            pass
+        sch = self._channel_schemas.get(channel)
+        if sch is None:
+            cut = len(channel)
+            while sch is None and cut > 0:
+                cut = channel.rfind("/", 0, cut)
+                if cut < 0:
+                    break
+                sch = self._channel_schemas.get(channel[:cut] + "/**")
+        self._schema_cache[channel] = sch
+        return sch
 
     def add_interceptor(self, interceptor: Interceptor) -> None:
         """Observe every send, delivery and drop (called synchronously, in order)."""
@@ -592,9 +614,13 @@ class Bus:
             self._observe(Observation(self.loop.now_ns, DELIVER, msg, (receiver.name,)))
         if sub.handler is not None:
             sub.delivered += 1
-            result = sub.handler(msg)
+            try:
+                result = sub.handler(msg)
+            except BadMessageError as exc:  # the sender's bad data, not our bug: report, go on
+                self._drop(msg, receiver.name, f"refused by the receiver: {exc}")
+                return
             if inspect.isawaitable(result):
-                self.loop.create_task(_await(result), name=f"{receiver.name}:{sub.pattern}<-{msg.id}")
+                self.loop.create_task(_await_reporting(result, self, msg, receiver.name), name=f"{receiver.name}:{sub.pattern}<-{msg.id}")
         else:
             dropped = sub._push(msg)
             if dropped is not None:
@@ -683,6 +709,15 @@ def _copy_message(msg: Message) -> Message:
 
 async def _await(result: Awaitable[Any]) -> Any:
     return await result
+
+
+async def _await_reporting(result: Awaitable[Any], bus: Bus, msg: Message, receiver: str) -> Any:
+    """Await an async handler; a :class:`BadMessageError` is reported as a drop, not a failure."""
+    try:
+        return await result
+    except BadMessageError as exc:
+        bus._drop(msg, receiver, f"refused by the receiver: {exc}")
+        return None
 
 
 def seconds(ns: int) -> float:

@@ -91,6 +91,15 @@ class MessageValidationError(BusError):
     """A message does not match the schema of its channel or method."""
 
 
+class BadMessageError(BusError):
+    """A receiver cannot handle a message another participant sent (wrong type, absurd value).
+
+    Raised by a subscription handler, it does not fail the run: the bus
+    records the message as dropped with this reason (seen in the trace) and
+    goes on. Any other exception from a handler is a bug and fails the run.
+    """
+
+
 class UnknownParticipantError(BusError):
     """A call named a server or method that is not registered."""
 

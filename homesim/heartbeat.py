@@ -17,6 +17,7 @@ from pathlib import Path
 from lxml import etree
 
 from .bus import Participant
+from .errors import BadMessageError
 from .message import Message
 from .vloop import NS_PER_S, to_ns
 
@@ -24,14 +25,17 @@ HEARTBEAT_PREFIX = "/system/heartbeat"
 HEALTH_CHANNEL = "/system/health"
 #: The kernel's message types (heartbeat, module_failed/recovered, fault).
 SYSTEM_SCHEMA = Path(__file__).with_name("schemas") / "system.xsd"
+#: Heartbeat intervals accepted (seconds), here and in system.xsd: 1 ms to 1 hour.
+MIN_INTERVAL_S = 0.001
+MAX_INTERVAL_S = 3600.0
 
 
 class Heartbeat:
     """Sends ``<heartbeat module= seq= interval=/>`` at most every ``interval`` seconds."""
 
     def __init__(self, participant: Participant, interval: float) -> None:
-        if interval <= 0:
-            raise ValueError(f"heartbeat interval must be > 0, got {interval}")
+        if not (isinstance(interval, (int, float)) and MIN_INTERVAL_S <= interval <= MAX_INTERVAL_S):
+            raise ValueError(f"heartbeat interval must be {MIN_INTERVAL_S:g} to {MAX_INTERVAL_S:g} s, got {interval!r}")
         self.participant = participant
         self.interval = interval
         self.channel = f"{HEARTBEAT_PREFIX}/{participant.name}"
@@ -77,9 +81,10 @@ class HeartbeatMonitor:
         self.last_beat_ns.setdefault(module, self.participant.bus.loop.now_ns)
 
     def _on_beat(self, msg: Message) -> None:
-        name = msg.xml.get("module", msg.sender)
+        """Record a beat; a message that is not a usable heartbeat is refused (reported, not fatal)."""
+        name, interval = _read_beat(msg)
         self.last_beat_ns[name] = msg.created_ns
-        self.intervals[name] = float(msg.xml.get("interval", "1.0"))
+        self.intervals[name] = interval
         if name in self.failed:
             del self.failed[name]
             el = etree.Element("module_recovered", module=name, t=repr(msg.created_ns / NS_PER_S))
@@ -110,3 +115,24 @@ class HeartbeatMonitor:
         while True:
             self.check()
             await asyncio.sleep(self.period)
+
+
+def _read_beat(msg: Message) -> tuple[str, float]:
+    """(module, interval) of a heartbeat; :class:`BadMessageError` when it is not one.
+
+    The kernel types every ``/system/heartbeat/...`` channel, so this only
+    trips on a message that satisfies system.xsd without being a heartbeat
+    (a ``<fault>`` sent there); the check costs little and keeps the monitor
+    alive whatever arrives.
+    """
+    xml = msg.xml
+    if xml.tag != "heartbeat":
+        raise BadMessageError(f"<{xml.tag}> on {msg.channel} is not a heartbeat")
+    name = xml.get("module") or msg.sender
+    try:
+        interval = float(xml.get("interval", ""))
+    except ValueError:
+        raise BadMessageError(f"heartbeat interval {xml.get('interval')!r} on {msg.channel} is not a number") from None
+    if not MIN_INTERVAL_S <= interval <= MAX_INTERVAL_S:
+        raise BadMessageError(f"heartbeat interval {interval!r} on {msg.channel} is outside {MIN_INTERVAL_S:g} to {MAX_INTERVAL_S:g} s")
+    return name, interval

@@ -54,7 +54,12 @@ class Simulation:
         self.bus = Bus(self.loop, network=self.network)
         self.modules: dict[str, Any] = {}
         self._system = self.bus.participant("simulator", host="simulator")
-        self.bus.declare_channel(FAULT_CHANNEL, Path(__file__).with_name("schemas") / "system.xsd")
+        system_xsd = Path(__file__).with_name("schemas") / "system.xsd"
+        self.bus.declare_channel(FAULT_CHANNEL, system_xsd)
+        # Every heartbeat channel is typed from the start: a participant cannot
+        # put an untyped "heartbeat" where the monitor listens.
+        self.bus.declare_channel("/system/heartbeat/**", system_xsd)
+        self.bus.declare_channel("/system/health", system_xsd)
         self.traces: list[TraceRecorder] = []
 
     # ------------------------------------------------------------ randomness
