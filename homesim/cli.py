@@ -12,7 +12,9 @@ import importlib
 import sys
 
 from . import __version__
+from . import cliargs
 from .cliargs import OneLineParser
+from .realtime import MAX_WATCHDOG_S, Watchdog
 from .errors import HomesimError
 
 #: Modules that add subcommands (each has ``register(subparsers)``).
@@ -28,6 +30,8 @@ SUBCOMMAND_MODULES: list[str] = [
 def build_parser() -> argparse.ArgumentParser:
     parser = OneLineParser(prog="homesim", description="Deterministic simulator of BIRON's home tour.")
     parser.add_argument("--version", action="version", version=f"homesim {__version__}")
+    parser.add_argument("--watchdog", type=cliargs.seconds(positive=True, high=MAX_WATCHDOG_S), default=None, metavar="WALL_SECONDS",
+                        help="dump every stack and exit (status 1) after this many seconds of wall time (for runs that hang)")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
     for name in SUBCOMMAND_MODULES:
         importlib.import_module(name).register(sub)
@@ -41,6 +45,9 @@ def main(argv: list[str] | None = None) -> int:
         parser.print_help()
         return 2
     try:
+        if args.watchdog is not None:
+            with Watchdog(args.watchdog):
+                return int(args.func(args) or 0)
         return int(args.func(args) or 0)
     except HomesimError as exc:
         print(f"homesim: error: {exc}", file=sys.stderr)

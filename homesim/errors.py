@@ -67,6 +67,10 @@ class DeadlockError(SimulationError):
     """Nothing is ready, no timer is pending, yet tasks are still waiting."""
 
 
+class LivelockError(DeadlockError):
+    """Very many scheduling rounds ran without virtual time moving (``sleep(0)`` loops, call_soon chains)."""
+
+
 class RealIOError(SimulationError):
     """Real I/O (threads, sockets, subprocesses) was requested inside a simulation."""
 

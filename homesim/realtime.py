@@ -65,3 +65,40 @@ def peak_memory_mb() -> float:
         return 0.0
     peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
     return peak / (1024 * 1024) if sys.platform == "darwin" else peak / 1024
+
+
+#: Longest wall-clock watchdog accepted (seconds; one day).
+MAX_WATCHDOG_S = 86_400.0
+
+
+class Watchdog:
+    """Opt-in wall-clock watchdog: after ``seconds`` of wall time, dump every stack and exit.
+
+    A livelock that awaits is caught inside the simulation
+    (:class:`homesim.errors.LivelockError`); a busy loop that never awaits
+    cannot be seen from inside. This watchdog (``homesim --watchdog N ...``)
+    uses :mod:`faulthandler`, whose C thread fires even while Python code
+    spins: it writes every thread's stack to stderr and exits with status 1.
+    Wall time is read here only, as the determinism rules require; the run's
+    results do not depend on it (it only ends a run that would not end).
+    """
+
+    def __init__(self, seconds: float, *, stream: object = None) -> None:
+        if not (0 < seconds <= MAX_WATCHDOG_S):
+            raise ClockError(f"watchdog must be 0 < seconds <= {MAX_WATCHDOG_S:g}, got {seconds!r}")
+        self.seconds = seconds
+        self.stream = stream
+
+    def __enter__(self) -> Watchdog:
+        import faulthandler
+        import sys
+
+        stream = self.stream if self.stream is not None else sys.stderr
+        stream.write(f"homesim: watchdog armed: every stack is dumped and the run ends after {self.seconds:g} s of wall time\n")  # type: ignore[attr-defined]
+        faulthandler.dump_traceback_later(self.seconds, exit=True, file=stream)  # type: ignore[arg-type]
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        import faulthandler
+
+        faulthandler.cancel_dump_traceback_later()

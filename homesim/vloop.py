@@ -39,11 +39,18 @@ from asyncio import futures as _futures
 from contextvars import Context, copy_context
 from typing import Any, Protocol, TypeVar
 
-from .errors import ClockError, DeadlockError, RealIOError, SimulationError, TaskFailedError
+from .errors import ClockError, DeadlockError, LivelockError, RealIOError, SimulationError, TaskFailedError
 
 T = TypeVar("T")
 
 NS_PER_S = 1_000_000_000
+
+#: Scheduling rounds allowed at one virtual instant before the run is called a
+#: livelock (a task looping on ``await asyncio.sleep(0)``, on a sleep that
+#: rounds to 0 ns, or a ``call_soon`` chain keeps the clock still for ever).
+#: A real burst of same-instant work (deliveries, wake-ups) takes a few
+#: hundred rounds at most; 100,000 rounds take well under a second.
+MAX_ROUNDS_PER_INSTANT = 100_000
 
 # Why the scheduling loop stopped.
 _FAILED, _EMPTY, _UNTIL, _ROUNDS, _PREDICATE = range(5)
@@ -138,6 +145,9 @@ class VirtualEventLoop(asyncio.BaseEventLoop):
         self._orphans: list[tuple[asyncio.Task[Any], int]] = []
         self._saved_loop: asyncio.AbstractEventLoop | None = None
         self._saved_hooks: Any = None
+        self.max_rounds_per_instant = MAX_ROUNDS_PER_INSTANT
+        self._instant_ns = -1
+        self._instant_rounds = 0
 
     # ------------------------------------------------------------------ clock
     def time(self) -> float:
@@ -407,6 +417,13 @@ class VirtualEventLoop(asyncio.BaseEventLoop):
                     if pacer is not None:
                         pacer.before_advance(self._now_ns, when)
                     self._now_ns = when
+            if self._now_ns != self._instant_ns:
+                self._instant_ns = self._now_ns
+                self._instant_rounds = 0
+            else:
+                self._instant_rounds += 1
+                if self._instant_rounds >= self.max_rounds_per_instant:
+                    self._livelock()
             limit = self._now_ns if until_ns is None or until_ns > self._now_ns else until_ns - 1
             while timers and timers[0][0] <= limit:
                 handle = heappop(timers)[2]
@@ -469,6 +486,28 @@ class VirtualEventLoop(asyncio.BaseEventLoop):
             return
         self._failure = None
         raise TaskFailedError(f"simulation failed at t={self.now:.9f} s: {self._failure_where}: {exc!r}") from exc
+
+    def _livelock(self) -> None:
+        """Raise :class:`LivelockError` naming what keeps running at this instant."""
+        names: dict[str, None] = {}
+        for handle in list(self._ready) + [h for w, _s, h in self._timers if w <= self._now_ns]:
+            if handle._cancelled:
+                continue
+            cb = handle._callback
+            owners = [getattr(cb, "__self__", None)]
+            if handle._args and isinstance(handle._args[0], asyncio.Future):  # a sleep's timer: who waits on it
+                owners += [getattr(c, "__self__", None) for c, _ctx in (handle._args[0]._callbacks or [])]
+            tasks = [o for o in owners if isinstance(o, asyncio.Task)]
+            for task in tasks:
+                names.setdefault(f"task {task.get_name()} ({_where(task)})", None)
+            if not tasks:
+                names.setdefault(f"callback {getattr(cb, '__qualname__', repr(cb))}", None)
+        self._instant_rounds = 0
+        raise LivelockError(
+            f"livelock at t={self.now:.9f} s: {self.max_rounds_per_instant} scheduling rounds without virtual time "
+            f"moving (a loop on sleep(0), a sleep shorter than 1 ns, or a call_soon chain); still running: "
+            + ("; ".join(sorted(names)) or "nothing named")
+        )
 
     def waiting_tasks(self) -> list[asyncio.Task[Any]]:
         """Tasks of this loop that are not done, sorted by name (deterministic)."""
@@ -605,12 +644,16 @@ class VirtualEventLoop(asyncio.BaseEventLoop):
             task.cancel()
         if pending or self._asyncgens:
             deadline = self._now_ns + to_ns(cleanup_budget)
-            with self._entered():
-                self._drive(deadline, lambda: all(t.done() for t in pending), None)
-                if self._asyncgens and self._failure is None:
-                    shutdown = self.create_task(self.shutdown_asyncgens())
-                    self._drive(deadline, shutdown.done, None)
-                self._drive(self._now_ns + 1, None, None)  # the done callbacks of the cleanup
+            self._instant_rounds = 0
+            try:
+                with self._entered():
+                    self._drive(deadline, lambda: all(t.done() for t in pending), None)
+                    if self._asyncgens and self._failure is None:
+                        shutdown = self.create_task(self.shutdown_asyncgens())
+                        self._drive(deadline, shutdown.done, None)
+                    self._drive(self._now_ns + 1, None, None)  # the done callbacks of the cleanup
+            except LivelockError:
+                pass  # a call_soon chain that never ends: the run reported it; cleanup stops here
         self._check_orphans()
         failure, where = self._failure, self._failure_where
         self._failure = None
