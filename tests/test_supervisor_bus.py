@@ -219,7 +219,7 @@ def test_heartbeat_failure_reaches_the_es(world):
     from homesim.heartbeat import HEALTH_CHANNEL
 
     mon = world.sim.bus.participant("monitor")
-    world.at(1.0, lambda: mon.publish(HEALTH_CHANNEL, etree.Element("module_failed", module="laser")))
+    world.at(1.0, lambda: mon.publish(HEALTH_CHANNEL, etree.Element("module_failed", module="laser", last_beat="0.5", missed="3")))
     world.sim.run(until=2.0)
     assert world.es.state == "TechnicalFailure"
     names = [c.xml.get("name") for c in world.conditions.drain()]
@@ -273,7 +273,8 @@ def test_a_second_failure_is_not_forgotten_when_the_first_module_recovers(world)
     mon = world.sim.bus.participant("monitor")
     for t, tag, module in [(1.0, "module_failed", "laser"), (1.5, "module_failed", "camera"),
                            (2.0, "module_recovered", "laser"), (3.0, "module_recovered", "camera")]:
-        world.at(t, lambda tag=tag, module=module: mon.publish(HEALTH_CHANNEL, etree.Element(tag, module=module)))
+        extra = {"last_beat": "0.5", "missed": "3"} if tag == "module_failed" else {"t": str(t)}  # /system/health is typed
+        world.at(t, lambda tag=tag, module=module, extra=extra: mon.publish(HEALTH_CHANNEL, etree.Element(tag, module=module, **extra)))
     world.sim.run(until=2.5)
     assert world.es.state == "TechnicalFailure"  # the camera is still down
     assert world.es.failed_modules == {"camera"}
