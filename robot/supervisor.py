@@ -53,10 +53,10 @@ from typing import Any
 
 from lxml import etree
 
-from homesim.afsm.engine import Applied, Engine, Event, Output, Record, Rejected, record_dict
+from homesim.afsm.engine import Applied, Engine, Event, Output, Record, Rejected, payload_problem, record_dict
 from homesim.afsm.loader import from_element, load, loads, to_element
 from homesim.afsm.model import CONDITION, Machine
-from homesim.errors import AFSMError, AFSMModificationRefused, InputError
+from homesim.errors import AFSMError, AFSMModificationRefused, BadMessageError, InputError
 from homesim.heartbeat import HEALTH_CHANNEL
 from homesim.message import Message
 from homesim.module import Module
@@ -210,6 +210,9 @@ class ExecutionSupervisor(Module):
     # --------------------------------------------------------------- input
     def _on_event(self, msg: Message) -> None:
         xml = msg.xml
+        too_big = payload_problem(xml)
+        if too_big is not None:  # another module's bad data: reported as a drop, the ES goes on
+            raise BadMessageError(f"{msg.channel}: {too_big}")
         lt = xml.get("lifetime")
         ev = Event(msg.id, xml.get("name"), msg.sender, msg.created_ns,
                    to_ns(float(lt)) if lt is not None else None, xml)

@@ -121,7 +121,7 @@ def _with_script(body: str, *, radio: bool = False) -> str:
         ('<face human="ann"/>', False, "cannot target themselves", "<face"),
         ('<walk-to place="middle"/>', True, "can only say, wait", "<walk-to"),
         ('<repeat><face angle="90"/></repeat>', False, "never lets time pass", "<repeat"),
-        ('<repeat times="1000000000"><face robot="true"/></repeat>\n<say text="done"/>', False, "never lets time pass", "<repeat"),
+        ('<repeat times="100000"><face robot="true"/></repeat>\n<say text="done"/>', False, "never lets time pass", "<repeat"),
         ('<repeat><walk-to place="middle"/><leave/></repeat>', False, "cannot be inside the <repeat>", "<leave"),
         ('<repeat times="2"><wait for="1"/><repeat times="3"><say text="bye"/><leave/></repeat></repeat>', False, "only once", "<leave"),
     ],

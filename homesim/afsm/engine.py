@@ -43,6 +43,7 @@ is invalid, or that would remove the current state, raises
 
 from __future__ import annotations
 
+import itertools
 import math
 from bisect import insort
 from collections import deque
@@ -54,6 +55,21 @@ from lxml import etree
 
 from ..errors import AFSMModificationRefused, AFSMProblems, ClockError, SupervisorError
 from .model import Machine, Send, Transition, merge, validate
+
+#: Largest event payload (elements, the root included) the ES evaluates guards
+#: on. With the model's limit of MAX_XPATH_DEEP_STEPS (2) descendant steps per
+#: guard, a guard visits at most 256**2 nodes: its cost is bounded.
+MAX_PAYLOAD_ELEMENTS = 256
+
+
+def payload_problem(payload: etree._Element | None) -> str | None:
+    """None when ``payload`` is small enough for guards, else why not (counts at most one element too many)."""
+    if payload is None:
+        return None
+    n = sum(1 for _ in itertools.islice(payload.iter(), MAX_PAYLOAD_ELEMENTS + 1))
+    if n > MAX_PAYLOAD_ELEMENTS:
+        return f"event payload has more than {MAX_PAYLOAD_ELEMENTS} elements (rule: guards run on small payloads)"
+    return None
 
 EXPIRED = "expired"
 INAPPLICABLE = "inapplicable"
@@ -274,6 +290,9 @@ class Engine:
         self._advance(now_ns)
         if event.id in self._ids:
             raise SupervisorError(f"event {event.id!r} is already queued (an event is handled exactly once)")
+        too_big = payload_problem(event.payload)
+        if too_big is not None:
+            raise SupervisorError(f"event {event.id!r} ({event.name}): {too_big}")
         lifetime = event.lifetime_ns
         if lifetime is None:
             lifetime = self._tables.machine.lifetime_ns(event.name)

@@ -36,6 +36,7 @@ from copy import deepcopy
 from decimal import Decimal, InvalidOperation
 from functools import lru_cache
 from pathlib import Path
+from typing import Any
 
 from lxml import etree
 
@@ -239,19 +240,27 @@ REQUIRED_ATTRIBUTES = {
     _E + "event": ("name",),
 }
 
+#: Validation rounds of the schema pass (each takes out what the last one
+#: reported; libxml2 reports one unexpected child per parent and round).
+MAX_SCHEMA_ROUNDS = 25
+
 _ATTRIBUTE_IN_MESSAGE = re.compile(r"^Element '[^']*', attribute '([^']*)'")
 _PATH_STEP = re.compile(r"^(?:([^:\[]+):)?([^\[]+)(?:\[(\d+)\])?$")
 
 
-def _resolve_path(root: etree._Element, path: str | None) -> etree._Element | None:
+def _resolve_path(root: etree._Element, path: str | None, cache: dict[tuple[Any, ...], list[etree._Element]] | None = None) -> etree._Element | None:
     """The element a libxml2 node path (``/*/*[2]/es:module[3]``) names, or None.
 
     libxml2 writes ``*[n]`` for an element in a default namespace (n counts
     every element sibling) and ``prefix:name[n]`` for a prefixed one (n counts
-    siblings with that prefix and name).
+    siblings with that prefix and name). ``cache`` (valid while the tree does
+    not change) keeps each parent's sibling lists, so resolving one path per
+    problem stays linear in the document, not quadratic.
     """
     if not path or not path.startswith("/"):
         return None
+    if cache is None:
+        cache = {}
     steps = path[1:].split("/")
     cur: etree._Element | None = None
     for k, step in enumerate(steps):
@@ -259,9 +268,16 @@ def _resolve_path(root: etree._Element, path: str | None) -> etree._Element | No
         if m is None:
             return None
         prefix, name, index = m.group(1), m.group(2), int(m.group(3) or 1)
-        siblings = [root] if k == 0 else [c for c in cur if isinstance(c.tag, str)]  # type: ignore[union-attr]
-        if name != "*":
-            siblings = [c for c in siblings if etree.QName(c).localname == name and c.prefix == prefix]
+        if k == 0:
+            siblings = [root]
+        else:
+            key = (cur, prefix, name)
+            siblings = cache.get(key)  # type: ignore[assignment]
+            if siblings is None:
+                siblings = [c for c in cur if isinstance(c.tag, str)]  # type: ignore[union-attr]
+                if name != "*":
+                    siblings = [c for c in siblings if etree.QName(c).localname == name and c.prefix == prefix]
+                cache[key] = siblings
         if index > len(siblings):
             return None
         cur = siblings[index - 1]
@@ -286,10 +302,16 @@ def _schema_pass(root: etree._Element, source: str) -> tuple[etree._Element, lis
     xsd = profile_schema()._xsd
     seen: set[tuple[int, str]] = set()
     problems: list[AFSMError] = []
-    for _round in range(len(copy.xpath("//*")) + 2):  # each round removes something, or stops
+    for _round in range(MAX_SCHEMA_ROUNDS):  # each round removes something, or stops
         if xsd.validate(copy):
             break
+        if _round == MAX_SCHEMA_ROUNDS - 1:  # bounded work: a refusal stays near-linear in the size
+            problems.append(AFSMError(f"schema {PROFILE_XSD.name}: more problems may follow (the check stops after "
+                                      f"{MAX_SCHEMA_ROUNDS} rounds of validation); fix these first", source=source,
+                                      line=max((p.line or 0 for p in problems), default=0) or None))
+            break
         entries = list(xsd.error_log)
+        paths: dict[tuple[Any, ...], list[etree._Element]] = {}
         fresh = False
         actions: list[tuple[etree._Element, str | None, bool]] = []
         for e in entries:
@@ -301,7 +323,7 @@ def _schema_pass(root: etree._Element, source: str) -> tuple[etree._Element, lis
                 element = _label(m.group(1)) if m else None
                 problems.append(AFSMError(f"schema {PROFILE_XSD.name}: {_label(e.message)}", source=source,
                                           line=e.line or None, element=element))
-            node = _resolve_path(copy, e.path)
+            node = _resolve_path(copy, e.path, paths)
             if node is None:
                 continue
             am = _ATTRIBUTE_IN_MESSAGE.match(e.message)

@@ -18,6 +18,7 @@ This module holds data and checks only: no file I/O, no time, no bus
 from __future__ import annotations
 
 import re
+from bisect import bisect_left
 from collections.abc import Iterable, Iterator
 from dataclasses import dataclass, field, replace
 from typing import Any
@@ -250,8 +251,22 @@ def _guard_problem(cond: str) -> str | None:
     return None
 
 
+#: Bounds on guard and parameter XPaths (with the engine's MAX_PAYLOAD_ELEMENTS
+#: they bound a guard's cost: at most n**MAX_XPATH_DEEP_STEPS node visits on
+#: a payload of n elements, 65 536 for 256).
+MAX_XPATH_LENGTH = 1000
+MAX_XPATH_DEEP_STEPS = 2
+_DEEP_STEP = re.compile(r"//|\b(?:descendant|descendant-or-self|ancestor|ancestor-or-self|following|preceding|following-sibling|preceding-sibling)\s*::")
+
+
 def _xpath_problem(expr: str) -> str | None:
-    """None when ``expr`` compiles and evaluates on an empty event, else the reason."""
+    """None when ``expr`` compiles, is within the cost bounds and evaluates on an empty event, else the reason."""
+    if len(expr) > MAX_XPATH_LENGTH:
+        return f"XPath of {len(expr)} characters is longer than {MAX_XPATH_LENGTH} (rule: guards stay cheap)"
+    deep = len(_DEEP_STEP.findall(expr))
+    if deep > MAX_XPATH_DEEP_STEPS:
+        return (f"XPath {expr[:80]!r} has {deep} descendant/ancestor/sibling steps; at most {MAX_XPATH_DEEP_STEPS} "
+                "are allowed (rule: a guard's cost is bounded: each such step may scan the whole payload)")
     try:
         xp = etree.XPath(expr)
     except etree.XPathSyntaxError as exc:
@@ -325,7 +340,7 @@ def validate(m: Machine) -> list[AFSMError]:
         if decl.source is not None and decl.source not in m.modules:
             add(_err(m, f"event {decl.name!r} comes from unknown module {decl.source!r} (rule: declare it with <es:module>)", decl, "es:event"))
     for st in m.states.values():
-        if st.initial is not None and st.initial not in m.descendants(st.id):
+        if st.initial is not None and (st.initial not in m.states or st.initial == st.id or st.id not in m.ancestors(st.initial)):
             what = "does not exist" if st.initial not in m.states else f"is not inside {st.id!r}"
             add(_err(m, f"initial state {st.initial!r} of {st.id!r} {what} (rule: a category's initial is one of its states)", st, "state"))
         for t in st.transitions:
@@ -333,9 +348,11 @@ def validate(m: Machine) -> list[AFSMError]:
     # SCXML matches a transition's event by prefix ("error" matches "error.send"); the ES matches
     # names exactly. A name that is a dot-prefix of another name in the machine would behave
     # differently from SCXML without a word, so it is refused.
-    names = {t.event for _sid, t in m.transitions()} | set(m.events)
+    names = sorted({t.event for _sid, t in m.transitions()} | set(m.events))
     for sid, t in m.transitions():
-        longer = sorted(n for n in names if n.startswith(t.event + "."))
+        # the first name after "event." in sorted order is the smallest longer one, if any (log n, not n)
+        at = bisect_left(names, t.event + ".")
+        longer = names[at:at + 1] if at < len(names) and names[at].startswith(t.event + ".") else []
         if longer:
             add(_err(m, f"transition in {sid!r}: event {t.event!r} is a prefix of {longer[0]!r}; SCXML would match "
                         f"{longer[0]!r} to it, the ES matches names exactly (rule: no event name is a dot-prefix "

@@ -39,6 +39,10 @@ from .model import Action, Expectation, Face, Leave, PointAt, Repeat, Say, Scena
 ROBOT_RADIUS = 0.30
 HUMAN_RADIUS = 0.25
 MAX_EXTENT = 50.0  # metres: the largest flat (rooms and walls) a scenario may describe
+#: Most elements of each kind a scenario may hold: a flat, not a city. The
+#: checks and the world's set-up cost grows with these (some pairwise), so
+#: they are refused before any geometry is looked at.
+MAX_COUNTS = {"room": 100, "wall": 1000, "furniture": 500, "place": 500, "object": 1000, "human": 50, "source": 50, "expectation": 500}
 
 # Which target kinds each action accepts.
 _TARGET_KINDS = {
@@ -65,6 +69,7 @@ class _Checker:
 
     def run(self) -> None:
         sc = self.sc
+        self.counts()
         self.names()
         self.extent()
         for k, room in enumerate(sc.rooms):
@@ -105,8 +110,14 @@ class _Checker:
                 self.inside_flat((o.x, o.y), o.line, "object", f"object {o.name!r}")
         r = sc.robot
         self.clear((r.x, r.y), ROBOT_RADIUS, r.line, "robot", "the robot's start")
-        for h in sc.humans:
+        for k, h in enumerate(sc.humans):
             self.clear((h.x, h.y), HUMAN_RADIUS, h.line, "human", f"human {h.name!r}")
+            if np.hypot(h.x - r.x, h.y - r.y) < ROBOT_RADIUS + HUMAN_RADIUS:
+                raise self.fail(h.line, "human", f"human {h.name!r} starts at ({h.x:g}, {h.y:g}), on the robot (line {r.line}): "
+                                                 f"start at least {ROBOT_RADIUS + HUMAN_RADIUS:g} m from it")
+            for other in sc.humans[:k]:
+                if np.hypot(h.x - other.x, h.y - other.y) < 2 * HUMAN_RADIUS:
+                    raise self.fail(h.line, "human", f"human {h.name!r} starts on top of {other.name!r} (line {other.line})")
             self.script(h.script, h.name, person=True)
         for s in sc.sources:
             self.inside_flat((s.x, s.y), s.line, s.kind, f"{s.kind} {s.name!r}")
@@ -117,6 +128,19 @@ class _Checker:
         for f in sc.faults:
             if f.at > sc.duration:
                 raise self.fail(f.line, f.kind, f"at={f.at:g} is after the end of the run ({sc.duration:g} s)")
+
+    # ---------------------------------------------------------------- sizes
+    def counts(self) -> None:
+        sc = self.sc
+        groups = {
+            "room": sc.rooms, "wall": sc.walls, "furniture": sc.furniture, "place": sc.places,
+            "object": sc.objects, "human": sc.humans, "source": sc.sources, "expectation": sc.expectations,
+        }
+        for kind, items in groups.items():
+            limit = MAX_COUNTS[kind]
+            if len(items) > limit:
+                first = items[limit]
+                raise self.fail(getattr(first, "line", None), kind, f"{len(items)} elements of kind {kind}: a scenario holds at most {limit}")
 
     # ---------------------------------------------------------------- names
     def names(self) -> None:
@@ -244,6 +268,8 @@ class _Checker:
     def target(self, t: Target, tag: str, line: int | None, owner: str | None = None) -> None:
         if t.kind not in _TARGET_KINDS[tag]:
             raise self.fail(line, tag, f"<{tag}> cannot take a {t.kind} as its target")
+        if t.kind == "point" and tag != "face":  # a place to go or point at: inside the flat, never clamped
+            self.inside_flat((float(t.x or 0.0), float(t.y or 0.0)), line, tag, f"<{tag}> target point")
         if t.kind in ("robot", "point", "angle"):
             return
         found = self.kinds.get(t.name or "")

@@ -53,6 +53,11 @@ from .model import (
 #: Where the scenario schema lives (the repository's ``scenarios/`` folder).
 SCHEMA_PATH = Path(__file__).resolve().parents[2] / "scenarios" / "scenario.xsd"
 
+#: Coordinates in points and polygons (metres), as the XSD's ``coord`` type.
+COORD_LIMIT = 1000.0
+#: Times in windows (seconds), as the XSD's ``nonNegative`` type.
+MAX_TIME_S = 1e6
+
 _TARGET_KEYS = ("place", "room", "object", "furniture", "human", "robot", "point")
 
 
@@ -203,12 +208,19 @@ class _Builder:
         raw = el.get(key)
         return default if raw is None else raw.strip() in ("true", "1")
 
+    def coord(self, el: etree._Element, key: str, raw: str, text: str) -> float:
+        """One coordinate (metres) inside ±COORD_LIMIT, as the XSD's ``coord`` type."""
+        v = self.number(el, key, raw, text)
+        if abs(v) > COORD_LIMIT:
+            raise self.fail(el, f"attribute {key}={raw!r}: {text!r} is outside -{COORD_LIMIT:g} to {COORD_LIMIT:g} m")
+        return v
+
     def point(self, el: etree._Element, key: str) -> tuple[float, float]:
         raw = el.get(key, "")
         parts = raw.split()
         if len(parts) != 2:
             raise self.fail(el, f"attribute {key}={raw!r} is not a point 'x y'")
-        return self.number(el, key, raw, parts[0]), self.number(el, key, raw, parts[1])
+        return self.coord(el, key, raw, parts[0]), self.coord(el, key, raw, parts[1])
 
     def polygon(self, el: etree._Element) -> tuple[tuple[float, float], ...]:
         raw = el.get("points", "")
@@ -216,7 +228,7 @@ class _Builder:
         for pair in _pairs(raw):
             if len(pair) != 2:
                 raise self.fail(el, f"points={raw!r} is not a list of 'x,y' pairs")
-            pts.append((self.number(el, "points", raw, pair[0]), self.number(el, "points", raw, pair[1])))
+            pts.append((self.coord(el, "points", raw, pair[0]), self.coord(el, "points", raw, pair[1])))
         return tuple(pts)
 
     def colour(self, el: etree._Element, key: str, default: str) -> tuple[RGB, str]:
@@ -236,6 +248,8 @@ class _Builder:
         if len(parts) != 2:
             raise self.fail(el, f"between={raw!r} is not a time window 't0 t1'")
         t0, t1 = (self.number(el, "between", raw, v) for v in parts)
+        if not (0 <= t0 <= MAX_TIME_S and 0 <= t1 <= MAX_TIME_S):
+            raise self.fail(el, f"between={raw!r}: times must lie in 0 to {MAX_TIME_S:g} s")
         if t1 < t0:
             raise self.fail(el, f"between={raw!r}: the window ends before it starts")
         return t0, t1
