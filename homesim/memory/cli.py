@@ -14,6 +14,7 @@ from pathlib import Path
 
 from lxml import etree
 
+from ..cliargs import OptionError
 from .core import ActiveMemory
 from .protocol import attachment_element
 from .sqlite import SqliteStore
@@ -21,6 +22,8 @@ from .sqlite import SqliteStore
 
 def show(a: argparse.Namespace) -> int:
     with SqliteStore(a.store, readonly=True) as store:
+        if a.memory is not None and a.memory not in store.memories():
+            raise OptionError("--memory", f"no memory {a.memory!r} in {a.store} (it holds: {', '.join(store.memories()) or 'none'})")
         names = [a.memory] if a.memory else store.memories()
         print(f"{a.store}: schema version {store.version}, memories: {', '.join(store.memories()) or '(none)'}")
         for name in names:
