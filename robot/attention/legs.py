@@ -15,7 +15,9 @@ classifier, which the simulator's clean geometry does not need):
    bounds and not straight: both legs seen as one blob (standing with the
    legs together; a flat piece of furniture is straight). Straightness does
    not separate one leg from a square table leg under 1 cm range noise; the
-   width (a 5 cm table leg) and the pairing do.
+   width (a 5 cm table leg) and the pairing do. A leg half hidden behind
+   the other (a person standing sideways) shows as a sliver just behind a
+   leg, next to it in the scan: it counts as a leg, so the pair is found.
 4. Pairing: leg candidates at most ``pair_distance`` apart, nearest first,
    make a person candidate at their midpoint; a leftover single leg is a weak
    candidate (its partner hidden), which the tracker uses only to keep an
@@ -48,6 +50,7 @@ class LegSpec:
     pair_distance: float = 0.55  # m: two legs of one person
     max_range: float = 6.5  # m: beyond it legs are too sparse to trust
     sparse_range: float = 4.0  # m: beyond it a 1-2 beam segment may be a leg whatever its width
+    hidden_behind: tuple[float, float] = (0.05, 0.45)  # m: a half-hidden leg this far behind its neighbour leg
     offset: float = 0.13  # laser ahead of the robot centre
 
 
@@ -78,7 +81,7 @@ def segment_features(ranges: np.ndarray, bearings: np.ndarray, spec: LegSpec) ->
     ends = np.concatenate((brk, [r.shape[0]]))
     if r.shape[0] == 0:
         z = np.zeros(0)
-        return {"start": starts[:0], "end": ends[:0], "n": z, "mx": z, "my": z, "width": z, "lin": z, "range": z, "front": z.astype(bool)}
+        return {"start": starts[:0], "end": ends[:0], "n": z, "mx": z, "my": z, "width": z, "lin": z, "range": z, "front": z.astype(bool), "before": z, "after": z}
     keep = valid[starts]  # (segments are all valid or all no-echo)
     cols = np.stack((xs, ys, xs * xs, ys * ys, xs * ys, r), axis=1)
     sums = np.add.reduceat(cols, starts, axis=0)[keep]  # one pass for every segment sum
@@ -97,7 +100,8 @@ def segment_features(ranges: np.ndarray, bearings: np.ndarray, spec: LegSpec) ->
     before = np.where(before >= spec.max_range, np.inf, before)
     after = np.where(after >= spec.max_range, np.inf, after)
     front = (before > mean_r + spec.background) & (after > mean_r + spec.background)
-    return {"start": starts, "end": ends, "n": n, "mx": mx, "my": my, "width": width, "lin": np.sqrt(small), "range": mean_r, "front": front}
+    return {"start": starts, "end": ends, "n": n, "mx": mx, "my": my, "width": width, "lin": np.sqrt(small), "range": mean_r, "front": front,
+            "before": before, "after": after}
 
 
 def detect(ranges: np.ndarray, bearings: np.ndarray, spec: LegSpec = LegSpec(), reject: Callable[[np.ndarray], np.ndarray] | None = None) -> Detections:
@@ -122,6 +126,18 @@ def detect(ranges: np.ndarray, bearings: np.ndarray, spec: LegSpec = LegSpec(), 
     sparse = (f["n"] <= 2) & (f["range"] > spec.sparse_range)
     leg = front & few_ok & ((width >= spec.min_width) | sparse) & (width <= spec.max_width)
     blob = front & (f["n"] >= 3) & (width > spec.blob_width[0]) & (width <= spec.blob_width[1]) & round_
+    # A leg half hidden behind the other (a person standing sideways): right next to a leg in the
+    # scan, a little behind it, and standing out of the background on its other side.
+    rng_, cont = f["range"], f["end"][:-1] == f["start"][1:]
+    gap_prev = rng_[1:] - rng_[:-1]
+    gap_next = rng_[:-1] - rng_[1:]
+    hidden = ~leg & ~blob & (width <= spec.max_width)
+    lo, hi = spec.hidden_behind
+    behind_prev = cont & leg[:-1] & hidden[1:] & (gap_prev > lo) & (gap_prev < hi) & (f["after"][1:] > rng_[1:] + spec.background)
+    behind_next = cont & leg[1:] & hidden[:-1] & (gap_next > lo) & (gap_next < hi) & (f["before"][:-1] > rng_[:-1] + spec.background)
+    leg = leg.copy()
+    leg[1:] |= behind_prev
+    leg[:-1] |= behind_next
     # A segment's points lie on the near surface: push the centre back by about a leg radius.
     norm = np.maximum(np.hypot(f["mx"], f["my"]), 1e-9)
     cx = f["mx"] + 0.05 * f["mx"] / norm + spec.offset
