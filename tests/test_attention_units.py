@@ -148,6 +148,28 @@ def test_a_track_is_born_on_repeated_evidence_and_dies_after_the_timeout():
     assert t == pytest.approx(0.2 + spec.death_timeout + 0.1, abs=0.11)
 
 
+def test_a_person_the_camera_sees_outlives_missing_legs_and_a_bearing_cue_only_until_the_single_allowance():
+    """Blocker of home_tour: a standing partner whose legs stop associating for a few seconds is
+    kept by frontal faces (strong) and by torso/voice at their bearing (weak, bounded)."""
+    spec = TrackerSpec()
+    empty, none = np.zeros((0, 2)), np.zeros(0, dtype=np.int8)
+    faced, weak = Tracks(spec), Tracks(spec)
+    for tr in (faced, weak):
+        for k in range(3):
+            tr.step(k * 0.1, np.array([[2.0, 0.0]]), np.array([PAIR], dtype=np.int8))
+    t = 0.2
+    while t < 20.0:
+        t += 0.1
+        faced.step(t, empty, none)
+        weak.step(t, empty, none)
+        if len(faced):
+            faced.support([0], t)
+        if len(weak):
+            weak.seen([0], t)
+    assert len(faced) == 1 and faced.last_seen[0] == pytest.approx(t)  # legs gone 20 s, face seen: kept
+    assert len(weak) == 0  # a torso blob or voice alone does not hold a track past single_support
+
+
 def test_two_crossing_walkers_keep_their_tracks():
     tr = Tracks()
     ids = None

@@ -25,6 +25,7 @@ import numpy as np
 class CueSpec:
     sound_tolerance: float = math.radians(9.0)
     face_bearing_tolerance: float = math.radians(7.0)
+    torso_bearing_tolerance: float = math.radians(8.0)  # a torso blob at the partner's bearing
     face_distance_tolerance: float = 0.35  # relative (face size -> distance is noisy)
     speaking_on: int = 2  # frames
     speaking_off: float = 0.7  # s: longer than a pause between words

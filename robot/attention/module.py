@@ -15,8 +15,11 @@ the person of interest (:mod:`.selection`), advance the attention FSM
   bearing distance speaking facing/>``) when the selected person speaks
   while facing the robot, repeated every ``pp_repeat`` s while it lasts;
   ``potential_partner_lost`` when they stop; ``partner_lost`` in a
-  top-down state when the partner's track has had no laser update for
-  ``partner_lost_after`` s (once per loss). Lifetimes are the AFSM's;
+  top-down state when the partner's track has had no anchored evidence
+  for ``partner_lost_after`` s (once per loss): a leg update, a frontal
+  face, a torso blob at the partner's bearing (``/robot/camera/torsos``)
+  or their voice from there: a partner the camera still sees is not lost
+  because their legs did not associate for a moment. Lifetimes are the AFSM's;
 - ``/robot/ptu/cmd``: the camera on the person (face, hands, torso) or the
   object focus (``/robot/objects/focus``), ahead while sleeping;
 - ``/robot/base/cmd``: turning on the spot towards the person in Listen,
@@ -65,6 +68,7 @@ ORDERS = "/robot/es/orders/person_attention"
 SCAN = "/robot/laser/scan"
 ODOMETRY = "/robot/odometry"
 FACES = "/robot/camera/faces"
+TORSOS = "/robot/camera/torsos"
 SOUNDS = "/robot/audio/sources"
 FOCUS = "/robot/objects/focus"
 POSE = "/robot/localisation/pose"
@@ -88,7 +92,7 @@ class AttentionParams:
     """Every time limit and gain of the attention behaviour, with its default."""
 
     pp_repeat: float = 1.0  # s: potential_partner repeated while it lasts (its lifetime is 1.5 s)
-    partner_lost_after: float = 2.0  # s without a laser update of the partner's track
+    partner_lost_after: float = 2.0  # s without anchored evidence of the partner (legs, frontal face, torso, voice)
     turn_start: float = math.radians(12.0)  # start turning when the person is further off the axis
     turn_stop: float = math.radians(4.0)  # stop turning when within this
     turn_gain: float = 1.5  # rad/s per rad of bearing
@@ -154,6 +158,7 @@ class PersonAttention(Module):
         self.bus.subscribe(SCAN, self._on_scan)
         self.bus.subscribe(ODOMETRY, self._on_odometry)
         self.bus.subscribe(FACES, self._on_faces)
+        self.bus.subscribe(TORSOS, self._on_torsos)
         self.bus.subscribe(SOUNDS, self._on_sounds)
         self.bus.subscribe(FOCUS, self._on_focus)
         self.bus.subscribe(ORDERS, self._on_order)
@@ -238,6 +243,30 @@ class PersonAttention(Module):
         bearings = np.array([math.radians(float(s.get("bearing"))) for s in msg.xml], dtype=float)
         rows = match_sounds(bearings_from(self._robot_xy(t), self.cues.mic_offset), bearings, self.cues.sound_tolerance) if len(ids) else []
         self.speaking.feed(t, ids, {int(ids[r]) for r in rows})
+        self._partner_seen(rows, t)  # the partner's voice from the partner's direction keeps the partner
+
+    def _partner_seen(self, rows: list[int], t: float) -> None:
+        """Weak evidence (voice, torso) counts for the partner only, never for bystanders."""
+        if self.partner is not None:
+            prow = self.tracks.row(self.partner)
+            if prow >= 0 and prow in rows:
+                self.tracks.seen([prow], t)
+
+    def _on_torsos(self, msg: Message) -> None:
+        """A torso blob at the partner's bearing (the camera is on the partner in the top-down states)."""
+        if self.partner is None:
+            return
+        t = msg.created
+        prow = self.tracks.row(self.partner)
+        if prow < 0:
+            return
+        bearings = np.array([math.radians(float(s.get("bearing"))) for s in msg.xml], dtype=float)
+        if bearings.size == 0:
+            return
+        pb = float(bearings_from(self._robot_xy(t)[prow : prow + 1], self.cues.camera_offset)[0])
+        d = np.abs(np.remainder(bearings - pb + math.pi, 2 * math.pi) - math.pi)
+        if float(d.min()) <= self.cues.torso_bearing_tolerance:
+            self.tracks.seen([prow], t)
 
     def _on_faces(self, msg: Message) -> None:
         t = msg.created
@@ -342,7 +371,7 @@ class PersonAttention(Module):
     def _top_down(self, t: float, cats: dict[int, int]) -> None:
         tr = self.tracks
         row = tr.row(self.partner) if self.partner is not None else -1
-        if row < 0 or t - float(tr.last_update[row]) >= self.params.partner_lost_after:
+        if row < 0 or t - float(tr.last_seen[row]) >= self.params.partner_lost_after:
             if self.partner is not None and not self.partner_lost_sent:
                 self._event("partner_lost")
                 self.partner_lost_sent = True

@@ -29,7 +29,10 @@ lost its person does not live on a table leg. Birth: a tentative track per unass
 pair/blob, confirmed after ``confirm_hits`` pair/blob hits within
 ``confirm_window`` seconds (repeated evidence; a far person's legs pair only
 now and then); a tentative track unseen for ``tentative_gap`` is dropped; a
-confirmed track dies ``death_timeout`` seconds after its last update (its
+confirmed track dies ``death_timeout`` seconds after its last anchored evidence
+(a leg update, a frontal face, or for the partner its torso or voice: a
+person standing still whose legs do not associate for a while is still
+there while the camera sees them; its
 prediction coasts through occlusions and crossings meanwhile, with its
 velocity damped so it does not run away).
 """
@@ -76,6 +79,7 @@ class Tracks:
         self.born = np.zeros(0)
         self.last_update = np.zeros(0)
         self.last_strong = np.zeros(0)  # last update by a pair or blob
+        self.last_seen = np.zeros(0)  # last anchored evidence of any kind (legs, frontal face, torso, voice)
         self.confirmed = np.zeros(0, dtype=bool)
         self._next = 1
         self._t: float | None = None
@@ -127,13 +131,14 @@ class Tracks:
                 self._update(rows, z[cols], r[cols])
                 assigned[cols] = rows
                 self.last_update[rows] = t
+                self.last_seen[rows] = np.maximum(self.last_seen[rows], t)
                 strong = ~single[cols]
                 self.last_strong[rows[strong]] = t
                 self.hits[rows[strong]] += 1  # only pairs and blobs confirm a track
         # Confirmation on repeated evidence; a tentative track that missed this scan is dropped.
         young = ~self.confirmed
         self.confirmed |= young & (self.hits >= spec.confirm_hits) & (t - self.born <= spec.confirm_window + 1e-9)
-        dead = (~self.confirmed & (t - self.last_update > spec.tentative_gap + 1e-9)) | (t - self.last_update > spec.death_timeout)
+        dead = (~self.confirmed & (t - self.last_update > spec.tentative_gap + 1e-9)) | (t - self.last_seen > spec.death_timeout)
         dead |= t - self.last_strong > spec.single_support  # a table leg must not keep a track forever
         dead |= ~self.confirmed & (t - self.born > spec.confirm_window + 1e-9)
         if dead.any():
@@ -175,17 +180,28 @@ class Tracks:
         self.born = np.concatenate((self.born, np.full(k, t)))
         self.last_update = np.concatenate((self.last_update, np.full(k, t)))
         self.last_strong = np.concatenate((self.last_strong, np.full(k, t)))
+        self.last_seen = np.concatenate((self.last_seen, np.full(k, t)))
         self.confirmed = np.concatenate((self.confirmed, np.zeros(k, dtype=bool)))
 
     def _keep(self, keep: np.ndarray) -> None:
-        for name in ("x", "P", "ids", "hits", "born", "last_update", "last_strong", "confirmed"):
+        for name in ("x", "P", "ids", "hits", "born", "last_update", "last_strong", "last_seen", "confirmed"):
             setattr(self, name, getattr(self, name)[keep])
 
     def support(self, rows: list[int], t: float) -> None:
-        """Other strong evidence that tracks ``rows`` are people (a frontal face matched them at ``t``)."""
+        """Other strong evidence that tracks ``rows`` are people (a frontal face matched them at ``t``):
+        it keeps them alive (``last_seen``) and renews the single-leg allowance (``last_strong``)."""
         if rows:
             idx = np.asarray(rows, dtype=np.int64)
             self.last_strong[idx] = np.maximum(self.last_strong[idx], t)
+            self.last_seen[idx] = np.maximum(self.last_seen[idx], t)
+
+    def seen(self, rows: list[int], t: float) -> None:
+        """Weak anchored evidence for tracks ``rows`` at ``t`` (the partner's torso colour blob or voice
+        at its bearing): keeps them alive, but only within ``single_support`` of their last pair, blob
+        or face, so a bearing-only cue cannot hold a track whose person has gone."""
+        if rows:
+            idx = np.asarray(rows, dtype=np.int64)
+            self.last_seen[idx] = np.maximum(self.last_seen[idx], t)
 
     # ------------------------------------------------------------ views
     def row(self, track_id: int) -> int:
