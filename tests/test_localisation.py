@@ -8,7 +8,7 @@ from dataclasses import replace
 
 import numpy as np
 import pytest
-from hypothesis import given, settings
+from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
 from homesim.metrics.localisation import LocalisationMetric
@@ -160,6 +160,7 @@ def test_scans_pull_an_offset_cloud_onto_the_true_pose(pose):
 
 @settings(max_examples=10, deadline=None)
 @given(st.floats(1.0, 5.0), st.floats(1.5, 4.5), st.floats(-math.pi, math.pi), st.integers(0, 2**16))
+@example(4.625, 2.0, -0.5, 63)  # 2 m from the outer wall: the cloud slid into the wall's far face
 def test_scans_never_push_the_estimate_away(x, y, th, seed):
     """Anywhere in the living room clear of furniture, whatever the view (facing a bare wall
     leaves one direction unobservable), the scans never leave the estimate further off than it
@@ -169,6 +170,16 @@ def test_scans_never_push_the_estimate_away(x, y, th, seed):
             return
     ex, ey, eth = _settle((x, y, th), (x + 0.06, y - 0.05, th + math.radians(3)), seed, scans=4)
     assert math.hypot(ex - x, ey - y) < 0.08
+
+
+def test_the_field_holds_only_the_faces_seen_from_the_rooms():
+    """A wall's far face (outside the flat, or inside a closed obstacle) is no surface: a pose
+    shifted by the wall's thickness towards it must not explain the scan as well as the truth."""
+    mcl = MCL(floor_plan(scenario(EXAMPLE)), np.random.default_rng(0))
+    near, far = mcl.field.lookup(np.array([4.6, 4.6]), np.array([0.05, -0.05]))  # wall y in [-0.05, 0.05]
+    assert near < 0.02 and far > 0.08
+    inner = mcl.field.lookup(np.array([9.1]), np.array([1.5]))[0]  # inside the closed cupboard x 8.8-9.4
+    assert inner > 0.2
 
 
 def _inside(poly, x, y, margin):

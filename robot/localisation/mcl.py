@@ -29,7 +29,7 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.ndimage import distance_transform_edt
+from scipy.ndimage import binary_dilation, distance_transform_edt, label
 
 from robot.floorplan import FloorPlan
 
@@ -89,17 +89,42 @@ class LikelihoodField:
         occ = np.zeros((self.ny, self.nx), dtype=bool)
         a, b = plan.segments_at(height)
         for (ax, ay), (bx, by) in zip(a, b):
-            n = max(2, int(math.ceil(math.hypot(bx - ax, by - ay) / (resolution * 0.5))) + 1)
+            n = max(2, int(math.ceil(math.hypot(bx - ax, by - ay) / (resolution * 0.25))) + 1)
             t = np.linspace(0.0, 1.0, n)
             ix = np.floor((ax + t * (bx - ax) - self.x0) / resolution).astype(int)
             iy = np.floor((ay + t * (by - ay) - self.y0) / resolution).astype(int)
             occ[iy, ix] = True
         if not occ.any():
             raise ValueError("the floor plan has nothing at the laser's height to localise against")
+        occ = self._visible_faces(occ, plan, (xmin, ymin, xmax, ymax))
         # Distance from each cell centre to the nearest occupied cell centre; a half cell is
         # the worst-case offset of a surface inside its cell, removed so the field is unbiased.
         self.dist = np.maximum(distance_transform_edt(~occ) * resolution - resolution / 2, 0.0)
         self.far = float(self.dist.max())
+
+    def _visible_faces(self, occ: np.ndarray, plan: FloorPlan, bounds: tuple[float, float, float, float]) -> np.ndarray:
+        """Keep only the obstacle faces the laser can see from the rooms.
+
+        The plan's outlines give both faces of every wall and closed piece of furniture; with
+        both in the field, a pose shifted by a wall's thickness (10 cm) towards it matches the
+        far face as well as the truth matches the near one, and the cloud drifts into the wall.
+        The rooms are the free cells connected (4-neighbours, inside the plan's bounds) to the
+        operator's start pose; a face counts if it touches them. If the start is not in free
+        space (a plan that does not close), every face is kept, as before.
+        """
+        xmin, ymin, xmax, ymax = bounds
+        ix, iy = int((plan.start[0] - self.x0) / self.res), int((plan.start[1] - self.y0) / self.res)
+        free = ~occ
+        inside = np.zeros_like(occ)
+        i0, j0 = int((xmin - self.x0) / self.res), int((ymin - self.y0) / self.res)
+        i1, j1 = int((xmax - self.x0) / self.res), int((ymax - self.y0) / self.res)
+        inside[j0 : j1 + 1, i0 : i1 + 1] = True
+        labels, _ = label(free & inside)
+        if not (0 <= iy < self.ny and 0 <= ix < self.nx) or labels[iy, ix] == 0:
+            return occ
+        rooms = labels == labels[iy, ix]
+        faces = occ & binary_dilation(rooms, structure=np.ones((3, 3), dtype=bool))
+        return faces if faces.any() else occ
 
     def lookup(self, x: np.ndarray, y: np.ndarray) -> np.ndarray:
         """Distance at world points (any shape); points off the grid read the field's maximum."""
