@@ -16,8 +16,9 @@ What two microphones and one recogniser really deliver, nothing more:
 - ``/robot/audio/speech``: ONE recognition stream, from the beam steered at
   ``/robot/audio/steer`` (``<steer bearing="deg"/>`` or ``<steer off="true"/>``,
   sent by the person attention system). An utterance is recognised when the
-  beam was on it (the utterance's direction, folded to the front half-plane,
-  within ``beam_width`` of the steering) for at least half its duration;
+  beam was on it (the utterance's direction at each moment, folded to the
+  front half-plane, within ``beam_width`` of the steering then: the robot
+  turns while people talk) for at least half its duration;
   overlapping sound raises the word errors (sources outside the beam count
   ``beam_rejection_db`` less). It publishes
   ``<utterance start end tdoa bearing level confidence>words</utterance>``
@@ -93,6 +94,9 @@ class Microphones(Module):
         self._furniture = _edges([o.polygon for o in world.obstacles if o.kind == "furniture" and o.bottom <= 0.0 and o.top >= 0.5])
         # The beam's history: (since, bearing or None), the last few seconds only.
         self._steer: list[tuple[float, float | None]] = [(-math.inf, None)]
+        # Per utterance under way: seconds heard so far, and of them with the beam on its direction
+        # at that moment (the robot turns while people talk; the beam is steered in the robot frame).
+        self._on_beam: dict[int, tuple[float, float]] = {}
         # What the speaker announced it plays: (start, text) -> end (the AEC's reference).
         self._played: dict[tuple[float, str], float] = {}
         self.bus.subscribe(STEER, self._on_steer)
@@ -161,8 +165,10 @@ class Microphones(Module):
                 b = float(bearing_from_tdoa(pk.tdoa, spec))
                 etree.SubElement(el, "source", tdoa=f"{pk.tdoa * 1e6:.2f}", bearing=f"{math.degrees(b):.3f}", level=f"{pk.level:.2f}", unit_tdoa="us")
             self.bus.publish(SOURCES, el)
+            self._follow_beam(now, pose, period)
             for u in self.world.sound.ended(self._last, now):
                 self.recognise(u, pose)
+                self._on_beam.pop(u.n, None)
             self._last = now
             self._forget(now)
             await asyncio.sleep(period)
@@ -178,6 +184,24 @@ class Microphones(Module):
         if len(self._played) > 64:
             for k in [k for k, end in self._played.items() if end < keep]:
                 del self._played[k]
+
+    def _follow_beam(self, now: float, pose: tuple[float, float, float], period: float) -> None:
+        """Accumulate, per utterance under way, how long the beam pointed at its direction as it was
+        at that moment (front/back folded), so a person heard while the robot turns stays in the beam."""
+        beam = self._steer[-1][1]
+        active = self.world.sound.active(now)
+        for u in active:
+            src = self.world.source_point(u.source)
+            if src is None:
+                continue
+            a = math.atan2(src[1] - pose[1], src[0] - pose[0]) - pose[2]
+            front = math.asin(max(-1.0, min(1.0, math.sin(a))))
+            on, total = self._on_beam.get(u.n, (0.0, 0.0))
+            hit = beam is not None and abs(math.asin(max(-1.0, min(1.0, math.sin(beam)))) - front) <= self.spec.beam_width
+            self._on_beam[u.n] = (on + (period if hit else 0.0), total + period)
+        if len(self._on_beam) > 4 * (len(active) + 8):  # bounded: utterances that ended unseen
+            live = {u.n for u in active}
+            self._on_beam = {k: v for k, v in self._on_beam.items() if k in live}
 
     def _beam_share(self, start: float, end: float, front_bearing: float) -> float:
         """Fraction of [start, end) during which the beam was steered at ``front_bearing``."""
@@ -204,7 +228,9 @@ class Microphones(Module):
         if not kept or kept[0].n != u.n or self._cancelled(u):
             return  # the speaker left the flat, or it is the robot's own (cancelled) voice
         front = float(bearing_from_tdoa(dts[0], spec))
-        if levels[0] < spec.threshold_db or self._beam_share(u.start, u.end, front) < 0.5:
+        heard = self._on_beam.get(u.n)
+        share = heard[0] / heard[1] if heard is not None and heard[1] > 0 else self._beam_share(u.start, u.end, front)
+        if levels[0] < spec.threshold_db or share < 0.5:
             return  # too quiet to segment, or the beam was elsewhere
         interference = []
         for k in range(1, len(kept)):
