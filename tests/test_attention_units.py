@@ -150,7 +150,7 @@ def test_a_track_is_born_on_repeated_evidence_and_dies_after_the_timeout():
 
 def test_a_person_the_camera_sees_outlives_missing_legs_and_a_bearing_cue_only_until_the_single_allowance():
     """Blocker of home_tour: a standing partner whose legs stop associating for a few seconds is
-    kept by frontal faces (strong) and by torso/voice at their bearing (weak, bounded)."""
+    kept by frontal faces or their torso (strong) and by their voice from their bearing (weak, bounded)."""
     spec = TrackerSpec()
     empty, none = np.zeros((0, 2)), np.zeros(0, dtype=np.int8)
     faced, weak = Tracks(spec), Tracks(spec)
@@ -167,7 +167,7 @@ def test_a_person_the_camera_sees_outlives_missing_legs_and_a_bearing_cue_only_u
         if len(weak):
             weak.seen([0], t)
     assert len(faced) == 1 and faced.last_seen[0] == pytest.approx(t)  # legs gone 20 s, face seen: kept
-    assert len(weak) == 0  # a torso blob or voice alone does not hold a track past single_support
+    assert len(weak) == 0  # a voice alone does not hold a track past single_support
 
 
 def test_two_crossing_walkers_keep_their_tracks():

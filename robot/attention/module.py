@@ -246,7 +246,7 @@ class PersonAttention(Module):
         self._partner_seen(rows, t)  # the partner's voice from the partner's direction keeps the partner
 
     def _partner_seen(self, rows: list[int], t: float) -> None:
-        """Weak evidence (voice, torso) counts for the partner only, never for bystanders."""
+        """Weak evidence (the voice from the partner's bearing) counts for the partner only."""
         if self.partner is not None:
             prow = self.tracks.row(self.partner)
             if prow >= 0 and prow in rows:
@@ -266,7 +266,9 @@ class PersonAttention(Module):
         pb = float(bearings_from(self._robot_xy(t)[prow : prow + 1], self.cues.camera_offset)[0])
         d = np.abs(np.remainder(bearings - pb + math.pi, 2 * math.pi) - math.pi)
         if float(d.min()) <= self.cues.torso_bearing_tolerance:
-            self.tracks.seen([prow], t)
+            # A torso is a body (a table leg has none): strong evidence, as a frontal face, so a
+            # partner standing sideways on single legs is kept while the camera sees them.
+            self.tracks.support([prow], t)
 
     def _on_faces(self, msg: Message) -> None:
         t = msg.created

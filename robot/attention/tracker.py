@@ -188,7 +188,8 @@ class Tracks:
             setattr(self, name, getattr(self, name)[keep])
 
     def support(self, rows: list[int], t: float) -> None:
-        """Other strong evidence that tracks ``rows`` are people (a frontal face matched them at ``t``):
+        """Other strong evidence that tracks ``rows`` are people (a frontal face, or the partner's torso,
+        matched them at ``t``):
         it keeps them alive (``last_seen``) and renews the single-leg allowance (``last_strong``)."""
         if rows:
             idx = np.asarray(rows, dtype=np.int64)
@@ -196,8 +197,8 @@ class Tracks:
             self.last_seen[idx] = np.maximum(self.last_seen[idx], t)
 
     def seen(self, rows: list[int], t: float) -> None:
-        """Weak anchored evidence for tracks ``rows`` at ``t`` (the partner's torso colour blob or voice
-        at its bearing): keeps them alive, but only within ``single_support`` of their last pair, blob
+        """Weak anchored evidence for tracks ``rows`` at ``t`` (the partner's voice from its bearing):
+        keeps them alive, but only within ``single_support`` of their last pair, blob
         or face, so a bearing-only cue cannot hold a track whose person has gone."""
         if rows:
             idx = np.asarray(rows, dtype=np.int64)
