@@ -67,3 +67,19 @@ def test_rooms_sharing_a_wall_do_not_overlap_an_identical_room_does():
     ell = np.array([[0, 0], [4, 0], [4, 2], [2, 2], [2, 4], [0, 4]], dtype=float)
     assert not polygons_overlap(ell, _rect(2, 2, 4, 4))
     assert polygons_overlap(ell, _rect(1, 1, 3, 3))
+
+
+# point_in_polygon is plain Python (room_of runs it every physics step); it must answer exactly
+# as the vectorised even-odd test does, points on edges and corners included (grid coordinates
+# make those common).
+_coord = st.integers(-6, 6).map(lambda v: v / 2)
+
+
+@given(st.lists(st.tuples(_coord, _coord), min_size=3, max_size=8), st.tuples(_coord, _coord))
+def test_point_in_polygon_agrees_with_the_vectorised_test(corners, point):
+    from homesim.world.geometry import point_in_polygon, points_in_polygon
+
+    poly = np.array(corners, dtype=float)
+    want = bool(points_in_polygon(np.array([point]), poly)[0])
+    assert point_in_polygon(point, poly) is want
+    assert point_in_polygon(point, corners) is want

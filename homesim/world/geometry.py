@@ -98,9 +98,25 @@ def points_in_polygon(points: FloatArray, polygon: FloatArray) -> FloatArray:
     return (hits.sum(axis=1) % 2) == 1
 
 
-def point_in_polygon(point: Sequence[float], polygon: FloatArray) -> bool:
-    """Even-odd test for one point."""
-    return bool(points_in_polygon(np.asarray([point], dtype=float), polygon)[0])
+def point_in_polygon(point: Sequence[float], polygon: FloatArray | Sequence[Sequence[float]]) -> bool:
+    """Even-odd test for one point.
+
+    Plain floats, not numpy: for one point against a room's few corners numpy's per-call
+    overhead is most of the cost (``room_of`` runs every physics step). The arithmetic is
+    the same expression, in the same order, as :func:`points_in_polygon`'s, so the answers
+    are identical, points on an edge included.
+    """
+    px, py = float(point[0]), float(point[1])
+    pts = polygon.tolist() if isinstance(polygon, np.ndarray) else polygon
+    n = len(pts)
+    inside = False
+    for i in range(n):
+        ax, ay = pts[i]
+        bx, by = pts[(i + 1) % n]
+        ax, ay, bx, by = float(ax), float(ay), float(bx), float(by)
+        if (ay > py) != (by > py) and px < ax + (py - ay) * (bx - ax) / (by - ay):
+            inside = not inside
+    return inside
 
 
 def distance_points_segments(points: FloatArray, a: FloatArray, b: FloatArray) -> FloatArray:

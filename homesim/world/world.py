@@ -393,7 +393,7 @@ class World:
         from .geometry import point_in_polygon
 
         for room in self.scenario.rooms:
-            if point_in_polygon((x, y), np.array(room.polygon)):
+            if point_in_polygon((x, y), room.polygon):
                 return room.name
         return None
 
