@@ -1,0 +1,200 @@
+"""``python -m benchmarks``: every headline figure of issue 9 in one table, and as JSON.
+
+Run: ``python -m benchmarks [--tiny] [--json FILE]`` (``pip install -e ".[bench]"`` for SimPy and
+sismic; without them those rows say so). Prints one table and writes the same rows as JSON
+(default ``benchmarks/results.json``; ``--tiny`` writes ``benchmarks/results-tiny.json``).
+
+Rows, each a ratio or rate measured in this run, so machine load cancels out of the ratios:
+
+- ``speed/<scenario>``: simulated seconds per CPU second (``time.process_time``) for the example
+  scenario and the home tour, every robot subsystem, metrics and expectations, no trace; the
+  aim is 300x (3.3 ms CPU per simulated second);
+- ``stage/<n> people``: the simulated home alone (world, scripted people, all sensors and their bus
+  messages, no robot modules) with 1, 3 and 10 people, CPU ms per simulated second (aims: 2 ms
+  with one person, 5 ms with ten);
+- ``memory/<length>``: Python heap peak (tracemalloc) of the whole robot on a looping home (the
+  example flat with a person pacing, so it can run for any length) for a short and a long run;
+  memory must not grow with the run's length (aim: the long run within 10 % of the short one);
+- ``loop/sleep``, ``loop/pingpong``: the virtual-time loop's events/s over SimPy's;
+- ``supervisor/engine``, ``supervisor/bus``: the execution supervisor's events/s over sismic's;
+- ``laser``: 361-beam scans/s, numpy kernel over pymunk's per-ray queries;
+- ``bus/publish``: typed messages per CPU second through one publish (XSD validation included).
+
+``--tiny`` runs every row with tiny sizes (a smoke test CI runs, ``tests/test_benchmarks.py``);
+its figures mean nothing. Not a test: speed is measured here, never asserted.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import platform
+import sys
+import time
+import tracemalloc
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any, Callable
+
+from homesim.runner import Run, RunOptions
+from homesim.scenario.loader import load_scenario_text
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+@dataclass(frozen=True)
+class Sizes:
+    """How much work each row does (full figures, or the CI smoke test's tiny ones)."""
+
+    until: float | None  # None: each scenario's whole duration
+    stage_seconds: float
+    memory_short: float
+    memory_long: float
+    loop: tuple[int, int, int, int]  # procs, steps, pairs, msgs
+    supervisor: tuple[int, int, int]  # engine, bus, sismic events
+    scans: int
+    publishes: int
+
+
+FULL = Sizes(None, 30.0, 600.0, 3600.0, (200, 500, 100, 1000), (50_000, 20_000, 10_000), 2000, 20_000)
+TINY = Sizes(2.0, 1.0, 1.0, 2.0, (5, 10, 3, 10), (50, 50, 50), 5, 50)
+
+
+def cpu_run(scenario: Any, options: RunOptions) -> tuple[float, float]:
+    """(simulated s, CPU s) of one whole run (``scenario`` a path or a loaded Scenario)."""
+    t0 = time.process_time()
+    with (Run.from_file(scenario, options) if isinstance(scenario, Path) else Run(scenario, options)) as run:
+        run.run()
+        run.finish()
+        sim = run.sim.now
+    return sim, time.process_time() - t0
+
+
+def looping_home(duration: float) -> Any:
+    """The example flat with one person pacing and talking forever (any length; no radio)."""
+    from benchmarks.bench_world import crowd_scenario
+
+    return load_scenario_text(crowd_scenario(1, duration), source=f"looping home ({duration:g} s)")
+
+
+def heap_peak_mib(scenario: Any, options: RunOptions) -> float:
+    """Peak traced Python heap (MiB) of one whole run."""
+    tracemalloc.start()
+    try:
+        cpu_run(scenario, options)
+        return tracemalloc.get_traced_memory()[1] / 2**20
+    finally:
+        tracemalloc.stop()
+
+
+def stage_ms(n_people: int, seconds: float) -> float:
+    """CPU ms per simulated second of the simulated home alone with ``n_people``."""
+    from homesim.sim import Simulation
+    from homesim.world.stage import Stage
+
+    from benchmarks.bench_world import crowd_scenario
+
+    sc = load_scenario_text(crowd_scenario(n_people, seconds), source=f"crowd{n_people}")
+    sim = Simulation(seed=1, scenario=sc.name)
+    stage = Stage(sim, sc)
+    t0 = time.process_time()
+    stage.run()
+    cpu = time.process_time() - t0
+    sim.close()
+    return 1000.0 * cpu / seconds
+
+
+Row = dict[str, Any]
+
+
+def rows(s: Sizes, only: set[str] | None = None) -> list[Row]:
+    """Measure every row (or those whose group is in ``only``), printing each as it comes."""
+    out: list[Row] = []
+
+    def add(group: str, name: str, value: float | None, unit: str, aim: str = "", note: str = "") -> None:
+        row = {"group": group, "name": name, "value": value, "unit": unit, "aim": aim, "note": note}
+        out.append(row)
+        shown = "-" if value is None else f"{value:,.2f}"
+        print(f"{group + '/' + name:34} {shown:>12} {unit:22} {aim:24} {note}", flush=True)
+
+    def want(group: str) -> bool:
+        return only is None or group in only
+
+    print(f"{'row':34} {'value':>12} {'unit':22} {'aim':24} note")
+    if want("speed"):
+        for name in ("two_people_radio.xml", "home_tour.xml"):
+            sim, cpu = cpu_run(ROOT / "scenarios" / name, RunOptions(seed=0, until=s.until))
+            add("speed", name, sim / cpu, "sim s / CPU s", ">= 300", f"{1000 * cpu / sim:.2f} ms CPU per sim s")
+    if want("stage"):
+        for n in (1, 3, 10):
+            ms = stage_ms(n, s.stage_seconds)
+            add("stage", f"{n} people", ms, "CPU ms / sim s", "<= 2" if n == 1 else ("<= 5" if n == 10 else ""))
+    if want("memory"):
+        opts = RunOptions(seed=0)
+        short = heap_peak_mib(looping_home(s.memory_short), opts)
+        long = heap_peak_mib(looping_home(s.memory_long), opts)
+        add("memory", f"{s.memory_short:g} s", short, "MiB heap peak")
+        add("memory", f"{s.memory_long:g} s", long, "MiB heap peak", "< 150, within 10 %",
+            f"{100 * (long / short - 1):+.1f} % over the short run")
+    if want("loop"):
+        from benchmarks import bench_loop as bl
+
+        procs, steps, pairs, msgs = s.loop
+        delays = bl._delays(procs, steps, seed=1)
+        for name, ours, theirs, args, aim in (("sleep", bl.sleep_homesim, bl.sleep_simpy, (delays,), ">= 0.45"),
+                                              ("pingpong", bl.pingpong_homesim, bl.pingpong_simpy, (pairs, msgs), ">= 1.5")):
+            t_ours, n = bl._best(ours, *args, repeat=1 if s is TINY else 3)
+            try:
+                t_theirs, _ = bl._best(theirs, *args, repeat=1 if s is TINY else 3)
+            except ImportError:
+                add("loop", name, None, "x SimPy", aim, "SimPy not installed")
+                continue
+            add("loop", name, t_theirs / t_ours, "x SimPy", aim, f"{n / t_ours:,.0f} events/s")
+    if want("supervisor"):
+        from benchmarks import bench_supervisor as bs
+
+        n_engine, n_bus, n_sismic = s.supervisor
+        engine = n_engine / bs.run_engine(bs.stream(n_engine))[0]
+        total, lat, _ = bs.run_bus(bs.stream(n_bus))
+        bus = n_bus / total
+        p99 = float(sorted(lat)[int(0.99 * (len(lat) - 1))]) / 1000.0
+        try:
+            sismic = n_sismic / bs.run_sismic(bs.stream(n_sismic))[0]
+        except ImportError:
+            add("supervisor", "engine", None, "x sismic", "", "sismic not installed")
+            add("supervisor", "bus", None, "x sismic", ">= 2", "sismic not installed")
+        else:
+            add("supervisor", "engine", engine / sismic, "x sismic", "", f"{engine:,.0f} events/s")
+            add("supervisor", "bus", bus / sismic, "x sismic", ">= 2, p99 < 100 us", f"{bus:,.0f} events/s, p99 {p99:.0f} us")
+    if want("laser"):
+        from benchmarks.bench_world import bench_laser
+
+        ours, theirs = bench_laser(s.scans)
+        add("laser", "361 beams", ours / theirs, "x pymunk per-ray", "", f"{ours:,.0f} scans/s")
+    if want("bus"):
+        from benchmarks.bench_localisation import bare_publish_us
+
+        us = bare_publish_us(s.publishes)
+        add("bus", "publish", 1e6 / us, "messages / CPU s", "", f"{us:.1f} us per typed publish, no receiver")
+    return out
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(prog="python -m benchmarks", description=__doc__.split("\n")[0])
+    ap.add_argument("--tiny", action="store_true", help="tiny sizes: a smoke test, the figures mean nothing")
+    ap.add_argument("--json", type=Path, default=None, help="where to write the rows (default benchmarks/results[-tiny].json)")
+    ap.add_argument("--only", default=None, help="comma-separated groups: speed,stage,memory,loop,supervisor,laser,bus")
+    a = ap.parse_args(argv)
+    sizes = TINY if a.tiny else FULL
+    only = None if a.only is None else set(a.only.split(","))
+    measured = rows(sizes, only)
+    path = a.json or ROOT / "benchmarks" / ("results-tiny.json" if a.tiny else "results.json")
+    doc = {"machine": platform.platform(), "python": sys.version.split()[0], "tiny": a.tiny,
+           "date": time.strftime("%Y-%m-%d"), "rows": measured}
+    path.write_text(json.dumps(doc, indent=2) + "\n", encoding="utf-8")
+    print(f"wrote {path}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
