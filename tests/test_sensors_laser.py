@@ -143,3 +143,23 @@ def test_raycast_kernel_matches_pymunk_for_random_geometry(segs, circles):
         info = space.segment_query_first((0, 0), (10 * math.cos(ang), 10 * math.sin(ang)), 0.0, pymunk.ShapeFilter())
         want = 10.0 if info is None else info.alpha * 10.0
         assert got == pytest.approx(want, abs=1e-6)
+
+
+@settings(max_examples=30, deadline=None)
+@given(st.lists(st.tuples(st.floats(-3.0, 3.0), st.floats(-3.0, 3.0)), min_size=1, max_size=4),
+       st.floats(-math.pi, math.pi))
+def test_cached_static_ranges_equal_casting_everything_together(moves, heading):
+    """The laser keeps its walls-and-furniture ranges per pose; people moving in front of a robot
+    standing still must still show exactly as a full cast shows them (bit for bit)."""
+    world = room()
+    name = next(iter(world.humans))
+    spec = LaserSpec()
+    origin = laser_origin((*world.robot.pose[:2], heading), spec)
+    angles = spec.bearings() + heading
+    a, b = world._laser_segments
+    for dx, dy in moves:
+        put_person(world, name, origin[0] + dx, origin[1] + dy, heading=0.0)
+        got = world.laser_ranges(origin, angles, spec.max_range)
+        c, r = world.leg_circles()
+        want = RayCaster().cast(origin, angles, a, b, c, r, spec.max_range, backfaces=False)
+        assert np.array_equal(got, want)

@@ -94,6 +94,8 @@ class World:
         self.space.on_collision(CAT_ROBOT, None, begin=self._on_robot_contact)
         self._laser_segments = self.segments_at(LASER_HEIGHT)
         self.caster = RayCaster()
+        # (origin x, origin y, max range), the angles, their static ranges: see laser_ranges.
+        self._laser_static: tuple[tuple[float, float, float], np.ndarray, np.ndarray] | None = None
         self._grids: dict[float, Grid] = {}
         self._prisms: Prisms | None = None
 
@@ -341,10 +343,28 @@ class World:
         return self._prisms
 
     def laser_ranges(self, origin: tuple[float, float], angles: np.ndarray, max_range: float, out: np.ndarray | None = None) -> np.ndarray:
-        """Exact ranges at laser height along world angles (no noise): walls, furniture, legs."""
-        a, b = self._laser_segments
+        """Exact ranges at laser height along world angles (no noise): walls, furniture, legs.
+
+        The static part (walls and furniture) is cast once per laser pose and kept: while the
+        robot stands still (a dialog, a wait) only the people's legs are recast. The range is
+        the minimum over everything hit, and a minimum is exact, so the result is bit-identical
+        to casting everything together.
+        """
+        key = (float(origin[0]), float(origin[1]), float(max_range))
+        cached = self._laser_static
+        if cached is None or cached[0] != key or not np.array_equal(cached[1], angles):
+            a, b = self._laser_segments
+            static = self.caster.cast(origin, angles, a, b, max_range=max_range, backfaces=False)
+            cached = self._laser_static = (key, np.array(angles, dtype=float), static)
+        static = cached[2]
+        result = np.empty_like(static) if out is None else out
         c, r = self.leg_circles()
-        return self.caster.cast(origin, angles, a, b, c, r, max_range, out=out, backfaces=False)
+        if c.shape[0]:
+            self.caster.cast(origin, angles, circ_c=c, circ_r=r, max_range=max_range, out=result)
+            np.minimum(result, static, out=result)
+        else:
+            result[:] = static
+        return result
 
     def target_point(self, t: Target, *, who: str | None = None) -> tuple[float, float, float]:
         """World point (x, y, z) of a script or expectation target."""
