@@ -32,7 +32,7 @@ import platform
 import sys
 import time
 import tracemalloc
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any, Callable
 
@@ -143,9 +143,10 @@ def rows(s: Sizes, only: set[str] | None = None) -> list[Row]:
         delays = bl._delays(procs, steps, seed=1)
         for name, ours, theirs, args, aim in (("sleep", bl.sleep_homesim, bl.sleep_simpy, (delays,), ">= 0.45"),
                                               ("pingpong", bl.pingpong_homesim, bl.pingpong_simpy, (pairs, msgs), ">= 1.5")):
-            t_ours, n = bl._best(ours, *args, repeat=1 if s is TINY else 3)
+            repeat = 1 if s == TINY else 3
+            t_ours, n = bl._best(ours, *args, repeat=repeat)
             try:
-                t_theirs, _ = bl._best(theirs, *args, repeat=1 if s is TINY else 3)
+                t_theirs, _ = bl._best(theirs, *args, repeat=repeat)
             except ImportError:
                 add("loop", name, None, "x SimPy", aim, "SimPy not installed")
                 continue
@@ -184,8 +185,13 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--tiny", action="store_true", help="tiny sizes: a smoke test, the figures mean nothing")
     ap.add_argument("--json", type=Path, default=None, help="where to write the rows (default benchmarks/results[-tiny].json)")
     ap.add_argument("--only", default=None, help="comma-separated groups: speed,stage,memory,loop,supervisor,laser,bus")
+    ap.add_argument("--memory", default=None, metavar="SHORT,LONG",
+                    help="lengths (simulated s) of the two memory runs (default 600,3600)")
     a = ap.parse_args(argv)
     sizes = TINY if a.tiny else FULL
+    if a.memory is not None:
+        short, long = (float(v) for v in a.memory.split(","))
+        sizes = replace(sizes, memory_short=short, memory_long=long)
     only = None if a.only is None else set(a.only.split(","))
     measured = rows(sizes, only)
     path = a.json or ROOT / "benchmarks" / ("results-tiny.json" if a.tiny else "results.json")
