@@ -293,3 +293,21 @@ def test_an_empty_say_silences_the_speaker_without_a_new_utterance():
         assert st.world.sound.cut("robot", 3.0) is None  # nothing left to cut
     finally:
         sim.close()
+
+
+def test_a_partner_close_to_the_robot_barges_in(robot):
+    # The microphones' echo cancellation already removes the robot's own voice from
+    # /robot/audio/sources: a loud direction while the robot talks is somebody else,
+    # e.g. the partner 0.6 m away (65 dB at 1 m -> about 69 dB), and must cut the sentence.
+    robot.greet()
+    robot.sim.run(until=2.5)  # the greeting's answer is being spoken
+
+    def loud() -> None:
+        el = etree.Element("sources", time=f"{robot.sim.now:.6f}")
+        etree.SubElement(el, "source", tdoa="0", bearing="0", level="69.5")
+        robot.mic.publish("/robot/audio/sources", el)
+
+    robot.sim.call_at(2.6, loud)
+    robot.sim.run(until=3.0)
+    assert robot.sentences()[-1] == ""  # the empty <say/> that cuts the robot's sentence
+    assert robot.dialog.summary()["barge_ins"] == 1

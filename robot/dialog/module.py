@@ -16,11 +16,12 @@ answer starts about 200 ms (the papers' Fig. 6) after understanding ended.
 Sentences are queued while the robot is still talking: a new ``<say>`` would
 cut the one in progress.
 
-Barge-in: while the robot talks, a sound source other than the robot's own
-voice (the loudest, at least ``own_voice_level`` dB: the loudspeaker is next
-to the microphones) at ``barge_in_level`` dB or more means the partner speaks:
-the robot's sentence is cut (an empty ``<say/>``), queued sentences are
-dropped and the robot listens.
+Barge-in: while the robot talks, a sound direction at ``barge_in_level`` dB
+or more means the partner speaks: the robot's sentence is cut (an empty
+``<say/>``), queued sentences are dropped and the robot listens. The
+microphones' echo cancellation already takes the robot's own voice out of
+``/robot/audio/sources``, so no direction is discarded as "own voice" (a
+level rule did that and ignored a partner standing closer than about 0.7 m).
 
 Metrics: :meth:`summary` (turns, repairs, rejections explained, task success
 per sub-dialog, barge-ins) for the run summary.
@@ -110,7 +111,6 @@ class Dialog(Module):
         dialog_cost: float = 0.03,
         generation_time: float = 0.17,
         barge_in_level: float = 45.0,
-        own_voice_level: float = 68.0,
         ask_timeout: float = 10.0,
     ) -> None:
         super().__init__(sim, name, host=host)
@@ -119,7 +119,6 @@ class Dialog(Module):
         self.dialog_cost = dialog_cost
         self.generation_time = generation_time
         self.barge_in_level = barge_in_level
-        self.own_voice_level = own_voice_level
         self.ask_timeout = ask_timeout
         self._busy_until = 0.0
         self._pose: etree._Element | None = None
@@ -179,8 +178,6 @@ class Dialog(Module):
         if not self._talking or self._cut:
             return
         levels = sorted((float(s.get("level", "0")) for s in msg.xml.iterfind("source")), reverse=True)
-        if levels and levels[0] >= self.own_voice_level:
-            levels = levels[1:]  # the robot's own voice
         if levels and levels[0] >= self.barge_in_level:
             self._cut = True
             self._queue.clear()
