@@ -177,8 +177,9 @@ def nearest_per_sector(points: np.ndarray, reach: float, sectors: int) -> np.nda
         return points[:0]
     pts, r = points[keep], r[keep]
     sector = ((np.arctan2(pts[:, 1], pts[:, 0]) + math.pi) * (sectors / (2 * math.pi))).astype(int) % sectors
-    order = np.lexsort((r, sector))
-    _, first = np.unique(sector[order], return_index=True)
+    order = np.argsort(sector + r / (reach + 1.0), kind="stable")  # by sector, then by range (r < reach)
+    s = sector[order]
+    first = np.flatnonzero(np.concatenate(([True], s[1:] != s[:-1])))
     return pts[order[first]]
 
 
@@ -207,30 +208,47 @@ def dwa(v0: float, w0: float, goal: tuple[float, float], points: np.ndarray, lim
     if vlo > vhi:  # moving faster backwards/forwards than the window allows: brake
         vlo = vhi = min(max(0.0, vlo), vhi) if v0 > 0 else max(vlo, min(0.0, vhi))
     vs = np.linspace(vlo, vhi, p.nv)
-    if not np.any(np.isclose(vs, 0.0)) and vlo <= 0.0 <= vhi:
+    if not np.any(np.abs(vs) <= 1e-8) and vlo <= 0.0 <= vhi:
         vs = np.append(vs, 0.0)
     ws = np.linspace(max(w0 - dw, -limits.max_turn), min(w0 + dw, limits.max_turn), p.nw)
     V, W = (a.ravel() for a in np.meshgrid(vs, ws, indexing="ij"))
     times = np.linspace(p.horizon / p.steps, p.horizon, p.steps)
     x, y, th = arcs(V, W, times)
 
-    pts = nearest_per_sector(points, p.reach, p.sectors)
+    t_stop = stopping_time(V, limits, p)
+    # only echoes the footprint can come within clear_cap of along any arc (or its stopping pose)
+    # matter: further ones neither make an arc inadmissible nor change its capped clearance
+    travel = float(np.max(np.abs(V))) * max(p.horizon, float(np.max(t_stop)))
+    near = min(p.reach, travel + math.hypot(HALF_LENGTH, HALF_WIDTH) + max(p.clear_cap, p.margin) + 1e-6)
+    pts = nearest_per_sector(points, near, p.sectors)
     if len(pts):
-        # each obstacle point in each pose's frame: (K, S, N)
-        dxw = pts[None, None, :, 0] - x[:, :, None]
-        dyw = pts[None, None, :, 1] - y[:, :, None]
-        c, s = np.cos(th)[:, :, None], np.sin(th)[:, :, None]
-        lx = c * dxw + s * dyw
-        ly = -s * dxw + c * dyw
-        d = footprint_distance(lx, ly).min(axis=2)  # (K, S)
+        # every echo in the frame of every pose (the K*S arc poses, then the K stopping poses) by one
+        # matrix product: local = R(-th) (pt - pose) = [c, s, -(c x + s y)] . [px, py, 1]
+        sx, sy, sth = (a[:, 0] for a in arcs_at(V, W, t_stop))
+        px_all = np.concatenate((x.ravel(), sx))
+        py_all = np.concatenate((y.ravel(), sy))
+        th_all = np.concatenate((th.ravel(), sth))
+        c, s = np.cos(th_all), np.sin(th_all)
+        rows = len(c)
+        m = np.empty((2 * rows, 3))
+        m[:rows, 0], m[:rows, 1], m[:rows, 2] = c, s, -(c * px_all + s * py_all)
+        m[rows:, 0], m[rows:, 1], m[rows:, 2] = -s, c, s * px_all - c * py_all
+        q = np.empty((3, len(pts)))
+        q[0], q[1], q[2] = pts[:, 0], pts[:, 1], 1.0
+        loc = m @ q  # (2 rows, N): local x then local y
+        np.abs(loc, out=loc)
+        loc[:rows] -= HALF_LENGTH
+        loc[rows:] -= HALF_WIDTH
+        np.maximum(loc, 0.0, out=loc)
+        np.square(loc, out=loc)
+        d2 = loc[:rows] + loc[rows:]
+        dmin = np.sqrt(d2.min(axis=1))  # footprint distance of the nearest echo, per pose
+        k_arcs = len(V)
+        d = dmin[: k_arcs * len(times)].reshape(k_arcs, len(times))  # (K, S)
         # hard limit: the part of the arc the robot covers if it keeps v for one more control
         # step and then brakes (its stopping distance, at constant v: t_stop), end point included
-        t_stop = stopping_time(V, limits, p)
         hard = np.where(times[None, :] <= t_stop[:, None], d, np.inf).min(axis=1)
-        sx, sy, sth = (a[:, 0] for a in arcs_at(V, W, t_stop))
-        dxs, dys = pts[None, :, 0] - sx[:, None], pts[None, :, 1] - sy[:, None]
-        cs, ss = np.cos(sth)[:, None], np.sin(sth)[:, None]
-        hard = np.minimum(hard, footprint_distance(cs * dxs + ss * dys, -ss * dxs + cs * dys).min(axis=1))
+        hard = np.minimum(hard, dmin[k_arcs * len(times):])
         here = footprint_distance(pts[:, 0], pts[:, 1]).min()
         clear = d.min(axis=1)
     else:
