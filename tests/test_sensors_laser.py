@@ -7,7 +7,7 @@ import math
 import numpy as np
 import pymunk
 import pytest
-from hypothesis import given, settings
+from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
 from homesim.world.bodies import LASER_FILTER
@@ -98,12 +98,15 @@ def test_noise_is_about_one_centimetre_and_seeded():
 
 @settings(max_examples=40)
 @given(x=st.floats(0.3, 7.7), y=st.floats(0.3, 5.7), heading=st.floats(-math.pi, math.pi))
+@example(x=6.5, y=0.5, heading=0.0)  # on a piece of furniture's corner: pymunk says range 0
 def test_numpy_laser_matches_pymunk_segment_queries(x, y, heading):
     world = room()
     put_person(world, "ann", 5.5, 2.0, heading=1.0)
     origin = (x, y)
-    # Only origins outside every obstacle are meaningful for a laser.
-    if world.space.point_query_nearest(origin, 0.0, LASER_FILTER) is not None:
+    # Only origins outside every obstacle are meaningful for a laser; one on an
+    # obstacle's surface (pymunk reports alpha 0, the kernel culls back faces)
+    # is not either, so keep a millimetre clear.
+    if world.space.point_query_nearest(origin, 1e-3, LASER_FILTER) is not None:
         return
     angles = SPEC.bearings()[::8] + heading
     ours = world.laser_ranges(origin, angles, SPEC.max_range)
