@@ -9,8 +9,13 @@ reproducible) and with more examples where a test asks for them via
 from __future__ import annotations
 
 import os
+from collections.abc import Iterator
 
+import pytest
 from hypothesis import HealthCheck, settings
+
+from homesim.errors import HomesimError
+from homesim.sim import Simulation
 
 ON_CI = os.environ.get("CI", "").lower() in ("1", "true", "yes")
 
@@ -24,3 +29,32 @@ settings.load_profile("ci" if ON_CI else "dev")
 def examples(dev: int, ci: int) -> int:
     """Number of Hypothesis examples: ``dev`` locally, ``ci`` on CI."""
     return ci if ON_CI else dev
+
+
+@pytest.fixture(autouse=True)
+def _close_left_simulations(monkeypatch: pytest.MonkeyPatch) -> Iterator[None]:
+    """Close every Simulation a test left open, at that test's teardown.
+
+    Many tests build a run and inspect it without ``with Simulation(...)``;
+    their loops would otherwise be closed by the garbage collector during some
+    later, unrelated test (a ``ResourceWarning`` blamed on the wrong test). CI
+    runs with ``-W error::ResourceWarning``, so a loop the product itself
+    leaves open (outside a test's own objects) still fails the suite.
+    """
+    created: list[Simulation] = []
+    original = Simulation.__init__
+
+    def tracking_init(self: Simulation, *args: object, **kwargs: object) -> None:
+        original(self, *args, **kwargs)
+        created.append(self)
+
+    monkeypatch.setattr(Simulation, "__init__", tracking_init)
+    yield
+    for sim in created:
+        if not sim.loop.is_closed():
+            try:
+                sim.close()
+            except HomesimError:
+                # A test that left a failed run behind: its own assertions
+                # already judged that failure, and close() closed the loop.
+                pass
