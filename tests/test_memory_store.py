@@ -71,6 +71,7 @@ def kill_mid_burst(path: Path, kill_after: int) -> tuple[list[tuple[str, int]], 
     finally:
         proc.kill()
         proc.wait()
+        proc.stdout.close()
     assert proc.returncode == -signal.SIGKILL
     return committed, journal.exists() and journal.stat().st_size > 0
 
