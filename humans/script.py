@@ -10,7 +10,9 @@ step, so a repeat can never hang the simulation). :class:`~humans.person.Person`
 :class:`Radio` is an actor with no body (a radio or a TV).
 
 Every action is recorded in ``log`` as (start, end, description), the
-actor's own ground truth for transcripts and expectations.
+actor's own ground truth for transcripts and expectations; only the last
+:data:`LOG_LENGTH` actions are kept, so a forever-repeat over a long run
+does not grow the actor's memory.
 """
 
 from __future__ import annotations
@@ -18,10 +20,14 @@ from __future__ import annotations
 import asyncio
 import math
 import re
+from collections import deque
 
 from homesim.errors import ScenarioError
 from homesim.scenario.model import Action, Repeat, Say, SourceSpec, Wait, WaitFor
 from homesim.world.world import World
+
+#: How many of an actor's latest actions its ``log`` keeps.
+LOG_LENGTH = 4096
 
 POLL = 0.1  # seconds between checks of a wait-for condition
 
@@ -38,7 +44,7 @@ class Actor:
         self.name = name
         self.script = script
         self.loudness = loudness
-        self.log: list[tuple[float, float, str]] = []
+        self.log: deque[tuple[float, float, str]] = deque(maxlen=LOG_LENGTH)
         self.done = False
 
     @property
