@@ -31,6 +31,12 @@ LOG_LENGTH = 4096
 
 POLL = 0.1  # seconds between checks of a wait-for condition
 
+#: The pause before a person repeats herself (a turn-taking gap, seconds).
+TURN_GAP = 0.5
+
+#: What a person takes for the robot asking her to say it again (``repair=`` overrides).
+DEFAULT_REPAIR = r"again|pardon|repeat|did not understand|didn't understand|did not catch"
+
 
 class ScriptError(ScenarioError):
     """A script action cannot be carried out (e.g. no path to a walk's goal): names file and line."""
@@ -46,6 +52,7 @@ class Actor:
         self.loudness = loudness
         self.log: deque[tuple[float, float, str]] = deque(maxlen=LOG_LENGTH)
         self.done = False
+        self.turn: list[Action] = []  # what the actor did since her last wait-for: her turn
 
     @property
     def now(self) -> float:
@@ -59,6 +66,8 @@ class Actor:
     async def play(self, actions: tuple[Action, ...]) -> None:
         for act in actions:
             start = self.now
+            if not isinstance(act, (WaitFor, Repeat)):
+                self.turn.append(act)
             await self.perform(act)
             self.log.append((start, self.now, _describe(act)))
 
@@ -118,7 +127,30 @@ class Actor:
         return math.hypot(p[0] - x, p[1] - y)
 
     async def wait_for(self, act: WaitFor) -> bool:
-        """Wait until the robot says a matching phrase or comes close; False on timeout."""
+        """Wait until the robot says a matching phrase or comes close; False on timeout.
+
+        With ``retries``, a miss (the robot asks for a repair, or the timeout
+        passes) makes the person do her turn again (every action since her
+        previous wait-for: a point and a sentence, say) and wait anew.
+        """
+        repair = re.compile(act.repair or DEFAULT_REPAIR, re.IGNORECASE) if act.retries else None
+        turn, self.turn = tuple(self.turn), []
+        for attempt in range(act.retries + 1):
+            outcome = await self._wait_once(act, repair)
+            if outcome == "answered":
+                return True
+            if attempt == act.retries or not turn or not self.active:
+                return False
+            self.log.append((self.now, self.now, f"not understood ({outcome}): does her turn again"))
+            await asyncio.sleep(TURN_GAP)
+            if not self.active:
+                return False
+            await self.play(turn)
+            self.turn = []
+        return False
+
+    async def _wait_once(self, act: WaitFor, repair: re.Pattern[str] | None) -> str:
+        """One wait: ``answered``, ``repair`` (the robot asked to hear it again) or ``timeout``."""
         since = self.now
         pattern = re.compile(act.robot_says, re.IGNORECASE) if act.robot_says else None
         deadline = math.inf if act.timeout is None else since + act.timeout
@@ -127,14 +159,22 @@ class Actor:
                 # An utterance counts once it has been heard to its end, after the
                 # wait began (it may have started before: the person hears it end).
                 for u in self.world.sound.ended(since, self.now):
-                    if u.source == "robot" and pattern.search(u.text):
-                        return True
+                    if u.source != "robot":
+                        continue
+                    if pattern.search(u.text):
+                        return "answered"
+                    if repair is not None and repair.search(u.text):
+                        return "repair"
             if act.robot_within is not None:
                 d = self.robot_within()
                 if d is not None and d <= act.robot_within:
-                    return True
+                    return "answered"
             if self.now >= deadline - 1e-6:  # virtual time is integer ns: never sleep 0
-                return False
+                # Nobody gives up on an answer while it is being spoken: wait for its end.
+                talking = self.world.sound.speaking("robot", self.now)
+                if talking is None:
+                    return "timeout"
+                deadline = talking.end + 1e-3
             await asyncio.sleep(min(POLL, max(deadline - self.now, 0.0)) if deadline < math.inf else POLL)
 
 

@@ -88,6 +88,20 @@ def test_state_reached_and_event_rejected_read_the_supervisors_log():
     assert not v['<event-rejected event="greeting" reason="inapplicable"/>'][0]
 
 
+
+def test_event_applied_reads_which_events_the_supervisor_applied_and_from_which_state():
+    stage = _stage('<event-applied event="partner_lost" never="true"/>\n<event-applied event="greeting" state="PotentialPartner" by="4"/>\n'
+                   '<event-applied event="greeting" state="Interacting"/>\n<event-applied event="partner_lost" never="true" by="5"/>')
+    _publish_at(stage, 3.0, "supervisor", "/robot/es/log", _log("applied", "greeting", "PotentialPartner", to="Interacting"))
+    _publish_at(stage, 6.0, "supervisor", "/robot/es/log", _log("rejected", "partner_lost", "Interacting", reason="expired", detail=""))
+    _publish_at(stage, 7.0, "supervisor", "/robot/es/log", _log("applied", "partner_lost", "Following", to="Interacting"))
+    v = _verdicts(stage)
+    lost = v['<event-applied event="partner_lost" never="true"/>']
+    assert not lost[0] and "t=7.00" in lost[1] and "Following -> Interacting" in lost[1]  # the rejected one at 6 s does not count
+    assert v['<event-applied event="greeting" state="PotentialPartner" by="4"/>'][0]
+    assert not v['<event-applied event="greeting" state="Interacting"/>'][0]
+    assert v['<event-applied event="partner_lost" never="true" by="5"/>'][0]
+
 def test_learned_checks_read_the_scene_models_answer():
     cup = etree.fromstring('<OBJECT type="cup" owner="speaker"><TITLE name="cup"/><COLOUR name="red"/><ATTRIBUTE name="favourite"/></OBJECT>')
     kitchen = etree.fromstring('<PLACE x="1" y="2"><TITLE name="kitchen"/></PLACE>')

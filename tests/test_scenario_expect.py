@@ -72,3 +72,27 @@ def test_no_collision_names_only_walls_furniture_or_people():
     with pytest.raises(ScenarioError, match="with='bob': use 'wall', 'furniture' or the name of a human") as exc:
         load_scenario_text(text, source="expect.xml")
     assert exc.value.line == text[: text.index("<no-collision")].count("\n") + 1
+
+
+def test_robot_near_never_fails_when_the_robot_drives_there():
+    expect = '<robot-near point="5 3" within="1" never="true"/>\n    <robot-near point="5 3" within="1" never="true" by="1"/>\n    <robot-near point="5 3" within="1" after="2"/>'
+    _, verdicts = _run(ANN.replace('x="3" y="3"', 'x="3" y="5"'), expect, drive=(0.5, 0.0), until=8)
+    assert [v.passed for v in verdicts] == [False, True, True], [v.detail for v in verdicts]
+    assert "where it should not" in verdicts[0].detail
+
+
+@pytest.mark.parametrize(
+    "expect,message",
+    [
+        ('<robot-says pattern="hi" after="5" by="3"/>', "after=5 is later than by=3"),
+        ('<state-reached state="Following" between="2 8" by="1"/>', "the window is empty"),
+        ('<robot-near room="room" between="5 8" after="9"/>', "the window is empty"),
+        ('<robot-says pattern="hi" after="50"/>', "after the end of the run"),
+        ('<event-applied event="goodbye" between="4 50"/>', "after the run"),
+    ],
+)
+def test_an_expectation_whose_window_cannot_hold_is_refused_with_its_line(expect, message):
+    text = ROOM_TEXT.replace("</humans>", f"</humans>\n  <expect>\n    {expect}\n  </expect>")
+    with pytest.raises(ScenarioError, match=message) as exc:
+        load_scenario_text(text, source="expect.xml")
+    assert exc.value.line == text[: text.index(expect)].count("\n") + 1

@@ -24,7 +24,7 @@ SLOW = os.environ.get("HOMESIM_SLOW", "") not in ("", "0")
 @pytest.mark.parametrize("name", LIBRARY)
 def test_every_library_scenario_loads_and_checks_the_robot(name):
     sc = load_scenario(SCENARIOS / f"{name}.xml")
-    robot_level = {"robot-says", "state-reached", "event-rejected", "object-learned", "place-learned", "following-distance", "metric"}
+    robot_level = {"robot-says", "state-reached", "event-rejected", "event-applied", "object-learned", "place-learned", "following-distance", "metric"}
     assert sc.name == name and sc.description
     assert robot_level & {e.kind for e in sc.expectations}, "a library scenario checks what the robot did"
 

@@ -288,3 +288,54 @@ def test_walking_up_to_a_person_stops_at_a_conversational_distance_by_default():
     d = math.dist(st.world.humans["bob"].position, st.world.humans["ann"].position)
     assert 0.7 <= d <= 0.85
     sim.close()
+
+
+# ------------------------------------------------------- a user who repeats herself
+def _robot_says(st: Stage, *said: tuple[float, str]) -> None:
+    dialog = st.sim.bus.participant("dialog", host="robot")
+    for t, text in said:
+        st.sim.call_at(t, lambda text=text: dialog.publish("/robot/speaker/say", etree.Element("say", text=text)))
+
+
+def test_a_user_asked_for_a_repair_says_it_again_after_a_turn_gap():
+    st = _stage('<say text="hello robot"/>\n<wait-for robot-says="hello" timeout="10" retries="2"/>\n<say text="done"/>', hardware=True)
+    _robot_says(st, (2.5, "Sorry, I did not understand you. Could you say that again?"), (9.0, "Hello, I am BIRON."))
+    st.run(16)
+    repair = st.world.sound.by("robot")[0]
+    ann = st.world.sound.by("ann")
+    assert [u.text for u in ann] == ["hello robot", "hello robot", "done"]
+    assert ann[1].start == pytest.approx(repair.end + 0.5, abs=0.11)  # polled every 0.1 s, then a 0.5 s gap
+    hello = st.world.sound.by("robot")[1]
+    assert hello.end <= ann[2].start <= hello.end + 0.15  # answered: she goes on
+
+
+def test_a_user_who_gets_no_answer_repeats_her_turn_then_gives_up():
+    script = '<point object="cup" duration="1"/>\n<say text="this is a cup"/>\n<wait-for robot-says="cup" timeout="3" retries="2"/>\n<say text="oh well"/>'
+    st = _stage(script, duration=30)
+    st.run(25)
+    ann = st.world.sound.by("ann")
+    assert [u.text for u in ann] == ["this is a cup"] * 3 + ["oh well"]
+    # Each try is her whole turn (the pointing too), 3 s of waiting and a 0.5 s gap apart.
+    points = [e for e in st.actors["ann"].log if e[2].startswith("pointat")]
+    assert len(points) == 3
+    gaps = [b.start - a.end for a, b in zip(ann, ann[1:3])]
+    assert gaps == [pytest.approx(3.0 + 0.5 + 1.0, abs=1e-6)] * 2  # wait, gap, then the 1 s point
+
+
+def test_without_retries_a_user_does_not_repeat_herself():
+    st = _stage('<say text="hello robot"/>\n<wait-for robot-says="hello" timeout="4"/>\n<say text="done"/>', hardware=True)
+    _robot_says(st, (2.5, "Sorry, I did not understand you. Could you say that again?"))
+    st.run(16)
+    assert [u.text for u in st.world.sound.by("ann")] == ["hello robot", "done"]
+
+
+def test_nobody_gives_up_on_an_answer_while_the_robot_is_still_talking():
+    """A 5 s timeout ran out in the middle of the robot's long answer, and the
+    person repeated her request over it."""
+    st = _stage('<wait-for robot-says="following you" timeout="2" retries="1"/>\n<say text="ok"/>', hardware=True)
+    _robot_says(st, (1.0, "OK, I am following you. Now, back to your object. What is it?"))
+    st.run(12)
+    robot = st.world.sound.by("robot")[0]
+    assert robot.end > 3.0  # it was still talking when the 2 s ran out
+    (ok,) = st.world.sound.by("ann")
+    assert robot.end <= ok.start <= robot.end + 0.15

@@ -34,7 +34,7 @@ from ..world.geometry import (
     wall_rectangle,
 )
 from ..world.pathplan import MIN_DOOR_WIDTH, WALKER_RADIUS, Grid, door_sides
-from .model import Action, Expectation, Face, Leave, PointAt, Repeat, Say, Scenario, Target, Wait, WaitFor, WalkTo
+from .model import Action, Expectation, Face, Leave, PointAt, Repeat, Say, Scenario, Target, Wait, WaitFor, WalkTo, window_of
 
 ROBOT_RADIUS = 0.30
 HUMAN_RADIUS = 0.25
@@ -199,11 +199,15 @@ class _Checker:
             elif isinstance(act, WaitFor):
                 if act.robot_says is None and act.robot_within is None:
                     raise self.fail(act.line, tag, "wait-for needs robot-says or robot-within")
-                if act.robot_says is not None:
+                for key, pattern in (("robot-says", act.robot_says), ("repair", act.repair)):
+                    if pattern is None:
+                        continue
                     try:
-                        re.compile(act.robot_says)
+                        re.compile(pattern)
                     except re.error as exc:
-                        raise self.fail(act.line, tag, f"robot-says={act.robot_says!r} is not a regular expression: {exc}") from exc
+                        raise self.fail(act.line, tag, f"{key}={pattern!r} is not a regular expression: {exc}") from exc
+                if act.retries and act.robot_says is None:
+                    raise self.fail(act.line, tag, "retries= needs robot-says (what answer the person repeats herself for)")
             elif isinstance(act, Leave):
                 exits = [d for _, d in self.sc.exits()]
                 if not exits:
@@ -307,6 +311,9 @@ class _Checker:
         window = e.get("between")
         if window is not None and window[1] > self.sc.duration:  # type: ignore[index]
             raise self.fail(e.line, e.kind, f"the window ends at {window[1]} s, after the run ({self.sc.duration} s)")  # type: ignore[index]
+        t0, t1 = window_of(e, self.sc.duration)
+        if t1 < t0:
+            raise self.fail(e.line, e.kind, f"the window is empty: between, after and by leave nothing from {t0:g} s to {t1:g} s")
 
 
 def _overlaps(xy: tuple[float, float], radius: float, polygon: np.ndarray) -> bool:

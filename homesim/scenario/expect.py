@@ -15,7 +15,7 @@ Evidence is never mixed up:
 * the robot's own sensor messages for ``legs-seen`` (the reference leg
   detector on each published scan), ``face-seen``, ``sound-heard``;
 * what the robot did, as it went over the bus: ``robot-says`` (the dialog's
-  ``/robot/speaker/say``), ``state-reached`` and ``event-rejected`` (the
+  ``/robot/speaker/say``), ``state-reached``, ``event-applied`` and ``event-rejected`` (the
   supervisor's decision log ``/robot/es/log``);
 * what the robot knows at the end (its scene model, queried by the runner):
   ``object-learned``, ``place-learned``;
@@ -41,7 +41,7 @@ from ..observe import Dispatcher
 from ..world.geometry import wrap_angle
 from ..world.legs import detect_leg_pairs
 from ..world.world import World
-from .model import Expectation, Scenario, Target
+from .model import Expectation, Scenario, Target, window_of
 
 SCAN = "/robot/laser/scan"
 FACES = "/robot/camera/faces"
@@ -88,13 +88,7 @@ class Check:
     def __init__(self, e: Expectation, scenario: Scenario, world: World) -> None:
         self.e = e
         self.world = world
-        w = e.get("between")
-        self.t0, self.t1 = (0.0, scenario.duration) if w is None else (float(w[0]), float(w[1]))  # type: ignore[index]
-        after, by = e.get("after"), e.get("by")
-        if after is not None:
-            self.t0 = max(self.t0, float(after))  # type: ignore[arg-type]
-        if by is not None:
-            self.t1 = min(self.t1, float(by))  # type: ignore[arg-type]
+        self.t0, self.t1 = window_of(e, scenario.duration)
         self.never = bool(e.get("never", False) or e.get("absent", False))
 
     def on_message(self, msg: Message) -> None:  # pragma: no cover - overridden
@@ -267,10 +261,11 @@ class RobotNearCheck(Check):
 
     def verdict(self, end: float, context: Mapping[str, Any]) -> tuple[bool, str]:
         if self.done is not None:
-            return True, self.done
+            return (False, f"{self.done}, where it should not") if self.never else (True, self.done)
         if self.target.kind == "room":
-            return False, f"the robot never entered {self.target.name} {self.window()}"
-        return False, f"the robot came no closer than {self.best:.2f} m {self.window()}"
+            return self.never, f"the robot never entered {self.target.name} {self.window()}"
+        closest = f"{self.best:.2f} m" if math.isfinite(self.best) else "(never measured)"
+        return self.never, f"the robot came no closer than {closest} {self.window()}"
 
 
 class NoCollisionCheck(Check):
@@ -343,6 +338,29 @@ class StateReachedCheck(EventCheck):
 
     def what(self) -> str:
         return f"entry into state {self.state}"
+
+
+class EventAppliedCheck(EventCheck):
+    """The supervisor applies an event named ``event`` (leaving ``state``, if given)."""
+
+    channels = (ES_LOG,)
+
+    def __init__(self, *args: Any) -> None:
+        super().__init__(*args)
+        self.event = str(self.e.get("event"))
+        self.state = self.e.get("state")
+
+    def on_message(self, m: Message) -> None:
+        x = m.xml
+        if x.get("kind") != "applied" or x.get("name") != self.event:
+            return
+        if self.state is not None and x.get("state") != self.state:
+            return
+        self.hit(m.created, f"{self.event} from {x.get('source')} applied: {x.get('state')} -> {x.get('to')}")
+
+    def what(self) -> str:
+        state = f" in {self.state}" if self.state else ""
+        return f"{self.event} applied{state}"
 
 
 class EventRejectedCheck(EventCheck):
@@ -486,6 +504,7 @@ CHECKS: dict[str, Callable[..., Check]] = {
     "robot-says": RobotSaysCheck,
     "state-reached": StateReachedCheck,
     "event-rejected": EventRejectedCheck,
+    "event-applied": EventAppliedCheck,
     "object-learned": LearnedCheck,
     "place-learned": LearnedCheck,
     "following-distance": FollowingDistanceCheck,
@@ -525,12 +544,6 @@ class Expectations:
             ok, detail = c.verdict(end, ctx)
             out.append(Verdict(c.e, ok, detail, self.scenario.source))
         return out
-
-
-def window_of(e: Expectation, duration: float) -> tuple[float, float]:
-    """The time window an expectation looks at (``between``, ``after``/``by``; default the run)."""
-    w = e.get("between")
-    return (0.0, duration) if w is None else (float(w[0]), float(w[1]))  # type: ignore[index]
 
 
 __all__: Sequence[str] = ("Verdict", "Expectations", "CHECKS", "matches", "window_of")

@@ -423,7 +423,9 @@ class _Builder:
         if tag == "wait":
             return Wait(self.num(el, "for"), line=line)
         if tag == "wait-for":
-            return WaitFor(el.get("robot-says"), self.opt(el, "robot-within"), self.opt(el, "timeout"), line=line)
+            retries = el.get("retries")
+            return WaitFor(el.get("robot-says"), self.opt(el, "robot-within"), self.opt(el, "timeout"), line=line,
+                           retries=0 if retries is None else int(retries), repair=el.get("repair"))
         if tag == "leave":
             return Leave(el.get("door"), line=line)
         if tag == "repeat":
@@ -444,7 +446,7 @@ class _Builder:
         elif tag == "no-collision":
             attrs += [("with", el.get("with")), ("between", self.window(el))]
         elif tag == "robot-near":
-            attrs += [("target", self.target(el)), ("within", self.num(el, "within", 1.0)), ("between", self.window(el))]
+            attrs += [("target", self.target(el)), ("within", self.num(el, "within", 1.0))] + self.when(el)
         elif tag == "robot-says":
             pattern = el.get("pattern")
             try:
@@ -456,6 +458,8 @@ class _Builder:
             attrs += [("state", el.get("state"))] + self.when(el)
         elif tag == "event-rejected":
             attrs += [("event", el.get("event")), ("reason", el.get("reason")), ("state", el.get("state"))] + self.when(el)
+        elif tag == "event-applied":
+            attrs += [("event", el.get("event")), ("state", el.get("state"))] + self.when(el)
         elif tag in ("object-learned", "place-learned"):
             keys = ("type", "name", "owner", "colour", "attribute") if tag == "object-learned" else ("name",)
             attrs += [(k, el.get(k)) for k in keys if el.get(k) is not None]

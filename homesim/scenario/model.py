@@ -157,12 +157,20 @@ class Wait:
 class WaitFor:
     """Wait until the robot says something matching ``robot_says`` (a regular
     expression, case-insensitive) or comes within ``robot_within`` metres,
-    at most ``timeout`` seconds (None: forever)."""
+    at most ``timeout`` seconds (None: forever).
+
+    ``retries`` models a user who is not understood: when the robot asks for
+    a repair (says something matching ``repair``) or the timeout passes, the
+    person says her last utterance again and waits anew, up to ``retries``
+    times (the papers' users repeat themselves; a script without it gives
+    up at the first miss)."""
 
     robot_says: str | None = None
     robot_within: float | None = None
     timeout: float | None = None
     line: int | None = None
+    retries: int = 0
+    repair: str | None = None
 
 
 @dataclass(frozen=True)
@@ -300,3 +308,15 @@ def _named(items: tuple, name: str, what: str):  # type: ignore[no-untyped-def]
         if it.name == name:
             return it
     raise KeyError(f"no {what} named {name!r}")
+
+
+def window_of(e: Expectation, duration: float) -> tuple[float, float]:
+    """The time window an expectation looks at: ``between``, narrowed by ``after``/``by``; default the run."""
+    w = e.get("between")
+    t0, t1 = (0.0, duration) if w is None else (float(w[0]), float(w[1]))  # type: ignore[index]
+    after, by = e.get("after"), e.get("by")
+    if after is not None:
+        t0 = max(t0, float(after))  # type: ignore[arg-type]
+    if by is not None:
+        t1 = min(t1, float(by))  # type: ignore[arg-type]
+    return t0, t1
