@@ -24,6 +24,7 @@ SUBCOMMAND_MODULES: list[str] = [
     "homesim.afsm.cli",
     "homesim.check",
     "homesim.memory.cli",
+    "homesim.viz.cli",
 ]
 
 

@@ -180,7 +180,7 @@ def replay(trace: Path, *, out: IO[str] | None = None) -> int:
 # -------------------------------------------------------------------- plot
 def plot_command(a: argparse.Namespace) -> int:
     """Run to ``--at`` and save the top-down view of that moment with the latest scan and sounds."""
-    from . import viz
+    from . import viz  # noqa: F401 (the package)
 
     latest: dict[str, Message] = {}
     run = Run.from_file(a.file, RunOptions(seed=a.seed, until=a.at))

@@ -1,0 +1,94 @@
+"""Re-create the run a trace recorded, checking every line, to look at what the trace does not hold.
+
+A trace holds the bus messages (attachments only as digests) but not the
+world: where the people truly were, the laser ranges. ``homesim plot`` and
+``homesim export --mcap`` get those by running the trace header's scenario,
+seed and options again (as ``homesim replay`` does) while comparing each new
+trace line with the file's; if the run departs from the trace they stop
+with an error naming the first differing line, so a picture or an export
+never shows a run other than the one recorded.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+from pathlib import Path
+from typing import Any
+
+from .errors import HomesimError, InputError
+from .runner import Run, RunOptions, file_digest
+from .trace import TRACE_FORMAT
+from .xmlio import open_regular
+
+
+def read_header(trace: str | os.PathLike[str]) -> dict[str, Any]:
+    """The trace's header line (a dict); a clear error when the file is not a homesim trace."""
+    try:
+        with os.fdopen(open_regular(trace, error=InputError), encoding="utf-8") as fh:
+            header = json.loads(fh.readline(1 << 20))
+    except (UnicodeDecodeError, json.JSONDecodeError) as exc:
+        raise InputError(f"{trace}:1: not a homesim trace ({exc})") from exc
+    if not isinstance(header, dict) or header.get("homesim_trace") != TRACE_FORMAT:
+        raise InputError(f"{trace}:1: not a homesim trace (no 'homesim_trace': {TRACE_FORMAT} header)")
+    return header
+
+
+class TraceCheck:
+    """A text stream for the run's recorder that compares each line with the trace file's."""
+
+    def __init__(self, path: Path) -> None:
+        self.path = path
+        self.fh = os.fdopen(open_regular(path, error=InputError), encoding="utf-8")
+        self.line = 0
+
+    def write(self, s: str) -> int:
+        self.line += 1
+        want = self.fh.readline()
+        if self.line > 1 and want != s:  # line 1, the header, names this re-run's own stop time
+            raise HomesimError(f"{self.path}:{self.line}: the re-run departs from the trace here "
+                               f"(trace: {want.strip()[:160]!r}; re-run: {s.strip()[:160]!r})")
+        return len(s)
+
+    def flush(self) -> None:
+        pass
+
+    def close(self) -> None:
+        self.fh.close()
+
+
+def rerun(trace: str | os.PathLike[str], *, until: float | None = None) -> tuple[Run, TraceCheck]:
+    """A :class:`Run` that re-creates ``trace``'s run (checked line by line), stopping at ``until``.
+
+    Fails (``HomesimError``) when the header names no run, its scenario file
+    is missing or has changed, or ``until`` is past the recorded run.
+    """
+    path = Path(trace)
+    header = read_header(path)
+    h = header.get("run")
+    if not isinstance(h, dict):
+        raise InputError(f"{path}:1: the header does not name a run (write the trace with 'homesim run --trace')")
+    scen = Path(str(h.get("scenario_file")))
+    if not scen.is_file():
+        raise InputError(f"{path}:1: the scenario file {scen} named in the header does not exist")
+    if file_digest(scen) != h.get("scenario_digest"):
+        raise InputError(f"{path}:1: {scen} has changed since the trace was written; the run cannot be re-created")
+    end = h.get("until")
+    if until is not None and end is not None and until > end:
+        raise InputError(f"{path}: t = {until:g} s is after the end of the recorded run ({end:g} s)")
+    stop = until if until is not None else end
+    check = TraceCheck(path)
+    try:
+        opts = RunOptions(seed=h.get("seed"), until=stop, trace=check,  # type: ignore[arg-type]
+                          memory=None if h.get("memory") is None else Path(h["memory"]),
+                          subsystems=None if h.get("subsystems") is None else tuple(h["subsystems"]),
+                          metrics=None if h.get("metrics") is None else tuple(h["metrics"]))
+        run = Run.from_file(scen, opts)
+    except BaseException:
+        check.close()
+        raise
+    if until is not None and until > run.scenario.duration:
+        run.close()
+        check.close()
+        raise InputError(f"{path}: t = {until:g} s is after the end of the scenario ({run.scenario.name}: {run.scenario.duration:g} s)")
+    return run, check

@@ -1,0 +1,83 @@
+"""``homesim plot TRACE``: pictures of a recorded run.
+
+``homesim plot TRACE [--at T] [--out FILE]`` re-creates the run to time T
+(checking it against the trace line by line, :mod:`homesim.tracerun`) and
+draws the flat then, with the robot's percepts over the truth; without
+``--at`` it shows the last moment of the recorded run. ``homesim plot TRACE
+--timeline [--from T0] [--to T1] [--out FILE]`` draws the module
+communication in the style of the papers' Fig. 6 from the trace alone (no
+re-run). The file's suffix chooses the format (``.png`` or ``.svg``).
+"""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+from .. import cliargs
+from ..cliargs import OptionError
+
+FORMATS = (".png", ".svg")
+
+
+def _check_output(out: Path) -> None:
+    if out.suffix.lower() not in FORMATS:
+        raise OptionError("--out", f"{out}: the file name must end in {' or '.join(FORMATS)} (the format)")
+
+
+def plot_moment_of_trace(trace: Path, at: float | None):  # noqa: ANN201 (a matplotlib Figure)
+    """Re-create ``trace``'s run to ``at`` (default: its end) and draw that moment with the percepts."""
+    from ..tracerun import rerun
+    from .moment import plot_moment
+    from .percepts import CHANNELS, PerceptCollector
+
+    run, check = rerun(trace, until=at)
+    try:
+        with run:
+            seen = PerceptCollector()
+            run.dispatcher.add(CHANNELS, seen)
+            run.run()
+            now = run.sim.now
+            what = f"t = {now:.2f} s" if at is None or abs(now - at) < 1e-9 else f"t = {now:.2f} s (asked for {at:g} s)"
+            if at is None:
+                what += ", the end of the recorded run"
+            title = f"{run.scenario.name} (seed {run.sim.seed}) at {what}"
+            return plot_moment(run.world, percepts=seen.percepts(now, run.world.robot.pose), title=title)
+    finally:
+        check.close()
+
+
+def plot_command(a: argparse.Namespace) -> int:
+    """``homesim plot``: one moment (default) or the timeline."""
+    if a.timeline:
+        from ..traceview import read_timeline
+        from .timeline import plot_timeline
+
+        out = a.out or Path("out/timeline.png")
+        _check_output(out)
+        tl = read_timeline(a.trace, start=a.start, end=a.end)
+        fig = plot_timeline(tl)
+        what = f"{len(tl.lanes)} modules, {len(tl.messages)} messages, {len(tl.spans)} processing spans, {tl.start:g}-{tl.end:g} s"
+    else:
+        if a.start is not None or a.end is not None:
+            raise OptionError("--from/--to", "only with --timeline (a moment is chosen with --at)")
+        out = a.out or Path("out/plot.png")
+        _check_output(out)
+        fig = plot_moment_of_trace(a.trace, a.at)
+        what = fig.axes[0].get_title()
+    out.parent.mkdir(parents=True, exist_ok=True)
+    fig.savefig(out, dpi=120, metadata={"Software": None} if out.suffix.lower() == ".png" else {"Date": None, "Creator": None})
+    print(f"wrote {out} ({what})")
+    return 0
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    """Add ``homesim plot``."""
+    p = sub.add_parser("plot", help="draw a recorded run: the flat at a moment, or the module timeline (Fig. 6)")
+    p.add_argument("trace", type=Path, help="a trace written by 'homesim run --trace'")
+    p.add_argument("--at", type=cliargs.seconds(), default=None, help="the moment to draw (virtual seconds; default: the end)")
+    p.add_argument("--out", "-o", type=cliargs.output_file, default=None, help="the picture (.png or .svg)")
+    p.add_argument("--timeline", action="store_true", help="draw the module communication (Fig. 6) instead of the flat")
+    p.add_argument("--from", dest="start", type=cliargs.seconds(), default=None, help="timeline: start (virtual seconds)")
+    p.add_argument("--to", dest="end", type=cliargs.seconds(), default=None, help="timeline: end (virtual seconds)")
+    p.set_defaults(func=plot_command)
