@@ -3,9 +3,6 @@
 from __future__ import annotations
 
 import math
-import subprocess
-import sys
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -20,10 +17,8 @@ from homesim.viz.percepts import odom_to_world
 from homesim.world.bodies import CAMERA_HEIGHT
 
 from .conftest import examples
+from .viz_helpers import tour_trace
 from .world_helpers import room
-
-ROOT = Path(__file__).resolve().parents[1]
-
 
 def _cross(p, q, a, b) -> bool:
     """Do segments pq and ab properly cross (not merely touch)?"""
@@ -99,10 +94,7 @@ def test_labels_placed_near_each_other_do_not_cover_each_other(anchors):
 
 @pytest.fixture(scope="module")
 def short_trace(tmp_path_factory):
-    d = tmp_path_factory.mktemp("viz")
-    trace = d / "tour.jsonl"
-    assert main(["run", str(ROOT / "scenarios/home_tour.xml"), "--until", "12", "--quiet", "--trace", str(trace)]) == 0
-    return trace
+    return tour_trace(tmp_path_factory.getbasetemp())
 
 
 def test_plot_at_a_moment_shows_percepts_with_a_legend_for_every_mark(short_trace, tmp_path, capsys):

@@ -47,6 +47,14 @@ def plot_moment_of_trace(trace: Path, at: float | None):  # noqa: ANN201 (a matp
         check.close()
 
 
+def save(fig, out: Path) -> None:  # noqa: ANN001 (a matplotlib Figure)
+    """Save a figure as PNG or SVG; the same figure gives the same bytes (no dates, fixed SVG ids)."""
+    import matplotlib
+
+    with matplotlib.rc_context({"svg.hashsalt": "homesim"}):
+        fig.savefig(out, dpi=120, metadata={"Software": None} if out.suffix.lower() == ".png" else {"Date": None, "Creator": None})
+
+
 def plot_command(a: argparse.Namespace) -> int:
     """``homesim plot``: one moment (default) or the timeline."""
     if a.timeline:
@@ -66,7 +74,7 @@ def plot_command(a: argparse.Namespace) -> int:
         fig = plot_moment_of_trace(a.trace, a.at)
         what = fig.axes[0].get_title()
     out.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(out, dpi=120, metadata={"Software": None} if out.suffix.lower() == ".png" else {"Date": None, "Creator": None})
+    save(fig, out)
     print(f"wrote {out} ({what})")
     return 0
 

@@ -1,0 +1,299 @@
+"""Reading a trace as module communication: messages, causes, processing spans, streams, phases.
+
+The trace (:mod:`homesim.trace`) records each send with its ``causes`` (the
+ids of the messages it was made from) and each delivery with its time. A
+module's *processing span* is read from that, with nothing modelled here:
+it runs from the delivery of a message's latest cause to the module that
+sent the message, to the send (the understanding's span for a greeting is
+the recognition time; the supervisor's is its reconfiguration time).
+Messages sent several times a second for a sustained time are *continuous
+streams* (scans, odometry, tracks; the papers' Fig. 6 draws them lighter);
+the others are *events*. Heartbeats (``/system/heartbeat/``) are left out
+unless asked for. Phases (start, greeting, follow request, following, stop,
+teaching, good-bye) are read from the supervisor's events.
+
+Both passes stream the file; memory holds one small record per event
+message in the asked window, a thinned sample of each stream, and bounded
+look-up tables of recent sends and deliveries (:data:`RECENT`).
+"""
+
+from __future__ import annotations
+
+import os
+from collections import OrderedDict
+from collections.abc import Iterator
+from dataclasses import dataclass, field
+from typing import Any
+
+from .errors import InputError
+from .trace import read_trace
+
+#: How many recent sends and deliveries are kept to resolve causes (a cause older than this is not linked).
+RECENT = 1 << 16
+#: A stream is continuous when it sends at least this often (per second) ...
+STREAM_RATE = 0.9
+#: ... and at least this many messages.
+STREAM_MIN = 20
+HEARTBEAT = "/system/heartbeat/"
+SENDS = ("publish", "request", "reply", "error")
+#: Phases: an ES event's name -> (mark, label); "following" is the first follow status after a follow request.
+PHASE_EVENTS: dict[str, tuple[str, str]] = {
+    "greeting": ("B", "greeting"), "follow": ("C", "follow request"), "stop": ("E", "stop"),
+    "object_teaching": ("T", "teaching an object"), "place_teaching": ("T", "teaching a place"),
+    "goodbye": ("G", "good-bye"),
+}
+ES_EVENTS = "/robot/es/events"
+FOLLOW_STATUS = "/robot/follow/status"
+
+
+class _Recent(OrderedDict):
+    """A bounded map: the oldest entries fall out past ``RECENT``."""
+
+    def put(self, key: Any, value: Any) -> None:
+        self[key] = value
+        if len(self) > RECENT:
+            self.popitem(last=False)
+
+
+@dataclass(frozen=True)
+class Message:
+    """One sent message as the timeline draws it (``delivered``: receiver -> time)."""
+
+    id: str
+    kind: str
+    sender: str
+    channel: str
+    t: float
+    label: str
+    causes: tuple[str, ...]
+    continuous: bool
+    delivered: dict[str, float] = field(default_factory=dict, compare=False)
+
+
+@dataclass(frozen=True)
+class Span:
+    """A module working: from the delivery of a message's latest cause to the module, to its send."""
+
+    lane: str
+    start: float
+    end: float
+    cause: str
+    effect: str
+
+
+@dataclass(frozen=True)
+class Flow:
+    """A cause -> message link (ids, senders and send times of both)."""
+
+    cause: str
+    cause_sender: str
+    cause_t: float
+    effect: str
+    effect_sender: str
+    effect_t: float
+
+
+@dataclass(frozen=True)
+class Phase:
+    """A phase mark (the papers' A-E, plus teaching and good-bye)."""
+
+    t: float
+    mark: str
+    label: str
+
+
+@dataclass(frozen=True)
+class StreamStats:
+    count: int
+    first: float
+    last: float
+
+    @property
+    def continuous(self) -> bool:
+        span = self.last - self.first
+        return self.count >= STREAM_MIN and span > 0 and (self.count - 1) / span >= STREAM_RATE
+
+
+@dataclass
+class Timeline:
+    """Everything the Fig. 6 drawing needs, for the window ``start``-``end``."""
+
+    scenario: str
+    seed: int
+    start: float
+    end: float
+    lanes: list[str]
+    messages: list[Message]  # events and the thinned stream sample, by send time
+    spans: list[Span]
+    flows: list[Flow]
+    phases: list[Phase]
+    streams: dict[tuple[str, str], StreamStats]
+
+
+def label_of(rec: dict[str, Any]) -> str:
+    """A short label: the root element and its name (``event greeting``), or the words of an utterance."""
+    xml = rec.get("xml") or ""
+    tag = xml[1:].split(" ", 1)[0].split(">", 1)[0].split("/", 1)[0]
+    name = ""
+    for key in (' name="', ' text="', ' state="'):
+        i = xml.find(key)
+        if 0 <= i < 200:
+            name = xml[i + len(key):xml.find('"', i + len(key))]
+            break
+    if not name and tag == "utterance":
+        name = xml[xml.find(">") + 1:xml.rfind("<")]
+    return f"{tag} {name}".strip()[:60]
+
+
+def channel_stats(path: str | os.PathLike[str]) -> tuple[dict[str, Any], dict[tuple[str, str], StreamStats]]:
+    """First pass: the header, and per (sender, channel) the count and first/last send time."""
+    header: dict[str, Any] | None = None
+    acc: dict[tuple[str, str], list[float]] = {}
+    for n, rec in enumerate(read_trace(path), 1):
+        if header is None:
+            if not isinstance(rec, dict) or "homesim_trace" not in rec:
+                raise InputError(f"{path}:1: not a homesim trace (no header)")
+            header = rec
+            continue
+        if rec.get("kind") in SENDS:
+            key = (rec["sender"], rec["channel"])
+            a = acc.get(key)
+            if a is None:
+                acc[key] = [1, rec["t"], rec["t"]]
+            else:
+                a[0] += 1
+                a[2] = rec["t"]
+    if header is None:
+        raise InputError(f"{path}: empty trace")
+    return header, {k: StreamStats(int(c), f, la) for k, (c, f, la) in acc.items()}
+
+
+@dataclass
+class Send:
+    """A send as :func:`walk` reports it: the record, whether it is a stream, its span and cause links."""
+
+    rec: dict[str, Any]
+    continuous: bool
+    span: Span | None
+    flows: list[Flow]
+
+
+@dataclass
+class Delivery:
+    rec: dict[str, Any]
+
+
+def walk(path: str | os.PathLike[str], streams: dict[tuple[str, str], StreamStats]) -> Iterator[Send | Delivery]:
+    """Second pass: every send with its processing span and cause links, and every delivery, in file order."""
+    sent = _Recent()  # id -> (sender, t)
+    delivered = _Recent()  # (id, receiver) -> t
+    it = read_trace(path)
+    next(it, None)  # the header
+    for rec in it:
+        kind = rec.get("kind")
+        if kind == "deliver":
+            for r in rec.get("receivers", ()):
+                delivered.put((rec["id"], r), rec["t"])
+            yield Delivery(rec)
+            continue
+        if kind not in SENDS:
+            continue
+        sender, t = rec["sender"], rec["t"]
+        cont = streams[(sender, rec["channel"])].continuous
+        flows: list[Flow] = []
+        latest: tuple[float, str] | None = None
+        for c in rec.get("causes", ()):
+            src = sent.get(c)
+            if src is not None:
+                flows.append(Flow(c, src[0], src[1], rec["id"], sender, t))
+            got = delivered.get((c, sender))
+            if got is not None and got <= t and (latest is None or got > latest[0]):
+                latest = (got, c)
+        span = None if latest is None else Span(sender, latest[0], t, latest[1], rec["id"])
+        sent.put(rec["id"], (sender, t))
+        yield Send(rec, cont, span, flows)
+
+
+def read_timeline(path: str | os.PathLike[str], *, start: float | None = None, end: float | None = None,
+                  heartbeats: bool = False, stream_per_s: float = 2.0) -> Timeline:
+    """The timeline of a trace file between ``start`` and ``end`` (virtual seconds; default: all of it).
+
+    Stream messages are thinned to at most ``stream_per_s`` per second per
+    stream. Fails (``InputError``) for a file that is not a trace or an empty window.
+    """
+    header, streams = channel_stats(path)
+    t0 = 0.0 if start is None else start
+    t1 = max((s.last for s in streams.values()), default=0.0) if end is None else end
+    if t1 <= t0:
+        raise InputError(f"{path}: the window {t0:g}-{t1:g} s is empty")
+    msgs: dict[str, Message] = {}
+    order: list[Message] = []
+    spans: dict[tuple[str, float], Span] = {}
+    flows: list[Flow] = []
+    phases: list[Phase] = [Phase(0.0, "A", "start")] if t0 <= 0.0 else []
+    last_sample: dict[tuple[str, str], float] = {}
+    following = False
+    depth: _Recent = _Recent()
+    lane_depths: dict[str, list[int]] = {}  # a module's events' causal depths (one int per event message)
+    lane_first: dict[str, float] = {}
+    stream_first: dict[str, float] = {}  # modules that send streams: their first stream message
+    for ev in walk(path, streams):
+        rec = ev.rec
+        if isinstance(ev, Delivery):
+            m = msgs.get(rec["id"])
+            if m is not None:
+                for r in rec.get("receivers", ()):
+                    m.delivered.setdefault(r, rec["t"])
+            continue
+        t, sender, ch = rec["t"], rec["sender"], rec["channel"]
+        if ch.startswith(HEARTBEAT) and not heartbeats:
+            continue
+        d = 1 + max((depth.get(c, -1) for c in rec.get("causes", ())), default=-1)
+        depth.put(rec["id"], d)
+        if ch == ES_EVENTS:
+            name = label_of(rec).split(" ", 1)[-1]
+            if name in PHASE_EVENTS and t0 <= t <= t1:
+                mark, label = PHASE_EVENTS[name]
+                phases.append(Phase(t, mark, label))
+            following = following or name == "follow"
+        elif ch == FOLLOW_STATUS and following:
+            following = False
+            if t0 <= t <= t1:
+                phases.append(Phase(t, "D", "following"))
+        if not t0 <= t <= t1:
+            continue
+        if not ev.continuous:
+            lane_depths.setdefault(sender, []).append(d)
+            lane_first.setdefault(sender, t)
+        else:
+            stream_first.setdefault(sender, t)
+            key = (sender, ch)
+            if t - last_sample.get(key, -1e18) < 1.0 / stream_per_s:
+                continue
+            last_sample[key] = t
+        m = Message(rec["id"], rec["kind"], sender, ch, t, label_of(rec), tuple(rec.get("causes", ())), ev.continuous)
+        msgs[m.id] = m
+        order.append(m)
+        if not ev.continuous:
+            flows.extend(ev.flows)
+            if ev.span is not None:
+                k = (sender, ev.span.start)
+                old = spans.get(k)
+                spans[k] = ev.span if old is None else Span(sender, old.start, max(old.end, t), old.cause, old.effect)
+        if len(msgs) > RECENT:  # only deliveries of recent messages are still to come
+            msgs.pop(next(iter(msgs)))
+    # Lanes: modules that only stream (the sensors) first, then by the median causal depth of their events
+    # (how many messages lie between them and a sensor), so that arrows mostly run down.
+    receivers = {r for m in order for r in m.delivered}
+    names = set(lane_depths) | set(stream_first) | receivers
+
+    def rank(name: str) -> tuple[int, float, float, str]:
+        if name in lane_depths:
+            ds = sorted(lane_depths[name])
+            return (1, ds[len(ds) // 2], lane_first[name], name)
+        if name in stream_first:
+            return (0, 0, stream_first[name], name)
+        return (2, 0, t1, name)
+    lanes = sorted(names, key=rank)
+    return Timeline(str(header.get("scenario", "?")), int(header.get("seed", 0)), t0, t1, lanes, order,
+                    sorted(spans.values(), key=lambda s: (s.start, s.lane)), flows, phases, streams)

@@ -1,0 +1,87 @@
+"""The papers' Fig. 6: the time course of module communication, drawn from a trace.
+
+One horizontal lane per module (sensors at the top, then by causal depth,
+:func:`homesim.traceview.read_timeline`), time to the right. A message is
+an arrow from its sender's lane at the send time to each receiver's lane at
+the delivery time; continuous streams (scans, odometry, tracks) are thinned
+and drawn light grey, as the paper draws its brightening arrows; a
+module's processing span (a cause delivered -> the message it caused sent)
+is a bar on its lane, labelled with its duration when it is long enough to
+read; phases (A start, B greeting, C follow request, D following, E stop,
+T teaching, G good-bye) are vertical lines with their marks. Pure: takes a
+:class:`~homesim.traceview.Timeline`, returns a ``Figure``.
+"""
+
+from __future__ import annotations
+
+from matplotlib.backends.backend_agg import FigureCanvasAgg
+from matplotlib.figure import Figure
+from matplotlib.lines import Line2D
+from matplotlib.patches import FancyArrowPatch, Patch, Rectangle
+
+from ..traceview import Timeline
+
+EVENT = "#1f3b73"
+REPLY = "#2ca02c"
+STREAM = "#b0b0b0"
+SPAN = "#f0a030"
+PHASE = "#c0392b"
+#: Label event arrows only when the window holds at most this many events.
+LABEL_EVENTS = 60
+#: Label a span with its duration from this length on (seconds).
+LABEL_SPAN_S = 0.02
+
+
+def _ms(d: float) -> str:
+    return f"{d * 1000:.0f} ms" if d < 1.0 else f"{d:.2f} s"
+
+
+def plot_timeline(tl: Timeline, *, width: float = 14.0) -> Figure:
+    """The Fig. 6 picture of ``tl`` (one lane per module, messages, spans, phases)."""
+    lanes = tl.lanes
+    y = {name: len(lanes) - 1 - i for i, name in enumerate(lanes)}
+    fig = Figure(figsize=(width, 1.2 + 0.42 * max(len(lanes), 3)))
+    FigureCanvasAgg(fig)
+    ax = fig.add_subplot(1, 1, 1)
+    dur = tl.end - tl.start
+    for name, yy in y.items():
+        ax.axhline(yy, color="#dddddd", linewidth=0.8, zorder=0)
+    min_w = dur / 600  # a zero-length span still shows
+    for s in tl.spans:
+        if s.lane not in y:
+            continue
+        w = max(s.end - s.start, min_w)
+        ax.add_patch(Rectangle((s.start, y[s.lane] - 0.18), w, 0.36, facecolor=SPAN, edgecolor="#b06d10", linewidth=0.4, zorder=3))
+        if s.end - s.start >= LABEL_SPAN_S and (s.end - s.start) / dur > 0.004:
+            ax.text(s.start + w / 2, y[s.lane] - 0.22, _ms(s.end - s.start), ha="center", va="top", fontsize=6, color="#8a520c", zorder=6)
+    events = [m for m in tl.messages if not m.continuous]
+    label = len(events) <= LABEL_EVENTS
+    for m in tl.messages:
+        if m.sender not in y:
+            continue
+        colour = STREAM if m.continuous else (REPLY if m.kind in ("reply", "error") else EVENT)
+        for r, td in m.delivered.items():
+            if r not in y or r == m.sender:
+                continue
+            ax.add_patch(FancyArrowPatch((m.t, y[m.sender]), (td, y[r]), arrowstyle="-|>", mutation_scale=6 if m.continuous else 8,
+                                         color=colour, linewidth=0.5 if m.continuous else 0.9,
+                                         alpha=0.45 if m.continuous else 0.9, zorder=2 if m.continuous else 4))
+        if label and not m.continuous:
+            ax.text(m.t, y[m.sender] + 0.12, m.label, fontsize=5.5, rotation=25, ha="left", va="bottom", color=colour, zorder=7)
+    for p in tl.phases:
+        ax.axvline(p.t, color=PHASE, linestyle="--", linewidth=0.8, zorder=1)
+        ax.text(p.t, len(lanes) - 0.35, f"{p.mark}: {p.label}", color=PHASE, fontsize=7, rotation=0, ha="left", va="bottom", zorder=7)
+    ax.set_yticks(list(y.values()), list(y.keys()), fontsize=7)
+    ax.set_ylim(-0.8, len(lanes) + 0.2)
+    ax.set_xlim(tl.start - dur * 0.01, tl.end + dur * 0.01)
+    ax.set_xlabel("virtual time [s]")
+    ax.set_title(f"{tl.scenario} (seed {tl.seed}): module communication, {tl.start:g}-{tl.end:g} s "
+                 f"({len(events)} messages, {len(tl.spans)} processing spans)", fontsize=9)
+    ax.legend([Line2D([], [], color=EVENT, marker=">", markersize=4), Line2D([], [], color=REPLY, marker=">", markersize=4),
+               Line2D([], [], color=STREAM, marker=">", markersize=4), Patch(facecolor=SPAN, edgecolor="#b06d10"),
+               Line2D([], [], color=PHASE, linestyle="--")],
+              ["message (sender -> receiver, send -> delivery)", "RPC reply", "continuous stream (thinned)",
+               "processing (cause delivered -> message sent)", "phase"],
+              loc="upper left", bbox_to_anchor=(1.005, 1.0), fontsize=7, frameon=False)
+    fig.tight_layout()
+    return fig

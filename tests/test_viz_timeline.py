@@ -1,0 +1,120 @@
+"""The Fig. 6 timeline: lanes, messages, processing spans read from causes, phases; ``homesim plot --timeline``."""
+
+from __future__ import annotations
+
+import json
+
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from homesim.cli import main
+from homesim.traceview import read_timeline
+
+from .conftest import examples
+from .viz_helpers import tour_trace
+
+MODULES = ["mic", "asr", "dlg", "es", "spk"]
+
+
+@st.composite
+def traces(draw):
+    """A synthetic trace: messages between a few modules, each caused by an earlier delivered one (or none)."""
+    records = []
+    t = 0.0
+    delivered: list[tuple[str, str, float]] = []  # (id, receiver, delivery time)
+    n = draw(st.integers(1, 25))
+    seq = 0
+    for i in range(n):
+        t += draw(st.floats(0.0, 0.5))
+        cause = draw(st.sampled_from(delivered)) if delivered and draw(st.booleans()) else None
+        sender = cause[1] if cause else draw(st.sampled_from(MODULES))
+        t_send = max(t, cause[2] + draw(st.floats(0.0, 0.4))) if cause else t
+        receiver = draw(st.sampled_from([m for m in MODULES if m != sender]))
+        mid = f"{sender}#{i}"
+        seq += 1
+        records.append({"t": t_send, "seq": seq, "kind": "publish", "sender": sender, "channel": f"/c/{sender}",
+                        "receivers": [receiver], "id": mid, "causes": [cause[0]] if cause else [], "created": t_send,
+                        "xml": f'<m name="n{i}"/>'})
+        lat = draw(st.floats(0.0, 0.05))
+        seq += 1
+        records.append({"t": t_send + lat, "seq": seq, "kind": "deliver", "id": mid, "receivers": [receiver]})
+        delivered.append((mid, receiver, t_send + lat))
+        t = t_send
+    records.sort(key=lambda r: (r["t"], r["seq"]))
+    return records
+
+
+def write(path, records):
+    head = {"homesim_trace": 1, "scenario": "synthetic", "seed": 0, "homesim_version": "0"}
+    path.write_text("\n".join(json.dumps(r) for r in [head, *records]) + "\n", encoding="utf-8")
+    return path
+
+
+@settings(max_examples=examples(40, 100))
+@given(records=traces())
+def test_spans_run_from_a_cause_delivered_to_the_sender_until_its_message(tmp_path_factory, records):
+    path = write(tmp_path_factory.mktemp("tl") / "t.jsonl", records)
+    tl = read_timeline(path, end=max(r["t"] for r in records) + 1.0)
+    sends = {r["id"]: r for r in records if r["kind"] == "publish"}
+    deliveries = {(r["id"], r["receivers"][0]): r["t"] for r in records if r["kind"] == "deliver"}
+    for s in tl.spans:
+        effect = sends[s.effect]
+        assert s.lane == effect["sender"] and s.end >= effect["t"] >= s.start
+        assert s.start == deliveries[(s.cause, s.lane)]
+    caused = [m for m in sends.values() if m["causes"] and (m["causes"][0], m["sender"]) in deliveries
+              and deliveries[(m["causes"][0], m["sender"])] <= m["t"]]
+    for m in caused:  # each message made from a delivered cause lies in a span of its sender from that delivery
+        start = deliveries[(m["causes"][0], m["sender"])]
+        assert any(s.lane == m["sender"] and s.start == start and s.end >= m["t"] for s in tl.spans), m["id"]
+    for f in tl.flows:
+        assert f.cause_t <= f.effect_t and sends[f.cause]["sender"] == f.cause_sender
+    assert set(tl.lanes) >= {r["sender"] for r in sends.values()}
+    for m in tl.messages:
+        for r, td in m.delivered.items():
+            assert td == deliveries[(m.id, r)] and td >= m.t
+
+
+@pytest.fixture(scope="module")
+def tour(tmp_path_factory):
+    return tour_trace(tmp_path_factory.getbasetemp())
+
+
+def test_the_greeting_shows_recognition_then_a_fast_supervisor(tour):
+    tl = read_timeline(tour, start=0, end=12)
+    assert [p.mark for p in tl.phases][:2] == ["A", "B"]
+    greeting = next(m for m in tl.messages if m.label == "event greeting")
+    assert any(p.mark == "B" and p.t == greeting.t for p in tl.phases)
+    heard = next(m for m in tl.messages if m.label == "utterance hello biron")
+    recognising = next(s for s in tl.spans if s.cause == heard.id)
+    assert recognising.lane == "understanding" and recognising.end - recognising.start > 0.2  # speech takes longest
+    es = [s for s in tl.spans if s.lane == "supervisor" and s.cause == greeting.id]
+    assert es and all(s.end - s.start < 0.02 for s in es)  # the ES reconfigures in under 20 ms (Fig. 6)
+    # the greeting chain runs down the lanes: microphones, understanding, dialog
+    assert tl.lanes.index("microphones") < tl.lanes.index("understanding") < tl.lanes.index("dialog")
+    assert any(m.continuous and m.channel == "/robot/laser/scan" for m in tl.messages)
+    assert not any(m.channel.startswith("/system/heartbeat/") for m in tl.messages)
+
+
+def test_plot_timeline_writes_png_and_the_same_svg_twice(tour, tmp_path, capsys):
+    a, b, png = tmp_path / "a.svg", tmp_path / "b.svg", tmp_path / "t.png"
+    for out in (a, b, png):
+        assert main(["plot", str(tour), "--timeline", "--from", "0", "--to", "12", "--out", str(out)]) == 0
+    assert "processing spans" in capsys.readouterr().out
+    svg = a.read_text(encoding="utf-8")
+    assert a.read_bytes() == b.read_bytes()
+    for text in ("B: greeting", "understanding", "continuous stream", "processing (cause delivered"):
+        assert text in svg, text
+    assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+def test_an_empty_window_is_refused(tour, tmp_path, capsys):
+    assert main(["plot", str(tour), "--timeline", "--from", "5", "--to", "5", "--out", str(tmp_path / "x.png")]) == 2
+    assert "window 5-5 s is empty" in capsys.readouterr().err
+
+
+def test_a_file_that_is_not_a_trace_is_refused(tmp_path, capsys):
+    bad = tmp_path / "x.jsonl"
+    bad.write_text('{"hello": 1}\n', encoding="utf-8")
+    assert main(["plot", str(bad), "--timeline", "--out", str(tmp_path / "x.png")]) == 2
+    assert "not a homesim trace" in capsys.readouterr().err
