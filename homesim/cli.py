@@ -25,6 +25,7 @@ SUBCOMMAND_MODULES: list[str] = [
     "homesim.check",
     "homesim.memory.cli",
     "homesim.viz.cli",
+    "homesim.export.cli",
 ]
 
 

@@ -53,6 +53,12 @@ class TraceCheck:
     def flush(self) -> None:
         pass
 
+    def finished(self) -> None:
+        """Fail unless every line of the trace was matched (a re-run that ended early is not the run)."""
+        rest = self.fh.readline()
+        if rest:
+            raise HomesimError(f"{self.path}:{self.line + 1}: the re-run ended before the trace did (trace: {rest.strip()[:160]!r})")
+
     def close(self) -> None:
         self.fh.close()
 

@@ -1,0 +1,127 @@
+"""``homesim export``: Perfetto trace events with cause flows, and MCAP for Foxglove, read back."""
+
+from __future__ import annotations
+
+import json
+import math
+
+import pytest
+from mcap.reader import make_reader
+
+from homesim.cli import main
+from homesim.export.foxglove import SCHEMAS
+
+from .viz_helpers import tour_trace
+
+
+@pytest.fixture(scope="module")
+def tour(tmp_path_factory):
+    return tour_trace(tmp_path_factory.getbasetemp())
+
+
+@pytest.fixture(scope="module")
+def perfetto(tour, tmp_path_factory):
+    out = tmp_path_factory.mktemp("pf") / "tour.json"
+    assert main(["export", str(tour), "--perfetto", str(out)]) == 0
+    return json.loads(out.read_text(encoding="utf-8"))
+
+
+def test_perfetto_follows_a_greeting_from_the_microphones_to_the_robots_answer(perfetto):
+    events = perfetto["traceEvents"]
+    threads = {e["tid"]: e["args"]["name"] for e in events if e["ph"] == "M" and e["name"] == "thread_name"}
+    slices = {(e["tid"], e["ts"]): e for e in events if e["ph"] == "X"}
+    starts = {e["id"]: e for e in events if e["ph"] == "s"}
+    back: dict[str, list[str]] = {}  # message id -> the ids of its causes, read from the flows alone
+    for f in (e for e in events if e["ph"] == "f"):
+        assert f["bp"] == "e"
+        s = starts[f["id"]]
+        effect, cause = slices[(f["tid"], f["ts"])], slices[(s["tid"], s["ts"])]
+        assert cause["ts"] <= effect["ts"]
+        back.setdefault(effect["args"]["id"], []).append(cause["args"]["id"])
+    by_id = {e["args"]["id"]: e for e in slices.values()}
+    answer = next(e for e in slices.values() if e["args"]["channel"] == "/robot/speaker/say" and "Hello, I am BIRON" in e["args"]["xml"])
+    chain, node = [], answer["args"]["id"]
+    while node in back:
+        chain.append(threads[by_id[node]["tid"]])
+        node = back[node][0]
+    chain.append(threads[by_id[node]["tid"]])
+    assert chain == ["dialog", "supervisor", "dialog", "understanding", "microphones"]
+    spans = [e for e in events if e["ph"] == "b" and e["cat"] == "processing"]
+    ends = {e["id"]: e for e in events if e["ph"] == "e"}
+    recognition = next(e for e in spans if threads[e["tid"]] == "understanding")
+    assert ends[recognition["id"]]["ts"] - recognition["ts"] > 200_000  # microseconds: recognition takes longest
+    assert not any(e["args"]["channel"].startswith("/system/heartbeat/") for e in slices.values())
+    assert perfetto["otherData"]["scenario"] == "home_tour"
+
+
+@pytest.fixture(scope="module")
+def mcaps(tmp_path_factory):
+    d = tmp_path_factory.mktemp("mcap")
+    trace = tour_trace(tmp_path_factory.getbasetemp(), until=3.0)
+    a, b = d / "a.mcap", d / "b.mcap"
+    for out in (a, b):
+        assert main(["export", str(trace), "--mcap", str(out)]) == 0
+    return trace, a, b
+
+
+def test_mcap_of_the_same_run_is_byte_identical(mcaps):
+    _, a, b = mcaps
+    assert a.read_bytes() == b.read_bytes()
+
+
+def test_mcap_holds_every_bus_channel_and_the_foxglove_views(mcaps):
+    trace, a, _ = mcaps
+    sends = [json.loads(line) for line in trace.read_text(encoding="utf-8").split("\n")[1:] if line]
+    sends = [r for r in sends if r["kind"] in ("publish", "request", "reply", "error")]
+    with open(a, "rb") as fh:
+        reader = make_reader(fh)
+        summary = reader.get_summary()
+        assert {s.name for s in summary.schemas.values()} == set(SCHEMAS)
+        assert all(s.encoding == "jsonschema" and json.loads(s.data)["title"] == s.name for s in summary.schemas.values())
+        got: dict[str, list] = {}
+        last = -1
+        for schema, channel, msg in reader.iter_messages(log_time_order=False):
+            assert channel.message_encoding == "json" and msg.log_time >= last
+            last = msg.log_time
+            got.setdefault(channel.topic, []).append((schema.name, msg.log_time, json.loads(msg.data)))
+    bus = [(t, m) for topic, ms in got.items() for name, t, m in ms if name == "homesim.BusMessage"]
+    assert sorted(m["id"] for _, m in bus) == sorted(r["id"] for r in sends)  # every send, once
+    by_id = {m["id"]: (t, m) for t, m in bus}
+    for r in sends:
+        t, m = by_id[r["id"]]
+        assert t == round(r["t"] * 1e9) and m["xml"] == r["xml"] and m["causes"] == r["causes"]
+    scans = got["/laser"]
+    traced = [r for r in sends if r["channel"] == "/robot/laser/scan"]
+    assert len(scans) == len(traced)
+    import hashlib
+    import numpy as np
+    for (_, t, s), r in zip(scans, traced):
+        assert len(s["ranges"]) == 361 and s["frame_id"] == "laser"
+        assert math.isclose(s["end_angle"] - s["start_angle"], math.pi)
+        digest = hashlib.sha256(np.asarray(s["ranges"], dtype="<f8").tobytes()).hexdigest()
+        assert digest == r["attachments"]["ranges"]["sha256"]  # the very ranges the robot saw
+    frames = {tr["child_frame_id"] for _, _, m in got["/tf"] for tr in m["transforms"]}
+    assert frames >= {"base_link", "laser", "odom", "estimate"}
+    people = got["/scene/people"][-1][2]["entities"]
+    assert [e["id"] for e in people] == ["person/anna"] and people[0]["cylinders"][0]["size"]["z"] > 1.0
+    walls = got["/scene/map"][0][2]["entities"][0]["lines"]
+    assert len(walls) > 10
+    tracks = [m for _, _, m in got["/scene/tracks"] if m["entities"]]
+    assert tracks and tracks[-1]["entities"][0]["frame_id"] == "odom"
+
+
+def test_export_needs_something_to_write(mcaps, capsys):
+    trace, _, _ = mcaps
+    assert main(["export", str(trace)]) == 2
+    assert "--perfetto" in capsys.readouterr().err
+
+
+def test_mcap_refuses_a_trace_that_the_run_does_not_reproduce(mcaps, tmp_path, capsys):
+    trace, _, _ = mcaps
+    lines = trace.read_text(encoding="utf-8").split("\n")
+    bad = tmp_path / "bad.jsonl"
+    bad.write_text("\n".join(lines[:40] + [lines[40].replace('"seq":40', '"seq":4000')] + lines[41:]), encoding="utf-8")
+    out = tmp_path / "x.mcap"
+    assert main(["export", str(bad), "--mcap", str(out)]) == 2
+    assert f"{bad}:41: the re-run departs from the trace" in capsys.readouterr().err
+    assert not out.exists() and not (tmp_path / "x.mcap.part").exists()
