@@ -10,7 +10,7 @@ Messages sent several times a second for a sustained time are *continuous
 streams* (scans, odometry, tracks; the papers' Fig. 6 draws them lighter);
 the others are *events*. Heartbeats (``/system/heartbeat/``) are left out
 unless asked for. Phases (start, greeting, follow request, following, stop,
-teaching, good-bye) are read from the supervisor's events.
+teaching, good-bye) are read from the supervisor's log: where it applied those events.
 
 Both passes stream the file; memory holds one small record per event
 message in the asked window, a thinned sample of each stream, and bounded
@@ -36,13 +36,13 @@ STREAM_RATE = 0.9
 STREAM_MIN = 20
 HEARTBEAT = "/system/heartbeat/"
 SENDS = ("publish", "request", "reply", "error")
-#: Phases: an ES event's name -> (mark, label); "following" is the first follow status after a follow request.
+#: Phases: an event the ES applied -> (mark, label); "following" is the first follow status after a follow request.
 PHASE_EVENTS: dict[str, tuple[str, str]] = {
     "greeting": ("B", "greeting"), "follow": ("C", "follow request"), "stop": ("E", "stop"),
     "object_teaching": ("T", "teaching an object"), "place_teaching": ("T", "teaching a place"),
     "goodbye": ("G", "good-bye"),
 }
-ES_EVENTS = "/robot/es/events"
+ES_LOG = "/robot/es/log"
 FOLLOW_STATUS = "/robot/follow/status"
 
 
@@ -250,7 +250,7 @@ def read_timeline(path: str | os.PathLike[str], *, start: float | None = None, e
             continue
         d = 1 + max((depth.get(c, -1) for c in rec.get("causes", ())), default=-1)
         depth.put(rec["id"], d)
-        if ch == ES_EVENTS:
+        if ch == ES_LOG and 'kind="applied"' in rec.get("xml", ""):
             name = label_of(rec).split(" ", 1)[-1]
             if name in PHASE_EVENTS and t0 <= t <= t1:
                 mark, label = PHASE_EVENTS[name]

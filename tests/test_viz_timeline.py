@@ -84,7 +84,7 @@ def test_the_greeting_shows_recognition_then_a_fast_supervisor(tour):
     tl = read_timeline(tour, start=0, end=12)
     assert [p.mark for p in tl.phases][:2] == ["A", "B"]
     greeting = next(m for m in tl.messages if m.label == "event greeting")
-    assert any(p.mark == "B" and p.t == greeting.t for p in tl.phases)
+    assert any(p.mark == "B" and 0 <= p.t - greeting.t < 0.02 for p in tl.phases)  # where the ES applied it
     heard = next(m for m in tl.messages if m.label == "utterance hello biron")
     recognising = next(s for s in tl.spans if s.cause == heard.id)
     assert recognising.lane == "understanding" and recognising.end - recognising.start > 0.2  # speech takes longest
