@@ -20,6 +20,7 @@ from matplotlib.lines import Line2D
 from matplotlib.patches import FancyArrowPatch, Patch, Rectangle
 
 from ..traceview import Timeline
+from .moment import place_labels
 
 EVENT = "#1f3b73"
 REPLY = "#2ca02c"
@@ -50,12 +51,14 @@ def plot_timeline(tl: Timeline, *, width: float = 14.0) -> Figure:
     for s in tl.spans:
         if s.lane not in y:
             continue
-        w = max(s.end - s.start, min_w)
-        ax.add_patch(Rectangle((s.start, y[s.lane] - 0.18), w, 0.36, facecolor=SPAN, edgecolor="#b06d10", linewidth=0.4, zorder=3))
-        if s.end - s.start >= LABEL_SPAN_S and (s.end - s.start) / dur > 0.004:
-            ax.text(s.start + w / 2, y[s.lane] - 0.22, _ms(s.end - s.start), ha="center", va="top", fontsize=6, color="#8a520c", zorder=6)
+        x0 = max(s.start, tl.start)  # a span begun before the window is drawn from its edge
+        w = max(s.end - x0, min_w)
+        ax.add_patch(Rectangle((x0, y[s.lane] - 0.18), w, 0.36, facecolor=SPAN, edgecolor="#b06d10", linewidth=0.4, zorder=3))
+        if s.end - s.start >= LABEL_SPAN_S and w / dur > 0.004:
+            ax.text(x0 + w / 2, y[s.lane] - 0.22, _ms(s.end - s.start), ha="center", va="top", fontsize=6, color="#8a520c", zorder=6)
     events = [m for m in tl.messages if not m.continuous]
     label = len(events) <= LABEL_EVENTS
+    labels = []
     for m in tl.messages:
         if m.sender not in y:
             continue
@@ -67,12 +70,14 @@ def plot_timeline(tl: Timeline, *, width: float = 14.0) -> Figure:
                                          color=colour, linewidth=0.5 if m.continuous else 0.9,
                                          alpha=0.45 if m.continuous else 0.9, zorder=2 if m.continuous else 4))
         if label and not m.continuous:
-            ax.text(m.t, y[m.sender] + 0.12, m.label, fontsize=5.5, rotation=25, ha="left", va="bottom", color=colour, zorder=7)
-    for p in tl.phases:
+            text = m.label if len(m.label) <= 32 else m.label[:31] + "\u2026"
+            labels.append(ax.text(m.t, y[m.sender] + 0.12, text, fontsize=5.5, ha="left", va="bottom", color=colour, zorder=7,
+                                  bbox={"facecolor": "white", "edgecolor": "none", "alpha": 0.7, "pad": 0.5}))
+    for i, p in enumerate(tl.phases):
         ax.axvline(p.t, color=PHASE, linestyle="--", linewidth=0.8, zorder=1)
-        ax.text(p.t, len(lanes) - 0.35, f"{p.mark}: {p.label}", color=PHASE, fontsize=7, rotation=0, ha="left", va="bottom", zorder=7)
+        ax.text(p.t, len(lanes) - 0.45 + 0.35 * (i % 2), f"{p.mark}: {p.label}", color=PHASE, fontsize=7, ha="left", va="bottom", zorder=7)
     ax.set_yticks(list(y.values()), list(y.keys()), fontsize=7)
-    ax.set_ylim(-0.8, len(lanes) + 0.2)
+    ax.set_ylim(-0.8, len(lanes) + 0.5)
     ax.set_xlim(tl.start - dur * 0.01, tl.end + dur * 0.01)
     ax.set_xlabel("virtual time [s]")
     ax.set_title(f"{tl.scenario} (seed {tl.seed}): module communication, {tl.start:g}-{tl.end:g} s "
@@ -84,4 +89,5 @@ def plot_timeline(tl: Timeline, *, width: float = 14.0) -> Figure:
                "processing (cause delivered -> message sent)", "phase"],
               loc="upper left", bbox_to_anchor=(1.005, 1.0), fontsize=7, frameon=False)
     fig.tight_layout()
+    place_labels(ax, labels)  # message labels moved off each other
     return fig
