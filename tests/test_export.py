@@ -110,6 +110,21 @@ def test_mcap_holds_every_bus_channel_and_the_foxglove_views(mcaps):
     assert tracks and tracks[-1]["entities"][0]["frame_id"] == "odom"
 
 
+def test_every_mcap_message_is_valid_against_its_channels_json_schema(mcaps):
+    import jsonschema  # in the test extra
+
+    _, a, _ = mcaps
+    checked: dict[str, int] = {}
+    with open(a, "rb") as fh:
+        for schema, _channel, msg in make_reader(fh).iter_messages():
+            jsonschema.validate(json.loads(msg.data), json.loads(schema.data))
+            checked[schema.name] = checked.get(schema.name, 0) + 1
+    assert set(checked) == set(SCHEMAS)
+    bad = {"timestamp": {"sec": -1, "nsec": 0}, "frame_id": "laser", "pose": {}, "start_angle": 0, "end_angle": 1, "ranges": []}
+    with pytest.raises(jsonschema.ValidationError):  # the schemas do refuse what Foxglove would not read
+        jsonschema.validate(bad, SCHEMAS["foxglove.LaserScan"])
+
+
 def test_export_needs_something_to_write(mcaps, capsys):
     trace, _, _ = mcaps
     assert main(["export", str(trace)]) == 2
