@@ -88,3 +88,28 @@ def test_talking_while_looking_away_makes_no_potential_partner():
     assert pp and all(1.0 < t < 2.6 for t in pp)
     assert any(n == "potential_partner_lost" and 2.1 < t < 3.5 for t, n in evs)
     run.close()
+
+
+def test_the_beam_hears_the_unexplained_radio_not_the_talker_looking_away_and_the_new_speaker_gets_the_look():
+    """scenarios/attention/radio_and_talkers.xml: where the recogniser listens (DESIGN 2.2, 2.3)."""
+    run = attention_run(ATTENTION_SCENARIOS / "radio_and_talkers.xml")
+    run.run()
+    try:
+        sound = run.world.sound
+        (radio,) = sound.by("radio")
+        (ann_hello,) = sound.by("ann")
+        speech = [(m.created, m.xml.text or "") for m in channel(run, "/robot/audio/speech")]
+        # The radio's greeting comes from where nobody is: the beam turns to it, its words reach the robot.
+        assert [w for t, w in speech if radio.start < t <= radio.end + 0.2] == ["hello biron"]
+        # Bob talks while the robot sees him looking away: none of his words are recognised.
+        assert not any(w in text for _, text in speech for w in ("keys", "kitchen", "somewhere", "put"))
+        # Ann starts talking while Bob (selected, speaking) still talks: she takes the selection
+        # at once, the camera finds her facing the robot, and she is the potential partner while
+        # she greets; her greeting is recognised although the beam reached her during it.
+        pp = [t for t, n in events(run) if n == "potential_partner"]
+        assert pp and ann_hello.start < pp[0] < ann_hello.end
+        assert [w for t, w in speech if ann_hello.start < t <= ann_hello.end + 0.2] == ["hello biron"]
+        steer = [m for m in channel(run, "/robot/audio/steer") if ann_hello.start - 0.5 < m.created < ann_hello.start + 0.4]
+        assert all(m.xml.get("off") == "true" or float(m.xml.get("bearing")) < 0 for m in steer)  # not yet on her (left)
+    finally:
+        run.close()

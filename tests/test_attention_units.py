@@ -69,6 +69,29 @@ def test_ties_go_to_the_one_not_selected_for_the_longest_time(ids, cat, order):
         assert got == min(ids, key=lambda i: last[i])
 
 
+@settings(max_examples=200, deadline=None)
+@given(seq=frames)
+def test_someone_who_starts_speaking_gets_the_look_from_an_equal_talker_at_once(seq):
+    """When a free person starts speaking (rises into category 2) while the selected person speaks
+    without facing the robot (category 2, the best there is), the tie is decided there and then:
+    the selection moves to one of the equals not selected for longer. (Category 3 keeps its
+    selection: rule 1.)"""
+    sel = Selector(P)
+    now = 0.0
+    before: dict[int, int] = {}
+    for dt, cats in seq:
+        now += dt
+        prev = sel.selected
+        got = sel.update(now, cats)
+        if prev is not None and prev in cats and got is not None:
+            c = cats[prev]
+            free = {i for i in cats if sel.blocked_until.get(i, -math.inf) <= now}
+            risen = [i for i in cats if i != prev and i in free and cats[i] == c and before.get(i, 0) < c]
+            if c == 2 and prev in free and c == max(cats[i] for i in free) and risen:
+                assert got != prev and cats[got] == c
+        before = dict(cats)
+
+
 def test_inhibition_of_return_then_the_other_then_back():
     sel = Selector(P)
     cats = {1: 1, 2: 1}

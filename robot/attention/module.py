@@ -25,9 +25,16 @@ the person of interest (:mod:`.selection`), advance the attention FSM
 - ``/robot/base/cmd``: turning on the spot towards the person in Listen,
   Interaction and Object (a zero command when it faces them or leaves
   those states); never in Follow, where the follower drives;
-- ``/robot/audio/steer``: the recogniser's beam on the selected person
-  while they speak facing the robot (bottom-up), on the partner in the
-  top-down states, off otherwise.
+- ``/robot/audio/steer``: the recogniser's beam (:meth:`PersonAttention.beam`):
+  on the partner in the top-down states; bottom-up on the potential
+  partner (selected, speaking while facing the robot); otherwise on the
+  dominant unexplained sound direction (the loudest direction of the last
+  ``/robot/audio/sources`` frame that no confirmed track accounts for, at
+  most ``dominant_max_age`` old), so a greeting from where no person is seen
+  (a radio) is still recognised and reaches the supervisor, which rejects it
+  as expired because no potential partner backs it (DESIGN §2.2), while a
+  seen person talking without facing the robot stays unheard (gated, §2.3);
+  off when all is quiet.
 
 Orders arrive on ``/robot/es/orders/person_attention``; an unknown order
 changes nothing and is kept, with the reason, in
@@ -102,6 +109,7 @@ class AttentionParams:
     ptu_deadband: float = math.radians(1.5)
     ptu_refresh: float = 1.0  # s
     steer_deadband: float = math.radians(3.0)
+    dominant_max_age: float = 0.35  # s: a sound-direction frame older than this no longer steers the beam
     state_refresh: float = 1.0  # s
     cue_max_age: float = 0.3  # s: an odometry pose older than this is extrapolated
     max_refused: int = 32
@@ -147,6 +155,7 @@ class PersonAttention(Module):
         self._ptu_sent: tuple[float, float] | None = None
         self._ptu_at = -math.inf
         self._steer_sent: float | None | str = "unset"
+        self._dominant: tuple[float, float] | None = None  # (time, front bearing rad): the loudest unexplained direction
         self._state_sent: tuple[str, int | None, int | None] | None = None
         self._state_at = -math.inf
         self.scans = 0
@@ -241,9 +250,17 @@ class PersonAttention(Module):
         t = msg.created
         ids = self.tracks.ids
         bearings = np.array([math.radians(float(s.get("bearing"))) for s in msg.xml], dtype=float)
-        rows = match_sounds(bearings_from(self._robot_xy(t), self.cues.mic_offset), bearings, self.cues.sound_tolerance) if len(ids) else []
+        track_bearings = bearings_from(self._robot_xy(t), self.cues.mic_offset) if len(ids) else np.zeros(0)
+        rows = match_sounds(track_bearings, bearings, self.cues.sound_tolerance) if len(ids) else []
         self.speaking.feed(t, ids, {int(ids[r]) for r in rows})
         self._partner_seen(rows, t)  # the partner's voice from the partner's direction keeps the partner
+        if bearings.size:
+            levels = np.array([float(s.get("level", "0")) for s in msg.xml], dtype=float)
+            seen = track_bearings[self.tracks.confirmed] if len(ids) else track_bearings
+            free = [k for k in range(bearings.size) if not match_sounds(seen, bearings[k : k + 1], self.cues.sound_tolerance)]
+            if free:
+                k = max(free, key=lambda j: float(levels[j]))
+                self._dominant = (t, float(bearings[k]))
 
     def _partner_seen(self, rows: list[int], t: float) -> None:
         """Weak evidence (the voice from the partner's bearing) counts for the partner only."""
@@ -349,7 +366,7 @@ class PersonAttention(Module):
             self._bottom_up_events(t, selected, cats, bearing, dist)
         self._publish_tracks(t, cats, bearing, dist)
         row = tr.row(selected) if selected is not None else -1
-        self._act(t, row, bearing, dist)
+        self._act(t, row, bearing, dist, cats.get(selected, 0) if selected is not None else 0)
         if self.partner is not None:
             prow = tr.row(self.partner)
             if prow >= 0:
@@ -393,7 +410,7 @@ class PersonAttention(Module):
         self.bus.publish(EVENTS, el)
 
     # ------------------------------------------------------------ actions
-    def _act(self, t: float, row: int, bearing: np.ndarray, dist: np.ndarray) -> None:
+    def _act(self, t: float, row: int, bearing: np.ndarray, dist: np.ndarray, category: int) -> None:
         p = self.params
         state = self.fsm.state
         target = CAMERA[state]
@@ -418,11 +435,25 @@ class PersonAttention(Module):
         elif self._turning:
             self._base(0.0)
             self._turning = False
-        # Gated recognition: the beam on a person speaking while facing the robot, or the partner.
-        steer: float | None = None
-        if row >= 0 and (self.fsm.top_down or (self.selector.selected is not None and self.pp_sent == self.selector.selected)):
-            steer = float(bearing[row])
-        self._steer(steer)
+        self._steer(self.beam(t, float(bearing[row]) if row >= 0 else None, category))
+
+    def beam(self, t: float, bearing: float | None, category: int) -> float | None:
+        """Where the recogniser listens: the partner (top-down), the selected person while they speak
+        facing the robot (``category`` 3), else the loudest sound direction that no confirmed track
+        explains if one was heard lately, else nowhere.
+
+        ``bearing`` is the partner's / selected person's bearing (None: no such track). A person the
+        robot tracks who talks without facing it is not addressing it (gated, DESIGN §2.3); a sound
+        from where nobody is seen is unexplained, so the robot listens, and the supervisor rejects a
+        greeting that no person backs (the radio, DESIGN §2.2) instead of never hearing it.
+        """
+        if self.fsm.top_down:
+            return bearing
+        if bearing is not None and category == 3:
+            return bearing
+        if self._dominant is not None and t - self._dominant[0] <= self.params.dominant_max_age:
+            return self._dominant[1]
+        return None
 
     def _ptu(self, t: float, pan: float, tilt: float) -> None:
         p = self.params

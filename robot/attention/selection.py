@@ -9,7 +9,12 @@ communication partner. Rules, in order:
 2. Otherwise the highest category wins: a person of a higher category than
    the selected one takes the selection at once.
 3. Among equals, the one not selected for the longest time (never selected
-   counts as longest).
+   counts as longest). The current selection keeps its place among equals
+   (rule 4 ends it) except when the tie arises because someone *starts
+   speaking* (rises into category 2 to join the selected one): then the
+   tie is decided at once, so a second talker whose face the camera cannot
+   see yet gets a look (they may be a potential partner) instead of waiting
+   out the first talker's ``max_selection``.
 4. A person of category 1 or 2 stays selected at most ``max_selection``
    seconds, then is blocked for ``inhibition`` seconds (inhibition of
    return) so the robot looks at the others; a blocked person is selected
@@ -38,9 +43,11 @@ class Selector:
     since: float = -math.inf  # when the current selection began
     last_selected: dict[int, float] = field(default_factory=dict)  # id -> last time it was selected
     blocked_until: dict[int, float] = field(default_factory=dict)
+    previous: dict[int, int] = field(default_factory=dict)  # the categories of the last update
 
     def update(self, now: float, categories: dict[int, int]) -> int | None:
         """Select among ``categories`` (track id -> 1, 2 or 3) at ``now``; returns the selected id."""
+        previous, self.previous = self.previous, dict(categories)
         cur = self.selected
         if cur is not None:
             self.last_selected[cur] = now
@@ -63,7 +70,9 @@ class Selector:
         best = max(categories[i] for i in pool)
         # 2. The highest category; the current selection stays if it is among the best.
         if cur is not None and cur in pool and categories[cur] == best:
-            return self._keep(now, cur)
+            risen = best == 2 and any(categories[i] == best and previous.get(i, 0) < best for i in pool if i != cur)
+            if not risen:
+                return self._keep(now, cur)
         return self._switch(now, self._longest_unselected([i for i in pool if categories[i] == best]))
 
     def _longest_unselected(self, ids: list[int]) -> int:

@@ -18,7 +18,11 @@ What two microphones and one recogniser really deliver, nothing more:
   sent by the person attention system). An utterance is recognised when the
   beam was on it (the utterance's direction at each moment, folded to the
   front half-plane, within ``beam_width`` of the steering then: the robot
-  turns while people talk) for at least half its duration;
+  turns while people talk) for at least half its duration, or when it
+  ended: the recogniser keeps the segment's two channels and beamforms the
+  whole buffered segment once it decodes, so the very "Hello BIRON" that
+  makes its speaker a potential partner is heard although the beam only
+  turned to them during it;
   overlapping sound raises the word errors (sources outside the beam count
   ``beam_rejection_db`` less). It publishes
   ``<utterance start end tdoa bearing level confidence>words</utterance>``
@@ -94,9 +98,10 @@ class Microphones(Module):
         self._furniture = _edges([o.polygon for o in world.obstacles if o.kind == "furniture" and o.bottom <= 0.0 and o.top >= 0.5])
         # The beam's history: (since, bearing or None), the last few seconds only.
         self._steer: list[tuple[float, float | None]] = [(-math.inf, None)]
-        # Per utterance under way: seconds heard so far, and of them with the beam on its direction
-        # at that moment (the robot turns while people talk; the beam is steered in the robot frame).
-        self._on_beam: dict[int, tuple[float, float]] = {}
+        # Per utterance under way: seconds with the beam on its direction at that moment (the robot
+        # turns while people talk; the beam is steered in the robot frame), seconds heard so far, and
+        # whether the beam was on it in the last frame.
+        self._on_beam: dict[int, tuple[float, float, bool]] = {}
         # What the speaker announced it plays: (start, text) -> end (the AEC's reference).
         self._played: dict[tuple[float, str], float] = {}
         self.bus.subscribe(STEER, self._on_steer)
@@ -196,9 +201,9 @@ class Microphones(Module):
                 continue
             a = math.atan2(src[1] - pose[1], src[0] - pose[0]) - pose[2]
             front = math.asin(max(-1.0, min(1.0, math.sin(a))))
-            on, total = self._on_beam.get(u.n, (0.0, 0.0))
+            on, total, _ = self._on_beam.get(u.n, (0.0, 0.0, False))
             hit = beam is not None and abs(math.asin(max(-1.0, min(1.0, math.sin(beam)))) - front) <= self.spec.beam_width
-            self._on_beam[u.n] = (on + (period if hit else 0.0), total + period)
+            self._on_beam[u.n] = (on + (period if hit else 0.0), total + period, hit)
         if len(self._on_beam) > 4 * (len(active) + 8):  # bounded: utterances that ended unseen
             live = {u.n for u in active}
             self._on_beam = {k: v for k, v in self._on_beam.items() if k in live}
@@ -230,7 +235,8 @@ class Microphones(Module):
         front = float(bearing_from_tdoa(dts[0], spec))
         heard = self._on_beam.get(u.n)
         share = heard[0] / heard[1] if heard is not None and heard[1] > 0 else self._beam_share(u.start, u.end, front)
-        if levels[0] < spec.threshold_db or share < 0.5:
+        at_end = heard is not None and heard[2]
+        if levels[0] < spec.threshold_db or (share < 0.5 and not at_end):
             return  # too quiet to segment, or the beam was elsewhere
         interference = []
         for k in range(1, len(kept)):
