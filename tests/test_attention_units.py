@@ -75,7 +75,7 @@ def test_someone_who_starts_speaking_gets_the_look_from_an_equal_talker_at_once(
     """When a free person starts speaking (rises into category 2) while the selected person speaks
     without facing the robot (category 2, the best there is), the tie is decided there and then:
     the selection moves to one of the equals not selected for longer. (Category 3 keeps its
-    selection: rule 1.)"""
+    selection: rule 1.) And starting to speak lifts a block (inhibition of return)."""
     sel = Selector(P)
     now = 0.0
     before: dict[int, int] = {}
@@ -89,6 +89,10 @@ def test_someone_who_starts_speaking_gets_the_look_from_an_equal_talker_at_once(
             risen = [i for i in cats if i != prev and i in free and cats[i] == c and before.get(i, 0) < c]
             if c == 2 and prev in free and c == max(cats[i] for i in free) and risen:
                 assert got != prev and cats[got] == c
+        # Starting to speak lifts the inhibition of return (the selected one may reach its time limit).
+        for i, c in cats.items():
+            if c >= 2 and before.get(i, 0) < 2 and i != prev:
+                assert sel.blocked_until.get(i, -math.inf) <= now
         before = dict(cats)
 
 

@@ -18,7 +18,10 @@ communication partner. Rules, in order:
 4. A person of category 1 or 2 stays selected at most ``max_selection``
    seconds, then is blocked for ``inhibition`` seconds (inhibition of
    return) so the robot looks at the others; a blocked person is selected
-   only when nobody else is there.
+   only when nobody else is there. Starting to speak (rising into category
+   2) lifts the block: someone who was just looked at and then greets the
+   robot must not wait out the inhibition while the robot looks at a
+   silent person.
 
 :class:`Selector` is a pure state machine over (time, {track id: category}),
 with no bus or geometry, so the rules can be property-tested.
@@ -61,7 +64,10 @@ class Selector:
             return self._switch(now, self._longest_unselected(threes))
         if not categories:
             return self._switch(now, None)
-        # 4. Time limit, then inhibition of return.
+        # 4. Time limit, then inhibition of return (lifted by a speech onset: starting to speak is news).
+        for i, c in categories.items():
+            if c >= 2 and previous.get(i, 0) < 2:
+                self.blocked_until.pop(i, None)
         if cur is not None and now - self.since >= self.params.max_selection and len(categories) > 1:
             self.blocked_until[cur] = now + self.params.inhibition
             cur = None
