@@ -12,7 +12,10 @@ Run: ``python benchmarks/bench_attention.py``. Prints
   (people the laser could see: in front, within 6.5 m, no wall between),
   on every scenario in ``scenarios/attention/`` and the example flat;
 - each scenario's CLEAR-MOT/IDF1 figures from the ``tracking`` metric of a
-  full run (the runner, the supervisor and person_attention).
+  full run (the runner, the supervisor and person_attention), and the share
+  of interaction time the attention was on the right person;
+- the time from a greeting ("Hello BIRON", its start and end in the sound
+  field's ground truth) to the first ``potential_partner`` event after it.
 
 Not a test: wall-clock and CPU figures belong here, never in the test suite.
 """
@@ -137,14 +140,27 @@ def main() -> None:
     for p in SCENARIOS:
         tp, fp, fn, tp2, fp2, fn2, n = detector_scores(p)
         print(f"  {p.stem:24s} {n:6d} {tp / max(tp + fp, 1):14.3f} {tp / max(tp + fn, 1):6.3f} {tp2 / max(tp2 + fp2, 1):17.3f} {tp2 / max(tp2 + fn2, 1):6.3f}")
-    print("\ntracking (runner + supervisor + person_attention), CLEAR-MOT / IDF1:")
-    print(f"  {'scenario':24s} {'MOTA':>6s} {'MOTP m':>7s} {'IDF1':>6s} {'miss':>5s} {'FP':>4s} {'IDsw':>5s} {'gt':>3s} {'tracks':>6s}")
+    print("\ntracking (runner + supervisor + person_attention), CLEAR-MOT / IDF1; attention on the partner during interactions:")
+    print(f"  {'scenario':24s} {'MOTA':>6s} {'MOTP m':>7s} {'IDF1':>6s} {'miss':>5s} {'FP':>4s} {'IDsw':>5s} {'gt':>3s} {'tracks':>6s} {'on partner':>10s}")
+    latencies: list[tuple[str, str, float, float]] = []
     for p in SCENARIOS:
         run = Run.from_file(p, RunOptions(subsystems=("robot.attention",), metrics=("tracking",)))
+        pp: list[float] = []
+        run.dispatcher.add("/robot/es/events", lambda m: pp.append(m.created) if m.xml.get("name") == "potential_partner" else None)
         run.run()
         s = run.metric_values()["tracking"]
+        share = s.get("attention_on_partner_share")
+        for u in run.world.sound.all():
+            if u.source in run.world.humans and "hello biron" in u.text.lower():
+                after = [t for t in pp if t >= u.start]
+                if after:
+                    latencies.append((p.stem, u.source, after[0] - u.start, after[0] - u.end))
         run.close()
-        print(f"  {p.stem:24s} {s['mota']:6.3f} {s['motp_m']:7.3f} {s['idf1']:6.3f} {s['misses']:5d} {s['false_positives']:4d} {s['id_switches']:5d} {s['gt_ids']:3d} {s['track_ids']:6d}")
+        on = "-" if share is None else f"{share:.3f}"
+        print(f"  {p.stem:24s} {s['mota']:6.3f} {s['motp_m']:7.3f} {s['idf1']:6.3f} {s['misses']:5d} {s['false_positives']:4d} {s['id_switches']:5d} {s['gt_ids']:3d} {s['track_ids']:6d} {on:>10s}")
+    print("\ngreeting -> first potential_partner event (virtual seconds; negative from the end: before she finished):")
+    for name, who, from_start, from_end in latencies:
+        print(f"  {name:24s} {who:6s} from its start {from_start:5.2f}   from its end {from_end:+5.2f}")
 
 
 if __name__ == "__main__":

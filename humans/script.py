@@ -131,10 +131,13 @@ class Actor:
 
         With ``retries``, a miss (the robot asks for a repair, or the timeout
         passes) makes the person do her turn again (every action since her
-        previous wait-for: a point and a sentence, say) and wait anew.
+        previous wait-for: a point and a sentence, say; not the pause that
+        came before it) and wait anew.
         """
         repair = re.compile(act.repair or DEFAULT_REPAIR, re.IGNORECASE) if act.retries else None
         turn, self.turn = tuple(self.turn), []
+        while turn and isinstance(turn[0], Wait):  # the pause before her turn is not part of it
+            turn = turn[1:]
         for attempt in range(act.retries + 1):
             outcome = await self._wait_once(act, repair)
             if outcome == "answered":

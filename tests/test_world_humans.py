@@ -322,6 +322,17 @@ def test_a_user_who_gets_no_answer_repeats_her_turn_then_gives_up():
     assert gaps == [pytest.approx(3.0 + 0.5 + 1.0, abs=1e-6)] * 2  # wait, gap, then the 1 s point
 
 
+def test_a_repeated_turn_leaves_out_the_pause_before_it():
+    """A person who waited 4 s before greeting does not wait 4 s again before saying it again."""
+    st = _stage('<wait for="4"/>\n<say text="hello robot"/>\n<wait-for robot-says="hello" timeout="10" retries="1"/>', hardware=True)
+    _robot_says(st, (5.8, "Sorry, I did not understand you. Could you say that again?"))
+    st.run(16)
+    repair = st.world.sound.by("robot")[0]
+    ann = st.world.sound.by("ann")
+    assert [u.text for u in ann] == ["hello robot", "hello robot"]
+    assert ann[1].start == pytest.approx(repair.end + 0.5, abs=0.11)
+
+
 def test_without_retries_a_user_does_not_repeat_herself():
     st = _stage('<say text="hello robot"/>\n<wait-for robot-says="hello" timeout="4"/>\n<say text="done"/>', hardware=True)
     _robot_says(st, (2.5, "Sorry, I did not understand you. Could you say that again?"))
