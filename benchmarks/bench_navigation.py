@@ -6,7 +6,8 @@ Run: ``python benchmarks/bench_navigation.py``. Prints, on this machine:
   (a room with two people), and the scan to points conversion (legs inflated to bodies);
 - one whole control step of the follower and of the player (``control_step``: their
   inputs already delivered; the bus publish of the velocity and the status included);
-- the planner: building the inflated grid from the map once, and one path across the flat;
+- the planner: building the inflated grid from the map once, one path across the flat, and
+  one replan (a copy of the grid with a person's echoes marked, and a path on it);
 - the metrics' per-physics-step observers;
 
 and what each means per simulated second at 10 Hz control (the tour's budget is 3.3 ms
@@ -30,7 +31,7 @@ from homesim.world.stage import Stage
 from robot.hardware.laser import LaserSpec, simulate_scan
 from robot.hardware.map_server import floor_plan, map_element
 from robot.navigation.config import Limits
-from robot.navigation.grid import OccupancyGrid, parse_map
+from robot.navigation.grid import NoPathError, OccupancyGrid, parse_map
 from robot.navigation.local import dwa, scan_points
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -50,6 +51,14 @@ def per_call(fn, n: int) -> float:
 async def _next_scan(run):  # type: ignore[no-untyped-def]
     sub = run.sim.bus.participant(f"bench{run.sim.now_ns}").subscribe("/robot/laser/scan")
     return await sub.get()
+
+
+def _replan(grid: OccupancyGrid, marked: np.ndarray) -> None:
+    """One replan: the grid with the marked echoes, and a path on it (none through a blocked door is fine)."""
+    try:
+        grid.with_obstacles(marked).plan((1.5, 1.0), (8.2, 1.2))
+    except NoPathError:
+        pass
 
 
 def main() -> None:
@@ -77,7 +86,7 @@ def main() -> None:
     scan = run.sim.run_until_complete(_next_scan(run))
 
     def follow_step() -> None:
-        fol._scan = scan  # a fresh scan each step, as at 10 Hz
+        fol.scan.update(scan)  # a fresh scan each step, as at 10 Hz
         fol.control_step()
 
     r["follower control step"] = per_call(follow_step, 1000)
@@ -93,7 +102,8 @@ def main() -> None:
     scan = run.sim.run_until_complete(_next_scan(run))
 
     def step() -> None:
-        pl.goal, pl._scan = goal, scan
+        pl.goal = goal
+        pl.scan.update(scan)
         pl.control_step()
     r["player control step (move_to)"] = per_call(step, 1000)
     run.close()
@@ -105,6 +115,9 @@ def main() -> None:
     build = (time.process_time() - t0) * 1e3
     grid.plan((1.5, 1.0), (8.2, 1.2))
     r["planner: one path across the flat"] = per_call(lambda: grid.plan((1.5, 1.0), (8.2, 1.2)), 50)
+    person = np.array([[6.0 + 0.25 * math.cos(a), 2.0 + 0.25 * math.sin(a)] for a in np.linspace(0, 2 * math.pi, 10)])
+    r["planner: replan (local costmap copy + path)"] = per_call(
+        lambda: _replan(grid, person), 20)
 
     class _Run:
         world = stage.world
@@ -120,7 +133,7 @@ def main() -> None:
     print(f"{'what':48s} {'us/call':>10s} {'ms per simulated s':>20s}")
     for k, v in r.items():
         rate = 50.0 if "physics" in k else 10.0 if "step" in k or "dwa" in k or "scan" in k else 0.0
-        per_s = f"{v * rate / 1000:.3f} (x{rate:g}/s)" if rate else "once per go-to"
+        per_s = f"{v * rate / 1000:.3f} (x{rate:g}/s)" if rate else "once per blockage" if "replan" in k else "once per go-to"
         print(f"{k:48s} {v:10.1f} {per_s:>20s}")
     print(f"{'planner: grid build from the map (once per run)':48s} {build * 1000:10.1f} {'once per run':>20s}")
     print(f"grid: {grid.nx} x {grid.ny} cells of {grid.cell} m")

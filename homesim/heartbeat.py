@@ -101,14 +101,13 @@ class HeartbeatMonitor:
             if now - self.last_beat_ns[name] > limit:
                 self.failed[name] = now
                 newly.append(name)
-                el = etree.Element(
-                    "module_failed",
-                    module=name,
-                    last_beat=repr(self.last_beat_ns[name] / NS_PER_S),
-                    missed=str(self.misses),
-                )
-                self.participant.publish(HEALTH_CHANNEL, el)
+                self.participant.publish(HEALTH_CHANNEL, self.failure(name))
         return newly
+
+    def failure(self, name: str) -> etree._Element:
+        """The ``module_failed`` report for ``name`` (a subclass may add what it decided)."""
+        return etree.Element("module_failed", module=name, last_beat=repr(self.last_beat_ns[name] / NS_PER_S),
+                             missed=str(self.misses))
 
     async def run(self) -> None:
         """Check periodically, forever."""

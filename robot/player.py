@@ -9,6 +9,14 @@ Orders arrive on ``/robot/es/orders/player`` (docs/robot-contract.md):
   window (:func:`robot.navigation.local.dwa`) for a velocity toward the pose
   that keeps the footprint clear of every laser echo, so people and
   furniture that are not on the map are driven around, or waited for.
+  It steers at a point 0.7 m ahead on the leg (pure pursuit: the leg starts
+  where the previous ``move_to`` ended, or where the robot stood), so it keeps
+  to the planned line through doorways; a goal more than 60 degrees off its
+  heading is turned to on the spot first; when that is impossible (stopped
+  close in front of something) it backs off up to 0.3 m the way it came. Near people (the attention's
+  confirmed tracks, ``/robot/attention/tracks``) it slows down: at most
+  0.2 m/s within 1.2 m of anyone, full speed from 2 m
+  (:func:`~robot.navigation.local.social_speed_limit`).
   Within ``tolerance`` (default 0.2 m) it turns to ``theta`` when ``align`` is
   true, then stops and reports ``reached``.
 * ``stop``: zero velocity at once, the goal is dropped.
@@ -25,6 +33,7 @@ from __future__ import annotations
 
 import asyncio
 import math
+from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
@@ -35,7 +44,7 @@ from homesim.message import Message
 from homesim.module import Module
 
 from .navigation.config import Limits, limits_from_config
-from .navigation.local import DWAParams, dwa, scan_points
+from .navigation.local import Command, DWAParams, LatestScan, carrot, dwa, heading_speed, social_speed_limit
 
 ORDERS = "/robot/es/orders/player"
 STATUS = "/robot/player/status"
@@ -44,6 +53,13 @@ SCAN = "/robot/laser/scan"
 ODOMETRY = "/robot/odometry"
 BASE_CMD = "/robot/base/cmd"
 DISPLAY_CMD = "/robot/display/cmd"
+TRACKS = "/robot/attention/tracks"
+#: m: how far ahead on the leg the controller steers (pure pursuit).
+LOOKAHEAD = 0.7
+#: m: how far the player backs off, at most, per ``move_to``, to get room to turn.
+BACK_OFF = 0.3
+#: rad: a goal further off the heading than this has to be turned to (see :func:`heading_speed`).
+BACK_OFF_BEARING = math.pi / 3
 SCHEMA = Path(__file__).with_name("schemas") / "navigation" / "player-status.xsd"
 
 
@@ -88,18 +104,22 @@ class Player(Module):
         self.params = params
         sim.bus.declare_channel(STATUS, SCHEMA)
         self.goal: tuple[float, float, float, float, bool] | None = None  # x, y, theta, tolerance, align
+        self._reached: tuple[float, float, float, float, bool] | None = None  # the step just reached
         self.state = "idle"
         self.odo = Odometry()
         self.map_pose: tuple[float, float, float] | None = None
         self._odo_at_pose: tuple[float, float, float] | None = None
-        self.points = np.zeros((0, 2))
-        self._scan: Message | None = None
+        self.scan = LatestScan()
+        self.leg_start: tuple[float, float] | None = None
+        self._tracks: etree._Element | None = None
+        self._backed = 0.0  # m backed off during the present move_to
         self._best = math.inf
         self._best_t = 0.0
         self.bus.subscribe(ORDERS, self._on_order)
         self.bus.subscribe(POSE, self._on_pose)
         self.bus.subscribe(SCAN, self._on_scan)
         self.bus.subscribe(ODOMETRY, self._on_odometry)
+        self.bus.subscribe(TRACKS, self._on_tracks)
 
     def respawn(self) -> Player:
         """A fresh instance with the same configuration (what a process manager's restart gives)."""
@@ -119,12 +139,23 @@ class Player(Module):
                 tol = float(pose.get("tolerance", str(self.tolerance)))
             except (TypeError, ValueError):
                 return
+            # the leg runs from the plan's previous waypoint (the step just reached, if the robot is
+            # still there) or from where the robot stands (a plan's first step starts there)
+            prev, here = self._reached, self.pose()
+            if here is None:
+                self.leg_start = None
+            elif prev is not None and math.hypot(prev[0] - here[0], prev[1] - here[1]) <= prev[3] + 0.2:
+                self.leg_start = (prev[0], prev[1])
+            else:
+                self.leg_start = (here[0], here[1])
+            self._reached = None
             self.goal = (x, y, th, tol, pose.get("align") == "true")
             self._best, self._best_t = math.inf, self.now
+            self._backed = 0.0
             self.state = ""  # a new pose: say "moving" even when it was already moving
             self._set_state("moving")
         elif name == "stop":
-            self.goal = None
+            self.goal = self._reached = None
             self.bus.publish(BASE_CMD, etree.Element("velocity", v="0", w="0"))
             self._set_state("stopped")
         elif name == "show_attention":
@@ -136,21 +167,20 @@ class Player(Module):
         self._odo_at_pose = self.odo.pose
 
     def _on_scan(self, msg: Message) -> None:
-        self._scan = msg  # turned into points only when a control step needs them
-
-    def scan_points(self) -> np.ndarray:
-        """The latest scan as robot-frame obstacle points (legs inflated to bodies), computed once per scan."""
-        msg = self._scan
-        if msg is not None:
-            x = msg.xml
-            self.points = scan_points(msg.attachments["ranges"], math.radians(float(x.get("min_angle"))),
-                                      math.radians(float(x.get("resolution"))), float(x.get("max_range")),
-                                      float(x.get("offset")))
-            self._scan = None
-        return self.points
+        self.scan.update(msg)  # turned into points only when a control step needs them
 
     def _on_odometry(self, msg: Message) -> None:
         self.odo.update(msg.xml)
+
+    def _on_tracks(self, msg: Message) -> None:
+        self._tracks = msg.xml  # read only when a control step needs it
+
+    def nearest_person(self) -> float:
+        """Distance (m) to the nearest confirmed person track of the latest ``tracks`` message (inf: none)."""
+        if self._tracks is None:
+            return math.inf
+        ds = [float(t.get("distance")) for t in self._tracks.iterfind("track") if t.get("confirmed") == "true"]
+        return min(ds, default=math.inf)
 
     # ------------------------------------------------------------- control
     def pose(self) -> tuple[float, float, float] | None:
@@ -189,15 +219,27 @@ class Player(Module):
             if abs(turn) < math.radians(8):
                 self.bus.publish(BASE_CMD, etree.Element("velocity", v="0", w="0"))
                 self._set_state("reached", dist)
-                self.goal = None
+                self._reached, self.goal = self.goal, None
                 return (0.0, 0.0)
             w = max(-self.limits.max_turn, min(self.limits.max_turn, 1.5 * turn))
             self.bus.publish(BASE_CMD, etree.Element("velocity", v="0", w=f"{w:.4f}"))
             return (0.0, w)
         c, s = math.cos(th), math.sin(th)
-        local = (c * (gx - x) + s * (gy - y), -s * (gx - x) + c * (gy - y))
-        v_pref = min(self.limits.max_speed, 0.25 + 0.6 * dist)
-        cmd = dwa(self.odo.v, self.odo.w, local, self.scan_points(), self.limits, v_pref=v_pref, params=self.params)
+        ax, ay = carrot(self.leg_start, (gx, gy), (x, y), LOOKAHEAD) if self.leg_start is not None else (gx, gy)
+        local = (c * (ax - x) + s * (ay - y), -s * (ax - x) + c * (ay - y))
+        cap = social_speed_limit(self.nearest_person(), self.limits.max_speed)
+        limits = self.limits if cap >= self.limits.max_speed else replace(self.limits, max_speed=cap)  # a hard limit
+        bearing = math.atan2(local[1], local[0])
+        v_pref = heading_speed(min(cap, 0.25 + 0.6 * dist), bearing)
+        points = self.scan.points()
+        cmd = dwa(self.odo.v, self.odo.w, local, points, limits, v_pref=v_pref, params=self.params)
+        if self._backed < BACK_OFF and (self._backed > 0.0 or (not cmd.ok and abs(bearing) > BACK_OFF_BEARING)):
+            # stopped close in front of something with the way off to the side (a new leg after a
+            # replan): turning on the spot would sweep the corners into it, so back off BACK_OFF m
+            # first, straight the way it came (the laser does not see behind; it has just driven there)
+            v = -0.5 * limits.max_reverse
+            cmd = Command(v, 0.0, True, cmd.clearance)
+            self._backed -= v * self.period
         self.bus.publish(BASE_CMD, etree.Element("velocity", v=f"{cmd.v:.4f}", w=f"{cmd.w:.4f}"))
         if self.state == "blocked":
             # blocked until the way is really clear: 0.3 m of progress, not a nudge

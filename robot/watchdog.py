@@ -30,9 +30,8 @@ from typing import Any
 
 from lxml import etree
 
-from homesim.heartbeat import HEALTH_CHANNEL, HeartbeatMonitor
+from homesim.heartbeat import HeartbeatMonitor
 from homesim.module import Module
-from homesim.vloop import NS_PER_S, to_ns
 
 #: Restarts allowed per module per run unless the policy says otherwise.
 MAX_RESTARTS = 2
@@ -45,21 +44,11 @@ class RestartingMonitor(HeartbeatMonitor):
         super().__init__(participant, **kw)
         self.decide = decide
 
-    def check(self) -> list[str]:
-        now = self.participant.bus.loop.now_ns
-        newly = []
-        for name in sorted(self.last_beat_ns):
-            if name in self.failed:
-                continue
-            limit = to_ns(self.misses * self.intervals[name] + self.slack)
-            if now - self.last_beat_ns[name] > limit:
-                self.failed[name] = now
-                newly.append(name)
-                restarting = bool(self.decide(name))
-                el = etree.Element("module_failed", module=name, last_beat=repr(self.last_beat_ns[name] / NS_PER_S),
-                                   missed=str(self.misses), restarting="true" if restarting else "false")
-                self.participant.publish(HEALTH_CHANNEL, el)
-        return newly
+    def failure(self, name: str) -> etree._Element:
+        """The kernel's ``module_failed``, with ``restarting`` as ``decide(name)`` says."""
+        el = super().failure(name)
+        el.set("restarting", "true" if self.decide(name) else "false")
+        return el
 
 
 class Watchdog(Module):

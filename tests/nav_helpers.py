@@ -4,8 +4,9 @@ Runs are real runs (:class:`homesim.runner.Run`: world, people, hardware with th
 server, the supervisor with BIRON's AFSM, the localiser, the scene model, the watchdog,
 the navigation modules and the player, the metrics). Until the person attention is on
 main, :class:`Oracle` stands in for it with the contract's messages (docs/robot-contract.md)
-made from ground truth, here in the tests (never in ``robot/``): ``/robot/attention/state``
-and ``/robot/attention/partner`` for scripted people (each person one track id). The
+made from ground truth, here in the tests (never in ``robot/``): ``/robot/attention/state``,
+``/robot/attention/partner`` and ``/robot/attention/tracks`` for scripted people (each person
+one track id). The
 dialog is stood in for by a participant named ``dialog`` that sends the ES the events the
 dialog would send and records the conditions it gets.
 """
@@ -78,6 +79,7 @@ class Oracle:
             return
         ox, oy, oth = base.odometry
         t = w.time
+        tracks = etree.Element("tracks", time=f"{t:.6f}", frame="odom")
         for name, tid in sorted(self.tracks.items()):
             h = w.humans[name]
             hx, hy = h.position
@@ -95,10 +97,16 @@ class Oracle:
                 self._lost.pop(name, None)
             else:
                 self._lost.setdefault(name, t)
+            if visible:
+                etree.SubElement(tracks, "track", id=tid, x=f"{px:.3f}", y=f"{py:.3f}", vx=f"{vx:.3f}", vy=f"{vy:.3f}",
+                                 cxx="0.01", cxy="0", cyy="0.01", bearing=f"{math.degrees(math.atan2(ly, lx)):.3f}",
+                                 distance=f"{math.hypot(lx, ly):.3f}", confirmed="true", speaking="false", facing="false")
             self.bus.publish("/robot/attention/partner", etree.Element(
                 "partner", id=tid, bearing=f"{math.degrees(math.atan2(ly, lx)):.3f}", distance=f"{math.hypot(lx, ly):.4f}",
                 x=f"{px:.4f}", y=f"{py:.4f}", vx=f"{vx:.4f}", vy=f"{vy:.4f}", visible="true" if visible else "false",
                 lost_for=f"{t - self._lost.get(name, t):.3f}"))
+        if self.tracks:
+            self.bus.publish("/robot/attention/tracks", tracks)
 
 
 def _param_value(p: etree._Element) -> str | None:

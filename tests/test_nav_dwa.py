@@ -28,3 +28,10 @@ def test_dwa_matches_reference(seed: int, n: int, v0: float, w0: float, gx: floa
     want = reference_dwa(v0, w0, (gx, gy), pts, lim, v_pref=v_pref)
     assert got.ok == want.ok
     assert math.isclose(got.v, want.v, abs_tol=1e-9) and math.isclose(got.w, want.w, abs_tol=1e-9), (got, want)
+
+
+@given(lo=st.floats(-2.0, 2.0), hi=st.floats(-2.0, 2.0), n=st.integers(1, 12))
+def test_the_window_samples_are_numpys_linspace_bit_for_bit(lo: float, hi: float, n: int) -> None:
+    from robot.navigation.local import _linspace
+
+    assert np.array_equal(_linspace(lo, hi, n), np.linspace(lo, hi, n))

@@ -135,3 +135,19 @@ def test_speed_law_keeps_the_band_and_limits():
 
     prop()
     assert math.isclose(speed_law(5.0, 0.0, distance=1.2, band=(1.0, 1.5), minimum=0.8, gain=0.8, limits=lim), lim.max_speed)
+
+
+def test_a_partner_out_of_sight_for_a_moment_is_reacquired_and_the_time_measured():
+    def hide(run):
+        run.at(4.0, lambda: run.oracle.hidden.add("anna"))
+        run.at(5.5, lambda: run.oracle.hidden.discard("anna"))
+
+    run = _follow("follow_door", 9.0, setup=hide)
+    s = run.metric("following")
+    assert s["reacquisitions"] == 1
+    assert s["time_to_reacquire_s"]["mean"] == pytest.approx(1.5, abs=0.11)  # the oracle's 10 Hz
+    states = [(t, st["state"]) for t, st in run.status]
+    assert any(st == "stopped" for t, st in states if 5.1 < t < 5.5)  # lost for > 1 s: it stopped
+    assert any(st == "following" for t, st in states if t > 5.8)  # and followed on once seen again
+    assert s["identity_switches"] == 0
+    run.close()

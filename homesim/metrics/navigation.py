@@ -2,12 +2,15 @@
 
 :class:`Navigation` (metric ``navigation``): a go-to episode starts with each plan on
 ``/robot/navigation/plan`` and ends with the sequencer's ``goal_reached`` or
-``navigation_failed`` (or a ``cancel`` order). Per episode, from the world:
+``navigation_failed`` (or a ``cancel`` order); a ``replan="true"`` plan (a way round an
+obstacle) continues it and is counted. Per episode, from the world:
 the path driven (the true robot position after every step), its ratio to
 the shortest collision-free path for the robot's radius (the world's own
 planner, :class:`homesim.world.pathplan.Grid`, from where the robot stood to
 the plan's last waypoint), the time, the closest distance from the robot's
-centre to any person's centre, and the robot's contacts (none allowed).
+centre to any person's centre, the fastest it drove while someone was within
+:data:`SOCIAL_NEAR` m (the social speed limit), the replans, and the robot's
+contacts (none allowed).
 
 :class:`Failures` (metric ``failures``): faults injected (``/system/faults``), failures
 detected (``module_failed`` on ``/system/health``; time to detect = from the
@@ -26,6 +29,8 @@ from ..world.pathplan import Grid, NoPathError
 from . import Observer
 
 ROBOT_RADIUS = 0.30
+#: m: the robot's speed is reported while a person is this close (centre to centre): the social limit's range.
+SOCIAL_NEAR = 1.2
 
 
 class Navigation(Observer):
@@ -45,6 +50,8 @@ class Navigation(Observer):
         self.last: tuple[float, float] | None = None
         self.episodes: list[dict[str, Any]] = []  # one small dict per go-to (a tour has a handful)
         self.closest_person = math.inf
+        self.replans = 0
+        self.speed_near = 0.0
         self._contacts_before = 0
         self._grid: Grid | None = None
 
@@ -60,6 +67,11 @@ class Navigation(Observer):
     def on_message(self, m: Any) -> None:
         if m.channel == "/robot/navigation/plan":
             wps = m.xml.findall("waypoint")
+            if m.xml.get("replan") == "true":
+                # a way round an obstacle (or none): the same go-to goes on
+                if self.active and wps and not m.xml.get("failed"):
+                    self.replans += 1
+                return
             if self.active:
                 self._end("replanned", m.created)
             if m.xml.get("failed") or not wps:
@@ -70,6 +82,8 @@ class Navigation(Observer):
             x, y, _ = self.world.robot.pose
             self.last = (x, y)
             self.length = 0.0
+            self.replans = 0
+            self.speed_near = 0.0
             self.closest_person = math.inf
             self._contacts_before = len(self.world.contacts)
             self.shortest = self._shortest((x, y), self.goal) or 0.0
@@ -89,10 +103,14 @@ class Navigation(Observer):
         if self.last is not None:
             self.length += math.hypot(x - self.last[0], y - self.last[1])
         self.last = (x, y)
+        near = math.inf
         for h in world.humans.values():
             if h.present:
                 hx, hy = h.position
-                self.closest_person = min(self.closest_person, math.hypot(hx - x, hy - y))
+                near = min(near, math.hypot(hx - x, hy - y))
+        self.closest_person = min(self.closest_person, near)
+        if near <= SOCIAL_NEAR:
+            self.speed_near = max(self.speed_near, abs(world.robot.v))
 
     def _end(self, outcome: str, t: float) -> None:
         self.active = False
@@ -106,10 +124,32 @@ class Navigation(Observer):
             "goal_error": round(math.hypot(x - self.goal[0], y - self.goal[1]), 3) if self.goal else None,
             "closest_person": round(self.closest_person, 3) if math.isfinite(self.closest_person) else None,
             "collisions": len(self.world.contacts) - self._contacts_before,
+            "replans": self.replans,
+            "speed_near_person_max": round(self.speed_near, 3),
         })
 
     def summary(self) -> dict[str, Any]:
-        return {"goto": list(self.episodes), "collisions": sum(e["collisions"] for e in self.episodes)}
+        """Every go-to, and over all of them the figures a scenario's ``<metric>`` can bound."""
+        eps = self.episodes
+
+        def worst(key: str, pick: Any) -> float | None:
+            vals = [e[key] for e in eps if e[key] is not None]
+            return pick(vals) if vals else None
+
+        return {
+            "goto": list(eps),
+            "episodes": len(eps),
+            "reached": sum(e["outcome"] == "reached" for e in eps),
+            "failed": sum(e["outcome"].startswith("failed") for e in eps),
+            "time_s": round(sum(e["time"] for e in eps), 3),
+            "path_length_m": round(sum(e["path_length"] for e in eps), 3),
+            "ratio_max": worst("ratio", max),
+            "goal_error_max_m": worst("goal_error", max),
+            "closest_person_m": worst("closest_person", min),
+            "speed_near_person_max": worst("speed_near_person_max", max),
+            "replans": sum(e["replans"] for e in eps),
+            "collisions": sum(e["collisions"] for e in eps),
+        }
 
 
 class Failures(Observer):

@@ -46,7 +46,7 @@ from homesim.message import Message
 from homesim.module import Module
 
 from .config import Limits
-from .local import DWAParams, dwa, scan_points
+from .local import DWAParams, LatestScan, dwa, heading_speed
 
 STATE = "/robot/attention/state"
 PARTNER = "/robot/attention/partner"
@@ -94,8 +94,7 @@ class Follower(Module):
         self.track: dict[str, float] | None = None  # the partner's last message (odom frame) and when
         self.odom: tuple[float, float, float] | None = None
         self.v = self.w = 0.0
-        self.points = np.zeros((0, 2))
-        self._scan: Message | None = None
+        self.scan = LatestScan()
         self.trail: deque[tuple[float, float]] = deque(maxlen=200)
         self.driving = False
         self._limit_since: float | None = None
@@ -140,18 +139,7 @@ class Follower(Module):
         }  # type: ignore[dict-item]
 
     def _on_scan(self, msg: Message) -> None:
-        self._scan = msg  # turned into points only when a control step needs them
-
-    def scan_points(self) -> np.ndarray:
-        """The latest scan as robot-frame obstacle points (legs inflated to bodies), computed once per scan."""
-        msg = self._scan
-        if msg is not None:
-            x = msg.xml
-            self.points = scan_points(msg.attachments["ranges"], math.radians(float(x.get("min_angle"))),
-                                      math.radians(float(x.get("resolution"))), float(x.get("max_range")),
-                                      float(x.get("offset")))
-            self._scan = None
-        return self.points
+        self.scan.update(msg)  # turned into points only when a control step needs them
 
     def _on_odometry(self, msg: Message) -> None:
         x = msg.xml
@@ -212,15 +200,23 @@ class Follower(Module):
             w = max(-self.limits.max_turn, min(self.limits.max_turn, 1.8 * bearing))
             v = v_des if v_des < 0 else 0.0
             state = "waiting"
+            # the robot stands and sees the partner: the way to them is the straight line. Older trail
+            # points are stale (a partner who turned back and walked past would otherwise be
+            # "followed" to where they came from, away from them)
+            self.trail.clear()
+            self.trail.append((px, py))
         else:
             # steer along the partner's trail (round furniture, through doors), dodging laser echoes
             while len(self.trail) > 1 and math.hypot(*self._to_robot(*self.trail[0])) < 0.6:
                 self.trail.popleft()
             goal = self._to_robot(*self.trail[0]) if self.trail else (rx, ry)
-            pts = self.scan_points()
+            # a goal off to the side (a partner who walked past): turn toward it first, and keep the
+            # partner in the laser's field of view, instead of driving a wide arc forwards
+            v_pref = heading_speed(v_des, math.atan2(goal[1], goal[0]))
+            pts = self.scan.points()
             if len(pts):
                 pts = pts[np.hypot(pts[:, 0] - rx, pts[:, 1] - ry) > 0.45]  # not the partner's own legs
-            cmd = dwa(self.v, self.w, goal, pts, self.limits, v_pref=v_des, params=self.params)
+            cmd = dwa(self.v, self.w, goal, pts, self.limits, v_pref=v_pref, params=self.params)
             v, w = cmd.v, cmd.w
             state = "following" if cmd.ok else "waiting"
         self._command(v, w)

@@ -23,6 +23,7 @@ connected.
 
 from __future__ import annotations
 
+import copy
 import math
 from dataclasses import dataclass
 
@@ -124,16 +125,40 @@ class OccupancyGrid:
                 jj = ((a[1] + (b[1] - a[1]) * t - ymin) / cell).astype(int)
                 ok = (ii >= 0) & (ii < self.nx) & (jj >= 0) & (jj < self.ny)
                 occ[ii[ok], jj[ok]] = True
+        self.soft, self.margin = soft, margin
+        self._derive(occ)
+
+    def _derive(self, occ: np.ndarray) -> None:
+        """Clearance, free and roomy cells, costs from the occupied cells ``occ``."""
+        cell, radius = self.cell, self.radius
         self.occupied = occ
         #: metres from each cell centre to the nearest occupied cell (0 inside obstacles)
         # (centre to centre, less half a cell: an occupied cell's centre lies inside the obstacle)
         self.clearance = np.maximum(ndimage.distance_transform_edt(~occ) * cell - cell / 2, 0.0)
         self.free = self.clearance > radius
         #: where smoothed shortcuts may run: ``margin`` more than the radius from anything
-        self.roomy = self.clearance > radius + margin
-        extra = np.clip((radius + soft - self.clearance) / soft, 0.0, 1.0)
+        self.roomy = self.clearance > radius + self.margin
+        extra = np.clip((radius + self.soft - self.clearance) / self.soft, 0.0, 1.0)
         self.cost = 1.0 + SOFT_WEIGHT * extra
         self._graph: csr_matrix | None = None
+
+    def with_obstacles(self, points: np.ndarray) -> OccupancyGrid:
+        """A copy in which the cells holding ``points`` ((N, 2), map frame) are occupied too.
+
+        The local costmap of a replan: what the laser sees that is not on the
+        floor plan (a person in a doorway, a box) is inflated like the map's own
+        obstacles, so the new path keeps the robot's radius clear of it. Points
+        outside the grid are ignored. The original grid is not changed.
+        """
+        new = copy.copy(self)
+        occ = self.occupied.copy()
+        pts = np.asarray(points, dtype=float).reshape(-1, 2)
+        i = np.floor((pts[:, 0] - self.origin[0]) / self.cell).astype(int)
+        j = np.floor((pts[:, 1] - self.origin[1]) / self.cell).astype(int)
+        ok = (i >= 0) & (i < self.nx) & (j >= 0) & (j < self.ny)
+        occ[i[ok], j[ok]] = True
+        new._derive(occ)
+        return new
 
     # ------------------------------------------------------------- cells
     def cell_of(self, p: Point) -> tuple[int, int]:

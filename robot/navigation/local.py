@@ -28,6 +28,8 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from functools import lru_cache
+from typing import Any
 
 import numpy as np
 
@@ -79,13 +81,13 @@ def scan_points(ranges: np.ndarray, min_angle: float, resolution: float, max_ran
     (a lone one :data:`LONE_RING`), which keeps the footprint clear of the body.
     """
     r_all = np.asarray(ranges, dtype=float)
-    a_all = min_angle + resolution * np.arange(len(r_all))
-    r, a = r_all[::stride], a_all[::stride]
+    a_all, cos_all, sin_all = _beams(min_angle, resolution, len(r_all))
+    r = r_all[::stride]
     keep = r < max_range - 1e-6
-    pts = np.column_stack((offset + r[keep] * np.cos(a[keep]), r[keep] * np.sin(a[keep])))
+    pts = np.column_stack((offset + r[keep] * cos_all[::stride][keep], r[keep] * sin_all[::stride][keep]))
     if not bodies:
         return pts
-    centres = narrow_clusters(r_all, a_all, max_range)
+    centres = narrow_clusters(r_all, a_all, max_range, trig=(cos_all, sin_all))
     if not len(centres):
         return pts
     cx = offset + centres[:, 0] * np.cos(centres[:, 1])
@@ -102,10 +104,96 @@ def scan_points(ranges: np.ndarray, min_angle: float, resolution: float, max_ran
             used[j] = True
             discs.append(((cx[i] + cx[j]) / 2, (cy[i] + cy[j]) / 2, BODY_RING))
     d = np.array(discs)
-    ring = np.linspace(0.0, 2 * math.pi, 10, endpoint=False)
-    rx = (d[:, 0:1] + d[:, 2:3] * np.cos(ring)[None, :]).ravel()
-    ry = (d[:, 1:2] + d[:, 2:3] * np.sin(ring)[None, :]).ravel()
+    rx = (d[:, 0:1] + d[:, 2:3] * _RING_COS[None, :]).ravel()
+    ry = (d[:, 1:2] + d[:, 2:3] * _RING_SIN[None, :]).ravel()
     return np.concatenate((pts, np.column_stack((rx, ry))))
+
+
+_RING = np.linspace(0.0, 2 * math.pi, 10, endpoint=False)
+_RING_COS, _RING_SIN = np.cos(_RING), np.sin(_RING)
+
+
+@lru_cache(maxsize=8)
+def _beams(min_angle: float, resolution: float, n: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Each beam's angle, cosine and sine (the same for every scan of a laser: computed once, read-only)."""
+    a = min_angle + resolution * np.arange(n)
+    out = (a, np.cos(a), np.sin(a))
+    for arr in out:
+        arr.flags.writeable = False
+    return out
+
+
+def heading_speed(v: float, bearing: float) -> float:
+    """``v`` scaled down as the goal's ``bearing`` (rad, robot frame) grows: 0 beyond 60 degrees.
+
+    A goal behind or beside the robot is turned to first (on the spot) instead
+    of reached by a wide forward arc, which would sweep the footprint into
+    furniture and out of the laser's 180-degree view.
+    """
+    off = abs(bearing) * 1.5
+    return 0.0 if off >= math.pi / 2 else v * math.cos(off)
+
+
+#: Within this distance (m, centre to centre) of a person the robot drives at most :data:`SOCIAL_SPEED`.
+SOCIAL_NEAR = 1.2
+#: Beyond this distance (m) a person does not limit the speed; in between the limit rises linearly.
+SOCIAL_FAR = 2.0
+#: m/s: the speed limit close to people (a slow walk: people are passed gently, never rushed at).
+SOCIAL_SPEED = 0.2
+
+
+def social_speed_limit(d: float, max_speed: float) -> float:
+    """The speed limit (m/s) with the nearest person ``d`` metres away (no person: ``inf``)."""
+    if d <= SOCIAL_NEAR:
+        return min(SOCIAL_SPEED, max_speed)
+    if d >= SOCIAL_FAR:
+        return max_speed
+    f = (d - SOCIAL_NEAR) / (SOCIAL_FAR - SOCIAL_NEAR)
+    return min(max_speed, SOCIAL_SPEED + f * max(max_speed - SOCIAL_SPEED, 0.0))
+
+
+def carrot(a: tuple[float, float], b: tuple[float, float], p: tuple[float, float], lookahead: float) -> tuple[float, float]:
+    """The point ``lookahead`` m ahead of ``p``'s projection on the segment a-b, at most ``b`` (pure pursuit).
+
+    Steering at it keeps the robot on the planned leg (which the planner kept clear of
+    the map's obstacles) instead of cutting corners toward the leg's end.
+    """
+    dx, dy = b[0] - a[0], b[1] - a[1]
+    n2 = dx * dx + dy * dy
+    if n2 < 1e-12:
+        return b
+    n = math.sqrt(n2)
+    t = max(0.0, min(1.0, ((p[0] - a[0]) * dx + (p[1] - a[1]) * dy) / n2))
+    t = min(1.0, t + lookahead / n)
+    return a[0] + t * dx, a[1] + t * dy
+
+
+class LatestScan:
+    """The latest ``/robot/laser/scan`` message, turned into obstacle points only when asked.
+
+    The laser publishes faster than (or as fast as) the controllers run; a scan
+    is converted (:func:`scan_points`, legs inflated to bodies) at most once,
+    by the first control step that needs it. Until the first scan: no points.
+    """
+
+    def __init__(self) -> None:
+        self._msg: Any = None
+        self._points = np.zeros((0, 2))
+
+    def update(self, msg: Any) -> None:
+        """Keep ``msg`` (a scan Message: XML attributes and the ``ranges`` attachment)."""
+        self._msg = msg
+
+    def points(self) -> np.ndarray:
+        """The latest scan as (N, 2) robot-frame points (computed once per scan)."""
+        msg = self._msg
+        if msg is not None:
+            x = msg.xml
+            self._points = scan_points(msg.attachments["ranges"], math.radians(float(x.get("min_angle"))),
+                                       math.radians(float(x.get("resolution"))), float(x.get("max_range")),
+                                       float(x.get("offset")))
+            self._msg = None
+        return self._points
 
 
 #: A cluster of echoes narrower than this (m) is a leg (or a table leg).
@@ -119,8 +207,11 @@ PAIR = 0.45
 JUMP = 0.15  # m: a range jump between neighbouring beams separates clusters
 
 
-def narrow_clusters(r: np.ndarray, a: np.ndarray, max_range: float, *, near: float = 4.0) -> np.ndarray:
-    """(K, 2) (range, angle) of a point 6 cm behind the middle of each narrow cluster within ``near`` m."""
+def narrow_clusters(r: np.ndarray, a: np.ndarray, max_range: float, *, near: float = 4.0,
+                    trig: tuple[np.ndarray, np.ndarray] | None = None) -> np.ndarray:
+    """(K, 2) (range, angle) of a point 6 cm behind the middle of each narrow cluster within ``near`` m.
+
+    ``trig``: cos and sin of ``a`` when the caller has them already."""
     valid = r < max_range - 1e-6
     if not valid.any():
         return np.zeros((0, 2))
@@ -129,7 +220,8 @@ def narrow_clusters(r: np.ndarray, a: np.ndarray, max_range: float, *, near: flo
     ends = np.concatenate((breaks, [len(r)]))
     ok = valid[starts]  # clusters of echoes (a run of no-echo beams is a cluster too: dropped below)
     last = ends - 1
-    x, y = r * np.cos(a), r * np.sin(a)
+    ca, sa = trig if trig is not None else (np.cos(a), np.sin(a))
+    x, y = r * ca, r * sa
     width = np.hypot(x[last] - x[starts], y[last] - y[starts])
     sums = np.add.reduceat(np.where(valid, r, 0.0), starts)
     counts = ends - starts
@@ -198,6 +290,30 @@ def arcs_at(v: np.ndarray, w: np.ndarray, t: np.ndarray) -> tuple[np.ndarray, np
     return x[:, None], y[:, None], th[:, None]
 
 
+@lru_cache(maxsize=8)
+def _index(n: int) -> np.ndarray:
+    a = np.arange(n, dtype=float)
+    a.flags.writeable = False
+    return a
+
+
+def _linspace(lo: float, hi: float, n: int) -> np.ndarray:
+    """``np.linspace(lo, hi, n)``, bit for bit (the same operations), without its per-call overhead."""
+    if n == 1:
+        return np.array([lo])
+    y = _index(n) * ((hi - lo) / (n - 1)) + lo
+    y[-1] = hi
+    return y
+
+
+@lru_cache(maxsize=8)
+def _times(horizon: float, steps: int) -> np.ndarray:
+    """The arc poses' times (a constant of the tuning: computed once, read-only)."""
+    t = np.linspace(horizon / steps, horizon, steps)
+    t.flags.writeable = False
+    return t
+
+
 def dwa(v0: float, w0: float, goal: tuple[float, float], points: np.ndarray, limits: Limits, *, v_pref: float,
         params: DWAParams = DWAParams()) -> Command:
     """The best admissible (v, w) toward ``goal`` (robot frame) given the laser ``points`` (see module docstring)."""
@@ -207,12 +323,12 @@ def dwa(v0: float, w0: float, goal: tuple[float, float], points: np.ndarray, lim
     vhi = min(v0 + dv, limits.max_speed)
     if vlo > vhi:  # moving faster backwards/forwards than the window allows: brake
         vlo = vhi = min(max(0.0, vlo), vhi) if v0 > 0 else max(vlo, min(0.0, vhi))
-    vs = np.linspace(vlo, vhi, p.nv)
+    vs = _linspace(vlo, vhi, p.nv)
     if not np.any(np.abs(vs) <= 1e-8) and vlo <= 0.0 <= vhi:
         vs = np.append(vs, 0.0)
-    ws = np.linspace(max(w0 - dw, -limits.max_turn), min(w0 + dw, limits.max_turn), p.nw)
-    V, W = (a.ravel() for a in np.meshgrid(vs, ws, indexing="ij"))
-    times = np.linspace(p.horizon / p.steps, p.horizon, p.steps)
+    ws = _linspace(max(w0 - dw, -limits.max_turn), min(w0 + dw, limits.max_turn), p.nw)
+    V, W = np.repeat(vs, len(ws)), np.tile(ws, len(vs))  # np.meshgrid(vs, ws, indexing="ij"), raveled
+    times = _times(p.horizon, p.steps)
     x, y, th = arcs(V, W, times)
 
     t_stop = stopping_time(V, limits, p)

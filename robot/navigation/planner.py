@@ -17,6 +17,16 @@ Anything that prevents a plan (unknown place, no map, not localised, no
 free path) is published as a plan with ``failed`` set, so the sequencer
 reports ``navigation_failed`` with that reason. ``navigation_cancelled``
 drops a request still being planned.
+
+Replanning (``/robot/navigation/replan``, from the sequencer when the player
+has been blocked a while): the echoes of the latest laser scan
+(``/robot/laser/scan``, legs inflated to bodies) within :data:`LOCAL_RANGE` m
+that the floor plan does not explain (more than :data:`UNMAPPED` m from every
+mapped obstacle) are marked in a copy of the grid, a local costmap, and the
+path to the same goal is planned again from the latest pose. The answer has
+``replan="true"``: a path round the obstacle, or ``failed`` when there is
+none (one door, a person standing in it), and then the sequencer just keeps
+waiting until its timeout.
 """
 
 from __future__ import annotations
@@ -27,6 +37,7 @@ from collections import deque
 from pathlib import Path
 from typing import Any
 
+import numpy as np
 from lxml import etree
 
 from homesim.errors import BusError, HomesimError
@@ -35,10 +46,17 @@ from homesim.module import Module
 
 from .config import Limits, limits_from_config
 from .grid import MapError, NoPathError, OccupancyGrid, parse_map, path_length
+from .local import LatestScan
 
 CONDITIONS = "/robot/es/conditions/planner"
 PLAN = "/robot/navigation/plan"
 POSE = "/robot/localisation/pose"
+REPLAN = "/robot/navigation/replan"
+SCAN = "/robot/laser/scan"
+#: m: laser echoes further than this from the robot are not marked when replanning.
+LOCAL_RANGE = 3.0
+#: m: an echo this much clear of every mapped obstacle is something the map does not hold.
+UNMAPPED = 0.10
 SCHEMA = Path(__file__).resolve().parent.parent / "schemas" / "navigation" / "plan.xsd"
 
 
@@ -98,8 +116,12 @@ class Planner(Module):
         self.pose: tuple[float, float, float] | None = None
         self._request = 0  # the navigate request being planned (cancel bumps it)
         self._pending: deque[tuple[int, etree._Element | None]] = deque(maxlen=4)
+        self.goal: tuple[str, tuple[float, float, float]] | None = None  # the last goal planned to
+        self.scan = LatestScan()
         self.bus.subscribe(CONDITIONS, self._on_condition)
         self.bus.subscribe(POSE, self._on_pose)
+        self.bus.subscribe(SCAN, self.scan.update)
+        self.bus.subscribe(REPLAN, self._on_replan)
 
     def respawn(self) -> Planner:
         return Planner(self.sim, name=self.name, limits=self.limits, timeout=self.timeout)
@@ -129,10 +151,13 @@ class Planner(Module):
         reply = await self.bus.call("scene_model", "request", req, timeout=self.timeout)
         return find_place_pose(reply.xml, title)
 
-    def _publish(self, title: str, points: list[tuple[float, float]], theta: float | None = None, failed: str | None = None) -> None:
+    def _publish(self, title: str, points: list[tuple[float, float]], theta: float | None = None, failed: str | None = None,
+                 replan: bool = False) -> None:
         el = etree.Element("plan", goal=title, length=f"{path_length(points):.4f}" if points else "0")
         if failed:
             el.set("failed", failed)
+        if replan:
+            el.set("replan", "true")
         for i, (x, y) in enumerate(points):
             wp = etree.SubElement(el, "waypoint", x=f"{x:.4f}", y=f"{y:.4f}")
             if theta is not None and i == len(points) - 1:
@@ -170,7 +195,45 @@ class Planner(Module):
         except NoPathError as e:
             self._publish(title, [], failed=e.reason)
             return None
+        self.goal = (title, place)
         self._publish(title, points, theta=place[2])
+        return points
+
+    def _on_replan(self, msg: Message) -> None:
+        title = msg.xml.get("goal", "")
+        if self.goal is None or self.goal[0] != title or self.grid is None or self.pose is None:
+            self._publish(title, [], failed="no_plan", replan=True)
+            return
+        self.replan()
+
+    def unmapped(self) -> np.ndarray:
+        """The latest scan's echoes (map frame, (N, 2)) near the robot that the floor plan does not explain."""
+        pts = self.scan.points()
+        if self.pose is None or self.grid is None or not len(pts):
+            return np.zeros((0, 2))
+        pts = pts[np.hypot(pts[:, 0], pts[:, 1]) <= LOCAL_RANGE]
+        x, y, th = self.pose
+        c, s = math.cos(th), math.sin(th)
+        mp = np.column_stack((x + c * pts[:, 0] - s * pts[:, 1], y + s * pts[:, 0] + c * pts[:, 1]))
+        g = self.grid
+        i = np.floor((mp[:, 0] - g.origin[0]) / g.cell).astype(int)
+        j = np.floor((mp[:, 1] - g.origin[1]) / g.cell).astype(int)
+        inside = (i >= 0) & (i < g.nx) & (j >= 0) & (j < g.ny)
+        keep = np.zeros(len(mp), dtype=bool)
+        keep[inside] = g.clearance[i[inside], j[inside]] > UNMAPPED
+        return mp[keep]
+
+    def replan(self) -> list[tuple[float, float]] | None:
+        """Plan to the last goal again round the unmapped echoes of the latest scan; publish the answer."""
+        assert self.goal is not None and self.grid is not None and self.pose is not None
+        title, place = self.goal
+        grid = self.grid.with_obstacles(self.unmapped())
+        try:
+            points = grid.plan(self.pose[:2], place[:2])
+        except NoPathError as e:
+            self._publish(title, [], failed=e.reason, replan=True)
+            return None
+        self._publish(title, points, theta=place[2], replan=True)
         return points
 
     async def run(self) -> None:

@@ -16,7 +16,11 @@ passes both to the dialog's ``need_help``: "I cannot get to the kitchen"):
 * a failed plan (``failed`` on the plan: unknown_place, no_path, ...);
 * ``blocked``: the player reports ``blocked`` and is still blocked after
   ``blocked_timeout`` seconds (a person who steps aside in time lets the
-  robot drive on: no failure, no help request);
+  robot drive on: no failure, no help request). After ``replan_after``
+  seconds of a blockage the planner is asked once for a way round it
+  (``/robot/navigation/replan``: it marks what the laser sees and the map
+  does not hold); a new path (``replan="true"``) replaces the plan, "no way
+  round" changes nothing: the robot waits on. At most ``max_replans`` per goal;
 * ``no_response``: the player did not start a step within
   ``start_timeout`` (e.g. the ES rejected the step).
 
@@ -27,6 +31,7 @@ from __future__ import annotations
 
 import asyncio
 import math
+from pathlib import Path
 from typing import Any
 
 from lxml import etree
@@ -38,6 +43,8 @@ EVENTS = "/robot/es/events"
 PLAN = "/robot/navigation/plan"
 PLAYER = "/robot/player/status"
 ORDERS = "/robot/es/orders/sequencer"
+REPLAN = "/robot/navigation/replan"
+REPLAN_SCHEMA = Path(__file__).resolve().parent.parent / "schemas" / "navigation" / "replan.xsd"
 
 
 def steps_of(plan: etree._Element, *, tolerance: float = 0.25, final_tolerance: float = 0.15) -> list[dict[str, str]]:
@@ -60,10 +67,16 @@ def steps_of(plan: etree._Element, *, tolerance: float = 0.25, final_tolerance: 
 class Sequencer(Module):
     """Hands the plan to the ES step by step (see the module docstring)."""
 
-    def __init__(self, sim: Any, *, name: str = "sequencer", blocked_timeout: float = 10.0, start_timeout: float = 3.0) -> None:
+    def __init__(self, sim: Any, *, name: str = "sequencer", blocked_timeout: float = 10.0, start_timeout: float = 3.0,
+                 replan_after: float = 3.0, max_replans: int = 3) -> None:
         super().__init__(sim, name)
         self.blocked_timeout = blocked_timeout
         self.start_timeout = start_timeout
+        self.replan_after = replan_after
+        self.max_replans = max_replans
+        self.replans = 0  # asked for this goal
+        self._asked = False  # a replan was asked during the present blockage
+        sim.bus.declare_channel(REPLAN, REPLAN_SCHEMA)
         self.goal = ""
         self.steps: list[dict[str, str]] = []
         self.index = -1
@@ -75,7 +88,8 @@ class Sequencer(Module):
         self.bus.subscribe(ORDERS, self._on_order)
 
     def respawn(self) -> Sequencer:
-        return Sequencer(self.sim, name=self.name, blocked_timeout=self.blocked_timeout, start_timeout=self.start_timeout)
+        return Sequencer(self.sim, name=self.name, blocked_timeout=self.blocked_timeout, start_timeout=self.start_timeout,
+                         replan_after=self.replan_after, max_replans=self.max_replans)
 
     @property
     def active(self) -> bool:
@@ -99,17 +113,22 @@ class Sequencer(Module):
 
     def _on_plan(self, msg: Message) -> None:
         plan = msg.xml
-        self.goal = plan.get("goal", "")
-        if plan.get("failed"):
-            self._fail(str(plan.get("failed")))
-            return
+        if plan.get("replan") == "true":
+            if not self.active or plan.get("goal", "") != self.goal or plan.get("failed"):
+                return  # no way round (wait on), or an answer about a goal given up meanwhile
+        else:
+            self.goal = plan.get("goal", "")
+            self.replans = 0
+            if plan.get("failed"):
+                self._fail(str(plan.get("failed")))
+                return
         self.steps = steps_of(plan)
         self.index = -1
         self._next()
 
     def _next(self) -> None:
         self.index += 1
-        self.blocked_since = None
+        self.blocked_since, self._asked = None, False
         if self.index >= len(self.steps):
             self.steps, self.index = [], -1
             self._event("goal_reached", child=self._place())
@@ -127,7 +146,7 @@ class Sequencer(Module):
         if state in ("moving", "blocked", "reached") and not here:
             return  # about an earlier step
         if state == "moving":
-            self.started, self.blocked_since = True, None
+            self.started, self.blocked_since, self._asked = True, None, False
         elif state == "blocked":
             self.started = True
             if self.blocked_since is None:
@@ -147,6 +166,11 @@ class Sequencer(Module):
             return
         if self.blocked_since is not None and self.now - self.blocked_since >= self.blocked_timeout:
             self._fail("blocked")
+        elif (self.blocked_since is not None and not self._asked and self.replans < self.max_replans
+              and self.now - self.blocked_since >= self.replan_after):
+            self._asked = True
+            self.replans += 1
+            self.bus.publish(REPLAN, etree.Element("replan", goal=self.goal))
         elif not self.started and self.now - self.sent_at >= self.start_timeout:
             self._fail("no_response")
 
