@@ -119,7 +119,7 @@ class Player(Module):
         self.bus.subscribe(POSE, self._on_pose)
         self.bus.subscribe(SCAN, self._on_scan)
         self.bus.subscribe(ODOMETRY, self._on_odometry)
-        self.bus.subscribe(TRACKS, self._on_tracks)
+        self._tracks_sub: Any = None  # subscribed only while driving (see _listen_to_people)
 
     def respawn(self) -> Player:
         """A fresh instance with the same configuration (what a process manager's restart gives)."""
@@ -150,12 +150,14 @@ class Player(Module):
                 self.leg_start = (here[0], here[1])
             self._reached = None
             self.goal = (x, y, th, tol, pose.get("align") == "true")
+            self._listen_to_people(True)
             self._best, self._best_t = math.inf, self.now
             self._backed = 0.0
             self.state = ""  # a new pose: say "moving" even when it was already moving
             self._set_state("moving")
         elif name == "stop":
             self.goal = self._reached = None
+            self._listen_to_people(False)
             self.bus.publish(BASE_CMD, etree.Element("velocity", v="0", w="0"))
             self._set_state("stopped")
         elif name == "show_attention":
@@ -171,6 +173,18 @@ class Player(Module):
 
     def _on_odometry(self, msg: Message) -> None:
         self.odo.update(msg.xml)
+
+    def _listen_to_people(self, on: bool) -> None:
+        """Subscribe to the person tracks while a ``move_to`` runs, and only then.
+
+        Every delivery draws a network delay from the run's generator, so a
+        subscription held all the time would change every run, navigating or not.
+        """
+        if on and self._tracks_sub is None:
+            self._tracks_sub = self.bus.subscribe(TRACKS, self._on_tracks)
+        elif not on and self._tracks_sub is not None:
+            self._tracks_sub.close()
+            self._tracks_sub, self._tracks = None, None
 
     def _on_tracks(self, msg: Message) -> None:
         self._tracks = msg.xml  # read only when a control step needs it
@@ -220,6 +234,7 @@ class Player(Module):
                 self.bus.publish(BASE_CMD, etree.Element("velocity", v="0", w="0"))
                 self._set_state("reached", dist)
                 self._reached, self.goal = self.goal, None
+                self._listen_to_people(False)
                 return (0.0, 0.0)
             w = max(-self.limits.max_turn, min(self.limits.max_turn, 1.5 * turn))
             self.bus.publish(BASE_CMD, etree.Element("velocity", v="0", w=f"{w:.4f}"))

@@ -19,7 +19,7 @@ reports ``navigation_failed`` with that reason. ``navigation_cancelled``
 drops a request still being planned.
 
 Replanning (``/robot/navigation/replan``, from the sequencer when the player
-has been blocked a while): the echoes of the latest laser scan
+has been blocked a while): the echoes of the next laser scan
 (``/robot/laser/scan``, legs inflated to bodies) within :data:`LOCAL_RANGE` m
 that the floor plan does not explain (more than :data:`UNMAPPED` m from every
 mapped obstacle) are marked in a copy of the grid, a local costmap, and the
@@ -118,9 +118,9 @@ class Planner(Module):
         self._pending: deque[tuple[int, etree._Element | None]] = deque(maxlen=4)
         self.goal: tuple[str, tuple[float, float, float]] | None = None  # the last goal planned to
         self.scan = LatestScan()
+        self._scan_sub: Any = None  # subscribed only while a replan waits for a fresh scan
         self.bus.subscribe(CONDITIONS, self._on_condition)
         self.bus.subscribe(POSE, self._on_pose)
-        self.bus.subscribe(SCAN, self.scan.update)
         self.bus.subscribe(REPLAN, self._on_replan)
 
     def respawn(self) -> Planner:
@@ -200,11 +200,22 @@ class Planner(Module):
         return points
 
     def _on_replan(self, msg: Message) -> None:
+        """Replan on the next laser scan (the planner listens to the laser only for that one scan:
+        every delivery draws a network delay, so a standing subscription would change every run)."""
         title = msg.xml.get("goal", "")
         if self.goal is None or self.goal[0] != title or self.grid is None or self.pose is None:
             self._publish(title, [], failed="no_plan", replan=True)
             return
-        self.replan()
+        if self._scan_sub is None:
+            self._scan_sub = self.bus.subscribe(SCAN, self._on_scan)
+
+    def _on_scan(self, msg: Message) -> None:
+        if self._scan_sub is not None:
+            self._scan_sub.close()
+            self._scan_sub = None
+        self.scan.update(msg)
+        if self.goal is not None and self.grid is not None and self.pose is not None:
+            self.replan()
 
     def unmapped(self) -> np.ndarray:
         """The latest scan's echoes (map frame, (N, 2)) near the robot that the floor plan does not explain."""
