@@ -75,7 +75,7 @@ def _options(a: argparse.Namespace) -> RunOptions:
         raise HomesimError(f"--realtime must be a finite scale > 0, got {a.realtime}")
     if a.seed is not None and a.seed < 0:
         raise HomesimError(f"--seed must be >= 0, got {a.seed}")
-    return RunOptions(seed=a.seed, until=a.until, trace=a.trace, memory=a.memory, realtime=a.realtime)
+    return RunOptions(seed=a.seed, until=a.until, trace=a.trace, memory=a.memory, realtime=a.realtime, strict=a.strict)
 
 
 def run_command(a: argparse.Namespace) -> int:
@@ -218,6 +218,9 @@ def _run_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--memory", type=cliargs.output_file, default=None, help="the robot's knowledge store: load it at the start, save to it")
     p.add_argument("--realtime", type=cliargs.realtime_scale, default=None, metavar="X", help="pace the run at X times real time")
     p.add_argument("--quiet", action="store_true", help="print the verdict (and failed expectations) only")
+    p.add_argument("--strict", action="store_true",
+                   help="validate every bus message on a typed channel (default: only documents sent as text; "
+                        "the modules' own messages are validated by the test suite)")
     p.set_defaults(func=run_command)
 
 

@@ -18,7 +18,7 @@ from typing import Any, TypeVar
 import numpy as np
 from lxml import etree
 
-from .bus import Bus
+from .bus import VALIDATE_ALL, VALIDATE_EDGES, Bus
 from .errors import HomesimError
 from .network import Network
 from .realtime import RealtimePacer
@@ -40,10 +40,13 @@ class Simulation:
     """Virtual time, bus and seeded randomness for one run.
 
     ``realtime`` (a scale factor) paces the run against the wall clock for
-    live demos; the run's results are unchanged.
+    live demos; the run's results are unchanged. ``strict`` makes the bus
+    validate every message on a typed channel (the test suite's and
+    ``--strict``'s setting); by default it trusts the elements the modules
+    build and validates text from outside (see :mod:`homesim.bus`).
     """
 
-    def __init__(self, *, seed: int = 0, scenario: str = "", realtime: float | None = None) -> None:
+    def __init__(self, *, seed: int = 0, scenario: str = "", realtime: float | None = None, strict: bool = False) -> None:
         if not isinstance(seed, (int, np.integer)) or seed < 0:
             raise HomesimError(f"seed must be a non-negative integer, got {seed!r}")
         self.seed = int(seed)
@@ -51,7 +54,7 @@ class Simulation:
         self._rngs: dict[str, np.random.Generator] = {}
         self.loop = VirtualEventLoop(pacer=RealtimePacer(realtime) if realtime else None)
         self.network = Network(self.rng("homesim.network"))
-        self.bus = Bus(self.loop, network=self.network)
+        self.bus = Bus(self.loop, network=self.network, validation=VALIDATE_ALL if strict else VALIDATE_EDGES)
         self.modules: dict[str, Any] = {}
         self._system = self.bus.participant("simulator", host="simulator")
         system_xsd = Path(__file__).with_name("schemas") / "system.xsd"

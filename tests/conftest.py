@@ -45,6 +45,10 @@ def _close_left_simulations(monkeypatch: pytest.MonkeyPatch) -> Iterator[None]:
     original = Simulation.__init__
 
     def tracking_init(self: Simulation, *args: object, **kwargs: object) -> None:
+        # The suite runs strict: every message on a typed channel is validated,
+        # so a module that builds an invalid message fails its tests (the
+        # product's default trusts the modules' own elements; homesim.bus).
+        kwargs.setdefault("strict", True)
         original(self, *args, **kwargs)
         created.append(self)
 

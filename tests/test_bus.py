@@ -461,3 +461,60 @@ def test_transfer_skips_the_copy_but_keeps_isolation_rules(sim):
     assert m2.xml is not parent[0] and m2.xml.getparent() is None and m2.xml.tail is None
     sim.run()
     assert [g.xml.tag for g in got] == ["order", "order"]
+
+
+# ------------------------------------------------------- validation policy
+# The suite runs strict (conftest); these build the product's default explicitly.
+
+
+def test_default_policy_validates_text_from_outside_and_trusts_built_elements():
+    with Simulation(seed=3, strict=False) as s:
+        assert s.bus.validation == "edges"
+        s.bus.declare_channel("/robot/persons", schema_from_text("person.xsd", PERSON_XSD))
+        a = s.bus.participant("a")
+        got = []
+        s.bus.participant("b").subscribe("/robot/persons", got.append)
+        with pytest.raises(MessageValidationError, match="speaking"):
+            a.publish("/robot/persons", '<person id="3"><bearing>0.5</bearing></person>')
+        # A module's own element is trusted: delivered as built (--strict finds such a bug).
+        a.publish("/robot/persons", etree.fromstring('<person id="3"><bearing>0.5</bearing></person>'))
+        s.run()
+        assert [m.xml.get("id") for m in got] == ["3"] and s.bus.sent == 1
+
+
+def test_strict_policy_refuses_an_invalid_element_too():
+    with Simulation(seed=3, strict=True) as s:
+        assert s.bus.validation == "all"
+        s.bus.declare_channel("/robot/persons", schema_from_text("person.xsd", PERSON_XSD))
+        a = s.bus.participant("a")
+        with pytest.raises(MessageValidationError, match="speaking"):
+            a.publish("/robot/persons", etree.fromstring('<person id="3"><bearing>0.5</bearing></person>'))
+        assert s.bus.sent == 0
+
+
+def test_the_suite_runs_strict(sim):
+    assert sim.bus.validation == "all"
+
+
+def test_an_unknown_validation_policy_is_refused(sim):
+    from homesim.bus import Bus
+
+    with pytest.raises(BusError, match="validation policy 'some'"):
+        Bus(sim.loop, network=sim.network, validation="some")
+
+
+@settings(max_examples=examples(10, 30))
+@given(st.integers(1, 10**6), st.booleans(), st.floats(-4, 4, allow_nan=False), st.booleans())
+def test_a_valid_message_is_delivered_identically_under_both_policies(pid, speaking, bearing, as_text):
+    """The policy decides only whether an invalid element is refused; valid traffic is the same."""
+    doc = f'<person id="{pid}" speaking="{str(speaking).lower()}"><bearing>{bearing!r}</bearing></person>'
+    delivered = []
+    for strict_mode in (True, False):
+        with Simulation(seed=5, strict=strict_mode) as s:
+            s.bus.declare_channel("/robot/persons", schema_from_text("person.xsd", PERSON_XSD))
+            got: list = []
+            s.bus.participant("b").subscribe("/robot/persons", got.append)
+            s.bus.participant("a").publish("/robot/persons", doc if as_text else etree.fromstring(doc))
+            s.run()
+            delivered.append([(m.id, m.sent_ns, etree.tostring(m.xml)) for m in got])
+    assert delivered[0] == delivered[1] and len(delivered[0]) == 1
