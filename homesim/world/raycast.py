@@ -24,6 +24,7 @@ FloatArray = np.ndarray
 
 _EMPTY2 = np.zeros((0, 2))
 _EMPTY1 = np.zeros(0)
+_CULL = 1e-6  # metres: culling margin, far above rounding, far below any geometry
 
 
 def cast_rays(
@@ -232,12 +233,13 @@ def line_of_sight(
 # ----------------------------------------------------------- 3D sight lines
 class Prisms:
     """Convex vertical prisms (a polygon footprint from ``bottom`` to ``top``), packed for
-    :func:`sight_lines_clear`: every edge's start point and outward normal, grouped by prism."""
+    :func:`sight_lines_clear`: every edge's start point and outward normal, grouped by prism,
+    and each prism's bounding box (``lo``, ``hi``: (M, 2)) for culling."""
 
-    __slots__ = ("a", "normal", "first", "bottom", "top")
+    __slots__ = ("a", "normal", "first", "bottom", "top", "lo", "hi", "count", "_edge_prism", "_boxes")
 
     def __init__(self, polygons: Sequence[FloatArray], bottom: Sequence[float], top: Sequence[float]) -> None:
-        starts, normals, first = [], [], []
+        starts, normals, first, lo, hi = [], [], [], [], []
         n = 0
         for poly in polygons:
             p = np.asarray(poly, dtype=float)
@@ -247,15 +249,41 @@ class Prisms:
             starts.append(p)
             normals.append(np.stack((e[:, 1], -e[:, 0]), axis=1))  # outward for a counter-clockwise polygon
             first.append(n)
+            lo.append(p.min(axis=0) if p.shape[0] else (np.inf, np.inf))
+            hi.append(p.max(axis=0) if p.shape[0] else (-np.inf, -np.inf))
             n += p.shape[0]
         self.a = np.concatenate(starts) if starts else _EMPTY2
         self.normal = np.concatenate(normals) if normals else _EMPTY2
         self.first = np.array(first, dtype=np.intp)
         self.bottom = np.asarray(bottom, dtype=float)
         self.top = np.asarray(top, dtype=float)
+        self.lo = np.array(lo, dtype=float).reshape(-1, 2)
+        self.hi = np.array(hi, dtype=float).reshape(-1, 2)
+        self.count = np.diff(np.append(self.first, n)).astype(np.intp)
+        self._edge_prism = np.repeat(np.arange(len(first), dtype=np.intp), self.count)
 
     def __len__(self) -> int:
         return int(self.first.shape[0])
+
+    @property
+    def boxes(self) -> list[tuple[float, float, float, float, float, float]]:
+        """Per prism (lo x, lo y, hi x, hi y, bottom, top) as plain floats, for culling."""
+        try:
+            return self._boxes
+        except AttributeError:
+            self._boxes = [tuple(row) for row in np.column_stack((self.lo, self.hi, self.bottom, self.top)).tolist()]
+            return self._boxes
+
+    def subset(self, keep: FloatArray) -> "Prisms":
+        """The prisms at indices ``keep`` (sorted), packed the same way (no copies of the polygons)."""
+        out = Prisms.__new__(Prisms)
+        edges = np.isin(self._edge_prism, keep)
+        out.a, out.normal = self.a[edges], self.normal[edges]
+        out.count = self.count[keep]
+        out.first = np.concatenate(([0], np.cumsum(out.count)[:-1])).astype(np.intp)
+        out.bottom, out.top, out.lo, out.hi = self.bottom[keep], self.top[keep], self.lo[keep], self.hi[keep]
+        out._edge_prism = np.repeat(np.arange(len(keep), dtype=np.intp), out.count)
+        return out
 
 
 def _signed_area(p: FloatArray) -> float:
@@ -297,15 +325,35 @@ def sight_lines_clear(
     if n == 0:
         return np.zeros(0, dtype=bool)
     ox, oy, oz = float(origin[0]), float(origin[1]), float(origin[2])
+    # Cull first, in plain floats (a frame asks a few lines): an obstacle whose box misses the
+    # box around every line, or whose height span misses every line's, cannot block; the
+    # margin _CULL keeps rounding on the safe side. Often nothing is left to test.
+    cols = tg.T.tolist()
+    x0, x1 = min(ox, *cols[0]) - _CULL, max(ox, *cols[0]) + _CULL
+    y0, y1 = min(oy, *cols[1]) - _CULL, max(oy, *cols[1]) + _CULL
+    z0, z1 = min(oz, *cols[2]) - _CULL, max(oz, *cols[2]) + _CULL
+    keep = [i for i, (lx, ly, hx, hy, bot, top) in enumerate(prisms.boxes)
+            if lx <= x1 and hx >= x0 and ly <= y1 and hy >= y0 and bot <= z1 and top >= z0]
+    c = np.asarray(cyl_c, dtype=float).reshape(-1, 2)
+    ckeep: list[int] = []
+    if c.shape[0]:
+        r = np.asarray(cyl_r, dtype=float)
+        all_skip = np.asarray(skip, dtype=bool).all(axis=0).tolist() if skip is not None else [False] * c.shape[0]
+        ckeep = [k for k, ((cx, cy), rk, sk) in enumerate(zip(c.tolist(), r.tolist(), all_skip))
+                 if not sk and cx - rk <= x1 and cx + rk >= x0 and cy - rk <= y1 and cy + rk >= y0]
+    if not keep and not ckeep:
+        return np.ones(n, dtype=bool)
     d = tg[:, :2] - (ox, oy)  # (N, 2): the line is origin + t d, t in [0, 1]
     dz = tg[:, 2] - oz
     length = np.hypot(d[:, 0], d[:, 1])
     t_end = np.clip(1.0 - margin / np.maximum(length, 1e-12), 0.0, 1.0)
     blocked = np.zeros(n, dtype=bool)
-    if len(prisms):
-        # Cyrus-Beck clipping of every line against every convex prism footprint.
-        num = ((prisms.a - (ox, oy)) * prisms.normal).sum(axis=1)  # (E,)
-        den = d @ prisms.normal.T  # (N, E)
+    if keep:
+        prisms = prisms if len(keep) == len(prisms) else prisms.subset(np.array(keep, dtype=np.intp))
+        # Cyrus-Beck clipping of every line against every convex prism footprint; the
+        # products are elementwise, so a line's result never depends on the others asked.
+        num = (prisms.a[:, 0] - ox) * prisms.normal[:, 0] + (prisms.a[:, 1] - oy) * prisms.normal[:, 1]  # (E,)
+        den = d[:, 0:1] * prisms.normal[None, :, 0] + d[:, 1:2] * prisms.normal[None, :, 1]  # (N, E)
         with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
             t = num[None, :] / den
         enter = np.where(den < 0, t, -np.inf)
@@ -314,12 +362,12 @@ def sight_lines_clear(
         t_in = np.maximum(np.maximum.reduceat(enter, prisms.first, axis=1), 0.0)  # (N, M)
         t_out = np.minimum(np.minimum.reduceat(leave, prisms.first, axis=1), t_end[:, None])
         blocked |= _height_span_blocks(oz, dz[:, None], t_in, t_out, prisms.bottom[None, :], prisms.top[None, :]).any(axis=1)
-    c = np.asarray(cyl_c, dtype=float).reshape(-1, 2)
-    if c.shape[0]:
-        r = np.asarray(cyl_r, dtype=float)
+    if ckeep:
+        sel = np.array(ckeep, dtype=np.intp)
+        c, r, cyl_top = c[sel], r[sel], np.asarray(cyl_top, dtype=float)[sel]
         f = (ox, oy) - c  # (K, 2)
         a = (d * d).sum(axis=1)[:, None]  # (N, 1)
-        b = 2.0 * (d @ f.T)  # (N, K)
+        b = 2.0 * (d[:, 0:1] * f[None, :, 0] + d[:, 1:2] * f[None, :, 1])  # (N, K), elementwise as above
         cc = (f * f).sum(axis=1) - r * r  # (K,)
         disc = b * b - 4.0 * a * cc[None, :]
         root = np.sqrt(np.maximum(disc, 0.0))
@@ -328,8 +376,8 @@ def sight_lines_clear(
             t2 = np.where(disc >= 0, (-b + root) / (2.0 * a), -np.inf)
         t_in = np.maximum(t1, 0.0)
         t_out = np.minimum(t2, t_end[:, None])
-        hit = _height_span_blocks(oz, dz[:, None], t_in, t_out, np.zeros_like(r)[None, :], np.asarray(cyl_top, dtype=float)[None, :])
+        hit = _height_span_blocks(oz, dz[:, None], t_in, t_out, np.zeros_like(r)[None, :], cyl_top[None, :])
         if skip is not None:
-            hit &= ~np.asarray(skip, dtype=bool)
+            hit &= ~np.asarray(skip, dtype=bool)[:, sel]
         blocked |= hit.any(axis=1)
     return ~blocked
