@@ -24,9 +24,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from homesim.world.geometry import wrap_angle
+from homesim.world.geometry import TWO_PI, wrap_angle
 from homesim.world.raycast import sight_lines_clear
 from homesim.world.world import World
+
+Occluders = tuple[np.ndarray, np.ndarray, np.ndarray, list[str]]
+# numpy's hypot on floats is libm's (math.hypot rounds differently in the last bit).
+_hypot = np.hypot
 
 
 @dataclass(frozen=True)
@@ -86,12 +90,24 @@ def view_angles(cam: tuple[float, float, float], robot_heading: float, points: n
     return bearing, elev, np.hypot(horiz, d[:, 2])
 
 
+def _look(cam: tuple[float, float, float], heading: float, p: tuple[float, float, float]) -> tuple[float, float, float]:
+    """:func:`view_angles` for one point in plain floats (bit-identical: same operations, same libm)."""
+    dx, dy, dz = p[0] - cam[0], p[1] - cam[1], p[2] - cam[2]
+    horiz = float(_hypot(dx, dy))
+    return (math.atan2(dy, dx) - heading + math.pi) % TWO_PI - math.pi, math.atan2(dz, horiz), float(_hypot(horiz, dz))
+
+
+def _in_view(bearing: float, elev: float, ptu: PanTilt, spec: CameraSpec) -> bool:
+    """:func:`in_field_of_view` for one direction in plain floats."""
+    return abs((bearing - ptu.pan + math.pi) % TWO_PI - math.pi) <= spec.hfov / 2 and abs(elev - ptu.tilt) <= spec.vfov / 2
+
+
 def in_field_of_view(bearing: np.ndarray, elev: np.ndarray, ptu: PanTilt, spec: CameraSpec) -> np.ndarray:
     """Whether robot-frame directions fall inside the image at the current pan and tilt."""
     return (np.abs(wrap_angle(bearing - ptu.pan)) <= spec.hfov / 2) & (np.abs(elev - ptu.tilt) <= spec.vfov / 2)
 
 
-def visible(world: World, cam: tuple[float, float, float], points: np.ndarray, *, exclude: list[str | None]) -> np.ndarray:
+def visible(world: World, cam: tuple[float, float, float], points: np.ndarray, *, exclude: list[str | None], occluders: Occluders | None = None) -> np.ndarray:
     """Line of sight from the camera to each point (N, 3), in 3D.
 
     Walls, furniture (from its underside to its top) and people (upright
@@ -99,9 +115,10 @@ def visible(world: World, cam: tuple[float, float, float], points: np.ndarray, *
     at its height there, passes through them: the camera looks over a
     child or a sofa at a face behind, and under a table top. ``exclude[i]``
     names the person point i belongs to (their own body does not hide it).
+    ``occluders`` is ``world.person_cylinders()`` when the caller has it (once per frame).
     """
     p = np.atleast_2d(np.asarray(points, dtype=float))
-    c, r, top, names = world.person_cylinders()
+    c, r, top, names = world.person_cylinders() if occluders is None else occluders
     skip = np.array([[n == ex for n in names] for ex in exclude], dtype=bool).reshape(p.shape[0], len(names))
     return sight_lines_clear(cam, p, world.prisms, c, r, top, skip=skip)
 
@@ -114,31 +131,32 @@ class FaceDetection:
     truth: str  # who it was (ground truth; kept out of bus messages)
 
 
-def detect_faces(world: World, pose: tuple[float, float, float], ptu: PanTilt, spec: CameraSpec, rng: np.random.Generator | None) -> list[FaceDetection]:
+def detect_faces(world: World, pose: tuple[float, float, float], ptu: PanTilt, spec: CameraSpec, rng: np.random.Generator | None,
+                 *, occluders: Occluders | None = None) -> list[FaceDetection]:
     """Faces in frontal view, in the image, unoccluded and 0.5-4 m away."""
     people = [h for h in world.humans.values() if h.present]
     if not people:
         return []
     cam = camera_point(pose, spec)
-    faces = np.array([h.face_point() for h in people])
-    bearing, elev, dist = view_angles(cam, pose[2], faces)
-    gaze = np.array([h.gaze for h in people])
-    # Direction from each face to the camera vs where the face looks.
-    to_cam = np.arctan2(cam[1] - faces[:, 1], cam[0] - faces[:, 0])
-    frontal = np.abs(wrap_angle(gaze - to_cam)) <= spec.frontal
-    ok = frontal & in_field_of_view(bearing, elev, ptu, spec) & (dist >= spec.face_range[0]) & (dist <= spec.face_range[1])
-    idx = np.flatnonzero(ok)
-    if idx.size:
-        sight = visible(world, cam, faces[idx], exclude=[people[i].name for i in idx])
-        idx = idx[sight]
+    lo, hi = spec.face_range
+    cand = []
+    for h in people:  # plain floats: a few people, where numpy's per-call cost dominates
+        f = h.face_point()
+        b, e, d = _look(cam, pose[2], f)
+        to_cam = math.atan2(cam[1] - f[1], cam[0] - f[0])  # from the face to the camera vs where it looks
+        if abs((h.gaze - to_cam + math.pi) % TWO_PI - math.pi) <= spec.frontal and _in_view(b, e, ptu, spec) and lo <= d <= hi:
+            cand.append((h, f, b, d))
+    if cand:
+        sight = visible(world, cam, np.array([c[1] for c in cand]), exclude=[c[0].name for c in cand], occluders=occluders)
+        cand = [c for c, seen in zip(cand, sight) if seen]
     out = []
-    for i in idx:
-        b, d, z = float(bearing[i]), float(dist[i]), float(faces[i, 2])
+    for h, f, b, d in cand:
+        z = float(f[2])
         if rng is not None:
             b += float(rng.normal(0.0, spec.bearing_noise))
             d *= float(1.0 + rng.normal(0.0, spec.distance_noise))
             z += float(rng.normal(0.0, spec.height_noise))
-        out.append(FaceDetection(float(wrap_angle(b)), max(0.1, d), z, people[i].name))
+        out.append(FaceDetection(float(wrap_angle(b)), max(0.1, d), z, h.name))
     return out
 
 
@@ -149,26 +167,30 @@ class TorsoDetection:
     truth: str
 
 
-def detect_torsos(world: World, pose: tuple[float, float, float], ptu: PanTilt, spec: CameraSpec, rng: np.random.Generator | None) -> list[TorsoDetection]:
+def detect_torsos(world: World, pose: tuple[float, float, float], ptu: PanTilt, spec: CameraSpec, rng: np.random.Generator | None,
+                  *, occluders: Occluders | None = None) -> list[TorsoDetection]:
     """Torsos (clothing colour and bearing) of people in view, whichever way they face."""
     people = [h for h in world.humans.values() if h.present]
     if not people:
         return []
     cam = camera_point(pose, spec)
-    pts = np.array([(*h.position, h.torso_z) for h in people])
-    bearing, elev, dist = view_angles(cam, pose[2], pts)
-    ok = in_field_of_view(bearing, elev, ptu, spec) & (dist >= spec.torso_range[0]) & (dist <= spec.torso_range[1])
-    idx = np.flatnonzero(ok)
-    if idx.size:
-        idx = idx[visible(world, cam, pts[idx], exclude=[people[i].name for i in idx])]
+    lo, hi = spec.torso_range
+    cand = []
+    for h in people:
+        p = (*h.position, h.torso_z)
+        b, e, d = _look(cam, pose[2], p)
+        if _in_view(b, e, ptu, spec) and lo <= d <= hi:
+            cand.append((h, p, b))
+    if cand:
+        sight = visible(world, cam, np.array([c[1] for c in cand]), exclude=[c[0].name for c in cand], occluders=occluders)
+        cand = [c for c, seen in zip(cand, sight) if seen]
     out = []
-    for i in idx:
-        b = float(bearing[i])
-        rgb = np.array(people[i].torso, dtype=float)
+    for h, _, b in cand:
+        rgb = np.array(h.torso, dtype=float)
         if rng is not None:
             b += float(rng.normal(0.0, spec.bearing_noise * 2))
             rgb = np.clip(rgb + rng.normal(0.0, spec.colour_noise, 3), 0.0, 1.0)
-        out.append(TorsoDetection(float(wrap_angle(b)), (float(rgb[0]), float(rgb[1]), float(rgb[2])), people[i].name))
+        out.append(TorsoDetection(float(wrap_angle(b)), (float(rgb[0]), float(rgb[1]), float(rgb[2])), h.name))
     return out
 
 
@@ -185,7 +207,8 @@ class GestureDetection:
     target: str
 
 
-def detect_gestures(world: World, pose: tuple[float, float, float], ptu: PanTilt, spec: CameraSpec, rng: np.random.Generator | None) -> list[GestureDetection]:
+def detect_gestures(world: World, pose: tuple[float, float, float], ptu: PanTilt, spec: CameraSpec, rng: np.random.Generator | None,
+                    *, occluders: Occluders | None = None) -> list[GestureDetection]:
     """Pointing gestures whose hand is in the image, unoccluded and near enough."""
     out = []
     cam = camera_point(pose, spec)
@@ -193,21 +216,20 @@ def detect_gestures(world: World, pose: tuple[float, float, float], ptu: PanTilt
         hand = h.hand_point() if h.present else None
         if hand is None or h.pointing is None:
             continue
-        bearing, elev, dist = view_angles(cam, pose[2], np.array([hand]))
-        if not (in_field_of_view(bearing, elev, ptu, spec)[0] and dist[0] <= spec.gesture_range):
+        b, e, d = _look(cam, pose[2], hand)
+        if not (_in_view(b, e, ptu, spec) and d <= spec.gesture_range):
             continue
-        if not visible(world, cam, np.array([hand]), exclude=[h.name])[0]:
+        if not visible(world, cam, np.array([hand]), exclude=[h.name], occluders=occluders)[0]:
             continue
         x, y = h.position
         arm = np.array(hand) - np.array([x, y, h.shoulder_z])
         direction = math.atan2(arm[1], arm[0]) - pose[2]
         arm_elev = math.atan2(arm[2], math.hypot(arm[0], arm[1]))
-        b = float(bearing[0])
         if rng is not None:
             direction += float(rng.normal(0.0, spec.direction_noise))
             arm_elev += float(rng.normal(0.0, spec.direction_noise))
             b += float(rng.normal(0.0, spec.bearing_noise))
-        out.append(GestureDetection(float(wrap_angle(b)), float(dist[0]), float(wrap_angle(direction)), arm_elev, float(hand[2]), h.name, h.pointing.target_name))
+        out.append(GestureDetection(float(wrap_angle(b)), d, float(wrap_angle(direction)), arm_elev, float(hand[2]), h.name, h.pointing.target_name))
     return out
 
 
@@ -228,26 +250,29 @@ def confuse(true_type: str, types: list[str], p: float, rng: np.random.Generator
     return others[int(rng.integers(len(others)))]
 
 
-def detect_objects(world: World, pose: tuple[float, float, float], ptu: PanTilt, spec: CameraSpec, rng: np.random.Generator | None, *, confusion: float = 0.05) -> list[ObjectDetection]:
+def detect_objects(world: World, pose: tuple[float, float, float], ptu: PanTilt, spec: CameraSpec, rng: np.random.Generator | None, *,
+                   confusion: float = 0.05, occluders: Occluders | None = None) -> list[ObjectDetection]:
     """Objects in the image, unoccluded, 0.3-3.5 m away; types through :func:`confuse`."""
     names = list(world.objects)
     if not names:
         return []
     types = sorted({world.objects[n].type for n in names})
     cam = camera_point(pose, spec)
-    pts = np.array([world.object_point(n) for n in names])
-    bearing, elev, dist = view_angles(cam, pose[2], pts)
-    ok = in_field_of_view(bearing, elev, ptu, spec) & (dist >= spec.object_range[0]) & (dist <= spec.object_range[1])
-    idx = np.flatnonzero(ok)
-    if idx.size:
+    lo, hi = spec.object_range
+    cand = []
+    for n in names:
+        p = world.object_point(n)
+        b, e, d = _look(cam, pose[2], p)
+        if _in_view(b, e, ptu, spec) and lo <= d <= hi:
+            cand.append((world.objects[n], p, b, d))
+    if cand:
         # An object's own furniture does not hide it: look at its top.
-        lifted = pts[idx].copy()
-        lifted[:, 2] += np.array([world.objects[names[i]].height / 2 for i in idx])
-        idx = idx[visible(world, cam, lifted, exclude=[None] * len(idx))]
+        lifted = np.array([c[1] for c in cand], dtype=float)
+        lifted[:, 2] += np.array([c[0].height / 2 for c in cand])
+        sight = visible(world, cam, lifted, exclude=[None] * len(cand), occluders=occluders)
+        cand = [c for c, seen in zip(cand, sight) if seen]
     out = []
-    for i in idx:
-        o = world.objects[names[i]]
-        b, d = float(bearing[i]), float(dist[i])
+    for o, _, b, d in cand:
         rgb = np.array(o.colour, dtype=float)
         if rng is not None:
             b += float(rng.normal(0.0, spec.bearing_noise))
