@@ -51,7 +51,7 @@ class Heartbeat:
             return False
         self.seq += 1
         el = etree.Element("heartbeat", module=self.participant.name, seq=str(self.seq), interval=repr(self.interval))
-        self.participant.publish(self.channel, el)
+        self.participant.publish(self.channel, el, transfer=True)  # built here, never touched again
         self._next_ns = now + self._interval_ns
         return True
 

@@ -169,7 +169,7 @@ class Microphones(Module):
             for pk in self._onsets.update(peaks, rng):
                 b = float(bearing_from_tdoa(pk.tdoa, spec))
                 etree.SubElement(el, "source", tdoa=f"{pk.tdoa * 1e6:.2f}", bearing=f"{math.degrees(b):.3f}", level=f"{pk.level:.2f}", unit_tdoa="us")
-            self.bus.publish(SOURCES, el)
+            self.bus.publish(SOURCES, el, transfer=True)
             self._follow_beam(now, pose, period)
             for u in self.world.sound.ended(self._last, now):
                 self.recognise(u, pose)

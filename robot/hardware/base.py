@@ -127,5 +127,6 @@ class Base(Module):
             self.bus.publish(
                 ODOMETRY_CHANNEL,
                 etree.Element("odometry", x=f"{x:.5f}", y=f"{y:.5f}", theta=f"{th:.5f}", v=f"{v:.4f}", w=f"{w:.4f}", stalled="true" if rb.cmd_v and abs(v) < 1e-3 else "false"),
+                transfer=True,  # a fresh element, not kept: no copy
             )
             await asyncio.sleep(period)

@@ -120,6 +120,6 @@ class Laser(Module):
         while True:
             self.beat()
             ranges = simulate_scan(self.world, self.world.robot.pose, self.spec, self.rng, bearings=self._bearings)
-            self.bus.publish(SCAN_CHANNEL, scan_element(self.now, self.spec, self.seq), attachments={"ranges": ranges})
+            self.bus.publish(SCAN_CHANNEL, scan_element(self.now, self.spec, self.seq), attachments={"ranges": ranges}, transfer=True)
             self.seq += 1
             await asyncio.sleep(period)
