@@ -18,7 +18,10 @@ Rows, each a ratio or rate measured in this run, so machine load cancels out of 
 - ``loop/sleep``, ``loop/pingpong``: the virtual-time loop's events/s over SimPy's;
 - ``supervisor/engine``, ``supervisor/bus``: the execution supervisor's events/s over sismic's;
 - ``laser``: 361-beam scans/s, numpy kernel over pymunk's per-ray queries;
-- ``bus/publish``: typed messages per CPU second through one publish (XSD validation included).
+- ``bus/publish``, ``bus/publish --strict``: typed messages per CPU second through one publish,
+  under the default validation policy (the module's element trusted) and validated (``--strict``);
+- ``modules/<name>``: each module's CPU per update and per simulated second in the home tour
+  (:mod:`benchmarks.bench_modules`: periodic loops and subscription handlers timed apart).
 
 ``--tiny`` runs every row with tiny sizes (a smoke test CI runs, ``tests/test_benchmarks.py``);
 its figures mean nothing. Not a test: speed is measured here, never asserted.
@@ -125,6 +128,8 @@ def rows(s: Sizes, only: set[str] | None = None) -> list[Row]:
         for name in ("two_people_radio.xml", "home_tour.xml"):
             sim, cpu = cpu_run(ROOT / "scenarios" / name, RunOptions(seed=0, until=s.until))
             add("speed", name, sim / cpu, "sim s / CPU s", ">= 300", f"{1000 * cpu / sim:.2f} ms CPU per sim s")
+        sim, cpu = cpu_run(ROOT / "scenarios" / "home_tour.xml", RunOptions(seed=0, until=s.until, strict=True))
+        add("speed", "home_tour.xml --strict", sim / cpu, "sim s / CPU s", "", f"{1000 * cpu / sim:.2f} ms CPU per sim s, every message validated")
     if want("stage"):
         for n in (1, 3, 10):
             ms = stage_ms(n, s.stage_seconds)
@@ -176,7 +181,16 @@ def rows(s: Sizes, only: set[str] | None = None) -> list[Row]:
         from benchmarks.bench_localisation import bare_publish_us
 
         us = bare_publish_us(s.publishes)
-        add("bus", "publish", 1e6 / us, "messages / CPU s", "", f"{us:.1f} us per typed publish, no receiver")
+        strict_us = bare_publish_us(s.publishes, strict=True)
+        add("bus", "publish", 1e6 / us, "messages / CPU s", "", f"{us:.1f} us per typed publish, no receiver (default: trusted)")
+        add("bus", "publish --strict", 1e6 / strict_us, "messages / CPU s", "", f"{strict_us:.1f} us per typed publish, XSD validated")
+    if want("modules"):
+        from benchmarks.bench_modules import module_costs
+
+        _, _, costs = module_costs(ROOT / "scenarios" / "home_tour.xml", seed=0, until=s.until)
+        for c in costs:
+            note = "" if c["us_per_update"] is None else f"{c['us_per_update']:.1f} us per update, {c['updates']} updates"
+            add("modules", c["module"], c["ms_per_sim_s"], "CPU ms / sim s", "", note)
     return out
 
 
@@ -184,7 +198,7 @@ def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(prog="python -m benchmarks", description=__doc__.split("\n")[0])
     ap.add_argument("--tiny", action="store_true", help="tiny sizes: a smoke test, the figures mean nothing")
     ap.add_argument("--json", type=Path, default=None, help="where to write the rows (default benchmarks/results[-tiny].json)")
-    ap.add_argument("--only", default=None, help="comma-separated groups: speed,stage,memory,loop,supervisor,laser,bus")
+    ap.add_argument("--only", default=None, help="comma-separated groups: speed,stage,memory,loop,supervisor,laser,bus,modules")
     ap.add_argument("--memory", default=None, metavar="SHORT,LONG",
                     help="lengths (simulated s) of the two memory runs (default 600,3600)")
     a = ap.parse_args(argv)

@@ -75,7 +75,7 @@ def _options(a: argparse.Namespace) -> RunOptions:
         raise HomesimError(f"--realtime must be a finite scale > 0, got {a.realtime}")
     if a.seed is not None and a.seed < 0:
         raise HomesimError(f"--seed must be >= 0, got {a.seed}")
-    return RunOptions(seed=a.seed, until=a.until, trace=a.trace, memory=a.memory, realtime=a.realtime, strict=a.strict)
+    return RunOptions(seed=a.seed, until=a.until, trace=a.trace, memory=a.memory, realtime=a.realtime, strict=a.strict or None)
 
 
 def run_command(a: argparse.Namespace) -> int:

@@ -80,7 +80,7 @@ class RunOptions:
     realtime: float | None = None
     subsystems: tuple[str, ...] | None = None  # None: robot.install.SUBSYSTEMS
     metrics: tuple[str, ...] | None = None  # None: every registered metric
-    strict: bool = False  # validate every message on a typed channel (see homesim.bus)
+    strict: bool | None = None  # True: validate every message on a typed channel; None: Simulation's default (homesim.bus)
 
 
 @dataclass(frozen=True)
@@ -107,7 +107,8 @@ class Run:
         self.options = options
         self.on_line = on_line
         seed = scenario.seed if options.seed is None else options.seed
-        self.sim = Simulation(seed=seed, scenario=scenario.name, realtime=options.realtime, strict=options.strict)
+        self.sim = Simulation(seed=seed, scenario=scenario.name, realtime=options.realtime,
+                              **({} if options.strict is None else {"strict": options.strict}))
         self.header = {
             "scenario_file": scenario_file if scenario_file is not None else scenario.source,
             "scenario_digest": digest,

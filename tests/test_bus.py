@@ -518,3 +518,15 @@ def test_a_valid_message_is_delivered_identically_under_both_policies(pid, speak
             s.run()
             delivered.append([(m.id, m.sent_ns, etree.tostring(m.xml)) for m in got])
     assert delivered[0] == delivered[1] and len(delivered[0]) == 1
+
+
+def test_scenario_runs_in_the_suite_are_strict_and_the_product_default_is_not():
+    from pathlib import Path
+
+    from homesim.runner import Run, RunOptions
+
+    scen = Path(__file__).resolve().parents[1] / "scenarios" / "two_people_radio.xml"
+    with Run.from_file(scen, RunOptions(until=0.1)) as run:
+        assert run.sim.bus.validation == "all"
+    with Run.from_file(scen, RunOptions(until=0.1, strict=False)) as run:
+        assert run.sim.bus.validation == "edges"
