@@ -26,6 +26,7 @@ SUBCOMMAND_MODULES: list[str] = [
     "homesim.memory.cli",
     "homesim.viz.cli",
     "homesim.export.cli",
+    "homesim.sweep",
 ]
 
 

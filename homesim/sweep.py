@@ -1,0 +1,207 @@
+"""``homesim sweep``: every scenario x seed, in parallel, into one table of verdicts and metrics.
+
+Each run is exactly ``homesim run SCENARIO --seed N`` (the same :class:`~homesim.runner.Run`,
+so the same trace and summary); its summary is written to ``OUT/summaries/`` and one row per
+run goes into ``OUT/sweep.csv`` and ``OUT/sweep.json``, with an aggregate per scenario (runs,
+pass rate, crashes, and the mean and standard deviation of every numeric metric).
+
+Where the runs happen: by default on local processes (``--workers N``, default the CPU count);
+with ``--scheduler ADDRESS`` on a Dask distributed cluster (the engine users already run for
+sweeps; ``pip install "dask[distributed]"``). How it fails: a run that fails its expectations
+is a ``FAIL`` row; a run that raises (a bad scenario, a module crash that fails the run) or
+whose worker dies is an ``ERROR`` row with the error, and the sweep goes on. Progress goes to
+stderr, one line per finished run.
+"""
+
+from __future__ import annotations
+
+import argparse
+import csv
+import io
+import json
+import math
+import os
+import sys
+import traceback
+from collections.abc import Callable, Iterable, Iterator
+from concurrent.futures import ProcessPoolExecutor, as_completed
+from pathlib import Path
+from typing import Any
+
+from . import cliargs
+from .cliargs import OptionError
+
+Row = dict[str, Any]
+PASS, FAIL, ERROR = "PASS", "FAIL", "ERROR"
+
+
+def parse_seeds(text: str) -> list[int]:
+    """``"0-99"``, ``"3"``, ``"0-4,10,20-22"`` -> the seeds, in order, without repeats."""
+    out: list[int] = []
+    for part in text.split(","):
+        lo, sep, hi = part.strip().partition("-")
+        try:
+            a = cliargs.seed(lo.strip())
+            b = cliargs.seed(hi.strip()) if sep else a
+        except argparse.ArgumentTypeError as exc:
+            raise OptionError("--seeds", f"{part.strip()!r}: {exc}") from None
+        if b < a:
+            raise OptionError("--seeds", f"{part.strip()!r}: the range is empty (write low-high)")
+        if b - a >= 100_000:
+            raise OptionError("--seeds", f"{part.strip()!r}: more than 100000 seeds in one range")
+        out.extend(s for s in range(a, b + 1) if s not in out)
+    return out
+
+
+def _flat(prefix: str, value: Any, into: dict[str, float]) -> None:
+    if isinstance(value, bool):
+        into[prefix] = float(value)
+    elif isinstance(value, (int, float)):
+        if math.isfinite(value):
+            into[prefix] = float(value)
+    elif isinstance(value, dict):
+        for k, v in value.items():
+            _flat(f"{prefix}.{k}", v, into)
+
+
+def run_one(scenario: str, seed: int, until: float | None = None, summaries: str | None = None) -> Row:
+    """One run, as ``homesim run`` does it; never raises (an error becomes an ``ERROR`` row)."""
+    from .runner import Run, RunOptions
+
+    row: Row = {"scenario": Path(scenario).stem, "file": scenario, "seed": seed, "verdict": ERROR,
+                "passed": 0, "expectations": 0, "sim_time_s": None, "cpu_time_s": None, "error": "", "metrics": {}}
+    try:
+        with Run.from_file(Path(scenario), RunOptions(seed=seed, until=until)) as run:
+            run.run()
+            verdicts = run.finish()
+            summary = run.summary()
+    except Exception as exc:  # a failing run is a row, never the end of the sweep
+        row["error"] = f"{type(exc).__name__}: {exc}"[:2000]
+        row["traceback"] = traceback.format_exc(limit=8)[-4000:]
+        return row
+    metrics: dict[str, float] = {}
+    for name, value in (summary.get("metrics") or {}).items():
+        _flat(name, value, metrics)
+    row.update(verdict=summary["verdict"], passed=sum(v.passed for v in verdicts), expectations=len(verdicts),
+               sim_time_s=summary["sim_time_s"], cpu_time_s=summary["cpu_time_s"], metrics=metrics,
+               failed=[v.as_dict() for v in verdicts if not v.passed])
+    if summaries is not None:
+        path = Path(summaries) / f"{row['scenario']}-{seed}.json"
+        path.write_text(json.dumps(summary, indent=2, ensure_ascii=False) + "\n", encoding="utf-8")
+    return row
+
+
+def aggregate(rows: list[Row]) -> list[Row]:
+    """Per scenario: runs, passes, pass rate, errors, and each metric's mean and spread (std)."""
+    out: list[Row] = []
+    for name in sorted({r["scenario"] for r in rows}):
+        mine = [r for r in rows if r["scenario"] == name]
+        keys = sorted({k for r in mine for k in r["metrics"]})
+        metrics = {}
+        for k in keys:
+            vals = [r["metrics"][k] for r in mine if k in r["metrics"]]
+            mean = sum(vals) / len(vals)
+            std = math.sqrt(sum((v - mean) ** 2 for v in vals) / len(vals))
+            metrics[k] = {"mean": mean, "std": std, "n": len(vals)}
+        passed = sum(r["verdict"] == PASS for r in mine)
+        out.append({"scenario": name, "runs": len(mine), "passed": passed, "pass_rate": passed / len(mine),
+                    "failed": sum(r["verdict"] == FAIL for r in mine), "errors": sum(r["verdict"] == ERROR for r in mine),
+                    "metrics": metrics})
+    return out
+
+
+def _local(jobs: list[tuple[str, int]], until: float | None, summaries: str, workers: int) -> Iterator[Row]:
+    with ProcessPoolExecutor(max_workers=workers) as pool:
+        futures = {pool.submit(run_one, s, n, until, summaries): (s, n) for s, n in jobs}
+        for fut in as_completed(futures):
+            yield _result(fut, futures[fut])
+
+
+def _dask(jobs: list[tuple[str, int]], until: float | None, summaries: str, scheduler: Any) -> Iterator[Row]:
+    try:
+        from distributed import Client, as_completed as dask_completed
+    except ImportError:
+        raise OptionError("--scheduler", 'needs Dask: pip install "dask[distributed]"') from None
+    client = scheduler if isinstance(scheduler, Client) else Client(scheduler)
+    try:
+        futures = [client.submit(run_one, s, n, until, summaries, pure=False, key=f"homesim-{Path(s).stem}-{n}") for s, n in jobs]
+        where = {f.key: job for f, job in zip(futures, jobs)}
+        for fut in dask_completed(futures):
+            yield _result(fut, where[fut.key])
+    finally:
+        if client is not scheduler:
+            client.close()
+
+
+def _result(fut: Any, job: tuple[str, int]) -> Row:
+    try:
+        return fut.result()
+    except Exception as exc:  # the worker died (killed, out of memory): still a row
+        return {"scenario": Path(job[0]).stem, "file": job[0], "seed": job[1], "verdict": ERROR, "passed": 0,
+                "expectations": 0, "sim_time_s": None, "cpu_time_s": None, "error": f"worker lost: {type(exc).__name__}: {exc}"[:2000],
+                "metrics": {}}
+
+
+def sweep(scenarios: Iterable[Path], seeds: Iterable[int], out: Path, *, until: float | None = None, workers: int | None = None,
+          scheduler: Any = None, progress: Callable[[str], None] | None = None) -> tuple[list[Row], list[Row]]:
+    """Run every scenario with every seed; write the table; return (rows, aggregate).
+
+    ``scheduler``: a Dask scheduler address or ``distributed.Client``; None runs on local
+    processes (``workers`` of them, default the CPU count).
+    """
+    files = [str(Path(s).resolve()) for s in scenarios]
+    for f in files:
+        if not Path(f).is_file():
+            raise OptionError("SCENARIO", f"{f}: no such file")
+    jobs = [(f, n) for f in files for n in seeds]
+    summaries = out / "summaries"
+    summaries.mkdir(parents=True, exist_ok=True)
+    results = (_dask(jobs, until, str(summaries), scheduler) if scheduler is not None
+               else _local(jobs, until, str(summaries), workers or os.cpu_count() or 1))
+    rows: list[Row] = []
+    for row in results:
+        rows.append(row)
+        if progress is not None:
+            extra = f" ({row['error']})" if row["verdict"] == ERROR else ""
+            progress(f"[{len(rows)}/{len(jobs)}] {row['scenario']} seed {row['seed']}: {row['verdict']}{extra}")
+    rows.sort(key=lambda r: (r["scenario"], r["seed"]))
+    agg = aggregate(rows)
+    write_table(out, rows, agg)
+    return rows, agg
+
+
+def write_table(out: Path, rows: list[Row], agg: list[Row]) -> None:
+    """``sweep.json`` (rows and aggregate) and ``sweep.csv`` (one line per run, a column per metric)."""
+    out.mkdir(parents=True, exist_ok=True)
+    (out / "sweep.json").write_text(json.dumps({"runs": rows, "aggregate": agg}, indent=2, ensure_ascii=False) + "\n", encoding="utf-8")
+    keys = sorted({k for r in rows for k in r["metrics"]})
+    buf = io.StringIO()
+    w = csv.writer(buf)
+    w.writerow(["scenario", "seed", "verdict", "passed", "expectations", "sim_time_s", "cpu_time_s", "error", *keys])
+    for r in rows:
+        w.writerow([r["scenario"], r["seed"], r["verdict"], r["passed"], r["expectations"], r["sim_time_s"], r["cpu_time_s"],
+                    r["error"], *(r["metrics"].get(k, "") for k in keys)])
+    (out / "sweep.csv").write_text(buf.getvalue(), encoding="utf-8")
+
+
+def sweep_command(a: argparse.Namespace) -> int:
+    """``homesim sweep``: the table, and one line per scenario; exit 1 if any run failed or errored."""
+    seeds = parse_seeds(a.seeds)
+    rows, agg = sweep(a.scenarios, seeds, a.out, until=a.until, workers=a.workers, scheduler=a.scheduler,
+                      progress=lambda line: print(line, file=sys.stderr, flush=True))
+    for g in agg:
+        print(f"{g['scenario']}: {g['passed']}/{g['runs']} pass ({100 * g['pass_rate']:.0f} %), {g['failed']} fail, {g['errors']} error")
+    print(f"wrote {a.out / 'sweep.csv'} and {a.out / 'sweep.json'}")
+    return 1 if any(r["verdict"] in (FAIL, ERROR) for r in rows) else 0
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    """Add ``homesim sweep``."""
+    p = sub.add_parser("sweep", help="run scenarios x seeds in parallel (local processes or a Dask cluster); one table")
+    p.add_argument("scenarios", type=Path, nargs="+", metavar="SCENARIO")
+    p.add_argument("--seeds", default="0", help="seeds: 0-99, or 0,3,7, or 0-9,20-29 (default 0)")
+    p.add_argument("--until", type=cliargs.seconds(), default=None, help="stop each run early (verdicts are then 'not checked')")
+    p.add_argument("--workers", type=int, default=None, help="local processes (default: the CPU count)")
+    p.add_argument("--scheduler", default=None, metavar="ADDRESS", help="run on this Dask distributed scheduler (tcp://host:8786)")
+    p.add_argument("--out", type=Path, required=True, help="directory for sweep.csv, sweep.json and summaries/")
+    p.set_defaults(func=sweep_command)
