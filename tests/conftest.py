@@ -31,6 +31,26 @@ def examples(dev: int, ci: int) -> int:
     return ci if ON_CI else dev
 
 
+@pytest.fixture(autouse=True, scope="session")
+def _strict_bus() -> Iterator[None]:
+    """The suite runs strict: every message on a typed channel is validated.
+
+    A module that builds an invalid message fails its tests (the product's
+    default trusts the modules' own elements; see :mod:`homesim.bus`). Session
+    scoped, so simulations built by module-scoped fixtures are strict too; a
+    test that passes ``strict=`` itself keeps its choice.
+    """
+    original = Simulation.__init__
+
+    def strict_init(self: Simulation, *args: object, **kwargs: object) -> None:
+        kwargs.setdefault("strict", True)
+        original(self, *args, **kwargs)
+
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(Simulation, "__init__", strict_init)
+        yield
+
+
 @pytest.fixture(autouse=True)
 def _close_left_simulations(monkeypatch: pytest.MonkeyPatch) -> Iterator[None]:
     """Close every Simulation a test left open, at that test's teardown.
@@ -45,10 +65,6 @@ def _close_left_simulations(monkeypatch: pytest.MonkeyPatch) -> Iterator[None]:
     original = Simulation.__init__
 
     def tracking_init(self: Simulation, *args: object, **kwargs: object) -> None:
-        # The suite runs strict: every message on a typed channel is validated,
-        # so a module that builds an invalid message fails its tests (the
-        # product's default trusts the modules' own elements; homesim.bus).
-        kwargs.setdefault("strict", True)
         original(self, *args, **kwargs)
         created.append(self)
 
