@@ -34,8 +34,9 @@ POLL = 0.1  # seconds between checks of a wait-for condition
 #: The pause before a person repeats herself (a turn-taking gap, seconds).
 TURN_GAP = 0.5
 
-#: What a person takes for the robot asking her to say it again (``repair=`` overrides).
-DEFAULT_REPAIR = r"again|pardon|repeat|did not understand|didn't understand|did not catch"
+#: What a person takes for the robot asking her to say it again, or asking whether it heard
+#: her right ("Did you say hello to me?": she says it again rather than "yes"); ``repair=`` overrides.
+DEFAULT_REPAIR = r"(say|point at) (that|it) again|pardon|repeat that|did not understand|didn't understand|did not catch|did you say|shall i\b"
 
 
 class ScriptError(ScenarioError):
@@ -164,10 +165,11 @@ class Actor:
                 for u in self.world.sound.ended(since, self.now):
                     if u.source != "robot":
                         continue
-                    if pattern.search(u.text):
-                        return "answered"
+                    # A question back ("Did you say hello to me?") is no answer, even with the words in it.
                     if repair is not None and repair.search(u.text):
                         return "repair"
+                    if pattern.search(u.text):
+                        return "answered"
             if act.robot_within is not None:
                 d = self.robot_within()
                 if d is not None and d <= act.robot_within:
