@@ -21,6 +21,7 @@ import io
 import json
 import math
 import os
+import re
 import sys
 import traceback
 from collections.abc import Callable, Iterable, Iterator
@@ -122,7 +123,13 @@ def _dask(jobs: list[tuple[str, int]], until: float | None, summaries: str, sche
         from distributed import Client, as_completed as dask_completed
     except ImportError:
         raise OptionError("--scheduler", 'needs Dask: pip install "dask[distributed]"') from None
-    client = scheduler if isinstance(scheduler, Client) else Client(scheduler)
+    if isinstance(scheduler, Client):
+        client = scheduler
+    else:
+        try:
+            client = Client(scheduler, timeout=20)
+        except (OSError, ValueError, TimeoutError) as exc:
+            raise OptionError("--scheduler", f"cannot reach the Dask scheduler {scheduler!r}: {exc}") from None
     try:
         futures = [client.submit(run_one, s, n, until, summaries, pure=False, key=f"homesim-{Path(s).stem}-{n}") for s, n in jobs]
         where = {f.key: job for f, job in zip(futures, jobs)}
@@ -187,12 +194,31 @@ def write_table(out: Path, rows: list[Row], agg: list[Row]) -> None:
 def sweep_command(a: argparse.Namespace) -> int:
     """``homesim sweep``: the table, and one line per scenario; exit 1 if any run failed or errored."""
     seeds = parse_seeds(a.seeds)
-    rows, agg = sweep(a.scenarios, seeds, a.out, until=a.until, workers=a.workers, scheduler=a.scheduler,
+    out = Path(a.out)
+    from .scenario.loader import load_scenario
+
+    for path in a.scenarios:  # bad input is refused before any run starts (file, line, what)
+        load_scenario(path)
+    rows, agg = sweep(a.scenarios, seeds, out, until=a.until, workers=a.workers, scheduler=a.scheduler,
                       progress=lambda line: print(line, file=sys.stderr, flush=True))
     for g in agg:
         print(f"{g['scenario']}: {g['passed']}/{g['runs']} pass ({100 * g['pass_rate']:.0f} %), {g['failed']} fail, {g['errors']} error")
-    print(f"wrote {a.out / 'sweep.csv'} and {a.out / 'sweep.json'}")
+    print(f"wrote {out / 'sweep.csv'} and {out / 'sweep.json'}")
     return 1 if any(r["verdict"] in (FAIL, ERROR) for r in rows) else 0
+
+
+def _scheduler(text: str) -> str:
+    """A type for --scheduler: a Dask address, ``tcp://host:port`` (or ``tls://``, or ``host:port``)."""
+    if len(text) > 300 or not re.fullmatch(r"((tcp|tls)://)?[A-Za-z0-9_.\-\[\]:]+:[0-9]{1,5}", text):
+        raise argparse.ArgumentTypeError(f"{text[:25]!r} is not a Dask scheduler address (tcp://host:port)")
+    return text
+
+
+def _workers(text: str) -> int:
+    """A type for --workers: 1 to 256 local processes."""
+    if not text.strip().isdigit() or not 1 <= int(text) <= 256:
+        raise argparse.ArgumentTypeError(f"{text[:25]!r} is not a number of workers (1 to 256)")
+    return int(text)
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -201,7 +227,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("scenarios", type=Path, nargs="+", metavar="SCENARIO")
     p.add_argument("--seeds", default="0", help="seeds: 0-99, or 0,3,7, or 0-9,20-29 (default 0)")
     p.add_argument("--until", type=cliargs.seconds(), default=None, help="stop each run early (verdicts are then 'not checked')")
-    p.add_argument("--workers", type=int, default=None, help="local processes (default: the CPU count)")
-    p.add_argument("--scheduler", default=None, metavar="ADDRESS", help="run on this Dask distributed scheduler (tcp://host:8786)")
-    p.add_argument("--out", type=Path, required=True, help="directory for sweep.csv, sweep.json and summaries/")
+    p.add_argument("--workers", type=_workers, default=None, help="local processes (default: the CPU count)")
+    p.add_argument("--scheduler", type=_scheduler, default=None, metavar="ADDRESS", help="run on this Dask distributed scheduler (tcp://host:8786)")
+    p.add_argument("--out", required=True, help="directory for sweep.csv, sweep.json and summaries/")
     p.set_defaults(func=sweep_command)
