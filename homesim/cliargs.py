@@ -11,7 +11,10 @@ refuses"):
 - ``--seed``: an integer 0 ≤ seed ≤ :data:`MAX_SEED` (at most 19 digits);
 - ``--realtime``: a finite scale in [:data:`MIN_REALTIME_SCALE`, :data:`MAX_REALTIME_SCALE`];
 - output files (``--trace``, ``-o``): not a directory, in a directory that
-  exists (or can be created) and is writable.
+  exists (or can be created) and is writable;
+- store directories (``--memory DIR``): a writable directory, or a path that
+  does not exist yet in a writable directory (the run creates it); never an
+  existing file. The second run with the same ``DIR`` loads what the first wrote.
 """
 
 from __future__ import annotations
@@ -97,6 +100,27 @@ def output_file(text: str) -> Path:
         raise argparse.ArgumentTypeError(f"{text!r} exists and is not a regular file")
     if path.exists() and not os.access(path, os.W_OK):
         raise argparse.ArgumentTypeError(f"{text!r} is not writable")
+    parent = path.absolute().parent
+    while not parent.exists():
+        parent = parent.parent
+    if not parent.is_dir():
+        raise argparse.ArgumentTypeError(f"{text!r}: {str(parent)!r} is not a directory")
+    if not os.access(parent, os.W_OK | os.X_OK):
+        raise argparse.ArgumentTypeError(f"{text!r}: directory {str(parent)!r} is not writable")
+    return path
+
+
+def store_dir(text: str) -> Path:
+    """A type for a directory a run keeps its store in: an existing writable directory, or a new one to create."""
+    if not text or len(text) > 4096 or "\x00" in text:
+        raise argparse.ArgumentTypeError("not a usable directory name")
+    path = Path(text)
+    if path.exists() and not path.is_dir():
+        raise argparse.ArgumentTypeError(f"{text!r} exists and is not a directory")
+    if path.is_dir():
+        if not os.access(path, os.W_OK | os.X_OK):
+            raise argparse.ArgumentTypeError(f"directory {text!r} is not writable")
+        return path
     parent = path.absolute().parent
     while not parent.exists():
         parent = parent.parent

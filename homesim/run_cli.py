@@ -215,7 +215,8 @@ def _run_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--until", type=cliargs.seconds(), default=None, help="stop early (virtual seconds; expectations are not checked)")
     p.add_argument("--trace", type=cliargs.output_file, default=None, help="write the bus trace (JSON Lines; replay it with 'homesim replay')")
     p.add_argument("--summary", type=cliargs.output_file, default=None, help="write the run summary (JSON)")
-    p.add_argument("--memory", type=cliargs.output_file, default=None, help="the robot's knowledge store: load it at the start, save to it")
+    p.add_argument("--memory", type=cliargs.store_dir, default=None, metavar="DIR",
+                   help="the robot's knowledge store (a directory, created if missing): load it at the start, save to it")
     p.add_argument("--realtime", type=cliargs.realtime_scale, default=None, metavar="X", help="pace the run at X times real time")
     p.add_argument("--quiet", action="store_true", help="print the verdict (and failed expectations) only")
     p.add_argument("--strict", action="store_true",

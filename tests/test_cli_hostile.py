@@ -72,6 +72,13 @@ def hostile_outputs(tmp: Path) -> list[str]:
     return [str(tmp), "/proc/self/nope/out.txt", "/dev/null/x", "/dev/zero", ""]
 
 
+def hostile_stores(tmp: Path) -> list[str]:
+    """Store directories (``--memory DIR``) no run can use: an existing file, devices, paths through files."""
+    a_file = tmp / "a_file"
+    a_file.write_text("not a directory", encoding="utf-8")
+    return [str(a_file), "/dev/zero", "/dev/null/x", str(a_file / "store"), ""]
+
+
 def _run(argv: list[str], capsys: pytest.CaptureFixture[str]) -> tuple[int, str, str]:
     try:
         code = main(argv)
@@ -105,7 +112,8 @@ def test_every_option_refuses_hostile_values_with_its_name(prefix, parser, tmp_p
         if not action.option_strings or action.nargs == 0 or isinstance(action, argparse._HelpAction):
             continue
         option = action.option_strings[-1]
-        values = hostile_outputs(tmp_path) if action.type is cliargs.output_file else NUMBERS
+        values = (hostile_outputs(tmp_path) if action.type is cliargs.output_file
+                  else hostile_stores(tmp_path) if action.type is cliargs.store_dir else NUMBERS)
         for value in values:
             extra: list[str] = []
             for name, req in required.items():
