@@ -4,6 +4,8 @@ timing in virtual time, self-explanation, clarification, barge-in."""
 from __future__ import annotations
 
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 from lxml import etree
 
 from homesim.scenario.loader import load_scenario
@@ -11,7 +13,7 @@ from homesim.sim import Simulation
 from homesim.world.stage import Stage
 from robot.dialog.module import Dialog
 from robot.dialog.transcript import transcript
-from robot.speech.module import SpeechUnderstanding
+from robot.speech.module import RobotSentence, SpeechUnderstanding, is_own_voice
 from robot.supervisor import EVENT_CHANNEL, ExecutionSupervisor, event_xml
 from tests.world_helpers import ROOM
 
@@ -52,6 +54,24 @@ class Robot:
             el.text = words
             self.mic.publish("/robot/audio/speech", el, created=end)
         self.sim.call_at(end, go)
+
+    def partner_at(self, bearing: float, start: float, end: float) -> None:
+        """The person attention's /robot/attention/partner every 0.1 s from ``start`` to ``end``."""
+        def beat(t: float) -> None:
+            el = etree.Element("partner", id="t1", bearing=f"{bearing}", distance="1.0", x="1", y="0", vx="0", vy="0",
+                               visible="true", lost_for="0")
+            self.attention.publish("/robot/attention/partner", el)
+            if t + 0.1 <= end:
+                self.sim.call_at(t + 0.1, lambda: beat(t + 0.1))
+        self.sim.call_at(start, lambda: beat(start))
+
+    def sound(self, t: float, bearing: float, level: float) -> None:
+        """One /robot/audio/sources frame with one direction."""
+        def go() -> None:
+            el = etree.Element("sources", time=f"{self.sim.now:.6f}")
+            etree.SubElement(el, "source", tdoa="0", bearing=f"{bearing}", level=f"{level}")
+            self.mic.publish("/robot/audio/sources", el)
+        self.sim.call_at(t, go)
 
     def partner(self, t: float) -> None:
         self.sim.call_at(t, lambda: self.attention.publish(EVENT_CHANNEL, event_xml("potential_partner", children=(PERSON,))))
@@ -151,14 +171,68 @@ def test_recognition_time_grows_with_the_utterance_length(robot):
     assert lag_long > lag_short
 
 
+def _speaking(robot, text: str, start: float, end: float, level: str | None = "62.0") -> None:
+    attrs = dict(text=text, start=f"{start}", end=f"{end}", **({"level": level} if level else {}))
+    robot.sim.call_at(start, lambda: robot.speaker.publish("/robot/speaker/status", etree.Element("speaking", attrs)))
+
+
+def _heard(robot) -> list[str]:
+    """The words of every utterance the understanding passed on (understood or not)."""
+    out = []
+    for r in robot.records("/robot/speech/frames"):
+        el = etree.fromstring(r["xml"])
+        out.append((el.findtext("words") if el.tag == "understood" else el.text) or "")
+    return out
+
+
 def test_the_robots_own_voice_is_not_understood(robot):
-    robot.sim.call_at(0.5, lambda: robot.probe.publish(
-        "/robot/speaker/status", etree.Element("speaking", text="hello biron", start="0.5", end="1.5")))
-    robot.utter("hello biron", 0.5, 1.5, level=72.0)  # the loudspeaker, a hand's breadth from the microphones
-    robot.utter("hello biron", 0.6, 1.4, level=58.0)  # someone else at the same time
-    robot.sim.run(until=3.0)
-    assert len(robot.records("/robot/speech/frames")) == 1
-    assert robot.understanding.counts["own_voice"] == 1
+    # The robot says a sentence; its echo leaks through (72 dB: the loudspeaker 0.3 m from the microphones).
+    _speaking(robot, "I am listening to you. Now you can ask me to follow you.", 0.5, 4.9)
+    robot.utter("i am listening to you now you can ask me to follow you", 0.52, 4.85, level=72.0)
+    robot.sim.run(until=7.0)
+    assert _heard(robot) == [] and robot.understanding.counts["own_voice"] == 1
+
+
+def test_a_partner_talking_over_the_robot_is_understood_however_close(robot):
+    # The partner a hand's breadth away is as loud as the loudspeaker (the old rule dropped
+    # every overlapping utterance of 68 dB or more); neither saying the robot's words ("stop",
+    # "follow") nor the level makes it the robot's own voice.
+    _speaking(robot, "I am still following you; say stop first.", 0.5, 3.7)
+    robot.utter("stop", 1.2, 1.6, level=72.0)
+    _speaking(robot, "OK, I am following you.", 5.0, 7.3)
+    robot.utter("hello biron", 5.6, 6.4, level=70.0)
+    robot.utter("ok i am following you", 5.0, 7.2, level=95.0)  # louder than any echo: somebody shouting it
+    robot.sim.run(until=10.0)
+    assert _heard(robot) == ["stop", "hello biron", "ok i am following you"]
+    assert robot.understanding.counts["own_voice"] == 0
+
+
+def test_a_cut_sentences_echo_is_its_spoken_part(robot):
+    _speaking(robot, "one two three four five six seven eight", 0.5, 4.0)
+    robot.sim.call_at(1.3, lambda: robot.speaker.publish(
+        "/robot/speaker/status", etree.Element("interrupted", text="one two three four five six seven eight")))
+    robot.utter("one two", 0.5, 1.3, level=72.0)  # what was said before the cut
+    robot.utter("four", 2.0, 2.4, level=60.0)  # after the cut: the robot is silent, this is somebody
+    robot.sim.run(until=5.0)
+    assert _heard(robot) == ["four"] and robot.understanding.counts["own_voice"] == 1
+
+
+SAID = st.lists(st.sampled_from(["i", "am", "following", "you", "say", "stop", "first", "the", "cup", "hello"]),
+                min_size=1, max_size=10)
+
+
+@settings(max_examples=150, deadline=None)
+@given(robot_words=SAID, heard=SAID, offset=st.floats(-3.0, 3.0), level=st.floats(30.0, 100.0))
+def test_own_voice_rule_properties(robot_words, heard, offset, level):
+    said = [RobotSentence(tuple(robot_words), 10.0, 10.0 + 0.4 * len(robot_words), 62.0)]
+    own = is_own_voice(" ".join(heard), 10.0 + offset, level, said)
+    # Only what starts with a robot sentence can be its echo, and never louder than the loudspeaker can make it.
+    if abs(offset) > 0.5 or level > 62.0 + 10.5 + 6.0:
+        assert not own
+    # The robot's own sentence, heard as said when it said it at the loudspeaker's level, is always its own.
+    assert is_own_voice(" ".join(robot_words), 10.0 + max(-0.5, min(0.3, offset)), 72.0, said)
+    # Without anything the robot said, nothing is its own voice.
+    assert not is_own_voice(" ".join(heard), 10.0, level, [])
 
 
 def test_what_can_you_do_is_answered_from_the_supervisors_state(robot):
@@ -177,6 +251,14 @@ def test_what_can_you_do_is_answered_from_the_supervisors_state(robot):
     finally:
         r2.sim.close()
     assert answer2.startswith("I can see you.") and "greet me" in answer2 and "follow you" not in answer2
+
+
+def test_what_can_you_do_is_not_answered_with_nobody_engaged(robot):
+    # A radio (nobody faces the robot): like every other request, it needs a partner.
+    robot.utter("what can you do", 0.3, 1.0)
+    robot.sim.run(until=4.0)
+    assert robot.sentences() == [] and robot.es.state == "LookingAround"
+    assert robot.dialog.summary()["ignored_frames"] == 1
 
 
 def test_place_teaching_sends_the_latest_pose(robot):
@@ -251,19 +333,32 @@ def test_same_seed_same_trace():
 
 
 def test_barge_in_cuts_the_robots_sentence_in_the_world():
+    # Real microphones and loudspeaker: a radio on the robot's left plays while the robot talks
+    # (louder at the robot than the partner) and does not cut it off; the partner in front does.
     sc = load_scenario(ROOM)
     sim = Simulation(seed=3, scenario=sc.name)
-    st = Stage(sim, sc, actors=("robot.hardware.install",))
+    stage = Stage(sim, sc, actors=("robot.hardware.install",))
+    stage.world.sources["radio"] = (1.5, 5.2, 1.0)  # about 77 degrees left of the robot at (1, 3)
     dialog = Dialog(sim)
     status: list[str] = []
     sim.bus.participant("probe").subscribe("/robot/speaker/status", lambda m: status.append(m.xml.tag))
+    attention = sim.bus.participant("person_attention")
+
+    def partner() -> None:  # the person attention's report of ann, straight ahead
+        el = etree.Element("partner", id="t1", bearing="0.0", distance="2.0", x="2", y="0", vx="0", vy="0",
+                           visible="true", lost_for="0")
+        attention.publish("/robot/attention/partner", el)
+        sim.call_at(sim.now + 0.1, partner)
+
     try:
         long_text = "I am BIRON and I can follow you, learn your objects and places and tell you where things are."
+        sim.call_at(0.2, partner)
         sim.call_at(0.5, lambda: dialog._enqueue(long_text, "test"))
-        sim.call_at(1.5, lambda: st.world.sound.say("ann", "stop talking please", 1.5))
-        st.run(6.0)
-        (robot_u,) = st.world.sound.by("robot")
-        assert robot_u.cut and robot_u.end < 2.0 and robot_u.text != long_text
+        sim.call_at(1.0, lambda: stage.world.sound.say("radio", "and now the weather for tomorrow", 1.0, loudness=70.0))
+        sim.call_at(3.5, lambda: stage.world.sound.say("ann", "stop talking please", 3.5))
+        stage.run(7.0)
+        (robot_u,) = stage.world.sound.by("robot")
+        assert robot_u.cut and 3.5 < robot_u.end < 4.0 and robot_u.text != long_text
         assert dialog.summary()["barge_ins"] == 1
         assert status == ["speaking", "interrupted"]
     finally:
@@ -297,17 +392,46 @@ def test_an_empty_say_silences_the_speaker_without_a_new_utterance():
 
 def test_a_partner_close_to_the_robot_barges_in(robot):
     # The microphones' echo cancellation already removes the robot's own voice from
-    # /robot/audio/sources: a loud direction while the robot talks is somebody else,
-    # e.g. the partner 0.6 m away (65 dB at 1 m -> about 69 dB), and must cut the sentence.
+    # /robot/audio/sources: a loud direction from the partner's bearing while the robot talks
+    # is the partner, e.g. 0.6 m away (65 dB at 1 m -> about 69 dB), and cuts the sentence.
     robot.greet()
+    robot.partner_at(8.0, 1.5, 3.0)  # the person attention's partner, 8 degrees left
     robot.sim.run(until=2.5)  # the greeting's answer is being spoken
-
-    def loud() -> None:
-        el = etree.Element("sources", time=f"{robot.sim.now:.6f}")
-        etree.SubElement(el, "source", tdoa="0", bearing="0", level="69.5")
-        robot.mic.publish("/robot/audio/sources", el)
-
-    robot.sim.call_at(2.6, loud)
+    robot.sound(2.6, 0.0, 69.5)
     robot.sim.run(until=3.0)
     assert robot.sentences()[-1] == ""  # the empty <say/> that cuts the robot's sentence
     assert robot.dialog.summary()["barge_ins"] == 1
+
+
+@pytest.mark.parametrize("partner,bearing", [
+    (0.0, 55.0),  # the radio on the left, the partner in front
+    (-30.0, 30.0),  # mirrored: a different direction, however loud
+    (None, 0.0),  # no partner reported (nobody engaged, or the attention lost them): nobody to barge in
+])
+def test_only_sound_from_the_partners_bearing_barges_in(robot, partner, bearing):
+    robot.greet()
+    if partner is not None:
+        robot.partner_at(partner, 1.5, 3.0)
+    robot.sim.run(until=2.5)
+    robot.sound(2.6, bearing, 75.0)
+    robot.sim.run(until=3.0)
+    assert "" not in robot.sentences() and robot.dialog.summary()["barge_ins"] == 0
+
+
+def test_the_partner_behind_the_robot_is_heard_at_the_mirrored_bearing(robot):
+    # The pair's directions lie in the front half-plane: a partner at 170 degrees sounds at 10.
+    robot.greet()
+    robot.partner_at(170.0, 1.5, 3.0)
+    robot.sim.run(until=2.5)
+    robot.sound(2.6, 10.0, 60.0)
+    robot.sim.run(until=3.0)
+    assert robot.dialog.summary()["barge_ins"] == 1
+
+
+def test_a_stale_partner_bearing_does_not_barge_in(robot):
+    robot.greet()
+    robot.partner_at(0.0, 1.0, 1.2)  # reported, then no more (the partner left)
+    robot.sim.run(until=2.5)
+    robot.sound(2.6, 0.0, 70.0)
+    robot.sim.run(until=3.0)
+    assert robot.dialog.summary()["barge_ins"] == 0

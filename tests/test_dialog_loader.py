@@ -62,6 +62,12 @@ def test_schema_problems_are_all_reported_with_lines():
     ('<rejection>Sorry, I can\'t do that now.</rejection>', '', "no default <rejection>"),
     ('<fill slot="reason" condition="need_help" select="param[@name=\'reason\']" status="true"/>',
      '<fill slot="reason" frame="GREETING" condition="need_help" status="true"/>', "exactly one of frame, condition, rejected"),
+    # the manager's own words are the document's, with the fields each may use
+    ('<sentence id="can-now">Now you can {capabilities}.</sentence>', '<sentence id="can-now">Now you can {abilities}.</sentence>',
+     "sentence 'can-now': field {abilities} is not one it has (fields: capabilities)"),
+    ('<sentence id="same-noun">one</sentence>', '', 'no <sentence id="same-noun">'),
+    ('<sentence id="same-noun">one</sentence>', '<sentence id="same-noun">one</sentence><sentence id="farewell">Bye.</sentence>',
+     "sentence 'farewell' is not one the dialog manager says"),
 ])
 def test_semantic_problem_names_line_and_rule(old, new, message):
     assert old in GOOD, old

@@ -7,9 +7,13 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from lxml import etree
 
+from homesim.afsm.engine import Engine
+from homesim.afsm.loader import load as load_afsm
 from robot.dialog.loader import load
-from robot.dialog.manager import GIVE_UP, DialogManager, Explain, Say, Send
-from robot.dialog.module import choose, question
+from robot.dialog.model import DIALOG_EVENTS
+from robot.supervisor import BIRON_AFSM
+from robot.dialog.manager import DialogManager, Explain, Say, Send
+from robot.dialog.module import choose, options_phrase
 
 DOC = load()
 
@@ -242,6 +246,55 @@ def test_every_rejection_becomes_a_sentence(dm, event, reason, state, sentence):
     assert dm.summary()["rejections_explained"] == 1
 
 
+def _rejections_the_supervisor_produces() -> list[tuple[str, str, str]]:
+    """(event, reason, state) for every dialog event in every state of BIRON's AFSM, with the reason
+    the engine gives: retained events expire, the rest are inapplicable (what applies is not rejected)."""
+    machine = load_afsm(BIRON_AFSM)
+    engine = Engine(machine)
+    out = []
+    for state in machine.leaves():
+        engine.state = state
+        applies, waits = engine.accepts()
+        for event in DIALOG_EVENTS:
+            if event in waits:
+                out.append((event, "expired", state))
+            elif event not in applies:
+                out.append((event, "inapplicable", state))
+    return out
+
+
+#: What the robot should say for a rejection in each supervisor state (greeting: its own words).
+BY_STATE = {
+    "LookingAround": "Please look at me and say hello first.",
+    "PotentialPartner": "Please say hello to me first.",
+    "AskingForHelp": "Please say hello to me first.",
+    "Following": "I am still following you; say stop first.",
+    "ObjectTeaching": "I am still looking at the object you showed me. Please wait a moment.",
+    "Navigating": "I am driving to my goal; say stop first.",
+    "TechnicalFailure": "I have a technical problem. Please call technical support.",
+}
+GREETING_BY_STATE = {
+    "LookingAround": "I can't see you. Please look at me.", "AskingForHelp": "I can't see you. Please look at me.",
+    "Interacting": "We are already talking. What can I do for you?", "Following": "We are already talking. What can I do for you?",
+    "ObjectTeaching": "We are already talking. What can I do for you?",
+    "Navigating": "I am driving to my goal; say stop first.",
+    "TechnicalFailure": "I have a technical problem. Please call technical support.",
+}
+
+
+def test_every_rejection_the_supervisor_can_produce_has_its_sentence():
+    cases = _rejections_the_supervisor_produces()
+    assert ("greeting", "expired", "LookingAround") in cases and ("goto", "expired", "Following") in cases
+    for event, reason, state in cases:
+        m = DialogManager(DOC)
+        m.es_state = state
+        want = GREETING_BY_STATE[state] if event == "greeting" else BY_STATE[state]
+        assert says(m.on_rejected(rejected(event, reason, state))) == [want], (event, reason, state)
+        # An event can also arrive after its lifetime in any state (latency, a busy supervisor): never the catch-all.
+        late = says(DialogManager(DOC).on_rejected(rejected(event, "expired", state)))
+        assert late and late != ["Sorry, I can't do that now."], (event, state)
+
+
 def test_a_rejection_nobody_waits_for_is_still_explained(dm):
     assert says(dm.on_rejected(rejected("follow", "expired", "Following"))) == ["I am still following you; say stop first."]
 
@@ -251,7 +304,7 @@ def test_not_understood_reasks_the_open_question_then_gives_up(dm):
     dm.on_frame(frame("<GOTO><PLACE/></GOTO>"))
     for _ in range(DOC.max_reasks):
         assert says(dm.on_frame(not_understood())) == [DOC.not_understood, "Where shall I go?"]
-    assert says(dm.on_frame(not_understood())) == [GIVE_UP]
+    assert says(dm.on_frame(not_understood())) == [DOC.sentence("give-up")] == ["Sorry, let us leave that for now."]
     assert dm.stack == [] and dm.summary()["give_ups"] == 1
 
 
@@ -284,9 +337,19 @@ def test_frames_for_the_interaction_are_ignored_while_nobody_is_there(dm):
 
 
 # ------------------------------------------------------------------ clarification
+def question(options: list[str]) -> str:
+    """What the clarification dialog asks for these option texts."""
+    phrase = options_phrase(DOC, options)
+    _, out = DialogManager(DOC).start("clarify", {"options": phrase} if phrase else {})
+    (q,) = says(out)
+    return q
+
+
 def test_question_and_choice():
     assert question(["red cup", "blue cup"]) == "Do you mean the red cup or the blue one?"
     assert question(["cup", "plant", "book"]) == "Do you mean the cup, the plant or the book?"
+    assert question(["cup"]) == "Do you mean the cup?"
+    assert question([]) == question(["", " "]) == "Which one do you mean?"
     opts = [(0, "red cup"), (1, "blue cup")]
     assert choose(opts, etree.fromstring('<THAT_ONE><COLOUR name="blue"/></THAT_ONE>')) == 1
     assert choose(opts, etree.fromstring('<THAT_ONE index="1"/>')) == 0
@@ -297,7 +360,10 @@ def test_question_and_choice():
 
 def test_clarify_dialog_asks_and_ends_with_the_choice(dm):
     ended = []
-    inst, out = dm.start("clarify", {"question": "Do you mean the red cup or the blue one?"}, on_end=ended.append)
+    with pytest.raises(ValueError, match="no slot question"):
+        dm.start("clarify", {"question": "?"})
+    assert dm.stack == []
+    inst, out = dm.start("clarify", {"options": "the red cup or the blue one"}, on_end=ended.append)
     assert says(out) == ["Do you mean the red cup or the blue one?"]
     out = dm.on_frame(frame('<THAT_ONE><COLOUR name="red"/></THAT_ONE>'))
     assert says(out) == ["Thank you."] and ended == [inst] and inst.success

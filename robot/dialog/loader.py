@@ -38,6 +38,15 @@ SCHEMA_FILE = Path(__file__).with_name("dialogs.xsd")
 BIRON_DIALOGS = Path(__file__).with_name("biron-dialogs.xml")
 ROOT = "dialogs"
 
+#: The manager's own words, each a ``<sentence id>`` of the document, with the fields its template may use.
+SENTENCES: dict[str, frozenset[str]] = {
+    "give-up": frozenset(),  # a dialog gives up after too many re-asks
+    "can-now": frozenset({"capabilities"}),  # the self-explanation's list of what the user can do now
+    "list": frozenset({"items", "last"}),  # how a list is said: "{items} or {last}"
+    "option": frozenset({"option"}),  # one option of a clarification question: "the {option}"
+    "same-noun": frozenset(),  # the word for a repeated noun in options ("the blue one")
+}
+
 
 class DialogError(InputError):
     """A dialog document cannot be loaded (names file, line and element)."""
@@ -103,6 +112,23 @@ def _build(root: etree._Element, c: _Checker) -> Dialogs:
     if not any(r.event is None and r.reason is None and r.state is None for r in rejections):
         c.add(root, "no default <rejection> (without event, reason and state): some rejection would have no words")
     nu = root.find("not-understood")
+    sentences: dict[str, str] = {}
+    for el in root.iterfind("sentence"):
+        sid = el.get("id", "")
+        if sid not in SENTENCES:
+            c.add(el, f"sentence {sid!r} is not one the dialog manager says (sentences: {', '.join(SENTENCES)})")
+            continue
+        if sid in sentences:
+            c.add(el, f"sentence {sid!r} is given twice")
+        text = _text(el)
+        for name, _xp, _ in template_fields(text):
+            if name not in SENTENCES[sid]:
+                allowed = ", ".join(sorted(SENTENCES[sid])) or "none"
+                c.add(el, f"sentence {sid!r}: field {{{name}}} is not one it has (fields: {allowed})")
+        sentences[sid] = text
+    for sid in SENTENCES:
+        if sid not in sentences:
+            c.add(root, f"no <sentence id=\"{sid}\">: the dialog manager would have no words for it")
     dialogs: dict[str, DialogDef] = {}
     triggers: dict[str, str] = {}
     conditions: dict[str, str] = {}
@@ -130,6 +156,7 @@ def _build(root: etree._Element, c: _Checker) -> Dialogs:
         rejections=rejections,
         not_understood=_text(nu) if nu is not None else "",
         dialogs=dialogs,
+        sentences=sentences,
     )
 
 
@@ -258,7 +285,7 @@ _TEMPLATE = re.compile(r"\{[^{}]*\}")
 
 
 def _check_templates(model: Dialogs, c: _Checker, root: etree._Element) -> None:
-    for el in root.iter("say", "ask", "confirm", "resume"):
+    for el in root.iter("say", "ask", "confirm", "resume", "sentence"):
         text = _text(el)
         if text.count("{") != len(_TEMPLATE.findall(text)) or text.count("}") != text.count("{"):
             c.add(el, f"unbalanced braces in the template {text!r}")

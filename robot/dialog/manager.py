@@ -37,10 +37,6 @@ from lxml import etree
 
 from .model import Action, DialogDef, Dialogs, Fill, render
 
-#: Said when a dialog gives up after too many failed re-asks.
-GIVE_UP = "Let us leave that for now."
-
-
 @dataclass(frozen=True, slots=True)
 class Say:
     """Speech output (the module joins the sentences of one step into one utterance)."""
@@ -259,16 +255,20 @@ class DialogManager:
 
     def start(self, did: str, values: dict[str, Any] | None = None,
               on_end: Callable[[Instance], None] | None = None) -> tuple[Instance | None, list[Output]]:
-        """Start dialog ``did`` directly (e.g. a clarification), its slots preset to ``values`` (status true)."""
+        """Start dialog ``did`` directly (e.g. a clarification), its slots preset to ``values`` (status true).
+
+        Raises ValueError for a value of a slot the dialog does not have (nothing is started)."""
         out: list[Output] = []
         d = self.doc.dialogs.get(did)
         if d is None:
             return None, out
+        unknown = sorted(set(values or {}) - set(d.slots))
+        if unknown:
+            raise ValueError(f"dialog {did!r} has no slot {', '.join(unknown)} (slots: {', '.join(d.slots)})")
         inst = self._push(d, out)
         inst.on_end = on_end
         for k, v in (values or {}).items():
-            if k in inst.slots:
-                inst.slots[k] = Slot("true", v)
+            inst.slots[k] = Slot("true", v)
         self._step(inst, out)
         return inst, out
 
@@ -300,8 +300,7 @@ class DialogManager:
         if not caps:
             caps = [text for e, text in self.doc.capabilities.items() if e in waits]
         if caps:
-            listed = caps[0] if len(caps) == 1 else ", ".join(caps[:-1]) + " or " + caps[-1]
-            parts.append(f"Now you can {listed}.")
+            parts.append(self.doc.sentence("can-now", capabilities=self.doc.listing(caps)))
         return " ".join(parts) if parts else self.doc.rejection_text("", "", state)
 
     # ---------------------------------------------------------------- internals
@@ -318,7 +317,7 @@ class DialogManager:
             inst.reasks += 1
             if inst.reasks > self.doc.max_reasks:
                 self.metrics["give_ups"] += 1
-                self._say(out, GIVE_UP, inst.d.id)
+                self._say(out, self.doc.sentence("give-up"), inst.d.id)
                 self._finish(inst, out, abandoned=False)
             else:
                 self.metrics["reasks"] += 1

@@ -123,6 +123,18 @@ class Dialogs:
     rejections: tuple[Rejection, ...]
     not_understood: str
     dialogs: dict[str, DialogDef]
+    sentences: dict[str, str]  # the manager's own words by id (loader.SENTENCES), templates
+
+    def sentence(self, sid: str, **values: Any) -> str:
+        """The document's sentence ``sid`` with its fields filled (a missing one: empty)."""
+        return render(self.sentences.get(sid, ""), values)
+
+    def listing(self, items: list[str]) -> str:
+        """Items as the document lists them ("a, b or c" from its ``list`` sentence)."""
+        items = [i for i in items if i]
+        if len(items) <= 1:
+            return items[0] if items else ""
+        return self.sentence("list", items=", ".join(items[:-1]), last=items[-1])
 
     def rejection_text(self, event: str, reason: str, state: str) -> str:
         """The most specific sentence for a rejection (ties: the first in the document)."""

@@ -2,8 +2,8 @@
 
 Listens to ``/robot/speech/frames`` (the understanding), ``/robot/es/conditions/dialog``,
 ``/robot/es/rejected/dialog`` and ``/robot/es/status`` (the supervisor),
-``/robot/localisation/pose`` (for place teaching), ``/robot/speaker/status``
-and ``/robot/audio/sources`` (barge-in). Publishes ES events on
+``/robot/localisation/pose`` (for place teaching), ``/robot/speaker/status``,
+``/robot/audio/sources`` and ``/robot/attention/partner`` (barge-in). Publishes ES events on
 ``/robot/es/events`` and is the only module that speaks
 (``/robot/speaker/say``). Serves ``dialog/ask`` for the object attention's
 clarification questions (``<ask timeout><option index text/>+</ask>`` ->
@@ -17,11 +17,17 @@ Sentences are queued while the robot is still talking: a new ``<say>`` would
 cut the one in progress.
 
 Barge-in: while the robot talks, a sound direction at ``barge_in_level`` dB
-or more means the partner speaks: the robot's sentence is cut (an empty
-``<say/>``), queued sentences are dropped and the robot listens. The
-microphones' echo cancellation already takes the robot's own voice out of
-``/robot/audio/sources``, so no direction is discarded as "own voice" (a
-level rule did that and ignored a partner standing closer than about 0.7 m).
+or more *from the partner's bearing* means the partner speaks: the robot's
+sentence is cut (an empty ``<say/>``), queued sentences are dropped and the
+robot listens. The partner's bearing is the person attention's
+``/robot/attention/partner`` (robot frame, every scan while there is a
+partner; older than ``partner_fresh`` s counts as no partner); a direction
+counts when it lies within ``barge_in_width`` degrees of it, both folded to
+the front half-plane (the microphone pair cannot tell front from back).
+Without a partner nothing cuts the robot off: a radio or a visitor talking
+elsewhere in the room does not. The microphones' echo cancellation takes the
+robot's own voice out of ``/robot/audio/sources``, so no level rule is needed
+for it (one dropped a partner standing closer than about 0.7 m).
 
 Metrics: :meth:`summary` (turns, repairs, rejections explained, task success
 per sub-dialog, barge-ins) for the run summary.
@@ -30,6 +36,7 @@ per sub-dialog, barge-ins) for the run summary.
 from __future__ import annotations
 
 import asyncio
+import math
 import os
 from collections import deque
 from typing import Any
@@ -54,22 +61,28 @@ POSE = "/robot/localisation/pose"
 SAY = "/robot/speaker/say"
 SPEAKER_STATUS = "/robot/speaker/status"
 SOURCES = "/robot/audio/sources"
+PARTNER = "/robot/attention/partner"
 
 
-def question(options: list[str]) -> str:
-    """"Do you mean the red cup or the blue one?" from option texts (a repeated last word becomes "one")."""
-    if not options:
-        return "Which one do you mean?"
-    texts = [" ".join(o.split()) for o in options]
-    nouns = [t.split()[-1] if t else "" for t in texts]
+def front_bearing(deg: float) -> float:
+    """A bearing (degrees) folded to the front half-plane [-90, 90], as the microphone pair reports them."""
+    return math.degrees(math.asin(max(-1.0, min(1.0, math.sin(math.radians(deg))))))
+
+
+def options_phrase(doc: Dialogs, options: list[str]) -> str:
+    """"the red cup or the blue one" from option texts, in the document's words (a repeated last word
+    becomes its ``same-noun`` word); empty without options (the clarification then asks "which one")."""
+    texts = [" ".join(o.split()) for o in options if o.split()]
+    if not texts:
+        return ""
+    first_noun = texts[0].split()[-1]
     out = [texts[0]]
-    for t, n in zip(texts[1:], nouns[1:]):
+    for t in texts[1:]:
         words = t.split()
-        if len(words) > 1 and n == nouns[0]:
-            words[-1] = "one"
+        if len(words) > 1 and words[-1] == first_noun:
+            words[-1] = doc.sentence("same-noun")
         out.append(" ".join(words))
-    listed = out[0] if len(out) == 1 else ", the ".join(out[:-1]) + " or the " + out[-1]
-    return f"Do you mean the {listed}?"
+    return doc.listing([doc.sentence("option", option=o) for o in out])
 
 
 def choose(options: list[tuple[int, str]], answer: Any) -> int | None:
@@ -111,6 +124,8 @@ class Dialog(Module):
         dialog_cost: float = 0.03,
         generation_time: float = 0.17,
         barge_in_level: float = 45.0,
+        barge_in_width: float = 20.0,
+        partner_fresh: float = 1.0,
         ask_timeout: float = 10.0,
     ) -> None:
         super().__init__(sim, name, host=host)
@@ -119,6 +134,9 @@ class Dialog(Module):
         self.dialog_cost = dialog_cost
         self.generation_time = generation_time
         self.barge_in_level = barge_in_level
+        self.barge_in_width = barge_in_width
+        self.partner_fresh = partner_fresh
+        self._partner: tuple[float, float] | None = None  # (bearing in degrees, robot frame; when heard)
         self.ask_timeout = ask_timeout
         self._busy_until = 0.0
         self._pose: etree._Element | None = None
@@ -134,6 +152,7 @@ class Dialog(Module):
         bus.subscribe(POSE, self._on_pose)
         bus.subscribe(SPEAKER_STATUS, self._on_speaker)
         bus.subscribe(SOURCES, self._on_sources)
+        bus.subscribe(PARTNER, self._on_partner)
         bus.serve("ask", self._rpc_ask)
 
     async def run(self) -> None:
@@ -174,15 +193,31 @@ class Dialog(Module):
                 self._talking = False
             self._say_next()
 
+    def _on_partner(self, msg: Message) -> None:
+        b = float(msg.xml.get("bearing", "nan"))
+        self._partner = (b, self.now) if math.isfinite(b) else None
+
+    def partner_bearing(self) -> float | None:
+        """The partner's bearing (degrees, robot frame) if the person attention reported it recently."""
+        if self._partner is None or self.now - self._partner[1] > self.partner_fresh:
+            return None
+        return self._partner[0]
+
     def _on_sources(self, msg: Message) -> None:
         if not self._talking or self._cut:
             return
-        levels = sorted((float(s.get("level", "0")) for s in msg.xml.iterfind("source")), reverse=True)
-        if levels and levels[0] >= self.barge_in_level:
-            self._cut = True
-            self._queue.clear()
-            self.manager.barge_in()
-            self.bus.publish(SAY, etree.Element("say", text=""), causes=(msg.id,))
+        partner = self.partner_bearing()
+        if partner is None:
+            return
+        want = front_bearing(partner)
+        for src in msg.xml.iterfind("source"):
+            level, bearing = float(src.get("level", "0")), float(src.get("bearing", "nan"))
+            if level >= self.barge_in_level and math.isfinite(bearing) and abs(front_bearing(bearing) - want) <= self.barge_in_width:
+                self._cut = True
+                self._queue.clear()
+                self.manager.barge_in()
+                self.bus.publish(SAY, etree.Element("say", text=""), causes=(msg.id,))
+                return
 
     # ----------------------------------------------------------------- outputs
     def _slot(self) -> float:
@@ -278,7 +313,8 @@ class Dialog(Module):
             if not fut.done():
                 fut.set_result(inst)
 
-        inst, outs = self.manager.start("clarify", {"question": question([t for _, t in options])}, on_end=ended)
+        phrase = options_phrase(self.doc, [t for _, t in options])
+        inst, outs = self.manager.start("clarify", {"options": phrase} if phrase else {}, on_end=ended)
         if inst is None:
             return etree.Element("answer", none="true")
         self._emit(outs, msg.id)

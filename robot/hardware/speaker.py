@@ -2,7 +2,8 @@
 
 The speaker takes ``<say text="..."/>`` on ``/robot/speaker/say``, puts the
 utterance into the world's air (people's scripts hear it and can react) and
-publishes ``<speaking text start end/>`` when it starts and ``<done text/>``
+publishes ``<speaking text start end level/>`` (``level``: its loudness, dB
+SPL at 1 m) when it starts and ``<done text/>``
 when it ends on ``/robot/speaker/status``; a new utterance cuts the previous
 one short. The duration comes from the word count. A say with no words
 (``<say/>``, ``<say text=""/>``) only silences the robot: the utterance in
@@ -59,7 +60,8 @@ class Speaker(Module):
         if not text.strip():
             return  # silence: nothing in progress (a cut utterance was handled by the loop below)
         u = self.world.sound.say("robot", text, self.now, loudness=self.loudness)
-        self.bus.publish(STATUS_CHANNEL, etree.Element("speaking", text=text, start=f"{u.start:.6f}", end=f"{u.end:.6f}"), causes=(msg.id,))
+        status = etree.Element("speaking", text=text, start=f"{u.start:.6f}", end=f"{u.end:.6f}", level=f"{self.loudness:.1f}")
+        self.bus.publish(STATUS_CHANNEL, status, causes=(msg.id,))
         while self.now < u.end - 1e-6:  # (virtual time is integer ns: never sleep 0)
             self.beat()
             nxt = self.queue.get_nowait()

@@ -14,10 +14,18 @@ recognition_per_word * words`` after the utterance ends; then understanding
 costs ``understanding_cost``. The module is one serial processor: an utterance
 that ends while another is still being recognised waits for it.
 
-Own voice: the robot hears itself. An utterance that overlaps what the robot
-says (``/robot/speaker/status``) and is at least ``own_voice_level`` dB loud
-(the robot's loudspeaker is a hand's breadth from the microphones, far louder
-than anybody in the room) is the robot's echo and is dropped.
+Own voice: the microphones' echo canceller removes what the speaker announced
+(``/robot/speaker/status``), but an echo that leaks through (a speaker status
+the canceller missed, a reverberant room) must not be taken for the partner.
+The rule uses what the speaker published, never loudness alone (a partner a
+hand's breadth away is as loud as the loudspeaker): an utterance is the robot's
+own voice when it starts with one of the robot's sentences (within
+``own_voice_onset`` s), its words are that sentence's (word-sequence similarity
+at least ``own_voice_match``; of a cut sentence, the part said before the cut),
+and it is no louder at the microphones than the loudspeaker's announced
+``level`` (dB at 1 m) plus ``echo_gain_db`` (the microphones are about 0.3 m
+from the loudspeaker) and ``echo_tolerance_db``. Anything else, a partner
+talking over the robot included, is understood (:func:`is_own_voice`).
 """
 
 from __future__ import annotations
@@ -25,6 +33,8 @@ from __future__ import annotations
 import asyncio
 import re
 from collections import deque
+from dataclasses import dataclass
+from difflib import SequenceMatcher
 from pathlib import Path
 from typing import Any
 
@@ -80,6 +90,43 @@ def frame_message(u: Understanding, start: float, end: float, confidence: float)
     return el
 
 
+@dataclass(slots=True)
+class RobotSentence:
+    """What the speaker announced it plays: words, start, end (earlier when cut), level (dB at 1 m; None: not said)."""
+
+    words: tuple[str, ...]
+    start: float
+    end: float
+    level: float | None
+    cut: bool = False
+
+
+def _words(text: str) -> tuple[str, ...]:
+    return tuple(w for w in re.sub(r"[^\w' ]+", " ", text.lower()).split() if w)
+
+
+def is_own_voice(words: str, start: float, level: float | None, said: list[RobotSentence] | deque[RobotSentence], *,
+                 onset: float = 0.5, match: float = 0.6, echo_gain_db: float = 10.5, tolerance_db: float = 6.0) -> bool:
+    """Whether a recognised utterance is the robot's own sentence heard back (see the module docstring).
+
+    ``words``/``start``/``level``: the recogniser's utterance (``level`` None when it gave none);
+    ``said``: the speaker's announced sentences. Only an utterance that starts with a robot sentence,
+    says its words and is not louder than the loudspeaker can make it at the microphones is the robot's.
+    """
+    heard = _words(words)
+    if not heard:
+        return False
+    for r in said:
+        if abs(start - r.start) > onset or start > r.end:
+            continue
+        if level is not None and r.level is not None and level > r.level + echo_gain_db + tolerance_db:
+            continue
+        ref = r.words[: len(heard) + 1] if r.cut else r.words
+        if ref and SequenceMatcher(None, heard, ref, autojunk=False).ratio() >= match:
+            return True
+    return False
+
+
 class SpeechUnderstanding(Module):
     """Bus module running the semantic grammar on each recognised utterance."""
 
@@ -92,7 +139,10 @@ class SpeechUnderstanding(Module):
         recognition_base: float = 0.25,
         recognition_per_word: float = 0.12,
         understanding_cost: float = 0.01,
-        own_voice_level: float = 68.0,
+        own_voice_onset: float = 0.5,
+        own_voice_match: float = 0.6,
+        echo_gain_db: float = 10.5,
+        echo_tolerance_db: float = 6.0,
         understander: Understander | None = None,
         typed: bool = True,
     ) -> None:
@@ -101,9 +151,10 @@ class SpeechUnderstanding(Module):
         self.recognition_base = recognition_base
         self.recognition_per_word = recognition_per_word
         self.understanding_cost = understanding_cost
-        self.own_voice_level = own_voice_level
+        self.own_voice = {"onset": own_voice_onset, "match": own_voice_match, "echo_gain_db": echo_gain_db,
+                          "tolerance_db": echo_tolerance_db}
         self._busy_until = 0.0
-        self._robot_speech: deque[tuple[float, float]] = deque(maxlen=8)
+        self._robot_speech: deque[RobotSentence] = deque(maxlen=8)
         self.counts = {"utterances": 0, "understood": 0, "not_understood": 0, "own_voice": 0}
         if typed and sim.bus.channel_schema(FRAMES) is None:
             sim.bus.declare_channel(FRAMES, FRAMES_XSD)
@@ -121,23 +172,28 @@ class SpeechUnderstanding(Module):
         return self.recognition_base + self.recognition_per_word * max(1, words)
 
     def _on_speaker(self, msg: Message) -> None:
-        if msg.xml.tag == "speaking":
-            self._robot_speech.append((float(msg.xml.get("start", "0")), float(msg.xml.get("end", "0"))))
-
-    def _own_voice(self, start: float, end: float, level: float) -> bool:
-        if level < self.own_voice_level:
-            return False
-        return any(s < end and start < e for s, e in self._robot_speech)
+        el = msg.xml
+        if el.tag == "speaking":
+            level = el.get("level")
+            self._robot_speech.append(RobotSentence(_words(el.get("text", "")), float(el.get("start", "0")),
+                                                    float(el.get("end", "0")), None if level is None else float(level)))
+        elif el.tag == "interrupted":
+            said = _words(el.get("text", ""))
+            for r in reversed(self._robot_speech):
+                if r.words == said and not r.cut:
+                    r.end, r.cut = min(r.end, self.now), True
+                    break
 
     def _on_utterance(self, msg: Message) -> None:
         xml = msg.xml
         if xml.get("self") == "true":
             return
         start, end = float(xml.get("start", "0")), float(xml.get("end", "0"))
-        if self._own_voice(start, end, float(xml.get("level", "0"))):
+        words = xml.text or ""
+        level = xml.get("level")
+        if is_own_voice(words, start, None if level is None else float(level), self._robot_speech, **self.own_voice):
             self.counts["own_voice"] += 1
             return
-        words = xml.text or ""
         conf_text = xml.get("confidence")
         if conf_text is not None:
             confidence = float(conf_text)
