@@ -153,6 +153,28 @@ def test_where_unknown_object(dm):
     assert says(out) == ["Sorry, I don't know where to find the keys."]
 
 
+def test_where_is_my_something_asks_what_before_asking_the_scene_model(dm):
+    # "where is my <lost word>": a partial frame without the object's type; the question is repaired
+    out = dm.on_frame(frame('<WHERE><OBJECT><OWNER name="speaker"/></OBJECT></WHERE>'))
+    assert not sends(out) and says(out) == ["Sorry, I did not catch what you are looking for. Could you say it again?"]
+    (s,) = sends(dm.on_frame(frame('<WHERE><OBJECT type="cup"><TITLE name="cup"/><OWNER name="speaker"/></OBJECT></WHERE>')))
+    assert s.children[0].find("OBJECT").get("type") == "cup"
+    # an answer with just the object keeps the owner from the first question ("my ..." + "the cup")
+    dm2 = DialogManager(DOC)
+    dm2.es_state = "Interacting"
+    dm2.on_frame(frame('<WHERE><OBJECT><OWNER name="speaker"/></OBJECT></WHERE>'))
+    (s2,) = sends(dm2.on_frame(frame('<OBJECT type="cup"><TITLE name="cup"/></OBJECT>')))
+    obj = s2.children[0].find("OBJECT")
+    assert obj.get("type") == "cup" and obj.find("OWNER").get("name") == "speaker"
+
+
+def test_where_not_found_is_not_taken_for_seen(dm):
+    # the scene model sends the question's OBJECT back with found="false": that is no answer
+    dm.on_frame(frame(f"<WHERE>{CUP}</WHERE>"))
+    out = dm.on_condition(cond("object_info", f'<param name="result"><RESULT found="false">{CUP}</RESULT></param>'))
+    assert says(out) == ["Sorry, I don't know where to find the cup."]
+
+
 def test_goodbye_normal_path(dm):
     (s,) = sends(dm.on_frame(frame("<GOODBYE/>")))
     assert s.event == "goodbye"
