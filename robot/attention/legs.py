@@ -33,6 +33,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass
+from functools import lru_cache
 
 import numpy as np
 
@@ -64,6 +65,15 @@ class Detections:
 
     def __len__(self) -> int:
         return int(self.xy.shape[0])
+
+
+@lru_cache(maxsize=64)
+def _pairs(k: int) -> tuple[np.ndarray, np.ndarray]:
+    """``np.triu_indices(k, 1)``, kept per ``k``: numpy 2.4 builds it in ~70 us, a sixth of a scan's detection."""
+    iu, ju = np.triu_indices(k, 1)
+    iu.flags.writeable = False
+    ju.flags.writeable = False
+    return iu, ju
 
 
 EMPTY = Detections(np.zeros((0, 2)), np.zeros(0, dtype=np.int8), np.zeros((0, 2)))
@@ -157,7 +167,7 @@ def detect(ranges: np.ndarray, bearings: np.ndarray, spec: LegSpec = LegSpec(), 
     used = np.zeros(k, dtype=bool)
     if k > 1:
         dist = np.hypot(legs[:, None, 0] - legs[None, :, 0], legs[:, None, 1] - legs[None, :, 1])
-        iu, ju = np.triu_indices(k, 1)
+        iu, ju = _pairs(k)
         dd = dist[iu, ju]
         for m in np.argsort(dd, kind="stable"):
             if dd[m] > spec.pair_distance:
