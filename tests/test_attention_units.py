@@ -96,6 +96,26 @@ def test_someone_who_starts_speaking_gets_the_look_from_an_equal_talker_at_once(
         before = dict(cats)
 
 
+@settings(max_examples=200, deadline=None)
+@given(seq=frames)
+def test_a_potential_partner_keeps_the_selection_while_in_category_3_and_threes_tie_by_longest_unselected(seq):
+    """Rule 1 with several potential partners: the selected one keeps the focus as long as they stay
+    in category 3 (another category-3 person does not take it, however long they waited); a new
+    category-3 selection goes to the one not selected for the longest time."""
+    sel = Selector(P)
+    now = 0.0
+    for dt, cats in seq:
+        now += dt
+        prev = sel.selected
+        last = dict(sel.last_selected)
+        got = sel.update(now, cats)
+        if prev is not None and cats.get(prev) == 3:
+            assert got == prev
+        elif 3 in cats.values():
+            threes = [i for i, c in cats.items() if c == 3]
+            assert got == min(threes, key=lambda i: (last.get(i, -math.inf) if i != prev else now, i))
+
+
 def test_inhibition_of_return_then_the_other_then_back():
     sel = Selector(P)
     cats = {1: 1, 2: 1}
