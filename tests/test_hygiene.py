@@ -46,3 +46,37 @@ def test_kernel_never_imports_the_robot_or_humans():
         if re.search(r"^\s*(import|from)\s+(robot|humans)\b", path.read_text(encoding="utf-8"), re.M):
             offenders.append(str(path.relative_to(ROOT)))
     assert offenders == []
+
+
+#: What only the hardware models and the scoring may see: the simulated world and its people,
+#: the scenario, the stage and runner that hold them, and the ground-truth metrics.
+GROUND_TRUTH = re.compile(r"^(homesim\.(world|scenario|stage|runner|metrics|truth)|humans)(\.|$)")
+
+
+def _imports(path: Path) -> list[tuple[int, str]]:
+    import ast
+
+    out = []
+    for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+        if isinstance(node, ast.Import):
+            out += [(node.lineno, a.name) for a in node.names]
+        elif isinstance(node, ast.ImportFrom) and node.module and node.level == 0:
+            out.append((node.lineno, node.module))
+            out += [(node.lineno, f"{node.module}.{a.name}") for a in node.names]
+    return out
+
+
+def test_robot_outside_the_hardware_never_imports_the_world_the_people_or_ground_truth():
+    """Honest robot (HELPERS, issue 10): above robot/hardware/ BIRON sees only the bus. Also no
+    attribute access to a world or ground truth handed in by a composition root (``run.world``)."""
+    offenders = []
+    for path in sorted((ROOT / "robot").rglob("*.py")):
+        rel = path.relative_to(ROOT)
+        if rel.parts[:2] == ("robot", "hardware"):
+            continue
+        for line, name in _imports(path):
+            if GROUND_TRUTH.match(name):
+                offenders.append(f"{rel}:{line}: imports {name}")
+        for m in re.finditer(r"\b(run|sim|self)\.(world|truth|humans|stage)\b", path.read_text(encoding="utf-8")):
+            offenders.append(f"{rel}: uses {m.group(0)}")
+    assert offenders == []
