@@ -100,6 +100,12 @@ def output_file(text: str) -> Path:
         raise argparse.ArgumentTypeError(f"{text!r} exists and is not a regular file")
     if path.exists() and not os.access(path, os.W_OK):
         raise argparse.ArgumentTypeError(f"{text!r} is not writable")
+    _check_creatable(text, path)
+    return path
+
+
+def _check_creatable(text: str, path: Path) -> None:
+    """The nearest existing ancestor of ``path`` is a directory we may create entries in."""
     parent = path.absolute().parent
     while not parent.exists():
         parent = parent.parent
@@ -107,7 +113,6 @@ def output_file(text: str) -> Path:
         raise argparse.ArgumentTypeError(f"{text!r}: {str(parent)!r} is not a directory")
     if not os.access(parent, os.W_OK | os.X_OK):
         raise argparse.ArgumentTypeError(f"{text!r}: directory {str(parent)!r} is not writable")
-    return path
 
 
 def store_dir(text: str) -> Path:
@@ -121,13 +126,7 @@ def store_dir(text: str) -> Path:
         if not os.access(path, os.W_OK | os.X_OK):
             raise argparse.ArgumentTypeError(f"directory {text!r} is not writable")
         return path
-    parent = path.absolute().parent
-    while not parent.exists():
-        parent = parent.parent
-    if not parent.is_dir():
-        raise argparse.ArgumentTypeError(f"{text!r}: {str(parent)!r} is not a directory")
-    if not os.access(parent, os.W_OK | os.X_OK):
-        raise argparse.ArgumentTypeError(f"{text!r}: directory {str(parent)!r} is not writable")
+    _check_creatable(text, path)
     return path
 
 

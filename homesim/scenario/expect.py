@@ -340,10 +340,11 @@ class StateReachedCheck(EventCheck):
         return f"entry into state {self.state}"
 
 
-class EventAppliedCheck(EventCheck):
-    """The supervisor applies an event named ``event`` (leaving ``state``, if given)."""
+class EsRecordCheck(EventCheck):
+    """A decision of the supervisor's log (``kind``) on an event named ``event`` (in ``state``, if given)."""
 
     channels = (ES_LOG,)
+    kind = ""
 
     def __init__(self, *args: Any) -> None:
         super().__init__(*args)
@@ -352,37 +353,43 @@ class EventAppliedCheck(EventCheck):
 
     def on_message(self, m: Message) -> None:
         x = m.xml
-        if x.get("kind") != "applied" or x.get("name") != self.event:
-            return
-        if self.state is not None and x.get("state") != self.state:
-            return
-        self.hit(m.created, f"{self.event} from {x.get('source')} applied: {x.get('state')} -> {x.get('to')}")
+        if x.get("kind") == self.kind and x.get("name") == self.event and self.state in (None, x.get("state")) and self.wanted(x):
+            self.hit(m.created, self.describe(x))
+
+    def wanted(self, x: etree._Element) -> bool:
+        return True
+
+    def describe(self, x: etree._Element) -> str:  # pragma: no cover - overridden
+        raise NotImplementedError
+
+
+class EventAppliedCheck(EsRecordCheck):
+    """The supervisor applies an event named ``event`` (leaving ``state``, if given)."""
+
+    kind = "applied"
+
+    def describe(self, x: etree._Element) -> str:
+        return f"{self.event} from {x.get('source')} applied: {x.get('state')} -> {x.get('to')}"
 
     def what(self) -> str:
         state = f" in {self.state}" if self.state else ""
         return f"{self.event} applied{state}"
 
 
-class EventRejectedCheck(EventCheck):
+class EventRejectedCheck(EsRecordCheck):
     """The supervisor rejects an event named ``event`` (with ``reason``, in ``state`` if given)."""
 
-    channels = (ES_LOG,)
+    kind = "rejected"
 
     def __init__(self, *args: Any) -> None:
         super().__init__(*args)
-        self.event = str(self.e.get("event"))
         self.reason = self.e.get("reason")
-        self.state = self.e.get("state")
 
-    def on_message(self, m: Message) -> None:
-        x = m.xml
-        if x.get("kind") != "rejected" or x.get("name") != self.event:
-            return
-        if self.reason is not None and x.get("reason") != self.reason:
-            return
-        if self.state is not None and x.get("state") != self.state:
-            return
-        self.hit(m.created, f"{self.event} from {x.get('source')} rejected ({x.get('reason')}) in {x.get('state')}")
+    def wanted(self, x: etree._Element) -> bool:
+        return self.reason is None or x.get("reason") == self.reason
+
+    def describe(self, x: etree._Element) -> str:
+        return f"{self.event} from {x.get('source')} rejected ({x.get('reason')}) in {x.get('state')}"
 
     def what(self) -> str:
         reason = f" as {self.reason}" if self.reason else ""
