@@ -163,3 +163,16 @@ def test_a_partner_out_of_sight_for_a_moment_is_reacquired_and_the_time_measured
     assert any(st == "following" for t, st in states if t > 5.8)  # and followed on once seen again
     assert s["identity_switches"] == 0
     run.close()
+
+
+def test_a_missed_detection_or_two_is_a_dropout_not_a_loss():
+    def blink(run):
+        run.at(4.0, lambda: run.oracle.hidden.add("anna"))
+        run.at(4.3, lambda: run.oracle.hidden.discard("anna"))
+
+    run = _follow("follow_door", 6.0, setup=blink)
+    s = run.metric("following")
+    assert s["reacquisitions"] == 0 and s["time_to_reacquire_s"]["n"] == 0
+    assert s["dropouts"] == 1
+    assert not any(st["state"] == "stopped" for _, st in run.status)  # the follower never stopped: no loss
+    run.close()
