@@ -25,7 +25,7 @@ UNKNOWN, FREE, ECHO = 0, 1, 2
 class SeenGround:
     """Free and echo cells from laser scans in the odometry frame (see the module docstring)."""
 
-    def __init__(self, *, cell: float = 0.1, size: int = 100, reach: float = 4.0) -> None:
+    def __init__(self, *, cell: float = 0.1, size: int = 100, reach: float = 3.0) -> None:
         self.cell, self.size, self.reach = cell, size, reach
         self.grid = np.zeros((size, size), dtype=np.int8)
         self.origin: tuple[int, int] | None = None  # the window's lower-left cell (odom cell indices)
@@ -54,7 +54,7 @@ class SeenGround:
         self.grid[i[ok], j[ok]] = value
 
     def add(self, ranges: np.ndarray, min_angle: float, resolution: float, max_range: float,
-            sensor: tuple[float, float, float], *, stride: int = 3) -> None:
+            sensor: tuple[float, float, float], *, stride: int = 4) -> None:
         """One scan (angles in radians) taken from ``sensor`` (x, y, heading in odom): beams free, echoes marked."""
         sx, sy, sth = sensor
         self._recentre(sx, sy)
