@@ -78,6 +78,12 @@ def main() -> None:
     r = {}
     r["scan -> points (legs as bodies)"] = per_call(lambda: scan_points(ranges, -spec.fov / 2, spec.resolution, spec.max_range, spec.offset), 2000)
     r["dwa (one decision)"] = per_call(lambda: dwa(0.3, 0.0, (2.0, 0.5), pts, lim, v_pref=0.4), 1000)
+    from robot.navigation.seen import SeenGround
+
+    seen = SeenGround()
+    x0, y0, th0 = stage.world.robot.pose
+    r["follower: seen ground, one scan (2/s while following)"] = per_call(
+        lambda: seen.add(ranges, -spec.fov / 2, spec.resolution, spec.max_range, (x0, y0, th0)), 2000)
 
     run = start_run("follow_door", tracks={"anna": "t1"})
     run.at(0.3, lambda: run.oracle.follow("t1"))
@@ -132,7 +138,7 @@ def main() -> None:
 
     print(f"{'what':48s} {'us/call':>10s} {'ms per simulated s':>20s}")
     for k, v in r.items():
-        rate = 50.0 if "physics" in k else 10.0 if "step" in k or "dwa" in k or "scan" in k else 0.0
+        rate = 50.0 if "physics" in k else 2.0 if "seen ground" in k else 10.0 if "step" in k or "dwa" in k or "scan" in k else 0.0
         per_s = f"{v * rate / 1000:.3f} (x{rate:g}/s)" if rate else "once per blockage" if "replan" in k else "once per go-to"
         print(f"{k:48s} {v:10.1f} {per_s:>20s}")
     print(f"{'planner: grid build from the map (once per run)':48s} {build * 1000:10.1f} {'once per run':>20s}")

@@ -73,6 +73,18 @@ def test_a_person_crossing_between_does_not_become_the_followed_one(turn_back):
     assert all(float(st["distance"]) < 2.0 for _, st in turn_back.status)  # never Tom's distance when he crossed far off
 
 
+def test_it_never_backs_off_into_what_it_cannot_see_behind():
+    # back 0.4 m from a wall it never drove away from, the partner walking up to 0.6 m: it backs
+    # off only over ground it drove over or saw free (turning to face her, the laser sees a little
+    # of the wall side), then waits: she comes closer than the band; touching the wall would be a collision
+    run = _follow("follow_back_to_wall", 9.0)
+    assert run.world.contacts == []
+    assert any(float(st["speed"]) < -0.05 for _, st in run.status)  # it did back off, as far as it knew it could
+    assert any(st["state"] == "waiting" for _, st in run.status)
+    assert run.metric("following")["distance_m"]["min"] < 0.8  # and then stood, with her closer than 0.8 m
+    run.close()
+
+
 def _too_fast_setup(run):
     run.at(0.1, run.engage)
     run.at(0.2, lambda: run.say("follow", etree.Element("FOLLOW")))
@@ -150,4 +162,17 @@ def test_a_partner_out_of_sight_for_a_moment_is_reacquired_and_the_time_measured
     assert any(st == "stopped" for t, st in states if 5.1 < t < 5.5)  # lost for > 1 s: it stopped
     assert any(st == "following" for t, st in states if t > 5.8)  # and followed on once seen again
     assert s["identity_switches"] == 0
+    run.close()
+
+
+def test_a_missed_detection_or_two_is_a_dropout_not_a_loss():
+    def blink(run):
+        run.at(4.0, lambda: run.oracle.hidden.add("anna"))
+        run.at(4.3, lambda: run.oracle.hidden.discard("anna"))
+
+    run = _follow("follow_door", 6.0, setup=blink)
+    s = run.metric("following")
+    assert s["reacquisitions"] == 0 and s["time_to_reacquire_s"]["n"] == 0
+    assert s["dropouts"] == 1
+    assert not any(st["state"] == "stopped" for _, st in run.status)  # the follower never stopped: no loss
     run.close()

@@ -64,6 +64,9 @@ def test_a_person_who_stays_in_the_way_makes_the_robot_ask_for_help(stays):
     assert len(help_) == 1 and help_[0][2]["reason"] == "blocked" and help_[0][2]["goal"] == "kitchen"
     assert stays.es.state == "AskingForHelp"
     assert stays.world.contacts == []
+    # the sequencer asked for ways round Tom (one door: there were none); the metric says both
+    ep = stays.metric("navigation")["goto"][0]
+    assert ep["outcome"] == "failed: blocked" and ep["replans"] >= 1 and ep["replans_found"] == 0
     x, y, _ = stays.world.robot.pose
     assert x < 6.0  # still in the living room, in front of the door
 

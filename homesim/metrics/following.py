@@ -16,8 +16,11 @@ person's centre):
   nearest to it (within 0.7 m); a change of that person within one following
   episode is a switch. Without partner messages the partner is the person
   nearest the robot when following starts;
-* time to reacquire: from the partner message that says ``visible="false"``
-  to the next that says it is seen again (count, mean, max);
+* time to reacquire after a loss: from the partner message that says
+  ``visible="false"`` to the next that says it is seen again (count, mean,
+  max), when the partner was out of sight at least :data:`LOSS` s (the
+  follower's timeout: it stops); shorter gaps (a missed detection or two)
+  are counted as ``dropouts`` and are no loss;
 * the ``partner_too_fast`` warnings the robot raised.
 
 Constant memory: running sums only.
@@ -34,6 +37,8 @@ from .stats import Running
 ZONES = (("intimate", 0.0, 0.45), ("personal", 0.45, 1.2), ("social", 1.2, 3.6), ("public", 3.6, math.inf))
 BAND = (1.0, 1.5)
 MATCH = 0.7
+#: s: out of sight this long is a loss (the follower stops); shorter gaps are dropouts
+LOSS = 1.0
 
 
 class Following(Observer):
@@ -60,6 +65,7 @@ class Following(Observer):
         self._was_following = False
         self._lost_at: float | None = None
         self.reacquire = Running()
+        self.dropouts = 0
 
     # --------------------------------------------------------------- bus
     def on_message(self, m: Any) -> None:
@@ -83,7 +89,11 @@ class Following(Observer):
                 self._lost_at = t
             return
         if self._lost_at is not None:
-            self.reacquire.add(t - self._lost_at)
+            gap = t - self._lost_at
+            if gap >= LOSS:
+                self.reacquire.add(gap)
+            else:
+                self.dropouts += 1
             self._lost_at = None
         try:
             bearing, dist = math.radians(float(xml.get("bearing"))), float(xml.get("distance"))
@@ -147,6 +157,7 @@ class Following(Observer):
             "identity_switches": self.switches,
             "reacquisitions": self.reacquire.n,
             "time_to_reacquire_s": self.reacquire.as_dict(3),
+            "dropouts": self.dropouts,
             "too_fast_warnings": self.warnings,
         }
 

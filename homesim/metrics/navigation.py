@@ -10,7 +10,8 @@ planner, :class:`homesim.world.pathplan.Grid`, from where the robot stood to
 the plan's last waypoint), the time, the closest distance from the robot's
 centre to any person's centre, the fastest it drove while someone was within
 :data:`SOCIAL_NEAR` m (the social speed limit), the replans, and the robot's
-contacts (none allowed).
+contacts (none allowed). ``replans`` counts every replan answered (the sequencer asked: the
+way was blocked), ``replans_found`` those that found a way round.
 
 :class:`Failures` (metric ``failures``): faults injected (``/system/faults``), failures
 detected (``module_failed`` on ``/system/health``; time to detect = from the
@@ -51,6 +52,7 @@ class Navigation(Observer):
         self.episodes: list[dict[str, Any]] = []  # one small dict per go-to (a tour has a handful)
         self.closest_person = math.inf
         self.replans = 0
+        self.replans_found = 0
         self.speed_near = 0.0
         self._contacts_before = 0
         self._grid: Grid | None = None
@@ -68,9 +70,10 @@ class Navigation(Observer):
         if m.channel == "/robot/navigation/plan":
             wps = m.xml.findall("waypoint")
             if m.xml.get("replan") == "true":
-                # a way round an obstacle (or none): the same go-to goes on
-                if self.active and wps and not m.xml.get("failed"):
+                # the answer to a replan (a way round an obstacle, or none): the same go-to goes on
+                if self.active:
                     self.replans += 1
+                    self.replans_found += bool(wps) and not m.xml.get("failed")
                 return
             if self.active:
                 self._end("replanned", m.created)
@@ -83,6 +86,7 @@ class Navigation(Observer):
             self.last = (x, y)
             self.length = 0.0
             self.replans = 0
+            self.replans_found = 0
             self.speed_near = 0.0
             self.closest_person = math.inf
             self._contacts_before = len(self.world.contacts)
@@ -125,6 +129,7 @@ class Navigation(Observer):
             "closest_person": round(self.closest_person, 3) if math.isfinite(self.closest_person) else None,
             "collisions": len(self.world.contacts) - self._contacts_before,
             "replans": self.replans,
+            "replans_found": self.replans_found,
             "speed_near_person_max": round(self.speed_near, 3),
         })
 
@@ -148,6 +153,7 @@ class Navigation(Observer):
             "closest_person_m": worst("closest_person", min),
             "speed_near_person_max": worst("speed_near_person_max", max),
             "replans": sum(e["replans"] for e in eps),
+            "replans_found": sum(e["replans_found"] for e in eps),
             "collisions": sum(e["collisions"] for e in eps),
         }
 

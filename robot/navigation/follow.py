@@ -18,6 +18,12 @@ Control, every ``1/rate`` seconds:
   limits: it closes in when the partner is beyond 1.2 m and waits inside the
   1.0-1.5 m band; below 1.0 m (a partner who turns back) it backs off
   slowly, turning to face them, so it never approaches closer than 0.8 m.
+  The laser does not see behind: it backs off only where its centre has
+  been driving forwards (the last ``BREADCRUMBS`` odometry positions, every
+  5 cm) or where its footprint, 10 cm further back, lies on ground the laser
+  saw free while following (:class:`~robot.navigation.seen.SeenGround`, a scan
+  every 0.5 s); elsewhere it stands (against a wall it never saw, it waits
+  instead of backing into it).
 * Obstacles: the dynamic window (:mod:`robot.navigation.local`) on the laser
   echoes, without the echoes of the partner's own legs.
 * Too fast: while the commanded speed is at the limit for ``too_fast_time`` and
@@ -47,6 +53,7 @@ from homesim.module import Module
 
 from .config import Limits
 from .local import DWAParams, LatestScan, dwa, heading_speed
+from .seen import SeenGround, footprint_samples
 
 STATE = "/robot/attention/state"
 PARTNER = "/robot/attention/partner"
@@ -56,6 +63,14 @@ BASE_CMD = "/robot/base/cmd"
 STATUS = "/robot/follow/status"
 EVENTS = "/robot/es/events"
 SCHEMA = Path(__file__).resolve().parent.parent / "schemas" / "navigation" / "follow-status.xsd"
+#: how many of the robot's own past positions (odometry, every CRUMB m) the back-off may retrace
+BREADCRUMBS = 200
+CRUMB = 0.05
+#: m: backing off, the robot's centre a step back must stay this close to a past position of its own
+CRUMB_NEAR = 0.15
+#: m: the base's footprint (length, width) and the margin kept backing over seen ground
+FOOTPRINT = (0.51, 0.43)
+BACK_MARGIN = 0.05
 
 
 def speed_law(d: float, v_radial: float, *, distance: float, band: tuple[float, float], minimum: float,
@@ -95,7 +110,10 @@ class Follower(Module):
         self.odom: tuple[float, float, float] | None = None
         self.v = self.w = 0.0
         self.scan = LatestScan()
+        self.seen = SeenGround()
+        self._seen_at = -math.inf
         self.trail: deque[tuple[float, float]] = deque(maxlen=200)
+        self.crumbs: deque[tuple[float, float]] = deque(maxlen=BREADCRUMBS)  # where the robot itself has been (odom)
         self.driving = False
         self._limit_since: float | None = None
         self._history: deque[tuple[float, float]] = deque(maxlen=64)  # (t, d) while at the limit
@@ -140,11 +158,36 @@ class Follower(Module):
 
     def _on_scan(self, msg: Message) -> None:
         self.scan.update(msg)  # turned into points only when a control step needs them
+        if self.following and self.odom is not None and self.now - self._seen_at >= 0.5:
+            self._seen_at = self.now
+            x = msg.xml
+            ox, oy, oth = self.odom
+            off = float(x.get("offset", "0"))
+            self.seen.add(msg.attachments["ranges"], math.radians(float(x.get("min_angle"))),
+                          math.radians(float(x.get("resolution"))), float(x.get("max_range")),
+                          (ox + off * math.cos(oth), oy + off * math.sin(oth), oth))
 
     def _on_odometry(self, msg: Message) -> None:
         x = msg.xml
         self.odom = (float(x.get("x")), float(x.get("y")), float(x.get("theta")))
         self.v, self.w = float(x.get("v", "0")), float(x.get("w", "0"))
+        # ground covered driving forwards (the laser saw it first) and where the robot started; never what
+        # backing covers, or backing would lay its own way back
+        if not self.crumbs or (self.v > 0.0 and math.hypot(self.odom[0] - self.crumbs[-1][0],
+                                                           self.odom[1] - self.crumbs[-1][1]) >= CRUMB):
+            self.crumbs.append(self.odom[:2])
+
+    def can_back_off(self) -> bool:
+        """Whether backing a little is safe: onto ground it drove over, or ground the laser saw free (no laser behind)."""
+        if self.odom is None or not self.crumbs:
+            return False
+        x, y, th = self.odom
+        bx, by = x - CRUMB * math.cos(th), y - CRUMB * math.sin(th)
+        if any(math.hypot(bx - cx, by - cy) <= CRUMB_NEAR for cx, cy in self.crumbs):
+            return True
+        back = 2 * CRUMB
+        return self.seen.clear(*footprint_samples(x - back * math.cos(th), y - back * math.sin(th), th,
+                                                  length=FOOTPRINT[0], width=FOOTPRINT[1], margin=BACK_MARGIN))
 
     # ------------------------------------------------------------- control
     def _to_robot(self, px: float, py: float) -> tuple[float, float]:
@@ -198,7 +241,7 @@ class Follower(Module):
         if v_des <= 0.05:
             # wait (or back off) facing the partner; reversing is slow and straight (no laser behind)
             w = max(-self.limits.max_turn, min(self.limits.max_turn, 1.8 * bearing))
-            v = v_des if v_des < 0 else 0.0
+            v = v_des if v_des < 0 and self.can_back_off() else 0.0
             state = "waiting"
             # the robot stands and sees the partner: the way to them is the straight line. Older trail
             # points are stale (a partner who turned back and walked past would otherwise be
