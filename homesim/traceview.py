@@ -145,6 +145,33 @@ def label_of(rec: dict[str, Any]) -> str:
     return f"{tag} {name}".strip()[:60]
 
 
+_STR = (str,)
+_NUM = (int, float)
+#: The fields the readers here use, by record kind, with their JSON types.
+_FIELDS: dict[str, dict[str, tuple[type, ...]]] = {
+    "send": {"t": _NUM, "sender": _STR, "channel": _STR, "id": _STR, "kind": _STR},
+    "deliver": {"t": _NUM, "id": _STR},
+}
+
+
+def _check_record(path: str | os.PathLike[str], n: int, rec: dict[str, Any]) -> None:
+    """A send or delivery record with the fields and types the readers use; else ``InputError`` at ``path:n``."""
+    kind = rec.get("kind")
+    want = _FIELDS["send"] if kind in SENDS else _FIELDS["deliver"] if kind == "deliver" else None
+    if want is None:
+        return
+    for name, types in want.items():
+        v = rec.get(name)
+        if not isinstance(v, types) or isinstance(v, bool):
+            raise InputError(f"{path}:{n}: a {kind} record without a valid {name!r} (got {v!r:.60})")
+    for name in ("receivers", "causes"):
+        v = rec.get(name, [])
+        if not isinstance(v, list) or not all(isinstance(x, str) for x in v):
+            raise InputError(f"{path}:{n}: a {kind} record whose {name!r} is not a list of names (got {v!r:.60})")
+    if "xml" in rec and not isinstance(rec["xml"], str):
+        raise InputError(f"{path}:{n}: a {kind} record whose 'xml' is not text")
+
+
 def channel_stats(path: str | os.PathLike[str]) -> tuple[dict[str, Any], dict[tuple[str, str], StreamStats]]:
     """First pass: the header, and per (sender, channel) the count and first/last send time."""
     header: dict[str, Any] | None = None
@@ -155,6 +182,7 @@ def channel_stats(path: str | os.PathLike[str]) -> tuple[dict[str, Any], dict[tu
                 raise InputError(f"{path}:1: not a homesim trace (no header)")
             header = rec
             continue
+        _check_record(path, n, rec)
         if rec.get("kind") in SENDS:
             key = (rec["sender"], rec["channel"])
             a = acc.get(key)
