@@ -41,14 +41,25 @@ class TraceCheck:
         self.path = path
         self.fh = os.fdopen(open_regular(path, error=InputError), encoding="utf-8")
         self.line = 0
+        #: The departure found, if any (the loop wraps what a task raises; :meth:`reraise` gives it back plain).
+        self.departed: HomesimError | None = None
 
     def write(self, s: str) -> int:
         self.line += 1
         want = self.fh.readline()
         if self.line > 1 and want != s:  # line 1, the header, names this re-run's own stop time
-            raise HomesimError(f"{self.path}:{self.line}: the re-run departs from the trace here "
-                               f"(trace: {want.strip()[:160]!r}; re-run: {s.strip()[:160]!r})")
+            why = "the trace ends here (truncated?)" if not want.endswith("\n") else "the re-run departs from the trace here"
+            if self.departed is not None:  # the first departure is the one that counts
+                raise self.departed
+            self.departed = HomesimError(f"{self.path}:{self.line}: {why} "
+                                         f"(trace: {want.strip()[:160]!r}; re-run: {s.strip()[:160]!r})")
+            raise self.departed
         return len(s)
+
+    def reraise(self, exc: BaseException) -> None:
+        """Raise the departure itself (one line: file, line, what) when ``exc`` came from it; else nothing."""
+        if self.departed is not None and exc is not self.departed:
+            raise self.departed from None
 
     def flush(self) -> None:
         pass
