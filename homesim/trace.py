@@ -128,10 +128,10 @@ def read_trace(path: str | os.PathLike[str]) -> Iterator[dict[str, Any]]:
                 if line.strip():
                     rec = json.loads(line)
                     if not isinstance(rec, dict):
-                        raise InputError(f"{path}:{n}: not a trace record (a JSON object)")
+                        raise InputError("not a trace record (a JSON object)", source=str(path), line=n)
                     yield rec
         except json.JSONDecodeError as exc:
             why = "the trace ends in the middle of a line (truncated?)" if not line.endswith("\n") else f"not JSON ({exc.msg})"
-            raise InputError(f"{path}:{n}: {why}") from None
+            raise InputError(why, source=str(path), line=n) from None
         except UnicodeDecodeError as exc:
-            raise InputError(f"{path}:{n + 1}: not UTF-8 text ({exc.reason})") from None
+            raise InputError(f"not UTF-8 text ({exc.reason})", source=str(path), line=n + 1) from None

@@ -163,13 +163,13 @@ def _check_record(path: str | os.PathLike[str], n: int, rec: dict[str, Any]) -> 
     for name, types in want.items():
         v = rec.get(name)
         if not isinstance(v, types) or isinstance(v, bool):
-            raise InputError(f"{path}:{n}: a {kind} record without a valid {name!r} (got {v!r:.60})")
+            raise InputError(f"a {kind} record without a valid {name!r} (got {v!r:.60})", source=str(path), line=n)
     for name in ("receivers", "causes"):
         v = rec.get(name, [])
         if not isinstance(v, list) or not all(isinstance(x, str) for x in v):
-            raise InputError(f"{path}:{n}: a {kind} record whose {name!r} is not a list of names (got {v!r:.60})")
+            raise InputError(f"a {kind} record whose {name!r} is not a list of names (got {v!r:.60})", source=str(path), line=n)
     if "xml" in rec and not isinstance(rec["xml"], str):
-        raise InputError(f"{path}:{n}: a {kind} record whose 'xml' is not text")
+        raise InputError(f"a {kind} record whose 'xml' is not text", source=str(path), line=n)
 
 
 def channel_stats(path: str | os.PathLike[str]) -> tuple[dict[str, Any], dict[tuple[str, str], StreamStats]]:
@@ -179,7 +179,7 @@ def channel_stats(path: str | os.PathLike[str]) -> tuple[dict[str, Any], dict[tu
     for n, rec in enumerate(read_trace(path), 1):
         if header is None:
             if not isinstance(rec, dict) or "homesim_trace" not in rec:
-                raise InputError(f"{path}:1: not a homesim trace (no header)")
+                raise InputError("not a homesim trace (no header)", source=str(path), line=1)
             header = rec
             continue
         _check_record(path, n, rec)
@@ -192,7 +192,7 @@ def channel_stats(path: str | os.PathLike[str]) -> tuple[dict[str, Any], dict[tu
                 a[0] += 1
                 a[2] = rec["t"]
     if header is None:
-        raise InputError(f"{path}: empty trace")
+        raise InputError("empty trace", source=str(path))
     return header, {k: StreamStats(int(c), f, la) for k, (c, f, la) in acc.items()}
 
 
@@ -253,7 +253,7 @@ def read_timeline(path: str | os.PathLike[str], *, start: float | None = None, e
     t0 = 0.0 if start is None else start
     t1 = max((s.last for s in streams.values()), default=0.0) if end is None else end
     if t1 <= t0:
-        raise InputError(f"{path}: the window {t0:g}-{t1:g} s is empty")
+        raise InputError(f"the window {t0:g}-{t1:g} s is empty", source=str(path))
     msgs: dict[str, Message] = {}
     order: list[Message] = []
     spans: dict[tuple[str, float], Span] = {}

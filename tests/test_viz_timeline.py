@@ -138,5 +138,5 @@ def test_a_damaged_trace_is_one_line_naming_file_and_line(tmp_path, capsys, dama
     argv = [command[0], str(path), *command[1:-1], str(out)]
     assert main(argv) == 2
     err = capsys.readouterr().err
-    assert says in err and f"{path}:" in err and len(err.strip().splitlines()) == 1, err
+    assert says in err and err.startswith(f"homesim: error: {path}:") and len(err.strip().splitlines()) == 1, err
     assert not out.exists()
