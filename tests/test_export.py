@@ -162,3 +162,14 @@ def test_mcap_refuses_a_trace_that_the_run_does_not_reproduce(mcaps, tmp_path, c
     assert main(["export", str(bad), "--mcap", str(out)]) == 2
     assert f"{bad}:41: the re-run departs from the trace" in capsys.readouterr().err
     assert not out.exists() and not (tmp_path / "x.mcap.part").exists()
+
+
+def test_export_never_writes_over_the_trace_it_reads(tour, tmp_path, capsys):
+    copy = tmp_path / "tour.jsonl"
+    copy.write_bytes(tour.read_bytes())
+    for opt in ("--perfetto", "--mcap"):
+        assert main(["export", str(copy), opt, str(copy)]) == 2
+        assert "is the trace being exported" in capsys.readouterr().err
+    assert copy.read_bytes() == tour.read_bytes()
+    assert main(["export", str(copy), "--perfetto", str(tmp_path / "x"), "--mcap", str(tmp_path / "x")]) == 2
+    assert "two files" in capsys.readouterr().err
