@@ -28,9 +28,9 @@ def read_header(trace: str | os.PathLike[str]) -> dict[str, Any]:
         with os.fdopen(open_regular(trace, error=InputError), encoding="utf-8") as fh:
             header = json.loads(fh.readline(1 << 20))
     except (UnicodeDecodeError, json.JSONDecodeError) as exc:
-        raise InputError(f"{trace}:1: not a homesim trace ({exc})") from exc
+        raise InputError(f"not a homesim trace ({exc})", source=str(trace), line=1) from exc
     if not isinstance(header, dict) or header.get("homesim_trace") != TRACE_FORMAT:
-        raise InputError(f"{trace}:1: not a homesim trace (no 'homesim_trace': {TRACE_FORMAT} header)")
+        raise InputError(f"not a homesim trace (no 'homesim_trace': {TRACE_FORMAT} header)", source=str(trace), line=1)
     return header
 
 
@@ -84,15 +84,15 @@ def rerun(trace: str | os.PathLike[str], *, until: float | None = None) -> tuple
     header = read_header(path)
     h = header.get("run")
     if not isinstance(h, dict):
-        raise InputError(f"{path}:1: the header does not name a run (write the trace with 'homesim run --trace')")
+        raise InputError("the header does not name a run (write the trace with 'homesim run --trace')", source=str(path), line=1)
     scen = Path(str(h.get("scenario_file")))
     if not scen.is_file():
-        raise InputError(f"{path}:1: the scenario file {scen} named in the header does not exist")
+        raise InputError(f"the scenario file {scen} named in the header does not exist", source=str(path), line=1)
     if file_digest(scen) != h.get("scenario_digest"):
-        raise InputError(f"{path}:1: {scen} has changed since the trace was written; the run cannot be re-created")
+        raise InputError(f"{scen} has changed since the trace was written; the run cannot be re-created", source=str(path), line=1)
     end = h.get("until")
     if until is not None and end is not None and until > end:
-        raise InputError(f"{path}: t = {until:g} s is after the end of the recorded run ({end:g} s)")
+        raise InputError(f"t = {until:g} s is after the end of the recorded run ({end:g} s)", source=str(path))
     stop = until if until is not None else end
     check = TraceCheck(path)
     try:
@@ -107,5 +107,5 @@ def rerun(trace: str | os.PathLike[str], *, until: float | None = None) -> tuple
     if until is not None and until > run.scenario.duration:
         run.close()
         check.close()
-        raise InputError(f"{path}: t = {until:g} s is after the end of the scenario ({run.scenario.name}: {run.scenario.duration:g} s)")
+        raise InputError(f"t = {until:g} s is after the end of the scenario ({run.scenario.name}: {run.scenario.duration:g} s)", source=str(path))
     return run, check

@@ -129,7 +129,8 @@ def test_the_track_is_drawn_on_the_person_it_follows(short_trace):
 
 def test_plot_refuses_a_moment_after_the_recorded_run(short_trace, tmp_path, capsys):
     assert main(["plot", str(short_trace), "--at", "30", "--out", str(tmp_path / "x.png")]) == 2
-    assert "after the end of the recorded run" in capsys.readouterr().err
+    err = capsys.readouterr().err
+    assert "after the end of the recorded run" in err and err.startswith(f"homesim: error: {short_trace}: t = 30 s")
 
 
 def test_plot_refuses_a_trace_that_the_run_does_not_reproduce(short_trace, tmp_path, capsys):
