@@ -116,8 +116,22 @@ class MemoryTrace(TraceRecorder):
 
 
 def read_trace(path: str | os.PathLike[str]) -> Iterator[dict[str, Any]]:
-    """Iterate the records of a trace file (header first); regular files only (no FIFO or device)."""
+    """Iterate the records of a trace file (header first); regular files only (no FIFO or device).
+
+    A line that is not a JSON object (a truncated or edited trace) fails with
+    ``InputError`` naming the file and line.
+    """
     with os.fdopen(open_regular(path, error=InputError), encoding="utf-8") as fh:
-        for line in fh:  # text-mode files split on "\n" only
-            if line.strip():
-                yield json.loads(line)
+        n = 0
+        try:
+            for n, line in enumerate(fh, 1):  # text-mode files split on "\n" only
+                if line.strip():
+                    rec = json.loads(line)
+                    if not isinstance(rec, dict):
+                        raise InputError("not a trace record (a JSON object)", source=str(path), line=n)
+                    yield rec
+        except json.JSONDecodeError as exc:
+            why = "the trace ends in the middle of a line (truncated?)" if not line.endswith("\n") else f"not JSON ({exc.msg})"
+            raise InputError(why, source=str(path), line=n) from None
+        except UnicodeDecodeError as exc:
+            raise InputError(f"not UTF-8 text ({exc.reason})", source=str(path), line=n + 1) from None

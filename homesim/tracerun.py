@@ -28,9 +28,9 @@ def read_header(trace: str | os.PathLike[str]) -> dict[str, Any]:
         with os.fdopen(open_regular(trace, error=InputError), encoding="utf-8") as fh:
             header = json.loads(fh.readline(1 << 20))
     except (UnicodeDecodeError, json.JSONDecodeError) as exc:
-        raise InputError(f"{trace}:1: not a homesim trace ({exc})") from exc
+        raise InputError(f"not a homesim trace ({exc})", source=str(trace), line=1) from exc
     if not isinstance(header, dict) or header.get("homesim_trace") != TRACE_FORMAT:
-        raise InputError(f"{trace}:1: not a homesim trace (no 'homesim_trace': {TRACE_FORMAT} header)")
+        raise InputError(f"not a homesim trace (no 'homesim_trace': {TRACE_FORMAT} header)", source=str(trace), line=1)
     return header
 
 
@@ -41,14 +41,25 @@ class TraceCheck:
         self.path = path
         self.fh = os.fdopen(open_regular(path, error=InputError), encoding="utf-8")
         self.line = 0
+        #: The departure found, if any (the loop wraps what a task raises; :meth:`reraise` gives it back plain).
+        self.departed: HomesimError | None = None
 
     def write(self, s: str) -> int:
         self.line += 1
         want = self.fh.readline()
         if self.line > 1 and want != s:  # line 1, the header, names this re-run's own stop time
-            raise HomesimError(f"{self.path}:{self.line}: the re-run departs from the trace here "
-                               f"(trace: {want.strip()[:160]!r}; re-run: {s.strip()[:160]!r})")
+            why = "the trace ends here (truncated?)" if not want.endswith("\n") else "the re-run departs from the trace here"
+            if self.departed is not None:  # the first departure is the one that counts
+                raise self.departed
+            self.departed = HomesimError(f"{self.path}:{self.line}: {why} "
+                                         f"(trace: {want.strip()[:160]!r}; re-run: {s.strip()[:160]!r})")
+            raise self.departed
         return len(s)
+
+    def reraise(self, exc: BaseException) -> None:
+        """Raise the departure itself (one line: file, line, what) when ``exc`` came from it; else nothing."""
+        if self.departed is not None and exc is not self.departed:
+            raise self.departed from None
 
     def flush(self) -> None:
         pass
@@ -73,15 +84,15 @@ def rerun(trace: str | os.PathLike[str], *, until: float | None = None) -> tuple
     header = read_header(path)
     h = header.get("run")
     if not isinstance(h, dict):
-        raise InputError(f"{path}:1: the header does not name a run (write the trace with 'homesim run --trace')")
+        raise InputError("the header does not name a run (write the trace with 'homesim run --trace')", source=str(path), line=1)
     scen = Path(str(h.get("scenario_file")))
     if not scen.is_file():
-        raise InputError(f"{path}:1: the scenario file {scen} named in the header does not exist")
+        raise InputError(f"the scenario file {scen} named in the header does not exist", source=str(path), line=1)
     if file_digest(scen) != h.get("scenario_digest"):
-        raise InputError(f"{path}:1: {scen} has changed since the trace was written; the run cannot be re-created")
+        raise InputError(f"{scen} has changed since the trace was written; the run cannot be re-created", source=str(path), line=1)
     end = h.get("until")
     if until is not None and end is not None and until > end:
-        raise InputError(f"{path}: t = {until:g} s is after the end of the recorded run ({end:g} s)")
+        raise InputError(f"t = {until:g} s is after the end of the recorded run ({end:g} s)", source=str(path))
     stop = until if until is not None else end
     check = TraceCheck(path)
     try:
@@ -96,5 +107,5 @@ def rerun(trace: str | os.PathLike[str], *, until: float | None = None) -> tuple
     if until is not None and until > run.scenario.duration:
         run.close()
         check.close()
-        raise InputError(f"{path}: t = {until:g} s is after the end of the scenario ({run.scenario.name}: {run.scenario.duration:g} s)")
+        raise InputError(f"t = {until:g} s is after the end of the scenario ({run.scenario.name}: {run.scenario.duration:g} s)", source=str(path))
     return run, check

@@ -145,6 +145,33 @@ def label_of(rec: dict[str, Any]) -> str:
     return f"{tag} {name}".strip()[:60]
 
 
+_STR = (str,)
+_NUM = (int, float)
+#: The fields the readers here use, by record kind, with their JSON types.
+_FIELDS: dict[str, dict[str, tuple[type, ...]]] = {
+    "send": {"t": _NUM, "sender": _STR, "channel": _STR, "id": _STR, "kind": _STR},
+    "deliver": {"t": _NUM, "id": _STR},
+}
+
+
+def _check_record(path: str | os.PathLike[str], n: int, rec: dict[str, Any]) -> None:
+    """A send or delivery record with the fields and types the readers use; else ``InputError`` at ``path:n``."""
+    kind = rec.get("kind")
+    want = _FIELDS["send"] if kind in SENDS else _FIELDS["deliver"] if kind == "deliver" else None
+    if want is None:
+        return
+    for name, types in want.items():
+        v = rec.get(name)
+        if not isinstance(v, types) or isinstance(v, bool):
+            raise InputError(f"a {kind} record without a valid {name!r} (got {v!r:.60})", source=str(path), line=n)
+    for name in ("receivers", "causes"):
+        v = rec.get(name, [])
+        if not isinstance(v, list) or not all(isinstance(x, str) for x in v):
+            raise InputError(f"a {kind} record whose {name!r} is not a list of names (got {v!r:.60})", source=str(path), line=n)
+    if "xml" in rec and not isinstance(rec["xml"], str):
+        raise InputError(f"a {kind} record whose 'xml' is not text", source=str(path), line=n)
+
+
 def channel_stats(path: str | os.PathLike[str]) -> tuple[dict[str, Any], dict[tuple[str, str], StreamStats]]:
     """First pass: the header, and per (sender, channel) the count and first/last send time."""
     header: dict[str, Any] | None = None
@@ -152,9 +179,10 @@ def channel_stats(path: str | os.PathLike[str]) -> tuple[dict[str, Any], dict[tu
     for n, rec in enumerate(read_trace(path), 1):
         if header is None:
             if not isinstance(rec, dict) or "homesim_trace" not in rec:
-                raise InputError(f"{path}:1: not a homesim trace (no header)")
+                raise InputError("not a homesim trace (no header)", source=str(path), line=1)
             header = rec
             continue
+        _check_record(path, n, rec)
         if rec.get("kind") in SENDS:
             key = (rec["sender"], rec["channel"])
             a = acc.get(key)
@@ -164,7 +192,7 @@ def channel_stats(path: str | os.PathLike[str]) -> tuple[dict[str, Any], dict[tu
                 a[0] += 1
                 a[2] = rec["t"]
     if header is None:
-        raise InputError(f"{path}: empty trace")
+        raise InputError("empty trace", source=str(path))
     return header, {k: StreamStats(int(c), f, la) for k, (c, f, la) in acc.items()}
 
 
@@ -225,7 +253,7 @@ def read_timeline(path: str | os.PathLike[str], *, start: float | None = None, e
     t0 = 0.0 if start is None else start
     t1 = max((s.last for s in streams.values()), default=0.0) if end is None else end
     if t1 <= t0:
-        raise InputError(f"{path}: the window {t0:g}-{t1:g} s is empty")
+        raise InputError(f"the window {t0:g}-{t1:g} s is empty", source=str(path))
     msgs: dict[str, Message] = {}
     order: list[Message] = []
     spans: dict[tuple[str, float], Span] = {}

@@ -54,6 +54,28 @@ def test_perfetto_follows_a_greeting_from_the_microphones_to_the_robots_answer(p
     assert perfetto["otherData"]["scenario"] == "home_tour"
 
 
+def test_perfetto_slices_nest_and_each_flow_follows_its_slice(perfetto):
+    """What a viewer needs: a thread's complete slices never partly overlap (Perfetto drops a misplaced
+    one), and each flow event comes after the slice it binds to (it binds to the slice open when read)."""
+    events = perfetto["traceEvents"]
+    by_tid: dict[int, list[tuple[float, float]]] = {}
+    written: set[tuple[int, float]] = set()
+    for e in events:
+        if e["ph"] == "X":
+            by_tid.setdefault(e["tid"], []).append((e["ts"], e["ts"] + e["dur"]))
+            written.add((e["tid"], e["ts"]))
+            assert e["dur"] > 0 and e["args"]["delivered_until_us"] >= e["ts"] + e["dur"] - 1e-6
+        elif e["ph"] in ("s", "f"):
+            assert (e["tid"], e["ts"]) in written, e
+    for tid, slices in by_tid.items():
+        stack: list[tuple[float, float]] = []
+        for s in sorted(slices, key=lambda s: (s[0], -s[1])):
+            while stack and stack[-1][1] <= s[0]:
+                stack.pop()
+            assert not stack or s[1] <= stack[-1][1] + 1e-6, (tid, stack[-1], s)
+            stack.append(s)
+
+
 @pytest.fixture(scope="module")
 def mcaps(tmp_path_factory):
     d = tmp_path_factory.mktemp("mcap")
@@ -140,3 +162,14 @@ def test_mcap_refuses_a_trace_that_the_run_does_not_reproduce(mcaps, tmp_path, c
     assert main(["export", str(bad), "--mcap", str(out)]) == 2
     assert f"{bad}:41: the re-run departs from the trace" in capsys.readouterr().err
     assert not out.exists() and not (tmp_path / "x.mcap.part").exists()
+
+
+def test_export_never_writes_over_the_trace_it_reads(tour, tmp_path, capsys):
+    copy = tmp_path / "tour.jsonl"
+    copy.write_bytes(tour.read_bytes())
+    for opt in ("--perfetto", "--mcap"):
+        assert main(["export", str(copy), opt, str(copy)]) == 2
+        assert "is the trace being exported" in capsys.readouterr().err
+    assert copy.read_bytes() == tour.read_bytes()
+    assert main(["export", str(copy), "--perfetto", str(tmp_path / "x"), "--mcap", str(tmp_path / "x")]) == 2
+    assert "two files" in capsys.readouterr().err

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import json
+
 import math
 
 import numpy as np
@@ -127,7 +129,8 @@ def test_the_track_is_drawn_on_the_person_it_follows(short_trace):
 
 def test_plot_refuses_a_moment_after_the_recorded_run(short_trace, tmp_path, capsys):
     assert main(["plot", str(short_trace), "--at", "30", "--out", str(tmp_path / "x.png")]) == 2
-    assert "after the end of the recorded run" in capsys.readouterr().err
+    err = capsys.readouterr().err
+    assert "after the end of the recorded run" in err and err.startswith(f"homesim: error: {short_trace}: t = 30 s")
 
 
 def test_plot_refuses_a_trace_that_the_run_does_not_reproduce(short_trace, tmp_path, capsys):
@@ -139,6 +142,23 @@ def test_plot_refuses_a_trace_that_the_run_does_not_reproduce(short_trace, tmp_p
     err = capsys.readouterr().err
     assert f"{bad}:6: the re-run departs from the trace" in err
     assert not (tmp_path / "x.png").exists()
+
+
+def test_a_departing_or_truncated_trace_is_one_plain_line_with_the_first_differing_line(short_trace, tmp_path, capsys):
+    """Not the loop's wrapper ('simulation failed at ...: HomesimError(...)'), and the first departure, not a later one."""
+    text = short_trace.read_text(encoding="utf-8")
+    header, rest = text.split("\n", 1)
+    head = json.loads(header)
+    head["run"]["seed"] += 1  # another run from the first message on
+    cases = {"seed.jsonl": (json.dumps(head) + "\n" + rest, ":3: the re-run departs from the trace"),
+             "cut.jsonl": (text[: len(text) // 3], "(truncated?)")}
+    for name, (body, says) in cases.items():
+        bad = tmp_path / name
+        bad.write_text(body, encoding="utf-8")
+        assert main(["plot", str(bad), "--at", "11", "--out", str(tmp_path / "x.png")]) == 2
+        err = capsys.readouterr().err
+        assert err.startswith(f"homesim: error: {bad}:") and says in err and "HomesimError(" not in err, err
+        assert len(err.strip().splitlines()) == 1
 
 
 def test_plot_wants_a_picture_format(short_trace, tmp_path, capsys):

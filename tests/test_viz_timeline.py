@@ -118,3 +118,25 @@ def test_a_file_that_is_not_a_trace_is_refused(tmp_path, capsys):
     bad.write_text('{"hello": 1}\n', encoding="utf-8")
     assert main(["plot", str(bad), "--timeline", "--out", str(tmp_path / "x.png")]) == 2
     assert "not a homesim trace" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("damage, says", [
+    (lambda text: text[: len(text) - 25], "ends in the middle of a line (truncated?)"),
+    (lambda text: text.replace('"sender": "mic"', '"sender": 7', 1), "without a valid 'sender'"),
+    (lambda text: text.replace('"receivers": ["', '"receivers": [3, "', 1), "'receivers' is not a list of names"),
+    (lambda text: text.replace('{"t":', '[{"t":', 1), "not JSON"),
+    (lambda text: text + "[1, 2]\n", "not a trace record"),
+])
+@pytest.mark.parametrize("command", [["plot", "--timeline", "--out", "x.png"], ["export", "--perfetto", "x.json"]])
+def test_a_damaged_trace_is_one_line_naming_file_and_line(tmp_path, capsys, damage, says, command):
+    """A truncated or edited trace: 'file:line: what', exit 2, no traceback and no output file."""
+    records = [{"t": 0.1 * i, "seq": i, "kind": "publish", "sender": "mic", "channel": "/c/mic", "receivers": ["asr"],
+                "id": f"mic#{i}", "causes": [], "created": 0.1 * i, "xml": "<m/>"} for i in range(1, 4)]
+    path = write(tmp_path / "t.jsonl", records)
+    path.write_text(damage(path.read_text(encoding="utf-8")), encoding="utf-8")
+    out = tmp_path / command[-1]
+    argv = [command[0], str(path), *command[1:-1], str(out)]
+    assert main(argv) == 2
+    err = capsys.readouterr().err
+    assert says in err and err.startswith(f"homesim: error: {path}:") and len(err.strip().splitlines()) == 1, err
+    assert not out.exists()

@@ -14,6 +14,11 @@ def export_command(a: argparse.Namespace) -> int:
     """Write the asked exports; at least one."""
     if a.perfetto is None and a.mcap is None:
         raise OptionError("--perfetto/--mcap", "say what to export (--perfetto FILE.json and/or --mcap FILE.mcap)")
+    for opt, out in (("--perfetto", a.perfetto), ("--mcap", a.mcap)):
+        if out is not None and out.exists() and a.trace.exists() and out.samefile(a.trace):
+            raise OptionError(opt, f"{out} is the trace being exported; writing there would destroy it")
+    if a.perfetto is not None and a.mcap is not None and a.perfetto.absolute() == a.mcap.absolute():
+        raise OptionError("--perfetto/--mcap", "the two exports need two files")
     from ..traceview import channel_stats
 
     channel_stats(a.trace)  # a file that is not a trace fails here, before anything is written

@@ -221,8 +221,9 @@ def export_mcap(trace: str | os.PathLike[str], out: str | os.PathLike[str]) -> d
             check.finished()
             mc.finish()
         os.replace(tmp, out)
-    except BaseException:
+    except BaseException as exc:
         tmp.unlink(missing_ok=True)
+        check.reraise(exc)
         raise
     finally:
         check.close()

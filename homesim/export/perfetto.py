@@ -16,19 +16,29 @@ heartbeats are not. Times are virtual microseconds.
 The file is written as it is read (bounded memory: a message's slice is
 written when its last delivery is seen or when it falls out of the bounded
 table of recent messages).
+
+What a viewer needs (Chrome trace-event format, as Perfetto imports it):
+complete slices ("X") on one thread must nest, never partly overlap (a
+slice that starts inside another and ends after it is dropped as misplaced),
+so a message slice is cut at the end of the slice it starts in (its true
+last delivery stays in ``args.delivered_until_us``); and a flow event binds
+to the slice open on its thread when it is read, so each "s"/"f" is written
+right after the "X" of the message it belongs to, never before it.
 """
 
 from __future__ import annotations
 
 import json
 import os
-from collections import OrderedDict
+from collections import OrderedDict, deque
 from pathlib import Path
 from typing import IO, Any
 
 from ..traceview import HEARTBEAT, RECENT, Delivery, channel_stats, label_of, walk
 
 PID = 1
+#: How many of a thread's latest slices are remembered to keep its slices nested.
+NEST_MEMORY = 64
 
 
 def _us(t: float) -> float:
@@ -69,9 +79,22 @@ def export_perfetto(trace: str | os.PathLike[str], out: str | os.PathLike[str]) 
                 counts["threads"] += 1
             return tids[name]
 
+        written: dict[int, deque[tuple[float, float]]] = {}  # tid -> (start, end) of its latest written slices
+
         def flush(mid: str) -> None:
             sl = pending.pop(mid)
+            flows = sl.pop("_flows")
+            start, end = sl["ts"], sl["ts"] + sl["dur"]
+            sl["args"]["delivered_until_us"] = end
+            recent = written.setdefault(sl["tid"], deque(maxlen=NEST_MEMORY))
+            for s0, e0 in recent:  # cut at the end of a written slice it starts in, so the thread's slices nest
+                if s0 <= start < e0 < end:
+                    end = e0
+            sl["dur"] = round(end - start, 3)
+            recent.append((start, end))
             w.event(sl)
+            for f in flows:
+                w.event(f)
             counts["slices"] += 1
 
         exported: OrderedDict[str, tuple[int, float]] = OrderedDict()  # id -> (tid, ts) of exported slices
@@ -89,24 +112,28 @@ def export_perfetto(trace: str | os.PathLike[str], out: str | os.PathLike[str]) 
                 continue
             me = tid(rec["sender"])
             ts = _us(rec["t"])
-            pending[rec["id"]] = {"ph": "X", "cat": "bus", "name": label_of(rec) or rec["channel"], "pid": PID, "tid": me, "ts": ts, "dur": 1.0,
+            pending[rec["id"]] = {"_flows": [], "ph": "X", "cat": "bus", "name": label_of(rec) or rec["channel"], "pid": PID, "tid": me, "ts": ts, "dur": 1.0,
                                   "args": {"id": rec["id"], "channel": rec["channel"], "kind": rec["kind"], "receivers": rec.get("receivers", []),
                                            "delivered": 0, "causes": rec.get("causes", []), "stream": ev.continuous, "xml": rec.get("xml", "")[:400]}}
-            if not rec.get("receivers"):
-                flush(rec["id"])
             exported[rec["id"]] = (me, ts)
             if len(exported) > RECENT:
                 exported.popitem(last=False)
-            while len(pending) > RECENT:
-                flush(next(iter(pending)))
             for f in ev.flows:
                 src = exported.get(f.cause)
                 if src is None:
                     continue
                 counts["flows"] += 1
                 fid = counts["flows"]
-                w.event({"ph": "s", "cat": "bus", "name": "cause", "id": fid, "pid": PID, "tid": src[0], "ts": src[1]})
-                w.event({"ph": "f", "bp": "e", "cat": "bus", "name": "cause", "id": fid, "pid": PID, "tid": me, "ts": ts})
+                start = {"ph": "s", "cat": "bus", "name": "cause", "id": fid, "pid": PID, "tid": src[0], "ts": src[1]}
+                if f.cause in pending:  # after the cause's slice, when that is written
+                    pending[f.cause]["_flows"].append(start)
+                else:
+                    w.event(start)
+                pending[rec["id"]]["_flows"].append({"ph": "f", "bp": "e", "cat": "bus", "name": "cause", "id": fid, "pid": PID, "tid": me, "ts": ts})
+            if not rec.get("receivers"):
+                flush(rec["id"])
+            while len(pending) > RECENT:
+                flush(next(iter(pending)))
             if ev.span is not None and not ev.continuous:
                 counts["spans"] += 1
                 sid = f"span{counts['spans']}"

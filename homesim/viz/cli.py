@@ -15,6 +15,7 @@ import argparse
 from pathlib import Path
 
 from .. import cliargs
+from ..errors import HomesimError
 from ..cliargs import OptionError
 
 FORMATS = (".png", ".svg")
@@ -43,6 +44,9 @@ def plot_moment_of_trace(trace: Path, at: float | None):  # noqa: ANN201 (a matp
                 what += ", the end of the recorded run"
             title = f"{run.scenario.name} (seed {run.sim.seed}) at {what}"
             return plot_moment(run.world, percepts=seen.percepts(now, run.world.robot.pose), title=title)
+    except HomesimError as exc:
+        check.reraise(exc)
+        raise
     finally:
         check.close()
 
