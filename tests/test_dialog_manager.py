@@ -207,6 +207,27 @@ def test_question_during_teaching_interrupts_and_the_teaching_resumes(dm):
     assert s["interruptions"] == 1 and s["resumptions"] == 1
 
 
+def test_a_question_passed_over_twice_is_dropped_not_asked_again(dm):
+    # a misparse started teaching ("What is it?"); the user went on to other things and every
+    # later answer ended in "Now, back to your object. What is it?" for minutes
+    dm.on_frame(frame("<OBJECT><GESTURE val=\"probably_pointing\"/></OBJECT>"))
+    assert says(dm.on_frame(frame("<CAPABILITIES/>")))[-1] == "What is it?"  # once: resumed
+    out = dm.on_frame(frame("<CAPABILITIES/>"))
+    assert "What is it?" not in says(out) and "Now, back to your object." not in says(out)
+    assert not any(i.d.id == dm.doc.by_trigger("OBJECT").id for i in dm.stack)
+    s = dm.summary()
+    assert s["dropped"] == 1 and s["resumptions"] == 1
+    assert "What is it?" not in says(dm.on_frame(frame("<CAPABILITIES/>")))
+
+
+def test_an_answered_question_is_not_dropped(dm):
+    dm.on_frame(frame("<OBJECT><GESTURE val=\"probably_pointing\"/></OBJECT>"))
+    dm.on_frame(frame("<CAPABILITIES/>"))
+    dm.on_frame(frame('<OBJECT><OWNER name="my"/></OBJECT>'))  # an answer, not the noun yet
+    assert "Now, back to your object." in says(dm.on_frame(frame("<CAPABILITIES/>")))  # resumed, not dropped
+    assert dm.summary()["dropped"] == 0
+
+
 def test_teaching_waiting_for_the_robot_survives_an_interruption(dm):
     dm.on_frame(frame(CUP))
     out = dm.on_frame(frame("<CAPABILITIES/>"))
