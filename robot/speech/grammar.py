@@ -11,8 +11,8 @@ parser; a token the grammar cannot take at that point is skipped (reported
 in ``ignored``), and an utterance that stops where an object or a place
 must follow ("this is my ...") is closed with an empty object/place, so the
 frame keeps what was said (owner, gesture, colour) and the dialog asks for
-the rest (only when it holds a word that describes it: after a deixis and
-articles alone, skipped words are noise and nothing is understood). A
+the rest (only when a word says something about it: a deixis, articles and
+prepositions alone, "to the", "this the to", are noise and nothing is understood). A
 greeting that opens a whole request ("hello biron, follow me") is the frame
 at full coverage; the request is reported in ``ignored`` and ``rest``. A
 leading "no" followed by more words is a correction: the rest is understood.
@@ -163,9 +163,10 @@ class Understander:
                 pass
         if used < 2:
             return None, ignored, True  # one word and a guessed rest is no understanding
-        if ignored and not any(t.type in _SAYS_SOMETHING for t in toks if t.text not in ignored):
-            # words that fit nowhere after a deixis and function words only: noise ("this the to"),
-            # not an object the user began to describe ("this is my favourite <lost word>")
+        skipped = set(ignored)
+        if all(t.type in _ONLY_POINTS for t in toks if t.text not in skipped):
+            # a deixis, articles and prepositions alone are noise ("this the to", "to the"), not an
+            # object or place the user began to describe ("this is my favourite <lost word>")
             return None, ignored, True
         for filler in ("OBJ", "PLACE"):  # "this is my ...": close it with an empty object/place
             trial = ip.copy()
@@ -177,8 +178,8 @@ class Understander:
         return None, ignored, True
 
 
-# word classes that say something about a dangling object or place (not a deixis, article or preposition)
-_SAYS_SOMETHING = frozenset({"IS", "ARE", "CALLED", "MY", "YOUR", "OUR", "NAME", "POSS", "COLOUR", "ATTR", "WE"})
+# word classes that say nothing about a dangling object or place: deixis, articles, prepositions
+_ONLY_POINTS = frozenset({"THIS", "THAT", "HERE", "THERE", "IT", "A", "THE", "TO", "IN", "REL", "OF", "ONE"})
 
 
 def _declared(text: str) -> set[str]:
