@@ -220,6 +220,15 @@ def test_a_question_passed_over_twice_is_dropped_not_asked_again(dm):
     assert "What is it?" not in says(dm.on_frame(frame("<CAPABILITIES/>")))
 
 
+def test_a_question_is_not_resumed_after_the_supervisor_moved_on(dm):
+    dm.es_state = "Interacting"
+    dm.on_frame(frame("<OBJECT><GESTURE val=\"probably_pointing\"/></OBJECT>"))
+    dm.on_frame(frame("<FOLLOW/>"))
+    dm.es_state = "Following"
+    out = dm.on_condition(cond("following"))
+    assert says(out) == ["OK, I am following you."] and dm.stack == [] and dm.summary()["dropped"] == 1
+
+
 def test_an_answered_question_is_not_dropped(dm):
     dm.on_frame(frame("<OBJECT><GESTURE val=\"probably_pointing\"/></OBJECT>"))
     dm.on_frame(frame("<CAPABILITIES/>"))

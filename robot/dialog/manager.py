@@ -13,8 +13,9 @@ Routing (DESIGN.md §2.4, the papers' sub-dialog strategy):
 * any other frame starts the dialog its act triggers, on top of the stack
   (the dialog below is *interrupted*; it *resumes* when the new one ends,
   saying its resume sentence and repeating its open question, unless the
-  user passed over that question in ``drop_after`` turns: then it is dropped
-  as abandoned, the user having moved on);
+  user passed over that question in ``drop_after`` turns or the supervisor's
+  state changed meanwhile: then it is dropped as abandoned, the user having
+  moved on);
 * a condition goes to the topmost dialog with a fill for it, else starts the
   dialog it triggers (``clears`` empties the stack first: the interaction
   ended, a technical failure);
@@ -88,6 +89,7 @@ class Instance:
     sent: list[str] = field(default_factory=list)
     rejection: tuple[str, str, str] | None = None  # (event, reason, state) of the last one
     interrupted: bool = False
+    interrupted_in: str = ""  # the supervisor's state when it was interrupted
     done: bool = False
     success: bool = False
     on_end: Callable[[Instance], None] | None = None
@@ -349,6 +351,7 @@ class DialogManager:
             self._finish(self.stack[0], out, abandoned=True, resume=False)
         if self.stack:
             self.stack[-1].interrupted = True
+            self.stack[-1].interrupted_in = self.es_state
             self.metrics["interruptions"] += 1
         self._serial += 1
         inst = Instance(d, self._serial, {s: Slot() for s in d.slots})
@@ -444,8 +447,10 @@ class DialogManager:
             inst.on_end(inst)
         if resume and was_top and self.stack:
             below = self.stack[-1]
-            if below.interrupted and below.pending is not None and below.passed_over >= self.doc.drop_after:
-                # the user went on to other things instead of answering: drop it, do not ask again
+            if below.interrupted and below.pending is not None and (
+                    below.passed_over >= self.doc.drop_after or below.interrupted_in != self.es_state):
+                # the user went on to other things instead of answering, or the robot does something
+                # else now (following since): drop it, do not ask again
                 self.metrics["dropped"] += 1
                 self._finish(below, out, abandoned=True)
                 return
