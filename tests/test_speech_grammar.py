@@ -175,3 +175,13 @@ def test_lexicon_terminal_missing_from_grammar_is_refused(tmp_path):
     p.write_text("cup\tOBJ\tcup\nzap\tZAP\tzap\n", encoding="utf-8")
     with pytest.raises(ValueError, match="ZAP"):
         Understander(Lexicon.load(p))
+
+
+@settings(max_examples=200, deadline=None)
+@given(st.lists(st.sampled_from(["this", "that", "the", "a", "to", "in", "at", "of", "it", "here", "there", "uh"]),
+                min_size=1, max_size=8))
+def test_deixis_articles_and_prepositions_alone_are_never_understood(words):
+    # recogniser noise made of short words ("this the to") must not start a teaching or go-to
+    # dialog about an object or place nobody named
+    r = shared_understander().understand(" ".join(words))
+    assert r.frame is None and r.reason
