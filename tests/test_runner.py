@@ -289,3 +289,8 @@ def test_replay_notices_a_changed_store(tmp_path, capsys):
         s.put("extra", 1, etree.fromstring('<OBJECT type="cup"/>'), {}, next_id=2)
     assert main(["replay", str(trace)]) == 1
     assert f"the store {store} has changed since the trace was written" in capsys.readouterr().out
+    from homesim.errors import InputError
+    from homesim.tracerun import rerun
+
+    with pytest.raises(InputError, match="the store .* has changed"):  # plot and export re-run it too
+        rerun(trace)
