@@ -401,6 +401,10 @@ def test_question_and_choice():
     assert question(["red cup", "blue cup"]) == "Do you mean the red cup or the blue one?"
     assert question(["cup", "plant", "book"]) == "Do you mean the cup, the plant or the book?"
     assert question(["cup"]) == "Do you mean the cup?"
+    # the object attention's own texts (resolve.option_texts) carry their article: said once
+    assert question(["the plant on the right", "the one on the left"]) == \
+        "Do you mean the plant on the right or the one on the left?"
+    assert question(["the red cup", "the blue cup"]) == "Do you mean the red cup or the blue one?"
     assert question([]) == question(["", " "]) == "Which one do you mean?"
     opts = [(0, "red cup"), (1, "blue cup")]
     assert choose(opts, etree.fromstring('<THAT_ONE><COLOUR name="blue"/></THAT_ONE>')) == 1
