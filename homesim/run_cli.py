@@ -29,7 +29,7 @@ from .cliargs import OptionError
 from .errors import HomesimError, InputError
 from .xmlio import open_regular
 from .message import Message
-from .runner import Run, RunOptions, file_digest
+from .runner import Run, RunOptions, file_digest, store_digest
 from .trace import TRACE_FORMAT
 
 BAR = 30
@@ -153,6 +153,13 @@ def replay(trace: Path, *, out: IO[str] | None = None) -> int:
     if digest != h.get("scenario_digest"):
         print(f"replay: {path} has changed since the trace was written ({h.get('scenario_digest')} then, {digest} now)", file=out)
         return 1
+    if h.get("memory") is not None and h.get("memory_digest") is not None:
+        now = store_digest(h["memory"])
+        if now != h["memory_digest"]:
+            print(f"replay: the store {h['memory']} has changed since the trace was written ({h['memory_digest']} then, "
+                  f"{now} now; a run with --memory writes what it learned to its store: replay it from a copy of the "
+                  "store made before the run)", file=out)
+            return 1
     cmp = Comparison(trace)
     try:
         opts = RunOptions(seed=h.get("seed"), until=h.get("until"), trace=cmp,  # type: ignore[arg-type]

@@ -32,6 +32,7 @@ from __future__ import annotations
 import hashlib
 import importlib
 import os
+import sqlite3
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -67,6 +68,36 @@ Line = Callable[[float, str, str], None]
 def file_digest(path: str | os.PathLike[str]) -> str:
     """``sha256:<hex>`` of a file's bytes (what a trace header pins)."""
     return "sha256:" + hashlib.sha256(Path(path).read_bytes()).hexdigest()
+
+
+def store_digest(directory: str | os.PathLike[str]) -> str:
+    """``sha256:<hex>`` of what a store directory (``--memory DIR``) holds, for a trace header.
+
+    Each ``*.sqlite`` store counts by its content (memories, documents and
+    attachments, read-only, in key order), so the same knowledge in a file laid
+    out differently gives the same digest; a file SQLite cannot read counts by
+    its bytes. A missing directory, or stores holding nothing, have the digest
+of nothing (the first run creates an empty store). A run
+    with ``--memory`` writes to its store, so replaying it needs the store as it
+    was when the run started (``homesim replay`` compares this digest).
+    """
+    h = hashlib.sha256()
+    root = Path(directory)
+    files = sorted(p for p in root.glob("*.sqlite") if p.is_file()) if root.is_dir() else []
+    for path in files:
+        try:
+            db = sqlite3.connect(f"file:{path.resolve()}?mode=ro", uri=True)
+            try:
+                for table, order in (("memories", "name"), ("documents", "memory, id"),
+                                     ("attachments", "memory, doc_id, name")):
+                    for row in db.execute(f"SELECT * FROM {table} ORDER BY {order}"):  # noqa: S608 (fixed names)
+                        cells = tuple(bytes(v) if isinstance(v, memoryview) else v for v in row)
+                        h.update(repr((path.name, table, cells)).encode("utf-8") + b"\n")
+            finally:
+                db.close()
+        except sqlite3.Error:
+            h.update(path.name.encode("utf-8") + b"\0" + path.read_bytes())
+    return "sha256:" + h.hexdigest()
 
 
 @dataclass(frozen=True)
@@ -115,6 +146,7 @@ class Run:
             "seed": seed,
             "until": options.until,
             "memory": None if options.memory is None else str(options.memory),
+            "memory_digest": None if options.memory is None else store_digest(options.memory),
             "subsystems": None if options.subsystems is None else list(options.subsystems),
             "metrics": None if options.metrics is None else list(options.metrics),
         }
@@ -338,4 +370,4 @@ def run_file(path: str | os.PathLike[str], options: RunOptions = RunOptions(), *
         return run.summary()
 
 
-__all__: Sequence[str] = ("Run", "RunOptions", "RobotConfig", "run_file", "file_digest", "element_dict")
+__all__: Sequence[str] = ("Run", "RunOptions", "RobotConfig", "run_file", "file_digest", "store_digest", "element_dict")

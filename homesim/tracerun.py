@@ -17,7 +17,7 @@ from pathlib import Path
 from typing import Any
 
 from .errors import HomesimError, InputError
-from .runner import Run, RunOptions, file_digest
+from .runner import Run, RunOptions, file_digest, store_digest
 from .trace import TRACE_FORMAT
 from .xmlio import open_regular
 
@@ -78,7 +78,8 @@ def rerun(trace: str | os.PathLike[str], *, until: float | None = None) -> tuple
     """A :class:`Run` that re-creates ``trace``'s run (checked line by line), stopping at ``until``.
 
     Fails (``HomesimError``) when the header names no run, its scenario file
-    is missing or has changed, or ``until`` is past the recorded run.
+    is missing or has changed, its ``--memory`` store has changed, or ``until``
+    is past the recorded run.
     """
     path = Path(trace)
     header = read_header(path)
@@ -90,6 +91,9 @@ def rerun(trace: str | os.PathLike[str], *, until: float | None = None) -> tuple
         raise InputError(f"the scenario file {scen} named in the header does not exist", source=str(path), line=1)
     if file_digest(scen) != h.get("scenario_digest"):
         raise InputError(f"{scen} has changed since the trace was written; the run cannot be re-created", source=str(path), line=1)
+    if h.get("memory") is not None and h.get("memory_digest") is not None and store_digest(h["memory"]) != h["memory_digest"]:
+        raise InputError(f"the store {h['memory']} has changed since the trace was written (the run wrote "
+                         "what it learned to it); the run cannot be re-created", source=str(path), line=1)
     end = h.get("until")
     if until is not None and end is not None and until > end:
         raise InputError(f"t = {until:g} s is after the end of the recorded run ({end:g} s)", source=str(path))

@@ -207,6 +207,36 @@ def test_question_during_teaching_interrupts_and_the_teaching_resumes(dm):
     assert s["interruptions"] == 1 and s["resumptions"] == 1
 
 
+def test_a_question_passed_over_twice_is_dropped_not_asked_again(dm):
+    # a misparse started teaching ("What is it?"); the user went on to other things and every
+    # later answer ended in "Now, back to your object. What is it?" for minutes
+    dm.on_frame(frame("<OBJECT><GESTURE val=\"probably_pointing\"/></OBJECT>"))
+    assert says(dm.on_frame(frame("<CAPABILITIES/>")))[-1] == "What is it?"  # once: resumed
+    out = dm.on_frame(frame("<CAPABILITIES/>"))
+    assert "What is it?" not in says(out) and "Now, back to your object." not in says(out)
+    assert not any(i.d.id == dm.doc.by_trigger("OBJECT").id for i in dm.stack)
+    s = dm.summary()
+    assert s["dropped"] == 1 and s["resumptions"] == 1
+    assert "What is it?" not in says(dm.on_frame(frame("<CAPABILITIES/>")))
+
+
+def test_a_question_is_not_resumed_after_the_supervisor_moved_on(dm):
+    dm.es_state = "Interacting"
+    dm.on_frame(frame("<OBJECT><GESTURE val=\"probably_pointing\"/></OBJECT>"))
+    dm.on_frame(frame("<FOLLOW/>"))
+    dm.es_state = "Following"
+    out = dm.on_condition(cond("following"))
+    assert says(out) == ["OK, I am following you."] and dm.stack == [] and dm.summary()["dropped"] == 1
+
+
+def test_an_answered_question_is_not_dropped(dm):
+    dm.on_frame(frame("<OBJECT><GESTURE val=\"probably_pointing\"/></OBJECT>"))
+    dm.on_frame(frame("<CAPABILITIES/>"))
+    dm.on_frame(frame('<OBJECT><OWNER name="my"/></OBJECT>'))  # an answer, not the noun yet
+    assert "Now, back to your object." in says(dm.on_frame(frame("<CAPABILITIES/>")))  # resumed, not dropped
+    assert dm.summary()["dropped"] == 0
+
+
 def test_teaching_waiting_for_the_robot_survives_an_interruption(dm):
     dm.on_frame(frame(CUP))
     out = dm.on_frame(frame("<CAPABILITIES/>"))
@@ -371,6 +401,10 @@ def test_question_and_choice():
     assert question(["red cup", "blue cup"]) == "Do you mean the red cup or the blue one?"
     assert question(["cup", "plant", "book"]) == "Do you mean the cup, the plant or the book?"
     assert question(["cup"]) == "Do you mean the cup?"
+    # the object attention's own texts (resolve.option_texts) carry their article: said once
+    assert question(["the plant on the right", "the one on the left"]) == \
+        "Do you mean the plant on the right or the one on the left?"
+    assert question(["the red cup", "the blue cup"]) == "Do you mean the red cup or the blue one?"
     assert question([]) == question(["", " "]) == "Which one do you mean?"
     opts = [(0, "red cup"), (1, "blue cup")]
     assert choose(opts, etree.fromstring('<THAT_ONE><COLOUR name="blue"/></THAT_ONE>')) == 1

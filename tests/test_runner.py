@@ -270,3 +270,27 @@ def test_quiet_prints_the_verdict_only_and_a_failure_exits_one(tmp_path, capsys)
 def test_hostile_options_are_refused(args, message, capsys):
     assert main(["run", str(EXAMPLE), *args]) == 2
     assert message in capsys.readouterr().err
+
+
+def test_replay_notices_a_changed_store(tmp_path, capsys):
+    # a --memory run writes what it learned to its store, so its replay started from other
+    # knowledge and diverged somewhere without saying why: the header pins the store's content
+    from homesim.memory.sqlite import SqliteStore
+    from homesim.runner import store_digest
+
+    store, trace = tmp_path / "store", tmp_path / "t.jsonl"
+    assert main(["run", str(EXAMPLE), "--trace", str(trace), "--memory", str(store), "--until", "1", "--quiet"]) == 0
+    header = json.loads(trace.read_text(encoding="utf-8").split("\n", 1)[0])
+    assert header["run"]["memory_digest"] == store_digest(store)
+    assert main(["replay", str(trace)]) == 0  # nothing learned in 1 s: the same store
+    capsys.readouterr()
+    (db,) = sorted(store.glob("*.sqlite"))
+    with SqliteStore(db) as s:
+        s.put("extra", 1, etree.fromstring('<OBJECT type="cup"/>'), {}, next_id=2)
+    assert main(["replay", str(trace)]) == 1
+    assert f"the store {store} has changed since the trace was written" in capsys.readouterr().out
+    from homesim.errors import InputError
+    from homesim.tracerun import rerun
+
+    with pytest.raises(InputError, match="the store .* has changed"):  # plot and export re-run it too
+        rerun(trace)

@@ -93,6 +93,23 @@ def test_fragment_is_partial_and_lowers_confidence(u):
     SCHEMA.check(msg)
 
 
+def test_greeting_that_opens_a_request_keeps_the_full_confidence(u):
+    # a radio's "hello biron follow me" gave the greeting at half the confidence, so the
+    # dialog asked "Did you say hello to me?" instead of greeting: the request is no noise
+    msg = frame_message(u.understand("hello biron follow me"), 0, 1, 0.9)
+    assert msg.find("SPEECH/GREETING").get("name") == "biron" and float(msg.get("confidence")) == 0.9
+    assert msg.get("ignored") == "follow me"  # still reported: the frame does not carry it
+    SCHEMA.check(msg)
+    noisy = frame_message(u.understand("hello biron follow the"), 0, 1, 0.9)  # no whole request: noise
+    assert noisy.find("SPEECH/GREETING") is not None and float(noisy.get("confidence")) < 0.9
+
+
+def test_noise_after_a_deixis_starts_no_object(u):
+    # "this the to" opened an object-teaching dialog ("What is it?") that nobody had begun
+    assert u.understand("this the to").frame is None
+    assert u.understand("this is my favourite it").frame is not None  # a description, its noun lost
+
+
 def test_not_understood_is_a_valid_message_with_the_words(u):
     r = u.understand("blah blah")
     msg = frame_message(r, 0.5, 1.5, 0.8)
@@ -158,3 +175,13 @@ def test_lexicon_terminal_missing_from_grammar_is_refused(tmp_path):
     p.write_text("cup\tOBJ\tcup\nzap\tZAP\tzap\n", encoding="utf-8")
     with pytest.raises(ValueError, match="ZAP"):
         Understander(Lexicon.load(p))
+
+
+@settings(max_examples=200, deadline=None)
+@given(st.lists(st.sampled_from(["this", "that", "the", "a", "to", "in", "at", "of", "it", "here", "there", "uh"]),
+                min_size=1, max_size=8))
+def test_deixis_articles_and_prepositions_alone_are_never_understood(words):
+    # recogniser noise made of short words ("this the to") must not start a teaching or go-to
+    # dialog about an object or place nobody named
+    r = shared_understander().understand(" ".join(words))
+    assert r.frame is None and r.reason

@@ -150,6 +150,7 @@ def _build(root: etree._Element, c: _Checker) -> Dialogs:
         confirm_below=float(root.get("confirm-below", "0.5")),
         max_reasks=int(root.get("max-reasks", "2")),
         max_depth=int(root.get("max-depth", "4")),
+        drop_after=int(root.get("drop-after", "2")),
         states=states,
         capabilities=caps,
         state_phrases=phrases,

@@ -12,7 +12,10 @@ Routing (DESIGN.md §2.4, the papers' sub-dialog strategy):
   for;
 * any other frame starts the dialog its act triggers, on top of the stack
   (the dialog below is *interrupted*; it *resumes* when the new one ends,
-  saying its resume sentence and repeating its open question);
+  saying its resume sentence and repeating its open question, unless the
+  user passed over that question in ``drop_after`` turns or the supervisor's
+  state changed meanwhile: then it is dropped as abandoned, the user having
+  moved on);
 * a condition goes to the topmost dialog with a fill for it, else starts the
   dialog it triggers (``clears`` empties the stack first: the interaction
   ended, a technical failure);
@@ -82,9 +85,11 @@ class Instance:
     last_sig: tuple[str, ...] | None = None
     pending: tuple[str, str, str] | None = None  # (ask|confirm, slot, question)
     reasks: int = 0
+    passed_over: int = 0  # user turns that went to other dialogs while its question was open
     sent: list[str] = field(default_factory=list)
     rejection: tuple[str, str, str] | None = None  # (event, reason, state) of the last one
     interrupted: bool = False
+    interrupted_in: str = ""  # the supervisor's state when it was interrupted
     done: bool = False
     success: bool = False
     on_end: Callable[[Instance], None] | None = None
@@ -147,7 +152,7 @@ class DialogManager:
         self.metrics: dict[str, Any] = {
             "user_turns": 0, "robot_turns": 0, "not_understood": 0, "reasks": 0, "confirmations": 0,
             "give_ups": 0, "rejections": 0, "rejections_explained": 0, "interruptions": 0, "resumptions": 0,
-            "barge_ins": 0, "events_sent": 0, "ignored_frames": 0, "unhandled_conditions": 0,
+            "barge_ins": 0, "dropped": 0, "events_sent": 0, "ignored_frames": 0, "unhandled_conditions": 0,
             "dialogs": {},
         }
 
@@ -183,25 +188,21 @@ class DialogManager:
         act = str(act_el.tag)
         conf = float(msg.get("confidence", "1"))
         out: list[Output] = []
+        answered = self._answered_by(act)
+        for inst in self.stack:
+            if inst.pending is not None:
+                inst.passed_over = 0 if inst is answered else inst.passed_over + 1
         # 1. an answer to the topmost open question
-        for inst in reversed(self.stack):
-            if inst.pending is None:
-                continue
-            kind, slot, _ = inst.pending
+        if answered is not None and answered.pending is not None:
+            kind, slot, _ = answered.pending
+            answered.pending = None
+            answered.reasks = 0
             if kind == "confirm" and act in ("YES", "NO"):
-                inst.pending = None
-                inst.reasks = 0
-                inst.slots[slot].status = "true" if act == "YES" else "false"
-                self._step(inst, out)
-                return out
-            fills = [f for f in inst.d.fills if f.frame and act in f.frame]
-            if fills and (kind == "ask" or any(f.slot == slot for f in fills)):
-                inst.pending = None
-                inst.reasks = 0
-                self._fill_frame(inst, fills, act_el, conf)
-                self._step(inst, out)
-                return out
-            break  # only the topmost open question takes answers
+                answered.slots[slot].status = "true" if act == "YES" else "false"
+            else:
+                self._fill_frame(answered, [f for f in answered.d.fills if f.frame and act in f.frame], act_el, conf)
+            self._step(answered, out)
+            return out
         # 2. a new sub-dialog
         d = self.doc.by_trigger(act)
         if d is None or (d.in_states is not None and self.es_state not in d.in_states):
@@ -304,6 +305,20 @@ class DialogManager:
         return " ".join(parts) if parts else self.doc.rejection_text("", "", state)
 
     # ---------------------------------------------------------------- internals
+    def _answered_by(self, act: str) -> Instance | None:
+        """The dialog whose open question a frame of ``act`` answers, or None (only the topmost open question takes answers)."""
+        for inst in reversed(self.stack):
+            if inst.pending is None:
+                continue
+            kind, slot, _ = inst.pending
+            if kind == "confirm" and act in ("YES", "NO"):
+                return inst
+            fills = [f for f in inst.d.fills if f.frame and act in f.frame]
+            if fills and (kind == "ask" or any(f.slot == slot for f in fills)):
+                return inst
+            return None
+        return None
+
     def _say(self, out: list[Output], text: str, did: str) -> None:
         if text:
             out.append(Say(text, did))
@@ -336,6 +351,7 @@ class DialogManager:
             self._finish(self.stack[0], out, abandoned=True, resume=False)
         if self.stack:
             self.stack[-1].interrupted = True
+            self.stack[-1].interrupted_in = self.es_state
             self.metrics["interruptions"] += 1
         self._serial += 1
         inst = Instance(d, self._serial, {s: Slot() for s in d.slots})
@@ -431,6 +447,13 @@ class DialogManager:
             inst.on_end(inst)
         if resume and was_top and self.stack:
             below = self.stack[-1]
+            if below.interrupted and below.pending is not None and (
+                    below.passed_over >= self.doc.drop_after or below.interrupted_in != self.es_state):
+                # the user went on to other things instead of answering, or the robot does something
+                # else now (following since): drop it, do not ask again
+                self.metrics["dropped"] += 1
+                self._finish(below, out, abandoned=True)
+                return
             if below.interrupted:
                 below.interrupted = False
                 self.metrics["resumptions"] += 1

@@ -124,6 +124,7 @@ class Dialogs:
     not_understood: str
     dialogs: dict[str, DialogDef]
     sentences: dict[str, str]  # the manager's own words by id (loader.SENTENCES), templates
+    drop_after: int = 2  # user turns passing over an interrupted dialog's question before it is dropped
 
     def sentence(self, sid: str, **values: Any) -> str:
         """The document's sentence ``sid`` with its fields filled (a missing one: empty)."""

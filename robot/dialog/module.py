@@ -69,10 +69,16 @@ def front_bearing(deg: float) -> float:
     return math.degrees(math.asin(max(-1.0, min(1.0, math.sin(math.radians(deg))))))
 
 
+def _without_article(words: list[str]) -> list[str]:
+    """An option's words without a leading article: the document's ``option`` sentence adds its own
+    (the object attention sends "the plant on the right"; the robot said "the the plant")."""
+    return words[1:] if words and words[0].lower() in ("the", "a", "an") else words
+
+
 def options_phrase(doc: Dialogs, options: list[str]) -> str:
     """"the red cup or the blue one" from option texts, in the document's words (a repeated last word
     becomes its ``same-noun`` word); empty without options (the clarification then asks "which one")."""
-    texts = [" ".join(o.split()) for o in options if o.split()]
+    texts = [" ".join(_without_article(o.split())) for o in options if _without_article(o.split())]
     if not texts:
         return ""
     first_noun = texts[0].split()[-1]

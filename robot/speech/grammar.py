@@ -11,8 +11,11 @@ parser; a token the grammar cannot take at that point is skipped (reported
 in ``ignored``), and an utterance that stops where an object or a place
 must follow ("this is my ...") is closed with an empty object/place, so the
 frame keeps what was said (owner, gesture, colour) and the dialog asks for
-the rest. A leading "no" followed by more words is a correction: the rest
-is understood.
+the rest (only when a word says something about it: a deixis, articles and
+prepositions alone, "to the", "this the to", are noise and nothing is understood). A
+greeting that opens a whole request ("hello biron, follow me") is the frame
+at full coverage; the request is reported in ``ignored`` and ``rest``. A
+leading "no" followed by more words is a correction: the rest is understood.
 
 Frames (children in this order): ``<OBJECT type>`` with ``GESTURE``
 (``val="probably_pointing"`` when a deictic word refers to it), ``TITLE``
@@ -62,6 +65,7 @@ class Understanding:
     corrected: list[str] = field(default_factory=list)  # reparanda and editing terms taken out
     partial: bool = False  # the frame needed a skipped token or a missing object/place
     coverage: float = 0.0  # share of the meaningful words the frame used, 0..1
+    rest: list[str] = field(default_factory=list)  # a whole request after a greeting, left out of the frame
     reason: str = ""  # why nothing was understood
 
     @property
@@ -108,8 +112,27 @@ class Understander:
         res.ignored = ignored
         res.partial = partial or bool(ignored)
         used = len(toks) - len(ignored)
+        if ignored and tree_act(tree) == "greeting" and self._request_after_greeting(toks, ignored):
+            used = len(toks)  # "hello biron, follow me": the greeting is sure; the request is not noise
+            res.rest = list(ignored)
         res.coverage = used / max(1, len(toks) + len(lex.unknown))
         return res
+
+    def _request_after_greeting(self, toks: list[Tok], ignored: list[str]) -> bool:
+        """Whether the words a greeting's parse left out are the utterance's end and a whole act alone.
+
+        A greeting that opens a request ("hello biron, follow me") is a sure
+        greeting: the frame is the greeting (what opens the interaction) and the
+        request, reported in ``rest``, is left for the user to say again. Words
+        that do not make a complete act by themselves stay noise and lower the
+        coverage.
+        """
+        tail = toks[len(toks) - len(ignored):]
+        if [t.text for t in tail] != ignored:
+            return False
+        tree, _, partial = self._parse(tail)
+        return tree is not None and not partial and tree_act(tree) not in ("greeting", "object_fragment",
+                                                                           "place_fragment")
 
     def _parse(self, toks: list[Tok]) -> tuple[Tree | None, list[str], bool]:
         """Parse; on an error, skip tokens that do not fit and close a dangling object/place.
@@ -140,6 +163,11 @@ class Understander:
                 pass
         if used < 2:
             return None, ignored, True  # one word and a guessed rest is no understanding
+        skipped = set(ignored)
+        if all(t.type in _ONLY_POINTS for t in toks if t.text not in skipped):
+            # a deixis, articles and prepositions alone are noise ("this the to", "to the"), not an
+            # object or place the user began to describe ("this is my favourite <lost word>")
+            return None, ignored, True
         for filler in ("OBJ", "PLACE"):  # "this is my ...": close it with an empty object/place
             trial = ip.copy()
             try:
@@ -148,6 +176,10 @@ class Understander:
             except UnexpectedInput:
                 continue
         return None, ignored, True
+
+
+# word classes that say nothing about a dangling object or place: deixis, articles, prepositions
+_ONLY_POINTS = frozenset({"THIS", "THAT", "HERE", "THERE", "IT", "A", "THE", "TO", "IN", "REL", "OF", "ONE"})
 
 
 def _declared(text: str) -> set[str]:
