@@ -185,7 +185,7 @@ class ObjectAttention(Module):
                 await asyncio.sleep(0.2)
             self._looking = False
             pose = self.pose
-            cands = merge(self._seen, (pose[0], pose[1]))
+            cands = merge(self._seen, (pose[0], pose[1]), eye_height=CAMERA_HEIGHT)
             res = resolve(cands, wanted, pointing, (pose[0], pose[1]))
             self.last = res
             if res.kind == "none":
