@@ -35,8 +35,9 @@ POLL = 0.1  # seconds between checks of a wait-for condition
 TURN_GAP = 0.5
 
 #: What a person takes for the robot asking her to say it again, or asking whether it heard
-#: her right ("Did you say hello to me?": she says it again rather than "yes"); ``repair=`` overrides.
-DEFAULT_REPAIR = r"(say|point at) (that|it) again|pardon|repeat that|did not understand|didn't understand|did not catch|did you say|shall i\b"
+#: her right ("Did you say hello to me?", "Is this plant?": she does her turn again rather than
+#: answer "yes"); ``repair=`` overrides.
+DEFAULT_REPAIR = r"(say|point at) (that|it) again|pardon|repeat that|did not understand|didn't understand|did not catch|did you say|shall i\b|^is this\b"
 
 
 class ScriptError(ScenarioError):

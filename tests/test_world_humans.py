@@ -297,7 +297,7 @@ def _robot_says(st: Stage, *said: tuple[float, str]) -> None:
         st.sim.call_at(t, lambda text=text: dialog.publish("/robot/speaker/say", etree.Element("say", text=text)))
 
 
-@pytest.mark.parametrize("repair", ["Sorry, I did not understand you. Could you say that again?", "Did you say hello to me?"])
+@pytest.mark.parametrize("repair", ["Sorry, I did not understand you. Could you say that again?", "Did you say hello to me?", "Is this hello?"])
 def test_a_user_asked_for_a_repair_says_it_again_after_a_turn_gap(repair):
     st = _stage('<say text="hello robot"/>\n<wait-for robot-says="hello|hi" timeout="10" retries="2"/>\n<say text="done"/>', hardware=True)
     _robot_says(st, (2.5, repair), (9.0, "Hi, I am BIRON."))
