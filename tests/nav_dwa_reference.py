@@ -8,7 +8,7 @@ import math
 import numpy as np
 
 from robot.navigation.config import Limits
-from robot.navigation.local import Command, DWAParams, arcs, arcs_at, footprint_distance, stopping_time
+from robot.navigation.local import Command, DWAParams, arcs, arcs_at, choose, footprint_distance, stopping_time
 
 
 def nearest_per_sector(points: np.ndarray, reach: float, sectors: int) -> np.ndarray:
@@ -70,19 +70,4 @@ def reference_dwa(v0: float, w0: float, goal: tuple[float, float], points: np.nd
     else:
         hard = clear = np.full(len(V), np.inf)
         here = np.inf
-    admissible = hard > p.margin
-    # in contact already: only arcs that do not get closer
-    if here <= p.margin:
-        admissible = admissible | (d.min(axis=1) >= here - 1e-3) if len(pts) else admissible
-    if not admissible.any():
-        return Command(0.0, 0.0, False, float(here))
-    gx, gy = goal
-    ex, ey, eth = x[:, -1], y[:, -1], th[:, -1]
-    dist = np.hypot(gx - ex, gy - ey)
-    head = np.abs(np.remainder(np.arctan2(gy - ey, gx - ex) - eth + math.pi, 2 * math.pi) - math.pi)
-    head = np.where(dist < 0.15, 0.0, head)
-    score = (-p.w_goal * dist - p.w_heading * head + p.w_clear * np.minimum(clear, p.clear_cap)
-             - p.w_speed * np.abs(V - v_pref))
-    score = np.where(admissible, score, -np.inf)
-    k = int(np.argmax(score))
-    return Command(float(V[k]), float(W[k]), True, float(clear[k]))
+    return choose(V, W, x, y, th, hard, clear, here, d if len(pts) else None, goal, v_pref, p)

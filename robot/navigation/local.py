@@ -370,10 +370,22 @@ def dwa(v0: float, w0: float, goal: tuple[float, float], points: np.ndarray, lim
     else:
         hard = clear = np.full(len(V), np.inf)
         here = np.inf
+    return choose(V, W, x, y, th, hard, clear, here, d if len(pts) else None, goal, v_pref, p)
+
+
+def choose(V: np.ndarray, W: np.ndarray, x: np.ndarray, y: np.ndarray, th: np.ndarray, hard: np.ndarray,
+           clear: np.ndarray, here: float, d: np.ndarray | None, goal: tuple[float, float], v_pref: float,
+           p: DWAParams) -> Command:
+    """Score the admissible arcs and pick the best: the dynamic window's decision once distances are known.
+
+    ``d`` (arcs x steps) is the footprint distance along each arc, None without obstacles; shared by
+    the fast window and the elementwise reference the tests hold it to, so they differ only in how
+    they measure distances.
+    """
     admissible = hard > p.margin
     # in contact already: only arcs that do not get closer
     if here <= p.margin:
-        admissible = admissible | (d.min(axis=1) >= here - 1e-3) if len(pts) else admissible
+        admissible = admissible | (d.min(axis=1) >= here - 1e-3) if d is not None else admissible
     if not admissible.any():
         return Command(0.0, 0.0, False, float(here))
     gx, gy = goal
