@@ -70,6 +70,25 @@ def test_greeting_without_a_partner_is_explained(dm):
     assert s["rejections_explained"] == 1 and s["dialogs"]["greeting"]["failed"] == 1
 
 
+def test_an_unsure_greeting_is_confirmed_only_when_someone_is_there(dm):
+    """A greeting heard with low confidence: with a potential partner in sight the robot asks back;
+    with nobody in sight (a radio) it does not talk into the room but reports the greeting, so the
+    supervisor's synchronisation decides (it expires when no person appears: DESIGN.md 2.2)."""
+    dm.es_state = "PotentialPartner"
+    out = dm.on_frame(frame('<GREETING name="biron"/>', confidence=0.2))
+    assert says(out) == ["Did you say hello to me?"] and sends(out) == []
+    (s,) = sends(dm.on_frame(frame("<YES/>")))
+    assert s.event == "greeting"
+
+    alone = DialogManager(DOC)
+    alone.es_state = "LookingAround"
+    out = alone.on_frame(frame('<GREETING name="biron"/>', confidence=0.2))
+    assert says(out) == []
+    (s,) = sends(out)
+    assert s.event == "greeting" and etree.tostring(s.children[0]) == b'<SPEECH><GREETING name="biron"/></SPEECH>'
+    assert says(alone.on_rejected(rejected("greeting", "expired", "LookingAround"))) == ["I can't see you. Please look at me."]
+
+
 def test_follow_normal_path(dm):
     (s,) = sends(dm.on_frame(frame("<FOLLOW/>")))
     assert s.event == "follow"

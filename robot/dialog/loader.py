@@ -216,7 +216,10 @@ def _build_dialog(el: etree._Element, c: _Checker, states: dict[str, frozenset[s
             actions.append(Action(kind, slot=slot, text=text, event=event,
                                   lifetime=float(lifetime) if lifetime is not None else None,
                                   copies=copies, pose=a.find("pose") is not None, line=_line(a)))
-        rules.append(Rule(whens, tuple(actions), _line(rel)))
+        rule_in = rel.get("in")
+        if rule_in is not None and rule_in not in states:
+            c.add(rel, f"dialog {did!r}: rule in={rule_in!r} names no <states> set")
+        rules.append(Rule(whens, tuple(actions), _line(rel), states.get(rule_in) if rule_in else None))
     if not can_end:
         c.add(el.find("policy"), f"dialog {did!r}: no rule has <end/>, so the dialog could never finish")
     fills: list[Fill] = []

@@ -392,7 +392,8 @@ class DialogManager:
             if sig == inst.last_sig:
                 return
             inst.last_sig = sig
-            rule = next((r for r in inst.d.rules if inst.holds(r.whens)), None)
+            rule = next((r for r in inst.d.rules if inst.holds(r.whens)
+                         and (r.in_states is None or self.es_state in r.in_states)), None)
             if rule is None:
                 return
             for a in rule.actions:

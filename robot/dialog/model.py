@@ -62,11 +62,12 @@ class Action:
 
 @dataclass(frozen=True, slots=True)
 class Rule:
-    """When every (slot, status) holds, do the actions (in order)."""
+    """When every (slot, status) holds (and the supervisor is in ``in_states``, if given), do the actions (in order)."""
 
     whens: tuple[tuple[str, str], ...]
     actions: tuple[Action, ...]
     line: int | None = None
+    in_states: frozenset[str] | None = None
 
 
 @dataclass(frozen=True, slots=True)
