@@ -10,7 +10,7 @@ from lxml import etree
 from homesim.afsm.engine import Engine
 from homesim.afsm.loader import load as load_afsm
 from robot.dialog.loader import load
-from robot.dialog.model import DIALOG_EVENTS
+from robot.dialog.model import DIALOG_EVENTS, XPATH_EXTENSIONS, noun_phrase
 from robot.supervisor import BIRON_AFSM
 from robot.dialog.manager import DialogManager, Explain, Say, Send
 from robot.dialog.module import choose, options_phrase
@@ -114,7 +114,7 @@ def test_object_teaching_normal_path(dm):
     assert s.event == "object_teaching" and etree.tostring(s.children[0]).decode() == f"<SPEECH>{CUP}</SPEECH>"
     assert says(out) == ["Let me have a look."]
     learned = cond("object_learned", '<param name="object"><OBJECT type="cup" name="cup"/></param>')
-    assert says(dm.on_condition(learned)) == ["OK, I have learned the cup."]
+    assert says(dm.on_condition(learned)) == ["OK, I have learned your cup."]  # "my cup": hers
     assert dm.summary()["dialogs"]["object_teaching"] == {"started": 1, "succeeded": 1, "failed": 0, "abandoned": 0}
 
 
@@ -129,7 +129,7 @@ def test_object_teaching_asks_for_the_missing_object_and_merges_the_answer(dm):
 def test_object_not_found_is_told(dm):
     dm.on_frame(frame(CUP))
     out = dm.on_condition(cond("object_not_found", '<param name="reason">nothing pointed at</param>'))
-    assert says(out) == ["Sorry, I could not find the cup. Please point at it again."]
+    assert says(out) == ["Sorry, I could not find your cup. Please point at it again."]
     assert dm.summary()["dialogs"]["object_teaching"]["failed"] == 1
 
 
@@ -260,7 +260,29 @@ def test_teaching_waiting_for_the_robot_survives_an_interruption(dm):
     dm.on_frame(frame(CUP))
     out = dm.on_frame(frame("<CAPABILITIES/>"))
     assert says(out) == ["Now, back to your cup."]
-    assert says(dm.on_condition(cond("object_learned", '<param name="object"><OBJECT/></param>'))) == ["OK, I have learned the cup."]
+    assert says(dm.on_condition(cond("object_learned", '<param name="object"><OBJECT/></param>'))) == ["OK, I have learned your cup."]
+
+
+@pytest.mark.parametrize("said,heard", [
+    ('<OBJECT type="cup"><TITLE name="cup"/><OWNER name="speaker"/><ATTRIBUTE name="favourite"/></OBJECT>', "your favourite cup"),
+    # a lost "my" ("this is it favourite cup"): she hears that the robot did not get it
+    ('<OBJECT type="cup"><TITLE name="cup"/><ATTRIBUTE name="favourite"/></OBJECT>', "the favourite cup"),
+    ('<OBJECT type="cup"><TITLE name="mug"/><OWNER name="tom"/><COLOUR name="red"/></OBJECT>', "Tom's red mug"),
+    ('<OBJECT type="kettle"><TITLE name="kettle"/></OBJECT>', "the kettle"),
+])
+def test_a_learned_object_is_confirmed_as_she_said_it(dm, said, heard):
+    """The confirmation says back what the robot understood, owner and attributes included, so the
+    partner can tell when a word was lost and teach it again."""
+    dm.on_frame(frame(said))
+    learned = cond("object_learned", '<param name="object"><OBJECT type="cup" name="cup" colour="red" x="1" y="2"/></param>')
+    assert says(dm.on_condition(learned)) == [f"OK, I have learned {heard}."]
+
+
+def test_noun_phrase_reads_the_object_attentions_form_too():
+    assert noun_phrase(etree.fromstring('<OBJECT type="cup" name="cup" owner="partner" colour="red"><ATTRIBUTE name="favourite"/></OBJECT>')) == "your favourite cup"
+    assert noun_phrase(etree.fromstring('<OBJECT type="book" owner="robot"/>')) == "my book"
+    assert noun_phrase(etree.fromstring("<OBJECT/>")) == "the object"
+    assert etree.fromstring('<OBJECT type="cup"/>').xpath("noun-phrase()", extensions=XPATH_EXTENSIONS) == "the cup"
 
 
 def test_stop_interrupts_a_pending_goto_question(dm):
@@ -274,7 +296,7 @@ def test_condition_reaches_a_dialog_below_the_top(dm):
     dm.on_frame(frame(CUP))  # waits for object_learned
     dm.on_frame(frame("<GOTO><PLACE/></GOTO>"))  # on top, asking where
     out = dm.on_condition(cond("object_learned", '<param name="object"><OBJECT/></param>'))
-    assert says(out) == ["OK, I have learned the cup."]
+    assert says(out) == ["OK, I have learned your cup."]
     assert [i.d.id for i in dm.stack] == ["goto"]
 
 

@@ -5,6 +5,8 @@ reloaded by a later run."""
 from __future__ import annotations
 
 import numpy as np
+from hypothesis import given, settings
+from hypothesis import strategies as st
 import pytest
 from lxml import etree
 
@@ -234,3 +236,53 @@ def test_the_dialog_says_the_scene_models_words_for_where(tour):
     condition[0].append(tour.ask('<OBJECT type="cup"><OWNER name="speaker"/></OBJECT>'))
     said = [o.text for o in dm.on_condition(condition) if isinstance(o, Say)]
     assert said == ["The cup is on the table in the living room."]
+
+
+# ---------------------------------------------------------------- the same object taught again
+
+def _cup(owner: str = "", attrs: tuple[str, ...] = (), x: float = 7.6, y: float = 3.8) -> etree._Element:
+    o = f' owner="{owner}"' if owner else ""
+    kids = "".join(f'<ATTRIBUTE name="{a}"/>' for a in attrs)
+    return el(f'<OBJECT type="cup" name="cup"{o} colour="red" x="{x}" y="{y}" z="0.8" frame="map">{kids}</OBJECT>')
+
+
+def test_a_cup_taught_again_with_the_owner_the_first_teaching_missed_is_one_cup():
+    """'This is it favourite cup' (the 'my' lost), then she teaches it again: one cup, hers, her favourite."""
+    from robot.knowledge.bases import ObjectBase
+    base = ObjectBase()
+    first, _ = base.store(_cup(attrs=("favourite",)), now=1.0)
+    again, updated = base.store(_cup(owner="partner", attrs=("favourite",), x=7.62, y=3.79), now=9.0)
+    assert updated and again == first
+    (rec,) = base.memory.query()
+    assert rec.xml.get("owner") == "partner" and [a.get("name") for a in rec.xml.iterfind("ATTRIBUTE")] == ["favourite"]
+    assert rec.xml.get("taught") == "9.0000" and rec.xml.get("x") == "7.6200"
+    # and the other way round: what she does not say again stays
+    base.store(_cup(attrs=("old",), x=7.6, y=3.8), now=12.0)
+    (rec,) = base.memory.query()
+    assert rec.xml.get("owner") == "partner" and {a.get("name") for a in rec.xml.iterfind("ATTRIBUTE")} == {"favourite", "old"}
+    KNOWLEDGE.check(rec.xml)
+
+
+def test_toms_cup_beside_hers_is_another_cup():
+    from robot.knowledge.bases import ObjectBase
+    base = ObjectBase()
+    base.store(_cup(owner="partner", attrs=("favourite",)))
+    base.store(_cup(owner="tom", x=7.7))
+    assert sorted(r.xml.get("owner") for r in base.memory.query()) == ["partner", "tom"]
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.lists(st.tuples(st.booleans(), st.sets(st.sampled_from(["favourite", "old", "new"])),
+                          st.floats(-0.15, 0.15), st.floats(-0.15, 0.15)), min_size=1, max_size=6))
+def test_teaching_one_cup_any_number_of_times_keeps_one_cup_with_all_that_was_said(teachings):
+    """Invariant: one physical cup taught again and again (the 'my' heard or not, any attributes, the
+    pointing a little off) stays one stored cup whose attributes are every attribute ever said and
+    whose owner is the partner once she was heard saying 'my'."""
+    from robot.knowledge.bases import ObjectBase
+    base = ObjectBase()
+    for k, (mine, attrs, dx, dy) in enumerate(teachings):
+        base.store(_cup(owner="partner" if mine else "", attrs=tuple(sorted(attrs)), x=7.6 + dx, y=3.8 + dy), now=float(k))
+    (rec,) = base.memory.query()
+    assert {a.get("name") for a in rec.xml.iterfind("ATTRIBUTE")} == set().union(*(t[1] for t in teachings))
+    assert rec.xml.get("owner", "") == ("partner" if any(t[0] for t in teachings) else "")
+    KNOWLEDGE.check(rec.xml)

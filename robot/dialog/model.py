@@ -6,7 +6,8 @@ state is the combination of its slots' statuses (:data:`STATUSES`); its
 policy is an ordered list of :class:`Rule` s from such combinations to
 actions. Templates (``{slot}``, ``{slot:xpath}``, ``{slot:xpath|default}``)
 put slot values into sentences; :func:`render` never raises (a missing value
-gives the default, or nothing).
+gives the default, or nothing); besides XPath 1.0 they may use ``noun-phrase()``
+(:func:`noun_phrase`: an object as the robot says it back, "your favourite cup").
 """
 
 from __future__ import annotations
@@ -168,6 +169,52 @@ def template_fields(text: str) -> list[tuple[str, str, str | None]]:
     return [(m.group(1), m.group(2) or "", m.group(3)) for m in _FIELD.finditer(text)]
 
 
+#: Owners as the understanding and the object attention write them, seen from the partner's side.
+_OWNED_BY_PARTNER = frozenset({"speaker", "partner", "my", "me", "mine", "i"})
+_OWNER_WORDS = {"robot": "my", "your": "my", "us": "our", "our": "our"}
+
+
+def noun_phrase(el: etree._Element) -> str:
+    """An object as the robot says it back: owner, attributes, colour, noun ("your favourite cup").
+
+    ``el`` is an ``OBJECT`` as the understanding frames it (``TITLE``, ``OWNER``, ``COLOUR``,
+    ``ATTRIBUTE`` children) or as the object attention reports it (``name``/``type``, ``owner``,
+    ``colour`` attributes): so that the partner hears what the robot understood, and can correct it.
+    The owner is said from the partner's side ("my cup" -> "your cup", "the robot's" -> "my",
+    a name -> "Anna's"); without one the article is "the". Never raises (no noun: "the object").
+    """
+    def child(tag: str) -> str:
+        c = el.find(tag)
+        return " ".join((c.get("name") or "").split()) if c is not None else ""
+
+    noun = child("TITLE") or " ".join((el.get("name") or el.get("type") or "").split()) or "object"
+    owner = (child("OWNER") or el.get("owner") or "").strip()
+    if not owner:
+        det = "the"
+    elif owner.lower() in _OWNED_BY_PARTNER:
+        det = "your"
+    elif owner.lower() in _OWNER_WORDS:
+        det = _OWNER_WORDS[owner.lower()]
+    else:
+        det = f"{owner[:1].upper()}{owner[1:]}'s"
+    attrs = list(dict.fromkeys(" ".join((a.get("name") or "").split()) for a in el.iterfind("ATTRIBUTE")))
+    colour = child("COLOUR")  # only a colour she said: the camera's own colour (colour=) is not echoed
+    return " ".join(w for w in (det, *attrs, colour, noun) if w)
+
+
+def _xpath_noun_phrase(context: Any, nodes: Any = None) -> str:
+    if isinstance(nodes, list):
+        el = next((n for n in nodes if isinstance(n, etree._Element)), None)
+    else:
+        el = context.context_node if nodes is None else None
+    return noun_phrase(el) if isinstance(el, etree._Element) else ""
+
+
+#: XPath functions templates may use beyond XPath 1.0: ``noun-phrase()`` (of the context node, or of
+#: the first node of its argument), see :func:`noun_phrase`.
+XPATH_EXTENSIONS = {(None, "noun-phrase"): _xpath_noun_phrase}
+
+
 def value_text(value: Any, xpath: str = "") -> str:
     """A slot value (element or text) as words, optionally through an XPath."""
     if value is None:
@@ -176,7 +223,7 @@ def value_text(value: Any, xpath: str = "") -> str:
         if not isinstance(value, etree._Element):
             return ""
         try:
-            res = value.xpath(xpath)
+            res = value.xpath(xpath, extensions=XPATH_EXTENSIONS)
         except etree.XPathError:
             return ""
         if isinstance(res, list):

@@ -13,7 +13,9 @@ document, never inline XML), and ``<PLACE name x y theta frame="map" taught/>``.
 Objects are indexed by type, name and owner, places by name, so the common
 look-ups stay fast as the memory grows. Teaching the same thing again
 updates it (a place by name; an object by type, name and owner when these
-single it out, else by type within :data:`SAME_OBJECT` metres).
+single it out, else by type and name within :data:`SAME_OBJECT` metres with no
+contradicting owner), keeping what the new teaching does not say (owner,
+attributes: :meth:`ObjectBase.merged`), so a correction never leaves a duplicate.
 
 How it fails: a document that cannot be made canonical (no type, no
 position, no pose, a number that does not read) raises
@@ -24,6 +26,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping
+from copy import deepcopy
 from pathlib import Path
 
 from lxml import etree
@@ -120,6 +123,10 @@ class KnowledgeBase:
         """The id of the stored document this one is a new version of, if any."""
         raise NotImplementedError
 
+    def merged(self, old: etree._Element, new: etree._Element) -> etree._Element:
+        """The new version of a stored document taught again (default: the new one as it is)."""
+        return new
+
     def store(self, doc: etree._Element, attachments: Mapping[str, Attachment] | None = None, *, now: float = 0.0) -> tuple[int, bool]:
         """Store (or update the earlier version of) a document; return (id, was_update)."""
         canon, att = self.canonical(doc, attachments or {}, now)
@@ -127,6 +134,8 @@ class KnowledgeBase:
         old = self.same_as(canon)
         if old is None:
             return self.memory.insert(canon, att), False
+        canon = self.merged(self.memory.get(old).xml, canon)
+        self.check(canon)
         self.memory.update(old, canon, att if att else None)
         return old, True
 
@@ -173,17 +182,42 @@ class ObjectBase(KnowledgeBase):
         return out, att
 
     def same_as(self, doc: etree._Element) -> int | None:
+        """The stored object this teaching is about: the one of this type, name and owner when these
+        single it out ("my cup" shown again elsewhere: it moved), else the one of this type and name
+        within :data:`SAME_OBJECT` metres whose owner does not contradict (the same cup taught again
+        where it stands, with or without the "my" that one of the two teachings missed)."""
         t, n, o = doc.get("type"), doc.get("name"), doc.get("owner", "")
         ids = self.memory.query_ids(where={"type": t, "name": n})
-        ids = [i for i in ids if self.memory.get(i).xml.get("owner", "") == o]
-        if ids and (o or n != t):
-            return ids[-1]
+        owned = [i for i in ids if self.memory.get(i).xml.get("owner", "") == o]
+        if owned and (o or n != t):
+            return owned[-1]
         x, y = float(doc.get("x")), float(doc.get("y"))  # type: ignore[arg-type]
         for i in reversed(ids):
             r = self.memory.get(i).xml
+            ro = r.get("owner", "")
+            if ro and o and ro != o:
+                continue  # Tom's cup beside hers is another cup
             if math.hypot(float(r.get("x")) - x, float(r.get("y")) - y) <= SAME_OBJECT:  # type: ignore[arg-type]
                 return i
         return None
+
+    def merged(self, old: etree._Element, new: etree._Element) -> etree._Element:
+        """What was taught before and is not said again stays: the owner, use and colour, every
+        attribute ("favourite" + "old" -> both) and the said position; the new teaching's position,
+        time and features win."""
+        out = deepcopy(new)
+        for key in ("owner", "use", "colour"):
+            if not out.get(key) and old.get(key):
+                out.set(key, old.get(key))
+        have = {a.get("name") for a in out.iterchildren("ATTRIBUTE")}
+        extra = [a.get("name") for a in old.iterchildren("ATTRIBUTE") if a.get("name") not in have]
+        pos = out.find("POSITION")
+        for name in extra:
+            a = etree.Element("ATTRIBUTE", name=name)  # ATTRIBUTEs come before the POSITION
+            (pos.addprevious(a) if pos is not None else out.append(a))
+        if pos is None and old.find("POSITION") is not None:
+            out.append(deepcopy(old.find("POSITION")))
+        return out
 
     def find(self, query: etree._Element) -> list[Record]:
         """Stored objects that fit a query frame (``<OBJECT type><OWNER name/></OBJECT>``), best first.
