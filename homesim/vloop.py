@@ -33,6 +33,8 @@ import heapq
 import itertools
 import math
 import sys
+import threading
+import types
 from asyncio import events
 from collections.abc import Awaitable, Callable, Coroutine
 from asyncio import futures as _futures
@@ -93,9 +95,13 @@ class _Handle(events.Handle):
 
 
 class _TimerHandle(events.TimerHandle):
-    """A slimmer :class:`asyncio.TimerHandle`; the heap key lives outside it."""
+    """A slimmer :class:`asyncio.TimerHandle`; the heap key lives outside it.
+
+    Made with ``_TimerHandle()`` and filled in by the loop (no ``__init__`` frame).
+    """
 
     __slots__ = ()
+    __init__ = object.__init__  # type: ignore[assignment]
 
     def __repr__(self) -> str:
         cb = self._callback
@@ -111,6 +117,185 @@ class _TimerHandle(events.TimerHandle):
 
 
 _new = object.__new__
+
+
+#: A sleep waiter's ``result()`` while not cancelled: returns None, raises nothing, and is C code.
+_result_none = type(None)
+
+
+#: A sleep waiter's ``_waker`` when several callbacks wait on it (they are in ``_more``).
+_MANY: Any = object()
+
+
+class _SleepWaiter:
+    """What a task waits on in :func:`sleep`: a timer and a future in one object.
+
+    asyncio's own sleep costs a coroutine, a Future, a TimerHandle, the
+    ``call_later`` chain, a Handle to wake the task and a ``cancel()`` on the
+    way out. This object is the timer in the loop's heap *and* the
+    future-like object the task waits on (asyncio's Task accepts any object
+    with ``_asyncio_future_blocking``, ``_loop``, ``add_done_callback``,
+    ``result`` and ``cancel``). When its time comes, the loop moves it to the
+    ready queue exactly where ``set_result`` would have put the task's
+    wake-up, and runs the wake-up in the next round: the same order as
+    asyncio's sleep, with one object instead of five.
+
+    Defaults live on the class (a sleep sets three attributes); ``result`` is
+    a C callable (no frame); a cancelled waiter gets one that raises
+    :class:`asyncio.CancelledError`.
+    """
+
+    __slots__ = (
+        "_cancelled", "_scheduled", "_context", "_callback", "_args", "_done", "_waker", "_waker_ctx", "_more",
+        "result", "_loop", "_when", "_asyncio_future_blocking", "__weakref__",
+    )
+
+    def __repr__(self) -> str:
+        state = "cancelled" if self._cancelled else "done" if self._done else "pending"
+        return f"<sleep until {self._when / NS_PER_S:.9f} s {state}>"
+
+    def done(self) -> bool:
+        return self._done
+
+    def cancelled(self) -> bool:
+        return self._cancelled
+
+    def exception(self) -> BaseException | None:
+        self.result()
+        return None
+
+    def add_done_callback(self, fn: Callable[[Any], Any], *, context: Context | None = None) -> None:
+        if context is None:
+            context = copy_context()
+        if self._done:
+            self._loop.call_soon(fn, self, context=context)
+        elif self._waker is None:  # the usual case: the one task that sleeps
+            self._waker = fn
+            self._waker_ctx = context
+        else:
+            if self._waker is not _MANY:
+                self._more = [(self._waker, self._waker_ctx)]
+                self._waker = _MANY
+            self._more.append((fn, context))
+
+    def remove_done_callback(self, fn: Callable[[Any], Any]) -> int:
+        if self._waker is None:
+            return 0
+        if self._waker is not _MANY:
+            if self._waker != fn:
+                return 0
+            self._waker = self._waker_ctx = None
+            return 1
+        keep = [(f, c) for f, c in self._more if f != fn]
+        n = len(self._more) - len(keep)
+        self._more = keep
+        if not keep:
+            self._waker = self._more = None
+        return n
+
+    def cancel(self, msg: Any = None) -> bool:
+        """Cancel the sleep: the timer leaves the heap, the waiting task is woken with CancelledError."""
+        if self._done:
+            return False
+        self._done = True
+        self._cancelled = True
+        if self._scheduled:
+            self._scheduled = False
+            self._loop._cancelled_timers += 1
+        exc = asyncio.CancelledError() if msg is None else asyncio.CancelledError(msg)
+
+        def raise_cancelled() -> None:
+            raise exc
+
+        self.result = raise_cancelled
+        self._wake_all()
+        return True
+
+    def _wake_all(self) -> None:
+        # asyncio's order: a future's callbacks are scheduled in the order they were added.
+        waker = self._waker
+        if waker is None:
+            return
+        callbacks = self._more if waker is _MANY else [(waker, self._waker_ctx)]
+        self._waker = self._waker_ctx = self._more = None
+        for fn, ctx in callbacks:
+            self._loop.call_soon(fn, self, context=ctx)
+
+    def _fire(self) -> None:
+        """The timer is due: what ``set_result`` does, reusing this object as the wake-up's handle.
+
+        (The loop's scheduling code has this inlined; keep the two alike.)
+        """
+        self._done = True
+        waker = self._waker
+        if waker is None:
+            return
+        if waker is _MANY:
+            self._wake_all()
+            return
+        self._callback = waker
+        self._context = self._waker_ctx
+        self._args = (self,)
+        self._waker = None
+        self._loop._ready.append(self)
+
+    def __await__(self) -> Any:
+        if not self._done:
+            self._asyncio_future_blocking = True
+            yield self
+        return self.result()
+
+    __iter__ = __await__
+
+
+def _sleep_fire(waiter: _SleepWaiter) -> None:
+    waiter._fire()
+
+
+
+
+def _make_sleep() -> Callable[..., Any]:
+    # A closure, so that the hot path reads cells rather than module globals.
+    asyncio_sleep = asyncio.sleep
+    get_ident = threading.get_ident
+    heappush = heapq.heappush
+    waiter = _SleepWaiter
+    inf = math.inf
+    fire = _sleep_fire
+    none = type(None)
+
+    @types.coroutine
+    def sleep(delay: float, result: Any = None) -> Any:
+        """``asyncio.sleep`` for the virtual loop, with fewer objects (installed while the loop runs).
+
+        Same semantics and order as asyncio's: a coroutine, so ``create_task``,
+        ``wait_for``, ``gather`` and cancellation work as before. In a thread
+        whose running loop is not a :class:`VirtualEventLoop`, and for
+        ``delay <= 0`` or an infinite delay, it is asyncio's own sleep.
+        """
+        loop = _running[0]
+        if loop is None or loop._thread_id != get_ident() or not delay > 0 or delay == inf:
+            return (yield from asyncio_sleep(delay, result).__await__())
+        w = waiter()
+        w._asyncio_future_blocking = True
+        w._loop = loop
+        w._cancelled = w._done = False
+        w._scheduled = True
+        w._context = w._waker = None
+        w._callback = fire
+        w.result = none
+        w._when = when = loop._now_ns + round(delay * NS_PER_S)
+        heappush(loop._timers, (when, next(loop._seq), w))
+        yield w
+        return result
+
+    sleep._is_coroutine = asyncio.coroutines._is_coroutine  # type: ignore[attr-defined]
+    return sleep
+
+
+#: The VirtualEventLoop running in some thread (the latest entered), for :func:`sleep`.
+_running: list[Any] = [None]
+sleep = _make_sleep()
 
 
 class Pacer(Protocol):
@@ -145,6 +330,8 @@ class VirtualEventLoop(asyncio.BaseEventLoop):
         self._orphans: list[tuple[asyncio.Task[Any], int]] = []
         self._saved_loop: asyncio.AbstractEventLoop | None = None
         self._saved_hooks: Any = None
+        self._saved_sleep: Any = None
+        self._thread_id: int | None = None
         self.max_rounds_per_instant = MAX_ROUNDS_PER_INSTANT
         self._instant_ns = -1
         self._instant_rounds = 0
@@ -204,10 +391,26 @@ class VirtualEventLoop(asyncio.BaseEventLoop):
                 context = copy_context()
         elif context is BARE:
             context = None
-        handle = _new(_TimerHandle)
+        handle = _TimerHandle()
         handle._callback = callback
         handle._args = args
         handle._context = context
+        handle._cancelled = False
+        handle._loop = self
+        handle._when = when_ns / NS_PER_S
+        handle._scheduled = True
+        heapq.heappush(self._timers, (when_ns, next(self._seq), handle))
+        return handle
+
+    def _call_at_bare(self, when_ns: int, callback: Callable[..., Any], args: tuple[Any, ...]) -> asyncio.TimerHandle:
+        """``call_at_ns(when_ns, callback, *args, context=BARE)`` for the kernel's hot paths (bus deliveries).
+
+        The caller guarantees ``when_ns >= now`` and an open loop.
+        """
+        handle = _TimerHandle()
+        handle._callback = callback
+        handle._args = args
+        handle._context = None
         handle._cancelled = False
         handle._loop = self
         handle._when = when_ns / NS_PER_S
@@ -223,7 +426,9 @@ class VirtualEventLoop(asyncio.BaseEventLoop):
         """A timer at +inf: a valid handle that is never scheduled (``sleep(math.inf)``)."""
         if when != math.inf:
             raise ValueError(f"a timer needs a finite time or +inf, got {when!r}")
-        return _TimerHandle(math.inf, callback, args, self, context)  # asyncio's __init__: never scheduled
+        handle = _TimerHandle()
+        events.TimerHandle.__init__(handle, math.inf, callback, args, self, context)  # never scheduled
+        return handle
 
     def _timer_handle_cancelled(self, handle: asyncio.TimerHandle) -> None:
         # Cancelled timers leave the heap lazily; _drive compacts it when
@@ -390,75 +595,108 @@ class VirtualEventLoop(asyncio.BaseEventLoop):
         (but never to or past ``until_ns``); move every timer due now (and
         before ``until_ns``) to the ready queue in (time, sequence) order;
         run the callbacks that were ready at the round's start. Everything is
-        inlined: this is the simulator's hottest code.
+        inlined and kept in local variables: this is the simulator's hottest
+        code (a sleep costs two rounds, so a round's own cost counts).
         """
         ready = self._ready
         timers = self._timers
         popleft = ready.popleft
+        append = ready.append
         heappop = heapq.heappop
         pacer = self._pacer
+        checks = max_rounds is not None or stop is not None
+        last = (until_ns - 1) if until_ns is not None else None  # the last instant this call may run
         rounds = 0
         handle = None
-        while True:
-            if self._failure is not None:
-                return _FAILED
-            if self._cancelled_timers > 64 and self._cancelled_timers * 2 > len(timers):
-                self._compact_timers()
-            if not ready:
-                while timers and timers[0][2]._cancelled:
-                    heappop(timers)
-                    self._cancelled_timers -= 1
-                if not timers:
-                    return _EMPTY
-                when = timers[0][0]
-                if until_ns is not None and when >= until_ns:
-                    return _UNTIL
-                if when > self._now_ns:
-                    if pacer is not None:
-                        pacer.before_advance(self._now_ns, when)
-                    self._now_ns = when
-            if self._now_ns != self._instant_ns:
-                self._instant_ns = self._now_ns
-                self._instant_rounds = 0
-            else:
-                self._instant_rounds += 1
-                if self._instant_rounds >= self.max_rounds_per_instant:
-                    self._livelock()
-            limit = self._now_ns if until_ns is None or until_ns > self._now_ns else until_ns - 1
-            while timers and timers[0][0] <= limit:
-                handle = heappop(timers)[2]
-                if handle._cancelled:
-                    self._cancelled_timers -= 1
+        now = self._now_ns
+        instant = self._instant_ns
+        instant_rounds = self._instant_rounds
+        max_instant = self.max_rounds_per_instant
+        try:
+            while True:
+                if self._failure is not None:
+                    return _FAILED
+                if not ready:
+                    if self._cancelled_timers > 64 and self._cancelled_timers * 2 > len(timers):
+                        self._compact_timers()
+                    while timers and timers[0][2]._cancelled:
+                        heappop(timers)
+                        self._cancelled_timers -= 1
+                    if not timers:
+                        return _EMPTY
+                    when = timers[0][0]
+                    if last is not None and when > last:
+                        return _UNTIL
+                    if when > now:
+                        if pacer is not None:
+                            pacer.before_advance(now, when)
+                        self._now_ns = now = when
+                if now != instant:
+                    instant = now
+                    instant_rounds = 0
                 else:
-                    handle._scheduled = False
-                    ready.append(handle)
-            ntodo = len(ready)
-            try:
-                for _ in range(ntodo):
-                    handle = popleft()
+                    instant_rounds += 1
+                    if instant_rounds >= max_instant:
+                        instant_rounds = 0  # counting starts again if the caller goes on
+                        self._livelock()
+                limit = now if last is None or last > now else last
+                while timers and timers[0][0] <= limit:
+                    handle = heappop(timers)[2]
                     if handle._cancelled:
-                        continue
-                    ctx = handle._context
-                    if ctx is None:
-                        cb = handle._callback
-                        if cb is _set_result_unless_cancelled:  # asyncio.sleep's timer
-                            fut, result = handle._args
-                            if not fut.cancelled():
-                                fut.set_result(result)
-                        else:
-                            cb(*handle._args)
+                        self._cancelled_timers -= 1
                     else:
-                        ctx.run(handle._callback, *handle._args)
-            except (SystemExit, KeyboardInterrupt):
-                raise
-            except BaseException as exc:  # one failing callback fails the run
-                self._record_failure(exc, f"callback {handle!r}")
-            handle = None
-            rounds += 1
-            if max_rounds is not None and rounds >= max_rounds:
-                return _ROUNDS
-            if stop is not None and stop():
-                return _PREDICATE
+                        handle._scheduled = False
+                        append(handle)
+                try:
+                    for _ in range(len(ready)):
+                        handle = popleft()
+                        if handle._cancelled:
+                            continue
+                        ctx = handle._context
+                        if ctx is None:
+                            cb = handle._callback
+                            if cb is _sleep_fire:  # our sleep's timer: set_result, reusing the object as the wake-up
+                                handle._done = True
+                                waker = handle._waker
+                                if waker is None:
+                                    pass
+                                elif waker is not _MANY:
+                                    handle._waker = None
+                                    if (not ready and not checks and instant_rounds + 1 < max_instant
+                                            and self._failure is None and (not timers or timers[0][0] > limit)):
+                                        # The wake-up would be the whole next round (nothing else is
+                                        # ready or due now): run it as that round, here. Same order.
+                                        instant_rounds += 1
+                                        handle._waker_ctx.run(waker, handle)
+                                    else:
+                                        handle._callback = waker
+                                        handle._context = handle._waker_ctx
+                                        handle._args = (handle,)
+                                        append(handle)
+                                else:
+                                    handle._wake_all()
+                            elif cb is _set_result_unless_cancelled:  # asyncio.sleep's timer
+                                fut, result = handle._args
+                                if not fut.cancelled():
+                                    fut.set_result(result)
+                            else:
+                                cb(*handle._args)
+                        else:
+                            ctx.run(handle._callback, *handle._args)
+                except (SystemExit, KeyboardInterrupt):
+                    raise
+                except BaseException as exc:  # one failing callback fails the run
+                    self._record_failure(exc, f"callback {handle!r}")
+                handle = None
+                if checks:
+                    rounds += 1
+                    if max_rounds is not None and rounds >= max_rounds:
+                        return _ROUNDS
+                    if stop is not None and stop():
+                        return _PREDICATE
+        finally:
+            self._instant_ns = instant
+            self._instant_rounds = instant_rounds
 
     def _compact_timers(self) -> None:
         # In place: _drive holds a reference to this list.
@@ -495,8 +733,11 @@ class VirtualEventLoop(asyncio.BaseEventLoop):
                 continue
             cb = handle._callback
             owners = [getattr(cb, "__self__", None)]
-            if handle._args and isinstance(handle._args[0], asyncio.Future):  # a sleep's timer: who waits on it
-                owners += [getattr(c, "__self__", None) for c, _ctx in (handle._args[0]._callbacks or [])]
+            if isinstance(handle, _SleepWaiter):  # a sleep's timer: the task waiting on it
+                owners.append(getattr(handle._waker, "__self__", None))
+            args = getattr(handle, "_args", ())
+            if args and isinstance(args[0], asyncio.Future):  # asyncio's sleep timer: who waits on it
+                owners += [getattr(c, "__self__", None) for c, _ctx in (args[0]._callbacks or [])]
             tasks = [o for o in owners if isinstance(o, asyncio.Task)]
             for task in tasks:
                 names.setdefault(f"task {task.get_name()} ({_where(task)})", None)
@@ -539,9 +780,16 @@ class VirtualEventLoop(asyncio.BaseEventLoop):
             loop._saved_hooks = sys.get_asyncgen_hooks()
             sys.set_asyncgen_hooks(firstiter=loop._asyncgen_firstiter_hook, finalizer=loop._asyncgen_finalizer_hook)
             events._set_running_loop(loop)
+            # The lighter sleep, for code that looks asyncio.sleep up when it runs (it passes
+            # every other loop on to asyncio's own, so threads with their own loops are safe).
+            loop._thread_id = threading.get_ident()
+            loop._saved_sleep = (asyncio.sleep, asyncio.tasks.sleep, _running[0])
+            asyncio.sleep = asyncio.tasks.sleep = sleep
+            _running[0] = loop
 
         def __exit__(self, *exc: object) -> None:
             loop = self.loop
+            asyncio.sleep, asyncio.tasks.sleep, _running[0] = loop._saved_sleep
             events._set_running_loop(loop._saved_loop)
             sys.set_asyncgen_hooks(*loop._saved_hooks)
             loop._saved_loop = None
