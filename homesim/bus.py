@@ -42,7 +42,7 @@ import re
 from collections import deque
 from collections.abc import Awaitable, Callable, Mapping
 from dataclasses import dataclass
-from typing import Any, Union
+from typing import Any, NamedTuple, Union
 
 from lxml import etree
 
@@ -75,14 +75,14 @@ VALIDATIONS = (VALIDATE_ALL, VALIDATE_EDGES)
 DROP = "drop"
 
 
-@dataclass(frozen=True, slots=True)
-class Observation:
+class Observation(NamedTuple):
     """What an interceptor sees: a send, a delivery or a drop, at a time.
 
     For a send, ``receivers`` lists every intended receiver (sorted); for a
     delivery or a drop, the one receiver concerned. ``reason`` says why a
     message was dropped ("lost", "receiver closed", "receiver hung",
-    "overflow").
+    "overflow"). Immutable (a named tuple: the bus makes one per send,
+    delivery and drop while anyone intercepts).
     """
 
     t_ns: int
@@ -93,6 +93,8 @@ class Observation:
 
 
 Interceptor = Callable[[Observation], None]
+
+_tuple_new = tuple.__new__  # builds a named tuple without its Python-level __new__ (hot path)
 
 
 def _as_schema(schema: SchemaLike) -> Schema | None:
@@ -361,19 +363,20 @@ class Participant:
             )
         bus = self.bus
         now = bus.loop._now_ns
-        n = bus._counters.get(self.name, 0) + 1
-        bus._counters[self.name] = n
-        return Message(
-            f"{self.name}#{n}",
+        name = self.name
+        n = bus._counters.get(name, 0) + 1
+        bus._counters[name] = n
+        return _tuple_new(Message, (
+            f"{name}#{n}",
             kind,
-            self.name,
+            name,
             channel,
             xml,
             now if created is None else to_ns(created),
             now,
-            tuple(causes),
+            causes if causes.__class__ is tuple else tuple(causes),
             _frozen_attachments(attachments, channel) if attachments else _NO_ATTACHMENTS,
-        )
+        ))
 
     def _check_open(self) -> None:
         if self.closed:
@@ -409,9 +412,11 @@ def _own_payload(xml: XMLLike, channel: str, transfer: bool = False) -> etree._E
         own = xml
     else:
         own = xml.__copy__()  # lxml copies the whole subtree, in C
-    own.tail = None
-    for _ in own.iter(etree.Entity):
-        raise XMLInputError("entity references are refused on the bus", source=f"<bus:{channel}>")
+    if own.tail is not None:
+        own.tail = None
+    if len(own):  # an element without children holds no entity reference (len counts them)
+        for _ in own.iter(etree.Entity):
+            raise XMLInputError("entity references are refused on the bus", source=f"<bus:{channel}>")
     return own
 
 
@@ -454,10 +459,14 @@ class Bus:
         self._exact: dict[str, list[Subscription]] = {}
         self._subtree: list[Subscription] = []
         self._route_cache: dict[str, tuple[Subscription, ...]] = {}
+        self._receivers_cache: dict[str, tuple[str, ...]] = {}
         self._methods: dict[tuple[str, str], _Method] = {}
         self._channel_schemas: dict[str, Schema] = {}
         self._schema_cache: dict[str, Schema | None] = {}
         self._interceptors: list[Interceptor] = []
+        # The interceptors that see deliveries and drops (those that declare
+        # ``observes`` without them, such as the run's dispatcher, are spared the call).
+        self._delivery_interceptors: list[Interceptor] = []
         self._last_delivery: dict[tuple[str, str], int] = {}
         # Message counters per participant name: ids stay unique across re-registration.
         self._counters: dict[str, int] = {}
@@ -538,11 +547,24 @@ class Bus:
         return sch
 
     def add_interceptor(self, interceptor: Interceptor) -> None:
-        """Observe every send, delivery and drop (called synchronously, in order)."""
+        """Observe every send, delivery and drop (called synchronously, in order).
+
+        An interceptor with an ``observes`` attribute (a collection of
+        ``"send"``, ``"deliver"``, ``"drop"``) is called only for those events;
+        one that watches sends only thus costs nothing per delivery.
+        """
         self._interceptors.append(interceptor)
+        self._sort_interceptors()
 
     def remove_interceptor(self, interceptor: Interceptor) -> None:
         self._interceptors.remove(interceptor)
+        self._sort_interceptors()
+
+    def _sort_interceptors(self) -> None:
+        self._delivery_interceptors = [
+            fn for fn in self._interceptors
+            if not {DELIVER, DROP}.isdisjoint(getattr(fn, "observes", (SEND, DELIVER, DROP)))
+        ]
 
     # ------------------------------------------------------ subscriptions
     def _add_subscription(self, sub: Subscription) -> None:
@@ -551,6 +573,7 @@ class Bus:
         else:
             self._exact.setdefault(sub.pattern, []).append(sub)
         self._route_cache.clear()
+        self._receivers_cache.clear()
 
     def _remove_subscription(self, sub: Subscription) -> None:
         if sub.pattern.endswith("/**"):
@@ -562,6 +585,7 @@ class Bus:
         if sub in sub.participant.subscriptions:
             sub.participant.subscriptions.remove(sub)
         self._route_cache.clear()
+        self._receivers_cache.clear()
 
     def _routes(self, channel: str) -> tuple[Subscription, ...]:
         cached = self._route_cache.get(channel)
@@ -579,7 +603,7 @@ class Bus:
 
     # ---------------------------------------------------------- delivery
     def _observe(self, obs: Observation) -> None:
-        for fn in self._interceptors:
+        for fn in self._interceptors if obs.event == SEND else self._delivery_interceptors:
             fn(obs)
 
     def _schedule(self, sender: Participant, receiver: Participant, msg: Message, action: Callable[..., None], *args: Any) -> None:
@@ -589,19 +613,21 @@ class Bus:
             self._drop(msg, receiver.name, "lost")
             return
         key = (sender.name, receiver.name)
-        when = self.loop.now_ns + delay
+        when = self.loop._now_ns + delay
         last = self._last_delivery.get(key, 0)
         if when < last:
             when = last
         self._last_delivery[key] = when
         # Deliveries run in no copied context: a receiver does not inherit the
         # sender's context variables (and copying one per message is costly).
-        self.loop.call_at_ns(when, action, receiver, msg, *args, context=BARE)
+        self.loop._call_at_bare(when, action, (receiver, msg, *args))
 
     def _drop(self, msg: Message, receiver: str, reason: str) -> None:
         self.dropped += 1
-        if self._interceptors:
-            self._observe(Observation(self.loop.now_ns, DROP, msg, (receiver,), reason))
+        if self._delivery_interceptors:
+            obs = _tuple_new(Observation, (self.loop._now_ns, DROP, msg, (receiver,), reason))
+            for fn in self._delivery_interceptors:
+                fn(obs)
 
     def _receivable(self, receiver: Participant, msg: Message) -> bool:
         if receiver.closed:
@@ -613,30 +639,41 @@ class Bus:
         return True
 
     def _publish(self, sender: Participant, msg: Message) -> None:
-        sender.published.add(msg.channel)
-        routes = self._routes(msg.channel)
+        channel = msg.channel
+        sender.published.add(channel)
+        routes = self._route_cache.get(channel)
+        if routes is None:
+            routes = self._routes(channel)
         self.sent += 1
         if not routes:
             self.unheard += 1
         if self._interceptors:
-            receivers = tuple(sorted({s.participant.name for s in routes}))
-            self._observe(Observation(msg.sent_ns, SEND, msg, receivers))
+            receivers = self._receivers_cache.get(channel)
+            if receivers is None:
+                receivers = self._receivers_cache[channel] = tuple(sorted({s.participant.name for s in routes}))
+            obs = _tuple_new(Observation, (msg.sent_ns, SEND, msg, receivers, ""))
+            for fn in self._interceptors:
+                fn(obs)
         last = len(routes) - 1
+        deliver = self._deliver_publish
         for i, sub in enumerate(routes):
             # Each receiver gets a payload of its own (as XCF deserialises one
             # per receiver): one receiver moving nodes cannot change another's.
             own = msg if i == last else _copy_message(msg)
-            self._schedule(sender, sub.participant, own, self._deliver_publish, sub)
+            self._schedule(sender, sub.participant, own, deliver, sub)
 
     def _deliver_publish(self, receiver: Participant, msg: Message, sub: Subscription) -> None:
         if sub.closed:
             self._drop(msg, receiver.name, "receiver closed")
             return
-        if not self._receivable(receiver, msg):
+        if receiver.closed or receiver.hung:
+            self._receivable(receiver, msg)
             return
         self.delivered += 1
-        if self._interceptors:
-            self._observe(Observation(self.loop.now_ns, DELIVER, msg, (receiver.name,)))
+        if self._delivery_interceptors:
+            obs = _tuple_new(Observation, (self.loop._now_ns, DELIVER, msg, (receiver.name,), ""))
+            for fn in self._delivery_interceptors:
+                fn(obs)
         if sub.handler is not None:
             sub.delivered += 1
             try:
@@ -644,7 +681,7 @@ class Bus:
             except BadMessageError as exc:  # the sender's bad data, not our bug: report, go on
                 self._drop(msg, receiver.name, f"refused by the receiver: {exc}")
                 return
-            if inspect.isawaitable(result):
+            if result is not None and inspect.isawaitable(result):
                 self.loop.create_task(_await_reporting(result, self, msg, receiver.name), name=f"{receiver.name}:{sub.pattern}<-{msg.id}")
         else:
             dropped = sub._push(msg)
@@ -729,7 +766,7 @@ class Bus:
 
 
 def _copy_message(msg: Message) -> Message:
-    return msg._replace(xml=msg.xml.__copy__())
+    return _tuple_new(Message, (msg[0], msg[1], msg[2], msg[3], msg[4].__copy__(), msg[5], msg[6], msg[7], msg[8]))
 
 
 async def _await(result: Awaitable[Any]) -> Any:

@@ -100,21 +100,26 @@ class Network:
         self._draws = Draws(rng)
         self._links: dict[str, LinkModel] = dict(DEFAULT_LINKS)
         self._hosts: dict[str, str] = {}
+        # Per (host_a, host_b): what delay_ns draws, worked out once (cleared when links or hosts change).
+        self._plans: dict[tuple[str, str], tuple[float, float, float, float, float]] = {}
 
     def set_link(self, model: LinkModel) -> None:
         """Add or replace a link kind (e.g. a lossy WLAN for a fault test)."""
         self._links[model.name] = model
+        self._plans.clear()
 
     def add_host(self, host: str, *, link: str = "lan") -> None:
         """Declare a host and the kind of link it is attached by."""
         if link not in self._links:
             raise HomesimError(f"host {host!r}: unknown link {link!r}; known: {sorted(self._links)}")
         self._hosts[host] = link
+        self._plans.clear()
 
     def ensure_host(self, host: str) -> None:
         """Declare ``host`` on the LAN if it is not known yet."""
         if host not in self._hosts:
             self._hosts[host] = "lan"
+            self._plans.clear()
 
     def hosts(self) -> dict[str, str]:
         """Host -> link kind, sorted by host name."""
@@ -132,13 +137,37 @@ class Network:
         """Draw one delay from ``host_a`` to ``host_b``; None when lost.
 
         The delay follows the slower link; a message is lost if either
-        host's link loses it (both losses apply).
+        host's link loses it (both losses apply). The draws are those of
+        :meth:`LinkModel.sample_ns` (the other link's loss first), made inline:
+        the bus draws one delay per delivery.
         """
-        if host_a == host_b:
-            return self._links["local"].sample_ns(self._draws)
-        a = self._links[self._hosts[host_a]]
-        b = self._links[self._hosts[host_b]]
-        slow, other = (a, b) if (a.max_s + a.jitter_s) >= (b.max_s + b.jitter_s) else (b, a)
-        if other.loss > 0.0 and self._draws.uniform() < other.loss:
+        plan = self._plans.get((host_a, host_b))
+        if plan is None:
+            plan = self._plan(host_a, host_b)
+        other_loss, loss, lo, span, jitter = plan
+        draws = self._draws
+        if other_loss > 0.0 and draws.uniform() < other_loss:
             return None
-        return slow.sample_ns(self._draws)
+        if loss > 0.0 and draws.uniform() < loss:
+            return None
+        i = draws._ui
+        if i == len(draws._u):
+            draws._u = draws._rng.random(draws.block).tolist()
+            i = 0
+        draws._ui = i + 1
+        delay = lo + span * draws._u[i]
+        if jitter > 0.0:
+            delay += abs(draws.normal()) * jitter
+        return int(round(delay * NS_PER_S))
+
+    def _plan(self, host_a: str, host_b: str) -> tuple[float, float, float, float, float]:
+        if host_a == host_b:
+            other_loss, slow = 0.0, self._links["local"]
+        else:
+            a = self._links[self._hosts[host_a]]
+            b = self._links[self._hosts[host_b]]
+            slow, other = (a, b) if (a.max_s + a.jitter_s) >= (b.max_s + b.jitter_s) else (b, a)
+            other_loss = other.loss
+        plan = (other_loss, slow.loss, slow.min_s, slow.max_s - slow.min_s, slow.jitter_s)
+        self._plans[(host_a, host_b)] = plan
+        return plan

@@ -24,6 +24,9 @@ Handler = Callable[[Message], None]
 class Dispatcher:
     """Routes every sent message to the handlers whose prefixes match its channel."""
 
+    #: Sends only: the bus does not call it for deliveries and drops.
+    observes = (SEND,)
+
     def __init__(self, bus: Bus) -> None:
         self.bus = bus
         self._handlers: list[tuple[tuple[str, ...], Handler]] = []

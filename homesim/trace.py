@@ -13,6 +13,14 @@ bus made them (``seq`` counts them):
 
 The recorder is an interceptor: it reads, never changes. Same scenario and
 seed give a byte-identical file.
+
+Cost: a trace line is written for every send and every delivery, so the
+recorder formats the three record shapes itself (the same bytes as
+``json.dumps(observation_record(...), ensure_ascii=False,
+separators=(",", ":"))``, which the tests check) and, for a file or memory
+trace it owns, writes lines in batches (everything is written by
+:meth:`TraceRecorder.flush`, :meth:`~TraceRecorder.close` and
+:meth:`MemoryTrace.text`).
 """
 
 from __future__ import annotations
@@ -20,6 +28,7 @@ from __future__ import annotations
 import io
 import json
 import os
+from json.encoder import encode_basestring as _json_str
 from collections.abc import Iterator
 from pathlib import Path
 from typing import IO, Any
@@ -36,8 +45,43 @@ from .xmlio import open_regular
 TRACE_FORMAT = 1
 
 
+_ENCODER = json.JSONEncoder(ensure_ascii=False, separators=(",", ":"), allow_nan=False)
+
+
 def _dumps(obj: dict[str, Any]) -> str:
-    return json.dumps(obj, ensure_ascii=False, separators=(",", ":"), allow_nan=False)
+    """``json.dumps(obj, ensure_ascii=False, separators=(",", ":"), allow_nan=False)`` (one encoder, made once)."""
+    return _ENCODER.encode(obj)
+
+
+_float_repr = float.__repr__
+
+
+def _json_list(items: tuple[str, ...]) -> str:
+    return "[" + ",".join(map(_json_str, items)) + "]"
+
+
+def observation_line(obs: Observation, seq: int) -> str:
+    """``_dumps(observation_record(obs, seq))``, formatted directly (the recorder's hot path).
+
+    Floats as ``float.__repr__`` and strings as ``json.encoder.encode_basestring``: exactly what
+    the JSON encoder writes. A send with attachments goes through :func:`observation_record`.
+    """
+    msg = obs.message
+    event = obs.event
+    t = _float_repr(obs.t_ns / NS_PER_S)
+    if event == SEND:
+        if msg.attachments:
+            return _dumps(observation_record(obs, seq))
+        return (
+            f'{{"t":{t},"seq":{seq},"kind":{_json_str(msg.kind)},"sender":{_json_str(msg.sender)},'
+            f'"channel":{_json_str(msg.channel)},"receivers":{_json_list(obs.receivers)},"id":{_json_str(msg.id)},'
+            f'"causes":{_json_list(msg.causes)},"created":{_float_repr(msg.created_ns / NS_PER_S)},'
+            f'"xml":{_json_str(etree.tostring(msg.xml, encoding="unicode"))}}}'
+        )
+    head = f'{{"t":{t},"seq":{seq},"kind":"{"deliver" if event == DELIVER else "drop"}","id":{_json_str(msg.id)},"receivers":{_json_list(obs.receivers)}'
+    if event == DROP:
+        return f'{head},"reason":{_json_str(obs.reason)}}}'
+    return head + "}"
 
 
 def observation_record(obs: Observation, seq: int) -> dict[str, Any]:
@@ -65,25 +109,51 @@ def observation_record(obs: Observation, seq: int) -> dict[str, Any]:
 
 
 class TraceRecorder:
-    """Writes the trace of a bus to a text stream (a file, or memory)."""
+    """Writes the trace of a bus to a text stream (a file, or memory).
 
-    def __init__(self, bus: Bus, stream: IO[str], *, scenario: str, seed: int, header: dict[str, Any] | None = None) -> None:
+    ``batch``: how many lines to gather before one write (1: every line is
+    written at once, as for a stream the caller gave and may read while the
+    run goes on; the file and memory traces batch).
+    """
+
+    def __init__(self, bus: Bus, stream: IO[str], *, scenario: str, seed: int, header: dict[str, Any] | None = None,
+                 batch: int = 1) -> None:
         self.bus = bus
         self.stream = stream
         self.seq = 0
+        self.batch = max(1, int(batch))
+        self._pending: list[str] = []
         header = {"homesim_trace": TRACE_FORMAT, "scenario": scenario, "seed": seed, "homesim_version": __version__, **(header or {})}
         stream.write(_dumps(header) + "\n")
         bus.add_interceptor(self)
 
     def __call__(self, obs: Observation) -> None:
         self.seq += 1
-        self.stream.write(_dumps(observation_record(obs, self.seq)) + "\n")
+        pending = self._pending
+        pending.append(observation_line(obs, self.seq))
+        if len(pending) >= self.batch:
+            self._write()
+
+    def _write(self) -> None:
+        # The lines leave the batch before the write: a stream that refuses them (the re-run
+        # check of homesim.tracerun raises on a departure) does not get them again at close.
+        pending = self._pending
+        pending.append("")
+        text = "\n".join(pending)
+        pending.clear()
+        self.stream.write(text)
+
+    def flush(self) -> None:
+        """Write every gathered line to the stream and flush it."""
+        if self._pending:
+            self._write()
+        self.stream.flush()
 
     def close(self) -> None:
         """Stop recording and flush (the stream is closed if we opened it)."""
         if self in self.bus._interceptors:
             self.bus.remove_interceptor(self)
-        self.stream.flush()
+        self.flush()
 
 
 class FileTrace(TraceRecorder):
@@ -92,7 +162,8 @@ class FileTrace(TraceRecorder):
     def __init__(self, bus: Bus, path: str | os.PathLike[str], *, scenario: str, seed: int, header: dict[str, Any] | None = None) -> None:
         self.path = Path(path)
         self.path.parent.mkdir(parents=True, exist_ok=True)
-        super().__init__(bus, open(self.path, "w", encoding="utf-8", newline="\n"), scenario=scenario, seed=seed, header=header)
+        super().__init__(bus, open(self.path, "w", encoding="utf-8", newline="\n"), scenario=scenario, seed=seed, header=header,
+                         batch=256)
 
     def close(self) -> None:
         super().close()
@@ -103,10 +174,11 @@ class MemoryTrace(TraceRecorder):
     """A trace kept in memory (notebooks, tests)."""
 
     def __init__(self, bus: Bus, *, scenario: str, seed: int) -> None:
-        super().__init__(bus, io.StringIO(), scenario=scenario, seed=seed)
+        super().__init__(bus, io.StringIO(), scenario=scenario, seed=seed, batch=256)
 
     def text(self) -> str:
         assert isinstance(self.stream, io.StringIO)
+        self.flush()
         return self.stream.getvalue()
 
     def records(self) -> list[dict[str, Any]]:

@@ -7,8 +7,16 @@ import subprocess
 import sys
 
 import numpy as np
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from lxml import etree
 
+from homesim.bus import Observation
+from homesim.message import Message
 from homesim.sim import Simulation
+from homesim.trace import observation_line, observation_record
+
+from .conftest import examples
 
 
 def test_header_and_record_format():
@@ -108,3 +116,44 @@ def test_random_streams_are_stable_and_distinct():
     assert a.rng("laser") is a.rng("laser")
     a.close()
     b.close()
+
+
+# The recorder formats its lines itself (the hot path); they must be the bytes json.dumps writes.
+_text = st.text(st.characters(blacklist_categories=("Cs",)), max_size=12)
+
+
+@given(
+    event=st.sampled_from(["send", "deliver", "drop"]),
+    kind=st.sampled_from(["publish", "request", "reply", "error"]),
+    t_ns=st.integers(0, 10**13),
+    created_ns=st.integers(-(10**9), 10**13),
+    seq=st.integers(1, 10**7),
+    names=st.lists(_text, min_size=0, max_size=3),
+    ident=_text,
+    channel=_text,
+    reason=_text,
+    body=st.text(st.characters(blacklist_categories=("Cs", "Cc"), blacklist_characters="\ufffe\uffff"), max_size=12),
+)
+@settings(max_examples=examples(200, 60), deadline=None)
+def test_a_trace_line_is_exactly_what_json_dumps_writes(event, kind, t_ns, created_ns, seq, names, ident, channel, reason, body):
+    xml = etree.Element("m", a=body)
+    xml.text = body
+    msg = Message(ident, kind, ident, channel, xml, created_ns, t_ns, tuple(names))
+    obs = Observation(t_ns, event, msg, tuple(sorted(names)) if event == "send" else tuple(names[:1]), reason if event == "drop" else "")
+    want = json.dumps(observation_record(obs, seq), ensure_ascii=False, separators=(",", ":"), allow_nan=False)
+    assert observation_line(obs, seq) == want
+
+
+def test_file_and_memory_traces_batch_lines_but_lose_none(tmp_path):
+    path = tmp_path / "t.jsonl"
+    with Simulation(seed=1, scenario="batch") as sim:
+        mem = sim.record_trace()
+        sim.record_trace(path)
+        a = sim.bus.participant("a")
+        sim.bus.participant("b").subscribe("/x", lambda m: None)
+        for i in range(700):  # several batches and a partial one
+            a.publish("/x", f"<x i='{i}'/>")
+        sim.run()
+        middle = mem.text()  # read while the run is open: every line so far is there
+        assert middle.count("\n") == 1 + 1400
+    assert path.read_text(encoding="utf-8") == middle

@@ -85,6 +85,8 @@ def _f(el: etree._Element, name: str) -> float:
 class _Exporter:
     """Watches the re-created run (bus interceptor + world listener) and writes the MCAP as it goes."""
 
+    observes = (SEND,)  # the bus spares it deliveries and drops
+
     def __init__(self, out: _Mcap, run: Any) -> None:
         self.out = out
         self.run = run
