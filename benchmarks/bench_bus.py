@@ -1,0 +1,102 @@
+"""The bus and the trace: CPU per typed message, sent and delivered, and per trace line.
+
+Run: ``python benchmarks/bench_bus.py [--messages N]``. Every figure is process CPU time
+(``time.process_time``), so it holds on a loaded machine; each row is the best of
+``--repeat`` runs. Rows:
+
+- a typed pose (the contract's ``/robot/localisation/pose``, nine attributes) published as an
+  element the module built, to 0, 1 and 3 subscribers with handlers, the loop run until every
+  copy is delivered; under the default policy (the module's element trusted) and under the
+  strict one (every message XSD-validated, as in the tests and ``--strict``);
+- the same published as text (a document from outside: hardened parse + XSD);
+- the same with the system-wide trace recorded to a file: the difference per trace line (a
+  send line with its XML, and one delivery line per receiver).
+
+Not a test: nothing is asserted (``tests/test_benchmarks.py`` runs it tiny as a smoke test).
+"""
+
+from __future__ import annotations
+
+import argparse
+import tempfile
+import time
+from pathlib import Path
+from typing import Any
+
+from lxml import etree
+
+from homesim.sim import Simulation
+
+POSE_SCHEMA = Path(__file__).resolve().parents[1] / "robot" / "schemas" / "localisation-pose.xsd"
+CHANNEL = "/robot/localisation/pose"
+
+
+def _pose(i: int) -> etree._Element:
+    return etree.Element("pose", time=f"{i * 0.1:.6f}", x="1.0000", y="2.0000", theta="0.10000", cxx="0.000100",
+                         cyy="0.000100", ctt="0.000010", frame="map")
+
+
+def run(n: int, *, receivers: int = 1, strict: bool = False, text: bool = False, trace: Path | None = None) -> tuple[float, int]:
+    """(CPU seconds, trace lines) for ``n`` publishes, each delivered to ``receivers`` handlers."""
+    sim = Simulation(seed=1, scenario="bench", strict=strict)
+    sim.bus.declare_channel(CHANNEL, POSE_SCHEMA)
+    sender = sim.bus.participant("localisation", host="robot")
+    got = [0]
+
+    def handler(msg: Any) -> None:
+        got[0] += 1
+
+    for k in range(receivers):
+        sim.bus.participant(f"r{k}", host="robot").subscribe(CHANNEL, handler)
+    rec = sim.record_trace(trace) if trace is not None else None
+    payloads: list[Any] = [_pose(i) for i in range(n)]
+    if text:
+        payloads = [etree.tostring(p) for p in payloads]
+    publish = sender.publish
+    step = 1_000_000  # 1 ms of virtual time between messages
+    t0 = time.process_time()
+    for i, p in enumerate(payloads):
+        publish(CHANNEL, p)
+        if i % 64 == 63:
+            sim.run(until=(i + 1) * step / 1e9)
+    sim.run(until=n * step / 1e9 + 1.0)
+    lines = rec.seq if rec is not None else 0
+    sim.close()  # flushes the trace: part of its cost
+    dt = time.process_time() - t0
+    assert got[0] == n * receivers, (got[0], n, receivers)
+    return dt, lines
+
+
+def best(repeat: int, *args: Any, **kw: Any) -> tuple[float, int]:
+    out = [run(*args, **kw) for _ in range(repeat)]
+    return min(out)
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--messages", type=int, default=20_000)
+    ap.add_argument("--repeat", type=int, default=3)
+    a = ap.parse_args()
+    n = a.messages
+    run(min(n, 500))  # warm up: schema compilation, caches
+    print(f"{'case':52} {'us/message':>10}")
+    base: dict[int, float] = {}
+    for receivers in (0, 1, 3):
+        for strict in (False, True):
+            dt, _ = best(a.repeat, n, receivers=receivers, strict=strict)
+            if not strict:
+                base[receivers] = dt
+            label = f"element, {receivers} receiver(s), {'strict (XSD every message)' if strict else 'default (trusted)'}"
+            print(f"{label:52} {1e6 * dt / n:10.1f}")
+    dt, _ = best(a.repeat, n, receivers=1, text=True)
+    print(f"{'text from outside (parse + XSD), 1 receiver':52} {1e6 * dt / n:10.1f}")
+    with tempfile.TemporaryDirectory() as tmp:
+        for receivers in (1, 3):
+            dt, lines = best(a.repeat, n, receivers=receivers, trace=Path(tmp) / "t.jsonl")
+            per_line = (dt - base[receivers]) / max(1, lines)
+            label = f"with trace, {receivers} receiver(s)"
+            print(f"{label:52} {1e6 * dt / n:10.1f}   ({1e6 * per_line:.1f} us per trace line, {lines / n:.0f} lines/message)")
+
+
+if __name__ == "__main__":
+    main()
