@@ -159,12 +159,22 @@ class Actor:
         since = self.now
         pattern = re.compile(act.robot_says, re.IGNORECASE) if act.robot_says else None
         deadline = math.inf if act.timeout is None else since + act.timeout
+        # What was already heard and matched nothing: ended up to ``last`` (the previous poll),
+        # ``seen`` those that ended exactly then. Each poll looks only at what ended since (a cut
+        # at the very instant of the previous poll ends an utterance exactly then), which finds
+        # the same first match as looking at everything since the wait began.
+        last = since
+        seen: frozenset[int] = frozenset()
         while True:
             if pattern is not None:
                 # An utterance counts once it has been heard to its end, after the
                 # wait began (it may have started before: the person hears it end).
-                for u in self.world.sound.ended(since, self.now):
-                    if u.source != "robot":
+                now = self.now
+                heard = self.world.sound.ended(last, now, closed=last > since)
+                last, seen_before = now, seen
+                seen = frozenset(u.n for u in heard if u.end == now)
+                for u in heard:
+                    if u.source != "robot" or u.n in seen_before:
                         continue
                     # A question back ("Did you say hello to me?") is no answer, even with the words in it.
                     if repair is not None and repair.search(u.text):

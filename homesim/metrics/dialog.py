@@ -43,9 +43,7 @@ class Dialog(Observer):
             self.rejected[key] = self.rejected.get(key, 0) + 1
 
     def summary(self) -> dict[str, Any]:
-        by_source: dict[str, int] = {}
-        for u in self.run.world.sound.all():
-            by_source[u.source] = by_source.get(u.source, 0) + 1
+        by_source = self.run.world.sound.said_by()
         heard = self.understood + self.not_understood
         return {
             "utterances_by_source": dict(sorted(by_source.items())),

@@ -10,6 +10,7 @@ from the word count, so a long sentence keeps the recogniser busy longer.
 
 from __future__ import annotations
 
+import math
 import re
 from dataclasses import dataclass
 
@@ -78,11 +79,35 @@ class Utterance:
 
 
 class SoundField:
-    """Every utterance of a run, in start order (an append-only log)."""
+    """The utterances of a run: the few a listener can still hear or ask about, indexed.
 
-    def __init__(self) -> None:
-        self._log: list[Utterance] = []
+    Listeners ask about the present and the recent past only: what is being
+    said now (:meth:`active`, :meth:`speaking`), what ended since their last
+    look (:meth:`ended`, a cursor 0.1 s back), what overlapped the middle of
+    an utterance that just ended (the recogniser), what someone said in the
+    last seconds (:meth:`by` with ``since``). So the live window holds only
+    utterances still going or ended less than ``horizon`` seconds (or, if
+    longer, the longest utterance so far) before the latest time it was
+    told; older ones are dropped when a new utterance starts. Queries about
+    the live window cost what it holds (a few dozen utterances), not the
+    run's length.
 
+    ``history=True`` (the default) also keeps the run's transcript, one
+    record per utterance (its final text after a cut), for :meth:`all`,
+    :meth:`by` and :meth:`ended` further back and the run summary; with
+    ``history=False`` asking further back than the window raises ValueError.
+    """
+
+    def __init__(self, *, horizon: float = 30.0, history: bool = True) -> None:
+        self.horizon = float(horizon)
+        self._count = 0
+        self._live: list[Utterance] = []  # in start (= n) order
+        self._history: list[Utterance] | None = [] if history else None
+        self._floor = -math.inf  # every utterance that ended at or after this is live
+        self._longest = 0.0
+        self._said: dict[str, int] = {}
+
+    # ------------------------------------------------------------ changes
     def say(self, source: str, text: str, t: float, *, loudness: float = 60.0, duration: float | None = None) -> Utterance:
         """Start an utterance at ``t``; the duration defaults to the word count's.
 
@@ -93,14 +118,21 @@ class SoundField:
         dur = speech_duration(text) if duration is None else float(duration)
         if dur <= 0:
             raise ValueError(f"an utterance needs a positive duration, not {dur}")
-        for i in range(len(self._log) - 1, -1, -1):
-            u = self._log[i]
+        live = self._live
+        for i in range(len(live) - 1, -1, -1):
+            u = live[i]
             if u.source == source and u.end > t:
                 said = first_words(u.text, words_spoken(u.text, u.end - u.start, t - u.start))
-                self._log[i] = Utterance(u.n, u.source, said, u.start, max(u.start, t), u.loudness, cut=True)
+                self._replace(i, Utterance(u.n, u.source, said, u.start, max(u.start, t), u.loudness, cut=True))
                 break
-        u = Utterance(len(self._log), source, text, t, t + dur, loudness)
-        self._log.append(u)
+        self._forget(t)
+        u = Utterance(self._count, source, text, t, t + dur, loudness)
+        self._count += 1
+        self._longest = max(self._longest, dur)
+        self._said[source] = self._said.get(source, 0) + 1
+        self._live.append(u)
+        if self._history is not None:
+            self._history.append(u)
         return u
 
     def cut(self, source: str, t: float) -> Utterance | None:
@@ -108,39 +140,87 @@ class SoundField:
 
         Returns the cut utterance, or None when the source was not speaking.
         """
-        for i in range(len(self._log) - 1, -1, -1):
-            u = self._log[i]
+        live = self._live
+        for i in range(len(live) - 1, -1, -1):
+            u = live[i]
             if u.source == source and u.start <= t < u.end:
                 said = first_words(u.text, words_spoken(u.text, u.end - u.start, t - u.start))
-                self._log[i] = Utterance(u.n, u.source, said, u.start, max(u.start, t), u.loudness, cut=True)
-                return self._log[i]
+                return self._replace(i, Utterance(u.n, u.source, said, u.start, max(u.start, t), u.loudness, cut=True))
         return None
 
+    def _replace(self, i: int, u: Utterance) -> Utterance:
+        self._live[i] = u
+        if self._history is not None:
+            self._history[u.n] = u
+        return u
+
+    def _forget(self, t: float) -> None:
+        """Drop what ended longer ago than the window (bounded memory, bounded queries)."""
+        floor = t - max(self.horizon, self._longest)
+        if floor > self._floor:
+            self._live = [u for u in self._live if u.end >= floor]
+            self._floor = floor
+
+    def _window(self, t: float, what: str) -> list[Utterance]:
+        """The utterances to search for a question about times after ``t``."""
+        if t >= self._floor:
+            return self._live
+        if self._history is None:
+            raise ValueError(f"{what}: {t:g} s is before the sound field's window (from {self._floor:g} s) and it keeps no history")
+        return self._history
+
+    # ------------------------------------------------------------ questions
     def active(self, t: float) -> list[Utterance]:
         """Utterances going on at ``t`` (start <= t < end), in start order."""
-        return [u for u in self._log if u.start <= t < u.end]
+        return [u for u in self._window(t, "active") if u.start <= t < u.end]
 
-    def ended(self, t0: float, t1: float) -> list[Utterance]:
-        """Utterances that ended in (t0, t1], in order of their end."""
-        return sorted((u for u in self._log if t0 < u.end <= t1), key=lambda u: (u.end, u.n))
+    def ended(self, t0: float, t1: float, *, closed: bool = False) -> list[Utterance]:
+        """Utterances that ended in (t0, t1] ([t0, t1] with ``closed``), in order of their end."""
+        if closed:
+            got = [u for u in self._window(t0, "ended") if t0 <= u.end <= t1]
+        else:
+            got = [u for u in self._window(t0, "ended") if t0 < u.end <= t1]
+        if len(got) > 1:
+            got.sort(key=lambda u: (u.end, u.n))
+        return got
 
-    def by(self, source: str, *, since: float = float("-inf")) -> list[Utterance]:
+    def by(self, source: str, *, since: float = -math.inf) -> list[Utterance]:
         """Utterances of one source that started at or after ``since``."""
-        return [u for u in self._log if u.source == source and u.start >= since]
+        return [u for u in self._window(since, "by") if u.source == source and u.start >= since]
 
     def speaking(self, source: str, t: float) -> Utterance | None:
         """What ``source`` is saying at ``t``, if anything."""
-        for u in reversed(self._log):
+        for u in reversed(self._window(t, "speaking")):
             if u.source == source and u.start <= t < u.end:
                 return u
         return None
 
     def __len__(self) -> int:
-        return len(self._log)
+        """How many utterances started so far (the next one's ``n``)."""
+        return self._count
 
     def since(self, n: int) -> list[Utterance]:
         """Utterances numbered ``n`` and later (what started since a reader's last look)."""
-        return self._log[n:]
+        if n >= self._count:
+            return []
+        got: list[Utterance] = []
+        for u in reversed(self._live):
+            if u.n < n:
+                break
+            got.append(u)
+        if len(got) == self._count - n:
+            got.reverse()
+            return got
+        if self._history is None:
+            raise ValueError(f"since({n}): utterance {n} is no longer in the sound field's window and it keeps no history")
+        return self._history[n:]
+
+    def said_by(self) -> dict[str, int]:
+        """How many utterances each source started (all of the run, history or not)."""
+        return dict(self._said)
 
     def all(self) -> list[Utterance]:
-        return list(self._log)
+        """Every utterance of the run (the transcript); ValueError without ``history``."""
+        if self._history is None:
+            raise ValueError("the sound field keeps no history (history=False)")
+        return list(self._history)
