@@ -22,7 +22,7 @@ from __future__ import annotations
 
 import heapq
 import math
-from collections import deque
+from collections import OrderedDict, deque
 from collections.abc import Iterable, Sequence
 
 import numpy as np
@@ -41,6 +41,11 @@ CELL = 0.05
 MIN_DOOR_WIDTH = 2 * WALKER_RADIUS + 0.10
 #: How far outside the flat the grid reaches (people leave through exits).
 PAD = 1.5
+
+#: How many recent plans (and A* cell paths) a grid keeps.
+PLAN_CACHE = 64
+#: How many line-of-sight candidates smoothing tests in one numpy pass.
+SMOOTH_BATCH = 24
 
 _SQRT2 = math.sqrt(2.0)
 
@@ -113,6 +118,9 @@ class Grid:
         blocked[:, 0] = blocked[:, -1] = True
         self.blocked = blocked
         self._components: np.ndarray | None = None
+        # The last plans and A* cell paths asked for (both pure functions of their keys).
+        self._plans: OrderedDict[tuple[object, ...], tuple[Point, ...]] = OrderedDict()
+        self._paths: OrderedDict[tuple[object, ...], tuple[tuple[int, int], ...]] = OrderedDict()
 
     @classmethod
     def for_scenario(cls, sc: Scenario, *, clearance: float = WALKER_RADIUS) -> Grid:
@@ -171,12 +179,57 @@ class Grid:
         j = np.clip(np.floor((a[1] + (b[1] - a[1]) * t - self.y0) / self.cell).astype(int), 0, self.ny - 1)
         return not bool(bl[i, j].any())
 
+    def lines_free(self, a: Point, ends: Sequence[Point], blocked: np.ndarray | None = None) -> np.ndarray:
+        """:meth:`line_free` from ``a`` to each of ``ends`` at once (boolean per end).
+
+        The same samples with the same arithmetic as :meth:`line_free` (``linspace`` is
+        ``k * (1 / n)`` with the last sample exactly 1), so the answers are identical;
+        one numpy pass instead of one per line.
+        """
+        bl = self.blocked if blocked is None else blocked
+        m = len(ends)
+        if m == 0:
+            return np.zeros(0, dtype=bool)
+        ax, ay = a
+        half = self.cell * 0.5
+        ns = [max(2, int(math.hypot(bx - ax, by - ay) / half) + 1) for bx, by in ends]
+        counts = np.array(ns, dtype=np.int64) + 1
+        total = int(counts.sum())
+        first = np.zeros(m, dtype=np.int64)
+        np.cumsum(counts[:-1], out=first[1:])
+        k = np.arange(total, dtype=np.int64) - np.repeat(first, counts)
+        t = k * np.repeat(1.0 / np.array(ns, dtype=float), counts)
+        t[first + counts - 1] = 1.0
+        e = np.asarray(ends, dtype=float)
+        dx = np.repeat(e[:, 0] - ax, counts)
+        dy = np.repeat(e[:, 1] - ay, counts)
+        i = np.clip(np.floor((ax + dx * t - self.x0) / self.cell).astype(int), 0, self.nx - 1)
+        j = np.clip(np.floor((ay + dy * t - self.y0) / self.cell).astype(int), 0, self.ny - 1)
+        return ~np.logical_or.reduceat(bl[i, j], first)
+
     # ------------------------------------------------------------ planning
     def plan(self, start: Point, goal: Point, *, avoid: Iterable[Disc] = ()) -> list[Point]:
         """Waypoints from ``start`` to ``goal`` (excluding start, ending at goal or the
         nearest free point to it), keeping clear of the ``avoid`` discs.
-        Raises NoPathError when the goal is unreachable."""
-        avoid = list(avoid)
+        Raises NoPathError when the goal is unreachable.
+
+        A plan is a pure function of its arguments, so the last few are kept: a person held
+        back by the robot re-plans from where she stands to the same goal, and people
+        pacing between two places ask for the same cell path again (``_astar``'s own cache).
+        """
+        avoid = [(float(x), float(y), float(r)) for x, y, r in avoid]
+        key = (float(start[0]), float(start[1]), float(goal[0]), float(goal[1]), tuple(avoid))
+        got = self._plans.get(key)
+        if got is not None:
+            self._plans.move_to_end(key)
+            return list(got)
+        pts = self._plan(start, goal, avoid)
+        self._plans[key] = tuple(pts)
+        if len(self._plans) > PLAN_CACHE:
+            self._plans.popitem(last=False)
+        return pts
+
+    def _plan(self, start: Point, goal: Point, avoid: list[Disc]) -> list[Point]:
         blocked = self.with_discs(avoid) if avoid else self.blocked
         s = self.nearest_free(self.cell_of(start), blocked=blocked)
         g = self.nearest_free(self.cell_of(goal), blocked=blocked)
@@ -185,24 +238,42 @@ class Grid:
         end = goal if self.free(self.cell_of(goal), blocked) else self.centre(g)
         if self.free(self.cell_of(start), blocked) and self.line_free(start, end, blocked):
             return [end]
-        cells = self._astar(blocked, s, g)
+        akey = (s, g, tuple(avoid))
+        cells = self._paths.get(akey)
+        if cells is None:
+            cells = self._paths[akey] = tuple(self._astar(blocked, s, g))
+            if len(self._paths) > PLAN_CACHE:
+                self._paths.popitem(last=False)
+        else:
+            self._paths.move_to_end(akey)
         pts = [self.centre(c) for c in cells[1:-1]] + [end]
         return self._smooth(start, pts, blocked)
 
     def _astar(self, blocked: np.ndarray, s: tuple[int, int], g: tuple[int, int]) -> list[tuple[int, int]]:
+        """A* over the flat cell indices: 8-connected, no corner cutting, octile heuristic, ties by push order.
+
+        Written for speed (a list for costs, a bytearray for the closed set, the moves
+        unrolled into one table) and for sameness: the same pops, pushes, costs and ties as
+        the textbook loop, so the same path.
+        """
         ny = self.ny
         free = (~blocked).ravel().tolist()
         start, goal = s[0] * ny + s[1], g[0] * ny + g[1]
         gi, gj = g
-        straight = ((ny, 1.0), (-ny, 1.0), (1, 1.0), (-1, 1.0))
-        # Diagonal moves with the two orthogonal cells they must not cut.
-        diagonal = ((ny + 1, ny, 1), (ny - 1, ny, -1), (-ny + 1, -ny, 1), (-ny - 1, -ny, -1))
-        k = _SQRT2 - 1.0
-        cost = {start: 0.0}
+        # (flat offset, di, dj, weight, the two orthogonal cells a diagonal must not cut (0: none)).
+        moves = (
+            (ny, 1, 0, 1.0, 0, 0), (-ny, -1, 0, 1.0, 0, 0), (1, 0, 1, 1.0, 0, 0), (-1, 0, -1, 1.0, 0, 0),
+            (ny + 1, 1, 1, _SQRT2, ny, 1), (ny - 1, 1, -1, _SQRT2, ny, -1),
+            (-ny + 1, -1, 1, _SQRT2, -ny, 1), (-ny - 1, -1, -1, _SQRT2, -ny, -1),
+        )
+        km1 = (_SQRT2 - 1.0) - 1.0
+        inf = math.inf
+        cost = [inf] * len(free)
+        cost[start] = 0.0
         came: dict[int, int] = {}
         counter = 0
         frontier: list[tuple[float, int, int]] = [(0.0, 0, start)]
-        closed = set()
+        closed = bytearray(len(free))
         push, pop = heapq.heappush, heapq.heappop
         while frontier:
             _, _, c = pop(frontier)
@@ -211,31 +282,42 @@ class Grid:
                 while path[-1] != start:
                     path.append(came[path[-1]])
                 return [divmod(q, ny) for q in reversed(path)]
-            if c in closed:
+            if closed[c]:
                 continue
-            closed.add(c)
+            closed[c] = 1
             base = cost[c]
-            steps = [(c + d, w) for d, w in straight if free[c + d]]
-            steps += [(c + d, _SQRT2) for d, o1, o2 in diagonal if free[c + d] and free[c + o1] and free[c + o2]]
-            for n, w in steps:
+            ci, cj = divmod(c, ny)
+            for d, di, dj, w, o1, o2 in moves:
+                n = c + d
+                if not free[n] or (o1 and not (free[c + o1] and free[c + o2])):
+                    continue
                 nc = base + w
-                if nc < cost.get(n, math.inf):
+                if nc < cost[n]:
                     cost[n] = nc
                     came[n] = c
-                    ni, nj = divmod(n, ny)
-                    dx, dy = abs(ni - gi), abs(nj - gj)
+                    dx, dy = abs(ci + di - gi), abs(cj + dj - gj)
                     counter += 1
-                    push(frontier, (nc + (dx + dy + (k - 1.0) * min(dx, dy)), counter, n))
+                    push(frontier, (nc + (dx + dy + km1 * min(dx, dy)), counter, n))
         raise NoPathError(f"no path from ({self.centre(s)[0]:.2f}, {self.centre(s)[1]:.2f}) to ({self.centre(g)[0]:.2f}, {self.centre(g)[1]:.2f})")
 
     def _smooth(self, start: Point, pts: list[Point], blocked: np.ndarray) -> list[Point]:
+        """Line-of-sight shortening: from each kept point, on to the farthest point in plain sight.
+
+        The farthest candidates are tested a batch at a time (:meth:`lines_free`), which
+        picks the same point as testing them one by one from the farthest down.
+        """
         out: list[Point] = []
         here = start
         i = 0
         while i < len(pts):
             j = len(pts) - 1
-            while j > i and not self.line_free(here, pts[j], blocked):
-                j -= 1
+            while j > i:
+                lo = max(i + 1, j - SMOOTH_BATCH + 1)
+                ok = np.flatnonzero(self.lines_free(here, pts[lo : j + 1], blocked))
+                if ok.size:
+                    j = lo + int(ok[-1])
+                    break
+                j = lo - 1
             out.append(pts[j])
             here = pts[j]
             i = j + 1
