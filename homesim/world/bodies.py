@@ -19,6 +19,7 @@ from dataclasses import dataclass
 import numpy as np
 import pymunk
 
+from . import chipmunk as cp
 from .geometry import wrap_angle
 
 # Shape categories (bit masks) for collision filtering and queries.
@@ -77,25 +78,29 @@ class RobotBody:
 
     @property
     def pose(self) -> tuple[float, float, float]:
-        p = self.body.position
-        return float(p.x), float(p.y), float(wrap_angle(self.body.angle))
+        x, y = cp.position(self.body)
+        return x, y, float(wrap_angle(cp.angle(self.body)))
 
     def command(self, v: float, w: float) -> None:
         """Set the wanted forward speed (m/s) and turn rate (rad/s); limits apply."""
         self.cmd_v = float(np.clip(v, -self.max_speed, self.max_speed))
         self.cmd_w = float(np.clip(w, -self.max_turn, self.max_turn))
 
-    def before_step(self, dt: float) -> None:
+    def before_step(self, dt: float) -> float:
+        """Set the body's velocities from the command (acceleration-limited); returns its angle."""
         a, b = self.max_accel * dt, self.max_turn_accel * dt
         self.v += min(max(self.cmd_v - self.v, -a), a)
         self.w += min(max(self.cmd_w - self.w, -b), b)
-        th = self.body.angle
-        self.body.velocity = (self.v * math.cos(th), self.v * math.sin(th))
-        self.body.angular_velocity = self.w
+        body = self.body
+        th = cp.angle(body)
+        v = self.v
+        cp.set_velocity(body, v * math.cos(th), v * math.sin(th))
+        cp.set_angular_velocity(body, self.w)
+        return th
 
     def after_step(self, dt: float, before: tuple[float, float]) -> None:
-        p = self.body.position
-        moved = math.hypot(p.x - before[0], p.y - before[1])
+        px, py = cp.position(self.body)
+        moved = math.hypot(px - before[0], py - before[1])
         self.odometer += moved
         # What the base really achieved (a wall stops it): the wheels follow.
         if dt > 0 and moved < abs(self.v) * dt * 0.5:
@@ -136,6 +141,8 @@ class HumanBody:
         self.present = True
         self.pointing: Pointing | None = None
         self.walk = (0.0, 0.0)  # the velocity the script wants; the world may hold the person back
+        self.walk_speed = 0.0  # its size
+        self.velocity = (0.0, 0.0)  # the body's velocity as last set (a kinematic body keeps it)
         self.held = False  # the last step was refused (the robot was in the way)
         self.held_time = 0.0  # seconds spent held back, in total
         self.space = space
@@ -149,13 +156,13 @@ class HumanBody:
             leg.sensor = True
             leg.filter = pymunk.ShapeFilter(categories=CAT_LEGS | CAT_LASER, mask=CAT_QUERY)
         space.add(self.body, self.shape, *self.legs)
+        self.leg_offsets = ((0.0, LEG_SPREAD), (0.0, -LEG_SPREAD))  # as last set on the leg shapes
         self._place_legs()
 
     # ------------------------------------------------------------ state
     @property
     def position(self) -> tuple[float, float]:
-        p = self.body.position
-        return float(p.x), float(p.y)
+        return cp.position(self.body)
 
     @property
     def pose(self) -> tuple[float, float, float]:
@@ -201,11 +208,8 @@ class HumanBody:
         """World positions (2, 2) of the two legs."""
         x, y = self.position
         c, s = math.cos(self.heading), math.sin(self.heading)
-        out = np.empty((2, 2))
-        for i, leg in enumerate(self.legs):
-            ox, oy = leg.offset
-            out[i] = (x + c * ox - s * oy, y + s * ox + c * oy)
-        return out
+        (ox0, oy0), (ox1, oy1) = self.leg_offsets
+        return np.array(((x + c * ox0 - s * oy0, y + s * ox0 + c * oy0), (x + c * ox1 - s * oy1, y + s * ox1 + c * oy1)))
 
     # ---------------------------------------------------------- motion
     def walk_velocity(self, vx: float, vy: float) -> None:
@@ -215,13 +219,21 @@ class HumanBody:
         instead when the step would bump into the robot.
         """
         self.walk = (float(vx), float(vy))
-        self.body.velocity = self.walk
+        self.walk_speed = math.hypot(*self.walk)
+        self.set_velocity(*self.walk)
         if vx * vx + vy * vy > 1e-8:
             self.heading = math.atan2(vy, vx)
 
     def stand(self) -> None:
         self.walk = (0.0, 0.0)
-        self.body.velocity = (0.0, 0.0)
+        self.walk_speed = 0.0
+        self.set_velocity(0.0, 0.0)
+
+    def set_velocity(self, vx: float, vy: float) -> None:
+        """Set the body's velocity (the only way it changes: nothing pushes a kinematic body)."""
+        if (vx, vy) != self.velocity:
+            self.velocity = (vx, vy)
+            cp.set_velocity(self.body, vx, vy)
 
     def turn_to(self, heading: float) -> None:
         self.heading = float(wrap_angle(heading))
@@ -240,8 +252,8 @@ class HumanBody:
 
     def advance(self, dt: float) -> None:
         """After a physics step: move the gait by the distance walked."""
-        v = self.body.velocity
-        speed = math.hypot(v.x, v.y)
+        vx, vy = self.velocity
+        speed = math.hypot(vx, vy)
         self.phase = (self.phase + 2 * math.pi * speed * dt / STRIDE) % (2 * math.pi)
         target_amp = STRIDE / 4 * min(1.0, speed / 0.4)
         self.gait_amp += (target_amp - self.gait_amp) * min(1.0, 8.0 * dt)
@@ -249,12 +261,15 @@ class HumanBody:
 
     def _place_legs(self) -> None:
         # The body frame turns with the heading; legs are offset in it.
-        self.body.angle = self.heading
+        body = self.body
+        heading = self.heading
+        cp.set_angle(body, heading)
         swing = self.gait_amp * math.sin(self.phase)
-        for leg, side, sign in zip(self.legs, (1.0, -1.0), (1.0, -1.0)):
-            leg.unsafe_set_offset((sign * swing, side * LEG_SPREAD))
-        if self.body.space is not None:
-            self.space.reindex_shapes_for_body(self.body)
+        cp.set_circle_offset(self.legs[0], swing, LEG_SPREAD)
+        cp.set_circle_offset(self.legs[1], -swing, -LEG_SPREAD)
+        self.leg_offsets = ((swing, LEG_SPREAD), (-swing, -LEG_SPREAD))
+        if self.present:
+            cp.reindex(self.space, body)
 
     def remove(self) -> None:
         """Leave the world (walked out of the flat)."""

@@ -24,6 +24,7 @@ import numpy as np
 import pymunk
 
 from ..scenario.model import Furniture, Scenario, Target
+from . import chipmunk as cp
 from .acoustics import SoundField
 from .bodies import (
     CAT_FURNITURE,
@@ -38,7 +39,7 @@ from .bodies import (
     HumanBody,
     RobotBody,
 )
-from .geometry import is_convex, polygon_area, polygon_centroid, polygon_edges, split_wall, wall_rectangle
+from .geometry import is_convex, point_in_polygon, polygon_area, polygon_centroid, polygon_edges, split_wall, wall_rectangle
 from .pathplan import WALKER_RADIUS, Grid, door_sides, scenario_bounds
 from .raycast import Prisms, RayCaster
 
@@ -51,6 +52,14 @@ PERSON_GAP = 0.02
 MAX_SUBSTEP_MOVE = 0.05
 #: Overlap with a wall (metres) beyond which the robot's last move is undone.
 STUCK_DEPTH = 0.003
+#: Cells (metres) of the robot's no-contact look-up, and the safety margin of that test.
+CLEAR_CELL = 0.05
+CONTACT_MARGIN = 0.02
+#: Cells (metres) of the room look-up (:meth:`World.room_of`).
+ROOM_CELL = 0.1
+_UNKNOWN, _MIXED = object(), object()
+#: A query for walls and furniture only (people and the robot do not match it).
+STATIC_QUERY = pymunk.ShapeFilter(mask=CAT_WALL | CAT_FURNITURE)
 
 
 class Obstacle:
@@ -88,6 +97,9 @@ class World:
         self.humans: dict[str, HumanBody] = {}
         for h in scenario.humans:
             self.humans[h.name] = HumanBody(self.space, h.name, h.x, h.y, h.heading, height=h.height, torso=h.torso, speed=h.speed)
+        self._people = list(self.humans.values())
+        # Robot positions (5 cm cells) with no wall or furniture within reach: no contact to resolve there.
+        self._clear_cells: dict[tuple[int, int], bool] = {}
         self.sources = {s.name: (s.x, s.y, s.height) for s in scenario.sources}
         self.objects = {o.name: o for o in scenario.objects}
         self._seg_cache: dict[float, tuple[np.ndarray, np.ndarray]] = {}
@@ -97,6 +109,8 @@ class World:
         # (origin x, origin y, max range), the angles, their static ranges: see laser_ranges.
         self._laser_static: tuple[tuple[float, float, float], np.ndarray, np.ndarray] | None = None
         self._grids: dict[float, Grid] = {}
+        self._room_polys = [(r.name, [(float(x), float(y)) for x, y in r.polygon]) for r in scenario.rooms]
+        self._room_cells: dict[tuple[int, int], object] = {}
         self._prisms: Prisms | None = None
 
     # ------------------------------------------------------------ building
@@ -161,9 +175,12 @@ class World:
         """
         dt = self.dt if dt is None else dt
         n = self.substeps(dt)
-        h = dt / n
-        for _ in range(n):
-            self._substep(h)
+        if n == 1:
+            self._substep(dt)
+        else:
+            h = dt / n
+            for _ in range(n):
+                self._substep(h)
         self.steps += 1
         for fn in self._listeners:
             fn(self)
@@ -172,19 +189,18 @@ class World:
         """How many sub-steps a step of ``dt`` needs (the fastest point moves at most MAX_SUBSTEP_MOVE in each)."""
         rb = self.robot
         fastest = max(rb.max_speed, abs(rb.v)) + max(rb.max_turn, abs(rb.w)) * ROBOT_REACH
-        for hb in self.humans.values():
-            if hb.present:
-                fastest = max(fastest, math.hypot(*hb.walk))
+        for hb in self._people:
+            if hb.present and hb.walk_speed > fastest:
+                fastest = hb.walk_speed
         return max(1, math.ceil(fastest * dt / MAX_SUBSTEP_MOVE - 1e-9))
 
     def _substep(self, dt: float) -> None:
         rb = self.robot
-        rb.before_step(dt)
-        before = rb.body.position
-        angle = rb.body.angle
+        angle = rb.before_step(dt)
+        before = cp.position(rb.body)
         self._hold_people_back(dt)
         self.space.step(dt)
-        if self._resolve_robot_contacts():
+        if not self._no_contact() and self._resolve_robot_contacts():
             # Turning in a tight spot (between a wall and a table): the solver cannot
             # stop a turn (the base's turn rate is imposed), so the turn is blocked.
             rb.body.angle = angle
@@ -193,10 +209,32 @@ class World:
             if self._resolve_robot_contacts():
                 rb.body.position = before
                 self.space.reindex_shapes_for_body(rb.body)
-        rb.after_step(dt, (before.x, before.y))
-        for h in self.humans.values():
+        rb.after_step(dt, before)
+        for h in self._people:
             if h.present:
                 h.advance(dt)
+
+    def _no_contact(self) -> bool:
+        """Whether the robot provably touches nothing (so :meth:`_resolve_robot_contacts` would do nothing).
+
+        Nothing static lies within its reach of the robot's 5 cm cell (asked of pymunk once
+        per cell and kept) and every person's body is farther than both radii. Exact: a
+        shape query there would find no overlap at all.
+        """
+        x, y = cp.position(self.robot.body)
+        reach = ROBOT_REACH + HUMAN_RADIUS + 2 * CONTACT_MARGIN
+        for h in self._people:
+            if h.present:
+                hx, hy = h.position
+                if (hx - x) ** 2 + (hy - y) ** 2 <= reach * reach:
+                    return False
+        cell = (math.floor(x / CLEAR_CELL), math.floor(y / CLEAR_CELL))
+        clear = self._clear_cells.get(cell)
+        if clear is None:
+            centre = ((cell[0] + 0.5) * CLEAR_CELL, (cell[1] + 0.5) * CLEAR_CELL)
+            near = self.space.point_query(centre, ROBOT_REACH + CLEAR_CELL + CONTACT_MARGIN, STATIC_QUERY)
+            clear = self._clear_cells[cell] = not any(not q.shape.sensor for q in near if q.shape is not None)
+        return clear
 
     def _hold_people_back(self, dt: float) -> None:
         """People never push the robot: a step that would bring someone within
@@ -206,8 +244,8 @@ class World:
         stands still for this step instead, and walks on when the way is free.
         """
         shape = self.robot.shape
-        rp = self.robot.body.position
-        for h in self.humans.values():
+        rx, ry = cp.position(self.robot.body)
+        for h in self._people:
             if not h.present:
                 continue
             vx, vy = h.walk
@@ -215,11 +253,14 @@ class World:
             if vx or vy:
                 x, y = h.position
                 far = ROBOT_REACH + HUMAN_RADIUS + PERSON_GAP + math.hypot(vx, vy) * dt
-                if (x - rp.x) ** 2 + (y - rp.y) ** 2 < far * far:  # near enough to matter
+                if (x - rx) ** 2 + (y - ry) ** 2 < far * far:  # near enough to matter
                     now = shape.point_query((x, y)).distance
                     nxt = shape.point_query((x + vx * dt, y + vy * dt)).distance
                     held = nxt < HUMAN_RADIUS + PERSON_GAP and nxt < now
-            h.body.velocity = (0.0, 0.0) if held else (vx, vy)
+            if held:
+                h.set_velocity(0.0, 0.0)
+            else:
+                h.set_velocity(vx, vy)
             h.held = held
             if held:
                 h.held_time += dt
@@ -252,7 +293,11 @@ class World:
                 self.space.reindex_shapes_for_body(body)
                 hb = shape.body
                 hb.position = (hb.position.x + n.x * depth, hb.position.y + n.y * depth)
-                hb.velocity = (0.0, 0.0)
+                who = next((h for h in self._people if h.body is hb), None)
+                if who is not None:
+                    who.set_velocity(0.0, 0.0)
+                else:
+                    hb.velocity = (0.0, 0.0)
                 self.space.reindex_shapes_for_body(hb)
         static = self._overlaps()[0]
         return static is not None and static[0] > STUCK_DEPTH
@@ -409,13 +454,39 @@ class World:
         return self.sources.get(name)
 
     def room_of(self, x: float, y: float) -> str | None:
-        """Name of the room containing (x, y), or None outside the flat."""
-        from .geometry import point_in_polygon
+        """Name of the room containing (x, y), or None outside the flat.
 
-        for room in self.scenario.rooms:
-            if point_in_polygon((x, y), room.polygon):
-                return room.name
+        Looked up in a grid of :data:`ROOM_CELL` cells, filled as they are asked for: a cell
+        that no room edge comes near has one answer everywhere in it (the even-odd test
+        changes only across an edge), the one at its centre; a cell an edge crosses or
+        touches asks the polygons every time. So the answer is the polygons' own.
+        """
+        key = (math.floor(x / ROOM_CELL), math.floor(y / ROOM_CELL))
+        got = self._room_cells.get(key, _UNKNOWN)
+        if got is _UNKNOWN:
+            got = self._room_cells[key] = self._cell_room(key)
+        return self._room_exact(x, y) if got is _MIXED else got  # type: ignore[return-value]
+
+    def _room_exact(self, x: float, y: float) -> str | None:
+        for name, poly in self._room_polys:
+            if point_in_polygon((x, y), poly):
+                return name
         return None
+
+    def _cell_room(self, key: tuple[int, int]) -> object:
+        """The room of every point of a grid cell, or _MIXED when a room edge comes near it."""
+        cx, cy = (key[0] + 0.5) * ROOM_CELL, (key[1] + 0.5) * ROOM_CELL
+        clear = ROOM_CELL * 0.7072 + 1e-6  # beyond the cell's half diagonal
+        for _, poly in self._room_polys:
+            n = len(poly)
+            for i in range(n):
+                (ax, ay), (bx, by) = poly[i], poly[(i + 1) % n]
+                dx, dy = bx - ax, by - ay
+                dd = dx * dx + dy * dy
+                t = 0.0 if dd < 1e-18 else min(1.0, max(0.0, ((cx - ax) * dx + (cy - ay) * dy) / dd))
+                if math.hypot(cx - (ax + t * dx), cy - (ay + t * dy)) <= clear:
+                    return _MIXED
+        return self._room_exact(cx, cy)
 
     def walk_grid(self, clearance: float = WALKER_RADIUS) -> Grid:
         """The occupancy grid people plan their walks on (built once per clearance)."""

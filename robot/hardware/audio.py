@@ -104,6 +104,8 @@ class Microphones(Module):
         self._on_beam: dict[int, tuple[float, float, bool]] = {}
         # What the speaker announced it plays: (start, text) -> end (the AEC's reference).
         self._played: dict[tuple[float, str], float] = {}
+        # Path loss (dB) by (source x, source y, listener): see _path_loss.
+        self._losses: dict[tuple[float, float, tuple[float, float]], float] = {}
         self.bus.subscribe(STEER, self._on_steer)
         self.bus.subscribe(SPEAKER_STATUS, self._on_speaker)
 
@@ -144,8 +146,30 @@ class Microphones(Module):
         mics = mic_positions(pose, self.spec)
         centre = mics.mean(axis=0)
         dist = np.linalg.norm(pts_a - centre, axis=1)
-        levels = level_db(np.array(loud), dist) - path_loss_db(pts_a[:, :2], (float(centre[0]), float(centre[1])), self._walls, self._furniture, self.spec)
+        levels = level_db(np.array(loud), dist) - self._path_loss(pts_a, (float(centre[0]), float(centre[1])))
         return tdoa(pts_a, mics), levels, kept
+
+    def _path_loss(self, pts: np.ndarray, centre: tuple[float, float]) -> np.ndarray:
+        """:func:`path_loss_db` per source, remembered for the last source and listener positions:
+        a person talking stands still and the robot listening mostly does too, so most
+        frames ask again what the last one asked. Each source's loss is its own row of
+        the computation, so computing only the new ones gives the same numbers."""
+        cache = self._losses
+        loss = np.empty(pts.shape[0])
+        todo = []
+        for i in range(pts.shape[0]):
+            got = cache.get((float(pts[i, 0]), float(pts[i, 1]), centre))
+            if got is None:
+                todo.append(i)
+            else:
+                loss[i] = got
+        if todo:
+            new = path_loss_db(pts[todo, :2], centre, self._walls, self._furniture, self.spec)
+            if len(cache) > 4 * (len(todo) + 32):  # bounded: positions long gone
+                cache.clear()
+            for k, i in enumerate(todo):
+                loss[i] = cache[(float(pts[i, 0]), float(pts[i, 1]), centre)] = float(new[k])
+        return loss
 
     # ------------------------------------------------------------ main loop
     async def run(self) -> None:

@@ -1,0 +1,234 @@
+"""The simulated home's fast paths give the answers of the plain ways (issue 9: speed without changing behaviour).
+
+Each fast path (the sound field's bounded window, the planner's cached and batched A*
+and smoothing, the room look-up grid, the physics step's no-contact test) is checked
+against the straightforward computation it replaces, kept here as the reference.
+"""
+
+from __future__ import annotations
+
+import heapq
+import math
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from homesim.world.acoustics import SoundField, Utterance, first_words, speech_duration, words_spoken
+from homesim.world.geometry import point_in_polygon
+from homesim.world.pathplan import Grid, NoPathError, scenario_bounds
+from homesim.world.world import World
+from tests.conftest import examples
+from tests.world_helpers import EXAMPLE, room, scenario
+
+
+# ----------------------------------------------------------------- sound field
+class LogField:
+    """The reference: every utterance in one list, every question a scan of all of it."""
+
+    def __init__(self) -> None:
+        self.log: list[Utterance] = []
+
+    def say(self, source: str, text: str, t: float, duration: float | None = None) -> None:
+        dur = speech_duration(text) if duration is None else duration
+        for i in range(len(self.log) - 1, -1, -1):
+            u = self.log[i]
+            if u.source == source and u.end > t:
+                said = first_words(u.text, words_spoken(u.text, u.end - u.start, t - u.start))
+                self.log[i] = Utterance(u.n, u.source, said, u.start, max(u.start, t), u.loudness, cut=True)
+                break
+        self.log.append(Utterance(len(self.log), source, text, t, t + dur, 60.0))
+
+    def cut(self, source: str, t: float) -> None:
+        for i in range(len(self.log) - 1, -1, -1):
+            u = self.log[i]
+            if u.source == source and u.start <= t < u.end:
+                said = first_words(u.text, words_spoken(u.text, u.end - u.start, t - u.start))
+                self.log[i] = Utterance(u.n, u.source, said, u.start, max(u.start, t), u.loudness, cut=True)
+                return
+
+    def active(self, t: float) -> list[Utterance]:
+        return [u for u in self.log if u.start <= t < u.end]
+
+    def ended(self, t0: float, t1: float) -> list[Utterance]:
+        return sorted((u for u in self.log if t0 < u.end <= t1), key=lambda u: (u.end, u.n))
+
+
+events = st.lists(
+    st.tuples(st.sampled_from(["ann", "bob", "robot", "radio"]), st.sampled_from(["say", "cut", "wait"]),
+              st.floats(0.0, 4.0), st.integers(1, 8), st.one_of(st.none(), st.floats(0.2, 25.0))),
+    min_size=1, max_size=60,
+)
+
+
+@settings(max_examples=examples(60, 200), deadline=None)
+@given(events=events)
+def test_the_bounded_sound_field_answers_as_the_whole_log(events):
+    """What listeners ask (now, what ended since their last look 0.1 s back, the recent past)
+    is answered exactly as from the whole log, while the window stays small."""
+    ref, field = LogField(), SoundField(horizon=5.0, history=False)
+    t = last = said_at = longest = 0.0
+    for source, what, gap, words, duration in events:
+        t += gap
+        text = " ".join(f"w{k}" for k in range(words))
+        if what == "say":
+            ref.say(source, text, t, duration)
+            field.say(source, text, t, duration=duration)
+            said_at, longest = t, max(longest, speech_duration(text) if duration is None else duration)
+        elif what == "cut":
+            ref.cut(source, t)
+            field.cut(source, t)
+        assert field.active(t) == ref.active(t)
+        assert field.ended(last, t) == ref.ended(last, t)
+        assert field.speaking(source, t) == next((u for u in reversed(ref.active(t)) if u.source == source), None)
+        assert field.by(source, since=t - 5.0) == [u for u in ref.log if u.source == source and u.start >= t - 5.0]
+        assert len(field) == len(ref.log)
+        # The window: nothing that ended longer ago than the horizon (or the longest utterance) before the last say.
+        assert all(u.end >= said_at - max(5.0, longest) for u in field._live)
+        last = t
+
+
+def test_a_sound_field_without_history_refuses_questions_about_the_forgotten_past():
+    field = SoundField(horizon=2.0, history=False)
+    field.say("ann", "hello", 0.0)
+    field.say("ann", "hello again", 10.0)
+    assert [u.text for u in field.active(10.5)] == ["hello again"]
+    with pytest.raises(ValueError, match="window"):
+        field.ended(0.0, 10.0)
+    with pytest.raises(ValueError, match="history"):
+        field.all()
+    assert field.said_by() == {"ann": 2}
+
+
+def test_a_sound_field_with_history_keeps_the_transcript_with_cuts():
+    field = SoundField(horizon=2.0)
+    field.say("robot", "one two three four five", 0.0)
+    field.cut("robot", 1.0)
+    field.say("ann", "hello", 30.0)
+    first, second = field.all()
+    assert first.cut and first.text == "one two" and second.text == "hello"
+    assert field.ended(0.0, 30.5) == [first]  # further back than the window: from the transcript
+    assert field.since(0) == [first, second] and field.since(1) == [second]
+
+
+# ----------------------------------------------------------------- path planning
+def reference_plan(grid: Grid, start, goal, avoid=()):
+    """The textbook A* (dict costs, a closed set, per-node neighbour lists) and one-by-one smoothing."""
+    avoid = list(avoid)
+    blocked = grid.with_discs(avoid) if avoid else grid.blocked
+    s = grid.nearest_free(grid.cell_of(start), blocked=blocked)
+    g = grid.nearest_free(grid.cell_of(goal), blocked=blocked)
+    if s is None or g is None:
+        raise NoPathError("no free space")
+    end = goal if grid.free(grid.cell_of(goal), blocked) else grid.centre(g)
+    if grid.free(grid.cell_of(start), blocked) and grid.line_free(start, end, blocked):
+        return [end]
+    ny = grid.ny
+    free = (~blocked).ravel().tolist()
+    s0, g0 = s[0] * ny + s[1], g[0] * ny + g[1]
+    sq2 = math.sqrt(2.0)
+    straight = ((ny, 1.0), (-ny, 1.0), (1, 1.0), (-1, 1.0))
+    diagonal = ((ny + 1, ny, 1), (ny - 1, ny, -1), (-ny + 1, -ny, 1), (-ny - 1, -ny, -1))
+    cost, came, counter, frontier, closed = {s0: 0.0}, {}, 0, [(0.0, 0, s0)], set()
+    while frontier:
+        _, _, c = heapq.heappop(frontier)
+        if c == g0:
+            path = [c]
+            while path[-1] != s0:
+                path.append(came[path[-1]])
+            cells = [divmod(q, ny) for q in reversed(path)]
+            break
+        if c in closed:
+            continue
+        closed.add(c)
+        steps = [(c + d, w) for d, w in straight if free[c + d]]
+        steps += [(c + d, sq2) for d, o1, o2 in diagonal if free[c + d] and free[c + o1] and free[c + o2]]
+        for n, w in steps:
+            nc = cost[c] + w
+            if nc < cost.get(n, math.inf):
+                cost[n], came[n] = nc, c
+                ni, nj = divmod(n, ny)
+                dx, dy = abs(ni - g[0]), abs(nj - g[1])
+                counter += 1
+                heapq.heappush(frontier, (nc + (dx + dy + ((sq2 - 1.0) - 1.0) * min(dx, dy)), counter, n))
+    else:
+        raise NoPathError("no path")
+    pts = [grid.centre(c) for c in cells[1:-1]] + [end]
+    out, here, i = [], start, 0
+    while i < len(pts):
+        j = len(pts) - 1
+        while j > i and not grid.line_free(here, pts[j], blocked):
+            j -= 1
+        out.append(pts[j])
+        here, i = pts[j], j + 1
+    return out
+
+
+HOME = scenario(EXAMPLE)
+HOME_GRID = Grid.for_scenario(HOME)
+X0, Y0, X1, Y1 = scenario_bounds(HOME)
+xs, ys = st.floats(X0, X1), st.floats(Y0, Y1)
+
+
+@settings(max_examples=examples(8, 30), deadline=None)
+@given(sx=xs, sy=ys, gx=xs, gy=ys, robot=st.one_of(st.none(), st.tuples(xs, ys)))
+def test_plans_are_the_textbook_plans(sx, sy, gx, gy, robot):
+    avoid = [] if robot is None else [(robot[0], robot[1], 0.35)]
+    try:
+        want = reference_plan(HOME_GRID, (sx, sy), (gx, gy), avoid)
+    except NoPathError:
+        with pytest.raises(NoPathError):
+            HOME_GRID.plan((sx, sy), (gx, gy), avoid=avoid)
+        return
+    assert HOME_GRID.plan((sx, sy), (gx, gy), avoid=avoid) == want
+    again = HOME_GRID.plan((sx, sy), (gx, gy), avoid=avoid)  # from the cache: the same, and a list of its own
+    assert again == want
+    again.pop()
+    assert HOME_GRID.plan((sx, sy), (gx, gy), avoid=avoid) == want
+
+
+@settings(max_examples=examples(30, 100), deadline=None)
+@given(ax=xs, ay=ys, ends=st.lists(st.tuples(xs, ys), min_size=1, max_size=30))
+def test_lines_checked_together_are_lines_checked_one_by_one(ax, ay, ends):
+    together = HOME_GRID.lines_free((ax, ay), ends).tolist()
+    assert together == [HOME_GRID.line_free((ax, ay), e) for e in ends]
+
+
+# ----------------------------------------------------------------- rooms
+WORLD = World(HOME)
+
+
+@settings(max_examples=examples(150, 600), deadline=None)
+@given(x=st.floats(X0 - 1, X1 + 1), y=st.floats(Y0 - 1, Y1 + 1), snap=st.booleans())
+def test_the_room_grid_answers_as_the_room_polygons(x, y, snap):
+    if snap:  # on the polygons' own corners and edges too
+        corners = [p for r in HOME.rooms for p in r.polygon]
+        x, y = corners[int(abs(x) * 1000) % len(corners)]
+        x, y = float(x), float(y) + (0.0 if int(abs(y) * 100) % 2 else 1e-12)
+    want = next((r.name for r in HOME.rooms if point_in_polygon((x, y), r.polygon)), None)
+    assert WORLD.room_of(x, y) == want
+
+
+# ----------------------------------------------------------------- contacts
+@settings(max_examples=examples(60, 200), deadline=None)
+@given(x=st.floats(0.0, 9.0), y=st.floats(0.0, 7.0), heading=st.floats(-math.pi, math.pi),
+       px=st.floats(0.0, 9.0), py=st.floats(0.0, 7.0))
+def test_no_contact_is_said_only_where_the_robot_overlaps_nothing(x, y, heading, px, py):
+    world = room()
+    world.place_robot(x, y, heading)
+    world.humans["ann"].teleport(px, py)
+    if world._no_contact():
+        assert world._overlaps() == (None, None)
+
+
+def test_the_robot_still_meets_walls_and_people():
+    world = room()
+    world.place_robot(6.0, 3.0, 0.0)
+    world.humans["ann"].teleport(2.0, 3.0)
+    assert world._no_contact()
+    world.place_robot(7.8, 3.0, 0.0)  # into the east wall
+    assert not world._no_contact() and world._overlaps()[0] is not None
+    world.place_robot(2.3, 3.0, 0.0)  # onto ann
+    assert not world._no_contact() and world._overlaps()[1] is not None
+    assert np.isfinite(world.robot.pose).all()
