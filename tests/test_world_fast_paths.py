@@ -232,3 +232,45 @@ def test_the_robot_still_meets_walls_and_people():
     world.place_robot(2.3, 3.0, 0.0)  # onto ann
     assert not world._no_contact() and world._overlaps()[1] is not None
     assert np.isfinite(world.robot.pose).all()
+
+
+def test_a_robot_in_the_only_doorway_is_no_path_at_once_and_the_same_refusal():
+    """The planner asks the free regions before searching: a disc closing the only door is
+    refused as A* would refuse it (same error), and a path around it as A* finds it."""
+    from homesim.world.pathplan import door_frame, door_sides
+
+    wall, door = next((w, d) for w in HOME.walls for d in w.doors if not d.exit)
+    (cx, cy), _ = door_frame(wall, door)
+    inside, outside = door_sides(wall, door)
+    grid = Grid.for_scenario(HOME)
+    closed = [(cx, cy, door.width)]
+    try:
+        reference_plan(grid, inside, outside, closed)
+        refused = False
+    except NoPathError:
+        refused = True
+    if refused:
+        with pytest.raises(NoPathError, match="no path from"):
+            grid.plan(inside, outside, avoid=closed)
+        with pytest.raises(NoPathError, match="no path from"):  # the refusal is kept too
+            grid.plan(inside, outside, avoid=closed)
+    else:
+        assert grid.plan(inside, outside, avoid=closed) == reference_plan(grid, inside, outside, closed)
+    open_ = [(cx + 3.0, cy + 3.0, 0.35)]
+    assert grid.plan(inside, outside, avoid=open_) == reference_plan(grid, inside, outside, open_)
+
+
+@settings(max_examples=examples(40, 150), deadline=None)
+@given(x=xs, y=ys, th=st.floats(-math.pi, math.pi), pts=st.lists(st.tuples(xs, ys), max_size=12))
+def test_visibility_tested_on_the_points_in_view_only_is_the_same(x, y, th, pts):
+    from homesim.metrics.tracking import visible_region, wall_edges
+    from homesim.world.geometry import segments_intersect, wrap_angle
+
+    walls = wall_edges(WORLD)
+    xy = np.array(pts, dtype=float).reshape(-1, 2)
+    ox, oy = x + 0.13 * math.cos(th), y + 0.13 * math.sin(th)
+    dx, dy = xy[:, 0] - ox, xy[:, 1] - oy
+    want = (np.abs(np.asarray(wrap_angle(np.arctan2(dy, dx) - th))) <= math.pi / 2) & (np.hypot(dx, dy) <= 6.5)
+    if xy.shape[0]:
+        want &= ~segments_intersect(np.broadcast_to(np.array([ox, oy]), xy.shape), xy, *walls).any(axis=1)
+    assert visible_region(walls, (x, y, th), xy).tolist() == want.tolist()

@@ -182,8 +182,11 @@ def visible_region(walls: tuple[np.ndarray, np.ndarray], pose: tuple[float, floa
     ok = (np.abs(b) <= fov / 2) & (np.hypot(dx, dy) <= max_range)
     a, e = walls
     if ok.any() and a.shape[0]:
-        crosses = segments_intersect(np.broadcast_to(np.array([ox, oy]), xy.shape), xy, a, e).any(axis=1)
-        ok &= ~crosses
+        # Only the points in view and range need the wall test (each point's answer is its own row).
+        rows = np.flatnonzero(ok)
+        pts = xy[rows]
+        crosses = segments_intersect(np.broadcast_to(np.array([ox, oy]), pts.shape), pts, a, e).any(axis=1)
+        ok[rows[crosses]] = False
     return ok
 
 
@@ -223,7 +226,6 @@ class TrackingMetric(Observer):
         pose = world.robot.pose
         people = [(n, h.position) for n, h in world.humans.items() if h.present]
         gt_xy = np.array([p for _, p in people], dtype=float).reshape(-1, 2)
-        vis = visible_region(self.walls, pose, gt_xy)
         ids, xy = [], []
         x, y, th = pose
         for t in m.xml:
@@ -234,7 +236,9 @@ class TrackingMetric(Observer):
             ids.append(t.get("id"))
             xy.append((x + d * math.cos(b), y + d * math.sin(b)))
         hyp_xy = np.array(xy, dtype=float).reshape(-1, 2)
-        hvis = visible_region(self.walls, pose, hyp_xy)
+        # People and tracks in one visibility test (each point's answer is its own).
+        both = visible_region(self.walls, pose, np.concatenate((gt_xy, hyp_xy)))
+        vis, hvis = both[: gt_xy.shape[0]], both[gt_xy.shape[0] :]
         # A track on a person the laser cannot see (behind a wall's edge) is "don't care", not a false positive.
         hidden = gt_xy[~vis]
         if hidden.shape[0] and hyp_xy.shape[0]:

@@ -26,6 +26,7 @@ from collections import OrderedDict, deque
 from collections.abc import Iterable, Sequence
 
 import numpy as np
+from scipy import ndimage
 
 from ..scenario.model import Door, Scenario, Wall
 from .geometry import distance_points_segments, points_in_polygon, polygon_edges, split_wall, wall_rectangle
@@ -120,7 +121,7 @@ class Grid:
         self._components: np.ndarray | None = None
         # The last plans and A* cell paths asked for (both pure functions of their keys).
         self._plans: OrderedDict[tuple[object, ...], tuple[Point, ...]] = OrderedDict()
-        self._paths: OrderedDict[tuple[object, ...], tuple[tuple[int, int], ...]] = OrderedDict()
+        self._paths: OrderedDict[tuple[object, ...], tuple[tuple[int, int], ...] | None] = OrderedDict()  # None: no path
 
     @classmethod
     def for_scenario(cls, sc: Scenario, *, clearance: float = WALKER_RADIUS) -> Grid:
@@ -239,13 +240,22 @@ class Grid:
         if self.free(self.cell_of(start), blocked) and self.line_free(start, end, blocked):
             return [end]
         akey = (s, g, tuple(avoid))
-        cells = self._paths.get(akey)
-        if cells is None:
-            cells = self._paths[akey] = tuple(self._astar(blocked, s, g))
+        if akey in self._paths:
+            self._paths.move_to_end(akey)
+            cells = self._paths[akey]
+        else:
+            # A* fails only after searching everything reachable (the robot closing a doorway):
+            # ask the regions first. Its moves (no corner cutting) reach exactly the 4-connected
+            # region of the start, so it finds a path exactly when s and g share one.
+            if avoid and not self._connected(blocked, s, g):
+                cells = None
+            else:
+                cells = tuple(self._astar(blocked, s, g))
+            self._paths[akey] = cells
             if len(self._paths) > PLAN_CACHE:
                 self._paths.popitem(last=False)
-        else:
-            self._paths.move_to_end(akey)
+        if cells is None:
+            raise NoPathError(self._no_path(s, g))
         pts = [self.centre(c) for c in cells[1:-1]] + [end]
         return self._smooth(start, pts, blocked)
 
@@ -298,7 +308,20 @@ class Grid:
                     dx, dy = abs(ci + di - gi), abs(cj + dj - gj)
                     counter += 1
                     push(frontier, (nc + (dx + dy + km1 * min(dx, dy)), counter, n))
-        raise NoPathError(f"no path from ({self.centre(s)[0]:.2f}, {self.centre(s)[1]:.2f}) to ({self.centre(g)[0]:.2f}, {self.centre(g)[1]:.2f})")
+        raise NoPathError(self._no_path(s, g))
+
+    def _no_path(self, s: tuple[int, int], g: tuple[int, int]) -> str:
+        return f"no path from ({self.centre(s)[0]:.2f}, {self.centre(s)[1]:.2f}) to ({self.centre(g)[0]:.2f}, {self.centre(g)[1]:.2f})"
+
+    def _connected(self, blocked: np.ndarray, s: tuple[int, int], g: tuple[int, int]) -> bool:
+        """Whether free cells s and g lie in one 4-connected region of ``blocked``'s free space."""
+        if self._components is None:
+            self._components = self._label()
+        base = self._components
+        if base[s] != base[g]:
+            return False  # apart without the discs already
+        labels, _ = ndimage.label(~blocked)  # 4-connected (the default structure)
+        return bool(labels[s] == labels[g])
 
     def _smooth(self, start: Point, pts: list[Point], blocked: np.ndarray) -> list[Point]:
         """Line-of-sight shortening: from each kept point, on to the farthest point in plain sight.
