@@ -483,3 +483,93 @@ def test_cancelled_timers_do_not_pile_up(loop):
 
     loop.run_until_complete(reader())
     assert len(loop._timers) < 200
+
+
+# ------------------------------------------------------------ the light sleep
+# While the loop runs, asyncio.sleep is homesim.vsleep.sleep; this is asyncio's own (captured at
+# import, before any loop ran): the two must give the same order of everything.
+ORIGINAL_SLEEP = asyncio.sleep
+
+
+def _sleep_program(sleep, plan, cancel_at):
+    """Run tasks that sleep per ``plan`` (and a canceller); return what happened, in order."""
+    loop = VirtualEventLoop()
+    log = []
+
+    async def worker(i, delays):
+        try:
+            for k, d in enumerate(delays):
+                got = await sleep(d, result=(i, k))
+                log.append(("woke", i, k, got, loop.now_ns))
+                if k % 2:
+                    loop.call_soon(log.append, ("soon", i, k, loop.now_ns))
+        except asyncio.CancelledError:
+            log.append(("cancelled", i, loop.now_ns))
+            raise
+
+    tasks = [loop.create_task(worker(i, delays), name=f"w{i}") for i, delays in enumerate(plan)]
+
+    async def canceller():
+        for at, victim in cancel_at:
+            await ORIGINAL_SLEEP(at)
+            tasks[victim % len(tasks)].cancel()
+            log.append(("cancel", victim % len(tasks), loop.now_ns))
+
+    loop.create_task(canceller(), name="canceller")
+    loop.run_until_complete(asyncio.gather(*tasks, return_exceptions=True))
+    loop.close()
+    return log
+
+
+@given(
+    plan=st.lists(st.lists(st.sampled_from([0, 1e-9, 0.001, 0.002, 0.0015, 0.5]), max_size=6), min_size=1, max_size=5),
+    cancel_at=st.lists(st.tuples(st.sampled_from([0.0005, 0.001, 0.002]), st.integers(0, 4)), max_size=3),
+)
+@settings(max_examples=examples(100, 40), deadline=None)
+def test_the_light_sleep_keeps_asyncio_order_wake_ups_results_and_cancellations(plan, cancel_at):
+    assert _sleep_program(lambda d, result: asyncio.sleep(d, result), plan, cancel_at) == _sleep_program(
+        ORIGINAL_SLEEP, plan, cancel_at
+    )
+
+
+def test_asyncio_code_works_with_the_light_sleep(loop):
+    async def main():
+        assert asyncio.sleep is not ORIGINAL_SLEEP  # installed while the loop runs
+        t = asyncio.create_task(asyncio.sleep(2.0, result="done"))  # a sleep as a task of its own
+        assert await t == "done" and loop.time() == 2.0
+        assert await asyncio.gather(asyncio.sleep(1.0, "a"), asyncio.sleep(0.5, "b")) == ["a", "b"]
+        with pytest.raises(TimeoutError):
+            await asyncio.wait_for(asyncio.sleep(10), timeout=0.25)
+        with pytest.raises(TimeoutError):
+            async with asyncio.timeout(0.25):
+                await asyncio.sleep(10)
+        sleeper = asyncio.create_task(asyncio.sleep(5))
+        await asyncio.sleep(1)
+        sleeper.cancel()
+        with pytest.raises(asyncio.CancelledError):
+            await sleeper
+        return loop.time()
+
+    assert loop.run_until_complete(main()) == pytest.approx(4.5)
+    assert asyncio.sleep is ORIGINAL_SLEEP and asyncio.tasks.sleep is ORIGINAL_SLEEP  # put back
+
+
+def test_another_threads_asyncio_loop_keeps_asyncios_sleep(loop):
+    import threading
+
+    seen = []
+
+    def other_thread():
+        async def nap():
+            await asyncio.sleep(0.001)  # a real loop: must not land on the virtual one
+            seen.append("slept")
+
+        asyncio.run(nap())
+
+    async def main():
+        th = threading.Thread(target=other_thread)
+        th.start()
+        th.join()  # blocks this step: the other thread sleeps while our sleep is installed
+
+    loop.run_until_complete(main())
+    assert seen == ["slept"]
