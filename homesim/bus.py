@@ -14,12 +14,19 @@ Which messages are validated is the bus's policy (``Bus(validation=...)``):
   message on a typed channel or method.
 - ``"edges"`` (the default): payloads that arrive as text (``str``/``bytes``:
   a document from outside the process, parsed with the hardened parser) are
-  validated; payloads a module built as an lxml element are trusted. The
-  project's own modules are validated by the test suite, which runs strict;
-  validating each of their messages again costs ~10 us a message (about a
-  fifth of a home tour's CPU) and changes nothing for a valid message. In
-  this mode a module's *invalid* element is delivered (as it was built)
-  instead of refused: run ``--strict`` to find such a bug.
+  validated; payloads a module built as an lxml element are trusted: neither
+  validated nor looked into for a DOCTYPE or entity references (the strict
+  policy refuses those). The project's own modules are checked by the test
+  suite, which runs strict; checking each of their messages again costs
+  ~10 us a message (about a fifth of a home tour's CPU) and changes nothing
+  for a valid message. In this mode a module's *invalid* element is
+  delivered (as it was built) instead of refused: run ``--strict`` to find
+  such a bug.
+
+A payload may be a function that builds the element: it is called only if
+someone will see the message (a subscriber, or an interceptor that wants its
+channel; the trace wants all), always under the strict policy. The message is
+sent either way (same id, same counters).
 
 Each message reaches each receiver after a delay drawn from the link between
 their hosts (:mod:`homesim.network`); per (sender, receiver) pair delivery is
@@ -64,6 +71,8 @@ from .vloop import BARE, NS_PER_S, VirtualEventLoop, to_ns
 from .xmlio import Schema, load_schema, parse_bytes
 
 XMLLike = Union[etree._Element, str, bytes]
+#: A payload, or a function that builds it (built only if someone receives or observes the message).
+PayloadLike = Union[etree._Element, str, bytes, Callable[[], etree._Element]]
 Handler = Callable[[Message], Any]
 SchemaLike = Union[Schema, str, "os.PathLike[str]", None]
 
@@ -229,7 +238,7 @@ class Participant:
     def publish(
         self,
         channel: str,
-        xml: XMLLike,
+        xml: PayloadLike,
         *,
         attachments: Mapping[str, Attachment] | None = None,
         causes: tuple[str, ...] | list[str] = (),
@@ -243,7 +252,20 @@ class Participant:
         element the sender has just built and will not touch again: it is
         sent without that copy (a hot-path saving for modules such as the
         supervisor). Receivers beyond the first still get copies.
+
+        ``xml`` may also be a function that builds and returns a new element
+        (handed over as with ``transfer=True``): it is called at once if
+        anyone will see the message (a subscriber, or an interceptor such as
+        the trace; always when strict), and not at all otherwise. The message
+        is sent either way (its id, the counters); unbuilt, its ``xml`` is None.
         """
+        if callable(xml) and not isinstance(xml, (etree._Element, str, bytes)):
+            if not self.bus.validate_all and not self.bus._has_audience(channel):
+                msg = self._make(PUBLISH, channel, None, attachments, causes, created)
+                self.bus._publish(self, msg)
+                return msg
+            xml = xml()
+            transfer = True
         msg = self._make(PUBLISH, channel, xml, attachments, causes, created, transfer=transfer)
         self.bus._publish(self, msg)
         return msg
@@ -350,18 +372,30 @@ class Participant:
     ) -> Message:
         if self.closed:
             raise BusError(f"participant {self.name!r} is closed")
-        from_text = not isinstance(xml, etree._Element)
-        xml = _own_payload(xml, channel, transfer)
+        bus = self.bus
+        if xml is None:  # a payload function not called: nobody will see this message
+            check = False
+        elif isinstance(xml, etree._Element):
+            check = bus.validate_all
+            if check:
+                xml = _own_payload(xml, channel, transfer)
+            else:  # trusted (the default policy): the module's own element, not looked into
+                if not transfer or xml.getparent() is not None:
+                    xml = xml.__copy__()  # lxml copies the whole subtree, in C
+                if xml.tail is not None:
+                    xml.tail = None
+        else:
+            check = True
+            xml = _own_payload(xml, channel, transfer)
         if kind == PUBLISH:
-            schema = self.bus.channel_schema(channel)
-        if schema is not None and (from_text or self.bus.validate_all) and not schema.is_valid(xml):
+            schema = bus.channel_schema(channel)
+        if schema is not None and check and not schema.is_valid(xml):
             errors = schema.errors(xml)
             detail = errors[0][1] if errors else "invalid"
             raise MessageValidationError(
                 f"{self.name}: message on {channel} refused (nothing delivered): "
                 f"schema {schema.name}: {detail}"
             )
-        bus = self.bus
         now = bus.loop._now_ns
         name = self.name
         n = bus._counters.get(name, 0) + 1
@@ -395,13 +429,14 @@ class Participant:
 
 
 def _own_payload(xml: XMLLike, channel: str, transfer: bool = False) -> etree._Element:
-    """The payload as a fresh document the sender can no longer change.
+    """The payload as a fresh document the sender can no longer change (text, or strict).
 
     Text is parsed with the hardened parser. An element is deep-copied into a
     document of its own (so receivers cannot see its parent, siblings or
     tail, and later changes by the sender do not reach them); an element
     carrying a DTD or unexpanded entity references is refused, as text with
-    a DOCTYPE is.
+    a DOCTYPE is. (Under the default policy a module's element takes the
+    trusted path in ``Participant._make``: the same copy, no look inside.)
     """
     if not isinstance(xml, etree._Element):
         return parse_bytes(xml, source=f"<bus:{channel}>")
@@ -560,6 +595,23 @@ class Bus:
         self._interceptors.remove(interceptor)
         self._sort_interceptors()
 
+    def _has_audience(self, channel: str) -> bool:
+        """Whether a message on ``channel`` would reach anyone: a subscriber, or an interceptor.
+
+        An interceptor with a ``wants(channel)`` method is asked; one without
+        sees every send (the trace recorder).
+        """
+        routes = self._route_cache.get(channel)
+        if routes is None:
+            routes = self._routes(channel)
+        if routes:
+            return True
+        for fn in self._interceptors:
+            wants = getattr(fn, "wants", None)
+            if wants is None or wants(channel):
+                return True
+        return False
+
     def _sort_interceptors(self) -> None:
         self._delivery_interceptors = [
             fn for fn in self._interceptors
@@ -647,7 +699,7 @@ class Bus:
         self.sent += 1
         if not routes:
             self.unheard += 1
-        if self._interceptors:
+        if self._interceptors and msg[4] is not None:  # (an unbuilt lazy payload has no audience)
             receivers = self._receivers_cache.get(channel)
             if receivers is None:
                 receivers = self._receivers_cache[channel] = tuple(sorted({s.participant.name for s in routes}))

@@ -45,6 +45,13 @@ class Dispatcher:
         self._routes[channel] = route
         return route
 
+    def wants(self, channel: str) -> bool:
+        """Whether a message sent on ``channel`` reaches a handler (the bus builds lazy payloads only then)."""
+        route = self._routes.get(channel)
+        if route is None:
+            route = self._route(channel)
+        return bool(route)
+
     def __call__(self, obs: Observation) -> None:
         if obs.event != SEND:
             return

@@ -48,6 +48,7 @@ import asyncio
 import os
 from collections import deque
 from copy import deepcopy
+from functools import partial
 from pathlib import Path
 from typing import Any
 
@@ -340,7 +341,8 @@ class ExecutionSupervisor(Module):
         after its decision, and nothing decided later overtakes them.
         """
         for rec in records:
-            self.bus.publish(LOG_CHANNEL, record_xml(rec), causes=(rec.event.id,), transfer=True)
+            # Built only if someone receives or observes the log (the trace, expectations, metrics).
+            self.bus.publish(LOG_CHANNEL, partial(record_xml, rec), causes=(rec.event.id,))
             if isinstance(rec, Applied):
                 if rec.outputs:
                     self._outbox.append((now + self.cost_ns, rec))
@@ -417,11 +419,13 @@ class ExecutionSupervisor(Module):
     def publish_status(self) -> Message | None:
         """Publish the snapshot (no history) on ``/robot/es/status``; the ES does so on each change of state.
 
-        The history stays available by the ``introspect`` RPC and in the log channel.
+        The history stays available by the ``introspect`` RPC and in the log channel. The
+        snapshot (and each decision's log record) is built only if someone receives or
+        observes it (see ``Participant.publish``): the returned message's ``xml`` is None then.
         """
         if self.bus.closed or self.bus.hung:
             return None
-        return self.bus.publish(STATUS_CHANNEL, self.status_xml(history=0), transfer=True)
+        return self.bus.publish(STATUS_CHANNEL, partial(self.status_xml, history=0))  # built only if seen
 
     # -------------------------------------------------------- modification
     def replace(self, machine: Machine | str | os.PathLike[str]) -> None:

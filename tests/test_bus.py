@@ -492,6 +492,65 @@ def test_strict_policy_refuses_an_invalid_element_too():
         assert s.bus.sent == 0
 
 
+def test_the_default_policy_does_not_look_into_a_modules_element_and_strict_does():
+    hostile = b'<!DOCTYPE x [<!ENTITY e "boom">]><x>&e;</x>'
+    parser = etree.XMLParser(resolve_entities=False)
+    with Simulation(seed=3, strict=False) as s:  # trusted: delivered as built (a copy of it)
+        got = []
+        s.bus.participant("b").subscribe("/x", got.append)
+        s.bus.participant("a").publish("/x", etree.fromstring(hostile, parser))
+        s.run()
+        assert [m.xml.tag for m in got] == ["x"]
+    with Simulation(seed=3, strict=True) as s:  # the suite and --strict refuse it
+        with pytest.raises(XMLInputError, match="DOCTYPE"):
+            s.bus.participant("a").publish("/x", etree.fromstring(hostile, parser))
+
+
+@pytest.mark.parametrize("strict", [False, True])
+def test_a_lazy_payload_is_built_only_when_someone_will_see_it(strict):
+    built = []
+
+    def payload() -> etree._Element:
+        built.append(1)
+        return etree.Element("note", n=str(len(built)))
+
+    with Simulation(seed=3, strict=strict) as s:
+        a = s.bus.participant("a")
+        first = a.publish("/nobody", payload)  # no subscriber, no interceptor
+        assert (first.xml is None) == (not strict) and len(built) == (1 if strict else 0)
+        got = []
+        s.bus.participant("b").subscribe("/heard", got.append)
+        second = a.publish("/heard", payload)
+        before = len(built)
+        rec = s.record_trace()  # the trace sees every send: from now on, always built
+        third = a.publish("/nobody", payload)
+        s.run()
+        assert len(built) == before + 1 and third.xml is not None
+        # Sent either way: ids and counters do not depend on who listens.
+        assert [first.id, second.id, third.id] == ["a#1", "a#2", "a#3"]
+        assert s.bus.sent == 3 and s.bus.unheard == 2
+        assert [m.xml.tag for m in got] == ["note"]
+        assert '"channel":"/nobody"' in rec.text()
+
+
+def test_a_lazy_payload_reaches_a_dispatcher_only_on_the_channels_it_watches():
+    from homesim.observe import Dispatcher
+
+    built = []
+
+    def payload() -> etree._Element:
+        built.append(1)
+        return etree.Element("note")
+
+    with Simulation(seed=3, strict=False) as s:
+        seen = []
+        Dispatcher(s.bus).add("/watched", seen.append)
+        a = s.bus.participant("a")
+        a.publish("/other", payload)
+        a.publish("/watched/x", payload)
+        assert len(built) == 1 and [m.channel for m in seen] == ["/watched/x"]
+
+
 def test_the_suite_runs_strict(sim):
     assert sim.bus.validation == "all"
 
