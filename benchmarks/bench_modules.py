@@ -1,7 +1,8 @@
 """Per-module cost: CPU per update of every module in a whole run, and per simulated second.
 
-Run: ``python benchmarks/bench_modules.py [SCENARIO] [--until S] [--seed N]`` (default the home
-tour). Every module's periodic loop (each wake-up of a task started with ``Simulation.spawn``
+Run: ``python benchmarks/bench_modules.py [SCENARIO] [--until S] [--seed N] [--trace]`` (default
+the home tour; ``--trace`` records the run's trace to a temporary file, as ``homesim run --trace``
+does, so its cost shows in the kernel row). Every module's periodic loop (each wake-up of a task started with ``Simulation.spawn``
 is one update) and every subscription handler (each message handled is one update) is timed
 with ``time.process_time`` around it, attributed to its task or participant name. What runs
 outside those (the loop itself, the bus's routing and delivery, the trace, metrics and
@@ -14,6 +15,7 @@ the modules and show which one a change made cheaper. Not a test: nothing is ass
 from __future__ import annotations
 
 import argparse
+import tempfile
 import time
 from collections import defaultdict
 from collections.abc import Coroutine
@@ -68,7 +70,8 @@ class _TimedCoroutine(Coroutine[Any, Any, Any]):
         return self
 
 
-def module_costs(scenario: Path, *, seed: int = 0, until: float | None = None) -> tuple[float, float, list[dict[str, Any]]]:
+def module_costs(scenario: Path, *, seed: int = 0, until: float | None = None,
+                 trace: Path | None = None) -> tuple[float, float, list[dict[str, Any]]]:
     """(simulated s, CPU s, rows) for one run; rows per module, costliest first."""
     account = _Account()
     spawn, subscribe = Simulation.spawn, Participant.subscribe
@@ -87,9 +90,11 @@ def module_costs(scenario: Path, *, seed: int = 0, until: float | None = None) -
 
     Simulation.spawn, Participant.subscribe = timed_spawn, timed_subscribe  # type: ignore[method-assign]
     try:
-        with Run.from_file(scenario, RunOptions(seed=seed, until=until)) as run:
+        with Run.from_file(scenario, RunOptions(seed=seed, until=until, trace=trace)) as run:
             t0 = _clock()
             run.run()
+            for rec in run.sim.traces:  # the trace's last gathered lines: part of its cost
+                getattr(rec, "flush", rec.stream.flush)()
             cpu = _clock() - t0
             sim_s = run.sim.now
     finally:
@@ -110,8 +115,11 @@ def main() -> None:
     ap.add_argument("scenario", nargs="?", type=Path, default=ROOT / "scenarios" / "home_tour.xml")
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--until", type=float, default=None)
+    ap.add_argument("--trace", action="store_true", help="record the trace to a temporary file")
     a = ap.parse_args()
-    sim_s, cpu, rows = module_costs(a.scenario, seed=a.seed, until=a.until)
+    with tempfile.TemporaryDirectory() as tmp:
+        trace = Path(tmp) / "trace.jsonl" if a.trace else None
+        sim_s, cpu, rows = module_costs(a.scenario, seed=a.seed, until=a.until, trace=trace)
     print(f"{a.scenario.name} seed {a.seed}: {sim_s:g} simulated s in {cpu:.2f} CPU s "
           f"({1000 * cpu / sim_s:.2f} ms per simulated s, {sim_s / cpu:.1f}x real time)")
     print(f"{'module':28} {'updates':>8} {'us/update':>10} {'ms/sim s':>9}")

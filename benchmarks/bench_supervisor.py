@@ -21,7 +21,10 @@ Three measurements on the same stream:
   decision on ``/robot/es/log``, publishes its status on a change of state,
   and after its processing cost (default 5 ms virtual) publishes the orders
   and conditions, each validated by its typed channel, to subscribers
-  (dialog, person attention, player) which receive them. Events are 10 ms
+  (dialog, person attention, player) which receive them. The log record and
+  the status are built only if someone receives or observes them (nobody
+  here); the ``observed`` row adds a watcher of both, as a run's
+  expectations and metrics are (or a trace). Events are 10 ms
   apart in virtual time. Throughput is events / CPU time of the whole run
   (deliveries included); latency per event is the CPU time from the
   sender's publish call to the last of its outputs published.
@@ -52,7 +55,9 @@ from robot.supervisor import (
     BIRON_AFSM,
     CONDITION_PREFIX,
     EVENT_CHANNEL,
+    LOG_CHANNEL,
     ORDER_PREFIX,
+    STATUS_CHANNEL,
     SCHEMAS,
     ExecutionSupervisor,
     output_xml,
@@ -150,9 +155,15 @@ def run_engine(events: list[tuple[str, str, bytes]]) -> tuple[float, np.ndarray,
 
 
 def run_bus(events: list[tuple[str, str, bytes]], *, cost: float = 0.005,
-            spacing: float = 0.010) -> tuple[float, np.ndarray, int]:
+            spacing: float = 0.010, observed: bool = False) -> tuple[float, np.ndarray, int]:
+    """The full path; ``observed``: a run's watcher reads every log record and status (as its expectations do)."""
     sim = Simulation(seed=1, scenario="bench")
     es = ExecutionSupervisor(sim, cost=cost, heartbeat=None)
+    if observed:
+        from homesim.observe import Dispatcher
+
+        seen = Dispatcher(sim.bus)
+        seen.add((LOG_CHANNEL, STATUS_CHANNEL), lambda msg: msg.xml.get("state"))
     senders = {name: sim.bus.participant(name, host="robot") for name in ("dialog", "person_attention", "player")}
     received = [0]
 
@@ -240,14 +251,16 @@ def main() -> None:
     engine, _ = report("engine path", total, lat, args.events, outs)
     total, lat, outs = run_bus(stream(args.bus_events))
     bus, _ = report("full path", total, lat, args.bus_events, outs)
+    total, lat, outs = run_bus(stream(args.bus_events), observed=True)
+    observed, _ = report("observed", total, lat, args.bus_events, outs)
     try:
         total, lat, outs = run_sismic(stream(args.sismic_events))
     except ImportError:
         print("sismic not installed (pip install sismic): no comparison")
         return
     theirs, _ = report("sismic", total, lat, args.sismic_events, outs)
-    print(f"ratio        engine path {engine / theirs:.1f}x, full path {bus / theirs:.2f}x "
-          "(homesim / sismic events per second)")
+    print(f"ratio        engine path {engine / theirs:.1f}x, full path {bus / theirs:.2f}x, "
+          f"observed {observed / theirs:.2f}x (homesim / sismic events per second)")
 
 
 if __name__ == "__main__":
