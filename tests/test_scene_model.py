@@ -271,6 +271,14 @@ def test_toms_cup_beside_hers_is_another_cup():
     assert sorted(r.xml.get("owner") for r in base.memory.query()) == ["partner", "tom"]
 
 
+def test_a_blue_cup_beside_a_red_one_is_another_cup():
+    from robot.knowledge.bases import ObjectBase
+    base = ObjectBase()
+    base.store(_cup())
+    base.store(el('<OBJECT type="cup" name="cup" colour="blue" x="7.8" y="3.8" frame="map"/>'))
+    assert sorted(r.xml.get("colour") for r in base.memory.query()) == ["blue", "red"]
+
+
 @settings(max_examples=60, deadline=None)
 @given(st.lists(st.tuples(st.booleans(), st.sets(st.sampled_from(["favourite", "old", "new"])),
                           st.floats(-0.15, 0.15), st.floats(-0.15, 0.15)), min_size=1, max_size=6))

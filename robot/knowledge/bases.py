@@ -184,8 +184,8 @@ class ObjectBase(KnowledgeBase):
     def same_as(self, doc: etree._Element) -> int | None:
         """The stored object this teaching is about: the one of this type, name and owner when these
         single it out ("my cup" shown again elsewhere: it moved), else the one of this type and name
-        within :data:`SAME_OBJECT` metres whose owner does not contradict (the same cup taught again
-        where it stands, with or without the "my" that one of the two teachings missed)."""
+        within :data:`SAME_OBJECT` metres whose owner and colour do not contradict (the same cup taught
+        again where it stands, with or without the "my" that one of the two teachings missed)."""
         t, n, o = doc.get("type"), doc.get("name"), doc.get("owner", "")
         ids = self.memory.query_ids(where={"type": t, "name": n})
         owned = [i for i in ids if self.memory.get(i).xml.get("owner", "") == o]
@@ -194,9 +194,9 @@ class ObjectBase(KnowledgeBase):
         x, y = float(doc.get("x")), float(doc.get("y"))  # type: ignore[arg-type]
         for i in reversed(ids):
             r = self.memory.get(i).xml
-            ro = r.get("owner", "")
-            if ro and o and ro != o:
-                continue  # Tom's cup beside hers is another cup
+            ro, rc, c = r.get("owner", ""), r.get("colour", ""), doc.get("colour", "")
+            if (ro and o and ro != o) or (rc and c and rc != c):
+                continue  # Tom's cup beside hers, a blue cup beside a red one: another cup
             if math.hypot(float(r.get("x")) - x, float(r.get("y")) - y) <= SAME_OBJECT:  # type: ignore[arg-type]
                 return i
         return None
