@@ -11,7 +11,7 @@ from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
 from homesim.world.bodies import LASER_FILTER
-from homesim.world.raycast import RayCaster, cast_rays
+from homesim.world.raycast import FanCaster, RayCaster, cast_rays
 from robot.hardware.laser import LaserSpec, detect_leg_pairs, laser_origin, simulate_scan
 from tests.world_helpers import at_bearing, put_person, room
 
@@ -166,3 +166,52 @@ def test_cached_static_ranges_equal_casting_everything_together(moves, heading):
         c, r = world.leg_circles()
         want = RayCaster().cast(origin, angles, a, b, c, r, spec.max_range, backfaces=False)
         assert np.array_equal(got, want)
+
+
+_coord = st.floats(-6.0, 6.0, allow_nan=False)
+
+
+@settings(max_examples=60, deadline=None)
+@given(
+    segs=st.lists(st.tuples(_coord, _coord, _coord, _coord), max_size=10),
+    circles=st.lists(st.tuples(_coord, _coord, st.floats(0.02, 0.8)), max_size=6),
+    origin=st.tuples(st.floats(-3.0, 3.0), st.floats(-3.0, 3.0)),
+    start=st.floats(-4.0, 4.0),
+    fan=st.sampled_from([(361, math.radians(0.5)), (46, math.radians(4.0)), (7, 0.3), (2, 1.0)]),
+    max_range=st.sampled_from([8.19, 2.5, math.inf]),
+    backfaces=st.booleans(),
+)
+@example(segs=[(1.0, -1.0, 1.0, 1.0)], circles=[(0.0, 0.0, 0.5)], origin=(0.0, 0.0), start=-1.5, fan=(361, math.radians(0.5)),
+         max_range=8.19, backfaces=True)  # the origin inside a circle: every beam reads 0
+@example(segs=[(-1.0, 0.0, 1.0, 0.0), (2.0, -3.0, 2.0, 3.0)], circles=[], origin=(0.0, 0.0), start=-3.0, fan=(361, math.radians(0.5)),
+         max_range=2.0, backfaces=True)  # on a segment's line; a wall exactly at max_range
+@example(segs=[(-2.0, -1.0, -2.0, 1.0)], circles=[(-1.0, 0.05, 0.1)], origin=(0.0, 0.0), start=-math.pi / 2, fan=(361, math.radians(0.5)),
+         max_range=8.19, backfaces=False)  # straight behind the fan's centre
+def test_fan_caster_gives_the_dense_kernels_floats(segs, circles, origin, start, fan, max_range, backfaces):
+    """The laser's sparse caster meets each obstacle only with the beams inside the angle it
+    subtends; every range must still be the dense kernel's float, bit for bit."""
+    n, step = fan
+    angles = start + step * np.arange(n)
+    a = np.array([s[:2] for s in segs]).reshape(-1, 2)
+    b = np.array([s[2:] for s in segs]).reshape(-1, 2)
+    c = np.array([ci[:2] for ci in circles]).reshape(-1, 2)
+    r = np.array([ci[2] for ci in circles])
+    want = RayCaster().cast(origin, angles, a, b, c, r, max_range, backfaces=backfaces)
+    fc = FanCaster()
+    assert np.array_equal(fc.cast(origin, angles, a, b, c, r, max_range, backfaces=backfaces), want)
+    if not backfaces:
+        # scan(): the segments' part kept per origin, circles cast again each time
+        assert np.array_equal(fc.scan(origin, angles, a, b, c, r, max_range), want)
+        assert np.array_equal(fc.scan(origin, angles.copy(), a.copy(), b.copy(), c, r, max_range), want)
+        assert np.array_equal(fc.scan(origin, angles, a, b, c[:0], r[:0], max_range), RayCaster().cast(origin, angles, a, b, max_range=max_range, backfaces=False))
+
+
+def test_fan_caster_falls_back_to_the_dense_kernel_off_an_even_fan():
+    world = room()
+    origin = laser_origin(world.robot.pose, SPEC)
+    a, b = world._laser_segments
+    c, r = world.leg_circles()
+    for angles in (np.sort(np.random.default_rng(3).uniform(-3, 3, 50)), np.linspace(-math.pi, math.pi, 73)):
+        want = RayCaster().cast(origin, angles, a, b, c, r, SPEC.max_range, backfaces=False)
+        assert FanCaster().fan(angles) is None
+        assert np.array_equal(FanCaster().scan(origin, angles, a, b, c, r, SPEC.max_range), want)

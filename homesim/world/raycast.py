@@ -16,6 +16,7 @@ neighbouring edges of the closed polygon). Rays that hit nothing return
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
 
 import numpy as np
@@ -24,6 +25,8 @@ FloatArray = np.ndarray
 
 _EMPTY2 = np.zeros((0, 2))
 _EMPTY1 = np.zeros(0)
+TWO_PI = 2.0 * math.pi
+_FAR = 1e12  # beam indices: beyond every fan (finite, so it casts to an integer)
 _CULL = 1e-6  # metres: culling margin, far above rounding, far below any geometry
 
 
@@ -185,10 +188,348 @@ class RayCaster:
         np.minimum(result, disc.min(axis=1), out=result)
 
 
+class FanCaster:
+    """:meth:`RayCaster.cast` for a scanner's fan of beams, bit for bit, meeting each obstacle only
+    with the beams that can reach it.
+
+    A laser's beams are evenly spaced: a segment or circle subtends an interval of angles from the
+    origin, and only the beams inside it (plus a beam of margin each side) can hit it. Those
+    (beam, obstacle) pairs are computed with exactly the dense kernel's operations, so every range
+    is the same float: a scan of walls and furniture meets some hundreds of pairs instead of every
+    beam with every edge, and a leg (a circle) a dozen beams, in plain floats. The fan (cosines,
+    sines, spacing) and the segments (edge vectors, lengths) are prepared once per distinct array
+    and kept, so a laser on static geometry prepares them once.
+
+    Angles that are not evenly spaced, or that span so much of a turn that a widened interval
+    could wrap onto beams at both ends, fall back to the dense :class:`RayCaster` (same results).
+    Not re-entrant, like :class:`RayCaster`.
+    """
+
+    __slots__ = ("_dense", "_angles", "_key", "_fan", "_segs", "_static")
+
+    def __init__(self) -> None:
+        self._dense = RayCaster()
+        self._angles: FloatArray | None = None
+        self._key = b""
+        self._fan: _Fan | None = None
+        self._segs: _Segments | None = None
+        # (origin x, origin y, max range), the angles and segments it was cast with, the ranges.
+        self._static: tuple[tuple[float, float, float], FloatArray, _Segments, FloatArray] | None = None
+
+    def fan(self, angles: FloatArray) -> "_Fan | None":
+        """The prepared fan for ``angles`` (None: not an even fan narrower than a turn).
+
+        Recognised by their bytes (a laser passes a new array of the same angles each scan).
+        """
+        key = angles.tobytes()
+        if key != self._key:
+            self._angles = np.array(angles, dtype=float)
+            self._key = key
+            self._fan = _Fan.of(self._angles)
+        return self._fan
+
+    def _segments(self, a: FloatArray, b: FloatArray) -> "_Segments":
+        """The prepared segments: the same read-only arrays as last time, or equal ones, or new."""
+        got = self._segs
+        if got is not None and got.source[0] is a and got.source[1] is b and not (_writeable(a) or _writeable(b)):
+            return got
+        sa = np.asarray(a, dtype=float).reshape(-1, 2)
+        sb = np.asarray(b, dtype=float).reshape(-1, 2)
+        if got is None or got.a.shape != sa.shape or got.b.shape != sb.shape or not (np.array_equal(got.a, sa) and np.array_equal(got.b, sb)):
+            got = self._segs = _Segments(sa, sb)
+        got.source = (a, b)
+        return got
+
+    def cast(
+        self,
+        origin: Sequence[float],
+        angles: FloatArray,
+        seg_a: FloatArray = _EMPTY2,
+        seg_b: FloatArray = _EMPTY2,
+        circ_c: FloatArray = _EMPTY2,
+        circ_r: FloatArray = _EMPTY1,
+        max_range: float = np.inf,
+        *,
+        out: FloatArray | None = None,
+        backfaces: bool = True,
+    ) -> FloatArray:
+        """Exactly :meth:`RayCaster.cast` (same arguments, same floats)."""
+        angles = np.asarray(angles, dtype=float)
+        fan = self.fan(angles)
+        if fan is None:
+            return self._dense.cast(origin, angles, seg_a, seg_b, circ_c, circ_r, max_range, out=out, backfaces=backfaces)
+        result = np.empty(fan.n) if out is None else out
+        result.fill(max_range)
+        ox, oy, max_range = float(origin[0]), float(origin[1]), float(max_range)
+        segs = self._segments(seg_a, seg_b)
+        if segs.m:
+            fan.segments(ox, oy, segs, backfaces, max_range, result)
+        circ_c = np.asarray(circ_c, dtype=float).reshape(-1, 2)
+        if circ_c.shape[0]:
+            fan.circles(ox, oy, circ_c.tolist(), np.asarray(circ_r, dtype=float).reshape(-1).tolist(), max_range, result)
+        return result
+
+    def scan(
+        self,
+        origin: Sequence[float],
+        angles: FloatArray,
+        seg_a: FloatArray,
+        seg_b: FloatArray,
+        circ_c: FloatArray,
+        circ_r: FloatArray,
+        max_range: float,
+        *,
+        out: FloatArray | None = None,
+    ) -> FloatArray:
+        """A laser scan: :meth:`cast` with ``backfaces=False``, the segments' ranges kept per origin.
+
+        The segments are static geometry (walls, furniture) seen from outside; their ranges are
+        cast once per origin, angles and segments and kept, so while the scanner stands still
+        only the circles (people's legs) are cast. A range is the minimum over everything hit
+        and a minimum is exact, so the result is bit for bit that of casting all together.
+        Pass the segments as read-only arrays (the world's are) and they are recognised by
+        identity; writeable ones are compared value by value.
+        """
+        angles = np.asarray(angles, dtype=float)
+        fan = self.fan(angles)
+        segs = self._segments(seg_a, seg_b)
+        ox, oy, max_range = float(origin[0]), float(origin[1]), float(max_range)
+        key = (ox, oy, max_range)
+        kept = self._static
+        if kept is None or kept[0] != key or kept[1] is not self._angles or kept[2] is not segs:
+            if fan is None:
+                static = self._dense.cast(origin, angles, segs.a, segs.b, max_range=max_range, backfaces=False)
+            else:
+                static = np.full(fan.n, max_range)
+                if segs.m:
+                    fan.segments(ox, oy, segs, False, max_range, static)
+            kept = self._static = (key, self._angles, segs, static)
+        static = kept[3]
+        circ_c = np.asarray(circ_c, dtype=float).reshape(-1, 2)
+        if fan is None and circ_c.shape[0]:
+            result = self._dense.cast(origin, angles, circ_c=circ_c, circ_r=circ_r, max_range=max_range, out=out)
+            np.minimum(result, static, out=result)
+            return result
+        if out is None:
+            result = static.copy()
+        else:
+            result = out
+            result[:] = static
+        if circ_c.shape[0]:
+            fan.circles(ox, oy, circ_c.tolist(), np.asarray(circ_r, dtype=float).reshape(-1).tolist(), max_range, result)
+        return result
+
+
+class _Segments:
+    """Segments prepared for :meth:`_Fan.segments`: edge vectors as the dense kernel computes
+    them, both end points packed, and how near the origin may come to a segment's line before
+    the angle it subtends is too close to half a turn to trust."""
+
+    __slots__ = ("a", "b", "m", "ex", "ey", "vx", "vy", "near", "both", "source")
+
+    def __init__(self, a: FloatArray, b: FloatArray) -> None:
+        self.a, self.b = a.copy(), b.copy()
+        self.m = a.shape[0]
+        self.ex = b[:, 0] - a[:, 0]
+        self.ey = b[:, 1] - a[:, 1]
+        self.vx = np.concatenate((a[:, 0], b[:, 0]))
+        self.vy = np.concatenate((a[:, 1], b[:, 1]))
+        length = np.hypot(self.ex, self.ey)
+        # |f x e| = distance to the line * length; within 1e-6 m (scaled for long segments)
+        # the subtended angle is within about 1e-6 rad of pi: every beam is a candidate then.
+        self.near = 1e-6 * length * np.maximum(length, 1.0)
+        self.both = np.concatenate((np.arange(self.m), np.arange(self.m)))
+        self.source: tuple[object, object] = (a, b)  # the arrays it was last asked with (recognised while read-only)
+
+
+class _Fan:
+    """Evenly spaced beam angles, prepared: beam i points at ``centre - half + step * i``."""
+
+    __slots__ = ("n", "step", "half", "centre", "dx", "dy", "dxl", "dyl", "_base", "_k0", "_kturn", "_khalf")
+
+    def __init__(self, angles: FloatArray, step: float) -> None:
+        self.n = angles.shape[0]
+        self.step = step
+        self.half = step * (self.n - 1) / 2.0
+        self.centre = float(angles[0]) + self.half
+        # The dense kernel's np.cos/np.sin over the whole array: the same floats it uses.
+        self.dx, self.dy = np.cos(angles), np.sin(angles)
+        self.dxl, self.dyl = self.dx.tolist(), self.dy.tolist()
+        # Directions as beam indices: k = ((angle - base) mod 2 pi) / step - k0 puts beam i at k = i,
+        # with the direction opposite the centre at the ends of [-k0, kturn - k0).
+        self._base = self.centre - math.pi
+        self._k0 = (math.pi - self.half) / step
+        self._kturn = TWO_PI / step
+        self._khalf = math.pi / step
+
+    @classmethod
+    def of(cls, angles: FloatArray) -> "_Fan | None":
+        n = angles.shape[0]
+        if angles.ndim != 1 or n < 2 or not np.isfinite(angles).all():
+            return None
+        step = (float(angles[-1]) - float(angles[0])) / (n - 1)
+        # Even spacing to a nanoradian, beams far wider apart than that, and an interval widened
+        # by the margin can never reach beams at both ends of the fan.
+        if not step > 1e-6 or step * (n - 1) / 2.0 + 4.0 * step >= math.pi:
+            return None
+        if np.abs(angles - (float(angles[0]) + step * np.arange(n))).max() > 1e-9:
+            return None
+        return cls(angles, step)
+
+    def circles(self, ox: float, oy: float, centres: list[list[float]], radii: list[float], max_range: float, result: FloatArray) -> None:
+        """The dense kernel's circle test on the beams each circle subtends, in plain floats."""
+        dxl, dyl, centre, fan_half, step, last = self.dxl, self.dyl, self.centre, self.half, self.step, self.n - 1
+        finite = math.isfinite(max_range)
+        for (cx, cy), r in zip(centres, radii):
+            fx = cx - ox
+            fy = cy - oy
+            ff = fx * fx + fy * fy
+            rr = r * r
+            if finite:  # the dense kernel's cull, decided exactly where it is close
+                lim = max_range + r
+                if ff > lim * lim * (1.0 + 1e-12):
+                    continue
+                if ff >= lim * lim * (1.0 - 1e-12) and float(np.hypot(fx, fy)) - r > max_range:
+                    continue
+            if ff <= rr:  # the origin inside: every beam reads 0
+                np.minimum(result, 0.0, out=result)
+                continue
+            rel = (math.atan2(fy, fx) - centre + math.pi) % TWO_PI - math.pi
+            half = math.asin(min(1.0, r / math.sqrt(ff)))
+            base = rr - ff
+            lo, hi = rel - half, rel + half
+            pieces = ((lo, hi),) if -math.pi <= lo and hi <= math.pi else _unwrapped(lo, hi)
+            for lo, hi in pieces:
+                # Beams whose angle may lie in [lo, hi], with a beam of margin each side.
+                i0 = max(0, math.floor((lo + fan_half) / step) - 1)
+                i1 = min(last, math.ceil((hi + fan_half) / step) + 1)
+                if i0 > i1:
+                    continue
+                ranges = result[i0 : i1 + 1].tolist()
+                changed = False
+                for j in range(i1 - i0 + 1):
+                    tca = dxl[i0 + j] * fx + dyl[i0 + j] * fy
+                    disc = tca * tca + base
+                    if disc >= 0.0:
+                        t = tca - math.sqrt(disc)
+                        if t >= 0.0 and t < ranges[j]:
+                            ranges[j] = t
+                            changed = True
+                if changed:
+                    result[i0 : i1 + 1] = ranges
+
+    def segments(self, ox: float, oy: float, s: _Segments, backfaces: bool, max_range: float, result: FloatArray) -> None:
+        """The dense kernel's segment test on the (beam, segment) pairs where the beam lies within
+        the angle the segment subtends (numpy over the pairs)."""
+        m = s.m
+        dvx = s.vx - ox
+        dvy = s.vy - oy
+        fx, fy = dvx[:m], dvy[:m]
+        tnum = fx * s.ey
+        tnum -= fy * s.ex  # f x e, as the dense kernel computes it
+        # Both end points' directions as beam indices (see __init__).
+        k = np.arctan2(dvy, dvx)
+        k -= self._base
+        k %= TWO_PI
+        k *= 1.0 / self.step
+        k -= self._k0
+        ka, kb = k[:m], k[m:]
+        lo = np.minimum(ka, kb)
+        hi = np.maximum(ka, kb)
+        # Less than half a turn: [lo, hi]; more: the segment lies across the direction behind the
+        # centre and subtends [hi, lo + turn]. Each piece is also tried one turn lower.
+        wrap = hi - lo > self._khalf
+        start = np.where(wrap, hi, lo)
+        end = np.where(wrap, lo + self._kturn, hi)
+        unsure = np.abs(tnum) < s.near  # the origin (almost) on the segment's line
+        if unsure.any():
+            start[unsure] = -_FAR
+            end[unsure] = _FAR
+        if not backfaces:
+            # The dense kernel's "facing" test is (e_y (o_x - a_x) - e_x (o_y - a_y)) > 0, which
+            # is -(f x e) > 0 exactly (negation commutes with rounding): drop back faces.
+            start[tnum >= 0.0] = _FAR
+        starts = np.concatenate((start, start - self._kturn))
+        ends = np.concatenate((end, end - self._kturn))
+        i0 = np.floor(starts)
+        i0 -= 1.0
+        np.maximum(i0, 0.0, out=i0)
+        i1 = np.ceil(ends)
+        i1 += 1.0
+        np.minimum(i1, self.n - 1.0, out=i1)
+        counts = i1 - i0
+        counts += 1.0
+        np.maximum(counts, 0.0, out=counts)
+        counts = counts.astype(np.intp)
+        total = int(counts.sum())
+        if total == 0:
+            return
+        seg = np.repeat(s.both, counts)
+        first = i0.astype(np.intp)
+        first -= np.cumsum(counts)
+        first += counts
+        beam = np.arange(total)
+        beam += np.repeat(first, counts)
+        dx, dy = self.dx[beam], self.dy[beam]
+        exs, eys = s.ex[seg], s.ey[seg]
+        # den = d x e ; t = (f x e) / den ; u = (f x d) / den, as in RayCaster._segments
+        den = dx * eys
+        den -= dy * exs
+        u = fx[seg] * dy
+        u -= fy[seg] * dx
+        sign = np.sign(den)
+        u *= sign
+        np.abs(den, out=den)
+        t = tnum[seg]
+        t *= sign
+        mask = t >= 0.0
+        mask &= u >= 0.0
+        mask &= u <= den
+        mask &= den > 1e-15
+        beam, seg = beam[mask], seg[mask]
+        t = t[mask]
+        t /= den[mask]
+        if math.isfinite(max_range):
+            # The dense kernel first drops segments wholly beyond max_range; only a hit within
+            # rounding of max_range can come from one of those: ask the same test for them.
+            near = t >= max_range * (1.0 - 1e-9)
+            near &= t < max_range  # farther hits never change a range
+            if near.any():
+                idx = np.unique(seg[near])
+                culled = idx[~_within(ox, oy, s.a[idx], s.b[idx], max_range)]
+                if culled.shape[0]:
+                    ok = ~np.isin(seg, culled)
+                    beam, t = beam[ok], t[ok]
+        np.minimum.at(result, beam, t)
+
+
+def _writeable(a: object) -> bool:
+    return not isinstance(a, np.ndarray) or a.flags.writeable
+
+
+def _unwrapped(lo: float, hi: float) -> list[tuple[float, float]]:
+    """[lo, hi] (relative angles, each end at most half a turn outside (-pi, pi]) as pieces within it."""
+    pieces = [(lo, hi)]
+    if lo < -math.pi:
+        pieces.append((lo + TWO_PI, hi + TWO_PI))
+    if hi > math.pi:
+        pieces.append((lo - TWO_PI, hi - TWO_PI))
+    return pieces
+
+
 def _cull_segments(ox: float, oy: float, a: FloatArray, b: FloatArray, max_range: float) -> tuple[FloatArray, FloatArray]:
     """Drop segments whose closest point is farther than ``max_range``."""
     if a.shape[0] == 0:
         return a, b
+    keep = _within(ox, oy, a, b, max_range)
+    if keep.all():
+        return a, b
+    return a[keep], b[keep]
+
+
+def _within(ox: float, oy: float, a: FloatArray, b: FloatArray, max_range: float) -> FloatArray:
+    """Per segment (row): whether its closest point lies within ``max_range`` of the origin.
+    Rows are independent, so asking for a subset gives the same answers."""
     ab = b - a
     ao = np.array([ox, oy]) - a
     denom = (ab * ab).sum(1)
@@ -196,10 +537,7 @@ def _cull_segments(ox: float, oy: float, a: FloatArray, b: FloatArray, max_range
     t = np.clip((ao * ab).sum(1) / denom, 0.0, 1.0)
     cx = a[:, 0] + t * ab[:, 0] - ox
     cy = a[:, 1] + t * ab[:, 1] - oy
-    keep = cx * cx + cy * cy <= max_range * max_range
-    if keep.all():
-        return a, b
-    return a[keep], b[keep]
+    return cx * cx + cy * cy <= max_range * max_range
 
 
 def line_of_sight(

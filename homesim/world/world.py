@@ -41,7 +41,7 @@ from .bodies import (
 )
 from .geometry import is_convex, point_in_polygon, polygon_area, polygon_centroid, polygon_edges, split_wall, wall_rectangle
 from .pathplan import WALKER_RADIUS, Grid, door_sides, scenario_bounds
-from .raycast import Prisms, RayCaster
+from .raycast import FanCaster, Prisms
 
 StepListener = Callable[["World"], None]
 Overlap = tuple[float, pymunk.Vec2d, pymunk.Shape]
@@ -105,9 +105,7 @@ class World:
         self._seg_cache: dict[float, tuple[np.ndarray, np.ndarray]] = {}
         self.space.on_collision(CAT_ROBOT, None, begin=self._on_robot_contact)
         self._laser_segments = self.segments_at(LASER_HEIGHT)
-        self.caster = RayCaster()
-        # (origin x, origin y, max range), the angles, their static ranges: see laser_ranges.
-        self._laser_static: tuple[tuple[float, float, float], np.ndarray, np.ndarray] | None = None
+        self.caster = FanCaster()
         self._grids: dict[float, Grid] = {}
         self._room_polys = [(r.name, [(float(x), float(y)) for x, y in r.polygon]) for r in scenario.rooms]
         self._room_cells: dict[tuple[int, int], object] = {}
@@ -361,6 +359,7 @@ class World:
             b = np.concatenate([p[1] for p in pairs])
         else:
             a = b = np.zeros((0, 2))
+        a.flags.writeable = b.flags.writeable = False  # shared from the cache (and so the laser knows them)
         self._seg_cache[key] = (a, b)
         return a, b
 
@@ -391,25 +390,13 @@ class World:
         """Exact ranges at laser height along world angles (no noise): walls, furniture, legs.
 
         The static part (walls and furniture) is cast once per laser pose and kept: while the
-        robot stands still (a dialog, a wait) only the people's legs are recast. The range is
-        the minimum over everything hit, and a minimum is exact, so the result is bit-identical
-        to casting everything together.
+        robot stands still (a dialog, a wait) only the people's legs are recast
+        (:meth:`~homesim.world.raycast.FanCaster.scan`, bit-identical to casting everything
+        together).
         """
-        key = (float(origin[0]), float(origin[1]), float(max_range))
-        cached = self._laser_static
-        if cached is None or cached[0] != key or not np.array_equal(cached[1], angles):
-            a, b = self._laser_segments
-            static = self.caster.cast(origin, angles, a, b, max_range=max_range, backfaces=False)
-            cached = self._laser_static = (key, np.array(angles, dtype=float), static)
-        static = cached[2]
-        result = np.empty_like(static) if out is None else out
+        a, b = self._laser_segments
         c, r = self.leg_circles()
-        if c.shape[0]:
-            self.caster.cast(origin, angles, circ_c=c, circ_r=r, max_range=max_range, out=result)
-            np.minimum(result, static, out=result)
-        else:
-            result[:] = static
-        return result
+        return self.caster.scan(origin, angles, a, b, c, r, max_range, out=out)
 
     def target_point(self, t: Target, *, who: str | None = None) -> tuple[float, float, float]:
         """World point (x, y, z) of a script or expectation target."""

@@ -14,6 +14,7 @@ people appear in the scan. The person attention system is free to run its own.
 from __future__ import annotations
 
 import asyncio
+import copy
 import math
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
@@ -79,13 +80,25 @@ def simulate_scan(
     if rng is not None and spec.noise > 0:
         miss = ranges >= spec.max_range
         ranges += rng.normal(0.0, spec.noise, ranges.shape[0])
-        np.clip(ranges, 0.0, spec.max_range, out=ranges)
+        # np.clip's values without its Python-level wrapper (a third of a scan's noise cost)
+        np.maximum(ranges, 0.0, out=ranges)
+        np.minimum(ranges, spec.max_range, out=ranges)
         ranges[miss] = spec.max_range
     return ranges
 
 
-def scan_element(t: float, spec: LaserSpec, seq: int) -> etree._Element:
-    """The XML part of a scan message (the ranges travel as an attachment)."""
+def scan_element(t: float, spec: LaserSpec, seq: int, *, template: etree._Element | None = None) -> etree._Element:
+    """The XML part of a scan message (the ranges travel as an attachment).
+
+    ``template``: an earlier element for the same ``spec``; copying it and setting ``seq`` and
+    ``time`` (which keep their places) gives the same element at a third of the cost of
+    formatting every attribute again.
+    """
+    if template is not None:
+        el = copy.copy(template)  # lxml: a deep copy, its own document, no parent
+        el.set("seq", str(seq))
+        el.set("time", f"{t:.6f}")
+        return el
     return etree.Element(
         "scan",
         seq=str(seq),
@@ -113,6 +126,7 @@ class Laser(Module):
         self.world = world
         self.spec = spec or LaserSpec()
         self._bearings = self.spec.bearings()
+        self._template = scan_element(0.0, self.spec, 0)
         self.seq = 0
 
     async def run(self) -> None:
@@ -120,6 +134,6 @@ class Laser(Module):
         while True:
             self.beat()
             ranges = simulate_scan(self.world, self.world.robot.pose, self.spec, self.rng, bearings=self._bearings)
-            self.bus.publish(SCAN_CHANNEL, scan_element(self.now, self.spec, self.seq), attachments={"ranges": ranges}, transfer=True)
+            self.bus.publish(SCAN_CHANNEL, scan_element(self.now, self.spec, self.seq, template=self._template), attachments={"ranges": ranges}, transfer=True)
             self.seq += 1
             await asyncio.sleep(period)
