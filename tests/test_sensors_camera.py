@@ -17,6 +17,7 @@ from robot.hardware.camera import (
     PanTilt,
     camera_point,
     detect_faces,
+    detect_frame,
     detect_gestures,
     detect_objects,
     detect_torsos,
@@ -257,3 +258,37 @@ def test_sight_lines_are_per_line_and_culling_changes_nothing(origin, targets, b
     assert together.tolist() == alone
     # (Culled cylinders are checked against brute-force sampling above.)
     assert together.tolist() == sight_lines_clear(origin, tg, _uncull(prisms), c, r, top, skip=skip).tolist()
+
+
+# A person: bearing from where the camera looks (rad), distance (m), gaze away from the camera (rad), height (m).
+_spot = st.tuples(st.floats(-0.5, 0.5), st.floats(0.6, 4.5), st.floats(-0.8, 0.8), st.floats(0.9, 2.0))
+
+
+@settings(max_examples=examples(30, 150), deadline=None)
+@given(
+    people=st.lists(_spot, min_size=0, max_size=4),
+    pointing=st.lists(st.booleans(), min_size=4, max_size=4),
+    robot=st.tuples(st.floats(0.8, 2.5), st.floats(0.8, 5.0), st.floats(-math.pi, math.pi)),
+    ptu=st.tuples(st.floats(-1.7, 1.7), st.floats(-0.4, 0.4)),
+    seed=st.integers(0, 2**32 - 1),
+)
+def test_one_frame_equals_each_kind_detected_in_turn(people, pointing, robot, ptu, seed):
+    """detect_frame asks every kind's sight lines in one pass; the detections and the random
+    numbers drawn must be exactly those of the four per-kind detectors called in turn."""
+    world = room()
+    world.place_robot(*robot)
+    cam = camera_point(world.robot.pose, SPEC)
+    for i, (bearing, distance, gaze, height) in enumerate(people):
+        x, y = at_bearing(cam[:2], robot[2] + ptu[0], bearing, distance)
+        _add_person(world, f"p{i}", x, y, height)
+        world.humans[f"p{i}"].turn_to(math.atan2(cam[1] - y, cam[0] - x) + gaze)
+        if pointing[i]:
+            world.humans[f"p{i}"].pointing = Pointing("cup", world.object_point("cup"), until=5.0)
+    pose, pt = world.robot.pose, PanTilt(pan=ptu[0], tilt=ptu[1])
+    one, each = np.random.default_rng(seed), np.random.default_rng(seed)
+    frame = detect_frame(world, pose, pt, SPEC, one, confusion=0.3)
+    assert frame.faces == detect_faces(world, pose, pt, SPEC, each)
+    assert frame.torsos == detect_torsos(world, pose, pt, SPEC, each)
+    assert frame.gestures == detect_gestures(world, pose, pt, SPEC, each)
+    assert frame.objects == detect_objects(world, pose, pt, SPEC, each, confusion=0.3)
+    assert one.random() == each.random()  # the same numbers drawn, no more, no fewer

@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -131,67 +132,11 @@ class FaceDetection:
     truth: str  # who it was (ground truth; kept out of bus messages)
 
 
-def detect_faces(world: World, pose: tuple[float, float, float], ptu: PanTilt, spec: CameraSpec, rng: np.random.Generator | None,
-                 *, occluders: Occluders | None = None) -> list[FaceDetection]:
-    """Faces in frontal view, in the image, unoccluded and 0.5-4 m away."""
-    people = [h for h in world.humans.values() if h.present]
-    if not people:
-        return []
-    cam = camera_point(pose, spec)
-    lo, hi = spec.face_range
-    cand = []
-    for h in people:  # plain floats: a few people, where numpy's per-call cost dominates
-        f = h.face_point()
-        b, e, d = _look(cam, pose[2], f)
-        to_cam = math.atan2(cam[1] - f[1], cam[0] - f[0])  # from the face to the camera vs where it looks
-        if abs((h.gaze - to_cam + math.pi) % TWO_PI - math.pi) <= spec.frontal and _in_view(b, e, ptu, spec) and lo <= d <= hi:
-            cand.append((h, f, b, d))
-    if cand:
-        sight = visible(world, cam, np.array([c[1] for c in cand]), exclude=[c[0].name for c in cand], occluders=occluders)
-        cand = [c for c, seen in zip(cand, sight) if seen]
-    out = []
-    for h, f, b, d in cand:
-        z = float(f[2])
-        if rng is not None:
-            b += float(rng.normal(0.0, spec.bearing_noise))
-            d *= float(1.0 + rng.normal(0.0, spec.distance_noise))
-            z += float(rng.normal(0.0, spec.height_noise))
-        out.append(FaceDetection(float(wrap_angle(b)), max(0.1, d), z, h.name))
-    return out
-
-
 @dataclass(frozen=True)
 class TorsoDetection:
     bearing: float
     colour: tuple[float, float, float]
     truth: str
-
-
-def detect_torsos(world: World, pose: tuple[float, float, float], ptu: PanTilt, spec: CameraSpec, rng: np.random.Generator | None,
-                  *, occluders: Occluders | None = None) -> list[TorsoDetection]:
-    """Torsos (clothing colour and bearing) of people in view, whichever way they face."""
-    people = [h for h in world.humans.values() if h.present]
-    if not people:
-        return []
-    cam = camera_point(pose, spec)
-    lo, hi = spec.torso_range
-    cand = []
-    for h in people:
-        p = (*h.position, h.torso_z)
-        b, e, d = _look(cam, pose[2], p)
-        if _in_view(b, e, ptu, spec) and lo <= d <= hi:
-            cand.append((h, p, b))
-    if cand:
-        sight = visible(world, cam, np.array([c[1] for c in cand]), exclude=[c[0].name for c in cand], occluders=occluders)
-        cand = [c for c, seen in zip(cand, sight) if seen]
-    out = []
-    for h, _, b in cand:
-        rgb = np.array(h.torso, dtype=float)
-        if rng is not None:
-            b += float(rng.normal(0.0, spec.bearing_noise * 2))
-            rgb = np.clip(rgb + rng.normal(0.0, spec.colour_noise, 3), 0.0, 1.0)
-        out.append(TorsoDetection(float(wrap_angle(b)), (float(rgb[0]), float(rgb[1]), float(rgb[2])), h.name))
-    return out
 
 
 @dataclass(frozen=True)
@@ -207,20 +152,125 @@ class GestureDetection:
     target: str
 
 
-def detect_gestures(world: World, pose: tuple[float, float, float], ptu: PanTilt, spec: CameraSpec, rng: np.random.Generator | None,
-                    *, occluders: Occluders | None = None) -> list[GestureDetection]:
-    """Pointing gestures whose hand is in the image, unoccluded and near enough."""
-    out = []
-    cam = camera_point(pose, spec)
+@dataclass(frozen=True)
+class ObjectDetection:
+    type: str
+    colour: tuple[float, float, float]
+    bearing: float
+    distance: float
+    truth: str
+
+
+@dataclass(frozen=True)
+class Frame:
+    """Everything one image shows, per percept kind (each in the order of the world's people or objects)."""
+
+    faces: list[FaceDetection]
+    torsos: list[TorsoDetection]
+    gestures: list[GestureDetection]
+    objects: list[ObjectDetection]
+
+
+# --- candidates: in view and in range, in plain floats (a few people and objects, where numpy's
+# per-call cost would dominate). Each is (who or what, the 3D point the sight line ends at,
+# bearing, distance); who the line may pass through is the candidate's own person.
+Candidate = tuple[Any, tuple[float, float, float], float, float]
+
+
+def _face_candidates(world: World, cam: tuple[float, float, float], heading: float, ptu: PanTilt, spec: CameraSpec) -> list[Candidate]:
+    lo, hi = spec.face_range
+    cand: list[Candidate] = []
+    for h in world.humans.values():
+        if not h.present:
+            continue
+        f = h.face_point()
+        b, e, d = _look(cam, heading, f)
+        to_cam = math.atan2(cam[1] - f[1], cam[0] - f[0])  # from the face to the camera vs where it looks
+        if abs((h.gaze - to_cam + math.pi) % TWO_PI - math.pi) <= spec.frontal and _in_view(b, e, ptu, spec) and lo <= d <= hi:
+            cand.append((h, f, b, d))
+    return cand
+
+
+def _torso_candidates(world: World, cam: tuple[float, float, float], heading: float, ptu: PanTilt, spec: CameraSpec) -> list[Candidate]:
+    lo, hi = spec.torso_range
+    cand: list[Candidate] = []
+    for h in world.humans.values():
+        if not h.present:
+            continue
+        p = (*h.position, h.torso_z)
+        b, e, d = _look(cam, heading, p)
+        if _in_view(b, e, ptu, spec) and lo <= d <= hi:
+            cand.append((h, p, b, d))
+    return cand
+
+
+def _gesture_candidates(world: World, cam: tuple[float, float, float], heading: float, ptu: PanTilt, spec: CameraSpec) -> list[Candidate]:
+    cand: list[Candidate] = []
     for h in world.humans.values():
         hand = h.hand_point() if h.present else None
         if hand is None or h.pointing is None:
             continue
-        b, e, d = _look(cam, pose[2], hand)
-        if not (_in_view(b, e, ptu, spec) and d <= spec.gesture_range):
-            continue
-        if not visible(world, cam, np.array([hand]), exclude=[h.name], occluders=occluders)[0]:
-            continue
+        b, e, d = _look(cam, heading, hand)
+        if _in_view(b, e, ptu, spec) and d <= spec.gesture_range:
+            cand.append((h, hand, b, d))
+    return cand
+
+
+def _object_candidates(world: World, cam: tuple[float, float, float], heading: float, ptu: PanTilt, spec: CameraSpec) -> list[Candidate]:
+    """Objects in view and range; the point is the object's top (its own furniture does not hide it)."""
+    lo, hi = spec.object_range
+    cand: list[Candidate] = []
+    for n, o in world.objects.items():
+        p = world.object_point(n)
+        b, e, d = _look(cam, heading, p)
+        if _in_view(b, e, ptu, spec) and lo <= d <= hi:
+            cand.append((o, (p[0], p[1], p[2] + o.height / 2), b, d))
+    return cand
+
+
+def _seen(world: World, cam: tuple[float, float, float], groups: list[list[Candidate]], owners: list[bool], occluders: Occluders | None) -> list[list[Candidate]]:
+    """The candidates of every group whose sight line is clear, in one pass of 3D sight lines
+    (each line's answer does not depend on the others asked with it). ``owners[g]``: group g's
+    candidates are people, whose own bodies do not hide their points."""
+    points = [c[1] for g in groups for c in g]
+    if not points:
+        return groups
+    exclude = [c[0].name if own else None for g, own in zip(groups, owners) for c in g]
+    sight = visible(world, cam, np.array(points, dtype=float), exclude=exclude, occluders=occluders).tolist()
+    out, k = [], 0
+    for g in groups:
+        out.append([c for c, ok in zip(g, sight[k : k + len(g)]) if ok])
+        k += len(g)
+    return out
+
+
+# --- noise: drawn in the order of the candidates, per kind.
+def _faces(cand: list[Candidate], spec: CameraSpec, rng: np.random.Generator | None) -> list[FaceDetection]:
+    out = []
+    for h, f, b, d in cand:
+        z = float(f[2])
+        if rng is not None:
+            b += float(rng.normal(0.0, spec.bearing_noise))
+            d *= float(1.0 + rng.normal(0.0, spec.distance_noise))
+            z += float(rng.normal(0.0, spec.height_noise))
+        out.append(FaceDetection(float(wrap_angle(b)), max(0.1, d), z, h.name))
+    return out
+
+
+def _torsos(cand: list[Candidate], spec: CameraSpec, rng: np.random.Generator | None) -> list[TorsoDetection]:
+    out = []
+    for h, _, b, _ in cand:
+        rgb = np.array(h.torso, dtype=float)
+        if rng is not None:
+            b += float(rng.normal(0.0, spec.bearing_noise * 2))
+            rgb = np.clip(rgb + rng.normal(0.0, spec.colour_noise, 3), 0.0, 1.0)
+        out.append(TorsoDetection(float(wrap_angle(b)), (float(rgb[0]), float(rgb[1]), float(rgb[2])), h.name))
+    return out
+
+
+def _gestures(cand: list[Candidate], pose: tuple[float, float, float], spec: CameraSpec, rng: np.random.Generator | None) -> list[GestureDetection]:
+    out = []
+    for h, hand, b, d in cand:
         x, y = h.position
         arm = np.array(hand) - np.array([x, y, h.shoulder_z])
         direction = math.atan2(arm[1], arm[0]) - pose[2]
@@ -233,13 +283,59 @@ def detect_gestures(world: World, pose: tuple[float, float, float], ptu: PanTilt
     return out
 
 
-@dataclass(frozen=True)
-class ObjectDetection:
-    type: str
-    colour: tuple[float, float, float]
-    bearing: float
-    distance: float
-    truth: str
+def _objects(cand: list[Candidate], types: list[str], confusion: float, spec: CameraSpec, rng: np.random.Generator | None) -> list[ObjectDetection]:
+    out = []
+    for o, _, b, d in cand:
+        rgb = np.array(o.colour, dtype=float)
+        if rng is not None:
+            b += float(rng.normal(0.0, spec.bearing_noise))
+            d *= float(1.0 + rng.normal(0.0, spec.distance_noise))
+            rgb = np.clip(rgb + rng.normal(0.0, spec.colour_noise, 3), 0.0, 1.0)
+        out.append(ObjectDetection(confuse(o.type, types, confusion, rng), (float(rgb[0]), float(rgb[1]), float(rgb[2])), float(wrap_angle(b)), max(0.05, d), o.name))
+    return out
+
+
+def _object_types(world: World) -> list[str]:
+    return sorted({o.type for o in world.objects.values()})
+
+
+def detect_frame(world: World, pose: tuple[float, float, float], ptu: PanTilt, spec: CameraSpec, rng: np.random.Generator | None, *,
+                 confusion: float = 0.05, occluders: Occluders | None = None) -> Frame:
+    """Every percept kind of one image: the candidates of all kinds first, their sight lines in
+    one pass, then each kind's noise in turn. The same detections, and the same random numbers
+    in the same order, as :func:`detect_faces`, :func:`detect_torsos`, :func:`detect_gestures`
+    and :func:`detect_objects` called one after the other."""
+    cam = camera_point(pose, spec)
+    th = pose[2]
+    groups = [_face_candidates(world, cam, th, ptu, spec), _torso_candidates(world, cam, th, ptu, spec),
+              _gesture_candidates(world, cam, th, ptu, spec), _object_candidates(world, cam, th, ptu, spec)]
+    faces, torsos, gestures, objects = _seen(world, cam, groups, [True, True, True, False], occluders)
+    return Frame(_faces(faces, spec, rng), _torsos(torsos, spec, rng), _gestures(gestures, pose, spec, rng),
+                 _objects(objects, _object_types(world), confusion, spec, rng))
+
+
+def detect_faces(world: World, pose: tuple[float, float, float], ptu: PanTilt, spec: CameraSpec, rng: np.random.Generator | None,
+                 *, occluders: Occluders | None = None) -> list[FaceDetection]:
+    """Faces in frontal view, in the image, unoccluded and 0.5-4 m away."""
+    cam = camera_point(pose, spec)
+    (cand,) = _seen(world, cam, [_face_candidates(world, cam, pose[2], ptu, spec)], [True], occluders)
+    return _faces(cand, spec, rng)
+
+
+def detect_torsos(world: World, pose: tuple[float, float, float], ptu: PanTilt, spec: CameraSpec, rng: np.random.Generator | None,
+                  *, occluders: Occluders | None = None) -> list[TorsoDetection]:
+    """Torsos (clothing colour and bearing) of people in view, whichever way they face."""
+    cam = camera_point(pose, spec)
+    (cand,) = _seen(world, cam, [_torso_candidates(world, cam, pose[2], ptu, spec)], [True], occluders)
+    return _torsos(cand, spec, rng)
+
+
+def detect_gestures(world: World, pose: tuple[float, float, float], ptu: PanTilt, spec: CameraSpec, rng: np.random.Generator | None,
+                    *, occluders: Occluders | None = None) -> list[GestureDetection]:
+    """Pointing gestures whose hand is in the image, unoccluded and near enough."""
+    cam = camera_point(pose, spec)
+    (cand,) = _seen(world, cam, [_gesture_candidates(world, cam, pose[2], ptu, spec)], [True], occluders)
+    return _gestures(cand, pose, spec, rng)
 
 
 def confuse(true_type: str, types: list[str], p: float, rng: np.random.Generator | None) -> str:
@@ -253,30 +349,6 @@ def confuse(true_type: str, types: list[str], p: float, rng: np.random.Generator
 def detect_objects(world: World, pose: tuple[float, float, float], ptu: PanTilt, spec: CameraSpec, rng: np.random.Generator | None, *,
                    confusion: float = 0.05, occluders: Occluders | None = None) -> list[ObjectDetection]:
     """Objects in the image, unoccluded, 0.3-3.5 m away; types through :func:`confuse`."""
-    names = list(world.objects)
-    if not names:
-        return []
-    types = sorted({world.objects[n].type for n in names})
     cam = camera_point(pose, spec)
-    lo, hi = spec.object_range
-    cand = []
-    for n in names:
-        p = world.object_point(n)
-        b, e, d = _look(cam, pose[2], p)
-        if _in_view(b, e, ptu, spec) and lo <= d <= hi:
-            cand.append((world.objects[n], p, b, d))
-    if cand:
-        # An object's own furniture does not hide it: look at its top.
-        lifted = np.array([c[1] for c in cand], dtype=float)
-        lifted[:, 2] += np.array([c[0].height / 2 for c in cand])
-        sight = visible(world, cam, lifted, exclude=[None] * len(cand), occluders=occluders)
-        cand = [c for c, seen in zip(cand, sight) if seen]
-    out = []
-    for o, _, b, d in cand:
-        rgb = np.array(o.colour, dtype=float)
-        if rng is not None:
-            b += float(rng.normal(0.0, spec.bearing_noise))
-            d *= float(1.0 + rng.normal(0.0, spec.distance_noise))
-            rgb = np.clip(rgb + rng.normal(0.0, spec.colour_noise, 3), 0.0, 1.0)
-        out.append(ObjectDetection(confuse(o.type, types, confusion, rng), (float(rgb[0]), float(rgb[1]), float(rgb[2])), float(wrap_angle(b)), max(0.05, d), o.name))
-    return out
+    (cand,) = _seen(world, cam, [_object_candidates(world, cam, pose[2], ptu, spec)], [False], occluders)
+    return _objects(cand, _object_types(world), confusion, spec, rng)

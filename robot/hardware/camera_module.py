@@ -25,7 +25,7 @@ from lxml import etree
 from homesim.message import Message
 from homesim.module import Module
 
-from .camera import CameraSpec, PanTilt, detect_faces, detect_gestures, detect_objects, detect_torsos, ptu_step
+from .camera import CameraSpec, PanTilt, detect_frame, ptu_step
 
 if TYPE_CHECKING:
     from homesim.sim import Simulation
@@ -75,23 +75,24 @@ class Camera(Module):
 
     def publish_frame(self) -> None:
         """Detect in the current world and publish one message per kind."""
-        pose, ptu, spec, rng, w = self.world.robot.pose, self.ptu, self.spec, self.rng, self.world
-        occ = w.person_cylinders()  # once per frame, for every kind's sight lines
+        pose, ptu, w = self.world.robot.pose, self.ptu, self.world
+        # Every kind's sight lines in one pass, against the people as they are now.
+        frame = detect_frame(w, pose, ptu, self.spec, self.rng, confusion=self.confusion, occluders=w.person_cylinders())
         stamp = {"time": f"{self.now:.6f}", "pan": _deg(ptu.pan), "tilt": _deg(ptu.tilt)}
-        self.bus.publish(PTU_STATE, etree.Element("ptu", pan=_deg(ptu.pan), tilt=_deg(ptu.tilt), target_pan=_deg(ptu.target_pan), target_tilt=_deg(ptu.target_tilt)), transfer=True)
+        self.bus.publish(PTU_STATE, etree.Element("ptu", pan=stamp["pan"], tilt=stamp["tilt"], target_pan=_deg(ptu.target_pan), target_tilt=_deg(ptu.target_tilt)), transfer=True)
         faces = etree.Element("faces", stamp)
-        for f in detect_faces(w, pose, ptu, spec, rng, occluders=occ):
+        for f in frame.faces:
             etree.SubElement(faces, "face", bearing=_deg(f.bearing), distance=f"{f.distance:.3f}", height=f"{f.height:.3f}")
         self.bus.publish(FACES, faces, transfer=True)
         torsos = etree.Element("torsos", stamp)
-        for t in detect_torsos(w, pose, ptu, spec, rng, occluders=occ):
+        for t in frame.torsos:
             etree.SubElement(torsos, "torso", bearing=_deg(t.bearing), r=f"{t.colour[0]:.3f}", g=f"{t.colour[1]:.3f}", b=f"{t.colour[2]:.3f}")
         self.bus.publish(TORSOS, torsos, transfer=True)
         gestures = etree.Element("gestures", stamp)
-        for g in detect_gestures(w, pose, ptu, spec, rng, occluders=occ):
+        for g in frame.gestures:
             etree.SubElement(gestures, "pointing", bearing=_deg(g.bearing), distance=f"{g.distance:.3f}", direction=_deg(g.direction), elevation=_deg(g.elevation), hand_height=f"{g.hand_height:.3f}")
         self.bus.publish(GESTURES, gestures, transfer=True)
         objects = etree.Element("objects", stamp)
-        for o in detect_objects(w, pose, ptu, spec, rng, confusion=self.confusion, occluders=occ):
+        for o in frame.objects:
             etree.SubElement(objects, "object", type=o.type, bearing=_deg(o.bearing), distance=f"{o.distance:.3f}", r=f"{o.colour[0]:.3f}", g=f"{o.colour[1]:.3f}", b=f"{o.colour[2]:.3f}")
         self.bus.publish(OBJECTS, objects, transfer=True)
