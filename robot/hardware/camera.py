@@ -69,11 +69,16 @@ class PanTilt:
 
 def ptu_step(ptu: PanTilt, dt: float, spec: CameraSpec) -> PanTilt:
     """Move towards the (clamped) target at most at the unit's speeds; returns a new state."""
-    tp = float(np.clip(ptu.target_pan, -spec.pan_limit, spec.pan_limit))
-    tt = float(np.clip(ptu.target_tilt, -spec.tilt_limit, spec.tilt_limit))
-    pan = ptu.pan + float(np.clip(tp - ptu.pan, -spec.pan_speed * dt, spec.pan_speed * dt))
-    tilt = ptu.tilt + float(np.clip(tt - ptu.tilt, -spec.tilt_speed * dt, spec.tilt_speed * dt))
+    tp = _clip(ptu.target_pan, -spec.pan_limit, spec.pan_limit)
+    tt = _clip(ptu.target_tilt, -spec.tilt_limit, spec.tilt_limit)
+    pan = ptu.pan + _clip(tp - ptu.pan, -spec.pan_speed * dt, spec.pan_speed * dt)
+    tilt = ptu.tilt + _clip(tt - ptu.tilt, -spec.tilt_speed * dt, spec.tilt_speed * dt)
     return PanTilt(pan, tilt, tp, tt)
+
+
+def _clip(x: float, lo: float, hi: float) -> float:
+    """``float(np.clip(x, lo, hi))`` for one float, without numpy's per-call cost."""
+    return float(lo if x < lo else hi if x > hi else x)
 
 
 def camera_point(pose: tuple[float, float, float], spec: CameraSpec) -> tuple[float, float, float]:
@@ -175,57 +180,73 @@ class Frame:
 # per-call cost would dominate). Each is (who or what, the 3D point the sight line ends at,
 # bearing, distance); who the line may pass through is the candidate's own person.
 Candidate = tuple[Any, tuple[float, float, float], float, float]
+Point = tuple[Any, tuple[float, float, float]]
 
 
-def _face_candidates(world: World, cam: tuple[float, float, float], heading: float, ptu: PanTilt, spec: CameraSpec) -> list[Candidate]:
-    lo, hi = spec.face_range
-    cand: list[Candidate] = []
-    for h in world.humans.values():
-        if not h.present:
-            continue
-        f = h.face_point()
-        b, e, d = _look(cam, heading, f)
-        to_cam = math.atan2(cam[1] - f[1], cam[0] - f[0])  # from the face to the camera vs where it looks
-        if abs((h.gaze - to_cam + math.pi) % TWO_PI - math.pi) <= spec.frontal and _in_view(b, e, ptu, spec) and lo <= d <= hi:
-            cand.append((h, f, b, d))
-    return cand
+def _face_points(world: World) -> list[Point]:
+    return [(h, h.face_point()) for h in world.humans.values() if h.present]
 
 
-def _torso_candidates(world: World, cam: tuple[float, float, float], heading: float, ptu: PanTilt, spec: CameraSpec) -> list[Candidate]:
-    lo, hi = spec.torso_range
-    cand: list[Candidate] = []
-    for h in world.humans.values():
-        if not h.present:
-            continue
-        p = (*h.position, h.torso_z)
-        b, e, d = _look(cam, heading, p)
-        if _in_view(b, e, ptu, spec) and lo <= d <= hi:
-            cand.append((h, p, b, d))
-    return cand
+def _torso_points(world: World) -> list[Point]:
+    return [(h, (*h.position, h.torso_z)) for h in world.humans.values() if h.present]
 
 
-def _gesture_candidates(world: World, cam: tuple[float, float, float], heading: float, ptu: PanTilt, spec: CameraSpec) -> list[Candidate]:
-    cand: list[Candidate] = []
+def _hand_points(world: World) -> list[Point]:
+    out = []
     for h in world.humans.values():
         hand = h.hand_point() if h.present else None
-        if hand is None or h.pointing is None:
-            continue
-        b, e, d = _look(cam, heading, hand)
-        if _in_view(b, e, ptu, spec) and d <= spec.gesture_range:
-            cand.append((h, hand, b, d))
-    return cand
+        if hand is not None and h.pointing is not None:
+            out.append((h, hand))
+    return out
 
 
-def _object_candidates(world: World, cam: tuple[float, float, float], heading: float, ptu: PanTilt, spec: CameraSpec) -> list[Candidate]:
-    """Objects in view and range; the point is the object's top (its own furniture does not hide it)."""
-    lo, hi = spec.object_range
-    cand: list[Candidate] = []
-    for n, o in world.objects.items():
-        p = world.object_point(n)
-        b, e, d = _look(cam, heading, p)
-        if _in_view(b, e, ptu, spec) and lo <= d <= hi:
-            cand.append((o, (p[0], p[1], p[2] + o.height / 2), b, d))
-    return cand
+def _object_points(world: World) -> list[Point]:
+    return [(o, world.object_point(n)) for n, o in world.objects.items()]
+
+
+def _looks(cam: tuple[float, float, float], heading: float, points: list[tuple[float, float, float]]) -> list[tuple[float, float, float]]:
+    """:func:`_look` for many points, its two hypotenuses in one numpy call each (the same libm
+    function per element, so the same floats)."""
+    if not points:
+        return []
+    cx, cy, cz = cam
+    dx = [p[0] - cx for p in points]
+    dy = [p[1] - cy for p in points]
+    dz = [p[2] - cz for p in points]
+    horiz = _hypot(dx, dy)
+    dist = _hypot(horiz, dz).tolist()
+    return [((math.atan2(y, x) - heading + math.pi) % TWO_PI - math.pi, math.atan2(z, hz), d)
+            for x, y, z, hz, d in zip(dx, dy, dz, horiz.tolist(), dist)]
+
+
+def _face_ok(h: Any, f: tuple[float, float, float], b: float, e: float, d: float, cam: tuple[float, float, float], ptu: PanTilt, spec: CameraSpec) -> bool:
+    lo, hi = spec.face_range
+    to_cam = math.atan2(cam[1] - f[1], cam[0] - f[0])  # from the face to the camera vs where it looks
+    return abs((h.gaze - to_cam + math.pi) % TWO_PI - math.pi) <= spec.frontal and _in_view(b, e, ptu, spec) and lo <= d <= hi
+
+
+def _candidates(world: World, cam: tuple[float, float, float], heading: float, ptu: PanTilt, spec: CameraSpec, kinds: str) -> list[list[Candidate]]:
+    """Per kind (letters of ``kinds``: f faces, t torsos, g gestures, o objects) the candidates,
+    every point's direction computed in one batch."""
+    sources = [{"f": _face_points, "t": _torso_points, "g": _hand_points, "o": _object_points}[k](world) for k in kinds]
+    looks = iter(_looks(cam, heading, [p for src in sources for _, p in src]))
+    out: list[list[Candidate]] = []
+    for kind, src in zip(kinds, sources):
+        cand: list[Candidate] = []
+        for (who, p), (b, e, d) in zip(src, looks):
+            if kind == "f":
+                ok = _face_ok(who, p, b, e, d, cam, ptu, spec)
+            elif kind == "t":
+                ok = _in_view(b, e, ptu, spec) and spec.torso_range[0] <= d <= spec.torso_range[1]
+            elif kind == "g":
+                ok = _in_view(b, e, ptu, spec) and d <= spec.gesture_range
+            else:
+                ok = _in_view(b, e, ptu, spec) and spec.object_range[0] <= d <= spec.object_range[1]
+                p = (p[0], p[1], p[2] + who.height / 2)  # its top: its own furniture does not hide it
+            if ok:
+                cand.append((who, p, b, d))
+        out.append(cand)
+    return out
 
 
 def _seen(world: World, cam: tuple[float, float, float], groups: list[list[Candidate]], owners: list[bool], occluders: Occluders | None) -> list[list[Candidate]]:
@@ -260,10 +281,10 @@ def _faces(cand: list[Candidate], spec: CameraSpec, rng: np.random.Generator | N
 def _torsos(cand: list[Candidate], spec: CameraSpec, rng: np.random.Generator | None) -> list[TorsoDetection]:
     out = []
     for h, _, b, _ in cand:
-        rgb = np.array(h.torso, dtype=float)
+        rgb = h.torso
         if rng is not None:
             b += float(rng.normal(0.0, spec.bearing_noise * 2))
-            rgb = np.clip(rgb + rng.normal(0.0, spec.colour_noise, 3), 0.0, 1.0)
+            rgb = _noisy_colour(rgb, rng.normal(0.0, spec.colour_noise, 3).tolist())
         out.append(TorsoDetection(float(wrap_angle(b)), (float(rgb[0]), float(rgb[1]), float(rgb[2])), h.name))
     return out
 
@@ -286,13 +307,18 @@ def _gestures(cand: list[Candidate], pose: tuple[float, float, float], spec: Cam
 def _objects(cand: list[Candidate], types: list[str], confusion: float, spec: CameraSpec, rng: np.random.Generator | None) -> list[ObjectDetection]:
     out = []
     for o, _, b, d in cand:
-        rgb = np.array(o.colour, dtype=float)
+        rgb = o.colour
         if rng is not None:
             b += float(rng.normal(0.0, spec.bearing_noise))
             d *= float(1.0 + rng.normal(0.0, spec.distance_noise))
-            rgb = np.clip(rgb + rng.normal(0.0, spec.colour_noise, 3), 0.0, 1.0)
+            rgb = _noisy_colour(rgb, rng.normal(0.0, spec.colour_noise, 3).tolist())
         out.append(ObjectDetection(confuse(o.type, types, confusion, rng), (float(rgb[0]), float(rgb[1]), float(rgb[2])), float(wrap_angle(b)), max(0.05, d), o.name))
     return out
+
+
+def _noisy_colour(rgb: tuple[float, float, float], noise: list[float]) -> tuple[float, float, float]:
+    """``np.clip(rgb + noise, 0, 1)`` in plain floats (the same sums, the same clipped values)."""
+    return tuple(min(max(float(c) + n, 0.0), 1.0) for c, n in zip(rgb, noise))  # type: ignore[return-value]
 
 
 def _object_types(world: World) -> list[str]:
@@ -306,9 +332,7 @@ def detect_frame(world: World, pose: tuple[float, float, float], ptu: PanTilt, s
     in the same order, as :func:`detect_faces`, :func:`detect_torsos`, :func:`detect_gestures`
     and :func:`detect_objects` called one after the other."""
     cam = camera_point(pose, spec)
-    th = pose[2]
-    groups = [_face_candidates(world, cam, th, ptu, spec), _torso_candidates(world, cam, th, ptu, spec),
-              _gesture_candidates(world, cam, th, ptu, spec), _object_candidates(world, cam, th, ptu, spec)]
+    groups = _candidates(world, cam, pose[2], ptu, spec, "ftgo")
     faces, torsos, gestures, objects = _seen(world, cam, groups, [True, True, True, False], occluders)
     return Frame(_faces(faces, spec, rng), _torsos(torsos, spec, rng), _gestures(gestures, pose, spec, rng),
                  _objects(objects, _object_types(world), confusion, spec, rng))
@@ -318,7 +342,7 @@ def detect_faces(world: World, pose: tuple[float, float, float], ptu: PanTilt, s
                  *, occluders: Occluders | None = None) -> list[FaceDetection]:
     """Faces in frontal view, in the image, unoccluded and 0.5-4 m away."""
     cam = camera_point(pose, spec)
-    (cand,) = _seen(world, cam, [_face_candidates(world, cam, pose[2], ptu, spec)], [True], occluders)
+    (cand,) = _seen(world, cam, _candidates(world, cam, pose[2], ptu, spec, "f"), [True], occluders)
     return _faces(cand, spec, rng)
 
 
@@ -326,7 +350,7 @@ def detect_torsos(world: World, pose: tuple[float, float, float], ptu: PanTilt, 
                   *, occluders: Occluders | None = None) -> list[TorsoDetection]:
     """Torsos (clothing colour and bearing) of people in view, whichever way they face."""
     cam = camera_point(pose, spec)
-    (cand,) = _seen(world, cam, [_torso_candidates(world, cam, pose[2], ptu, spec)], [True], occluders)
+    (cand,) = _seen(world, cam, _candidates(world, cam, pose[2], ptu, spec, "t"), [True], occluders)
     return _torsos(cand, spec, rng)
 
 
@@ -334,7 +358,7 @@ def detect_gestures(world: World, pose: tuple[float, float, float], ptu: PanTilt
                     *, occluders: Occluders | None = None) -> list[GestureDetection]:
     """Pointing gestures whose hand is in the image, unoccluded and near enough."""
     cam = camera_point(pose, spec)
-    (cand,) = _seen(world, cam, [_gesture_candidates(world, cam, pose[2], ptu, spec)], [True], occluders)
+    (cand,) = _seen(world, cam, _candidates(world, cam, pose[2], ptu, spec, "g"), [True], occluders)
     return _gestures(cand, pose, spec, rng)
 
 
@@ -350,5 +374,5 @@ def detect_objects(world: World, pose: tuple[float, float, float], ptu: PanTilt,
                    confusion: float = 0.05, occluders: Occluders | None = None) -> list[ObjectDetection]:
     """Objects in the image, unoccluded, 0.3-3.5 m away; types through :func:`confuse`."""
     cam = camera_point(pose, spec)
-    (cand,) = _seen(world, cam, [_object_candidates(world, cam, pose[2], ptu, spec)], [False], occluders)
+    (cand,) = _seen(world, cam, _candidates(world, cam, pose[2], ptu, spec, "o"), [False], occluders)
     return _objects(cand, _object_types(world), confusion, spec, rng)
