@@ -174,7 +174,7 @@ _coord = st.floats(-6.0, 6.0, allow_nan=False)
 @settings(max_examples=60, deadline=None)
 @given(
     segs=st.lists(st.tuples(_coord, _coord, _coord, _coord), max_size=10),
-    circles=st.lists(st.tuples(_coord, _coord, st.floats(0.02, 0.8)), max_size=6),
+    circles=st.lists(st.tuples(_coord, _coord, st.floats(0.02, 0.8)), max_size=9),
     origin=st.tuples(st.floats(-3.0, 3.0), st.floats(-3.0, 3.0)),
     start=st.floats(-4.0, 4.0),
     fan=st.sampled_from([(361, math.radians(0.5)), (46, math.radians(4.0)), (7, 0.3), (2, 1.0)]),
