@@ -1,0 +1,131 @@
+"""Sensor models' CPU: the laser and the camera, per update and in the simulated home.
+
+Run: ``python -m benchmarks.bench_sensors [--duration S] [--reps N]``. Process CPU time
+(``time.process_time``), so the machine's other work counts less than on a wall clock. Prints, for
+the example flat with 1, 3 and 10 people (:func:`benchmarks.bench_world.crowd_scenario`):
+
+- a 361-beam scan (``simulate_scan``: ranges and noise) with the robot standing (the walls and
+  furniture kept from the last scan, only legs cast) and moving (everything cast), and the dense
+  kernel (``RayCaster``: every beam against every edge and leg, what a moving scan cost before the
+  fan caster) for comparison;
+- a camera frame's detections (``detect_frame``: faces, torsos, gestures, objects, one pass of 3D
+  sight lines) against the four per-kind detectors called in turn (a pass each);
+- the whole simulated home (``Stage``: physics, people, every sensor and its bus messages) in CPU
+  ms per simulated second, and the laser's and the camera's modules' share of it (each wake-up
+  timed, as :mod:`benchmarks.bench_modules` does, their bus messages included).
+
+Not a test: nothing is asserted.
+"""
+
+from __future__ import annotations
+
+import argparse
+import time
+from collections.abc import Callable
+from typing import Any
+
+import numpy as np
+
+from benchmarks.bench_modules import _Account, _TimedCoroutine
+from benchmarks.bench_world import crowd_scenario
+from homesim.scenario.loader import load_scenario_text
+from homesim.sim import Simulation
+from homesim.world.raycast import RayCaster
+from homesim.world.stage import Stage
+from homesim.world.world import World
+from robot.hardware.camera import CameraSpec, PanTilt, detect_faces, detect_frame, detect_gestures, detect_objects, detect_torsos
+from robot.hardware.laser import LaserSpec, laser_origin, simulate_scan
+
+_clock = time.process_time
+
+
+def cpu_us(fn: Callable[[], Any], reps: int) -> float:
+    """Best of five rounds of ``reps`` calls, CPU microseconds per call."""
+    fn()
+    best = []
+    for _ in range(5):
+        t0 = _clock()
+        for _ in range(reps):
+            fn()
+        best.append(1e6 * (_clock() - t0) / reps)
+    return min(best)
+
+
+def kernels(n_people: int, reps: int) -> dict[str, float]:
+    """Per-update CPU (us) of the laser and camera models in the crowd flat, people facing the robot."""
+    world = World(load_scenario_text(crowd_scenario(n_people, 10.0), source=f"crowd{n_people}"))
+    pose = world.robot.pose
+    cam_xy = world.robot.pose[:2]
+    for h in world.humans.values():
+        x, y = h.position
+        h.turn_to(float(np.arctan2(cam_xy[1] - y, cam_xy[0] - x)))
+        h.advance(0.0)
+    spec, rng = LaserSpec(), np.random.default_rng(0)
+    bearings = spec.bearings()
+    poses = [(pose[0] + 1e-4 * (k % 2), pose[1], pose[2]) for k in range(2)]
+    k = [0]
+
+    def moving() -> None:
+        k[0] += 1
+        simulate_scan(world, poses[k[0] % 2], spec, rng, bearings=bearings)
+
+    a, b = world._laser_segments
+    c, r = world.leg_circles()
+    origin, angles = laser_origin(pose, spec), bearings + pose[2]
+    dense = RayCaster()
+    cspec, ptu = CameraSpec(), PanTilt()
+
+    def per_kind() -> None:
+        occ = world.person_cylinders()
+        detect_faces(world, pose, ptu, cspec, rng, occluders=occ)
+        detect_torsos(world, pose, ptu, cspec, rng, occluders=occ)
+        detect_gestures(world, pose, ptu, cspec, rng, occluders=occ)
+        detect_objects(world, pose, ptu, cspec, rng, occluders=occ)
+
+    return {
+        "scan standing": cpu_us(lambda: simulate_scan(world, pose, spec, rng, bearings=bearings), reps),
+        "scan moving": cpu_us(moving, reps),
+        "dense cast": cpu_us(lambda: dense.cast(origin, angles, a, b, c, r, spec.max_range, backfaces=False), reps),
+        "frame": cpu_us(lambda: detect_frame(world, pose, ptu, cspec, rng, occluders=world.person_cylinders()), reps),
+        "frame per kind": cpu_us(per_kind, reps),
+    }
+
+
+def in_stage(n_people: int, duration: float) -> dict[str, float]:
+    """CPU ms per simulated second: the whole simulated home, and its laser and camera modules."""
+    account = _Account()
+    spawn = Simulation.spawn
+
+    def timed_spawn(self: Simulation, coro: Any, *, name: str) -> Any:
+        return spawn(self, _TimedCoroutine(coro, name, account), name=name)
+
+    sc = load_scenario_text(crowd_scenario(n_people, duration), source=f"crowd{n_people}")
+    Simulation.spawn = timed_spawn  # type: ignore[method-assign]
+    try:
+        sim = Simulation(seed=1, scenario=sc.name)
+        stage = Stage(sim, sc)
+        t0 = _clock()
+        stage.run()
+        cpu = _clock() - t0
+        sim.close()
+    finally:
+        Simulation.spawn = spawn  # type: ignore[method-assign]
+    return {"home": 1000 * cpu / duration, "laser": 1000 * account.cpu["laser"] / duration, "camera": 1000 * account.cpu["camera"] / duration}
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--duration", type=float, default=30.0, help="simulated seconds of each home run")
+    ap.add_argument("--reps", type=int, default=300, help="calls per timing round of the kernels")
+    a = ap.parse_args()
+    print(f"{'people':>6} {'scan standing':>14} {'scan moving':>12} {'dense cast':>11} {'frame':>8} {'per kind':>9}   "
+          f"{'home ms/s':>9} {'laser ms/s':>10} {'camera ms/s':>11}")
+    for n in (1, 3, 10):
+        k = kernels(n, a.reps)
+        s = in_stage(n, a.duration)
+        print(f"{n:>6} {k['scan standing']:>11.1f} us {k['scan moving']:>9.1f} us {k['dense cast']:>8.1f} us "
+              f"{k['frame']:>5.1f} us {k['frame per kind']:>6.1f} us   {s['home']:>9.2f} {s['laser']:>10.2f} {s['camera']:>11.2f}", flush=True)
+
+
+if __name__ == "__main__":
+    main()
