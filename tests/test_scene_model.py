@@ -294,3 +294,48 @@ def test_teaching_one_cup_any_number_of_times_keeps_one_cup_with_all_that_was_sa
     assert {a.get("name") for a in rec.xml.iterfind("ATTRIBUTE")} == set().union(*(t[1] for t in teachings))
     assert rec.xml.get("owner", "") == ("partner" if any(t[0] for t in teachings) else "")
     KNOWLEDGE.check(rec.xml)
+
+
+def test_my_cup_moved_and_taught_again_does_not_keep_where_it_was_said_to_be(tour):
+    """'This is my cup at the window', later 'this is my cup' on the kitchen table: the cup moved
+    (same owner, so the same cup). Where it stands now is not 'at the window': asked where it is, the
+    robot must not answer from the old teaching's words."""
+    tour.engage()
+    tour.teach_place("living room", 2.0, 1.0)
+    tour.teach_place("kitchen", 8.0, 1.0)
+    tour.teach_object(el('<OBJECT type="cup" name="cup" owner="partner" colour="red" x="1.0" y="4.5" frame="map">'
+                         '<POSITION><RELATION name="at"/><TITLE name="window"/></POSITION></OBJECT>'))
+    assert tour.ask('<OBJECT type="cup"><OWNER name="speaker"/></OBJECT>').get("phrase") == "at the window in the living room"
+    tour.teach_object(el('<OBJECT type="cup" name="cup" owner="partner" colour="red" x="8.3" y="1.4" frame="map"/>'))
+    (rec,) = tour.scene.objects.memory.query()
+    assert rec.xml.find("POSITION") is None
+    assert tour.ask('<OBJECT type="cup"><OWNER name="speaker"/></OBJECT>').get("phrase") == "in the kitchen"
+
+
+def test_the_same_cup_taught_again_where_it_stands_keeps_where_she_said_it_is():
+    from robot.knowledge.bases import ObjectBase
+    base = ObjectBase()
+    base.store(el('<OBJECT type="cup" name="cup" owner="partner" colour="red" x="1.0" y="4.5" frame="map">'
+                  '<POSITION relation="at" landmark="window"/></OBJECT>'))
+    base.store(_cup(owner="partner", x=1.1, y=4.4))
+    (rec,) = base.memory.query()
+    assert rec.xml.find("POSITION").attrib == {"relation": "at", "landmark": "window"}
+
+
+def test_a_merged_cup_is_one_cup_in_the_store_a_later_run_loads(tmp_path):
+    """The re-teaching merge goes to the SQLite store (--memory): the later run loads one cup, hers,
+    her favourite, where it was taught last, and answers 'where is my cup?' from it."""
+    first = Tour(tmp_path)
+    first.engage()
+    first.teach_place("living room", 2.0, 1.0)
+    first.teach_place("table", 3.0, 1.5)
+    first.teach_object(el(CUP.replace(' owner="partner"', "")))  # "this is it favourite cup": the 'my' lost
+    first.teach_object(el(CUP.replace('x="3.5"', 'x="3.55"')))
+    first.close()
+    second = Tour(tmp_path, seed=2)
+    (rec,) = second.scene.objects.memory.query()
+    assert rec.xml.get("owner") == "partner" and rec.xml.get("x") == "3.5500"
+    assert [a.get("name") for a in rec.xml.iterfind("ATTRIBUTE")] == ["favourite"]
+    second.engage()
+    assert second.ask('<OBJECT type="cup"><OWNER name="speaker"/></OBJECT>').get("phrase") == "on the table in the living room"
+    second.close()

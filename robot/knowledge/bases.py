@@ -203,8 +203,10 @@ class ObjectBase(KnowledgeBase):
 
     def merged(self, old: etree._Element, new: etree._Element) -> etree._Element:
         """What was taught before and is not said again stays: the owner, use and colour, every
-        attribute ("favourite" + "old" -> both) and the said position; the new teaching's position,
-        time and features win."""
+        attribute ("favourite" + "old" -> both) and, when the object still stands where it stood
+        (within :data:`SAME_OBJECT`), the said position; the new teaching's position, time and
+        features win. An object that moved ("my cup" shown again elsewhere) is no longer "at the
+        window" because it was there when first taught."""
         out = deepcopy(new)
         for key in ("owner", "use", "colour"):
             if not out.get(key) and old.get(key):
@@ -215,7 +217,9 @@ class ObjectBase(KnowledgeBase):
         for name in extra:
             a = etree.Element("ATTRIBUTE", name=name)  # ATTRIBUTEs come before the POSITION
             (pos.addprevious(a) if pos is not None else out.append(a))
-        if pos is None and old.find("POSITION") is not None:
+        moved = math.hypot(float(old.get("x", "0")) - float(new.get("x", "0")),
+                           float(old.get("y", "0")) - float(new.get("y", "0"))) > SAME_OBJECT
+        if pos is None and old.find("POSITION") is not None and not moved:
             out.append(deepcopy(old.find("POSITION")))
         return out
 
