@@ -322,6 +322,21 @@ def test_the_same_cup_taught_again_where_it_stands_keeps_where_she_said_it_is():
     assert rec.xml.find("POSITION").attrib == {"relation": "at", "landmark": "window"}
 
 
+def test_her_blue_cup_is_not_her_red_cup_moved():
+    """Both hers ('my cup'), in two rooms, of two colours: a cup does not change colour when it moves,
+    so these are two cups (as a blue cup beside a red one is), and asking for the red one finds it."""
+    from robot.knowledge.bases import ObjectBase
+    base = ObjectBase()
+    base.store(_cup(owner="partner", attrs=("favourite",)))
+    base.store(el('<OBJECT type="cup" name="cup" owner="partner" colour="blue" x="2.0" y="1.0" frame="map"/>'))
+    assert sorted(r.xml.get("colour") for r in base.memory.query()) == ["blue", "red"]
+    (red, *_) = base.find(el('<OBJECT type="cup"><OWNER name="speaker"/><COLOUR name="red"/></OBJECT>'))
+    assert red.xml.get("x") == "7.6000" and red.xml.find("ATTRIBUTE").get("name") == "favourite"
+    # the red one moved: still one red cup, hers, her favourite
+    base.store(_cup(owner="partner", x=3.0, y=1.0))
+    assert sorted((r.xml.get("colour"), r.xml.get("x")) for r in base.memory.query()) == [("blue", "2.0000"), ("red", "3.0000")]
+
+
 def test_a_merged_cup_is_one_cup_in_the_store_a_later_run_loads(tmp_path):
     """The re-teaching merge goes to the SQLite store (--memory): the later run loads one cup, hers,
     her favourite, where it was taught last, and answers 'where is my cup?' from it."""

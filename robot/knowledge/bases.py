@@ -14,7 +14,7 @@ Objects are indexed by type, name and owner, places by name, so the common
 look-ups stay fast as the memory grows. Teaching the same thing again
 updates it (a place by name; an object by type, name and owner when these
 single it out, else by type and name within :data:`SAME_OBJECT` metres with no
-contradicting owner), keeping what the new teaching does not say (owner,
+contradicting owner; never one of another colour), keeping what the new teaching does not say (owner,
 attributes: :meth:`ObjectBase.merged`), so a correction never leaves a duplicate.
 
 How it fails: a document that cannot be made canonical (no type, no
@@ -184,19 +184,23 @@ class ObjectBase(KnowledgeBase):
     def same_as(self, doc: etree._Element) -> int | None:
         """The stored object this teaching is about: the one of this type, name and owner when these
         single it out ("my cup" shown again elsewhere: it moved), else the one of this type and name
-        within :data:`SAME_OBJECT` metres whose owner and colour do not contradict (the same cup taught
-        again where it stands, with or without the "my" that one of the two teachings missed)."""
-        t, n, o = doc.get("type"), doc.get("name"), doc.get("owner", "")
-        ids = self.memory.query_ids(where={"type": t, "name": n})
+        within :data:`SAME_OBJECT` metres whose owner does not contradict (the same cup taught again
+        where it stands, with or without the "my" that one of the two teachings missed). In both
+        cases a stored object of another colour is never the one (her blue cup is not her red cup
+        moved; a blue cup beside a red one is another cup)."""
+        t, n, o, c = doc.get("type"), doc.get("name"), doc.get("owner", ""), doc.get("colour", "")
+        # a cup does not change colour: one of another colour is another cup, wherever it stands
+        ids = [i for i in self.memory.query_ids(where={"type": t, "name": n})
+               if not (c and self.memory.get(i).xml.get("colour", "") not in ("", c))]
         owned = [i for i in ids if self.memory.get(i).xml.get("owner", "") == o]
         if owned and (o or n != t):
             return owned[-1]
         x, y = float(doc.get("x")), float(doc.get("y"))  # type: ignore[arg-type]
         for i in reversed(ids):
             r = self.memory.get(i).xml
-            ro, rc, c = r.get("owner", ""), r.get("colour", ""), doc.get("colour", "")
-            if (ro and o and ro != o) or (rc and c and rc != c):
-                continue  # Tom's cup beside hers, a blue cup beside a red one: another cup
+            ro = r.get("owner", "")
+            if ro and o and ro != o:
+                continue  # Tom's cup beside hers: another cup
             if math.hypot(float(r.get("x")) - x, float(r.get("y")) - y) <= SAME_OBJECT:  # type: ignore[arg-type]
                 return i
         return None
