@@ -281,10 +281,11 @@ def test_a_blue_cup_beside_a_red_one_is_another_cup():
 
 @settings(max_examples=60, deadline=None)
 @given(st.lists(st.tuples(st.booleans(), st.sets(st.sampled_from(["favourite", "old", "new"])),
-                          st.floats(-0.15, 0.15), st.floats(-0.15, 0.15)), min_size=1, max_size=6))
+                          st.floats(-0.07, 0.07), st.floats(-0.07, 0.07)), min_size=1, max_size=6))
 def test_teaching_one_cup_any_number_of_times_keeps_one_cup_with_all_that_was_said(teachings):
     """Invariant: one physical cup taught again and again (the 'my' heard or not, any attributes, the
-    pointing a little off) stays one stored cup whose attributes are every attribute ever said and
+    estimate a little off: any two within SAME_SPOT, 0.2 m; home_tour seed 8 re-taught the cup 4 cm
+    from the first estimate) stays one stored cup whose attributes are every attribute ever said and
     whose owner is the partner once she was heard saying 'my'."""
     from robot.knowledge.bases import ObjectBase
     base = ObjectBase()
@@ -354,3 +355,18 @@ def test_a_merged_cup_is_one_cup_in_the_store_a_later_run_loads(tmp_path):
     second.engage()
     assert second.ask('<OBJECT type="cup"><OWNER name="speaker"/></OBJECT>').get("phrase") == "on the table in the living room"
     second.close()
+
+
+def test_a_cup_taught_beside_her_favourite_cup_is_another_cup():
+    """Two red cups 0.3 m apart on the table: 'this is my favourite cup' (hers), then 'this is a cup'
+    pointing at the other one. The object attention tells them apart (robot/objects/resolve.py:
+    detections 0.2 m apart are two objects); the knowledge base must not take the second for hers
+    taught again without the 'my', which moved her favourite cup onto the other one."""
+    from robot.knowledge.bases import ObjectBase
+    base = ObjectBase()
+    base.store(_cup(owner="partner", attrs=("favourite",)), now=1.0)
+    base.store(_cup(x=7.9), now=5.0)
+    recs = sorted(((r.xml.get("owner", ""), r.xml.get("x")) for r in base.memory.query()))
+    assert recs == [("", "7.9000"), ("partner", "7.6000")]
+    (mine, *_) = base.find(el('<OBJECT type="cup"><OWNER name="speaker"/></OBJECT>'))
+    assert mine.xml.get("x") == "7.6000"

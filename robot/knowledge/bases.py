@@ -14,7 +14,8 @@ Objects are indexed by type, name and owner, places by name, so the common
 look-ups stay fast as the memory grows. Teaching the same thing again
 updates it (a place by name; an object by type, name and owner when these
 single it out, else by type and name within :data:`SAME_OBJECT` metres with no
-contradicting owner; never one of another colour), keeping what the new teaching does not say (owner,
+contradicting owner, :data:`SAME_SPOT` when only one of the two says an owner; never one of
+another colour), keeping what the new teaching does not say (owner,
 attributes: :meth:`ObjectBase.merged`), so a correction never leaves a duplicate.
 
 How it fails: a document that cannot be made canonical (no type, no
@@ -41,6 +42,12 @@ from .where import TaughtPlace
 
 SCHEMA = Path(__file__).resolve().parent.parent / "schemas" / "knowledge.xsd"
 SAME_OBJECT = 0.5
+#: metres: a teaching that says an owner where the stored one has none (or the other way round) is
+#: the same object taught again only this close: the object attention's own resolution
+#: (robot/objects/resolve.py MERGE: detections further apart are two objects), well above how far a
+#: cup re-taught from where she stands moves in the robot's estimate (a few cm). Further away, the
+#: missing "my" is no reason to take another cup beside hers for hers.
+SAME_SPOT = 0.2
 
 OBJECT_INDEXES = {"type": "@type", "name": "@name", "owner": "@owner"}
 PLACE_INDEXES = {"name": "@name"}
@@ -185,7 +192,8 @@ class ObjectBase(KnowledgeBase):
         """The stored object this teaching is about: the one of this type, name and owner when these
         single it out ("my cup" shown again elsewhere: it moved), else the one of this type and name
         within :data:`SAME_OBJECT` metres whose owner does not contradict (the same cup taught again
-        where it stands, with or without the "my" that one of the two teachings missed). In both
+        where it stands; with or without the "my" that one of the two teachings missed: then within
+        :data:`SAME_SPOT`, so a cup beside hers is not taken for hers). In both
         cases a stored object of another colour is never the one (her blue cup is not her red cup
         moved; a blue cup beside a red one is another cup)."""
         t, n, o, c = doc.get("type"), doc.get("name"), doc.get("owner", ""), doc.get("colour", "")
@@ -201,7 +209,8 @@ class ObjectBase(KnowledgeBase):
             ro = r.get("owner", "")
             if ro and o and ro != o:
                 continue  # Tom's cup beside hers: another cup
-            if math.hypot(float(r.get("x")) - x, float(r.get("y")) - y) <= SAME_OBJECT:  # type: ignore[arg-type]
+            gate = SAME_OBJECT if ro == o else SAME_SPOT  # the owner said in only one of the two
+            if math.hypot(float(r.get("x")) - x, float(r.get("y")) - y) <= gate:  # type: ignore[arg-type]
                 return i
         return None
 
