@@ -89,6 +89,21 @@ def test_an_unsure_greeting_is_confirmed_only_when_someone_is_there(dm):
     assert says(alone.on_rejected(rejected("greeting", "expired", "LookingAround"))) == ["I can't see you. Please look at me."]
 
 
+def test_an_unsure_greeting_sent_while_alone_is_not_confirmed_after_the_supervisor_took_it():
+    """Nobody in sight: the unsure greeting goes to the supervisor as heard. When a person then
+    appears, the supervisor synchronises, publishes its new state at once and sends partner_found
+    a transition's cost later (robot/supervisor.py: status first). The robot must greet her, not ask
+    'Did you say hello to me?' about an interaction that has already started."""
+    m = DialogManager(DOC)
+    m.es_state = "LookingAround"
+    (s,) = sends(m.on_frame(frame('<GREETING name="biron"/>', confidence=0.2)))
+    assert s.event == "greeting"
+    m.es_state = "Interacting"  # the status arrives before the condition
+    out = m.on_condition(cond("partner_found"))
+    assert says(out) == ["Hello, I am BIRON. What can I do for you?"] and sends(out) == []
+    assert m.stack == [] and m.summary()["dialogs"]["greeting"]["succeeded"] == 1
+
+
 def test_follow_normal_path(dm):
     (s,) = sends(dm.on_frame(frame("<FOLLOW/>")))
     assert s.event == "follow"

@@ -281,10 +281,11 @@ def test_a_blue_cup_beside_a_red_one_is_another_cup():
 
 @settings(max_examples=60, deadline=None)
 @given(st.lists(st.tuples(st.booleans(), st.sets(st.sampled_from(["favourite", "old", "new"])),
-                          st.floats(-0.15, 0.15), st.floats(-0.15, 0.15)), min_size=1, max_size=6))
+                          st.floats(-0.07, 0.07), st.floats(-0.07, 0.07)), min_size=1, max_size=6))
 def test_teaching_one_cup_any_number_of_times_keeps_one_cup_with_all_that_was_said(teachings):
     """Invariant: one physical cup taught again and again (the 'my' heard or not, any attributes, the
-    pointing a little off) stays one stored cup whose attributes are every attribute ever said and
+    estimate a little off: any two within SAME_SPOT, 0.2 m; home_tour seed 8 re-taught the cup 4 cm
+    from the first estimate) stays one stored cup whose attributes are every attribute ever said and
     whose owner is the partner once she was heard saying 'my'."""
     from robot.knowledge.bases import ObjectBase
     base = ObjectBase()
@@ -294,3 +295,104 @@ def test_teaching_one_cup_any_number_of_times_keeps_one_cup_with_all_that_was_sa
     assert {a.get("name") for a in rec.xml.iterfind("ATTRIBUTE")} == set().union(*(t[1] for t in teachings))
     assert rec.xml.get("owner", "") == ("partner" if any(t[0] for t in teachings) else "")
     KNOWLEDGE.check(rec.xml)
+
+
+def test_my_cup_moved_and_taught_again_does_not_keep_where_it_was_said_to_be(tour):
+    """'This is my cup at the window', later 'this is my cup' on the kitchen table: the cup moved
+    (same owner, so the same cup). Where it stands now is not 'at the window': asked where it is, the
+    robot must not answer from the old teaching's words."""
+    tour.engage()
+    tour.teach_place("living room", 2.0, 1.0)
+    tour.teach_place("kitchen", 8.0, 1.0)
+    tour.teach_object(el('<OBJECT type="cup" name="cup" owner="partner" colour="red" x="1.0" y="4.5" frame="map">'
+                         '<POSITION><RELATION name="at"/><TITLE name="window"/></POSITION></OBJECT>'))
+    assert tour.ask('<OBJECT type="cup"><OWNER name="speaker"/></OBJECT>').get("phrase") == "at the window in the living room"
+    tour.teach_object(el('<OBJECT type="cup" name="cup" owner="partner" colour="red" x="8.3" y="1.4" frame="map"/>'))
+    (rec,) = tour.scene.objects.memory.query()
+    assert rec.xml.find("POSITION") is None
+    assert tour.ask('<OBJECT type="cup"><OWNER name="speaker"/></OBJECT>').get("phrase") == "in the kitchen"
+
+
+def test_the_same_cup_taught_again_where_it_stands_keeps_where_she_said_it_is():
+    from robot.knowledge.bases import ObjectBase
+    base = ObjectBase()
+    base.store(el('<OBJECT type="cup" name="cup" owner="partner" colour="red" x="1.0" y="4.5" frame="map">'
+                  '<POSITION relation="at" landmark="window"/></OBJECT>'))
+    base.store(_cup(owner="partner", x=1.1, y=4.4))
+    (rec,) = base.memory.query()
+    assert rec.xml.find("POSITION").attrib == {"relation": "at", "landmark": "window"}
+
+
+def test_her_blue_cup_is_not_her_red_cup_moved():
+    """Both hers ('my cup'), in two rooms, of two colours: a cup does not change colour when it moves,
+    so these are two cups (as a blue cup beside a red one is), and asking for the red one finds it."""
+    from robot.knowledge.bases import ObjectBase
+    base = ObjectBase()
+    base.store(_cup(owner="partner", attrs=("favourite",)))
+    base.store(el('<OBJECT type="cup" name="cup" owner="partner" colour="blue" x="2.0" y="1.0" frame="map"/>'))
+    assert sorted(r.xml.get("colour") for r in base.memory.query()) == ["blue", "red"]
+    (red, *_) = base.find(el('<OBJECT type="cup"><OWNER name="speaker"/><COLOUR name="red"/></OBJECT>'))
+    assert red.xml.get("x") == "7.6000" and red.xml.find("ATTRIBUTE").get("name") == "favourite"
+    # the red one moved: still one red cup, hers, her favourite
+    base.store(_cup(owner="partner", x=3.0, y=1.0))
+    assert sorted((r.xml.get("colour"), r.xml.get("x")) for r in base.memory.query()) == [("blue", "2.0000"), ("red", "3.0000")]
+
+
+def test_a_merged_cup_is_one_cup_in_the_store_a_later_run_loads(tmp_path):
+    """The re-teaching merge goes to the SQLite store (--memory): the later run loads one cup, hers,
+    her favourite, where it was taught last, and answers 'where is my cup?' from it."""
+    first = Tour(tmp_path)
+    first.engage()
+    first.teach_place("living room", 2.0, 1.0)
+    first.teach_place("table", 3.0, 1.5)
+    first.teach_object(el(CUP.replace(' owner="partner"', "")))  # "this is it favourite cup": the 'my' lost
+    first.teach_object(el(CUP.replace('x="3.5"', 'x="3.55"')))
+    first.close()
+    second = Tour(tmp_path, seed=2)
+    (rec,) = second.scene.objects.memory.query()
+    assert rec.xml.get("owner") == "partner" and rec.xml.get("x") == "3.5500"
+    assert [a.get("name") for a in rec.xml.iterfind("ATTRIBUTE")] == ["favourite"]
+    second.engage()
+    assert second.ask('<OBJECT type="cup"><OWNER name="speaker"/></OBJECT>').get("phrase") == "on the table in the living room"
+    second.close()
+
+
+def test_a_cup_taught_beside_her_favourite_cup_is_another_cup():
+    """Two red cups 0.3 m apart on the table: 'this is my favourite cup' (hers), then 'this is a cup'
+    pointing at the other one. The object attention tells them apart (robot/objects/resolve.py:
+    detections 0.2 m apart are two objects); the knowledge base must not take the second for hers
+    taught again without the 'my', which moved her favourite cup onto the other one."""
+    from robot.knowledge.bases import ObjectBase
+    base = ObjectBase()
+    base.store(_cup(owner="partner", attrs=("favourite",)), now=1.0)
+    base.store(_cup(x=7.9), now=5.0)
+    recs = sorted(((r.xml.get("owner", ""), r.xml.get("x")) for r in base.memory.query()))
+    assert recs == [("", "7.9000"), ("partner", "7.6000")]
+    (mine, *_) = base.find(el('<OBJECT type="cup"><OWNER name="speaker"/></OBJECT>'))
+    assert mine.xml.get("x") == "7.6000"
+
+
+@settings(max_examples=80, deadline=None)
+@given(st.sampled_from(["", "partner", "tom"]), st.sampled_from(["", "partner", "tom"]),
+       st.sampled_from(["red", "blue"]), st.floats(0.0, 3.0), st.floats(0.0, 3.0))
+def test_two_teachings_are_one_cup_only_when_nothing_tells_them_apart(o1, o2, colour2, dx, dy):
+    """Invariant of the re-teaching rule: two teachings of a cup are stored as one only when neither
+    owner nor colour contradicts and they are close enough (both or neither saying an owner: 0.5 m,
+    or anywhere for the same owner; one saying an owner: 0.2 m); else there are two cups."""
+    from robot.knowledge.bases import SAME_OBJECT, SAME_SPOT, ObjectBase
+    import math
+    base = ObjectBase()
+    base.store(_cup(owner=o1), now=1.0)
+    second = _cup(owner=o2, x=7.6 + dx, y=3.8 + dy)
+    second.set("colour", colour2)
+    base.store(second, now=2.0)
+    d = math.hypot(float(f"{7.6 + dx:.4f}") - 7.6, float(f"{3.8 + dy:.4f}") - 3.8)
+    if colour2 != "red" or (o1 and o2 and o1 != o2):
+        one = False
+    elif o1 == o2:
+        one = bool(o1) or d <= SAME_OBJECT
+    else:
+        one = d <= SAME_SPOT
+    if abs(d - SAME_OBJECT) < 1e-3 or abs(d - SAME_SPOT) < 1e-3:
+        return  # on the gate itself the rounding of the stored position decides
+    assert len(base.memory) == (1 if one else 2), (o1, o2, colour2, d)

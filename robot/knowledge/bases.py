@@ -14,7 +14,8 @@ Objects are indexed by type, name and owner, places by name, so the common
 look-ups stay fast as the memory grows. Teaching the same thing again
 updates it (a place by name; an object by type, name and owner when these
 single it out, else by type and name within :data:`SAME_OBJECT` metres with no
-contradicting owner), keeping what the new teaching does not say (owner,
+contradicting owner, :data:`SAME_SPOT` when only one of the two says an owner; never one of
+another colour), keeping what the new teaching does not say (owner,
 attributes: :meth:`ObjectBase.merged`), so a correction never leaves a duplicate.
 
 How it fails: a document that cannot be made canonical (no type, no
@@ -41,6 +42,12 @@ from .where import TaughtPlace
 
 SCHEMA = Path(__file__).resolve().parent.parent / "schemas" / "knowledge.xsd"
 SAME_OBJECT = 0.5
+#: metres: a teaching that says an owner where the stored one has none (or the other way round) is
+#: the same object taught again only this close: the object attention's own resolution
+#: (robot/objects/resolve.py MERGE: detections further apart are two objects), well above how far a
+#: cup re-taught from where she stands moves in the robot's estimate (a few cm). Further away, the
+#: missing "my" is no reason to take another cup beside hers for hers.
+SAME_SPOT = 0.2
 
 OBJECT_INDEXES = {"type": "@type", "name": "@name", "owner": "@owner"}
 PLACE_INDEXES = {"name": "@name"}
@@ -184,27 +191,35 @@ class ObjectBase(KnowledgeBase):
     def same_as(self, doc: etree._Element) -> int | None:
         """The stored object this teaching is about: the one of this type, name and owner when these
         single it out ("my cup" shown again elsewhere: it moved), else the one of this type and name
-        within :data:`SAME_OBJECT` metres whose owner and colour do not contradict (the same cup taught
-        again where it stands, with or without the "my" that one of the two teachings missed)."""
-        t, n, o = doc.get("type"), doc.get("name"), doc.get("owner", "")
-        ids = self.memory.query_ids(where={"type": t, "name": n})
+        within :data:`SAME_OBJECT` metres whose owner does not contradict (the same cup taught again
+        where it stands; with or without the "my" that one of the two teachings missed: then within
+        :data:`SAME_SPOT`, so a cup beside hers is not taken for hers). In both
+        cases a stored object of another colour is never the one (her blue cup is not her red cup
+        moved; a blue cup beside a red one is another cup)."""
+        t, n, o, c = doc.get("type"), doc.get("name"), doc.get("owner", ""), doc.get("colour", "")
+        # a cup does not change colour: one of another colour is another cup, wherever it stands
+        ids = [i for i in self.memory.query_ids(where={"type": t, "name": n})
+               if not (c and self.memory.get(i).xml.get("colour", "") not in ("", c))]
         owned = [i for i in ids if self.memory.get(i).xml.get("owner", "") == o]
         if owned and (o or n != t):
             return owned[-1]
         x, y = float(doc.get("x")), float(doc.get("y"))  # type: ignore[arg-type]
         for i in reversed(ids):
             r = self.memory.get(i).xml
-            ro, rc, c = r.get("owner", ""), r.get("colour", ""), doc.get("colour", "")
-            if (ro and o and ro != o) or (rc and c and rc != c):
-                continue  # Tom's cup beside hers, a blue cup beside a red one: another cup
-            if math.hypot(float(r.get("x")) - x, float(r.get("y")) - y) <= SAME_OBJECT:  # type: ignore[arg-type]
+            ro = r.get("owner", "")
+            if ro and o and ro != o:
+                continue  # Tom's cup beside hers: another cup
+            gate = SAME_OBJECT if ro == o else SAME_SPOT  # the owner said in only one of the two
+            if math.hypot(float(r.get("x")) - x, float(r.get("y")) - y) <= gate:  # type: ignore[arg-type]
                 return i
         return None
 
     def merged(self, old: etree._Element, new: etree._Element) -> etree._Element:
         """What was taught before and is not said again stays: the owner, use and colour, every
-        attribute ("favourite" + "old" -> both) and the said position; the new teaching's position,
-        time and features win."""
+        attribute ("favourite" + "old" -> both) and, when the object still stands where it stood
+        (within :data:`SAME_OBJECT`), the said position; the new teaching's position, time and
+        features win. An object that moved ("my cup" shown again elsewhere) is no longer "at the
+        window" because it was there when first taught."""
         out = deepcopy(new)
         for key in ("owner", "use", "colour"):
             if not out.get(key) and old.get(key):
@@ -215,7 +230,9 @@ class ObjectBase(KnowledgeBase):
         for name in extra:
             a = etree.Element("ATTRIBUTE", name=name)  # ATTRIBUTEs come before the POSITION
             (pos.addprevious(a) if pos is not None else out.append(a))
-        if pos is None and old.find("POSITION") is not None:
+        moved = math.hypot(float(old.get("x", "0")) - float(new.get("x", "0")),
+                           float(old.get("y", "0")) - float(new.get("y", "0"))) > SAME_OBJECT
+        if pos is None and old.find("POSITION") is not None and not moved:
             out.append(deepcopy(old.find("POSITION")))
         return out
 
