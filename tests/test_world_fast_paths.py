@@ -323,3 +323,11 @@ def test_without_pymunks_private_binding_the_world_steps_the_same(monkeypatch, b
     monkeypatch.setattr(bodies, "cp", fallback)
     monkeypatch.setattr(world_mod, "cp", fallback)
     assert _walk(room(), 150) == want
+
+
+@pytest.mark.parametrize("x, y", [(math.nan, 3.0), (3.0, math.nan), (math.inf, 3.0), (3.0, -math.inf), (1.7e308, 3.0)])
+def test_the_room_grid_answers_points_off_the_grid_as_the_polygons(x, y):
+    """A point no grid cell holds (not finite, or too far to number its cell) is in no room,
+    as the polygons answer, not a ValueError or OverflowError from the look-up."""
+    want = next((r.name for r in HOME.rooms if point_in_polygon((x, y), r.polygon)), None)
+    assert WORLD.room_of(x, y) == want is None
