@@ -274,3 +274,60 @@ def test_visibility_tested_on_the_points_in_view_only_is_the_same(x, y, th, pts)
     if xy.shape[0]:
         want &= ~segments_intersect(np.broadcast_to(np.array([ox, oy]), xy.shape), xy, *walls).any(axis=1)
     assert visible_region(walls, (x, y, th), xy).tolist() == want.tolist()
+
+
+# ----------------------------------------------------------------- pymunk's private binding
+def _chipmunk_module(monkeypatch, binding):
+    """homesim/world/chipmunk.py loaded afresh with ``pymunk._chipmunk_cffi`` replaced by ``binding``
+    (None: absent, as in a pymunk that stopped shipping it)."""
+    import importlib.util
+    import sys
+
+    from homesim.world import chipmunk
+
+    monkeypatch.setitem(sys.modules, "pymunk._chipmunk_cffi", binding)
+    spec = importlib.util.spec_from_file_location("chipmunk_fallback", chipmunk.__file__)
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    monkeypatch.delitem(sys.modules, "pymunk._chipmunk_cffi")
+    return mod
+
+
+def _walk(world: World, steps: int) -> list[tuple[float, ...]]:
+    """The robot driving and turning into ann's way while she walks towards it: poses each step."""
+    world.place_robot(4.0, 3.0, 0.3)
+    world.humans["ann"].teleport(6.5, 3.2)
+    world.humans["ann"].walk_velocity(-0.8, -0.05)
+    out = []
+    for _ in range(steps):
+        world.robot.command(0.4, 0.3)
+        world.step()
+        out.append((*world.robot.pose, *world.humans["ann"].position, *world.humans["ann"].leg_centres().ravel()))
+    return out
+
+
+@pytest.mark.parametrize("binding", ["absent", "incomplete"])
+def test_without_pymunks_private_binding_the_world_steps_the_same(monkeypatch, binding):
+    """The step's direct Chipmunk calls have the public pymunk API as fallback: if pymunk drops
+    or changes its private cffi module, the world loads and moves exactly as before."""
+    import types
+
+    import homesim.world.bodies as bodies
+    import homesim.world.world as world_mod
+    from homesim.world import chipmunk
+
+    fake = None if binding == "absent" else types.SimpleNamespace(lib=types.SimpleNamespace(cpBodyGetPosition=None))
+    fallback = _chipmunk_module(monkeypatch, fake)
+    assert chipmunk.DIRECT and not fallback.DIRECT
+    want = _walk(room(), 150)
+    monkeypatch.setattr(bodies, "cp", fallback)
+    monkeypatch.setattr(world_mod, "cp", fallback)
+    assert _walk(room(), 150) == want
+
+
+@pytest.mark.parametrize("x, y", [(math.nan, 3.0), (3.0, math.nan), (math.inf, 3.0), (3.0, -math.inf), (1.7e308, 3.0)])
+def test_the_room_grid_answers_points_off_the_grid_as_the_polygons(x, y):
+    """A point no grid cell holds (not finite, or too far to number its cell) is in no room,
+    as the polygons answer, not a ValueError or OverflowError from the look-up."""
+    want = next((r.name for r in HOME.rooms if point_in_polygon((x, y), r.polygon)), None)
+    assert WORLD.room_of(x, y) == want is None

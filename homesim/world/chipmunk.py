@@ -17,11 +17,27 @@ import pymunk
 
 try:  # pymunk >= 6: the cffi module every pymunk class calls into
     from pymunk._chipmunk_cffi import lib as _lib
-except ImportError:  # pragma: no cover - a pymunk without it: the public API
+except ImportError:  # a pymunk without it: the public API
     _lib = None
 
+_FUNCTIONS = ("cpBodyGetPosition", "cpBodySetPosition", "cpBodyGetAngle", "cpBodySetAngle", "cpBodySetVelocity",
+              "cpBodySetAngularVelocity", "cpCircleShapeSetOffset", "cpSpaceReindexShapesForBody")
+
+
+def _binding_usable() -> bool:
+    """Every function and every handle (``_body``, ``_shape``, ``_space``) the direct calls use is there:
+    a pymunk that renamed or dropped any of them gets the public properties, not an AttributeError."""
+    if _lib is None or not all(hasattr(_lib, f) for f in _FUNCTIONS):
+        return False
+    try:
+        body = pymunk.Body()
+        return all(hasattr(o, a) for o, a in ((body, "_body"), (pymunk.Circle(body, 1.0), "_shape"), (pymunk.Space(), "_space")))
+    except Exception:  # noqa: BLE001 - any surprise in pymunk's internals: the public API
+        return False
+
+
 #: Whether the direct calls are in use (else the public properties).
-DIRECT = _lib is not None and hasattr(pymunk.Body(), "_body")
+DIRECT = _binding_usable()
 
 
 if DIRECT:
@@ -62,7 +78,7 @@ if DIRECT:
         """What ``Space.reindex_shapes_for_body`` does."""
         _reindex(space._space, body._body)
 
-else:  # pragma: no cover
+else:  # tests/test_world_fast_paths.py runs the world on these too
 
     def position(body: pymunk.Body) -> tuple[float, float]:
         p = body.position

@@ -448,7 +448,10 @@ class World:
         changes only across an edge), the one at its centre; a cell an edge crosses or
         touches asks the polygons every time. So the answer is the polygons' own.
         """
-        key = (math.floor(x / ROOM_CELL), math.floor(y / ROOM_CELL))
+        try:
+            key = (math.floor(x / ROOM_CELL), math.floor(y / ROOM_CELL))
+        except (ValueError, OverflowError):  # NaN or beyond any cell: the polygons answer (no room)
+            return self._room_exact(x, y)
         got = self._room_cells.get(key, _UNKNOWN)
         if got is _UNKNOWN:
             got = self._room_cells[key] = self._cell_room(key)
