@@ -573,3 +573,42 @@ def test_another_threads_asyncio_loop_keeps_asyncios_sleep(loop):
 
     loop.run_until_complete(main())
     assert seen == ["slept"]
+
+
+def test_the_light_sleep_is_a_coroutine_that_the_running_asyncio_takes_as_a_task(loop):
+    # Python 3.12+ asyncio takes only native coroutines (``collections.abc.Coroutine``)
+    # as tasks (requires-python is >= 3.11): a generator-based sleep there would make
+    # ``create_task(asyncio.sleep(1))`` a TypeError. The native form is used from 3.12.
+    import collections.abc
+    import sys
+
+    from homesim import vsleep
+
+    native = vsleep._make_sleep(native=True)
+    assert (vsleep.sleep is not native) or sys.version_info >= (3, 12)
+
+    async def main():
+        assert asyncio.sleep is not ORIGINAL_SLEEP
+        installed, c = asyncio.sleep(0.5, "i"), native(0.5, "n")
+        kinds = (asyncio.iscoroutine(installed), isinstance(c, collections.abc.Coroutine),
+                 sys.version_info < (3, 12) or isinstance(installed, collections.abc.Coroutine))
+        assert await installed == "i" and await c == "n"
+        assert await asyncio.create_task(native(0.25, "t")) == "t"
+        return kinds
+
+    assert loop.run_until_complete(main()) == (True, True, True)
+    assert loop.time() == 1.25
+
+
+@given(
+    plan=st.lists(st.lists(st.sampled_from([0, 1e-9, 0.001, 0.002, 0.0015, 0.5]), max_size=6), min_size=1, max_size=5),
+    cancel_at=st.lists(st.tuples(st.sampled_from([0.0005, 0.001, 0.002]), st.integers(0, 4)), max_size=3),
+)
+@settings(max_examples=examples(60, 25), deadline=None)
+def test_the_native_light_sleep_keeps_asyncio_order_wake_ups_results_and_cancellations(plan, cancel_at):
+    from homesim import vsleep
+
+    native = vsleep._make_sleep(native=True)
+    assert _sleep_program(lambda d, result: native(d, result), plan, cancel_at) == _sleep_program(
+        ORIGINAL_SLEEP, plan, cancel_at
+    )
