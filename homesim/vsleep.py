@@ -176,6 +176,7 @@ def _make_sleep(*, native: bool) -> Callable[..., Any]:
     inf = math.inf
     fire = _sleep_fire
     none = type(None)
+    running = _running.get
 
     def _waiter(loop: Any, delay: float) -> _SleepWaiter:
         w = waiter()
@@ -192,16 +193,16 @@ def _make_sleep(*, native: bool) -> Callable[..., Any]:
 
     if native:
         async def sleep(delay: float, result: Any = None) -> Any:
-            loop = _running[0]
-            if loop is None or loop._thread_id != get_ident() or not delay > 0 or delay == inf:
+            loop = running(get_ident())
+            if loop is None or not delay > 0 or delay == inf:
                 return await asyncio_sleep(delay, result)
             await _waiter(loop, delay)
             return result
     else:
         @types.coroutine
         def sleep(delay: float, result: Any = None) -> Any:  # type: ignore[misc]
-            loop = _running[0]
-            if loop is None or loop._thread_id != get_ident() or not delay > 0 or delay == inf:
+            loop = running(get_ident())
+            if loop is None or not delay > 0 or delay == inf:
                 return (yield from asyncio_sleep(delay, result).__await__())
             w = _waiter(loop, delay)
             w._asyncio_future_blocking = True
@@ -220,6 +221,41 @@ def _make_sleep(*, native: bool) -> Callable[..., Any]:
     return sleep
 
 
-#: The VirtualEventLoop running in some thread (the latest entered), for :func:`sleep`.
-_running: list[Any] = [None]
+#: The VirtualEventLoop stepping in each thread (by thread id), for :func:`sleep`.
+_running: dict[int, Any] = {}
+_installed = 0  # how many loops are stepping, in all threads (the light sleep is installed while > 0)
+_saved: tuple[Any, Any] = (None, None)  # asyncio's own sleep, put back when the last loop stops
+_lock = threading.Lock()
+
+
+def _enter(loop: Any) -> Any:
+    """``loop`` starts stepping in this thread: install the light sleep; return what to give :func:`_leave`.
+
+    Counted over all threads: asyncio's sleep is put back when the last loop stops,
+    whatever order loops in different threads start and stop in.
+    """
+    global _installed, _saved
+    tid = threading.get_ident()
+    with _lock:
+        outer = _running.get(tid)
+        _running[tid] = loop
+        if _installed == 0:
+            _saved = (asyncio.sleep, asyncio.tasks.sleep)
+            asyncio.sleep = asyncio.tasks.sleep = sleep
+        _installed += 1
+    return outer
+
+
+def _leave(outer: Any) -> None:
+    """The loop that :func:`_enter` gave ``outer`` stops stepping in this thread."""
+    global _installed
+    tid = threading.get_ident()
+    with _lock:
+        if outer is None:
+            _running.pop(tid, None)
+        else:
+            _running[tid] = outer
+        _installed -= 1
+        if _installed == 0:
+            asyncio.sleep, asyncio.tasks.sleep = _saved
 sleep = _make_sleep(native=sys.version_info >= (3, 12))

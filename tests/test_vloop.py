@@ -612,3 +612,49 @@ def test_the_native_light_sleep_keeps_asyncio_order_wake_ups_results_and_cancell
     assert _sleep_program(lambda d, result: native(d, result), plan, cancel_at) == _sleep_program(
         ORIGINAL_SLEEP, plan, cancel_at
     )
+
+
+def test_two_threads_stepping_their_own_simulations_put_asyncios_sleep_back():
+    # Thread A enters its loop, thread B enters its own, A leaves, then B leaves: each
+    # loop restoring "what it saw on entry" left the light sleep installed for good, tied
+    # to A's closed loop (a later asyncio.run in A's thread got a waiter of that loop).
+    import threading
+
+    a_in, b_in, a_out = threading.Event(), threading.Event(), threading.Event()
+    seen = []
+
+    def run_a():
+        loop = VirtualEventLoop()
+
+        async def main():
+            a_in.set()
+            assert b_in.wait(10)
+            await asyncio.sleep(1)
+            seen.append(("a", loop.time()))
+
+        loop.run_until_complete(main())
+        loop.close()
+        a_out.set()
+        seen.append(("a after", asyncio.run(asyncio.sleep(0.001, "real"))))  # this thread's real loop
+
+    def run_b():
+        assert a_in.wait(10)
+        loop = VirtualEventLoop()
+
+        async def main():
+            b_in.set()
+            assert a_out.wait(10)  # A left while B runs
+            await asyncio.sleep(2)
+            seen.append(("b", loop.time()))
+
+        loop.run_until_complete(main())
+        loop.close()
+
+    ta, tb = threading.Thread(target=run_a), threading.Thread(target=run_b)
+    ta.start()
+    tb.start()
+    ta.join()
+    tb.join()
+    assert sorted(seen) == [("a", 1.0), ("a after", "real"), ("b", 2.0)]
+    assert asyncio.sleep is ORIGINAL_SLEEP and asyncio.tasks.sleep is ORIGINAL_SLEEP
+    assert asyncio.run(asyncio.sleep(0.001, "main")) == "main"
