@@ -4,8 +4,8 @@ Run: ``python benchmarks/trace_digest.py [--seeds 0,1] [--until 60] > before.txt
 run again and ``diff`` the two outputs. Each line is ``scenario seed sha256 lines`` of the bus
 trace written by :class:`homesim.runner.Run` (the same trace as ``homesim run --trace``), so an
 optimisation that changes any message, its order or its time shows as a different digest.
-Not a benchmark and not a test (it runs whole scenarios); ``tests/test_trace_digest.py`` holds
-a short version that the suite runs.
+Not a benchmark and not a test (it runs whole scenarios); the suite has no short version of it
+(``tests/test_trace.py`` checks that a trace is byte-identical across processes).
 """
 
 from __future__ import annotations

@@ -265,6 +265,9 @@ class Participant:
                 self.bus._publish(self, msg)
                 return msg
             xml = xml()
+            if not isinstance(xml, etree._Element):  # (None marks an unbuilt payload: never send it as one)
+                raise BusError(f"{self.name}: the payload function for {channel} returned "
+                               f"{type(xml).__name__}, not an XML element (nothing sent)")
             transfer = True
         msg = self._make(PUBLISH, channel, xml, attachments, causes, created, transfer=transfer)
         self.bus._publish(self, msg)

@@ -33,7 +33,6 @@ import heapq
 import itertools
 import math
 import sys
-import threading
 from asyncio import events
 from collections.abc import Awaitable, Callable, Coroutine
 from asyncio import futures as _futures
@@ -41,7 +40,7 @@ from contextvars import Context, copy_context
 from typing import Any, Protocol, TypeVar
 
 from .errors import ClockError, DeadlockError, LivelockError, RealIOError, SimulationError, TaskFailedError
-from .vsleep import _MANY, _running, _sleep_fire, _SleepWaiter, sleep
+from .vsleep import _MANY, _enter, _leave, _sleep_fire, _SleepWaiter
 
 T = TypeVar("T")
 
@@ -153,8 +152,7 @@ class VirtualEventLoop(asyncio.BaseEventLoop):
         self._orphans: list[tuple[asyncio.Task[Any], int]] = []
         self._saved_loop: asyncio.AbstractEventLoop | None = None
         self._saved_hooks: Any = None
-        self._saved_sleep: Any = None
-        self._thread_id: int | None = None
+        self._saved_sleep: Any = None  # the loop stepping in this thread before this one (vsleep._enter)
         self.max_rounds_per_instant = MAX_ROUNDS_PER_INSTANT
         self._instant_ns = -1
         self._instant_rounds = 0
@@ -605,14 +603,11 @@ class VirtualEventLoop(asyncio.BaseEventLoop):
             events._set_running_loop(loop)
             # The lighter sleep, for code that looks asyncio.sleep up when it runs (it passes
             # every other loop on to asyncio's own, so threads with their own loops are safe).
-            loop._thread_id = threading.get_ident()
-            loop._saved_sleep = (asyncio.sleep, asyncio.tasks.sleep, _running[0])
-            asyncio.sleep = asyncio.tasks.sleep = sleep
-            _running[0] = loop
+            loop._saved_sleep = _enter(loop)
 
         def __exit__(self, *exc: object) -> None:
             loop = self.loop
-            asyncio.sleep, asyncio.tasks.sleep, _running[0] = loop._saved_sleep
+            _leave(loop._saved_sleep)
             events._set_running_loop(loop._saved_loop)
             sys.set_asyncgen_hooks(*loop._saved_hooks)
             loop._saved_loop = None

@@ -20,6 +20,7 @@ from __future__ import annotations
 import asyncio
 import heapq
 import math
+import sys
 import threading
 import types
 from collections.abc import Callable
@@ -160,7 +161,13 @@ def _sleep_fire(waiter: _SleepWaiter) -> None:
 
 
 
-def _make_sleep() -> Callable[..., Any]:
+def _make_sleep(*, native: bool) -> Callable[..., Any]:
+    """The light sleep: a native coroutine (``native``), or one generator (cheaper).
+
+    Python 3.12+ asyncio takes only native coroutines (``collections.abc.Coroutine``)
+    as tasks, so ``create_task(asyncio.sleep(1))`` needs the native form there; 3.11's
+    asyncio still takes a generator-based coroutine, which saves a generator per sleep.
+    """
     # A closure, so that the hot path reads cells rather than module globals.
     asyncio_sleep = asyncio.sleep
     get_ident = threading.get_ident
@@ -169,21 +176,11 @@ def _make_sleep() -> Callable[..., Any]:
     inf = math.inf
     fire = _sleep_fire
     none = type(None)
+    running = _running.get
 
-    @types.coroutine
-    def sleep(delay: float, result: Any = None) -> Any:
-        """``asyncio.sleep`` for the virtual loop, with fewer objects (installed while the loop runs).
-
-        Same semantics and order as asyncio's: a coroutine, so ``create_task``,
-        ``wait_for``, ``gather`` and cancellation work as before. In a thread
-        whose running loop is not a :class:`VirtualEventLoop`, and for
-        ``delay <= 0`` or an infinite delay, it is asyncio's own sleep.
-        """
-        loop = _running[0]
-        if loop is None or loop._thread_id != get_ident() or not delay > 0 or delay == inf:
-            return (yield from asyncio_sleep(delay, result).__await__())
+    def _waiter(loop: Any, delay: float) -> _SleepWaiter:
         w = waiter()
-        w._asyncio_future_blocking = True
+        w._asyncio_future_blocking = False  # (set by __await__ when the task gets it)
         w._loop = loop
         w._cancelled = w._done = False
         w._scheduled = True
@@ -192,13 +189,73 @@ def _make_sleep() -> Callable[..., Any]:
         w.result = none
         w._when = when = loop._now_ns + round(delay * NS_PER_S)
         heappush(loop._timers, (when, next(loop._seq), w))
-        yield w
-        return result
+        return w
 
-    sleep._is_coroutine = asyncio.coroutines._is_coroutine  # type: ignore[attr-defined]
+    if native:
+        async def sleep(delay: float, result: Any = None) -> Any:
+            loop = running(get_ident())
+            if loop is None or not delay > 0 or delay == inf:
+                return await asyncio_sleep(delay, result)
+            await _waiter(loop, delay)
+            return result
+    else:
+        @types.coroutine
+        def sleep(delay: float, result: Any = None) -> Any:  # type: ignore[misc]
+            loop = running(get_ident())
+            if loop is None or not delay > 0 or delay == inf:
+                return (yield from asyncio_sleep(delay, result).__await__())
+            w = _waiter(loop, delay)
+            w._asyncio_future_blocking = True
+            yield w
+            return result
+
+        sleep._is_coroutine = asyncio.coroutines._is_coroutine  # type: ignore[attr-defined]
+
+    sleep.__doc__ = """``asyncio.sleep`` for the virtual loop, with fewer objects (installed while the loop runs).
+
+    Same semantics and order as asyncio's: a coroutine, so ``create_task``,
+    ``wait_for``, ``gather`` and cancellation work as before. In a thread
+    whose running loop is not a :class:`VirtualEventLoop`, and for
+    ``delay <= 0`` or an infinite delay, it is asyncio's own sleep.
+    """
     return sleep
 
 
-#: The VirtualEventLoop running in some thread (the latest entered), for :func:`sleep`.
-_running: list[Any] = [None]
-sleep = _make_sleep()
+#: The VirtualEventLoop stepping in each thread (by thread id), for :func:`sleep`.
+_running: dict[int, Any] = {}
+_installed = 0  # how many loops are stepping, in all threads (the light sleep is installed while > 0)
+_saved: tuple[Any, Any] = (None, None)  # asyncio's own sleep, put back when the last loop stops
+_lock = threading.Lock()
+
+
+def _enter(loop: Any) -> Any:
+    """``loop`` starts stepping in this thread: install the light sleep; return what to give :func:`_leave`.
+
+    Counted over all threads: asyncio's sleep is put back when the last loop stops,
+    whatever order loops in different threads start and stop in.
+    """
+    global _installed, _saved
+    tid = threading.get_ident()
+    with _lock:
+        outer = _running.get(tid)
+        _running[tid] = loop
+        if _installed == 0:
+            _saved = (asyncio.sleep, asyncio.tasks.sleep)
+            asyncio.sleep = asyncio.tasks.sleep = sleep
+        _installed += 1
+    return outer
+
+
+def _leave(outer: Any) -> None:
+    """The loop that :func:`_enter` gave ``outer`` stops stepping in this thread."""
+    global _installed
+    tid = threading.get_ident()
+    with _lock:
+        if outer is None:
+            _running.pop(tid, None)
+        else:
+            _running[tid] = outer
+        _installed -= 1
+        if _installed == 0:
+            asyncio.sleep, asyncio.tasks.sleep = _saved
+sleep = _make_sleep(native=sys.version_info >= (3, 12))

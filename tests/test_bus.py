@@ -589,3 +589,18 @@ def test_scenario_runs_in_the_suite_are_strict_and_the_product_default_is_not():
         assert run.sim.bus.validation == "all"
     with Run.from_file(scen, RunOptions(until=0.1, strict=False)) as run:
         assert run.sim.bus.validation == "edges"
+
+
+@pytest.mark.parametrize("strict", [False, True])
+def test_a_payload_function_that_returns_no_element_is_refused_at_the_sender(strict):
+    # None is also the bus's mark of an unbuilt payload: it must not be sent as one.
+    with Simulation(seed=3, strict=strict) as s:
+        got = []
+        s.bus.participant("b").subscribe("/x", got.append)
+        a = s.bus.participant("a")
+        with pytest.raises(BusError, match=r"/x.*returned NoneType"):
+            a.publish("/x", lambda: None)
+        with pytest.raises(BusError, match=r"/x.*returned int"):
+            a.publish("/x", lambda: 3)
+        s.run()
+        assert got == [] and s.bus.sent == 0

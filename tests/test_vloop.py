@@ -573,3 +573,88 @@ def test_another_threads_asyncio_loop_keeps_asyncios_sleep(loop):
 
     loop.run_until_complete(main())
     assert seen == ["slept"]
+
+
+def test_the_light_sleep_is_a_coroutine_that_the_running_asyncio_takes_as_a_task(loop):
+    # Python 3.12+ asyncio takes only native coroutines (``collections.abc.Coroutine``)
+    # as tasks (requires-python is >= 3.11): a generator-based sleep there would make
+    # ``create_task(asyncio.sleep(1))`` a TypeError. The native form is used from 3.12.
+    import collections.abc
+    import sys
+
+    from homesim import vsleep
+
+    native = vsleep._make_sleep(native=True)
+    assert (vsleep.sleep is not native) or sys.version_info >= (3, 12)
+
+    async def main():
+        assert asyncio.sleep is not ORIGINAL_SLEEP
+        installed, c = asyncio.sleep(0.5, "i"), native(0.5, "n")
+        kinds = (asyncio.iscoroutine(installed), isinstance(c, collections.abc.Coroutine),
+                 sys.version_info < (3, 12) or isinstance(installed, collections.abc.Coroutine))
+        assert await installed == "i" and await c == "n"
+        assert await asyncio.create_task(native(0.25, "t")) == "t"
+        return kinds
+
+    assert loop.run_until_complete(main()) == (True, True, True)
+    assert loop.time() == 1.25
+
+
+@given(
+    plan=st.lists(st.lists(st.sampled_from([0, 1e-9, 0.001, 0.002, 0.0015, 0.5]), max_size=6), min_size=1, max_size=5),
+    cancel_at=st.lists(st.tuples(st.sampled_from([0.0005, 0.001, 0.002]), st.integers(0, 4)), max_size=3),
+)
+@settings(max_examples=examples(60, 25), deadline=None)
+def test_the_native_light_sleep_keeps_asyncio_order_wake_ups_results_and_cancellations(plan, cancel_at):
+    from homesim import vsleep
+
+    native = vsleep._make_sleep(native=True)
+    assert _sleep_program(lambda d, result: native(d, result), plan, cancel_at) == _sleep_program(
+        ORIGINAL_SLEEP, plan, cancel_at
+    )
+
+
+def test_two_threads_stepping_their_own_simulations_put_asyncios_sleep_back():
+    # Thread A enters its loop, thread B enters its own, A leaves, then B leaves: each
+    # loop restoring "what it saw on entry" left the light sleep installed for good, tied
+    # to A's closed loop (a later asyncio.run in A's thread got a waiter of that loop).
+    import threading
+
+    a_in, b_in, a_out = threading.Event(), threading.Event(), threading.Event()
+    seen = []
+
+    def run_a():
+        loop = VirtualEventLoop()
+
+        async def main():
+            a_in.set()
+            assert b_in.wait(10)
+            await asyncio.sleep(1)
+            seen.append(("a", loop.time()))
+
+        loop.run_until_complete(main())
+        loop.close()
+        a_out.set()
+        seen.append(("a after", asyncio.run(asyncio.sleep(0.001, "real"))))  # this thread's real loop
+
+    def run_b():
+        assert a_in.wait(10)
+        loop = VirtualEventLoop()
+
+        async def main():
+            b_in.set()
+            assert a_out.wait(10)  # A left while B runs
+            await asyncio.sleep(2)
+            seen.append(("b", loop.time()))
+
+        loop.run_until_complete(main())
+        loop.close()
+
+    ta, tb = threading.Thread(target=run_a), threading.Thread(target=run_b)
+    ta.start()
+    tb.start()
+    ta.join()
+    tb.join()
+    assert sorted(seen) == [("a", 1.0), ("a after", "real"), ("b", 2.0)]
+    assert asyncio.sleep is ORIGINAL_SLEEP and asyncio.tasks.sleep is ORIGINAL_SLEEP
+    assert asyncio.run(asyncio.sleep(0.001, "main")) == "main"
