@@ -264,3 +264,26 @@ def test_fan_caster_matches_the_dense_kernel_on_any_fan_and_geometry(segs, circl
     if not backfaces:
         assert np.array_equal(fc.scan(origin, angles, a, b, c, r, max_range), want)
 
+
+@pytest.mark.parametrize("max_range", [8.19, math.inf])
+@pytest.mark.parametrize(
+    "origin, legs, radii",
+    [
+        ((0.0, 0.0), [[math.nan, 0.0], [1.0, 0.2]], [0.1, 0.1]),  # a leg whose position went NaN
+        ((0.0, 0.0), [[1.0, math.inf]], [0.1]),
+        ((math.nan, 0.0), [[1.0, 0.2]], [0.1]),  # the laser's own pose went NaN
+        ((0.0, math.inf), [[1.0, 0.2]], [0.1]),
+        ((0.0, 0.0), [[1.0, 0.2]], [math.nan]),
+    ],
+)
+def test_fan_caster_agrees_with_the_dense_kernel_on_non_finite_geometry(origin, legs, radii, max_range):
+    """The dense kernel reads a NaN leg or wall as no echo; the sparse caster must not raise
+    instead (math.floor of a NaN subtended angle, a NaN beam count cast to an integer) nor
+    read anything else."""
+    angles = SPEC.bearings()
+    a, b = np.array([[2.0, -1.0], [2.0, 1.0], [math.nan, 0.0]]), np.array([[2.0, 1.0], [-2.0, 1.0], [1.0, -1.0]])
+    c, r = np.array(legs), np.array(radii)
+    with np.errstate(invalid="ignore", over="ignore"):
+        want = RayCaster().cast(origin, angles, a, b, c, r, max_range, backfaces=False)
+        assert np.array_equal(FanCaster().cast(origin, angles, a, b, c, r, max_range, backfaces=False), want, equal_nan=True)
+        assert np.array_equal(FanCaster().scan(origin, angles, a, b, c, r, max_range), want, equal_nan=True)

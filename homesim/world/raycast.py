@@ -407,7 +407,12 @@ class _Fan:
             half = math.asin(min(1.0, r / math.sqrt(ff)))
             base = rr - ff
             lo, hi = rel - half, rel + half
-            pieces = ((lo, hi),) if -math.pi <= lo and hi <= math.pi else _unwrapped(lo, hi)
+            if -math.pi <= lo and hi <= math.pi:
+                pieces: Sequence[tuple[float, float]] = ((lo, hi),)
+            elif lo == lo and hi == hi:
+                pieces = _unwrapped(lo, hi)
+            else:  # NaN geometry (a NaN leg or origin): the dense test on every beam, which never hits
+                pieces = ((-math.pi, math.pi),)
             for lo, hi in pieces:
                 # Beams whose angle may lie in [lo, hi], with a beam of margin each side.
                 i0 = max(0, math.floor((lo + fan_half) / step) - 1)
@@ -450,7 +455,7 @@ class _Fan:
         wrap = hi - lo > self._khalf
         start = np.where(wrap, hi, lo)
         end = np.where(wrap, lo + self._kturn, hi)
-        unsure = np.abs(tnum) < s.near  # the origin (almost) on the segment's line
+        unsure = ~(np.abs(tnum) >= s.near)  # the origin (almost) on the segment's line, or NaN geometry
         if unsure.any():
             start[unsure] = -_FAR
             end[unsure] = _FAR
