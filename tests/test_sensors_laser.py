@@ -287,3 +287,18 @@ def test_fan_caster_agrees_with_the_dense_kernel_on_non_finite_geometry(origin, 
         want = RayCaster().cast(origin, angles, a, b, c, r, max_range, backfaces=False)
         assert np.array_equal(FanCaster().cast(origin, angles, a, b, c, r, max_range, backfaces=False), want, equal_nan=True)
         assert np.array_equal(FanCaster().scan(origin, angles, a, b, c, r, max_range), want, equal_nan=True)
+
+
+def test_fan_caster_recasts_the_walls_when_a_read_only_view_changes_underneath():
+    """Segments are recognised by identity only when nobody can change them: a read-only view
+    of a writeable array changes with it, and the kept static ranges must not outlive that."""
+    angles = SPEC.bearings()
+    base_a, base_b = np.array([[2.0, 1.0]]), np.array([[2.0, -1.0]])  # facing the origin
+    a, b = base_a.view(), base_b.view()
+    a.flags.writeable = b.flags.writeable = False
+    fc, no_c, no_r = FanCaster(), np.zeros((0, 2)), np.zeros(0)
+    fc.scan((0.0, 0.0), angles, a, b, no_c, no_r, SPEC.max_range)
+    base_a[0], base_b[0] = (1.0, 1.0), (1.0, -1.0)  # the wall moves nearer
+    want = RayCaster().cast((0.0, 0.0), angles, a, b, max_range=SPEC.max_range, backfaces=False)
+    assert want[180] == pytest.approx(1.0)
+    assert np.array_equal(fc.scan((0.0, 0.0), angles, a, b, no_c, no_r, SPEC.max_range), want)
