@@ -292,3 +292,109 @@ def test_one_frame_equals_each_kind_detected_in_turn(people, pointing, robot, pt
     assert frame.gestures == detect_gestures(world, pose, pt, SPEC, each)
     assert frame.objects == detect_objects(world, pose, pt, SPEC, each, confusion=0.3)
     assert one.random() == each.random()  # the same numbers drawn, no more, no fewer
+
+
+def _plain_frame(world, pose, ptu, spec, rng, confusion):
+    """The frame computed the plain way: each kind in turn, each point's direction on its own
+    (:func:`_look`), each sight line asked alone, then that kind's noise: the reference the
+    batched :func:`detect_frame` must reproduce float for float."""
+    from homesim.world.geometry import wrap_angle
+    from robot.hardware.camera import (FaceDetection, GestureDetection, ObjectDetection, TorsoDetection, _in_view, _look,
+                                       confuse, visible)
+
+    cam, th = camera_point(pose, spec), pose[2]
+    people = [h for h in world.humans.values() if h.present]
+
+    def seen(point, who):
+        return bool(visible(world, cam, np.array([point]), exclude=[who])[0])
+
+    def colour(rgb):
+        if rng is None:
+            return tuple(float(c) for c in rgb)
+        return tuple(float(c) for c in np.clip(np.array(rgb, dtype=float) + rng.normal(0.0, spec.colour_noise, 3), 0.0, 1.0))
+
+    faces = []
+    for h, (b, e, d) in [(h, _look(cam, th, h.face_point())) for h in people]:
+        f = h.face_point()
+        frontal = abs(wrap_angle(h.gaze - math.atan2(cam[1] - f[1], cam[0] - f[0]))) <= spec.frontal
+        if frontal and _in_view(b, e, ptu, spec) and spec.face_range[0] <= d <= spec.face_range[1] and seen(f, h.name):
+            z = float(f[2])
+            if rng is not None:
+                b += float(rng.normal(0.0, spec.bearing_noise))
+                d *= float(1.0 + rng.normal(0.0, spec.distance_noise))
+                z += float(rng.normal(0.0, spec.height_noise))
+            faces.append(FaceDetection(float(wrap_angle(b)), max(0.1, d), z, h.name))
+    torsos = []
+    for h in people:
+        p = (*h.position, h.torso_z)
+        b, e, d = _look(cam, th, p)
+        if _in_view(b, e, ptu, spec) and spec.torso_range[0] <= d <= spec.torso_range[1] and seen(p, h.name):
+            if rng is not None:
+                b += float(rng.normal(0.0, spec.bearing_noise * 2))
+            torsos.append(TorsoDetection(float(wrap_angle(b)), colour(h.torso), h.name))
+    gestures = []
+    for h in people:
+        hand = h.hand_point()
+        if hand is None or h.pointing is None:
+            continue
+        b, e, d = _look(cam, th, hand)
+        if _in_view(b, e, ptu, spec) and d <= spec.gesture_range and seen(hand, h.name):
+            arm = np.array(hand) - np.array([*h.position, h.shoulder_z])
+            direction = math.atan2(arm[1], arm[0]) - th
+            arm_elev = math.atan2(arm[2], math.hypot(arm[0], arm[1]))
+            if rng is not None:
+                direction += float(rng.normal(0.0, spec.direction_noise))
+                arm_elev += float(rng.normal(0.0, spec.direction_noise))
+                b += float(rng.normal(0.0, spec.bearing_noise))
+            gestures.append(GestureDetection(float(wrap_angle(b)), d, float(wrap_angle(direction)), arm_elev, float(hand[2]), h.name,
+                                             h.pointing.target_name))
+    objects = []
+    types = sorted({o.type for o in world.objects.values()})
+    for n, o in world.objects.items():
+        p = world.object_point(n)
+        b, e, d = _look(cam, th, p)
+        if _in_view(b, e, ptu, spec) and spec.object_range[0] <= d <= spec.object_range[1] and seen((p[0], p[1], p[2] + o.height / 2), None):
+            if rng is not None:
+                b += float(rng.normal(0.0, spec.bearing_noise))
+                d *= float(1.0 + rng.normal(0.0, spec.distance_noise))
+            rgb = colour(o.colour)
+            objects.append(ObjectDetection(confuse(o.type, types, confusion, rng), rgb, float(wrap_angle(b)), max(0.05, d), o.name))
+    return faces, torsos, gestures, objects
+
+
+_anyone = st.tuples(st.floats(0.3, 5.7), st.floats(0.3, 5.7), st.floats(-1.2, 1.2), st.floats(0.8, 2.1), st.booleans(),
+                    st.tuples(st.floats(0, 1), st.floats(0, 1), st.floats(0, 1)))
+
+
+@settings(max_examples=examples(30, 150), deadline=None)
+@given(
+    people=st.lists(_anyone, max_size=5),
+    robot=st.tuples(st.floats(0.5, 5.5), st.floats(0.5, 5.5), st.floats(-4.0, 4.0)),
+    target=st.tuples(st.sampled_from([-2.0, 2.0, 0.0]) | st.floats(-2.0, 2.0), st.sampled_from([-0.6, 0.6]) | st.floats(-0.5, 0.5)),
+    first_at_edge=st.booleans(),
+    noisy=st.booleans(),
+    seed=st.integers(0, 2**32 - 1),
+)
+def test_one_frame_equals_the_plain_per_point_computation(people, robot, target, first_at_edge, noisy, seed):
+    """detect_frame batches directions and sight lines over every kind; anywhere in the room
+    (people behind the robot, at the field of view's edge, hiding each other; the pan-tilt
+    driven to its limits) it must give the plain per-point computation's detections, float for
+    float, with the same random numbers drawn."""
+    world = room()
+    world.place_robot(*robot)
+    pose = world.robot.pose
+    cam = camera_point(pose, SPEC)
+    ptu = ptu_step(PanTilt(target_pan=target[0], target_tilt=target[1]), 100.0, SPEC)  # at the limits when beyond them
+    for i, (x, y, gaze, height, pointing, torso) in enumerate(people):
+        if first_at_edge and i == 0:  # exactly on the image's left edge, 2 m away
+            edge = pose[2] + ptu.pan + SPEC.hfov / 2
+            x, y = cam[0] + 2.0 * math.cos(edge), cam[1] + 2.0 * math.sin(edge)
+        world.humans[f"p{i}"] = HumanBody(world.space, f"p{i}", x, y, 0.0, height=height, torso=torso, speed=1.0)
+        world.humans[f"p{i}"].turn_to(math.atan2(cam[1] - y, cam[0] - x) + gaze)
+        if pointing:
+            world.humans[f"p{i}"].pointing = Pointing("cup", world.object_point("cup"), until=5.0)
+    one, each = (np.random.default_rng(seed), np.random.default_rng(seed)) if noisy else (None, None)
+    frame = detect_frame(world, pose, ptu, SPEC, one, confusion=0.3, occluders=world.person_cylinders())
+    assert (frame.faces, frame.torsos, frame.gestures, frame.objects) == _plain_frame(world, pose, ptu, SPEC, each, 0.3)
+    if noisy:
+        assert one.random() == each.random()

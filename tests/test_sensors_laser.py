@@ -13,6 +13,7 @@ from hypothesis import strategies as st
 from homesim.world.bodies import LASER_FILTER
 from homesim.world.raycast import FanCaster, RayCaster, cast_rays
 from robot.hardware.laser import LaserSpec, detect_leg_pairs, laser_origin, simulate_scan
+from tests.conftest import examples
 from tests.world_helpers import at_bearing, put_person, room
 
 SPEC = LaserSpec()
@@ -215,3 +216,89 @@ def test_fan_caster_falls_back_to_the_dense_kernel_off_an_even_fan():
         want = RayCaster().cast(origin, angles, a, b, c, r, SPEC.max_range, backfaces=False)
         assert FanCaster().fan(angles) is None
         assert np.array_equal(FanCaster().scan(origin, angles, a, b, c, r, SPEC.max_range), want)
+
+
+_wide = st.floats(-20.0, 20.0, allow_nan=False)
+
+
+@settings(max_examples=examples(40, 300), deadline=None)
+@given(
+    segs=st.lists(st.tuples(_wide, _wide, _wide, _wide), max_size=8),
+    circles=st.lists(st.tuples(_wide, _wide, st.floats(0.0, 30.0)), max_size=5),
+    origin=st.tuples(st.sampled_from([0.0, 0.5]) | _wide, st.sampled_from([0.0, 0.5]) | _wide),
+    start=st.floats(-10.0, 10.0),
+    n=st.integers(2, 400),
+    span=st.floats(1e-5, 2 * math.pi),
+    max_range=st.sampled_from([8.19, 2.5, 30.0, math.inf]),
+    backfaces=st.booleans(),
+    snap=st.sampled_from(["none", "end at origin", "origin on line", "tangent to first beam", "tangent to last beam"]),
+)
+def test_fan_caster_matches_the_dense_kernel_on_any_fan_and_geometry(segs, circles, origin, start, n, span, max_range, backfaces, snap):
+    """Any evenly spaced fan (up to a whole turn, any start: across the +-pi wrap), segments
+    that end at the laser or lie on a line through it, circles from a point to 30 m across,
+    around the laser or tangent to the fan's edge beams: the sparse caster's ranges are the
+    dense kernel's floats."""
+    step = span / (n - 1)
+    angles = start + step * np.arange(n)
+    ox, oy = origin
+    rows = []
+    for ax, ay, bx, by in segs:
+        if snap == "end at origin":
+            ax, ay = ox, oy
+        elif snap == "origin on line":
+            bx, by = 2 * ox - ax, 2 * oy - ay
+        rows.append((ax, ay, bx, by))
+    circ = []
+    for cx, cy, r in circles:
+        if snap.startswith("tangent"):
+            edge = angles[0] if snap.endswith("first beam") else angles[-1]
+            r = abs(math.sin(math.atan2(cy - oy, cx - ox) - edge)) * math.hypot(cx - ox, cy - oy)
+        circ.append((cx, cy, r))
+    a = np.array([s[:2] for s in rows]).reshape(-1, 2)
+    b = np.array([s[2:] for s in rows]).reshape(-1, 2)
+    c = np.array([ci[:2] for ci in circ]).reshape(-1, 2)
+    r = np.array([ci[2] for ci in circ])
+    want = RayCaster().cast(origin, angles, a, b, c, r, max_range, backfaces=backfaces)
+    fc = FanCaster()
+    assert np.array_equal(fc.cast(origin, angles, a, b, c, r, max_range, backfaces=backfaces), want)
+    if not backfaces:
+        assert np.array_equal(fc.scan(origin, angles, a, b, c, r, max_range), want)
+
+
+@pytest.mark.parametrize("max_range", [8.19, math.inf])
+@pytest.mark.parametrize(
+    "origin, legs, radii",
+    [
+        ((0.0, 0.0), [[math.nan, 0.0], [1.0, 0.2]], [0.1, 0.1]),  # a leg whose position went NaN
+        ((0.0, 0.0), [[1.0, math.inf]], [0.1]),
+        ((math.nan, 0.0), [[1.0, 0.2]], [0.1]),  # the laser's own pose went NaN
+        ((0.0, math.inf), [[1.0, 0.2]], [0.1]),
+        ((0.0, 0.0), [[1.0, 0.2]], [math.nan]),
+    ],
+)
+def test_fan_caster_agrees_with_the_dense_kernel_on_non_finite_geometry(origin, legs, radii, max_range):
+    """The dense kernel reads a NaN leg or wall as no echo; the sparse caster must not raise
+    instead (math.floor of a NaN subtended angle, a NaN beam count cast to an integer) nor
+    read anything else."""
+    angles = SPEC.bearings()
+    a, b = np.array([[2.0, -1.0], [2.0, 1.0], [math.nan, 0.0]]), np.array([[2.0, 1.0], [-2.0, 1.0], [1.0, -1.0]])
+    c, r = np.array(legs), np.array(radii)
+    with np.errstate(invalid="ignore", over="ignore"):
+        want = RayCaster().cast(origin, angles, a, b, c, r, max_range, backfaces=False)
+        assert np.array_equal(FanCaster().cast(origin, angles, a, b, c, r, max_range, backfaces=False), want, equal_nan=True)
+        assert np.array_equal(FanCaster().scan(origin, angles, a, b, c, r, max_range), want, equal_nan=True)
+
+
+def test_fan_caster_recasts_the_walls_when_a_read_only_view_changes_underneath():
+    """Segments are recognised by identity only when nobody can change them: a read-only view
+    of a writeable array changes with it, and the kept static ranges must not outlive that."""
+    angles = SPEC.bearings()
+    base_a, base_b = np.array([[2.0, 1.0]]), np.array([[2.0, -1.0]])  # facing the origin
+    a, b = base_a.view(), base_b.view()
+    a.flags.writeable = b.flags.writeable = False
+    fc, no_c, no_r = FanCaster(), np.zeros((0, 2)), np.zeros(0)
+    fc.scan((0.0, 0.0), angles, a, b, no_c, no_r, SPEC.max_range)
+    base_a[0], base_b[0] = (1.0, 1.0), (1.0, -1.0)  # the wall moves nearer
+    want = RayCaster().cast((0.0, 0.0), angles, a, b, max_range=SPEC.max_range, backfaces=False)
+    assert want[180] == pytest.approx(1.0)
+    assert np.array_equal(fc.scan((0.0, 0.0), angles, a, b, no_c, no_r, SPEC.max_range), want)

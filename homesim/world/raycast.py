@@ -231,7 +231,7 @@ class FanCaster:
     def _segments(self, a: FloatArray, b: FloatArray) -> "_Segments":
         """The prepared segments: the same read-only arrays as last time, or equal ones, or new."""
         got = self._segs
-        if got is not None and got.source[0] is a and got.source[1] is b and not (_writeable(a) or _writeable(b)):
+        if got is not None and got.source[0] is a and got.source[1] is b and _frozen(a) and _frozen(b):
             return got
         sa = np.asarray(a, dtype=float).reshape(-1, 2)
         sb = np.asarray(b, dtype=float).reshape(-1, 2)
@@ -288,7 +288,7 @@ class FanCaster:
         only the circles (people's legs) are cast. A range is the minimum over everything hit
         and a minimum is exact, so the result is bit for bit that of casting all together.
         Pass the segments as read-only arrays (the world's are) and they are recognised by
-        identity; writeable ones are compared value by value.
+        identity; writeable ones, and read-only views of writeable ones, are compared value by value.
         """
         angles = np.asarray(angles, dtype=float)
         fan = self.fan(angles)
@@ -407,7 +407,12 @@ class _Fan:
             half = math.asin(min(1.0, r / math.sqrt(ff)))
             base = rr - ff
             lo, hi = rel - half, rel + half
-            pieces = ((lo, hi),) if -math.pi <= lo and hi <= math.pi else _unwrapped(lo, hi)
+            if -math.pi <= lo and hi <= math.pi:
+                pieces: Sequence[tuple[float, float]] = ((lo, hi),)
+            elif lo == lo and hi == hi:
+                pieces = _unwrapped(lo, hi)
+            else:  # NaN geometry (a NaN leg or origin): the dense test on every beam, which never hits
+                pieces = ((-math.pi, math.pi),)
             for lo, hi in pieces:
                 # Beams whose angle may lie in [lo, hi], with a beam of margin each side.
                 i0 = max(0, math.floor((lo + fan_half) / step) - 1)
@@ -450,7 +455,7 @@ class _Fan:
         wrap = hi - lo > self._khalf
         start = np.where(wrap, hi, lo)
         end = np.where(wrap, lo + self._kturn, hi)
-        unsure = np.abs(tnum) < s.near  # the origin (almost) on the segment's line
+        unsure = ~(np.abs(tnum) >= s.near)  # the origin (almost) on the segment's line, or NaN geometry
         if unsure.any():
             start[unsure] = -_FAR
             end[unsure] = _FAR
@@ -512,8 +517,16 @@ class _Fan:
         np.minimum.at(result, beam, t)
 
 
-def _writeable(a: object) -> bool:
-    return not isinstance(a, np.ndarray) or a.flags.writeable
+def _frozen(a: object) -> bool:
+    """Whether nobody can change ``a``'s values: an array that is read-only, and so is every array
+    it views (a read-only view of a writeable array changes when that array does)."""
+    while isinstance(a, np.ndarray):
+        if a.flags.writeable:
+            return False
+        if a.base is None:
+            return True
+        a = a.base
+    return False  # not an array, or a view of another buffer (bytes, mmap): compare by value
 
 
 def _unwrapped(lo: float, hi: float) -> list[tuple[float, float]]:
