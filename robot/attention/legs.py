@@ -271,15 +271,14 @@ class LegDetector:
     def _linearity(self, s: int, e: int) -> float:
         """The spread (m) of segment ``s:e``'s points across their best line: sqrt of the smaller covariance eigenvalue."""
         xs, ys = self._x[s:e], self._y[s:e]
-        sx, sy, sxx, syy, sxy = (float(np.add.reduceat(v, _ZERO)[0]) for v in (xs, ys, xs * xs, ys * ys, xs * ys))
         n = e - s
+        cols = np.concatenate((xs, ys, xs * xs, ys * ys, xs * ys))  # the five sums in one reduceat
+        sx, sy, sxx, syy, sxy = np.add.reduceat(cols, range(0, 5 * n, n)).tolist()
         mx, my = sx / n, sy / n
         cxx, cyy, cxy = sxx / n - mx * mx, syy / n - my * my, sxy / n - mx * my
         tr, det = cxx + cyy, cxx * cyy - cxy * cxy
         return math.sqrt(max(tr / 2 - math.sqrt(max(tr * tr / 4 - det, 0.0)), 0.0))
 
-
-_ZERO = np.zeros(1, dtype=np.intp)
 
 
 def _pair(legs: list[tuple[float, float]], blobs: list[tuple[float, float]], pair_distance: float) -> Detections:

@@ -54,8 +54,8 @@ import numpy as np
 from lxml import etree
 
 from homesim.message import Message
-from homesim.xmlio import parse_bytes
 from homesim.module import Module
+from homesim.xmlio import parse_bytes
 
 from .clutter import FurnitureLegs
 from .cues import CueSpec, Hysteresis, bearings_from, match_faces, match_sounds
