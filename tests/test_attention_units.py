@@ -14,7 +14,7 @@ from robot.attention.cues import Hysteresis, match_sounds
 from robot.attention.fsm import AttentionFSM, OrderRefused
 from robot.attention.legs import PAIR, SINGLE, LegSpec, detect
 from robot.attention.selection import SelectionParams, Selector
-from robot.attention.tracker import Tracks, TrackerSpec, cv_model
+from robot.attention.tracker import GATE_99, Tracks, TrackerSpec, _assign, cv_model
 from tests.attention_reference import reference_detect
 
 P = SelectionParams(max_selection=5.0, inhibition=3.0)
@@ -182,6 +182,19 @@ def test_the_filter_equals_one_filterpy_kalman_filter_per_track(n, dt, seed):
         assert np.allclose(tr.x[i], kf.x.ravel(), atol=1e-9)
         assert np.allclose(tr.P[i], kf.P, atol=1e-9)
         assert np.array_equal(tr.P[i], tr.P[i].T)  # kept symmetric by construction
+
+
+@settings(max_examples=100, deadline=None)
+@given(n=st.integers(1, 6), m=st.integers(1, 8), seed=st.integers(0, 2**31 - 1))
+def test_when_the_gate_leaves_no_choice_the_optimal_assignment_is_every_gated_pair(n, m, seed):
+    """The tracker skips linear_sum_assignment when no track has two candidates in its gate and no
+    candidate is in two tracks' gates: the solver's answer is then exactly the gated pairs."""
+    rng = np.random.default_rng(seed)
+    rows = rng.permutation(n)[: min(n, m)]
+    cols = rng.permutation(m)[: min(n, m)]
+    keep = rng.random(rows.size) < 0.7
+    pairs = [(int(i), int(j), float(rng.uniform(0, GATE_99))) for i, j, k in zip(rows, cols, keep) if k]
+    assert sorted(_assign(pairs, n, m)) == sorted(pairs)
 
 
 def test_a_track_is_born_on_repeated_evidence_and_dies_after_the_timeout():
