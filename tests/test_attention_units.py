@@ -14,7 +14,8 @@ from robot.attention.cues import Hysteresis, match_sounds
 from robot.attention.fsm import AttentionFSM, OrderRefused
 from robot.attention.legs import PAIR, SINGLE, LegSpec, detect
 from robot.attention.selection import SelectionParams, Selector
-from robot.attention.tracker import Tracks, TrackerSpec, cv_model
+from robot.attention.tracker import GATE_99, Tracks, TrackerSpec, _assign, cv_model
+from tests.attention_reference import reference_detect
 
 P = SelectionParams(max_selection=5.0, inhibition=3.0)
 
@@ -159,25 +160,41 @@ def test_top_down_states_only_by_orders_and_unknown_orders_refused():
     dt=st.floats(0.02, 0.5),
     seed=st.integers(0, 2**31 - 1),
 )
-def test_batched_filter_equals_one_filterpy_kalman_filter_per_track(n, dt, seed):
+def test_the_filter_equals_one_filterpy_kalman_filter_per_track(n, dt, seed):
     rng = np.random.default_rng(seed)
     spec = TrackerSpec()
     tr = Tracks(spec)
     tr._birth(0.0, rng.uniform(-3, 3, (n, 2)), np.full(n, spec.meas_std**2))
     tr._t = 0.0
-    tr.x[:, 2:] = rng.uniform(-1, 1, (n, 2))
+    for tk, v in zip(tr.tracks, rng.uniform(-1, 1, (n, 2)).tolist()):
+        tk.x[2:] = v
+        tk.last_update = dt  # not coasting: no damping
     kfs = [tr.filterpy(i) for i in range(n)]
     F, Q = cv_model(dt, spec.accel_noise)
-    tr.last_update[:] = dt  # not coasting: no damping
     tr.predict(dt)
     z = rng.uniform(-3, 3, (n, 2))
-    rows = np.arange(n)
-    tr._update(rows, z, np.full(n, spec.meas_std**2))
     for i, kf in enumerate(kfs):
         kf.predict(F=F, Q=Q)
+        assert np.allclose(tr.x[i], kf.x.ravel(), atol=1e-9)
+        assert np.allclose(tr.P[i], kf.P, atol=1e-9)
+        tr.tracks[i].update(z[i, 0], z[i, 1], spec.meas_std**2)
         kf.update(z[i], R=np.eye(2) * spec.meas_std**2)
         assert np.allclose(tr.x[i], kf.x.ravel(), atol=1e-9)
         assert np.allclose(tr.P[i], kf.P, atol=1e-9)
+        assert np.array_equal(tr.P[i], tr.P[i].T)  # kept symmetric by construction
+
+
+@settings(max_examples=100, deadline=None)
+@given(n=st.integers(1, 6), m=st.integers(1, 8), seed=st.integers(0, 2**31 - 1))
+def test_when_the_gate_leaves_no_choice_the_optimal_assignment_is_every_gated_pair(n, m, seed):
+    """The tracker skips linear_sum_assignment when no track has two candidates in its gate and no
+    candidate is in two tracks' gates: the solver's answer is then exactly the gated pairs."""
+    rng = np.random.default_rng(seed)
+    rows = rng.permutation(n)[: min(n, m)]
+    cols = rng.permutation(m)[: min(n, m)]
+    keep = rng.random(rows.size) < 0.7
+    pairs = [(int(i), int(j), float(rng.uniform(0, GATE_99))) for i, j, k in zip(rows, cols, keep) if k]
+    assert sorted(_assign(pairs, n, m)) == sorted(pairs)
 
 
 def test_a_track_is_born_on_repeated_evidence_and_dies_after_the_timeout():
@@ -273,6 +290,46 @@ def test_known_furniture_legs_are_dropped_before_pairing():
     assert PAIR in without.kind  # a person's leg next to a table leg looks like a pair...
     with_map = detect(ranges, BEARINGS, spec, reject=lambda xy: xy[:, 1] < -0.05)
     assert list(with_map.kind) == [SINGLE]  # ... unless the map says the table leg is furniture
+
+
+@settings(max_examples=80, deadline=None)
+@given(
+    seed=st.integers(0, 2**32 - 1),
+    people=st.integers(0, 4),
+    posts=st.integers(0, 5),
+    together=st.booleans(),
+    no_echo=st.floats(0.0, 0.3),
+)
+def test_the_leg_detector_computes_what_the_vectorised_rules_say_bit_for_bit(seed, people, posts, together, no_echo):
+    """The plain-float detector against the rules written as numpy expressions (tests/attention_reference.py):
+    random people (legs apart, or together as one blob), table legs, 1 cm range noise, beams without echo,
+    with and without a furniture filter: the same candidates, kinds and legs, to the last bit."""
+    rng = np.random.default_rng(seed)
+    circles, squares = [], []
+    for _ in range(people):
+        cx, cy = rng.uniform(0.5, 5.5), rng.uniform(-3.0, 3.0)
+        spread = rng.uniform(0.10, 0.14) if together else rng.uniform(0.15, 0.45)
+        a = rng.uniform(0, math.pi)
+        for sgn in (-1, 1):
+            circles.append((cx + sgn * spread / 2 * math.cos(a), cy + sgn * spread / 2 * math.sin(a), rng.uniform(0.05, 0.07)))
+    for _ in range(posts):
+        squares.append((rng.uniform(0.5, 5.5), rng.uniform(-3.0, 3.0), rng.uniform(0.03, 0.06)))
+    ranges = _scan(circles, squares, wall=rng.uniform(2.0, 7.0)) + rng.normal(0.0, 0.01, BEARINGS.shape[0])
+    ranges[rng.random(BEARINGS.shape[0]) < no_echo] = 8.19
+    spec = LegSpec(offset=float(rng.uniform(0.0, 0.2)))
+    for reject in (None, lambda xy: xy[:, 1] < -1.0):
+        want = reference_detect(ranges, BEARINGS, spec, reject)
+        got = detect(ranges, BEARINGS, spec, reject)
+        assert got.xy.shape == want.xy.shape and np.array_equal(got.xy, want.xy)
+        assert np.array_equal(got.kind, want.kind)
+        assert got.legs.shape == want.legs.shape and np.array_equal(got.legs, want.legs)
+
+
+def test_the_leg_detector_refuses_a_scan_of_the_wrong_size():
+    with pytest.raises(ValueError, match=r"scan of shape \(360,\), expected \(361,\)"):
+        detect(np.ones(360), BEARINGS)
+    with pytest.raises(ValueError, match="at least two beam bearings"):
+        detect(np.ones(1), BEARINGS[:1])
 
 
 # ------------------------------------------------------------------ cues

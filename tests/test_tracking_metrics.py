@@ -10,7 +10,8 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from homesim.metrics.tracking import StreamingMOT, detection_scores
+from homesim.metrics.tracking import StreamingMOT, detection_scores, visible_region
+from homesim.world.geometry import segments_intersect
 
 MAX_D = 1.0
 
@@ -74,3 +75,29 @@ def test_detection_scores_pair_one_to_one():
     det = np.array([[0.0, 0.0], [0.1, 0.0], [5.0, 5.0]])
     truth = np.array([[0.05, 0.0], [2.0, 2.0]])
     assert detection_scores(det, truth) == (1, 2, 1)
+
+
+@settings(max_examples=60, deadline=None)
+@given(
+    seed=st.integers(0, 2**32 - 1),
+    n_walls=st.integers(0, 40),
+    n_points=st.integers(0, 6),
+)
+def test_visible_region_is_every_sight_line_against_every_wall(seed, n_walls, n_points):
+    """visible_region tests only the walls near the sight lines: the answer is the brute-force one."""
+    rng = np.random.default_rng(seed)
+    a = rng.uniform(-8, 8, (n_walls, 2))
+    e = a + rng.uniform(-3, 3, (n_walls, 2))
+    pose = (float(rng.uniform(-2, 2)), float(rng.uniform(-2, 2)), float(rng.uniform(-math.pi, math.pi)))
+    xy = rng.uniform(-8, 8, (n_points, 2))
+    got = visible_region((a, e), pose, xy)
+    x, y, th = pose
+    ox, oy = x + 0.13 * math.cos(th), y + 0.13 * math.sin(th)
+    want = []
+    for px, py in xy.tolist():
+        b = math.remainder(math.atan2(py - oy, px - ox) - th, 2 * math.pi)
+        ok = abs(b) <= math.pi / 2 and math.hypot(px - ox, py - oy) <= 6.5
+        if ok and n_walls:
+            ok = not segments_intersect(np.array([[ox, oy]]), np.array([[px, py]]), a, e).any()
+        want.append(ok)
+    assert got.tolist() == want

@@ -45,7 +45,7 @@ from typing import Any
 import numpy as np
 from scipy.optimize import linear_sum_assignment
 
-from ..world.geometry import polygon_edges, segments_intersect, wrap_angle
+from ..world.geometry import TWO_PI, polygon_edges, wrap_angle
 from . import Observer
 
 INTERACTION_STATES = frozenset({"Interacting", "Following", "ObjectTeaching"})
@@ -71,55 +71,70 @@ class StreamingMOT:
         self._co: dict[tuple[Hashable, Hashable], int] = {}
 
     def update(self, gt_ids: Sequence[Hashable], gt_xy: np.ndarray, hyp_ids: Sequence[Hashable], hyp_xy: np.ndarray) -> None:
-        """One frame: ground-truth ids and positions (N, 2), hypothesis ids and positions (M, 2)."""
+        """One frame: ground-truth ids and positions (N, 2), hypothesis ids and positions (M, 2).
+
+        Plain floats (a frame has a few people and tracks); distances are numpy's ``hypot``; the
+        assignment solver runs only when the valid pairs leave a choice (else the minimum-distance
+        assignment is every valid pair).
+        """
         self.frames += 1
         n, m = len(gt_ids), len(hyp_ids)
         self.objects += n
         self.hyps += m
-        gt_xy = np.asarray(gt_xy, dtype=float).reshape(n, 2)
-        hyp_xy = np.asarray(hyp_xy, dtype=float).reshape(m, 2)
-        d = np.hypot(gt_xy[:, None, 0] - hyp_xy[None, :, 0], gt_xy[:, None, 1] - hyp_xy[None, :, 1]) if n and m else np.zeros((n, m))
-        valid = d <= self.max_d
+        gt = np.asarray(gt_xy, dtype=float).reshape(n, 2).tolist()
+        hy = np.asarray(hyp_xy, dtype=float).reshape(m, 2).tolist()
         for o in gt_ids:
             self._gt_frames[o] = self._gt_frames.get(o, 0) + 1
         for h in hyp_ids:
             self._hyp_frames[h] = self._hyp_frames.get(h, 0) + 1
-        for i, j in zip(*np.nonzero(valid)):
-            key = (gt_ids[int(i)], hyp_ids[int(j)])
-            self._co[key] = self._co.get(key, 0) + 1
+        d: list[float] = []  # row-major, gt x hyp
+        if n and m:
+            d = np.hypot([gx - hx for gx, _ in gt for hx, _ in hy], [gy - hy_ for _, gy in gt for _, hy_ in hy]).tolist()
+        max_d = self.max_d
+        valid = [k for k in range(len(d)) if d[k] <= max_d]
+        co = self._co
+        for k in valid:
+            key = (gt_ids[k // m], hyp_ids[k % m])
+            co[key] = co.get(key, 0) + 1
+        ok = set(valid)
         gi = {o: i for i, o in enumerate(gt_ids)}
         hj = {h: j for j, h in enumerate(hyp_ids)}
-        used_g = np.zeros(n, dtype=bool)
-        used_h = np.zeros(m, dtype=bool)
+        used_g = [False] * n
+        used_h = [False] * m
         # 1. Last frame's correspondences that still hold.
         for o, h in list(self._m.items()):
             i, j = gi.get(o), hj.get(h)
-            if i is not None and j is not None and valid[i, j] and not used_h[j]:
+            if i is not None and j is not None and i * m + j in ok and not used_h[j]:
                 used_g[i] = used_h[j] = True
                 self.matches += 1
-                self.distance += float(d[i, j])
+                self.distance += d[i * m + j]
         # 2. The rest: minimum total distance among valid pairs.
-        rows = np.flatnonzero(~used_g)
-        cols = np.flatnonzero(~used_h)
-        if rows.size and cols.size:
-            sub = d[np.ix_(rows, cols)]
-            ok = valid[np.ix_(rows, cols)]
-            if ok.any():
-                r, c = linear_sum_assignment(np.where(ok, sub, 1e9))
-                for a, b in zip(r, c):
-                    if not ok[a, b]:
-                        continue
-                    i, j = int(rows[a]), int(cols[b])
-                    o, h = gt_ids[i], hyp_ids[j]
-                    if o in self._m and self._m[o] != h:
-                        self.switches += 1  # a switch is a correspondence too, but not counted a match (as motmetrics)
-                    else:
-                        self.matches += 1
-                    self._m[o] = h
-                    used_g[i] = used_h[j] = True
-                    self.distance += float(d[i, j])
-        self.misses += int((~used_g).sum())
-        self.false_positives += int((~used_h).sum())
+        rest = [k for k in valid if not used_g[k // m] and not used_h[k % m]]
+        if rest:
+            rows = {k // m for k in rest}
+            cols = {k % m for k in rest}
+            if len(rows) < len(rest) or len(cols) < len(rest):  # a choice: the solver
+                ri = [i for i in range(n) if not used_g[i]]
+                cj = [j for j in range(m) if not used_h[j]]
+                sub = np.full((len(ri), len(cj)), 1e9)
+                for a_, i in enumerate(ri):
+                    for b_, j in enumerate(cj):
+                        if i * m + j in ok:
+                            sub[a_, b_] = d[i * m + j]
+                r, c = linear_sum_assignment(sub)
+                rest = [ri[a_] * m + cj[b_] for a_, b_ in zip(r.tolist(), c.tolist()) if ri[a_] * m + cj[b_] in ok]
+            for k in rest:  # in ascending gt order, as the solver returns them
+                i, j = k // m, k % m
+                o, h = gt_ids[i], hyp_ids[j]
+                if o in self._m and self._m[o] != h:
+                    self.switches += 1  # a switch is a correspondence too, but not counted a match (as motmetrics)
+                else:
+                    self.matches += 1
+                self._m[o] = h
+                used_g[i] = used_h[j] = True
+                self.distance += d[k]
+        self.misses += used_g.count(False)
+        self.false_positives += used_h.count(False)
 
     def idf1(self) -> tuple[float, int]:
         """IDF1 and the identity true positives of the best global id assignment."""
@@ -171,23 +186,46 @@ def detection_scores(det_xy: np.ndarray, truth_xy: np.ndarray, radius: float = 0
 
 
 def visible_region(walls: tuple[np.ndarray, np.ndarray], pose: tuple[float, float, float], xy: np.ndarray, *, fov: float = math.pi, max_range: float = 6.5, offset: float = 0.13) -> np.ndarray:
-    """Which points (N, 2) the laser could see: in its field of view and range, no wall in between."""
+    """Which points (N, 2) the laser could see: in its field of view and range, no wall in between.
+
+    Plain floats per point (a frame has a few people and tracks; numpy's per-call cost was most of
+    a frame's scoring), the arithmetic of :func:`~homesim.world.geometry.segments_intersect`
+    operation for operation, and only against the walls whose box meets the sight line's box.
+    """
     xy = np.asarray(xy, dtype=float).reshape(-1, 2)
     if xy.shape[0] == 0:
         return np.zeros(0, dtype=bool)
     x, y, th = pose
     ox, oy = x + offset * math.cos(th), y + offset * math.sin(th)
-    dx, dy = xy[:, 0] - ox, xy[:, 1] - oy
-    b = np.asarray(wrap_angle(np.arctan2(dy, dx) - th))
-    ok = (np.abs(b) <= fov / 2) & (np.hypot(dx, dy) <= max_range)
+    pts = xy.tolist()
+    dx = [px - ox for px, _ in pts]
+    dy = [py - oy for _, py in pts]
+    dist = np.hypot(dx, dy).tolist()
     a, e = walls
-    if ok.any() and a.shape[0]:
-        # Only the points in view and range need the wall test (each point's answer is its own row).
-        rows = np.flatnonzero(ok)
-        pts = xy[rows]
-        crosses = segments_intersect(np.broadcast_to(np.array([ox, oy]), pts.shape), pts, a, e).any(axis=1)
-        ok[rows[crosses]] = False
-    return ok
+    segs = list(zip(a.tolist(), e.tolist()))
+    out = []
+    for (px, py), r0, r1, d in zip(pts, dx, dy, dist):
+        ok = abs((math.atan2(r1, r0) - th + math.pi) % TWO_PI - math.pi) <= fov / 2 and d <= max_range
+        if ok:
+            lo_x, hi_x = (ox, px) if ox <= px else (px, ox)
+            lo_y, hi_y = (oy, py) if oy <= py else (py, oy)
+            for (ax, ay), (bx, by) in segs:
+                # A wall outside the sight line's box cannot cross it (margin for rounding).
+                if (ax < lo_x - 1e-6 and bx < lo_x - 1e-6) or (ax > hi_x + 1e-6 and bx > hi_x + 1e-6):
+                    continue
+                if (ay < lo_y - 1e-6 and by < lo_y - 1e-6) or (ay > hi_y + 1e-6 and by > hi_y + 1e-6):
+                    continue
+                s0, s1 = bx - ax, by - ay
+                den = r0 * s1 - r1 * s0
+                if abs(den) > 1e-12:
+                    ap0, ap1 = ax - ox, ay - oy
+                    t = (ap0 * s1 - ap1 * s0) / den
+                    u = (ap0 * r1 - ap1 * r0) / den
+                    if 0 <= t <= 1 and 0 <= u <= 1:
+                        ok = False
+                        break
+        out.append(ok)
+    return np.array(out, dtype=bool)
 
 
 def wall_edges(world: Any) -> tuple[np.ndarray, np.ndarray]:

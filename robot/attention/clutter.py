@@ -24,12 +24,18 @@ from robot.floorplan import FloorPlan
 
 
 class FurnitureLegs:
-    """Convex footprints of raised furniture as half-planes, for a vectorised inside test."""
+    """Convex footprints of raised furniture as half-planes (grown by ``margin``), for an inside test.
+
+    A point is inside a footprint when it lies on the inner side of all of its edges' lines. The
+    test runs in plain floats per point (a scan has a handful of leg candidates, a home a few
+    dozen edges: numpy's per-call cost is larger than the arithmetic), and only against the
+    footprints whose bounding box holds the point.
+    """
 
     def __init__(self, plan: FloorPlan, *, margin: float = 0.06, min_bottom: float = 0.05) -> None:
         self.start = plan.start
-        normals, offsets, owner = [], [], []
-        for k, ob in enumerate(o for o in plan.obstacles if o.bottom >= min_bottom):
+        self._footprints: list[tuple[float, float, float, float, list[tuple[float, float, float]]]] = []
+        for ob in (o for o in plan.obstacles if o.bottom >= min_bottom):
             p = ob.polygon()
             x, y = p[:, 0], p[:, 1]
             if float(np.dot(x, np.roll(y, -1)) - np.dot(np.roll(x, -1), y)) < 0:
@@ -37,22 +43,33 @@ class FurnitureLegs:
             e = np.roll(p, -1, axis=0) - p
             n = np.column_stack((e[:, 1], -e[:, 0]))  # outward for a counter-clockwise polygon
             n /= np.linalg.norm(n, axis=1, keepdims=True)
-            normals.append(n)
-            offsets.append(np.einsum("ij,ij->i", n, p) + margin)
-            owner.append(np.full(len(p), k))
-        self.count = len(normals)
-        self.n = np.concatenate(normals) if normals else np.zeros((0, 2))
-        self.c = np.concatenate(offsets) if offsets else np.zeros(0)
-        self.owner = np.concatenate(owner) if owner else np.zeros(0, dtype=int)
+            c = np.einsum("ij,ij->i", n, p) + margin
+            # The grown polygon's corners: where consecutive edges' shifted lines meet.
+            corners = np.array([np.linalg.solve(np.array([n[i - 1], n[i]]), np.array([c[i - 1], c[i]])) for i in range(len(n))])
+            lo, hi = corners.min(axis=0) - 1e-6, corners.max(axis=0) + 1e-6
+            edges = [(float(a), float(b), float(cc)) for (a, b), cc in zip(n.tolist(), c.tolist())]
+            self._footprints.append((float(lo[0]), float(lo[1]), float(hi[0]), float(hi[1]), edges))
+        self.count = len(self._footprints)
 
     def inside(self, xy: np.ndarray) -> np.ndarray:
         """Which map-frame points (K, 2) lie in a (grown) raised-furniture footprint."""
-        if self.count == 0 or xy.shape[0] == 0:
-            return np.zeros(xy.shape[0], dtype=bool)
-        outside_edge = (xy @ self.n.T) > self.c[None, :]  # (K, E): beyond an edge's line
-        out = np.zeros((xy.shape[0], self.count), dtype=bool)
-        np.logical_or.at(out.T, self.owner, outside_edge.T)
-        return ~out.all(axis=1)
+        return np.array(self.inside_points(np.asarray(xy, dtype=float).reshape(-1, 2).tolist()), dtype=bool)
+
+    def inside_points(self, points: list[tuple[float, float]] | list[list[float]]) -> list[bool]:
+        """:meth:`inside` for a list of (x, y) map-frame points."""
+        out = []
+        for x, y in points:
+            hit = False
+            for x0, y0, x1, y1, edges in self._footprints:
+                if x0 <= x <= x1 and y0 <= y <= y1:
+                    for nx, ny, c in edges:
+                        if x * nx + y * ny > c:  # beyond this edge's line: outside this footprint
+                            break
+                    else:
+                        hit = True
+                        break
+            out.append(hit)
+        return out
 
     def map_pose(self, odom: tuple[float, float, float]) -> tuple[float, float, float]:
         """The start pose composed with an odometry pose (odometry starts at 0, 0, 0 there)."""

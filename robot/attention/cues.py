@@ -16,6 +16,7 @@ so a pause between words or a missed face does not flip the category.
 from __future__ import annotations
 
 import math
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -45,18 +46,19 @@ class Hysteresis:
     _last: dict[int, float] = field(default_factory=dict)
     _on: dict[int, bool] = field(default_factory=dict)
 
-    def feed(self, now: float, ids: np.ndarray, matched: set[int]) -> None:
+    def feed(self, now: float, ids: Iterable[int], matched: set[int]) -> None:
         """One frame: which of ``ids`` matched the cue."""
-        for i in ids.tolist():
+        count, last, on = self._count, self._last, self._on
+        for i in ids.tolist() if isinstance(ids, np.ndarray) else ids:
             if i in matched:
-                self._count[i] = self._count.get(i, 0) + 1
-                self._last[i] = now
-                if self._count[i] >= self.on_frames:
-                    self._on[i] = True
+                c = count[i] = count.get(i, 0) + 1
+                last[i] = now
+                if c >= self.on_frames:
+                    on[i] = True
             else:
-                self._count[i] = 0
-                if self._on.get(i) and now - self._last.get(i, -math.inf) > self.off_after:
-                    self._on[i] = False
+                count[i] = 0
+                if on.get(i) and now - last.get(i, -math.inf) > self.off_after:
+                    on[i] = False
 
     def on(self, i: int) -> bool:
         return self._on.get(i, False)
@@ -67,36 +69,58 @@ class Hysteresis:
                 del d[k]
 
 
-def bearings_from(xy_robot: np.ndarray, offset: float) -> np.ndarray:
+def _as_list(values: Sequence[float] | np.ndarray) -> list[float]:
+    return values.tolist() if isinstance(values, np.ndarray) else list(values)
+
+
+def _angle(a: float) -> float:
+    """|a| wrapped into [0, pi] (as ``abs(np.remainder(a + pi, 2 pi) - pi)``)."""
+    return abs((a + math.pi) % _TWO_PI - math.pi)
+
+
+_TWO_PI = 2 * math.pi
+
+
+def bearings_from(xy_robot: np.ndarray | Sequence[Sequence[float]], offset: float) -> list[float]:
     """Bearings (rad) of robot-frame points (N, 2) seen from a sensor ``offset`` ahead of the centre."""
-    return np.arctan2(xy_robot[:, 1], xy_robot[:, 0] - offset)
+    pts = xy_robot.tolist() if isinstance(xy_robot, np.ndarray) else xy_robot
+    return [math.atan2(y, x - offset) for x, y in pts]
 
 
-def match_sounds(track_bearings: np.ndarray, sound_bearings: np.ndarray, tolerance: float) -> list[int]:
+def match_sounds(track_bearings: Sequence[float] | np.ndarray, sound_bearings: Sequence[float] | np.ndarray, tolerance: float) -> list[int]:
     """Rows of the tracks that the front-half-plane sound directions speak for (one track per direction)."""
     out: list[int] = []
-    if track_bearings.size == 0:
+    tracks = _as_list(track_bearings)
+    if not tracks:
         return out
-    for b in sound_bearings.tolist():
-        d_front = np.abs(np.remainder(track_bearings - b + math.pi, 2 * math.pi) - math.pi)
-        d_back = np.abs(np.remainder(track_bearings - (math.pi - b) + math.pi, 2 * math.pi) - math.pi)
-        d = np.minimum(d_front, d_back)
-        k = int(np.argmin(d))
-        if d[k] <= tolerance:
+    for b in _as_list(sound_bearings):
+        back = math.pi - b
+        best, k = math.inf, -1
+        for i, tb in enumerate(tracks):
+            d = min(_angle(tb - b), _angle(tb - back))
+            if d < best:
+                best, k = d, i
+        if best <= tolerance:
             out.append(k)
     return out
 
 
-def match_faces(track_xy: np.ndarray, faces: np.ndarray, spec: CueSpec) -> list[int]:
+def match_faces(track_xy: np.ndarray | Sequence[Sequence[float]], faces: np.ndarray | Sequence[Sequence[float]], spec: CueSpec) -> list[int]:
     """Rows of the tracks that frontal faces (F, 2: bearing rad, distance m; robot frame) belong to."""
     out: list[int] = []
-    if track_xy.shape[0] == 0:
+    pts = track_xy.tolist() if isinstance(track_xy, np.ndarray) else list(track_xy)
+    face_list = faces.tolist() if isinstance(faces, np.ndarray) else list(faces)
+    if not pts or not face_list:
         return out
-    tb = bearings_from(track_xy, spec.camera_offset)
-    td = np.hypot(track_xy[:, 0] - spec.camera_offset, track_xy[:, 1])
-    for b, dist in faces.tolist():
-        db = np.abs(np.remainder(tb - b + math.pi, 2 * math.pi) - math.pi)
-        ok = (db <= spec.face_bearing_tolerance) & (np.abs(td - dist) <= spec.face_distance_tolerance * dist)
-        if ok.any():
-            out.append(int(np.flatnonzero(ok)[np.argmin(db[ok])]))
+    off = spec.camera_offset
+    tb = [math.atan2(y, x - off) for x, y in pts]
+    td = np.hypot([x - off for x, _ in pts], [y for _, y in pts]).tolist()
+    for b, dist in face_list:
+        best, k = math.inf, -1
+        for i in range(len(pts)):
+            db = _angle(tb[i] - b)
+            if db <= spec.face_bearing_tolerance and abs(td[i] - dist) <= spec.face_distance_tolerance * dist and db < best:
+                best, k = db, i
+        if k >= 0:
+            out.append(k)
     return out

@@ -55,11 +55,12 @@ from lxml import etree
 
 from homesim.message import Message
 from homesim.module import Module
+from homesim.xmlio import parse_bytes
 
 from .clutter import FurnitureLegs
 from .cues import CueSpec, Hysteresis, bearings_from, match_faces, match_sounds
 from .fsm import CAMERA, TURNS, AttentionFSM, OrderRefused
-from .legs import LegSpec, detect
+from .legs import LegDetector, LegSpec
 from .selection import SelectionParams, Selector
 from .tracker import Tracks, TrackerSpec
 
@@ -150,6 +151,7 @@ class PersonAttention(Module):
         self._odom: tuple[float, float, float, float, float, float] | None = None  # t, x, y, th, v, w
         self._bearings: np.ndarray | None = None
         self._bearings_key: tuple[str, str, str] | None = None
+        self._detector: tuple[np.ndarray, LegSpec, LegDetector] | None = None  # bearings, spec, their detector
         self._focus: tuple[float, float] | None = None
         self._turning = False
         self._ptu_sent: tuple[float, float] | None = None
@@ -190,18 +192,15 @@ class PersonAttention(Module):
         mid = th + w * dt / 2
         return x + v * dt * math.cos(mid), y + v * dt * math.sin(mid), th2
 
-    @staticmethod
-    def _to_odom(pose: tuple[float, float, float], xy: np.ndarray) -> np.ndarray:
-        x, y, th = pose
+    def _robot_xy(self, t: float) -> list[tuple[float, float]]:
+        """Every track's position in the robot frame at ``t``."""
+        x, y, th = self._pose_at(t)
         c, s = math.cos(th), math.sin(th)
-        return np.column_stack((x + c * xy[:, 0] - s * xy[:, 1], y + s * xy[:, 0] + c * xy[:, 1]))
-
-    @staticmethod
-    def _to_robot(pose: tuple[float, float, float], xy: np.ndarray) -> np.ndarray:
-        x, y, th = pose
-        c, s = math.cos(th), math.sin(th)
-        dx, dy = xy[:, 0] - x, xy[:, 1] - y
-        return np.column_stack((c * dx + s * dy, -s * dx + c * dy))
+        out = []
+        for tk in self.tracks.tracks:
+            dx, dy = tk.x[0] - x, tk.x[1] - y
+            out.append((c * dx + s * dy, -s * dx + c * dy))
+        return out
 
     async def _load_map(self) -> None:
         """Ask ``map_server/map`` for the floor plan (raised furniture's legs); without it, no filtering."""
@@ -243,24 +242,23 @@ class PersonAttention(Module):
         el = msg.xml
         self._focus = (math.radians(float(el.get("bearing", "0"))), float(el.get("distance", "1")))
 
-    def _robot_xy(self, t: float) -> np.ndarray:
-        return self._to_robot(self._pose_at(t), self.tracks.x[:, :2])
-
     def _on_sounds(self, msg: Message) -> None:
         t = msg.created
-        ids = self.tracks.ids
-        bearings = np.array([math.radians(float(s.get("bearing"))) for s in msg.xml], dtype=float)
-        track_bearings = bearings_from(self._robot_xy(t), self.cues.mic_offset) if len(ids) else np.zeros(0)
-        rows = match_sounds(track_bearings, bearings, self.cues.sound_tolerance) if len(ids) else []
-        self.speaking.feed(t, ids, {int(ids[r]) for r in rows})
+        tracks = self.tracks.tracks
+        ids = [tk.id for tk in tracks]
+        sources = list(msg.xml)
+        bearings = [math.radians(float(s.get("bearing"))) for s in sources]
+        track_bearings = bearings_from(self._robot_xy(t), self.cues.mic_offset) if tracks else []
+        rows = match_sounds(track_bearings, bearings, self.cues.sound_tolerance) if tracks and bearings else []
+        self.speaking.feed(t, ids, {ids[r] for r in rows})
         self._partner_seen(rows, t)  # the partner's voice from the partner's direction keeps the partner
-        if bearings.size:
-            levels = np.array([float(s.get("level", "0")) for s in msg.xml], dtype=float)
-            seen = track_bearings[self.tracks.confirmed] if len(ids) else track_bearings
-            free = [k for k in range(bearings.size) if not match_sounds(seen, bearings[k : k + 1], self.cues.sound_tolerance)]
+        if bearings:
+            levels = [float(s.get("level", "0")) for s in sources]
+            seen = [b for b, tk in zip(track_bearings, tracks) if tk.confirmed]
+            free = [k for k in range(len(bearings)) if not match_sounds(seen, bearings[k : k + 1], self.cues.sound_tolerance)]
             if free:
-                k = max(free, key=lambda j: float(levels[j]))
-                self._dominant = (t, float(bearings[k]))
+                k = max(free, key=lambda j: levels[j])
+                self._dominant = (t, bearings[k])
 
     def _partner_seen(self, rows: list[int], t: float) -> None:
         """Weak evidence (the voice from the partner's bearing) counts for the partner only."""
@@ -277,23 +275,23 @@ class PersonAttention(Module):
         prow = self.tracks.row(self.partner)
         if prow < 0:
             return
-        bearings = np.array([math.radians(float(s.get("bearing"))) for s in msg.xml], dtype=float)
-        if bearings.size == 0:
+        bearings = [math.radians(float(s.get("bearing"))) for s in msg.xml]
+        if not bearings:
             return
-        pb = float(bearings_from(self._robot_xy(t)[prow : prow + 1], self.cues.camera_offset)[0])
-        d = np.abs(np.remainder(bearings - pb + math.pi, 2 * math.pi) - math.pi)
-        if float(d.min()) <= self.cues.torso_bearing_tolerance:
+        pb = bearings_from(self._robot_xy(t)[prow : prow + 1], self.cues.camera_offset)[0]
+        if min(abs((b - pb + math.pi) % (2 * math.pi) - math.pi) for b in bearings) <= self.cues.torso_bearing_tolerance:
             # A torso is a body (a table leg has none): strong evidence, as a frontal face, so a
             # partner standing sideways on single legs is kept while the camera sees them.
             self.tracks.support([prow], t)
 
     def _on_faces(self, msg: Message) -> None:
         t = msg.created
-        ids = self.tracks.ids
-        faces = np.array([(math.radians(float(f.get("bearing"))), float(f.get("distance"))) for f in msg.xml], dtype=float).reshape(-1, 2)
-        rows = match_faces(self._robot_xy(t), faces, self.cues) if len(ids) else []
-        self.facing.feed(t, ids, {int(ids[r]) for r in rows})
-        self.tracks.support([r for r in rows if self.tracks.confirmed[r]], t)
+        tracks = self.tracks.tracks
+        ids = [tk.id for tk in tracks]
+        faces = [(math.radians(float(f.get("bearing"))), float(f.get("distance"))) for f in msg.xml]
+        rows = match_faces(self._robot_xy(t), faces, self.cues) if tracks and faces else []
+        self.facing.feed(t, ids, {ids[r] for r in rows})
+        self.tracks.support([r for r in rows if tracks[r].confirmed], t)
 
     def _on_order(self, msg: Message) -> None:
         name = msg.xml.get("name", "")
@@ -329,34 +327,54 @@ class PersonAttention(Module):
             self._bearings = math.radians(float(key[1])) + math.radians(float(key[2])) * np.arange(n)
             self._bearings_key = key
             self.legs = replace(self.legs, offset=float(el.get("offset", self.legs.offset)))
-        self.process(t, np.asarray(msg.attachments["ranges"]))
+        self.process(t, msg.attachments["ranges"])
+
+    def _leg_detector(self) -> LegDetector:
+        """The detector for the current scan geometry and leg parameters (built again when either changes)."""
+        det = self._detector
+        if det is None or det[0] is not self._bearings or det[1] is not self.legs:
+            assert self._bearings is not None
+            det = self._detector = (self._bearings, self.legs, LegDetector(self._bearings, self.legs))
+        return det[2]
 
     def process(self, t: float, ranges: np.ndarray) -> None:
         """Everything one scan does (also the benchmark's entry point)."""
-        assert self._bearings is not None
         self.scans += 1
         pose = self._pose_at(t)
         reject = None
         if self.furniture is not None:
-            in_map = self._robot_in_map(t)
-            furniture = self.furniture
-            reject = lambda xy: furniture.inside(self._to_odom(in_map, xy))  # noqa: E731
-        det = detect(ranges, self._bearings, self.legs, reject)
-        z = self._to_odom(pose, det.xy) if len(det) else det.xy
-        assigned = self.tracks.step(t, z, det.kind)
-        tr = self.tracks
-        alive = set(tr.ids.tolist())
+            mx, my, mth = self._robot_in_map(t)
+            cm, sm = math.cos(mth), math.sin(mth)
+            inside = self.furniture.inside_points
+
+            def reject(xy: np.ndarray) -> list[bool]:  # leg candidates (robot frame) on raised furniture's footprints
+                return inside([(mx + cm * x - sm * y, my + sm * x + cm * y) for x, y in xy.tolist()])
+
+        det = self._leg_detector()(ranges, reject)
+        px, py, th = pose
+        c, s = math.cos(th), math.sin(th)
+        z = [(px + c * x - s * y, py + s * x + c * y) for x, y in det.points]  # into odom
+        assigned = self.tracks.step(t, z, det.kinds)
+        tracks = self.tracks.tracks
         if self.scans % 50 == 0:
+            alive = {tk.id for tk in tracks}
             self.speaking.forget(alive)
             self.facing.forget(alive)
             self.selector.forget(alive)
-        rxy = self._to_robot(pose, tr.x[:, :2]) if len(tr) else np.zeros((0, 2))
-        bearing = np.arctan2(rxy[:, 1], rxy[:, 0]) if len(tr) else np.zeros(0)
-        dist = np.hypot(rxy[:, 0], rxy[:, 1]) if len(tr) else np.zeros(0)
+        # Every track in the robot frame: bearing and distance.
+        rx, ry = [], []
+        for tk in tracks:
+            dx, dy = tk.x[0] - px, tk.x[1] - py
+            rx.append(c * dx + s * dy)
+            ry.append(-s * dx + c * dy)
+        bearing = [math.atan2(y, x) for x, y in zip(rx, ry)]
+        dist = np.hypot(rx, ry).tolist() if tracks else []
         cats: dict[int, int] = {}
-        for i in np.flatnonzero(tr.confirmed).tolist():
-            tid = int(tr.ids[i])
-            cats[tid] = 3 if self.speaking.on(tid) and self.facing.on(tid) else 2 if self.speaking.on(tid) else 1
+        speaking, facing = self.speaking, self.facing
+        for tk in tracks:
+            if tk.confirmed:
+                tid = tk.id
+                cats[tid] = (3 if facing.on(tid) else 2) if speaking.on(tid) else 1
         if self.fsm.top_down:
             self._top_down(t, cats)
             selected = self.partner
@@ -365,22 +383,22 @@ class PersonAttention(Module):
             self.fsm.bottom_up(t, bool(cats), cats.get(selected) if selected is not None else None)
             self._bottom_up_events(t, selected, cats, bearing, dist)
         self._publish_tracks(t, cats, bearing, dist)
-        row = tr.row(selected) if selected is not None else -1
+        row = self.tracks.row(selected) if selected is not None else -1
         self._act(t, row, bearing, dist, cats.get(selected, 0) if selected is not None else 0)
         if self.partner is not None:
-            prow = tr.row(self.partner)
+            prow = self.tracks.row(self.partner)
             if prow >= 0:
-                self._publish_partner(t, prow, bearing, dist, bool(np.any(assigned == prow)))
+                self._publish_partner(t, prow, bearing, dist, prow in assigned)
         self._publish_state(t)
 
     # ------------------------------------------------------------ decisions
-    def _bottom_up_events(self, t: float, selected: int | None, cats: dict[int, int], bearing: np.ndarray, dist: np.ndarray) -> None:
+    def _bottom_up_events(self, t: float, selected: int | None, cats: dict[int, int], bearing: list[float], dist: list[float]) -> None:
         pp = selected if selected is not None and cats.get(selected) == 3 else None
         if pp is not None:
             self._last_pp = (pp, t)
             if pp != self.pp_sent or t - self._pp_at >= self.params.pp_repeat - 1e-9:
                 i = self.tracks.row(pp)
-                person = etree.Element("PERSON", id=f"t{pp}", bearing=_deg(float(bearing[i])), distance=f"{float(dist[i]):.3f}", speaking="true", facing="true")
+                person = etree.Element("PERSON", id=f"t{pp}", bearing=_deg(bearing[i]), distance=f"{dist[i]:.3f}", speaking="true", facing="true")
                 self._event("potential_partner", (person,))
                 self.pp_sent, self._pp_at = pp, t
         elif self.pp_sent is not None:
@@ -390,7 +408,7 @@ class PersonAttention(Module):
     def _top_down(self, t: float, cats: dict[int, int]) -> None:
         tr = self.tracks
         row = tr.row(self.partner) if self.partner is not None else -1
-        if row < 0 or t - float(tr.last_seen[row]) >= self.params.partner_lost_after:
+        if row < 0 or t - tr.tracks[row].last_seen >= self.params.partner_lost_after:
             if self.partner is not None and not self.partner_lost_sent:
                 self._event("partner_lost")
                 self.partner_lost_sent = True
@@ -407,10 +425,10 @@ class PersonAttention(Module):
         el = etree.Element("event", name=name)
         for c in children:
             el.append(c)
-        self.bus.publish(EVENTS, el)
+        self.bus.publish(EVENTS, el, transfer=True)
 
     # ------------------------------------------------------------ actions
-    def _act(self, t: float, row: int, bearing: np.ndarray, dist: np.ndarray, category: int) -> None:
+    def _act(self, t: float, row: int, bearing: list[float], dist: list[float], category: int) -> None:
         p = self.params
         state = self.fsm.state
         target = CAMERA[state]
@@ -420,12 +438,12 @@ class PersonAttention(Module):
             pan, d = self._focus
             tilt = math.atan2(0.8 - p.camera_height, max(d, 0.3))
         elif target in p.heights and row >= 0:
-            pan = float(bearing[row])
-            tilt = math.atan2(p.heights[target] - p.camera_height, max(float(dist[row]), 0.3))
+            pan = bearing[row]
+            tilt = math.atan2(p.heights[target] - p.camera_height, max(dist[row], 0.3))
         self._ptu(t, pan, tilt)
         # Base: turn on the spot to the person in Listen, Interaction and Object.
         if state in TURNS and row >= 0:
-            b = float(bearing[row])
+            b = bearing[row]
             if self._turning and abs(b) < p.turn_stop:
                 self._base(0.0)
                 self._turning = False
@@ -435,7 +453,7 @@ class PersonAttention(Module):
         elif self._turning:
             self._base(0.0)
             self._turning = False
-        self._steer(self.beam(t, float(bearing[row]) if row >= 0 else None, category))
+        self._steer(self.beam(t, bearing[row] if row >= 0 else None, category))
 
     def beam(self, t: float, bearing: float | None, category: int) -> float | None:
         """Where the recogniser listens: the partner (top-down), the selected person while they speak
@@ -459,48 +477,53 @@ class PersonAttention(Module):
         p = self.params
         last = self._ptu_sent
         if last is None or abs(last[0] - pan) > p.ptu_deadband or abs(last[1] - tilt) > p.ptu_deadband or t - self._ptu_at >= p.ptu_refresh:
-            self.bus.publish(PTU_CMD, etree.Element("ptu", pan=_deg(pan), tilt=_deg(tilt)))
+            self.bus.publish(PTU_CMD, etree.Element("ptu", pan=_deg(pan), tilt=_deg(tilt)), transfer=True)
             self._ptu_sent, self._ptu_at = (pan, tilt), t
 
     def _base(self, w: float) -> None:
-        self.bus.publish(BASE_CMD, etree.Element("velocity", v="0", w=f"{w:.4f}"))
+        self.bus.publish(BASE_CMD, etree.Element("velocity", v="0", w=f"{w:.4f}"), transfer=True)
 
     def _steer(self, bearing: float | None) -> None:
         last = self._steer_sent
         if bearing is None:
             if last is not None:
-                self.bus.publish(STEER, etree.Element("steer", off="true"))
+                self.bus.publish(STEER, etree.Element("steer", off="true"), transfer=True)
                 self._steer_sent = None
             return
         if not isinstance(last, float) or abs(last - bearing) > self.params.steer_deadband:
             b = math.remainder(bearing, 2 * math.pi)
-            self.bus.publish(STEER, etree.Element("steer", bearing=_deg(b)))
+            self.bus.publish(STEER, etree.Element("steer", bearing=_deg(b)), transfer=True)
             self._steer_sent = bearing
 
     # ------------------------------------------------------------ outputs
-    def _publish_tracks(self, t: float, cats: dict[int, int], bearing: np.ndarray, dist: np.ndarray) -> None:
-        tr = self.tracks
-        el = etree.Element("tracks", time=f"{t:.6f}", frame="odom")
-        for i in range(len(tr)):
-            tid = int(tr.ids[i])
-            x = tr.x[i]
-            P = tr.P[i]
-            etree.SubElement(
-                el, "track", id=f"t{tid}", x=f"{x[0]:.3f}", y=f"{x[1]:.3f}", vx=f"{x[2]:.3f}", vy=f"{x[3]:.3f}",
-                cxx=f"{P[0, 0]:.5f}", cxy=f"{P[0, 1]:.5f}", cyy=f"{P[1, 1]:.5f}", bearing=_deg(float(bearing[i])),
-                distance=f"{float(dist[i]):.3f}", confirmed="true" if tr.confirmed[i] else "false",
-                speaking="true" if cats.get(tid, 0) >= 2 else "false", facing="true" if self.facing.on(tid) and tid in cats else "false",
+    def _publish_tracks(self, t: float, cats: dict[int, int], bearing: list[float], dist: list[float]) -> None:
+        # Written as text and read back with the hardened parser: lxml sets an attribute given as a
+        # keyword at ~1.7 us (name and value checks), so a message of four tracks cost ~100 us built
+        # node by node and ~50 us this way. Every value is a number, a "tN" id or true/false: nothing
+        # to escape.
+        facing = self.facing
+        parts = [f'<tracks time="{t:.6f}" frame="odom">']
+        for i, tk in enumerate(self.tracks.tracks):
+            tid = tk.id
+            x0, x1, x2, x3 = tk.x
+            P = tk.P
+            cat = cats.get(tid, 0)
+            parts.append(
+                f'<track id="t{tid}" x="{x0:.3f}" y="{x1:.3f}" vx="{x2:.3f}" vy="{x3:.3f}" cxx="{P[0]:.5f}" cxy="{P[1]:.5f}" cyy="{P[4]:.5f}"'
+                f' bearing="{math.degrees(bearing[i]):.3f}" distance="{dist[i]:.3f}" confirmed="{"true" if tk.confirmed else "false"}"'
+                f' speaking="{"true" if cat >= 2 else "false"}" facing="{"true" if cat and facing.on(tid) else "false"}"/>'
             )
-        self.bus.publish(TRACKS, el)
+        parts.append("</tracks>")
+        self.bus.publish(TRACKS, parse_bytes("".join(parts), source=f"<{self.name}:{TRACKS}>"), transfer=True)
 
-    def _publish_partner(self, t: float, row: int, bearing: np.ndarray, dist: np.ndarray, visible: bool) -> None:
-        tr = self.tracks
-        x = tr.x[row]
-        self.bus.publish(PARTNER, etree.Element(
-            "partner", id=f"t{int(tr.ids[row])}", bearing=_deg(float(bearing[row])), distance=f"{float(dist[row]):.3f}",
-            x=f"{x[0]:.3f}", y=f"{x[1]:.3f}", vx=f"{x[2]:.3f}", vy=f"{x[3]:.3f}", visible="true" if visible else "false",
-            lost_for=f"{max(0.0, t - float(tr.last_update[row])):.3f}",
-        ))
+    def _publish_partner(self, t: float, row: int, bearing: list[float], dist: list[float], visible: bool) -> None:
+        tk = self.tracks.tracks[row]
+        x = tk.x
+        self.bus.publish(PARTNER, parse_bytes(  # as text: see _publish_tracks
+            f'<partner id="t{tk.id}" bearing="{math.degrees(bearing[row]):.3f}" distance="{dist[row]:.3f}"'
+            f' x="{x[0]:.3f}" y="{x[1]:.3f}" vx="{x[2]:.3f}" vy="{x[3]:.3f}" visible="{"true" if visible else "false"}"'
+            f' lost_for="{max(0.0, t - tk.last_update):.3f}"/>', source=f"<{self.name}:{PARTNER}>",
+        ), transfer=True)
 
     def _publish_state(self, t: float, *, force: bool = False) -> None:
         sel = self.partner if self.fsm.top_down else self.selector.selected
@@ -508,5 +531,5 @@ class PersonAttention(Module):
         if force or key != self._state_sent or t - self._state_at >= self.params.state_refresh:
             self.bus.publish(STATE, etree.Element(
                 "attention", state=key[0], selected=f"t{sel}" if sel is not None else "", partner=f"t{self.partner}" if self.partner is not None else "", time=f"{t:.6f}",
-            ))
+            ), transfer=True)
             self._state_sent, self._state_at = key, t

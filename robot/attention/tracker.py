@@ -11,17 +11,23 @@ so the drift never matters to association.
 
 Each track is a constant-velocity Kalman filter, state ``[x, y, vx, vy]``,
 white-noise acceleration ``accel_noise``; a leg candidate measures ``[x, y]``.
-The filters are kept as stacked arrays and predicted, gated and updated for
-all tracks at once (numpy): ``filterpy.kalman.KalmanFilter.update`` costs
-about 135 us per call, three tracks would eat the whole per-scan budget
-four times over. The batched filter computes exactly what one filterpy
-KalmanFilter per track would (the tests check it against filterpy); the
-per-track view :meth:`Tracks.filterpy` builds that filter.
+The filters are written out in plain floats, the predict and update in
+closed form for this model (``H = [I 0]``, a symmetric covariance kept as
+its 10 entries): ``filterpy.kalman.KalmanFilter.update`` costs about 135 us
+per call, and even one batched numpy step over all tracks costs more than
+the arithmetic of the three or four tracks a home has (a numpy call on a
+4x4 stack costs as much as ~30 float operations). The filter computes what
+one filterpy KalmanFilter per track would (its update ``P - K H P`` equals
+filterpy's Joseph form for the optimal gain, up to rounding; the tests
+check it against filterpy); :meth:`Tracks.filterpy` builds that filter.
 
 Association: Mahalanobis distance of every candidate to every track's
-predicted position (batched 2x2 innovation covariances), gated at the
-chi-square 99 % point, then global nearest neighbour with
-``scipy.optimize.linear_sum_assignment``. Pairs and blobs can start tracks;
+predicted position (2x2 innovation covariances), gated at the chi-square
+99 % point, then global nearest neighbour with
+``scipy.optimize.linear_sum_assignment`` on the gated cost matrix. When
+the gate leaves no choice (no candidate within two tracks' gates, no track
+with two candidates in its gate), the optimal assignment is every gated
+pair, and the solver is not called. Pairs and blobs can start tracks;
 single legs (the other hidden, or a table leg) feed tracks but never start
 or confirm one, and alone (with frontal faces, :meth:`Tracks.support`) keep one for at most
 ``single_support`` seconds after a pair or blob last fed it, so a track that
@@ -40,14 +46,16 @@ velocity damped so it does not run away).
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
 from scipy.optimize import linear_sum_assignment
 
-from .legs import SINGLE, Detections
+from .legs import SINGLE
 
 GATE_99 = 9.2103  # chi-square, 2 degrees of freedom, 99 %
+_FILL = 1e6  # the cost of a pair outside the gate (far above any gate: every gated pair that can be in the assignment is)
 
 
 @dataclass(frozen=True)
@@ -66,159 +74,279 @@ class TrackerSpec:
     max_speed: float = 2.5  # m/s: clamp (nobody walks faster indoors)
     init_speed_std: float = 1.0  # m/s: velocity uncertainty of a new track
 
+    def __post_init__(self) -> None:
+        for name in ("gate", "single_gate"):
+            g = getattr(self, name)
+            if not 0 < g < _FILL / 10:
+                raise ValueError(f"TrackerSpec.{name} = {g}: a squared Mahalanobis distance in (0, {_FILL / 10:g})")
+
+
+class Track:
+    """One person track: state ``x`` = [x, y, vx, vy] (odom frame), covariance ``P`` as the 10
+    entries of the symmetric 4x4 matrix row by row (00 01 02 03 11 12 13 22 23 33), its id,
+    the pair/blob hits that confirm it and the times of its evidence."""
+
+    __slots__ = ("id", "x", "P", "hits", "born", "last_update", "last_strong", "last_seen", "confirmed")
+
+    def __init__(self, track_id: int, x: list[float], P: list[float], t: float) -> None:
+        self.id = track_id
+        self.x = x
+        self.P = P
+        self.hits = 1
+        self.born = self.last_update = t
+        self.last_strong = t  # last update by a pair or blob
+        self.last_seen = t  # last anchored evidence of any kind (legs, frontal face, torso, voice)
+        self.confirmed = False
+
+    def cov(self) -> np.ndarray:
+        """The full 4x4 covariance."""
+        p00, p01, p02, p03, p11, p12, p13, p22, p23, p33 = self.P
+        return np.array([[p00, p01, p02, p03], [p01, p11, p12, p13], [p02, p12, p22, p23], [p03, p13, p23, p33]])
+
+    def predict(self, dt: float, qa: float, qb: float, qc: float) -> None:
+        """x = F x, P = F P F' + Q for the constant-velocity model over ``dt`` (Q = q [a b c] pattern)."""
+        x = self.x
+        x[0] += dt * x[2]
+        x[1] += dt * x[3]
+        p00, p01, p02, p03, p11, p12, p13, p22, p23, p33 = self.P
+        m02 = p02 + dt * p22
+        m03 = p03 + dt * p23
+        m12 = p12 + dt * p23
+        m13 = p13 + dt * p33
+        self.P = [
+            p00 + dt * p02 + dt * m02 + qa, p01 + dt * p12 + dt * m03, m02 + qb, m03,
+            p11 + dt * p13 + dt * m13 + qa, m12, m13 + qb,
+            p22 + qc, p23, p33 + qc,
+        ]
+
+    def update(self, zx: float, zy: float, r: float) -> None:
+        """Kalman update with a position measurement (``H = [I 0]``, ``R = r I``)."""
+        x = self.x
+        p00, p01, p02, p03, p11, p12, p13, p22, p23, p33 = self.P
+        s00, s11 = p00 + r, p11 + r
+        det = s00 * s11 - p01 * p01
+        a, b, d = s11 / det, -p01 / det, s00 / det  # S^-1 = [[a b] [b d]]
+        # K = P H' S^-1: rows i of P's first two columns times S^-1.
+        k00, k01 = p00 * a + p01 * b, p00 * b + p01 * d
+        k10, k11 = p01 * a + p11 * b, p01 * b + p11 * d
+        k20, k21 = p02 * a + p12 * b, p02 * b + p12 * d
+        k30, k31 = p03 * a + p13 * b, p03 * b + p13 * d
+        y0, y1 = zx - x[0], zy - x[1]
+        x[0] += k00 * y0 + k01 * y1
+        x[1] += k10 * y0 + k11 * y1
+        x[2] += k20 * y0 + k21 * y1
+        x[3] += k30 * y0 + k31 * y1
+        # P - K H P (H P: P's first two rows), upper triangle.
+        self.P = [
+            p00 - (k00 * p00 + k01 * p01), p01 - (k00 * p01 + k01 * p11), p02 - (k00 * p02 + k01 * p12), p03 - (k00 * p03 + k01 * p13),
+            p11 - (k10 * p01 + k11 * p11), p12 - (k10 * p02 + k11 * p12), p13 - (k10 * p03 + k11 * p13),
+            p22 - (k20 * p02 + k21 * p12), p23 - (k20 * p03 + k21 * p13),
+            p33 - (k30 * p03 + k31 * p13),
+        ]
+
 
 class Tracks:
-    """All tracks as stacked arrays (see the module docstring). Row i is one track."""
+    """All tracks, oldest first (see the module docstring): :attr:`tracks`, and numpy views of them."""
 
     def __init__(self, spec: TrackerSpec = TrackerSpec()) -> None:
         self.spec = spec
-        self.x = np.zeros((0, 4))
-        self.P = np.zeros((0, 4, 4))
-        self.ids = np.zeros(0, dtype=np.int64)
-        self.hits = np.zeros(0, dtype=np.int64)
-        self.born = np.zeros(0)
-        self.last_update = np.zeros(0)
-        self.last_strong = np.zeros(0)  # last update by a pair or blob
-        self.last_seen = np.zeros(0)  # last anchored evidence of any kind (legs, frontal face, torso, voice)
-        self.confirmed = np.zeros(0, dtype=bool)
+        self.tracks: list[Track] = []
         self._next = 1
         self._t: float | None = None
+        self._model: tuple[float, float, float, float] | None = None  # dt, q a, q b, q c of the last predict
 
     def __len__(self) -> int:
-        return int(self.ids.shape[0])
+        return len(self.tracks)
 
     # ------------------------------------------------------------ filter steps
     def predict(self, t: float) -> None:
         """Predict every track to time ``t`` (constant velocity, white-noise acceleration)."""
-        if self._t is None or len(self) == 0:
+        if self._t is None or not self.tracks:
             self._t = t
             return
         dt = t - self._t
         self._t = t
         if dt <= 0:
             return
-        F, Q = cv_model(dt, self.spec.accel_noise)
-        self.x = self.x @ F.T
-        self.P = F @ self.P @ F.T + Q
-        # Coasting tracks slow down (a person unseen for a while has probably stopped).
-        idle = t - self.last_update
-        damp = np.where(idle > 0.3, math.exp(-self.spec.coast_damping * dt), 1.0)
-        self.x[:, 2:] *= damp[:, None]
-        speed = np.hypot(self.x[:, 2], self.x[:, 3])
-        over = speed > self.spec.max_speed
-        if over.any():
-            self.x[over, 2:] *= (self.spec.max_speed / speed[over])[:, None]
+        model = self._model
+        if model is None or model[0] != dt:
+            q = self.spec.accel_noise**2
+            model = self._model = (dt, q * (dt**4 / 4), q * (dt**3 / 2), q * dt**2)
+        _, qa, qb, qc = model
+        spec = self.spec
+        damp = math.exp(-spec.coast_damping * dt)
+        vmax = spec.max_speed
+        for tk in self.tracks:
+            tk.predict(dt, qa, qb, qc)
+            x = tk.x
+            # Coasting tracks slow down (a person unseen for a while has probably stopped).
+            if t - tk.last_update > 0.3:
+                x[2] *= damp
+                x[3] *= damp
+            if x[2] * x[2] + x[3] * x[3] > vmax * vmax * 0.99:
+                speed = float(np.hypot(x[2], x[3]))
+                if speed > vmax:
+                    x[2] *= vmax / speed
+                    x[3] *= vmax / speed
 
-    def step(self, t: float, z: np.ndarray, kind: np.ndarray) -> np.ndarray:
+    def step(self, t: float, z: Sequence[Sequence[float]] | np.ndarray, kind: Sequence[int] | np.ndarray) -> list[int]:
         """One scan: predict to ``t``, associate candidates ``z`` (M, 2, odom) of ``kind``, update,
         give birth and bury. Returns, per candidate, the row of the track it updated (or -1)."""
+        if isinstance(z, np.ndarray):
+            z = z.tolist()
+        if isinstance(kind, np.ndarray):
+            kind = kind.tolist()
         spec = self.spec
         self.predict(t)
-        m = z.shape[0]
-        assigned = np.full(m, -1, dtype=np.int64)
-        single = kind == SINGLE
-        r = np.where(single, spec.single_std, spec.meas_std) ** 2
-        n = len(self)
-        if n and m:
-            d2 = mahalanobis2(self.x, self.P, z, r)
-            gate = np.where(single, spec.single_gate, spec.gate)[None, :]
-            allowed = d2 <= gate
-            if allowed.any():
-                cost = np.where(allowed, d2, 1e6)
-                rows, cols = linear_sum_assignment(cost)
-                ok = allowed[rows, cols]
-                rows, cols = rows[ok], cols[ok]
-                self._update(rows, z[cols], r[cols])
-                assigned[cols] = rows
-                self.last_update[rows] = t
-                self.last_seen[rows] = np.maximum(self.last_seen[rows], t)
-                strong = ~single[cols]
-                self.last_strong[rows[strong]] = t
-                self.hits[rows[strong]] += 1  # only pairs and blobs confirm a track
+        m = len(z)
+        assigned = [-1] * m
+        single = [k == SINGLE for k in kind]
+        tracks = self.tracks
+        if tracks and m:
+            var = [spec.single_std**2 if s else spec.meas_std**2 for s in single]
+            gates = [spec.single_gate if s else spec.gate for s in single]
+            pairs = _gated(tracks, z, var, gates)
+            if pairs:
+                rows = {i for i, _, _ in pairs}
+                cols = {j for _, j, _ in pairs}
+                if len(rows) < len(pairs) or len(cols) < len(pairs):  # a choice to make
+                    pairs = _assign(pairs, len(tracks), m)
+                for i, j, _ in pairs:
+                    tk = tracks[i]
+                    zj = z[j]
+                    tk.update(zj[0], zj[1], var[j])
+                    assigned[j] = i
+                    tk.last_update = t
+                    if t > tk.last_seen:
+                        tk.last_seen = t
+                    if not single[j]:  # only pairs and blobs confirm a track
+                        tk.last_strong = t
+                        tk.hits += 1
         # Confirmation on repeated evidence; a tentative track that missed this scan is dropped.
-        young = ~self.confirmed
-        self.confirmed |= young & (self.hits >= spec.confirm_hits) & (t - self.born <= spec.confirm_window + 1e-9)
-        dead = (~self.confirmed & (t - self.last_update > spec.tentative_gap + 1e-9)) | (t - self.last_seen > spec.death_timeout)
-        dead |= t - self.last_strong > spec.single_support  # a table leg must not keep a track forever
-        dead |= ~self.confirmed & (t - self.born > spec.confirm_window + 1e-9)
-        if dead.any():
-            keep = ~dead
-            remap = np.cumsum(keep) - 1
-            assigned = np.where(assigned >= 0, np.where(keep[np.maximum(assigned, 0)], remap[np.maximum(assigned, 0)], -1), -1)
-            self._keep(keep)
+        window = spec.confirm_window + 1e-9
+        keep: list[Track] = []
+        row_of: list[int] = []
+        for tk in tracks:
+            if not tk.confirmed and tk.hits >= spec.confirm_hits and t - tk.born <= window:
+                tk.confirmed = True
+            dead = (
+                (not tk.confirmed and (t - tk.last_update > spec.tentative_gap + 1e-9 or t - tk.born > window))
+                or t - tk.last_seen > spec.death_timeout
+                or t - tk.last_strong > spec.single_support  # a table leg must not keep a track forever
+            )
+            row_of.append(-1 if dead else len(keep))
+            if not dead:
+                keep.append(tk)
+        if len(keep) < len(tracks):
+            assigned = [row_of[a] if a >= 0 else -1 for a in assigned]
+            self.tracks = tracks = keep
         # Birth: every unassigned pair or blob starts a tentative track.
-        new = np.flatnonzero((assigned < 0) & ~single)
-        if new.size:
-            self._birth(t, z[new], r[new])
+        for j in range(m):
+            if assigned[j] < 0 and not single[j]:
+                self._birth_one(t, z[j][0], z[j][1], spec.meas_std**2)
         return assigned
 
-    def _update(self, rows: np.ndarray, z: np.ndarray, r: np.ndarray) -> None:
-        """Kalman update of tracks ``rows`` with position measurements ``z`` (batched, H = [I 0])."""
-        P = self.P[rows]
-        S = P[:, :2, :2] + r[:, None, None] * np.eye(2)
-        Sinv = inv2(S)
-        K = P[:, :, :2] @ Sinv  # (k, 4, 2)
-        y = z - self.x[rows, :2]
-        self.x[rows] += np.einsum("kij,kj->ki", K, y)
-        # Joseph form, as filterpy: P = (I - KH) P (I - KH)' + K R K'
-        IKH = np.broadcast_to(np.eye(4), P.shape).copy()
-        IKH[:, :, :2] -= K
-        self.P[rows] = IKH @ P @ IKH.transpose(0, 2, 1) + r[:, None, None] * (K @ K.transpose(0, 2, 1))
+    def _birth_one(self, t: float, zx: float, zy: float, r: float) -> None:
+        v = self.spec.init_speed_std**2
+        self.tracks.append(Track(self._next, [zx, zy, 0.0, 0.0], [r, 0.0, 0.0, 0.0, r, 0.0, 0.0, v, 0.0, v], t))
+        self._next += 1
 
     def _birth(self, t: float, z: np.ndarray, r: np.ndarray) -> None:
-        k = z.shape[0]
-        x = np.zeros((k, 4))
-        x[:, :2] = z
-        P = np.zeros((k, 4, 4))
-        P[:, 0, 0] = P[:, 1, 1] = r
-        P[:, 2, 2] = P[:, 3, 3] = self.spec.init_speed_std**2
-        self.x = np.concatenate((self.x, x))
-        self.P = np.concatenate((self.P, P))
-        self.ids = np.concatenate((self.ids, np.arange(self._next, self._next + k)))
-        self._next += k
-        self.hits = np.concatenate((self.hits, np.ones(k, dtype=np.int64)))
-        self.born = np.concatenate((self.born, np.full(k, t)))
-        self.last_update = np.concatenate((self.last_update, np.full(k, t)))
-        self.last_strong = np.concatenate((self.last_strong, np.full(k, t)))
-        self.last_seen = np.concatenate((self.last_seen, np.full(k, t)))
-        self.confirmed = np.concatenate((self.confirmed, np.zeros(k, dtype=bool)))
-
-    def _keep(self, keep: np.ndarray) -> None:
-        for name in ("x", "P", "ids", "hits", "born", "last_update", "last_strong", "last_seen", "confirmed"):
-            setattr(self, name, getattr(self, name)[keep])
+        """Tentative tracks at positions ``z`` (K, 2) with measurement variances ``r`` (K,)."""
+        for (zx, zy), rr in zip(np.asarray(z, dtype=float).tolist(), np.asarray(r, dtype=float).tolist()):
+            self._birth_one(t, zx, zy, rr)
 
     def support(self, rows: list[int], t: float) -> None:
         """Other strong evidence that tracks ``rows`` are people (a frontal face, or the partner's torso,
         matched them at ``t``):
         it keeps them alive (``last_seen``) and renews the single-leg allowance (``last_strong``)."""
-        if rows:
-            idx = np.asarray(rows, dtype=np.int64)
-            self.last_strong[idx] = np.maximum(self.last_strong[idx], t)
-            self.last_seen[idx] = np.maximum(self.last_seen[idx], t)
+        for i in rows:
+            tk = self.tracks[i]
+            tk.last_strong = max(tk.last_strong, t)
+            tk.last_seen = max(tk.last_seen, t)
 
     def seen(self, rows: list[int], t: float) -> None:
         """Weak anchored evidence for tracks ``rows`` at ``t`` (the partner's voice from its bearing):
         keeps them alive, but only within ``single_support`` of their last pair, blob
         or face, so a bearing-only cue cannot hold a track whose person has gone."""
-        if rows:
-            idx = np.asarray(rows, dtype=np.int64)
-            self.last_seen[idx] = np.maximum(self.last_seen[idx], t)
+        for i in rows:
+            tk = self.tracks[i]
+            tk.last_seen = max(tk.last_seen, t)
 
     # ------------------------------------------------------------ views
     def row(self, track_id: int) -> int:
         """Row of a track id, or -1."""
-        hit = np.flatnonzero(self.ids == track_id)
-        return int(hit[0]) if hit.size else -1
+        for i, tk in enumerate(self.tracks):
+            if tk.id == track_id:
+                return i
+        return -1
+
+    @property
+    def ids(self) -> np.ndarray:
+        return np.array([tk.id for tk in self.tracks], dtype=np.int64)
+
+    @property
+    def x(self) -> np.ndarray:
+        """States (N, 4) (a copy)."""
+        return np.array([tk.x for tk in self.tracks], dtype=float).reshape(-1, 4)
+
+    @property
+    def P(self) -> np.ndarray:
+        """Covariances (N, 4, 4) (a copy)."""
+        return np.array([tk.cov() for tk in self.tracks]).reshape(-1, 4, 4)
+
+    @property
+    def confirmed(self) -> np.ndarray:
+        return np.array([tk.confirmed for tk in self.tracks], dtype=bool)
+
+    @property
+    def last_seen(self) -> np.ndarray:
+        return np.array([tk.last_seen for tk in self.tracks], dtype=float)
+
+    @property
+    def last_update(self) -> np.ndarray:
+        return np.array([tk.last_update for tk in self.tracks], dtype=float)
 
     def filterpy(self, i: int):  # -> filterpy.kalman.KalmanFilter
-        """Track ``i`` as a filterpy KalmanFilter (the reference the batched filter matches)."""
+        """Track ``i`` as a filterpy KalmanFilter (the reference the filter matches)."""
         from filterpy.kalman import KalmanFilter
 
         kf = KalmanFilter(dim_x=4, dim_z=2)
-        kf.x = self.x[i].reshape(4, 1).copy()
-        kf.P = self.P[i].copy()
+        kf.x = np.array(self.tracks[i].x, dtype=float).reshape(4, 1)
+        kf.P = self.tracks[i].cov()
         kf.H = np.array([[1.0, 0, 0, 0], [0, 1.0, 0, 0]])
         return kf
+
+
+def _gated(tracks: list[Track], z: Sequence[Sequence[float]], var: list[float], gates: list[float]) -> list[tuple[int, int, float]]:
+    """(track row, candidate, squared Mahalanobis distance) of every pair within the candidate's gate."""
+    out = []
+    for i, tk in enumerate(tracks):
+        x0, x1 = tk.x[0], tk.x[1]
+        P = tk.P
+        p00, b, p11 = P[0], P[1], P[4]
+        bb = b * b
+        for j, zj in enumerate(z):
+            r = var[j]
+            a = p00 + r
+            d = p11 + r
+            dx = zj[0] - x0
+            dy = zj[1] - x1
+            d2 = (d * dx * dx - 2 * b * dx * dy + a * dy * dy) / (a * d - bb)
+            if d2 <= gates[j]:
+                out.append((i, j, d2))
+    return out
+
+
+def _assign(pairs: list[tuple[int, int, float]], n: int, m: int) -> list[tuple[int, int, float]]:
+    """Global nearest neighbour among the gated pairs: ``linear_sum_assignment`` on the cost matrix."""
+    cost = np.full((n, m), _FILL)
+    gated = {}
+    for i, j, d2 in pairs:
+        cost[i, j] = d2
+        gated[i, j] = d2
+    rows, cols = linear_sum_assignment(cost)
+    return [(i, j, gated[i, j]) for i, j in zip(rows.tolist(), cols.tolist()) if (i, j) in gated]
 
 
 def cv_model(dt: float, accel_noise: float) -> tuple[np.ndarray, np.ndarray]:
@@ -229,26 +357,3 @@ def cv_model(dt: float, accel_noise: float) -> tuple[np.ndarray, np.ndarray]:
     a, b, c = dt**4 / 4, dt**3 / 2, dt**2
     Q = q * np.array([[a, 0, b, 0], [0, a, 0, b], [b, 0, c, 0], [0, b, 0, c]])
     return F, Q
-
-
-def inv2(S: np.ndarray) -> np.ndarray:
-    """Inverses of a stack of 2x2 matrices (k, 2, 2), closed form."""
-    a, b, c, d = S[..., 0, 0], S[..., 0, 1], S[..., 1, 0], S[..., 1, 1]
-    det = a * d - b * c
-    out = np.empty_like(S)
-    out[..., 0, 0] = d / det
-    out[..., 0, 1] = -b / det
-    out[..., 1, 0] = -c / det
-    out[..., 1, 1] = a / det
-    return out
-
-
-def mahalanobis2(x: np.ndarray, P: np.ndarray, z: np.ndarray, r: np.ndarray) -> np.ndarray:
-    """Squared Mahalanobis distances (N, M) of measurements z (M, 2), variances r (M,), to tracks (N)."""
-    a = P[:, None, 0, 0] + r[None, :]
-    d = P[:, None, 1, 1] + r[None, :]
-    b = P[:, None, 0, 1]
-    dx = z[None, :, 0] - x[:, None, 0]
-    dy = z[None, :, 1] - x[:, None, 1]
-    det = a * d - b * b
-    return (d * dx * dx - 2 * b * dx * dy + a * dy * dy) / det
