@@ -212,15 +212,8 @@ class VirtualEventLoop(asyncio.BaseEventLoop):
                 context = copy_context()
         elif context is BARE:
             context = None
-        handle = _TimerHandle()
-        handle._callback = callback
-        handle._args = args
+        handle = self._call_at_bare(when_ns, callback, args)
         handle._context = context
-        handle._cancelled = False
-        handle._loop = self
-        handle._when = when_ns / NS_PER_S
-        handle._scheduled = True
-        heapq.heappush(self._timers, (when_ns, next(self._seq), handle))
         return handle
 
     def _call_at_bare(self, when_ns: int, callback: Callable[..., Any], args: tuple[Any, ...]) -> asyncio.TimerHandle:
