@@ -12,7 +12,7 @@ from hypothesis import strategies as st
 
 from robot.attention.cues import Hysteresis, match_sounds
 from robot.attention.fsm import AttentionFSM, OrderRefused
-from robot.attention.legs import PAIR, SINGLE, LegSpec, detect
+from robot.attention.legs import PAIR, SINGLE, LegDetector, LegSpec, detect
 from robot.attention.selection import SelectionParams, Selector
 from robot.attention.tracker import GATE_99, Tracks, TrackerSpec, _assign, cv_model
 from tests.attention_reference import reference_detect
@@ -323,6 +323,10 @@ def test_the_leg_detector_computes_what_the_vectorised_rules_say_bit_for_bit(see
         assert got.xy.shape == want.xy.shape and np.array_equal(got.xy, want.xy)
         assert np.array_equal(got.kind, want.kind)
         assert got.legs.shape == want.legs.shape and np.array_equal(got.legs, want.legs)
+    # The module's form of the filter: a test on a list of (x, y) tuples.
+    want = reference_detect(ranges, BEARINGS, spec, lambda xy: xy[:, 1] < -1.0)
+    got = LegDetector(BEARINGS, spec)(ranges, reject_points=lambda pts: [y < -1.0 for _, y in pts])
+    assert np.array_equal(got.xy, want.xy) and np.array_equal(got.kind, want.kind) and np.array_equal(got.legs, want.legs)
 
 
 def test_the_leg_detector_refuses_a_scan_of_the_wrong_size():

@@ -10,7 +10,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from homesim.metrics.tracking import StreamingMOT, detection_scores, visible_region
+from homesim.metrics.tracking import SightLines, StreamingMOT, detection_scores, visible_region
 from homesim.world.geometry import segments_intersect
 
 MAX_D = 1.0
@@ -45,10 +45,13 @@ def _motmetrics(frames):
 @given(frames=sequences())
 def test_streaming_scores_equal_motmetrics(frames):
     ours = StreamingMOT(MAX_D)
+    as_lists = StreamingMOT(MAX_D)  # the metric's own calls: lists of (x, y) tuples, no arrays
     for gts, gxy, hyps, hxy in frames:
         ours.update(gts, np.array(gxy).reshape(-1, 2), hyps, np.array(hxy).reshape(-1, 2))
+        as_lists.update(gts, [tuple(p) for p in gxy], hyps, [tuple(p) for p in hxy])
     ref = _motmetrics(frames).iloc[0]
     s = ours.summary()
+    assert as_lists.summary() == s
     assert s["objects"] == ref["num_objects"]
     assert s["matches"] == ref["num_matches"]
     assert s["misses"] == ref["num_misses"]
@@ -101,3 +104,24 @@ def test_visible_region_is_every_sight_line_against_every_wall(seed, n_walls, n_
             ok = not segments_intersect(np.array([[ox, oy]]), np.array([[px, py]]), a, e).any()
         want.append(ok)
     assert got.tolist() == want
+
+
+@settings(max_examples=60, deadline=None)
+@given(
+    seed=st.integers(0, 2**32 - 1),
+    n_walls=st.integers(0, 30),
+    frames=st.lists(st.tuples(st.integers(0, 2), st.lists(st.integers(0, 5), max_size=6)), min_size=1, max_size=12),
+)
+def test_sight_lines_remembering_answers_give_what_a_fresh_test_gives(seed, n_walls, frames):
+    """SightLines keeps answers while the laser stays put (and forgets them when it moves): over
+    frames that come back to the same poses and points, every answer is the one visible_region
+    computes from scratch."""
+    rng = np.random.default_rng(seed)
+    a = rng.uniform(-8, 8, (n_walls, 2))
+    e = a + rng.uniform(-3, 3, (n_walls, 2))
+    poses = [(float(rng.uniform(-2, 2)), float(rng.uniform(-2, 2)), float(rng.uniform(-math.pi, math.pi))) for _ in range(3)]
+    points = [(float(rng.uniform(-8, 8)), float(rng.uniform(-8, 8))) for _ in range(6)]
+    sight = SightLines((a, e), memory=4)
+    for pose_k, idx in frames:
+        pts = [points[i] for i in idx]
+        assert sight.visible(poses[pose_k], pts) == visible_region((a, e), poses[pose_k], np.array(pts).reshape(-1, 2)).tolist()

@@ -39,6 +39,7 @@ detector themselves (the kernel never imports the robot).
 from __future__ import annotations
 
 import math
+from bisect import bisect_right
 from collections.abc import Hashable, Sequence
 from typing import Any
 
@@ -70,8 +71,10 @@ class StreamingMOT:
         self._hyp_frames: dict[Hashable, int] = {}
         self._co: dict[tuple[Hashable, Hashable], int] = {}
 
-    def update(self, gt_ids: Sequence[Hashable], gt_xy: np.ndarray, hyp_ids: Sequence[Hashable], hyp_xy: np.ndarray) -> None:
-        """One frame: ground-truth ids and positions (N, 2), hypothesis ids and positions (M, 2).
+    def update(
+        self, gt_ids: Sequence[Hashable], gt_xy: np.ndarray | Sequence[Sequence[float]], hyp_ids: Sequence[Hashable], hyp_xy: np.ndarray | Sequence[Sequence[float]]
+    ) -> None:
+        """One frame: ground-truth ids and positions (N, 2), hypothesis ids and positions (M, 2) (arrays or lists of pairs).
 
         Plain floats (a frame has a few people and tracks); distances are numpy's ``hypot``; the
         assignment solver runs only when the valid pairs leave a choice (else the minimum-distance
@@ -81,8 +84,8 @@ class StreamingMOT:
         n, m = len(gt_ids), len(hyp_ids)
         self.objects += n
         self.hyps += m
-        gt = np.asarray(gt_xy, dtype=float).reshape(n, 2).tolist()
-        hy = np.asarray(hyp_xy, dtype=float).reshape(m, 2).tolist()
+        gt = np.asarray(gt_xy, dtype=float).reshape(n, 2).tolist() if isinstance(gt_xy, np.ndarray) else gt_xy
+        hy = np.asarray(hyp_xy, dtype=float).reshape(m, 2).tolist() if isinstance(hyp_xy, np.ndarray) else hyp_xy
         for o in gt_ids:
             self._gt_frames[o] = self._gt_frames.get(o, 0) + 1
         for h in hyp_ids:
@@ -188,44 +191,78 @@ def detection_scores(det_xy: np.ndarray, truth_xy: np.ndarray, radius: float = 0
 def visible_region(walls: tuple[np.ndarray, np.ndarray], pose: tuple[float, float, float], xy: np.ndarray, *, fov: float = math.pi, max_range: float = 6.5, offset: float = 0.13) -> np.ndarray:
     """Which points (N, 2) the laser could see: in its field of view and range, no wall in between.
 
+    :class:`SightLines` for ``walls`` (a caller that asks every frame keeps one).
+    """
+    pts = [(px, py) for px, py in np.asarray(xy, dtype=float).reshape(-1, 2).tolist()]
+    return np.array(SightLines(walls).visible(pose, pts, fov=fov, max_range=max_range, offset=offset), dtype=bool)
+
+
+class SightLines:
+    """Visibility from the laser past the walls, with the walls prepared once.
+
     Plain floats per point (a frame has a few people and tracks; numpy's per-call cost was most of
     a frame's scoring), the arithmetic of :func:`~homesim.world.geometry.segments_intersect`
-    operation for operation, and only against the walls whose box meets the sight line's box.
+    operation for operation, and only against the walls whose box meets the sight line's box:
+    each wall is kept as its box and its segment (start, direction) in floats, sorted by the box's
+    left edge, so the walls starting right of a sight line's box are never looked at. An answer
+    is remembered while the laser stays where it is (a robot standing still sees a standing
+    person, and a track the message puts at the same place, the same way every scan): the same
+    inputs, the same arithmetic, so the same answer; at most ``memory`` points are kept.
     """
-    xy = np.asarray(xy, dtype=float).reshape(-1, 2)
-    if xy.shape[0] == 0:
-        return np.zeros(0, dtype=bool)
-    x, y, th = pose
-    ox, oy = x + offset * math.cos(th), y + offset * math.sin(th)
-    pts = xy.tolist()
-    dx = [px - ox for px, _ in pts]
-    dy = [py - oy for _, py in pts]
-    dist = np.hypot(dx, dy).tolist()
-    a, e = walls
-    segs = list(zip(a.tolist(), e.tolist()))
-    out = []
-    for (px, py), r0, r1, d in zip(pts, dx, dy, dist):
-        ok = abs((math.atan2(r1, r0) - th + math.pi) % TWO_PI - math.pi) <= fov / 2 and d <= max_range
-        if ok:
-            lo_x, hi_x = (ox, px) if ox <= px else (px, ox)
-            lo_y, hi_y = (oy, py) if oy <= py else (py, oy)
-            for (ax, ay), (bx, by) in segs:
-                # A wall outside the sight line's box cannot cross it (margin for rounding).
-                if (ax < lo_x - 1e-6 and bx < lo_x - 1e-6) or (ax > hi_x + 1e-6 and bx > hi_x + 1e-6):
-                    continue
-                if (ay < lo_y - 1e-6 and by < lo_y - 1e-6) or (ay > hi_y + 1e-6 and by > hi_y + 1e-6):
-                    continue
-                s0, s1 = bx - ax, by - ay
-                den = r0 * s1 - r1 * s0
-                if abs(den) > 1e-12:
-                    ap0, ap1 = ax - ox, ay - oy
-                    t = (ap0 * s1 - ap1 * s0) / den
-                    u = (ap0 * r1 - ap1 * r0) / den
-                    if 0 <= t <= 1 and 0 <= u <= 1:
-                        ok = False
-                        break
-        out.append(ok)
-    return np.array(out, dtype=bool)
+
+    def __init__(self, walls: tuple[np.ndarray, np.ndarray], *, memory: int = 64) -> None:
+        a, e = walls
+        prepared = [
+            (min(ax, bx), max(ax, bx), min(ay, by), max(ay, by), ax, ay, bx - ax, by - ay)
+            for (ax, ay), (bx, by) in zip(np.asarray(a, dtype=float).reshape(-1, 2).tolist(), np.asarray(e, dtype=float).reshape(-1, 2).tolist())
+        ]
+        prepared.sort(key=lambda w: w[0])
+        self._walls = prepared
+        self._left = [w[0] for w in prepared]
+        self._memory = memory
+        self._origin: tuple[float, ...] | None = None  # laser pose, fov, range of the remembered answers
+        self._known: dict[tuple[float, float], bool] = {}
+
+    def visible(self, pose: tuple[float, float, float], pts: Sequence[tuple[float, float]], *, fov: float = math.pi, max_range: float = 6.5, offset: float = 0.13) -> list[bool]:
+        """Which points (a list of (x, y) tuples) the laser at ``pose`` could see (see :func:`visible_region`)."""
+        if not pts:
+            return []
+        x, y, th = pose
+        ox, oy = x + offset * math.cos(th), y + offset * math.sin(th)
+        origin = (ox, oy, th, fov, max_range)
+        known = self._known
+        if origin != self._origin or len(known) > self._memory:
+            known.clear()
+            self._origin = origin
+        todo = [p for p in pts if p not in known]
+        if todo:
+            dx = [px - ox for px, _ in todo]
+            dy = [py - oy for _, py in todo]
+            dist = np.hypot(dx, dy).tolist()
+            walls, left = self._walls, self._left
+            half = fov / 2
+            for p, r0, r1, d in zip(todo, dx, dy, dist):
+                ok = abs((math.atan2(r1, r0) - th + math.pi) % TWO_PI - math.pi) <= half and d <= max_range
+                if ok:
+                    # A wall outside the sight line's box cannot cross it (margin for rounding).
+                    px, py = p
+                    lo_x, hi_x = ((ox, px) if ox <= px else (px, ox))
+                    lo_y, hi_y = ((oy, py) if oy <= py else (py, oy))
+                    lo_x, hi_x, lo_y, hi_y = lo_x - 1e-6, hi_x + 1e-6, lo_y - 1e-6, hi_y + 1e-6
+                    for k in range(bisect_right(left, hi_x)):  # the others start right of the box
+                        x0, x1, y0, y1, ax, ay, s0, s1 = walls[k]
+                        if x1 < lo_x or y1 < lo_y or y0 > hi_y:
+                            continue
+                        den = r0 * s1 - r1 * s0
+                        if abs(den) > 1e-12:
+                            ap0, ap1 = ax - ox, ay - oy
+                            t = (ap0 * s1 - ap1 * s0) / den
+                            u = (ap0 * r1 - ap1 * r0) / den
+                            if 0 <= t <= 1 and 0 <= u <= 1:
+                                ok = False
+                                break
+                known[p] = ok
+        return [known[p] for p in pts]
 
 
 def wall_edges(world: Any) -> tuple[np.ndarray, np.ndarray]:
@@ -247,6 +284,7 @@ class TrackingMetric(Observer):
         self.mot = StreamingMOT(max_d)
         self.max_d = max_d
         self.walls = wall_edges(run.world)
+        self.sight = SightLines(self.walls)
         self.partner: str | None = None  # the attention system's partner track
         self.right: str | None = None  # who the partner really is (ground truth)
         self.on_right = 0
@@ -263,8 +301,8 @@ class TrackingMetric(Observer):
         world = self.run.world
         pose = world.robot.pose
         people = [(n, h.position) for n, h in world.humans.items() if h.present]
-        gt_xy = np.array([p for _, p in people], dtype=float).reshape(-1, 2)
-        ids, xy = [], []
+        gt = [(float(px), float(py)) for _, (px, py) in people]
+        ids, hyp = [], []
         x, y, th = pose
         for t in m.xml:
             if t.get("confirmed") != "true":
@@ -272,20 +310,24 @@ class TrackingMetric(Observer):
             b = math.radians(float(t.get("bearing"))) + th
             d = float(t.get("distance"))
             ids.append(t.get("id"))
-            xy.append((x + d * math.cos(b), y + d * math.sin(b)))
-        hyp_xy = np.array(xy, dtype=float).reshape(-1, 2)
+            hyp.append((x + d * math.cos(b), y + d * math.sin(b)))
         # People and tracks in one visibility test (each point's answer is its own).
-        both = visible_region(self.walls, pose, np.concatenate((gt_xy, hyp_xy)))
-        vis, hvis = both[: gt_xy.shape[0]], both[gt_xy.shape[0] :]
+        n = len(gt)
+        both = self.sight.visible(pose, gt + hyp)
+        vis, hvis = both[:n], both[n:]
         # A track on a person the laser cannot see (behind a wall's edge) is "don't care", not a false positive.
-        hidden = gt_xy[~vis]
-        if hidden.shape[0] and hyp_xy.shape[0]:
-            near = np.hypot(hyp_xy[:, None, 0] - hidden[None, :, 0], hyp_xy[:, None, 1] - hidden[None, :, 1]).min(axis=1) <= self.max_d
-            hvis &= ~near
-        self.mot.update([people[i][0] for i in np.flatnonzero(vis)], gt_xy[vis], [ids[j] for j in np.flatnonzero(hvis)], hyp_xy[hvis])
-        self._attention(ids, hyp_xy, people)
+        hidden = [p for p, v in zip(gt, vis) if not v]
+        if hidden and hyp:
+            k = len(hidden)
+            dd = np.hypot([hx - gx for hx, _ in hyp for gx, _ in hidden], [hy - gy for _, hy in hyp for _, gy in hidden]).tolist()
+            hvis = [v and min(dd[j * k : j * k + k]) > self.max_d for j, v in enumerate(hvis)]
+        self.mot.update(
+            [people[i][0] for i in range(n) if vis[i]], [gt[i] for i in range(n) if vis[i]],
+            [ids[j] for j in range(len(ids)) if hvis[j]], [hyp[j] for j in range(len(ids)) if hvis[j]],
+        )
+        self._attention(ids, hyp, people)
 
-    def _attention(self, ids: list[str], hyp_xy: np.ndarray, people: list[tuple[str, tuple[float, float]]]) -> None:
+    def _attention(self, ids: list[str], hyp_xy: list[tuple[float, float]], people: list[tuple[str, tuple[float, float]]]) -> None:
         if self.run.es_state not in INTERACTION_STATES:
             self.right = None
             return

@@ -129,15 +129,27 @@ class LegDetector:
         self._r = np.full(n + 2, _INF)  # inf, the ranges, inf: the range before beam i is _r[i]
         self._bounds = np.empty(2 * n, dtype=np.intp)  # start, end (exclusive) of every segment
 
-    def __call__(self, ranges: np.ndarray, reject: Callable[[np.ndarray], np.ndarray] | None = None) -> Detections:
+    def __call__(
+        self,
+        ranges: np.ndarray,
+        reject: Callable[[np.ndarray], np.ndarray] | None = None,
+        *,
+        reject_points: Callable[[list[tuple[float, float]]], list[bool]] | None = None,
+    ) -> Detections:
         """Person candidates (robot frame) from one scan; see the module docstring.
 
         ``reject`` (optional) marks leg-like segments that are known not to be
         people (robot-frame points (K, 2) -> bool (K,), e.g. inside a table's
         footprint); they are dropped before pairing, so a table leg never pairs
-        with a person's leg. Raises ValueError if ``ranges`` does not hold one
-        range per beam.
+        with a person's leg. ``reject_points`` is the same test on a list of
+        (x, y) tuples (no arrays built: what a module that sees every scan
+        passes); give one or neither. Raises ValueError if ``ranges`` does not
+        hold one range per beam.
         """
+        if reject is not None:
+            if reject_points is not None:
+                raise ValueError("leg detector: give reject or reject_points, not both")
+            reject_points = _on_arrays(reject)
         spec = self.spec
         r = np.asarray(ranges, dtype=float)
         n = self.beams
@@ -179,7 +191,7 @@ class LegDetector:
         chord = np.hypot(x[last] - x[first], y[last] - y[first]).tolist()
         before = rr[first].tolist()
         after = rr[2:][last].tolist()
-        return self._rules(first.tolist(), last.tolist(), sx, sy, sr, chord, before, after, reject)
+        return self._rules(first.tolist(), last.tolist(), sx, sy, sr, chord, before, after, reject_points)
 
     def _rules(
         self,
@@ -191,7 +203,7 @@ class LegDetector:
         chord: list[float],
         before: list[float],
         after: list[float],
-        reject: Callable[[np.ndarray], np.ndarray] | None,
+        reject: Callable[[list[tuple[float, float]]], list[bool]] | None,
     ) -> Detections:
         """2.-4. Features, rules and pairing on the segments (plain floats: a few dozen segments)."""
         spec = self.spec
@@ -256,7 +268,7 @@ class LegDetector:
             norm = max(norm, 1e-9)
             cx.append(x + 0.05 * x / norm + offset)
             cy.append(y + 0.05 * y / norm)
-        bad = reject(np.array((cx, cy)).T) if reject is not None else [False] * len(cand)
+        bad = reject(list(zip(cx, cy))) if reject is not None else [False] * len(cand)
         legs: list[tuple[float, float]] = []
         blobs: list[tuple[float, float]] = []
         for i, k in enumerate(cand):
@@ -279,6 +291,15 @@ class LegDetector:
         tr, det = cxx + cyy, cxx * cyy - cxy * cxy
         return math.sqrt(max(tr / 2 - math.sqrt(max(tr * tr / 4 - det, 0.0)), 0.0))
 
+
+
+def _on_arrays(reject: Callable[[np.ndarray], np.ndarray]) -> Callable[[list[tuple[float, float]]], list[bool]]:
+    """An array test (points (K, 2) -> bool (K,)) as a test on a list of points."""
+
+    def on_list(points: list[tuple[float, float]]) -> list[bool]:
+        return np.asarray(reject(np.array(points, dtype=float).reshape(-1, 2)), dtype=bool).tolist()
+
+    return on_list
 
 
 def _pair(legs: list[tuple[float, float]], blobs: list[tuple[float, float]], pair_distance: float) -> Detections:
