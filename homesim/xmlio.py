@@ -63,6 +63,7 @@ _FOREIGN_BOMS = (
     (b"\xfe\xff", "UTF-16"),
     (b"\xff\xfe", "UTF-16"),
 )
+_FOREIGN_BOM_PREFIXES = tuple(bom for bom, _ in _FOREIGN_BOMS)
 
 
 class ExternalResourceRefused(Exception):
@@ -161,9 +162,10 @@ def check_utf8_only(data: bytes, source: str) -> None:
     homesim reads UTF-8 (and its subset US-ASCII) only. Anything else is
     refused here, before libxml2 sees it, naming the encoding found.
     """
-    for bom, name in _FOREIGN_BOMS:
-        if data.startswith(bom):
-            raise XMLInputError(f"{name} text (byte-order mark) is refused: homesim reads UTF-8 only", source=source, line=1)
+    if data.startswith(_FOREIGN_BOM_PREFIXES):  # (one C call; which one, only when refusing)
+        for bom, name in _FOREIGN_BOMS:
+            if data.startswith(bom):
+                raise XMLInputError(f"{name} text (byte-order mark) is refused: homesim reads UTF-8 only", source=source, line=1)
     nul = data.find(b"\x00")
     if nul >= 0:
         raise XMLInputError(

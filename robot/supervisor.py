@@ -61,7 +61,7 @@ from homesim.errors import AFSMError, AFSMModificationRefused, BadMessageError, 
 from homesim.heartbeat import HEALTH_CHANNEL
 from homesim.message import Message
 from homesim.module import Module
-from homesim.vloop import NS_PER_S, to_ns
+from homesim.vloop import BARE, NS_PER_S, to_ns
 
 EVENT_CHANNEL = "/robot/es/events"
 ORDER_PREFIX = "/robot/es/orders"
@@ -133,6 +133,67 @@ _Element = etree.Element
 _SubElement = etree.SubElement
 
 
+def _output_template(out: Output, state: str) -> etree._Element:
+    """The parts of ``out``'s element that are the same for every event: a copy of it is filled per event.
+
+    Attributes in :func:`output_xml`'s order (``event`` holds its place with an
+    empty value) and one empty ``<param name>`` per parameter.
+    """
+    el = _Element(out.kind)
+    el.set("name", out.name)
+    el.set("target", out.target)
+    el.set("event", "")
+    el.set("state", state)
+    for pname, _ in out.params:
+        _SubElement(el, "param").set("name", pname)
+    return el
+
+
+class OutputBuilder:
+    """Builds orders and conditions as :func:`output_xml` does, bit for bit, from per-send templates.
+
+    An AFSM's outputs are known at load time up to the event id and the
+    copied parameters, so each (kind, name, target, state, parameter names)
+    gets one pre-built element; an output is a C-level copy of it with the
+    event id and the parameters filled in (about half the cost of building
+    the element attribute by attribute). The templates never leave this
+    object; what is returned is a new parentless element the caller owns.
+    Bounded: one template per distinct send of the machines seen
+    (:meth:`clear` on a change of machine).
+    """
+
+    def __init__(self) -> None:
+        self._templates: dict[tuple[str, ...], etree._Element] = {}
+
+    def clear(self) -> None:
+        """Forget the templates (the machine changed)."""
+        self._templates.clear()
+
+    def __call__(self, out: Output, state: str) -> etree._Element:
+        params = out.params
+        key = (out.kind, out.name, out.target, state, *[p[0] for p in params]) if params else \
+            (out.kind, out.name, out.target, state)
+        tmpl = self._templates.get(key)
+        if tmpl is None:
+            tmpl = self._templates[key] = _output_template(out, state)
+        el = tmpl.__copy__()
+        el.set("event", out.event_id)
+        if params:
+            for p, (_, value) in zip(el, params):
+                if isinstance(value, str):
+                    p.text = value
+                else:
+                    texts = []
+                    for v in value:
+                        if isinstance(v, str):
+                            texts.append(v)
+                        else:
+                            p.append(v.__deepcopy__(None))
+                    if texts:
+                        p.text = " ".join(texts)
+        return el
+
+
 def record_xml(rec: Record) -> etree._Element:
     """One decision as an ``<es_record>`` for the log channel."""
     ev = rec.event
@@ -186,6 +247,7 @@ class ExecutionSupervisor(Module):
         self._timer: asyncio.TimerHandle | None = None
         self._timer_at: int | None = None
         self._failed: set[str] = set()
+        self._output_xml = OutputBuilder()
         if typed:
             declare_channels(sim.bus, m)
         self.bus.subscribe(EVENT_CHANNEL, self._on_event)
@@ -217,7 +279,7 @@ class ExecutionSupervisor(Module):
         lt = xml.get("lifetime")
         ev = Event(msg.id, xml.get("name"), msg.sender, msg.created_ns,
                    to_ns(float(lt)) if lt is not None else None, xml)
-        self.submit(ev)
+        self.submit(ev, payload_checked=True)
 
     def _on_health(self, msg: Message) -> None:
         """A health message becomes an event; its payload says how many modules are still failed.
@@ -246,14 +308,20 @@ class ExecutionSupervisor(Module):
         """Modules the heartbeat monitor reported failed and not recovered yet."""
         return frozenset(self._failed)
 
-    def submit(self, event: Event) -> list[Record]:
-        """Queue ``event`` now; decide at once if the ES is free. Returns the records decided now."""
+    def submit(self, event: Event, *, payload_checked: bool = False) -> list[Record]:
+        """Queue ``event`` now; decide at once if the ES is free. Returns the records decided now.
+
+        ``payload_checked``: the caller found the payload small enough already
+        (:func:`payload_problem`). Raises :class:`SupervisorError` for a
+        payload too large or an id already queued.
+        """
         now = self._loop.now_ns
         # The same-instant rule: events whose lifetime ends now are dead before this one is queued,
         # whether the ES's expiry timer for now has run yet or not (link latency decides that).
         expired: list[Record] = list(self.engine.expire(now))
-        self._emit(expired, now)
-        self.engine.queue(event, now)
+        if expired:  # (with nothing expired, _tick's flush comes before anything else is sent)
+            self._emit(expired, now)
+        self.engine.queue(event, now, payload_checked=payload_checked)
         return expired + self._tick(now)
 
     @property
@@ -272,7 +340,7 @@ class ExecutionSupervisor(Module):
             # (a timer scheduled now runs after them): whether an event arriving at the same
             # instant was scheduled before or after this wake (link latency) changes nothing.
             self._flush(now)
-            self._timer = self._loop.call_at_ns(now, self._free)
+            self._timer = self._loop.call_at_ns(now, self._free, context=BARE)
             self._timer_at = now
             return
         self._tick(now)
@@ -297,8 +365,10 @@ class ExecutionSupervisor(Module):
         """
         before = self.engine.state
         records: list[Record] = []
+        box = self._outbox
         while True:
-            self._flush(now)
+            if box and box[0][0] <= now:
+                self._flush(now)
             if now <= self._busy_until:
                 recs: list[Record] = list(self.engine.expire(now))
                 self._emit(recs, now)
@@ -331,7 +401,7 @@ class ExecutionSupervisor(Module):
             self._timer = None
         self._timer_at = wake
         if wake is not None:
-            self._timer = self._loop.call_at_ns(wake, self._wake)
+            self._timer = self._loop.call_at_ns(wake, self._wake, context=BARE)  # (no context: the ES reads no context variables)
 
     # -------------------------------------------------------------- output
     def _emit(self, records: list[Record], now: int) -> None:
@@ -348,7 +418,9 @@ class ExecutionSupervisor(Module):
                     self._outbox.append((now + self.cost_ns, rec))
             elif isinstance(rec, Rejected) and rec.event.source in self.return_to:
                 self._outbox.append((now, rec))
-        self._flush(now)
+        box = self._outbox
+        if box and box[0][0] <= now:
+            self._flush(now)
 
     def _flush(self, now: int) -> None:
         box = self._outbox
@@ -369,10 +441,12 @@ class ExecutionSupervisor(Module):
         self.bus.publish(f"{REJECTED_PREFIX}/{rec.event.source}", el, causes=(rec.event.id,), transfer=True)
 
     def _send_outputs(self, rec: Applied) -> None:
+        build = self._output_xml
+        state = rec.target_state
         for out in rec.outputs:
             prefix = CONDITION_PREFIX if out.kind == CONDITION else ORDER_PREFIX
             self.bus.publish(
-                f"{prefix}/{out.target}", output_xml(out, rec.target_state), causes=(out.event_id,), transfer=True
+                f"{prefix}/{out.target}", build(out, state), causes=(out.event_id,), transfer=True
             )
 
     # ------------------------------------------------------- introspection
@@ -475,6 +549,7 @@ class ExecutionSupervisor(Module):
             raise refused from exc
 
     def _after_change(self, m: Machine) -> None:
+        self._output_xml.clear()
         if self._typed_bus():
             declare_channels(self.sim.bus, m)
         self._tick(self._loop.now_ns)

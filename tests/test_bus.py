@@ -533,6 +533,18 @@ def test_a_lazy_payload_is_built_only_when_someone_will_see_it(strict):
         assert '"channel":"/nobody"' in rec.text()
 
 
+def test_an_unseen_lazy_payload_counts_as_sent_and_a_closed_sender_still_cannot_send_it():
+    with Simulation(seed=3, strict=False) as s:
+        a = s.bus.participant("a")
+        msg = a.publish("/nobody", lambda: etree.Element("note"), causes=["x#1"], created=0.5)
+        assert msg.xml is None and msg.causes == ("x#1",) and msg.created_ns == 500_000_000
+        assert "/nobody" in a.published and (s.bus.sent, s.bus.unheard, s.bus.delivered) == (1, 1, 0)
+        a.close()
+        with pytest.raises(BusError, match="closed"):
+            a.publish("/nobody", lambda: etree.Element("note"))
+        assert s.bus.sent == 1
+
+
 def test_a_lazy_payload_reaches_a_dispatcher_only_on_the_channels_it_watches():
     from homesim.observe import Dispatcher
 

@@ -503,3 +503,48 @@ def test_a_document_that_does_not_load_is_refused_as_documented(world, how, doc,
         getattr(world.es, how)(doc)
     assert info.value.problems and str(info.value).startswith(("<replace>", "<extend>", "/no/such"))
     assert world.es.engine.machine.name == "biron"
+
+
+_NAMES = st.text(alphabet="abcdefgh_", min_size=1, max_size=8)
+_NODE_DOCS = st.sampled_from([
+    '<PERSON id="p7" bearing="0.1"/>', "<SPEECH><GREETING/></SPEECH>", "<a>x<b/>tail-free</a>", '<c k="v"/>',
+])
+_VALUES = st.one_of(
+    st.text(alphabet="abc 01.-", max_size=6),
+    st.lists(st.one_of(st.text(alphabet="abc01", max_size=4), _NODE_DOCS.map(etree.fromstring)), max_size=3)
+    .map(tuple),
+)
+
+
+@settings(max_examples=examples(40, 200))
+@given(
+    kind=st.sampled_from(["order", "condition"]),
+    name=_NAMES, target=_NAMES, state=_NAMES,
+    params=st.lists(st.tuples(_NAMES, _VALUES), max_size=3, unique_by=lambda p: p[0]),
+    event_ids=st.lists(st.sampled_from(["dialog#1", "person_attention#22", "dialog#3"]), min_size=1, max_size=3),
+)
+def test_outputs_built_from_templates_are_those_built_attribute_by_attribute(kind, name, target, state, params,
+                                                                             event_ids):
+    """The ES's pre-built templates change no byte of an order or condition, and no two outputs share nodes."""
+    from homesim.afsm.engine import Output
+    from robot.supervisor import OutputBuilder, output_xml
+
+    build = OutputBuilder()
+    before = [(n, v if isinstance(v, str) else tuple(x if isinstance(x, str) else etree.tostring(x) for x in v))
+              for n, v in params]
+    built = []
+    for eid in event_ids:
+        out = Output(kind, target, name, tuple(params), eid)
+        el = build(out, state)
+        assert etree.tostring(el) == etree.tostring(output_xml(out, state))
+        assert el.getparent() is None
+        built.append(el)
+    built[0].set("name", "changed")  # a receiver changing its copy changes no later output
+    for child in built[0]:
+        child.text = "changed"
+    out = Output(kind, target, name, tuple(params), event_ids[0])
+    assert etree.tostring(build(out, state)) == etree.tostring(output_xml(out, state))
+    # The event's nodes were copied, never moved: the payload is as it was.
+    after = [(n, v if isinstance(v, str) else tuple(x if isinstance(x, str) else etree.tostring(x) for x in v))
+             for n, v in params]
+    assert after == before

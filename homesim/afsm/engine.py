@@ -66,8 +66,9 @@ def payload_problem(payload: etree._Element | None) -> str | None:
     """None when ``payload`` is small enough for guards, else why not (counts at most one element too many)."""
     if payload is None:
         return None
-    n = sum(1 for _ in itertools.islice(payload.iter(), MAX_PAYLOAD_ELEMENTS + 1))
-    if n > MAX_PAYLOAD_ELEMENTS:
+    if len(payload) == 0:  # no children (len counts comments and PIs too): the root alone
+        return None
+    if len(list(itertools.islice(payload.iter(), MAX_PAYLOAD_ELEMENTS + 1))) > MAX_PAYLOAD_ELEMENTS:
         return f"event payload has more than {MAX_PAYLOAD_ELEMENTS} elements (rule: guards run on small payloads)"
     return None
 
@@ -285,12 +286,17 @@ class Engine:
         self._now = now_ns
 
     # --------------------------------------------------------------- queue
-    def queue(self, event: Event, now_ns: int) -> Queued:
-        """Insert ``event`` (arriving at ``now_ns``) by creation time; nothing is processed."""
+    def queue(self, event: Event, now_ns: int, *, payload_checked: bool = False) -> Queued:
+        """Insert ``event`` (arriving at ``now_ns``) by creation time; nothing is processed.
+
+        ``payload_checked``: the caller has already found the payload small
+        enough with :func:`payload_problem` (the supervisor does, to report a
+        too large payload as a dropped message); it is not counted again.
+        """
         self._advance(now_ns)
         if event.id in self._ids:
             raise SupervisorError(f"event {event.id!r} is already queued (an event is handled exactly once)")
-        too_big = payload_problem(event.payload)
+        too_big = None if payload_checked else payload_problem(event.payload)
         if too_big is not None:
             raise SupervisorError(f"event {event.id!r} ({event.name}): {too_big}")
         lifetime = event.lifetime_ns
@@ -314,7 +320,7 @@ class Engine:
         transitions take time (the supervisor's processing cost) calls again
         at the virtual time the next decision can be taken.
         """
-        records: list[Record] = list(self.expire(now_ns))  # expiry first: see the same-instant rule
+        records: list[Record] = self.expire(now_ns)  # type: ignore[assignment]  # (a new list) expiry first: the same-instant rule
         applied = 0
         q = self._queue
         tables = self._tables
