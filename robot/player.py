@@ -68,16 +68,49 @@ def wrap(a: float) -> float:
 
 
 class Odometry:
-    """The latest odometry pose and speed, and the motion between two odometry poses."""
+    """The latest odometry pose and speed, read from the message only when asked (most control steps are idle).
+
+    ``update`` keeps the message's payload (the receiver's own copy); ``pose``,
+    ``v`` and ``w`` parse it on first use, so an idle player pays nothing per
+    odometry message. A malformed message raises on that first use.
+    """
 
     def __init__(self) -> None:
-        self.pose: tuple[float, float, float] | None = None
-        self.v = 0.0
-        self.w = 0.0
+        self.xml: etree._Element | None = None
+        self._parsed: etree._Element | None = None
+        self._pose: tuple[float, float, float] | None = None
+        self._v = 0.0
+        self._w = 0.0
 
     def update(self, xml: etree._Element) -> None:
-        self.pose = (float(xml.get("x")), float(xml.get("y")), float(xml.get("theta")))
-        self.v, self.w = float(xml.get("v", "0")), float(xml.get("w", "0"))
+        self.xml = xml
+
+    def _parse(self) -> None:
+        xml = self.xml
+        if xml is not None and xml is not self._parsed:
+            self._pose = pose_of(xml)
+            self._v, self._w = float(xml.get("v", "0")), float(xml.get("w", "0"))
+            self._parsed = xml
+
+    @property
+    def pose(self) -> tuple[float, float, float] | None:
+        self._parse()
+        return self._pose
+
+    @property
+    def v(self) -> float:
+        self._parse()
+        return self._v
+
+    @property
+    def w(self) -> float:
+        self._parse()
+        return self._w
+
+
+def pose_of(xml: etree._Element) -> tuple[float, float, float]:
+    """``(x, y, theta)`` of a pose or odometry message."""
+    return (float(xml.get("x")), float(xml.get("y")), float(xml.get("theta")))  # type: ignore[arg-type]
 
 
 def compose_delta(map_pose: tuple[float, float, float], odo_then: tuple[float, float, float],
@@ -107,8 +140,9 @@ class Player(Module):
         self._reached: tuple[float, float, float, float, bool] | None = None  # the step just reached
         self.state = "idle"
         self.odo = Odometry()
-        self.map_pose: tuple[float, float, float] | None = None
-        self._odo_at_pose: tuple[float, float, float] | None = None
+        # the latest localised pose's payload and the odometry payload current when it came (parsed when driving)
+        self._pose_xml: etree._Element | None = None
+        self._odo_xml_at_pose: etree._Element | None = None
         self.scan = LatestScan()
         self.leg_start: tuple[float, float] | None = None
         self._tracks: etree._Element | None = None
@@ -164,9 +198,8 @@ class Player(Module):
             self.bus.publish(DISPLAY_CMD, etree.Element("expression", name="attentive"))
 
     def _on_pose(self, msg: Message) -> None:
-        x = msg.xml
-        self.map_pose = (float(x.get("x")), float(x.get("y")), float(x.get("theta")))
-        self._odo_at_pose = self.odo.pose
+        self._pose_xml = msg.xml
+        self._odo_xml_at_pose = self.odo.xml
 
     def _on_scan(self, msg: Message) -> None:
         self.scan.update(msg)  # turned into points only when a control step needs them
@@ -199,11 +232,18 @@ class Player(Module):
     # ------------------------------------------------------------- control
     def pose(self) -> tuple[float, float, float] | None:
         """The localised pose advanced by odometry since it was estimated (None before the first)."""
-        if self.map_pose is None:
+        map_pose = self.map_pose
+        if map_pose is None:
             return None
-        if self._odo_at_pose is None or self.odo.pose is None:
-            return self.map_pose
-        return compose_delta(self.map_pose, self._odo_at_pose, self.odo.pose)
+        odo_now = self.odo.pose
+        if self._odo_xml_at_pose is None or odo_now is None:
+            return map_pose
+        return compose_delta(map_pose, pose_of(self._odo_xml_at_pose), odo_now)
+
+    @property
+    def map_pose(self) -> tuple[float, float, float] | None:
+        """The latest localised pose (map frame), None before the first."""
+        return None if self._pose_xml is None else pose_of(self._pose_xml)
 
     def _set_state(self, state: str, distance: float | None = None) -> None:
         if state == self.state:

@@ -145,7 +145,7 @@ class Dialog(Module):
         self._partner: tuple[float, float] | None = None  # (bearing in degrees, robot frame; when heard)
         self.ask_timeout = ask_timeout
         self._busy_until = 0.0
-        self._pose: etree._Element | None = None
+        self._pose: etree._Element | None = None  # the latest pose message's payload (read only for place teaching)
         self._talking = False  # a <say> is out and not yet done/interrupted
         self._cut = False  # this utterance was already cut by a barge-in
         self._queue: deque[tuple[str, tuple[str, ...]]] = deque()
@@ -185,9 +185,7 @@ class Dialog(Module):
         self.manager.es_state = msg.xml.get("state", "")
 
     def _on_pose(self, msg: Message) -> None:
-        x = msg.xml
-        self._pose = etree.Element("POSE", x=x.get("x", "0"), y=x.get("y", "0"), theta=x.get("theta", "0"),
-                                   frame=x.get("frame", "map"))
+        self._pose = msg.xml  # this receiver's own copy; its POSE is built only when an event needs it
 
     def _on_speaker(self, msg: Message) -> None:
         tag = msg.xml.tag
@@ -278,7 +276,9 @@ class Dialog(Module):
                 for c in o.children:
                     el.append(c)
                 if o.pose and self._pose is not None:
-                    el.append(etree.Element("POSE", dict(self._pose.attrib)))
+                    x = self._pose
+                    el.append(etree.Element("POSE", x=x.get("x", "0"), y=x.get("y", "0"), theta=x.get("theta", "0"),
+                                            frame=x.get("frame", "map")))
                 self.bus.publish(EVENTS, el, causes=(cause,), transfer=True)
 
     def _enqueue(self, text: str, cause: str) -> None:

@@ -115,6 +115,7 @@ class Localiser(Module):
             ),
             causes=(msg.id,),
             created=t,
+            transfer=True,  # built here, never touched again: sent without a copy
         )
 
     def _odometry_at(self, t: float) -> Pose | None:
