@@ -43,6 +43,7 @@ whole run (see :mod:`homesim.vloop`).
 from __future__ import annotations
 
 import asyncio
+import heapq
 import inspect
 import os
 import re
@@ -67,7 +68,7 @@ from .message import _NO_ATTACHMENTS, ERROR, PUBLISH, REPLY, REQUEST, Attachment
 from .network import Network
 import numpy as np
 
-from .vloop import BARE, NS_PER_S, VirtualEventLoop, to_ns
+from .vloop import BARE, NS_PER_S, VirtualEventLoop, _Delivery, to_ns
 from .xmlio import Schema, load_schema, parse_bytes
 
 XMLLike = Union[etree._Element, str, bytes]
@@ -104,6 +105,9 @@ class Observation(NamedTuple):
 Interceptor = Callable[[Observation], None]
 
 _tuple_new = tuple.__new__  # builds a named tuple without its Python-level __new__ (hot path)
+_Element = etree._Element
+_new = object.__new__
+_heappush = heapq.heappush
 
 
 def _as_schema(schema: SchemaLike) -> Schema | None:
@@ -230,6 +234,10 @@ class Participant:
         self.hung = False
         self.published: set[str] = set()
         self.subscriptions: list[Subscription] = []
+        # Per channel this participant publishes on: how to reach each receiver (Bus._plan).
+        self._plans: dict[str, tuple[tuple[Any, ...], ...]] = {}
+        # [messages sent under this name]: kept by the bus per name (ids stay unique across re-registration).
+        self._count = bus._counters.setdefault(name, [0])
 
     def __repr__(self) -> str:
         return f"Participant({self.name!r}, host={self.host!r})"
@@ -259,6 +267,31 @@ class Participant:
         the trace; always when strict), and not at all otherwise. The message
         is sent either way (its id, the counters); unbuilt, its ``xml`` is None.
         """
+        bus = self.bus
+        if xml.__class__ is _Element and not bus.validate_all and not self.closed:
+            # _make's trusted path (the default policy, a module's own element) and the
+            # message, inlined: the commonest send. Keep the two alike.
+            if not transfer or xml.getparent() is not None:
+                xml = xml.__copy__()  # lxml copies the whole subtree, in C
+            if xml.tail is not None:
+                xml.tail = None
+            now = bus.loop._now_ns
+            name = self.name
+            count = self._count
+            n = count[0] = count[0] + 1
+            msg = _tuple_new(Message, (
+                f"{name}#{n}",
+                PUBLISH,
+                name,
+                channel,
+                xml,
+                now if created is None else to_ns(created),
+                now,
+                causes if causes.__class__ is tuple else tuple(causes),
+                _frozen_attachments(attachments, channel) if attachments else _NO_ATTACHMENTS,
+            ))
+            bus._publish(self, msg)
+            return msg
         if callable(xml) and not isinstance(xml, (etree._Element, str, bytes)):
             bus = self.bus
             if not bus.validate_all and not bus._has_audience(channel):
@@ -268,8 +301,8 @@ class Participant:
                     raise BusError(f"participant {self.name!r} is closed")
                 now = bus.loop._now_ns
                 name = self.name
-                n = bus._counters.get(name, 0) + 1
-                bus._counters[name] = n
+                count = self._count
+                n = count[0] = count[0] + 1
                 msg = _tuple_new(Message, (
                     f"{name}#{n}", PUBLISH, name, channel, None, now if created is None else to_ns(created), now,
                     causes if causes.__class__ is tuple else tuple(causes),
@@ -405,7 +438,7 @@ class Participant:
         else:
             check = True
             xml = _own_payload(xml, channel, transfer)
-        if check and kind == PUBLISH:
+        if check and kind == PUBLISH:  # (a trusted element is not validated: no schema needed)
             schema = bus.channel_schema(channel)
         if check and schema is not None and not schema.is_valid(xml):
             errors = schema.errors(xml)
@@ -416,8 +449,8 @@ class Participant:
             )
         now = bus.loop._now_ns
         name = self.name
-        n = bus._counters.get(name, 0) + 1
-        bus._counters[name] = n
+        count = self._count
+        n = count[0] = count[0] + 1
         return _tuple_new(Message, (
             f"{name}#{n}",
             kind,
@@ -520,9 +553,11 @@ class Bus:
         # The interceptors that see deliveries and drops (those that declare
         # ``observes`` without them, such as the run's dispatcher, are spared the call).
         self._delivery_interceptors: list[Interceptor] = []
-        self._last_delivery: dict[tuple[str, str], int] = {}
+        # Per (sender name, receiver name): [the time of the last delivery scheduled], for FIFO per pair.
+        self._last_delivery: dict[tuple[str, str], list[int]] = {}
+        network.on_change(self._forget_plans)
         # Message counters per participant name: ids stay unique across re-registration.
-        self._counters: dict[str, int] = {}
+        self._counters: dict[str, list[int]] = {}
         self.sent = 0
         self.delivered = 0
         self.dropped = 0
@@ -644,6 +679,7 @@ class Bus:
             self._exact.setdefault(sub.pattern, []).append(sub)
         self._route_cache.clear()
         self._receivers_cache.clear()
+        self._forget_plans()
 
     def _remove_subscription(self, sub: Subscription) -> None:
         if sub.pattern.endswith("/**"):
@@ -656,6 +692,43 @@ class Bus:
             sub.participant.subscriptions.remove(sub)
         self._route_cache.clear()
         self._receivers_cache.clear()
+        self._forget_plans()
+
+    def _forget_plans(self) -> None:
+        """Subscriptions, hosts or links changed: every publisher's delivery plans are rebuilt on use."""
+        for p in self._participants.values():
+            p._plans.clear()
+
+    def _fifo(self, sender: str, receiver: str) -> list[int]:
+        """The FIFO state of one (sender, receiver) pair: ``[last delivery time scheduled, ns]``."""
+        key = (sender, receiver)
+        state = self._last_delivery.get(key)
+        if state is None:
+            state = self._last_delivery[key] = [0]
+        return state
+
+    def _plan(self, sender: Participant, channel: str) -> tuple[tuple[Any, ...], ...]:
+        """How ``sender``'s messages on ``channel`` reach each receiver, worked out once.
+
+        One entry per route, in delivery order: ``(subscription, receiver, fifo, lo, span)``
+        where ``fifo`` is the pair's FIFO state and ``lo``/``span`` the link's uniform delay
+        (seconds) when the link has no loss and no jitter (one uniform draw, made inline by
+        ``_publish``), else ``lo`` is None and ``Network.delay_ns`` draws. Cached per
+        participant; dropped when subscriptions, hosts or links change.
+        """
+        sender.published.add(channel)
+        routes = self._route_cache.get(channel)
+        if routes is None:
+            routes = self._routes(channel)
+        net = self.network
+        plan = []
+        for sub in routes:
+            receiver = sub.participant
+            other_loss, loss, lo, span, jitter = net._plans.get((sender.host, receiver.host)) or net._plan(sender.host, receiver.host)
+            simple = other_loss == 0.0 and loss == 0.0 and jitter == 0.0
+            plan.append((sub, receiver, self._fifo(sender.name, receiver.name), lo if simple else None, span))
+        out = sender._plans[channel] = tuple(plan)
+        return out
 
     def _routes(self, channel: str) -> tuple[Subscription, ...]:
         cached = self._route_cache.get(channel)
@@ -682,12 +755,11 @@ class Bus:
         if delay is None:
             self._drop(msg, receiver.name, "lost")
             return
-        key = (sender.name, receiver.name)
+        fifo = self._fifo(sender.name, receiver.name)
         when = self.loop._now_ns + delay
-        last = self._last_delivery.get(key, 0)
-        if when < last:
-            when = last
-        self._last_delivery[key] = when
+        if when < fifo[0]:
+            when = fifo[0]
+        fifo[0] = when
         # Deliveries run in no copied context: a receiver does not inherit the
         # sender's context variables (and copying one per message is costly).
         self.loop._call_at_bare(when, action, (receiver, msg, *args))
@@ -709,28 +781,65 @@ class Bus:
         return True
 
     def _publish(self, sender: Participant, msg: Message) -> None:
-        channel = msg.channel
-        sender.published.add(channel)
-        routes = self._route_cache.get(channel)
-        if routes is None:
-            routes = self._routes(channel)
+        channel = msg[3]
+        plan = sender._plans.get(channel)
+        if plan is None:
+            plan = self._plan(sender, channel)
         self.sent += 1
-        if not routes:
+        if not plan:
             self.unheard += 1
         if self._interceptors and msg[4] is not None:  # (an unbuilt lazy payload has no audience)
             receivers = self._receivers_cache.get(channel)
             if receivers is None:
+                routes = self._route_cache.get(channel) or self._routes(channel)
                 receivers = self._receivers_cache[channel] = tuple(sorted({s.participant.name for s in routes}))
             obs = _tuple_new(Observation, (msg.sent_ns, SEND, msg, receivers, ""))
             for fn in self._interceptors:
                 fn(obs)
-        last = len(routes) - 1
+        if not plan:
+            return
+        # What _schedule does per receiver, inlined (this is the hot path of every message):
+        # the link's delay, FIFO per pair, a _Delivery timer queued as VirtualEventLoop._push_timer does.
+        loop = self.loop
+        now = loop._now_ns
+        due = loop._due
         deliver = self._deliver_publish
-        for i, sub in enumerate(routes):
+        draws = self.network._draws
+        left = len(plan)
+        for sub, receiver, fifo, lo, span in plan:
+            left -= 1
             # Each receiver gets a payload of its own (as XCF deserialises one
             # per receiver): one receiver moving nodes cannot change another's.
-            own = msg if i == last else _copy_message(msg)
-            self._schedule(sender, sub.participant, own, deliver, sub)
+            own = _copy_message(msg) if left else msg
+            if lo is None:  # a link with loss or jitter: the network draws
+                delay = self.network.delay_ns(sender.host, receiver.host)
+                if delay is None:
+                    self._drop(own, receiver.name, "lost")
+                    continue
+            else:  # Network.delay_ns without loss or jitter: one uniform draw (the same draws)
+                i = draws._ui
+                if i == len(draws._u):
+                    draws._u = draws._rng.random(draws.block).tolist()
+                    i = 0
+                draws._ui = i + 1
+                delay = int(round((lo + span * draws._u[i]) * NS_PER_S))
+            when = now + delay
+            if when < fifo[0]:
+                when = fifo[0]
+            fifo[0] = when
+            # Deliveries run in no copied context: a receiver does not inherit the
+            # sender's context variables (and copying one per message is costly).
+            handle = _new(_Delivery)
+            handle._callback = deliver
+            handle._args = (receiver, own, sub)
+            queued = due.get(when)
+            if queued is None:
+                due[when] = handle
+                _heappush(loop._times, when)
+            elif queued.__class__ is list:
+                queued.append(handle)
+            else:
+                due[when] = [queued, handle]
 
     def _deliver_publish(self, receiver: Participant, msg: Message, sub: Subscription) -> None:
         if sub.closed:

@@ -31,7 +31,13 @@ MAX_INTERVAL_S = 3600.0
 
 
 class Heartbeat:
-    """Sends ``<heartbeat module= seq= interval=/>`` at most every ``interval`` seconds."""
+    """Sends ``<heartbeat module= seq= interval=/>`` at most every ``interval`` seconds.
+
+    Every module beats, so a beat is cheap: a copy of an element prepared once, with its
+    ``seq`` set (lxml checks an attribute's name whenever one is set by name, ~2k
+    instructions each in CPython 3.11: one name per beat instead of a tag and three).
+    The message is the same, byte for byte.
+    """
 
     def __init__(self, participant: Participant, interval: float) -> None:
         if not (isinstance(interval, (int, float)) and MIN_INTERVAL_S <= interval <= MAX_INTERVAL_S):
@@ -41,16 +47,19 @@ class Heartbeat:
         self.channel = f"{HEARTBEAT_PREFIX}/{participant.name}"
         participant.bus.declare_channel(self.channel, SYSTEM_SCHEMA)
         self._interval_ns = to_ns(interval)
-        self._next_ns: int | None = None
+        self._loop = participant.bus.loop
+        self._next_ns = -1  # the first call beats
+        self._template = etree.Element("heartbeat", module=participant.name, seq="0", interval=repr(interval))
         self.seq = 0
 
     def beat(self) -> bool:
         """Send a heartbeat if one is due; return whether one was sent."""
-        now = self.participant.bus.loop.now_ns
-        if self._next_ns is not None and now < self._next_ns:
+        now = self._loop._now_ns
+        if now < self._next_ns:
             return False
         self.seq += 1
-        el = etree.Element("heartbeat", module=self.participant.name, seq=str(self.seq), interval=repr(self.interval))
+        el = self._template.__copy__()
+        el.set("seq", str(self.seq))  # (set in place: the attributes keep their order)
         self.participant.publish(self.channel, el, transfer=True)  # built here, never touched again
         self._next_ns = now + self._interval_ns
         return True
@@ -72,6 +81,10 @@ class HeartbeatMonitor:
         self.last_beat_ns: dict[str, int] = {}
         self.intervals: dict[str, float] = {}
         self.failed: dict[str, int] = {}
+        # No watched module can be late up to this time (ns): a lower bound of every deadline
+        # found by check()'s last look (-1: look), and the (misses, slack) it was found with.
+        self._quiet_until = -1
+        self._quiet_for = (misses, slack)
         participant.bus.declare_channel(HEALTH_CHANNEL, SYSTEM_SCHEMA)
         participant.subscribe(HEARTBEAT_PREFIX + "/**", self._on_beat)
 
@@ -79,29 +92,49 @@ class HeartbeatMonitor:
         """Watch ``module`` even before its first beat (its silence counts from now)."""
         self.intervals[module] = interval
         self.last_beat_ns.setdefault(module, self.participant.bus.loop.now_ns)
+        self._quiet_until = -1
+
+    def _limit_ns(self, interval: float) -> int:
+        """How long a module beating every ``interval`` s may stay silent (ns)."""
+        return to_ns(self.misses * interval + self.slack)
 
     def _on_beat(self, msg: Message) -> None:
         """Record a beat; a message that is not a usable heartbeat is refused (reported, not fatal)."""
         name, interval = _read_beat(msg)
-        self.last_beat_ns[name] = msg.created_ns
+        self.last_beat_ns[name] = created = msg.created_ns
         self.intervals[name] = interval
+        if self._quiet_until >= 0 and created + self._limit_ns(interval) < self._quiet_until:
+            self._quiet_until = -1  # (a new module, a shorter interval): its deadline comes first, look again
         if name in self.failed:
             del self.failed[name]
             el = etree.Element("module_recovered", module=name, t=repr(msg.created_ns / NS_PER_S))
             self.participant.publish(HEALTH_CHANNEL, el, causes=(msg.id,))
 
     def check(self) -> list[str]:
-        """Publish ``module_failed`` for newly silent modules; return their names."""
+        """Publish ``module_failed`` for newly silent modules; return their names.
+
+        A beat only moves its module's deadline later, so the earliest deadline the last
+        look found stays a lower bound of them all unless a beat or :meth:`watch` brings an
+        earlier one (a new module, a shorter interval: they ask for a new look): before it nobody
+        can be late, and the modules are not looked at (the watchdog checks ten times a second).
+        """
         now = self.participant.bus.loop.now_ns
+        if now <= self._quiet_until and self._quiet_for == (self.misses, self.slack):
+            return []
         newly = []
+        earliest = -1
         for name in sorted(self.last_beat_ns):
             if name in self.failed:
                 continue
-            limit = to_ns(self.misses * self.intervals[name] + self.slack)
-            if now - self.last_beat_ns[name] > limit:
+            deadline = self.last_beat_ns[name] + self._limit_ns(self.intervals[name])
+            if now > deadline:
                 self.failed[name] = now
                 newly.append(name)
                 self.participant.publish(HEALTH_CHANNEL, self.failure(name))
+            elif earliest < 0 or deadline < earliest:
+                earliest = deadline
+        self._quiet_until = earliest
+        self._quiet_for = (self.misses, self.slack)
         return newly
 
     def failure(self, name: str) -> etree._Element:

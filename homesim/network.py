@@ -10,6 +10,7 @@ so a run's timing is reproducible to the nanosecond.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -102,24 +103,34 @@ class Network:
         self._hosts: dict[str, str] = {}
         # Per (host_a, host_b): what delay_ns draws, worked out once (cleared when links or hosts change).
         self._plans: dict[tuple[str, str], tuple[float, float, float, float, float]] = {}
+        self._listeners: list[Callable[[], None]] = []
+
+    def on_change(self, listener: Callable[[], None]) -> None:
+        """Call ``listener()`` whenever a host or a link changes (the bus caches its delivery plans)."""
+        self._listeners.append(listener)
+
+    def _changed(self) -> None:
+        self._plans.clear()
+        for listener in self._listeners:
+            listener()
 
     def set_link(self, model: LinkModel) -> None:
         """Add or replace a link kind (e.g. a lossy WLAN for a fault test)."""
         self._links[model.name] = model
-        self._plans.clear()
+        self._changed()
 
     def add_host(self, host: str, *, link: str = "lan") -> None:
         """Declare a host and the kind of link it is attached by."""
         if link not in self._links:
             raise HomesimError(f"host {host!r}: unknown link {link!r}; known: {sorted(self._links)}")
         self._hosts[host] = link
-        self._plans.clear()
+        self._changed()
 
     def ensure_host(self, host: str) -> None:
         """Declare ``host`` on the LAN if it is not known yet."""
         if host not in self._hosts:
             self._hosts[host] = "lan"
-            self._plans.clear()
+            self._changed()
 
     def hosts(self) -> dict[str, str]:
         """Host -> link kind, sorted by host name."""

@@ -7,8 +7,10 @@ when nothing is ready to run, the clock jumps straight to the earliest timer.
 
 Why not asyncio's own loop: its timer heap orders equal deadlines by heap
 position, not by scheduling order, and it polls a selector on every round.
-Here timers are keyed by ``(nanoseconds, sequence)`` so callbacks due at the
-same virtual time run in the order they were scheduled, time is an integer
+Here timers due at the same virtual time run in the order they were
+scheduled (each due time keeps its timers in a list, in scheduling order; a
+heap holds the distinct due times as plain integers, which compare several
+times faster than asyncio's ``(time, sequence, handle)`` tuples), time is an integer
 count of nanoseconds (no float drift over hours), and there is no selector:
 a simulation does no real I/O, and asks for it (executors, sockets,
 subprocesses, threads) are refused with :class:`RealIOError`.
@@ -30,7 +32,6 @@ from __future__ import annotations
 import asyncio
 import functools
 import heapq
-import itertools
 import math
 import sys
 from asyncio import events
@@ -115,6 +116,24 @@ class _TimerHandle(events.TimerHandle):
             self._args = None
 
 
+class _Delivery:
+    """A timer the kernel schedules and never cancels (a bus delivery): two fields to fill, not eight.
+
+    The loop's scheduling code reads ``_cancelled`` and ``_context`` (class-level: never
+    cancelled, no copied context), ``_callback`` and ``_args``, and sets ``_scheduled``.
+    Made with ``object.__new__(_Delivery)`` by the bus, queued with the loop's ``_push_timer``
+    (inlined there).
+    """
+
+    __slots__ = ("_callback", "_args", "_scheduled")
+    _cancelled = False
+    _context = None
+
+    def __repr__(self) -> str:
+        cb = self._callback
+        return f"<delivery {getattr(cb, '__qualname__', cb)!s}>"
+
+
 _new = object.__new__
 
 
@@ -142,9 +161,11 @@ class VirtualEventLoop(asyncio.BaseEventLoop):
         if start < 0 or not math.isfinite(start):
             raise ClockError(f"start time must be finite and >= 0, got {start!r}")
         self._now_ns = to_ns(start)
-        self._timers: list[tuple[int, int, asyncio.TimerHandle]] = []
+        # The timers: a heap of distinct due times (integer ns) and, per due time, the one
+        # handle due then or a list of them in scheduling order (see _push_timer).
+        self._times: list[int] = []
+        self._due: dict[int, Any] = {}
         self._cancelled_timers = 0
-        self._seq = itertools.count()
         self._clock_resolution = 1e-9
         self._pacer = pacer
         self._failure: BaseException | None = None
@@ -229,8 +250,37 @@ class VirtualEventLoop(asyncio.BaseEventLoop):
         handle._loop = self
         handle._when = when_ns / NS_PER_S
         handle._scheduled = True
-        heapq.heappush(self._timers, (when_ns, next(self._seq), handle))
+        due = self._due  # _push_timer, inlined
+        queued = due.get(when_ns)
+        if queued is None:
+            due[when_ns] = handle
+            heapq.heappush(self._times, when_ns)
+        elif queued.__class__ is list:
+            queued.append(handle)
+        else:
+            due[when_ns] = [queued, handle]
         return handle
+
+    def _push_timer(self, when_ns: int, handle: Any) -> None:
+        """Queue ``handle`` at ``when_ns``, after every timer already due then (same-time order = scheduling order).
+
+        A due time holds its one handle, or a list of them once a second one comes (a list
+        per timer would cost an allocation for the usual lone timer). Inlined in
+        ``_call_at_bare``, the bus and the light sleep: keep them alike.
+        """
+        due = self._due
+        queued = due.get(when_ns)
+        if queued is None:
+            due[when_ns] = handle
+            heapq.heappush(self._times, when_ns)
+        elif queued.__class__ is list:
+            queued.append(handle)
+        else:
+            due[when_ns] = [queued, handle]
+
+    def _pending_timers(self) -> int:
+        """How many timers are queued, cancelled ones not yet dropped included."""
+        return sum(len(q) if q.__class__ is list else 1 for q in self._due.values())
 
     def call_later_ns(self, delay_ns: int, callback: Callable[..., Any], *args: Any, context: Context | None = None) -> asyncio.TimerHandle:
         """Schedule ``callback`` after an exact delay in nanoseconds."""
@@ -322,15 +372,26 @@ class VirtualEventLoop(asyncio.BaseEventLoop):
         if self._ready:
             return self.time()
         self._drop_cancelled()
-        if self._timers:
-            return self._timers[0][0] / NS_PER_S
+        if self._times:
+            return self._times[0] / NS_PER_S
         return math.inf
 
     def _drop_cancelled(self) -> None:
-        timers = self._timers
-        while timers and timers[0][2]._cancelled:
-            heapq.heappop(timers)
-            self._cancelled_timers -= 1
+        """Drop the earliest due times whose timers are all cancelled."""
+        times, due = self._times, self._due
+        while times:
+            queued = due[times[0]]
+            if queued.__class__ is list:
+                for h in queued:
+                    if not h._cancelled:
+                        return
+                n = len(queued)
+            elif not queued._cancelled:
+                return
+            else:
+                n = 1
+            del due[heapq.heappop(times)]
+            self._cancelled_timers -= n
 
     def step(self) -> bool:
         """Run one scheduling round; return False when there was nothing to run.
@@ -413,7 +474,9 @@ class VirtualEventLoop(asyncio.BaseEventLoop):
         code (a sleep costs two rounds, so a round's own cost counts).
         """
         ready = self._ready
-        timers = self._timers
+        times = self._times
+        due = self._due
+        pop_due = due.pop
         popleft = ready.popleft
         append = ready.append
         heappop = heapq.heappop
@@ -421,7 +484,7 @@ class VirtualEventLoop(asyncio.BaseEventLoop):
         checks = max_rounds is not None or stop is not None
         last = (until_ns - 1) if until_ns is not None else None  # the last instant this call may run
         rounds = 0
-        handle = None
+        handle = lone = None
         now = self._now_ns
         instant = self._instant_ns
         instant_rounds = self._instant_rounds
@@ -431,20 +494,28 @@ class VirtualEventLoop(asyncio.BaseEventLoop):
                 if self._failure is not None:
                     return _FAILED
                 if not ready:
-                    if self._cancelled_timers > 64 and self._cancelled_timers * 2 > len(timers):
+                    if self._cancelled_timers > 64 and self._cancelled_timers * 2 > len(times):
                         self._compact_timers()
-                    while timers and timers[0][2]._cancelled:
-                        heappop(timers)
-                        self._cancelled_timers -= 1
-                    if not timers:
+                    if not times:
                         return _EMPTY
-                    when = timers[0][0]
+                    when = times[0]
+                    lone = due[when]
+                    if lone.__class__ is list or lone._cancelled:
+                        self._drop_cancelled()
+                        if not times:
+                            return _EMPTY
+                        when = times[0]
+                        lone = None
+                    elif checks or (lone.__class__ is not _SleepWaiter and lone.__class__ is not _Delivery):
+                        lone = None
                     if last is not None and when > last:
                         return _UNTIL
                     if when > now:
                         if pacer is not None:
                             pacer.before_advance(now, when)
                         self._now_ns = now = when
+                else:
+                    lone = None
                 if now != instant:
                     instant = now
                     instant_rounds = 0
@@ -454,15 +525,61 @@ class VirtualEventLoop(asyncio.BaseEventLoop):
                         instant_rounds = 0  # counting starts again if the caller goes on
                         self._livelock()
                 limit = now if last is None or last > now else last
-                while timers and timers[0][0] <= limit:
-                    handle = heappop(timers)[2]
-                    if handle._cancelled:
+                if lone is not None:
+                    # This round is one timer alone (nothing was ready, nothing else is due now:
+                    # due times are distinct and none is past): run it here, as the general path
+                    # below would, without the ready queue. A bus delivery is called; a sleep's
+                    # timer fires and, as the next round would be its task's wake-up alone, wakes it.
+                    if lone.__class__ is _Delivery:
+                        pop_due(heappop(times))
+                        lone._scheduled = False
+                        handle = lone
+                        lone = None
+                        try:
+                            handle._callback(*handle._args)
+                        except (SystemExit, KeyboardInterrupt):
+                            raise
+                        except BaseException as exc:  # one failing callback fails the run
+                            self._record_failure(exc, f"callback {handle!r}")
+                        handle = None
+                        continue
+                    waker = lone._waker
+                    if waker is not None and waker is not _MANY and instant_rounds + 1 < max_instant:
+                        pop_due(heappop(times))
+                        lone._scheduled = False
+                        lone._done = True
+                        lone._waker = None
+                        instant_rounds += 1
+                        handle = lone
+                        lone = None
+                        try:
+                            handle._waker_ctx.run(waker, handle)
+                        except (SystemExit, KeyboardInterrupt):
+                            raise
+                        except BaseException as exc:  # one failing callback fails the run
+                            self._record_failure(exc, f"callback {handle!r}")
+                        handle = None
+                        continue
+                    lone = None
+                while times and times[0] <= limit:
+                    queued = pop_due(heappop(times))
+                    if queued.__class__ is list:
+                        for handle in queued:
+                            if handle._cancelled:
+                                self._cancelled_timers -= 1
+                            else:
+                                handle._scheduled = False
+                                append(handle)
+                    elif queued._cancelled:
                         self._cancelled_timers -= 1
                     else:
-                        handle._scheduled = False
-                        append(handle)
+                        queued._scheduled = False
+                        append(queued)
+                queued = None
+                n = len(ready)
                 try:
-                    for _ in range(len(ready)):
+                    while n:
+                        n -= 1
                         handle = popleft()
                         if handle._cancelled:
                             continue
@@ -477,7 +594,7 @@ class VirtualEventLoop(asyncio.BaseEventLoop):
                                 elif waker is not _MANY:
                                     handle._waker = None
                                     if (not ready and not checks and instant_rounds + 1 < max_instant
-                                            and self._failure is None and (not timers or timers[0][0] > limit)):
+                                            and self._failure is None and (not times or times[0] > limit)):
                                         # The wake-up would be the whole next round (nothing else is
                                         # ready or due now): run it as that round, here. Same order.
                                         instant_rounds += 1
@@ -513,9 +630,16 @@ class VirtualEventLoop(asyncio.BaseEventLoop):
             self._instant_rounds = instant_rounds
 
     def _compact_timers(self) -> None:
-        # In place: _drive holds a reference to this list.
-        self._timers[:] = [t for t in self._timers if not t[2]._cancelled]
-        heapq.heapify(self._timers)
+        # In place: _drive holds references to both.
+        kept: dict[int, Any] = {}
+        for when, queued in self._due.items():
+            live = [h for h in queued if not h._cancelled] if queued.__class__ is list else [queued] if not queued._cancelled else []
+            if live:
+                kept[when] = live if len(live) > 1 else live[0]
+        self._due.clear()
+        self._due.update(kept)
+        self._times[:] = kept
+        heapq.heapify(self._times)
         self._cancelled_timers = 0
 
     # -------------------------------------------------------------- internals
@@ -542,7 +666,8 @@ class VirtualEventLoop(asyncio.BaseEventLoop):
     def _livelock(self) -> None:
         """Raise :class:`LivelockError` naming what keeps running at this instant."""
         names: dict[str, None] = {}
-        for handle in list(self._ready) + [h for w, _s, h in self._timers if w <= self._now_ns]:
+        due_now = [self._due[w] for w in sorted(self._times) if w <= self._now_ns]
+        for handle in list(self._ready) + [h for q in due_now for h in (q if q.__class__ is list else [q])]:
             if handle._cancelled:
                 continue
             cb = handle._callback
@@ -716,7 +841,8 @@ class VirtualEventLoop(asyncio.BaseEventLoop):
         self._check_orphans()
         failure, where = self._failure, self._failure_where
         self._failure = None
-        self._timers.clear()
+        self._times.clear()
+        self._due.clear()
         self._ready.clear()
         super().close()
         if failure is not None:

@@ -616,3 +616,75 @@ def test_a_payload_function_that_returns_no_element_is_refused_at_the_sender(str
             a.publish("/x", lambda: 3)
         s.run()
         assert got == [] and s.bus.sent == 0
+
+
+# Ops for the delivery-plan property below: (kind, a, b) at one-second ticks (longer than any delay).
+plan_ops = st.lists(
+    st.one_of(
+        st.tuples(st.just("publish"), st.integers(0, 2), st.integers(0, 3)),
+        st.tuples(st.just("subscribe"), st.integers(0, 2), st.integers(0, 4)),
+        st.tuples(st.just("unsubscribe"), st.integers(0, 2), st.integers(0, 4)),
+        st.tuples(st.just("move"), st.integers(0, 2), st.sampled_from(["lan", "slow", "robot"])),
+        st.tuples(st.just("relink"), st.just(0), st.sampled_from([0.2, 0.4])),
+    ),
+    min_size=1,
+    max_size=30,
+)
+
+
+def _plan_run(ops, *, strict):
+    """Run ``ops``; return (what reached whom with its delay, the trace text)."""
+    from homesim.trace import MemoryTrace
+
+    channels = ["/a", "/b", "/a/c", "/d"]
+    patterns = ["/a", "/b", "/a/**", "/d", "/b/**"]
+    with Simulation(seed=5, strict=strict) as s:
+        s.network.set_link(LinkModel("slow", 0.3, 0.35))
+        for h in ("h0", "h1", "h2"):
+            s.network.add_host(h, link="lan")
+        senders = [s.bus.participant(f"s{i}", host="h0") for i in range(3)]
+        receivers = [s.bus.participant(f"r{j}", host=f"h{j}") for j in range(3)]
+        trace = MemoryTrace(s.bus, scenario="plans", seed=5)
+        got = []
+        subs: dict[tuple[int, int], object] = {}
+        expected = []
+
+        def handler(j):
+            return lambda m: got.append((j, m.id, s.loop.now_ns - m.sent_ns))
+
+        def do(kind, a, b):
+            if kind == "publish":
+                m = senders[a].publish(channels[b], "<m/>")
+                for (j, pi), _ in sorted(subs.items()):
+                    pat = patterns[pi]
+                    if pat == channels[b] or (pat.endswith("/**") and (channels[b] + "/").startswith(pat[:-2])):
+                        expected.append((j, m.id))
+            elif kind == "subscribe" and (a, b) not in subs:
+                subs[(a, b)] = receivers[a].subscribe(patterns[b], handler(a))
+            elif kind == "unsubscribe" and (a, b) in subs:
+                subs.pop((a, b)).close()
+            elif kind == "move":  # the receiver's host changes its link kind (or joins the robot's host)
+                s.network.add_host(f"h{a}", link=b if b != "robot" else "local")
+            elif kind == "relink":
+                s.network.set_link(LinkModel("slow", b, b + 0.05))
+
+        for k, op in enumerate(ops):
+            s.call_at(float(k), do, *op)
+        s.run()
+        text = trace.text()
+        return sorted(got), sorted(expected), text
+
+
+@settings(max_examples=examples(60, 200), deadline=None)
+@given(plan_ops)
+def test_deliveries_follow_subscriptions_and_links_as_they_change(ops):
+    """The bus's cached delivery plans never outlive a change: each message reaches exactly the
+    subscriptions open when it was sent, once, with a delay from the current link kinds; and the
+    run is the same under both validation policies (same trace, byte for byte)."""
+    got, expected, text = _plan_run(ops, strict=False)
+    assert [(j, mid) for j, mid, _ in got] == expected
+    bounds = [(50_000, 200_000), (1_000_000, 3_000_000), (200_000_000, 450_000_000)]  # local, lan, any slow
+    for _, _, delay in got:
+        assert any(lo <= delay <= hi for lo, hi in bounds), delay
+    got_strict, _, text_strict = _plan_run(ops, strict=True)
+    assert got_strict == got and text_strict == text

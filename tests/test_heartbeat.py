@@ -5,10 +5,14 @@ from __future__ import annotations
 import asyncio
 
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from homesim.heartbeat import HEALTH_CHANNEL, HeartbeatMonitor
 from homesim.module import Module
 from homesim.sim import Simulation
+
+from .conftest import examples
 
 
 class Looper(Module):
@@ -74,3 +78,55 @@ def test_recovery_is_reported_when_beats_come_back():
     sim.run(until=10.0)
     assert [m.xml.tag for m in health] == ["module_failed", "module_recovered"]
     sim.close()
+
+
+class _AlwaysLooks(HeartbeatMonitor):
+    """The monitor without its shortcut: every check looks at every module."""
+
+    def check(self):
+        self._quiet_until = -1
+        return super().check()
+
+
+monitor_events = st.lists(
+    st.one_of(
+        st.tuples(st.just("beat"), st.sampled_from(["a", "b", "c"]), st.sampled_from([0.05, 0.1, 0.5]), st.integers(0, 3)),
+        st.tuples(st.just("watch"), st.sampled_from(["c", "d"]), st.sampled_from([0.05, 0.5]), st.just(0)),
+        st.tuples(st.just("misses"), st.just(""), st.sampled_from([1, 2, 3]), st.just(0)),
+        st.tuples(st.just("wait"), st.just(""), st.sampled_from([0.01, 0.1, 0.3, 1.0]), st.just(0)),
+    ),
+    max_size=60,
+)
+
+
+@settings(max_examples=examples(100, 300), deadline=None)
+@given(monitor_events)
+def test_the_monitor_reports_the_same_failures_as_one_that_always_looks(events):
+    """check() skips looking at the modules while no deadline can have passed: it must report
+    the same modules at the same times as a monitor that looks every time, whatever beats come
+    (new modules, shorter intervals, a beat created earlier than the last) and whatever changes."""
+    from lxml import etree
+
+    from homesim.message import PUBLISH, Message
+
+    with Simulation(seed=0) as sim:
+        fast = HeartbeatMonitor(sim.bus.participant("fast"), misses=3, period=0.1)
+        slow = _AlwaysLooks(sim.bus.participant("slow"), misses=3, period=0.1)
+        reports = []
+        for kind, name, value, back in events:
+            now = sim.loop.now_ns
+            if kind == "beat":  # delivered directly, created up to 0.3 s before now
+                el = etree.Element("heartbeat", module=name, seq="1", interval=repr(value))
+                created = max(0, now - back * 100_000_000)
+                msg = Message(f"{name}#1", PUBLISH, name, f"/system/heartbeat/{name}", el, created, now)
+                fast._on_beat(msg)
+                slow._on_beat(msg)
+            elif kind == "watch":
+                fast.watch(name, value)
+                slow.watch(name, value)
+            elif kind == "misses":
+                fast.misses = slow.misses = value
+            else:
+                sim.run(until=sim.now + value)
+            reports.append((fast.check(), dict(fast.failed)))
+            assert reports[-1] == (slow.check(), dict(slow.failed))

@@ -482,7 +482,7 @@ def test_cancelled_timers_do_not_pile_up(loop):
                     await asyncio.sleep(0.01)
 
     loop.run_until_complete(reader())
-    assert len(loop._timers) < 200
+    assert loop._pending_timers() < 200
 
 
 # ------------------------------------------------------------ the light sleep
@@ -658,3 +658,43 @@ def test_two_threads_stepping_their_own_simulations_put_asyncios_sleep_back():
     assert sorted(seen) == [("a", 1.0), ("a after", "real"), ("b", 2.0)]
     assert asyncio.sleep is ORIGINAL_SLEEP and asyncio.tasks.sleep is ORIGINAL_SLEEP
     assert asyncio.run(asyncio.sleep(0.001, "main")) == "main"
+
+
+@settings(max_examples=examples(100, 300), deadline=None)
+@given(
+    st.lists(st.tuples(st.integers(0, 6), st.booleans(), st.booleans()), min_size=1, max_size=200),
+    st.integers(0, 7),
+)
+def test_timers_due_together_run_in_scheduling_order_whatever_was_cancelled(timers, until_tick):
+    """Timers at equal times (many share a due time) run in the order they were scheduled; cancelled
+    ones never run, whether cancelled before the run or by the first timer of their instant; the
+    heap's compaction (over 64 cancelled) changes nothing; run(until) stops before ``until``."""
+    loop = VirtualEventLoop()
+    ran = []
+    handles = []
+    firsts: dict[int, int] = {}  # tick -> the first timer of that instant not cancelled early
+    for i, (tick, early, _) in enumerate(timers):
+        if not early:
+            firsts.setdefault(tick, i)
+    victims = {first: [j for j, (t, early, by_first) in enumerate(timers) if t == tick and j > first and by_first and not early]
+               for tick, first in firsts.items()}
+
+    def fire(i):
+        ran.append(i)
+        for j in victims.get(i, ()):
+            handles[j].cancel()
+
+    for i, (tick, _, _) in enumerate(timers):
+        handles.append(loop.call_at(tick * 0.001, fire, i))
+    for i, (_, early, _) in enumerate(timers):
+        if early:
+            handles[i].cancel()
+    loop.run(until=until_tick * 0.001)
+    expected = []
+    for tick in sorted(firsts):
+        if tick < until_tick:
+            first = firsts[tick]
+            expected += [first] + [i for i, (t, early, by_first) in enumerate(timers)
+                                   if t == tick and i > first and not early and not by_first]
+    assert ran == expected
+    loop.close()
