@@ -10,7 +10,10 @@ Run: ``python benchmarks/bench_bus.py [--messages N]``. Every figure is process 
   strict one (every message XSD-validated, as in the tests and ``--strict``);
 - the same published as text (a document from outside: hardened parse + XSD);
 - the same with the system-wide trace recorded to a file: the difference per trace line (a
-  send line with its XML, and one delivery line per receiver).
+  send line with its XML, and one delivery line per receiver);
+- heartbeats as in a home tour: 19 modules beating at 2 Hz from their main loops (each loop
+  runs at 10 Hz and calls ``beat()`` every turn) to the watchdog's monitor, which checks ten
+  times a second: CPU per simulated second and per heartbeat sent.
 
 Not a test: nothing is asserted (``tests/test_benchmarks.py`` runs it tiny as a smoke test).
 """
@@ -67,6 +70,43 @@ def run(n: int, *, receivers: int = 1, strict: bool = False, text: bool = False,
     return dt, lines
 
 
+def heartbeats(sim_s: float, *, modules: int = 19, strict: bool = False) -> tuple[float, int]:
+    """(CPU seconds, heartbeats sent) for ``sim_s`` simulated seconds of the home tour's heartbeats."""
+    import asyncio
+
+    from homesim.heartbeat import Heartbeat, HeartbeatMonitor
+
+    sim = Simulation(seed=1, scenario="bench", strict=strict)
+    beats = [Heartbeat(sim.bus.participant(f"m{k:02d}", host="robot"), 0.5) for k in range(modules)]
+    monitor = HeartbeatMonitor(sim.bus.participant("watchdog", host="robot"), misses=3, period=0.1)
+
+    async def main_loop(hb: Heartbeat) -> None:
+        while True:
+            hb.beat()
+            await asyncio.sleep(0.1)
+
+    async def loop_without_beats() -> None:  # the same loops' cost without heartbeats, subtracted
+        while True:
+            await asyncio.sleep(0.1)
+
+    for k, hb in enumerate(beats):
+        sim.spawn(main_loop(hb), name=f"m{k:02d}")
+    sim.spawn(monitor.run(), name="watchdog")
+    t0 = time.process_time()
+    sim.run(until=sim_s)
+    dt = time.process_time() - t0
+    sent = sum(hb.seq for hb in beats)
+    sim.close()
+    bare = Simulation(seed=1, scenario="bench", strict=strict)
+    for k in range(modules):
+        bare.spawn(loop_without_beats(), name=f"m{k:02d}")
+    t0 = time.process_time()
+    bare.run(until=sim_s)
+    dt_bare = time.process_time() - t0
+    bare.close()
+    return dt - dt_bare, sent
+
+
 def best(repeat: int, *args: Any, **kw: Any) -> tuple[float, int]:
     out = [run(*args, **kw) for _ in range(repeat)]
     return min(out)
@@ -96,6 +136,10 @@ def main() -> None:
             per_line = (dt - base[receivers]) / max(1, lines)
             label = f"with trace, {receivers} receiver(s)"
             print(f"{label:52} {1e6 * dt / n:10.1f}   ({1e6 * per_line:.1f} us per trace line, {lines / n:.0f} lines/message)")
+    sim_s = max(10.0, n / 200)
+    dt, sent = min(heartbeats(sim_s) for _ in range(a.repeat))
+    print(f"{'heartbeats: 19 modules at 2 Hz, monitor at 10 Hz':52} {1e6 * dt / sent:10.1f}   "
+          f"(per heartbeat; {1e3 * dt / sim_s:.3f} ms per simulated s)")
 
 
 if __name__ == "__main__":
