@@ -195,6 +195,44 @@ def test_lines_checked_together_are_lines_checked_one_by_one(ax, ay, ends):
     assert together == [HOME_GRID.line_free((ax, ay), e) for e in ends]
 
 
+def flood_fill_regions(blocked: np.ndarray) -> np.ndarray:
+    """The reference: 4-connected regions of the free cells, numbered in row-major order of their first cell."""
+    nx, ny = blocked.shape
+    labels = np.zeros((nx, ny), dtype=np.int32)
+    n = 0
+    for i in range(nx):
+        for j in range(ny):
+            if blocked[i, j] or labels[i, j]:
+                continue
+            n += 1
+            labels[i, j] = n
+            todo = [(i, j)]
+            while todo:
+                a, b = todo.pop()
+                for c, d in ((a + 1, b), (a - 1, b), (a, b + 1), (a, b - 1)):
+                    if 0 <= c < nx and 0 <= d < ny and not blocked[c, d] and not labels[c, d]:
+                        labels[c, d] = n
+                        todo.append((c, d))
+    return labels
+
+
+@settings(max_examples=examples(40, 150), deadline=None)
+@given(cells=st.lists(st.booleans(), min_size=12 * 9, max_size=12 * 9), density=st.integers(0, 3))
+def test_free_regions_are_numbered_as_a_flood_fill_numbers_them(cells, density):
+    blocked = np.array(cells, dtype=bool).reshape(12, 9)
+    if density:  # sparser walls too: big regions winding around each other
+        blocked &= np.array(cells[density:] + cells[:density], dtype=bool).reshape(12, 9)
+    blocked[0, :] = blocked[-1, :] = blocked[:, 0] = blocked[:, -1] = True
+    grid = Grid.for_scenario(HOME)
+    grid.blocked = blocked
+    got = grid._label()
+    assert got.dtype == np.int32 and got.tolist() == flood_fill_regions(blocked).tolist()
+
+
+def test_the_flats_regions_are_numbered_as_a_flood_fill_numbers_them():
+    assert HOME_GRID._label().tolist() == flood_fill_regions(HOME_GRID.blocked).tolist()
+
+
 # ----------------------------------------------------------------- rooms
 WORLD = World(HOME)
 

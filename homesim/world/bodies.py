@@ -75,16 +75,31 @@ class RobotBody:
         self.w = 0.0
         self.odometer = 0.0  # metres actually travelled
         self.in_contact = False
+        self._pose: tuple[float, float, float] | None = None  # kept until the body moves
 
     @property
     def pose(self) -> tuple[float, float, float]:
-        x, y = cp.position(self.body)
-        return x, y, float(wrap_angle(cp.angle(self.body)))
+        """(x, y, heading): read from Chipmunk once after each move (ground truth, metrics and
+        sensors ask several times a step); whatever moves the body calls :meth:`moved`."""
+        pose = self._pose
+        if pose is None:
+            x, y = cp.position(self.body)
+            pose = self._pose = (x, y, float(wrap_angle(cp.angle(self.body))))
+        return pose
+
+    def moved(self) -> None:
+        """The body was moved (a step, a push, a placement): :attr:`pose` reads it afresh."""
+        self._pose = None
 
     def command(self, v: float, w: float) -> None:
-        """Set the wanted forward speed (m/s) and turn rate (rad/s); limits apply."""
-        self.cmd_v = float(np.clip(v, -self.max_speed, self.max_speed))
-        self.cmd_w = float(np.clip(w, -self.max_turn, self.max_turn))
+        """Set the wanted forward speed (m/s) and turn rate (rad/s); limits apply.
+
+        ``min``/``max`` give what ``np.clip`` gave (NaN stays NaN, -0.0 stays -0.0) without
+        its cost on one number.
+        """
+        a, b = self.max_speed, self.max_turn
+        self.cmd_v = float(min(max(v, -a), a))
+        self.cmd_w = float(min(max(w, -b), b))
 
     def before_step(self, dt: float) -> float:
         """Set the body's velocities from the command (acceleration-limited); returns its angle."""
@@ -98,8 +113,9 @@ class RobotBody:
         cp.set_angular_velocity(body, self.w)
         return th
 
-    def after_step(self, dt: float, before: tuple[float, float]) -> None:
-        px, py = cp.position(self.body)
+    def after_step(self, dt: float, before: tuple[float, float], after: tuple[float, float] | None = None) -> None:
+        """Odometry and the wheels' real speed from the move ``before`` -> ``after`` (read when None)."""
+        px, py = cp.position(self.body) if after is None else after
         moved = math.hypot(px - before[0], py - before[1])
         self.odometer += moved
         # What the base really achieved (a wall stops it): the wheels follow.
@@ -146,6 +162,8 @@ class HumanBody:
         self.held = False  # the last step was refused (the robot was in the way)
         self.held_time = 0.0  # seconds spent held back, in total
         self.space = space
+        self._xy: tuple[float, float] | None = None  # the position, kept until the body moves
+        self._placed: tuple[float, float] | None = None  # (heading, swing) last set on the body and legs
         self.body = pymunk.Body(body_type=pymunk.Body.KINEMATIC)
         self.body.position = (x, y)
         self.shape = pymunk.Circle(self.body, HUMAN_RADIUS)
@@ -162,7 +180,15 @@ class HumanBody:
     # ------------------------------------------------------------ state
     @property
     def position(self) -> tuple[float, float]:
-        return cp.position(self.body)
+        """(x, y), read from Chipmunk once after each move (the world calls :meth:`moved` after a step)."""
+        xy = self._xy
+        if xy is None:
+            xy = self._xy = cp.position(self.body)
+        return xy
+
+    def moved(self) -> None:
+        """The body was moved (a physics step, a push): :attr:`position` reads it afresh."""
+        self._xy = None
 
     @property
     def pose(self) -> tuple[float, float, float]:
@@ -248,26 +274,39 @@ class HumanBody:
 
     def teleport(self, x: float, y: float) -> None:
         self.body.position = (x, y)
+        self._xy = None
         self.space.reindex_shapes_for_body(self.body)
 
     def advance(self, dt: float) -> None:
-        """After a physics step: move the gait by the distance walked."""
+        """After a physics step: move the gait by the distance walked.
+
+        Standing still (no velocity) the phase stays where it is (``phase + 0.0`` is
+        ``phase``), so it is not recomputed; the swing still decays.
+        """
         vx, vy = self.velocity
-        speed = math.hypot(vx, vy)
-        self.phase = (self.phase + 2 * math.pi * speed * dt / STRIDE) % (2 * math.pi)
-        target_amp = STRIDE / 4 * min(1.0, speed / 0.4)
+        if vx or vy:
+            speed = math.hypot(vx, vy)
+            self.phase = (self.phase + 2 * math.pi * speed * dt / STRIDE) % (2 * math.pi)
+            target_amp = STRIDE / 4 * min(1.0, speed / 0.4)
+        else:
+            target_amp = 0.0  # STRIDE / 4 * min(1.0, 0.0 / 0.4)
         self.gait_amp += (target_amp - self.gait_amp) * min(1.0, 8.0 * dt)
         self._place_legs()
 
     def _place_legs(self) -> None:
-        # The body frame turns with the heading; legs are offset in it.
+        """Turn the body frame to the heading and swing the legs in it (both only when they
+        changed: setting the same angle or offset again gives Chipmunk the same state)."""
         body = self.body
         heading = self.heading
-        cp.set_angle(body, heading)
         swing = self.gait_amp * math.sin(self.phase)
-        cp.set_circle_offset(self.legs[0], swing, LEG_SPREAD)
-        cp.set_circle_offset(self.legs[1], -swing, -LEG_SPREAD)
-        self.leg_offsets = ((swing, LEG_SPREAD), (-swing, -LEG_SPREAD))
+        placed = self._placed
+        if placed is None or placed[0] != heading or heading == 0.0:  # 0.0: a -0.0 the step made +0.0 is set again
+            cp.set_angle(body, heading)
+        if placed is None or placed[1] != swing or swing == 0.0:
+            cp.set_circle_offset(self.legs[0], swing, LEG_SPREAD)
+            cp.set_circle_offset(self.legs[1], -swing, -LEG_SPREAD)
+            self.leg_offsets = ((swing, LEG_SPREAD), (-swing, -LEG_SPREAD))
+        self._placed = (heading, swing)
         if self.present:
             cp.reindex(self.space, body)
 

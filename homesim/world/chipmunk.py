@@ -4,7 +4,8 @@ pymunk is the physics (DESIGN); its attribute properties (``body.position``,
 ``body.velocity = ...``) each cost a microsecond or two of Python wrapping
 (a ``Vec2d``, an assert, a ``__setattr__`` mixin) around one call into
 Chipmunk. The world step makes about fifteen such accesses per body at
-50 Hz, so the step calls pymunk's own cffi binding of Chipmunk directly for
+50 Hz (and a point query or two per person near the robot, and ``Space.step``
+with its bookkeeping), so the step calls pymunk's own cffi binding of Chipmunk directly for
 them: the same C functions, with the same arguments, in the same order, so
 the simulation is bit-identical. If pymunk ever stops shipping that binding
 (``pymunk._chipmunk_cffi``), the functions fall back to the public
@@ -16,22 +17,30 @@ from __future__ import annotations
 import pymunk
 
 try:  # pymunk >= 6: the cffi module every pymunk class calls into
+    from pymunk._chipmunk_cffi import ffi as _ffi
     from pymunk._chipmunk_cffi import lib as _lib
 except ImportError:  # a pymunk without it: the public API
-    _lib = None
+    _ffi = _lib = None
 
 _FUNCTIONS = ("cpBodyGetPosition", "cpBodySetPosition", "cpBodyGetAngle", "cpBodySetAngle", "cpBodySetVelocity",
-              "cpBodySetAngularVelocity", "cpCircleShapeSetOffset", "cpSpaceReindexShapesForBody")
+              "cpBodySetAngularVelocity", "cpCircleShapeSetOffset", "cpSpaceReindexShapesForBody",
+              "cpShapePointQuery", "cpSpaceStep")
+#: What :func:`step` uses of pymunk's ``Space`` (the bookkeeping its ``step`` does around ``cpSpaceStep``).
+_SPACE_FIELDS = ("_space", "_locked", "_removed_shapes", "_add_later", "_remove_later", "_post_step_callbacks",
+                 "_bodies_to_check", "threaded", "_remove")
 
 
 def _binding_usable() -> bool:
     """Every function and every handle (``_body``, ``_shape``, ``_space``) the direct calls use is there:
     a pymunk that renamed or dropped any of them gets the public properties, not an AttributeError."""
-    if _lib is None or not all(hasattr(_lib, f) for f in _FUNCTIONS):
+    if _lib is None or _ffi is None or not all(hasattr(_lib, f) for f in _FUNCTIONS):
         return False
     try:
         body = pymunk.Body()
-        return all(hasattr(o, a) for o, a in ((body, "_body"), (pymunk.Circle(body, 1.0), "_shape"), (pymunk.Space(), "_space")))
+        space = pymunk.Space()
+        _ffi.new("cpPointQueryInfo *")
+        return (all(hasattr(o, a) for o, a in ((body, "_body"), (pymunk.Circle(body, 1.0), "_shape")))
+                and all(hasattr(space, a) for a in _SPACE_FIELDS))
     except Exception:  # noqa: BLE001 - any surprise in pymunk's internals: the public API
         return False
 
@@ -49,6 +58,9 @@ if DIRECT:
     _set_angvel = _lib.cpBodySetAngularVelocity
     _set_offset = _lib.cpCircleShapeSetOffset
     _reindex = _lib.cpSpaceReindexShapesForBody
+    _point_query = _lib.cpShapePointQuery
+    _space_step = _lib.cpSpaceStep
+    _query_info = _ffi.new("cpPointQueryInfo *")  # reused: the answer is read before the next query
 
     def position(body: pymunk.Body) -> tuple[float, float]:
         """The body's position (x, y) as plain floats."""
@@ -78,6 +90,35 @@ if DIRECT:
         """What ``Space.reindex_shapes_for_body`` does."""
         _reindex(space._space, body._body)
 
+    def point_distance(shape: pymunk.Shape, x: float, y: float) -> float:
+        """``shape.point_query((x, y)).distance``: signed distance from the point to the shape."""
+        return _point_query(shape._shape, (x, y), _query_info)  # type: ignore[no-any-return]
+
+    def step(space: pymunk.Space, dt: float) -> None:
+        """What ``Space.step`` does: the same ``cpSpaceStep`` and the same bookkeeping around it
+        (a space with bodies still to check, or threaded, goes through ``Space.step`` itself)."""
+        if space._bodies_to_check or space.threaded:
+            space.step(dt)
+            return
+        try:
+            space._locked = True
+            _space_step(space._space, dt)
+            space._removed_shapes.clear()
+        finally:
+            space._locked = False
+        if space._add_later or space._remove_later or space._post_step_callbacks:  # what callbacks asked for
+            space.add(*space._add_later)
+            space._add_later.clear()
+            removed = set()
+            while space._remove_later:
+                to_remove, _ = space._remove_later.popitem()
+                if to_remove not in removed:
+                    removed.add(to_remove)
+                    space._remove(to_remove)
+            for key in space._post_step_callbacks:
+                space._post_step_callbacks[key](space)
+            space._post_step_callbacks.clear()
+
 else:  # tests/test_world_fast_paths.py runs the world on these too
 
     def position(body: pymunk.Body) -> tuple[float, float]:
@@ -105,6 +146,12 @@ else:  # tests/test_world_fast_paths.py runs the world on these too
     def reindex(space: pymunk.Space, body: pymunk.Body) -> None:
         space.reindex_shapes_for_body(body)
 
+    def point_distance(shape: pymunk.Shape, x: float, y: float) -> float:
+        return float(shape.point_query((x, y)).distance)
+
+    def step(space: pymunk.Space, dt: float) -> None:
+        space.step(dt)
+
 
 __all__ = ["DIRECT", "position", "set_position", "angle", "set_angle", "set_velocity",
-           "set_angular_velocity", "set_circle_offset", "reindex"]
+           "set_angular_velocity", "set_circle_offset", "reindex", "point_distance", "step"]

@@ -120,7 +120,7 @@ class Grid:
         self.blocked = blocked
         self._components: np.ndarray | None = None
         # The last plans and A* cell paths asked for (both pure functions of their keys).
-        self._plans: OrderedDict[tuple[object, ...], tuple[Point, ...]] = OrderedDict()
+        self._plans: OrderedDict[tuple[object, ...], tuple[Point, ...] | str] = OrderedDict()  # str: NoPathError's message
         self._paths: OrderedDict[tuple[object, ...], tuple[tuple[int, int], ...] | None] = OrderedDict()  # None: no path
 
     @classmethod
@@ -223,12 +223,26 @@ class Grid:
         got = self._plans.get(key)
         if got is not None:
             self._plans.move_to_end(key)
+            if isinstance(got, str):  # the same question failed before: the same answer
+                raise NoPathError(got)
             return list(got)
-        pts = self._plan(start, goal, avoid)
-        self._plans[key] = tuple(pts)
+        try:
+            pts = self._plan(start, goal, avoid)
+        except NoPathError as exc:
+            self._remember(key, str(exc))
+            raise
+        self._remember(key, tuple(pts))
+        return pts
+
+    def _remember(self, key: tuple[object, ...], answer: tuple[Point, ...] | str) -> None:
+        """Keep a plan (or a failure's message) among the last PLAN_CACHE asked for.
+
+        Failures are kept too: a person held back at the robot where it blocks a doorway asks
+        again every half second from the same spot, and is told no (then walks up to it).
+        """
+        self._plans[key] = answer
         if len(self._plans) > PLAN_CACHE:
             self._plans.popitem(last=False)
-        return pts
 
     def _plan(self, start: Point, goal: Point, avoid: list[Disc]) -> list[Point]:
         blocked = self.with_discs(avoid) if avoid else self.blocked
@@ -355,26 +369,14 @@ class Grid:
         return -1 if c is None else int(self._components[c])
 
     def _label(self) -> np.ndarray:
-        """Connected regions of free cells, 4-connected (as A* without corner cutting)."""
-        ny = self.ny
-        free = (~self.blocked).ravel().tolist()
-        labels = [0] * len(free)
-        steps = (ny, -ny, 1, -1)
-        n = 0
-        for seed in range(len(free)):
-            if not free[seed] or labels[seed]:
-                continue
-            n += 1
-            labels[seed] = n
-            todo = [seed]
-            while todo:
-                c = todo.pop()
-                for d in steps:
-                    q = c + d
-                    if free[q] and not labels[q]:  # the blocked border keeps q in range
-                        labels[q] = n
-                        todo.append(q)
-        return np.array(labels, dtype=np.int32).reshape(self.nx, self.ny)
+        """Connected regions of free cells, 4-connected (as A* without corner cutting).
+
+        Numbered 1, 2, ... in the order of each region's first cell in row-major order (what
+        ``scipy.ndimage.label`` does; ``tests/test_world_fast_paths.py`` checks it against
+        a plain flood fill).
+        """
+        labels, _ = ndimage.label(~self.blocked)  # 4-connected (the default structure)
+        return labels.astype(np.int32, copy=False)
 
     def passable(self, wall: Wall, door: Door) -> bool:
         """Whether a person can walk through a door gap, staying near it.
@@ -423,3 +425,4 @@ class Grid:
                     seen.add(n)
                     todo.append(n)
         return False
+

@@ -186,40 +186,53 @@ class World:
     def substeps(self, dt: float) -> int:
         """How many sub-steps a step of ``dt`` needs (the fastest point moves at most MAX_SUBSTEP_MOVE in each)."""
         rb = self.robot
-        fastest = max(rb.max_speed, abs(rb.v)) + max(rb.max_turn, abs(rb.w)) * ROBOT_REACH
+        v, w = rb.v, rb.w
+        v, w = (-v if v < 0 else v), (-w if w < 0 else w)  # abs()
+        fastest = (v if v > rb.max_speed else rb.max_speed) + (w if w > rb.max_turn else rb.max_turn) * ROBOT_REACH
         for hb in self._people:
             if hb.present and hb.walk_speed > fastest:
                 fastest = hb.walk_speed
-        return max(1, math.ceil(fastest * dt / MAX_SUBSTEP_MOVE - 1e-9))
+        x = fastest * dt / MAX_SUBSTEP_MOVE - 1e-9
+        return 1 if x <= 1.0 else math.ceil(x)  # max(1, ceil(x))
 
     def _substep(self, dt: float) -> None:
         rb = self.robot
+        body = rb.body
+        people = self._people
         angle = rb.before_step(dt)
-        before = cp.position(rb.body)
-        self._hold_people_back(dt)
-        self.space.step(dt)
-        if not self._no_contact() and self._resolve_robot_contacts():
-            # Turning in a tight spot (between a wall and a table): the solver cannot
-            # stop a turn (the base's turn rate is imposed), so the turn is blocked.
-            rb.body.angle = angle
-            rb.body.angular_velocity = rb.w = 0.0
-            self.space.reindex_shapes_for_body(rb.body)
+        before = cp.position(body)
+        self._hold_people_back(dt, before)
+        cp.step(self.space, dt)
+        rb.moved()
+        for h in people:
+            h.moved()
+        after: tuple[float, float] | None = cp.position(body)
+        if not self._no_contact(after):
             if self._resolve_robot_contacts():
-                rb.body.position = before
-                self.space.reindex_shapes_for_body(rb.body)
-        rb.after_step(dt, before)
-        for h in self._people:
+                # Turning in a tight spot (between a wall and a table): the solver cannot
+                # stop a turn (the base's turn rate is imposed), so the turn is blocked.
+                body.angle = angle
+                body.angular_velocity = rb.w = 0.0
+                self.space.reindex_shapes_for_body(body)
+                if self._resolve_robot_contacts():
+                    body.position = before
+                    self.space.reindex_shapes_for_body(body)
+            rb.moved()
+            after = None  # the contacts may have moved it: after_step reads it
+        rb.after_step(dt, before, after)
+        for h in people:
             if h.present:
                 h.advance(dt)
 
-    def _no_contact(self) -> bool:
+    def _no_contact(self, at: tuple[float, float] | None = None) -> bool:
         """Whether the robot provably touches nothing (so :meth:`_resolve_robot_contacts` would do nothing).
 
         Nothing static lies within its reach of the robot's 5 cm cell (asked of pymunk once
         per cell and kept) and every person's body is farther than both radii. Exact: a
-        shape query there would find no overlap at all.
+        shape query there would find no overlap at all. ``at``: the robot's position if the
+        caller has it.
         """
-        x, y = cp.position(self.robot.body)
+        x, y = cp.position(self.robot.body) if at is None else at
         reach = ROBOT_REACH + HUMAN_RADIUS + 2 * CONTACT_MARGIN
         for h in self._people:
             if h.present:
@@ -234,15 +247,16 @@ class World:
             clear = self._clear_cells[cell] = not any(not q.shape.sensor for q in near if q.shape is not None)
         return clear
 
-    def _hold_people_back(self, dt: float) -> None:
+    def _hold_people_back(self, dt: float, robot_at: tuple[float, float] | None = None) -> None:
         """People never push the robot: a step that would bring someone within
         PERSON_GAP of the robot's footprint (and closer than now) is not taken.
 
         Scripts set the velocity they want (``HumanBody.walk``); the person
         stands still for this step instead, and walks on when the way is free.
+        ``robot_at``: the robot's position if the caller has it.
         """
         shape = self.robot.shape
-        rx, ry = cp.position(self.robot.body)
+        rx, ry = cp.position(self.robot.body) if robot_at is None else robot_at
         for h in self._people:
             if not h.present:
                 continue
@@ -252,8 +266,8 @@ class World:
                 x, y = h.position
                 far = ROBOT_REACH + HUMAN_RADIUS + PERSON_GAP + math.hypot(vx, vy) * dt
                 if (x - rx) ** 2 + (y - ry) ** 2 < far * far:  # near enough to matter
-                    now = shape.point_query((x, y)).distance
-                    nxt = shape.point_query((x + vx * dt, y + vy * dt)).distance
+                    now = cp.point_distance(shape, x, y)
+                    nxt = cp.point_distance(shape, x + vx * dt, y + vy * dt)
                     held = nxt < HUMAN_RADIUS + PERSON_GAP and nxt < now
             if held:
                 h.set_velocity(0.0, 0.0)
@@ -293,6 +307,7 @@ class World:
                 hb.position = (hb.position.x + n.x * depth, hb.position.y + n.y * depth)
                 who = next((h for h in self._people if h.body is hb), None)
                 if who is not None:
+                    who.moved()
                     who.set_velocity(0.0, 0.0)
                 else:
                     hb.velocity = (0.0, 0.0)
@@ -328,6 +343,7 @@ class World:
         if vn > 0:
             body.velocity = (body.velocity.x - vn * n.x, body.velocity.y - vn * n.y)
         self.space.reindex_shapes_for_body(body)
+        self.robot.moved()
 
     def place_robot(self, x: float, y: float, heading: float) -> None:
         """Put the robot somewhere at rest (tests, notebooks); no collision check."""
@@ -338,6 +354,7 @@ class World:
         b.angular_velocity = 0.0
         self.robot.v = self.robot.w = 0.0
         self.space.reindex_shapes_for_body(b)
+        self.robot.moved()
 
     @property
     def contacts(self) -> list[tuple[float, str]]:
