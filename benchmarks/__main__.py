@@ -12,9 +12,12 @@ Rows, each a ratio or rate measured in this run, so machine load cancels out of 
 - ``stage/<n> people``: the simulated home alone (world, scripted people, all sensors and their bus
   messages, no robot modules) with 1, 3 and 10 people, CPU ms per simulated second (aims: 2 ms
   with one person, 5 ms with ten);
-- ``memory/<length>``: Python heap peak (tracemalloc) of the whole robot on a looping home (the
-  example flat with a person pacing, so it can run for any length) for a short and a long run;
-  memory must not grow with the run's length (aim: the long run within 10 % of the short one);
+- ``memory/<length>``: peak RSS of the whole robot on a looping home (the example flat with a
+  person pacing, so it can run for any length) for a short and a long run, each in a child
+  process (:mod:`benchmarks.peak_memory`: ``os.wait4``'s ``ru_maxrss``; the Python heap's block
+  count sampled along the run, and ``tracemalloc`` over the last simulated minute only, in the
+  note); memory must not grow with the run's length (aims: the long run under 150 MB and within
+  10 % of the short one);
 - ``loop/sleep``, ``loop/pingpong``: the virtual-time loop's events/s over SimPy's;
 - ``supervisor/engine``, ``supervisor/bus``: the execution supervisor's events/s over sismic's;
 - ``laser``: 361-beam scans/s, numpy kernel over pymunk's per-ray queries;
@@ -34,7 +37,6 @@ import json
 import platform
 import sys
 import time
-import tracemalloc
 from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any, Callable
@@ -78,16 +80,6 @@ def looping_home(duration: float) -> Any:
     from benchmarks.bench_world import crowd_scenario
 
     return load_scenario_text(crowd_scenario(1, duration), source=f"looping home ({duration:g} s)")
-
-
-def heap_peak_mib(scenario: Any, options: RunOptions) -> float:
-    """Peak traced Python heap (MiB) of one whole run."""
-    tracemalloc.start()
-    try:
-        cpu_run(scenario, options)
-        return tracemalloc.get_traced_memory()[1] / 2**20
-    finally:
-        tracemalloc.stop()
 
 
 def stage_ms(n_people: int, seconds: float) -> float:
@@ -135,12 +127,13 @@ def rows(s: Sizes, only: set[str] | None = None) -> list[Row]:
             ms = stage_ms(n, s.stage_seconds)
             add("stage", f"{n} people", ms, "CPU ms / sim s", "<= 2" if n == 1 else ("<= 5" if n == 10 else ""))
     if want("memory"):
-        opts = RunOptions(seed=0)
-        short = heap_peak_mib(looping_home(s.memory_short), opts)
-        long = heap_peak_mib(looping_home(s.memory_long), opts)
-        add("memory", f"{s.memory_short:g} s", short, "MiB heap peak")
-        add("memory", f"{s.memory_long:g} s", long, "MiB heap peak", "< 150, within 10 %",
-            f"{100 * (long / short - 1):+.1f} % over the short run")
+        from benchmarks.peak_memory import describe, measure
+
+        short = measure(s.memory_short)
+        add("memory", f"{s.memory_short:g} s", short["peak_rss_mib"], "MiB peak RSS", "", describe(short))
+        long = measure(s.memory_long)
+        add("memory", f"{s.memory_long:g} s", long["peak_rss_mib"], "MiB peak RSS", "< 150, within 10 %",
+            f"{100 * (long['peak_rss_mib'] / short['peak_rss_mib'] - 1):+.1f} % over the short run; {describe(long)}")
     if want("loop"):
         from benchmarks import bench_loop as bl
 

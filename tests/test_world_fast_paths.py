@@ -89,6 +89,35 @@ def test_the_bounded_sound_field_answers_as_the_whole_log(events):
         last = t
 
 
+@settings(max_examples=examples(40, 150), deadline=None)
+@given(events=events, spool=st.sampled_from([1, 64, 100_000]))
+def test_the_transcript_on_disk_is_the_whole_log(events, spool):
+    """The transcript (what left the window goes to a temporary file once it outgrows
+    ``spool`` characters) reads back as the whole log: every utterance, cuts included, in
+    order, with the same floats; questions further back than the window answer from it."""
+    import homesim.world.acoustics as acoustics
+
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(acoustics, "SPOOL_CHARS", spool)
+        ref, field = LogField(), SoundField(horizon=2.0)
+    t = 0.0
+    for source, what, gap, words, duration in events:
+        t += gap
+        text = " ".join(f"w{k}" for k in range(words))
+        if what == "say":
+            ref.say(source, text, t, duration)
+            field.say(source, text, t, duration=duration)
+        elif what == "cut":
+            ref.cut(source, t)
+            field.cut(source, t)
+    if spool == 1 and len(field._live) < len(ref.log):
+        assert field._history._file._rolled  # on disk
+    assert field.all() == ref.log
+    assert field.ended(0.0, t + 100.0) == ref.ended(0.0, t + 100.0)
+    assert field.since(0) == ref.log and field.since(len(ref.log) // 2) == ref.log[len(ref.log) // 2:]
+    assert field.by("ann") == [u for u in ref.log if u.source == "ann"]
+
+
 def test_a_sound_field_without_history_refuses_questions_about_the_forgotten_past():
     field = SoundField(horizon=2.0, history=False)
     field.say("ann", "hello", 0.0)

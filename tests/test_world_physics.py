@@ -40,6 +40,24 @@ def test_robot_stops_at_a_wall():
     assert [what for _, what in world.contacts] == ["wall"]
 
 
+def test_a_long_run_keeps_its_latest_contacts_and_counts_them_all(monkeypatch):
+    """Bumping into the wall again and again: every contact is counted and seen by the
+    listeners, only the latest CONTACT_LOG are kept (memory does not grow with the run)."""
+    import homesim.world.world as world_mod
+
+    monkeypatch.setattr(world_mod, "CONTACT_LOG", 2)
+    world = room()
+    world.humans["ann"].remove()
+    seen = []
+    world.add_contact_listener(lambda t, what: seen.append((t, what)))
+    for _ in range(4):
+        world.place_robot(7.2, 3.0, 0.0)  # 0.5 m from the east wall, facing it
+        _drive(world, 0.5, 0.0, 2.0)
+    assert len(seen) == world.contact_count >= 4 and {w for _, w in seen} == {"wall"}
+    assert world.contacts == seen[-2:]
+    assert [t for t, _ in seen] == sorted(t for t, _ in seen)
+
+
 def test_robot_cannot_pass_through_a_person():
     world = room()
     put_person(world, "ann", 4.0, 3.0, heading=math.pi)

@@ -18,7 +18,9 @@ detected (``module_failed`` on ``/system/health``; time to detect = from the
 fault to the report), recovered (``module_recovered``).
 
 Both are registered streaming observers (:mod:`homesim.metrics`); they keep running
-totals (and one small record per go-to: a tour has a handful); ``summary()`` reports them.
+totals (and one small record per go-to, the first :data:`MAX_GOTOS` of them: a tour has a
+handful; a longer run's ``goto_dropped`` says how many more were counted in the totals but
+not listed); ``summary()`` reports them.
 """
 
 from __future__ import annotations
@@ -32,6 +34,8 @@ from . import Observer
 ROBOT_RADIUS = 0.30
 #: m: the robot's speed is reported while a person is this close (centre to centre): the social limit's range.
 SOCIAL_NEAR = 1.2
+#: How many go-to records the summary lists (the totals count every go-to).
+MAX_GOTOS = 1000
 
 
 class Navigation(Observer):
@@ -49,7 +53,8 @@ class Navigation(Observer):
         self.length = 0.0
         self.shortest = 0.0
         self.last: tuple[float, float] | None = None
-        self.episodes: list[dict[str, Any]] = []  # one small dict per go-to (a tour has a handful)
+        self.episodes: list[dict[str, Any]] = []  # one small dict per go-to, the first MAX_GOTOS
+        self._totals = _Totals()  # over every go-to
         self.closest_person = math.inf
         self.replans = 0
         self.replans_found = 0
@@ -89,7 +94,7 @@ class Navigation(Observer):
             self.replans_found = 0
             self.speed_near = 0.0
             self.closest_person = math.inf
-            self._contacts_before = len(self.world.contacts)
+            self._contacts_before = self.world.contact_count
             self.shortest = self._shortest((x, y), self.goal) or 0.0
         elif m.channel == "/robot/es/events" and self.active:
             name = m.xml.get("name")
@@ -119,7 +124,7 @@ class Navigation(Observer):
     def _end(self, outcome: str, t: float) -> None:
         self.active = False
         x, y, _ = self.world.robot.pose
-        self.episodes.append({
+        episode = {
             "outcome": outcome,
             "time": round(t - self.started, 3),
             "path_length": round(self.length, 3),
@@ -127,35 +132,70 @@ class Navigation(Observer):
             "ratio": round(self.length / self.shortest, 3) if self.shortest > 0 else None,
             "goal_error": round(math.hypot(x - self.goal[0], y - self.goal[1]), 3) if self.goal else None,
             "closest_person": round(self.closest_person, 3) if math.isfinite(self.closest_person) else None,
-            "collisions": len(self.world.contacts) - self._contacts_before,
+            "collisions": self.world.contact_count - self._contacts_before,
             "replans": self.replans,
             "replans_found": self.replans_found,
             "speed_near_person_max": round(self.speed_near, 3),
-        })
+        }
+        self._record(episode)
+
+    def _record(self, episode: dict[str, Any]) -> None:
+        """Count a finished go-to in the totals; list it if fewer than MAX_GOTOS are listed."""
+        self._totals.add(episode)
+        if len(self.episodes) < MAX_GOTOS:
+            self.episodes.append(episode)
 
     def summary(self) -> dict[str, Any]:
-        """Every go-to, and over all of them the figures a scenario's ``<metric>`` can bound."""
-        eps = self.episodes
-
-        def worst(key: str, pick: Any) -> float | None:
-            vals = [e[key] for e in eps if e[key] is not None]
-            return pick(vals) if vals else None
-
-        return {
-            "goto": list(eps),
-            "episodes": len(eps),
-            "reached": sum(e["outcome"] == "reached" for e in eps),
-            "failed": sum(e["outcome"].startswith("failed") for e in eps),
-            "time_s": round(sum(e["time"] for e in eps), 3),
-            "path_length_m": round(sum(e["path_length"] for e in eps), 3),
-            "ratio_max": worst("ratio", max),
-            "goal_error_max_m": worst("goal_error", max),
-            "closest_person_m": worst("closest_person", min),
-            "speed_near_person_max": worst("speed_near_person_max", max),
-            "replans": sum(e["replans"] for e in eps),
-            "replans_found": sum(e["replans_found"] for e in eps),
-            "collisions": sum(e["collisions"] for e in eps),
+        """Every go-to (the first MAX_GOTOS), and over all of them the figures a scenario's ``<metric>`` can bound."""
+        t = self._totals
+        out: dict[str, Any] = {
+            "goto": list(self.episodes),
+            "episodes": t.n,
+            "reached": t.reached,
+            "failed": t.failed,
+            "time_s": round(t.time, 3),
+            "path_length_m": round(t.path_length, 3),
+            "ratio_max": t.worst["ratio"],
+            "goal_error_max_m": t.worst["goal_error"],
+            "closest_person_m": t.worst["closest_person"],
+            "speed_near_person_max": t.worst["speed_near_person_max"],
+            "replans": t.replans,
+            "replans_found": t.replans_found,
+            "collisions": t.collisions,
         }
+        if t.n > len(self.episodes):
+            out["goto_dropped"] = t.n - len(self.episodes)
+        return out
+
+
+#: The worst value of each figure over the go-tos: the largest, or the smallest (closest person).
+_WORST = {"ratio": max, "goal_error": max, "closest_person": min, "speed_near_person_max": max}
+
+
+class _Totals:
+    """Running totals over every go-to record, added in order: the same numbers as summing,
+    and taking the max or min of, the whole list (``sum`` starts at 0 and adds in order too)."""
+
+    def __init__(self) -> None:
+        self.n = self.reached = self.failed = self.replans = self.replans_found = self.collisions = 0
+        self.time: float = 0
+        self.path_length: float = 0
+        self.worst: dict[str, float | None] = dict.fromkeys(_WORST)
+
+    def add(self, e: dict[str, Any]) -> None:
+        self.n += 1
+        self.reached += e["outcome"] == "reached"
+        self.failed += e["outcome"].startswith("failed")
+        self.time += e["time"]
+        self.path_length += e["path_length"]
+        self.replans += e["replans"]
+        self.replans_found += e["replans_found"]
+        self.collisions += e["collisions"]
+        for key, pick in _WORST.items():
+            v = e[key]
+            if v is not None:
+                w = self.worst[key]
+                self.worst[key] = v if w is None else pick(w, v)
 
 
 class Failures(Observer):

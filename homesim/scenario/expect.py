@@ -269,13 +269,28 @@ class RobotNearCheck(Check):
 
 
 class NoCollisionCheck(Check):
+    """The robot touches nothing (or nothing of one kind, ``with``) in the window: counted as
+    contacts begin (:meth:`World.add_contact_listener`), the first one kept for the detail."""
+
+    def __init__(self, *args: Any) -> None:
+        super().__init__(*args)
+        self.what = self.e.get("with")
+        self.first: tuple[float, str] | None = None
+        self.hits = 0
+        self.world.add_contact_listener(self.on_contact)
+
+    def on_contact(self, t: float, what: str) -> None:
+        if self.t0 - 1e-9 <= t <= self.t1 + 1e-9 and (self.what is None or what == self.what):
+            self.hits += 1
+            if self.first is None:
+                self.first = (t, what)
+
     def verdict(self, end: float, context: Mapping[str, Any]) -> tuple[bool, str]:
-        what = self.e.get("with")
-        hits = [(t, w) for t, w in self.world.contacts if self.t0 - 1e-9 <= t <= self.t1 + 1e-9 and (what is None or w == what)]
-        if not hits:
+        what = self.what
+        if self.first is None:
             return True, f"the robot touched {'nothing' if what is None else f'no {what}'} {self.window()}"
-        more = f" (and {len(hits) - 1} more contacts)" if len(hits) > 1 else ""
-        return False, f"the robot touched {hits[0][1]} at t={hits[0][0]:.2f} s{more}"
+        more = f" (and {self.hits - 1} more contacts)" if self.hits > 1 else ""
+        return False, f"the robot touched {self.first[1]} at t={self.first[0]:.2f} s{more}"
 
 
 # --------------------------------------------------------- what the robot did

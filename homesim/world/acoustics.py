@@ -10,13 +10,19 @@ from the word count, so a long sentence keeps the recogniser busy longer.
 
 from __future__ import annotations
 
+import json
 import math
 import re
-from dataclasses import dataclass
+import tempfile
+import weakref
+from collections.abc import Iterable
+from dataclasses import astuple, dataclass
 
 #: Seconds per word and fixed onset/offset, about 150 words per minute.
 SECONDS_PER_WORD = 0.4
 SPEECH_OVERHEAD = 0.3
+#: Characters of transcript a sound field keeps in memory; the rest of a long run's goes to a temporary file.
+SPOOL_CHARS = 256 * 1024
 
 
 def words_of(text: str) -> tuple[str, ...]:
@@ -96,13 +102,18 @@ class SoundField:
     record per utterance (its final text after a cut), for :meth:`all`,
     :meth:`by` and :meth:`ended` further back and the run summary; with
     ``history=False`` asking further back than the window raises ValueError.
+    The transcript holds the utterances that left the window (final by then:
+    only a live utterance is ever cut) as lines of JSON, in memory up to
+    :data:`SPOOL_CHARS` and in a temporary file beyond, so a long run's memory
+    does not grow with what was said; questions about the forgotten past read
+    it back (the summary at the end, asking further back than the window).
     """
 
     def __init__(self, *, horizon: float = 30.0, history: bool = True) -> None:
         self.horizon = float(horizon)
         self._count = 0
         self._live: list[Utterance] = []  # in start (= n) order
-        self._history: list[Utterance] | None = [] if history else None
+        self._history: _Transcript | None = _Transcript() if history else None
         self._floor = -math.inf  # every utterance that ended at or after this is live
         self._longest = 0.0
         self._said: dict[str, int] = {}
@@ -131,8 +142,6 @@ class SoundField:
         self._longest = max(self._longest, dur)
         self._said[source] = self._said.get(source, 0) + 1
         self._live.append(u)
-        if self._history is not None:
-            self._history.append(u)
         return u
 
     def cut(self, source: str, t: float) -> Utterance | None:
@@ -150,15 +159,17 @@ class SoundField:
 
     def _replace(self, i: int, u: Utterance) -> Utterance:
         self._live[i] = u
-        if self._history is not None:
-            self._history[u.n] = u
         return u
 
     def _forget(self, t: float) -> None:
-        """Drop what ended longer ago than the window (bounded memory, bounded queries)."""
+        """Drop what ended longer ago than the window (bounded memory, bounded queries); the transcript keeps it."""
         floor = t - max(self.horizon, self._longest)
         if floor > self._floor:
-            self._live = [u for u in self._live if u.end >= floor]
+            live = self._live
+            if any(u.end < floor for u in live):
+                if self._history is not None:
+                    self._history.add(u for u in live if u.end < floor)
+                self._live = [u for u in live if u.end >= floor]
             self._floor = floor
 
     def _window(self, t: float, what: str) -> list[Utterance]:
@@ -167,7 +178,7 @@ class SoundField:
             return self._live
         if self._history is None:
             raise ValueError(f"{what}: {t:g} s is before the sound field's window (from {self._floor:g} s) and it keeps no history")
-        return self._history
+        return self.all()
 
     # ------------------------------------------------------------ questions
     def active(self, t: float) -> list[Utterance]:
@@ -213,14 +224,36 @@ class SoundField:
             return got
         if self._history is None:
             raise ValueError(f"since({n}): utterance {n} is no longer in the sound field's window and it keeps no history")
-        return self._history[n:]
+        return self.all()[n:]
 
     def said_by(self) -> dict[str, int]:
         """How many utterances each source started (all of the run, history or not)."""
         return dict(self._said)
 
     def all(self) -> list[Utterance]:
-        """Every utterance of the run (the transcript); ValueError without ``history``."""
+        """Every utterance of the run (the transcript), in start (``n``) order; ValueError without ``history``."""
         if self._history is None:
             raise ValueError("the sound field keeps no history (history=False)")
-        return list(self._history)
+        got = self._history.read() + self._live
+        got.sort(key=lambda u: u.n)  # an utterance leaves the window when it ends, not in start order
+        return got
+
+
+class _Transcript:
+    """Final utterances as lines of JSON: in memory up to :data:`SPOOL_CHARS`, then in a
+    temporary file (closed with the sound field). Floats are written as ``repr`` writes
+    them, so they read back exactly."""
+
+    def __init__(self) -> None:
+        self._file = tempfile.SpooledTemporaryFile(max_size=SPOOL_CHARS, mode="w+", encoding="utf-8")
+        self._close = weakref.finalize(self, self._file.close)
+
+    def add(self, us: Iterable[Utterance]) -> None:
+        f = self._file
+        f.seek(0, 2)
+        f.write("".join(json.dumps(astuple(u)) + "\n" for u in us))
+
+    def read(self) -> list[Utterance]:
+        f = self._file
+        f.seek(0)
+        return [Utterance(*json.loads(line)) for line in f]

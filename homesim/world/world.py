@@ -18,6 +18,7 @@ hardware models read it and publish noisy measurements on the bus.
 from __future__ import annotations
 
 import math
+from collections import deque
 from collections.abc import Callable
 
 import numpy as np
@@ -44,6 +45,7 @@ from .pathplan import WALKER_RADIUS, Grid, door_sides, scenario_bounds
 from .raycast import FanCaster, Prisms
 
 StepListener = Callable[["World"], None]
+ContactListener = Callable[[float, str], None]
 Overlap = tuple[float, pymunk.Vec2d, pymunk.Shape]
 
 #: How close (metres) a person's body may walk up to the robot's footprint.
@@ -57,6 +59,8 @@ CLEAR_CELL = 0.05
 CONTACT_MARGIN = 0.02
 #: Cells (metres) of the room look-up (:meth:`World.room_of`).
 ROOM_CELL = 0.1
+#: How many of the robot's latest contacts :attr:`World.contacts` keeps (the count goes on).
+CONTACT_LOG = 1000
 _UNKNOWN, _MIXED = object(), object()
 #: A query for walls and furniture only (people and the robot do not match it).
 STATIC_QUERY = pymunk.ShapeFilter(mask=CAT_WALL | CAT_FURNITURE)
@@ -90,7 +94,9 @@ class World:
         self.ptu = (0.0, 0.0)  # the camera's pan and tilt (radians), set by the camera model
         self.obstacles: list[Obstacle] = []
         self._listeners: list[StepListener] = []
-        self._contacts: list[tuple[float, str]] = []
+        self._contacts: deque[tuple[float, str]] = deque(maxlen=CONTACT_LOG)
+        self._contact_listeners: list[ContactListener] = []
+        self.contact_count = 0  # every contact the robot began, all run long
         self._build_static(scenario)
         r = scenario.robot
         self.robot = RobotBody(self.space, r.x, r.y, r.heading, max_speed=r.max_speed, max_turn=r.max_turn)
@@ -151,7 +157,11 @@ class World:
             what = "wall"
         else:
             what = "furniture"
-        self._contacts.append((self.time, what))
+        t = self.time
+        self._contacts.append((t, what))
+        self.contact_count += 1
+        for fn in self._contact_listeners:
+            fn(t, what)
 
     # --------------------------------------------------------------- time
     @property
@@ -162,6 +172,11 @@ class World:
     def add_listener(self, fn: StepListener) -> None:
         """Call ``fn(world)`` after every step (ground truth, plots); it must not change the world."""
         self._listeners.append(fn)
+
+    def add_contact_listener(self, fn: ContactListener) -> None:
+        """Call ``fn(time, what)`` whenever the robot begins touching something (``what``: "wall",
+        "furniture" or a person's name); during the physics step, so it must not change the world."""
+        self._contact_listeners.append(fn)
 
     def step(self, dt: float | None = None) -> None:
         """Advance physics by one step of ``dt`` (the world's own dt by default).
@@ -358,7 +373,9 @@ class World:
 
     @property
     def contacts(self) -> list[tuple[float, str]]:
-        """(time, what) of every contact the robot began: walls, furniture, people."""
+        """(time, what) of the contacts the robot began (walls, furniture, people): every one, up to
+        the latest :data:`CONTACT_LOG` (a run's memory does not grow with its length; the count of
+        all of them is :attr:`contact_count`, and :meth:`add_contact_listener` sees each)."""
         return list(self._contacts)
 
     # ------------------------------------------------------------ geometry
