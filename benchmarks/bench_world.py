@@ -5,11 +5,18 @@ Run: ``python benchmarks/bench_world.py``. Prints
 - laser scans/s: our vectorised numpy raycast (361 beams) vs one pymunk
   segment query per beam, in the example flat with two people;
 - physics steps/s of the example flat (robot driving, people walking);
-- wall-clock milliseconds per simulated second of a whole stage (physics
+- CPU milliseconds (process time) per simulated second of a whole stage (physics
   at 50 Hz, scripted people walking and talking, laser, camera,
-  microphones, base, speaker, display on the bus) with 1, 3 and 10 people.
+  microphones, base, speaker, display on the bus) with 1, 3 and 10 people,
+  and its parts: ``physics`` (the ``world`` task: stepping, holding people
+  back, contacts, step listeners, minus ground truth), ``ground truth``
+  (the stage's :class:`~homesim.world.truth.GroundTruth` frames, 10 a second),
+  ``people`` (the scripted people's tasks: scripts, walking, path planning)
+  and the rest (sensors and their messages, the kernel). Each part is timed
+  around its task as ``bench_modules.py`` does (about a microsecond per update
+  of timer overhead).
 
-Not a test: wall-clock numbers belong here, never in the test suite.
+Not a test: CPU times belong here, never in the test suite.
 """
 
 from __future__ import annotations
@@ -18,6 +25,7 @@ import argparse
 import math
 import time
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -32,6 +40,9 @@ ROOT = Path(__file__).resolve().parents[1]
 EXAMPLE = ROOT / "scenarios" / "two_people_radio.xml"
 
 
+_clock = time.process_time
+
+
 def bench_laser(n: int) -> tuple[float, float]:
     world = World(load_scenario(EXAMPLE))
     spec = LaserSpec()
@@ -39,19 +50,19 @@ def bench_laser(n: int) -> tuple[float, float]:
     rng = np.random.default_rng(0)
     out = np.empty(spec.n_beams)
     bearings = spec.bearings()
-    t0 = time.perf_counter()
+    t0 = _clock()
     for _ in range(n):
         simulate_scan(world, pose, spec, rng, bearings=bearings, out=out)
-    ours = n / (time.perf_counter() - t0)
+    ours = n / (_clock() - t0)
     origin = laser_origin(pose, spec)
     angles = bearings + pose[2]
     ends = [(origin[0] + spec.max_range * math.cos(a), origin[1] + spec.max_range * math.sin(a)) for a in angles]
     m = max(1, n // 10)
-    t0 = time.perf_counter()
+    t0 = _clock()
     for _ in range(m):
         for end in ends:
             world.space.segment_query_first(origin, end, 0.0, LASER_FILTER)
-    theirs = m / (time.perf_counter() - t0)
+    theirs = m / (_clock() - t0)
     return ours, theirs
 
 
@@ -59,13 +70,13 @@ def bench_physics(n: int) -> float:
     world = World(load_scenario(EXAMPLE))
     world.robot.command(0.3, 0.4)
     people = list(world.humans.values())
-    t0 = time.perf_counter()
+    t0 = _clock()
     for k in range(n):
         for i, h in enumerate(people):
             a = 0.01 * k + i
             h.walk_velocity(0.5 * math.cos(a), 0.5 * math.sin(a))
         world.step()
-    return n / (time.perf_counter() - t0)
+    return n / (_clock() - t0)
 
 
 def crowd_scenario(n_people: int, duration: float) -> str:
@@ -88,14 +99,50 @@ def crowd_scenario(n_people: int, duration: float) -> str:
 
 
 def bench_stage(n_people: int, duration: float) -> float:
+    """CPU ms per simulated second of the whole stage with ``n_people``."""
+    return stage_parts(n_people, duration, parts=False)["stage"]
+
+
+def stage_parts(n_people: int, duration: float, *, parts: bool = True) -> dict[str, float]:
+    """CPU ms per simulated second of the whole stage and (``parts``) of physics, ground truth and people."""
+    try:
+        from benchmarks.bench_modules import _Account, _TimedCoroutine
+    except ImportError:  # run as a script: benchmarks/ is on the path, its package is not
+        from bench_modules import _Account, _TimedCoroutine  # type: ignore[no-redef]
+    from homesim.world.truth import GroundTruth
+
+    account = _Account()
+    spawn, capture = Simulation.spawn, GroundTruth.capture
+    truth = [0.0]
+
+    def timed_spawn(self: Simulation, coro: Any, *, name: str) -> Any:
+        return spawn(self, _TimedCoroutine(coro, name, account), name=name)
+
+    def timed_capture(self: GroundTruth) -> Any:
+        t = _clock()
+        try:
+            return capture(self)
+        finally:
+            truth[0] += _clock() - t
+
     sc = load_scenario_text(crowd_scenario(n_people, duration), source=f"crowd{n_people}")
     sim = Simulation(seed=1, scenario=sc.name)
-    stage = Stage(sim, sc)
-    t0 = time.perf_counter()
-    stage.run()
-    wall = time.perf_counter() - t0
-    sim.close()
-    return 1000.0 * wall / duration
+    if parts:
+        Simulation.spawn, GroundTruth.capture = timed_spawn, timed_capture  # type: ignore[method-assign]
+    try:
+        stage = Stage(sim, sc)
+        t0 = _clock()
+        stage.run()
+        cpu = _clock() - t0
+    finally:
+        Simulation.spawn, GroundTruth.capture = spawn, capture  # type: ignore[method-assign]
+        sim.close()
+    out = {"stage": 1000.0 * cpu / duration}
+    if parts:
+        people = sum(c for name, c in account.cpu.items() if name.startswith("human:"))
+        out.update(physics=1000.0 * (account.cpu["world"] - truth[0]) / duration, truth=1000.0 * truth[0] / duration,
+                   people=1000.0 * people / duration)
+    return out
 
 
 def main() -> None:
@@ -109,8 +156,10 @@ def main() -> None:
     steps = bench_physics(args.steps)
     print(f"physics: {steps:8.0f} steps/s ({steps / 50:.0f}x real time at 50 Hz)")
     for n in (1, 3, 10):
-        ms = bench_stage(n, args.duration)
-        print(f"stage with {n:2d} people: {ms:6.1f} ms of wall clock per simulated second ({1000 / ms:.0f}x real time)")
+        p = stage_parts(n, args.duration)
+        print(f"stage with {n:2d} people: {p['stage']:6.1f} ms CPU per simulated second ({1000 / p['stage']:.0f}x real time): "
+              f"physics {p['physics']:.2f}, ground truth {p['truth']:.2f}, people {p['people']:.2f}, "
+              f"the rest (sensors, kernel) {p['stage'] - p['physics'] - p['truth'] - p['people']:.2f}")
 
 
 if __name__ == "__main__":

@@ -175,6 +175,10 @@ class HumanBody:
             leg.filter = pymunk.ShapeFilter(categories=CAT_LEGS | CAT_LASER, mask=CAT_QUERY)
         space.add(self.body, self.shape, *self.legs)
         self.leg_offsets = ((0.0, LEG_SPREAD), (0.0, -LEG_SPREAD))  # as last set on the leg shapes
+        # What _place_legs calls every step, bound once.
+        self._set_angle = cp.angle_setter(self.body)
+        self._set_legs = (cp.offset_setter(self.legs[0]), cp.offset_setter(self.legs[1]))
+        self._reindex = cp.reindexer(space, self.body)
         self._place_legs()
 
     # ------------------------------------------------------------ state
@@ -296,19 +300,19 @@ class HumanBody:
     def _place_legs(self) -> None:
         """Turn the body frame to the heading and swing the legs in it (both only when they
         changed: setting the same angle or offset again gives Chipmunk the same state)."""
-        body = self.body
         heading = self.heading
         swing = self.gait_amp * math.sin(self.phase)
         placed = self._placed
         if placed is None or placed[0] != heading or heading == 0.0:  # 0.0: a -0.0 the step made +0.0 is set again
-            cp.set_angle(body, heading)
+            self._set_angle(heading)
         if placed is None or placed[1] != swing or swing == 0.0:
-            cp.set_circle_offset(self.legs[0], swing, LEG_SPREAD)
-            cp.set_circle_offset(self.legs[1], -swing, -LEG_SPREAD)
-            self.leg_offsets = ((swing, LEG_SPREAD), (-swing, -LEG_SPREAD))
+            offsets = self.leg_offsets = ((swing, LEG_SPREAD), (-swing, -LEG_SPREAD))
+            left, right = self._set_legs
+            left(offsets[0])
+            right(offsets[1])
         self._placed = (heading, swing)
         if self.present:
-            cp.reindex(self.space, body)
+            self._reindex()
 
     def remove(self) -> None:
         """Leave the world (walked out of the flat)."""

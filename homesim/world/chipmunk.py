@@ -14,6 +14,9 @@ properties: slower, same results.
 
 from __future__ import annotations
 
+from collections.abc import Callable
+from functools import partial
+
 import pymunk
 
 try:  # pymunk >= 6: the cffi module every pymunk class calls into
@@ -90,6 +93,18 @@ if DIRECT:
         """What ``Space.reindex_shapes_for_body`` does."""
         _reindex(space._space, body._body)
 
+    def angle_setter(body: pymunk.Body) -> Callable[[float], None]:
+        """``set_angle`` bound to one body (one call, no Python frame: for what runs every step)."""
+        return partial(_set_angle, body._body)
+
+    def offset_setter(shape: pymunk.Circle) -> Callable[[tuple[float, float]], None]:
+        """``set_circle_offset`` bound to one circle, taking the offset as a pair."""
+        return partial(_set_offset, shape._shape)
+
+    def reindexer(space: pymunk.Space, body: pymunk.Body) -> Callable[[], None]:
+        """``reindex`` bound to one body of one space."""
+        return partial(_reindex, space._space, body._body)
+
     def point_distance(shape: pymunk.Shape, x: float, y: float) -> float:
         """``shape.point_query((x, y)).distance``: signed distance from the point to the shape."""
         return _point_query(shape._shape, (x, y), _query_info)  # type: ignore[no-any-return]
@@ -146,6 +161,15 @@ else:  # tests/test_world_fast_paths.py runs the world on these too
     def reindex(space: pymunk.Space, body: pymunk.Body) -> None:
         space.reindex_shapes_for_body(body)
 
+    def angle_setter(body: pymunk.Body) -> Callable[[float], None]:
+        return partial(set_angle, body)
+
+    def offset_setter(shape: pymunk.Circle) -> Callable[[tuple[float, float]], None]:
+        return shape.unsafe_set_offset
+
+    def reindexer(space: pymunk.Space, body: pymunk.Body) -> Callable[[], None]:
+        return partial(space.reindex_shapes_for_body, body)
+
     def point_distance(shape: pymunk.Shape, x: float, y: float) -> float:
         return float(shape.point_query((x, y)).distance)
 
@@ -154,4 +178,5 @@ else:  # tests/test_world_fast_paths.py runs the world on these too
 
 
 __all__ = ["DIRECT", "position", "set_position", "angle", "set_angle", "set_velocity",
-           "set_angular_velocity", "set_circle_offset", "reindex", "point_distance", "step"]
+           "set_angular_velocity", "set_circle_offset", "reindex", "point_distance", "step",
+           "angle_setter", "offset_setter", "reindexer"]
