@@ -103,8 +103,8 @@ def measure(seconds: float) -> dict[str, Any]:
 def describe(r: dict[str, Any]) -> str:
     """One line: peak RSS, the heap's blocks and RSS at the first and last samples, the traced minute."""
     samples = r["samples"]
-    # From 600 s on (what a ten-minute run reaches) if the run is longer, else from its first minute.
-    first = next((s for s in samples if s[0] >= 600.0 - 1e-9 and s is not samples[-1]), samples[min(1, len(samples) - 1)])
+    # From a sixth of the way (600 s of an hour: what a ten-minute run reaches) to the end.
+    first = next(s for s in samples if s[0] >= r["seconds"] / 6 - 1e-9)
     (t_a, b_a, m_a), (t_b, b_b, m_b) = first, samples[-1]
     rss = "" if m_a is None or m_b is None else f", RSS {m_a:.1f} -> {m_b:.1f} MiB"
     tr = r["traced"]
