@@ -21,7 +21,12 @@ from collections.abc import Sequence
 
 import numpy as np
 
+from homesim.kernels import load
+
 FloatArray = np.ndarray
+# The compiled inner loops (homesim/world/_raykernels.c), same floats as the Python paths below;
+# None where not built (or HOMESIM_PURE_PYTHON is set): the Python paths run.
+_K = load("homesim.world._raykernels", 1)
 
 _EMPTY2 = np.zeros((0, 2))
 _EMPTY1 = np.zeros(0)
@@ -384,6 +389,10 @@ class _Fan:
         legs (about a quarter of the dense pass) to ten people's (about the same as the dense
         pass), so they are the only path.
         """
+        if _K is not None and _plain(result):
+            _K.fan_circles(ox, oy, np.ascontiguousarray(c, dtype=float), np.ascontiguousarray(r, dtype=float), self.dx, self.dy,
+                           self.centre, self.half, self.step, max_range, result)
+            return
         self._circles_in_floats(ox, oy, c.tolist(), r.tolist(), max_range, result)
 
     def _circles_in_floats(self, ox: float, oy: float, centres: list[list[float]], radii: list[float], max_range: float, result: FloatArray) -> None:
@@ -434,7 +443,11 @@ class _Fan:
 
     def segments(self, ox: float, oy: float, s: _Segments, backfaces: bool, max_range: float, result: FloatArray) -> None:
         """The dense kernel's segment test on the (beam, segment) pairs where the beam lies within
-        the angle the segment subtends (numpy over the pairs)."""
+        the angle the segment subtends (numpy over the pairs; the compiled kernel where built)."""
+        if _K is not None and _plain(result):
+            _K.fan_segments(ox, oy, s.a, s.b, s.ex, s.ey, s.near, self.dx, self.dy, self._base, self._k0, self._kturn, self._khalf,
+                            self.step, backfaces, max_range, result)
+            return
         m = s.m
         dvx = s.vx - ox
         dvy = s.vy - oy
@@ -517,6 +530,26 @@ class _Fan:
         np.minimum.at(result, beam, t)
 
 
+def _plain(a: FloatArray) -> bool:
+    """Whether the compiled kernel can write into ``a`` in place: contiguous, writeable float64."""
+    return a.dtype == np.float64 and a.flags.c_contiguous and a.flags.writeable
+
+
+def add_range_noise(ranges: FloatArray, noise: FloatArray, max_range: float) -> FloatArray:
+    """A laser's noise, in place: ``ranges + noise`` clipped to [0, max_range], and a beam that hit
+    nothing (at ``max_range`` or beyond) reads exactly ``max_range``. Returns ``ranges``."""
+    if _K is not None and _plain(ranges) and noise.dtype == np.float64 and noise.flags.c_contiguous:
+        _K.scan_noise(ranges, noise, float(max_range))
+        return ranges
+    miss = ranges >= max_range
+    ranges += noise
+    # np.clip's values without its Python-level wrapper (a third of a scan's noise cost)
+    np.maximum(ranges, 0.0, out=ranges)
+    np.minimum(ranges, max_range, out=ranges)
+    ranges[miss] = max_range
+    return ranges
+
+
 def _frozen(a: object) -> bool:
     """Whether nobody can change ``a``'s values: an array that is read-only, and so is every array
     it views (a read-only view of a writeable array changes when that array does)."""
@@ -596,7 +629,7 @@ class Prisms:
     :func:`sight_lines_clear`: every edge's start point and outward normal, grouped by prism,
     and each prism's bounding box (``lo``, ``hi``: (M, 2)) for culling."""
 
-    __slots__ = ("a", "normal", "first", "bottom", "top", "lo", "hi", "count", "_edge_prism", "_boxes")
+    __slots__ = ("a", "normal", "first", "bottom", "top", "lo", "hi", "count", "_edge_prism", "_boxes", "_packed")
 
     def __init__(self, polygons: Sequence[FloatArray], bottom: Sequence[float], top: Sequence[float]) -> None:
         starts, normals, first, lo, hi = [], [], [], [], []
@@ -624,6 +657,17 @@ class Prisms:
 
     def __len__(self) -> int:
         return int(self.first.shape[0])
+
+    @property
+    def packed(self) -> tuple[FloatArray, ...]:
+        """(a, normal, first, count, bottom, top, lo, hi) as contiguous arrays, for the compiled kernel."""
+        try:
+            return self._packed
+        except AttributeError:
+            self._packed = tuple(np.ascontiguousarray(x, dtype=dt) for x, dt in (
+                (self.a, float), (self.normal, float), (self.first, np.intp), (self.count, np.intp),
+                (self.bottom, float), (self.top, float), (self.lo, float), (self.hi, float)))
+            return self._packed
 
     @property
     def boxes(self) -> list[tuple[float, float, float, float, float, float]]:
@@ -685,6 +729,14 @@ def sight_lines_clear(
     if n == 0:
         return np.zeros(0, dtype=bool)
     ox, oy, oz = float(origin[0]), float(origin[1]), float(origin[2])
+    if _K is not None:
+        c = np.ascontiguousarray(cyl_c, dtype=float).reshape(-1, 2)
+        k = c.shape[0]
+        blocked = np.zeros(n, dtype=bool)
+        if _K.sight_lines(ox, oy, oz, np.ascontiguousarray(tg), margin, _CULL, *prisms.packed, c,
+                          np.ascontiguousarray(cyl_r, dtype=float).reshape(k), np.ascontiguousarray(cyl_top, dtype=float).reshape(k),
+                          None if skip is None else np.ascontiguousarray(skip, dtype=bool).reshape(n, k), blocked):
+            return ~blocked
     # Cull first, in plain floats (a frame asks a few lines): an obstacle whose box misses the
     # box around every line, or whose height span misses every line's, cannot block; the
     # margin _CULL keeps rounding on the safe side. Often nothing is left to test.

@@ -28,6 +28,7 @@ if TYPE_CHECKING:
 
 from homesim.module import Module
 from homesim.world.legs import LegPair, detect_leg_pairs
+from homesim.world.raycast import add_range_noise
 
 __all__ = ["LaserSpec", "Laser", "LegPair", "detect_leg_pairs", "laser_origin", "simulate_scan", "SCAN_CHANNEL"]
 
@@ -78,12 +79,7 @@ def simulate_scan(
     b = spec.bearings() if bearings is None else bearings
     ranges = world.laser_ranges(laser_origin(pose, spec), b + pose[2], spec.max_range, out=out)
     if rng is not None and spec.noise > 0:
-        miss = ranges >= spec.max_range
-        ranges += rng.normal(0.0, spec.noise, ranges.shape[0])
-        # np.clip's values without its Python-level wrapper (a third of a scan's noise cost)
-        np.maximum(ranges, 0.0, out=ranges)
-        np.minimum(ranges, spec.max_range, out=ranges)
-        ranges[miss] = spec.max_range
+        add_range_noise(ranges, rng.normal(0.0, spec.noise, ranges.shape[0]), spec.max_range)
     return ranges
 
 

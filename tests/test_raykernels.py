@@ -1,0 +1,195 @@
+"""The compiled raycast kernels (homesim/world/_raykernels.c) give the Python paths' floats, bit for bit.
+
+Each property runs the same call twice, once with the kernel and once with ``raycast._K`` set to
+None (the pure-Python/numpy path every machine has), and compares the bytes. Where the kernel is
+not built these tests skip, except on CI, where the build must have worked (gcc is there).
+"""
+
+from __future__ import annotations
+
+import math
+import os
+
+import numpy as np
+import pytest
+from hypothesis import example, given, settings
+from hypothesis import strategies as st
+
+from homesim import kernels
+from homesim.world import raycast
+from homesim.world.raycast import FanCaster, Prisms, RayCaster, add_range_noise, sight_lines_clear
+from tests.conftest import examples
+
+K = raycast._K
+needs_kernel = pytest.mark.skipif(K is None, reason="the compiled raycast kernel is not built here (pip install -e . with a C compiler)")
+
+
+def test_the_kernel_is_built_on_ci():
+    """CI installs with gcc: a kernel that silently failed to build would leave every comparison
+    below skipped and the product on its slow path."""
+    if os.environ.get("CI", "").lower() not in ("1", "true", "yes"):
+        pytest.skip("only CI requires the compiled kernel")
+    assert K is not None
+
+
+def test_a_stale_or_unwanted_kernel_is_not_used(monkeypatch):
+    """A build from another version of the C source is ignored (the Python path runs), as is
+    any kernel when HOMESIM_PURE_PYTHON is set."""
+    assert kernels.load("homesim.world._raykernels", 10**6) is None
+    assert kernels.load("homesim.no_such_kernel", 1) is None
+    monkeypatch.setenv("HOMESIM_PURE_PYTHON", "1")
+    assert kernels.load("homesim.world._raykernels", 1) is None
+    monkeypatch.setenv("HOMESIM_PURE_PYTHON", "0")
+    assert kernels.load("homesim.world._raykernels", 1) is K
+
+
+def _both(fn):
+    """``fn()`` with the kernel, then with the Python path."""
+    with_kernel = fn()
+    raycast._K = None
+    try:
+        return with_kernel, fn()
+    finally:
+        raycast._K = K
+
+
+def _same(x: np.ndarray, y: np.ndarray) -> bool:
+    return x.dtype == y.dtype and x.shape == y.shape and x.tobytes() == y.tobytes()
+
+
+_coord = st.floats(-8.0, 8.0, allow_nan=False)
+_odd = st.sampled_from([math.nan, math.inf, -math.inf, 0.0, -0.0, 1e-300, 1e300])
+
+
+@needs_kernel
+@settings(max_examples=examples(60, 500), deadline=None)
+@given(
+    segs=st.lists(st.tuples(_coord, _coord, _coord, _coord) | st.tuples(_coord, _odd, _coord, _coord), max_size=12),
+    circles=st.lists(st.tuples(_coord, _coord, st.floats(0.0, 3.0)) | st.tuples(_odd, _coord, _odd), max_size=8),
+    origin=st.tuples(st.floats(-4.0, 4.0), st.floats(-4.0, 4.0)) | st.tuples(_odd, st.floats(-1.0, 1.0)),
+    start=st.floats(-7.0, 7.0),
+    n=st.sampled_from([2, 3, 46, 361]),
+    span=st.floats(1e-4, 2 * math.pi),
+    max_range=st.sampled_from([8.19, 2.5, 0.0, math.inf]),
+    backfaces=st.booleans(),
+    snap=st.sampled_from(["none", "end at origin", "origin on line"]),
+)
+@example(segs=[(1.0, -1.0, 1.0, 1.0)], circles=[(0.0, 0.0, 0.5)], origin=(0.0, 0.0), start=-1.5, n=361, span=math.pi, max_range=8.19,
+         backfaces=False, snap="none")
+@example(segs=[(2.0, -3.0, 2.0, 3.0)], circles=[(-1.0, 0.05, 0.1)], origin=(0.0, 0.0), start=-math.pi / 2, n=361, span=math.pi, max_range=2.0,
+         backfaces=True, snap="none")
+def test_fan_caster_kernel_gives_the_python_paths_floats(segs, circles, origin, start, n, span, max_range, backfaces, snap):
+    """Walls (segments) and legs (circles) on any even fan, geometry near, far, at and around the
+    laser, NaN and infinite coordinates: the kernel's ranges are the Python path's bytes (and the
+    dense kernel's)."""
+    angles = start + span / (n - 1) * np.arange(n)
+    ox, oy = origin
+    rows = []
+    for ax, ay, bx, by in segs:
+        if snap == "end at origin":
+            ax, ay = ox, oy
+        elif snap == "origin on line":
+            bx, by = 2 * ox - ax, 2 * oy - ay
+        rows.append((ax, ay, bx, by))
+    a = np.array([s[:2] for s in rows], dtype=float).reshape(-1, 2)
+    b = np.array([s[2:] for s in rows], dtype=float).reshape(-1, 2)
+    c = np.array([ci[:2] for ci in circles], dtype=float).reshape(-1, 2)
+    r = np.array([ci[2] for ci in circles], dtype=float)
+    with np.errstate(all="ignore"):
+        got, want = _both(lambda: FanCaster().cast(origin, angles, a, b, c, r, max_range, backfaces=backfaces))
+        assert _same(got, want)
+        if not backfaces:
+            got, want = _both(lambda: FanCaster().scan(origin, angles, a, b, c, r, max_range))
+            assert _same(got, want)
+        if FanCaster().fan(angles) is not None and math.isfinite(ox) and math.isfinite(oy) and np.isfinite(a).all() and np.isfinite(b).all() and np.isfinite(c).all() and np.isfinite(r).all():
+            dense = RayCaster().cast(origin, angles, a, b, c, r, max_range, backfaces=backfaces)
+            assert np.array_equal(got, dense, equal_nan=True)
+
+
+@needs_kernel
+def test_fan_caster_kernel_on_the_home_tours_scans():
+    """Recorded geometry: the home tour's walls and furniture at the laser's height, its people's
+    legs, the robot at poses of its tour (every scan of the first 30 s), kernel against Python."""
+    from pathlib import Path
+
+    from homesim.runner import Run, RunOptions
+    from robot.hardware.laser import LaserSpec, laser_origin
+
+    spec = LaserSpec()
+    root = Path(__file__).resolve().parents[1]
+    poses, legs = [], []
+    with Run.from_file(root / "scenarios" / "home_tour.xml", RunOptions(seed=0, until=30.0)) as run:
+        world = run.world
+        for t in np.arange(0.5, 30.0, 0.5):
+            run.sim.run(until=float(t))
+            poses.append(world.robot.pose)
+            legs.append(world.leg_circles())
+        a, b = world._laser_segments
+    for pose, (c, r) in zip(poses, legs):
+        angles = spec.bearings() + pose[2]
+        origin = laser_origin(pose, spec)
+        got, want = _both(lambda: FanCaster().scan(origin, angles, a, b, c, r, spec.max_range))
+        assert _same(got, want)
+
+
+@needs_kernel
+@settings(max_examples=examples(40, 300), deadline=None)
+@given(ranges=st.lists(st.floats(0.0, 10.0) | st.sampled_from([8.19, 0.0, math.nan, math.inf]), min_size=0, max_size=40),
+       noise=st.floats(-0.5, 0.5) | st.sampled_from([math.nan, -0.0]))
+def test_range_noise_kernel_gives_the_python_paths_floats(ranges, noise):
+    r0 = np.array(ranges, dtype=float)
+    z = np.full(r0.shape[0], noise) + np.linspace(-0.1, 0.1, r0.shape[0])
+    with np.errstate(all="ignore"):
+        got, want = _both(lambda: add_range_noise(r0.copy(), z, 8.19))
+    assert _same(got, want)
+
+
+def _box(x: float, y: float, w: float, h: float) -> np.ndarray:
+    return np.array([[x, y], [x + w, y], [x + w, y + h], [x, y + h]])
+
+
+@needs_kernel
+@settings(max_examples=examples(60, 400), deadline=None)
+@given(
+    boxes=st.lists(st.tuples(_coord, _coord, st.floats(0.01, 4.0), st.floats(0.01, 4.0), st.floats(0.0, 1.5), st.floats(0.0, 2.0),
+                             st.booleans()), max_size=6),
+    people=st.lists(st.tuples(_coord, _coord, st.floats(0.0, 0.4), st.floats(0.0, 2.0)), max_size=4),
+    targets=st.lists(st.tuples(_coord, _coord, st.floats(-0.5, 2.5)), min_size=1, max_size=6),
+    origin=st.tuples(_coord, _coord, st.floats(0.0, 2.0)),
+    skip_seed=st.integers(0, 2**16),
+    margin=st.sampled_from([1e-6, 0.1, 0.0]),
+    odd=st.sampled_from(["none", "target at origin", "nan target", "on an edge"]),
+)
+def test_sight_lines_kernel_gives_the_python_paths_answers(boxes, people, targets, origin, skip_seed, margin, odd):
+    """3D sight lines past furniture boxes (clockwise ones too), under tops, past people with
+    their own-body skips, targets at the origin, on an edge, NaN: kernel and Python agree."""
+    polys = [(_box(x, y, w, h)[::-1] if cw else _box(x, y, w, h)) for x, y, w, h, _, _, cw in boxes]
+    prisms = Prisms(polys, [bot for *_, bot, _, _ in boxes], [bot + top for *_, bot, top, _ in boxes])
+    tg = np.array(targets, dtype=float)
+    if odd == "target at origin":
+        tg[0] = origin
+    elif odd == "nan target":
+        tg[0, 1] = math.nan
+    elif odd == "on an edge" and polys:
+        tg[0, :2] = polys[0][0]
+    c = np.array([p[:2] for p in people], dtype=float).reshape(-1, 2)
+    r = np.array([p[2] for p in people], dtype=float)
+    top = np.array([p[3] for p in people], dtype=float)
+    skip = np.random.default_rng(skip_seed).random((tg.shape[0], c.shape[0])) < 0.3
+    with np.errstate(all="ignore"):
+        for sk in (skip, None):
+            got, want = _both(lambda: sight_lines_clear(origin, tg, prisms, c, r, top, skip=sk, margin=margin))
+            assert _same(got, want)
+
+
+@needs_kernel
+def test_the_kernels_hypot_is_numpys():
+    """The kernel's one libm call whose result decides what the Python path decides with numpy
+    (sight-line lengths, the legs' far cull) must give numpy's floats: both are the C library's hypot.
+    Random, tiny, huge and special values, and the home tour's recorded leg offsets."""
+    rng = np.random.default_rng(7)
+    x = np.concatenate((rng.normal(0.0, 5.0, 100000), rng.uniform(-1e-3, 1e-3, 5000), [0.0, -0.0, 3.0, 1e-300, 1e300, math.inf, math.nan]))
+    y = np.concatenate((rng.normal(0.0, 5.0, 100000), rng.uniform(-1e-3, 1e-3, 5000), [0.0, 4.0, 4.0, 1e-300, 1e300, 1.0, 1.0]))
+    out = np.empty_like(x)
+    K.hypots(x, y, out)
+    assert _same(out, np.hypot(x, y))
