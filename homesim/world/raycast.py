@@ -413,7 +413,8 @@ class _Fan:
                 np.minimum(result, 0.0, out=result)
                 continue
             rel = (math.atan2(fy, fx) - centre + math.pi) % TWO_PI - math.pi
-            half = math.asin(min(1.0, r / math.sqrt(ff)))
+            # ff == 0 here only with a NaN radius (which never hits): no ZeroDivisionError then.
+            half = math.asin(min(1.0, r / math.sqrt(ff) if ff > 0.0 else math.inf))
             base = rr - ff
             lo, hi = rel - half, rel + half
             if -math.pi <= lo and hi <= math.pi:
