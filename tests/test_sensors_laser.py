@@ -10,7 +10,7 @@ import pytest
 from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
-from homesim.world.bodies import LASER_FILTER
+from homesim.world.bodies import LASER_FILTER, LEG_RADIUS
 from homesim.world.raycast import FanCaster, RayCaster, cast_rays
 from robot.hardware.laser import LaserSpec, detect_leg_pairs, laser_origin, simulate_scan
 from tests.conftest import examples
@@ -302,3 +302,23 @@ def test_fan_caster_recasts_the_walls_when_a_read_only_view_changes_underneath()
     want = RayCaster().cast((0.0, 0.0), angles, a, b, max_range=SPEC.max_range, backfaces=False)
     assert want[180] == pytest.approx(1.0)
     assert np.array_equal(fc.scan((0.0, 0.0), angles, a, b, no_c, no_r, SPEC.max_range), want)
+
+
+@settings(max_examples=examples(20, 100), deadline=None)
+@given(st.floats(0.5, 7.5), st.floats(0.5, 5.5), st.floats(-math.pi, math.pi), st.floats(0.0, 3.0), st.booleans())
+def test_leg_circles_are_each_persons_leg_centres(x, y, heading, walked, present):
+    """The laser's legs, gathered in plain floats, are the people's own leg centres bit for bit
+    (mid-stride too), and nobody absent is cast."""
+    world = room()
+    h = world.humans["ann"]
+    put_person(world, "ann", x, y, heading=heading)
+    h.walk_velocity(math.cos(heading), math.sin(heading))
+    h.advance(walked)
+    if not present:
+        h.remove()
+    c, r = world.leg_circles()
+    if present:
+        assert c.tobytes() == h.leg_centres().tobytes()
+        assert r.tolist() == [LEG_RADIUS, LEG_RADIUS]
+    else:
+        assert c.shape == (0, 2) and r.shape == (0,)

@@ -112,6 +112,7 @@ class World:
         self.space.on_collision(CAT_ROBOT, None, begin=self._on_robot_contact)
         self._laser_segments = self.segments_at(LASER_HEIGHT)
         self.caster = FanCaster()
+        self._leg_radii: dict[int, np.ndarray] = {}  # leg_circles' radii per leg count (read-only)
         self._grids: dict[float, Grid] = {}
         self._room_polys = [(r.name, [(float(x), float(y)) for x, y in r.polygon]) for r in scenario.rooms]
         self._room_cells: dict[tuple[int, int], object] = {}
@@ -398,11 +399,26 @@ class World:
         return a, b
 
     def leg_circles(self) -> tuple[np.ndarray, np.ndarray]:
-        """Centres (K, 2) and radii (K,) of every present person's legs."""
-        present = [h for h in self.humans.values() if h.present]
-        if not present:
-            return np.zeros((0, 2)), np.zeros(0)
-        return np.concatenate([h.leg_centres() for h in present]), np.full(2 * len(present), LEG_RADIUS)
+        """Centres (K, 2) and radii (K,) of every present person's legs.
+
+        The centres are :meth:`~homesim.world.bodies.Human.leg_centres`' floats (the same
+        expressions), gathered in plain floats into one array; the radii array is shared per
+        count and read-only."""
+        rows = []
+        for h in self.humans.values():
+            if h.present:
+                x, y = h.position
+                heading = h.heading
+                c, s = math.cos(heading), math.sin(heading)
+                (ox0, oy0), (ox1, oy1) = h.leg_offsets
+                rows.append((x + c * ox0 - s * oy0, y + s * ox0 + c * oy0))
+                rows.append((x + c * ox1 - s * oy1, y + s * ox1 + c * oy1))
+        k = len(rows)
+        radii = self._leg_radii.get(k)
+        if radii is None:
+            radii = self._leg_radii[k] = np.full(k, LEG_RADIUS)
+            radii.flags.writeable = False
+        return (np.array(rows) if k else np.zeros((0, 2))), radii
 
     def person_cylinders(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, list[str]]:
         """Present people as upright cylinders for occlusion: centres (K, 2), radii, heights, names."""
