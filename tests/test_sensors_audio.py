@@ -14,9 +14,12 @@ from robot.hardware.microphones import (
     MicSpec,
     hear,
     mic_positions,
+    pair_geometry,
     recognise,
+    tdoa,
     word_error_rate,
 )
+from tests.conftest import examples
 from tests.world_helpers import at_bearing
 
 SPEC = MicSpec()
@@ -110,3 +113,20 @@ def test_speech_from_behind_is_recognised_worse_than_from_the_side_or_ahead():
     ahead, side, behind = (word_error_rate(2.0, math.radians(d), 30.0) for d in (0, 90, 180))
     assert ahead < side < behind
     assert word_error_rate(2.0, math.radians(-170), 30.0) > word_error_rate(2.0, math.radians(100), 30.0)
+
+
+_xyz = st.tuples(st.floats(-20, 20), st.floats(-20, 20), st.floats(-1, 3))
+
+
+@settings(max_examples=examples(60, 500))
+@given(pose=st.tuples(st.floats(-20, 20), st.floats(-20, 20), st.floats(-7, 7)), points=st.lists(_xyz, min_size=1, max_size=5))
+def test_pair_geometry_in_floats_is_the_numpy_paths(pose, points):
+    """The microphones' per-frame geometry in plain floats (what the module uses) gives the numpy
+    reference's floats exactly: TDOA per source, distance to the pair's centre, the centre."""
+    dts, dists, centre = pair_geometry(points, pose, SPEC)
+    mics = mic_positions(pose, SPEC)
+    mid = mics.mean(axis=0)
+    pts = np.array(points, dtype=float)
+    assert np.array(dts).tobytes() == tdoa(pts, mics).tobytes()
+    assert np.array(dists).tobytes() == np.linalg.norm(pts - mid, axis=1).tobytes()
+    assert centre == (float(mid[0]), float(mid[1]))

@@ -57,12 +57,11 @@ from .microphones import (
     Peak,
     bearing_from_tdoa,
     level_db,
-    mic_positions,
     mixture_peaks,
+    pair_geometry,
     path_loss_db,
     recognise_scored,
     snr_db,
-    tdoa,
     word_error_rate,
 )
 
@@ -142,34 +141,27 @@ class Microphones(Module):
             kept.append(u)
         if not kept:
             return np.zeros(0), np.zeros(0), []
-        pts_a = np.array(pts, dtype=float)
-        mics = mic_positions(pose, self.spec)
-        centre = mics.mean(axis=0)
-        dist = np.linalg.norm(pts_a - centre, axis=1)
-        levels = level_db(np.array(loud), dist) - self._path_loss(pts_a, (float(centre[0]), float(centre[1])))
-        return tdoa(pts_a, mics), levels, kept
+        # mic_positions, tdoa and the distances in plain floats (a frame hears a few sources), the
+        # same floats; level_db's logarithm stays numpy's.
+        dts, dist, centre = pair_geometry(pts, pose, self.spec)
+        levels = level_db(np.array(loud), np.array(dist)) - self._path_loss(pts, centre)
+        return np.array(dts), levels, kept
 
-    def _path_loss(self, pts: np.ndarray, centre: tuple[float, float]) -> np.ndarray:
+    def _path_loss(self, pts: list[tuple[float, float, float]], centre: tuple[float, float]) -> np.ndarray:
         """:func:`path_loss_db` per source, remembered for the last source and listener positions:
         a person talking stands still and the robot listening mostly does too, so most
         frames ask again what the last one asked. Each source's loss is its own row of
         the computation, so computing only the new ones gives the same numbers."""
         cache = self._losses
-        loss = np.empty(pts.shape[0])
-        todo = []
-        for i in range(pts.shape[0]):
-            got = cache.get((float(pts[i, 0]), float(pts[i, 1]), centre))
-            if got is None:
-                todo.append(i)
-            else:
-                loss[i] = got
+        loss = [cache.get((float(p[0]), float(p[1]), centre)) for p in pts]
+        todo = [i for i, got in enumerate(loss) if got is None]
         if todo:
-            new = path_loss_db(pts[todo, :2], centre, self._walls, self._furniture, self.spec)
+            new = path_loss_db(np.array([pts[i][:2] for i in todo], dtype=float), centre, self._walls, self._furniture, self.spec).tolist()
             if len(cache) > 4 * (len(todo) + 32):  # bounded: positions long gone
                 cache.clear()
             for k, i in enumerate(todo):
-                loss[i] = cache[(float(pts[i, 0]), float(pts[i, 1]), centre)] = float(new[k])
-        return loss
+                loss[i] = cache[(float(pts[i][0]), float(pts[i][1]), centre)] = new[k]
+        return np.array(loss, dtype=float)
 
     # ------------------------------------------------------------ main loop
     async def run(self) -> None:

@@ -86,6 +86,30 @@ def tdoa(sources: np.ndarray, mics: np.ndarray, c: float = SPEED_OF_SOUND) -> np
     return (dl - dr) / c
 
 
+def pair_geometry(points: list[tuple[float, float, float]], pose: tuple[float, float, float], spec: MicSpec,
+                  c: float = SPEED_OF_SOUND) -> tuple[list[float], list[float], tuple[float, float]]:
+    """Per source point: the TDOA (s, as :func:`tdoa`) and the distance to the pair's centre (the
+    mean of :func:`mic_positions`), and that centre's (x, y); in plain floats, for the few sources
+    of a frame, with exactly the numpy path's operations (the same floats)."""
+    x, y, th = pose
+    co, si = math.cos(th), math.sin(th)
+    cx, cy = x + spec.offset * co, y + spec.offset * si
+    h = spec.spacing / 2
+    z = spec.height
+    lx, ly, rx, ry = cx - si * h, cy + co * h, cx + si * h, cy - co * h
+    mx, my, mz = (lx + rx) / 2, (ly + ry) / 2, (z + z) / 2
+    dts, dists = [], []
+    for px, py, pz in points:
+        ax, ay, az = px - lx, py - ly, pz - z
+        bx, by, bz = px - rx, py - ry, pz - z
+        dl = math.sqrt(ax * ax + ay * ay + az * az)
+        dr = math.sqrt(bx * bx + by * by + bz * bz)
+        dts.append((dl - dr) / c)
+        ex, ey, ez = px - mx, py - my, pz - mz
+        dists.append(math.sqrt(ex * ex + ey * ey + ez * ez))
+    return dts, dists, (mx, my)
+
+
 def bearing_from_tdoa(dt: np.ndarray | float, spec: MicSpec, c: float = SPEED_OF_SOUND) -> np.ndarray:
     """The front-half-plane bearing (radians, + left) for a TDOA (far-field model).
 
