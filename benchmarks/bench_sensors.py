@@ -11,8 +11,14 @@ the example flat with 1, 3 and 10 people (:func:`benchmarks.bench_world.crowd_sc
 - a camera frame's detections (``detect_frame``: faces, torsos, gestures, objects, one pass of 3D
   sight lines) against the four per-kind detectors called in turn (a pass each);
 - the whole simulated home (``Stage``: physics, people, every sensor and its bus messages) in CPU
-  ms per simulated second, and the laser's and the camera's modules' share of it (each wake-up
-  timed, as :mod:`benchmarks.bench_modules` does, their bus messages included).
+  ms per simulated second, and the laser's, the camera's, the microphones' and the base's modules'
+  share of it (each wake-up timed, as :mod:`benchmarks.bench_modules` does, their bus messages
+  included).
+
+Every figure is measured twice side by side, with the compiled kernels
+(``homesim/world/_raykernels.c``) and with the pure-Python/numpy paths they replace
+(``raycast._K`` set to None in this process; ``HOMESIM_PURE_PYTHON=1`` does the same for a whole
+run): ``kernel`` and ``python`` columns. Where the kernel is not built both columns are the Python path.
 
 Not a test: nothing is asserted.
 """
@@ -30,6 +36,7 @@ from benchmarks.bench_modules import _Account, _TimedCoroutine
 from benchmarks.bench_world import crowd_scenario
 from homesim.scenario.loader import load_scenario_text
 from homesim.sim import Simulation
+from homesim.world import raycast
 from homesim.world.raycast import RayCaster
 from homesim.world.stage import Stage
 from homesim.world.world import World
@@ -83,12 +90,23 @@ def kernels(n_people: int, reps: int) -> dict[str, float]:
         detect_objects(world, pose, ptu, cspec, rng, occluders=occ)
 
     return {
-        "scan standing": cpu_us(lambda: simulate_scan(world, pose, spec, rng, bearings=bearings), reps),
-        "scan moving": cpu_us(moving, reps),
-        "dense cast": cpu_us(lambda: dense.cast(origin, angles, a, b, c, r, spec.max_range, backfaces=False), reps),
-        "frame": cpu_us(lambda: detect_frame(world, pose, ptu, cspec, rng, occluders=world.person_cylinders()), reps),
-        "frame per kind": cpu_us(per_kind, reps),
+        "scan standing": compiled_and_python(lambda: cpu_us(lambda: simulate_scan(world, pose, spec, rng, bearings=bearings), reps)),
+        "scan moving": compiled_and_python(lambda: cpu_us(moving, reps)),
+        "dense cast": compiled_and_python(lambda: cpu_us(lambda: dense.cast(origin, angles, a, b, c, r, spec.max_range, backfaces=False), reps)),
+        "frame": compiled_and_python(lambda: cpu_us(lambda: detect_frame(world, pose, ptu, cspec, rng, occluders=world.person_cylinders()), reps)),
+        "frame per kind": compiled_and_python(lambda: cpu_us(per_kind, reps)),
     }
+
+
+def compiled_and_python(measure: Callable[[], Any]) -> tuple[Any, Any]:
+    """``measure()`` with the compiled raycast kernel, then with the Python path, back to back."""
+    kernel = raycast._K
+    with_kernel = measure()
+    raycast._K = None
+    try:
+        return with_kernel, measure()
+    finally:
+        raycast._K = kernel
 
 
 def in_stage(n_people: int, duration: float) -> dict[str, float]:
@@ -110,7 +128,10 @@ def in_stage(n_people: int, duration: float) -> dict[str, float]:
         sim.close()
     finally:
         Simulation.spawn = spawn  # type: ignore[method-assign]
-    return {"home": 1000 * cpu / duration, "laser": 1000 * account.cpu["laser"] / duration, "camera": 1000 * account.cpu["camera"] / duration}
+    return {"home": 1000 * cpu / duration, **{m: 1000 * account.cpu[m] / duration for m in MODULES}}
+
+
+MODULES = ("laser", "camera", "microphones", "base")
 
 
 def main() -> None:
@@ -118,14 +139,17 @@ def main() -> None:
     ap.add_argument("--duration", type=float, default=30.0, help="simulated seconds of each home run")
     ap.add_argument("--reps", type=int, default=300, help="calls per timing round of the kernels")
     a = ap.parse_args()
-    print(f"{'people':>6} {'scan standing':>14} {'scan moving':>12} {'dense cast':>11} {'frame':>8} {'per kind':>9}   "
-          f"{'home ms/s':>9} {'laser ms/s':>10} {'camera ms/s':>11}")
+    print(f"compiled kernel {'built' if raycast._K is not None else 'NOT built (both columns: the Python path)'}; "
+          "each figure: kernel / python, measured back to back")
+    print(f"{'people':>6} {'scan standing us':>17} {'scan moving us':>15} {'dense cast us':>14} {'frame us':>13} {'per kind us':>13}")
     for n in (1, 3, 10):
         k = kernels(n, a.reps)
-        s = in_stage(n, a.duration)
-        print(f"{n:>6} {k['scan standing']:>11.1f} us {k['scan moving']:>9.1f} us {k['dense cast']:>8.1f} us "
-              f"{k['frame']:>5.1f} us {k['frame per kind']:>6.1f} us   {s['home']:>9.2f} {s['laser']:>10.2f} {s['camera']:>11.2f}", flush=True)
-
+        print(f"{n:>6} " + " ".join(f"{k[name][0]:>{w - 7}.1f} / {k[name][1]:>5.1f}" for name, w in
+                                   (("scan standing", 17), ("scan moving", 15), ("dense cast", 14), ("frame", 13), ("frame per kind", 13))), flush=True)
+    print(f"{'people':>6} {'home ms/s':>15} " + " ".join(f"{m + ' ms/s':>15}" for m in MODULES))
+    for n in (1, 3, 10):
+        s = compiled_and_python(lambda: in_stage(n, a.duration))
+        print(f"{n:>6} {s[0]['home']:>7.2f} / {s[1]['home']:>5.2f} " + " ".join(f"{s[0][m]:>7.2f} / {s[1][m]:>5.2f}" for m in MODULES), flush=True)
 
 if __name__ == "__main__":
     main()

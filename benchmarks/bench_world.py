@@ -2,8 +2,9 @@
 
 Run: ``python benchmarks/bench_world.py``. Prints
 
-- laser scans/s: our vectorised numpy raycast (361 beams) vs one pymunk
-  segment query per beam, in the example flat with two people;
+- laser scans/s: our raycast (361 beams; the fan caster, with its compiled kernel and, back to
+  back, its pure-Python/numpy path) vs one pymunk segment query per beam, in the example flat
+  with two people;
 - physics steps/s of the example flat (robot driving, people walking);
 - CPU milliseconds (process time) per simulated second of a whole stage (physics
   at 50 Hz, scripted people walking and talking, laser, camera,
@@ -151,8 +152,16 @@ def main() -> None:
     ap.add_argument("--steps", type=int, default=5000)
     ap.add_argument("--duration", type=float, default=30.0)
     args = ap.parse_args()
+    from homesim.world import raycast
+
+    kernel = raycast._K
     ours, theirs = bench_laser(args.scans)
-    print(f"laser (361 beams): numpy {ours:8.0f} scans/s ({1000 / ours:.3f} ms/scan); pymunk per-ray queries {theirs:6.0f} scans/s ({1000 / theirs:.3f} ms/scan); x{ours / theirs:.1f}")
+    raycast._K = None  # the same scans on the compiled kernel's Python path, back to back
+    python, _ = bench_laser(args.scans)
+    raycast._K = kernel
+    built = "compiled kernel" if kernel is not None else "kernel NOT built"
+    print(f"laser (361 beams): {built} {ours:8.0f} scans/s ({1000 / ours:.3f} ms/scan), its Python path {python:8.0f} scans/s "
+          f"({1000 / python:.3f} ms/scan); pymunk per-ray queries {theirs:6.0f} scans/s ({1000 / theirs:.3f} ms/scan); x{ours / theirs:.1f}")
     steps = bench_physics(args.steps)
     print(f"physics: {steps:8.0f} steps/s ({steps / 50:.0f}x real time at 50 Hz)")
     for n in (1, 3, 10):
