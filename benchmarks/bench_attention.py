@@ -4,7 +4,8 @@ Run: ``python benchmarks/bench_attention.py``. Prints
 
 - CPU per scan (process time, microseconds) of person_attention's work on
   recorded scans of ``scenarios/attention/three_crossing.xml`` (three
-  people): the leg detector alone; detection + anchoring (the batched
+  people): the leg detector alone (its compiled pass if built, and the
+  Python path); detection + anchoring (the batched
   Kalman tracks, gating, GNN); detection + anchoring + cues + selection +
   FSM (everything the module does per scan except building and sending
   its messages); and the whole per-scan step with its bus messages;
@@ -78,13 +79,19 @@ def cpu_per_scan(path: Path, repeat: int = 5) -> dict[str, float]:
     pa.legs = pa.legs.__class__(offset=0.13)
     odo_at = {round(o[0], 3): o for o in odom}
     out: dict[str, float] = {}
-    # Detection alone (the module's detector for this scan geometry, no furniture filter).
-    detector = LegDetector(BEARINGS, pa.legs)
-    t0 = time.process_time()
-    for _ in range(repeat):
-        for _, r, _, _ in rows:
-            detector(r)
-    out["legs"] = (time.process_time() - t0) / (repeat * len(rows)) * 1e6
+    # Detection alone (the module's detector for this scan geometry, no furniture filter): the
+    # compiled pass when it is built, and the Python path it replaces.
+    for label, compiled in (("legs", True), ("legs, Python path", False)):
+        detector = LegDetector(BEARINGS, pa.legs, compiled=compiled)
+        if label == "legs" and detector.kernel is None:
+            label = "legs (no compiled kernel)"
+        best = math.inf
+        for _ in range(repeat):
+            t0 = time.process_time()
+            for _, r, _, _ in rows:
+                detector(r)
+            best = min(best, (time.process_time() - t0) / len(rows) * 1e6)
+        out[label] = best
     # The whole step, with and without building/sending its messages.
     for label, quiet in (("all but messages", True), ("whole step with messages", False)):
         best = math.inf

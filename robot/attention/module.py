@@ -262,10 +262,12 @@ class PersonAttention(Module):
         ids = [tk.id for tk in tracks]
         sources = list(msg.xml)
         bearings = [math.radians(float(s.get("bearing"))) for s in sources]
-        track_bearings = bearings_from(self._robot_xy(t), self.cues.mic_offset) if tracks else []
+        # The tracks' bearings only when there is a sound to match them with (most frames are quiet).
+        track_bearings = bearings_from(self._robot_xy(t), self.cues.mic_offset) if tracks and bearings else []
         rows = match_sounds(track_bearings, bearings, self.cues.sound_tolerance) if tracks and bearings else []
         self.speaking.feed(t, ids, {ids[r] for r in rows})
-        self._partner_seen(rows, t)  # the partner's voice from the partner's direction keeps the partner
+        if rows:
+            self._partner_seen(rows, t)  # the partner's voice from the partner's direction keeps the partner
         if bearings:
             levels = [float(s.get("level", "0")) for s in sources]
             seen = [b for b, tk in zip(track_bearings, tracks) if tk.confirmed]
