@@ -14,7 +14,8 @@ Run: ``python benchmarks/bench_attention.py``. Prints
   on every scenario in ``scenarios/attention/`` and the example flat;
 - each scenario's CLEAR-MOT/IDF1 figures from the ``tracking`` metric of a
   full run (the runner, the supervisor and person_attention; no dialog, so
-  no interaction);
+  no interaction), and the metric's own CPU per scored frame (ground truth
+  read, visibility, CLEAR-MOT update: scoring, but part of a run's cost);
 - the share of interaction time the attention was on the right person, from
   whole-robot runs of the library scenarios with a greeting (distractor,
   two_candidates, two_people_radio; also in every run's summary:
@@ -136,6 +137,21 @@ def detector_scores(path: Path) -> tuple[int, ...]:
     return tp, fp, fn, tp2, fp2, fn2, len(rows)
 
 
+def _time_frames(metric) -> list[float]:
+    """[CPU seconds, frames] of the tracking metric's scoring of each tracks message (process time)."""
+    acc = [0.0, 0]
+    frame = metric._frame
+
+    def timed(m) -> None:
+        t0 = time.process_time()
+        frame(m)
+        acc[0] += time.process_time() - t0
+        acc[1] += 1
+
+    metric._frame = timed
+    return acc
+
+
 def main() -> None:
     three = ROOT / "scenarios" / "attention" / "three_crossing.xml"
     import os
@@ -156,10 +172,11 @@ def main() -> None:
         tp, fp, fn, tp2, fp2, fn2, n = detector_scores(p)
         print(f"  {p.stem:24s} {n:6d} {tp / max(tp + fp, 1):14.3f} {tp / max(tp + fn, 1):6.3f} {tp2 / max(tp2 + fp2, 1):17.3f} {tp2 / max(tp2 + fn2, 1):6.3f}")
     print("\ntracking (runner + supervisor + person_attention), CLEAR-MOT / IDF1 (no dialog: no interaction):")
-    print(f"  {'scenario':24s} {'MOTA':>6s} {'MOTP m':>7s} {'IDF1':>6s} {'miss':>5s} {'FP':>4s} {'IDsw':>5s} {'gt':>3s} {'tracks':>6s}")
+    print(f"  {'scenario':24s} {'MOTA':>6s} {'MOTP m':>7s} {'IDF1':>6s} {'miss':>5s} {'FP':>4s} {'IDsw':>5s} {'gt':>3s} {'tracks':>6s} {'metric us/frame':>15s}")
     latencies: list[tuple[str, str, float, float]] = []
     for p in SCENARIOS:
         run = Run.from_file(p, RunOptions(subsystems=("robot.attention",), metrics=("tracking",)))
+        scoring = _time_frames(run.metrics["tracking"])
         pp: list[float] = []
         run.dispatcher.add("/robot/es/events", lambda m: pp.append(m.created) if m.xml.get("name") == "potential_partner" else None)
         run.run()
@@ -170,7 +187,10 @@ def main() -> None:
                 if after:
                     latencies.append((p.stem, u.source, after[0] - u.start, after[0] - u.end))
         run.close()
-        print(f"  {p.stem:24s} {s['mota']:6.3f} {s['motp_m']:7.3f} {s['idf1']:6.3f} {s['misses']:5d} {s['false_positives']:4d} {s['id_switches']:5d} {s['gt_ids']:3d} {s['track_ids']:6d}")
+        print(
+            f"  {p.stem:24s} {s['mota']:6.3f} {s['motp_m']:7.3f} {s['idf1']:6.3f} {s['misses']:5d} {s['false_positives']:4d} {s['id_switches']:5d} {s['gt_ids']:3d} {s['track_ids']:6d}"
+            f" {scoring[0] / max(scoring[1], 1) * 1e6:15.1f}"
+        )
     # The share needs interactions, so a dialog: the library's scenarios with a greeting, the whole robot.
     print("\nattention on the right person during interactions (library scenarios, the whole robot, scenario seed):")
     for p in PARTNER_SCENARIOS:
