@@ -90,6 +90,10 @@ class StreamingMOT:
             self._gt_frames[o] = self._gt_frames.get(o, 0) + 1
         for h in hyp_ids:
             self._hyp_frames[h] = self._hyp_frames.get(h, 0) + 1
+        if not (n and m):  # nobody to match: every person missed, every track false, correspondences kept
+            self.misses += n
+            self.false_positives += m
+            return
         d: list[float] = []  # row-major, gt x hyp
         if n and m:
             d = np.hypot([gx - hx for gx, _ in gt for hx, _ in hy], [gy - hy_ for _, gy in gt for _, hy_ in hy]).tolist()

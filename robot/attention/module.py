@@ -232,10 +232,13 @@ class PersonAttention(Module):
         self._map_pose = (msg.created, float(el.get("x")), float(el.get("y")), float(el.get("theta")))
         self._map_odom = self._pose_at(msg.created)
 
-    def _robot_in_map(self, t: float) -> tuple[float, float, float]:
-        """The robot's pose in the map frame: the localiser's last pose moved on by odometry since, else start + odometry."""
+    def _robot_in_map(self, t: float, odom: tuple[float, float, float] | None = None) -> tuple[float, float, float]:
+        """The robot's pose in the map frame: the localiser's last pose moved on by odometry since, else start + odometry.
+
+        ``odom``: the odometry pose at ``t`` if the caller has it already (``_pose_at(t)``)."""
         assert self.furniture is not None
-        odom = self._pose_at(t)
+        if odom is None:
+            odom = self._pose_at(t)
         if self._map_pose is None or self._map_odom is None:
             return self.furniture.map_pose(odom)
         _, mx, my, mth = self._map_pose
@@ -359,7 +362,7 @@ class PersonAttention(Module):
         pose = self._pose_at(t)
         reject = None
         if self.furniture is not None:
-            mx, my, mth = self._robot_in_map(t)
+            mx, my, mth = self._robot_in_map(t, pose)
             cm, sm = math.cos(mth), math.sin(mth)
             inside = self.furniture.inside_points
 
