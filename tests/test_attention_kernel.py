@@ -1,13 +1,14 @@
 """The leg detector's compiled pass (robot/attention/_legkernel.c) computes what its Python path computes, bit for bit.
 
 The kernel is optional (built by ``pip install -e .`` where a C compiler is found); without it these
-tests are skipped and the Python path, checked against the vectorised rules in
-tests/test_attention_units.py, is what runs.
+tests are skipped (except on CI, where the build must have worked) and the Python path, checked
+against the vectorised rules in tests/test_attention_units.py, is what runs.
 """
 
 from __future__ import annotations
 
 import math
+import os
 from pathlib import Path
 
 import numpy as np
@@ -20,6 +21,15 @@ from robot.attention.legs import LegDetector, LegSpec
 from tests.test_attention_units import BEARINGS, _scan
 
 needs_kernel = pytest.mark.skipif(legs_module._KERNEL is None, reason="the compiled leg kernel is not built (pip install -e . with a C compiler)")
+
+
+def test_ci_built_the_leg_kernel():
+    """CI installs with gcc: a kernel that silently failed to build would leave every comparison
+    below skipped and the detector on its slow path."""
+    if os.environ.get("CI", "").lower() not in ("1", "true", "yes"):
+        pytest.skip("only CI requires the compiled kernel")
+    assert legs_module._KERNEL is not None
+    assert LegDetector(BEARINGS).kernel is legs_module._KERNEL
 
 
 def _candidates(det: LegDetector, ranges: np.ndarray) -> list[tuple[float, float]]:
