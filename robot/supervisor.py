@@ -315,7 +315,7 @@ class ExecutionSupervisor(Module):
         (:func:`payload_problem`). Raises :class:`SupervisorError` for a
         payload too large or an id already queued.
         """
-        now = self._loop.now_ns
+        now = self._loop._now_ns
         # The same-instant rule: events whose lifetime ends now are dead before this one is queued,
         # whether the ES's expiry timer for now has run yet or not (link latency decides that).
         expired: list[Record] = list(self.engine.expire(now))
@@ -334,7 +334,7 @@ class ExecutionSupervisor(Module):
         self._timer_at = None
         if self.bus.closed or self.bus.hung:
             return
-        now = self._loop.now_ns
+        now = self._loop._now_ns
         if now == self._busy_until:
             # The cost ends now. Decide only after every delivery already due at this instant
             # (a timer scheduled now runs after them): whether an event arriving at the same
@@ -351,7 +351,7 @@ class ExecutionSupervisor(Module):
         self._busy_until = -1
         if self.bus.closed or self.bus.hung:
             return
-        self._tick(self._loop.now_ns)
+        self._tick(self._loop._now_ns)
 
     def _tick(self, now: int) -> list[Record]:
         """Everything due at ``now``, in decision order.
@@ -375,9 +375,11 @@ class ExecutionSupervisor(Module):
                 records += recs
                 break
             recs = self.engine.process(now, max_applied=1)
+            if not recs:
+                break
             self._emit(recs, now)
             records += recs
-            if not recs or not isinstance(recs[-1], Applied):
+            if not isinstance(recs[-1], Applied):
                 break
             if self.cost_ns:
                 self._busy_until = now + self.cost_ns

@@ -321,6 +321,8 @@ class Engine:
         at the virtual time the next decision can be taken.
         """
         records: list[Record] = self.expire(now_ns)  # type: ignore[assignment]  # (a new list) expiry first: the same-instant rule
+        if not self._queue:
+            return records
         applied = 0
         q = self._queue
         tables = self._tables
@@ -366,7 +368,9 @@ class Engine:
         pays a transition's processing cost) but must still reject expired
         events exactly at their expiry. Oldest first; nothing else changes.
         """
-        self._advance(now_ns)
+        if now_ns < self._now:
+            self._advance(now_ns)  # raises
+        self._now = now_ns
         q = self._queue
         if not q or min(item.expires_ns for item in q) > now_ns:
             return []

@@ -61,6 +61,8 @@ class Localiser(Module):
         self._odo_at_fix: Pose | None = None  # odometry pose at the last correction
         self._est_at_fix: Pose = (0.0, 0.0, 0.0)  # map pose at the last correction
         self._cov: tuple[float, float, float] = (0.0, 0.0, 0.0)
+        self._cov_of_text: tuple[float, float, float] | None = None  # the covariance _cov_text was formatted from
+        self._cov_text = ("", "", "")
         self._bearings: dict[tuple[int, str, str], np.ndarray] = {}
         self._scan_waiting: Message | None = None  # a scan newer than every odometry reading
         self.pose: Pose | None = None  # the latest published estimate
@@ -106,12 +108,16 @@ class Localiser(Module):
             self._on_scan(waiting)
         pose = compose(self._est_at_fix, relative(self._odo_at_fix, odo))
         self.pose = pose
-        cxx, cyy, ctt = self._cov
+        cov = self._cov
+        if cov is not self._cov_of_text:  # the covariance changes only at a correction: formatted once per fix
+            self._cov_of_text = cov
+            self._cov_text = (f"{cov[0]:.6f}", f"{cov[1]:.6f}", f"{cov[2]:.6f}")
+        cxx, cyy, ctt = self._cov_text
         self.bus.publish(
             POSE_CHANNEL,
             etree.Element(
                 "pose", time=f"{t:.6f}", x=f"{pose[0]:.4f}", y=f"{pose[1]:.4f}", theta=f"{pose[2]:.5f}",
-                cxx=f"{cxx:.6f}", cyy=f"{cyy:.6f}", ctt=f"{ctt:.6f}", frame="map",
+                cxx=cxx, cyy=cyy, ctt=ctt, frame="map",
             ),
             causes=(msg.id,),
             created=t,

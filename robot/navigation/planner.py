@@ -113,7 +113,7 @@ class Planner(Module):
         self.timeout = timeout
         sim.bus.declare_channel(PLAN, SCHEMA)
         self.grid: OccupancyGrid | None = None
-        self.pose: tuple[float, float, float] | None = None
+        self._pose_xml: etree._Element | None = None  # the latest pose message's payload, parsed when planning
         self._request = 0  # the navigate request being planned (cancel bumps it)
         self._pending: deque[tuple[int, etree._Element | None]] = deque(maxlen=4)
         self.goal: tuple[str, tuple[float, float, float]] | None = None  # the last goal planned to
@@ -127,8 +127,13 @@ class Planner(Module):
         return Planner(self.sim, name=self.name, limits=self.limits, timeout=self.timeout)
 
     def _on_pose(self, msg: Message) -> None:
-        x = msg.xml
-        self.pose = (float(x.get("x")), float(x.get("y")), float(x.get("theta")))
+        self._pose_xml = msg.xml  # this receiver's own copy: read only when a plan needs the pose
+
+    @property
+    def pose(self) -> tuple[float, float, float] | None:
+        """The latest localised pose (map frame), None before the first."""
+        x = self._pose_xml
+        return None if x is None else (float(x.get("x")), float(x.get("y")), float(x.get("theta")))  # type: ignore[arg-type]
 
     def _on_condition(self, msg: Message) -> None:
         name = msg.xml.get("name")
