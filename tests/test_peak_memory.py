@@ -31,3 +31,18 @@ def test_the_peak_rss_is_the_runs_own_and_not_its_parents():
     report = measure(1.0)
     del ballast
     assert 0 < report["peak_rss_mib"] < parent - 300
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux") or _rss_mib() is None, reason="reads /proc")
+def test_a_runs_summary_reports_its_own_peak_memory_not_its_parents():
+    """The summary's peak_memory_mb (homesim.realtime.peak_memory_mb) in a process started
+    from one holding 400 MiB more: its own size, not the parent's carried over exec."""
+    import subprocess
+
+    ballast = np.ones(400 * 2**20 // 8)
+    parent = _rss_mib()
+    out = subprocess.run([sys.executable, "-c", "from homesim.realtime import peak_memory_mb; print(peak_memory_mb())"],
+                         capture_output=True, text=True, check=True).stdout
+    del ballast
+    assert parent is not None and parent > 400
+    assert 0 < float(out) < parent - 300
