@@ -14,7 +14,7 @@ Rows, each a ratio or rate measured in this run, so machine load cancels out of 
   with one person, 5 ms with ten);
 - ``memory/<length>``: peak RSS of the whole robot on a looping home (the example flat with a
   person pacing, so it can run for any length) for a short and a long run, each in a child
-  process (:mod:`benchmarks.peak_memory`: ``os.wait4``'s ``ru_maxrss``; the Python heap's block
+  process (:mod:`benchmarks.peak_memory`: the child's own ``VmHWM``; the Python heap's block
   count sampled along the run, and ``tracemalloc`` over the last simulated minute only, in the
   note); memory must not grow with the run's length (aims: the long run under 150 MB and within
   10 % of the short one);

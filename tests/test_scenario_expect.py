@@ -96,3 +96,30 @@ def test_an_expectation_whose_window_cannot_hold_is_refused_with_its_line(expect
     with pytest.raises(ScenarioError, match=message) as exc:
         load_scenario_text(text, source="expect.xml")
     assert exc.value.line == text[: text.index(expect)].count("\n") + 1
+
+
+def test_no_collision_counts_every_contact_beyond_the_worlds_log(monkeypatch):
+    """The world keeps only its latest CONTACT_LOG contacts (bounded memory); no-collision
+    counts its own as they begin, so its verdict names the first contact of the window and
+    how many more there were however many the world has forgotten."""
+    import homesim.world.world as world_mod
+
+    monkeypatch.setattr(world_mod, "CONTACT_LOG", 1)
+    text = ROOM_TEXT.replace("</humans>", '</humans>\n  <expect>\n    <no-collision with="wall"/>\n    <no-collision with="wall" between="3 10"/>\n  </expect>')
+    sc = load_scenario_text(text, source="expect.xml")
+    sim = Simulation(seed=1, scenario=sc.name)
+    st = Stage(sim, sc, actors=(), truth_every=None)
+    st.world.humans["ann"].remove()
+    seen = []
+    st.world.add_contact_listener(lambda t, what: seen.append((t, what)))
+    for k in range(4):  # driven into the east wall four times over: four contacts begin
+        st.world.place_robot(7.2, 3.0, 0.0)
+        st.world.robot.command(0.5, 0.0)
+        st.run(2.0 * (k + 1))
+    whole, late = st.verdicts()
+    sim.close()
+    assert len(seen) == st.world.contact_count >= 4 and len(st.world.contacts) == 1
+    assert not whole.passed and whole.detail == f"the robot touched wall at t={seen[0][0]:.2f} s (and {len(seen) - 1} more contacts)"
+    in_late = [t for t, _ in seen if 3.0 - 1e-9 <= t <= 10.0 + 1e-9]
+    assert in_late and not late.passed
+    assert late.detail.startswith(f"the robot touched wall at t={in_late[0]:.2f} s")

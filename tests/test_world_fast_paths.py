@@ -398,3 +398,52 @@ def test_the_room_grid_answers_points_off_the_grid_as_the_polygons(x, y):
     as the polygons answer, not a ValueError or OverflowError from the look-up."""
     want = next((r.name for r in HOME.rooms if point_in_polygon((x, y), r.polygon)), None)
     assert WORLD.room_of(x, y) == want is None
+
+
+# ----------------------------------------------------------------- kept poses
+_ops = st.lists(st.one_of(
+    st.tuples(st.just("place"), st.floats(0.5, 7.5), st.floats(0.5, 5.5), st.floats(-4.0, 4.0)),
+    st.tuples(st.just("teleport"), st.floats(0.5, 7.5), st.floats(0.5, 5.5), st.just(0.0)),
+    st.tuples(st.just("command"), st.floats(-1.0, 1.0), st.floats(-3.0, 3.0), st.just(0.0)),
+    st.tuples(st.just("walk"), st.floats(-1.0, 1.0), st.floats(-1.0, 1.0), st.just(0.0)),
+    st.tuples(st.just("step"), st.integers(1, 12), st.sampled_from([0.0, 0.2, 0.37]), st.just(0.0)),
+    st.tuples(st.just("leave"), st.just(0.0), st.just(0.0), st.just(0.0)),
+    st.tuples(st.just("squeeze"), st.floats(0.2, 0.5), st.just(0.0), st.just(0.0)),
+), min_size=1, max_size=25)
+
+
+@settings(max_examples=examples(25, 100), deadline=None)
+@given(ops=_ops)
+def test_kept_poses_are_chipmunks_after_any_move(ops):
+    """RobotBody.pose and HumanBody.position are read from Chipmunk once per move and kept:
+    after any mix of placements, teleports, commands, walks, steps (one or several sub-steps,
+    pushes at walls and people) and a person leaving, what they answer is the bodies' state now."""
+    from homesim.world.geometry import wrap_angle
+
+    world = room()
+    ann = world.humans["ann"]
+    for op, a, b, c in ops:
+        if op == "place":
+            world.place_robot(a, b, c)
+        elif op == "teleport":
+            ann.teleport(a, b)
+        elif op == "command":
+            world.robot.command(a, b)
+        elif op == "walk":
+            ann.walk_velocity(a, b)
+        elif op == "leave":
+            ann.remove()
+        elif op == "squeeze":  # ann onto the robot at the east wall: the step moves her, not it
+            world.place_robot(7.55, 3.0, 0.0)
+            ann.teleport(7.55 - a, 3.0)
+            world.step()
+        else:
+            for _ in range(int(a)):
+                world.step(b or None)
+        rb = world.robot
+        p = rb.body.position
+        assert rb.pose == (p.x, p.y, float(wrap_angle(rb.body.angle)))
+        assert ann.position == tuple(ann.body.position)
+        if op == "step" and ann.present:  # legs placed after the step: on the shapes as the world reports them
+            assert [tuple(leg.offset) for leg in ann.legs] == list(ann.leg_offsets)
+            assert ann.body.angle == ann.heading

@@ -351,3 +351,25 @@ def test_nobody_gives_up_on_an_answer_while_the_robot_is_still_talking():
     assert robot.end > 3.0  # it was still talking when the 2 s ran out
     (ok,) = st.world.sound.by("ann")
     assert robot.end <= ok.start <= robot.end + 0.15
+
+
+def test_a_person_held_by_the_robot_in_the_only_doorway_walks_on_when_it_leaves():
+    """The robot parked in the only door: no way round it, so ann walks up and is held back
+    (re-asking the planner from the same spot, answered from its kept refusals); once the
+    robot has gone, the question is a new one and she walks through."""
+    text = ROOM_TEXT.replace('<wall from="5 4.5" to="5 5.9"/>', '<wall from="5 0" to="5 6"><door name="inner" at="3" width="1.0"/></wall>')
+    text = text.replace('<object name="book" type="book" colour="blue" x="4.0" y="3.0"/>', "")
+    text = text.replace('<human name="ann" x="3" y="3" heading="180" height="1.70" torso="yellow"/>',
+                        '<human name="ann" x="7" y="3" heading="180" height="1.70" torso="yellow"><script><walk-to point="2 3"/></script></human>')
+    sc = load_scenario_text(text.replace('duration="10"', 'duration="30"'), source="doorway.xml")
+    sim = Simulation(seed=1, scenario=sc.name)
+    st = Stage(sim, sc, actors=("humans.install",), truth_every=None)
+    ann = st.world.humans["ann"]
+    st.world.place_robot(5.0, 3.0, 0.0)  # in the doorway
+    st.run(8)
+    held = ann.held_time
+    assert ann.held and held > 4.0 and ann.position[0] > 5.0  # waiting at the robot, still on her side
+    st.world.place_robot(5.0, 5.2, 0.0)  # out of the way
+    st.run(20)
+    sim.close()
+    assert math.hypot(ann.position[0] - 2.0, ann.position[1] - 3.0) < 0.1 and ann.held_time == held
