@@ -228,3 +228,18 @@ def test_a_kernel_built_from_other_source_than_the_checkout_is_not_used(tmp_path
     finally:
         for name in ("rv3same", "rv3same._raykernels", "rv3edited", "rv3edited._raykernels"):
             sys.modules.pop(name, None)
+
+
+@needs_kernel
+@pytest.mark.parametrize("first, count", [(2**63 - 1, 1), (2**62, 2**62), (1, 2**63 - 1)])
+def test_sight_lines_refuses_edge_ranges_past_the_edges_even_when_the_sum_overflows(first, count):
+    """A prism's edge range [first, first + count) is checked against the edges before any is
+    read; first + count computed in Py_ssize_t wrapped negative and passed that check (only
+    -fwrapv kept the loop from reading out of bounds)."""
+    prisms = Prisms([np.array([[1.0, -1.0], [2.0, -1.0], [2.0, 1.0], [1.0, 1.0]])], [0.0], [2.0])
+    packed = list(prisms.packed)
+    packed[2] = np.array([first], dtype=np.intp)
+    packed[3] = np.array([count], dtype=np.intp)
+    with pytest.raises(ValueError, match="prism"):
+        K.sight_lines(0.0, 0.0, 1.0, np.array([[3.0, 0.0, 1.0]]), 1e-6, 1e-6, *packed, np.zeros((0, 2)), np.zeros(0), np.zeros(0),
+                      None, np.zeros(1, dtype=bool))

@@ -405,7 +405,7 @@ static PyObject *sight_lines(PyObject *self, PyObject *args) {
         for (Py_ssize_t p = 0; p < mp; p++) {
             if (!(plo[2 * p] <= x1 && phi[2 * p] >= x0 && plo[2 * p + 1] <= y1 && phi[2 * p + 1] >= y0 && bot[p] <= z1 && top[p] >= z0)) continue;
             Py_ssize_t e0 = first[p], ec = count[p];
-            if (ec <= 0 || e0 < 0 || e0 + ec > ne) {
+            if (ec <= 0 || e0 < 0 || e0 > ne || ec > ne - e0) { /* no e0 + ec: it could overflow */
                 PyErr_SetString(PyExc_ValueError, "sight_lines: a prism without edges");
                 goto fail;
             }
