@@ -13,6 +13,9 @@ Python module with a fallback (see ``homesim/world/raycast.py``'s ``_kernels``).
 
 from __future__ import annotations
 
+import hashlib
+from pathlib import Path
+
 from setuptools import Extension, setup
 
 # No FMA contraction, IEEE semantics kept; -O2 (SSE2 on x86-64: no x87 extended precision).
@@ -20,8 +23,14 @@ CFLAGS = ["-O2", "-ffp-contract=off", "-fno-fast-math", "-Wall"]
 
 
 def kernel(name: str, source: str) -> Extension:
-    """An optional C extension ``name`` built from ``source`` with the project's flags."""
-    return Extension(name, [source], extra_compile_args=CFLAGS, optional=True)
+    """An optional C extension ``name`` built from ``source`` with the project's flags.
+
+    The build records the SHA-256 of the source it compiled (the module's ``SOURCE_SHA256``):
+    an editable install builds once, and a later checkout that changes the C file would otherwise
+    leave the old build running (``homesim.kernels.load`` refuses it; reinstall to rebuild)."""
+    digest = hashlib.sha256((Path(__file__).parent / source).read_bytes()).hexdigest()
+    return Extension(name, [source], extra_compile_args=CFLAGS, optional=True,
+                     define_macros=[("KERNEL_SOURCE_SHA256", f'"{digest}"')])
 
 
 KERNELS = [

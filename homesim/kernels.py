@@ -2,14 +2,17 @@
 
 A kernel replaces a module's inner loops and gives the same floats as its pure-Python/numpy path,
 which stays the reference: :func:`load` returns the extension module, or None when it was not
-built (no compiler on the machine), was built from another version of its source (a checkout
-changed since the last ``pip install -e .``: rebuild), or when the environment variable
+built (no compiler on the machine), was built from another version of its source (its
+``VERSION`` is not the one the Python side names, or its C file beside it, as in a checkout, is
+not the file it was compiled from: the checkout changed since the last ``pip install -e .``,
+which rebuilds it), or when the environment variable
 ``HOMESIM_PURE_PYTHON`` is set to anything but ``""``/``0`` (to compare both paths, e.g. trace
 digests). Callers keep their Python path and use the kernel only when ``load`` gives one.
 """
 
 from __future__ import annotations
 
+import hashlib
 import importlib
 import os
 from types import ModuleType
@@ -34,4 +37,23 @@ def load(name: str, version: int) -> ModuleType | None:
         mod = importlib.import_module(name)
     except ImportError:
         return None
-    return mod if getattr(mod, "VERSION", None) == version else None
+    if getattr(mod, "VERSION", None) != version:
+        return None
+    return mod if _built_from_source_beside(mod) else None
+
+
+def _built_from_source_beside(mod: ModuleType) -> bool:
+    """Whether ``mod`` was compiled from the C file beside it (``pkg/_name.c`` next to
+    ``pkg/_name.*.so``), by the SHA-256 setup.py records in it. No C file beside it (an installed
+    wheel): nothing to compare, the VERSION check stands. A build that recorded no hash (older
+    setup.py) is refused where a source is there to compare with."""
+    path = getattr(mod, "__file__", None)
+    if not path:
+        return True
+    source = os.path.join(os.path.dirname(path), mod.__name__.rpartition(".")[2] + ".c")
+    try:
+        with open(source, "rb") as f:
+            digest = hashlib.sha256(f.read()).hexdigest()
+    except OSError:
+        return True
+    return getattr(mod, "SOURCE_SHA256", "") == digest

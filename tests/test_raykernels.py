@@ -198,3 +198,48 @@ def test_the_kernels_hypot_is_numpys():
     out = np.empty_like(x)
     K.hypots(x, y, out)
     assert _same(out, np.hypot(x, y))
+
+
+def test_a_kernel_built_from_other_source_than_the_checkout_is_not_used(tmp_path, monkeypatch):
+    """An editable install builds the .so once; a later checkout that changes the C source (a
+    pull, an edit) leaves the old build next to the new source. Unless someone remembered to bump
+    VERSION, the stale build would run, and every kernel-vs-Python test would check the old code.
+    The build records the hash of the source it was compiled from and load refuses a mismatch."""
+    if K is None:
+        pytest.skip("the compiled raycast kernel is not built here")
+    import shutil
+    import sys
+    from pathlib import Path
+
+    src = os.path.join(os.path.dirname(raycast.__file__), "_raykernels.c")
+    for name, edit in (("rv3same", False), ("rv3edited", True)):
+        pkg = tmp_path / name
+        pkg.mkdir()
+        (pkg / "__init__.py").write_text("")
+        shutil.copy(K.__file__, pkg / os.path.basename(K.__file__))
+        text = Path(src).read_text(encoding="utf-8")
+        if edit:
+            text = text.replace("r[i] = max_range;", "r[i] = -1.0;", 1)
+        (pkg / "_raykernels.c").write_text(text, encoding="utf-8")
+    monkeypatch.syspath_prepend(str(tmp_path))
+    try:
+        assert kernels.load("rv3same._raykernels", K.VERSION) is not None
+        assert kernels.load("rv3edited._raykernels", K.VERSION) is None
+    finally:
+        for name in ("rv3same", "rv3same._raykernels", "rv3edited", "rv3edited._raykernels"):
+            sys.modules.pop(name, None)
+
+
+@needs_kernel
+@pytest.mark.parametrize("first, count", [(2**63 - 1, 1), (2**62, 2**62), (1, 2**63 - 1)])
+def test_sight_lines_refuses_edge_ranges_past_the_edges_even_when_the_sum_overflows(first, count):
+    """A prism's edge range [first, first + count) is checked against the edges before any is
+    read; first + count computed in Py_ssize_t wrapped negative and passed that check (only
+    -fwrapv kept the loop from reading out of bounds)."""
+    prisms = Prisms([np.array([[1.0, -1.0], [2.0, -1.0], [2.0, 1.0], [1.0, 1.0]])], [0.0], [2.0])
+    packed = list(prisms.packed)
+    packed[2] = np.array([first], dtype=np.intp)
+    packed[3] = np.array([count], dtype=np.intp)
+    with pytest.raises(ValueError, match="prism"):
+        K.sight_lines(0.0, 0.0, 1.0, np.array([[3.0, 0.0, 1.0]]), 1e-6, 1e-6, *packed, np.zeros((0, 2)), np.zeros(0), np.zeros(0),
+                      None, np.zeros(1, dtype=bool))

@@ -20,6 +20,11 @@
 #include <string.h>
 
 #define KERNEL_VERSION 1
+/* The SHA-256 of this file as built, set by setup.py (homesim.kernels.load compares it with the
+ * file on disk: a build older than its source is not used). */
+#ifndef KERNEL_SOURCE_SHA256
+#define KERNEL_SOURCE_SHA256 ""
+#endif
 
 static const double TWO_PI = 2.0 * 3.14159265358979323846;
 static const double PI = 3.14159265358979323846;
@@ -400,7 +405,7 @@ static PyObject *sight_lines(PyObject *self, PyObject *args) {
         for (Py_ssize_t p = 0; p < mp; p++) {
             if (!(plo[2 * p] <= x1 && phi[2 * p] >= x0 && plo[2 * p + 1] <= y1 && phi[2 * p + 1] >= y0 && bot[p] <= z1 && top[p] >= z0)) continue;
             Py_ssize_t e0 = first[p], ec = count[p];
-            if (ec <= 0 || e0 < 0 || e0 + ec > ne) {
+            if (ec <= 0 || e0 < 0 || e0 > ne || ec > ne - e0) { /* no e0 + ec: it could overflow */
                 PyErr_SetString(PyExc_ValueError, "sight_lines: a prism without edges");
                 goto fail;
             }
@@ -502,7 +507,7 @@ static struct PyModuleDef module = {PyModuleDef_HEAD_INIT, "_raykernels", "Compi
 PyMODINIT_FUNC PyInit__raykernels(void) {
     PyObject *m = PyModule_Create(&module);
     if (m == NULL) return NULL;
-    if (PyModule_AddIntConstant(m, "VERSION", KERNEL_VERSION) < 0) {
+    if (PyModule_AddIntConstant(m, "VERSION", KERNEL_VERSION) < 0 || PyModule_AddStringConstant(m, "SOURCE_SHA256", KERNEL_SOURCE_SHA256) < 0) {
         Py_DECREF(m);
         return NULL;
     }

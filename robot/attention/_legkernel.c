@@ -25,6 +25,11 @@
 #include <string.h>
 
 #define VERSION 2
+/* The SHA-256 of this file as built, set by setup.py (homesim.kernels.load compares it with the
+ * file on disk: a build older than its source is not used). */
+#ifndef KERNEL_SOURCE_SHA256
+#define KERNEL_SOURCE_SHA256 ""
+#endif
 #define MAX_BEAMS 4096
 
 static double pairwise_sum(const double *a, Py_ssize_t n)
@@ -367,7 +372,7 @@ static struct PyModuleDef module = {PyModuleDef_HEAD_INIT, "_legkernel", "The le
 PyMODINIT_FUNC PyInit__legkernel(void)
 {
     PyObject *m = PyModule_Create(&module);
-    if (m != NULL && PyModule_AddIntConstant(m, "VERSION", VERSION) < 0) {
+    if (m != NULL && (PyModule_AddIntConstant(m, "VERSION", VERSION) < 0 || PyModule_AddStringConstant(m, "SOURCE_SHA256", KERNEL_SOURCE_SHA256) < 0)) {
         Py_DECREF(m);
         return NULL;
     }
