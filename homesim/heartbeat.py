@@ -40,8 +40,13 @@ class Heartbeat:
     """
 
     def __init__(self, participant: Participant, interval: float) -> None:
-        if not (isinstance(interval, (int, float)) and MIN_INTERVAL_S <= interval <= MAX_INTERVAL_S):
+        if not (isinstance(interval, (int, float)) and not isinstance(interval, bool)
+                and MIN_INTERVAL_S <= interval <= MAX_INTERVAL_S):
             raise ValueError(f"heartbeat interval must be {MIN_INTERVAL_S:g} to {MAX_INTERVAL_S:g} s, got {interval!r}")
+        # A plain int or float: the beat writes repr(interval), and numpy 2's repr of its float64 (a
+        # float subclass) is 'np.float64(0.5)', which no monitor can read (the module went unwatched).
+        if interval.__class__ is not int:
+            interval = float(interval)
         self.participant = participant
         self.interval = interval
         self.channel = f"{HEARTBEAT_PREFIX}/{participant.name}"
