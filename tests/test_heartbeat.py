@@ -179,3 +179,14 @@ def test_an_int_interval_keeps_its_spelling_in_the_beat():
         Heartbeat(sim.bus.participant("m"), 1).beat()
         sim.run()
         assert [m.xml.get("interval") for m in got] == ["1"]
+
+
+@pytest.mark.parametrize("interval", [float("nan"), float("inf"), -1.0, 0.0, True])
+def test_watch_refuses_an_interval_no_heartbeat_could_have(interval):
+    """A bad interval given to watch() used to be taken, and failed the whole run later, from inside
+    the monitor's periodic check (to_ns(nan)), far from the call that caused it."""
+    with Simulation(seed=0) as sim:
+        monitor = HeartbeatMonitor(sim.bus.participant("monitor"))
+        with pytest.raises(ValueError, match="interval"):
+            monitor.watch("laser", interval)
+        assert monitor.check() == []
