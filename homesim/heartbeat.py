@@ -40,8 +40,13 @@ class Heartbeat:
     """
 
     def __init__(self, participant: Participant, interval: float) -> None:
-        if not (isinstance(interval, (int, float)) and MIN_INTERVAL_S <= interval <= MAX_INTERVAL_S):
+        if not (isinstance(interval, (int, float)) and not isinstance(interval, bool)
+                and MIN_INTERVAL_S <= interval <= MAX_INTERVAL_S):
             raise ValueError(f"heartbeat interval must be {MIN_INTERVAL_S:g} to {MAX_INTERVAL_S:g} s, got {interval!r}")
+        # A plain int or float: the beat writes repr(interval), and numpy 2's repr of its float64 (a
+        # float subclass) is 'np.float64(0.5)', which no monitor can read (the module went unwatched).
+        if interval.__class__ is not int:
+            interval = float(interval)
         self.participant = participant
         self.interval = interval
         self.channel = f"{HEARTBEAT_PREFIX}/{participant.name}"
@@ -89,8 +94,16 @@ class HeartbeatMonitor:
         participant.subscribe(HEARTBEAT_PREFIX + "/**", self._on_beat)
 
     def watch(self, module: str, interval: float) -> None:
-        """Watch ``module`` even before its first beat (its silence counts from now)."""
-        self.intervals[module] = interval
+        """Watch ``module`` even before its first beat (its silence counts from now).
+
+        ``interval`` is what a heartbeat could carry (:data:`MIN_INTERVAL_S` to
+        :data:`MAX_INTERVAL_S` seconds); anything else is a :class:`ValueError` here, not a
+        failed run at the next check.
+        """
+        if not (isinstance(interval, (int, float)) and not isinstance(interval, bool)
+                and MIN_INTERVAL_S <= interval <= MAX_INTERVAL_S):
+            raise ValueError(f"watch {module!r}: interval must be {MIN_INTERVAL_S:g} to {MAX_INTERVAL_S:g} s, got {interval!r}")
+        self.intervals[module] = float(interval)
         self.last_beat_ns.setdefault(module, self.participant.bus.loop.now_ns)
         self._quiet_until = -1
 

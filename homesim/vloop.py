@@ -166,6 +166,10 @@ class VirtualEventLoop(asyncio.BaseEventLoop):
         self._times: list[int] = []
         self._due: dict[int, Any] = {}
         self._cancelled_timers = 0
+        # Compact only past this many cancelled timers: the live timers the last compaction kept
+        # (at least 64), so that a compaction's look at every timer is paid for by as many
+        # cancellations (the majority test below counts distinct due times, not timers).
+        self._compact_above = 64
         self._clock_resolution = 1e-9
         self._pacer = pacer
         self._failure: BaseException | None = None
@@ -494,7 +498,7 @@ class VirtualEventLoop(asyncio.BaseEventLoop):
                 if self._failure is not None:
                     return _FAILED
                 if not ready:
-                    if self._cancelled_timers > 64 and self._cancelled_timers * 2 > len(times):
+                    if self._cancelled_timers > self._compact_above and self._cancelled_timers * 2 > len(times):
                         self._compact_timers()
                     if not times:
                         return _EMPTY
@@ -632,10 +636,13 @@ class VirtualEventLoop(asyncio.BaseEventLoop):
     def _compact_timers(self) -> None:
         # In place: _drive holds references to both.
         kept: dict[int, Any] = {}
+        n = 0
         for when, queued in self._due.items():
             live = [h for h in queued if not h._cancelled] if queued.__class__ is list else [queued] if not queued._cancelled else []
             if live:
                 kept[when] = live if len(live) > 1 else live[0]
+                n += len(live)
+        self._compact_above = max(64, n)
         self._due.clear()
         self._due.update(kept)
         self._times[:] = kept

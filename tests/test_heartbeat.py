@@ -130,3 +130,63 @@ def test_the_monitor_reports_the_same_failures_as_one_that_always_looks(events):
                 sim.run(until=sim.now + value)
             reports.append((fast.check(), dict(fast.failed)))
             assert reports[-1] == (slow.check(), dict(slow.failed))
+
+
+class _Stops(Module):
+    """Beats for a while, then its main loop stops beating (hangs)."""
+
+    async def run(self):
+        for _ in range(5):
+            self.beat()
+            await asyncio.sleep(0.1)
+        await asyncio.sleep(1000)
+
+
+def test_a_numpy_interval_is_a_number_in_the_beat_and_the_silence_is_reported():
+    """numpy 2 writes repr(np.float64(0.5)) as 'np.float64(0.5)': a beat carrying that was refused
+    by the monitor, so the module was never watched and its silence never reported."""
+    np = pytest.importorskip("numpy")
+    with Simulation(seed=0) as sim:
+        mon_bus = sim.bus.participant("monitor")
+        monitor = HeartbeatMonitor(mon_bus, misses=3, period=0.1)
+        health = []
+        mon_bus.subscribe(HEALTH_CHANNEL, health.append)
+        sim.spawn(monitor.run(), name="monitor")
+        mod = _Stops(sim, "laser", heartbeat=np.float64(0.5))
+        mod.start()
+        sim.run(until=5.0)
+        assert mod.heartbeat.interval == 0.5 and type(mod.heartbeat.interval) is float
+        assert sim.bus.dropped == 0
+        assert [(m.xml.tag, m.xml.get("module")) for m in health] == [("module_failed", "laser")]
+
+
+@pytest.mark.parametrize("interval", [True, float("nan"), "0.5"])
+def test_a_heartbeat_interval_that_is_not_a_number_of_seconds_is_refused(interval):
+    """True is an int in Python (1 s) but its beats would read interval="True": refused up front."""
+    from homesim.heartbeat import Heartbeat
+
+    with Simulation(seed=0) as sim:
+        with pytest.raises(ValueError, match="heartbeat interval"):
+            Heartbeat(sim.bus.participant("m"), interval)
+
+
+def test_an_int_interval_keeps_its_spelling_in_the_beat():
+    from homesim.heartbeat import Heartbeat
+
+    with Simulation(seed=0) as sim:
+        got = []
+        sim.bus.participant("obs").subscribe("/system/heartbeat/**", got.append)
+        Heartbeat(sim.bus.participant("m"), 1).beat()
+        sim.run()
+        assert [m.xml.get("interval") for m in got] == ["1"]
+
+
+@pytest.mark.parametrize("interval", [float("nan"), float("inf"), -1.0, 0.0, True])
+def test_watch_refuses_an_interval_no_heartbeat_could_have(interval):
+    """A bad interval given to watch() used to be taken, and failed the whole run later, from inside
+    the monitor's periodic check (to_ns(nan)), far from the call that caused it."""
+    with Simulation(seed=0) as sim:
+        monitor = HeartbeatMonitor(sim.bus.participant("monitor"))
+        with pytest.raises(ValueError, match="interval"):
+            monitor.watch("laser", interval)
+        assert monitor.check() == []

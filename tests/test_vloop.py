@@ -485,6 +485,34 @@ def test_cancelled_timers_do_not_pile_up(loop):
     assert loop._pending_timers() < 200
 
 
+def test_dropping_cancelled_timers_costs_a_bounded_amount_per_cancellation(loop, monkeypatch):
+    """The heap is compacted when cancelled timers are the majority: each compaction looks at every
+    queued timer, so it must come after as many cancellations as there were live timers, not after a
+    fixed 64. (With the timers kept per due time, the majority was counted among the distinct due
+    times: 5,000 timers due at one instant made every 65th cancellation look at all 5,000.)"""
+    scanned = []
+    compact = VirtualEventLoop._compact_timers
+
+    def counting(self):
+        scanned.append(self._pending_timers())
+        compact(self)
+
+    monkeypatch.setattr(VirtualEventLoop, "_compact_timers", counting)
+    for _ in range(5000):
+        loop.call_at(1000.0, lambda: None)
+    cancellations = 3000
+
+    async def reader():
+        for _ in range(cancellations):
+            async with asyncio.timeout(300):  # one timer scheduled and cancelled per pass
+                await asyncio.sleep(0.01)
+
+    loop.run_until_complete(reader())
+    pushed = 5000 + 2 * cancellations  # the timers, each pass's timeout and sleep
+    assert sum(scanned) <= 2 * cancellations + pushed + 64
+    assert loop._pending_timers() <= 2 * 5000 + 200  # and cancelled ones stay fewer than live ones
+
+
 # ------------------------------------------------------------ the light sleep
 # While the loop runs, asyncio.sleep is homesim.vsleep.sleep; this is asyncio's own (captured at
 # import, before any loop ran): the two must give the same order of everything.
