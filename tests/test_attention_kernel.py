@@ -61,7 +61,8 @@ def _same(ranges: np.ndarray, spec: LegSpec) -> None:
 )
 def test_the_compiled_pass_finds_the_python_paths_candidates_bit_for_bit(seed, people, posts, together, no_echo, noise, wall):
     """Random rooms: people (legs apart or together as one blob), table legs, a wall near or beyond the
-    range (long segments: numpy's pairwise sums past 8 and 128 points), range noise, beams without echo."""
+    range (segments past 8 points; leg-like ones past 128 are in test_the_compiled_sums_are_numpys_on_long_segments),
+    range noise, beams without echo."""
     rng = np.random.default_rng(seed)
     circles, squares = [], []
     for _ in range(people):
