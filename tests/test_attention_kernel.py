@@ -61,7 +61,8 @@ def _same(ranges: np.ndarray, spec: LegSpec) -> None:
 )
 def test_the_compiled_pass_finds_the_python_paths_candidates_bit_for_bit(seed, people, posts, together, no_echo, noise, wall):
     """Random rooms: people (legs apart or together as one blob), table legs, a wall near or beyond the
-    range (long segments: numpy's pairwise sums past 8 and 128 points), range noise, beams without echo."""
+    range (segments past 8 points; leg-like ones past 128 are in test_the_compiled_sums_are_numpys_on_long_segments),
+    range noise, beams without echo."""
     rng = np.random.default_rng(seed)
     circles, squares = [], []
     for _ in range(people):
@@ -147,3 +148,23 @@ def test_the_compiled_pass_on_recorded_scans_of_three_crossing_people():
         assert a.points == b.points and a.kinds == b.kinds and a.leg_points == b.leg_points
         found += len(a)
     assert found > 0
+
+
+@needs_kernel
+@pytest.mark.parametrize("length", [5, 7, 8, 9, 16, 17, 100, 128, 129, 130, 137, 140, 150, 200, 257, 300, 361])
+def test_the_compiled_sums_are_numpys_on_long_segments(length):
+    """One leg-like segment of ``length`` beams (an arc close around the laser: its chord stays a
+    leg's width however many beams it covers), so its centre, which is compared bit for bit, comes
+    from sums over every point: numpy's pairwise sums below 8 points, in 8 accumulators up to 128,
+    split in halves beyond (the random rooms above rarely make a leg-like segment that long)."""
+    n = BEARINGS.shape[0]
+    rng = np.random.default_rng(length)
+    half_angle = min(length * 0.5, 180.0) / 2
+    radius = min(2.0, 0.18 / (2 * math.sin(math.radians(max(half_angle, 0.25)))))
+    start = max(0, min(n - length, n // 2 - length // 2))
+    for _ in range(5):
+        ranges = np.full(n, 8.19)  # no echo around it: in front of its background
+        ranges[start : start + length] = radius + rng.normal(0.0, 1e-4, length) * np.geomspace(1.0, 1e-3, length)
+        slow = LegDetector(BEARINGS, LegSpec(offset=0.13), compiled=False)
+        assert _candidates(slow, ranges), "the segment must be a leg candidate, else its sums are not compared"
+        _same(ranges, LegSpec(offset=0.13))

@@ -65,6 +65,17 @@ def test_streaming_scores_equal_motmetrics(frames):
         assert ours.idf1()[0] == pytest.approx(ref["idf1"], abs=1e-9)
 
 
+@pytest.mark.parametrize("lists", [False, True])
+def test_positions_that_are_not_one_pair_per_id_are_refused(lists):
+    """Arrays and lists of (x, y) pairs alike: a missing or extra position is a ValueError, not a
+    frame scored against the wrong people (lists are not reshaped, so their length is checked)."""
+    as_ = (lambda p: [tuple(q) for q in p]) if lists else (lambda p: np.array(p, dtype=float))
+    for gt_xy, hyp_xy in (([[0.0, 0.0]], [[0.1, 0.0]]), ([[0.0, 0.0], [1.0, 0.0], [2.0, 0.0]], [[0.1, 0.0]]), ([[0.0, 0.0], [1.0, 0.0]], [])):
+        mot = StreamingMOT(1.0)
+        with pytest.raises(ValueError):
+            mot.update(["a", "b"], as_(gt_xy), ["t1"], as_(hyp_xy))
+
+
 def test_a_perfect_tracker_scores_one_and_a_swap_is_one_switch():
     mot = StreamingMOT(1.0)
     for k in range(10):

@@ -76,6 +76,8 @@ class StreamingMOT:
     ) -> None:
         """One frame: ground-truth ids and positions (N, 2), hypothesis ids and positions (M, 2) (arrays or lists of pairs).
 
+        Raises ValueError when the positions are not one pair per id.
+
         Plain floats (a frame has a few people and tracks); distances are numpy's ``hypot``; the
         assignment solver runs only when the valid pairs leave a choice (else the minimum-distance
         assignment is every valid pair).
@@ -86,6 +88,8 @@ class StreamingMOT:
         self.hyps += m
         gt = np.asarray(gt_xy, dtype=float).reshape(n, 2).tolist() if isinstance(gt_xy, np.ndarray) else gt_xy
         hy = np.asarray(hyp_xy, dtype=float).reshape(m, 2).tolist() if isinstance(hyp_xy, np.ndarray) else hyp_xy
+        if len(gt) != n or len(hy) != m:  # lists are not reshaped: a position missing or extra is refused as an array's is
+            raise ValueError(f"StreamingMOT.update: {n} ids with {len(gt)} positions, {m} hypothesis ids with {len(hy)} positions")
         for o in gt_ids:
             self._gt_frames[o] = self._gt_frames.get(o, 0) + 1
         for h in hyp_ids:
