@@ -548,3 +548,69 @@ def test_outputs_built_from_templates_are_those_built_attribute_by_attribute(kin
     after = [(n, v if isinstance(v, str) else tuple(x if isinstance(x, str) else etree.tostring(x) for x in v))
              for n, v in params]
     assert after == before
+
+
+_STREAM_NAMES = ["greeting", "potential_partner", "potential_partner_lost", "goodbye", "follow", "stop", "bogus"]
+
+
+def _es_run(stream, *, cost: float, strict: bool, observed: bool):
+    """What the dialog and the person attention receive from the ES, and its decisions, for one event stream."""
+    from homesim.afsm.engine import record_dict
+
+    sim = Simulation(seed=5, scenario="es", strict=strict)
+    sim.network.set_link(LinkModel("slow", 0.0, 0.004))
+    sim.network.add_host("laptop", link="slow")
+    es = ExecutionSupervisor(sim, cost=cost, heartbeat=None)
+    senders = {"dialog": sim.bus.participant("dialog", host="laptop"),
+               "person_attention": sim.bus.participant("person_attention", host="robot")}
+    got = []
+    for p in senders.values():
+        for pattern in (f"{ORDER_PREFIX}/{p.name}", f"{CONDITION_PREFIX}/{p.name}", f"{REJECTED_PREFIX}/{p.name}"):
+            p.subscribe(pattern, lambda m, who=p.name: got.append(
+                (who, m.channel, m.id, m.causes, m.created_ns, sim.now, etree.tostring(m.xml))))
+    seen = []
+    if observed:  # a run's expectations read the log and the status: their lazy payloads are built
+
+        class Watcher:  # an interceptor, as the expectations are (a subscriber would draw link delays)
+            observes = ("send",)
+
+            def wants(self, channel):
+                return channel in (LOG_CHANNEL, STATUS_CHANNEL)
+
+            def __call__(self, obs):
+                if obs.message.channel in (LOG_CHANNEL, STATUS_CHANNEL):
+                    seen.append(obs.message.id)
+
+        sim.bus.add_interceptor(Watcher())
+    sim.start()
+    for t, who, name, lifetime, child in stream:
+        el = event_xml(name, lifetime=lifetime, children=(etree.fromstring(child),) if child else ())
+        sim.call_at(t, lambda p=senders[who], el=el: p.publish(EVENT_CHANNEL, el))
+    sim.run(until=4.0)
+    assert not observed or len(seen) >= len(es.engine.history)  # (the watcher saw every decision)
+    out = (got, [record_dict(r) for r in es.engine.history], dict(es.engine.counts), es.state)
+    sim.close()
+    return out
+
+
+@settings(max_examples=examples(15, 60), deadline=None)
+@given(
+    stream=st.lists(st.tuples(
+        st.sampled_from([0.5, 0.5, 0.504, 0.505, 0.51, 0.9, 1.0, 1.5]),
+        st.sampled_from(["dialog", "person_attention"]),
+        st.sampled_from(_STREAM_NAMES),
+        st.sampled_from([None, 0.005, 0.3, 1.0]),
+        st.sampled_from([None, '<PERSON id="p7" bearing="0.1"/>', "<SPEECH><GREETING/></SPEECH>"]),
+    ), max_size=12),
+    cost=st.sampled_from([0.0, 0.005]),
+)
+def test_what_the_es_sends_does_not_depend_on_the_policy_or_on_who_watches_its_log(stream, cost):
+    """The default policy's fast paths (trusted outputs from templates, unseen log/status counted
+    without being built) send what the strict policy and a watched log send: same ids, bytes, times.
+
+    (The suite runs strict by default: without this, the default policy's paths of the ES are
+    exercised only by whole scenario runs.)
+    """
+    reference = _es_run(stream, cost=cost, strict=True, observed=True)
+    for strict, observed in ((False, False), (False, True), (True, False)):
+        assert _es_run(stream, cost=cost, strict=strict, observed=observed) == reference
