@@ -115,18 +115,23 @@ def output_xml(out: Output, state: str) -> etree._Element:
     for pname, value in out.params:
         p = _SubElement(el, "param")
         p.set("name", pname)
-        if isinstance(value, str):
-            p.text = value
-        else:
-            texts = []
-            for v in value:
-                if isinstance(v, str):
-                    texts.append(v)
-                else:
-                    p.append(v.__deepcopy__(None))
-            if texts:
-                p.text = " ".join(texts)
+        _fill_param(p, value)
     return el
+
+
+def _fill_param(p: Any, value: Any) -> None:
+    """Put a parameter's value into its ``<param>``: text as is, elements deep-copied after it."""
+    if isinstance(value, str):
+        p.text = value
+        return
+    texts = []
+    for v in value:
+        if isinstance(v, str):
+            texts.append(v)
+        else:
+            p.append(v.__deepcopy__(None))
+    if texts:
+        p.text = " ".join(texts)
 
 
 _Element = etree.Element
@@ -180,17 +185,7 @@ class OutputBuilder:
         el.set("event", out.event_id)
         if params:
             for p, (_, value) in zip(el, params):
-                if isinstance(value, str):
-                    p.text = value
-                else:
-                    texts = []
-                    for v in value:
-                        if isinstance(v, str):
-                            texts.append(v)
-                        else:
-                            p.append(v.__deepcopy__(None))
-                    if texts:
-                        p.text = " ".join(texts)
+                _fill_param(p, value)
         return el
 
 
