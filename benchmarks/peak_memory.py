@@ -35,6 +35,8 @@ import tracemalloc
 from pathlib import Path
 from typing import Any
 
+from homesim.realtime import peak_memory_mb
+
 ROOT = Path(__file__).resolve().parents[1]
 #: Simulated seconds between samples of the heap and RSS.
 SAMPLE_EVERY = 60.0
@@ -50,18 +52,6 @@ def _rss_mib() -> float | None:
     except (OSError, ValueError, IndexError):
         return None
     return pages * os.sysconf("SC_PAGE_SIZE") / 2**20
-
-
-def _peak_rss_mib() -> float | None:
-    """This process image's peak resident set size (``VmHWM``: from its ``exec`` on; Linux ``/proc``; None elsewhere)."""
-    try:
-        with open("/proc/self/status", encoding="ascii") as f:
-            for line in f:
-                if line.startswith("VmHWM:"):
-                    return int(line.split()[1]) / 1024  # kB
-    except (OSError, ValueError, IndexError):
-        return None
-    return None
 
 
 def child(seconds: float) -> dict[str, Any]:
@@ -98,7 +88,7 @@ def child(seconds: float) -> dict[str, Any]:
                                                   f"{s.traceback[0].lineno} {s.size / 1024:.0f} KiB" for s in top])
     samples.append((sim_s, sys.getallocatedblocks(), _rss_mib()))
     return {"seconds": sim_s, "cpu_s": time.process_time() - t0, "samples": samples, "traced": traced,
-            "own_peak_rss_mib": _peak_rss_mib()}
+            "own_peak_rss_mib": peak_memory_mb() or None}
 
 
 def measure(seconds: float) -> dict[str, Any]:
