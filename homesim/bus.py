@@ -259,7 +259,8 @@ class Participant:
         the sender reach nobody. ``transfer=True`` hands over a parentless
         element the sender has just built and will not touch again: it is
         sent without that copy (a hot-path saving for modules such as the
-        supervisor). Receivers beyond the first still get copies.
+        supervisor). Every receiver but the last gets a copy of its own; the last
+        gets the sent document itself (with ``transfer=True``, the sender's element).
 
         ``xml`` may also be a function that builds and returns a new element
         (handed over as with ``transfer=True``): it is called at once if
