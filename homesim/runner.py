@@ -46,6 +46,7 @@ from .heartbeat import HEALTH_CHANNEL, HeartbeatMonitor
 from .message import Message
 from .metrics.es import EsRecord
 from .realtime import Stopwatch, peak_memory_mb
+from .runheader import ROBOT, check_metrics, check_subsystems
 from .scenario.expect import Verdict
 from .scenario.loader import load_scenario
 from .scenario.model import Scenario
@@ -57,8 +58,7 @@ from .world.stage import Stage
 ACTORS: tuple[str, ...] = ("humans.install", "robot.hardware.install")
 #: The supervisor: module and class name.
 SUPERVISOR: tuple[str, str] = ("robot.supervisor", "ExecutionSupervisor")
-#: The module with ``install(run, subsystems)`` and ``SUBSYSTEMS`` for BIRON's modules.
-ROBOT: str = "robot.install"
+#: ROBOT (from homesim.runheader): the module with ``install(run, subsystems)`` and ``SUBSYSTEMS`` for BIRON's modules.
 #: Virtual seconds per run chunk (progress, replay's early stop); results do not depend on it.
 CHUNK = 1.0
 
@@ -129,6 +129,16 @@ class RobotConfig:
     options: Mapping[str, str] = field(default_factory=dict)
 
 
+def _check_names(options: RunOptions) -> None:
+    """Refuse subsystems outside the robot's registry and unknown metrics (nothing named is imported)."""
+    for what, names, check in (("subsystems", options.subsystems, check_subsystems), ("metrics", options.metrics, check_metrics)):
+        if names is not None:
+            try:
+                check(names)
+            except ValueError as exc:
+                raise HomesimError(f"run option {what}: {exc}") from None
+
+
 class Run:
     """One scenario on one simulation, every part wired (see the module docstring)."""
 
@@ -137,6 +147,7 @@ class Run:
         self.scenario = scenario
         self.options = options
         self.on_line = on_line
+        _check_names(options)  # before anything is imported or built
         seed = scenario.seed if options.seed is None else options.seed
         self.sim = Simulation(seed=seed, scenario=scenario.name, realtime=options.realtime,
                               **({} if options.strict is None else {"strict": options.strict}))
