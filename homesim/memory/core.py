@@ -302,8 +302,8 @@ class ActiveMemory:
         att = own_attachments(attachments, source=f"<memory {self.name}>")
         keys = self._keys(own)
         doc_id = self._next_id
-        if self.store is not None:
-            self.store.put(self.name, doc_id, own, att, next_id=doc_id + 1)
+        if self.store is not None:  # the store allocates the id in its write transaction (another process may share it)
+            doc_id = self.store.insert(self.name, own, att, at_least=doc_id)
         self._next_id = doc_id + 1
         self._docs[doc_id] = (own, att)
         self._index(doc_id, keys)
