@@ -39,7 +39,7 @@ from typing import TYPE_CHECKING, Any, Union
 import numpy as np
 from lxml import etree
 
-from ..errors import MemoryQueryError, XMLInputError
+from ..errors import InputError, MemoryQueryError, MemoryStoreError, XMLInputError
 from ..xmlio import parse_bytes
 
 if TYPE_CHECKING:
@@ -228,6 +228,24 @@ class ActiveMemory:
             self._next_id = next_id
         for iname, expr in (indexes or {}).items():
             self.add_index(iname, expr)
+
+    def check_loaded(self, check: Callable[[etree._Element], None]) -> None:
+        """Check every document loaded from the store with ``check`` (raising :class:`~homesim.errors.InputError`).
+
+        A stored document is input like any other (the file may have been
+        edited or written by another program): the first that fails stops the
+        run before anything uses it, with :class:`MemoryStoreError` naming the
+        store file, the memory, the document and what is wrong; nothing is
+        changed (the store is left as it is).
+        """
+        for doc_id in sorted(self._docs):
+            try:
+                check(self._docs[doc_id][0])
+            except InputError as exc:
+                where = self.store.path if self.store is not None else "<memory>"
+                raise MemoryStoreError(f"memory {self.name!r} document {doc_id} is not a valid stored document: {exc.message} "
+                                       "(the store was left as it is; correct or remove the document, or use another store)",
+                                       source=str(where)) from None
 
     # ------------------------------------------------------------ reading
     def __len__(self) -> int:

@@ -20,7 +20,10 @@ attributes: :meth:`ObjectBase.merged`), so a correction never leaves a duplicate
 
 How it fails: a document that cannot be made canonical (no type, no
 position, no pose, a number that does not read) raises
-:class:`MemoryQueryError` saying what is missing; nothing is stored.
+:class:`MemoryQueryError` saying what is missing; nothing is stored. A
+document read back from the store is checked the same way (its base's tag,
+the schema) before anything uses it: a bad one stops the run at the start with
+:class:`MemoryStoreError` naming the store file and the document.
 """
 
 from __future__ import annotations
@@ -119,6 +122,13 @@ class KnowledgeBase:
     def __init__(self, memory: ActiveMemory) -> None:
         self.memory = memory
         self._schema = load_schema(SCHEMA)
+        memory.check_loaded(self.check_stored)  # a stored document is input: checked before anything uses it
+
+    def check_stored(self, doc: etree._Element) -> None:
+        """A document read back from the store: this base's tag, valid against the schema."""
+        if doc.tag != self.tag:
+            raise MemoryQueryError(f"the {self.kind} base holds <{self.tag}>, not <{doc.tag}>", source=f"<knowledge {self.kind}>")
+        self.check(doc)
 
     def canonical(self, doc: etree._Element, attachments: Mapping[str, Attachment], now: float) -> tuple[etree._Element, dict[str, Attachment]]:
         raise NotImplementedError
