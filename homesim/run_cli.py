@@ -19,18 +19,16 @@ from __future__ import annotations
 import argparse
 import json
 import math
-import os
 import sys
 from pathlib import Path
 from typing import IO, Any
 
 from . import cliargs
 from .cliargs import OptionError
-from .errors import HomesimError, InputError
-from .xmlio import open_regular
+from .errors import HomesimError
 from .message import Message
 from .runner import Run, RunOptions, file_digest, store_digest
-from .tracerun import read_header, run_options
+from .tracerun import next_line, read_header, run_options, trace_lines
 
 BAR = 30
 
@@ -112,16 +110,16 @@ class Comparison:
     """A text stream that compares each trace line written to it with the original file's."""
 
     def __init__(self, path: Path) -> None:
-        self.fh = os.fdopen(open_regular(path, error=InputError), encoding="utf-8")
+        self.fh = trace_lines(path)
         self.line = 0
         self.diverged: tuple[int, str, str] | None = None
 
     def write(self, s: str) -> int:
         if self.diverged is None:  # the recorder writes one whole line per call
             self.line += 1
-            want = self.fh.readline()
+            want, utf8 = next_line(self.fh)
             if want != s:
-                self.diverged = (self.line, want.rstrip("\n"), s.rstrip("\n"))
+                self.diverged = (self.line, want.rstrip("\n") + ("" if utf8 else "  <- not UTF-8 text"), s.rstrip("\n"))
         return len(s)
 
     def flush(self) -> None:
@@ -129,7 +127,7 @@ class Comparison:
 
     def rest(self) -> str:
         """The original's next line, if any (a replay that ends early differs there)."""
-        return self.fh.readline().rstrip("\n")
+        return next_line(self.fh)[0].rstrip("\n")
 
     def close(self) -> None:
         self.fh.close()

@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import os
 from pathlib import Path
-from typing import Any
+from typing import IO, Any
 
 from .errors import HomesimError, InputError
 from .runheader import read_run_header
@@ -33,21 +33,40 @@ def read_header(trace: str | os.PathLike[str]) -> dict[str, Any]:
     return read_run_header(trace)
 
 
+def trace_lines(path: Path) -> IO[bytes]:
+    """The trace file opened for line-by-line comparison (bytes: a line that is not UTF-8 is a difference, not a crash)."""
+    return os.fdopen(open_regular(path, error=InputError), "rb")
+
+
+def next_line(fh: IO[bytes]) -> tuple[str, bool]:
+    """The next line of a trace opened by :func:`trace_lines` as text, and whether it was UTF-8.
+
+    A line that is not UTF-8 comes back with its bad bytes replaced (U+FFFD),
+    so it never equals a line a run writes and is reported where it is.
+    """
+    raw = fh.readline()
+    try:
+        return raw.decode("utf-8"), True
+    except UnicodeDecodeError:
+        return raw.decode("utf-8", errors="replace"), False
+
+
 class TraceCheck:
     """A text stream for the run's recorder that compares each line with the trace file's."""
 
     def __init__(self, path: Path) -> None:
         self.path = path
-        self.fh = os.fdopen(open_regular(path, error=InputError), encoding="utf-8")
+        self.fh = trace_lines(path)
         self.line = 0
         #: The departure found, if any (the loop wraps what a task raises; :meth:`reraise` gives it back plain).
         self.departed: HomesimError | None = None
 
     def write(self, s: str) -> int:
         self.line += 1
-        want = self.fh.readline()
+        want, utf8 = next_line(self.fh)
         if self.line > 1 and want != s:  # line 1, the header, names this re-run's own stop time
-            why = "the trace ends here (truncated?)" if not want.endswith("\n") else "the re-run departs from the trace here"
+            why = ("the trace ends here (truncated?)" if not want.endswith("\n") else
+                   "the re-run departs from the trace here" + ("" if utf8 else " (the trace's line is not UTF-8 text)"))
             if self.departed is not None:  # the first departure is the one that counts
                 raise self.departed
             self.departed = HomesimError(f"{self.path}:{self.line}: {why} "
@@ -65,7 +84,7 @@ class TraceCheck:
 
     def finished(self) -> None:
         """Fail unless every line of the trace was matched (a re-run that ended early is not the run)."""
-        rest = self.fh.readline()
+        rest = next_line(self.fh)[0]
         if rest:
             raise HomesimError(f"{self.path}:{self.line + 1}: the re-run ended before the trace did (trace: {rest.strip()[:160]!r})")
 

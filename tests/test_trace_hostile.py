@@ -166,3 +166,46 @@ def test_the_runs_own_header_passes_the_schema(tmp_path):
     h = read_run_header(trace)
     assert (h["seed"], h["until"], h["subsystems"], h["metrics"]) == (3, 0.5, ("robot.knowledge",), ("tracking",))
     assert h["memory"] == str(tmp_path / "store")
+
+
+#: A trace line replaced by something no recorder writes (bytes).
+HOSTILE_LINES = {
+    "deep nesting": b"[" * 100_000 + b"]" * 100_000,
+    "deep nesting in a record": b'{"t":1.0,"seq":1,"kind":"deliver","id":' + b"[" * 100_000 + b"]" * 100_000 + b"}",
+    "a byte that is not UTF-8": b'{"t":0.5,"seq":4,"kind":"deliver","id":"m\xff","receivers":["x"]}',
+    "a lone surrogate": b'{"t":0.5,"seq":4,"kind":"publish","sender":"a","channel":"/x","receivers":[],"id":"\\ud800","causes":[],"created":0.5,"xml":"<x/>"}',
+    "NUL": b"\x00" * 64,
+    "not an object": b"[1, 2, 3]",
+    "not JSON": b"{'t': 1}",
+    "a huge number": b'{"t":1e999,"seq":4,"kind":"deliver","id":"m","receivers":["x"]}',
+    "a send without fields": b'{"t":0.5,"seq":4,"kind":"publish"}',
+    "receivers not a list": b'{"t":0.5,"seq":4,"kind":"deliver","id":"m","receivers":{"a":1}}',
+}
+LINE = 5
+
+
+def _with_line(good: Path, tmp: Path, raw: bytes) -> Path:
+    lines = good.read_bytes().split(b"\n")
+    lines[LINE - 1] = raw
+    out = tmp / "hostile-line.jsonl"
+    out.write_bytes(b"\n".join(lines))
+    return out
+
+
+@pytest.mark.parametrize("reader", sorted(READERS))
+@pytest.mark.parametrize("case", sorted(HOSTILE_LINES))
+def test_a_hostile_line_gives_one_line_naming_it(good_trace, tmp_path, capsys, reader, case):
+    trace = _with_line(good_trace, tmp_path, HOSTILE_LINES[case])
+    argv = READERS[reader](trace, tmp_path)
+    code = main(argv)
+    captured = capsys.readouterr()
+    if reader == "replay":  # a replay reports the first line that differs (exit 1)
+        assert code == 1, captured
+        assert captured.out.startswith(f"replay: {trace}:{LINE} differs"), captured.out
+        assert captured.err == ""
+        return
+    err = captured.err.strip()
+    assert code == 2, (code, captured)
+    assert len(err.splitlines()) == 1 and "Traceback" not in err, err
+    assert f"{trace}:{LINE}" in err, err
+    assert not any(p.name.startswith(("out.", "tl.")) for p in tmp_path.iterdir())
