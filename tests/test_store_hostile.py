@@ -8,6 +8,9 @@ the document), exit 2, and the store is left exactly as it was.
 from __future__ import annotations
 
 import hashlib
+import os
+import shutil
+import sys
 from pathlib import Path
 
 import pytest
@@ -69,3 +72,33 @@ def test_good_stored_documents_load(tmp_path, capsys):
     """The check refuses only what is wrong: the same store with good documents runs."""
     path = _store_with(tmp_path / "mem", "objects", GOOD_OBJECT.replace("cup", "mug"))
     assert main(["run", str(SCENARIO), "--until", "1", "--quiet", "--memory", str(path.parent)]) == 0, capsys.readouterr().err
+
+
+def _as_unprivileged(argv: list[str]) -> list[str]:
+    """``homesim ARGV`` in a process file modes apply to: root without the capabilities that override them."""
+    cmd = [sys.executable, "-m", "homesim.cli", *argv]
+    if os.geteuid() != 0:
+        return cmd
+    setpriv = shutil.which("setpriv")
+    if setpriv is None:
+        pytest.skip("running as root without setpriv: file modes do not apply to this process")
+    drop = "-dac_override,-dac_read_search,-fowner"
+    return [setpriv, f"--inh-caps={drop}", f"--bounding-set={drop}", *cmd]
+
+
+def test_a_read_only_store_file_is_refused_at_start(tmp_path):
+    """A store file this user cannot write (in a writable directory) stops the run before it starts."""
+    import stat
+    import subprocess
+
+    mem = tmp_path / "mem"
+    path = _store_with(mem, "objects", GOOD_OBJECT.replace("cup", "mug"))
+    os.chmod(path, stat.S_IRUSR | stat.S_IRGRP | stat.S_IROTH)  # the directory stays writable: only the file is read-only
+    before = _digest(path)
+    proc = subprocess.run(_as_unprivileged(["run", str(SCENARIO), "--until", "1", "--quiet", "--memory", str(mem)]),
+                          capture_output=True, text=True, cwd=ROOT)
+    err = proc.stderr.strip()
+    assert proc.returncode == 2, (proc.stdout, err)
+    assert len(err.splitlines()) == 1 and "Traceback" not in err, err
+    assert str(path) in err and "cannot be written" in err, err
+    assert _digest(path) == before and sorted(p.name for p in mem.iterdir()) == [STORE_FILE]

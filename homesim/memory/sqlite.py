@@ -160,7 +160,22 @@ class SqliteStore:
             self.path.parent.mkdir(parents=True, exist_ok=True)
         except OSError as exc:
             raise MemoryStoreError(f"cannot create the store's directory: {exc.strerror}", source=str(self.path)) from exc
+        self._check_writable()
         self._open()
+
+    def _check_writable(self) -> None:
+        """Refuse, before anything is read, a store this process could not write to (not at its first write, mid-run)."""
+        if self.path.exists():
+            try:
+                os.close(os.open(self.path, os.O_RDWR | getattr(os, "O_CLOEXEC", 0)))
+            except OSError as exc:
+                raise MemoryStoreError(
+                    f"the store file cannot be written ({exc.strerror}); a run writes what it learns to its store: "
+                    "make the file writable or use another directory (the file was left as it is)",
+                    source=str(self.path), kept_at=str(self.path)) from None
+        if not os.access(self.path.parent, os.W_OK | os.X_OK):
+            raise MemoryStoreError("the store's directory is not writable (SQLite writes its journal beside the store); "
+                                   "nothing was changed", source=str(self.path), kept_at=str(self.path))
 
     def _open_readonly(self) -> None:
         """Inspection (``homesim memory``): read, never write, move or migrate; refusals leave the file as it is."""
