@@ -45,6 +45,7 @@ changes none of its decisions.
 from __future__ import annotations
 
 import asyncio
+import math
 import os
 from collections import deque
 from copy import deepcopy
@@ -56,7 +57,7 @@ from lxml import etree
 
 from homesim.afsm.engine import Applied, Engine, Event, Output, Record, Rejected, payload_problem, record_dict
 from homesim.afsm.loader import from_element, load, loads, to_element
-from homesim.afsm.model import CONDITION, Machine
+from homesim.afsm.model import CONDITION, MAX_LIFETIME_NS, Machine
 from homesim.errors import AFSMError, AFSMModificationRefused, BadMessageError, InputError
 from homesim.heartbeat import HEALTH_CHANNEL
 from homesim.message import Message
@@ -85,6 +86,17 @@ def event_xml(name: str, *, lifetime: float | None = None, attrs: dict[str, str]
     for c in children:
         el.append(deepcopy(c))
     return el
+
+
+def _lifetime_ns(channel: str, text: str) -> int:
+    """An event's ``lifetime`` attribute (seconds) as nanoseconds; a value the schema refuses is a bad message (a drop)."""
+    try:
+        seconds = float(text)
+    except ValueError:
+        seconds = math.nan
+    if not 0.0 < seconds <= MAX_LIFETIME_NS / NS_PER_S:  # also NaN and inf
+        raise BadMessageError(f"{channel}: lifetime={text[:40]!r} is not a number of seconds in (0, {MAX_LIFETIME_NS // NS_PER_S}]")
+    return max(1, to_ns(seconds))
 
 
 def _seconds(ns: int) -> str:
@@ -272,8 +284,7 @@ class ExecutionSupervisor(Module):
         if too_big is not None:  # another module's bad data: reported as a drop, the ES goes on
             raise BadMessageError(f"{msg.channel}: {too_big}")
         lt = xml.get("lifetime")
-        ev = Event(msg.id, xml.get("name"), msg.sender, msg.created_ns,
-                   to_ns(float(lt)) if lt is not None else None, xml)
+        ev = Event(msg.id, xml.get("name"), msg.sender, msg.created_ns, None if lt is None else _lifetime_ns(msg.channel, lt), xml)
         self.submit(ev, payload_checked=True)
 
     def _on_health(self, msg: Message) -> None:

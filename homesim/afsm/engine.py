@@ -54,7 +54,7 @@ from typing import Any, NamedTuple
 from lxml import etree
 
 from ..errors import AFSMModificationRefused, AFSMProblems, ClockError, SupervisorError
-from .model import Machine, Send, Transition, merge, validate
+from .model import MAX_LIFETIME_NS, Machine, Send, Transition, _lifetime_ok, merge, validate
 
 #: Largest event payload (elements, the root included) the ES evaluates guards
 #: on. With the model's limit of MAX_XPATH_DEEP_STEPS (2) descendant steps per
@@ -300,6 +300,9 @@ class Engine:
         if too_big is not None:
             raise SupervisorError(f"event {event.id!r} ({event.name}): {too_big}")
         lifetime = event.lifetime_ns
+        if lifetime is not None and not _lifetime_ok(lifetime):
+            raise SupervisorError(f"event {event.id!r} ({event.name}): lifetime {lifetime!r:.40} ns is not an integer "
+                                  f"in 1 to {MAX_LIFETIME_NS} ns (an hour)")
         if lifetime is None:
             lifetime = self._tables.machine.lifetime_ns(event.name)
             # the caller's event is left as it was; records carry this copy
