@@ -108,6 +108,8 @@ Interceptor = Callable[[Observation], None]
 _tuple_new = tuple.__new__  # builds a named tuple without its Python-level __new__ (hot path)
 _Element = etree._Element
 _Entity = etree.Entity
+#: Default of :attr:`Bus.max_sends_per_s`.
+MAX_SENDS_PER_S = 10_000
 _new = object.__new__
 _heappush = heapq.heappush
 
@@ -240,6 +242,17 @@ class Participant:
         self._plans: dict[str, tuple[tuple[Any, ...], ...]] = {}
         # [messages sent under this name]: kept by the bus per name (ids stay unique across re-registration).
         self._count = bus._counters.setdefault(name, [0])
+        # The rate guard: the current one-second window (ends at, the first message number in it).
+        self._window_end = -1
+        self._window_first = 0
+
+    def _rate(self, now: int, n: int) -> None:
+        """Count message ``n`` sent at ``now`` against :data:`MAX_SENDS_PER_S` (see :meth:`Bus.flooded`)."""
+        if now >= self._window_end:
+            self._window_end = now + NS_PER_S
+            self._window_first = n
+        elif n - self._window_first >= self.bus.max_sends_per_s:
+            self.bus.flooded(self)
 
     def __repr__(self) -> str:
         return f"Participant({self.name!r}, host={self.host!r})"
@@ -287,6 +300,11 @@ class Participant:
             name = self.name
             count = self._count
             n = count[0] = count[0] + 1
+            if now >= self._window_end:  # the rate guard (_rate), inlined
+                self._window_end = now + NS_PER_S
+                self._window_first = n
+            elif n - self._window_first >= bus.max_sends_per_s:
+                bus.flooded(self)
             msg = _tuple_new(Message, (
                 f"{name}#{n}",
                 PUBLISH,
@@ -311,6 +329,7 @@ class Participant:
                 name = self.name
                 count = self._count
                 n = count[0] = count[0] + 1
+                self._rate(now, n)
                 msg = _tuple_new(Message, (
                     f"{name}#{n}", PUBLISH, name, channel, None, now if created is None else to_ns(created), now,
                     causes if causes.__class__ is tuple else tuple(causes),
@@ -456,6 +475,7 @@ class Participant:
         name = self.name
         count = self._count
         n = count[0] = count[0] + 1
+        self._rate(now, n)
         return _tuple_new(Message, (
             f"{name}#{n}",
             kind,
@@ -554,6 +574,10 @@ class Bus:
         self._channel_schemas: dict[str, Schema] = {}
         self._schema_cache: dict[str, Schema | None] = {}
         self._interceptors: list[Interceptor] = []
+        # Handler tasks still running. asyncio keeps only weak references to tasks: a handler
+        # awaiting a future nobody else holds would be collected (and the run failed, at a time
+        # the garbage collector picks); held here, it just never answers and the caller times out.
+        self._handling: set[asyncio.Task[Any]] = set()
         # The interceptors that see deliveries and drops (those that declare
         # ``observes`` without them, such as the run's dispatcher, are spared the call).
         self._delivery_interceptors: list[Interceptor] = []
@@ -562,6 +586,14 @@ class Bus:
         network.on_change(self._forget_plans)
         # Message counters per participant name: ids stay unique across re-registration.
         self._counters: dict[str, list[int]] = {}
+        #: The rate guard: a participant sending more than this many messages within one virtual
+        #: second is failed (:meth:`flooded`). Far above any sane rate (a 100 Hz sensor sends 100;
+        #: the busiest module of a home tour a few hundred): a loop publishing with a tiny sleep
+        #: would otherwise grow the run's memory until the process is killed.
+        self.max_sends_per_s = MAX_SENDS_PER_S
+        #: Called with a participant that exceeded the rate (the simulation crashes its module);
+        #: it must raise (else :class:`BusError` is raised: the message is not sent).
+        self.on_flood: Callable[[Participant], None] | None = None
         self.sent = 0
         self.delivered = 0
         self.dropped = 0
@@ -651,6 +683,16 @@ class Bus:
     def remove_interceptor(self, interceptor: Interceptor) -> None:
         self._interceptors.remove(interceptor)
         self._sort_interceptors()
+
+    def flooded(self, participant: Participant) -> None:
+        """``participant`` sent more than :attr:`max_sends_per_s` messages in one virtual second: fail it.
+
+        Raises (the message being sent is not sent): whatever :attr:`on_flood` raises, else :class:`BusError`.
+        """
+        if self.on_flood is not None:
+            self.on_flood(participant)
+        raise BusError(f"participant {participant.name!r} sent more than {self.max_sends_per_s} messages within one "
+                       "virtual second (a send loop without a real wait?): refused")
 
     def _has_audience(self, channel: str) -> bool:
         """Whether a message on ``channel`` would reach anyone: a subscriber, or an interceptor.
@@ -865,7 +907,7 @@ class Bus:
                 self._drop(msg, receiver.name, f"refused by the receiver: {exc}")
                 return
             if result is not None and inspect.isawaitable(result):
-                self.loop.create_task(_await_reporting(result, self, msg, receiver.name), name=f"{receiver.name}:{sub.pattern}<-{msg.id}")
+                self._hold(self.loop.create_task(_await_reporting(result, self, msg, receiver.name), name=f"{receiver.name}:{sub.pattern}<-{msg.id}"))
         else:
             dropped = sub._push(msg)
             if dropped is not None:
@@ -894,8 +936,14 @@ class Bus:
         if inspect.isawaitable(result):
             task = self.loop.create_task(_await(result), name=f"{server.name}/{entry.name}<-{msg.id}")
             task.add_done_callback(lambda t: self._reply_from_task(t, server, caller, msg, entry, fut))
+            self._hold(task)
         else:
             self._reply(server, caller, msg, entry, fut, result)
+
+    def _hold(self, task: asyncio.Task[Any]) -> None:
+        """Keep a handler's task alive until it ends (see ``_handling``)."""
+        self._handling.add(task)
+        task.add_done_callback(self._handling.discard)
 
     def _reply_from_task(self, task: asyncio.Task[Any], server: Participant, caller: Participant, request: Message, entry: _Method, fut: asyncio.Future[Message] | None) -> None:
         if task.cancelled():

@@ -42,7 +42,7 @@ from lxml import etree
 
 from . import metrics as metrics_pkg
 from .errors import HomesimError, ScenarioError
-from .heartbeat import HEALTH_CHANNEL, HeartbeatMonitor
+from .heartbeat import HEALTH_CHANNEL, BackstopMonitor, HeartbeatMonitor
 from .message import Message
 from .metrics.es import EsRecord
 from .realtime import Stopwatch, peak_memory_mb
@@ -198,12 +198,15 @@ class Run:
         robot = importlib.import_module(ROBOT)
         subsystems = robot.SUBSYSTEMS if options.subsystems is None else options.subsystems
         self.modules: dict[str, Any] = robot.install(self, subsystems)
-        # One heartbeat monitor: the robot's own (its watchdog, which also restarts modules) if
-        # a subsystem brought one, else the kernel's (two would report every failure twice).
-        self.monitor: HeartbeatMonitor | None = None
-        if not any(getattr(m, "monitors_heartbeats", False) for m in self.modules.values()):
-            self.monitor = HeartbeatMonitor(self.sim.bus.participant("monitor", host="robot"))
-            self.sim.spawn(self.monitor.run(), name="monitor")
+        # One heartbeat monitor reports: the robot's own (its watchdog, which also restarts modules)
+        # if a subsystem brought one, else the kernel's (two would report every failure twice). Behind
+        # the robot's, the kernel's stays as a backstop: silent while that one beats, it reports in its
+        # place once it is silent too (every module crashed, the watchdog included).
+        own = sorted(k for k, m in self.modules.items() if getattr(m, "monitors_heartbeats", False))
+        participant = self.sim.bus.participant("monitor", host="robot")
+        self.monitor: HeartbeatMonitor = (BackstopMonitor(participant, primary=self.modules[own[0]].name) if own
+                                          else HeartbeatMonitor(participant))
+        self.sim.spawn(self.monitor.run(), name="monitor")
         for f in scenario.faults:
             if f.module not in self.sim.modules:
                 raise ScenarioError(f"<{f.kind} module={f.module!r}>: no such module in this run; "
@@ -251,7 +254,8 @@ class Run:
                 self._say(m.created, "ES", f"rejected {x.get('name')} from {x.get('source')} "
                                            f"({x.get('reason')} in {x.get('state')}){detail}")
         elif m.channel == FAULT_CHANNEL:
-            self._say(m.created, "fault", f"{x.get('module')} {x.get('kind')}es")
+            why = " (it flooded the bus)" if x.get("reason") == "flood" else ""
+            self._say(m.created, "fault", f"{x.get('module')} {x.get('kind')}es{why}")
         else:
             self._say(m.created, "health", f"{x.tag} {x.get('module')}")
 
