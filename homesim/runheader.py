@@ -20,6 +20,7 @@ options given through the API (:class:`homesim.runner.RunOptions`).
 
 from __future__ import annotations
 
+import functools
 import importlib
 import json
 import math
@@ -46,11 +47,13 @@ class HeaderError(InputError):
     """A trace header that cannot be used (names the trace, line 1, and the field)."""
 
 
+@functools.cache
 def known_subsystems() -> tuple[str, ...]:
     """The robot's subsystem registry (``robot.install.SUBSYSTEMS``)."""
     return tuple(importlib.import_module(ROBOT).SUBSYSTEMS)
 
 
+@functools.cache
 def known_metrics() -> tuple[str, ...]:
     """Every registered metric name (:func:`homesim.metrics.registry`)."""
     from . import metrics

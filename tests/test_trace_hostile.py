@@ -209,3 +209,48 @@ def test_a_hostile_line_gives_one_line_naming_it(good_trace, tmp_path, capsys, r
     assert len(err.splitlines()) == 1 and "Traceback" not in err, err
     assert f"{trace}:{LINE}" in err, err
     assert not any(p.name.startswith(("out.", "tl.")) for p in tmp_path.iterdir())
+
+
+# ---------------------------------------------------------------- properties
+from hypothesis import given, settings  # noqa: E402
+from hypothesis import strategies as st  # noqa: E402
+
+from .conftest import examples  # noqa: E402
+
+JSON = st.recursive(st.none() | st.booleans() | st.integers() | st.floats() | st.text(max_size=20),
+                    lambda inner: st.lists(inner, max_size=4) | st.dictionaries(st.text(max_size=10), inner, max_size=4),
+                    max_leaves=12)
+
+
+@settings(max_examples=examples(100, 1000), deadline=None)
+@given(st.lists(st.binary(max_size=200) | JSON.map(lambda v: json.dumps(v).encode()), min_size=1, max_size=6))
+def test_reading_any_bytes_as_a_trace_gives_records_or_one_input_error(tmp_path_factory, lines):
+    from homesim.errors import InputError
+    from homesim.trace import read_trace
+
+    path = tmp_path_factory.mktemp("fuzz") / "t.jsonl"
+    path.write_bytes(b"\n".join(lines))
+    try:
+        for rec in read_trace(path):
+            assert isinstance(rec, dict)
+    except InputError as exc:
+        assert str(exc).startswith(f"{path}:") and "\n" not in str(exc)
+
+
+@settings(max_examples=examples(100, 1000), deadline=None)
+@given(st.dictionaries(st.sampled_from(["scenario_file", "scenario_digest", "seed", "until", "memory", "memory_digest",
+                                        "subsystems", "metrics", "other"]), JSON, max_size=9),
+       st.dictionaries(st.sampled_from(["scenario", "seed", "homesim_version", "x"]), JSON, max_size=3))
+def test_any_header_is_accepted_checked_or_refused_in_one_line(run, top):
+    """Whatever a header holds: a checked run (every value of its type) or a HeaderError naming line 1."""
+    from homesim.runheader import RUN_FIELDS, HeaderError, check_header
+
+    try:
+        h = check_header({"homesim_trace": 1, **top, "run": run}, source="t.jsonl")
+    except HeaderError as exc:
+        assert str(exc).startswith("t.jsonl:1: ") and "\n" not in str(exc)
+        return
+    assert set(h) == set(RUN_FIELDS)
+    assert isinstance(h["scenario_file"], str) and isinstance(h["seed"], int) and h["seed"] >= 0
+    assert h["until"] is None or (isinstance(h["until"], float) and h["until"] >= 0)
+    assert h["subsystems"] is None or isinstance(h["subsystems"], tuple)
