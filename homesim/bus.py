@@ -37,8 +37,13 @@ trace recorder is one.
 How it fails: sending on a closed participant or calling an unknown server
 raises at once; a call whose reply does not come in time raises
 :class:`RemoteCallTimeout`; a server whose handler raises makes the call raise
-:class:`RemoteCallFailed`. Exceptions raised by subscription handlers fail the
-whole run (see :mod:`homesim.vloop`).
+:class:`RemoteCallFailed`; a handler that never answers (awaiting a future nobody
+holds: the bus keeps its task alive) costs its caller the timeout. Exceptions
+raised by subscription handlers fail the whole run (see :mod:`homesim.vloop`).
+A participant sending more than :data:`MAX_SENDS_PER_S` messages within one
+virtual second is failed (:meth:`Bus.flooded`; the simulation crashes its
+module, announced with ``reason="flood"``): a send loop without a real wait
+would otherwise grow the run's memory until the process is killed.
 """
 
 from __future__ import annotations
