@@ -34,11 +34,11 @@ from pathlib import Path
 
 import numpy as np
 
-from homesim.metrics.tracking import detection_scores, visible_region, wall_edges
-from homesim.runner import Run, RunOptions
+from homesim.tour.metrics.tracking import detection_scores, visible_region, wall_edges
+from homesim.tour.runner import Run, RunOptions
 from homesim.scenario.loader import load_scenario
 from homesim.sim import Simulation
-from homesim.world.stage import Stage
+from homesim.tour.stage import Stage
 from robot.attention.clutter import FurnitureLegs
 from robot.attention.legs import LegDetector, detect
 from robot.attention.module import PersonAttention

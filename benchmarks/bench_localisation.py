@@ -12,7 +12,7 @@ process) around each call:
   otherwise it returns at once.
 
 Also: the same tour standing still (corrections stop after the first three scans),
-the localisation error of the run (homesim.metrics.localisation) and the likelihood
+the localisation error of the run (homesim.tour.metrics.localisation) and the likelihood
 field's construction time. Budget (DESIGN: 3.3 ms CPU per simulated second for the
 whole tour): the localiser aims under 0.5 ms per simulated second. Not counted: the
 bus's own cost of delivering scans and odometry to one more receiver, and the
@@ -27,10 +27,10 @@ import argparse
 import time
 from pathlib import Path
 
-from homesim.metrics.localisation import LocalisationMetric
+from homesim.tour.metrics.localisation import LocalisationMetric
 from homesim.scenario.loader import load_scenario
 from homesim.sim import Simulation
-from homesim.world.stage import Stage
+from homesim.tour.stage import Stage
 from robot.hardware.map_server import floor_plan
 from robot.localisation import install
 from robot.localisation.mcl import LikelihoodField, MCLParams

@@ -22,7 +22,7 @@ import math
 
 from homesim.scenario.model import Action, Face, HumanSpec, Leave, PointAt, Target, WalkTo
 from homesim.world.bodies import ROBOT_REACH, HumanBody, Pointing
-from homesim.world.pathplan import NoPathError
+from homesim.scenario.pathplan import NoPathError
 from homesim.world.world import World
 
 from .script import Actor, ScriptError

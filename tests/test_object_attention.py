@@ -15,7 +15,7 @@ from lxml import etree
 from homesim.memory.protocol import decode_inline
 from homesim.scenario.loader import load_scenario_text
 from homesim.sim import Simulation
-from homesim.world.stage import Stage
+from homesim.tour.stage import Stage
 from robot.localisation import install as install_localiser
 from robot.objects import install as install_objects
 from robot.objects.gestures import GestureTracker

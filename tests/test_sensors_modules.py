@@ -10,7 +10,7 @@ from lxml import etree
 
 from homesim.scenario.loader import load_scenario, load_scenario_text
 from homesim.sim import Simulation
-from homesim.world.stage import Stage
+from homesim.tour.stage import Stage
 from robot.hardware.base import OdometrySpec, odometry_step
 from tests.world_helpers import ROOM, drive_base
 

@@ -17,9 +17,9 @@ from homesim.scenario.loader import load_scenario_text
 from homesim.scenario.model import Door, Face, Leave, Repeat, Say, Target, WalkTo, Wall
 from homesim.sim import Simulation
 from homesim.world.acoustics import SoundField, first_words, speech_duration, words_spoken
-from homesim.world.geometry import split_wall, wall_rectangle
-from homesim.world.pathplan import MIN_DOOR_WIDTH, Grid, door_frame, door_sides
-from homesim.world.stage import Stage
+from homesim.geometry import split_wall, wall_rectangle
+from homesim.scenario.pathplan import MIN_DOOR_WIDTH, Grid, door_frame, door_sides
+from homesim.tour.stage import Stage
 from humans.script import ScriptError
 from tests.conftest import examples
 from tests.world_helpers import ROOM, drive_base

@@ -14,8 +14,8 @@ from homesim.errors import ScenarioError
 from homesim.scenario.loader import load_scenario_text
 from homesim.sim import Simulation
 from homesim.world.bodies import HUMAN_RADIUS, ROBOT_LENGTH
-from homesim.world.geometry import polygon_edges, segments_intersect, split_wall, wrap_angle
-from homesim.world.stage import Stage
+from homesim.geometry import polygon_edges, segments_intersect, split_wall, wrap_angle
+from homesim.tour.stage import Stage
 from homesim.world.world import World
 from tests.conftest import examples
 from tests.world_helpers import EXAMPLE, ROOM, put_person, room, scenario

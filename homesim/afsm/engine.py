@@ -3,7 +3,7 @@
 Pure: no bus, no asyncio, no clock. The caller passes virtual time as
 integer nanoseconds; :meth:`Engine.queue` only enqueues, :meth:`Engine.process`
 runs the scan and returns records of what happened (sismic's
-``queue``/``execute_once``). The bus module :mod:`robot.supervisor` wraps it.
+``queue``/``execute_once``). A supervisor module on the bus wraps it.
 
 The rules, exactly:
 

@@ -21,7 +21,7 @@ from collections.abc import Iterable, Iterator
 import numpy as np
 
 from ..errors import ScenarioError
-from ..world.geometry import (
+from ..geometry import (
     distance_points_segments,
     is_convex,
     point_in_polygon,
@@ -33,7 +33,7 @@ from ..world.geometry import (
     split_wall,
     wall_rectangle,
 )
-from ..world.pathplan import MIN_DOOR_WIDTH, WALKER_RADIUS, Grid, door_sides
+from .pathplan import MIN_DOOR_WIDTH, WALKER_RADIUS, Grid, door_sides
 from .model import Action, Expectation, Face, Leave, PointAt, Repeat, Say, Scenario, Target, Wait, WaitFor, WalkTo, window_of
 
 ROBOT_RADIUS = 0.30

@@ -29,7 +29,7 @@ from matplotlib.patches import Circle, Ellipse, Patch, Polygon
 from matplotlib.text import Text
 
 from ..world.bodies import CAMERA_HEIGHT, HUMAN_RADIUS, LASER_OFFSET, LEG_RADIUS, MIC_OFFSET, ROBOT_LENGTH, ROBOT_WIDTH
-from ..world.geometry import polygon_centroid, to_world
+from ..geometry import polygon_centroid, to_world
 from ..world.world import World
 from .percepts import Percepts
 

@@ -13,7 +13,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .geometry import wrap_angle
+from ..geometry import wrap_angle
 from .world import World
 
 FACING = math.radians(30)  # "faces the robot": gaze within this of the robot's direction

@@ -205,7 +205,7 @@ def path_loss_db(source_xy: np.ndarray, listener_xy: tuple[float, float], walls:
     so each pair of crossings costs one ``wall_loss_db`` (or
     ``furniture_loss_db``). Door gaps are not walls, so sound passes them.
     """
-    from homesim.world.geometry import segments_intersect
+    from homesim.geometry import segments_intersect
 
     src = np.atleast_2d(np.asarray(source_xy, dtype=float))
     loss = np.zeros(src.shape[0])

@@ -46,7 +46,7 @@ from typing import Any
 import numpy as np
 from scipy.optimize import linear_sum_assignment
 
-from ..world.geometry import TWO_PI, polygon_edges, wrap_angle
+from ...geometry import TWO_PI, polygon_edges, wrap_angle
 from . import Observer
 
 INTERACTION_STATES = frozenset({"Interacting", "Following", "ObjectTeaching"})
@@ -209,7 +209,7 @@ class SightLines:
     """Visibility from the laser past the walls, with the walls prepared once.
 
     Plain floats per point (a frame has a few people and tracks; numpy's per-call cost was most of
-    a frame's scoring), the arithmetic of :func:`~homesim.world.geometry.segments_intersect`
+    a frame's scoring), the arithmetic of :func:`~homesim.geometry.segments_intersect`
     operation for operation, and only against the walls whose box meets the sight line's box:
     each wall is kept as its box and its segment (start, direction) in floats, sorted by the box's
     left edge, so the walls starting right of a sight line's box are never looked at. An answer
