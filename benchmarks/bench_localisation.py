@@ -119,7 +119,8 @@ def bare_publish_us(n: int = 2000, *, strict: bool = False) -> float:
     p = sim.bus.participant("p", host="robot")
     t0 = time.process_time()
     for i in range(n):
-        p.publish("/robot/localisation/pose", etree.Element("pose", time=f"{i * 0.1:.6f}", x="1.0000", y="2.0000", theta="0.10000", cxx="0.000100", cyy="0.000100", ctt="0.000010", frame="map"))
+        p.publish("/robot/localisation/pose", etree.Element("pose", time=f"{i * 0.1:.6f}", x="1.0000", y="2.0000", theta="0.10000", cxx="0.000100", cyy="0.000100",
+            ctt="0.000010", frame="map"))
     dt = time.process_time() - t0
     sim.close()
     return 1e6 * dt / n

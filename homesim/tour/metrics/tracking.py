@@ -196,7 +196,8 @@ def detection_scores(det_xy: np.ndarray, truth_xy: np.ndarray, radius: float = 0
     return tp, det_xy.shape[0] - tp, truth_xy.shape[0] - tp
 
 
-def visible_region(walls: tuple[np.ndarray, np.ndarray], pose: tuple[float, float, float], xy: np.ndarray, *, fov: float = math.pi, max_range: float = 6.5, offset: float = 0.13) -> np.ndarray:
+def visible_region(walls: tuple[np.ndarray, np.ndarray], pose: tuple[float, float, float], xy: np.ndarray, *, fov: float = math.pi, max_range: float = 6.5,
+    offset: float = 0.13) -> np.ndarray:
     """Which points (N, 2) the laser could see: in its field of view and range, no wall in between.
 
     :class:`SightLines` for ``walls`` (a caller that asks every frame keeps one).
