@@ -3,7 +3,7 @@
 argparse calls these ``type=`` functions while parsing; an
 ``ArgumentTypeError`` becomes ``homesim ...: error: argument --until: ...``
 on one line (see :class:`OneLineParser`) and exit status 2. The ranges are
-documented in ``docs/architecture.md`` ("Input limits and what homesim
+documented in ``docs/running.md`` ("Input limits and what homesim
 refuses"):
 
 - virtual times (``--duration``, ``--until``, ``--at``): finite decimal

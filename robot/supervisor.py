@@ -35,7 +35,7 @@ exactly at their expiry; no event is ever applied at or after it. Messages
 to other modules (orders, conditions, rejections returned to the dialog)
 leave in decision order: nothing decided later overtakes them.
 
-Same instant (docs/architecture.md): what expires at ``t`` is rejected before
+Same instant (docs/semantics.md §2): what expires at ``t`` is rejected before
 anything arriving at ``t`` is queued, in the state held as ``t`` began; the
 decision that ends a cost at ``t`` is taken after the arrivals at ``t`` are
 queued. Link latency, which orders deliveries against the ES's own timers,

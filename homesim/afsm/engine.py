@@ -20,7 +20,7 @@ The rules, exactly:
   written on the current *category* (the innermost compound state around
   the current state) or on any state inside it, it is *retained*; (4) else
   it is removed and rejected as *inapplicable*.
-* The same-instant rule (``docs/architecture.md``): at one instant, expiry
+* The same-instant rule (``docs/semantics.md`` §2): at one instant, expiry
   comes first. An event whose lifetime ends at ``t`` is already dead at
   ``t``, so it is rejected in the state the ES held as ``t`` began, before an
   event arriving at ``t`` is queued or any transition is taken at ``t``.

@@ -24,7 +24,7 @@ This is the run package: it imports ``robot`` and ``humans``; the kernel
 never does. After :meth:`Run.run`, :meth:`Run.finish`
 asks the scene model what it knows (``scene_model/request``, the contract's
 RPC), evaluates the expectations and returns the summary (see
-:func:`Run.summary` and docs/architecture.md for its fields).
+:func:`Run.summary` and docs/running.md for its fields).
 """
 
 from __future__ import annotations
@@ -295,7 +295,7 @@ class Run:
         return getattr(self, "sim_time", self.sim.now) >= self.scenario.duration - 1e-9
 
     def summary(self) -> dict[str, Any]:
-        """The run summary (JSON; fields in docs/architecture.md, "Running the home tour")."""
+        """The run summary (JSON; fields in docs/running.md)."""
         verdicts = self.finish()
         sim_time = getattr(self, "sim_time", self.sim.now)
         cpu = self.stopwatch.cpu()
