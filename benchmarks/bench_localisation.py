@@ -13,7 +13,7 @@ process) around each call:
 
 Also: the same tour standing still (corrections stop after the first three scans),
 the localisation error of the run (homesim.tour.metrics.localisation) and the likelihood
-field's construction time. Budget (DESIGN: 3.3 ms CPU per simulated second for the
+field's construction time. Budget (the performance aim: 3.3 ms CPU per simulated second for the
 whole tour): the localiser aims under 0.5 ms per simulated second. Not counted: the
 bus's own cost of delivering scans and odometry to one more receiver, and the
 metric's scoring of each pose (timed apart and subtracted).

@@ -354,7 +354,7 @@ class ExecutionSupervisor(Module):
         Held messages whose time has come leave first. While the ES pays a
         transition's cost it takes no decision; it only rejects events whose
         lifetime ends (exactly at their expiry). Once free it scans the queue
-        up to the first transition (§2.2); that transition makes it busy for
+        up to the first transition (docs/semantics.md §2); that transition makes it busy for
         ``cost``, and the scan goes on, from the oldest event, when it is
         free again.
         """

@@ -1,4 +1,4 @@
-"""A small, separately written reference of the ES's queue semantics (DESIGN.md §2.2).
+"""A small, separately written reference of the ES's queue semantics (docs/semantics.md §2).
 
 Written for clarity, not speed, and from the rules' text rather than from
 homesim.afsm.engine: the queue is re-sorted on every look, applicable

@@ -1,4 +1,4 @@
-"""The execution supervisor's event queue and AFSM processing (DESIGN.md §2.2), time injected.
+"""The execution supervisor's event queue and AFSM processing (docs/semantics.md §2), time injected.
 
 Pure: no bus, no asyncio, no clock. The caller passes virtual time as
 integer nanoseconds; :meth:`Engine.queue` only enqueues, :meth:`Engine.process`
@@ -313,7 +313,7 @@ class Engine:
 
     # ------------------------------------------------------------- process
     def process(self, now_ns: int, *, max_applied: int | None = None) -> list[Record]:
-        """Scan the queue at ``now_ns`` per §2.2; return what happened, in order.
+        """Scan the queue at ``now_ns`` per docs/semantics.md §2; return what happened, in order.
 
         ``max_applied`` stops the scan right after that many transitions (the
         scan would restart from the oldest event anyway): a caller whose

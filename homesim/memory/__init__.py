@@ -1,4 +1,4 @@
-"""The active memory (DESIGN.md §2.5): XML documents with insert, update, remove,
+"""The active memory (docs/semantics.md §5): XML documents with insert, update, remove,
 XPath query, indexes and subscriptions, in memory or persisted on SQLite.
 
 * :mod:`homesim.memory.core` — :class:`ActiveMemory` (the documents, indexes, subscriptions);
