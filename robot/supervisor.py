@@ -35,7 +35,7 @@ exactly at their expiry; no event is ever applied at or after it. Messages
 to other modules (orders, conditions, rejections returned to the dialog)
 leave in decision order: nothing decided later overtakes them.
 
-Same instant (docs/architecture.md): a decision at ``t`` (on an arrival, an
+Same instant (docs/semantics.md §2): a decision at ``t`` (on an arrival, an
 expiry, the end of a cost) is taken once every event arriving at ``t`` is
 queued (in a callback scheduled at ``t``, after every delivery already due
 then), scanning from the oldest: an older event arriving at the very instant
@@ -373,7 +373,7 @@ class ExecutionSupervisor(Module):
         Held messages whose time has come leave first. While the ES pays a
         transition's cost it takes no decision; it only rejects events whose
         lifetime ends (exactly at their expiry). Once free it scans the queue
-        up to the first transition (§2.2); that transition makes it busy for
+        up to the first transition (docs/semantics.md §2); that transition makes it busy for
         ``cost``, and the scan goes on, from the oldest event, when it is
         free again.
         """

@@ -1,4 +1,4 @@
-"""A small, separately written reference of the ES's queue semantics (DESIGN.md §2.2).
+"""A small, separately written reference of the ES's queue semantics (docs/semantics.md §2).
 
 Written for clarity, not speed, and from the rules' text rather than from
 homesim.afsm.engine: the queue is re-sorted on every look, applicable
@@ -81,7 +81,7 @@ class ReferenceES:
         out: list[tuple] = []
         # DESIGN.md §2.2 as written: one scan from the oldest; an expired event is rejected where the
         # scan reaches it, in the state the scan has reached (the caller queues every arrival of
-        # `now` first: the same-instant rule, docs/architecture.md)
+        # `now` first: the same-instant rule, docs/semantics.md §2)
         pos = 0
         while True:
             ordered = sorted(self.pending, key=lambda it: (it.created, it.seq))

@@ -128,7 +128,7 @@ def _health(run):
 
 
 def test_with_every_module_crashed_the_kernels_monitor_still_reports():
-    from homesim.runner import Run, RunOptions
+    from homesim.tour.runner import Run, RunOptions
 
     with Run.from_file(ROOT / "scenarios" / "two_people_radio.xml", RunOptions(until=6.0)) as run:
         seen = _health(run)
@@ -145,7 +145,7 @@ def test_with_every_module_crashed_the_kernels_monitor_still_reports():
 
 
 def test_the_kernels_monitor_is_silent_while_the_watchdog_reports():
-    from homesim.runner import Run, RunOptions
+    from homesim.tour.runner import Run, RunOptions
 
     with Run.from_file(ROOT / "scenarios" / "module_crash.xml", RunOptions(until=25.0)) as run:
         seen = _health(run)

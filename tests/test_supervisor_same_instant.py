@@ -1,4 +1,4 @@
-"""The same-instant rule (docs/architecture.md, "Same instant"): every arrival of an instant is
+"""The same-instant rule (docs/semantics.md §2, "Same instant"): every arrival of an instant is
 queued before anything is decided at it, then the scan takes the oldest first.
 
 When an older event arrives at the very instant a newer one expires, the older

@@ -9,8 +9,8 @@ from pathlib import Path
 import pytest
 
 from homesim.cliargs import OptionError
-from homesim.runner import Run, RunOptions
-from homesim.sweep import ERROR, aggregate, parse_seeds, run_one, sweep
+from homesim.tour.runner import Run, RunOptions
+from homesim.tour.sweep import ERROR, aggregate, parse_seeds, run_one, sweep
 
 ROOT = Path(__file__).resolve().parents[1]
 EXAMPLE = ROOT / "scenarios" / "two_people_radio.xml"
@@ -80,7 +80,7 @@ def test_seed_parsing_is_linear_and_bounded():
     """Parsing takes time in proportion to the seeds (0-99999 was quadratic: 56 s); a sweep has a bound.
 
     (No timing here: the test suite would take the old parser's 56 s.)"""
-    from homesim.sweep import MAX_SEEDS
+    from homesim.tour.sweep import MAX_SEEDS
 
     seeds = parse_seeds("0-99999")
     assert seeds == list(range(100_000))

@@ -3,7 +3,7 @@
 ``homesim replay``, ``plot`` and ``export`` re-create the run a trace header
 names. A header must never import code or touch the file system: names of
 subsystems and metrics only from the registries, a store only where one
-already is, every field checked by one schema (homesim.runheader). Each
+already is, every field checked by one schema (homesim.tour.runheader). Each
 refusal is one line on stderr naming ``TRACE:LINE``, exit 2 (1 only for a
 replay that differs), no traceback, and nothing created.
 """
@@ -86,7 +86,7 @@ def test_a_header_never_imports_a_module_it_names(good_trace, tmp_path, capsys, 
 
 def test_the_run_options_refuse_subsystems_outside_the_registry(tmp_path, monkeypatch):
     from homesim.errors import HomesimError
-    from homesim.runner import Run, RunOptions
+    from homesim.tour.runner import Run, RunOptions
 
     mark = _evil_module(tmp_path, "evil_api")
     monkeypatch.syspath_prepend(str(tmp_path))
@@ -99,7 +99,7 @@ def test_the_run_options_refuse_subsystems_outside_the_registry(tmp_path, monkey
 
 @pytest.mark.parametrize("reader", HEADER_READERS)
 def test_a_header_store_path_creates_nothing(good_trace, tmp_path, capsys, reader):
-    from homesim.runner import store_digest
+    from homesim.tour.runner import store_digest
 
     where = tmp_path / "made" / "by" / "header"
     empty = tmp_path / "empty"
@@ -155,8 +155,8 @@ def test_every_header_field_is_checked(good_trace, tmp_path, capsys, case):
 
 def test_the_runs_own_header_passes_the_schema(tmp_path):
     """Every header a run writes (all options set) is one the readers accept."""
-    from homesim.runheader import read_run_header
-    from homesim.runner import Run, RunOptions
+    from homesim.tour.runheader import read_run_header
+    from homesim.tour.runner import Run, RunOptions
 
     trace = tmp_path / "t.jsonl"
     opts = RunOptions(seed=3, until=0.5, trace=trace, memory=tmp_path / "store", subsystems=("robot.knowledge",),
@@ -243,7 +243,7 @@ def test_reading_any_bytes_as_a_trace_gives_records_or_one_input_error(tmp_path_
        st.dictionaries(st.sampled_from(["scenario", "seed", "homesim_version", "x"]), JSON, max_size=3))
 def test_any_header_is_accepted_checked_or_refused_in_one_line(run, top):
     """Whatever a header holds: a checked run (every value of its type) or a HeaderError naming line 1."""
-    from homesim.runheader import RUN_FIELDS, HeaderError, check_header
+    from homesim.tour.runheader import RUN_FIELDS, HeaderError, check_header
 
     try:
         h = check_header({"homesim_trace": 1, **top, "run": run}, source="t.jsonl")

@@ -1,6 +1,6 @@
 """``homesim sweep``: every scenario x seed, in parallel, into one table of verdicts and metrics.
 
-Each run is exactly ``homesim run SCENARIO --seed N`` (the same :class:`~homesim.runner.Run`,
+Each run is exactly ``homesim run SCENARIO --seed N`` (the same :class:`~homesim.tour.runner.Run`,
 so the same trace and summary); its summary is written to ``OUT/summaries/`` and one row per
 run goes into ``OUT/sweep.csv`` and ``OUT/sweep.json``, with an aggregate per scenario (runs,
 pass rate, crashes, and the mean and standard deviation of every numeric metric).
@@ -29,9 +29,9 @@ from concurrent.futures import ProcessPoolExecutor, as_completed
 from pathlib import Path
 from typing import Any
 
-from . import cliargs
-from .cliargs import OptionError
-from .errors import HomesimError
+from .. import cliargs
+from ..cliargs import OptionError
+from ..errors import HomesimError
 
 Row = dict[str, Any]
 PASS, FAIL, ERROR = "PASS", "FAIL", "ERROR"
@@ -212,7 +212,7 @@ def sweep_command(a: argparse.Namespace) -> int:
     """``homesim sweep``: the table, and one line per scenario; exit 1 if any run failed or errored."""
     seeds = parse_seeds(a.seeds)
     out = Path(a.out)
-    from .scenario.loader import load_scenario
+    from ..scenario.loader import load_scenario
 
     refused: dict[str, str] = {}
     for path in a.scenarios:  # a scenario that does not load: one line (file, line, what), its runs are ERROR rows

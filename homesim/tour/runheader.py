@@ -15,13 +15,12 @@ refuses with one line (``TRACE:1: header field 'run.x': why``):
   homesim does not know is refused (a newer trace, or an edited one).
 
 :func:`check_subsystems` and :func:`check_metrics` are the same checks for
-options given through the API (:class:`homesim.runner.RunOptions`).
+options given through the API (:class:`homesim.tour.runner.RunOptions`).
 """
 
 from __future__ import annotations
 
 import functools
-import importlib
 import json
 import math
 import os
@@ -30,12 +29,12 @@ from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Any
 
-from .errors import InputError
-from .trace import TRACE_FORMAT
-from .xmlio import open_regular
+import robot.install as biron
 
-#: The module whose ``SUBSYSTEMS`` is the robot's subsystem registry (named, never imported from a trace).
-ROBOT = "robot.install"
+from ..errors import InputError
+from ..trace import TRACE_FORMAT
+from ..xmlio import open_regular
+
 #: Longest header line read (a header is a few hundred bytes).
 MAX_HEADER_BYTES = 1 << 16
 #: Largest seed a run accepts (numpy's SeedSequence takes any int >= 0; a trace keeps it sane).
@@ -47,15 +46,14 @@ class HeaderError(InputError):
     """A trace header that cannot be used (names the trace, line 1, and the field)."""
 
 
-@functools.cache
 def known_subsystems() -> tuple[str, ...]:
     """The robot's subsystem registry (``robot.install.SUBSYSTEMS``)."""
-    return tuple(importlib.import_module(ROBOT).SUBSYSTEMS)
+    return tuple(biron.SUBSYSTEMS)
 
 
 @functools.cache
 def known_metrics() -> tuple[str, ...]:
-    """Every registered metric name (:func:`homesim.metrics.registry`)."""
+    """Every registered metric name (:func:`homesim.tour.metrics.registry`)."""
     from . import metrics
 
     return tuple(sorted(metrics.registry()))

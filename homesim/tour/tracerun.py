@@ -15,10 +15,10 @@ import os
 from pathlib import Path
 from typing import IO, Any
 
-from .errors import HomesimError, InputError
+from ..errors import HomesimError, InputError
 from .runheader import read_run_header
 from .runner import Run, RunOptions, file_digest, store_digest
-from .xmlio import open_regular
+from ..xmlio import open_regular
 
 
 def run_options(h: dict[str, Any], *, until: float | None, trace: Any) -> RunOptions:
@@ -29,7 +29,7 @@ def run_options(h: dict[str, Any], *, until: float | None, trace: Any) -> RunOpt
 
 
 def read_header(trace: str | os.PathLike[str]) -> dict[str, Any]:
-    """The trace's checked run header (:func:`homesim.runheader.read_run_header`); one-line errors."""
+    """The trace's checked run header (:func:`homesim.tour.runheader.read_run_header`); one-line errors."""
     return read_run_header(trace)
 
 
