@@ -27,6 +27,7 @@ SUBCOMMAND_MODULES: list[str] = [
     "homesim.viz.cli",
     "homesim.export.cli",
     "homesim.sweep",
+    "homesim.tour.generate",
 ]
 
 
