@@ -28,6 +28,7 @@ SUBCOMMAND_MODULES: list[str] = [
     "homesim.export.cli",
     "homesim.sweep",
     "homesim.tour.generate",
+    "homesim.tour.study",
 ]
 
 
