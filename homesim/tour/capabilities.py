@@ -98,7 +98,7 @@ def rate(passed: int, runs: int) -> dict[str, object]:
 
 
 _NUMBER = re.compile(r"[-+]?\d+(\.\d+)?(e[-+]?\d+)?( ?(ns|ms|s|m))?\b")
-_QUOTED = re.compile(r"'[^']*'|\"[^\"]*\"|\{[^}]*\}")
+_QUOTED = re.compile(r"'[^']*'|\"[^\"]*\"|\{[^}]*\}|/[^/ ][^/]*/")
 
 
 def cause_of(kind: str, detail: str, names: Sequence[str] = ()) -> str:

@@ -274,7 +274,7 @@ def _line_of(f: dict[str, Any]) -> int | None:
 
 
 def _add(groups: dict[str, dict[str, Any]], cap: str, kind: str, cause: str, r: Row) -> None:
-    g = groups.setdefault(cause, {"cause": cause, "capability": cap, "kind": kind, "runs": 0, "by_condition": {}, "examples": [], "_seen": set()})
+    g = groups.setdefault(f"{cap}|{cause}", {"cause": cause, "capability": cap, "kind": kind, "runs": 0, "by_condition": {}, "examples": [], "_seen": set()})
     key = (r["file"], r["seed"], r["condition"])
     if key in g["_seen"]:
         return
