@@ -46,7 +46,7 @@ _SAYS = ((r"good-?bye|\bbye\b", "good-bye"),
 
 def capability_of(e: Expectation, context: Sequence[Expectation] = ()) -> str:
     """The capability an expectation checks; ``context``: the scenario's other expectations (a
-    ``robot-near`` is following where the scenario follows and does not send the robot anywhere)."""
+    ``robot-near`` is following where the scenario checks following, go-to where it only sends the robot)."""
     k = e.kind
     if k == "object-learned":
         return "object teaching"
@@ -58,10 +58,11 @@ def capability_of(e: Expectation, context: Sequence[Expectation] = ()) -> str:
         return "following"
     if k in ("legs-seen", "face-seen", "sound-heard"):
         return "perception"
-    if k == "robot-near":
+    if k == "robot-near":  # following where the scenario checks following, else go-to where it sends the robot
+        follows = any((c.kind == "state-reached" and c.get("state") == "Following") or c.kind == "following-distance" for c in context)
         sends = any(c.kind == "state-reached" and c.get("state") == "Navigating" for c in context) or any(
             c.kind == "robot-says" and re.search("going to|arrived", str(c.get("pattern")), re.I) for c in context)
-        return "go-to" if sends else "following"
+        return "go-to" if sends and not follows else "following"
     if k in ("event-applied", "event-rejected"):
         return _EVENTS.get(str(e.get("event")), "other")
     if k == "state-reached":
