@@ -134,3 +134,19 @@ def test_study_needs_files_or_generated(tmp_path, capsys):
     assert main(["study", "--out", str(tmp_path)]) == 2
     assert main(["study", "--generated", "2", "--out", str(tmp_path)]) == 2
     assert "--seed" in capsys.readouterr().err
+
+
+def test_a_dask_cluster_gives_the_same_study_as_local_processes(tmp_path):
+    distributed = pytest.importorskip("distributed")
+    from pathlib import Path
+
+    from homesim.tour.study import Condition, study
+
+    files = [str(Path("scenarios/radio.xml").resolve())]
+    local = study(files, [0, 1], [Condition("default")], tmp_path / "local", workers=1)
+    with distributed.LocalCluster(n_workers=1, threads_per_worker=1, processes=False, dashboard_address=None) as cluster:
+        with distributed.Client(cluster) as client:
+            remote = study(files, [0, 1], [Condition("default")], tmp_path / "dask", scheduler=client)
+    assert remote["capabilities"] == local["capabilities"] and remote["failures"] == local["failures"]
+    assert [(r["seed"], r["verdict"]) for r in remote["runs"]] == [(r["seed"], r["verdict"]) for r in local["runs"]]
+    assert remote["throughput"]["workers"] == "dask"
