@@ -150,3 +150,17 @@ def test_a_dask_cluster_gives_the_same_study_as_local_processes(tmp_path):
     assert remote["capabilities"] == local["capabilities"] and remote["failures"] == local["failures"]
     assert [(r["seed"], r["verdict"]) for r in remote["runs"]] == [(r["seed"], r["verdict"]) for r in local["runs"]]
     assert remote["throughput"]["workers"] == "dask"
+
+
+def test_resume_reuses_the_runs_already_made(tmp_path):
+    from pathlib import Path
+
+    from homesim.tour.study import Condition, study
+
+    files = [str(Path("scenarios/radio.xml").resolve())]
+    first = study(files, [0], [Condition("default")], tmp_path, workers=1)
+    again = study(files, [0, 1], [Condition("default")], tmp_path, workers=1, resume=True)
+    assert first["throughput"]["runs"] == 1 and again["throughput"]["runs"] == 1  # only seed 1 was run now
+    assert [r["seed"] for r in again["runs"]] == [0, 1]
+    assert again["runs"][0]["verdict"] == first["runs"][0]["verdict"]
+    assert again["capabilities"]["greeting"]["runs"] == 2

@@ -21,7 +21,9 @@ Output: ``DIR/study.json`` (``runs``: one row per run with its first failed expe
 and that expectation's kind and capability; ``capabilities``: per capability runs, passed,
 rate and Wilson ``ci95``, overall and by condition; ``failures``: failed expectations grouped
 by cause; ``throughput``), ``DIR/study.md`` (the tables), ``DIR/study.png`` and ``.svg``
-(rates with intervals), ``DIR/summaries/`` (each run's summary). Exit status 0 when the
+(rates with intervals), ``DIR/summaries/`` (each run's summary). ``--resume`` reuses the runs
+whose summaries are already there (an interrupted study, or one extended by more seeds,
+scenarios or conditions) and makes only the others. Exit status 0 when the
 study ran (failed runs are results, not errors), 2 for bad input.
 """
 
@@ -143,6 +145,30 @@ def study_run(file: str, seed: int, condition: str, options: dict[str, Any], sum
 
 
 Job = tuple[str, int, str, dict[str, Any], str]
+
+
+def summary_path(job: Job) -> Path:
+    """Where a job's run summary goes (as ``sweep.run_one`` names it)."""
+    file, seed, condition, _, summaries = job
+    return Path(summaries) / f"{Path(file).stem}-{seed}-{condition}.json"
+
+
+def row_from_summary(job: Job) -> Row | None:
+    """The row of a run already made (``--resume``), from its summary; None when it cannot be read."""
+    from ..sweep import _flat
+
+    try:
+        d = json.loads(summary_path(job).read_text(encoding="utf-8"))
+        verdicts = d["expectations"]
+        metrics: dict[str, float] = {}
+        for name, value in (d.get("metrics") or {}).items():
+            _flat(name, value, metrics)
+        return {"scenario": Path(job[0]).stem, "file": job[0], "seed": job[1], "condition": job[2], "verdict": d["verdict"],
+                "passed": sum(bool(v["passed"]) for v in verdicts), "expectations": len(verdicts), "sim_time_s": d["sim_time_s"],
+                "cpu_time_s": d["cpu_time_s"], "error": "", "metrics": metrics, "failed": [v for v in verdicts if not v["passed"]],
+                "resumed": True}
+    except (OSError, ValueError, KeyError, TypeError):
+        return None
 
 
 def _local(jobs: list[Job], workers: int) -> Iterator[Row]:
@@ -308,7 +334,7 @@ def table(result: dict[str, Any], conditions: list[str]) -> str:
 
 # ------------------------------------------------------------------ the study
 def study(files: list[str], seeds: list[int], conditions: list[Condition], out: Path, *, workers: int | None = None,
-          scheduler: Any = None, progress: Callable[[Row], None] | None = None) -> dict[str, Any]:
+          scheduler: Any = None, progress: Callable[[Row], None] | None = None, resume: bool = False) -> dict[str, Any]:
     """Run the study, write study.json / study.md / study.png / study.svg into ``out``, return study.json's content."""
     from ..scenario.loader import load_scenario
 
@@ -328,10 +354,21 @@ def study(files: list[str], seeds: list[int], conditions: list[Condition], out: 
             names[f] = [x.name for group in (sc.rooms, sc.objects, sc.humans, sc.places, sc.furniture, sc.sources) for x in group] + [
                 d.name for w in sc.walls for d in w.doors if d.name]
         jobs += [(f, n, cond.name, dict(cond.run), str(summaries)) for f in cfiles for n in seeds]
+    rows: list[Row] = []
+    if resume:  # runs made before (an interrupted study): their summaries, not the runs again
+        todo = []
+        for job in jobs:
+            old = row_from_summary(job)
+            if old is None:
+                todo.append(job)
+            else:
+                rows.append(old)
+                if progress is not None:
+                    progress(old)
+        jobs = todo
     start_wall = time.perf_counter()
     workers = workers or os.cpu_count() or 1
     results = _dask(jobs, scheduler) if scheduler is not None else _local(jobs, workers)
-    rows: list[Row] = []
     for row in results:
         rows.append(row)
         if progress is not None:
@@ -341,18 +378,19 @@ def study(files: list[str], seeds: list[int], conditions: list[Condition], out: 
     rows.sort(key=lambda r: (order[r["condition"]], r["scenario"], r["seed"]))
     cnames = [c.name for c in conditions]
     result = analyse(rows, expectations, names, cnames)
-    cpu = sum(r["cpu_time_s"] or 0.0 for r in rows)
-    sim = sum(r["sim_time_s"] or 0.0 for r in rows)
+    made = [r for r in rows if not r.get("resumed")]  # throughput of the runs made now
+    cpu = sum(r["cpu_time_s"] or 0.0 for r in made)
+    sim = sum(r["sim_time_s"] or 0.0 for r in made)
     doc = {
         "study": {"scenarios": len(files), "seeds": seeds, "runs": len(rows),
                   "conditions": {c.name: c.text() for c in conditions}},
         "overall": result["overall"],
         "capabilities": result["capabilities"],
         "failures": [{k: v for k, v in g.items() if k != "_seen"} for g in result["failures"]],
-        "throughput": {"runs": len(rows), "cpu_s": round(cpu, 3), "simulated_s": round(sim, 3), "wall_s": round(wall, 3),
+        "throughput": {"runs": len(made), "cpu_s": round(cpu, 3), "simulated_s": round(sim, 3), "wall_s": round(wall, 3),
                        "workers": "dask" if scheduler is not None else workers,
-                       "runs_per_cpu_minute": round(60 * len(rows) / cpu, 3) if cpu else None,
-                       "runs_per_wall_minute": round(60 * len(rows) / wall, 3) if wall else None},
+                       "runs_per_cpu_minute": round(60 * len(made) / cpu, 3) if cpu else None,
+                       "runs_per_wall_minute": round(60 * len(made) / wall, 3) if wall and made else None},
         "runs": [_public(r) for r in rows],
     }
     (out / "study.json").write_text(json.dumps(doc, indent=2, ensure_ascii=False) + "\n", encoding="utf-8")
@@ -394,10 +432,10 @@ def study_command(a: argparse.Namespace) -> int:
             files.append(str(Path(p).resolve()))
     conditions = [parse_condition(c) for c in a.condition] or [Condition(DEFAULT)]
     seeds = parse_seeds(a.seeds)
-    doc = study(files, seeds, conditions, out, workers=a.workers, scheduler=a.scheduler, progress=Progress(len(files) * len(seeds) * len(conditions), sys.stderr))
+    doc = study(files, seeds, conditions, out, workers=a.workers, scheduler=a.scheduler, progress=Progress(len(files) * len(seeds) * len(conditions), sys.stderr), resume=a.resume)
     print((out / "study.md").read_text(encoding="utf-8"))
     t = doc["throughput"]
-    print(f"{t['runs']} runs, {t['cpu_s']:.0f} CPU s ({t['runs_per_cpu_minute']} runs per CPU minute), {t['wall_s']:.0f} s wall")
+    print(f"{t['runs']} runs made, {t['cpu_s']:.0f} CPU s ({t['runs_per_cpu_minute']} runs per CPU minute), {t['wall_s']:.0f} s wall")
     print(f"wrote {out / 'study.json'}, {out / 'study.md'}, {out / 'study.png'} and {out / 'study.svg'}")
     return 0
 
@@ -414,6 +452,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--workers", type=_workers, default=None, help="local processes (default: the CPU count)")
     p.add_argument("--scheduler", type=_scheduler, default=None, metavar="ADDRESS", help="run on this Dask distributed scheduler (tcp://host:8786)")
     p.add_argument("--out", required=True, help="directory for study.json, study.md, study.png/.svg, summaries/")
+    p.add_argument("--resume", action="store_true", help="reuse the runs whose summaries OUT/summaries/ already holds (an interrupted or extended study)")
     p.set_defaults(func=study_command)
 
 
