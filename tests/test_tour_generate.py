@@ -184,3 +184,13 @@ def test_flats_are_random_but_every_room_is_reachable_for_the_robot():
 
         comps = {grid.component(room_middle(r)) for r in flat.rooms}
         assert len(comps) == 1
+
+
+def test_plural_objects_are_spoken_of_in_the_plural():
+    assert phrasing.agree("Look, this is the glasses", "glasses") == "Look, these are the glasses"
+    assert phrasing.agree("Can you tell me where the keys is", "keys") == "Can you tell me where the keys are"
+    assert phrasing.agree("This is a shoes", "shoes") == "These are shoes"
+    assert phrasing.agree("This is my cup", "cup") == "This is my cup"
+    for t, *_ in phrasing.OBJECT + phrasing.OBJECT_SIMILAR:
+        text = phrasing.agree(t.format(word="keys", colour="grey"), "keys")
+        assert " is " not in f" {text} " and "this " not in text.lower(), text

@@ -273,7 +273,7 @@ class TourWriter:
         words = P.OBJECT_WORDS[o.type]
         word = words[0] if self.rng.random() < 0.6 else str(self.pick(words))
         template, owner, favourite, colour = self.pick(P.OBJECT_SIMILAR if o.twin else P.OBJECT)  # type: ignore[misc]
-        text = template.format(word=word, colour=o.colour)
+        text = P.agree(template.format(word=word, colour=o.colour), word)
         self.act("point", object=o.name, duration=fmt(snap(float(self.rng.uniform(1.5, 2.5)))))
         self.say(text, "learned|" + rx(word), 8)
         self.t += 2
@@ -295,10 +295,10 @@ class TourWriter:
         o, word = plain[int(self.rng.integers(len(plain)))]
         self.wait(0.5, 2.0)
         self.face_robot()
-        text = str(self.pick(P.WHERE)).format(word=word)
+        text = P.agree(str(self.pick(P.WHERE)).format(word=word), word)
         names = "|".join(sorted({rx(word), rx(o.type.replace("_", " "))}))
-        self.say(text, f"({names}) is|don't know|seen the", 8)
-        self.expect.append(("robot-says", {"pattern": f"\\b({names}) is\\b"}, f"{self.user} asks where the {o.name} is ({text!r})"))
+        self.say(text, f"({names}) (is|are)|don't know|seen the", 8)
+        self.expect.append(("robot-says", {"pattern": f"\\b({names}) (is|are)\\b"}, f"{self.user} asks where the {o.name} is ({text!r})"))
         self.note()
 
     def go_to(self, target: int, more: bool) -> None:

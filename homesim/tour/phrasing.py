@@ -69,6 +69,25 @@ OBJECT_WORDS: dict[str, tuple[str, ...]] = {
     "shoes": ("shoes",),
 }
 
+#: Object words a person uses in the plural ("where are my keys").
+PLURAL = frozenset({"keys", "glasses", "shoes", "flowers"})
+
+_AGREE = ((r"\bThis is\b", "These are"), (r"\bThat is\b", "Those are"), (r"\bHere is\b", "Here are"),
+          (r"\bWhere is\b", "Where are"), (r"\bthis is\b", "these are"), (r"\bthis\b", "these"), (r"\bis mine\b", "are mine"),
+          (r"\b(where (?:my|the) [a-z ]+) is\b", r"\1 are"), (r"\bThese are a\b", "These are"))
+
+
+def agree(text: str, word: str) -> str:
+    """``text`` about ``word`` with the verb and pronoun in agreement ("This is a keys" -> "These are keys")."""
+    import re
+
+    if word not in PLURAL:
+        return text
+    for pattern, repl in _AGREE:
+        text = re.sub(pattern, repl, text)
+    return text
+
+
 #: What bystanders say to each other (never addressed to the robot).
 CHAT = ("Did you see the game last night", "We need to buy milk", "The weather is nice today",
         "When is dinner", "I will call my sister later", "Have you seen my keys", "This new robot is funny",
