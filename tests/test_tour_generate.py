@@ -15,7 +15,7 @@ from homesim.scenario.model import PointAt, Say, Scenario, WalkTo
 from homesim.tour import objectgen, phrasing
 from homesim.tour.flatgen import DOOR_MAX, DOOR_MIN, generate_flat, robot_grid
 from homesim.tour.generate import generate_one, sight
-from homesim.world.geometry import point_in_polygon, polygon_area
+from homesim.geometry import point_in_polygon, polygon_area
 from tests.conftest import examples
 
 
@@ -109,7 +109,7 @@ def test_objects_are_inside_rooms_on_what_they_say_and_reachable(seed):
 
 
 def robot_grid_for(sc: Scenario):
-    from homesim.world.pathplan import Grid
+    from homesim.scenario.pathplan import Grid
 
     return Grid.for_scenario(sc)
 

@@ -23,8 +23,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..world.geometry import point_in_polygon, polygon_centroid
-from ..world.pathplan import Grid
+from ..geometry import point_in_polygon, polygon_centroid
+from ..scenario.pathplan import Grid
 
 Point = tuple[float, float]
 
@@ -518,7 +518,7 @@ def _fits(rect: Rect, flat: Flat, k: int) -> bool:
 
 
 def _robot_polygons(flat: Flat) -> list[np.ndarray]:
-    from ..world.geometry import split_wall, wall_rectangle
+    from ..geometry import split_wall, wall_rectangle
 
     polys = []
     for w in flat.walls:

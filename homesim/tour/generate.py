@@ -50,7 +50,7 @@ from lxml import etree
 
 from ..cliargs import OptionError
 from ..world.acoustics import speech_duration
-from ..world.pathplan import NoPathError
+from ..scenario.pathplan import NoPathError
 from . import phrasing as P
 from .flatgen import Flat, RoomPlan, generate_flat, snap
 from .objectgen import ObjectPlan, generate_objects

@@ -3,13 +3,13 @@
 ``homesim study (FILES... | --generated K --seed S) [--seeds 0-9] [--workers N | --scheduler ADDR]
 [--condition NAME=OPTIONS ...] --out DIR``
 
-Every run is one ``homesim run SCENARIO --seed N`` (the same :class:`~homesim.runner.Run`
-as ``homesim sweep``'s :func:`~homesim.sweep.run_one`), on local processes or a Dask
+Every run is one ``homesim run SCENARIO --seed N`` (the same :class:`~homesim.tour.runner.Run`
+as ``homesim sweep``'s :func:`~homesim.tour.sweep.run_one`), on local processes or a Dask
 cluster. ``--generated K --seed S`` first writes ``homesim generate --seed S --count K``
 into ``DIR/scenarios/``. A condition changes how the runs are made, one study table
 column each (e.g. two robot profiles): ``NAME=key=value,key=value`` where a key is
 
-* a run option (a field of :class:`~homesim.runner.RunOptions`, e.g. ``strict=true``, and the
+* a run option (a field of :class:`~homesim.tour.runner.RunOptions`, e.g. ``strict=true``, and the
   robot profile or deployment once the run takes them);
 * ``robot.ATTRIBUTE`` -- an attribute of the scenario's ``<robot>`` (``robot.max-speed=0.3``);
 * ``option.NAME`` -- a ``<robot><option>`` for BIRON's modules (``option.follow-distance=1.2``).
@@ -42,7 +42,7 @@ from typing import IO, Any
 
 from .. import cliargs
 from ..cliargs import OptionError
-from ..sweep import ERROR, FAIL, PASS, _scheduler, _workers, parse_seeds, run_one
+from .sweep import ERROR, FAIL, PASS, _scheduler, _workers, parse_seeds, run_one
 from .capabilities import CAPABILITIES, capability_of, cause_of, rate
 
 Row = dict[str, Any]
@@ -66,7 +66,7 @@ class Condition:
 
 def parse_condition(text: str) -> Condition:
     """``NAME=key=value,key=value`` (or just ``NAME``: the scenarios as written)."""
-    from ..runner import RunOptions
+    from .runner import RunOptions
 
     name, _, rest = text.partition("=")
     name = name.strip()
@@ -155,7 +155,7 @@ def summary_path(job: Job) -> Path:
 
 def row_from_summary(job: Job) -> Row | None:
     """The row of a run already made (``--resume``), from its summary; None when it cannot be read."""
-    from ..sweep import _flat
+    from .sweep import _flat
 
     try:
         d = json.loads(summary_path(job).read_text(encoding="utf-8"))
