@@ -48,7 +48,8 @@ def plot_rates(doc: dict[str, Any], path: str | Path) -> Path:
     ax.set_xlim(0, 112)
     ax.set_xlabel("runs passing (%), with 95 % Wilson interval")
     runs = doc["study"]["runs"]
-    ax.set_title(f"{doc['study']['scenarios']} scenarios x {len(doc['study']['seeds'])} seeds: {runs} runs", fontsize=10)
+    ns, nn = doc['study']['scenarios'], len(doc['study']['seeds'])
+    ax.set_title(f"{ns} scenario{'s' * (ns != 1)} x {nn} seed{'s' * (nn != 1)}: {runs} runs", fontsize=10)
     if k > 1:
         ax.legend(loc="lower right", fontsize=8)
     ax.grid(axis="x", alpha=0.3)
