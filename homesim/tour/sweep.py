@@ -72,14 +72,18 @@ def _flat(prefix: str, value: Any, into: dict[str, float]) -> None:
             _flat(f"{prefix}.{k}", v, into)
 
 
-def run_one(scenario: str, seed: int, until: float | None = None, summaries: str | None = None) -> Row:
-    """One run, as ``homesim run`` does it; never raises (an error becomes an ``ERROR`` row)."""
+def run_one(scenario: str, seed: int, until: float | None = None, summaries: str | None = None,
+            options: dict[str, Any] | None = None, tag: str = "") -> Row:
+    """One run, as ``homesim run`` does it; never raises (an error becomes an ``ERROR`` row).
+
+    ``options``: further :class:`~homesim.runner.RunOptions` fields (a study's condition);
+    ``tag``: appended to the summary's file name."""
     from .runner import Run, RunOptions
 
     row: Row = {"scenario": Path(scenario).stem, "file": scenario, "seed": seed, "verdict": ERROR,
                 "passed": 0, "expectations": 0, "sim_time_s": None, "cpu_time_s": None, "error": "", "metrics": {}}
     try:
-        with Run.from_file(Path(scenario), RunOptions(seed=seed, until=until)) as run:
+        with Run.from_file(Path(scenario), RunOptions(seed=seed, until=until, **(options or {}))) as run:
             run.run()
             verdicts = run.finish()
             summary = run.summary()
@@ -94,7 +98,7 @@ def run_one(scenario: str, seed: int, until: float | None = None, summaries: str
                sim_time_s=summary["sim_time_s"], cpu_time_s=summary["cpu_time_s"], metrics=metrics,
                failed=[v.as_dict() for v in verdicts if not v.passed])
     if summaries is not None:
-        path = Path(summaries) / f"{row['scenario']}-{seed}.json"
+        path = Path(summaries) / f"{row['scenario']}-{seed}{tag}.json"
         path.write_text(json.dumps(summary, indent=2, ensure_ascii=False) + "\n", encoding="utf-8")
     return row
 
