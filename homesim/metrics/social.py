@@ -11,7 +11,9 @@ its own (``Navigating``, a go-to):
 * ``min_person_distance_m``: the smallest distance from the robot's centre to any person's
   centre (the SocNavBench "closest pedestrian distance"), and ``min_person_clearance_m``: the
   smallest air gap between the robot's footprint (0.51 x 0.43 m) and a person's body (the
-  world's 0.25 m circle); a contact is a gap of 0;
+  world's 0.25 m circle); a contact is a gap of 0; ``min_person_clearance_moving_m`` the same
+  while the robot moves (faster than 5 cm/s): a person walking past a robot standing still
+  comes close by their own choice;
 * ``personal_space_s``: time with someone's body closer than :data:`INTIMATE` (0.45 m) to the
   robot's footprint: Hall's intimate zone measured as he measured it, between bodies (centre to
   centre that is about 0.95 m straight ahead; 0.45 m centre to centre would be a contact), and
@@ -72,6 +74,7 @@ class _Mode:
         self.collisions_flat = 0
         self.min_person = math.inf
         self.min_gap = math.inf
+        self.min_gap_moving = math.inf
         self.personal = 0.0
         self.bystander = 0.0
         self.path = 0.0
@@ -83,6 +86,7 @@ class _Mode:
             "collisions_flat": self.collisions_flat,
             "min_person_distance_m": round(self.min_person, 3) if math.isfinite(self.min_person) else None,
             "min_person_clearance_m": round(self.min_gap, 3) if math.isfinite(self.min_gap) else None,
+            "min_person_clearance_moving_m": round(self.min_gap_moving, 3) if math.isfinite(self.min_gap_moving) else None,
             "personal_space_s": round(self.personal, 3),
             "near_bystander_s": round(self.bystander, 3),
             "path_length_m": round(self.path, 3),
@@ -251,11 +255,14 @@ class Social(Observer):
                 partner_pos = (hx, hy)
             else:
                 bystander = min(bystander, g)
+        moving = abs(world.robot.v) > 0.05
         for m in self._active():
             m.time += self.dt
             m.path += step
             m.min_person = min(m.min_person, near)
             m.min_gap = min(m.min_gap, gap)
+            if moving:
+                m.min_gap_moving = min(m.min_gap_moving, gap)
             if gap < INTIMATE:
                 m.personal += self.dt
             if bystander < PERSONAL:

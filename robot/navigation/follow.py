@@ -42,6 +42,7 @@ from __future__ import annotations
 import asyncio
 import math
 from collections import deque
+from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
@@ -52,7 +53,8 @@ from homesim.message import Message
 from homesim.module import Module
 
 from .config import Limits
-from .local import DWAParams, LatestScan, dwa, heading_speed
+from .local import DWAParams, LatestScan, dwa, heading_speed, social_speed_limit
+from .people import People, nearest
 from .seen import SeenGround, footprint_samples
 
 STATE = "/robot/attention/state"
@@ -62,6 +64,7 @@ ODOMETRY = "/robot/odometry"
 BASE_CMD = "/robot/base/cmd"
 STATUS = "/robot/follow/status"
 EVENTS = "/robot/es/events"
+TRACKS = "/robot/attention/tracks"
 SCHEMA = Path(__file__).resolve().parent.parent / "schemas" / "navigation" / "follow-status.xsd"
 #: how many of the robot's own past positions (odometry, every CRUMB m) the back-off may retrace
 BREADCRUMBS = 200
@@ -122,6 +125,8 @@ class Follower(Module):
         self.bus.subscribe(PARTNER, self._on_partner)
         self.bus.subscribe(SCAN, self._on_scan)
         self.bus.subscribe(ODOMETRY, self._on_odometry)
+        self.people = People()  # everyone else the attention tracks, while following
+        self._tracks_sub: Any = None
 
     def respawn(self) -> Follower:
         return Follower(self.sim, name=self.name, limits=self.limits, rate=1.0 / self.period, distance=self.distance,
@@ -142,6 +147,17 @@ class Follower(Module):
             if self.track is not None and self.track.get("id") != partner:
                 self.track = None
         self.following = follow
+        self._listen_to_people(follow)
+
+    def _listen_to_people(self, on: bool) -> None:
+        """Read the person tracks while following, and only then (every delivery draws a network
+        delay from the run's generator: a standing subscription would change every run)."""
+        if on and self._tracks_sub is None:
+            self._tracks_sub = self.bus.subscribe(TRACKS, lambda m: self.people.update(m.xml))
+        elif not on and self._tracks_sub is not None:
+            self._tracks_sub.close()
+            self._tracks_sub = None
+            self.people.clear()
 
     def _on_partner(self, msg: Message) -> None:
         x = msg.xml
@@ -259,7 +275,16 @@ class Follower(Module):
             pts = self.scan.points()
             if len(pts):
                 pts = pts[np.hypot(pts[:, 0] - rx, pts[:, 1] - ry) > 0.45]  # not the partner's own legs
-            cmd = dwa(self.v, self.w, goal, pts, self.limits, v_pref=v_pref, params=self.params)
+            # everyone else: keep out of their personal space, and pass them slowly (yield: slow,
+            # stop and wait while they cross, then go on)
+            others = self.people.around(self.odom, self.now, exclude=self.partner_id, near=(px, py), echoes=pts)
+            limits = self.limits
+            if len(others):
+                cap = social_speed_limit(nearest(others), self.limits.max_speed)
+                if cap < limits.max_speed:
+                    limits = replace(limits, max_speed=cap)
+                    v_pref = min(v_pref, cap)
+            cmd = dwa(self.v, self.w, goal, pts, limits, v_pref=v_pref, params=self.params, people=others)
             v, w = cmd.v, cmd.w
             state = "following" if cmd.ok else "waiting"
         self._command(v, w)
