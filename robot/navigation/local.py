@@ -111,25 +111,28 @@ def scan_points(ranges: np.ndarray, min_angle: float, resolution: float, max_ran
 
 _RING = np.linspace(0.0, 2 * math.pi, 10, endpoint=False)
 _RING_COS, _RING_SIN = np.cos(_RING), np.sin(_RING)
-#: m: the air the robot keeps between its footprint and a tracked person's body when it can help
-#: it: an arc that would come closer within its whole horizon is inadmissible, unless it does not
-#: bring the robot any closer than it is (so a person who walks up to the robot is never fled
-#: into something, and waiting is always allowed). Head-on that is a stop about 0.85 m from the
-#: person's centre (issue 26: yield, stop at a safe distance, never touch).
-SOCIAL_GAP = 0.35
+#: m: the air the robot keeps between its bounding circle (:data:`REACH`, the footprint's corners)
+#: and a tracked person's body when it can help it: an arc that would come closer within its whole
+#: horizon is inadmissible, unless it does not bring the robot any closer than it is (so a person
+#: who walks up to the robot is never fled into something, and waiting is always allowed). Head-on
+#: that is a stop about 0.84 m from the person's centre, some 0.33 m of air in front of the bumper
+#: (issue 26: yield, stop at a safe distance, never touch). The circle, not the rectangle: turning
+#: on the spot never brings anyone closer, so a robot stopped beside a person can always turn away.
+SOCIAL_GAP = 0.25
 #: m: a person's body radius round their tracked centre (the laser sees their legs).
 BODY = 0.25
+#: m: the footprint's bounding circle (half its diagonal).
+REACH = math.hypot(HALF_LENGTH, HALF_WIDTH)
 
 
 def people_gaps(x: np.ndarray, y: np.ndarray, th: np.ndarray, people: np.ndarray) -> np.ndarray:
-    """The air gap (m) between the footprint at each pose (arrays of one shape) and the nearest body.
+    """The air gap (m) between the robot's bounding circle at each pose (arrays of one shape) and the nearest body.
 
     ``people``: (P, 2) person centres in the robot frame; bodies are :data:`BODY` m round them.
+    ``th`` is accepted for symmetry with the footprint tests (the circle does not turn).
     """
-    c, s = np.cos(th)[..., None], np.sin(th)[..., None]
     dx, dy = people[:, 0] - x[..., None], people[:, 1] - y[..., None]
-    lx, ly = c * dx + s * dy, -s * dx + c * dy
-    return (footprint_distance(lx, ly) - BODY).min(axis=-1)
+    return (np.hypot(dx, dy) - BODY - REACH).min(axis=-1)
 
 
 @lru_cache(maxsize=8)
