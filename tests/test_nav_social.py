@@ -16,7 +16,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from lxml import etree
 
-from homesim.runner import Run, RunOptions
+from homesim.tour.runner import Run, RunOptions
 from robot.navigation.config import Limits
 from robot.navigation.local import SOCIAL_GAP, arcs, dwa, people_gaps
 from robot.navigation.people import People

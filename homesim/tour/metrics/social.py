@@ -46,7 +46,7 @@ from __future__ import annotations
 import math
 from typing import Any
 
-from ..world.pathplan import NoPathError
+from ...scenario.pathplan import NoPathError
 from . import Observer
 
 #: m, body to body: closer than this is inside someone's personal space (Hall's intimate zone).
