@@ -111,28 +111,28 @@ def scan_points(ranges: np.ndarray, min_angle: float, resolution: float, max_ran
 
 _RING = np.linspace(0.0, 2 * math.pi, 10, endpoint=False)
 _RING_COS, _RING_SIN = np.cos(_RING), np.sin(_RING)
-#: m: the air the robot keeps between its bounding circle (:data:`REACH`, the footprint's corners)
-#: and a tracked person's body when it can help it: an arc that would come closer within its whole
-#: horizon is inadmissible, unless it does not bring the robot any closer than it is (so a person
-#: who walks up to the robot is never fled into something, and waiting is always allowed). Head-on
-#: that is a stop about 0.84 m from the person's centre, some 0.33 m of air in front of the bumper
-#: (issue 26: yield, stop at a safe distance, never touch). The circle, not the rectangle: turning
-#: on the spot never brings anyone closer, so a robot stopped beside a person can always turn away.
+#: m: the air the robot keeps between its footprint and a tracked person's body when it can help
+#: it: an arc that drives and would come closer within its whole horizon is inadmissible, unless it
+#: does not bring the robot any closer than it is (so a person who walks up to the robot is never
+#: fled into something, and waiting is always allowed). Head-on that is a stop about 0.76 m from
+#: the person's centre, 0.25 m of air in front of the bumper; passing beside someone, 0.72 m centre
+#: to centre (issue 26: yield, stop at a safe distance, never touch). Turning on the spot is
+#: exempt (it brings nobody nearer the robot's centre; the laser echoes still guard the corners),
+#: so a robot stopped beside a person can always turn to a way round.
 SOCIAL_GAP = 0.25
 #: m: a person's body radius round their tracked centre (the laser sees their legs).
 BODY = 0.25
-#: m: the footprint's bounding circle (half its diagonal).
-REACH = math.hypot(HALF_LENGTH, HALF_WIDTH)
 
 
 def people_gaps(x: np.ndarray, y: np.ndarray, th: np.ndarray, people: np.ndarray) -> np.ndarray:
-    """The air gap (m) between the robot's bounding circle at each pose (arrays of one shape) and the nearest body.
+    """The air gap (m) between the footprint at each pose (arrays of one shape) and the nearest body.
 
     ``people``: (P, 2) person centres in the robot frame; bodies are :data:`BODY` m round them.
-    ``th`` is accepted for symmetry with the footprint tests (the circle does not turn).
     """
+    c, s = np.cos(th)[..., None], np.sin(th)[..., None]
     dx, dy = people[:, 0] - x[..., None], people[:, 1] - y[..., None]
-    return (np.hypot(dx, dy) - BODY - REACH).min(axis=-1)
+    lx, ly = c * dx + s * dy, -s * dx + c * dy
+    return (footprint_distance(lx, ly) - BODY).min(axis=-1)
 
 
 @lru_cache(maxsize=8)
@@ -398,23 +398,28 @@ def dwa(v0: float, w0: float, goal: tuple[float, float], points: np.ndarray, lim
         here = np.inf
     social = None
     if people is not None and len(people):
-        social, gaps = social_mask(x, y, th, np.asarray(people, dtype=float).reshape(-1, 2))
+        social, gaps = social_mask(x, y, th, np.asarray(people, dtype=float).reshape(-1, 2), V)
         clear = np.minimum(clear, gaps)
     return choose(V, W, x, y, th, hard, clear, here, d if len(pts) else None, goal, v_pref, p, social=social)
 
 
-def social_mask(x: np.ndarray, y: np.ndarray, th: np.ndarray, people: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def social_mask(x: np.ndarray, y: np.ndarray, th: np.ndarray, people: np.ndarray,
+                v: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
     """Which arcs (rows of the (K, S) poses) respect people's space, and each arc's smallest gap to a body.
 
     An arc is fine when its footprint stays :data:`SOCIAL_GAP` from every body over its whole
-    horizon, or when it never brings the robot closer than it is now (standing still always does).
+    horizon, or when it never brings the robot closer than it is now (standing still always does),
+    or when it turns on the spot (``v`` 0: nobody comes nearer the centre).
     The whole horizon, not just the stopping distance as for walls: people's positions come from
     a tracker and jitter by a decimetre, and a robot that may close in until it could just stop
     creeps up to them step by step.
     """
     gaps = people_gaps(x, y, th, people).min(axis=1)
     now = float(people_gaps(np.zeros(1), np.zeros(1), np.zeros(1), people)[0])
-    return (gaps >= SOCIAL_GAP) | (gaps >= min(now, SOCIAL_GAP) - 1e-3), gaps
+    ok = (gaps >= SOCIAL_GAP) | (gaps >= min(now, SOCIAL_GAP) - 1e-3)
+    if v is not None:
+        ok |= np.abs(v) < 1e-9
+    return ok, gaps
 
 
 def choose(V: np.ndarray, W: np.ndarray, x: np.ndarray, y: np.ndarray, th: np.ndarray, hard: np.ndarray,
