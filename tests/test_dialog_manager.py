@@ -468,6 +468,11 @@ def test_question_and_choice():
     assert choose(opts, etree.fromstring('<OBJECT type="cup"><TITLE name="cup"/><COLOUR name="red"/></OBJECT>')) == 0
     assert choose(opts, etree.fromstring("<THAT_ONE/>")) is None
     assert choose(opts, etree.fromstring("<NO/>")) is None
+    # the object attention's texts say where each one is: "the left one" picks by that word
+    sides = [(0, "the plant on the right"), (1, "the one on the left")]
+    assert choose(sides, etree.fromstring('<THAT_ONE side="left"/>')) == 1
+    assert choose(sides, etree.fromstring('<THAT_ONE side="right" type="plant"><TITLE name="plant"/></THAT_ONE>')) == 0
+    assert choose(sides, etree.fromstring('<THAT_ONE side="middle"/>')) is None
 
 
 def test_clarify_dialog_asks_and_ends_with_the_choice(dm):

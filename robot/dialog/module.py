@@ -109,6 +109,8 @@ def choose(options: list[tuple[int, str]], answer: Any) -> int | None:
             return options[1][0]
         return None
     words = {c.get("name", "") for c in answer.iter() if c.get("name")}
+    if answer.get("side"):  # "the left one": the options say where each is ("the cup on the left")
+        words.add(answer.get("side", ""))
     if answer.get("type"):
         words.add(answer.get("type", "").replace("_", " "))
     scores = [(sum(w in text.split() or w == text for w in words), idx) for idx, text in options]

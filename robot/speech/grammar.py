@@ -278,6 +278,44 @@ def _position(tree: Tree) -> etree._Element:
     return pos
 
 
+def _that_one(act: Tree) -> etree._Element:
+    """``THAT_ONE`` (index, side, type; GESTURE, TITLE, COLOUR, ATTRIBUTE*, POSITION): which of several."""
+    el = _E("THAT_ONE")
+    toks = _tokens(act)
+    where = _sub(act, "ref_where")
+    side_tree = _sub(act, "side") or (_sub(where, "side") if where is not None else None)
+    sides = [t for t in toks if t.type == "SIDE"] + ([t for t in _tokens(side_tree) if t.type == "SIDE"]
+                                                     if side_tree is not None else [])
+    deixis = _sub(act, "deixis")
+    pointing = (deixis is not None and any(t.type in ("THIS", "THAT", "HERE") for t in _tokens(deixis))) or (
+        where is not None and any(t.type == "POINTING" for t in _tokens(where)))
+    np = _sub(act, "object_np")
+    if np is not None:
+        toks = toks + _tokens(np)
+        act = np
+    for t in toks:
+        if t.type == "ORD":
+            el.set("index", t.value)
+    if sides:
+        el.set("side", sides[-1].value)
+    noun = next((t for t in toks if t.type == "OBJ"), None)
+    if noun is not None and noun.value:
+        el.set("type", noun.value)
+    if pointing:
+        _S(el, "GESTURE", val="probably_pointing")
+    if noun is not None and noun.value:
+        _S(el, "TITLE", name=noun.text)
+    colours, attrs = _modifiers(act)
+    if colours:
+        _S(el, "COLOUR", name=colours[-1])
+    for a in attrs:
+        _S(el, "ATTRIBUTE", name=a)
+    position = _sub(act, "position") or (_sub(where, "position") if where is not None else None)
+    if position is not None:
+        el.append(_position(position))
+    return el
+
+
 def _place(np: Tree) -> etree._Element:
     el = _E("PLACE")
     place = next((t for t in _tokens(np) if t.type in ("PLACE", "ROOM")), None)
@@ -302,15 +340,7 @@ def build(tree: Tree) -> etree._Element:
     elif kind in ("goodbye", "capabilities", "follow", "stop", "wait", "yes", "no"):
         _S(speech, {"goodbye": "GOODBYE", "capabilities": "CAPABILITIES"}.get(kind, kind.upper()))
     elif kind == "that_one":
-        el = _S(speech, "THAT_ONE")
-        for t in _tokens(act):
-            if t.type == "ORD":
-                el.set("index", t.value)
-        colours, attrs = _modifiers(act)
-        if colours:
-            _S(el, "COLOUR", name=colours[-1])
-        for a in attrs:
-            _S(el, "ATTRIBUTE", name=a)
+        speech.append(_that_one(act))
     elif kind in ("teach_object", "object_fragment"):
         speech.append(_object(_sub(act, "object_np"), gesture=kind == "teach_object",  # type: ignore[arg-type]
                               position=_sub(act, "position"), tail=_sub(act, "owner_tail")))

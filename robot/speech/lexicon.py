@@ -137,10 +137,31 @@ class Lexicon:
             else:
                 unknown.append(words[i])
                 i += 1
+        toks = _sides(toks)
         out = Tokens(toks, unknown, words=n)
         out.tokens = _repairs(out.tokens, out.corrected)
         out.tokens = _repetitions(out.tokens, out.repeated)
         return out
+
+
+#: Words that name a side after an article or before "one"/a noun ("the right one", "at the back",
+#: "the right cup") and something else elsewhere ("right!", "go back").
+_SIDE_WORDS = {"right": "right", "back": "back"}
+_BEFORE_SIDE = frozenset({"THE", "A", "THIS", "THAT"})
+_AFTER_SIDE = frozenset({"ONE", "OBJ", "COLOUR", "ATTR"})
+
+
+def _sides(toks: list[Tok]) -> list[Tok]:
+    """Read "right" and "back" as a side where the words around them say so."""
+    for i, t in enumerate(toks):
+        side = _SIDE_WORDS.get(t.text)
+        if side is None:
+            continue
+        before = toks[i - 1].type if i else ""
+        after = toks[i + 1].type if i + 1 < len(toks) else ""
+        if before in _BEFORE_SIDE or (after in _AFTER_SIDE and before not in ("GO", "COME", "IS", "YES")):
+            toks[i] = Tok("SIDE", side, t.text)
+    return toks
 
 
 # Word classes for aligning a repair with its reparandum: a determiner replaces a determiner, etc.
