@@ -1,6 +1,6 @@
 """Speech understanding: the home-tour grammar turns recognised words into the frames of DESIGN.md §2.4.
 
-The corpus (tests/data/utterances.tsv) holds every utterance with the frame a
+The tuning corpus (robot/speech/corpus/tuning.tsv) holds every utterance with the frame a
 person expects, including fillers, repetitions, self-corrections, fragments and
 recogniser-style dropped and substituted words.
 """
@@ -19,7 +19,7 @@ from robot.speech.grammar import Understander
 from robot.speech.lexicon import Lexicon, LexiconError
 from robot.speech.module import FRAMES_XSD, frame_message, shared_understander
 
-CORPUS = Path(__file__).with_name("data") / "utterances.tsv"
+CORPUS = Path(__file__).resolve().parent.parent / "robot" / "speech" / "corpus" / "tuning.tsv"
 SCHEMA = load_schema(FRAMES_XSD)
 
 
