@@ -173,7 +173,7 @@ class DialogManager:
             "user_turns": 0, "robot_turns": 0, "not_understood": 0, "reasks": 0, "confirmations": 0,
             "give_ups": 0, "rejections": 0, "rejections_explained": 0, "interruptions": 0, "resumptions": 0,
             "barge_ins": 0, "dropped": 0, "events_sent": 0, "ignored_frames": 0, "unhandled_conditions": 0,
-            "confirmed_by_repetition": 0, "corrections": 0, "asked_twice_gave_up": 0,
+            "confirmed_by_repetition": 0, "corrections": 0, "asked_twice_gave_up": 0, "max_same_question": 0,
             "dialogs": {},
         }
 
@@ -396,6 +396,7 @@ class DialogManager:
             self._finish(inst, out, abandoned=False)
             return False
         inst.asked[question] = n + 1
+        self.metrics["max_same_question"] = max(self.metrics["max_same_question"], n + 1)
         return True
 
     def _say(self, out: list[Output], text: str, did: str) -> None:

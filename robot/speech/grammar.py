@@ -221,6 +221,9 @@ class Understander:
             # a deixis, articles and prepositions alone are noise ("this the to", "to the"), not an
             # object or place the user began to describe ("this is my favourite <lost word>")
             return None, ignored, True
+        if toks[0].type in ("IS", "ARE"):
+            # "is the <lost words>": a question whose object was lost is no question to answer
+            return None, ignored, True
         for filler in ("OBJ", "PLACE"):  # "this is my ...": close it with an empty object/place
             trial = ip.copy()
             try:
