@@ -191,3 +191,32 @@ def test_no_question_is_ever_asked_more_than_twice_in_one_dialog(seq):
                 asked.setdefault(owner.serial, Counter())[q.text] += 1
     for per in asked.values():
         assert all(n <= MAX_SAME_QUESTION for n in per.values()), per
+
+
+def test_no_right_after_a_learned_place_renames_it(dm):
+    (s,) = sends(dm.on_frame(heard("this is the kitchen")))
+    dm.on_condition(etree.fromstring('<condition name="place_learned"/>'))
+    out = dm.on_frame(heard("no, this is the bedroom"))
+    (s,) = sends(out)
+    place = s.children[0].find("PLACE")
+    assert place.find("TITLE").get("name") == "bedroom" and place.get("replaces") == "kitchen"
+    # later, a new room named is no correction of the kitchen
+    dm.on_condition(etree.fromstring('<condition name="place_learned"/>'))
+    dm.on_frame(heard("follow me"))
+    (s,) = sends(dm.on_frame(heard("this is the hall")))
+    assert s.children[0].find("PLACE").get("replaces") is None
+
+
+def test_the_knowledge_base_renames_a_corrected_place():
+    from robot.knowledge.bases import PlaceBase
+
+    kb = PlaceBase()
+    pose = '<POSE x="1.0" y="2.0" theta="0" frame="map"/>'
+    kb.store(etree.fromstring(f'<PLACE><TITLE name="living room"/>{pose}</PLACE>'), now=1.0)
+    kb.store(etree.fromstring(f'<PLACE><TITLE name="kitchen"/><POSE x="5.0" y="2.0" theta="0" frame="map"/></PLACE>'), now=2.0)
+    kb.store(etree.fromstring(f'<PLACE replaces="kitchen"><TITLE name="bedroom"/><POSE x="5.2" y="2.1" theta="0" frame="map"/></PLACE>'), now=3.0)
+    names = [p.name for p in kb.taught()]
+    assert names == ["living room", "bedroom"]
+    # a "replaces" far from the wrong place renames nothing
+    kb.store(etree.fromstring(f'<PLACE replaces="living room"><TITLE name="hall"/><POSE x="9.0" y="2.0" theta="0" frame="map"/></PLACE>'), now=4.0)
+    assert [p.name for p in kb.taught()] == ["living room", "bedroom", "hall"]

@@ -206,7 +206,7 @@ def test_where_not_found_is_not_taken_for_seen(dm):
     # the scene model sends the question's OBJECT back with found="false": that is no answer
     dm.on_frame(frame(f"<WHERE>{CUP}</WHERE>"))
     out = dm.on_condition(cond("object_info", f'<param name="result"><RESULT found="false">{CUP}</RESULT></param>'))
-    assert says(out) == ["Sorry, I don't know where to find the cup."]
+    assert says(out) == ["Sorry, I don't know where to find your cup."]
 
 
 def test_goodbye_normal_path(dm):

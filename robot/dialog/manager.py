@@ -169,6 +169,7 @@ class DialogManager:
         self.stack: list[Instance] = []
         self.es_state = ""  # the supervisor's current state, from its status channel
         self._serial = 0
+        self._last_done: tuple[str, dict[str, Any], int] | None = None  # (dialog, values, user turn) of the last success
         self.metrics: dict[str, Any] = {
             "user_turns": 0, "robot_turns": 0, "not_understood": 0, "reasks": 0, "confirmations": 0,
             "give_ups": 0, "rejections": 0, "rejections_explained": 0, "interruptions": 0, "resumptions": 0,
@@ -243,10 +244,29 @@ class DialogManager:
         if d is None or (d.in_states is not None and self.es_state not in d.in_states):
             self.metrics["ignored_frames"] += 1
             return out
+        if said == "no":
+            act_el = self._correcting(d.id, act_el)
         inst = self._push(d, out)
         self._fill_frame(inst, [f for f in d.fills if f.frame and act in f.frame], act_el, conf, stamp)
         self._step(inst, out)
         return out
+
+    def _correcting(self, did: str, act_el: etree._Element) -> etree._Element:
+        """"No, this is the bedroom" right after "OK, this is the kitchen. I will remember it.": the
+        new teaching says which name it replaces (``replaces=``), so the knowledge base renames the
+        place instead of keeping both."""
+        last = self._last_done
+        if last is None or last[0] != did or self.metrics["user_turns"] - last[2] > 1:
+            return act_el
+        old = next((v for v in last[1].values() if isinstance(v, etree._Element) and v.tag == act_el.tag), None)
+        old_title = old.find("TITLE") if old is not None else None
+        new_title = act_el.find("TITLE")
+        if old_title is None or new_title is None or old_title.get("name") == new_title.get("name"):
+            return act_el
+        act_el = deepcopy(act_el)
+        act_el.set("replaces", old_title.get("name", ""))
+        self.metrics["corrections"] += 1
+        return act_el
 
     def _confirming(self) -> Instance | None:
         """The dialog whose confirmation question is the topmost open question, if any."""
@@ -528,6 +548,8 @@ class DialogManager:
             return
         inst.done = True
         inst.success = not abandoned and inst.holds(inst.d.goal)
+        if inst.success:
+            self._last_done = (inst.d.id, inst.values(), self.metrics["user_turns"])
         self._count(inst.d.id, "abandoned" if abandoned else ("succeeded" if inst.success else "failed"))
         was_top = self.stack and self.stack[-1] is inst
         self.stack.remove(inst)
