@@ -220,3 +220,12 @@ def test_the_knowledge_base_renames_a_corrected_place():
     # a "replaces" far from the wrong place renames nothing
     kb.store(etree.fromstring(f'<PLACE replaces="living room"><TITLE name="hall"/><POSE x="9.0" y="2.0" theta="0" frame="map"/></PLACE>'), now=4.0)
     assert [p.name for p in kb.taught()] == ["living room", "bedroom", "hall"]
+
+
+def test_a_correction_heard_badly_is_confirmed_in_its_turn(dm):
+    # "Is this the bathroom?" - "no, the kitchen" heard with low confidence: the robot asks about
+    # the kitchen at once (it stayed silent: the slots' statuses had not changed, only the value)
+    assert says(dm.on_frame(heard("this is the bathroom", LOW))) == ["Is this the bathroom?"]
+    assert says(dm.on_frame(heard("no, the kitchen", LOW))) == ["Is this the kitchen?"]
+    (s,) = sends(dm.on_frame(heard("exactly")))
+    assert s.children[0].find("PLACE/TITLE").get("name") == "kitchen"

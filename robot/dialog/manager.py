@@ -297,6 +297,7 @@ class DialogManager:
         else:
             self._fill_frame(inst, fills, act_el, conf, stamp, replace=True)
             self.metrics["corrections"] += 1
+            inst.last_sig = None  # the same slot statuses with a new value: the policy acts again (confirms it)
 
     def on_condition(self, cond: etree._Element) -> list[Output]:
         """A condition from the supervisor (``<condition name ...><param>...``)."""
