@@ -126,7 +126,17 @@ class Understander:
             res.ignored = [t.text for t in toks]
             res.reason = "no parse"
             return res
-        res.frame = build(tree)
+        frame = build(tree)
+        obj = frame[0]
+        if partial and lex.unknown and obj.tag == "OBJECT" and obj.get("type") is None and all(
+                c.tag == "GESTURE" for c in obj):
+            # "that's the end of the tour": a deixis and words the robot does not know describe no
+            # object (a closing turn must not become an empty object frame); "this is a <lost>"
+            # without unknown words stays an object to look at
+            res.ignored = [t.text for t in toks]
+            res.reason = "nothing known said about it"
+            return res
+        res.frame = frame
         res.ignored = ignored
         res.partial = partial or bool(ignored)
         used = len(toks) - len(ignored)
