@@ -229,3 +229,10 @@ def test_a_correction_heard_badly_is_confirmed_in_its_turn(dm):
     assert says(dm.on_frame(heard("no, the kitchen", LOW))) == ["Is this the kitchen?"]
     (s,) = sends(dm.on_frame(heard("exactly")))
     assert s.children[0].find("PLACE/TITLE").get("name") == "kitchen"
+
+
+def test_a_lost_noun_is_asked_for_not_looked_at(dm):
+    # "This is the kitchen" heard as "this is the": the robot asked nothing and learned the kettle
+    # she happened to stand by
+    out = dm.on_frame(heard("this is the"))
+    assert says(out) == ["What is it?"] and not sends(out)

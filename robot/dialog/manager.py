@@ -209,6 +209,11 @@ class DialogManager:
             return self._not_understood()
         act_el = acts[0]
         act = str(act_el.tag)
+        if msg.get("partial") == "true" and act_el.get("partial") is None:
+            # the understanding lost or skipped words: the policy may ask rather than act on what is
+            # left ("this is the <lost word>" is no "look at this")
+            act_el = deepcopy(act_el)
+            act_el.set("partial", "true")
         stamp = speech.find("TIMESTAMP") if speech is not None else None
         conf = float(msg.get("confidence", "1"))
         said = msg.get("answer", "")  # "yes"/"no" before the request: "no, the kitchen"
