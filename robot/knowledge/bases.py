@@ -54,6 +54,8 @@ SAME_SPOT = 0.2
 
 OBJECT_INDEXES = {"type": "@type", "name": "@name", "owner": "@owner"}
 PLACE_INDEXES = {"name": "@name"}
+#: metres: a place named again within this distance of where a wrong name was just given is that place
+SAME_PLACE = 1.5
 
 
 def _clean(text: str | None) -> str:
@@ -307,6 +309,25 @@ class PlaceBase(KnowledgeBase):
     def same_as(self, doc: etree._Element) -> int | None:
         ids = self.memory.query_ids(where={"name": doc.get("name", "")})
         return ids[-1] if ids else None
+
+    def store(self, doc: etree._Element, attachments: Mapping[str, Attachment] | None = None, *, now: float = 0.0) -> tuple[int, bool]:
+        """Store a place; ``replaces="kitchen"`` (the user corrected the name she had just given:
+        "no, this is the bedroom") renames the place taught under the old name within
+        :data:`SAME_PLACE` metres instead of keeping both."""
+        wrong = _clean(doc.get("replaces"))
+        if wrong:
+            canon, _ = self.canonical(doc, attachments or {}, now)
+            x, y = float(canon.get("x", "0")), float(canon.get("y", "0"))
+            for rid in self.memory.query_ids(where={"name": wrong}):
+                old = self.memory.get(rid).xml
+                if math.hypot(float(old.get("x", "0")) - x, float(old.get("y", "0")) - y) <= SAME_PLACE:
+                    if self.same_as(canon) is None:
+                        self.check(canon)
+                        self.memory.update(rid, canon, None)
+                        return rid, True
+                    self.memory.remove(rid)  # the right name is stored already: the wrong one goes
+                    break
+        return super().store(doc, attachments, now=now)
 
     def taught(self) -> list[TaughtPlace]:
         """Every place, in the order it was first taught."""
