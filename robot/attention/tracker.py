@@ -70,7 +70,9 @@ class TrackerSpec:
     confirm_window: float = 1.0  # s: ... within this long after birth
     tentative_gap: float = 0.35  # s: a tentative track not seen for longer is dropped
     death_timeout: float = 2.5  # s without an update: the track is gone
-    coast_damping: float = 0.5  # 1/s: an unobserved track's velocity decays at this rate
+    coast_damping: float = 0.5  # 1/s: an unobserved track's velocity decays at this rate ...
+    coast_hold: float = 0.8  # s: ... once it has been unobserved this long (a crossing hides a walker ~0.5-1 s: keep its pace)
+    birth_clearance: float = 0.5  # m: no new person within this of a confirmed track (two bodies' centres are never closer)
     max_speed: float = 2.5  # m/s: clamp (nobody walks faster indoors)
     init_speed_std: float = 1.0  # m/s: velocity uncertainty of a new track
 
@@ -180,7 +182,7 @@ class Tracks:
             tk.predict(dt, qa, qb, qc)
             x = tk.x
             # Coasting tracks slow down (a person unseen for a while has probably stopped).
-            if t - tk.last_update > 0.3:
+            if t - tk.last_update > spec.coast_hold:
                 x[2] *= damp
                 x[3] *= damp
             if x[2] * x[2] + x[3] * x[3] > vmax * vmax * 0.99:
@@ -240,10 +242,17 @@ class Tracks:
         if len(keep) < len(tracks):
             assigned = [row_of[a] if a >= 0 else -1 for a in assigned]
             self.tracks = tracks = keep
-        # Birth: every unassigned pair or blob starts a tentative track.
+        # Birth: every unassigned pair or blob starts a tentative track, unless it lies within
+        # ``birth_clearance`` of a confirmed track: two people close together give pairs made of
+        # one leg of each, and such a pair confirmed as a third person stole the evidence of both.
+        clear2 = spec.birth_clearance**2
+        anchors = [(tk.x[0], tk.x[1]) for tk in tracks if tk.confirmed]
         for j in range(m):
             if assigned[j] < 0 and not single[j]:
-                self._birth_one(t, z[j][0], z[j][1], spec.meas_std**2)
+                zx, zy = z[j][0], z[j][1]
+                if any((zx - ax) ** 2 + (zy - ay) ** 2 < clear2 for ax, ay in anchors):
+                    continue
+                self._birth_one(t, zx, zy, spec.meas_std**2)
         return assigned
 
     def _birth_one(self, t: float, zx: float, zy: float, r: float) -> None:
