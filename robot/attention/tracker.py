@@ -343,13 +343,17 @@ def _gated(
     tracks: list[Track], z: Sequence[Sequence[float]], var: list[float], gates: list[float], t: float, spec: TrackerSpec,
     single: list[bool] | None = None,
 ) -> tuple[list[tuple[int, int, float]], set[tuple[int, int]]]:
-    """(track row, candidate, squared Mahalanobis distance) of every pair within the candidate's gate,
-    and the pairs gated under the "stopped" hypothesis.
+    """(track row, candidate, cost) of every pair within the candidate's gate, and the pairs gated
+    under the "stopped" hypothesis.
+
+    The gate is on the squared Mahalanobis distance; the cost is the negative log-likelihood
+    up to a constant, ``d2 + ln det S``, so a wide (long unseen) track or a loose single leg
+    does not take a candidate from a track that predicts it tightly.
 
     A track unobserved for ``spec.stop_after`` has two hypotheses: it walked on (the constant-velocity
     prediction) or it stopped or turned where it was last measured (radius ``stop_spread`` per second
     unobserved); only pairs and blobs are taken under the second (a lone leg there is as likely a
-    chair's). The better of the two counts: a person who turns back while hidden behind another is
+    chair's). The likelier of the two counts: a person who turns back while hidden behind another is
     found where they were instead of being searched for where they would have walked to.
     """
     out = []
@@ -366,17 +370,21 @@ def _gated(
             r = var[j]
             a = p00 + r
             d = p11 + r
+            det = a * d - bb
             dx = zj[0] - x0
             dy = zj[1] - x1
-            d2 = (d * dx * dx - 2 * b * dx * dy + a * dy * dy) / (a * d - bb)
+            d2 = (d * dx * dx - 2 * b * dx * dy + a * dy * dy) / det
+            ok = d2 <= gates[j]
+            cost = d2 + math.log(det)
             if spread and not (single and single[j]):
-                ds = ((zj[0] - lx) ** 2 + (zj[1] - ly) ** 2) / (r + spread)
-                if ds < d2:
-                    d2 = ds
-                    if ds <= gates[j]:
-                        stopped.add((i, j))
-            if d2 <= gates[j]:
-                out.append((i, j, d2))
+                s2 = r + spread
+                ds = ((zj[0] - lx) ** 2 + (zj[1] - ly) ** 2) / s2
+                cs = ds + 2 * math.log(s2)
+                if ds <= gates[j] and (not ok or cs < cost):
+                    ok, cost = True, cs
+                    stopped.add((i, j))
+            if ok:
+                out.append((i, j, cost))
     return out, stopped
 
 
