@@ -257,6 +257,8 @@ class Network:
         self._hosts: dict[str, str] = {}
         self._speeds: dict[str, float] = {}
         self._placement: dict[str, str] = {}
+        #: Where a participant runs that is not placed and asks for a host nobody declared (a deployment's default).
+        self.default_host: str | None = None
         self._stats: dict[str, LinkStats] = {}
         # Per (host_a, host_b): the Path, worked out once (cleared when links or hosts change).
         self._plans: dict[tuple[str, str], Path] = {}
@@ -313,8 +315,14 @@ class Network:
         self._placement[participant] = host
 
     def host_for(self, participant: str, default: str) -> str:
-        """Where ``participant`` runs: its placement, else ``default``."""
-        return self._placement.get(participant, default)
+        """Where ``participant`` runs: its placement; else ``default`` if that host is declared or
+        no default host is set; else the default host (a deployment's ``default-host``)."""
+        placed = self._placement.get(participant)
+        if placed is not None:
+            return placed
+        if default in self._hosts or self.default_host is None:
+            return default
+        return self.default_host
 
     def placement(self) -> dict[str, str]:
         """Participant name -> host as placed, sorted by name."""
