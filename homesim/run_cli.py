@@ -75,7 +75,8 @@ def _options(a: argparse.Namespace) -> RunOptions:
         raise HomesimError(f"--realtime must be a finite scale > 0, got {a.realtime}")
     if a.seed is not None and a.seed < 0:
         raise HomesimError(f"--seed must be >= 0, got {a.seed}")
-    return RunOptions(seed=a.seed, until=a.until, trace=a.trace, memory=a.memory, realtime=a.realtime, strict=a.strict or None)
+    return RunOptions(seed=a.seed, until=a.until, trace=a.trace, memory=a.memory, realtime=a.realtime, strict=a.strict or None,
+                      profile=a.profile)
 
 
 def run_command(a: argparse.Namespace) -> int:
@@ -89,6 +90,8 @@ def run_command(a: argparse.Namespace) -> int:
             console.text(f"scenario {sc.name} ({a.scenario}): seed {run.sim.seed}, {run.end:g} of {sc.duration:g} s, "
                          f"{len(sc.humans)} people, {len(sc.sources)} other sound sources, "
                          f"robot modules: {', '.join(sorted(run.modules)) or 'none'}")
+            console.text(f"robot profile {run.profile}; deployment {run.deployment.name}: "
+                         + ", ".join(f"{h.name} ({h.link})" for h in run.deployment.hosts))
         run.run(progress=console.progress)
         verdicts = run.finish()
         summary = run.summary()
@@ -165,7 +168,8 @@ def replay(trace: Path, *, out: IO[str] | None = None) -> int:
         opts = RunOptions(seed=h.get("seed"), until=h.get("until"), trace=cmp,  # type: ignore[arg-type]
                           memory=None if h.get("memory") is None else Path(h["memory"]),
                           subsystems=None if h.get("subsystems") is None else tuple(h["subsystems"]),
-                          metrics=None if h.get("metrics") is None else tuple(h["metrics"]))
+                          metrics=None if h.get("metrics") is None else tuple(h["metrics"]),
+                          profile=h.get("profile"))
         with Run.from_file(path, opts) as run:
             run.run(stop=lambda: cmp.diverged is not None)
             if cmp.diverged is None:
@@ -224,6 +228,8 @@ def _run_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--summary", type=cliargs.output_file, default=None, help="write the run summary (JSON)")
     p.add_argument("--memory", type=cliargs.store_dir, default=None, metavar="DIR",
                    help="the robot's knowledge store (a directory, created if missing): load it at the start, save to it")
+    p.add_argument("--profile", default=None, metavar="NAME",
+                   help="which robot: full (default) or biron-2005 (overrides the scenario's <robot profile>)")
     p.add_argument("--realtime", type=cliargs.realtime_scale, default=None, metavar="X", help="pace the run at X times real time")
     p.add_argument("--quiet", action="store_true", help="print the verdict (and failed expectations) only")
     p.add_argument("--strict", action="store_true",
