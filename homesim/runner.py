@@ -166,6 +166,11 @@ class Run:
             "metrics": None if options.metrics is None else list(options.metrics),
             "profile": options.profile,
             "deployment": self.deployment.name,
+            # Where modules run and what links join the hosts (the timeline groups lanes by host
+            # and marks the messages that crossed a slow link).
+            "hosts": {h.name: h.link for h in self.deployment.hosts},
+            "placement": {"default": self.deployment.default_host, **dict(self.deployment.placement)},
+            "link_worst_ms": {lk.name: round(lk.worst_s * 1000, 3) for lk in self.deployment.links},
         }
         try:
             self._build(scenario, options, seed)
