@@ -129,3 +129,21 @@ def test_network_stats_count_deliveries_per_link():
             sim.call_at(i * 0.01, a.publish, "/y", etree.Element("y"))
         sim.run()
         assert net.stats()["wlan"].count == 50
+
+
+def test_a_module_on_a_slower_host_takes_longer_in_proportion_to_the_cpu_speed():
+    from robot.deployment import papers
+    from robot.speech.module import SpeechUnderstanding
+    from robot.supervisor import ExecutionSupervisor
+
+    with Simulation(seed=0) as sim:
+        papers().apply(sim.network)
+        es, su = ExecutionSupervisor(sim), SpeechUnderstanding(sim)
+        base = (es.cost_ns, su.recognition_time(3))
+    with Simulation(seed=0) as sim:
+        papers().apply(sim.network)
+        sim.network.place("supervisor", "pc2")  # 500 MHz instead of 850
+        sim.network.place("understanding", "pc1")  # 850 MHz instead of the laptop's 1400
+        es, su = ExecutionSupervisor(sim), SpeechUnderstanding(sim)
+        assert es.cost_ns == pytest.approx(base[0] * 850 / 500, rel=1e-6)
+        assert su.recognition_time(3) == pytest.approx(base[1] * 1400 / 850)

@@ -48,6 +48,7 @@ from lxml import etree
 from homesim.errors import BusError
 from homesim.message import Message
 from homesim.module import Module
+from robot.deployment import cost_scale
 from homesim.vloop import to_ns
 
 from .loader import BIRON_DIALOGS, load
@@ -139,8 +140,9 @@ class Dialog(Module):
         super().__init__(sim, name, host=host)
         self.doc = dialogs if isinstance(dialogs, Dialogs) else load(dialogs)
         self.manager = DialogManager(self.doc)
-        self.dialog_cost = dialog_cost
-        self.generation_time = generation_time
+        scale = cost_scale(sim, self.name, self.bus.host)  # the papers' laptop: 1 (docs/deployment.md)
+        self.dialog_cost = dialog_cost * scale
+        self.generation_time = generation_time * scale
         self.barge_in_level = barge_in_level
         self.barge_in_width = barge_in_width
         self.partner_fresh = partner_fresh
