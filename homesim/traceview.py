@@ -9,13 +9,14 @@ the recognition time; the supervisor's is its reconfiguration time).
 Messages sent several times a second for a sustained time are *continuous
 streams* (scans, odometry, tracks; the papers' Fig. 6 draws them lighter);
 the others are *events*. Heartbeats (``/system/heartbeat/``) are left out
-unless asked for. Phases (start, greeting, follow request, stop, teaching,
-good-bye) are read from the supervisor's log: where it applied those events;
-"following" (D) where the robot starts driving after a follow request (the first
-non-zero ``/robot/base/cmd``). Spans carry what they measure (speech detection,
-speech recognition, the ES's reconfiguration, other processing); with the run's
-deployment in the header, lanes are grouped by host and the messages that crossed
-the slowest link (the WLAN) are known (:meth:`Timeline.crosses_slow_link`).
+unless asked for. Phases: "A start" at 0, and whatever the registered phase
+markers (:func:`register_phases`; the run package's read the robot's
+supervisor log) find in the records. Spans carry what they measure (``kind``):
+registered span markers (:func:`register_spans`) name or replace the spans they
+recognise (the run package's: speech detection, speech recognition, the ES's
+reconfiguration). With the run's deployment in the trace header (``run.hosts``,
+``run.placement``, ``run.link_worst_ms``), lanes are grouped by host and the
+messages that crossed the slowest link are known (:meth:`Timeline.crosses_slow_link`).
 
 Both passes stream the file; memory holds one small record per event
 message in the asked window, a thinned sample of each stream, and bounded
@@ -25,9 +26,8 @@ look-up tables of recent sends and deliveries (:data:`RECENT`).
 from __future__ import annotations
 
 import os
-import re
 from collections import OrderedDict
-from collections.abc import Iterator
+from collections.abc import Callable, Iterable, Iterator
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -42,21 +42,31 @@ STREAM_RATE = 0.9
 STREAM_MIN = 20
 HEARTBEAT = "/system/heartbeat/"
 SENDS = ("publish", "request", "reply", "error")
-#: Phases: an event the ES applied -> (mark, label); "following" is the first follow status after a follow request.
-PHASE_EVENTS: dict[str, tuple[str, str]] = {
-    "greeting": ("B", "greeting"), "follow": ("C", "follow request"), "stop": ("E", "stop"),
-    "object_teaching": ("T", "teaching an object"), "place_teaching": ("T", "teaching a place"),
-    "goodbye": ("G", "good-bye"),
-}
-ES_LOG = "/robot/es/log"
-FOLLOW_STATUS = "/robot/follow/status"
-BASE_CMD = "/robot/base/cmd"
-#: Channels whose sends end a span of a named kind (others: "processing").
-SPAN_KINDS = {"/robot/audio/speech": "speech detection", "/robot/speech/frames": "speech recognition"}
-ES_SENDER = "supervisor"
-_START = re.compile(r' start="([0-9.eE+-]+)"')
-_V = re.compile(r' v="([0-9.eE+-]+)"')
-_EVENT = re.compile(r' event="([^"]+)"')
+#: A phase marker reads every sent record (``channel``, record) in trace order and returns the
+#: phases it starts there, as ``(mark, label)`` pairs; it may keep state between records.
+PhaseMarker = Callable[[str, dict[str, Any]], Iterable[tuple[str, str]]]
+#: Factories of phase markers, one marker per timeline read (the run package registers its robot's).
+PHASE_MARKERS: list[Callable[[], PhaseMarker]] = []
+
+
+def register_phases(factory: Callable[[], PhaseMarker]) -> None:
+    """Add a phase marker factory (each :func:`read_timeline` makes a fresh marker from it)."""
+    if factory not in PHASE_MARKERS:
+        PHASE_MARKERS.append(factory)
+
+
+#: A span marker reads every sent record (``channel``, record, the span :func:`walk` found for it
+#: or None) in trace order and returns the span to draw for it (with its ``kind``), or None to keep
+#: what it was given; it may keep state between records.
+SpanMarker = Callable[[str, dict[str, Any], "Span | None"], "Span | None"]
+#: Factories of span markers, one marker per timeline read (the run package registers its robot's).
+SPAN_MARKERS: list[Callable[[], SpanMarker]] = []
+
+
+def register_spans(factory: Callable[[], SpanMarker]) -> None:
+    """Add a span marker factory (each :func:`read_timeline` makes a fresh marker from it)."""
+    if factory not in SPAN_MARKERS:
+        SPAN_MARKERS.append(factory)
 
 
 class _Recent(OrderedDict):
@@ -87,11 +97,7 @@ class Message:
 class Span:
     """A module working: from the delivery of a message's latest cause to the module, to its send.
 
-    ``kind`` says what the span is (the papers' Fig. 6 phases): ``speech detection`` (the
-    microphones hearing an utterance, from its start to the recognised words going out),
-    ``speech recognition`` (the recogniser's and grammar's time, from the utterance's
-    delivery to the frame), ``ES reconfiguration`` (the supervisor's own processing) or
-    ``processing``.
+    ``kind`` says what it measures ("processing" unless a span marker names it).
     """
 
     lane: str
@@ -154,7 +160,7 @@ class Timeline:
     slow: set[tuple[str, str]] = field(default_factory=set)  # (sender, receiver) lanes joined by the slowest link
 
     def crosses_slow_link(self, sender: str, receiver: str) -> bool:
-        """Whether a message from ``sender`` to ``receiver`` went over the deployment's slowest link (the WLAN)."""
+        """Whether a message from ``sender`` to ``receiver`` went over the deployment's slowest link."""
         return (sender, receiver) in self.slow
 
 
@@ -288,12 +294,12 @@ def read_timeline(path: str | os.PathLike[str], *, start: float | None = None, e
     flows: list[Flow] = []
     phases: list[Phase] = [Phase(0.0, "A", "start")] if t0 <= 0.0 else []
     last_sample: dict[tuple[str, str], float] = {}
-    following = False
+    markers = [factory() for factory in PHASE_MARKERS]
+    span_markers = [factory() for factory in SPAN_MARKERS]
     depth: _Recent = _Recent()
     lane_depths: dict[str, list[int]] = {}  # a module's events' causal depths (one int per event message)
     lane_first: dict[str, float] = {}
     stream_first: dict[str, float] = {}  # modules that send streams: their first stream message
-    decided: _Recent = _Recent()  # event id -> when the supervisor decided on it (its log record)
     for ev in walk(path, streams):
         rec = ev.rec
         if isinstance(ev, Delivery):
@@ -307,22 +313,15 @@ def read_timeline(path: str | os.PathLike[str], *, start: float | None = None, e
             continue
         d = 1 + max((depth.get(c, -1) for c in rec.get("causes", ())), default=-1)
         depth.put(rec["id"], d)
-        if ch == ES_LOG and sender == ES_SENDER:
-            ev_id = _EVENT.search(rec.get("xml", ""))
-            if ev_id is not None:
-                decided.put(ev_id.group(1), t)
-        if ch == ES_LOG and 'kind="applied"' in rec.get("xml", ""):
-            name = label_of(rec).split(" ", 1)[-1]
-            if name in PHASE_EVENTS and t0 <= t <= t1:
-                mark, label = PHASE_EVENTS[name]
-                phases.append(Phase(t, mark, label))
-            following = following or name == "follow"
-        elif ch == BASE_CMD and following:
-            v = _V.search(rec.get("xml", ""))
-            if v is not None and abs(float(v.group(1))) > 1e-6:  # the robot starts driving after the partner
-                following = False
+        for marker in markers:
+            for mark, label in marker(ch, rec):
                 if t0 <= t <= t1:
-                    phases.append(Phase(t, "D", "following (driving)"))
+                    phases.append(Phase(t, mark, label))
+        span = None if ev.continuous else ev.span
+        for smarker in span_markers:
+            named = smarker(ch, rec, span)
+            if named is not None:
+                span = named
         if not t0 <= t <= t1:
             continue
         if not ev.continuous:
@@ -339,16 +338,6 @@ def read_timeline(path: str | os.PathLike[str], *, start: float | None = None, e
         order.append(m)
         if not ev.continuous:
             flows.extend(ev.flows)
-            span = _kind_span(ev.span, rec) if ev.span is not None else None
-            if sender == ES_SENDER and (ch.startswith("/robot/es/orders/") or ch.startswith("/robot/es/conditions/")):
-                causes = rec.get("causes", ())
-                at = decided.get(causes[0]) if causes else None
-                # the ES's own time: its decision (the log record) -> this output leaving
-                span = Span(sender, at, t, causes[0], rec["id"], "ES reconfiguration") if at is not None and at <= t else None
-            if ch in SPAN_KINDS and ch == "/robot/audio/speech":  # detection: while the person speaks
-                st = _START.search(rec.get("xml", ""))
-                if st is not None and float(st.group(1)) < t:
-                    span = Span(sender, float(st.group(1)), t, "", rec["id"], SPAN_KINDS[ch])  # (no cause: the sound)
             if span is not None:
                 k = (sender, span.start)
                 old = spans.get(k)
@@ -368,40 +357,36 @@ def read_timeline(path: str | os.PathLike[str], *, start: float | None = None, e
         if name in stream_first:
             return (0, 0, stream_first[name], name)
         return (2, 0, t1, name)
-    run = header.get("run") if isinstance(header.get("run"), dict) else {}
-    host_links = run.get("hosts") if isinstance(run.get("hosts"), dict) else {}
-    placement = run.get("placement") if isinstance(run.get("placement"), dict) else {}
-    worst = run.get("link_worst_ms") if isinstance(run.get("link_worst_ms"), dict) else {}
-    default = placement.get("default")
-    hosts = {n: str(placement.get(n, default)) for n in names} if placement else {}
-    host_order = list(host_links)
+    hosts, host_order, slow = _deployment(header, names, order)
     order_of = {h: i for i, h in enumerate(host_order)}
     lanes = sorted(names, key=lambda n: (order_of.get(hosts.get(n, ""), len(order_of)), rank(n)))
-    slow: set[tuple[str, str]] = set()
-    kinds = {lk for lk in host_links.values() if isinstance(worst.get(lk), (int, float))}
-    if len(kinds) > 1:
-        slowest = max(kinds, key=lambda lk: worst[lk])
-
-        def link(a: str, b: str) -> str | None:
-            la, lb = host_links.get(a), host_links.get(b)
-            if a == b or la is None or lb is None:
-                return None
-            return la if worst.get(la, 0) >= worst.get(lb, 0) else lb
-        for m in order:
-            for r in m.delivered:
-                if link(hosts.get(m.sender, ""), hosts.get(r, "")) == slowest:
-                    slow.add((m.sender, r))
     return Timeline(str(header.get("scenario", "?")), int(header.get("seed", 0)), t0, t1, lanes, order,
                     sorted(spans.values(), key=lambda s: (s.start, s.lane)), flows, phases, streams,
                     hosts, host_order, slow)
 
 
-def _kind_span(span: Span, rec: dict[str, Any]) -> Span:
-    """``span`` with its kind: what the channel or the sender says it measures."""
-    kind = SPAN_KINDS.get(rec["channel"])
-    if kind == "speech detection":
-        kind = "processing"
-    if kind is None and span.lane == ES_SENDER and (rec["channel"].startswith("/robot/es/orders/")
-                                                    or rec["channel"].startswith("/robot/es/conditions/")):
-        kind = "ES reconfiguration"
-    return Span(span.lane, span.start, span.end, span.cause, span.effect, kind or "processing")
+def _deployment(header: dict[str, Any], names: set[str], order: list[Message]
+                ) -> tuple[dict[str, str], list[str], set[tuple[str, str]]]:
+    """From the header's run deployment: lane -> host, the hosts in order, and the (sender, receiver)
+    pairs whose messages took the slowest link (the slower of the two hosts' links, as the network does)."""
+    run = header.get("run") if isinstance(header.get("run"), dict) else {}
+    host_links = run.get("hosts") if isinstance(run.get("hosts"), dict) else {}
+    placement = run.get("placement") if isinstance(run.get("placement"), dict) else {}
+    worst = run.get("link_worst_ms") if isinstance(run.get("link_worst_ms"), dict) else {}
+    if not placement:
+        return {}, [], set()
+    default = placement.get("default")
+    hosts = {n: str(placement.get(n, default)) for n in names}
+    slow: set[tuple[str, str]] = set()
+    kinds = {lk for lk in host_links.values() if isinstance(worst.get(lk), (int, float))}
+    if len(kinds) > 1:
+        slowest = max(kinds, key=lambda lk: worst[lk])
+        for m in order:
+            for r in m.delivered:
+                a, b = hosts.get(m.sender, ""), hosts.get(r, "")
+                la, lb = host_links.get(a), host_links.get(b)
+                if a == b or la is None or lb is None:
+                    continue
+                if (la if worst.get(la, 0) >= worst.get(lb, 0) else lb) == slowest:
+                    slow.add((m.sender, r))
+    return hosts, list(host_links), slow

@@ -11,7 +11,7 @@ starts the clarify sub-dialog, and the answer goes back as the ES event ``clarif
 (``<ANSWER index/>`` or ``<ANSWER none="true"/>``). ``dialog/ask`` (RPC, the same question
 answered directly) stays for tools.
 
-Timing (virtual, DESIGN.md §2.7): the dialog is a serial processor; each input
+Timing (virtual, docs/semantics.md §7): the dialog is a serial processor; each input
 costs ``dialog_cost``; its events leave then, and what the robot says leaves
 ``generation_time`` later (language generation and synthesis onset), so an
 answer starts about 200 ms (the papers' Fig. 6) after understanding ended.
