@@ -147,3 +147,36 @@ def test_a_module_on_a_slower_host_takes_longer_in_proportion_to_the_cpu_speed()
         es, su = ExecutionSupervisor(sim), SpeechUnderstanding(sim)
         assert es.cost_ns == pytest.approx(base[0] * 850 / 500, rel=1e-6)
         assert su.recognition_time(3) == pytest.approx(base[1] * 1400 / 850)
+
+
+def test_a_scenario_override_with_an_unknown_host_is_refused_naming_file_and_line(tmp_path):
+    from homesim.errors import ScenarioError
+    from homesim.tour.runner import Run
+
+    text = (ROOT / "scenarios" / "radio.xml").read_text(encoding="utf-8")
+    bad = text.replace("  <sources>", '  <deployment>\n    <place module="dialog" host="moon"/>\n  </deployment>\n  <sources>', 1)
+    path = tmp_path / "radio_moon.xml"
+    path.write_text(bad, encoding="utf-8")
+    with pytest.raises(ScenarioError, match="unknown host 'moon'") as err:
+        Run.from_file(path)
+    assert str(path) in str(err.value)
+    bad_link = text.replace("  <sources>", '  <deployment>\n    <link name="wlan" min-ms="9" max-ms="1"/>\n  </deployment>\n  <sources>', 1)
+    path.write_text(bad_link, encoding="utf-8")
+    with pytest.raises(ScenarioError, match="min_s <= max_s") as err:
+        Run.from_file(path)
+    assert err.value.line is not None
+
+
+def test_the_summary_names_profile_deployment_and_link_latencies():
+    from homesim.tour.runner import Run, RunOptions
+
+    with Run.from_file(ROOT / "scenarios" / "radio.xml", RunOptions(until=5, profile="biron-2005")) as run:
+        run.run()
+        s = run.summary()
+    assert s["profile"] == "biron-2005" and s["deployment"]["name"] == "biron-2004"
+    assert s["deployment"]["placement"]["dialog"] == "laptop"
+    links = s["deployment"]["links"]
+    assert 1.0 <= links["lan"]["mean_ms"] <= 5.0 and links["wlan"]["mean_ms"] > links["lan"]["mean_ms"]
+    assert {"events_received", "received_out_of_order"} <= set(s["es"])
+    with pytest.raises(Exception, match="unknown robot profile 'nope'"):
+        Run.from_file(ROOT / "scenarios" / "radio.xml", RunOptions(profile="nope"))
