@@ -30,8 +30,10 @@ channel; the trace wants all), always under the strict policy. The message is
 sent either way (same id, same counters).
 
 Each message reaches each receiver after a delay drawn from the link between
-their hosts (:mod:`homesim.network`); per (sender, receiver) pair delivery is
-FIFO. Interceptors see every send, delivery and drop and change nothing: the
+their hosts (:mod:`homesim.network`; on a link with a bandwidth the delay grows
+with the message's size: its XML and attachments); per (sender, receiver) pair
+delivery is FIFO (as over one TCP connection). A participant's host is the
+network's placement for its name, if it has one (the run's deployment). Interceptors see every send, delivery and drop and change nothing: the
 trace recorder is one.
 
 How it fails: sending on a closed participant or calling an unknown server
@@ -611,6 +613,7 @@ class Bus:
             raise BusError(f"bad participant name {name!r}: no '/' or '#', not empty")
         if name in self._participants:
             raise BusError(f"a participant named {name!r} is already registered")
+        host = self.network.host_for(name, host)
         self.network.ensure_host(host)
         p = Participant(self, name, host)
         self._participants[name] = p
@@ -761,11 +764,12 @@ class Bus:
     def _plan(self, sender: Participant, channel: str) -> tuple[tuple[Any, ...], ...]:
         """How ``sender``'s messages on ``channel`` reach each receiver, worked out once.
 
-        One entry per route, in delivery order: ``(subscription, receiver, fifo, lo, span)``
-        where ``fifo`` is the pair's FIFO state and ``lo``/``span`` the link's uniform delay
-        (seconds) when the link has no loss and no jitter (one uniform draw, made inline by
-        ``_publish``), else ``lo`` is None and ``Network.delay_ns`` draws. Cached per
-        participant; dropped when subscriptions, hosts or links change.
+        One entry per route, in delivery order: ``(subscription, receiver, fifo, lo, span, path)``
+        where ``fifo`` is the pair's FIFO state, ``path`` the network's :class:`~homesim.network.Path`
+        and ``lo``/``span`` the link's uniform delay (seconds) when the link is simple (no loss,
+        jitter or bandwidth limit: one uniform draw, made inline by ``_publish``), else ``lo``
+        is None and the network draws. Cached per participant; dropped when subscriptions,
+        hosts or links change.
         """
         sender.published.add(channel)
         routes = self._route_cache.get(channel)
@@ -775,9 +779,8 @@ class Bus:
         plan = []
         for sub in routes:
             receiver = sub.participant
-            other_loss, loss, lo, span, jitter = net._plans.get((sender.host, receiver.host)) or net._plan(sender.host, receiver.host)
-            simple = other_loss == 0.0 and loss == 0.0 and jitter == 0.0
-            plan.append((sub, receiver, self._fifo(sender.name, receiver.name), lo if simple else None, span))
+            path = net.path(sender.host, receiver.host)
+            plan.append((sub, receiver, self._fifo(sender.name, receiver.name), path.lo, path.span, path))
         out = sender._plans[channel] = tuple(plan)
         return out
 
@@ -802,15 +805,19 @@ class Bus:
 
     def _schedule(self, sender: Participant, receiver: Participant, msg: Message, action: Callable[..., None], *args: Any) -> None:
         """Deliver ``msg`` to ``receiver`` after the link's delay, FIFO per pair."""
-        delay = self.network.delay_ns(sender.host, receiver.host)
+        net = self.network
+        path = net.path(sender.host, receiver.host)
+        delay = net.draw(path, message_size(msg) if path.link.bandwidth_bps else 0)
         if delay is None:
             self._drop(msg, receiver.name, "lost")
             return
         fifo = self._fifo(sender.name, receiver.name)
-        when = self.loop._now_ns + delay
+        now = self.loop._now_ns
+        when = now + delay
         if when < fifo[0]:
             when = fifo[0]
         fifo[0] = when
+        path.stats.add(when - now)
         # Deliveries run in no copied context: a receiver does not inherit the
         # sender's context variables (and copying one per message is costly).
         self.loop._call_at_bare(when, action, (receiver, msg, *args))
@@ -857,13 +864,16 @@ class Bus:
         deliver = self._deliver_publish
         draws = self.network._draws
         left = len(plan)
-        for sub, receiver, fifo, lo, span in plan:
+        size = -1
+        for sub, receiver, fifo, lo, span, path in plan:
             left -= 1
             # Each receiver gets a payload of its own (as XCF deserialises one
             # per receiver): one receiver moving nodes cannot change another's.
             own = _copy_message(msg) if left else msg
-            if lo is None:  # a link with loss or jitter: the network draws
-                delay = self.network.delay_ns(sender.host, receiver.host)
+            if lo is None:  # a link with loss, jitter or a bandwidth: the network draws
+                if path.link.bandwidth_bps and size < 0:
+                    size = message_size(msg)
+                delay = self.network.draw(path, size if size > 0 else 0)
                 if delay is None:
                     self._drop(own, receiver.name, "lost")
                     continue
@@ -878,6 +888,7 @@ class Bus:
             if when < fifo[0]:
                 when = fifo[0]
             fifo[0] = when
+            path.stats.add(when - now)
             # Deliveries run in no copied context: a receiver does not inherit the
             # sender's context variables (and copying one per message is costly).
             handle = _new(_Delivery)
@@ -999,6 +1010,18 @@ class Bus:
             fut.set_exception(RemoteCallFailed(f"{reply.channel} failed on the server: {reply.xml.get('type')}: {reply.xml.text}"))
         else:
             fut.set_result(reply)
+
+
+def message_size(msg: Message) -> int:
+    """Bytes a message puts on a link: its serialized XML plus its attachments' raw bytes.
+
+    Computed only for links with a bandwidth (the delay's size term).
+    """
+    xml = msg[4]
+    n = len(etree.tostring(xml)) if xml is not None else 0
+    for value in msg[8].values():
+        n += value.nbytes if isinstance(value, np.ndarray) else len(value)
+    return n
 
 
 def _copy_message(msg: Message) -> Message:

@@ -47,6 +47,7 @@ import math
 from bisect import insort
 from collections import deque
 from collections.abc import Callable
+from copy import deepcopy
 from dataclasses import dataclass, field
 from typing import Any, NamedTuple
 
@@ -77,6 +78,8 @@ WAITING = "waiting"
 RETAINED = "retained"
 
 ParamValue = str | tuple[Any, ...]
+#: One stored item (es:store): an element (a detached copy) or a string.
+ParamValueItem = Any
 
 
 @dataclass(slots=True)
@@ -175,6 +178,9 @@ class _Compiled:
     target_leaf: str  # the leaf entered (the source leaf for targetless)
     guard: Callable[[Any], Any] | None
     sends: tuple[tuple[Send, tuple[tuple[str, Callable[[Any], Any]], ...]], ...]
+    # es:store: (name, XPath, append); es:with per send: per parameter the stored names ((): none)
+    stores: tuple[tuple[str, Callable[[Any], Any], bool], ...] = ()
+    withs: tuple[tuple[tuple[str, ...], ...], ...] = ()
 
 
 class _Tables:
@@ -201,7 +207,10 @@ class _Tables:
                 for t in m.states[owner].transitions:
                     target = leaf if t.target is None else m.resolve_leaf(t.target)
                     sends = tuple((s, tuple((p.name, xp(p.expr)) for p in s.params)) for s in t.sends)
-                    comp = _Compiled(t, owner, target, xp(t.cond) if t.cond is not None else None, sends)
+                    stores = tuple((sto.name, xp(sto.expr), sto.append) for sto in t.stores)
+                    withs = tuple(tuple(p.stored for p in s.params) for s in t.sends)
+                    comp = _Compiled(t, owner, target, xp(t.cond) if t.cond is not None else None, sends, stores,
+                                     withs if any(w for ws in withs for w in ws) else ())
                     table.setdefault(t.event, []).append(comp)
             self.candidates[leaf] = {k: tuple(v) for k, v in table.items()}
             cat = m.category_of(leaf)
@@ -231,6 +240,8 @@ class Engine:
         self._now = -math.inf
         self.history: deque[Record] = deque(maxlen=history)
         self.counts = {"queued": 0, "applied": 0, "expired": 0, "inapplicable": 0}
+        #: es:store: data copied out of applied events, by name (survives replace/extend).
+        self.stored: dict[str, tuple[ParamValueItem, ...]] = {}
 
     # ------------------------------------------------------------- queries
     @property
@@ -405,14 +416,36 @@ class Engine:
         outputs: tuple[Output, ...] = ()
         if comp.sends:
             payload = ev.payload
-            outputs = tuple([
-                Output(s.kind, s.target, s.name, tuple([(name, _param_value(f, payload)) for name, f in params]), ev.id)
-                for s, params in comp.sends
-            ])
+            if comp.withs:
+                outputs = tuple([
+                    Output(s.kind, s.target, s.name, tuple([
+                        (name, self._with(ws, _param_value(f, payload))) for (name, f), ws in zip(params, withs)]), ev.id)
+                    for (s, params), withs in zip(comp.sends, comp.withs)
+                ])
+            else:
+                outputs = tuple([
+                    Output(s.kind, s.target, s.name, tuple([(name, _param_value(f, payload)) for name, f in params]), ev.id)
+                    for s, params in comp.sends
+                ])
+        if comp.stores:
+            for name, f, append in comp.stores:
+                value = _param_value(f, ev.payload)
+                items = tuple(deepcopy(x) if isinstance(x, etree._Element) else x
+                              for x in (value if isinstance(value, tuple) else ((value,) if value else ())))
+                self.stored[name] = (self.stored.get(name, ()) + items) if append else items
         rec = Applied(now_ns, ev, self.state, comp.target_leaf, comp.owner, outputs)
         self.state = comp.target_leaf
         self.history.append(rec)
         return rec
+
+    def _with(self, names: tuple[str, ...], value: ParamValue) -> ParamValue:
+        """``value`` after the stored data ``names`` (es:with), concatenated in order."""
+        if not names:
+            return value
+        items: tuple[ParamValueItem, ...] = ()
+        for n in names:
+            items += self.stored.get(n, ())
+        return items + (value if isinstance(value, tuple) else ((value,) if value else ()))
 
     # -------------------------------------------------------- modification
     def replace(self, machine: Machine) -> None:

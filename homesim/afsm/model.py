@@ -52,12 +52,32 @@ _MODULE_NAME = re.compile(r"^[^\W\d][\w.\-]*$")
 
 @dataclass(frozen=True, slots=True)
 class Param:
-    """One parameter of an order/condition: ``expr`` is an XPath on the event payload."""
+    """One parameter of an order/condition: ``expr`` is an XPath on the event payload.
+
+    ``stored`` (``es:with``): names of data stored by earlier transitions
+    (:class:`Store`); the parameter's value is their contents, in this order,
+    followed by what ``expr`` selects now (the ES copies data, it does not
+    interpret it).
+    """
 
     name: str
     expr: str
     line: int | None = field(default=None, compare=False)  # where it was written; not part of its meaning
     file: str | None = field(default=None, compare=False)  # the file it was written in (None: the machine's)
+    stored: tuple[str, ...] = ()
+
+
+@dataclass(frozen=True, slots=True)
+class Store:
+    """``<es:store name expr>`` on a transition: keep a copy of what ``expr`` selects in the event,
+    under ``name``, for later transitions' parameters (``es:with``); ``append``: add to what is
+    stored instead of replacing it."""
+
+    name: str
+    expr: str
+    append: bool = False
+    line: int | None = field(default=None, compare=False)
+    file: str | None = field(default=None, compare=False)
 
 
 @dataclass(frozen=True, slots=True)
@@ -82,6 +102,7 @@ class Transition:
     sends: tuple[Send, ...] = ()
     line: int | None = field(default=None, compare=False)  # where it was written; not part of its meaning
     file: str | None = field(default=None, compare=False)  # the file it was written in (None: the machine's)
+    stores: tuple[Store, ...] = ()  # es:store: data kept when the transition is taken (after its sends)
 
 
 @dataclass(slots=True)
@@ -347,6 +368,18 @@ def validate(m: Machine) -> list[AFSMError]:
             add(_err(m, f"event {decl.name!r}: lifetime must be positive and at most {MAX_LIFETIME_NS // 10**9} s", decl, "es:event"))
         if decl.source is not None and decl.source not in m.modules:
             add(_err(m, f"event {decl.name!r} comes from unknown module {decl.source!r} (rule: declare it with <es:module>)", decl, "es:event"))
+    stored_names = {sto.name for _sid, t in m.transitions() for sto in t.stores}
+    for _sid, t in m.transitions():
+        for sto in t.stores:
+            why = _xpath_problem(sto.expr)
+            if why:
+                add(_err(m, f"es:store {sto.name!r}: {why}", sto, "es:store"))
+        for snd in t.sends:
+            for prm in snd.params:
+                for name in prm.stored:
+                    if name not in stored_names:
+                        add(_err(m, f"{snd.kind} {snd.name!r} parameter {prm.name!r} uses stored data {name!r} that no "
+                                    "transition stores (rule: es:with names an es:store)", prm, "param"))
     for st in m.states.values():
         if st.initial is not None and (st.initial not in m.states or st.initial == st.id or st.id not in m.ancestors(st.initial)):
             what = "does not exist" if st.initial not in m.states else f"is not inside {st.id!r}"

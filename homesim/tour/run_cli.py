@@ -73,7 +73,8 @@ def _options(a: argparse.Namespace) -> RunOptions:
         raise HomesimError(f"--realtime must be a finite scale > 0, got {a.realtime}")
     if a.seed is not None and a.seed < 0:
         raise HomesimError(f"--seed must be >= 0, got {a.seed}")
-    return RunOptions(seed=a.seed, until=a.until, trace=a.trace, memory=a.memory, realtime=a.realtime, strict=a.strict or None)
+    return RunOptions(seed=a.seed, until=a.until, trace=a.trace, memory=a.memory, realtime=a.realtime, strict=a.strict or None,
+                      profile=a.profile)
 
 
 def run_command(a: argparse.Namespace) -> int:
@@ -87,6 +88,8 @@ def run_command(a: argparse.Namespace) -> int:
             console.text(f"scenario {sc.name} ({a.scenario}): seed {run.sim.seed}, {run.end:g} of {sc.duration:g} s, "
                          f"{len(sc.humans)} people, {len(sc.sources)} other sound sources, "
                          f"robot modules: {', '.join(sorted(run.modules)) or 'none'}")
+            console.text(f"robot profile {run.profile}; deployment {run.deployment.name}: "
+                         + ", ".join(f"{h.name} ({h.link})" for h in run.deployment.hosts))
         run.run(progress=console.progress)
         verdicts = run.finish()
         summary = run.summary()
@@ -211,6 +214,8 @@ def _run_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--summary", type=cliargs.output_file, default=None, help="write the run summary (JSON)")
     p.add_argument("--memory", type=cliargs.store_dir, default=None, metavar="DIR",
                    help="the robot's knowledge store (a directory, created if missing): load it at the start, save to it")
+    p.add_argument("--profile", default=None, metavar="NAME",
+                   help="which robot: full (default) or biron-2005 (overrides the scenario's <robot profile>)")
     p.add_argument("--realtime", type=cliargs.realtime_scale, default=None, metavar="X", help="pace the run at X times real time")
     p.add_argument("--quiet", action="store_true", help="print the verdict (and failed expectations) only")
     p.add_argument("--strict", action="store_true",

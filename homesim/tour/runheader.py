@@ -30,6 +30,7 @@ from pathlib import Path
 from typing import Any
 
 import robot.install as biron
+from robot.profiles import PROFILES
 
 from ..errors import InputError
 from ..trace import TRACE_FORMAT
@@ -110,6 +111,19 @@ def _seconds(v: Any) -> float:
     return float(v)
 
 
+def check_profile(v: Any) -> str:
+    """``v`` if it names one of the robot's profiles, else ``ValueError``."""
+    if not isinstance(v, str) or v not in PROFILES:
+        raise ValueError(f"a robot profile ({', '.join(sorted(PROFILES))}), not {_show(v)}")
+    return v
+
+
+def _mapping(v: Any, check: Callable[[Any], Any]) -> dict[str, Any]:
+    if not isinstance(v, dict) or len(v) > 256:
+        raise ValueError(f"an object of at most 256 names, not {_show(v)}")
+    return {_string(k): check(x) for k, x in v.items()}
+
+
 def _optional(check: Callable[[Any], Any]) -> Callable[[Any], Any]:
     return lambda v: None if v is None else check(v)
 
@@ -124,6 +138,11 @@ RUN_FIELDS: dict[str, Callable[[Any], Any]] = {
     "memory_digest": _optional(_digest),
     "subsystems": _optional(check_subsystems),
     "metrics": _optional(check_metrics),
+    "profile": _optional(lambda v: check_profile(v)),
+    "deployment": _optional(_string),
+    "hosts": _optional(lambda v: _mapping(v, _string)),
+    "placement": _optional(lambda v: _mapping(v, _string)),
+    "link_worst_ms": _optional(lambda v: _mapping(v, _seconds)),
 }
 #: The header's own fields (besides ``run``).
 TOP_FIELDS: dict[str, Callable[[Any], Any]] = {

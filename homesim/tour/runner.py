@@ -40,10 +40,14 @@ from typing import IO, Any
 from lxml import etree
 
 import robot.install as biron
+import robot.profiles as robot_profiles
+from robot.deployment import DEFAULT as ROBOT_DEPLOYMENT
 from robot.supervisor import ExecutionSupervisor
 
 from . import metrics as metrics_pkg
-from ..errors import HomesimError, ScenarioError
+from .. import deployment as deployment_mod
+from ..deployment import Deployment
+from ..errors import HomesimError, InputError, ScenarioError
 from ..heartbeat import HEALTH_CHANNEL, BackstopMonitor, HeartbeatMonitor
 from ..message import Message
 from .metrics.es import EsRecord
@@ -111,6 +115,7 @@ class RunOptions:
     subsystems: tuple[str, ...] | None = None  # None: robot.install.SUBSYSTEMS
     metrics: tuple[str, ...] | None = None  # None: every registered metric
     strict: bool | None = None  # True: validate every message on a typed channel; None: Simulation's default (homesim.bus)
+    profile: str | None = None  # which robot (robot.profiles); None: the scenario's <robot profile>, else the default
 
 
 @dataclass(frozen=True)
@@ -126,6 +131,7 @@ class RobotConfig:
     audio_rate: float
     odometry_rate: float
     options: Mapping[str, str] = field(default_factory=dict)
+    profile: str = "full"  # which robot is simulated (robot.profiles)
 
 
 def _check_names(options: RunOptions) -> None:
@@ -148,8 +154,15 @@ class Run:
         self.on_line = on_line
         _check_names(options)  # before anything is imported or built
         seed = scenario.seed if options.seed is None else options.seed
+        self.profile = resolve_profile(options.profile or scenario.robot.profile, scenario)
         self.sim = Simulation(seed=seed, scenario=scenario.name, realtime=options.realtime,
                               **({} if options.strict is None else {"strict": options.strict}))
+        try:
+            self.deployment = resolve_deployment(scenario)
+            self.deployment.apply(self.sim.network)
+        except BaseException:
+            self.sim.close()
+            raise
         self.header = {
             "scenario_file": scenario_file if scenario_file is not None else scenario.source,
             "scenario_digest": digest,
@@ -159,6 +172,13 @@ class Run:
             "memory_digest": None if options.memory is None else store_digest(options.memory),
             "subsystems": None if options.subsystems is None else list(options.subsystems),
             "metrics": None if options.metrics is None else list(options.metrics),
+            "profile": options.profile,
+            "deployment": self.deployment.name,
+            # Where modules run and what links join the hosts (the timeline groups lanes by host
+            # and marks the messages that crossed a slow link).
+            "hosts": {h.name: h.link for h in self.deployment.hosts},
+            "placement": {"default": self.deployment.default_host, **dict(self.deployment.placement)},
+            "link_worst_ms": {lk.name: round(lk.worst_s * 1000, 3) for lk in self.deployment.links},
         }
         try:
             self._build(scenario, options, seed)
@@ -181,7 +201,7 @@ class Run:
         self.config = RobotConfig(
             seed=seed, memory_dir=self.header["memory"], max_speed=r.max_speed, max_turn=r.max_turn,
             laser_rate=r.laser_rate, camera_rate=r.camera_rate, audio_rate=r.audio_rate,
-            odometry_rate=r.odometry_rate, options=dict(r.options),
+            odometry_rate=r.odometry_rate, options=dict(r.options), profile=self.profile,
         )
         self.stopwatch = Stopwatch()
         self.es = EsRecord()
@@ -325,7 +345,10 @@ class Run:
             "speed_sim_s_per_cpu_s": round(sim_time / cpu, 2) if cpu > 0 else None,
             "peak_memory_mb": round(peak_memory_mb(), 1),
             "verdict": self.verdict(),
-            "es": self.es.summary(),
+            "profile": self.profile,
+            "es": {**self.es.summary(), **self._es_arrivals()},
+            "deployment": {**self.deployment.as_dict(), "links": {
+                name: st.summary() for name, st in self.sim.network.stats().items()}},
             "utterances": [
                 {"t": round(u.start, 3), "end": round(u.end, 3), "speaker": u.source, "text": u.text, **({"cut": True} if u.cut else {})}
                 for u in self.world.sound.all() if u.start <= sim_time
@@ -334,6 +357,11 @@ class Run:
             "expectations": [v.as_dict() for v in verdicts],
             "metrics": self.metric_values(),
         }
+
+    def _es_arrivals(self) -> dict[str, Any]:
+        """What the supervisor counted of its arrivals: events received, and how many out of creation order."""
+        counts = getattr(self.supervisor, "arrivals", None)
+        return dict(counts()) if callable(counts) else {}
 
     def verdict(self) -> str:
         """PASS, FAIL, or "not checked" when the run stopped before the scenario's end."""
@@ -349,6 +377,30 @@ class Run:
 
     def __exit__(self, *exc: object) -> None:
         self.close()
+
+
+def resolve_deployment(scenario: Scenario) -> Deployment:
+    """The run's deployment: the robot's default document with the scenario's ``<deployment>`` applied."""
+    base_dir = Path(scenario.source).parent if scenario.source and not scenario.source.startswith("<") else None
+    try:
+        return deployment_mod.resolve(ROBOT_DEPLOYMENT, scenario.deployment, base_dir=base_dir)
+    except InputError as exc:
+        raise ScenarioError(exc.message, source=exc.source, line=exc.line, element=exc.element) from exc
+
+
+def profiles() -> dict[str, str]:
+    """The robot's profiles: name -> what it simulates."""
+    return dict(robot_profiles.PROFILES)
+
+
+def resolve_profile(name: str | None, scenario: Scenario) -> str:
+    """The profile a run simulates: ``name`` if given (refused with the known ones if unknown), else the default."""
+    if name is None:
+        return str(robot_profiles.DEFAULT_PROFILE)
+    if name not in robot_profiles.PROFILES:
+        raise ScenarioError(f"unknown robot profile {name!r}; known: {', '.join(sorted(robot_profiles.PROFILES))}",
+                            source=scenario.source, line=scenario.robot.line, element="robot")
+    return name
 
 
 def element_dict(el: etree._Element) -> dict[str, Any]:

@@ -25,7 +25,7 @@ def run_options(h: dict[str, Any], *, until: float | None, trace: Any) -> RunOpt
     """The options of the run a checked header (:func:`read_header`) names."""
     return RunOptions(seed=h["seed"], until=until, trace=trace,
                       memory=None if h["memory"] is None else Path(h["memory"]), subsystems=h["subsystems"],
-                      metrics=h["metrics"])
+                      metrics=h["metrics"], profile=h.get("profile"))
 
 
 def read_header(trace: str | os.PathLike[str]) -> dict[str, Any]:

@@ -14,7 +14,8 @@ the person of interest (:mod:`.selection`), advance the attention FSM
 - ES events on ``/robot/es/events``: ``potential_partner`` (``<PERSON id
   bearing distance speaking facing/>``) when the selected person speaks
   while facing the robot, repeated every ``pp_repeat`` s while it lasts;
-  ``potential_partner_lost`` when they stop; ``partner_lost`` in a
+  ``potential_partner_lost`` when they stop and the last ``potential_partner``
+  has run out of its validity (``pp_valid``, its AFSM lifetime); ``partner_lost`` in a
   top-down state when the partner's track has had no anchored evidence
   for ``partner_lost_after`` s (once per loss): a leg update, a frontal
   face, a torso blob at the partner's bearing (``/robot/camera/torsos``)
@@ -100,6 +101,10 @@ class AttentionParams:
     """Every time limit and gain of the attention behaviour, with its default."""
 
     pp_repeat: float = 1.0  # s: potential_partner repeated while it lasts (its lifetime is 1.5 s)
+    # s: the last potential_partner stays valid this long (its lifetime in the AFSM, the papers'
+    # "how long an event remains valid"): potential_partner_lost goes out only when it has run out,
+    # so a greeting still on its way (recognition, then the WLAN) meets the partner it belongs to.
+    pp_valid: float = 1.5
     partner_lost_after: float = 2.0  # s without anchored evidence of the partner (legs, frontal face, torso, voice) ...
     # ... is "lost" in Follow; in Interaction and Object only with evidence of leaving (docs/attention.md):
     interaction_radius: float = 3.0  # m: last seen further from the robot than this is outside the interaction space
@@ -433,7 +438,7 @@ class PersonAttention(Module):
                 person = etree.Element("PERSON", id=f"t{pp}", bearing=_deg(bearing[i]), distance=f"{dist[i]:.3f}", speaking="true", facing="true")
                 self._event("potential_partner", (person,))
                 self.pp_sent, self._pp_at = pp, t
-        elif self.pp_sent is not None:
+        elif self.pp_sent is not None and t - self._pp_at >= self.params.pp_valid - 1e-9:
             self._event("potential_partner_lost")
             self.pp_sent = None
 

@@ -180,8 +180,9 @@ class ObjectBase(KnowledgeBase):
         for key in ("owner", "use", "colour"):
             if d[key]:
                 out.set(key, d[key])
-        out.set("x", _fmt(_number(doc, "x", "an object")))
-        out.set("y", _fmt(_number(doc, "y", "an object")))
+        if doc.get("x") is not None or doc.get("y") is not None:  # none: taught from speech alone
+            out.set("x", _fmt(_number(doc, "x", "an object")))
+            out.set("y", _fmt(_number(doc, "y", "an object")))
         if doc.get("z") is not None:
             out.set("z", _fmt(_number(doc, "z", "an object")))
         if doc.get("size") is not None:
@@ -215,9 +216,13 @@ class ObjectBase(KnowledgeBase):
         owned = [i for i in ids if self.memory.get(i).xml.get("owner", "") == o]
         if owned and (o or n != t):
             return owned[-1]
+        if doc.get("x") is None:  # taught from speech alone: what was said is all there is to go by
+            return owned[-1] if owned else None
         x, y = float(doc.get("x")), float(doc.get("y"))  # type: ignore[arg-type]
         for i in reversed(ids):
             r = self.memory.get(i).xml
+            if r.get("x") is None:
+                continue
             ro = r.get("owner", "")
             if ro and o and ro != o:
                 continue  # Tom's cup beside hers: another cup
@@ -242,8 +247,8 @@ class ObjectBase(KnowledgeBase):
         for name in extra:
             a = etree.Element("ATTRIBUTE", name=name)  # ATTRIBUTEs come before the POSITION
             (pos.addprevious(a) if pos is not None else out.append(a))
-        moved = math.hypot(float(old.get("x", "0")) - float(new.get("x", "0")),
-                           float(old.get("y", "0")) - float(new.get("y", "0"))) > SAME_OBJECT
+        moved = old.get("x") is not None and new.get("x") is not None and math.hypot(
+            float(old.get("x", "0")) - float(new.get("x", "0")), float(old.get("y", "0")) - float(new.get("y", "0"))) > SAME_OBJECT
         if pos is None and old.find("POSITION") is not None and not moved:
             out.append(deepcopy(old.find("POSITION")))
         return out
