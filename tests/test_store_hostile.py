@@ -27,7 +27,8 @@ GOOD_PLACE = '<PLACE name="kitchen" x="1.0" y="2.0" theta="0.5" frame="map" taug
 #: memory -> a stored document no knowledge base could have written.
 BAD_DOCUMENTS = {
     "object x not a number": ("objects", '<OBJECT type="cup" name="cup" x="abc" y="2.0" frame="map" taught="3.0"/>'),
-    "object without a position": ("objects", '<OBJECT type="cup" name="cup" frame="map" taught="3.0"/>'),
+    # (no position at all is a valid object: taught from speech alone, the biron-2005 profile)
+    "object with x but no y": ("objects", '<OBJECT type="cup" name="cup" x="1.0" frame="map" taught="3.0"/>'),
     "object y NaN": ("objects", '<OBJECT type="cup" name="cup" x="1" y="NaN" frame="map" taught="3.0"/>'),
     "object without a type": ("objects", '<OBJECT name="cup" x="1" y="2" frame="map" taught="3.0"/>'),
     "object in another frame": ("objects", '<OBJECT type="cup" name="cup" x="1" y="2" frame="odom" taught="3.0"/>'),

@@ -137,6 +137,10 @@ class KnowledgeBase:
 
     def check(self, doc: etree._Element) -> None:
         self._schema.check(doc, source=f"<knowledge {self.kind}>")
+        if ("x" in doc.attrib) != ("y" in doc.attrib):  # a position is both or neither (XSD 1.0 cannot say so)
+            raise MemoryQueryError(f"<{doc.tag}> has {'x' if 'x' in doc.attrib else 'y'} without "
+                                   f"{'y' if 'x' in doc.attrib else 'x'}: a position is x and y, or none",
+                                   source=f"<knowledge {self.kind}>")
 
     def same_as(self, doc: etree._Element) -> int | None:
         """The id of the stored document this one is a new version of, if any."""
