@@ -294,7 +294,7 @@ class Participant:
         if xml.__class__ is _Element and not bus.validate_all and not self.closed:
             # _make's trusted path (the default policy, a module's own element) and the
             # message, inlined: the commonest send. Keep the two alike.
-            if xml.getroottree().docinfo.doctype:  # (a copy would drop the DTD, not what it expanded)
+            if xml.getroottree().docinfo.internalDTD is not None:  # any DOCTYPE (a copy would drop the DTD, not what it expanded)
                 raise XMLInputError("elements from documents with a DOCTYPE are refused on the bus", source=f"<bus:{channel}>")
             if not transfer or xml.getparent() is not None:
                 xml = xml.__copy__()  # lxml copies the whole subtree, in C
@@ -523,7 +523,7 @@ def _own_payload(xml: XMLLike, channel: str, transfer: bool = False) -> etree._E
     """
     if not isinstance(xml, etree._Element):
         return parse_bytes(xml, source=f"<bus:{channel}>")
-    if xml.getroottree().docinfo.doctype:
+    if xml.getroottree().docinfo.internalDTD is not None:  # any DOCTYPE, even one without an internal subset
         raise XMLInputError("elements from documents with a DOCTYPE are refused on the bus", source=f"<bus:{channel}>")
     if transfer and xml.getparent() is None:
         own = xml
