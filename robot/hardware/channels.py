@@ -19,7 +19,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from .audio import SOURCES, SPEECH, STEER
+from .microphones_module import SOURCES, SPEECH, STEER
 from .base import CMD_CHANNEL, ODOMETRY_CHANNEL
 from .camera_module import FACES, GESTURES, OBJECTS, PTU_CMD, PTU_STATE, TORSOS
 from .laser import SCAN_CHANNEL

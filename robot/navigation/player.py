@@ -43,8 +43,8 @@ from lxml import etree
 from homesim.message import Message
 from homesim.module import Module
 
-from .navigation.config import Limits, limits_from_config
-from .navigation.local import Command, DWAParams, LatestScan, carrot, dwa, heading_speed, social_speed_limit
+from .config import Limits, limits_from_config
+from .local import Command, DWAParams, LatestScan, carrot, dwa, heading_speed, social_speed_limit
 
 ORDERS = "/robot/es/orders/player"
 STATUS = "/robot/player/status"
@@ -60,7 +60,7 @@ LOOKAHEAD = 0.7
 BACK_OFF = 0.3
 #: rad: a goal further off the heading than this has to be turned to (see :func:`heading_speed`).
 BACK_OFF_BEARING = math.pi / 3
-SCHEMA = Path(__file__).with_name("schemas") / "navigation" / "player-status.xsd"
+SCHEMA = Path(__file__).resolve().parent.parent / "schemas" / "navigation" / "player-status.xsd"
 
 
 def wrap(a: float) -> float:
