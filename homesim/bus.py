@@ -43,7 +43,6 @@ whole run (see :mod:`homesim.vloop`).
 from __future__ import annotations
 
 import asyncio
-import heapq
 import inspect
 import os
 import re
@@ -107,7 +106,6 @@ Interceptor = Callable[[Observation], None]
 _tuple_new = tuple.__new__  # builds a named tuple without its Python-level __new__ (hot path)
 _Element = etree._Element
 _new = object.__new__
-_heappush = heapq.heappush
 
 
 def _as_schema(schema: SchemaLike) -> Schema | None:
@@ -800,10 +798,10 @@ class Bus:
         if not plan:
             return
         # What _schedule does per receiver, inlined (this is the hot path of every message):
-        # the link's delay, FIFO per pair, a _Delivery timer queued as VirtualEventLoop._push_timer does.
+        # the link's delay, FIFO per pair, a _Delivery timer pushed on the loop's TimerQueue.
         loop = self.loop
         now = loop._now_ns
-        due = loop._due
+        push = loop.timers.push
         deliver = self._deliver_publish
         draws = self.network._draws
         left = len(plan)
@@ -833,14 +831,7 @@ class Bus:
             handle = _new(_Delivery)
             handle._callback = deliver
             handle._args = (receiver, own, sub)
-            queued = due.get(when)
-            if queued is None:
-                due[when] = handle
-                _heappush(loop._times, when)
-            elif queued.__class__ is list:
-                queued.append(handle)
-            else:
-                due[when] = [queued, handle]
+            push(when, handle)
 
     def _deliver_publish(self, receiver: Participant, msg: Message, sub: Subscription) -> None:
         if sub.closed:
