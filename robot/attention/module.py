@@ -11,7 +11,8 @@ the person of interest (:mod:`.selection`), advance the attention FSM
 - ``/robot/attention/tracks`` every scan, ``/robot/attention/state`` on each
   change and once a second, ``/robot/attention/partner`` every scan while a
   partner exists (docs/robot-contract.md);
-- ES events on ``/robot/es/events``: ``potential_partner`` (``<PERSON id
+- ES events on ``/robot/es/events`` (each names the laser scan it was decided
+  on as its cause, so the trace links a scan to the event): ``potential_partner`` (``<PERSON id
   bearing distance speaking facing/>``) when the selected person speaks
   while facing the robot, repeated every ``pp_repeat`` s while it lasts;
   ``potential_partner_lost`` when they stop; ``partner_lost`` in a
@@ -175,6 +176,7 @@ class PersonAttention(Module):
         self._state_sent: tuple[str, int | None, int | None] | None = None
         self._state_at = -math.inf
         self.scans = 0
+        self._scan_id: str | None = None  # the scan being processed: the cause of the events it decides
         self.furniture: FurnitureLegs | None = None  # from map_server/map, once it answered
         self._map_pose: tuple[float, float, float, float] | None = None  # t, x, y, theta (localiser)
         self._map_odom: tuple[float, float, float] | None = None  # odometry when that pose came
@@ -346,6 +348,7 @@ class PersonAttention(Module):
             self._bearings = math.radians(float(key[1])) + math.radians(float(key[2])) * np.arange(n)
             self._bearings_key = key
             self.legs = replace(self.legs, offset=float(el.get("offset", self.legs.offset)))
+        self._scan_id = msg.id
         self.process(t, msg.attachments["ranges"])
 
     def _leg_detector(self) -> LegDetector:
@@ -444,7 +447,8 @@ class PersonAttention(Module):
         el = etree.Element("event", name=name)
         for c in children:
             el.append(c)
-        self.bus.publish(EVENTS, el, transfer=True)
+        # The scan this decision was taken on is its cause: the trace links the scan to the event.
+        self.bus.publish(EVENTS, el, transfer=True, causes=(self._scan_id,) if self._scan_id else ())
 
     # ------------------------------------------------------------ actions
     def _act(self, t: float, row: int, bearing: list[float], dist: list[float], category: int) -> None:
