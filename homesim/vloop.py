@@ -115,6 +115,7 @@ class VirtualEventLoop(FailsLoudly, RefusesRealIO, asyncio.BaseEventLoop):
         self._failure: BaseException | None = None
         self._failure_where: str = ""
         self._orphans: list[tuple[asyncio.Task[Any], int]] = []
+        self._spawned: dict[asyncio.Task[Any], None] = {}  # top-level tasks, held until done (spawn)
         self._saved_loop: asyncio.AbstractEventLoop | None = None
         self._saved_hooks: Any = None
         self._saved_sleep: Any = None  # the loop stepping in this thread before this one (vsleep._enter)

@@ -62,10 +62,14 @@ class FailsLoudly:
     def spawn(self, coro: Coroutine[Any, Any, T], *, name: str) -> asyncio.Task[T]:
         """Start a top-level simulated task; its failure fails the whole run."""
         task = self.create_task(coro, name=name)
+        # Held until done: asyncio keeps only weak references to tasks, and a pending task the
+        # garbage collector finds would be closed (GeneratorExit) at a moment no run controls.
+        self._spawned[task] = None
         task.add_done_callback(self._spawned_done)
         return task
 
     def _spawned_done(self, task: asyncio.Task[Any]) -> None:
+        self._spawned.pop(task, None)
         if task.cancelled():
             return
         exc = task.exception()
