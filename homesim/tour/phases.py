@@ -11,6 +11,8 @@ from __future__ import annotations
 from collections.abc import Iterable
 from typing import Any
 
+from robot.contract import ES_LOG, FOLLOW_STATUS
+
 from ..traceview import label_of, register_phases
 
 #: Phases: an event the ES applied -> (mark, label); "following" is the first follow status after a follow request.
@@ -19,8 +21,6 @@ PHASE_EVENTS: dict[str, tuple[str, str]] = {
     "object_teaching": ("T", "teaching an object"), "place_teaching": ("T", "teaching a place"),
     "goodbye": ("G", "good-bye"),
 }
-ES_LOG = "/robot/es/log"
-FOLLOW_STATUS = "/robot/follow/status"
 
 
 class BironPhases:

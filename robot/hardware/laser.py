@@ -29,10 +29,10 @@ if TYPE_CHECKING:
 from homesim.module import Module
 from homesim.world.legs import LegPair, detect_leg_pairs
 from homesim.world.raycast import add_range_noise
+from robot.contract import SCAN
 
-__all__ = ["LaserSpec", "Laser", "LegPair", "detect_leg_pairs", "laser_origin", "simulate_scan", "SCAN_CHANNEL"]
+__all__ = ["LaserSpec", "Laser", "LegPair", "detect_leg_pairs", "laser_origin", "simulate_scan", "SCAN"]
 
-SCAN_CHANNEL = "/robot/laser/scan"
 
 
 @dataclass(frozen=True)
@@ -130,6 +130,6 @@ class Laser(Module):
         while True:
             self.beat()
             ranges = simulate_scan(self.world, self.world.robot.pose, self.spec, self.rng, bearings=self._bearings)
-            self.bus.publish(SCAN_CHANNEL, scan_element(self.now, self.spec, self.seq, template=self._template), attachments={"ranges": ranges}, transfer=True)
+            self.bus.publish(SCAN, scan_element(self.now, self.spec, self.seq, template=self._template), attachments={"ranges": ranges}, transfer=True)
             self.seq += 1
             await asyncio.sleep(period)

@@ -43,17 +43,12 @@ from lxml import etree
 from homesim.message import Message
 from homesim.module import Module
 
+from robot.contract import BASE_CMD, DISPLAY_CMD, ES_ORDERS, ODOMETRY, PLAYER_STATUS, POSE, SCAN, TRACKS
+
 from .config import Limits, limits_from_config
 from .local import Command, DWAParams, LatestScan, carrot, dwa, heading_speed, social_speed_limit
 
-ORDERS = "/robot/es/orders/player"
-STATUS = "/robot/player/status"
-POSE = "/robot/localisation/pose"
-SCAN = "/robot/laser/scan"
-ODOMETRY = "/robot/odometry"
-BASE_CMD = "/robot/base/cmd"
-DISPLAY_CMD = "/robot/display/cmd"
-TRACKS = "/robot/attention/tracks"
+ORDERS = f"{ES_ORDERS}/player"
 #: m: how far ahead on the leg the controller steers (pure pursuit).
 LOOKAHEAD = 0.7
 #: m: how far the player backs off, at most, per ``move_to``, to get room to turn.
@@ -135,7 +130,7 @@ class Player(Module):
         self.tolerance = tolerance
         self.stall_time = stall_time
         self.params = params
-        sim.bus.declare_channel(STATUS, SCHEMA)
+        sim.bus.declare_channel(PLAYER_STATUS, SCHEMA)
         self.goal: tuple[float, float, float, float, bool] | None = None  # x, y, theta, tolerance, align
         self._reached: tuple[float, float, float, float, bool] | None = None  # the step just reached
         self.state = "idle"
@@ -255,7 +250,7 @@ class Player(Module):
             el.set("y", f"{self.goal[1]:.4f}")
             if distance is not None:
                 el.set("distance", f"{distance:.4f}")
-        self.bus.publish(STATUS, el)
+        self.bus.publish(PLAYER_STATUS, el)
 
     def control_step(self) -> tuple[float, float] | None:
         """One step of ``move_to``: the velocity sent, or None when not driving."""
