@@ -38,7 +38,7 @@ from ..message import Message
 from ..geometry import wrap_angle
 from ..scenario.expectations import CHECKS, Check, EventCheck, Expectations, Verdict, register_check
 from ..scenario.model import window_of
-from ..world.legs import detect_leg_pairs
+from ..world.reference_legs import detect_leg_pairs
 from ..world.world import World
 from .metrics.es import EsRecord
 
