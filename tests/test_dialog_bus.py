@@ -14,7 +14,7 @@ from homesim.tour.stage import Stage
 from robot.dialog.module import Dialog
 from robot.dialog.transcript import transcript
 from robot.speech.module import RobotSentence, SpeechUnderstanding, is_own_voice
-from robot.supervisor import EVENT_CHANNEL, ExecutionSupervisor, event_xml
+from robot.supervisor import ES_EVENTS, ExecutionSupervisor, event_xml
 from tests.world_helpers import ROOM
 
 PERSON = etree.fromstring('<PERSON id="t1" bearing="0" distance="1.2" speaking="true" facing="true"/>')
@@ -74,7 +74,7 @@ class Robot:
         self.sim.call_at(t, go)
 
     def partner(self, t: float) -> None:
-        self.sim.call_at(t, lambda: self.attention.publish(EVENT_CHANNEL, event_xml("potential_partner", children=(PERSON,))))
+        self.sim.call_at(t, lambda: self.attention.publish(ES_EVENTS, event_xml("potential_partner", children=(PERSON,))))
 
     def sentences(self) -> list[str]:
         return [m.xml.get("text") for m in self.said.drain()]
@@ -268,7 +268,7 @@ def test_place_teaching_sends_the_latest_pose(robot):
     robot.greet()
     robot.utter("this is the kitchen", 7.0, 8.0)
     robot.sim.run(until=15.0)
-    ev = [r for r in robot.records(EVENT_CHANNEL) if 'name="place_teaching"' in r["xml"]]
+    ev = [r for r in robot.records(ES_EVENTS) if 'name="place_teaching"' in r["xml"]]
     assert ev and '<POSE x="1.5" y="2.0" theta="0.3" frame="map"/>' in ev[0]["xml"]
     assert robot.sentences()[-1] == "OK, this is the kitchen. I will remember it."
     orders = [r for r in robot.records("/robot/es/orders/scene_model") if "store_place" in r["xml"]]

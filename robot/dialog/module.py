@@ -52,20 +52,14 @@ from homesim.module import Module
 from robot.deployment import cost_scale
 from homesim.vloop import to_ns
 
+from robot.contract import ES_CONDITIONS, ES_EVENTS, ES_REJECTED, ES_STATUS, FRAMES, PARTNER, POSE, SAY, SOURCES, SPEAKER_STATUS
+
 from .loader import BIRON_DIALOGS, load
 from .manager import DialogManager, Explain, Instance, Output, Say, Send
 from .model import Dialogs
 
-FRAMES = "/robot/speech/frames"
-EVENTS = "/robot/es/events"
-CONDITIONS = "/robot/es/conditions/dialog"
-REJECTED = "/robot/es/rejected/dialog"
-ES_STATUS = "/robot/es/status"
-POSE = "/robot/localisation/pose"
-SAY = "/robot/speaker/say"
-SPEAKER_STATUS = "/robot/speaker/status"
-SOURCES = "/robot/audio/sources"
-PARTNER = "/robot/attention/partner"
+CONDITIONS = f"{ES_CONDITIONS}/dialog"
+REJECTED = f"{ES_REJECTED}/dialog"
 
 
 def front_bearing(deg: float) -> float:
@@ -206,7 +200,7 @@ class Dialog(Module):
             return
         ev = etree.Element("event", name="clarified")
         etree.SubElement(ev, "ANSWER", **({"none": "true"} if picked is None else {"index": str(picked)}))
-        self.bus.publish(EVENTS, ev, causes=(msg.id,), transfer=True)
+        self.bus.publish(ES_EVENTS, ev, causes=(msg.id,), transfer=True)
 
     def _on_rejected(self, msg: Message) -> None:
         self._emit(self.manager.on_rejected(msg.xml), msg.id)
@@ -309,7 +303,7 @@ class Dialog(Module):
                     x = self._pose
                     el.append(etree.Element("POSE", x=x.get("x", "0"), y=x.get("y", "0"), theta=x.get("theta", "0"),
                                             frame=x.get("frame", "map")))
-                self.bus.publish(EVENTS, el, causes=(cause,), transfer=True)
+                self.bus.publish(ES_EVENTS, el, causes=(cause,), transfer=True)
 
     def _enqueue(self, text: str, cause: str) -> None:
         if not text:

@@ -59,19 +59,13 @@ from lxml import etree
 from homesim.message import Message
 from homesim.module import Module
 
+from robot.contract import ATTENTION_STATE, BASE_CMD, ES_EVENTS, FOLLOW_STATUS, ODOMETRY, PARTNER, SCAN, TRACKS
+
 from .config import Limits
 from .local import DWAParams, LatestScan, dwa, heading_speed, social_speed_limit
 from .people import People, nearest
 from .seen import SeenGround, footprint_samples
 
-STATE = "/robot/attention/state"
-PARTNER = "/robot/attention/partner"
-SCAN = "/robot/laser/scan"
-ODOMETRY = "/robot/odometry"
-BASE_CMD = "/robot/base/cmd"
-STATUS = "/robot/follow/status"
-EVENTS = "/robot/es/events"
-TRACKS = "/robot/attention/tracks"
 SCHEMA = Path(__file__).resolve().parent.parent / "schemas" / "navigation" / "follow-status.xsd"
 #: how many of the robot's own past positions (odometry, every CRUMB m) the back-off may retrace
 BREADCRUMBS = 200
@@ -116,7 +110,7 @@ class Follower(Module):
         self.params = params
         self.approach_time, self.approach_to = approach_time, approach_to
         self.approach_until: float | None = None  # coming up to the partner after following, until then
-        sim.bus.declare_channel(STATUS, SCHEMA)
+        sim.bus.declare_channel(FOLLOW_STATUS, SCHEMA)
         self.following = False
         self.partner_id: str | None = None
         self.track: dict[str, float] | None = None  # the partner's last message (odom frame) and when
@@ -131,7 +125,7 @@ class Follower(Module):
         self._limit_since: float | None = None
         self._history: deque[tuple[float, float]] = deque(maxlen=64)  # (t, d) while at the limit
         self._warned_at = -math.inf
-        self.bus.subscribe(STATE, self._on_state)
+        self.bus.subscribe(ATTENTION_STATE, self._on_state)
         self.bus.subscribe(PARTNER, self._on_partner)
         self.bus.subscribe(SCAN, self._on_scan)
         self.bus.subscribe(ODOMETRY, self._on_odometry)
@@ -239,7 +233,7 @@ class Follower(Module):
             self.driving = False
 
     def _status(self, d: float, at_limit: bool, state: str) -> None:
-        self.bus.publish(STATUS, etree.Element("follow", distance=f"{max(d, 0.0):.4f}", speed=f"{self.v:.4f}",
+        self.bus.publish(FOLLOW_STATUS, etree.Element("follow", distance=f"{max(d, 0.0):.4f}", speed=f"{self.v:.4f}",
                                                at_limit="true" if at_limit else "false", state=state))
 
     def control_step(self) -> tuple[float, float] | None:
@@ -339,7 +333,7 @@ class Follower(Module):
         if (now - self._limit_since >= self.too_fast_time and d > self.too_fast_distance and d - d0 > 0.05
                 and now - self._warned_at >= self.warn_every):
             self._warned_at = now
-            self.bus.publish(EVENTS, etree.Element("event", name="partner_too_fast", distance=f"{d:.2f}"))
+            self.bus.publish(ES_EVENTS, etree.Element("event", name="partner_too_fast", distance=f"{d:.2f}"))
 
     async def run(self) -> None:
         while True:

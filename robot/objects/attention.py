@@ -44,18 +44,15 @@ from homesim.message import Message
 from homesim.module import Module
 from robot.floorplan import FloorPlan, parse_map
 
+from robot.contract import ES_EVENTS, ES_ORDERS, FOCUS, GESTURES, OBJECTS, POSE
+
 from .gestures import CAMERA_HEIGHT, CAMERA_OFFSET, GestureTracker, camera_to_map
 from .resolve import Candidate, Resolution, Wanted, merge, option_texts, resolve
 
 if TYPE_CHECKING:
     from homesim.sim import Simulation
 
-ORDERS = "/robot/es/orders/object_attention"
-GESTURES = "/robot/camera/gestures"
-OBJECTS = "/robot/camera/objects"
-POSE = "/robot/localisation/pose"
-FOCUS = "/robot/objects/focus"
-EVENTS = "/robot/es/events"
+ORDERS = f"{ES_ORDERS}/object_attention"
 
 OWNER_WORDS = {"speaker": "partner", "my": "partner", "me": "partner", "mine": "partner"}
 
@@ -234,7 +231,7 @@ class ObjectAttention(Module):
         ev.append(opts)
         fut: asyncio.Future[etree._Element] = self.sim.loop.create_future()
         self._answer = fut
-        self.bus.publish(EVENTS, ev, causes=(cause,), transfer=True)
+        self.bus.publish(ES_EVENTS, ev, causes=(cause,), transfer=True)
         try:
             async with asyncio.timeout(self.ask_timeout + 2.0):
                 answer = await fut
@@ -265,10 +262,10 @@ class ObjectAttention(Module):
         el.append(attachment_element("colour_features", c.features(), inline=True))
         ev = etree.Element("event", name="object_recognized")
         ev.append(el)
-        self.bus.publish(EVENTS, ev, causes=(cause,))
+        self.bus.publish(ES_EVENTS, ev, causes=(cause,))
 
     def _not_found(self, reason: str, cause: str) -> None:
-        self.bus.publish(EVENTS, etree.Element("event", name="object_not_found", reason=reason), causes=(cause,))
+        self.bus.publish(ES_EVENTS, etree.Element("event", name="object_not_found", reason=reason), causes=(cause,))
 
 
 def _copy(el: etree._Element) -> etree._Element:
