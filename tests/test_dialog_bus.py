@@ -311,10 +311,10 @@ def test_a_question_routed_through_the_supervisor_is_asked_and_answered_as_an_ev
 
     def teach_and_ask() -> None:
         frame = etree.fromstring('<event name="object_teaching"><SPEECH><OBJECT type="cup"/></SPEECH></event>')
-        robot.sim.bus.get("dialog").publish(EVENT_CHANNEL, frame)
+        robot.sim.bus.get("dialog").publish(ES_EVENTS, frame)
         ev = etree.fromstring('<event name="clarification"><OPTIONS timeout="8"><option index="0" text="red cup"/>'
                               '<option index="1" text="blue cup"/></OPTIONS></event>')
-        robot.sim.call_at(7.5, obj.publish, EVENT_CHANNEL, ev)
+        robot.sim.call_at(7.5, obj.publish, ES_EVENTS, ev)
 
     robot.sim.call_at(7.0, teach_and_ask)
     robot.utter("the blue one", 11.0, 11.8)
