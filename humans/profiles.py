@@ -65,6 +65,8 @@ class Traits:
     repairs: tuple[str, ...] = ()
     give_up: str = "skip"
     profile: str | None = None
+    #: whether her wait-fors repair her way (a profile, or patience/repairs/give-up given on her)
+    repairing: bool = False
 
 
 @dataclass(frozen=True)
@@ -216,13 +218,15 @@ def draw_profile(profile: Profile, rng: np.random.Generator) -> Traits:
     k = int(min(np.searchsorted(np.cumsum(w) / w.sum(), u, side="right"), len(w) - 1))
     return Traits(voice=values["voice"], distance=values["distance"], speed=values["speed"], patience=int(round(values["patience"])),
                   off_axis=values["off-axis"], pointing_error=values["pointing-error"], phrasing=profile.phrasing,
-                  repairs=repairs, give_up=profile.give_up[k][0], profile=profile.name)
+                  repairs=repairs, give_up=profile.give_up[k][0], profile=profile.name, repairing=True)
 
 
 def apply_overrides(traits: Traits, given: tuple[tuple[str, str], ...]) -> Traits:
     """The traits with the values a scenario gives for this person (as written) put in."""
     changes: dict[str, object] = {}
     for key, raw in given:
+        if key in ("patience", "repairs", "give-up"):
+            changes["repairing"] = True
         if key == "voice":
             changes["voice"] = float(raw)
         elif key == "distance":

@@ -296,7 +296,7 @@ class Actor:
         await self.finish_speaking()  # nobody expects an answer before she has finished
         try:
             if act.retries == 0 and (act.repairs is not None or act.patience is not None or act.give_up is not None
-                                     or self.traits.profile is not None):
+                                     or self.traits.repairing):
                 return await self.repair_loop(act)
             return await self._retry_loop(act)
         finally:
