@@ -174,8 +174,12 @@ class Person(Actor):
             return
         goal = max(act.nearest, d - act.by)
         if d - goal > 0.05:
+            # straight towards the robot (a step, not a walk around it): she stays where it can see her
             self.log.append((self.now, self.now, f"steps closer: {d:.2f} -> {goal:.2f} m"))
-            await self.walk_to(Target("robot"), stop_at=goal)
+            x, y = self.body.position
+            rx, ry, _ = self.world.robot.pose
+            k = (d - goal) / d
+            await self.walk_to(Target("point", x=x + k * (rx - x), y=y + k * (ry - y)))
             self.face(Target("robot"))
 
     def before_speaking(self) -> None:

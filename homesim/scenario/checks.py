@@ -244,7 +244,7 @@ class _Checker:
                     raise self.fail(act.line, tag, f"nearest={act.nearest:g} m would put her on the robot: at least {ROBOT_RADIUS + HUMAN_RADIUS:g} m")
             elif isinstance(act, WaitFor):
                 if act.robot_says is None and act.robot_within is None and act.hears is None:
-                    raise self.fail(act.line, tag, "wait-for needs robot-says, hears or robot-within")
+                    raise self.fail(act.line, tag, "wait-for needs robot-says or robot-within (or hears, a word pattern)")
                 if (act.repairs or act.patience is not None or act.give_up is not None) and act.robot_says is None and act.hears is None:
                     raise self.fail(act.line, tag, "repairs=, patience= and give-up= need robot-says or hears (the answer she repairs for)")
                 if any(r not in REPAIR_STRATEGIES for r in act.repairs or ()):
