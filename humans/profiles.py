@@ -259,3 +259,31 @@ def traits_for(spec: HumanSpec, rng: np.random.Generator | None) -> Traits:
             raise ValueError(f"{spec.name!r} has profile {spec.profile!r}: her traits need a generator")
         base = draw_profile(default_profiles()[spec.profile], rng)
     return apply_overrides(base, spec.traits)
+
+
+def _check_profiles_file(path: str) -> list[InputError]:
+    try:
+        load_profiles(path)
+    except InputError as exc:
+        return [exc]
+    return []
+
+
+def _check_bank_file(path: str) -> list[InputError]:
+    from .phrasings import load_bank
+
+    try:
+        load_bank(path)
+    except InputError as exc:
+        return [exc]
+    return []
+
+
+def _document_types():  # type: ignore[no-untyped-def]
+    from homesim.check import DocumentType
+
+    return DocumentType("profiles", "user profiles", _check_profiles_file), DocumentType("phrasings", "paraphrase bank", _check_bank_file)
+
+
+#: ``homesim check humans/profiles.xml`` / ``humans/phrasings.xml`` (entry points in pyproject.toml).
+PROFILES_DOCUMENT, BANK_DOCUMENT = _document_types()
