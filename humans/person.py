@@ -96,7 +96,14 @@ class Person(Actor):
         if stop_at <= 0 and target.kind in ("robot", "human"):
             stop_at = self.traits.distance if target.kind == "robot" else HUMAN_STOP
         moving = target.kind in ("robot", "human")
-        goal = self.goal_of(target)
+        where = lambda: self.goal_of(target)  # noqa: E731
+        if target.kind == "robot" and self.traits.approach:
+            # she walks up to stand in front of it at her distance, on the line between them
+            # (face to face, an F-formation), not to the free spot nearest its centre
+            keep = stop_at
+            where = lambda: self.approach_point(keep)  # noqa: E731
+            stop_at = 0.0
+        goal = where()
         path = self.plan(goal)
         while True:
             here = self.body.position
@@ -127,11 +134,11 @@ class Person(Actor):
             await asyncio.sleep(t)
             if self.handlers and await self.react():
                 # she stopped to react (answer, point, step aside): on from where she is now
-                goal = self.goal_of(target)
+                goal = where()
                 path = self.plan(goal)
                 continue
             if moving:
-                new_goal = self.goal_of(target)
+                new_goal = where()
                 if math.hypot(new_goal[0] - goal[0], new_goal[1] - goal[1]) > 0.2:
                     goal = new_goal
                     path = self.plan(goal)
@@ -139,6 +146,15 @@ class Person(Actor):
             if self.body.held_time > held:
                 path = self.plan(goal)  # the robot got in the way: around it, or wait for it
         self.body.stand()
+
+    def approach_point(self, distance: float) -> tuple[float, float]:
+        """The point ``distance`` from the robot on the line from it to her (where she is when nearer)."""
+        rx, ry, _ = self.world.robot.pose
+        hx, hy = self.body.position
+        d = math.hypot(hx - rx, hy - ry)
+        if d <= distance:
+            return hx, hy
+        return rx + (hx - rx) * distance / d, ry + (hy - ry) * distance / d
 
     def plan(self, goal: tuple[float, float]) -> list[tuple[float, float]]:
         """A path to ``goal`` around walls, furniture and the robot where it stands now.
@@ -161,6 +177,10 @@ class Person(Actor):
         gx, gy = self.goal_of(target)
         x, y = self.body.position
         return math.atan2(gy - y, gx - x)
+
+    def stand_still(self) -> None:
+        if self.body.present:
+            self.body.stand()
 
     def face_robot(self) -> None:
         """Turn the head to the robot (a repair: she faces it to be heard)."""

@@ -67,6 +67,8 @@ class Traits:
     profile: str | None = None
     #: whether her wait-fors repair her way (a profile, or patience/repairs/give-up given on her)
     repairing: bool = False
+    #: whether she walks up to the robot face to face at her distance (a profile, or distance= given)
+    approach: bool = False
 
 
 @dataclass(frozen=True)
@@ -218,7 +220,7 @@ def draw_profile(profile: Profile, rng: np.random.Generator) -> Traits:
     k = int(min(np.searchsorted(np.cumsum(w) / w.sum(), u, side="right"), len(w) - 1))
     return Traits(voice=values["voice"], distance=values["distance"], speed=values["speed"], patience=int(round(values["patience"])),
                   off_axis=values["off-axis"], pointing_error=values["pointing-error"], phrasing=profile.phrasing,
-                  repairs=repairs, give_up=profile.give_up[k][0], profile=profile.name, repairing=True)
+                  repairs=repairs, give_up=profile.give_up[k][0], profile=profile.name, repairing=True, approach=True)
 
 
 def apply_overrides(traits: Traits, given: tuple[tuple[str, str], ...]) -> Traits:
@@ -231,6 +233,7 @@ def apply_overrides(traits: Traits, given: tuple[tuple[str, str], ...]) -> Trait
             changes["voice"] = float(raw)
         elif key == "distance":
             changes["distance"] = float(raw)
+            changes["approach"] = True
         elif key == "speed":
             changes["speed"] = float(raw)
         elif key == "patience":

@@ -119,8 +119,11 @@ class Actor:
         try:
             await self.play(self.script)
         except GaveUp:
-            pass
+            self.stand_still()
         self.done = True
+
+    def stand_still(self) -> None:
+        """Hook: a person who gave up in the middle of a walk stops where she is."""
 
     async def play(self, actions: tuple[Action, ...]) -> None:
         for act in actions:
@@ -344,7 +347,11 @@ class Actor:
         return False
 
     async def give_up(self, how: str, outcome: str) -> None:
-        """Her patience is used up: carry on (skip), or say so and stop her script or leave."""
+        """Her patience is used up: carry on (skip), or say so and stop her script or leave.
+
+        A flat without an exit door cannot be left: she stops there instead (a profile may
+        draw ``leave`` for any flat; ``give-up="leave"`` in a scenario needs an exit).
+        """
         self.gave_up += 1
         self.log.append((self.now, self.now, f"gives up ({outcome}): {how}"))
         if how == "skip":
@@ -352,7 +359,7 @@ class Actor:
         if self.rng is not None:
             await self.say(Say(None, request="give-up"))
             await self.finish_speaking()
-        if how == "leave":
+        if how == "leave" and self.world.scenario.exits():
             await self.perform(Leave())
         raise GaveUp(how)
 
