@@ -154,3 +154,18 @@ def test_patterns_on_long_utterances_stay_cheap():
 def _spec():  # type: ignore[no-untyped-def]
     sc = load_scenario_text(_text(""), source="p.xml")
     return sc.humans[0]
+
+
+def test_nothing_of_her_profile_reaches_the_robots_bus():
+
+    sc = load_scenario_text(_text('<wait for="1"/>\n<face robot="true"/>\n<say request="greet"/>\n<point object="cup" duration="1"/>',
+                                  attrs='profile="distracted" patience="2"'), source="p.xml")
+    sim = Simulation(seed=2, scenario=sc.name)
+    stage = Stage(sim, sc, actors=("humans.install", "robot.hardware.install"), keep_messages=True)
+    stage.run(6)
+    assert stage.messages
+    text = " ".join(m.text() for m in stage.messages).lower()
+    traits = stage.actors["ann"].traits
+    for word in ("distracted", "profile", "patience", "off-axis", "pointing-error"):
+        assert word not in text, word
+    assert f"{traits.voice:.6f}" not in text
