@@ -54,6 +54,7 @@ class Person(Actor):
         self.body: HumanBody = world.humans[spec.name]
         if traits.speed is not None:
             self.body.speed = traits.speed
+        self._looked_away = False  # her head is turned away because she looked away as she spoke
 
     @property
     def active(self) -> bool:
@@ -208,14 +209,20 @@ class Person(Actor):
         if p <= 0 or self.rng is None or not self.body.present:
             return
         away, side, size = self.rng.random(), self.rng.random(), self.rng.random()
+        robot = self.direction_to(Target("robot"))
         if away < p:
-            robot = self.direction_to(Target("robot"))
             off = math.radians(60.0 + 90.0 * size) * (1 if side < 0.5 else -1)
             self.body.look(robot + off)
+            self._looked_away = True
             self.log.append((self.now, self.now, f"speaks looking {math.degrees(off):+.0f} deg off the robot"))
+        elif self._looked_away:
+            # the last time she looked away as she spoke; this time she speaks to the robot
+            self.body.look(robot)
+            self._looked_away = False
 
     def face(self, target: Target, *, body: bool = False) -> None:
         """Turn the head (or the whole body) towards a target or a world angle."""
+        self._looked_away = False
         d = self.direction_to(target)
         if body:
             self.body.turn_to(d)
