@@ -41,7 +41,7 @@ from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any, Callable
 
-from homesim.runner import Run, RunOptions
+from homesim.tour.runner import Run, RunOptions
 from homesim.scenario.loader import load_scenario_text
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -85,7 +85,7 @@ def looping_home(duration: float) -> Any:
 def stage_ms(n_people: int, seconds: float) -> float:
     """CPU ms per simulated second of the simulated home alone with ``n_people``."""
     from homesim.sim import Simulation
-    from homesim.world.stage import Stage
+    from homesim.tour.stage import Stage
 
     from benchmarks.bench_world import crowd_scenario
 

@@ -34,11 +34,11 @@ from pathlib import Path
 
 import numpy as np
 
-from homesim.metrics.tracking import detection_scores, visible_region, wall_edges
-from homesim.runner import Run, RunOptions
+from homesim.tour.metrics.tracking import detection_scores, visible_region, wall_edges
+from homesim.tour.runner import Run, RunOptions
 from homesim.scenario.loader import load_scenario
 from homesim.sim import Simulation
-from homesim.world.stage import Stage
+from homesim.tour.stage import Stage
 from robot.attention.clutter import FurnitureLegs
 from robot.attention.legs import LegDetector, detect
 from robot.attention.module import PersonAttention
@@ -188,7 +188,8 @@ def main() -> None:
                     latencies.append((p.stem, u.source, after[0] - u.start, after[0] - u.end))
         run.close()
         print(
-            f"  {p.stem:24s} {s['mota']:6.3f} {s['motp_m']:7.3f} {s['idf1']:6.3f} {s['misses']:5d} {s['false_positives']:4d} {s['id_switches']:5d} {s['gt_ids']:3d} {s['track_ids']:6d}"
+            f"  {p.stem:24s} {s['mota']:6.3f} {s['motp_m']:7.3f} {s['idf1']:6.3f} {s['misses']:5d} {s['false_positives']:4d} "
+            f"{s['id_switches']:5d} {s['gt_ids']:3d} {s['track_ids']:6d}"
             f" {scoring[0] / max(scoring[1], 1) * 1e6:15.1f}"
         )
     # The share needs interactions, so a dialog: the library's scenarios with a greeting, the whole robot.

@@ -12,8 +12,8 @@ process) around each call:
   otherwise it returns at once.
 
 Also: the same tour standing still (corrections stop after the first three scans),
-the localisation error of the run (homesim.metrics.localisation) and the likelihood
-field's construction time. Budget (DESIGN: 3.3 ms CPU per simulated second for the
+the localisation error of the run (homesim.tour.metrics.localisation) and the likelihood
+field's construction time. Budget (the performance aim: 3.3 ms CPU per simulated second for the
 whole tour): the localiser aims under 0.5 ms per simulated second. Not counted: the
 bus's own cost of delivering scans and odometry to one more receiver, and the
 metric's scoring of each pose (timed apart and subtracted).
@@ -27,10 +27,10 @@ import argparse
 import time
 from pathlib import Path
 
-from homesim.metrics.localisation import LocalisationMetric
+from homesim.tour.metrics.localisation import LocalisationMetric
 from homesim.scenario.loader import load_scenario
 from homesim.sim import Simulation
-from homesim.world.stage import Stage
+from homesim.tour.stage import Stage
 from robot.hardware.map_server import floor_plan
 from robot.localisation import install
 from robot.localisation.mcl import LikelihoodField, MCLParams
@@ -119,7 +119,8 @@ def bare_publish_us(n: int = 2000, *, strict: bool = False) -> float:
     p = sim.bus.participant("p", host="robot")
     t0 = time.process_time()
     for i in range(n):
-        p.publish("/robot/localisation/pose", etree.Element("pose", time=f"{i * 0.1:.6f}", x="1.0000", y="2.0000", theta="0.10000", cxx="0.000100", cyy="0.000100", ctt="0.000010", frame="map"))
+        p.publish("/robot/localisation/pose", etree.Element("pose", time=f"{i * 0.1:.6f}", x="1.0000", y="2.0000", theta="0.10000", cxx="0.000100", cyy="0.000100",
+            ctt="0.000010", frame="map"))
     dt = time.process_time() - t0
     sim.close()
     return 1e6 * dt / n

@@ -23,7 +23,7 @@ from pathlib import Path
 from typing import Any
 
 from homesim.bus import Participant
-from homesim.runner import Run, RunOptions
+from homesim.tour.runner import Run, RunOptions
 from homesim.sim import Simulation
 
 ROOT = Path(__file__).resolve().parents[1]

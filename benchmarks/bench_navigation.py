@@ -23,11 +23,11 @@ from pathlib import Path
 import numpy as np
 from lxml import etree
 
-from homesim.metrics.following import Following
-from homesim.metrics.navigation import Navigation
+from homesim.tour.metrics.following import Following
+from homesim.tour.metrics.navigation import Navigation
 from homesim.scenario.loader import load_scenario
 from homesim.sim import Simulation
-from homesim.world.stage import Stage
+from homesim.tour.stage import Stage
 from robot.hardware.laser import LaserSpec, simulate_scan
 from robot.hardware.map_server import floor_plan, map_element
 from robot.navigation.config import Limits

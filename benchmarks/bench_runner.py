@@ -1,7 +1,7 @@
 """Runner benchmark: the whole home tour, its speed and its memory.
 
 Run: ``python benchmarks/bench_runner.py [--scenario scenarios/home_tour.xml] [--seed 0]``.
-Prints, for the scenario run end to end by :class:`homesim.runner.Run`
+Prints, for the scenario run end to end by :class:`homesim.tour.runner.Run`
 (world, people, hardware, supervisor, every installed robot subsystem,
 streaming expectations and metrics, no trace):
 
@@ -24,7 +24,7 @@ import tracemalloc
 from pathlib import Path
 
 from homesim.realtime import peak_memory_mb
-from homesim.runner import Run, RunOptions
+from homesim.tour.runner import Run, RunOptions
 
 ROOT = Path(__file__).resolve().parents[1]
 

@@ -38,7 +38,7 @@ from homesim.scenario.loader import load_scenario_text
 from homesim.sim import Simulation
 from homesim.world import raycast
 from homesim.world.raycast import RayCaster
-from homesim.world.stage import Stage
+from homesim.tour.stage import Stage
 from homesim.world.world import World
 from robot.hardware.camera import CameraSpec, PanTilt, detect_faces, detect_frame, detect_gestures, detect_objects, detect_torsos
 from robot.hardware.laser import LaserSpec, laser_origin, simulate_scan

@@ -29,10 +29,10 @@ def cpu(fn):  # noqa: ANN001, ANN201
 
 
 def run(until: float) -> None:
-    from homesim.export.mcap_export import export_mcap
+    from homesim.tour.mcap_export import export_mcap
     from homesim.export.perfetto import export_perfetto
     from homesim.traceview import read_timeline
-    from homesim.viz.cli import plot_moment_of_trace
+    from homesim.tour.plot_cli import plot_moment_of_trace
     from homesim.viz.timeline import plot_timeline
 
     with tempfile.TemporaryDirectory() as d:

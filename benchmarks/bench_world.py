@@ -33,7 +33,7 @@ import numpy as np
 from homesim.scenario.loader import load_scenario, load_scenario_text
 from homesim.sim import Simulation
 from homesim.world.bodies import LASER_FILTER
-from homesim.world.stage import Stage
+from homesim.tour.stage import Stage
 from homesim.world.world import World
 from robot.hardware.laser import LaserSpec, laser_origin, simulate_scan
 

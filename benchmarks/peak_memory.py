@@ -56,7 +56,7 @@ def _rss_mib() -> float | None:
 
 def child(seconds: float) -> dict[str, Any]:
     """Run the looping home for ``seconds`` in this process, sampling as it goes (see the module docstring)."""
-    from homesim.runner import Run, RunOptions
+    from homesim.tour.runner import Run, RunOptions
 
     from benchmarks.__main__ import looping_home
 

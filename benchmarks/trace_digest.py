@@ -2,7 +2,7 @@
 
 Run: ``python benchmarks/trace_digest.py [--seeds 0,1] [--until 60] > before.txt``, optimise,
 run again and ``diff`` the two outputs. Each line is ``scenario seed sha256 lines`` of the bus
-trace written by :class:`homesim.runner.Run` (the same trace as ``homesim run --trace``), so an
+trace written by :class:`homesim.tour.runner.Run` (the same trace as ``homesim run --trace``), so an
 optimisation that changes any message, its order or its time shows as a different digest.
 Not a benchmark and not a test (it runs whole scenarios); the suite has no short version of it
 (``tests/test_trace.py`` checks that a trace is byte-identical across processes).
@@ -15,7 +15,7 @@ import hashlib
 import io
 from pathlib import Path
 
-from homesim.runner import Run, RunOptions
+from homesim.tour.runner import Run, RunOptions
 
 ROOT = Path(__file__).resolve().parents[1]
 SCENARIOS = ("two_people_radio.xml", "home_tour.xml")

@@ -1,8 +1,8 @@
 """An XCF-like XML message bus on virtual time.
 
 Participants publish XML documents on hierarchical channels
-(``/robot/attention/persons``), subscribe to channels or subtrees
-(``/robot/attention/**``), and call named methods of named servers, awaited
+(``/camera/faces``), subscribe to channels or subtrees
+(``/camera/**``), and call named methods of named servers, awaited
 with a virtual-time timeout or fire-and-forget. Channels and methods may be
 typed by an XSD. A validated message that is invalid is refused with an
 error naming the channel, the schema and libxml2's message, and is delivered

@@ -1,17 +1,7 @@
 """``homesim check FILE...``: validate any of the project's documents, chosen by its root element.
 
-Each kind of document (scenario, AFSM, and those other packages add, such as
-the dialog's) registers a :class:`DocumentType`: the root element's QName in
-Clark notation (``scenario``, ``{http://www.w3.org/2005/07/scxml}scxml``), a
-short name for messages and a function ``check(path) -> [InputError]`` that
-returns every problem it finds (empty when the document loads). A package
-outside the kernel registers its type without the kernel importing it, by an
-entry point in ``pyproject.toml``::
-
-    [project.entry-points."homesim.documents"]
-    dialog = "robot.dialog.document:DOCUMENT_TYPE"
-
-(the kernel never imports ``robot``), or at run time with :func:`register_document`.
+The kinds of documents (scenario, AFSM, and those other packages add, such
+as the dialog's, by an entry point) are registered in :mod:`homesim.documents`.
 
 ``homesim check`` prints every problem as ``file:line: <element>: message``,
 one ``file: ok (kind)`` line per good file, and exits 1 when any file has a
@@ -25,65 +15,14 @@ registered is a problem naming the kinds that are known.
 from __future__ import annotations
 
 import sys
-from collections.abc import Callable, Iterable
-from dataclasses import dataclass
-from importlib.metadata import entry_points
+from collections.abc import Iterable
 from typing import Any
 
 from lxml import etree
 
+from .documents import DocumentType, document_types, register_document  # noqa: F401 (re-exported)
 from .errors import InputError
 from .xmlio import parse_file
-
-ENTRY_POINT_GROUP = "homesim.documents"
-
-
-@dataclass(frozen=True)
-class DocumentType:
-    """One kind of document: its root element (Clark QName), a name, and its checker."""
-
-    root: str
-    kind: str
-    check: Callable[[str], list[InputError]]
-
-
-def _afsm(path: str) -> list[InputError]:
-    from .afsm.loader import check_file
-
-    return list(check_file(path))
-
-
-def _scenario(path: str) -> list[InputError]:
-    from .scenario.loader import check_scenario_file
-
-    return check_scenario_file(path)
-
-
-#: The kernel's own document types (others come from entry points or :func:`register_document`).
-BUILTIN: tuple[DocumentType, ...] = (
-    DocumentType("scenario", "scenario", _scenario),
-    DocumentType("{http://www.w3.org/2005/07/scxml}scxml", "AFSM", _afsm),
-)
-
-_registered: dict[str, DocumentType] = {}
-
-
-def register_document(doc_type: DocumentType) -> None:
-    """Add (or replace) the checker for ``doc_type.root``."""
-    _registered[doc_type.root] = doc_type
-
-
-def document_types() -> dict[str, DocumentType]:
-    """Root QName -> document type: built-in, then entry points, then :func:`register_document`'s."""
-    out = {d.root: d for d in BUILTIN}
-    for ep in sorted(entry_points(group=ENTRY_POINT_GROUP), key=lambda e: e.name):
-        d = ep.load()
-        if not isinstance(d, DocumentType):
-            raise TypeError(f"entry point {ep.name} = {ep.value} in {ENTRY_POINT_GROUP} is not a DocumentType")
-        out[d.root] = d
-    out.update(_registered)
-    return out
-
 
 def _label(qname: str) -> str:
     q = etree.QName(qname)

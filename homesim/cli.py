@@ -20,13 +20,13 @@ from .errors import HomesimError
 #: Modules that add subcommands (each has ``register(subparsers)``).
 SUBCOMMAND_MODULES: list[str] = [
     "homesim.demo",
-    "homesim.run_cli",
+    "homesim.tour.run_cli",
     "homesim.afsm.cli",
     "homesim.check",
     "homesim.memory.cli",
-    "homesim.viz.cli",
-    "homesim.export.cli",
-    "homesim.sweep",
+    "homesim.tour.plot_cli",
+    "homesim.tour.export_cli",
+    "homesim.tour.sweep",
 ]
 
 

@@ -3,7 +3,7 @@
 argparse calls these ``type=`` functions while parsing; an
 ``ArgumentTypeError`` becomes ``homesim ...: error: argument --until: ...``
 on one line (see :class:`OneLineParser`) and exit status 2. The ranges are
-documented in ``docs/architecture.md`` ("Input limits and what homesim
+documented in ``docs/running.md`` ("Input limits and what homesim
 refuses"):
 
 - virtual times (``--duration``, ``--until``, ``--at``): finite decimal
@@ -27,7 +27,7 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import NoReturn
 
-from .errors import HomesimError
+from .errors import HomesimError, OptionError  # noqa: F401 (OptionError: re-exported)
 
 #: Longest virtual run accepted from the command line (seconds; about 11.6 days).
 MAX_VIRTUAL_SECONDS = 1_000_000.0
@@ -128,10 +128,3 @@ def store_dir(text: str) -> Path:
         return path
     _check_creatable(text, path)
     return path
-
-
-class OptionError(HomesimError):
-    """A command-line value found wrong after parsing (e.g. a state name that does not exist)."""
-
-    def __init__(self, option: str, message: str) -> None:
-        super().__init__(f"argument {option}: {message}")

@@ -15,7 +15,7 @@ class HomesimError(Exception):
 class InputError(HomesimError):
     """Bad input: a file or document that cannot be accepted.
 
-    ``source`` is the file name (or a label such as ``<bus:/robot/x>``),
+    ``source`` is the file name (or a label such as ``<bus:/camera/faces>``),
     ``line`` the 1-based line number when known, ``element`` the tag or id
     concerned when known.
     """
@@ -156,3 +156,10 @@ class MemoryStoreError(InputError):
     def __init__(self, message: str, *, source: str | None = None, kept_at: str | None = None) -> None:
         self.kept_at = kept_at
         super().__init__(message, source=source)
+
+
+class OptionError(HomesimError):
+    """A command-line value found wrong after parsing (e.g. a state name that does not exist)."""
+
+    def __init__(self, option: str, message: str) -> None:
+        super().__init__(f"argument {option}: {message}")

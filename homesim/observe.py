@@ -3,7 +3,7 @@
 Expectations and metrics watch a run as it goes instead of keeping every
 message for the end (a run's memory must not grow with its length). A
 :class:`Dispatcher` is one interceptor on the bus; each handler registers
-the channel prefixes it cares about (``"/robot/es/log"``, ``"/robot/"``,
+the channel prefixes it cares about (``"/system/health"``, ``"/system/"``,
 ``"scene_model/"`` for calls to that server) and is called with every
 message *sent* on a matching channel, in send order. The routing of a
 channel is computed once and cached, so a message no one watches costs one

@@ -136,7 +136,7 @@ class TraceRecorder:
 
     def _write(self) -> None:
         # The lines leave the batch before the write: a stream that refuses them (the re-run
-        # check of homesim.tracerun raises on a departure) does not get them again at close.
+        # check of homesim.tour.tracerun raises on a departure) does not get them again at close.
         pending = self._pending
         pending.append("")
         text = "\n".join(pending)

@@ -9,8 +9,9 @@ the recognition time; the supervisor's is its reconfiguration time).
 Messages sent several times a second for a sustained time are *continuous
 streams* (scans, odometry, tracks; the papers' Fig. 6 draws them lighter);
 the others are *events*. Heartbeats (``/system/heartbeat/``) are left out
-unless asked for. Phases (start, greeting, follow request, following, stop,
-teaching, good-bye) are read from the supervisor's log: where it applied those events.
+unless asked for. Phases: "A start" at 0, and whatever the registered phase
+markers (:func:`register_phases`; the run package's read the robot's
+supervisor log) find in the records.
 
 Both passes stream the file; memory holds one small record per event
 message in the asked window, a thinned sample of each stream, and bounded
@@ -21,7 +22,7 @@ from __future__ import annotations
 
 import os
 from collections import OrderedDict
-from collections.abc import Iterator
+from collections.abc import Callable, Iterable, Iterator
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -36,14 +37,17 @@ STREAM_RATE = 0.9
 STREAM_MIN = 20
 HEARTBEAT = "/system/heartbeat/"
 SENDS = ("publish", "request", "reply", "error")
-#: Phases: an event the ES applied -> (mark, label); "following" is the first follow status after a follow request.
-PHASE_EVENTS: dict[str, tuple[str, str]] = {
-    "greeting": ("B", "greeting"), "follow": ("C", "follow request"), "stop": ("E", "stop"),
-    "object_teaching": ("T", "teaching an object"), "place_teaching": ("T", "teaching a place"),
-    "goodbye": ("G", "good-bye"),
-}
-ES_LOG = "/robot/es/log"
-FOLLOW_STATUS = "/robot/follow/status"
+#: A phase marker reads every sent record (``channel``, record) in trace order and returns the
+#: phases it starts there, as ``(mark, label)`` pairs; it may keep state between records.
+PhaseMarker = Callable[[str, dict[str, Any]], Iterable[tuple[str, str]]]
+#: Factories of phase markers, one marker per timeline read (the run package registers its robot's).
+PHASE_MARKERS: list[Callable[[], PhaseMarker]] = []
+
+
+def register_phases(factory: Callable[[], PhaseMarker]) -> None:
+    """Add a phase marker factory (each :func:`read_timeline` makes a fresh marker from it)."""
+    if factory not in PHASE_MARKERS:
+        PHASE_MARKERS.append(factory)
 
 
 class _Recent(OrderedDict):
@@ -260,7 +264,7 @@ def read_timeline(path: str | os.PathLike[str], *, start: float | None = None, e
     flows: list[Flow] = []
     phases: list[Phase] = [Phase(0.0, "A", "start")] if t0 <= 0.0 else []
     last_sample: dict[tuple[str, str], float] = {}
-    following = False
+    markers = [factory() for factory in PHASE_MARKERS]
     depth: _Recent = _Recent()
     lane_depths: dict[str, list[int]] = {}  # a module's events' causal depths (one int per event message)
     lane_first: dict[str, float] = {}
@@ -278,16 +282,10 @@ def read_timeline(path: str | os.PathLike[str], *, start: float | None = None, e
             continue
         d = 1 + max((depth.get(c, -1) for c in rec.get("causes", ())), default=-1)
         depth.put(rec["id"], d)
-        if ch == ES_LOG and 'kind="applied"' in rec.get("xml", ""):
-            name = label_of(rec).split(" ", 1)[-1]
-            if name in PHASE_EVENTS and t0 <= t <= t1:
-                mark, label = PHASE_EVENTS[name]
-                phases.append(Phase(t, mark, label))
-            following = following or name == "follow"
-        elif ch == FOLLOW_STATUS and following:
-            following = False
-            if t0 <= t <= t1:
-                phases.append(Phase(t, "D", "following"))
+        for marker in markers:
+            for mark, label in marker(ch, rec):
+                if t0 <= t <= t1:
+                    phases.append(Phase(t, mark, label))
         if not t0 <= t <= t1:
             continue
         if not ev.continuous:

@@ -2,6 +2,6 @@
 
 ``script`` runs the talking/waiting actions shared by every actor,
 ``person`` adds walking, facing, pointing and leaving, ``install`` puts a
-scenario's actors on a :class:`~homesim.world.stage.Stage`. Scripts react
+scenario's actors on a :class:`~homesim.tour.stage.Stage`. Scripts react
 to the robot (what it says, how close it comes), not only to the clock.
 """

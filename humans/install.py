@@ -1,6 +1,6 @@
 """Put a scenario's people and sound sources on a stage.
 
-``install(stage)`` is what :class:`homesim.world.stage.Stage` calls (it loads
+``install(stage)`` is what :class:`homesim.tour.stage.Stage` calls (it loads
 this module by name, so the kernel never imports ``humans``). Each person
 and each radio runs its script as one top-level task, named
 ``human:<name>`` or ``<kind>:<name>``, so a failing script fails the run.

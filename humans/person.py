@@ -32,7 +32,7 @@ import numpy as np
 
 from homesim.scenario.model import Action, Face, HumanSpec, Leave, PointAt, StepCloser, Target, WalkTo
 from homesim.world.bodies import ROBOT_REACH, HumanBody, Pointing
-from homesim.world.pathplan import NoPathError
+from homesim.scenario.pathplan import NoPathError
 from homesim.world.world import World
 
 from .profiles import Traits
@@ -80,7 +80,8 @@ class Person(Actor):
             # Never a straight line through walls: the run fails, naming the action.
             self.body.stand()
             tag = {WalkTo: "walk-to", StepCloser: "step-closer"}.get(type(act), "leave")
-            raise ScriptError(f"{self.name!r} at ({self.body.position[0]:.2f}, {self.body.position[1]:.2f}) cannot get there: {exc}", source=self.world.scenario.source, line=act.line, element=tag) from exc
+            raise ScriptError(f"{self.name!r} at ({self.body.position[0]:.2f}, {self.body.position[1]:.2f}) cannot get there: {exc}", source=self.world.scenario.source,
+                line=act.line, element=tag) from exc
 
     # ------------------------------------------------------------ walking
     def goal_of(self, target: Target) -> tuple[float, float]:

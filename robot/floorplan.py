@@ -15,21 +15,16 @@ from dataclasses import dataclass, field
 import numpy as np
 from lxml import etree
 
+from homesim import geometry
 from homesim.errors import HomesimError
 
 
 def wall_rectangle(a: tuple[float, float], b: tuple[float, float], thickness: float) -> np.ndarray:
     """The counter-clockwise rectangle (4, 2) of a wall piece from a to b, ``thickness`` wide."""
-    (ax, ay), (bx, by) = a, b
-    dx, dy = bx - ax, by - ay
-    n = math.hypot(dx, dy)
-    if n < 1e-12:
-        raise MapFormatError("map: a wall piece needs two distinct end points")
-    ox, oy = -dy / n * thickness / 2.0, dx / n * thickness / 2.0
-    rect = np.array([[ax - ox, ay - oy], [bx - ox, by - oy], [bx + ox, by + oy], [ax + ox, ay + oy]])
-    x, y = rect[:, 0], rect[:, 1]
-    area2 = float(np.dot(x, np.roll(y, -1)) - np.dot(np.roll(x, -1), y))
-    return rect if area2 > 0 else rect[::-1].copy()
+    try:
+        return geometry.wall_rectangle(a, b, thickness)
+    except ValueError as exc:
+        raise MapFormatError(f"map: {exc}") from exc
 
 
 class MapFormatError(HomesimError):

@@ -35,7 +35,7 @@ exactly at their expiry; no event is ever applied at or after it. Messages
 to other modules (orders, conditions, rejections returned to the dialog)
 leave in decision order: nothing decided later overtakes them.
 
-Same instant (docs/architecture.md): what expires at ``t`` is rejected before
+Same instant (docs/semantics.md §2): what expires at ``t`` is rejected before
 anything arriving at ``t`` is queued, in the state held as ``t`` began; the
 decision that ends a cost at ``t`` is taken after the arrivals at ``t`` are
 queued. Link latency, which orders deliveries against the ES's own timers,
@@ -354,7 +354,7 @@ class ExecutionSupervisor(Module):
         Held messages whose time has come leave first. While the ES pays a
         transition's cost it takes no decision; it only rejects events whose
         lifetime ends (exactly at their expiry). Once free it scans the queue
-        up to the first transition (§2.2); that transition makes it busy for
+        up to the first transition (docs/semantics.md §2); that transition makes it busy for
         ``cost``, and the scan goes on, from the oldest event, when it is
         free again.
         """

@@ -1,4 +1,4 @@
-"""A small, separately written reference of the ES's queue semantics (DESIGN.md §2.2).
+"""A small, separately written reference of the ES's queue semantics (docs/semantics.md §2).
 
 Written for clarity, not speed, and from the rules' text rather than from
 homesim.afsm.engine: the queue is re-sorted on every look, applicable
@@ -79,7 +79,7 @@ class ReferenceES:
 
     def process(self, now: int) -> list[tuple]:
         out: list[tuple] = []
-        # the same-instant rule (docs/architecture.md): expiry first, in the state held as `now` begins
+        # the same-instant rule (docs/semantics.md §2): expiry first, in the state held as `now` begins
         for it in sorted(self.pending, key=lambda it: (it.created, it.seq)):
             if now >= it.expires:
                 self.pending.remove(it)

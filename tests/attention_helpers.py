@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from homesim.runner import Run, RunOptions
+from homesim.tour.runner import Run, RunOptions
 from homesim.world.truth import GroundTruth
 
 HERE = Path(__file__).resolve().parent

@@ -1,6 +1,6 @@
 """Test stand-ins for the modules the navigation is built against, and a run harness.
 
-Runs are real runs (:class:`homesim.runner.Run`: world, people, hardware with the map
+Runs are real runs (:class:`homesim.tour.runner.Run`: world, people, hardware with the map
 server, the supervisor with BIRON's AFSM, the localiser, the scene model, the watchdog,
 the navigation modules and the player, the metrics). Until the person attention is on
 main, :class:`Oracle` stands in for it with the contract's messages (docs/robot-contract.md)
@@ -20,7 +20,7 @@ from typing import Any
 
 from lxml import etree
 
-from homesim.runner import Run, RunOptions
+from homesim.tour.runner import Run, RunOptions
 from homesim.scenario.loader import load_scenario, load_scenario_text
 from robot.supervisor import event_xml
 

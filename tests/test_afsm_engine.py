@@ -1,4 +1,4 @@
-"""Engine rules of DESIGN.md §2.2 on small hand-written machines, and run-time modification."""
+"""Engine rules of docs/semantics.md §2 on small hand-written machines, and run-time modification."""
 
 from __future__ import annotations
 

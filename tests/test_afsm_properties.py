@@ -1,4 +1,4 @@
-"""Property tests of the ES engine against the reference model (DESIGN.md §2.2).
+"""Property tests of the ES engine against the reference model (docs/semantics.md §2).
 
 Random machines and random event streams (random creation times, lifetimes
 and delivery delays) drive the engine and :mod:`tests.afsm_reference` side

@@ -126,7 +126,7 @@ def test_the_compiled_pass_on_recorded_scans_of_three_crossing_people():
     same detections both ways, with a furniture filter (the footprints tested on the points as given)."""
     from homesim.scenario.loader import load_scenario
     from homesim.sim import Simulation
-    from homesim.world.stage import Stage
+    from homesim.tour.stage import Stage
     from robot.attention.clutter import FurnitureLegs
     from robot.hardware.map_server import floor_plan
 

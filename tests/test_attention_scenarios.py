@@ -91,7 +91,7 @@ def test_talking_while_looking_away_makes_no_potential_partner():
 
 
 def test_the_beam_hears_the_unexplained_radio_not_the_talker_looking_away_and_the_new_speaker_gets_the_look():
-    """scenarios/attention/radio_and_talkers.xml: where the recogniser listens (DESIGN 2.2, 2.3)."""
+    """scenarios/attention/radio_and_talkers.xml: where the recogniser listens (docs/semantics.md §2, §3)."""
     run = attention_run(ATTENTION_SCENARIOS / "radio_and_talkers.xml")
     run.run()
     try:

@@ -12,7 +12,7 @@ from lxml import etree
 
 from homesim.scenario.loader import load_scenario_text
 from homesim.sim import Simulation
-from homesim.world.stage import Stage
+from homesim.tour.stage import Stage
 from robot.hardware.microphones import SPEED_OF_SOUND, MicSpec, OnsetTracker, Peak, mixture_peaks, path_loss_db, recognise_scored
 from tests.world_helpers import ROOM
 

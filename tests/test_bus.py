@@ -594,7 +594,7 @@ def test_a_valid_message_is_delivered_identically_under_both_policies(pid, speak
 def test_scenario_runs_in_the_suite_are_strict_and_the_product_default_is_not():
     from pathlib import Path
 
-    from homesim.runner import Run, RunOptions
+    from homesim.tour.runner import Run, RunOptions
 
     scen = Path(__file__).resolve().parents[1] / "scenarios" / "two_people_radio.xml"
     with Run.from_file(scen, RunOptions(until=0.1)) as run:

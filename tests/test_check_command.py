@@ -9,8 +9,9 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from homesim import check as checkmod
-from homesim.check import DocumentType, check_path, register_document
+from homesim import documents as checkmod
+from homesim.check import check_path
+from homesim.documents import DocumentType, register_document
 from homesim.cli import main
 from homesim.errors import InputError, ScenarioError
 from homesim.scenario.loader import load_scenario_text

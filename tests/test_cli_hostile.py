@@ -148,6 +148,6 @@ def test_every_file_argument_refuses_hostile_files(prefix, parser, tmp_path, cap
 
 
 def test_cli_ranges_are_documented():
-    text = (ROOT / "docs" / "architecture.md").read_text(encoding="utf-8")
+    text = (ROOT / "docs" / "running.md").read_text(encoding="utf-8")
     assert f"{cliargs.MAX_VIRTUAL_SECONDS:g}" in text or "1 000 000 s" in text
     assert "2**63 - 1" in text

@@ -10,7 +10,7 @@ from lxml import etree
 
 from homesim.scenario.loader import load_scenario
 from homesim.sim import Simulation
-from homesim.world.stage import Stage
+from homesim.tour.stage import Stage
 from robot.dialog.module import Dialog
 from robot.dialog.transcript import transcript
 from robot.speech.module import RobotSentence, SpeechUnderstanding, is_own_voice

@@ -73,7 +73,7 @@ def test_greeting_without_a_partner_is_explained(dm):
 def test_an_unsure_greeting_is_confirmed_only_when_someone_is_there(dm):
     """A greeting heard with low confidence: with a potential partner in sight the robot asks back;
     with nobody in sight (a radio) it does not talk into the room but reports the greeting, so the
-    supervisor's synchronisation decides (it expires when no person appears: DESIGN.md 2.2)."""
+    supervisor's synchronisation decides (it expires when no person appears: docs/semantics.md §2)."""
     dm.es_state = "PotentialPartner"
     out = dm.on_frame(frame('<GREETING name="biron"/>', confidence=0.2))
     assert says(out) == ["Did you say hello to me?"] and sends(out) == []

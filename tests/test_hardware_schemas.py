@@ -28,7 +28,7 @@ from homesim.errors import MessageValidationError
 from homesim.message import PUBLISH
 from homesim.scenario.loader import load_scenario
 from homesim.sim import Simulation
-from homesim.world.stage import Stage
+from homesim.tour.stage import Stage
 from homesim.xmlio import load_schema, parse_bytes, parse_file, serialize
 from robot.hardware.channels import CHANNELS, SCHEMA_DIR, SCHEMAS, declare_channels
 from tests.world_helpers import EXAMPLE, ROOM

@@ -1,5 +1,5 @@
 """Localisation: MCL on the map server's plan tracks the robot with drifting odometry; its error
-is measured against ground truth by homesim.metrics.localisation."""
+is measured against ground truth by homesim.tour.metrics.localisation."""
 
 from __future__ import annotations
 
@@ -11,9 +11,9 @@ import pytest
 from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
-from homesim.metrics.localisation import LocalisationMetric
+from homesim.tour.metrics.localisation import LocalisationMetric
 from homesim.sim import Simulation
-from homesim.world.stage import Stage
+from homesim.tour.stage import Stage
 from homesim.world.world import World
 from robot.hardware.laser import LaserSpec, simulate_scan
 from robot.hardware.map_server import floor_plan, map_element

@@ -13,7 +13,7 @@ from lxml import etree
 from homesim.errors import SchemaValidationError
 from homesim.sim import Simulation
 from homesim.world.raycast import cast_rays
-from homesim.world.stage import Stage
+from homesim.tour.stage import Stage
 from homesim.xmlio import load_schema
 from robot.floorplan import MapFormatError, parse_map
 from robot.hardware.map_server import MAP_SCHEMA, floor_plan, map_element

@@ -9,7 +9,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-import homesim.metrics.navigation as nav
+import homesim.tour.metrics.navigation as nav
 from tests.conftest import examples
 
 maybe = st.one_of(st.none(), st.floats(0.0, 50.0))

@@ -15,7 +15,7 @@ from lxml import etree
 from homesim.memory.protocol import decode_inline
 from homesim.scenario.loader import load_scenario_text
 from homesim.sim import Simulation
-from homesim.world.stage import Stage
+from homesim.tour.stage import Stage
 from robot.localisation import install as install_localiser
 from robot.objects import install as install_objects
 from robot.objects.gestures import GestureTracker
@@ -134,7 +134,8 @@ def _run(pointing: str, frame: str, answer: int | None = 1, until: float = 9.0, 
     # The person attention's part in Object: the camera looks where object attention says.
     test.subscribe(
         "/robot/objects/focus",
-        handler=lambda m: test.publish("/robot/ptu/cmd", etree.Element("ptu", pan=m.xml.get("bearing"), tilt=f"{-math.degrees(math.atan2(0.6, float(m.xml.get('distance')))):.2f}")),
+        handler=lambda m: test.publish("/robot/ptu/cmd", etree.Element("ptu", pan=m.xml.get("bearing"),
+            tilt=f"{-math.degrees(math.atan2(0.6, float(m.xml.get('distance')))):.2f}")),
     )
     dialog = sim.bus.participant("dialog", host="robot")
 

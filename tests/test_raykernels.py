@@ -117,7 +117,7 @@ def test_fan_caster_kernel_on_the_home_tours_scans():
     legs, the robot at poses of its tour (every scan of the first 30 s), kernel against Python."""
     from pathlib import Path
 
-    from homesim.runner import Run, RunOptions
+    from homesim.tour.runner import Run, RunOptions
     from robot.hardware.laser import LaserSpec, laser_origin
 
     spec = LaserSpec()

@@ -11,15 +11,15 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from lxml import etree
 
-from homesim import metrics
+from homesim.tour import metrics
 from homesim.cli import main
 from homesim.errors import ScenarioError
-from homesim.metrics.stats import Running
-from homesim.runner import Run, RunOptions, element_dict
-from homesim.scenario.expect import matches
+from homesim.tour.metrics.stats import Running
+from homesim.tour.runner import Run, RunOptions, element_dict
+from homesim.tour.expect import matches
 from homesim.scenario.loader import load_scenario_text
 from homesim.sim import Simulation
-from homesim.world.stage import Stage
+from homesim.tour.stage import Stage
 from tests.world_helpers import EXAMPLE, ROOM
 
 ROOM_TEXT = ROOM.read_text(encoding="utf-8")
@@ -276,7 +276,7 @@ def test_replay_notices_a_changed_store(tmp_path, capsys):
     # a --memory run writes what it learned to its store, so its replay started from other
     # knowledge and diverged somewhere without saying why: the header pins the store's content
     from homesim.memory.sqlite import SqliteStore
-    from homesim.runner import store_digest
+    from homesim.tour.runner import store_digest
 
     store, trace = tmp_path / "store", tmp_path / "t.jsonl"
     assert main(["run", str(EXAMPLE), "--trace", str(trace), "--memory", str(store), "--until", "1", "--quiet"]) == 0
@@ -290,7 +290,7 @@ def test_replay_notices_a_changed_store(tmp_path, capsys):
     assert main(["replay", str(trace)]) == 1
     assert f"the store {store} has changed since the trace was written" in capsys.readouterr().out
     from homesim.errors import InputError
-    from homesim.tracerun import rerun
+    from homesim.tour.tracerun import rerun
 
     with pytest.raises(InputError, match="the store .* has changed"):  # plot and export re-run it too
         rerun(trace)

@@ -9,7 +9,7 @@ import pytest
 from homesim.errors import ScenarioError
 from homesim.scenario.loader import load_scenario_text
 from homesim.sim import Simulation
-from homesim.world.stage import Stage
+from homesim.tour.stage import Stage
 from tests.world_helpers import ROOM
 
 ROOM_TEXT = ROOM.read_text(encoding="utf-8")

@@ -12,7 +12,7 @@ from pathlib import Path
 import pytest
 
 from homesim.cli import main
-from homesim.runner import Run, RunOptions
+from homesim.tour.runner import Run, RunOptions
 from homesim.scenario.loader import load_scenario
 
 SCENARIOS = Path(__file__).resolve().parent.parent / "scenarios"

@@ -91,7 +91,8 @@ def test_bad_value_type_is_caught_by_the_schema():
         ('<door name="exit" at="3" width="0.9" exit="true"/>', '<door name="exit" at="5.8" width="0.9" exit="true"/>', "outside the wall", '<wall from="0 6"'),
         ('clearance="0.7"', 'clearance="0.8"', "clearance 0.8 m must be below its height", '<furniture name="table"'),
         ('<room name="room" points="0,0 8,0 8,6 0,6"/>', '<room name="room" points="0,0 8,6 8,0 0,6"/>', "not a simple polygon: edges", "<room "),
-        ('<room name="room" points="0,0 8,0 8,6 0,6"/>', '<room name="room" points="0,0 8,0 8,6 0,6"/>\n    <room name="den" points="6,4 9,4 9,7 6,7"/>', "room 'den' overlaps room 'room'", '<room name="den"'),
+        ('<room name="room" points="0,0 8,0 8,6 0,6"/>', '<room name="room" points="0,0 8,0 8,6 0,6"/>\n    <room name="den" points="6,4 9,4 9,7 6,7"/>',
+            "room 'den' overlaps room 'room'", '<room name="den"'),
     ],
 )
 def test_semantic_errors_name_the_line_and_the_problem(old, new, message, anchor):

@@ -298,7 +298,7 @@ def _plain_frame(world, pose, ptu, spec, rng, confusion):
     """The frame computed the plain way: each kind in turn, each point's direction on its own
     (:func:`_look`), each sight line asked alone, then that kind's noise: the reference the
     batched :func:`detect_frame` must reproduce float for float."""
-    from homesim.world.geometry import wrap_angle
+    from homesim.geometry import wrap_angle
     from robot.hardware.camera import (FaceDetection, GestureDetection, ObjectDetection, TorsoDetection, _in_view, _look,
                                        confuse, visible)
 

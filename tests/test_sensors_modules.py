@@ -10,7 +10,7 @@ from lxml import etree
 
 from homesim.scenario.loader import load_scenario, load_scenario_text
 from homesim.sim import Simulation
-from homesim.world.stage import Stage
+from homesim.tour.stage import Stage
 from robot.hardware.base import OdometrySpec, odometry_step
 from tests.world_helpers import ROOM, drive_base
 
@@ -141,7 +141,8 @@ def test_odometry_error_does_not_depend_on_the_publishing_rate():
 def test_recognised_speech_carries_measured_not_true_direction_and_level():
     """audio.py published the noise-free level (and the exact TDOA when the noisy reading fell below
     the threshold): a speech message leaked ground truth the source messages never show."""
-    text = ROOM.read_text(encoding="utf-8").replace('torso="yellow"/>', 'torso="yellow"><script><face robot="true"/><repeat times="30"><say text="hello"/><wait for="0.3"/></repeat></script></human>')
+    text = ROOM.read_text(encoding="utf-8").replace('torso="yellow"/>',
+        'torso="yellow"><script><face robot="true"/><repeat times="30"><say text="hello"/><wait for="0.3"/></repeat></script></human>')
     sc = load_scenario_text(text, source="speech.xml")
     sim = Simulation(seed=5, scenario=sc.name)
     st = Stage(sim, sc, keep_messages=True)

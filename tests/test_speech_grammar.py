@@ -1,4 +1,4 @@
-"""Speech understanding: the home-tour grammar turns recognised words into the frames of DESIGN.md §2.4.
+"""Speech understanding: the home-tour grammar turns recognised words into the frames of docs/semantics.md §4.
 
 The corpus (tests/data/utterances.tsv) holds every utterance with the frame a
 person expects, including fillers, repetitions, self-corrections, fragments and

@@ -60,7 +60,7 @@ def biron() -> Machine:
 
 
 def retained_pairs(m: Machine) -> set[tuple[str, str]]:
-    """Every (leaf, event) such that the event can be retained in the leaf (§2.2 step 3).
+    """Every (leaf, event) such that the event can be retained in the leaf (docs/semantics.md §2, step 3).
 
     Retained: some transition of the leaf's category (or of a state inside it)
     is labelled with the event, and no unguarded transition of the leaf or of

@@ -8,6 +8,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from lxml import etree
 
+from homesim.afsm.model import Machine
 from homesim.errors import AFSMError, AFSMModificationRefused, MessageValidationError, RemoteCallFailed
 from homesim.network import LinkModel
 from homesim.sim import Simulation
@@ -397,7 +398,7 @@ def test_with_a_cost_no_event_is_applied_after_expiry_and_outputs_leave_in_decis
 
 
 # ------------------------------------------- refused changes change nothing
-def _arm_extension(module: str) -> "Machine":
+def _arm_extension(module: str) -> Machine:
     from homesim.afsm.model import Machine, ModuleDecl, Send, State, Transition
 
     wave = Transition("wave", "LookingAround", sends=(Send("order", module, "wave", (), 4),), line=3)

@@ -1,4 +1,4 @@
-"""The same-instant rule (docs/architecture.md, "Same instant"): expiry first, arrivals before a decision.
+"""The same-instant rule (docs/semantics.md §2, "Same instant"): expiry first, arrivals before a decision.
 
 An event whose lifetime ends at ``t`` is rejected in the state the ES held as
 ``t`` began, whether an event arriving at ``t`` was scheduled (by its link

@@ -9,8 +9,8 @@ from pathlib import Path
 import pytest
 
 from homesim.cliargs import OptionError
-from homesim.runner import Run, RunOptions
-from homesim.sweep import ERROR, aggregate, parse_seeds, run_one, sweep
+from homesim.tour.runner import Run, RunOptions
+from homesim.tour.sweep import ERROR, aggregate, parse_seeds, run_one, sweep
 
 ROOT = Path(__file__).resolve().parents[1]
 EXAMPLE = ROOT / "scenarios" / "two_people_radio.xml"

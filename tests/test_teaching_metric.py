@@ -1,4 +1,4 @@
-"""Teaching accuracy (homesim.metrics.teaching): precision and recall of learned objects and their
+"""Teaching accuracy (homesim.tour.metrics.teaching): precision and recall of learned objects and their
 attributes against the scenario's ground truth, with several similar objects."""
 
 from __future__ import annotations
@@ -8,7 +8,7 @@ from types import SimpleNamespace
 import pytest
 from lxml import etree
 
-from homesim.metrics.teaching import TeachingMetric
+from homesim.tour.metrics.teaching import TeachingMetric
 from homesim.scenario.loader import load_scenario_text
 from homesim.world.bodies import Pointing
 from homesim.world.world import World

@@ -10,8 +10,8 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from homesim.metrics.tracking import SightLines, StreamingMOT, detection_scores, visible_region
-from homesim.world.geometry import segments_intersect
+from homesim.tour.metrics.tracking import SightLines, StreamingMOT, detection_scores, visible_region
+from homesim.geometry import segments_intersect
 
 MAX_D = 1.0
 

@@ -13,7 +13,7 @@ from homesim.errors import InputError
 from homesim.scenario.loader import load_scenario_text
 from homesim.scenario.wordpattern import PatternError, compile_words
 from homesim.sim import Simulation
-from homesim.world.stage import Stage
+from homesim.tour.stage import Stage
 from humans.phrasings import STYLES, default_bank
 from humans.profiles import NUMERIC, default_profiles, draw_profile, load_profiles, traits_for
 from tests.test_users_reactive import _text

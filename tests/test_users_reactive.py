@@ -15,7 +15,7 @@ from hypothesis import strategies as st
 from homesim.errors import ScenarioError, TaskFailedError
 from homesim.scenario.loader import load_scenario_text
 from homesim.sim import Simulation
-from homesim.world.stage import Stage
+from homesim.tour.stage import Stage
 from humans.phrasings import default_bank
 from tests.world_helpers import ROOM
 

@@ -7,7 +7,7 @@ from pathlib import Path
 
 import pytest
 
-from homesim.runner import Run, RunOptions
+from homesim.tour.runner import Run, RunOptions
 from homesim.scenario.wordpattern import compile_words
 from humans.phrasings import default_bank
 

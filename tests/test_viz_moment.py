@@ -111,7 +111,7 @@ def test_plot_at_a_moment_shows_percepts_with_a_legend_for_every_mark(short_trac
 
 
 def test_the_track_is_drawn_on_the_person_it_follows(short_trace):
-    from homesim.viz.cli import plot_moment_of_trace  # the figure, to read its marks back
+    from homesim.tour.plot_cli import plot_moment_of_trace  # the figure, to read its marks back
 
     fig = plot_moment_of_trace(short_trace, 11.5)
     ax = fig.axes[0]

@@ -16,8 +16,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from homesim.world.acoustics import SoundField, Utterance, first_words, speech_duration, words_spoken
-from homesim.world.geometry import point_in_polygon
-from homesim.world.pathplan import Grid, NoPathError, scenario_bounds
+from homesim.geometry import point_in_polygon
+from homesim.scenario.pathplan import Grid, NoPathError, scenario_bounds
 from homesim.world.world import World
 from tests.conftest import examples
 from tests.world_helpers import EXAMPLE, room, scenario
@@ -304,7 +304,7 @@ def test_the_robot_still_meets_walls_and_people():
 def test_a_robot_in_the_only_doorway_is_no_path_at_once_and_the_same_refusal():
     """The planner asks the free regions before searching: a disc closing the only door is
     refused as A* would refuse it (same error), and a path around it as A* finds it."""
-    from homesim.world.pathplan import door_frame, door_sides
+    from homesim.scenario.pathplan import door_frame, door_sides
 
     wall, door = next((w, d) for w in HOME.walls for d in w.doors if not d.exit)
     (cx, cy), _ = door_frame(wall, door)
@@ -330,8 +330,8 @@ def test_a_robot_in_the_only_doorway_is_no_path_at_once_and_the_same_refusal():
 @settings(max_examples=examples(40, 150), deadline=None)
 @given(x=xs, y=ys, th=st.floats(-math.pi, math.pi), pts=st.lists(st.tuples(xs, ys), max_size=12))
 def test_visibility_tested_on_the_points_in_view_only_is_the_same(x, y, th, pts):
-    from homesim.metrics.tracking import visible_region, wall_edges
-    from homesim.world.geometry import segments_intersect, wrap_angle
+    from homesim.tour.metrics.tracking import visible_region, wall_edges
+    from homesim.geometry import segments_intersect, wrap_angle
 
     walls = wall_edges(WORLD)
     xy = np.array(pts, dtype=float).reshape(-1, 2)
@@ -418,7 +418,7 @@ def test_kept_poses_are_chipmunks_after_any_move(ops):
     """RobotBody.pose and HumanBody.position are read from Chipmunk once per move and kept:
     after any mix of placements, teleports, commands, walks, steps (one or several sub-steps,
     pushes at walls and people) and a person leaving, what they answer is the bodies' state now."""
-    from homesim.world.geometry import wrap_angle
+    from homesim.geometry import wrap_angle
 
     world = room()
     ann = world.humans["ann"]

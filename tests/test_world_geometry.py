@@ -8,7 +8,7 @@ import numpy as np
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from homesim.world.geometry import polygon_problem, polygons_overlap
+from homesim.geometry import polygon_problem, polygons_overlap
 from tests.conftest import examples
 
 _coord = st.integers(min_value=-20, max_value=20).map(lambda v: v / 2)
@@ -77,7 +77,7 @@ _coord = st.integers(-6, 6).map(lambda v: v / 2)
 
 @given(st.lists(st.tuples(_coord, _coord), min_size=3, max_size=8), st.tuples(_coord, _coord))
 def test_point_in_polygon_agrees_with_the_vectorised_test(corners, point):
-    from homesim.world.geometry import point_in_polygon, points_in_polygon
+    from homesim.geometry import point_in_polygon, points_in_polygon
 
     poly = np.array(corners, dtype=float)
     want = bool(points_in_polygon(np.array([point]), poly)[0])

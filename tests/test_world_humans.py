@@ -17,9 +17,9 @@ from homesim.scenario.loader import load_scenario_text
 from homesim.scenario.model import Door, Face, Leave, Repeat, Say, Target, WalkTo, Wall
 from homesim.sim import Simulation
 from homesim.world.acoustics import SoundField, first_words, speech_duration, words_spoken
-from homesim.world.geometry import split_wall, wall_rectangle
-from homesim.world.pathplan import MIN_DOOR_WIDTH, Grid, door_frame, door_sides
-from homesim.world.stage import Stage
+from homesim.geometry import split_wall, wall_rectangle
+from homesim.scenario.pathplan import MIN_DOOR_WIDTH, Grid, door_frame, door_sides
+from homesim.tour.stage import Stage
 from humans.script import ScriptError
 from tests.conftest import examples
 from tests.world_helpers import ROOM, drive_base
@@ -156,7 +156,8 @@ def test_people_go_through_a_narrow_inner_door_never_through_its_wall():
     the failed plan was silent, so the walk and then <leave> went straight through walls."""
     text = ROOM_TEXT.replace('<wall from="5 4.5" to="5 5.9"/>', '<wall from="5 0" to="5 6"><door name="inner" at="3" width="0.6"/></wall>')
     text = text.replace('<object name="book" type="book" colour="blue" x="4.0" y="3.0"/>', "")
-    text = text.replace('<human name="ann" x="3" y="3" heading="180" height="1.70" torso="yellow"/>', '<human name="ann" x="6.5" y="4.5" heading="180" height="1.70" torso="yellow"><script><walk-to point="2 4.5"/><leave/></script></human>')
+    text = text.replace('<human name="ann" x="3" y="3" heading="180" height="1.70" torso="yellow"/>',
+        '<human name="ann" x="6.5" y="4.5" heading="180" height="1.70" torso="yellow"><script><walk-to point="2 4.5"/><leave/></script></human>')
     sc = load_scenario_text(text, source="leave2.xml")
     sim = Simulation(seed=1, scenario=sc.name)
     st = Stage(sim, sc, actors=("humans.install",), truth_every=1)
@@ -189,7 +190,8 @@ def test_a_door_a_person_fits_through_is_passable_wherever_it_lies(width, at, an
     "old,new,message",
     [
         ('at="3" width="0.9" exit="true"', 'at="3" width="0.55" exit="true"', "door 'exit' is 0.55 m wide: a person"),
-        ('<place name="middle"', '<furniture name="chest" type="chest" points="0.1,2.5 0.5,2.5 0.5,3.5 0.1,3.5" height="0.8"/>\n    <place name="middle"', "door 'exit' cannot be walked through"),
+        ('<place name="middle"', '<furniture name="chest" type="chest" points="0.1,2.5 0.5,2.5 0.5,3.5 0.1,3.5" height="0.8"/>\n    <place name="middle"',
+            "door 'exit' cannot be walked through"),
     ],
 )
 def test_doors_a_person_cannot_use_are_refused_naming_the_door(old, new, message):
@@ -203,7 +205,8 @@ def test_a_walk_to_a_closed_off_place_is_refused_naming_the_action():
     # A closed box around the place 'middle': nobody can get in.
     box = '<wall from="3 2" to="5 2"/><wall from="5 2" to="5 4"/><wall from="5 4" to="3 4"/><wall from="3 4" to="3 2"/>'
     text = ROOM_TEXT.replace('<wall from="5 4.5" to="5 5.9"/>', box).replace('<object name="book" type="book" colour="blue" x="4.0" y="3.0"/>', "")
-    text = text.replace('x="3" y="3" heading="180"', 'x="2" y="5" heading="180"').replace('torso="yellow"/>', 'torso="yellow"><script>\n<wait for="1"/>\n<walk-to place="middle"/></script></human>')
+    text = text.replace('x="3" y="3" heading="180"', 'x="2" y="5" heading="180"').replace('torso="yellow"/>',
+        'torso="yellow"><script>\n<wait for="1"/>\n<walk-to place="middle"/></script></human>')
     with pytest.raises(ScenarioError, match="'ann' cannot reach place 'middle'") as exc:
         load_scenario_text(text, source="box.xml")
     assert exc.value.line == text[: text.index("<walk-to")].count("\n") + 1
@@ -280,7 +283,8 @@ def test_wait_for_hears_a_robot_sentence_that_began_before_the_wait():
 
 def test_walking_up_to_a_person_stops_at_a_conversational_distance_by_default():
     """Without stop-at, walk-to human= used to end on top of the other person."""
-    text = ROOM_TEXT.replace('<human name="ann" x="3" y="3" heading="180" height="1.70" torso="yellow"/>', '<human name="ann" x="3" y="3" heading="180" height="1.70" torso="yellow"/>\n    <human name="bob" x="6" y="4"><script><walk-to human="ann"/></script></human>')
+    text = ROOM_TEXT.replace('<human name="ann" x="3" y="3" heading="180" height="1.70" torso="yellow"/>',
+        '<human name="ann" x="3" y="3" heading="180" height="1.70" torso="yellow"/>\n    <human name="bob" x="6" y="4"><script><walk-to human="ann"/></script></human>')
     sc = load_scenario_text(text, source="meet.xml")
     sim = Simulation(seed=1, scenario=sc.name)
     st = Stage(sim, sc, actors=("humans.install",))

@@ -14,8 +14,8 @@ from homesim.errors import ScenarioError
 from homesim.scenario.loader import load_scenario_text
 from homesim.sim import Simulation
 from homesim.world.bodies import HUMAN_RADIUS, ROBOT_LENGTH
-from homesim.world.geometry import polygon_edges, segments_intersect, split_wall, wrap_angle
-from homesim.world.stage import Stage
+from homesim.geometry import polygon_edges, segments_intersect, split_wall, wrap_angle
+from homesim.tour.stage import Stage
 from homesim.world.world import World
 from tests.conftest import examples
 from tests.world_helpers import EXAMPLE, ROOM, put_person, room, scenario
@@ -189,7 +189,8 @@ def test_squeezed_between_a_person_and_a_wall_the_wall_wins():
 def test_a_scripted_person_walks_around_the_robot_not_through_it():
     """The review's push2.py: ann's straight path ran through the robot standing by the wall."""
     text = ROOM.read_text(encoding="utf-8").replace('<robot x="1" y="3" heading="0"/>', '<robot x="1.2" y="1.0" heading="90"/>')
-    text = text.replace('<human name="ann" x="3" y="3" heading="180" height="1.70" torso="yellow"/>', '<human name="ann" x="1.2" y="3" heading="270" height="1.70" torso="yellow"><script><walk-to point="1.2 0.4"/></script></human>')
+    text = text.replace('<human name="ann" x="3" y="3" heading="180" height="1.70" torso="yellow"/>',
+        '<human name="ann" x="1.2" y="3" heading="270" height="1.70" torso="yellow"><script><walk-to point="1.2 0.4"/></script></human>')
     sc = load_scenario_text(text, source="push2.xml")
     sim = Simulation(seed=1, scenario=sc.name)
     st = Stage(sim, sc, actors=("humans.install",))

@@ -287,7 +287,7 @@ def test_cli_refuses_non_regular_files_with_one_line(tmp_path, argv, capsys):
 
 
 def test_documented_size_limit_is_the_one_enforced():
-    text = (ROOT / "docs" / "architecture.md").read_text(encoding="utf-8")
+    text = (ROOT / "docs" / "running.md").read_text(encoding="utf-8")
     assert f"`MAX_DOCUMENT_BYTES` = {MAX_DOCUMENT_BYTES} bytes" in text
 
 

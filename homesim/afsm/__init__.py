@@ -3,7 +3,7 @@
 A generic package (it knows nothing of BIRON): ``model`` holds the machine
 as plain data with its semantic validation, ``loader`` the checked pipeline
 from SCXML text to a model (and back), ``engine`` the event queue and
-processing of DESIGN.md §2.2 with time injected, ``render`` DOT/Mermaid
+processing of docs/semantics.md §2 with time injected, ``render`` DOT/Mermaid
 export, ``strategies`` Hypothesis strategies for random machines and event
 streams, ``cli`` the ``homesim afsm`` subcommand.
 """

@@ -11,7 +11,7 @@ import argparse
 import sys
 from typing import Any
 
-from ..cliargs import OptionError
+from ..errors import OptionError
 from .loader import check_file, load
 from .render import to_dot, to_mermaid
 

@@ -1,9 +1,9 @@
-"""The execution supervisor's event queue and AFSM processing (DESIGN.md §2.2), time injected.
+"""The execution supervisor's event queue and AFSM processing (docs/semantics.md §2), time injected.
 
 Pure: no bus, no asyncio, no clock. The caller passes virtual time as
 integer nanoseconds; :meth:`Engine.queue` only enqueues, :meth:`Engine.process`
 runs the scan and returns records of what happened (sismic's
-``queue``/``execute_once``). The bus module :mod:`robot.supervisor` wraps it.
+``queue``/``execute_once``). A supervisor module on the bus wraps it.
 
 The rules, exactly:
 
@@ -20,7 +20,7 @@ The rules, exactly:
   written on the current *category* (the innermost compound state around
   the current state) or on any state inside it, it is *retained*; (4) else
   it is removed and rejected as *inapplicable*.
-* The same-instant rule (``docs/architecture.md``): at one instant, expiry
+* The same-instant rule (``docs/semantics.md`` §2): at one instant, expiry
   comes first. An event whose lifetime ends at ``t`` is already dead at
   ``t``, so it is rejected in the state the ES held as ``t`` began, before an
   event arriving at ``t`` is queued or any transition is taken at ``t``.
@@ -313,7 +313,7 @@ class Engine:
 
     # ------------------------------------------------------------- process
     def process(self, now_ns: int, *, max_applied: int | None = None) -> list[Record]:
-        """Scan the queue at ``now_ns`` per §2.2; return what happened, in order.
+        """Scan the queue at ``now_ns`` per docs/semantics.md §2; return what happened, in order.
 
         ``max_applied`` stops the scan right after that many transitions (the
         scan would restart from the oldest event anyway): a caller whose

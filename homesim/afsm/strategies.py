@@ -17,7 +17,7 @@ your own strategy. Example::
     from homesim.afsm import load
     from homesim.afsm.strategies import event_streams
 
-    M = load("robot/afsm/biron.scxml")
+    M = load("machine.scxml")
 
     @given(event_streams(M.event_names()))
     def test_never_stuck(stream): ...

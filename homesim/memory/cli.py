@@ -14,7 +14,7 @@ from pathlib import Path
 
 from lxml import etree
 
-from ..cliargs import OptionError
+from ..errors import OptionError
 from .core import ActiveMemory
 from .protocol import attachment_element
 from .sqlite import SqliteStore

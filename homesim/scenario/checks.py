@@ -28,7 +28,7 @@ from importlib.metadata import entry_points
 import numpy as np
 
 from ..errors import ScenarioError
-from ..world.geometry import (
+from ..geometry import (
     distance_points_segments,
     is_convex,
     point_in_polygon,
@@ -40,7 +40,7 @@ from ..world.geometry import (
     split_wall,
     wall_rectangle,
 )
-from ..world.pathplan import MIN_DOOR_WIDTH, WALKER_RADIUS, Grid, door_sides
+from .pathplan import MIN_DOOR_WIDTH, WALKER_RADIUS, Grid, door_sides
 from .model import (
     GIVE_UPS,
     REPAIR_STRATEGIES,
@@ -211,7 +211,8 @@ class _Checker:
         for line, element, ps in items:
             far = np.array(ps, dtype=float) - lo
             if far.max() > MAX_EXTENT:
-                raise self.fail(line, element, f"this {element} reaches {far.max():.0f} m from the flat's corner at ({lo[0]:g}, {lo[1]:g}): a flat must fit in {MAX_EXTENT:g} x {MAX_EXTENT:g} m")
+                raise self.fail(line, element, f"this {element} reaches {far.max():.0f} m from the flat's corner at ({lo[0]:g}, {lo[1]:g}): "
+                                               f"a flat must fit in {MAX_EXTENT:g} x {MAX_EXTENT:g} m")
 
     def inside_flat(self, xy: tuple[float, float], line: int | None, element: str, what: str) -> None:
         if not any(point_in_polygon(xy, np.array(room.polygon)) for room in self.sc.rooms):

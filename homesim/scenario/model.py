@@ -12,24 +12,9 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Union
 
-Point = tuple[float, float]
-RGB = tuple[float, float, float]
+from ..colours import COLOURS, RGB  # noqa: F401 (COLOURS: the names a scenario may use, or #rrggbb)
 
-#: Colour names a scenario may use, as RGB in [0, 1] (or write ``#rrggbb``).
-COLOURS: dict[str, RGB] = {
-    "black": (0.05, 0.05, 0.05),
-    "white": (0.95, 0.95, 0.95),
-    "grey": (0.5, 0.5, 0.5),
-    "red": (0.85, 0.1, 0.1),
-    "green": (0.1, 0.65, 0.2),
-    "blue": (0.1, 0.25, 0.85),
-    "yellow": (0.95, 0.85, 0.1),
-    "orange": (0.95, 0.55, 0.1),
-    "purple": (0.55, 0.2, 0.7),
-    "pink": (0.95, 0.55, 0.7),
-    "brown": (0.5, 0.3, 0.15),
-    "beige": (0.9, 0.85, 0.7),
-}
+Point = tuple[float, float]
 
 
 @dataclass(frozen=True)
@@ -312,7 +297,7 @@ class Fault:
 
 @dataclass(frozen=True)
 class Expectation:
-    """A check on a run (see :mod:`homesim.scenario.expect` for the kinds);
+    """A check on a run (see :mod:`homesim.tour.expect` for the kinds);
     ``attrs`` holds its typed parameters."""
 
     kind: str

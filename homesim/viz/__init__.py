@@ -2,8 +2,9 @@
 
 :mod:`.moment` draws the flat at one moment (truth and the robot's
 percepts), :mod:`.timeline` the papers' Fig. 6 (module lanes, messages,
-processing spans, phases); :mod:`.percepts` turns bus messages into plain
-data for the moment plot; :mod:`.cli` is ``homesim plot``. Names are
+processing spans, phases); :mod:`.percepts` holds the plain data the moment
+plot draws of the robot's view (the run package fills it from bus messages
+and has ``homesim plot``). Names are
 loaded on first use, so ``homesim`` commands that draw nothing never import
 matplotlib.
 """
@@ -16,7 +17,7 @@ from typing import Any
 _WHERE = {
     **{n: "moment" for n in ("Legend", "covariance_ellipse", "draw_flat", "draw_objects", "draw_people", "draw_percepts",
                              "draw_robot", "draw_scan", "draw_sound_directions", "place_labels", "plot_moment", "view_polygon")},
-    **{n: "percepts" for n in ("PerceptCollector", "Percepts", "Track", "odom_to_world")},
+    **{n: "percepts" for n in ("Percepts", "Track", "odom_to_world")},
     **{n: "timeline" for n in ("plot_timeline",)},
 }
 __all__ = sorted(_WHERE)

@@ -29,7 +29,7 @@ from matplotlib.patches import Circle, Ellipse, Patch, Polygon
 from matplotlib.text import Text
 
 from ..world.bodies import CAMERA_HEIGHT, HUMAN_RADIUS, LASER_OFFSET, LEG_RADIUS, MIC_OFFSET, ROBOT_LENGTH, ROBOT_WIDTH
-from ..world.geometry import polygon_centroid, to_world
+from ..geometry import polygon_centroid, to_world
 from ..world.world import World
 from .percepts import Percepts
 
@@ -98,7 +98,8 @@ def draw_objects(ax: Axes, world: World, legend: Legend, labels: list[Text], mar
     """Objects as coloured squares with their names (the squares go to ``marks``: labels keep off them)."""
     for name, o in world.objects.items():
         h = max(o.size, 0.08) / 2
-        (marks if marks is not None else []).append(ax.add_patch(Polygon([(o.x - h, o.y - h), (o.x + h, o.y - h), (o.x + h, o.y + h), (o.x - h, o.y + h)], closed=True, facecolor=o.colour, edgecolor="black", linewidth=0.5, zorder=5)))
+        (marks if marks is not None else []).append(ax.add_patch(Polygon([(o.x - h, o.y - h), (o.x + h, o.y - h), (o.x + h, o.y + h), (o.x - h, o.y + h)], closed=True,
+            facecolor=o.colour, edgecolor="black", linewidth=0.5, zorder=5)))
         labels.append(ax.text(o.x, o.y - h - 0.05, name, ha="center", va="top", fontsize=6, zorder=5))
         legend.add("object (true place)", dot("black", "s", 5, face="white"))
 

@@ -1,9 +1,11 @@
-"""The simulated flat: geometry, raycasting, pymunk physics, sound, ground truth.
+"""The simulated flat: raycasting, pymunk physics, sound, ground truth.
 
-Submodules: ``geometry`` (pure 2D maths), ``raycast`` (the vectorised ray
-kernel), ``bodies`` (robot and people in pymunk), ``world`` (the flat),
-``acoustics`` (who says what), ``pathplan`` (paths around obstacles),
-``truth`` (the ground-truth recorder), ``stage`` (one scenario's world,
-people and hardware on a Simulation) and ``cli`` (``homesim scenario``).
+Submodules: ``raycast`` (the vectorised ray kernel), ``bodies`` (robot and
+people in pymunk), ``world`` (the flat), ``acoustics`` (who says what),
+``legs`` (the reference leg detector), ``truth`` (the ground-truth
+recorder) and ``chipmunk`` (fast pymunk accessors). Pure 2D geometry is
+:mod:`homesim.geometry`, the walkers' grid planner
+:mod:`homesim.scenario.pathplan`; a world with its people and robot
+hardware on a Simulation is the run package's ``Stage``.
 Import the submodule you need; this package imports nothing eagerly.
 """

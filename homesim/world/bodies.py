@@ -20,7 +20,7 @@ import numpy as np
 import pymunk
 
 from . import chipmunk as cp
-from .geometry import wrap_angle
+from ..geometry import wrap_angle
 
 # Shape categories (bit masks) for collision filtering and queries.
 CAT_WALL = 1

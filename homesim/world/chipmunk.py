@@ -1,6 +1,6 @@
 """The few Chipmunk calls the physics step makes on every body, without pymunk's Python layer.
 
-pymunk is the physics (DESIGN); its attribute properties (``body.position``,
+pymunk is the physics (the project's fixed choice); its attribute properties (``body.position``,
 ``body.velocity = ...``) each cost a microsecond or two of Python wrapping
 (a ``Vec2d``, an assert, a ``__setattr__`` mixin) around one call into
 Chipmunk. The world step makes about fifteen such accesses per body at

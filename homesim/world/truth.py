@@ -13,7 +13,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .geometry import wrap_angle
+from ..geometry import wrap_angle
 from .world import World
 
 FACING = math.radians(30)  # "faces the robot": gaze within this of the robot's direction
@@ -66,7 +66,8 @@ class GroundTruth:
             u = w.sound.speaking(name, t)
             to_robot = math.atan2(ry - y, rx - x)
             facing = h.present and abs(float(wrap_angle(h.gaze - to_robot))) <= FACING
-            people.append(PersonState(name, x, y, h.heading, h.gaze, u.text if u else None, bool(facing), h.pointing.target_name if h.pointing else None, w.room_of(x, y), h.present))
+            people.append(PersonState(name, x, y, h.heading, h.gaze, u.text if u else None, bool(facing), h.pointing.target_name if h.pointing else None, w.room_of(x, y),
+                h.present))
         sounds = tuple((u.source, u.text) for u in w.sound.active(t))
         frame = Frame(t, (rx, ry, rth), tuple(people), sounds)
         self.frames.append(frame)

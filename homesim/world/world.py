@@ -40,8 +40,8 @@ from .bodies import (
     HumanBody,
     RobotBody,
 )
-from .geometry import is_convex, point_in_polygon, polygon_area, polygon_centroid, polygon_edges, split_wall, wall_rectangle
-from .pathplan import WALKER_RADIUS, Grid, door_sides, scenario_bounds
+from ..geometry import is_convex, point_in_polygon, polygon_area, polygon_centroid, polygon_edges, split_wall, wall_rectangle
+from ..scenario.pathplan import WALKER_RADIUS, Grid, door_sides, scenario_bounds
 from .raycast import FanCaster, Prisms
 
 StepListener = Callable[["World"], None]

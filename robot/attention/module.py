@@ -32,8 +32,8 @@ the person of interest (:mod:`.selection`), advance the attention FSM
   ``/robot/audio/sources`` frame that no confirmed track accounts for, at
   most ``dominant_max_age`` old), so a greeting from where no person is seen
   (a radio) is still recognised and reaches the supervisor, which rejects it
-  as expired because no potential partner backs it (DESIGN §2.2), while a
-  seen person talking without facing the robot stays unheard (gated, §2.3);
+  as expired because no potential partner backs it (docs/semantics.md §2), while a
+  seen person talking without facing the robot stays unheard (gated, docs/semantics.md §3);
   off when all is quiet.
 
 Orders arrive on ``/robot/es/orders/person_attention``; an unknown order
@@ -480,9 +480,9 @@ class PersonAttention(Module):
         explains if one was heard lately, else nowhere.
 
         ``bearing`` is the partner's / selected person's bearing (None: no such track). A person the
-        robot tracks who talks without facing it is not addressing it (gated, DESIGN §2.3); a sound
+        robot tracks who talks without facing it is not addressing it (gated, docs/semantics.md §3); a sound
         from where nobody is seen is unexplained, so the robot listens, and the supervisor rejects a
-        greeting that no person backs (the radio, DESIGN §2.2) instead of never hearing it.
+        greeting that no person backs (the radio, docs/semantics.md §2) instead of never hearing it.
         """
         if self.fsm.top_down:
             return bearing

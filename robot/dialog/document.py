@@ -7,7 +7,7 @@ every problem with file and line.
 
 from __future__ import annotations
 
-from homesim.check import DocumentType
+from homesim.documents import DocumentType
 from homesim.errors import InputError
 
 from .loader import ROOT, check_file

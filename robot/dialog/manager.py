@@ -5,7 +5,7 @@ rejections); outputs are :class:`Say`, :class:`Send` and :class:`Explain`
 requests that the module turns into bus messages at the right virtual time.
 Everything here is deterministic and synchronous, so it is tested directly.
 
-Routing (DESIGN.md §2.4, the papers' sub-dialog strategy):
+Routing (docs/semantics.md §4, the papers' sub-dialog strategy):
 
 * an answer goes to the topmost dialog waiting for it: "yes"/"no" to a
   pending confirmation, a frame that fills the slot a pending question asked

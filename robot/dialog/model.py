@@ -18,7 +18,7 @@ from typing import Any
 
 from lxml import etree
 
-#: Slot statuses (DESIGN.md §2.4).
+#: Slot statuses (docs/semantics.md §4).
 STATUSES = ("empty", "filled", "true", "false")
 
 #: Dialog acts of the understanding's frames (the children of <SPEECH>).

@@ -9,7 +9,7 @@ Listens to ``/robot/speech/frames`` (the understanding), ``/robot/es/conditions/
 clarification questions (``<ask timeout><option index text/>+</ask>`` ->
 ``<answer index/>`` or ``<answer none="true"/>``).
 
-Timing (virtual, DESIGN.md §2.7): the dialog is a serial processor; each input
+Timing (virtual, docs/semantics.md §7): the dialog is a serial processor; each input
 costs ``dialog_cost``; its events leave then, and what the robot says leaves
 ``generation_time`` later (language generation and synthesis onset), so an
 answer starts about 200 ms (the papers' Fig. 6) after understanding ended.

@@ -48,7 +48,7 @@ from lxml import etree
 
 from homesim.message import Message
 from homesim.module import Module
-from homesim.world.geometry import polygon_edges
+from homesim.geometry import polygon_edges
 
 from .microphones import (
     SPEED_OF_SOUND,

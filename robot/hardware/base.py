@@ -27,7 +27,7 @@ from lxml import etree
 
 from homesim.message import Message
 from homesim.module import Module
-from homesim.world.geometry import wrap_angle
+from homesim.geometry import wrap_angle
 
 if TYPE_CHECKING:
     from homesim.sim import Simulation

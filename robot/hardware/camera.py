@@ -25,7 +25,7 @@ from typing import Any
 
 import numpy as np
 
-from homesim.world.geometry import TWO_PI, wrap_angle
+from homesim.geometry import TWO_PI, wrap_angle
 from homesim.world.raycast import sight_lines_clear
 from homesim.world.world import World
 

@@ -94,11 +94,13 @@ class Camera(Module):
         self.bus.publish(TORSOS, torsos, transfer=True)
         gestures.set("time", time)
         for g in frame.gestures:
-            etree.SubElement(gestures, "pointing", bearing=_deg(g.bearing), distance=f"{g.distance:.3f}", direction=_deg(g.direction), elevation=_deg(g.elevation), hand_height=f"{g.hand_height:.3f}")
+            etree.SubElement(gestures, "pointing", bearing=_deg(g.bearing), distance=f"{g.distance:.3f}", direction=_deg(g.direction), elevation=_deg(g.elevation),
+                hand_height=f"{g.hand_height:.3f}")
         self.bus.publish(GESTURES, gestures, transfer=True)
         objects.set("time", time)
         for o in frame.objects:
-            etree.SubElement(objects, "object", type=o.type, bearing=_deg(o.bearing), distance=f"{o.distance:.3f}", r=f"{o.colour[0]:.3f}", g=f"{o.colour[1]:.3f}", b=f"{o.colour[2]:.3f}")
+            etree.SubElement(objects, "object", type=o.type, bearing=_deg(o.bearing), distance=f"{o.distance:.3f}", r=f"{o.colour[0]:.3f}", g=f"{o.colour[1]:.3f}",
+                b=f"{o.colour[2]:.3f}")
         self.bus.publish(OBJECTS, objects, transfer=True)
 
     def _elements(self, ptu: PanTilt) -> tuple[etree._Element, ...]:

@@ -1,6 +1,6 @@
 """Put the PeopleBot's hardware models on a stage.
 
-``install(stage)`` is what :class:`homesim.world.stage.Stage` calls (by
+``install(stage)`` is what :class:`homesim.tour.stage.Stage` calls (by
 module name; the kernel never imports ``robot``). Rates and the object
 confusion come from the scenario's ``<robot>`` element. Every channel the
 hardware publishes on or takes commands from is typed first

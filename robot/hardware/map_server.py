@@ -34,7 +34,7 @@ from lxml import etree
 
 from homesim.message import Message
 from homesim.module import Module
-from homesim.world.geometry import polygon_area, split_wall, wrap_angle
+from homesim.geometry import polygon_area, split_wall, wrap_angle
 from homesim.world.world import table_legs
 from robot.floorplan import FloorPlan, MapFormatError, MapObstacle, MapRoom, MapWall, parse_map
 

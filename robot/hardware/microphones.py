@@ -197,7 +197,8 @@ def recognise(words: tuple[str, ...], wer: float, rng: np.random.Generator | Non
 
 
 # ------------------------------------------------------------ honest mixture
-def path_loss_db(source_xy: np.ndarray, listener_xy: tuple[float, float], walls: tuple[np.ndarray, np.ndarray], furniture: tuple[np.ndarray, np.ndarray], spec: MicSpec) -> np.ndarray:
+def path_loss_db(source_xy: np.ndarray, listener_xy: tuple[float, float], walls: tuple[np.ndarray, np.ndarray], furniture: tuple[np.ndarray, np.ndarray],
+    spec: MicSpec) -> np.ndarray:
     """Loss (dB) per source (N, 2) from the walls and closed furniture on the straight path.
 
     ``walls`` and ``furniture`` are edge arrays (a, b), each (M, 2), of closed
@@ -205,7 +206,7 @@ def path_loss_db(source_xy: np.ndarray, listener_xy: tuple[float, float], walls:
     so each pair of crossings costs one ``wall_loss_db`` (or
     ``furniture_loss_db``). Door gaps are not walls, so sound passes them.
     """
-    from homesim.world.geometry import segments_intersect
+    from homesim.geometry import segments_intersect
 
     src = np.atleast_2d(np.asarray(source_xy, dtype=float))
     loss = np.zeros(src.shape[0])

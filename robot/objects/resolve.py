@@ -31,21 +31,10 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-#: The robot's colour vocabulary (RGB in [0, 1]), as people name colours.
-COLOURS: dict[str, tuple[float, float, float]] = {
-    "black": (0.05, 0.05, 0.05),
-    "white": (0.95, 0.95, 0.95),
-    "grey": (0.5, 0.5, 0.5),
-    "red": (0.85, 0.1, 0.1),
-    "green": (0.1, 0.65, 0.2),
-    "blue": (0.1, 0.25, 0.85),
-    "yellow": (0.95, 0.85, 0.1),
-    "orange": (0.95, 0.55, 0.1),
-    "purple": (0.55, 0.2, 0.7),
-    "pink": (0.95, 0.55, 0.7),
-    "brown": (0.5, 0.3, 0.15),
-    "beige": (0.9, 0.85, 0.7),
-}
+from homesim.colours import COLOURS as NAMED_COLOURS
+
+#: The robot's colour vocabulary (RGB in [0, 1]), as people name colours (the scenario format's words).
+COLOURS: dict[str, tuple[float, float, float]] = NAMED_COLOURS
 COLOUR_ALIASES = {"gray": "grey"}
 
 MERGE = 0.2  # metres: detections closer than this are one object (without a viewpoint)

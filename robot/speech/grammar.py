@@ -1,4 +1,4 @@
-"""Speech understanding: recognised words -> the frame XML of DESIGN.md §2.4.
+"""Speech understanding: recognised words -> the frame XML of docs/semantics.md §4.
 
 The grammar (``hometour.lark``) is run by lark's LALR(1) parser over the
 tokens of :mod:`robot.speech.lexicon`. :meth:`Understander.understand` never

@@ -8,7 +8,7 @@ Output: ``/robot/speech/frames`` (``robot/schemas/speech-frames.xsd``):
 ``<understood start end confidence [unknown ignored corrected partial]><SPEECH>..</SPEECH><words>..</words></understood>``
 or ``<not_understood start end confidence [unknown] reason>words</not_understood>``.
 
-Timing (virtual, DESIGN.md §2.7 / the papers' Fig. 6): recognition takes most
+Timing (virtual, docs/semantics.md §7 / the papers' Fig. 6): recognition takes most
 of the time and grows with the utterance's length, ``recognition_base +
 recognition_per_word * words`` after the utterance ends; then understanding
 costs ``understanding_cost``. The module is one serial processor: an utterance

@@ -28,8 +28,8 @@ from collections.abc import Iterable, Sequence
 import numpy as np
 from scipy import ndimage
 
-from ..scenario.model import Door, Scenario, Wall
-from .geometry import distance_points_segments, points_in_polygon, polygon_edges, split_wall, wall_rectangle
+from .model import Door, Scenario, Wall
+from ..geometry import distance_points_segments, points_in_polygon, polygon_edges, split_wall, wall_rectangle
 
 Point = tuple[float, float]
 Disc = tuple[float, float, float]

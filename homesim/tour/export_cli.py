@@ -23,7 +23,7 @@ def export_command(a: argparse.Namespace) -> int:
 
     channel_stats(a.trace)  # a file that is not a trace fails here, before anything is written
     if a.perfetto is not None:
-        from .perfetto import export_perfetto
+        from ..export.perfetto import export_perfetto
 
         c = export_perfetto(a.trace, a.perfetto)
         print(f"wrote {a.perfetto} (Perfetto / Chrome trace events: {c['threads']} modules, {c['slices']} messages, "

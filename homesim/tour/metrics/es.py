@@ -10,7 +10,7 @@ from __future__ import annotations
 
 from typing import Any
 
-from ..message import Message
+from ...message import Message
 
 ES_LOG = "/robot/es/log"
 ES_STATUS = "/robot/es/status"

@@ -1,7 +1,7 @@
 """A recorded run as MCAP for Foxglove: every bus channel, poses, laser scans, tracks and the map.
 
 The trace keeps only a digest of each laser scan's ranges and nothing of the
-world, so the export re-creates the run (:func:`homesim.tracerun.rerun`,
+world, so the export re-creates the run (:func:`homesim.tour.tracerun.rerun`,
 every trace line compared; a run that departs from the trace stops the
 export with ``file:line``) and writes, with virtual time as log and publish
 time:
@@ -39,10 +39,10 @@ from mcap.writer import CompressionType, Writer
 from .. import __version__
 from ..bus import SEND, Observation
 from ..message import Message, describe_attachment
-from ..tracerun import rerun
+from .tracerun import rerun
 from ..viz.percepts import odom_to_world
 from ..world.bodies import HUMAN_RADIUS, LASER_OFFSET, ROBOT_LENGTH, ROBOT_WIDTH
-from . import foxglove as fg
+from ..export import foxglove as fg
 
 #: How often the people are written (Hz of virtual time).
 PEOPLE_RATE = 10.0

@@ -6,7 +6,7 @@ loaded scenario it builds, in this order:
 1. the :class:`~homesim.sim.Simulation` (seed, optional real-time pacing)
    and, if asked, the trace (its header names the scenario file, its
    content digest and the options, so ``homesim replay`` can re-run it);
-2. the :class:`~homesim.world.stage.Stage`: the world stepping in virtual
+2. the :class:`~homesim.tour.stage.Stage`: the world stepping in virtual
    time, the scripted people and sound sources (``humans.install``), the
    PeopleBot's hardware (``robot.hardware.install``) and the scenario's
    expectations, checked as the run goes;
@@ -17,20 +17,19 @@ loaded scenario it builds, in this order:
    never the world), and a heartbeat monitor on ``/system/health`` unless
    one of them monitors heartbeats itself (``monitors_heartbeats``: BIRON's
    watchdog, which also restarts failed modules);
-5. the streaming metrics (:mod:`homesim.metrics`), the transcript hooks
+5. the streaming metrics (:mod:`homesim.tour.metrics`), the transcript hooks
    and the scenario's faults (a module crashes or hangs at a time).
 
-The kernel never imports ``robot`` or ``humans``: they are named here as
-strings and imported by name. After :meth:`Run.run`, :meth:`Run.finish`
+This is the run package: it imports ``robot`` and ``humans``; the kernel
+never does. After :meth:`Run.run`, :meth:`Run.finish`
 asks the scene model what it knows (``scene_model/request``, the contract's
 RPC), evaluates the expectations and returns the summary (see
-:func:`Run.summary` and docs/architecture.md for its fields).
+:func:`Run.summary` and docs/running.md for its fields).
 """
 
 from __future__ import annotations
 
 import hashlib
-import importlib
 import os
 import sqlite3
 from collections.abc import Callable, Mapping, Sequence
@@ -40,25 +39,24 @@ from typing import IO, Any
 
 from lxml import etree
 
-from . import metrics as metrics_pkg
-from .errors import HomesimError, ScenarioError
-from .heartbeat import HEALTH_CHANNEL, HeartbeatMonitor
-from .message import Message
-from .metrics.es import EsRecord
-from .realtime import Stopwatch, peak_memory_mb
-from .scenario.expect import Verdict
-from .scenario.loader import load_scenario
-from .scenario.model import Scenario
-from .sim import FAULT_CHANNEL, Simulation
-from .trace import FileTrace, TraceRecorder
-from .world.stage import Stage
+import robot.install as biron
+from robot.supervisor import ExecutionSupervisor
 
-#: What a run puts on the stage (by module name: the kernel never imports them).
+from . import metrics as metrics_pkg
+from ..errors import HomesimError, ScenarioError
+from ..heartbeat import HEALTH_CHANNEL, HeartbeatMonitor
+from ..message import Message
+from .metrics.es import EsRecord
+from ..realtime import Stopwatch, peak_memory_mb
+from .expect import Verdict
+from ..scenario.loader import load_scenario
+from ..scenario.model import Scenario
+from ..sim import FAULT_CHANNEL, Simulation
+from ..trace import FileTrace, TraceRecorder
+from .stage import Stage
+
+#: What a run puts on the stage (modules with ``install(stage)``, by name).
 ACTORS: tuple[str, ...] = ("humans.install", "robot.hardware.install")
-#: The supervisor: module and class name.
-SUPERVISOR: tuple[str, str] = ("robot.supervisor", "ExecutionSupervisor")
-#: The module with ``install(run, subsystems)`` and ``SUBSYSTEMS`` for BIRON's modules.
-ROBOT: str = "robot.install"
 #: Virtual seconds per run chunk (progress, replay's early stop); results do not depend on it.
 CHUNK = 1.0
 
@@ -182,11 +180,9 @@ class Run:
         self.dispatcher.add(("/robot/es/log", FAULT_CHANNEL, HEALTH_CHANNEL), self._on_system)
         self._heard = 0
         self.world.add_listener(self._on_step)
-        module, cls = SUPERVISOR
-        self.supervisor = getattr(importlib.import_module(module), cls)(self.sim)
-        robot = importlib.import_module(ROBOT)
-        subsystems = robot.SUBSYSTEMS if options.subsystems is None else options.subsystems
-        self.modules: dict[str, Any] = robot.install(self, subsystems)
+        self.supervisor = ExecutionSupervisor(self.sim)
+        subsystems = biron.SUBSYSTEMS if options.subsystems is None else options.subsystems
+        self.modules: dict[str, Any] = biron.install(self, subsystems)
         # One heartbeat monitor: the robot's own (its watchdog, which also restarts modules) if
         # a subsystem brought one, else the kernel's (two would report every failure twice).
         self.monitor: HeartbeatMonitor | None = None
@@ -299,7 +295,7 @@ class Run:
         return getattr(self, "sim_time", self.sim.now) >= self.scenario.duration - 1e-9
 
     def summary(self) -> dict[str, Any]:
-        """The run summary (JSON; fields in docs/architecture.md, "Running the home tour")."""
+        """The run summary (JSON; fields in docs/running.md)."""
         verdicts = self.finish()
         sim_time = getattr(self, "sim_time", self.sim.now)
         cpu = self.stopwatch.cpu()

@@ -46,7 +46,7 @@ from typing import Any
 import numpy as np
 from scipy.optimize import linear_sum_assignment
 
-from ..world.geometry import TWO_PI, polygon_edges, wrap_angle
+from ...geometry import TWO_PI, polygon_edges, wrap_angle
 from . import Observer
 
 INTERACTION_STATES = frozenset({"Interacting", "Following", "ObjectTeaching"})
@@ -196,7 +196,8 @@ def detection_scores(det_xy: np.ndarray, truth_xy: np.ndarray, radius: float = 0
     return tp, det_xy.shape[0] - tp, truth_xy.shape[0] - tp
 
 
-def visible_region(walls: tuple[np.ndarray, np.ndarray], pose: tuple[float, float, float], xy: np.ndarray, *, fov: float = math.pi, max_range: float = 6.5, offset: float = 0.13) -> np.ndarray:
+def visible_region(walls: tuple[np.ndarray, np.ndarray], pose: tuple[float, float, float], xy: np.ndarray, *, fov: float = math.pi, max_range: float = 6.5,
+    offset: float = 0.13) -> np.ndarray:
     """Which points (N, 2) the laser could see: in its field of view and range, no wall in between.
 
     :class:`SightLines` for ``walls`` (a caller that asks every frame keeps one).
@@ -209,7 +210,7 @@ class SightLines:
     """Visibility from the laser past the walls, with the walls prepared once.
 
     Plain floats per point (a frame has a few people and tracks; numpy's per-call cost was most of
-    a frame's scoring), the arithmetic of :func:`~homesim.world.geometry.segments_intersect`
+    a frame's scoring), the arithmetic of :func:`~homesim.geometry.segments_intersect`
     operation for operation, and only against the walls whose box meets the sight line's box:
     each wall is kept as its box and its segment (start, direction) in floats, sorted by the box's
     left edge, so the walls starting right of a sight line's box are never looked at. An answer

@@ -1,6 +1,6 @@
 """``homesim run``, ``homesim replay`` and ``homesim scenario run|plot``.
 
-``homesim run SCENARIO`` builds the whole run (:mod:`homesim.runner`),
+``homesim run SCENARIO`` builds the whole run (:mod:`homesim.tour.runner`),
 prints a live transcript (virtual time, speaker, words; supervisor state
 changes; rejections with their reasons; faults and heartbeat failures), a
 progress bar when stdout is a terminal, one line per expectation and the
@@ -24,13 +24,13 @@ import sys
 from pathlib import Path
 from typing import IO, Any
 
-from . import cliargs
-from .cliargs import OptionError
-from .errors import HomesimError, InputError
-from .xmlio import open_regular
-from .message import Message
+from .. import cliargs
+from ..cliargs import OptionError
+from ..errors import HomesimError, InputError
+from ..xmlio import open_regular
+from ..message import Message
 from .runner import Run, RunOptions, file_digest, store_digest
-from .trace import TRACE_FORMAT
+from ..trace import TRACE_FORMAT
 
 BAR = 30
 
@@ -187,7 +187,7 @@ def replay(trace: Path, *, out: IO[str] | None = None) -> int:
 # -------------------------------------------------------------------- plot
 def plot_command(a: argparse.Namespace) -> int:
     """Run to ``--at`` and save the top-down view of that moment with the latest scan and sounds."""
-    from . import viz  # noqa: F401 (the package)
+    from .. import viz  # noqa: F401 (the package)
 
     latest: dict[str, Message] = {}
     run = Run.from_file(a.file, RunOptions(seed=a.seed, until=a.at))

@@ -1,6 +1,6 @@
 """Localisation error: the robot's published pose estimate against the true pose.
 
-A streaming :class:`~homesim.metrics.Observer` (``metrics["localisation"]`` of
+A streaming :class:`~homesim.tour.metrics.Observer` (``metrics["localisation"]`` of
 the run summary). It
 records the true robot pose every world step in a short ring buffer (two
 seconds) and, for each ``<pose time x y ...>`` sent on

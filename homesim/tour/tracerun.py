@@ -16,10 +16,10 @@ import os
 from pathlib import Path
 from typing import Any
 
-from .errors import HomesimError, InputError
+from ..errors import HomesimError, InputError
 from .runner import Run, RunOptions, file_digest, store_digest
-from .trace import TRACE_FORMAT
-from .xmlio import open_regular
+from ..trace import TRACE_FORMAT
+from ..xmlio import open_regular
 
 
 def read_header(trace: str | os.PathLike[str]) -> dict[str, Any]:

@@ -1,6 +1,6 @@
 """``homesim sweep``: every scenario x seed, in parallel, into one table of verdicts and metrics.
 
-Each run is exactly ``homesim run SCENARIO --seed N`` (the same :class:`~homesim.runner.Run`,
+Each run is exactly ``homesim run SCENARIO --seed N`` (the same :class:`~homesim.tour.runner.Run`,
 so the same trace and summary); its summary is written to ``OUT/summaries/`` and one row per
 run goes into ``OUT/sweep.csv`` and ``OUT/sweep.json``, with an aggregate per scenario (runs,
 pass rate, crashes, and the mean and standard deviation of every numeric metric).
@@ -29,8 +29,8 @@ from concurrent.futures import ProcessPoolExecutor, as_completed
 from pathlib import Path
 from typing import Any
 
-from . import cliargs
-from .cliargs import OptionError
+from .. import cliargs
+from ..cliargs import OptionError
 
 Row = dict[str, Any]
 PASS, FAIL, ERROR = "PASS", "FAIL", "ERROR"
@@ -195,7 +195,7 @@ def sweep_command(a: argparse.Namespace) -> int:
     """``homesim sweep``: the table, and one line per scenario; exit 1 if any run failed or errored."""
     seeds = parse_seeds(a.seeds)
     out = Path(a.out)
-    from .scenario.loader import load_scenario
+    from ..scenario.loader import load_scenario
 
     for path in a.scenarios:  # bad input is refused before any run starts (file, line, what)
         load_scenario(path)

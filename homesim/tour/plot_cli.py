@@ -1,7 +1,7 @@
 """``homesim plot TRACE``: pictures of a recorded run.
 
 ``homesim plot TRACE [--at T] [--out FILE]`` re-creates the run to time T
-(checking it against the trace line by line, :mod:`homesim.tracerun`) and
+(checking it against the trace line by line, :mod:`homesim.tour.tracerun`) and
 draws the flat then, with the robot's percepts over the truth; without
 ``--at`` it shows the last moment of the recorded run. ``homesim plot TRACE
 --timeline [--from T0] [--to T1] [--out FILE]`` draws the module
@@ -17,6 +17,7 @@ from pathlib import Path
 from .. import cliargs
 from ..errors import HomesimError
 from ..cliargs import OptionError
+from ..viz.files import save
 
 FORMATS = (".png", ".svg")
 
@@ -28,8 +29,8 @@ def _check_output(out: Path) -> None:
 
 def plot_moment_of_trace(trace: Path, at: float | None):  # noqa: ANN201 (a matplotlib Figure)
     """Re-create ``trace``'s run to ``at`` (default: its end) and draw that moment with the percepts."""
-    from ..tracerun import rerun
-    from .moment import plot_moment
+    from .tracerun import rerun
+    from ..viz.moment import plot_moment
     from .percepts import CHANNELS, PerceptCollector
 
     run, check = rerun(trace, until=at)
@@ -51,19 +52,11 @@ def plot_moment_of_trace(trace: Path, at: float | None):  # noqa: ANN201 (a matp
         check.close()
 
 
-def save(fig, out: Path) -> None:  # noqa: ANN001 (a matplotlib Figure)
-    """Save a figure as PNG or SVG; the same figure gives the same bytes (no dates, fixed SVG ids)."""
-    import matplotlib
-
-    with matplotlib.rc_context({"svg.hashsalt": "homesim"}):
-        fig.savefig(out, dpi=120, metadata={"Software": None} if out.suffix.lower() == ".png" else {"Date": None, "Creator": None})
-
-
 def plot_command(a: argparse.Namespace) -> int:
     """``homesim plot``: one moment (default) or the timeline."""
     if a.timeline:
         from ..traceview import read_timeline
-        from .timeline import plot_timeline
+        from ..viz.timeline import plot_timeline
 
         out = a.out or Path("out/timeline.png")
         _check_output(out)

@@ -1,6 +1,6 @@
 """Teaching accuracy: precision and recall of the objects the robot learned, and of their attributes.
 
-A streaming :class:`~homesim.metrics.Observer` (``metrics["teaching"]``).
+A streaming :class:`~homesim.tour.metrics.Observer` (``metrics["teaching"]``).
 
 Ground truth of what was taught: every pointing gesture of a scripted
 person (sampled every ``step_every`` world steps) is a teaching *episode*;

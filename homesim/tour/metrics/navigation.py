@@ -6,7 +6,7 @@
 obstacle) continues it and is counted. Per episode, from the world:
 the path driven (the true robot position after every step), its ratio to
 the shortest collision-free path for the robot's radius (the world's own
-planner, :class:`homesim.world.pathplan.Grid`, from where the robot stood to
+planner, :class:`homesim.scenario.pathplan.Grid`, from where the robot stood to
 the plan's last waypoint), the time, the closest distance from the robot's
 centre to any person's centre, the fastest it drove while someone was within
 :data:`SOCIAL_NEAR` m (the social speed limit), the replans, and the robot's
@@ -17,7 +17,7 @@ way was blocked), ``replans_found`` those that found a way round.
 detected (``module_failed`` on ``/system/health``; time to detect = from the
 fault to the report), recovered (``module_recovered``).
 
-Both are registered streaming observers (:mod:`homesim.metrics`); they keep running
+Both are registered streaming observers (:mod:`homesim.tour.metrics`); they keep running
 totals (and one small record per go-to, the first :data:`MAX_GOTOS` of them: a tour has a
 handful; a longer run's ``goto_dropped`` says how many more were counted in the totals but
 not listed); ``summary()`` reports them.
@@ -28,7 +28,7 @@ from __future__ import annotations
 import math
 from typing import Any
 
-from ..world.pathplan import Grid, NoPathError
+from ...scenario.pathplan import Grid, NoPathError
 from . import Observer
 
 ROBOT_RADIUS = 0.30

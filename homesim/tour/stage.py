@@ -7,10 +7,10 @@ PeopleBot hardware models (``robot.hardware.install``). Actor modules are
 named, not imported, here: the kernel never imports ``robot`` or ``humans``
 (the same pattern as the CLI's list of subcommand modules); each exposes
 ``install(stage)``. A whole robot run is put together by
-:mod:`homesim.runner`, which builds a stage first.
+:mod:`homesim.tour.runner`, which builds a stage first.
 
 The scenario's expectations are checked as the run goes
-(:class:`~homesim.scenario.expect.Expectations`, through one bus
+(:class:`~homesim.tour.expect.Expectations`, through one bus
 :class:`~homesim.observe.Dispatcher`): nothing is kept for the end, so a
 run's memory does not grow with its length. For tests and notebooks,
 ``keep_messages=True`` keeps every ``/robot/`` message in ``stage.messages``
@@ -29,11 +29,11 @@ from typing import Any
 
 from ..message import Message
 from ..observe import Dispatcher
-from ..scenario.expect import Expectations, Verdict
+from .expect import Expectations, Verdict
 from ..scenario.model import Scenario
 from ..sim import Simulation
-from .truth import GroundTruth
-from .world import World
+from ..world.truth import GroundTruth
+from ..world.world import World
 
 #: Modules whose ``install(stage)`` puts actors on the stage, in this order.
 DEFAULT_ACTORS: tuple[str, ...] = ("humans.install", "robot.hardware.install")
