@@ -223,3 +223,18 @@ def test_unknown_profile_is_refused_with_the_line():
     with pytest.raises(ScenarioError, match="unknown profile 'grumpy'") as err:
         load_scenario_text(_text("", attrs='profile="grumpy"'), source="bad.xml")
     assert err.value.line == 25  # the <human> line
+
+
+@settings(max_examples=10, deadline=None)
+@given(times=st.lists(st.floats(0.5, 25.0), min_size=0, max_size=8, unique=True), cap=st.integers(1, 4),
+       words=st.lists(st.sampled_from(["Hello", "Shall I follow you?", "OK"]), min_size=8, max_size=8))
+def test_a_reaction_fires_once_per_matching_utterance_up_to_max(times, cap, words):
+    st_ = _stage('<wait for="40"/>', on=f'<on hears="^hello" max="{cap}"><say text="hi"/></on>', duration=45)
+    times = sorted(round(t, 1) for t in times)
+    times = [t for k, t in enumerate(times) if k == 0 or t - times[k - 1] >= 3.0]  # one utterance at a time
+    for t, w in zip(times, words):
+        _robot(st_, t, w)
+    st_.run(45)
+    hellos = sum(1 for _, w in zip(times, words) if w == "Hello")
+    assert [t for _, t in _said(st_)] == ["hi"] * min(cap, hellos)
+    assert st_.actors["ann"].fired == [min(cap, hellos)]
