@@ -151,6 +151,24 @@ def test_patterns_on_long_utterances_stay_cheap():
     assert not compile_words("^one").search("Which one do you mean?")
 
 
+def test_words_of_any_script_are_words_and_columns_count_the_authors_characters():
+    # letters outside ASCII are letters: 'zoë' is one word, not 'zo' and a refusal
+    assert compile_words("zoë's room").search("This is Zoë's room.")
+    assert not compile_words("zo").search("This is Zoë's room.")
+    assert compile_words("KÜCHE").search("Das ist die Küche")
+    # 'İ' lower-cases to two characters: the column still points at the author's '?'
+    with pytest.raises(PatternError) as err:
+        compile_words("İİİ ?")
+    assert err.value.column == 5 and "'?'" in str(err.value)
+
+
+def test_a_match_everything_alternative_is_seen_behind_many_others():
+    # 65 alternatives before '*': the pattern still matches whatever the robot says
+    p = compile_words("|".join(["yes"] * 65) + "|*")
+    assert p.search("anything at all")
+    assert () in p.phrases()
+
+
 def _spec():  # type: ignore[no-untyped-def]
     sc = load_scenario_text(_text(""), source="p.xml")
     return sc.humans[0]

@@ -202,6 +202,7 @@ def test_patience_bounds_the_repairs(patience, strategies):
     ('<on hears="kitchen"><say text="this is the kitchen"/></on>', "", "can never end"),
     ('<on hears="cup"><say text="a plate"/></on>\n<on hears="plate"><say text="the cup"/></on>', "", "can never end"),
     ('<on hears="*"><say text="hm"/></on>', "", "whatever the robot says"),
+    ('<on hears="%s|*"><face robot="true"/></on>' % "|".join(["yes"] * 65), "", "whatever the robot says"),
     ('<on hears="hello"><wait-for hears="x"/></on>', "", "may never end"),
     ('<on hears="hello"><repeat><wait for="1"/></repeat></on>', "", "never ends"),
     ('<on hears="hello"><leave/></on>', "", "carries on"),

@@ -16,7 +16,8 @@ Syntax (case-insensitive; punctuation in what the robot says is ignored)::
     ^which one                 '^' at the start of an alternative: the utterance begins here
     kitchen$                   '$' at the end of an alternative: the utterance ends here
 
-A word is letters, digits, ``'`` and ``-``. Anything else (``.``, ``+``,
+A word is letters, digits, ``'`` and ``-`` (any script's letters: ``zoë``,
+``küche``; compared case-folded). Anything else (``.``, ``+``,
 ``\\d``, ``{``, ...) is refused by :func:`compile_words` with the column and
 the syntax that is allowed: a pattern never means something its author did
 not write.
@@ -35,8 +36,9 @@ MAX_DEPTH = 8
 
 SYNTAX = "words, 'a|b', '(a|b)' groups, '[optional]' parts, '*' (any words), '_' (one word), '^' (start), '$' (end)"
 
-_WORD = re.compile(r"[a-z0-9'-]+")
-_TEXT_WORD = re.compile(r"[a-z0-9'-]+")
+# letters and digits of any script (``\\w`` without ``_``), apostrophes and hyphens
+_WORD = re.compile(r"(?:[^\W_]|['-])+")
+_TEXT_WORD = _WORD
 
 
 class PatternError(ValueError):
@@ -84,7 +86,7 @@ _Node = Union[_Word, _Any, _One, _Seq, _Alt, _Opt]
 
 def words_of(text: str) -> tuple[str, ...]:
     """An utterance as the words a listener matches: lower case, punctuation dropped."""
-    return tuple(_TEXT_WORD.findall(text.lower()))
+    return tuple(w.casefold() for w in _TEXT_WORD.findall(text))
 
 
 class WordPattern:
@@ -114,7 +116,7 @@ class WordPattern:
         Used by the checks to see whether what a person says could make the
         robot echo words that trigger the same handler again.
         """
-        return [p for p in _phrases(self._tree)][:64]
+        return _shortest(_phrases(self._tree))
 
 
 def _phrases(node: _Node) -> list[tuple[str, ...]]:
@@ -128,11 +130,16 @@ def _phrases(node: _Node) -> list[tuple[str, ...]]:
         out: list[tuple[str, ...]] = []
         for o in node.options:
             out += _phrases(o)
-        return out[:64]
+        return _shortest(out)
     acc: list[tuple[str, ...]] = [()]
     for it in node.items:
-        acc = [a + b for a in acc for b in _phrases(it)][:64]
+        acc = _shortest([a + b for a in acc for b in _phrases(it)])
     return acc
+
+
+def _shortest(phrases: list[tuple[str, ...]]) -> list[tuple[str, ...]]:
+    """At most 64 phrases, the shortest first (stable): a phrase without words, if any, is never cut off."""
+    return sorted(phrases, key=len)[:64]
 
 
 def _ends(node: _Node, starts: frozenset[int], toks: tuple[str, ...]) -> frozenset[int]:
@@ -230,7 +237,7 @@ class _Parser:
                 m = _WORD.match(self.text, self.pos)
                 if m is None:
                     raise self.error(f"unknown pattern syntax {c!r}")
-                items.append(_Word(m.group()))
+                items.append(_Word(m.group().casefold()))
                 self.pos = m.end()
         if not items and not (start and end):
             raise self.error("an empty alternative matches everything; write '*' if that is meant", at)
@@ -242,10 +249,12 @@ def compile_words(text: str) -> WordPattern:
     """Compile a word pattern; PatternError (with the column) when it is not one."""
     if len(text) > MAX_LENGTH:
         raise PatternError(f"pattern is {len(text)} characters long, more than {MAX_LENGTH}", MAX_LENGTH)
-    lowered = text.lower().replace("\t", " ").replace("\n", " ")
-    if not lowered.strip():
+    # not lower-cased here: that can change the length (and so every column after it);
+    # each word is case-folded as it is read
+    spaced = text.replace("\t", " ").replace("\n", " ")
+    if not spaced.strip():
         raise PatternError("the pattern is empty", 1)
-    p = _Parser(lowered)
+    p = _Parser(spaced)
     tree = p.alternatives(0, "")
     if p.peek() != "":
         raise p.error(f"unmatched {p.peek()!r}")
