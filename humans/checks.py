@@ -9,7 +9,10 @@ when what it says could trigger a reaction again, assuming the robot echoes
 a person's words (it does: "Is this the kitchen?", "OK, I have learned your
 cup"): an ``<on>`` whose pattern matches its own words, or a cycle of
 reactions each of which says words the next one hears, or a pattern that
-matches whatever the robot says (``*``). Each problem names file and line.
+matches whatever the robot says (``*``), or a reaction that speaks and hears
+the robot ask her to say it again (:data:`REPAIR_REQUESTS`): a robot may
+answer anything she says that way, whatever her words, so it fires again.
+Each problem names file and line.
 """
 
 from __future__ import annotations
@@ -22,6 +25,15 @@ from homesim.scenario.wordpattern import compile_words
 
 from .phrasings import STYLES, default_bank
 from .profiles import default_profiles
+
+#: How a robot asks a person to say it again (what BIRON and most spoken-dialogue systems say
+#: when they did not understand): the answer anything she says can get, whatever her words.
+REPAIR_REQUESTS = (
+    "Sorry, I did not understand you. Could you say that again?",
+    "Sorry, I didn't catch that. Please say it again.",
+    "Pardon?",
+    "Could you repeat that, please?",
+)
 
 
 def check_scenario(sc: Scenario) -> None:
@@ -68,6 +80,13 @@ def _loops(sc: Scenario, handlers: tuple[Handler, ...]) -> None:
         if () in compile_words(h.hears).phrases():
             raise ScenarioError(f"<on hears={h.hears!r}> without max= matches whatever the robot says, its answer to this very reaction too: "
                                 "it could fire for ever; give max= or a pattern with words", source=sc.source, line=h.line, element="on")
+    for h in free:
+        pattern = compile_words(h.hears)
+        asked = next((r for r in REPAIR_REQUESTS if pattern.search(r)), None)
+        if asked is not None and spoken(h.body):
+            raise ScenarioError(f"<on hears={h.hears!r}> without max= speaks and hears the robot ask her to say it again ({asked!r}): "
+                                "whatever she says may get that answer, so it could fire for ever; give max=",
+                                source=sc.source, line=h.line, element="on")
     # edges: a -> b when a says words b hears (the robot may echo them)
     says = {id(h): spoken(h.body) for h in free}
     edges = {id(a): [b for b in free if any(compile_words(b.hears).search(t) for t in says[id(a)])] for a in free}

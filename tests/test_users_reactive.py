@@ -202,6 +202,9 @@ def test_patience_bounds_the_repairs(patience, strategies):
     ('<on hears="kitchen"><say text="this is the kitchen"/></on>', "", "can never end"),
     ('<on hears="cup"><say text="a plate"/></on>\n<on hears="plate"><say text="the cup"/></on>', "", "can never end"),
     ('<on hears="*"><say text="hm"/></on>', "", "whatever the robot says"),
+    # the robot's "did not understand" answers any words: a reaction to it that speaks loops
+    ('<on hears="did not understand"><say text="wibble wobble"/></on>', "", "say it again"),
+    ('<on hears="pardon|say that again"><say request="greet"/></on>', "", "say it again"),
     ('<on hears="%s|*"><face robot="true"/></on>' % "|".join(["yes"] * 65), "", "whatever the robot says"),
     ('<on hears="hello"><wait-for hears="x"/></on>', "", "may never end"),
     ('<on hears="hello"><repeat><wait for="1"/></repeat></on>', "", "never ends"),
