@@ -251,8 +251,14 @@ class Person(Actor):
 
     # ---------------------------------------------------------------- leave
     async def leave(self, act: Leave) -> None:
-        """Walk out through an exit door (a planned path, like any walk) and disappear from the world."""
+        """Walk out through an exit door (a planned path, like any walk) and disappear from the world.
+
+        Still talking (``<say wait="false"/>`` then ``<leave/>``), she finishes her sentence
+        at the door before she is gone: a sound source that vanished would leave words in the
+        air that no microphone can place, and the robot would hear none of them.
+        """
         _, outside = self.world.exit_points(act.door)
         await self.walk_to(Target("point", x=outside[0], y=outside[1]))
         self.body.stand()
+        await self.finish_speaking()
         self.body.remove()

@@ -116,6 +116,20 @@ def test_she_walks_while_she_talks_and_wait_speech_waits_for_the_end():
     assert u3.start == pytest.approx(u2.end, abs=1e-6)
 
 
+def test_she_finishes_her_sentence_at_the_door_before_she_is_gone():
+    # she talks as she walks out (3 m to the door at 1 m/s, 4.7 s of words): a person who vanished
+    # mid-sentence would leave words no microphone can place, and the robot would hear none of them
+    st = _stage('<say text="I am going now, goodbye everybody, see you tomorrow at nine" wait="false"/>\n<leave/>')
+    heard_from: list[bool] = []
+    for k in range(1, 48):
+        st.sim.call_at(0.1 * k, lambda: heard_from.append(st.world.source_point("ann") is not None))
+    st.run(10)
+    (u,) = st.world.sound.by("ann")
+    assert u.end == pytest.approx(4.7, abs=0.05) and not u.cut
+    assert all(heard_from)  # a sound source for every moment of her sentence
+    assert not st.world.humans["ann"].present  # and then gone
+
+
 def test_a_wait_for_starts_after_her_own_sentence():
     st = _stage('<say text="one two three four five six" wait="false"/>\n<face angle="90"/>\n<wait-for hears="ok" timeout="1"/>\n<say text="x"/>')
     st.run(10)
