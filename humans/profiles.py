@@ -151,8 +151,9 @@ def _dist(el, trait: str, source: str) -> Dist:  # type: ignore[no-untyped-def]
         low = high = params[0]
     if not (lo_ok <= low <= high <= hi_ok):
         raise InputError(f"<{trait}> bounds {low:g} to {high:g} must lie in {lo_ok:g} to {hi_ok:g} (low <= high)", source=source, line=line)
-    if trait == "patience" and any(v != int(v) for v in params if kind in ("choice", "fixed")):
-        raise InputError("patience counts repairs: whole numbers", source=source, line=line)
+    if trait == "patience" and (any(v != int(v) for v in params if kind in ("choice", "fixed")) or low != int(low) or high != int(high)):
+        # a draw is rounded to a whole number of repairs: bounds between whole numbers would not hold it
+        raise InputError("patience counts repairs: whole numbers (and whole bounds)", source=source, line=line)
     return Dist(kind, params, low, high, weights, line)
 
 

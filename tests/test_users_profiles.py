@@ -109,6 +109,28 @@ def test_a_bad_profile_file_is_refused_with_its_line(tmp_path):
     assert err.value.line == 3
 
 
+PROFILE = """<profiles>
+<profile name="x">
+<voice fixed="60"/><distance fixed="0.9"/><speed fixed="1.2"/>
+{patience}
+<off-axis fixed="0"/><pointing-error fixed="0"/><give-up skip="1"/>
+</profile>
+</profiles>
+"""
+
+
+def test_patience_bounds_between_whole_numbers_are_refused_with_the_line(tmp_path):
+    # a patience of 0.4 to 0.6 repairs was accepted and every draw rounded out of it (0 or 1)
+    f = tmp_path / "p.xml"
+    f.write_text(PROFILE.format(patience='<patience normal="0.5 0.3" min="0.4" max="0.6"/>'))
+    with pytest.raises(InputError, match="whole") as err:
+        load_profiles(f)
+    assert err.value.line == 4
+    f.write_text(PROFILE.format(patience='<patience uniform="1 3"/>'))
+    p = load_profiles(f)["x"]
+    assert {draw_profile(p, np.random.default_rng(s)).patience for s in range(40)} <= {1, 2, 3}
+
+
 def test_every_numeric_trait_has_bounds_in_range():
     for p in default_profiles().values():
         for key, d in p.numeric.items():
