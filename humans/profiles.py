@@ -188,9 +188,15 @@ def load_profiles(path: str | Path = PROFILES_PATH) -> dict[str, Profile]:
             if el is None:
                 raise InputError(f"profile {name!r} has no <{trait}>", source=source, line=p.sourceline)
             numeric[trait] = _dist(el, trait, source)
+        given: dict[str, int | None] = {}
         for child in p:
             if isinstance(child.tag, str) and child.tag not in TRAITS:
                 raise InputError(f"<{child.tag}> is not a trait; traits: {', '.join(TRAITS)}", source=source, line=child.sourceline)
+            if isinstance(child.tag, str) and child.tag in given:
+                # only the first would count: the second would be silently ignored
+                raise InputError(f"profile {name!r} gives <{child.tag}> twice (first at line {given[child.tag]})", source=source, line=child.sourceline)
+            if isinstance(child.tag, str):
+                given[child.tag] = child.sourceline
         give_up = _weights(p.find("give-up"), GIVE_UPS, "give-up", source)
         if not give_up or sum(w for _, w in give_up) <= 0:
             raise InputError(f"profile {name!r}: <give-up> needs a positive weight", source=source, line=p.sourceline)

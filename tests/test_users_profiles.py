@@ -131,6 +131,15 @@ def test_patience_bounds_between_whole_numbers_are_refused_with_the_line(tmp_pat
     assert {draw_profile(p, np.random.default_rng(s)).patience for s in range(40)} <= {1, 2, 3}
 
 
+def test_a_trait_given_twice_is_refused_with_the_second_line(tmp_path):
+    # the second <voice> was silently ignored: the author's 80 dB user spoke at 60
+    f = tmp_path / "p.xml"
+    f.write_text(PROFILE.format(patience='<patience fixed="1"/>\n<voice fixed="80"/>'))
+    with pytest.raises(InputError, match="<voice> twice") as err:
+        load_profiles(f)
+    assert err.value.line == 5
+
+
 def test_every_numeric_trait_has_bounds_in_range():
     for p in default_profiles().values():
         for key, d in p.numeric.items():
