@@ -30,7 +30,9 @@ import math
 
 import numpy as np
 
-from homesim.scenario.model import Action, Face, HumanSpec, Leave, PointAt, StepCloser, Target, WalkTo
+from collections.abc import Callable
+
+from homesim.scenario.model import Action, Face, HumanSpec, Leave, PointAt, Say, StepCloser, Target, WalkTo
 from homesim.world.bodies import ROBOT_REACH, HumanBody, Pointing
 from homesim.scenario.pathplan import NoPathError
 from homesim.world.world import World
@@ -47,9 +49,10 @@ HUMAN_STOP = 0.8  # default distance to keep from a person when walking to them 
 class Person(Actor):
     """Runs a :class:`~homesim.scenario.model.HumanSpec`'s script on its body."""
 
-    def __init__(self, world: World, spec: HumanSpec, traits: Traits | None = None, rng: np.random.Generator | None = None) -> None:
+    def __init__(self, world: World, spec: HumanSpec, traits: Traits | None = None, rng: np.random.Generator | None = None,
+                 streams: Callable[[str], np.random.Generator] | None = None) -> None:
         traits = traits if traits is not None else Traits()
-        super().__init__(world, spec.name, spec.script, loudness=traits.voice, handlers=spec.handlers, traits=traits, rng=rng)
+        super().__init__(world, spec.name, spec.script, loudness=traits.voice, handlers=spec.handlers, traits=traits, rng=rng, streams=streams)
         self.spec = spec
         self.body: HumanBody = world.humans[spec.name]
         if traits.speed is not None:
@@ -204,12 +207,13 @@ class Person(Actor):
             await self.walk_to(Target("point", x=x + k * (rx - x), y=y + k * (ry - y)))
             self.face(Target("robot"))
 
-    def before_speaking(self) -> None:
+    def before_speaking(self, act: Say) -> None:
         """As she starts to speak she may look away from the robot (her profile's off-axis)."""
         p = self.traits.off_axis
-        if p <= 0 or self.rng is None or not self.body.present:
+        rng = self.draws(f"look:{act.line}" if act.line is not None else f"look:{act.request}")
+        if p <= 0 or rng is None or not self.body.present:
             return
-        away, side, size = self.rng.random(), self.rng.random(), self.rng.random()
+        away, side, size = rng.random(), rng.random(), rng.random()
         robot = self.direction_to(Target("robot"))
         if away < p:
             off = math.radians(60.0 + 90.0 * size) * (1 if side < 0.5 else -1)
@@ -235,9 +239,10 @@ class Person(Actor):
         """Raise an arm at the target for the gesture's duration."""
         point = self.world.target_point(act.target, who=self.name)
         sd = self.traits.pointing_error
-        if sd > 0 and self.rng is not None:
+        rng = self.draws(f"point:{act.line}")
+        if sd > 0 and rng is not None:
             # her arm misses by a normal angular error about where she stands
-            err = math.radians(sd) * float(self.rng.standard_normal())
+            err = math.radians(sd) * float(rng.standard_normal())
             hx, hy = self.body.position
             dx, dy = point[0] - hx, point[1] - hy
             c, s_ = math.cos(err), math.sin(err)

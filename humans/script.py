@@ -42,6 +42,7 @@ import asyncio
 import math
 import re
 from collections import deque
+from collections.abc import Callable
 
 import numpy as np
 
@@ -88,7 +89,8 @@ class Actor:
     """Runs a script of say / wait / wait-for / repeat actions."""
 
     def __init__(self, world: World, name: str, script: tuple[Action, ...], *, loudness: float = 60.0,
-                 handlers: tuple[Handler, ...] = (), traits: Traits | None = None, rng: np.random.Generator | None = None) -> None:
+                 handlers: tuple[Handler, ...] = (), traits: Traits | None = None, rng: np.random.Generator | None = None,
+                 streams: Callable[[str], np.random.Generator] | None = None) -> None:
         self.world = world
         self.name = name
         self.script = script
@@ -99,6 +101,9 @@ class Actor:
         self.handlers = handlers
         self.traits = traits if traits is not None else Traits()
         self.rng = rng  # her choices as she goes (phrasings, looking away, pointing): from the run's seed
+        # one generator per act of hers (``say:<line>``, ...) when given: a reaction that fires, or
+        # a say added to her script, does not shift the draws of her other acts
+        self.streams = streams
         self.fired = [0] * len(handlers)  # how often each reaction fired
         self.speech_end = 0.0  # when what she is saying ends
         self.boost = 0.0  # dB louder while she repairs
@@ -185,7 +190,7 @@ class Actor:
         loudness = act.loudness if act.loudness is not None else self.loudness
         if self.boost:
             loudness += self.boost
-        self.before_speaking()
+        self.before_speaking(act)
         u = self.world.sound.say(self.name, text, self.now, loudness=loudness, duration=act.duration)
         self.speech_end = u.end
         if not act.wait:
@@ -204,11 +209,21 @@ class Actor:
             return act.text or ""
         key = (act.request, act.about)
         avoid = self._last_phrase.get(key, act.text) if rephrase else None
-        if self.rng is None:
+        rng = self.draws(f"say:{act.line}" if act.line is not None else f"say:{act.request}")
+        if rng is None:
             raise ScriptError(f"{self.name!r} has no paraphrase bank", source=self.world.scenario.source, line=act.line, element="say")
-        text = default_bank().draw(self.rng, act.request, self.traits.phrasing, avoid=avoid).render(act.about)
+        text = default_bank().draw(rng, act.request, self.traits.phrasing, avoid=avoid).render(act.about)
         self._last_phrase[key] = text
         return text
+
+    def draws(self, key: str) -> np.random.Generator | None:
+        """The generator of one of her acts (``key``: ``say:<line>``, ``look:<line>``, ``point:<line>``).
+
+        Per act, so one act's draws (a phrasing, a look away, a pointing error) do not depend on
+        how many draws her other acts made before it: adding a reaction that fires leaves the
+        rest of her tour as it was. Without ``streams``, her one generator ``rng``.
+        """
+        return self.streams(key) if self.streams is not None else self.rng
 
     async def finish_speaking(self) -> None:
         """Wait until what she is saying has ended (nothing when she is silent)."""
@@ -218,7 +233,7 @@ class Actor:
     def on_speaking(self, speaking: bool) -> None:
         """Hook: people open their mouths (nothing to do for a radio)."""
 
-    def before_speaking(self) -> None:
+    def before_speaking(self, act: Say) -> None:
         """Hook: a person may look away as she starts to speak (her profile's off-axis)."""
 
     # ------------------------------------------------------------ reactions
@@ -356,7 +371,7 @@ class Actor:
         self.log.append((self.now, self.now, f"gives up ({outcome}): {how}"))
         if how == "skip":
             return
-        if self.rng is not None:
+        if self.draws("say:give-up") is not None:
             await self.say(Say(None, request="give-up"))
             await self.finish_speaking()
         if how == "leave" and self.world.scenario.exits():

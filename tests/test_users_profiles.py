@@ -231,3 +231,24 @@ def _transcript(seed: int) -> list[tuple[float, str, float]]:
 def test_the_same_seed_replays_the_same_user_word_for_word():
     assert _transcript(4) == _transcript(4)
     assert len({tuple(_transcript(s)) for s in range(4)}) > 1  # and other seeds give other users
+
+
+def _tour(seed: int, on: str) -> list[str]:
+    script = "\n".join(f'<wait for="2"/>\n<say request="{r}" about="the kitchen"/>' for r in ("greet", "teach-place", "follow", "teach-place", "goodbye"))
+    sc = load_scenario_text(_text(script + '\n<point object="cup" duration="30"/>', attrs='profile="distracted"', on=on, duration=40), source="p.xml")
+    stage = Stage(Simulation(seed=seed, scenario=sc.name), sc, actors=("humans.install",))
+    stage.sim.call_at(0.5, lambda: stage.world.sound.say("robot", "Shall I follow you?", stage.sim.now))
+    stage.run(35)
+    ann = stage.actors["ann"]
+    said = {u.start: u.text for u in stage.world.sound.by("ann")}
+    looks = {t: d for t, _, d in ann.log if d.startswith("speaks looking")}
+    pointing = stage.world.humans["ann"].pointing
+    assert pointing is not None  # still pointing at the end
+    return [f"{said[t]} / {looks.get(t, 'to the robot')}" for t in sorted(said) if said[t] != "Yes, I do"] + [f"{pointing.target[0]:.9f} {pointing.target[1]:.9f}"]
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_a_reaction_that_fires_does_not_change_the_rest_of_her_tour(seed):
+    # one draw stream for all her acts: one answer "Yes, I do" (3 draws for looking away) changed
+    # 6 to 7 of her 8 later phrasings; now every act of hers draws from its own stream
+    assert _tour(seed, "") == _tour(seed, '<on hears="shall i follow you"><say text="Yes, I do"/></on>')
