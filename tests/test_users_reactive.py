@@ -63,7 +63,7 @@ def test_a_wrong_confirmation_is_corrected_and_which_one_is_answered_by_pointing
     _robot(st, 6.0, "Which one do you mean?")
     st.run(12)
     said = [t for _, t in _said(st)]
-    assert len(said) == 2 and "living room" in said[0].lower() or said[0] == "No, the other one"
+    assert len(said) == 2 and ("living room" in said[0].lower() or said[0] == "No, the other one")
     assert said[1] == "that one"
     log = [d for _, _, d in st.actors["ann"].log]
     assert any(d.startswith("pointat object cup") for d in log)
