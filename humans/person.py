@@ -32,7 +32,8 @@ import numpy as np
 
 from collections.abc import Callable
 
-from homesim.scenario.model import Action, Face, HumanSpec, Leave, PointAt, Say, StepCloser, Target, WalkTo
+from homesim.scenario.model import Action, Face, Handler, HumanSpec, Leave, PointAt, Say, StepCloser, Target, WalkTo
+from homesim.world.acoustics import Utterance
 from homesim.world.bodies import ROBOT_REACH, HumanBody, Pointing
 from homesim.scenario.pathplan import NoPathError
 from homesim.world.world import World
@@ -182,6 +183,14 @@ class Person(Actor):
         gx, gy = self.goal_of(target)
         x, y = self.body.position
         return math.atan2(gy - y, gx - x)
+
+    async def fire(self, h: Handler, u: Utterance) -> None:
+        """She stops to react: a walk's velocity held through the reaction walked her on blind
+        (through a wall 0.5 m past her goal, seven seconds of answer at 1 m/s); the walk goes on
+        afterwards from where she stopped."""
+        if self.body.present:
+            self.body.stand()
+        await super().fire(h, u)
 
     def stand_still(self) -> None:
         if self.body.present:

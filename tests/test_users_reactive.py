@@ -95,6 +95,22 @@ def test_a_walking_person_stops_to_answer_then_walks_on():
     assert st.world.humans["ann"].position[0] == pytest.approx(7, abs=0.1)
 
 
+def test_she_stands_while_she_reacts_in_the_middle_of_a_walk():
+    # her walk's velocity was held through the reaction: 7.5 s of answer at 1 m/s took her
+    # through the wall at x=8 to x=12.4 before she turned back
+    st = _stage('<walk-to point="7.5 3" speed="1.0"/>', start='x="2" y="3"',
+                on='<on hears="shall i follow you"><say text="yes I would like that very much, please follow me to the other side of the room now"/></on>')
+    _robot(st, 1.0, "Shall I follow you?")
+    xs: list[float] = []
+    for k in range(1, 150):
+        st.sim.call_at(0.1 * k, lambda: xs.append(st.world.humans["ann"].position[0]))
+    st.run(15)
+    (u,) = st.world.sound.by("ann")
+    during = [x for k, x in enumerate(xs) if u.start + 0.2 < 0.1 * (k + 1) < u.end]
+    assert max(during) - min(during) < 0.05  # she stood while she answered
+    assert max(xs) <= 7.5 + 0.05 and st.world.humans["ann"].position[0] == pytest.approx(7.5, abs=0.1)
+
+
 def test_a_reaction_that_loops_at_run_time_fails_the_run_naming_its_line():
     st = _stage('<wait-for hears="never said" timeout="60"/>', on='<on hears="hello"><say text="hm"/></on>', duration=70)
     for k in range(60):
