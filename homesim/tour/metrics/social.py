@@ -30,11 +30,12 @@ its own (``Navigating``, a go-to):
   interaction (the supervisor leaving the idle states until it is back in one) a change of that
   person is an ``identity_switches``; ``partner_kept`` = no switch and no ``partner_lost`` event
   all run;
-* catching up (issue 26 item 10): at each teaching or query request from the dialog
-  (``object_teaching``, ``place_teaching``, ``query_object``, ``goto``), the true distance from
-  the robot's centre to the partner and the partner's bearing off the robot's heading
-  (``request_distance_max_m``, ``request_bearing_max_deg``): the robot should stand at a
-  comfortable interaction distance facing her when she asks.
+* catching up (issue 26 item 10): at the first teaching or query request from the dialog
+  (``object_teaching``, ``place_teaching``, ``query_object``, ``goto``) after each time the robot
+  followed, the true distance from the robot's centre to the partner and the partner's bearing
+  off the robot's heading (``request_distance_max_m``, ``request_bearing_max_deg``): the robot
+  should have come up to a comfortable interaction distance facing her when she asks (requests
+  before any following, where she chose to stand, are not its doing).
 
 Every figure is a number (or None when there was nothing to measure) at the top level of the
 summary, so a study table can take any of them; ``following`` and ``goto`` hold the same
@@ -123,6 +124,7 @@ class Social(Observer):
         self.max_speed = float(getattr(spec, "max_speed", 0.5) or 0.5)
         # catching up
         self.requests = 0
+        self._followed = False  # the robot has followed since the last request measured
         self.request_distance_max = -math.inf
         self.request_bearing_max = -math.inf
         run.world.add_contact_listener(self._contact)
@@ -150,7 +152,8 @@ class Social(Observer):
                 self.partner_lost += 1
             elif name == "goal_reached" and self._goto is not None:
                 self._goto["reached"] = True
-            elif name in REQUESTS and self.in_interaction:
+            elif name in REQUESTS and self.in_interaction and self._followed:
+                self._followed = False
                 self._request()
         elif ch == "/robot/attention/partner":
             self._on_partner(m.xml)
@@ -168,6 +171,8 @@ class Social(Observer):
             return
         mode = MODES.get(state)
         if mode != self.mode:
+            if self.mode == "following":
+                self._followed = True
             if self.mode == "goto":
                 self._end_goto()
             if mode == "goto":
