@@ -12,8 +12,9 @@ its own (``Navigating``, a go-to):
   centre (the SocNavBench "closest pedestrian distance"), and ``min_person_clearance_m``: the
   smallest air gap between the robot's footprint (0.51 x 0.43 m) and a person's body (the
   world's 0.25 m circle); a contact is a gap of 0; ``min_person_clearance_moving_m`` the same
-  while the robot moves (faster than 5 cm/s): a person walking past a robot standing still
-  comes close by their own choice;
+  for the people the robot drives toward (moving faster than 5 cm/s, the person ahead of its
+  centre in the direction it drives): a person walking past a robot standing still, or
+  overtaking it from behind, comes close by their own choice;
 * ``personal_space_s``: time with someone's body closer than :data:`INTIMATE` (0.45 m) to the
   robot's footprint: Hall's intimate zone measured as he measured it, between bodies (centre to
   centre that is about 0.95 m straight ahead; 0.45 m centre to centre would be a contact), and
@@ -245,7 +246,8 @@ class Social(Observer):
         c, s = math.cos(rth), math.sin(rth)
         step = 0.0 if self.last is None else math.hypot(rx - self.last[0], ry - self.last[1])
         self.last = (rx, ry)
-        near = gap = bystander = math.inf
+        near = gap = gap_ahead = bystander = math.inf
+        v = world.robot.v
         partner_pos = None
         for name, h in world.humans.items():
             if not h.present:
@@ -256,6 +258,8 @@ class Social(Observer):
             lx, ly = abs(c * dx + s * dy), abs(-s * dx + c * dy)
             g = max(math.hypot(max(lx - HALF_LENGTH, 0.0), max(ly - HALF_WIDTH, 0.0)) - BODY, 0.0)
             gap = min(gap, g)
+            if (c * dx + s * dy) * v > 0.0:
+                gap_ahead = min(gap_ahead, g)
             if name == self.partner:
                 partner_pos = (hx, hy)
             else:
@@ -267,7 +271,7 @@ class Social(Observer):
             m.min_person = min(m.min_person, near)
             m.min_gap = min(m.min_gap, gap)
             if moving:
-                m.min_gap_moving = min(m.min_gap_moving, gap)
+                m.min_gap_moving = min(m.min_gap_moving, gap_ahead)
             if gap < INTIMATE:
                 m.personal += self.dt
             if bystander < PERSONAL:
