@@ -277,12 +277,13 @@ class Follower(Module):
                 pts = pts[np.hypot(pts[:, 0] - rx, pts[:, 1] - ry) > 0.45]  # not the partner's own legs
             # everyone else: keep out of their personal space, and pass them slowly (yield: slow,
             # stop and wait while they cross, then go on)
-            others = self.people.around(self.odom, self.now, exclude=self.partner_id, near=(px, py))  # no lost tracks:
-            # a partner's second track lost at a door frame would live on as a phantom in the door
+            # people walking about (a standing track may be a table's legs, which the laser keeps it
+            # off anyway); no lost tracks (a partner's second track lost at a door frame would live on
+            # as a phantom in the door)
+            others = self.people.around(self.odom, self.now, exclude=self.partner_id, near=(px, py), moving=0.2)
             limits = self.limits
-            walking = self.people.around(self.odom, self.now, exclude=self.partner_id, near=(px, py), moving=0.2)
-            if len(walking):  # slow near people walking about (a standing track may be a table's legs)
-                cap = social_speed_limit(nearest(walking), self.limits.max_speed)
+            if len(others):
+                cap = social_speed_limit(nearest(others), self.limits.max_speed)
                 if cap < limits.max_speed:
                     limits = replace(limits, max_speed=cap)
                     v_pref = min(v_pref, cap)
