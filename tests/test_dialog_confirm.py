@@ -235,4 +235,6 @@ def test_a_lost_noun_is_asked_for_not_looked_at(dm):
     # "This is the kitchen" heard as "this is the": the robot asked nothing and learned the kettle
     # she happened to stand by
     out = dm.on_frame(heard("this is the"))
+    assert says(out) == ["Sorry, I did not understand you. Could you say that again?"] and not sends(out)
+    out = dm.on_frame(heard("look at this the"))  # words skipped: a partial frame asks
     assert says(out) == ["What is it?"] and not sends(out)

@@ -250,7 +250,10 @@ _ANSWER_WORDS = frozenset({"YES", "OKAY", "NO"})
 _NOT_RESTARTS = frozenset({"object_fragment", "place_fragment", "that_one", "yes", "no"})
 
 # word classes that say nothing about a dangling object or place: deixis, articles, prepositions
-_ONLY_POINTS = frozenset({"THIS", "THAT", "HERE", "THERE", "IT", "A", "THE", "TO", "IN", "REL", "OF", "ONE"})
+# (and the copula: "it is", "this is the" name nothing; the dialog asks to hear it again rather than
+# start teaching an object nobody named)
+_ONLY_POINTS = frozenset({"THIS", "THAT", "HERE", "THERE", "IT", "A", "THE", "TO", "IN", "REL", "OF", "ONE",
+                          "IS", "ARE", "CALLED"})
 
 
 def _declared(text: str) -> set[str]:
