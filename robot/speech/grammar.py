@@ -104,6 +104,11 @@ class Understander:
             res.reason = "no known words" if lex.unknown else "nothing said"
             return res
         tree, ignored, partial = self._parse(toks)
+        if toks[0].type in ("IS", "ARE") and len(toks) > 1 and (tree is None or partial):
+            # "is the living room": not a question about an object, a teaching whose "this" was lost
+            alt = self._parse(toks[1:])
+            if alt[0] is not None and (not alt[2] or tree is None):
+                tree, ignored, partial = alt[0], [toks[0].text, *alt[1]], True
         restart = self._restart(lex.raw)
         if restart is not None:  # "follow me, no wait, stop": the repair is a whole new request
             toks, (tree, ignored, partial) = restart
