@@ -14,9 +14,10 @@ Which messages are validated is the bus's policy (``Bus(validation=...)``):
   message on a typed channel or method.
 - ``"edges"`` (the default): payloads that arrive as text (``str``/``bytes``:
   a document from outside the process, parsed with the hardened parser) are
-  validated; payloads a module built as an lxml element are trusted: neither
-  validated nor looked into for a DOCTYPE or entity references (the strict
-  policy refuses those). The project's own modules are checked by the test
+  validated; payloads a module built as an lxml element are trusted: not
+  validated (elements from a document with a DOCTYPE and elements holding
+  entity references are refused under every policy, as text with a DOCTYPE
+  is: ~1 us a message). The project's own modules are checked by the test
   suite, which runs strict; checking each of their messages again costs
   ~10 us a message (about a fifth of a home tour's CPU) and changes nothing
   for a valid message. In this mode a module's *invalid* element is
@@ -38,8 +39,13 @@ trace recorder is one.
 How it fails: sending on a closed participant or calling an unknown server
 raises at once; a call whose reply does not come in time raises
 :class:`RemoteCallTimeout`; a server whose handler raises makes the call raise
-:class:`RemoteCallFailed`. Exceptions raised by subscription handlers fail the
-whole run (see :mod:`homesim.vloop`).
+:class:`RemoteCallFailed`; a handler that never answers (awaiting a future nobody
+holds: the bus keeps its task alive) costs its caller the timeout. Exceptions
+raised by subscription handlers fail the whole run (see :mod:`homesim.vloop`).
+A participant sending more than :data:`MAX_SENDS_PER_S` messages within one
+virtual second is failed (:meth:`Bus.flooded`; the simulation crashes its
+module, announced with ``reason="flood"``): a send loop without a real wait
+would otherwise grow the run's memory until the process is killed.
 """
 
 from __future__ import annotations
@@ -108,6 +114,9 @@ Interceptor = Callable[[Observation], None]
 
 _tuple_new = tuple.__new__  # builds a named tuple without its Python-level __new__ (hot path)
 _Element = etree._Element
+_Entity = etree.Entity
+#: Default of :attr:`Bus.max_sends_per_s`.
+MAX_SENDS_PER_S = 10_000
 _new = object.__new__
 _heappush = heapq.heappush
 
@@ -240,6 +249,17 @@ class Participant:
         self._plans: dict[str, tuple[tuple[Any, ...], ...]] = {}
         # [messages sent under this name]: kept by the bus per name (ids stay unique across re-registration).
         self._count = bus._counters.setdefault(name, [0])
+        # The rate guard: the current one-second window (ends at, the first message number in it).
+        self._window_end = -1
+        self._window_first = 0
+
+    def _rate(self, now: int, n: int) -> None:
+        """Count message ``n`` sent at ``now`` against :data:`MAX_SENDS_PER_S` (see :meth:`Bus.flooded`)."""
+        if now >= self._window_end:
+            self._window_end = now + NS_PER_S
+            self._window_first = n
+        elif n - self._window_first >= self.bus.max_sends_per_s:
+            self.bus.flooded(self)
 
     def __repr__(self) -> str:
         return f"Participant({self.name!r}, host={self.host!r})"
@@ -274,14 +294,24 @@ class Participant:
         if xml.__class__ is _Element and not bus.validate_all and not self.closed:
             # _make's trusted path (the default policy, a module's own element) and the
             # message, inlined: the commonest send. Keep the two alike.
+            if xml.getroottree().docinfo.internalDTD is not None:  # any DOCTYPE (a copy would drop the DTD, not what it expanded)
+                raise XMLInputError("elements from documents with a DOCTYPE are refused on the bus", source=f"<bus:{channel}>")
             if not transfer or xml.getparent() is not None:
                 xml = xml.__copy__()  # lxml copies the whole subtree, in C
             if xml.tail is not None:
                 xml.tail = None
+            if len(xml):  # an element without children holds no entity reference (len counts them)
+                for _ in xml.iter(_Entity):
+                    raise XMLInputError("entity references are refused on the bus", source=f"<bus:{channel}>")
             now = bus.loop._now_ns
             name = self.name
             count = self._count
             n = count[0] = count[0] + 1
+            if now >= self._window_end:  # the rate guard (_rate), inlined
+                self._window_end = now + NS_PER_S
+                self._window_first = n
+            elif n - self._window_first >= bus.max_sends_per_s:
+                bus.flooded(self)
             msg = _tuple_new(Message, (
                 f"{name}#{n}",
                 PUBLISH,
@@ -306,6 +336,7 @@ class Participant:
                 name = self.name
                 count = self._count
                 n = count[0] = count[0] + 1
+                self._rate(now, n)
                 msg = _tuple_new(Message, (
                     f"{name}#{n}", PUBLISH, name, channel, None, now if created is None else to_ns(created), now,
                     causes if causes.__class__ is tuple else tuple(causes),
@@ -433,11 +464,8 @@ class Participant:
             check = bus.validate_all
             if check:
                 xml = _own_payload(xml, channel, transfer)
-            else:  # trusted (the default policy): the module's own element, not looked into
-                if not transfer or xml.getparent() is not None:
-                    xml = xml.__copy__()  # lxml copies the whole subtree, in C
-                if xml.tail is not None:
-                    xml.tail = None
+            else:  # trusted (the default policy): the module's own element, not validated
+                xml = _own_payload(xml, channel, transfer)
         else:
             check = True
             xml = _own_payload(xml, channel, transfer)
@@ -454,6 +482,7 @@ class Participant:
         name = self.name
         count = self._count
         n = count[0] = count[0] + 1
+        self._rate(now, n)
         return _tuple_new(Message, (
             f"{name}#{n}",
             kind,
@@ -488,14 +517,13 @@ def _own_payload(xml: XMLLike, channel: str, transfer: bool = False) -> etree._E
     Text is parsed with the hardened parser. An element is deep-copied into a
     document of its own (so receivers cannot see its parent, siblings or
     tail, and later changes by the sender do not reach them); an element
-    carrying a DTD or unexpanded entity references is refused, as text with
-    a DOCTYPE is. (Under the default policy a module's element takes the
-    trusted path in ``Participant._make``: the same copy, no look inside.)
+    from a document with a DOCTYPE (what its DTD expanded is in it already)
+    or holding entity references is refused, as text with a DOCTYPE is,
+    under every policy (the default one only skips the schema).
     """
     if not isinstance(xml, etree._Element):
         return parse_bytes(xml, source=f"<bus:{channel}>")
-    docinfo = xml.getroottree().docinfo
-    if docinfo.doctype or docinfo.internalDTD is not None:
+    if xml.getroottree().docinfo.internalDTD is not None:  # any DOCTYPE, even one without an internal subset
         raise XMLInputError("elements from documents with a DOCTYPE are refused on the bus", source=f"<bus:{channel}>")
     if transfer and xml.getparent() is None:
         own = xml
@@ -504,7 +532,7 @@ def _own_payload(xml: XMLLike, channel: str, transfer: bool = False) -> etree._E
     if own.tail is not None:
         own.tail = None
     if len(own):  # an element without children holds no entity reference (len counts them)
-        for _ in own.iter(etree.Entity):
+        for _ in own.iter(_Entity):
             raise XMLInputError("entity references are refused on the bus", source=f"<bus:{channel}>")
     return own
 
@@ -553,6 +581,10 @@ class Bus:
         self._channel_schemas: dict[str, Schema] = {}
         self._schema_cache: dict[str, Schema | None] = {}
         self._interceptors: list[Interceptor] = []
+        # Handler tasks still running. asyncio keeps only weak references to tasks: a handler
+        # awaiting a future nobody else holds would be collected (and the run failed, at a time
+        # the garbage collector picks); held here, it just never answers and the caller times out.
+        self._handling: set[asyncio.Task[Any]] = set()
         # The interceptors that see deliveries and drops (those that declare
         # ``observes`` without them, such as the run's dispatcher, are spared the call).
         self._delivery_interceptors: list[Interceptor] = []
@@ -561,6 +593,14 @@ class Bus:
         network.on_change(self._forget_plans)
         # Message counters per participant name: ids stay unique across re-registration.
         self._counters: dict[str, list[int]] = {}
+        #: The rate guard: a participant sending more than this many messages within one virtual
+        #: second is failed (:meth:`flooded`). Far above any sane rate (a 100 Hz sensor sends 100;
+        #: the busiest module of a home tour a few hundred): a loop publishing with a tiny sleep
+        #: would otherwise grow the run's memory until the process is killed.
+        self.max_sends_per_s = MAX_SENDS_PER_S
+        #: Called with a participant that exceeded the rate (the simulation crashes its module);
+        #: it must raise (else :class:`BusError` is raised: the message is not sent).
+        self.on_flood: Callable[[Participant], None] | None = None
         self.sent = 0
         self.delivered = 0
         self.dropped = 0
@@ -651,6 +691,16 @@ class Bus:
     def remove_interceptor(self, interceptor: Interceptor) -> None:
         self._interceptors.remove(interceptor)
         self._sort_interceptors()
+
+    def flooded(self, participant: Participant) -> None:
+        """``participant`` sent more than :attr:`max_sends_per_s` messages in one virtual second: fail it.
+
+        Raises (the message being sent is not sent): whatever :attr:`on_flood` raises, else :class:`BusError`.
+        """
+        if self.on_flood is not None:
+            self.on_flood(participant)
+        raise BusError(f"participant {participant.name!r} sent more than {self.max_sends_per_s} messages within one "
+                       "virtual second (a send loop without a real wait?): refused")
 
     def _has_audience(self, channel: str) -> bool:
         """Whether a message on ``channel`` would reach anyone: a subscriber, or an interceptor.
@@ -873,7 +923,7 @@ class Bus:
                 self._drop(msg, receiver.name, f"refused by the receiver: {exc}")
                 return
             if result is not None and inspect.isawaitable(result):
-                self.loop.create_task(_await_reporting(result, self, msg, receiver.name), name=f"{receiver.name}:{sub.pattern}<-{msg.id}")
+                self._hold(self.loop.create_task(_await_reporting(result, self, msg, receiver.name), name=f"{receiver.name}:{sub.pattern}<-{msg.id}"))
         else:
             dropped = sub._push(msg)
             if dropped is not None:
@@ -902,8 +952,14 @@ class Bus:
         if inspect.isawaitable(result):
             task = self.loop.create_task(_await(result), name=f"{server.name}/{entry.name}<-{msg.id}")
             task.add_done_callback(lambda t: self._reply_from_task(t, server, caller, msg, entry, fut))
+            self._hold(task)
         else:
             self._reply(server, caller, msg, entry, fut, result)
+
+    def _hold(self, task: asyncio.Task[Any]) -> None:
+        """Keep a handler's task alive until it ends (see ``_handling``)."""
+        self._handling.add(task)
+        task.add_done_callback(self._handling.discard)
 
     def _reply_from_task(self, task: asyncio.Task[Any], server: Participant, caller: Participant, request: Message, entry: _Method, fut: asyncio.Future[Message] | None) -> None:
         if task.cancelled():

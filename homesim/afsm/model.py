@@ -40,6 +40,9 @@ LAYER_OF_KIND = {CONDITION: ("deliberative",), ORDER: ("intermediate", "reactive
 #: Lifetime used for events whose name has no declared lifetime and that carry
 #: none themselves (seconds, as integer nanoseconds).
 DEFAULT_LIFETIME_NS = 5_000_000_000
+#: Longest event lifetime (one hour, as the event schema's ``lifetime``): an event the ES keeps longer
+#: than any home tour is a mistake, and an unbounded one overflows every clock it meets.
+MAX_LIFETIME_NS = 3600 * 1_000_000_000
 
 _EVENT_NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_.\-]*$")
 #: A module name: an XML NCName (letters, digits, ``_ . -``, not starting with a
@@ -330,6 +333,11 @@ def reachable_leaves(m: Machine) -> list[str]:
     return [sid for sid in m.leaves() if sid in seen]
 
 
+def _lifetime_ok(ns: Any) -> bool:
+    """A lifetime in integer nanoseconds, in (0, MAX_LIFETIME_NS]."""
+    return isinstance(ns, int) and not isinstance(ns, bool) and 0 < ns <= MAX_LIFETIME_NS
+
+
 def validate(m: Machine) -> list[AFSMError]:
     """Every semantic problem of ``m`` (empty list when it can run).
 
@@ -347,8 +355,8 @@ def validate(m: Machine) -> list[AFSMError]:
         return problems
     if m.initial is not None and m.initial not in m.states:
         add(_err(m, f"initial state {m.initial!r} does not exist (rule: initial names a state)", m, "scxml"))
-    if m.default_lifetime_ns <= 0:
-        add(_err(m, "default lifetime must be positive", m, "scxml"))
+    if not _lifetime_ok(m.default_lifetime_ns):
+        add(_err(m, f"default lifetime must be positive and at most {MAX_LIFETIME_NS // 10**9} s", m, "scxml"))
     for key, decl in m.modules.items():
         if not isinstance(decl.name, str) or not _MODULE_NAME.fullmatch(decl.name) or key != decl.name:
             add(_err(m, f"module name {decl.name!r} is not an NCName (rule: module names are XML NCNames, "
@@ -356,8 +364,8 @@ def validate(m: Machine) -> list[AFSMError]:
         if decl.layer not in LAYERS:
             add(_err(m, f"module {decl.name!r} has unknown layer {decl.layer!r} (one of {', '.join(LAYERS)})", decl, "es:module"))
     for decl in m.events.values():
-        if decl.lifetime_ns is not None and decl.lifetime_ns <= 0:
-            add(_err(m, f"event {decl.name!r}: lifetime must be positive", decl, "es:event"))
+        if decl.lifetime_ns is not None and not _lifetime_ok(decl.lifetime_ns):
+            add(_err(m, f"event {decl.name!r}: lifetime must be positive and at most {MAX_LIFETIME_NS // 10**9} s", decl, "es:event"))
         if decl.source is not None and decl.source not in m.modules:
             add(_err(m, f"event {decl.name!r} comes from unknown module {decl.source!r} (rule: declare it with <es:module>)", decl, "es:event"))
     stored_names = {sto.name for _sid, t in m.transitions() for sto in t.stores}

@@ -473,7 +473,7 @@ class _Builder:
         elif tag == "event-applied":
             attrs += [("event", el.get("event")), ("state", el.get("state"))] + self.when(el)
         elif tag in ("object-learned", "place-learned"):
-            keys = ("type", "name", "owner", "colour", "attribute") if tag == "object-learned" else ("name",)
+            keys = ("type", "name", "owner", "colour", "attribute", "use") if tag == "object-learned" else ("name",)
             attrs += [(k, el.get(k)) for k in keys if el.get(k) is not None]
             if not attrs:
                 raise self.fail(el, f"<{tag}> needs at least one of {', '.join(keys)}")

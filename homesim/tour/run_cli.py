@@ -19,18 +19,16 @@ from __future__ import annotations
 import argparse
 import json
 import math
-import os
 import sys
 from pathlib import Path
 from typing import IO, Any
 
 from .. import cliargs
 from ..cliargs import OptionError
-from ..errors import HomesimError, InputError
-from ..xmlio import open_regular
+from ..errors import HomesimError
 from ..message import Message
 from .runner import Run, RunOptions, file_digest, store_digest
-from ..trace import TRACE_FORMAT
+from .tracerun import next_line, read_header, run_options, trace_lines
 
 BAR = 30
 
@@ -115,16 +113,16 @@ class Comparison:
     """A text stream that compares each trace line written to it with the original file's."""
 
     def __init__(self, path: Path) -> None:
-        self.fh = os.fdopen(open_regular(path, error=InputError), encoding="utf-8")
+        self.fh = trace_lines(path)
         self.line = 0
         self.diverged: tuple[int, str, str] | None = None
 
     def write(self, s: str) -> int:
         if self.diverged is None:  # the recorder writes one whole line per call
             self.line += 1
-            want = self.fh.readline()
+            want, utf8 = next_line(self.fh)
             if want != s:
-                self.diverged = (self.line, want.rstrip("\n"), s.rstrip("\n"))
+                self.diverged = (self.line, want.rstrip("\n") + ("" if utf8 else "  <- not UTF-8 text"), s.rstrip("\n"))
         return len(s)
 
     def flush(self) -> None:
@@ -132,7 +130,7 @@ class Comparison:
 
     def rest(self) -> str:
         """The original's next line, if any (a replay that ends early differs there)."""
-        return self.fh.readline().rstrip("\n")
+        return next_line(self.fh)[0].rstrip("\n")
 
     def close(self) -> None:
         self.fh.close()
@@ -141,22 +139,15 @@ class Comparison:
 def replay(trace: Path, *, out: IO[str] | None = None) -> int:
     """Re-run what ``trace``'s header names; 0 when the new trace is identical, 1 otherwise."""
     out = sys.stdout if out is None else out
-    try:
-        with os.fdopen(open_regular(trace, error=InputError), encoding="utf-8") as fh:
-            header = json.loads(fh.readline(1 << 20))
-    except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
-        raise HomesimError(f"{trace}: not a homesim trace ({exc})") from exc
-    if not isinstance(header, dict) or header.get("homesim_trace") != TRACE_FORMAT or not isinstance(header.get("run"), dict):
-        raise HomesimError(f"{trace}:1: the header does not name a run (write the trace with 'homesim run --trace')")
-    h = header["run"]
-    path = Path(str(h.get("scenario_file")))
+    h = read_header(trace)  # the whole header checked before anything in it is used
+    path = Path(h["scenario_file"])
     if not path.is_file():
         raise HomesimError(f"{trace}:1: the scenario file {path} named in the header does not exist")
     digest = file_digest(path)
-    if digest != h.get("scenario_digest"):
-        print(f"replay: {path} has changed since the trace was written ({h.get('scenario_digest')} then, {digest} now)", file=out)
+    if digest != h["scenario_digest"]:
+        print(f"replay: {path} has changed since the trace was written ({h['scenario_digest']} then, {digest} now)", file=out)
         return 1
-    if h.get("memory") is not None and h.get("memory_digest") is not None:
+    if h["memory"] is not None:
         now = store_digest(h["memory"])
         if now != h["memory_digest"]:
             print(f"replay: the store {h['memory']} has changed since the trace was written ({h['memory_digest']} then, "
@@ -165,12 +156,7 @@ def replay(trace: Path, *, out: IO[str] | None = None) -> int:
             return 1
     cmp = Comparison(trace)
     try:
-        opts = RunOptions(seed=h.get("seed"), until=h.get("until"), trace=cmp,  # type: ignore[arg-type]
-                          memory=None if h.get("memory") is None else Path(h["memory"]),
-                          subsystems=None if h.get("subsystems") is None else tuple(h["subsystems"]),
-                          metrics=None if h.get("metrics") is None else tuple(h["metrics"]),
-                          profile=h.get("profile"))
-        with Run.from_file(path, opts) as run:
+        with Run.from_file(path, run_options(h, until=h["until"], trace=cmp)) as run:
             run.run(stop=lambda: cmp.diverged is not None)
             if cmp.diverged is None:
                 run.finish()  # the closing questions to the scene model are in the trace too
@@ -184,7 +170,7 @@ def replay(trace: Path, *, out: IO[str] | None = None) -> int:
         n, want, got = cmp.diverged
         print(f"replay: {trace}:{n} differs\n  trace:  {want[:400]}\n  replay: {got[:400]}", file=out)
         return 1
-    print(f"replay: identical ({cmp.line} lines; {h.get('scenario_file')}, seed {h.get('seed')})", file=out)
+    print(f"replay: identical ({cmp.line} lines; {h['scenario_file']}, seed {h['seed']})", file=out)
     return 0
 
 

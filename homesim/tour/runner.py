@@ -48,10 +48,11 @@ from . import metrics as metrics_pkg
 from .. import deployment as deployment_mod
 from ..deployment import Deployment
 from ..errors import HomesimError, InputError, ScenarioError
-from ..heartbeat import HEALTH_CHANNEL, HeartbeatMonitor
+from ..heartbeat import HEALTH_CHANNEL, BackstopMonitor, HeartbeatMonitor
 from ..message import Message
 from .metrics.es import EsRecord
 from ..realtime import Stopwatch, peak_memory_mb
+from .runheader import check_metrics, check_subsystems
 from .expect import Verdict
 from ..scenario.loader import load_scenario
 from ..scenario.model import Scenario
@@ -133,6 +134,16 @@ class RobotConfig:
     profile: str = "full"  # which robot is simulated (robot.profiles)
 
 
+def _check_names(options: RunOptions) -> None:
+    """Refuse subsystems outside the robot's registry and unknown metrics (nothing named is imported)."""
+    for what, names, check in (("subsystems", options.subsystems, check_subsystems), ("metrics", options.metrics, check_metrics)):
+        if names is not None:
+            try:
+                check(names)
+            except ValueError as exc:
+                raise HomesimError(f"run option {what}: {exc}") from None
+
+
 class Run:
     """One scenario on one simulation, every part wired (see the module docstring)."""
 
@@ -141,6 +152,7 @@ class Run:
         self.scenario = scenario
         self.options = options
         self.on_line = on_line
+        _check_names(options)  # before anything is imported or built
         seed = scenario.seed if options.seed is None else options.seed
         self.profile = resolve_profile(options.profile or scenario.robot.profile, scenario)
         self.sim = Simulation(seed=seed, scenario=scenario.name, realtime=options.realtime,
@@ -203,12 +215,15 @@ class Run:
         self.supervisor = ExecutionSupervisor(self.sim)
         subsystems = biron.SUBSYSTEMS if options.subsystems is None else options.subsystems
         self.modules: dict[str, Any] = biron.install(self, subsystems)
-        # One heartbeat monitor: the robot's own (its watchdog, which also restarts modules) if
-        # a subsystem brought one, else the kernel's (two would report every failure twice).
-        self.monitor: HeartbeatMonitor | None = None
-        if not any(getattr(m, "monitors_heartbeats", False) for m in self.modules.values()):
-            self.monitor = HeartbeatMonitor(self.sim.bus.participant("monitor", host="robot"))
-            self.sim.spawn(self.monitor.run(), name="monitor")
+        # One heartbeat monitor reports: the robot's own (its watchdog, which also restarts modules)
+        # if a subsystem brought one, else the kernel's (two would report every failure twice). Behind
+        # the robot's, the kernel's stays as a backstop: silent while that one beats, it reports in its
+        # place once it is silent too (every module crashed, the watchdog included).
+        own = sorted(k for k, m in self.modules.items() if getattr(m, "monitors_heartbeats", False))
+        participant = self.sim.bus.participant("monitor", host="robot")
+        self.monitor: HeartbeatMonitor = (BackstopMonitor(participant, primary=self.modules[own[0]].name) if own
+                                          else HeartbeatMonitor(participant))
+        self.sim.spawn(self.monitor.run(), name="monitor")
         for f in scenario.faults:
             if f.module not in self.sim.modules:
                 raise ScenarioError(f"<{f.kind} module={f.module!r}>: no such module in this run; "
@@ -256,7 +271,8 @@ class Run:
                 self._say(m.created, "ES", f"rejected {x.get('name')} from {x.get('source')} "
                                            f"({x.get('reason')} in {x.get('state')}){detail}")
         elif m.channel == FAULT_CHANNEL:
-            self._say(m.created, "fault", f"{x.get('module')} {x.get('kind')}es")
+            why = " (it flooded the bus)" if x.get("reason") == "flood" else ""
+            self._say(m.created, "fault", f"{x.get('module')} {x.get('kind')}es{why}")
         else:
             self._say(m.created, "health", f"{x.tag} {x.get('module')}")
 

@@ -41,6 +41,7 @@ import asyncio
 import math
 import os
 from collections import deque
+from dataclasses import replace
 from typing import Any
 
 from lxml import etree
@@ -112,6 +113,8 @@ def choose(options: list[tuple[int, str]], answer: Any) -> int | None:
             return options[1][0]
         return None
     words = {c.get("name", "") for c in answer.iter() if c.get("name")}
+    if answer.get("side"):  # "the left one": the options say where each is ("the cup on the left")
+        words.add(answer.get("side", ""))
     if answer.get("type"):
         words.add(answer.get("type", "").replace("_", " "))
     scores = [(sum(w in text.split() or w == text for w in words), idx) for idx, text in options]
@@ -136,9 +139,14 @@ class Dialog(Module):
         barge_in_width: float = 20.0,
         partner_fresh: float = 1.0,
         ask_timeout: float = 10.0,
+        confirm_below: float | None = None,
     ) -> None:
         super().__init__(sim, name, host=host)
         self.doc = dialogs if isinstance(dialogs, Dialogs) else load(dialogs)
+        if confirm_below is not None:  # a more (or less) cautious robot than the document's: option dialog.confirm_below
+            if not 0.0 <= confirm_below <= 2.0:
+                raise ValueError(f"dialog.confirm_below must lie in [0, 2] (above 1: confirm every request), got {confirm_below}")
+            self.doc = replace(self.doc, confirm_below=confirm_below)
         self.manager = DialogManager(self.doc)
         scale = cost_scale(sim, self.name, self.bus.host)  # the papers' laptop: 1 (docs/deployment.md)
         self.dialog_cost = dialog_cost * scale

@@ -259,7 +259,7 @@ class ObjectAttention(Module):
         el.set("z", f"{c.z:.3f}")
         el.set("frame", "map")
         if obj is not None:
-            for tag in ("ATTRIBUTE", "POSITION"):
+            for tag in ("ATTRIBUTE", "USE", "POSITION"):  # USE: "my coffee cup" is for coffee
                 for ch in obj.iterfind(tag):
                     el.append(_copy(ch))
         el.append(attachment_element("colour_features", c.features(), inline=True))

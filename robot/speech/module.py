@@ -5,7 +5,8 @@ the older recogniser's ``wer`` stands in for a missing confidence as ``1 - wer``
 and its ``self="true"`` utterances are skipped).
 
 Output: ``/robot/speech/frames`` (``robot/schemas/speech-frames.xsd``):
-``<understood start end confidence [unknown ignored corrected partial]><SPEECH>..</SPEECH><words>..</words></understood>``
+``<understood start end confidence [unknown ignored corrected partial answer]><SPEECH><TIMESTAMP val/>..</SPEECH><words>..</words></understood>``
+(``TIMESTAMP``: the utterance's start in virtual milliseconds, as the papers' frames carry it)
 or ``<not_understood start end confidence [unknown] reason>words</not_understood>``.
 
 Timing (virtual, docs/semantics.md §7 / the papers' Fig. 6): recognition takes most
@@ -32,6 +33,7 @@ from __future__ import annotations
 
 import asyncio
 import re
+from copy import copy
 from collections import deque
 from dataclasses import dataclass
 from difflib import SequenceMatcher
@@ -86,7 +88,13 @@ def frame_message(u: Understanding, start: float, end: float, confidence: float)
             el.set(attr, _xml_safe(" ".join(words)))
     if u.partial:
         el.set("partial", "true")
-    el.append(u.frame)
+    if u.answer:
+        el.set("answer", u.answer)
+    # the frame carries when the utterance began, as the papers' frames do (<TIMESTAMP val/>, ms)
+    speech = etree.SubElement(el, "SPEECH")
+    etree.SubElement(speech, "TIMESTAMP", val=str(max(0, round(start * 1000.0))))
+    for act in u.frame:
+        speech.append(copy(act))  # the understanding's own frame stays as it was
     etree.SubElement(el, "words").text = _xml_safe(u.words)
     return el
 
