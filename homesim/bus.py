@@ -763,7 +763,7 @@ class Bus:
         """How ``sender``'s messages on ``channel`` reach each receiver, worked out once.
 
         One entry per route, in delivery order: ``(subscription, receiver, fifo, lo, span, path)``
-        where ``fifo`` is the pair's FIFO state, ``path`` the network's :class:`~homesim.network.Path`
+        where ``fifo`` is the pair's FIFO state, ``path`` the network's :class:`~homesim.network.Route`
         and ``lo``/``span`` the link's uniform delay (seconds) when the link is simple (no loss,
         jitter or bandwidth limit: one uniform draw, made inline by ``_publish``), else ``lo``
         is None and the network draws. Cached per participant; dropped when subscriptions,
@@ -777,7 +777,7 @@ class Bus:
         plan = []
         for sub in routes:
             receiver = sub.participant
-            path = net.path(sender.host, receiver.host)
+            path = net.route(sender.host, receiver.host)
             plan.append((sub, receiver, self._fifo(sender.name, receiver.name), path.lo, path.span, path))
         out = sender._plans[channel] = tuple(plan)
         return out
@@ -804,7 +804,7 @@ class Bus:
     def _schedule(self, sender: Participant, receiver: Participant, msg: Message, action: Callable[..., None], *args: Any) -> None:
         """Deliver ``msg`` to ``receiver`` after the link's delay, FIFO per pair."""
         net = self.network
-        path = net.path(sender.host, receiver.host)
+        path = net.route(sender.host, receiver.host)
         delay = net.draw(path, message_size(msg) if path.link.bandwidth_bps else 0)
         if delay is None:
             self._drop(msg, receiver.name, "lost")
