@@ -150,8 +150,10 @@ def test_the_kernel_never_names_the_robot_not_even_in_a_string():
     assert bad == []
 
 
-#: What every robot module may import of another robot package: the contract and the floor plan.
-ROBOT_SHARED = ("robot.contract", "robot.floorplan")
+#: What every robot module may import of another robot package: the contract, the floor plan, and the
+#: robot's configuration (its deployment: which host a module runs on and how fast that host is, for
+#: processing costs; its profile: which robot is simulated). None of them imports another robot package.
+ROBOT_SHARED = ("robot.contract", "robot.floorplan", "robot.deployment", "robot.profiles")
 
 
 def test_robot_modules_talk_only_over_the_bus():
