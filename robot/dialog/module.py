@@ -7,7 +7,10 @@ Listens to ``/robot/speech/frames`` (the understanding), ``/robot/es/conditions/
 ``/robot/es/events`` and is the only module that speaks
 (``/robot/speaker/say``). Serves ``dialog/ask`` for the object attention's
 clarification questions (``<ask timeout><option index text/>+</ask>`` ->
-``<answer index/>`` or ``<answer none="true"/>``).
+``<answer index/>`` or ``<answer none="true"/>``, the latter with ``deixis="true"`` for "this one"
+and the answer's ``POSITION`` for "the one on the table": :func:`unchosen_answer`); with
+``about="occluded"`` it asks the partner to step aside (she stands between the camera and what she
+points at) and answers ``<answer said="true"/>``.
 
 Timing (virtual, docs/semantics.md §7): the dialog is a serial processor; each input
 costs ``dialog_cost``; its events leave then, and what the robot says leaves
@@ -99,6 +102,11 @@ def choose(options: list[tuple[int, str]], answer: Any) -> int | None:
         return None
     if answer.tag == "YES":
         return options[0][0] if len(options) == 1 else None
+    side = answer.get("side")
+    if side is not None:  # "the left one": the option the object attention worded by its side
+        words = "in the middle" if side == "middle" else f"on the {side}"
+        hits = [idx for idx, text in options if words in text]
+        return hits[0] if len(hits) == 1 else None
     index = answer.get("index")
     if index is not None:
         if index == "last":
@@ -115,6 +123,20 @@ def choose(options: list[tuple[int, str]], answer: Any) -> int | None:
     best = max(s for s, _ in scores)
     winners = [idx for s, idx in scores if s == best]
     return winners[0] if best > 0 and len(winners) == 1 else None
+
+
+def unchosen_answer(value: Any) -> etree._Element:
+    """The reply to ``dialog/ask`` when the words alone pick no option: ``none="true"``, with what the
+    asker can still use: ``deixis="true"`` ("this one": look where the partner points now) and the
+    answer's ``POSITION`` ("the one on the table": which is on the table)."""
+    out = etree.Element("answer", none="true")
+    if isinstance(value, etree._Element) and value.tag == "THAT_ONE":
+        if value.get("deixis") == "true":
+            out.set("deixis", "true")
+        pos = value.find("POSITION")
+        if pos is not None:
+            out.append(etree.fromstring(etree.tostring(pos)))
+    return out
 
 
 class Dialog(Module):
@@ -308,9 +330,23 @@ class Dialog(Module):
             self._say_next()
 
     # ---------------------------------------------------------------------- RPC
+    async def _until_said(self, fut: asyncio.Future[Any] | None = None) -> None:
+        """Wait until what was just emitted has been said (or ``fut`` is done: answered meanwhile)."""
+        said = self._busy_until + self.generation_time  # when it is handed to the speaker
+        await asyncio.sleep(max(0.0, said - self.now) + 0.01)
+        while (self._talking or self._queue) and not (fut is not None and fut.done()):
+            await asyncio.sleep(0.1)
+
     async def _rpc_ask(self, msg: Message) -> etree._Element:
         """Clarification: ask the partner which option they mean; reply with its index or none."""
         req = msg.xml
+        if req.get("about") == "occluded":  # no choice to make: ask her to step aside, answer when said
+            inst, outs = self.manager.start("step_aside", {"asked": "true"})
+            if inst is None:
+                return etree.Element("answer", none="true")
+            self._emit(outs, msg.id)
+            await self._until_said()
+            return etree.Element("answer", said="true")
         options = [(int(o.get("index", str(i))), o.get("text", "")) for i, o in enumerate(req.iterfind("option"))]
         timeout = float(req.get("timeout", str(self.ask_timeout)))
         fut: asyncio.Future[Instance] = self.sim.loop.create_future()
@@ -325,12 +361,16 @@ class Dialog(Module):
             return etree.Element("answer", none="true")
         self._emit(outs, msg.id)
         try:
+            # The partner has ``timeout`` s to answer once the question has been said (a long
+            # question with its options takes several seconds to say).
+            await self._until_said(fut)
             async with asyncio.timeout(timeout):
                 done = await fut
         except TimeoutError:
             self._emit(self.manager.cancel(inst), msg.id)
             return etree.Element("answer", none="true")
-        picked = choose(options, done.slots["choice"].value) if done.success else None
+        value = done.slots["choice"].value if done.success else None
+        picked = choose(options, value)
         if picked is None:
-            return etree.Element("answer", none="true")
+            return unchosen_answer(value)
         return etree.Element("answer", index=str(picked))

@@ -306,11 +306,18 @@ def build(tree: Tree) -> etree._Element:
         for t in _tokens(act):
             if t.type == "ORD":
                 el.set("index", t.value)
+            elif t.type in ("SIDE", "SIDEONE"):
+                el.set("side", t.value)
         colours, attrs = _modifiers(act)
         if colours:
             _S(el, "COLOUR", name=colours[-1])
         for a in attrs:
             _S(el, "ATTRIBUTE", name=a)
+        pos = _sub(act, "position")
+        if pos is not None:
+            el.append(_position(pos))
+        if _sub(act, "deixis") is not None and not el.attrib and len(el) == 0:
+            el.set("deixis", "true")  # bare "this one", "that one": look where the speaker points
     elif kind in ("teach_object", "object_fragment"):
         speech.append(_object(_sub(act, "object_np"), gesture=kind == "teach_object",  # type: ignore[arg-type]
                               position=_sub(act, "position"), tail=_sub(act, "owner_tail")))
