@@ -231,9 +231,10 @@ class ObjectAttention(Module):
         """Look where she points for ``look_time`` s, merge the detections, resolve the reference."""
         self._seen = []
         self._looking = True
+        fallback = self._ray_target(pointing) if pointing is not None else None
         t_end = self.now + self.look_time
         while self.now < t_end - 1e-9:
-            self._publish_focus(cause)
+            self._publish_focus(cause, fallback)
             await asyncio.sleep(0.2)
         self._looking = False
         pose = self.pose
@@ -314,10 +315,12 @@ class ObjectAttention(Module):
         x = msg.xml
         self._partner = (msg.created, math.radians(float(x.get("bearing"))), float(x.get("distance")))  # type: ignore[arg-type]
 
-    def _publish_focus(self, cause: str) -> None:
+    def _publish_focus(self, cause: str, fallback: tuple[float, float] | None = None) -> None:
+        """Where the camera looks: where the pointing seen now comes down, else ``fallback`` (where
+        an earlier pointing came down: she pointed, then stepped aside), else ahead and down."""
         pose = self.pose
         assert pose is not None
-        target = self.gestures.target(self.now)
+        target = self.gestures.target(self.now) or fallback
         if target is None:  # no gesture: look ahead and down, at a table in front of the robot
             bearing, dist = 0.0, 1.2
         else:
