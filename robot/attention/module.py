@@ -11,10 +11,12 @@ the person of interest (:mod:`.selection`), advance the attention FSM
 - ``/robot/attention/tracks`` every scan, ``/robot/attention/state`` on each
   change and once a second, ``/robot/attention/partner`` every scan while a
   partner exists (docs/robot-contract.md);
-- ES events on ``/robot/es/events``: ``potential_partner`` (``<PERSON id
+- ES events on ``/robot/es/events`` (each names the laser scan it was decided
+  on as its cause, so the trace links a scan to the event): ``potential_partner`` (``<PERSON id
   bearing distance speaking facing/>``) when the selected person speaks
   while facing the robot, repeated every ``pp_repeat`` s while it lasts;
-  ``potential_partner_lost`` when they stop; ``partner_lost`` in a
+  ``potential_partner_lost`` when they stop and the last ``potential_partner``
+  has run out of its validity (``pp_valid``, its AFSM lifetime); ``partner_lost`` in a
   top-down state when the partner's track has had no anchored evidence
   for ``partner_lost_after`` s (once per loss): a leg update, a frontal
   face, a torso blob at the partner's bearing (``/robot/camera/torsos``)
@@ -57,6 +59,8 @@ from homesim.message import Message
 from homesim.module import Module
 from homesim.xmlio import hardened_parser
 
+from robot.contract import ATTENTION_STATE, BASE_CMD, ES_EVENTS, ES_ORDERS, FACES, FOCUS, ODOMETRY, PARTNER, POSE, PTU_CMD, SCAN, SOURCES, STEER, TORSOS, TRACKS
+
 from .clutter import FurnitureLegs
 from .cues import CueSpec, Hysteresis, bearings_from, match_faces, match_sounds
 from .fsm import CAMERA, TURNS, AttentionFSM, OrderRefused
@@ -65,26 +69,12 @@ from .selection import SelectionParams, Selector
 from .tracker import Tracks, TrackerSpec
 
 SCHEMAS = Path(__file__).resolve().parent.parent / "schemas"
-TRACKS = "/robot/attention/tracks"
-STATE = "/robot/attention/state"
-PARTNER = "/robot/attention/partner"
-STEER = "/robot/audio/steer"
-PTU_CMD = "/robot/ptu/cmd"
-BASE_CMD = "/robot/base/cmd"
-EVENTS = "/robot/es/events"
-ORDERS = "/robot/es/orders/person_attention"
-SCAN = "/robot/laser/scan"
-ODOMETRY = "/robot/odometry"
-FACES = "/robot/camera/faces"
-TORSOS = "/robot/camera/torsos"
-SOUNDS = "/robot/audio/sources"
-FOCUS = "/robot/objects/focus"
-POSE = "/robot/localisation/pose"
+ORDERS = f"{ES_ORDERS}/person_attention"
 
 #: The attention system's own typed channels (declared by :func:`declare_channels`).
 CHANNEL_SCHEMAS = {
     TRACKS: SCHEMAS / "attention-tracks.xsd",
-    STATE: SCHEMAS / "attention-state.xsd",
+    ATTENTION_STATE: SCHEMAS / "attention-state.xsd",
     PARTNER: SCHEMAS / "attention-partner.xsd",
 }
 
@@ -100,6 +90,10 @@ class AttentionParams:
     """Every time limit and gain of the attention behaviour, with its default."""
 
     pp_repeat: float = 1.0  # s: potential_partner repeated while it lasts (its lifetime is 1.5 s)
+    # s: the last potential_partner stays valid this long (its lifetime in the AFSM, the papers'
+    # "how long an event remains valid"): potential_partner_lost goes out only when it has run out,
+    # so a greeting still on its way (recognition, then the WLAN) meets the partner it belongs to.
+    pp_valid: float = 1.5
     partner_lost_after: float = 2.0  # s without anchored evidence of the partner (legs, frontal face, torso, voice) ...
     # ... is "lost" in Follow; in Interaction and Object only with evidence of leaving (docs/attention.md):
     interaction_radius: float = 3.0  # m: last seen further from the robot than this is outside the interaction space
@@ -186,6 +180,7 @@ class PersonAttention(Module):
         self._state_sent: tuple[str, int | None, int | None] | None = None
         self._state_at = -math.inf
         self.scans = 0
+        self._scan_id: str | None = None  # the scan being processed: the cause of the events it decides
         self.furniture: FurnitureLegs | None = None  # from map_server/map, once it answered
         self._map_pose: tuple[float, float, float, float] | None = None  # t, x, y, theta (localiser)
         self._map_odom: tuple[float, float, float] | None = None  # odometry when that pose came
@@ -195,7 +190,7 @@ class PersonAttention(Module):
         self.bus.subscribe(ODOMETRY, self._on_odometry)
         self.bus.subscribe(FACES, self._on_faces)
         self.bus.subscribe(TORSOS, self._on_torsos)
-        self.bus.subscribe(SOUNDS, self._on_sounds)
+        self.bus.subscribe(SOURCES, self._on_sounds)
         self.bus.subscribe(FOCUS, self._on_focus)
         self.bus.subscribe(ORDERS, self._on_order)
         self.bus.subscribe(POSE, self._on_pose)
@@ -371,6 +366,7 @@ class PersonAttention(Module):
             self._bearings = math.radians(float(key[1])) + math.radians(float(key[2])) * np.arange(n)
             self._bearings_key = key
             self.legs = replace(self.legs, offset=float(el.get("offset", self.legs.offset)))
+        self._scan_id = msg.id
         self.process(t, msg.attachments["ranges"])
 
     def _leg_detector(self) -> LegDetector:
@@ -445,7 +441,7 @@ class PersonAttention(Module):
                 person = etree.Element("PERSON", id=f"t{pp}", bearing=_deg(bearing[i]), distance=f"{dist[i]:.3f}", speaking="true", facing="true")
                 self._event("potential_partner", (person,))
                 self.pp_sent, self._pp_at = pp, t
-        elif self.pp_sent is not None:
+        elif self.pp_sent is not None and t - self._pp_at >= self.params.pp_valid - 1e-9:
             self._event("potential_partner_lost")
             self.pp_sent = None
 
@@ -525,7 +521,8 @@ class PersonAttention(Module):
         el = etree.Element("event", name=name)
         for c in children:
             el.append(c)
-        self.bus.publish(EVENTS, el, transfer=True)
+        # The scan this decision was taken on is its cause: the trace links the scan to the event.
+        self.bus.publish(ES_EVENTS, el, transfer=True, causes=(self._scan_id,) if self._scan_id else ())
 
     # ------------------------------------------------------------ actions
     def _act(self, t: float, row: int, bearing: list[float], dist: list[float], category: int) -> None:
@@ -638,7 +635,7 @@ class PersonAttention(Module):
         sel = self.partner if self.fsm.top_down else self.selector.selected
         key = (self.fsm.state, sel, self.partner)
         if force or key != self._state_sent or t - self._state_at >= self.params.state_refresh:
-            self.bus.publish(STATE, etree.Element(
+            self.bus.publish(ATTENTION_STATE, etree.Element(
                 "attention", state=key[0], selected=f"t{sel}" if sel is not None else "", partner=f"t{self.partner}" if self.partner is not None else "", time=f"{t:.6f}",
             ), transfer=True)
             self._state_sent, self._state_at = key, t

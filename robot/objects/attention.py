@@ -20,13 +20,14 @@ Bus (docs/robot-contract.md). On the ES order ``find_object`` (on
    into candidates (:mod:`robot.objects.resolve`);
 4. resolves the reference from the frame's type, name and colour, the
    pointing ray and the distance; when two or more fit about equally it asks
-   through ``dialog/ask`` ("Do you mean the red cup or the blue one?", "the
-   cup on the left or the one on the right?") and takes the answer: an
-   option ("the blue one", "the left one"), "this one" with a new pointing
-   gesture (resolved again among the options, by the gesture alone), or "the
-   one on the table" (the only option standing on it, from the floor plan);
-   the object stored is the chosen candidate's own position (the mean of its
-   own detections), never a mix of candidates;
+   the partner through the ES (event ``clarification``; the ES sends the dialog
+   the condition ``ask``, "Do you mean the cup on the left or the one on the
+   right?", and the dialog's answer back as the order ``clarified``) and takes
+   the answer: an option ("the blue one", "the left one"), "this one" with a
+   new pointing gesture (resolved again among the options, by the gesture
+   alone), or "the one on the table" (the only option standing on it, from the
+   floor plan); the object stored is the chosen candidate's own position (the
+   mean of its own detections), never a mix of candidates;
 5. sends ES event ``object_recognized`` with ``<OBJECT type name [owner]
    colour x y z [size] frame="map">`` (``size``: metres across, measured from
    the image extent the camera reports and the distance) plus the colour features as an inline
@@ -53,19 +54,16 @@ from homesim.message import Message
 from homesim.module import Module
 from robot.floorplan import FloorPlan, parse_map
 
+from robot.contract import ES_EVENTS, ES_ORDERS, FOCUS, GESTURES, OBJECTS, PARTNER, POSE
+
 from .gestures import CAMERA_HEIGHT, CAMERA_OFFSET, GestureTracker, camera_to_map
 from .resolve import Candidate, Pointing, Resolution, Wanted, merge, option_texts, resolve
 
 if TYPE_CHECKING:
     from homesim.sim import Simulation
 
-ORDERS = "/robot/es/orders/object_attention"
-GESTURES = "/robot/camera/gestures"
-OBJECTS = "/robot/camera/objects"
-POSE = "/robot/localisation/pose"
-FOCUS = "/robot/objects/focus"
-EVENTS = "/robot/es/events"
-PARTNER = "/robot/attention/partner"
+ORDERS = f"{ES_ORDERS}/object_attention"
+EVENTS = ES_EVENTS
 VIEW_HALF_WIDTH = math.radians(24.0)  # the camera's half field of view
 BODY_HALF_WIDTH = 0.3  # metres either side of a person's centre that hide what is behind (shoulders, arm)
 
@@ -118,6 +116,7 @@ class ObjectAttention(Module):
         self._looking = False
         self._seen: list[tuple[str, float, float, float, tuple[float, float, float], float | None]] = []
         self._search: asyncio.Task[None] | None = None
+        self._answer: asyncio.Future[etree._Element] | None = None  # waiting for the order "clarified"
         self.last: Resolution | None = None  # the latest resolution (for tests and introspection)
         self.bus.subscribe(ORDERS, self._on_order)
         self.bus.subscribe(GESTURES, self._on_gestures)
@@ -175,6 +174,11 @@ class ObjectAttention(Module):
 
     # ------------------------------------------------------------ orders
     def _on_order(self, msg: Message) -> None:
+        if msg.xml.get("name") == "clarified":  # the partner's answer to our question, through the ES
+            answer = next((p.find("ANSWER") for p in msg.xml.iterfind("param") if p.find("ANSWER") is not None), None)
+            if self._answer is not None and not self._answer.done() and answer is not None:
+                self._answer.set_result(answer)
+            return
         if msg.xml.get("name") != "find_object":
             return
         if self._search is not None and not self._search.done():
@@ -330,22 +334,33 @@ class ObjectAttention(Module):
         self.bus.publish(FOCUS, etree.Element("focus", bearing=f"{math.degrees(bearing):.2f}", distance=f"{dist:.3f}"), causes=(cause,))
 
     async def _ask(self, cands: list[Candidate], wanted: Wanted, pose: tuple[float, float, float], cause: str) -> Candidate | None:
+        """Ask the partner which candidate they mean, through the ES (the papers' control flow):
+        the event ``clarification`` (``<OPTIONS timeout><option index text/>+</OPTIONS>``) becomes the
+        dialog's condition ``ask``; the dialog's answer comes back as the order ``clarified``
+        (``<ANSWER index/>`` or ``none``). No answer within ``ask_timeout`` + 2 s: None."""
         asked = self.now
         texts = option_texts(cands, wanted, pose)
-        ask = etree.Element("ask", timeout=f"{self.ask_timeout:g}")
+        opts = etree.Element("OPTIONS", timeout=f"{self.ask_timeout:g}")
         for i, t in enumerate(texts):
-            etree.SubElement(ask, "option", index=str(i), text=t)
+            etree.SubElement(opts, "option", index=str(i), text=t)
+        ev = etree.Element("event", name="clarification")
+        ev.append(opts)
+        fut: asyncio.Future[etree._Element] = self.sim.loop.create_future()
+        self._answer = fut
+        self.bus.publish(ES_EVENTS, ev, causes=(cause,), transfer=True)
         try:
-            # The dialog gives her ask_timeout s after it said the question (which takes a while).
-            reply = await self.bus.call("dialog", "ask", ask, timeout=self.ask_timeout + 20.0, causes=(cause,))
-        except Exception:  # no dialog, or it failed: the partner could not be asked
+            async with asyncio.timeout(self.ask_timeout + 20.0):  # the question itself takes a while to say
+                answer = await fut
+        except TimeoutError:  # no dialog, or the ES did not route the question: the partner could not be asked
             return None
-        idx = reply.xml.get("index")
-        if idx is not None and idx.isdigit() and int(idx) < len(cands) and reply.xml.get("none") != "true":
+        finally:
+            self._answer = None
+        idx = answer.get("index")
+        if idx is not None and idx.isdigit() and int(idx) < len(cands) and answer.get("none") != "true":
             return cands[int(idx)]
-        if reply.xml.get("deixis") == "true":  # "this one": where she points now
+        if answer.get("deixis") == "true":  # "this one": where she points now
             return await self._pointed_again(cands, wanted, pose, asked)
-        pos = reply.xml.find("POSITION")
+        pos = answer.find("POSITION")
         if pos is not None:  # "the one on the table": the only candidate standing on it
             ground = pos.find("TITLE")
             on = [c for c in cands if ground is not None and self._on_furniture(c, ground.get("name", ""))]
@@ -392,16 +407,16 @@ class ObjectAttention(Module):
         if c.size is not None:
             el.set("size", f"{c.size:.3f}")
         if obj is not None:
-            for tag in ("ATTRIBUTE", "POSITION"):
+            for tag in ("ATTRIBUTE", "USE", "POSITION"):  # USE: "my coffee cup" is for coffee
                 for ch in obj.iterfind(tag):
                     el.append(_copy(ch))
         el.append(attachment_element("colour_features", c.features(), inline=True))
         ev = etree.Element("event", name="object_recognized")
         ev.append(el)
-        self.bus.publish(EVENTS, ev, causes=(cause,))
+        self.bus.publish(ES_EVENTS, ev, causes=(cause,))
 
     def _not_found(self, reason: str, cause: str) -> None:
-        self.bus.publish(EVENTS, etree.Element("event", name="object_not_found", reason=reason), causes=(cause,))
+        self.bus.publish(ES_EVENTS, etree.Element("event", name="object_not_found", reason=reason), causes=(cause,))
 
 
 def _copy(el: etree._Element) -> etree._Element:
