@@ -266,3 +266,29 @@ def test_any_header_is_accepted_checked_or_refused_in_one_line(run, top):
     assert isinstance(h["scenario_file"], str) and isinstance(h["seed"], int) and h["seed"] >= 0
     assert h["until"] is None or (isinstance(h["until"], float) and h["until"] >= 0)
     assert h["subsystems"] is None or isinstance(h["subsystems"], tuple)
+
+
+def test_a_rerun_never_opens_the_store_the_header_names_for_writing(tmp_path, capsys, monkeypatch):
+    """replay, plot and export re-run with a private copy of the header's store: the store a trace names
+    (untrusted input) is never written (it was: a replay wrote what the re-run learned to it, so the next
+    replay of the same trace could differ), and the re-run's header still names it (replay: identical)."""
+    from homesim.memory import sqlite as store_module
+
+    mem = tmp_path / "mem"
+    trace = tmp_path / "t.jsonl"
+    assert main(["run", str(SCENARIO), "--until", "1", "--quiet", "--memory", str(mem), "--trace", str(trace)]) == 0
+    before = {p.name: p.read_bytes() for p in mem.iterdir()}
+    opened: list[Path] = []
+    real_init = store_module.SqliteStore.__init__
+
+    def spy(self, path, **kw):  # noqa: ANN001
+        opened.append(Path(path).resolve())
+        real_init(self, path, **kw)
+
+    monkeypatch.setattr(store_module.SqliteStore, "__init__", spy)
+    for reader in HEADER_READERS:
+        code = main(READERS[reader](trace, tmp_path))
+        assert code == 0, (reader, capsys.readouterr())
+        assert opened and all(mem.resolve() not in p.parents for p in opened), (reader, opened)
+        opened.clear()
+    assert {p.name: p.read_bytes() for p in mem.iterdir()} == before

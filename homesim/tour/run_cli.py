@@ -28,7 +28,7 @@ from ..cliargs import OptionError
 from ..errors import HomesimError
 from ..message import Message
 from .runner import Run, RunOptions, file_digest, store_digest
-from .tracerun import next_line, read_header, run_options, trace_lines
+from .tracerun import next_line, read_header, run_options, store_copy, trace_lines
 
 BAR = 30
 
@@ -155,8 +155,10 @@ def replay(trace: Path, *, out: IO[str] | None = None) -> int:
                   "store made before the run)", file=out)
             return 1
     cmp = Comparison(trace)
+    store = store_copy(h)  # the re-run writes what it learns to a copy, never to the store the trace names
     try:
-        with Run.from_file(path, run_options(h, until=h["until"], trace=cmp)) as run:
+        with Run.from_file(path, run_options(h, until=h["until"], trace=cmp,
+                                             store=None if store is None else Path(store.name))) as run:
             run.run(stop=lambda: cmp.diverged is not None)
             if cmp.diverged is None:
                 run.finish()  # the closing questions to the scene model are in the trace too
@@ -166,6 +168,8 @@ def replay(trace: Path, *, out: IO[str] | None = None) -> int:
                 cmp.diverged = (cmp.line + 1, extra, "<the replay's trace ends here>")
     finally:
         cmp.close()
+        if store is not None:
+            store.cleanup()
     if cmp.diverged is not None:
         n, want, got = cmp.diverged
         print(f"replay: {trace}:{n} differs\n  trace:  {want[:400]}\n  replay: {got[:400]}", file=out)

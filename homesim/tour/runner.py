@@ -116,6 +116,9 @@ class RunOptions:
     metrics: tuple[str, ...] | None = None  # None: every registered metric
     strict: bool | None = None  # True: validate every message on a typed channel; None: Simulation's default (homesim.bus)
     profile: str | None = None  # which robot (robot.profiles); None: the scenario's <robot profile>, else the default
+    # The store the trace header names when ``memory`` is a private copy of it (a replay never writes to
+    # the store a trace names: it is untrusted input, and a second replay needs the store unchanged).
+    memory_as: Path | None = None
 
 
 @dataclass(frozen=True)
@@ -168,7 +171,7 @@ class Run:
             "scenario_digest": digest,
             "seed": seed,
             "until": options.until,
-            "memory": None if options.memory is None else str(options.memory),
+            "memory": None if options.memory is None else str(options.memory_as or options.memory),
             "memory_digest": None if options.memory is None else store_digest(options.memory),
             "subsystems": None if options.subsystems is None else list(options.subsystems),
             "metrics": None if options.metrics is None else list(options.metrics),
@@ -199,7 +202,7 @@ class Run:
             self.sim.traces.append(self.trace)
         r = scenario.robot
         self.config = RobotConfig(
-            seed=seed, memory_dir=self.header["memory"], max_speed=r.max_speed, max_turn=r.max_turn,
+            seed=seed, memory_dir=None if options.memory is None else str(options.memory), max_speed=r.max_speed, max_turn=r.max_turn,
             laser_rate=r.laser_rate, camera_rate=r.camera_rate, audio_rate=r.audio_rate,
             odometry_rate=r.odometry_rate, options=dict(r.options), profile=self.profile,
         )

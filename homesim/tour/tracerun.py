@@ -12,6 +12,9 @@ never shows a run other than the one recorded.
 from __future__ import annotations
 
 import os
+import shutil
+import tempfile
+import weakref
 from pathlib import Path
 from typing import IO, Any
 
@@ -21,11 +24,34 @@ from .runner import Run, RunOptions, file_digest, store_digest
 from ..xmlio import open_regular
 
 
-def run_options(h: dict[str, Any], *, until: float | None, trace: Any) -> RunOptions:
-    """The options of the run a checked header (:func:`read_header`) names."""
+def run_options(h: dict[str, Any], *, until: float | None, trace: Any, store: Path | None = None) -> RunOptions:
+    """The options of the run a checked header (:func:`read_header`) names.
+
+    ``store``: the private copy of the header's store the run uses (:func:`store_copy`); the
+    header written by the re-run still names the original.
+    """
+    memory = None if h["memory"] is None else Path(h["memory"])
     return RunOptions(seed=h["seed"], until=until, trace=trace,
-                      memory=None if h["memory"] is None else Path(h["memory"]), subsystems=h["subsystems"],
+                      memory=store if store is not None and memory is not None else memory,
+                      memory_as=memory if store is not None else None, subsystems=h["subsystems"],
                       metrics=h["metrics"], profile=h.get("profile"))
+
+
+def store_copy(h: dict[str, Any]) -> tempfile.TemporaryDirectory[str] | None:
+    """A private copy of the store directory a checked header names (its ``*.sqlite`` files and their
+    journals), or None if it names none: a replay, plot or export writes what the re-run learns
+    there, never to the store the (untrusted) trace names."""
+    if h["memory"] is None:
+        return None
+    tmp = tempfile.TemporaryDirectory(prefix="homesim-replay-store-")
+    try:
+        for p in sorted(Path(h["memory"]).glob("*.sqlite*")):
+            if p.is_file() and (p.suffix == ".sqlite" or p.name.endswith(".sqlite-journal")):
+                shutil.copyfile(p, Path(tmp.name) / p.name)
+    except OSError as exc:
+        tmp.cleanup()
+        raise InputError(f"cannot copy the store {h['memory']} named in the header: {exc.strerror}", line=1) from None
+    return tmp
 
 
 def read_header(trace: str | os.PathLike[str]) -> dict[str, Any]:
@@ -114,12 +140,17 @@ def rerun(trace: str | os.PathLike[str], *, until: float | None = None) -> tuple
         raise InputError(f"t = {until:g} s is after the end of the recorded run ({end:g} s)", source=str(path))
     stop = until if until is not None else end
     check = TraceCheck(path)
+    store = store_copy(h)
     try:
-        opts = run_options(h, until=stop, trace=check)
+        opts = run_options(h, until=stop, trace=check, store=None if store is None else Path(store.name))
         run = Run.from_file(scen, opts)
     except BaseException:
         check.close()
+        if store is not None:
+            store.cleanup()
         raise
+    if store is not None:
+        weakref.finalize(run, store.cleanup)  # the copy lives as long as the run
     if until is not None and until > run.scenario.duration:
         run.close()
         check.close()
