@@ -52,6 +52,7 @@ from __future__ import annotations
 
 import asyncio
 import inspect
+import math
 import os
 import re
 from collections import deque
@@ -116,6 +117,17 @@ _Element = etree._Element
 _Entity = etree.Entity
 #: Default of :attr:`Bus.max_sends_per_s`.
 MAX_SENDS_PER_S = 10_000
+
+
+def _created_ns(created: float, now: int, channel: str) -> int:
+    """A sender's own creation time (seconds) as ns: finite and not after the send (an event created in
+    the future would jump the ES's queue and never expire in time); otherwise :class:`BusError`."""
+    if not isinstance(created, (int, float)) or isinstance(created, bool) or not math.isfinite(created):
+        raise BusError(f"{channel}: created={created!r} is not a finite virtual time in seconds")
+    ns = to_ns(created) if created <= (now + 1) / NS_PER_S else now + 1  # (1e300 s overflows to_ns)
+    if ns > now:
+        raise BusError(f"{channel}: created={created!r} s is after the send ({now / NS_PER_S:.9f} s)")
+    return ns
 _new = object.__new__
 
 
@@ -316,7 +328,7 @@ class Participant:
                 name,
                 channel,
                 xml,
-                now if created is None else to_ns(created),
+                now if created is None else _created_ns(created, now, channel),
                 now,
                 causes if causes.__class__ is tuple else tuple(causes),
                 _frozen_attachments(attachments, channel) if attachments else _NO_ATTACHMENTS,
@@ -487,7 +499,7 @@ class Participant:
             name,
             channel,
             xml,
-            now if created is None else to_ns(created),
+            now if created is None else _created_ns(created, now, channel),
             now,
             causes if causes.__class__ is tuple else tuple(causes),
             _frozen_attachments(attachments, channel) if attachments else _NO_ATTACHMENTS,

@@ -80,7 +80,7 @@ def test_a_machine_with_an_absurd_lifetime_is_invalid():
 @pytest.mark.parametrize("lifetime", ["1" + "0" * 400, "1e400", "nan", "inf", "-1", "0", "3600.5", "abc"])
 def test_an_event_with_an_absurd_lifetime_on_the_bus_is_a_reported_drop(lifetime):
     from homesim.sim import Simulation
-    from robot.supervisor import EVENT_CHANNEL, ExecutionSupervisor, event_xml
+    from robot.supervisor import ES_EVENTS as EVENT_CHANNEL, ExecutionSupervisor, event_xml
 
     with Simulation(seed=1, strict=False) as sim:  # an element built through the API: not validated
         trace = sim.record_trace()
@@ -95,3 +95,25 @@ def test_an_event_with_an_absurd_lifetime_on_the_bus_is_a_reported_drop(lifetime
         drops = [r for r in trace.records() if r.get("kind") == "drop"]
         assert len(drops) == 1 and "lifetime" in drops[0]["reason"], drops
         assert es.engine.stats()["queued"] == 1
+
+
+@pytest.mark.parametrize("created", [float("inf"), float("nan"), 1e300, 0.5])
+def test_a_creation_time_not_finite_or_after_the_send_is_refused_and_nothing_is_sent(created):
+    """publish(created=...) took any float: inf/NaN failed inside int() with no channel named, and an
+    event 'created' 1e300 s in the future was queued by the ES ahead of everything and applied."""
+    from homesim.errors import BusError
+    from homesim.sim import Simulation
+
+    sim = Simulation(seed=1, scenario="created")
+    try:
+        got: list[str] = []
+        sim.bus.participant("sink").subscribe("/x", lambda m: got.append(m.id))
+        sender = sim.bus.participant("sender")
+        sim.run(until=0.25)
+        with pytest.raises(BusError, match="/x: created="):
+            sender.publish("/x", "<x/>", created=created)
+        sender.publish("/x", "<x/>", created=0.25)  # at the send: fine
+        sim.run(until=1.0)
+        assert len(got) == 1  # only the good one arrives
+    finally:
+        sim.close()
