@@ -80,7 +80,8 @@ def test_a_machine_with_an_absurd_lifetime_is_invalid():
 @pytest.mark.parametrize("lifetime", ["1" + "0" * 400, "1e400", "nan", "inf", "-1", "0", "3600.5", "abc"])
 def test_an_event_with_an_absurd_lifetime_on_the_bus_is_a_reported_drop(lifetime):
     from homesim.sim import Simulation
-    from robot.supervisor import EVENT_CHANNEL, ExecutionSupervisor, event_xml
+    from robot.contract import ES_EVENTS as EVENT_CHANNEL
+    from robot.supervisor import ExecutionSupervisor, event_xml
 
     with Simulation(seed=1, strict=False) as sim:  # an element built through the API: not validated
         trace = sim.record_trace()

@@ -30,8 +30,9 @@ from lxml import etree
 
 from homesim.message import Message
 from homesim.module import Module
+from robot.contract import ES_EVENTS, ES_ORDERS, FOCUS
 
-from .attention import EVENTS, FOCUS, ORDERS, _copy, wanted_from
+from .attention import _copy, wanted_from
 
 #: Where the Object state looks (robot frame): straight ahead ...
 FIXED_BEARING = 0.0
@@ -46,7 +47,7 @@ class VerbalObjectAttention(Module):
         super().__init__(sim, name, host="robot")
         self.look_time = look_time
         self._search: asyncio.Task[None] | None = None
-        self.bus.subscribe(ORDERS, self._on_order)
+        self.bus.subscribe(ES_ORDERS, self._on_order)
 
     async def run(self) -> None:
         while True:
@@ -73,12 +74,12 @@ class VerbalObjectAttention(Module):
             await asyncio.sleep(0.2)
         wanted = wanted_from(obj)
         if not wanted.type and not wanted.name:
-            self.bus.publish(EVENTS, etree.Element("event", name="object_not_found", reason="no_type"), causes=(cause,))
+            self.bus.publish(ES_EVENTS, etree.Element("event", name="object_not_found", reason="no_type"), causes=(cause,))
             return
         el = verbal_object(obj, wanted.type or wanted.name, wanted.name or wanted.type, wanted.owner, wanted.colour)
         ev = etree.Element("event", name="object_recognized")
         ev.append(el)
-        self.bus.publish(EVENTS, ev, causes=(cause,), transfer=True)
+        self.bus.publish(ES_EVENTS, ev, causes=(cause,), transfer=True)
 
 
 def verbal_object(obj: etree._Element | None, typ: str, name: str, owner: str, colour: str = "") -> etree._Element:
