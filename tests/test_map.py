@@ -125,3 +125,32 @@ def test_the_map_check_can_fail():
     assert [m for s, e in entries(gone) for m in resolve(s, e)[1]] == ["nowhere.py"]
     moved = text.replace("- `viz/moment.py`:", "- moment:") + "\n## homesim/ (kernel)\n\n- `viz/moment.py`: here.\n"
     assert "homesim/viz/moment.py" in unlisted(moved)
+
+
+#: A citation of a document that lives outside the repository (the product brief, the papers' folder).
+OUTSIDE = re.compile(r"DESIGN\.md|\bDESIGN \d|shared/reference|\.\./shared|/work/shared")
+TEXT = (".py", ".md", ".xml", ".xsd", ".scxml", ".toml", ".txt", ".tsv", ".c", ".cfg", ".ini", ".yml", ".yaml")
+
+
+def outside_citations(root: Path) -> list[str]:
+    out = []
+    for path in sorted(root.rglob("*")):
+        rel = path.relative_to(root)
+        if rel.parts[0].startswith(".") or "build" in rel.parts or not path.is_file() or path.suffix not in TEXT \
+                or path == Path(__file__).resolve() or any(p.endswith(".egg-info") for p in rel.parts):
+            continue
+        for i, line in enumerate(path.read_text(encoding="utf-8", errors="replace").splitlines(), 1):
+            if OUTSIDE.search(line):
+                out.append(f"{rel}:{i}: {line.strip()[:100]}")
+    return out
+
+
+def test_nothing_cites_a_document_outside_the_repository():
+    """A reader of a clean clone can follow every reference: rules are cited from docs/semantics.md."""
+    assert outside_citations(ROOT) == []
+
+
+def test_an_outside_citation_is_found(tmp_path):
+    (tmp_path / "s.xml").write_text("<!-- DESIGN 2.6: following -->\n", encoding="utf-8")
+    (tmp_path / "m.py").write_text('"""See docs/semantics.md §6."""\n', encoding="utf-8")
+    assert outside_citations(tmp_path) == ["s.xml:1: <!-- DESIGN 2.6: following -->"]
