@@ -2,10 +2,13 @@
 
 Every arrow is read from the source, three ways: ``import`` statements (also
 inside functions and ``TYPE_CHECKING`` blocks, relative ones resolved),
-modules loaded by name (``importlib.import_module("x")``, ``__import__("x")``)
-and module names or robot channels written in strings (``"robot.install"``,
-``"/robot/es/log"``): a kernel that loads the robot by a name in a string
-names it all the same. The layers (docs/architecture.md):
+modules loaded by name (``importlib.import_module("x")``, ``__import__("x")``,
+``find_spec``, ``pkgutil.resolve_name``, ``sys.modules["x"]``, a loader under
+an alias or through ``getattr``, relative names resolved) and module names or
+robot channels written in strings (``"robot.install"``, ``"/robot/es/log"``,
+the prefix ``"/robot/"``; also built by f-string, ``+`` or ``Path / "part"``):
+a kernel that loads the robot by a name in a string names it all the same.
+The entry points in pyproject.toml, the one sanctioned way up, are checked too. The layers (docs/architecture.md):
 
 ====================  ==========================================================
 layer                 modules
@@ -331,3 +334,53 @@ def test_docstrings_may_point_up_but_code_strings_may_not(tmp_path):
 def test_a_package_cycle_is_found():
     assert find_cycle({"a.x": {"a.y"}, "a.y": {"a.z"}, "a.z": {"a.x"}}) == ["a.x", "a.y", "a.z", "a.x"]
     assert find_cycle({"a.x": {"a.y"}, "a.y": set()}) is None
+
+
+# ------------------------------------------------- entry points (pyproject.toml)
+def entry_point_arrows(pyproject: dict) -> list[str]:
+    """What is wrong with the entry points a pyproject declares.
+
+    Entry points are the one sanctioned way code above the kernel hands it something (a document
+    kind for ``homesim check``, a scenario check): the kernel reads a group and never names the
+    robot. So each must be in a group the kernel reads (else nothing loads it), and its target must
+    exist and lie in the robot, the people or the run package: the command line through an entry
+    point is the kernel importing the top layer by the back door."""
+    from homesim.documents import ENTRY_POINT_GROUP
+    from homesim.scenario.checks import CHECKS_GROUP
+
+    bad = []
+    for group, points in pyproject.get("project", {}).get("entry-points", {}).items():
+        for name, value in points.items():
+            target = value.split(":")[0].strip()
+            where = f"[project.entry-points.{group!r}] {name} = {value!r}"
+            if group not in (ENTRY_POINT_GROUP, CHECKS_GROUP):
+                bad.append(f"{where}: no kernel registry reads the group")
+            if layer(target) not in (2, 3):
+                bad.append(f"{where}: {LAYERS[layer(target)]} is not a layer that extends the kernel")
+            elif not (ROOT.joinpath(*target.split(".")).with_suffix(".py").is_file()
+                      or (ROOT.joinpath(*target.split(".")) / "__init__.py").is_file()):
+                bad.append(f"{where}: no module {target}")
+    return bad
+
+
+def test_entry_points_only_extend_the_kernels_registries():
+    import tomllib
+    from importlib.metadata import entry_points
+
+    declared = tomllib.loads((ROOT / "pyproject.toml").read_text(encoding="utf-8"))
+    assert entry_point_arrows(declared) == []
+    # the install is the pyproject's (a stale one silently drops a document kind or a check)
+    for group, points in declared["project"]["entry-points"].items():
+        assert {e.name: e.value for e in entry_points(group=group)} == points, group
+
+
+def test_an_entry_point_against_the_layers_is_found():
+    from homesim.documents import ENTRY_POINT_GROUP
+
+    toml = {"project": {"entry-points": {
+        ENTRY_POINT_GROUP: {"ok": "robot.dialog.document:DOCUMENT_TYPE", "cli": "homesim.cli:main",
+                            "gone": "robot.nowhere:X"},
+        "homesim.unread": {"x": "humans.checks:check_scenario"},
+    }}}
+    found = entry_point_arrows(toml)
+    assert len(found) == 3 and all(n in " ".join(found) for n in ("cli =", "gone =", "unread"))
