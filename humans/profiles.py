@@ -200,6 +200,11 @@ def load_profiles(path: str | Path = PROFILES_PATH) -> dict[str, Profile]:
         give_up = _weights(p.find("give-up"), GIVE_UPS, "give-up", source)
         if not give_up or sum(w for _, w in give_up) <= 0:
             raise InputError(f"profile {name!r}: <give-up> needs a positive weight", source=source, line=p.sourceline)
+        phrasing_el = p.find("phrasing")
+        if phrasing_el is not None and sum(w for _, w in _weights(phrasing_el, STYLES, "phrasing", source)) <= 0:
+            # all zero: every style was silently drawn alike, the opposite of what the weights say
+            raise InputError(f"profile {name!r}: <phrasing> needs a positive weight (or leave it out: all styles alike)",
+                             source=source, line=phrasing_el.sourceline)
         repairs = _weights(p.find("repairs"), REPAIR_STRATEGIES, "repairs", source)
         if any(w > 1 for _, w in repairs):
             raise InputError(f"profile {name!r}: <repairs> gives probabilities (0 to 1)", source=source, line=p.sourceline)

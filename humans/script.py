@@ -113,6 +113,7 @@ class Actor:
         self._ear_seen: frozenset[int] = frozenset()
         self._reacting = False
         self._streak = 0
+        self._absorbed: frozenset[int] = frozenset()  # robot utterances heard during her last reaction
         self._last_phrase: dict[tuple[str, str | None], str] = {}
 
     @property
@@ -292,7 +293,9 @@ class Actor:
         finally:
             self._reacting = False
             self.turn = turn
-        self.hear()  # what the robot said meanwhile belongs to this exchange
+        # what the robot said meanwhile belongs to this exchange: it triggers no reaction (a
+        # wait-for she is in may still take it as its answer)
+        self._absorbed = frozenset(u.n for u in self.hear())
 
     def robot_within(self) -> float | None:
         """Distance to the robot (None when this actor has no position)."""
@@ -312,14 +315,15 @@ class Actor:
         (or a profile) she repairs the way people do: :meth:`repair_loop`.
         """
         await self.finish_speaking()  # nobody expects an answer before she has finished
-        try:
-            if act.retries == 0 and (act.repairs is not None or act.patience is not None or act.give_up is not None
-                                     or self.traits.repairing):
-                return await self.repair_loop(act)
-            return await self._retry_loop(act)
-        finally:
-            if self.handlers:
-                self.hear()  # what she heard while waiting was for the wait
+        if act.retries == 0 and (act.repairs is not None or act.patience is not None or act.give_up is not None
+                                 or self.traits.repairing):
+            ok = await self.repair_loop(act)
+        else:
+            ok = await self._retry_loop(act)
+        # (not in a ``finally``: a run that ends during the wait closes this coroutine after its loop)
+        if self.handlers:
+            self.hear()  # what she heard while waiting was for the wait
+        return ok
 
     async def repair_loop(self, act: WaitFor) -> bool:
         """Wait; on a miss repair by her strategies at most ``patience`` times, then give up."""
@@ -427,7 +431,7 @@ class Actor:
                 for u in heard:
                     if u.source != "robot" or u.n in seen_before:
                         continue
-                    if self.handlers and not self._reacting:
+                    if self.handlers and not self._reacting and u.n not in self._absorbed:
                         h = self.reaction_to(u.text, waiting=True)
                         if h is not None:
                             await self.fire(h, u)

@@ -330,12 +330,15 @@ def test_clarification_without_an_answer_times_out_to_none(robot):
 
     async def ask() -> None:
         req = etree.fromstring('<ask timeout="2"><option index="0" text="cup"/><option index="1" text="plant"/></ask>')
-        replies.append(await obj.call("dialog", "ask", req, timeout=5.0))
+        replies.append(await obj.call("dialog", "ask", req, timeout=15.0))
 
     robot.sim.call_at(1.0, lambda: robot.sim.spawn(ask(), name="asker"))
-    robot.sim.run(until=5.0)
+    robot.sim.run(until=15.0)
     assert replies and replies[0].xml.get("none") == "true"
     assert robot.dialog.manager.stack == []
+    # The 2 s to answer run from the end of the question (5 words: 2.3 s said), not from the request.
+    done = [r["t"] for r in robot.records("/robot/speaker/status") if r["xml"].startswith("<done")]
+    assert done and replies[0].created >= done[0] + 2.0 - 1e-6
 
 
 def test_same_seed_same_trace():

@@ -140,6 +140,15 @@ def test_a_trait_given_twice_is_refused_with_the_second_line(tmp_path):
     assert err.value.line == 5
 
 
+def test_phrasing_weights_all_zero_are_refused_with_the_line(tmp_path):
+    # plain="0" was accepted and every style then drawn alike
+    f = tmp_path / "p.xml"
+    f.write_text(PROFILE.format(patience='<patience fixed="1"/>\n<phrasing plain="0" terse="0"/>'))
+    with pytest.raises(InputError, match="positive weight") as err:
+        load_profiles(f)
+    assert err.value.line == 5
+
+
 def test_every_numeric_trait_has_bounds_in_range():
     for p in default_profiles().values():
         for key, d in p.numeric.items():

@@ -111,6 +111,29 @@ def test_she_stands_while_she_reacts_in_the_middle_of_a_walk():
     assert max(xs) <= 7.5 + 0.05 and st.world.humans["ann"].position[0] == pytest.approx(7.5, abs=0.1)
 
 
+@pytest.mark.parametrize("script", ['<wait for="20"/>', '<wait-for hears="done" timeout="20"/>'])
+def test_what_the_robot_says_while_she_reacts_triggers_nothing_more_in_a_pause_or_a_wait(script):
+    # in a wait-for the robot's second "hello", said while she answered the first, made her
+    # answer again (in a pause it did not)
+    st = _stage(script, on='<on hears="hello"><say text="hi there my friend how are you today"/></on>')
+    _robot(st, 1.0, "hello")
+    _robot(st, 2.6, "hello")  # while she answers
+    st.run(15)
+    assert [t for _, t in _said(st)] == ["hi there my friend how are you today"]
+
+
+def test_what_the_robot_says_while_she_reacts_can_still_answer_her_wait():
+    st = _stage('<say text="Follow me"/>\n<wait-for hears="following you" timeout="4"/>\n<say text="Thanks"/>',
+                on='<on hears="shall i follow you"><say text="Yes, please do that now"/></on>')
+    _robot(st, 1.0, "Shall I follow you?")
+    st.sim.call_at(3.5, lambda: st.world.sound.say("robot", "I am following you", st.sim.now))  # during her answer
+    st.run(12)
+    said = _said(st)
+    assert [t for _, t in said] == ["Follow me", "Yes, please do that now", "Thanks"]
+    answer_end = st.world.sound.by("ann")[1].end
+    assert said[2][0] == pytest.approx(answer_end, abs=0.15)  # answered: no 4 s timeout after her answer
+
+
 def test_a_reaction_that_loops_at_run_time_fails_the_run_naming_its_line():
     st = _stage('<wait-for hears="never said" timeout="60"/>', on='<on hears="hello"><say text="hm"/></on>', duration=70)
     for k in range(60):

@@ -111,6 +111,7 @@ class AttentionParams:
     ptu_refresh: float = 1.0  # s
     steer_deadband: float = math.radians(3.0)
     dominant_max_age: float = 0.35  # s: a sound-direction frame older than this no longer steers the beam
+    partner_voice_tolerance: float = math.radians(4.0)  # a direction this near the partner's bearing is her voice (beam gate)
     state_refresh: float = 1.0  # s
     cue_max_age: float = 0.3  # s: an odometry pose older than this is extrapolated
     max_refused: int = 32
@@ -175,6 +176,7 @@ class PersonAttention(Module):
         self._ptu_at = -math.inf
         self._steer_sent: float | None | str = "unset"
         self._dominant: tuple[float, float] | None = None  # (time, front bearing rad): the loudest unexplained direction
+        self._voices: tuple[float, bool, bool] | None = None  # (time, the partner talks, someone else does): the last sound frame
         self._state_sent: tuple[str, int | None, int | None] | None = None
         self._state_at = -math.inf
         self.scans = 0
@@ -275,6 +277,16 @@ class PersonAttention(Module):
         self.speaking.feed(t, ids, {ids[r] for r in rows})
         if rows:
             self._partner_seen(rows, t)  # the partner's voice from the partner's direction keeps the partner
+        if bearings and self.partner is not None:
+            prow = self.tracks.row(self.partner)
+            if prow >= 0:
+                # Who talks, as the beam gate reads it: the partner only when a direction lies within
+                # ``partner_voice_tolerance`` of her (her own voice comes from within a degree or two);
+                # anyone else when a direction lies further off her than that.
+                pb = track_bearings[prow]
+                offs = [min(abs(math.remainder(pb - b, 2 * math.pi)), abs(math.remainder(pb - (math.pi - b), 2 * math.pi))) for b in bearings]
+                tol = self.params.partner_voice_tolerance
+                self._voices = (t, any(o <= tol for o in offs), any(o > tol for o in offs))
         if bearings:
             levels = [float(s.get("level", "0")) for s in sources]
             seen = [b for b, tk in zip(track_bearings, tracks) if tk.confirmed]
@@ -561,14 +573,11 @@ class PersonAttention(Module):
         return None
 
     def _other_talks(self, t: float) -> bool:
-        """Someone else speaks while the partner is silent: another confirmed track from its own
-        direction, or a sound from where no confirmed track is (a person the laser does not see)."""
-        sp = self.speaking
-        if sp.on(self.partner):  # type: ignore[arg-type]
-            return False
-        if self._dominant is not None and t - self._dominant[0] <= self.params.dominant_max_age:
-            return True
-        return any(tk.confirmed and tk.id != self.partner and sp.on(tk.id) for tk in self.tracks.tracks)
+        """Someone else speaks while the partner is silent: in the last sound frame (at most
+        ``dominant_max_age`` old) a direction further than ``partner_voice_tolerance`` off the
+        partner's bearing and none within it (a bystander beside her, a person the laser does not see)."""
+        v = self._voices
+        return v is not None and t - v[0] <= self.params.dominant_max_age and v[2] and not v[1]
 
     def _ptu(self, t: float, pan: float, tilt: float) -> None:
         p = self.params

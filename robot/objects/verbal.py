@@ -1,6 +1,6 @@
 """The 2005 demonstrator's object attention: objects taught from the verbal information only.
 
-The COGNIRON deliverable on the home tour (D7.1.2, the "Robot Home-Tour" report) says
+The COGNIRON deliverable on the home tour (shared/reference, first part) says
 of the demonstrator: "BIRON currently only processes the verbal information
 and does not have the COGNIRON functions for gesture recognition (CF-GR) and
 object recognition (CF-OR) as well as the overall component for resolving
@@ -30,9 +30,10 @@ from lxml import etree
 
 from homesim.message import Message
 from homesim.module import Module
-from robot.contract import ES_EVENTS, ES_ORDERS, FOCUS
 
-from .attention import _copy, wanted_from
+from robot.contract import ES_EVENTS, FOCUS
+
+from .attention import ORDERS, _copy, wanted_from
 
 #: Where the Object state looks (robot frame): straight ahead ...
 FIXED_BEARING = 0.0
@@ -47,7 +48,7 @@ class VerbalObjectAttention(Module):
         super().__init__(sim, name, host="robot")
         self.look_time = look_time
         self._search: asyncio.Task[None] | None = None
-        self.bus.subscribe(ES_ORDERS, self._on_order)
+        self.bus.subscribe(ORDERS, self._on_order)
 
     async def run(self) -> None:
         while True:
