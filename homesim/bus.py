@@ -51,7 +51,6 @@ would otherwise grow the run's memory until the process is killed.
 from __future__ import annotations
 
 import asyncio
-import heapq
 import inspect
 import os
 import re
@@ -118,7 +117,6 @@ _Entity = etree.Entity
 #: Default of :attr:`Bus.max_sends_per_s`.
 MAX_SENDS_PER_S = 10_000
 _new = object.__new__
-_heappush = heapq.heappush
 
 
 def _as_schema(schema: SchemaLike) -> Schema | None:
@@ -857,10 +855,10 @@ class Bus:
         if not plan:
             return
         # What _schedule does per receiver, inlined (this is the hot path of every message):
-        # the link's delay, FIFO per pair, a _Delivery timer queued as VirtualEventLoop._push_timer does.
+        # the link's delay, FIFO per pair, a _Delivery timer pushed on the loop's TimerQueue.
         loop = self.loop
         now = loop._now_ns
-        due = loop._due
+        push = loop.timers.push
         deliver = self._deliver_publish
         draws = self.network._draws
         left = len(plan)
@@ -894,14 +892,7 @@ class Bus:
             handle = _new(_Delivery)
             handle._callback = deliver
             handle._args = (receiver, own, sub)
-            queued = due.get(when)
-            if queued is None:
-                due[when] = handle
-                _heappush(loop._times, when)
-            elif queued.__class__ is list:
-                queued.append(handle)
-            else:
-                due[when] = [queued, handle]
+            push(when, handle)
 
     def _deliver_publish(self, receiver: Participant, msg: Message, sub: Subscription) -> None:
         if sub.closed:

@@ -235,4 +235,19 @@ def test_a_lost_noun_is_asked_for_not_looked_at(dm):
     # "This is the kitchen" heard as "this is the": the robot asked nothing and learned the kettle
     # she happened to stand by
     out = dm.on_frame(heard("this is the"))
+    assert says(out) == ["Sorry, I did not understand you. Could you say that again?"] and not sends(out)
+    out = dm.on_frame(heard("look at this the"))  # words skipped: a partial frame asks
     assert says(out) == ["What is it?"] and not sends(out)
+
+
+def test_after_two_requests_to_say_it_again_the_next_hearing_is_taken_without_a_third_question(dm):
+    assert says(dm.on_frame(heard("blah blurb"))) == [DOC.not_understood]
+    assert says(dm.on_frame(heard("blah blurb"))) == [DOC.not_understood]
+    out = dm.on_frame(heard("this is the living room", 0.4))  # heard badly, but the third time
+    (s,) = sends(out)
+    assert s.event == "place_teaching" and dm.summary()["taken_after_repairs"] == 1
+    # an utterance heard well in between starts the count again
+    dm2 = DialogManager(DOC)
+    dm2.es_state = "Interacting"
+    dm2.on_frame(heard("blah blurb"))
+    assert says(dm2.on_frame(heard("this is the living room", 0.4))) == ["Is this the living room?"]

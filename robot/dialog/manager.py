@@ -170,11 +170,12 @@ class DialogManager:
         self.es_state = ""  # the supervisor's current state, from its status channel
         self._serial = 0
         self._last_done: tuple[str, dict[str, Any], int] | None = None  # (dialog, values, user turn) of the last success
+        self._unheard = 0  # user turns in a row not understood (each answered with "say that again")
         self.metrics: dict[str, Any] = {
             "user_turns": 0, "robot_turns": 0, "not_understood": 0, "reasks": 0, "confirmations": 0,
             "give_ups": 0, "rejections": 0, "rejections_explained": 0, "interruptions": 0, "resumptions": 0,
             "barge_ins": 0, "dropped": 0, "events_sent": 0, "ignored_frames": 0, "unhandled_conditions": 0,
-            "confirmed_by_repetition": 0, "corrections": 0, "asked_twice_gave_up": 0, "max_same_question": 0,
+            "confirmed_by_repetition": 0, "corrections": 0, "asked_twice_gave_up": 0, "max_same_question": 0, "taken_after_repairs": 0,
             "dialogs": {},
         }
 
@@ -209,13 +210,19 @@ class DialogManager:
             return self._not_understood()
         act_el = acts[0]
         act = str(act_el.tag)
+        conf = float(msg.get("confidence", "1"))
+        if self._unheard >= MAX_SAME_QUESTION and conf >= self.doc.confirm_below / 2 and self.doc.confirm_below <= 1.0:
+            # she was asked to say it again twice already: what is heard now is taken, not confirmed
+            # (a third question for one request; a more cautious document, confirm-below above 1, still asks)
+            conf = self.doc.confirm_below
+            self.metrics["taken_after_repairs"] += 1
+        self._unheard = 0
         if msg.get("partial") == "true" and act_el.get("partial") is None:
             # the understanding lost or skipped words: the policy may ask rather than act on what is
             # left ("this is the <lost word>" is no "look at this")
             act_el = deepcopy(act_el)
             act_el.set("partial", "true")
         stamp = speech.find("TIMESTAMP") if speech is not None else None
-        conf = float(msg.get("confidence", "1"))
         said = msg.get("answer", "")  # "yes"/"no" before the request: "no, the kitchen"
         out: list[Output] = []
         answered = self._answered_by(act)
@@ -451,6 +458,7 @@ class DialogManager:
     def _not_understood(self) -> list[Output]:
         out: list[Output] = []
         self.metrics["not_understood"] += 1
+        self._unheard += 1
         for inst in reversed(self.stack):
             if inst.pending is None:
                 continue

@@ -104,6 +104,11 @@ class Understander:
             res.reason = "no known words" if lex.unknown else "nothing said"
             return res
         tree, ignored, partial = self._parse(toks)
+        if toks[0].type in ("IS", "ARE") and len(toks) > 1 and (tree is None or partial):
+            # "is the living room": not a question about an object, a teaching whose "this" was lost
+            alt = self._parse(toks[1:])
+            if alt[0] is not None and (not alt[2] or tree is None):
+                tree, ignored, partial = alt[0], [toks[0].text, *alt[1]], True
         restart = self._restart(lex.raw)
         if restart is not None:  # "follow me, no wait, stop": the repair is a whole new request
             toks, (tree, ignored, partial) = restart
@@ -250,7 +255,10 @@ _ANSWER_WORDS = frozenset({"YES", "OKAY", "NO"})
 _NOT_RESTARTS = frozenset({"object_fragment", "place_fragment", "that_one", "yes", "no"})
 
 # word classes that say nothing about a dangling object or place: deixis, articles, prepositions
-_ONLY_POINTS = frozenset({"THIS", "THAT", "HERE", "THERE", "IT", "A", "THE", "TO", "IN", "REL", "OF", "ONE"})
+# (and the copula: "it is", "this is the" name nothing; the dialog asks to hear it again rather than
+# start teaching an object nobody named)
+_ONLY_POINTS = frozenset({"THIS", "THAT", "HERE", "THERE", "IT", "A", "THE", "TO", "IN", "REL", "OF", "ONE",
+                          "IS", "ARE", "CALLED"})
 
 
 def _declared(text: str) -> set[str]:
