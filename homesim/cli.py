@@ -27,6 +27,8 @@ SUBCOMMAND_MODULES: list[str] = [
     "homesim.tour.plot_cli",
     "homesim.tour.export_cli",
     "homesim.tour.sweep",
+    "homesim.tour.generate",
+    "homesim.tour.study",
 ]
 
 

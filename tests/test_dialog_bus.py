@@ -301,6 +301,29 @@ def test_clarification_question_from_the_object_attention(robot):
     assert replies and replies[0].xml.get("index") == "1"
 
 
+def test_a_question_routed_through_the_supervisor_is_asked_and_answered_as_an_event(robot):
+    """The object attention asks through the ES: event clarification -> condition ask -> the dialog asks ->
+    event clarified -> order clarified to the object attention (robot/afsm/biron.scxml, ObjectTeaching)."""
+    robot.greet()
+    obj = robot.sim.bus.participant("object_attention")
+    orders = []
+    obj.subscribe("/robot/es/orders/object_attention", orders.append)
+
+    def teach_and_ask() -> None:
+        frame = etree.fromstring('<event name="object_teaching"><SPEECH><OBJECT type="cup"/></SPEECH></event>')
+        robot.sim.bus.get("dialog").publish(EVENT_CHANNEL, frame)
+        ev = etree.fromstring('<event name="clarification"><OPTIONS timeout="8"><option index="0" text="red cup"/>'
+                              '<option index="1" text="blue cup"/></OPTIONS></event>')
+        robot.sim.call_at(7.5, obj.publish, EVENT_CHANNEL, ev)
+
+    robot.sim.call_at(7.0, teach_and_ask)
+    robot.utter("the blue one", 11.0, 11.8)
+    robot.sim.run(until=15.0)
+    assert "Do you mean the red cup or the blue one?" in robot.sentences()
+    answers = [o for o in orders if o.xml.get("name") == "clarified"]
+    assert answers and answers[0].xml.find("param/ANSWER").get("index") == "1"
+
+
 def test_clarification_without_an_answer_times_out_to_none(robot):
     obj = robot.sim.bus.participant("object_attention")
     replies = []

@@ -438,9 +438,18 @@ def test_low_confidence_is_confirmed_no(dm):
     assert s.children[0].find("OBJECT").get("type") == "glass"
 
 
-def test_frames_for_the_interaction_are_ignored_while_nobody_is_there(dm):
+def test_instructions_while_nobody_is_there_go_to_the_supervisor_which_decides(dm):
+    """Issue 23: the dialog sends every understood instruction to the ES (the radio's "follow me" too);
+    the ES rejects what does not apply in its state and the dialog says why. A question with nothing to
+    send (self-explanation) is still ignored."""
     dm.es_state = "LookingAround"
-    assert dm.on_frame(frame("<FOLLOW/>")) == []
+    out = dm.on_frame(frame("<FOLLOW/>"))
+    (s,) = sends(out)
+    assert s.event == "follow" and s.children[0].tag == "SPEECH" and s.children[0][0].tag == "FOLLOW"
+    assert not says(out) and dm.stack == []  # no sub-dialog started, nothing said yet
+    rej = etree.fromstring('<rejected name="follow" reason="inapplicable" state="LookingAround"/>')
+    assert says(dm.on_rejected(rej))  # the rejection is explained in words
+    assert dm.on_frame(frame("<CAPABILITIES/>")) == []
     assert dm.summary()["ignored_frames"] == 1
 
 

@@ -20,6 +20,7 @@ from pathlib import Path
 
 from lxml import etree
 
+from ..deployment import Override, override_from_element
 from ..errors import InputError, ScenarioError
 from ..xmlio import Schema, load_schema, parse_bytes, parse_file
 from . import checks
@@ -305,6 +306,7 @@ class _Builder:
             sources=tuple(self.sound_source(s) for s in _elements(sources_el)) if sources_el is not None else (),
             expectations=tuple(self.expectation(e) for e in _elements(expect_el)) if expect_el is not None else (),
             faults=tuple(Fault(_tag(f), f.get("module"), self.num(f, "at"), f.sourceline) for f in _elements(faults_el)) if faults_el is not None else (),
+            deployment=self.deployment(root.find("deployment")),
         )
 
     def robot(self, el: etree._Element) -> RobotSpec:
@@ -320,8 +322,18 @@ class _Builder:
             odometry_rate=self.num(el, "odometry-rate", 10.0),
             object_confusion=self.num(el, "object-confusion", 0.05),
             options=self.options(el),
+            profile=el.get("profile"),
             line=el.sourceline,
         )
+
+    def deployment(self, el: etree._Element | None) -> Override | None:
+        """The scenario's ``<deployment>`` override (children checked against the deployment schema)."""
+        if el is None:
+            return None
+        try:
+            return override_from_element(el, source=self.source)
+        except InputError as exc:
+            raise ScenarioError(exc.message, source=self.source, line=exc.line, element=exc.element) from exc
 
     def options(self, el: etree._Element) -> tuple[tuple[str, str], ...]:
         seen: dict[str, int] = {}

@@ -9,6 +9,8 @@ seconds, radians (the XML says degrees; the loader converts).
 
 from __future__ import annotations
 
+from ..deployment import Override
+
 from dataclasses import dataclass
 from typing import Union
 
@@ -187,6 +189,7 @@ class RobotSpec:
     odometry_rate: float = 10.0
     object_confusion: float = 0.05
     options: tuple[tuple[str, str], ...] = ()  # <option name value/>: for BIRON's modules
+    profile: str | None = None  # <robot profile>: which robot (the run package knows the names); None: the default
     line: int | None = None
 
 
@@ -267,6 +270,7 @@ class Scenario:
     faults: tuple[Fault, ...] = ()
     description: str = ""
     world_rate: float = 50.0
+    deployment: Override | None = None  # <deployment>: what the scenario changes of the run's default deployment
 
     def room(self, name: str) -> Room:
         return _named(self.rooms, name, "room")

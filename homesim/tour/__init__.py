@@ -7,7 +7,10 @@ and ``humans`` (only the command line, :mod:`homesim.cli`, imports it):
 ``replay`` (:mod:`.run_cli`), ``sweep``, ``plot`` (:mod:`.plot_cli`) and
 ``export`` (:mod:`.export_cli`, :mod:`.mcap_export`), the BIRON-specific
 expectation kinds (:mod:`.expect`), metrics (:mod:`.metrics`), percepts to
-draw (:mod:`.percepts`) and timeline phases (:mod:`.phases`).
+draw (:mod:`.percepts`) and timeline phases (:mod:`.phases`); generated flats and
+tours (``generate``: :mod:`.generate`, :mod:`.flatgen`, :mod:`.objectgen`,
+:mod:`.phrasing`) and studies over them (``study``: :mod:`.study`,
+:mod:`.capabilities`).
 
 Importing the package fills the kernel's registries with the robot's
 expectation kinds and timeline phases (the metrics register when

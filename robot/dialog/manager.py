@@ -253,9 +253,15 @@ class DialogManager:
             return out
         # 2. a new sub-dialog
         d = self.doc.by_trigger(act)
-        if d is None or (d.in_states is not None and self.es_state not in d.in_states):
+        if d is None:
             self.metrics["ignored_frames"] += 1
             return out
+        if d.in_states is not None and self.es_state not in d.in_states:
+            # Nobody to talk to (as far as the dialog knows): the instruction still goes to the
+            # supervisor, which decides (the papers: the ES rejects what does not apply in its
+            # state, and the rejection comes back so the dialog can say why). A question with
+            # nothing to send (self-explanation) is ignored.
+            return self._send_unattended(d, act_el, out)
         if said == "no":
             act_el = self._correcting(d.id, act_el)
         inst = self._push(d, out)
@@ -310,6 +316,19 @@ class DialogManager:
             self._fill_frame(inst, fills, act_el, conf, stamp, replace=True)
             self.metrics["corrections"] += 1
             inst.last_sig = None  # the same slot statuses with a new value: the policy acts again (confirms it)
+
+    def _send_unattended(self, d: Any, act_el: etree._Element, out: list[Output]) -> list[Output]:
+        """Send the sub-dialog's event for an instruction heard outside its states, without starting it."""
+        send = next((a for r in d.rules for a in r.actions if a.kind == "send" and a.event), None)
+        if send is None:
+            self.metrics["ignored_frames"] += 1
+            return out
+        speech = etree.Element("SPEECH")
+        speech.append(deepcopy(act_el))
+        self.metrics["events_sent"] += 1
+        self.metrics["sent_unattended"] = self.metrics.get("sent_unattended", 0) + 1
+        out.append(Send(send.event or "", (speech,), send.lifetime, send.pose, d.id))
+        return out
 
     def on_condition(self, cond: etree._Element) -> list[Output]:
         """A condition from the supervisor (``<condition name ...><param>...``)."""

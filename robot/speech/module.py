@@ -44,6 +44,7 @@ from lxml import etree
 
 from homesim.message import Message
 from homesim.module import Module
+from robot.deployment import cost_scale
 from homesim.vloop import to_ns
 
 from .grammar import Understander, Understanding
@@ -156,9 +157,11 @@ class SpeechUnderstanding(Module):
     ) -> None:
         super().__init__(sim, name, host=host)
         self.understander = understander or shared_understander()
-        self.recognition_base = recognition_base
-        self.recognition_per_word = recognition_per_word
-        self.understanding_cost = understanding_cost
+        # Calibrated to the papers' laptop (Fig. 6); on another host the CPU speed scales them (docs/deployment.md).
+        scale = cost_scale(sim, self.name, self.bus.host)
+        self.recognition_base = recognition_base * scale
+        self.recognition_per_word = recognition_per_word * scale
+        self.understanding_cost = understanding_cost * scale
         self.own_voice = {"onset": own_voice_onset, "match": own_voice_match, "echo_gain_db": echo_gain_db,
                           "tolerance_db": echo_tolerance_db}
         self._busy_until = 0.0

@@ -1,0 +1,702 @@
+"""``homesim generate``: random flats with a home tour, written as ordinary scenario files.
+
+``homesim generate --seed N [--count K] --out DIR`` writes ``DIR/tour-N-k.xml``
+for k = 0 .. K-1. Each file is a plain scenario (it passes ``homesim check``
+and runs with ``homesim run``): a flat from :mod:`homesim.tour.flatgen`,
+objects from :mod:`homesim.tour.objectgen`, the robot, a user who gives the
+robot a home tour, 0 to 3 bystanders, sometimes a radio or a TV, and the
+expectations that follow from the tour.
+
+The tour (:class:`TourWriter`): the user greets the robot, then, in a varied
+order and subset, asks what it can do, teaches the room she is in, has it
+follow her through the flat (through doors and corridors, at a walking pace
+of 0.35 to 0.6 m/s), stops and teaches objects by pointing and speech (from
+a spot 0.6 to 0.9 m from the object from which the object can be seen, and
+from which the robot, too, has a place to see it from), asks where an object
+she taught is, sends the robot to a room she taught (then walks over to it
+and greets it again), and says good-bye. Every request is worded from the
+generator's own phrasing bank (:mod:`homesim.tour.phrasing`). She waits for
+the robot's answer to each request and repeats her turn when it asks her to
+or does not answer (at most twice), like the library's users.
+
+The expectations say what the tour must achieve and never how: the greeting
+answered and the interaction started; the self-explanation given; each room
+she taught learned under her word for it; each object she taught learned
+with its type (and owner, colour or "favourite" when she said them), and
+nothing stored that she did not point at; the robot in every room she led it
+to, at a following distance of 0.5 to 2.5 m for 80 % of the time, the partner
+never lost; each "where is" answered; each go-to reached without asking for
+help; good-bye answered; no collision at all.
+
+The run lasts long enough for her to reach her good-bye even when every request had to be
+said twice with the robot silent (each wait to its timeout), so a robot that fails early is
+not also charged with a good-bye she never got to say.
+
+Determinism: file k of seed N is drawn from ``numpy.random.default_rng([N, k])``
+alone (it does not depend on K); the same seed gives byte-identical files.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import re
+import sys
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+from lxml import etree
+
+from ..cliargs import OptionError
+from ..world.acoustics import speech_duration
+from ..scenario.pathplan import NoPathError
+from . import phrasing as P
+from .flatgen import Flat, RoomPlan, generate_flat, snap
+from .objectgen import ObjectPlan, generate_objects
+
+Point = tuple[float, float]
+
+USER_NAMES = ("anna", "maria", "lena", "sara", "eva", "julia", "tom", "marc", "paul", "jan", "ben", "david")
+TORSOS = ("red", "blue", "green", "yellow", "orange", "purple", "pink", "brown", "black", "white", "grey", "beige")
+FOLLOW_SPEED = (0.35, 0.6)  # m/s: how fast she walks with the robot behind her
+WALK_SPEED = (0.8, 1.2)  # m/s: her own pace (and bystanders')
+ANSWER_S = 3.0  # typical seconds from the end of a request to the robot's answer (an estimate, for timing)
+MAX_COUNT = 10_000
+#: Why draws were refused by the scenario checks (for the generator's tests and debugging).
+REFUSED: list[str] = []
+
+
+def fmt(v: float) -> str:
+    """A short, stable decimal: 2.5, 3, -0.15."""
+    s = f"{v:.2f}".rstrip("0").rstrip(".")
+    return "0" if s in ("-0", "") else s
+
+
+def rx(text: str) -> str:
+    """``text`` as a regular expression matching itself (spaces and letters stay readable)."""
+    return re.sub(r"([.^$*+?{}\[\]\\|()])", r"\\\1", text)
+
+
+def pt(p: Point) -> str:
+    return f"{fmt(p[0])} {fmt(p[1])}"
+
+
+# ----------------------------------------------------------------- geometry
+def sight(room: RoomPlan, a: Point, b: Point, step: float = 0.05) -> bool:
+    """The segment a-b stays inside the room (no wall between the two points)."""
+    n = max(2, int(math.hypot(b[0] - a[0], b[1] - a[1]) / step))
+    return all(room.contains((a[0] + (b[0] - a[0]) * i / n, a[1] + (b[1] - a[1]) * i / n)) for i in range(n + 1))
+
+
+def free(flat: Flat, p: Point, *, robot: bool = False) -> bool:
+    """Free for a person (or the robot) and joined to the rest of the flat (not in a pocket behind furniture)."""
+    grid = flat.grid if robot else flat.walk_grid
+    assert grid is not None
+    c = grid.cell_of(p)
+    return not grid.blocked[c] and grid.component(p) == grid.component(flat.anchor)
+
+
+def free_point(rng: np.random.Generator, flat: Flat, room: int, *, robot: bool = False, margin: float = 0.0,
+               away: tuple[Point, ...] = (), gap: float = 1.0) -> Point | None:
+    """A random point of the room, free for a person (or the robot), ``gap`` from the ``away`` points."""
+    r = flat.rooms[room]
+    for _ in range(60):
+        part = r.parts[int(rng.integers(len(r.parts)))]
+        inner = part.inset(0.4 + margin)
+        if inner.w <= 0 or inner.h <= 0:
+            continue
+        p = snap(float(rng.uniform(inner.x0, inner.x1))), snap(float(rng.uniform(inner.y0, inner.y1)))
+        if not r.contains(p) or not free(flat, p, robot=robot):
+            continue
+        if margin and not all(free(flat, (p[0] + dx, p[1] + dy), robot=robot) for dx, dy in ((margin, 0), (-margin, 0), (0, margin), (0, -margin))):
+            continue
+        if all(math.hypot(p[0] - q[0], p[1] - q[1]) >= gap for q in away):
+            return p
+    return None
+
+
+def _point_segment(p: Point, a: Point, b: Point) -> float:
+    ax, ay = a
+    dx, dy = b[0] - ax, b[1] - ay
+    L = dx * dx + dy * dy
+    t = 0.0 if L == 0 else max(0.0, min(1.0, ((p[0] - ax) * dx + (p[1] - ay) * dy) / L))
+    return math.hypot(p[0] - ax - t * dx, p[1] - ay - t * dy)
+
+
+def teaching_spot(rng: np.random.Generator, flat: Flat, o: ObjectPlan) -> Point | None:
+    """Where she stands to point at ``o``: 0.6-0.9 m from it, free, with a clear view of it, and
+    with a spot for the robot 1.0-1.8 m from her from which the robot sees the object past her."""
+    room = flat.rooms[o.room]
+    spots = []
+    for k in range(24):
+        a = 2 * math.pi * k / 24
+        for r in (0.6, 0.75, 0.9):
+            d = r + o.size / 2
+            p = snap(o.x + d * math.cos(a)), snap(o.y + d * math.sin(a))
+            if math.hypot(p[0] - o.x, p[1] - o.y) > 0.9 + o.size / 2 or not room.contains(p) or not free(flat, p) or not sight(room, p, (o.x, o.y)):
+                continue
+            if _robot_view(flat, room, p, o):
+                spots.append(p)
+    if not spots:
+        return None
+    return spots[int(rng.integers(len(spots)))]
+
+
+def _robot_view(flat: Flat, room: RoomPlan, p: Point, o: ObjectPlan) -> bool:
+    for k in range(16):
+        a = 2 * math.pi * k / 16
+        for r in (1.0, 1.4, 1.8):
+            q = p[0] + r * math.cos(a), p[1] + r * math.sin(a)
+            d = math.hypot(q[0] - o.x, q[1] - o.y)
+            if not (0.9 <= d <= 3.0) or not room.contains(q) or not free(flat, q, robot=True):
+                continue
+            if _point_segment(p, q, (o.x, o.y)) >= 0.4 and sight(room, q, (o.x, o.y)):
+                return True
+    return False
+
+
+def path_length(flat: Flat, a: Point, b: Point) -> float:
+    """Walking distance a -> b (straight-line times 1.3 when no plan is found)."""
+    assert flat.walk_grid is not None
+    try:
+        pts = flat.walk_grid.plan(a, b)
+    except NoPathError:
+        return 1.3 * math.hypot(b[0] - a[0], b[1] - a[1])
+    total, cur = 0.0, a
+    for q in pts:
+        total += math.hypot(q[0] - cur[0], q[1] - cur[1])
+        cur = q
+    return total
+
+
+# ------------------------------------------------------------------ the tour
+@dataclass
+class TourWriter:
+    """Writes the user's script and collects the expectations, keeping an estimate of the time."""
+
+    rng: np.random.Generator
+    flat: Flat
+    user: str
+    pos: Point
+    room: int
+    script: etree._Element
+    t: float = 0.0
+    expect: list[tuple[str, dict[str, str], str]] = field(default_factory=list)  # (tag, attrs, comment)
+    taught_places: dict[int, tuple[str, Point]] = field(default_factory=dict)  # room -> (word, where she stood)
+    taught_objects: list[tuple[ObjectPlan, str]] = field(default_factory=list)
+    led_to: list[int] = field(default_factory=list)  # rooms she led the robot into
+    gotos: int = 0
+    timeline: list[tuple[float, int, Point]] = field(default_factory=list)
+    interacting: bool = False
+    slack: float = 0.0  # extra seconds for her to say every request once more (the robot silent: each wait to its timeout)
+
+    def pick(self, options: tuple) -> object:  # type: ignore[type-arg]
+        return options[int(self.rng.integers(len(options)))]
+
+    def act(self, tag: str, **attrs: str) -> None:
+        etree.SubElement(self.script, tag, {k.replace("_", "-"): v for k, v in attrs.items()})
+
+    def wait(self, lo: float, hi: float) -> None:
+        s = snap(float(self.rng.uniform(lo, hi)))
+        if s > 0:
+            self.act("wait", **{"for": fmt(s)})
+            self.t += s
+
+    def say(self, text: str, answer: str, timeout: float = 6.0) -> None:
+        """Say a request and wait for the robot's answer (matching ``answer``), repeating her turn up to twice."""
+        self.act("say", text=text)
+        self.act("wait-for", robot_says=answer, timeout=fmt(timeout), retries="2")
+        self.t += speech_duration(text) + ANSWER_S
+        self.slack += 2 * (speech_duration(text) + timeout + 0.5) - (speech_duration(text) + ANSWER_S)
+
+    def face_robot(self) -> None:
+        self.act("face", robot="true")
+        self.t += 0.5
+
+    def note(self) -> None:
+        self.timeline.append((self.t, self.room, self.pos))
+
+    # --------------------------------------------------------------- steps
+    def greet(self, again: bool = False) -> None:
+        self.face_robot()
+        self.say(str(self.pick(P.GREET_AGAIN if again else P.GREET)), "I am BIRON|hello|hi\\b", 6)
+        self.interacting = True
+        self.note()
+
+    def capabilities(self) -> None:
+        self.wait(0.5, 1.5)
+        self.face_robot()
+        self.say(str(self.pick(P.CAPABILITIES)), "follow you|show me|ask me", 10)
+        self.t += 6  # the robot's explanation is long
+
+    def teach_place(self) -> None:
+        room = self.flat.rooms[self.room]
+        word = room.name
+        self.wait(0.5, 1.5)
+        self.face_robot()
+        text = str(self.pick(P.PLACE)).format(word=word)
+        self.say(text, "remember|" + rx(word), 6)
+        self.taught_places[self.room] = (word, self.pos)
+        self.note()
+
+    def follow_to(self, goal: Point, room: int) -> None:
+        """"Follow me", walk to ``goal`` with the robot behind her, "stop"."""
+        self.wait(0.5, 1.5)
+        self.face_robot()
+        self.say(str(self.pick(P.FOLLOW)), "following you", 6)
+        self.wait(0.3, 1.2)
+        speed = snap(float(self.rng.uniform(*FOLLOW_SPEED)))
+        self.act("walk-to", point=pt(goal), speed=fmt(speed))
+        self.t += path_length(self.flat, self.pos, goal) / speed + 2
+        self.pos, self.room = goal, room
+        self.face_robot()
+        self.say(str(self.pick(P.STOP)), "stopped|not moving|stop", 6)
+        self.wait(1.0, 3.0)  # the robot comes up to her
+        if room not in self.led_to:
+            self.led_to.append(room)
+        self.note()
+
+    def step_to(self, goal: Point) -> None:
+        """A step or two without the robot (the robot turns to her, and should come closer)."""
+        self.act("walk-to", point=pt(goal), speed=fmt(snap(float(self.rng.uniform(*FOLLOW_SPEED)))))
+        self.t += path_length(self.flat, self.pos, goal) / FOLLOW_SPEED[0] + 1
+        self.pos = goal
+        self.face_robot()
+        self.wait(1.0, 2.5)
+
+    def teach_object(self, o: ObjectPlan, spot: Point) -> None:
+        if math.hypot(spot[0] - self.pos[0], spot[1] - self.pos[1]) > 1.2 or self.flat.room_at(spot) != self.room:
+            self.follow_to(spot, o.room)
+        else:
+            self.step_to(spot)
+        words = P.OBJECT_WORDS[o.type]
+        word = words[0] if self.rng.random() < 0.6 else str(self.pick(words))
+        template, owner, favourite, colour = self.pick(P.OBJECT_SIMILAR if o.twin else P.OBJECT)  # type: ignore[misc]
+        text = P.agree(template.format(word=word, colour=o.colour), word)
+        self.act("point", object=o.name, duration=fmt(snap(float(self.rng.uniform(1.5, 2.5)))))
+        self.say(text, "learned|" + rx(word), 8)
+        self.t += 2
+        attrs = {"type": o.type}
+        if owner:
+            attrs["owner"] = "partner"
+        if favourite:
+            attrs["attribute"] = "favourite"
+        if colour:
+            attrs["colour"] = o.colour
+        self.expect.append(("object-learned", attrs, f"{self.user} taught the {o.name} ({text!r})"))
+        self.taught_objects.append((o, word))
+        self.note()
+
+    def where_is(self) -> None:
+        plain = [(o, w) for o, w in self.taught_objects if o.twin is None]
+        if not plain:
+            return
+        o, word = plain[int(self.rng.integers(len(plain)))]
+        self.wait(0.5, 2.0)
+        self.face_robot()
+        text = P.agree(str(self.pick(P.WHERE)).format(word=word), word)
+        names = "|".join(sorted({rx(word), rx(o.type.replace("_", " "))}))
+        self.say(text, f"({names}) (is|are)|don't know|seen the", 8)
+        self.expect.append(("robot-says", {"pattern": f"\\b({names}) (is|are)\\b"}, f"{self.user} asks where the {o.name} is ({text!r})"))
+        self.note()
+
+    def go_to(self, target: int, more: bool) -> None:
+        word, where = self.taught_places[target]
+        self.wait(0.5, 1.5)
+        self.face_robot()
+        text = str(self.pick(P.GOTO)).format(word=word)
+        self.say(text, "going to", 6)
+        self.gotos += 1
+        self.expect.append(("robot-says", {"pattern": f"going to the {rx(word)}"}, f"{self.user}: {text!r}"))
+        drive = path_length(self.flat, self.pos, where) / 0.35 + 10
+        self.wait(drive, drive + 5)
+        if more:  # she walks over to the robot and starts again
+            self.act("walk-to", robot="true", stop_at="1.2")
+            self.t += path_length(self.flat, self.pos, where) / 1.0 + 2
+            self.pos, self.room = where, target
+            self.greet(again=True)
+
+    def goodbye(self) -> None:
+        self.wait(0.5, 1.5)
+        self.face_robot()
+        self.say(str(self.pick(P.GOODBYE)), "bye", 6)
+        self.note()
+
+
+# ------------------------------------------------------------------ scenario
+@dataclass
+class Generated:
+    name: str
+    xml: bytes
+    summary: dict[str, object]
+
+
+def tour_name(seed: int, k: int, count: int) -> str:
+    return f"tour-{seed}-{k:0{max(1, len(str(count - 1)))}d}"
+
+
+def generate_one(seed: int, k: int, *, name: str | None = None) -> Generated:
+    """Scenario k of seed: drawn from ``numpy.random.default_rng([seed, k])`` alone."""
+    rng = np.random.default_rng([seed, k])
+    from ..errors import ScenarioError
+    from ..scenario.loader import load_scenario_text
+
+    for _ in range(50):
+        got = _attempt(rng, name or tour_name(seed, k, k + 1), seed, k)
+        if got is None:
+            continue
+        try:  # a draw the scenario checks refuse (a walk target in a pocket, say) is drawn again
+            load_scenario_text(got.xml, source=f"{got.name}.xml")
+        except ScenarioError as exc:
+            REFUSED.append(str(exc))
+            continue
+        return got
+    raise RuntimeError(f"no tour could be generated for seed {seed}, k {k}")  # pragma: no cover
+
+
+def _attempt(rng: np.random.Generator, name: str, seed: int, k: int) -> Generated | None:
+    flat = generate_flat(rng)
+    objects = generate_objects(rng, flat)
+    start_rooms = [i for i, r in enumerate(flat.rooms) if not r.corridor]
+    start = start_rooms[int(rng.integers(len(start_rooms)))]
+    robot = free_point(rng, flat, start, robot=True, margin=0.25)
+    if robot is None:
+        return None
+    heading = float(rng.uniform(-180, 180))
+    user_pos = None
+    for _ in range(40):
+        a = math.radians(heading + float(rng.uniform(-90, 90)))
+        d = float(rng.uniform(1.4, 2.4))
+        p = snap(robot[0] + d * math.cos(a)), snap(robot[1] + d * math.sin(a))
+        if flat.rooms[start].contains(p) and free(flat, p) and sight(flat.rooms[start], robot, p):
+            user_pos = p
+            break
+    if user_pos is None:
+        return None
+    user = USER_NAMES[int(rng.integers(len(USER_NAMES)))]
+    script = etree.Element("script")
+    tw = TourWriter(rng, flat, user, user_pos, start, script)
+    tw.wait(0.5, 2.0)
+    tw.greet()
+    _agenda(rng, tw, objects)
+    tw.goodbye()
+    # Long enough for her to get to her good-bye even when every request had to be said twice
+    # (a robot that fails early is not also charged with a good-bye she never got to say).
+    duration = math.ceil((tw.t + tw.slack + 30) / 10) * 10
+    doc = _document(rng, name, flat, objects, robot, heading, tw, duration, seed, k)
+    summary = {"name": name, "layout": flat.layout, "rooms": [r.name for r in flat.rooms],
+               "doors": [d.width for d in flat.doors], "objects": len(objects), "duration": duration,
+               "taught_objects": len(tw.taught_objects), "taught_places": len(tw.taught_places), "gotos": tw.gotos}
+    return Generated(name, doc, summary)
+
+
+def _agenda(rng: np.random.Generator, tw: TourWriter, objects: list[ObjectPlan]) -> None:
+    """The middle of the tour: a varied order and subset of the home tour's requests."""
+    flat = tw.flat
+    if rng.random() < 0.6:
+        tw.capabilities()
+    # the rooms she shows, in an order a person walks them (each a neighbour of the rooms seen so far)
+    neighbours: dict[int, set[int]] = {i: set() for i in range(len(flat.rooms))}
+    for d in flat.doors:
+        if len(d.rooms) == 2:
+            a, b = d.rooms
+            neighbours[a].add(b)
+            neighbours[b].add(a)
+    order = [tw.room]
+    frontier = sorted(neighbours[tw.room])
+    visits = int(rng.integers(1, len(flat.rooms) + 1))
+    while frontier and len(order) < visits:
+        nxt = frontier.pop(int(rng.integers(len(frontier))))
+        if nxt in order:
+            continue
+        order.append(nxt)
+        frontier = sorted((set(frontier) | neighbours[nxt]) - set(order))
+    spots: dict[str, Point] = {}
+    for o in objects:
+        s = teaching_spot(rng, flat, o)
+        if s is not None:
+            spots[o.name] = s
+    going_done = False
+    for i, room in enumerate(order):
+        if i > 0:
+            goal = _room_goal(rng, tw, room)
+            if goal is None:
+                continue
+            tw.follow_to(goal, room)
+        r = flat.rooms[room]
+        if rng.random() < (0.3 if r.corridor else 0.75):
+            tw.teach_place()
+        here = [o for o in objects if o.room == room and o.name in spots]
+        here = [here[j] for j in rng.permutation(len(here))][: int(rng.integers(0, 4))]
+        for o in here:
+            tw.teach_object(o, spots[o.name])
+        if tw.taught_objects and rng.random() < 0.3:
+            tw.where_is()
+        if i < len(order) - 1 and not going_done and rng.random() < 0.2:
+            going_done = _maybe_goto(rng, tw, more=True)
+    if tw.taught_objects and rng.random() < 0.4:
+        tw.where_is()
+    if not going_done and rng.random() < 0.5:
+        _maybe_goto(rng, tw, more=rng.random() < 0.5)
+
+
+def _maybe_goto(rng: np.random.Generator, tw: TourWriter, *, more: bool) -> bool:
+    targets = sorted(r for r in tw.taught_places if r != tw.room)
+    if not targets:
+        return False
+    tw.go_to(targets[int(rng.integers(len(targets)))], more)
+    return True
+
+
+def _room_goal(rng: np.random.Generator, tw: TourWriter, room: int) -> Point | None:
+    """Where she stops in a room she leads the robot into: well inside it, with room for the robot."""
+    return free_point(rng, tw.flat, room, robot=True, margin=0.3, away=(), gap=0.0)
+
+
+# ------------------------------------------------------------------ bystanders
+def _bystanders(rng: np.random.Generator, flat: Flat, tw: TourWriter, taken: list[Point], duration: float,
+                names: set[str]) -> list[etree._Element]:
+    n = int(rng.integers(0, 4))
+    people: list[etree._Element] = []
+    pool = [u for u in USER_NAMES if u != tw.user]
+    kinds: list[str] = []
+    if n >= 2 and rng.random() < 0.5:
+        kinds = ["pair", "pair"] + [("walker", "crosser")[int(rng.integers(2))] for _ in range(n - 2)]
+    else:
+        kinds = [("walker", "crosser")[int(rng.integers(2))] for _ in range(n)]
+    pair: list[tuple[str, Point]] = []
+    for kind in kinds:
+        who = pool.pop(int(rng.integers(len(pool))))
+        if kind == "pair" and pair:
+            room = flat.room_at(pair[0][1])
+            assert room is not None
+            p = None
+            for _ in range(30):
+                a = float(rng.uniform(0, 2 * math.pi))
+                q = snap(pair[0][1][0] + 1.2 * math.cos(a)), snap(pair[0][1][1] + 1.2 * math.sin(a))
+                if flat.rooms[room].contains(q) and free(flat, q) and all(math.hypot(q[0] - t[0], q[1] - t[1]) > 1.0 for t in taken):
+                    p = q
+                    break
+            if p is None:
+                continue
+        else:
+            room = int(rng.integers(len(flat.rooms)))
+            p = free_point(rng, flat, room, away=tuple(taken), gap=1.5)
+            if p is None:
+                continue
+        taken.append(p)
+        h = etree.Element("human", name=who, x=fmt(p[0]), y=fmt(p[1]), heading=fmt(snap(float(rng.uniform(-180, 180)))),
+                          height=fmt(snap(float(rng.uniform(1.5, 1.95)))), torso=str(TORSOS[int(rng.integers(len(TORSOS)))]),
+                          speed=fmt(snap(float(rng.uniform(*WALK_SPEED)))))
+        s = etree.SubElement(h, "script")
+        if kind == "pair":
+            pair.append((who, p))
+            if len(pair) == 2:
+                _chat(rng, pair, people[-1].find("script"), s, duration)
+        elif kind == "walker":
+            rep = etree.SubElement(s, "repeat", times=str(int(rng.integers(2, 5))))
+            for _ in range(2):
+                goal_room = int(rng.integers(len(flat.rooms)))
+                q = free_point(rng, flat, goal_room)
+                if q is None:
+                    continue
+                etree.SubElement(rep, "walk-to", point=pt(q))
+                etree.SubElement(rep, "wait", **{"for": fmt(snap(float(rng.uniform(3, 15))))})
+                if rng.random() < 0.3:
+                    etree.SubElement(rep, "say", text=str(P.CHAT[int(rng.integers(len(P.CHAT)))]))
+            if len(rep) == 0:
+                etree.SubElement(rep, "wait", **{"for": "5"})
+        else:  # crosser: comes through where the tour is, at about the time it is there
+            if not tw.timeline:
+                continue
+            t, room_c, u = tw.timeline[int(rng.integers(len(tw.timeline)))]
+            a = free_point(rng, flat, room_c, away=(u,), gap=1.2)
+            b = free_point(rng, flat, room_c, away=(u, a) if a else (u,), gap=2.0)
+            if a is None or b is None:
+                etree.SubElement(s, "wait", **{"for": "1"})
+            else:
+                lead = max(0.0, t - path_length(flat, p, a) / 1.0 - 3)
+                if lead > 0:
+                    etree.SubElement(s, "wait", **{"for": fmt(snap(lead))})
+                etree.SubElement(s, "walk-to", point=pt(a))
+                etree.SubElement(s, "walk-to", point=pt(b))
+                etree.SubElement(s, "wait", **{"for": fmt(snap(float(rng.uniform(5, 20))))})
+                back = free_point(rng, flat, int(rng.integers(len(flat.rooms))))
+                if back is not None:
+                    etree.SubElement(s, "walk-to", point=pt(back))
+        names.add(who)
+        people.append(h)
+    return people
+
+
+def _chat(rng: np.random.Generator, pair: list[tuple[str, Point]], a: etree._Element | None, b: etree._Element,
+          duration: float) -> None:
+    """Two people face each other and talk, taking turns, for most of the run."""
+    if a is None:
+        return
+    (na, _), (nb, _) = pair
+    etree.SubElement(a, "face", human=nb)
+    etree.SubElement(b, "face", human=na)
+    turns = int(min(40, max(3, duration / 12)))
+    t_a = t_b = 0.0
+    for i in range(turns):
+        line = str(P.CHAT[int(rng.integers(len(P.CHAT)))])
+        gap = snap(float(rng.uniform(3, 10)))
+        speaker, other = (a, b) if i % 2 == 0 else (b, a)
+        # the speaker waits for her turn, says her line; the other waits through it
+        d = speech_duration(line)
+        etree.SubElement(speaker, "wait", **{"for": fmt(gap)})
+        etree.SubElement(speaker, "say", text=line)
+        etree.SubElement(other, "wait", **{"for": fmt(snap(gap + d + 0.2))})
+        t_a += gap + d
+        t_b += gap + d
+
+
+def _source(rng: np.random.Generator, flat: Flat, taken: list[Point]) -> etree._Element | None:
+    if rng.random() >= 0.35:
+        return None
+    room = int(rng.integers(len(flat.rooms)))
+    p = free_point(rng, flat, room, away=tuple(taken), gap=0.5)
+    if p is None:
+        return None
+    kind = "radio" if rng.random() < 0.5 else "tv"
+    el = etree.Element(kind, name=f"{flat.rooms[room].name} {kind}", x=fmt(p[0]), y=fmt(p[1]), height="1",
+                       loudness=fmt(snap(float(rng.uniform(50, 62)))))
+    s = etree.SubElement(el, "script")
+    etree.SubElement(s, "wait", **{"for": fmt(snap(float(rng.uniform(0, 20))))})
+    rep = etree.SubElement(s, "repeat")
+    for _ in range(3):
+        bank = P.BROADCAST_GREETING if rng.random() < 0.2 else P.BROADCAST
+        etree.SubElement(rep, "say", text=str(bank[int(rng.integers(len(bank)))]))
+        etree.SubElement(rep, "wait", **{"for": fmt(snap(float(rng.uniform(3, 12))))})
+    return el
+
+
+# ------------------------------------------------------------------ document
+def _document(rng: np.random.Generator, name: str, flat: Flat, objects: list[ObjectPlan], robot: Point, heading: float,
+              tw: TourWriter, duration: float, seed: int, k: int) -> bytes:
+    root = etree.Element("scenario", name=name, seed="0", duration=fmt(duration))
+    root.append(etree.Comment(f" generated by 'homesim generate' with seed {seed} (tour {k}): a {flat.layout} flat of "
+                              f"{len(flat.rooms)} rooms; edit freely, it is an ordinary scenario "))
+    desc = etree.SubElement(root, "description")
+    desc.text = (f"{tw.user.capitalize()} shows the robot her flat ({', '.join(r.name for r in flat.rooms)}): "
+                 f"{len(tw.taught_places)} places and {len(tw.taught_objects)} objects taught, "
+                 f"{len(tw.led_to)} rooms led to, {tw.gotos} go-to requests.")
+    fl = etree.SubElement(root, "flat")
+    for r in flat.rooms:
+        etree.SubElement(fl, "room", name=r.name, points=" ".join(f"{fmt(x)},{fmt(y)}" for x, y in r.polygon))
+    walls = etree.SubElement(fl, "walls", thickness="0.1")
+    for w in flat.walls:
+        we = etree.SubElement(walls, "wall", {"from": pt(w.start), "to": pt(w.end)})
+        for at, d in w.doors:
+            attrs = {"name": d.name, "at": fmt(at), "width": fmt(d.width)}
+            if d.exit:
+                attrs["exit"] = "true"
+            etree.SubElement(we, "door", attrs)
+    for f in flat.furniture:
+        attrs = {"name": f.name, "type": f.type, "points": " ".join(f"{fmt(x)},{fmt(y)}" for x, y in f.rect.corners()),
+                 "height": fmt(f.height)}
+        if f.clearance > 0:
+            attrs["clearance"] = fmt(f.clearance)
+            attrs["leg"] = fmt(f.leg)
+        etree.SubElement(fl, "furniture", attrs)
+    for pname, (x, y), _ in flat.places:
+        etree.SubElement(fl, "place", name=pname, x=fmt(x), y=fmt(y))
+    objs = etree.SubElement(root, "objects")
+    for o in objects:
+        attrs = {"name": o.name, "type": o.type, "colour": o.colour, "size": fmt(o.size), "height": fmt(o.height),
+                 "x": fmt(o.x), "y": fmt(o.y)}
+        if o.on is not None:
+            attrs["on"] = o.on.name
+        etree.SubElement(objs, "object", attrs)
+    etree.SubElement(root, "robot", x=fmt(robot[0]), y=fmt(robot[1]), heading=fmt(snap(heading)))
+    humans = etree.SubElement(root, "humans")
+    u = etree.SubElement(humans, "human", name=tw.user, x=fmt(tw.timeline[0][2][0]), y=fmt(tw.timeline[0][2][1]),
+                         heading=fmt(snap(float(rng.uniform(-180, 180)))), height=fmt(snap(float(rng.uniform(1.55, 1.9)))),
+                         torso=str(TORSOS[int(rng.integers(len(TORSOS)))]), speed=fmt(snap(float(rng.uniform(*WALK_SPEED)))))
+    u.append(tw.script)
+    taken = [robot, tw.timeline[0][2]]
+    names: set[str] = {tw.user}
+    for h in _bystanders(rng, flat, tw, taken, duration, names):
+        humans.append(h)
+    src = _source(rng, flat, taken)
+    if src is not None:
+        etree.SubElement(root, "sources").append(src)
+    ex = etree.SubElement(root, "expect")
+    for tag, attrs, comment in _expectations(tw):
+        if comment:
+            ex.append(etree.Comment(f" {comment} "))
+        etree.SubElement(ex, tag, attrs)
+    etree.indent(root, space="  ")
+    return etree.tostring(root, xml_declaration=True, encoding="UTF-8", pretty_print=True)
+
+
+def _expectations(tw: TourWriter) -> list[tuple[str, dict[str, str], str]]:
+    out: list[tuple[str, dict[str, str], str]] = [
+        ("state-reached", {"state": "Interacting"}, "the greeting starts the interaction"),
+        ("robot-says", {"pattern": "I am BIRON"}, ""),
+    ]
+    said = [e for e in tw.script if e.tag == "say"]
+    if any(re.search(r"what .*(can|able)", e.get("text", ""), re.I) for e in said):
+        out.append(("robot-says", {"pattern": "ask me to follow you|show me objects"}, "the self-explanation"))
+    for room, (word, _) in sorted(tw.taught_places.items()):
+        out.append(("place-learned", {"name": word}, f"{tw.user} taught the {word} (her word for it)"))
+    if tw.led_to:
+        out.append(("state-reached", {"state": "Following"}, "following her through the flat"))
+        out.append(("following-distance", {"who": tw.user, "min": "0.5", "max": "2.5", "fraction": "0.8"}, ""))
+        for room in tw.led_to:
+            out.append(("robot-near", {"room": tw.flat.rooms[room].name}, ""))
+    out += tw.expect
+    if tw.taught_objects:
+        out.append(("metric", {"name": "teaching.precision", "min": "1"}, "nothing stored that she did not point at"))
+        out.append(("event-rejected", {"event": "object_teaching", "never": "true"}, ""))
+    if tw.gotos:
+        out.append(("robot-says", {"pattern": "arrived"}, "go-to: it gets there on its own"))
+        out.append(("metric", {"name": "navigation.reached", "min": str(tw.gotos)}, ""))
+        out.append(("state-reached", {"state": "AskingForHelp", "never": "true"}, ""))
+    out.append(("robot-says", {"pattern": "^good-?bye"}, "good-bye ends the interaction"))
+    out.append(("event-applied", {"event": "goodbye"}, ""))
+    if not tw.gotos:
+        out.append(("event-applied", {"event": "partner_lost", "never": "true"}, "the partner is never lost"))
+    out.append(("no-collision", {}, "the robot touches nothing and nobody"))
+    return out
+
+
+# ------------------------------------------------------------------ command
+def generate(seed: int, count: int, out: Path) -> list[Generated]:
+    """Write ``count`` tours of ``seed`` into ``out``; return them."""
+    out.mkdir(parents=True, exist_ok=True)
+    made = []
+    for k in range(count):
+        g = generate_one(seed, k, name=tour_name(seed, k, count))
+        (out / f"{g.name}.xml").write_bytes(g.xml)
+        made.append(g)
+    return made
+
+
+def _count(text: str) -> int:
+    if not text.strip().isdigit() or not 1 <= int(text) <= MAX_COUNT:
+        raise argparse.ArgumentTypeError(f"{text[:25]!r} is not a count (1 to {MAX_COUNT})")
+    return int(text)
+
+
+def generate_command(a: argparse.Namespace) -> int:
+    made = generate(a.seed, a.count, Path(a.out))
+    for g in made:
+        s = g.summary
+        print(f"{a.out}/{g.name}.xml: {s['layout']} flat, {len(s['rooms'])} rooms ({', '.join(s['rooms'])}), "  # type: ignore[arg-type]
+              f"{s['objects']} objects, {s['taught_places']} places and {s['taught_objects']} objects taught, "
+              f"{s['gotos']} go-to, {s['duration']} s")
+    return 0
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    """Add ``homesim generate``."""
+    from .. import cliargs
+
+    p = sub.add_parser("generate", help="write random flats with a home tour as scenario files (same seed, same files)")
+    p.add_argument("--seed", type=cliargs.seed, required=True, help="the generator's seed (file k is drawn from [seed, k])")
+    p.add_argument("--count", type=_count, default=1, help="how many tours (default 1)")
+    p.add_argument("--out", required=True, help="directory for the scenario files")
+    p.set_defaults(func=generate_command)

@@ -1,0 +1,196 @@
+"""``homesim generate``: generated flats and tours are valid, deterministic scenarios that keep the issue's ranges."""
+
+from __future__ import annotations
+
+import math
+from functools import lru_cache
+
+import numpy as np
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from homesim.cli import main
+from homesim.scenario.loader import load_scenario, load_scenario_text
+from homesim.scenario.model import PointAt, Say, Scenario, WalkTo
+from homesim.tour import objectgen, phrasing
+from homesim.tour.flatgen import DOOR_MAX, DOOR_MIN, generate_flat, robot_grid
+from homesim.tour.generate import generate_one, sight
+from homesim.geometry import point_in_polygon, polygon_area
+from tests.conftest import examples
+
+
+@lru_cache(maxsize=64)
+def tour(seed: int, k: int = 0) -> tuple[bytes, Scenario]:
+    g = generate_one(seed, k)
+    return g.xml, load_scenario_text(g.xml, source=f"{g.name}.xml")
+
+
+def room_of(sc: Scenario, x: float, y: float) -> str | None:
+    for r in sc.rooms:
+        if point_in_polygon((x, y), np.array(r.polygon)):
+            return r.name
+    return None
+
+
+def test_command_writes_files_that_check_and_load(tmp_path):
+    assert main(["generate", "--seed", "7", "--count", "3", "--out", str(tmp_path)]) == 0
+    files = sorted(tmp_path.glob("*.xml"))
+    assert [f.name for f in files] == ["tour-7-0.xml", "tour-7-1.xml", "tour-7-2.xml"]
+    for f in files:
+        sc = load_scenario(f)  # XSD and every semantic check
+        assert sc.expectations and sc.humans
+        assert main(["check", str(f)]) == 0
+
+
+def test_same_seed_same_bytes_and_file_k_does_not_depend_on_count(tmp_path):
+    a, b = tmp_path / "a", tmp_path / "b"
+    assert main(["generate", "--seed", "3", "--count", "2", "--out", str(a)]) == 0
+    assert main(["generate", "--seed", "3", "--count", "2", "--out", str(b)]) == 0
+    for name in ("tour-3-0.xml", "tour-3-1.xml"):
+        assert (a / name).read_bytes() == (b / name).read_bytes()
+    assert generate_one(3, 1).xml.replace(b"tour-3-1", b"X") == (a / "tour-3-1.xml").read_bytes().replace(b"tour-3-1", b"X")
+    assert generate_one(4, 0).xml != generate_one(3, 0).xml
+
+
+def test_bad_count_is_refused(tmp_path, capsys):
+    assert main(["generate", "--seed", "1", "--count", "0", "--out", str(tmp_path)]) == 2
+    assert "count" in capsys.readouterr().err
+
+
+@settings(max_examples=examples(6, 25))
+@given(st.integers(0, 10**6))
+def test_flat_keeps_the_issues_ranges(seed):
+    _, sc = tour(seed)
+    assert 2 <= len(sc.rooms) <= 6
+    doors = [d for w in sc.walls for d in w.doors]
+    inner = [d for d in doors if not d.exit]
+    assert len(inner) >= len(sc.rooms) - 1  # every room is joined to the flat
+    for d in inner:
+        assert DOOR_MIN - 1e-9 <= d.width <= DOOR_MAX + 1e-9
+    assert len(sc.exits()) == 1
+    for r in sc.rooms:
+        assert polygon_area(np.array(r.polygon)) > 2.0
+    # furniture the laser (0.30 m) passes under, and furniture that blocks it, across seeds: see the next test
+    for f in sc.furniture:
+        assert all(room_of(sc, x, y) is not None for x, y in f.polygon), f.name
+
+
+def test_furniture_of_both_kinds_and_shapes_of_every_kind_occur():
+    layouts, under, blocking, l_rooms, corridors, twins, sources = set(), 0, 0, 0, 0, 0, 0
+    for seed in range(12):
+        xml, sc = tour(seed)
+        layouts.add(xml.split(b"(tour 0): a ")[1].split(b" flat")[0])
+        under += sum(f.clearance > 0.30 for f in sc.furniture)
+        blocking += sum(f.clearance <= 0.30 for f in sc.furniture)
+        l_rooms += sum(len(r.polygon) == 6 for r in sc.rooms)
+        corridors += sum(min(np.ptp(np.array(r.polygon), axis=0)) <= 1.4 for r in sc.rooms)
+        types = [o.type for o in sc.objects]
+        twins += any(types.count(t) > 1 for t in types)
+        sources += bool(sc.sources)
+    assert layouts == {b"row", b"L", b"corridor", b"tree"}
+    assert under and blocking and l_rooms and corridors and twins and sources
+
+
+@settings(max_examples=examples(6, 25))
+@given(st.integers(0, 10**6))
+def test_objects_are_inside_rooms_on_what_they_say_and_reachable(seed):
+    _, sc = tour(seed)
+    assert 3 <= len(sc.objects) <= 15
+    grid = robot_grid_for(sc)
+    for o in sc.objects:
+        assert room_of(sc, o.x, o.y) is not None, o.name
+        if o.on is None:  # on the floor: not inside a piece of furniture
+            for f in sc.furniture:
+                assert not point_in_polygon((o.x, o.y), np.array(f.polygon)), (o.name, f.name)
+        # a person can get within 1.2 m of it
+        near = [(o.x + r * math.cos(a), o.y + r * math.sin(a)) for r in (0.5, 0.7, 0.9, 1.1) for a in np.linspace(0, 2 * math.pi, 16)]
+        assert any(not grid.blocked[grid.cell_of(p)] and grid.component(p) == grid.component((sc.robot.x, sc.robot.y)) for p in near), o.name
+        assert o.type in objectgen.KINDS
+
+
+def robot_grid_for(sc: Scenario):
+    from homesim.scenario.pathplan import Grid
+
+    return Grid.for_scenario(sc)
+
+
+@settings(max_examples=examples(6, 25))
+@given(st.integers(0, 10**6))
+def test_tour_is_physically_sensible(seed):
+    """People start inside rooms; the user points only at objects she can see from where she stands,
+    close by; 0 to 3 bystanders; the script greets first and says good-bye last."""
+    _, sc = tour(seed)
+    user, others = sc.humans[0], sc.humans[1:]
+    assert len(others) <= 3
+    for h in sc.humans:
+        assert room_of(sc, h.x, h.y) is not None
+    says = [a.text for a in user.script if isinstance(a, Say)]
+    assert any(says[0] == g for g in phrasing.GREET)
+    assert any(says[-1] == g for g in phrasing.GOODBYE)
+    pos = (user.x, user.y)
+    rooms = {r.name: r for r in sc.rooms}
+    for a in user.script:
+        if isinstance(a, WalkTo) and a.target.kind == "point":
+            pos = (a.target.x, a.target.y)
+        if isinstance(a, PointAt):
+            o = sc.object(a.target.name or "")
+            assert math.hypot(o.x - pos[0], o.y - pos[1]) <= 0.9 + o.size / 2 + 1e-6
+            room = room_of(sc, *pos)
+            assert room == room_of(sc, o.x, o.y)
+            assert sight(_RoomView(rooms[room].polygon), pos, (o.x, o.y))
+
+
+class _RoomView:
+    def __init__(self, polygon):
+        self.polygon = np.array(polygon)
+
+    def contains(self, p):
+        return point_in_polygon(p, self.polygon)
+
+
+def test_expectations_follow_from_the_tour():
+    for seed in range(6):
+        _, sc = tour(seed)
+        user = sc.humans[0]
+        kinds = [e.kind for e in sc.expectations]
+        assert "no-collision" in kinds and "state-reached" in kinds
+        pointed = {a.target.name for a in user.script if isinstance(a, PointAt)}
+        learned = [e for e in sc.expectations if e.kind == "object-learned"]
+        assert {sc.object(n).type for n in pointed} == {e.get("type") for e in learned}
+        taught = [a.text for a in user.script if isinstance(a, Say) and any(a.text == t.format(word=r.name) for t in phrasing.PLACE for r in sc.rooms)]
+        assert len([e for e in sc.expectations if e.kind == "place-learned"]) == len({t for t in taught})
+
+
+def test_object_words_and_types_are_the_robots_lexicon():
+    from robot.speech.lexicon import Lexicon
+
+    lex = Lexicon.load()
+    obj = {}
+    for words, (terminal, value) in lex.entries.items():
+        if terminal == "OBJ":
+            obj[" ".join(words)] = value
+    for typ, words in phrasing.OBJECT_WORDS.items():
+        assert typ in objectgen.KINDS
+        for w in words:
+            assert obj.get(w) == typ, (w, typ)
+    assert set(objectgen.KINDS) <= set(obj.values())
+
+
+def test_flats_are_random_but_every_room_is_reachable_for_the_robot():
+    for seed in range(8):
+        flat = generate_flat(np.random.default_rng(seed))
+        grid = robot_grid(flat)
+        from homesim.tour.flatgen import room_middle
+
+        comps = {grid.component(room_middle(r)) for r in flat.rooms}
+        assert len(comps) == 1
+
+
+def test_plural_objects_are_spoken_of_in_the_plural():
+    assert phrasing.agree("Look, this is the glasses", "glasses") == "Look, these are the glasses"
+    assert phrasing.agree("Can you tell me where the keys is", "keys") == "Can you tell me where the keys are"
+    assert phrasing.agree("This is a shoes", "shoes") == "These are shoes"
+    assert phrasing.agree("This is my cup", "cup") == "This is my cup"
+    for t, *_ in phrasing.OBJECT + phrasing.OBJECT_SIMILAR:
+        text = phrasing.agree(t.format(word="keys", colour="grey"), "keys")
+        assert " is " not in f" {text} " and "this " not in text.lower(), text

@@ -1,0 +1,166 @@
+"""``homesim study``: Wilson intervals, capability mapping, failure grouping, conditions, and a tiny study end to end."""
+
+from __future__ import annotations
+
+import json
+
+import pytest
+from hypothesis import given
+from hypothesis import strategies as st
+
+from homesim.cli import main
+from homesim.cliargs import OptionError
+from homesim.scenario.loader import load_scenario
+from homesim.scenario.model import Expectation
+from homesim.tour.capabilities import capability_of, cause_of, wilson
+from homesim.tour.study import analyse, parse_condition
+
+
+@given(st.integers(1, 5000).flatmap(lambda n: st.tuples(st.integers(0, n), st.just(n))))
+def test_wilson_bounds_lie_in_0_1_and_contain_the_rate(pn):
+    passed, runs = pn
+    lo, hi = wilson(passed, runs)
+    assert 0.0 <= lo <= passed / runs <= hi <= 1.0
+    assert hi - lo > 0  # a finite sample never pins a rate down exactly
+
+
+@given(st.integers(1, 2000))
+def test_wilson_narrows_with_more_runs_and_is_symmetric(n):
+    lo, hi = wilson(n // 2, n)
+    lo4, hi4 = wilson(2 * (n // 2), 2 * n)
+    assert hi4 - lo4 < hi - lo
+    a, b = wilson(n // 3, n)
+    c, d = wilson(n - n // 3, n)
+    assert a == pytest.approx(1 - d) and b == pytest.approx(1 - c)
+
+
+def test_wilson_known_values_and_no_runs():
+    assert wilson(0, 0) == (0.0, 1.0)
+    lo, hi = wilson(8, 10)  # textbook: 0.490 .. 0.943
+    assert (round(lo, 3), round(hi, 3)) == (0.490, 0.943)
+    lo, hi = wilson(0, 40)
+    assert lo == 0.0 and round(hi, 3) == 0.088
+    with pytest.raises(ValueError):
+        wilson(3, 2)
+
+
+def E(kind: str, line: int = 1, **attrs) -> Expectation:
+    return Expectation(kind, tuple(attrs.items()), line)
+
+
+def test_every_library_expectation_has_a_capability_and_the_home_tour_maps_as_a_reader_would():
+    sc = load_scenario("scenarios/home_tour.xml")
+    caps = {e.describe(): capability_of(e, sc.expectations) for e in sc.expectations}
+    assert caps['<robot-says pattern="hello|hi" by="25"/>'] == "greeting"
+    assert caps['<robot-says pattern="ask me to follow you|show me objects"/>'] == "self-explanation"
+    assert caps['<state-reached state="Following"/>'] == "following"
+    assert caps['<robot-near room="kitchen"/>'] == "following"  # nobody sends the robot anywhere here
+    assert caps['<place-learned name="kitchen"/>'] == "place teaching"
+    assert caps['<object-learned type="kettle"/>'] == "object teaching"
+    assert caps['<robot-says pattern="^good-?bye"/>'] == "good-bye"
+    assert caps['<event-applied event="partner_lost" never="true"/>'] == "partner kept"
+    assert caps["<no-collision/>"] == "no collision"
+    goto = load_scenario("scenarios/goto.xml")
+    near = next(e for e in goto.expectations if e.kind == "robot-near")
+    assert capability_of(near, goto.expectations) == "go-to"
+    assert capability_of(E("metric", name="navigation.reached"), ()) == "go-to"
+    assert capability_of(E("robot-says", pattern=r"\b(cup) is\b"), ()) == "where-is"
+
+
+def test_causes_group_the_same_failure_in_different_flats():
+    a = cause_of("robot-near", "the robot never entered kitchen between 0 and 140 s", ["kitchen", "anna"])
+    b = cause_of("robot-near", "the robot never entered guest room between 0 and 230.5 s", ["guest room"])
+    assert a == b == "robot-near: the robot never entered … between N and N"
+    c = cause_of("place-learned", "none of the 2 places in the scene model matches {'name': 'study'}")
+    assert c == "place-learned: none of the N places in the scene model matches …"
+    assert cause_of("no-collision", "the robot touched wall at t=3.2 s") != a
+
+
+def test_analyse_counts_capabilities_per_run_and_groups_failures():
+    exps = [E("state-reached", 10, state="Interacting"), E("object-learned", 11, type="cup"),
+            E("object-learned", 12, type="book"), E("no-collision", 13)]
+    rows = []
+    for seed, failed in enumerate([[], [11], [11, 12], [13]]):
+        rows.append({"file": "f.xml", "scenario": "f", "seed": seed, "condition": "default",
+                     "verdict": "PASS" if not failed else "FAIL",
+                     "failed": [{"name": "x", "where": f"f.xml:{ln}", "detail": f"none of the {seed} objects matches {{'type': 'cup'}}"
+                                 if ln != 13 else "the robot touched wall at t=1 s"} for ln in failed]})
+    rows.append({"file": "f.xml", "scenario": "f", "seed": 9, "condition": "default", "verdict": "ERROR", "failed": [], "error": "boom"})
+    out = analyse(rows, {"f.xml": exps}, {"f.xml": []}, ["default"])
+    caps = out["capabilities"]
+    assert (caps["object teaching"]["runs"], caps["object teaching"]["passed"]) == (5, 2)  # a run passes it only if both hold
+    assert (caps["greeting"]["runs"], caps["greeting"]["passed"]) == (5, 4)  # the errored run counts as a failure
+    assert (caps["no collision"]["runs"], caps["no collision"]["passed"]) == (5, 3)
+    assert (out["overall"]["runs"], out["overall"]["passed"]) == (5, 1)
+    assert rows[2]["first_failed"] == '<object-learned type="cup"/>' and rows[2]["first_failed_capability"] == "object teaching"
+    teach = next(g for g in out["failures"] if g["capability"] == "object teaching")
+    assert teach["runs"] == 2  # two runs, three failed expectations: grouped by cause, counted per run
+    assert any(g["kind"] == "error" for g in out["failures"])
+
+
+def test_conditions_parse_and_refuse_unknown_keys():
+    c = parse_condition("slow=robot.max-speed=0.3,option.follow-distance=1.4,strict=true")
+    assert c.name == "slow" and c.robot == (("max-speed", "0.3"),) and c.options == (("follow-distance", "1.4"),)
+    assert c.run == (("strict", True),)
+    assert parse_condition("plain").text() == "(as written)"
+    for bad in ("x=colour=red", "=a=b", "x=seed=3", "x=strict=maybe", "x=robot.max-speed"):
+        with pytest.raises(OptionError):
+            parse_condition(bad)
+
+
+def test_tiny_study_end_to_end_with_two_conditions(tmp_path, capsys):
+    """Two short library scenarios, two conditions (as written, and a robot too slow to follow): the
+    slow robot's following rate drops, the table shows both side by side, the files are written."""
+    out = tmp_path / "st"
+    code = main(["study", "scenarios/radio.xml", "scenarios/follow_crossing.xml", "--seeds", "0", "--workers", "1",
+                 "--condition", "as-written", "--condition", "slow=robot.max-speed=0.15", "--out", str(out)])
+    assert code == 0
+    doc = json.loads((out / "study.json").read_text())
+    assert len(doc["runs"]) == 4 and {r["condition"] for r in doc["runs"]} == {"as-written", "slow"}
+    follow = doc["capabilities"]["following"]["by_condition"]
+    assert follow["as-written"]["rate"] == 1.0 and follow["slow"]["rate"] < 1.0
+    for cap in doc["capabilities"].values():
+        assert 0 <= cap["ci95"][0] <= cap["rate"] <= cap["ci95"][1] <= 1
+    slow_run = next(r for r in doc["runs"] if r["condition"] == "slow" and r["verdict"] == "FAIL")
+    assert slow_run["first_failed_kind"] and slow_run["first_failed_capability"]
+    assert doc["failures"] and doc["throughput"]["runs_per_cpu_minute"] > 0
+    assert (out / "study.png").stat().st_size > 1000 and (out / "study.svg").read_text().startswith("<?xml")
+    assert (out / "conditions" / "slow" / "follow_crossing.xml").is_file()
+    text = capsys.readouterr().out
+    assert "| capability | as-written | slow |" in text and "following" in text
+
+
+def test_study_needs_files_or_generated(tmp_path, capsys):
+    assert main(["study", "--out", str(tmp_path)]) == 2
+    assert main(["study", "--generated", "2", "--out", str(tmp_path)]) == 2
+    assert "--seed" in capsys.readouterr().err
+
+
+def test_a_dask_cluster_gives_the_same_study_as_local_processes(tmp_path):
+    distributed = pytest.importorskip("distributed")
+    from pathlib import Path
+
+    from homesim.tour.study import Condition, study
+
+    files = [str(Path("scenarios/radio.xml").resolve())]
+    local = study(files, [0, 1], [Condition("default")], tmp_path / "local", workers=1)
+    with distributed.LocalCluster(n_workers=1, threads_per_worker=1, processes=False, dashboard_address=None) as cluster:
+        with distributed.Client(cluster) as client:
+            remote = study(files, [0, 1], [Condition("default")], tmp_path / "dask", scheduler=client)
+    assert remote["capabilities"] == local["capabilities"] and remote["failures"] == local["failures"]
+    assert [(r["seed"], r["verdict"]) for r in remote["runs"]] == [(r["seed"], r["verdict"]) for r in local["runs"]]
+    assert remote["throughput"]["workers"] == "dask"
+
+
+def test_resume_reuses_the_runs_already_made(tmp_path):
+    from pathlib import Path
+
+    from homesim.tour.study import Condition, study
+
+    files = [str(Path("scenarios/radio.xml").resolve())]
+    first = study(files, [0], [Condition("default")], tmp_path, workers=1)
+    again = study(files, [0, 1], [Condition("default")], tmp_path, workers=1, resume=True)
+    assert first["throughput"]["runs"] == 1 and again["throughput"]["runs"] == 1  # only seed 1 was run now
+    assert [r["seed"] for r in again["runs"]] == [0, 1]
+    assert again["runs"][0]["verdict"] == first["runs"][0]["verdict"]
+    assert again["capabilities"]["greeting"]["runs"] == 2
