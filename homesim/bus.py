@@ -51,7 +51,6 @@ would otherwise grow the run's memory until the process is killed.
 from __future__ import annotations
 
 import asyncio
-import heapq
 import inspect
 import os
 import re
@@ -118,7 +117,6 @@ _Entity = etree.Entity
 #: Default of :attr:`Bus.max_sends_per_s`.
 MAX_SENDS_PER_S = 10_000
 _new = object.__new__
-_heappush = heapq.heappush
 
 
 def _as_schema(schema: SchemaLike) -> Schema | None:
@@ -765,7 +763,7 @@ class Bus:
         """How ``sender``'s messages on ``channel`` reach each receiver, worked out once.
 
         One entry per route, in delivery order: ``(subscription, receiver, fifo, lo, span, path)``
-        where ``fifo`` is the pair's FIFO state, ``path`` the network's :class:`~homesim.network.Path`
+        where ``fifo`` is the pair's FIFO state, ``path`` the network's :class:`~homesim.network.Route`
         and ``lo``/``span`` the link's uniform delay (seconds) when the link is simple (no loss,
         jitter or bandwidth limit: one uniform draw, made inline by ``_publish``), else ``lo``
         is None and the network draws. Cached per participant; dropped when subscriptions,
@@ -779,7 +777,7 @@ class Bus:
         plan = []
         for sub in routes:
             receiver = sub.participant
-            path = net.path(sender.host, receiver.host)
+            path = net.route(sender.host, receiver.host)
             plan.append((sub, receiver, self._fifo(sender.name, receiver.name), path.lo, path.span, path))
         out = sender._plans[channel] = tuple(plan)
         return out
@@ -806,7 +804,7 @@ class Bus:
     def _schedule(self, sender: Participant, receiver: Participant, msg: Message, action: Callable[..., None], *args: Any) -> None:
         """Deliver ``msg`` to ``receiver`` after the link's delay, FIFO per pair."""
         net = self.network
-        path = net.path(sender.host, receiver.host)
+        path = net.route(sender.host, receiver.host)
         delay = net.draw(path, message_size(msg) if path.link.bandwidth_bps else 0)
         if delay is None:
             self._drop(msg, receiver.name, "lost")
@@ -857,10 +855,10 @@ class Bus:
         if not plan:
             return
         # What _schedule does per receiver, inlined (this is the hot path of every message):
-        # the link's delay, FIFO per pair, a _Delivery timer queued as VirtualEventLoop._push_timer does.
+        # the link's delay, FIFO per pair, a _Delivery timer pushed on the loop's TimerQueue.
         loop = self.loop
         now = loop._now_ns
-        due = loop._due
+        push = loop.timers.push
         deliver = self._deliver_publish
         draws = self.network._draws
         left = len(plan)
@@ -894,14 +892,7 @@ class Bus:
             handle = _new(_Delivery)
             handle._callback = deliver
             handle._args = (receiver, own, sub)
-            queued = due.get(when)
-            if queued is None:
-                due[when] = handle
-                _heappush(loop._times, when)
-            elif queued.__class__ is list:
-                queued.append(handle)
-            else:
-                due[when] = [queued, handle]
+            push(when, handle)
 
     def _deliver_publish(self, receiver: Participant, msg: Message, sub: Subscription) -> None:
         if sub.closed:

@@ -229,7 +229,7 @@ class LinkStats:
         }
 
 
-class Path:
+class Route:
     """How a message goes from one host to another: the link it takes and its draw plan.
 
     ``other_loss``: the other host's link's loss (applies, without
@@ -260,8 +260,8 @@ class Network:
         #: Where a participant runs that is not placed and asks for a host nobody declared (a deployment's default).
         self.default_host: str | None = None
         self._stats: dict[str, LinkStats] = {}
-        # Per (host_a, host_b): the Path, worked out once (cleared when links or hosts change).
-        self._plans: dict[tuple[str, str], Path] = {}
+        # Per (host_a, host_b): the Route, worked out once (cleared when links or hosts change).
+        self._plans: dict[tuple[str, str], Route] = {}
         self._listeners: list[Callable[[], None]] = []
 
     def on_change(self, listener: Callable[[], None]) -> None:
@@ -331,10 +331,10 @@ class Network:
     # -------------------------------------------------------------- delays
     def link_between(self, host_a: str, host_b: str) -> LinkModel:
         """The link a message takes from ``host_a`` to ``host_b``."""
-        return self.path(host_a, host_b).link
+        return self.route(host_a, host_b).link
 
-    def path(self, host_a: str, host_b: str) -> Path:
-        """The :class:`Path` from ``host_a`` to ``host_b`` (cached until hosts or links change)."""
+    def route(self, host_a: str, host_b: str) -> Route:
+        """The :class:`Route` from ``host_a`` to ``host_b`` (cached until hosts or links change)."""
         plan = self._plans.get((host_a, host_b))
         if plan is None:
             plan = self._plan(host_a, host_b)
@@ -348,9 +348,9 @@ class Network:
         other's loss applies as a drop). Not recorded in the link's
         statistics: the bus records what a delivery took (FIFO included).
         """
-        return self.draw(self.path(host_a, host_b), size)
+        return self.draw(self.route(host_a, host_b), size)
 
-    def draw(self, path: Path, size: int = 0) -> int | None:
+    def draw(self, path: Route, size: int = 0) -> int | None:
         """One delay along ``path`` (see :meth:`delay_ns`); counts losses and retransmissions."""
         draws = self._draws
         if path.lo is not None:
@@ -375,7 +375,7 @@ class Network:
             st = self._stats[name] = LinkStats(name)
         return st
 
-    def _plan(self, host_a: str, host_b: str) -> Path:
+    def _plan(self, host_a: str, host_b: str) -> Route:
         if host_a == host_b:
             other_loss, slow = 0.0, self._links["local"]
         else:
@@ -383,6 +383,6 @@ class Network:
             b = self._links[self._hosts[host_b]]
             slow, other = (a, b) if a.worst_s >= b.worst_s else (b, a)
             other_loss = other.loss
-        plan = Path(slow, other_loss, self._link_stats(slow.name))
+        plan = Route(slow, other_loss, self._link_stats(slow.name))
         self._plans[(host_a, host_b)] = plan
         return plan

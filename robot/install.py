@@ -26,7 +26,7 @@ SUBSYSTEMS: tuple[str, ...] = (
     "robot.dialog",
     "robot.watchdog",
     "robot.navigation",
-    "robot.player",
+    "robot.navigation.player",
 )
 
 

@@ -66,13 +66,8 @@ from homesim.message import Message
 from homesim.module import Module
 from robot.deployment import cost_scale
 from homesim.vloop import BARE, NS_PER_S, to_ns
+from robot.contract import ES_CONDITIONS, ES_EVENTS, ES_LOG, ES_ORDERS, ES_REJECTED, ES_STATUS
 
-EVENT_CHANNEL = "/robot/es/events"
-ORDER_PREFIX = "/robot/es/orders"
-CONDITION_PREFIX = "/robot/es/conditions"
-REJECTED_PREFIX = "/robot/es/rejected"
-LOG_CHANNEL = "/robot/es/log"
-STATUS_CHANNEL = "/robot/es/status"
 
 SCHEMAS = Path(__file__).with_name("schemas")
 BIRON_AFSM = Path(__file__).with_name("afsm") / "biron.scxml"
@@ -111,13 +106,13 @@ def _seconds(ns: int) -> str:
 
 def declare_channels(bus: Any, machine: Machine) -> None:
     """Type every ES channel on ``bus`` with its XSD (events, outputs per module, log, status)."""
-    bus.declare_channel(EVENT_CHANNEL, SCHEMAS / "es-event.xsd")
-    bus.declare_channel(LOG_CHANNEL, SCHEMAS / "es-log.xsd")
-    bus.declare_channel(STATUS_CHANNEL, SCHEMAS / "es-status.xsd")
+    bus.declare_channel(ES_EVENTS, SCHEMAS / "es-event.xsd")
+    bus.declare_channel(ES_LOG, SCHEMAS / "es-log.xsd")
+    bus.declare_channel(ES_STATUS, SCHEMAS / "es-status.xsd")
     for name in machine.modules:
-        bus.declare_channel(f"{ORDER_PREFIX}/{name}", SCHEMAS / "es-order.xsd")
-        bus.declare_channel(f"{CONDITION_PREFIX}/{name}", SCHEMAS / "es-condition.xsd")
-        bus.declare_channel(f"{REJECTED_PREFIX}/{name}", SCHEMAS / "es-rejected.xsd")
+        bus.declare_channel(f"{ES_ORDERS}/{name}", SCHEMAS / "es-order.xsd")
+        bus.declare_channel(f"{ES_CONDITIONS}/{name}", SCHEMAS / "es-condition.xsd")
+        bus.declare_channel(f"{ES_REJECTED}/{name}", SCHEMAS / "es-rejected.xsd")
 
 
 def output_xml(out: Output, state: str) -> etree._Element:
@@ -266,7 +261,7 @@ class ExecutionSupervisor(Module):
         self._output_xml = OutputBuilder()
         if typed:
             declare_channels(sim.bus, m)
-        self.bus.subscribe(EVENT_CHANNEL, self._on_event)
+        self.bus.subscribe(ES_EVENTS, self._on_event)
         if health_channel is not None:
             self.bus.subscribe(health_channel, self._on_health)
         self.bus.serve("introspect", lambda msg: self.status_xml(), reply_schema=SCHEMAS / "es-status.xsd")
@@ -444,7 +439,7 @@ class ExecutionSupervisor(Module):
         """
         for rec in records:
             # Built only if someone receives or observes the log (the trace, expectations, metrics).
-            self.bus.publish(LOG_CHANNEL, partial(record_xml, rec), causes=(rec.event.id,))
+            self.bus.publish(ES_LOG, partial(record_xml, rec), causes=(rec.event.id,))
             if isinstance(rec, Applied):
                 if rec.outputs:
                     self._outbox.append((now + self.cost_ns, rec))
@@ -470,13 +465,13 @@ class ExecutionSupervisor(Module):
                            state=rec.state, detail=rec.detail)
         if rec.event.payload is not None:
             el.append(deepcopy(rec.event.payload))
-        self.bus.publish(f"{REJECTED_PREFIX}/{rec.event.source}", el, causes=(rec.event.id,), transfer=True)
+        self.bus.publish(f"{ES_REJECTED}/{rec.event.source}", el, causes=(rec.event.id,), transfer=True)
 
     def _send_outputs(self, rec: Applied) -> None:
         build = self._output_xml
         state = rec.target_state
         for out in rec.outputs:
-            prefix = CONDITION_PREFIX if out.kind == CONDITION else ORDER_PREFIX
+            prefix = ES_CONDITIONS if out.kind == CONDITION else ES_ORDERS
             self.bus.publish(
                 f"{prefix}/{out.target}", build(out, state), causes=(out.event_id,), transfer=True
             )
@@ -531,7 +526,7 @@ class ExecutionSupervisor(Module):
         """
         if self.bus.closed or self.bus.hung:
             return None
-        return self.bus.publish(STATUS_CHANNEL, partial(self.status_xml, history=0))  # built only if seen
+        return self.bus.publish(ES_STATUS, partial(self.status_xml, history=0))  # built only if seen
 
     # -------------------------------------------------------- modification
     def replace(self, machine: Machine | str | os.PathLike[str]) -> None:
@@ -588,7 +583,7 @@ class ExecutionSupervisor(Module):
         self.publish_status()
 
     def _typed_bus(self) -> bool:
-        return self.sim.bus.channel_schema(EVENT_CHANNEL) is not None
+        return self.sim.bus.channel_schema(ES_EVENTS) is not None
 
     def _rpc_replace(self, msg: Message) -> etree._Element:
         self.replace(self._as_machine(msg.xml, source=f"<rpc {msg.id}>"))

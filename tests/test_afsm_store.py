@@ -68,3 +68,20 @@ def test_a_parameter_with_data_nobody_stores_is_refused_by_homesim_check(tmp_pat
     good = tmp_path / "good.scxml"
     good.write_text(DOC)
     assert check_paths([str(good)]) == 0
+
+
+def test_biron_tells_the_dialog_who_greeted_and_what_they_said():
+    """BIRON's AFSM stores the potential partner's PERSON and copies it with the greeting's SPEECH into partner_found."""
+    from homesim.afsm.loader import load
+    from robot.supervisor import BIRON_AFSM
+
+    engine = Engine(load(BIRON_AFSM))
+    person = '<PERSON id="t3" bearing="-4.0" distance="1.400" speaking="true" facing="true"/>'
+    engine.queue(Event("a#1", "potential_partner", "person_attention", 1, 10**9, etree.fromstring(f"<event>{person}</event>")), 1)
+    engine.process(1)
+    greeting = "<event><SPEECH><GREETING/></SPEECH></event>"
+    engine.queue(Event("d#1", "greeting", "dialog", 2, 3 * 10**9, etree.fromstring(greeting)), 2)
+    (applied,) = engine.process(2)
+    found = next(o for o in applied.outputs if o.name == "partner_found")
+    partner = dict(found.params)["partner"]
+    assert [x.tag for x in partner] == ["PERSON", "SPEECH"] and partner[0].get("id") == "t3"

@@ -87,8 +87,12 @@ def test_talking_while_looking_away_makes_no_potential_partner():
     run.run()
     evs = events(run)
     pp = [t for t, n in evs if n == "potential_partner"]
-    assert pp and all(1.0 < t < 2.6 for t in pp)
-    assert any(n == "potential_partner_lost" and 2.1 < t < 3.5 for t, n in evs)
+    hello = next(u for u in run.world.sound.by("ann") if "hello" in u.text.lower())
+    # while she speaks facing the robot (repeated every second): until her last sound direction
+    # (the detector's hangover, 0.1 s) plus the speaking cue's hold (cues.speaking_off, 0.7 s) and a scan
+    assert pp and all(hello.start < t <= hello.end + 0.9 for t in pp)
+    # lost when the last potential_partner's validity (1.5 s, its AFSM lifetime) has run out
+    assert any(n == "potential_partner_lost" and 1.5 - 1e-6 <= t - max(pp) < 1.65 for t, n in evs)
     run.close()
 
 

@@ -14,7 +14,7 @@ from homesim.tour.stage import Stage
 from robot.dialog.module import Dialog
 from robot.dialog.transcript import transcript
 from robot.speech.module import RobotSentence, SpeechUnderstanding, is_own_voice
-from robot.supervisor import EVENT_CHANNEL, ExecutionSupervisor, event_xml
+from robot.supervisor import ES_EVENTS, ExecutionSupervisor, event_xml
 from tests.world_helpers import ROOM
 
 PERSON = etree.fromstring('<PERSON id="t1" bearing="0" distance="1.2" speaking="true" facing="true"/>')
@@ -74,7 +74,7 @@ class Robot:
         self.sim.call_at(t, go)
 
     def partner(self, t: float) -> None:
-        self.sim.call_at(t, lambda: self.attention.publish(EVENT_CHANNEL, event_xml("potential_partner", children=(PERSON,))))
+        self.sim.call_at(t, lambda: self.attention.publish(ES_EVENTS, event_xml("potential_partner", children=(PERSON,))))
 
     def sentences(self) -> list[str]:
         return [m.xml.get("text") for m in self.said.drain()]
@@ -268,7 +268,7 @@ def test_place_teaching_sends_the_latest_pose(robot):
     robot.greet()
     robot.utter("this is the kitchen", 7.0, 8.0)
     robot.sim.run(until=15.0)
-    ev = [r for r in robot.records(EVENT_CHANNEL) if 'name="place_teaching"' in r["xml"]]
+    ev = [r for r in robot.records(ES_EVENTS) if 'name="place_teaching"' in r["xml"]]
     assert ev and '<POSE x="1.5" y="2.0" theta="0.3" frame="map"/>' in ev[0]["xml"]
     assert robot.sentences()[-1] == "OK, this is the kitchen. I will remember it."
     orders = [r for r in robot.records("/robot/es/orders/scene_model") if "store_place" in r["xml"]]
@@ -311,10 +311,10 @@ def test_a_question_routed_through_the_supervisor_is_asked_and_answered_as_an_ev
 
     def teach_and_ask() -> None:
         frame = etree.fromstring('<event name="object_teaching"><SPEECH><OBJECT type="cup"/></SPEECH></event>')
-        robot.sim.bus.get("dialog").publish(EVENT_CHANNEL, frame)
+        robot.sim.bus.get("dialog").publish(ES_EVENTS, frame)
         ev = etree.fromstring('<event name="clarification"><OPTIONS timeout="8"><option index="0" text="red cup"/>'
                               '<option index="1" text="blue cup"/></OPTIONS></event>')
-        robot.sim.call_at(7.5, obj.publish, EVENT_CHANNEL, ev)
+        robot.sim.call_at(7.5, obj.publish, ES_EVENTS, ev)
 
     robot.sim.call_at(7.0, teach_and_ask)
     robot.utter("the blue one", 11.0, 11.8)
@@ -330,12 +330,15 @@ def test_clarification_without_an_answer_times_out_to_none(robot):
 
     async def ask() -> None:
         req = etree.fromstring('<ask timeout="2"><option index="0" text="cup"/><option index="1" text="plant"/></ask>')
-        replies.append(await obj.call("dialog", "ask", req, timeout=5.0))
+        replies.append(await obj.call("dialog", "ask", req, timeout=15.0))
 
     robot.sim.call_at(1.0, lambda: robot.sim.spawn(ask(), name="asker"))
-    robot.sim.run(until=5.0)
+    robot.sim.run(until=15.0)
     assert replies and replies[0].xml.get("none") == "true"
     assert robot.dialog.manager.stack == []
+    # The 2 s to answer run from the end of the question (5 words: 2.3 s said), not from the request.
+    done = [r["t"] for r in robot.records("/robot/speaker/status") if r["xml"].startswith("<done")]
+    assert done and replies[0].created >= done[0] + 2.0 - 1e-6
 
 
 def test_same_seed_same_trace():

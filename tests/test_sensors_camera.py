@@ -21,6 +21,7 @@ from robot.hardware.camera import (
     detect_gestures,
     detect_objects,
     detect_torsos,
+    image_extent,
     ptu_step,
 )
 from tests.conftest import examples
@@ -354,11 +355,12 @@ def _plain_frame(world, pose, ptu, spec, rng, confusion):
         p = world.object_point(n)
         b, e, d = _look(cam, th, p)
         if _in_view(b, e, ptu, spec) and spec.object_range[0] <= d <= spec.object_range[1] and seen((p[0], p[1], p[2] + o.height / 2), None):
+            d0 = d
             if rng is not None:
                 b += float(rng.normal(0.0, spec.bearing_noise))
                 d *= float(1.0 + rng.normal(0.0, spec.distance_noise))
             rgb = colour(o.colour)
-            objects.append(ObjectDetection(confuse(o.type, types, confusion, rng), rgb, float(wrap_angle(b)), max(0.05, d), o.name))
+            objects.append(ObjectDetection(confuse(o.type, types, confusion, rng), rgb, float(wrap_angle(b)), max(0.05, d), o.name, image_extent(o.size, d0, spec)))
     return faces, torsos, gestures, objects
 
 

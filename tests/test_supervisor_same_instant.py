@@ -19,7 +19,7 @@ from homesim.afsm.engine import EXPIRED, Applied, Delivery, Engine, Event, Rejec
 from homesim.afsm.loader import loads
 from homesim.network import LinkModel
 from homesim.sim import Simulation
-from robot.supervisor import EVENT_CHANNEL, ExecutionSupervisor, event_xml
+from robot.supervisor import ES_EVENTS, ExecutionSupervisor, event_xml
 from .conftest import examples
 
 MS = 1_000_000
@@ -84,13 +84,13 @@ def run_on_bus(events: list[tuple[str, int, int | None, int, int]], *, cost: flo
         sim.network.add_host("es", link="zero")
         es = ExecutionSupervisor(sim, machine(), host="es", cost=cost, heartbeat=None)
         arrivals: list[str] = []
-        es.bus.subscribe(EVENT_CHANNEL, lambda m: arrivals.append(m.id))
+        es.bus.subscribe(ES_EVENTS, lambda m: arrivals.append(m.id))
         for i, (name, created, lifetime, published, delay) in enumerate(events):
             sim.network.set_link(LinkModel(f"l{i}", delay / 1e9, delay / 1e9))
             sim.network.add_host(f"h{i}", link=f"l{i}")
             who = sim.bus.participant(f"p{i}", host=f"h{i}")
             xml = event_xml(name, lifetime=None if lifetime is None else lifetime / 1e9)
-            sim.loop.call_at_ns(published, lambda w=who, x=xml, c=created: w.publish(EVENT_CHANNEL, x, created=c / 1e9))
+            sim.loop.call_at_ns(published, lambda w=who, x=xml, c=created: w.publish(ES_EVENTS, x, created=c / 1e9))
         sim.start()
         sim.run(until=2.0)
         return list(es.engine.history), arrivals

@@ -33,6 +33,7 @@ from .model import (
     Face,
     Fault,
     Furniture,
+    Handler,
     HumanSpec,
     Leave,
     ObjectSpec,
@@ -44,12 +45,15 @@ from .model import (
     Say,
     Scenario,
     SourceSpec,
+    StepCloser,
     Target,
     Wait,
     WaitFor,
+    WaitSpeech,
     WalkTo,
     Wall,
 )
+from .wordpattern import PatternError, compile_words
 
 #: Where the scenario schema lives (the repository's ``scenarios/`` folder).
 SCHEMA_PATH = Path(__file__).resolve().parents[2] / "scenarios" / "scenario.xsd"
@@ -60,6 +64,9 @@ COORD_LIMIT = 1000.0
 MAX_TIME_S = 1e6
 
 _TARGET_KEYS = ("place", "room", "object", "furniture", "human", "robot", "point")
+
+#: A person's traits a scenario may give on <human> (overriding her profile's draws), in draw order.
+TRAIT_KEYS = ("voice", "distance", "speed", "patience", "off-axis", "pointing-error", "phrasing", "repairs", "give-up")
 
 
 def scenario_schema() -> Schema:
@@ -403,7 +410,27 @@ class _Builder:
             speed=self.num(el, "speed", 1.0),
             script=self.script(el.find("script")),
             line=el.sourceline,
+            profile=el.get("profile"),
+            traits=tuple((k, el.get(k)) for k in TRAIT_KEYS if el.get(k) is not None),
+            handlers=tuple(self.handler(h) for h in el.iterfind("on")),
+            speed_given=el.get("speed") is not None,
         )
+
+    def words(self, el: etree._Element, key: str) -> str | None:
+        """A word-pattern attribute, refused with its line and column when it is not one."""
+        raw = el.get(key)
+        if raw is None:
+            return None
+        try:
+            compile_words(raw)
+        except PatternError as exc:
+            raise self.fail(el, f"{key}={raw!r}: {exc}") from exc
+        return raw
+
+    def handler(self, el: etree._Element) -> Handler:
+        times = el.get("max")
+        return Handler(self.words(el, "hears") or "", tuple(self.action(a) for a in _elements(el)), when=el.get("when", "always"),
+                       max=None if times is None else int(times), line=el.sourceline)
 
     def sound_source(self, el: etree._Element) -> SourceSpec:
         return SourceSpec(
@@ -429,15 +456,32 @@ class _Builder:
         if tag == "face":
             return Face(self.target(el, allow_angle=True), body=self.flag(el, "body"), line=line)
         if tag == "say":
-            return Say(el.get("text"), loudness=self.opt(el, "loudness"), duration=self.opt(el, "duration"), line=line)
+            if el.get("text") is None and el.get("request") is None:
+                raise self.fail(el, "<say> needs text= or request= (a phrasing drawn from the paraphrase bank)")
+            if el.get("about") is not None and el.get("request") is None:
+                raise self.fail(el, "about= fills a bank phrasing's slot: it needs request=")
+            return Say(el.get("text"), loudness=self.opt(el, "loudness"), duration=self.opt(el, "duration"), line=line,
+                       request=el.get("request"), about=el.get("about"), wait=self.flag(el, "wait", True))
+        if tag == "wait-speech":
+            return WaitSpeech(line=line)
+        if tag == "step-closer":
+            return StepCloser(by=self.num(el, "by", 0.5), nearest=self.num(el, "nearest", 0.6), line=line)
         if tag == "point":
             return PointAt(self.target(el), duration=self.num(el, "duration", 2.0), line=line)
         if tag == "wait":
             return Wait(self.num(el, "for"), line=line)
         if tag == "wait-for":
             retries = el.get("retries")
+            repairs = el.get("repairs")
+            patience = el.get("patience")
+            if el.get("robot-says") is not None and el.get("hears") is not None:
+                raise self.fail(el, "give robot-says= (a regular expression) or hears= (a word pattern), not both")
+            if retries is not None and (repairs is not None or patience is not None or el.get("give-up") is not None):
+                raise self.fail(el, "retries= (the turn again, word for word) cannot be combined with repairs=, patience= or give-up=")
             return WaitFor(el.get("robot-says"), self.opt(el, "robot-within"), self.opt(el, "timeout"), line=line,
-                           retries=0 if retries is None else int(retries), repair=el.get("repair"))
+                           retries=0 if retries is None else int(retries), repair=el.get("repair"), hears=self.words(el, "hears"),
+                           repairs=None if repairs is None else (() if repairs == "none" else tuple(repairs.split())),
+                           patience=None if patience is None else int(patience), give_up=el.get("give-up"))
         if tag == "leave":
             return Leave(el.get("door"), line=line)
         if tag == "repeat":

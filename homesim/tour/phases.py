@@ -18,6 +18,8 @@ from collections.abc import Iterable
 from dataclasses import replace
 from typing import Any
 
+from robot.contract import ES_LOG
+
 from ..traceview import Span, label_of, register_phases, register_spans
 
 #: Phases: an event the ES applied -> (mark, label); "following" is the first follow status after a follow request.
@@ -26,7 +28,6 @@ PHASE_EVENTS: dict[str, tuple[str, str]] = {
     "object_teaching": ("T", "teaching an object"), "place_teaching": ("T", "teaching a place"),
     "goodbye": ("G", "good-bye"),
 }
-ES_LOG = "/robot/es/log"
 BASE_CMD = "/robot/base/cmd"
 SPEECH = "/robot/audio/speech"
 FRAMES = "/robot/speech/frames"

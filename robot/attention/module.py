@@ -11,7 +11,8 @@ the person of interest (:mod:`.selection`), advance the attention FSM
 - ``/robot/attention/tracks`` every scan, ``/robot/attention/state`` on each
   change and once a second, ``/robot/attention/partner`` every scan while a
   partner exists (docs/robot-contract.md);
-- ES events on ``/robot/es/events``: ``potential_partner`` (``<PERSON id
+- ES events on ``/robot/es/events`` (each names the laser scan it was decided
+  on as its cause, so the trace links a scan to the event): ``potential_partner`` (``<PERSON id
   bearing distance speaking facing/>``) when the selected person speaks
   while facing the robot, repeated every ``pp_repeat`` s while it lasts;
   ``potential_partner_lost`` when they stop and the last ``potential_partner``
@@ -58,6 +59,8 @@ from homesim.message import Message
 from homesim.module import Module
 from homesim.xmlio import hardened_parser
 
+from robot.contract import ATTENTION_STATE, BASE_CMD, ES_EVENTS, ES_ORDERS, FACES, FOCUS, ODOMETRY, PARTNER, POSE, PTU_CMD, SCAN, SOURCES, STEER, TORSOS, TRACKS
+
 from .clutter import FurnitureLegs
 from .cues import CueSpec, Hysteresis, bearings_from, match_faces, match_sounds
 from .fsm import CAMERA, TURNS, AttentionFSM, OrderRefused
@@ -66,26 +69,12 @@ from .selection import SelectionParams, Selector
 from .tracker import Tracks, TrackerSpec
 
 SCHEMAS = Path(__file__).resolve().parent.parent / "schemas"
-TRACKS = "/robot/attention/tracks"
-STATE = "/robot/attention/state"
-PARTNER = "/robot/attention/partner"
-STEER = "/robot/audio/steer"
-PTU_CMD = "/robot/ptu/cmd"
-BASE_CMD = "/robot/base/cmd"
-EVENTS = "/robot/es/events"
-ORDERS = "/robot/es/orders/person_attention"
-SCAN = "/robot/laser/scan"
-ODOMETRY = "/robot/odometry"
-FACES = "/robot/camera/faces"
-TORSOS = "/robot/camera/torsos"
-SOUNDS = "/robot/audio/sources"
-FOCUS = "/robot/objects/focus"
-POSE = "/robot/localisation/pose"
+ORDERS = f"{ES_ORDERS}/person_attention"
 
 #: The attention system's own typed channels (declared by :func:`declare_channels`).
 CHANNEL_SCHEMAS = {
     TRACKS: SCHEMAS / "attention-tracks.xsd",
-    STATE: SCHEMAS / "attention-state.xsd",
+    ATTENTION_STATE: SCHEMAS / "attention-state.xsd",
     PARTNER: SCHEMAS / "attention-partner.xsd",
 }
 
@@ -122,6 +111,7 @@ class AttentionParams:
     ptu_refresh: float = 1.0  # s
     steer_deadband: float = math.radians(3.0)
     dominant_max_age: float = 0.35  # s: a sound-direction frame older than this no longer steers the beam
+    partner_voice_tolerance: float = math.radians(4.0)  # a direction this near the partner's bearing is her voice (beam gate)
     state_refresh: float = 1.0  # s
     cue_max_age: float = 0.3  # s: an odometry pose older than this is extrapolated
     max_refused: int = 32
@@ -186,9 +176,11 @@ class PersonAttention(Module):
         self._ptu_at = -math.inf
         self._steer_sent: float | None | str = "unset"
         self._dominant: tuple[float, float] | None = None  # (time, front bearing rad): the loudest unexplained direction
+        self._voices: tuple[float, bool, bool] | None = None  # (time, the partner talks, someone else does): the last sound frame
         self._state_sent: tuple[str, int | None, int | None] | None = None
         self._state_at = -math.inf
         self.scans = 0
+        self._scan_id: str | None = None  # the scan being processed: the cause of the events it decides
         self.furniture: FurnitureLegs | None = None  # from map_server/map, once it answered
         self._map_pose: tuple[float, float, float, float] | None = None  # t, x, y, theta (localiser)
         self._map_odom: tuple[float, float, float] | None = None  # odometry when that pose came
@@ -198,7 +190,7 @@ class PersonAttention(Module):
         self.bus.subscribe(ODOMETRY, self._on_odometry)
         self.bus.subscribe(FACES, self._on_faces)
         self.bus.subscribe(TORSOS, self._on_torsos)
-        self.bus.subscribe(SOUNDS, self._on_sounds)
+        self.bus.subscribe(SOURCES, self._on_sounds)
         self.bus.subscribe(FOCUS, self._on_focus)
         self.bus.subscribe(ORDERS, self._on_order)
         self.bus.subscribe(POSE, self._on_pose)
@@ -285,6 +277,16 @@ class PersonAttention(Module):
         self.speaking.feed(t, ids, {ids[r] for r in rows})
         if rows:
             self._partner_seen(rows, t)  # the partner's voice from the partner's direction keeps the partner
+        if bearings and self.partner is not None:
+            prow = self.tracks.row(self.partner)
+            if prow >= 0:
+                # Who talks, as the beam gate reads it: the partner only when a direction lies within
+                # ``partner_voice_tolerance`` of her (her own voice comes from within a degree or two);
+                # anyone else when a direction lies further off her than that.
+                pb = track_bearings[prow]
+                offs = [min(abs(math.remainder(pb - b, 2 * math.pi)), abs(math.remainder(pb - (math.pi - b), 2 * math.pi))) for b in bearings]
+                tol = self.params.partner_voice_tolerance
+                self._voices = (t, any(o <= tol for o in offs), any(o > tol for o in offs))
         if bearings:
             levels = [float(s.get("level", "0")) for s in sources]
             seen = [b for b, tk in zip(track_bearings, tracks) if tk.confirmed]
@@ -364,6 +366,7 @@ class PersonAttention(Module):
             self._bearings = math.radians(float(key[1])) + math.radians(float(key[2])) * np.arange(n)
             self._bearings_key = key
             self.legs = replace(self.legs, offset=float(el.get("offset", self.legs.offset)))
+        self._scan_id = msg.id
         self.process(t, msg.attachments["ranges"])
 
     def _leg_detector(self) -> LegDetector:
@@ -518,7 +521,8 @@ class PersonAttention(Module):
         el = etree.Element("event", name=name)
         for c in children:
             el.append(c)
-        self.bus.publish(EVENTS, el, transfer=True)
+        # The scan this decision was taken on is its cause: the trace links the scan to the event.
+        self.bus.publish(ES_EVENTS, el, transfer=True, causes=(self._scan_id,) if self._scan_id else ())
 
     # ------------------------------------------------------------ actions
     def _act(self, t: float, row: int, bearing: list[float], dist: list[float], category: int) -> None:
@@ -569,14 +573,11 @@ class PersonAttention(Module):
         return None
 
     def _other_talks(self, t: float) -> bool:
-        """Someone else speaks while the partner is silent: another confirmed track from its own
-        direction, or a sound from where no confirmed track is (a person the laser does not see)."""
-        sp = self.speaking
-        if sp.on(self.partner):  # type: ignore[arg-type]
-            return False
-        if self._dominant is not None and t - self._dominant[0] <= self.params.dominant_max_age:
-            return True
-        return any(tk.confirmed and tk.id != self.partner and sp.on(tk.id) for tk in self.tracks.tracks)
+        """Someone else speaks while the partner is silent: in the last sound frame (at most
+        ``dominant_max_age`` old) a direction further than ``partner_voice_tolerance`` off the
+        partner's bearing and none within it (a bystander beside her, a person the laser does not see)."""
+        v = self._voices
+        return v is not None and t - v[0] <= self.params.dominant_max_age and v[2] and not v[1]
 
     def _ptu(self, t: float, pan: float, tilt: float) -> None:
         p = self.params
@@ -634,7 +635,7 @@ class PersonAttention(Module):
         sel = self.partner if self.fsm.top_down else self.selector.selected
         key = (self.fsm.state, sel, self.partner)
         if force or key != self._state_sent or t - self._state_at >= self.params.state_refresh:
-            self.bus.publish(STATE, etree.Element(
+            self.bus.publish(ATTENTION_STATE, etree.Element(
                 "attention", state=key[0], selected=f"t{sel}" if sel is not None else "", partner=f"t{self.partner}" if self.partner is not None else "", time=f"{t:.6f}",
             ), transfer=True)
             self._state_sent, self._state_at = key, t

@@ -8,8 +8,11 @@ Listens to ``/robot/speech/frames`` (the understanding), ``/robot/es/conditions/
 (``/robot/speaker/say``). A reactive module's question comes through the ES, as the papers
 route everything: the condition ``ask`` (``<OPTIONS timeout><option index text/>+</OPTIONS>``)
 starts the clarify sub-dialog, and the answer goes back as the ES event ``clarified``
-(``<ANSWER index/>`` or ``<ANSWER none="true"/>``). ``dialog/ask`` (RPC, the same question
-answered directly) stays for tools.
+(``<ANSWER index/>`` or ``<ANSWER none="true"/>``, the latter with ``deixis="true"`` for "this one"
+and the answer's ``POSITION`` for "the one on the table": :func:`unchosen_answer`). ``dialog/ask``
+(RPC, the same question answered directly) stays for tools; with ``about="occluded"`` it asks the
+partner to step aside (the object attention cannot see what she points at) and answers
+``<answer said="true"/>`` once it has been said.
 
 Timing (virtual, docs/semantics.md §7): the dialog is a serial processor; each input
 costs ``dialog_cost``; its events leave then, and what the robot says leaves
@@ -52,20 +55,14 @@ from homesim.module import Module
 from robot.deployment import cost_scale
 from homesim.vloop import to_ns
 
+from robot.contract import ES_CONDITIONS, ES_EVENTS, ES_REJECTED, ES_STATUS, FRAMES, PARTNER, POSE, SAY, SOURCES, SPEAKER_STATUS
+
 from .loader import BIRON_DIALOGS, load
 from .manager import DialogManager, Explain, Instance, Output, Say, Send
 from .model import Dialogs
 
-FRAMES = "/robot/speech/frames"
-EVENTS = "/robot/es/events"
-CONDITIONS = "/robot/es/conditions/dialog"
-REJECTED = "/robot/es/rejected/dialog"
-ES_STATUS = "/robot/es/status"
-POSE = "/robot/localisation/pose"
-SAY = "/robot/speaker/say"
-SPEAKER_STATUS = "/robot/speaker/status"
-SOURCES = "/robot/audio/sources"
-PARTNER = "/robot/attention/partner"
+CONDITIONS = f"{ES_CONDITIONS}/dialog"
+REJECTED = f"{ES_REJECTED}/dialog"
 
 
 def front_bearing(deg: float) -> float:
@@ -103,6 +100,11 @@ def choose(options: list[tuple[int, str]], answer: Any) -> int | None:
         return None
     if answer.tag == "YES":
         return options[0][0] if len(options) == 1 else None
+    side = answer.get("side")
+    if side is not None:  # "the left one": the option the object attention worded by its side
+        words = "in the middle" if side == "middle" else f"on the {side}"
+        hits = [idx for idx, text in options if words in text]
+        return hits[0] if len(hits) == 1 else None
     index = answer.get("index")
     if index is not None:
         if index == "last":
@@ -121,6 +123,20 @@ def choose(options: list[tuple[int, str]], answer: Any) -> int | None:
     best = max(s for s, _ in scores)
     winners = [idx for s, idx in scores if s == best]
     return winners[0] if best > 0 and len(winners) == 1 else None
+
+
+def unchosen_answer(value: Any) -> etree._Element:
+    """The reply to ``dialog/ask`` when the words alone pick no option: ``none="true"``, with what the
+    asker can still use: ``deixis="true"`` ("this one": look where the partner points now) and the
+    answer's ``POSITION`` ("the one on the table": which is on the table)."""
+    out = etree.Element("answer", none="true")
+    if isinstance(value, etree._Element) and value.tag == "THAT_ONE":
+        if value.get("deixis") == "true" or value.find("GESTURE") is not None:
+            out.set("deixis", "true")
+        pos = value.find("POSITION")
+        if pos is not None:
+            out.append(etree.fromstring(etree.tostring(pos)))
+    return out
 
 
 class Dialog(Module):
@@ -196,17 +212,20 @@ class Dialog(Module):
     async def _ask_for_es(self, msg: Message) -> None:
         """Condition ``ask`` (param ``options``: ``<OPTIONS timeout><option index text/>+</OPTIONS>``):
         ask the partner, then answer with the ES event ``clarified`` (``<ANSWER index/>`` or
-        ``<ANSWER none="true"/>``), which the ES routes back to the module that asked."""
+        ``<ANSWER none="true"/>``, with ``deixis`` / ``POSITION`` as :func:`unchosen_answer` says),
+        which the ES routes back to the module that asked."""
         opts = next((p.find("OPTIONS") for p in msg.xml.iterfind("param") if p.find("OPTIONS") is not None), None)
         options = [] if opts is None else [(int(o.get("index", str(i))), o.get("text", ""))
                                            for i, o in enumerate(opts.iterfind("option"))]
         timeout = float(opts.get("timeout", str(self.ask_timeout))) if opts is not None else self.ask_timeout
-        picked = await self._clarify(options, timeout, msg.id)
+        answer = await self._clarify(options, timeout, msg.id)
         if self.bus.closed or self.bus.hung:
             return
         ev = etree.Element("event", name="clarified")
-        etree.SubElement(ev, "ANSWER", **({"none": "true"} if picked is None else {"index": str(picked)}))
-        self.bus.publish(EVENTS, ev, causes=(msg.id,), transfer=True)
+        out = etree.SubElement(ev, "ANSWER", dict(answer.attrib))
+        for child in answer:  # "the one on the table": its POSITION
+            out.append(child)
+        self.bus.publish(ES_EVENTS, ev, causes=(msg.id,), transfer=True)
 
     def _on_rejected(self, msg: Message) -> None:
         self._emit(self.manager.on_rejected(msg.xml), msg.id)
@@ -309,7 +328,7 @@ class Dialog(Module):
                     x = self._pose
                     el.append(etree.Element("POSE", x=x.get("x", "0"), y=x.get("y", "0"), theta=x.get("theta", "0"),
                                             frame=x.get("frame", "map")))
-                self.bus.publish(EVENTS, el, causes=(cause,), transfer=True)
+                self.bus.publish(ES_EVENTS, el, causes=(cause,), transfer=True)
 
     def _enqueue(self, text: str, cause: str) -> None:
         if not text:
@@ -338,15 +357,29 @@ class Dialog(Module):
             self._say_next()
 
     # ---------------------------------------------------------------------- RPC
+    async def _until_said(self, fut: asyncio.Future[Any] | None = None) -> None:
+        """Wait until what was just emitted has been said (or ``fut`` is done: answered meanwhile)."""
+        said = self._busy_until + self.generation_time  # when it is handed to the speaker
+        await asyncio.sleep(max(0.0, said - self.now) + 0.01)
+        while (self._talking or self._queue) and not (fut is not None and fut.done()):
+            await asyncio.sleep(0.1)
+
     async def _rpc_ask(self, msg: Message) -> etree._Element:
         """Clarification by RPC (kept for tools; BIRON's modules ask through the ES): index or none."""
         req = msg.xml
+        if req.get("about") == "occluded":  # no choice to make: ask her to step aside, answer when said
+            inst, outs = self.manager.start("step_aside", {"asked": "true"})
+            if inst is None:
+                return etree.Element("answer", none="true")
+            self._emit(outs, msg.id)
+            await self._until_said()
+            return etree.Element("answer", said="true")
         options = [(int(o.get("index", str(i))), o.get("text", "")) for i, o in enumerate(req.iterfind("option"))]
-        picked = await self._clarify(options, float(req.get("timeout", str(self.ask_timeout))), msg.id)
-        return etree.Element("answer", none="true") if picked is None else etree.Element("answer", index=str(picked))
+        return await self._clarify(options, float(req.get("timeout", str(self.ask_timeout))), msg.id)
 
-    async def _clarify(self, options: list[tuple[int, str]], timeout: float, cause: str) -> int | None:
-        """Ask the partner which option they mean (the clarify sub-dialog); the index picked, or None."""
+    async def _clarify(self, options: list[tuple[int, str]], timeout: float, cause: str) -> etree._Element:
+        """Ask the partner which option they mean (the clarify sub-dialog): ``<answer index/>``, or
+        ``<answer none="true"/>`` with what the asker can still use (:func:`unchosen_answer`)."""
         fut: asyncio.Future[Instance] = self.sim.loop.create_future()
 
         def ended(inst: Instance) -> None:
@@ -356,12 +389,19 @@ class Dialog(Module):
         phrase = options_phrase(self.doc, [t for _, t in options])
         inst, outs = self.manager.start("clarify", {"options": phrase} if phrase else {}, on_end=ended)
         if inst is None:
-            return None
+            return etree.Element("answer", none="true")
         self._emit(outs, cause)
         try:
+            # The partner has ``timeout`` s to answer once the question has been said (a long
+            # question with its options takes several seconds to say).
+            await self._until_said(fut)
             async with asyncio.timeout(timeout):
                 done = await fut
         except TimeoutError:
             self._emit(self.manager.cancel(inst), cause)
-            return None
-        return choose(options, done.slots["choice"].value) if done.success else None
+            return etree.Element("answer", none="true")
+        value = done.slots["choice"].value if done.success else None
+        picked = choose(options, value)
+        if picked is None:
+            return unchosen_answer(value)
+        return etree.Element("answer", index=str(picked))

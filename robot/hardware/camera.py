@@ -55,6 +55,7 @@ class CameraSpec:
     colour_noise: float = 0.04
     direction_noise: float = math.radians(5.0)
     rate: float = 10.0
+    image_width: int = 640  # pixels across hfov: an object's image extent is measured to a pixel
 
 
 @dataclass
@@ -164,6 +165,7 @@ class ObjectDetection:
     bearing: float
     distance: float
     truth: str
+    width: float = 0.0  # rad: the object's extent across the image (whole pixels)
 
 
 @dataclass(frozen=True)
@@ -308,12 +310,22 @@ def _objects(cand: list[Candidate], types: list[str], confusion: float, spec: Ca
     out = []
     for o, _, b, d in cand:
         rgb = o.colour
+        true_d = d
         if rng is not None:
             b += float(rng.normal(0.0, spec.bearing_noise))
             d *= float(1.0 + rng.normal(0.0, spec.distance_noise))
             rgb = _noisy_colour(rgb, rng.normal(0.0, spec.colour_noise, 3).tolist())
-        out.append(ObjectDetection(confuse(o.type, types, confusion, rng), (float(rgb[0]), float(rgb[1]), float(rgb[2])), float(wrap_angle(b)), max(0.05, d), o.name))
+        out.append(ObjectDetection(confuse(o.type, types, confusion, rng), (float(rgb[0]), float(rgb[1]), float(rgb[2])), float(wrap_angle(b)), max(0.05, d), o.name,
+                                   image_extent(o.size, true_d, spec)))
     return out
+
+
+def image_extent(size: float, distance: float, spec: CameraSpec) -> float:
+    """The angle (rad) an object ``size`` metres across spans at ``distance``, in whole pixels (at
+    least one): the image measures extents to a pixel, so the size the robot computes from it
+    carries the distance's noise (and a pixel's, far away), as a real camera's does."""
+    pixel = spec.hfov / spec.image_width
+    return max(1, round(2 * math.atan2(size / 2, max(distance, 1e-3)) / pixel)) * pixel
 
 
 def _noisy_colour(rgb: tuple[float, float, float], noise: list[float]) -> tuple[float, float, float]:

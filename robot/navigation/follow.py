@@ -29,13 +29,6 @@ Control, every ``1/rate`` seconds:
 * Too fast: while the commanded speed is at the limit for ``too_fast_time`` and
   the distance is beyond ``too_fast_distance`` and still growing, the ES gets
   ``partner_too_fast`` with ``@distance`` (at most every ``warn_every`` s).
-* Catching up (issue 26 item 10): when following ends with the partner still in view
-  ("stop", the attention back in ``Interaction``) and she stands further than
-  ``approach_to`` (1.5 m, the band's far end), it goes on driving the same way (trail, dynamic window,
-  everyone's space) for at most ``approach_time`` s until she is that close, so
-  it stands at a comfortable interaction distance before her next request (a robot
-  lagging at a door frame would otherwise teach from the other room); the
-  attention turns it to face her. No too-fast warnings and no status meanwhile.
 * Lost: not seen for ``lost_after`` s: it stops (the attention's
   ``partner_lost`` makes the ES stop the player and the dialog ask).
 
@@ -59,19 +52,13 @@ from lxml import etree
 from homesim.message import Message
 from homesim.module import Module
 
+from robot.contract import ATTENTION_STATE, BASE_CMD, ES_EVENTS, FOLLOW_STATUS, ODOMETRY, PARTNER, SCAN, TRACKS
+
 from .config import Limits
 from .local import DWAParams, LatestScan, dwa, heading_speed, social_speed_limit
 from .people import People, nearest
 from .seen import SeenGround, footprint_samples
 
-STATE = "/robot/attention/state"
-PARTNER = "/robot/attention/partner"
-SCAN = "/robot/laser/scan"
-ODOMETRY = "/robot/odometry"
-BASE_CMD = "/robot/base/cmd"
-STATUS = "/robot/follow/status"
-EVENTS = "/robot/es/events"
-TRACKS = "/robot/attention/tracks"
 SCHEMA = Path(__file__).resolve().parent.parent / "schemas" / "navigation" / "follow-status.xsd"
 #: how many of the robot's own past positions (odometry, every CRUMB m) the back-off may retrace
 BREADCRUMBS = 200
@@ -105,8 +92,7 @@ class Follower(Module):
     def __init__(self, sim: Any, *, name: str = "follower", limits: Limits | None = None, rate: float = 10.0,
                  distance: float = 1.2, band: tuple[float, float] = (1.0, 1.5), minimum: float = 0.8,
                  gain: float = 0.8, lost_after: float = 1.0, too_fast_distance: float = 2.0,
-                 too_fast_time: float = 1.0, warn_every: float = 5.0, params: DWAParams = DWAParams(),
-                 approach_time: float = 10.0, approach_to: float = 1.5) -> None:
+                 too_fast_time: float = 1.0, warn_every: float = 5.0, params: DWAParams = DWAParams()) -> None:
         super().__init__(sim, name)
         self.limits = limits or Limits()
         self.period = 1.0 / rate
@@ -114,9 +100,7 @@ class Follower(Module):
         self.lost_after = lost_after
         self.too_fast_distance, self.too_fast_time, self.warn_every = too_fast_distance, too_fast_time, warn_every
         self.params = params
-        self.approach_time, self.approach_to = approach_time, approach_to
-        self.approach_until: float | None = None  # coming up to the partner after following, until then
-        sim.bus.declare_channel(STATUS, SCHEMA)
+        sim.bus.declare_channel(FOLLOW_STATUS, SCHEMA)
         self.following = False
         self.partner_id: str | None = None
         self.track: dict[str, float] | None = None  # the partner's last message (odom frame) and when
@@ -131,7 +115,7 @@ class Follower(Module):
         self._limit_since: float | None = None
         self._history: deque[tuple[float, float]] = deque(maxlen=64)  # (t, d) while at the limit
         self._warned_at = -math.inf
-        self.bus.subscribe(STATE, self._on_state)
+        self.bus.subscribe(ATTENTION_STATE, self._on_state)
         self.bus.subscribe(PARTNER, self._on_partner)
         self.bus.subscribe(SCAN, self._on_scan)
         self.bus.subscribe(ODOMETRY, self._on_odometry)
@@ -142,20 +126,12 @@ class Follower(Module):
         return Follower(self.sim, name=self.name, limits=self.limits, rate=1.0 / self.period, distance=self.distance,
                         band=self.band, minimum=self.minimum, gain=self.gain, lost_after=self.lost_after,
                         too_fast_distance=self.too_fast_distance, too_fast_time=self.too_fast_time,
-                        warn_every=self.warn_every, params=self.params, approach_time=self.approach_time,
-                        approach_to=self.approach_to)
+                        warn_every=self.warn_every, params=self.params)
 
     # ------------------------------------------------------------- inputs
     def _on_state(self, msg: Message) -> None:
-        state = msg.xml.get("state")
-        follow = state == "Follow"
+        follow = msg.xml.get("state") == "Follow"
         partner = msg.xml.get("partner") or None
-        if self.following and not follow:
-            # following ended ("stop", or she stopped to talk): come up to her first, if she is
-            # further than a comfortable interaction distance (issue 26 item 10)
-            self.approach_until = self.now + self.approach_time if state == "Interaction" and partner == self.partner_id else None
-        elif state != "Interaction":
-            self.approach_until = None
         if follow and not self.following:
             self.trail.clear()
             self._history.clear()
@@ -165,7 +141,7 @@ class Follower(Module):
             if self.track is not None and self.track.get("id") != partner:
                 self.track = None
         self.following = follow
-        self._listen_to_people(follow or self.approach_until is not None)
+        self._listen_to_people(follow)
 
     def _listen_to_people(self, on: bool) -> None:
         """Read the person tracks while following, and only then (every delivery draws a network
@@ -239,23 +215,25 @@ class Follower(Module):
             self.driving = False
 
     def _status(self, d: float, at_limit: bool, state: str) -> None:
-        self.bus.publish(STATUS, etree.Element("follow", distance=f"{max(d, 0.0):.4f}", speed=f"{self.v:.4f}",
+        self.bus.publish(FOLLOW_STATUS, etree.Element("follow", distance=f"{max(d, 0.0):.4f}", speed=f"{self.v:.4f}",
                                                at_limit="true" if at_limit else "false", state=state))
 
     def control_step(self) -> tuple[float, float] | None:
         """One control step; returns the command sent (None when not driving)."""
-        approaching = not self.following and self.approach_until is not None and self.now < self.approach_until
-        if not self.following and not approaching:
-            self.approach_until = None
+        if not self.following:
             self._halt()
             return None
         tr = self.track
         if tr is None or self.odom is None:
-            return self._stand(approaching, "searching")
+            self._halt()
+            self._status(0.0, False, "searching")
+            return None
         age = self.now - tr["t"]
         unseen = (0.0 if tr["visible"] else tr["lost_for"]) + age
         if unseen > self.lost_after:
-            return self._stand(approaching, "stopped")
+            self._halt()
+            self._status(0.0, False, "stopped")
+            return None
         # the partner now (constant velocity over the message's age), in odom and robot frames
         horizon = min(age, 0.5)
         px, py = tr["x"] + tr["vx"] * horizon, tr["y"] + tr["vy"] * horizon
@@ -267,12 +245,9 @@ class Follower(Module):
         c, s = math.cos(self.odom[2]), math.sin(self.odom[2])
         vrx, vry = c * tr["vx"] + s * tr["vy"], -s * tr["vx"] + c * tr["vy"]
         v_radial = (vrx * rx + vry * ry) / d if d > 1e-6 else 0.0
-        band = (self.band[0], min(self.band[1], self.approach_to)) if approaching else self.band
-        v_des = speed_law(d, v_radial, distance=self.distance, band=band, minimum=self.minimum,
+        v_des = speed_law(d, v_radial, distance=self.distance, band=self.band, minimum=self.minimum,
                           gain=self.gain, limits=self.limits)
         bearing = math.atan2(ry, rx)
-        if approaching and (v_des <= 0.05 or not tr["visible"]):
-            return self._stand(True, "")  # close enough: the attention turns the robot to face her
         if v_des <= 0.05:
             # wait (or back off) facing the partner; reversing is slow and straight (no laser behind)
             w = max(-self.limits.max_turn, min(self.limits.max_turn, 1.8 * bearing))
@@ -296,7 +271,10 @@ class Follower(Module):
                 pts = pts[np.hypot(pts[:, 0] - rx, pts[:, 1] - ry) > 0.45]  # not the partner's own legs
             # everyone else: keep out of their personal space, and pass them slowly (yield: slow,
             # stop and wait while they cross, then go on)
-            others = self.people.around(self.odom, self.now, exclude=self.partner_id, near=(px, py), echoes=pts)
+            # people walking about (a standing track may be a table's legs, which the laser keeps it
+            # off anyway); no lost tracks (a partner's second track lost at a door frame would live on
+            # as a phantom in the door)
+            others = self.people.around(self.odom, self.now, exclude=self.partner_id, near=(px, py), moving=0.2)
             limits = self.limits
             if len(others):
                 cap = social_speed_limit(nearest(others), self.limits.max_speed)
@@ -307,22 +285,10 @@ class Follower(Module):
             v, w = cmd.v, cmd.w
             state = "following" if cmd.ok else "waiting"
         self._command(v, w)
-        if approaching:
-            return v, w
         at_limit = v_des >= self.limits.max_speed - 1e-6
         self._too_fast(d, at_limit)
         self._status(d, at_limit, state if tr["visible"] else "searching")
         return v, w
-
-    def _stand(self, approaching: bool, state: str) -> None:
-        """Stop driving; following, say why (``state``); approaching, the approach is over."""
-        self._halt()
-        if approaching:
-            self.approach_until = None
-            self._listen_to_people(False)
-        else:
-            self._status(0.0, False, state)
-        return None
 
     def _too_fast(self, d: float, at_limit: bool) -> None:
         now = self.now
@@ -339,7 +305,7 @@ class Follower(Module):
         if (now - self._limit_since >= self.too_fast_time and d > self.too_fast_distance and d - d0 > 0.05
                 and now - self._warned_at >= self.warn_every):
             self._warned_at = now
-            self.bus.publish(EVENTS, etree.Element("event", name="partner_too_fast", distance=f"{d:.2f}"))
+            self.bus.publish(ES_EVENTS, etree.Element("event", name="partner_too_fast", distance=f"{d:.2f}"))
 
     async def run(self) -> None:
         while True:

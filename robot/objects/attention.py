@@ -10,17 +10,27 @@ Bus (docs/robot-contract.md). On the ES order ``find_object`` (on
 2. publishes ``<focus bearing distance/>`` on ``/robot/objects/focus`` (the
    region the ray comes down to, robot frame, every 0.2 s while looking) so
    the person attention turns the camera there;
-3. collects ``/robot/camera/objects`` detections for ``look_time`` s, places
+3. collects ``/robot/camera/objects`` detections for ``look_time`` s (when
+   nothing fits and the pointing person stands between the camera and where
+   she points, it first asks her to step aside (``dialog/ask about="occluded"``),
+   waits until ``/robot/attention/partner`` shows her out of the way, and looks
+   again at where she points then), places
    each in the map frame with the localised pose (``/robot/localisation/pose``)
    and the floor plan's furniture heights (``map_server/map``), and merges them
    into candidates (:mod:`robot.objects.resolve`);
 4. resolves the reference from the frame's type, name and colour, the
    pointing ray and the distance; when two or more fit about equally it asks
    the partner through the ES (event ``clarification``; the ES sends the dialog
-   the condition ``ask``, "Do you mean the red cup or the blue one?", and the
-   dialog's answer back as the order ``clarified``) and takes the answer;
+   the condition ``ask``, "Do you mean the cup on the left or the one on the
+   right?", and the dialog's answer back as the order ``clarified``) and takes
+   the answer: an option ("the blue one", "the left one"), "this one" with a
+   new pointing gesture (resolved again among the options, by the gesture
+   alone), or "the one on the table" (the only option standing on it, from the
+   floor plan); the object stored is the chosen candidate's own position (the
+   mean of its own detections), never a mix of candidates;
 5. sends ES event ``object_recognized`` with ``<OBJECT type name [owner]
-   colour x y z frame="map">`` plus the colour features as an inline
+   colour x y z [size] frame="map">`` (``size``: metres across, measured from
+   the image extent the camera reports and the distance) plus the colour features as an inline
    ``<attachment>`` (ES orders carry no binaries) and the frame's
    ``ATTRIBUTE`` / ``POSITION`` children, or ``object_not_found`` with
    ``reason`` = ``nothing_seen``, ``no_match``, ``unclear`` (the partner did
@@ -44,18 +54,18 @@ from homesim.message import Message
 from homesim.module import Module
 from robot.floorplan import FloorPlan, parse_map
 
+from robot.contract import ES_EVENTS, ES_ORDERS, FOCUS, GESTURES, OBJECTS, PARTNER, POSE
+
 from .gestures import CAMERA_HEIGHT, CAMERA_OFFSET, GestureTracker, camera_to_map
-from .resolve import Candidate, Resolution, Wanted, merge, option_texts, resolve
+from .resolve import Candidate, Pointing, Resolution, Wanted, merge, option_texts, resolve
 
 if TYPE_CHECKING:
     from homesim.sim import Simulation
 
-ORDERS = "/robot/es/orders/object_attention"
-GESTURES = "/robot/camera/gestures"
-OBJECTS = "/robot/camera/objects"
-POSE = "/robot/localisation/pose"
-FOCUS = "/robot/objects/focus"
-EVENTS = "/robot/es/events"
+ORDERS = f"{ES_ORDERS}/object_attention"
+EVENTS = ES_EVENTS
+VIEW_HALF_WIDTH = math.radians(24.0)  # the camera's half field of view
+BODY_HALF_WIDTH = 0.3  # metres either side of a person's centre that hide what is behind (shoulders, arm)
 
 OWNER_WORDS = {"speaker": "partner", "my": "partner", "me": "partner", "mine": "partner"}
 
@@ -92,8 +102,11 @@ def _inside(px: float, py: float, poly: tuple[tuple[float, float], ...]) -> bool
 class ObjectAttention(Module):
     """Gestures + camera objects + localised pose -> the object meant (see the module docstring)."""
 
-    def __init__(self, sim: Simulation, *, name: str = "object_attention", gesture_wait: float = 1.5, look_time: float = 2.0, ask_timeout: float = 8.0) -> None:
+    def __init__(self, sim: Simulation, *, name: str = "object_attention", gesture_wait: float = 1.5, look_time: float = 2.0, ask_timeout: float = 8.0,
+                 step_aside_wait: float = 10.0) -> None:
         super().__init__(sim, name, host="robot")
+        self.step_aside_wait = step_aside_wait
+        self._partner: tuple[float, float, float] | None = None  # time, bearing (rad), distance of the partner (person attention)
         self.gesture_wait = gesture_wait
         self.look_time = look_time
         self.ask_timeout = ask_timeout
@@ -101,7 +114,7 @@ class ObjectAttention(Module):
         self.pose: tuple[float, float, float] | None = None
         self.plan: FloorPlan | None = None
         self._looking = False
-        self._seen: list[tuple[str, float, float, float, tuple[float, float, float]]] = []
+        self._seen: list[tuple[str, float, float, float, tuple[float, float, float], float | None]] = []
         self._search: asyncio.Task[None] | None = None
         self._answer: asyncio.Future[etree._Element] | None = None  # waiting for the order "clarified"
         self.last: Resolution | None = None  # the latest resolution (for tests and introspection)
@@ -109,6 +122,7 @@ class ObjectAttention(Module):
         self.bus.subscribe(GESTURES, self._on_gestures)
         self.bus.subscribe(OBJECTS, self._on_objects)
         self.bus.subscribe(POSE, self._on_pose)
+        self.bus.subscribe(PARTNER, self._on_partner)
 
     async def run(self) -> None:
         try:
@@ -138,7 +152,10 @@ class ObjectAttention(Module):
         for o in msg.xml.iterfind("object"):
             b, d = math.radians(float(o.get("bearing"))), float(o.get("distance"))  # type: ignore[arg-type]
             x, y, z = self.place(self.pose, b, d)
-            self._seen.append((o.get("type", ""), x, y, z, (float(o.get("r")), float(o.get("g")), float(o.get("b")))))  # type: ignore[arg-type]
+            w = o.get("width")
+            # The size across: the image extent at the measured (slant) distance.
+            size = 2 * d * math.tan(math.radians(float(w)) / 2) if w is not None else None
+            self._seen.append((o.get("type", ""), x, y, z, (float(o.get("r")), float(o.get("g")), float(o.get("b"))), size))  # type: ignore[arg-type]
 
     def place(self, pose: tuple[float, float, float], bearing: float, distance: float) -> tuple[float, float, float]:
         """Map position of an object seen at ``bearing``/``distance``: first assume it stands on a
@@ -184,17 +201,22 @@ class ObjectAttention(Module):
             if self.pose is None:
                 self._not_found("no_pose", cause)
                 return
-            self._seen = []
-            self._looking = True
-            t_end = self.now + self.look_time
-            while self.now < t_end - 1e-9:
-                self._publish_focus(cause)
-                await asyncio.sleep(0.2)
-            self._looking = False
+            res = await self._look(wanted, pointing, cause)
+            hidden = pointing is not None and self._partner_in_the_way(pointing)
+            if res.kind == "none" and (hidden or (pointing is None and self._partner_in_view())):
+                # She stands between the camera and what she points at: ask her to step aside,
+                # wait until she has, and look again (at where she points then, if she does).
+                since = self.now
+                if await self._ask_step_aside(cause):
+                    await self._wait_partner_clear(pointing)
+                    waited = 0.0
+                    while self.gestures.pointing(self.now, since=since) is None and waited < self.gesture_wait:
+                        await asyncio.sleep(0.1)
+                        waited += 0.1
+                    pointing = self.gestures.pointing(self.now, since=since) or pointing
+                    res = await self._look(wanted, pointing, cause)
             pose = self.pose
-            cands = merge(self._seen, (pose[0], pose[1]), eye_height=CAMERA_HEIGHT)
-            res = resolve(cands, wanted, pointing, (pose[0], pose[1]))
-            self.last = res
+            assert pose is not None
             if res.kind == "none":
                 self._not_found(res.reason, cause)
                 return
@@ -209,10 +231,100 @@ class ObjectAttention(Module):
         finally:
             self._looking = False
 
-    def _publish_focus(self, cause: str) -> None:
+    async def _look(self, wanted: Wanted, pointing: Pointing | None, cause: str) -> Resolution:
+        """Look where she points for ``look_time`` s, merge the detections, resolve the reference."""
+        self._seen = []
+        self._looking = True
+        fallback = self._ray_target(pointing) if pointing is not None else None
+        t_end = self.now + self.look_time
+        while self.now < t_end - 1e-9:
+            self._publish_focus(cause, fallback)
+            await asyncio.sleep(0.2)
+        self._looking = False
         pose = self.pose
         assert pose is not None
-        target = self.gestures.target(self.now)
+        cands = merge(self._seen, (pose[0], pose[1]), eye_height=CAMERA_HEIGHT)
+        res = resolve(cands, wanted, pointing, (pose[0], pose[1]))
+        self.last = res
+        return res
+
+    def _in_the_way(self, bearing: float, distance: float, pointing: Pointing) -> bool:
+        """Whether a person at ``bearing``/``distance`` (robot frame) hides where ``pointing`` comes
+        down (her body, ``BODY_HALF_WIDTH`` either side, nearer to the camera than that spot)."""
+        pose = self.pose
+        target = self._ray_target(pointing)
+        if pose is None or target is None:
+            return False
+        dx, dy = target[0] - pose[0], target[1] - pose[1]
+        t_dist = math.hypot(dx, dy)
+        t_bearing = math.remainder(math.atan2(dy, dx) - pose[2], 2 * math.pi)
+        if distance >= t_dist - 0.1:
+            return False
+        return abs(math.remainder(bearing - t_bearing, 2 * math.pi)) <= math.atan2(BODY_HALF_WIDTH, max(distance, 0.3))
+
+    def _partner_in_the_way(self, pointing: Pointing) -> bool:
+        """The pointing person hides the spot: the partner where the person attention has her, or
+        without it, where the camera saw her hand."""
+        pose = self.pose
+        if pose is None:
+            return False
+        p = self._partner
+        if p is not None and self.now - p[0] < 0.5:
+            return self._in_the_way(p[1], p[2], pointing)
+        dx, dy = pointing.x - pose[0], pointing.y - pose[1]
+        return self._in_the_way(math.remainder(math.atan2(dy, dx) - pose[2], 2 * math.pi), math.hypot(dx, dy), pointing)
+
+    def _ray_target(self, p: Pointing) -> tuple[float, float] | None:
+        """Where a pointing ray first comes down onto a piece of furniture (its top, from the floor
+        plan) or the floor, within 3 m of the hand; 1 m along it if it does not come down."""
+        if p.elevation >= -math.radians(3):
+            return p.x + math.cos(p.direction), p.y + math.sin(p.direction)
+        tops = sorted({o.top for o in self.plan.obstacles if o.type != "leg" and 0.0 < o.top < p.z} if self.plan else set(), reverse=True)
+        for h in [*tops, 0.0]:
+            reach = (p.z - h) / math.tan(-p.elevation)
+            if reach > 3.0:
+                break
+            x, y = p.x + reach * math.cos(p.direction), p.y + reach * math.sin(p.direction)
+            if h == 0.0 or any(abs(o.top - h) < 1e-9 and _inside(x, y, o.points) for o in self.plan.obstacles):  # type: ignore[union-attr]
+                return x, y
+        return p.x + math.cos(p.direction), p.y + math.sin(p.direction)
+
+    async def _ask_step_aside(self, cause: str) -> bool:
+        """Ask the partner (through the dialog) to step aside; False if it could not be asked."""
+        try:
+            reply = await self.bus.call("dialog", "ask", etree.Element("ask", about="occluded"), timeout=20.0, causes=(cause,))
+        except Exception:  # no dialog: nobody to ask
+            return False
+        return reply.xml.get("said") == "true"
+
+    def _partner_in_view(self) -> bool:
+        """No pointing seen and nothing found, with the partner standing in front of the camera:
+        her body may hide both her hand and what she shows."""
+        p = self._partner
+        return p is not None and self.now - p[0] < 0.5 and abs(p[1]) <= VIEW_HALF_WIDTH and p[2] <= 3.0
+
+    async def _wait_partner_clear(self, pointing: Pointing | None) -> None:
+        """Wait (up to ``step_aside_wait`` s) until the partner no longer stands in the way."""
+        waited = 0.0
+        while waited < self.step_aside_wait:
+            p = self._partner
+            if p is not None and self.now - p[0] < 0.5 and (
+                    not self._in_the_way(p[1], p[2], pointing) if pointing is not None else abs(p[1]) > math.radians(10.0)):
+                await asyncio.sleep(0.5)  # and come to a stop
+                return
+            await asyncio.sleep(0.2)
+            waited += 0.2
+
+    def _on_partner(self, msg: Message) -> None:
+        x = msg.xml
+        self._partner = (msg.created, math.radians(float(x.get("bearing"))), float(x.get("distance")))  # type: ignore[arg-type]
+
+    def _publish_focus(self, cause: str, fallback: tuple[float, float] | None = None) -> None:
+        """Where the camera looks: where the pointing seen now comes down, else ``fallback`` (where
+        an earlier pointing came down: she pointed, then stepped aside), else ahead and down."""
+        pose = self.pose
+        assert pose is not None
+        target = self.gestures.target(self.now) or fallback
         if target is None:  # no gesture: look ahead and down, at a table in front of the robot
             bearing, dist = 0.0, 1.2
         else:
@@ -226,6 +338,7 @@ class ObjectAttention(Module):
         the event ``clarification`` (``<OPTIONS timeout><option index text/>+</OPTIONS>``) becomes the
         dialog's condition ``ask``; the dialog's answer comes back as the order ``clarified``
         (``<ANSWER index/>`` or ``none``). No answer within ``ask_timeout`` + 2 s: None."""
+        asked = self.now
         texts = option_texts(cands, wanted, pose)
         opts = etree.Element("OPTIONS", timeout=f"{self.ask_timeout:g}")
         for i, t in enumerate(texts):
@@ -234,18 +347,51 @@ class ObjectAttention(Module):
         ev.append(opts)
         fut: asyncio.Future[etree._Element] = self.sim.loop.create_future()
         self._answer = fut
-        self.bus.publish(EVENTS, ev, causes=(cause,), transfer=True)
+        self.bus.publish(ES_EVENTS, ev, causes=(cause,), transfer=True)
         try:
-            async with asyncio.timeout(self.ask_timeout + 2.0):
+            async with asyncio.timeout(self.ask_timeout + 20.0):  # the question itself takes a while to say
                 answer = await fut
         except TimeoutError:  # no dialog, or the ES did not route the question: the partner could not be asked
             return None
         finally:
             self._answer = None
         idx = answer.get("index")
-        if answer.get("none") == "true" or idx is None or not idx.isdigit() or int(idx) >= len(cands):
-            return None
-        return cands[int(idx)]
+        if idx is not None and idx.isdigit() and int(idx) < len(cands) and answer.get("none") != "true":
+            return cands[int(idx)]
+        if answer.get("deixis") == "true":  # "this one": where she points now
+            return await self._pointed_again(cands, wanted, pose, asked)
+        pos = answer.find("POSITION")
+        if pos is not None:  # "the one on the table": the only candidate standing on it
+            ground = pos.find("TITLE")
+            on = [c for c in cands if ground is not None and self._on_furniture(c, ground.get("name", ""))]
+            return on[0] if len(on) == 1 else None
+        return None
+
+    async def _pointed_again(self, cands: list[Candidate], wanted: Wanted, pose: tuple[float, float, float], since: float) -> Candidate | None:
+        """"This one" after the question: the asked candidates resolved by the pointing the camera
+        saw since the question (waiting up to ``gesture_wait`` s for it); None if it still does
+        not single one out."""
+        waited = 0.0
+        while waited < self.gesture_wait + 1e-9:
+            p = self.gestures.pointing(self.now, since=since)
+            if p is not None:
+                res = resolve(cands, Wanted(type=wanted.type, name=wanted.name), p, (pose[0], pose[1]))
+                self.last = res
+                if res.kind == "one":
+                    return res.best
+            await asyncio.sleep(0.1)
+            waited += 0.1
+        return None
+
+    def _on_furniture(self, c: Candidate, word: str) -> bool:
+        """Whether a candidate stands on a piece of furniture called or of type ``word`` (the floor plan)."""
+        if self.plan is None or not word:
+            return False
+        w = word.lower().replace("_", " ")
+        for o in self.plan.obstacles:
+            if o.type != "leg" and (o.name.lower() == w or o.type.lower() == w or w in o.name.lower().split()) and _inside(c.x, c.y, o.points):
+                return True
+        return False
 
     # ------------------------------------------------------------ results
     def _recognized(self, c: Candidate, wanted: Wanted, obj: etree._Element | None, cause: str) -> None:
@@ -258,6 +404,8 @@ class ObjectAttention(Module):
         el.set("y", f"{c.y:.3f}")
         el.set("z", f"{c.z:.3f}")
         el.set("frame", "map")
+        if c.size is not None:
+            el.set("size", f"{c.size:.3f}")
         if obj is not None:
             for tag in ("ATTRIBUTE", "USE", "POSITION"):  # USE: "my coffee cup" is for coffee
                 for ch in obj.iterfind(tag):
@@ -265,10 +413,10 @@ class ObjectAttention(Module):
         el.append(attachment_element("colour_features", c.features(), inline=True))
         ev = etree.Element("event", name="object_recognized")
         ev.append(el)
-        self.bus.publish(EVENTS, ev, causes=(cause,))
+        self.bus.publish(ES_EVENTS, ev, causes=(cause,))
 
     def _not_found(self, reason: str, cause: str) -> None:
-        self.bus.publish(EVENTS, etree.Element("event", name="object_not_found", reason=reason), causes=(cause,))
+        self.bus.publish(ES_EVENTS, etree.Element("event", name="object_not_found", reason=reason), causes=(cause,))
 
 
 def _copy(el: etree._Element) -> etree._Element:

@@ -24,6 +24,7 @@ from .resolve import Pointing
 
 CAMERA_HEIGHT = 1.41  # metres, the EVI-D31 on the PeopleBot
 CAMERA_OFFSET = 0.05  # metres ahead of the base's centre
+DIRECTION_NOISE = math.radians(5.0)  # the gesture detector's per-frame error in the arm's direction (its data sheet)
 
 
 def camera_to_map(pose: tuple[float, float, float], bearing: float, distance: float, height: float) -> tuple[float, float]:
@@ -51,14 +52,15 @@ class GestureTracker:
         self._seen.append((t, p))
         return p
 
-    def recent(self, now: float) -> list[Pointing]:
+    def recent(self, now: float, since: float = -math.inf) -> list[Pointing]:
         while self._seen and self._seen[0][0] < now - self.window:
             self._seen.popleft()
-        return [p for _, p in self._seen]
+        return [p for t, p in self._seen if t >= since]
 
-    def pointing(self, now: float) -> Pointing | None:
-        """The averaged ray of the largest group of consistent recent detections, or None."""
-        seen = self.recent(now)
+    def pointing(self, now: float, since: float = -math.inf) -> Pointing | None:
+        """The averaged ray of the largest group of consistent recent detections (taken at
+        ``since`` or later), or None."""
+        seen = self.recent(now, since)
         if len(seen) < self.min_count:
             return None
         groups: list[list[Pointing]] = []
@@ -75,9 +77,14 @@ class GestureTracker:
         n = len(best)
         sx = sum(math.sin(p.direction) for p in best)
         cx = sum(math.cos(p.direction) for p in best)
+        mean = math.atan2(sx, cx)
+        # The standard error of the mean direction: the detections' spread over sqrt(n) (at least
+        # the camera's own noise over sqrt(n): a few detections can agree by chance).
+        var = sum(math.remainder(p.direction - mean, 2 * math.pi) ** 2 for p in best) / max(1, n - 1)
+        sigma = math.sqrt(max(var, DIRECTION_NOISE**2) / n)
         return Pointing(
             sum(p.x for p in best) / n, sum(p.y for p in best) / n, sum(p.z for p in best) / n,
-            math.atan2(sx, cx), sum(p.elevation for p in best) / n,
+            mean, sum(p.elevation for p in best) / n, sigma,
         )
 
     def target(self, now: float, floor_heights: tuple[float, ...] = (0.75, 0.0)) -> tuple[float, float, float] | None:

@@ -14,7 +14,9 @@ against what was said (the speech frame's type, name, colour) and shown
   colour's RGB (the robot's own colour vocabulary, :data:`COLOURS`); a
   candidate clearly of another colour does not fit;
 - gesture: the angle between the pointing direction and the direction from
-  the hand to the candidate (deictic pointing is coarse: ~10-15 degrees);
+  the hand to the candidate, against the ray's own uncertainty: the person's
+  aim (``AIM_SIGMA``) and the camera's estimate of the arm's direction
+  (the spread of its detections over their number, :attr:`Pointing.sigma`);
   far off the ray does not fit;
 - distance: nearer to the hand (or to the robot without a gesture) is
   slightly preferred.
@@ -39,9 +41,13 @@ COLOUR_ALIASES = {"gray": "grey"}
 
 MERGE = 0.2  # metres: detections closer than this are one object (without a viewpoint)
 MERGE_BEARING = math.radians(4.0)  # seen from the robot: 4x the camera's bearing noise
+BEARING_NOISE = math.radians(1.0)  # the camera's bearing noise (its data sheet)
+SPLIT_SPREAD = 1.5  # a candidate whose bearings spread more than this many times the noise ...
+SPLIT_APART = 2.5  # ... and fall in two groups this many noises apart is two objects
 MERGE_RANGE = 0.25  # of the range: 4x the camera's relative distance noise
 COLOUR_FIT = 0.3  # RGB distance under which a colour "is" the named one
-GESTURE_SIGMA = math.radians(12.0)
+AIM_SIGMA = math.radians(6.0)  # a person's aim at an object within a few metres (the arm is not a laser)
+GESTURE_SIGMA = math.radians(12.0)  # a ray whose own uncertainty is not known (Pointing.sigma None)
 GESTURE_FIT = math.radians(30.0)  # further off the pointing ray: not the object pointed at
 TYPE_EVIDENCE = 3  # detections, none of the named type, that rule a candidate out
 CLEAR = 3.0  # the best candidate's score ratio over the second to decide without asking
@@ -64,9 +70,19 @@ class Candidate:
     rgb_sum: np.ndarray = field(default_factory=lambda: np.zeros(3))
     rgb_sq: np.ndarray = field(default_factory=lambda: np.zeros(3))
     n: int = 0
+    size_sum: float = 0.0  # metres, over the detections that measured it
+    size_n: int = 0
 
-    def add(self, type_: str, x: float, y: float, z: float, rgb: tuple[float, float, float]) -> None:
-        """Merge one detection (running mean of the position, colour sums, type votes)."""
+    @property
+    def size(self) -> float | None:
+        """The mean size measured from the image (metres across), or None if no detection measured it."""
+        return self.size_sum / self.size_n if self.size_n else None
+
+    def add(self, type_: str, x: float, y: float, z: float, rgb: tuple[float, float, float], size: float | None = None) -> None:
+        """Merge one detection (running mean of the position, colour sums, type votes, size)."""
+        if size is not None:
+            self.size_sum += size
+            self.size_n += 1
         k = self.n + 1
         self.x += (x - self.x) / k
         self.y += (y - self.y) / k
@@ -85,6 +101,8 @@ class Candidate:
         self.x = (self.x * self.n + other.x * other.n) / k
         self.y = (self.y * self.n + other.y * other.n) / k
         self.z = (self.z * self.n + other.z * other.n) / k
+        self.size_sum += other.size_sum
+        self.size_n += other.size_n
         self.rgb_sum = self.rgb_sum + other.rgb_sum
         self.rgb_sq = self.rgb_sq + other.rgb_sq
         for t, v in other.types.items():
@@ -128,13 +146,13 @@ class Candidate:
 
 
 def merge(
-    detections: list[tuple[str, float, float, float, tuple[float, float, float]]],
+    detections: list[tuple[str, float, float, float, tuple[float, float, float]]] | list[tuple[str, float, float, float, tuple[float, float, float], float | None]],
     origin: tuple[float, float] | None = None,
     *,
     min_share: float = 0.25,
     eye_height: float | None = None,
 ) -> list[Candidate]:
-    """Detections (type, x, y, z, rgb) -> candidates, in order of first sight.
+    """Detections (type, x, y, z, rgb[, size]) -> candidates, in order of first sight.
 
     The camera measures bearings well (~1 degree) and distances poorly (~6 %), so two
     detections are one object when, seen from ``origin`` (the robot), their bearings differ by
@@ -163,7 +181,10 @@ def merge(
         return da if da < MERGE_BEARING and abs(r1 - r2) < MERGE_RANGE * max(r1, r2) else None
 
     out: list[Candidate] = []
-    for type_, x, y, z, rgb in detections:
+    members: dict[int, list[int]] = {}  # id(candidate) -> its detections' indices
+    for k, det in enumerate(detections):
+        type_, x, y, z, rgb = det[:5]
+        size = det[5] if len(det) > 5 else None  # type: ignore[misc]
         best, bd = None, math.inf
         for c in out:
             d = gate(c, x, y, z, np.asarray(rgb, dtype=float))
@@ -172,7 +193,9 @@ def merge(
         if best is None:
             best = Candidate(x, y, z)
             out.append(best)
-        best.add(type_, x, y, z, rgb)
+            members[id(best)] = []
+        best.add(type_, x, y, z, rgb, size)
+        members[id(best)].append(k)
     # A first sight that was an outlier splits one object in two: join candidates whose means
     # (far better than single detections) pass the same gate, the earlier one absorbing.
     joined = True
@@ -182,24 +205,79 @@ def merge(
             for b in out[i + 1:]:
                 if gate(a, b.x, b.y, b.z, b.rgb) is not None:
                     a.absorb(b)
+                    members[id(a)] += members.pop(id(b))
                     out.remove(b)
                     joined = True
                     break
             if joined:
                 break
+    if origin is not None:
+        out = [part for c in out for part in _split(c, [detections[k] for k in members[id(c)]], origin)]
     top = max((c.n for c in out), default=0)
     return [c for c in out if c.n >= min_share * top]
 
 
+def _split(c: Candidate, dets: list, origin: tuple[float, float]) -> list[Candidate]:
+    """Two objects side by side, merged into one candidate, made two again.
+
+    The camera's bearings of one object spread by its noise (``BEARING_NOISE``); those of two
+    objects a few noises apart (two cups 0.1 m apart 2 m away are 2.9 degrees apart) spread
+    more. When a candidate's bearings spread more than ``SPLIT_SPREAD`` noises, they are cut
+    in two at the largest gap of the sorted bearings' two-means split; if both groups hold a
+    quarter of the detections and their means lie ``SPLIT_APART`` noises apart, they are two
+    candidates, each the mean of its own detections (never a position between two objects).
+    """
+    n = len(dets)
+    if n < 8:
+        return [c]
+    ox, oy = origin
+    ref = math.atan2(c.y - oy, c.x - ox)
+    b = sorted((math.remainder(math.atan2(d[2] - oy, d[1] - ox) - ref, 2 * math.pi), k) for k, d in enumerate(dets))
+    vals = [v for v, _ in b]
+    mean = sum(vals) / n
+    if math.sqrt(sum((v - mean) ** 2 for v in vals) / (n - 1)) <= SPLIT_SPREAD * BEARING_NOISE:
+        return [c]
+    best, cut = math.inf, -1
+    for i in range(max(2, n // 4), n - max(2, n // 4) + 1):  # each side at least a quarter
+        lo, hi = vals[:i], vals[i:]
+        ml, mh = sum(lo) / len(lo), sum(hi) / len(hi)
+        sse = sum((v - ml) ** 2 for v in lo) + sum((v - mh) ** 2 for v in hi)
+        if sse < best:
+            best, cut = sse, i
+    if cut < 0:
+        return [c]
+    lo, hi = vals[:cut], vals[cut:]
+    if sum(hi) / len(hi) - sum(lo) / len(lo) < SPLIT_APART * BEARING_NOISE:
+        return [c]
+    parts = []
+    for group in (b[:cut], b[cut:]):
+        first = dets[group[0][1]]
+        part = Candidate(first[1], first[2], first[3])
+        part.n = 0
+        part.x = part.y = part.z = 0.0
+        for _, k in sorted(group, key=lambda g: g[1]):
+            d = dets[k]
+            part.add(d[0], d[1], d[2], d[3], d[4], d[5] if len(d) > 5 else None)
+        parts.append(part)
+    return parts
+
+
 @dataclass(frozen=True)
 class Pointing:
-    """A pointing ray in the map frame: the hand (x, y, z) and the arm's direction and elevation (rad)."""
+    """A pointing ray in the map frame: the hand (x, y, z) and the arm's direction and elevation (rad);
+    ``sigma``: the standard error of the measured direction (rad; None: unknown)."""
 
     x: float
     y: float
     z: float
     direction: float
     elevation: float
+    sigma: float | None = None
+
+    @property
+    def spread(self) -> float:
+        """How far off the ray (1 sigma, rad) the object pointed at may lie: aim and measurement."""
+        return GESTURE_SIGMA if self.sigma is None else math.hypot(AIM_SIGMA, self.sigma)
 
     def angle_to(self, x: float, y: float, z: float) -> float:
         """Angle (rad) between the ray and the direction from the hand to a point."""
@@ -270,7 +348,7 @@ def score(c: Candidate, wanted: Wanted, pointing: Pointing | None, origin: tuple
                 why.append(f"{c.colour}, not {wanted.colour}")
     if pointing is not None:
         a = pointing.angle_horizontal(c.x, c.y)
-        s *= math.exp(-0.5 * (a / GESTURE_SIGMA) ** 2) + 1e-3
+        s *= math.exp(-0.5 * (a / pointing.spread) ** 2) + 1e-3
         if a > GESTURE_FIT:
             fits = False
             why.append(f"{math.degrees(a):.0f} deg off the pointing")

@@ -31,7 +31,9 @@ from lxml import etree
 from homesim.message import Message
 from homesim.module import Module
 
-from .attention import EVENTS, FOCUS, ORDERS, _copy, wanted_from
+from robot.contract import ES_EVENTS, FOCUS
+
+from .attention import ORDERS, _copy, wanted_from
 
 #: Where the Object state looks (robot frame): straight ahead ...
 FIXED_BEARING = 0.0
@@ -73,12 +75,12 @@ class VerbalObjectAttention(Module):
             await asyncio.sleep(0.2)
         wanted = wanted_from(obj)
         if not wanted.type and not wanted.name:
-            self.bus.publish(EVENTS, etree.Element("event", name="object_not_found", reason="no_type"), causes=(cause,))
+            self.bus.publish(ES_EVENTS, etree.Element("event", name="object_not_found", reason="no_type"), causes=(cause,))
             return
         el = verbal_object(obj, wanted.type or wanted.name, wanted.name or wanted.type, wanted.owner, wanted.colour)
         ev = etree.Element("event", name="object_recognized")
         ev.append(el)
-        self.bus.publish(EVENTS, ev, causes=(cause,), transfer=True)
+        self.bus.publish(ES_EVENTS, ev, causes=(cause,), transfer=True)
 
 
 def verbal_object(obj: etree._Element | None, typ: str, name: str, owner: str, colour: str = "") -> etree._Element:

@@ -47,11 +47,10 @@ from homesim.module import Module
 from robot.deployment import cost_scale
 from homesim.vloop import to_ns
 
+from robot.contract import FRAMES, SPEAKER_STATUS, SPEECH
+
 from .grammar import Understander, Understanding
 
-SPEECH_IN = "/robot/audio/speech"
-FRAMES = "/robot/speech/frames"
-SPEAKER_STATUS = "/robot/speaker/status"
 FRAMES_XSD = Path(__file__).resolve().parent.parent / "schemas" / "speech-frames.xsd"
 
 _SHARED: list[Understander] = []
@@ -169,7 +168,7 @@ class SpeechUnderstanding(Module):
         self.counts = {"utterances": 0, "understood": 0, "not_understood": 0, "own_voice": 0}
         if typed and sim.bus.channel_schema(FRAMES) is None:
             sim.bus.declare_channel(FRAMES, FRAMES_XSD)
-        self.bus.subscribe(SPEECH_IN, self._on_utterance)
+        self.bus.subscribe(SPEECH, self._on_utterance)
         self.bus.subscribe(SPEAKER_STATUS, self._on_speaker)
 
     async def run(self) -> None:

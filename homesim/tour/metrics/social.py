@@ -12,8 +12,9 @@ its own (``Navigating``, a go-to):
   centre (the SocNavBench "closest pedestrian distance"), and ``min_person_clearance_m``: the
   smallest air gap between the robot's footprint (0.51 x 0.43 m) and a person's body (the
   world's 0.25 m circle); a contact is a gap of 0; ``min_person_clearance_moving_m`` the same
-  while the robot moves (faster than 5 cm/s): a person walking past a robot standing still
-  comes close by their own choice;
+  for the people the robot drives toward (moving faster than 5 cm/s, the person ahead of its
+  centre in the direction it drives): a person walking past a robot standing still, or
+  overtaking it from behind, comes close by their own choice;
 * ``personal_space_s``: time with someone's body closer than :data:`INTIMATE` (0.45 m) to the
   robot's footprint: Hall's intimate zone measured as he measured it, between bodies (centre to
   centre that is about 0.95 m straight ahead; 0.45 m centre to centre would be a contact), and
@@ -30,11 +31,12 @@ its own (``Navigating``, a go-to):
   interaction (the supervisor leaving the idle states until it is back in one) a change of that
   person is an ``identity_switches``; ``partner_kept`` = no switch and no ``partner_lost`` event
   all run;
-* catching up (issue 26 item 10): at each teaching or query request from the dialog
-  (``object_teaching``, ``place_teaching``, ``query_object``, ``goto``), the true distance from
-  the robot's centre to the partner and the partner's bearing off the robot's heading
-  (``request_distance_max_m``, ``request_bearing_max_deg``): the robot should stand at a
-  comfortable interaction distance facing her when she asks.
+* catching up (issue 26 item 10): at the first teaching or query request from the dialog
+  (``object_teaching``, ``place_teaching``, ``query_object``, ``goto``) after each time the robot
+  followed, the true distance from the robot's centre to the partner and the partner's bearing
+  off the robot's heading (``request_distance_max_m``, ``request_bearing_max_deg``): the robot
+  should have come up to a comfortable interaction distance facing her when she asks (requests
+  before any following, where she chose to stand, are not its doing).
 
 Every figure is a number (or None when there was nothing to measure) at the top level of the
 summary, so a study table can take any of them; ``following`` and ``goto`` hold the same
@@ -123,6 +125,7 @@ class Social(Observer):
         self.max_speed = float(getattr(spec, "max_speed", 0.5) or 0.5)
         # catching up
         self.requests = 0
+        self._followed = False  # the robot has followed since the last request measured
         self.request_distance_max = -math.inf
         self.request_bearing_max = -math.inf
         run.world.add_contact_listener(self._contact)
@@ -150,7 +153,8 @@ class Social(Observer):
                 self.partner_lost += 1
             elif name == "goal_reached" and self._goto is not None:
                 self._goto["reached"] = True
-            elif name in REQUESTS and self.in_interaction:
+            elif name in REQUESTS and self.in_interaction and self._followed:
+                self._followed = False
                 self._request()
         elif ch == "/robot/attention/partner":
             self._on_partner(m.xml)
@@ -168,6 +172,8 @@ class Social(Observer):
             return
         mode = MODES.get(state)
         if mode != self.mode:
+            if self.mode == "following":
+                self._followed = True
             if self.mode == "goto":
                 self._end_goto()
             if mode == "goto":
@@ -240,7 +246,8 @@ class Social(Observer):
         c, s = math.cos(rth), math.sin(rth)
         step = 0.0 if self.last is None else math.hypot(rx - self.last[0], ry - self.last[1])
         self.last = (rx, ry)
-        near = gap = bystander = math.inf
+        near = gap = gap_ahead = bystander = math.inf
+        v = world.robot.v
         partner_pos = None
         for name, h in world.humans.items():
             if not h.present:
@@ -251,6 +258,8 @@ class Social(Observer):
             lx, ly = abs(c * dx + s * dy), abs(-s * dx + c * dy)
             g = max(math.hypot(max(lx - HALF_LENGTH, 0.0), max(ly - HALF_WIDTH, 0.0)) - BODY, 0.0)
             gap = min(gap, g)
+            if (c * dx + s * dy) * v > 0.0:
+                gap_ahead = min(gap_ahead, g)
             if name == self.partner:
                 partner_pos = (hx, hy)
             else:
@@ -262,7 +271,7 @@ class Social(Observer):
             m.min_person = min(m.min_person, near)
             m.min_gap = min(m.min_gap, gap)
             if moving:
-                m.min_gap_moving = min(m.min_gap_moving, gap)
+                m.min_gap_moving = min(m.min_gap_moving, gap_ahead)
             if gap < INTIMATE:
                 m.personal += self.dt
             if bystander < PERSONAL:

@@ -43,25 +43,20 @@ from lxml import etree
 from homesim.message import Message
 from homesim.module import Module
 
-from .navigation.config import Limits, limits_from_config
-from .navigation.local import Command, DWAParams, LatestScan, carrot, dwa, heading_speed, social_speed_limit
-from .navigation.people import People, nearest
+from robot.contract import BASE_CMD, DISPLAY_CMD, ES_ORDERS, ODOMETRY, PLAYER_STATUS, POSE, SCAN, TRACKS
 
-ORDERS = "/robot/es/orders/player"
-STATUS = "/robot/player/status"
-POSE = "/robot/localisation/pose"
-SCAN = "/robot/laser/scan"
-ODOMETRY = "/robot/odometry"
-BASE_CMD = "/robot/base/cmd"
-DISPLAY_CMD = "/robot/display/cmd"
-TRACKS = "/robot/attention/tracks"
+from .config import Limits, limits_from_config
+from .local import Command, DWAParams, LatestScan, carrot, dwa, heading_speed, social_speed_limit
+from .people import People, nearest
+
+ORDERS = f"{ES_ORDERS}/player"
 #: m: how far ahead on the leg the controller steers (pure pursuit).
 LOOKAHEAD = 0.7
 #: m: how far the player backs off, at most, per ``move_to``, to get room to turn.
 BACK_OFF = 0.3
 #: rad: a goal further off the heading than this has to be turned to (see :func:`heading_speed`).
 BACK_OFF_BEARING = math.pi / 3
-SCHEMA = Path(__file__).with_name("schemas") / "navigation" / "player-status.xsd"
+SCHEMA = Path(__file__).resolve().parent.parent / "schemas" / "navigation" / "player-status.xsd"
 
 
 def wrap(a: float) -> float:
@@ -136,7 +131,7 @@ class Player(Module):
         self.tolerance = tolerance
         self.stall_time = stall_time
         self.params = params
-        sim.bus.declare_channel(STATUS, SCHEMA)
+        sim.bus.declare_channel(PLAYER_STATUS, SCHEMA)
         self.goal: tuple[float, float, float, float, bool] | None = None  # x, y, theta, tolerance, align
         self._reached: tuple[float, float, float, float, bool] | None = None  # the step just reached
         self.state = "idle"
@@ -259,7 +254,7 @@ class Player(Module):
             el.set("y", f"{self.goal[1]:.4f}")
             if distance is not None:
                 el.set("distance", f"{distance:.4f}")
-        self.bus.publish(STATUS, el)
+        self.bus.publish(PLAYER_STATUS, el)
 
     def control_step(self) -> tuple[float, float] | None:
         """One step of ``move_to``: the velocity sent, or None when not driving."""

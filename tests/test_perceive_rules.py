@@ -1,0 +1,205 @@
+"""Issue 26 items 1, 3, 5, 11 as rules: identity through crossings (tracker), the leaving rule
+(person attention), two similar objects and the answers to "which one?" (object attention, dialog),
+the object's size from the camera (issue 23 item 5)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from robot.attention.legs import PAIR
+from robot.attention.module import AttentionParams, PersonAttention
+from robot.attention.tracker import Tracks, TrackerSpec
+from robot.dialog.module import choose, unchosen_answer
+from robot.hardware.camera import CameraSpec, image_extent
+from robot.objects.gestures import CAMERA_HEIGHT, camera_to_map
+from robot.objects.resolve import COLOURS, Pointing, Wanted, merge, resolve
+from robot.speech.module import shared_understander
+
+NOPE = np.zeros((0, 2))
+KIND0 = np.zeros(0, dtype=np.int8)
+
+
+def _confirmed(tr: Tracks, x: float, y: float, t0: float = 0.0) -> float:
+    for k in range(3):
+        tr.step(t0 + 0.1 * k, np.array([[x, y]]), np.array([PAIR], dtype=np.int8))
+    assert tr.confirmed.all()
+    return t0 + 0.2
+
+
+# ------------------------------------------------------------ tracker
+@settings(max_examples=60, deadline=None)
+@given(r=st.floats(0.0, 0.49), a=st.floats(-math.pi, math.pi))
+def test_no_second_person_is_born_within_half_a_metre_of_a_tracked_one(r, a):
+    """Two bodies' centres are never closer than ~0.5 m: a pair there (one leg of each of two close
+    people) repeated scan after scan never becomes a person of its own."""
+    tr = Tracks(TrackerSpec())
+    t = _confirmed(tr, 2.0, 0.0)
+    z = np.array([[2.0, 0.0], [2.0 + r * math.cos(a), r * math.sin(a)]])
+    for k in range(1, 8):
+        tr.step(t + 0.1 * k, z, np.array([PAIR, PAIR], dtype=np.int8))
+    assert len(tr) == 1 and tr.ids.tolist() == [1]
+
+
+def test_a_person_further_than_the_clearance_is_born():
+    tr = Tracks(TrackerSpec())
+    t = _confirmed(tr, 2.0, 0.0)
+    z = np.array([[2.0, 0.0], [2.0, 0.8]])
+    for k in range(1, 4):
+        tr.step(t + 0.1 * k, z, np.array([PAIR, PAIR], dtype=np.int8))
+    assert len(tr) == 2 and tr.confirmed.all()
+
+
+def test_a_walker_who_turns_back_while_hidden_keeps_the_track():
+    """Walking at 1 m/s, hidden for 0.8 s (turning on the spot), seen again where last measured:
+    the same track (stopped hypothesis), not a new one."""
+    tr = Tracks(TrackerSpec())
+    t = 0.0
+    for k in range(20):
+        tr.step(t, np.array([[1.0 + 0.1 * k, 0.0]]), np.array([PAIR], dtype=np.int8))
+        t += 0.1
+    last = 1.0 + 0.1 * 19
+    for _ in range(8):
+        tr.step(t, NOPE, KIND0)
+        t += 0.1
+    for k in range(5):  # back the way she came
+        tr.step(t, np.array([[last - 0.1 * k, 0.0]]), np.array([PAIR], dtype=np.int8))
+        t += 0.1
+    assert tr.ids.tolist() == [1]
+    assert tr.x[0, 2] < 0  # walking back now
+
+
+def test_the_likelier_track_takes_the_candidate():
+    """A tightly predicted track and a long-unseen wide one both gate a pair: the tight one takes it."""
+    tr = Tracks(TrackerSpec())
+    t = _confirmed(tr, 2.0, 0.0)
+    t = _confirmed(tr, 2.0, 1.2, t + 0.1)
+    for k in range(1, 12):  # the second is not seen for 1.1 s, the first is
+        tr.step(t + 0.1 * k, np.array([[2.0, 0.0]]), np.array([PAIR], dtype=np.int8))
+    t += 1.2
+    tr.step(t, np.array([[2.0, 0.2]]), np.array([PAIR], dtype=np.int8))
+    assert tr.tracks[0].last_update == t and tr.tracks[1].last_update < t
+
+
+# ------------------------------------------------------------ the leaving rule
+class _Fsm:
+    def __init__(self, state: str) -> None:
+        self.state = state
+
+
+def _attention(state: str, last: tuple[float, float, float, float, float, float, float]) -> PersonAttention:
+    pa = PersonAttention.__new__(PersonAttention)  # the rule only: no bus
+    pa.params = AttentionParams()
+    pa.fsm = _Fsm(state)  # type: ignore[assignment]
+    pa._partner_last = last
+    return pa
+
+
+@settings(max_examples=200, deadline=None)
+@given(d=st.floats(0.3, 2.99), a=st.floats(-math.pi, math.pi), speed=st.floats(0.0, 1.2), heading=st.floats(-math.pi, math.pi),
+       unseen=st.floats(0.0, 20.0), state=st.sampled_from(["Interaction", "Object"]))
+def test_a_partner_who_stepped_aside_within_the_interaction_space_has_left_only_after_ten_seconds_unseen(d, a, speed, heading, unseen, state):
+    x, y = d * math.cos(a), d * math.sin(a)
+    vx, vy = speed * math.cos(heading), speed * math.sin(heading)
+    away = (vx * x + vy * y) / d
+    pa = _attention(state, (0.0, x, y, vx, vy, 0.0, 0.0))
+    p = pa.params
+    left = pa.partner_left(unseen)
+    if unseen < p.partner_lost_after:
+        assert not left
+    elif unseen >= p.out_of_view_after:
+        assert left
+    else:
+        assert left == (away >= p.leave_speed)
+
+
+@settings(max_examples=100, deadline=None)
+@given(d=st.floats(3.01, 8.0), unseen=st.floats(0.0, 5.0))
+def test_a_partner_last_seen_outside_the_interaction_space_has_left_after_two_seconds(d, unseen):
+    pa = _attention("Interaction", (0.0, d, 0.0, 0.0, 0.0, 0.0, 0.0))
+    assert pa.partner_left(unseen) == (unseen >= pa.params.partner_lost_after)
+
+
+def test_while_following_two_seconds_unseen_is_lost_wherever_she_was():
+    pa = _attention("Follow", (0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0))
+    assert not pa.partner_left(1.9) and pa.partner_left(2.0)
+
+
+# ------------------------------------------------------------ similar objects
+def _look(pose, objects, seed, n=20):
+    rng = np.random.default_rng(seed)
+    dets = []
+    for _ in range(n):
+        for ox, oy in objects:
+            dx, dy = ox - pose[0], oy - pose[1]
+            b = math.atan2(dy, dx) - pose[2] + rng.normal(0, math.radians(1.0))
+            sl = math.hypot(math.hypot(dx, dy), CAMERA_HEIGHT - 0.8) * (1 + rng.normal(0, 0.06))
+            x, y = camera_to_map(pose, b, sl, 0.8)
+            dets.append(("cup", x, y, 0.8, tuple(np.clip(np.array(COLOURS["red"]) + rng.normal(0, 0.04, 3), 0, 1))))
+    return dets
+
+
+@settings(max_examples=30, deadline=None)
+@given(seed=st.integers(0, 2**31 - 1), sep=st.floats(0.10, 0.5))
+def test_two_red_cups_side_by_side_are_two_candidates_each_at_its_own_cup(seed, sep):
+    pose = (1.7, 2.0, 0.0)
+    cups = [(3.45, 2.0 - sep / 2), (3.45, 2.0 + sep / 2)]
+    cands = merge(_look(pose, cups, seed), pose[:2], eye_height=CAMERA_HEIGHT)
+    # Both cups are candidates, each at its own cup across the line of sight (the camera's bearings
+    # are good to 1 deg; its range, 6 %, blurs along it), and no candidate is a point between the
+    # two. (Now and then a cup's detections make a second, weaker candidate of it: the robot then
+    # asks once more than it had to, but never stores a midpoint.)
+    near = [min(range(2), key=lambda i: abs(c.y - cups[i][1])) for c in cands]
+    assert set(near) == {0, 1}
+    assert all(abs(c.y - cups[i][1]) < sep * 0.45 for c, i in zip(cands, near))
+
+
+@settings(max_examples=30, deadline=None)
+@given(seed=st.integers(0, 2**31 - 1))
+def test_one_cup_stays_one_candidate(seed):
+    pose = (1.7, 2.0, 0.0)
+    assert len(merge(_look(pose, [(3.45, 2.0)], seed), pose[:2], min_share=0.0, eye_height=CAMERA_HEIGHT)) == 1
+
+
+def test_a_precise_pointing_singles_out_one_of_two_similar_cups_a_coarse_one_asks():
+    pose = (1.7, 2.0, 0.0)
+    cups = [(3.45, 1.875), (3.45, 2.125)]
+    cands = merge(_look(pose, cups, 3), pose[:2], eye_height=CAMERA_HEIGHT)
+    hand = (4.2, 2.3, 1.0)
+    at = math.atan2(2.125 - hand[1], 3.45 - hand[0])
+    sharp = Pointing(*hand, at, -0.5, sigma=math.radians(1.5))
+    res = resolve(cands, Wanted(type="cup"), sharp, pose[:2])
+    assert res.kind == "one" and abs(res.best.y - 2.125) < 0.05
+    coarse = Pointing(*hand, at, -0.5, sigma=math.radians(25.0))
+    assert resolve(cands, Wanted(type="cup"), coarse, pose[:2]).kind == "ambiguous"
+
+
+def test_the_answers_to_which_one():
+    u = shared_understander()
+    opts = [(0, "the cup on the left"), (1, "the one on the right")]
+    frame = lambda words: u.understand(words).frame[0]  # noqa: E731
+    assert choose(opts, frame("the left one")) == 0
+    assert choose(opts, frame("the one on the right")) == 1
+    assert choose(opts, frame("the right one")) == 1
+    assert choose(opts, frame("this one")) is None and unchosen_answer(frame("this one")).get("deixis") == "true"
+    ans = unchosen_answer(frame("the one on the table"))
+    assert ans.get("none") == "true" and ans.find("POSITION/TITLE").get("name") == "table"
+    assert u.understand("right").frame[0].tag == "YES"  # "right" alone still agrees
+
+
+# ------------------------------------------------------------ size from the camera
+@settings(max_examples=100, deadline=None)
+@given(size=st.floats(0.03, 1.0), d=st.floats(0.3, 3.5))
+def test_the_size_from_the_image_extent_is_right_to_a_pixel(size, d):
+    spec = CameraSpec()
+    w = image_extent(size, d, spec)
+    pixel = spec.hfov / spec.image_width
+    true = 2 * math.atan2(size / 2, d)
+    assert w >= pixel and abs(w - max(true, pixel)) <= pixel / 2 + 1e-12
+    # so the size computed from it is right within what half a pixel either way means
+    sizes = [2 * d * math.tan(max(true + e, 0.0) / 2) for e in (-pixel / 2, pixel / 2)]
+    assert sizes[0] - 1e-9 <= 2 * d * math.tan(w / 2) <= sizes[1] + 1e-9 or w == pixel
+
