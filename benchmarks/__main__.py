@@ -75,13 +75,6 @@ def cpu_run(scenario: Any, options: RunOptions) -> tuple[float, float]:
     return sim, time.process_time() - t0
 
 
-def looping_home(duration: float) -> Any:
-    """The example flat with one person pacing and talking forever (any length; no radio)."""
-    from benchmarks.bench_world import crowd_scenario
-
-    return load_scenario_text(crowd_scenario(1, duration), source=f"looping home ({duration:g} s)")
-
-
 def stage_ms(n_people: int, seconds: float) -> float:
     """CPU ms per simulated second of the simulated home alone with ``n_people``."""
     from homesim.sim import Simulation

@@ -4,7 +4,7 @@ Run: ``python benchmarks/bench_speech.py [--rounds N]``. Not a test: wall-clock
 numbers belong here, never in the test suite.
 
 * understanding: :meth:`robot.speech.grammar.Understander.understand` on every
-  utterance of the corpus (``tests/data/utterances.tsv``: clean commands,
+  utterance of the corpus (``robot/speech/corpus/tuning.tsv``: clean commands,
   fillers, self-corrections, fragments, recogniser errors, nonsense): lexicon,
   disfluency clean-up, LALR parse (with the partial-parse recovery when it
   fails) and the frame XML. Reported as p50/p99/mean per utterance, and the
@@ -34,7 +34,7 @@ from robot.dialog.manager import DialogManager
 from robot.speech.grammar import Understander
 from robot.speech.module import FRAMES_XSD, frame_message
 
-CORPUS = Path(__file__).resolve().parent.parent / "tests" / "data" / "utterances.tsv"
+CORPUS = Path(__file__).resolve().parent.parent / "robot" / "speech" / "corpus" / "tuning.tsv"
 HELD_OUT = Path(__file__).resolve().parent / "data" / "heldout_utterances.tsv"
 
 

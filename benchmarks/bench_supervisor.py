@@ -58,11 +58,11 @@ from homesim.sim import Simulation
 from homesim.xmlio import load_schema, parse_bytes
 from robot.supervisor import (
     BIRON_AFSM,
-    CONDITION_PREFIX,
-    EVENT_CHANNEL,
-    LOG_CHANNEL,
-    ORDER_PREFIX,
-    STATUS_CHANNEL,
+    ES_CONDITIONS,
+    ES_EVENTS,
+    ES_LOG,
+    ES_ORDERS,
+    ES_STATUS,
     SCHEMAS,
     ExecutionSupervisor,
     OutputBuilder,
@@ -170,23 +170,23 @@ def run_bus(events: list[tuple[str, str, bytes]], *, cost: float = 0.005,
         from homesim.observe import Dispatcher
 
         seen = Dispatcher(sim.bus)
-        seen.add((LOG_CHANNEL, STATUS_CHANNEL), lambda msg: msg.xml.get("state"))
+        seen.add((ES_LOG, ES_STATUS), lambda msg: msg.xml.get("state"))
     senders = {name: sim.bus.participant(name, host="robot") for name in ("dialog", "person_attention", "player")}
     received = [0]
 
     def sink(_msg: object) -> None:
         received[0] += 1
 
-    senders["dialog"].subscribe(f"{CONDITION_PREFIX}/dialog", sink)
-    senders["person_attention"].subscribe(f"{ORDER_PREFIX}/person_attention", sink)
-    senders["player"].subscribe(f"{ORDER_PREFIX}/player", sink)
+    senders["dialog"].subscribe(f"{ES_CONDITIONS}/dialog", sink)
+    senders["person_attention"].subscribe(f"{ES_ORDERS}/person_attention", sink)
+    senders["player"].subscribe(f"{ES_ORDERS}/player", sink)
     clock = _clock
     start: dict[str, int] = {}
     end: dict[str, int] = {}
 
     def publish(source: str, data: bytes) -> None:
         t = clock()
-        msg = senders[source].publish(EVENT_CHANNEL, data)
+        msg = senders[source].publish(ES_EVENTS, data)
         start[msg.id] = t
 
     send_outputs = es._send_outputs

@@ -99,6 +99,11 @@ def crowd_scenario(n_people: int, duration: float) -> str:
     return text.replace('duration="40"', f'duration="{duration:g}"')
 
 
+def looping_home(duration: float) -> Any:
+    """The example flat with one person pacing and talking forever (any length; no radio)."""
+    return load_scenario_text(crowd_scenario(1, duration), source=f"looping home ({duration:g} s)")
+
+
 def bench_stage(n_people: int, duration: float) -> float:
     """CPU ms per simulated second of the whole stage with ``n_people``."""
     return stage_parts(n_people, duration, parts=False)["stage"]

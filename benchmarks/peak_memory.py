@@ -58,7 +58,7 @@ def child(seconds: float) -> dict[str, Any]:
     """Run the looping home for ``seconds`` in this process, sampling as it goes (see the module docstring)."""
     from homesim.tour.runner import Run, RunOptions
 
-    from benchmarks.__main__ import looping_home
+    from benchmarks.bench_world import looping_home
 
     samples: list[tuple[float, int, float | None]] = []
     traced: dict[str, Any] = {}

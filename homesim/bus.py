@@ -14,9 +14,10 @@ Which messages are validated is the bus's policy (``Bus(validation=...)``):
   message on a typed channel or method.
 - ``"edges"`` (the default): payloads that arrive as text (``str``/``bytes``:
   a document from outside the process, parsed with the hardened parser) are
-  validated; payloads a module built as an lxml element are trusted: neither
-  validated nor looked into for a DOCTYPE or entity references (the strict
-  policy refuses those). The project's own modules are checked by the test
+  validated; payloads a module built as an lxml element are trusted: not
+  validated (elements from a document with a DOCTYPE and elements holding
+  entity references are refused under every policy, as text with a DOCTYPE
+  is: ~1 us a message). The project's own modules are checked by the test
   suite, which runs strict; checking each of their messages again costs
   ~10 us a message (about a fifth of a home tour's CPU) and changes nothing
   for a valid message. In this mode a module's *invalid* element is
@@ -29,21 +30,27 @@ channel; the trace wants all), always under the strict policy. The message is
 sent either way (same id, same counters).
 
 Each message reaches each receiver after a delay drawn from the link between
-their hosts (:mod:`homesim.network`); per (sender, receiver) pair delivery is
-FIFO. Interceptors see every send, delivery and drop and change nothing: the
+their hosts (:mod:`homesim.network`; on a link with a bandwidth the delay grows
+with the message's size: its XML and attachments); per (sender, receiver) pair
+delivery is FIFO (as over one TCP connection). A participant's host is the
+network's placement for its name, if it has one (the run's deployment). Interceptors see every send, delivery and drop and change nothing: the
 trace recorder is one.
 
 How it fails: sending on a closed participant or calling an unknown server
 raises at once; a call whose reply does not come in time raises
 :class:`RemoteCallTimeout`; a server whose handler raises makes the call raise
-:class:`RemoteCallFailed`. Exceptions raised by subscription handlers fail the
-whole run (see :mod:`homesim.vloop`).
+:class:`RemoteCallFailed`; a handler that never answers (awaiting a future nobody
+holds: the bus keeps its task alive) costs its caller the timeout. Exceptions
+raised by subscription handlers fail the whole run (see :mod:`homesim.vloop`).
+A participant sending more than :data:`MAX_SENDS_PER_S` messages within one
+virtual second is failed (:meth:`Bus.flooded`; the simulation crashes its
+module, announced with ``reason="flood"``): a send loop without a real wait
+would otherwise grow the run's memory until the process is killed.
 """
 
 from __future__ import annotations
 
 import asyncio
-import heapq
 import inspect
 import os
 import re
@@ -106,8 +113,10 @@ Interceptor = Callable[[Observation], None]
 
 _tuple_new = tuple.__new__  # builds a named tuple without its Python-level __new__ (hot path)
 _Element = etree._Element
+_Entity = etree.Entity
+#: Default of :attr:`Bus.max_sends_per_s`.
+MAX_SENDS_PER_S = 10_000
 _new = object.__new__
-_heappush = heapq.heappush
 
 
 def _as_schema(schema: SchemaLike) -> Schema | None:
@@ -238,6 +247,17 @@ class Participant:
         self._plans: dict[str, tuple[tuple[Any, ...], ...]] = {}
         # [messages sent under this name]: kept by the bus per name (ids stay unique across re-registration).
         self._count = bus._counters.setdefault(name, [0])
+        # The rate guard: the current one-second window (ends at, the first message number in it).
+        self._window_end = -1
+        self._window_first = 0
+
+    def _rate(self, now: int, n: int) -> None:
+        """Count message ``n`` sent at ``now`` against :data:`MAX_SENDS_PER_S` (see :meth:`Bus.flooded`)."""
+        if now >= self._window_end:
+            self._window_end = now + NS_PER_S
+            self._window_first = n
+        elif n - self._window_first >= self.bus.max_sends_per_s:
+            self.bus.flooded(self)
 
     def __repr__(self) -> str:
         return f"Participant({self.name!r}, host={self.host!r})"
@@ -272,14 +292,24 @@ class Participant:
         if xml.__class__ is _Element and not bus.validate_all and not self.closed:
             # _make's trusted path (the default policy, a module's own element) and the
             # message, inlined: the commonest send. Keep the two alike.
+            if xml.getroottree().docinfo.internalDTD is not None:  # any DOCTYPE (a copy would drop the DTD, not what it expanded)
+                raise XMLInputError("elements from documents with a DOCTYPE are refused on the bus", source=f"<bus:{channel}>")
             if not transfer or xml.getparent() is not None:
                 xml = xml.__copy__()  # lxml copies the whole subtree, in C
             if xml.tail is not None:
                 xml.tail = None
+            if len(xml):  # an element without children holds no entity reference (len counts them)
+                for _ in xml.iter(_Entity):
+                    raise XMLInputError("entity references are refused on the bus", source=f"<bus:{channel}>")
             now = bus.loop._now_ns
             name = self.name
             count = self._count
             n = count[0] = count[0] + 1
+            if now >= self._window_end:  # the rate guard (_rate), inlined
+                self._window_end = now + NS_PER_S
+                self._window_first = n
+            elif n - self._window_first >= bus.max_sends_per_s:
+                bus.flooded(self)
             msg = _tuple_new(Message, (
                 f"{name}#{n}",
                 PUBLISH,
@@ -304,6 +334,7 @@ class Participant:
                 name = self.name
                 count = self._count
                 n = count[0] = count[0] + 1
+                self._rate(now, n)
                 msg = _tuple_new(Message, (
                     f"{name}#{n}", PUBLISH, name, channel, None, now if created is None else to_ns(created), now,
                     causes if causes.__class__ is tuple else tuple(causes),
@@ -431,11 +462,8 @@ class Participant:
             check = bus.validate_all
             if check:
                 xml = _own_payload(xml, channel, transfer)
-            else:  # trusted (the default policy): the module's own element, not looked into
-                if not transfer or xml.getparent() is not None:
-                    xml = xml.__copy__()  # lxml copies the whole subtree, in C
-                if xml.tail is not None:
-                    xml.tail = None
+            else:  # trusted (the default policy): the module's own element, not validated
+                xml = _own_payload(xml, channel, transfer)
         else:
             check = True
             xml = _own_payload(xml, channel, transfer)
@@ -452,6 +480,7 @@ class Participant:
         name = self.name
         count = self._count
         n = count[0] = count[0] + 1
+        self._rate(now, n)
         return _tuple_new(Message, (
             f"{name}#{n}",
             kind,
@@ -486,14 +515,13 @@ def _own_payload(xml: XMLLike, channel: str, transfer: bool = False) -> etree._E
     Text is parsed with the hardened parser. An element is deep-copied into a
     document of its own (so receivers cannot see its parent, siblings or
     tail, and later changes by the sender do not reach them); an element
-    carrying a DTD or unexpanded entity references is refused, as text with
-    a DOCTYPE is. (Under the default policy a module's element takes the
-    trusted path in ``Participant._make``: the same copy, no look inside.)
+    from a document with a DOCTYPE (what its DTD expanded is in it already)
+    or holding entity references is refused, as text with a DOCTYPE is,
+    under every policy (the default one only skips the schema).
     """
     if not isinstance(xml, etree._Element):
         return parse_bytes(xml, source=f"<bus:{channel}>")
-    docinfo = xml.getroottree().docinfo
-    if docinfo.doctype or docinfo.internalDTD is not None:
+    if xml.getroottree().docinfo.internalDTD is not None:  # any DOCTYPE, even one without an internal subset
         raise XMLInputError("elements from documents with a DOCTYPE are refused on the bus", source=f"<bus:{channel}>")
     if transfer and xml.getparent() is None:
         own = xml
@@ -502,7 +530,7 @@ def _own_payload(xml: XMLLike, channel: str, transfer: bool = False) -> etree._E
     if own.tail is not None:
         own.tail = None
     if len(own):  # an element without children holds no entity reference (len counts them)
-        for _ in own.iter(etree.Entity):
+        for _ in own.iter(_Entity):
             raise XMLInputError("entity references are refused on the bus", source=f"<bus:{channel}>")
     return own
 
@@ -551,6 +579,10 @@ class Bus:
         self._channel_schemas: dict[str, Schema] = {}
         self._schema_cache: dict[str, Schema | None] = {}
         self._interceptors: list[Interceptor] = []
+        # Handler tasks still running. asyncio keeps only weak references to tasks: a handler
+        # awaiting a future nobody else holds would be collected (and the run failed, at a time
+        # the garbage collector picks); held here, it just never answers and the caller times out.
+        self._handling: set[asyncio.Task[Any]] = set()
         # The interceptors that see deliveries and drops (those that declare
         # ``observes`` without them, such as the run's dispatcher, are spared the call).
         self._delivery_interceptors: list[Interceptor] = []
@@ -559,6 +591,14 @@ class Bus:
         network.on_change(self._forget_plans)
         # Message counters per participant name: ids stay unique across re-registration.
         self._counters: dict[str, list[int]] = {}
+        #: The rate guard: a participant sending more than this many messages within one virtual
+        #: second is failed (:meth:`flooded`). Far above any sane rate (a 100 Hz sensor sends 100;
+        #: the busiest module of a home tour a few hundred): a loop publishing with a tiny sleep
+        #: would otherwise grow the run's memory until the process is killed.
+        self.max_sends_per_s = MAX_SENDS_PER_S
+        #: Called with a participant that exceeded the rate (the simulation crashes its module);
+        #: it must raise (else :class:`BusError` is raised: the message is not sent).
+        self.on_flood: Callable[[Participant], None] | None = None
         self.sent = 0
         self.delivered = 0
         self.dropped = 0
@@ -571,6 +611,7 @@ class Bus:
             raise BusError(f"bad participant name {name!r}: no '/' or '#', not empty")
         if name in self._participants:
             raise BusError(f"a participant named {name!r} is already registered")
+        host = self.network.host_for(name, host)
         self.network.ensure_host(host)
         p = Participant(self, name, host)
         self._participants[name] = p
@@ -649,6 +690,16 @@ class Bus:
         self._interceptors.remove(interceptor)
         self._sort_interceptors()
 
+    def flooded(self, participant: Participant) -> None:
+        """``participant`` sent more than :attr:`max_sends_per_s` messages in one virtual second: fail it.
+
+        Raises (the message being sent is not sent): whatever :attr:`on_flood` raises, else :class:`BusError`.
+        """
+        if self.on_flood is not None:
+            self.on_flood(participant)
+        raise BusError(f"participant {participant.name!r} sent more than {self.max_sends_per_s} messages within one "
+                       "virtual second (a send loop without a real wait?): refused")
+
     def _has_audience(self, channel: str) -> bool:
         """Whether a message on ``channel`` would reach anyone: a subscriber, or an interceptor.
 
@@ -711,11 +762,12 @@ class Bus:
     def _plan(self, sender: Participant, channel: str) -> tuple[tuple[Any, ...], ...]:
         """How ``sender``'s messages on ``channel`` reach each receiver, worked out once.
 
-        One entry per route, in delivery order: ``(subscription, receiver, fifo, lo, span)``
-        where ``fifo`` is the pair's FIFO state and ``lo``/``span`` the link's uniform delay
-        (seconds) when the link has no loss and no jitter (one uniform draw, made inline by
-        ``_publish``), else ``lo`` is None and ``Network.delay_ns`` draws. Cached per
-        participant; dropped when subscriptions, hosts or links change.
+        One entry per route, in delivery order: ``(subscription, receiver, fifo, lo, span, path)``
+        where ``fifo`` is the pair's FIFO state, ``path`` the network's :class:`~homesim.network.Route`
+        and ``lo``/``span`` the link's uniform delay (seconds) when the link is simple (no loss,
+        jitter or bandwidth limit: one uniform draw, made inline by ``_publish``), else ``lo``
+        is None and the network draws. Cached per participant; dropped when subscriptions,
+        hosts or links change.
         """
         sender.published.add(channel)
         routes = self._route_cache.get(channel)
@@ -725,9 +777,8 @@ class Bus:
         plan = []
         for sub in routes:
             receiver = sub.participant
-            other_loss, loss, lo, span, jitter = net._plans.get((sender.host, receiver.host)) or net._plan(sender.host, receiver.host)
-            simple = other_loss == 0.0 and loss == 0.0 and jitter == 0.0
-            plan.append((sub, receiver, self._fifo(sender.name, receiver.name), lo if simple else None, span))
+            path = net.route(sender.host, receiver.host)
+            plan.append((sub, receiver, self._fifo(sender.name, receiver.name), path.lo, path.span, path))
         out = sender._plans[channel] = tuple(plan)
         return out
 
@@ -752,15 +803,19 @@ class Bus:
 
     def _schedule(self, sender: Participant, receiver: Participant, msg: Message, action: Callable[..., None], *args: Any) -> None:
         """Deliver ``msg`` to ``receiver`` after the link's delay, FIFO per pair."""
-        delay = self.network.delay_ns(sender.host, receiver.host)
+        net = self.network
+        path = net.route(sender.host, receiver.host)
+        delay = net.draw(path, message_size(msg) if path.link.bandwidth_bps else 0)
         if delay is None:
             self._drop(msg, receiver.name, "lost")
             return
         fifo = self._fifo(sender.name, receiver.name)
-        when = self.loop._now_ns + delay
+        now = self.loop._now_ns
+        when = now + delay
         if when < fifo[0]:
             when = fifo[0]
         fifo[0] = when
+        path.stats.add(when - now)
         # Deliveries run in no copied context: a receiver does not inherit the
         # sender's context variables (and copying one per message is costly).
         self.loop._call_at_bare(when, action, (receiver, msg, *args))
@@ -800,20 +855,23 @@ class Bus:
         if not plan:
             return
         # What _schedule does per receiver, inlined (this is the hot path of every message):
-        # the link's delay, FIFO per pair, a _Delivery timer queued as VirtualEventLoop._push_timer does.
+        # the link's delay, FIFO per pair, a _Delivery timer pushed on the loop's TimerQueue.
         loop = self.loop
         now = loop._now_ns
-        due = loop._due
+        push = loop.timers.push
         deliver = self._deliver_publish
         draws = self.network._draws
         left = len(plan)
-        for sub, receiver, fifo, lo, span in plan:
+        size = -1
+        for sub, receiver, fifo, lo, span, path in plan:
             left -= 1
             # Each receiver gets a payload of its own (as XCF deserialises one
             # per receiver): one receiver moving nodes cannot change another's.
             own = _copy_message(msg) if left else msg
-            if lo is None:  # a link with loss or jitter: the network draws
-                delay = self.network.delay_ns(sender.host, receiver.host)
+            if lo is None:  # a link with loss, jitter or a bandwidth: the network draws
+                if path.link.bandwidth_bps and size < 0:
+                    size = message_size(msg)
+                delay = self.network.draw(path, size if size > 0 else 0)
                 if delay is None:
                     self._drop(own, receiver.name, "lost")
                     continue
@@ -828,19 +886,13 @@ class Bus:
             if when < fifo[0]:
                 when = fifo[0]
             fifo[0] = when
+            path.stats.add(when - now)
             # Deliveries run in no copied context: a receiver does not inherit the
             # sender's context variables (and copying one per message is costly).
             handle = _new(_Delivery)
             handle._callback = deliver
             handle._args = (receiver, own, sub)
-            queued = due.get(when)
-            if queued is None:
-                due[when] = handle
-                _heappush(loop._times, when)
-            elif queued.__class__ is list:
-                queued.append(handle)
-            else:
-                due[when] = [queued, handle]
+            push(when, handle)
 
     def _deliver_publish(self, receiver: Participant, msg: Message, sub: Subscription) -> None:
         if sub.closed:
@@ -862,7 +914,7 @@ class Bus:
                 self._drop(msg, receiver.name, f"refused by the receiver: {exc}")
                 return
             if result is not None and inspect.isawaitable(result):
-                self.loop.create_task(_await_reporting(result, self, msg, receiver.name), name=f"{receiver.name}:{sub.pattern}<-{msg.id}")
+                self._hold(self.loop.create_task(_await_reporting(result, self, msg, receiver.name), name=f"{receiver.name}:{sub.pattern}<-{msg.id}"))
         else:
             dropped = sub._push(msg)
             if dropped is not None:
@@ -891,8 +943,14 @@ class Bus:
         if inspect.isawaitable(result):
             task = self.loop.create_task(_await(result), name=f"{server.name}/{entry.name}<-{msg.id}")
             task.add_done_callback(lambda t: self._reply_from_task(t, server, caller, msg, entry, fut))
+            self._hold(task)
         else:
             self._reply(server, caller, msg, entry, fut, result)
+
+    def _hold(self, task: asyncio.Task[Any]) -> None:
+        """Keep a handler's task alive until it ends (see ``_handling``)."""
+        self._handling.add(task)
+        task.add_done_callback(self._handling.discard)
 
     def _reply_from_task(self, task: asyncio.Task[Any], server: Participant, caller: Participant, request: Message, entry: _Method, fut: asyncio.Future[Message] | None) -> None:
         if task.cancelled():
@@ -943,6 +1001,18 @@ class Bus:
             fut.set_exception(RemoteCallFailed(f"{reply.channel} failed on the server: {reply.xml.get('type')}: {reply.xml.text}"))
         else:
             fut.set_result(reply)
+
+
+def message_size(msg: Message) -> int:
+    """Bytes a message puts on a link: its serialized XML plus its attachments' raw bytes.
+
+    Computed only for links with a bandwidth (the delay's size term).
+    """
+    xml = msg[4]
+    n = len(etree.tostring(xml)) if xml is not None else 0
+    for value in msg[8].values():
+        n += value.nbytes if isinstance(value, np.ndarray) else len(value)
+    return n
 
 
 def _copy_message(msg: Message) -> Message:

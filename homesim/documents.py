@@ -47,10 +47,17 @@ def _scenario(path: str) -> list[InputError]:
     return check_scenario_file(path)
 
 
+def _deployment(path: str) -> list[InputError]:
+    from .deployment import check_file
+
+    return check_file(path)
+
+
 #: The kernel's own document types (others come from entry points or :func:`register_document`).
 BUILTIN: tuple[DocumentType, ...] = (
     DocumentType("scenario", "scenario", _scenario),
     DocumentType("{http://www.w3.org/2005/07/scxml}scxml", "AFSM", _afsm),
+    DocumentType("deployment", "deployment", _deployment),
 )
 
 _registered: dict[str, DocumentType] = {}

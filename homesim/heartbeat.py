@@ -16,7 +16,7 @@ from pathlib import Path
 
 from lxml import etree
 
-from .bus import Participant
+from .bus import SEND, Observation, Participant
 from .errors import BadMessageError
 from .message import Message
 from .vloop import NS_PER_S, to_ns
@@ -78,7 +78,8 @@ class HeartbeatMonitor:
     of ``slack`` seconds for latency). The check runs every ``period`` seconds.
     """
 
-    def __init__(self, participant: Participant, *, misses: int = 3, period: float = 0.1, slack: float = 0.05) -> None:
+    def __init__(self, participant: Participant, *, misses: int = 3, period: float = 0.1, slack: float = 0.05,
+                 listen: bool = True) -> None:
         self.participant = participant
         self.misses = misses
         self.period = period
@@ -91,7 +92,8 @@ class HeartbeatMonitor:
         self._quiet_until = -1
         self._quiet_for = (misses, slack)
         participant.bus.declare_channel(HEALTH_CHANNEL, SYSTEM_SCHEMA)
-        participant.subscribe(HEARTBEAT_PREFIX + "/**", self._on_beat)
+        if listen:
+            participant.subscribe(HEARTBEAT_PREFIX + "/**", self._on_beat)
 
     def watch(self, module: str, interval: float) -> None:
         """Watch ``module`` even before its first beat (its silence counts from now).
@@ -160,6 +162,72 @@ class HeartbeatMonitor:
         while True:
             self.check()
             await asyncio.sleep(self.period)
+
+
+class BackstopMonitor(HeartbeatMonitor):
+    """The kernel's monitor behind a robot's own (``primary``, e.g. BIRON's watchdog).
+
+    While the primary beats it is silent: it watches the heartbeats and the
+    primary's health reports as a bus interceptor (no subscription, nothing
+    delivered to it, nothing in the trace) and publishes nothing. Once the
+    primary itself has missed ``misses`` beats (it crashed or hung, perhaps with
+    every other module) it takes over: ``module_failed`` for the primary and
+    every silent module the primary had not reported, ``module_recovered``
+    when beats come back. So a failure is always reported, whoever failed.
+    """
+
+    observes = (SEND,)
+
+    def __init__(self, participant: Participant, primary: str, **kw: float) -> None:
+        super().__init__(participant, listen=False, **kw)  # type: ignore[arg-type]
+        self.primary = primary
+        #: Whether the primary is silent and this monitor reports in its place.
+        self.active = False
+        participant.bus.add_interceptor(self)
+
+    def wants(self, channel: str) -> bool:
+        return channel == HEALTH_CHANNEL or channel.startswith(HEARTBEAT_PREFIX + "/")
+
+    def __call__(self, obs: Observation) -> None:
+        msg = obs.message
+        channel = msg.channel
+        if not channel.startswith("/system/"):  # (called for every send: the cheapest test first)
+            return
+        xml = msg.xml
+        if xml is None or msg.sender == self.participant.name or not self.wants(channel):
+            return
+        if channel == HEALTH_CHANNEL:  # what the primary reported: not reported again
+            module = xml.get("module")
+            if module is not None and xml.tag == "module_failed":
+                self.failed.setdefault(module, msg.created_ns)
+            elif module is not None and xml.tag == "module_recovered":
+                self.failed.pop(module, None)
+            return
+        try:
+            name, interval = _read_beat(msg)
+        except BadMessageError:
+            return  # (the primary reports it as a drop; the backstop only needs real beats)
+        self.last_beat_ns[name] = msg.created_ns
+        self.intervals[name] = interval
+
+    def check(self) -> list[str]:
+        """Silent while the primary beats; in its place (every module looked at) once it is silent."""
+        now = self.participant.bus.loop.now_ns
+        last = self.last_beat_ns.get(self.primary)
+        silent = last is not None and now > last + self._limit_ns(self.intervals[self.primary])
+        if not silent and not self.active:
+            return []
+        self.active = True
+        for name in sorted(self.failed):  # beats came back after the failure
+            if self.last_beat_ns.get(name, -1) > self.failed[name]:
+                del self.failed[name]
+                el = etree.Element("module_recovered", module=name, t=repr(self.last_beat_ns[name] / NS_PER_S))
+                self.participant.publish(HEALTH_CHANNEL, el)
+        self._quiet_until = -1
+        newly = super().check()
+        if not silent:
+            self.active = False  # the primary is back and reports again
+        return newly
 
 
 def _read_beat(msg: Message) -> tuple[str, float]:

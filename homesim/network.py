@@ -1,17 +1,33 @@
-"""Latency and loss between the hosts a simulated system runs on.
+"""Hosts, the links between them, and what a message takes to cross one.
 
-BIRON's modules ran on two on-board PCs linked by Ethernet and a laptop on
-WLAN; the papers report "a few ms" per message, more over WLAN. Each host
-names the kind of link it sits on; two participants on the same host talk
-over the ``local`` link, otherwise over the slower of their two hosts' links.
+A distributed system runs its participants on hosts; each host is attached
+by one kind of link (a LAN segment, a WLAN, ...). Two participants on the
+same host talk over the ``local`` link (the loopback); otherwise a message
+takes the slower of their two hosts' links. A link is data
+(:class:`LinkModel`): a base latency (uniform in ``[min_s, max_s]``), a
+half-normal jitter, a bandwidth (so a message's size matters: a scan with
+its attachment takes longer than a heartbeat), and a loss probability per
+attempt with a retransmission delay that grows by ``backoff`` per retry (a
+reliable transport: a lost attempt is sent again; after ``max_retries``
+the message is lost for good). Without a retransmission delay a lost
+message is dropped at once.
+
+Hosts may carry a CPU speed (MHz): modules read it to scale their
+processing costs. A placement maps participant names to hosts, so which
+module runs where is data too (a deployment document, loaded by the run).
+
 Delays are drawn from the seeded generator the run hands in, in send order,
-so a run's timing is reproducible to the nanosecond.
+so a run's timing is reproducible to the nanosecond. Per link the network
+keeps what its deliveries took (:class:`LinkStats`: count, mean, a bounded
+histogram for percentiles, max), never a list of them.
 """
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -56,10 +72,16 @@ class Draws:
 
 @dataclass(frozen=True, slots=True)
 class LinkModel:
-    """One kind of link: delay uniform in [min_s, max_s] plus optional loss.
+    """One kind of link.
 
-    ``jitter_s`` adds a half-normal tail on top of the uniform part (WLAN
-    retransmissions); ``loss`` is the probability that a message is dropped.
+    - delay: uniform in ``[min_s, max_s]`` plus ``|N(0,1)| * jitter_s``;
+    - ``bandwidth_bps`` (bits per second, 0: unlimited): a message of ``n``
+      bytes takes ``8 n / bandwidth_bps`` more;
+    - ``loss``: the probability that one attempt is lost; with
+      ``retransmit_s`` > 0 a lost attempt is sent again after
+      ``retransmit_s * backoff**k`` (k-th retry), at most ``max_retries``
+      times, then the message is lost; with ``retransmit_s`` = 0 a lost
+      attempt is a lost message.
     """
 
     name: str
@@ -67,42 +89,179 @@ class LinkModel:
     max_s: float
     jitter_s: float = 0.0
     loss: float = 0.0
+    bandwidth_bps: float = 0.0
+    retransmit_s: float = 0.0
+    backoff: float = 2.0
+    max_retries: int = 7
 
     def __post_init__(self) -> None:
+        bad = None
         if not (0.0 <= self.min_s <= self.max_s):
-            raise HomesimError(f"link {self.name!r}: need 0 <= min_s <= max_s, got {self.min_s}, {self.max_s}")
-        if self.jitter_s < 0:
-            raise HomesimError(f"link {self.name!r}: jitter_s must be >= 0, got {self.jitter_s}")
-        if not (0.0 <= self.loss < 1.0):
-            raise HomesimError(f"link {self.name!r}: loss must be in [0, 1), got {self.loss}")
+            bad = f"need 0 <= min_s <= max_s, got {self.min_s}, {self.max_s}"
+        elif not (self.jitter_s >= 0):
+            bad = f"jitter_s must be >= 0, got {self.jitter_s}"
+        elif not (0.0 <= self.loss < 1.0):
+            bad = f"loss must be in [0, 1), got {self.loss}"
+        elif not (self.bandwidth_bps >= 0) or math.isinf(self.bandwidth_bps):
+            bad = f"bandwidth_bps must be finite and >= 0 (0: unlimited), got {self.bandwidth_bps}"
+        elif not (self.retransmit_s >= 0) or math.isinf(self.retransmit_s):
+            bad = f"retransmit_s must be finite and >= 0, got {self.retransmit_s}"
+        elif not (1.0 <= self.backoff <= 16.0):
+            bad = f"backoff must be in [1, 16], got {self.backoff}"
+        elif not (0 <= self.max_retries <= 64):
+            bad = f"max_retries must be in [0, 64], got {self.max_retries}"
+        elif max(self.max_s, self.jitter_s) > 3600.0:
+            bad = "a delay over an hour is not a link"
+        if bad is not None:
+            raise HomesimError(f"link {self.name!r}: {bad}")
 
-    def sample_ns(self, draws: Draws) -> int | None:
-        """One delay in integer nanoseconds, or None when the message is lost."""
-        if self.loss > 0.0 and draws.uniform() < self.loss:
+    @property
+    def simple(self) -> bool:
+        """No loss, no jitter, no bandwidth limit: one uniform draw per message."""
+        return self.loss == 0.0 and self.jitter_s == 0.0 and self.bandwidth_bps == 0.0
+
+    @property
+    def worst_s(self) -> float:
+        """A rough upper bound of a small message's delay (which of two links is the slower)."""
+        return self.max_s + 3.0 * self.jitter_s + self.loss * self.retransmit_s
+
+    def sample_ns(self, draws: Draws, size: int = 0) -> int | None:
+        """One delay in integer nanoseconds for a message of ``size`` bytes, or None when it is lost."""
+        return _sample(self, draws, size, 0.0, None)
+
+
+def _sample(link: LinkModel, draws: Draws, size: int, other_loss: float, stats: LinkStats | None) -> int | None:
+    """Draw a delay over ``link``; ``other_loss``: the other host's link's loss (dropped, never resent).
+
+    The draw order (the other link's loss, this link's loss, the uniform
+    base, the jitter; then per retry one loss draw) is fixed: the same
+    generator gives the same delays.
+    """
+    if other_loss > 0.0 and draws.uniform() < other_loss:
+        return None
+    extra = 0.0
+    if link.loss > 0.0 and draws.uniform() < link.loss:
+        if link.retransmit_s <= 0.0:
             return None
-        delay = self.min_s + (self.max_s - self.min_s) * draws.uniform()
-        if self.jitter_s > 0.0:
-            delay += abs(draws.normal()) * self.jitter_s
-        return int(round(delay * NS_PER_S))
+        rto = link.retransmit_s
+        for _ in range(link.max_retries):
+            if stats is not None:
+                stats.retried += 1
+            extra += rto
+            rto *= link.backoff
+            if draws.uniform() >= link.loss:
+                break
+        else:
+            return None
+    delay = link.min_s + (link.max_s - link.min_s) * draws.uniform()
+    if link.jitter_s > 0.0:
+        delay += abs(draws.normal()) * link.jitter_s
+    if link.bandwidth_bps > 0.0 and size > 0:
+        delay += 8.0 * size / link.bandwidth_bps
+    return int(round((delay + extra) * NS_PER_S))
 
 
-#: Defaults from the papers: LAN 1-3 ms, WLAN 5-20 ms with jitter.
+#: The kernel's defaults when no deployment says otherwise. A run normally loads
+#: a deployment document (hosts, links, placement; see homesim.deployment).
 DEFAULT_LINKS: dict[str, LinkModel] = {
     "local": LinkModel("local", 0.00005, 0.0002),
     "lan": LinkModel("lan", 0.001, 0.003),
     "wlan": LinkModel("wlan", 0.005, 0.020, jitter_s=0.003),
 }
 
+#: Histogram bins per e-fold of delay (ln-spaced: a bin spans 1 %).
+_BINS_PER_E = 100.0
+
+
+class LinkStats:
+    """What one link's deliveries took: count, sum, max and a ln-spaced histogram (1 % bins).
+
+    Bounded memory whatever the run's length (at most a few thousand bins
+    between 1 ns and an hour). Percentiles are read from the histogram
+    (the bin's geometric middle: within 0.5 % of the true value).
+    """
+
+    __slots__ = ("name", "count", "sum_ns", "max_ns", "bins", "lost", "retried")
+
+    def __init__(self, name: str) -> None:
+        self.name = name
+        self.count = 0
+        self.sum_ns = 0
+        self.max_ns = 0
+        self.bins: dict[int, int] = {}
+        self.lost = 0
+        self.retried = 0
+
+    def add(self, ns: int) -> None:
+        """One delivery that took ``ns`` nanoseconds (from send to delivery)."""
+        self.count += 1
+        self.sum_ns += ns
+        if ns > self.max_ns:
+            self.max_ns = ns
+        b = int(math.log(ns) * _BINS_PER_E) if ns > 0 else -1
+        bins = self.bins
+        bins[b] = bins.get(b, 0) + 1
+
+    def percentile_ns(self, q: float) -> float:
+        """The ``q``-th percentile (0-100) of the delays, from the histogram (0.0 without deliveries)."""
+        if not self.count:
+            return 0.0
+        rank = q / 100.0 * self.count
+        seen = 0
+        for b in sorted(self.bins):
+            seen += self.bins[b]
+            if seen >= rank:
+                if b < 0:
+                    return 0.0
+                return min(float(self.max_ns), math.exp((b + 0.5) / _BINS_PER_E))
+        return float(self.max_ns)
+
+    def summary(self) -> dict[str, Any]:
+        """Plain data for a run summary: deliveries, mean / p95 / max in ms, lost, retried."""
+        mean = self.sum_ns / self.count / 1e6 if self.count else 0.0
+        return {
+            "deliveries": self.count,
+            "mean_ms": round(mean, 4),
+            "p95_ms": round(self.percentile_ns(95.0) / 1e6, 4),
+            "max_ms": round(self.max_ns / 1e6, 4),
+            "lost": self.lost,
+            "retransmitted": self.retried,
+        }
+
+
+class Route:
+    """How a message goes from one host to another: the link it takes and its draw plan.
+
+    ``other_loss``: the other host's link's loss (applies, without
+    retransmission); ``lo``/``span``: the uniform base delay in seconds when
+    the link is simple (the bus draws it inline), else ``lo`` is None.
+    """
+
+    __slots__ = ("link", "other_loss", "stats", "lo", "span")
+
+    def __init__(self, link: LinkModel, other_loss: float, stats: LinkStats) -> None:
+        self.link = link
+        self.other_loss = other_loss
+        self.stats = stats
+        simple = link.simple and other_loss == 0.0
+        self.lo = link.min_s if simple else None
+        self.span = link.max_s - link.min_s
+
 
 class Network:
-    """Hosts and the links they sit on; draws per-message delays."""
+    """Hosts, the links they sit on and where participants run; draws per-message delays."""
 
     def __init__(self, rng: np.random.Generator) -> None:
         self._draws = Draws(rng)
         self._links: dict[str, LinkModel] = dict(DEFAULT_LINKS)
         self._hosts: dict[str, str] = {}
-        # Per (host_a, host_b): what delay_ns draws, worked out once (cleared when links or hosts change).
-        self._plans: dict[tuple[str, str], tuple[float, float, float, float, float]] = {}
+        self._speeds: dict[str, float] = {}
+        self._placement: dict[str, str] = {}
+        #: Where a participant runs that is not placed and asks for a host nobody declared (a deployment's default).
+        self.default_host: str | None = None
+        self._stats: dict[str, LinkStats] = {}
+        # Per (host_a, host_b): the Route, worked out once (cleared when links or hosts change).
+        self._plans: dict[tuple[str, str], Route] = {}
         self._listeners: list[Callable[[], None]] = []
 
     def on_change(self, listener: Callable[[], None]) -> None:
@@ -114,16 +273,25 @@ class Network:
         for listener in self._listeners:
             listener()
 
+    # ------------------------------------------------------------ topology
     def set_link(self, model: LinkModel) -> None:
         """Add or replace a link kind (e.g. a lossy WLAN for a fault test)."""
         self._links[model.name] = model
         self._changed()
 
-    def add_host(self, host: str, *, link: str = "lan") -> None:
-        """Declare a host and the kind of link it is attached by."""
+    def links(self) -> dict[str, LinkModel]:
+        """Link name -> model, sorted by name."""
+        return dict(sorted(self._links.items()))
+
+    def add_host(self, host: str, *, link: str = "lan", speed_mhz: float | None = None) -> None:
+        """Declare a host, the kind of link it is attached by and (optionally) its CPU speed."""
         if link not in self._links:
             raise HomesimError(f"host {host!r}: unknown link {link!r}; known: {sorted(self._links)}")
+        if speed_mhz is not None and not (0.0 < speed_mhz < 1e6):
+            raise HomesimError(f"host {host!r}: speed_mhz must be in (0, 1e6), got {speed_mhz}")
         self._hosts[host] = link
+        if speed_mhz is not None:
+            self._speeds[host] = float(speed_mhz)
         self._changed()
 
     def ensure_host(self, host: str) -> None:
@@ -136,49 +304,85 @@ class Network:
         """Host -> link kind, sorted by host name."""
         return dict(sorted(self._hosts.items()))
 
+    def host_speed(self, host: str) -> float | None:
+        """The host's CPU speed in MHz, if its deployment says."""
+        return self._speeds.get(host)
+
+    def place(self, participant: str, host: str) -> None:
+        """Run the participant named ``participant`` on ``host`` (whatever host its constructor asks for)."""
+        if host not in self._hosts:
+            raise HomesimError(f"cannot place {participant!r} on unknown host {host!r}; hosts: {sorted(self._hosts)}")
+        self._placement[participant] = host
+
+    def host_for(self, participant: str, default: str) -> str:
+        """Where ``participant`` runs: its placement; else ``default`` if that host is declared or
+        no default host is set; else the default host (a deployment's ``default-host``)."""
+        placed = self._placement.get(participant)
+        if placed is not None:
+            return placed
+        if default in self._hosts or self.default_host is None:
+            return default
+        return self.default_host
+
+    def placement(self) -> dict[str, str]:
+        """Participant name -> host as placed, sorted by name."""
+        return dict(sorted(self._placement.items()))
+
+    # -------------------------------------------------------------- delays
     def link_between(self, host_a: str, host_b: str) -> LinkModel:
         """The link a message takes from ``host_a`` to ``host_b``."""
-        if host_a == host_b:
-            return self._links["local"]
-        a = self._links[self._hosts[host_a]]
-        b = self._links[self._hosts[host_b]]
-        return a if (a.max_s + a.jitter_s) >= (b.max_s + b.jitter_s) else b
+        return self.route(host_a, host_b).link
 
-    def delay_ns(self, host_a: str, host_b: str) -> int | None:
-        """Draw one delay from ``host_a`` to ``host_b``; None when lost.
-
-        The delay follows the slower link; a message is lost if either
-        host's link loses it (both losses apply). The draws are those of
-        :meth:`LinkModel.sample_ns` (the other link's loss first), made inline:
-        the bus draws one delay per delivery.
-        """
+    def route(self, host_a: str, host_b: str) -> Route:
+        """The :class:`Route` from ``host_a`` to ``host_b`` (cached until hosts or links change)."""
         plan = self._plans.get((host_a, host_b))
         if plan is None:
             plan = self._plan(host_a, host_b)
-        other_loss, loss, lo, span, jitter = plan
-        draws = self._draws
-        if other_loss > 0.0 and draws.uniform() < other_loss:
-            return None
-        if loss > 0.0 and draws.uniform() < loss:
-            return None
-        i = draws._ui
-        if i == len(draws._u):
-            draws._u = draws._rng.random(draws.block).tolist()
-            i = 0
-        draws._ui = i + 1
-        delay = lo + span * draws._u[i]
-        if jitter > 0.0:
-            delay += abs(draws.normal()) * jitter
-        return int(round(delay * NS_PER_S))
+        return plan
 
-    def _plan(self, host_a: str, host_b: str) -> tuple[float, float, float, float, float]:
+    def delay_ns(self, host_a: str, host_b: str, size: int = 0) -> int | None:
+        """Draw one delay from ``host_a`` to ``host_b`` for ``size`` bytes; None when lost.
+
+        The delay follows the slower link; a message is lost if either
+        host's link loses it (the slower link retransmits if it can; the
+        other's loss applies as a drop). Not recorded in the link's
+        statistics: the bus records what a delivery took (FIFO included).
+        """
+        return self.draw(self.route(host_a, host_b), size)
+
+    def draw(self, path: Route, size: int = 0) -> int | None:
+        """One delay along ``path`` (see :meth:`delay_ns`); counts losses and retransmissions."""
+        draws = self._draws
+        if path.lo is not None:
+            i = draws._ui
+            if i == len(draws._u):
+                draws._u = draws._rng.random(draws.block).tolist()
+                i = 0
+            draws._ui = i + 1
+            return int(round((path.lo + path.span * draws._u[i]) * NS_PER_S))
+        delay = _sample(path.link, draws, size, path.other_loss, path.stats)
+        if delay is None:
+            path.stats.lost += 1
+        return delay
+
+    def stats(self) -> dict[str, LinkStats]:
+        """Per link name: what its deliveries took so far (sorted by name)."""
+        return dict(sorted(self._stats.items()))
+
+    def _link_stats(self, name: str) -> LinkStats:
+        st = self._stats.get(name)
+        if st is None:
+            st = self._stats[name] = LinkStats(name)
+        return st
+
+    def _plan(self, host_a: str, host_b: str) -> Route:
         if host_a == host_b:
             other_loss, slow = 0.0, self._links["local"]
         else:
             a = self._links[self._hosts[host_a]]
             b = self._links[self._hosts[host_b]]
-            slow, other = (a, b) if (a.max_s + a.jitter_s) >= (b.max_s + b.jitter_s) else (b, a)
+            slow, other = (a, b) if a.worst_s >= b.worst_s else (b, a)
             other_loss = other.loss
-        plan = (other_loss, slow.loss, slow.min_s, slow.max_s - slow.min_s, slow.jitter_s)
+        plan = Route(slow, other_loss, self._link_stats(slow.name))
         self._plans[(host_a, host_b)] = plan
         return plan

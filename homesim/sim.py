@@ -9,6 +9,7 @@ nanosecond and the byte.
 
 from __future__ import annotations
 
+import asyncio
 import hashlib
 import os
 from pathlib import Path
@@ -55,6 +56,7 @@ class Simulation:
         self.loop = VirtualEventLoop(pacer=RealtimePacer(realtime) if realtime else None)
         self.network = Network(self.rng("homesim.network"))
         self.bus = Bus(self.loop, network=self.network, validation=VALIDATE_ALL if strict else VALIDATE_EDGES)
+        self.bus.on_flood = self._flooded
         self.modules: dict[str, Any] = {}
         self._system = self.bus.participant("simulator", host="simulator")
         system_xsd = Path(__file__).with_name("schemas") / "system.xsd"
@@ -154,9 +156,25 @@ class Simulation:
         else:
             self.call_at(at, self._apply_fault, module, kind)
 
-    def _apply_fault(self, name: str, kind: str) -> None:
+    def _flooded(self, participant: Any) -> None:
+        """The bus's rate guard tripped: a module sending far above any sane rate fails as a crashed one.
+
+        Its crash is announced (``reason="flood"``), its main loop cancelled and it leaves the bus;
+        the send that tripped the guard ends the module's task (``CancelledError``), as a crash does.
+        Another participant (not a module) gets the bus's :class:`BusError`.
+        """
+        mod = self.modules.get(participant.name)
+        if mod is None or mod.bus is not participant:
+            return
+        self._apply_fault(participant.name, "crash", reason="flood")
+        raise asyncio.CancelledError(f"{participant.name} crashed: it flooded the bus")
+
+    def _apply_fault(self, name: str, kind: str, *, reason: str | None = None) -> None:
         mod = self.modules[name]
-        self._system.publish(FAULT_CHANNEL, etree.Element("fault", module=name, kind=kind))
+        fault = etree.Element("fault", module=name, kind=kind)
+        if reason is not None:
+            fault.set("reason", reason)
+        self._system.publish(FAULT_CHANNEL, fault)
         if mod.task is not None and not mod.task.done():
             mod.task.cancel()
         if kind == "crash":

@@ -27,7 +27,9 @@ from __future__ import annotations
 
 import io
 import json
+import math
 import os
+import re
 from json.encoder import encode_basestring as _json_str
 from collections.abc import Iterator
 from pathlib import Path
@@ -54,6 +56,23 @@ def _dumps(obj: dict[str, Any]) -> str:
 
 
 _float_repr = float.__repr__
+
+
+def _finite(text: str) -> float:
+    v = float(text)
+    if v in (math.inf, -math.inf):
+        raise ValueError(f"a number out of range ({text[:40]})")
+    return v
+
+
+def _no_constant(text: str) -> float:
+    raise ValueError(f"{text} is not a number a trace holds")
+
+
+#: Trace lines are read strictly: no NaN/Infinity, no number that overflows to infinity.
+_DECODER = json.JSONDecoder(parse_float=_finite, parse_constant=_no_constant)
+_DECODER_CHECK = json.JSONEncoder(ensure_ascii=False)
+_SURROGATE_ESCAPE = re.compile(rb"\\u[dD][89a-fA-F]")
 
 
 def _json_list(items: tuple[str, ...]) -> str:
@@ -190,20 +209,29 @@ class MemoryTrace(TraceRecorder):
 def read_trace(path: str | os.PathLike[str]) -> Iterator[dict[str, Any]]:
     """Iterate the records of a trace file (header first); regular files only (no FIFO or device).
 
-    A line that is not a JSON object (a truncated or edited trace) fails with
-    ``InputError`` naming the file and line.
+    A trace is untrusted input: a line that is not a JSON object (a truncated
+    or edited trace, bytes that are not UTF-8, JSON nested too deeply for the
+    parser) fails with ``InputError`` naming the file and line.
     """
-    with os.fdopen(open_regular(path, error=InputError), encoding="utf-8") as fh:
-        n = 0
-        try:
-            for n, line in enumerate(fh, 1):  # text-mode files split on "\n" only
-                if line.strip():
-                    rec = json.loads(line)
-                    if not isinstance(rec, dict):
-                        raise InputError("not a trace record (a JSON object)", source=str(path), line=n)
-                    yield rec
-        except json.JSONDecodeError as exc:
-            why = "the trace ends in the middle of a line (truncated?)" if not line.endswith("\n") else f"not JSON ({exc.msg})"
-            raise InputError(why, source=str(path), line=n) from None
-        except UnicodeDecodeError as exc:
-            raise InputError(f"not UTF-8 text ({exc.reason})", source=str(path), line=n + 1) from None
+    with os.fdopen(open_regular(path, error=InputError), "rb") as fh:
+        for n, raw in enumerate(fh, 1):  # binary files split on b"\n" only (not U+2028, which JSON leaves as is)
+            if not raw.strip():
+                continue
+            try:
+                rec = _DECODER.decode(raw.decode("utf-8"))
+                if b"\\u" in raw and _SURROGATE_ESCAPE.search(raw):
+                    _DECODER_CHECK.encode(rec).encode("utf-8")  # a lone surrogate is not text (no run writes one)
+            except UnicodeError as exc:
+                why = exc.reason if isinstance(exc, UnicodeDecodeError) else "a lone surrogate escape"
+                raise InputError(f"not UTF-8 text ({why})", source=str(path), line=n) from None
+            except ValueError as exc:
+                if isinstance(exc, json.JSONDecodeError):
+                    why = "the trace ends in the middle of a line (truncated?)" if not raw.endswith(b"\n") else f"not JSON ({exc.msg})"
+                else:
+                    why = str(exc)
+                raise InputError(why, source=str(path), line=n) from None
+            except RecursionError:
+                raise InputError("JSON nested too deeply for a trace record", source=str(path), line=n) from None
+            if not isinstance(rec, dict):
+                raise InputError("not a trace record (a JSON object)", source=str(path), line=n)
+            yield rec

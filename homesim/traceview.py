@@ -11,7 +11,12 @@ streams* (scans, odometry, tracks; the papers' Fig. 6 draws them lighter);
 the others are *events*. Heartbeats (``/system/heartbeat/``) are left out
 unless asked for. Phases: "A start" at 0, and whatever the registered phase
 markers (:func:`register_phases`; the run package's read the robot's
-supervisor log) find in the records.
+supervisor log) find in the records. Spans carry what they measure (``kind``):
+registered span markers (:func:`register_spans`) name or replace the spans they
+recognise (the run package's: speech detection, speech recognition, the ES's
+reconfiguration). With the run's deployment in the trace header (``run.hosts``,
+``run.placement``, ``run.link_worst_ms``), lanes are grouped by host and the
+messages that crossed the slowest link are known (:meth:`Timeline.crosses_slow_link`).
 
 Both passes stream the file; memory holds one small record per event
 message in the asked window, a thinned sample of each stream, and bounded
@@ -50,6 +55,20 @@ def register_phases(factory: Callable[[], PhaseMarker]) -> None:
         PHASE_MARKERS.append(factory)
 
 
+#: A span marker reads every sent record (``channel``, record, the span :func:`walk` found for it
+#: or None) in trace order and returns the span to draw for it (with its ``kind``), or None to keep
+#: what it was given; it may keep state between records.
+SpanMarker = Callable[[str, dict[str, Any], "Span | None"], "Span | None"]
+#: Factories of span markers, one marker per timeline read (the run package registers its robot's).
+SPAN_MARKERS: list[Callable[[], SpanMarker]] = []
+
+
+def register_spans(factory: Callable[[], SpanMarker]) -> None:
+    """Add a span marker factory (each :func:`read_timeline` makes a fresh marker from it)."""
+    if factory not in SPAN_MARKERS:
+        SPAN_MARKERS.append(factory)
+
+
 class _Recent(OrderedDict):
     """A bounded map: the oldest entries fall out past ``RECENT``."""
 
@@ -76,13 +95,17 @@ class Message:
 
 @dataclass(frozen=True)
 class Span:
-    """A module working: from the delivery of a message's latest cause to the module, to its send."""
+    """A module working: from the delivery of a message's latest cause to the module, to its send.
+
+    ``kind`` says what it measures ("processing" unless a span marker names it).
+    """
 
     lane: str
     start: float
     end: float
     cause: str
     effect: str
+    kind: str = "processing"
 
 
 @dataclass(frozen=True)
@@ -132,6 +155,13 @@ class Timeline:
     flows: list[Flow]
     phases: list[Phase]
     streams: dict[tuple[str, str], StreamStats]
+    hosts: dict[str, str] = field(default_factory=dict)  # lane -> host (the run's deployment, from the header)
+    host_order: list[str] = field(default_factory=list)
+    slow: set[tuple[str, str]] = field(default_factory=set)  # (sender, receiver) lanes joined by the slowest link
+
+    def crosses_slow_link(self, sender: str, receiver: str) -> bool:
+        """Whether a message from ``sender`` to ``receiver`` went over the deployment's slowest link."""
+        return (sender, receiver) in self.slow
 
 
 def label_of(rec: dict[str, Any]) -> str:
@@ -265,6 +295,7 @@ def read_timeline(path: str | os.PathLike[str], *, start: float | None = None, e
     phases: list[Phase] = [Phase(0.0, "A", "start")] if t0 <= 0.0 else []
     last_sample: dict[tuple[str, str], float] = {}
     markers = [factory() for factory in PHASE_MARKERS]
+    span_markers = [factory() for factory in SPAN_MARKERS]
     depth: _Recent = _Recent()
     lane_depths: dict[str, list[int]] = {}  # a module's events' causal depths (one int per event message)
     lane_first: dict[str, float] = {}
@@ -286,6 +317,11 @@ def read_timeline(path: str | os.PathLike[str], *, start: float | None = None, e
             for mark, label in marker(ch, rec):
                 if t0 <= t <= t1:
                     phases.append(Phase(t, mark, label))
+        span = None if ev.continuous else ev.span
+        for smarker in span_markers:
+            named = smarker(ch, rec, span)
+            if named is not None:
+                span = named
         if not t0 <= t <= t1:
             continue
         if not ev.continuous:
@@ -302,10 +338,11 @@ def read_timeline(path: str | os.PathLike[str], *, start: float | None = None, e
         order.append(m)
         if not ev.continuous:
             flows.extend(ev.flows)
-            if ev.span is not None:
-                k = (sender, ev.span.start)
+            if span is not None:
+                k = (sender, span.start)
                 old = spans.get(k)
-                spans[k] = ev.span if old is None else Span(sender, old.start, max(old.end, t), old.cause, old.effect)
+                spans[k] = span if old is None else Span(sender, old.start, max(old.end, t), old.cause, old.effect,
+                                                         span.kind if span.kind != "processing" else old.kind)
         if len(msgs) > RECENT:  # only deliveries of recent messages are still to come
             msgs.pop(next(iter(msgs)))
     # Lanes: modules that only stream (the sensors) first, then by the median causal depth of their events
@@ -320,6 +357,36 @@ def read_timeline(path: str | os.PathLike[str], *, start: float | None = None, e
         if name in stream_first:
             return (0, 0, stream_first[name], name)
         return (2, 0, t1, name)
-    lanes = sorted(names, key=rank)
+    hosts, host_order, slow = _deployment(header, names, order)
+    order_of = {h: i for i, h in enumerate(host_order)}
+    lanes = sorted(names, key=lambda n: (order_of.get(hosts.get(n, ""), len(order_of)), rank(n)))
     return Timeline(str(header.get("scenario", "?")), int(header.get("seed", 0)), t0, t1, lanes, order,
-                    sorted(spans.values(), key=lambda s: (s.start, s.lane)), flows, phases, streams)
+                    sorted(spans.values(), key=lambda s: (s.start, s.lane)), flows, phases, streams,
+                    hosts, host_order, slow)
+
+
+def _deployment(header: dict[str, Any], names: set[str], order: list[Message]
+                ) -> tuple[dict[str, str], list[str], set[tuple[str, str]]]:
+    """From the header's run deployment: lane -> host, the hosts in order, and the (sender, receiver)
+    pairs whose messages took the slowest link (the slower of the two hosts' links, as the network does)."""
+    run = header.get("run") if isinstance(header.get("run"), dict) else {}
+    host_links = run.get("hosts") if isinstance(run.get("hosts"), dict) else {}
+    placement = run.get("placement") if isinstance(run.get("placement"), dict) else {}
+    worst = run.get("link_worst_ms") if isinstance(run.get("link_worst_ms"), dict) else {}
+    if not placement:
+        return {}, [], set()
+    default = placement.get("default")
+    hosts = {n: str(placement.get(n, default)) for n in names}
+    slow: set[tuple[str, str]] = set()
+    kinds = {lk for lk in host_links.values() if isinstance(worst.get(lk), (int, float))}
+    if len(kinds) > 1:
+        slowest = max(kinds, key=lambda lk: worst[lk])
+        for m in order:
+            for r in m.delivered:
+                a, b = hosts.get(m.sender, ""), hosts.get(r, "")
+                la, lb = host_links.get(a), host_links.get(b)
+                if a == b or la is None or lb is None:
+                    continue
+                if (la if worst.get(la, 0) >= worst.get(lb, 0) else lb) == slowest:
+                    slow.add((m.sender, r))
+    return hosts, list(host_links), slow

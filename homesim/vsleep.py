@@ -18,7 +18,6 @@ or an infinite delay, it is asyncio's own sleep.
 from __future__ import annotations
 
 import asyncio
-import heapq
 import math
 import sys
 import threading
@@ -111,7 +110,7 @@ class _SleepWaiter:
         self._cancelled = True
         if self._scheduled:
             self._scheduled = False
-            self._loop._cancelled_timers += 1
+            self._loop.timers.cancelled += 1
         exc = asyncio.CancelledError() if msg is None else asyncio.CancelledError(msg)
 
         def raise_cancelled() -> None:
@@ -174,7 +173,6 @@ def _make_sleep(*, native: bool) -> Callable[..., Any]:
     # A closure, so that the hot path reads cells rather than module globals.
     asyncio_sleep = asyncio.sleep
     get_ident = threading.get_ident
-    heappush = heapq.heappush
     waiter = _SleepWaiter
     inf = math.inf
     fire = _sleep_fire
@@ -191,15 +189,7 @@ def _make_sleep(*, native: bool) -> Callable[..., Any]:
         w._callback = fire
         w.result = nothing
         w._when = when = loop._now_ns + round(delay * NS_PER_S)
-        due = loop._due  # VirtualEventLoop._push_timer, inlined
-        queued = due.get(when)
-        if queued is None:
-            due[when] = w
-            heappush(loop._times, when)
-        elif queued.__class__ is list:
-            queued.append(w)
-        else:
-            due[when] = [queued, w]
+        loop.timers.push(when, w)
         return w
 
     if native:
@@ -225,15 +215,7 @@ def _make_sleep(*, native: bool) -> Callable[..., Any]:
             w._callback = fire
             w.result = nothing
             w._when = when = loop._now_ns + round(delay * NS_PER_S)
-            due = loop._due
-            queued = due.get(when)
-            if queued is None:
-                due[when] = w
-                heappush(loop._times, when)
-            elif queued.__class__ is list:
-                queued.append(w)
-            else:
-                due[when] = [queued, w]
+            loop.timers.push(when, w)
             yield w
             return result
 

@@ -13,6 +13,14 @@ towards the target for its duration. ``leave`` walks out through an exit
 door and removes the person from the world. A walk whose goal walls or
 furniture close off fails the run with a :class:`~humans.script.ScriptError`
 naming the action's file and line; nobody walks through a wall.
+
+Her :class:`~humans.profiles.Traits` set her voice level, the distance at
+which she stops in front of the robot, her walking speed, how often she
+speaks looking away from the robot (``off_axis``: she turns her head 60 to
+150 degrees off it as she starts to speak) and how far her pointing misses
+(the pointed-at point turned about her by a normal error of
+``pointing_error`` degrees). Without a profile they are the scripted
+person's: 60 dB, 0.9 m, the scenario's speed, always facing, exact.
 """
 
 from __future__ import annotations
@@ -20,11 +28,17 @@ from __future__ import annotations
 import asyncio
 import math
 
-from homesim.scenario.model import Action, Face, HumanSpec, Leave, PointAt, Target, WalkTo
+import numpy as np
+
+from collections.abc import Callable
+
+from homesim.scenario.model import Action, Face, Handler, HumanSpec, Leave, PointAt, Say, StepCloser, Target, WalkTo
+from homesim.world.acoustics import Utterance
 from homesim.world.bodies import ROBOT_REACH, HumanBody, Pointing
 from homesim.scenario.pathplan import NoPathError
 from homesim.world.world import World
 
+from .profiles import Traits
 from .script import Actor, ScriptError
 
 ARRIVED = 0.05  # metres: close enough to a waypoint
@@ -36,10 +50,15 @@ HUMAN_STOP = 0.8  # default distance to keep from a person when walking to them 
 class Person(Actor):
     """Runs a :class:`~homesim.scenario.model.HumanSpec`'s script on its body."""
 
-    def __init__(self, world: World, spec: HumanSpec) -> None:
-        super().__init__(world, spec.name, spec.script, loudness=60.0)
+    def __init__(self, world: World, spec: HumanSpec, traits: Traits | None = None, rng: np.random.Generator | None = None,
+                 streams: Callable[[str], np.random.Generator] | None = None) -> None:
+        traits = traits if traits is not None else Traits()
+        super().__init__(world, spec.name, spec.script, loudness=traits.voice, handlers=spec.handlers, traits=traits, rng=rng, streams=streams)
         self.spec = spec
         self.body: HumanBody = world.humans[spec.name]
+        if traits.speed is not None:
+            self.body.speed = traits.speed
+        self._looked_away = False  # her head is turned away because she looked away as she spoke
 
     @property
     def active(self) -> bool:
@@ -57,12 +76,14 @@ class Person(Actor):
                 await self.point(act)
             elif isinstance(act, Leave):
                 await self.leave(act)
+            elif isinstance(act, StepCloser):
+                await self.step_closer(act)
             else:
                 await super().perform(act)
         except NoPathError as exc:
             # Never a straight line through walls: the run fails, naming the action.
             self.body.stand()
-            tag = "walk-to" if isinstance(act, WalkTo) else "leave"
+            tag = {WalkTo: "walk-to", StepCloser: "step-closer"}.get(type(act), "leave")
             raise ScriptError(f"{self.name!r} at ({self.body.position[0]:.2f}, {self.body.position[1]:.2f}) cannot get there: {exc}", source=self.world.scenario.source,
                 line=act.line, element=tag) from exc
 
@@ -79,9 +100,16 @@ class Person(Actor):
         """
         speed = speed or self.body.speed
         if stop_at <= 0 and target.kind in ("robot", "human"):
-            stop_at = ROBOT_STOP if target.kind == "robot" else HUMAN_STOP
+            stop_at = self.traits.distance if target.kind == "robot" else HUMAN_STOP
         moving = target.kind in ("robot", "human")
-        goal = self.goal_of(target)
+        where = lambda: self.goal_of(target)  # noqa: E731
+        if target.kind == "robot" and self.traits.approach:
+            # she walks up to stand in front of it at her distance, on the line between them
+            # (face to face, an F-formation), not to the free spot nearest its centre
+            keep = stop_at
+            where = lambda: self.approach_point(keep)  # noqa: E731
+            stop_at = 0.0
+        goal = where()
         path = self.plan(goal)
         while True:
             here = self.body.position
@@ -110,8 +138,13 @@ class Person(Actor):
             self.body.walk_velocity(v * dx / dist, v * dy / dist)
             held = self.body.held_time
             await asyncio.sleep(t)
+            if self.handlers and await self.react():
+                # she stopped to react (answer, point, step aside): on from where she is now
+                goal = where()
+                path = self.plan(goal)
+                continue
             if moving:
-                new_goal = self.goal_of(target)
+                new_goal = where()
                 if math.hypot(new_goal[0] - goal[0], new_goal[1] - goal[1]) > 0.2:
                     goal = new_goal
                     path = self.plan(goal)
@@ -119,6 +152,15 @@ class Person(Actor):
             if self.body.held_time > held:
                 path = self.plan(goal)  # the robot got in the way: around it, or wait for it
         self.body.stand()
+
+    def approach_point(self, distance: float) -> tuple[float, float]:
+        """The point ``distance`` from the robot on the line from it to her (where she is when nearer)."""
+        rx, ry, _ = self.world.robot.pose
+        hx, hy = self.body.position
+        d = math.hypot(hx - rx, hy - ry)
+        if d <= distance:
+            return hx, hy
+        return rx + (hx - rx) * distance / d, ry + (hy - ry) * distance / d
 
     def plan(self, goal: tuple[float, float]) -> list[tuple[float, float]]:
         """A path to ``goal`` around walls, furniture and the robot where it stands now.
@@ -142,8 +184,59 @@ class Person(Actor):
         x, y = self.body.position
         return math.atan2(gy - y, gx - x)
 
+    async def fire(self, h: Handler, u: Utterance) -> None:
+        """She stops to react: a walk's velocity held through the reaction walked her on blind
+        (through a wall 0.5 m past her goal, seven seconds of answer at 1 m/s); the walk goes on
+        afterwards from where she stopped."""
+        if self.body.present:
+            self.body.stand()
+        await super().fire(h, u)
+
+    def stand_still(self) -> None:
+        if self.body.present:
+            self.body.stand()
+
+    def face_robot(self) -> None:
+        """Turn the head to the robot (a repair: she faces it to be heard)."""
+        if self.body.present:
+            self.face(Target("robot"))
+
+    async def step_closer(self, act: StepCloser) -> None:
+        """Walk ``act.by`` metres nearer to the robot, no nearer than ``act.nearest``."""
+        d = self.robot_within()
+        if d is None or not self.body.present:
+            return
+        goal = max(act.nearest, d - act.by)
+        if d - goal > 0.05:
+            # straight towards the robot (a step, not a walk around it): she stays where it can see her
+            self.log.append((self.now, self.now, f"steps closer: {d:.2f} -> {goal:.2f} m"))
+            x, y = self.body.position
+            rx, ry, _ = self.world.robot.pose
+            k = (d - goal) / d
+            await self.walk_to(Target("point", x=x + k * (rx - x), y=y + k * (ry - y)))
+            self.face(Target("robot"))
+
+    def before_speaking(self, act: Say) -> None:
+        """As she starts to speak she may look away from the robot (her profile's off-axis)."""
+        p = self.traits.off_axis
+        rng = self.draws(f"look:{act.line}" if act.line is not None else f"look:{act.request}")
+        if p <= 0 or rng is None or not self.body.present:
+            return
+        away, side, size = rng.random(), rng.random(), rng.random()
+        robot = self.direction_to(Target("robot"))
+        if away < p:
+            off = math.radians(60.0 + 90.0 * size) * (1 if side < 0.5 else -1)
+            self.body.look(robot + off)
+            self._looked_away = True
+            self.log.append((self.now, self.now, f"speaks looking {math.degrees(off):+.0f} deg off the robot"))
+        elif self._looked_away:
+            # the last time she looked away as she spoke; this time she speaks to the robot
+            self.body.look(robot)
+            self._looked_away = False
+
     def face(self, target: Target, *, body: bool = False) -> None:
         """Turn the head (or the whole body) towards a target or a world angle."""
+        self._looked_away = False
         d = self.direction_to(target)
         if body:
             self.body.turn_to(d)
@@ -154,6 +247,15 @@ class Person(Actor):
     async def point(self, act: PointAt) -> None:
         """Raise an arm at the target for the gesture's duration."""
         point = self.world.target_point(act.target, who=self.name)
+        sd = self.traits.pointing_error
+        rng = self.draws(f"point:{act.line}")
+        if sd > 0 and rng is not None:
+            # her arm misses by a normal angular error about where she stands
+            err = math.radians(sd) * float(rng.standard_normal())
+            hx, hy = self.body.position
+            dx, dy = point[0] - hx, point[1] - hy
+            c, s_ = math.cos(err), math.sin(err)
+            point = (hx + c * dx - s_ * dy, hy + s_ * dx + c * dy, *point[2:])
         name = act.target.name or act.target.kind
         self.body.pointing = Pointing(name, point, self.now + act.duration)
         try:
@@ -163,8 +265,14 @@ class Person(Actor):
 
     # ---------------------------------------------------------------- leave
     async def leave(self, act: Leave) -> None:
-        """Walk out through an exit door (a planned path, like any walk) and disappear from the world."""
+        """Walk out through an exit door (a planned path, like any walk) and disappear from the world.
+
+        Still talking (``<say wait="false"/>`` then ``<leave/>``), she finishes her sentence
+        at the door before she is gone: a sound source that vanished would leave words in the
+        air that no microphone can place, and the robot would hear none of them.
+        """
         _, outside = self.world.exit_points(act.door)
         await self.walk_to(Target("point", x=outside[0], y=outside[1]))
         self.body.stand()
+        await self.finish_speaking()
         self.body.remove()

@@ -13,6 +13,27 @@ Every action is recorded in ``log`` as (start, end, description), the
 actor's own ground truth for transcripts and expectations; only the last
 :data:`LOG_LENGTH` actions are kept, so a forever-repeat over a long run
 does not grow the actor's memory.
+
+People are agenda-based users (Schatzmann et al. 2007): the script is the
+agenda, and a reaction (``<on hears=...>``, a :class:`Handler`) pushes acts
+on top of it when the robot's words match, after which she carries on where
+she was. A reaction fires at the next point where she can take a turn:
+between two actions, during a pause (``wait``), a walk (she stops, reacts,
+walks on) or a ``wait-for`` (whose timeout starts again afterwards), or when
+her own sentence ends. What the robot says while she reacts belongs to that
+exchange and triggers nothing more. A reaction that fires
+:data:`MAX_STREAK` times in a row without her script moving on fails the
+run naming its line (``homesim check`` refuses the loops it can see).
+
+Speech need not freeze her: ``<say wait="false">`` starts the words and
+goes on to the next action (walk, turn, point) while she talks; a new
+``say`` or a ``wait-for`` first lets her finish, ``wait-speech`` waits for
+the end. Repairs the way people make them (``repairs=``, or her profile's):
+when the robot asks her to repeat or does not answer she does her turn
+again (what she said and pointed at), rephrasing it from the paraphrase
+bank, louder, after stepping closer or turning to face the robot, each a
+choice; after ``patience`` repairs she gives up (carries on, stops, or
+leaves). ``retries=`` keeps its meaning: the turn again, word for word.
 """
 
 from __future__ import annotations
@@ -21,10 +42,18 @@ import asyncio
 import math
 import re
 from collections import deque
+from collections.abc import Callable
+
+import numpy as np
 
 from homesim.errors import ScenarioError
-from homesim.scenario.model import Action, Repeat, Say, SourceSpec, Wait, WaitFor
+from homesim.scenario.model import Action, Handler, Leave, PointAt, Repeat, Say, SourceSpec, StepCloser, Wait, WaitFor, WaitSpeech
+from homesim.scenario.wordpattern import WordPattern, compile_words
+from homesim.world.acoustics import Utterance
 from homesim.world.world import World
+
+from .phrasings import default_bank
+from .profiles import Traits
 
 #: How many of an actor's latest actions its ``log`` keeps.
 LOG_LENGTH = 4096
@@ -39,6 +68,18 @@ TURN_GAP = 0.5
 #: answer "yes"); ``repair=`` overrides.
 DEFAULT_REPAIR = r"(say|point at) (that|it) again|pardon|repeat that|did not understand|didn't understand|did not catch|did you say|shall i\b|^is this\b"
 
+#: How much louder each "louder" repair makes her (dB), up to MAX_BOOST: one step of vocal
+#: effort (ANSI S3.5-1997: normal 62.4, raised 68.3, loud 74.9 dB, about 6 dB apart).
+LOUDER_DB = 6.0
+MAX_BOOST = 18.0
+
+#: A reaction that fires this many times in a row without the script moving on is a loop.
+MAX_STREAK = 50
+
+
+class GaveUp(Exception):
+    """She gave up on the whole tour (give-up stop or leave): her script ends."""
+
 
 class ScriptError(ScenarioError):
     """A script action cannot be carried out (e.g. no path to a walk's goal): names file and line."""
@@ -47,7 +88,9 @@ class ScriptError(ScenarioError):
 class Actor:
     """Runs a script of say / wait / wait-for / repeat actions."""
 
-    def __init__(self, world: World, name: str, script: tuple[Action, ...], *, loudness: float = 60.0) -> None:
+    def __init__(self, world: World, name: str, script: tuple[Action, ...], *, loudness: float = 60.0,
+                 handlers: tuple[Handler, ...] = (), traits: Traits | None = None, rng: np.random.Generator | None = None,
+                 streams: Callable[[str], np.random.Generator] | None = None) -> None:
         self.world = world
         self.name = name
         self.script = script
@@ -55,6 +98,22 @@ class Actor:
         self.log: deque[tuple[float, float, str]] = deque(maxlen=LOG_LENGTH)
         self.done = False
         self.turn: list[Action] = []  # what the actor did since her last wait-for: her turn
+        self.handlers = handlers
+        self.traits = traits if traits is not None else Traits()
+        self.rng = rng  # her choices as she goes (phrasings, looking away, pointing): from the run's seed
+        # one generator per act of hers (``say:<line>``, ...) when given: a reaction that fires, or
+        # a say added to her script, does not shift the draws of her other acts
+        self.streams = streams
+        self.fired = [0] * len(handlers)  # how often each reaction fired
+        self.speech_end = 0.0  # when what she is saying ends
+        self.boost = 0.0  # dB louder while she repairs
+        self.repairs = 0  # repairs made over the run
+        self.gave_up = 0  # times her patience ran out
+        self._ear_last = 0.0
+        self._ear_seen: frozenset[int] = frozenset()
+        self._reacting = False
+        self._streak = 0
+        self._last_phrase: dict[tuple[str, str | None], str] = {}
 
     @property
     def now(self) -> float:
@@ -62,11 +121,21 @@ class Actor:
 
     async def run(self) -> None:
         """Play the whole script, then stay idle."""
-        await self.play(self.script)
+        try:
+            await self.play(self.script)
+        except GaveUp:
+            self.stand_still()
         self.done = True
+
+    def stand_still(self) -> None:
+        """Hook: a person who gave up in the middle of a walk stops where she is."""
 
     async def play(self, actions: tuple[Action, ...]) -> None:
         for act in actions:
+            if self.handlers:
+                if not self._reacting:
+                    self._streak = 0
+                await self.react()
             start = self.now
             if not isinstance(act, (WaitFor, Repeat)):
                 self.turn.append(act)
@@ -78,11 +147,16 @@ class Actor:
         if isinstance(act, Say):
             await self.say(act)
         elif isinstance(act, Wait):
-            await asyncio.sleep(act.duration)
+            if self.handlers:
+                await self.pause(act.duration)
+            else:
+                await asyncio.sleep(act.duration)
         elif isinstance(act, WaitFor):
             await self.wait_for(act)
         elif isinstance(act, Repeat):
             await self.repeat(act)
+        elif isinstance(act, WaitSpeech):
+            await self.finish_speaking()
         else:
             raise TypeError(f"{self.name!r} cannot perform {type(act).__name__}")
 
@@ -109,16 +183,116 @@ class Actor:
             if self.now <= start:
                 await asyncio.sleep(self.world.dt)
 
-    async def say(self, act: Say) -> None:
-        u = self.world.sound.say(self.name, act.text, self.now, loudness=act.loudness if act.loudness is not None else self.loudness, duration=act.duration)
+    async def say(self, act: Say, *, rephrase: bool = False) -> None:
+        """Say the action's text (or a phrasing of its request); ``wait=False``: go on while talking."""
+        await self.finish_speaking()  # one mouth: she finishes her sentence first
+        text = self.phrase(act, rephrase=rephrase)
+        loudness = act.loudness if act.loudness is not None else self.loudness
+        if self.boost:
+            loudness += self.boost
+        self.before_speaking(act)
+        u = self.world.sound.say(self.name, text, self.now, loudness=loudness, duration=act.duration)
+        self.speech_end = u.end
+        if not act.wait:
+            return
         self.on_speaking(True)
         try:
             await asyncio.sleep(u.end - u.start)
         finally:
             self.on_speaking(False)
+        if self.handlers:
+            await self.react()
+
+    def phrase(self, act: Say, *, rephrase: bool = False) -> str:
+        """What she says: the text; or a phrasing of the request (another one when she rephrases)."""
+        if act.request is None or (act.text is not None and not rephrase):
+            return act.text or ""
+        key = (act.request, act.about)
+        avoid = self._last_phrase.get(key, act.text) if rephrase else None
+        rng = self.draws(f"say:{act.line}" if act.line is not None else f"say:{act.request}")
+        if rng is None:
+            raise ScriptError(f"{self.name!r} has no paraphrase bank", source=self.world.scenario.source, line=act.line, element="say")
+        text = default_bank().draw(rng, act.request, self.traits.phrasing, avoid=avoid).render(act.about)
+        self._last_phrase[key] = text
+        return text
+
+    def draws(self, key: str) -> np.random.Generator | None:
+        """The generator of one of her acts (``key``: ``say:<line>``, ``look:<line>``, ``point:<line>``).
+
+        Per act, so one act's draws (a phrasing, a look away, a pointing error) do not depend on
+        how many draws her other acts made before it: adding a reaction that fires leaves the
+        rest of her tour as it was. Without ``streams``, her one generator ``rng``.
+        """
+        return self.streams(key) if self.streams is not None else self.rng
+
+    async def finish_speaking(self) -> None:
+        """Wait until what she is saying has ended (nothing when she is silent)."""
+        if self.speech_end > self.now + 1e-6:
+            await asyncio.sleep(self.speech_end - self.now)
 
     def on_speaking(self, speaking: bool) -> None:
         """Hook: people open their mouths (nothing to do for a radio)."""
+
+    def before_speaking(self, act: Say) -> None:
+        """Hook: a person may look away as she starts to speak (her profile's off-axis)."""
+
+    # ------------------------------------------------------------ reactions
+    async def pause(self, duration: float) -> None:
+        """A ``wait`` during which reactions can fire (the pause ends when it would have)."""
+        end = self.now + duration
+        while self.now < end - 1e-6:
+            await asyncio.sleep(min(POLL, end - self.now))
+            await self.react()
+
+    def hear(self) -> list[Utterance]:
+        """What the robot finished saying since her last look (each utterance once)."""
+        now = self.now
+        last = max(self._ear_last, now - 0.5 * self.world.sound.horizon)
+        heard = self.world.sound.ended(last, now, closed=True)
+        new = [u for u in heard if u.source == "robot" and u.n not in self._ear_seen]
+        self._ear_seen = frozenset(u.n for u in heard if u.end == now)
+        self._ear_last = now
+        return new
+
+    def reaction_to(self, text: str, *, waiting: bool) -> Handler | None:
+        """The first reaction (in file order) that may fire now and hears ``text``."""
+        for k, h in enumerate(self.handlers):
+            if h.when == "waiting" and not waiting:
+                continue
+            if h.max is not None and self.fired[k] >= h.max:
+                continue
+            if compile_words(h.hears).search(text):
+                return h
+        return None
+
+    async def react(self, *, waiting: bool = False) -> bool:
+        """Fire the reaction to what the robot just said, if any; True when one fired."""
+        if self._reacting or not self.active:
+            return False
+        for u in self.hear():
+            h = self.reaction_to(u.text, waiting=waiting)
+            if h is not None:
+                await self.fire(h, u)
+                return True
+        return False
+
+    async def fire(self, h: Handler, u: Utterance) -> None:
+        """Do a reaction's acts, then carry on (the agenda's pushed acts popped)."""
+        k = self.handlers.index(h)
+        self.fired[k] += 1
+        self._streak += 1
+        if self._streak > MAX_STREAK:
+            raise ScriptError(f"{self.name!r}: the reaction fired {MAX_STREAK} times in a row without her script moving on "
+                              f"(the robot's {u.text!r}); give it max=", source=self.world.scenario.source, line=h.line, element="on")
+        self.log.append((self.now, self.now, f"hears {u.text!r}: reacts (line {h.line})"))
+        self._reacting = True
+        turn, self.turn = self.turn, []
+        try:
+            await self.play(h.body)
+        finally:
+            self._reacting = False
+            self.turn = turn
+        self.hear()  # what the robot said meanwhile belongs to this exchange
 
     def robot_within(self) -> float | None:
         """Distance to the robot (None when this actor has no position)."""
@@ -134,8 +308,83 @@ class Actor:
         With ``retries``, a miss (the robot asks for a repair, or the timeout
         passes) makes the person do her turn again (every action since her
         previous wait-for: a point and a sentence, say; not the pause that
-        came before it) and wait anew.
+        came before it) and wait anew. With ``repairs``/``patience``/``give-up``
+        (or a profile) she repairs the way people do: :meth:`repair_loop`.
         """
+        await self.finish_speaking()  # nobody expects an answer before she has finished
+        try:
+            if act.retries == 0 and (act.repairs is not None or act.patience is not None or act.give_up is not None
+                                     or self.traits.repairing):
+                return await self.repair_loop(act)
+            return await self._retry_loop(act)
+        finally:
+            if self.handlers:
+                self.hear()  # what she heard while waiting was for the wait
+
+    async def repair_loop(self, act: WaitFor) -> bool:
+        """Wait; on a miss repair by her strategies at most ``patience`` times, then give up."""
+        strategies = act.repairs if act.repairs is not None else self.traits.repairs
+        patience = act.patience if act.patience is not None else self.traits.patience
+        give_up = act.give_up or self.traits.give_up
+        repair = re.compile(act.repair or DEFAULT_REPAIR, re.IGNORECASE)
+        turn = tuple(a for a in self.turn if isinstance(a, (Say, PointAt)))  # what she said and showed
+        self.turn = []
+        outcome = "timeout"
+        for attempt in range(patience + 1):
+            outcome = await self._wait_once(act, repair)
+            if outcome == "answered":
+                self.boost = 0.0
+                return True
+            if attempt == patience or not turn or not self.active:
+                break
+            self.repairs += 1
+            how = ", ".join(strategies) or "repeat"
+            self.log.append((self.now, self.now, f"not understood ({outcome}): repair {attempt + 1} of {patience} ({how})"))
+            await asyncio.sleep(TURN_GAP)
+            if not self.active:
+                return False
+            if "face" in strategies:
+                self.face_robot()
+            if "closer" in strategies:
+                await self.step_closer(StepCloser())
+            if "louder" in strategies:
+                self.boost = min(self.boost + LOUDER_DB, MAX_BOOST)
+            for a in turn:
+                if isinstance(a, Say):
+                    await self.say(a, rephrase="rephrase" in strategies)
+                else:
+                    await self.perform(a)
+            await self.finish_speaking()
+            self.turn = []
+        self.boost = 0.0
+        if turn and self.active:
+            await self.give_up(give_up, outcome)
+        return False
+
+    async def give_up(self, how: str, outcome: str) -> None:
+        """Her patience is used up: carry on (skip), or say so and stop her script or leave.
+
+        A flat without an exit door cannot be left: she stops there instead (a profile may
+        draw ``leave`` for any flat; ``give-up="leave"`` in a scenario needs an exit).
+        """
+        self.gave_up += 1
+        self.log.append((self.now, self.now, f"gives up ({outcome}): {how}"))
+        if how == "skip":
+            return
+        if self.draws("say:give-up") is not None:
+            await self.say(Say(None, request="give-up"))
+            await self.finish_speaking()
+        if how == "leave" and self.world.scenario.exits():
+            await self.perform(Leave())
+        raise GaveUp(how)
+
+    def face_robot(self) -> None:
+        """Hook: turn to face the robot (a person)."""
+
+    async def step_closer(self, act: StepCloser) -> None:
+        """Hook: step towards the robot (a person)."""
+
+    async def _retry_loop(self, act: WaitFor) -> bool:
         repair = re.compile(act.repair or DEFAULT_REPAIR, re.IGNORECASE) if act.retries else None
         turn, self.turn = tuple(self.turn), []
         while turn and isinstance(turn[0], Wait):  # the pause before her turn is not part of it
@@ -157,7 +406,9 @@ class Actor:
     async def _wait_once(self, act: WaitFor, repair: re.Pattern[str] | None) -> str:
         """One wait: ``answered``, ``repair`` (the robot asked to hear it again) or ``timeout``."""
         since = self.now
-        pattern = re.compile(act.robot_says, re.IGNORECASE) if act.robot_says else None
+        pattern: re.Pattern[str] | WordPattern | None = re.compile(act.robot_says, re.IGNORECASE) if act.robot_says else None
+        if act.hears:
+            pattern = compile_words(act.hears)
         deadline = math.inf if act.timeout is None else since + act.timeout
         # What was already heard and matched nothing: ended up to ``last`` (the previous poll),
         # ``seen`` those that ended exactly then. Each poll looks only at what ended since (a cut
@@ -176,11 +427,20 @@ class Actor:
                 for u in heard:
                     if u.source != "robot" or u.n in seen_before:
                         continue
+                    if self.handlers and not self._reacting:
+                        h = self.reaction_to(u.text, waiting=True)
+                        if h is not None:
+                            await self.fire(h, u)
+                            if act.timeout is not None:  # she waits for the robot's answer anew
+                                deadline = self.now + act.timeout
+                            continue
                     # A question back ("Did you say hello to me?") is no answer, even with the words in it.
                     if repair is not None and repair.search(u.text):
                         return "repair"
                     if pattern.search(u.text):
                         return "answered"
+            elif self.handlers:
+                await self.react(waiting=True)
             if act.robot_within is not None:
                 d = self.robot_within()
                 if d is not None and d <= act.robot_within:
@@ -205,7 +465,7 @@ class Radio(Actor):
 def _describe(act: Action) -> str:
     name = type(act).__name__
     if isinstance(act, Say):
-        return f"say {act.text!r}"
+        return f"say {act.text!r}" if act.request is None else f"say ({act.request}) {act.text or ''}".rstrip()
     if isinstance(act, Wait):
         return f"wait {act.duration:g} s"
     if hasattr(act, "target"):

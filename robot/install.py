@@ -26,12 +26,19 @@ SUBSYSTEMS: tuple[str, ...] = (
     "robot.dialog",
     "robot.watchdog",
     "robot.navigation",
-    "robot.player",
+    "robot.navigation.player",
 )
 
 
 def install(run: Any, subsystems: Sequence[str] = SUBSYSTEMS) -> dict[str, Module]:
-    """Install every subsystem in ``subsystems``; refuse two modules of the same name."""
+    """Install every subsystem in ``subsystems``; refuse two modules of the same name.
+
+    Only names of :data:`SUBSYSTEMS` are accepted (refused before anything is
+    imported): the names may come from a trace header, which must never run code.
+    """
+    unknown = [name for name in subsystems if name not in SUBSYSTEMS]
+    if unknown:
+        raise ValueError(f"unknown subsystem(s) {', '.join(map(repr, unknown))}; known: {', '.join(SUBSYSTEMS)}")
     modules: dict[str, Module] = {}
     for name in subsystems:
         for key, module in importlib.import_module(name).install(run).items():

@@ -24,8 +24,8 @@ RPC methods of the ``supervisor`` participant: ``introspect`` (reply
 ``<es_status>``), ``replace`` and ``extend`` (request: an SCXML document;
 validated before the swap, refused with the reason, the queue survives).
 
-Time: the ES is a serial processor. When it is free, it decides at once on
-an event's arrival and at the earliest expiry among queued events. A
+Time: the ES is a serial processor. When it is free, it decides at the instant
+of an event's arrival and at the earliest expiry among queued events. A
 transition costs ``cost`` virtual seconds (the papers: under 20 ms to
 reconfigure the system): its orders and conditions leave at ``decision +
 cost``, and the next decision (the scan restarting from the oldest event) is
@@ -35,16 +35,19 @@ exactly at their expiry; no event is ever applied at or after it. Messages
 to other modules (orders, conditions, rejections returned to the dialog)
 leave in decision order: nothing decided later overtakes them.
 
-Same instant (docs/semantics.md §2): what expires at ``t`` is rejected before
-anything arriving at ``t`` is queued, in the state held as ``t`` began; the
-decision that ends a cost at ``t`` is taken after the arrivals at ``t`` are
-queued. Link latency, which orders deliveries against the ES's own timers,
-changes none of its decisions.
+Same instant (docs/semantics.md §2): a decision at ``t`` (on an arrival, an
+expiry, the end of a cost) is taken once every event arriving at ``t`` is
+queued (in a callback scheduled at ``t``, after every delivery already due
+then), scanning from the oldest: an older event arriving at the very instant
+a newer one expires is applied first, and the newer one is rejected in the
+state that left. Link latency, which orders deliveries against the ES's own
+timers, changes none of its decisions.
 """
 
 from __future__ import annotations
 
 import asyncio
+import math
 import os
 from collections import deque
 from copy import deepcopy
@@ -56,19 +59,15 @@ from lxml import etree
 
 from homesim.afsm.engine import Applied, Engine, Event, Output, Record, Rejected, payload_problem, record_dict
 from homesim.afsm.loader import from_element, load, loads, to_element
-from homesim.afsm.model import CONDITION, Machine
+from homesim.afsm.model import CONDITION, MAX_LIFETIME_NS, Machine
 from homesim.errors import AFSMError, AFSMModificationRefused, BadMessageError, InputError
 from homesim.heartbeat import HEALTH_CHANNEL
 from homesim.message import Message
 from homesim.module import Module
+from robot.deployment import cost_scale
 from homesim.vloop import BARE, NS_PER_S, to_ns
+from robot.contract import ES_CONDITIONS, ES_EVENTS, ES_LOG, ES_ORDERS, ES_REJECTED, ES_STATUS
 
-EVENT_CHANNEL = "/robot/es/events"
-ORDER_PREFIX = "/robot/es/orders"
-CONDITION_PREFIX = "/robot/es/conditions"
-REJECTED_PREFIX = "/robot/es/rejected"
-LOG_CHANNEL = "/robot/es/log"
-STATUS_CHANNEL = "/robot/es/status"
 
 SCHEMAS = Path(__file__).with_name("schemas")
 BIRON_AFSM = Path(__file__).with_name("afsm") / "biron.scxml"
@@ -87,6 +86,17 @@ def event_xml(name: str, *, lifetime: float | None = None, attrs: dict[str, str]
     return el
 
 
+def _lifetime_ns(channel: str, text: str) -> int:
+    """An event's ``lifetime`` attribute (seconds) as nanoseconds; a value the schema refuses is a bad message (a drop)."""
+    try:
+        seconds = float(text)
+    except ValueError:
+        seconds = math.nan
+    if not 0.0 < seconds <= MAX_LIFETIME_NS / NS_PER_S:  # also NaN and inf
+        raise BadMessageError(f"{channel}: lifetime={text[:40]!r} is not a number of seconds in (0, {MAX_LIFETIME_NS // NS_PER_S}]")
+    return max(1, to_ns(seconds))
+
+
 def _seconds(ns: int) -> str:
     """Integer nanoseconds as exact decimal seconds (``1.5``, ``0``, ``-0.000000001``)."""
     whole, frac = divmod(abs(ns), NS_PER_S)
@@ -96,13 +106,13 @@ def _seconds(ns: int) -> str:
 
 def declare_channels(bus: Any, machine: Machine) -> None:
     """Type every ES channel on ``bus`` with its XSD (events, outputs per module, log, status)."""
-    bus.declare_channel(EVENT_CHANNEL, SCHEMAS / "es-event.xsd")
-    bus.declare_channel(LOG_CHANNEL, SCHEMAS / "es-log.xsd")
-    bus.declare_channel(STATUS_CHANNEL, SCHEMAS / "es-status.xsd")
+    bus.declare_channel(ES_EVENTS, SCHEMAS / "es-event.xsd")
+    bus.declare_channel(ES_LOG, SCHEMAS / "es-log.xsd")
+    bus.declare_channel(ES_STATUS, SCHEMAS / "es-status.xsd")
     for name in machine.modules:
-        bus.declare_channel(f"{ORDER_PREFIX}/{name}", SCHEMAS / "es-order.xsd")
-        bus.declare_channel(f"{CONDITION_PREFIX}/{name}", SCHEMAS / "es-condition.xsd")
-        bus.declare_channel(f"{REJECTED_PREFIX}/{name}", SCHEMAS / "es-rejected.xsd")
+        bus.declare_channel(f"{ES_ORDERS}/{name}", SCHEMAS / "es-order.xsd")
+        bus.declare_channel(f"{ES_CONDITIONS}/{name}", SCHEMAS / "es-condition.xsd")
+        bus.declare_channel(f"{ES_REJECTED}/{name}", SCHEMAS / "es-rejected.xsd")
 
 
 def output_xml(out: Output, state: str) -> etree._Element:
@@ -234,18 +244,24 @@ class ExecutionSupervisor(Module):
         super().__init__(sim, name, host=host, heartbeat=heartbeat)
         m = machine if isinstance(machine, Machine) else load(machine)
         self.engine = Engine(m, history=history)
-        self.cost_ns = to_ns(cost)
+        # Under 20 ms on the papers' hardware (Fig. 6); on another host the CPU speed scales it (docs/deployment.md).
+        self.cost_ns = to_ns(cost * cost_scale(sim, self.name, self.bus.host))
         self.return_to = tuple(return_to)
         self._loop = sim.loop
-        self._busy_until = -1  # busy while now <= this (closed: the end instant's arrivals queue first)
+        self._busy_until = -1  # busy while now < this; at this instant the decision waits for its arrivals
+        self._settling: Any = None  # the pending decision at the current instant (_settle_later)
         self._outbox: deque[tuple[int, Applied | Rejected]] = deque()
         self._timer: asyncio.TimerHandle | None = None
         self._timer_at: int | None = None
         self._failed: set[str] = set()
+        # Arrivals on the event channel: how many, and how many were created before one received earlier.
+        self._received = 0
+        self._out_of_order = 0
+        self._newest_ns = -1
         self._output_xml = OutputBuilder()
         if typed:
             declare_channels(sim.bus, m)
-        self.bus.subscribe(EVENT_CHANNEL, self._on_event)
+        self.bus.subscribe(ES_EVENTS, self._on_event)
         if health_channel is not None:
             self.bus.subscribe(health_channel, self._on_health)
         self.bus.serve("introspect", lambda msg: self.status_xml(), reply_schema=SCHEMAS / "es-status.xsd")
@@ -272,8 +288,12 @@ class ExecutionSupervisor(Module):
         if too_big is not None:  # another module's bad data: reported as a drop, the ES goes on
             raise BadMessageError(f"{msg.channel}: {too_big}")
         lt = xml.get("lifetime")
-        ev = Event(msg.id, xml.get("name"), msg.sender, msg.created_ns,
-                   to_ns(float(lt)) if lt is not None else None, xml)
+        self._received += 1
+        if msg.created_ns < self._newest_ns:
+            self._out_of_order += 1
+        else:
+            self._newest_ns = msg.created_ns
+        ev = Event(msg.id, xml.get("name"), msg.sender, msg.created_ns, None if lt is None else _lifetime_ns(msg.channel, lt), xml)
         self.submit(ev, payload_checked=True)
 
     def _on_health(self, msg: Message) -> None:
@@ -298,6 +318,11 @@ class ExecutionSupervisor(Module):
         payload.set("still_failed", str(len(self._failed)))
         self.submit(Event(msg.id, str(tag), msg.sender, msg.created_ns, None, payload))
 
+    def arrivals(self) -> dict[str, int]:
+        """Events received on the event channel, and how many of them out of creation order
+        (created before an event received earlier: latency put them behind it; the queue sorts them back)."""
+        return {"events_received": self._received, "received_out_of_order": self._out_of_order}
+
     @property
     def failed_modules(self) -> frozenset[str]:
         """Modules the heartbeat monitor reported failed and not recovered yet."""
@@ -311,13 +336,13 @@ class ExecutionSupervisor(Module):
         payload too large or an id already queued.
         """
         now = self._loop._now_ns
-        # The same-instant rule: events whose lifetime ends now are dead before this one is queued,
-        # whether the ES's expiry timer for now has run yet or not (link latency decides that).
-        expired: list[Record] = list(self.engine.expire(now))
-        if expired:  # (with nothing expired, _tick's flush comes before anything else is sent)
-            self._emit(expired, now)
         self.engine.queue(event, now, payload_checked=payload_checked)
-        return expired + self._tick(now)
+        if now < self._busy_until:  # paying a transition's cost: only expiries now, decisions when it ends
+            return self._tick(now)
+        # The same-instant rule: decide once every event arriving at this instant is queued (a
+        # callback scheduled now runs after every delivery already due now), scanning from the oldest.
+        self._settle_later(now)
+        return []
 
     @property
     def busy_until_ns(self) -> int:
@@ -330,23 +355,28 @@ class ExecutionSupervisor(Module):
         if self.bus.closed or self.bus.hung:
             return
         now = self._loop._now_ns
-        if now == self._busy_until:
-            # The cost ends now. Decide only after every delivery already due at this instant
-            # (a timer scheduled now runs after them): whether an event arriving at the same
-            # instant was scheduled before or after this wake (link latency) changes nothing.
-            self._flush(now)
-            self._timer = self._loop.call_at_ns(now, self._free, context=BARE)
-            self._timer_at = now
+        if now < self._busy_until:  # an expiry while the ES pays a cost (no decision can change its state)
+            self._tick(now)
             return
-        self._tick(now)
+        if now == self._busy_until:
+            self._flush(now)  # the transition's outputs leave as its cost ends
+        # An expiry, or the end of a cost: decide only after every delivery already due at this instant
+        # (the same-instant rule), whether its link latency scheduled it before or after this timer.
+        self._settle_later(now)
 
-    def _free(self) -> None:
-        self._timer = None
-        self._timer_at = None
-        self._busy_until = -1
+    def _settle_later(self, now: int) -> None:
+        """Decide at ``now`` in a callback that runs after everything already due at ``now`` (once)."""
+        if self._settling is None:
+            self._settling = self._loop.call_at_ns(now, self._settle, context=BARE)
+
+    def _settle(self) -> None:
+        self._settling = None
         if self.bus.closed or self.bus.hung:
             return
-        self._tick(self._loop._now_ns)
+        now = self._loop._now_ns
+        if now >= self._busy_until:
+            self._busy_until = -1
+        self._tick(now)
 
     def _tick(self, now: int) -> list[Record]:
         """Everything due at ``now``, in decision order.
@@ -364,7 +394,7 @@ class ExecutionSupervisor(Module):
         while True:
             if box and box[0][0] <= now:
                 self._flush(now)
-            if now <= self._busy_until:
+            if now < self._busy_until:
                 recs: list[Record] = list(self.engine.expire(now))
                 self._emit(recs, now)
                 records += recs
@@ -409,7 +439,7 @@ class ExecutionSupervisor(Module):
         """
         for rec in records:
             # Built only if someone receives or observes the log (the trace, expectations, metrics).
-            self.bus.publish(LOG_CHANNEL, partial(record_xml, rec), causes=(rec.event.id,))
+            self.bus.publish(ES_LOG, partial(record_xml, rec), causes=(rec.event.id,))
             if isinstance(rec, Applied):
                 if rec.outputs:
                     self._outbox.append((now + self.cost_ns, rec))
@@ -435,13 +465,13 @@ class ExecutionSupervisor(Module):
                            state=rec.state, detail=rec.detail)
         if rec.event.payload is not None:
             el.append(deepcopy(rec.event.payload))
-        self.bus.publish(f"{REJECTED_PREFIX}/{rec.event.source}", el, causes=(rec.event.id,), transfer=True)
+        self.bus.publish(f"{ES_REJECTED}/{rec.event.source}", el, causes=(rec.event.id,), transfer=True)
 
     def _send_outputs(self, rec: Applied) -> None:
         build = self._output_xml
         state = rec.target_state
         for out in rec.outputs:
-            prefix = CONDITION_PREFIX if out.kind == CONDITION else ORDER_PREFIX
+            prefix = ES_CONDITIONS if out.kind == CONDITION else ES_ORDERS
             self.bus.publish(
                 f"{prefix}/{out.target}", build(out, state), causes=(out.event_id,), transfer=True
             )
@@ -496,7 +526,7 @@ class ExecutionSupervisor(Module):
         """
         if self.bus.closed or self.bus.hung:
             return None
-        return self.bus.publish(STATUS_CHANNEL, partial(self.status_xml, history=0))  # built only if seen
+        return self.bus.publish(ES_STATUS, partial(self.status_xml, history=0))  # built only if seen
 
     # -------------------------------------------------------- modification
     def replace(self, machine: Machine | str | os.PathLike[str]) -> None:
@@ -553,7 +583,7 @@ class ExecutionSupervisor(Module):
         self.publish_status()
 
     def _typed_bus(self) -> bool:
-        return self.sim.bus.channel_schema(EVENT_CHANNEL) is not None
+        return self.sim.bus.channel_schema(ES_EVENTS) is not None
 
     def _rpc_replace(self, msg: Message) -> etree._Element:
         self.replace(self._as_machine(msg.xml, source=f"<rpc {msg.id}>"))

@@ -79,11 +79,9 @@ class ReferenceES:
 
     def process(self, now: int) -> list[tuple]:
         out: list[tuple] = []
-        # the same-instant rule (docs/semantics.md §2): expiry first, in the state held as `now` begins
-        for it in sorted(self.pending, key=lambda it: (it.created, it.seq)):
-            if now >= it.expires:
-                self.pending.remove(it)
-                out.append(("rejected", it.id, self.state, "expired"))
+        # DESIGN.md §2.2 as written: one scan from the oldest; an expired event is rejected where the
+        # scan reaches it, in the state the scan has reached (the caller queues every arrival of
+        # `now` first: the same-instant rule, docs/semantics.md §2)
         pos = 0
         while True:
             ordered = sorted(self.pending, key=lambda it: (it.created, it.seq))
@@ -110,3 +108,29 @@ class ReferenceES:
 
     def pending_ids(self) -> list[str]:
         return [it.id for it in sorted(self.pending, key=lambda it: (it.created, it.seq))]
+
+
+def reference_run(m: Machine, deliveries: list[tuple[str, str, int, int | None, object, int]], until: int) -> list[tuple]:
+    """The records of a whole run, from the rules' text: deliveries are (id, name, created, lifetime, payload, at).
+
+    Time moves from instant to instant: the next arrival or the next expiry of a queued event,
+    whichever comes first. At an instant, every event arriving then is queued (in delivery
+    order) and then the queue is scanned once (:meth:`ReferenceES.process`). Written without
+    :func:`homesim.afsm.engine.run_deliveries`.
+    """
+    es = ReferenceES(m)
+    todo = sorted(range(len(deliveries)), key=lambda k: (deliveries[k][5], k))
+    out: list[tuple] = []
+    while True:
+        expiries = [it.expires for it in es.pending]
+        candidates = expiries + ([deliveries[todo[0]][5]] if todo else [])
+        if not candidates:
+            break
+        now = min(candidates)
+        if now > until:
+            break
+        while todo and deliveries[todo[0]][5] == now:
+            ev_id, name, created, lifetime, payload, _ = deliveries[todo.pop(0)]
+            es.queue(ev_id, name, created, lifetime, payload)
+        out += [(now, *rec) for rec in es.process(now)]
+    return out

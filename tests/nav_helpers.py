@@ -26,7 +26,7 @@ from robot.supervisor import event_xml
 
 HERE = Path(__file__).resolve().parent / "scenarios"
 #: What the navigation runs install (no attention or dialog yet: the oracle and the test stand in for them).
-SUBSYSTEMS = ("robot.localisation", "robot.knowledge", "robot.watchdog", "robot.navigation", "robot.player")
+SUBSYSTEMS = ("robot.localisation", "robot.knowledge", "robot.watchdog", "robot.navigation", "robot.navigation.player")
 
 
 class Oracle:

@@ -76,7 +76,7 @@ def test_the_engine_refuses_payloads_larger_than_the_bound():
 
 def test_a_huge_event_over_the_bus_is_reported_and_the_supervisor_goes_on():
     from homesim.sim import Simulation
-    from robot.supervisor import EVENT_CHANNEL, ExecutionSupervisor, event_xml
+    from robot.supervisor import ES_EVENTS, ExecutionSupervisor, event_xml
 
     with Simulation(seed=3) as sim:
         rec = sim.record_trace()
@@ -86,10 +86,10 @@ def test_a_huge_event_over_the_bus_is_reported_and_the_supervisor_goes_on():
         big = etree.Element("SPEECH")
         for _ in range(MAX_PAYLOAD_ELEMENTS + 10):
             etree.SubElement(big, "W")
-        dialog.publish(EVENT_CHANNEL, event_xml("greeting", children=(big,)))
+        dialog.publish(ES_EVENTS, event_xml("greeting", children=(big,)))
         sim.run(until=1.0)
         drops = [r for r in rec.records() if r.get("kind") == "drop"]
         assert any("more than" in r["reason"] and r["receivers"] == [es.name] for r in drops)
-        dialog.publish(EVENT_CHANNEL, event_xml("greeting", children=(etree.Element("SPEECH"),)))
+        dialog.publish(ES_EVENTS, event_xml("greeting", children=(etree.Element("SPEECH"),)))
         sim.run(until=2.0)  # the supervisor still runs and handles the next event
         assert es.engine.stats()["queued"] >= 1

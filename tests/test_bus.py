@@ -492,18 +492,27 @@ def test_strict_policy_refuses_an_invalid_element_too():
         assert s.bus.sent == 0
 
 
-def test_the_default_policy_does_not_look_into_a_modules_element_and_strict_does():
-    hostile = b'<!DOCTYPE x [<!ENTITY e "boom">]><x>&e;</x>'
+@pytest.mark.parametrize("strict", [False, True])
+def test_every_policy_refuses_elements_built_from_a_doctype_or_holding_entities(strict):
+    """The default policy skips the schema for a module's element, never the look for a DTD or entities."""
+    hostile = b'<!DOCTYPE x [<!ENTITY e "boom">]><x><y>&e;</y></x>'
     parser = etree.XMLParser(resolve_entities=False)
-    with Simulation(seed=3, strict=False) as s:  # trusted: delivered as built (a copy of it)
+    entity = etree.Element("x")
+    etree.SubElement(entity, "y").append(etree.Entity("e"))
+    with Simulation(seed=3, strict=strict) as s:
         got = []
         s.bus.participant("b").subscribe("/x", got.append)
-        s.bus.participant("a").publish("/x", etree.fromstring(hostile, parser))
+        a = s.bus.participant("a")
+        for el, why in ((etree.fromstring(hostile, parser), "DOCTYPE"), (etree.fromstring(hostile, parser)[0], "DOCTYPE"),
+                        (etree.fromstring(hostile), "DOCTYPE"), (entity, "entity"), (entity[0], "entity"),
+                        (etree.fromstring(b'<!DOCTYPE x SYSTEM "x.dtd"><x><y/></x>', parser), "DOCTYPE")):
+            with pytest.raises(XMLInputError, match=why):
+                a.publish("/x", el)
+            with pytest.raises(XMLInputError, match=why):
+                a.publish("/x", el, transfer=True)
+        a.publish("/x", etree.fromstring(b"<x><y>boom</y></x>"))  # the same without them travels
         s.run()
-        assert [m.xml.tag for m in got] == ["x"]
-    with Simulation(seed=3, strict=True) as s:  # the suite and --strict refuse it
-        with pytest.raises(XMLInputError, match="DOCTYPE"):
-            s.bus.participant("a").publish("/x", etree.fromstring(hostile, parser))
+        assert [etree.tostring(m.xml) for m in got] == [b"<x><y>boom</y></x>"]
 
 
 @pytest.mark.parametrize("strict", [False, True])

@@ -9,7 +9,9 @@ unwritable places, input files get devices, FIFOs, directories and UTF-16.
 from __future__ import annotations
 
 import argparse
+import json
 import os
+import sys
 from pathlib import Path
 
 import pytest
@@ -65,7 +67,28 @@ def hostile_files(tmp: Path) -> list[str]:
     utf16.write_bytes('<?xml version="1.0" encoding="UTF-16"?><!DOCTYPE r SYSTEM "/etc/passwd"><r/>'.encode("utf-16"))
     binary = tmp / "binary.xml"
     binary.write_bytes(bytes(range(256)) * 4)
-    return ["/dev/zero", "/dev/urandom", str(fifo), str(tmp), str(tmp / "missing.xml"), str(utf16), str(binary)]
+    return ["/dev/zero", "/dev/urandom", str(fifo), str(tmp), str(tmp / "missing.xml"), str(utf16), str(binary),
+            *hostile_traces(tmp)]
+
+
+def hostile_traces(tmp: Path) -> list[str]:
+    """Traces no command may act on: a header naming code to import or a store to create, JSON nested
+    100,000 deep, bytes that are not UTF-8 (tests/test_trace_hostile.py has the full set)."""
+    run = {"scenario_file": str(VALID_INPUT["scenario"]), "scenario_digest": "sha256:" + "0" * 64, "seed": 0, "until": 1.0,
+           "memory": None, "memory_digest": None, "subsystems": None, "metrics": None}
+    head = {"homesim_trace": 1, "scenario": "x", "seed": 0, "homesim_version": "0"}
+    out = {
+        "import.jsonl": json.dumps({**head, "run": {**run, "subsystems": ["this"]}}),
+        "store.jsonl": json.dumps({**head, "run": {**run, "memory": str(tmp / "made-by-a-header"),
+                                                      "memory_digest": "sha256:" + "0" * 64}}),
+        "nested.jsonl": "[" * 100_000 + "]" * 100_000,
+    }
+    paths = []
+    for name, text in out.items():
+        (tmp / name).write_text(text + "\n", encoding="utf-8")
+        paths.append(str(tmp / name))
+    (tmp / "latin1.jsonl").write_bytes(b'{"homesim_trace": 1, "scenario": "caf\xe9"}\n')
+    return paths + [str(tmp / "latin1.jsonl")]
 
 
 def hostile_outputs(tmp: Path) -> list[str]:
@@ -145,6 +168,7 @@ def test_every_file_argument_refuses_hostile_files(prefix, parser, tmp_path, cap
         argv = prefix + [bad] * len(positionals) + required
         code, _out, err = _run(argv, capsys)
         _assert_refused(argv, code, err)
+    assert not (tmp_path / "made-by-a-header").exists() and "this" not in sys.modules
 
 
 def test_cli_ranges_are_documented():

@@ -14,7 +14,7 @@ from homesim.tour.stage import Stage
 from robot.dialog.module import Dialog
 from robot.dialog.transcript import transcript
 from robot.speech.module import RobotSentence, SpeechUnderstanding, is_own_voice
-from robot.supervisor import EVENT_CHANNEL, ExecutionSupervisor, event_xml
+from robot.supervisor import ES_EVENTS, ExecutionSupervisor, event_xml
 from tests.world_helpers import ROOM
 
 PERSON = etree.fromstring('<PERSON id="t1" bearing="0" distance="1.2" speaking="true" facing="true"/>')
@@ -74,7 +74,7 @@ class Robot:
         self.sim.call_at(t, go)
 
     def partner(self, t: float) -> None:
-        self.sim.call_at(t, lambda: self.attention.publish(EVENT_CHANNEL, event_xml("potential_partner", children=(PERSON,))))
+        self.sim.call_at(t, lambda: self.attention.publish(ES_EVENTS, event_xml("potential_partner", children=(PERSON,))))
 
     def sentences(self) -> list[str]:
         return [m.xml.get("text") for m in self.said.drain()]
@@ -268,7 +268,7 @@ def test_place_teaching_sends_the_latest_pose(robot):
     robot.greet()
     robot.utter("this is the kitchen", 7.0, 8.0)
     robot.sim.run(until=15.0)
-    ev = [r for r in robot.records(EVENT_CHANNEL) if 'name="place_teaching"' in r["xml"]]
+    ev = [r for r in robot.records(ES_EVENTS) if 'name="place_teaching"' in r["xml"]]
     assert ev and '<POSE x="1.5" y="2.0" theta="0.3" frame="map"/>' in ev[0]["xml"]
     assert robot.sentences()[-1] == "OK, this is the kitchen. I will remember it."
     orders = [r for r in robot.records("/robot/es/orders/scene_model") if "store_place" in r["xml"]]
@@ -299,6 +299,29 @@ def test_clarification_question_from_the_object_attention(robot):
     robot.sim.run(until=15.0)
     assert robot.sentences()[1:] == ["Do you mean the red cup or the blue one?", "Thank you."]
     assert replies and replies[0].xml.get("index") == "1"
+
+
+def test_a_question_routed_through_the_supervisor_is_asked_and_answered_as_an_event(robot):
+    """The object attention asks through the ES: event clarification -> condition ask -> the dialog asks ->
+    event clarified -> order clarified to the object attention (robot/afsm/biron.scxml, ObjectTeaching)."""
+    robot.greet()
+    obj = robot.sim.bus.participant("object_attention")
+    orders = []
+    obj.subscribe("/robot/es/orders/object_attention", orders.append)
+
+    def teach_and_ask() -> None:
+        frame = etree.fromstring('<event name="object_teaching"><SPEECH><OBJECT type="cup"/></SPEECH></event>')
+        robot.sim.bus.get("dialog").publish(ES_EVENTS, frame)
+        ev = etree.fromstring('<event name="clarification"><OPTIONS timeout="8"><option index="0" text="red cup"/>'
+                              '<option index="1" text="blue cup"/></OPTIONS></event>')
+        robot.sim.call_at(7.5, obj.publish, ES_EVENTS, ev)
+
+    robot.sim.call_at(7.0, teach_and_ask)
+    robot.utter("the blue one", 11.0, 11.8)
+    robot.sim.run(until=15.0)
+    assert "Do you mean the red cup or the blue one?" in robot.sentences()
+    answers = [o for o in orders if o.xml.get("name") == "clarified"]
+    assert answers and answers[0].xml.find("param/ANSWER").get("index") == "1"
 
 
 def test_clarification_without_an_answer_times_out_to_none(robot):

@@ -206,7 +206,7 @@ def test_where_not_found_is_not_taken_for_seen(dm):
     # the scene model sends the question's OBJECT back with found="false": that is no answer
     dm.on_frame(frame(f"<WHERE>{CUP}</WHERE>"))
     out = dm.on_condition(cond("object_info", f'<param name="result"><RESULT found="false">{CUP}</RESULT></param>'))
-    assert says(out) == ["Sorry, I don't know where to find the cup."]
+    assert says(out) == ["Sorry, I don't know where to find your cup."]
 
 
 def test_goodbye_normal_path(dm):
@@ -230,7 +230,7 @@ def test_capabilities_asks_the_supervisor(dm):
 
 # ------------------------------------------------------------------ interruption and resumption
 def test_question_during_teaching_interrupts_and_the_teaching_resumes(dm):
-    assert says(dm.on_frame(frame("<OBJECT><GESTURE val=\"probably_pointing\"/></OBJECT>"))) == ["What is it?"]
+    assert says(dm.on_frame(frame('<OBJECT><GESTURE val="probably_pointing"/><OWNER name="speaker"/></OBJECT>'))) == ["What is it?"]
     out = dm.on_frame(frame("<CAPABILITIES/>"))
     assert isinstance(out[0], Explain)
     # the explanation ended the capabilities dialog; teaching resumes and asks again
@@ -244,7 +244,7 @@ def test_question_during_teaching_interrupts_and_the_teaching_resumes(dm):
 def test_a_question_passed_over_twice_is_dropped_not_asked_again(dm):
     # a misparse started teaching ("What is it?"); the user went on to other things and every
     # later answer ended in "Now, back to your object. What is it?" for minutes
-    dm.on_frame(frame("<OBJECT><GESTURE val=\"probably_pointing\"/></OBJECT>"))
+    dm.on_frame(frame('<OBJECT><GESTURE val="probably_pointing"/><OWNER name="speaker"/></OBJECT>'))
     assert says(dm.on_frame(frame("<CAPABILITIES/>")))[-1] == "What is it?"  # once: resumed
     out = dm.on_frame(frame("<CAPABILITIES/>"))
     assert "What is it?" not in says(out) and "Now, back to your object." not in says(out)
@@ -256,7 +256,7 @@ def test_a_question_passed_over_twice_is_dropped_not_asked_again(dm):
 
 def test_a_question_is_not_resumed_after_the_supervisor_moved_on(dm):
     dm.es_state = "Interacting"
-    dm.on_frame(frame("<OBJECT><GESTURE val=\"probably_pointing\"/></OBJECT>"))
+    dm.on_frame(frame('<OBJECT><GESTURE val="probably_pointing"/><OWNER name="speaker"/></OBJECT>'))
     dm.on_frame(frame("<FOLLOW/>"))
     dm.es_state = "Following"
     out = dm.on_condition(cond("following"))
@@ -264,7 +264,7 @@ def test_a_question_is_not_resumed_after_the_supervisor_moved_on(dm):
 
 
 def test_an_answered_question_is_not_dropped(dm):
-    dm.on_frame(frame("<OBJECT><GESTURE val=\"probably_pointing\"/></OBJECT>"))
+    dm.on_frame(frame('<OBJECT><GESTURE val="probably_pointing"/><OWNER name="speaker"/></OBJECT>'))
     dm.on_frame(frame("<CAPABILITIES/>"))
     dm.on_frame(frame('<OBJECT><OWNER name="my"/></OBJECT>'))  # an answer, not the noun yet
     assert "Now, back to your object." in says(dm.on_frame(frame("<CAPABILITIES/>")))  # resumed, not dropped
@@ -438,9 +438,18 @@ def test_low_confidence_is_confirmed_no(dm):
     assert s.children[0].find("OBJECT").get("type") == "glass"
 
 
-def test_frames_for_the_interaction_are_ignored_while_nobody_is_there(dm):
+def test_instructions_while_nobody_is_there_go_to_the_supervisor_which_decides(dm):
+    """Issue 23: the dialog sends every understood instruction to the ES (the radio's "follow me" too);
+    the ES rejects what does not apply in its state and the dialog says why. A question with nothing to
+    send (self-explanation) is still ignored."""
     dm.es_state = "LookingAround"
-    assert dm.on_frame(frame("<FOLLOW/>")) == []
+    out = dm.on_frame(frame("<FOLLOW/>"))
+    (s,) = sends(out)
+    assert s.event == "follow" and s.children[0].tag == "SPEECH" and s.children[0][0].tag == "FOLLOW"
+    assert not says(out) and dm.stack == []  # no sub-dialog started, nothing said yet
+    rej = etree.fromstring('<rejected name="follow" reason="inapplicable" state="LookingAround"/>')
+    assert says(dm.on_rejected(rej))  # the rejection is explained in words
+    assert dm.on_frame(frame("<CAPABILITIES/>")) == []
     assert dm.summary()["ignored_frames"] == 1
 
 
@@ -468,6 +477,11 @@ def test_question_and_choice():
     assert choose(opts, etree.fromstring('<OBJECT type="cup"><TITLE name="cup"/><COLOUR name="red"/></OBJECT>')) == 0
     assert choose(opts, etree.fromstring("<THAT_ONE/>")) is None
     assert choose(opts, etree.fromstring("<NO/>")) is None
+    # the object attention's texts say where each one is: "the left one" picks by that word
+    sides = [(0, "the plant on the right"), (1, "the one on the left")]
+    assert choose(sides, etree.fromstring('<THAT_ONE side="left"/>')) == 1
+    assert choose(sides, etree.fromstring('<THAT_ONE side="right" type="plant"><TITLE name="plant"/></THAT_ONE>')) == 0
+    assert choose(sides, etree.fromstring('<THAT_ONE side="middle"/>')) is None
 
 
 def test_clarify_dialog_asks_and_ends_with_the_choice(dm):

@@ -150,6 +150,28 @@ def test_the_kernel_never_names_the_robot_not_even_in_a_string():
     assert bad == []
 
 
+#: What every robot module may import of another robot package: the contract, the floor plan, and the
+#: robot's configuration (its deployment: which host a module runs on and how fast that host is, for
+#: processing costs; its profile: which robot is simulated). None of them imports another robot package.
+ROBOT_SHARED = ("robot.contract", "robot.floorplan", "robot.deployment", "robot.profiles")
+
+
+def test_robot_modules_talk_only_over_the_bus():
+    """A robot module imports nothing of another robot package (``robot/install.py``, which installs
+    them, and the shared contract and floor plan aside): modules meet on the bus, not in code."""
+    bad = []
+    for path, module in sources():
+        parts = module.split(".")
+        if parts[0] != "robot" or module in ("robot", "robot.install"):
+            continue
+        own = ".".join(parts[:2])
+        for line, target, how in arrows(path, module):
+            if how == "import" and target.startswith("robot.") and not target.startswith(own + ".") and target != own \
+                    and not any(target == s or target.startswith(s + ".") for s in ROBOT_SHARED):
+                bad.append(f"{path.relative_to(ROOT)}:{line}: {module} imports {target}")
+    assert bad == []
+
+
 def package_of(module: str) -> str | None:
     """The package a module belongs to for the cycle check: a directory below the top (``homesim.world``)."""
     parts = module.split(".")

@@ -19,7 +19,7 @@ EXPECTED_OUTPUT = {
     "01_stepping_the_kernel.ipynb": ["module_failed", "caused by ['sensor#"],
     "home_tour.ipynb": ["'status': 'retained'", "'expired': 1", "ES state Interacting", 'PLACE name="kitchen"',
                         'OBJECT type="cup"', 'OBJECT type="plant"', 'FAIL <event-rejected event="greeting" never="true"/> - greeting from notebook rejected',
-                        "17 of 18 expectations hold; verdict: FAIL", "longest processing: understanding", "the property held for 200 random event streams"],
+                        "17 of 18 expectations hold; verdict: FAIL", "longest speech recognition: understanding", "the property held for 200 random event streams"],
 }
 
 

@@ -130,20 +130,27 @@ def _run(pointing: str, frame: str, answer: int | None = 1, until: float = 9.0, 
     oa = install_objects(run)["object_attention"]
     test = sim.bus.participant("tester", host="robot")
     asked, events = [], []
-    test.subscribe("/robot/es/events", handler=lambda m: events.append(m))
+
+    def es(m):
+        # The ES's part (robot/afsm/biron.scxml, ObjectTeaching): a clarification becomes the
+        # dialog's condition "ask"; the dialog's answer comes back as the order "clarified".
+        if m.xml.get("name") != "clarification":
+            events.append(m)
+            return
+        opts = m.xml.find("OPTIONS")
+        asked.append([o.get("text") for o in opts.iterfind("option")])
+        ans = etree.Element("ANSWER", none="true") if answer is None else etree.Element("ANSWER", index=str(answer))
+        order = etree.Element("order", name="clarified", target="object_attention", event=m.id, state="ObjectTeaching")
+        etree.SubElement(order, "param", name="answer").append(ans)
+        test.publish("/robot/es/orders/object_attention", order)
+
+    test.subscribe("/robot/es/events", handler=es)
     # The person attention's part in Object: the camera looks where object attention says.
     test.subscribe(
         "/robot/objects/focus",
         handler=lambda m: test.publish("/robot/ptu/cmd", etree.Element("ptu", pan=m.xml.get("bearing"),
             tilt=f"{-math.degrees(math.atan2(0.6, float(m.xml.get('distance')))):.2f}")),
     )
-    dialog = sim.bus.participant("dialog", host="robot")
-
-    def ask(msg):
-        asked.append([o.get("text") for o in msg.xml.iterfind("option")])
-        return etree.Element("answer", none="true") if answer is None else etree.Element("answer", index=str(answer))
-
-    dialog.serve("ask", ask)
 
     async def teach():
         test.publish("/robot/ptu/cmd", etree.Element("ptu", pan="0", tilt="-5"))  # looking at the partner's hands

@@ -55,8 +55,8 @@ def test_every_homesim_command_exists_and_its_files_too(command):
             made = README.find(f"> {a}") if a.startswith("out/") else -1
             if made < 0:
                 made = README.find(f"Save it as `{a}`") if a.startswith("out/") else -1
-            if made < 0 and a.startswith("out/"):  # written by an earlier command's --out DIR (homesim generate)
-                made = README.find(f"--out {a.rsplit('/', 1)[0]}")
+            if made < 0 and a.startswith("out/"):  # written by an earlier `homesim generate ... --out DIR`
+                made = README.find(f"--out {Path(a).parent}\n")
             assert (ROOT / a).is_file() or 0 <= made < README.find(command), a
 
 

@@ -11,7 +11,7 @@ from homesim.cli import main
 from homesim.scenario.loader import load_scenario, load_scenario_text
 from homesim.sim import Simulation
 from homesim.geometry import distance_points_segments, polygon_edges
-from homesim.world.legs import detect_leg_pairs
+from homesim.world.reference_legs import detect_leg_pairs
 from homesim.tour.stage import Stage
 from homesim.world.world import World
 from humans.person import Person

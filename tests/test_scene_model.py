@@ -15,7 +15,7 @@ from homesim.sim import Simulation
 from homesim.xmlio import load_schema
 from robot.knowledge import SceneModel, install
 from robot.knowledge.scene_model import REFUSED
-from robot.supervisor import CONDITION_PREFIX, EVENT_CHANNEL, ExecutionSupervisor, event_xml
+from robot.supervisor import ES_CONDITIONS, ES_EVENTS, ExecutionSupervisor, event_xml
 
 KNOWLEDGE = load_schema("robot/schemas/knowledge.xsd")
 
@@ -35,13 +35,13 @@ class Tour:
         self.dialog = self.sim.bus.participant("dialog")
         self.attention = self.sim.bus.participant("person_attention")
         self.objects = self.sim.bus.participant("object_attention")
-        self.conditions = self.dialog.subscribe(f"{CONDITION_PREFIX}/dialog")
+        self.conditions = self.dialog.subscribe(f"{ES_CONDITIONS}/dialog")
         self.refused = self.dialog.subscribe(REFUSED)
         self.sim.start()
         self.t = 0.0
 
     def send(self, who, name: str, *children: etree._Element) -> None:
-        who.publish(EVENT_CHANNEL, event_xml(name, children=children))
+        who.publish(ES_EVENTS, event_xml(name, children=children))
         self.t += 0.5
         self.sim.run(until=self.t)
 

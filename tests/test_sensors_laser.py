@@ -12,7 +12,8 @@ from hypothesis import strategies as st
 
 from homesim.world.bodies import LASER_FILTER, LEG_RADIUS
 from homesim.world.raycast import FanCaster, RayCaster, cast_rays
-from robot.hardware.laser import LaserSpec, detect_leg_pairs, laser_origin, simulate_scan
+from homesim.world.reference_legs import detect_leg_pairs
+from robot.hardware.laser import LaserSpec, laser_origin, simulate_scan
 from tests.conftest import examples
 from tests.world_helpers import at_bearing, put_person, room
 

@@ -1,6 +1,6 @@
 """Speech understanding: the home-tour grammar turns recognised words into the frames of docs/semantics.md §4.
 
-The corpus (tests/data/utterances.tsv) holds every utterance with the frame a
+The tuning corpus (robot/speech/corpus/tuning.tsv) holds every utterance with the frame a
 person expects, including fillers, repetitions, self-corrections, fragments and
 recogniser-style dropped and substituted words.
 """
@@ -19,7 +19,7 @@ from robot.speech.grammar import Understander
 from robot.speech.lexicon import Lexicon, LexiconError
 from robot.speech.module import FRAMES_XSD, frame_message, shared_understander
 
-CORPUS = Path(__file__).with_name("data") / "utterances.tsv"
+CORPUS = Path(__file__).resolve().parent.parent / "robot" / "speech" / "corpus" / "tuning.tsv"
 SCHEMA = load_schema(FRAMES_XSD)
 
 
@@ -70,11 +70,11 @@ def test_design_example_frame_exactly(u):
 
 
 def test_unknown_words_are_skipped_and_reported(u):
-    r = u.understand("hello dear old biron xyzzy")
+    r = u.understand("hello blorp old biron xyzzy")
     assert _text(r.frame) == '<SPEECH><GREETING name="biron"/></SPEECH>'
-    assert r.unknown == ["dear", "xyzzy"]
+    assert r.unknown == ["blorp", "xyzzy"]
     msg = frame_message(r, 1.0, 2.0, 0.9)
-    assert msg.get("unknown") == "dear xyzzy"
+    assert msg.get("unknown") == "blorp xyzzy"
     SCHEMA.check(msg)
 
 

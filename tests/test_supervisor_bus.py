@@ -14,12 +14,12 @@ from homesim.network import LinkModel
 from homesim.sim import Simulation
 from .conftest import examples
 from robot.supervisor import (
-    CONDITION_PREFIX,
-    EVENT_CHANNEL,
-    LOG_CHANNEL,
-    ORDER_PREFIX,
-    REJECTED_PREFIX,
-    STATUS_CHANNEL,
+    ES_CONDITIONS,
+    ES_EVENTS,
+    ES_LOG,
+    ES_ORDERS,
+    ES_REJECTED,
+    ES_STATUS,
     ExecutionSupervisor,
     event_xml,
 )
@@ -51,16 +51,16 @@ class World:
         self.es = ExecutionSupervisor(self.sim, cost=cost)
         self.dialog = self.sim.bus.participant("dialog", host="laptop")
         self.attention = self.sim.bus.participant("person_attention", host="robot")
-        self.conditions = self.dialog.subscribe(f"{CONDITION_PREFIX}/dialog")
-        self.returned = self.dialog.subscribe(f"{REJECTED_PREFIX}/dialog")
-        self.orders = self.attention.subscribe(f"{ORDER_PREFIX}/person_attention")
+        self.conditions = self.dialog.subscribe(f"{ES_CONDITIONS}/dialog")
+        self.returned = self.dialog.subscribe(f"{ES_REJECTED}/dialog")
+        self.orders = self.attention.subscribe(f"{ES_ORDERS}/person_attention")
         self.sim.start()
 
     def greet(self, *, created: float | None = None) -> None:
-        self.dialog.publish(EVENT_CHANNEL, event_xml("greeting", children=(SPEECH,)), created=created)
+        self.dialog.publish(ES_EVENTS, event_xml("greeting", children=(SPEECH,)), created=created)
 
     def see_partner(self, *, created: float | None = None) -> None:
-        self.attention.publish(EVENT_CHANNEL, event_xml("potential_partner", children=(PERSON,)), created=created)
+        self.attention.publish(ES_EVENTS, event_xml("potential_partner", children=(PERSON,)), created=created)
 
     def at(self, t: float, fn, *args, **kw) -> None:
         self.sim.call_at(t, lambda: fn(*args, **kw))
@@ -91,7 +91,7 @@ def test_outputs_leave_after_the_processing_cost(world):
     world.at(1.0, world.see_partner)
     world.sim.run(until=2.0)
     (info,) = world.conditions.drain()
-    event_arrival = [r for r in world.trace.records() if r.get("channel") == LOG_CHANNEL][0]["t"]
+    event_arrival = [r for r in world.trace.records() if r.get("channel") == ES_LOG][0]["t"]
     assert info.sent == pytest.approx(event_arrival + 0.005)
 
 
@@ -104,7 +104,7 @@ def test_radio_greeting_is_rejected_at_expiry_and_returned_to_the_dialog(world):
     assert back.xml.find("event/SPEECH") is not None  # the dialog gets its event back
     # rejected exactly at created + lifetime (3 s), not when the ES next happened to look
     assert back.sent == pytest.approx(1.0 + 3.0)
-    log = [r for r in world.trace.records() if r.get("channel") == LOG_CHANNEL]
+    log = [r for r in world.trace.records() if r.get("channel") == ES_LOG]
     assert any('reason="expired"' in r["xml"] for r in log)  # visible in the trace
 
 
@@ -115,7 +115,7 @@ def test_partner_created_first_but_delivered_late_still_pairs(world):
         slow.sim.network.set_link(LinkModel("slowattention", 0.4, 0.4))
         slow.sim.network.add_host("camera_pc", link="slowattention")
         cam = slow.sim.bus.participant("attention2", host="camera_pc")
-        slow.at(1.0, lambda: cam.publish(EVENT_CHANNEL, event_xml("potential_partner", children=(PERSON,))))
+        slow.at(1.0, lambda: cam.publish(ES_EVENTS, event_xml("potential_partner", children=(PERSON,))))
         slow.at(1.1, slow.greet)
         slow.sim.run(until=3.0)
         assert slow.es.state == "Interacting"
@@ -128,7 +128,7 @@ def test_partner_created_first_but_delivered_late_still_pairs(world):
 
 
 def test_inapplicable_dialog_event_is_returned_with_its_reason(world):
-    world.at(1.0, lambda: world.dialog.publish(EVENT_CHANNEL, event_xml("stop")))
+    world.at(1.0, lambda: world.dialog.publish(ES_EVENTS, event_xml("stop")))
     world.sim.run(until=2.0)
     (back,) = world.returned.drain()
     assert back.xml.get("reason") == "inapplicable"
@@ -136,7 +136,7 @@ def test_inapplicable_dialog_event_is_returned_with_its_reason(world):
 
 
 def test_attention_rejections_are_logged_but_not_returned(world):
-    world.at(1.0, lambda: world.attention.publish(EVENT_CHANNEL, event_xml("partner_too_fast")))
+    world.at(1.0, lambda: world.attention.publish(ES_EVENTS, event_xml("partner_too_fast")))
     world.sim.run(until=2.0)
     assert world.returned.drain() == []
     assert world.es.engine.stats()["inapplicable"] == 1
@@ -144,7 +144,7 @@ def test_attention_rejections_are_logged_but_not_returned(world):
 
 def test_malformed_event_is_refused_by_the_typed_channel(world):
     with pytest.raises(MessageValidationError):
-        world.dialog.publish(EVENT_CHANNEL, etree.Element("event"))  # no name
+        world.dialog.publish(ES_EVENTS, etree.Element("event"))  # no name
 
 
 def test_introspection_by_api_rpc_and_trace(world):
@@ -165,7 +165,7 @@ def test_introspection_by_api_rpc_and_trace(world):
     st = results["xml"]
     assert st.get("state") == "LookingAround"
     assert st.find("queue/queued").get("status") == "retained"
-    assert any(r.get("channel") == STATUS_CHANNEL for r in world.trace.records())
+    assert any(r.get("channel") == ES_STATUS for r in world.trace.records())
 
 
 def test_extend_by_rpc_keeps_the_queue_and_adds_a_state(world):
@@ -180,7 +180,7 @@ def test_extend_by_rpc_keeps_the_queue_and_adds_a_state(world):
         out["reply"] = reply.xml
 
     world.at(1.0, lambda: world.sim.spawn(extend(), name="extender"))
-    world.at(1.5, lambda: world.attention.publish(EVENT_CHANNEL, event_xml("dance", attrs={"style": "waltz"})))
+    world.at(1.5, lambda: world.attention.publish(ES_EVENTS, event_xml("dance", attrs={"style": "waltz"})))
     world.sim.run(until=2.0)
     assert out["reply"].get("state") == "Interacting"
     assert world.es.state == "Dancing"
@@ -232,8 +232,8 @@ def test_same_seed_same_trace():
         w = World()
         w.at(1.0, w.greet)
         w.at(1.2, w.see_partner)
-        w.at(2.0, lambda: w.dialog.publish(EVENT_CHANNEL, event_xml("follow")))
-        w.at(3.0, lambda: w.dialog.publish(EVENT_CHANNEL, event_xml("stop")))
+        w.at(2.0, lambda: w.dialog.publish(ES_EVENTS, event_xml("follow")))
+        w.at(3.0, lambda: w.dialog.publish(ES_EVENTS, event_xml("stop")))
         w.sim.run(until=5.0)
         text = w.trace.text()
         w.sim.close()
@@ -252,7 +252,7 @@ def test_on_the_bus_every_event_ends_once_and_expiry_is_never_late(events, wlan)
     try:
         senders = {"dialog": w.dialog, "person_attention": w.attention}
         for name, tenth, src in events:
-            w.at(tenth / 10, lambda n=name, s=src: senders[s].publish(EVENT_CHANNEL, event_xml(n, children=(PERSON,))))
+            w.at(tenth / 10, lambda n=name, s=src: senders[s].publish(ES_EVENTS, event_xml(n, children=(PERSON,))))
         w.sim.run(until=12.0)
         ends = [r for r in w.es.introspect()["history"] if r["kind"] != "retained"]
         assert len(ends) == len(events) == len({r["event"] for r in ends})
@@ -296,7 +296,7 @@ def test_an_event_expiring_while_the_es_pays_a_cost_is_rejected_at_its_expiry_no
     """Greeting valid 30 ms, partner 10 ms later, cost 20 ms: the greeting ends before the ES is free."""
     w = World(dialog_delay=0.0001, cost=0.020)
     try:
-        w.at(1.000, lambda: w.dialog.publish(EVENT_CHANNEL, event_xml("greeting", lifetime=0.030, children=(SPEECH,))))
+        w.at(1.000, lambda: w.dialog.publish(ES_EVENTS, event_xml("greeting", lifetime=0.030, children=(SPEECH,))))
         w.at(1.010, w.see_partner)
         w.sim.run(until=2.0)
         assert w.es.state == "PotentialPartner"
@@ -362,7 +362,7 @@ def test_with_a_cost_no_event_is_applied_after_expiry_and_outputs_leave_in_decis
         for name, ms10, src, life in events:
             lifetime = None if life is None else life / 100
             w.at(ms10 / 100, lambda n=name, s=src, lt=lifetime:
-                 senders[s].publish(EVENT_CHANNEL, event_xml(n, lifetime=lt, children=(PERSON,))))
+                 senders[s].publish(ES_EVENTS, event_xml(n, lifetime=lt, children=(PERSON,))))
         w.sim.run(until=20.0)
         hist = list(w.es.engine.history)
         arrival = {x["id"]: round(x["t"] * 1e9) for x in w.trace.records()
@@ -379,7 +379,7 @@ def test_with_a_cost_no_event_is_applied_after_expiry_and_outputs_leave_in_decis
                     assert r.at_ns >= last_applied + cost, "a decision taken while the ES was busy"
                 last_applied = r.at_ns
                 for o in r.outputs:
-                    prefix = CONDITION_PREFIX if o.kind == "condition" else ORDER_PREFIX
+                    prefix = ES_CONDITIONS if o.kind == "condition" else ES_ORDERS
                     expected.append((f"{prefix}/{o.target}", r.event.id, r.at_ns + cost))
                 if r.outputs:
                     release = r.at_ns + cost
@@ -388,7 +388,7 @@ def test_with_a_cost_no_event_is_applied_after_expiry_and_outputs_leave_in_decis
                     assert r.at_ns == max(expiry, arrival[r.event.id]), "expiry not exact"
                 if r.event.source == "dialog":
                     t = r.at_ns if release is None else max(r.at_ns, release)
-                    expected.append((f"{REJECTED_PREFIX}/dialog", r.event.id, t))
+                    expected.append((f"{ES_REJECTED}/dialog", r.event.id, t))
         sent = [(x["channel"], x["causes"][0], round(x["t"] * 1e9)) for x in w.trace.records()
                 if x.get("kind") == "publish" and x["sender"] == "supervisor"
                 and x["channel"].startswith(("/robot/es/orders/", "/robot/es/conditions/", "/robot/es/rejected/"))]
@@ -411,7 +411,7 @@ def _everything(es) -> tuple:
 
     queue = [(q.event.id, q.status, q.retained_in, q.expires_ns) for q in es.engine.queued()]
     channels = {ch: es.sim.bus.channel_schema(ch) for ch in
-                [f"{ORDER_PREFIX}/arm", f"{ORDER_PREFIX}/arm*", f"{CONDITION_PREFIX}/arm", f"{REJECTED_PREFIX}/arm"]}
+                [f"{ES_ORDERS}/arm", f"{ES_ORDERS}/arm*", f"{ES_CONDITIONS}/arm", f"{ES_REJECTED}/arm"]}
     return dumps(es.engine.machine), es.state, queue, channels, es.engine.stats()
 
 
@@ -437,7 +437,7 @@ def test_a_refused_change_leaves_machine_queue_and_channels_exactly_as_before(wo
 
 def test_an_accepted_extension_declares_the_new_module_channels(world):
     world.es.extend(_arm_extension("arm"))
-    assert world.sim.bus.channel_schema(f"{ORDER_PREFIX}/arm") is not None
+    assert world.sim.bus.channel_schema(f"{ES_ORDERS}/arm") is not None
 
 
 def test_a_machine_with_a_bad_module_name_is_refused_at_construction_with_file_and_line():
@@ -460,11 +460,11 @@ def test_a_machine_with_a_bad_module_name_is_refused_at_construction_with_file_a
 
 # ------------------------------------------------------------------ status
 def test_status_is_published_only_on_a_change_of_state_and_without_history(world):
-    status = world.attention.subscribe(STATUS_CHANNEL)
+    status = world.attention.subscribe(ES_STATUS)
     world.at(0.5, world.see_partner)
     world.at(0.6, world.greet)  # -> Interacting (via PotentialPartner)
-    world.at(1.5, lambda: world.dialog.publish(EVENT_CHANNEL, event_xml("stop")))  # targetless: no change
-    world.at(2.5, lambda: world.dialog.publish(EVENT_CHANNEL, event_xml("query_object")))  # targetless
+    world.at(1.5, lambda: world.dialog.publish(ES_EVENTS, event_xml("stop")))  # targetless: no change
+    world.at(2.5, lambda: world.dialog.publish(ES_EVENTS, event_xml("query_object")))  # targetless
     world.sim.run(until=3.0)
     msgs = status.drain()
     assert [m.xml.get("state") for m in msgs] == ["LookingAround", "PotentialPartner", "Interacting"]  # start, changes
@@ -566,7 +566,7 @@ def _es_run(stream, *, cost: float, strict: bool, observed: bool):
                "person_attention": sim.bus.participant("person_attention", host="robot")}
     got = []
     for p in senders.values():
-        for pattern in (f"{ORDER_PREFIX}/{p.name}", f"{CONDITION_PREFIX}/{p.name}", f"{REJECTED_PREFIX}/{p.name}"):
+        for pattern in (f"{ES_ORDERS}/{p.name}", f"{ES_CONDITIONS}/{p.name}", f"{ES_REJECTED}/{p.name}"):
             p.subscribe(pattern, lambda m, who=p.name: got.append(
                 (who, m.channel, m.id, m.causes, m.created_ns, sim.now, etree.tostring(m.xml))))
     seen = []
@@ -576,17 +576,17 @@ def _es_run(stream, *, cost: float, strict: bool, observed: bool):
             observes = ("send",)
 
             def wants(self, channel):
-                return channel in (LOG_CHANNEL, STATUS_CHANNEL)
+                return channel in (ES_LOG, ES_STATUS)
 
             def __call__(self, obs):
-                if obs.message.channel in (LOG_CHANNEL, STATUS_CHANNEL):
+                if obs.message.channel in (ES_LOG, ES_STATUS):
                     seen.append(obs.message.id)
 
         sim.bus.add_interceptor(Watcher())
     sim.start()
     for t, who, name, lifetime, child in stream:
         el = event_xml(name, lifetime=lifetime, children=(etree.fromstring(child),) if child else ())
-        sim.call_at(t, lambda p=senders[who], el=el: p.publish(EVENT_CHANNEL, el))
+        sim.call_at(t, lambda p=senders[who], el=el: p.publish(ES_EVENTS, el))
     sim.run(until=4.0)
     assert not observed or len(seen) >= len(es.engine.history)  # (the watcher saw every decision)
     out = (got, [record_dict(r) for r in es.engine.history], dict(es.engine.counts), es.state)

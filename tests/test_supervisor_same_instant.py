@@ -1,11 +1,13 @@
-"""The same-instant rule (docs/semantics.md §2, "Same instant"): expiry first, arrivals before a decision.
+"""The same-instant rule (docs/semantics.md §2, "Same instant"): every arrival of an instant is
+queued before anything is decided at it, then the scan takes the oldest first.
 
-An event whose lifetime ends at ``t`` is rejected in the state the ES held as
-``t`` began, whether an event arriving at ``t`` was scheduled (by its link
-latency) before or after the ES's expiry timer; and when the ES's processing
-cost ends at ``t``, an event arriving at ``t`` is queued before it decides.
-The engine driven by :func:`run_deliveries` and the ES on the bus follow the
-same rule, so what the dialog is told does not depend on latency.
+When an older event arrives at the very instant a newer one expires, the older
+is applied first and the newer rejected (expired) in the state that left,
+whether the arrival was scheduled (by its link latency) before or after the
+ES's expiry timer; when the ES's processing cost ends at ``t``, an event
+arriving at ``t`` is queued before it decides. The engine driven by
+:func:`run_deliveries`, the ES on the bus and an independent reference
+(tests/afsm_reference.py) agree, so what the dialog is told does not depend on latency.
 """
 
 from __future__ import annotations
@@ -17,7 +19,7 @@ from homesim.afsm.engine import EXPIRED, Applied, Delivery, Engine, Event, Rejec
 from homesim.afsm.loader import loads
 from homesim.network import LinkModel
 from homesim.sim import Simulation
-from robot.supervisor import EVENT_CHANNEL, ExecutionSupervisor, event_xml
+from robot.supervisor import ES_EVENTS, ExecutionSupervisor, event_xml
 from .conftest import examples
 
 MS = 1_000_000
@@ -50,28 +52,23 @@ def outcome(recs) -> list[tuple]:
     return out
 
 
-MINIMAL = [("applied", "b", 20 * MS, "s0", "s1")]
-EXPIRED_IN_S0 = ("rejected", "a", 20 * MS, "s0", EXPIRED)
+# b (older) is applied first; a, whose lifetime ends at that very instant, is rejected in s1.
+MINIMAL = [("applied", "b", 20 * MS, "s0", "s1"), ("rejected", "a", 20 * MS, "s1", EXPIRED)]
 
 
-def test_minimal_case_run_deliveries_rejects_the_expired_event_in_the_state_it_waited_in():
-    """a (created 10 ms, lifetime 10 ms, delivered 10 ms) is dead at 20 ms, when b (created 5 ms) arrives."""
+def test_minimal_case_run_deliveries_scans_from_the_oldest_at_the_instant():
+    """a (created 10 ms, lifetime 10 ms, delivered 10 ms) expires at 20 ms, when b (created 5 ms) arrives."""
     recs = run_deliveries(Engine(machine()), [Delivery(ev("a", 10, 10), 10 * MS), Delivery(ev("b", 5), 20 * MS)])
-    assert outcome(recs) == [EXPIRED_IN_S0, *MINIMAL]
+    assert outcome(recs) == MINIMAL
 
 
-def test_minimal_case_engine_gives_the_same_records_whichever_is_handled_first():
-    """Expiry processed before the arrival is queued, or after: the same records, in the same order."""
-    first = Engine(machine())
-    first.queue(ev("a", 10, 10), 10 * MS)
-    first.process(10 * MS)
-    recs_a = first.process(20 * MS) + (first.queue(ev("b", 5), 20 * MS) and first.process(20 * MS))
-    second = Engine(machine())
-    second.queue(ev("a", 10, 10), 10 * MS)
-    second.process(10 * MS)
-    second.queue(ev("b", 5), 20 * MS)  # queued before the expiry is processed
-    recs_b = second.process(20 * MS)
-    assert outcome(recs_a) == outcome(recs_b) == [EXPIRED_IN_S0, *MINIMAL]
+def test_minimal_case_engine_scans_from_the_oldest_expired_where_it_is_reached():
+    """The arrival queued before the instant is processed: b applied, then a rejected (expired) in s1."""
+    engine = Engine(machine())
+    engine.queue(ev("a", 10, 10), 10 * MS)
+    engine.process(10 * MS)
+    engine.queue(ev("b", 5), 20 * MS)
+    assert outcome(engine.process(20 * MS)) == MINIMAL
 
 
 # ------------------------------------------------------------------ on the bus
@@ -87,13 +84,13 @@ def run_on_bus(events: list[tuple[str, int, int | None, int, int]], *, cost: flo
         sim.network.add_host("es", link="zero")
         es = ExecutionSupervisor(sim, machine(), host="es", cost=cost, heartbeat=None)
         arrivals: list[str] = []
-        es.bus.subscribe(EVENT_CHANNEL, lambda m: arrivals.append(m.id))
+        es.bus.subscribe(ES_EVENTS, lambda m: arrivals.append(m.id))
         for i, (name, created, lifetime, published, delay) in enumerate(events):
             sim.network.set_link(LinkModel(f"l{i}", delay / 1e9, delay / 1e9))
             sim.network.add_host(f"h{i}", link=f"l{i}")
             who = sim.bus.participant(f"p{i}", host=f"h{i}")
             xml = event_xml(name, lifetime=None if lifetime is None else lifetime / 1e9)
-            sim.loop.call_at_ns(published, lambda w=who, x=xml, c=created: w.publish(EVENT_CHANNEL, x, created=c / 1e9))
+            sim.loop.call_at_ns(published, lambda w=who, x=xml, c=created: w.publish(ES_EVENTS, x, created=c / 1e9))
         sim.start()
         sim.run(until=2.0)
         return list(es.engine.history), arrivals
@@ -103,11 +100,12 @@ def run_on_bus(events: list[tuple[str, int, int | None, int, int]], *, cost: flo
 
 def test_minimal_case_on_the_bus_does_not_depend_on_the_link_latency():
     """b arrives at 20 ms: sent at 5 ms over a 15 ms link (scheduled before the ES's expiry timer) or
-    at 19 ms over a 1 ms link (scheduled after it). Both: a expired in s0, then b applied."""
+    at 19 ms over a 1 ms link (scheduled after it). Both: b applied, then a expired in s1."""
     a = ("a", 10 * MS, 10 * MS, 10 * MS, 0)
     for b in [("b", 5 * MS, None, 5 * MS, 15 * MS), ("b", 5 * MS, None, 19 * MS, 1 * MS)]:
-        recs, _ = run_on_bus([a, b])
-        assert outcome(recs) == [EXPIRED_IN_S0, *MINIMAL]
+        for cost in (0.0, 0.003):
+            recs, _ = run_on_bus([a, b], cost=cost)
+            assert outcome(recs) == MINIMAL
 
 
 def test_an_event_arriving_when_the_cost_ends_is_queued_before_the_next_decision():
@@ -172,3 +170,74 @@ def test_the_supervisors_decisions_do_not_depend_on_link_latency(stream, data, c
                       for i, (name, created, lifetime, at) in enumerate(stream)]
         want = run_deliveries(Engine(machine()), deliveries)
         assert outcome(one) == outcome(want)
+
+
+# ------------------------------------------------- arrivals and expiries on shared instants
+@st.composite
+def shared_instants(draw, names=("a", "b", "c")):
+    """(name, created, lifetime, arrival) in ns, every creation time distinct (ties would fall to delivery
+    order); arrivals are forced onto instants where another event expires or another arrives."""
+    out: list[tuple[str, int, int | None, int]] = []
+    created_used: set[int] = set()
+    for _ in range(draw(st.integers(1, 8))):
+        name = draw(st.sampled_from(names))
+        lifetime = draw(st.one_of(st.none(), st.integers(1, 10)))  # ms; None: the machine's default
+        expiries = sorted({(c + lt) // MS for _, c, lt, _ in out if lt is not None})
+        arrivals = sorted({at // MS for *_, at in out})
+        fresh = st.integers(1, 16)
+        choices = [fresh] + ([st.sampled_from(expiries)] * 2 if expiries else []) + ([st.sampled_from(arrivals)] if arrivals else [])
+        at = draw(st.one_of(*choices))
+        free = [c for c in range(0, at + 1) if c not in created_used]
+        if not free:
+            continue
+        created = draw(st.sampled_from(free[-11:]))
+        created_used.add(created)
+        out.append((name, created * MS, None if lifetime is None else lifetime * MS, at * MS))
+    return out
+
+
+def _ref(m, stream, ids, until):
+    from .afsm_reference import reference_run
+
+    return reference_run(m, [(i, name, created, lifetime, None, at) for i, (name, created, lifetime, at) in zip(ids, stream)], until)
+
+
+def _timed(recs) -> list[tuple]:
+    out = []
+    for r in recs:
+        if isinstance(r, Applied):
+            out.append((r.at_ns, "applied", r.event.id, r.target_state, ""))
+        elif isinstance(r, Rejected):
+            out.append((r.at_ns, "rejected", r.event.id, r.state, r.reason))
+    return out
+
+
+@settings(max_examples=examples(100, 1000), deadline=None)
+@given(st.data())
+def test_the_engine_at_shared_instants_follows_the_reference(data):
+    """Random machines, arrivals and expiries forced onto the same instants: run_deliveries gives the
+    independent reference's records (every arrival of an instant queued, then one scan from the oldest)."""
+    from homesim.afsm.strategies import EVENT_NAMES, machines
+
+    m = data.draw(machines())
+    stream = data.draw(shared_instants(names=EVENT_NAMES))
+    ids = [f"e{i}" for i in range(len(stream))]
+    until = 2_000 * MS
+    deliveries = [Delivery(Event(i, name, "dialog", created, lifetime), at) for i, (name, created, lifetime, at) in zip(ids, stream)]
+    got = _timed(run_deliveries(Engine(m), deliveries, until_ns=until))
+    assert got == _ref(m, stream, ids, until)
+
+
+@settings(max_examples=examples(60, 400), deadline=None)
+@given(shared_instants(), st.data(), st.sampled_from([0.0, 0.003, 0.010]))
+def test_the_supervisor_at_shared_instants_does_not_depend_on_latency(stream, data, cost):
+    """Several arrivals and expiries on one instant, random link delays: the same records; with no
+    processing cost, the reference's."""
+    fraction = st.one_of(st.sampled_from([0, 1000]), st.integers(0, 1000))
+    fractions = st.lists(fraction, min_size=len(stream), max_size=len(stream))
+    one, _ = run_on_bus(split(stream, data.draw(fractions)), cost=cost)
+    two, _ = run_on_bus(split(stream, data.draw(fractions)), cost=cost)
+    assert [record_dict(r) for r in one] == [record_dict(r) for r in two]
+    assert len([r for r in one if r.kind != "retained"]) == len(stream)
+    if cost == 0.0:
+        assert _timed(one) == _ref(machine(), stream, [f"p{i}#1" for i in range(len(stream))], 2_000 * MS)

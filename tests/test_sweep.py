@@ -74,3 +74,36 @@ def test_the_aggregate_counts_passes_and_spreads_metrics():
     assert (a["runs"], a["passed"], a["failed"], a["errors"]) == (3, 1, 1, 1)
     assert a["pass_rate"] == pytest.approx(1 / 3)
     assert a["metrics"]["m"] == {"mean": 2.0, "std": 1.0, "n": 2}
+
+
+def test_seed_parsing_is_linear_and_bounded():
+    """Parsing takes time in proportion to the seeds (0-99999 was quadratic: 56 s); a sweep has a bound.
+
+    (No timing here: the test suite would take the old parser's 56 s.)"""
+    from homesim.tour.sweep import MAX_SEEDS
+
+    seeds = parse_seeds("0-99999")
+    assert seeds == list(range(100_000))
+    assert parse_seeds("5-9,0-99999,3") == [5, 6, 7, 8, 9] + [s for s in range(100_000) if not 5 <= s <= 9]
+    ranges = ",".join(f"{k * 99_999}-{k * 99_999 + 99_998}" for k in range(MAX_SEEDS // 99_999 + 1))
+    with pytest.raises(OptionError, match="more than"):
+        parse_seeds(ranges)
+
+
+def test_a_sweep_with_an_invalid_scenario_gives_error_rows_and_goes_on(tmp_path, capsys):
+    from homesim.cli import main
+
+    broken = tmp_path / "broken.xml"
+    broken.write_text("<scenario name='broken'>\n<oops></scenario>", encoding="utf-8")
+    code = main(["sweep", str(EXAMPLE), str(broken), "--seeds", "0-1", "--until", str(UNTIL), "--workers", "1",
+                 "--out", str(tmp_path / "out")])
+    captured = capsys.readouterr()
+    assert code == 1, captured
+    refusals = [line for line in captured.err.splitlines() if "error:" in line]
+    assert len(refusals) == 1 and f"{broken}:2" in refusals[0], captured.err
+    doc = json.loads((tmp_path / "out" / "sweep.json").read_text(encoding="utf-8"))
+    verdicts = {(r["scenario"], r["seed"]): r["verdict"] for r in doc["runs"]}
+    assert verdicts == {("broken", 0): ERROR, ("broken", 1): ERROR, ("two_people_radio", 0): "not checked",
+                        ("two_people_radio", 1): "not checked"}
+    assert all(f"{broken}:2" in r["error"] for r in doc["runs"] if r["scenario"] == "broken")
+    assert "two_people_radio: 0/2 pass" in captured.out and "broken: 0/2 pass (0 %), 0 fail, 2 error" in captured.out

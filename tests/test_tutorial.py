@@ -3,8 +3,8 @@
 The scratch directory links the repository's ``scenarios``, ``robot`` and
 ``notebooks``; ``.venv/bin/homesim`` (and ``.venv/bin/python``,
 ``.venv/bin/jupyter``) there run this test's interpreter, so the tutorial's
-own command lines run unchanged. The XML block is saved where the text says
-(``out/hello.xml``). Only the install line is not run here (the README's
+own command lines run unchanged. Each XML block is saved where the text says
+("Save it as ``out/hello.xml``"). Only the install line is not run here (the README's
 quick start and CI run it). The tutorial is the README's section
 ``## Tutorial: homesim from zero`` (the issue: the README grows it).
 """
@@ -24,6 +24,9 @@ README = (ROOT / "README.md").read_text(encoding="utf-8")
 HEADING = "\n## Tutorial: homesim from zero\n"
 TUTORIAL = README[README.index(HEADING):].split("\n## ", 2)[1] if HEADING in README else ""
 BLOCKS = re.findall(r"```(\w*)\n(.*?)```", TUTORIAL, re.S)
+#: Where each XML block is saved: the "Save it as `out/...`" before it (out/hello.xml by default).
+SAVE_AS = [(re.findall(r"Save it as `(out/[\w.-]+)`", TUTORIAL[:m.start()]) or ["out/hello.xml"])[-1]
+           for m in re.finditer(r"```xml\n", TUTORIAL)]
 INSTALL = re.compile(r"^python3 -m venv ")
 
 
@@ -69,9 +72,11 @@ def test_the_tutorial_covers_what_the_issue_asks():
 @pytest.mark.slow
 def test_every_step_of_the_tutorial_runs(scratch):
     env = {**os.environ, "PYTHONPATH": str(ROOT)}
+    xml_blocks = 0
     for kind, code in steps():
         if kind == "xml":
-            (scratch / "out" / "hello.xml").write_text(code, encoding="utf-8")
+            (scratch / SAVE_AS[xml_blocks]).write_text(code, encoding="utf-8")
+            xml_blocks += 1
             continue
         if kind == "bash" and "jupyter execute" in code:
             continue  # tests/test_notebooks.py executes every notebook in a Jupyter kernel already

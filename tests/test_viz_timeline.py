@@ -88,9 +88,17 @@ def test_the_greeting_shows_recognition_then_a_fast_supervisor(tour):
     heard = next(m for m in tl.messages if m.label == "utterance hello biron")
     recognising = next(s for s in tl.spans if s.cause == heard.id)
     assert recognising.lane == "understanding" and recognising.end - recognising.start > 0.2  # speech takes longest
+    assert recognising.kind == "speech recognition"
+    detecting = next(s for s in tl.spans if s.effect == heard.id)  # while she spoke: speech detection
+    assert detecting.kind == "speech detection" and detecting.lane == "microphones" and detecting.end == heard.t
     es = [s for s in tl.spans if s.lane == "supervisor" and s.cause == greeting.id]
-    assert es and all(s.end - s.start < 0.02 for s in es)  # the ES reconfigures in under 20 ms (Fig. 6)
-    # the greeting chain runs down the lanes: microphones, understanding, dialog
+    assert es and all(s.end - s.start < 0.02 and s.kind == "ES reconfiguration" for s in es)  # under 20 ms (Fig. 6)
+    # lanes grouped by host (the papers' deployment): pc1's modules, then pc2's, then the laptop's
+    hosts = [tl.hosts[name] for name in tl.lanes]
+    assert hosts == sorted(hosts, key=["pc1", "pc2", "laptop"].index) and tl.hosts["dialog"] == "laptop"
+    # the greeting crosses the WLAN (laptop -> pc1), a potential-partner event does not
+    assert tl.crosses_slow_link("dialog", "supervisor") and not tl.crosses_slow_link("person_attention", "supervisor")
+    # the greeting chain runs down the lanes: microphones (pc1), understanding, dialog (the laptop)
     assert tl.lanes.index("microphones") < tl.lanes.index("understanding") < tl.lanes.index("dialog")
     assert any(m.continuous and m.channel == "/robot/laser/scan" for m in tl.messages)
     assert not any(m.channel.startswith("/system/heartbeat/") for m in tl.messages)
@@ -103,7 +111,8 @@ def test_plot_timeline_writes_png_and_the_same_svg_twice(tour, tmp_path, capsys)
     assert "processing spans" in capsys.readouterr().out
     svg = a.read_text(encoding="utf-8")
     assert a.read_bytes() == b.read_bytes()
-    for text in ("B: greeting", "understanding", "continuous stream", "processing (cause delivered"):
+    for text in ("B: greeting", "understanding", "continuous stream", "processing (cause delivered", "speech recognition",
+                 "over the slowest link (WLAN)", "laptop"):
         assert text in svg, text
     assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
 

@@ -407,6 +407,25 @@ def test_close_reports_failing_cleanup():
     assert loop.is_closed()
 
 
+def test_a_spawned_task_outlives_the_garbage_collector():
+    """asyncio holds tasks weakly; a spawned one waiting on nothing must still be there to clean up."""
+    import gc
+
+    loop = VirtualEventLoop()
+
+    async def module():
+        try:
+            await asyncio.sleep(math.inf)
+        finally:
+            raise RuntimeError("cleanup broke")
+
+    loop.spawn(module(), name="module")
+    loop.run(until=1)
+    gc.collect()
+    with pytest.raises(TaskFailedError, match="cleanup broke"):
+        loop.close()
+
+
 def test_an_unawaited_task_that_dies_fails_the_run(loop):
     async def fuse():
         await asyncio.sleep(1)

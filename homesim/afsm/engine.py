@@ -9,23 +9,22 @@ The rules, exactly:
 
 * The queue is ordered by creation time; ties keep arrival order. An event
   created earlier but delivered later is inserted before newer ones.
-* :meth:`process` first rejects, as *expired*, every queued event with
-  ``now >= created + lifetime`` (oldest first, in the state held before
-  anything else is decided at ``now``: the same-instant rule below); then it
-  scans from the oldest event. For each event: (1) (expiry, done already);
-  (2) if the current state (or, failing that, an enclosing state, as
+* :meth:`process` scans from the oldest event. For each event: (1) if
+  ``now >= created + lifetime`` it is removed and rejected as *expired* (in
+  the state the scan has reached); (2) if the current state (or, failing that, an enclosing state, as
   in SCXML) has a transition on its name whose guard holds, it is removed,
   the transition's sends are evaluated, the state changes, and the scan
   restarts from the oldest; (3) else if any transition on its name is
   written on the current *category* (the innermost compound state around
   the current state) or on any state inside it, it is *retained*; (4) else
   it is removed and rejected as *inapplicable*.
-* The same-instant rule (``docs/semantics.md`` §2): at one instant, expiry
-  comes first. An event whose lifetime ends at ``t`` is already dead at
-  ``t``, so it is rejected in the state the ES held as ``t`` began, before an
-  event arriving at ``t`` is queued or any transition is taken at ``t``.
-  Whether the caller processes the expiry before or after queueing a
-  same-instant arrival then changes nothing (link latency can't reorder it).
+* The same-instant rule (``docs/semantics.md`` §2): the caller queues every
+  event arriving at an instant ``t`` before it processes ``t`` (expiries of
+  ``t`` included); the scan then takes the oldest first, so an older event
+  arriving at the very instant a newer one expires is applied first and the
+  newer one is rejected in the state that transition left. Which arrival's
+  delivery was scheduled first (link latency) changes nothing.
+  :func:`run_deliveries` and the supervisor do so.
 * :meth:`next_deadline` is the earliest expiry among queued events: call
   :meth:`process` then, and expired events are rejected exactly at their
   expiry.
@@ -48,13 +47,14 @@ import math
 from bisect import insort
 from collections import deque
 from collections.abc import Callable
+from copy import deepcopy
 from dataclasses import dataclass, field
 from typing import Any, NamedTuple
 
 from lxml import etree
 
 from ..errors import AFSMModificationRefused, AFSMProblems, ClockError, SupervisorError
-from .model import Machine, Send, Transition, merge, validate
+from .model import MAX_LIFETIME_NS, Machine, Send, Transition, _lifetime_ok, merge, validate
 
 #: Largest event payload (elements, the root included) the ES evaluates guards
 #: on. With the model's limit of MAX_XPATH_DEEP_STEPS (2) descendant steps per
@@ -78,6 +78,8 @@ WAITING = "waiting"
 RETAINED = "retained"
 
 ParamValue = str | tuple[Any, ...]
+#: One stored item (es:store): an element (a detached copy) or a string.
+ParamValueItem = Any
 
 
 @dataclass(slots=True)
@@ -176,6 +178,9 @@ class _Compiled:
     target_leaf: str  # the leaf entered (the source leaf for targetless)
     guard: Callable[[Any], Any] | None
     sends: tuple[tuple[Send, tuple[tuple[str, Callable[[Any], Any]], ...]], ...]
+    # es:store: (name, XPath, append); es:with per send: per parameter the stored names ((): none)
+    stores: tuple[tuple[str, Callable[[Any], Any], bool], ...] = ()
+    withs: tuple[tuple[tuple[str, ...], ...], ...] = ()
 
 
 class _Tables:
@@ -202,7 +207,10 @@ class _Tables:
                 for t in m.states[owner].transitions:
                     target = leaf if t.target is None else m.resolve_leaf(t.target)
                     sends = tuple((s, tuple((p.name, xp(p.expr)) for p in s.params)) for s in t.sends)
-                    comp = _Compiled(t, owner, target, xp(t.cond) if t.cond is not None else None, sends)
+                    stores = tuple((sto.name, xp(sto.expr), sto.append) for sto in t.stores)
+                    withs = tuple(tuple(p.stored for p in s.params) for s in t.sends)
+                    comp = _Compiled(t, owner, target, xp(t.cond) if t.cond is not None else None, sends, stores,
+                                     withs if any(w for ws in withs for w in ws) else ())
                     table.setdefault(t.event, []).append(comp)
             self.candidates[leaf] = {k: tuple(v) for k, v in table.items()}
             cat = m.category_of(leaf)
@@ -232,6 +240,8 @@ class Engine:
         self._now = -math.inf
         self.history: deque[Record] = deque(maxlen=history)
         self.counts = {"queued": 0, "applied": 0, "expired": 0, "inapplicable": 0}
+        #: es:store: data copied out of applied events, by name (survives replace/extend).
+        self.stored: dict[str, tuple[ParamValueItem, ...]] = {}
 
     # ------------------------------------------------------------- queries
     @property
@@ -300,6 +310,9 @@ class Engine:
         if too_big is not None:
             raise SupervisorError(f"event {event.id!r} ({event.name}): {too_big}")
         lifetime = event.lifetime_ns
+        if lifetime is not None and not _lifetime_ok(lifetime):
+            raise SupervisorError(f"event {event.id!r} ({event.name}): lifetime {lifetime!r:.40} ns is not an integer "
+                                  f"in 1 to {MAX_LIFETIME_NS} ns (an hour)")
         if lifetime is None:
             lifetime = self._tables.machine.lifetime_ns(event.name)
             # the caller's event is left as it was; records carry this copy
@@ -320,7 +333,8 @@ class Engine:
         transitions take time (the supervisor's processing cost) calls again
         at the virtual time the next decision can be taken.
         """
-        records: list[Record] = self.expire(now_ns)  # type: ignore[assignment]  # (a new list) expiry first: the same-instant rule
+        self._advance(now_ns)
+        records: list[Record] = []
         if not self._queue:
             return records
         applied = 0
@@ -330,6 +344,10 @@ class Engine:
         while i < len(q):
             item = q[i]
             ev = item.event
+            if now_ns >= item.expires_ns:  # (1) expired: rejected in the state the scan has reached
+                del q[i]
+                records.append(self._reject(item, now_ns, EXPIRED, f"lifetime ended at {item.expires_ns} ns"))
+                continue
             comp = None
             cands = tables.candidates[self.state].get(ev.name)
             if cands is not None:
@@ -398,14 +416,36 @@ class Engine:
         outputs: tuple[Output, ...] = ()
         if comp.sends:
             payload = ev.payload
-            outputs = tuple([
-                Output(s.kind, s.target, s.name, tuple([(name, _param_value(f, payload)) for name, f in params]), ev.id)
-                for s, params in comp.sends
-            ])
+            if comp.withs:
+                outputs = tuple([
+                    Output(s.kind, s.target, s.name, tuple([
+                        (name, self._with(ws, _param_value(f, payload))) for (name, f), ws in zip(params, withs)]), ev.id)
+                    for (s, params), withs in zip(comp.sends, comp.withs)
+                ])
+            else:
+                outputs = tuple([
+                    Output(s.kind, s.target, s.name, tuple([(name, _param_value(f, payload)) for name, f in params]), ev.id)
+                    for s, params in comp.sends
+                ])
+        if comp.stores:
+            for name, f, append in comp.stores:
+                value = _param_value(f, ev.payload)
+                items = tuple(deepcopy(x) if isinstance(x, etree._Element) else x
+                              for x in (value if isinstance(value, tuple) else ((value,) if value else ())))
+                self.stored[name] = (self.stored.get(name, ()) + items) if append else items
         rec = Applied(now_ns, ev, self.state, comp.target_leaf, comp.owner, outputs)
         self.state = comp.target_leaf
         self.history.append(rec)
         return rec
+
+    def _with(self, names: tuple[str, ...], value: ParamValue) -> ParamValue:
+        """``value`` after the stored data ``names`` (es:with), concatenated in order."""
+        if not names:
+            return value
+        items: tuple[ParamValueItem, ...] = ()
+        for n in names:
+            items += self.stored.get(n, ())
+        return items + (value if isinstance(value, tuple) else ((value,) if value else ()))
 
     # -------------------------------------------------------- modification
     def replace(self, machine: Machine) -> None:
@@ -508,21 +548,24 @@ class Delivery:
 def run_deliveries(engine: Engine, deliveries: list[Delivery], *, until_ns: int | None = None) -> list[Record]:
     """Drive ``engine`` as the supervisor does, without a loop: all records, in order.
 
-    Deliveries are taken in order of arrival (ties: list order). Before each
-    arrival the engine is processed at every expiry deadline that comes first,
-    and events expiring at the arrival's instant are rejected, so expired
-    events are rejected exactly at their expiry and before anything arriving
-    then (the same-instant rule); then the event is queued and processed. Afterwards deadlines are followed up to ``until_ns``
+    Deliveries are taken in order of arrival (ties: list order). Before the
+    arrivals of an instant the engine is processed at every expiry deadline
+    that comes first (expired events are rejected exactly at their expiry);
+    then every event arriving at that instant is queued and the engine is
+    processed once (the same-instant rule: expiries at that instant too, each
+    where the scan from the oldest reaches it). Afterwards deadlines are followed up to ``until_ns``
     (every remaining one when None). Raises :class:`ClockError` if an arrival
     lies before the engine's current time.
     """
     records: list[Record] = []
     order = sorted(range(len(deliveries)), key=lambda k: (deliveries[k].at_ns, k))
-    for k in order:
+    for j, k in enumerate(order):
         d = deliveries[k]
-        _follow_deadlines(engine, d.at_ns, records, inclusive=False)
-        records.extend(engine.expire(d.at_ns))  # the same-instant rule: expiry at the arrival's instant first
+        if j == 0 or deliveries[order[j - 1]].at_ns != d.at_ns:  # the instant's first arrival
+            _follow_deadlines(engine, d.at_ns, records, inclusive=False)
         engine.queue(d.event, d.at_ns)
+        if j + 1 < len(order) and deliveries[order[j + 1]].at_ns == d.at_ns:
+            continue  # the same-instant rule: every arrival of the instant is queued before it is processed
         records.extend(engine.process(d.at_ns))
     _follow_deadlines(engine, until_ns, records, inclusive=True)
     if until_ns is not None:

@@ -50,6 +50,7 @@ from .model import (
     Param,
     Send,
     State,
+    Store,
     Transition,
     validate,
 )
@@ -238,6 +239,7 @@ REQUIRED_ATTRIBUTES = {
     _S + "param": ("name", "expr"),
     _E + "module": ("name", "layer"),
     _E + "event": ("name",),
+    _E + "store": ("name", "expr"),
 }
 
 #: Validation rounds of the schema pass (each takes out what the last one
@@ -445,12 +447,17 @@ def _build_state(m: Machine, el: etree._Element, parent: str | None, problems: l
 
 def _build_transition(el: etree._Element, source: str) -> Transition:
     sends = []
+    stores = []
     for s in el:
+        if s.tag == _E + "store":
+            stores.append(Store(s.get("name"), s.get("expr"), s.get("append") in ("true", "1"), s.sourceline, source))
+            continue
         if s.tag != _S + "send":
             continue
-        params = tuple(Param(p.get("name"), p.get("expr"), p.sourceline, source) for p in s if p.tag == _S + "param")
+        params = tuple(Param(p.get("name"), p.get("expr"), p.sourceline, source, tuple((p.get(_E + "with") or "").split()))
+                       for p in s if p.tag == _S + "param")
         sends.append(Send(s.get(_E + "kind"), s.get("target"), s.get("event"), params, s.sourceline, source))
-    return Transition(el.get("event"), el.get("target"), el.get("cond"), tuple(sends), el.sourceline, source)
+    return Transition(el.get("event"), el.get("target"), el.get("cond"), tuple(sends), el.sourceline, source, tuple(stores))
 
 
 # --------------------------------------------------------------- public API
@@ -560,7 +567,13 @@ def _dump_state(m: Machine, parent: etree._Element, sid: str) -> None:
             se = etree.SubElement(te, _S + "send", event=s.name, target=s.target)
             se.set(_E + "kind", s.kind)
             for p in s.params:
-                etree.SubElement(se, _S + "param", name=p.name, expr=p.expr)
+                pe = etree.SubElement(se, _S + "param", name=p.name, expr=p.expr)
+                if p.stored:
+                    pe.set(_E + "with", " ".join(p.stored))
+        for sto in t.stores:
+            sx = etree.SubElement(te, _E + "store", name=sto.name, expr=sto.expr)
+            if sto.append:
+                sx.set("append", "true")
     for child in st.children:
         _dump_state(m, el, child)
 

@@ -40,6 +40,9 @@ LAYER_OF_KIND = {CONDITION: ("deliberative",), ORDER: ("intermediate", "reactive
 #: Lifetime used for events whose name has no declared lifetime and that carry
 #: none themselves (seconds, as integer nanoseconds).
 DEFAULT_LIFETIME_NS = 5_000_000_000
+#: Longest event lifetime (one hour, as the event schema's ``lifetime``): an event the ES keeps longer
+#: than any home tour is a mistake, and an unbounded one overflows every clock it meets.
+MAX_LIFETIME_NS = 3600 * 1_000_000_000
 
 _EVENT_NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_.\-]*$")
 #: A module name: an XML NCName (letters, digits, ``_ . -``, not starting with a
@@ -49,12 +52,32 @@ _MODULE_NAME = re.compile(r"^[^\W\d][\w.\-]*$")
 
 @dataclass(frozen=True, slots=True)
 class Param:
-    """One parameter of an order/condition: ``expr`` is an XPath on the event payload."""
+    """One parameter of an order/condition: ``expr`` is an XPath on the event payload.
+
+    ``stored`` (``es:with``): names of data stored by earlier transitions
+    (:class:`Store`); the parameter's value is their contents, in this order,
+    followed by what ``expr`` selects now (the ES copies data, it does not
+    interpret it).
+    """
 
     name: str
     expr: str
     line: int | None = field(default=None, compare=False)  # where it was written; not part of its meaning
     file: str | None = field(default=None, compare=False)  # the file it was written in (None: the machine's)
+    stored: tuple[str, ...] = ()
+
+
+@dataclass(frozen=True, slots=True)
+class Store:
+    """``<es:store name expr>`` on a transition: keep a copy of what ``expr`` selects in the event,
+    under ``name``, for later transitions' parameters (``es:with``); ``append``: add to what is
+    stored instead of replacing it."""
+
+    name: str
+    expr: str
+    append: bool = False
+    line: int | None = field(default=None, compare=False)
+    file: str | None = field(default=None, compare=False)
 
 
 @dataclass(frozen=True, slots=True)
@@ -79,6 +102,7 @@ class Transition:
     sends: tuple[Send, ...] = ()
     line: int | None = field(default=None, compare=False)  # where it was written; not part of its meaning
     file: str | None = field(default=None, compare=False)  # the file it was written in (None: the machine's)
+    stores: tuple[Store, ...] = ()  # es:store: data kept when the transition is taken (after its sends)
 
 
 @dataclass(slots=True)
@@ -309,6 +333,11 @@ def reachable_leaves(m: Machine) -> list[str]:
     return [sid for sid in m.leaves() if sid in seen]
 
 
+def _lifetime_ok(ns: Any) -> bool:
+    """A lifetime in integer nanoseconds, in (0, MAX_LIFETIME_NS]."""
+    return isinstance(ns, int) and not isinstance(ns, bool) and 0 < ns <= MAX_LIFETIME_NS
+
+
 def validate(m: Machine) -> list[AFSMError]:
     """Every semantic problem of ``m`` (empty list when it can run).
 
@@ -326,8 +355,8 @@ def validate(m: Machine) -> list[AFSMError]:
         return problems
     if m.initial is not None and m.initial not in m.states:
         add(_err(m, f"initial state {m.initial!r} does not exist (rule: initial names a state)", m, "scxml"))
-    if m.default_lifetime_ns <= 0:
-        add(_err(m, "default lifetime must be positive", m, "scxml"))
+    if not _lifetime_ok(m.default_lifetime_ns):
+        add(_err(m, f"default lifetime must be positive and at most {MAX_LIFETIME_NS // 10**9} s", m, "scxml"))
     for key, decl in m.modules.items():
         if not isinstance(decl.name, str) or not _MODULE_NAME.fullmatch(decl.name) or key != decl.name:
             add(_err(m, f"module name {decl.name!r} is not an NCName (rule: module names are XML NCNames, "
@@ -335,10 +364,22 @@ def validate(m: Machine) -> list[AFSMError]:
         if decl.layer not in LAYERS:
             add(_err(m, f"module {decl.name!r} has unknown layer {decl.layer!r} (one of {', '.join(LAYERS)})", decl, "es:module"))
     for decl in m.events.values():
-        if decl.lifetime_ns is not None and decl.lifetime_ns <= 0:
-            add(_err(m, f"event {decl.name!r}: lifetime must be positive", decl, "es:event"))
+        if decl.lifetime_ns is not None and not _lifetime_ok(decl.lifetime_ns):
+            add(_err(m, f"event {decl.name!r}: lifetime must be positive and at most {MAX_LIFETIME_NS // 10**9} s", decl, "es:event"))
         if decl.source is not None and decl.source not in m.modules:
             add(_err(m, f"event {decl.name!r} comes from unknown module {decl.source!r} (rule: declare it with <es:module>)", decl, "es:event"))
+    stored_names = {sto.name for _sid, t in m.transitions() for sto in t.stores}
+    for _sid, t in m.transitions():
+        for sto in t.stores:
+            why = _xpath_problem(sto.expr)
+            if why:
+                add(_err(m, f"es:store {sto.name!r}: {why}", sto, "es:store"))
+        for snd in t.sends:
+            for prm in snd.params:
+                for name in prm.stored:
+                    if name not in stored_names:
+                        add(_err(m, f"{snd.kind} {snd.name!r} parameter {prm.name!r} uses stored data {name!r} that no "
+                                    "transition stores (rule: es:with names an es:store)", prm, "param"))
     for st in m.states.values():
         if st.initial is not None and (st.initial not in m.states or st.initial == st.id or st.id not in m.ancestors(st.initial)):
             what = "does not exist" if st.initial not in m.states else f"is not inside {st.id!r}"

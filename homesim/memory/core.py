@@ -39,7 +39,7 @@ from typing import TYPE_CHECKING, Any, Union
 import numpy as np
 from lxml import etree
 
-from ..errors import MemoryQueryError, XMLInputError
+from ..errors import InputError, MemoryQueryError, MemoryStoreError, XMLInputError
 from ..xmlio import parse_bytes
 
 if TYPE_CHECKING:
@@ -229,6 +229,24 @@ class ActiveMemory:
         for iname, expr in (indexes or {}).items():
             self.add_index(iname, expr)
 
+    def check_loaded(self, check: Callable[[etree._Element], None]) -> None:
+        """Check every document loaded from the store with ``check`` (raising :class:`~homesim.errors.InputError`).
+
+        A stored document is input like any other (the file may have been
+        edited or written by another program): the first that fails stops the
+        run before anything uses it, with :class:`MemoryStoreError` naming the
+        store file, the memory, the document and what is wrong; nothing is
+        changed (the store is left as it is).
+        """
+        for doc_id in sorted(self._docs):
+            try:
+                check(self._docs[doc_id][0])
+            except InputError as exc:
+                where = self.store.path if self.store is not None else "<memory>"
+                raise MemoryStoreError(f"memory {self.name!r} document {doc_id} is not a valid stored document: {exc.message} "
+                                       "(the store was left as it is; correct or remove the document, or use another store)",
+                                       source=str(where)) from None
+
     # ------------------------------------------------------------ reading
     def __len__(self) -> int:
         return len(self._docs)
@@ -302,8 +320,8 @@ class ActiveMemory:
         att = own_attachments(attachments, source=f"<memory {self.name}>")
         keys = self._keys(own)
         doc_id = self._next_id
-        if self.store is not None:
-            self.store.put(self.name, doc_id, own, att, next_id=doc_id + 1)
+        if self.store is not None:  # the store allocates the id in its write transaction (another process may share it)
+            doc_id = self.store.insert(self.name, own, att, at_least=doc_id)
         self._next_id = doc_id + 1
         self._docs[doc_id] = (own, att)
         self._index(doc_id, keys)

@@ -4,7 +4,10 @@ One store file holds any number of named memories. Every change is its own
 transaction (``BEGIN IMMEDIATE`` ... ``COMMIT``, rollback journal,
 ``synchronous=FULL``): a document and its attachments are written together
 or not at all, and what was committed survives a killed process (SQLite
-rolls a hot journal back at the next open).
+rolls a hot journal back at the next open). A new document's id is allocated
+inside its write transaction from the counter on disk, so two processes
+writing to one store (two runs on one ``--memory`` directory) never replace
+each other's documents.
 
 The schema is versioned (``PRAGMA user_version``; ``application_id`` marks
 the file as a homesim memory store). An older store is migrated step by step
@@ -31,6 +34,7 @@ import os
 import sqlite3
 from collections.abc import Callable, Mapping
 from pathlib import Path
+from typing import TypeVar
 
 import numpy as np
 from lxml import etree
@@ -125,6 +129,11 @@ def decode_attachment(dtype: str, shape: str, data: bytes) -> Attachment:
     return arr
 
 
+_T = TypeVar("_T")
+#: Raise a memory's id counter to at least the given value (never lower it: another process may have raised it).
+_BUMP = ("INSERT INTO memories (name, next_id) VALUES (?, ?) "
+         "ON CONFLICT (name) DO UPDATE SET next_id = MAX(next_id, excluded.next_id)")
+
 LoadedDocs = dict[int, tuple[etree._Element, dict[str, Attachment]]]
 
 
@@ -151,7 +160,22 @@ class SqliteStore:
             self.path.parent.mkdir(parents=True, exist_ok=True)
         except OSError as exc:
             raise MemoryStoreError(f"cannot create the store's directory: {exc.strerror}", source=str(self.path)) from exc
+        self._check_writable()
         self._open()
+
+    def _check_writable(self) -> None:
+        """Refuse, before anything is read, a store this process could not write to (not at its first write, mid-run)."""
+        if self.path.exists():
+            try:
+                os.close(os.open(self.path, os.O_RDWR | getattr(os, "O_CLOEXEC", 0)))
+            except OSError as exc:
+                raise MemoryStoreError(
+                    f"the store file cannot be written ({exc.strerror}); a run writes what it learns to its store: "
+                    "make the file writable or use another directory (the file was left as it is)",
+                    source=str(self.path), kept_at=str(self.path)) from None
+        if not os.access(self.path.parent, os.W_OK | os.X_OK):
+            raise MemoryStoreError("the store's directory is not writable (SQLite writes its journal beside the store); "
+                                   "nothing was changed", source=str(self.path), kept_at=str(self.path))
 
     def _open_readonly(self) -> None:
         """Inspection (``homesim memory``): read, never write, move or migrate; refusals leave the file as it is."""
@@ -319,24 +343,66 @@ class SqliteStore:
         return docs, next_id
 
     # ------------------------------------------------------------ writing
-    def _tx(self, stmts: list[tuple[str, tuple]]) -> None:
-        db = self._db
-        if db is None:
+    def _writable(self) -> sqlite3.Connection:
+        if self._db is None:
             raise MemoryStoreError("the memory store is closed", source=str(self.path))
+        if self.readonly:
+            raise MemoryStoreError("the memory store was opened read-only", source=str(self.path))
+        return self._db
+
+    def _transaction(self, write: Callable[[], _T]) -> _T:
+        """``write()`` inside ``BEGIN IMMEDIATE`` ... ``COMMIT`` (the store's write lock; rolled back on failure)."""
+        db = self._writable()
         try:
             db.execute("BEGIN IMMEDIATE")
             try:
-                for sql, args in stmts:
-                    db.execute(sql, args)
+                result = write()
                 db.execute("COMMIT")
             except BaseException:
                 db.execute("ROLLBACK")
                 raise
         except sqlite3.Error as exc:
             raise MemoryStoreError(f"cannot write to the memory store (nothing was changed): {exc}", source=str(self.path)) from exc
+        return result
+
+    def _tx(self, stmts: list[tuple[str, tuple]]) -> None:
+        db = self._writable()
+
+        def write() -> None:
+            for sql, args in stmts:
+                db.execute(sql, args)
+
+        self._transaction(write)
+
+    def insert(self, memory: str, doc: etree._Element, attachments: Mapping[str, Attachment], *, at_least: int = 1) -> int:
+        """Write a new document with these attachments, in one transaction; return its id.
+
+        The id is allocated inside the write transaction, from the counter as
+        it is on disk (never below ``at_least``, the memory's own counter): two
+        processes writing to one store never get the same id, so neither
+        replaces what the other confirmed.
+        """
+        db = self._writable()
+        xml = serialize(doc)
+        rows = [(name, *encode_attachment(attachments[name])) for name in sorted(attachments)]
+
+        def write() -> int:
+            row = db.execute("SELECT next_id FROM memories WHERE name = ?", (memory,)).fetchone()
+            top = db.execute("SELECT MAX(id) FROM documents WHERE memory = ?", (memory,)).fetchone()[0]
+            doc_id = max(at_least, 1 if row is None else int(row[0]), 1 if top is None else int(top) + 1)
+            db.execute("INSERT INTO documents (memory, id, xml) VALUES (?, ?, ?)", (memory, doc_id, xml))
+            db.executemany("INSERT INTO attachments VALUES (?, ?, ?, ?, ?, ?)", [(memory, doc_id, *r) for r in rows])
+            db.execute(_BUMP, (memory, doc_id + 1))
+            return doc_id
+
+        return self._transaction(write)
 
     def put(self, memory: str, doc_id: int, doc: etree._Element, attachments: Mapping[str, Attachment], *, next_id: int) -> None:
-        """Write (insert or replace) one document with exactly these attachments, in one transaction."""
+        """Write (insert or replace) document ``doc_id`` with exactly these attachments, in one transaction.
+
+        The id counter on disk only grows (to ``next_id`` at least). A new document takes
+        :meth:`insert`, which allocates its id in the transaction.
+        """
         stmts: list[tuple[str, tuple]] = [
             ("INSERT OR REPLACE INTO documents (memory, id, xml) VALUES (?, ?, ?)", (memory, doc_id, serialize(doc))),
             ("DELETE FROM attachments WHERE memory = ? AND doc_id = ?", (memory, doc_id)),
@@ -344,7 +410,7 @@ class SqliteStore:
         for name in sorted(attachments):
             dtype, shape, data = encode_attachment(attachments[name])
             stmts.append(("INSERT INTO attachments VALUES (?, ?, ?, ?, ?, ?)", (memory, doc_id, name, dtype, shape, data)))
-        stmts.append(("INSERT OR REPLACE INTO memories (name, next_id) VALUES (?, ?)", (memory, next_id)))
+        stmts.append((_BUMP, (memory, next_id)))
         self._tx(stmts)
 
     def delete(self, memory: str, doc_id: int) -> None:

@@ -6,7 +6,12 @@ that do not overlap, furniture is convex, door gaps fit their walls, start
 poses lie inside a room and clear of walls and furniture, objects stand on
 what they say they stand on, radios only say and wait, a script never
 has actions after a ``repeat`` that runs for ever, and every ``repeat``
-contains an action that can take time and no ``leave``. Every door is
+contains an action that can take time and no ``leave``. A reaction
+(``<on>``) must end: no ``leave``, no ``repeat`` for ever, no ``wait-for``
+without a timeout in it, no ``<on>`` inside. Packages outside the kernel
+add checks of their own (e.g. the simulated people's: profile names,
+paraphrase banks, reactions that trigger each other for ever) through the
+``homesim.scenario_checks`` entry points, without the kernel naming them. Every door is
 wide enough for a person and not blocked; every fixed place a person walks
 to, and the exit they leave by, is reachable from where they start. The first
 problem found raises a :class:`ScenarioError` naming the file, the line
@@ -16,7 +21,9 @@ and the element.
 from __future__ import annotations
 
 import re
-from collections.abc import Iterable, Iterator
+from collections.abc import Callable, Iterable, Iterator
+from functools import lru_cache
+from importlib.metadata import entry_points
 
 import numpy as np
 
@@ -34,7 +41,25 @@ from ..geometry import (
     wall_rectangle,
 )
 from .pathplan import MIN_DOOR_WIDTH, WALKER_RADIUS, Grid, door_sides
-from .model import Action, Expectation, Face, Leave, PointAt, Repeat, Say, Scenario, Target, Wait, WaitFor, WalkTo, window_of
+from .model import (
+    GIVE_UPS,
+    REPAIR_STRATEGIES,
+    Action,
+    Expectation,
+    Face,
+    Leave,
+    PointAt,
+    Repeat,
+    Say,
+    Scenario,
+    StepCloser,
+    Target,
+    Wait,
+    WaitFor,
+    WaitSpeech,
+    WalkTo,
+    window_of,
+)
 
 ROBOT_RADIUS = 0.30
 HUMAN_RADIUS = 0.25
@@ -54,9 +79,21 @@ _TARGET_KINDS = {
 }
 
 
+#: Entry-point group of checks other packages add: ``check(scenario) -> None`` raising ScenarioError.
+CHECKS_GROUP = "homesim.scenario_checks"
+
+
+@lru_cache(maxsize=1)
+def extra_checks() -> tuple[Callable[[Scenario], None], ...]:
+    """The checks registered under :data:`CHECKS_GROUP` (by entry-point name order)."""
+    return tuple(ep.load() for ep in sorted(entry_points(group=CHECKS_GROUP), key=lambda e: e.name))
+
+
 def check(sc: Scenario) -> None:
     """Raise ScenarioError for the first semantic problem in ``sc``."""
     _Checker(sc).run()
+    for extra in extra_checks():
+        extra(sc)
 
 
 class _Checker:
@@ -119,6 +156,9 @@ class _Checker:
                 if np.hypot(h.x - other.x, h.y - other.y) < 2 * HUMAN_RADIUS:
                     raise self.fail(h.line, "human", f"human {h.name!r} starts on top of {other.name!r} (line {other.line})")
             self.script(h.script, h.name, person=True)
+            for hd in h.handlers:
+                self.handler_body(hd.body, h.name, hd.line)
+                self.script(hd.body, h.name, person=True)
         for s in sc.sources:
             self.inside_flat((s.x, s.y), s.line, s.kind, f"{s.kind} {s.name!r}")
             self.script(s.script, s.name, person=False)
@@ -197,9 +237,23 @@ class _Checker:
                 raise self.fail(act.line, tag, f"{owner!r} is a sound source: it can only say, wait, wait-for and repeat")
             if isinstance(act, (WalkTo, Face, PointAt)):
                 self.target(act.target, tag, act.line, owner)
+            elif isinstance(act, Say):
+                if not person and act.request is not None:
+                    raise self.fail(act.line, tag, f"{owner!r} is a sound source: it says text=, it has no paraphrase bank (request=)")
+            elif isinstance(act, StepCloser):
+                if act.nearest < ROBOT_RADIUS + HUMAN_RADIUS - 1e-9:
+                    raise self.fail(act.line, tag, f"nearest={act.nearest:g} m would put her on the robot: at least {ROBOT_RADIUS + HUMAN_RADIUS:g} m")
             elif isinstance(act, WaitFor):
-                if act.robot_says is None and act.robot_within is None:
-                    raise self.fail(act.line, tag, "wait-for needs robot-says or robot-within")
+                if act.robot_says is None and act.robot_within is None and act.hears is None:
+                    raise self.fail(act.line, tag, "wait-for needs robot-says or robot-within (or hears, a word pattern)")
+                if (act.repairs or act.patience is not None or act.give_up is not None) and act.robot_says is None and act.hears is None:
+                    raise self.fail(act.line, tag, "repairs=, patience= and give-up= need robot-says or hears (the answer she repairs for)")
+                if any(r not in REPAIR_STRATEGIES for r in act.repairs or ()):
+                    raise self.fail(act.line, tag, f"repairs: one or more of {', '.join(REPAIR_STRATEGIES)}")
+                if act.give_up is not None and act.give_up not in GIVE_UPS:
+                    raise self.fail(act.line, tag, f"give-up={act.give_up!r}: one of {', '.join(GIVE_UPS)}")
+                if act.give_up == "leave" and not self.sc.exits():
+                    raise self.fail(act.line, tag, 'give-up="leave": no door of the flat has exit="true"')
                 for key, pattern in (("robot-says", act.robot_says), ("repair", act.repair)):
                     if pattern is None:
                         continue
@@ -228,6 +282,19 @@ class _Checker:
                     raise self.fail(act.line, tag, "a repeat must wait, walk, point or say, or it never lets time pass")
                 self.script(act.body, owner, person=person, repeat=act)
 
+    def handler_body(self, actions: tuple[Action, ...], owner: str, line: int | None) -> None:
+        """A reaction must end: it cannot leave, repeat for ever or wait without a timeout."""
+        for act in _walk(actions):
+            tag = _action_tag(act)
+            if isinstance(act, Leave):
+                raise self.fail(act.line, tag, f"<leave> cannot be inside the <on> at line {line}: a reaction ends and {owner!r} carries on her script")
+            if isinstance(act, Repeat) and act.times is None:
+                raise self.fail(act.line, tag, f"a <repeat> for ever inside the <on> at line {line} never ends: give times=")
+            if isinstance(act, WaitFor) and act.timeout is None:
+                raise self.fail(act.line, tag, f"a wait-for without timeout= inside the <on> at line {line} may never end: give timeout=")
+            if isinstance(act, WaitFor) and act.give_up == "leave":
+                raise self.fail(act.line, tag, f'give-up="leave" cannot be inside the <on> at line {line}: a reaction ends and {owner!r} carries on her script')
+
     # ------------------------------------------------------------- walking
     def walkable(self) -> None:
         """Every door lets a person through; every fixed walk target and exit is reachable."""
@@ -242,7 +309,7 @@ class _Checker:
                     raise self.fail(d.line, "door", f"{what} cannot be walked through: walls or furniture next to it leave no room for a person ({WALKER_RADIUS:g} m radius)")
         for h in sc.humans:
             home = grid.component((h.x, h.y))
-            for act in _walk(h.script):
+            for act in _walk(h.script + tuple(a for hd in h.handlers for a in hd.body)):
                 if isinstance(act, WalkTo) and act.target.kind not in ("robot", "human"):
                     goal = self.fixed_point(act.target)
                     what = f"{act.target.kind} {act.target.name!r}" if act.target.name else f"({goal[0]:g}, {goal[1]:g})"
@@ -334,12 +401,14 @@ def _action_tag(act: Action) -> str:
         WaitFor: "wait-for",
         Leave: "leave",
         Repeat: "repeat",
+        WaitSpeech: "wait-speech",
+        StepCloser: "step-closer",
     }[type(act)]
 
 
 def _takes_time(actions: Iterable[Action]) -> bool:
     for a in _walk(actions):
-        if isinstance(a, (Wait, Say, WalkTo, PointAt, WaitFor)) and not (isinstance(a, Wait) and a.duration <= 0):
+        if isinstance(a, (Wait, Say, WalkTo, PointAt, WaitFor, StepCloser)) and not (isinstance(a, Wait) and a.duration <= 0):
             return True
     return False
 

@@ -20,6 +20,7 @@ from pathlib import Path
 
 from lxml import etree
 
+from ..deployment import Override, override_from_element
 from ..errors import InputError, ScenarioError
 from ..xmlio import Schema, load_schema, parse_bytes, parse_file
 from . import checks
@@ -32,6 +33,7 @@ from .model import (
     Face,
     Fault,
     Furniture,
+    Handler,
     HumanSpec,
     Leave,
     ObjectSpec,
@@ -43,12 +45,15 @@ from .model import (
     Say,
     Scenario,
     SourceSpec,
+    StepCloser,
     Target,
     Wait,
     WaitFor,
+    WaitSpeech,
     WalkTo,
     Wall,
 )
+from .wordpattern import PatternError, compile_words
 
 #: Where the scenario schema lives (the repository's ``scenarios/`` folder).
 SCHEMA_PATH = Path(__file__).resolve().parents[2] / "scenarios" / "scenario.xsd"
@@ -59,6 +64,9 @@ COORD_LIMIT = 1000.0
 MAX_TIME_S = 1e6
 
 _TARGET_KEYS = ("place", "room", "object", "furniture", "human", "robot", "point")
+
+#: A person's traits a scenario may give on <human> (overriding her profile's draws), in draw order.
+TRAIT_KEYS = ("voice", "distance", "speed", "patience", "off-axis", "pointing-error", "phrasing", "repairs", "give-up")
 
 
 def scenario_schema() -> Schema:
@@ -305,6 +313,7 @@ class _Builder:
             sources=tuple(self.sound_source(s) for s in _elements(sources_el)) if sources_el is not None else (),
             expectations=tuple(self.expectation(e) for e in _elements(expect_el)) if expect_el is not None else (),
             faults=tuple(Fault(_tag(f), f.get("module"), self.num(f, "at"), f.sourceline) for f in _elements(faults_el)) if faults_el is not None else (),
+            deployment=self.deployment(root.find("deployment")),
         )
 
     def robot(self, el: etree._Element) -> RobotSpec:
@@ -320,8 +329,18 @@ class _Builder:
             odometry_rate=self.num(el, "odometry-rate", 10.0),
             object_confusion=self.num(el, "object-confusion", 0.05),
             options=self.options(el),
+            profile=el.get("profile"),
             line=el.sourceline,
         )
+
+    def deployment(self, el: etree._Element | None) -> Override | None:
+        """The scenario's ``<deployment>`` override (children checked against the deployment schema)."""
+        if el is None:
+            return None
+        try:
+            return override_from_element(el, source=self.source)
+        except InputError as exc:
+            raise ScenarioError(exc.message, source=self.source, line=exc.line, element=exc.element) from exc
 
     def options(self, el: etree._Element) -> tuple[tuple[str, str], ...]:
         seen: dict[str, int] = {}
@@ -391,7 +410,27 @@ class _Builder:
             speed=self.num(el, "speed", 1.0),
             script=self.script(el.find("script")),
             line=el.sourceline,
+            profile=el.get("profile"),
+            traits=tuple((k, el.get(k)) for k in TRAIT_KEYS if el.get(k) is not None),
+            handlers=tuple(self.handler(h) for h in el.iterfind("on")),
+            speed_given=el.get("speed") is not None,
         )
+
+    def words(self, el: etree._Element, key: str) -> str | None:
+        """A word-pattern attribute, refused with its line and column when it is not one."""
+        raw = el.get(key)
+        if raw is None:
+            return None
+        try:
+            compile_words(raw)
+        except PatternError as exc:
+            raise self.fail(el, f"{key}={raw!r}: {exc}") from exc
+        return raw
+
+    def handler(self, el: etree._Element) -> Handler:
+        times = el.get("max")
+        return Handler(self.words(el, "hears") or "", tuple(self.action(a) for a in _elements(el)), when=el.get("when", "always"),
+                       max=None if times is None else int(times), line=el.sourceline)
 
     def sound_source(self, el: etree._Element) -> SourceSpec:
         return SourceSpec(
@@ -417,15 +456,32 @@ class _Builder:
         if tag == "face":
             return Face(self.target(el, allow_angle=True), body=self.flag(el, "body"), line=line)
         if tag == "say":
-            return Say(el.get("text"), loudness=self.opt(el, "loudness"), duration=self.opt(el, "duration"), line=line)
+            if el.get("text") is None and el.get("request") is None:
+                raise self.fail(el, "<say> needs text= or request= (a phrasing drawn from the paraphrase bank)")
+            if el.get("about") is not None and el.get("request") is None:
+                raise self.fail(el, "about= fills a bank phrasing's slot: it needs request=")
+            return Say(el.get("text"), loudness=self.opt(el, "loudness"), duration=self.opt(el, "duration"), line=line,
+                       request=el.get("request"), about=el.get("about"), wait=self.flag(el, "wait", True))
+        if tag == "wait-speech":
+            return WaitSpeech(line=line)
+        if tag == "step-closer":
+            return StepCloser(by=self.num(el, "by", 0.5), nearest=self.num(el, "nearest", 0.6), line=line)
         if tag == "point":
             return PointAt(self.target(el), duration=self.num(el, "duration", 2.0), line=line)
         if tag == "wait":
             return Wait(self.num(el, "for"), line=line)
         if tag == "wait-for":
             retries = el.get("retries")
+            repairs = el.get("repairs")
+            patience = el.get("patience")
+            if el.get("robot-says") is not None and el.get("hears") is not None:
+                raise self.fail(el, "give robot-says= (a regular expression) or hears= (a word pattern), not both")
+            if retries is not None and (repairs is not None or patience is not None or el.get("give-up") is not None):
+                raise self.fail(el, "retries= (the turn again, word for word) cannot be combined with repairs=, patience= or give-up=")
             return WaitFor(el.get("robot-says"), self.opt(el, "robot-within"), self.opt(el, "timeout"), line=line,
-                           retries=0 if retries is None else int(retries), repair=el.get("repair"))
+                           retries=0 if retries is None else int(retries), repair=el.get("repair"), hears=self.words(el, "hears"),
+                           repairs=None if repairs is None else (() if repairs == "none" else tuple(repairs.split())),
+                           patience=None if patience is None else int(patience), give_up=el.get("give-up"))
         if tag == "leave":
             return Leave(el.get("door"), line=line)
         if tag == "repeat":
@@ -461,7 +517,7 @@ class _Builder:
         elif tag == "event-applied":
             attrs += [("event", el.get("event")), ("state", el.get("state"))] + self.when(el)
         elif tag in ("object-learned", "place-learned"):
-            keys = ("type", "name", "owner", "colour", "attribute") if tag == "object-learned" else ("name",)
+            keys = ("type", "name", "owner", "colour", "attribute", "use") if tag == "object-learned" else ("name",)
             attrs += [(k, el.get(k)) for k in keys if el.get(k) is not None]
             if not attrs:
                 raise self.fail(el, f"<{tag}> needs at least one of {', '.join(keys)}")

@@ -9,6 +9,8 @@ seconds, radians (the XML says degrees; the loader converts).
 
 from __future__ import annotations
 
+from ..deployment import Override
+
 from dataclasses import dataclass
 from typing import Union
 
@@ -119,10 +121,22 @@ class Face:
 
 @dataclass(frozen=True)
 class Say:
-    text: str
+    """Say ``text``, or a phrasing of ``request`` drawn from the person's paraphrase bank.
+
+    ``about`` fills the bank phrasing's ``{about}`` slot ("the kitchen",
+    "my favourite cup"). With ``text`` and ``request`` both given, the text is
+    said first and rephrasings come from the bank. ``wait=False`` does not
+    freeze the person: the next action starts while she talks (``wait-speech``
+    waits for the end).
+    """
+
+    text: str | None
     loudness: float | None = None  # dB SPL at 1 m; None: the speaker's own (60 for people)
     duration: float | None = None  # None: from the word count
     line: int | None = None
+    request: str | None = None
+    about: str | None = None
+    wait: bool = True
 
 
 @dataclass(frozen=True)
@@ -156,6 +170,37 @@ class WaitFor:
     line: int | None = None
     retries: int = 0
     repair: str | None = None
+    #: ``hears``: a word pattern (:mod:`homesim.scenario.wordpattern`) instead of ``robot_says``'s regex.
+    hears: str | None = None
+    #: Repairs the way people make them (instead of ``retries``' verbatim turn): a subset of
+    #: REPAIR_STRATEGIES, () for none, None for the person's own (her profile's); ``patience``
+    #: repairs at most, then she gives up (``give_up``: one of GIVE_UPS).
+    repairs: tuple[str, ...] | None = None
+    patience: int | None = None
+    give_up: str | None = None
+
+
+#: What a person may do when the robot does not understand her (``repairs=``).
+REPAIR_STRATEGIES = ("rephrase", "louder", "closer", "face")
+#: What a person does once her patience is used up (``give-up=``): carry on with her
+#: script, say so and stop her script, or say so and leave the flat.
+GIVE_UPS = ("skip", "stop", "leave")
+
+
+@dataclass(frozen=True)
+class WaitSpeech:
+    """Wait until the person's own speech (a ``say wait="false"``) has ended."""
+
+    line: int | None = None
+
+
+@dataclass(frozen=True)
+class StepCloser:
+    """Step ``by`` metres towards the robot, never nearer than ``nearest``."""
+
+    by: float = 0.5
+    nearest: float = 0.6
+    line: int | None = None
 
 
 @dataclass(frozen=True)
@@ -171,7 +216,24 @@ class Repeat:
     line: int | None = None
 
 
-Action = Union[WalkTo, Face, Say, PointAt, Wait, WaitFor, Leave, Repeat]
+Action = Union[WalkTo, Face, Say, PointAt, Wait, WaitFor, Leave, Repeat, WaitSpeech, StepCloser]
+
+
+@dataclass(frozen=True)
+class Handler:
+    """A reaction: when the robot says words matching ``hears`` (a word pattern), the
+    person does ``body`` and then carries on where she was (an act pushed on her agenda).
+
+    ``when``: ``always`` (at any point of her script: between actions, during a pause
+    or a walk, while waiting) or ``waiting`` (only during a ``wait-for``). ``max``: how
+    often it may fire (None: every time).
+    """
+
+    hears: str
+    body: tuple[Action, ...]
+    when: str = "always"
+    max: int | None = None
+    line: int | None = None
 
 
 @dataclass(frozen=True)
@@ -187,6 +249,7 @@ class RobotSpec:
     odometry_rate: float = 10.0
     object_confusion: float = 0.05
     options: tuple[tuple[str, str], ...] = ()  # <option name value/>: for BIRON's modules
+    profile: str | None = None  # <robot profile>: which robot (the run package knows the names); None: the default
     line: int | None = None
 
 
@@ -202,6 +265,13 @@ class HumanSpec:
     speed: float = 1.0
     script: tuple[Action, ...] = ()
     line: int | None = None
+    #: A named user profile (data kept with the simulated people) whose traits are drawn
+    #: from seeded distributions; ``traits`` are per-attribute values given in the file,
+    #: which override the profile's draws (name -> value as written).
+    profile: str | None = None
+    traits: tuple[tuple[str, str], ...] = ()
+    handlers: tuple[Handler, ...] = ()
+    speed_given: bool = False
 
 
 @dataclass(frozen=True)
@@ -267,6 +337,7 @@ class Scenario:
     faults: tuple[Fault, ...] = ()
     description: str = ""
     world_rate: float = 50.0
+    deployment: Override | None = None  # <deployment>: what the scenario changes of the run's default deployment
 
     def room(self, name: str) -> Room:
         return _named(self.rooms, name, "room")

@@ -32,20 +32,16 @@ from typing import Any
 import numpy as np
 from lxml import etree
 
+from robot.contract import ES_LOG, ES_STATUS, FACES, SAY, SCAN, SOURCES
+
 from ..message import Message
 from ..geometry import wrap_angle
 from ..scenario.expectations import CHECKS, Check, EventCheck, Expectations, Verdict, register_check
 from ..scenario.model import window_of
-from ..world.legs import detect_leg_pairs
+from ..world.reference_legs import detect_leg_pairs
 from ..world.world import World
 from .metrics.es import EsRecord
 
-SCAN = "/robot/laser/scan"
-FACES = "/robot/camera/faces"
-SOURCES = "/robot/audio/sources"
-SAY = "/robot/speaker/say"
-ES_LOG = "/robot/es/log"
-ES_STATUS = "/robot/es/status"
 
 
 # ----------------------------------------------------------------- percepts

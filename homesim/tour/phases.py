@@ -1,17 +1,26 @@
 """BIRON's phases on a timeline: the papers' B-E plus teaching and good-bye, from the supervisor's log.
 
 A phase starts where the execution supervisor applied one of the events of
-:data:`PHASE_EVENTS`; "following" (D) is the first follow status after a
-follow request. Importing this module registers the marker with
-:func:`homesim.traceview.register_phases`.
+:data:`PHASE_EVENTS`; "following" (D) starts where the robot starts driving
+after a follow request (the first non-zero ``/robot/base/cmd``). Spans are
+named by what they measure (:class:`BironSpans`): speech detection (the
+microphones hearing an utterance, from its start to the recognised words going
+out), speech recognition (the understanding's time to the frame) and the ES's
+reconfiguration (from its decision, its log record, to its first order or
+condition). Importing this module registers both with
+:func:`homesim.traceview.register_phases` and :func:`~homesim.traceview.register_spans`.
 """
 
 from __future__ import annotations
 
+import re
 from collections.abc import Iterable
+from dataclasses import replace
 from typing import Any
 
-from ..traceview import label_of, register_phases
+from robot.contract import ES_LOG
+
+from ..traceview import Span, label_of, register_phases, register_spans
 
 #: Phases: an event the ES applied -> (mark, label); "following" is the first follow status after a follow request.
 PHASE_EVENTS: dict[str, tuple[str, str]] = {
@@ -19,8 +28,16 @@ PHASE_EVENTS: dict[str, tuple[str, str]] = {
     "object_teaching": ("T", "teaching an object"), "place_teaching": ("T", "teaching a place"),
     "goodbye": ("G", "good-bye"),
 }
-ES_LOG = "/robot/es/log"
-FOLLOW_STATUS = "/robot/follow/status"
+BASE_CMD = "/robot/base/cmd"
+SPEECH = "/robot/audio/speech"
+FRAMES = "/robot/speech/frames"
+ES_SENDER = "supervisor"
+ES_OUTPUTS = ("/robot/es/orders/", "/robot/es/conditions/")
+_START = re.compile(r' start="([0-9.eE+-]+)"')
+_V = re.compile(r' v="([-0-9.eE+]+)"')
+_EVENT = re.compile(r' event="([^"]+)"')
+#: Decisions remembered until their first output (bounded).
+_DECIDED = 256
 
 
 class BironPhases:
@@ -34,10 +51,43 @@ class BironPhases:
             name = label_of(rec).split(" ", 1)[-1]
             self.following = self.following or name == "follow"
             return (PHASE_EVENTS[name],) if name in PHASE_EVENTS else ()
-        if ch == FOLLOW_STATUS and self.following:
-            self.following = False
-            return (("D", "following"),)
+        if ch == BASE_CMD and self.following:
+            v = _V.search(rec.get("xml", ""))
+            if v is not None and abs(float(v.group(1))) > 1e-6:  # the robot starts driving after the partner
+                self.following = False
+                return (("D", "following (driving)"),)
         return ()
 
 
+class BironSpans:
+    """One timeline's span marker: speech detection, speech recognition, the ES's reconfiguration."""
+
+    def __init__(self) -> None:
+        self.decided: dict[str, float] = {}
+
+    def __call__(self, ch: str, rec: dict[str, Any], span: Span | None) -> Span | None:
+        t = rec["t"]
+        if ch == ES_LOG and rec.get("sender") == ES_SENDER:
+            ev = _EVENT.search(rec.get("xml", ""))
+            if ev is not None:
+                if len(self.decided) >= _DECIDED:
+                    self.decided.pop(next(iter(self.decided)))
+                self.decided[ev.group(1)] = t
+            return None
+        if ch == SPEECH:  # detection: while the person speaks, until the recognised words go out
+            st = _START.search(rec.get("xml", ""))
+            if st is not None and float(st.group(1)) < t:
+                return Span(rec["sender"], float(st.group(1)), t, "", rec["id"], "speech detection")
+            return None
+        if ch == FRAMES and span is not None:
+            return replace(span, kind="speech recognition")
+        if rec.get("sender") == ES_SENDER and ch.startswith(ES_OUTPUTS):
+            causes = rec.get("causes", ())
+            at = self.decided.get(causes[0]) if causes else None
+            if at is not None and at <= t:  # the ES's own time: its decision -> this output leaving
+                return Span(ES_SENDER, at, t, causes[0], rec["id"], "ES reconfiguration")
+        return None
+
+
 register_phases(BironPhases)
+register_spans(BironSpans)

@@ -19,18 +19,16 @@ from __future__ import annotations
 import argparse
 import json
 import math
-import os
 import sys
 from pathlib import Path
 from typing import IO, Any
 
 from .. import cliargs
 from ..cliargs import OptionError
-from ..errors import HomesimError, InputError
-from ..xmlio import open_regular
+from ..errors import HomesimError
 from ..message import Message
 from .runner import Run, RunOptions, file_digest, store_digest
-from ..trace import TRACE_FORMAT
+from .tracerun import next_line, read_header, run_options, trace_lines
 
 BAR = 30
 
@@ -75,7 +73,8 @@ def _options(a: argparse.Namespace) -> RunOptions:
         raise HomesimError(f"--realtime must be a finite scale > 0, got {a.realtime}")
     if a.seed is not None and a.seed < 0:
         raise HomesimError(f"--seed must be >= 0, got {a.seed}")
-    return RunOptions(seed=a.seed, until=a.until, trace=a.trace, memory=a.memory, realtime=a.realtime, strict=a.strict or None)
+    return RunOptions(seed=a.seed, until=a.until, trace=a.trace, memory=a.memory, realtime=a.realtime, strict=a.strict or None,
+                      profile=a.profile)
 
 
 def run_command(a: argparse.Namespace) -> int:
@@ -89,6 +88,8 @@ def run_command(a: argparse.Namespace) -> int:
             console.text(f"scenario {sc.name} ({a.scenario}): seed {run.sim.seed}, {run.end:g} of {sc.duration:g} s, "
                          f"{len(sc.humans)} people, {len(sc.sources)} other sound sources, "
                          f"robot modules: {', '.join(sorted(run.modules)) or 'none'}")
+            console.text(f"robot profile {run.profile}; deployment {run.deployment.name}: "
+                         + ", ".join(f"{h.name} ({h.link})" for h in run.deployment.hosts))
         run.run(progress=console.progress)
         verdicts = run.finish()
         summary = run.summary()
@@ -112,16 +113,16 @@ class Comparison:
     """A text stream that compares each trace line written to it with the original file's."""
 
     def __init__(self, path: Path) -> None:
-        self.fh = os.fdopen(open_regular(path, error=InputError), encoding="utf-8")
+        self.fh = trace_lines(path)
         self.line = 0
         self.diverged: tuple[int, str, str] | None = None
 
     def write(self, s: str) -> int:
         if self.diverged is None:  # the recorder writes one whole line per call
             self.line += 1
-            want = self.fh.readline()
+            want, utf8 = next_line(self.fh)
             if want != s:
-                self.diverged = (self.line, want.rstrip("\n"), s.rstrip("\n"))
+                self.diverged = (self.line, want.rstrip("\n") + ("" if utf8 else "  <- not UTF-8 text"), s.rstrip("\n"))
         return len(s)
 
     def flush(self) -> None:
@@ -129,7 +130,7 @@ class Comparison:
 
     def rest(self) -> str:
         """The original's next line, if any (a replay that ends early differs there)."""
-        return self.fh.readline().rstrip("\n")
+        return next_line(self.fh)[0].rstrip("\n")
 
     def close(self) -> None:
         self.fh.close()
@@ -138,22 +139,15 @@ class Comparison:
 def replay(trace: Path, *, out: IO[str] | None = None) -> int:
     """Re-run what ``trace``'s header names; 0 when the new trace is identical, 1 otherwise."""
     out = sys.stdout if out is None else out
-    try:
-        with os.fdopen(open_regular(trace, error=InputError), encoding="utf-8") as fh:
-            header = json.loads(fh.readline(1 << 20))
-    except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
-        raise HomesimError(f"{trace}: not a homesim trace ({exc})") from exc
-    if not isinstance(header, dict) or header.get("homesim_trace") != TRACE_FORMAT or not isinstance(header.get("run"), dict):
-        raise HomesimError(f"{trace}:1: the header does not name a run (write the trace with 'homesim run --trace')")
-    h = header["run"]
-    path = Path(str(h.get("scenario_file")))
+    h = read_header(trace)  # the whole header checked before anything in it is used
+    path = Path(h["scenario_file"])
     if not path.is_file():
         raise HomesimError(f"{trace}:1: the scenario file {path} named in the header does not exist")
     digest = file_digest(path)
-    if digest != h.get("scenario_digest"):
-        print(f"replay: {path} has changed since the trace was written ({h.get('scenario_digest')} then, {digest} now)", file=out)
+    if digest != h["scenario_digest"]:
+        print(f"replay: {path} has changed since the trace was written ({h['scenario_digest']} then, {digest} now)", file=out)
         return 1
-    if h.get("memory") is not None and h.get("memory_digest") is not None:
+    if h["memory"] is not None:
         now = store_digest(h["memory"])
         if now != h["memory_digest"]:
             print(f"replay: the store {h['memory']} has changed since the trace was written ({h['memory_digest']} then, "
@@ -162,11 +156,7 @@ def replay(trace: Path, *, out: IO[str] | None = None) -> int:
             return 1
     cmp = Comparison(trace)
     try:
-        opts = RunOptions(seed=h.get("seed"), until=h.get("until"), trace=cmp,  # type: ignore[arg-type]
-                          memory=None if h.get("memory") is None else Path(h["memory"]),
-                          subsystems=None if h.get("subsystems") is None else tuple(h["subsystems"]),
-                          metrics=None if h.get("metrics") is None else tuple(h["metrics"]))
-        with Run.from_file(path, opts) as run:
+        with Run.from_file(path, run_options(h, until=h["until"], trace=cmp)) as run:
             run.run(stop=lambda: cmp.diverged is not None)
             if cmp.diverged is None:
                 run.finish()  # the closing questions to the scene model are in the trace too
@@ -180,7 +170,7 @@ def replay(trace: Path, *, out: IO[str] | None = None) -> int:
         n, want, got = cmp.diverged
         print(f"replay: {trace}:{n} differs\n  trace:  {want[:400]}\n  replay: {got[:400]}", file=out)
         return 1
-    print(f"replay: identical ({cmp.line} lines; {h.get('scenario_file')}, seed {h.get('seed')})", file=out)
+    print(f"replay: identical ({cmp.line} lines; {h['scenario_file']}, seed {h['seed']})", file=out)
     return 0
 
 
@@ -224,6 +214,8 @@ def _run_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--summary", type=cliargs.output_file, default=None, help="write the run summary (JSON)")
     p.add_argument("--memory", type=cliargs.store_dir, default=None, metavar="DIR",
                    help="the robot's knowledge store (a directory, created if missing): load it at the start, save to it")
+    p.add_argument("--profile", default=None, metavar="NAME",
+                   help="which robot: full (default) or biron-2005 (overrides the scenario's <robot profile>)")
     p.add_argument("--realtime", type=cliargs.realtime_scale, default=None, metavar="X", help="pace the run at X times real time")
     p.add_argument("--quiet", action="store_true", help="print the verdict (and failed expectations) only")
     p.add_argument("--strict", action="store_true",

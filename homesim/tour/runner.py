@@ -40,14 +40,19 @@ from typing import IO, Any
 from lxml import etree
 
 import robot.install as biron
+import robot.profiles as robot_profiles
+from robot.deployment import DEFAULT as ROBOT_DEPLOYMENT
 from robot.supervisor import ExecutionSupervisor
 
 from . import metrics as metrics_pkg
-from ..errors import HomesimError, ScenarioError
-from ..heartbeat import HEALTH_CHANNEL, HeartbeatMonitor
+from .. import deployment as deployment_mod
+from ..deployment import Deployment
+from ..errors import HomesimError, InputError, ScenarioError
+from ..heartbeat import HEALTH_CHANNEL, BackstopMonitor, HeartbeatMonitor
 from ..message import Message
 from .metrics.es import EsRecord
 from ..realtime import Stopwatch, peak_memory_mb
+from .runheader import check_metrics, check_subsystems
 from .expect import Verdict
 from ..scenario.loader import load_scenario
 from ..scenario.model import Scenario
@@ -110,6 +115,7 @@ class RunOptions:
     subsystems: tuple[str, ...] | None = None  # None: robot.install.SUBSYSTEMS
     metrics: tuple[str, ...] | None = None  # None: every registered metric
     strict: bool | None = None  # True: validate every message on a typed channel; None: Simulation's default (homesim.bus)
+    profile: str | None = None  # which robot (robot.profiles); None: the scenario's <robot profile>, else the default
 
 
 @dataclass(frozen=True)
@@ -125,6 +131,17 @@ class RobotConfig:
     audio_rate: float
     odometry_rate: float
     options: Mapping[str, str] = field(default_factory=dict)
+    profile: str = "full"  # which robot is simulated (robot.profiles)
+
+
+def _check_names(options: RunOptions) -> None:
+    """Refuse subsystems outside the robot's registry and unknown metrics (nothing named is imported)."""
+    for what, names, check in (("subsystems", options.subsystems, check_subsystems), ("metrics", options.metrics, check_metrics)):
+        if names is not None:
+            try:
+                check(names)
+            except ValueError as exc:
+                raise HomesimError(f"run option {what}: {exc}") from None
 
 
 class Run:
@@ -135,9 +152,17 @@ class Run:
         self.scenario = scenario
         self.options = options
         self.on_line = on_line
+        _check_names(options)  # before anything is imported or built
         seed = scenario.seed if options.seed is None else options.seed
+        self.profile = resolve_profile(options.profile or scenario.robot.profile, scenario)
         self.sim = Simulation(seed=seed, scenario=scenario.name, realtime=options.realtime,
                               **({} if options.strict is None else {"strict": options.strict}))
+        try:
+            self.deployment = resolve_deployment(scenario)
+            self.deployment.apply(self.sim.network)
+        except BaseException:
+            self.sim.close()
+            raise
         self.header = {
             "scenario_file": scenario_file if scenario_file is not None else scenario.source,
             "scenario_digest": digest,
@@ -147,6 +172,13 @@ class Run:
             "memory_digest": None if options.memory is None else store_digest(options.memory),
             "subsystems": None if options.subsystems is None else list(options.subsystems),
             "metrics": None if options.metrics is None else list(options.metrics),
+            "profile": options.profile,
+            "deployment": self.deployment.name,
+            # Where modules run and what links join the hosts (the timeline groups lanes by host
+            # and marks the messages that crossed a slow link).
+            "hosts": {h.name: h.link for h in self.deployment.hosts},
+            "placement": {"default": self.deployment.default_host, **dict(self.deployment.placement)},
+            "link_worst_ms": {lk.name: round(lk.worst_s * 1000, 3) for lk in self.deployment.links},
         }
         try:
             self._build(scenario, options, seed)
@@ -169,7 +201,7 @@ class Run:
         self.config = RobotConfig(
             seed=seed, memory_dir=self.header["memory"], max_speed=r.max_speed, max_turn=r.max_turn,
             laser_rate=r.laser_rate, camera_rate=r.camera_rate, audio_rate=r.audio_rate,
-            odometry_rate=r.odometry_rate, options=dict(r.options),
+            odometry_rate=r.odometry_rate, options=dict(r.options), profile=self.profile,
         )
         self.stopwatch = Stopwatch()
         self.es = EsRecord()
@@ -183,12 +215,15 @@ class Run:
         self.supervisor = ExecutionSupervisor(self.sim)
         subsystems = biron.SUBSYSTEMS if options.subsystems is None else options.subsystems
         self.modules: dict[str, Any] = biron.install(self, subsystems)
-        # One heartbeat monitor: the robot's own (its watchdog, which also restarts modules) if
-        # a subsystem brought one, else the kernel's (two would report every failure twice).
-        self.monitor: HeartbeatMonitor | None = None
-        if not any(getattr(m, "monitors_heartbeats", False) for m in self.modules.values()):
-            self.monitor = HeartbeatMonitor(self.sim.bus.participant("monitor", host="robot"))
-            self.sim.spawn(self.monitor.run(), name="monitor")
+        # One heartbeat monitor reports: the robot's own (its watchdog, which also restarts modules)
+        # if a subsystem brought one, else the kernel's (two would report every failure twice). Behind
+        # the robot's, the kernel's stays as a backstop: silent while that one beats, it reports in its
+        # place once it is silent too (every module crashed, the watchdog included).
+        own = sorted(k for k, m in self.modules.items() if getattr(m, "monitors_heartbeats", False))
+        participant = self.sim.bus.participant("monitor", host="robot")
+        self.monitor: HeartbeatMonitor = (BackstopMonitor(participant, primary=self.modules[own[0]].name) if own
+                                          else HeartbeatMonitor(participant))
+        self.sim.spawn(self.monitor.run(), name="monitor")
         for f in scenario.faults:
             if f.module not in self.sim.modules:
                 raise ScenarioError(f"<{f.kind} module={f.module!r}>: no such module in this run; "
@@ -236,7 +271,8 @@ class Run:
                 self._say(m.created, "ES", f"rejected {x.get('name')} from {x.get('source')} "
                                            f"({x.get('reason')} in {x.get('state')}){detail}")
         elif m.channel == FAULT_CHANNEL:
-            self._say(m.created, "fault", f"{x.get('module')} {x.get('kind')}es")
+            why = " (it flooded the bus)" if x.get("reason") == "flood" else ""
+            self._say(m.created, "fault", f"{x.get('module')} {x.get('kind')}es{why}")
         else:
             self._say(m.created, "health", f"{x.tag} {x.get('module')}")
 
@@ -309,7 +345,10 @@ class Run:
             "speed_sim_s_per_cpu_s": round(sim_time / cpu, 2) if cpu > 0 else None,
             "peak_memory_mb": round(peak_memory_mb(), 1),
             "verdict": self.verdict(),
-            "es": self.es.summary(),
+            "profile": self.profile,
+            "es": {**self.es.summary(), **self._es_arrivals()},
+            "deployment": {**self.deployment.as_dict(), "links": {
+                name: st.summary() for name, st in self.sim.network.stats().items()}},
             "utterances": [
                 {"t": round(u.start, 3), "end": round(u.end, 3), "speaker": u.source, "text": u.text, **({"cut": True} if u.cut else {})}
                 for u in self.world.sound.all() if u.start <= sim_time
@@ -318,6 +357,11 @@ class Run:
             "expectations": [v.as_dict() for v in verdicts],
             "metrics": self.metric_values(),
         }
+
+    def _es_arrivals(self) -> dict[str, Any]:
+        """What the supervisor counted of its arrivals: events received, and how many out of creation order."""
+        counts = getattr(self.supervisor, "arrivals", None)
+        return dict(counts()) if callable(counts) else {}
 
     def verdict(self) -> str:
         """PASS, FAIL, or "not checked" when the run stopped before the scenario's end."""
@@ -333,6 +377,30 @@ class Run:
 
     def __exit__(self, *exc: object) -> None:
         self.close()
+
+
+def resolve_deployment(scenario: Scenario) -> Deployment:
+    """The run's deployment: the robot's default document with the scenario's ``<deployment>`` applied."""
+    base_dir = Path(scenario.source).parent if scenario.source and not scenario.source.startswith("<") else None
+    try:
+        return deployment_mod.resolve(ROBOT_DEPLOYMENT, scenario.deployment, base_dir=base_dir)
+    except InputError as exc:
+        raise ScenarioError(exc.message, source=exc.source, line=exc.line, element=exc.element) from exc
+
+
+def profiles() -> dict[str, str]:
+    """The robot's profiles: name -> what it simulates."""
+    return dict(robot_profiles.PROFILES)
+
+
+def resolve_profile(name: str | None, scenario: Scenario) -> str:
+    """The profile a run simulates: ``name`` if given (refused with the known ones if unknown), else the default."""
+    if name is None:
+        return str(robot_profiles.DEFAULT_PROFILE)
+    if name not in robot_profiles.PROFILES:
+        raise ScenarioError(f"unknown robot profile {name!r}; known: {', '.join(sorted(robot_profiles.PROFILES))}",
+                            source=scenario.source, line=scenario.robot.line, element="robot")
+    return name
 
 
 def element_dict(el: etree._Element) -> dict[str, Any]:

@@ -24,21 +24,26 @@ import os
 import re
 import sys
 import traceback
-from collections.abc import Callable, Iterable, Iterator
+from collections.abc import Callable, Iterable, Iterator, Mapping
 from concurrent.futures import ProcessPoolExecutor, as_completed
 from pathlib import Path
 from typing import Any
 
 from .. import cliargs
 from ..cliargs import OptionError
+from ..errors import HomesimError
 
 Row = dict[str, Any]
 PASS, FAIL, ERROR = "PASS", "FAIL", "ERROR"
 
 
+#: Most seeds one sweep takes (ranges together).
+MAX_SEEDS = 1_000_000
+
+
 def parse_seeds(text: str) -> list[int]:
-    """``"0-99"``, ``"3"``, ``"0-4,10,20-22"`` -> the seeds, in order, without repeats."""
-    out: list[int] = []
+    """``"0-99"``, ``"3"``, ``"0-4,10,20-22"`` -> the seeds, in order, without repeats (time linear in the seeds)."""
+    out: dict[int, None] = {}
     for part in text.split(","):
         lo, sep, hi = part.strip().partition("-")
         try:
@@ -50,8 +55,10 @@ def parse_seeds(text: str) -> list[int]:
             raise OptionError("--seeds", f"{part.strip()!r}: the range is empty (write low-high)")
         if b - a >= 100_000:
             raise OptionError("--seeds", f"{part.strip()!r}: more than 100000 seeds in one range")
-        out.extend(s for s in range(a, b + 1) if s not in out)
-    return out
+        out.update(dict.fromkeys(range(a, b + 1)))
+        if len(out) > MAX_SEEDS:
+            raise OptionError("--seeds", f"more than {MAX_SEEDS} seeds in one sweep")
+    return list(out)
 
 
 def _flat(prefix: str, value: Any, into: dict[str, float]) -> None:
@@ -66,17 +73,19 @@ def _flat(prefix: str, value: Any, into: dict[str, float]) -> None:
 
 
 def run_one(scenario: str, seed: int, until: float | None = None, summaries: str | None = None,
-            options: dict[str, Any] | None = None, tag: str = "") -> Row:
+            options: dict[str, Any] | None = None, tag: str = "", profile: str | None = None) -> Row:
     """One run, as ``homesim run`` does it; never raises (an error becomes an ``ERROR`` row).
 
-    ``options``: further :class:`~homesim.runner.RunOptions` fields (a study's condition);
-    ``tag``: appended to the summary's file name."""
+    ``options``: further :class:`~homesim.tour.runner.RunOptions` fields (a study's condition);
+    ``tag``: appended to the summary's file name; ``profile``: the robot profile (None: the
+    scenario's own, else the default; a condition's ``profile`` option wins)."""
     from .runner import Run, RunOptions
 
     row: Row = {"scenario": Path(scenario).stem, "file": scenario, "seed": seed, "verdict": ERROR,
                 "passed": 0, "expectations": 0, "sim_time_s": None, "cpu_time_s": None, "error": "", "metrics": {}}
     try:
-        with Run.from_file(Path(scenario), RunOptions(seed=seed, until=until, **(options or {}))) as run:
+        opts = {"profile": profile, **(options or {})}
+        with Run.from_file(Path(scenario), RunOptions(seed=seed, until=until, **opts)) as run:
             run.run()
             verdicts = run.finish()
             summary = run.summary()
@@ -115,14 +124,16 @@ def aggregate(rows: list[Row]) -> list[Row]:
     return out
 
 
-def _local(jobs: list[tuple[str, int]], until: float | None, summaries: str, workers: int) -> Iterator[Row]:
+def _local(jobs: list[tuple[str, int]], until: float | None, summaries: str, workers: int,
+           profile: str | None = None) -> Iterator[Row]:
     with ProcessPoolExecutor(max_workers=workers) as pool:
-        futures = {pool.submit(run_one, s, n, until, summaries): (s, n) for s, n in jobs}
+        futures = {pool.submit(run_one, s, n, until, summaries, profile): (s, n) for s, n in jobs}
         for fut in as_completed(futures):
             yield _result(fut, futures[fut])
 
 
-def _dask(jobs: list[tuple[str, int]], until: float | None, summaries: str, scheduler: Any) -> Iterator[Row]:
+def _dask(jobs: list[tuple[str, int]], until: float | None, summaries: str, scheduler: Any,
+          profile: str | None = None) -> Iterator[Row]:
     try:
         from distributed import Client, as_completed as dask_completed
     except ImportError:
@@ -135,7 +146,7 @@ def _dask(jobs: list[tuple[str, int]], until: float | None, summaries: str, sche
         except (OSError, ValueError, TimeoutError) as exc:
             raise OptionError("--scheduler", f"cannot reach the Dask scheduler {scheduler!r}: {exc}") from None
     try:
-        futures = [client.submit(run_one, s, n, until, summaries, pure=False, key=f"homesim-{Path(s).stem}-{n}") for s, n in jobs]
+        futures = [client.submit(run_one, s, n, until, summaries, profile, pure=False, key=f"homesim-{Path(s).stem}-{n}") for s, n in jobs]
         where = {f.key: job for f, job in zip(futures, jobs)}
         for fut in dask_completed(futures):
             yield _result(fut, where[fut.key])
@@ -144,37 +155,48 @@ def _dask(jobs: list[tuple[str, int]], until: float | None, summaries: str, sche
             client.close()
 
 
+def error_row(file: str, seed: int, error: str) -> Row:
+    """The row of a run that could not be made (its scenario does not load, its worker died)."""
+    return {"scenario": Path(file).stem, "file": file, "seed": seed, "verdict": ERROR, "passed": 0,
+            "expectations": 0, "sim_time_s": None, "cpu_time_s": None, "error": error[:2000], "metrics": {}}
+
+
 def _result(fut: Any, job: tuple[str, int]) -> Row:
     try:
         return fut.result()
     except Exception as exc:  # the worker died (killed, out of memory): still a row
-        return {"scenario": Path(job[0]).stem, "file": job[0], "seed": job[1], "verdict": ERROR, "passed": 0,
-                "expectations": 0, "sim_time_s": None, "cpu_time_s": None, "error": f"worker lost: {type(exc).__name__}: {exc}"[:2000],
-                "metrics": {}}
+        return error_row(job[0], job[1], f"worker lost: {type(exc).__name__}: {exc}")
 
 
 def sweep(scenarios: Iterable[Path], seeds: Iterable[int], out: Path, *, until: float | None = None, workers: int | None = None,
-          scheduler: Any = None, progress: Callable[[str], None] | None = None) -> tuple[list[Row], list[Row]]:
+          scheduler: Any = None, progress: Callable[[str], None] | None = None,
+          refused: Mapping[str, str] | None = None, profile: str | None = None) -> tuple[list[Row], list[Row]]:
     """Run every scenario with every seed; write the table; return (rows, aggregate).
 
     ``scheduler``: a Dask scheduler address or ``distributed.Client``; None runs on local
-    processes (``workers`` of them, default the CPU count).
+    processes (``workers`` of them, default the CPU count). ``refused``: scenario file ->
+    why it cannot be run (found before the sweep): its runs are ``ERROR`` rows, not started.
+    ``profile``: the robot profile of every run (None: each scenario's own, else the default).
     """
+    seeds = list(seeds)
     files = [str(Path(s).resolve()) for s in scenarios]
+    bad = {str(Path(f).resolve()): why for f, why in (refused or {}).items()}
     for f in files:
-        if not Path(f).is_file():
+        if f not in bad and not Path(f).is_file():
             raise OptionError("SCENARIO", f"{f}: no such file")
-    jobs = [(f, n) for f in files for n in seeds]
+    jobs = [(f, n) for f in files if f not in bad for n in seeds]
     summaries = out / "summaries"
     summaries.mkdir(parents=True, exist_ok=True)
-    results = (_dask(jobs, until, str(summaries), scheduler) if scheduler is not None
-               else _local(jobs, until, str(summaries), workers or os.cpu_count() or 1))
-    rows: list[Row] = []
+    results = (_dask(jobs, until, str(summaries), scheduler, profile) if scheduler is not None
+               else _local(jobs, until, str(summaries), workers or os.cpu_count() or 1, profile))
+    rows: list[Row] = [error_row(f, n, bad[f]) for f in files if f in bad for n in seeds]
+    ran = 0
     for row in results:
+        ran += 1
         rows.append(row)
         if progress is not None:
             extra = f" ({row['error']})" if row["verdict"] == ERROR else ""
-            progress(f"[{len(rows)}/{len(jobs)}] {row['scenario']} seed {row['seed']}: {row['verdict']}{extra}")
+            progress(f"[{ran}/{len(jobs)}] {row['scenario']} seed {row['seed']}: {row['verdict']}{extra}")
     rows.sort(key=lambda r: (r["scenario"], r["seed"]))
     agg = aggregate(rows)
     write_table(out, rows, agg)
@@ -201,10 +223,15 @@ def sweep_command(a: argparse.Namespace) -> int:
     out = Path(a.out)
     from ..scenario.loader import load_scenario
 
-    for path in a.scenarios:  # bad input is refused before any run starts (file, line, what)
-        load_scenario(path)
+    refused: dict[str, str] = {}
+    for path in a.scenarios:  # a scenario that does not load: one line (file, line, what), its runs are ERROR rows
+        try:
+            load_scenario(path)
+        except HomesimError as exc:
+            refused[str(path)] = f"{type(exc).__name__}: {exc}"
+            print(f"homesim sweep: error: {exc} (its runs are ERROR rows; the sweep goes on)", file=sys.stderr, flush=True)
     rows, agg = sweep(a.scenarios, seeds, out, until=a.until, workers=a.workers, scheduler=a.scheduler,
-                      progress=lambda line: print(line, file=sys.stderr, flush=True))
+                      progress=lambda line: print(line, file=sys.stderr, flush=True), refused=refused, profile=a.profile)
     for g in agg:
         print(f"{g['scenario']}: {g['passed']}/{g['runs']} pass ({100 * g['pass_rate']:.0f} %), {g['failed']} fail, {g['errors']} error")
     print(f"wrote {out / 'sweep.csv'} and {out / 'sweep.json'}")
@@ -234,4 +261,5 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--workers", type=_workers, default=None, help="local processes (default: the CPU count)")
     p.add_argument("--scheduler", type=_scheduler, default=None, metavar="ADDRESS", help="run on this Dask distributed scheduler (tcp://host:8786)")
     p.add_argument("--out", required=True, help="directory for sweep.csv, sweep.json and summaries/")
+    p.add_argument("--profile", default=None, metavar="NAME", help="robot profile of every run (full, biron-2005; default: each scenario's)")
     p.set_defaults(func=sweep_command)

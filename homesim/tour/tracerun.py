@@ -11,27 +11,44 @@ never shows a run other than the one recorded.
 
 from __future__ import annotations
 
-import json
 import os
 from pathlib import Path
-from typing import Any
+from typing import IO, Any
 
 from ..errors import HomesimError, InputError
+from .runheader import read_run_header
 from .runner import Run, RunOptions, file_digest, store_digest
-from ..trace import TRACE_FORMAT
 from ..xmlio import open_regular
 
 
+def run_options(h: dict[str, Any], *, until: float | None, trace: Any) -> RunOptions:
+    """The options of the run a checked header (:func:`read_header`) names."""
+    return RunOptions(seed=h["seed"], until=until, trace=trace,
+                      memory=None if h["memory"] is None else Path(h["memory"]), subsystems=h["subsystems"],
+                      metrics=h["metrics"], profile=h.get("profile"))
+
+
 def read_header(trace: str | os.PathLike[str]) -> dict[str, Any]:
-    """The trace's header line (a dict); a clear error when the file is not a homesim trace."""
+    """The trace's checked run header (:func:`homesim.tour.runheader.read_run_header`); one-line errors."""
+    return read_run_header(trace)
+
+
+def trace_lines(path: Path) -> IO[bytes]:
+    """The trace file opened for line-by-line comparison (bytes: a line that is not UTF-8 is a difference, not a crash)."""
+    return os.fdopen(open_regular(path, error=InputError), "rb")
+
+
+def next_line(fh: IO[bytes]) -> tuple[str, bool]:
+    """The next line of a trace opened by :func:`trace_lines` as text, and whether it was UTF-8.
+
+    A line that is not UTF-8 comes back with its bad bytes replaced (U+FFFD),
+    so it never equals a line a run writes and is reported where it is.
+    """
+    raw = fh.readline()
     try:
-        with os.fdopen(open_regular(trace, error=InputError), encoding="utf-8") as fh:
-            header = json.loads(fh.readline(1 << 20))
-    except (UnicodeDecodeError, json.JSONDecodeError) as exc:
-        raise InputError(f"not a homesim trace ({exc})", source=str(trace), line=1) from exc
-    if not isinstance(header, dict) or header.get("homesim_trace") != TRACE_FORMAT:
-        raise InputError(f"not a homesim trace (no 'homesim_trace': {TRACE_FORMAT} header)", source=str(trace), line=1)
-    return header
+        return raw.decode("utf-8"), True
+    except UnicodeDecodeError:
+        return raw.decode("utf-8", errors="replace"), False
 
 
 class TraceCheck:
@@ -39,16 +56,17 @@ class TraceCheck:
 
     def __init__(self, path: Path) -> None:
         self.path = path
-        self.fh = os.fdopen(open_regular(path, error=InputError), encoding="utf-8")
+        self.fh = trace_lines(path)
         self.line = 0
         #: The departure found, if any (the loop wraps what a task raises; :meth:`reraise` gives it back plain).
         self.departed: HomesimError | None = None
 
     def write(self, s: str) -> int:
         self.line += 1
-        want = self.fh.readline()
+        want, utf8 = next_line(self.fh)
         if self.line > 1 and want != s:  # line 1, the header, names this re-run's own stop time
-            why = "the trace ends here (truncated?)" if not want.endswith("\n") else "the re-run departs from the trace here"
+            why = ("the trace ends here (truncated?)" if not want.endswith("\n") else
+                   "the re-run departs from the trace here" + ("" if utf8 else " (the trace's line is not UTF-8 text)"))
             if self.departed is not None:  # the first departure is the one that counts
                 raise self.departed
             self.departed = HomesimError(f"{self.path}:{self.line}: {why} "
@@ -66,7 +84,7 @@ class TraceCheck:
 
     def finished(self) -> None:
         """Fail unless every line of the trace was matched (a re-run that ended early is not the run)."""
-        rest = self.fh.readline()
+        rest = next_line(self.fh)[0]
         if rest:
             raise HomesimError(f"{self.path}:{self.line + 1}: the re-run ended before the trace did (trace: {rest.strip()[:160]!r})")
 
@@ -82,28 +100,22 @@ def rerun(trace: str | os.PathLike[str], *, until: float | None = None) -> tuple
     is past the recorded run.
     """
     path = Path(trace)
-    header = read_header(path)
-    h = header.get("run")
-    if not isinstance(h, dict):
-        raise InputError("the header does not name a run (write the trace with 'homesim run --trace')", source=str(path), line=1)
-    scen = Path(str(h.get("scenario_file")))
+    h = read_header(path)
+    scen = Path(h["scenario_file"])
     if not scen.is_file():
         raise InputError(f"the scenario file {scen} named in the header does not exist", source=str(path), line=1)
-    if file_digest(scen) != h.get("scenario_digest"):
+    if file_digest(scen) != h["scenario_digest"]:
         raise InputError(f"{scen} has changed since the trace was written; the run cannot be re-created", source=str(path), line=1)
-    if h.get("memory") is not None and h.get("memory_digest") is not None and store_digest(h["memory"]) != h["memory_digest"]:
+    if h["memory"] is not None and store_digest(h["memory"]) != h["memory_digest"]:
         raise InputError(f"the store {h['memory']} has changed since the trace was written (the run wrote "
                          "what it learned to it); the run cannot be re-created", source=str(path), line=1)
-    end = h.get("until")
+    end = h["until"]
     if until is not None and end is not None and until > end:
         raise InputError(f"t = {until:g} s is after the end of the recorded run ({end:g} s)", source=str(path))
     stop = until if until is not None else end
     check = TraceCheck(path)
     try:
-        opts = RunOptions(seed=h.get("seed"), until=stop, trace=check,  # type: ignore[arg-type]
-                          memory=None if h.get("memory") is None else Path(h["memory"]),
-                          subsystems=None if h.get("subsystems") is None else tuple(h["subsystems"]),
-                          metrics=None if h.get("metrics") is None else tuple(h["metrics"]))
+        opts = run_options(h, until=stop, trace=check)
         run = Run.from_file(scen, opts)
     except BaseException:
         check.close()

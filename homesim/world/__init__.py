@@ -2,7 +2,7 @@
 
 Submodules: ``raycast`` (the vectorised ray kernel), ``bodies`` (robot and
 people in pymunk), ``world`` (the flat), ``acoustics`` (who says what),
-``legs`` (the reference leg detector), ``truth`` (the ground-truth
+``reference_legs`` (the evaluation's leg detector), ``truth`` (the ground-truth
 recorder) and ``chipmunk`` (fast pymunk accessors). Pure 2D geometry is
 :mod:`homesim.geometry`, the walkers' grid planner
 :mod:`homesim.scenario.pathplan`; a world with its people and robot

@@ -23,6 +23,8 @@ SECONDS_PER_WORD = 0.4
 SPEECH_OVERHEAD = 0.3
 #: Characters of transcript a sound field keeps in memory; the rest of a long run's goes to a temporary file.
 SPOOL_CHARS = 256 * 1024
+#: Loudest sound level a source may have (dB SPL at 1 m; scenarios/scenario.xsd has the same bound).
+MAX_LOUDNESS_DB = 140.0
 
 
 def words_of(text: str) -> tuple[str, ...]:
@@ -126,6 +128,8 @@ class SoundField:
         going cuts the previous one short (one mouth, one voice): it ends at
         ``t`` with only the words finished by then.
         """
+        if not 0.0 <= loudness <= MAX_LOUDNESS_DB:  # also NaN; a louder level overflows the microphones' sums
+            raise ValueError(f"loudness {loudness!r} dB SPL is outside 0 to {MAX_LOUDNESS_DB:g}")
         dur = speech_duration(text) if duration is None else float(duration)
         if dur <= 0:
             raise ValueError(f"an utterance needs a positive duration, not {dur}")

@@ -11,10 +11,12 @@ the person of interest (:mod:`.selection`), advance the attention FSM
 - ``/robot/attention/tracks`` every scan, ``/robot/attention/state`` on each
   change and once a second, ``/robot/attention/partner`` every scan while a
   partner exists (docs/robot-contract.md);
-- ES events on ``/robot/es/events``: ``potential_partner`` (``<PERSON id
+- ES events on ``/robot/es/events`` (each names the laser scan it was decided
+  on as its cause, so the trace links a scan to the event): ``potential_partner`` (``<PERSON id
   bearing distance speaking facing/>``) when the selected person speaks
   while facing the robot, repeated every ``pp_repeat`` s while it lasts;
-  ``potential_partner_lost`` when they stop; ``partner_lost`` in a
+  ``potential_partner_lost`` when they stop and the last ``potential_partner``
+  has run out of its validity (``pp_valid``, its AFSM lifetime); ``partner_lost`` in a
   top-down state when the partner's track has had no anchored evidence
   for ``partner_lost_after`` s (once per loss): a leg update, a frontal
   face, a torso blob at the partner's bearing (``/robot/camera/torsos``)
@@ -57,6 +59,8 @@ from homesim.message import Message
 from homesim.module import Module
 from homesim.xmlio import hardened_parser
 
+from robot.contract import ATTENTION_STATE, BASE_CMD, ES_EVENTS, ES_ORDERS, FACES, FOCUS, ODOMETRY, PARTNER, POSE, PTU_CMD, SCAN, SOURCES, STEER, TORSOS, TRACKS
+
 from .clutter import FurnitureLegs
 from .cues import CueSpec, Hysteresis, bearings_from, match_faces, match_sounds
 from .fsm import CAMERA, TURNS, AttentionFSM, OrderRefused
@@ -65,26 +69,12 @@ from .selection import SelectionParams, Selector
 from .tracker import Tracks, TrackerSpec
 
 SCHEMAS = Path(__file__).resolve().parent.parent / "schemas"
-TRACKS = "/robot/attention/tracks"
-STATE = "/robot/attention/state"
-PARTNER = "/robot/attention/partner"
-STEER = "/robot/audio/steer"
-PTU_CMD = "/robot/ptu/cmd"
-BASE_CMD = "/robot/base/cmd"
-EVENTS = "/robot/es/events"
-ORDERS = "/robot/es/orders/person_attention"
-SCAN = "/robot/laser/scan"
-ODOMETRY = "/robot/odometry"
-FACES = "/robot/camera/faces"
-TORSOS = "/robot/camera/torsos"
-SOUNDS = "/robot/audio/sources"
-FOCUS = "/robot/objects/focus"
-POSE = "/robot/localisation/pose"
+ORDERS = f"{ES_ORDERS}/person_attention"
 
 #: The attention system's own typed channels (declared by :func:`declare_channels`).
 CHANNEL_SCHEMAS = {
     TRACKS: SCHEMAS / "attention-tracks.xsd",
-    STATE: SCHEMAS / "attention-state.xsd",
+    ATTENTION_STATE: SCHEMAS / "attention-state.xsd",
     PARTNER: SCHEMAS / "attention-partner.xsd",
 }
 
@@ -100,7 +90,17 @@ class AttentionParams:
     """Every time limit and gain of the attention behaviour, with its default."""
 
     pp_repeat: float = 1.0  # s: potential_partner repeated while it lasts (its lifetime is 1.5 s)
-    partner_lost_after: float = 2.0  # s without anchored evidence of the partner (legs, frontal face, torso, voice)
+    # s: the last potential_partner stays valid this long (its lifetime in the AFSM, the papers'
+    # "how long an event remains valid"): potential_partner_lost goes out only when it has run out,
+    # so a greeting still on its way (recognition, then the WLAN) meets the partner it belongs to.
+    pp_valid: float = 1.5
+    partner_lost_after: float = 2.0  # s without anchored evidence of the partner (legs, frontal face, torso, voice) ...
+    # ... is "lost" in Follow; in Interaction and Object only with evidence of leaving (docs/attention.md):
+    interaction_radius: float = 3.0  # m: last seen further from the robot than this is outside the interaction space
+    leave_speed: float = 0.3  # m/s: last seen walking away from the robot at least this fast
+    out_of_view_after: float = 10.0  # s without any evidence: gone, wherever she was last seen
+    reacquire_radius: float = 1.0  # m: a new track this near where the unseen partner was (plus ...
+    reacquire_speed: float = 0.3  # ... this many m per s unseen, at most 2.5 m) is the partner again
     turn_start: float = math.radians(12.0)  # start turning when the person is further off the axis
     turn_stop: float = math.radians(4.0)  # stop turning when within this
     turn_gain: float = 1.5  # rad/s per rad of bearing
@@ -158,6 +158,9 @@ class PersonAttention(Module):
         self.facing = Hysteresis(cues.facing_on, cues.facing_off)
         self.partner: int | None = None
         self.partner_lost_sent = False
+        # Where the partner was last seen (odom x, y, vx, vy; the robot's odom x, y then) and when:
+        # the evidence the leaving rule reads, kept when the track itself has died.
+        self._partner_last: tuple[float, float, float, float, float, float, float] | None = None
         self.pp_sent: int | None = None
         self._pp_at = -math.inf
         self._last_pp: tuple[int, float] | None = None  # last potential partner and when
@@ -175,6 +178,7 @@ class PersonAttention(Module):
         self._state_sent: tuple[str, int | None, int | None] | None = None
         self._state_at = -math.inf
         self.scans = 0
+        self._scan_id: str | None = None  # the scan being processed: the cause of the events it decides
         self.furniture: FurnitureLegs | None = None  # from map_server/map, once it answered
         self._map_pose: tuple[float, float, float, float] | None = None  # t, x, y, theta (localiser)
         self._map_odom: tuple[float, float, float] | None = None  # odometry when that pose came
@@ -184,7 +188,7 @@ class PersonAttention(Module):
         self.bus.subscribe(ODOMETRY, self._on_odometry)
         self.bus.subscribe(FACES, self._on_faces)
         self.bus.subscribe(TORSOS, self._on_torsos)
-        self.bus.subscribe(SOUNDS, self._on_sounds)
+        self.bus.subscribe(SOURCES, self._on_sounds)
         self.bus.subscribe(FOCUS, self._on_focus)
         self.bus.subscribe(ORDERS, self._on_order)
         self.bus.subscribe(POSE, self._on_pose)
@@ -320,12 +324,16 @@ class PersonAttention(Module):
             self.refused.append(str(exc))
             return
         if state in ("Interaction", "Follow", "Object"):
-            if self.partner is None or self.tracks.row(self.partner) < 0:
+            # A partner unseen for a moment (stepped aside) stays the partner across the change.
+            pending = self.partner is not None and self._partner_last is not None and not self.partner_lost_sent
+            if self.partner is None or (self.tracks.row(self.partner) < 0 and not pending):
                 self.partner = self._choose_partner()
                 self.partner_lost_sent = False
+                self._partner_last = None
         else:
             self.partner = None
             self.partner_lost_sent = False
+            self._partner_last = None
         self.pp_sent = None
         self._publish_state(self.now, force=True)
 
@@ -346,6 +354,7 @@ class PersonAttention(Module):
             self._bearings = math.radians(float(key[1])) + math.radians(float(key[2])) * np.arange(n)
             self._bearings_key = key
             self.legs = replace(self.legs, offset=float(el.get("offset", self.legs.offset)))
+        self._scan_id = msg.id
         self.process(t, msg.attachments["ranges"])
 
     def _leg_detector(self) -> LegDetector:
@@ -420,31 +429,88 @@ class PersonAttention(Module):
                 person = etree.Element("PERSON", id=f"t{pp}", bearing=_deg(bearing[i]), distance=f"{dist[i]:.3f}", speaking="true", facing="true")
                 self._event("potential_partner", (person,))
                 self.pp_sent, self._pp_at = pp, t
-        elif self.pp_sent is not None:
+        elif self.pp_sent is not None and t - self._pp_at >= self.params.pp_valid - 1e-9:
             self._event("potential_partner_lost")
             self.pp_sent = None
 
     def _top_down(self, t: float, cats: dict[int, int]) -> None:
+        """The partner's evidence, and ``partner_lost`` by the leaving rule (:meth:`partner_left`)."""
         tr = self.tracks
         row = tr.row(self.partner) if self.partner is not None else -1
-        if row < 0 or t - tr.tracks[row].last_seen >= self.params.partner_lost_after:
-            if self.partner is not None and not self.partner_lost_sent:
+        if row >= 0:
+            tk = tr.tracks[row]
+            if self._partner_last is None or tk.last_seen > self._partner_last[0]:
+                ox, oy, _ = self._pose_at(tk.last_seen)
+                self._partner_last = (tk.last_seen, tk.x[0], tk.x[1], tk.x[2], tk.x[3], ox, oy)
+        elif self.partner is not None and not self.partner_lost_sent:
+            row = self._reacquire(t)
+        if self.partner is None and not self.partner_lost_sent:
+            self._partner_last = None
+        if self.partner is not None and self.partner_left(t):
+            if not self.partner_lost_sent:
                 self._event("partner_lost")
                 self.partner_lost_sent = True
-            if row < 0:
-                self.partner = None
-                # The partner may come back: someone speaking while facing the robot takes the place.
-                threes = sorted(i for i, c in cats.items() if c == 3)
-                if threes:
-                    self.partner, self.partner_lost_sent = threes[0], False
-        else:
+        elif row >= 0:
             self.partner_lost_sent = False
+        if row < 0 and self.partner_lost_sent:
+            self.partner = None
+            self._partner_last = None
+            # The partner may come back: someone speaking while facing the robot takes the place.
+            threes = sorted(i for i, c in cats.items() if c == 3)
+            if threes:
+                self.partner, self.partner_lost_sent = threes[0], False
+
+    def partner_left(self, t: float) -> bool:
+        """The leaving rule (docs/attention.md): has the partner left?
+
+        Unseen (no leg update, frontal face, torso or voice of theirs) for ``partner_lost_after``
+        s is enough in Follow, where the robot must stop and say so at once. In Interaction and
+        Object, a partner unseen that long has left only when they were last seen outside the
+        interaction space (further than ``interaction_radius`` from the robot) or walking away from
+        it (``leave_speed``); one who stepped aside (to a shelf, to let someone pass, to chat
+        next to the robot) is waited for, found again where they went (:meth:`_reacquire`), and
+        declared gone only after ``out_of_view_after`` s without any evidence at all.
+        """
+        last = self._partner_last
+        if last is None:
+            return True
+        seen, x, y, vx, vy, ox, oy = last
+        unseen = t - seen
+        p = self.params
+        if unseen < p.partner_lost_after:
+            return False
+        if self.fsm.state == "Follow" or unseen >= p.out_of_view_after:
+            return True
+        dx, dy = x - ox, y - oy
+        dist = math.hypot(dx, dy)
+        away = (vx * dx + vy * dy) / dist if dist > 1e-6 else 0.0
+        return dist > p.interaction_radius or away >= p.leave_speed
+
+    def _reacquire(self, t: float) -> int:
+        """The partner's track died while they were within the interaction space: a confirmed track
+        near where they were last seen (growing with the time unseen) is taken as theirs again."""
+        last = self._partner_last
+        if last is None:
+            return -1
+        seen, x, y = last[0], last[1], last[2]
+        p = self.params
+        radius = min(2.5, p.reacquire_radius + p.reacquire_speed * max(0.0, t - seen))
+        best, row = radius, -1
+        for i, tk in enumerate(self.tracks.tracks):
+            if tk.confirmed:
+                d = math.hypot(tk.x[0] - x, tk.x[1] - y)
+                if d <= best:
+                    best, row = d, i
+        if row >= 0:
+            self.partner = self.tracks.tracks[row].id
+        return row
 
     def _event(self, name: str, children: tuple[etree._Element, ...] = ()) -> None:
         el = etree.Element("event", name=name)
         for c in children:
             el.append(c)
-        self.bus.publish(EVENTS, el, transfer=True)
+        # The scan this decision was taken on is its cause: the trace links the scan to the event.
+        self.bus.publish(ES_EVENTS, el, transfer=True, causes=(self._scan_id,) if self._scan_id else ())
 
     # ------------------------------------------------------------ actions
     def _act(self, t: float, row: int, bearing: list[float], dist: list[float], category: int) -> None:
@@ -485,12 +551,24 @@ class PersonAttention(Module):
         greeting that no person backs (the radio, docs/semantics.md §2) instead of never hearing it.
         """
         if self.fsm.top_down:
+            if bearing is not None and self.partner is not None and self._other_talks(t):
+                return None  # a bystander next to the partner talks, the partner does not: not for the robot
             return bearing
         if bearing is not None and category == 3:
             return bearing
         if self._dominant is not None and t - self._dominant[0] <= self.params.dominant_max_age:
             return self._dominant[1]
         return None
+
+    def _other_talks(self, t: float) -> bool:
+        """Someone else speaks while the partner is silent: another confirmed track from its own
+        direction, or a sound from where no confirmed track is (a person the laser does not see)."""
+        sp = self.speaking
+        if sp.on(self.partner):  # type: ignore[arg-type]
+            return False
+        if self._dominant is not None and t - self._dominant[0] <= self.params.dominant_max_age:
+            return True
+        return any(tk.confirmed and tk.id != self.partner and sp.on(tk.id) for tk in self.tracks.tracks)
 
     def _ptu(self, t: float, pan: float, tilt: float) -> None:
         p = self.params
@@ -548,7 +626,7 @@ class PersonAttention(Module):
         sel = self.partner if self.fsm.top_down else self.selector.selected
         key = (self.fsm.state, sel, self.partner)
         if force or key != self._state_sent or t - self._state_at >= self.params.state_refresh:
-            self.bus.publish(STATE, etree.Element(
+            self.bus.publish(ATTENTION_STATE, etree.Element(
                 "attention", state=key[0], selected=f"t{sel}" if sel is not None else "", partner=f"t{self.partner}" if self.partner is not None else "", time=f"{t:.6f}",
             ), transfer=True)
             self._state_sent, self._state_at = key, t

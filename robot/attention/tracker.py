@@ -70,7 +70,11 @@ class TrackerSpec:
     confirm_window: float = 1.0  # s: ... within this long after birth
     tentative_gap: float = 0.35  # s: a tentative track not seen for longer is dropped
     death_timeout: float = 2.5  # s without an update: the track is gone
-    coast_damping: float = 0.5  # 1/s: an unobserved track's velocity decays at this rate
+    coast_damping: float = 0.5  # 1/s: an unobserved track's velocity decays at this rate ...
+    coast_hold: float = 0.8  # s: ... once it has been unobserved this long (a crossing hides a walker ~0.5-1 s: keep its pace)
+    birth_clearance: float = 0.5  # m: no new person within this of a confirmed track (two bodies' centres are never closer)
+    stop_after: float = 0.25  # s unobserved: a track is also gated as stopped where last measured ...
+    stop_spread: float = 0.5  # m/s: ... within a radius (1 sigma) growing this fast (a turn, a stop while hidden)
     max_speed: float = 2.5  # m/s: clamp (nobody walks faster indoors)
     init_speed_std: float = 1.0  # m/s: velocity uncertainty of a new track
 
@@ -86,7 +90,7 @@ class Track:
     entries of the symmetric 4x4 matrix row by row (00 01 02 03 11 12 13 22 23 33), its id,
     the pair/blob hits that confirm it and the times of its evidence."""
 
-    __slots__ = ("id", "x", "P", "hits", "born", "last_update", "last_strong", "last_seen", "confirmed")
+    __slots__ = ("id", "x", "P", "hits", "born", "last_update", "last_strong", "last_seen", "confirmed", "last_z")
 
     def __init__(self, track_id: int, x: list[float], P: list[float], t: float) -> None:
         self.id = track_id
@@ -97,6 +101,7 @@ class Track:
         self.last_strong = t  # last update by a pair or blob
         self.last_seen = t  # last anchored evidence of any kind (legs, frontal face, torso, voice)
         self.confirmed = False
+        self.last_z = (x[0], x[1])  # where the last measurement put the person (the "stopped" hypothesis)
 
     def cov(self) -> np.ndarray:
         """The full 4x4 covariance."""
@@ -180,7 +185,7 @@ class Tracks:
             tk.predict(dt, qa, qb, qc)
             x = tk.x
             # Coasting tracks slow down (a person unseen for a while has probably stopped).
-            if t - tk.last_update > 0.3:
+            if t - tk.last_update > spec.coast_hold:
                 x[2] *= damp
                 x[3] *= damp
             if x[2] * x[2] + x[3] * x[3] > vmax * vmax * 0.99:
@@ -205,7 +210,7 @@ class Tracks:
         if tracks and m:
             var = [spec.single_std**2 if s else spec.meas_std**2 for s in single]
             gates = [spec.single_gate if s else spec.gate for s in single]
-            pairs = _gated(tracks, z, var, gates)
+            pairs, stopped = _gated(tracks, z, var, gates, t, spec, single)
             if pairs:
                 rows = {i for i, _, _ in pairs}
                 cols = {j for _, j, _ in pairs}
@@ -214,7 +219,13 @@ class Tracks:
                 for i, j, _ in pairs:
                     tk = tracks[i]
                     zj = z[j]
-                    tk.update(zj[0], zj[1], var[j])
+                    if (i, j) in stopped:  # the person stopped or turned while unseen: start the motion afresh
+                        v = spec.init_speed_std**2
+                        tk.x = [zj[0], zj[1], 0.0, 0.0]
+                        tk.P = [var[j], 0.0, 0.0, 0.0, var[j], 0.0, 0.0, v, 0.0, v]
+                    else:
+                        tk.update(zj[0], zj[1], var[j])
+                    tk.last_z = (zj[0], zj[1])
                     assigned[j] = i
                     tk.last_update = t
                     if t > tk.last_seen:
@@ -222,14 +233,18 @@ class Tracks:
                     if not single[j]:  # only pairs and blobs confirm a track
                         tk.last_strong = t
                         tk.hits += 1
-        # Confirmation on repeated evidence; a tentative track that missed this scan is dropped.
+        # Confirmation on repeated evidence; a tentative track that missed this scan is dropped, and
+        # so is one that came within ``birth_clearance`` of a confirmed track (the same person twice).
         window = spec.confirm_window + 1e-9
+        clear2 = spec.birth_clearance**2
+        anchors = [(tk.x[0], tk.x[1]) for tk in tracks if tk.confirmed]
         keep: list[Track] = []
         row_of: list[int] = []
         for tk in tracks:
-            if not tk.confirmed and tk.hits >= spec.confirm_hits and t - tk.born <= window:
+            crowded = not tk.confirmed and any((tk.x[0] - ax) ** 2 + (tk.x[1] - ay) ** 2 < clear2 for ax, ay in anchors)
+            if not tk.confirmed and not crowded and tk.hits >= spec.confirm_hits and t - tk.born <= window:
                 tk.confirmed = True
-            dead = (
+            dead = crowded or (
                 (not tk.confirmed and (t - tk.last_update > spec.tentative_gap + 1e-9 or t - tk.born > window))
                 or t - tk.last_seen > spec.death_timeout
                 or t - tk.last_strong > spec.single_support  # a table leg must not keep a track forever
@@ -240,10 +255,16 @@ class Tracks:
         if len(keep) < len(tracks):
             assigned = [row_of[a] if a >= 0 else -1 for a in assigned]
             self.tracks = tracks = keep
-        # Birth: every unassigned pair or blob starts a tentative track.
+        # Birth: every unassigned pair or blob starts a tentative track, unless it lies within
+        # ``birth_clearance`` of a confirmed track: two people close together give pairs made of
+        # one leg of each, and such a pair confirmed as a third person stole the evidence of both.
+        anchors = [(tk.x[0], tk.x[1]) for tk in tracks if tk.confirmed]
         for j in range(m):
             if assigned[j] < 0 and not single[j]:
-                self._birth_one(t, z[j][0], z[j][1], spec.meas_std**2)
+                zx, zy = z[j][0], z[j][1]
+                if any((zx - ax) ** 2 + (zy - ay) ** 2 < clear2 for ax, ay in anchors):
+                    continue
+                self._birth_one(t, zx, zy, spec.meas_std**2)
         return assigned
 
     def _birth_one(self, t: float, zx: float, zy: float, r: float) -> None:
@@ -318,24 +339,53 @@ class Tracks:
         return kf
 
 
-def _gated(tracks: list[Track], z: Sequence[Sequence[float]], var: list[float], gates: list[float]) -> list[tuple[int, int, float]]:
-    """(track row, candidate, squared Mahalanobis distance) of every pair within the candidate's gate."""
+def _gated(
+    tracks: list[Track], z: Sequence[Sequence[float]], var: list[float], gates: list[float], t: float, spec: TrackerSpec,
+    single: list[bool] | None = None,
+) -> tuple[list[tuple[int, int, float]], set[tuple[int, int]]]:
+    """(track row, candidate, cost) of every pair within the candidate's gate, and the pairs gated
+    under the "stopped" hypothesis.
+
+    The gate is on the squared Mahalanobis distance; the cost is the negative log-likelihood
+    up to a constant, ``d2 + ln det S``, so a wide (long unseen) track or a loose single leg
+    does not take a candidate from a track that predicts it tightly.
+
+    A track unobserved for ``spec.stop_after`` has two hypotheses: it walked on (the constant-velocity
+    prediction) or it stopped or turned where it was last measured (radius ``stop_spread`` per second
+    unobserved); only pairs and blobs are taken under the second (a lone leg there is as likely a
+    chair's). The likelier of the two counts: a person who turns back while hidden behind another is
+    found where they were instead of being searched for where they would have walked to.
+    """
     out = []
+    stopped: set[tuple[int, int]] = set()
     for i, tk in enumerate(tracks):
         x0, x1 = tk.x[0], tk.x[1]
         P = tk.P
         p00, b, p11 = P[0], P[1], P[4]
         bb = b * b
+        hidden = t - tk.last_update
+        spread = (spec.stop_spread * hidden) ** 2 if hidden >= spec.stop_after else 0.0
+        lx, ly = tk.last_z
         for j, zj in enumerate(z):
             r = var[j]
             a = p00 + r
             d = p11 + r
+            det = a * d - bb
             dx = zj[0] - x0
             dy = zj[1] - x1
-            d2 = (d * dx * dx - 2 * b * dx * dy + a * dy * dy) / (a * d - bb)
-            if d2 <= gates[j]:
-                out.append((i, j, d2))
-    return out
+            d2 = (d * dx * dx - 2 * b * dx * dy + a * dy * dy) / det
+            ok = d2 <= gates[j]
+            cost = d2 + math.log(det)
+            if spread and not (single and single[j]):
+                s2 = r + spread
+                ds = ((zj[0] - lx) ** 2 + (zj[1] - ly) ** 2) / s2
+                cs = ds + 2 * math.log(s2)
+                if ds <= gates[j] and (not ok or cs < cost):
+                    ok, cost = True, cs
+                    stopped.add((i, j))
+            if ok:
+                out.append((i, j, cost))
+    return out, stopped
 
 
 def _assign(pairs: list[tuple[int, int, float]], n: int, m: int) -> list[tuple[int, int, float]]:

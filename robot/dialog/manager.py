@@ -40,6 +40,10 @@ from lxml import etree
 
 from .model import Action, DialogDef, Dialogs, Fill, render
 
+#: The robot never asks the same question more than twice (issue 26: confirmations that loop).
+MAX_SAME_QUESTION = 2
+
+
 @dataclass(frozen=True, slots=True)
 class Say:
     """Speech output (the module joins the sentences of one step into one utterance)."""
@@ -73,6 +77,21 @@ Output = Say | Send | Explain
 class Slot:
     status: str = "empty"
     value: Any = None
+    stamp: etree._Element | None = None  # the TIMESTAMP of the utterance that filled it
+
+
+def _same(old: Any, new: Any) -> bool:
+    """Whether two fills say the same thing: the same act, type and name (a paraphrase may add to it)."""
+    if not (isinstance(old, etree._Element) and isinstance(new, etree._Element)):
+        return old == new
+    if old.tag != new.tag:
+        return False
+    if (old.get("type") or new.get("type")) and old.get("type") != new.get("type") and old.get("type") and new.get("type"):
+        return False
+    a, b = old.find(".//TITLE"), new.find(".//TITLE")
+    if a is not None and b is not None and (a.get("name") or "").lower() != (b.get("name") or "").lower():
+        return False
+    return all(_same(x, y) for x, y in zip(old.findall("PLACE"), new.findall("PLACE")))
 
 
 @dataclass(slots=True)
@@ -85,6 +104,7 @@ class Instance:
     last_sig: tuple[str, ...] | None = None
     pending: tuple[str, str, str] | None = None  # (ask|confirm, slot, question)
     reasks: int = 0
+    asked: dict[str, int] = field(default_factory=dict)  # how often each question was said
     passed_over: int = 0  # user turns that went to other dialogs while its question was open
     sent: list[str] = field(default_factory=list)
     rejection: tuple[str, str, str] | None = None  # (event, reason, state) of the last one
@@ -115,7 +135,7 @@ def _merge(old: Any, new: Any) -> Any:
     for c in list(out):
         if c.tag in new_tags:
             out.remove(c)
-    order = ["GESTURE", "TITLE", "OWNER", "COLOUR", "ATTRIBUTE", "POSITION"]
+    order = ["GESTURE", "TITLE", "OWNER", "COLOUR", "ATTRIBUTE", "USE", "POSITION"]
     kids = list(out) + [deepcopy(c) for c in new]
     for c in list(out):
         out.remove(c)
@@ -149,10 +169,13 @@ class DialogManager:
         self.stack: list[Instance] = []
         self.es_state = ""  # the supervisor's current state, from its status channel
         self._serial = 0
+        self._last_done: tuple[str, dict[str, Any], int] | None = None  # (dialog, values, user turn) of the last success
+        self._unheard = 0  # user turns in a row not understood (each answered with "say that again")
         self.metrics: dict[str, Any] = {
             "user_turns": 0, "robot_turns": 0, "not_understood": 0, "reasks": 0, "confirmations": 0,
             "give_ups": 0, "rejections": 0, "rejections_explained": 0, "interruptions": 0, "resumptions": 0,
             "barge_ins": 0, "dropped": 0, "events_sent": 0, "ignored_frames": 0, "unhandled_conditions": 0,
+            "confirmed_by_repetition": 0, "corrections": 0, "asked_twice_gave_up": 0, "max_same_question": 0, "taken_after_repairs": 0,
             "dialogs": {},
         }
 
@@ -182,13 +205,35 @@ class DialogManager:
         """An ``<understood>`` or ``<not_understood>`` from the understanding."""
         self.metrics["user_turns"] += 1
         speech = msg.find("SPEECH")
-        if msg.tag != "understood" or speech is None or len(speech) == 0:
+        acts = [c for c in speech if c.tag != "TIMESTAMP"] if speech is not None else []
+        if msg.tag != "understood" or not acts:
             return self._not_understood()
-        act_el = speech[0]
+        act_el = acts[0]
         act = str(act_el.tag)
         conf = float(msg.get("confidence", "1"))
+        if self._unheard >= MAX_SAME_QUESTION and conf >= self.doc.confirm_below / 2 and self.doc.confirm_below <= 1.0:
+            # she was asked to say it again twice already: what is heard now is taken, not confirmed
+            # (a third question for one request; a more cautious document, confirm-below above 1, still asks)
+            conf = self.doc.confirm_below
+            self.metrics["taken_after_repairs"] += 1
+        self._unheard = 0
+        if msg.get("partial") == "true" and act_el.get("partial") is None:
+            # the understanding lost or skipped words: the policy may ask rather than act on what is
+            # left ("this is the <lost word>" is no "look at this")
+            act_el = deepcopy(act_el)
+            act_el.set("partial", "true")
+        stamp = speech.find("TIMESTAMP") if speech is not None else None
+        said = msg.get("answer", "")  # "yes"/"no" before the request: "no, the kitchen"
         out: list[Output] = []
         answered = self._answered_by(act)
+        if answered is None and said and self._confirming() is not None:
+            # "no, go to the kitchen" to "Shall I follow you?": the no answers it, the rest is new
+            top = self._confirming()
+            assert top is not None and top.pending is not None
+            top.passed_over = 0
+            top.slots[top.pending[1]].status = "true" if said == "yes" else "false"
+            top.pending = None
+            self._step(top, out)
         for inst in self.stack:
             if inst.pending is not None:
                 inst.passed_over = 0 if inst is answered else inst.passed_over + 1
@@ -199,18 +244,90 @@ class DialogManager:
             answered.reasks = 0
             if kind == "confirm" and act in ("YES", "NO"):
                 answered.slots[slot].status = "true" if act == "YES" else "false"
+            elif kind == "confirm":
+                self._confirm_by_frame(answered, slot, act, act_el, conf, said, stamp)
             else:
-                self._fill_frame(answered, [f for f in answered.d.fills if f.frame and act in f.frame], act_el, conf)
+                self._fill_frame(answered, [f for f in answered.d.fills if f.frame and act in f.frame], act_el, conf,
+                                 stamp)
             self._step(answered, out)
             return out
         # 2. a new sub-dialog
         d = self.doc.by_trigger(act)
-        if d is None or (d.in_states is not None and self.es_state not in d.in_states):
+        if d is None:
             self.metrics["ignored_frames"] += 1
             return out
+        if d.in_states is not None and self.es_state not in d.in_states:
+            # Nobody to talk to (as far as the dialog knows): the instruction still goes to the
+            # supervisor, which decides (the papers: the ES rejects what does not apply in its
+            # state, and the rejection comes back so the dialog can say why). A question with
+            # nothing to send (self-explanation) is ignored.
+            return self._send_unattended(d, act_el, out)
+        if said == "no":
+            act_el = self._correcting(d.id, act_el)
         inst = self._push(d, out)
-        self._fill_frame(inst, [f for f in d.fills if f.frame and act in f.frame], act_el, conf)
+        self._fill_frame(inst, [f for f in d.fills if f.frame and act in f.frame], act_el, conf, stamp)
         self._step(inst, out)
+        return out
+
+    def _correcting(self, did: str, act_el: etree._Element) -> etree._Element:
+        """"No, this is the bedroom" right after "OK, this is the kitchen. I will remember it.": the
+        new teaching says which name it replaces (``replaces=``), so the knowledge base renames the
+        place instead of keeping both."""
+        last = self._last_done
+        if last is None or last[0] != did or self.metrics["user_turns"] - last[2] > 1:
+            return act_el
+        old = next((v for v in last[1].values() if isinstance(v, etree._Element) and v.tag == act_el.tag), None)
+        old_title = old.find("TITLE") if old is not None else None
+        new_title = act_el.find("TITLE")
+        if old_title is None or new_title is None or old_title.get("name") == new_title.get("name"):
+            return act_el
+        act_el = deepcopy(act_el)
+        act_el.set("replaces", old_title.get("name", ""))
+        self.metrics["corrections"] += 1
+        return act_el
+
+    def _confirming(self) -> Instance | None:
+        """The dialog whose confirmation question is the topmost open question, if any."""
+        for inst in reversed(self.stack):
+            if inst.pending is not None:
+                return inst if inst.pending[0] == "confirm" else None
+        return None
+
+    def _confirm_by_frame(self, inst: Instance, slot: str, act: str, act_el: etree._Element, conf: float,
+                          said: str, stamp: etree._Element | None) -> None:
+        """A request said again while its confirmation is open ("Shall I follow you?" - "could you
+        follow me please"; "Is this the kitchen?" - "no, the living room").
+
+        The same request again, in any words, confirms it: two hearings agree. Other content
+        corrects it: the new value fills the slot as any frame does (confirmed again when heard
+        with low confidence). A "no" before the same content is a no.
+        """
+        fills = [f for f in inst.d.fills if f.frame and act in f.frame]
+        old = inst.slots[slot].value
+        new = next((v for v in (_select(f, act_el) for f in fills if f.slot == slot) if v is not None), None)
+        same = new is not None and _same(old, new)
+        if same and said != "no":
+            self._fill_frame(inst, fills, act_el, conf, stamp)
+            inst.slots[slot].status = "true"
+            self.metrics["confirmed_by_repetition"] += 1
+        elif same:
+            inst.slots[slot].status = "false"
+        else:
+            self._fill_frame(inst, fills, act_el, conf, stamp, replace=True)
+            self.metrics["corrections"] += 1
+            inst.last_sig = None  # the same slot statuses with a new value: the policy acts again (confirms it)
+
+    def _send_unattended(self, d: Any, act_el: etree._Element, out: list[Output]) -> list[Output]:
+        """Send the sub-dialog's event for an instruction heard outside its states, without starting it."""
+        send = next((a for r in d.rules for a in r.actions if a.kind == "send" and a.event), None)
+        if send is None:
+            self.metrics["ignored_frames"] += 1
+            return out
+        speech = etree.Element("SPEECH")
+        speech.append(deepcopy(act_el))
+        self.metrics["events_sent"] += 1
+        self.metrics["sent_unattended"] = self.metrics.get("sent_unattended", 0) + 1
+        out.append(Send(send.event or "", (speech,), send.lifetime, send.pose, d.id))
         return out
 
     def on_condition(self, cond: etree._Element) -> list[Output]:
@@ -319,6 +436,21 @@ class DialogManager:
             return None
         return None
 
+    def _may_ask(self, inst: Instance, question: str, out: list[Output]) -> bool:
+        """Count a question about to be asked; the third time the same question would be asked,
+        the dialog gives up instead ("Sorry, let us leave that for now."): no question loops."""
+        n = inst.asked.get(question, 0)
+        if n >= MAX_SAME_QUESTION:
+            self.metrics["asked_twice_gave_up"] += 1
+            self.metrics["give_ups"] += 1
+            inst.pending = None
+            self._say(out, self.doc.sentence("give-up"), inst.d.id)
+            self._finish(inst, out, abandoned=False)
+            return False
+        inst.asked[question] = n + 1
+        self.metrics["max_same_question"] = max(self.metrics["max_same_question"], n + 1)
+        return True
+
     def _say(self, out: list[Output], text: str, did: str) -> None:
         if text:
             out.append(Say(text, did))
@@ -326,6 +458,7 @@ class DialogManager:
     def _not_understood(self) -> list[Output]:
         out: list[Output] = []
         self.metrics["not_understood"] += 1
+        self._unheard += 1
         for inst in reversed(self.stack):
             if inst.pending is None:
                 continue
@@ -334,7 +467,7 @@ class DialogManager:
                 self.metrics["give_ups"] += 1
                 self._say(out, self.doc.sentence("give-up"), inst.d.id)
                 self._finish(inst, out, abandoned=False)
-            else:
+            elif self._may_ask(inst, inst.pending[2], out):
                 self.metrics["reasks"] += 1
                 self._say(out, self.doc.not_understood, inst.d.id)
                 self._say(out, inst.pending[2], inst.d.id)
@@ -359,15 +492,17 @@ class DialogManager:
         self._count(d.id, "started")
         return inst
 
-    def _fill_frame(self, inst: Instance, fills: list[Fill], act_el: etree._Element, conf: float) -> None:
+    def _fill_frame(self, inst: Instance, fills: list[Fill], act_el: etree._Element, conf: float,
+                    stamp: etree._Element | None = None, *, replace: bool = False) -> None:
         for f in fills:
             value = _select(f, act_el)
             if value is None:
                 continue
             slot = inst.slots[f.slot]
             status = f.status or ("true" if conf >= self.doc.confirm_below else "filled")
-            slot.value = _merge(slot.value, value) if slot.status != "false" else value
+            slot.value = _merge(slot.value, value) if slot.status != "false" and not replace else value
             slot.status = status
+            slot.stamp = stamp
 
     def _fill_other(self, inst: Instance, fills: list[Fill], el: etree._Element) -> None:
         for f in fills:
@@ -408,6 +543,8 @@ class DialogManager:
             self._say(out, render(a.text, values), did)
         elif a.kind in ("ask", "confirm"):
             q = render(a.text, values)
+            if not self._may_ask(inst, q, out):
+                return
             inst.pending = (a.kind, a.slot or "", q)
             if a.kind == "confirm":
                 self.metrics["confirmations"] += 1
@@ -421,6 +558,9 @@ class DialogManager:
                         children.append(deepcopy(v))
                     else:
                         w = etree.Element(wrapper)
+                        stamp = inst.slots[slot].stamp
+                        if wrapper == "SPEECH" and stamp is not None:  # as the papers' frames: when it was said
+                            w.append(deepcopy(stamp))
                         w.append(deepcopy(v))
                         children.append(w)
             inst.sent.append(a.event or "")
@@ -441,6 +581,8 @@ class DialogManager:
             return
         inst.done = True
         inst.success = not abandoned and inst.holds(inst.d.goal)
+        if inst.success:
+            self._last_done = (inst.d.id, inst.values(), self.metrics["user_turns"])
         self._count(inst.d.id, "abandoned" if abandoned else ("succeeded" if inst.success else "failed"))
         was_top = self.stack and self.stack[-1] is inst
         self.stack.remove(inst)
@@ -460,5 +602,5 @@ class DialogManager:
                 self.metrics["resumptions"] += 1
                 if below.d.resume:
                     self._say(out, render(below.d.resume, below.values()), below.d.id)
-                if below.pending is not None:
+                if below.pending is not None and self._may_ask(below, below.pending[2], out):
                     self._say(out, below.pending[2], below.d.id)

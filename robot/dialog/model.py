@@ -175,7 +175,7 @@ _OWNER_WORDS = {"robot": "my", "your": "my", "us": "our", "our": "our"}
 
 
 def noun_phrase(el: etree._Element) -> str:
-    """An object as the robot says it back: owner, attributes, colour, noun ("your favourite cup").
+    """An object as the robot says it back: owner, attributes, colour, use, noun ("your favourite cup").
 
     ``el`` is an ``OBJECT`` as the understanding frames it (``TITLE``, ``OWNER``, ``COLOUR``,
     ``ATTRIBUTE`` children) or as the object attention reports it (``name``/``type``, ``owner``,
@@ -199,7 +199,10 @@ def noun_phrase(el: etree._Element) -> str:
         det = f"{owner[:1].upper()}{owner[1:]}'s"
     attrs = list(dict.fromkeys(" ".join((a.get("name") or "").split()) for a in el.iterfind("ATTRIBUTE")))
     colour = child("COLOUR")  # only a colour she said: the camera's own colour (colour=) is not echoed
-    return " ".join(w for w in (det, *attrs, colour, noun) if w)
+    use = child("USE") or " ".join((el.get("use") or "").split())  # "your coffee cup"
+    if use and use in noun.split():
+        use = ""
+    return " ".join(w for w in (det, *attrs, colour, use, noun) if w)
 
 
 def _xpath_noun_phrase(context: Any, nodes: Any = None) -> str:

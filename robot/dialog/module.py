@@ -5,9 +5,11 @@ Listens to ``/robot/speech/frames`` (the understanding), ``/robot/es/conditions/
 ``/robot/localisation/pose`` (for place teaching), ``/robot/speaker/status``,
 ``/robot/audio/sources`` and ``/robot/attention/partner`` (barge-in). Publishes ES events on
 ``/robot/es/events`` and is the only module that speaks
-(``/robot/speaker/say``). Serves ``dialog/ask`` for the object attention's
-clarification questions (``<ask timeout><option index text/>+</ask>`` ->
-``<answer index/>`` or ``<answer none="true"/>``).
+(``/robot/speaker/say``). A reactive module's question comes through the ES, as the papers
+route everything: the condition ``ask`` (``<OPTIONS timeout><option index text/>+</OPTIONS>``)
+starts the clarify sub-dialog, and the answer goes back as the ES event ``clarified``
+(``<ANSWER index/>`` or ``<ANSWER none="true"/>``). ``dialog/ask`` (RPC, the same question
+answered directly) stays for tools.
 
 Timing (virtual, docs/semantics.md §7): the dialog is a serial processor; each input
 costs ``dialog_cost``; its events leave then, and what the robot says leaves
@@ -39,6 +41,7 @@ import asyncio
 import math
 import os
 from collections import deque
+from dataclasses import replace
 from typing import Any
 
 from lxml import etree
@@ -46,22 +49,17 @@ from lxml import etree
 from homesim.errors import BusError
 from homesim.message import Message
 from homesim.module import Module
+from robot.deployment import cost_scale
 from homesim.vloop import to_ns
+
+from robot.contract import ES_CONDITIONS, ES_EVENTS, ES_REJECTED, ES_STATUS, FRAMES, PARTNER, POSE, SAY, SOURCES, SPEAKER_STATUS
 
 from .loader import BIRON_DIALOGS, load
 from .manager import DialogManager, Explain, Instance, Output, Say, Send
 from .model import Dialogs
 
-FRAMES = "/robot/speech/frames"
-EVENTS = "/robot/es/events"
-CONDITIONS = "/robot/es/conditions/dialog"
-REJECTED = "/robot/es/rejected/dialog"
-ES_STATUS = "/robot/es/status"
-POSE = "/robot/localisation/pose"
-SAY = "/robot/speaker/say"
-SPEAKER_STATUS = "/robot/speaker/status"
-SOURCES = "/robot/audio/sources"
-PARTNER = "/robot/attention/partner"
+CONDITIONS = f"{ES_CONDITIONS}/dialog"
+REJECTED = f"{ES_REJECTED}/dialog"
 
 
 def front_bearing(deg: float) -> float:
@@ -109,6 +107,8 @@ def choose(options: list[tuple[int, str]], answer: Any) -> int | None:
             return options[1][0]
         return None
     words = {c.get("name", "") for c in answer.iter() if c.get("name")}
+    if answer.get("side"):  # "the left one": the options say where each is ("the cup on the left")
+        words.add(answer.get("side", ""))
     if answer.get("type"):
         words.add(answer.get("type", "").replace("_", " "))
     scores = [(sum(w in text.split() or w == text for w in words), idx) for idx, text in options]
@@ -133,12 +133,18 @@ class Dialog(Module):
         barge_in_width: float = 20.0,
         partner_fresh: float = 1.0,
         ask_timeout: float = 10.0,
+        confirm_below: float | None = None,
     ) -> None:
         super().__init__(sim, name, host=host)
         self.doc = dialogs if isinstance(dialogs, Dialogs) else load(dialogs)
+        if confirm_below is not None:  # a more (or less) cautious robot than the document's: option dialog.confirm_below
+            if not 0.0 <= confirm_below <= 2.0:
+                raise ValueError(f"dialog.confirm_below must lie in [0, 2] (above 1: confirm every request), got {confirm_below}")
+            self.doc = replace(self.doc, confirm_below=confirm_below)
         self.manager = DialogManager(self.doc)
-        self.dialog_cost = dialog_cost
-        self.generation_time = generation_time
+        scale = cost_scale(sim, self.name, self.bus.host)  # the papers' laptop: 1 (docs/deployment.md)
+        self.dialog_cost = dialog_cost * scale
+        self.generation_time = generation_time * scale
         self.barge_in_level = barge_in_level
         self.barge_in_width = barge_in_width
         self.partner_fresh = partner_fresh
@@ -176,7 +182,25 @@ class Dialog(Module):
         self._emit(self.manager.on_frame(msg.xml), msg.id)
 
     def _on_condition(self, msg: Message) -> None:
+        if msg.xml.get("name") == "ask":  # a reactive module's question, routed through the ES
+            self.sim.spawn(self._ask_for_es(msg), name=f"{self.name}-ask")
+            return
         self._emit(self.manager.on_condition(msg.xml), msg.id)
+
+    async def _ask_for_es(self, msg: Message) -> None:
+        """Condition ``ask`` (param ``options``: ``<OPTIONS timeout><option index text/>+</OPTIONS>``):
+        ask the partner, then answer with the ES event ``clarified`` (``<ANSWER index/>`` or
+        ``<ANSWER none="true"/>``), which the ES routes back to the module that asked."""
+        opts = next((p.find("OPTIONS") for p in msg.xml.iterfind("param") if p.find("OPTIONS") is not None), None)
+        options = [] if opts is None else [(int(o.get("index", str(i))), o.get("text", ""))
+                                           for i, o in enumerate(opts.iterfind("option"))]
+        timeout = float(opts.get("timeout", str(self.ask_timeout))) if opts is not None else self.ask_timeout
+        picked = await self._clarify(options, timeout, msg.id)
+        if self.bus.closed or self.bus.hung:
+            return
+        ev = etree.Element("event", name="clarified")
+        etree.SubElement(ev, "ANSWER", **({"none": "true"} if picked is None else {"index": str(picked)}))
+        self.bus.publish(ES_EVENTS, ev, causes=(msg.id,), transfer=True)
 
     def _on_rejected(self, msg: Message) -> None:
         self._emit(self.manager.on_rejected(msg.xml), msg.id)
@@ -279,7 +303,7 @@ class Dialog(Module):
                     x = self._pose
                     el.append(etree.Element("POSE", x=x.get("x", "0"), y=x.get("y", "0"), theta=x.get("theta", "0"),
                                             frame=x.get("frame", "map")))
-                self.bus.publish(EVENTS, el, causes=(cause,), transfer=True)
+                self.bus.publish(ES_EVENTS, el, causes=(cause,), transfer=True)
 
     def _enqueue(self, text: str, cause: str) -> None:
         if not text:
@@ -309,10 +333,14 @@ class Dialog(Module):
 
     # ---------------------------------------------------------------------- RPC
     async def _rpc_ask(self, msg: Message) -> etree._Element:
-        """Clarification: ask the partner which option they mean; reply with its index or none."""
+        """Clarification by RPC (kept for tools; BIRON's modules ask through the ES): index or none."""
         req = msg.xml
         options = [(int(o.get("index", str(i))), o.get("text", "")) for i, o in enumerate(req.iterfind("option"))]
-        timeout = float(req.get("timeout", str(self.ask_timeout)))
+        picked = await self._clarify(options, float(req.get("timeout", str(self.ask_timeout))), msg.id)
+        return etree.Element("answer", none="true") if picked is None else etree.Element("answer", index=str(picked))
+
+    async def _clarify(self, options: list[tuple[int, str]], timeout: float, cause: str) -> int | None:
+        """Ask the partner which option they mean (the clarify sub-dialog); the index picked, or None."""
         fut: asyncio.Future[Instance] = self.sim.loop.create_future()
 
         def ended(inst: Instance) -> None:
@@ -322,15 +350,12 @@ class Dialog(Module):
         phrase = options_phrase(self.doc, [t for _, t in options])
         inst, outs = self.manager.start("clarify", {"options": phrase} if phrase else {}, on_end=ended)
         if inst is None:
-            return etree.Element("answer", none="true")
-        self._emit(outs, msg.id)
+            return None
+        self._emit(outs, cause)
         try:
             async with asyncio.timeout(timeout):
                 done = await fut
         except TimeoutError:
-            self._emit(self.manager.cancel(inst), msg.id)
-            return etree.Element("answer", none="true")
-        picked = choose(options, done.slots["choice"].value) if done.success else None
-        if picked is None:
-            return etree.Element("answer", none="true")
-        return etree.Element("answer", index=str(picked))
+            self._emit(self.manager.cancel(inst), cause)
+            return None
+        return choose(options, done.slots["choice"].value) if done.success else None

@@ -28,13 +28,12 @@ from lxml import etree
 from homesim.message import Message
 from homesim.module import Module
 from homesim.geometry import wrap_angle
+from robot.contract import BASE_CMD, ODOMETRY
 
 if TYPE_CHECKING:
     from homesim.sim import Simulation
     from homesim.world.world import World
 
-CMD_CHANNEL = "/robot/base/cmd"
-ODOMETRY_CHANNEL = "/robot/odometry"
 
 
 @dataclass(frozen=True)
@@ -101,7 +100,7 @@ class Base(Module):
         self.last_cmd = -math.inf
         self.odometry = (0.0, 0.0, 0.0)  # starts at the origin, as a real base does
         self._last_true = world.robot.pose
-        self.bus.subscribe(CMD_CHANNEL, self._on_cmd)
+        self.bus.subscribe(BASE_CMD, self._on_cmd)
 
     def _on_cmd(self, msg: Message) -> None:
         v = float(msg.xml.get("v", "0"))
@@ -125,7 +124,7 @@ class Base(Module):
             v, w = measured_velocities(before, self.odometry, period)
             rb = self.world.robot
             self.bus.publish(
-                ODOMETRY_CHANNEL,
+                ODOMETRY,
                 etree.Element("odometry", x=f"{x:.5f}", y=f"{y:.5f}", theta=f"{th:.5f}", v=f"{v:.4f}", w=f"{w:.4f}", stalled="true" if rb.cmd_v and abs(v) < 1e-3 else "false"),
                 transfer=True,  # a fresh element, not kept: no copy
             )

@@ -25,18 +25,14 @@ from lxml import etree
 from homesim.message import Message
 from homesim.module import Module
 
+from robot.contract import FACES, GESTURES, OBJECTS, PTU_CMD, PTU_STATE, TORSOS
+
 from .camera import CameraSpec, PanTilt, detect_frame, ptu_step
 
 if TYPE_CHECKING:
     from homesim.sim import Simulation
     from homesim.world.world import World
 
-PTU_CMD = "/robot/ptu/cmd"
-PTU_STATE = "/robot/ptu/state"
-FACES = "/robot/camera/faces"
-TORSOS = "/robot/camera/torsos"
-GESTURES = "/robot/camera/gestures"
-OBJECTS = "/robot/camera/objects"
 
 
 def _deg(a: float) -> str:

@@ -19,11 +19,10 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from .audio import SOURCES, SPEECH, STEER
-from .base import CMD_CHANNEL, ODOMETRY_CHANNEL
-from .camera_module import FACES, GESTURES, OBJECTS, PTU_CMD, PTU_STATE, TORSOS
-from .laser import SCAN_CHANNEL
-from .speaker import DISPLAY_CMD, DISPLAY_STATE, SAY_CHANNEL, STATUS_CHANNEL
+from robot.contract import (
+    BASE_CMD, DISPLAY_CMD, DISPLAY_STATE, FACES, GESTURES, OBJECTS, ODOMETRY, PTU_CMD, PTU_STATE, SAY, SCAN, SOURCES, SPEAKER_STATUS, SPEECH,
+    STEER, TORSOS,
+)
 
 #: Where the hardware's XSDs live (package data of ``robot.schemas.hardware``).
 SCHEMA_DIR = Path(__file__).resolve().parent.parent / "schemas" / "hardware"
@@ -44,7 +43,7 @@ class TypedChannel:
 
 
 CHANNELS: tuple[TypedChannel, ...] = (
-    TypedChannel(SCAN_CHANNEL, "laser-scan.xsd", "out", "laser"),
+    TypedChannel(SCAN, "laser-scan.xsd", "out", "laser"),
     TypedChannel(FACES, "camera-faces.xsd", "out", "camera"),
     TypedChannel(TORSOS, "camera-torsos.xsd", "out", "camera"),
     TypedChannel(GESTURES, "camera-gestures.xsd", "out", "camera"),
@@ -54,10 +53,10 @@ CHANNELS: tuple[TypedChannel, ...] = (
     TypedChannel(SOURCES, "audio-sources.xsd", "out", "microphones"),
     TypedChannel(SPEECH, "audio-speech.xsd", "out", "microphones"),
     TypedChannel(STEER, "audio-steer.xsd", "in", "microphones"),
-    TypedChannel(CMD_CHANNEL, "base-cmd.xsd", "in", "base"),
-    TypedChannel(ODOMETRY_CHANNEL, "odometry.xsd", "out", "base"),
-    TypedChannel(SAY_CHANNEL, "speaker-say.xsd", "in", "speaker"),
-    TypedChannel(STATUS_CHANNEL, "speaker-status.xsd", "out", "speaker"),
+    TypedChannel(BASE_CMD, "base-cmd.xsd", "in", "base"),
+    TypedChannel(ODOMETRY, "odometry.xsd", "out", "base"),
+    TypedChannel(SAY, "speaker-say.xsd", "in", "speaker"),
+    TypedChannel(SPEAKER_STATUS, "speaker-status.xsd", "out", "speaker"),
     TypedChannel(DISPLAY_CMD, "display-cmd.xsd", "in", "display"),
     TypedChannel(DISPLAY_STATE, "display-state.xsd", "out", "display"),
 )

@@ -15,7 +15,7 @@ from typing import Any
 
 from homesim.module import Module
 
-from .audio import Microphones
+from .microphones_module import Microphones
 from .base import Base, OdometrySpec
 from .camera import CameraSpec
 from .camera_module import Camera

@@ -1,4 +1,4 @@
-"""SICK LMS200 laser range finder: the scan kernel, a reference leg detector, the module.
+"""SICK LMS200 laser range finder: the scan kernel and the module.
 
 The scan is a raycast at the laser's height (0.30 m) against the world's
 geometry: walls, furniture that reaches that height (a sofa, a cupboard),
@@ -6,9 +6,10 @@ table legs but not table tops, and people's legs. 180 degrees in 0.5 degree
 steps (361 beams), 8.19 m range, about 1 cm Gaussian noise; beams that hit
 nothing read ``max_range``. Noise comes from the generator handed in.
 
-:func:`~homesim.world.legs.detect_leg_pairs` (re-exported here) is a small
-reference detector: tests and scenario expectations use it to check that
-people appear in the scan. The person attention system is free to run its own.
+Leg detectors: the robot's is person attention's (``robot/attention/legs.py``);
+:func:`homesim.world.reference_legs.detect_leg_pairs` is the evaluation's
+reference (scenario expectations and tests check with it that people appear
+in the scan), not part of the robot.
 """
 
 from __future__ import annotations
@@ -27,12 +28,11 @@ if TYPE_CHECKING:
     from homesim.world.world import World
 
 from homesim.module import Module
-from homesim.world.legs import LegPair, detect_leg_pairs
 from homesim.world.raycast import add_range_noise
+from robot.contract import SCAN
 
-__all__ = ["LaserSpec", "Laser", "LegPair", "detect_leg_pairs", "laser_origin", "simulate_scan", "SCAN_CHANNEL"]
+__all__ = ["LaserSpec", "Laser", "laser_origin", "simulate_scan", "SCAN"]
 
-SCAN_CHANNEL = "/robot/laser/scan"
 
 
 @dataclass(frozen=True)
@@ -130,6 +130,6 @@ class Laser(Module):
         while True:
             self.beat()
             ranges = simulate_scan(self.world, self.world.robot.pose, self.spec, self.rng, bearings=self._bearings)
-            self.bus.publish(SCAN_CHANNEL, scan_element(self.now, self.spec, self.seq, template=self._template), attachments={"ranges": ranges}, transfer=True)
+            self.bus.publish(SCAN, scan_element(self.now, self.spec, self.seq, template=self._template), attachments={"ranges": ranges}, transfer=True)
             self.seq += 1
             await asyncio.sleep(period)

@@ -25,15 +25,12 @@ from lxml import etree
 
 from homesim.message import Message
 from homesim.module import Module
+from robot.contract import DISPLAY_CMD, DISPLAY_STATE, SAY, SPEAKER_STATUS
 
 if TYPE_CHECKING:
     from homesim.sim import Simulation
     from homesim.world.world import World
 
-SAY_CHANNEL = "/robot/speaker/say"
-STATUS_CHANNEL = "/robot/speaker/status"
-DISPLAY_CMD = "/robot/display/cmd"
-DISPLAY_STATE = "/robot/display/state"
 
 
 class Speaker(Module):
@@ -43,7 +40,7 @@ class Speaker(Module):
         super().__init__(sim, name, host="robot")
         self.world = world
         self.loudness = loudness
-        self.queue = self.bus.subscribe(SAY_CHANNEL)
+        self.queue = self.bus.subscribe(SAY)
 
     async def run(self) -> None:
         while True:
@@ -61,18 +58,18 @@ class Speaker(Module):
             return  # silence: nothing in progress (a cut utterance was handled by the loop below)
         u = self.world.sound.say("robot", text, self.now, loudness=self.loudness)
         status = etree.Element("speaking", text=text, start=f"{u.start:.6f}", end=f"{u.end:.6f}", level=f"{self.loudness:.1f}")
-        self.bus.publish(STATUS_CHANNEL, status, causes=(msg.id,))
+        self.bus.publish(SPEAKER_STATUS, status, causes=(msg.id,))
         while self.now < u.end - 1e-6:  # (virtual time is integer ns: never sleep 0)
             self.beat()
             nxt = self.queue.get_nowait()
             if nxt is not None:  # a new utterance interrupts this one
-                self.bus.publish(STATUS_CHANNEL, etree.Element("interrupted", text=text), causes=(msg.id,))
+                self.bus.publish(SPEAKER_STATUS, etree.Element("interrupted", text=text), causes=(msg.id,))
                 if not (nxt.xml.get("text") or (nxt.xml.text or "")).strip():
                     self.world.sound.cut("robot", self.now)  # barge-in: stop talking, say nothing
                 await self.say(nxt)
                 return
             await asyncio.sleep(min(0.1, u.end - self.now))
-        self.bus.publish(STATUS_CHANNEL, etree.Element("done", text=text), causes=(msg.id,))
+        self.bus.publish(SPEAKER_STATUS, etree.Element("done", text=text), causes=(msg.id,))
 
 
 class Display(Module):

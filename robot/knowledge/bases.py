@@ -20,7 +20,10 @@ attributes: :meth:`ObjectBase.merged`), so a correction never leaves a duplicate
 
 How it fails: a document that cannot be made canonical (no type, no
 position, no pose, a number that does not read) raises
-:class:`MemoryQueryError` saying what is missing; nothing is stored.
+:class:`MemoryQueryError` saying what is missing; nothing is stored. A
+document read back from the store is checked the same way (its base's tag,
+the schema) before anything uses it: a bad one stops the run at the start with
+:class:`MemoryStoreError` naming the store file and the document.
 """
 
 from __future__ import annotations
@@ -51,6 +54,8 @@ SAME_SPOT = 0.2
 
 OBJECT_INDEXES = {"type": "@type", "name": "@name", "owner": "@owner"}
 PLACE_INDEXES = {"name": "@name"}
+#: metres: a place named again within this distance of where a wrong name was just given is that place
+SAME_PLACE = 1.5
 
 
 def _clean(text: str | None) -> str:
@@ -119,12 +124,23 @@ class KnowledgeBase:
     def __init__(self, memory: ActiveMemory) -> None:
         self.memory = memory
         self._schema = load_schema(SCHEMA)
+        memory.check_loaded(self.check_stored)  # a stored document is input: checked before anything uses it
+
+    def check_stored(self, doc: etree._Element) -> None:
+        """A document read back from the store: this base's tag, valid against the schema."""
+        if doc.tag != self.tag:
+            raise MemoryQueryError(f"the {self.kind} base holds <{self.tag}>, not <{doc.tag}>", source=f"<knowledge {self.kind}>")
+        self.check(doc)
 
     def canonical(self, doc: etree._Element, attachments: Mapping[str, Attachment], now: float) -> tuple[etree._Element, dict[str, Attachment]]:
         raise NotImplementedError
 
     def check(self, doc: etree._Element) -> None:
         self._schema.check(doc, source=f"<knowledge {self.kind}>")
+        if ("x" in doc.attrib) != ("y" in doc.attrib):  # a position is both or neither (XSD 1.0 cannot say so)
+            raise MemoryQueryError(f"<{doc.tag}> has {'x' if 'x' in doc.attrib else 'y'} without "
+                                   f"{'y' if 'x' in doc.attrib else 'x'}: a position is x and y, or none",
+                                   source=f"<knowledge {self.kind}>")
 
     def same_as(self, doc: etree._Element) -> int | None:
         """The id of the stored document this one is a new version of, if any."""
@@ -168,8 +184,9 @@ class ObjectBase(KnowledgeBase):
         for key in ("owner", "use", "colour"):
             if d[key]:
                 out.set(key, d[key])
-        out.set("x", _fmt(_number(doc, "x", "an object")))
-        out.set("y", _fmt(_number(doc, "y", "an object")))
+        if doc.get("x") is not None or doc.get("y") is not None:  # none: taught from speech alone
+            out.set("x", _fmt(_number(doc, "x", "an object")))
+            out.set("y", _fmt(_number(doc, "y", "an object")))
         if doc.get("z") is not None:
             out.set("z", _fmt(_number(doc, "z", "an object")))
         if doc.get("size") is not None:
@@ -203,9 +220,13 @@ class ObjectBase(KnowledgeBase):
         owned = [i for i in ids if self.memory.get(i).xml.get("owner", "") == o]
         if owned and (o or n != t):
             return owned[-1]
+        if doc.get("x") is None:  # taught from speech alone: what was said is all there is to go by
+            return owned[-1] if owned else None
         x, y = float(doc.get("x")), float(doc.get("y"))  # type: ignore[arg-type]
         for i in reversed(ids):
             r = self.memory.get(i).xml
+            if r.get("x") is None:
+                continue
             ro = r.get("owner", "")
             if ro and o and ro != o:
                 continue  # Tom's cup beside hers: another cup
@@ -230,8 +251,8 @@ class ObjectBase(KnowledgeBase):
         for name in extra:
             a = etree.Element("ATTRIBUTE", name=name)  # ATTRIBUTEs come before the POSITION
             (pos.addprevious(a) if pos is not None else out.append(a))
-        moved = math.hypot(float(old.get("x", "0")) - float(new.get("x", "0")),
-                           float(old.get("y", "0")) - float(new.get("y", "0"))) > SAME_OBJECT
+        moved = old.get("x") is not None and new.get("x") is not None and math.hypot(
+            float(old.get("x", "0")) - float(new.get("x", "0")), float(old.get("y", "0")) - float(new.get("y", "0"))) > SAME_OBJECT
         if pos is None and old.find("POSITION") is not None and not moved:
             out.append(deepcopy(old.find("POSITION")))
         return out
@@ -297,6 +318,25 @@ class PlaceBase(KnowledgeBase):
     def same_as(self, doc: etree._Element) -> int | None:
         ids = self.memory.query_ids(where={"name": doc.get("name", "")})
         return ids[-1] if ids else None
+
+    def store(self, doc: etree._Element, attachments: Mapping[str, Attachment] | None = None, *, now: float = 0.0) -> tuple[int, bool]:
+        """Store a place; ``replaces="kitchen"`` (the user corrected the name she had just given:
+        "no, this is the bedroom") renames the place taught under the old name within
+        :data:`SAME_PLACE` metres instead of keeping both."""
+        wrong = _clean(doc.get("replaces"))
+        if wrong:
+            canon, _ = self.canonical(doc, attachments or {}, now)
+            x, y = float(canon.get("x", "0")), float(canon.get("y", "0"))
+            for rid in self.memory.query_ids(where={"name": wrong}):
+                old = self.memory.get(rid).xml
+                if math.hypot(float(old.get("x", "0")) - x, float(old.get("y", "0")) - y) <= SAME_PLACE:
+                    if self.same_as(canon) is None:
+                        self.check(canon)
+                        self.memory.update(rid, canon, None)
+                        return rid, True
+                    self.memory.remove(rid)  # the right name is stored already: the wrong one goes
+                    break
+        return super().store(doc, attachments, now=now)
 
     def taught(self) -> list[TaughtPlace]:
         """Every place, in the order it was first taught."""

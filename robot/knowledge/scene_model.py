@@ -46,12 +46,13 @@ from homesim.module import Module
 
 from robot.floorplan import MapFormatError
 
+from robot.contract import ES_EVENTS, ES_ORDERS
+
 from .bases import SCHEMA, KnowledgeBase, ObjectBase, PlaceBase, said_position
-from .where import Plan, locate, parse_plan
+from .where import Location, Plan, locate, parse_plan
 
 NAME = "scene_model"
-ORDERS = f"/robot/es/orders/{NAME}"
-EVENTS = "/robot/es/events"
+ORDERS = f"{ES_ORDERS}/{NAME}"
 REFUSED = f"/robot/{NAME}/refused"
 STORE_FILE = "scene_model.sqlite"
 MEMORY_SCHEMA = Path(__file__).resolve().parents[2] / "homesim" / "schemas" / "memory.xsd"
@@ -175,7 +176,7 @@ class SceneModel(Module):
             return
         event = etree.Element("event", name="query_result")
         event.append(result)
-        self.bus.publish(EVENTS, event, causes=(cause,), transfer=True)
+        self.bus.publish(ES_EVENTS, event, causes=(cause,), transfer=True)
 
     # --------------------------------------------------------------- where
     def answer(self, query: etree._Element | None) -> etree._Element:
@@ -187,8 +188,12 @@ class SceneModel(Module):
                 result.append(query)
             return result
         obj = found[0].xml
-        loc = locate(float(obj.get("x")), float(obj.get("y")), self.places.taught(), self.plan,  # type: ignore[arg-type]
-                     said=said_position(obj))
+        said = said_position(obj)
+        if obj.get("x") is None:  # taught from speech alone: only what the user said about where it is
+            loc = Location(furniture=said[1], relation=said[0] or "near", furniture_source="speech") if said else Location()
+        else:
+            loc = locate(float(obj.get("x")), float(obj.get("y")), self.places.taught(), self.plan,  # type: ignore[arg-type]
+                         said=said)
         result = etree.Element("RESULT", found="true", phrase=loc.phrase())
         result.append(obj)
         if loc.room is not None:

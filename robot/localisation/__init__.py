@@ -15,7 +15,7 @@ from typing import Any
 
 from homesim.module import Module
 
-from .localiser import POSE_CHANNEL, Localiser
+from .localiser import POSE, Localiser
 from .mcl import MCLParams
 
 POSE_SCHEMA = Path(__file__).resolve().parent.parent / "schemas" / "localisation-pose.xsd"
@@ -24,7 +24,7 @@ POSE_SCHEMA = Path(__file__).resolve().parent.parent / "schemas" / "localisation
 def install(run: Any) -> dict[str, Module]:
     """Type the pose channel and start the localiser (it asks map_server for the plan)."""
     sim = run.sim
-    sim.bus.declare_channel(POSE_CHANNEL, POSE_SCHEMA)
+    sim.bus.declare_channel(POSE, POSE_SCHEMA)
     options = getattr(getattr(run, "config", None), "options", None) or {}
     params = MCLParams()
     n = options.get("localisation-particles")

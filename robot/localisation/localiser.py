@@ -33,14 +33,13 @@ from homesim.message import Message
 from homesim.module import Module
 from robot.floorplan import FloorPlan, parse_map
 
+from robot.contract import ODOMETRY, POSE, SCAN
+
 from .mcl import MCL, MCLParams, Pose, compose, relative
 
 if TYPE_CHECKING:
     from homesim.sim import Simulation
 
-POSE_CHANNEL = "/robot/localisation/pose"
-ODOMETRY = "/robot/odometry"
-SCAN = "/robot/laser/scan"
 
 
 class LocalisationError(RuntimeError):
@@ -114,7 +113,7 @@ class Localiser(Module):
             self._cov_text = (f"{cov[0]:.6f}", f"{cov[1]:.6f}", f"{cov[2]:.6f}")
         cxx, cyy, ctt = self._cov_text
         self.bus.publish(
-            POSE_CHANNEL,
+            POSE,
             etree.Element(
                 "pose", time=f"{t:.6f}", x=f"{pose[0]:.4f}", y=f"{pose[1]:.4f}", theta=f"{pose[2]:.5f}",
                 cxx=cxx, cyy=cyy, ctt=ctt, frame="map",

@@ -42,6 +42,7 @@ from __future__ import annotations
 import asyncio
 import math
 from collections import deque
+from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
@@ -51,17 +52,13 @@ from lxml import etree
 from homesim.message import Message
 from homesim.module import Module
 
+from robot.contract import ATTENTION_STATE, BASE_CMD, ES_EVENTS, FOLLOW_STATUS, ODOMETRY, PARTNER, SCAN, TRACKS
+
 from .config import Limits
-from .local import DWAParams, LatestScan, dwa, heading_speed
+from .local import DWAParams, LatestScan, dwa, heading_speed, social_speed_limit
+from .people import People, nearest
 from .seen import SeenGround, footprint_samples
 
-STATE = "/robot/attention/state"
-PARTNER = "/robot/attention/partner"
-SCAN = "/robot/laser/scan"
-ODOMETRY = "/robot/odometry"
-BASE_CMD = "/robot/base/cmd"
-STATUS = "/robot/follow/status"
-EVENTS = "/robot/es/events"
 SCHEMA = Path(__file__).resolve().parent.parent / "schemas" / "navigation" / "follow-status.xsd"
 #: how many of the robot's own past positions (odometry, every CRUMB m) the back-off may retrace
 BREADCRUMBS = 200
@@ -103,7 +100,7 @@ class Follower(Module):
         self.lost_after = lost_after
         self.too_fast_distance, self.too_fast_time, self.warn_every = too_fast_distance, too_fast_time, warn_every
         self.params = params
-        sim.bus.declare_channel(STATUS, SCHEMA)
+        sim.bus.declare_channel(FOLLOW_STATUS, SCHEMA)
         self.following = False
         self.partner_id: str | None = None
         self.track: dict[str, float] | None = None  # the partner's last message (odom frame) and when
@@ -118,10 +115,12 @@ class Follower(Module):
         self._limit_since: float | None = None
         self._history: deque[tuple[float, float]] = deque(maxlen=64)  # (t, d) while at the limit
         self._warned_at = -math.inf
-        self.bus.subscribe(STATE, self._on_state)
+        self.bus.subscribe(ATTENTION_STATE, self._on_state)
         self.bus.subscribe(PARTNER, self._on_partner)
         self.bus.subscribe(SCAN, self._on_scan)
         self.bus.subscribe(ODOMETRY, self._on_odometry)
+        self.people = People()  # everyone else the attention tracks, while following
+        self._tracks_sub: Any = None
 
     def respawn(self) -> Follower:
         return Follower(self.sim, name=self.name, limits=self.limits, rate=1.0 / self.period, distance=self.distance,
@@ -142,6 +141,17 @@ class Follower(Module):
             if self.track is not None and self.track.get("id") != partner:
                 self.track = None
         self.following = follow
+        self._listen_to_people(follow)
+
+    def _listen_to_people(self, on: bool) -> None:
+        """Read the person tracks while following, and only then (every delivery draws a network
+        delay from the run's generator: a standing subscription would change every run)."""
+        if on and self._tracks_sub is None:
+            self._tracks_sub = self.bus.subscribe(TRACKS, lambda m: self.people.update(m.xml))
+        elif not on and self._tracks_sub is not None:
+            self._tracks_sub.close()
+            self._tracks_sub = None
+            self.people.clear()
 
     def _on_partner(self, msg: Message) -> None:
         x = msg.xml
@@ -205,7 +215,7 @@ class Follower(Module):
             self.driving = False
 
     def _status(self, d: float, at_limit: bool, state: str) -> None:
-        self.bus.publish(STATUS, etree.Element("follow", distance=f"{max(d, 0.0):.4f}", speed=f"{self.v:.4f}",
+        self.bus.publish(FOLLOW_STATUS, etree.Element("follow", distance=f"{max(d, 0.0):.4f}", speed=f"{self.v:.4f}",
                                                at_limit="true" if at_limit else "false", state=state))
 
     def control_step(self) -> tuple[float, float] | None:
@@ -259,7 +269,19 @@ class Follower(Module):
             pts = self.scan.points()
             if len(pts):
                 pts = pts[np.hypot(pts[:, 0] - rx, pts[:, 1] - ry) > 0.45]  # not the partner's own legs
-            cmd = dwa(self.v, self.w, goal, pts, self.limits, v_pref=v_pref, params=self.params)
+            # everyone else: keep out of their personal space, and pass them slowly (yield: slow,
+            # stop and wait while they cross, then go on)
+            # people walking about (a standing track may be a table's legs, which the laser keeps it
+            # off anyway); no lost tracks (a partner's second track lost at a door frame would live on
+            # as a phantom in the door)
+            others = self.people.around(self.odom, self.now, exclude=self.partner_id, near=(px, py), moving=0.2)
+            limits = self.limits
+            if len(others):
+                cap = social_speed_limit(nearest(others), self.limits.max_speed)
+                if cap < limits.max_speed:
+                    limits = replace(limits, max_speed=cap)
+                    v_pref = min(v_pref, cap)
+            cmd = dwa(self.v, self.w, goal, pts, limits, v_pref=v_pref, params=self.params, people=others)
             v, w = cmd.v, cmd.w
             state = "following" if cmd.ok else "waiting"
         self._command(v, w)
@@ -283,7 +305,7 @@ class Follower(Module):
         if (now - self._limit_since >= self.too_fast_time and d > self.too_fast_distance and d - d0 > 0.05
                 and now - self._warned_at >= self.warn_every):
             self._warned_at = now
-            self.bus.publish(EVENTS, etree.Element("event", name="partner_too_fast", distance=f"{d:.2f}"))
+            self.bus.publish(ES_EVENTS, etree.Element("event", name="partner_too_fast", distance=f"{d:.2f}"))
 
     async def run(self) -> None:
         while True:

@@ -111,6 +111,28 @@ def scan_points(ranges: np.ndarray, min_angle: float, resolution: float, max_ran
 
 _RING = np.linspace(0.0, 2 * math.pi, 10, endpoint=False)
 _RING_COS, _RING_SIN = np.cos(_RING), np.sin(_RING)
+#: m: the air the robot keeps between its footprint and a tracked person's body when it can help
+#: it: an arc that drives and would come closer within its whole horizon is inadmissible, unless it
+#: does not bring the robot any closer than it is (so a person who walks up to the robot is never
+#: fled into something, and waiting is always allowed). Head-on that is a stop about 0.76 m from
+#: the person's centre, 0.25 m of air in front of the bumper; passing beside someone, 0.72 m centre
+#: to centre (issue 26: yield, stop at a safe distance, never touch). Turning on the spot is
+#: exempt (it brings nobody nearer the robot's centre; the laser echoes still guard the corners),
+#: so a robot stopped beside a person can always turn to a way round.
+SOCIAL_GAP = 0.25
+#: m: a person's body radius round their tracked centre (the laser sees their legs).
+BODY = 0.25
+
+
+def people_gaps(x: np.ndarray, y: np.ndarray, th: np.ndarray, people: np.ndarray) -> np.ndarray:
+    """The air gap (m) between the footprint at each pose (arrays of one shape) and the nearest body.
+
+    ``people``: (P, 2) person centres in the robot frame; bodies are :data:`BODY` m round them.
+    """
+    c, s = np.cos(th)[..., None], np.sin(th)[..., None]
+    dx, dy = people[:, 0] - x[..., None], people[:, 1] - y[..., None]
+    lx, ly = c * dx + s * dy, -s * dx + c * dy
+    return (footprint_distance(lx, ly) - BODY).min(axis=-1)
 
 
 @lru_cache(maxsize=8)
@@ -315,8 +337,12 @@ def _times(horizon: float, steps: int) -> np.ndarray:
 
 
 def dwa(v0: float, w0: float, goal: tuple[float, float], points: np.ndarray, limits: Limits, *, v_pref: float,
-        params: DWAParams = DWAParams()) -> Command:
-    """The best admissible (v, w) toward ``goal`` (robot frame) given the laser ``points`` (see module docstring)."""
+        params: DWAParams = DWAParams(), people: np.ndarray | None = None) -> Command:
+    """The best admissible (v, w) toward ``goal`` (robot frame) given the laser ``points`` (see module docstring).
+
+    ``people``: (P, 2) robot-frame centres of the people the attention tracks (the follower leaves
+    its partner out): arcs keep :data:`SOCIAL_GAP` from their bodies (see :func:`social_mask`).
+    """
     p = params
     dv, dw = limits.max_accel * p.window, limits.max_turn_accel * p.window
     vlo = max(v0 - dv, -limits.max_reverse if v_pref < 0 else 0.0)
@@ -370,12 +396,35 @@ def dwa(v0: float, w0: float, goal: tuple[float, float], points: np.ndarray, lim
     else:
         hard = clear = np.full(len(V), np.inf)
         here = np.inf
-    return choose(V, W, x, y, th, hard, clear, here, d if len(pts) else None, goal, v_pref, p)
+    social = None
+    if people is not None and len(people):
+        social, gaps = social_mask(x, y, th, np.asarray(people, dtype=float).reshape(-1, 2), V)
+        clear = np.minimum(clear, gaps)
+    return choose(V, W, x, y, th, hard, clear, here, d if len(pts) else None, goal, v_pref, p, social=social)
+
+
+def social_mask(x: np.ndarray, y: np.ndarray, th: np.ndarray, people: np.ndarray,
+                v: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """Which arcs (rows of the (K, S) poses) respect people's space, and each arc's smallest gap to a body.
+
+    An arc is fine when its footprint stays :data:`SOCIAL_GAP` from every body over its whole
+    horizon, or when it never brings the robot closer than it is now (standing still always does),
+    or when it turns on the spot (``v`` 0: nobody comes nearer the centre).
+    The whole horizon, not just the stopping distance as for walls: people's positions come from
+    a tracker and jitter by a decimetre, and a robot that may close in until it could just stop
+    creeps up to them step by step.
+    """
+    gaps = people_gaps(x, y, th, people).min(axis=1)
+    now = float(people_gaps(np.zeros(1), np.zeros(1), np.zeros(1), people)[0])
+    ok = (gaps >= SOCIAL_GAP) | (gaps >= min(now, SOCIAL_GAP) - 1e-3)
+    if v is not None:
+        ok |= np.abs(v) < 1e-9
+    return ok, gaps
 
 
 def choose(V: np.ndarray, W: np.ndarray, x: np.ndarray, y: np.ndarray, th: np.ndarray, hard: np.ndarray,
            clear: np.ndarray, here: float, d: np.ndarray | None, goal: tuple[float, float], v_pref: float,
-           p: DWAParams) -> Command:
+           p: DWAParams, *, social: np.ndarray | None = None) -> Command:
     """Score the admissible arcs and pick the best: the dynamic window's decision once distances are known.
 
     ``d`` (arcs x steps) is the footprint distance along each arc, None without obstacles; shared by
@@ -386,6 +435,8 @@ def choose(V: np.ndarray, W: np.ndarray, x: np.ndarray, y: np.ndarray, th: np.nd
     # in contact already: only arcs that do not get closer
     if here <= p.margin:
         admissible = admissible | (d.min(axis=1) >= here - 1e-3) if d is not None else admissible
+    if social is not None:
+        admissible = admissible & social
     if not admissible.any():
         return Command(0.0, 0.0, False, float(here))
     gx, gy = goal

@@ -44,15 +44,13 @@ from homesim.errors import BusError, HomesimError
 from homesim.message import Message
 from homesim.module import Module
 
+from robot.contract import ES_CONDITIONS, PLAN, POSE, REPLAN, SCAN
+
 from .config import Limits, limits_from_config
 from .grid import MapError, NoPathError, OccupancyGrid, parse_map, path_length
 from .local import LatestScan
 
-CONDITIONS = "/robot/es/conditions/planner"
-PLAN = "/robot/navigation/plan"
-POSE = "/robot/localisation/pose"
-REPLAN = "/robot/navigation/replan"
-SCAN = "/robot/laser/scan"
+CONDITIONS = f"{ES_CONDITIONS}/planner"
 #: m: laser echoes further than this from the robot are not marked when replanning.
 LOCAL_RANGE = 3.0
 #: m: an echo this much clear of every mapped obstacle is something the map does not hold.

@@ -38,12 +38,9 @@ from lxml import etree
 
 from homesim.message import Message
 from homesim.module import Module
+from robot.contract import ES_EVENTS, ES_ORDERS, PLAN, PLAYER_STATUS, REPLAN
 
-EVENTS = "/robot/es/events"
-PLAN = "/robot/navigation/plan"
-PLAYER = "/robot/player/status"
-ORDERS = "/robot/es/orders/sequencer"
-REPLAN = "/robot/navigation/replan"
+ORDERS = f"{ES_ORDERS}/sequencer"
 REPLAN_SCHEMA = Path(__file__).resolve().parent.parent / "schemas" / "navigation" / "replan.xsd"
 
 
@@ -84,7 +81,7 @@ class Sequencer(Module):
         self.started = False
         self.blocked_since: float | None = None
         self.bus.subscribe(PLAN, self._on_plan)
-        self.bus.subscribe(PLAYER, self._on_player)
+        self.bus.subscribe(PLAYER_STATUS, self._on_player)
         self.bus.subscribe(ORDERS, self._on_order)
 
     def respawn(self) -> Sequencer:
@@ -99,7 +96,7 @@ class Sequencer(Module):
         el = etree.Element("event", name=name, **(attrs or {}))
         if child is not None:
             el.append(child)
-        self.bus.publish(EVENTS, el)
+        self.bus.publish(ES_EVENTS, el)
 
     def _fail(self, reason: str) -> None:
         self.steps, self.index, self.blocked_since = [], -1, None

@@ -16,8 +16,9 @@ Bus (docs/robot-contract.md). On the ES order ``find_object`` (on
    into candidates (:mod:`robot.objects.resolve`);
 4. resolves the reference from the frame's type, name and colour, the
    pointing ray and the distance; when two or more fit about equally it asks
-   through ``dialog/ask`` ("Do you mean the red cup or the blue one?") and
-   takes the answer;
+   the partner through the ES (event ``clarification``; the ES sends the dialog
+   the condition ``ask``, "Do you mean the red cup or the blue one?", and the
+   dialog's answer back as the order ``clarified``) and takes the answer;
 5. sends ES event ``object_recognized`` with ``<OBJECT type name [owner]
    colour x y z frame="map">`` plus the colour features as an inline
    ``<attachment>`` (ES orders carry no binaries) and the frame's
@@ -43,18 +44,15 @@ from homesim.message import Message
 from homesim.module import Module
 from robot.floorplan import FloorPlan, parse_map
 
+from robot.contract import ES_EVENTS, ES_ORDERS, FOCUS, GESTURES, OBJECTS, POSE
+
 from .gestures import CAMERA_HEIGHT, CAMERA_OFFSET, GestureTracker, camera_to_map
 from .resolve import Candidate, Resolution, Wanted, merge, option_texts, resolve
 
 if TYPE_CHECKING:
     from homesim.sim import Simulation
 
-ORDERS = "/robot/es/orders/object_attention"
-GESTURES = "/robot/camera/gestures"
-OBJECTS = "/robot/camera/objects"
-POSE = "/robot/localisation/pose"
-FOCUS = "/robot/objects/focus"
-EVENTS = "/robot/es/events"
+ORDERS = f"{ES_ORDERS}/object_attention"
 
 OWNER_WORDS = {"speaker": "partner", "my": "partner", "me": "partner", "mine": "partner"}
 
@@ -102,6 +100,7 @@ class ObjectAttention(Module):
         self._looking = False
         self._seen: list[tuple[str, float, float, float, tuple[float, float, float]]] = []
         self._search: asyncio.Task[None] | None = None
+        self._answer: asyncio.Future[etree._Element] | None = None  # waiting for the order "clarified"
         self.last: Resolution | None = None  # the latest resolution (for tests and introspection)
         self.bus.subscribe(ORDERS, self._on_order)
         self.bus.subscribe(GESTURES, self._on_gestures)
@@ -155,6 +154,11 @@ class ObjectAttention(Module):
 
     # ------------------------------------------------------------ orders
     def _on_order(self, msg: Message) -> None:
+        if msg.xml.get("name") == "clarified":  # the partner's answer to our question, through the ES
+            answer = next((p.find("ANSWER") for p in msg.xml.iterfind("param") if p.find("ANSWER") is not None), None)
+            if self._answer is not None and not self._answer.done() and answer is not None:
+                self._answer.set_result(answer)
+            return
         if msg.xml.get("name") != "find_object":
             return
         if self._search is not None and not self._search.done():
@@ -215,16 +219,28 @@ class ObjectAttention(Module):
         self.bus.publish(FOCUS, etree.Element("focus", bearing=f"{math.degrees(bearing):.2f}", distance=f"{dist:.3f}"), causes=(cause,))
 
     async def _ask(self, cands: list[Candidate], wanted: Wanted, pose: tuple[float, float, float], cause: str) -> Candidate | None:
+        """Ask the partner which candidate they mean, through the ES (the papers' control flow):
+        the event ``clarification`` (``<OPTIONS timeout><option index text/>+</OPTIONS>``) becomes the
+        dialog's condition ``ask``; the dialog's answer comes back as the order ``clarified``
+        (``<ANSWER index/>`` or ``none``). No answer within ``ask_timeout`` + 2 s: None."""
         texts = option_texts(cands, wanted, pose)
-        ask = etree.Element("ask", timeout=f"{self.ask_timeout:g}")
+        opts = etree.Element("OPTIONS", timeout=f"{self.ask_timeout:g}")
         for i, t in enumerate(texts):
-            etree.SubElement(ask, "option", index=str(i), text=t)
+            etree.SubElement(opts, "option", index=str(i), text=t)
+        ev = etree.Element("event", name="clarification")
+        ev.append(opts)
+        fut: asyncio.Future[etree._Element] = self.sim.loop.create_future()
+        self._answer = fut
+        self.bus.publish(ES_EVENTS, ev, causes=(cause,), transfer=True)
         try:
-            reply = await self.bus.call("dialog", "ask", ask, timeout=self.ask_timeout + 2.0, causes=(cause,))
-        except Exception:  # no dialog, or it failed: the partner could not be asked
+            async with asyncio.timeout(self.ask_timeout + 2.0):
+                answer = await fut
+        except TimeoutError:  # no dialog, or the ES did not route the question: the partner could not be asked
             return None
-        idx = reply.xml.get("index")
-        if reply.xml.get("none") == "true" or idx is None or not idx.isdigit() or int(idx) >= len(cands):
+        finally:
+            self._answer = None
+        idx = answer.get("index")
+        if answer.get("none") == "true" or idx is None or not idx.isdigit() or int(idx) >= len(cands):
             return None
         return cands[int(idx)]
 
@@ -240,16 +256,16 @@ class ObjectAttention(Module):
         el.set("z", f"{c.z:.3f}")
         el.set("frame", "map")
         if obj is not None:
-            for tag in ("ATTRIBUTE", "POSITION"):
+            for tag in ("ATTRIBUTE", "USE", "POSITION"):  # USE: "my coffee cup" is for coffee
                 for ch in obj.iterfind(tag):
                     el.append(_copy(ch))
         el.append(attachment_element("colour_features", c.features(), inline=True))
         ev = etree.Element("event", name="object_recognized")
         ev.append(el)
-        self.bus.publish(EVENTS, ev, causes=(cause,))
+        self.bus.publish(ES_EVENTS, ev, causes=(cause,))
 
     def _not_found(self, reason: str, cause: str) -> None:
-        self.bus.publish(EVENTS, etree.Element("event", name="object_not_found", reason=reason), causes=(cause,))
+        self.bus.publish(ES_EVENTS, etree.Element("event", name="object_not_found", reason=reason), causes=(cause,))
 
 
 def _copy(el: etree._Element) -> etree._Element:

@@ -29,6 +29,7 @@ when addressed by name), ``GOODBYE``, ``CAPABILITIES``, ``FOLLOW``,
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import Any
 from pathlib import Path
 
 from lark import Lark, Token, Tree
@@ -36,7 +37,7 @@ from lark.exceptions import UnexpectedInput, UnexpectedToken
 from lark.lexer import Lexer
 from lxml import etree
 
-from .lexicon import Lexicon, Tok
+from .lexicon import EDIT, Lexicon, Tok
 
 GRAMMAR_FILE = Path(__file__).with_name("hometour.lark")
 
@@ -66,6 +67,7 @@ class Understanding:
     partial: bool = False  # the frame needed a skipped token or a missing object/place
     coverage: float = 0.0  # share of the meaningful words the frame used, 0..1
     rest: list[str] = field(default_factory=list)  # a whole request after a greeting, left out of the frame
+    answer: str = ""  # "yes"/"no" said before the request ("no, the kitchen"): it answers an open question
     reason: str = ""  # why nothing was understood
 
     @property
@@ -93,22 +95,53 @@ class Understander:
         lex = self.lexicon.tokens(words)
         res = Understanding(words, None, unknown=lex.unknown, corrected=lex.corrected)
         toks = lex.tokens
+        while toks and toks[0].type == EDIT:  # "sorry, this is my cup": nothing before it to repair
+            res.corrected.append(toks[0].text)
+            toks = toks[1:]
         if len(toks) > 1 and toks[0].type == "OKAY":  # "okay, bye": a leading okay only takes the turn
             toks = toks[1:]
         if not toks:
             res.reason = "no known words" if lex.unknown else "nothing said"
             return res
         tree, ignored, partial = self._parse(toks)
-        if toks[0].type == "NO" and len(toks) > 1 and (tree is None or partial or tree_act(tree) == "no"):
-            alt = self._parse(toks[1:])  # "no, the blue one": the correction is what counts
-            if alt[0] is not None and not alt[2]:
+        if toks[0].type in ("IS", "ARE") and len(toks) > 1 and (tree is None or partial):
+            # "is the living room": not a question about an object, a teaching whose "this" was lost
+            alt = self._parse(toks[1:])
+            if alt[0] is not None and (not alt[2] or tree is None):
+                tree, ignored, partial = alt[0], [toks[0].text, *alt[1]], True
+        restart = self._restart(lex.raw)
+        if restart is not None:  # "follow me, no wait, stop": the repair is a whole new request
+            toks, (tree, ignored, partial) = restart
+        lead = 0
+        while lead < len(toks) - 1 and toks[lead].type in _ANSWER_WORDS:
+            lead += 1
+        if lead and (tree is None or partial or tree_act(tree) in ("yes", "no")):
+            alt = self._parse(toks[lead:])  # "no, the blue one", "yes, this is the kitchen": the rest counts
+            if alt[0] is not None and not alt[2] and tree_act(alt[0]) not in ("yes", "no"):
+                said = {t.type for t in toks[:lead]}
+                res.answer = "no" if "NO" in said else "yes"
+                toks = toks[lead:]
                 tree, ignored, partial = alt
-                res.corrected.append(toks[0].text)
+        if any(t.type == "GOODBYE" for t in toks) and (tree is None or partial) and (
+                tree is None or tree_act(tree) != "goodbye"):
+            # "that's it for today, goodbye": whatever else was in a closing turn, it closes
+            tree, ignored, partial = self._parse([t for t in toks if t.type == "GOODBYE"])
+            ignored = [t.text for t in toks if t.type != "GOODBYE"]
         if tree is None:
             res.ignored = [t.text for t in toks]
             res.reason = "no parse"
             return res
-        res.frame = build(tree)
+        frame = build(tree)
+        obj = frame[0]
+        if partial and lex.unknown and obj.tag == "OBJECT" and obj.get("type") is None and all(
+                c.tag == "GESTURE" for c in obj):
+            # "that's the end of the tour": a deixis and words the robot does not know describe no
+            # object (a closing turn must not become an empty object frame); "this is a <lost>"
+            # without unknown words stays an object to look at
+            res.ignored = [t.text for t in toks]
+            res.reason = "nothing known said about it"
+            return res
+        res.frame = frame
         res.ignored = ignored
         res.partial = partial or bool(ignored)
         used = len(toks) - len(ignored)
@@ -117,6 +150,29 @@ class Understander:
             res.rest = list(ignored)
         res.coverage = used / max(1, len(toks) + len(lex.unknown))
         return res
+
+    def _restart(self, raw: list[Tok]) -> tuple[list[Tok], tuple[Tree | None, list[str], bool]] | None:
+        """The words after the last editing term, when they are a whole request by themselves.
+
+        A repair that starts a new clause ("this is a cup, no, it's a glass", "follow me, no wait,
+        stop") replaces everything before it; a repair that continues a phrase ("the red, no, the
+        blue cup") is aligned with its reparandum by the lexicon instead.
+        """
+        last = None
+        for i, t in enumerate(raw):
+            if i and (t.type == EDIT or (t.type == "NO" and any(x.type not in ("NO", EDIT) for x in raw[:i]))):
+                last = i
+        if last is None:
+            return None
+        tail = raw[last + 1 :]
+        while tail and tail[0].type in (EDIT, "NO"):
+            tail = tail[1:]
+        if not tail:
+            return None
+        parsed = self._parse(tail)
+        if parsed[0] is None or parsed[2] or tree_act(parsed[0]) in _NOT_RESTARTS:
+            return None
+        return tail, parsed
 
     def _request_after_greeting(self, toks: list[Tok], ignored: list[str]) -> bool:
         """Whether the words a greeting's parse left out are the utterance's end and a whole act alone.
@@ -143,30 +199,45 @@ class Understander:
         stream = [Token(t.type, t) for t in toks]
         try:
             return self.parser.parse(stream), [], False
-        except UnexpectedToken as exc:
-            ip = exc.interactive_parser
-            bad = exc.token
+        except UnexpectedToken:
+            pass
         ignored: list[str] = []
-        used = len(stream)
-        if bad.type != "$END":
-            at = next(i for i, t in enumerate(stream) if t is bad)
-            ignored.append(toks[at].text)
-            for t in stream[at + 1 :]:
-                try:
-                    ip.feed_token(t)
-                except UnexpectedToken:
-                    ignored.append(t.value.text)
-            used -= len(ignored)
+        # again token by token from the start, keeping the parser's state after each token it
+        # took: a token that does not fit is skipped; at the end, the longest prefix that makes a
+        # whole act wins over a guessed rest ("this is a nice cup, isn't it", "no, that is <lost>")
+        ip = self.parser.parse_interactive()
+        taken: list[Any] = []
+        fed: list[int] = []
+        for i, t in enumerate(stream):
+            try:
+                ip.feed_token(t)
+            except UnexpectedToken:
+                ignored.append(toks[i].text)
+                continue
+            taken.append(ip.copy())
+            fed.append(i)
+        used = len(stream) - len(ignored)
+        if ignored:
             try:
                 return ip.copy().feed_eof(), ignored, True
             except UnexpectedInput:
                 pass
+        for k in range(len(taken) - 2, -1, -1):
+            try:
+                tree = taken[k].copy().feed_eof()
+            except UnexpectedInput:
+                continue
+            kept = set(fed[: k + 1])
+            return tree, [toks[i].text for i in range(len(stream)) if i not in kept], True
         if used < 2:
             return None, ignored, True  # one word and a guessed rest is no understanding
         skipped = set(ignored)
         if all(t.type in _ONLY_POINTS for t in toks if t.text not in skipped):
             # a deixis, articles and prepositions alone are noise ("this the to", "to the"), not an
             # object or place the user began to describe ("this is my favourite <lost word>")
+            return None, ignored, True
+        if toks[0].type in ("IS", "ARE"):
+            # "is the <lost words>": a question whose object was lost is no question to answer
             return None, ignored, True
         for filler in ("OBJ", "PLACE"):  # "this is my ...": close it with an empty object/place
             trial = ip.copy()
@@ -178,8 +249,16 @@ class Understander:
         return None, ignored, True
 
 
+#: Words that answer a question before the request that follows them ("no, the kitchen").
+_ANSWER_WORDS = frozenset({"YES", "OKAY", "NO"})
+#: Acts that continue a phrase rather than start a new clause: a repair made of them is aligned.
+_NOT_RESTARTS = frozenset({"object_fragment", "place_fragment", "that_one", "yes", "no"})
+
 # word classes that say nothing about a dangling object or place: deixis, articles, prepositions
-_ONLY_POINTS = frozenset({"THIS", "THAT", "HERE", "THERE", "IT", "A", "THE", "TO", "IN", "REL", "OF", "ONE"})
+# (and the copula: "it is", "this is the" name nothing; the dialog asks to hear it again rather than
+# start teaching an object nobody named)
+_ONLY_POINTS = frozenset({"THIS", "THAT", "HERE", "THERE", "IT", "A", "THE", "TO", "IN", "REL", "OF", "ONE",
+                          "IS", "ARE", "CALLED"})
 
 
 def _declared(text: str) -> set[str]:
@@ -222,17 +301,24 @@ def _owner(tree: Tree | None) -> str | None:
     """An owner from ``possessor`` or ``owner_tail``: 'speaker', 'robot', 'us' or a name."""
     if tree is None:
         return None
-    for t in _tokens(tree):
-        if t.type == "NAME":
-            return t.value
+    toks = _tokens(tree)
+    named = [t for t in toks if t.type == "NAME"]
+    if named:  # "my daughter's room": the daughter's
+        return named[-1].value
+    for t in toks:
         if t.type in ("MY", "MINE", "YOUR", "OUR"):
             return t.value
         if t.type == "ME":
-            return "speaker"
+            return "speaker" if t.value == "me" else t.value
     return None
 
 
-def _object(np: Tree, *, gesture: bool, position: Tree | None = None, tail: Tree | None = None) -> etree._Element:
+def _object(np: Tree | None, *, gesture: bool, position: Tree | None = None, tail: Tree | None = None) -> etree._Element:
+    if np is None:  # "look at this": the pointing says which, the scene what
+        el = _E("OBJECT")
+        if gesture:
+            _S(el, "GESTURE", val="probably_pointing")
+        return el
     toks = _tokens(np)
     noun = next((t for t in toks if t.type == "OBJ"), None)
     el = _E("OBJECT")
@@ -253,6 +339,9 @@ def _object(np: Tree, *, gesture: bool, position: Tree | None = None, tail: Tree
         _S(el, "COLOUR", name=colours[-1])
     for a in attrs:
         _S(el, "ATTRIBUTE", name=a)
+    use = next((t for t in toks if t.type == "USE"), None)
+    if use is not None:  # "my coffee cup": what it is for
+        _S(el, "USE", name=use.value)
     if position is not None:
         el.append(_position(position))
     return el
@@ -278,11 +367,51 @@ def _position(tree: Tree) -> etree._Element:
     return pos
 
 
+def _that_one(act: Tree) -> etree._Element:
+    """``THAT_ONE`` (index, side, type; GESTURE, TITLE, COLOUR, ATTRIBUTE*, POSITION): which of several."""
+    el = _E("THAT_ONE")
+    toks = _tokens(act)
+    where = _sub(act, "ref_where")
+    side_tree = _sub(act, "side") or (_sub(where, "side") if where is not None else None)
+    sides = [t for t in toks if t.type == "SIDE"] + ([t for t in _tokens(side_tree) if t.type == "SIDE"]
+                                                     if side_tree is not None else [])
+    deixis = _sub(act, "deixis")
+    pointing = (deixis is not None and any(t.type in ("THIS", "THAT", "HERE") for t in _tokens(deixis))) or (
+        where is not None and any(t.type == "POINTING" for t in _tokens(where)))
+    np = _sub(act, "object_np")
+    if np is not None:
+        toks = toks + _tokens(np)
+        act = np
+    for t in toks:
+        if t.type == "ORD":
+            el.set("index", t.value)
+    if sides:
+        el.set("side", sides[-1].value)
+    noun = next((t for t in toks if t.type == "OBJ"), None)
+    if noun is not None and noun.value:
+        el.set("type", noun.value)
+    if pointing:
+        _S(el, "GESTURE", val="probably_pointing")
+    if noun is not None and noun.value:
+        _S(el, "TITLE", name=noun.text)
+    colours, attrs = _modifiers(act)
+    if colours:
+        _S(el, "COLOUR", name=colours[-1])
+    for a in attrs:
+        _S(el, "ATTRIBUTE", name=a)
+    position = _sub(act, "position") or (_sub(where, "position") if where is not None else None)
+    if position is not None:
+        el.append(_position(position))
+    return el
+
+
 def _place(np: Tree) -> etree._Element:
     el = _E("PLACE")
     place = next((t for t in _tokens(np) if t.type in ("PLACE", "ROOM")), None)
     if place is not None and place.value:
-        _S(el, "TITLE", name=place.value)
+        # the user's words are the name ("that's the study" is the study); the lexicon's
+        # synonyms only let the grammar know it is a place
+        _S(el, "TITLE", name=place.text)
     owner = _owner(_sub(np, "possessor"))
     if owner is not None:
         _S(el, "OWNER", name=owner)
@@ -302,15 +431,7 @@ def build(tree: Tree) -> etree._Element:
     elif kind in ("goodbye", "capabilities", "follow", "stop", "wait", "yes", "no"):
         _S(speech, {"goodbye": "GOODBYE", "capabilities": "CAPABILITIES"}.get(kind, kind.upper()))
     elif kind == "that_one":
-        el = _S(speech, "THAT_ONE")
-        for t in _tokens(act):
-            if t.type == "ORD":
-                el.set("index", t.value)
-        colours, attrs = _modifiers(act)
-        if colours:
-            _S(el, "COLOUR", name=colours[-1])
-        for a in attrs:
-            _S(el, "ATTRIBUTE", name=a)
+        speech.append(_that_one(act))
     elif kind in ("teach_object", "object_fragment"):
         speech.append(_object(_sub(act, "object_np"), gesture=kind == "teach_object",  # type: ignore[arg-type]
                               position=_sub(act, "position"), tail=_sub(act, "owner_tail")))

@@ -32,7 +32,22 @@ DROP = "-"
 #: Terminal of an editing term that introduces a self-correction.
 EDIT = "EDIT"
 
-_WORD = re.compile(r"[a-z0-9]+(?:'[a-z]+)?")
+_WORD = re.compile(r"[a-z0-9]+(?:'[a-z]+)?'?")
+
+#: Contractions said as two words ("we're" -> "we are"), so the grammar needs one form only.
+CONTRACTIONS = {
+    "i'm": ("i", "am"), "you're": ("you", "are"), "we're": ("we", "are"), "they're": ("they", "are"),
+    "isn't": ("is", "not"), "aren't": ("are", "not"), "don't": ("do", "not"), "doesn't": ("does", "not"),
+    "didn't": ("did", "not"), "can't": ("can", "not"), "cannot": ("can", "not"), "won't": ("will", "not"),
+    "wouldn't": ("would", "not"), "couldn't": ("could", "not"), "haven't": ("have", "not"),
+    "i'd": ("i", "would"), "you'd": ("you", "would"), "we'd": ("we", "would"), "i've": ("i", "have"),
+    "we've": ("we", "have"), "you've": ("you", "have"), "i'll": ("i", "will"), "we'll": ("we", "will"),
+    "you'll": ("you", "will"), "that'll": ("that", "will"), "there's": ("there", "is"), "he's": ("he", "is"),
+    "she's": ("she", "is"), "who's": ("who", "is"), "how's": ("how", "is"), "wasn't": ("was", "not"),
+    "gotta": ("got", "to"), "wanna": ("want", "to"), "gonna": ("going", "to"),
+}
+#: Words whose "'s" is "is", not a possessive.
+_IS_CONTRACTED = frozenset({"that's", "it's", "what's", "where's", "here's", "this's"})
 
 
 @dataclass(frozen=True, slots=True)
@@ -56,6 +71,7 @@ class Tokens:
     corrected: list[str] = field(default_factory=list)  # words removed by a self-correction
     repeated: list[str] = field(default_factory=list)  # words removed as repetitions
     words: int = 0  # how many words the utterance had
+    raw: list[Tok] = field(default_factory=list)  # the tokens before self-corrections and repetitions
 
 
 class LexiconError(ValueError):
@@ -103,13 +119,17 @@ class Lexicon:
     def words(text: str) -> list[str]:
         """Lower-case words; "anna's" becomes "anna" + "POSS" (the possessive), "let's" stays."""
         out: list[str] = []
-        for w in _WORD.findall(text.lower()):
-            if w.endswith("'s") and w not in ("let's", "that's", "it's", "what's", "where's", "here's", "children's"):
-                out += [w[:-2], "POSS"]
-            elif w in ("that's", "it's", "what's", "where's", "here's"):
+        for w in _WORD.findall(text.lower().replace("\u2019", "'")):
+            if w in CONTRACTIONS:
+                out += CONTRACTIONS[w]
+            elif w in _IS_CONTRACTED:
                 out += [w[:-2], "is"]
+            elif w.endswith("'s") and w != "let's":
+                out += [w[:-2], "POSS"]
+            elif w.endswith("s'") and len(w) > 2:  # "the kids' room", "my parents' bedroom"
+                out += [w[:-1], "POSS"]
             else:
-                out.append(w)
+                out.append(w.rstrip("'"))
         return out
 
     def tokens(self, text: str) -> Tokens:
@@ -131,16 +151,83 @@ class Lexicon:
                 if hit is not None:
                     term, value = hit
                     if term != DROP:
-                        toks.append(Tok(term, value, words[i] if k == 1 else " ".join(key)))
+                        toks.append(Tok(term, value, words[i] if k == 1 else " ".join(key).replace(" POSS", "'s")))
                     i += k
                     break
             else:
-                unknown.append(words[i])
+                if i + 1 < n and words[i + 1] == "POSS":  # "sarah's cup": whoever owns it is named
+                    toks.append(Tok("NAME", words[i], words[i]))
+                else:
+                    unknown.append(words[i])
                 i += 1
-        out = Tokens(toks, unknown, words=n)
+        toks = _owners(toks)
+        toks = _sides(toks)
+        out = Tokens(toks, unknown, words=n, raw=_compounds(list(toks)))
         out.tokens = _repairs(out.tokens, out.corrected)
         out.tokens = _repetitions(out.tokens, out.repeated)
+        out.tokens = _restatements(out.tokens, out.corrected)
+        out.tokens = _compounds(out.tokens)
         return out
+
+
+#: "left" after "have", "I", "did", "we" is the verb ("where could I have left my bag").
+_LEFT_AS_PUT = frozenset({"HAVE", "I", "DID", "WE", "YOU"})
+
+#: Words that name a side after an article or before "one"/a noun ("the right one", "at the back",
+#: "the right cup") and something else elsewhere ("right!", "go back").
+_SIDE_WORDS = {"right": "right", "back": "back"}
+_BEFORE_SIDE = frozenset({"THE", "A", "THIS", "THAT"})
+_AFTER_SIDE = frozenset({"ONE", "OBJ", "COLOUR", "ATTR"})
+
+
+def _sides(toks: list[Tok]) -> list[Tok]:
+    """Read "right" and "back" as a side where the words around them say so."""
+    for i, t in enumerate(toks):
+        if t.type == "SIDE" and t.text == "left" and i and toks[i - 1].type in _LEFT_AS_PUT:
+            toks[i] = Tok("PUT", "put", t.text)
+            continue
+        side = _SIDE_WORDS.get(t.text)
+        if side is None:
+            continue
+        before = toks[i - 1].type if i else ""
+        after = toks[i + 1].type if i + 1 < len(toks) else ""
+        if before in _BEFORE_SIDE or (after in _AFTER_SIDE and before not in ("GO", "COME", "IS", "YES")):
+            toks[i] = Tok("SIDE", side, t.text)
+    return toks
+
+
+def _owners(toks: list[Tok]) -> list[Tok]:
+    """A word before a possessive names an owner ("the dog's bowl", "the baby's bottle")."""
+    for i in range(len(toks) - 1):
+        t = toks[i]
+        if toks[i + 1].type == "POSS" and t.type not in ("NAME", "POSS", EDIT, "NO"):
+            toks[i] = Tok("NAME", t.text, t.text)
+    return toks
+
+
+#: Nouns that say what something is made of when they stand before another noun ("a glass vase").
+MATERIAL_NOUNS = frozenset({"glass", "paper", "stone", "metal", "plastic", "wood", "leather", "china", "iron"})
+
+
+def _compounds(toks: list[Tok]) -> list[Tok]:
+    """Noun-noun compounds: the last noun is the head and gives the type, the words said are the title.
+
+    "the bathroom mirror" (a place before an object), "the bed lamp" (an object before an object):
+    one OBJ with the head's type and the compound's words. A material noun before a noun is an
+    attribute ("a glass vase"); a use word before a noun stays a USE ("a coffee cup").
+    """
+    out: list[Tok] = []
+    for t in toks:
+        prev = out[-1] if out else None
+        if t.type == "OBJ" and prev is not None and prev.type in ("OBJ", "PLACE"):
+            if prev.type == "OBJ" and prev.text in MATERIAL_NOUNS:
+                out[-1] = Tok("ATTR", prev.text, prev.text)
+                out.append(t)
+            else:
+                out[-1] = Tok("OBJ", t.value, f"{prev.text} {t.text}")
+            continue
+        out.append(t)
+    return out
 
 
 # Word classes for aligning a repair with its reparandum: a determiner replaces a determiner, etc.
@@ -181,13 +268,27 @@ def _repairs(toks: list[Tok], removed: list[str]) -> list[Tok]:
     return toks
 
 
+def _restatements(toks: list[Tok], removed: list[str]) -> list[Tok]:
+    """A noun phrase said again at once with another noun is a repair without an editing term
+    ("this is a cup, uh, a mug"): the later one counts."""
+    i = 0
+    while i + 3 < len(toks):
+        a, x, b, y = toks[i : i + 4]
+        if _cls(a) == "DET" and _cls(b) == "DET" and x.type == y.type and x.type in ("OBJ", "PLACE") and x.value != "":
+            removed += [a.text, x.text]
+            del toks[i : i + 2]
+        else:
+            i += 1
+    return toks
+
+
 def _repetitions(toks: list[Tok], removed: list[str]) -> list[Tok]:
     """Keep one copy of an n-gram (n = 3, 2, 1) said twice in a row."""
     for n in (3, 2, 1):
         i = 0
         while i + 2 * n <= len(toks):
-            a = [(t.type, t.value) for t in toks[i : i + n]]
-            b = [(t.type, t.value) for t in toks[i + n : i + 2 * n]]
+            a = [(t.type, t.text) for t in toks[i : i + n]]
+            b = [(t.type, t.text) for t in toks[i + n : i + 2 * n]]
             if a == b and not (n == 1 and toks[i].type in ("HELLO", "GOODBYE", "YES", "NO")):
                 removed += [t.text for t in toks[i + n : i + 2 * n]]
                 del toks[i + n : i + 2 * n]

@@ -5,7 +5,8 @@ the older recogniser's ``wer`` stands in for a missing confidence as ``1 - wer``
 and its ``self="true"`` utterances are skipped).
 
 Output: ``/robot/speech/frames`` (``robot/schemas/speech-frames.xsd``):
-``<understood start end confidence [unknown ignored corrected partial]><SPEECH>..</SPEECH><words>..</words></understood>``
+``<understood start end confidence [unknown ignored corrected partial answer]><SPEECH><TIMESTAMP val/>..</SPEECH><words>..</words></understood>``
+(``TIMESTAMP``: the utterance's start in virtual milliseconds, as the papers' frames carry it)
 or ``<not_understood start end confidence [unknown] reason>words</not_understood>``.
 
 Timing (virtual, docs/semantics.md §7 / the papers' Fig. 6): recognition takes most
@@ -32,6 +33,7 @@ from __future__ import annotations
 
 import asyncio
 import re
+from copy import copy
 from collections import deque
 from dataclasses import dataclass
 from difflib import SequenceMatcher
@@ -42,13 +44,13 @@ from lxml import etree
 
 from homesim.message import Message
 from homesim.module import Module
+from robot.deployment import cost_scale
 from homesim.vloop import to_ns
+
+from robot.contract import FRAMES, SPEAKER_STATUS, SPEECH
 
 from .grammar import Understander, Understanding
 
-SPEECH_IN = "/robot/audio/speech"
-FRAMES = "/robot/speech/frames"
-SPEAKER_STATUS = "/robot/speaker/status"
 FRAMES_XSD = Path(__file__).resolve().parent.parent / "schemas" / "speech-frames.xsd"
 
 _SHARED: list[Understander] = []
@@ -85,7 +87,13 @@ def frame_message(u: Understanding, start: float, end: float, confidence: float)
             el.set(attr, _xml_safe(" ".join(words)))
     if u.partial:
         el.set("partial", "true")
-    el.append(u.frame)
+    if u.answer:
+        el.set("answer", u.answer)
+    # the frame carries when the utterance began, as the papers' frames do (<TIMESTAMP val/>, ms)
+    speech = etree.SubElement(el, "SPEECH")
+    etree.SubElement(speech, "TIMESTAMP", val=str(max(0, round(start * 1000.0))))
+    for act in u.frame:
+        speech.append(copy(act))  # the understanding's own frame stays as it was
     etree.SubElement(el, "words").text = _xml_safe(u.words)
     return el
 
@@ -148,9 +156,11 @@ class SpeechUnderstanding(Module):
     ) -> None:
         super().__init__(sim, name, host=host)
         self.understander = understander or shared_understander()
-        self.recognition_base = recognition_base
-        self.recognition_per_word = recognition_per_word
-        self.understanding_cost = understanding_cost
+        # Calibrated to the papers' laptop (Fig. 6); on another host the CPU speed scales them (docs/deployment.md).
+        scale = cost_scale(sim, self.name, self.bus.host)
+        self.recognition_base = recognition_base * scale
+        self.recognition_per_word = recognition_per_word * scale
+        self.understanding_cost = understanding_cost * scale
         self.own_voice = {"onset": own_voice_onset, "match": own_voice_match, "echo_gain_db": echo_gain_db,
                           "tolerance_db": echo_tolerance_db}
         self._busy_until = 0.0
@@ -158,7 +168,7 @@ class SpeechUnderstanding(Module):
         self.counts = {"utterances": 0, "understood": 0, "not_understood": 0, "own_voice": 0}
         if typed and sim.bus.channel_schema(FRAMES) is None:
             sim.bus.declare_channel(FRAMES, FRAMES_XSD)
-        self.bus.subscribe(SPEECH_IN, self._on_utterance)
+        self.bus.subscribe(SPEECH, self._on_utterance)
         self.bus.subscribe(SPEAKER_STATUS, self._on_speaker)
 
     async def run(self) -> None:

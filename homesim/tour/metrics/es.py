@@ -10,10 +10,10 @@ from __future__ import annotations
 
 from typing import Any
 
+from robot.contract import ES_LOG, ES_STATUS
+
 from ...message import Message
 
-ES_LOG = "/robot/es/log"
-ES_STATUS = "/robot/es/status"
 
 
 class EsRecord:

@@ -21,16 +21,17 @@ import math
 from collections import deque
 from typing import Any
 
+from robot.contract import POSE
+
 from . import Observer
 
-CHANNEL = "/robot/localisation/pose"
 MAX_PENDING = 64
 
 
 class LocalisationMetric(Observer):
     """Mean, max and RMS position error (metres) and heading error of the published poses."""
 
-    channels: tuple[str, ...] = (CHANNEL,)
+    channels: tuple[str, ...] = (POSE,)
     step_every: int = 1
 
     def __init__(self, run: Any = None, *, history: float = 2.0) -> None:

@@ -43,24 +43,20 @@ from lxml import etree
 from homesim.message import Message
 from homesim.module import Module
 
-from .navigation.config import Limits, limits_from_config
-from .navigation.local import Command, DWAParams, LatestScan, carrot, dwa, heading_speed, social_speed_limit
+from robot.contract import BASE_CMD, DISPLAY_CMD, ES_ORDERS, ODOMETRY, PLAYER_STATUS, POSE, SCAN, TRACKS
 
-ORDERS = "/robot/es/orders/player"
-STATUS = "/robot/player/status"
-POSE = "/robot/localisation/pose"
-SCAN = "/robot/laser/scan"
-ODOMETRY = "/robot/odometry"
-BASE_CMD = "/robot/base/cmd"
-DISPLAY_CMD = "/robot/display/cmd"
-TRACKS = "/robot/attention/tracks"
+from .config import Limits, limits_from_config
+from .local import Command, DWAParams, LatestScan, carrot, dwa, heading_speed, social_speed_limit
+from .people import People, nearest
+
+ORDERS = f"{ES_ORDERS}/player"
 #: m: how far ahead on the leg the controller steers (pure pursuit).
 LOOKAHEAD = 0.7
 #: m: how far the player backs off, at most, per ``move_to``, to get room to turn.
 BACK_OFF = 0.3
 #: rad: a goal further off the heading than this has to be turned to (see :func:`heading_speed`).
 BACK_OFF_BEARING = math.pi / 3
-SCHEMA = Path(__file__).with_name("schemas") / "navigation" / "player-status.xsd"
+SCHEMA = Path(__file__).resolve().parent.parent / "schemas" / "navigation" / "player-status.xsd"
 
 
 def wrap(a: float) -> float:
@@ -135,7 +131,7 @@ class Player(Module):
         self.tolerance = tolerance
         self.stall_time = stall_time
         self.params = params
-        sim.bus.declare_channel(STATUS, SCHEMA)
+        sim.bus.declare_channel(PLAYER_STATUS, SCHEMA)
         self.goal: tuple[float, float, float, float, bool] | None = None  # x, y, theta, tolerance, align
         self._reached: tuple[float, float, float, float, bool] | None = None  # the step just reached
         self.state = "idle"
@@ -145,7 +141,7 @@ class Player(Module):
         self._odo_xml_at_pose: etree._Element | None = None
         self.scan = LatestScan()
         self.leg_start: tuple[float, float] | None = None
-        self._tracks: etree._Element | None = None
+        self.people = People()  # the attention's confirmed tracks, while driving
         self._backed = 0.0  # m backed off during the present move_to
         self._best = math.inf
         self._best_t = 0.0
@@ -217,17 +213,20 @@ class Player(Module):
             self._tracks_sub = self.bus.subscribe(TRACKS, self._on_tracks)
         elif not on and self._tracks_sub is not None:
             self._tracks_sub.close()
-            self._tracks_sub, self._tracks = None, None
+            self._tracks_sub = None
+            self.people.clear()
 
     def _on_tracks(self, msg: Message) -> None:
-        self._tracks = msg.xml  # read only when a control step needs it
+        self.people.update(msg.xml)  # read only when a control step needs it
+
+    def people_around(self) -> np.ndarray:
+        """Robot-frame centres of the confirmed people the attention tracks (predicted to now), (K, 2)."""
+        odo = self.odo.pose
+        return self.people.around(odo, self.now) if odo is not None else np.zeros((0, 2))
 
     def nearest_person(self) -> float:
-        """Distance (m) to the nearest confirmed person track of the latest ``tracks`` message (inf: none)."""
-        if self._tracks is None:
-            return math.inf
-        ds = [float(t.get("distance")) for t in self._tracks.iterfind("track") if t.get("confirmed") == "true"]
-        return min(ds, default=math.inf)
+        """Distance (m) to the nearest confirmed person track (inf: none)."""
+        return nearest(self.people_around())
 
     # ------------------------------------------------------------- control
     def pose(self) -> tuple[float, float, float] | None:
@@ -255,7 +254,7 @@ class Player(Module):
             el.set("y", f"{self.goal[1]:.4f}")
             if distance is not None:
                 el.set("distance", f"{distance:.4f}")
-        self.bus.publish(STATUS, el)
+        self.bus.publish(PLAYER_STATUS, el)
 
     def control_step(self) -> tuple[float, float] | None:
         """One step of ``move_to``: the velocity sent, or None when not driving."""
@@ -282,12 +281,15 @@ class Player(Module):
         c, s = math.cos(th), math.sin(th)
         ax, ay = carrot(self.leg_start, (gx, gy), (x, y), LOOKAHEAD) if self.leg_start is not None else (gx, gy)
         local = (c * (ax - x) + s * (ay - y), -s * (ax - x) + c * (ay - y))
-        cap = social_speed_limit(self.nearest_person(), self.limits.max_speed)
+        points = self.scan.points()
+        odo = self.odo.pose
+        people = self.people.around(odo, self.now, echoes=points) if odo is not None else np.zeros((0, 2))
+        cap = social_speed_limit(nearest(people), self.limits.max_speed)
         limits = self.limits if cap >= self.limits.max_speed else replace(self.limits, max_speed=cap)  # a hard limit
         bearing = math.atan2(local[1], local[0])
         v_pref = heading_speed(min(cap, 0.25 + 0.6 * dist), bearing)
-        points = self.scan.points()
-        cmd = dwa(self.odo.v, self.odo.w, local, points, limits, v_pref=v_pref, params=self.params)
+        # everyone's space: wait at a polite distance, never at the body
+        cmd = dwa(self.odo.v, self.odo.w, local, points, limits, v_pref=v_pref, params=self.params, people=people)
         if self._backed < BACK_OFF and (self._backed > 0.0 or (not cmd.ok and abs(bearing) > BACK_OFF_BEARING)):
             # stopped close in front of something with the way off to the side (a new leg after a
             # replan): turning on the spot would sweep the corners into it, so back off BACK_OFF m

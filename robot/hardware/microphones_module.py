@@ -64,16 +64,13 @@ from .microphones import (
     snr_db,
     word_error_rate,
 )
+from robot.contract import SOURCES, SPEAKER_STATUS, SPEECH, STEER
 
 if TYPE_CHECKING:
     from homesim.sim import Simulation
     from homesim.world.acoustics import Utterance
     from homesim.world.world import World
 
-SOURCES = "/robot/audio/sources"
-SPEECH = "/robot/audio/speech"
-STEER = "/robot/audio/steer"
-SPEAKER_STATUS = "/robot/speaker/status"
 
 
 def _edges(polys: list[np.ndarray]) -> tuple[np.ndarray, np.ndarray]:

@@ -1,0 +1,288 @@
+"""Deployments as documents: hosts, links and which module runs where.
+
+A deployment document (``<deployment name default-host>``, schema
+``homesim/schemas/deployment.xsd``) lists link kinds (:class:`~homesim.network.LinkModel`
+in ms and Mbit/s), hosts (the link each is attached by, its CPU speed) and
+placements (a module, i.e. a bus participant by name, on a host). A run loads
+one (the simulated system's default), lets the scenario override parts of it
+(:class:`Override`: links, hosts and placements replaced by name) and applies
+it to the simulation's :class:`~homesim.network.Network` before any module
+joins the bus.
+
+The kernel knows no particular system: the document names hosts and modules
+as data. How it fails: every problem is an :class:`~homesim.errors.InputError`
+naming the file, the line and the element (a schema violation, a name given
+twice, a host on an unknown link, a placement on an unknown host); nothing is
+applied from a document that does not load.
+"""
+
+from __future__ import annotations
+
+import os
+from dataclasses import dataclass, field, replace
+from pathlib import Path
+from typing import Any
+
+from lxml import etree
+
+from .errors import HomesimError, InputError
+from .network import LinkModel, Network
+from .xmlio import load_schema, parse_file
+
+SCHEMA = Path(__file__).with_name("schemas") / "deployment.xsd"
+
+
+class DeploymentError(InputError):
+    """A deployment document (or a scenario's override) cannot be accepted."""
+
+
+@dataclass(frozen=True)
+class HostSpec:
+    """A computer: the link kind it is attached by, its CPU speed in MHz (None: unknown), the CPU's name."""
+
+    name: str
+    link: str
+    cpu_mhz: float | None = None
+    cpu: str = ""
+    line: int | None = None
+
+
+@dataclass(frozen=True)
+class Override:
+    """What a scenario changes of a run's deployment (each part replaces by name).
+
+    ``href``: a whole document that replaces the default first (resolved
+    against the scenario's directory).
+    """
+
+    links: tuple[LinkModel, ...] = ()
+    hosts: tuple[HostSpec, ...] = ()
+    placement: tuple[tuple[str, str], ...] = ()
+    default_host: str | None = None
+    href: str | None = None
+    source: str = "<override>"
+    line: int | None = None
+
+
+@dataclass(frozen=True)
+class Deployment:
+    """A whole deployment: links, hosts, placements and the host of every module not placed."""
+
+    name: str
+    default_host: str
+    links: tuple[LinkModel, ...]
+    hosts: tuple[HostSpec, ...]
+    placement: tuple[tuple[str, str], ...] = ()
+    description: str = ""
+    source: str = "<deployment>"
+    overridden: bool = field(default=False, compare=False)
+
+    def host_of(self, module: str) -> str:
+        """The host ``module`` runs on."""
+        return dict(self.placement).get(module, self.default_host)
+
+    def host(self, name: str) -> HostSpec:
+        """The host named ``name`` (KeyError if none)."""
+        for h in self.hosts:
+            if h.name == name:
+                return h
+        raise KeyError(name)
+
+    def link(self, name: str) -> LinkModel:
+        """The link kind named ``name`` (KeyError if none)."""
+        for lk in self.links:
+            if lk.name == name:
+                return lk
+        raise KeyError(name)
+
+    def merged(self, override: Override) -> Deployment:
+        """This deployment with ``override``'s links, hosts and placements replacing those of the same name."""
+        links = {lk.name: lk for lk in self.links}
+        links.update((lk.name, lk) for lk in override.links)
+        hosts = {h.name: h for h in self.hosts}
+        hosts.update((h.name, h) for h in override.hosts)
+        placement = dict(self.placement)
+        placement.update(override.placement)
+        out = replace(self, links=tuple(links.values()), hosts=tuple(hosts.values()),
+                      placement=tuple(sorted(placement.items())),
+                      default_host=override.default_host or self.default_host, overridden=True)
+        _check_refs(out, override.source, override.line)
+        return out
+
+    def apply(self, network: Network) -> None:
+        """Declare the links and hosts on ``network`` and place every module named."""
+        for lk in self.links:
+            network.set_link(lk)
+        for h in self.hosts:
+            network.add_host(h.name, link=h.link, speed_mhz=h.cpu_mhz)
+        for module, host in self.placement:
+            network.place(module, host)
+        network.default_host = self.default_host
+
+    def as_dict(self) -> dict[str, Any]:
+        """Plain data for a run summary: the name, hosts (link, CPU) and placements."""
+        return {
+            "name": self.name,
+            "overridden": self.overridden,
+            "hosts": {h.name: {"link": h.link, **({"cpu_mhz": h.cpu_mhz} if h.cpu_mhz else {}),
+                               **({"cpu": h.cpu} if h.cpu else {})} for h in self.hosts},
+            "default_host": self.default_host,
+            "placement": dict(self.placement),
+        }
+
+
+# ------------------------------------------------------------------ loading
+def _fail(msg: str, source: str, el: etree._Element | None = None, line: int | None = None) -> DeploymentError:
+    tag = etree.QName(el).localname if el is not None and isinstance(el.tag, str) else None
+    return DeploymentError(msg, source=source, line=el.sourceline if el is not None else line, element=tag)
+
+
+def _float(el: etree._Element, name: str, default: float) -> float:
+    v = el.get(name)
+    return default if v is None else float(v)
+
+
+def _link(el: etree._Element, source: str) -> LinkModel:
+    ms = 1e-3
+    try:
+        return LinkModel(
+            el.get("name", ""), _float(el, "min-ms", 0) * ms, _float(el, "max-ms", 0) * ms,
+            jitter_s=_float(el, "jitter-ms", 0) * ms, loss=_float(el, "loss", 0),
+            bandwidth_bps=_float(el, "bandwidth-mbit", 0) * 1e6, retransmit_s=_float(el, "retransmit-ms", 0) * ms,
+            backoff=_float(el, "backoff", 2.0), max_retries=int(el.get("max-retries", "7")),
+        )
+    except HomesimError as exc:
+        raise _fail(str(exc), source, el) from exc
+
+
+def _host(el: etree._Element) -> HostSpec:
+    mhz = el.get("cpu-mhz")
+    return HostSpec(el.get("name", ""), el.get("link", ""), None if mhz is None else float(mhz), el.get("cpu", ""),
+                    el.sourceline)
+
+
+def _children(parent: etree._Element, source: str) -> tuple[list[LinkModel], list[HostSpec], list[tuple[str, str]]]:
+    """Links, hosts and placements of ``parent``, each name at most once (else an error at the repeat)."""
+    links: list[LinkModel] = []
+    hosts: list[HostSpec] = []
+    placement: list[tuple[str, str]] = []
+    seen: dict[tuple[str, str], int | None] = {}
+    for el in parent:
+        if not isinstance(el.tag, str):
+            continue
+        tag = etree.QName(el).localname
+        key_attr = {"link": "name", "host": "name", "place": "module"}.get(tag)
+        if key_attr is None:
+            continue
+        key = (tag, el.get(key_attr, ""))
+        if key in seen:
+            raise _fail(f"{tag} {key[1]!r} is given twice (first at line {seen[key]})", source, el)
+        seen[key] = el.sourceline
+        if tag == "link":
+            links.append(_link(el, source))
+        elif tag == "host":
+            hosts.append(_host(el))
+        else:
+            placement.append((el.get("module", ""), el.get("host", "")))
+    return links, hosts, placement
+
+
+def _check_refs(d: Deployment, source: str, line: int | None = None) -> None:
+    links = {lk.name for lk in d.links} | {"local"}
+    hosts = {h.name for h in d.hosts}
+    for h in d.hosts:
+        if h.link not in links:
+            raise DeploymentError(f"host {h.name!r} is attached by unknown link {h.link!r}; links: {sorted(links)}",
+                                  source=source, line=h.line or line, element="host")
+    for module, host in d.placement:
+        if host not in hosts:
+            raise DeploymentError(f"module {module!r} is placed on unknown host {host!r}; hosts: {sorted(hosts)}",
+                                  source=source, line=line, element="place")
+    if d.default_host not in hosts:
+        raise DeploymentError(f"default-host {d.default_host!r} is not a host; hosts: {sorted(hosts)}",
+                              source=source, line=line, element="deployment")
+
+
+def _validate(el: etree._Element, source: str) -> None:
+    schema = load_schema(SCHEMA)
+    problems = schema.errors(el)
+    if problems:
+        line, msg = problems[0]
+        raise DeploymentError(f"does not satisfy deployment.xsd: {msg}", source=source, line=line or el.sourceline)
+
+
+def from_element(root: etree._Element, *, source: str = "<deployment>") -> Deployment:
+    """A :class:`Deployment` from a parsed ``<deployment>`` element (schema, then names and references)."""
+    if root.tag != "deployment":
+        raise _fail(f"root element is <{root.tag}>, not <deployment>", source, root)
+    _validate(root, source)
+    links, hosts, placement = _children(root, source)
+    desc = root.find("description")
+    d = Deployment(root.get("name", ""), root.get("default-host", ""), tuple(links), tuple(hosts),
+                   tuple(sorted(placement)), " ".join((desc.text or "").split()) if desc is not None else "", source)
+    _check_refs(d, source, root.sourceline)
+    # Every placement's host must be a host; every module at most once (checked in _children).
+    return d
+
+
+def load(path: str | os.PathLike[str]) -> Deployment:
+    """Load and check a deployment document (the hardened parser, the schema, the references)."""
+    source = str(path)
+    return from_element(parse_file(path), source=source)
+
+
+def override_from_element(el: etree._Element, *, source: str) -> Override:
+    """A scenario's ``<deployment [href] [default-host]>`` with link/host/place children, checked.
+
+    Each child must satisfy the deployment schema; references (a host's link,
+    a placement's host) are checked when the override is merged into the
+    run's deployment, where the rest of the names are known.
+    """
+    schema = load_schema(SCHEMA)
+    for child in el:
+        if not isinstance(child.tag, str):
+            continue
+        if child.tag not in ("link", "host", "place"):
+            raise _fail(f"<{child.tag}> is not part of a deployment (link, host, place)", source, child)
+        problems = schema.errors(child)
+        if problems:
+            raise DeploymentError(f"does not satisfy deployment.xsd: {problems[0][1]}", source=source,
+                                  line=child.sourceline, element=child.tag)
+    links, hosts, placement = _children(el, source)
+    href = el.get("href")
+    if href is not None and not href.strip():
+        raise _fail("href is empty", source, el)
+    return Override(tuple(links), tuple(hosts), tuple(placement), el.get("default-host"), href, source, el.sourceline)
+
+
+def resolve(default: Deployment | str | os.PathLike[str], override: Override | None, *,
+            base_dir: str | os.PathLike[str] | None = None) -> Deployment:
+    """The deployment a run uses: ``default`` (or the override's ``href`` document), then the override's parts."""
+    base = default if isinstance(default, Deployment) else load(default)
+    if override is None:
+        return base
+    if override.href is not None:
+        path = Path(override.href)
+        if not path.is_absolute() and base_dir is not None:
+            path = Path(base_dir) / path
+        try:
+            base = load(path)
+        except DeploymentError:
+            raise
+        except InputError as exc:
+            raise DeploymentError(f"deployment href={override.href!r}: {exc.message}", source=override.source,
+                                  line=override.line, element="deployment") from exc
+    return base.merged(override)
+
+
+def check_file(path: str) -> list[InputError]:
+    """``homesim check``: every problem of a deployment document (empty when it loads)."""
+    try:
+        load(path)
+    except InputError as exc:
+        return [exc]
+    return []
+
+
+__all__ = ("Deployment", "DeploymentError", "HostSpec", "Override", "check_file", "from_element", "load",
+           "override_from_element", "resolve")

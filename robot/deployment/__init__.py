@@ -1,0 +1,45 @@
+"""BIRON's deployment: which host each module ran on, and processing costs per host.
+
+:data:`DEFAULT` is the papers' set-up (``biron.xml``: two robot PCs on a 100 Mbit
+LAN, the speech and dialog laptop on 11 Mbit WLAN; docs/deployment.md gives the
+source of every figure). The run loads it, applies the scenario's
+``<deployment>`` override and places every module before it joins the bus.
+
+Processing costs: the modules' virtual processing times (speech recognition,
+understanding, dialog, the supervisor's reconfiguration) are calibrated to the
+papers' Fig. 6, i.e. to the host each module ran on then. Deployed on another
+host, a module's cost scales with the CPU speed: ``cost * papers_mhz /
+host_mhz`` (:func:`cost_scale`; 1 on the papers' deployment, and 1 when either
+speed is unknown). A crude model (clock rate only), but it keeps the default
+timing the papers' and lets a study ask "what if the dialog ran on pc2".
+"""
+
+from __future__ import annotations
+
+from functools import lru_cache
+from pathlib import Path
+from typing import Any
+
+from homesim.deployment import Deployment, load
+
+#: The papers' deployment (the default of every run).
+DEFAULT = Path(__file__).with_name("biron.xml")
+
+
+@lru_cache(maxsize=1)
+def papers() -> Deployment:
+    """The default document, loaded once."""
+    return load(DEFAULT)
+
+
+def cost_scale(sim: Any, module: str, host: str) -> float:
+    """How much slower (> 1) or faster (< 1) ``module`` computes on ``host`` than on its papers' host."""
+    ref = papers()
+    try:
+        ref_mhz = ref.host(ref.host_of(module)).cpu_mhz
+    except KeyError:
+        return 1.0
+    mhz = sim.network.host_speed(host)
+    if not ref_mhz or not mhz:
+        return 1.0
+    return ref_mhz / mhz

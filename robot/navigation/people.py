@@ -1,0 +1,129 @@
+"""The people around the robot, as the person attention tracks them: whom to give way to.
+
+Both local controllers (the follower and the player's ``move_to``) read
+``/robot/attention/tracks`` (odom frame: position, velocity, ``confirmed``) and
+keep out of everyone's space (``people=`` of :func:`~robot.navigation.local.dwa`)
+and slow down near them (:func:`~robot.navigation.local.social_speed_limit`).
+Only confirmed tracks count (a table leg seen once is no person). Positions are
+predicted to now at constant velocity (at most :data:`HORIZON` s ahead, as the
+follower predicts its partner), so a person walking across is given way to
+where they are, not where they were.
+
+A confirmed track of someone standing (slower than :data:`GHOST_SPEED`) that disappears
+(the tracker lost a person standing still in a door frame, whose legs merge with the
+jambs) is remembered where it was last, for as long as the laser still has an echo there (within :data:`GHOST_ECHO` m, at most
+:data:`GHOST_MAX` s): a person the tracker loses is still a person, not free space
+to drive into.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+
+#: s: a track is predicted at most this far ahead of its message.
+HORIZON = 0.5
+#: m: people further than this from the robot do not matter to the local controllers.
+REACH = 4.0
+#: s: a lost track is remembered at most this long.
+GHOST_MAX = 15.0
+#: m/s: only a track this slow when lost (someone standing) is remembered.
+GHOST_SPEED = 0.3
+#: m: a lost track is remembered while the laser has an echo this close to where it was.
+GHOST_ECHO = 0.35
+
+
+class People:
+    """The latest ``/robot/attention/tracks`` payload, read only when a control step asks."""
+
+    def __init__(self) -> None:
+        self.xml: Any = None
+        self._confirmed: dict[str, tuple[float, float, float]] = {}  # id -> last odom position and speed
+        self.ghosts: dict[str, tuple[float, float, float]] = {}  # lost confirmed tracks: id -> (x, y, lost at)
+
+    def update(self, xml: Any) -> None:
+        """Keep the latest tracks payload (the receiver's own copy); remember tracks that vanished."""
+        self.xml = xml
+        now = {}
+        for t in xml.iterfind("track"):
+            if t.get("confirmed") == "true":
+                try:
+                    now[str(t.get("id"))] = (float(t.get("x")), float(t.get("y")),
+                                             math.hypot(float(t.get("vx", "0")), float(t.get("vy", "0"))))
+                except (TypeError, ValueError):
+                    continue
+        try:
+            t0 = float(xml.get("time", "0"))
+        except ValueError:
+            t0 = 0.0
+        for tid, (x, y, speed) in self._confirmed.items():
+            if tid not in now and speed < GHOST_SPEED:  # someone walking on is not remembered standing
+                self.ghosts[tid] = (x, y, t0)
+        for tid in now:
+            self.ghosts.pop(tid, None)
+        self._confirmed = now
+
+    def clear(self) -> None:
+        self.xml = None
+        self._confirmed = {}
+        self.ghosts = {}
+
+    def around(self, odom: tuple[float, float, float], now: float, *, exclude: str | None = None,
+               near: tuple[float, float] | None = None, near_radius: float = 0.6,
+               echoes: np.ndarray | None = None, moving: float | None = None) -> np.ndarray:
+        """(K, 2) robot-frame centres of the confirmed people within :data:`REACH` m, predicted to ``now``.
+
+        ``exclude``: a track id left out (the partner the follower drives after); ``near``: an
+        odom-frame point whose surroundings (``near_radius``) are left out too (a second track
+        on the partner's own legs). ``echoes``: the latest scan's robot-frame points; a lost
+        track is kept (see the module docstring) while one of them is near it. ``moving``: only
+        tracks faster than this (m/s), and no lost ones.
+        """
+        xml = self.xml
+        if xml is None:
+            return np.zeros((0, 2))
+        try:
+            age = min(max(now - float(xml.get("time", now)), 0.0), HORIZON)
+        except ValueError:
+            age = 0.0
+        ox, oy, oth = odom
+        c, s = math.cos(oth), math.sin(oth)
+        out = []
+        for t in xml.iterfind("track"):
+            if t.get("confirmed") != "true" or (exclude is not None and t.get("id") == exclude):
+                continue
+            try:
+                x = float(t.get("x")) + float(t.get("vx", "0")) * age
+                y = float(t.get("y")) + float(t.get("vy", "0")) * age
+            except (TypeError, ValueError):
+                continue
+            if near is not None and math.hypot(x - near[0], y - near[1]) < near_radius:
+                continue
+            if moving is not None and math.hypot(float(t.get("vx", "0")), float(t.get("vy", "0"))) <= moving:
+                continue
+            dx, dy = x - ox, y - oy
+            if math.hypot(dx, dy) <= REACH:
+                out.append((c * dx + s * dy, -s * dx + c * dy))
+        for tid in sorted(self.ghosts) if moving is None else ():
+            x, y, lost = self.ghosts[tid]
+            if now - lost > GHOST_MAX or echoes is None or not len(echoes) or tid == exclude:
+                self.ghosts.pop(tid) if now - lost > GHOST_MAX else None
+                continue
+            if near is not None and math.hypot(x - near[0], y - near[1]) < near_radius:
+                continue
+            dx, dy = x - ox, y - oy
+            lx, ly = c * dx + s * dy, -s * dx + c * dy
+            if math.hypot(dx, dy) <= REACH and np.min(np.hypot(echoes[:, 0] - lx, echoes[:, 1] - ly)) <= GHOST_ECHO:
+                out.append((lx, ly))
+            else:
+                self.ghosts.pop(tid)  # nothing there any more: gone
+        return np.array(out) if out else np.zeros((0, 2))
+
+
+def nearest(centres: np.ndarray) -> float:
+    """Distance (m) from the robot's centre to the nearest of ``centres`` (robot frame; inf: none)."""
+    if not len(centres):
+        return math.inf
+    return float(np.min(np.hypot(centres[:, 0], centres[:, 1])))

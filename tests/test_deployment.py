@@ -1,0 +1,182 @@
+"""Deployments: documents checked and applied, link delays as the model says, statistics, determinism."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from lxml import etree
+
+from homesim.deployment import DeploymentError, check_file, from_element, load, override_from_element, resolve
+from homesim.network import Draws, LinkModel, LinkStats, Network
+from homesim.sim import Simulation
+
+from .conftest import examples
+
+ROOT = Path(__file__).resolve().parents[1]
+BIRON = ROOT / "robot" / "deployment" / "biron.xml"
+
+
+def test_the_papers_deployment_loads_and_places_speech_and_dialog_on_the_wlan_laptop():
+    d = load(BIRON)
+    assert d.host_of("dialog") == "laptop" and d.host_of("understanding") == "laptop"
+    assert d.host("laptop").link == "wlan" and d.host("pc1").cpu_mhz == 850 and d.host("pc2").cpu_mhz == 500
+    assert d.link("lan").bandwidth_bps == 100e6
+    assert d.host_of("anything_else") == "pc1"
+    assert check_file(str(BIRON)) == []
+
+
+def _doc(body: str) -> etree._Element:
+    return etree.fromstring(f'<deployment name="t" default-host="a">{body}</deployment>')
+
+
+@pytest.mark.parametrize("body, words", [
+    ('<link name="l" min-ms="1" max-ms="2"/><host name="a" link="nope"/>', "unknown link 'nope'"),
+    ('<link name="l" min-ms="1" max-ms="2"/><host name="a" link="l"/><place module="m" host="b"/>', "unknown host 'b'"),
+    ('<link name="l" min-ms="3" max-ms="2"/><host name="a" link="l"/>', "min_s <= max_s"),
+    ('<link name="l" min-ms="1" max-ms="2"/><link name="l" min-ms="1" max-ms="2"/><host name="a" link="l"/>', "given twice"),
+    ('<link name="l" min-ms="1" max-ms="2" loss="1.5"/><host name="a" link="l"/>', "deployment.xsd"),
+])
+def test_a_bad_deployment_is_refused_naming_what_is_wrong(body, words):
+    with pytest.raises(DeploymentError, match=words):
+        from_element(_doc(body), source="t.xml")
+
+
+def test_an_override_replaces_by_name_and_checks_its_references():
+    base = load(BIRON)
+    el = etree.fromstring('<deployment><link name="wlan" min-ms="300" max-ms="700"/>'
+                          '<place module="supervisor" host="laptop"/></deployment>')
+    d = resolve(base, override_from_element(el, source="s.xml"))
+    assert d.link("wlan").min_s == pytest.approx(0.3) and d.host_of("supervisor") == "laptop"
+    assert d.link("lan") == base.link("lan")
+    bad = etree.fromstring('<deployment><place module="dialog" host="moon"/></deployment>')
+    with pytest.raises(DeploymentError, match="unknown host 'moon'"):
+        resolve(base, override_from_element(bad, source="s.xml"))
+
+
+def test_placement_puts_participants_where_the_deployment_says():
+    with Simulation(seed=1) as sim:
+        load(BIRON).apply(sim.network)
+        assert sim.bus.participant("dialog", host="robot").host == "laptop"
+        assert sim.bus.participant("camera", host="robot").host == "pc2"
+        assert sim.bus.participant("unplaced", host="robot").host == "pc1"
+
+
+def _latencies(seed: int) -> list[float]:
+    out: list[float] = []
+    with Simulation(seed=seed) as sim:
+        load(BIRON).apply(sim.network)
+        a = sim.bus.participant("dialog")
+        b = sim.bus.participant("supervisor")
+        b.subscribe("/x", lambda m: out.append(sim.now - m.sent))
+        for i in range(300):
+            sim.call_at(i * 0.01, a.publish, "/x", etree.Element("x", n=str(i)))
+        sim.run()
+    return out
+
+
+def test_same_seed_same_latencies_and_wlan_is_slower_than_lan():
+    one, two = _latencies(3), _latencies(3)
+    assert one == two
+    assert _latencies(4) != one
+    assert min(one) >= 0.004 and np.mean(one) > 0.005
+
+
+def test_a_bigger_message_takes_longer_on_a_link_with_a_bandwidth():
+    link = LinkModel("slow", 0.001, 0.001, bandwidth_bps=1e6)
+    small = link.sample_ns(Draws(np.random.default_rng(0)), 100)
+    big = link.sample_ns(Draws(np.random.default_rng(0)), 100_000)
+    assert big - small == pytest.approx(8 * 99_900 / 1e6 * 1e9, rel=1e-6)
+
+
+def test_losses_are_retransmitted_with_backoff_or_dropped_after_max_retries():
+    link = LinkModel("lossy", 0.0, 0.0, loss=0.5, retransmit_s=0.2, backoff=2.0, max_retries=3)
+    draws = Draws(np.random.default_rng(1))
+    got = [link.sample_ns(draws) for _ in range(4000)]
+    allowed = {0, 200_000_000, 600_000_000, 1_400_000_000}
+    assert {g for g in got if g is not None} <= allowed
+    lost = sum(g is None for g in got) / len(got)
+    assert abs(lost - 0.5 ** 4) < 0.02  # the first attempt and three retries all lost
+
+
+@settings(max_examples=examples(40, 150), deadline=None)
+@given(st.lists(st.integers(min_value=1, max_value=5_000_000_000), min_size=1, max_size=400))
+def test_link_stats_mean_max_and_p95_follow_the_deliveries(delays):
+    s = LinkStats("l")
+    for d in delays:
+        s.add(d)
+    out = s.summary()
+    assert out["deliveries"] == len(delays)
+    assert out["max_ms"] == pytest.approx(max(delays) / 1e6, abs=1e-4)
+    assert out["mean_ms"] == pytest.approx(sum(delays) / len(delays) / 1e6, abs=1e-4)
+    # p95 is the histogram's: within its 1 % bin of a value at the 95 % rank
+    ranked = sorted(delays)
+    k = max(0, math.ceil(0.95 * len(ranked)) - 1)
+    assert s.percentile_ns(95) == pytest.approx(ranked[k], rel=0.011)
+
+
+def test_network_stats_count_deliveries_per_link():
+    with Simulation(seed=2) as sim:
+        net: Network = sim.network
+        load(BIRON).apply(net)
+        a, b = sim.bus.participant("dialog"), sim.bus.participant("laser")
+        b.subscribe("/y", lambda m: None)
+        for i in range(50):
+            sim.call_at(i * 0.01, a.publish, "/y", etree.Element("y"))
+        sim.run()
+        assert net.stats()["wlan"].count == 50
+
+
+def test_a_module_on_a_slower_host_takes_longer_in_proportion_to_the_cpu_speed():
+    from robot.deployment import papers
+    from robot.speech.module import SpeechUnderstanding
+    from robot.supervisor import ExecutionSupervisor
+
+    with Simulation(seed=0) as sim:
+        papers().apply(sim.network)
+        es, su = ExecutionSupervisor(sim), SpeechUnderstanding(sim)
+        base = (es.cost_ns, su.recognition_time(3))
+    with Simulation(seed=0) as sim:
+        papers().apply(sim.network)
+        sim.network.place("supervisor", "pc2")  # 500 MHz instead of 850
+        sim.network.place("understanding", "pc1")  # 850 MHz instead of the laptop's 1400
+        es, su = ExecutionSupervisor(sim), SpeechUnderstanding(sim)
+        assert es.cost_ns == pytest.approx(base[0] * 850 / 500, rel=1e-6)
+        assert su.recognition_time(3) == pytest.approx(base[1] * 1400 / 850)
+
+
+def test_a_scenario_override_with_an_unknown_host_is_refused_naming_file_and_line(tmp_path):
+    from homesim.errors import ScenarioError
+    from homesim.tour.runner import Run
+
+    text = (ROOT / "scenarios" / "radio.xml").read_text(encoding="utf-8")
+    bad = text.replace("  <sources>", '  <deployment>\n    <place module="dialog" host="moon"/>\n  </deployment>\n  <sources>', 1)
+    path = tmp_path / "radio_moon.xml"
+    path.write_text(bad, encoding="utf-8")
+    with pytest.raises(ScenarioError, match="unknown host 'moon'") as err:
+        Run.from_file(path)
+    assert str(path) in str(err.value)
+    bad_link = text.replace("  <sources>", '  <deployment>\n    <link name="wlan" min-ms="9" max-ms="1"/>\n  </deployment>\n  <sources>', 1)
+    path.write_text(bad_link, encoding="utf-8")
+    with pytest.raises(ScenarioError, match="min_s <= max_s") as err:
+        Run.from_file(path)
+    assert err.value.line is not None
+
+
+def test_the_summary_names_profile_deployment_and_link_latencies():
+    from homesim.tour.runner import Run, RunOptions
+
+    with Run.from_file(ROOT / "scenarios" / "radio.xml", RunOptions(until=5, profile="biron-2005")) as run:
+        run.run()
+        s = run.summary()
+    assert s["profile"] == "biron-2005" and s["deployment"]["name"] == "biron-2004"
+    assert s["deployment"]["placement"]["dialog"] == "laptop"
+    links = s["deployment"]["links"]
+    assert 1.0 <= links["lan"]["mean_ms"] <= 5.0 and links["wlan"]["mean_ms"] > links["lan"]["mean_ms"]
+    assert {"events_received", "received_out_of_order"} <= set(s["es"])
+    with pytest.raises(Exception, match="unknown robot profile 'nope'"):
+        Run.from_file(ROOT / "scenarios" / "radio.xml", RunOptions(profile="nope"))

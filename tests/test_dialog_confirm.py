@@ -1,0 +1,253 @@
+"""Confirmations that do not loop, corrections, the user's words as names (issue 26 items 6 and 7).
+
+Frames come from the real understanding (words -> frame message), so these tests
+follow what a user says, not hand-written XML.
+"""
+
+from __future__ import annotations
+
+from collections import Counter
+
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from lxml import etree
+
+from robot.dialog.loader import load
+from robot.dialog.manager import MAX_SAME_QUESTION, DialogManager, Say, Send
+from robot.speech.module import frame_message, shared_understander
+
+DOC = load()
+
+
+def heard(words: str, confidence: float = 0.9, start: float = 1.0) -> etree._Element:
+    """What the understanding publishes for ``words`` heard with ``confidence``."""
+    return frame_message(shared_understander().understand(words), start, start + 1.0, confidence)
+
+
+def says(outs) -> list[str]:
+    return [o.text for o in outs if isinstance(o, Say)]
+
+
+def sends(outs) -> list[Send]:
+    return [o for o in outs if isinstance(o, Send)]
+
+
+@pytest.fixture
+def dm() -> DialogManager:
+    m = DialogManager(DOC)
+    m.es_state = "Interacting"
+    return m
+
+
+LOW = 0.3  # below the document's confirm-below: the robot confirms
+
+
+# ------------------------------------------------------------------ confirmations
+@pytest.mark.parametrize("answer", ["yes", "right", "sure", "that's right", "exactly", "yes please", "of course",
+                                    "yeah go ahead", "okay", "yes you can", "absolutely"])
+def test_yes_and_its_everyday_variants_confirm(dm, answer):
+    assert says(dm.on_frame(heard("follow me", LOW))) == ["Shall I follow you?"]
+    (s,) = sends(dm.on_frame(heard(answer)))
+    assert s.event == "follow"
+
+
+@pytest.mark.parametrize("again", ["follow me", "could you follow me please", "come with me", "please follow me biron",
+                                   "yes follow me", "walk with me"])
+def test_a_repetition_or_paraphrase_of_the_request_confirms_it_even_heard_badly(dm, again):
+    assert says(dm.on_frame(heard("follow me", LOW))) == ["Shall I follow you?"]
+    out = dm.on_frame(heard(again, LOW))  # two hearings agree: no third question
+    (s,) = sends(out)
+    assert s.event == "follow" and says(out) == []
+    assert dm.summary()["confirmed_by_repetition"] == 1
+
+
+def test_place_confirmed_by_saying_it_again(dm):
+    assert says(dm.on_frame(heard("this is the living room", LOW))) == ["Is this the living room?"]
+    (s,) = sends(dm.on_frame(heard("yes this is the living room", LOW)))
+    assert s.event == "place_teaching" and s.children[0].find("PLACE/TITLE").get("name") == "living room"
+
+
+@pytest.mark.parametrize("correction", ["no, the kitchen", "no this is the kitchen", "the kitchen", "this is the kitchen"])
+def test_a_correction_replaces_what_was_heard(dm, correction):
+    assert says(dm.on_frame(heard("this is the living room", LOW))) == ["Is this the living room?"]
+    (s,) = sends(dm.on_frame(heard(correction)))
+    assert s.event == "place_teaching" and s.children[0].find("PLACE/TITLE").get("name") == "kitchen"
+
+
+def test_no_then_the_robot_asks_for_the_right_name(dm):
+    dm.on_frame(heard("this is the living room", LOW))
+    assert says(dm.on_frame(heard("no"))) == ["Sorry.", "Which room is this?"]
+    (s,) = sends(dm.on_frame(heard("the dining room")))
+    assert s.children[0].find("PLACE/TITLE").get("name") == "dining room"
+
+
+def test_no_with_the_same_words_is_a_no(dm):
+    dm.on_frame(heard("this is the living room", LOW))
+    assert says(dm.on_frame(heard("no the living room"))) == ["Sorry.", "Which room is this?"]
+
+
+def test_no_and_another_request_answers_then_does_the_request(dm):
+    assert says(dm.on_frame(heard("follow me", LOW))) == ["Shall I follow you?"]
+    out = dm.on_frame(heard("no, go to the kitchen"))
+    assert "OK, I will stay here." in says(out)
+    (s,) = sends(out)
+    assert s.event == "goto" and s.children[0].find("PLACE/TITLE").get("name") == "kitchen"
+    assert [i.d.id for i in dm.stack] == ["goto"]
+
+
+def test_no_to_a_goto_confirmation_with_another_room_goes_there(dm):
+    assert says(dm.on_frame(heard("go to the kitchen", LOW))) == ["Shall I go to the kitchen?"]
+    (s,) = sends(dm.on_frame(heard("no, to the bedroom")))
+    assert s.event == "goto" and s.children[0].find("PLACE/TITLE").get("name") == "bedroom"
+
+
+def test_the_same_question_is_never_asked_a_third_time(dm):
+    assert says(dm.on_frame(heard("this is the kitchen", LOW))) == ["Is this the kitchen?"]
+    out = dm.on_frame(heard("blah blurb"))
+    assert says(out)[-1] == "Is this the kitchen?"
+    out = dm.on_frame(heard("blah blurb"))
+    assert says(out) == ["Sorry, let us leave that for now."] and dm.stack == []
+
+
+def test_the_same_confirmation_after_an_interruption_counts_too(dm):
+    dm.on_frame(heard("this is the kitchen", LOW))
+    dm.on_frame(heard("what can you do"))  # interrupts; the question comes again on resumption
+    # (the Explain output stands for the robot's answer; the capabilities dialog is done)
+    assert sum(1 for q in dm.stack[-1].asked.values()) == 1
+    out = dm.on_frame(heard("blah blurb"))  # third time would be the re-ask: it gives up instead
+    assert says(out) == ["Sorry, let us leave that for now."]
+
+
+# ------------------------------------------------------------------ names
+@pytest.mark.parametrize("words,name", [("that's the study", "study"), ("this is the lounge", "lounge"),
+                                        ("we are in the hallway", "hallway"), ("this is the sitting room", "sitting room"),
+                                        ("this is the den", "den"), ("welcome to the office", "office")])
+def test_the_users_word_is_the_places_name(dm, words, name):
+    out = dm.on_frame(heard(words))
+    (s,) = sends(out)
+    assert s.children[0].find("PLACE/TITLE").get("name") == name
+    out = dm.on_condition(etree.fromstring('<condition name="place_learned"/>'))
+    assert says(out) == [f"OK, this is the {name}. I will remember it."]
+
+
+def test_low_confidence_place_is_confirmed_in_the_users_word(dm):
+    assert says(dm.on_frame(heard("that's the study", LOW))) == ["Is this the study?"]
+
+
+def test_object_names_and_uses_are_said_back_as_said(dm):
+    (s,) = sends(dm.on_frame(heard("this is my coffee mug")))
+    obj = s.children[0].find("OBJECT")
+    assert obj.get("type") == "cup" and obj.find("TITLE").get("name") == "mug" and obj.find("USE").get("name") == "coffee"
+    out = dm.on_condition(etree.fromstring('<condition name="object_learned"><param><OBJECT type="cup" name="mug"/></param></condition>'))
+    assert says(out) == ["OK, I have learned your coffee mug."]
+
+
+def test_events_carry_the_utterances_timestamp(dm):
+    (s,) = sends(dm.on_frame(heard("this is my cup", start=12.345)))
+    assert s.children[0][0].tag == "TIMESTAMP" and s.children[0][0].get("val") == "12345"
+    assert s.children[0][1].tag == "OBJECT"
+
+
+def test_look_at_this_looks_where_she_points(dm):
+    out = dm.on_frame(heard("look at this"))
+    (s,) = sends(out)
+    assert s.event == "object_teaching" and says(out) == ["Let me have a look."]
+    obj = s.children[0].find("OBJECT")
+    assert obj.find("GESTURE") is not None and obj.get("type") is None
+    out = dm.on_condition(etree.fromstring('<condition name="object_learned"><param><OBJECT type="table" name="table"/></param></condition>'))
+    assert says(out) == ["OK, I have learned the table."]
+
+
+def test_where_is_never_teaching(dm):
+    for words in ("where is my cup", "is my cup here", "have you seen my cup", "i can't find my cup",
+                  "where did i leave my cup", "do you know where my cup is"):
+        m = DialogManager(DOC)
+        m.es_state = "Interacting"
+        (s,) = sends(m.on_frame(heard(words)))
+        assert s.event == "query_object", words
+
+
+# ------------------------------------------------------------------ invariant
+WORDS = ["follow me", "could you follow me", "yes", "no", "no the kitchen", "this is the kitchen", "that's the study",
+         "go to the kitchen", "blah", "", "the left one", "this is my cup", "my cup", "what can you do", "stop",
+         "where is my cup", "yes this is the kitchen", "look at this", "hmm"]
+
+
+@settings(max_examples=300, deadline=None)
+@given(st.lists(st.tuples(st.sampled_from(WORDS), st.sampled_from([0.2, 0.45, 0.9])), max_size=20))
+def test_no_question_is_ever_asked_more_than_twice_in_one_dialog(seq):
+    dm = DialogManager(DOC)
+    dm.es_state = "Interacting"
+    asked: dict[int, Counter[str]] = {}
+    for words, conf in seq:
+        outs = dm.on_frame(heard(words, conf))
+        for inst in dm.stack:
+            asked.setdefault(inst.serial, Counter())
+        questions = [o for o in outs if isinstance(o, Say) and o.text.endswith("?") and o.dialog]
+        for q in questions:
+            owner = next((i for i in dm.stack if i.d.id == q.dialog), None)
+            if owner is not None:
+                asked.setdefault(owner.serial, Counter())[q.text] += 1
+    for per in asked.values():
+        assert all(n <= MAX_SAME_QUESTION for n in per.values()), per
+
+
+def test_no_right_after_a_learned_place_renames_it(dm):
+    (s,) = sends(dm.on_frame(heard("this is the kitchen")))
+    dm.on_condition(etree.fromstring('<condition name="place_learned"/>'))
+    out = dm.on_frame(heard("no, this is the bedroom"))
+    (s,) = sends(out)
+    place = s.children[0].find("PLACE")
+    assert place.find("TITLE").get("name") == "bedroom" and place.get("replaces") == "kitchen"
+    # later, a new room named is no correction of the kitchen
+    dm.on_condition(etree.fromstring('<condition name="place_learned"/>'))
+    dm.on_frame(heard("follow me"))
+    (s,) = sends(dm.on_frame(heard("this is the hall")))
+    assert s.children[0].find("PLACE").get("replaces") is None
+
+
+def test_the_knowledge_base_renames_a_corrected_place():
+    from robot.knowledge.bases import PlaceBase
+
+    kb = PlaceBase()
+    pose = '<POSE x="1.0" y="2.0" theta="0" frame="map"/>'
+    kb.store(etree.fromstring(f'<PLACE><TITLE name="living room"/>{pose}</PLACE>'), now=1.0)
+    kb.store(etree.fromstring(f'<PLACE><TITLE name="kitchen"/><POSE x="5.0" y="2.0" theta="0" frame="map"/></PLACE>'), now=2.0)
+    kb.store(etree.fromstring(f'<PLACE replaces="kitchen"><TITLE name="bedroom"/><POSE x="5.2" y="2.1" theta="0" frame="map"/></PLACE>'), now=3.0)
+    names = [p.name for p in kb.taught()]
+    assert names == ["living room", "bedroom"]
+    # a "replaces" far from the wrong place renames nothing
+    kb.store(etree.fromstring(f'<PLACE replaces="living room"><TITLE name="hall"/><POSE x="9.0" y="2.0" theta="0" frame="map"/></PLACE>'), now=4.0)
+    assert [p.name for p in kb.taught()] == ["living room", "bedroom", "hall"]
+
+
+def test_a_correction_heard_badly_is_confirmed_in_its_turn(dm):
+    # "Is this the bathroom?" - "no, the kitchen" heard with low confidence: the robot asks about
+    # the kitchen at once (it stayed silent: the slots' statuses had not changed, only the value)
+    assert says(dm.on_frame(heard("this is the bathroom", LOW))) == ["Is this the bathroom?"]
+    assert says(dm.on_frame(heard("no, the kitchen", LOW))) == ["Is this the kitchen?"]
+    (s,) = sends(dm.on_frame(heard("exactly")))
+    assert s.children[0].find("PLACE/TITLE").get("name") == "kitchen"
+
+
+def test_a_lost_noun_is_asked_for_not_looked_at(dm):
+    # "This is the kitchen" heard as "this is the": the robot asked nothing and learned the kettle
+    # she happened to stand by
+    out = dm.on_frame(heard("this is the"))
+    assert says(out) == ["Sorry, I did not understand you. Could you say that again?"] and not sends(out)
+    out = dm.on_frame(heard("look at this the"))  # words skipped: a partial frame asks
+    assert says(out) == ["What is it?"] and not sends(out)
+
+
+def test_after_two_requests_to_say_it_again_the_next_hearing_is_taken_without_a_third_question(dm):
+    assert says(dm.on_frame(heard("blah blurb"))) == [DOC.not_understood]
+    assert says(dm.on_frame(heard("blah blurb"))) == [DOC.not_understood]
+    out = dm.on_frame(heard("this is the living room", 0.4))  # heard badly, but the third time
+    (s,) = sends(out)
+    assert s.event == "place_teaching" and dm.summary()["taken_after_repairs"] == 1
+    # an utterance heard well in between starts the count again
+    dm2 = DialogManager(DOC)
+    dm2.es_state = "Interacting"
+    dm2.on_frame(heard("blah blurb"))
+    assert says(dm2.on_frame(heard("this is the living room", 0.4))) == ["Is this the living room?"]

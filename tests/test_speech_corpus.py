@@ -1,0 +1,60 @@
+"""The home-tour corpus: its size, the held-out slice kept apart, and the understanding rate on it.
+
+``robot/speech/corpus/tuning.tsv`` is what the lexicon and grammar were grown on (every row
+must give its frame: tests/test_speech_grammar.py). ``heldout.tsv`` was written before that
+growth and never used to tune it (robot/speech/corpus/README.md): the rate measured on it is
+the understanding rate issue 26 item 8 asks for (about 9 in 10).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from lxml import etree
+
+from robot.speech.module import shared_understander
+
+CORPUS = Path(__file__).resolve().parent.parent / "robot" / "speech" / "corpus"
+
+
+def _rows(name: str) -> list[tuple[str, str]]:
+    rows = []
+    for line in (CORPUS / name).read_text(encoding="utf-8").splitlines():
+        if line.startswith("#") or not line.strip("\t"):
+            continue
+        words, frame, _ = line.split("\t")
+        rows.append((words, frame))
+    return rows
+
+
+def understood_share(rows: list[tuple[str, str]]) -> float:
+    """Share of rows whose frame equals the expected one exactly (NOT_UNDERSTOOD included)."""
+    u = shared_understander()
+    ok = 0
+    for words, frame in rows:
+        got = u.understand(words).frame
+        ok += ("NOT_UNDERSTOOD" if got is None else etree.tostring(got, encoding="unicode")) == frame
+    return ok / len(rows)
+
+
+def test_the_corpus_has_500_utterances_and_a_fifth_held_out():
+    tuning, held = _rows("tuning.tsv"), _rows("heldout.tsv")
+    assert len(tuning) + len(held) >= 500
+    assert len(held) / (len(tuning) + len(held)) >= 0.2
+
+
+def test_the_held_out_slice_shares_no_utterance_with_the_tuning_part():
+    assert not {w for w, _ in _rows("tuning.tsv")} & {w for w, _ in _rows("heldout.tsv")}
+
+
+def test_held_out_phrasings_are_understood_about_nine_times_in_ten():
+    # measured 160/163 = 98.2 % when this test was written (main before the work: 108/163 = 66.3 %)
+    assert understood_share(_rows("heldout.tsv")) >= 0.9
+
+
+def test_every_expected_frame_is_well_formed():
+    for name in ("tuning.tsv", "heldout.tsv"):
+        for words, frame in _rows(name):
+            if frame != "NOT_UNDERSTOOD":
+                el = etree.fromstring(frame)
+                assert el.tag == "SPEECH" and len(el) == 1, (name, words)
