@@ -31,7 +31,9 @@ from lxml import etree
 from homesim.message import Message
 from homesim.module import Module
 
-from .attention import EVENTS, FOCUS, ORDERS, _copy, wanted_from
+from robot.contract import ES_EVENTS as EVENTS
+
+from .attention import FOCUS, ORDERS, _copy, wanted_from
 
 #: Where the Object state looks (robot frame): straight ahead ...
 FIXED_BEARING = 0.0
