@@ -247,7 +247,7 @@ def _scheduler(text: str) -> str:
 
 def _workers(text: str) -> int:
     """A type for --workers: 1 to 256 local processes."""
-    if not text.strip().isdigit() or not 1 <= int(text) <= 256:
+    if not (text.strip().isascii() and text.strip().isdigit()) or not 1 <= int(text) <= 256:
         raise argparse.ArgumentTypeError(f"{text[:25]!r} is not a number of workers (1 to 256)")
     return int(text)
 
