@@ -71,9 +71,13 @@ def seconds(*, positive: bool = False, high: float = MAX_VIRTUAL_SECONDS) -> Cal
     return parse
 
 
+_SEED_TEXT = re.compile(r"[0-9]{1,19}")
+
+
 def seed(text: str) -> int:
     """A type for seeds: a decimal integer 0 ≤ seed ≤ 2**63 - 1."""
-    if len(text) > 19 or not text.strip().isdigit():
+    # ASCII digits only: str.isdigit() also takes '²' (int() then fails) and '٣' or '０' (a seed nobody typed)
+    if not _SEED_TEXT.fullmatch(text.strip()):
         raise argparse.ArgumentTypeError(f"{text[:25]!r} is not a seed (a decimal integer 0 ≤ seed ≤ {MAX_SEED})")
     value = int(text)
     if value > MAX_SEED:

@@ -31,7 +31,8 @@ reconfigure the system): its orders and conditions leave at ``decision +
 cost``, and the next decision (the scan restarting from the oldest event) is
 taken then, so a burst of k transitions is decided at t, t+cost, ... While
 busy the ES only queues arrivals and rejects events whose lifetime ends,
-exactly at their expiry; no event is ever applied at or after it. Messages
+exactly at their expiry and, like every decision, after that instant's
+arrivals, oldest first; no event is ever applied at or after it. Messages
 to other modules (orders, conditions, rejections returned to the dialog)
 leave in decision order: nothing decided later overtakes them.
 
@@ -328,8 +329,8 @@ class ExecutionSupervisor(Module):
         """Modules the heartbeat monitor reported failed and not recovered yet."""
         return frozenset(self._failed)
 
-    def submit(self, event: Event, *, payload_checked: bool = False) -> list[Record]:
-        """Queue ``event`` now; decide at once if the ES is free. Returns the records decided now.
+    def submit(self, event: Event, *, payload_checked: bool = False) -> None:
+        """Queue ``event`` now; the ES decides at this instant once every arrival of it is queued.
 
         ``payload_checked``: the caller found the payload small enough already
         (:func:`payload_problem`). Raises :class:`SupervisorError` for a
@@ -337,12 +338,10 @@ class ExecutionSupervisor(Module):
         """
         now = self._loop._now_ns
         self.engine.queue(event, now, payload_checked=payload_checked)
-        if now < self._busy_until:  # paying a transition's cost: only expiries now, decisions when it ends
-            return self._tick(now)
         # The same-instant rule: decide once every event arriving at this instant is queued (a
         # callback scheduled now runs after every delivery already due now), scanning from the oldest.
+        # While the ES pays a cost that decision only rejects what has expired, still oldest first.
         self._settle_later(now)
-        return []
 
     @property
     def busy_until_ns(self) -> int:
@@ -355,9 +354,8 @@ class ExecutionSupervisor(Module):
         if self.bus.closed or self.bus.hung:
             return
         now = self._loop._now_ns
-        if now < self._busy_until:  # an expiry while the ES pays a cost (no decision can change its state)
-            self._tick(now)
-            return
+        # An expiry while the ES pays a cost is settled like any decision: after every arrival of the
+        # instant (an older event arriving expired now is rejected before a newer one expiring now).
         if now == self._busy_until:
             self._flush(now)  # the transition's outputs leave as its cost ends
         # An expiry, or the end of a cost: decide only after every delivery already due at this instant

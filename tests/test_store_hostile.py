@@ -37,6 +37,12 @@ BAD_DOCUMENTS = {
     "a place among the objects": ("objects", GOOD_PLACE),
     "an object among the places": ("places", GOOD_OBJECT),
     "an unknown element": ("objects", "<script>run()</script>"),
+    # numerals the pattern takes that read back as infinity, or a home 1e300 m across
+    "object x overflows to infinity": ("objects", '<OBJECT type="cup" name="cup" x="1e999" y="2.0" frame="map" taught="3.0"/>'),
+    "object size overflows to infinity": ("objects", '<OBJECT type="cup" name="cup" size="1e999" frame="map" taught="3.0"/>'),
+    "place theta overflows to infinity": ("places", '<PLACE name="kitchen" x="1.0" y="2.0" theta="-1e400" frame="map" taught="3.0"/>'),
+    "place taught overflows to infinity": ("places", '<PLACE name="kitchen" x="1.0" y="2.0" theta="0" frame="map" taught="1e999"/>'),
+    "place 1e300 m from the origin": ("places", '<PLACE name="kitchen" x="1e300" y="2.0" theta="0" frame="map" taught="3.0"/>'),
 }
 
 

@@ -12,7 +12,7 @@ arriving at ``t`` is queued before it decides. The engine driven by
 
 from __future__ import annotations
 
-from hypothesis import given, settings
+from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
 from homesim.afsm.engine import EXPIRED, Applied, Delivery, Engine, Event, Rejected, record_dict, run_deliveries
@@ -241,3 +241,68 @@ def test_the_supervisor_at_shared_instants_does_not_depend_on_latency(stream, da
     assert len([r for r in one if r.kind != "retained"]) == len(stream)
     if cost == 0.0:
         assert _timed(one) == _ref(machine(), stream, [f"p{i}#1" for i in range(len(stream))], 2_000 * MS)
+
+
+# ------------------------------------------- expiries while the ES pays a transition's cost
+# b applied at 1 ms makes the ES busy for 3 ms; at 3 ms p0 (created 2 ms) expires and p1 (created 1 ms)
+# arrives already expired. Sent at 3 ms over a 0 ms link, p1's delivery was scheduled after the ES's
+# expiry timer for p0: still, every arrival of the instant is queued first and the scan rejects p1 first.
+BUSY_CASE = [("a", 2 * MS, 1 * MS, 2 * MS), ("a", 1 * MS, 1 * MS, 3 * MS), ("b", 1 * MS, None, 1 * MS)]
+
+
+def test_while_paying_a_cost_expiries_at_an_instant_follow_its_arrivals_oldest_first():
+    for fractions in ([0, 0, 0], [0, 1000, 0]):
+        recs, _ = run_on_bus(split(BUSY_CASE, fractions), cost=0.003)
+        ended = [(r.kind, r.event.id, r.at_ns) for r in recs if r.kind != "retained"]
+        assert ended == [("applied", "p2#1", 1 * MS), ("rejected", "p1#1", 3 * MS), ("rejected", "p0#1", 3 * MS)]
+
+
+@st.composite
+def busy_instants(draw):
+    """A ``b`` applied first makes the ES busy; then events whose arrivals are forced onto instants
+    where another expires or arrives, inside that busy time, some arriving already expired."""
+    start = draw(st.integers(0, 2))
+    out: list[tuple[str, int, int | None, int]] = [("b", start * MS, None, start * MS)]
+    created_used = {start}
+    for _ in range(draw(st.integers(1, 6))):
+        lifetime = draw(st.integers(1, 4))
+        expiries = sorted({(c + lt) // MS for _, c, lt, _ in out if lt is not None})
+        arrivals = sorted({at // MS for *_, at in out})
+        choices = [st.integers(start, start + 12)] + [st.sampled_from(expiries)] * 3 * bool(expiries) + \
+            [st.sampled_from(arrivals)] * bool(arrivals)
+        at = draw(st.one_of(*choices))
+        free = [c for c in range(max(0, at - 8), at + 1) if c not in created_used]
+        if not free:
+            continue
+        created = draw(st.sampled_from(free))
+        created_used.add(created)
+        out.append((draw(st.sampled_from(["a", "c"])), created * MS, lifetime * MS, at * MS))
+    return out
+
+
+def _expiries_oldest_first(recs) -> None:
+    """At each instant the expired events are rejected in queue order (creation times are distinct)."""
+    by_instant: dict[int, list[int]] = {}
+    for r in recs:
+        if isinstance(r, Rejected) and r.reason == EXPIRED:
+            by_instant.setdefault(r.at_ns, []).append(r.event.created_ns)
+    for at, created in by_instant.items():
+        assert created == sorted(created), (at, created)
+
+
+@settings(max_examples=examples(80, 500), deadline=None)
+@given(busy_instants(), st.data(), st.sampled_from([0.003, 0.010]))
+@example(BUSY_CASE, None, 0.003).via("the lead's case: p0 expires as p1 arrives expired, mid-cost")
+def test_expiries_during_a_cost_follow_the_instants_arrivals_whatever_the_latency(stream, data, cost):
+    """Arrivals forced onto expiry instants while the ES pays a cost: the same records over any link
+    delays (early, late, or exactly at the arrival), expired events rejected oldest first."""
+    if data is None:  # the explicit example: the two sendings of the lead's report
+        runs = [run_on_bus(split(stream, f), cost=cost)[0] for f in ([0, 0, 0], [0, 1000, 0])]
+    else:
+        fraction = st.one_of(st.sampled_from([0, 1000]), st.integers(0, 1000))
+        fractions = st.lists(fraction, min_size=len(stream), max_size=len(stream))
+        runs = [run_on_bus(split(stream, data.draw(fractions)), cost=cost)[0] for _ in range(2)]
+    one, two = runs
+    assert [record_dict(r) for r in one] == [record_dict(r) for r in two]
+    assert len([r for r in one if r.kind != "retained"]) == len(stream)
+    _expiries_oldest_first(one)

@@ -25,6 +25,13 @@ def test_seed_ranges_are_parsed_in_order_without_repeats():
             parse_seeds(bad)
 
 
+def test_seeds_are_ascii_decimal_digits():
+    """'²' passed str.isdigit() and then int() raised (a traceback); '٣' and '０' were taken as 3 and 0."""
+    for bad in ("²", "٣", "０", "1-٩", "3-²", "1_0"):
+        with pytest.raises(OptionError, match="--seeds"):
+            parse_seeds(bad)
+
+
 def _comparable(row):
     return {k: row[k] for k in ("scenario", "seed", "verdict", "passed", "expectations", "sim_time_s", "metrics")}
 

@@ -11,6 +11,7 @@ replay that differs), no traceback, and nothing created.
 from __future__ import annotations
 
 import json
+import re
 import sys
 from pathlib import Path
 
@@ -153,6 +154,16 @@ def test_every_header_field_is_checked(good_trace, tmp_path, capsys, case):
         assert not (tmp_path / "out.png").exists() and not (tmp_path / "out.mcap").exists()
 
 
+def test_a_header_integer_too_long_for_int_is_refused_in_one_line(good_trace, tmp_path, capsys):
+    """json.loads raised a bare ValueError (Python's 4300-digit limit) for a 5000-digit seed: a traceback."""
+    lines = _lines(good_trace)
+    trace = tmp_path / "hostile.jsonl"
+    trace.write_text("\n".join([re.sub(r'"seed":\s*[0-9]+', '"seed":' + "9" * 5000, lines[0], count=1)] + lines[1:]), encoding="utf-8")
+    assert "9" * 5000 in trace.read_text(encoding="utf-8")
+    for reader in HEADER_READERS:
+        _refused(READERS[reader](trace, tmp_path), capsys, f"{trace}:1:")
+
+
 def test_the_runs_own_header_passes_the_schema(tmp_path):
     """Every header a run writes (all options set) is one the readers accept."""
     from homesim.tour.runheader import read_run_header
@@ -178,6 +189,7 @@ HOSTILE_LINES = {
     "not an object": b"[1, 2, 3]",
     "not JSON": b"{'t': 1}",
     "a huge number": b'{"t":1e999,"seq":4,"kind":"deliver","id":"m","receivers":["x"]}',
+    "an integer of 5000 digits": b'{"t":0.5,"seq":' + b"9" * 5000 + b',"kind":"deliver","id":"m","receivers":["x"]}',
     "a send without fields": b'{"t":0.5,"seq":4,"kind":"publish"}',
     "receivers not a list": b'{"t":0.5,"seq":4,"kind":"deliver","id":"m","receivers":{"a":1}}',
 }

@@ -676,7 +676,7 @@ def generate(seed: int, count: int, out: Path) -> list[Generated]:
 
 
 def _count(text: str) -> int:
-    if not text.strip().isdigit() or not 1 <= int(text) <= MAX_COUNT:
+    if not (text.strip().isascii() and text.strip().isdigit()) or not 1 <= int(text) <= MAX_COUNT:
         raise argparse.ArgumentTypeError(f"{text[:25]!r} is not a count (1 to {MAX_COUNT})")
     return int(text)
 

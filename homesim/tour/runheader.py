@@ -205,6 +205,8 @@ def parse_header_line(raw: bytes, *, source: str) -> Any:
         raise HeaderError(f"not a homesim trace (not JSON: {exc.msg})", source=source, line=1) from None
     except RecursionError:
         raise HeaderError("not a homesim trace (JSON nested too deeply)", source=source, line=1) from None
+    except ValueError as exc:  # an integer of more digits than int() converts (sys.get_int_max_str_digits)
+        raise HeaderError(f"not a homesim trace (a JSON value it cannot read: {str(exc)[:80]})", source=source, line=1) from None
 
 
 def read_run_header(trace: str | os.PathLike[str]) -> dict[str, Any]:
