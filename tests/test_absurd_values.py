@@ -80,7 +80,7 @@ def test_a_machine_with_an_absurd_lifetime_is_invalid():
 @pytest.mark.parametrize("lifetime", ["1" + "0" * 400, "1e400", "nan", "inf", "-1", "0", "3600.5", "abc"])
 def test_an_event_with_an_absurd_lifetime_on_the_bus_is_a_reported_drop(lifetime):
     from homesim.sim import Simulation
-    from robot.supervisor import ES_EVENTS as EVENT_CHANNEL, ExecutionSupervisor, event_xml
+    from robot.supervisor import ES_EVENTS, ExecutionSupervisor, event_xml
 
     with Simulation(seed=1, strict=False) as sim:  # an element built through the API: not validated
         trace = sim.record_trace()
@@ -89,8 +89,8 @@ def test_an_event_with_an_absurd_lifetime_on_the_bus_is_a_reported_drop(lifetime
         dialog = sim.bus.participant("dialog")
         ev = event_xml("greeting")
         ev.set("lifetime", lifetime)
-        dialog.publish(EVENT_CHANNEL, ev)
-        dialog.publish(EVENT_CHANNEL, event_xml("greeting", lifetime=2.0))  # the ES goes on
+        dialog.publish(ES_EVENTS, ev)
+        dialog.publish(ES_EVENTS, event_xml("greeting", lifetime=2.0))  # the ES goes on
         sim.run(until=1.0)
         drops = [r for r in trace.records() if r.get("kind") == "drop"]
         assert len(drops) == 1 and "lifetime" in drops[0]["reason"], drops

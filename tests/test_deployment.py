@@ -180,3 +180,14 @@ def test_the_summary_names_profile_deployment_and_link_latencies():
     assert {"events_received", "received_out_of_order"} <= set(s["es"])
     with pytest.raises(Exception, match="unknown robot profile 'nope'"):
         Run.from_file(ROOT / "scenarios" / "radio.xml", RunOptions(profile="nope"))
+
+
+def test_a_sweep_runs_every_run_with_the_profile_asked_for(tmp_path):
+    import json as _json
+
+    from homesim.tour.sweep import sweep
+
+    rows, _ = sweep([ROOT / "scenarios" / "radio.xml"], [0], tmp_path, until=1.0, workers=1, profile="biron-2005")
+    assert [r["verdict"] for r in rows] == ["not checked"], rows[0].get("error")
+    summary = _json.loads(next((tmp_path / "summaries").glob("radio-0*.json")).read_text())
+    assert summary["profile"] == "biron-2005"

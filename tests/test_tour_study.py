@@ -164,3 +164,20 @@ def test_resume_reuses_the_runs_already_made(tmp_path):
     assert [r["seed"] for r in again["runs"]] == [0, 1]
     assert again["runs"][0]["verdict"] == first["runs"][0]["verdict"]
     assert again["capabilities"]["greeting"]["runs"] == 2
+
+
+def test_conditions_can_select_the_robot_profile(tmp_path):
+    """Two robot profiles side by side (docs/semantics.md §8): the condition reaches the run."""
+    from pathlib import Path
+
+    from homesim.tour.study import study
+
+    files = [str(Path("scenarios/radio.xml").resolve())]
+    doc = study(files, [0], [parse_condition("full=profile=full"), parse_condition("old=profile=biron-2005")], tmp_path, workers=1)
+    assert doc["study"]["conditions"] == {"full": "profile=full", "old": "profile=biron-2005"}
+    summaries = sorted(p.name for p in (tmp_path / "summaries").iterdir())
+    assert summaries == ["radio-0-full.json", "radio-0-old.json"]
+    assert {r["verdict"] for r in doc["runs"]} <= {"PASS", "FAIL"}  # both ran (an unknown profile would be an ERROR row)
+    with pytest.raises(Exception):
+        from homesim.tour.runner import RunOptions, Run
+        Run.from_file(Path(files[0]), RunOptions(seed=0, profile="no-such-robot")).close()

@@ -191,6 +191,9 @@ def _l_polygon(r: Rect, corner: int, cw: float, ch: float) -> tuple[tuple[Point,
 
 
 def _u(rng: np.random.Generator, lo: float, hi: float) -> float:
+    """A uniform draw on the 5 cm grid (an empty range from rounding, hi a hair below lo, is the point lo)."""
+    if hi < lo and lo - hi < 1e-6:
+        hi = lo
     return snap(float(rng.uniform(lo, hi)))
 
 

@@ -127,7 +127,7 @@ def aggregate(rows: list[Row]) -> list[Row]:
 def _local(jobs: list[tuple[str, int]], until: float | None, summaries: str, workers: int,
            profile: str | None = None) -> Iterator[Row]:
     with ProcessPoolExecutor(max_workers=workers) as pool:
-        futures = {pool.submit(run_one, s, n, until, summaries, profile): (s, n) for s, n in jobs}
+        futures = {pool.submit(run_one, s, n, until, summaries, profile=profile): (s, n) for s, n in jobs}
         for fut in as_completed(futures):
             yield _result(fut, futures[fut])
 
@@ -146,7 +146,7 @@ def _dask(jobs: list[tuple[str, int]], until: float | None, summaries: str, sche
         except (OSError, ValueError, TimeoutError) as exc:
             raise OptionError("--scheduler", f"cannot reach the Dask scheduler {scheduler!r}: {exc}") from None
     try:
-        futures = [client.submit(run_one, s, n, until, summaries, profile, pure=False, key=f"homesim-{Path(s).stem}-{n}") for s, n in jobs]
+        futures = [client.submit(run_one, s, n, until, summaries, profile=profile, pure=False, key=f"homesim-{Path(s).stem}-{n}") for s, n in jobs]
         where = {f.key: job for f, job in zip(futures, jobs)}
         for fut in dask_completed(futures):
             yield _result(fut, where[fut.key])
