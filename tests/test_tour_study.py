@@ -181,3 +181,23 @@ def test_conditions_can_select_the_robot_profile(tmp_path):
     with pytest.raises(Exception):
         from homesim.tour.runner import RunOptions, Run
         Run.from_file(Path(files[0]), RunOptions(seed=0, profile="no-such-robot")).close()
+
+
+def test_resume_never_reuses_a_run_of_another_scenario_version_or_condition(tmp_path):
+    """A summary left by an older version of the scenario file (or the same condition name with
+    other run options) is not this study's run: --resume makes the run again."""
+    from pathlib import Path
+
+    from homesim.tour.study import study
+
+    scen = tmp_path / "radio.xml"
+    scen.write_bytes(Path("scenarios/radio.xml").read_bytes())
+    out = tmp_path / "out"
+    study([str(scen)], [0], [parse_condition("c=strict=false")], out, workers=1)
+    again = study([str(scen)], [0], [parse_condition("c=strict=false")], out, workers=1, resume=True)
+    assert again["throughput"]["runs"] == 0  # the same scenario and condition: reused
+    other = study([str(scen)], [0], [parse_condition("c=strict=true")], out, workers=1, resume=True)
+    assert other["throughput"]["runs"] == 1  # same name, other run options: made again
+    scen.write_bytes(scen.read_bytes().replace(b"</scenario>", b"<!-- edited -->\n</scenario>"))
+    edited = study([str(scen)], [0], [parse_condition("c=strict=true")], out, workers=1, resume=True)
+    assert edited["throughput"]["runs"] == 1  # the scenario file changed: made again

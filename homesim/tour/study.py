@@ -141,6 +141,8 @@ def study_run(file: str, seed: int, condition: str, options: dict[str, Any], sum
     """One run of one condition (``homesim sweep``'s run, with the condition's run options)."""
     row = run_one(file, seed, None, summaries or None, options, f"-{condition}")
     row["condition"] = condition
+    if summaries:  # what the summary was made from, so --resume never reuses it for another scenario or condition
+        stamp_path((file, seed, condition, options, summaries)).write_text(run_key((file, seed, condition, options, summaries)) + "\n", encoding="utf-8")
     return row
 
 
@@ -153,11 +155,27 @@ def summary_path(job: Job) -> Path:
     return Path(summaries) / f"{Path(file).stem}-{seed}-{condition}.json"
 
 
+def stamp_path(job: Job) -> Path:
+    """The file beside a run's summary that says what the run was made from."""
+    return summary_path(job).with_suffix(".key")
+
+
+def run_key(job: Job) -> str:
+    """A run's identity for ``--resume``: the scenario file's content digest, the seed and the condition's run options."""
+    from .runner import file_digest
+
+    file, seed, _, options, _ = job
+    return json.dumps({"scenario": file_digest(file), "seed": seed, "options": {k: options[k] for k in sorted(options)}}, default=str)
+
+
 def row_from_summary(job: Job) -> Row | None:
-    """The row of a run already made (``--resume``), from its summary; None when it cannot be read."""
+    """The row of a run already made (``--resume``), from its summary; None when it cannot be read
+    or was made from another scenario version or other run options (then the run is made again)."""
     from .sweep import _flat
 
     try:
+        if stamp_path(job).read_text(encoding="utf-8").strip() != run_key(job):
+            return None
         d = json.loads(summary_path(job).read_text(encoding="utf-8"))
         verdicts = d["expectations"]
         metrics: dict[str, float] = {}
