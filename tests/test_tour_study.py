@@ -175,7 +175,7 @@ def test_conditions_can_select_the_robot_profile(tmp_path):
     files = [str(Path("scenarios/radio.xml").resolve())]
     doc = study(files, [0], [parse_condition("full=profile=full"), parse_condition("old=profile=biron-2005")], tmp_path, workers=1)
     assert doc["study"]["conditions"] == {"full": "profile=full", "old": "profile=biron-2005"}
-    summaries = sorted(p.name for p in (tmp_path / "summaries").iterdir())
+    summaries = sorted(p.name for p in (tmp_path / "summaries").glob("*.json"))
     assert summaries == ["radio-0-full.json", "radio-0-old.json"]
     assert {r["verdict"] for r in doc["runs"]} <= {"PASS", "FAIL"}  # both ran (an unknown profile would be an ERROR row)
     with pytest.raises(Exception):
@@ -201,3 +201,21 @@ def test_resume_never_reuses_a_run_of_another_scenario_version_or_condition(tmp_
     scen.write_bytes(scen.read_bytes().replace(b"</scenario>", b"<!-- edited -->\n</scenario>"))
     edited = study([str(scen)], [0], [parse_condition("c=strict=true")], out, workers=1, resume=True)
     assert edited["throughput"]["runs"] == 1  # the scenario file changed: made again
+
+
+def test_every_expectation_of_the_library_and_the_generator_has_a_capability(tmp_path):
+    """No expectation falls silently into "other": each library scenario's and each generated tour's
+    expectations map to a named capability (a new kind or event needs a line in capabilities.py)."""
+    from pathlib import Path
+
+    from homesim.scenario.loader import load_scenario
+    from homesim.tour.capabilities import capability_of
+    from homesim.tour.generate import generate
+
+    generate(5, 8, tmp_path)
+    files = sorted(Path("scenarios").rglob("*.xml")) + sorted(tmp_path.glob("*.xml"))
+    unmapped = []
+    for f in files:
+        sc = load_scenario(f)
+        unmapped += [f"{f}:{e.line} <{e.kind}>" for e in sc.expectations if capability_of(e, sc.expectations) == "other"]
+    assert not unmapped, unmapped
