@@ -219,3 +219,9 @@ def test_every_expectation_of_the_library_and_the_generator_has_a_capability(tmp
         sc = load_scenario(f)
         unmapped += [f"{f}:{e.line} <{e.kind}>" for e in sc.expectations if capability_of(e, sc.expectations) == "other"]
     assert not unmapped, unmapped
+
+
+def test_a_condition_with_an_unknown_robot_profile_is_refused_before_any_run():
+    with pytest.raises(OptionError, match="unknown robot profile 'no-such-robot'"):
+        parse_condition("old=profile=no-such-robot")
+    assert dict(parse_condition("old=profile=biron-2005").run) == {"profile": "biron-2005"}

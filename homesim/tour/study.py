@@ -83,6 +83,12 @@ def parse_condition(text: str) -> Condition:
             robot.append((key[6:], value))
         elif key.startswith("option."):
             opts.append((key[7:], value))
+        elif key == "profile":  # refused here, not as an error row in every run
+            from .runner import profiles
+
+            if value not in profiles():
+                raise OptionError("--condition", f"{name}: unknown robot profile {value!r} (known: {', '.join(sorted(profiles()))})")
+            run.append((key, value))
         elif key in fields and key not in RESERVED:
             run.append((key, _value(fields[key], value, name)))
         else:
