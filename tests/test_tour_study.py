@@ -225,3 +225,16 @@ def test_a_condition_with_an_unknown_robot_profile_is_refused_before_any_run():
     with pytest.raises(OptionError, match="unknown robot profile 'no-such-robot'"):
         parse_condition("old=profile=no-such-robot")
     assert dict(parse_condition("old=profile=biron-2005").run) == {"profile": "biron-2005"}
+
+
+def test_two_scenario_files_of_one_name_are_refused(tmp_path):
+    """Run summaries are named by the file's stem: a/radio.xml and b/radio.xml would overwrite each other."""
+    from pathlib import Path
+
+    from homesim.tour.study import Condition, study
+
+    for d in ("a", "b"):
+        (tmp_path / d).mkdir()
+        (tmp_path / d / "radio.xml").write_bytes(Path("scenarios/radio.xml").read_bytes())
+    with pytest.raises(OptionError, match="the same name"):
+        study([str(tmp_path / "a" / "radio.xml"), str(tmp_path / "b" / "radio.xml")], [0], [Condition("default")], tmp_path / "out", workers=1)

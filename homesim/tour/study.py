@@ -367,6 +367,10 @@ def study(files: list[str], seeds: list[int], conditions: list[Condition], out: 
     summaries.mkdir(exist_ok=True)
     if len({c.name for c in conditions}) != len(conditions):
         raise OptionError("--condition", "two conditions have the same name")
+    stems: dict[str, str] = {}
+    for f in files:  # a run's summary is named by the file's stem: two files of one name would overwrite each other's
+        if stems.setdefault(Path(f).stem, f) != f:
+            raise OptionError("SCENARIO", f"{stems[Path(f).stem]} and {f} have the same name; a study needs distinct scenario file names")
     expectations: dict[str, list[Any]] = {}
     names: dict[str, list[str]] = {}
     jobs: list[Job] = []
