@@ -23,7 +23,8 @@ rate and Wilson ``ci95``, overall and by condition; ``failures``: failed expecta
 by cause; ``throughput``), ``DIR/study.md`` (the tables), ``DIR/study.png`` and ``.svg``
 (rates with intervals), ``DIR/summaries/`` (each run's summary). ``--resume`` reuses the runs
 whose summaries are already there (an interrupted study, or one extended by more seeds,
-scenarios or conditions) and makes only the others. Exit status 0 when the
+scenarios or conditions; only runs made from the same scenario file content, seed and run
+options, stamped in ``summaries/*.key``) and makes only the others. Exit status 0 when the
 study ran (failed runs are results, not errors), 2 for bad input.
 """
 
