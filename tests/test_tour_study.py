@@ -175,9 +175,66 @@ def test_conditions_can_select_the_robot_profile(tmp_path):
     files = [str(Path("scenarios/radio.xml").resolve())]
     doc = study(files, [0], [parse_condition("full=profile=full"), parse_condition("old=profile=biron-2005")], tmp_path, workers=1)
     assert doc["study"]["conditions"] == {"full": "profile=full", "old": "profile=biron-2005"}
-    summaries = sorted(p.name for p in (tmp_path / "summaries").iterdir())
+    summaries = sorted(p.name for p in (tmp_path / "summaries").glob("*.json"))
     assert summaries == ["radio-0-full.json", "radio-0-old.json"]
     assert {r["verdict"] for r in doc["runs"]} <= {"PASS", "FAIL"}  # both ran (an unknown profile would be an ERROR row)
     with pytest.raises(Exception):
         from homesim.tour.runner import RunOptions, Run
         Run.from_file(Path(files[0]), RunOptions(seed=0, profile="no-such-robot")).close()
+
+
+def test_resume_never_reuses_a_run_of_another_scenario_version_or_condition(tmp_path):
+    """A summary left by an older version of the scenario file (or the same condition name with
+    other run options) is not this study's run: --resume makes the run again."""
+    from pathlib import Path
+
+    from homesim.tour.study import study
+
+    scen = tmp_path / "radio.xml"
+    scen.write_bytes(Path("scenarios/radio.xml").read_bytes())
+    out = tmp_path / "out"
+    study([str(scen)], [0], [parse_condition("c=strict=false")], out, workers=1)
+    again = study([str(scen)], [0], [parse_condition("c=strict=false")], out, workers=1, resume=True)
+    assert again["throughput"]["runs"] == 0  # the same scenario and condition: reused
+    other = study([str(scen)], [0], [parse_condition("c=strict=true")], out, workers=1, resume=True)
+    assert other["throughput"]["runs"] == 1  # same name, other run options: made again
+    scen.write_bytes(scen.read_bytes().replace(b"</scenario>", b"<!-- edited -->\n</scenario>"))
+    edited = study([str(scen)], [0], [parse_condition("c=strict=true")], out, workers=1, resume=True)
+    assert edited["throughput"]["runs"] == 1  # the scenario file changed: made again
+
+
+def test_every_expectation_of_the_library_and_the_generator_has_a_capability(tmp_path):
+    """No expectation falls silently into "other": each library scenario's and each generated tour's
+    expectations map to a named capability (a new kind or event needs a line in capabilities.py)."""
+    from pathlib import Path
+
+    from homesim.scenario.loader import load_scenario
+    from homesim.tour.capabilities import capability_of
+    from homesim.tour.generate import generate
+
+    generate(5, 8, tmp_path)
+    files = sorted(Path("scenarios").rglob("*.xml")) + sorted(tmp_path.glob("*.xml"))
+    unmapped = []
+    for f in files:
+        sc = load_scenario(f)
+        unmapped += [f"{f}:{e.line} <{e.kind}>" for e in sc.expectations if capability_of(e, sc.expectations) == "other"]
+    assert not unmapped, unmapped
+
+
+def test_a_condition_with_an_unknown_robot_profile_is_refused_before_any_run():
+    with pytest.raises(OptionError, match="unknown robot profile 'no-such-robot'"):
+        parse_condition("old=profile=no-such-robot")
+    assert dict(parse_condition("old=profile=biron-2005").run) == {"profile": "biron-2005"}
+
+
+def test_two_scenario_files_of_one_name_are_refused(tmp_path):
+    """Run summaries are named by the file's stem: a/radio.xml and b/radio.xml would overwrite each other."""
+    from pathlib import Path
+
+    from homesim.tour.study import Condition, study
+
+    for d in ("a", "b"):
+        (tmp_path / d).mkdir()
+        (tmp_path / d / "radio.xml").write_bytes(Path("scenarios/radio.xml").read_bytes())
+    with pytest.raises(OptionError, match="the same name"):
+        study([str(tmp_path / "a" / "radio.xml"), str(tmp_path / "b" / "radio.xml")], [0], [Condition("default")], tmp_path / "out", workers=1)

@@ -18,30 +18,40 @@ import re
 from collections.abc import Sequence
 
 from ..scenario.model import Expectation
+from .phrasing import OBJECT_WORDS as _WORDS
+
+OBJECT_WORDS = sorted({w for words in _WORDS.values() for w in words} | set(_WORDS), key=len, reverse=True)
 
 #: The capabilities, in the order of a home tour (tables and plots use it).
 CAPABILITIES = ("greeting", "self-explanation", "place teaching", "following", "partner kept", "object teaching",
-                "where-is", "go-to", "good-bye", "no collision", "perception", "other")
+                "where-is", "go-to", "good-bye", "no collision", "perception", "robustness", "network", "user script",
+                "other")
 
 _EVENTS = {
     "greeting": "greeting", "partner_found": "greeting", "follow": "following", "stop": "following",
     "partner_lost": "partner kept", "object_teaching": "object teaching", "object_recognized": "object teaching",
     "place_teaching": "place teaching", "query_object": "where-is", "goto": "go-to", "goal_reached": "go-to",
-    "navigation_failed": "go-to", "goodbye": "good-bye",
+    "navigation_failed": "go-to", "goodbye": "good-bye", "potential_partner": "greeting",
+    "module_failed": "robustness", "module_recovered": "robustness",
 }
 _STATES = {"Interacting": "greeting", "PotentialPartner": "greeting", "Following": "following",
-           "Navigating": "go-to", "AskingForHelp": "go-to", "Object": "object teaching"}
+           "Navigating": "go-to", "AskingForHelp": "go-to", "Object": "object teaching",
+           "LookingAround": "partner kept", "TechnicalFailure": "robustness"}
 _METRICS = {"following": "following", "navigation": "go-to", "teaching": "object teaching", "tracking": "perception",
-            "social": "no collision"}
+            "social": "no collision", "network": "network"}
 #: The robot's words (robot-says patterns), first match wins.
 _SAYS = ((r"good-?bye|\bbye\b", "good-bye"),
          (r"i am biron|hello|\bhi\b", "greeting"),
-         (r"following", "following"),
+         (r"following|too fast|slow", "following"),
+         (r"you left|look around", "partner kept"),
+         (r"step aside", "object teaching"),
+         (r"technical|support|technician", "robustness"),
          (r"follow you|show me|ask me|can do", "self-explanation"),
-         (r"going to|arrived|help me|cannot get", "go-to"),
+         (r"going to|arrived|help|cannot get", "go-to"),
          (r"learned|could not find", "object teaching"),
          (r"remember", "place teaching"),
-         (r"\bis\b|don't know|seen the", "where-is"))
+         (r"\bis\b|don't know|seen the", "where-is"),
+         (r"\b(" + "|".join(OBJECT_WORDS) + r")\b", "where-is"))  # the robot naming an object: a where-is answer
 
 
 def capability_of(e: Expectation, context: Sequence[Expectation] = ()) -> str:
@@ -58,6 +68,8 @@ def capability_of(e: Expectation, context: Sequence[Expectation] = ()) -> str:
         return "following"
     if k in ("legs-seen", "face-seen", "sound-heard"):
         return "perception"
+    if k == "reached":  # a simulated person got where the script sends them: the user, not the robot
+        return "user script"
     if k == "robot-near":  # following where the scenario checks following, else go-to where it sends the robot
         follows = any((c.kind == "state-reached" and c.get("state") == "Following") or c.kind == "following-distance" for c in context)
         sends = any(c.kind == "state-reached" and c.get("state") == "Navigating" for c in context) or any(

@@ -23,7 +23,8 @@ rate and Wilson ``ci95``, overall and by condition; ``failures``: failed expecta
 by cause; ``throughput``), ``DIR/study.md`` (the tables), ``DIR/study.png`` and ``.svg``
 (rates with intervals), ``DIR/summaries/`` (each run's summary). ``--resume`` reuses the runs
 whose summaries are already there (an interrupted study, or one extended by more seeds,
-scenarios or conditions) and makes only the others. Exit status 0 when the
+scenarios or conditions; only runs made from the same scenario file content, seed and run
+options, stamped in ``summaries/*.key``) and makes only the others. Exit status 0 when the
 study ran (failed runs are results, not errors), 2 for bad input.
 """
 
@@ -83,6 +84,12 @@ def parse_condition(text: str) -> Condition:
             robot.append((key[6:], value))
         elif key.startswith("option."):
             opts.append((key[7:], value))
+        elif key == "profile":  # refused here, not as an error row in every run
+            from .runner import profiles
+
+            if value not in profiles():
+                raise OptionError("--condition", f"{name}: unknown robot profile {value!r} (known: {', '.join(sorted(profiles()))})")
+            run.append((key, value))
         elif key in fields and key not in RESERVED:
             run.append((key, _value(fields[key], value, name)))
         else:
@@ -141,6 +148,8 @@ def study_run(file: str, seed: int, condition: str, options: dict[str, Any], sum
     """One run of one condition (``homesim sweep``'s run, with the condition's run options)."""
     row = run_one(file, seed, None, summaries or None, options, f"-{condition}")
     row["condition"] = condition
+    if summaries:  # what the summary was made from, so --resume never reuses it for another scenario or condition
+        stamp_path((file, seed, condition, options, summaries)).write_text(run_key((file, seed, condition, options, summaries)) + "\n", encoding="utf-8")
     return row
 
 
@@ -153,11 +162,27 @@ def summary_path(job: Job) -> Path:
     return Path(summaries) / f"{Path(file).stem}-{seed}-{condition}.json"
 
 
+def stamp_path(job: Job) -> Path:
+    """The file beside a run's summary that says what the run was made from."""
+    return summary_path(job).with_suffix(".key")
+
+
+def run_key(job: Job) -> str:
+    """A run's identity for ``--resume``: the scenario file's content digest, the seed and the condition's run options."""
+    from .runner import file_digest
+
+    file, seed, _, options, _ = job
+    return json.dumps({"scenario": file_digest(file), "seed": seed, "options": {k: options[k] for k in sorted(options)}}, default=str)
+
+
 def row_from_summary(job: Job) -> Row | None:
-    """The row of a run already made (``--resume``), from its summary; None when it cannot be read."""
+    """The row of a run already made (``--resume``), from its summary; None when it cannot be read
+    or was made from another scenario version or other run options (then the run is made again)."""
     from .sweep import _flat
 
     try:
+        if stamp_path(job).read_text(encoding="utf-8").strip() != run_key(job):
+            return None
         d = json.loads(summary_path(job).read_text(encoding="utf-8"))
         verdicts = d["expectations"]
         metrics: dict[str, float] = {}
@@ -343,6 +368,10 @@ def study(files: list[str], seeds: list[int], conditions: list[Condition], out: 
     summaries.mkdir(exist_ok=True)
     if len({c.name for c in conditions}) != len(conditions):
         raise OptionError("--condition", "two conditions have the same name")
+    stems: dict[str, str] = {}
+    for f in files:  # a run's summary is named by the file's stem: two files of one name would overwrite each other's
+        if stems.setdefault(Path(f).stem, f) != f:
+            raise OptionError("SCENARIO", f"{stems[Path(f).stem]} and {f} have the same name; a study needs distinct scenario file names")
     expectations: dict[str, list[Any]] = {}
     names: dict[str, list[str]] = {}
     jobs: list[Job] = []
