@@ -9,7 +9,7 @@ from __future__ import annotations
 from collections import Counter
 
 import pytest
-from hypothesis import given, settings
+from hypothesis import example, given, settings
 from hypothesis import strategies as st
 from lxml import etree
 
@@ -176,6 +176,7 @@ WORDS = ["follow me", "could you follow me", "yes", "no", "no the kitchen", "thi
 
 @settings(max_examples=300, deadline=None)
 @given(st.lists(st.tuples(st.sampled_from(WORDS), st.sampled_from([0.2, 0.45, 0.9])), max_size=20))
+@example([("no the kitchen", 0.2), ("blah", 0.2), ("no", 0.2), ("blah", 0.2), ("that's the study", 0.2), ("blah", 0.2)])
 def test_no_question_is_ever_asked_more_than_twice_in_one_dialog(seq):
     dm = DialogManager(DOC)
     dm.es_state = "Interacting"

@@ -411,7 +411,7 @@ def test_a_rejection_nobody_waits_for_is_still_explained(dm):
 def test_not_understood_reasks_the_open_question_then_gives_up(dm):
     dm.on_frame(frame("<GOTO><PLACE/></GOTO>"))
     for _ in range(DOC.max_reasks):
-        assert says(dm.on_frame(not_understood())) == [DOC.not_understood, "Where shall I go?"]
+        assert says(dm.on_frame(not_understood())) == [DOC.sentence("not-understood-reask"), "Where shall I go?"] == ["Sorry, I did not understand you.", "Where shall I go?"]
     assert says(dm.on_frame(not_understood())) == [DOC.sentence("give-up")] == ["Sorry, let us leave that for now."]
     assert dm.stack == [] and dm.summary()["give_ups"] == 1
 

@@ -41,6 +41,7 @@ ROOT = "dialogs"
 
 #: The manager's own words, each a ``<sentence id>`` of the document, with the fields its template may use.
 SENTENCES: dict[str, frozenset[str]] = {
+    "not-understood-reask": frozenset(),  # before an open question said again when nothing was understood
     "give-up": frozenset(),  # a dialog gives up after too many re-asks
     "can-now": frozenset({"capabilities"}),  # the self-explanation's list of what the user can do now
     "list": frozenset({"items", "last"}),  # how a list is said: "{items} or {last}"

@@ -469,7 +469,10 @@ class DialogManager:
                 self._finish(inst, out, abandoned=False)
             elif self._may_ask(inst, inst.pending[2], out):
                 self.metrics["reasks"] += 1
-                self._say(out, self.doc.not_understood, inst.d.id)
+                # the question said again is the request to repeat: the apology alone before it (with
+                # "Could you say that again?" each re-ask was one more question in the dialog, and three
+                # questions re-asked once each put it to the user a third time)
+                self._say(out, self.doc.sentence("not-understood-reask") or self.doc.not_understood, inst.d.id)
                 self._say(out, inst.pending[2], inst.d.id)
             return out
         if self.attending():

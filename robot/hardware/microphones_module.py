@@ -33,8 +33,10 @@ What two microphones and one recogniser really deliver, nothing more:
   ``/robot/speaker/status`` (``<speaking text start end/>``,
   ``<interrupted/>``); this module subtracts exactly that signal
   (``aec_db``) from what the microphones hear, so the robot's own voice is
-  neither a sound direction nor recognised. What the speaker did not
-  announce is not cancelled.
+  neither a sound direction nor recognised. The robot's own loudspeaker is
+  cancelled from its first sample (the canceller's reference is the sound
+  card's output line, not the status message, which comes after the bus's
+  latency). What no loudspeaker of the robot plays is not cancelled.
 """
 
 from __future__ import annotations
@@ -120,7 +122,17 @@ class Microphones(Module):
             self._played[(round(float(el.get("start", "0")), 6), el.get("text", ""))] = float(el.get("end", "0"))
 
     def _cancelled(self, u: Utterance) -> bool:
-        """Whether the echo canceller has this utterance's signal (the speaker announced playing it)."""
+        """Whether the echo canceller has this utterance's signal: the robot's own loudspeaker
+        (its reference is the output line on the same sound card, there from the first sample),
+        or what the speaker announced playing.
+
+        Why the loudspeaker itself: the status message reaches this module after the bus's
+        latency (0.1-0.2 ms on one host since the deployment's links), so the frame taken at the
+        instant the robot starts to talk held its own voice at 70 dB from straight ahead, at the
+        partner's bearing: the dialog took it for a barge-in and cut its own question
+        (tests/scenarios/lang_confirm_always.xml seed 0, "Shall I go to the living room?")."""
+        if u.source == "robot":
+            return True
         return (round(u.start, 6), u.text) in self._played or any(
             abs(start - u.start) < 1e-6 and u.cut and text.startswith(u.text) for (start, text) in self._played
         )

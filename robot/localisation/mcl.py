@@ -75,6 +75,8 @@ class MCLParams:
     init_xy: float = 0.10  # metres, the operator's start pose uncertainty
     init_theta: float = 0.05  # radians
     laser_height: float = 0.30
+    through_min_depth: float = 0.03  # metres inside a solid that count (a grazing beam nicks a corner)
+    through_depth: float = 0.05  # metres before a beam's end checked for lying inside a solid (half a 10 cm wall)
 
 
 class LikelihoodField:
@@ -96,6 +98,7 @@ class LikelihoodField:
             occ[iy, ix] = True
         if not occ.any():
             raise ValueError("the floor plan has nothing at the laser's height to localise against")
+        self.solid = np.zeros_like(occ)  # inside a wall or closed furniture (set by _visible_faces)
         occ = self._visible_faces(occ, plan, (xmin, ymin, xmax, ymax))
         # Distance from each cell centre to the nearest occupied cell centre; a half cell is
         # the worst-case offset of a surface inside its cell, removed so the field is unbiased.
@@ -123,6 +126,8 @@ class LikelihoodField:
         if not (0 <= iy < self.ny and 0 <= ix < self.nx) or labels[iy, ix] == 0:
             return occ
         rooms = labels == labels[iy, ix]
+        # the inside of walls and closed furniture: free cells of the plan not in the rooms
+        self.solid = free & inside & ~rooms
         faces = occ & binary_dilation(rooms, structure=np.ones((3, 3), dtype=bool))
         return faces if faces.any() else occ
 
@@ -136,6 +141,18 @@ class LikelihoodField:
         off-grid value: :meth:`gather_log` then needs no exp, log or mask per beam."""
         d = np.pad(self.dist, 1, constant_values=self.far)
         return np.log(z_hit * np.exp(-0.5 * (d / sigma) ** 2) + rand).astype(np.float32)
+
+    def through_table(self, penalty: float, depth: float) -> np.ndarray:
+        """Per cell, ``penalty`` inside a wall or closed furniture and 0 elsewhere, padded as
+        :meth:`log_table`: a beam whose last few centimetres lie inside a solid went through it.
+        Only cells ``depth`` or more inside count: a beam grazing a face at a shallow angle,
+        from a pose a few centimetres off, nicks the solid's edge without going through.
+
+        Why: a wall between two rooms shows both its faces to the rooms, so the distance field
+        alone scores a pose shifted by the wall's thickness (its beams ending on the far face)
+        as well as the truth; a real beam stops at the near face."""
+        deep = distance_transform_edt(self.solid) * self.res >= depth
+        return np.pad(np.where(deep, penalty, 0.0), 1, constant_values=0.0).astype(np.float32)
 
     def gather_log(self, table: np.ndarray, x: np.ndarray, y: np.ndarray) -> np.ndarray:
         """Look up ``table`` (from :meth:`log_table`) at world points; off-grid points read its border."""
@@ -168,6 +185,9 @@ class MCL:
         self.updates = 0
         self.resamples = 0
         self._table = self.field.log_table(self.p.sigma_hit, self.p.z_hit, self.p.z_rand / 8.19)
+        # a beam through a solid scores as a miss instead of a hit
+        rand = self.p.z_rand / 8.19
+        self._through = self.field.through_table(math.log(rand) - math.log(self.p.z_hit + rand), self.p.through_min_depth)
 
     # ------------------------------------------------------------ predict
     def predict(self, d: Pose) -> None:
@@ -220,6 +240,10 @@ class MCL:
         ex = self.x[:, None] + c * px - s * py
         ey = self.y[:, None] + s * px + c * py
         loglike = self.field.gather_log(self._table, ex, ey).sum(axis=1, dtype=np.float64)
+        # the point ``through_depth`` before each end point: inside a solid, the beam went through it
+        qx, qy = px - self.p.through_depth * np.cos(b), py - self.p.through_depth * np.sin(b)
+        loglike += self.field.gather_log(self._through, self.x[:, None] + c * qx - s * qy,
+                                         self.y[:, None] + s * qx + c * qy).sum(axis=1, dtype=np.float64)
         # Beams are not independent (neighbouring beams hit the same wall): temper the product
         # so one scan cannot collapse the cloud to a single particle.
         self.logw += loglike * (self.p.effective_beams / r.shape[0])
