@@ -77,6 +77,8 @@ class TrackerSpec:
     stop_spread: float = 0.5  # m/s: ... within a radius (1 sigma) growing this fast (a turn, a stop while hidden)
     max_speed: float = 2.5  # m/s: clamp (nobody walks faster indoors)
     init_speed_std: float = 1.0  # m/s: velocity uncertainty of a new track
+    contact: float = 0.6  # m: two confirmed tracks predicted this close: their legs mix (pairs of one leg each, merged blobs) ...
+    contact_std: float = 0.6  # m: ... so a candidate there may be the other person's: off this one's centre by up to a contact
 
     def __post_init__(self) -> None:
         for name in ("gate", "single_gate"):
@@ -210,7 +212,8 @@ class Tracks:
         if tracks and m:
             var = [spec.single_std**2 if s else spec.meas_std**2 for s in single]
             gates = [spec.single_gate if s else spec.gate for s in single]
-            pairs, stopped = _gated(tracks, z, var, gates, t, spec, single)
+            extra = _contact_variance(tracks, spec)
+            pairs, stopped = _gated(tracks, z, var, gates, t, spec, single, extra)
             if pairs:
                 rows = {i for i, _, _ in pairs}
                 cols = {j for _, j, _ in pairs}
@@ -224,7 +227,7 @@ class Tracks:
                         tk.x = [zj[0], zj[1], 0.0, 0.0]
                         tk.P = [var[j], 0.0, 0.0, 0.0, var[j], 0.0, 0.0, v, 0.0, v]
                     else:
-                        tk.update(zj[0], zj[1], var[j])
+                        tk.update(zj[0], zj[1], var[j] + extra[i])
                     tk.last_z = (zj[0], zj[1])
                     assigned[j] = i
                     tk.last_update = t
@@ -339,9 +342,34 @@ class Tracks:
         return kf
 
 
+def _contact_variance(tracks: list[Track], spec: TrackerSpec) -> list[float]:
+    """Extra measurement variance per track: ``contact_std**2`` for a confirmed track whose predicted
+    centre is within ``spec.contact`` of another confirmed track's, else 0.
+
+    Why: while two people cross, the laser sees a merged blob, or pairs made of one leg of each, or
+    one person half hidden behind the other; any candidate then lies somewhere between the two
+    centres. Taken at face value (a pair's 6 cm), these mixed candidates bend both tracks' velocities
+    toward each other within a few scans, and when the people part, each track predicts the other's
+    path: the identities swap. With the measurement as loose as the contact really is, the updates
+    still hold both tracks on the pair, but their velocities (what the people were doing before they
+    met) carry them through, and each track comes out on its own person.
+    """
+    out = [0.0] * len(tracks)
+    c2 = spec.contact**2
+    extra = spec.contact_std**2
+    conf = [i for i, tk in enumerate(tracks) if tk.confirmed]
+    for a, i in enumerate(conf):
+        xi = tracks[i].x
+        for k in conf[a + 1 :]:
+            xk = tracks[k].x
+            if (xi[0] - xk[0]) ** 2 + (xi[1] - xk[1]) ** 2 < c2:
+                out[i] = out[k] = extra
+    return out
+
+
 def _gated(
     tracks: list[Track], z: Sequence[Sequence[float]], var: list[float], gates: list[float], t: float, spec: TrackerSpec,
-    single: list[bool] | None = None,
+    single: list[bool] | None = None, extra: list[float] | None = None,
 ) -> tuple[list[tuple[int, int, float]], set[tuple[int, int]]]:
     """(track row, candidate, cost) of every pair within the candidate's gate, and the pairs gated
     under the "stopped" hypothesis.
@@ -355,6 +383,8 @@ def _gated(
     unobserved); only pairs and blobs are taken under the second (a lone leg there is as likely a
     chair's). The likelier of the two counts: a person who turns back while hidden behind another is
     found where they were instead of being searched for where they would have walked to.
+
+    ``extra`` (per track) is added to every candidate's variance for that track (see :func:`_contact_variance`).
     """
     out = []
     stopped: set[tuple[int, int]] = set()
@@ -366,8 +396,9 @@ def _gated(
         hidden = t - tk.last_update
         spread = (spec.stop_spread * hidden) ** 2 if hidden >= spec.stop_after else 0.0
         lx, ly = tk.last_z
+        ex = extra[i] if extra else 0.0
         for j, zj in enumerate(z):
-            r = var[j]
+            r = var[j] + ex
             a = p00 + r
             d = p11 + r
             det = a * d - bb
