@@ -1,11 +1,11 @@
 """Robot profiles: which BIRON a run simulates.
 
-- ``full`` (the default): every capability of DESIGN.md §2.6, as homesim's robot
+- ``full`` (the default): every capability of docs/semantics.md §6, as homesim's robot
   has them: objects taught by pointing and speech, resolved with gesture
   detection, object recognition and the speech's type, and stored with their
   position, size and colour.
 - ``biron-2005``: the demonstrator of the COGNIRON deliverable D7.1.2 (the
-  "Robot Home-Tour" report in shared/reference): "BIRON currently only
+  "Robot Home-Tour" report): "BIRON currently only
   processes the verbal information and does not have the COGNIRON functions for
   gesture recognition (CF-GR) and object recognition (CF-OR) as well as the
   overall component for resolving object references (CF-ROR) on-board". An

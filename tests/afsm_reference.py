@@ -79,7 +79,7 @@ class ReferenceES:
 
     def process(self, now: int) -> list[tuple]:
         out: list[tuple] = []
-        # DESIGN.md §2.2 as written: one scan from the oldest; an expired event is rejected where the
+        # docs/semantics.md §2 as written: one scan from the oldest; an expired event is rejected where the
         # scan reaches it, in the state the scan has reached (the caller queues every arrival of
         # `now` first: the same-instant rule, docs/semantics.md §2)
         pos = 0

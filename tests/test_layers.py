@@ -2,10 +2,13 @@
 
 Every arrow is read from the source, three ways: ``import`` statements (also
 inside functions and ``TYPE_CHECKING`` blocks, relative ones resolved),
-modules loaded by name (``importlib.import_module("x")``, ``__import__("x")``)
-and module names or robot channels written in strings (``"robot.install"``,
-``"/robot/es/log"``): a kernel that loads the robot by a name in a string
-names it all the same. The layers (docs/architecture.md):
+modules loaded by name (``importlib.import_module("x")``, ``__import__("x")``,
+``find_spec``, ``pkgutil.resolve_name``, ``sys.modules["x"]``, a loader under
+an alias or through ``getattr``, relative names resolved) and module names or
+robot channels written in strings (``"robot.install"``, ``"/robot/es/log"``,
+the prefix ``"/robot/"``; also built by f-string, ``+`` or ``Path / "part"``):
+a kernel that loads the robot by a name in a string names it all the same.
+The entry points in pyproject.toml, the one sanctioned way up, are checked too. The layers (docs/architecture.md):
 
 ====================  ==========================================================
 layer                 modules
@@ -36,8 +39,10 @@ ROOT = Path(__file__).resolve().parents[1]
 PACKAGES = ("homesim", "robot", "humans")
 LAYERS = ("kernel", "world", "robot/humans", "run package", "command line")
 
-#: A robot or people module (``robot.install``), file (``robot/afsm/...``) or channel (``/robot/es/log``) in a string.
-NAMES_ROBOT = re.compile(r"(?<![\w.])(robot|humans)(?:[./][A-Za-z_]\w*)+")
+#: A robot or people module (``robot.install``), file (``robot/afsm/...``), channel (``/robot/es/log``) or the
+#: channels' prefix alone (``"/robot/"``) in a string.
+NAMES_ROBOT = re.compile(r"(?<![\w.])(robot|humans)(?:[./][A-Za-z_]\w*)+"
+                         r"|(?<![\w./])/(robot|humans)(?=/?(?:$|[^\w./]))")
 #: The run package or the command line by module name.
 NAMES_UPPER = re.compile(r"(?<![\w.])homesim\.(tour|cli)\b")
 
@@ -87,11 +92,58 @@ def _docstrings(tree: ast.AST) -> set[int]:
     return out
 
 
+#: Calls that load a module by the name in their first argument (``pkgutil.resolve_name`` takes ``"mod:attr"``).
+LOADERS = ("import_module", "__import__", "find_spec", "resolve_name", "find_loader", "load_module")
+
+
+def _loader_aliases(tree: ast.AST) -> set[str]:
+    """The loaders under this file's own names (``from importlib import import_module as load``)."""
+    return {a.asname or a.name for node in ast.walk(tree) if isinstance(node, ast.ImportFrom)
+            for a in node.names if a.name in LOADERS}
+
+
+def _called(fn: ast.expr) -> str:
+    """The name a call reaches: ``f()``, ``m.f()``, and ``getattr(m, "f")()``."""
+    if isinstance(fn, ast.Attribute):
+        return fn.attr
+    if isinstance(fn, ast.Name):
+        return fn.id
+    if isinstance(fn, ast.Call) and isinstance(fn.func, ast.Name) and fn.func.id == "getattr" and len(fn.args) >= 2 \
+            and isinstance(fn.args[1], ast.Constant) and isinstance(fn.args[1].value, str):
+        return fn.args[1].value
+    return ""
+
+
+def _folded(node: ast.expr) -> str | None:
+    """A string built of pieces (f-string, ``+``, ``Path / "part"``) with ``x`` for each unknown piece, or None
+    when no piece is a literal string: ``f"/robot/{sub}/log"`` -> ``"/robot/x/log"``."""
+    if isinstance(node, ast.Constant):
+        return node.value if isinstance(node.value, str) else None
+    if isinstance(node, ast.JoinedStr):
+        return "".join(v.value if isinstance(v, ast.Constant) else "x" for v in node.values)
+    if isinstance(node, ast.BinOp) and isinstance(node.op, (ast.Add, ast.Div)):
+        left, right = _folded(node.left), _folded(node.right)
+        if left is None and right is None:
+            return None
+        return (left or "x") + ("/" if isinstance(node.op, ast.Div) else "") + (right or "x")
+    if isinstance(node, ast.Call) and isinstance(node.func, ast.Name) and node.func.id in ("Path", "PurePath") \
+            and len(node.args) == 1:
+        return _folded(node.args[0])
+    return None
+
+
+def _names_in(text: str) -> Iterator[tuple[str, str]]:
+    for m in NAMES_ROBOT.finditer(text):
+        yield m.group(0).strip("/").replace("/", "."), f"named in a string ({text[max(m.start() - 20, 0):m.end() + 20]!r})"
+
+
 def arrows(path: Path, module: str) -> Iterator[tuple[int, str, str]]:
     """``(line, target, how)`` for every module this file imports, loads by name or names in a string."""
     tree = ast.parse(path.read_text(encoding="utf-8"))
     is_package = path.name == "__init__.py"
+    package = module if is_package else module.rpartition(".")[0]
     docs = _docstrings(tree)
+    loaders = set(LOADERS) | _loader_aliases(tree)
     for node in ast.walk(tree):
         if isinstance(node, ast.Import):
             for a in node.names:
@@ -101,18 +153,29 @@ def arrows(path: Path, module: str) -> Iterator[tuple[int, str, str]]:
             yield node.lineno, target, "import"
             for a in node.names:
                 yield node.lineno, f"{target}.{a.name}", "import"
-        elif isinstance(node, ast.Call):
-            fn = node.func
-            called = fn.attr if isinstance(fn, ast.Attribute) else fn.id if isinstance(fn, ast.Name) else ""
-            if called in ("import_module", "__import__") and node.args and isinstance(node.args[0], ast.Constant) \
-                    and isinstance(node.args[0].value, str):
-                yield node.lineno, node.args[0].value, "loaded by name"
-        elif isinstance(node, ast.Constant) and isinstance(node.value, str):
-            for m in NAMES_ROBOT.finditer(node.value):
-                yield node.lineno, m.group(0).replace("/", "."), f"named in a string ({node.value[max(m.start() - 20, 0):m.end() + 20]!r})"
+        elif isinstance(node, ast.Call) and _called(node.func) in loaders and node.args \
+                and isinstance(node.args[0], ast.Constant) and isinstance(node.args[0].value, str):
+            name = node.args[0].value.split(":")[0]
+            if name.startswith("."):
+                # a relative name: against the package given (a literal) or this module's own (``__package__``)
+                anchor = node.args[1] if len(node.args) > 1 else None
+                base = anchor.value if isinstance(anchor, ast.Constant) and isinstance(anchor.value, str) else package
+                level = len(name) - len(name.lstrip("."))
+                parts = base.split(".")
+                name = ".".join(parts[: len(parts) - (level - 1)] + ([name.lstrip(".")] if name.lstrip(".") else []))
+            yield node.lineno, name, "loaded by name"
+        elif isinstance(node, ast.Subscript) and isinstance(node.value, ast.Attribute) and node.value.attr == "modules" \
+                and isinstance(node.slice, ast.Constant) and isinstance(node.slice.value, str):
+            yield node.lineno, node.slice.value, "taken from sys.modules"
+        if isinstance(node, (ast.Constant, ast.JoinedStr, ast.BinOp)):
+            text = _folded(node)
+            if text is None:
+                continue
+            for target, how in _names_in(text):
+                yield node.lineno, target, how
             if id(node) not in docs:
-                for m in NAMES_UPPER.finditer(node.value):
-                    yield node.lineno, m.group(0), f"named in a string ({node.value[:60]!r})"
+                for m in NAMES_UPPER.finditer(text):
+                    yield node.lineno, m.group(0), f"named in a string ({text[:60]!r})"
 
 
 def _project(target: str) -> bool:
@@ -239,6 +302,20 @@ def test_no_package_cycle():
     ("from humans.person import Person\n", "robot.hardware.x", "humans.person"),
     ("from homesim.cli import main\n", "homesim.tour.x", "homesim.cli"),
     ("from homesim.world.world import World\n", "homesim.scenario.x", "homesim.world.world"),
+    # the loader reached another way than ``importlib.import_module("x")``
+    ("import importlib\ngetattr(importlib, 'import_module')('robot')\n", "homesim.sim", "robot"),
+    ("from importlib import import_module as load\nload('humans')\n", "homesim.sim", "humans"),
+    ("import importlib.util\nimportlib.util.find_spec('robot')\n", "homesim.sim", "robot"),
+    ("import sys\nBIRON = sys.modules['robot']\n", "homesim.sim", "robot"),
+    ("import importlib\nimportlib.import_module('.tour.runner', 'homesim')\n", "homesim.sim", "homesim.tour"),
+    ("import importlib\nimportlib.import_module('..tour', __package__)\n", "homesim.world.stage", "homesim.tour"),
+    # a name built from pieces: f-strings, concatenation, paths
+    ("def load(n):\n    return f'robot.{n}'\n", "homesim.sim", "robot"),
+    ("def chan(sub):\n    return f'/robot/{sub}/log'\n", "homesim.observe", "robot"),
+    ("def load(n):\n    return 'humans.' + n\n", "homesim.sim", "humans"),
+    ("from pathlib import Path\nP = Path(__file__).parent / 'robot' / 'install.py'\n", "homesim.sim", "robot.install"),
+    # the robot's channel prefix alone
+    ("def mine(ch):\n    return ch.startswith('/robot/')\n", "homesim.observe", "robot"),
 ])
 def test_a_back_arrow_is_found(tmp_path, source, module, expected):
     path = tmp_path / "m.py"
@@ -257,3 +334,53 @@ def test_docstrings_may_point_up_but_code_strings_may_not(tmp_path):
 def test_a_package_cycle_is_found():
     assert find_cycle({"a.x": {"a.y"}, "a.y": {"a.z"}, "a.z": {"a.x"}}) == ["a.x", "a.y", "a.z", "a.x"]
     assert find_cycle({"a.x": {"a.y"}, "a.y": set()}) is None
+
+
+# ------------------------------------------------- entry points (pyproject.toml)
+def entry_point_arrows(pyproject: dict) -> list[str]:
+    """What is wrong with the entry points a pyproject declares.
+
+    Entry points are the one sanctioned way code above the kernel hands it something (a document
+    kind for ``homesim check``, a scenario check): the kernel reads a group and never names the
+    robot. So each must be in a group the kernel reads (else nothing loads it), and its target must
+    exist and lie in the robot, the people or the run package: the command line through an entry
+    point is the kernel importing the top layer by the back door."""
+    from homesim.documents import ENTRY_POINT_GROUP
+    from homesim.scenario.checks import CHECKS_GROUP
+
+    bad = []
+    for group, points in pyproject.get("project", {}).get("entry-points", {}).items():
+        for name, value in points.items():
+            target = value.split(":")[0].strip()
+            where = f"[project.entry-points.{group!r}] {name} = {value!r}"
+            if group not in (ENTRY_POINT_GROUP, CHECKS_GROUP):
+                bad.append(f"{where}: no kernel registry reads the group")
+            if layer(target) not in (2, 3):
+                bad.append(f"{where}: {LAYERS[layer(target)]} is not a layer that extends the kernel")
+            elif not (ROOT.joinpath(*target.split(".")).with_suffix(".py").is_file()
+                      or (ROOT.joinpath(*target.split(".")) / "__init__.py").is_file()):
+                bad.append(f"{where}: no module {target}")
+    return bad
+
+
+def test_entry_points_only_extend_the_kernels_registries():
+    import tomllib
+    from importlib.metadata import entry_points
+
+    declared = tomllib.loads((ROOT / "pyproject.toml").read_text(encoding="utf-8"))
+    assert entry_point_arrows(declared) == []
+    # the install is the pyproject's (a stale one silently drops a document kind or a check)
+    for group, points in declared["project"]["entry-points"].items():
+        assert {e.name: e.value for e in entry_points(group=group)} == points, group
+
+
+def test_an_entry_point_against_the_layers_is_found():
+    from homesim.documents import ENTRY_POINT_GROUP
+
+    toml = {"project": {"entry-points": {
+        ENTRY_POINT_GROUP: {"ok": "robot.dialog.document:DOCUMENT_TYPE", "cli": "homesim.cli:main",
+                            "gone": "robot.nowhere:X"},
+        "homesim.unread": {"x": "humans.checks:check_scenario"},
+    }}}
+    found = entry_point_arrows(toml)
+    assert len(found) == 3 and all(n in " ".join(found) for n in ("cli =", "gone =", "unread"))

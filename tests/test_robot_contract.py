@@ -81,3 +81,22 @@ def test_a_run_declares_exactly_the_contracts_schemas():
     for ch, schema in declared.items():
         assert Path(contract.channel(ch).schema or "").name == schema, ch
     assert {contract.channel(ch).name for ch in declared} == set(contract.BY_NAME)
+
+
+def _robot_channels_built_in_fstrings(root: Path, packages: tuple[str, ...]) -> list[str]:
+    """f-strings that spell a robot channel out (``f"/robot/{NAME}/refused"``) instead of building on a
+    contract name (``f"{ES_ORDERS}/{NAME}"``, a family member): a name the contract cannot see."""
+    out = []
+    for pkg in packages:
+        for path in sorted((root / pkg).rglob("*.py")):
+            for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+                if isinstance(node, ast.JoinedStr) and node.values and isinstance(node.values[0], ast.Constant) \
+                        and str(node.values[0].value).startswith("/robot/"):
+                    out.append(f"{path.relative_to(root)}:{node.lineno}")
+    return out
+
+
+def test_no_robot_channel_is_spelled_out_in_an_fstring(tmp_path):
+    assert _robot_channels_built_in_fstrings(ROOT, ("robot", "homesim/tour", "humans")) == []
+    (tmp_path / "m.py").write_text('N = "x"\nA = f"/robot/{N}/refused"\nB = f"{A}/{N}"\n', encoding="utf-8")
+    assert _robot_channels_built_in_fstrings(tmp_path, (".",)) == ["m.py:2"]

@@ -17,7 +17,7 @@ from homesim.scenario.loader import load_scenario
 
 SCENARIOS = Path(__file__).resolve().parent.parent / "scenarios"
 LIBRARY = ("home_tour", "radio", "distractor", "two_candidates", "walk_away", "too_fast",
-           "goto", "goto_blocked", "module_crash", "later_visit", "follow_crossing")
+           "goto", "goto_blocked", "module_crash", "later_visit", "follow_crossing", "wlan_reorder")
 SLOW = os.environ.get("HOMESIM_SLOW", "") not in ("", "0")
 
 

@@ -167,7 +167,7 @@ def test_resume_reuses_the_runs_already_made(tmp_path):
 
 
 def test_conditions_can_select_the_robot_profile(tmp_path):
-    """Two robot profiles side by side (DESIGN 2.8): the condition reaches the run."""
+    """Two robot profiles side by side (docs/semantics.md §8): the condition reaches the run."""
     from pathlib import Path
 
     from homesim.tour.study import study

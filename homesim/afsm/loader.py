@@ -40,8 +40,9 @@ from typing import Any
 
 from lxml import etree
 
-from ..errors import AFSMError, AFSMProblems, XMLInputError
-from ..xmlio import Schema, load_schema, parse_bytes, read_input
+from ..errors import AFSMError, AFSMProblems
+from ..xmldoc import DocumentKind
+from ..xmlio import Schema, load_schema
 from .model import (
     DEFAULT_LIFETIME_NS,
     EventDecl,
@@ -124,17 +125,6 @@ def _start_lines(root: etree._Element, data: bytes) -> None:
     for el, line in zip(elements, starts):
         if el.sourceline != line and line < 65535:
             el.sourceline = line
-
-
-def _parse(data: bytes | str, source: str) -> etree._Element:
-    raw = data.encode("utf-8") if isinstance(data, str) else data
-    root = parse_bytes(raw, source=source)
-    _start_lines(root, raw)
-    return root
-
-
-def _parse_path(path: str | os.PathLike[str]) -> etree._Element:
-    return _parse(read_input(path), str(path))  # regular files of bounded size only
 
 
 # ------------------------------------------------------------------- stages
@@ -484,40 +474,34 @@ def check_root(root: etree._Element, *, source: str, fragment: bool = False) -> 
     return (None if problems else machine), problems
 
 
+#: The read -> parse -> check -> model pipeline of an AFSM document (malformed text raises XMLInputError).
+AFSM_DOCUMENT: DocumentKind[Machine, AFSMError] = DocumentKind(
+    check_root=check_root, error=AFSMError, problems=AFSMProblems, prepare=_start_lines, malformed_as_problems=False)
+
+
 def check(data: bytes | str, *, source: str = "<string>") -> list[AFSMError]:
     """Every problem of an AFSM document given as text (empty list when it loads)."""
-    try:
-        root = _parse(data, source)
-    except XMLInputError as exc:
-        return [AFSMError(exc.message, source=exc.source, line=exc.line)]
-    return check_root(root, source=source)[1]
+    return AFSM_DOCUMENT.check(data, source=source)
 
 
 def check_file(path: str | os.PathLike[str]) -> list[AFSMError]:
     """Every problem of an AFSM file (empty list when it loads)."""
-    try:
-        root = _parse_path(path)
-    except XMLInputError as exc:
-        return [AFSMError(exc.message, source=exc.source, line=exc.line)]
-    return check_root(root, source=str(path))[1]
+    return AFSM_DOCUMENT.check_file(path)
 
 
 def from_element(root: etree._Element, *, source: str, fragment: bool = False) -> Machine:
     """The machine of a parsed document; raises :class:`AFSMProblems` listing every problem."""
-    machine, problems = check_root(root, source=source, fragment=fragment)
-    if problems or machine is None:
-        raise AFSMProblems(problems)
-    return machine
+    return AFSM_DOCUMENT.from_element(root, source=source, fragment=fragment)
 
 
 def loads(data: bytes | str, *, source: str = "<string>", fragment: bool = False) -> Machine:
     """Load an AFSM from text. Raises XMLInputError (malformed) or AFSMProblems."""
-    return from_element(_parse(data, source), source=source, fragment=fragment)
+    return AFSM_DOCUMENT.loads(data, source=source, fragment=fragment)
 
 
 def load(path: str | os.PathLike[str], *, fragment: bool = False) -> Machine:
     """Load an AFSM file. Raises XMLInputError (malformed) or AFSMProblems naming file and lines."""
-    return from_element(_parse_path(path), source=str(path), fragment=fragment)
+    return AFSM_DOCUMENT.load(path, fragment=fragment)
 
 
 # --------------------------------------------------------------------- dump

@@ -116,7 +116,8 @@ class RobotSaysCheck(EventCheck):
 class StateTracker(EsRecord):
     """The supervisor's current state, from its status and decision log (what the trace shows).
 
-    The run's own :class:`~homesim.tour.metrics.es.EsRecord` (one reading of the log), asked one thing."""
+    An instance of the run's :class:`~homesim.tour.metrics.es.EsRecord` (one reading of the log, written
+    once), asked one thing; each check keeps its own, fed the same messages."""
 
     def update(self, m: Message) -> str | None:
         """Return the new state when ``m`` changes it."""

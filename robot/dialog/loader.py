@@ -18,8 +18,9 @@ from pathlib import Path
 
 from lxml import etree
 
-from homesim.errors import InputError, XMLInputError
-from homesim.xmlio import load_schema, parse_bytes, parse_file
+from homesim.errors import InputError
+from homesim.xmldoc import DocumentKind
+from homesim.xmlio import load_schema
 
 from .model import (
     ACTS,
@@ -295,43 +296,26 @@ def _check_templates(model: Dialogs, c: _Checker, root: etree._Element) -> None:
             c.add(el, f"unbalanced braces in the template {text!r}")
 
 
+#: The read -> parse -> check -> model pipeline of a dialog document (malformed text is one more problem).
+DIALOG_DOCUMENT: DocumentKind[Dialogs, DialogError] = DocumentKind(
+    check_root=check_root, error=DialogError, problems=DialogProblems)
+
+
 def check(data: bytes | str, *, source: str = "<string>") -> list[DialogError]:
     """Every problem of a dialog document given as text (empty: it loads)."""
-    try:
-        root = parse_bytes(data, source=source)
-    except XMLInputError as exc:
-        return [DialogError(exc.message, source=exc.source, line=exc.line)]
-    return check_root(root, source=source)[1]
+    return DIALOG_DOCUMENT.check(data, source=source)
 
 
 def check_file(path: str | os.PathLike[str]) -> list[DialogError]:
     """Every problem of a dialog file (empty: it loads)."""
-    try:
-        root = parse_file(path)
-    except XMLInputError as exc:
-        return [DialogError(exc.message, source=exc.source, line=exc.line)]
-    return check_root(root, source=str(path))[1]
+    return DIALOG_DOCUMENT.check_file(path)
 
 
 def loads(data: bytes | str, *, source: str = "<string>") -> Dialogs:
     """Load a dialog document from text; raises :class:`DialogProblems` with every problem."""
-    try:
-        root = parse_bytes(data, source=source)
-    except XMLInputError as exc:
-        raise DialogProblems([DialogError(exc.message, source=exc.source, line=exc.line)]) from exc
-    model, problems = check_root(root, source=source)
-    if problems or model is None:
-        raise DialogProblems(problems)
-    return model
+    return DIALOG_DOCUMENT.loads(data, source=source)
 
 
 def load(path: str | os.PathLike[str] = BIRON_DIALOGS) -> Dialogs:
     """Load a dialog file; raises :class:`DialogProblems` (file, line, element) with every problem."""
-    try:
-        root = parse_file(path)
-    except XMLInputError as exc:
-        raise DialogProblems([DialogError(exc.message, source=exc.source, line=exc.line)]) from exc
-    model, problems = check_root(root, source=str(path))
-    if problems or model is None:
-        raise DialogProblems(problems)
-    return model
+    return DIALOG_DOCUMENT.load(path)

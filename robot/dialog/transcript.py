@@ -13,6 +13,7 @@ from collections.abc import Iterable
 from typing import Any
 
 from homesim.xmlio import parse_bytes
+from robot.contract import ES_EVENTS, ES_LOG, FRAMES, SAY, SPEECH
 
 
 def transcript(records: Iterable[dict[str, Any]]) -> list[str]:
@@ -23,22 +24,22 @@ def transcript(records: Iterable[dict[str, Any]]) -> list[str]:
             continue
         ch = r.get("channel", "")
         t = float(r["t"])
-        if ch == "/robot/audio/speech":
+        if ch == SPEECH:
             x = parse_bytes(r["xml"])
             if x.get("self") != "true":
                 lines.append(f"{t:8.3f}  user        \"{x.text or ''}\"")
-        elif ch == "/robot/speech/frames":
+        elif ch == FRAMES:
             x = parse_bytes(r["xml"])
             what = r["xml"][r["xml"].find("<SPEECH>"):r["xml"].find("</SPEECH>") + 9] if x.tag == "understood" else "not understood"
             lines.append(f"{t:8.3f}  understood  {what}")
-        elif ch == "/robot/es/events" and r.get("sender") == "dialog":
+        elif ch == ES_EVENTS and r.get("sender") == "dialog":
             lines.append(f"{t:8.3f}  dialog      -> ES event {parse_bytes(r['xml']).get('name')}")
-        elif ch == "/robot/es/log":
+        elif ch == ES_LOG:
             x = parse_bytes(r["xml"])
             if x.get("kind") == "applied":
                 lines.append(f"{t:8.3f}  ES          {x.get('name')}: {x.get('state')} -> {x.get('to')}")
             elif x.get("kind") == "rejected":
                 lines.append(f"{t:8.3f}  ES          rejected {x.get('name')} ({x.get('reason')}) in {x.get('state')}")
-        elif ch == "/robot/speaker/say":
+        elif ch == SAY:
             lines.append(f"{t:8.3f}  BIRON       \"{parse_bytes(r['xml']).get('text', '')}\"")
     return lines

@@ -46,14 +46,14 @@ from homesim.module import Module
 
 from robot.floorplan import MapFormatError
 
-from robot.contract import ES_EVENTS, ES_ORDERS
+from robot.contract import ES_EVENTS, ES_ORDERS, SCENE_MODEL_REFUSED
 
 from .bases import SCHEMA, KnowledgeBase, ObjectBase, PlaceBase, said_position
 from .where import Location, Plan, locate, parse_plan
 
 NAME = "scene_model"
 ORDERS = f"{ES_ORDERS}/{NAME}"
-REFUSED = f"/robot/{NAME}/refused"
+REFUSED = SCENE_MODEL_REFUSED
 STORE_FILE = "scene_model.sqlite"
 MEMORY_SCHEMA = Path(__file__).resolve().parents[2] / "homesim" / "schemas" / "memory.xsd"
 

@@ -1,6 +1,6 @@
 """The 2005 demonstrator's object attention: objects taught from the verbal information only.
 
-The COGNIRON deliverable on the home tour (shared/reference, first part) says
+The COGNIRON deliverable on the home tour (D7.1.2, the "Robot Home-Tour" report) says
 of the demonstrator: "BIRON currently only processes the verbal information
 and does not have the COGNIRON functions for gesture recognition (CF-GR) and
 object recognition (CF-OR) as well as the overall component for resolving
