@@ -109,6 +109,15 @@ class Understander:
             alt = self._parse(toks[1:])
             if alt[0] is not None and (not alt[2] or tree is None):
                 tree, ignored, partial = alt[0], [toks[0].text, *alt[1]], True
+        elif ignored and len(toks) > 2 and [t.text for t in toks[len(toks) - len(ignored):]] != ignored:
+            # "that to the kitchen" (the recogniser's "that" for "go"): a word skipped inside the
+            # phrase ("that [to] the kitchen", a teaching) against a first word misheard, the rest a
+            # whole act ("to the kitchen", go there): as many words lost, but the rest is one request
+            # said as a whole, so it wins (a wrong teaching would overwrite a taught place unasked).
+            # Words left over at the end ("hello biron, follow me") are no skip inside.
+            alt = self._parse(toks[1:])
+            if alt[0] is not None and not alt[2]:
+                tree, ignored, partial = alt[0], [toks[0].text], True
         restart = self._restart(lex.raw)
         if restart is not None:  # "follow me, no wait, stop": the repair is a whole new request
             toks, (tree, ignored, partial) = restart
