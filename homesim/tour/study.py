@@ -43,7 +43,7 @@ from typing import IO, Any
 from .. import cliargs
 from ..cliargs import OptionError
 from ..realtime import Stopwatch
-from .sweep import ERROR, FAIL, PASS, _scheduler, _workers, parse_seeds, run_one
+from .sweep import ERROR, FAIL, PASS, dask_client, _scheduler, _workers, parse_seeds, run_one
 from .capabilities import CAPABILITIES, capability_of, cause_of, rate
 
 Row = dict[str, Any]
@@ -208,17 +208,7 @@ def _local(jobs: list[Job], workers: int) -> Iterator[Row]:
 
 
 def _dask(jobs: list[Job], scheduler: Any) -> Iterator[Row]:
-    try:
-        from distributed import Client, as_completed as dask_completed
-    except ImportError:
-        raise OptionError("--scheduler", 'needs Dask: pip install "dask[distributed]"') from None
-    if isinstance(scheduler, Client):
-        client = scheduler
-    else:
-        try:
-            client = Client(scheduler, timeout=20)
-        except (OSError, ValueError, TimeoutError) as exc:
-            raise OptionError("--scheduler", f"cannot reach the Dask scheduler {scheduler!r}: {exc}") from None
+    client, dask_completed = dask_client(scheduler)
     try:
         futures = [client.submit(study_run, *job, pure=False, key=f"homesim-study-{Path(job[0]).stem}-{job[1]}-{job[2]}") for job in jobs]
         where = {f.key: job for f, job in zip(futures, jobs)}

@@ -132,19 +132,27 @@ def _local(jobs: list[tuple[str, int]], until: float | None, summaries: str, wor
             yield _result(fut, futures[fut])
 
 
-def _dask(jobs: list[tuple[str, int]], until: float | None, summaries: str, scheduler: Any,
-          profile: str | None = None) -> Iterator[Row]:
+def dask_client(scheduler: Any) -> tuple[Any, Any]:
+    """(client, distributed.as_completed) for ``scheduler`` (an address or a ``distributed.Client``).
+
+    The caller closes the client when it is not ``scheduler`` itself. A missing Dask or an
+    unreachable scheduler is an :class:`OptionError` on ``--scheduler``.
+    """
     try:
-        from distributed import Client, as_completed as dask_completed
+        from distributed import Client, as_completed
     except ImportError:
         raise OptionError("--scheduler", 'needs Dask: pip install "dask[distributed]"') from None
     if isinstance(scheduler, Client):
-        client = scheduler
-    else:
-        try:
-            client = Client(scheduler, timeout=20)
-        except (OSError, ValueError, TimeoutError) as exc:
-            raise OptionError("--scheduler", f"cannot reach the Dask scheduler {scheduler!r}: {exc}") from None
+        return scheduler, as_completed
+    try:
+        return Client(scheduler, timeout=20), as_completed
+    except (OSError, ValueError, TimeoutError) as exc:
+        raise OptionError("--scheduler", f"cannot reach the Dask scheduler {scheduler!r}: {exc}") from None
+
+
+def _dask(jobs: list[tuple[str, int]], until: float | None, summaries: str, scheduler: Any,
+          profile: str | None = None) -> Iterator[Row]:
+    client, dask_completed = dask_client(scheduler)
     try:
         futures = [client.submit(run_one, s, n, until, summaries, profile=profile, pure=False, key=f"homesim-{Path(s).stem}-{n}") for s, n in jobs]
         where = {f.key: job for f, job in zip(futures, jobs)}
