@@ -9,7 +9,7 @@ import pytest
 from mcap.reader import make_reader
 
 from homesim.cli import main
-from homesim.export.foxglove import SCHEMAS
+from homesim.export.foxglove import SCHEMA_NAMES, schema
 
 from .viz_helpers import tour_trace
 
@@ -98,7 +98,7 @@ def test_mcap_holds_every_bus_channel_and_the_foxglove_views(mcaps):
     with open(a, "rb") as fh:
         reader = make_reader(fh)
         summary = reader.get_summary()
-        assert {s.name for s in summary.schemas.values()} == set(SCHEMAS)
+        assert {s.name for s in summary.schemas.values()} == set(SCHEMA_NAMES)
         assert all(s.encoding == "jsonschema" and json.loads(s.data)["title"] == s.name for s in summary.schemas.values())
         got: dict[str, list] = {}
         last = -1
@@ -130,21 +130,35 @@ def test_mcap_holds_every_bus_channel_and_the_foxglove_views(mcaps):
     assert len(walls) > 10
     tracks = [m for _, _, m in got["/scene/tracks"] if m["entities"]]
     assert tracks and tracks[-1]["entities"][0]["frame_id"] == "odom"
+    assert all(e["id"].startswith("track/") for m in tracks for e in m["entities"])
+    assert all(topic.startswith("/") for topic in got)  # ROS-style topics, RPC services included
+    truth = [m for _, _, m in got["/poses/truth"]]
+    assert len(truth) == len(got["/tf"]) - len(got["/poses/estimate"]) and truth[0]["frame_id"] == "map"
+    said = [m for _, _, m in got["/transcript"]]
+    assert said and said[0]["name"] == "anna" and said[0]["message"]  # she greets within 3 s
 
 
-def test_every_mcap_message_is_valid_against_its_channels_json_schema(mcaps):
+def test_every_mcap_message_is_valid_against_foxgloves_official_schema(mcaps):
+    """Each message against the official @foxglove/schemas file of its schema name (tests/test_foxglove_schemas.py
+    checks those files are Foxglove's, unmodified), and the MCAP carries that very schema."""
     import jsonschema  # in the test extra
 
     _, a, _ = mcaps
     checked: dict[str, int] = {}
+    validators = {name: jsonschema.Draft7Validator(schema(name)) for name in SCHEMA_NAMES}
     with open(a, "rb") as fh:
-        for schema, _channel, msg in make_reader(fh).iter_messages():
-            jsonschema.validate(json.loads(msg.data), json.loads(schema.data))
-            checked[schema.name] = checked.get(schema.name, 0) + 1
-    assert set(checked) == set(SCHEMAS)
+        for sch, channel, msg in make_reader(fh).iter_messages():
+            assert json.loads(sch.data) == schema(sch.name)
+            errors = [f"{channel.topic} @ {msg.log_time}: {e.json_path}: {e.message}" for e in validators[sch.name].iter_errors(json.loads(msg.data))]
+            assert not errors, errors[:5]
+            checked[sch.name] = checked.get(sch.name, 0) + 1
+    assert set(checked) == set(SCHEMA_NAMES)
     bad = {"timestamp": {"sec": -1, "nsec": 0}, "frame_id": "laser", "pose": {}, "start_angle": 0, "end_angle": 1, "ranges": []}
     with pytest.raises(jsonschema.ValidationError):  # the schemas do refuse what Foxglove would not read
-        jsonschema.validate(bad, SCHEMAS["foxglove.LaserScan"])
+        jsonschema.validate(bad, schema("foxglove.LaserScan"))
+    trimmed = {"entities": [{"timestamp": {"sec": 0, "nsec": 0}, "frame_id": "map", "id": "x", "cubes": []}]}
+    with pytest.raises(jsonschema.ValidationError):  # what the project's own trimmed copy used to let through
+        jsonschema.validate(trimmed, schema("foxglove.SceneUpdate"))
 
 
 def test_export_needs_something_to_write(mcaps, capsys):
