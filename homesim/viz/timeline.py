@@ -34,7 +34,7 @@ PHASE = "#c0392b"
 SLOW = "#8e44ad"
 #: Span colours by what they measure (traceview.Span.kind).
 SPAN_COLOURS = {"speech detection": "#9ecae1", "speech recognition": "#3182bd", "ES reconfiguration": "#e6550d",
-                "processing": SPAN}
+                "robot speech": "#74c476", "processing": SPAN}
 #: Label event arrows only when the window holds at most this many events.
 LABEL_EVENTS = 60
 #: Label a span with its duration from this length on (seconds).
