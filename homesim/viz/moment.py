@@ -113,7 +113,7 @@ def ray_lengths(a: np.ndarray, b: np.ndarray, origin: Sequence[float], angles: n
         e = b - a  # (S, 2)
         w = a - o  # (S, 2)
         den = d[:, None, 0] * e[None, :, 1] - d[:, None, 1] * e[None, :, 0]  # (R, S)
-        with np.errstate(divide="ignore", invalid="ignore"):
+        with np.errstate(divide="ignore", invalid="ignore", over="ignore"):  # parallel rays: refused below
             tr = (w[None, :, 0] * e[None, :, 1] - w[None, :, 1] * e[None, :, 0]) / den
             us = (w[None, :, 0] * d[:, None, 1] - w[None, :, 1] * d[:, None, 0]) / den
         ok = (np.abs(den) > 1e-12) & (tr > 1e-9) & (us >= 0) & (us <= 1)
