@@ -89,7 +89,9 @@ def run_command(a: argparse.Namespace) -> int:
                          f"{len(sc.humans)} people, {len(sc.sources)} other sound sources, "
                          f"robot modules: {', '.join(sorted(run.modules)) or 'none'}")
             console.text(f"robot profile {run.profile}; deployment {run.deployment.name}: "
-                         + ", ".join(f"{h.name} ({h.link})" for h in run.deployment.hosts))
+                         + ", ".join(f"{h.name} ({h.link}" + (f", sends over {h.uplink}" if h.uplink else "") + ")"
+                                     for h in run.deployment.hosts)
+                         + "".join(f"; {r.src} -> {r.dst} over {r.link}" for r in run.deployment.routes))
         run.run(progress=console.progress)
         verdicts = run.finish()
         summary = run.summary()
@@ -103,9 +105,23 @@ def run_command(a: argparse.Namespace) -> int:
         for v in verdicts:
             if not a.quiet or not v.passed:
                 print("  " + v.line(), file=out)
+        if not a.quiet:
+            print(network_line(summary), file=out)
         passed = sum(v.passed for v in verdicts)
         print(f"verdict: {summary['verdict']} ({passed}/{len(verdicts)} expectations hold)", file=out)
         return 0 if summary["verdict"] == "PASS" else 1
+
+
+def network_line(summary: dict[str, Any]) -> str:
+    """One line of the summary's network figures: per link mean / p95 / max ms, and the ES's arrivals."""
+    links = summary.get("deployment", {}).get("links", {})
+    parts = [f"{name} {st['mean_ms']:.2f}/{st['p95_ms']:.2f}/{st['max_ms']:.1f} ms ({st['deliveries']})"
+             for name, st in links.items() if st.get("deliveries")]
+    es = summary.get("es", {})
+    line = "network (mean/p95/max, deliveries): " + ", ".join(parts)
+    if "events_received" in es:
+        line += f"; ES: {es['events_received']} events, {es['received_out_of_order']} out of creation order"
+    return line
 
 
 # ------------------------------------------------------------------ replay
