@@ -368,25 +368,32 @@ def read_timeline(path: str | os.PathLike[str], *, start: float | None = None, e
 def _deployment(header: dict[str, Any], names: set[str], order: list[Message]
                 ) -> tuple[dict[str, str], list[str], set[tuple[str, str]]]:
     """From the header's run deployment: lane -> host, the hosts in order, and the (sender, receiver)
-    pairs whose messages took the slowest link (the slower of the two hosts' links, as the network does)."""
+    pairs whose messages took the slowest link (as the network does: the pair's route if it has one,
+    else the slower of the sender's uplink and the receiver's link)."""
     run = header.get("run") if isinstance(header.get("run"), dict) else {}
-    host_links = run.get("hosts") if isinstance(run.get("hosts"), dict) else {}
-    placement = run.get("placement") if isinstance(run.get("placement"), dict) else {}
-    worst = run.get("link_worst_ms") if isinstance(run.get("link_worst_ms"), dict) else {}
+
+    def mapping(key: str) -> dict[str, Any]:
+        v = run.get(key)
+        return v if isinstance(v, dict) else {}
+
+    host_links, placement, worst = mapping("hosts"), mapping("placement"), mapping("link_worst_ms")
+    uplinks, routes = mapping("uplinks"), mapping("routes")
     if not placement:
         return {}, [], set()
     default = placement.get("default")
     hosts = {n: str(placement.get(n, default)) for n in names}
     slow: set[tuple[str, str]] = set()
-    kinds = {lk for lk in host_links.values() if isinstance(worst.get(lk), (int, float))}
+    used = set(host_links.values()) | set(uplinks.values()) | set(routes.values())
+    kinds = {lk for lk in used if isinstance(worst.get(lk), (int, float))}
     if len(kinds) > 1:
         slowest = max(kinds, key=lambda lk: worst[lk])
         for m in order:
             for r in m.delivered:
                 a, b = hosts.get(m.sender, ""), hosts.get(r, "")
-                la, lb = host_links.get(a), host_links.get(b)
+                la, lb = uplinks.get(a, host_links.get(a)), host_links.get(b)
                 if a == b or la is None or lb is None:
                     continue
-                if (la if worst.get(la, 0) >= worst.get(lb, 0) else lb) == slowest:
+                link = routes.get(f"{a}->{b}") or (la if worst.get(la, 0) >= worst.get(lb, 0) else lb)
+                if link == slowest:
                     slow.add((m.sender, r))
     return hosts, list(host_links), slow

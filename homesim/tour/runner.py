@@ -183,6 +183,12 @@ class Run:
             "placement": {"default": self.deployment.default_host, **dict(self.deployment.placement)},
             "link_worst_ms": {lk.name: round(lk.worst_s * 1000, 3) for lk in self.deployment.links},
         }
+        # A link per direction or per host pair (only when the deployment has one: other traces keep their header).
+        uplinks = {h.name: h.uplink for h in self.deployment.hosts if h.uplink}
+        if uplinks:
+            self.header["uplinks"] = uplinks
+        if self.deployment.routes:
+            self.header["routes"] = {f"{r.src}->{r.dst}": r.link for r in self.deployment.routes}
         try:
             self._build(scenario, options, seed)
         except BaseException:
