@@ -20,10 +20,10 @@ from robot.supervisor import BIRON_AFSM
 ROOT = Path(__file__).resolve().parents[1]
 
 
-def _run(seed: int) -> tuple[dict, list[tuple[float, float, str, Event]], int]:
+def _run(seed: int, until: float) -> tuple[dict, list[tuple[float, float, str, Event]], int]:
     """The summary; the ES's arrivals (arrived, created, name, event) in arrival order; greetings applied."""
     trace = io.StringIO()
-    with Run.from_file(ROOT / "scenarios" / "wlan_reorder.xml", RunOptions(seed=seed, trace=trace)) as run:
+    with Run.from_file(ROOT / "scenarios" / "wlan_reorder.xml", RunOptions(seed=seed, trace=trace, until=until)) as run:
         run.run()
         s = run.summary()
     published: dict[str, tuple[float, str, str, str]] = {}
@@ -49,8 +49,7 @@ def _starts(arrived: list[tuple[float, float, str, Event]], order: str) -> int:
 
 
 def test_a_greeting_overtakes_an_older_potential_partner_and_the_interaction_starts():
-    s, arrived, greetings = _run(0)
-    assert s["verdict"] == "PASS", [e for e in s["expectations"] if not e.get("passed")]
+    s, arrived, greetings = _run(0, until=40.0)  # Ben's first two visits (the sweep checks all six, seeds 0-9)
     assert s["deployment"]["placement"]["supervisor"] == "laptop"
     # the downlink (to the laptop) is the queued one; the laptop's own frames go out at WLAN speed
     links = s["deployment"]["links"]
