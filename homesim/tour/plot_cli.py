@@ -1,6 +1,8 @@
 """``homesim plot TRACE``: pictures of a recorded run.
 
-``homesim plot TRACE [--at T] [--out FILE]`` re-creates the run to time T
+``homesim plot RECORDING [--at T]`` draws the moment from a recording
+(``homesim run --record``) alone: the map, the world's truth and the robot's
+percepts it holds. ``homesim plot TRACE [--at T] [--out FILE]`` re-creates the run to time T
 (checking it against the trace line by line, :mod:`homesim.tour.tracerun`) and
 draws the flat then, with the robot's percepts over the truth; without
 ``--at`` it shows the last moment of the recorded run. ``homesim plot TRACE
@@ -52,6 +54,21 @@ def plot_moment_of_trace(trace: Path, at: float | None):  # noqa: ANN201 (a matp
         check.close()
 
 
+def plot_moment_of_recording(path: Path, at: float | None):  # noqa: ANN201 (a matplotlib Figure)
+    """Draw the moment ``at`` (default: the end) of a recording (``homesim run --record``) from the file alone."""
+    from ..viz.moment import plot_moment
+    from .recorded import Recording
+
+    with Recording(path) as rec:
+        world, percepts, t = rec.moment(at)
+        run = rec.run
+    seed = f" (seed {run['seed']})" if run.get("seed") else ""
+    what = f"t = {t:.2f} s" if at is None or abs(t - at) < 1e-9 else f"t = {t:.2f} s (asked for {at:g} s)"
+    if at is None:
+        what += ", the end of the recording"
+    return plot_moment(world, percepts=percepts, title=f"{world.scenario.name}{seed} at {what}")
+
+
 def plot_command(a: argparse.Namespace) -> int:
     """``homesim plot``: one moment (default) or the timeline."""
     if a.timeline:
@@ -60,7 +77,10 @@ def plot_command(a: argparse.Namespace) -> int:
 
         out = a.out or Path("out/timeline.png")
         _check_output(out)
-        tl = read_timeline(a.trace, start=a.start, end=a.end)
+        from .recorded import as_trace
+
+        with as_trace(a.trace) as trace:
+            tl = read_timeline(trace, start=a.start, end=a.end)
         fig = plot_timeline(tl)
         what = f"{len(tl.lanes)} modules, {len(tl.messages)} messages, {len(tl.spans)} processing spans, {tl.start:g}-{tl.end:g} s"
     else:
@@ -68,7 +88,9 @@ def plot_command(a: argparse.Namespace) -> int:
             raise OptionError("--from/--to", "only with --timeline (a moment is chosen with --at)")
         out = a.out or Path("out/plot.png")
         _check_output(out)
-        fig = plot_moment_of_trace(a.trace, a.at)
+        from .recorded import is_mcap
+
+        fig = plot_moment_of_recording(a.trace, a.at) if is_mcap(a.trace) else plot_moment_of_trace(a.trace, a.at)
         what = fig.axes[0].get_title()
     out.parent.mkdir(parents=True, exist_ok=True)
     save(fig, out)
@@ -79,7 +101,8 @@ def plot_command(a: argparse.Namespace) -> int:
 def register(sub: argparse._SubParsersAction) -> None:
     """Add ``homesim plot``."""
     p = sub.add_parser("plot", help="draw a recorded run: the flat at a moment, or the module timeline (Fig. 6)")
-    p.add_argument("trace", type=Path, help="a trace written by 'homesim run --trace'")
+    p.add_argument("trace", type=Path, help="a trace ('homesim run --trace', re-created to draw a moment) or a recording "
+                                            "('homesim run --record', drawn from the file alone)")
     p.add_argument("--at", type=cliargs.seconds(), default=None, help="the moment to draw (virtual seconds; default: the end)")
     p.add_argument("--out", "-o", type=cliargs.output_file, default=None, help="the picture (.png or .svg)")
     p.add_argument("--timeline", action="store_true", help="draw the module communication (Fig. 6) instead of the flat")

@@ -83,29 +83,56 @@ def run_command(a: argparse.Namespace) -> int:
     console = Console(out, quiet=a.quiet, bar=out.isatty())
     run = Run.from_file(a.scenario, _options(a), on_line=console.line)
     with run:
-        sc = run.scenario
-        if not a.quiet:
-            console.text(f"scenario {sc.name} ({a.scenario}): seed {run.sim.seed}, {run.end:g} of {sc.duration:g} s, "
-                         f"{len(sc.humans)} people, {len(sc.sources)} other sound sources, "
-                         f"robot modules: {', '.join(sorted(run.modules)) or 'none'}")
-            console.text(f"robot profile {run.profile}; deployment {run.deployment.name}: "
-                         + ", ".join(f"{h.name} ({h.link})" for h in run.deployment.hosts))
-        run.run(progress=console.progress)
-        verdicts = run.finish()
-        summary = run.summary()
-        console._clear()
-        if a.summary is not None:
-            a.summary.parent.mkdir(parents=True, exist_ok=True)
-            a.summary.write_text(json.dumps(summary, indent=2, ensure_ascii=False) + "\n", encoding="utf-8")
-        if not run.complete():
-            print(f"verdict: not checked (stopped at {summary['sim_time_s']:g} s of {sc.duration:g} s)", file=out)
-            return 0
-        for v in verdicts:
-            if not a.quiet or not v.passed:
-                print("  " + v.line(), file=out)
-        passed = sum(v.passed for v in verdicts)
-        print(f"verdict: {summary['verdict']} ({passed}/{len(verdicts)} expectations hold)", file=out)
-        return 0 if summary["verdict"] == "PASS" else 1
+        recorder = _start_recording(run, getattr(a, "record", None))
+        try:
+            status = _run_and_report(a, run, console, out)
+        except BaseException:
+            if recorder is not None:
+                recorder.abandon()
+            raise
+        if recorder is not None:
+            c = recorder.close()
+            print(f"wrote {a.record} (MCAP recording: {c['channels']} channels, {c['messages']} messages, {c['scans']} laser scans)", file=out)
+        return status
+
+
+def _start_recording(run: Run, path: Path | None) -> Any:
+    if path is None:
+        return None
+    try:
+        from .recording import record
+    except ModuleNotFoundError as exc:
+        if exc.name != "mcap":
+            raise
+        raise HomesimError("--record needs the mcap library: pip install 'homesim[export]'") from exc
+    return record(run, path)
+
+
+def _run_and_report(a: argparse.Namespace, run: Run, console: Console, out: IO[str]) -> int:
+    """Run, print the verdict; the exit status says whether every expectation held."""
+    sc = run.scenario
+    if not a.quiet:
+        console.text(f"scenario {sc.name} ({a.scenario}): seed {run.sim.seed}, {run.end:g} of {sc.duration:g} s, "
+                     f"{len(sc.humans)} people, {len(sc.sources)} other sound sources, "
+                     f"robot modules: {', '.join(sorted(run.modules)) or 'none'}")
+        console.text(f"robot profile {run.profile}; deployment {run.deployment.name}: "
+                     + ", ".join(f"{h.name} ({h.link})" for h in run.deployment.hosts))
+    run.run(progress=console.progress)
+    verdicts = run.finish()
+    summary = run.summary()
+    console._clear()
+    if a.summary is not None:
+        a.summary.parent.mkdir(parents=True, exist_ok=True)
+        a.summary.write_text(json.dumps(summary, indent=2, ensure_ascii=False) + "\n", encoding="utf-8")
+    if not run.complete():
+        print(f"verdict: not checked (stopped at {summary['sim_time_s']:g} s of {sc.duration:g} s)", file=out)
+        return 0
+    for v in verdicts:
+        if not a.quiet or not v.passed:
+            print("  " + v.line(), file=out)
+    passed = sum(v.passed for v in verdicts)
+    print(f"verdict: {summary['verdict']} ({passed}/{len(verdicts)} expectations hold)", file=out)
+    return 0 if summary["verdict"] == "PASS" else 1
 
 
 # ------------------------------------------------------------------ replay
@@ -216,6 +243,10 @@ def _run_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--until", type=cliargs.seconds(), default=None, help="stop early (virtual seconds; expectations are not checked)")
     p.add_argument("--trace", type=cliargs.output_file, default=None, help="write the bus trace (JSON Lines; replay it with 'homesim replay')")
     p.add_argument("--summary", type=cliargs.output_file, default=None, help="write the run summary (JSON)")
+    p.add_argument("--record", type=cliargs.output_file, default=None, metavar="FILE.mcap",
+                   help="record the run to MCAP as it runs: every bus message with the laser's ranges, the world's truth, "
+                        "the map and the trace, with scenario, seed, profile and versions as metadata (plot, export and "
+                        "'homesim trace' read it without the scenario file)")
     p.add_argument("--memory", type=cliargs.store_dir, default=None, metavar="DIR",
                    help="the robot's knowledge store (a directory, created if missing): load it at the start, save to it")
     p.add_argument("--profile", default=None, metavar="NAME",
