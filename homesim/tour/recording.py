@@ -154,6 +154,7 @@ class Recorder(_Exporter):
         run.sim.bus.add_interceptor(self)
         self.world.add_listener(self.on_step)
         self.world.add_listener(self.on_world)
+        self.on_world(self.world)  # the truth at the start (the world's first step comes later)
 
     def on_world(self, world: Any) -> None:
         t = int(round(world.time * 1e9))
