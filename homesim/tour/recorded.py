@@ -68,14 +68,17 @@ class Recording:
         if head != MAGIC:
             self.fh.close()
             raise InputError("not an MCAP file (it does not start with MCAP's magic bytes)", source=str(path))
-        with self._reading("cannot read its summary"):
-            self.reader = make_reader(self.fh)
-            self.summary = self.reader.get_summary()
-        if self.summary is None:
+        try:
+            with self._reading("cannot read its summary"):
+                self.reader = make_reader(self.fh)
+                self.summary = self.reader.get_summary()
+            if self.summary is None:
+                raise InputError("an MCAP file without a summary section (truncated, or still being written?)", source=str(path))
+            with self._reading("cannot read its metadata"):
+                self.metadata: dict[str, dict[str, str]] = {m.name: dict(m.metadata) for m in self.reader.iter_metadata()}
+        except BaseException:
             self.fh.close()
-            raise InputError("an MCAP file without a summary section (truncated, or still being written?)", source=str(path))
-        with self._reading("cannot read its metadata"):
-            self.metadata: dict[str, dict[str, str]] = {m.name: dict(m.metadata) for m in self.reader.iter_metadata()}
+            raise
 
     @contextmanager
     def _reading(self, what: str) -> Iterator[None]:
