@@ -9,6 +9,7 @@ recording too. A file that is not a whole MCAP recording fails with ``InputError
 
 from __future__ import annotations
 
+import functools
 import json
 import math
 import os
@@ -42,6 +43,7 @@ def is_mcap(path: str | os.PathLike[str]) -> bool:
         return False
 
 
+@functools.cache
 def _errors() -> tuple[type[BaseException], ...]:
     from mcap.exceptions import McapError
 
@@ -62,6 +64,7 @@ class Recording:
         from mcap.reader import make_reader
 
         self.path = Path(path)
+        self._errs = _errors()
         self.fh = os.fdopen(open_regular(path, error=InputError), "rb")
         head = self.fh.read(len(MAGIC))
         self.fh.seek(0)
@@ -84,7 +87,7 @@ class Recording:
     def _reading(self, what: str) -> Iterator[None]:
         try:
             yield
-        except _errors() as exc:
+        except self._errs as exc:
             raise InputError(f"not a whole MCAP file: {what} ({type(exc).__name__}: {exc})", source=str(self.path)) from None
 
     def close(self) -> None:

@@ -163,16 +163,24 @@ class Cursor:
         self.start, self.end = self.rec.span()
         self.t = self.start
         self.current: Step | None = None
+        # Which messages at time t are behind the cursor: those up to this trace seq (-1: none; None: all).
+        self._seq: int | None = -1
+        self._it: Any = None
         self.bus_channels = sorted(c[0] for c in self.rec.channels() if c[1] == "homesim.BusMessage")
         weakref.finalize(self, self.rec.close)
 
     def close(self) -> None:
+        if self._it is not None:
+            self._it.close()
+            self._it = None
         self.rec.close()
 
     def seek(self, t: float) -> None:
         """Put the cursor at ``t``: the next message is the first sent after ``t``."""
         self.t = min(max(t, self.start), self.end)
         self.current = None
+        self._seq = None
+        self._it = None
 
     def next(self, channel: str | None = None, *, where: Callable[[Step], bool] | None = None) -> Step | None:
         """The first bus message after the cursor (on ``channel``, for which ``where`` holds); the cursor moves there.
@@ -182,11 +190,13 @@ class Cursor:
         """
         import json
 
-        from .recording import TRACE_CHANNEL
+        if self._it is None:  # one reader pass, continued while the cursor moves forward
+            from .recording import TRACE_CHANNEL
 
+            self._it = self.rec.messages([TRACE_CHANNEL], start=self.t)
         t_ns = round(self.t * 1e9)
-        seq = self.current.seq if self.current is not None else None
-        for _, _, lt, data in self.rec.messages([TRACE_CHANNEL], start=self.t):
+        seq = self._seq
+        for _, _, lt, data in self._it:
             if lt < t_ns or (lt == t_ns and seq is None):
                 continue
             r = json.loads(data)
@@ -196,8 +206,9 @@ class Cursor:
                 continue
             s = Step(r["t"], r["seq"], r["kind"], r["sender"], r["channel"], tuple(r["receivers"]), r["id"], tuple(r["causes"]), r["xml"])
             if where is None or where(s):
-                self.t, self.current = s.t, s
+                self.t, self.current, self._seq = s.t, s, s.seq
                 return s
+        self._it = None
         return None
 
     def next_transition(self) -> Step | None:
@@ -269,7 +280,6 @@ class InteractiveView:
         if self._drawing:
             return
         self.cursor.seek(t)
-        self.cursor.current = None
         self.draw()
 
     def draw(self) -> None:
