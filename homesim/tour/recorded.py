@@ -173,7 +173,7 @@ class Recording:
         """The JSON Lines trace the recording holds: the header line, then every record's line."""
         yield self.metadata["homesim.trace"]["header"] if "homesim.trace" in self.metadata else json.dumps(self.trace_header())
         for _, _, _, data in self.messages([TRACE_CHANNEL]):
-            yield data.decode("utf-8", errors="replace")
+            yield from data.decode("utf-8", errors="replace").split("\n")
 
     # ------------------------------------------------------------- moment
     def moment(self, t: float | None = None) -> tuple[RecordedWorld, Any, float]:

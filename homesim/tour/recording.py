@@ -10,9 +10,10 @@
 * ``/homesim/world`` (``homesim.WorldState``, :data:`WORLD_RATE` Hz): the robot's true pose and
   camera pan, every person (position, heading, gaze, legs, torso colour, pointing target, words
   being said) and the other sound sources (ground truth, for viewing and scoring only);
-* ``/homesim/trace`` (``homesim.TraceRecord``): every line of the JSON Lines trace
-  (:mod:`homesim.trace`) byte for byte, sends, deliveries and drops; the trace header is the
-  ``homesim.trace`` metadata record. So ``homesim trace``, ``plot --timeline`` and
+* ``/homesim/trace`` (``homesim.TraceRecords``): every line of the JSON Lines trace
+  (:mod:`homesim.trace`) byte for byte, sends, deliveries and drops, in batches (lines joined by
+  newlines, each batch within 0.1 s of virtual time); the trace header is the ``homesim.trace``
+  metadata record. So ``homesim trace``, ``plot --timeline`` and
   ``export --perfetto`` read a recording as they read a trace.
 * metadata ``homesim.run``: scenario name, file and digest, seed, robot profile, deployment,
   the homesim, Python, numpy and mcap versions; ``homesim.scenario``: the scenario file's text.
@@ -30,6 +31,7 @@ The file is written to ``out.mcap.part`` and renamed when the run is closed, so 
 
 from __future__ import annotations
 
+import math
 import os
 import platform
 from pathlib import Path
@@ -46,14 +48,18 @@ from .mcap_export import PEOPLE_RATE, _Exporter, _Mcap
 #: How often the world's truth is written (Hz of virtual time; the people of ``/scene/people`` too).
 WORLD_RATE = PEOPLE_RATE
 TRACE_CHANNEL = "/homesim/trace"
+#: The trace's lines are written in batches of at most this much virtual time and this many lines.
+TRACE_BATCH_S = 0.1
+TRACE_BATCH_NS = 100_000_000
+TRACE_BATCH_LINES = 1024
 WORLD_CHANNEL = "/homesim/world"
 MAP_CHANNEL = "/homesim/map"
 
 _ANY = {"type": "object"}
 #: The recording's own schemas (JSON Schema; the fields are described in docs/running.md).
 SCHEMAS: dict[str, dict[str, Any]] = {
-    "homesim.TraceRecord": {"title": "homesim.TraceRecord", "type": "object", "description": "one line of the homesim JSON Lines trace",
-                            "required": ["t", "seq", "kind"]},
+    "homesim.TraceRecords": {"title": "homesim.TraceRecords", "description": "lines of the homesim JSON Lines trace, joined by newlines "
+                             "(not one JSON document: each line is one)"},
     "homesim.WorldState": {"title": "homesim.WorldState", "type": "object", "required": ["t", "robot", "people", "sources"],
                            "properties": {"t": {"type": "number"}, "robot": _ANY, "people": {"type": "array"}, "sources": {"type": "array"}}},
     "homesim.Map": {"title": "homesim.Map", "type": "object", "required": ["scenario", "bounds", "rooms", "obstacles", "objects"],
@@ -110,18 +116,37 @@ def versions() -> dict[str, str]:
 
 
 class _TraceLines:
-    """The JSON Lines trace, line for line, as messages on ``/homesim/trace`` (an interceptor)."""
+    """The JSON Lines trace, line for line, on ``/homesim/trace`` (an interceptor).
+
+    Lines are written in batches, one MCAP message per batch (a message per line cost more than
+    the rest of the recording): a batch holds the lines of at most :data:`TRACE_BATCH_S` of virtual
+    time and at most :data:`TRACE_BATCH_LINES` lines, its log time is its first line's, so every
+    line at or after ``t`` is in a batch logged after ``t - TRACE_BATCH_S``.
+    """
 
     def __init__(self, out: _Mcap) -> None:
         self.out = out
         self.seq = 0
-        self.cid = out.channel(TRACE_CHANNEL, "homesim.TraceRecord")
+        self.cid = out.channel(TRACE_CHANNEL, "homesim.TraceRecords")
+        self.lines: list[str] = []
+        self.first = 0
+        self.batches = 0
 
     def __call__(self, obs: Observation) -> None:
+        if self.lines and (obs.t_ns - self.first >= TRACE_BATCH_NS or len(self.lines) >= TRACE_BATCH_LINES):
+            self.flush()
+        if not self.lines:
+            self.first = obs.t_ns
         self.seq += 1
-        self.out.w.add_message(self.cid, log_time=obs.t_ns, publish_time=obs.t_ns, sequence=self.seq,
-                               data=observation_line(obs, self.seq).encode("utf-8"))
-        self.out.count += 1
+        self.lines.append(observation_line(obs, self.seq))
+
+    def flush(self) -> None:
+        if self.lines:
+            self.batches += 1
+            self.out.w.add_message(self.cid, log_time=self.first, publish_time=self.first, sequence=self.batches,
+                                   data="\n".join(self.lines).encode("utf-8"))
+            self.out.count += 1
+            self.lines.clear()
 
 
 class Recorder(_Exporter):
@@ -156,6 +181,17 @@ class Recorder(_Exporter):
         self.world.add_listener(self.on_world)
         self.on_world(self.world)  # the truth at the start (the world's first step comes later)
 
+    def laser(self, t: int, m: Any) -> None:
+        """``/laser`` as the export writes it, the ranges rounded to 0.1 mm (a real scanner's are mm; a
+        third of the bytes and of the encoding time)."""
+        ranges = np.asarray(m.attachments["ranges"], dtype=float)
+        start = math.radians(float(m.xml.get("min_angle") or 0.0))
+        step = math.radians(float(m.xml.get("resolution") or 0.0))
+        self.out.write("/laser", "foxglove.LaserScan", t, {
+            "timestamp": fg.stamp(t), "frame_id": "laser", "pose": fg.pose(0.0, 0.0), "start_angle": start,
+            "end_angle": start + step * (len(ranges) - 1), "ranges": np.round(ranges, 4).tolist(), "intensities": []})
+        self.scans += 1
+
     def on_world(self, world: Any) -> None:
         t = int(round(world.time * 1e9))
         if t < self.next_world:
@@ -172,6 +208,7 @@ class Recorder(_Exporter):
             for ic in (self.lines, self):
                 if ic in bus._interceptors:
                     bus.remove_interceptor(ic)
+            self.lines.flush()
             self.out.finish()
             self.fh.close()
             os.replace(self.tmp, self.path)

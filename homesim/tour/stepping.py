@@ -191,15 +191,13 @@ class Cursor:
         import json
 
         if self._it is None:  # one reader pass, continued while the cursor moves forward
-            from .recording import TRACE_CHANNEL
-
-            self._it = self.rec.messages([TRACE_CHANNEL], start=self.t)
+            self._it = self._lines()
         t_ns = round(self.t * 1e9)
         seq = self._seq
-        for _, _, lt, data in self._it:
+        for lt, line in self._it:
             if lt < t_ns or (lt == t_ns and seq is None):
                 continue
-            r = json.loads(data)
+            r = json.loads(line)
             if r.get("kind") not in ("publish", "request", "reply", "error") or (lt == t_ns and r["seq"] <= seq):
                 continue
             if channel is not None and r["channel"] != channel:
@@ -213,6 +211,18 @@ class Cursor:
 
     def next_transition(self) -> Step | None:
         return self.next(ES_LOG, where=is_transition)
+
+    def _lines(self) -> Any:
+        """(time ns, line) of the recording's trace from a batch before the cursor on (batches hold 0.1 s)."""
+        import re
+
+        from .recording import TRACE_BATCH_S, TRACE_CHANNEL
+
+        t_of = re.compile(rb'^\{"t":([^,]+),')
+        for _, _, _, data in self.rec.messages([TRACE_CHANNEL], start=max(0.0, self.t - TRACE_BATCH_S)):
+            for raw in data.split(b"\n"):
+                m = t_of.match(raw)
+                yield (round(float(m.group(1)) * 1e9) if m else 0), raw
 
     def picture(self, **kw: Any) -> Any:
         """The flat at the cursor, from the recording alone."""
