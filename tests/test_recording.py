@@ -110,6 +110,9 @@ def test_the_recorded_moment_is_the_run_at_that_time(recorded):
 def test_run_record_refuses_a_directory_and_writes_nothing_on_bad_input(tmp_path, capsys):
     assert main(["run", str(ROOT / "scenarios" / "home_tour.xml"), "--until", "1", "--record", str(tmp_path)]) == 2
     assert "--record" in capsys.readouterr().err
+    same = tmp_path / "run.out"
+    assert main(["run", str(ROOT / "scenarios" / "home_tour.xml"), "--until", "1", "--trace", str(same), "--record", str(same)]) == 2
+    assert "also the --trace file" in capsys.readouterr().err and not same.exists()
 
 
 # ---------------------------------------------------------------- trace info

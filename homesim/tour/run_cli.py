@@ -81,6 +81,10 @@ def run_command(a: argparse.Namespace) -> int:
     """``homesim run``: transcript, verdict, summary; the exit status says whether every expectation held."""
     out = sys.stdout
     console = Console(out, quiet=a.quiet, bar=out.isatty())
+    record = getattr(a, "record", None)
+    for opt, other in (("--trace", a.trace), ("--summary", a.summary)):
+        if record is not None and other is not None and record.absolute() == other.absolute():
+            raise OptionError("--record", f"{record} is also the {opt} file; the recording needs a file of its own")
     run = Run.from_file(a.scenario, _options(a), on_line=console.line)
     with run:
         recorder = _start_recording(run, getattr(a, "record", None))
