@@ -66,6 +66,20 @@ def test_recording_changes_nothing_in_the_run(recorded, tmp_path):
     assert plain.read_text().split("\n")[1:] == recorded["trace"].read_text().split("\n")[1:]
 
 
+_text = st.text(st.characters(exclude_categories=("Cs",)), max_size=30)
+
+
+@given(st.fixed_dictionaries({"kind": st.sampled_from(["publish", "request", "reply", "error"]), "sender": _text, "id": _text,
+                              "receivers": st.lists(_text, max_size=4), "causes": st.lists(_text, max_size=3),
+                              "created": st.floats(0, 1e6, allow_nan=False), "xml": _text}))
+def test_bus_messages_are_formatted_as_the_canonical_json(obj):
+    """The recorder's fast path writes the bytes the export's canonical JSON would."""
+    from homesim.export.foxglove import dumps
+    from homesim.tour.recording import bus_message_json
+
+    assert bus_message_json(obj) == dumps(obj)
+
+
 def test_a_recording_is_byte_identical_for_the_same_run(tmp_path):
     scen = ROOT / "scenarios" / "two_people_radio.xml"
     outs = [tmp_path / f"r{i}.mcap" for i in range(2)]

@@ -34,6 +34,7 @@ from __future__ import annotations
 import math
 import os
 import platform
+from json.encoder import encode_basestring as _json_str
 from pathlib import Path
 from typing import Any
 
@@ -42,7 +43,7 @@ import numpy as np
 from .. import __version__
 from ..bus import Observation
 from ..export import foxglove as fg
-from ..trace import TRACE_FORMAT, _dumps, observation_line
+from ..trace import TRACE_FORMAT, _dumps, _json_list, observation_line
 from .mcap_export import PEOPLE_RATE, _Exporter, _Mcap
 
 #: How often the world's truth is written (Hz of virtual time; the people of ``/scene/people`` too).
@@ -66,6 +67,9 @@ SCHEMAS: dict[str, dict[str, Any]] = {
                     "properties": {"scenario": {"type": "string"}, "bounds": {"type": "array"}, "rooms": {"type": "array"},
                                    "obstacles": {"type": "array"}, "objects": {"type": "array"}}},
 }
+
+
+_float_repr = float.__repr__
 
 
 def _r(v: float) -> float:
@@ -149,6 +153,29 @@ class _TraceLines:
             self.lines.clear()
 
 
+class _RecordingMcap(_Mcap):
+    """The export's writer, with bus messages formatted directly (the same bytes as ``fg.dumps``, a third of the time)."""
+
+    def write(self, topic: str, schema: str, t_ns: int, obj: Any) -> None:
+        if schema != "homesim.BusMessage" or "attachments" in obj:
+            super().write(topic, schema, t_ns, obj)
+            return
+        cid = self.channels.get(topic)
+        if cid is None:
+            cid = self.channel(topic, schema)
+        n = self.seq.get(cid, 0)
+        self.seq[cid] = n + 1
+        self.w.add_message(cid, log_time=t_ns, data=bus_message_json(obj), publish_time=t_ns, sequence=n)
+        self.count += 1
+
+
+def bus_message_json(obj: dict[str, Any]) -> bytes:
+    """``fg.dumps(obj)`` of a bus message without attachments, formatted directly (sorted keys, no spaces)."""
+    return (f'{{"causes":{_json_list(obj["causes"])},"created":{_float_repr(obj["created"])},"id":{_json_str(obj["id"])},'
+            f'"kind":{_json_str(obj["kind"])},"receivers":{_json_list(obj["receivers"])},"sender":{_json_str(obj["sender"])},'
+            f'"xml":{_json_str(obj["xml"])}}}').encode("utf-8")
+
+
 class Recorder(_Exporter):
     """Writes a live run to MCAP (attach before :meth:`Run.run`; :meth:`close` after :meth:`Run.finish`)."""
 
@@ -157,7 +184,7 @@ class Recorder(_Exporter):
         self.path.parent.mkdir(parents=True, exist_ok=True)
         self.tmp = self.path.with_name(self.path.name + ".part")
         self.fh = open(self.tmp, "wb")
-        mc = _Mcap(self.fh, schemas={**fg.SCHEMAS, **SCHEMAS})
+        mc = _RecordingMcap(self.fh, schemas={**fg.SCHEMAS, **SCHEMAS})
         super().__init__(mc, run)
         self.next_world = 0
         self.closed = False
