@@ -52,9 +52,8 @@ LASER_HEIGHT = 0.30
 class _Mcap:
     """Channels registered on first use; messages written in call order."""
 
-    def __init__(self, fh: Any, schemas: dict[str, Any] | None = None) -> None:
+    def __init__(self, fh: Any) -> None:
         self.w = Writer(fh, compression=CompressionType.ZSTD)
-        self.known = fg.SCHEMAS if schemas is None else schemas
         self.w.start(profile="", library=f"homesim {__version__}")
         self.schemas: dict[str, int] = {}
         self.channels: dict[str, int] = {}
@@ -64,7 +63,7 @@ class _Mcap:
     def channel(self, topic: str, schema: str) -> int:
         if topic not in self.channels:
             if schema not in self.schemas:
-                self.schemas[schema] = self.w.register_schema(schema, "jsonschema", fg.dumps(self.known[schema]))
+                self.schemas[schema] = self.w.register_schema(schema, "jsonschema", fg.dumps(fg.SCHEMAS[schema]))
             self.channels[topic] = self.w.register_channel(topic, "json", self.schemas[schema])
         return self.channels[topic]
 
