@@ -257,7 +257,7 @@ def _needs_mcap(path: Path) -> None:
 
 
 def info_command(a: argparse.Namespace) -> int:
-    _needs_mcap(a.file)
+    _needs_mcap(_existing(a.file))
     print_info(file_info(a.file), sys.stdout)
     return 0
 
@@ -265,16 +265,18 @@ def info_command(a: argparse.Namespace) -> int:
 def echo_command(a: argparse.Namespace) -> int:
     if a.start is not None and a.end is not None and a.end < a.start:
         raise cliargs.OptionError("--to", f"{a.end:g} s is before --from {a.start:g} s")
-    _needs_mcap(a.file)
+    _needs_mcap(_existing(a.file))
     echo(a.file, a.channel, start=a.start, end=a.end, raw=a.json, limit=a.count, out=sys.stdout)
     return 0
 
 
-def _existing_file(text: str) -> Path:
-    p = Path(text)
-    if not p.is_file():
-        raise argparse.ArgumentTypeError(f"{text}: no such file" if not p.exists() else f"{text}: not a regular file")
-    return p
+def _existing(path: Path) -> Path:
+    """The file to read, or a one-line refusal (checked when the command runs, so help examples parse)."""
+    if not path.exists():
+        raise InputError("no such file", source=str(path))
+    if not path.is_file():
+        raise InputError("not a regular file", source=str(path))
+    return path
 
 
 def _count(text: str) -> int:
@@ -287,19 +289,21 @@ def register(sub: argparse._SubParsersAction) -> None:
     """Add ``homesim trace info`` and ``homesim trace echo``."""
     p = sub.add_parser("trace", help="list a trace's or recording's channels (info) or print one channel's messages (echo)",
                        description="Look into a JSON Lines trace (homesim run --trace) or an MCAP recording (homesim run --record), "
-                                   "like 'ros2 bag info' and 'ros2 topic echo'.")
+                                   "like 'ros2 bag info' and 'ros2 topic echo'.",
+                       examples=["homesim trace info out/tour.mcap", "homesim trace echo out/tour.jsonl /robot/es/log --from 0 --to 5"])
     tsub = p.add_subparsers(dest="trace_command", metavar="ACTION")
     i = tsub.add_parser("info", help="channels with message types, counts, rates and time span; the run the file names",
-                        description="Example: homesim trace info out/tour.jsonl")
-    i.add_argument("file", type=_existing_file, help="a trace (.jsonl) or a recording (.mcap)")
+                        examples=["homesim trace info out/tour.jsonl", "homesim trace info out/tour.mcap"])
+    i.add_argument("file", type=Path, help="a trace or a recording, e.g. out/tour.jsonl or out/tour.mcap")
     i.set_defaults(func=info_command)
     e = tsub.add_parser("echo", help="print one channel's messages (optionally within --from/--to)",
-                        description="Example: homesim trace echo out/tour.mcap /robot/es/status --from 5 --to 12")
-    e.add_argument("file", type=_existing_file, help="a trace (.jsonl) or a recording (.mcap)")
-    e.add_argument("channel", help="the channel (a bus channel such as /robot/es/status; in a recording also /laser, /tf, /homesim/world, ...)")
-    e.add_argument("--from", dest="start", type=cliargs.seconds(), default=None, help="first virtual time (seconds; default: the start)")
-    e.add_argument("--to", dest="end", type=cliargs.seconds(), default=None, help="last virtual time (seconds; default: the end)")
-    e.add_argument("-n", "--count", type=_count, default=None, help="print at most this many messages")
+                        examples=["homesim trace echo out/tour.mcap /robot/es/status --from 5 --to 12",
+                                  "homesim trace echo out/tour.jsonl /robot/audio/speech --json -n 3"])
+    e.add_argument("file", type=Path, help="a trace or a recording, e.g. out/tour.jsonl or out/tour.mcap")
+    e.add_argument("channel", help="the channel, e.g. /robot/es/status (a bus channel; in a recording also /laser, /tf, /homesim/world, ...)")
+    e.add_argument("--from", dest="start", type=cliargs.seconds(), default=None, metavar="SECONDS", help="first virtual time (default: the start)")
+    e.add_argument("--to", dest="end", type=cliargs.seconds(), default=None, metavar="SECONDS", help="last virtual time (default: the end)")
+    e.add_argument("-n", "--count", type=_count, default=None, metavar="N", help="print at most this many messages (default: all)")
     e.add_argument("--json", action="store_true", help="print each message as one line of JSON (the trace's record, the recording's message)")
     e.set_defaults(func=echo_command)
     p.set_defaults(func=lambda a: (p.print_help(), 2)[1])
