@@ -13,6 +13,7 @@ import functools
 import json
 import math
 import os
+import stat
 import struct
 import zlib
 from collections.abc import Iterator, Sequence
@@ -35,12 +36,20 @@ LOOK_BACK_NS = 3_000_000_000
 
 
 def is_mcap(path: str | os.PathLike[str]) -> bool:
-    """Does the file start with MCAP's magic bytes? (False for a file that cannot be read.)"""
+    """Does the file start with MCAP's magic bytes? (False for anything that is not a regular file one can read:
+    a FIFO or a device is never opened blocking, and the trace reader then refuses it naming the file.)"""
     try:
-        with open(path, "rb") as fh:
-            return fh.read(len(MAGIC)) == MAGIC
+        fd = os.open(os.fspath(path), os.O_RDONLY | getattr(os, "O_NONBLOCK", 0) | getattr(os, "O_CLOEXEC", 0))
+    except (OSError, ValueError):
+        return False
+    try:
+        if not stat.S_ISREG(os.fstat(fd).st_mode):
+            return False
+        return os.read(fd, len(MAGIC)) == MAGIC
     except OSError:
         return False
+    finally:
+        os.close(fd)
 
 
 @functools.cache

@@ -84,6 +84,10 @@ def _trace_records(path: Path) -> Iterator[tuple[int, dict[str, Any]]]:
         if n == 1:
             if "homesim_trace" not in rec:
                 raise InputError("not a homesim trace (line 1 is no trace header) nor an MCAP recording", source=str(path), line=1)
+            if "run" in rec:  # a run's header is checked whole, as replay, plot and export check it (a kernel trace has none)
+                from .runheader import check_header
+
+                check_header(rec, source=str(path))
             yield 1, rec
             continue
         _check_record(path, n, rec)
@@ -250,9 +254,9 @@ def _print_send(out: IO[str], t: float, rec: dict[str, Any]) -> None:
 def _needs_mcap(path: Path) -> None:
     from importlib.util import find_spec
 
-    with open(path, "rb") as fh:
-        magic = fh.read(8)
-    if magic == b"\x89MCAP0\r\n" and find_spec("mcap") is None:
+    from .recorded import is_mcap
+
+    if is_mcap(path) and find_spec("mcap") is None:
         raise HomesimError(f"{path} is an MCAP recording; reading it needs the mcap library: pip install 'homesim[export]'")
 
 
