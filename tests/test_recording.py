@@ -104,6 +104,9 @@ def test_plot_and_export_work_from_the_recording_alone_after_the_scenario_change
     assert main(["export", str(elsewhere["recording"]), "--perfetto", "p.json", "--mcap", "x.mcap"]) == 0
     assert json.loads(Path("p.json").read_text())["traceEvents"]
     assert Path("x.mcap").read_bytes() == elsewhere["recording"].read_bytes()
+    recorded["scenario"].unlink()  # and with the scenario file gone
+    assert main(["plot", str(elsewhere["recording"]), "--at", "5", "-o", "gone.png"]) == 0
+    assert "at t = 5.00 s" in capsys.readouterr().out
 
 
 def test_the_recorded_moment_is_the_run_at_that_time(recorded):
