@@ -71,7 +71,7 @@ def check_paths(paths: Iterable[str], out: Any = None, err: Any = None) -> int:
 def register(sub: Any) -> None:
     """Add ``homesim check FILE...``."""
     p = sub.add_parser("check", help="validate scenario, AFSM (and other registered) documents: every problem, file:line",
-                       examples=["homesim check scenarios/*.xml", "homesim check robot/afsm/biron.scxml scenarios/home_tour.xml"])
+                       examples=["homesim check scenarios/*.xml", "homesim check machine.scxml scenarios/home_tour.xml"])
     p.add_argument("files", nargs="+", metavar="FILE", type=Path,
                    help="documents to check, e.g. scenarios/home_tour.xml (the kind is read from the root element)")
     p.set_defaults(func=lambda a: check_paths([str(f) for f in a.files]))

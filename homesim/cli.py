@@ -17,7 +17,7 @@ import os
 import sys
 
 from . import __version__
-from . import cliargs
+from . import cliargs, completion
 from .cliparse import Parser
 from .realtime import MAX_WATCHDOG_S, Watchdog
 from .errors import HomesimError
@@ -34,7 +34,6 @@ SUBCOMMAND_MODULES: list[str] = [
     "homesim.tour.sweep",
     "homesim.tour.generate",
     "homesim.tour.study",
-    "homesim.completion",
 ]
 
 #: Exit status after the reader of our output went away (128 + SIGPIPE, as a shell reports a process killed by it).
@@ -52,6 +51,7 @@ def build_parser() -> argparse.ArgumentParser:
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
     for name in SUBCOMMAND_MODULES:
         importlib.import_module(name).register(sub)
+    completion.register(sub, root=parser)  # last: it completes the whole tree
     return parser
 
 

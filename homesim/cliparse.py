@@ -20,25 +20,14 @@ Shell completion is generated from the same tree by shtab
 from __future__ import annotations
 
 import argparse
-import difflib
 import sys
-from collections.abc import Iterable, Sequence
+from collections.abc import Sequence
 from typing import Any, NoReturn
+
+from .suggest import did_you_mean
 
 #: The namespace attribute naming the deepest parser that took part (removed before the namespace is returned).
 _LEAF = "_homesim_leaf_parser"
-
-
-def closest(word: str, known: Iterable[str]) -> str | None:
-    """The known name closest to ``word`` (difflib's ratio ≥ 0.6), or None."""
-    found = difflib.get_close_matches(word, list(known), n=1, cutoff=0.6)
-    return found[0] if found else None
-
-
-def did_you_mean(word: str, known: Iterable[str]) -> str:
-    """``" (did you mean 'x'?)"`` when something known is close to ``word``, else ``""``."""
-    near = closest(word, known)
-    return f" (did you mean {near!r}?)" if near is not None else ""
 
 
 class HelpFormatter(argparse.RawDescriptionHelpFormatter):

@@ -135,7 +135,7 @@ def test_the_bash_completion_completes_subcommands_and_options(tmp_path):
 def _completion(shell: str) -> str:
     from homesim.completion import script
 
-    return script(shell)
+    return script(build_parser(), shell)
 
 
 def test_out_is_spelled_the_same_everywhere_and_the_old_spelling_still_works(tmp_path, capsys):

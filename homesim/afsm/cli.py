@@ -20,20 +20,20 @@ from .render import to_dot, to_mermaid
 def register(subparsers: Any) -> None:
     """Add the ``afsm`` command and its ``show``/``check`` subcommands."""
     p = subparsers.add_parser("afsm", help="look at and check AFSM (SCXML) documents",
-                              examples=["homesim afsm show robot/afsm/biron.scxml > out/biron.dot",
-                                        "homesim afsm check robot/afsm/biron.scxml"])
+                              examples=["homesim afsm show machine.scxml > out/machine.dot",
+                                        "homesim afsm check machine.scxml"])
     sub = p.add_subparsers(dest="afsm_command", metavar="ACTION")
     show = sub.add_parser("show", help="render an AFSM as Graphviz DOT or Mermaid",
-                          examples=["homesim afsm show robot/afsm/biron.scxml | dot -Tsvg > out/biron.svg  (Graphviz)",
-                                    "homesim afsm show robot/afsm/biron.scxml --format mermaid --current Interacting"])
-    show.add_argument("file", type=Path, help="an AFSM (SCXML) document, e.g. robot/afsm/biron.scxml")
+                          examples=["homesim afsm show machine.scxml | dot -Tsvg > out/machine.svg  (dot is Graphviz)",
+                                    "homesim afsm show machine.scxml --format mermaid --current Interacting"])
+    show.add_argument("file", type=Path, help="an AFSM (SCXML) document, e.g. machine.scxml")
     show.add_argument("--format", choices=("dot", "mermaid"), default="dot", help="the notation")
     show.add_argument("--current", default=None, metavar="STATE", help="highlight this state")
     show.add_argument("--no-sends", action="store_true", help="leave orders/conditions off the labels")
     show.set_defaults(func=_show)
     chk = sub.add_parser("check", help="report every problem of an AFSM document",
-                         examples=["homesim afsm check robot/afsm/biron.scxml"])
-    chk.add_argument("file", type=Path, help="an AFSM (SCXML) document, e.g. robot/afsm/biron.scxml")
+                         examples=["homesim afsm check machine.scxml"])
+    chk.add_argument("file", type=Path, help="an AFSM (SCXML) document, e.g. machine.scxml")
     chk.set_defaults(func=_check)
     p.set_defaults(func=lambda args: (p.print_help(), 2)[1])
 
