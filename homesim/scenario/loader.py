@@ -329,6 +329,7 @@ class _Builder:
             options=self.options(el),
             profile=el.get("profile"),
             line=el.sourceline,
+            memory_required=el.get("memory") == "required",
         )
 
     def deployment(self, el: etree._Element | None) -> Override | None:
