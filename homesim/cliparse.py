@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import argparse
 import sys
+import textwrap
 from collections.abc import Sequence
 from typing import Any, NoReturn
 
@@ -50,7 +51,8 @@ class SubcommandsAction(argparse._SubParsersAction):
     def add_parser(self, name: str, **kwargs: Any) -> argparse.ArgumentParser:  # type: ignore[override]
         examples: Sequence[str] = kwargs.pop("examples", ())
         if kwargs.get("help") and "description" not in kwargs:
-            kwargs["description"] = kwargs["help"][:1].upper() + kwargs["help"][1:] + "."
+            text = kwargs["help"].replace("%%", "%")  # help is %-formatted by argparse, a description is not
+            kwargs["description"] = textwrap.fill(text[:1].upper() + text[1:] + ".", width=78)
         if examples and "epilog" not in kwargs:
             kwargs["epilog"] = "examples:\n" + "\n".join(f"  {e}" for e in examples)
         kwargs.setdefault("formatter_class", HelpFormatter)

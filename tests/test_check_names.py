@@ -131,6 +131,13 @@ def test_schema_errors_name_the_element_and_say_what_is_expected(tmp_path):
     assert "facet" not in text and "atomic type" not in text
 
 
+def test_a_misspelt_optional_attribute_gets_the_closest_one_and_the_list(tmp_path):
+    path = _write(tmp_path, ('<robot x="2.0" y="2.5" heading="0"/>', '<robot x="2.0" y="2.5" haeding="0"/>'))
+    (problem,) = check_scenario_file(path)
+    assert problem.element == "robot" and "attribute haeding= is not allowed here (did you mean heading=?)" in problem.message
+    assert "<robot> takes " in problem.message and "max-speed=" in problem.message
+
+
 def test_every_library_scenario_names_only_what_exists():
     for path in sorted((ROOT / "scenarios").glob("*.xml")):
         assert check_scenario_file(path) == [], path

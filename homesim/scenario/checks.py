@@ -30,7 +30,7 @@ from __future__ import annotations
 import re
 from collections.abc import Callable, Iterable, Iterator, Sequence
 from contextlib import contextmanager
-from functools import lru_cache
+from functools import cached_property, lru_cache
 from importlib.metadata import entry_points
 
 import numpy as np
@@ -458,6 +458,7 @@ class _Checker:
         if t.kind == "human" and t.name == owner:
             raise self.fail(line, tag, f"{owner!r} cannot target themselves")
 
+    @cached_property
     def spoken(self) -> str:
         """Everything the people and sources say as written (``text=`` and ``about=``), lower case."""
         words = [w for h in self.sc.humans for a in _walk(h.script + tuple(x for hd in h.handlers for x in hd.body))
@@ -471,7 +472,7 @@ class _Checker:
         if value is None or e.get("never") is True:
             return
         text = str(value)
-        if text in known or re.search(rf"\b{re.escape(text.lower())}\b", self.spoken()):
+        if text in known or re.search(rf"\b{re.escape(text.lower())}\b", self.spoken):
             return
         raise self.fail(e.line, e.kind, f"{key}={text!r}: nobody says it and " + unknown_name(what, text, known)
                         + "; the robot can only learn a name somebody uses")

@@ -23,7 +23,7 @@ from lxml import etree
 from ..deployment import Override, override_from_element
 from ..errors import InputError, ScenarioError
 from ..xmlio import Schema, load_schema, parse_bytes, parse_file
-from .schemawords import Wording, describe_all, type_words
+from .schemawords import Wording, describe_all, element_attributes, type_words
 from . import checks
 from .model import (
     COLOURS,
@@ -115,7 +115,8 @@ def _wording() -> Wording:
     """What scenario.xsd's patterns and simple types accept, in words (read once from the schema)."""
     global _WORDING
     if _WORDING is None:
-        _WORDING = Wording(patterns=_pattern_forms(), types=type_words(parse_file(SCHEMA_PATH)))
+        schema = parse_file(SCHEMA_PATH)
+        _WORDING = Wording(patterns=_pattern_forms(), types=type_words(schema), attributes=element_attributes(schema))
     return _WORDING
 
 

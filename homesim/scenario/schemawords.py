@@ -53,6 +53,7 @@ class Wording:
 
     patterns: Mapping[str, str] = field(default_factory=dict)
     types: Mapping[str, str] = field(default_factory=dict)
+    attributes: Mapping[str, frozenset[str]] = field(default_factory=dict)  # element name -> the attributes it may have
 
     def of_type(self, name: str | None) -> str:
         if not name:
@@ -80,6 +81,34 @@ def type_words(schema: etree._Element) -> dict[str, str]:
                 bounds.append(f"{words} {facets[facet]}")
         out[name] = base + (f", {' and '.join(bounds)}" if bounds else "")
     return out
+
+
+def element_attributes(schema: etree._Element) -> dict[str, frozenset[str]]:
+    """Element name -> every attribute the schema allows it (over all the places the element is declared)."""
+    groups = {g.get("name"): g for g in schema.iter(XS + "attributeGroup") if g.get("name")}
+    complex_types = {t.get("name"): t for t in schema.iter(XS + "complexType") if t.get("name")}
+
+    def names(node: etree._Element, depth: int = 0) -> set[str]:
+        out = {a.get("name") for a in node.iter(XS + "attribute") if a.get("name")}
+        for ref in node.iter(XS + "attributeGroup"):
+            if ref.get("ref") in groups and depth < 8:
+                out |= names(groups[ref.get("ref")], depth + 1)
+        for ext in node.iter(XS + "extension"):
+            if ext.get("base") in complex_types and depth < 8:
+                out |= names(complex_types[ext.get("base")], depth + 1)
+        return out
+
+    found: dict[str, set[str]] = {}
+    for el in schema.iter(XS + "element"):
+        name = el.get("name")
+        if name is None:
+            continue
+        body = complex_types.get(el.get("type")) if el.get("type") else el.find(XS + "complexType")
+        if body is not None:  # its own attributes, not those of the elements declared inside its content
+            for child in body:
+                if child.tag not in (XS + "sequence", XS + "choice", XS + "all"):
+                    found.setdefault(name, set()).update(names(child))
+    return {k: frozenset(v) for k, v in found.items()}
 
 
 def describe(message: str, wording: Wording, *, missing: Iterable[str] = ()) -> tuple[str | None, str]:
@@ -110,9 +139,11 @@ def describe(message: str, wording: Wording, *, missing: Iterable[str] = ()) -> 
     if (p := _ATOMIC.match(rest)) is not None:
         return element, f"{what}{p.group('value')!r} is not valid; expected {wording.of_type(p.group('type'))}"
     if (p := _NOT_ALLOWED.match(rest)) is not None:
-        near = closest(p.group("attribute"), missing)
+        allowed = sorted(wording.attributes.get(element, ()))
+        near = closest(p.group("attribute"), missing) or closest(p.group("attribute"), allowed)
         hint = f" (did you mean {near}=?)" if near else ""
-        return element, f"attribute {p.group('attribute')}= is not allowed here{hint}"
+        listed = f"; <{element}> takes {', '.join(a + '=' for a in allowed)}" if allowed else ""
+        return element, f"attribute {p.group('attribute')}= is not allowed here{hint}{listed}"
     if (p := _REQUIRED.match(rest)) is not None:
         return element, f"attribute {p.group('attribute')}= is required but missing"
     if (p := _UNEXPECTED.match(rest)) is not None:
