@@ -14,7 +14,7 @@ from hypothesis import strategies as st
 from homesim.cli import main
 from homesim.errors import ScenarioError
 from homesim.scenario.loader import check_scenario_file, load_scenario
-from homesim.tour.afsm_names import vocabulary
+from homesim.tour.robot_names import vocabulary
 
 ROOT = Path(__file__).resolve().parents[1]
 TOUR = (ROOT / "scenarios" / "home_tour.xml").read_text(encoding="utf-8")
@@ -160,3 +160,11 @@ def test_a_state_or_event_is_refused_exactly_when_the_supervisor_does_not_have_i
     assert refused_state == (state not in _LEAVES)
     assert refused_event == (event not in _EVENTS)
     assert len(problems) == refused_state + refused_event
+
+
+def test_an_unknown_robot_profile_is_refused_by_check_and_the_command_line(tmp_path, capsys):
+    path = _write(tmp_path, ('<robot x="2.0" y="2.5" heading="0"/>', '<robot x="2.0" y="2.5" heading="0" profile="biron2005"/>'))
+    (problem,) = check_scenario_file(path)
+    assert problem.element == "robot" and "did you mean 'biron-2005'?" in problem.message
+    assert main(["run", str(ROOT / "scenarios" / "radio.xml"), "--profile", "ful"]) == 2
+    assert "argument --profile: invalid choice: 'ful'" in capsys.readouterr().err

@@ -28,6 +28,7 @@ from ..cliargs import OptionError
 from ..errors import HomesimError
 from ..message import Message
 from ..progress import VirtualSeconds, write
+from robot.profiles import PROFILES
 from .runner import Run, RunOptions, file_digest, store_digest
 from .tracerun import next_line, read_header, run_options, store_copy, trace_lines
 
@@ -222,8 +223,8 @@ def _run_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--summary", type=cliargs.output_file, default=None, metavar="FILE", help="write the run summary (JSON)")
     p.add_argument("--memory", type=cliargs.store_dir, default=None, metavar="DIR",
                    help="the robot's knowledge store (a directory, created if missing): load it at the start, save to it")
-    p.add_argument("--profile", default=None, metavar="NAME",
-                   help="which robot: full (default) or biron-2005 (overrides the scenario's <robot profile>)")
+    p.add_argument("--profile", default=None, choices=sorted(PROFILES),
+                   help="which robot (overrides the scenario's <robot profile>; default: the scenario's, else full)")
     p.add_argument("--realtime", type=cliargs.realtime_scale, default=None, metavar="X", help="pace the run at X times real time")
     p.add_argument("--quiet", action="store_true", help="print the verdict (and failed expectations) only")
     p.add_argument("--strict", action="store_true",

@@ -280,5 +280,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--workers", type=_workers, default=None, help="local processes (default: the CPU count)")
     p.add_argument("--scheduler", type=_scheduler, default=None, metavar="ADDRESS", help="run on this Dask distributed scheduler (tcp://host:8786)")
     p.add_argument("-o", "--out", required=True, metavar="DIR", help="directory for sweep.csv, sweep.json and summaries/")
-    p.add_argument("--profile", default=None, metavar="NAME", help="robot profile of every run (full, biron-2005; default: each scenario's)")
+    from robot.profiles import PROFILES
+
+    p.add_argument("--profile", default=None, choices=sorted(PROFILES), help="robot profile of every run (default: each scenario's)")
     p.set_defaults(func=sweep_command)

@@ -1,5 +1,6 @@
-"""A scenario's expectations checked against the supervisor's AFSM (a ``homesim.scenario_checks`` entry point).
+"""Names in a scenario that only the robot knows, checked (a ``homesim.scenario_checks`` entry point).
 
+``<robot profile=...>`` names a robot profile (``robot/profiles.py``);
 ``<state-reached state=...>``, ``<event-applied event=... state=...>`` and
 ``<event-rejected event=... state=...>`` name states and events of the
 state machine the robot's execution supervisor runs. The kernel's checks
@@ -18,6 +19,7 @@ from __future__ import annotations
 
 from functools import lru_cache
 
+from robot.profiles import PROFILES
 from robot.supervisor import BIRON_AFSM
 
 from ..afsm.loader import load
@@ -40,9 +42,13 @@ def vocabulary() -> tuple[dict[str, list[str]], list[str]]:
 
 
 def check_scenario(sc: Scenario) -> list[ScenarioError]:
-    """Every expectation that names a state or an event the robot's supervisor does not have."""
+    """An unknown robot profile, and every expectation that names a state or an event the robot's supervisor does not have."""
     groups, events = vocabulary()
     out: list[ScenarioError] = []
+    profile = sc.robot.profile
+    if profile is not None and profile not in PROFILES:
+        out.append(ScenarioError(f"profile={profile!r}: {unknown_name('robot profile', profile, PROFILES)}",
+                                 source=sc.source, line=sc.robot.line, element="robot"))
     for e in sc.expectations:
         if e.kind in KINDS:
             out += _problems(sc, e, groups, events)
