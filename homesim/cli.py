@@ -51,7 +51,7 @@ def build_parser() -> argparse.ArgumentParser:
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
     for name in SUBCOMMAND_MODULES:
         importlib.import_module(name).register(sub)
-    completion.register(sub, root=parser)  # last: it completes the whole tree
+    completion.register(sub, build_parser)
     return parser
 
 

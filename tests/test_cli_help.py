@@ -133,9 +133,10 @@ def test_the_bash_completion_completes_subcommands_and_options(tmp_path):
 
 
 def _completion(shell: str) -> str:
+    from homesim.cli import build_parser
     from homesim.completion import script
 
-    return script(build_parser(), shell)
+    return script(shell, build_parser)
 
 
 def test_out_is_spelled_the_same_everywhere_and_the_old_spelling_still_works(tmp_path, capsys):

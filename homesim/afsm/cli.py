@@ -24,7 +24,7 @@ def register(subparsers: Any) -> None:
                                         "homesim afsm check machine.scxml"])
     sub = p.add_subparsers(dest="afsm_command", metavar="ACTION")
     show = sub.add_parser("show", help="render an AFSM as Graphviz DOT or Mermaid",
-                          examples=["homesim afsm show machine.scxml | dot -Tsvg > out/machine.svg  (dot is Graphviz)",
+                          examples=["homesim afsm show machine.scxml | dot -Tsvg > out/machine.svg  (Graphviz)",
                                     "homesim afsm show machine.scxml --format mermaid --current Interacting"])
     show.add_argument("file", type=Path, help="an AFSM (SCXML) document, e.g. machine.scxml")
     show.add_argument("--format", choices=("dot", "mermaid"), default="dot", help="the notation")
