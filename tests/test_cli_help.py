@@ -133,7 +133,6 @@ def test_the_bash_completion_completes_subcommands_and_options(tmp_path):
 
 
 def _completion(shell: str) -> str:
-    from homesim.cli import build_parser
     from homesim.completion import script
 
     return script(shell, build_parser)
