@@ -82,6 +82,10 @@ def test_a_name_she_uses_for_a_place_may_be_learned(tmp_path):
     assert check_scenario_file(path) == []
     never = _write(tmp_path, ('<place-learned name="kitchen"/>', '<place-learned name="attic" never="true"/>'), name="never.xml")
     assert check_scenario_file(never) == []  # what must never be learned need not exist
+    earlier = _write(tmp_path, ('<place-learned name="kitchen"/>', '<place-learned name="attic"/>'),
+                     ('<robot x="2.0" y="2.5" heading="0"/>', '<robot x="2.0" y="2.5" heading="0" memory="required"/>'),
+                     name="earlier.xml")
+    assert check_scenario_file(earlier) == []  # taught in an earlier run whose store this one starts from
 
 
 def test_every_problem_is_listed_not_the_first_of_each_kind(tmp_path):
