@@ -14,6 +14,7 @@ from pathlib import Path
 from .. import cliargs
 from ..cliargs import OptionError
 from ..errors import HomesimError
+from ..progress import VirtualSeconds
 
 
 def _check_recording(path: Path) -> None:
@@ -48,8 +49,8 @@ def export_command(a: argparse.Namespace) -> int:
     if a.perfetto is not None:
         from ..export.perfetto import export_perfetto
 
-        with as_trace(a.trace) as trace:
-            c = export_perfetto(trace, a.perfetto)
+        with as_trace(a.trace) as trace, VirtualSeconds("perfetto") as bar:
+            c = export_perfetto(trace, a.perfetto, progress=bar)
         print(f"wrote {a.perfetto} (Perfetto / Chrome trace events: {c['threads']} modules, {c['slices']} messages, "
               f"{c['spans']} processing spans, {c['flows']} cause flows)")
     if a.mcap is not None:
@@ -67,7 +68,8 @@ def export_command(a: argparse.Namespace) -> int:
             os.replace(tmp, a.mcap)
             print(f"wrote {a.mcap} (a copy of the recording {a.trace}: it is MCAP for Foxglove already)")
             return 0
-        c = export_mcap(a.trace, a.mcap)
+        with VirtualSeconds("mcap: re-creating the run") as bar:
+            c = export_mcap(a.trace, a.mcap, progress=bar)
         print(f"wrote {a.mcap} (MCAP for Foxglove: {c['channels']} channels, {c['messages']} messages, "
               f"{c['scans']} laser scans, {c['frames']} world frames)")
     return 0

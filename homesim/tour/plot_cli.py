@@ -32,6 +32,7 @@ def _check_output(out: Path) -> None:
 def plot_moment_of_trace(trace: Path, at: float | None):  # noqa: ANN201 (a matplotlib Figure)
     """Re-create ``trace``'s run to ``at`` (default: its end) and draw that moment with the percepts."""
     from .tracerun import rerun
+    from ..progress import VirtualSeconds
     from ..viz.moment import plot_moment
     from .percepts import CHANNELS, PerceptCollector
 
@@ -40,7 +41,8 @@ def plot_moment_of_trace(trace: Path, at: float | None):  # noqa: ANN201 (a matp
         with run:
             seen = PerceptCollector()
             run.dispatcher.add(CHANNELS, seen)
-            run.run()
+            with VirtualSeconds("re-creating the run") as bar:
+                run.run(progress=bar)
             now = run.sim.now
             what = f"t = {now:.2f} s" if at is None or abs(now - at) < 1e-9 else f"t = {now:.2f} s (asked for {at:g} s)"
             if at is None:
@@ -79,10 +81,11 @@ def plot_command(a: argparse.Namespace) -> int:
 
         out = a.out or Path("out/timeline.png")
         _check_output(out)
+        from ..progress import VirtualSeconds
         from .recorded import as_trace
 
-        with as_trace(a.trace) as trace:
-            tl = read_timeline(trace, start=a.start, end=a.end)
+        with as_trace(a.trace) as trace, VirtualSeconds("reading the trace") as bar:
+            tl = read_timeline(trace, start=a.start, end=a.end, progress=bar)
         fig = plot_timeline(tl)
         what = f"{len(tl.lanes)} modules, {len(tl.messages)} messages, {len(tl.spans)} processing spans, {tl.start:g}-{tl.end:g} s"
     else:
