@@ -40,6 +40,7 @@ from __future__ import annotations
 import json
 import os
 from collections import OrderedDict, deque
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import IO, Any
@@ -123,9 +124,12 @@ class _Writer:
         return True
 
 
-def export_perfetto(trace: str | os.PathLike[str], out: str | os.PathLike[str]) -> dict[str, int]:
+def export_perfetto(trace: str | os.PathLike[str], out: str | os.PathLike[str], *,
+                    progress: Callable[[float, float], None] | None = None) -> dict[str, int]:
     """Write ``trace`` as trace-event JSON to ``out``; return counts (threads, work slices, instants, flows, flows lost
-    to the window's edge, phases)."""
+    to the window's edge, phases).
+
+    ``progress(t, end)``: told the virtual time reached while the trace is read."""
     header, streams = channel_stats(trace)
     out = Path(out)
     out.parent.mkdir(parents=True, exist_ok=True)
@@ -152,7 +156,7 @@ def export_perfetto(trace: str | os.PathLike[str], out: str | os.PathLike[str]) 
             for e in pending.popitem(last=False)[1]:
                 w.event(e)
 
-        for ev in walk(trace, streams):
+        for ev in walk(trace, streams, progress=progress):
             if isinstance(ev, Delivery):
                 continue
             rec = ev.rec
