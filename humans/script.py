@@ -115,6 +115,8 @@ class Actor:
         self._streak = 0
         self._absorbed: frozenset[int] = frozenset()  # robot utterances heard during her last reaction
         self._last_phrase: dict[tuple[str, str | None], str] = {}
+        self.scoped_fired_total = 0  # how often a wait's own reactions fired over the run
+        self.stopped_early = False  # she gave up by stopping or leaving: her script ended there
         self.scoped: tuple[Handler, ...] = ()  # the reactions of the wait-for she is in (``<on>`` inside it)
         self._scoped_fired: list[int] = []
 
@@ -127,6 +129,7 @@ class Actor:
         try:
             await self.play(self.script)
         except GaveUp:
+            self.stopped_early = True
             self.stand_still()
         self.done = True
 
@@ -288,6 +291,7 @@ class Actor:
         """Do a reaction's acts, then carry on (the agenda's pushed acts popped)."""
         if any(h is x for x in self.scoped):
             self._scoped_fired[next(i for i, x in enumerate(self.scoped) if x is h)] += 1
+            self.scoped_fired_total += 1
         else:
             self.fired[next(i for i, x in enumerate(self.handlers) if x is h)] += 1
         self._streak += 1
