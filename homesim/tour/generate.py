@@ -64,6 +64,9 @@ FOLLOW_SPEED = (0.35, 0.6)  # m/s: how fast she walks with the robot behind her
 WALK_SPEED = (0.8, 1.2)  # m/s: her own pace (and bystanders')
 ANSWER_S = 3.0  # typical seconds from the end of a request to the robot's answer (an estimate, for timing)
 MAX_COUNT = 10_000
+#: The bystanders' scripts are made for a run this long (a user repairing every request this many
+#: times), whatever the user's profile: the same home under every users mix.
+BYSTANDER_PATIENCE = 3
 #: Why draws were refused by the scenario checks (for the generator's tests and debugging).
 REFUSED: list[str] = []
 
@@ -191,7 +194,8 @@ class TourWriter:
     timeline: list[tuple[float, int, Point]] = field(default_factory=list)
     interacting: bool = False
     asked_capabilities: bool = False
-    slack: float = 0.0  # extra seconds for her to repair every request to her patience (the robot silent: each wait to its timeout)
+    slack_base: float = 0.0  # extra seconds when the robot is silent: each wait to its timeout, one question answered
+    slack_repair: float = 0.0  # and per repair of every request (a gap, her turn again, the wait)
     patience: int = 2  # the most repairs her profile makes for one request
 
     def pick(self, options: tuple) -> object:  # type: ignore[type-arg]
@@ -229,7 +233,14 @@ class TourWriter:
         self.t += d + ANSWER_S
         # the robot silent: the wait to its timeout, then each repair (a gap, her turn again, the wait);
         # and one question of the robot's answered (about 4 s)
-        self.slack += (timeout - ANSWER_S) + self.patience * (d + timeout + 1.0) + (4.0 if answers else 0.0)
+        self.slack_base += (timeout - ANSWER_S) + (4.0 if answers else 0.0)
+        self.slack_repair += d + timeout + 1.0
+
+    def duration(self, patience: int) -> int:
+        """Seconds for her to get to her good-bye even when every request was repaired ``patience``
+        times with the robot silent (a robot that fails early is not also charged with a good-bye
+        she never got to say)."""
+        return math.ceil((self.t + self.slack_base + patience * self.slack_repair + 30) / 10) * 10
 
     def face_robot(self) -> None:
         self.act("face", robot="true")
@@ -416,7 +427,7 @@ def _attempt(rng: np.random.Generator, name: str, seed: int, k: int, profile: st
     tw.goodbye()
     # Long enough for her to get to her good-bye even when every request had to be said twice
     # (a robot that fails early is not also charged with a good-bye she never got to say).
-    duration = math.ceil((tw.t + tw.slack + 30) / 10) * 10
+    duration = tw.duration(tw.patience)
     doc = _document(rng, name, flat, objects, robot, heading, tw, duration, seed, k, profile)
     summary = {"name": name, "layout": flat.layout, "rooms": [r.name for r in flat.rooms],
                "doors": [d.width for d in flat.doors], "objects": len(objects), "duration": duration,
@@ -657,7 +668,8 @@ def _document(rng: np.random.Generator, name: str, flat: Flat, objects: list[Obj
     u.append(tw.script)
     taken = [robot, tw.timeline[0][2]]
     names: set[str] = {tw.user}
-    for h in _bystanders(rng, flat, tw, taken, duration, names):
+    # the bystanders' day does not depend on the user's profile (the same home under every mix)
+    for h in _bystanders(rng, flat, tw, taken, tw.duration(BYSTANDER_PATIENCE), names):
         humans.append(h)
     src = _source(rng, flat, taken)
     if src is not None:
