@@ -160,6 +160,20 @@ def _robot_view(flat: Flat, room: RoomPlan, p: Point, o: ObjectPlan) -> bool:
     return False
 
 
+def aside_spot(flat: Flat, o: ObjectPlan, spot: Point) -> Point | None:
+    """Where she steps when the robot says she stands in front of the object: round it by 40 to 70
+    degrees (either way), as close to it as before, free, with a clear view of it, in its room."""
+    room = flat.rooms[o.room]
+    a0 = math.atan2(spot[1] - o.y, spot[0] - o.x)
+    r = math.hypot(spot[0] - o.x, spot[1] - o.y)
+    for deg in (40, -40, 55, -55, 70, -70):
+        a = a0 + math.radians(deg)
+        p = snap(o.x + r * math.cos(a)), snap(o.y + r * math.sin(a))
+        if room.contains(p) and free(flat, p) and sight(room, p, (o.x, o.y)):
+            return p
+    return None
+
+
 def path_length(flat: Flat, a: Point, b: Point) -> float:
     """Walking distance a -> b (straight-line times 1.3 when no plan is found)."""
     assert flat.walk_grid is not None
@@ -313,8 +327,11 @@ class TourWriter:
         self.act("point", object=o.name, duration=fmt(snap(float(self.rng.uniform(1.5, 2.5)))))
         # what she calls it when she rephrases or answers (with what her sentence said: mine, favourite, colour)
         about = ("my " if owner else "the ") + ("favourite " if favourite else "") + (f"{o.colour} " if colour else "") + word
-        self.say(text, "learned|" + rx(word), 8, request="teach-object", about=about, words=True,
-                 answers=U.reactions("object", words=[word, o.type.replace("_", " ")], about=about, colour=o.colour, obj=o.name))
+        answers = U.reactions("object", words=[word, o.type.replace("_", " ")], about=about, colour=o.colour, obj=o.name)
+        aside = aside_spot(self.flat, o, spot)
+        if aside is not None:  # "Could you step aside, please?": she steps round the object and points again
+            answers.append(U.step_aside(pt(aside), o.name))
+        self.say(text, "learned|" + rx(word), 8, request="teach-object", about=about, words=True, answers=answers)
         self.t += 2
         attrs = {"type": o.type}
         if owner:

@@ -131,6 +131,13 @@ def reactions(kind: str, *, words: list[str] | None = None, about: str = "", col
     raise ValueError(f"no reactions for {kind!r}")
 
 
+def step_aside(point: str, obj: str) -> Reaction:
+    """"I cannot see it, you are standing in front of it. Could you step aside, please?": she
+    steps to ``point`` (round the object) and points at it again."""
+    return ("step aside|standing in front of it",
+            [etree.Element("walk-to", point=point), etree.Element("point", object=obj, duration="2")])
+
+
 def comeback() -> list[Reaction]:
     """What she does, at any point of her tour, when the robot has lost her or ended the interaction.
 
