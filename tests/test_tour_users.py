@@ -6,6 +6,7 @@ from __future__ import annotations
 import re
 from pathlib import Path
 
+import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
@@ -187,3 +188,27 @@ def test_a_users_condition_on_generated_tours_makes_the_same_homes(tmp_path):
         xml = Path(f).read_bytes()
         assert b'profile="silent"' in xml
         assert _without_user(xml) == _without_user(generate_one(11, k, name=f"tour-11-{k}").xml)
+
+
+@settings(max_examples=examples(2, 5), deadline=None)
+@given(seed=st.integers(0, 10**6))
+def test_stepping_aside_keeps_her_by_the_object_with_a_clear_view_of_it(seed):
+    """Her step-aside spot is in the object's room, as close to it as her teaching spot, and she points at that object."""
+    import math
+
+    from homesim.scenario.model import PointAt, WalkTo
+    from homesim.geometry import point_in_polygon
+
+    g = generate_one(seed, 1)
+    sc = load_scenario_text(g.xml, source=f"{g.name}.xml")
+    for w in (a for a in sc.humans[0].script if isinstance(a, WaitFor)):
+        for h in w.handlers:
+            if not compile_words(h.hears).search("I cannot see it, you are standing in front of it. Could you step aside, please?"):
+                continue
+            walk, point = h.body
+            assert isinstance(walk, WalkTo) and isinstance(point, PointAt)
+            o = sc.object(point.target.name or "")
+            p = (walk.target.x, walk.target.y)
+            assert math.hypot(p[0] - o.x, p[1] - o.y) <= 0.9 + o.size / 2 + 0.06
+            room = next(r for r in sc.rooms if point_in_polygon((o.x, o.y), np.array(r.polygon)))
+            assert point_in_polygon(p, np.array(room.polygon))
