@@ -212,3 +212,17 @@ def test_stepping_aside_keeps_her_by_the_object_with_a_clear_view_of_it(seed):
             assert math.hypot(p[0] - o.x, p[1] - o.y) <= 0.9 + o.size / 2 + 0.06
             room = next(r for r in sc.rooms if point_in_polygon((o.x, o.y), np.array(r.polygon)))
             assert point_in_polygon(p, np.array(room.polygon))
+
+
+@pytest.mark.parametrize("args, message", [
+    (["study", "--generated", "1", "--seed", "5", "--condition", "a=users=grumpy"], "unknown user profile 'grumpy'"),
+    (["study", "--generated", "1", "--seed", "5", "--condition", "a=users=typical:0"], "positive"),
+    (["generate", "--seed", "5", "--users", "typical,grumpy"], "unknown user profile 'grumpy'"),
+])
+def test_a_bad_users_option_is_refused_before_anything_is_written(tmp_path, capsys, args, message):
+    from homesim.cli import main
+
+    out = tmp_path / "out"
+    assert main(args + ["-o", str(out)]) == 2
+    assert message in capsys.readouterr().err
+    assert not out.exists()

@@ -496,6 +496,8 @@ def study_command(a: argparse.Namespace) -> int:
     out = Path(a.out)
     if bool(a.scenarios) == (a.generated is not None):
         raise OptionError("SCENARIO", "give scenario files or --generated K --seed S (not both)")
+    conditions = [parse_condition(c) for c in a.condition] or [Condition(DEFAULT)]  # refused before anything is written
+    seeds = parse_seeds(a.seeds)
     if a.generated is not None:
         if a.seed is None:
             raise OptionError("--generated", "needs --seed S (the generator's seed)")
@@ -510,8 +512,6 @@ def study_command(a: argparse.Namespace) -> int:
                 raise OptionError("SCENARIO", f"{p}: no such file")
             load_scenario(p)  # bad input is refused before any run (file, line, what)
             files.append(str(Path(p).resolve()))
-    conditions = [parse_condition(c) for c in a.condition] or [Condition(DEFAULT)]
-    seeds = parse_seeds(a.seeds)
     doc = study(files, seeds, conditions, out, workers=a.workers, scheduler=a.scheduler, progress=Progress(len(files) * len(seeds) * len(conditions), sys.stderr),
                 resume=a.resume, generated=(a.seed, a.generated) if a.generated is not None else None)
     print((out / "study.md").read_text(encoding="utf-8"))
