@@ -18,7 +18,8 @@ Rows, each a ratio or rate measured in this run, so machine load cancels out of 
   count sampled along the run, and ``tracemalloc`` over the last simulated minute only, in the
   note); memory must not grow with the run's length (aims: the long run under 150 MB and within
   10 % of the short one);
-- ``loop/sleep``, ``loop/pingpong``: the virtual-time loop's events/s over SimPy's;
+- ``loop/sleep``, ``loop/sleep_gather``, ``loop/pingpong``: the virtual-time loop's events/s over SimPy's
+  (``sleep_gather``: the sleep workload through ``run_until_complete(gather(...))``);
 - ``supervisor/engine``, ``supervisor/bus``: the execution supervisor's events/s over sismic's;
 - ``laser``: 361-beam scans/s, numpy kernel over pymunk's per-ray queries;
 - ``bus/publish``, ``bus/publish --strict``: typed messages per CPU second through one publish,
@@ -133,6 +134,8 @@ def rows(s: Sizes, only: set[str] | None = None) -> list[Row]:
         procs, steps, pairs, msgs = s.loop
         delays = bl._delays(procs, steps, seed=1)
         for name, ours, theirs, args, aim in (("sleep", bl.sleep_homesim, bl.sleep_simpy, (delays,), ">= 0.45"),
+                                              ("sleep_gather", bl.sleep_homesim_gather, bl.sleep_simpy, (delays,),
+                                               "as sleep"),
                                               ("pingpong", bl.pingpong_homesim, bl.pingpong_simpy, (pairs, msgs), ">= 1.5")):
             repeat = 1 if s == TINY else 3
             t_ours, n = bl._best(ours, *args, repeat=repeat)
