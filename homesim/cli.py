@@ -31,6 +31,7 @@ SUBCOMMAND_MODULES: list[str] = [
     "homesim.memory.cli",
     "homesim.tour.plot_cli",
     "homesim.tour.export_cli",
+    "homesim.tour.trace_cli",
     "homesim.tour.sweep",
     "homesim.tour.generate",
     "homesim.tour.study",
