@@ -219,3 +219,51 @@ def test_the_slow_arrows_follow_a_link_per_direction_and_a_route():
             SimpleNamespace(sender="camera", delivered=["dialog"])]
     _, _, slow = _deployment({"run": run}, {"attention", "dialog", "camera"}, msgs)
     assert slow == {("attention", "dialog")}  # to the laptop over its queued downlink; back over wlan; pc2's route is the LAN
+
+
+@pytest.fixture(scope="module")
+def long_tour(tmp_path_factory):
+    """A real home tour to 100 s: greeting, following, two object teachings (each a burst of object focus)."""
+    return tour_trace(tmp_path_factory.getbasetemp(), until=100.0)
+
+
+def test_a_whole_run_draws_the_teaching_bursts_light_and_labels_each_once(long_tour):
+    """Object focus sends ~10 messages in 2 s twice in 100 s: far below any average rate, but a burst where it
+    happens. Its arrows are the light repeating colour (not dark event arrows) and each burst is labelled once."""
+    from matplotlib.patches import FancyArrowPatch
+
+    from homesim.viz.timeline import EVENT, plot_timeline, repeating
+
+    tl = read_timeline(long_tour)
+    events = [m for m in tl.messages if not m.continuous]
+    focus = [m for m in events if m.channel == "/robot/objects/focus"]
+    assert len(focus) >= 10
+    inside, firsts = repeating(events)
+    assert all(m.id in inside for m in focus)
+    assert len([m for m in focus if m.id in firsts]) == 2  # two teachings, two bursts
+    said = [m for m in events if m.channel == "/robot/speaker/say"]
+    assert said and not any(m.id in inside for m in said)  # what the robot says, seconds apart, is no burst
+    fig = plot_timeline(tl)
+    from matplotlib.colors import to_hex
+    dark = [p for p in fig.axes[0].patches if isinstance(p, FancyArrowPatch) and to_hex(p.get_edgecolor()) == EVENT]
+    lanes = {name: len(tl.lanes) - 1 - i for i, name in enumerate(tl.lanes)}
+    focus_dark = [p for p in dark if any(abs(p._posA_posB[0][0] - m.t) < 1e-9 and p._posA_posB[0][1] == lanes["object_attention"]
+                                         for m in focus)]
+    assert not focus_dark
+    texts = _texts(fig)
+    assert sum(t.endswith("(repeats)") and "focus" in t for t in texts) == 2, texts
+
+
+def test_the_legend_promises_repeats_labels_only_where_the_picture_has_them(long_tour):
+    """On a real run's 0-12 s no channel bursts (the attention's states are a stream over the run): no "(repeats)"
+    promise in the legend; the teaching window has a burst, its label and the legend entry."""
+    from homesim.viz.timeline import plot_timeline
+
+    def legend(fig):
+        return [t.get_text() for t in fig.axes[0].get_legend().get_texts()]
+
+    fig = plot_timeline(read_timeline(long_tour, start=0, end=12))
+    assert not any("repeats" in t for t in legend(fig)) and not any(t.endswith("(repeats)") for t in _texts(fig))
+    fig = plot_timeline(read_timeline(long_tour, start=70, end=80))
+    assert any("(repeats)" in t for t in legend(fig))
+    assert any(t.endswith("(repeats)") for t in _texts(fig))

@@ -43,10 +43,11 @@ SPAN_COLOURS = {"speech detection": "#9ecae1", "speech recognition": "#3182bd", 
 LABEL_EVENTS = 60
 #: Label a span with its duration from this length on (seconds).
 LABEL_SPAN_S = 0.02
-#: A channel that sends at least this many events in the window, at least ``REPEAT_HZ`` per second, is repeating:
-#: its arrows are drawn light and only its first is labelled (it does not eat the label budget).
+#: A burst: at least ``REPEAT_MIN`` events of one channel in a row, each at most ``REPEAT_GAP`` s after the one before.
+#: Judged locally (not by the channel's average rate over the window, which a few bursts in a long run never reach):
+#: a burst's arrows are drawn light and only its first is labelled (it does not eat the label budget).
 REPEAT_MIN = 5
-REPEAT_HZ = 0.5
+REPEAT_GAP = 2.0
 REPEAT = "#7f93b8"
 
 
@@ -54,23 +55,39 @@ def _ms(d: float) -> str:
     return f"{d * 1000:.0f} ms" if d < 1.0 else f"{d:.2f} s"
 
 
-def _repeating(events: list[Message], dur: float) -> set[tuple[str, str]]:
-    """The (sender, channel) pairs that repeat in the window (periodic events such as attention states)."""
-    n = Counter((m.sender, m.channel) for m in events)
-    return {k for k, c in n.items() if c >= REPEAT_MIN and c / max(dur, 1e-9) >= REPEAT_HZ}
+def repeating(events: list[Message]) -> tuple[set[str], set[str]]:
+    """Ids of the events in a burst (periodic attention states, object focus while teaching) and of each burst's first.
 
+    ``events`` in send order. A channel that is quiet for most of a run and
+    sends ten messages in two seconds repeats there, and only there.
+    """
+    runs: dict[tuple[str, str], list[Message]] = {}
+    inside: set[str] = set()
+    firsts: set[str] = set()
 
-def _to_label(events: list[Message], repeating: set[tuple[str, str]]) -> set[str]:
-    """Ids of the event arrows to label: each repeating channel's first, then the rarest channels' events, to the budget."""
-    firsts: dict[tuple[str, str], str] = {}
-    rest: list[Message] = []
+    def close(run: list[Message]) -> None:
+        if len(run) >= REPEAT_MIN:
+            inside.update(m.id for m in run)
+            firsts.add(run[0].id)
+
     for m in events:
         k = (m.sender, m.channel)
-        if k in repeating:
-            firsts.setdefault(k, m.id)
-        else:
-            rest.append(m)
-    chosen = set(firsts.values())
+        run = runs.get(k)
+        if run and m.t - run[-1].t > REPEAT_GAP:
+            close(run)
+            run = None
+        if run is None:
+            run = runs[k] = []
+        run.append(m)
+    for run in runs.values():
+        close(run)
+    return inside, firsts
+
+
+def _to_label(events: list[Message], inside: set[str], firsts: set[str]) -> set[str]:
+    """Ids of the event arrows to label: each burst's first, then the rarest channels' other events, to the budget."""
+    rest = [m for m in events if m.id not in inside]
+    chosen = set(firsts)
     per_channel = Counter((m.sender, m.channel) for m in rest)
     budget = max(LABEL_EVENTS - len(chosen), 0)
     for m in sorted(rest, key=lambda m: (per_channel[(m.sender, m.channel)], m.t))[:budget]:
@@ -164,13 +181,13 @@ def plot_timeline(tl: Timeline, *, width: float = 14.0) -> Figure:
             else:
                 span_ends[s.lane] = bb.x1
     events = [m for m in tl.messages if not m.continuous]
-    repeating = _repeating(events, dur)
-    label = _to_label(events, repeating)
+    burst, burst_firsts = repeating(events)
+    label = _to_label(events, burst, burst_firsts)
     labels = []
     for m in tl.messages:
         if m.sender not in y:
             continue
-        rep = (m.sender, m.channel) in repeating
+        rep = m.id in burst
         colour = STREAM if m.continuous else REPEAT if rep else (REPLY if m.kind in ("reply", "error") else EVENT)
         light = m.continuous or rep
         for r, td in m.delivered.items():
@@ -200,16 +217,18 @@ def plot_timeline(tl: Timeline, *, width: float = 14.0) -> Figure:
     ax.set_xlabel("virtual time [s]")
     ax.set_title(f"{tl.scenario} (seed {tl.seed}): module communication, {tl.start:g}-{tl.end:g} s "
                  f"({len(events)} messages, {len(tl.spans)} processing spans)", fontsize=9)
-    ax.legend([Line2D([], [], color=EVENT, marker=">", markersize=4), Line2D([], [], color=SLOW, marker=">", markersize=4, linestyle="--"),
-               Line2D([], [], color=REPLY, marker=">", markersize=4),
-               Line2D([], [], color=REPEAT, marker=">", markersize=4),
-               Line2D([], [], color=STREAM, marker=">", markersize=4),
-               *[Patch(facecolor=c, edgecolor="#555555") for c in SPAN_COLOURS.values()],
-               Line2D([], [], color=PHASE, linestyle="--")],
-              ["message (sender -> receiver, send -> delivery)", "over the slowest link (WLAN), with its latency",
-               "RPC reply", f"repeating message (>= {REPEAT_HZ:g}/s; first one labelled)", "continuous stream (thinned)",
-               *[k + (" (cause delivered -> message sent)" if k == "processing" else "") for k in SPAN_COLOURS], "phase"],
-              loc="upper left", bbox_to_anchor=(1.02, 1.0), fontsize=7, frameon=False)
+    # The legend names what this picture shows (a window without a burst does not promise "(repeats)" labels).
+    keys = [(Line2D([], [], color=EVENT, marker=">", markersize=4), "message (sender -> receiver, send -> delivery)"),
+            (Line2D([], [], color=SLOW, marker=">", markersize=4, linestyle="--"), "over the slowest link (WLAN), with its latency"),
+            (Line2D([], [], color=REPLY, marker=">", markersize=4), "RPC reply")]
+    if burst:
+        keys.append((Line2D([], [], color=REPEAT, marker=">", markersize=4),
+                     f"repeating ({REPEAT_MIN}+ in a row, < {REPEAT_GAP:g} s apart; first labelled \"(repeats)\")"))
+    keys.append((Line2D([], [], color=STREAM, marker=">", markersize=4), "continuous stream (thinned)"))
+    keys += [(Patch(facecolor=c, edgecolor="#555555"), k + (" (cause delivered -> message sent)" if k == "processing" else ""))
+             for k, c in SPAN_COLOURS.items()]
+    keys.append((Line2D([], [], color=PHASE, linestyle="--"), "phase"))
+    ax.legend([h for h, _ in keys], [t for _, t in keys], loc="upper left", bbox_to_anchor=(1.02, 1.0), fontsize=7, frameon=False)
     fig.tight_layout()
     # Phase marks kept apart, in as many rows as they need (measured after the layout fixed the axes' width).
     _stack_labels(ax, phase_texts, len(lanes) - 0.45)
