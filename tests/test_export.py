@@ -202,3 +202,35 @@ def test_export_never_writes_over_the_trace_it_reads(tour, tmp_path, capsys):
     assert copy.read_bytes() == tour.read_bytes()
     assert main(["export", str(copy), "--perfetto", str(tmp_path / "x"), "--mcap", str(tmp_path / "x")]) == 2
     assert "two files" in capsys.readouterr().err
+
+
+def test_the_transcripts_log_timestamps_are_its_log_and_publish_times(mcaps):
+    """Foxglove's Log panel and its timeline agree: a line said at 2.747 s is logged at 2.747 s (not at the end of
+    the world step that started it), as every other stamped message is; the file stays in log-time order."""
+    _, a, _ = mcaps
+    lines, stamped, last = [], 0, -1
+    with open(a, "rb") as fh:
+        for _, channel, msg in make_reader(fh).iter_messages(log_time_order=False):
+            assert msg.log_time >= last and msg.publish_time == msg.log_time
+            last = msg.log_time
+            data = json.loads(msg.data)
+            if isinstance(data.get("timestamp"), dict):
+                stamped += 1
+                assert data["timestamp"]["sec"] * 10**9 + data["timestamp"]["nsec"] == msg.log_time, (channel.topic, data)
+            if channel.topic == "/transcript":
+                lines.append(msg.log_time)
+    assert lines and stamped > len(lines)
+    assert any(t % 20_000_000 for t in lines)  # off the 20 ms world step: the utterance's own start
+
+
+def test_an_exported_mcap_says_which_run_it_came_from(mcaps):
+    trace, a, _ = mcaps
+    header = json.loads(trace.read_text(encoding="utf-8").split("\n", 1)[0])
+    with open(a, "rb") as fh:
+        records = list(make_reader(fh).iter_metadata())
+    meta = {r.name: r.metadata for r in records}["homesim"]
+    assert meta["scenario"] == header["scenario"] == "home_tour" and meta["seed"] == str(header["seed"])
+    assert meta["homesim_version"] == header["homesim_version"] and meta["exporter"].startswith("homesim ")
+    assert meta["run.scenario_file"] == header["run"]["scenario_file"] and meta["run.scenario_digest"].startswith("sha256:")
+    assert meta["run.profile"] == json.dumps(header["run"]["profile"]) and meta["run.deployment"] == header["run"]["deployment"]
+    assert meta["trace"] == trace.name

@@ -18,7 +18,8 @@ time:
   ``/poses/estimate`` (``map``);
 * ``/laser`` (``foxglove.LaserScan`` in ``laser``): every scan with its ranges;
 * ``/transcript`` (``foxglove.Log``): every utterance as it starts, named by
-  its speaker (the robot, a person, a radio), for the Log panel;
+  its speaker (the robot, a person, a radio), for the Log panel, logged and
+  stamped at its start (as every stamped message: timestamp = log time);
 * ``/scene/map`` (``foxglove.SceneUpdate``, once): walls and furniture outlines, room names, objects;
 * ``/scene/people`` (10 Hz): each present person as a cylinder with a gaze
   arrow, her name and the words being said (ground truth, for viewing only),
@@ -26,6 +27,10 @@ time:
 * ``/scene/robot`` (once): the robot's footprint, locked to ``base_link``;
 * ``/scene/tracks`` (every tracks message, in ``odom``): the robot's person tracks as
   2-sigma ellipsoids with their ids, one entity per track, deleted when the track ends.
+
+A metadata record ``homesim`` says where the file came from: the trace's
+header (scenario, seed, profile, deployment, scenario file and digest,
+homesim version of the run) and the exporter's version.
 
 Every ``foxglove.*`` message satisfies Foxglove's official JSON Schema of
 its name (:mod:`homesim.export.foxglove`, checked in the tests).
@@ -35,6 +40,8 @@ same trace gives a byte-identical file.
 
 from __future__ import annotations
 
+import heapq
+import json
 import math
 import os
 from collections.abc import Callable
@@ -48,6 +55,7 @@ from mcap.writer import CompressionType, Writer
 from .. import __version__
 from ..bus import SEND, Observation
 from ..message import Message, describe_attachment
+from ..trace import read_trace
 from .tracerun import rerun
 from ..viz.percepts import odom_to_world
 from ..world.bodies import HUMAN_RADIUS, LASER_OFFSET, ROBOT_LENGTH, ROBOT_WIDTH
@@ -59,15 +67,25 @@ LASER_HEIGHT = 0.30
 
 
 class _Mcap:
-    """Channels registered on first use; messages written in call order."""
+    """Channels registered on first use; messages written in log-time order.
 
-    def __init__(self, fh: Any) -> None:
+    A transcript line is known only at the end of the world step in which the
+    utterance started, up to one step after its start; it is stamped with the
+    start (log time = publish time = ``Log.timestamp``). Messages wait up to
+    ``hold_ns`` (the world's step) so that the file stays in log-time order.
+    """
+
+    def __init__(self, fh: Any, hold_ns: int = 0) -> None:
         self.w = Writer(fh, compression=CompressionType.ZSTD)
         self.w.start(profile="", library=f"homesim {__version__}")
         self.schemas: dict[str, int] = {}
         self.channels: dict[str, int] = {}
         self.seq: dict[int, int] = {}
         self.count = 0
+        self.hold_ns = hold_ns
+        self.pending: list[tuple[int, int, int, int, bytes]] = []  # (log time, order, channel, sequence, data)
+        self.latest = 0
+        self.written = 0  # log time of the last message written
 
     def channel(self, topic: str, schema: str) -> int:
         if topic not in self.channels:
@@ -80,10 +98,21 @@ class _Mcap:
         cid = self.channel(topic, schema)
         n = self.seq.get(cid, 0)
         self.seq[cid] = n + 1
-        self.w.add_message(cid, log_time=t_ns, data=fg.dumps(obj), publish_time=t_ns, sequence=n)
+        if t_ns < self.written:
+            raise RuntimeError(f"{topic} at {t_ns} ns came more than {self.hold_ns} ns late (already written: {self.written} ns)")
+        heapq.heappush(self.pending, (t_ns, self.count, cid, n, fg.dumps(obj)))
         self.count += 1
+        self.latest = max(self.latest, t_ns)
+        self._flush(self.latest - self.hold_ns)
+
+    def _flush(self, upto: int) -> None:
+        while self.pending and self.pending[0][0] <= upto:
+            t_ns, _, cid, n, data = heapq.heappop(self.pending)
+            self.w.add_message(cid, log_time=t_ns, data=data, publish_time=t_ns, sequence=n)
+            self.written = t_ns
 
     def finish(self) -> None:
+        self._flush(self.latest)
         self.w.finish()
 
 
@@ -179,8 +208,9 @@ class _Exporter:
     def on_step(self, world: Any) -> None:
         t = int(round(world.time * 1e9))
         for u in world.sound.since(self.said):
-            # logged when the step that started it is seen (file order stays in time order), stamped with its start
-            self.out.write("/transcript", "foxglove.Log", t, fg.log(int(round(u.start * 1e9)), u.source, u.text))
+            # seen when the step that started it ends; logged at its start (_Mcap keeps the file in time order)
+            start = int(round(u.start * 1e9))
+            self.out.write("/transcript", "foxglove.Log", start, fg.log(start, u.source, u.text))
             self.said = u.n + 1
         if t < self.next_people:
             return
@@ -233,6 +263,20 @@ class _Exporter:
                      "color": fg.color(1, 1, 1)}])]))
 
 
+def run_metadata(trace: str | os.PathLike[str]) -> dict[str, str]:
+    """Where an export came from, as an MCAP metadata record: the trace's header (scenario, seed, profile,
+    deployment, versions ...; non-string values as canonical JSON) and the exporter's version."""
+    header = next(read_trace(trace))
+    meta = {"trace": Path(trace).name, "exporter": f"homesim {__version__}"}
+    for key, value in header.items():
+        if key == "run" and isinstance(value, dict):
+            for k, v in value.items():
+                meta[f"run.{k}"] = v if isinstance(v, str) else json.dumps(v, sort_keys=True, separators=(",", ":"))
+        else:
+            meta[key] = value if isinstance(value, str) else json.dumps(value, sort_keys=True, separators=(",", ":"))
+    return dict(sorted(meta.items()))
+
+
 def export_mcap(trace: str | os.PathLike[str], out: str | os.PathLike[str], *,
                 progress: Callable[[float, float], None] | None = None) -> dict[str, int]:
     """Re-create ``trace``'s run and write it as MCAP to ``out``; return counts (channels, messages, scans, frames).
@@ -247,7 +291,8 @@ def export_mcap(trace: str | os.PathLike[str], out: str | os.PathLike[str], *,
     run, check = rerun(trace)
     try:
         with open(tmp, "wb") as fh, run:
-            mc = _Mcap(fh)
+            mc = _Mcap(fh, hold_ns=math.ceil(run.world.dt * 1e9) + 1)
+            mc.w.add_metadata("homesim", run_metadata(trace))  # the scenario, seed, profile and versions it came from
             ex = _Exporter(mc, run)
             ex.static()
             run.sim.bus.add_interceptor(ex)
