@@ -234,3 +234,23 @@ def test_an_exported_mcap_says_which_run_it_came_from(mcaps):
     assert meta["run.scenario_file"] == header["run"]["scenario_file"] and meta["run.scenario_digest"].startswith("sha256:")
     assert meta["run.profile"] == json.dumps(header["run"]["profile"]) and meta["run.deployment"] == header["run"]["deployment"]
     assert meta["trace"] == trace.name
+
+
+def test_trace_echo_finds_a_service_channel_by_either_spelling_in_the_trace_and_the_recording(tmp_path):
+    """The trace names RPC services as the bus does (``map_server/map``), an MCAP gives every topic one leading
+    slash (``/map_server/map``): ``trace echo`` takes either spelling on either file, with the same messages."""
+    import io
+    import re
+
+    from homesim.tour.trace_cli import echo
+
+    trace, rec = tmp_path / "t.jsonl", tmp_path / "t.mcap"
+    assert main(["run", "scenarios/home_tour.xml", "--until", "2", "--quiet", "--trace", str(trace), "--record", str(rec)]) == 0
+    traced = [r for r in map(json.loads, trace.read_text(encoding="utf-8").splitlines()[1:]) if r.get("channel") == "map_server/map"]
+    assert traced  # the run asks the map server for its map at the start
+    ids = sorted(r["id"] for r in traced)
+    for f in (trace, rec):
+        for name in ("map_server/map", "/map_server/map"):
+            out = io.StringIO()
+            assert echo(f, name, start=None, end=None, raw=False, limit=None, out=out) == len(traced), (f, name)
+            assert sorted(re.findall(r"  id (\S+)", out.getvalue())) == ids

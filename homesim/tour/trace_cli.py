@@ -193,6 +193,12 @@ def _unknown_channel(path: Path, channel: str, known: list[str]) -> InputError:
     return InputError(f"no channel {channel!r}{hint}", source=str(path))
 
 
+def _bare(channel: str) -> str:
+    """A channel's name without its leading slash: the trace names RPC services as the bus does ("map_server/map"),
+    the MCAP gives every topic one ("/map_server/map"); either spelling finds the channel in either file."""
+    return channel.lstrip("/")
+
+
 def echo(path: Path, channel: str, *, start: float | None, end: float | None, raw: bool, limit: int | None, out: IO[str]) -> int:
     """Print ``channel``'s messages within [start, end]; return how many."""
     from .recorded import Recording, is_mcap
@@ -201,6 +207,8 @@ def echo(path: Path, channel: str, *, start: float | None, end: float | None, ra
     if is_mcap(path):
         with Recording(path) as rec:
             known = [c[0] for c in rec.channels()]
+            if channel not in known:
+                channel = next((k for k in known if _bare(k) == _bare(channel)), channel)
             if channel not in known:
                 raise _unknown_channel(path, channel, known)
             for topic, schema, lt, data in rec.messages([channel], start=start, end=end):
@@ -218,12 +226,13 @@ def echo(path: Path, channel: str, *, start: float | None, end: float | None, ra
                     print(json.dumps(msg, ensure_ascii=False, sort_keys=True), file=out)
         return n
     seen: set[str] = set()
+    want = _bare(channel)
     for line, rec in _trace_records(path):
         if line == 1 or rec.get("kind") not in SENDS:
             continue
         if len(seen) < 10_000:
             seen.add(rec["channel"])
-        if rec["channel"] != channel:
+        if _bare(rec["channel"]) != want:
             continue
         t = float(rec["t"])
         if (start is not None and t < start) or (end is not None and t > end):
@@ -235,7 +244,7 @@ def echo(path: Path, channel: str, *, start: float | None, end: float | None, ra
             out.write(json.dumps(rec, ensure_ascii=False, separators=(",", ":")) + "\n")
         else:
             _print_send(out, t, rec)
-    if n == 0 and channel not in seen:
+    if n == 0 and want not in {_bare(c) for c in seen}:
         raise _unknown_channel(path, channel, sorted(seen))
     return n
 
