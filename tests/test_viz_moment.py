@@ -204,3 +204,58 @@ def test_an_svg_moment_keeps_its_words_as_text(short_trace, tmp_path):
     assert main(["plot", str(short_trace), "--at", "11.5", "--out", str(out)]) == 0
     svg = out.read_text(encoding="utf-8")
     assert ">living room</text>" in svg and ">laser hits</text>" in svg  # searchable, editable words, not glyph outlines
+
+
+@pytest.fixture(scope="module")
+def recording(tmp_path_factory):
+    """A real home tour recorded to 46 s: the greeting, the question, following anna into the kitchen."""
+    out = tmp_path_factory.mktemp("moment") / "tour.mcap"
+    assert main(["run", "scenarios/home_tour.xml", "--until", "46", "--quiet", "--record", str(out)]) == 0
+    return out
+
+
+def _covered(ax, bb):  # noqa: ANN001
+    """What a label's box covers, measured with matplotlib's own geometry: outlines and lines crossing it, points in it."""
+    from matplotlib.text import Annotation
+
+    hit = []
+    for p in ax.patches:
+        if p.get_gid() in ("background", "leader") or p.get_linewidth() == 0 or p.get_edgecolor()[3] == 0:
+            continue
+        if p.get_transform().transform_path(p.get_path()).intersects_bbox(bb, filled=False):
+            hit.append(f"outline of {type(p).__name__} {p.get_gid() or ''}")
+    for ln in ax.lines:
+        alpha = ln.get_alpha() if ln.get_alpha() is not None else 1.0
+        if ln.get_gid() in ("background", "leader") or alpha < 0.1:
+            continue
+        path = ln.get_transform().transform_path(ln.get_path())
+        if ln.get_linestyle() not in ("None", "none") and len(path.vertices) > 1 and path.intersects_bbox(bb, filled=False):
+            hit.append(f"line {ln.get_color()}")
+        if ln.get_marker() not in (None, "None", "none", "") and bb.count_contains(path.vertices):
+            hit.append(f"marker {ln.get_marker()}")
+    for c in ax.collections:
+        if bb.count_contains(c.get_offset_transform().transform(c.get_offsets())):
+            hit.append("scatter point")
+    for t in ax.texts:
+        if isinstance(t, Annotation) and t.arrow_patch is not None and t.arrow_patch.get_path().intersects_bbox(bb, filled=False):
+            hit.append("arrow")
+    return hit
+
+
+@pytest.mark.parametrize("at", [1.5, 3.0, 8.6, 45.0])
+def test_no_label_covers_another_label_or_a_drawn_mark_on_a_real_moment(recording, at):
+    """The review's moments: the selected-person ring cut through anna's words, the sound direction and her gaze ran
+    through "living room", "counter" ran over the counter's edge into the laser hits. Each label is clear now."""
+    from homesim.tour.plot_cli import plot_moment_of_recording
+    from matplotlib.text import Annotation
+
+    fig = plot_moment_of_recording(recording, at)
+    fig.canvas.draw()  # as saved: the equal-aspect axes at their drawn size
+    ax = fig.axes[0]
+    r = fig.canvas.get_renderer()
+    labels = [t for t in ax.texts if t.get_text() and not isinstance(t, Annotation)]
+    assert any(t.get_text().startswith("anna") for t in labels) and any(t.get_text() == "counter" for t in labels)
+    boxes = [t.get_window_extent(r) for t in labels]
+    for i, (t, bb) in enumerate(zip(labels, boxes)):
+        assert not any(bb.overlaps(o) for j, o in enumerate(boxes) if j != i), t.get_text()
+        assert not _covered(ax, bb), (t.get_text(), _covered(ax, bb))

@@ -12,7 +12,7 @@ microphones cannot tell them apart) and, when given :class:`Percepts`, what
 the robot believed: its tracks (id, 2-sigma covariance ellipse), the legs
 it detected, faces seen, the selected person and partner, its pose
 estimate and attention state. Labels are placed last so that none covers
-another (:func:`place_labels`, with adjustText).
+another nor a drawn mark (:func:`homesim.viz.placing.place_clear`).
 """
 
 from __future__ import annotations
@@ -32,6 +32,7 @@ from ..world.bodies import CAMERA_HEIGHT, HUMAN_RADIUS, LASER_OFFSET, LEG_RADIUS
 from ..geometry import polygon_centroid, polygon_edges, to_world
 from ..world.world import World
 from .percepts import Percepts
+from .placing import place_clear
 
 WALL = "#333333"
 FURNITURE = "#c8b89a"
@@ -75,7 +76,7 @@ def draw_flat(ax: Axes, world: World, legend: Legend, labels: list[Text]) -> Non
     """Rooms (labelled), walls and furniture."""
     for room in world.scenario.rooms:
         poly = np.array(room.polygon)
-        ax.add_patch(Polygon(poly, closed=True, facecolor="#f7f7f2", edgecolor="none", zorder=0))
+        ax.add_patch(Polygon(poly, closed=True, facecolor="#f7f7f2", edgecolor="none", zorder=0, gid="background"))
         cx, cy = polygon_centroid(poly)
         labels.append(ax.text(cx, cy, room.name, ha="center", va="center", fontsize=9, color="#999999", zorder=1))
     for ob in world.obstacles:
@@ -153,7 +154,7 @@ def draw_robot(ax: Axes, world: World, legend: Legend, *, view: float = 4.0, mar
     nose = to_world(pose, np.array([[hl + 0.1, 0.0]]))[0]
     ax.annotate("", xy=nose, xytext=(x, y), arrowprops={"arrowstyle": "->", "color": "white"}, zorder=7)
     fov = view_polygon(world, (x, y), th + world.ptu[0], view=view)
-    ax.add_patch(Polygon(fov, closed=True, facecolor=ROBOT, alpha=0.08, edgecolor=ROBOT, linewidth=0.5, zorder=1))
+    ax.add_patch(Polygon(fov, closed=True, facecolor=ROBOT, alpha=0.08, edgecolor=ROBOT, linewidth=0.5, zorder=1, gid="background"))
     legend.add("camera field of view (cut at walls)", Patch(facecolor=ROBOT, alpha=0.15, edgecolor=ROBOT))
 
 
@@ -349,7 +350,7 @@ def plot_moment(
         sound_bearings = percepts.sound_bearings or sound_bearings
     x0, y0, x1, y1 = world.bounds()
     w, h = x1 - x0, y1 - y0
-    fig = Figure(figsize=(size + 3.2, size * h / w + 0.6))
+    fig = Figure(figsize=(size + 3.2, size * h / w + 0.6), dpi=120)  # the dpi it is saved at (viz.files): labels placed as drawn
     FigureCanvasAgg(fig)
     ax = fig.add_subplot(1, 1, 1)
     legend = Legend()
@@ -381,5 +382,6 @@ def plot_moment(
     ax.set_title(head, fontsize=10)
     legend.draw(ax)
     fig.tight_layout()
-    place_labels(ax, people + things + flat, avoid=marks)  # who says what first, room names last
+    # who says what first, room names last; none over another label or over a drawn line, outline or point
+    place_clear(ax, people + things + flat)
     return fig
