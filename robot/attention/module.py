@@ -62,7 +62,7 @@ from homesim.xmlio import hardened_parser
 from robot.contract import ATTENTION_STATE, BASE_CMD, ES_EVENTS, ES_ORDERS, FACES, FOCUS, ODOMETRY, PARTNER, POSE, PTU_CMD, SCAN, SOURCES, STEER, TORSOS, TRACKS
 
 from .clutter import FurnitureLegs
-from .cues import CueSpec, Hysteresis, bearings_from, match_faces, match_sounds
+from .cues import CueSpec, Hysteresis, bearings_from, match_faces, match_sounds, sound_bearings_from
 from .fsm import CAMERA, TURNS, AttentionFSM, OrderRefused
 from .legs import LegDetector, LegSpec
 from .selection import SelectionParams, Selector
@@ -272,7 +272,7 @@ class PersonAttention(Module):
         sources = list(msg.xml)
         bearings = [math.radians(float(s.get("bearing"))) for s in sources]
         # The tracks' bearings only when there is a sound to match them with (most frames are quiet).
-        track_bearings = bearings_from(self._robot_xy(t), self.cues.mic_offset) if tracks and bearings else []
+        track_bearings = sound_bearings_from(self._robot_xy(t), self.cues) if tracks and bearings else []
         rows = match_sounds(track_bearings, bearings, self.cues.sound_tolerance) if tracks and bearings else []
         self.speaking.feed(t, ids, {ids[r] for r in rows})
         if rows:
