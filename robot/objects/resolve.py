@@ -165,7 +165,10 @@ def merge(
     Candidates whose means then pass the same gate are joined (an outlier seen first would
     otherwise start a second candidate for the same object).
     Candidates seen in fewer than ``min_share`` of the frames the best was seen in are
-    dropped (a stray reading, a glimpse while the camera turned).
+    dropped (a stray reading, a glimpse while the camera turned). With an origin, a candidate whose
+    bearings fall in two groups is split (:func:`_split`), and a weak candidate between two
+    stronger ones is dissolved into them (:func:`_dissolve_between`): every candidate's position is
+    the mean of its own detections, never a point between two objects.
     """
     def gate(c: Candidate, x: float, y: float, z: float, rgb: np.ndarray) -> float | None:
         """How far a point is from a candidate (None: not the same object)."""
