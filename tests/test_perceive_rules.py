@@ -215,3 +215,28 @@ def test_the_size_from_the_image_extent_is_right_to_a_pixel(size, d):
     sizes = [2 * d * math.tan(max(true + e, 0.0) / 2) for e in (-pixel / 2, pixel / 2)]
     assert sizes[0] - 1e-9 <= 2 * d * math.tan(w / 2) <= sizes[1] + 1e-9 or w == pixel
 
+
+
+# ------------------------------------------------------------ a voice from the side
+@settings(max_examples=60, deadline=None)
+@given(bearing=st.floats(-math.pi, math.pi), dist=st.floats(0.6, 5.0))
+def test_a_voice_is_expected_where_the_microphone_pair_hears_it(bearing, dist):
+    # The anchoring's model of the pair (cues.sound_bearings_from) against the microphones' own
+    # physics (exact TDOA in 3D, far-field inversion), for a mouth at the model's height.
+    from robot.attention.cues import CueSpec, sound_bearings_from
+    from robot.hardware.microphones import MicSpec, bearing_from_tdoa, mic_positions, tdoa
+
+    spec, mic = CueSpec(), MicSpec()
+    x, y = dist * math.cos(bearing), dist * math.sin(bearing)
+    heard = float(bearing_from_tdoa(tdoa(np.array([[x, y, spec.mouth_height]]), mic_positions((0.0, 0.0, 0.0), mic)), mic)[0])
+    assert abs(sound_bearings_from([(x, y)], spec)[0] - heard) < 1e-6
+
+
+def test_a_voice_76_degrees_to_the_side_is_heard_nearer_the_front_and_still_anchored():
+    from robot.attention.cues import CueSpec, bearings_from, match_sounds, sound_bearings_from
+
+    spec = CueSpec()
+    person = (1.68 * math.cos(math.radians(-76)), 1.68 * math.sin(math.radians(-76)))
+    heard = math.radians(-66.0)  # what the pair reported for her in tour-77-00 (seed 77)
+    assert match_sounds(bearings_from([person], spec.mic_offset), [heard], spec.sound_tolerance) == []  # the old anchoring
+    assert match_sounds(sound_bearings_from([person], spec), [heard], spec.sound_tolerance) == [0]
