@@ -54,7 +54,7 @@ from homesim.message import Message
 from homesim.module import Module
 from robot.floorplan import FloorPlan, parse_map
 
-from robot.contract import ES_EVENTS, ES_ORDERS, FOCUS, FRAMES, GESTURES, OBJECTS, PARTNER, POSE
+from robot.contract import ES_EVENTS, ES_ORDERS, FOCUS, GESTURES, OBJECTS, PARTNER, POSE
 
 from .gestures import CAMERA_HEIGHT, CAMERA_OFFSET, GestureTracker, camera_to_map
 from .resolve import Candidate, Pointing, Resolution, Wanted, merge, option_texts, resolve
@@ -67,7 +67,7 @@ EVENTS = ES_EVENTS
 VIEW_HALF_WIDTH = math.radians(24.0)  # the camera's half field of view
 BODY_HALF_WIDTH = 0.3  # metres either side of a person's centre that hide what is behind (shoulders, arm)
 GESTURE_LEAD = 3.0  # s: a pointing that goes with a sentence may begin this long before its first word
-SENTENCE_RECENT = 10.0  # s: a sentence about an object that ended this long ago is the one being resolved
+SENTENCE_RECENT = 15.0  # s: a sentence begun this long ago is still the one being resolved (said, understood, sent)
 SEARCH_OFFSETS = (math.radians(-35.0), math.radians(35.0), math.radians(-70.0), math.radians(70.0))  # off her bearing
 SEARCH_LOOK = 1.0  # s the camera dwells on each side of her
 SEARCH_RADIUS = 1.5  # m: what she shows without a gesture the camera saw stands this near her
@@ -112,7 +112,6 @@ class ObjectAttention(Module):
         super().__init__(sim, name, host="robot")
         self.step_aside_wait = step_aside_wait
         self._partner: tuple[float, float, float] | None = None  # time, bearing (rad), distance of the partner (person attention)
-        self._sentence: tuple[float, float] | None = None  # start, end (s) of the latest understood sentence about an object
         self.gesture_wait = gesture_wait
         self.look_time = look_time
         self.ask_timeout = ask_timeout
@@ -129,7 +128,6 @@ class ObjectAttention(Module):
         self.bus.subscribe(OBJECTS, self._on_objects)
         self.bus.subscribe(POSE, self._on_pose)
         self.bus.subscribe(PARTNER, self._on_partner)
-        self.bus.subscribe(FRAMES, self._on_frames)
 
     async def run(self) -> None:
         try:
@@ -191,17 +189,21 @@ class ObjectAttention(Module):
         if self._search is not None and not self._search.done():
             self._search.cancel()
         obj = None
+        said: float | None = None
         for p in msg.xml.iterfind("param"):
             if p.get("name") == "object":
                 obj = p.find("OBJECT")
-        self._search = self.sim.spawn(self.find(obj, msg.id), name=f"{self.name}:find")
+            elif p.get("name") == "said" and p.find("TIMESTAMP") is not None:  # the sentence's start (ms)
+                said = float(p.find("TIMESTAMP").get("val", "nan")) / 1000.0  # type: ignore[union-attr]
+        self._search = self.sim.spawn(self.find(obj, msg.id, said), name=f"{self.name}:find")
 
-    async def find(self, obj: etree._Element | None, cause: str) -> None:
-        """One search (see the module docstring); always ends with an ES event."""
+    async def find(self, obj: etree._Element | None, cause: str, said: float | None = None) -> None:
+        """One search (see the module docstring); always ends with an ES event. ``said``: when the
+        sentence began (s, the frame's ``TIMESTAMP``), if the order carries it."""
         wanted = wanted_from(obj)
         try:
             waited = 0.0
-            start = self._gesture_start()
+            start = self._gesture_start(said)
             while self.gestures.pointing(self.now, start=start) is None and waited < self.gesture_wait:
                 await asyncio.sleep(0.1)
                 waited += 0.1
@@ -358,22 +360,14 @@ class ObjectAttention(Module):
             await asyncio.sleep(0.2)
             waited += 0.2
 
-    def _on_frames(self, msg: Message) -> None:
-        """When the latest sentence about an object was said (the understanding's frames): its
-        gesture is looked for from then on."""
-        x = msg.xml
-        if x.tag == "understood" and x.find(".//OBJECT") is not None:
-            self._sentence = (float(x.get("start", msg.created)), float(x.get("end", msg.created)))  # type: ignore[arg-type]
-
-    def _gesture_start(self) -> float | None:
+    def _gesture_start(self, said: float | None) -> float | None:
         """Where to look back for the gesture that went with the request: from ``GESTURE_LEAD`` s
-        before the latest sentence about an object, if it ended within ``SENTENCE_RECENT`` s (she
-        points, then speaks: by the time the request is understood and reaches this module the
-        arm is down again); None: the gesture tracker's own window."""
-        s = self._sentence
-        if s is None or self.now - s[1] > SENTENCE_RECENT:
+        before the sentence began (``said``, from the order's ``TIMESTAMP``), if it began within
+        ``SENTENCE_RECENT`` s (she points, then speaks: by the time the request is understood and
+        reaches this module the arm is down again); None: the gesture tracker's own window."""
+        if said is None or math.isnan(said) or self.now - said > SENTENCE_RECENT:
             return None
-        return s[0] - GESTURE_LEAD
+        return said - GESTURE_LEAD
 
     def _on_partner(self, msg: Message) -> None:
         x = msg.xml
