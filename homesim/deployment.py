@@ -2,8 +2,10 @@
 
 A deployment document (``<deployment name default-host>``, schema
 ``homesim/schemas/deployment.xsd``) lists link kinds (:class:`~homesim.network.LinkModel`
-in ms and Mbit/s), hosts (the link each is attached by, its CPU speed) and
-placements (a module, i.e. a bus participant by name, on a host). A run loads
+in ms and Mbit/s), hosts (the link each is attached by, optionally another
+link for what it sends, its CPU speed), routes (the link one ordered pair of
+hosts talks over, overriding their attachments) and placements (a module,
+i.e. a bus participant by name, on a host). A run loads
 one (the simulated system's default), lets the scenario override parts of it
 (:class:`Override`: links, hosts and placements replaced by name) and applies
 it to the simulation's :class:`~homesim.network.Network` before any module
@@ -12,7 +14,8 @@ joins the bus.
 The kernel knows no particular system: the document names hosts and modules
 as data. How it fails: every problem is an :class:`~homesim.errors.InputError`
 naming the file, the line and the element (a schema violation, a name given
-twice, a host on an unknown link, a placement on an unknown host); nothing is
+twice, a host or route on an unknown link, a route or placement on an unknown
+host, a route from a host to itself); nothing is
 applied from a document that does not load.
 """
 
@@ -38,13 +41,33 @@ class DeploymentError(InputError):
 
 @dataclass(frozen=True)
 class HostSpec:
-    """A computer: the link kind it is attached by, its CPU speed in MHz (None: unknown), the CPU's name."""
+    """A computer: the link kind it is attached by, its CPU speed in MHz (None: unknown), the CPU's name.
+
+    ``uplink``: the link kind its outgoing messages take, when not ``link``
+    (an attachment slower one way, e.g. a WLAN whose access point queues
+    the frames to this station).
+    """
 
     name: str
     link: str
     cpu_mhz: float | None = None
     cpu: str = ""
     line: int | None = None
+    uplink: str | None = None
+
+
+@dataclass(frozen=True)
+class RouteSpec:
+    """Messages from host ``src`` to host ``dst`` take ``link`` (one direction; overrides both hosts' links)."""
+
+    src: str
+    dst: str
+    link: str
+    line: int | None = None
+
+    @property
+    def key(self) -> tuple[str, str]:
+        return (self.src, self.dst)
 
 
 @dataclass(frozen=True)
@@ -62,6 +85,9 @@ class Override:
     href: str | None = None
     source: str = "<override>"
     line: int | None = None
+    routes: tuple[RouteSpec, ...] = ()
+    #: module -> the line of its <place> (errors name it)
+    place_lines: tuple[tuple[str, int | None], ...] = ()
 
 
 @dataclass(frozen=True)
@@ -76,6 +102,7 @@ class Deployment:
     description: str = ""
     source: str = "<deployment>"
     overridden: bool = field(default=False, compare=False)
+    routes: tuple[RouteSpec, ...] = ()
 
     def host_of(self, module: str) -> str:
         """The host ``module`` runs on."""
@@ -96,39 +123,47 @@ class Deployment:
         raise KeyError(name)
 
     def merged(self, override: Override) -> Deployment:
-        """This deployment with ``override``'s links, hosts and placements replacing those of the same name."""
+        """This deployment with ``override``'s links, hosts, routes (by host pair) and placements replacing those of the same name."""
         links = {lk.name: lk for lk in self.links}
         links.update((lk.name, lk) for lk in override.links)
         hosts = {h.name: h for h in self.hosts}
         hosts.update((h.name, h) for h in override.hosts)
         placement = dict(self.placement)
         placement.update(override.placement)
+        routes = {r.key: r for r in self.routes}
+        routes.update((r.key, r) for r in override.routes)
         out = replace(self, links=tuple(links.values()), hosts=tuple(hosts.values()),
-                      placement=tuple(sorted(placement.items())),
+                      placement=tuple(sorted(placement.items())), routes=tuple(routes.values()),
                       default_host=override.default_host or self.default_host, overridden=True)
-        _check_refs(out, override.source, override.line)
+        _check_refs(out, override.source, override.line, dict(override.place_lines))
         return out
 
     def apply(self, network: Network) -> None:
-        """Declare the links and hosts on ``network`` and place every module named."""
+        """Declare the links, hosts and routes on ``network`` and place every module named."""
         for lk in self.links:
             network.set_link(lk)
         for h in self.hosts:
-            network.add_host(h.name, link=h.link, speed_mhz=h.cpu_mhz)
+            network.add_host(h.name, link=h.link, uplink=h.uplink, speed_mhz=h.cpu_mhz)
+        for r in self.routes:
+            network.set_route(r.src, r.dst, r.link)
         for module, host in self.placement:
             network.place(module, host)
         network.default_host = self.default_host
 
     def as_dict(self) -> dict[str, Any]:
-        """Plain data for a run summary: the name, hosts (link, CPU) and placements."""
-        return {
+        """Plain data for a run summary: the name, hosts (link, uplink, CPU), routes and placements."""
+        out: dict[str, Any] = {
             "name": self.name,
             "overridden": self.overridden,
-            "hosts": {h.name: {"link": h.link, **({"cpu_mhz": h.cpu_mhz} if h.cpu_mhz else {}),
+            "hosts": {h.name: {"link": h.link, **({"uplink": h.uplink} if h.uplink else {}),
+                               **({"cpu_mhz": h.cpu_mhz} if h.cpu_mhz else {}),
                                **({"cpu": h.cpu} if h.cpu else {})} for h in self.hosts},
             "default_host": self.default_host,
             "placement": dict(self.placement),
         }
+        if self.routes:
+            out["routes"] = {f"{r.src}->{r.dst}": r.link for r in sorted(self.routes, key=lambda r: r.key)}
+        return out
 
 
 # ------------------------------------------------------------------ loading
@@ -158,23 +193,36 @@ def _link(el: etree._Element, source: str) -> LinkModel:
 def _host(el: etree._Element) -> HostSpec:
     mhz = el.get("cpu-mhz")
     return HostSpec(el.get("name", ""), el.get("link", ""), None if mhz is None else float(mhz), el.get("cpu", ""),
-                    el.sourceline)
+                    el.sourceline, el.get("uplink"))
 
 
-def _children(parent: etree._Element, source: str) -> tuple[list[LinkModel], list[HostSpec], list[tuple[str, str]]]:
-    """Links, hosts and placements of ``parent``, each name at most once (else an error at the repeat)."""
+def _route(el: etree._Element, source: str) -> RouteSpec:
+    src, dst = el.get("from", ""), el.get("to", "")
+    if src == dst:
+        raise _fail(f"route from {src!r} to itself: a host talks to itself over the local link", source, el)
+    return RouteSpec(src, dst, el.get("link", ""), el.sourceline)
+
+
+_KEYS = {"link": ("name",), "host": ("name",), "place": ("module",), "route": ("from", "to")}
+
+
+def _children(parent: etree._Element, source: str, place_lines: dict[str, int | None] | None = None
+              ) -> tuple[list[LinkModel], list[HostSpec], list[tuple[str, str]], list[RouteSpec]]:
+    """Links, hosts, placements and routes of ``parent``, each name (a route: each pair) at most once
+    (else an error at the repeat)."""
     links: list[LinkModel] = []
     hosts: list[HostSpec] = []
     placement: list[tuple[str, str]] = []
+    routes: list[RouteSpec] = []
     seen: dict[tuple[str, str], int | None] = {}
     for el in parent:
         if not isinstance(el.tag, str):
             continue
         tag = etree.QName(el).localname
-        key_attr = {"link": "name", "host": "name", "place": "module"}.get(tag)
-        if key_attr is None:
+        key_attrs = _KEYS.get(tag)
+        if key_attrs is None:
             continue
-        key = (tag, el.get(key_attr, ""))
+        key = (tag, " -> ".join(el.get(a, "") for a in key_attrs))
         if key in seen:
             raise _fail(f"{tag} {key[1]!r} is given twice (first at line {seen[key]})", source, el)
         seen[key] = el.sourceline
@@ -182,22 +230,38 @@ def _children(parent: etree._Element, source: str) -> tuple[list[LinkModel], lis
             links.append(_link(el, source))
         elif tag == "host":
             hosts.append(_host(el))
+        elif tag == "route":
+            routes.append(_route(el, source))
         else:
             placement.append((el.get("module", ""), el.get("host", "")))
-    return links, hosts, placement
+            if place_lines is not None:
+                place_lines[el.get("module", "")] = el.sourceline
+    return links, hosts, placement, routes
 
 
-def _check_refs(d: Deployment, source: str, line: int | None = None) -> None:
+def _check_refs(d: Deployment, source: str, line: int | None = None,
+                place_lines: dict[str, int | None] | None = None) -> None:
     links = {lk.name for lk in d.links} | {"local"}
     hosts = {h.name for h in d.hosts}
     for h in d.hosts:
         if h.link not in links:
             raise DeploymentError(f"host {h.name!r} is attached by unknown link {h.link!r}; links: {sorted(links)}",
                                   source=source, line=h.line or line, element="host")
+        if h.uplink is not None and h.uplink not in links:
+            raise DeploymentError(f"host {h.name!r} sends over unknown link {h.uplink!r} (uplink); links: "
+                                  f"{sorted(links)}", source=source, line=h.line or line, element="host")
+    for r in d.routes:
+        for end, host in (("from", r.src), ("to", r.dst)):
+            if host not in hosts:
+                raise DeploymentError(f"route {r.src!r} -> {r.dst!r}: {end} unknown host {host!r}; hosts: "
+                                      f"{sorted(hosts)}", source=source, line=r.line or line, element="route")
+        if r.link not in links:
+            raise DeploymentError(f"route {r.src!r} -> {r.dst!r} takes unknown link {r.link!r}; links: "
+                                  f"{sorted(links)}", source=source, line=r.line or line, element="route")
     for module, host in d.placement:
         if host not in hosts:
             raise DeploymentError(f"module {module!r} is placed on unknown host {host!r}; hosts: {sorted(hosts)}",
-                                  source=source, line=line, element="place")
+                                  source=source, line=(place_lines or {}).get(module) or line, element="place")
     if d.default_host not in hosts:
         raise DeploymentError(f"default-host {d.default_host!r} is not a host; hosts: {sorted(hosts)}",
                               source=source, line=line, element="deployment")
@@ -216,11 +280,13 @@ def from_element(root: etree._Element, *, source: str = "<deployment>") -> Deplo
     if root.tag != "deployment":
         raise _fail(f"root element is <{root.tag}>, not <deployment>", source, root)
     _validate(root, source)
-    links, hosts, placement = _children(root, source)
+    lines: dict[str, int | None] = {}
+    links, hosts, placement, routes = _children(root, source, lines)
     desc = root.find("description")
     d = Deployment(root.get("name", ""), root.get("default-host", ""), tuple(links), tuple(hosts),
-                   tuple(sorted(placement)), " ".join((desc.text or "").split()) if desc is not None else "", source)
-    _check_refs(d, source, root.sourceline)
+                   tuple(sorted(placement)), " ".join((desc.text or "").split()) if desc is not None else "", source,
+                   routes=tuple(routes))
+    _check_refs(d, source, root.sourceline, lines)
     # Every placement's host must be a host; every module at most once (checked in _children).
     return d
 
@@ -232,7 +298,7 @@ def load(path: str | os.PathLike[str]) -> Deployment:
 
 
 def override_from_element(el: etree._Element, *, source: str) -> Override:
-    """A scenario's ``<deployment [href] [default-host]>`` with link/host/place children, checked.
+    """A scenario's ``<deployment [href] [default-host]>`` with link/host/route/place children, checked.
 
     Each child must satisfy the deployment schema; references (a host's link,
     a placement's host) are checked when the override is merged into the
@@ -242,17 +308,19 @@ def override_from_element(el: etree._Element, *, source: str) -> Override:
     for child in el:
         if not isinstance(child.tag, str):
             continue
-        if child.tag not in ("link", "host", "place"):
-            raise _fail(f"<{child.tag}> is not part of a deployment (link, host, place)", source, child)
+        if child.tag not in ("link", "host", "route", "place"):
+            raise _fail(f"<{child.tag}> is not part of a deployment (link, host, route, place)", source, child)
         problems = schema.errors(child)
         if problems:
             raise DeploymentError(f"does not satisfy deployment.xsd: {problems[0][1]}", source=source,
                                   line=child.sourceline, element=child.tag)
-    links, hosts, placement = _children(el, source)
+    lines: dict[str, int | None] = {}
+    links, hosts, placement, routes = _children(el, source, lines)
     href = el.get("href")
     if href is not None and not href.strip():
         raise _fail("href is empty", source, el)
-    return Override(tuple(links), tuple(hosts), tuple(placement), el.get("default-host"), href, source, el.sourceline)
+    return Override(tuple(links), tuple(hosts), tuple(placement), el.get("default-host"), href, source, el.sourceline,
+                    tuple(routes), tuple(sorted(lines.items())))
 
 
 def resolve(default: Deployment | str | os.PathLike[str], override: Override | None, *,
@@ -284,5 +352,5 @@ def check_file(path: str) -> list[InputError]:
     return []
 
 
-__all__ = ("Deployment", "DeploymentError", "HostSpec", "Override", "check_file", "from_element", "load",
+__all__ = ("Deployment", "DeploymentError", "HostSpec", "Override", "RouteSpec", "check_file", "from_element", "load",
            "override_from_element", "resolve")

@@ -3,7 +3,14 @@
 A distributed system runs its participants on hosts; each host is attached
 by one kind of link (a LAN segment, a WLAN, ...). Two participants on the
 same host talk over the ``local`` link (the loopback); otherwise a message
-takes the slower of their two hosts' links. A link is data
+takes the slower of the sender's host's link *out* (its uplink: by default
+the link it is attached by) and the receiver's host's link *in* (the link it
+is attached by), so a WLAN station whose access point queues the frames to
+it (bufferbloat on the downlink) can be slower one way than the other. A
+route (:meth:`Network.set_route`) overrides that for one ordered pair of
+hosts: messages from ``a`` to ``b`` take exactly its link, whatever the
+hosts' attachments (two hosts with a path of their own, a tunnel, a
+pair that shares a congested hop). A link is data
 (:class:`LinkModel`): a base latency (uniform in ``[min_s, max_s]``), a
 half-normal jitter, a bandwidth (so a message's size matters: a scan with
 its attachment takes longer than a heartbeat), and a loss probability per
@@ -255,6 +262,10 @@ class Network:
         self._draws = Draws(rng)
         self._links: dict[str, LinkModel] = dict(DEFAULT_LINKS)
         self._hosts: dict[str, str] = {}
+        # Per host: the link its outgoing messages take (absent: the link it is attached by).
+        self._uplinks: dict[str, str] = {}
+        # Per ordered (from host, to host): the link that pair's messages take (overrides the hosts' links).
+        self._routes: dict[tuple[str, str], str] = {}
         self._speeds: dict[str, float] = {}
         self._placement: dict[str, str] = {}
         #: Where a participant runs that is not placed and asks for a host nobody declared (a deployment's default).
@@ -283,16 +294,46 @@ class Network:
         """Link name -> model, sorted by name."""
         return dict(sorted(self._links.items()))
 
-    def add_host(self, host: str, *, link: str = "lan", speed_mhz: float | None = None) -> None:
-        """Declare a host, the kind of link it is attached by and (optionally) its CPU speed."""
-        if link not in self._links:
-            raise HomesimError(f"host {host!r}: unknown link {link!r}; known: {sorted(self._links)}")
+    def add_host(self, host: str, *, link: str = "lan", uplink: str | None = None,
+                 speed_mhz: float | None = None) -> None:
+        """Declare a host, the kind of link it is attached by and (optionally) its CPU speed.
+
+        ``link`` carries what the host receives; ``uplink`` (default: ``link``)
+        what it sends, for an attachment that is not the same both ways.
+        """
+        for kind in (link, uplink):
+            if kind is not None and kind not in self._links:
+                raise HomesimError(f"host {host!r}: unknown link {kind!r}; known: {sorted(self._links)}")
         if speed_mhz is not None and not (0.0 < speed_mhz < 1e6):
             raise HomesimError(f"host {host!r}: speed_mhz must be in (0, 1e6), got {speed_mhz}")
         self._hosts[host] = link
+        if uplink is None or uplink == link:
+            self._uplinks.pop(host, None)
+        else:
+            self._uplinks[host] = uplink
         if speed_mhz is not None:
             self._speeds[host] = float(speed_mhz)
         self._changed()
+
+    def set_route(self, src: str, dst: str, link: str) -> None:
+        """Messages from host ``src`` to host ``dst`` take ``link`` (one direction; the hosts' own links are ignored).
+
+        Raises :class:`HomesimError` for an unknown host or link, or ``src == dst``
+        (a host talks to itself over ``local``).
+        """
+        for h in (src, dst):
+            if h not in self._hosts:
+                raise HomesimError(f"route {src!r} -> {dst!r}: unknown host {h!r}; hosts: {sorted(self._hosts)}")
+        if src == dst:
+            raise HomesimError(f"route {src!r} -> {dst!r}: a host talks to itself over the local link")
+        if link not in self._links:
+            raise HomesimError(f"route {src!r} -> {dst!r}: unknown link {link!r}; known: {sorted(self._links)}")
+        self._routes[(src, dst)] = link
+        self._changed()
+
+    def routes(self) -> dict[tuple[str, str], str]:
+        """(from host, to host) -> link name of every explicit route, sorted."""
+        return dict(sorted(self._routes.items()))
 
     def ensure_host(self, host: str) -> None:
         """Declare ``host`` on the LAN if it is not known yet."""
@@ -301,8 +342,12 @@ class Network:
             self._changed()
 
     def hosts(self) -> dict[str, str]:
-        """Host -> link kind, sorted by host name."""
+        """Host -> link kind it is attached by (what it receives over), sorted by host name."""
         return dict(sorted(self._hosts.items()))
+
+    def uplink(self, host: str) -> str:
+        """The link kind ``host``'s outgoing messages take (its attachment unless an uplink is set)."""
+        return self._uplinks.get(host, self._hosts[host])
 
     def host_speed(self, host: str) -> float | None:
         """The host's CPU speed in MHz, if its deployment says."""
@@ -343,8 +388,9 @@ class Network:
     def delay_ns(self, host_a: str, host_b: str, size: int = 0) -> int | None:
         """Draw one delay from ``host_a`` to ``host_b`` for ``size`` bytes; None when lost.
 
-        The delay follows the slower link; a message is lost if either
-        host's link loses it (the slower link retransmits if it can; the
+        The delay follows the slower of ``host_a``'s uplink and ``host_b``'s
+        link (or the pair's route, alone, if one is set); a message is lost if
+        either link loses it (the slower link retransmits if it can; the
         other's loss applies as a drop). Not recorded in the link's
         statistics: the bus records what a delivery took (FIFO included).
         """
@@ -376,10 +422,13 @@ class Network:
         return st
 
     def _plan(self, host_a: str, host_b: str) -> Route:
+        route = self._routes.get((host_a, host_b))
         if host_a == host_b:
             other_loss, slow = 0.0, self._links["local"]
+        elif route is not None:
+            other_loss, slow = 0.0, self._links[route]
         else:
-            a = self._links[self._hosts[host_a]]
+            a = self._links[self._uplinks.get(host_a, self._hosts[host_a])]
             b = self._links[self._hosts[host_b]]
             slow, other = (a, b) if a.worst_s >= b.worst_s else (b, a)
             other_loss = other.loss

@@ -245,13 +245,19 @@ class Delivery:
     rec: dict[str, Any]
 
 
-def walk(path: str | os.PathLike[str], streams: dict[tuple[str, str], StreamStats]) -> Iterator[Send | Delivery]:
-    """Second pass: every send with its processing span and cause links, and every delivery, in file order."""
+def walk(path: str | os.PathLike[str], streams: dict[tuple[str, str], StreamStats], *,
+         progress: Callable[[float, float], None] | None = None) -> Iterator[Send | Delivery]:
+    """Second pass: every send with its processing span and cause links, and every delivery, in file order.
+
+    ``progress(t, end)`` is called every few thousand records with the virtual time reached."""
     sent = _Recent()  # id -> (sender, t)
     delivered = _Recent()  # (id, receiver) -> t
+    end = max((s.last for s in streams.values()), default=0.0)
     it = read_trace(path)
     next(it, None)  # the header
-    for rec in it:
+    for n, rec in enumerate(it):
+        if progress is not None and n % 4096 == 0 and isinstance(rec.get("t"), (int, float)):
+            progress(rec["t"], end)
         kind = rec.get("kind")
         if kind == "deliver":
             for r in rec.get("receivers", ()):
@@ -277,7 +283,8 @@ def walk(path: str | os.PathLike[str], streams: dict[tuple[str, str], StreamStat
 
 
 def read_timeline(path: str | os.PathLike[str], *, start: float | None = None, end: float | None = None,
-                  heartbeats: bool = False, stream_per_s: float = 2.0) -> Timeline:
+                  heartbeats: bool = False, stream_per_s: float = 2.0,
+                  progress: Callable[[float, float], None] | None = None) -> Timeline:
     """The timeline of a trace file between ``start`` and ``end`` (virtual seconds; default: all of it).
 
     Stream messages are thinned to at most ``stream_per_s`` per second per
@@ -300,7 +307,7 @@ def read_timeline(path: str | os.PathLike[str], *, start: float | None = None, e
     lane_depths: dict[str, list[int]] = {}  # a module's events' causal depths (one int per event message)
     lane_first: dict[str, float] = {}
     stream_first: dict[str, float] = {}  # modules that send streams: their first stream message
-    for ev in walk(path, streams):
+    for ev in walk(path, streams, progress=progress):
         rec = ev.rec
         if isinstance(ev, Delivery):
             m = msgs.get(rec["id"])
@@ -368,25 +375,32 @@ def read_timeline(path: str | os.PathLike[str], *, start: float | None = None, e
 def _deployment(header: dict[str, Any], names: set[str], order: list[Message]
                 ) -> tuple[dict[str, str], list[str], set[tuple[str, str]]]:
     """From the header's run deployment: lane -> host, the hosts in order, and the (sender, receiver)
-    pairs whose messages took the slowest link (the slower of the two hosts' links, as the network does)."""
+    pairs whose messages took the slowest link (as the network does: the pair's route if it has one,
+    else the slower of the sender's uplink and the receiver's link)."""
     run = header.get("run") if isinstance(header.get("run"), dict) else {}
-    host_links = run.get("hosts") if isinstance(run.get("hosts"), dict) else {}
-    placement = run.get("placement") if isinstance(run.get("placement"), dict) else {}
-    worst = run.get("link_worst_ms") if isinstance(run.get("link_worst_ms"), dict) else {}
+
+    def mapping(key: str) -> dict[str, Any]:
+        v = run.get(key)
+        return v if isinstance(v, dict) else {}
+
+    host_links, placement, worst = mapping("hosts"), mapping("placement"), mapping("link_worst_ms")
+    uplinks, routes = mapping("uplinks"), mapping("routes")
     if not placement:
         return {}, [], set()
     default = placement.get("default")
     hosts = {n: str(placement.get(n, default)) for n in names}
     slow: set[tuple[str, str]] = set()
-    kinds = {lk for lk in host_links.values() if isinstance(worst.get(lk), (int, float))}
+    used = set(host_links.values()) | set(uplinks.values()) | set(routes.values())
+    kinds = {lk for lk in used if isinstance(worst.get(lk), (int, float))}
     if len(kinds) > 1:
         slowest = max(kinds, key=lambda lk: worst[lk])
         for m in order:
             for r in m.delivered:
                 a, b = hosts.get(m.sender, ""), hosts.get(r, "")
-                la, lb = host_links.get(a), host_links.get(b)
+                la, lb = uplinks.get(a, host_links.get(a)), host_links.get(b)
                 if a == b or la is None or lb is None:
                     continue
-                if (la if worst.get(la, 0) >= worst.get(lb, 0) else lb) == slowest:
+                link = routes.get(f"{a}->{b}") or (la if worst.get(la, 0) >= worst.get(lb, 0) else lb)
+                if link == slowest:
                     slow.add((m.sender, r))
     return hosts, list(host_links), slow

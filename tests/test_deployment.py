@@ -191,3 +191,110 @@ def test_a_sweep_runs_every_run_with_the_profile_asked_for(tmp_path):
     assert [r["verdict"] for r in rows] == ["not checked"], rows[0].get("error")
     summary = _json.loads(next((tmp_path / "summaries").glob("radio-0*.json")).read_text())
     assert summary["profile"] == "biron-2005"
+
+
+# ------------------------------------------------------------ per direction and per host pair
+_ASYM = ('<link name="fast" min-ms="1" max-ms="1"/><link name="slow" min-ms="500" max-ms="500"/>'
+         '<link name="odd" min-ms="70" max-ms="70"/>'
+         '<host name="a" link="fast"/><host name="b" link="slow" uplink="fast"/><host name="c" link="fast"/>')
+
+
+def _one_way_ms(body: str, src: str, dst: str) -> float:
+    got: list[float] = []
+    with Simulation(seed=0) as sim:
+        from_element(_doc(body), source="t.xml").apply(sim.network)
+        sim.network.place("tx", src)
+        sim.network.place("rx", dst)
+        tx, rx = sim.bus.participant("tx"), sim.bus.participant("rx")
+        rx.subscribe("/x", lambda m: got.append(sim.now - m.sent))
+        tx.publish("/x", etree.Element("x"))
+        sim.run()
+    return round(got[0] * 1000, 6)
+
+
+def test_a_host_with_an_uplink_is_slow_one_way_and_fast_the_other():
+    # b receives over "slow" (an access point's queue to it) and sends over "fast"
+    assert _one_way_ms(_ASYM, "a", "b") == 500.0
+    assert _one_way_ms(_ASYM, "b", "a") == 1.0
+
+
+def test_a_route_sets_one_direction_of_one_host_pair_only():
+    body = _ASYM + '<route from="a" to="c" link="odd"/>'
+    assert _one_way_ms(body, "a", "c") == 70.0
+    assert _one_way_ms(body, "c", "a") == 1.0  # the other direction keeps the hosts' links
+    assert _one_way_ms(body, "a", "b") == 500.0  # other pairs too
+    # a route wins over both hosts' links, slower or faster
+    assert _one_way_ms(_ASYM + '<route from="a" to="b" link="fast"/>', "a", "b") == 1.0
+
+
+def test_each_direction_link_has_its_own_statistics_in_the_summary_figures():
+    with Simulation(seed=0) as sim:
+        from_element(_doc(_ASYM), source="t.xml").apply(sim.network)
+        for name, host in (("tx", "a"), ("rx", "b")):
+            sim.network.place(name, host)
+        tx, rx = sim.bus.participant("tx"), sim.bus.participant("rx")
+        rx.subscribe("/x", lambda m: None)
+        tx.subscribe("/y", lambda m: None)
+        tx.publish("/x", etree.Element("x"))
+        rx.publish("/y", etree.Element("y"))
+        sim.run()
+        stats = {k: v.summary() for k, v in sim.network.stats().items()}
+    assert stats["slow"]["deliveries"] == 1 and stats["slow"]["max_ms"] == 500.0
+    assert stats["fast"]["deliveries"] == 1 and stats["fast"]["max_ms"] == 1.0
+
+
+@pytest.mark.parametrize("body, words, line", [
+    (_ASYM.replace('uplink="fast"', 'uplink="nope"'), "sends over unknown link 'nope'", 1),
+    (_ASYM + '\n<route from="a" to="zz" link="odd"/>', "to unknown host 'zz'", 2),
+    (_ASYM + '\n\n<route from="a" to="c" link="nope"/>', "unknown link 'nope'", 3),
+    (_ASYM + '\n<route from="a" to="a" link="odd"/>', "to itself", 2),
+    (_ASYM + '<route from="a" to="c" link="odd"/>\n<route from="a" to="c" link="fast"/>', "given twice", 2),
+    (_ASYM + '<route from="a" link="odd"/>', "deployment.xsd", 1),
+])
+def test_a_bad_uplink_or_route_is_refused_naming_the_line(body, words, line):
+    with pytest.raises(DeploymentError, match=words) as err:
+        from_element(_doc(body), source="t.xml")
+    assert err.value.line == line and "t.xml" in str(err.value)
+
+
+def test_homesim_check_reports_a_bad_route_in_a_scenario_with_its_line(tmp_path):
+    from homesim.check import check_path
+
+    text = (ROOT / "scenarios" / "wlan_congested.xml").read_text()
+    bad = text.replace("<deployment>", '<deployment>\n    <route from="pc1" to="moon" link="wlan"/>', 1)
+    path = tmp_path / "bad.xml"
+    path.write_text(bad)
+    kind, problems = check_path(str(path))
+    line = bad.splitlines().index('    <route from="pc1" to="moon" link="wlan"/>') + 1
+    assert kind == "scenario" and len(problems) == 1
+    assert problems[0].line == line and "unknown host 'moon'" in problems[0].message
+
+
+_link_st = st.builds(lambda lo, span: (lo, lo + span), st.integers(0, 400), st.integers(0, 400))
+
+
+@settings(max_examples=examples(25, 100), deadline=None)
+@given(links=st.lists(_link_st, min_size=3, max_size=3), up=st.sampled_from([None, "l0", "l1", "l2"]),
+       route=st.sampled_from([None, "l0", "l1", "l2"]), seed=st.integers(0, 2**32 - 1))
+def test_a_message_takes_the_route_else_the_slower_of_sender_uplink_and_receiver_link(links, up, route, seed):
+    """Whatever the links: a delay lies within the link the rule picks, and the same seed gives the same delays."""
+    body = "".join(f'<link name="l{i}" min-ms="{lo}" max-ms="{hi}"/>' for i, (lo, hi) in enumerate(links))
+    body += '<host name="a" link="l0"' + (f' uplink="{up}"' if up else "") + '/><host name="b" link="l1"/>'
+    if route:
+        body += f'<route from="a" to="b" link="{route}"/>'
+    d = from_element(_doc(body), source="t.xml")
+
+    def delays() -> list[int]:
+        net = Network(np.random.default_rng(seed))
+        d.apply(net)
+        return [net.delay_ns("a", "b") for _ in range(20)]
+
+    one = delays()
+    assert one == delays()
+    if route:
+        lo, hi = links[int(route[1])]
+    else:
+        out = links[int((up or "l0")[1])]
+        lo, hi = out if out[1] >= links[1][1] else links[1]  # the slower (by its worst delay); a tie: the sender's
+    for ns in one:
+        assert lo * 1e6 - 1 <= ns <= hi * 1e6 + 1

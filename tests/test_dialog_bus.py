@@ -454,6 +454,29 @@ def test_the_partner_behind_the_robot_is_heard_at_the_mirrored_bearing(robot):
     assert robot.dialog.summary()["barge_ins"] == 1
 
 
+def test_a_sound_frame_recorded_before_the_robot_began_its_sentence_does_not_barge_in(robot):
+    """Over a slow link the microphones' frames arrive late: one recorded while the partner was still
+    finishing her turn, delivered once the robot has begun its answer, is not an interruption; a frame
+    recorded after the robot began is (wlan_reorder's queued downlink cut every farewell this way)."""
+    robot.greet()
+    robot.partner_at(0.0, 1.5, 3.5)
+    robot.sim.run(until=2.5)  # the greeting's answer is being spoken
+    start = robot.dialog._talk_start
+    assert 0.0 < start < 2.5
+
+    def late(recorded: float) -> None:
+        el = etree.Element("sources", time=f"{recorded:.6f}")
+        etree.SubElement(el, "source", tdoa="0", bearing="0", level="70")
+        robot.mic.publish("/robot/audio/sources", el)
+
+    robot.sim.call_at(2.6, lambda: late(start - 0.3))
+    robot.sim.run(until=2.8)
+    assert robot.dialog.summary()["barge_ins"] == 0
+    robot.sim.call_at(2.9, lambda: late(2.85))
+    robot.sim.run(until=3.2)
+    assert robot.dialog.summary()["barge_ins"] == 1
+
+
 def test_a_stale_partner_bearing_does_not_barge_in(robot):
     robot.greet()
     robot.partner_at(0.0, 1.0, 1.2)  # reported, then no more (the partner left)

@@ -64,7 +64,8 @@ def test_the_tutorial_covers_what_the_issue_asks():
     kinds = [k for k, _ in steps()]
     commands = [c for k, c in steps() if k == "bash"]
     assert "python" in kinds and "xml" in kinds
-    for needle in ("homesim run scenarios/home_tour.xml", "homesim run out/hello.xml", "homesim check", "jupyter execute notebooks/home_tour.ipynb",
+    for needle in ("homesim run scenarios/home_tour.xml", "homesim run out/hello.xml", "homesim check", "jupyter execute --inplace notebooks/home_tour.ipynb",
+                   "homesim trace info", "homesim trace echo", "--record",
                    "--timeline", "--perfetto", "--mcap", "homesim generate", "homesim study"):
         assert any(needle in c for c in commands), needle
 

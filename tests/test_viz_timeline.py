@@ -149,3 +149,19 @@ def test_a_damaged_trace_is_one_line_naming_file_and_line(tmp_path, capsys, dama
     err = capsys.readouterr().err
     assert says in err and err.startswith(f"homesim: error: {path}:") and len(err.strip().splitlines()) == 1, err
     assert not out.exists()
+
+
+def test_the_slow_arrows_follow_a_link_per_direction_and_a_route():
+    """The header's uplinks and routes: a message takes the pair's route, else the slower of the
+    sender's uplink and the receiver's link, as the network does."""
+    from types import SimpleNamespace
+
+    from homesim.traceview import _deployment
+
+    run = {"hosts": {"pc1": "lan", "pc2": "lan", "laptop": "wlan_down"}, "uplinks": {"laptop": "wlan"},
+           "routes": {"pc2->laptop": "lan"}, "placement": {"default": "pc1", "dialog": "laptop", "camera": "pc2"},
+           "link_worst_ms": {"lan": 4.0, "wlan": 30.0, "wlan_down": 700.0}}
+    msgs = [SimpleNamespace(sender="attention", delivered=["dialog"]), SimpleNamespace(sender="dialog", delivered=["attention"]),
+            SimpleNamespace(sender="camera", delivered=["dialog"])]
+    _, _, slow = _deployment({"run": run}, {"attention", "dialog", "camera"}, msgs)
+    assert slow == {("attention", "dialog")}  # to the laptop over its queued downlink; back over wlan; pc2's route is the LAN

@@ -33,6 +33,12 @@ The rules, exactly:
   it can decide; :meth:`expire` is step 1 alone, for the time in between.
 * Conservation: ``stats()['queued'] == applied + expired + inapplicable +
   len(queue)`` always holds; an id cannot be queued twice while queued.
+* ``Engine(order="arrival")`` is an ablation, not the ES: the queue keeps
+  arrival order (lifetimes still count from creation), so a study or a test
+  can ask what the creation-time ordering decides in a run
+  (docs/deployment.md: for a greeting and the potential partner it overtook,
+  nothing; for which potential partner a greeting is paired with when several
+  arrive after it, or for a stale ``potential_partner_lost``, everything).
 
 How it fails: time going backwards raises :class:`ClockError`; a duplicate
 queued id raises :class:`SupervisorError`; a replacement or extension that
@@ -228,7 +234,11 @@ class _Tables:
 class Engine:
     """An AFSM and its event queue. Deterministic: same calls, same records."""
 
-    def __init__(self, machine: Machine, *, history: int = 1000) -> None:
+    def __init__(self, machine: Machine, *, history: int = 1000, order: str = "created") -> None:
+        if order not in ORDERS:
+            raise SupervisorError(f"unknown queue order {order!r}: use one of {ORDERS}")
+        self._key = _key if order == "created" else _arrival_key
+        self.order = order
         problems = validate(machine)
         if problems:
             raise AFSMProblems(problems)
@@ -319,7 +329,7 @@ class Engine:
             event = Event(event.id, event.name, event.source, event.created_ns, lifetime, event.payload)
         self._seq += 1
         item = Queued(event, self._seq, now_ns, event.created_ns + lifetime)
-        insort(self._queue, item, key=_key)
+        insort(self._queue, item, key=self._key)
         self._ids[event.id] = item
         self.counts["queued"] += 1
         return item
@@ -501,6 +511,14 @@ class Engine:
 
 def _key(item: Queued) -> tuple[int, int]:
     return (item.event.created_ns, item.seq)
+
+
+def _arrival_key(item: Queued) -> tuple[int, int]:
+    return (item.arrived_ns, item.seq)
+
+
+#: Queue orders: "created" (the ES's, docs/semantics.md §2) and "arrival" (an ablation).
+ORDERS = ("created", "arrival")
 
 
 def _param_value(f: Callable[[Any], Any], payload: etree._Element | None) -> ParamValue:

@@ -1,6 +1,8 @@
 """``homesim plot TRACE``: pictures of a recorded run.
 
-``homesim plot TRACE [--at T] [--out FILE]`` re-creates the run to time T
+``homesim plot RECORDING [--at T]`` draws the moment from a recording
+(``homesim run --record``) alone: the map, the world's truth and the robot's
+percepts it holds. ``homesim plot TRACE [--at T] [--out FILE]`` re-creates the run to time T
 (checking it against the trace line by line, :mod:`homesim.tour.tracerun`) and
 draws the flat then, with the robot's percepts over the truth; without
 ``--at`` it shows the last moment of the recorded run. ``homesim plot TRACE
@@ -30,6 +32,7 @@ def _check_output(out: Path) -> None:
 def plot_moment_of_trace(trace: Path, at: float | None):  # noqa: ANN201 (a matplotlib Figure)
     """Re-create ``trace``'s run to ``at`` (default: its end) and draw that moment with the percepts."""
     from .tracerun import rerun
+    from ..progress import VirtualSeconds
     from ..viz.moment import plot_moment
     from .percepts import CHANNELS, PerceptCollector
 
@@ -38,7 +41,8 @@ def plot_moment_of_trace(trace: Path, at: float | None):  # noqa: ANN201 (a matp
         with run:
             seen = PerceptCollector()
             run.dispatcher.add(CHANNELS, seen)
-            run.run()
+            with VirtualSeconds("re-creating the run") as bar:
+                run.run(progress=bar)
             now = run.sim.now
             what = f"t = {now:.2f} s" if at is None or abs(now - at) < 1e-9 else f"t = {now:.2f} s (asked for {at:g} s)"
             if at is None:
@@ -52,15 +56,36 @@ def plot_moment_of_trace(trace: Path, at: float | None):  # noqa: ANN201 (a matp
         check.close()
 
 
+def plot_moment_of_recording(path: Path, at: float | None):  # noqa: ANN201 (a matplotlib Figure)
+    """Draw the moment ``at`` (default: the end) of a recording (``homesim run --record``) from the file alone."""
+    from ..viz.moment import plot_moment
+    from .recorded import Recording
+
+    with Recording(path) as rec:
+        world, percepts, t = rec.moment(at)
+        run = rec.run
+    seed = f" (seed {run['seed']})" if run.get("seed") else ""
+    what = f"t = {t:.2f} s" if at is None or abs(t - at) < 1e-9 else f"t = {t:.2f} s (asked for {at:g} s)"
+    if at is None:
+        what += ", the end of the recording"
+    return plot_moment(world, percepts=percepts, title=f"{world.scenario.name}{seed} at {what}")
+
+
 def plot_command(a: argparse.Namespace) -> int:
     """``homesim plot``: one moment (default) or the timeline."""
     if a.timeline:
+        if a.at is not None:
+            raise OptionError("--at", "draws one moment of the flat; --timeline draws a window (choose it with --from/--to)")
         from ..traceview import read_timeline
         from ..viz.timeline import plot_timeline
 
         out = a.out or Path("out/timeline.png")
         _check_output(out)
-        tl = read_timeline(a.trace, start=a.start, end=a.end)
+        from ..progress import VirtualSeconds
+        from .recorded import as_trace
+
+        with as_trace(a.trace) as trace, VirtualSeconds("reading the trace") as bar:
+            tl = read_timeline(trace, start=a.start, end=a.end, progress=bar)
         fig = plot_timeline(tl)
         what = f"{len(tl.lanes)} modules, {len(tl.messages)} messages, {len(tl.spans)} processing spans, {tl.start:g}-{tl.end:g} s"
     else:
@@ -68,7 +93,9 @@ def plot_command(a: argparse.Namespace) -> int:
             raise OptionError("--from/--to", "only with --timeline (a moment is chosen with --at)")
         out = a.out or Path("out/plot.png")
         _check_output(out)
-        fig = plot_moment_of_trace(a.trace, a.at)
+        from .recorded import is_mcap
+
+        fig = plot_moment_of_recording(a.trace, a.at) if is_mcap(a.trace) else plot_moment_of_trace(a.trace, a.at)
         what = fig.axes[0].get_title()
     out.parent.mkdir(parents=True, exist_ok=True)
     save(fig, out)
@@ -78,11 +105,20 @@ def plot_command(a: argparse.Namespace) -> int:
 
 def register(sub: argparse._SubParsersAction) -> None:
     """Add ``homesim plot``."""
-    p = sub.add_parser("plot", help="draw a recorded run: the flat at a moment, or the module timeline (Fig. 6)")
-    p.add_argument("trace", type=Path, help="a trace written by 'homesim run --trace'")
-    p.add_argument("--at", type=cliargs.seconds(), default=None, help="the moment to draw (virtual seconds; default: the end)")
-    p.add_argument("--out", "-o", type=cliargs.output_file, default=None, help="the picture (.png or .svg)")
+    p = sub.add_parser("plot", help="draw a recorded run: the flat at a moment, or the module timeline (Fig. 6)",
+                       examples=["homesim plot out/tour.mcap --at 12 -o out/tour-12s.png",
+                                 "homesim plot out/tour.jsonl --at 12 -o out/tour-12s.png",
+                                 "homesim plot out/tour.jsonl --timeline --from 0 --to 15 -o out/timeline.svg"])
+    p.add_argument("trace", type=Path, help="a recording ('homesim run --record', e.g. out/tour.mcap; drawn from the file alone) "
+                                            "or a trace ('homesim run --trace', e.g. out/tour.jsonl; re-created to draw a moment)")
+    p.add_argument("--at", type=cliargs.seconds(), default=None, metavar="SECONDS",
+                   help="the moment to draw (virtual seconds; default: the end of the recorded run; not with --timeline)")
+    p.add_argument("-o", "--out", type=cliargs.output_file, default=None, metavar="FILE",
+                   help="the picture, .png or .svg (default: out/plot.png, with --timeline out/timeline.png)")
+    p.add_argument("--output", dest="out", type=cliargs.output_file, help=argparse.SUPPRESS)  # the spelling of 'scenario plot' before
     p.add_argument("--timeline", action="store_true", help="draw the module communication (Fig. 6) instead of the flat")
-    p.add_argument("--from", dest="start", type=cliargs.seconds(), default=None, help="timeline: start (virtual seconds)")
-    p.add_argument("--to", dest="end", type=cliargs.seconds(), default=None, help="timeline: end (virtual seconds)")
+    p.add_argument("--from", dest="start", type=cliargs.seconds(), default=None, metavar="SECONDS",
+                   help="timeline: start (virtual seconds; default: the trace's first message)")
+    p.add_argument("--to", dest="end", type=cliargs.seconds(), default=None, metavar="SECONDS",
+                   help="timeline: end (virtual seconds; default: the trace's last message)")
     p.set_defaults(func=plot_command)

@@ -27,43 +27,39 @@ from .. import cliargs
 from ..cliargs import OptionError
 from ..errors import HomesimError
 from ..message import Message
+from ..progress import VirtualSeconds, write
+from robot.profiles import PROFILES
 from .runner import Run, RunOptions, file_digest, store_digest
 from .tracerun import next_line, read_header, run_options, store_copy, trace_lines
 
-BAR = 30
-
-
 class Console:
-    """Transcript lines and a progress bar on one output stream."""
+    """Transcript lines on ``out`` and a progress bar in virtual seconds on a terminal's stderr (tqdm)."""
 
-    def __init__(self, out: IO[str], *, quiet: bool, bar: bool) -> None:
+    def __init__(self, out: IO[str], *, quiet: bool) -> None:
         self.out = out
         self.quiet = quiet
-        self.bar = bar and not quiet
-        self._drawn = False
+        self.bar = VirtualSeconds("run")
 
     def line(self, t: float, who: str, text: str) -> None:
         if self.quiet:
             return
-        self._clear()
-        self.out.write(f"{t:8.2f}  {who:>12}: {text}\n")
+        write(f"{t:8.2f}  {who:>12}: {text}", file=self.out)
 
     def progress(self, now: float, end: float) -> None:
-        if not self.bar:
-            return
-        done = int(BAR * now / end) if end > 0 else BAR
-        self.out.write(f"\r[{'#' * done}{'.' * (BAR - done)}] {now:7.1f} / {end:g} s")
-        self.out.flush()
-        self._drawn = True
+        if not self.quiet:
+            self.bar(now, end)
 
-    def _clear(self) -> None:
-        if self._drawn:
-            self.out.write("\r\033[K")
-            self._drawn = False
+    def close(self) -> None:
+        """Remove the bar (the run has ended or failed)."""
+        self.bar.close()
 
     def text(self, s: str) -> None:
-        self._clear()
-        self.out.write(s + "\n")
+        write(s, file=self.out)
+
+
+def _count(n: int, one: str, many: str | None = None) -> str:
+    """``"1 person"``, ``"2 people"``, ``"0 other sound sources"``."""
+    return f"{n} {one if n == 1 else (many or one + 's')}"
 
 
 def _options(a: argparse.Namespace) -> RunOptions:
@@ -80,32 +76,84 @@ def _options(a: argparse.Namespace) -> RunOptions:
 def run_command(a: argparse.Namespace) -> int:
     """``homesim run``: transcript, verdict, summary; the exit status says whether every expectation held."""
     out = sys.stdout
-    console = Console(out, quiet=a.quiet, bar=out.isatty())
+    console = Console(out, quiet=a.quiet)
+    record = getattr(a, "record", None)
+    for opt, other in (("--trace", a.trace), ("--summary", a.summary)):
+        if record is not None and other is not None and record.absolute() == other.absolute():
+            raise OptionError("--record", f"{record} is also the {opt} file; the recording needs a file of its own")
     run = Run.from_file(a.scenario, _options(a), on_line=console.line)
     with run:
-        sc = run.scenario
-        if not a.quiet:
-            console.text(f"scenario {sc.name} ({a.scenario}): seed {run.sim.seed}, {run.end:g} of {sc.duration:g} s, "
-                         f"{len(sc.humans)} people, {len(sc.sources)} other sound sources, "
-                         f"robot modules: {', '.join(sorted(run.modules)) or 'none'}")
-            console.text(f"robot profile {run.profile}; deployment {run.deployment.name}: "
-                         + ", ".join(f"{h.name} ({h.link})" for h in run.deployment.hosts))
+        recorder = _start_recording(run, getattr(a, "record", None))
+        try:
+            status = _run_and_report(a, run, console, out)
+        except BaseException:
+            if recorder is not None:
+                recorder.abandon()
+            raise
+        if recorder is not None:
+            c = recorder.close()
+            print(f"wrote {a.record} (MCAP recording: {c['channels']} channels, {c['messages']} messages, {c['scans']} laser scans)", file=out)
+        return status
+
+
+def _start_recording(run: Run, path: Path | None) -> Any:
+    if path is None:
+        return None
+    try:
+        from .recording import record
+    except ModuleNotFoundError as exc:
+        if exc.name != "mcap":
+            raise
+        raise HomesimError("--record needs the mcap library: pip install 'homesim[export]'") from exc
+    return record(run, path)
+
+
+def _run_and_report(a: argparse.Namespace, run: Run, console: Console, out: IO[str]) -> int:
+    """Run, print the verdict; the exit status says whether every expectation held."""
+    sc = run.scenario
+    if not a.quiet:
+        console.text(f"scenario {sc.name} ({a.scenario}): seed {run.sim.seed}, {run.end:g} of {sc.duration:g} s, "
+                     f"{_count(len(sc.humans), 'person', 'people')}, {_count(len(sc.sources), 'other sound source')}, "
+                     f"robot modules: {', '.join(sorted(run.modules)) or 'none'}")
+        console.text(f"robot profile {run.profile}; deployment {run.deployment.name}: "
+                     + ", ".join(f"{h.name} ({h.link}" + (f", sends over {h.uplink}" if h.uplink else "") + ")"
+                                 for h in run.deployment.hosts)
+                     + "".join(f"; {r.src} -> {r.dst} over {r.link}" for r in run.deployment.routes))
+    try:
         run.run(progress=console.progress)
-        verdicts = run.finish()
-        summary = run.summary()
-        console._clear()
-        if a.summary is not None:
-            a.summary.parent.mkdir(parents=True, exist_ok=True)
-            a.summary.write_text(json.dumps(summary, indent=2, ensure_ascii=False) + "\n", encoding="utf-8")
-        if not run.complete():
-            print(f"verdict: not checked (stopped at {summary['sim_time_s']:g} s of {sc.duration:g} s)", file=out)
-            return 0
-        for v in verdicts:
-            if not a.quiet or not v.passed:
-                print("  " + v.line(), file=out)
-        passed = sum(v.passed for v in verdicts)
-        print(f"verdict: {summary['verdict']} ({passed}/{len(verdicts)} expectations hold)", file=out)
-        return 0 if summary["verdict"] == "PASS" else 1
+    finally:
+        console.close()
+    verdicts = run.finish()
+    summary = run.summary()
+    if a.summary is not None:
+        a.summary.parent.mkdir(parents=True, exist_ok=True)
+        a.summary.write_text(json.dumps(summary, indent=2, ensure_ascii=False) + "\n", encoding="utf-8")
+    written = [f"{path} ({what})" for path, what in ((a.trace, "trace"), (a.summary, "summary")) if path is not None]
+    if written:
+        print("wrote " + ", ".join(written), file=out)
+    if not run.complete():
+        print(f"verdict: not checked (stopped at {summary['sim_time_s']:g} s of {sc.duration:g} s)", file=out)
+        return 0
+    for v in verdicts:
+        if not a.quiet or not v.passed:
+            print("  " + v.line(), file=out)
+    if not a.quiet:
+        print(network_line(summary), file=out)
+    passed = sum(v.passed for v in verdicts)
+    print(f"verdict: {summary['verdict']} ({passed}/{len(verdicts)} expectations hold)", file=out)
+    return 0 if summary["verdict"] == "PASS" else 1
+
+
+def network_line(summary: dict[str, Any]) -> str:
+    """One line of the summary's network figures: per link mean / p95 / max ms, and the ES's arrivals."""
+    links = summary.get("deployment", {}).get("links", {})
+    parts = [f"{name} {st['mean_ms']:.2f}/{st['p95_ms']:.2f}/{st['max_ms']:.1f} ms ({st['deliveries']})"
+             for name, st in links.items() if st.get("deliveries")]
+    es = summary.get("es", {})
+    line = "network (mean/p95/max, deliveries): " + ", ".join(parts)
+    if "events_received" in es:
+        line += f"; ES: {es['events_received']} events, {es['received_out_of_order']} out of creation order"
+    return line
 
 
 # ------------------------------------------------------------------ replay
@@ -159,7 +207,8 @@ def replay(trace: Path, *, out: IO[str] | None = None) -> int:
     try:
         with Run.from_file(path, run_options(h, until=h["until"], trace=cmp,
                                              store=None if store is None else Path(store.name))) as run:
-            run.run(stop=lambda: cmp.diverged is not None)
+            with VirtualSeconds("replay") as bar:
+                run.run(progress=bar, stop=lambda: cmp.diverged is not None)
             if cmp.diverged is None:
                 run.finish()  # the closing questions to the scene model are in the trace too
         if cmp.diverged is None:
@@ -186,10 +235,11 @@ def plot_command(a: argparse.Namespace) -> int:
     latest: dict[str, Message] = {}
     run = Run.from_file(a.file, RunOptions(seed=a.seed, until=a.at))
     with run:
-        if a.at > run.scenario.duration:
+        if a.at is not None and a.at > run.scenario.duration:
             raise OptionError("--at", f"{a.at:g} s is outside the scenario ({run.scenario.name}: 0 to {run.scenario.duration:g} s)")
         run.dispatcher.add(("/robot/laser/scan", "/robot/audio/sources"), lambda m: latest.__setitem__(m.channel, m))
-        run.run()
+        with VirtualSeconds("simulating") as bar:
+            run.run(progress=bar)
         scan: Any = None
         sounds: list[float] = []
         if "/robot/laser/scan" in latest:
@@ -204,22 +254,28 @@ def plot_command(a: argparse.Namespace) -> int:
         if src is not None and run.sim.now - src.created < 0.2:
             sounds = [math.radians(float(s.get("bearing"))) for s in src.xml.iterfind("source")]
         fig = viz.plot_moment(run.world, scan=scan, sound_bearings=sounds)
-        a.output.parent.mkdir(parents=True, exist_ok=True)
-        fig.savefig(a.output, dpi=120)
-        print(f"wrote {a.output} ({run.scenario.name} at t = {run.sim.now:g} s)")
+        a.out.parent.mkdir(parents=True, exist_ok=True)
+        fig.savefig(a.out, dpi=120)
+        print(f"wrote {a.out} ({run.scenario.name} at t = {run.sim.now:g} s)")
     return 0
 
 
 def _run_arguments(p: argparse.ArgumentParser) -> None:
-    p.add_argument("scenario", type=Path, help="a scenario file (scenarios/*.xml)")
-    p.add_argument("--seed", type=cliargs.seed, default=None, help="override the scenario's seed")
-    p.add_argument("--until", type=cliargs.seconds(), default=None, help="stop early (virtual seconds; expectations are not checked)")
-    p.add_argument("--trace", type=cliargs.output_file, default=None, help="write the bus trace (JSON Lines; replay it with 'homesim replay')")
-    p.add_argument("--summary", type=cliargs.output_file, default=None, help="write the run summary (JSON)")
+    p.add_argument("scenario", type=Path, help="a scenario file, e.g. scenarios/home_tour.xml")
+    p.add_argument("--seed", type=cliargs.seed, default=None, help="override the scenario's seed (default: the scenario's)")
+    p.add_argument("--until", type=cliargs.seconds(), default=None, metavar="SECONDS",
+                   help="stop early (virtual seconds; expectations are not checked; default: the scenario's duration)")
+    p.add_argument("--trace", type=cliargs.output_file, default=None, metavar="FILE",
+                   help="write the bus trace (JSON Lines; replay it with 'homesim replay')")
+    p.add_argument("--summary", type=cliargs.output_file, default=None, metavar="FILE", help="write the run summary (JSON)")
+    p.add_argument("--record", type=cliargs.output_file, default=None, metavar="FILE.mcap",
+                   help="record the run to MCAP as it runs: every bus message with the laser's ranges, the world's truth, "
+                        "the map and the trace, with scenario, seed, profile and versions as metadata (plot, export and "
+                        "'homesim trace' read it without the scenario file)")
     p.add_argument("--memory", type=cliargs.store_dir, default=None, metavar="DIR",
                    help="the robot's knowledge store (a directory, created if missing): load it at the start, save to it")
-    p.add_argument("--profile", default=None, metavar="NAME",
-                   help="which robot: full (default) or biron-2005 (overrides the scenario's <robot profile>)")
+    p.add_argument("--profile", default=None, choices=sorted(PROFILES),
+                   help="which robot (overrides the scenario's <robot profile>; default: the scenario's, else full)")
     p.add_argument("--realtime", type=cliargs.realtime_scale, default=None, metavar="X", help="pace the run at X times real time")
     p.add_argument("--quiet", action="store_true", help="print the verdict (and failed expectations) only")
     p.add_argument("--strict", action="store_true",
@@ -230,17 +286,28 @@ def _run_arguments(p: argparse.ArgumentParser) -> None:
 
 def register(sub: argparse._SubParsersAction) -> None:
     """Add ``homesim run``, ``homesim replay`` and ``homesim scenario run|plot``."""
-    _run_arguments(sub.add_parser("run", help="run a scenario: transcript, expectations, verdict"))
-    r = sub.add_parser("replay", help="re-run a trace's scenario and check the new trace is identical")
-    r.add_argument("trace", type=Path)
+    run_examples = ["homesim run scenarios/home_tour.xml",
+                    "homesim run scenarios/home_tour.xml --seed 3 --until 15 --trace out/tour.jsonl",
+                    "homesim run scenarios/home_tour.xml --until 15 --record out/tour.mcap",
+                    "homesim run scenarios/later_visit.xml --memory out/memory"]
+    _run_arguments(sub.add_parser("run", help="run a scenario: transcript, expectations, verdict", examples=run_examples))
+    r = sub.add_parser("replay", help="re-run a trace's scenario and check the new trace is identical",
+                       examples=["homesim replay out/tour.jsonl"])
+    r.add_argument("trace", type=Path, help="a trace written by 'homesim run --trace', e.g. out/tour.jsonl")
     r.set_defaults(func=lambda a: replay(a.trace))
-    p = sub.add_parser("scenario", help="run or plot a scenario file")
+    p = sub.add_parser("scenario", help="run or plot a scenario file",
+                       examples=["homesim scenario run scenarios/home_tour.xml", "homesim scenario plot scenarios/radio.xml --at 9 -o out/radio.png"])
     ssub = p.add_subparsers(dest="scenario_command", metavar="ACTION")
-    _run_arguments(ssub.add_parser("run", help="the same as 'homesim run'"))
-    q = ssub.add_parser("plot", help="draw the top-down view at one moment")
-    q.add_argument("file", type=Path)
-    q.add_argument("--at", type=cliargs.seconds(), required=True, help="virtual time in seconds (within the scenario)")
-    q.add_argument("-o", "--output", type=cliargs.output_file, default=Path("out/scenario.png"))
-    q.add_argument("--seed", type=cliargs.seed, default=None)
+    _run_arguments(ssub.add_parser("run", help="the same as 'homesim run'", examples=[e.replace("homesim run", "homesim scenario run") for e in run_examples]))
+    q = ssub.add_parser("plot", help="draw the top-down view at one moment",
+                        examples=["homesim scenario plot scenarios/radio.xml --at 9 -o out/radio.png",
+                                  "homesim scenario plot scenarios/home_tour.xml -o out/tour-end.svg"])
+    q.add_argument("file", type=Path, help="a scenario file, e.g. scenarios/radio.xml")
+    q.add_argument("--at", type=cliargs.seconds(), default=None, metavar="SECONDS",
+                   help="virtual time in seconds, within the scenario (default: its end)")
+    q.add_argument("-o", "--out", type=cliargs.output_file, default=Path("out/scenario.png"), metavar="FILE",
+                   help="the picture (.png or .svg)")
+    q.add_argument("--output", dest="out", type=cliargs.output_file, help=argparse.SUPPRESS)  # the old spelling
+    q.add_argument("--seed", type=cliargs.seed, default=None, help="override the scenario's seed (default: the scenario's)")
     q.set_defaults(func=plot_command)
     p.set_defaults(func=lambda a: (p.print_help(), 2)[1])

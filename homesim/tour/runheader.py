@@ -143,6 +143,8 @@ RUN_FIELDS: dict[str, Callable[[Any], Any]] = {
     "hosts": _optional(lambda v: _mapping(v, _string)),
     "placement": _optional(lambda v: _mapping(v, _string)),
     "link_worst_ms": _optional(lambda v: _mapping(v, _seconds)),
+    "uplinks": _optional(lambda v: _mapping(v, _string)),
+    "routes": _optional(lambda v: _mapping(v, _string)),
 }
 #: The header's own fields (besides ``run``).
 TOP_FIELDS: dict[str, Callable[[Any], Any]] = {

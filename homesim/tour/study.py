@@ -229,24 +229,25 @@ def _result(fut: Any, job: Job) -> Row:
 
 
 class Progress:
-    """A progress bar on a terminal, one line per run otherwise."""
+    """A progress bar (tqdm) on a terminal, with the runs that passed; a line for each run that could not run."""
 
     def __init__(self, total: int, out: IO[str]) -> None:
-        self.total, self.out, self.done, self.passed = total, out, 0, 0
-        self.tty = hasattr(out, "isatty") and out.isatty()
+        from ..progress import bar
+
+        self.out, self.passed = out, 0
+        self.bar = bar(total, desc="study", unit="run", file=out)
 
     def __call__(self, row: Row) -> None:
-        self.done += 1
+        from ..progress import write
+
         self.passed += row["verdict"] == PASS
-        if self.tty:
-            n = int(30 * self.done / max(1, self.total))
-            self.out.write(f"\r[{'#' * n}{'.' * (30 - n)}] {self.done}/{self.total} runs, {self.passed} pass")
-            if self.done == self.total:
-                self.out.write("\n")
-        else:
-            extra = f" ({row['error'][:120]})" if row["verdict"] == ERROR else ""
-            self.out.write(f"[{self.done}/{self.total}] {row['scenario']} seed {row['seed']} {row['condition']}: {row['verdict']}{extra}\n")
-        self.out.flush()
+        self.bar.set_postfix_str(f"{self.passed} pass", refresh=False)
+        self.bar.update(1)
+        if row["verdict"] == ERROR:
+            write(f"{row['scenario']} seed {row['seed']} {row['condition']}: {ERROR} ({row['error'][:120]})", file=self.out)
+
+    def close(self) -> None:
+        self.bar.close()
 
 
 # ------------------------------------------------------------------ analysis
@@ -464,7 +465,11 @@ def study_command(a: argparse.Namespace) -> int:
             files.append(str(Path(p).resolve()))
     conditions = [parse_condition(c) for c in a.condition] or [Condition(DEFAULT)]
     seeds = parse_seeds(a.seeds)
-    doc = study(files, seeds, conditions, out, workers=a.workers, scheduler=a.scheduler, progress=Progress(len(files) * len(seeds) * len(conditions), sys.stderr), resume=a.resume)
+    shown = Progress(len(files) * len(seeds) * len(conditions), sys.stderr)
+    try:
+        doc = study(files, seeds, conditions, out, workers=a.workers, scheduler=a.scheduler, progress=shown, resume=a.resume)
+    finally:
+        shown.close()
     print((out / "study.md").read_text(encoding="utf-8"))
     t = doc["throughput"]
     allcpu = f"; {t['cpu_s_all']:.0f} CPU s with start-up and set-up: {t['runs_per_cpu_minute_all']} runs per CPU minute" if t.get("cpu_s_all") else ""
@@ -475,16 +480,18 @@ def study_command(a: argparse.Namespace) -> int:
 
 def register(sub: argparse._SubParsersAction) -> None:
     """Add ``homesim study``."""
-    p = sub.add_parser("study", help="scenarios (or generated tours) x seeds x conditions: per-capability rates with 95 %% intervals, failure causes, a plot")
-    p.add_argument("scenarios", type=Path, nargs="*", metavar="SCENARIO")
+    p = sub.add_parser("study", help="scenarios (or generated tours) x seeds x conditions: per-capability rates with 95 %% intervals, failure causes, a plot",
+                       examples=["homesim study --generated 20 --seed 1000 --seeds 0 -o out/study",
+                                 "homesim study scenarios/home_tour.xml --seeds 0-9 --condition slow=robot.max-speed=0.15 -o out/study"])
+    p.add_argument("scenarios", type=Path, nargs="*", metavar="SCENARIO", help="scenario files, e.g. scenarios/home_tour.xml")
     p.add_argument("--generated", type=_count, default=None, metavar="K", help="generate K tours (with --seed S) into OUT/scenarios and study them")
     p.add_argument("--seed", type=cliargs.seed, default=None, help="the generator's seed for --generated")
-    p.add_argument("--seeds", default="0", help="run seeds: 0-9, or 0,3,7 (default 0)")
+    p.add_argument("--seeds", default="0", help="run seeds: 0-9, or 0,3,7")
     p.add_argument("--condition", action="append", default=[], metavar="NAME=OPTIONS",
                    help="a condition to compare (repeatable): NAME=key=value,... with run options, robot.ATTRIBUTE or option.NAME")
     p.add_argument("--workers", type=_workers, default=None, help="local processes (default: the CPU count)")
     p.add_argument("--scheduler", type=_scheduler, default=None, metavar="ADDRESS", help="run on this Dask distributed scheduler (tcp://host:8786)")
-    p.add_argument("--out", required=True, help="directory for study.json, study.md, study.png/.svg, summaries/")
+    p.add_argument("-o", "--out", required=True, metavar="DIR", help="directory for study.json, study.md, study.png/.svg, summaries/")
     p.add_argument("--resume", action="store_true", help="reuse the runs whose summaries OUT/summaries/ already holds (an interrupted or extended study)")
     p.set_defaults(func=study_command)
 

@@ -24,6 +24,10 @@ from .runner import Run, RunOptions, file_digest, store_digest
 from ..xmlio import open_regular
 
 
+#: The hint when a trace's run cannot be re-created: a recording needs no scenario file.
+STANDALONE = " (a recording, 'homesim run SCENARIO --record FILE.mcap', is drawn and exported from the file alone)"
+
+
 def run_options(h: dict[str, Any], *, until: float | None, trace: Any, store: Path | None = None) -> RunOptions:
     """The options of the run a checked header (:func:`read_header`) names.
 
@@ -129,9 +133,9 @@ def rerun(trace: str | os.PathLike[str], *, until: float | None = None) -> tuple
     h = read_header(path)
     scen = Path(h["scenario_file"])
     if not scen.is_file():
-        raise InputError(f"the scenario file {scen} named in the header does not exist", source=str(path), line=1)
+        raise InputError(f"the scenario file {scen} named in the header does not exist{STANDALONE}", source=str(path), line=1)
     if file_digest(scen) != h["scenario_digest"]:
-        raise InputError(f"{scen} has changed since the trace was written; the run cannot be re-created", source=str(path), line=1)
+        raise InputError(f"{scen} has changed since the trace was written; the run cannot be re-created{STANDALONE}", source=str(path), line=1)
     if h["memory"] is not None and store_digest(h["memory"]) != h["memory_digest"]:
         raise InputError(f"the store {h['memory']} has changed since the trace was written (the run wrote "
                          "what it learned to it); the run cannot be re-created", source=str(path), line=1)

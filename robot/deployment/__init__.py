@@ -43,3 +43,24 @@ def cost_scale(sim: Any, module: str, host: str) -> float:
     if not ref_mhz or not mhz:
         return 1.0
     return ref_mhz / mhz
+
+
+def check_scenario(sc: Any) -> None:
+    """``homesim.scenario_checks``: the scenario's ``<deployment>`` merged into BIRON's default.
+
+    What the schema cannot see (a host, route or placement naming a host or
+    link that neither the default nor the override declares, an ``href``
+    document that does not load) is found by ``homesim check``, not first by
+    ``homesim run``. Raises :class:`~homesim.errors.ScenarioError` naming the
+    file and line.
+    """
+    if sc.deployment is None:
+        return
+    from homesim.deployment import resolve
+    from homesim.errors import InputError, ScenarioError
+
+    base_dir = Path(sc.source).parent if sc.source and not str(sc.source).startswith("<") else None
+    try:
+        resolve(papers(), sc.deployment, base_dir=base_dir)
+    except InputError as exc:
+        raise ScenarioError(exc.message, source=exc.source, line=exc.line, element=exc.element) from exc

@@ -30,7 +30,10 @@ partner; older than ``partner_fresh`` s counts as no partner); a direction
 counts when it lies within ``barge_in_width`` degrees of it, both folded to
 the front half-plane (the microphone pair cannot tell front from back).
 Without a partner nothing cuts the robot off: a radio or a visitor talking
-elsewhere in the room does not. The microphones' echo cancellation takes the
+elsewhere in the room does not. Only a frame recorded after the robot began
+the sentence counts (its ``time`` against the speaker's ``start``): over a
+slow link the frames arrive late, and one recorded while the partner was
+still finishing her own turn must not cut the robot's answer to it. The microphones' echo cancellation takes the
 robot's own voice out of ``/robot/audio/sources``, so no level rule is needed
 for it (one dropped a partner standing closer than about 0.7 m).
 
@@ -176,6 +179,7 @@ class Dialog(Module):
         self._pose: etree._Element | None = None  # the latest pose message's payload (read only for place teaching)
         self._talking = False  # a <say> is out and not yet done/interrupted
         self._cut = False  # this utterance was already cut by a barge-in
+        self._talk_start = 0.0  # when the current sentence began (sent, then the speaker's start)
         self._queue: deque[tuple[str, tuple[str, ...]]] = deque()
         self._said = 0  # serial of the last <say> sent
         bus = self.bus
@@ -241,6 +245,9 @@ class Dialog(Module):
         if tag == "speaking":
             self._talking = True
             self._cut = False
+            start = float(msg.xml.get("start", "nan"))
+            if math.isfinite(start):
+                self._talk_start = start
         elif tag in ("done", "interrupted"):
             if tag == "done" or not self._queue:
                 self._talking = False
@@ -259,6 +266,8 @@ class Dialog(Module):
     def _on_sources(self, msg: Message) -> None:
         if not self._talking or self._cut:
             return
+        if float(msg.xml.get("time", "inf")) < self._talk_start:
+            return  # recorded before the robot began this sentence (a late frame): not an interruption
         partner = self.partner_bearing()
         if partner is None:
             return
@@ -343,6 +352,7 @@ class Dialog(Module):
         text, causes = self._queue.popleft()
         self._talking = True
         self._cut = False
+        self._talk_start = self.now
         self._said += 1
         self.manager.metrics["robot_turns"] += 1
         self.bus.publish(SAY, etree.Element("say", text=text), causes=causes)

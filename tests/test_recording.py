@@ -1,0 +1,244 @@
+"""Recordings that stand alone (``homesim run --record``) and ``homesim trace info|echo`` on both formats.
+
+One short home tour (12 s) is run once with ``--trace`` and ``--record`` from a private copy of
+the scenario; the tests then edit, move or delete that copy and look at the files from another
+directory, as a user who shares a recording would.
+"""
+
+from __future__ import annotations
+
+import json
+import re
+import shutil
+from pathlib import Path
+
+import pytest
+from hypothesis import given, settings, strategies as st
+
+pytest.importorskip("mcap")
+
+from homesim.cli import main  # noqa: E402
+from homesim.tour.recorded import Recording, as_trace  # noqa: E402
+from homesim.tour.trace_cli import trace_info, recording_info  # noqa: E402
+
+ROOT = Path(__file__).resolve().parents[1]
+UNTIL = 12.0
+
+
+@pytest.fixture(scope="module")
+def recorded(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Path]:
+    d = tmp_path_factory.mktemp("recorded")
+    scen = d / "my_tour.xml"
+    shutil.copyfile(ROOT / "scenarios" / "home_tour.xml", scen)
+    trace, rec = d / "tour.jsonl", d / "tour.mcap"
+    assert main(["run", str(scen), "--until", str(UNTIL), "--quiet", "--trace", str(trace), "--record", str(rec)]) == 0
+    return {"dir": d, "scenario": scen, "trace": trace, "recording": rec}
+
+
+@pytest.fixture
+def elsewhere(recorded: dict[str, Path], tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> dict[str, Path]:
+    """The recording and trace copied to another directory, the scenario file edited, and the cwd there."""
+    other = tmp_path / "other"
+    other.mkdir()
+    for k in ("trace", "recording"):
+        shutil.copyfile(recorded[k], other / recorded[k].name)
+    monkeypatch.chdir(other)
+    return {"trace": Path(recorded["trace"].name), "recording": Path(recorded["recording"].name)}
+
+
+def test_the_recording_holds_the_trace_byte_for_byte_and_names_its_run(recorded):
+    with Recording(recorded["recording"]) as rec:
+        assert "".join(line + "\n" for line in rec.trace_lines()) == recorded["trace"].read_text(encoding="utf-8")
+        run = rec.run
+        assert run["scenario"] == "home_tour" and run["seed"] == "0" and run["profile"] == "full"
+        assert run["until"] == repr(UNTIL) and run["version.homesim"] and run["version.mcap"] and run["version.python"]
+        assert rec.metadata["homesim.scenario"]["xml"] == (ROOT / "scenarios" / "home_tour.xml").read_text(encoding="utf-8")
+        topics = {c[0]: c[1] for c in rec.channels()}
+    assert topics["/homesim/world"] == "homesim.WorldState" and topics["/homesim/map"] == "homesim.Map"
+    assert topics["/laser"] == "foxglove.LaserScan" and topics["/robot/laser/scan"] == "homesim.BusMessage"
+    assert not list(recorded["dir"].glob("*.part"))
+
+
+def test_recording_changes_nothing_in_the_run(recorded, tmp_path):
+    """The recorder only reads: the trace of a run without --record is the same, line for line after the header."""
+    plain = tmp_path / "plain.jsonl"
+    assert main(["run", str(ROOT / "scenarios" / "home_tour.xml"), "--until", str(UNTIL), "--quiet", "--trace", str(plain)]) == 0
+    assert plain.read_text().split("\n")[1:] == recorded["trace"].read_text().split("\n")[1:]
+
+
+_text = st.text(st.characters(exclude_categories=("Cs",)), max_size=30)
+
+
+@given(st.fixed_dictionaries({"kind": st.sampled_from(["publish", "request", "reply", "error"]), "sender": _text, "id": _text,
+                              "receivers": st.lists(_text, max_size=4), "causes": st.lists(_text, max_size=3),
+                              "created": st.floats(0, 1e6, allow_nan=False), "xml": _text}))
+def test_bus_messages_are_formatted_as_the_canonical_json(obj):
+    """The recorder's fast path writes the bytes the export's canonical JSON would."""
+    from homesim.export.foxglove import dumps
+    from homesim.tour.recording import bus_message_json
+
+    assert bus_message_json(obj) == dumps(obj)
+
+
+def test_a_recording_is_byte_identical_for_the_same_run(tmp_path):
+    scen = ROOT / "scenarios" / "two_people_radio.xml"
+    outs = [tmp_path / f"r{i}.mcap" for i in range(2)]
+    for out in outs:
+        assert main(["run", str(scen), "--until", "3", "--quiet", "--record", str(out)]) == 0
+    assert outs[0].read_bytes() == outs[1].read_bytes()
+
+
+def test_plot_and_export_work_from_the_recording_alone_after_the_scenario_changed(recorded, elsewhere, capsys):
+    with open(recorded["scenario"], "a", encoding="utf-8") as fh:  # the tutorial's step: edit the scenario
+        fh.write("<!-- edited after the run -->\n")
+    # The JSON Lines trace re-creates its run, and so refuses now ...
+    assert main(["plot", str(elsewhere["trace"]), "--at", "10", "-o", "t.png"]) == 2
+    err = capsys.readouterr().err
+    assert "has changed since the trace was written" in err and "--record" in err
+    # ... the recording does not need the scenario file.
+    assert main(["plot", str(elsewhere["recording"]), "--at", "10", "-o", "moment.png"]) == 0
+    out = capsys.readouterr().out
+    assert "home_tour (seed 0) at t = 10.00 s" in out and "partner" in out
+    assert Path("moment.png").stat().st_size > 10_000
+    assert main(["plot", str(elsewhere["recording"]), "--timeline", "--from", "0", "--to", "12", "-o", "timeline.svg"]) == 0
+    assert main(["export", str(elsewhere["recording"]), "--perfetto", "p.json", "--mcap", "x.mcap"]) == 0
+    assert json.loads(Path("p.json").read_text())["traceEvents"]
+    assert Path("x.mcap").read_bytes() == elsewhere["recording"].read_bytes()
+    recorded["scenario"].unlink()  # and with the scenario file gone
+    assert main(["plot", str(elsewhere["recording"]), "--at", "5", "-o", "gone.png"]) == 0
+    assert "at t = 5.00 s" in capsys.readouterr().out
+
+
+def test_the_recorded_moment_is_the_run_at_that_time(recorded):
+    """The world state and percepts drawn at t come from the recording's messages at or before t."""
+    with Recording(recorded["recording"]) as rec:
+        world, percepts, t = rec.moment(10.0)
+        states = [json.loads(d) for _, _, lt, d in rec.messages(["/homesim/world"], start=10.0, end=10.0)]
+        assert len(states) == 1 and t == pytest.approx(10.0)
+        assert world.robot.pose == (states[0]["robot"]["x"], states[0]["robot"]["y"], states[0]["robot"]["theta"])
+        assert set(world.humans) == {p["name"] for p in states[0]["people"]}
+        assert percepts.scan is not None and len(percepts.scan[1]) > 100  # the laser's ranges, from the file
+        assert percepts.attention == "Interaction" and percepts.partner
+        assert {o.name for o in world.obstacles} and world.bounds()[2] > world.bounds()[0]
+        with pytest.raises(Exception, match="after the end of the recording"):
+            rec.moment(UNTIL + 5)
+
+
+def test_run_record_refuses_a_directory_and_writes_nothing_on_bad_input(tmp_path, capsys):
+    assert main(["run", str(ROOT / "scenarios" / "home_tour.xml"), "--until", "1", "--record", str(tmp_path)]) == 2
+    assert "--record" in capsys.readouterr().err
+    same = tmp_path / "run.out"
+    assert main(["run", str(ROOT / "scenarios" / "home_tour.xml"), "--until", "1", "--trace", str(same), "--record", str(same)]) == 2
+    assert "also the --trace file" in capsys.readouterr().err and not same.exists()
+
+
+# ---------------------------------------------------------------- trace info
+def _rows(out: str) -> dict[str, list[str]]:
+    """channel -> [channel, type, count, rate, first, last, senders] (columns are two or more spaces apart)."""
+    rows = (re.split(r"\s{2,}", line.strip()) for line in out.splitlines() if line.startswith("  /"))
+    return {r[0]: r for r in rows}
+
+
+def test_trace_info_lists_channels_types_counts_rates_on_both_formats(recorded, capsys):
+    assert main(["trace", "info", str(recorded["trace"])]) == 0
+    jl = capsys.readouterr().out
+    assert main(["trace", "info", str(recorded["recording"])]) == 0
+    mc = capsys.readouterr().out
+    assert "Scenario:" in jl and "home_tour" in jl and "Seed:" in jl
+    assert "Versions:" in mc and "homesim" in mc and "MCAP recording" in mc
+    a, b = _rows(jl), _rows(mc)
+    scans = a["/robot/laser/scan"]
+    assert scans[1] == "scan" and int(scans[2]) == int(b["/robot/laser/scan"][2]) == int(b["/laser"][2])
+    assert float(scans[3].split()[0]) == pytest.approx(10.0, rel=0.02)  # the laser's 10 Hz
+    assert b["/laser"][1] == "foxglove.LaserScan"
+    # Every bus channel of the trace is a channel of the recording, with the same count.
+    for name, row in a.items():
+        assert int(b[name][2]) == int(row[2]), name
+
+
+def test_trace_info_counts_add_up_to_the_sends(recorded):
+    info = trace_info(recorded["trace"])
+    sends = sum(1 for line in recorded["trace"].read_text().splitlines()[1:] if '"kind":"deliver"' not in line and '"kind":"drop"' not in line)
+    assert sum(c.count for c in info.channels) == dict(info.totals)["sends"] == sends
+    mc = recording_info(recorded["recording"])
+    assert info.end - 0.1 <= mc.end <= info.end and sum(c.count for c in mc.channels) == dict(mc.totals)["messages"]  # trace lines go in 0.1 s batches
+
+
+_T = re.compile(r"^--- t=([0-9.]+) s", re.M)
+
+
+@settings(max_examples=15)
+@given(a=st.floats(0, UNTIL), length=st.floats(0, 6))
+def test_trace_echo_prints_exactly_the_window_on_both_formats(recorded, a, length):
+    import io
+
+    from homesim.tour.trace_cli import echo
+
+    b = a + length
+    want = [r["t"] for r in map(json.loads, recorded["trace"].read_text().splitlines()[1:])
+            if r.get("channel") == "/robot/attention/state" and a <= r["t"] <= b]
+    for f in (recorded["trace"], recorded["recording"]):
+        out = io.StringIO()
+        n = echo(f, "/robot/attention/state", start=a, end=b, raw=False, limit=None, out=out)
+        got = [float(x) for x in _T.findall(out.getvalue())]
+        assert n == len(want) and got == pytest.approx(want, abs=1e-6)
+
+
+def test_trace_echo_json_and_count(recorded, capsys):
+    assert main(["trace", "echo", str(recorded["trace"]), "/robot/es/log", "--json", "-n", "2"]) == 0
+    lines = capsys.readouterr().out.splitlines()
+    assert len(lines) == 2 and all(json.loads(x)["channel"] == "/robot/es/log" for x in lines)
+    assert main(["trace", "echo", str(recorded["recording"]), "/homesim/world", "--from", "5", "--to", "5", "--json"]) == 0
+    (state,) = capsys.readouterr().out.splitlines()
+    assert json.loads(state)["t"] == pytest.approx(5.0)
+
+
+def test_trace_echo_an_unknown_channel_names_the_closest(recorded, capsys):
+    for f in (recorded["trace"], recorded["recording"]):
+        assert main(["trace", "echo", str(f), "/robot/es/stat"]) == 2
+        err = capsys.readouterr().err
+        assert f"{f}: no channel '/robot/es/stat'; did you mean /robot/es/status" in err
+
+
+def test_trace_refuses_bad_files_naming_file_and_line(recorded, tmp_path, capsys):
+    lines = recorded["trace"].read_text().splitlines(keepends=True)
+    cut = tmp_path / "cut.jsonl"
+    cut.write_text("".join(lines[:5]) + lines[5][:40])
+    assert main(["trace", "info", str(cut)]) == 2
+    assert f"{cut}:6: the trace ends in the middle of a line" in capsys.readouterr().err
+    bad = tmp_path / "bad.jsonl"
+    bad.write_text(lines[0] + '{"t":1,"seq":1,"kind":"publish","sender":3}\n')
+    assert main(["trace", "info", str(bad)]) == 2
+    assert f"{bad}:2: a publish record without a valid" in capsys.readouterr().err
+    other = tmp_path / "notes.txt"
+    other.write_text('{"hello": 1}\n')
+    assert main(["trace", "info", str(other)]) == 2
+    assert f"{other}:1: not a homesim trace" in capsys.readouterr().err
+    half = tmp_path / "half.mcap"
+    data = recorded["recording"].read_bytes()
+    half.write_bytes(data[: len(data) // 2])
+    for cmd in (["trace", "info", str(half)], ["plot", str(half), "--at", "1", "-o", str(tmp_path / "x.png")]):
+        assert main(cmd) == 2
+        err = capsys.readouterr().err
+        assert str(half) in err and "MCAP" in err
+    assert not (tmp_path / "x.png").exists()
+
+
+def test_trace_info_reads_any_mcap_file(tmp_path, capsys):
+    from mcap.writer import Writer
+
+    f = tmp_path / "foreign.mcap"
+    with open(f, "wb") as fh:
+        w = Writer(fh)
+        w.start()
+        sid = w.register_schema("demo.Ping", "jsonschema", b"{}")
+        cid = w.register_channel("/ping", "json", sid)
+        for i in range(5):
+            w.add_message(cid, log_time=i * 500_000_000, publish_time=0, data=b'{"n":%d}' % i)
+        w.finish()
+    assert main(["trace", "info", str(f)]) == 0
+    row = _rows(capsys.readouterr().out)["/ping"]
+    assert row[1:4] == ["demo.Ping", "5", "2.00 Hz"]
+    with as_trace(f) if False else Recording(f) as rec:
+        with pytest.raises(Exception, match="holds no homesim trace"):
+            rec.trace_header()
