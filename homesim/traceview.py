@@ -167,7 +167,7 @@ class Timeline:
 
 
 def label_of(rec: dict[str, Any]) -> str:
-    """A short label: the root element and its name (``event greeting``), or the words of an utterance."""
+    """A short label: the root element and its name (``event greeting``), or the words of an utterance or an understood frame."""
     xml = rec.get("xml") or ""
     tag = xml[1:].split(" ", 1)[0].split(">", 1)[0].split("/", 1)[0]
     name = ""
@@ -178,6 +178,8 @@ def label_of(rec: dict[str, Any]) -> str:
             break
     if not name and tag == "utterance":
         name = xml[xml.find(">") + 1:xml.rfind("<")]
+    if tag == "understood" and "<words>" in xml:  # what was understood: its words, not a slot's value
+        name = xml[xml.find("<words>") + 7:xml.find("</words>")]
     return f"{tag} {name}".strip()[:60]
 
 

@@ -267,3 +267,28 @@ def test_the_legend_promises_repeats_labels_only_where_the_picture_has_them(long
     fig = plot_timeline(read_timeline(long_tour, start=70, end=80))
     assert any("(repeats)" in t for t in legend(fig))
     assert any(t.endswith("(repeats)") for t in _texts(fig))
+
+
+@pytest.mark.parametrize("window", [(0.0, 15.0), (None, None)])
+def test_no_timeline_label_covers_another_or_leaves_the_axes_on_a_real_run(long_tour, window):
+    """The review's pictures: WLAN latencies at 2.1-2.6 s on top of each other, "map_request" over the y axis,
+    replies at the run's end running into the host's name. Every label (messages, latencies, span durations,
+    phases) now has its own place inside the axes; an understood frame is labelled with its words."""
+    from homesim.viz.timeline import plot_timeline
+
+    start, end = window
+    fig = plot_timeline(read_timeline(long_tour, start=start, end=end))
+    fig.canvas.draw()
+    ax = fig.axes[0]
+    r = fig.canvas.get_renderer()
+    frame = ax.get_window_extent(r)
+    hosts = {"pc1", "pc2", "laptop"}
+    texts = [t for t in ax.texts if t.get_text() and t.get_text() not in hosts]
+    assert len(texts) > 30
+    boxes = [t.get_window_extent(r) for t in texts]
+    for i, (t, bb) in enumerate(zip(texts, boxes)):
+        assert frame.x0 - 0.5 <= bb.x0 and bb.x1 <= frame.x1 + 0.5, t.get_text()  # inside the axes, left to right
+        clash = [texts[j].get_text() for j, o in enumerate(boxes) if j != i and bb.overlaps(o)]
+        assert not clash, (t.get_text(), clash)
+    if start == 0.0:
+        assert any(t.get_text() == "understood what can you do" for t in texts)

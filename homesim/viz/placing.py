@@ -117,9 +117,11 @@ def _overlap(a: Sequence[float], b: Sequence[float]) -> bool:
     return a[0] < b[2] and b[0] < a[2] and a[1] < b[3] and b[1] < a[3]
 
 
-def place_clear(ax: Axes, labels: Sequence[Text], *, reach: float = 12.0, leader: str = "#999999") -> None:
+def place_clear(ax: Axes, labels: Sequence[Text], *, reach: float = 12.0, leader: str = "#999999",
+                avoid_marks: bool = True, avoid: Sequence[Text] = ()) -> None:
     """Move each label (in the order given: the important first) to the nearest place that covers no other label
-    and no drawn mark, within ``reach`` label heights of where it was asked for, inside the axes."""
+    (nor the fixed texts ``avoid``) and, with ``avoid_marks``, no drawn mark, within ``reach`` label heights of
+    where it was asked for, inside the axes."""
     labels = [t for t in labels if t.get_text()]
     if not labels:
         return
@@ -127,10 +129,10 @@ def place_clear(ax: Axes, labels: Sequence[Text], *, reach: float = 12.0, leader
     canvas = fig.canvas if isinstance(fig.canvas, FigureCanvasAgg) else FigureCanvasAgg(fig)  # type: ignore[arg-type]
     renderer = canvas.get_renderer()
     ax.apply_aspect()  # an equal-aspect axes takes its drawn box only now: measure what will be drawn
-    segs, pts = marks(ax)
+    segs, pts = marks(ax) if avoid_marks else (np.zeros((0, 4)), np.zeros((0, 3)))
     frame = ax.get_window_extent(renderer)
     to_px, to_data = ax.transData, ax.transData.inverted()
-    placed: list[tuple[float, float, float, float]] = []
+    placed: list[tuple[float, float, float, float]] = [tuple(t.get_window_extent(renderer).extents) for t in avoid]  # type: ignore[misc]
     for txt in labels:
         bb = txt.get_window_extent(renderer)
         box = (bb.x0 - PAD, bb.y0 - PAD, bb.x1 + PAD, bb.y1 + PAD)

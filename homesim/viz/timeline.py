@@ -28,7 +28,7 @@ from matplotlib.patches import FancyArrowPatch, Patch, Rectangle
 from matplotlib.text import Text
 
 from ..traceview import Message, Timeline
-from .moment import place_labels
+from .placing import place_clear
 
 EVENT = "#1f3b73"
 REPLY = "#2ca02c"
@@ -161,7 +161,7 @@ def plot_timeline(tl: Timeline, *, width: float = 14.0) -> Figure:
         ax.text(1.004, (min(ys) + max(ys)) / 2, host, transform=ax.get_yaxis_transform(), rotation=90, va="center", ha="left",
                 fontsize=8, fontweight="bold", color="#555577")
     renderer = fig.canvas.get_renderer()
-    span_ends: dict[str, float] = {}  # each lane's last span label's right edge (pixels)
+    span_texts: list[Text] = []
     for s in tl.spans:
         if s.lane not in y:
             continue
@@ -175,15 +175,12 @@ def plot_timeline(tl: Timeline, *, width: float = 14.0) -> Figure:
         if s.end - s.start >= LABEL_SPAN_S and w / dur > 0.004:
             txt = ax.text(x0 + w / 2, y[s.lane] - 0.22, _ms(s.end - s.start) + ("\u2192" if s.end > tl.end else ""), ha="center", va="top",
                           fontsize=6, color="#8a520c", zorder=6)
-            bb = txt.get_window_extent(renderer)
-            if bb.x0 <= span_ends.get(s.lane, -1e9) + 2:  # would cover the lane's previous span label
-                txt.remove()
-            else:
-                span_ends[s.lane] = bb.x1
+            span_texts.append(txt)  # kept or dropped once the layout has fixed the axes (below)
     events = [m for m in tl.messages if not m.continuous]
     burst, burst_firsts = repeating(events)
     label = _to_label(events, burst, burst_firsts)
-    labels = []
+    labels: list[Text] = []
+    latencies: list[Text] = []
     for m in tl.messages:
         if m.sender not in y:
             continue
@@ -199,9 +196,9 @@ def plot_timeline(tl: Timeline, *, width: float = 14.0) -> Figure:
                                          linestyle="--" if slow else "-",
                                          alpha=0.45 if m.continuous else 0.7 if rep else 0.9, zorder=2 if m.continuous else 3 if rep else 4))
             if slow and m.id in label:  # the latency over the WLAN, at the arrow's middle
-                ax.text((m.t + td) / 2, (y[m.sender] + y[r]) / 2, _ms(td - m.t) if td - m.t >= 0.001 else "<1 ms",
+                latencies.append(ax.text((m.t + td) / 2, (y[m.sender] + y[r]) / 2, _ms(td - m.t) if td - m.t >= 0.001 else "<1 ms",
                         fontsize=5.5, color=SLOW, ha="center", va="center", zorder=7,
-                        bbox={"facecolor": "white", "edgecolor": "none", "alpha": 0.7, "pad": 0.3})
+                        bbox={"facecolor": "white", "edgecolor": "none", "alpha": 0.7, "pad": 0.3}))
         if m.id in label:
             text = m.label if len(m.label) <= 32 else m.label[:31] + "\u2026"
             if rep:
@@ -231,6 +228,23 @@ def plot_timeline(tl: Timeline, *, width: float = 14.0) -> Figure:
     ax.legend([h for h, _ in keys], [t for _, t in keys], loc="upper left", bbox_to_anchor=(1.02, 1.0), fontsize=7, frameon=False)
     fig.tight_layout()
     # Phase marks kept apart, in as many rows as they need (measured after the layout fixed the axes' width).
+    right = ax.get_window_extent(fig.canvas.get_renderer()).x1
+    for txt in phase_texts:  # a mark near the window's end reads to the left of its line (not out of the axes)
+        if txt.get_window_extent(fig.canvas.get_renderer()).x1 > right:
+            txt.set_horizontalalignment("right")
     _stack_labels(ax, phase_texts, len(lanes) - 0.45)
-    place_labels(ax, labels, only_move="y")  # message labels moved off each other, each at its time
+    # A span's duration only where it covers no other's (measured now that the layout is fixed).
+    span_boxes: list = []
+    kept: list[Text] = []
+    renderer = fig.canvas.get_renderer()  # the figure may have grown: its renderer now
+    for txt in span_texts:
+        bb = txt.get_window_extent(renderer)
+        if any(bb.x0 <= o.x1 + 2 and o.x0 <= bb.x1 + 2 and bb.y0 <= o.y1 and o.y0 <= bb.y1 for o in span_boxes):
+            txt.remove()
+        else:
+            span_boxes.append(bb)
+            kept.append(txt)
+    # message and latency labels off each other and inside the axes (not over the y axis or the host names);
+    # arrows are everywhere in a timeline, so labels keep off labels only (their white boxes keep them legible)
+    place_clear(ax, labels + latencies, avoid_marks=False, avoid=phase_texts + kept)
     return fig
