@@ -172,3 +172,34 @@ def test_an_unknown_robot_profile_is_refused_by_check_and_the_command_line(tmp_p
     assert problem.element == "robot" and "did you mean 'biron-2005'?" in problem.message
     assert main(["run", str(ROOT / "scenarios" / "radio.xml"), "--profile", "ful"]) == 2
     assert "argument --profile: invalid choice: 'ful'" in capsys.readouterr().err
+
+
+# --- metrics: the first part names a registered metric; a missing key at the end is answered with the closest
+
+
+def test_a_misspelt_metric_is_refused_by_check_with_the_closest_registered_metric(tmp_path):
+    path = _write(tmp_path, ("<expect>", '<expect>\n    <metric name="folowing.identity_switches" max="0"/>'))
+    (problem,) = check_scenario_file(path)
+    assert problem.line == _line(path, 'name="folowing.identity_switches"') and problem.element == "metric"
+    assert "did you mean 'following'?" in problem.message
+
+
+def test_a_metric_no_package_registers_is_refused(tmp_path):
+    path = _write(tmp_path, ("<expect>", '<expect>\n    <metric name="es.rejected_expird" min="1"/>'))
+    (problem,) = check_scenario_file(path)
+    assert "there is no metric named 'es'" in problem.message and "following" in problem.message
+
+
+def test_a_registered_metric_passes_the_check(tmp_path):
+    path = _write(tmp_path, ("<expect>", '<expect>\n    <metric name="teaching.position_error_m.max" max="0.1"/>'))
+    assert check_scenario_file(path) == []
+
+
+def test_a_missing_metric_key_at_the_end_of_the_run_suggests_the_closest_key():
+    from homesim.scenario.expectations import MetricCheck
+    from homesim.scenario.model import Expectation
+
+    sc = load_scenario(ROOT / "scenarios" / "home_tour.xml")
+    check = MetricCheck(Expectation("metric", (("name", "following.identity_switchs"), ("max", 0.0))), sc, None)
+    ok, detail = check.verdict(10.0, {"metrics": {"following": {"identity_switches": 0, "episodes": 1}}})
+    assert not ok and "did you mean 'following.identity_switches'?" in detail
