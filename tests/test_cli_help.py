@@ -212,5 +212,10 @@ def test_the_later_visit_without_a_store_says_it_needs_one(capsys, tmp_path):
     line = next(i for i, text in enumerate(later.read_text(encoding="utf-8").splitlines(), 1) if "<robot " in text)
     assert err.startswith(f"homesim: error: {later}:{line}: <robot>: this scenario starts from what the robot learned")
     assert "--memory DIR" in err and "home_tour.xml" in err
-    code, _out, err = _run(["run", str(later), "--until", "1", "--memory", str(tmp_path / "store")], capsys)
-    assert code == 0, err  # with a store (even a new one) it runs
+    # A mistyped (missing) or empty store directory is refused the same way, before anything runs.
+    (tmp_path / "empty").mkdir()
+    for store, why in ((tmp_path / "stroe", "does not exist"), (tmp_path / "empty", "holds no scene model")):
+        code, out, err = _run(["run", str(later), "--until", "1", "--memory", str(store)], capsys)
+        assert code == 2 and out == "" and f"--memory {store} {why}" in err, err
+        assert err.startswith(f"homesim: error: {later}:{line}: <robot>:")
+    assert not (tmp_path / "stroe").exists()  # nothing was created
