@@ -54,6 +54,7 @@ def check_paths(paths: Iterable[str], out: Any = None, err: Any = None) -> int:
     total = 0
     for path in paths:
         kind, problems = check_path(path, types)
+        problems = sorted(problems, key=lambda p: p.line or 0)  # in line order, whichever check found them
         for p in problems:
             print(p, file=out)
         if problems:

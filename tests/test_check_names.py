@@ -203,3 +203,21 @@ def test_a_missing_metric_key_at_the_end_of_the_run_suggests_the_closest_key():
     check = MetricCheck(Expectation("metric", (("name", "following.identity_switchs"), ("max", 0.0))), sc, None)
     ok, detail = check.verdict(10.0, {"metrics": {"following": {"identity_switches": 0, "episodes": 1}}})
     assert not ok and "did you mean 'following.identity_switches'?" in detail
+
+
+def test_a_problem_behind_an_unexpected_element_is_listed_too_in_line_order(tmp_path):
+    # libxml2 stops checking a script at <wiat>; the misspelt attribute two lines below must still be reported.
+    path = _write(tmp_path, ('<wait for="1"/>\n        <face robot="true"/>\n        <say text="Hello BIRON"/>',
+                             '<wiat for="1"/>\n        <face robot="true"/>\n        <say txt="Hello BIRON"/>'))
+    problems = check_scenario_file(path)
+    assert [p.line for p in problems] == [_line(path, "<wiat"), _line(path, 'txt="Hello BIRON"')], [str(p) for p in problems]
+    assert "did you mean <wait>?" in problems[0].message and "did you mean text=?" in problems[1].message
+
+
+def test_check_lists_each_files_problems_in_line_order(tmp_path, capsys):
+    # the robot's name check (a state, line 119) runs after the kernel's (a room, line 125): printed by line all the same
+    path = _write(tmp_path, ('<state-reached state="Interacting" by="25"/>', '<state-reached state="Interactng" by="25"/>'),
+                  ('<robot-near room="kitchen"/>', '<robot-near room="kichen"/>'))
+    assert main(["check", str(path)]) == 1
+    lines = [line for line in capsys.readouterr().out.splitlines() if line.startswith(f"{path}:")]
+    assert [int(line.split(":")[1]) for line in lines] == [_line(path, "Interactng"), _line(path, '"kichen"')], lines
