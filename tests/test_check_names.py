@@ -221,3 +221,14 @@ def test_check_lists_each_files_problems_in_line_order(tmp_path, capsys):
     assert main(["check", str(path)]) == 1
     lines = [line for line in capsys.readouterr().out.splitlines() if line.startswith(f"{path}:")]
     assert [int(line.split(":")[1]) for line in lines] == [_line(path, "Interactng"), _line(path, '"kichen"')], lines
+
+
+@pytest.mark.parametrize("wrong, right", [("state-reachd", "state-reached"), ("no-colision", "no-collision")])
+def test_a_misspelt_expectation_lists_what_expect_holds_and_the_closest(tmp_path, wrong, right):
+    # libxml2 says nothing of what it expected inside <expect> (an unbounded xs:choice): read from the schema
+    path = _write(tmp_path, ("<no-collision/>\n  </expect>", f"<{wrong}/>\n  </expect>") if right == "no-collision"
+                  else ('<state-reached state="Following"/>', f'<{wrong} state="Following"/>'))
+    (problem,) = check_scenario_file(path)
+    assert problem.line == _line(path, f"<{wrong}")
+    assert f"<{wrong}> is not expected here; expected one of <robot-says>, <state-reached>," in problem.message
+    assert "<metric>" in problem.message and f"(did you mean <{right}>?)" in problem.message

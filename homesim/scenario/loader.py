@@ -25,7 +25,7 @@ from lxml import etree
 from ..deployment import Override, override_from_element
 from ..errors import InputError, ScenarioError
 from ..xmlio import Schema, load_schema, parse_bytes, parse_file
-from .schemawords import Wording, describe_all, element_attributes, type_words
+from .schemawords import Wording, describe_all, element_attributes, element_children, type_words
 from . import checks
 from .model import (
     COLOURS,
@@ -122,6 +122,7 @@ def schema_problems(root: etree._Element, source: str) -> list[ScenarioError]:
     """
     errors = scenario_schema().errors(root)
     found, seen = list(errors), set(errors)
+    parents: dict[tuple[int, str], str] = {}
     doc = None
     for _ in range(MAX_SCHEMA_ROUNDS):
         unexpected = [(line, msg) for line, msg in errors if _is_unexpected(msg)]
@@ -134,6 +135,7 @@ def schema_problems(root: etree._Element, source: str) -> list[ScenarioError]:
             tag = msg.split("'", 2)[1]
             for el in doc.iter(tag):
                 if el.sourceline == line and el.getparent() is not None:
+                    parents[(line, tag)] = etree.QName(el.getparent()).localname
                     el.getparent().remove(el)
                     removed += 1
                     break
@@ -144,7 +146,7 @@ def schema_problems(root: etree._Element, source: str) -> list[ScenarioError]:
         seen.update(errors)
     ordered = sorted(found, key=lambda e: e[0] or 0)  # stable: libxml2's order within a line
     return [ScenarioError(f"{words} (scenario.xsd)", source=source, line=line or None, element=element)
-            for line, element, words in describe_all(ordered, _wording())]
+            for line, element, words in describe_all(ordered, _wording(), parents)]
 
 
 def _is_unexpected(message: str) -> bool:
@@ -156,7 +158,8 @@ def _wording() -> Wording:
     global _WORDING
     if _WORDING is None:
         schema = parse_file(SCHEMA_PATH)
-        _WORDING = Wording(patterns=_pattern_forms(), types=type_words(schema), attributes=element_attributes(schema))
+        _WORDING = Wording(patterns=_pattern_forms(), types=type_words(schema), attributes=element_attributes(schema),
+                           children=element_children(schema))
     return _WORDING
 
 

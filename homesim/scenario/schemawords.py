@@ -54,6 +54,7 @@ class Wording:
     patterns: Mapping[str, str] = field(default_factory=dict)
     types: Mapping[str, str] = field(default_factory=dict)
     attributes: Mapping[str, frozenset[str]] = field(default_factory=dict)  # element name -> the attributes it may have
+    children: Mapping[str, tuple[str, ...]] = field(default_factory=dict)  # element name -> the child elements it may hold
 
     def of_type(self, name: str | None) -> str:
         if not name:
@@ -111,11 +112,47 @@ def element_attributes(schema: etree._Element) -> dict[str, frozenset[str]]:
     return {k: frozenset(v) for k, v in found.items()}
 
 
-def describe(message: str, wording: Wording, *, missing: Iterable[str] = ()) -> tuple[str | None, str]:
+def element_children(schema: etree._Element) -> dict[str, tuple[str, ...]]:
+    """Element name -> the child elements its content model allows, in schema order (over all its declarations).
+
+    libxml2 names what it expected only for some content models (not for an
+    unbounded ``xs:choice``); this is what a refusal of a child then lists."""
+    groups = {g.get("name"): g for g in schema.iter(XS + "group") if g.get("name")}
+    complex_types = {t.get("name"): t for t in schema.iter(XS + "complexType") if t.get("name")}
+    model = (XS + "sequence", XS + "choice", XS + "all")
+
+    def kids(node: etree._Element, depth: int = 0) -> list[str]:
+        out: list[str] = []
+        for child in node:
+            if child.tag == XS + "element" and (child.get("name") or child.get("ref")):
+                out.append((child.get("name") or child.get("ref", "")).rsplit(":", 1)[-1])
+            elif child.tag in model:
+                out += kids(child, depth)
+            elif child.tag == XS + "group" and child.get("ref") in groups and depth < 8:
+                out += kids(groups[child.get("ref")], depth + 1)
+            elif child.tag in (XS + "complexContent", XS + "extension") and depth < 8:
+                if child.tag == XS + "extension" and child.get("base") in complex_types:
+                    out += kids(complex_types[child.get("base")], depth + 1)
+                out += kids(child, depth + 1)
+        return out
+
+    found: dict[str, list[str]] = {}
+    for el in schema.iter(XS + "element"):
+        name = el.get("name")
+        body = complex_types.get(el.get("type")) if el.get("type") else el.find(XS + "complexType")
+        if name is None or body is None:
+            continue
+        names = found.setdefault(name, [])
+        names += [k for k in kids(body) if k not in names]
+    return {k: tuple(v) for k, v in found.items() if v}
+
+
+def describe(message: str, wording: Wording, *, missing: Iterable[str] = (), parent: str | None = None) -> tuple[str | None, str]:
     """(element, what is wrong and what is expected) for one libxml2 message.
 
     ``missing``: the attributes the same element lacks (a misspelt attribute is then both not
-    allowed and missing: the closest missing one is suggested)."""
+    allowed and missing: the closest missing one is suggested). ``parent``: the element's
+    parent, whose allowed children are listed when libxml2 does not say what it expected."""
     m = _MESSAGE.match(message.strip())
     if m is None:
         return None, message
@@ -147,7 +184,7 @@ def describe(message: str, wording: Wording, *, missing: Iterable[str] = ()) -> 
     if (p := _REQUIRED.match(rest)) is not None:
         return element, f"attribute {p.group('attribute')}= is required but missing"
     if (p := _UNEXPECTED.match(rest)) is not None:
-        expected = _names(p.group("expected"))
+        expected = _names(p.group("expected")) or list(wording.children.get(parent or "", ()))
         if not expected:
             return element, "this element is not expected here"
         near = closest(element, expected)
@@ -160,8 +197,11 @@ def describe(message: str, wording: Wording, *, missing: Iterable[str] = ()) -> 
     return element, rest
 
 
-def describe_all(errors: Iterable[tuple[int, str]], wording: Wording) -> list[tuple[int, str | None, str]]:
-    """(line, element, words) for every (line, libxml2 message) of one validation, in order."""
+def describe_all(errors: Iterable[tuple[int, str]], wording: Wording,
+                 parents: Mapping[tuple[int, str], str] | None = None) -> list[tuple[int, str | None, str]]:
+    """(line, element, words) for every (line, libxml2 message) of one validation, in order.
+
+    ``parents``: (line, element name) -> its parent's name, for the elements libxml2 did not expect."""
     errors = list(errors)
     missing: dict[int, list[str]] = {}
     for line, message in errors:
@@ -169,7 +209,12 @@ def describe_all(errors: Iterable[tuple[int, str]], wording: Wording) -> list[tu
         r = _REQUIRED.match(m.group("rest")) if m is not None else None
         if r is not None:
             missing.setdefault(line, []).append(r.group("attribute"))
-    return [(line, *describe(message, wording, missing=missing.get(line, ()))) for line, message in errors]
+    out = []
+    for line, message in errors:
+        m = _MESSAGE.match(message.strip())
+        parent = (parents or {}).get((line, m.group("element"))) if m is not None else None
+        out.append((line, *describe(message, wording, missing=missing.get(line, ()), parent=parent)))
+    return out
 
 
 def _names(expected: str | None) -> list[str]:
