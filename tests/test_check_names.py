@@ -232,3 +232,14 @@ def test_a_misspelt_expectation_lists_what_expect_holds_and_the_closest(tmp_path
     assert problem.line == _line(path, f"<{wrong}")
     assert f"<{wrong}> is not expected here; expected one of <robot-says>, <state-reached>," in problem.message
     assert "<metric>" in problem.message and f"(did you mean <{right}>?)" in problem.message
+
+
+@pytest.mark.parametrize("swap, words", [
+    (('seed="0"', 'seed="-1"'), "seed='-1' is not valid; expected a whole number 0 or more (at most 18 digits)"),
+    (('timeout="6" retries="2"', 'timeout="6" retries="two"'), "retries='two' is not valid; expected a whole number 0 or more, at most 10"),
+])
+def test_an_attribute_of_an_anonymous_type_says_what_it_accepts(tmp_path, swap, words):
+    path = _write(tmp_path, swap)
+    problems = check_scenario_file(path)
+    assert any(words in p.message for p in problems), [str(p) for p in problems]
+    assert not any("a value this attribute accepts" in p.message for p in problems)

@@ -25,7 +25,7 @@ from lxml import etree
 from ..deployment import Override, override_from_element
 from ..errors import InputError, ScenarioError
 from ..xmlio import Schema, load_schema, parse_bytes, parse_file
-from .schemawords import Wording, describe_all, element_attributes, element_children, type_words
+from .schemawords import Wording, describe_all, element_attributes, element_children, local_type_words, type_words
 from . import checks
 from .model import (
     COLOURS,
@@ -159,7 +159,7 @@ def _wording() -> Wording:
     if _WORDING is None:
         schema = parse_file(SCHEMA_PATH)
         _WORDING = Wording(patterns=_pattern_forms(), types=type_words(schema), attributes=element_attributes(schema),
-                           children=element_children(schema))
+                           children=element_children(schema), local=local_type_words(schema, _pattern_forms()))
     return _WORDING
 
 

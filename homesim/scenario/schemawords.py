@@ -55,11 +55,34 @@ class Wording:
     types: Mapping[str, str] = field(default_factory=dict)
     attributes: Mapping[str, frozenset[str]] = field(default_factory=dict)  # element name -> the attributes it may have
     children: Mapping[str, tuple[str, ...]] = field(default_factory=dict)  # element name -> the child elements it may hold
+    local: Mapping[tuple[str, str], str] = field(default_factory=dict)  # (element, attribute) -> its anonymous type in words
 
     def of_type(self, name: str | None) -> str:
         if not name:
             return "a value this attribute accepts"
         return self.types.get(name) or BUILTIN.get(name) or f"a value of type {name!r}"
+
+
+def restriction_words(rest: etree._Element, patterns: Mapping[str, str] | None = None) -> str:
+    """One ``xs:restriction`` in words: 'a number such as 1.5 ..., at least 0 and at most 9', 'one of 'a', 'b''."""
+    base = BUILTIN.get(rest.get("base", ""), "a value")
+    facets = {f.tag.removeprefix(XS): f.get("value") for f in rest}
+    if "enumeration" in facets:
+        return "one of " + ", ".join(repr(f.get("value")) for f in rest.iter(XS + "enumeration"))
+    bounds = []
+    for facet, words in (("minInclusive", "at least"), ("minExclusive", "greater than"), ("maxInclusive", "at most"),
+                         ("maxExclusive", "less than")):
+        if facet in facets:
+            bounds.append(f"{words} {facets[facet]}")
+    text = base + (f", {' and '.join(bounds)}" if bounds else "")
+    pattern = facets.get("pattern")
+    if pattern is not None and (digits := re.fullmatch(r"\[0-9\]\{1,(\d+)\}", pattern)) is not None:
+        text += f" (at most {digits.group(1)} digits)"
+    elif pattern is not None and patterns and pattern in patterns:
+        text += f" ({patterns[pattern]})"
+    if "minLength" in facets or "maxLength" in facets:
+        text += f" ({facets.get('minLength', '0')} to {facets.get('maxLength', 'any number of')} characters)"
+    return text
 
 
 def type_words(schema: etree._Element) -> dict[str, str]:
@@ -70,17 +93,32 @@ def type_words(schema: etree._Element) -> dict[str, str]:
         rest = st.find(XS + "restriction")
         if name is None or rest is None:
             continue
-        base = BUILTIN.get(rest.get("base", ""), "a value")
-        facets = {f.tag.removeprefix(XS): f.get("value") for f in rest}
-        if "enumeration" in facets:
-            out[name] = "one of " + ", ".join(repr(f.get("value")) for f in rest.iter(XS + "enumeration"))
+        out[name] = restriction_words(rest)
+    return out
+
+
+def local_type_words(schema: etree._Element, patterns: Mapping[str, str] | None = None) -> dict[tuple[str, str], str]:
+    """(element, attribute) -> the attribute's anonymous simple type in words (libxml2 names no type for these)."""
+    users: dict[str, list[str]] = {}  # complex type name -> the elements declared with it
+    for el in schema.iter(XS + "element"):
+        if el.get("name") and el.get("type"):
+            users.setdefault(el.get("type"), []).append(el.get("name"))
+    out: dict[tuple[str, str], str] = {}
+    for attr in schema.iter(XS + "attribute"):
+        rest = attr.find(f"{XS}simpleType/{XS}restriction")
+        if attr.get("name") is None or rest is None:
             continue
-        bounds = []
-        for facet, words in (("minInclusive", "at least"), ("minExclusive", "greater than"), ("maxInclusive", "at most"),
-                             ("maxExclusive", "less than")):
-            if facet in facets:
-                bounds.append(f"{words} {facets[facet]}")
-        out[name] = base + (f", {' and '.join(bounds)}" if bounds else "")
+        owner = attr.getparent()
+        while owner is not None and owner.tag not in (XS + "element", XS + "complexType", XS + "attributeGroup"):
+            owner = owner.getparent()
+        if owner is None:
+            continue
+        if owner.tag == XS + "complexType" and owner.get("name") is None:
+            owner = owner.getparent()  # an element's inline type
+        elements = [owner.get("name")] if owner.tag == XS + "element" else users.get(owner.get("name", ""), [])
+        for element in elements:
+            if element:
+                out[(element, attr.get("name"))] = restriction_words(rest, patterns)
     return out
 
 
@@ -174,7 +212,8 @@ def describe(message: str, wording: Wording, *, missing: Iterable[str] = (), par
         high = f"at most {p.group('high')}" if p.group("high") is not None else f"less than {p.group('below')}"
         return element, f"{what}{p.group('value')!r} is too large; expected {high}"
     if (p := _ATOMIC.match(rest)) is not None:
-        return element, f"{what}{p.group('value')!r} is not valid; expected {wording.of_type(p.group('type'))}"
+        words = wording.local.get((element, attribute or "")) if p.group("type") is None else None
+        return element, f"{what}{p.group('value')!r} is not valid; expected {words or wording.of_type(p.group('type'))}"
     if (p := _NOT_ALLOWED.match(rest)) is not None:
         allowed = sorted(wording.attributes.get(element, ()))
         near = closest(p.group("attribute"), missing) or closest(p.group("attribute"), allowed)
