@@ -160,9 +160,26 @@ def test_scenario_plot_without_at_draws_the_end(tmp_path, capsys):
     assert f"wrote {out}" in text and "at t = 2 s" in text and out.is_file()
 
 
-def test_plot_refuses_at_with_timeline(tmp_path, capsys):
-    code, _out, err = _run(["plot", str(tmp_path / "t.jsonl"), "--timeline", "--at", "3"], capsys)
-    assert code == 2 and "--at" in err and "--from" in err
+@pytest.fixture(scope="module")
+def short_trace(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """A real trace (half a second of walk_away), so a refusal cannot come from a missing file."""
+    trace = tmp_path_factory.mktemp("trace") / "t.jsonl"
+    assert main(["run", str(ROOT / "scenarios" / "walk_away.xml"), "--until", "0.5", "--quiet", "--trace", str(trace)]) in (0, 1)
+    return trace
+
+
+@pytest.mark.parametrize("argv, prog, option", [
+    (["plot", "{trace}", "--timeline", "--at", "3", "-o", "{tmp}/t.png"], "homesim plot", "--at"),
+    (["plot", "{trace}", "--from", "3", "-o", "{tmp}/t.png"], "homesim plot", "--from"),
+    (["plot", "{trace}", "-o", "{tmp}/p.jpg"], "homesim plot", "--out"),
+    (["scenario", "plot", str(ROOT / "scenarios" / "radio.xml"), "--at", "99", "-o", "{tmp}/x.png"], "homesim scenario plot", "--at"),
+])
+def test_a_refusal_found_after_parsing_shows_the_subcommands_usage_and_name(short_trace, tmp_path, capsys, argv, prog, option):
+    argv = [a.format(trace=short_trace, tmp=tmp_path) for a in argv]
+    code, out, err = _run(argv, capsys)
+    assert code == 2 and out == "", err
+    assert err.startswith(f"usage: {prog} ") and f"\n{prog}: error: argument {option}" in err, err
+    assert not list(tmp_path.iterdir())  # nothing written
 
 
 def test_run_names_its_people_in_the_singular_and_prints_what_it_wrote(tmp_path, capsys):
