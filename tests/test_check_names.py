@@ -128,7 +128,7 @@ def test_schema_errors_name_the_element_and_say_what_is_expected(tmp_path):
     text = "\n".join(lines)
     assert f":{_line(path, '<palce')}: <palce>: <palce> is not expected here; expected <place>" in text
     assert "<room>: attribute nme= is not allowed here (did you mean name=?)" in text
-    assert "<room>: attribute name= is required but missing" in text
+    assert "<room>: attribute name= is required but missing" not in text  # said once, as the misspelling
     assert "<place>: x='abc' is not valid; expected a number" in text and "at least -1000" in text
     assert "<object>: size='-1' is too small; expected greater than 0" in text
     assert "reason='expird' is not valid; expected one of 'expired', 'inapplicable' (did you mean 'expired'?)" in text
@@ -243,3 +243,15 @@ def test_an_attribute_of_an_anonymous_type_says_what_it_accepts(tmp_path, swap, 
     problems = check_scenario_file(path)
     assert any(words in p.message for p in problems), [str(p) for p in problems]
     assert not any("a value this attribute accepts" in p.message for p in problems)
+
+
+def test_a_misspelt_required_attribute_is_one_problem_not_two(tmp_path):
+    path = _write(tmp_path, ('<state-reached state="Following"/>', '<state-reached stat="Following"/>'))
+    (problem,) = check_scenario_file(path)
+    assert "attribute stat= is not allowed here (did you mean state=?)" in problem.message
+
+
+def test_a_required_attribute_left_out_is_still_reported(tmp_path):
+    path = _write(tmp_path, ('<state-reached state="Following"/>', '<state-reached/>'))
+    (problem,) = check_scenario_file(path)
+    assert "attribute state= is required but missing" in problem.message

@@ -248,9 +248,18 @@ def describe_all(errors: Iterable[tuple[int, str]], wording: Wording,
         r = _REQUIRED.match(m.group("rest")) if m is not None else None
         if r is not None:
             missing.setdefault(line, []).append(r.group("attribute"))
+    paired: set[tuple[int, str]] = set()  # (line, required attribute) a misspelt one on that line stands for
+    for line, message in errors:
+        m = _MESSAGE.match(message.strip())
+        n = _NOT_ALLOWED.match(m.group("rest")) if m is not None else None
+        if n is not None and (near := closest(n.group("attribute"), missing.get(line, ()))) is not None:
+            paired.add((line, near))
     out = []
     for line, message in errors:
         m = _MESSAGE.match(message.strip())
+        r = _REQUIRED.match(m.group("rest")) if m is not None else None
+        if r is not None and (line, r.group("attribute")) in paired:
+            continue  # said once: "attribute stat= is not allowed here (did you mean state=?)"
         parent = (parents or {}).get((line, m.group("element"))) if m is not None else None
         out.append((line, *describe(message, wording, missing=missing.get(line, ()), parent=parent)))
     return out
