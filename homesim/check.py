@@ -22,6 +22,7 @@ from typing import Any
 from lxml import etree
 
 from .documents import DocumentType, document_types, register_document  # noqa: F401 (re-exported)
+from .cliargs import count
 from .errors import InputError
 from .xmlio import parse_file
 
@@ -63,7 +64,7 @@ def check_paths(paths: Iterable[str], out: Any = None, err: Any = None) -> int:
         else:
             print(f"{path}: ok ({kind})", file=out)
     if bad:
-        print(f"homesim check: {total} problem{'s' if total != 1 else ''} in {bad} file{'s' if bad != 1 else ''}",
+        print(f"homesim check: {count(total, 'problem')} in {count(bad, 'file')}",
               file=err)
         return 1
     return 0

@@ -255,3 +255,9 @@ def test_a_required_attribute_left_out_is_still_reported(tmp_path):
     path = _write(tmp_path, ('<state-reached state="Following"/>', '<state-reached/>'))
     (problem,) = check_scenario_file(path)
     assert "attribute state= is required but missing" in problem.message
+
+
+def test_one_problem_is_counted_in_the_singular(tmp_path, capsys):
+    path = _write(tmp_path, ('<state-reached state="Following"/>', '<state-reached state="Folowing"/>'))
+    assert main(["check", str(path)]) == 1
+    assert "homesim check: 1 problem in 1 file" in capsys.readouterr().err

@@ -236,3 +236,14 @@ def test_the_later_visit_without_a_store_says_it_needs_one(capsys, tmp_path):
         assert code == 2 and out == "" and f"--memory {store} {why}" in err, err
         assert err.startswith(f"homesim: error: {later}:{line}: <robot>:")
     assert not (tmp_path / "stroe").exists()  # nothing was created
+
+
+def test_demo_and_run_name_the_realtime_scale_alike_and_sweep_until_has_its_unit():
+    parser = build_parser()
+    subs = next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction)).choices
+
+    def option(cmd: str, flag: str) -> argparse.Action:
+        return next(a for a in subs[cmd]._actions if flag in a.option_strings)
+
+    assert option("demo", "--realtime").metavar == option("run", "--realtime").metavar == "X"
+    assert option("sweep", "--until").metavar == "SECONDS" and "seconds" in option("sweep", "--until").help
