@@ -21,7 +21,7 @@ from typing import Any
 
 from lxml import etree
 
-from .documents import DocumentType, document_types, register_document  # noqa: F401 (re-exported)
+from .documents import DocumentType, document_types, example, register_document  # noqa: F401 (re-exported)
 from .cliargs import count
 from .errors import InputError
 from .xmlio import parse_file
@@ -73,7 +73,8 @@ def check_paths(paths: Iterable[str], out: Any = None, err: Any = None) -> int:
 def register(sub: Any) -> None:
     """Add ``homesim check FILE...``."""
     p = sub.add_parser("check", help="validate scenario, AFSM (and other registered) documents: every problem, file:line",
-                       examples=["homesim check scenarios/*.xml", "homesim check machine.scxml scenarios/home_tour.xml"])
+                       examples=["homesim check scenarios/*.xml",
+                                 f"homesim check {example('AFSM', 'MY_MACHINE.scxml')} scenarios/home_tour.xml"])
     p.add_argument("files", nargs="+", metavar="FILE", type=Path,
                    help="documents to check, e.g. scenarios/home_tour.xml (the kind is read from the root element)")
     p.set_defaults(func=lambda a: check_paths([str(f) for f in a.files]))

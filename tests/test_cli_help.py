@@ -247,3 +247,12 @@ def test_demo_and_run_name_the_realtime_scale_alike_and_sweep_until_has_its_unit
 
     assert option("demo", "--realtime").metavar == option("run", "--realtime").metavar == "X"
     assert option("sweep", "--until").metavar == "SECONDS" and "seconds" in option("sweep", "--until").help
+
+
+def test_afsm_and_check_examples_name_a_machine_that_exists():
+    parser = build_parser()
+    subs = next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction)).choices
+    afsm = next(a for a in subs["afsm"]._actions if isinstance(a, argparse._SubParsersAction)).choices
+    examples = subs["check"].examples + subs["afsm"].examples + afsm["show"].examples + afsm["check"].examples
+    machines = {w for e in examples for w in shlex.split(e) if w.endswith(".scxml")}
+    assert machines and all((ROOT / m).is_file() for m in machines), machines
