@@ -261,3 +261,15 @@ def test_one_problem_is_counted_in_the_singular(tmp_path, capsys):
     path = _write(tmp_path, ('<state-reached state="Following"/>', '<state-reached state="Folowing"/>'))
     assert main(["check", str(path)]) == 1
     assert "homesim check: 1 problem in 1 file" in capsys.readouterr().err
+
+
+def test_check_says_names_are_checked_once_schema_problems_are_fixed(tmp_path, capsys):
+    # the misspelt state cannot be checked while the file breaks the schema: the summary says so
+    path = _write(tmp_path, ('<place name="window"', '<palce name="window"'),
+                  ('<state-reached state="Following"/>', '<state-reached state="Folowing"/>'))
+    assert main(["check", str(path)]) == 1
+    err = capsys.readouterr().err
+    assert "checked for names, references and geometry once they are fixed" in err
+    ok = _write(tmp_path, ('<state-reached state="Following"/>', '<state-reached state="Folowing"/>'), name="t.xml")
+    assert main(["check", str(ok)]) == 1
+    assert "once they are fixed" not in capsys.readouterr().err
