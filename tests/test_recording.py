@@ -242,3 +242,24 @@ def test_trace_info_reads_any_mcap_file(tmp_path, capsys):
     with as_trace(f) if False else Recording(f) as rec:
         with pytest.raises(Exception, match="holds no homesim trace"):
             rec.trace_header()
+
+
+def test_export_never_writes_over_a_recording(recorded, tmp_path, capsys):
+    """The README's old 'export tour.jsonl --mcap tour.mcap' after 'run --record tour.mcap' destroyed the recording."""
+    rec = tmp_path / "tour.mcap"
+    shutil.copyfile(recorded["recording"], rec)
+    before = rec.read_bytes()
+    for opt in ("--mcap", "--perfetto"):
+        assert main(["export", str(recorded["trace"]), opt, str(rec)]) == 2
+        err = capsys.readouterr().err
+        assert f"{rec} is a recording of 'homesim run --record'" in err and opt in err
+        assert rec.read_bytes() == before
+    assert main(["plot", str(rec), "--at", "2", "-o", str(tmp_path / "m.png")]) == 0
+
+
+def test_the_readme_never_exports_over_its_recording():
+    """Each README command block: no 'export ... --mcap F' where an earlier 'run --record F' wrote F."""
+    text = (ROOT / "README.md").read_text(encoding="utf-8")
+    recorded_files = set(re.findall(r"--record (\S+)", text))
+    exported = set(re.findall(r"homesim export \S+.*?--mcap (\S+)", text))
+    assert recorded_files and not recorded_files & exported

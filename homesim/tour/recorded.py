@@ -52,6 +52,20 @@ def is_mcap(path: str | os.PathLike[str]) -> bool:
         os.close(fd)
 
 
+def is_recording(path: str | os.PathLike[str]) -> bool:
+    """Is the file an MCAP recording of ``homesim run --record`` (one that has, or had, the ``homesim.run`` metadata)?
+
+    An MCAP file that cannot be read whole counts as one: a damaged recording is not overwritten either.
+    """
+    if not is_mcap(path):
+        return False
+    try:
+        with Recording(path) as rec:
+            return "homesim.run" in rec.metadata or TRACE_CHANNEL in {c[0] for c in rec.channels()}
+    except InputError:
+        return True
+
+
 @functools.cache
 def _errors() -> tuple[type[BaseException], ...]:
     from mcap.exceptions import McapError
