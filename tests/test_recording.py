@@ -263,3 +263,41 @@ def test_the_readme_never_exports_over_its_recording():
     recorded_files = set(re.findall(r"--record (\S+)", text))
     exported = set(re.findall(r"homesim export \S+.*?--mcap (\S+)", text))
     assert recorded_files and not recorded_files & exported
+
+
+def _silently_damaged(path: Path) -> bytes:
+    """The file with 16 bytes flipped inside a chunk where the chunk still decompresses (only its CRC tells)."""
+    import io
+
+    from mcap.reader import make_reader
+
+    good = path.read_bytes()
+    with Recording(path) as rec:
+        chunks = rec.summary.chunk_indexes
+    for ci in chunks[1:]:
+        for frac in range(10, 90, 7):
+            at = ci.chunk_start_offset + ci.chunk_length * frac // 100
+            data = bytearray(good)
+            for k in range(16):
+                data[at + k] ^= 0xFF
+            try:
+                n = sum(1 for _ in make_reader(io.BytesIO(bytes(data))).iter_messages())
+            except Exception:
+                continue
+            if n > 0:
+                return bytes(data)
+    raise AssertionError("no silent damage found")
+
+
+def test_a_damaged_recording_is_refused_not_read_with_messages_missing(recorded, tmp_path, capsys):
+    """Bytes flipped inside a chunk: every reader refuses the file, naming it (the chunk's CRC), never a shorter trace."""
+    data = _silently_damaged(recorded["recording"])
+    bad = tmp_path / "flip.mcap"
+    bad.write_bytes(bytes(data))
+    for cmd in (["trace", "info", str(bad)], ["trace", "echo", str(bad), "/robot/odometry"],
+                ["plot", str(bad), "--timeline", "-o", str(tmp_path / "t.svg")],
+                ["export", str(bad), "--perfetto", str(tmp_path / "p.json")]):
+        assert main(cmd) == 2, cmd
+        err = capsys.readouterr().err
+        assert f"{bad}: not a whole MCAP file" in err, err
+    assert not (tmp_path / "p.json").exists()

@@ -96,7 +96,7 @@ class Recording:
             raise InputError("not an MCAP file (it does not start with MCAP's magic bytes)", source=str(path))
         try:
             with self._reading("cannot read its summary"):
-                self.reader = make_reader(self.fh)
+                self.reader = make_reader(self.fh, validate_crcs=True)  # a damaged chunk fails, never reads as fewer messages
                 self.summary = self.reader.get_summary()
             if self.summary is None:
                 raise InputError("an MCAP file without a summary section (truncated, or still being written?)", source=str(path))
