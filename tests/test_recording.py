@@ -301,3 +301,31 @@ def test_a_damaged_recording_is_refused_not_read_with_messages_missing(recorded,
         err = capsys.readouterr().err
         assert f"{bad}: not a whole MCAP file" in err, err
     assert not (tmp_path / "p.json").exists()
+
+
+def test_ctrl_c_keeps_the_partial_recording_marked_as_stopped(tmp_path, monkeypatch, capsys):
+    """As ros2 bag record: an interrupted run keeps what it recorded (the trace keeps its lines too), and says so."""
+    from homesim.tour.runner import Run
+
+    real = Run.run
+
+    def interrupted(self, *a, **kw):
+        self.sim.run_until(lambda: False, timeout=4.0)
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(Run, "run", interrupted)
+    rec, trace = tmp_path / "int.mcap", tmp_path / "int.jsonl"
+    with pytest.raises(KeyboardInterrupt):
+        main(["run", str(ROOT / "scenarios" / "home_tour.xml"), "--quiet", "--trace", str(trace), "--record", str(rec)])
+    monkeypatch.setattr(Run, "run", real)
+    assert f"kept the partial recording {rec}" in capsys.readouterr().err
+    with Recording(rec) as r:
+        assert r.metadata["homesim.stopped"]["reason"] == "interrupted (Ctrl-C)"
+        assert float(r.metadata["homesim.stopped"]["t"]) == pytest.approx(4.0)
+        lines = list(r.trace_lines())
+        assert 3.5 < r.span()[1] <= 4.0 and len(lines) > 1000
+    assert trace.read_text().startswith("".join(line + "\n" for line in lines))  # what the trace holds, up to the stop
+    assert main(["trace", "info", str(rec)]) == 0
+    assert "the run stopped at t = 4.000 s: interrupted (Ctrl-C)" in capsys.readouterr().out
+    assert main(["plot", str(rec), "--at", "3", "-o", str(tmp_path / "m.png")]) == 0
+    assert not list(tmp_path.glob("*.part"))

@@ -25,7 +25,8 @@ several times larger (the ranges are most of a recording) for every run, change 
 mix the truth into the robot's log. The recording is asked for (``--record``) and holds both.
 
 The file is written to ``out.mcap.part`` and renamed when the run is closed, so a file named
-``out.mcap`` is always whole. Same scenario, seed and options give a byte-identical recording
+``out.mcap`` is always a finished MCAP file; a run stopped early (Ctrl-C, an error) keeps what it
+recorded, with ``homesim.stopped`` metadata (reason, virtual time) saying it is partial. Same scenario, seed and options give a byte-identical recording
 (virtual time only; canonical JSON; no wall time in the metadata).
 """
 
@@ -235,22 +236,30 @@ class Recorder(_Exporter):
         self.next_world = (t // period + 1) * period  # on the grid of whole periods (a plot at 10 s finds the state at 10 s)
         self.out.write(WORLD_CHANNEL, "homesim.WorldState", t, world_state(world))
 
-    def close(self) -> dict[str, int]:
-        """Finish the file and give it its name; return counts (channels, messages, scans)."""
+    def close(self, stopped: str | None = None) -> dict[str, int]:
+        """Finish the file and give it its name; return counts (channels, messages, scans).
+
+        ``stopped``: why the run ended early (Ctrl-C, an error); the partial recording is kept, like
+        ``ros2 bag record``'s, with the ``homesim.stopped`` metadata saying why and at what virtual time.
+        """
         if not self.closed:
             self.closed = True
             bus = self.run.sim.bus
             for ic in (self.lines, self):
                 if ic in bus._interceptors:
                     bus.remove_interceptor(ic)
+            self.world.remove_listener(self.on_step)
+            self.world.remove_listener(self.on_world)
             self.lines.flush()
+            if stopped is not None:
+                self.out.w.add_metadata("homesim.stopped", {"reason": stopped, "t": repr(float(self.run.sim.now))})
             self.out.finish()
             self.fh.close()
             os.replace(self.tmp, self.path)
         return {"channels": len(self.out.channels), "messages": self.out.count, "scans": self.scans}
 
     def abandon(self) -> None:
-        """Remove the partial file (a run that failed)."""
+        """Remove the partial file (the recorder itself failed: nothing whole can be written)."""
         if not self.closed:
             self.closed = True
             self.fh.close()

@@ -86,14 +86,23 @@ def run_command(a: argparse.Namespace) -> int:
         recorder = _start_recording(run, getattr(a, "record", None))
         try:
             status = _run_and_report(a, run, console, out)
-        except BaseException:
-            if recorder is not None:
-                recorder.abandon()
+        except BaseException as exc:
+            if recorder is not None:  # what was recorded is kept, marked partial (the trace keeps its lines too)
+                _close_partial(recorder, "interrupted (Ctrl-C)" if isinstance(exc, KeyboardInterrupt) else f"{type(exc).__name__}: {exc}")
             raise
         if recorder is not None:
             c = recorder.close()
             print(f"wrote {a.record} (MCAP recording: {c['channels']} channels, {c['messages']} messages, {c['scans']} laser scans)", file=out)
         return status
+
+
+def _close_partial(recorder: Any, reason: str) -> None:
+    try:
+        recorder.close(stopped=reason)
+    except Exception:  # the recorder itself failed: no whole file can be written
+        recorder.abandon()
+        return
+    print(f"homesim: kept the partial recording {recorder.path} (stopped: {reason})", file=sys.stderr)
 
 
 def _start_recording(run: Run, path: Path | None) -> Any:

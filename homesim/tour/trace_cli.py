@@ -146,7 +146,10 @@ def recording_info(path: Path) -> FileInfo:
                      ("Versions", ", ".join(f"{k.split('.', 1)[1]} {v}" for k, v in sorted(run.items()) if k.startswith("version.")))]
         if "homesim.scenario" in rec.metadata:
             about.append(("Scenario text", f"embedded ({len(rec.metadata['homesim.scenario'].get('xml', ''))} characters)"))
-        others = sorted(set(rec.metadata) - {"homesim.run", "homesim.scenario", "homesim.trace"})
+        stopped = rec.metadata.get("homesim.stopped")
+        if stopped is not None:
+            about.append(("Partial", f"the run stopped at t = {float(stopped.get('t') or 0):.3f} s: {stopped.get('reason', '?')}"))
+        others = sorted(set(rec.metadata) - {"homesim.run", "homesim.scenario", "homesim.trace", "homesim.stopped"})
         if others:
             about.append(("Other metadata", ", ".join(others)))
         n = sum(c.count for c in chans.values())
