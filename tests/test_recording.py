@@ -329,3 +329,17 @@ def test_ctrl_c_keeps_the_partial_recording_marked_as_stopped(tmp_path, monkeypa
     assert "the run stopped at t = 4.000 s: interrupted (Ctrl-C)" in capsys.readouterr().out
     assert main(["plot", str(rec), "--at", "3", "-o", str(tmp_path / "m.png")]) == 0
     assert not list(tmp_path.glob("*.part"))
+
+
+@pytest.mark.parametrize("opt", ["--record", "--trace", "--summary"])
+def test_run_refuses_an_output_that_is_the_scenario_or_the_memory_before_running(tmp_path, capsys, opt):
+    scen = tmp_path / "s.xml"
+    shutil.copyfile(ROOT / "scenarios" / "home_tour.xml", scen)
+    before = scen.read_bytes()
+    assert main(["run", str(scen), "--until", "1", "--quiet", opt, str(scen)]) == 2
+    assert f"{scen} is the scenario file" in capsys.readouterr().err and scen.read_bytes() == before
+    mem = tmp_path / "mem"
+    for out in (mem, mem / "tour.out"):
+        assert main(["run", str(scen), "--until", "1", "--quiet", "--memory", str(mem), opt, str(out)]) == 2
+        assert "is the --memory directory" in capsys.readouterr().err
+    assert not mem.exists() and sorted(p.name for p in tmp_path.iterdir()) == ["s.xml"]
