@@ -343,3 +343,17 @@ def test_run_refuses_an_output_that_is_the_scenario_or_the_memory_before_running
         assert main(["run", str(scen), "--until", "1", "--quiet", "--memory", str(mem), opt, str(out)]) == 2
         assert "is the --memory directory" in capsys.readouterr().err
     assert not mem.exists() and sorted(p.name for p in tmp_path.iterdir()) == ["s.xml"]
+
+
+def test_every_message_of_a_json_channel_is_one_json_document(recorded, capsys):
+    """What a generic MCAP reader (Foxglove) does with a 'json' channel: json.loads each message."""
+    from mcap.reader import make_reader
+
+    with open(recorded["recording"], "rb") as fh:
+        for schema, channel, msg in make_reader(fh).iter_messages():
+            assert channel.message_encoding == "json"
+            doc = json.loads(msg.data)
+            if schema.name == "homesim.TraceRecords":
+                assert set(doc) == {"lines"} and doc["lines"] and all(json.loads(line)["t"] <= msg.log_time / 1e9 for line in doc["lines"])
+    assert main(["trace", "echo", str(recorded["recording"]), "/homesim/trace", "-n", "1"]) == 0
+    assert '"lines"' in capsys.readouterr().out

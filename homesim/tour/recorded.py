@@ -196,7 +196,15 @@ class Recording:
         """The JSON Lines trace the recording holds: the header line, then every record's line."""
         yield self.metadata["homesim.trace"]["header"] if "homesim.trace" in self.metadata else json.dumps(self.trace_header())
         for _, _, _, data in self.messages([TRACE_CHANNEL]):
-            yield from data.decode("utf-8", errors="replace").split("\n")
+            yield from self.trace_batch(data)
+
+    def trace_batch(self, data: bytes) -> list[str]:
+        """The trace lines one ``/homesim/trace`` message holds (``{"lines": [...]}``)."""
+        batch = self.decode(TRACE_CHANNEL, data)
+        lines = batch.get("lines") if isinstance(batch, dict) else None
+        if not isinstance(lines, list) or not all(isinstance(line, str) for line in lines):
+            raise InputError(f'a message on {TRACE_CHANNEL} is not a homesim.TraceRecords ({{"lines": [...]}})', source=str(self.path))
+        return lines
 
     # ------------------------------------------------------------- moment
     def moment(self, t: float | None = None) -> tuple[RecordedWorld, Any, float]:

@@ -11,8 +11,9 @@
   camera pan, every person (position, heading, gaze, legs, torso colour, pointing target, words
   being said) and the other sound sources (ground truth, for viewing and scoring only);
 * ``/homesim/trace`` (``homesim.TraceRecords``): every line of the JSON Lines trace
-  (:mod:`homesim.trace`) byte for byte, sends, deliveries and drops, in batches (lines joined by
-  newlines, each batch within 0.1 s of virtual time); the trace header is the ``homesim.trace``
+  (:mod:`homesim.trace`) byte for byte, sends, deliveries and drops, in batches (each message one
+  JSON document ``{"lines": [line, ...]}``, a batch within 0.1 s of virtual time, logged at its
+  last line's time); the trace header is the ``homesim.trace``
   metadata record. So ``homesim trace``, ``plot --timeline`` and
   ``export --perfetto`` read a recording as they read a trace.
 * metadata ``homesim.run``: scenario name, file and digest, seed, robot profile, deployment,
@@ -60,8 +61,9 @@ MAP_CHANNEL = "/homesim/map"
 _ANY = {"type": "object"}
 #: The recording's own schemas (JSON Schema; the fields are described in docs/running.md).
 SCHEMAS: dict[str, dict[str, Any]] = {
-    "homesim.TraceRecords": {"title": "homesim.TraceRecords", "description": "lines of the homesim JSON Lines trace, joined by newlines "
-                             "(not one JSON document: each line is one)"},
+    "homesim.TraceRecords": {"title": "homesim.TraceRecords", "type": "object", "required": ["lines"],
+                             "description": "consecutive lines of the homesim JSON Lines trace, each as a string, byte for byte",
+                             "properties": {"lines": {"type": "array", "items": {"type": "string"}}}},
     "homesim.WorldState": {"title": "homesim.WorldState", "type": "object", "required": ["t", "robot", "people", "sources"],
                            "properties": {"t": {"type": "number"}, "robot": _ANY, "people": {"type": "array"}, "sources": {"type": "array"}}},
     "homesim.Map": {"title": "homesim.Map", "type": "object", "required": ["scenario", "bounds", "rooms", "obstacles", "objects"],
@@ -125,8 +127,9 @@ class _TraceLines:
 
     Lines are written in batches, one MCAP message per batch (a message per line cost more than
     the rest of the recording): a batch holds the lines of at most :data:`TRACE_BATCH_S` of virtual
-    time and at most :data:`TRACE_BATCH_LINES` lines, its log time is its first line's, so every
-    line at or after ``t`` is in a batch logged after ``t - TRACE_BATCH_S``.
+    time and at most :data:`TRACE_BATCH_LINES` lines, as one JSON document ``{"lines": [...]}`` (so
+    any MCAP reader decodes it); its log time is its last line's, so every line at or after ``t``
+    is in a batch logged at or after ``t``, and the recording ends when the trace does.
     """
 
     def __init__(self, out: _Mcap) -> None:
@@ -135,6 +138,7 @@ class _TraceLines:
         self.cid = out.channel(TRACE_CHANNEL, "homesim.TraceRecords")
         self.lines: list[str] = []
         self.first = 0
+        self.last = 0
         self.batches = 0
 
     def __call__(self, obs: Observation) -> None:
@@ -143,13 +147,14 @@ class _TraceLines:
         if not self.lines:
             self.first = obs.t_ns
         self.seq += 1
+        self.last = obs.t_ns
         self.lines.append(observation_line(obs, self.seq))
 
     def flush(self) -> None:
         if self.lines:
             self.batches += 1
-            self.out.w.add_message(self.cid, log_time=self.first, publish_time=self.first, sequence=self.batches,
-                                   data="\n".join(self.lines).encode("utf-8"))
+            data = '{"lines":[' + ",".join(map(_json_str, self.lines)) + "]}"
+            self.out.w.add_message(self.cid, log_time=self.last, publish_time=self.last, sequence=self.batches, data=data.encode("utf-8"))
             self.out.count += 1
             self.lines.clear()
 

@@ -213,14 +213,15 @@ class Cursor:
         return self.next(ES_LOG, where=is_transition)
 
     def _lines(self) -> Any:
-        """(time ns, line) of the recording's trace from a batch before the cursor on (batches hold 0.1 s)."""
+        """(time ns, line) of the recording's trace from the first batch logged at or after the cursor (a batch is
+        logged at its last line's time)."""
         import re
 
-        from .recording import TRACE_BATCH_S, TRACE_CHANNEL
+        from .recording import TRACE_CHANNEL
 
-        t_of = re.compile(rb'^\{"t":([^,]+),')
-        for _, _, _, data in self.rec.messages([TRACE_CHANNEL], start=max(0.0, self.t - TRACE_BATCH_S)):
-            for raw in data.split(b"\n"):
+        t_of = re.compile(r'^\{"t":([^,]+),')
+        for _, _, _, data in self.rec.messages([TRACE_CHANNEL], start=self.t):
+            for raw in self.rec.trace_batch(data):
                 m = t_of.match(raw)
                 yield (round(float(m.group(1)) * 1e9) if m else 0), raw
 
