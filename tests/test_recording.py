@@ -177,11 +177,23 @@ def test_trace_echo_prints_exactly_the_window_on_both_formats(recorded, a, lengt
     b = a + length
     want = [r["t"] for r in map(json.loads, recorded["trace"].read_text().splitlines()[1:])
             if r.get("channel") == "/robot/attention/state" and a <= r["t"] <= b]
+    texts = []
     for f in (recorded["trace"], recorded["recording"]):
         out = io.StringIO()
         n = echo(f, "/robot/attention/state", start=a, end=b, raw=False, limit=None, out=out)
         got = [float(x) for x in _T.findall(out.getvalue())]
         assert n == len(want) and got == pytest.approx(want, abs=1e-6)
+        texts.append(out.getvalue())
+    assert texts[0] == texts[1]  # the same text, seq included, from either file
+
+
+def test_trace_echo_of_a_bus_channel_is_the_same_from_both_formats(recorded, capsys):
+    for raw in ([], ["--json"]):
+        outs = []
+        for f in (recorded["trace"], recorded["recording"]):
+            assert main(["trace", "echo", str(f), "/robot/laser/scan", "--from", "3", "--to", "4", *raw]) == 0
+            outs.append(capsys.readouterr().out)
+        assert outs[0] == outs[1] and outs[0].count("seq" if not raw else '"seq":') >= 10
 
 
 def test_trace_echo_json_and_count(recorded, capsys):

@@ -203,9 +203,17 @@ def echo(path: Path, channel: str, *, start: float | None, end: float | None, ra
     n = 0
     if is_mcap(path):
         with Recording(path) as rec:
-            known = [c[0] for c in rec.channels()]
-            if channel not in known:
-                raise _unknown_channel(path, channel, known)
+            chans = {c[0]: c[1] for c in rec.channels()}
+            if channel not in chans:
+                raise _unknown_channel(path, channel, sorted(chans))
+            if chans[channel] == "homesim.BusMessage" and "homesim.trace" in rec.metadata:
+                # A bus channel of a recording: from the trace it holds, so the echo is the JSONL trace's (seq too).
+                for t, r in _recorded_sends(rec, channel, start, end):
+                    if limit is not None and n >= limit:
+                        break
+                    n += 1
+                    _print_record(out, t, r, raw)
+                return n
             for topic, schema, lt, data in rec.messages([channel], start=start, end=end):
                 if limit is not None and n >= limit:
                     break
@@ -234,13 +242,32 @@ def echo(path: Path, channel: str, *, start: float | None, end: float | None, ra
         if limit is not None and n >= limit:
             break
         n += 1
-        if raw:
-            out.write(json.dumps(rec, ensure_ascii=False, separators=(",", ":")) + "\n")
-        else:
-            _print_send(out, t, rec)
+        _print_record(out, t, rec, raw)
     if n == 0 and channel not in seen:
         raise _unknown_channel(path, channel, sorted(seen))
     return n
+
+
+def _recorded_sends(rec: Any, channel: str, start: float | None, end: float | None) -> Iterator[tuple[float, dict[str, Any]]]:
+    """(t, record) of each send on ``channel`` within [start, end] from a recording's trace (batches are logged at their
+    last line's time, so the batches logged from ``start`` on hold every line from ``start`` on)."""
+    from .recording import TRACE_CHANNEL
+
+    for _, _, _, data in rec.messages([TRACE_CHANNEL], start=start):
+        for line in rec.trace_batch(data):
+            r = rec.decode(TRACE_CHANNEL, line)
+            t = float(r["t"])
+            if end is not None and t > end:
+                return
+            if r.get("kind") in SENDS and r.get("channel") == channel and (start is None or t >= start):
+                yield t, r
+
+
+def _print_record(out: IO[str], t: float, rec: dict[str, Any], raw: bool) -> None:
+    if raw:
+        out.write(json.dumps(rec, ensure_ascii=False, separators=(",", ":")) + "\n")
+    else:
+        _print_send(out, t, rec)
 
 
 def _print_send(out: IO[str], t: float, rec: dict[str, Any]) -> None:
