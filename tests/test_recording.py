@@ -369,3 +369,14 @@ def test_every_message_of_a_json_channel_is_one_json_document(recorded, capsys):
                 assert set(doc) == {"lines"} and doc["lines"] and all(json.loads(line)["t"] <= msg.log_time / 1e9 for line in doc["lines"])
     assert main(["trace", "echo", str(recorded["recording"]), "/homesim/trace", "-n", "1"]) == 0
     assert '"lines"' in capsys.readouterr().out
+
+
+@pytest.mark.parametrize("size", [8, 9, 20, 40])
+def test_a_recording_cut_in_its_header_is_refused_naming_the_file(recorded, tmp_path, capsys, size):
+    cut = tmp_path / "cut.mcap"
+    cut.write_bytes(recorded["recording"].read_bytes()[:size])
+    for cmd in (["trace", "info", str(cut)], ["plot", str(cut), "--at", "1", "-o", str(tmp_path / "m.png")],
+                ["export", str(cut), "--perfetto", str(tmp_path / "p.json")]):
+        assert main(cmd) == 2
+        err = capsys.readouterr().err
+        assert f"{cut}: not a whole MCAP file" in err, err

@@ -70,7 +70,7 @@ def is_recording(path: str | os.PathLike[str]) -> bool:
 def _errors() -> tuple[type[BaseException], ...]:
     from mcap.exceptions import McapError
 
-    errs: list[type[BaseException]] = [McapError, struct.error, ValueError, EOFError, KeyError, zlib.error]
+    errs: list[type[BaseException]] = [McapError, struct.error, ValueError, EOFError, KeyError, zlib.error, OSError]
     try:
         import zstandard
 
