@@ -158,3 +158,24 @@ def test_after_a_seek_the_next_message_is_the_first_at_or_after_that_time(tmp_pa
         assert c.next("/robot/audio/speech").id == speech["id"]
     finally:
         c.close()
+
+
+def test_a_method_channel_is_stepped_and_echoed_from_a_recording_by_its_bus_name(tmp_path, trace_sends, capsys):
+    """A request's bus channel (map_server/map) has no leading slash; its recording topic has one."""
+    pytest.importorskip("mcap")
+    from homesim.cli import main
+    from homesim.tour.stepping import Cursor
+
+    rec = tmp_path / "tour.mcap"
+    assert main(["run", str(TOUR), "--until", str(UNTIL), "--quiet", "--record", str(rec)]) == 0
+    want = [r for r in trace_sends if not r["channel"].startswith("/")]
+    assert want
+    c = Cursor(rec)
+    try:
+        s = c.next(want[0]["channel"])
+        assert (s.t, s.seq, s.channel) == (want[0]["t"], want[0]["seq"], want[0]["channel"])
+    finally:
+        c.close()
+    capsys.readouterr()
+    assert main(["trace", "echo", str(rec), want[0]["channel"], "-n", "1"]) == 0
+    assert f"seq {want[0]['seq']}" in capsys.readouterr().out

@@ -222,8 +222,11 @@ class Cursor:
         """
         import json
 
-        if channel is not None and channel not in self.bus_channels:
-            raise UnknownChannel(channel, self.bus_channels, str(self.path))
+        topic = None
+        if channel is not None:
+            topic = "/" + channel.lstrip("/")  # the recording's topic (a method's channel has no leading slash on the bus)
+            if topic not in self.bus_channels:
+                raise UnknownChannel(channel, self.bus_channels, str(self.path))
         if self._it is None:  # one reader pass, continued while the cursor moves forward
             self._it = self._lines()
         t_ns = round(self.t * 1e9)
@@ -234,7 +237,7 @@ class Cursor:
             r = json.loads(line)
             if r.get("kind") not in ("publish", "request", "reply", "error") or (lt == t_ns and r["seq"] <= seq):
                 continue
-            if channel is not None and r["channel"] != channel:
+            if topic is not None and r["channel"] != channel and "/" + r["channel"].lstrip("/") != topic:
                 continue
             s = Step(r["t"], r["seq"], r["kind"], r["sender"], r["channel"], tuple(r["receivers"]), r["id"], tuple(r["causes"]), r["xml"])
             if where is None or where(s):

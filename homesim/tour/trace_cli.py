@@ -204,6 +204,8 @@ def echo(path: Path, channel: str, *, start: float | None, end: float | None, ra
     if is_mcap(path):
         with Recording(path) as rec:
             chans = {c[0]: c[1] for c in rec.channels()}
+            if channel not in chans and "/" + channel.lstrip("/") in chans:
+                channel = "/" + channel.lstrip("/")  # a method's bus channel (map_server/map) is the topic /map_server/map
             if channel not in chans:
                 raise _unknown_channel(path, channel, sorted(chans))
             if chans[channel] == "homesim.BusMessage" and "homesim.trace" in rec.metadata:
@@ -259,7 +261,7 @@ def _recorded_sends(rec: Any, channel: str, start: float | None, end: float | No
             t = float(r["t"])
             if end is not None and t > end:
                 return
-            if r.get("kind") in SENDS and r.get("channel") == channel and (start is None or t >= start):
+            if r.get("kind") in SENDS and "/" + str(r.get("channel")).lstrip("/") == channel and (start is None or t >= start):
                 yield t, r
 
 
