@@ -380,3 +380,24 @@ def test_a_recording_cut_in_its_header_is_refused_naming_the_file(recorded, tmp_
         assert main(cmd) == 2
         err = capsys.readouterr().err
         assert f"{cut}: not a whole MCAP file" in err, err
+
+
+def _same_percepts(a, b) -> bool:
+    import pickle
+
+    return pickle.dumps(a) == pickle.dumps(b)  # every field, arrays by value
+
+
+def test_a_moment_between_world_states_draws_truth_and_percepts_of_one_time(recorded, capsys):
+    """--at 10.07 draws the world state of 10.0 s: the percepts are those of 10.0 s too, not of 10.07 s."""
+    with Recording(recorded["recording"]) as rec:
+        world, percepts, t = rec.moment(10.07)
+        _, at_state, t0 = rec.moment(10.0)
+        assert t == t0 == pytest.approx(10.0) and _same_percepts(percepts, at_state)
+        end = rec.span()[1]
+    trace_end = json.loads(recorded["trace"].read_text().splitlines()[-1])["t"]
+    assert end == pytest.approx(trace_end, abs=1e-9)  # the recording ends where its trace does
+    assert main(["trace", "info", str(recorded["recording"])]) == 0
+    shown = re.search(r"to ([0-9.]+) s\)", capsys.readouterr().out).group(1)
+    assert float(shown) == pytest.approx(trace_end, abs=5e-4)
+    assert main(["plot", str(recorded["recording"]), "--at", shown, "-o", str(recorded["dir"] / "end.png")]) == 0

@@ -214,12 +214,16 @@ class Recording:
         end = self.span()[1]
         if t is None:
             t = end
-        if t > end + 1e-9:
-            raise InputError(f"t = {t:g} s is after the end of the recording ({end:g} s)", source=str(self.path))
-        got = self.latest([MAP_CHANNEL, WORLD_CHANNEL, "/laser", *CHANNELS], t)
+        if round(t, 3) > round(end, 3):  # the end as 'trace info' shows it (ms) is within the recording
+            raise InputError(f"t = {t:g} s is after the end of the recording ({end:.3f} s)", source=str(self.path))
+        t = min(t, end)
+        got = self.latest([MAP_CHANNEL, WORLD_CHANNEL], t)
         if MAP_CHANNEL not in got or WORLD_CHANNEL not in got:
             raise InputError(f"holds no map or world state at or before t = {t:g} s", source=str(self.path))
         world = RecordedWorld(self.decode(MAP_CHANNEL, got[MAP_CHANNEL][1]), self.decode(WORLD_CHANNEL, got[WORLD_CHANNEL][1]))
+        # The percepts of the same moment as the truth (the world state's time, on its 10 Hz grid), never later.
+        t = world.time
+        got = self.latest(["/laser", *CHANNELS], t)
         seen = PerceptCollector()
         laser = got.get("/laser")
         for ch in CHANNELS:
