@@ -75,7 +75,7 @@ _text = st.text(st.characters(exclude_categories=("Cs",)), max_size=30)
 def test_bus_messages_are_formatted_as_the_canonical_json(obj):
     """The recorder's fast path writes the bytes the export's canonical JSON would."""
     from homesim.export.foxglove import dumps
-    from homesim.tour.recording import bus_message_json
+    from homesim.tour.mcap_export import bus_message_json
 
     assert bus_message_json(obj) == dumps(obj)
 
@@ -401,3 +401,48 @@ def test_a_moment_between_world_states_draws_truth_and_percepts_of_one_time(reco
     shown = re.search(r"to ([0-9.]+) s\)", capsys.readouterr().out).group(1)
     assert float(shown) == pytest.approx(trace_end, abs=5e-4)
     assert main(["plot", str(recorded["recording"]), "--at", shown, "-o", str(recorded["dir"] / "end.png")]) == 0
+
+
+def test_a_recording_holds_the_exports_foxglove_channels_with_the_same_schemas_and_messages(tmp_path):
+    """Recorder and export share FoxgloveViews: the same topics, schema bytes and messages (the laser's ranges rounded)."""
+    from mcap.reader import make_reader
+
+    trace, recording, exported = tmp_path / "t.jsonl", tmp_path / "r.mcap", tmp_path / "export.mcap"
+    assert main(["run", str(ROOT / "scenarios" / "home_tour.xml"), "--until", "4", "--quiet", "--trace", str(trace),
+                 "--record", str(recording)]) == 0
+    assert main(["export", str(trace), "--mcap", str(exported)]) == 0
+
+    def read(path: Path) -> tuple[dict[str, tuple[str, bytes]], dict[str, list[tuple[int, bytes]]]]:
+        schemas, msgs = {}, {}
+        with open(path, "rb") as fh:
+            for schema, channel, msg in make_reader(fh).iter_messages(log_time_order=False):
+                schemas[channel.topic] = (schema.name, schema.data)
+                msgs.setdefault(channel.topic, []).append((msg.log_time, msg.data))
+        return schemas, msgs
+
+    ex_schemas, ex_msgs = read(exported)
+    rec_schemas, rec_msgs = read(recording)
+    assert set(ex_schemas) <= set(rec_schemas)
+    for topic, (name, data) in ex_schemas.items():
+        assert rec_schemas[topic] == (name, data), topic
+        if topic == "/laser":
+            a, b = ex_msgs[topic], rec_msgs[topic]
+            assert [t for t, _ in a] == [t for t, _ in b]
+            for (_, x), (_, y) in zip(a, b):
+                assert json.loads(y)["ranges"] == pytest.approx(json.loads(x)["ranges"], abs=5e-5)
+        else:
+            assert rec_msgs[topic] == ex_msgs[topic], topic
+
+
+def test_closing_a_recorder_stops_every_hook_it_added(tmp_path):
+    from homesim.tour.recording import record
+    from homesim.tour.runner import Run, RunOptions
+
+    with Run.from_file(ROOT / "scenarios" / "home_tour.xml", RunOptions(until=1.0)) as run:
+        bus, world = run.sim.bus, run.world
+        before = (list(bus._interceptors), list(world._listeners))
+        rec = record(run, tmp_path / "r.mcap")
+        assert len(bus._interceptors) > len(before[0]) and len(world._listeners) > len(before[1])
+        run.run()
+        rec.close()
+        assert (list(bus._interceptors), list(world._listeners)) == before
