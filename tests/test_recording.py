@@ -251,7 +251,7 @@ def test_trace_info_reads_any_mcap_file(tmp_path, capsys):
     assert main(["trace", "info", str(f)]) == 0
     row = _rows(capsys.readouterr().out)["/ping"]
     assert row[1:4] == ["demo.Ping", "5", "2.00 Hz"]
-    with as_trace(f) if False else Recording(f) as rec:
+    with Recording(f) as rec:
         with pytest.raises(Exception, match="holds no homesim trace"):
             rec.trace_header()
 

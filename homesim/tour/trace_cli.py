@@ -25,7 +25,7 @@ from typing import IO, Any
 from .. import cliargs
 from ..errors import HomesimError, InputError
 from ..trace import read_trace
-from ..traceview import SENDS, _check_record
+from ..traceview import SENDS, check_record
 
 _ROOT = re.compile(r"\s*<([A-Za-z_][\w.:-]*)")
 #: At most this many distinct types are named for one channel.
@@ -90,7 +90,7 @@ def _trace_records(path: Path) -> Iterator[tuple[int, dict[str, Any]]]:
                 check_header(rec, source=str(path))
             yield 1, rec
             continue
-        _check_record(path, n, rec)
+        check_record(path, n, rec)
         if not isinstance(rec.get("t"), (int, float)) or isinstance(rec.get("t"), bool):
             raise InputError(f"a record without a valid 't' (got {rec.get('t')!r:.60})", source=str(path), line=n)
         yield n, rec
