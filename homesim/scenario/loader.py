@@ -482,7 +482,8 @@ class _Builder:
             return WaitFor(el.get("robot-says"), self.opt(el, "robot-within"), self.opt(el, "timeout"), line=line,
                            retries=0 if retries is None else int(retries), repair=el.get("repair"), hears=self.words(el, "hears"),
                            repairs=None if repairs is None else (() if repairs == "none" else tuple(repairs.split())),
-                           patience=None if patience is None else int(patience), give_up=el.get("give-up"))
+                           patience=None if patience is None else int(patience), give_up=el.get("give-up"),
+                           handlers=tuple(self.handler(h) for h in el.iterfind("on")))
         if tag == "leave":
             return Leave(el.get("door"), line=line)
         if tag == "repeat":
