@@ -29,7 +29,7 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.ndimage import binary_dilation, distance_transform_edt, label
+from homesim.ndgrid import dilate3x3, distance_transform_edt, label
 
 from robot.floorplan import FloorPlan
 
@@ -128,7 +128,7 @@ class LikelihoodField:
         rooms = labels == labels[iy, ix]
         # the inside of walls and closed furniture: free cells of the plan not in the rooms
         self.solid = free & inside & ~rooms
-        faces = occ & binary_dilation(rooms, structure=np.ones((3, 3), dtype=bool))
+        faces = occ & dilate3x3(rooms)
         return faces if faces.any() else occ
 
     def lookup(self, x: np.ndarray, y: np.ndarray) -> np.ndarray:
