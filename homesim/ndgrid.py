@@ -10,6 +10,8 @@ structure) and ``binary_dilation`` (3x3 ones, one iteration) on 2D boolean grids
 - the distance transform is exact: squared distances are integers (the column distance, then the
   smallest ``g**2 + d**2`` over row offsets ``d``, stopping once ``d**2`` exceeds every cell's best),
   and the square root of an exact integer is what SciPy's ``sqrt(di**2 + dj**2)`` gives too;
+  ``distance_transform_edt`` is Python-level numpy, ~5x SciPy's C: it runs a few times at start-up
+  (the likelihood field) and at a navigation grid's build, not per step;
 - labels propagate the smallest cell index of each region (minima over horizontal and vertical
   runs of cells, and pointer jumping),
   so a region's label is its first cell in row-major order, numbered 1, 2, ... in that order,
@@ -35,24 +37,34 @@ def distance_transform_edt(grid: np.ndarray) -> np.ndarray:
 
         return ndimage.distance_transform_edt(grid)  # type: ignore[no-any-return]
     nx, ny = fg.shape
-    big = np.int64((nx + ny) ** 2 + 1)  # more than any real distance along a column, squared
+    cap = nx + ny  # more than any distance along a column: "no zero in this column"
+    far = cap * cap  # more than any squared distance in the grid
+    dtype = np.int32 if 2 * far < 2**31 else np.int64
     # pass 1: distance along axis 0 to the nearest zero in the same column
-    g = np.empty((nx, ny), dtype=np.int64)
-    run = np.full(ny, big, dtype=np.int64)
+    g = np.empty((nx, ny), dtype=dtype)
+    run = np.full(ny, cap, dtype=dtype)
     for i in range(nx):
-        run = np.where(fg[i], np.minimum(run + 1, big), 0)
+        run = np.where(fg[i], np.minimum(run + 1, cap), 0).astype(dtype, copy=False)
         g[i] = run
     for i in range(nx - 2, -1, -1):
         np.minimum(g[i], g[i + 1] + 1, out=g[i])
-    g2 = np.where(g >= big, big * big, g * g)  # squared; "no zero in this column" stays huge
-    # pass 2: along axis 1, the smallest g2 + d**2 over offsets d, until d**2 can no longer win
+    g2 = np.where(g >= cap, far, g * g).astype(dtype, copy=False)
+    # pass 2: along axis 1, the smallest g2 + d**2 over offsets d, until d**2 can no longer win;
+    # rows are dropped once every cell in them is nearer than d (a few rows hold the far cells)
     best = g2.copy()
+    rows = np.arange(nx)
     d = 1
-    while d < ny and d * d < best.max():
-        dd = np.int64(d * d)
-        np.minimum(best[:, d:], g2[:, :-d] + dd, out=best[:, d:])
-        np.minimum(best[:, :-d], g2[:, d:] + dd, out=best[:, :-d])
-        d += 1
+    while d < ny:
+        rows = rows[best[rows].max(axis=1) > d * d]
+        if rows.size == 0:
+            break
+        b, src = best[rows], g2[rows]
+        for dd in range(d, min(d + 8, ny)):
+            sq = dtype(dd * dd)
+            np.minimum(b[:, dd:], src[:, :-dd] + sq, out=b[:, dd:])
+            np.minimum(b[:, :-dd], src[:, dd:] + sq, out=b[:, :-dd])
+        best[rows] = b
+        d += 8
     return np.sqrt(best.astype(np.float64))
 
 
