@@ -17,7 +17,7 @@ grids = st.tuples(st.integers(1, 24), st.integers(1, 24)).flatmap(
     lambda shape: arrays(np.bool_, shape, elements=st.booleans()))
 
 
-@settings(max_examples=300, deadline=None)
+@settings(max_examples=200, deadline=None)
 @given(grids)
 def test_distance_transform_is_scipys(g: np.ndarray) -> None:
     a, b = ndgrid.distance_transform_edt(g), ndimage.distance_transform_edt(g)
@@ -25,7 +25,7 @@ def test_distance_transform_is_scipys(g: np.ndarray) -> None:
     assert a.tobytes() == b.tobytes()
 
 
-@settings(max_examples=300, deadline=None)
+@settings(max_examples=200, deadline=None)
 @given(grids)
 def test_labels_are_scipys(g: np.ndarray) -> None:
     (a, na), (b, nb) = ndgrid.label(g), ndimage.label(g)
@@ -33,7 +33,7 @@ def test_labels_are_scipys(g: np.ndarray) -> None:
     assert a.tobytes() == b.tobytes()
 
 
-@settings(max_examples=300, deadline=None)
+@settings(max_examples=200, deadline=None)
 @given(grids)
 def test_dilation_is_scipys(g: np.ndarray) -> None:
     b = ndimage.binary_dilation(g, structure=np.ones((3, 3), dtype=bool))
