@@ -40,6 +40,9 @@ def _doc(body: str) -> etree._Element:
     ('<link name="l" min-ms="3" max-ms="2"/><host name="a" link="l"/>', "min_s <= max_s"),
     ('<link name="l" min-ms="1" max-ms="2"/><link name="l" min-ms="1" max-ms="2"/><host name="a" link="l"/>', "given twice"),
     ('<link name="l" min-ms="1" max-ms="2" loss="1.5"/><host name="a" link="l"/>', "deployment.xsd"),
+    # a vanishing CPU speed would scale processing costs to infinity (a timer overflow at run time)
+    ('<link name="l" min-ms="1" max-ms="2"/><host name="a" link="l" cpu-mhz="1e-300"/>', "cpu-mhz.*minimum"),
+    ('<link name="l" min-ms="1" max-ms="2"/><host name="a" link="l" cpu-mhz="0.5"/>', "cpu-mhz.*minimum"),
 ])
 def test_a_bad_deployment_is_refused_naming_what_is_wrong(body, words):
     with pytest.raises(DeploymentError, match=words):
