@@ -41,6 +41,27 @@ def sleep_homesim(delays: np.ndarray) -> int:
     return count
 
 
+def sleep_homesim_gather(delays: np.ndarray) -> int:
+    """The sleep workload through the entry point asyncio users reach for first:
+    ``run_until_complete(gather(...))`` (the loop stops when the gathered future is done)."""
+    loop = VirtualEventLoop()
+    count = 0
+
+    async def proc(row: list[float]) -> None:
+        nonlocal count
+        sleep = asyncio.sleep
+        for d in row:
+            await sleep(d)
+            count += 1
+
+    async def main() -> None:
+        await asyncio.gather(*(proc(row) for row in delays.tolist()))
+
+    loop.run_until_complete(main())
+    loop.close()
+    return count
+
+
 def sleep_simpy(delays: np.ndarray) -> int:
     import simpy
 
@@ -143,6 +164,7 @@ def main() -> None:
     rows = []
     for name, ours, theirs, a in (
         ("sleep", sleep_homesim, sleep_simpy, (delays,)),
+        ("sleep_gather", sleep_homesim_gather, sleep_simpy, (delays,)),
         ("pingpong", pingpong_homesim, pingpong_simpy, (args.pairs, args.msgs)),
     ):
         t_ours = t_simpy = float("inf")

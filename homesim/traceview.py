@@ -40,6 +40,8 @@ RECENT = 1 << 16
 STREAM_RATE = 0.9
 #: ... and at least this many messages.
 STREAM_MIN = 20
+#: A timeline shows at most about this many messages of each stream in its window (thinned evenly).
+STREAM_SAMPLES = 40
 HEARTBEAT = "/system/heartbeat/"
 SENDS = ("publish", "request", "reply", "error")
 #: A phase marker reads every sent record (``channel``, record) in trace order and returns the
@@ -283,18 +285,22 @@ def walk(path: str | os.PathLike[str], streams: dict[tuple[str, str], StreamStat
 
 
 def read_timeline(path: str | os.PathLike[str], *, start: float | None = None, end: float | None = None,
-                  heartbeats: bool = False, stream_per_s: float = 2.0,
+                  heartbeats: bool = False, stream_per_s: float | None = None,
                   progress: Callable[[float, float], None] | None = None) -> Timeline:
     """The timeline of a trace file between ``start`` and ``end`` (virtual seconds; default: all of it).
 
     Stream messages are thinned to at most ``stream_per_s`` per second per
-    stream. Fails (``InputError``) for a file that is not a trace or an empty window.
+    stream (default: 2 per second, fewer in a long window, so that each stream
+    shows at most :data:`STREAM_SAMPLES` arrows: a whole run stays readable).
+    Fails (``InputError``) for a file that is not a trace or an empty window.
     """
     header, streams = channel_stats(path)
     t0 = 0.0 if start is None else start
     t1 = max((s.last for s in streams.values()), default=0.0) if end is None else end
     if t1 <= t0:
         raise InputError(f"the window {t0:g}-{t1:g} s is empty", source=str(path))
+    if stream_per_s is None:
+        stream_per_s = min(2.0, STREAM_SAMPLES / (t1 - t0))
     msgs: dict[str, Message] = {}
     order: list[Message] = []
     spans: dict[tuple[str, float], Span] = {}

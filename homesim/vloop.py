@@ -289,7 +289,7 @@ class VirtualEventLoop(FailsLoudly, RefusesRealIO, asyncio.BaseEventLoop):
         fut = asyncio.ensure_future(future, loop=self)
         with self._entered():
             if not fut.done():
-                outcome = self._drive(None, fut.done, None)
+                outcome = self._drive(None, None, None, fut)
                 if outcome == _EMPTY:
                     self._check_deadlock(extra="the awaited future")
         self._raise_failure()
@@ -299,8 +299,9 @@ class VirtualEventLoop(FailsLoudly, RefusesRealIO, asyncio.BaseEventLoop):
         """Run until nothing is left to do (same as :meth:`run` with no limit)."""
         self.run()
 
-    def _drive(self, until_ns: int | None, stop: Callable[[], bool] | None, max_rounds: int | None) -> int:
-        """The one scheduling loop behind step/run/run_until; returns why it stopped.
+    def _drive(self, until_ns: int | None, stop: Callable[[], bool] | None, max_rounds: int | None,
+               until_done: asyncio.Future[Any] | None = None) -> int:
+        """The one scheduling loop behind step/run/run_until/run_until_complete; returns why it stopped.
 
         A round: if nothing is ready, jump the clock to the earliest timer
         (but never to or past ``until_ns``); move every timer due now (and
@@ -308,6 +309,16 @@ class VirtualEventLoop(FailsLoudly, RefusesRealIO, asyncio.BaseEventLoop):
         run the callbacks that were ready at the round's start. Everything is
         inlined and kept in local variables: this is the simulator's hottest
         code (a sleep costs two rounds, so a round's own cost counts).
+
+        ``until_done`` (run_until_complete's future) stops the loop after the round in which
+        it became done, as a ``stop`` predicate of ``until_done.done`` would, but keeps the
+        fast paths a predicate turns off: a predicate can look at anything, a future only
+        becomes done in a round that runs its own code. So a round that is one bus delivery
+        is followed by a look at the future; a sleep's timer round cannot finish any future
+        but its own waiter (it only marks the waiter done), so it runs with its wake-up and
+        the look follows both unless the awaited future is that waiter; the general round's
+        inline wake-up is skipped once the future is done. Same rounds, same order, as
+        through the predicate (``tests/test_vloop.py``), at ``run``'s speed.
         """
         ready = self._ready
         timers = self.timers
@@ -319,6 +330,7 @@ class VirtualEventLoop(FailsLoudly, RefusesRealIO, asyncio.BaseEventLoop):
         heappop = heapq.heappop
         pacer = self._pacer
         checks = max_rounds is not None or stop is not None
+        done = until_done.done if until_done is not None else None
         last = (until_ns - 1) if until_ns is not None else None  # the last instant this call may run
         rounds = 0
         handle = lone = None
@@ -379,9 +391,12 @@ class VirtualEventLoop(FailsLoudly, RefusesRealIO, asyncio.BaseEventLoop):
                         except BaseException as exc:  # one failing callback fails the run
                             self._record_failure(exc, f"callback {handle!r}")
                         handle = None
+                        if done is not None and done():
+                            return _PREDICATE
                         continue
                     waker = lone._waker
-                    if waker is not None and waker is not _MANY and instant_rounds + 1 < max_instant:
+                    if (waker is not None and waker is not _MANY and instant_rounds + 1 < max_instant
+                            and lone is not until_done):
                         pop_due(heappop(times))
                         lone._scheduled = False
                         lone._done = True
@@ -396,6 +411,8 @@ class VirtualEventLoop(FailsLoudly, RefusesRealIO, asyncio.BaseEventLoop):
                         except BaseException as exc:  # one failing callback fails the run
                             self._record_failure(exc, f"callback {handle!r}")
                         handle = None
+                        if done is not None and done():
+                            return _PREDICATE
                         continue
                     lone = None
                 while times and times[0] <= limit:
@@ -431,7 +448,8 @@ class VirtualEventLoop(FailsLoudly, RefusesRealIO, asyncio.BaseEventLoop):
                                 elif waker is not _MANY:
                                     handle._waker = None
                                     if (not ready and not checks and instant_rounds + 1 < max_instant
-                                            and self._failure is None and (not times or times[0] > limit)):
+                                            and self._failure is None and (not times or times[0] > limit)
+                                            and (done is None or not done())):
                                         # The wake-up would be the whole next round (nothing else is
                                         # ready or due now): run it as that round, here. Same order.
                                         instant_rounds += 1
@@ -456,6 +474,8 @@ class VirtualEventLoop(FailsLoudly, RefusesRealIO, asyncio.BaseEventLoop):
                 except BaseException as exc:  # one failing callback fails the run
                     self._record_failure(exc, f"callback {handle!r}")
                 handle = None
+                if done is not None and done():
+                    return _PREDICATE
                 if checks:
                     rounds += 1
                     if max_rounds is not None and rounds >= max_rounds:

@@ -56,6 +56,9 @@ def check_scenario(sc: Scenario) -> None:
                     raise ScenarioError(f"request={act.request!r} has phrasings with a slot: give about= (e.g. about=\"the kitchen\")",
                                         source=sc.source, line=act.line, element="say")
         _loops(sc, h.handlers)
+        for act in _walk(h.script + tuple(a for hd in h.handlers for a in hd.body)):
+            if isinstance(act, WaitFor) and act.handlers:  # a wait's reactions, with hers, during the wait
+                _loops(sc, act.handlers + h.handlers)
 
 
 def spoken(actions: tuple[Action, ...]) -> list[str]:
@@ -119,3 +122,6 @@ def _walk(actions: tuple[Action, ...]) -> Iterator[Action]:
         yield a
         if isinstance(a, Repeat):
             yield from _walk(a.body)
+        elif isinstance(a, WaitFor):
+            for hd in a.handlers:  # a wait's own reactions (<on> inside the wait-for)
+                yield from _walk(hd.body)

@@ -115,6 +115,10 @@ class Actor:
         self._streak = 0
         self._absorbed: frozenset[int] = frozenset()  # robot utterances heard during her last reaction
         self._last_phrase: dict[tuple[str, str | None], str] = {}
+        self.scoped_fired_total = 0  # how often a wait's own reactions fired over the run
+        self.stopped_early = False  # she gave up by stopping or leaving: her script ended there
+        self.scoped: tuple[Handler, ...] = ()  # the reactions of the wait-for she is in (``<on>`` inside it)
+        self._scoped_fired: list[int] = []
 
     @property
     def now(self) -> float:
@@ -125,6 +129,7 @@ class Actor:
         try:
             await self.play(self.script)
         except GaveUp:
+            self.stopped_early = True
             self.stand_still()
         self.done = True
 
@@ -133,9 +138,9 @@ class Actor:
 
     async def play(self, actions: tuple[Action, ...]) -> None:
         for act in actions:
+            if not self._reacting:
+                self._streak = 0
             if self.handlers:
-                if not self._reacting:
-                    self._streak = 0
                 await self.react()
             start = self.now
             if not isinstance(act, (WaitFor, Repeat)):
@@ -256,7 +261,12 @@ class Actor:
         return new
 
     def reaction_to(self, text: str, *, waiting: bool) -> Handler | None:
-        """The first reaction (in file order) that may fire now and hears ``text``."""
+        """The first reaction that may fire now and hears ``text``: those of the wait-for she is
+        in first (its ``<on>``s, in file order), then her own (in file order)."""
+        if waiting:
+            for k, h in enumerate(self.scoped):
+                if (h.max is None or self._scoped_fired[k] < h.max) and compile_words(h.hears).search(text):
+                    return h
         for k, h in enumerate(self.handlers):
             if h.when == "waiting" and not waiting:
                 continue
@@ -279,8 +289,11 @@ class Actor:
 
     async def fire(self, h: Handler, u: Utterance) -> None:
         """Do a reaction's acts, then carry on (the agenda's pushed acts popped)."""
-        k = self.handlers.index(h)
-        self.fired[k] += 1
+        if any(h is x for x in self.scoped):
+            self._scoped_fired[next(i for i, x in enumerate(self.scoped) if x is h)] += 1
+            self.scoped_fired_total += 1
+        else:
+            self.fired[next(i for i, x in enumerate(self.handlers) if x is h)] += 1
         self._streak += 1
         if self._streak > MAX_STREAK:
             raise ScriptError(f"{self.name!r}: the reaction fired {MAX_STREAK} times in a row without her script moving on "
@@ -315,13 +328,21 @@ class Actor:
         (or a profile) she repairs the way people do: :meth:`repair_loop`.
         """
         await self.finish_speaking()  # nobody expects an answer before she has finished
+        outer = self.scoped, self._scoped_fired
+        self.scoped, self._scoped_fired = act.handlers, [0] * len(act.handlers)
+        try:
+            return await self._wait_for(act)
+        finally:
+            self.scoped, self._scoped_fired = outer
+
+    async def _wait_for(self, act: WaitFor) -> bool:
         if act.retries == 0 and (act.repairs is not None or act.patience is not None or act.give_up is not None
                                  or self.traits.repairing):
             ok = await self.repair_loop(act)
         else:
             ok = await self._retry_loop(act)
         # (not in a ``finally``: a run that ends during the wait closes this coroutine after its loop)
-        if self.handlers:
+        if self.handlers or self.scoped:
             self.hear()  # what she heard while waiting was for the wait
         return ok
 
@@ -431,7 +452,7 @@ class Actor:
                 for u in heard:
                     if u.source != "robot" or u.n in seen_before:
                         continue
-                    if self.handlers and not self._reacting and u.n not in self._absorbed:
+                    if (self.handlers or self.scoped) and not self._reacting and u.n not in self._absorbed:
                         h = self.reaction_to(u.text, waiting=True)
                         if h is not None:
                             await self.fire(h, u)
@@ -443,7 +464,7 @@ class Actor:
                         return "repair"
                     if pattern.search(u.text):
                         return "answered"
-            elif self.handlers:
+            elif self.handlers or self.scoped:
                 await self.react(waiting=True)
             if act.robot_within is not None:
                 d = self.robot_within()

@@ -9,7 +9,7 @@ import pytest
 from mcap.reader import make_reader
 
 from homesim.cli import main
-from homesim.export.foxglove import SCHEMAS
+from homesim.export.foxglove import SCHEMA_NAMES, schema
 
 from .viz_helpers import tour_trace
 
@@ -26,54 +26,69 @@ def perfetto(tour, tmp_path_factory):
     return json.loads(out.read_text(encoding="utf-8"))
 
 
-def test_perfetto_follows_a_greeting_from_the_microphones_to_the_robots_answer(perfetto):
+def _import(events):
+    """What Perfetto's JSON importer does with slices and v1 flows, in short: events sorted by time (stable), a stack
+    of open slices per thread (a slice that does not nest is misplaced), a flow event bound to the slice on top of
+    its thread's stack when it is read. Returns the slices and, per flow id, the (start, end) slices it links."""
+    order = sorted(range(len(events)), key=lambda i: events[i].get("ts", -1))
+    stacks: dict[int, list[dict]] = {}
+    ends: dict[int, list] = {}
+    for i in order:
+        e = events[i]
+        if e["ph"] == "X":
+            stack = stacks.setdefault(e["tid"], [])
+            while stack and stack[-1]["ts"] + stack[-1]["dur"] <= e["ts"] and not (stack[-1]["dur"] > 0 and e["dur"] == 0 and
+                                                                                  stack[-1]["ts"] + stack[-1]["dur"] == e["ts"] == stack[-1]["ts"]):
+                stack.pop()
+            assert not stack or e["ts"] + e["dur"] <= stack[-1]["ts"] + stack[-1]["dur"], ("misplaced", stack[-1], e)
+            stack.append(e)
+        elif e["ph"] in ("s", "f"):
+            top = stacks.get(e["tid"], [None])[-1]
+            assert top is not None and top["ts"] == e["ts"], ("flow bound elsewhere", e, top)
+            ends.setdefault(e["id"], [None, None])[0 if e["ph"] == "s" else 1] = top
+    return ends
+
+
+def test_perfetto_follows_the_robots_speech_on_the_speaker_back_to_the_microphones(perfetto):
     events = perfetto["traceEvents"]
     threads = {e["tid"]: e["args"]["name"] for e in events if e["ph"] == "M" and e["name"] == "thread_name"}
-    slices = {(e["tid"], e["ts"]): e for e in events if e["ph"] == "X"}
-    starts = {e["id"]: e for e in events if e["ph"] == "s"}
     back: dict[str, list[str]] = {}  # message id -> the ids of its causes, read from the flows alone
-    for f in (e for e in events if e["ph"] == "f"):
-        assert f["bp"] == "e"
-        s = starts[f["id"]]
-        effect, cause = slices[(f["tid"], f["ts"])], slices[(s["tid"], s["ts"])]
-        assert cause["ts"] <= effect["ts"]
+    for cause, effect in _import(events).values():
+        assert cause is not None and effect is not None and cause["ts"] <= effect["ts"]
         back.setdefault(effect["args"]["id"], []).append(cause["args"]["id"])
-    by_id = {e["args"]["id"]: e for e in slices.values()}
-    answer = next(e for e in slices.values() if e["args"]["channel"] == "/robot/speaker/say" and "Hello, I am BIRON" in e["args"]["xml"])
-    chain, node = [], answer["args"]["id"]
+    slices = [e for e in events if e["ph"] == "X"]
+    by_id = {e["args"]["id"]: e for e in slices}
+    speech = next(e for e in slices if e["cat"] == "robot speech" and "Hello, I am BIRON" in e["name"])
+    assert threads[speech["tid"]] == "speaker" and speech["name"].startswith('say "Hello, I am BIRON')
+    assert speech["dur"] > 2_000_000  # microseconds: the whole sentence, as long as it is spoken
+    chain, node = [], speech["args"]["id"]
     while node in back:
         chain.append(threads[by_id[node]["tid"]])
         node = back[node][0]
     chain.append(threads[by_id[node]["tid"]])
-    assert chain == ["dialog", "supervisor", "dialog", "understanding", "microphones"]
-    spans = [e for e in events if e["ph"] == "b" and e["cat"] == "processing"]
-    ends = {e["id"]: e for e in events if e["ph"] == "e"}
-    recognition = next(e for e in spans if threads[e["tid"]] == "understanding")
-    assert ends[recognition["id"]]["ts"] - recognition["ts"] > 200_000  # microseconds: recognition takes longest
-    assert not any(e["args"]["channel"].startswith("/system/heartbeat/") for e in slices.values())
+    assert chain == ["speaker", "dialog", "supervisor", "dialog", "understanding", "microphones"]
+    recognition = next(e for e in slices if threads[e["tid"]] == "understanding" and e["cat"] == "speech recognition")
+    assert recognition["dur"] > 200_000  # recognition takes longest, on the understanding's own thread
+    assert not any(e["args"]["channel"].startswith("/system/heartbeat/") for e in slices)
     assert perfetto["otherData"]["scenario"] == "home_tour"
+    assert any(e["ph"] == "i" and e["s"] == "g" and e["name"] == "B: greeting" for e in events)
 
 
-def test_perfetto_slices_nest_and_each_flow_follows_its_slice(perfetto):
-    """What a viewer needs: a thread's complete slices never partly overlap (Perfetto drops a misplaced
-    one), and each flow event comes after the slice it binds to (it binds to the slice open when read)."""
-    events = perfetto["traceEvents"]
-    by_tid: dict[int, list[tuple[float, float]]] = {}
-    written: set[tuple[int, float]] = set()
-    for e in events:
-        if e["ph"] == "X":
-            by_tid.setdefault(e["tid"], []).append((e["ts"], e["ts"] + e["dur"]))
-            written.add((e["tid"], e["ts"]))
-            assert e["dur"] > 0 and e["args"]["delivered_until_us"] >= e["ts"] + e["dur"] - 1e-6
-        elif e["ph"] in ("s", "f"):
-            assert (e["tid"], e["ts"]) in written, e
-    for tid, slices in by_tid.items():
-        stack: list[tuple[float, float]] = []
-        for s in sorted(slices, key=lambda s: (s[0], -s[1])):
-            while stack and stack[-1][1] <= s[0]:
-                stack.pop()
-            assert not stack or s[1] <= stack[-1][1] + 1e-6, (tid, stack[-1], s)
-            stack.append(s)
+def test_perfetto_has_work_slices_and_message_instants_not_a_flood_of_made_up_durations(perfetto):
+    slices = [e for e in perfetto["traceEvents"] if e["ph"] == "X"]
+    work = [e for e in slices if e["dur"] > 0]
+    instants = [e for e in slices if e["dur"] == 0]
+    assert work and all(e["dur"] >= 1000 or e["cat"] != "message" for e in work)  # no 1 us slice stands for a message
+    assert all(e["cat"] in ("message", "stream", "processing") for e in instants)
+    assert len(instants) > 10 * len(work)  # the streams: each message an instant at its send time
+    assert {e["cat"] for e in work} >= {"speech detection", "speech recognition", "robot speech", "processing"}
+
+
+def test_perfetto_slices_nest_and_each_flow_binds_to_its_messages_slice(perfetto):
+    """What a viewer needs: a thread's slices never partly overlap (Perfetto drops a misplaced one), and each flow
+    event is read while its own message's slice is on top of its thread (it binds to that one)."""
+    ends = _import(perfetto["traceEvents"])
+    assert len(ends) > 50
 
 
 @pytest.fixture(scope="module")
@@ -98,7 +113,7 @@ def test_mcap_holds_every_bus_channel_and_the_foxglove_views(mcaps):
     with open(a, "rb") as fh:
         reader = make_reader(fh)
         summary = reader.get_summary()
-        assert {s.name for s in summary.schemas.values()} == set(SCHEMAS)
+        assert {s.name for s in summary.schemas.values()} == set(SCHEMA_NAMES)
         assert all(s.encoding == "jsonschema" and json.loads(s.data)["title"] == s.name for s in summary.schemas.values())
         got: dict[str, list] = {}
         last = -1
@@ -130,21 +145,35 @@ def test_mcap_holds_every_bus_channel_and_the_foxglove_views(mcaps):
     assert len(walls) > 10
     tracks = [m for _, _, m in got["/scene/tracks"] if m["entities"]]
     assert tracks and tracks[-1]["entities"][0]["frame_id"] == "odom"
+    assert all(e["id"].startswith("track/") for m in tracks for e in m["entities"])
+    assert all(topic.startswith("/") for topic in got)  # ROS-style topics, RPC services included
+    truth = [m for _, _, m in got["/poses/truth"]]
+    assert len(truth) == len(got["/tf"]) - len(got["/poses/estimate"]) and truth[0]["frame_id"] == "map"
+    said = [m for _, _, m in got["/transcript"]]
+    assert said and said[0]["name"] == "anna" and said[0]["message"]  # she greets within 3 s
 
 
-def test_every_mcap_message_is_valid_against_its_channels_json_schema(mcaps):
+def test_every_mcap_message_is_valid_against_foxgloves_official_schema(mcaps):
+    """Each message against the official @foxglove/schemas file of its schema name (tests/test_foxglove_schemas.py
+    checks those files are Foxglove's, unmodified), and the MCAP carries that very schema."""
     import jsonschema  # in the test extra
 
     _, a, _ = mcaps
     checked: dict[str, int] = {}
+    validators = {name: jsonschema.Draft7Validator(schema(name)) for name in SCHEMA_NAMES}
     with open(a, "rb") as fh:
-        for schema, _channel, msg in make_reader(fh).iter_messages():
-            jsonschema.validate(json.loads(msg.data), json.loads(schema.data))
-            checked[schema.name] = checked.get(schema.name, 0) + 1
-    assert set(checked) == set(SCHEMAS)
+        for sch, channel, msg in make_reader(fh).iter_messages():
+            assert json.loads(sch.data) == schema(sch.name)
+            errors = [f"{channel.topic} @ {msg.log_time}: {e.json_path}: {e.message}" for e in validators[sch.name].iter_errors(json.loads(msg.data))]
+            assert not errors, errors[:5]
+            checked[sch.name] = checked.get(sch.name, 0) + 1
+    assert set(checked) == set(SCHEMA_NAMES)
     bad = {"timestamp": {"sec": -1, "nsec": 0}, "frame_id": "laser", "pose": {}, "start_angle": 0, "end_angle": 1, "ranges": []}
     with pytest.raises(jsonschema.ValidationError):  # the schemas do refuse what Foxglove would not read
-        jsonschema.validate(bad, SCHEMAS["foxglove.LaserScan"])
+        jsonschema.validate(bad, schema("foxglove.LaserScan"))
+    trimmed = {"entities": [{"timestamp": {"sec": 0, "nsec": 0}, "frame_id": "map", "id": "x", "cubes": []}]}
+    with pytest.raises(jsonschema.ValidationError):  # what the project's own trimmed copy used to let through
+        jsonschema.validate(trimmed, schema("foxglove.SceneUpdate"))
 
 
 def test_export_needs_something_to_write(mcaps, capsys):

@@ -295,3 +295,28 @@ def test_replay_notices_a_changed_store(tmp_path, capsys):
 
     with pytest.raises(InputError, match="the store .* has changed"):  # plot and export re-run it too
         rerun(trace)
+
+
+def test_hardware_rates_run_the_laser_and_camera_at_the_peoplebots_rates_and_replay(tmp_path):
+    """--rates hardware: 37.5 laser scans and 25 camera frames a simulated second (10 and 10 by
+    default); the trace header names the preset so a replay runs at the same rates; a default
+    run's header is as before (no "rates")."""
+    from homesim.tour.runheader import read_run_header
+
+    counts = {}
+    for rates in (None, "hardware"):
+        trace = tmp_path / f"{rates}.jsonl"
+        with Run.from_file(EXAMPLE, RunOptions(until=2.0, subsystems=(), rates=rates, trace=trace)) as run:
+            run.run()
+            run.finish()
+        lines = [json.loads(x) for x in trace.read_text().splitlines()]
+        assert ("rates" in lines[0]["run"]) == (rates is not None)
+        sent = [x["channel"] for x in lines[1:] if x.get("kind") == "publish"]
+        counts[rates] = (sent.count("/robot/laser/scan"), sent.count("/robot/camera/faces"))
+        if rates:
+            assert read_run_header(trace)["rates"] == "hardware"
+    assert counts[None] == (20, 20)
+    assert counts["hardware"] == (75, 50)
+    assert main(["replay", str(tmp_path / "hardware.jsonl")]) == 0
+    with pytest.raises(Exception, match="rates"):
+        Run.from_file(EXAMPLE, RunOptions(until=1, rates="fast"))

@@ -186,3 +186,19 @@ def test_deixis_articles_and_prepositions_alone_are_never_understood(words):
     # dialog about an object or place nobody named
     r = shared_understander().understand(" ".join(words))
     assert r.frame is None and r.reason
+
+
+def test_cached_tables_parse_every_corpus_utterance_as_freshly_built_ones(tmp_path, monkeypatch):
+    """The LALR tables are built once per user and loaded after: the loaded grammar understands
+    the corpus exactly as the built one; a damaged cache file is rebuilt, not trusted."""
+    monkeypatch.setenv("HOMESIM_CACHE_DIR", str(tmp_path))
+    built = Understander()  # nothing cached yet: builds and writes the tables
+    files = list(tmp_path.glob("grammar-*.lark"))
+    assert len(files) == 1
+    loaded = Understander()  # from the file
+    for words, _, _ in ROWS:
+        assert _text(loaded.understand(words).frame) == _text(built.understand(words).frame), words
+    files[0].write_bytes(files[0].read_bytes()[:1000])  # a write cut short
+    rebuilt = Understander()
+    assert _text(rebuilt.understand("this is my cup").frame) == _text(built.understand("this is my cup").frame)
+    assert len(files[0].read_bytes()) > 1000  # written whole again

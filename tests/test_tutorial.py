@@ -66,7 +66,7 @@ def test_the_tutorial_covers_what_the_issue_asks():
     assert "python" in kinds and "xml" in kinds
     for needle in ("homesim run scenarios/home_tour.xml", "homesim run out/hello.xml", "homesim check", "jupyter execute --inplace notebooks/home_tour.ipynb",
                    "homesim trace info", "homesim trace echo", "--record",
-                   "--timeline", "--perfetto", "--mcap", "homesim generate", "homesim study"):
+                   "--timeline", "--perfetto", "--mcap", "homesim generate", "homesim study", "users="):
         assert any(needle in c for c in commands), needle
 
 
@@ -85,5 +85,5 @@ def test_every_step_of_the_tutorial_runs(scratch):
         done = subprocess.run(args, cwd=scratch, env=env, capture_output=True, text=True, timeout=600)
         assert done.returncode == 0, f"{code}\n{done.stdout[-2000:]}\n{done.stderr[-2000:]}"
     for f in ("out/tour.jsonl", "out/moment.png", "out/timeline.svg", "out/tour.perfetto.json", "out/tour.mcap",
-              "out/homes/tour-7-2.xml", "out/study/study.json", "out/study/study.png"):
+              "out/homes/tour-7-2.xml", "out/study/study.json", "out/study/study.png", "out/users/study.json"):
         assert (scratch / f).stat().st_size > 0, f

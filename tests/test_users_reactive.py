@@ -262,6 +262,10 @@ def test_patience_bounds_the_repairs(patience, strategies):
     ('<on hears="hello"><wait-for hears="x"/></on>', "", "may never end"),
     ('<on hears="hello"><repeat><wait for="1"/></repeat></on>', "", "never ends"),
     ('<on hears="hello"><leave/></on>', "", "carries on"),
+    # a wait's own reactions (<on> inside the wait-for) must end like any other
+    ("", '<wait-for hears="ok" timeout="5"><on hears="hello"><leave/></on></wait-for>', "carries on"),
+    ("", '<wait-for hears="ok" timeout="5"><on hears="kitchen"><say text="this is the kitchen"/></on></wait-for>', "can never end"),
+    ("", '<wait-for hears="ok" timeout="5"><on hears="is+this"><say text="yes"/></on></wait-for>', "hears="),
     ("", '<say request="fly"/>', "not in the paraphrase bank"),
     ("", '<say request="teach-place"/>', "give about="),
     ("", '<wait-for robot-says="a" hears="b"/>', "not both"),
@@ -295,3 +299,54 @@ def test_a_reaction_fires_once_per_matching_utterance_up_to_max(times, cap, word
     hellos = sum(1 for _, w in zip(times, words) if w == "Hello")
     assert [t for _, t in _said(st_)] == ["hi"] * min(cap, hellos)
     assert st_.actors["ann"].fired == [min(cap, hellos)]
+
+
+# ------------------------------------------------------------------ a wait's own reactions
+_SCOPED = ('<say text="This is the kitchen"/>\n'
+           '<wait-for hears="remember" timeout="10">\n'
+           '  <on hears="^is this [the] kitchen$" max="2"><say text="Yes"/></on>\n'
+           '  <on hears="^is this" max="2"><say request="correct" about="the kitchen"/></on>\n'
+           '</wait-for>\n'
+           '<wait for="8"/>\n'
+           '<say text="Bye"/>')
+
+
+def test_a_waits_own_reaction_answers_about_the_request_she_just_made():
+    st = _stage(_SCOPED, duration=30)
+    _robot(st, 2.0, "Is this the kitchen?")
+    _robot(st, 5.0, "OK, this is the kitchen. I will remember it.")
+    st.run(25)
+    said = [t for _, t in _said(st)]
+    assert said == ["This is the kitchen", "Yes", "Bye"]
+
+
+def test_a_wrong_confirmation_gets_her_correction_and_the_wait_goes_on():
+    st = _stage(_SCOPED, duration=30)
+    _robot(st, 2.0, "Is this the bedroom?")
+    _robot(st, 6.0, "OK, this is the kitchen. I will remember it.")
+    st.run(25)
+    said = [t for _, t in _said(st)]
+    assert said[0] == "This is the kitchen" and said[-1] == "Bye" and len(said) == 3
+    assert said[1].lower().startswith("no") and ("kitchen" in said[1] or "other" in said[1])
+    assert st.actors["ann"].scoped_fired_total == 1
+
+
+def test_a_waits_own_reaction_is_deaf_outside_that_wait():
+    """After the wait, the same question goes unanswered (it was about that request only)."""
+    st = _stage(_SCOPED, duration=30)
+    _robot(st, 2.0, "OK, this is the kitchen. I will remember it.")
+    _robot(st, 6.0, "Is this the kitchen?")
+    st.run(25)
+    assert [t for _, t in _said(st)] == ["This is the kitchen", "Bye"]
+
+
+@settings(max_examples=8, deadline=None)
+@given(asks=st.integers(0, 5), cap=st.integers(1, 3))
+def test_a_waits_own_reaction_fires_at_most_max_times_per_wait(asks, cap):
+    script = ('<say text="Follow me"/>\n<wait-for hears="following you" timeout="30">'
+              f'<on hears="^shall i follow" max="{cap}"><say text="Yes"/></on></wait-for>')
+    st_ = _stage(script, duration=40)
+    for i in range(asks):
+        _robot(st_, 2.0 + 4.0 * i, "Shall I follow you?")
+    st_.run(38)
+    assert [t for _, t in _said(st_)].count("Yes") == min(asks, cap)

@@ -164,3 +164,43 @@ def test_a_departing_or_truncated_trace_is_one_plain_line_with_the_first_differi
 def test_plot_wants_a_picture_format(short_trace, tmp_path, capsys):
     assert main(["plot", str(short_trace), "--out", str(tmp_path / "x.pdf")]) == 2
     assert ".png or .svg" in capsys.readouterr().err
+
+
+@settings(max_examples=examples(30, 60))
+@given(x=st.floats(0.5, 7.5), y=st.floats(0.5, 5.5), heading=st.floats(-math.pi, math.pi),
+       bearings=st.lists(st.floats(-math.pi / 2, math.pi / 2), min_size=1, max_size=3))
+def test_sound_directions_and_their_mirrors_stay_inside_the_flat(x, y, heading, bearings):
+    """Neither a heard direction nor its front/back mirror is drawn through a wall or past the flat's edge."""
+    from homesim.viz.moment import Legend, draw_sound_directions, wall_segments
+
+    fig = Figure()
+    FigureCanvasAgg(fig)
+    ax = fig.add_subplot(1, 1, 1)
+    draw_sound_directions(ax, (x, y), heading, bearings, Legend(), length=20.0, world=WORLD)
+    x0, y0, x1, y1 = WORLD.bounds()
+    a, b = wall_segments(WORLD)
+    lines = ax.get_lines()
+    assert len(lines) == 2 * len(bearings)
+    for ln in lines:
+        (px, qx), (py, qy) = ln.get_xdata(), ln.get_ydata()
+        assert x0 - 1e-9 <= qx <= x1 + 1e-9 and y0 - 1e-9 <= qy <= y1 + 1e-9
+        p, q = np.array([px, py]), np.array([qx, qy])
+        shortened = p + (q - p) * 0.999
+        assert not any(_cross(p, shortened, a[i], b[i]) for i in range(len(a)))
+
+
+def test_the_gaze_is_drawn_over_the_sound_direction(short_trace):
+    from homesim.tour.plot_cli import plot_moment_of_trace
+    from homesim.viz.moment import GAZE, SOUND
+
+    ax = plot_moment_of_trace(short_trace, 9.5).axes[0]  # anna asks "what can you do", facing the robot
+    gaze = [ln for ln in ax.get_lines() if ln.get_color() == GAZE]
+    sound = [ln for ln in ax.get_lines() if ln.get_color() == SOUND]
+    assert gaze and sound and min(g.get_zorder() for g in gaze) > max(s.get_zorder() for s in sound)
+
+
+def test_an_svg_moment_keeps_its_words_as_text(short_trace, tmp_path):
+    out = tmp_path / "m.svg"
+    assert main(["plot", str(short_trace), "--at", "11.5", "--out", str(out)]) == 0
+    svg = out.read_text(encoding="utf-8")
+    assert ">living room</text>" in svg and ">laser hits</text>" in svg  # searchable, editable words, not glyph outlines

@@ -151,6 +151,60 @@ def test_a_damaged_trace_is_one_line_naming_file_and_line(tmp_path, capsys, dama
     assert not out.exists()
 
 
+def _texts(fig):
+    return [t.get_text() for t in fig.axes[0].texts]
+
+
+def test_the_tutorials_window_labels_what_was_said_and_decided(tour):
+    """The README's 0-12 s window: 1 Hz attention messages do not use up the labels; each repeating channel is
+    labelled once, and the words, the greeting and the robot's answer are labelled."""
+    from homesim.viz.timeline import plot_timeline
+
+    tl = read_timeline(tour, start=0, end=12)
+    texts = _texts(plot_timeline(tl))
+    for want in ("utterance hello biron", "event greeting", "say Hello, I am BIRON"):
+        assert any(t.startswith(want) for t in texts), (want, texts)
+    repeats = [t for t in texts if t.endswith("(repeats)")]
+    assert repeats and len(repeats) == len(set(repeats))
+
+
+def test_spans_are_cut_at_the_windows_edge(tour):
+    from matplotlib.patches import Rectangle
+
+    from homesim.viz.timeline import plot_timeline
+
+    tl = read_timeline(tour, start=0, end=5)  # the robot's first sentence runs past 5 s
+    assert any(s.end > 5 for s in tl.spans)
+    bars = [p for p in plot_timeline(tl).axes[0].patches if isinstance(p, Rectangle) and p.get_height() == 0.36]
+    assert bars and all(b.get_x() + b.get_width() <= 5 + 1e-9 for b in bars)
+
+
+def test_phase_labels_never_cover_each_other():
+    """A whole run has many phases close together: their marks go into rows, none over another."""
+    from homesim.traceview import Phase, Timeline
+    from homesim.viz.timeline import plot_timeline
+
+    phases = [Phase(0.5 * i, "CDET"[i % 4], ["follow request", "following (driving)", "teaching an object", "stop"][i % 4]) for i in range(16)]
+    tl = Timeline("synthetic", 0, 0.0, 100.0, ["a", "b"], [], [], [], phases, {})
+    fig = plot_timeline(tl)
+    r = fig.canvas.get_renderer()
+    boxes = [t.get_window_extent(r) for t in fig.axes[0].texts if ":" in t.get_text()]
+    assert len(boxes) == 16
+    assert not any(boxes[i].overlaps(boxes[j]) for i in range(16) for j in range(i + 1, 16))
+    top = fig.axes[0].get_window_extent(r).y1
+    assert all(b.y1 <= top + 1 for b in boxes)  # all inside the axes
+
+
+def test_a_whole_run_timeline_thins_each_stream_to_a_readable_number(tour):
+    from homesim.traceview import STREAM_SAMPLES
+
+    tl = read_timeline(tour)  # the whole recorded run (12 s here: 2 per second)
+    per = {}
+    for m in tl.messages:
+        if m.continuous:
+            per[(m.sender, m.channel)] = per.get((m.sender, m.channel), 0) + 1
+    assert per and max(per.values()) <= max(STREAM_SAMPLES, 2 * (tl.end - tl.start)) + 1
+
 def test_the_slow_arrows_follow_a_link_per_direction_and_a_route():
     """The header's uplinks and routes: a message takes the pair's route, else the slower of the
     sender's uplink and the receiver's link, as the network does."""

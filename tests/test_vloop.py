@@ -6,7 +6,7 @@ import asyncio
 import math
 
 import pytest
-from hypothesis import given, settings
+from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
 from homesim.errors import ClockError, DeadlockError, RealIOError, SimulationError, TaskFailedError
@@ -745,3 +745,55 @@ def test_timers_due_together_run_in_scheduling_order_whatever_was_cancelled(time
                                    if t == tick and i > first and not early and not by_first]
     assert ran == expected
     loop.close()
+
+
+@settings(max_examples=examples(100, 400))
+@given(
+    st.lists(st.lists(st.integers(0, 6), min_size=1, max_size=8), min_size=1, max_size=6),
+    st.lists(st.integers(0, 6), min_size=0, max_size=8),
+    st.lists(st.tuples(st.integers(0, 30), st.booleans()), max_size=8),
+    st.none() | st.integers(0, 30),
+)
+@example(workers=[[0]], main_sleeps=[1], callbacks=[], plain_at=1)  # a wake-up due with the future's timer
+def test_run_until_complete_stops_where_a_done_predicate_would(workers, main_sleeps, callbacks, plain_at):
+    """run_until_complete skips the per-round predicate (a fast path) but stops after the same round:
+    the same steps ran, at the same times, and the same ones were left, as ``run_until(fut.done)``,
+    for a task and for a plain future a timer completes (no done callback: no round of its own)."""
+
+    def play(use_complete: bool) -> tuple[list[tuple[int, str]], int]:
+        loop = VirtualEventLoop()
+        log: list[tuple[int, str]] = []
+
+        async def worker(i: int, sleeps: list[int]) -> None:
+            for k, d in enumerate(sleeps):
+                log.append((loop.now_ns, f"w{i}.{k}"))
+                await asyncio.sleep(d / 10)
+
+        async def main() -> str:
+            tasks = [loop.create_task(worker(i, s)) for i, s in enumerate(workers)]
+            for k, d in enumerate(main_sleeps):
+                log.append((loop.now_ns, f"main.{k}"))
+                await asyncio.sleep(d / 10)
+            log.append((loop.now_ns, "main.end"))
+            del tasks
+            return "done"
+
+        for j, (tick, soon) in enumerate(callbacks):
+            if soon:
+                loop.call_soon(lambda j=j: log.append((loop.now_ns, f"soon{j}")))
+            loop.call_later(tick / 10, lambda j=j: log.append((loop.now_ns, f"cb{j}")))
+        if plain_at is not None:
+            target: asyncio.Future[str] = loop.create_future()
+            loop.create_task(main())
+            loop.call_later(plain_at / 10, target.set_result, "done")
+        if use_complete:
+            assert loop.run_until_complete(main() if plain_at is None else target) == "done"
+        else:
+            task = loop.create_task(main()) if plain_at is None else target
+            assert loop.run_until(task.done)
+        seen = (list(log), loop.now_ns)
+        loop.run()  # the workers still sleeping finish
+        loop.close()
+        return seen
+
+    assert play(True) == play(False)

@@ -1,78 +1,89 @@
-"""The Foxglove message shapes homesim writes, as JSON Schemas, and builders for them.
+"""The Foxglove messages homesim writes: Foxglove's official JSON Schemas, and builders that fill them.
 
 Foxglove recognises a channel by its schema *name* (``foxglove.LaserScan``,
-``foxglove.FrameTransforms``, ``foxglove.SceneUpdate``) and reads JSON
-messages with those fields. The schemas here describe the fields homesim
-fills (a subset of Foxglove's published ones, same names and meanings), so
-a generic JSON-Schema validator can check every message we write. Times are
-``{"sec", "nsec"}`` of virtual time.
+``foxglove.FrameTransforms``, ``foxglove.SceneUpdate``, ``foxglove.PoseInFrame``,
+``foxglove.Log``) and reads JSON messages with those fields. The schemas are
+Foxglove's own, vendored verbatim from ``@foxglove/schemas`` (see
+``foxglove_schemas/README.md``: no PyPI package carries the JSON Schemas), and
+written into the MCAP as they are, so a viewer or a generic JSON-Schema
+validator checks every message against what Foxglove publishes. The builders
+fill every field the official schemas require (an entity's lifetime, metadata
+and all eight primitive lists; a line's per-point colours and indices), so a
+caller names only what it draws. Times are ``{"sec", "nsec"}`` of virtual time.
+
+``homesim.BusMessage`` is homesim's own schema (one per bus channel); it is not
+a Foxglove name, so Foxglove shows it in its raw-message and plot panels.
 """
 
 from __future__ import annotations
 
 import json
 import math
-from collections.abc import Sequence
+from functools import cache
+from importlib import resources
 from typing import Any
 
-NUMBER = {"type": "number"}
-TIME = {"type": "object", "title": "time", "properties": {"sec": {"type": "integer", "minimum": 0},
-                                                          "nsec": {"type": "integer", "minimum": 0, "maximum": 999999999}},
-        "required": ["sec", "nsec"]}
-VECTOR3 = {"type": "object", "title": "foxglove.Vector3", "properties": {k: NUMBER for k in "xyz"}, "required": list("xyz")}
-QUATERNION = {"type": "object", "title": "foxglove.Quaternion", "properties": {k: NUMBER for k in "xyzw"}, "required": list("xyzw")}
-POSE = {"type": "object", "title": "foxglove.Pose", "properties": {"position": VECTOR3, "orientation": QUATERNION},
-        "required": ["position", "orientation"]}
-COLOR = {"type": "object", "title": "foxglove.Color", "properties": {k: NUMBER for k in "rgba"}, "required": list("rgba")}
+#: The Foxglove schemas homesim writes (files in ``foxglove_schemas/``, named as upstream).
+FOXGLOVE_SCHEMAS = ("FrameTransforms", "LaserScan", "Log", "PoseInFrame", "SceneUpdate")
+#: Which ``@foxglove/schemas`` release the vendored files are.
+FOXGLOVE_SCHEMAS_VERSION = "2.1.0"
 
+#: Foxglove's log levels (foxglove.LogLevel).
+INFO = 2
+WARNING = 3
+#: Foxglove's scene-entity deletion types (foxglove.SceneEntityDeletionType).
+DELETE_ID = 0
+DELETE_ALL = 1
+#: Foxglove's line types (foxglove.LineType).
+LINE_STRIP, LINE_LOOP, LINE_LIST = 0, 1, 2
 
-def _obj(title: str, props: dict[str, Any], required: Sequence[str] = ()) -> dict[str, Any]:
-    return {"title": title, "type": "object", "properties": props, "required": list(required)}
-
-
-def _array(items: dict[str, Any]) -> dict[str, Any]:
-    return {"type": "array", "items": items}
-
-
-LASER_SCAN = _obj("foxglove.LaserScan", {
-    "timestamp": TIME, "frame_id": {"type": "string"}, "pose": POSE, "start_angle": NUMBER, "end_angle": NUMBER,
-    "ranges": _array(NUMBER), "intensities": _array(NUMBER)}, ["timestamp", "frame_id", "pose", "start_angle", "end_angle", "ranges"])
-FRAME_TRANSFORMS = _obj("foxglove.FrameTransforms", {"transforms": _array(_obj("foxglove.FrameTransform", {
-    "timestamp": TIME, "parent_frame_id": {"type": "string"}, "child_frame_id": {"type": "string"},
-    "translation": VECTOR3, "rotation": QUATERNION}, ["timestamp", "parent_frame_id", "child_frame_id", "translation", "rotation"]))},
-    ["transforms"])
-_PRIMS = {
-    "cubes": _obj("foxglove.CubePrimitive", {"pose": POSE, "size": VECTOR3, "color": COLOR}),
-    "spheres": _obj("foxglove.SpherePrimitive", {"pose": POSE, "size": VECTOR3, "color": COLOR}),
-    "cylinders": _obj("foxglove.CylinderPrimitive", {"pose": POSE, "size": VECTOR3, "bottom_scale": NUMBER, "top_scale": NUMBER, "color": COLOR}),
-    "lines": _obj("foxglove.LinePrimitive", {"type": {"type": "integer", "enum": [0, 1, 2]}, "pose": POSE, "thickness": NUMBER,
-                                             "scale_invariant": {"type": "boolean"}, "points": _array(VECTOR3), "color": COLOR}),
-    "arrows": _obj("foxglove.ArrowPrimitive", {"pose": POSE, "shaft_length": NUMBER, "shaft_diameter": NUMBER, "head_length": NUMBER,
-                                               "head_diameter": NUMBER, "color": COLOR}),
-    "texts": _obj("foxglove.TextPrimitive", {"pose": POSE, "billboard": {"type": "boolean"}, "font_size": NUMBER,
-                                             "scale_invariant": {"type": "boolean"}, "color": COLOR, "text": {"type": "string"}}),
-}
-SCENE_UPDATE = _obj("foxglove.SceneUpdate", {
-    "deletions": _array(_obj("foxglove.SceneEntityDeletion", {"timestamp": TIME, "type": {"type": "integer", "enum": [0, 1]}, "id": {"type": "string"}})),
-    "entities": _array(_obj("foxglove.SceneEntity", {"timestamp": TIME, "frame_id": {"type": "string"}, "id": {"type": "string"},
-                                                    "frame_locked": {"type": "boolean"}, **{k: _array(v) for k, v in _PRIMS.items()}},
-                            ["timestamp", "frame_id", "id"])),
-}, ["entities"])
+_OBJ = {"type": "object"}
 #: A bus message as homesim writes it on its own channel (one MCAP channel per bus channel).
-BUS_MESSAGE = _obj("homesim.BusMessage", {
-    "kind": {"type": "string", "enum": ["publish", "request", "reply", "error"]}, "sender": {"type": "string"},
-    "id": {"type": "string"}, "receivers": _array({"type": "string"}), "causes": _array({"type": "string"}),
-    "created": NUMBER, "xml": {"type": "string"},
-    "attachments": {"type": "object", "additionalProperties": _obj("homesim.Attachment", {"sha256": {"type": "string"}, "dtype": {"type": "string"},
-                                                                                          "shape": _array({"type": "integer"})})},
-}, ["kind", "sender", "id", "receivers", "causes", "created", "xml"])
+BUS_MESSAGE: dict[str, Any] = {
+    "title": "homesim.BusMessage", "type": "object",
+    "properties": {
+        "kind": {"type": "string", "enum": ["publish", "request", "reply", "error"]}, "sender": {"type": "string"},
+        "id": {"type": "string"}, "receivers": {"type": "array", "items": {"type": "string"}},
+        "causes": {"type": "array", "items": {"type": "string"}}, "created": {"type": "number"}, "xml": {"type": "string"},
+        "attachments": {"type": "object", "additionalProperties": {
+            "title": "homesim.Attachment", "type": "object",
+            "properties": {"sha256": {"type": "string"}, "dtype": {"type": "string"}, "shape": {"type": "array", "items": {"type": "integer"}}},
+            "required": ["sha256", "dtype", "shape"]}},
+    },
+    "required": ["kind", "sender", "id", "receivers", "causes", "created", "xml"],
+}
 
-SCHEMAS: dict[str, dict[str, Any]] = {s["title"]: s for s in (LASER_SCAN, FRAME_TRANSFORMS, SCENE_UPDATE, BUS_MESSAGE)}
+
+@cache
+def schema_bytes(name: str) -> bytes:
+    """The schema called ``name`` (``foxglove.SceneUpdate``, ``homesim.BusMessage``) as written into an MCAP.
+
+    Foxglove's come byte for byte from the vendored files; ours is canonical JSON.
+    """
+    if name.startswith("foxglove.") and name[9:] in FOXGLOVE_SCHEMAS:
+        return resources.files(__package__).joinpath("foxglove_schemas", f"{name[9:]}.json").read_bytes()
+    if name == BUS_MESSAGE["title"]:
+        return dumps(BUS_MESSAGE)
+    raise KeyError(f"no schema called {name!r}")
+
+
+def schema(name: str) -> dict[str, Any]:
+    """The schema called ``name`` as a JSON object (a fresh copy)."""
+    return json.loads(schema_bytes(name))
+
+
+#: Every schema name an export may use.
+SCHEMA_NAMES = tuple(f"foxglove.{n}" for n in FOXGLOVE_SCHEMAS) + (BUS_MESSAGE["title"],)
 
 
 def dumps(obj: Any) -> bytes:
     """Canonical JSON bytes (sorted keys, no spaces): the same object gives the same bytes."""
     return json.dumps(obj, sort_keys=True, separators=(",", ":"), allow_nan=False, ensure_ascii=False).encode("utf-8")
+
+
+def topic(channel: str) -> str:
+    """The MCAP topic of a bus channel: ROS-style, with one leading slash (RPC services have none on the bus)."""
+    return "/" + channel.lstrip("/")
 
 
 def stamp(t_ns: int) -> dict[str, int]:
@@ -96,23 +107,59 @@ def color(r: float, g: float, b: float, a: float = 1.0) -> dict[str, float]:
     return {"r": float(r), "g": float(g), "b": float(b), "a": float(a)}
 
 
-def hex_color(h: str, a: float = 1.0) -> dict[str, float]:
-    """``#rrggbb`` (or a few names) as a Foxglove colour; unknown names are grey."""
-    h = h.strip()
-    if h.startswith("#") and len(h) == 7:
-        return color(int(h[1:3], 16) / 255, int(h[3:5], 16) / 255, int(h[5:7], 16) / 255, a)
-    named = {"red": (0.85, 0.1, 0.1), "green": (0.1, 0.6, 0.2), "blue": (0.1, 0.3, 0.85), "yellow": (0.9, 0.8, 0.1),
-             "white": (0.95, 0.95, 0.95), "black": (0.05, 0.05, 0.05)}
-    return color(*named.get(h.lower(), (0.5, 0.5, 0.5)), a)
-
-
 def transform(t_ns: int, parent: str, child: str, x: float, y: float, theta: float, z: float = 0.0) -> dict[str, Any]:
+    """One ``foxglove.FrameTransform``: ``child`` in ``parent`` (planar pose, height ``z``)."""
     return {"timestamp": stamp(t_ns), "parent_frame_id": parent, "child_frame_id": child, "translation": vec(x, y, z), "rotation": yaw(theta)}
 
 
-def entity(t_ns: int, frame: str, eid: str, **prims: list[dict[str, Any]]) -> dict[str, Any]:
-    return {"timestamp": stamp(t_ns), "frame_id": frame, "id": eid, "frame_locked": True, **prims}
+def pose_in_frame(t_ns: int, frame: str, x: float, y: float, theta: float) -> dict[str, Any]:
+    """A ``foxglove.PoseInFrame``: a planar pose in ``frame``."""
+    return {"timestamp": stamp(t_ns), "frame_id": frame, "pose": pose(x, y, 0.0, theta)}
+
+
+def log(t_ns: int, name: str, message: str, *, level: int = INFO, file: str = "", line: int = 0) -> dict[str, Any]:
+    """A ``foxglove.Log`` line: ``name`` (who) said or reported ``message``."""
+    return {"timestamp": stamp(t_ns), "level": level, "message": message, "name": name, "file": file, "line": int(line)}
+
+
+_PRIMITIVES = ("arrows", "cubes", "spheres", "cylinders", "lines", "triangles", "texts", "models")
+
+
+def entity(t_ns: int, frame: str, eid: str, *, frame_locked: bool = True, lifetime_ns: int = 0,
+           metadata: dict[str, str] | None = None, **prims: list[dict[str, Any]]) -> dict[str, Any]:
+    """A ``foxglove.SceneEntity`` with the given primitives (the others empty).
+
+    ``lifetime_ns`` 0 keeps it until replaced (same ``eid`` on the same topic)
+    or deleted; ``metadata`` are key/value strings a viewer shows on selection.
+    """
+    unknown = set(prims) - set(_PRIMITIVES)
+    if unknown:
+        raise TypeError(f"not a scene primitive list: {sorted(unknown)}")
+    ent: dict[str, Any] = {"timestamp": stamp(t_ns), "frame_id": frame, "id": eid, "frame_locked": frame_locked,
+                           "lifetime": {"sec": lifetime_ns // 1_000_000_000, "nsec": lifetime_ns % 1_000_000_000},
+                           "metadata": [{"key": k, "value": str(v)} for k, v in (metadata or {}).items()]}
+    for p in _PRIMITIVES:
+        ent[p] = list(prims.get(p, ()))
+    return ent
+
+
+def deletion(t_ns: int, eid: str | None = None) -> dict[str, Any]:
+    """A ``foxglove.SceneEntityDeletion``: the entity ``eid`` on the topic, or (``None``) all of them."""
+    return {"timestamp": stamp(t_ns), "type": DELETE_ALL if eid is None else DELETE_ID, "id": eid or ""}
+
+
+def scene_update(entities: list[dict[str, Any]], deletions: list[dict[str, Any]] | None = None) -> dict[str, Any]:
+    """A ``foxglove.SceneUpdate`` (deletions are applied before the entities)."""
+    return {"deletions": list(deletions or ()), "entities": list(entities)}
+
+
+def line(points: list[dict[str, float]], rgba: dict[str, float], *, kind: int = LINE_STRIP, thickness: float = 0.03,
+         scale_invariant: bool = False) -> dict[str, Any]:
+    """A ``foxglove.LinePrimitive`` of one colour through ``points`` (no per-point colours, no indices)."""
+    return {"type": kind, "pose": pose(0, 0), "thickness": thickness, "scale_invariant": scale_invariant, "points": points,
+            "color": rgba, "colors": [], "indices": []}
 
 
 def text(x: float, y: float, z: float, s: str, *, size: float = 14.0) -> dict[str, Any]:
+    """A ``foxglove.TextPrimitive``: ``s`` facing the camera at a fixed on-screen size."""
     return {"pose": pose(x, y, z), "billboard": True, "font_size": size, "scale_invariant": True, "color": color(0.1, 0.1, 0.1), "text": s}

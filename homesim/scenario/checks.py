@@ -362,6 +362,11 @@ class _Checker:
                     raise self.fail(act.line, tag, f"{key}={pattern!r} is not a regular expression: {exc}") from exc
             if act.retries and act.robot_says is None:
                 raise self.fail(act.line, tag, "retries= needs robot-says (what answer the person repeats herself for)")
+            if act.handlers and not person:
+                raise self.fail(act.line, tag, f"{owner!r} is a sound source: it does not react (<on>)")
+            for hd in act.handlers:  # a wait's own reactions must end like any other
+                self.handler_body(hd.body, owner, hd.line)
+                self.script(hd.body, owner, person=person)
         elif isinstance(act, Leave):
             exits = [d for _, d in self.sc.exits()]
             if not exits:
@@ -554,3 +559,6 @@ def _walk(actions: Iterable[Action]) -> Iterator[Action]:
         yield a
         if isinstance(a, Repeat):
             yield from _walk(a.body)
+        elif isinstance(a, WaitFor):
+            for hd in a.handlers:  # a wait's own reactions (<on> inside the wait-for)
+                yield from _walk(hd.body)

@@ -1,7 +1,7 @@
 """Load a scenario file: checked pipeline text -> parse -> XSD -> model -> checks.
 
 1. :func:`homesim.xmlio.parse_file` (the one hardened parser);
-2. ``scenarios/scenario.xsd`` (structure and value types);
+2. ``homesim/schemas/scenario.xsd`` (structure and value types);
 3. build the plain :class:`~homesim.scenario.model.Scenario` (units converted);
 4. :func:`homesim.scenario.checks.check` (names, references, geometry).
 
@@ -56,8 +56,9 @@ from .model import (
 )
 from .wordpattern import PatternError, compile_words
 
-#: Where the scenario schema lives (the repository's ``scenarios/`` folder).
-SCHEMA_PATH = Path(__file__).resolve().parents[2] / "scenarios" / "scenario.xsd"
+#: Where the scenario schema lives: inside the package (``homesim/schemas/``), so an installed
+#: wheel loads scenarios from any directory.
+SCHEMA_PATH = Path(__file__).resolve().parent.parent / "schemas" / "scenario.xsd"
 
 #: Coordinates in points and polygons (metres), as the XSD's ``coord`` type.
 COORD_LIMIT = 1000.0
@@ -481,7 +482,8 @@ class _Builder:
             return WaitFor(el.get("robot-says"), self.opt(el, "robot-within"), self.opt(el, "timeout"), line=line,
                            retries=0 if retries is None else int(retries), repair=el.get("repair"), hears=self.words(el, "hears"),
                            repairs=None if repairs is None else (() if repairs == "none" else tuple(repairs.split())),
-                           patience=None if patience is None else int(patience), give_up=el.get("give-up"))
+                           patience=None if patience is None else int(patience), give_up=el.get("give-up"),
+                           handlers=tuple(self.handler(h) for h in el.iterfind("on")))
         if tag == "leave":
             return Leave(el.get("door"), line=line)
         if tag == "repeat":

@@ -178,6 +178,9 @@ class WaitFor:
     repairs: tuple[str, ...] | None = None
     patience: int | None = None
     give_up: str | None = None
+    #: Reactions that hold only during this wait (``<on>`` inside the ``<wait-for>``), checked
+    #: before the person's own: the answer to "Is this the kitchen?" depends on what she just asked.
+    handlers: tuple[Handler, ...] = ()
 
 
 #: What a person may do when the robot does not understand her (``repairs=``).

@@ -51,8 +51,8 @@ def export_command(a: argparse.Namespace) -> int:
 
         with as_trace(a.trace) as trace, VirtualSeconds("perfetto") as bar:
             c = export_perfetto(trace, a.perfetto, progress=bar)
-        print(f"wrote {a.perfetto} (Perfetto / Chrome trace events: {c['threads']} modules, {c['slices']} messages, "
-              f"{c['spans']} processing spans, {c['flows']} cause flows)")
+        print(f"wrote {a.perfetto} (Perfetto / Chrome trace events: {c['threads']} module threads, {c['slices']} work slices, "
+              f"{c['instants']} message instants, {c['flows']} cause flows, {c['phases']} phases)")
     if a.mcap is not None:
         try:
             from .mcap_export import export_mcap
@@ -84,7 +84,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("trace", type=Path, help="a trace ('homesim run --trace', e.g. out/tour.jsonl; --mcap re-creates the run) "
                                             "or a recording ('homesim run --record', e.g. out/tour.mcap; read alone)")
     p.add_argument("--perfetto", type=cliargs.output_file, default=None, metavar="FILE",
-                   help="Chrome trace-event JSON: module processing spans and cause -> message flows (open in ui.perfetto.dev)")
+                   help="Chrome trace-event JSON: each module's work on its thread, messages as instants, cause -> message flows (open in ui.perfetto.dev)")
     p.add_argument("--mcap", type=cliargs.output_file, default=None, metavar="FILE",
                    help="MCAP with every bus channel, poses, laser scans, tracks and the map (open in Foxglove); re-creates the run")
     p.set_defaults(func=export_command)

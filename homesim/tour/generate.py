@@ -52,6 +52,7 @@ from ..cliargs import OptionError
 from ..world.acoustics import speech_duration
 from ..scenario.pathplan import NoPathError
 from . import phrasing as P
+from . import usergen as U
 from .flatgen import Flat, RoomPlan, generate_flat, snap
 from .objectgen import ObjectPlan, generate_objects
 
@@ -63,6 +64,9 @@ FOLLOW_SPEED = (0.35, 0.6)  # m/s: how fast she walks with the robot behind her
 WALK_SPEED = (0.8, 1.2)  # m/s: her own pace (and bystanders')
 ANSWER_S = 3.0  # typical seconds from the end of a request to the robot's answer (an estimate, for timing)
 MAX_COUNT = 10_000
+#: The bystanders' scripts are made for a run this long (a user repairing every request this many
+#: times), whatever the user's profile: the same home under every users mix.
+BYSTANDER_PATIENCE = 3
 #: Why draws were refused by the scenario checks (for the generator's tests and debugging).
 REFUSED: list[str] = []
 
@@ -156,6 +160,20 @@ def _robot_view(flat: Flat, room: RoomPlan, p: Point, o: ObjectPlan) -> bool:
     return False
 
 
+def aside_spot(flat: Flat, o: ObjectPlan, spot: Point) -> Point | None:
+    """Where she steps when the robot says she stands in front of the object: round it by 40 to 70
+    degrees (either way), as close to it as before, free, with a clear view of it, in its room."""
+    room = flat.rooms[o.room]
+    a0 = math.atan2(spot[1] - o.y, spot[0] - o.x)
+    r = math.hypot(spot[0] - o.x, spot[1] - o.y)
+    for deg in (40, -40, 55, -55, 70, -70):
+        a = a0 + math.radians(deg)
+        p = snap(o.x + r * math.cos(a)), snap(o.y + r * math.sin(a))
+        if room.contains(p) and free(flat, p) and sight(room, p, (o.x, o.y)):
+            return p
+    return None
+
+
 def path_length(flat: Flat, a: Point, b: Point) -> float:
     """Walking distance a -> b (straight-line times 1.3 when no plan is found)."""
     assert flat.walk_grid is not None
@@ -189,7 +207,10 @@ class TourWriter:
     gotos: int = 0
     timeline: list[tuple[float, int, Point]] = field(default_factory=list)
     interacting: bool = False
-    slack: float = 0.0  # extra seconds for her to say every request once more (the robot silent: each wait to its timeout)
+    asked_capabilities: bool = False
+    slack_base: float = 0.0  # extra seconds when the robot is silent: each wait to its timeout, one question answered
+    slack_repair: float = 0.0  # and per repair of every request (a gap, her turn again, the wait)
+    patience: int = 2  # the most repairs her profile makes for one request
 
     def pick(self, options: tuple) -> object:  # type: ignore[type-arg]
         return options[int(self.rng.integers(len(options)))]
@@ -203,12 +224,37 @@ class TourWriter:
             self.act("wait", **{"for": fmt(s)})
             self.t += s
 
-    def say(self, text: str, answer: str, timeout: float = 6.0) -> None:
-        """Say a request and wait for the robot's answer (matching ``answer``), repeating her turn up to twice."""
-        self.act("say", text=text)
-        self.act("wait-for", robot_says=answer, timeout=fmt(timeout), retries="2")
-        self.t += speech_duration(text) + ANSWER_S
-        self.slack += 2 * (speech_duration(text) + timeout + 0.5) - (speech_duration(text) + ANSWER_S)
+    def say(self, text: str, answer: str, timeout: float = 6.0, *, request: str, about: str | None = None,
+            answers: list[U.Reaction] | None = None, words: bool = False) -> None:
+        """Make a request and wait for the robot's answer (matching ``answer``).
+
+        She words it from the paraphrase bank in her profile's style (``request``, ``about``);
+        with ``words`` she says ``text`` first (the tour's expectations depend on its words) and
+        draws from the bank only when she rephrases. ``text`` also times the turn. She answers the
+        robot's questions about it (``answers``, reactions inside the wait) and repairs her
+        profile's way, giving up after her patience.
+        """
+        attrs = {"request": request}
+        if words:
+            attrs = {"text": text, **attrs}
+        if about is not None:
+            attrs["about"] = about
+        self.act("say", **attrs)
+        self.act("wait-for", robot_says=answer, timeout=fmt(timeout))
+        if answers:
+            U.attach(self.script[-1], answers)
+        d = speech_duration(text)
+        self.t += d + ANSWER_S
+        # the robot silent: the wait to its timeout, then each repair (a gap, her turn again, the wait);
+        # and one question of the robot's answered (about 4 s)
+        self.slack_base += (timeout - ANSWER_S) + (4.0 if answers else 0.0)
+        self.slack_repair += d + timeout + 1.0
+
+    def duration(self, patience: int) -> int:
+        """Seconds for her to get to her good-bye even when every request was repaired ``patience``
+        times with the robot silent (a robot that fails early is not also charged with a good-bye
+        she never got to say)."""
+        return math.ceil((self.t + self.slack_base + patience * self.slack_repair + 30) / 10) * 10
 
     def face_robot(self) -> None:
         self.act("face", robot="true")
@@ -220,14 +266,16 @@ class TourWriter:
     # --------------------------------------------------------------- steps
     def greet(self, again: bool = False) -> None:
         self.face_robot()
-        self.say(str(self.pick(P.GREET_AGAIN if again else P.GREET)), "I am BIRON|hello|hi\\b", 6)
+        self.say(str(self.pick(P.GREET_AGAIN if again else P.GREET)), "I am BIRON|hello|hi\\b", 6, request="greet",
+                 answers=U.reactions("greet"))
         self.interacting = True
         self.note()
 
     def capabilities(self) -> None:
         self.wait(0.5, 1.5)
         self.face_robot()
-        self.say(str(self.pick(P.CAPABILITIES)), "follow you|show me|ask me", 10)
+        self.say(str(self.pick(P.CAPABILITIES)), "follow you|show me|ask me", 10, request="capabilities")
+        self.asked_capabilities = True
         self.t += 6  # the robot's explanation is long
 
     def teach_place(self) -> None:
@@ -236,7 +284,9 @@ class TourWriter:
         self.wait(0.5, 1.5)
         self.face_robot()
         text = str(self.pick(P.PLACE)).format(word=word)
-        self.say(text, "remember|" + rx(word), 6)
+        about = f"the {word}"
+        self.say(text, "remember|" + rx(word), 6, request="teach-place", about=about,
+                 answers=U.reactions("place", words=[word], about=about))
         self.taught_places[self.room] = (word, self.pos)
         self.note()
 
@@ -244,14 +294,14 @@ class TourWriter:
         """"Follow me", walk to ``goal`` with the robot behind her, "stop"."""
         self.wait(0.5, 1.5)
         self.face_robot()
-        self.say(str(self.pick(P.FOLLOW)), "following you", 6)
+        self.say(str(self.pick(P.FOLLOW)), "following you", 6, request="follow", answers=U.reactions("follow"))
         self.wait(0.3, 1.2)
         speed = snap(float(self.rng.uniform(*FOLLOW_SPEED)))
         self.act("walk-to", point=pt(goal), speed=fmt(speed))
         self.t += path_length(self.flat, self.pos, goal) / speed + 2
         self.pos, self.room = goal, room
         self.face_robot()
-        self.say(str(self.pick(P.STOP)), "stopped|not moving|stop", 6)
+        self.say(str(self.pick(P.STOP)), "stopped|not moving|stop", 6, request="stop")
         self.wait(1.0, 3.0)  # the robot comes up to her
         if room not in self.led_to:
             self.led_to.append(room)
@@ -275,7 +325,13 @@ class TourWriter:
         template, owner, favourite, colour = self.pick(P.OBJECT_SIMILAR if o.twin else P.OBJECT)  # type: ignore[misc]
         text = P.agree(template.format(word=word, colour=o.colour), word)
         self.act("point", object=o.name, duration=fmt(snap(float(self.rng.uniform(1.5, 2.5)))))
-        self.say(text, "learned|" + rx(word), 8)
+        # what she calls it when she rephrases or answers (with what her sentence said: mine, favourite, colour)
+        about = ("my " if owner else "the ") + ("favourite " if favourite else "") + (f"{o.colour} " if colour else "") + word
+        answers = U.reactions("object", words=[word, o.type.replace("_", " ")], about=about, colour=o.colour, obj=o.name)
+        aside = aside_spot(self.flat, o, spot)
+        if aside is not None:  # "Could you step aside, please?": she steps round the object and points again
+            answers.append(U.step_aside(pt(aside), o.name))
+        self.say(text, "learned|" + rx(word), 8, request="teach-object", about=about, words=True, answers=answers)
         self.t += 2
         attrs = {"type": o.type}
         if owner:
@@ -297,7 +353,9 @@ class TourWriter:
         self.face_robot()
         text = P.agree(str(self.pick(P.WHERE)).format(word=word), word)
         names = "|".join(sorted({rx(word), rx(o.type.replace("_", " "))}))
-        self.say(text, f"({names}) (is|are)|don't know|seen the", 8)
+        about = ("my " if " my " in f" {text} " else "the ") + word
+        self.say(text, f"({names}) (is|are)|don't know|seen the", 8, request="where-is", about=about,
+                 answers=U.reactions("where", about=about))
         self.expect.append(("robot-says", {"pattern": f"\\b({names}) (is|are)\\b"}, f"{self.user} asks where the {o.name} is ({text!r})"))
         self.note()
 
@@ -306,7 +364,8 @@ class TourWriter:
         self.wait(0.5, 1.5)
         self.face_robot()
         text = str(self.pick(P.GOTO)).format(word=word)
-        self.say(text, "going to", 6)
+        about = f"the {word}"
+        self.say(text, "going to", 6, request="go-to", about=about, answers=U.reactions("goto", words=[word], about=about))
         self.gotos += 1
         self.expect.append(("robot-says", {"pattern": f"going to the {rx(word)}"}, f"{self.user}: {text!r}"))
         drive = path_length(self.flat, self.pos, where) / 0.35 + 10
@@ -320,7 +379,7 @@ class TourWriter:
     def goodbye(self) -> None:
         self.wait(0.5, 1.5)
         self.face_robot()
-        self.say(str(self.pick(P.GOODBYE)), "bye", 6)
+        self.say(str(self.pick(P.GOODBYE)), "bye", 6, request="goodbye")
         self.note()
 
 
@@ -336,14 +395,16 @@ def tour_name(seed: int, k: int, count: int) -> str:
     return f"tour-{seed}-{k:0{max(1, len(str(count - 1)))}d}"
 
 
-def generate_one(seed: int, k: int, *, name: str | None = None) -> Generated:
-    """Scenario k of seed: drawn from ``numpy.random.default_rng([seed, k])`` alone."""
+def generate_one(seed: int, k: int, *, name: str | None = None, users: tuple[tuple[str, float], ...] = U.DEFAULT_MIX) -> Generated:
+    """Scenario k of seed: drawn from ``numpy.random.default_rng([seed, k])`` alone, its user's
+    profile from ``users`` with ``default_rng([seed, k, 1])`` (the same flat and tour under any mix)."""
     rng = np.random.default_rng([seed, k])
+    profile = U.draw_user(seed, k, users)
     from ..errors import ScenarioError
     from ..scenario.loader import load_scenario_text
 
     for _ in range(50):
-        got = _attempt(rng, name or tour_name(seed, k, k + 1), seed, k)
+        got = _attempt(rng, name or tour_name(seed, k, k + 1), seed, k, profile)
         if got is None:
             continue
         try:  # a draw the scenario checks refuse (a walk target in a pocket, say) is drawn again
@@ -355,7 +416,7 @@ def generate_one(seed: int, k: int, *, name: str | None = None) -> Generated:
     raise RuntimeError(f"no tour could be generated for seed {seed}, k {k}")  # pragma: no cover
 
 
-def _attempt(rng: np.random.Generator, name: str, seed: int, k: int) -> Generated | None:
+def _attempt(rng: np.random.Generator, name: str, seed: int, k: int, profile: str = "typical") -> Generated | None:
     flat = generate_flat(rng)
     objects = generate_objects(rng, flat)
     start_rooms = [i for i, r in enumerate(flat.rooms) if not r.corridor]
@@ -376,18 +437,19 @@ def _attempt(rng: np.random.Generator, name: str, seed: int, k: int) -> Generate
         return None
     user = USER_NAMES[int(rng.integers(len(USER_NAMES)))]
     script = etree.Element("script")
-    tw = TourWriter(rng, flat, user, user_pos, start, script)
+    tw = TourWriter(rng, flat, user, user_pos, start, script, patience=U.max_patience(profile))
     tw.wait(0.5, 2.0)
     tw.greet()
     _agenda(rng, tw, objects)
     tw.goodbye()
     # Long enough for her to get to her good-bye even when every request had to be said twice
     # (a robot that fails early is not also charged with a good-bye she never got to say).
-    duration = math.ceil((tw.t + tw.slack + 30) / 10) * 10
-    doc = _document(rng, name, flat, objects, robot, heading, tw, duration, seed, k)
+    duration = tw.duration(tw.patience)
+    doc = _document(rng, name, flat, objects, robot, heading, tw, duration, seed, k, profile)
     summary = {"name": name, "layout": flat.layout, "rooms": [r.name for r in flat.rooms],
                "doors": [d.width for d in flat.doors], "objects": len(objects), "duration": duration,
-               "taught_objects": len(tw.taught_objects), "taught_places": len(tw.taught_places), "gotos": tw.gotos}
+               "taught_objects": len(tw.taught_objects), "taught_places": len(tw.taught_places), "gotos": tw.gotos,
+               "user": profile}
     return Generated(name, doc, summary)
 
 
@@ -575,12 +637,12 @@ def _source(rng: np.random.Generator, flat: Flat, taken: list[Point]) -> etree._
 
 # ------------------------------------------------------------------ document
 def _document(rng: np.random.Generator, name: str, flat: Flat, objects: list[ObjectPlan], robot: Point, heading: float,
-              tw: TourWriter, duration: float, seed: int, k: int) -> bytes:
+              tw: TourWriter, duration: float, seed: int, k: int, profile: str = "typical") -> bytes:
     root = etree.Element("scenario", name=name, seed="0", duration=fmt(duration))
     root.append(etree.Comment(f" generated by 'homesim generate' with seed {seed} (tour {k}): a {flat.layout} flat of "
                               f"{len(flat.rooms)} rooms; edit freely, it is an ordinary scenario "))
     desc = etree.SubElement(root, "description")
-    desc.text = (f"{tw.user.capitalize()} shows the robot her flat ({', '.join(r.name for r in flat.rooms)}): "
+    desc.text = (f"{tw.user.capitalize()} (a {profile} user) shows the robot her flat ({', '.join(r.name for r in flat.rooms)}): "
                  f"{len(tw.taught_places)} places and {len(tw.taught_objects)} objects taught, "
                  f"{len(tw.led_to)} rooms led to, {tw.gotos} go-to requests.")
     fl = etree.SubElement(root, "flat")
@@ -612,13 +674,19 @@ def _document(rng: np.random.Generator, name: str, flat: Flat, objects: list[Obj
         etree.SubElement(objs, "object", attrs)
     etree.SubElement(root, "robot", x=fmt(robot[0]), y=fmt(robot[1]), heading=fmt(snap(heading)))
     humans = etree.SubElement(root, "humans")
+    # her voice, distance, walking speed, patience, ... are her profile's, drawn with the run's seed
     u = etree.SubElement(humans, "human", name=tw.user, x=fmt(tw.timeline[0][2][0]), y=fmt(tw.timeline[0][2][1]),
                          heading=fmt(snap(float(rng.uniform(-180, 180)))), height=fmt(snap(float(rng.uniform(1.55, 1.9)))),
-                         torso=str(TORSOS[int(rng.integers(len(TORSOS)))]), speed=fmt(snap(float(rng.uniform(*WALK_SPEED)))))
+                         torso=str(TORSOS[int(rng.integers(len(TORSOS)))]), profile=profile)
+    for hears, acts in U.comeback():  # her own reactions, at any point of the tour
+        on = etree.SubElement(u, "on", hears=hears, max=str(U.ANSWERS))
+        for a in acts:
+            on.append(a)
     u.append(tw.script)
     taken = [robot, tw.timeline[0][2]]
     names: set[str] = {tw.user}
-    for h in _bystanders(rng, flat, tw, taken, duration, names):
+    # the bystanders' day does not depend on the user's profile (the same home under every mix)
+    for h in _bystanders(rng, flat, tw, taken, tw.duration(BYSTANDER_PATIENCE), names):
         humans.append(h)
     src = _source(rng, flat, taken)
     if src is not None:
@@ -637,8 +705,7 @@ def _expectations(tw: TourWriter) -> list[tuple[str, dict[str, str], str]]:
         ("state-reached", {"state": "Interacting"}, "the greeting starts the interaction"),
         ("robot-says", {"pattern": "I am BIRON"}, ""),
     ]
-    said = [e for e in tw.script if e.tag == "say"]
-    if any(re.search(r"what .*(can|able)", e.get("text", ""), re.I) for e in said):
+    if tw.asked_capabilities:
         out.append(("robot-says", {"pattern": "ask me to follow you|show me objects"}, "the self-explanation"))
     for room, (word, _) in sorted(tw.taught_places.items()):
         out.append(("place-learned", {"name": word}, f"{tw.user} taught the {word} (her word for it)"))
@@ -664,12 +731,12 @@ def _expectations(tw: TourWriter) -> list[tuple[str, dict[str, str], str]]:
 
 
 # ------------------------------------------------------------------ command
-def generate(seed: int, count: int, out: Path) -> list[Generated]:
-    """Write ``count`` tours of ``seed`` into ``out``; return them."""
+def generate(seed: int, count: int, out: Path, users: tuple[tuple[str, float], ...] = U.DEFAULT_MIX) -> list[Generated]:
+    """Write ``count`` tours of ``seed`` into ``out`` (users drawn from the ``users`` mix); return them."""
     out.mkdir(parents=True, exist_ok=True)
     made = []
     for k in range(count):
-        g = generate_one(seed, k, name=tour_name(seed, k, count))
+        g = generate_one(seed, k, name=tour_name(seed, k, count), users=users)
         (out / f"{g.name}.xml").write_bytes(g.xml)
         made.append(g)
     return made
@@ -682,10 +749,10 @@ def _count(text: str) -> int:
 
 
 def generate_command(a: argparse.Namespace) -> int:
-    made = generate(a.seed, a.count, Path(a.out))
+    made = generate(a.seed, a.count, Path(a.out), users_option(a.users))
     for g in made:
         s = g.summary
-        print(f"{a.out}/{g.name}.xml: {s['layout']} flat, {len(s['rooms'])} rooms ({', '.join(s['rooms'])}), "  # type: ignore[arg-type]
+        print(f"{a.out}/{g.name}.xml: a {s['user']} user, {s['layout']} flat, {len(s['rooms'])} rooms ({', '.join(s['rooms'])}), "  # type: ignore[arg-type]
               f"{s['objects']} objects, {s['taught_places']} places and {s['taught_objects']} objects taught, "
               f"{s['gotos']} go-to, {s['duration']} s")
     return 0
@@ -700,4 +767,17 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--seed", type=cliargs.seed, required=True, help="the generator's seed (file k is drawn from [seed, k])")
     p.add_argument("--count", type=_count, default=1, help="how many tours")
     p.add_argument("-o", "--out", required=True, metavar="DIR", help="directory for the scenario files")
+    p.add_argument("--users", default=None, metavar="MIX",
+                   help="the user profiles to draw each tour's user from: typical,impatient (alike) or typical:3,silent:1 "
+                        f"(weights); default {U.mix_text(U.DEFAULT_MIX)} (the flats and tours are the same under any mix)")
     p.set_defaults(func=generate_command)
+
+
+def users_option(text: str | None) -> tuple[tuple[str, float], ...]:
+    """``--users``: a mix of humans/profiles.xml's profiles (OptionError naming the option when bad)."""
+    if text is None:
+        return U.DEFAULT_MIX
+    try:
+        return U.parse_mix(text)
+    except U.MixError as exc:
+        raise OptionError("--users", str(exc)) from None

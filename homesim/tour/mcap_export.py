@@ -6,21 +6,29 @@ every trace line compared; a run that departs from the trace stops the
 export with ``file:line``) and writes, with virtual time as log and publish
 time:
 
-* one channel per bus channel (topic = the channel, schema
-  ``homesim.BusMessage``: kind, sender, id, receivers, causes, created, xml,
-  attachment digests), each send in bus order;
+* one channel per bus channel (topic = the channel with a leading slash,
+  schema ``homesim.BusMessage``: kind, sender, id, receivers, causes,
+  created, xml, attachment digests), each send in bus order;
 * ``/tf`` (``foxglove.FrameTransforms``): ``map -> base_link`` (the robot's
   true pose), ``base_link -> laser`` and ``map -> odom`` (where the robot's
   odometry frame truly lies, from its true pose and its odometry) at each
   odometry message, and ``map -> estimate`` (the localiser's pose);
+* the same poses as ``foxglove.PoseInFrame`` (for plots and the pose panels):
+  ``/poses/truth`` (``map``), ``/poses/odometry`` (``odom``),
+  ``/poses/estimate`` (``map``);
 * ``/laser`` (``foxglove.LaserScan`` in ``laser``): every scan with its ranges;
-* ``/scene/map`` (``foxglove.SceneUpdate``, once): walls and furniture outlines, room names;
-* ``/scene/people`` (10 Hz): each present person as a cylinder with name and words being said
-  (ground truth, for viewing only);
+* ``/transcript`` (``foxglove.Log``): every utterance as it starts, named by
+  its speaker (the robot, a person, a radio), for the Log panel;
+* ``/scene/map`` (``foxglove.SceneUpdate``, once): walls and furniture outlines, room names, objects;
+* ``/scene/people`` (10 Hz): each present person as a cylinder with a gaze
+  arrow, her name and the words being said (ground truth, for viewing only),
+  one entity per person, deleted when she leaves;
 * ``/scene/robot`` (once): the robot's footprint, locked to ``base_link``;
 * ``/scene/tracks`` (every tracks message, in ``odom``): the robot's person tracks as
-  2-sigma spheres with their ids.
+  2-sigma ellipsoids with their ids, one entity per track, deleted when the track ends.
 
+Every ``foxglove.*`` message satisfies Foxglove's official JSON Schema of
+its name (:mod:`homesim.export.foxglove`, checked in the tests).
 All JSON is canonical (sorted keys) and chunks are zstd-compressed, so the
 same trace gives a byte-identical file.
 """
@@ -64,7 +72,7 @@ class _Mcap:
     def channel(self, topic: str, schema: str) -> int:
         if topic not in self.channels:
             if schema not in self.schemas:
-                self.schemas[schema] = self.w.register_schema(schema, "jsonschema", fg.dumps(fg.SCHEMAS[schema]))
+                self.schemas[schema] = self.w.register_schema(schema, "jsonschema", fg.schema_bytes(schema))
             self.channels[topic] = self.w.register_channel(topic, "json", self.schemas[schema])
         return self.channels[topic]
 
@@ -95,6 +103,9 @@ class _Exporter:
         self.next_people = 0
         self.scans = 0
         self.frames = 0
+        self.people: set[str] = set()  # entity ids on /scene/people now
+        self.track_ids: set[str] = set()  # entity ids on /scene/tracks now
+        self.said = 0  # utterances written to /transcript so far
 
     # ------------------------------------------------------------- the bus
     def __call__(self, obs: Observation) -> None:
@@ -106,14 +117,15 @@ class _Exporter:
                                "created": m.created_ns / 1e9, "xml": etree.tostring(m.xml, encoding="unicode")}
         if m.attachments:
             rec["attachments"] = {k: describe_attachment(v) for k, v in sorted(m.attachments.items())}
-        self.out.write(m.channel, "homesim.BusMessage", t, rec)
+        self.out.write(fg.topic(m.channel), "homesim.BusMessage", t, rec)
         if m.channel == "/robot/laser/scan" and "ranges" in m.attachments:
             self.laser(t, m)
         elif m.channel == "/robot/odometry":
             self.frames_at(t, m)
         elif m.channel == "/robot/localisation/pose":
-            x = m.xml
-            self.out.write("/tf", "foxglove.FrameTransforms", t, {"transforms": [fg.transform(t, "map", "estimate", _f(x, "x"), _f(x, "y"), _f(x, "theta"))]})
+            x, y, th = _f(m.xml, "x"), _f(m.xml, "y"), _f(m.xml, "theta")
+            self.out.write("/tf", "foxglove.FrameTransforms", t, {"transforms": [fg.transform(t, "map", "estimate", x, y, th)]})
+            self.out.write("/poses/estimate", "foxglove.PoseInFrame", t, fg.pose_in_frame(t, "map", x, y, th))
         elif m.channel == "/robot/attention/tracks":
             self.tracks(t, m)
 
@@ -128,16 +140,19 @@ class _Exporter:
 
     def frames_at(self, t: int, odo: Message) -> None:
         x, y, th = self.world.robot.pose
-        T = odom_to_world((x, y, th), (_f(odo.xml, "x"), _f(odo.xml, "y"), _f(odo.xml, "theta")))
+        ox, oy, oth = _f(odo.xml, "x"), _f(odo.xml, "y"), _f(odo.xml, "theta")
+        T = odom_to_world((x, y, th), (ox, oy, oth))
         self.out.write("/tf", "foxglove.FrameTransforms", t, {"transforms": [
             fg.transform(t, "map", "base_link", x, y, th),
             fg.transform(t, "base_link", "laser", LASER_OFFSET, 0.0, 0.0, LASER_HEIGHT),
             fg.transform(t, "map", "odom", float(T[0, 2]), float(T[1, 2]), math.atan2(T[1, 0], T[0, 0])),
         ]})
+        self.out.write("/poses/truth", "foxglove.PoseInFrame", t, fg.pose_in_frame(t, "map", x, y, th))
+        self.out.write("/poses/odometry", "foxglove.PoseInFrame", t, fg.pose_in_frame(t, "odom", ox, oy, oth))
         self.frames += 1
 
     def tracks(self, t: int, m: Message) -> None:
-        spheres, texts = [], []
+        ents = []
         for tr in m.xml.iterfind("track"):
             cov = np.array([[_f(tr, "cxx"), _f(tr, "cxy")], [_f(tr, "cxy"), _f(tr, "cyy")]])
             vals, vecs = np.linalg.eigh(cov)
@@ -145,16 +160,28 @@ class _Exporter:
             ang = math.atan2(vecs[1, 1], vecs[0, 1])
             tx, ty = _f(tr, "x"), _f(tr, "y")
             confirmed = tr.get("confirmed") == "true"
-            spheres.append({"pose": fg.pose(tx, ty, 0.05, ang), "size": fg.vec(4 * math.sqrt(vals[1]), 4 * math.sqrt(vals[0]), 0.1),
-                            "color": fg.color(0.09, 0.75, 0.81, 0.6 if confirmed else 0.25)})
-            texts.append(fg.text(tx, ty, 0.4, str(tr.get("id")) + ("" if confirmed else " (unconfirmed)")))
-        self.out.write("/scene/tracks", "foxglove.SceneUpdate", t, {
-            "deletions": [{"timestamp": fg.stamp(t), "type": 1, "id": ""}],
-            "entities": [fg.entity(t, "odom", "tracks", spheres=spheres, texts=texts)] if spheres else []})
+            tid = str(tr.get("id"))
+            ents.append(fg.entity(t, "odom", f"track/{tid}", frame_locked=False,
+                                  metadata={"track": tid, "confirmed": str(confirmed).lower(),
+                                            "sigma_major_m": f"{math.sqrt(vals[1]):.3f}", "sigma_minor_m": f"{math.sqrt(vals[0]):.3f}"},
+                                  spheres=[{"pose": fg.pose(tx, ty, 0.05, ang), "size": fg.vec(4 * math.sqrt(vals[1]), 4 * math.sqrt(vals[0]), 0.1),
+                                            "color": fg.color(0.09, 0.75, 0.81, 0.6 if confirmed else 0.25)}],
+                                  texts=[fg.text(tx, ty, 0.4, tid + ("" if confirmed else " (unconfirmed)"))]))
+        self.track_ids = self._replace("/scene/tracks", t, ents, self.track_ids)
+
+    def _replace(self, topic: str, t: int, ents: list[dict[str, Any]], shown: set[str]) -> set[str]:
+        """Write ``ents`` on ``topic``, deleting the entities shown before that are gone now; return the ids shown."""
+        now = {e["id"] for e in ents}
+        self.out.write(topic, "foxglove.SceneUpdate", t, fg.scene_update(ents, [fg.deletion(t, eid) for eid in sorted(shown - now)]))
+        return now
 
     # ----------------------------------------------------------- the world
     def on_step(self, world: Any) -> None:
         t = int(round(world.time * 1e9))
+        for u in world.sound.since(self.said):
+            # logged when the step that started it is seen (file order stays in time order), stamped with its start
+            self.out.write("/transcript", "foxglove.Log", t, fg.log(int(round(u.start * 1e9)), u.source, u.text))
+            self.said = u.n + 1
         if t < self.next_people:
             return
         self.next_people = t + int(1e9 / PEOPLE_RATE)
@@ -166,13 +193,14 @@ class _Exporter:
             r, g, b = h.torso
             u = world.sound.speaking(name, world.time)
             label = name + (f': "{u.text}"' if u is not None else "")
-            ents.append(fg.entity(t, "map", f"person/{name}",
+            ents.append(fg.entity(t, "map", f"person/{name}", frame_locked=False,
+                                  metadata={"name": name, "saying": u.text if u is not None else ""},
                                   cylinders=[{"pose": fg.pose(x, y, h.height / 2, h.heading), "size": fg.vec(2 * HUMAN_RADIUS, 2 * HUMAN_RADIUS, h.height),
                                               "bottom_scale": 1.0, "top_scale": 1.0, "color": fg.color(r, g, b, 0.7)}],
                                   arrows=[{"pose": fg.pose(x, y, h.height * 0.9, h.gaze), "shaft_length": 0.5, "shaft_diameter": 0.03,
                                            "head_length": 0.12, "head_diameter": 0.08, "color": fg.color(1.0, 0.5, 0.05)}],
                                   texts=[fg.text(x, y, h.height + 0.2, label)]))
-        self.out.write("/scene/people", "foxglove.SceneUpdate", t, {"deletions": [{"timestamp": fg.stamp(t), "type": 1, "id": ""}], "entities": ents})
+        self.people = self._replace("/scene/people", t, ents, self.people)
 
     def static(self) -> None:
         """The map (walls, furniture, rooms, objects) and the robot's body, once at t = 0."""
@@ -181,7 +209,7 @@ class _Exporter:
         for ob in w.obstacles:
             pts = [fg.vec(px, py, ob.top if ob.kind != "wall" else 0.0) for px, py in np.asarray(ob.polygon)]
             rgb = (0.2, 0.2, 0.2) if ob.kind == "wall" else (0.55, 0.45, 0.3)
-            lines.append({"type": 1, "pose": fg.pose(0, 0), "thickness": 0.03, "scale_invariant": False, "points": pts, "color": fg.color(*rgb)})
+            lines.append(fg.line(pts, fg.color(*rgb), kind=fg.LINE_LOOP))
             if ob.kind == "furniture":
                 c = np.asarray(ob.polygon).mean(axis=0)
                 texts.append(fg.text(float(c[0]), float(c[1]), ob.top + 0.05, ob.name, size=11))
@@ -195,11 +223,14 @@ class _Exporter:
             cubes.append({"pose": fg.pose(ox, oy, oz), "size": fg.vec(side, side, side), "color": fg.color(*o.colour)})
             labels.append(fg.text(ox, oy, oz + 0.15, name, size=10))
         texts += labels
-        self.out.write("/scene/map", "foxglove.SceneUpdate", 0, {"entities": [fg.entity(0, "map", "map", lines=lines, texts=texts, cubes=cubes)]})
-        self.out.write("/scene/robot", "foxglove.SceneUpdate", 0, {"entities": [fg.entity(0, "base_link", "robot", cubes=[
-            {"pose": fg.pose(0, 0, 0.5), "size": fg.vec(ROBOT_LENGTH, ROBOT_WIDTH, 1.0), "color": fg.color(0.12, 0.37, 0.75, 0.8)}],
+        meta = {"scenario": w.scenario.name, "rooms": ", ".join(r.name for r in w.scenario.rooms), "objects": ", ".join(w.objects)}
+        self.out.write("/scene/map", "foxglove.SceneUpdate", 0,
+                       fg.scene_update([fg.entity(0, "map", "map", frame_locked=False, metadata=meta, lines=lines, texts=texts, cubes=cubes)]))
+        self.out.write("/scene/robot", "foxglove.SceneUpdate", 0, fg.scene_update([fg.entity(
+            0, "base_link", "robot", metadata={"length_m": f"{ROBOT_LENGTH:g}", "width_m": f"{ROBOT_WIDTH:g}"},
+            cubes=[{"pose": fg.pose(0, 0, 0.5), "size": fg.vec(ROBOT_LENGTH, ROBOT_WIDTH, 1.0), "color": fg.color(0.12, 0.37, 0.75, 0.8)}],
             arrows=[{"pose": fg.pose(0, 0, 1.05), "shaft_length": 0.4, "shaft_diameter": 0.04, "head_length": 0.1, "head_diameter": 0.1,
-                     "color": fg.color(1, 1, 1)}])]})
+                     "color": fg.color(1, 1, 1)}])]))
 
 
 def export_mcap(trace: str | os.PathLike[str], out: str | os.PathLike[str], *,

@@ -5,9 +5,11 @@ A phase starts where the execution supervisor applied one of the events of
 after a follow request (the first non-zero ``/robot/base/cmd``). Spans are
 named by what they measure (:class:`BironSpans`): speech detection (the
 microphones hearing an utterance, from its start to the recognised words going
-out), speech recognition (the understanding's time to the frame) and the ES's
+out), speech recognition (the understanding's time to the frame), the ES's
 reconfiguration (from its decision, its log record, to its first order or
-condition). Importing this module registers both with
+condition) and the robot's speech (the speaker's status ``speaking``: from the
+start to the end it announces; its ``done`` status gets the same span, so the
+speech is one span on the speaker's lane). Importing this module registers both with
 :func:`homesim.traceview.register_phases` and :func:`~homesim.traceview.register_spans`.
 """
 
@@ -33,7 +35,9 @@ SPEECH = "/robot/audio/speech"
 FRAMES = "/robot/speech/frames"
 ES_SENDER = "supervisor"
 ES_OUTPUTS = ("/robot/es/orders/", "/robot/es/conditions/")
+SPEAKER_STATUS = "/robot/speaker/status"
 _START = re.compile(r' start="([0-9.eE+-]+)"')
+_END = re.compile(r' end="([0-9.eE+-]+)"')
 _V = re.compile(r' v="([-0-9.eE+]+)"')
 _EVENT = re.compile(r' event="([^"]+)"')
 #: Decisions remembered until their first output (bounded).
@@ -60,10 +64,11 @@ class BironPhases:
 
 
 class BironSpans:
-    """One timeline's span marker: speech detection, speech recognition, the ES's reconfiguration."""
+    """One timeline's span marker: speech detection, speech recognition, the ES's reconfiguration, the robot's speech."""
 
     def __init__(self) -> None:
         self.decided: dict[str, float] = {}
+        self.speaking: Span | None = None  # the speaker's current speech, until its done status
 
     def __call__(self, ch: str, rec: dict[str, Any], span: Span | None) -> Span | None:
         t = rec["t"]
@@ -78,6 +83,17 @@ class BironSpans:
             st = _START.search(rec.get("xml", ""))
             if st is not None and float(st.group(1)) < t:
                 return Span(rec["sender"], float(st.group(1)), t, "", rec["id"], "speech detection")
+            return None
+        if ch == SPEAKER_STATUS:
+            xml = rec.get("xml", "")
+            st, en = _START.search(xml), _END.search(xml)
+            if xml.startswith("<speaking") and st is not None and en is not None and float(en.group(1)) > float(st.group(1)):
+                causes = rec.get("causes", ())
+                self.speaking = Span(rec["sender"], float(st.group(1)), float(en.group(1)), causes[0] if causes else "", rec["id"], "robot speech")
+                return self.speaking
+            if xml.startswith("<done") and self.speaking is not None and self.speaking.start <= t:
+                done, self.speaking = self.speaking, None
+                return replace(done, end=min(done.end, t), effect=rec["id"])  # cut short when the speech was
             return None
         if ch == FRAMES and span is not None:
             return replace(span, kind="speech recognition")

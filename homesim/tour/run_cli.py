@@ -29,6 +29,7 @@ from ..errors import HomesimError
 from ..message import Message
 from ..progress import VirtualSeconds, write
 from robot.profiles import PROFILES
+from .runheader import RATES
 from .runner import Run, RunOptions, file_digest, store_digest
 from .tracerun import next_line, read_header, run_options, store_copy, trace_lines
 
@@ -70,7 +71,7 @@ def _options(a: argparse.Namespace) -> RunOptions:
     if a.seed is not None and a.seed < 0:
         raise HomesimError(f"--seed must be >= 0, got {a.seed}")
     return RunOptions(seed=a.seed, until=a.until, trace=a.trace, memory=a.memory, realtime=a.realtime, strict=a.strict or None,
-                      profile=a.profile)
+                      profile=a.profile, rates=a.rates)
 
 
 def run_command(a: argparse.Namespace) -> int:
@@ -278,6 +279,9 @@ def _run_arguments(p: argparse.ArgumentParser) -> None:
                    help="the robot's knowledge store (a directory, created if missing): load it at the start, save to it")
     p.add_argument("--profile", default=None, choices=sorted(PROFILES),
                    help="which robot (overrides the scenario's <robot profile>; default: the scenario's, else full)")
+    p.add_argument("--rates", choices=sorted(RATES), default=None,
+                   help="sensor rates: hardware runs the laser at 37.5 Hz and the camera at 25 Hz as on BIRON's "
+                        "PeopleBot (default: the scenario's <robot laser-rate camera-rate>, 10 Hz each)")
     p.add_argument("--realtime", type=cliargs.realtime_scale, default=None, metavar="X", help="pace the run at X times real time")
     p.add_argument("--quiet", action="store_true", help="print the verdict (and failed expectations) only")
     p.add_argument("--strict", action="store_true",

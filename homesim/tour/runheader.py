@@ -118,6 +118,18 @@ def check_profile(v: Any) -> str:
     return v
 
 
+#: ``--rates`` presets: (laser Hz, camera Hz). "hardware": BIRON's PeopleBot, its SICK laser
+#: sending 37.5 scans a second and its camera 25 frames.
+RATES: dict[str, tuple[float, float]] = {"hardware": (37.5, 25.0)}
+
+
+def check_rates(v: Any) -> str:
+    """``v`` if it names a ``--rates`` preset, else ``ValueError``."""
+    if not isinstance(v, str) or v not in RATES:
+        raise ValueError(f"a rates preset ({', '.join(sorted(RATES))}), not {_show(v)}")
+    return v
+
+
 def _mapping(v: Any, check: Callable[[Any], Any]) -> dict[str, Any]:
     if not isinstance(v, dict) or len(v) > 256:
         raise ValueError(f"an object of at most 256 names, not {_show(v)}")
@@ -145,6 +157,7 @@ RUN_FIELDS: dict[str, Callable[[Any], Any]] = {
     "link_worst_ms": _optional(lambda v: _mapping(v, _seconds)),
     "uplinks": _optional(lambda v: _mapping(v, _string)),
     "routes": _optional(lambda v: _mapping(v, _string)),
+    "rates": _optional(check_rates),
 }
 #: The header's own fields (besides ``run``).
 TOP_FIELDS: dict[str, Callable[[Any], Any]] = {

@@ -59,9 +59,12 @@ class Condition:
     run: tuple[tuple[str, Any], ...] = ()  # RunOptions fields
     robot: tuple[tuple[str, str], ...] = ()  # <robot> attributes
     options: tuple[tuple[str, str], ...] = ()  # <robot><option>s
+    users: tuple[tuple[str, float], ...] = ()  # the user profiles' mix (usergen.parse_mix)
 
     def text(self) -> str:
         parts = [f"{k}={v}" for k, v in self.run] + [f"robot.{k}={v}" for k, v in self.robot] + [f"option.{k}={v}" for k, v in self.options]
+        if self.users:
+            parts.append("users=" + "+".join(f"{n}:{w:g}" for n, w in self.users))
         return ",".join(parts) or "(as written)"
 
 
@@ -75,6 +78,7 @@ def parse_condition(text: str) -> Condition:
         raise OptionError("--condition", f"{text[:40]!r}: a condition is NAME=key=value,... with a short name of letters, digits, - or _")
     fields = {f.name: f for f in dataclasses.fields(RunOptions)}
     run, robot, opts = [], [], []
+    users: tuple[tuple[str, float], ...] = ()
     for item in filter(None, (s.strip() for s in rest.split(","))):
         key, eq, value = item.partition("=")
         key, value = key.strip(), value.strip()
@@ -84,6 +88,13 @@ def parse_condition(text: str) -> Condition:
             robot.append((key[6:], value))
         elif key.startswith("option."):
             opts.append((key[7:], value))
+        elif key == "users":  # user profiles: users=cooperative, users=typical:3+silent:1
+            from .usergen import MixError, parse_mix
+
+            try:
+                users = parse_mix(value)
+            except MixError as exc:
+                raise OptionError("--condition", f"{name}: users={value}: {exc}") from None
         elif key == "profile":  # refused here, not as an error row in every run
             from .runner import profiles
 
@@ -94,8 +105,8 @@ def parse_condition(text: str) -> Condition:
             run.append((key, _value(fields[key], value, name)))
         else:
             known = ", ".join(sorted(set(fields) - RESERVED))
-            raise OptionError("--condition", f"{name}: unknown key {key!r} (run options: {known}; or robot.ATTRIBUTE, option.NAME)")
-    return Condition(name, tuple(run), tuple(robot), tuple(opts))
+            raise OptionError("--condition", f"{name}: unknown key {key!r} (run options: {known}; or robot.ATTRIBUTE, option.NAME, users=PROFILES)")
+    return Condition(name, tuple(run), tuple(robot), tuple(opts), users)
 
 
 def _value(f: dataclasses.Field, text: str, name: str) -> Any:  # type: ignore[type-arg]
@@ -114,9 +125,25 @@ def _value(f: dataclasses.Field, text: str, name: str) -> Any:  # type: ignore[t
     return text
 
 
-def derive(files: list[str], cond: Condition, out: Path) -> list[str]:
-    """The scenario files of a condition: the originals, or copies with its robot changes."""
-    if not cond.robot and not cond.options:
+def derive(files: list[str], cond: Condition, out: Path, generated: tuple[int, int] | None = None) -> list[str]:
+    """The scenario files of a condition: the originals, or copies with its robot and user changes.
+
+    ``users=`` with generated tours (``generated``: the generator's seed and count) generates
+    the same tours with the condition's users (the same flats and scripts, each user drawn from
+    the condition's mix, the run long enough for her patience); with scenario files it sets the
+    profile of each user: every person with a profile, or, when nobody has one, every person
+    who waits for the robot's answers (bystanders do not).
+    """
+    if cond.users and generated is not None:
+        from .generate import generate
+
+        seed, count = generated
+        where = out / "conditions" / cond.name / "scenarios"
+        made = generate(seed, count, where, cond.users)
+        files = [str((where / f"{g.name}.xml").resolve()) for g in made]
+        if not cond.robot and not cond.options:
+            return files
+    elif not cond.robot and not cond.options and not cond.users:
         return files
     from lxml import etree
 
@@ -136,11 +163,28 @@ def derive(files: list[str], cond: Condition, out: Path) -> list[str]:
                 if old.get("name") == k:
                     robot.remove(old)
             etree.SubElement(robot, "option", name=k, value=v)
+        if cond.users and generated is None:
+            _set_users(root, cond, f)
         target = where / Path(f).name
         target.write_bytes(etree.tostring(root, xml_declaration=True, encoding="UTF-8"))
         load_scenario(target)  # a condition that makes a bad scenario is refused before any run
         made.append(str(target))
     return made
+
+
+def _set_users(root: Any, cond: Condition, file: str) -> None:
+    """Give each user of the scenario a profile drawn from the condition's mix (in document order)."""
+    from .usergen import draw_user
+
+    humans = root.findall("humans/human")
+    users = [h for h in humans if h.get("profile") is not None] or [h for h in humans if h.find("script/wait-for") is not None]
+    if not users:
+        raise OptionError("--condition", f"{cond.name}: users= but {file} has no user (no person with a profile or a wait-for)")
+    import zlib
+
+    digest = zlib.crc32(Path(file).name.encode())  # the same file name, the same users
+    for i, h in enumerate(users):
+        h.set("profile", draw_user(digest, i, cond.users))
 
 
 # ------------------------------------------------------------------ running
@@ -290,7 +334,10 @@ def analyse(rows: list[Row], expectations: dict[str, list[Any]], names: dict[str
             e = next((x for x in exps if x.line == line), None)
             kind = e.kind if e is not None else f["name"].split()[0].lstrip("<").rstrip("/>")
             cap = capability_of(e, exps) if e is not None else "other"
-            _add(groups, cap, kind, cause_of(kind, f.get("detail", ""), names.get(r["file"], [])), r)
+            cause = cause_of(kind, f.get("detail", ""), names.get(r["file"], []))
+            if r.get("metrics", {}).get("users.stopped"):  # not the robot's doing alone: she stopped or left
+                cause = f"{cause} (the user gave up)"
+            _add(groups, cap, kind, cause, r)
     order = [c for c in CAPABILITIES if c in caps] + sorted(set(caps) - set(CAPABILITIES))
     capabilities = {}
     for cap in order:
@@ -350,7 +397,8 @@ def table(result: dict[str, Any], conditions: list[str]) -> str:
 
 # ------------------------------------------------------------------ the study
 def study(files: list[str], seeds: list[int], conditions: list[Condition], out: Path, *, workers: int | None = None,
-          scheduler: Any = None, progress: Callable[[Row], None] | None = None, resume: bool = False) -> dict[str, Any]:
+          scheduler: Any = None, progress: Callable[[Row], None] | None = None, resume: bool = False,
+          generated: tuple[int, int] | None = None) -> dict[str, Any]:
     """Run the study, write study.json / study.md / study.png / study.svg into ``out``, return study.json's content."""
     from ..scenario.loader import load_scenario
 
@@ -367,7 +415,7 @@ def study(files: list[str], seeds: list[int], conditions: list[Condition], out: 
     names: dict[str, list[str]] = {}
     jobs: list[Job] = []
     for cond in conditions:
-        cfiles = derive(files, cond, out)
+        cfiles = derive(files, cond, out, generated)
         for f in cfiles:
             sc = load_scenario(f)
             expectations[f] = list(sc.expectations)
@@ -449,6 +497,8 @@ def study_command(a: argparse.Namespace) -> int:
     out = Path(a.out)
     if bool(a.scenarios) == (a.generated is not None):
         raise OptionError("SCENARIO", "give scenario files or --generated K --seed S (not both)")
+    conditions = [parse_condition(c) for c in a.condition] or [Condition(DEFAULT)]  # refused before anything is written
+    seeds = parse_seeds(a.seeds)
     if a.generated is not None:
         if a.seed is None:
             raise OptionError("--generated", "needs --seed S (the generator's seed)")
@@ -463,11 +513,10 @@ def study_command(a: argparse.Namespace) -> int:
                 raise OptionError("SCENARIO", f"{p}: no such file")
             load_scenario(p)  # bad input is refused before any run (file, line, what)
             files.append(str(Path(p).resolve()))
-    conditions = [parse_condition(c) for c in a.condition] or [Condition(DEFAULT)]
-    seeds = parse_seeds(a.seeds)
     shown = Progress(len(files) * len(seeds) * len(conditions), sys.stderr)
     try:
-        doc = study(files, seeds, conditions, out, workers=a.workers, scheduler=a.scheduler, progress=shown, resume=a.resume)
+        doc = study(files, seeds, conditions, out, workers=a.workers, scheduler=a.scheduler, progress=shown, resume=a.resume,
+                    generated=(a.seed, a.generated) if a.generated is not None else None)
     finally:
         shown.close()
     print((out / "study.md").read_text(encoding="utf-8"))
@@ -488,7 +537,8 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--seed", type=cliargs.seed, default=None, help="the generator's seed for --generated")
     p.add_argument("--seeds", default="0", help="run seeds: 0-9, or 0,3,7")
     p.add_argument("--condition", action="append", default=[], metavar="NAME=OPTIONS",
-                   help="a condition to compare (repeatable): NAME=key=value,... with run options, robot.ATTRIBUTE or option.NAME")
+                   help="a condition to compare (repeatable): NAME=key=value,... with run options, robot.ATTRIBUTE, option.NAME "
+                        "or users=PROFILES (cooperative, or typical:3+silent:1: the same homes with these users)")
     p.add_argument("--workers", type=_workers, default=None, help="local processes (default: the CPU count)")
     p.add_argument("--scheduler", type=_scheduler, default=None, metavar="ADDRESS", help="run on this Dask distributed scheduler (tcp://host:8786)")
     p.add_argument("-o", "--out", required=True, metavar="DIR", help="directory for study.json, study.md, study.png/.svg, summaries/")

@@ -38,7 +38,7 @@ def run_options(h: dict[str, Any], *, until: float | None, trace: Any, store: Pa
     return RunOptions(seed=h["seed"], until=until, trace=trace,
                       memory=store if store is not None and memory is not None else memory,
                       memory_as=memory if store is not None else None, subsystems=h["subsystems"],
-                      metrics=h["metrics"], profile=h.get("profile"))
+                      metrics=h["metrics"], profile=h.get("profile"), rates=h.get("rates"))
 
 
 def store_copy(h: dict[str, Any]) -> tempfile.TemporaryDirectory[str] | None:

@@ -12,7 +12,7 @@ microphones cannot tell them apart) and, when given :class:`Percepts`, what
 the robot believed: its tracks (id, 2-sigma covariance ellipse), the legs
 it detected, faces seen, the selected person and partner, its pose
 estimate and attention state. Labels are placed last so that none covers
-another (:func:`place_labels`).
+another (:func:`place_labels`, with adjustText).
 """
 
 from __future__ import annotations
@@ -29,7 +29,7 @@ from matplotlib.patches import Circle, Ellipse, Patch, Polygon
 from matplotlib.text import Text
 
 from ..world.bodies import CAMERA_HEIGHT, HUMAN_RADIUS, LASER_OFFSET, LEG_RADIUS, MIC_OFFSET, ROBOT_LENGTH, ROBOT_WIDTH
-from ..geometry import polygon_centroid, to_world
+from ..geometry import polygon_centroid, polygon_edges, to_world
 from ..world.world import World
 from .percepts import Percepts
 
@@ -104,34 +104,51 @@ def draw_objects(ax: Axes, world: World, legend: Legend, labels: list[Text], mar
         legend.add("object (true place)", dot("black", "s", 5, face="white"))
 
 
-def view_polygon(world: World, origin: Sequence[float], centre: float, *, hfov: float = HFOV, view: float = 4.0,
-                 z: float = CAMERA_HEIGHT, rays: int = 64) -> np.ndarray:
-    """The camera's field of view as a polygon, each ray cut at the first wall or obstacle at height ``z``."""
-    ang = centre + np.linspace(-hfov / 2, hfov / 2, rays)
-    d = np.stack([np.cos(ang), np.sin(ang)], axis=1)  # (R, 2)
+def ray_lengths(a: np.ndarray, b: np.ndarray, origin: Sequence[float], angles: np.ndarray, max_len: float) -> np.ndarray:
+    """How far each ray from ``origin`` at ``angles`` goes before the first segment (a[i], b[i]), at most ``max_len``."""
+    d = np.stack([np.cos(angles), np.sin(angles)], axis=1)  # (R, 2)
     o = np.asarray(origin[:2], dtype=float)
-    a, b = world.segments_at(z)
-    t = np.full(rays, view)
+    t = np.full(len(angles), float(max_len))
     if len(a):
         e = b - a  # (S, 2)
         w = a - o  # (S, 2)
         den = d[:, None, 0] * e[None, :, 1] - d[:, None, 1] * e[None, :, 0]  # (R, S)
-        with np.errstate(divide="ignore", invalid="ignore"):
+        with np.errstate(divide="ignore", invalid="ignore", over="ignore"):  # parallel rays: refused below
             tr = (w[None, :, 0] * e[None, :, 1] - w[None, :, 1] * e[None, :, 0]) / den
             us = (w[None, :, 0] * d[:, None, 1] - w[None, :, 1] * d[:, None, 0]) / den
         ok = (np.abs(den) > 1e-12) & (tr > 1e-9) & (us >= 0) & (us <= 1)
         tr = np.where(ok, tr, np.inf)
         t = np.minimum(t, tr.min(axis=1))
-    return np.vstack([o, o + d * t[:, None]])
+    return t
 
 
-def draw_robot(ax: Axes, world: World, legend: Legend, *, view: float = 4.0) -> None:
-    """The PeopleBot's footprint, heading and the camera's field of view (clipped by walls)."""
+def view_polygon(world: World, origin: Sequence[float], centre: float, *, hfov: float = HFOV, view: float = 4.0,
+                 z: float = CAMERA_HEIGHT, rays: int = 64) -> np.ndarray:
+    """The camera's field of view as a polygon, each ray cut at the first wall or obstacle at height ``z``."""
+    ang = centre + np.linspace(-hfov / 2, hfov / 2, rays)
+    a, b = world.segments_at(z)
+    t = ray_lengths(a, b, origin, ang, view)
+    o = np.asarray(origin[:2], dtype=float)
+    return np.vstack([o, o + np.stack([np.cos(ang), np.sin(ang)], axis=1) * t[:, None]])
+
+
+def wall_segments(world: World) -> tuple[np.ndarray, np.ndarray]:
+    """The edges of the walls alone (sound goes over furniture, not through walls)."""
+    walls = [polygon_edges(o.polygon) for o in world.obstacles if o.kind == "wall"]
+    if not walls:
+        return np.zeros((0, 2)), np.zeros((0, 2))
+    return np.concatenate([w[0] for w in walls]), np.concatenate([w[1] for w in walls])
+
+
+def draw_robot(ax: Axes, world: World, legend: Legend, *, view: float = 4.0, marks: list[object] | None = None) -> None:
+    """The PeopleBot's footprint, heading and the camera's field of view (clipped by walls); the footprint goes to ``marks``."""
     pose = world.robot.pose
     x, y, th = pose
     hl, hw = ROBOT_LENGTH / 2, ROBOT_WIDTH / 2
     foot = to_world(pose, np.array([[-hl, -hw], [hl, -hw], [hl, hw], [-hl, hw]]))
-    ax.add_patch(Polygon(foot, closed=True, facecolor=ROBOT, edgecolor="black", alpha=0.85, zorder=6))
+    body = ax.add_patch(Polygon(foot, closed=True, facecolor=ROBOT, edgecolor="black", alpha=0.85, zorder=6))
+    if marks is not None:
+        marks.append(body)
     legend.add("robot (true pose)", Patch(facecolor=ROBOT, edgecolor="black"))
     nose = to_world(pose, np.array([[hl + 0.1, 0.0]]))[0]
     ax.annotate("", xy=nose, xytext=(x, y), arrowprops={"arrowstyle": "->", "color": "white"}, zorder=7)
@@ -170,8 +187,8 @@ def draw_people(ax: Axes, world: World, legend: Legend, labels: list[Text], *, t
         ax.annotate("", xy=(hx, hy), xytext=(x, y), arrowprops={"arrowstyle": "->", "color": "black"}, zorder=7)
         legend.add("heading", line("black", marker=">"))
         gx, gy = x + 0.9 * math.cos(h.gaze), y + 0.9 * math.sin(h.gaze)
-        ax.plot([x, gx], [y, gy], linestyle="--", color=GAZE, linewidth=1, zorder=7)
-        legend.add("gaze", line(GAZE, "--", 1))
+        ax.plot([x, gx], [y, gy], linestyle="--", color=GAZE, linewidth=1.6, zorder=9)  # over the sound directions
+        legend.add("gaze", line(GAZE, "--", 1.6))
         if h.hand_point() is not None and h.pointing is not None:
             tx, ty, _ = h.pointing.target
             ax.plot([x, tx], [y, ty], color=POINT, linewidth=1.5, zorder=7)
@@ -190,15 +207,34 @@ def draw_people(ax: Axes, world: World, legend: Legend, labels: list[Text], *, t
 
 
 def draw_sound_directions(ax: Axes, origin: Sequence[float], heading: float, bearings: Sequence[float], legend: Legend,
-                          *, length: float = 2.5) -> None:
-    """Sound directions from the microphones: solid front, dotted mirrored back candidate."""
+                          *, length: float = 2.5, world: World | None = None) -> None:
+    """Sound directions from the microphones: solid front, dotted mirrored back candidate.
+
+    With ``world`` each line stops at the first wall and at the flat's edge
+    (a direction, not a sound leaving the flat). They are drawn thin and under
+    the people, so a gaze along the same line stays visible.
+    """
+    segs = wall_segments(world) if world is not None else None
+    box = world.bounds() if world is not None else None
     for b in bearings:
         for ang, style in ((b, "-"), (math.pi - b, ":")):
             a = heading + ang
-            ax.plot([origin[0], origin[0] + length * math.cos(a)], [origin[1], origin[1] + length * math.sin(a)], linestyle=style, color=SOUND, linewidth=1.2, zorder=8)
+            n = length
+            if segs is not None:
+                n = float(ray_lengths(segs[0], segs[1], origin, np.array([a]), length)[0])
+            if box is not None:  # the flat's bounding box (a door opening does not let it out)
+                c, s_ = math.cos(a), math.sin(a)
+                for lo, hi, o, d in ((box[0], box[2], origin[0], c), (box[1], box[3], origin[1], s_)):
+                    if d > 1e-12:
+                        n = min(n, (hi - o) / d)
+                    elif d < -1e-12:
+                        n = min(n, (lo - o) / d)
+                n = max(n, 0.0)
+            ax.plot([origin[0], origin[0] + n * math.cos(a)], [origin[1], origin[1] + n * math.sin(a)], linestyle=style, color=SOUND,
+                    linewidth=1.0, alpha=0.7, zorder=5)
     if bearings:
         legend.add("sound direction heard", line(SOUND, "-"))
-        legend.add("its front/back mirror", line(SOUND, ":"))
+        legend.add("its front/back mirror (cut at walls)", line(SOUND, ":"))
 
 
 def covariance_ellipse(x: float, y: float, cov: np.ndarray, *, sigmas: float = 2.0, **kw: object) -> Ellipse:
@@ -240,43 +276,62 @@ def draw_percepts(ax: Axes, world: World, p: Percepts, legend: Legend, labels: l
         legend.add("face seen by the camera", dot(FACE, "*", 9))
 
 
-def place_labels(ax: Axes, labels: Sequence[Text], *, avoid: Sequence[object] = (), pad: float = 1.0) -> None:
-    """Move labels so that none covers another (nor the ``avoid`` artists): each tries offsets around its anchor.
+def _overlaps_any(bb, placed) -> bool:  # noqa: ANN001 (matplotlib Bboxes)
+    return any(bb.overlaps(o) for o in placed)
 
-    Labels are placed in the order given (put the important ones first);
-    the first free offset wins. Works in display coordinates with the
-    renderer's real text extents; a label that had to move gets a thin
-    leader line to its anchor. A label that finds no free place stays where
-    it was asked for (never hidden).
+
+def place_labels(ax: Axes, labels: Sequence[Text], *, avoid: Sequence[object] = (), pad: float = 1.0,
+                 only_move: str = "xy", iterations: int = 300) -> None:
+    """Move labels so that none covers another (nor the ``avoid`` artists), with a thin leader line to a moved one's anchor.
+
+    Labels that cover nothing stay. adjustText (a force-directed label placer) moves the others apart for a fixed
+    number of ``iterations`` (never a time limit: the same figure gives the
+    same picture). What it leaves overlapping (it minimises overlaps, it does
+    not promise none) gets the first free offset around where it ended, in the
+    order given (put the important labels first); a label that finds no free
+    place stays (never hidden). ``only_move``: "xy", "x" or "y" (a timeline's
+    labels keep their time).
     """
+    from adjustText import adjust_text
+
+    labels = list(labels)
+    if not labels:
+        return
     fig = ax.figure
     canvas = fig.canvas if isinstance(fig.canvas, FigureCanvasAgg) else FigureCanvasAgg(fig)  # type: ignore[arg-type]
     renderer = canvas.get_renderer()
-    placed: list = [a.get_window_extent(renderer) for a in avoid]  # type: ignore[attr-defined]
+    anchors = [t.get_position() for t in labels]
+    # Only labels that cover another (or an avoided mark) move; the others stay where they were asked for, as obstacles.
+    boxes = [t.get_window_extent(renderer).padded(pad) for t in labels]
+    marks = [a.get_window_extent(renderer).padded(pad) for a in avoid]  # type: ignore[attr-defined]
+    crowded = [i for i, bb in enumerate(boxes)
+               if _overlaps_any(bb, marks) or any(bb.overlaps(o) for j, o in enumerate(boxes) if j != i)]
+    if crowded:
+        still = [labels[i] for i in range(len(labels)) if i not in crowded]
+        adjust_text([labels[i] for i in crowded], ax=ax, objects=[*avoid, *still] or None, iter_lim=iterations, ensure_inside_axes=True,
+                    expand=(1.1, 1.3), only_move={"text": only_move, "static": only_move, "explode": only_move, "pull": only_move})
+    placed: list = [a.get_window_extent(renderer).padded(pad) for a in avoid]  # type: ignore[attr-defined]
     steps = [(0, 0)] + [(dx, dy) for r in (1, 2, 3, 4, 6) for dx, dy in
-                        ((0, r), (0, -r), (r, 0), (-r, 0), (r, r), (-r, r), (r, -r), (-r, -r))]
+                        ((0, r), (0, -r), (r, 0), (-r, 0), (r, r), (-r, r), (r, -r), (-r, -r))
+                        if (only_move != "x" or dy == 0) and (only_move != "y" or dx == 0)]
     to_px = ax.transData
     to_data = ax.transData.inverted()
-    for txt in labels:
+    for txt, anchor in zip(labels, anchors):
         x0, y0 = txt.get_position()
-        ax0, ay0 = to_px.transform((x0, y0))
+        px, py = to_px.transform((x0, y0))
         h = txt.get_window_extent(renderer).height or 8.0
-        best = None
         for dx, dy in steps:
-            nx, ny = to_data.transform((ax0 + dx * h * 0.9, ay0 + dy * h * 0.9))
-            txt.set_position((nx, ny))
-            bb = txt.get_window_extent(renderer).expanded(1.0, 1.0).padded(pad)
-            if not any(bb.overlaps(o) for o in placed):
-                best = (nx, ny, bb)
+            txt.set_position(to_data.transform((px + dx * h * 0.9, py + dy * h * 0.9)))
+            bb = txt.get_window_extent(renderer).padded(pad)
+            if not _overlaps_any(bb, placed):
                 break
-        if best is None:
+        else:
             txt.set_position((x0, y0))
-            placed.append(txt.get_window_extent(renderer).padded(pad))
-            continue
-        nx, ny, bb = best
+            bb = txt.get_window_extent(renderer).padded(pad)
         placed.append(bb)
-        if (nx, ny) != (x0, y0):
-            ax.plot([x0, nx], [y0, ny], color="#aaaaaa", linewidth=0.4, zorder=txt.get_zorder() - 0.5)
+        nx, ny = txt.get_position()
+        if math.hypot(*(to_px.transform((nx, ny)) - to_px.transform(anchor))) > 4:  # moved: a leader line to its anchor
+            ax.plot([anchor[0], nx], [anchor[1], ny], color="#aaaaaa", linewidth=0.4, zorder=txt.get_zorder() - 0.5)
 
 
 def plot_moment(
@@ -304,14 +359,14 @@ def plot_moment(
     marks: list[object] = []
     draw_flat(ax, world, legend, flat)
     draw_objects(ax, world, legend, things, marks)
-    draw_robot(ax, world, legend)
+    draw_robot(ax, world, legend, marks=marks)
     pose = world.robot.pose
     hits = None
     if scan is not None:
         bearings, ranges = scan
         hits = draw_scan(ax, world.robot.world_point(LASER_OFFSET), pose[2], bearings, ranges, legend)
     if sound_bearings:
-        draw_sound_directions(ax, world.robot.world_point(MIC_OFFSET), pose[2], sound_bearings, legend)
+        draw_sound_directions(ax, world.robot.world_point(MIC_OFFSET), pose[2], sound_bearings, legend, world=world)
     draw_people(ax, world, legend, people)
     if percepts is not None:
         draw_percepts(ax, world, percepts, legend, people, hits)

@@ -18,12 +18,16 @@ T teaching, G good-bye) are vertical lines with their marks. Pure: takes a
 
 from __future__ import annotations
 
+from collections import Counter
+
+from matplotlib.axes import Axes
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 from matplotlib.patches import FancyArrowPatch, Patch, Rectangle
+from matplotlib.text import Text
 
-from ..traceview import Timeline
+from ..traceview import Message, Timeline
 from .moment import place_labels
 
 EVENT = "#1f3b73"
@@ -34,15 +38,83 @@ PHASE = "#c0392b"
 SLOW = "#8e44ad"
 #: Span colours by what they measure (traceview.Span.kind).
 SPAN_COLOURS = {"speech detection": "#9ecae1", "speech recognition": "#3182bd", "ES reconfiguration": "#e6550d",
-                "processing": SPAN}
-#: Label event arrows only when the window holds at most this many events.
+                "robot speech": "#74c476", "processing": SPAN}
+#: At most this many event arrows are labelled (the rarest channels first: a word said before the 20th attention state).
 LABEL_EVENTS = 60
 #: Label a span with its duration from this length on (seconds).
 LABEL_SPAN_S = 0.02
+#: A channel that sends at least this many events in the window, at least ``REPEAT_HZ`` per second, is repeating:
+#: its arrows are drawn light and only its first is labelled (it does not eat the label budget).
+REPEAT_MIN = 5
+REPEAT_HZ = 0.5
+REPEAT = "#7f93b8"
 
 
 def _ms(d: float) -> str:
     return f"{d * 1000:.0f} ms" if d < 1.0 else f"{d:.2f} s"
+
+
+def _repeating(events: list[Message], dur: float) -> set[tuple[str, str]]:
+    """The (sender, channel) pairs that repeat in the window (periodic events such as attention states)."""
+    n = Counter((m.sender, m.channel) for m in events)
+    return {k for k, c in n.items() if c >= REPEAT_MIN and c / max(dur, 1e-9) >= REPEAT_HZ}
+
+
+def _to_label(events: list[Message], repeating: set[tuple[str, str]]) -> set[str]:
+    """Ids of the event arrows to label: each repeating channel's first, then the rarest channels' events, to the budget."""
+    firsts: dict[tuple[str, str], str] = {}
+    rest: list[Message] = []
+    for m in events:
+        k = (m.sender, m.channel)
+        if k in repeating:
+            firsts.setdefault(k, m.id)
+        else:
+            rest.append(m)
+    chosen = set(firsts.values())
+    per_channel = Counter((m.sender, m.channel) for m in rest)
+    budget = max(LABEL_EVENTS - len(chosen), 0)
+    for m in sorted(rest, key=lambda m: (per_channel[(m.sender, m.channel)], m.t))[:budget]:
+        chosen.add(m.id)
+    return chosen
+
+
+def _stack_labels(ax: Axes, texts: list[Text], base: float) -> None:
+    """Put texts (in time order) into rows above ``base`` (data y) so that none overlaps another.
+
+    Rows are chosen by the texts' pixel extents along x (fixed once the layout
+    is); the figure grows taller when the rows need more room than the axes
+    have, and the y limit is raised so that every row fits inside the axes.
+    """
+    if not texts:
+        return
+    fig = ax.figure
+    renderer = fig.canvas.get_renderer()
+    ends: list[float] = []  # each row's right edge (pixels)
+    rows: list[int] = []
+    height = 0.0
+    for txt in texts:
+        bb = txt.get_window_extent(renderer)
+        height = max(height, bb.height)
+        row = next((i for i, e in enumerate(ends) if bb.x0 > e + 3), len(ends))
+        if row == len(ends):
+            ends.append(bb.x1)
+        else:
+            ends[row] = bb.x1
+        rows.append(row)
+    pitch = height + 4  # pixels per row
+    need = len(ends) * pitch
+    axes_px = ax.get_window_extent(renderer).height
+    if need > axes_px / 3:  # more rows than a third of the axes: the figure grows by what they need
+        w, h = fig.get_size_inches()
+        fig.set_size_inches(w, h + (3 * need - axes_px) / fig.dpi / 2)
+        axes_px = ax.get_window_extent(renderer).height
+    bottom = ax.get_ylim()[0]
+    k = need / axes_px  # the rows' share of the axes height
+    top = (base - bottom * k + 0.1) / (1 - k)  # top - base = k * (top - bottom), plus a little air
+    ax.set_ylim(bottom, top)
+    step = pitch * (top - bottom) / axes_px
+    for txt, row in zip(texts, rows):
+        txt.set_y(base + step * row)
 
 
 def plot_timeline(tl: Timeline, *, width: float = 14.0) -> Figure:
@@ -53,10 +125,12 @@ def plot_timeline(tl: Timeline, *, width: float = 14.0) -> Figure:
     FigureCanvasAgg(fig)
     ax = fig.add_subplot(1, 1, 1)
     dur = tl.end - tl.start
+    ax.set_xlim(tl.start - dur * 0.01, tl.end + dur * 0.01)
+    ax.set_ylim(-0.8, len(lanes) + 0.5)
     for name, yy in y.items():
         ax.axhline(yy, color="#dddddd", linewidth=0.8, zorder=0)
     min_w = dur / 600  # a zero-length span still shows
-    # Lanes grouped by host (the run's deployment): a band and the host's name per group.
+    # Lanes grouped by host (the run's deployment): a band, a rule between groups and the host's name per group.
     groups: dict[str, list[float]] = {}
     for name, yy in y.items():
         groups.setdefault(tl.hosts.get(name, ""), []).append(yy)
@@ -65,58 +139,79 @@ def plot_timeline(tl: Timeline, *, width: float = 14.0) -> Figure:
             continue
         if i % 2 == 0:
             ax.axhspan(min(ys) - 0.5, max(ys) + 0.5, color="#f4f4fa", zorder=0)
-        ax.text(tl.end + dur * 0.012, (min(ys) + max(ys)) / 2, host, rotation=90, va="center", ha="left", fontsize=7,
-                color="#555577")
+        if i:
+            ax.axhline(max(ys) + 0.5, color="#9999bb", linewidth=0.8, zorder=1)
+        ax.text(1.004, (min(ys) + max(ys)) / 2, host, transform=ax.get_yaxis_transform(), rotation=90, va="center", ha="left",
+                fontsize=8, fontweight="bold", color="#555577")
+    renderer = fig.canvas.get_renderer()
+    span_ends: dict[str, float] = {}  # each lane's last span label's right edge (pixels)
     for s in tl.spans:
         if s.lane not in y:
             continue
-        x0 = max(s.start, tl.start)  # a span begun before the window is drawn from its edge
-        w = max(s.end - x0, min_w)
+        x0 = max(s.start, tl.start)  # a span begun before the window is drawn from its edge ...
+        x1 = min(s.end, tl.end)  # ... and one that goes on after it to its edge
+        if x1 < x0:
+            continue
+        w = max(x1 - x0, min_w)
         ax.add_patch(Rectangle((x0, y[s.lane] - 0.18), w, 0.36, facecolor=SPAN_COLOURS.get(s.kind, SPAN),
                                edgecolor="#555555", linewidth=0.4, zorder=3))
         if s.end - s.start >= LABEL_SPAN_S and w / dur > 0.004:
-            ax.text(x0 + w / 2, y[s.lane] - 0.22, _ms(s.end - s.start), ha="center", va="top", fontsize=6, color="#8a520c", zorder=6)
+            txt = ax.text(x0 + w / 2, y[s.lane] - 0.22, _ms(s.end - s.start) + ("\u2192" if s.end > tl.end else ""), ha="center", va="top",
+                          fontsize=6, color="#8a520c", zorder=6)
+            bb = txt.get_window_extent(renderer)
+            if bb.x0 <= span_ends.get(s.lane, -1e9) + 2:  # would cover the lane's previous span label
+                txt.remove()
+            else:
+                span_ends[s.lane] = bb.x1
     events = [m for m in tl.messages if not m.continuous]
-    label = len(events) <= LABEL_EVENTS
+    repeating = _repeating(events, dur)
+    label = _to_label(events, repeating)
     labels = []
     for m in tl.messages:
         if m.sender not in y:
             continue
-        colour = STREAM if m.continuous else (REPLY if m.kind in ("reply", "error") else EVENT)
+        rep = (m.sender, m.channel) in repeating
+        colour = STREAM if m.continuous else REPEAT if rep else (REPLY if m.kind in ("reply", "error") else EVENT)
+        light = m.continuous or rep
         for r, td in m.delivered.items():
             if r not in y or r == m.sender:
                 continue
-            slow = not m.continuous and tl.crosses_slow_link(m.sender, r)
-            ax.add_patch(FancyArrowPatch((m.t, y[m.sender]), (td, y[r]), arrowstyle="-|>", mutation_scale=6 if m.continuous else 8,
-                                         color=SLOW if slow else colour, linewidth=0.5 if m.continuous else 0.9,
+            slow = not light and tl.crosses_slow_link(m.sender, r)
+            ax.add_patch(FancyArrowPatch((m.t, y[m.sender]), (td, y[r]), arrowstyle="-|>", mutation_scale=6 if light else 8,
+                                         color=SLOW if slow else colour, linewidth=0.5 if light else 0.9,
                                          linestyle="--" if slow else "-",
-                                         alpha=0.45 if m.continuous else 0.9, zorder=2 if m.continuous else 4))
-            if slow and label:  # the latency over the WLAN, at the arrow's middle
+                                         alpha=0.45 if m.continuous else 0.7 if rep else 0.9, zorder=2 if m.continuous else 3 if rep else 4))
+            if slow and m.id in label:  # the latency over the WLAN, at the arrow's middle
                 ax.text((m.t + td) / 2, (y[m.sender] + y[r]) / 2, _ms(td - m.t) if td - m.t >= 0.001 else "<1 ms",
                         fontsize=5.5, color=SLOW, ha="center", va="center", zorder=7,
                         bbox={"facecolor": "white", "edgecolor": "none", "alpha": 0.7, "pad": 0.3})
-        if label and not m.continuous:
+        if m.id in label:
             text = m.label if len(m.label) <= 32 else m.label[:31] + "\u2026"
+            if rep:
+                text += " (repeats)"
             labels.append(ax.text(m.t, y[m.sender] + 0.12, text, fontsize=5.5, ha="left", va="bottom", color=colour, zorder=7,
                                   bbox={"facecolor": "white", "edgecolor": "none", "alpha": 0.7, "pad": 0.5}))
-    for i, p in enumerate(tl.phases):
+    phase_texts = []
+    for p in tl.phases:
         ax.axvline(p.t, color=PHASE, linestyle="--", linewidth=0.8, zorder=1)
-        ax.text(p.t, len(lanes) - 0.45 + 0.35 * (i % 2), f"{p.mark}: {p.label}", color=PHASE, fontsize=7, ha="left", va="bottom", zorder=7)
+        phase_texts.append(ax.text(p.t, len(lanes) - 0.45, f"{p.mark}: {p.label}", color=PHASE, fontsize=7, ha="left", va="bottom", zorder=7,
+                                   bbox={"facecolor": "white", "edgecolor": "none", "alpha": 0.8, "pad": 0.3}))
     ax.set_yticks(list(y.values()), list(y.keys()), fontsize=7)
-    ax.set_ylim(-0.8, len(lanes) + 0.5)
-    ax.set_xlim(tl.start - dur * 0.01, tl.end + dur * 0.01)
     ax.set_xlabel("virtual time [s]")
     ax.set_title(f"{tl.scenario} (seed {tl.seed}): module communication, {tl.start:g}-{tl.end:g} s "
                  f"({len(events)} messages, {len(tl.spans)} processing spans)", fontsize=9)
     ax.legend([Line2D([], [], color=EVENT, marker=">", markersize=4), Line2D([], [], color=SLOW, marker=">", markersize=4, linestyle="--"),
                Line2D([], [], color=REPLY, marker=">", markersize=4),
+               Line2D([], [], color=REPEAT, marker=">", markersize=4),
                Line2D([], [], color=STREAM, marker=">", markersize=4),
                *[Patch(facecolor=c, edgecolor="#555555") for c in SPAN_COLOURS.values()],
                Line2D([], [], color=PHASE, linestyle="--")],
               ["message (sender -> receiver, send -> delivery)", "over the slowest link (WLAN), with its latency",
-               "RPC reply", "continuous stream (thinned)",
+               "RPC reply", f"repeating message (>= {REPEAT_HZ:g}/s; first one labelled)", "continuous stream (thinned)",
                *[k + (" (cause delivered -> message sent)" if k == "processing" else "") for k in SPAN_COLOURS], "phase"],
-              loc="upper left", bbox_to_anchor=(1.005, 1.0), fontsize=7, frameon=False)
+              loc="upper left", bbox_to_anchor=(1.02, 1.0), fontsize=7, frameon=False)
     fig.tight_layout()
-    place_labels(ax, labels)  # message labels moved off each other
+    # Phase marks kept apart, in as many rows as they need (measured after the layout fixed the axes' width).
+    _stack_labels(ax, phase_texts, len(lanes) - 0.45)
+    place_labels(ax, labels, only_move="y")  # message labels moved off each other, each at its time
     return fig

@@ -23,7 +23,7 @@ SECONDS_PER_WORD = 0.4
 SPEECH_OVERHEAD = 0.3
 #: Characters of transcript a sound field keeps in memory; the rest of a long run's goes to a temporary file.
 SPOOL_CHARS = 256 * 1024
-#: Loudest sound level a source may have (dB SPL at 1 m; scenarios/scenario.xsd has the same bound).
+#: Loudest sound level a source may have (dB SPL at 1 m; homesim/schemas/scenario.xsd has the same bound).
 MAX_LOUDNESS_DB = 140.0
 
 

@@ -50,7 +50,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.optimize import linear_sum_assignment
+from homesim.lsap import linear_sum_assignment  # SciPy's solver, without importing scipy.optimize
 
 from .legs import SINGLE
 

@@ -37,6 +37,7 @@ from typing import Any
 
 from lxml import etree
 
+import homesim
 from homesim.errors import InputError, MemoryQueryError, RemoteCallTimeout, SchemaValidationError, UnknownParticipantError
 from homesim.memory.core import Attachment
 from homesim.memory.protocol import apply_request, reply
@@ -55,7 +56,7 @@ NAME = "scene_model"
 ORDERS = f"{ES_ORDERS}/{NAME}"
 REFUSED = SCENE_MODEL_REFUSED
 STORE_FILE = "scene_model.sqlite"
-MEMORY_SCHEMA = Path(__file__).resolve().parents[2] / "homesim" / "schemas" / "memory.xsd"
+MEMORY_SCHEMA = Path(homesim.__file__).resolve().parent / "schemas" / "memory.xsd"  # shipped in the homesim package
 
 
 class SceneModel(Module):

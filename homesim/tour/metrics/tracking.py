@@ -44,7 +44,7 @@ from collections.abc import Hashable, Sequence
 from typing import Any
 
 import numpy as np
-from scipy.optimize import linear_sum_assignment
+from ...lsap import linear_sum_assignment  # SciPy's solver, without importing scipy.optimize
 
 from ...geometry import TWO_PI, polygon_edges, wrap_angle
 from . import Observer

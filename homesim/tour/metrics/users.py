@@ -1,0 +1,34 @@
+"""What the simulated users did (metric ``users``): profiles, reactions, repairs, giving up.
+
+Read from the people themselves at the end of the run (the actors of ``humans.install``, ground
+truth about the users, never about the robot): ``reactions`` (times a person answered the robot
+with an ``<on>``), ``repairs`` (turns done again because the robot asked or did not answer),
+``gave_up`` (times a person's patience ran out), ``stopped`` (people whose script ended early:
+they gave up by stopping or leaving), and ``profiles`` (each profiled person's profile). A
+study tells failures that follow a user giving up from the others with it.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+from . import Observer
+
+
+class Users(Observer):
+    """Sums over the people of the run, taken once at the end (constant memory)."""
+
+    def summary(self) -> dict[str, Any]:
+        stage = getattr(self.run, "stage", None)
+        actors = getattr(stage, "actors", {}) if stage is not None else {}
+        people = [a for a in actors.values() if hasattr(a, "spec")  and hasattr(a, "gave_up") and getattr(a.spec, "script", None) is not None and hasattr(a.spec, "profile")]
+        return {
+            "reactions": sum(sum(a.fired) + getattr(a, "scoped_fired_total", 0) for a in people),
+            "repairs": sum(a.repairs for a in people),
+            "gave_up": sum(a.gave_up for a in people),
+            "stopped": sum(1 for a in people if getattr(a, "stopped_early", False)),
+            "profiles": {a.name: a.traits.profile for a in people if a.traits.profile},
+        }
+
+
+OBSERVERS = {"users": Users}
