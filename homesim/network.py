@@ -77,6 +77,11 @@ class Draws:
         return self._n[self._ni - 1]
 
 
+#: The message size a link's worst-case delay is bounded for: a megabyte, far beyond any of
+#: BIRON's messages (the largest, a laser scan with its ranges attached, is about 4 kB).
+LARGEST_MESSAGE_BYTES = 1_000_000
+
+
 @dataclass(frozen=True, slots=True)
 class LinkModel:
     """One kind of link.
@@ -119,8 +124,28 @@ class LinkModel:
             bad = f"max_retries must be in [0, 64], got {self.max_retries}"
         elif max(self.max_s, self.jitter_s) > 3600.0:
             bad = "a delay over an hour is not a link"
+        elif self.bound_s > 3600.0:
+            bad = (f"its worst-case delay is {self.bound_s:.3g} s (base and jitter {self.max_s + 6.0 * self.jitter_s:.3g} s, "
+                   f"retransmissions up to {self.retransmissions_s:.3g} s, a {LARGEST_MESSAGE_BYTES} byte message "
+                   f"{self.transfer_s(LARGEST_MESSAGE_BYTES):.3g} s): a delay over an hour is not a link")
         if bad is not None:
             raise HomesimError(f"link {self.name!r}: {bad}")
+
+    @property
+    def retransmissions_s(self) -> float:
+        """The longest series of retransmission waits: ``retransmit_s * (1 + backoff + ... + backoff**(max_retries-1))``."""
+        if self.loss <= 0.0 or self.retransmit_s <= 0.0:
+            return 0.0
+        return self.retransmit_s * sum(self.backoff ** k for k in range(self.max_retries))
+
+    def transfer_s(self, size: int) -> float:
+        """Seconds ``size`` bytes take at the link's bandwidth (0 when unlimited)."""
+        return 8.0 * size / self.bandwidth_bps if self.bandwidth_bps > 0.0 else 0.0
+
+    @property
+    def bound_s(self) -> float:
+        """A bound on a delivered message's delay: the jitter counted to six sigma, every retry, the largest message."""
+        return self.max_s + 6.0 * self.jitter_s + self.retransmissions_s + self.transfer_s(LARGEST_MESSAGE_BYTES)
 
     @property
     def simple(self) -> bool:
