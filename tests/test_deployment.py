@@ -339,3 +339,28 @@ class _Unchecked:
 
     retransmissions_s = property(LinkModel.retransmissions_s.fget)
     transfer_s = LinkModel.transfer_s
+
+
+def test_a_loss_on_the_faster_hop_is_retransmitted_not_a_lost_message():
+    """Review of issue 23, item 10: on a two-hop path the faster hop's loss was a permanent drop,
+    against the "reliable transport" the network model promises; TCP resends it as on any hop."""
+    net = Network(np.random.default_rng(3))
+    net.set_link(LinkModel("lossy", 0.001, 0.002, loss=0.5, retransmit_s=0.01, backoff=2.0, max_retries=7))
+    net.set_link(LinkModel("slow", 0.1, 0.2))
+    net.add_host("a", link="lossy")
+    net.add_host("b", link="slow")
+    delays = [net.delay_ns("a", "b") for _ in range(400)]
+    lost = sum(d is None for d in delays)
+    assert lost <= 8  # only when all 7 retries are lost too (0.5**8 of the messages)
+    resent = [d for d in delays if d is not None and d > 0.2e9]
+    assert resent and all(d >= 0.1e9 + 0.01e9 for d in resent)  # a resent message waited a retransmission time
+
+
+def test_the_slower_hop_is_chosen_with_the_bandwidth_counted():
+    """A hop with a low latency but a tiny bandwidth is the slower one for a kilobyte message."""
+    net = Network(np.random.default_rng(0))
+    net.set_link(LinkModel("thin", 0.001, 0.002, bandwidth_bps=64_000.0))  # 1 kB: 125 ms
+    net.set_link(LinkModel("far", 0.02, 0.03))
+    net.add_host("a", link="thin")
+    net.add_host("b", link="far")
+    assert net.route("a", "b").link.name == "thin"
