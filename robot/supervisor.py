@@ -18,7 +18,11 @@ What comes out, all as typed bus messages (``robot/schemas/es-*.xsd``):
   ``/robot/es/rejected/dialog`` with the reason and a copy of the event;
 * every decision (applied / rejected / retained) on ``/robot/es/log`` and a
   status snapshot on ``/robot/es/status`` after each state change, so both
-  land in the trace.
+  land in the trace;
+* an arrival inserted ahead of queued newer events (its creation-time
+  ordering at work) on ``/robot/es/sorted``: how many it went before and the
+  first of them; :meth:`ExecutionSupervisor.arrivals` counts such arrivals
+  (``sorted_ahead``) apart from all arrivals out of creation order.
 
 RPC methods of the ``supervisor`` participant: ``introspect`` (reply
 ``<es_status>``), ``replace`` and ``extend`` (request: an SCXML document;
