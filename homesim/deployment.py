@@ -30,7 +30,6 @@ from lxml import etree
 
 from .errors import HomesimError, InputError
 from .network import LinkModel, Network
-from .suggest import did_you_mean
 from .xmlio import load_schema, parse_file
 
 SCHEMA = Path(__file__).with_name("schemas") / "deployment.xsd"
@@ -240,21 +239,6 @@ def _children(parent: etree._Element, source: str, place_lines: dict[str, int | 
     return links, hosts, placement, routes
 
 
-#: Bus participants of BIRON that publish on no contract channel (heartbeats only).
-_SILENT_MODULES = ("map_server", "watchdog")
-
-
-def known_modules() -> frozenset[str]:
-    """Names a ``<place module=...>`` may use: every publisher of BIRON's contract, and the silent ones.
-
-    A placement of a module that does not exist would otherwise pass silently (a typo such as
-    ``dialogue`` leaves the dialog where it was).
-    """
-    from robot.contract import CHANNELS  # the robot's contract names its modules (lazy: no import cycle)
-
-    return frozenset({p for c in CHANNELS for p in c.publishers} | set(_SILENT_MODULES))
-
-
 def _check_refs(d: Deployment, source: str, line: int | None = None,
                 place_lines: dict[str, int | None] | None = None) -> None:
     links = {lk.name for lk in d.links} | {"local"}
@@ -274,11 +258,7 @@ def _check_refs(d: Deployment, source: str, line: int | None = None,
         if r.link not in links:
             raise DeploymentError(f"route {r.src!r} -> {r.dst!r} takes unknown link {r.link!r}; links: "
                                   f"{sorted(links)}", source=source, line=r.line or line, element="route")
-    modules = known_modules()
     for module, host in d.placement:
-        if module not in modules:
-            raise DeploymentError(f"no module {module!r} to place{did_you_mean(module, modules)}; modules: {sorted(modules)}",
-                                  source=source, line=(place_lines or {}).get(module) or line, element="place")
         if host not in hosts:
             raise DeploymentError(f"module {module!r} is placed on unknown host {host!r}; hosts: {sorted(hosts)}",
                                   source=source, line=(place_lines or {}).get(module) or line, element="place")
