@@ -170,6 +170,8 @@ def network_line(summary: dict[str, Any]) -> str:
     line = "network (mean/p95/max, deliveries): " + ", ".join(parts)
     if "events_received" in es:
         line += f"; ES: {es['events_received']} events, {es['received_out_of_order']} out of creation order"
+        if "sorted_ahead" in es:
+            line += f" ({es['sorted_ahead']} sorted ahead of queued events)"
     return line
 
 
