@@ -16,8 +16,6 @@ import sys
 from collections.abc import Callable
 from pathlib import Path
 
-import shtab
-
 from . import cliargs
 
 SHELLS = ("bash", "zsh", "tcsh")
@@ -25,6 +23,8 @@ SHELLS = ("bash", "zsh", "tcsh")
 
 def _mark_paths(parser: argparse.ArgumentParser) -> None:
     """Give file and directory arguments shtab's file or directory completion."""
+    import shtab  # here, not at import: every command builds the parser, few print a script
+
     for action in parser._actions:
         if isinstance(action, argparse._SubParsersAction):
             for child in action.choices.values():
@@ -41,6 +41,8 @@ def script(shell: str, build_parser: Callable[[], argparse.ArgumentParser]) -> s
 
     The command line passes its own builder in: the kernel does not import the layer above it.
     """
+    import shtab
+
     parser = build_parser()
     _mark_paths(parser)
     return shtab.complete(parser, shell=shell)

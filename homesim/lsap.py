@@ -27,9 +27,10 @@ def _load() -> Callable[..., Any]:
     if loaded is not None:  # scipy.optimize is imported already: its own copy
         return loaded.linear_sum_assignment
     try:
-        import scipy
-
-        folder = Path(scipy.__file__).parent / "optimize"
+        spec_scipy = importlib.util.find_spec("scipy")  # where it is, without running its __init__
+        if spec_scipy is None or spec_scipy.origin is None:
+            raise ImportError("scipy")
+        folder = Path(spec_scipy.origin).parent / "optimize"
         for suffix in importlib.machinery.EXTENSION_SUFFIXES:
             path = folder / f"_lsap{suffix}"
             if path.is_file():

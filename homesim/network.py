@@ -77,6 +77,13 @@ class Draws:
         return self._n[self._ni - 1]
 
 
+#: The message size a link's worst-case delay is bounded for: a megabyte, far beyond any of
+#: BIRON's messages (the largest, a laser scan with its ranges attached, is about 4 kB).
+LARGEST_MESSAGE_BYTES = 1_000_000
+#: A typical message (an event, a frame, a pose: XML of about a kilobyte).
+TYPICAL_MESSAGE_BYTES = 1_000
+
+
 @dataclass(frozen=True, slots=True)
 class LinkModel:
     """One kind of link.
@@ -119,8 +126,33 @@ class LinkModel:
             bad = f"max_retries must be in [0, 64], got {self.max_retries}"
         elif max(self.max_s, self.jitter_s) > 3600.0:
             bad = "a delay over an hour is not a link"
+        elif self.bound_s > 3600.0:
+            bad = (f"its worst-case delay is {self.bound_s:.3g} s (base and jitter {self.max_s + 6.0 * self.jitter_s:.3g} s, "
+                   f"retransmissions up to {self.retransmissions_s:.3g} s, a {LARGEST_MESSAGE_BYTES} byte message "
+                   f"{self.transfer_s(LARGEST_MESSAGE_BYTES):.3g} s): a delay over an hour is not a link")
         if bad is not None:
             raise HomesimError(f"link {self.name!r}: {bad}")
+
+    @property
+    def typical_s(self) -> float:
+        """A rough delay of a typical message (1 kB of XML), bandwidth included: which of two hops is the slower."""
+        return self.worst_s + self.transfer_s(TYPICAL_MESSAGE_BYTES)
+
+    @property
+    def retransmissions_s(self) -> float:
+        """The longest series of retransmission waits: ``retransmit_s * (1 + backoff + ... + backoff**(max_retries-1))``."""
+        if self.loss <= 0.0 or self.retransmit_s <= 0.0:
+            return 0.0
+        return self.retransmit_s * sum(self.backoff ** k for k in range(self.max_retries))
+
+    def transfer_s(self, size: int) -> float:
+        """Seconds ``size`` bytes take at the link's bandwidth (0 when unlimited)."""
+        return 8.0 * size / self.bandwidth_bps if self.bandwidth_bps > 0.0 else 0.0
+
+    @property
+    def bound_s(self) -> float:
+        """A bound on a delivered message's delay: the jitter counted to six sigma, every retry, the largest message."""
+        return self.max_s + 6.0 * self.jitter_s + self.retransmissions_s + self.transfer_s(LARGEST_MESSAGE_BYTES)
 
     @property
     def simple(self) -> bool:
@@ -137,29 +169,44 @@ class LinkModel:
         return _sample(self, draws, size, 0.0, None)
 
 
-def _sample(link: LinkModel, draws: Draws, size: int, other_loss: float, stats: LinkStats | None) -> int | None:
-    """Draw a delay over ``link``; ``other_loss``: the other host's link's loss (dropped, never resent).
+def _retries(link: LinkModel, draws: Draws, stats: LinkStats | None) -> float | None:
+    """After a lost attempt on ``link``: the retransmission waits until one gets through, or None
+    (no retransmission, or every one of ``max_retries`` lost)."""
+    if link.retransmit_s <= 0.0:
+        return None
+    extra = 0.0
+    rto = link.retransmit_s
+    for _ in range(link.max_retries):
+        if stats is not None:
+            stats.retried += 1
+        extra += rto
+        rto *= link.backoff
+        if draws.uniform() >= link.loss:
+            return extra
+    return None
+
+
+def _sample(link: LinkModel, draws: Draws, size: int, other_loss: float, stats: LinkStats | None,
+            other: LinkModel | None = None) -> int | None:
+    """Draw a delay over ``link``; ``other_loss``: the other host's link's loss. A loss there is resent
+    with ``other``'s retransmission (TCP runs end to end: either hop's loss is retransmitted); without
+    ``other`` (or without its retransmission) it loses the message.
 
     The draw order (the other link's loss, this link's loss, the uniform
     base, the jitter; then per retry one loss draw) is fixed: the same
     generator gives the same delays.
     """
-    if other_loss > 0.0 and draws.uniform() < other_loss:
-        return None
     extra = 0.0
+    if other_loss > 0.0 and draws.uniform() < other_loss:
+        resent = _retries(other, draws, stats) if other is not None else None
+        if resent is None:
+            return None
+        extra += resent
     if link.loss > 0.0 and draws.uniform() < link.loss:
-        if link.retransmit_s <= 0.0:
+        resent = _retries(link, draws, stats)
+        if resent is None:
             return None
-        rto = link.retransmit_s
-        for _ in range(link.max_retries):
-            if stats is not None:
-                stats.retried += 1
-            extra += rto
-            rto *= link.backoff
-            if draws.uniform() >= link.loss:
-                break
-        else:
-            return None
+        extra += resent
     delay = link.min_s + (link.max_s - link.min_s) * draws.uniform()
     if link.jitter_s > 0.0:
         delay += abs(draws.normal()) * link.jitter_s
@@ -239,15 +286,16 @@ class LinkStats:
 class Route:
     """How a message goes from one host to another: the link it takes and its draw plan.
 
-    ``other_loss``: the other host's link's loss (applies, without
-    retransmission); ``lo``/``span``: the uniform base delay in seconds when
+    ``other``/``other_loss``: the other host's link and its loss (a loss
+    there is retransmitted with that link's parameters); ``lo``/``span``: the uniform base delay in seconds when
     the link is simple (the bus draws it inline), else ``lo`` is None.
     """
 
-    __slots__ = ("link", "other_loss", "stats", "lo", "span")
+    __slots__ = ("link", "other", "other_loss", "stats", "lo", "span")
 
-    def __init__(self, link: LinkModel, other_loss: float, stats: LinkStats) -> None:
+    def __init__(self, link: LinkModel, other_loss: float, stats: LinkStats, other: LinkModel | None = None) -> None:
         self.link = link
+        self.other = other
         self.other_loss = other_loss
         self.stats = stats
         simple = link.simple and other_loss == 0.0
@@ -406,7 +454,7 @@ class Network:
                 i = 0
             draws._ui = i + 1
             return int(round((path.lo + path.span * draws._u[i]) * NS_PER_S))
-        delay = _sample(path.link, draws, size, path.other_loss, path.stats)
+        delay = _sample(path.link, draws, size, path.other_loss, path.stats, path.other)
         if delay is None:
             path.stats.lost += 1
         return delay
@@ -423,6 +471,7 @@ class Network:
 
     def _plan(self, host_a: str, host_b: str) -> Route:
         route = self._routes.get((host_a, host_b))
+        other: LinkModel | None = None
         if host_a == host_b:
             other_loss, slow = 0.0, self._links["local"]
         elif route is not None:
@@ -430,8 +479,9 @@ class Network:
         else:
             a = self._links[self._uplinks.get(host_a, self._hosts[host_a])]
             b = self._links[self._hosts[host_b]]
-            slow, other = (a, b) if a.worst_s >= b.worst_s else (b, a)
+            # the slower hop by a typical message's delay, its bandwidth included
+            slow, other = (a, b) if a.typical_s >= b.typical_s else (b, a)
             other_loss = other.loss
-        plan = Route(slow, other_loss, self._link_stats(slow.name))
+        plan = Route(slow, other_loss, self._link_stats(slow.name), other)
         self._plans[(host_a, host_b)] = plan
         return plan

@@ -127,6 +127,11 @@ def observation_record(obs: Observation, seq: int) -> dict[str, Any]:
     return rec
 
 
+def header_line(scenario: str, seed: int, header: dict[str, Any] | None = None) -> str:
+    """A trace's first line (canonical JSON, no newline): format, scenario, seed, version and ``header``'s fields."""
+    return _dumps({"homesim_trace": TRACE_FORMAT, "scenario": scenario, "seed": seed, "homesim_version": __version__, **(header or {})})
+
+
 class TraceRecorder:
     """Writes the trace of a bus to a text stream (a file, or memory).
 
@@ -142,8 +147,7 @@ class TraceRecorder:
         self.seq = 0
         self.batch = max(1, int(batch))
         self._pending: list[str] = []
-        header = {"homesim_trace": TRACE_FORMAT, "scenario": scenario, "seed": seed, "homesim_version": __version__, **(header or {})}
-        stream.write(_dumps(header) + "\n")
+        stream.write(header_line(scenario, seed, header) + "\n")
         bus.add_interceptor(self)
 
     def __call__(self, obs: Observation) -> None:

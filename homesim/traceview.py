@@ -192,7 +192,7 @@ _FIELDS: dict[str, dict[str, tuple[type, ...]]] = {
 }
 
 
-def _check_record(path: str | os.PathLike[str], n: int, rec: dict[str, Any]) -> None:
+def check_record(path: str | os.PathLike[str], n: int, rec: dict[str, Any]) -> None:
     """A send or delivery record with the fields and types the readers use; else ``InputError`` at ``path:n``."""
     kind = rec.get("kind")
     want = _FIELDS["send"] if kind in SENDS else _FIELDS["deliver"] if kind == "deliver" else None
@@ -220,7 +220,7 @@ def channel_stats(path: str | os.PathLike[str]) -> tuple[dict[str, Any], dict[tu
                 raise InputError("not a homesim trace (no header)", source=str(path), line=1)
             header = rec
             continue
-        _check_record(path, n, rec)
+        check_record(path, n, rec)
         if rec.get("kind") in SENDS:
             key = (rec["sender"], rec["channel"])
             a = acc.get(key)

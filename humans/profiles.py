@@ -28,7 +28,6 @@ from functools import lru_cache
 from pathlib import Path
 
 import numpy as np
-from scipy.special import ndtri
 
 from homesim.errors import InputError
 from homesim.scenario.model import GIVE_UPS, REPAIR_STRATEGIES, HumanSpec
@@ -93,6 +92,8 @@ class Dist:
             cum = np.cumsum(self.weights) / sum(self.weights)
             return self.params[int(min(np.searchsorted(cum, u, side="right"), len(self.params) - 1))]
         mean, sd = self.params
+        from scipy.special import ndtri  # only a generated user draws: not on every run's start
+
         v = mean + sd * float(ndtri(min(max(u, 1e-12), 1 - 1e-12)))
         return min(max(v, self.low), self.high)
 

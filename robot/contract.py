@@ -54,6 +54,8 @@ SCENE_MODEL_REFUSED = "/robot/scene_model/refused"
 ES_EVENTS = "/robot/es/events"
 ES_LOG = "/robot/es/log"
 ES_STATUS = "/robot/es/status"
+#: An arrival the ES inserted ahead of queued events (created before them): its timestamp ordering at work.
+ES_SORTED = "/robot/es/sorted"
 #: Families: one channel per module (``ES_ORDERS + "/player"``).
 ES_ORDERS = "/robot/es/orders"
 ES_CONDITIONS = "/robot/es/conditions"
@@ -109,6 +111,7 @@ CHANNELS: tuple[Channel, ...] = (
     Channel(ES_EVENTS, "es-event.xsd", _EVENT_SOURCES, "event"),
     Channel(ES_LOG, "es-log.xsd", ("supervisor",), "es_record"),
     Channel(ES_STATUS, "es-status.xsd", ("supervisor",), "es_status"),
+    Channel(ES_SORTED, "es-sorted.xsd", ("supervisor",), "es_sorted"),
     Channel(ES_ORDERS, "es-order.xsd", ("supervisor",), "order", family=True),
     Channel(ES_CONDITIONS, "es-condition.xsd", ("supervisor",), "condition", family=True),
     Channel(ES_REJECTED, "es-rejected.xsd", ("supervisor",), "rejected", family=True),

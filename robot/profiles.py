@@ -10,9 +10,10 @@
   gesture recognition (CF-GR) and object recognition (CF-OR) as well as the
   overall component for resolving object references (CF-ROR) on-board". An
   object is taught from what the user says only (type, name, owner, use and
-  attributes; no position, no size, no colour), and the Object attention state
-  looks at a fixed position (ahead of the robot, at table height) instead of
-  where the user points. docs/profiles.md says what else differs and why.
+  attributes, a colour only if the user says one; no position, no size, nothing
+  seen), and the Object attention state looks at a fixed position (ahead of the
+  robot, at table height) instead of where the user points. docs/deployment.md
+  ("Robot profiles") says what else differs and why.
 
 Modules read ``run.config.profile`` at install time; the run refuses a name
 not in :data:`PROFILES`.

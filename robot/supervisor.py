@@ -18,7 +18,11 @@ What comes out, all as typed bus messages (``robot/schemas/es-*.xsd``):
   ``/robot/es/rejected/dialog`` with the reason and a copy of the event;
 * every decision (applied / rejected / retained) on ``/robot/es/log`` and a
   status snapshot on ``/robot/es/status`` after each state change, so both
-  land in the trace.
+  land in the trace;
+* an arrival inserted ahead of queued newer events (its creation-time
+  ordering at work) on ``/robot/es/sorted``: how many it went before and the
+  first of them; :meth:`ExecutionSupervisor.arrivals` counts such arrivals
+  (``sorted_ahead``) apart from all arrivals out of creation order.
 
 RPC methods of the ``supervisor`` participant: ``introspect`` (reply
 ``<es_status>``), ``replace`` and ``extend`` (request: an SCXML document;
@@ -58,7 +62,7 @@ from typing import Any
 
 from lxml import etree
 
-from homesim.afsm.engine import Applied, Engine, Event, Output, Record, Rejected, payload_problem, record_dict
+from homesim.afsm.engine import Applied, Engine, Event, Output, Queued, Record, Rejected, payload_problem, record_dict
 from homesim.afsm.loader import from_element, load, loads, to_element
 from homesim.afsm.model import CONDITION, MAX_LIFETIME_NS, Machine
 from homesim.errors import AFSMError, AFSMModificationRefused, BadMessageError, InputError
@@ -67,7 +71,7 @@ from homesim.message import Message
 from homesim.module import Module
 from robot.deployment import cost_scale
 from homesim.vloop import BARE, NS_PER_S, to_ns
-from robot.contract import ES_CONDITIONS, ES_EVENTS, ES_LOG, ES_ORDERS, ES_REJECTED, ES_STATUS
+from robot.contract import ES_CONDITIONS, ES_EVENTS, ES_LOG, ES_ORDERS, ES_REJECTED, ES_SORTED, ES_STATUS
 
 
 SCHEMAS = Path(__file__).with_name("schemas")
@@ -110,6 +114,7 @@ def declare_channels(bus: Any, machine: Machine) -> None:
     bus.declare_channel(ES_EVENTS, SCHEMAS / "es-event.xsd")
     bus.declare_channel(ES_LOG, SCHEMAS / "es-log.xsd")
     bus.declare_channel(ES_STATUS, SCHEMAS / "es-status.xsd")
+    bus.declare_channel(ES_SORTED, SCHEMAS / "es-sorted.xsd")
     for name in machine.modules:
         bus.declare_channel(f"{ES_ORDERS}/{name}", SCHEMAS / "es-order.xsd")
         bus.declare_channel(f"{ES_CONDITIONS}/{name}", SCHEMAS / "es-condition.xsd")
@@ -219,6 +224,14 @@ def record_xml(rec: Record) -> etree._Element:
     return el
 
 
+def sorted_xml(item: Queued, nxt: Event, state: str) -> etree._Element:
+    """An ``<es_sorted>``: ``item`` went ahead of ``item.ahead`` queued events, ``nxt`` the first of them."""
+    ev = item.event
+    return etree.Element("es_sorted", {"event": ev.id, "name": ev.name, "source": ev.source, "created": _seconds(ev.created_ns),
+                                       "state": state, "ahead": str(item.ahead), "ahead-of": nxt.id,
+                                       "ahead-of-name": nxt.name, "ahead-of-created": _seconds(nxt.created_ns)})
+
+
 class ExecutionSupervisor(Module):
     """The ES module. ``machine``: a :class:`Machine`, or a path to an SCXML file (default BIRON's).
 
@@ -322,7 +335,8 @@ class ExecutionSupervisor(Module):
     def arrivals(self) -> dict[str, int]:
         """Events received on the event channel, and how many of them out of creation order
         (created before an event received earlier: latency put them behind it; the queue sorts them back)."""
-        return {"events_received": self._received, "received_out_of_order": self._out_of_order}
+        return {"events_received": self._received, "received_out_of_order": self._out_of_order,
+                "sorted_ahead": self.engine.sorted_ahead}
 
     @property
     def failed_modules(self) -> frozenset[str]:
@@ -337,7 +351,11 @@ class ExecutionSupervisor(Module):
         payload too large or an id already queued.
         """
         now = self._loop._now_ns
-        self.engine.queue(event, now, payload_checked=payload_checked)
+        item = self.engine.queue(event, now, payload_checked=payload_checked)
+        if item.ahead:  # sorted ahead of queued newer events: on the trace, so it can be seen and counted
+            queue = self.engine.queued()
+            nxt = queue[len(queue) - item.ahead].event  # the oldest of the events it went before
+            self.bus.publish(ES_SORTED, partial(sorted_xml, item, nxt, self.engine.state), causes=(event.id,))
         # The same-instant rule: decide once every event arriving at this instant is queued (a
         # callback scheduled now runs after every delivery already due now), scanning from the oldest.
         # While the ES pays a cost that decision only rejects what has expired, still oldest first.

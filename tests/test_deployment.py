@@ -12,6 +12,7 @@ from hypothesis import strategies as st
 from lxml import etree
 
 from homesim.deployment import DeploymentError, check_file, from_element, load, override_from_element, resolve
+from homesim.errors import HomesimError
 from homesim.network import Draws, LinkModel, LinkStats, Network
 from homesim.sim import Simulation
 
@@ -40,6 +41,14 @@ def _doc(body: str) -> etree._Element:
     ('<link name="l" min-ms="3" max-ms="2"/><host name="a" link="l"/>', "min_s <= max_s"),
     ('<link name="l" min-ms="1" max-ms="2"/><link name="l" min-ms="1" max-ms="2"/><host name="a" link="l"/>', "given twice"),
     ('<link name="l" min-ms="1" max-ms="2" loss="1.5"/><host name="a" link="l"/>', "deployment.xsd"),
+    # a vanishing CPU speed would scale processing costs to infinity (a timer overflow at run time)
+    ('<link name="l" min-ms="1" max-ms="2"/><host name="a" link="l" cpu-mhz="1e-300"/>', "cpu-mhz.*minimum"),
+    ('<link name="l" min-ms="1" max-ms="2"/><host name="a" link="l" cpu-mhz="0.5"/>', "cpu-mhz.*minimum"),
+    # absurd links: each delivered message could take longer than an hour (review: all three passed)
+    ('<link name="l" min-ms="1" max-ms="2" bandwidth-mbit="1e-300"/><host name="a" link="l"/>', "worst-case delay"),
+    ('<link name="l" min-ms="1" max-ms="2" bandwidth-mbit="0.000001"/><host name="a" link="l"/>', "worst-case delay"),
+    ('<link name="l" min-ms="1" max-ms="2" loss="0.99" retransmit-ms="3600000" backoff="16" max-retries="64"/>'
+     '<host name="a" link="l"/>', "retransmissions up to"),
 ])
 def test_a_bad_deployment_is_refused_naming_what_is_wrong(body, words):
     with pytest.raises(DeploymentError, match=words):
@@ -298,3 +307,57 @@ def test_a_message_takes_the_route_else_the_slower_of_sender_uplink_and_receiver
         lo, hi = out if out[1] >= links[1][1] else links[1]  # the slower (by its worst delay); a tie: the sender's
     for ns in one:
         assert lo * 1e6 - 1 <= ns <= hi * 1e6 + 1
+
+
+@settings(max_examples=50, deadline=None)
+@given(st.floats(0.001, 100.0), st.floats(0.0, 0.5), st.floats(0.0, 5.0), st.floats(1.0, 16.0), st.integers(0, 64))
+def test_an_accepted_link_delivers_within_its_bound_and_an_hour(bw_mbit, loss, rto_s, backoff, retries):
+    """Invariant: a link is accepted only if its worst case is under an hour, and no draw exceeds that bound."""
+    kw = dict(jitter_s=0.004, loss=loss, bandwidth_bps=bw_mbit * 1e6, retransmit_s=rto_s, backoff=backoff, max_retries=retries)
+    try:
+        link = LinkModel("l", 0.004, 0.012, **kw)
+    except HomesimError:
+        assert LinkModel.bound_s.fget(_Unchecked("l", 0.004, 0.012, **kw)) > 3600.0
+        return
+    assert link.bound_s <= 3600.0
+    draws = Draws(np.random.default_rng(0))
+    for size in (0, 4000):
+        for _ in range(20):
+            d = link.sample_ns(draws, size)
+            assert d is None or d <= link.bound_s * 1e9 + 1
+
+
+class _Unchecked:
+    """A LinkModel's fields without its checks (to compute the bound of a refused link)."""
+
+    def __init__(self, name, min_s, max_s, **kw):
+        self.name, self.min_s, self.max_s = name, min_s, max_s
+        self.__dict__.update(kw)
+
+    retransmissions_s = property(LinkModel.retransmissions_s.fget)
+    transfer_s = LinkModel.transfer_s
+
+
+def test_a_loss_on_the_faster_hop_is_retransmitted_not_a_lost_message():
+    """Review of issue 23, item 10: on a two-hop path the faster hop's loss was a permanent drop,
+    against the "reliable transport" the network model promises; TCP resends it as on any hop."""
+    net = Network(np.random.default_rng(3))
+    net.set_link(LinkModel("lossy", 0.001, 0.002, loss=0.5, retransmit_s=0.01, backoff=2.0, max_retries=7))
+    net.set_link(LinkModel("slow", 0.1, 0.2))
+    net.add_host("a", link="lossy")
+    net.add_host("b", link="slow")
+    delays = [net.delay_ns("a", "b") for _ in range(400)]
+    lost = sum(d is None for d in delays)
+    assert lost <= 8  # only when all 7 retries are lost too (0.5**8 of the messages)
+    resent = [d for d in delays if d is not None and d > 0.2e9]
+    assert resent and all(d >= 0.1e9 + 0.01e9 for d in resent)  # a resent message waited a retransmission time
+
+
+def test_the_slower_hop_is_chosen_with_the_bandwidth_counted():
+    """A hop with a low latency but a tiny bandwidth is the slower one for a kilobyte message."""
+    net = Network(np.random.default_rng(0))
+    net.set_link(LinkModel("thin", 0.001, 0.002, bandwidth_bps=64_000.0))  # 1 kB: 125 ms
+    net.set_link(LinkModel("far", 0.02, 0.03))
+    net.add_host("a", link="thin")
+    net.add_host("b", link="far")
+    assert net.route("a", "b").link.name == "thin"

@@ -541,3 +541,14 @@ def test_the_other_conditions_are_said(dm):
     assert says(dm.on_condition(cond("recovered", '<param name="module">laser</param>'))) == ["I am working again."]
     assert says(dm.on_condition(cond("interaction_ended"))) == ["Good-bye."]
     assert dm.on_condition(cond("person_info")) == [] and dm.summary()["unhandled_conditions"] == 1
+
+
+def test_an_instruction_sent_while_nobody_is_there_keeps_the_utterance_timestamp(dm):
+    """Review of issue 23, item 8: the radio's "follow me" went to the ES as <SPEECH><FOLLOW/></SPEECH>
+    without the TIMESTAMP its frame carried (a greeting kept it)."""
+    dm.es_state = "LookingAround"
+    msg = etree.fromstring('<understood start="4.62" end="5.4" confidence="0.9"><SPEECH><TIMESTAMP val="1977"/>'
+                           '<FOLLOW partial="true"/></SPEECH><words>w</words></understood>')
+    (s,) = sends(dm.on_frame(msg))
+    speech = s.children[0]
+    assert speech.tag == "SPEECH" and speech.find("TIMESTAMP").get("val") == "1977" and speech.find("FOLLOW") is not None

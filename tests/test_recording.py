@@ -75,7 +75,7 @@ _text = st.text(st.characters(exclude_categories=("Cs",)), max_size=30)
 def test_bus_messages_are_formatted_as_the_canonical_json(obj):
     """The recorder's fast path writes the bytes the export's canonical JSON would."""
     from homesim.export.foxglove import dumps
-    from homesim.tour.recording import bus_message_json
+    from homesim.tour.mcap_export import bus_message_json
 
     assert bus_message_json(obj) == dumps(obj)
 
@@ -177,11 +177,23 @@ def test_trace_echo_prints_exactly_the_window_on_both_formats(recorded, a, lengt
     b = a + length
     want = [r["t"] for r in map(json.loads, recorded["trace"].read_text().splitlines()[1:])
             if r.get("channel") == "/robot/attention/state" and a <= r["t"] <= b]
+    texts = []
     for f in (recorded["trace"], recorded["recording"]):
         out = io.StringIO()
         n = echo(f, "/robot/attention/state", start=a, end=b, raw=False, limit=None, out=out)
         got = [float(x) for x in _T.findall(out.getvalue())]
         assert n == len(want) and got == pytest.approx(want, abs=1e-6)
+        texts.append(out.getvalue())
+    assert texts[0] == texts[1]  # the same text, seq included, from either file
+
+
+def test_trace_echo_of_a_bus_channel_is_the_same_from_both_formats(recorded, capsys):
+    for raw in ([], ["--json"]):
+        outs = []
+        for f in (recorded["trace"], recorded["recording"]):
+            assert main(["trace", "echo", str(f), "/robot/laser/scan", "--from", "3", "--to", "4", *raw]) == 0
+            outs.append(capsys.readouterr().out)
+        assert outs[0] == outs[1] and outs[0].count("seq" if not raw else '"seq":') >= 10
 
 
 def test_trace_echo_json_and_count(recorded, capsys):
@@ -239,6 +251,198 @@ def test_trace_info_reads_any_mcap_file(tmp_path, capsys):
     assert main(["trace", "info", str(f)]) == 0
     row = _rows(capsys.readouterr().out)["/ping"]
     assert row[1:4] == ["demo.Ping", "5", "2.00 Hz"]
-    with as_trace(f) if False else Recording(f) as rec:
+    with Recording(f) as rec:
         with pytest.raises(Exception, match="holds no homesim trace"):
             rec.trace_header()
+
+
+def test_export_never_writes_over_a_recording(recorded, tmp_path, capsys):
+    """The README's old 'export tour.jsonl --mcap tour.mcap' after 'run --record tour.mcap' destroyed the recording."""
+    rec = tmp_path / "tour.mcap"
+    shutil.copyfile(recorded["recording"], rec)
+    before = rec.read_bytes()
+    for opt in ("--mcap", "--perfetto"):
+        assert main(["export", str(recorded["trace"]), opt, str(rec)]) == 2
+        err = capsys.readouterr().err
+        assert f"{rec} is a recording of 'homesim run --record'" in err and opt in err
+        assert rec.read_bytes() == before
+    assert main(["plot", str(rec), "--at", "2", "-o", str(tmp_path / "m.png")]) == 0
+
+
+def test_the_readme_never_exports_over_its_recording():
+    """Each README command block: no 'export ... --mcap F' where an earlier 'run --record F' wrote F."""
+    text = (ROOT / "README.md").read_text(encoding="utf-8")
+    recorded_files = set(re.findall(r"--record (\S+)", text))
+    exported = set(re.findall(r"homesim export \S+.*?--mcap (\S+)", text))
+    assert recorded_files and not recorded_files & exported
+
+
+def _silently_damaged(path: Path) -> bytes:
+    """The file with 16 bytes flipped inside a chunk where the chunk still decompresses (only its CRC tells)."""
+    import io
+
+    from mcap.reader import make_reader
+
+    good = path.read_bytes()
+    with Recording(path) as rec:
+        chunks = rec.summary.chunk_indexes
+    for ci in chunks[1:]:
+        for frac in range(10, 90, 7):
+            at = ci.chunk_start_offset + ci.chunk_length * frac // 100
+            data = bytearray(good)
+            for k in range(16):
+                data[at + k] ^= 0xFF
+            try:
+                n = sum(1 for _ in make_reader(io.BytesIO(bytes(data))).iter_messages())
+            except Exception:
+                continue
+            if n > 0:
+                return bytes(data)
+    raise AssertionError("no silent damage found")
+
+
+def test_a_damaged_recording_is_refused_not_read_with_messages_missing(recorded, tmp_path, capsys):
+    """Bytes flipped inside a chunk: every reader refuses the file, naming it (the chunk's CRC), never a shorter trace."""
+    data = _silently_damaged(recorded["recording"])
+    bad = tmp_path / "flip.mcap"
+    bad.write_bytes(bytes(data))
+    for cmd in (["trace", "info", str(bad)], ["trace", "echo", str(bad), "/robot/odometry"],
+                ["plot", str(bad), "--timeline", "-o", str(tmp_path / "t.svg")],
+                ["export", str(bad), "--perfetto", str(tmp_path / "p.json")]):
+        assert main(cmd) == 2, cmd
+        err = capsys.readouterr().err
+        assert f"{bad}: not a whole MCAP file" in err, err
+    assert not (tmp_path / "p.json").exists()
+
+
+def test_ctrl_c_keeps_the_partial_recording_marked_as_stopped(tmp_path, monkeypatch, capsys):
+    """As ros2 bag record: an interrupted run keeps what it recorded (the trace keeps its lines too), and says so."""
+    from homesim.tour.runner import Run
+
+    real = Run.run
+
+    def interrupted(self, *a, **kw):
+        self.sim.run_until(lambda: False, timeout=4.0)
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(Run, "run", interrupted)
+    rec, trace = tmp_path / "int.mcap", tmp_path / "int.jsonl"
+    with pytest.raises(KeyboardInterrupt):
+        main(["run", str(ROOT / "scenarios" / "home_tour.xml"), "--quiet", "--trace", str(trace), "--record", str(rec)])
+    monkeypatch.setattr(Run, "run", real)
+    assert f"kept the partial recording {rec}" in capsys.readouterr().err
+    with Recording(rec) as r:
+        assert r.metadata["homesim.stopped"]["reason"] == "interrupted (Ctrl-C)"
+        assert float(r.metadata["homesim.stopped"]["t"]) == pytest.approx(4.0)
+        lines = list(r.trace_lines())
+        assert 3.5 < r.span()[1] <= 4.0 and len(lines) > 1000
+    assert trace.read_text().startswith("".join(line + "\n" for line in lines))  # what the trace holds, up to the stop
+    assert main(["trace", "info", str(rec)]) == 0
+    assert "the run stopped at t = 4.000 s: interrupted (Ctrl-C)" in capsys.readouterr().out
+    assert main(["plot", str(rec), "--at", "3", "-o", str(tmp_path / "m.png")]) == 0
+    assert not list(tmp_path.glob("*.part"))
+
+
+@pytest.mark.parametrize("opt", ["--record", "--trace", "--summary"])
+def test_run_refuses_an_output_that_is_the_scenario_or_the_memory_before_running(tmp_path, capsys, opt):
+    scen = tmp_path / "s.xml"
+    shutil.copyfile(ROOT / "scenarios" / "home_tour.xml", scen)
+    before = scen.read_bytes()
+    assert main(["run", str(scen), "--until", "1", "--quiet", opt, str(scen)]) == 2
+    assert f"{scen} is the scenario file" in capsys.readouterr().err and scen.read_bytes() == before
+    mem = tmp_path / "mem"
+    for out in (mem, mem / "tour.out"):
+        assert main(["run", str(scen), "--until", "1", "--quiet", "--memory", str(mem), opt, str(out)]) == 2
+        assert "is the --memory directory" in capsys.readouterr().err
+    assert not mem.exists() and sorted(p.name for p in tmp_path.iterdir()) == ["s.xml"]
+
+
+def test_every_message_of_a_json_channel_is_one_json_document(recorded, capsys):
+    """What a generic MCAP reader (Foxglove) does with a 'json' channel: json.loads each message."""
+    from mcap.reader import make_reader
+
+    with open(recorded["recording"], "rb") as fh:
+        for schema, channel, msg in make_reader(fh).iter_messages():
+            assert channel.message_encoding == "json"
+            doc = json.loads(msg.data)
+            if schema.name == "homesim.TraceRecords":
+                assert set(doc) == {"lines"} and doc["lines"] and all(json.loads(line)["t"] <= msg.log_time / 1e9 for line in doc["lines"])
+    assert main(["trace", "echo", str(recorded["recording"]), "/homesim/trace", "-n", "1"]) == 0
+    assert '"lines"' in capsys.readouterr().out
+
+
+@pytest.mark.parametrize("size", [8, 9, 20, 40])
+def test_a_recording_cut_in_its_header_is_refused_naming_the_file(recorded, tmp_path, capsys, size):
+    cut = tmp_path / "cut.mcap"
+    cut.write_bytes(recorded["recording"].read_bytes()[:size])
+    for cmd in (["trace", "info", str(cut)], ["plot", str(cut), "--at", "1", "-o", str(tmp_path / "m.png")],
+                ["export", str(cut), "--perfetto", str(tmp_path / "p.json")]):
+        assert main(cmd) == 2
+        err = capsys.readouterr().err
+        assert f"{cut}: not a whole MCAP file" in err, err
+
+
+def _same_percepts(a, b) -> bool:
+    import pickle
+
+    return pickle.dumps(a) == pickle.dumps(b)  # every field, arrays by value
+
+
+def test_a_moment_between_world_states_draws_truth_and_percepts_of_one_time(recorded, capsys):
+    """--at 10.07 draws the world state of 10.0 s: the percepts are those of 10.0 s too, not of 10.07 s."""
+    with Recording(recorded["recording"]) as rec:
+        world, percepts, t = rec.moment(10.07)
+        _, at_state, t0 = rec.moment(10.0)
+        assert t == t0 == pytest.approx(10.0) and _same_percepts(percepts, at_state)
+        end = rec.span()[1]
+    trace_end = json.loads(recorded["trace"].read_text().splitlines()[-1])["t"]
+    assert end == pytest.approx(trace_end, abs=1e-9)  # the recording ends where its trace does
+    assert main(["trace", "info", str(recorded["recording"])]) == 0
+    shown = re.search(r"to ([0-9.]+) s\)", capsys.readouterr().out).group(1)
+    assert float(shown) == pytest.approx(trace_end, abs=5e-4)
+    assert main(["plot", str(recorded["recording"]), "--at", shown, "-o", str(recorded["dir"] / "end.png")]) == 0
+
+
+def test_a_recording_holds_the_exports_foxglove_channels_with_the_same_schemas_and_messages(tmp_path):
+    """Recorder and export share FoxgloveViews: the same topics, schema bytes and messages (the laser's ranges rounded)."""
+    from mcap.reader import make_reader
+
+    trace, recording, exported = tmp_path / "t.jsonl", tmp_path / "r.mcap", tmp_path / "export.mcap"
+    assert main(["run", str(ROOT / "scenarios" / "home_tour.xml"), "--until", "4", "--quiet", "--trace", str(trace),
+                 "--record", str(recording)]) == 0
+    assert main(["export", str(trace), "--mcap", str(exported)]) == 0
+
+    def read(path: Path) -> tuple[dict[str, tuple[str, bytes]], dict[str, list[tuple[int, bytes]]]]:
+        schemas, msgs = {}, {}
+        with open(path, "rb") as fh:
+            for schema, channel, msg in make_reader(fh).iter_messages(log_time_order=False):
+                schemas[channel.topic] = (schema.name, schema.data)
+                msgs.setdefault(channel.topic, []).append((msg.log_time, msg.data))
+        return schemas, msgs
+
+    ex_schemas, ex_msgs = read(exported)
+    rec_schemas, rec_msgs = read(recording)
+    assert set(ex_schemas) <= set(rec_schemas)
+    for topic, (name, data) in ex_schemas.items():
+        assert rec_schemas[topic] == (name, data), topic
+        if topic == "/laser":
+            a, b = ex_msgs[topic], rec_msgs[topic]
+            assert [t for t, _ in a] == [t for t, _ in b]
+            for (_, x), (_, y) in zip(a, b):
+                assert json.loads(y)["ranges"] == pytest.approx(json.loads(x)["ranges"], abs=5e-5)
+        else:
+            assert rec_msgs[topic] == ex_msgs[topic], topic
+
+
+def test_closing_a_recorder_stops_every_hook_it_added(tmp_path):
+    from homesim.tour.recording import record
+    from homesim.tour.runner import Run, RunOptions
+
+    with Run.from_file(ROOT / "scenarios" / "home_tour.xml", RunOptions(until=1.0)) as run:
+        bus, world = run.sim.bus, run.world
+        before = (list(bus._interceptors), list(world._listeners))
+        rec = record(run, tmp_path / "r.mcap")
+        assert len(bus._interceptors) > len(before[0]) and len(world._listeners) > len(before[1])
+        run.run()
+        rec.close()
+        assert (list(bus._interceptors), list(world._listeners)) == before

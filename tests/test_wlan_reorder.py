@@ -1,7 +1,8 @@
-"""wlan_reorder: with the supervisor on the laptop and the access point's queue towards the laptop full,
-the dialog's greeting overtakes the person attention's older potential_partner; the ES counts it, sorts it
-and the interaction starts. Replayed through the engine in arrival order, the run shows what the sorting
-decided here: not whether the interaction starts (tests/test_es_ordering.py says why)."""
+"""wlan_reorder: with the supervisor, the dialog and the microphones on the laptop and the access point's
+queue towards the laptop full, the dialog's greeting reaches the ES before the person attention's older
+potential_partner and waits (retained); the older event is sorted ahead of it, applied, and the waiting
+greeting starts the interaction. Replayed through the engine in arrival order, the run shows what the
+sorting decided here: not whether the interaction starts (retention does that; tests/test_es_ordering.py)."""
 
 from __future__ import annotations
 
@@ -9,6 +10,8 @@ import io
 import json
 import re
 from pathlib import Path
+
+import pytest
 
 from homesim.afsm.engine import Applied, Delivery, Engine, Event, run_deliveries
 from homesim.afsm.loader import load
@@ -20,8 +23,9 @@ from robot.supervisor import BIRON_AFSM
 ROOT = Path(__file__).resolve().parents[1]
 
 
-def _run(seed: int, until: float) -> tuple[dict, list[tuple[float, float, str, Event]], int]:
-    """The summary; the ES's arrivals (arrived, created, name, event) in arrival order; greetings applied."""
+def _run(seed: int, until: float, sorted_out: list[dict] | None = None) -> tuple[dict, list[tuple[float, float, str, Event]], int]:
+    """The summary; the ES's arrivals (arrived, created, name, event) in arrival order; greetings applied
+    (starting an interaction). ``sorted_out`` collects the ES's ``<es_sorted>`` records and greetings' ids."""
     trace = io.StringIO()
     with Run.from_file(ROOT / "scenarios" / "wlan_reorder.xml", RunOptions(seed=seed, trace=trace, until=until)) as run:
         run.run()
@@ -39,8 +43,19 @@ def _run(seed: int, until: float) -> tuple[dict, list[tuple[float, float, str, E
             ev = Event(d["id"], name, sender, to_ns(created), None, parse_bytes(xml.encode()))
             arrived.append((d["t"], created, name, ev))
         elif d.get("channel") == "/robot/es/log" and 'kind="applied"' in d["xml"] and 'name="greeting"' in d["xml"]:
-            greetings += 'to="Interacting"' in d["xml"]
+            started = 'to="Interacting"' in d["xml"]
+            greetings += started
+            if started and sorted_out is not None:
+                sorted_out.append({"started": re.search(r' event="([^"]+)"', d["xml"]).group(1)})
+        elif d.get("kind") == "publish" and d.get("channel") == "/robot/es/sorted" and sorted_out is not None:
+            sorted_out.append(dict(re.findall(r' ([\w-]+)="([^"]*)"', d["xml"])))
     return s, arrived, greetings
+
+
+def _sorting_started(records: list[dict]) -> int:
+    """Interactions started by a greeting that an older potential partner had been sorted ahead of."""
+    ahead_of = {r["ahead-of"] for r in records if r.get("name") == "potential_partner" and r.get("ahead-of-name") == "greeting"}
+    return sum(1 for r in records if "started" in r and r["started"] in ahead_of)
 
 
 def _starts(arrived: list[tuple[float, float, str, Event]], order: str) -> int:
@@ -49,7 +64,8 @@ def _starts(arrived: list[tuple[float, float, str, Event]], order: str) -> int:
 
 
 def test_a_greeting_overtakes_an_older_potential_partner_and_the_interaction_starts():
-    s, arrived, greetings = _run(0, until=40.0)  # Ben's first two visits (the sweep checks all six, seeds 0-9)
+    records: list[dict] = []
+    s, arrived, greetings = _run(0, until=40.0, sorted_out=records)  # Ben's first two visits (the sweep checks all six, seeds 0-9)
     assert s["deployment"]["placement"]["supervisor"] == "laptop"
     # the downlink (to the laptop) is the queued one; the laptop's own frames go out at WLAN speed
     links = s["deployment"]["links"]
@@ -70,3 +86,24 @@ def test_a_greeting_overtakes_an_older_potential_partner_and_the_interaction_sta
     # ... and, with its queue in arrival order, starts the same interactions: a greeting is retained until
     # a potential partner arrives, so here the creation-time sorting changed no start (docs/deployment.md).
     assert _starts(arrived, "arrival") == greetings
+
+    # The ES sorted: an older potential partner went ahead of the greeting still waiting in the queue,
+    # and the greeting it went ahead of started an interaction.
+    assert s["es"]["sorted_ahead"] >= 1 and s["metrics"]["network"]["es_sorted_ahead"] == s["es"]["sorted_ahead"]
+    sorted_recs = [r for r in records if "ahead" in r]
+    assert len(sorted_recs) == s["es"]["sorted_ahead"]
+    assert all(float(r["created"]) < float(r["ahead-of-created"]) for r in sorted_recs)
+    assert _sorting_started(records) >= 1
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("seed", range(10))
+def test_the_es_sorts_an_older_potential_partner_ahead_of_a_waiting_greeting_in_every_seed(seed):
+    """Seeds 0-9, whole runs: in each, at least one interaction starts with a greeting that an older
+    potential partner was sorted ahead of (the ES's queue at work, not only arrivals out of order)."""
+    records: list[dict] = []
+    s, _, greetings = _run(seed, until=115.0, sorted_out=records)
+    assert s["verdict"] == "PASS"
+    assert s["es"]["sorted_ahead"] >= 1
+    assert s["es"]["sorted_ahead"] <= s["es"]["received_out_of_order"]
+    assert 1 <= _sorting_started(records) <= greetings

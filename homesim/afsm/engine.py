@@ -31,6 +31,10 @@ The rules, exactly:
 * ``process(now, max_applied=1)`` stops after one transition, for a caller
   whose transitions take time (the supervisor's cost): it calls again when
   it can decide; :meth:`expire` is step 1 alone, for the time in between.
+* An arrival created before events still queued is inserted ahead of them;
+  :attr:`Queued.ahead` says of how many, :attr:`Engine.sorted_ahead` counts
+  such arrivals (an arrival out of creation order whose newer predecessor has
+  already left the queue is sorted ahead of nothing).
 * Conservation: ``stats()['queued'] == applied + expired + inapplicable +
   len(queue)`` always holds; an id cannot be queued twice while queued.
 * ``Engine(order="arrival")`` is an ablation, not the ES: the queue keeps
@@ -50,7 +54,7 @@ from __future__ import annotations
 
 import itertools
 import math
-from bisect import insort
+from bisect import bisect_right
 from collections import deque
 from collections.abc import Callable
 from copy import deepcopy
@@ -110,6 +114,9 @@ class Queued:
     expires_ns: int
     status: str = WAITING
     retained_in: str | None = None  # the state it was last retained in
+    #: Queued events it was inserted ahead of when it arrived (created earlier than they were): the
+    #: ES's timestamp ordering at work. Always 0 with ``order="arrival"``.
+    ahead: int = 0
 
     @property
     def key(self) -> tuple[int, int]:
@@ -250,6 +257,8 @@ class Engine:
         self._now = -math.inf
         self.history: deque[Record] = deque(maxlen=history)
         self.counts = {"queued": 0, "applied": 0, "expired": 0, "inapplicable": 0}
+        #: Arrivals inserted ahead of at least one queued event (:attr:`Queued.ahead` > 0).
+        self.sorted_ahead = 0
         #: es:store: data copied out of applied events, by name (survives replace/extend).
         self.stored: dict[str, tuple[ParamValueItem, ...]] = {}
 
@@ -329,7 +338,14 @@ class Engine:
             event = Event(event.id, event.name, event.source, event.created_ns, lifetime, event.payload)
         self._seq += 1
         item = Queued(event, self._seq, now_ns, event.created_ns + lifetime)
-        insort(self._queue, item, key=self._key)
+        q = self._queue
+        if q and self._key(q[-1]) > self._key(item):  # it goes before a queued event: sorted ahead
+            pos = bisect_right(q, self._key(item), key=self._key)
+            q.insert(pos, item)
+            item.ahead = len(q) - 1 - pos
+            self.sorted_ahead += 1
+        else:
+            q.append(item)
         self._ids[event.id] = item
         self.counts["queued"] += 1
         return item

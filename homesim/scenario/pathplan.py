@@ -26,7 +26,7 @@ from collections import OrderedDict, deque
 from collections.abc import Iterable, Sequence
 
 import numpy as np
-from scipy import ndimage
+from .. import ndgrid
 
 from .model import Door, Scenario, Wall
 from ..geometry import distance_points_segments, points_in_polygon, polygon_edges, split_wall, wall_rectangle
@@ -409,7 +409,7 @@ class Grid:
         base = self._components
         if base[s] != base[g]:
             return False  # apart without the discs already
-        labels, _ = ndimage.label(~blocked)  # 4-connected (the default structure)
+        labels, _ = ndgrid.label(~blocked)  # 4-connected (the default structure)
         return bool(labels[s] == labels[g])
 
     def _smooth(self, start: Point, pts: list[Point], blocked: np.ndarray) -> list[Point]:
@@ -450,7 +450,7 @@ class Grid:
         ``scipy.ndimage.label`` does; ``tests/test_world_fast_paths.py`` checks it against
         a plain flood fill).
         """
-        labels, _ = ndimage.label(~self.blocked)  # 4-connected (the default structure)
+        labels, _ = ndgrid.label(~self.blocked)  # 4-connected (the default structure)
         return labels.astype(np.int32, copy=False)
 
     def passable(self, wall: Wall, door: Door) -> bool:

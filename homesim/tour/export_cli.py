@@ -39,7 +39,12 @@ def export_command(a: argparse.Namespace) -> int:
     if a.perfetto is not None and a.mcap is not None and a.perfetto.absolute() == a.mcap.absolute():
         raise OptionError("--perfetto/--mcap", "the two exports need two files")
     from ..traceview import channel_stats
-    from .recorded import as_trace, is_mcap
+    from .recorded import as_trace, is_mcap, is_recording
+
+    for opt, out in (("--perfetto", a.perfetto), ("--mcap", a.mcap)):
+        if out is not None and is_recording(out):  # an export can be made again; a recording only by running again
+            raise OptionError(opt, f"{out} is a recording of 'homesim run --record'; an export does not write over it "
+                                   "(name another file, e.g. out/tour-export.mcap)")
 
     recording = is_mcap(a.trace)
     if recording:

@@ -52,11 +52,25 @@ def is_mcap(path: str | os.PathLike[str]) -> bool:
         os.close(fd)
 
 
+def is_recording(path: str | os.PathLike[str]) -> bool:
+    """Is the file an MCAP recording of ``homesim run --record`` (one that has, or had, the ``homesim.run`` metadata)?
+
+    An MCAP file that cannot be read whole counts as one: a damaged recording is not overwritten either.
+    """
+    if not is_mcap(path):
+        return False
+    try:
+        with Recording(path) as rec:
+            return "homesim.run" in rec.metadata or TRACE_CHANNEL in {c[0] for c in rec.channels()}
+    except InputError:
+        return True
+
+
 @functools.cache
 def _errors() -> tuple[type[BaseException], ...]:
     from mcap.exceptions import McapError
 
-    errs: list[type[BaseException]] = [McapError, struct.error, ValueError, EOFError, KeyError, zlib.error]
+    errs: list[type[BaseException]] = [McapError, struct.error, ValueError, EOFError, KeyError, zlib.error, OSError]
     try:
         import zstandard
 
@@ -82,7 +96,7 @@ class Recording:
             raise InputError("not an MCAP file (it does not start with MCAP's magic bytes)", source=str(path))
         try:
             with self._reading("cannot read its summary"):
-                self.reader = make_reader(self.fh)
+                self.reader = make_reader(self.fh, validate_crcs=True)  # a damaged chunk fails, never reads as fewer messages
                 self.summary = self.reader.get_summary()
             if self.summary is None:
                 raise InputError("an MCAP file without a summary section (truncated, or still being written?)", source=str(path))
@@ -182,7 +196,15 @@ class Recording:
         """The JSON Lines trace the recording holds: the header line, then every record's line."""
         yield self.metadata["homesim.trace"]["header"] if "homesim.trace" in self.metadata else json.dumps(self.trace_header())
         for _, _, _, data in self.messages([TRACE_CHANNEL]):
-            yield from data.decode("utf-8", errors="replace").split("\n")
+            yield from self.trace_batch(data)
+
+    def trace_batch(self, data: bytes) -> list[str]:
+        """The trace lines one ``/homesim/trace`` message holds (``{"lines": [...]}``)."""
+        batch = self.decode(TRACE_CHANNEL, data)
+        lines = batch.get("lines") if isinstance(batch, dict) else None
+        if not isinstance(lines, list) or not all(isinstance(line, str) for line in lines):
+            raise InputError(f'a message on {TRACE_CHANNEL} is not a homesim.TraceRecords ({{"lines": [...]}})', source=str(self.path))
+        return lines
 
     # ------------------------------------------------------------- moment
     def moment(self, t: float | None = None) -> tuple[RecordedWorld, Any, float]:
@@ -192,12 +214,16 @@ class Recording:
         end = self.span()[1]
         if t is None:
             t = end
-        if t > end + 1e-9:
-            raise InputError(f"t = {t:g} s is after the end of the recording ({end:g} s)", source=str(self.path))
-        got = self.latest([MAP_CHANNEL, WORLD_CHANNEL, "/laser", *CHANNELS], t)
+        if round(t, 3) > round(end, 3):  # the end as 'trace info' shows it (ms) is within the recording
+            raise InputError(f"t = {t:g} s is after the end of the recording ({end:.3f} s)", source=str(self.path))
+        t = min(t, end)
+        got = self.latest([MAP_CHANNEL, WORLD_CHANNEL], t)
         if MAP_CHANNEL not in got or WORLD_CHANNEL not in got:
             raise InputError(f"holds no map or world state at or before t = {t:g} s", source=str(self.path))
         world = RecordedWorld(self.decode(MAP_CHANNEL, got[MAP_CHANNEL][1]), self.decode(WORLD_CHANNEL, got[WORLD_CHANNEL][1]))
+        # The percepts of the same moment as the truth (the world state's time, on its 10 Hz grid), never later.
+        t = world.time
+        got = self.latest(["/laser", *CHANNELS], t)
         seen = PerceptCollector()
         laser = got.get("/laser")
         for ch in CHANNELS:

@@ -11,8 +11,9 @@
   camera pan, every person (position, heading, gaze, legs, torso colour, pointing target, words
   being said) and the other sound sources (ground truth, for viewing and scoring only);
 * ``/homesim/trace`` (``homesim.TraceRecords``): every line of the JSON Lines trace
-  (:mod:`homesim.trace`) byte for byte, sends, deliveries and drops, in batches (lines joined by
-  newlines, each batch within 0.1 s of virtual time); the trace header is the ``homesim.trace``
+  (:mod:`homesim.trace`) byte for byte, sends, deliveries and drops, in batches (each message one
+  JSON document ``{"lines": [line, ...]}``, a batch within 0.1 s of virtual time, logged at its
+  last line's time); the trace header is the ``homesim.trace``
   metadata record. So ``homesim trace``, ``plot --timeline`` and
   ``export --perfetto`` read a recording as they read a trace.
 * metadata ``homesim.run``: scenario name, file and digest, seed, robot profile, deployment,
@@ -25,13 +26,13 @@ several times larger (the ranges are most of a recording) for every run, change 
 mix the truth into the robot's log. The recording is asked for (``--record``) and holds both.
 
 The file is written to ``out.mcap.part`` and renamed when the run is closed, so a file named
-``out.mcap`` is always whole. Same scenario, seed and options give a byte-identical recording
+``out.mcap`` is always a finished MCAP file; a run stopped early (Ctrl-C, an error) keeps what it
+recorded, with ``homesim.stopped`` metadata (reason, virtual time) saying it is partial. Same scenario, seed and options give a byte-identical recording
 (virtual time only; canonical JSON; no wall time in the metadata).
 """
 
 from __future__ import annotations
 
-import math
 import os
 import platform
 from json.encoder import encode_basestring as _json_str
@@ -43,8 +44,8 @@ import numpy as np
 from .. import __version__
 from ..bus import Observation
 from ..export import foxglove as fg
-from ..trace import TRACE_FORMAT, _dumps, _json_list, observation_line
-from .mcap_export import PEOPLE_RATE, _Exporter, _Mcap
+from ..trace import header_line, observation_line
+from .mcap_export import PEOPLE_RATE, FoxgloveViews, McapFile
 
 #: How often the world's truth is written (Hz of virtual time; the people of ``/scene/people`` too).
 WORLD_RATE = PEOPLE_RATE
@@ -59,17 +60,15 @@ MAP_CHANNEL = "/homesim/map"
 _ANY = {"type": "object"}
 #: The recording's own schemas (JSON Schema; the fields are described in docs/running.md).
 SCHEMAS: dict[str, dict[str, Any]] = {
-    "homesim.TraceRecords": {"title": "homesim.TraceRecords", "description": "lines of the homesim JSON Lines trace, joined by newlines "
-                             "(not one JSON document: each line is one)"},
+    "homesim.TraceRecords": {"title": "homesim.TraceRecords", "type": "object", "required": ["lines"],
+                             "description": "consecutive lines of the homesim JSON Lines trace, each as a string, byte for byte",
+                             "properties": {"lines": {"type": "array", "items": {"type": "string"}}}},
     "homesim.WorldState": {"title": "homesim.WorldState", "type": "object", "required": ["t", "robot", "people", "sources"],
                            "properties": {"t": {"type": "number"}, "robot": _ANY, "people": {"type": "array"}, "sources": {"type": "array"}}},
     "homesim.Map": {"title": "homesim.Map", "type": "object", "required": ["scenario", "bounds", "rooms", "obstacles", "objects"],
                     "properties": {"scenario": {"type": "string"}, "bounds": {"type": "array"}, "rooms": {"type": "array"},
                                    "obstacles": {"type": "array"}, "objects": {"type": "array"}}},
 }
-
-
-_float_repr = float.__repr__
 
 
 def _r(v: float) -> float:
@@ -124,17 +123,17 @@ class _TraceLines:
 
     Lines are written in batches, one MCAP message per batch (a message per line cost more than
     the rest of the recording): a batch holds the lines of at most :data:`TRACE_BATCH_S` of virtual
-    time and at most :data:`TRACE_BATCH_LINES` lines, its log time is its first line's, so every
-    line at or after ``t`` is in a batch logged after ``t - TRACE_BATCH_S``.
+    time and at most :data:`TRACE_BATCH_LINES` lines, as one JSON document ``{"lines": [...]}`` (so
+    any MCAP reader decodes it); its log time is its last line's, so every line at or after ``t``
+    is in a batch logged at or after ``t``, and the recording ends when the trace does.
     """
 
-    def __init__(self, out: _Mcap) -> None:
+    def __init__(self, out: McapFile) -> None:
         self.out = out
         self.seq = 0
-        self.cid = out.channel(TRACE_CHANNEL, "homesim.TraceRecords")
         self.lines: list[str] = []
         self.first = 0
-        self.batches = 0
+        self.last = 0
 
     def __call__(self, obs: Observation) -> None:
         if self.lines and (obs.t_ns - self.first >= TRACE_BATCH_NS or len(self.lines) >= TRACE_BATCH_LINES):
@@ -142,58 +141,32 @@ class _TraceLines:
         if not self.lines:
             self.first = obs.t_ns
         self.seq += 1
+        self.last = obs.t_ns
         self.lines.append(observation_line(obs, self.seq))
 
     def flush(self) -> None:
         if self.lines:
-            self.batches += 1
-            self.out.w.add_message(self.cid, log_time=self.first, publish_time=self.first, sequence=self.batches,
-                                   data="\n".join(self.lines).encode("utf-8"))
-            self.out.count += 1
+            data = '{"lines":[' + ",".join(map(_json_str, self.lines)) + "]}"
+            self.out.write_json(TRACE_CHANNEL, "homesim.TraceRecords", self.last, data.encode("utf-8"))
             self.lines.clear()
 
 
-class _RecordingMcap(_Mcap):
-    """The export's writer, with the recording's own schemas, and bus messages formatted directly (the same bytes
-    as ``fg.dumps``, a third of the time)."""
+class Recorder:
+    """Writes a live run to MCAP (attach before :meth:`Run.run`; :meth:`close` after :meth:`Run.finish`).
 
-    def channel(self, topic: str, schema: str) -> int:
-        if topic not in self.channels and schema in SCHEMAS:
-            if schema not in self.schemas:
-                self.schemas[schema] = self.w.register_schema(schema, "jsonschema", fg.dumps(SCHEMAS[schema]))
-            self.channels[topic] = self.w.register_channel(topic, "json", self.schemas[schema])
-        return super().channel(topic, schema)
-
-    def write(self, topic: str, schema: str, t_ns: int, obj: Any) -> None:
-        if schema != "homesim.BusMessage" or "attachments" in obj:
-            super().write(topic, schema, t_ns, obj)
-            return
-        cid = self.channels.get(topic)
-        if cid is None:
-            cid = self.channel(topic, schema)
-        n = self.seq.get(cid, 0)
-        self.seq[cid] = n + 1
-        self.w.add_message(cid, log_time=t_ns, data=bus_message_json(obj), publish_time=t_ns, sequence=n)
-        self.count += 1
-
-
-def bus_message_json(obj: dict[str, Any]) -> bytes:
-    """``fg.dumps(obj)`` of a bus message without attachments, formatted directly (sorted keys, no spaces)."""
-    return (f'{{"causes":{_json_list(obj["causes"])},"created":{_float_repr(obj["created"])},"id":{_json_str(obj["id"])},'
-            f'"kind":{_json_str(obj["kind"])},"receivers":{_json_list(obj["receivers"])},"sender":{_json_str(obj["sender"])},'
-            f'"xml":{_json_str(obj["xml"])}}}').encode("utf-8")
-
-
-class Recorder(_Exporter):
-    """Writes a live run to MCAP (attach before :meth:`Run.run`; :meth:`close` after :meth:`Run.finish`)."""
+    The Foxglove channels come from the export's :class:`~homesim.tour.mcap_export.FoxgloveViews`
+    (its public interface, the same schemas), so a recording and an export cannot drift apart;
+    this class adds homesim's own channels and metadata.
+    """
 
     def __init__(self, run: Any, path: str | os.PathLike[str]) -> None:
+        self.run = run
+        self.world = run.world
         self.path = Path(path)
         self.path.parent.mkdir(parents=True, exist_ok=True)
         self.tmp = self.path.with_name(self.path.name + ".part")
         self.fh = open(self.tmp, "wb")
-        mc = _RecordingMcap(self.fh)
-        super().__init__(mc, run)
+        self.out = mc = McapFile(self.fh, {name: fg.dumps(schema) for name, schema in SCHEMAS.items()})
         self.next_world = 0
         self.closed = False
         h = run.header
@@ -202,30 +175,22 @@ class Recorder(_Exporter):
                 "seed": str(run.sim.seed), "profile": str(run.profile), "deployment": str(run.deployment.name),
                 "until": "" if h.get("until") is None else repr(float(h["until"])), "duration": repr(float(run.scenario.duration)),
                 **{f"version.{k}": v for k, v in versions().items()}}
-        mc.w.add_metadata("homesim.run", info)
-        mc.w.add_metadata("homesim.trace", {"header": _dumps({"homesim_trace": TRACE_FORMAT, "scenario": run.scenario.name, "seed": run.sim.seed,
-                                                              "homesim_version": __version__, "run": h})})
+        mc.metadata("homesim.run", info)
+        mc.metadata("homesim.trace", {"header": header_line(run.scenario.name, run.sim.seed, {"run": h})})
         if scen and Path(scen).is_file():
-            mc.w.add_metadata("homesim.scenario", {"file": Path(scen).name, "xml": Path(scen).read_text(encoding="utf-8")})
-        self.static()
+            mc.metadata("homesim.scenario", {"file": Path(scen).name, "xml": Path(scen).read_text(encoding="utf-8")})
+        # The laser's ranges rounded to 0.1 mm (a real scanner's are mm; a third of the bytes and of the encoding time).
+        self.views = FoxgloveViews(mc, run, ranges_decimals=4)
+        self.views.attach()
         mc.write(MAP_CHANNEL, "homesim.Map", 0, world_map(self.world))
         self.lines = _TraceLines(mc)
         run.sim.bus.add_interceptor(self.lines)
-        run.sim.bus.add_interceptor(self)
-        self.world.add_listener(self.on_step)
         self.world.add_listener(self.on_world)
         self.on_world(self.world)  # the truth at the start (the world's first step comes later)
 
-    def laser(self, t: int, m: Any) -> None:
-        """``/laser`` as the export writes it, the ranges rounded to 0.1 mm (a real scanner's are mm; a
-        third of the bytes and of the encoding time)."""
-        ranges = np.asarray(m.attachments["ranges"], dtype=float)
-        start = math.radians(float(m.xml.get("min_angle") or 0.0))
-        step = math.radians(float(m.xml.get("resolution") or 0.0))
-        self.out.write("/laser", "foxglove.LaserScan", t, {
-            "timestamp": fg.stamp(t), "frame_id": "laser", "pose": fg.pose(0.0, 0.0), "start_angle": start,
-            "end_angle": start + step * (len(ranges) - 1), "ranges": np.round(ranges, 4).tolist(), "intensities": []})
-        self.scans += 1
+    @property
+    def scans(self) -> int:
+        return self.views.scans
 
     def on_world(self, world: Any) -> None:
         t = int(round(world.time * 1e9))
@@ -235,22 +200,28 @@ class Recorder(_Exporter):
         self.next_world = (t // period + 1) * period  # on the grid of whole periods (a plot at 10 s finds the state at 10 s)
         self.out.write(WORLD_CHANNEL, "homesim.WorldState", t, world_state(world))
 
-    def close(self) -> dict[str, int]:
-        """Finish the file and give it its name; return counts (channels, messages, scans)."""
+    def close(self, stopped: str | None = None) -> dict[str, int]:
+        """Finish the file and give it its name; return counts (channels, messages, scans).
+
+        ``stopped``: why the run ended early (Ctrl-C, an error); the partial recording is kept, like
+        ``ros2 bag record``'s, with the ``homesim.stopped`` metadata saying why and at what virtual time.
+        """
         if not self.closed:
             self.closed = True
-            bus = self.run.sim.bus
-            for ic in (self.lines, self):
-                if ic in bus._interceptors:
-                    bus.remove_interceptor(ic)
+            self.views.detach()
+            if self.lines in self.run.sim.bus._interceptors:
+                self.run.sim.bus.remove_interceptor(self.lines)
+            self.world.remove_listener(self.on_world)
             self.lines.flush()
+            if stopped is not None:
+                self.out.metadata("homesim.stopped", {"reason": stopped, "t": repr(float(self.run.sim.now))})
             self.out.finish()
             self.fh.close()
             os.replace(self.tmp, self.path)
-        return {"channels": len(self.out.channels), "messages": self.out.count, "scans": self.scans}
+        return {"channels": len(self.out.channels), "messages": self.out.count, "scans": self.views.scans}
 
     def abandon(self) -> None:
-        """Remove the partial file (a run that failed)."""
+        """Remove the partial file (the recorder itself failed: nothing whole can be written)."""
         if not self.closed:
             self.closed = True
             self.fh.close()

@@ -71,23 +71,46 @@ def run_command(a: argparse.Namespace) -> int:
     """``homesim run``: transcript, verdict, summary; the exit status says whether every expectation held."""
     out = sys.stdout
     console = Console(out, quiet=a.quiet)
-    record = getattr(a, "record", None)
-    for opt, other in (("--trace", a.trace), ("--summary", a.summary)):
-        if record is not None and other is not None and record.absolute() == other.absolute():
-            raise OptionError("--record", f"{record} is also the {opt} file; the recording needs a file of its own")
+    _check_outputs(a)
     run = Run.from_file(a.scenario, _options(a), on_line=console.line)
     with run:
         recorder = _start_recording(run, getattr(a, "record", None))
         try:
             status = _run_and_report(a, run, console, out)
-        except BaseException:
-            if recorder is not None:
-                recorder.abandon()
+        except BaseException as exc:
+            if recorder is not None:  # what was recorded is kept, marked partial (the trace keeps its lines too)
+                _close_partial(recorder, "interrupted (Ctrl-C)" if isinstance(exc, KeyboardInterrupt) else f"{type(exc).__name__}: {exc}")
             raise
         if recorder is not None:
             c = recorder.close()
             print(f"wrote {a.record} (MCAP recording: {c['channels']} channels, {c['messages']} messages, {c['scans']} laser scans)", file=out)
         return status
+
+
+def _check_outputs(a: argparse.Namespace) -> None:
+    """Before the run: no output file is the scenario, the memory directory (or in it), or another output."""
+    def same(p: Path, q: Path) -> bool:
+        return p.resolve() == q.resolve()
+
+    outs = [(opt, path) for opt, path in (("--trace", a.trace), ("--summary", a.summary), ("--record", getattr(a, "record", None)))
+            if path is not None]
+    for i, (opt, path) in enumerate(outs):
+        if same(path, a.scenario):
+            raise OptionError(opt, f"{path} is the scenario file; writing there would destroy it")
+        if a.memory is not None and (same(path, a.memory) or a.memory.resolve() in path.resolve().parents):
+            raise OptionError(opt, f"{path} is the --memory directory {a.memory} or in it; the run writes its store there")
+        for other, q in outs[:i]:
+            if same(path, q):
+                raise OptionError(opt, f"{path} is also the {other} file; each output needs a file of its own")
+
+
+def _close_partial(recorder: Any, reason: str) -> None:
+    try:
+        recorder.close(stopped=reason)
+    except Exception:  # the recorder itself failed: no whole file can be written
+        recorder.abandon()
+        return
+    print(f"homesim: kept the partial recording {recorder.path} (stopped: {reason})", file=sys.stderr)
 
 
 def _start_recording(run: Run, path: Path | None) -> Any:
@@ -147,6 +170,8 @@ def network_line(summary: dict[str, Any]) -> str:
     line = "network (mean/p95/max, deliveries): " + ", ".join(parts)
     if "events_received" in es:
         line += f"; ES: {es['events_received']} events, {es['received_out_of_order']} out of creation order"
+        if "sorted_ahead" in es:
+            line += f" ({es['sorted_ahead']} sorted ahead of queued events)"
     return line
 
 

@@ -258,7 +258,7 @@ class Run:
         self.world = self.stage.world
         self.dispatcher = self.stage.dispatcher
         self.dispatcher.add(EsRecord.channels, self._on_es)
-        self.dispatcher.add(("/robot/es/log", FAULT_CHANNEL, HEALTH_CHANNEL), self._on_system)
+        self.dispatcher.add(("/robot/es/log", "/robot/es/sorted", FAULT_CHANNEL, HEALTH_CHANNEL), self._on_system)
         self._heard = 0
         self.world.add_listener(self._on_step)
         self.supervisor = ExecutionSupervisor(self.sim)
@@ -319,6 +319,10 @@ class Run:
                 detail = f": {x.get('detail')}" if x.get("detail") else ""
                 self._say(m.created, "ES", f"rejected {x.get('name')} from {x.get('source')} "
                                            f"({x.get('reason')} in {x.get('state')}){detail}")
+        elif m.channel == "/robot/es/sorted":
+            k = int(x.get("ahead", "0"))
+            self._say(m.created, "ES", f"sorted {x.get('name')} (created {x.get('created')} s) ahead of {k} queued "
+                                       f"event{'s' if k != 1 else ''} ({x.get('ahead-of-name')}, created {x.get('ahead-of-created')} s)")
         elif m.channel == FAULT_CHANNEL:
             why = " (it flooded the bus)" if x.get("reason") == "flood" else ""
             self._say(m.created, "fault", f"{x.get('module')} {x.get('kind')}es{why}")

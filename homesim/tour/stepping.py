@@ -18,6 +18,7 @@ sends.
 
 from __future__ import annotations
 
+import difflib
 import io
 import weakref
 from collections import deque
@@ -28,7 +29,7 @@ from typing import Any
 
 from lxml import etree
 
-from ..bus import SEND, Observation
+from ..bus import DELIVER, DROP, SEND, Observation
 from ..xmlio import parse_bytes
 from .percepts import CHANNELS, PerceptCollector
 
@@ -76,17 +77,43 @@ def is_transition(step: Step) -> bool:
     return step.transition() is not None
 
 
-class Stepper:
-    """Steps a live run to its next bus message (see the module docstring)."""
+class UnknownChannel(ValueError):
+    """A channel nothing in the run or recording uses (a typo): refused before stepping, naming the closest."""
 
-    observes = (SEND,)
+    def __init__(self, channel: str, known: list[str], where: str) -> None:
+        close = difflib.get_close_matches(channel, known, n=3, cutoff=0.5)
+        hint = f"; did you mean {' or '.join(close)}?" if close else ""
+        super().__init__(f"no channel {channel!r} in {where}{hint}")
+
+
+def _matches(channel: str, names: set[str]) -> bool:
+    return channel in names or any(n.endswith("/**") and channel.startswith(n[:-2]) for n in names)
+
+
+def run_channels(bus: Any) -> set[str]:
+    """Every channel a run's modules publish on, subscribe to or declare, and every method (``server/method``)."""
+    names = set(bus._channel_schemas)
+    for p in bus.registry():
+        names |= set(p["publishes"]) | set(p["subscribes"]) | {f"{p['name']}/{m}" for m in p["methods"]}
+    return names
+
+
+class Stepper:
+    """Steps a live run to its next bus message (see the module docstring).
+
+    A step's ``seq`` is the trace's: every send, delivery and drop counts, as in the JSON Lines
+    trace and a recording's (the stepper is made before the run runs, or the run has a trace).
+    """
+
+    observes = (SEND, DELIVER, DROP)
 
     def __init__(self, run: Any) -> None:
         self.run = run
         self.pending: deque[Step] = deque()
         self.current: Step | None = None
         self._active = False
-        self._seq = 0
+        trace = getattr(run, "trace", None)
+        self._seq = trace.seq if trace is not None else 0
         self.seen = PerceptCollector()
         run.dispatcher.add(CHANNELS, self.seen)
         run.sim.bus.add_interceptor(self)
@@ -94,7 +121,7 @@ class Stepper:
 
     def __call__(self, obs: Observation) -> None:
         self._seq += 1
-        if not self._active:
+        if not self._active or obs.event != SEND:
             return
         m = obs.message
         self.pending.append(Step(obs.t_ns / 1e9, self._seq, m.kind, m.sender, m.channel, tuple(obs.receivers), m.id, tuple(m.causes),
@@ -104,6 +131,11 @@ class Stepper:
         """Run to the next message (on ``channel``, and for which ``where`` holds, if given) within ``timeout``
         virtual seconds and the run's end; return it (also as :attr:`current`), or None when none came."""
         sim = self.run.sim
+        if channel is not None:
+            known = run_channels(sim.bus)
+            if not _matches(channel, known):  # a typo would otherwise run the live run to its end
+                raise UnknownChannel(channel, sorted(n for n in known if not n.endswith("/**")), "this run (no module publishes, "
+                                     "subscribes to or declares it)")
         # Messages of a round the user has since run past by hand are stale.
         while self.pending and self.pending[0].t < sim.now - 1e-9:
             self.pending.popleft()
@@ -163,8 +195,8 @@ class Cursor:
         self.start, self.end = self.rec.span()
         self.t = self.start
         self.current: Step | None = None
-        # Which messages at time t are behind the cursor: those up to this trace seq (-1: none; None: all).
-        self._seq: int | None = -1
+        # Which messages at time t are behind the cursor: those up to this trace seq (-1: none).
+        self._seq = -1
         self._it: Any = None
         self.bus_channels = sorted(c[0] for c in self.rec.channels() if c[1] == "homesim.BusMessage")
         weakref.finalize(self, self.rec.close)
@@ -176,10 +208,10 @@ class Cursor:
         self.rec.close()
 
     def seek(self, t: float) -> None:
-        """Put the cursor at ``t``: the next message is the first sent after ``t``."""
+        """Put the cursor at ``t``: the next message is the first sent at or after ``t``."""
         self.t = min(max(t, self.start), self.end)
         self.current = None
-        self._seq = None
+        self._seq = -1
         self._it = None
 
     def next(self, channel: str | None = None, *, where: Callable[[Step], bool] | None = None) -> Step | None:
@@ -190,17 +222,22 @@ class Cursor:
         """
         import json
 
+        topic = None
+        if channel is not None:
+            topic = "/" + channel.lstrip("/")  # the recording's topic (a method's channel has no leading slash on the bus)
+            if topic not in self.bus_channels:
+                raise UnknownChannel(channel, self.bus_channels, str(self.path))
         if self._it is None:  # one reader pass, continued while the cursor moves forward
             self._it = self._lines()
         t_ns = round(self.t * 1e9)
         seq = self._seq
         for lt, line in self._it:
-            if lt < t_ns or (lt == t_ns and seq is None):
+            if lt < t_ns:
                 continue
             r = json.loads(line)
             if r.get("kind") not in ("publish", "request", "reply", "error") or (lt == t_ns and r["seq"] <= seq):
                 continue
-            if channel is not None and r["channel"] != channel:
+            if topic is not None and r["channel"] != channel and "/" + r["channel"].lstrip("/") != topic:
                 continue
             s = Step(r["t"], r["seq"], r["kind"], r["sender"], r["channel"], tuple(r["receivers"]), r["id"], tuple(r["causes"]), r["xml"])
             if where is None or where(s):
@@ -213,14 +250,15 @@ class Cursor:
         return self.next(ES_LOG, where=is_transition)
 
     def _lines(self) -> Any:
-        """(time ns, line) of the recording's trace from a batch before the cursor on (batches hold 0.1 s)."""
+        """(time ns, line) of the recording's trace from the first batch logged at or after the cursor (a batch is
+        logged at its last line's time)."""
         import re
 
-        from .recording import TRACE_BATCH_S, TRACE_CHANNEL
+        from .recording import TRACE_CHANNEL
 
-        t_of = re.compile(rb'^\{"t":([^,]+),')
-        for _, _, _, data in self.rec.messages([TRACE_CHANNEL], start=max(0.0, self.t - TRACE_BATCH_S)):
-            for raw in data.split(b"\n"):
+        t_of = re.compile(r'^\{"t":([^,]+),')
+        for _, _, _, data in self.rec.messages([TRACE_CHANNEL], start=self.t):
+            for raw in self.rec.trace_batch(data):
                 m = t_of.match(raw)
                 yield (round(float(m.group(1)) * 1e9) if m else 0), raw
 

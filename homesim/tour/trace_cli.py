@@ -25,7 +25,7 @@ from typing import IO, Any
 from .. import cliargs
 from ..errors import HomesimError, InputError
 from ..trace import read_trace
-from ..traceview import SENDS, _check_record
+from ..traceview import SENDS, check_record
 
 _ROOT = re.compile(r"\s*<([A-Za-z_][\w.:-]*)")
 #: At most this many distinct types are named for one channel.
@@ -90,7 +90,7 @@ def _trace_records(path: Path) -> Iterator[tuple[int, dict[str, Any]]]:
                 check_header(rec, source=str(path))
             yield 1, rec
             continue
-        _check_record(path, n, rec)
+        check_record(path, n, rec)
         if not isinstance(rec.get("t"), (int, float)) or isinstance(rec.get("t"), bool):
             raise InputError(f"a record without a valid 't' (got {rec.get('t')!r:.60})", source=str(path), line=n)
         yield n, rec
@@ -146,7 +146,10 @@ def recording_info(path: Path) -> FileInfo:
                      ("Versions", ", ".join(f"{k.split('.', 1)[1]} {v}" for k, v in sorted(run.items()) if k.startswith("version.")))]
         if "homesim.scenario" in rec.metadata:
             about.append(("Scenario text", f"embedded ({len(rec.metadata['homesim.scenario'].get('xml', ''))} characters)"))
-        others = sorted(set(rec.metadata) - {"homesim.run", "homesim.scenario", "homesim.trace"})
+        stopped = rec.metadata.get("homesim.stopped")
+        if stopped is not None:
+            about.append(("Partial", f"the run stopped at t = {float(stopped.get('t') or 0):.3f} s: {stopped.get('reason', '?')}"))
+        others = sorted(set(rec.metadata) - {"homesim.run", "homesim.scenario", "homesim.trace", "homesim.stopped"})
         if others:
             about.append(("Other metadata", ", ".join(others)))
         n = sum(c.count for c in chans.values())
@@ -206,11 +209,19 @@ def echo(path: Path, channel: str, *, start: float | None, end: float | None, ra
     n = 0
     if is_mcap(path):
         with Recording(path) as rec:
-            known = [c[0] for c in rec.channels()]
-            if channel not in known:
-                channel = next((k for k in known if _bare(k) == _bare(channel)), channel)
-            if channel not in known:
-                raise _unknown_channel(path, channel, known)
+            chans = {c[0]: c[1] for c in rec.channels()}
+            if channel not in chans:  # either spelling: map_server/map (the trace's) is the topic /map_server/map
+                channel = next((k for k in chans if _bare(k) == _bare(channel)), channel)
+            if channel not in chans:
+                raise _unknown_channel(path, channel, sorted(chans))
+            if chans[channel] == "homesim.BusMessage" and "homesim.trace" in rec.metadata:
+                # A bus channel of a recording: from the trace it holds, so the echo is the JSONL trace's (seq too).
+                for t, r in _recorded_sends(rec, channel, start, end):
+                    if limit is not None and n >= limit:
+                        break
+                    n += 1
+                    _print_record(out, t, r, raw)
+                return n
             for topic, schema, lt, data in rec.messages([channel], start=start, end=end):
                 if limit is not None and n >= limit:
                     break
@@ -240,13 +251,32 @@ def echo(path: Path, channel: str, *, start: float | None, end: float | None, ra
         if limit is not None and n >= limit:
             break
         n += 1
-        if raw:
-            out.write(json.dumps(rec, ensure_ascii=False, separators=(",", ":")) + "\n")
-        else:
-            _print_send(out, t, rec)
+        _print_record(out, t, rec, raw)
     if n == 0 and want not in {_bare(c) for c in seen}:
         raise _unknown_channel(path, channel, sorted(seen))
     return n
+
+
+def _recorded_sends(rec: Any, channel: str, start: float | None, end: float | None) -> Iterator[tuple[float, dict[str, Any]]]:
+    """(t, record) of each send on ``channel`` within [start, end] from a recording's trace (batches are logged at their
+    last line's time, so the batches logged from ``start`` on hold every line from ``start`` on)."""
+    from .recording import TRACE_CHANNEL
+
+    for _, _, _, data in rec.messages([TRACE_CHANNEL], start=start):
+        for line in rec.trace_batch(data):
+            r = rec.decode(TRACE_CHANNEL, line)
+            t = float(r["t"])
+            if end is not None and t > end:
+                return
+            if r.get("kind") in SENDS and "/" + str(r.get("channel")).lstrip("/") == channel and (start is None or t >= start):
+                yield t, r
+
+
+def _print_record(out: IO[str], t: float, rec: dict[str, Any], raw: bool) -> None:
+    if raw:
+        out.write(json.dumps(rec, ensure_ascii=False, separators=(",", ":")) + "\n")
+    else:
+        _print_send(out, t, rec)
 
 
 def _print_send(out: IO[str], t: float, rec: dict[str, Any]) -> None:

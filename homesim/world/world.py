@@ -174,6 +174,11 @@ class World:
         """Call ``fn(world)`` after every step (ground truth, plots); it must not change the world."""
         self._listeners.append(fn)
 
+    def remove_listener(self, fn: StepListener) -> None:
+        """Stop calling ``fn`` (a recorder that has closed its file); nothing if it is not listening."""
+        if fn in self._listeners:
+            self._listeners.remove(fn)
+
     def add_contact_listener(self, fn: ContactListener) -> None:
         """Call ``fn(time, what)`` whenever the robot begins touching something (``what``: "wall",
         "furniture" or a person's name); during the physics step, so it must not change the world."""

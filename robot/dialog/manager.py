@@ -261,7 +261,7 @@ class DialogManager:
             # supervisor, which decides (the papers: the ES rejects what does not apply in its
             # state, and the rejection comes back so the dialog can say why). A question with
             # nothing to send (self-explanation) is ignored.
-            return self._send_unattended(d, act_el, out)
+            return self._send_unattended(d, act_el, out, stamp)
         if said == "no":
             act_el = self._correcting(d.id, act_el)
         inst = self._push(d, out)
@@ -317,13 +317,17 @@ class DialogManager:
             self.metrics["corrections"] += 1
             inst.last_sig = None  # the same slot statuses with a new value: the policy acts again (confirms it)
 
-    def _send_unattended(self, d: Any, act_el: etree._Element, out: list[Output]) -> list[Output]:
-        """Send the sub-dialog's event for an instruction heard outside its states, without starting it."""
+    def _send_unattended(self, d: Any, act_el: etree._Element, out: list[Output],
+                         stamp: etree._Element | None = None) -> list[Output]:
+        """Send the sub-dialog's event for an instruction heard outside its states, without starting it
+        (with the utterance's TIMESTAMP, as every SPEECH the dialog sends: the papers' frames carry it)."""
         send = next((a for r in d.rules for a in r.actions if a.kind == "send" and a.event), None)
         if send is None:
             self.metrics["ignored_frames"] += 1
             return out
         speech = etree.Element("SPEECH")
+        if stamp is not None:
+            speech.append(deepcopy(stamp))
         speech.append(deepcopy(act_el))
         self.metrics["events_sent"] += 1
         self.metrics["sent_unattended"] = self.metrics.get("sent_unattended", 0) + 1

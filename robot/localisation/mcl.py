@@ -10,7 +10,7 @@ particle filter keeps several hypotheses, absorbs unexplained beams in the
 likelihood field's random term, and its spread is the covariance the
 contract publishes. With a likelihood field (Thrun et al., Probabilistic
 Robotics §6.4: a precomputed distance-to-nearest-obstacle grid from
-:func:`scipy.ndimage.distance_transform_edt`) a beam costs one table look-up,
+:func:`homesim.ndgrid.distance_transform_edt`, SciPy's EDT bit for bit) a beam costs one table look-up,
 so 120 particles x 30 beams is one vectorised gather of 3600 cells.
 
 Cost control: the filter corrects only after the robot moved ``update_dist``
@@ -29,7 +29,7 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.ndimage import binary_dilation, distance_transform_edt, label
+from homesim.ndgrid import dilate3x3, distance_transform_edt, label
 
 from robot.floorplan import FloorPlan
 
@@ -128,7 +128,7 @@ class LikelihoodField:
         rooms = labels == labels[iy, ix]
         # the inside of walls and closed furniture: free cells of the plan not in the rooms
         self.solid = free & inside & ~rooms
-        faces = occ & binary_dilation(rooms, structure=np.ones((3, 3), dtype=bool))
+        faces = occ & dilate3x3(rooms)
         return faces if faces.any() else occ
 
     def lookup(self, x: np.ndarray, y: np.ndarray) -> np.ndarray:

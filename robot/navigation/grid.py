@@ -5,12 +5,12 @@ footprints and the start pose, docs/robot-contract.md) is rasterised at
 ``cell`` metres: a cell is occupied when its centre lies in a wall piece or
 a footprint that stands below the robot's top (everything on a floor plan
 does: the robot cannot drive under a table top). The free space is then
-eroded by the robot's radius with ``scipy.ndimage.distance_transform_edt``
+eroded by the robot's radius with an exact distance transform (``homesim.ndgrid``, as SciPy's ``distance_transform_edt``)
 (the distance of every cell to the nearest occupied one), so a free cell is a
 place where the robot's centre may be. Cells a little further from obstacles
 than that cost a little more, so paths keep to the middle of doorways.
 
-Paths: Dijkstra (``scipy.sparse.csgraph.dijkstra``, C code) on the
+Paths: Dijkstra (``scipy.sparse.csgraph.dijkstra``, C code, imported at the first plan) on the
 8-connected free cells, with octile step lengths times the clearance cost,
 diagonal moves only when both side cells are free (no corner cutting). The
 cell path is shortened by line-of-sight smoothing on the free cells.
@@ -26,12 +26,11 @@ from __future__ import annotations
 import copy
 import math
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 from lxml import etree
-from scipy import ndimage
-from scipy.sparse import csr_matrix
-from scipy.sparse.csgraph import dijkstra
+from homesim import ndgrid
 
 from homesim.errors import HomesimError
 from robot import floorplan
@@ -134,13 +133,13 @@ class OccupancyGrid:
         self.occupied = occ
         #: metres from each cell centre to the nearest occupied cell (0 inside obstacles)
         # (centre to centre, less half a cell: an occupied cell's centre lies inside the obstacle)
-        self.clearance = np.maximum(ndimage.distance_transform_edt(~occ) * cell - cell / 2, 0.0)
+        self.clearance = np.maximum(ndgrid.distance_transform_edt(~occ) * cell - cell / 2, 0.0)
         self.free = self.clearance > radius
         #: where smoothed shortcuts may run: ``margin`` more than the radius from anything
         self.roomy = self.clearance > radius + self.margin
         extra = np.clip((radius + self.soft - self.clearance) / self.soft, 0.0, 1.0)
         self.cost = 1.0 + SOFT_WEIGHT * extra
-        self._graph: csr_matrix | None = None
+        self._graph: Any = None  # scipy.sparse.csr_matrix, built at the first plan
 
     def with_obstacles(self, points: np.ndarray) -> OccupancyGrid:
         """A copy in which the cells holding ``points`` ((N, 2), map frame) are occupied too.
@@ -193,8 +192,13 @@ class OccupancyGrid:
         return int(ii[k] + i0), int(jj[k] + j0)
 
     # ------------------------------------------------------------- graph
-    def _build_graph(self) -> csr_matrix:
-        """The 8-connected graph of free cells: edge weight = step length x mean cell cost."""
+    def _build_graph(self) -> Any:
+        """The 8-connected graph of free cells: edge weight = step length x mean cell cost.
+
+        SciPy's sparse package is imported here, at the first plan, not at start-up (~0.2 s of
+        CPU with ``scipy.linalg``, which ``scipy.sparse.csgraph`` pulls in)."""
+        from scipy.sparse import csr_matrix
+
         nx, ny = self.nx, self.ny
         idx = np.arange(nx * ny).reshape(nx, ny)
         free, cost = self.free, self.cost
@@ -229,6 +233,8 @@ class OccupancyGrid:
         if self._graph is None:
             self._graph = self._build_graph()
         si, gi = s[0] * self.ny + s[1], g[0] * self.ny + g[1]
+        from scipy.sparse.csgraph import dijkstra
+
         dist, pred = dijkstra(self._graph, directed=False, indices=si, return_predecessors=True)
         if not np.isfinite(dist[gi]):
             raise NoPathError(f"no free path from ({start[0]:.2f}, {start[1]:.2f}) to ({goal[0]:.2f}, {goal[1]:.2f})", "no_path")
