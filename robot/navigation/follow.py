@@ -52,11 +52,14 @@ from lxml import etree
 from homesim.message import Message
 from homesim.module import Module
 
-from robot.contract import ATTENTION_STATE, BASE_CMD, ES_EVENTS, FOLLOW_STATUS, ODOMETRY, PARTNER, SCAN, TRACKS
+from homesim.errors import BusError, HomesimError
+from robot.contract import ATTENTION_STATE, BASE_CMD, ES_EVENTS, FOLLOW_STATUS, ODOMETRY, PARTNER, POSE, SCAN, TRACKS
 
 from .config import Limits
-from .local import DWAParams, LatestScan, dwa, heading_speed, social_speed_limit
+from .grid import MapError, OccupancyGrid, parse_map
+from .local import DWAParams, LatestScan, arcs, dwa, heading_speed, social_speed_limit, sweep_clearance
 from .people import People, nearest
+from .route import Route
 from .seen import SeenGround, footprint_samples
 
 SCHEMA = Path(__file__).resolve().parent.parent / "schemas" / "navigation" / "follow-status.xsd"
@@ -68,6 +71,11 @@ CRUMB_NEAR = 0.15
 #: m: the base's footprint (length, width) and the margin kept backing over seen ground
 FOOTPRINT = (0.51, 0.43)
 BACK_MARGIN = 0.05
+#: s and m: a waiting command's sweep is checked this far ahead, and must keep this far from the floor plan's obstacles
+SWEEP_TIME = 0.5
+SWEEP_MARGIN = 0.05
+#: m: backing off must leave the centre this far from the floor plan's obstacles (the footprint's corners reach 0.34 m)
+TURN_ROOM = 0.40
 
 
 def speed_law(d: float, v_radial: float, *, distance: float, band: tuple[float, float], minimum: float,
@@ -121,6 +129,9 @@ class Follower(Module):
         self.bus.subscribe(ODOMETRY, self._on_odometry)
         self.people = People()  # everyone else the attention tracks, while following
         self._tracks_sub: Any = None
+        self.route = Route()  # the way to the partner on the floor plan (through doors)
+        self._map_asked = False
+        self._pose_sub: Any = None
 
     def respawn(self) -> Follower:
         return Follower(self.sim, name=self.name, limits=self.limits, rate=1.0 / self.period, distance=self.distance,
@@ -134,6 +145,7 @@ class Follower(Module):
         partner = msg.xml.get("partner") or None
         if follow and not self.following:
             self.trail.clear()
+            self.route.clear()
             self._history.clear()
             self._limit_since = None
         if follow and partner != self.partner_id:
@@ -148,10 +160,26 @@ class Follower(Module):
         delay from the run's generator: a standing subscription would change every run)."""
         if on and self._tracks_sub is None:
             self._tracks_sub = self.bus.subscribe(TRACKS, lambda m: self.people.update(m.xml))
+            self._pose_sub = self.bus.subscribe(POSE, self._on_pose)
         elif not on and self._tracks_sub is not None:
             self._tracks_sub.close()
             self._tracks_sub = None
             self.people.clear()
+            self._pose_sub.close()
+            self._pose_sub = None
+
+    def _on_pose(self, msg: Message) -> None:
+        x = msg.xml
+        self.route.on_pose((float(x.get("x")), float(x.get("y")), float(x.get("theta"))), self.odom)
+
+    async def _fetch_map(self) -> None:
+        """The floor plan, once (the planner's grid): without it the follower steers along the trail only."""
+        self._map_asked = True
+        try:
+            reply = await self.bus.call("map_server", "map", etree.Element("request"), timeout=2.0)
+            self.route.set_grid(OccupancyGrid(parse_map(reply.xml), radius=self.limits.radius))
+        except (BusError, MapError, HomesimError, asyncio.TimeoutError):
+            pass
 
     def _on_partner(self, msg: Message) -> None:
         x = msg.xml
@@ -248,10 +276,12 @@ class Follower(Module):
         v_des = speed_law(d, v_radial, distance=self.distance, band=self.band, minimum=self.minimum,
                           gain=self.gain, limits=self.limits)
         bearing = math.atan2(ry, rx)
+        mapped = self.route.obstacles_near(self.odom)  # walls and furniture all round (the laser looks ahead)
         if v_des <= 0.05:
             # wait (or back off) facing the partner; reversing is slow and straight (no laser behind)
             w = max(-self.limits.max_turn, min(self.limits.max_turn, 1.8 * bearing))
             v = v_des if v_des < 0 and self.can_back_off() else 0.0
+            v, w = self._swept(v, w, mapped)
             state = "waiting"
             # the robot stands and sees the partner: the way to them is the straight line. Older trail
             # points are stale (a partner who turned back and walked past would otherwise be
@@ -263,12 +293,19 @@ class Follower(Module):
             while len(self.trail) > 1 and math.hypot(*self._to_robot(*self.trail[0])) < 0.6:
                 self.trail.popleft()
             goal = self._to_robot(*self.trail[0]) if self.trail else (rx, ry)
+            # through a door or round a corner: the planned path's middle of the door, not the trail
+            # that hugs the jamb (see robot.navigation.route)
+            way = self.route.goal(self.now, self.odom[:2], (px, py))
+            if way is not None:
+                goal = self._to_robot(*way)
             # a goal off to the side (a partner who walked past): turn toward it first, and keep the
             # partner in the laser's field of view, instead of driving a wide arc forwards
             v_pref = heading_speed(v_des, math.atan2(goal[1], goal[0]))
             pts = self.scan.points()
             if len(pts):
                 pts = pts[np.hypot(pts[:, 0] - rx, pts[:, 1] - ry) > 0.45]  # not the partner's own legs
+            if len(mapped):
+                pts = np.concatenate((pts, mapped))
             # everyone else: keep out of their personal space, and pass them slowly (yield: slow,
             # stop and wait while they cross, then go on)
             # people walking about (a standing track may be a table's legs, which the laser keeps it
@@ -290,6 +327,30 @@ class Follower(Module):
         self._status(d, at_limit, state if tr["visible"] else "searching")
         return v, w
 
+    def _swept(self, v: float, w: float, mapped: np.ndarray) -> tuple[float, float]:
+        """The wait's command made safe against the floor plan's walls and furniture (the corners
+        sweep ground behind the laser): its footprint must keep :data:`SWEEP_MARGIN` from them, and a
+        back-off must leave room to turn on the spot (the centre :data:`TURN_ROOM` m from them; the
+        attention turns the robot to face the partner once she stops), unless the command takes the
+        robot further off than it is. Backing is dropped first, then turning."""
+        if not len(mapped) or (v == 0.0 and w == 0.0):
+            return v, w
+        here = sweep_clearance(0.0, 0.0, mapped, 0.0, steps=1)
+        room = float(np.hypot(mapped[:, 0], mapped[:, 1]).min())
+        for cand in ((v, w), (v, 0.0), (0.0, w)):
+            if cand == (0.0, 0.0):
+                continue
+            gap = sweep_clearance(cand[0], cand[1], mapped, SWEEP_TIME)
+            if not (gap >= SWEEP_MARGIN or gap >= here + 1e-3):
+                continue
+            if cand[0] < 0.0:
+                x, y, _ = arcs(np.array([cand[0]]), np.array([cand[1]]), np.array([SWEEP_TIME]))
+                after = float(np.hypot(mapped[:, 0] - x[0, 0], mapped[:, 1] - y[0, 0]).min())
+                if after < TURN_ROOM and after < room + 1e-3:
+                    continue
+            return cand
+        return 0.0, 0.0
+
     def _too_fast(self, d: float, at_limit: bool) -> None:
         now = self.now
         if not at_limit:
@@ -310,5 +371,7 @@ class Follower(Module):
     async def run(self) -> None:
         while True:
             self.beat()
+            if self.following and not self._map_asked:
+                await self._fetch_map()
             self.control_step()
             await asyncio.sleep(self.period)
