@@ -29,6 +29,16 @@ Control, every ``1/rate`` seconds:
 * Too fast: while the commanded speed is at the limit for ``too_fast_time`` and
   the distance is beyond ``too_fast_distance`` and still growing, the ES gets
   ``partner_too_fast`` with ``@distance`` (at most every ``warn_every`` s).
+* Catching up (issue 26 item 10): when following ends with the partner still tracked
+  ("stop", the attention back in ``Interaction`` with the same partner) and she stands
+  further than ``approach_to`` (the band's far end, 1.5 m) or out of the robot's line of
+  sight on the floor plan (in the next room), it goes on driving the same way (the floor
+  plan's path through the door, the dynamic window, everyone's space) for at most
+  ``approach_time`` s until she is that close, then turns to face her and stops, so it
+  stands at a comfortable interaction distance facing her before her next request is
+  handled (a robot lagging at a door frame would teach from the other room). Its status
+  says ``approaching`` meanwhile; the attention leaves turning the base to it until then.
+  No too-fast warnings while approaching. Any other state (she teaches, a go-to) ends it.
 * Lost: not seen for ``lost_after`` s: it stops (the attention's
   ``partner_lost`` makes the ES stop the player and the dialog ask).
 
@@ -100,7 +110,8 @@ class Follower(Module):
     def __init__(self, sim: Any, *, name: str = "follower", limits: Limits | None = None, rate: float = 10.0,
                  distance: float = 1.2, band: tuple[float, float] = (1.0, 1.5), minimum: float = 0.8,
                  gain: float = 0.8, lost_after: float = 1.0, too_fast_distance: float = 2.0,
-                 too_fast_time: float = 1.0, warn_every: float = 5.0, params: DWAParams = DWAParams()) -> None:
+                 too_fast_time: float = 1.0, warn_every: float = 5.0, params: DWAParams = DWAParams(),
+                 approach_time: float = 15.0, approach_to: float = 1.5) -> None:
         super().__init__(sim, name)
         self.limits = limits or Limits()
         self.period = 1.0 / rate
@@ -108,6 +119,8 @@ class Follower(Module):
         self.lost_after = lost_after
         self.too_fast_distance, self.too_fast_time, self.warn_every = too_fast_distance, too_fast_time, warn_every
         self.params = params
+        self.approach_time, self.approach_to = approach_time, approach_to
+        self.approach_until: float | None = None  # coming up to the partner after following, until then
         sim.bus.declare_channel(FOLLOW_STATUS, SCHEMA)
         self.following = False
         self.partner_id: str | None = None
@@ -137,12 +150,21 @@ class Follower(Module):
         return Follower(self.sim, name=self.name, limits=self.limits, rate=1.0 / self.period, distance=self.distance,
                         band=self.band, minimum=self.minimum, gain=self.gain, lost_after=self.lost_after,
                         too_fast_distance=self.too_fast_distance, too_fast_time=self.too_fast_time,
-                        warn_every=self.warn_every, params=self.params)
+                        warn_every=self.warn_every, params=self.params, approach_time=self.approach_time,
+                        approach_to=self.approach_to)
 
     # ------------------------------------------------------------- inputs
     def _on_state(self, msg: Message) -> None:
-        follow = msg.xml.get("state") == "Follow"
+        state = msg.xml.get("state")
+        follow = state == "Follow"
         partner = msg.xml.get("partner") or None
+        if self.following and not follow:
+            # following ended ("stop", or she stopped to talk): come up to her first when she is
+            # further than a comfortable interaction distance (issue 26 item 10)
+            same = partner is not None and partner == self.partner_id
+            self.approach_until = self.now + self.approach_time if state == "Interaction" and same else None
+        elif state != "Interaction":
+            self.approach_until = None
         if follow and not self.following:
             self.trail.clear()
             self.route.clear()
@@ -153,7 +175,7 @@ class Follower(Module):
             if self.track is not None and self.track.get("id") != partner:
                 self.track = None
         self.following = follow
-        self._listen_to_people(follow)
+        self._listen_to_people(follow or self.approach_until is not None)
 
     def _listen_to_people(self, on: bool) -> None:
         """Read the person tracks while following, and only then (every delivery draws a network
@@ -248,20 +270,19 @@ class Follower(Module):
 
     def control_step(self) -> tuple[float, float] | None:
         """One control step; returns the command sent (None when not driving)."""
-        if not self.following:
+        approaching = not self.following and self.approach_until is not None and self.now < self.approach_until
+        if not self.following and not approaching:
+            if self.approach_until is not None:
+                self._end_approach()
             self._halt()
             return None
         tr = self.track
         if tr is None or self.odom is None:
-            self._halt()
-            self._status(0.0, False, "searching")
-            return None
+            return self._stand(approaching, "searching")
         age = self.now - tr["t"]
         unseen = (0.0 if tr["visible"] else tr["lost_for"]) + age
-        if unseen > self.lost_after:
-            self._halt()
-            self._status(0.0, False, "stopped")
-            return None
+        if unseen > self.lost_after or (approaching and not tr["visible"]):
+            return self._stand(approaching, "stopped")
         # the partner now (constant velocity over the message's age), in odom and robot frames
         horizon = min(age, 0.5)
         px, py = tr["x"] + tr["vx"] * horizon, tr["y"] + tr["vy"] * horizon
@@ -273,9 +294,19 @@ class Follower(Module):
         c, s = math.cos(self.odom[2]), math.sin(self.odom[2])
         vrx, vry = c * tr["vx"] + s * tr["vy"], -s * tr["vx"] + c * tr["vy"]
         v_radial = (vrx * rx + vry * ry) / d if d > 1e-6 else 0.0
-        v_des = speed_law(d, v_radial, distance=self.distance, band=self.band, minimum=self.minimum,
-                          gain=self.gain, limits=self.limits)
         bearing = math.atan2(ry, rx)
+        if approaching:
+            # she stands: close in to the band's near part, the far end no further than approach_to;
+            # near enough and in sight (not behind a wall), face her and stop
+            near = d <= self.approach_to and self.route.in_sight(self.odom[:2], (px, py))
+            if near:
+                return self._face(bearing)
+            v_des = speed_law(d, 0.0, distance=self.distance, band=(self.band[0], self.distance), minimum=self.minimum,
+                              gain=self.gain, limits=self.limits)
+            v_des = max(v_des, 0.15)  # in the next room (near but out of sight): on through the door
+        else:
+            v_des = speed_law(d, v_radial, distance=self.distance, band=self.band, minimum=self.minimum,
+                              gain=self.gain, limits=self.limits)
         mapped = self.route.obstacles_near(self.odom)  # walls and furniture all round (the laser looks ahead)
         if v_des <= 0.05:
             # wait (or back off) facing the partner; reversing is slow and straight (no laser behind)
@@ -322,10 +353,39 @@ class Follower(Module):
             v, w = cmd.v, cmd.w
             state = "following" if cmd.ok else "waiting"
         self._command(v, w)
+        if approaching:
+            self._status(d, False, "approaching")
+            return v, w
         at_limit = v_des >= self.limits.max_speed - 1e-6
         self._too_fast(d, at_limit)
         self._status(d, at_limit, state if tr["visible"] else "searching")
         return v, w
+
+    def _stand(self, approaching: bool, state: str) -> None:
+        """Stop driving; following, say why (``state``); approaching, the approach is over."""
+        self._halt()
+        if approaching:
+            self._end_approach()
+        else:
+            self._status(0.0, False, state)
+        return None
+
+    def _face(self, bearing: float) -> tuple[float, float] | None:
+        """The approach's end: turn on the spot to face her (within 8 degrees), then stop."""
+        if abs(bearing) < math.radians(8):
+            return self._stand(True, "")
+        w = max(-self.limits.max_turn, min(self.limits.max_turn, 1.8 * bearing))
+        v, w = self._swept(0.0, w, self.route.obstacles_near(self.odom))  # type: ignore[arg-type]
+        if w == 0.0:
+            return self._stand(True, "")  # no room to turn: the attention turns it when it can
+        self._command(0.0, w)
+        self._status(0.0, False, "approaching")
+        return 0.0, w
+
+    def _end_approach(self) -> None:
+        self.approach_until = None
+        self._status(0.0, False, "stopped")  # the attention may turn the base again
+        self._listen_to_people(self.following)
 
     def _swept(self, v: float, w: float, mapped: np.ndarray) -> tuple[float, float]:
         """The wait's command made safe against the floor plan's walls and furniture (the corners

@@ -110,6 +110,21 @@ class Route:
         dx, dy = p[0] - mx, p[1] - my
         return ox + c * dx - s * dy, oy + s * dx + c * dy
 
+    def in_sight(self, robot: Point, target: Point) -> bool:
+        """Whether the segment robot-target (odom) crosses no wall or furniture of the floor plan
+        (True without a plan: the laser then is the only judge)."""
+        if not self.ready:
+            return True
+        g = self.grid
+        assert g is not None
+        a, b = self.to_map(robot), self.to_map(target)
+        n = max(int(math.hypot(b[0] - a[0], b[1] - a[1]) / (g.cell / 2)) + 2, 2)
+        t = np.linspace(0.0, 1.0, n)
+        i = ((a[0] + (b[0] - a[0]) * t - g.origin[0]) / g.cell).astype(int)
+        j = ((a[1] + (b[1] - a[1]) * t - g.origin[1]) / g.cell).astype(int)
+        ok = (i >= 0) & (i < g.nx) & (j >= 0) & (j < g.ny)
+        return not bool(g.occupied[i[ok], j[ok]].any())
+
     def obstacles_near(self, robot: Pose) -> np.ndarray:
         """The floor plan's obstacle outlines within :data:`NEAR` m of ``robot`` (odom pose), robot frame, (N, 2)."""
         if not self.ready or not len(self._outline):
