@@ -34,11 +34,13 @@ Control, every ``1/rate`` seconds:
   further than ``approach_to`` (the band's far end, 1.5 m) or out of the robot's line of
   sight on the floor plan (in the next room), it goes on driving the same way (the floor
   plan's path through the door, the dynamic window, everyone's space) for at most
-  ``approach_time`` s until she is that close, then turns to face her and stops, so it
-  stands at a comfortable interaction distance facing her before her next request is
-  handled (a robot lagging at a door frame would teach from the other room). Its status
-  says ``approaching`` meanwhile; the attention leaves turning the base to it until then.
-  No too-fast warnings while approaching. Any other state (she teaches, a go-to) ends it.
+  ``approach_time`` s until she is that close and it does not stand in a door frame or a
+  passage (its centre ``APPROACH_ROOM`` m from the walls; closer to her than the band's near
+  end it stops anyway), then turns to face her and stops, so it stands at a comfortable
+  interaction distance facing her before her next request is handled (a robot lagging at a
+  door frame would teach from the other room). Its status says ``approaching`` meanwhile;
+  the attention leaves turning the base to it, and the dialog holds her requests, until
+  then. No too-fast warnings while approaching. Any other state (a go-to) ends it.
 * Lost: not seen for ``lost_after`` s: it stops (the attention's
   ``partner_lost`` makes the ES stop the player and the dialog ask).
 
@@ -84,6 +86,8 @@ BACK_MARGIN = 0.05
 #: s and m: a waiting command's sweep is checked this far ahead, and must keep this far from the floor plan's obstacles
 SWEEP_TIME = 0.5
 SWEEP_MARGIN = 0.05
+#: m: the approach does not end where the robot's centre is closer than this to a wall (a door frame, a passage)
+APPROACH_ROOM = 0.5
 #: m: backing off must leave the centre this far from the floor plan's obstacles (the footprint's corners reach 0.34 m)
 TURN_ROOM = 0.40
 
@@ -281,7 +285,7 @@ class Follower(Module):
             return self._stand(approaching, "searching")
         age = self.now - tr["t"]
         unseen = (0.0 if tr["visible"] else tr["lost_for"]) + age
-        if unseen > self.lost_after or (approaching and not tr["visible"]):
+        if unseen > self.lost_after:
             return self._stand(approaching, "stopped")
         # the partner now (constant velocity over the message's age), in odom and robot frames
         horizon = min(age, 0.5)
@@ -297,9 +301,10 @@ class Follower(Module):
         bearing = math.atan2(ry, rx)
         if approaching:
             # she stands: close in to the band's near part, the far end no further than approach_to;
-            # near enough and in sight (not behind a wall), face her and stop
+            # near enough, in sight (not behind a wall) and not in a door frame or a passage (where
+            # it would teach from the other room and block the way), face her and stop
             near = d <= self.approach_to and self.route.in_sight(self.odom[:2], (px, py))
-            if near:
+            if near and (d <= self.band[0] or self.route.clearance(self.odom[:2]) >= APPROACH_ROOM):
                 return self._face(bearing)
             v_des = speed_law(d, 0.0, distance=self.distance, band=(self.band[0], self.distance), minimum=self.minimum,
                               gain=self.gain, limits=self.limits)

@@ -110,6 +110,15 @@ class Route:
         dx, dy = p[0] - mx, p[1] - my
         return ox + c * dx - s * dy, oy + s * dx + c * dy
 
+    def clearance(self, robot: Point) -> float:
+        """Metres from ``robot`` (odom) to the floor plan's nearest wall or furniture (inf without a plan)."""
+        if not self.ready:
+            return math.inf
+        g = self.grid
+        assert g is not None
+        i, j = g.cell_of(self.to_map(robot))
+        return float(g.clearance[i, j]) if g.inside((i, j)) else 0.0
+
     def in_sight(self, robot: Point, target: Point) -> bool:
         """Whether the segment robot-target (odom) crosses no wall or furniture of the floor plan
         (True without a plan: the laser then is the only judge)."""
