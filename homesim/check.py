@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import sys
 from collections.abc import Iterable
+from pathlib import Path
 from typing import Any
 
 from lxml import etree
@@ -69,7 +70,9 @@ def check_paths(paths: Iterable[str], out: Any = None, err: Any = None) -> int:
 
 def register(sub: Any) -> None:
     """Add ``homesim check FILE...``."""
-    p = sub.add_parser("check", help="validate scenario, AFSM (and other registered) documents: every problem, file:line")
-    p.add_argument("files", nargs="+", metavar="FILE", help="documents to check (the kind is read from the root element)")
-    p.set_defaults(func=lambda a: check_paths(a.files))
+    p = sub.add_parser("check", help="validate scenario, AFSM (and other registered) documents: every problem, file:line",
+                       examples=["homesim check scenarios/*.xml", "homesim check machine.scxml scenarios/home_tour.xml"])
+    p.add_argument("files", nargs="+", metavar="FILE", type=Path,
+                   help="documents to check, e.g. scenarios/home_tour.xml (the kind is read from the root element)")
+    p.set_defaults(func=lambda a: check_paths([str(f) for f in a.files]))
 

@@ -1,19 +1,24 @@
 """The ``homesim`` command.
 
 Each subcommand lives in its own module, which exposes
-``register(subparsers)``; this file only lists them. Errors from user input
-(``HomesimError``) print one clear line and exit with status 2.
+``register(subparsers)``; this file only lists them. The parser
+(:mod:`homesim.cliparse`) is argparse with usage on error, ``did you mean``
+suggestions, defaults and examples in ``--help``; ``homesim completion``
+prints a shell completion script (shtab). Errors from user input
+(``HomesimError``) print one clear line and exit with status 2. Output piped
+into a reader that stops early (``| head``) ends the command quietly.
 """
 
 from __future__ import annotations
 
 import argparse
 import importlib
+import os
 import sys
 
 from . import __version__
-from . import cliargs
-from .cliargs import OneLineParser
+from . import cliargs, completion
+from .cliparse import Parser
 from .realtime import MAX_WATCHDOG_S, Watchdog
 from .errors import HomesimError
 
@@ -31,23 +36,31 @@ SUBCOMMAND_MODULES: list[str] = [
     "homesim.tour.study",
 ]
 
+#: Exit status after the reader of our output went away (128 + SIGPIPE, as a shell reports a process killed by it).
+BROKEN_PIPE_STATUS = 141
+
 
 def build_parser() -> argparse.ArgumentParser:
-    parser = OneLineParser(prog="homesim", description="Deterministic simulator of BIRON's home tour.")
+    """The whole command tree (every module of :data:`SUBCOMMAND_MODULES` adds its subcommands)."""
+    parser = Parser(prog="homesim", description="Deterministic simulator of BIRON's home tour.",
+                    epilog="examples:\n  homesim run scenarios/home_tour.xml\n  homesim run --help\n"
+                           "  homesim completion bash > ~/.local/share/bash-completion/completions/homesim")
     parser.add_argument("--version", action="version", version=f"homesim {__version__}")
     parser.add_argument("--watchdog", type=cliargs.seconds(positive=True, high=MAX_WATCHDOG_S), default=None, metavar="WALL_SECONDS",
                         help="dump every stack and exit (status 1) after this many seconds of wall time (for runs that hang)")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
     for name in SUBCOMMAND_MODULES:
         importlib.import_module(name).register(sub)
+    completion.register(sub, build_parser)
     return parser
 
 
 def main(argv: list[str] | None = None) -> int:
+    """Parse ``argv``, run the subcommand; the exit status (0 ok, 1 a check failed, 2 bad input)."""
     parser = build_parser()
     try:
         args = parser.parse_args(argv)
-    except SystemExit as exc:  # argparse's refusals (one line, see OneLineParser), --help, --version
+    except SystemExit as exc:  # argparse's refusals (usage + one line), --help, --version
         return exc.code if isinstance(exc.code, int) else 2
     if not getattr(args, "func", None):
         parser.print_help()
@@ -55,15 +68,44 @@ def main(argv: list[str] | None = None) -> int:
     try:
         if args.watchdog is not None:
             with Watchdog(args.watchdog):
-                return int(args.func(args) or 0)
-        return int(args.func(args) or 0)
+                status = int(args.func(args) or 0)
+        else:
+            status = int(args.func(args) or 0)
+        sys.stdout.flush()  # a closed pipe shows here, not in the interpreter's last flush
+        return status
+    except BrokenPipeError:  # `homesim ... | head`: the reader has what it wanted
+        _silence_stdout()
+        return BROKEN_PIPE_STATUS
     except HomesimError as exc:
+        if _from_broken_pipe(exc):  # a print inside the simulation (the transcript) met the closed pipe
+            _silence_stdout()
+            return BROKEN_PIPE_STATUS
         print(f"homesim: error: {exc}", file=sys.stderr)
         return 2
     except OSError as exc:  # the environment (disk full, permissions), not the program: one line
         where = f"{exc.filename}: " if exc.filename else ""
         print(f"homesim: error: {where}{exc.strerror or exc}", file=sys.stderr)
         return 2
+
+
+def _from_broken_pipe(exc: BaseException) -> bool:
+    """Whether ``exc`` was caused by writing to a closed pipe (the simulation wraps a failing task's error)."""
+    while exc is not None:
+        if isinstance(exc, BrokenPipeError):
+            return True
+        exc = exc.__cause__  # type: ignore[assignment]
+    return False
+
+
+def _silence_stdout() -> None:
+    """Point stdout at /dev/null so the interpreter's final flush does not fail again (Python's SIGPIPE recipe)."""
+    try:
+        fd = sys.stdout.fileno()
+    except (AttributeError, OSError, ValueError):  # a test's capture: nothing to flush into a pipe
+        return
+    devnull = os.open(os.devnull, os.O_WRONLY)
+    os.dup2(devnull, fd)
+    os.close(devnull)
 
 
 if __name__ == "__main__":

@@ -2,7 +2,7 @@
 
 argparse calls these ``type=`` functions while parsing; an
 ``ArgumentTypeError`` becomes ``homesim ...: error: argument --until: ...``
-on one line (see :class:`OneLineParser`) and exit status 2. The ranges are
+after the subcommand's usage (see :mod:`homesim.cliparse`) and exit status 2. The ranges are
 documented in ``docs/running.md`` ("Input limits and what homesim
 refuses"):
 
@@ -25,7 +25,6 @@ import os
 import re
 from collections.abc import Callable
 from pathlib import Path
-from typing import NoReturn
 
 from .errors import HomesimError, OptionError  # noqa: F401 (OptionError: re-exported)
 
@@ -37,13 +36,6 @@ MIN_REALTIME_SCALE = 0.01
 MAX_REALTIME_SCALE = 1000.0
 _MAX_NUMBER_TEXT = 40  # characters: a longer "number" is refused before conversion
 _DECIMAL = re.compile(r"[+-]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][+-]?[0-9]{1,3})?")
-
-
-class OneLineParser(argparse.ArgumentParser):
-    """An ArgumentParser whose errors are one line: ``prog: error: message`` (exit 2)."""
-
-    def error(self, message: str) -> NoReturn:
-        self.exit(2, f"{self.prog}: error: {message}\n")
 
 
 def _number(text: str) -> float:

@@ -108,10 +108,11 @@ def run_demo(*, seed: int, duration: float, trace: Path | None, realtime: float 
 
 
 def register(sub: argparse._SubParsersAction) -> None:
-    p = sub.add_parser("demo", help="kernel demo: typed messages over WLAN, heartbeats, a crash")
+    p = sub.add_parser("demo", help="kernel demo: typed messages over WLAN, heartbeats, a crash",
+                       examples=["homesim demo", "homesim demo --seed 7 --duration 4 --trace out/demo.jsonl"])
     p.add_argument("--seed", type=cliargs.seed, default=1, help="seed of every random stream (link delays); same seed, same trace")
-    p.add_argument("--duration", type=cliargs.seconds(positive=True), default=6.0, help="virtual seconds")
+    p.add_argument("--duration", type=cliargs.seconds(positive=True), default=6.0, metavar="SECONDS", help="virtual seconds")
     p.add_argument("--trace", type=cliargs.output_file, default=Path("out/demo-trace.jsonl"),
-                   help="write the bus trace here (JSON Lines; default %(default)s)")
+                   metavar="FILE", help="write the bus trace here (JSON Lines)")
     p.add_argument("--realtime", type=cliargs.realtime_scale, default=None, metavar="SCALE", help="pace against the wall clock")
     p.set_defaults(func=lambda a: run_demo(seed=a.seed, duration=a.duration, trace=a.trace, realtime=a.realtime))

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import argparse
 import sys
+from pathlib import Path
 from typing import Any
 
 from ..errors import OptionError
@@ -18,22 +19,27 @@ from .render import to_dot, to_mermaid
 
 def register(subparsers: Any) -> None:
     """Add the ``afsm`` command and its ``show``/``check`` subcommands."""
-    p = subparsers.add_parser("afsm", help="look at and check AFSM (SCXML) documents")
+    p = subparsers.add_parser("afsm", help="look at and check AFSM (SCXML) documents",
+                              examples=["homesim afsm show machine.scxml > out/machine.dot",
+                                        "homesim afsm check machine.scxml"])
     sub = p.add_subparsers(dest="afsm_command", metavar="ACTION")
-    show = sub.add_parser("show", help="render an AFSM as Graphviz DOT or Mermaid")
-    show.add_argument("file")
-    show.add_argument("--format", choices=("dot", "mermaid"), default="dot")
-    show.add_argument("--current", default=None, help="highlight this state")
+    show = sub.add_parser("show", help="render an AFSM as Graphviz DOT or Mermaid",
+                          examples=["homesim afsm show machine.scxml | dot -Tsvg > out/machine.svg  (Graphviz)",
+                                    "homesim afsm show machine.scxml --format mermaid --current Interacting"])
+    show.add_argument("file", type=Path, help="an AFSM (SCXML) document, e.g. machine.scxml")
+    show.add_argument("--format", choices=("dot", "mermaid"), default="dot", help="the notation")
+    show.add_argument("--current", default=None, metavar="STATE", help="highlight this state")
     show.add_argument("--no-sends", action="store_true", help="leave orders/conditions off the labels")
     show.set_defaults(func=_show)
-    chk = sub.add_parser("check", help="report every problem of an AFSM document")
-    chk.add_argument("file")
+    chk = sub.add_parser("check", help="report every problem of an AFSM document",
+                         examples=["homesim afsm check machine.scxml"])
+    chk.add_argument("file", type=Path, help="an AFSM (SCXML) document, e.g. machine.scxml")
     chk.set_defaults(func=_check)
     p.set_defaults(func=lambda args: (p.print_help(), 2)[1])
 
 
 def _show(args: argparse.Namespace) -> int:
-    m = load(args.file)
+    m = load(str(args.file))
     if args.current is not None and args.current not in m.states:
         near = ", ".join(sorted(m.leaves())[:8])
         raise OptionError("--current", f"no state {args.current!r} in {args.file} (states include: {near})")
@@ -43,13 +49,13 @@ def _show(args: argparse.Namespace) -> int:
 
 
 def _check(args: argparse.Namespace) -> int:
-    problems = check_file(args.file)
+    problems = check_file(str(args.file))
     for p in problems:
         print(p)
     if problems:
         print(f"{args.file}: {len(problems)} problem{'s' if len(problems) > 1 else ''}", file=sys.stderr)
         return 1
-    m = load(args.file)
+    m = load(str(args.file))
     print(f"{args.file}: ok ({len(m.leaves())} states, {len(m.categories())} categories, "
           f"{sum(1 for _ in m.transitions())} transitions)")
     return 0

@@ -44,8 +44,10 @@ def export_command(a: argparse.Namespace) -> int:
 
 def register(sub: argparse._SubParsersAction) -> None:
     """Add ``homesim export``."""
-    p = sub.add_parser("export", help="export a recorded run for Perfetto (trace events) or Foxglove (MCAP)")
-    p.add_argument("trace", type=Path, help="a trace written by 'homesim run --trace'")
+    p = sub.add_parser("export", help="export a recorded run for Perfetto (trace events) or Foxglove (MCAP)",
+                       examples=["homesim export out/tour.jsonl --perfetto out/tour.perfetto.json",
+                                 "homesim export out/tour.jsonl --mcap out/tour.mcap"])
+    p.add_argument("trace", type=Path, help="a trace written by 'homesim run --trace', e.g. out/tour.jsonl")
     p.add_argument("--perfetto", type=cliargs.output_file, default=None, metavar="FILE",
                    help="Chrome trace-event JSON: module processing spans and cause -> message flows (open in ui.perfetto.dev)")
     p.add_argument("--mcap", type=cliargs.output_file, default=None, metavar="FILE",

@@ -695,8 +695,9 @@ def register(sub: argparse._SubParsersAction) -> None:
     """Add ``homesim generate``."""
     from .. import cliargs
 
-    p = sub.add_parser("generate", help="write random flats with a home tour as scenario files (same seed, same files)")
+    p = sub.add_parser("generate", help="write random flats with a home tour as scenario files (same seed, same files)",
+                       examples=["homesim generate --seed 1000 --count 200 -o out/generated"])
     p.add_argument("--seed", type=cliargs.seed, required=True, help="the generator's seed (file k is drawn from [seed, k])")
-    p.add_argument("--count", type=_count, default=1, help="how many tours (default 1)")
-    p.add_argument("--out", required=True, help="directory for the scenario files")
+    p.add_argument("--count", type=_count, default=1, help="how many tours")
+    p.add_argument("-o", "--out", required=True, metavar="DIR", help="directory for the scenario files")
     p.set_defaults(func=generate_command)

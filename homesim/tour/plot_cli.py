@@ -55,6 +55,8 @@ def plot_moment_of_trace(trace: Path, at: float | None):  # noqa: ANN201 (a matp
 def plot_command(a: argparse.Namespace) -> int:
     """``homesim plot``: one moment (default) or the timeline."""
     if a.timeline:
+        if a.at is not None:
+            raise OptionError("--at", "draws one moment of the flat; --timeline draws a window (choose it with --from/--to)")
         from ..traceview import read_timeline
         from ..viz.timeline import plot_timeline
 
@@ -78,11 +80,18 @@ def plot_command(a: argparse.Namespace) -> int:
 
 def register(sub: argparse._SubParsersAction) -> None:
     """Add ``homesim plot``."""
-    p = sub.add_parser("plot", help="draw a recorded run: the flat at a moment, or the module timeline (Fig. 6)")
-    p.add_argument("trace", type=Path, help="a trace written by 'homesim run --trace'")
-    p.add_argument("--at", type=cliargs.seconds(), default=None, help="the moment to draw (virtual seconds; default: the end)")
-    p.add_argument("--out", "-o", type=cliargs.output_file, default=None, help="the picture (.png or .svg)")
+    p = sub.add_parser("plot", help="draw a recorded run: the flat at a moment, or the module timeline (Fig. 6)",
+                       examples=["homesim plot out/tour.jsonl --at 12 -o out/tour-12s.png",
+                                 "homesim plot out/tour.jsonl --timeline --from 0 --to 15 -o out/timeline.svg"])
+    p.add_argument("trace", type=Path, help="a trace written by 'homesim run --trace', e.g. out/tour.jsonl")
+    p.add_argument("--at", type=cliargs.seconds(), default=None, metavar="SECONDS",
+                   help="the moment to draw (virtual seconds; default: the end of the recorded run; not with --timeline)")
+    p.add_argument("-o", "--out", type=cliargs.output_file, default=None, metavar="FILE",
+                   help="the picture, .png or .svg (default: out/plot.png, with --timeline out/timeline.png)")
+    p.add_argument("--output", dest="out", type=cliargs.output_file, help=argparse.SUPPRESS)  # the spelling of 'scenario plot' before
     p.add_argument("--timeline", action="store_true", help="draw the module communication (Fig. 6) instead of the flat")
-    p.add_argument("--from", dest="start", type=cliargs.seconds(), default=None, help="timeline: start (virtual seconds)")
-    p.add_argument("--to", dest="end", type=cliargs.seconds(), default=None, help="timeline: end (virtual seconds)")
+    p.add_argument("--from", dest="start", type=cliargs.seconds(), default=None, metavar="SECONDS",
+                   help="timeline: start (virtual seconds; default: the trace's first message)")
+    p.add_argument("--to", dest="end", type=cliargs.seconds(), default=None, metavar="SECONDS",
+                   help="timeline: end (virtual seconds; default: the trace's last message)")
     p.set_defaults(func=plot_command)

@@ -66,6 +66,11 @@ class Console:
         self.out.write(s + "\n")
 
 
+def _count(n: int, one: str, many: str | None = None) -> str:
+    """``"1 person"``, ``"2 people"``, ``"0 other sound sources"``."""
+    return f"{n} {one if n == 1 else (many or one + 's')}"
+
+
 def _options(a: argparse.Namespace) -> RunOptions:
     if a.until is not None and not (math.isfinite(a.until) and a.until >= 0):
         raise HomesimError(f"--until must be a finite number of seconds >= 0, got {a.until}")
@@ -86,7 +91,7 @@ def run_command(a: argparse.Namespace) -> int:
         sc = run.scenario
         if not a.quiet:
             console.text(f"scenario {sc.name} ({a.scenario}): seed {run.sim.seed}, {run.end:g} of {sc.duration:g} s, "
-                         f"{len(sc.humans)} people, {len(sc.sources)} other sound sources, "
+                         f"{_count(len(sc.humans), 'person', 'people')}, {_count(len(sc.sources), 'other sound source')}, "
                          f"robot modules: {', '.join(sorted(run.modules)) or 'none'}")
             console.text(f"robot profile {run.profile}; deployment {run.deployment.name}: "
                          + ", ".join(f"{h.name} ({h.link})" for h in run.deployment.hosts))
@@ -97,6 +102,9 @@ def run_command(a: argparse.Namespace) -> int:
         if a.summary is not None:
             a.summary.parent.mkdir(parents=True, exist_ok=True)
             a.summary.write_text(json.dumps(summary, indent=2, ensure_ascii=False) + "\n", encoding="utf-8")
+        written = [f"{path} ({what})" for path, what in ((a.trace, "trace"), (a.summary, "summary")) if path is not None]
+        if written:
+            print("wrote " + ", ".join(written), file=out)
         if not run.complete():
             print(f"verdict: not checked (stopped at {summary['sim_time_s']:g} s of {sc.duration:g} s)", file=out)
             return 0
@@ -186,7 +194,7 @@ def plot_command(a: argparse.Namespace) -> int:
     latest: dict[str, Message] = {}
     run = Run.from_file(a.file, RunOptions(seed=a.seed, until=a.at))
     with run:
-        if a.at > run.scenario.duration:
+        if a.at is not None and a.at > run.scenario.duration:
             raise OptionError("--at", f"{a.at:g} s is outside the scenario ({run.scenario.name}: 0 to {run.scenario.duration:g} s)")
         run.dispatcher.add(("/robot/laser/scan", "/robot/audio/sources"), lambda m: latest.__setitem__(m.channel, m))
         run.run()
@@ -204,18 +212,20 @@ def plot_command(a: argparse.Namespace) -> int:
         if src is not None and run.sim.now - src.created < 0.2:
             sounds = [math.radians(float(s.get("bearing"))) for s in src.xml.iterfind("source")]
         fig = viz.plot_moment(run.world, scan=scan, sound_bearings=sounds)
-        a.output.parent.mkdir(parents=True, exist_ok=True)
-        fig.savefig(a.output, dpi=120)
-        print(f"wrote {a.output} ({run.scenario.name} at t = {run.sim.now:g} s)")
+        a.out.parent.mkdir(parents=True, exist_ok=True)
+        fig.savefig(a.out, dpi=120)
+        print(f"wrote {a.out} ({run.scenario.name} at t = {run.sim.now:g} s)")
     return 0
 
 
 def _run_arguments(p: argparse.ArgumentParser) -> None:
-    p.add_argument("scenario", type=Path, help="a scenario file (scenarios/*.xml)")
-    p.add_argument("--seed", type=cliargs.seed, default=None, help="override the scenario's seed")
-    p.add_argument("--until", type=cliargs.seconds(), default=None, help="stop early (virtual seconds; expectations are not checked)")
-    p.add_argument("--trace", type=cliargs.output_file, default=None, help="write the bus trace (JSON Lines; replay it with 'homesim replay')")
-    p.add_argument("--summary", type=cliargs.output_file, default=None, help="write the run summary (JSON)")
+    p.add_argument("scenario", type=Path, help="a scenario file, e.g. scenarios/home_tour.xml")
+    p.add_argument("--seed", type=cliargs.seed, default=None, help="override the scenario's seed (default: the scenario's)")
+    p.add_argument("--until", type=cliargs.seconds(), default=None, metavar="SECONDS",
+                   help="stop early (virtual seconds; expectations are not checked; default: the scenario's duration)")
+    p.add_argument("--trace", type=cliargs.output_file, default=None, metavar="FILE",
+                   help="write the bus trace (JSON Lines; replay it with 'homesim replay')")
+    p.add_argument("--summary", type=cliargs.output_file, default=None, metavar="FILE", help="write the run summary (JSON)")
     p.add_argument("--memory", type=cliargs.store_dir, default=None, metavar="DIR",
                    help="the robot's knowledge store (a directory, created if missing): load it at the start, save to it")
     p.add_argument("--profile", default=None, metavar="NAME",
@@ -230,17 +240,27 @@ def _run_arguments(p: argparse.ArgumentParser) -> None:
 
 def register(sub: argparse._SubParsersAction) -> None:
     """Add ``homesim run``, ``homesim replay`` and ``homesim scenario run|plot``."""
-    _run_arguments(sub.add_parser("run", help="run a scenario: transcript, expectations, verdict"))
-    r = sub.add_parser("replay", help="re-run a trace's scenario and check the new trace is identical")
-    r.add_argument("trace", type=Path)
+    run_examples = ["homesim run scenarios/home_tour.xml",
+                    "homesim run scenarios/home_tour.xml --seed 3 --until 15 --trace out/tour.jsonl",
+                    "homesim run scenarios/later_visit.xml --memory out/memory"]
+    _run_arguments(sub.add_parser("run", help="run a scenario: transcript, expectations, verdict", examples=run_examples))
+    r = sub.add_parser("replay", help="re-run a trace's scenario and check the new trace is identical",
+                       examples=["homesim replay out/tour.jsonl"])
+    r.add_argument("trace", type=Path, help="a trace written by 'homesim run --trace', e.g. out/tour.jsonl")
     r.set_defaults(func=lambda a: replay(a.trace))
-    p = sub.add_parser("scenario", help="run or plot a scenario file")
+    p = sub.add_parser("scenario", help="run or plot a scenario file",
+                       examples=["homesim scenario run scenarios/home_tour.xml", "homesim scenario plot scenarios/radio.xml --at 9 -o out/radio.png"])
     ssub = p.add_subparsers(dest="scenario_command", metavar="ACTION")
-    _run_arguments(ssub.add_parser("run", help="the same as 'homesim run'"))
-    q = ssub.add_parser("plot", help="draw the top-down view at one moment")
-    q.add_argument("file", type=Path)
-    q.add_argument("--at", type=cliargs.seconds(), required=True, help="virtual time in seconds (within the scenario)")
-    q.add_argument("-o", "--output", type=cliargs.output_file, default=Path("out/scenario.png"))
-    q.add_argument("--seed", type=cliargs.seed, default=None)
+    _run_arguments(ssub.add_parser("run", help="the same as 'homesim run'", examples=[e.replace("homesim run", "homesim scenario run") for e in run_examples]))
+    q = ssub.add_parser("plot", help="draw the top-down view at one moment",
+                        examples=["homesim scenario plot scenarios/radio.xml --at 9 -o out/radio.png",
+                                  "homesim scenario plot scenarios/home_tour.xml -o out/tour-end.svg"])
+    q.add_argument("file", type=Path, help="a scenario file, e.g. scenarios/radio.xml")
+    q.add_argument("--at", type=cliargs.seconds(), default=None, metavar="SECONDS",
+                   help="virtual time in seconds, within the scenario (default: its end)")
+    q.add_argument("-o", "--out", type=cliargs.output_file, default=Path("out/scenario.png"), metavar="FILE",
+                   help="the picture (.png or .svg)")
+    q.add_argument("--output", dest="out", type=cliargs.output_file, help=argparse.SUPPRESS)  # the old spelling
+    q.add_argument("--seed", type=cliargs.seed, default=None, help="override the scenario's seed (default: the scenario's)")
     q.set_defaults(func=plot_command)
     p.set_defaults(func=lambda a: (p.print_help(), 2)[1])

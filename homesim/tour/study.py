@@ -475,16 +475,18 @@ def study_command(a: argparse.Namespace) -> int:
 
 def register(sub: argparse._SubParsersAction) -> None:
     """Add ``homesim study``."""
-    p = sub.add_parser("study", help="scenarios (or generated tours) x seeds x conditions: per-capability rates with 95 %% intervals, failure causes, a plot")
-    p.add_argument("scenarios", type=Path, nargs="*", metavar="SCENARIO")
+    p = sub.add_parser("study", help="scenarios (or generated tours) x seeds x conditions: per-capability rates with 95 %% intervals, failure causes, a plot",
+                       examples=["homesim study --generated 20 --seed 1000 --seeds 0 -o out/study",
+                                 "homesim study scenarios/home_tour.xml --seeds 0-9 --condition slow=robot.max-speed=0.15 -o out/study"])
+    p.add_argument("scenarios", type=Path, nargs="*", metavar="SCENARIO", help="scenario files, e.g. scenarios/home_tour.xml")
     p.add_argument("--generated", type=_count, default=None, metavar="K", help="generate K tours (with --seed S) into OUT/scenarios and study them")
     p.add_argument("--seed", type=cliargs.seed, default=None, help="the generator's seed for --generated")
-    p.add_argument("--seeds", default="0", help="run seeds: 0-9, or 0,3,7 (default 0)")
+    p.add_argument("--seeds", default="0", help="run seeds: 0-9, or 0,3,7")
     p.add_argument("--condition", action="append", default=[], metavar="NAME=OPTIONS",
                    help="a condition to compare (repeatable): NAME=key=value,... with run options, robot.ATTRIBUTE or option.NAME")
     p.add_argument("--workers", type=_workers, default=None, help="local processes (default: the CPU count)")
     p.add_argument("--scheduler", type=_scheduler, default=None, metavar="ADDRESS", help="run on this Dask distributed scheduler (tcp://host:8786)")
-    p.add_argument("--out", required=True, help="directory for study.json, study.md, study.png/.svg, summaries/")
+    p.add_argument("-o", "--out", required=True, metavar="DIR", help="directory for study.json, study.md, study.png/.svg, summaries/")
     p.add_argument("--resume", action="store_true", help="reuse the runs whose summaries OUT/summaries/ already holds (an interrupted or extended study)")
     p.set_defaults(func=study_command)
 
