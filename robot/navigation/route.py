@@ -48,13 +48,13 @@ Point = tuple[float, float]
 Pose = tuple[float, float, float]
 
 #: m: how far ahead on the path the follower steers (the player's pure pursuit uses 0.7 m).
-LOOKAHEAD = 0.6
+LOOKAHEAD = 0.35
 #: s: the path to a walking partner is planned again at most this often.
 REPLAN = 0.5
 #: m: ... or sooner, when the partner is this far from the planned path's end.
 MOVED = 0.4
 #: m: a path vertex this close to the robot is reached (the next leg is steered along).
-REACHED = 0.3
+REACHED = 0.2
 #: m: the floor plan's obstacle outlines within this distance of the robot's centre are handed to the dynamic window.
 NEAR = 1.2
 
