@@ -20,25 +20,15 @@ Shell completion is generated from the same tree by shtab
 from __future__ import annotations
 
 import argparse
-import difflib
 import sys
-from collections.abc import Iterable, Sequence
+import textwrap
+from collections.abc import Sequence
 from typing import Any, NoReturn
+
+from .suggest import did_you_mean
 
 #: The namespace attribute naming the deepest parser that took part (removed before the namespace is returned).
 _LEAF = "_homesim_leaf_parser"
-
-
-def closest(word: str, known: Iterable[str]) -> str | None:
-    """The known name closest to ``word`` (difflib's ratio ≥ 0.6), or None."""
-    found = difflib.get_close_matches(word, list(known), n=1, cutoff=0.6)
-    return found[0] if found else None
-
-
-def did_you_mean(word: str, known: Iterable[str]) -> str:
-    """``" (did you mean 'x'?)"`` when something known is close to ``word``, else ``""``."""
-    near = closest(word, known)
-    return f" (did you mean {near!r}?)" if near is not None else ""
 
 
 class HelpFormatter(argparse.RawDescriptionHelpFormatter):
@@ -61,7 +51,8 @@ class SubcommandsAction(argparse._SubParsersAction):
     def add_parser(self, name: str, **kwargs: Any) -> argparse.ArgumentParser:  # type: ignore[override]
         examples: Sequence[str] = kwargs.pop("examples", ())
         if kwargs.get("help") and "description" not in kwargs:
-            kwargs["description"] = kwargs["help"][:1].upper() + kwargs["help"][1:] + "."
+            text = kwargs["help"].replace("%%", "%")  # help is %-formatted by argparse, a description is not
+            kwargs["description"] = textwrap.fill(text[:1].upper() + text[1:] + ".", width=78)
         if examples and "epilog" not in kwargs:
             kwargs["epilog"] = "examples:\n" + "\n".join(f"  {e}" for e in examples)
         kwargs.setdefault("formatter_class", HelpFormatter)

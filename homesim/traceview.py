@@ -245,13 +245,19 @@ class Delivery:
     rec: dict[str, Any]
 
 
-def walk(path: str | os.PathLike[str], streams: dict[tuple[str, str], StreamStats]) -> Iterator[Send | Delivery]:
-    """Second pass: every send with its processing span and cause links, and every delivery, in file order."""
+def walk(path: str | os.PathLike[str], streams: dict[tuple[str, str], StreamStats], *,
+         progress: Callable[[float, float], None] | None = None) -> Iterator[Send | Delivery]:
+    """Second pass: every send with its processing span and cause links, and every delivery, in file order.
+
+    ``progress(t, end)`` is called every few thousand records with the virtual time reached."""
     sent = _Recent()  # id -> (sender, t)
     delivered = _Recent()  # (id, receiver) -> t
+    end = max((s.last for s in streams.values()), default=0.0)
     it = read_trace(path)
     next(it, None)  # the header
-    for rec in it:
+    for n, rec in enumerate(it):
+        if progress is not None and n % 4096 == 0 and isinstance(rec.get("t"), (int, float)):
+            progress(rec["t"], end)
         kind = rec.get("kind")
         if kind == "deliver":
             for r in rec.get("receivers", ()):
@@ -277,7 +283,8 @@ def walk(path: str | os.PathLike[str], streams: dict[tuple[str, str], StreamStat
 
 
 def read_timeline(path: str | os.PathLike[str], *, start: float | None = None, end: float | None = None,
-                  heartbeats: bool = False, stream_per_s: float = 2.0) -> Timeline:
+                  heartbeats: bool = False, stream_per_s: float = 2.0,
+                  progress: Callable[[float, float], None] | None = None) -> Timeline:
     """The timeline of a trace file between ``start`` and ``end`` (virtual seconds; default: all of it).
 
     Stream messages are thinned to at most ``stream_per_s`` per second per
@@ -300,7 +307,7 @@ def read_timeline(path: str | os.PathLike[str], *, start: float | None = None, e
     lane_depths: dict[str, list[int]] = {}  # a module's events' causal depths (one int per event message)
     lane_first: dict[str, float] = {}
     stream_first: dict[str, float] = {}  # modules that send streams: their first stream message
-    for ev in walk(path, streams):
+    for ev in walk(path, streams, progress=progress):
         rec = ev.rec
         if isinstance(ev, Delivery):
             m = msgs.get(rec["id"])

@@ -133,7 +133,6 @@ def test_the_bash_completion_completes_subcommands_and_options(tmp_path):
 
 
 def _completion(shell: str) -> str:
-    from homesim.cli import build_parser
     from homesim.completion import script
 
     return script(shell, build_parser)
@@ -204,3 +203,14 @@ def test_output_into_a_closed_pipe_ends_quietly(argv, tmp_path):
     proc.stderr.close()
     assert proc.wait(timeout=60) in (0, 141)
     assert "Broken pipe" not in err and "Traceback" not in err and "Exception ignored" not in err, err
+
+
+def test_the_later_visit_without_a_store_says_it_needs_one(capsys, tmp_path):
+    later = ROOT / "scenarios" / "later_visit.xml"
+    code, out, err = _run(["run", str(later), "--until", "1"], capsys)
+    assert code == 2 and out == ""
+    line = next(i for i, text in enumerate(later.read_text(encoding="utf-8").splitlines(), 1) if "<robot " in text)
+    assert err.startswith(f"homesim: error: {later}:{line}: <robot>: this scenario starts from what the robot learned")
+    assert "--memory DIR" in err and "home_tour.xml" in err
+    code, _out, err = _run(["run", str(later), "--until", "1", "--memory", str(tmp_path / "store")], capsys)
+    assert code == 0, err  # with a store (even a new one) it runs

@@ -30,8 +30,8 @@ def _room(expect: str, *, extra: str = "", duration: float = 10) -> str:
     return text.replace('duration="10"', f'duration="{duration:g}"')
 
 
-def _stage(expect: str, **kw: object) -> Stage:
-    sc = load_scenario_text(_room(expect, **kw), source="room.xml")
+def _stage(expect: str, *, robot: str = "", **kw: object) -> Stage:
+    sc = load_scenario_text(_room(expect, **kw).replace("<robot ", f"<robot {robot} "), source="room.xml")
     sim = Simulation(seed=1, scenario=sc.name)
     return Stage(sim, sc, actors=())
 
@@ -105,13 +105,14 @@ def test_event_applied_reads_which_events_the_supervisor_applied_and_from_which_
 def test_learned_checks_read_the_scene_models_answer():
     cup = etree.fromstring('<OBJECT type="cup" owner="speaker"><TITLE name="cup"/><COLOUR name="red"/><ATTRIBUTE name="favourite"/></OBJECT>')
     kitchen = etree.fromstring('<PLACE x="1" y="2"><TITLE name="kitchen"/></PLACE>')
+    # knowledge handed in as if from an earlier run's store: names nobody in the room says
     stage = _stage('<object-learned type="cup" colour="red" attribute="favourite"/>\n<object-learned type="cup" colour="blue"/>\n'
-                   '<place-learned name="kitchen"/>\n<place-learned name="bathroom"/>')
+                   '<place-learned name="kitchen"/>\n<place-learned name="bathroom"/>', robot='memory="required"')
     v = _verdicts(stage, knowledge={"objects": [cup], "places": [kitchen]})
     assert v['<object-learned type="cup" colour="red" attribute="favourite"/>'][0]
     assert not v['<object-learned type="cup" colour="blue"/>'][0]
     assert v['<place-learned name="kitchen"/>'][0] and not v['<place-learned name="bathroom"/>'][0]
-    stage = _stage('<place-learned name="kitchen"/>')
+    stage = _stage('<place-learned name="kitchen"/>', robot='memory="required"')
     (ok, detail), = _verdicts(stage).values()
     assert not ok and "no scene model" in detail
 

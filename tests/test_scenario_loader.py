@@ -66,9 +66,9 @@ def test_doctype_is_refused():
 
 def test_schema_violation_names_the_line():
     text = _mutated('<robot x="1" y="3" heading="0"/>', '<robot y="3" heading="0"/>')
-    with pytest.raises(ScenarioError, match=r"scenario\.xsd.*'x' is required") as exc:
+    with pytest.raises(ScenarioError, match=r": <robot>: attribute x= is required but missing \(scenario\.xsd\)") as exc:
         _load(text)
-    assert exc.value.line == _line_of(text, "<robot ")
+    assert exc.value.line == _line_of(text, "<robot ") and exc.value.element == "robot"
 
 
 def test_bad_value_type_is_caught_by_the_schema():

@@ -31,6 +31,7 @@ from __future__ import annotations
 import json
 import os
 from collections import OrderedDict, deque
+from collections.abc import Callable
 from pathlib import Path
 from typing import IO, Any
 
@@ -55,8 +56,11 @@ class _Writer:
         self.n += 1
 
 
-def export_perfetto(trace: str | os.PathLike[str], out: str | os.PathLike[str]) -> dict[str, int]:
-    """Write ``trace`` as trace-event JSON to ``out``; return counts (slices, spans, flows, threads)."""
+def export_perfetto(trace: str | os.PathLike[str], out: str | os.PathLike[str], *,
+                    progress: Callable[[float, float], None] | None = None) -> dict[str, int]:
+    """Write ``trace`` as trace-event JSON to ``out``; return counts (slices, spans, flows, threads).
+
+    ``progress(t, end)``: told the virtual time reached while the trace is read."""
     header, streams = channel_stats(trace)
     out = Path(out)
     out.parent.mkdir(parents=True, exist_ok=True)
@@ -98,7 +102,7 @@ def export_perfetto(trace: str | os.PathLike[str], out: str | os.PathLike[str]) 
             counts["slices"] += 1
 
         exported: OrderedDict[str, tuple[int, float]] = OrderedDict()  # id -> (tid, ts) of exported slices
-        for ev in walk(trace, streams):
+        for ev in walk(trace, streams, progress=progress):
             rec = ev.rec
             if isinstance(ev, Delivery):
                 sl = pending.get(rec["id"])

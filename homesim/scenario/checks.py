@@ -13,21 +13,30 @@ add checks of their own (e.g. the simulated people's: profile names,
 paraphrase banks, reactions that trigger each other for ever) through the
 ``homesim.scenario_checks`` entry points, without the kernel naming them. Every door is
 wide enough for a person and not blocked; every fixed place a person walks
-to, and the exit they leave by, is reachable from where they start. The first
-problem found raises a :class:`ScenarioError` naming the file, the line
-and the element.
+to, and the exit they leave by, is reachable from where they start. A name
+that refers to nothing (a person, place, object, room, furniture) is refused
+with the closest known name.
+
+:func:`problems` lists every problem, one per element (two people outside
+the flat: both named), each a :class:`ScenarioError` naming the file, the
+line and the element; :func:`check` raises the first. Two stages stop what
+follows them: too many elements (the checks' cost grows with them) and a
+flat too large for the walking grid; the walking checks run only on a
+scenario with no other problem (they need every name to resolve).
 """
 
 from __future__ import annotations
 
 import re
-from collections.abc import Callable, Iterable, Iterator
-from functools import lru_cache
+from collections.abc import Callable, Iterable, Iterator, Sequence
+from contextlib import contextmanager
+from functools import cached_property, lru_cache
 from importlib.metadata import entry_points
 
 import numpy as np
 
 from ..errors import ScenarioError
+from ..suggest import closest, did_you_mean
 from ..geometry import (
     distance_points_segments,
     is_convex,
@@ -47,9 +56,13 @@ from .model import (
     Action,
     Expectation,
     Face,
+    Furniture,
+    HumanSpec,
     Leave,
+    ObjectSpec,
     PointAt,
     Repeat,
+    Room,
     Say,
     Scenario,
     StepCloser,
@@ -58,6 +71,7 @@ from .model import (
     WaitFor,
     WaitSpeech,
     WalkTo,
+    Wall,
     window_of,
 )
 
@@ -79,95 +93,172 @@ _TARGET_KINDS = {
 }
 
 
-#: Entry-point group of checks other packages add: ``check(scenario) -> None`` raising ScenarioError.
+#: Entry-point group of checks other packages add: ``check(scenario)`` returning the problems it found
+#: (a list of ScenarioError; None for none) or raising the first as ScenarioError.
 CHECKS_GROUP = "homesim.scenario_checks"
+
+ExtraCheck = Callable[[Scenario], "Sequence[ScenarioError] | None"]
 
 
 @lru_cache(maxsize=1)
-def extra_checks() -> tuple[Callable[[Scenario], None], ...]:
+def extra_checks() -> tuple[ExtraCheck, ...]:
     """The checks registered under :data:`CHECKS_GROUP` (by entry-point name order)."""
     return tuple(ep.load() for ep in sorted(entry_points(group=CHECKS_GROUP), key=lambda e: e.name))
 
 
-def check(sc: Scenario) -> None:
-    """Raise ScenarioError for the first semantic problem in ``sc``."""
-    _Checker(sc).run()
+def problems(sc: Scenario) -> list[ScenarioError]:
+    """Every semantic problem of ``sc`` (the kernel's rules, then the registered checks'), in that order."""
+    found = _Checker(sc).run()
     for extra in extra_checks():
-        extra(sc)
+        try:
+            found.extend(extra(sc) or ())
+        except ScenarioError as exc:
+            found.append(exc)
+    return found
+
+
+def check(sc: Scenario) -> None:
+    """Raise ScenarioError for the first semantic problem in ``sc`` (saying how many more there are)."""
+    found = problems(sc)
+    if found:
+        first = found[0]
+        if len(found) == 1:
+            raise first
+        raise ScenarioError(f"{first.message} (and {len(found) - 1} more problem(s); 'homesim check' lists them)",
+                            source=first.source, line=first.line, element=first.element)
+
+
+def unknown_name(what: str, name: object, known: Iterable[str]) -> str:
+    """``there is no place named 'kichen' (did you mean 'kitchen'?; known: ...)``."""
+    names = sorted(set(known))
+    near = closest(str(name), names)
+    hint = f"did you mean {near!r}?; " if near is not None else ""
+    listed = ", ".join(repr(n) for n in names[:12]) + (", ..." if len(names) > 12 else "") or "none"
+    return f"there is no {what} named {name!r} ({hint}known: {listed})"
 
 
 class _Checker:
     def __init__(self, sc: Scenario) -> None:
         self.sc = sc
         self.kinds: dict[str, tuple[str, int | None]] = {}
+        self.found: list[ScenarioError] = []
+        self.walls: list[Wall] = []
 
     def fail(self, line: int | None, element: str, message: str) -> ScenarioError:
         return ScenarioError(message, source=self.sc.source, line=line, element=element)
 
-    def run(self) -> None:
+    @contextmanager
+    def item(self) -> Iterator[None]:
+        """Check one element: its first problem is kept and the checks go on with the next element."""
+        try:
+            yield
+        except ScenarioError as exc:
+            self.found.append(exc)
+
+    def named(self, kind: str) -> list[str]:
+        return [n for n, (k, _) in self.kinds.items() if k == kind]
+
+    def run(self) -> list[ScenarioError]:
         sc = self.sc
-        self.counts()
+        with self.item():
+            self.counts()
+        if self.found:
+            return self.found
         self.names()
-        self.extent()
+        with self.item():
+            self.extent()
+        if self.found:
+            return self.found
         for k, room in enumerate(sc.rooms):
-            problem = polygon_problem(np.array(room.polygon))
-            if problem is not None:
-                raise self.fail(room.line, "room", f"room {room.name!r} is not a simple polygon: {problem}")
-            if abs(polygon_area(np.array(room.polygon))) < 1e-6:
-                raise self.fail(room.line, "room", f"room {room.name!r} has no area")
-            for other in sc.rooms[:k]:
-                if polygons_overlap(np.array(room.polygon), np.array(other.polygon)):
-                    raise self.fail(room.line, "room", f"room {room.name!r} overlaps room {other.name!r} (line {other.line}); rooms may share walls, not floor")
+            with self.item():
+                self.room(k, room)
         for wall in sc.walls:
-            if np.hypot(wall.end[0] - wall.start[0], wall.end[1] - wall.start[1]) < 1e-6:
-                raise self.fail(wall.line, "wall", "a wall needs two distinct end points")
-            try:
-                split_wall(wall.start, wall.end, [(d.at, d.width) for d in wall.doors])
-            except ValueError as exc:
-                raise self.fail(wall.line, "wall", str(exc)) from exc
+            with self.item():
+                self.wall(wall)
+                self.walls.append(wall)  # only walls that can be cut at their doors are used by the checks below
         for f in sc.furniture:
-            poly = np.array(f.polygon)
-            if not is_convex(poly):
-                raise self.fail(f.line, "furniture", f"furniture {f.name!r} is not convex: split it into convex pieces")
-            if f.clearance >= f.height:
-                raise self.fail(f.line, "furniture", f"furniture {f.name!r}: clearance {f.clearance} m must be below its height {f.height} m")
-            if f.clearance > 0:
-                span = poly.max(axis=0) - poly.min(axis=0)
-                if 2 * f.leg >= span.min():
-                    raise self.fail(f.line, "furniture", f"furniture {f.name!r}: legs of {f.leg} m do not fit under it")
+            with self.item():
+                self.piece(f)
         for p in sc.places:
-            self.inside_flat((p.x, p.y), p.line, "place", f"place {p.name!r}")
+            with self.item():
+                self.inside_flat((p.x, p.y), p.line, "place", f"place {p.name!r}")
         for o in sc.objects:
-            if o.on is not None:
-                if self.kinds.get(o.on, ("",))[0] != "furniture":
-                    raise self.fail(o.line, "object", f"object {o.name!r} stands on {o.on!r}, which is not a piece of furniture")
-                if not point_in_polygon((o.x, o.y), np.array(sc.piece(o.on).polygon)):
-                    raise self.fail(o.line, "object", f"object {o.name!r} at ({o.x}, {o.y}) is not on {o.on!r}")
-            else:
-                self.inside_flat((o.x, o.y), o.line, "object", f"object {o.name!r}")
-        r = sc.robot
-        self.clear((r.x, r.y), ROBOT_RADIUS, r.line, "robot", "the robot's start")
+            with self.item():
+                self.obj(o)
+        with self.item():
+            r = sc.robot
+            self.clear((r.x, r.y), ROBOT_RADIUS, r.line, "robot", "the robot's start")
         for k, h in enumerate(sc.humans):
-            self.clear((h.x, h.y), HUMAN_RADIUS, h.line, "human", f"human {h.name!r}")
-            if np.hypot(h.x - r.x, h.y - r.y) < ROBOT_RADIUS + HUMAN_RADIUS:
-                raise self.fail(h.line, "human", f"human {h.name!r} starts at ({h.x:g}, {h.y:g}), on the robot (line {r.line}): "
-                                                 f"start at least {ROBOT_RADIUS + HUMAN_RADIUS:g} m from it")
-            for other in sc.humans[:k]:
-                if np.hypot(h.x - other.x, h.y - other.y) < 2 * HUMAN_RADIUS:
-                    raise self.fail(h.line, "human", f"human {h.name!r} starts on top of {other.name!r} (line {other.line})")
+            with self.item():
+                self.human_start(k, h)
             self.script(h.script, h.name, person=True)
             for hd in h.handlers:
-                self.handler_body(hd.body, h.name, hd.line)
+                with self.item():
+                    self.handler_body(hd.body, h.name, hd.line)
                 self.script(hd.body, h.name, person=True)
         for s in sc.sources:
-            self.inside_flat((s.x, s.y), s.line, s.kind, f"{s.kind} {s.name!r}")
+            with self.item():
+                self.inside_flat((s.x, s.y), s.line, s.kind, f"{s.kind} {s.name!r}")
             self.script(s.script, s.name, person=False)
-        self.walkable()
+        if not self.found:  # walking needs sound geometry and every name resolved
+            self.walkable()
         for e in sc.expectations:
-            self.expectation(e)
+            with self.item():
+                self.expectation(e)
         for f in sc.faults:
             if f.at > sc.duration:
-                raise self.fail(f.line, f.kind, f"at={f.at:g} is after the end of the run ({sc.duration:g} s)")
+                self.found.append(self.fail(f.line, f.kind, f"at={f.at:g} is after the end of the run ({sc.duration:g} s)"))
+        return self.found
+
+    # ------------------------------------------------------------ elements
+    def room(self, k: int, room: Room) -> None:
+        problem = polygon_problem(np.array(room.polygon))
+        if problem is not None:
+            raise self.fail(room.line, "room", f"room {room.name!r} is not a simple polygon: {problem}")
+        if abs(polygon_area(np.array(room.polygon))) < 1e-6:
+            raise self.fail(room.line, "room", f"room {room.name!r} has no area")
+        for other in self.sc.rooms[:k]:
+            if polygons_overlap(np.array(room.polygon), np.array(other.polygon)):
+                raise self.fail(room.line, "room", f"room {room.name!r} overlaps room {other.name!r} (line {other.line}); rooms may share walls, not floor")
+
+    def wall(self, wall: Wall) -> None:
+        if np.hypot(wall.end[0] - wall.start[0], wall.end[1] - wall.start[1]) < 1e-6:
+            raise self.fail(wall.line, "wall", "a wall needs two distinct end points")
+        try:
+            split_wall(wall.start, wall.end, [(d.at, d.width) for d in wall.doors])
+        except ValueError as exc:
+            raise self.fail(wall.line, "wall", str(exc)) from exc
+
+    def piece(self, f: Furniture) -> None:
+        poly = np.array(f.polygon)
+        if not is_convex(poly):
+            raise self.fail(f.line, "furniture", f"furniture {f.name!r} is not convex: split it into convex pieces")
+        if f.clearance >= f.height:
+            raise self.fail(f.line, "furniture", f"furniture {f.name!r}: clearance {f.clearance} m must be below its height {f.height} m")
+        if f.clearance > 0:
+            span = poly.max(axis=0) - poly.min(axis=0)
+            if 2 * f.leg >= span.min():
+                raise self.fail(f.line, "furniture", f"furniture {f.name!r}: legs of {f.leg} m do not fit under it")
+
+    def obj(self, o: ObjectSpec) -> None:
+        if o.on is not None:
+            if self.kinds.get(o.on, ("",))[0] != "furniture":
+                raise self.fail(o.line, "object", f"object {o.name!r} stands on {o.on!r}, which is not a piece of furniture "
+                                                  f"({unknown_name('piece of furniture', o.on, self.named('furniture'))})")
+            if not point_in_polygon((o.x, o.y), np.array(self.sc.piece(o.on).polygon)):
+                raise self.fail(o.line, "object", f"object {o.name!r} at ({o.x}, {o.y}) is not on {o.on!r}")
+        else:
+            self.inside_flat((o.x, o.y), o.line, "object", f"object {o.name!r}")
+
+    def human_start(self, k: int, h: HumanSpec) -> None:
+        r = self.sc.robot
+        self.clear((h.x, h.y), HUMAN_RADIUS, h.line, "human", f"human {h.name!r}")
+        if np.hypot(h.x - r.x, h.y - r.y) < ROBOT_RADIUS + HUMAN_RADIUS:
+            raise self.fail(h.line, "human", f"human {h.name!r} starts at ({h.x:g}, {h.y:g}), on the robot (line {r.line}): "
+                                             f"start at least {ROBOT_RADIUS + HUMAN_RADIUS:g} m from it")
+        for other in self.sc.humans[:k]:
+            if np.hypot(h.x - other.x, h.y - other.y) < 2 * HUMAN_RADIUS:
+                raise self.fail(h.line, "human", f"human {h.name!r} starts on top of {other.name!r} (line {other.line})")
 
     # ---------------------------------------------------------------- sizes
     def counts(self) -> None:
@@ -180,7 +271,8 @@ class _Checker:
             limit = MAX_COUNTS[kind]
             if len(items) > limit:
                 first = items[limit]
-                raise self.fail(getattr(first, "line", None), kind, f"{len(items)} elements of kind {kind}: a scenario holds at most {limit}")
+                self.found.append(self.fail(getattr(first, "line", None), kind,
+                                            f"{len(items)} elements of kind {kind}: a scenario holds at most {limit}"))
 
     # ---------------------------------------------------------------- names
     def names(self) -> None:
@@ -195,11 +287,12 @@ class _Checker:
         named += [(x.kind, x.name, x.line) for x in sc.sources]
         for kind, name, line in named:
             if name == "robot":
-                raise self.fail(line, kind, "the name 'robot' is reserved for the robot")
-            if name in self.kinds:
+                self.found.append(self.fail(line, kind, "the name 'robot' is reserved for the robot"))
+            elif name in self.kinds:
                 other, oline = self.kinds[name]
-                raise self.fail(line, kind, f"name {name!r} is already used by the {other} at line {oline}")
-            self.kinds[name] = (kind, line)
+                self.found.append(self.fail(line, kind, f"name {name!r} is already used by the {other} at line {oline}"))
+            else:
+                self.kinds[name] = (kind, line)
 
     # ------------------------------------------------------------- geometry
     def extent(self) -> None:
@@ -220,7 +313,7 @@ class _Checker:
 
     def clear(self, xy: tuple[float, float], radius: float, line: int | None, element: str, what: str) -> None:
         self.inside_flat(xy, line, element, what)
-        for wall in self.sc.walls:
+        for wall in self.walls:
             for a, b in split_wall(wall.start, wall.end, [(d.at, d.width) for d in wall.doors]):
                 rect = wall_rectangle(a, b, wall.thickness)
                 if _overlaps(xy, radius, rect):
@@ -231,56 +324,62 @@ class _Checker:
 
     # -------------------------------------------------------------- scripts
     def script(self, actions: tuple[Action, ...], owner: str, *, person: bool, repeat: Repeat | None = None) -> None:
+        """Every action's first problem (a repeat's body is checked action by action too)."""
         for i, act in enumerate(actions):
-            tag = _action_tag(act)
-            if not person and tag not in ("say", "wait", "wait-for", "repeat"):
-                raise self.fail(act.line, tag, f"{owner!r} is a sound source: it can only say, wait, wait-for and repeat")
-            if isinstance(act, (WalkTo, Face, PointAt)):
-                self.target(act.target, tag, act.line, owner)
-            elif isinstance(act, Say):
-                if not person and act.request is not None:
-                    raise self.fail(act.line, tag, f"{owner!r} is a sound source: it says text=, it has no paraphrase bank (request=)")
-            elif isinstance(act, StepCloser):
-                if act.nearest < ROBOT_RADIUS + HUMAN_RADIUS - 1e-9:
-                    raise self.fail(act.line, tag, f"nearest={act.nearest:g} m would put her on the robot: at least {ROBOT_RADIUS + HUMAN_RADIUS:g} m")
-            elif isinstance(act, WaitFor):
-                if act.robot_says is None and act.robot_within is None and act.hears is None:
-                    raise self.fail(act.line, tag, "wait-for needs robot-says or robot-within (or hears, a word pattern)")
-                if (act.repairs or act.patience is not None or act.give_up is not None) and act.robot_says is None and act.hears is None:
-                    raise self.fail(act.line, tag, "repairs=, patience= and give-up= need robot-says or hears (the answer she repairs for)")
-                if any(r not in REPAIR_STRATEGIES for r in act.repairs or ()):
-                    raise self.fail(act.line, tag, f"repairs: one or more of {', '.join(REPAIR_STRATEGIES)}")
-                if act.give_up is not None and act.give_up not in GIVE_UPS:
-                    raise self.fail(act.line, tag, f"give-up={act.give_up!r}: one of {', '.join(GIVE_UPS)}")
-                if act.give_up == "leave" and not self.sc.exits():
-                    raise self.fail(act.line, tag, 'give-up="leave": no door of the flat has exit="true"')
-                for key, pattern in (("robot-says", act.robot_says), ("repair", act.repair)):
-                    if pattern is None:
-                        continue
-                    try:
-                        re.compile(pattern)
-                    except re.error as exc:
-                        raise self.fail(act.line, tag, f"{key}={pattern!r} is not a regular expression: {exc}") from exc
-                if act.retries and act.robot_says is None:
-                    raise self.fail(act.line, tag, "retries= needs robot-says (what answer the person repeats herself for)")
-            elif isinstance(act, Leave):
-                exits = [d for _, d in self.sc.exits()]
-                if not exits:
-                    raise self.fail(act.line, tag, "nobody can leave: no door of the flat has exit=\"true\"")
-                if act.door is not None and act.door not in [d.name for d in exits]:
-                    raise self.fail(act.line, tag, f"door {act.door!r} is not an exit door")
-                if repeat is not None:
-                    raise self.fail(act.line, tag, f"<leave> cannot be inside the <repeat> at line {repeat.line}: {owner!r} can leave the flat only once")
-                if i != len(actions) - 1:
-                    raise self.fail(actions[i + 1].line, _action_tag(actions[i + 1]), f"{owner!r} has left the flat: nothing can follow <leave>")
-            elif isinstance(act, Repeat):
-                if not act.body:
-                    raise self.fail(act.line, tag, "repeat needs at least one action")
-                if act.times is None and i != len(actions) - 1:
-                    raise self.fail(actions[i + 1].line, _action_tag(actions[i + 1]), "unreachable: the repeat before it runs for ever")
-                if not _takes_time(act.body):
-                    raise self.fail(act.line, tag, "a repeat must wait, walk, point or say, or it never lets time pass")
-                self.script(act.body, owner, person=person, repeat=act)
+            with self.item():
+                self.action(actions, i, owner, person=person, repeat=repeat)
+
+    def action(self, actions: tuple[Action, ...], i: int, owner: str, *, person: bool, repeat: Repeat | None) -> None:
+        act = actions[i]
+        tag = _action_tag(act)
+        if not person and tag not in ("say", "wait", "wait-for", "repeat"):
+            raise self.fail(act.line, tag, f"{owner!r} is a sound source: it can only say, wait, wait-for and repeat")
+        if isinstance(act, (WalkTo, Face, PointAt)):
+            self.target(act.target, tag, act.line, owner)
+        elif isinstance(act, Say):
+            if not person and act.request is not None:
+                raise self.fail(act.line, tag, f"{owner!r} is a sound source: it says text=, it has no paraphrase bank (request=)")
+        elif isinstance(act, StepCloser):
+            if act.nearest < ROBOT_RADIUS + HUMAN_RADIUS - 1e-9:
+                raise self.fail(act.line, tag, f"nearest={act.nearest:g} m would put her on the robot: at least {ROBOT_RADIUS + HUMAN_RADIUS:g} m")
+        elif isinstance(act, WaitFor):
+            if act.robot_says is None and act.robot_within is None and act.hears is None:
+                raise self.fail(act.line, tag, "wait-for needs robot-says or robot-within (or hears, a word pattern)")
+            if (act.repairs or act.patience is not None or act.give_up is not None) and act.robot_says is None and act.hears is None:
+                raise self.fail(act.line, tag, "repairs=, patience= and give-up= need robot-says or hears (the answer she repairs for)")
+            if any(r not in REPAIR_STRATEGIES for r in act.repairs or ()):
+                raise self.fail(act.line, tag, f"repairs: one or more of {', '.join(REPAIR_STRATEGIES)}")
+            if act.give_up is not None and act.give_up not in GIVE_UPS:
+                raise self.fail(act.line, tag, f"give-up={act.give_up!r}: one of {', '.join(GIVE_UPS)}")
+            if act.give_up == "leave" and not self.sc.exits():
+                raise self.fail(act.line, tag, 'give-up="leave": no door of the flat has exit="true"')
+            for key, pattern in (("robot-says", act.robot_says), ("repair", act.repair)):
+                if pattern is None:
+                    continue
+                try:
+                    re.compile(pattern)
+                except re.error as exc:
+                    raise self.fail(act.line, tag, f"{key}={pattern!r} is not a regular expression: {exc}") from exc
+            if act.retries and act.robot_says is None:
+                raise self.fail(act.line, tag, "retries= needs robot-says (what answer the person repeats herself for)")
+        elif isinstance(act, Leave):
+            exits = [d for _, d in self.sc.exits()]
+            if not exits:
+                raise self.fail(act.line, tag, "nobody can leave: no door of the flat has exit=\"true\"")
+            if act.door is not None and act.door not in [d.name for d in exits]:
+                raise self.fail(act.line, tag, f"door {act.door!r} is not an exit door")
+            if repeat is not None:
+                raise self.fail(act.line, tag, f"<leave> cannot be inside the <repeat> at line {repeat.line}: {owner!r} can leave the flat only once")
+            if i != len(actions) - 1:
+                raise self.fail(actions[i + 1].line, _action_tag(actions[i + 1]), f"{owner!r} has left the flat: nothing can follow <leave>")
+        elif isinstance(act, Repeat):
+            if not act.body:
+                raise self.fail(act.line, tag, "repeat needs at least one action")
+            if act.times is None and i != len(actions) - 1:
+                raise self.fail(actions[i + 1].line, _action_tag(actions[i + 1]), "unreachable: the repeat before it runs for ever")
+            if not _takes_time(act.body):
+                raise self.fail(act.line, tag, "a repeat must wait, walk, point or say, or it never lets time pass")
+            self.script(act.body, owner, person=person, repeat=act)
 
     def handler_body(self, actions: tuple[Action, ...], owner: str, line: int | None) -> None:
         """A reaction must end: it cannot leave, repeat for ever or wait without a timeout."""
@@ -304,24 +403,33 @@ class _Checker:
             for d in wall.doors:
                 what = f"door {d.name!r}" if d.name else f"the door at {d.at:g} m"
                 if d.width < MIN_DOOR_WIDTH - 1e-9:
-                    raise self.fail(d.line, "door", f"{what} is {d.width:g} m wide: a person ({WALKER_RADIUS:g} m radius) needs at least {MIN_DOOR_WIDTH:.2f} m")
-                if not grid.passable(wall, d):
-                    raise self.fail(d.line, "door", f"{what} cannot be walked through: walls or furniture next to it leave no room for a person ({WALKER_RADIUS:g} m radius)")
+                    self.found.append(self.fail(d.line, "door", f"{what} is {d.width:g} m wide: a person ({WALKER_RADIUS:g} m radius) "
+                                                                f"needs at least {MIN_DOOR_WIDTH:.2f} m"))
+                elif not grid.passable(wall, d):
+                    self.found.append(self.fail(d.line, "door", f"{what} cannot be walked through: walls or furniture next to it "
+                                                                f"leave no room for a person ({WALKER_RADIUS:g} m radius)"))
         for h in sc.humans:
-            home = grid.component((h.x, h.y))
-            for act in _walk(h.script + tuple(a for hd in h.handlers for a in hd.body)):
-                if isinstance(act, WalkTo) and act.target.kind not in ("robot", "human"):
-                    goal = self.fixed_point(act.target)
-                    what = f"{act.target.kind} {act.target.name!r}" if act.target.name else f"({goal[0]:g}, {goal[1]:g})"
-                elif isinstance(act, Leave):
-                    wall, door = next((w, d) for w, d in sc.exits() if act.door is None or d.name == act.door)
-                    a, b = door_sides(wall, door)
-                    goal = b if any(point_in_polygon(a, np.array(r.polygon)) for r in sc.rooms) else a
-                    what = f"the exit {door.name!r}" if door.name else "the exit"
-                else:
-                    continue
-                if grid.component(goal) != home:
-                    raise self.fail(act.line, _action_tag(act), f"{h.name!r} cannot reach {what} from the start at ({h.x:g}, {h.y:g}): walls or furniture close it off")
+            with self.item():
+                self.reachable(grid, h)
+
+    def reachable(self, grid: Grid, h: HumanSpec) -> None:
+        """Every fixed place ``h`` walks to, and the exit she leaves by, is in the part of the flat she starts in (each one that is not, named)."""
+        sc = self.sc
+        home = grid.component((h.x, h.y))
+        for act in _walk(h.script + tuple(a for hd in h.handlers for a in hd.body)):
+            if isinstance(act, WalkTo) and act.target.kind not in ("robot", "human"):
+                goal = self.fixed_point(act.target)
+                what = f"{act.target.kind} {act.target.name!r}" if act.target.name else f"({goal[0]:g}, {goal[1]:g})"
+            elif isinstance(act, Leave):
+                wall, door = next((w, d) for w, d in sc.exits() if act.door is None or d.name == act.door)
+                a, b = door_sides(wall, door)
+                goal = b if any(point_in_polygon(a, np.array(r.polygon)) for r in sc.rooms) else a
+                what = f"the exit {door.name!r}" if door.name else "the exit"
+            else:
+                continue
+            if grid.component(goal) != home:
+                self.found.append(self.fail(act.line, _action_tag(act), f"{h.name!r} cannot reach {what} from the start at "
+                                                                        f"({h.x:g}, {h.y:g}): walls or furniture close it off"))
 
     def fixed_point(self, t: Target) -> tuple[float, float]:
         """Where a fixed target is (as World.target_point)."""
@@ -346,16 +454,43 @@ class _Checker:
             return
         found = self.kinds.get(t.name or "")
         if found is None or found[0] != t.kind:
-            known = ", ".join(sorted(n for n, (k, _) in self.kinds.items() if k == t.kind)) or "none"
-            raise self.fail(line, tag, f"there is no {t.kind} named {t.name!r} (known: {known})")
+            raise self.fail(line, tag, unknown_name(t.kind, t.name, self.named(t.kind)))
         if t.kind == "human" and t.name == owner:
             raise self.fail(line, tag, f"{owner!r} cannot target themselves")
 
+    @cached_property
+    def spoken(self) -> str:
+        """Everything the people and sources say as written (``text=`` and ``about=``), lower case."""
+        words = [w for h in self.sc.humans for a in _walk(h.script + tuple(x for hd in h.handlers for x in hd.body))
+                 if isinstance(a, Say) for w in (a.text, a.about) if w]
+        words += [w for s in self.sc.sources for a in _walk(s.script) if isinstance(a, Say) for w in (a.text, a.about) if w]
+        return "\n".join(words).lower()
+
+    def taught(self, e: Expectation, key: str, what: str, known: list[str]) -> None:
+        """A name the robot should learn is one of the scenario's, or words somebody says (her word for it).
+
+        A scenario that starts from an earlier run's knowledge (``<robot memory="required">``) may ask
+        about anything that run taught."""
+        value = e.get(key)
+        if value is None or e.get("never") is True or self.sc.robot.memory_required:
+            return
+        text = str(value)
+        if text in known or re.search(rf"\b{re.escape(text.lower())}\b", self.spoken):
+            return
+        raise self.fail(e.line, e.kind, f"{key}={text!r}: nobody says it and " + unknown_name(what, text, known)
+                        + "; the robot can only learn a name somebody uses (knowledge from an earlier run: "
+                        + '<robot memory="required">)')
+
     def expectation(self, e: Expectation) -> None:
+        if e.kind == "place-learned":
+            self.taught(e, "name", "room or place", self.named("room") + self.named("place"))
+        if e.kind == "object-learned":
+            self.taught(e, "type", "object type", sorted({o.type for o in self.sc.objects}))
+            self.taught(e, "name", "object", self.named("object"))
         if e.kind == "reached":
             who = e.get("who")
             if self.kinds.get(str(who), ("",))[0] != "human":
-                raise self.fail(e.line, e.kind, f"there is no human named {who!r}")
+                raise self.fail(e.line, e.kind, unknown_name("human", who, self.named("human")))
             self.target(e.get("target"), "reached", e.line, str(who))  # type: ignore[arg-type]
             by = e.get("by")
             if by is not None and float(by) > self.sc.duration:  # type: ignore[arg-type]
@@ -365,7 +500,7 @@ class _Checker:
         if e.kind == "following-distance":
             who = e.get("who")
             if self.kinds.get(str(who), ("",))[0] != "human":
-                raise self.fail(e.line, e.kind, f"there is no human named {who!r}")
+                raise self.fail(e.line, e.kind, unknown_name("human", who, self.named("human")))
         for key in ("after", "by"):
             t = e.get(key)
             if e.kind != "reached" and t is not None and float(t) > self.sc.duration:  # type: ignore[arg-type]
@@ -375,7 +510,8 @@ class _Checker:
         if e.kind == "no-collision":
             what = e.get("with")
             if what is not None and what not in ("wall", "furniture") and self.kinds.get(str(what), ("",))[0] != "human":
-                raise self.fail(e.line, e.kind, f"with={what!r}: use 'wall', 'furniture' or the name of a human")
+                raise self.fail(e.line, e.kind, f"with={what!r}: use 'wall', 'furniture' or the name of a human"
+                                                f"{did_you_mean(str(what), ['wall', 'furniture', *self.named('human')])}")
         window = e.get("between")
         if window is not None and window[1] > self.sc.duration:  # type: ignore[index]
             raise self.fail(e.line, e.kind, f"the window ends at {window[1]} s, after the run ({self.sc.duration} s)")  # type: ignore[index]

@@ -23,6 +23,7 @@ from lxml import etree
 from ..deployment import Override, override_from_element
 from ..errors import InputError, ScenarioError
 from ..xmlio import Schema, load_schema, parse_bytes, parse_file
+from .schemawords import Wording, describe_all, element_attributes, type_words
 from . import checks
 from .model import (
     COLOURS,
@@ -98,23 +99,35 @@ def _from_root(root: etree._Element, source: str) -> Scenario:
     if problems:
         first = problems[0]
         more = f" (and {len(problems) - 1} more problem(s))" if len(problems) > 1 else ""
-        raise ScenarioError(first.message + more, source=source, line=first.line)
+        raise ScenarioError(first.message + more, source=source, line=first.line, element=first.element)
     scenario = _Builder(source).scenario(root)
     checks.check(scenario)
     return scenario
 
 
 def schema_problems(root: etree._Element, source: str) -> list[ScenarioError]:
-    """Every scenario.xsd problem of ``root``, in words a scenario author can act on."""
-    return [ScenarioError(f"does not satisfy scenario.xsd: {readable(message)}", source=source, line=line or None)
-            for line, message in scenario_schema().errors(root)]
+    """Every scenario.xsd problem of ``root`` as ``file:line: <element>: what is wrong; expected ...``."""
+    return [ScenarioError(f"{words} (scenario.xsd)", source=source, line=line or None, element=element)
+            for line, element, words in describe_all(scenario_schema().errors(root), _wording())]
+
+
+def _wording() -> Wording:
+    """What scenario.xsd's patterns and simple types accept, in words (read once from the schema)."""
+    global _WORDING
+    if _WORDING is None:
+        schema = parse_file(SCHEMA_PATH)
+        _WORDING = Wording(patterns=_pattern_forms(), types=type_words(schema), attributes=element_attributes(schema))
+    return _WORDING
+
+
+_WORDING: Wording | None = None
 
 
 def check_scenario_file(path: str | os.PathLike[str]) -> list[InputError]:
-    """Every problem of a scenario file ([] when it loads): all schema problems, else the first semantic one.
+    """Every problem of a scenario file ([] when it loads): all schema problems, else every semantic one.
 
-    The builder and the checks stop at the first problem (later ones may only
-    follow from it); the schema stage reports them all.
+    The builder stops at its first problem (a value it cannot turn into the
+    model); the schema stage and the checks report them all.
     """
     source = str(path)
     try:
@@ -125,10 +138,10 @@ def check_scenario_file(path: str | os.PathLike[str]) -> list[InputError]:
     if problems:
         return problems
     try:
-        checks.check(_Builder(source).scenario(root))
+        scenario = _Builder(source).scenario(root)
     except InputError as exc:
         return [exc]
-    return []
+    return list(checks.problems(scenario))
 
 
 #: What each pattern-restricted value of scenario.xsd must look like (by simple type or attribute name).
@@ -140,9 +153,6 @@ FORMS = {
     "window": "'t0 t1': two times in seconds (not negative), separated by a space",
     "metric": "a dotted name of a summary value, e.g. following.mean_distance_m",
 }
-
-_FACET = re.compile(r"^Element '([^']*)'(?:, attribute '([^']*)')?: \[facet 'pattern'\] "
-                    r"The value '(.*)' is not accepted by the pattern '(.*)'\.?$", re.S)
 
 
 def _pattern_forms() -> dict[str, str]:
@@ -168,17 +178,6 @@ def _pattern_forms() -> dict[str, str]:
 
 
 _FORMS_BY_PATTERN: dict[str, str] | None = None
-
-
-def readable(message: str) -> str:
-    """A libxml2 pattern-facet message (value + a long regular expression) as what is expected instead."""
-    m = _FACET.match(message)
-    if m is None:
-        return message
-    element, attribute, value, pattern = m.groups()
-    form = _pattern_forms().get(pattern, "the form scenario.xsd requires")
-    what = f"<{element}> {attribute}={value!r}" if attribute else f"<{element}> text {value!r}"
-    return f"{what} is not valid; expected {attribute or 'text'}: {form}"
 
 
 class _Builder:
@@ -331,6 +330,7 @@ class _Builder:
             options=self.options(el),
             profile=el.get("profile"),
             line=el.sourceline,
+            memory_required=el.get("memory") == "required",
         )
 
     def deployment(self, el: etree._Element | None) -> Override | None:

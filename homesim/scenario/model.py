@@ -251,6 +251,7 @@ class RobotSpec:
     options: tuple[tuple[str, str], ...] = ()  # <option name value/>: for BIRON's modules
     profile: str | None = None  # <robot profile>: which robot (the run package knows the names); None: the default
     line: int | None = None
+    memory_required: bool = False  # <robot memory="required">: starts from an earlier run's knowledge store
 
 
 @dataclass(frozen=True)

@@ -8,6 +8,7 @@ from pathlib import Path
 from .. import cliargs
 from ..cliargs import OptionError
 from ..errors import HomesimError
+from ..progress import VirtualSeconds
 
 
 def export_command(a: argparse.Namespace) -> int:
@@ -25,7 +26,8 @@ def export_command(a: argparse.Namespace) -> int:
     if a.perfetto is not None:
         from ..export.perfetto import export_perfetto
 
-        c = export_perfetto(a.trace, a.perfetto)
+        with VirtualSeconds("perfetto") as bar:
+            c = export_perfetto(a.trace, a.perfetto, progress=bar)
         print(f"wrote {a.perfetto} (Perfetto / Chrome trace events: {c['threads']} modules, {c['slices']} messages, "
               f"{c['spans']} processing spans, {c['flows']} cause flows)")
     if a.mcap is not None:
@@ -36,7 +38,8 @@ def export_command(a: argparse.Namespace) -> int:
                 raise
             raise HomesimError("--mcap needs the mcap library: pip install 'homesim[export]'") from exc
 
-        c = export_mcap(a.trace, a.mcap)
+        with VirtualSeconds("mcap: re-creating the run") as bar:
+            c = export_mcap(a.trace, a.mcap, progress=bar)
         print(f"wrote {a.mcap} (MCAP for Foxglove: {c['channels']} channels, {c['messages']} messages, "
               f"{c['scans']} laser scans, {c['frames']} world frames)")
     return 0

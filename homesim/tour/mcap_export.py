@@ -29,6 +29,7 @@ from __future__ import annotations
 
 import math
 import os
+from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
@@ -201,9 +202,11 @@ class _Exporter:
                      "color": fg.color(1, 1, 1)}])]})
 
 
-def export_mcap(trace: str | os.PathLike[str], out: str | os.PathLike[str]) -> dict[str, int]:
+def export_mcap(trace: str | os.PathLike[str], out: str | os.PathLike[str], *,
+                progress: Callable[[float, float], None] | None = None) -> dict[str, int]:
     """Re-create ``trace``'s run and write it as MCAP to ``out``; return counts (channels, messages, scans, frames).
 
+    ``progress(now, end)``: told the virtual time the re-created run has reached.
     The file appears only when the whole run has been re-created and matched
     the trace (a partial export is removed).
     """
@@ -218,7 +221,7 @@ def export_mcap(trace: str | os.PathLike[str], out: str | os.PathLike[str]) -> d
             ex.static()
             run.sim.bus.add_interceptor(ex)
             run.world.add_listener(ex.on_step)
-            run.run()
+            run.run(progress=progress)
             run.finish()  # the closing questions to the scene model are in the trace too
             check.finished()
             mc.finish()

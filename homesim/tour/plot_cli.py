@@ -30,6 +30,7 @@ def _check_output(out: Path) -> None:
 def plot_moment_of_trace(trace: Path, at: float | None):  # noqa: ANN201 (a matplotlib Figure)
     """Re-create ``trace``'s run to ``at`` (default: its end) and draw that moment with the percepts."""
     from .tracerun import rerun
+    from ..progress import VirtualSeconds
     from ..viz.moment import plot_moment
     from .percepts import CHANNELS, PerceptCollector
 
@@ -38,7 +39,8 @@ def plot_moment_of_trace(trace: Path, at: float | None):  # noqa: ANN201 (a matp
         with run:
             seen = PerceptCollector()
             run.dispatcher.add(CHANNELS, seen)
-            run.run()
+            with VirtualSeconds("re-creating the run") as bar:
+                run.run(progress=bar)
             now = run.sim.now
             what = f"t = {now:.2f} s" if at is None or abs(now - at) < 1e-9 else f"t = {now:.2f} s (asked for {at:g} s)"
             if at is None:
@@ -62,7 +64,10 @@ def plot_command(a: argparse.Namespace) -> int:
 
         out = a.out or Path("out/timeline.png")
         _check_output(out)
-        tl = read_timeline(a.trace, start=a.start, end=a.end)
+        from ..progress import VirtualSeconds
+
+        with VirtualSeconds("reading the trace") as bar:
+            tl = read_timeline(a.trace, start=a.start, end=a.end, progress=bar)
         fig = plot_timeline(tl)
         what = f"{len(tl.lanes)} modules, {len(tl.messages)} messages, {len(tl.spans)} processing spans, {tl.start:g}-{tl.end:g} s"
     else:

@@ -27,43 +27,34 @@ from .. import cliargs
 from ..cliargs import OptionError
 from ..errors import HomesimError
 from ..message import Message
+from ..progress import VirtualSeconds, write
+from robot.profiles import PROFILES
 from .runner import Run, RunOptions, file_digest, store_digest
 from .tracerun import next_line, read_header, run_options, store_copy, trace_lines
 
-BAR = 30
-
-
 class Console:
-    """Transcript lines and a progress bar on one output stream."""
+    """Transcript lines on ``out`` and a progress bar in virtual seconds on a terminal's stderr (tqdm)."""
 
-    def __init__(self, out: IO[str], *, quiet: bool, bar: bool) -> None:
+    def __init__(self, out: IO[str], *, quiet: bool) -> None:
         self.out = out
         self.quiet = quiet
-        self.bar = bar and not quiet
-        self._drawn = False
+        self.bar = VirtualSeconds("run")
 
     def line(self, t: float, who: str, text: str) -> None:
         if self.quiet:
             return
-        self._clear()
-        self.out.write(f"{t:8.2f}  {who:>12}: {text}\n")
+        write(f"{t:8.2f}  {who:>12}: {text}", file=self.out)
 
     def progress(self, now: float, end: float) -> None:
-        if not self.bar:
-            return
-        done = int(BAR * now / end) if end > 0 else BAR
-        self.out.write(f"\r[{'#' * done}{'.' * (BAR - done)}] {now:7.1f} / {end:g} s")
-        self.out.flush()
-        self._drawn = True
+        if not self.quiet:
+            self.bar(now, end)
 
-    def _clear(self) -> None:
-        if self._drawn:
-            self.out.write("\r\033[K")
-            self._drawn = False
+    def close(self) -> None:
+        """Remove the bar (the run has ended or failed)."""
+        self.bar.close()
 
     def text(self, s: str) -> None:
-        self._clear()
-        self.out.write(s + "\n")
+        write(s, file=self.out)
 
 
 def _count(n: int, one: str, many: str | None = None) -> str:
@@ -85,7 +76,7 @@ def _options(a: argparse.Namespace) -> RunOptions:
 def run_command(a: argparse.Namespace) -> int:
     """``homesim run``: transcript, verdict, summary; the exit status says whether every expectation held."""
     out = sys.stdout
-    console = Console(out, quiet=a.quiet, bar=out.isatty())
+    console = Console(out, quiet=a.quiet)
     run = Run.from_file(a.scenario, _options(a), on_line=console.line)
     with run:
         sc = run.scenario
@@ -95,10 +86,12 @@ def run_command(a: argparse.Namespace) -> int:
                          f"robot modules: {', '.join(sorted(run.modules)) or 'none'}")
             console.text(f"robot profile {run.profile}; deployment {run.deployment.name}: "
                          + ", ".join(f"{h.name} ({h.link})" for h in run.deployment.hosts))
-        run.run(progress=console.progress)
+        try:
+            run.run(progress=console.progress)
+        finally:
+            console.close()
         verdicts = run.finish()
         summary = run.summary()
-        console._clear()
         if a.summary is not None:
             a.summary.parent.mkdir(parents=True, exist_ok=True)
             a.summary.write_text(json.dumps(summary, indent=2, ensure_ascii=False) + "\n", encoding="utf-8")
@@ -167,7 +160,8 @@ def replay(trace: Path, *, out: IO[str] | None = None) -> int:
     try:
         with Run.from_file(path, run_options(h, until=h["until"], trace=cmp,
                                              store=None if store is None else Path(store.name))) as run:
-            run.run(stop=lambda: cmp.diverged is not None)
+            with VirtualSeconds("replay") as bar:
+                run.run(progress=bar, stop=lambda: cmp.diverged is not None)
             if cmp.diverged is None:
                 run.finish()  # the closing questions to the scene model are in the trace too
         if cmp.diverged is None:
@@ -197,7 +191,8 @@ def plot_command(a: argparse.Namespace) -> int:
         if a.at is not None and a.at > run.scenario.duration:
             raise OptionError("--at", f"{a.at:g} s is outside the scenario ({run.scenario.name}: 0 to {run.scenario.duration:g} s)")
         run.dispatcher.add(("/robot/laser/scan", "/robot/audio/sources"), lambda m: latest.__setitem__(m.channel, m))
-        run.run()
+        with VirtualSeconds("simulating") as bar:
+            run.run(progress=bar)
         scan: Any = None
         sounds: list[float] = []
         if "/robot/laser/scan" in latest:
@@ -228,8 +223,8 @@ def _run_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--summary", type=cliargs.output_file, default=None, metavar="FILE", help="write the run summary (JSON)")
     p.add_argument("--memory", type=cliargs.store_dir, default=None, metavar="DIR",
                    help="the robot's knowledge store (a directory, created if missing): load it at the start, save to it")
-    p.add_argument("--profile", default=None, metavar="NAME",
-                   help="which robot: full (default) or biron-2005 (overrides the scenario's <robot profile>)")
+    p.add_argument("--profile", default=None, choices=sorted(PROFILES),
+                   help="which robot (overrides the scenario's <robot profile>; default: the scenario's, else full)")
     p.add_argument("--realtime", type=cliargs.realtime_scale, default=None, metavar="X", help="pace the run at X times real time")
     p.add_argument("--quiet", action="store_true", help="print the verdict (and failed expectations) only")
     p.add_argument("--strict", action="store_true",

@@ -137,6 +137,15 @@ class RobotConfig:
     profile: str = "full"  # which robot is simulated (robot.profiles)
 
 
+def _check_memory(scenario: Scenario, options: RunOptions) -> None:
+    """A scenario that starts from an earlier run's knowledge (``<robot memory="required">``) needs a store."""
+    if scenario.robot.memory_required and options.memory is None:
+        raise ScenarioError("this scenario starts from what the robot learned in an earlier run (memory=\"required\"): "
+                            "run it with --memory DIR, the store directory of that run (e.g. a home tour: homesim run "
+                            "scenarios/home_tour.xml --memory DIR, then this scenario with the same DIR)",
+                            source=scenario.source, line=scenario.robot.line, element="robot")
+
+
 def _check_names(options: RunOptions) -> None:
     """Refuse subsystems outside the robot's registry and unknown metrics (nothing named is imported)."""
     for what, names, check in (("subsystems", options.subsystems, check_subsystems), ("metrics", options.metrics, check_metrics)):
@@ -156,6 +165,7 @@ class Run:
         self.options = options
         self.on_line = on_line
         _check_names(options)  # before anything is imported or built
+        _check_memory(scenario, options)
         seed = scenario.seed if options.seed is None else options.seed
         self.profile = resolve_profile(options.profile or scenario.robot.profile, scenario)
         self.sim = Simulation(seed=seed, scenario=scenario.name, realtime=options.realtime,

@@ -229,24 +229,25 @@ def _result(fut: Any, job: Job) -> Row:
 
 
 class Progress:
-    """A progress bar on a terminal, one line per run otherwise."""
+    """A progress bar (tqdm) on a terminal, with the runs that passed; a line for each run that could not run."""
 
     def __init__(self, total: int, out: IO[str]) -> None:
-        self.total, self.out, self.done, self.passed = total, out, 0, 0
-        self.tty = hasattr(out, "isatty") and out.isatty()
+        from ..progress import bar
+
+        self.out, self.passed = out, 0
+        self.bar = bar(total, desc="study", unit="run", file=out)
 
     def __call__(self, row: Row) -> None:
-        self.done += 1
+        from ..progress import write
+
         self.passed += row["verdict"] == PASS
-        if self.tty:
-            n = int(30 * self.done / max(1, self.total))
-            self.out.write(f"\r[{'#' * n}{'.' * (30 - n)}] {self.done}/{self.total} runs, {self.passed} pass")
-            if self.done == self.total:
-                self.out.write("\n")
-        else:
-            extra = f" ({row['error'][:120]})" if row["verdict"] == ERROR else ""
-            self.out.write(f"[{self.done}/{self.total}] {row['scenario']} seed {row['seed']} {row['condition']}: {row['verdict']}{extra}\n")
-        self.out.flush()
+        self.bar.set_postfix_str(f"{self.passed} pass", refresh=False)
+        self.bar.update(1)
+        if row["verdict"] == ERROR:
+            write(f"{row['scenario']} seed {row['seed']} {row['condition']}: {ERROR} ({row['error'][:120]})", file=self.out)
+
+    def close(self) -> None:
+        self.bar.close()
 
 
 # ------------------------------------------------------------------ analysis
@@ -464,7 +465,11 @@ def study_command(a: argparse.Namespace) -> int:
             files.append(str(Path(p).resolve()))
     conditions = [parse_condition(c) for c in a.condition] or [Condition(DEFAULT)]
     seeds = parse_seeds(a.seeds)
-    doc = study(files, seeds, conditions, out, workers=a.workers, scheduler=a.scheduler, progress=Progress(len(files) * len(seeds) * len(conditions), sys.stderr), resume=a.resume)
+    shown = Progress(len(files) * len(seeds) * len(conditions), sys.stderr)
+    try:
+        doc = study(files, seeds, conditions, out, workers=a.workers, scheduler=a.scheduler, progress=shown, resume=a.resume)
+    finally:
+        shown.close()
     print((out / "study.md").read_text(encoding="utf-8"))
     t = doc["throughput"]
     allcpu = f"; {t['cpu_s_all']:.0f} CPU s with start-up and set-up: {t['runs_per_cpu_minute_all']} runs per CPU minute" if t.get("cpu_s_all") else ""

@@ -238,8 +238,17 @@ def sweep_command(a: argparse.Namespace) -> int:
         except HomesimError as exc:
             refused[str(path)] = f"{type(exc).__name__}: {exc}"
             print(f"homesim sweep: error: {exc} (its runs are ERROR rows; the sweep goes on)", file=sys.stderr, flush=True)
-    rows, agg = sweep(a.scenarios, seeds, out, until=a.until, workers=a.workers, scheduler=a.scheduler,
-                      progress=lambda line: print(line, file=sys.stderr, flush=True), refused=refused, profile=a.profile)
+    from ..progress import bar, write
+
+    runs = sum(str(p) not in refused for p in a.scenarios) * len(seeds)
+    with bar(runs, desc="sweep", unit="run") as shown:
+        def progress(line: str) -> None:
+            shown.update(1)
+            if f": {ERROR} (" in line:  # why a run failed to run is worth a line, terminal or not
+                write(line, file=sys.stderr)
+
+        rows, agg = sweep(a.scenarios, seeds, out, until=a.until, workers=a.workers, scheduler=a.scheduler,
+                          progress=progress, refused=refused, profile=a.profile)
     for g in agg:
         print(f"{g['scenario']}: {g['passed']}/{g['runs']} pass ({100 * g['pass_rate']:.0f} %), {g['failed']} fail, {g['errors']} error")
     print(f"wrote {out / 'sweep.csv'} and {out / 'sweep.json'}")
@@ -271,5 +280,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--workers", type=_workers, default=None, help="local processes (default: the CPU count)")
     p.add_argument("--scheduler", type=_scheduler, default=None, metavar="ADDRESS", help="run on this Dask distributed scheduler (tcp://host:8786)")
     p.add_argument("-o", "--out", required=True, metavar="DIR", help="directory for sweep.csv, sweep.json and summaries/")
-    p.add_argument("--profile", default=None, metavar="NAME", help="robot profile of every run (full, biron-2005; default: each scenario's)")
+    from robot.profiles import PROFILES
+
+    p.add_argument("--profile", default=None, choices=sorted(PROFILES), help="robot profile of every run (default: each scenario's)")
     p.set_defaults(func=sweep_command)
