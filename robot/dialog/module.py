@@ -37,6 +37,11 @@ still finishing her own turn must not cut the robot's answer to it. The micropho
 robot's own voice out of ``/robot/audio/sources``, so no level rule is needed
 for it (one dropped a partner standing closer than about 0.7 m).
 
+Catching up (issue 26 item 10): while the follower's ``/robot/follow/status`` says
+``approaching`` (it comes up to the partner after "stop"), a request she makes waits (the
+latest one) and is handled when the robot stands near her facing her, so a place is not
+taught from the other room.
+
 Metrics: :meth:`summary` (turns, repairs, rejections explained, task success
 per sub-dialog, barge-ins) for the run summary.
 """
@@ -58,7 +63,8 @@ from homesim.module import Module
 from robot.deployment import cost_scale
 from homesim.vloop import to_ns
 
-from robot.contract import ES_CONDITIONS, ES_EVENTS, ES_REJECTED, ES_STATUS, FRAMES, PARTNER, POSE, SAY, SOURCES, SPEAKER_STATUS
+from robot.contract import (ES_CONDITIONS, ES_EVENTS, ES_REJECTED, ES_STATUS, FOLLOW_STATUS, FRAMES, PARTNER, POSE, SAY, SOURCES,
+                            SPEAKER_STATUS)
 
 from .loader import BIRON_DIALOGS, load
 from .manager import DialogManager, Explain, Instance, Output, Say, Send
@@ -66,6 +72,8 @@ from .model import Dialogs
 
 CONDITIONS = f"{ES_CONDITIONS}/dialog"
 REJECTED = f"{ES_REJECTED}/dialog"
+#: s: the follower says "approaching" every control step (0.1 s); older than this, it no longer drives
+APPROACH_FRESH = 1.0
 
 
 def front_bearing(deg: float) -> float:
@@ -182,6 +190,11 @@ class Dialog(Module):
         self._talk_start = 0.0  # when the current sentence began (sent, then the speaker's start)
         self._queue: deque[tuple[str, tuple[str, ...]]] = deque()
         self._said = 0  # serial of the last <say> sent
+        # the follower comes up to the partner after "stop" (issue 26 item 10): a request she makes
+        # meanwhile waits until it stands facing her (a place taught from the other room would be
+        # stored where the robot lags); the latest one is kept, and released when the approach ends
+        self._approach_seen = -math.inf  # when the follower last said "approaching"
+        self._held: Message | None = None
         bus = self.bus
         bus.subscribe(FRAMES, self._on_frame)
         bus.subscribe(CONDITIONS, self._on_condition)
@@ -191,6 +204,7 @@ class Dialog(Module):
         bus.subscribe(SPEAKER_STATUS, self._on_speaker)
         bus.subscribe(SOURCES, self._on_sources)
         bus.subscribe(PARTNER, self._on_partner)
+        bus.subscribe(FOLLOW_STATUS, self._on_follow)
         bus.serve("ask", self._rpc_ask)
 
     async def run(self) -> None:
@@ -205,7 +219,19 @@ class Dialog(Module):
 
     # ------------------------------------------------------------------ inputs
     def _on_frame(self, msg: Message) -> None:
+        if self.now - self._approach_seen < APPROACH_FRESH:
+            self._held = msg  # handled once the robot stands near her (see _on_follow)
+            return
         self._emit(self.manager.on_frame(msg.xml), msg.id)
+
+    def _on_follow(self, msg: Message) -> None:
+        if msg.xml.get("state") == "approaching":
+            self._approach_seen = self.now
+            return
+        self._approach_seen = -math.inf
+        held, self._held = self._held, None
+        if held is not None:
+            self._emit(self.manager.on_frame(held.xml), held.id)
 
     def _on_condition(self, msg: Message) -> None:
         if msg.xml.get("name") == "ask":  # a reactive module's question, routed through the ES
