@@ -444,6 +444,29 @@ def test_only_sound_from_the_partners_bearing_barges_in(robot, partner, bearing)
     assert "" not in robot.sentences() and robot.dialog.summary()["barge_ins"] == 0
 
 
+def test_a_talker_behind_the_robot_does_not_cut_it_off_beside_the_partners_bearing(robot):
+    # distractor seed 2: Tom talks to himself 4 m behind the robot (about 158 degrees), which the pair
+    # hears at the mirrored 22 +- 2 degrees; Anna stands straight ahead. A direction 19-21 degrees off
+    # the partner's is not her (the pair resolves a voice in front to about 1.5 degrees): "OK, I
+    # stopped." was cut and she never heard it.
+    robot.greet()
+    robot.partner_at(0.3, 1.5, 3.0)
+    robot.sim.run(until=2.5)  # the greeting's answer is being spoken
+    for k, bearing in enumerate((21.3, 20.0, 20.9, 19.6)):
+        robot.sound(2.6 + 0.1 * k, bearing, 50.0)
+    robot.sim.run(until=3.2)
+    assert "" not in robot.sentences() and robot.dialog.summary()["barge_ins"] == 0
+
+
+def test_the_dialogs_partner_direction_is_the_attentions():
+    # One rule for "this sound is the partner's": the dialog's barge-in window is the person
+    # attention's sound-to-track tolerance (the track's "speaking" cue).
+    import math
+
+    from robot.attention.cues import CueSpec
+    assert Dialog.__init__.__kwdefaults__["barge_in_width"] == pytest.approx(math.degrees(CueSpec().sound_tolerance))
+
+
 def test_the_partner_behind_the_robot_is_heard_at_the_mirrored_bearing(robot):
     # The pair's directions lie in the front half-plane: a partner at 170 degrees sounds at 10.
     robot.greet()

@@ -28,7 +28,13 @@ robot listens. The partner's bearing is the person attention's
 ``/robot/attention/partner`` (robot frame, every scan while there is a
 partner; older than ``partner_fresh`` s counts as no partner); a direction
 counts when it lies within ``barge_in_width`` degrees of it, both folded to
-the front half-plane (the microphone pair cannot tell front from back).
+the front half-plane (the microphone pair cannot tell front from back). The
+window is the person attention's own sound-to-track tolerance
+(``CueSpec.sound_tolerance``, 9 degrees: the pair resolves a voice in front
+to about 1.5 degrees), so the dialog and the attention agree on when the
+partner speaks; a 20-degree window let a talker behind the robot, heard at
+his mirrored direction 20 degrees off the partner's, cut the robot's answers
+(distractor seed 2).
 Without a partner nothing cuts the robot off: a radio or a visitor talking
 elsewhere in the room does not. Only a frame recorded after the robot began
 the sentence counts (its ``time`` against the speaker's ``start``): over a
@@ -163,7 +169,7 @@ class Dialog(Module):
         dialog_cost: float = 0.03,
         generation_time: float = 0.17,
         barge_in_level: float = 45.0,
-        barge_in_width: float = 20.0,
+        barge_in_width: float = 9.0,
         partner_fresh: float = 1.0,
         ask_timeout: float = 10.0,
         confirm_below: float | None = None,
