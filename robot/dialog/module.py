@@ -194,7 +194,7 @@ class Dialog(Module):
         self._talking = False  # a <say> is out and not yet done/interrupted
         self._cut = False  # this utterance was already cut by a barge-in
         self._talk_start = 0.0  # when the current sentence began (sent, then the speaker's start)
-        self._queue: deque[tuple[str, tuple[str, ...]]] = deque()
+        self._queue: deque[tuple[str, tuple[str, ...], frozenset[str]]] = deque()  # text, causes, dialogs
         self._said = 0  # serial of the last <say> sent
         # the follower comes up to the partner after "stop" (issue 26 item 10): a request she makes
         # meanwhile waits until it stands facing her (a place taught from the other room would be
@@ -267,7 +267,10 @@ class Dialog(Module):
         self._emit(self.manager.on_rejected(msg.xml), msg.id)
 
     def _on_status(self, msg: Message) -> None:
-        self.manager.es_state = msg.xml.get("state", "")
+        gone = self.manager.on_state(msg.xml.get("state", ""))
+        if gone and self._queue:
+            # their sentences not yet said (a question waiting behind the good-bye) are dropped too
+            self._queue = deque(q for q in self._queue if not q[2] or not q[2] <= set(gone))
 
     def _on_pose(self, msg: Message) -> None:
         self._pose = msg.xml  # this receiver's own copy; its POSE is built only when an event needs it
@@ -330,7 +333,8 @@ class Dialog(Module):
         self.sim.loop.call_at_ns(to_ns(t), self._send_events, outs, cause)
         texts = [o.text for o in outs if isinstance(o, Say)]
         if texts:
-            self.sim.loop.call_at_ns(to_ns(t + self.generation_time), self._enqueue, " ".join(texts), cause)
+            dialogs = frozenset(o.dialog for o in outs if isinstance(o, Say))
+            self.sim.loop.call_at_ns(to_ns(t + self.generation_time), self._enqueue, " ".join(texts), cause, dialogs)
 
     async def _emit_with_explanation(self, outs: list[Output], t: float, cause: str) -> None:
         await asyncio.sleep(max(0.0, t - self.now))
@@ -371,17 +375,17 @@ class Dialog(Module):
                                             frame=x.get("frame", "map")))
                 self.bus.publish(ES_EVENTS, el, causes=(cause,), transfer=True)
 
-    def _enqueue(self, text: str, cause: str) -> None:
+    def _enqueue(self, text: str, cause: str, dialogs: frozenset[str] = frozenset()) -> None:
         if not text:
             return
-        self._queue.append((text, (cause,)))
+        self._queue.append((text, (cause,), dialogs))
         if not self._talking:
             self._say_next()
 
     def _say_next(self) -> None:
         if not self._queue or self.bus.closed or self.bus.hung:
             return
-        text, causes = self._queue.popleft()
+        text, causes, _ = self._queue.popleft()
         self._talking = True
         self._cut = False
         self._talk_start = self.now
