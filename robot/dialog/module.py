@@ -43,6 +43,11 @@ still finishing her own turn must not cut the robot's answer to it. The micropho
 robot's own voice out of ``/robot/audio/sources``, so no level rule is needed
 for it (one dropped a partner standing closer than about 0.7 m).
 
+Leaving the interaction: when the supervisor's status leaves a sub-dialog's states
+(back to LookingAround), a sub-dialog that asked the user a question is abandoned
+(:meth:`DialogManager.on_state`) and its sentences not yet said are dropped: the
+person it asked has gone, and a bystander's next words must not answer it.
+
 Catching up (issue 26 item 10): while the follower's ``/robot/follow/status`` says
 ``approaching`` (it comes up to the partner after "stop"), a request she makes waits (the
 latest one) and is handled when the robot stands near her facing her, so a place is not
