@@ -55,3 +55,15 @@ def test_an_object_hidden_by_the_partner_is_learned_after_asking_her_to_step_asi
     s = _run("occluded_plant")
     assert any("step aside" in t.lower() for t in _said(s))
     assert s["verdict"] == "PASS"
+
+
+def test_a_greeting_from_beyond_the_lasers_half_circle_is_turned_to_and_answered():
+    s = _run("greet_side_90")
+    assert s["verdict"] == "PASS"
+
+
+def test_an_object_shown_before_the_sentence_by_a_partner_standing_close_is_learned_where_it_stands():
+    s = _run("teach_close_two")
+    assert s["verdict"] == "PASS"
+    (vase,) = s["learned"]["objects"]
+    assert math.hypot(float(vase["x"]) - 3.45, float(vase["y"]) - 0.3) < 0.1  # the blue vase, not the white one 0.45 m away

@@ -33,6 +33,9 @@ class CueSpec:
     facing_on: int = 2
     facing_off: float = 0.3  # s: a face missing where the camera looks means the person looked away
     mic_offset: float = 0.10  # m ahead of the robot centre
+    mic_height: float = 1.06  # m: the microphone pair's height on the robot (its own geometry)
+    mic_spacing: float = 0.281  # m between the two microphones
+    mouth_height: float = 1.6  # m: where an adult standing person's voice comes from (typical)
     camera_offset: float = 0.05
 
 
@@ -85,6 +88,23 @@ def bearings_from(xy_robot: np.ndarray | Sequence[Sequence[float]], offset: floa
     """Bearings (rad) of robot-frame points (N, 2) seen from a sensor ``offset`` ahead of the centre."""
     pts = xy_robot.tolist() if isinstance(xy_robot, np.ndarray) else xy_robot
     return [math.atan2(y, x - offset) for x, y in pts]
+
+
+def sound_bearings_from(xy_robot: np.ndarray | Sequence[Sequence[float]], spec: CueSpec) -> list[float]:
+    """The front-half-plane bearing (rad) the microphone pair reports for a voice from each
+    robot-frame point (N, 2): the pair measures a path difference in 3D, and a mouth above the
+    microphones shortens it by the cosine of its elevation (a person 1.7 m away 76 deg to the side
+    is heard at about 66 deg), so a track's voice is matched where the pair hears it, not at the
+    track's own bearing. Near-field (exact distances to both microphones), far-field inverted."""
+    pts = xy_robot.tolist() if isinstance(xy_robot, np.ndarray) else xy_robot
+    h, dz, off = spec.mic_spacing / 2, spec.mouth_height - spec.mic_height, spec.mic_offset
+    out = []
+    for x, y in pts:
+        ax = x - off
+        dl = math.sqrt(ax * ax + (y - h) ** 2 + dz * dz)
+        dr = math.sqrt(ax * ax + (y + h) ** 2 + dz * dz)
+        out.append(math.asin(max(-1.0, min(1.0, (dr - dl) / spec.mic_spacing))))
+    return out
 
 
 def match_sounds(track_bearings: Sequence[float] | np.ndarray, sound_bearings: Sequence[float] | np.ndarray, tolerance: float) -> list[int]:

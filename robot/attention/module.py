@@ -64,7 +64,7 @@ from homesim.xmlio import hardened_parser
 from robot.contract import ATTENTION_STATE, BASE_CMD, ES_EVENTS, ES_ORDERS, FACES, FOCUS, FOLLOW_STATUS, ODOMETRY, PARTNER, POSE, PTU_CMD, SCAN, SOURCES, STEER, TORSOS, TRACKS
 
 from .clutter import FurnitureLegs
-from .cues import CueSpec, Hysteresis, bearings_from, match_faces, match_sounds
+from .cues import CueSpec, Hysteresis, bearings_from, match_faces, match_sounds, sound_bearings_from
 from .fsm import CAMERA, TURNS, AttentionFSM, OrderRefused
 from .legs import LegDetector, LegSpec
 from .selection import SelectionParams, Selector
@@ -114,6 +114,10 @@ class AttentionParams:
     steer_deadband: float = math.radians(3.0)
     dominant_max_age: float = 0.35  # s: a sound-direction frame older than this no longer steers the beam
     partner_voice_tolerance: float = math.radians(4.0)  # a direction this near the partner's bearing is her voice (beam gate)
+    # Turning to a voice nobody seen explains (bottom-up, nobody selected speaks): someone greeting
+    # from the side, beyond the laser's or the camera's field, or hidden from the laser:
+    voice_turn_min: float = math.radians(30.0)  # turn when the voice comes from further off the axis
+    voice_turn_time: float = 4.0  # s: the turn ends after this (the voice may be a radio)
     state_refresh: float = 1.0  # s
     cue_max_age: float = 0.3  # s: an odometry pose older than this is extrapolated
     max_refused: int = 32
@@ -179,6 +183,7 @@ class PersonAttention(Module):
         self._steer_sent: float | None | str = "unset"
         self._dominant: tuple[float, float] | None = None  # (time, front bearing rad): the loudest unexplained direction
         self._voices: tuple[float, bool, bool] | None = None  # (time, the partner talks, someone else does): the last sound frame
+        self._voice_turn: tuple[float, float, float] | None = None  # (until, odom heading, heard at): turning to an unexplained voice
         self._state_sent: tuple[str, int | None, int | None] | None = None
         self._state_at = -math.inf
         self.scans = 0
@@ -277,7 +282,7 @@ class PersonAttention(Module):
         sources = list(msg.xml)
         bearings = [math.radians(float(s.get("bearing"))) for s in sources]
         # The tracks' bearings only when there is a sound to match them with (most frames are quiet).
-        track_bearings = bearings_from(self._robot_xy(t), self.cues.mic_offset) if tracks and bearings else []
+        track_bearings = sound_bearings_from(self._robot_xy(t), self.cues) if tracks and bearings else []
         rows = match_sounds(track_bearings, bearings, self.cues.sound_tolerance) if tracks and bearings else []
         self.speaking.feed(t, ids, {ids[r] for r in rows})
         if rows:
@@ -542,9 +547,23 @@ class PersonAttention(Module):
         elif target in p.heights and row >= 0:
             pan = bearing[row]
             tilt = math.atan2(p.heights[target] - p.camera_height, max(dist[row], 0.3))
+        voice = self._voice_heading(t, row, category)
+        if voice is not None:  # look where the voice came from (the base turns there below)
+            pan, tilt = math.remainder(voice - self._pose_at(t)[2], 2 * math.pi), math.atan2(p.heights["face"] - p.camera_height, 1.5)
         self._ptu(t, pan, tilt)
-        # Base: turn on the spot to the person in Listen, Interaction and Object.
-        if state in TURNS and row >= 0 and not self._follower_drives:
+        # Base: turn on the spot to the person in Listen, Interaction and Object, and to an
+        # unexplained voice while bottom-up (:meth:`_voice_heading`).
+        if voice is not None:
+            b = math.remainder(voice - self._pose_at(t)[2], 2 * math.pi)
+            if abs(b) < p.turn_stop:
+                self._voice_turn = None
+                if self._turning:
+                    self._base(0.0)
+                    self._turning = False
+            else:
+                self._turning = True
+                self._base(max(-p.max_turn, min(p.max_turn, p.turn_gain * b)))
+        elif state in TURNS and row >= 0 and not self._follower_drives:
             b = bearing[row]
             if self._turning and abs(b) < p.turn_stop:
                 self._base(0.0)
@@ -556,6 +575,30 @@ class PersonAttention(Module):
             self._base(0.0)
             self._turning = False
         self._steer(self.beam(t, bearing[row] if row >= 0 else None, category))
+
+    def _voice_heading(self, t: float, row: int, category: int) -> float | None:
+        """The odometry heading to turn to for a voice nobody seen explains, or None.
+
+        Bottom-up and free (no order holds the state), when nobody selected is speaking: a fresh
+        unexplained sound direction (``_dominant``) further than ``voice_turn_min`` off the axis
+        starts a turn towards it (its front reading: the pair cannot tell front from back, and a
+        voice from behind is found in two turns as its reading moves forward), which ends when the
+        robot faces it, after ``voice_turn_time`` s, or when someone seen starts to speak (Listen
+        turns to them). Someone greeting from 90 deg, beyond the laser's half-circle, or whose legs
+        a chair hides, is then in front of the laser and the camera.
+        """
+        p = self.params
+        if self.fsm.top_down or self.fsm.held or (row >= 0 and category >= 2):
+            self._voice_turn = None
+            return None
+        d = self._dominant
+        if d is not None and t - d[0] <= p.dominant_max_age and abs(d[1]) > p.voice_turn_min and (self._voice_turn is None or d[0] > self._voice_turn[2]):
+            self._voice_turn = (t + p.voice_turn_time, self._pose_at(d[0])[2] + d[1], d[0])
+        vt = self._voice_turn
+        if vt is None or t > vt[0]:
+            self._voice_turn = None
+            return None
+        return vt[1]
 
     def beam(self, t: float, bearing: float | None, category: int) -> float | None:
         """Where the recogniser listens: the partner (top-down), the selected person while they speak

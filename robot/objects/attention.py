@@ -66,6 +66,11 @@ ORDERS = f"{ES_ORDERS}/object_attention"
 EVENTS = ES_EVENTS
 VIEW_HALF_WIDTH = math.radians(24.0)  # the camera's half field of view
 BODY_HALF_WIDTH = 0.3  # metres either side of a person's centre that hide what is behind (shoulders, arm)
+GESTURE_LEAD = 3.0  # s: a pointing that goes with a sentence may begin this long before its first word
+SENTENCE_RECENT = 15.0  # s: a sentence begun this long ago is still the one being resolved (said, understood, sent)
+SEARCH_OFFSETS = (math.radians(-35.0), math.radians(35.0), math.radians(-70.0), math.radians(70.0))  # off her bearing
+SEARCH_LOOK = 1.0  # s the camera dwells on each side of her
+SEARCH_RADIUS = 1.5  # m: what she shows without a gesture the camera saw stands this near her
 
 OWNER_WORDS = {"speaker": "partner", "my": "partner", "me": "partner", "mine": "partner"}
 
@@ -184,24 +189,36 @@ class ObjectAttention(Module):
         if self._search is not None and not self._search.done():
             self._search.cancel()
         obj = None
+        said: float | None = None
         for p in msg.xml.iterfind("param"):
             if p.get("name") == "object":
                 obj = p.find("OBJECT")
-        self._search = self.sim.spawn(self.find(obj, msg.id), name=f"{self.name}:find")
+            elif p.get("name") == "said" and p.find("TIMESTAMP") is not None:  # the sentence's start (ms)
+                said = float(p.find("TIMESTAMP").get("val", "nan")) / 1000.0  # type: ignore[union-attr]
+        self._search = self.sim.spawn(self.find(obj, msg.id, said), name=f"{self.name}:find")
 
-    async def find(self, obj: etree._Element | None, cause: str) -> None:
-        """One search (see the module docstring); always ends with an ES event."""
+    async def find(self, obj: etree._Element | None, cause: str, said: float | None = None) -> None:
+        """One search (see the module docstring); always ends with an ES event. ``said``: when the
+        sentence began (s, the frame's ``TIMESTAMP``), if the order carries it."""
         wanted = wanted_from(obj)
         try:
             waited = 0.0
-            while self.gestures.pointing(self.now) is None and waited < self.gesture_wait:
+            start = self._gesture_start(said)
+            while self.gestures.pointing(self.now, start=start) is None and waited < self.gesture_wait:
                 await asyncio.sleep(0.1)
                 waited += 0.1
-            pointing = self.gestures.pointing(self.now)
+            pointing = self.gestures.pointing(self.now, start=start)
             if self.pose is None:
                 self._not_found("no_pose", cause)
                 return
             res = await self._look(wanted, pointing, cause)
+            if res.kind == "none" and pointing is None:
+                # No gesture seen (her arm swung out of the image: she stands close, or pointed
+                # before the camera was on her hands) and nothing of the kind ahead: look on both
+                # sides of her for what she named.
+                near = await self._search_near_partner(wanted, cause)
+                if near is not None and near.kind != "none":
+                    res = near
             hidden = pointing is not None and self._partner_in_the_way(pointing)
             if res.kind == "none" and (hidden or (pointing is None and self._partner_in_view())):
                 # She stands between the camera and what she points at: ask her to step aside,
@@ -245,6 +262,34 @@ class ObjectAttention(Module):
         assert pose is not None
         cands = merge(self._seen, (pose[0], pose[1]), eye_height=CAMERA_HEIGHT)
         res = resolve(cands, wanted, pointing, (pose[0], pose[1]))
+        self.last = res
+        return res
+
+    async def _search_near_partner(self, wanted: Wanted, cause: str) -> Resolution | None:
+        """Look to either side of the partner (``SEARCH_OFFSETS`` off her bearing, ``SEARCH_LOOK`` s
+        each) and resolve what she named among the objects within ``SEARCH_RADIUS`` of her, by
+        type, name and colour alone (nearer to her preferred); two that fit alike: ask. None when
+        there is no partner to search around or nothing was named (an unnamed "this" needs the
+        gesture)."""
+        p, pose = self._partner, self.pose
+        if p is None or pose is None or self.now - p[0] > 1.0 or not (wanted.type or wanted.name):
+            return None
+        _, pb, pd = p
+        px, py = pose[0] + pd * math.cos(pose[2] + pb), pose[1] + pd * math.sin(pose[2] + pb)
+        self._seen = []
+        self._looking = True
+        try:
+            for off in SEARCH_OFFSETS:
+                t_end = self.now + SEARCH_LOOK
+                while self.now < t_end - 1e-9:
+                    self.bus.publish(FOCUS, etree.Element("focus", bearing=f"{math.degrees(pb + off):.2f}", distance=f"{max(0.8, pd):.3f}"), causes=(cause,))
+                    await asyncio.sleep(0.2)
+        finally:
+            self._looking = False
+        pose = self.pose
+        assert pose is not None
+        cands = [c for c in merge(self._seen, (pose[0], pose[1]), eye_height=CAMERA_HEIGHT) if math.hypot(c.x - px, c.y - py) <= SEARCH_RADIUS]
+        res = resolve(cands, wanted, None, (px, py))
         self.last = res
         return res
 
@@ -314,6 +359,15 @@ class ObjectAttention(Module):
                 return
             await asyncio.sleep(0.2)
             waited += 0.2
+
+    def _gesture_start(self, said: float | None) -> float | None:
+        """Where to look back for the gesture that went with the request: from ``GESTURE_LEAD`` s
+        before the sentence began (``said``, from the order's ``TIMESTAMP``), if it began within
+        ``SENTENCE_RECENT`` s (she points, then speaks: by the time the request is understood and
+        reaches this module the arm is down again); None: the gesture tracker's own window."""
+        if said is None or math.isnan(said) or self.now - said > SENTENCE_RECENT:
+            return None
+        return said - GESTURE_LEAD
 
     def _on_partner(self, msg: Message) -> None:
         x = msg.xml

@@ -40,8 +40,9 @@ def camera_to_map(pose: tuple[float, float, float], bearing: float, distance: fl
 class GestureTracker:
     """Recent pointing detections (map frame) and their consensus ray."""
 
-    def __init__(self, *, window: float = 4.0, min_count: int = 2, maxlen: int = 200) -> None:
+    def __init__(self, *, window: float = 4.0, memory: float = 15.0, min_count: int = 2, maxlen: int = 200) -> None:
         self.window = window
+        self.memory = max(memory, window)  # s: how long detections are kept for :meth:`pointing` with ``start``
         self.min_count = min_count
         self._seen: deque[tuple[float, Pointing]] = deque(maxlen=maxlen)
 
@@ -52,15 +53,20 @@ class GestureTracker:
         self._seen.append((t, p))
         return p
 
-    def recent(self, now: float, since: float = -math.inf) -> list[Pointing]:
-        while self._seen and self._seen[0][0] < now - self.window:
+    def recent(self, now: float, since: float = -math.inf, start: float | None = None) -> list[Pointing]:
+        """Detections of the last ``window`` s (from ``start`` instead, if given, at most ``memory``
+        s back) taken at ``since`` or later."""
+        while self._seen and self._seen[0][0] < now - self.memory:
             self._seen.popleft()
-        return [p for t, p in self._seen if t >= since]
+        lo = max(since, now - self.window if start is None else max(start, now - self.memory))
+        return [p for t, p in self._seen if t >= lo]
 
-    def pointing(self, now: float, since: float = -math.inf) -> Pointing | None:
+    def pointing(self, now: float, since: float = -math.inf, start: float | None = None) -> Pointing | None:
         """The averaged ray of the largest group of consistent recent detections (taken at
-        ``since`` or later), or None."""
-        seen = self.recent(now, since)
+        ``since`` or later; ``start``: look back to then instead of ``window`` s, e.g. to the
+        beginning of the sentence the gesture went with), or None. Of groups equally large, the
+        earliest (with ``start``: the latest)."""
+        seen = self.recent(now, since, start)
         if len(seen) < self.min_count:
             return None
         groups: list[list[Pointing]] = []
@@ -71,7 +77,10 @@ class GestureTracker:
                     break
             else:
                 groups.append([p])
-        best = max(groups, key=len)  # first of the largest: the earliest group on ties
+        if start is None:
+            best = max(groups, key=len)  # first of the largest: the earliest group on ties
+        else:  # looking back to the sentence: of the largest, the latest (groups are in order of first detection)
+            best = max(reversed(groups), key=len)
         if len(best) < self.min_count:
             return None
         n = len(best)

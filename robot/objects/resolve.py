@@ -165,7 +165,10 @@ def merge(
     Candidates whose means then pass the same gate are joined (an outlier seen first would
     otherwise start a second candidate for the same object).
     Candidates seen in fewer than ``min_share`` of the frames the best was seen in are
-    dropped (a stray reading, a glimpse while the camera turned).
+    dropped (a stray reading, a glimpse while the camera turned). With an origin, a candidate whose
+    bearings fall in two groups is split (:func:`_split`), and a weak candidate between two
+    stronger ones is dissolved into them (:func:`_dissolve_between`): every candidate's position is
+    the mean of its own detections, never a point between two objects.
     """
     def gate(c: Candidate, x: float, y: float, z: float, rgb: np.ndarray) -> float | None:
         """How far a point is from a candidate (None: not the same object)."""
@@ -212,12 +215,69 @@ def merge(
             if joined:
                 break
     if origin is not None:
-        out = [part for c in out for part in _split(c, [detections[k] for k in members[id(c)]], origin)]
+        split: list[tuple[Candidate, list[int]]] = []
+        for c in out:
+            split += _split(c, members[id(c)], detections, origin)
+        split = _dissolve_between(split, detections, origin)
+        out = [c for c, _ in split]
     top = max((c.n for c in out), default=0)
     return [c for c in out if c.n >= min_share * top]
 
 
-def _split(c: Candidate, dets: list, origin: tuple[float, float]) -> list[Candidate]:
+def _bearing(origin: tuple[float, float], x: float, y: float) -> float:
+    return math.atan2(y - origin[1], x - origin[0])
+
+
+def _dissolve_between(parts: list[tuple[Candidate, list[int]]], detections: list, origin: tuple[float, float]) -> list[tuple[Candidate, list[int]]]:
+    """A weak candidate lying between two stronger ones of its colour is their stray detections.
+
+    Two objects a few bearing noises apart each throw a few detections towards the other; those
+    that land in the middle can gate together into a weak third candidate whose mean lies between
+    the two objects, a point where nothing stands. When a candidate holds fewer than half the
+    detections of each of two stronger candidates of its colour whose bearings enclose its own,
+    and lies within ``2 * MERGE_BEARING`` of both, it is dissolved: each of its detections goes to
+    the nearer (in bearing) of the two, and their positions are again the means of their own
+    detections. A real third object in the middle is seen in about as many frames as the others
+    and is kept.
+    """
+    changed = True
+    while changed:
+        changed = False
+        bearings = [_bearing(origin, c.x, c.y) for c, _ in parts]
+        for i, (c, idx) in enumerate(parts):
+            left = [j for j, (o, _) in enumerate(parts) if j != i and o.n >= 2 * c.n and float(np.linalg.norm(o.rgb - c.rgb)) <= 0.35
+                    and 0 < math.remainder(bearings[j] - bearings[i], 2 * math.pi) <= 2 * MERGE_BEARING]
+            right = [j for j, (o, _) in enumerate(parts) if j != i and o.n >= 2 * c.n and float(np.linalg.norm(o.rgb - c.rgb)) <= 0.35
+                     and 0 < math.remainder(bearings[i] - bearings[j], 2 * math.pi) <= 2 * MERGE_BEARING]
+            if not left or not right:
+                continue
+            a = min(left, key=lambda j: math.remainder(bearings[j] - bearings[i], 2 * math.pi))
+            b = min(right, key=lambda j: math.remainder(bearings[i] - bearings[j], 2 * math.pi))
+            groups = {a: list(parts[a][1]), b: list(parts[b][1])}
+            for k in idx:
+                d = detections[k]
+                bk = _bearing(origin, d[1], d[2])
+                near = a if abs(math.remainder(bk - bearings[a], 2 * math.pi)) <= abs(math.remainder(bk - bearings[b], 2 * math.pi)) else b
+                groups[near].append(k)
+            rebuilt = {j: (_from_detections(sorted(g), detections), sorted(g)) for j, g in groups.items()}
+            parts = [rebuilt.get(j, p) for j, p in enumerate(parts) if j != i]
+            changed = True
+            break
+    return parts
+
+
+def _from_detections(idx: list[int], detections: list) -> Candidate:
+    """A candidate made of exactly these detections (in their order)."""
+    first = detections[idx[0]]
+    c = Candidate(first[1], first[2], first[3])
+    c.x = c.y = c.z = 0.0
+    for k in idx:
+        d = detections[k]
+        c.add(d[0], d[1], d[2], d[3], d[4], d[5] if len(d) > 5 else None)
+    return c
+
+
+def _split(c: Candidate, idx: list[int], detections: list, origin: tuple[float, float]) -> list[tuple[Candidate, list[int]]]:
     """Two objects side by side, merged into one candidate, made two again.
 
     The camera's bearings of one object spread by its noise (``BEARING_NOISE``); those of two
@@ -225,18 +285,20 @@ def _split(c: Candidate, dets: list, origin: tuple[float, float]) -> list[Candid
     more. When a candidate's bearings spread more than ``SPLIT_SPREAD`` noises, they are cut
     in two at the largest gap of the sorted bearings' two-means split; if both groups hold a
     quarter of the detections and their means lie ``SPLIT_APART`` noises apart, they are two
-    candidates, each the mean of its own detections (never a position between two objects).
+    candidates, each the mean of its own detections (never a position between two objects),
+    and each is split again the same way (three objects side by side).
+    ``idx``: the candidate's detections (indices into ``detections``); returns each part with its own.
     """
-    n = len(dets)
+    n = len(idx)
     if n < 8:
-        return [c]
+        return [(c, idx)]
     ox, oy = origin
     ref = math.atan2(c.y - oy, c.x - ox)
-    b = sorted((math.remainder(math.atan2(d[2] - oy, d[1] - ox) - ref, 2 * math.pi), k) for k, d in enumerate(dets))
+    b = sorted((math.remainder(math.atan2(detections[k][2] - oy, detections[k][1] - ox) - ref, 2 * math.pi), k) for k in idx)
     vals = [v for v, _ in b]
     mean = sum(vals) / n
     if math.sqrt(sum((v - mean) ** 2 for v in vals) / (n - 1)) <= SPLIT_SPREAD * BEARING_NOISE:
-        return [c]
+        return [(c, idx)]
     best, cut = math.inf, -1
     for i in range(max(2, n // 4), n - max(2, n // 4) + 1):  # each side at least a quarter
         lo, hi = vals[:i], vals[i:]
@@ -245,20 +307,14 @@ def _split(c: Candidate, dets: list, origin: tuple[float, float]) -> list[Candid
         if sse < best:
             best, cut = sse, i
     if cut < 0:
-        return [c]
+        return [(c, idx)]
     lo, hi = vals[:cut], vals[cut:]
     if sum(hi) / len(hi) - sum(lo) / len(lo) < SPLIT_APART * BEARING_NOISE:
-        return [c]
+        return [(c, idx)]
     parts = []
-    for group in (b[:cut], b[cut:]):
-        first = dets[group[0][1]]
-        part = Candidate(first[1], first[2], first[3])
-        part.n = 0
-        part.x = part.y = part.z = 0.0
-        for _, k in sorted(group, key=lambda g: g[1]):
-            d = dets[k]
-            part.add(d[0], d[1], d[2], d[3], d[4], d[5] if len(d) > 5 else None)
-        parts.append(part)
+    for group in (b[:cut], b[cut:]):  # each part may itself be two objects (three side by side)
+        own = sorted(k for _, k in group)
+        parts += _split(_from_detections(own, detections), own, detections, origin)
     return parts
 
 
