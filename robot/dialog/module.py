@@ -31,8 +31,9 @@ counts when it lies within ``barge_in_width`` degrees of it, both folded to
 the front half-plane (the microphone pair cannot tell front from back). The
 window is the person attention's own sound-to-track tolerance
 (``CueSpec.sound_tolerance``, 9 degrees: the pair resolves a voice in front
-to about 1.5 degrees), so the dialog and the attention agree on when the
-partner speaks; a 20-degree window let a talker behind the robot, heard at
+to about 1.5 degrees) around where the pair hears her (:func:`heard_bearing`: a
+mouth above the pair beside the robot is heard nearer the front), so the dialog
+and the attention agree on when the partner speaks; a 20-degree window let a talker behind the robot, heard at
 his mirrored direction 20 degrees off the partner's, cut the robot's answers
 (distractor seed 2).
 Without a partner nothing cuts the robot off: a radio or a visitor talking
@@ -85,6 +86,21 @@ CONDITIONS = f"{ES_CONDITIONS}/dialog"
 REJECTED = f"{ES_REJECTED}/dialog"
 #: s: the follower says "approaching" every control step (0.1 s); older than this, it no longer drives
 APPROACH_FRESH = 1.0
+#: the microphone pair's geometry (m: ahead of the centre, spacing, height) and a standing adult's
+#: mouth height, as the person attention's CueSpec has them (modules share no code: tests/test_layers.py)
+MIC_OFFSET, MIC_SPACING, MIC_HEIGHT, MOUTH_HEIGHT = 0.10, 0.281, 1.06, 1.6
+
+
+def heard_bearing(bearing_deg: float, distance: float) -> float:
+    """Where the microphone pair hears a voice from a person at (bearing, distance) (degrees, front
+    half-plane): a mouth above the pair, beside it, shortens the path difference (a person 1.7 m away
+    76 degrees to the side is heard at about 69), as the person attention matches voices to tracks."""
+    b = math.radians(bearing_deg)
+    x, y = distance * math.cos(b) - MIC_OFFSET, distance * math.sin(b)
+    h, dz = MIC_SPACING / 2, MOUTH_HEIGHT - MIC_HEIGHT
+    dl = math.sqrt(x * x + (y - h) ** 2 + dz * dz)
+    dr = math.sqrt(x * x + (y + h) ** 2 + dz * dz)
+    return math.degrees(math.asin(max(-1.0, min(1.0, (dr - dl) / MIC_SPACING))))
 
 
 def front_bearing(deg: float) -> float:
@@ -295,6 +311,11 @@ class Dialog(Module):
 
     def _on_partner(self, msg: Message) -> None:
         b = float(msg.xml.get("bearing", "nan"))
+        d = float(msg.xml.get("distance", "nan"))
+        if math.isfinite(b) and math.isfinite(d) and d > 0:
+            # where the microphone pair hears her voice (a mouth above the pair, beside it, is
+            # heard nearer the front: the person attention matches voices to tracks the same way)
+            b = heard_bearing(b, d)
         self._partner = (b, self.now) if math.isfinite(b) else None
 
     def partner_bearing(self) -> float | None:
