@@ -55,10 +55,10 @@ class Robot:
             self.mic.publish("/robot/audio/speech", el, created=end)
         self.sim.call_at(end, go)
 
-    def partner_at(self, bearing: float, start: float, end: float) -> None:
+    def partner_at(self, bearing: float, start: float, end: float, distance: float = 1.0) -> None:
         """The person attention's /robot/attention/partner every 0.1 s from ``start`` to ``end``."""
         def beat(t: float) -> None:
-            el = etree.Element("partner", id="t1", bearing=f"{bearing}", distance="1.0", x="1", y="0", vx="0", vy="0",
+            el = etree.Element("partner", id="t1", bearing=f"{bearing}", distance=f"{distance}", x="1", y="0", vx="0", vy="0",
                                visible="true", lost_for="0")
             self.attention.publish("/robot/attention/partner", el)
             if t + 0.1 <= end:
@@ -442,6 +442,51 @@ def test_only_sound_from_the_partners_bearing_barges_in(robot, partner, bearing)
     robot.sound(2.6, bearing, 75.0)
     robot.sim.run(until=3.0)
     assert "" not in robot.sentences() and robot.dialog.summary()["barge_ins"] == 0
+
+
+def test_a_talker_behind_the_robot_does_not_cut_it_off_beside_the_partners_bearing(robot):
+    # distractor seed 2: Tom talks to himself 4 m behind the robot (about 158 degrees), which the pair
+    # hears at the mirrored 22 +- 2 degrees; Anna stands straight ahead. A direction 19-21 degrees off
+    # the partner's is not her (the pair resolves a voice in front to about 1.5 degrees): "OK, I
+    # stopped." was cut and she never heard it.
+    robot.greet()
+    robot.partner_at(0.3, 1.5, 3.0)
+    robot.sim.run(until=2.5)  # the greeting's answer is being spoken
+    for k, bearing in enumerate((21.3, 20.0, 20.9, 19.6)):
+        robot.sound(2.6 + 0.1 * k, bearing, 50.0)
+    robot.sim.run(until=3.2)
+    assert "" not in robot.sentences() and robot.dialog.summary()["barge_ins"] == 0
+
+
+def test_a_partner_beside_the_robot_barges_in_where_the_pair_hears_her():
+    # A partner 1.7 m away, 76 degrees to the side: her mouth above the pair shortens the path
+    # difference, so the pair hears her about 7 degrees nearer the front (perceive2's cue).
+    from robot.dialog.module import heard_bearing
+    from robot.attention.cues import CueSpec, sound_bearings_from
+    import math
+    spec = CueSpec()
+    (expect,) = sound_bearings_from([(1.7 * math.cos(math.radians(76)), 1.7 * math.sin(math.radians(76)))], spec)
+    assert heard_bearing(76.0, 1.7) == pytest.approx(math.degrees(expect), abs=1e-9)
+    assert (spec.mic_offset, spec.mic_spacing, spec.mic_height, spec.mouth_height) == (0.10, 0.281, 1.06, 1.6)
+    robot = Robot()
+    try:
+        robot.greet()
+        robot.partner_at(76.0, 1.5, 3.0, distance=1.7)
+        robot.sim.run(until=2.5)
+        robot.sound(2.6, math.degrees(expect) - 2.5, 60.0)  # 9.3 degrees off her track bearing
+        robot.sim.run(until=3.0)
+        assert robot.dialog.summary()["barge_ins"] == 1
+    finally:
+        robot.sim.close()
+
+
+def test_the_dialogs_partner_direction_is_the_attentions():
+    # One rule for "this sound is the partner's": the dialog's barge-in window is the person
+    # attention's sound-to-track tolerance (the track's "speaking" cue).
+    import math
+
+    from robot.attention.cues import CueSpec
+    assert Dialog.__init__.__kwdefaults__["barge_in_width"] == pytest.approx(math.degrees(CueSpec().sound_tolerance))
 
 
 def test_the_partner_behind_the_robot_is_heard_at_the_mirrored_bearing(robot):

@@ -552,3 +552,30 @@ def test_an_instruction_sent_while_nobody_is_there_keeps_the_utterance_timestamp
     (s,) = sends(dm.on_frame(msg))
     speech = s.children[0]
     assert speech.tag == "SPEECH" and speech.find("TIMESTAMP").get("val") == "1977" and speech.find("FOLLOW") is not None
+
+
+def test_a_question_to_a_potential_partner_is_dropped_when_the_robot_looks_around_again():
+    # distractor seed 5: after the good-bye the robot saw Anna again (PotentialPartner) and Tom's
+    # mumble "a my a" opened an object teaching ("What is it?"); she walked away (LookingAround), and
+    # Tom's next words "it that is put keys" answered that question: "Is this keys?" to nobody.
+    m = DialogManager(DOC)
+    m.es_state = "PotentialPartner"
+    assert says(m.on_frame(frame('<OBJECT><OWNER name="speaker"/></OBJECT>', confidence=0.3)))  # it asks
+    assert [i.d.id for i in m.stack] == ["object_teaching"]
+    assert m.on_state("LookingAround") == ["object_teaching"]
+    assert m.stack == [] and m.summary()["dialogs"]["object_teaching"]["abandoned"] == 1
+    out = m.on_frame(frame('<OBJECT type="keys"><GESTURE val="probably_pointing"/><TITLE name="keys"/></OBJECT>',
+                           confidence=0.3))
+    assert not any("keys" in s for s in says(out))  # no question to nobody: the supervisor decides
+    assert [s.event for s in sends(out)] == ["object_teaching"]
+
+
+def test_a_state_change_within_the_interaction_keeps_the_open_question(dm):
+    assert says(dm.on_frame(frame('<OBJECT><OWNER name="speaker"/></OBJECT>', confidence=0.3)))
+    assert dm.on_state("Following") == [] and [i.d.id for i in dm.stack] == ["object_teaching"]
+
+
+def test_the_good_bye_is_said_when_the_status_comes_before_the_condition(dm):
+    assert [s.event for s in sends(dm.on_frame(frame("<GOODBYE/>")))] == ["goodbye"]
+    assert dm.on_state("LookingAround") == []  # the good-bye awaits the supervisor, no question of hers
+    assert any(s.startswith("Good-bye") for s in says(dm.on_condition(cond("interaction_ended"))))

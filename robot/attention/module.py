@@ -26,7 +26,9 @@ the person of interest (:mod:`.selection`), advance the attention FSM
   object focus (``/robot/objects/focus``), ahead while sleeping;
 - ``/robot/base/cmd``: turning on the spot towards the person in Listen,
   Interaction and Object (a zero command when it faces them or leaves
-  those states); never in Follow, where the follower drives;
+  those states); never in Follow, where the follower drives, nor while the
+  follower's status says ``approaching`` (it comes up to the partner after
+  "stop" and faces her itself);
 - ``/robot/audio/steer``: the recogniser's beam (:meth:`PersonAttention.beam`):
   on the partner in the top-down states; bottom-up on the potential
   partner (selected, speaking while facing the robot); otherwise on the
@@ -59,7 +61,7 @@ from homesim.message import Message
 from homesim.module import Module
 from homesim.xmlio import hardened_parser
 
-from robot.contract import ATTENTION_STATE, BASE_CMD, ES_EVENTS, ES_ORDERS, FACES, FOCUS, ODOMETRY, PARTNER, POSE, PTU_CMD, SCAN, SOURCES, STEER, TORSOS, TRACKS
+from robot.contract import ATTENTION_STATE, BASE_CMD, ES_EVENTS, ES_ORDERS, FACES, FOCUS, FOLLOW_STATUS, ODOMETRY, PARTNER, POSE, PTU_CMD, SCAN, SOURCES, STEER, TORSOS, TRACKS
 
 from .clutter import FurnitureLegs
 from .cues import CueSpec, Hysteresis, bearings_from, match_faces, match_sounds, sound_bearings_from
@@ -199,6 +201,9 @@ class PersonAttention(Module):
         self.bus.subscribe(FOCUS, self._on_focus)
         self.bus.subscribe(ORDERS, self._on_order)
         self.bus.subscribe(POSE, self._on_pose)
+        # the follower comes up to the partner after "stop" and turns the base itself meanwhile
+        self._follower_drives = False
+        self.bus.subscribe(FOLLOW_STATUS, lambda m: setattr(self, "_follower_drives", m.xml.get("state") == "approaching"))
 
     async def run(self) -> None:
         await self._load_map()
@@ -558,7 +563,7 @@ class PersonAttention(Module):
             else:
                 self._turning = True
                 self._base(max(-p.max_turn, min(p.max_turn, p.turn_gain * b)))
-        elif state in TURNS and row >= 0:
+        elif state in TURNS and row >= 0 and not self._follower_drives:
             b = bearing[row]
             if self._turning and abs(b) < p.turn_stop:
                 self._base(0.0)

@@ -189,6 +189,21 @@ class DialogManager:
         s = self.doc.states.get("attending")
         return self.es_state in s if s is not None else bool(self.es_state)
 
+    def on_state(self, state: str) -> list[str]:
+        """The supervisor's new state (its status channel). A sub-dialog that lives only in some
+        states (``in=``, e.g. "attending") and asked the user a question is abandoned when the
+        supervisor leaves them: the person
+        it asked has gone (the robot looks around again), and the next words heard, someone else's,
+        must not answer its question. Returns the ids of the dialogs abandoned."""
+        self.es_state = state
+        gone: list[str] = []
+        for inst in list(reversed(self.stack)):
+            if (inst.pending is not None and inst.d.in_states is not None and state not in inst.d.in_states
+                    and not inst.done):  # a dialog awaiting the supervisor's answer (good-bye) ends by it
+                self._finish(inst, [], abandoned=True, resume=False)
+                gone.append(inst.d.id)
+        return gone
+
     def summary(self) -> dict[str, Any]:
         """Dialog metrics (turns, repairs, rejections explained, task success per sub-dialog)."""
         out = {k: v for k, v in self.metrics.items() if k != "dialogs"}

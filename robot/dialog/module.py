@@ -28,7 +28,14 @@ robot listens. The partner's bearing is the person attention's
 ``/robot/attention/partner`` (robot frame, every scan while there is a
 partner; older than ``partner_fresh`` s counts as no partner); a direction
 counts when it lies within ``barge_in_width`` degrees of it, both folded to
-the front half-plane (the microphone pair cannot tell front from back).
+the front half-plane (the microphone pair cannot tell front from back). The
+window is the person attention's own sound-to-track tolerance
+(``CueSpec.sound_tolerance``, 9 degrees: the pair resolves a voice in front
+to about 1.5 degrees) around where the pair hears her (:func:`heard_bearing`: a
+mouth above the pair beside the robot is heard nearer the front), so the dialog
+and the attention agree on when the partner speaks; a 20-degree window let a talker behind the robot, heard at
+his mirrored direction 20 degrees off the partner's, cut the robot's answers
+(distractor seed 2).
 Without a partner nothing cuts the robot off: a radio or a visitor talking
 elsewhere in the room does not. Only a frame recorded after the robot began
 the sentence counts (its ``time`` against the speaker's ``start``): over a
@@ -36,6 +43,16 @@ slow link the frames arrive late, and one recorded while the partner was
 still finishing her own turn must not cut the robot's answer to it. The microphones' echo cancellation takes the
 robot's own voice out of ``/robot/audio/sources``, so no level rule is needed
 for it (one dropped a partner standing closer than about 0.7 m).
+
+Leaving the interaction: when the supervisor's status leaves a sub-dialog's states
+(back to LookingAround), a sub-dialog that asked the user a question is abandoned
+(:meth:`DialogManager.on_state`) and its sentences not yet said are dropped: the
+person it asked has gone, and a bystander's next words must not answer it.
+
+Catching up (issue 26 item 10): while the follower's ``/robot/follow/status`` says
+``approaching`` (it comes up to the partner after "stop"), a request she makes waits (the
+latest one) and is handled when the robot stands near her facing her, so a place is not
+taught from the other room.
 
 Metrics: :meth:`summary` (turns, repairs, rejections explained, task success
 per sub-dialog, barge-ins) for the run summary.
@@ -58,7 +75,8 @@ from homesim.module import Module
 from robot.deployment import cost_scale
 from homesim.vloop import to_ns
 
-from robot.contract import ES_CONDITIONS, ES_EVENTS, ES_REJECTED, ES_STATUS, FRAMES, PARTNER, POSE, SAY, SOURCES, SPEAKER_STATUS
+from robot.contract import (ES_CONDITIONS, ES_EVENTS, ES_REJECTED, ES_STATUS, FOLLOW_STATUS, FRAMES, PARTNER, POSE, SAY, SOURCES,
+                            SPEAKER_STATUS)
 
 from .loader import BIRON_DIALOGS, load
 from .manager import DialogManager, Explain, Instance, Output, Say, Send
@@ -66,6 +84,23 @@ from .model import Dialogs
 
 CONDITIONS = f"{ES_CONDITIONS}/dialog"
 REJECTED = f"{ES_REJECTED}/dialog"
+#: s: the follower says "approaching" every control step (0.1 s); older than this, it no longer drives
+APPROACH_FRESH = 1.0
+#: the microphone pair's geometry (m: ahead of the centre, spacing, height) and a standing adult's
+#: mouth height, as the person attention's CueSpec has them (modules share no code: tests/test_layers.py)
+MIC_OFFSET, MIC_SPACING, MIC_HEIGHT, MOUTH_HEIGHT = 0.10, 0.281, 1.06, 1.6
+
+
+def heard_bearing(bearing_deg: float, distance: float) -> float:
+    """Where the microphone pair hears a voice from a person at (bearing, distance) (degrees, front
+    half-plane): a mouth above the pair, beside it, shortens the path difference (a person 1.7 m away
+    76 degrees to the side is heard at about 69), as the person attention matches voices to tracks."""
+    b = math.radians(bearing_deg)
+    x, y = distance * math.cos(b) - MIC_OFFSET, distance * math.sin(b)
+    h, dz = MIC_SPACING / 2, MOUTH_HEIGHT - MIC_HEIGHT
+    dl = math.sqrt(x * x + (y - h) ** 2 + dz * dz)
+    dr = math.sqrt(x * x + (y + h) ** 2 + dz * dz)
+    return math.degrees(math.asin(max(-1.0, min(1.0, (dr - dl) / MIC_SPACING))))
 
 
 def front_bearing(deg: float) -> float:
@@ -155,7 +190,7 @@ class Dialog(Module):
         dialog_cost: float = 0.03,
         generation_time: float = 0.17,
         barge_in_level: float = 45.0,
-        barge_in_width: float = 20.0,
+        barge_in_width: float = 9.0,
         partner_fresh: float = 1.0,
         ask_timeout: float = 10.0,
         confirm_below: float | None = None,
@@ -180,8 +215,13 @@ class Dialog(Module):
         self._talking = False  # a <say> is out and not yet done/interrupted
         self._cut = False  # this utterance was already cut by a barge-in
         self._talk_start = 0.0  # when the current sentence began (sent, then the speaker's start)
-        self._queue: deque[tuple[str, tuple[str, ...]]] = deque()
+        self._queue: deque[tuple[str, tuple[str, ...], frozenset[str]]] = deque()  # text, causes, dialogs
         self._said = 0  # serial of the last <say> sent
+        # the follower comes up to the partner after "stop" (issue 26 item 10): a request she makes
+        # meanwhile waits until it stands facing her (a place taught from the other room would be
+        # stored where the robot lags); the latest one is kept, and released when the approach ends
+        self._approach_seen = -math.inf  # when the follower last said "approaching"
+        self._held: Message | None = None
         bus = self.bus
         bus.subscribe(FRAMES, self._on_frame)
         bus.subscribe(CONDITIONS, self._on_condition)
@@ -191,6 +231,7 @@ class Dialog(Module):
         bus.subscribe(SPEAKER_STATUS, self._on_speaker)
         bus.subscribe(SOURCES, self._on_sources)
         bus.subscribe(PARTNER, self._on_partner)
+        bus.subscribe(FOLLOW_STATUS, self._on_follow)
         bus.serve("ask", self._rpc_ask)
 
     async def run(self) -> None:
@@ -205,7 +246,19 @@ class Dialog(Module):
 
     # ------------------------------------------------------------------ inputs
     def _on_frame(self, msg: Message) -> None:
+        if self.now - self._approach_seen < APPROACH_FRESH:
+            self._held = msg  # handled once the robot stands near her (see _on_follow)
+            return
         self._emit(self.manager.on_frame(msg.xml), msg.id)
+
+    def _on_follow(self, msg: Message) -> None:
+        if msg.xml.get("state") == "approaching":
+            self._approach_seen = self.now
+            return
+        self._approach_seen = -math.inf
+        held, self._held = self._held, None
+        if held is not None:
+            self._emit(self.manager.on_frame(held.xml), held.id)
 
     def _on_condition(self, msg: Message) -> None:
         if msg.xml.get("name") == "ask":  # a reactive module's question, routed through the ES
@@ -235,7 +288,10 @@ class Dialog(Module):
         self._emit(self.manager.on_rejected(msg.xml), msg.id)
 
     def _on_status(self, msg: Message) -> None:
-        self.manager.es_state = msg.xml.get("state", "")
+        gone = self.manager.on_state(msg.xml.get("state", ""))
+        if gone and self._queue:
+            # their sentences not yet said (a question waiting behind the good-bye) are dropped too
+            self._queue = deque(q for q in self._queue if not q[2] or not q[2] <= set(gone))
 
     def _on_pose(self, msg: Message) -> None:
         self._pose = msg.xml  # this receiver's own copy; its POSE is built only when an event needs it
@@ -255,6 +311,11 @@ class Dialog(Module):
 
     def _on_partner(self, msg: Message) -> None:
         b = float(msg.xml.get("bearing", "nan"))
+        d = float(msg.xml.get("distance", "nan"))
+        if math.isfinite(b) and math.isfinite(d) and d > 0:
+            # where the microphone pair hears her voice (a mouth above the pair, beside it, is
+            # heard nearer the front: the person attention matches voices to tracks the same way)
+            b = heard_bearing(b, d)
         self._partner = (b, self.now) if math.isfinite(b) else None
 
     def partner_bearing(self) -> float | None:
@@ -298,7 +359,8 @@ class Dialog(Module):
         self.sim.loop.call_at_ns(to_ns(t), self._send_events, outs, cause)
         texts = [o.text for o in outs if isinstance(o, Say)]
         if texts:
-            self.sim.loop.call_at_ns(to_ns(t + self.generation_time), self._enqueue, " ".join(texts), cause)
+            dialogs = frozenset(o.dialog for o in outs if isinstance(o, Say))
+            self.sim.loop.call_at_ns(to_ns(t + self.generation_time), self._enqueue, " ".join(texts), cause, dialogs)
 
     async def _emit_with_explanation(self, outs: list[Output], t: float, cause: str) -> None:
         await asyncio.sleep(max(0.0, t - self.now))
@@ -339,17 +401,17 @@ class Dialog(Module):
                                             frame=x.get("frame", "map")))
                 self.bus.publish(ES_EVENTS, el, causes=(cause,), transfer=True)
 
-    def _enqueue(self, text: str, cause: str) -> None:
+    def _enqueue(self, text: str, cause: str, dialogs: frozenset[str] = frozenset()) -> None:
         if not text:
             return
-        self._queue.append((text, (cause,)))
+        self._queue.append((text, (cause,), dialogs))
         if not self._talking:
             self._say_next()
 
     def _say_next(self) -> None:
         if not self._queue or self.bus.closed or self.bus.hung:
             return
-        text, causes = self._queue.popleft()
+        text, causes, _ = self._queue.popleft()
         self._talking = True
         self._cut = False
         self._talk_start = self.now

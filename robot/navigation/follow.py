@@ -29,6 +29,18 @@ Control, every ``1/rate`` seconds:
 * Too fast: while the commanded speed is at the limit for ``too_fast_time`` and
   the distance is beyond ``too_fast_distance`` and still growing, the ES gets
   ``partner_too_fast`` with ``@distance`` (at most every ``warn_every`` s).
+* Catching up (issue 26 item 10): when following ends with the partner still tracked
+  ("stop", the attention back in ``Interaction`` with the same partner) and she stands
+  further than ``approach_to`` (the band's far end, 1.5 m) or out of the robot's line of
+  sight on the floor plan (in the next room), it goes on driving the same way (the floor
+  plan's path through the door, the dynamic window, everyone's space) for at most
+  ``approach_time`` s until she is that close and it does not stand in a door frame or a
+  passage (its centre ``APPROACH_ROOM`` m from the walls; closer to her than the band's near
+  end it stops anyway), then turns to face her and stops, so it stands at a comfortable
+  interaction distance facing her before her next request is handled (a robot lagging at a
+  door frame would teach from the other room). Its status says ``approaching`` meanwhile;
+  the attention leaves turning the base to it, and the dialog holds her requests, until
+  then. No too-fast warnings while approaching. Any other state (a go-to) ends it.
 * Lost: not seen for ``lost_after`` s: it stops (the attention's
   ``partner_lost`` makes the ES stop the player and the dialog ask).
 
@@ -52,11 +64,14 @@ from lxml import etree
 from homesim.message import Message
 from homesim.module import Module
 
-from robot.contract import ATTENTION_STATE, BASE_CMD, ES_EVENTS, FOLLOW_STATUS, ODOMETRY, PARTNER, SCAN, TRACKS
+from homesim.errors import BusError, HomesimError
+from robot.contract import ATTENTION_STATE, BASE_CMD, ES_EVENTS, FOLLOW_STATUS, ODOMETRY, PARTNER, POSE, SCAN, TRACKS
 
 from .config import Limits
-from .local import DWAParams, LatestScan, dwa, heading_speed, social_speed_limit
+from .grid import MapError, OccupancyGrid, parse_map
+from .local import DWAParams, LatestScan, arcs, dwa, heading_speed, social_speed_limit, sweep_clearance
 from .people import People, nearest
+from .route import Route
 from .seen import SeenGround, footprint_samples
 
 SCHEMA = Path(__file__).resolve().parent.parent / "schemas" / "navigation" / "follow-status.xsd"
@@ -68,6 +83,15 @@ CRUMB_NEAR = 0.15
 #: m: the base's footprint (length, width) and the margin kept backing over seen ground
 FOOTPRINT = (0.51, 0.43)
 BACK_MARGIN = 0.05
+#: s and m: a waiting command's sweep is checked this far ahead, and must keep this far from the floor plan's obstacles
+SWEEP_TIME = 0.5
+SWEEP_MARGIN = 0.05
+#: m: the dynamic window's goal along the route's direction at least this far out
+WAY_GOAL = 1.0
+#: m: the approach does not end where the robot's centre is closer than this to a wall (a door frame, a passage)
+APPROACH_ROOM = 0.5
+#: m: backing off must leave the centre this far from the floor plan's obstacles (the footprint's corners reach 0.34 m)
+TURN_ROOM = 0.40
 
 
 def speed_law(d: float, v_radial: float, *, distance: float, band: tuple[float, float], minimum: float,
@@ -92,7 +116,8 @@ class Follower(Module):
     def __init__(self, sim: Any, *, name: str = "follower", limits: Limits | None = None, rate: float = 10.0,
                  distance: float = 1.2, band: tuple[float, float] = (1.0, 1.5), minimum: float = 0.8,
                  gain: float = 0.8, lost_after: float = 1.0, too_fast_distance: float = 2.0,
-                 too_fast_time: float = 1.0, warn_every: float = 5.0, params: DWAParams = DWAParams()) -> None:
+                 too_fast_time: float = 1.0, warn_every: float = 5.0, params: DWAParams = DWAParams(),
+                 approach_time: float = 15.0, approach_to: float = 1.5) -> None:
         super().__init__(sim, name)
         self.limits = limits or Limits()
         self.period = 1.0 / rate
@@ -100,6 +125,8 @@ class Follower(Module):
         self.lost_after = lost_after
         self.too_fast_distance, self.too_fast_time, self.warn_every = too_fast_distance, too_fast_time, warn_every
         self.params = params
+        self.approach_time, self.approach_to = approach_time, approach_to
+        self.approach_until: float | None = None  # coming up to the partner after following, until then
         sim.bus.declare_channel(FOLLOW_STATUS, SCHEMA)
         self.following = False
         self.partner_id: str | None = None
@@ -121,19 +148,32 @@ class Follower(Module):
         self.bus.subscribe(ODOMETRY, self._on_odometry)
         self.people = People()  # everyone else the attention tracks, while following
         self._tracks_sub: Any = None
+        self.route = Route()  # the way to the partner on the floor plan (through doors)
+        self._map_asked = False
+        self._pose_sub: Any = None
 
     def respawn(self) -> Follower:
         return Follower(self.sim, name=self.name, limits=self.limits, rate=1.0 / self.period, distance=self.distance,
                         band=self.band, minimum=self.minimum, gain=self.gain, lost_after=self.lost_after,
                         too_fast_distance=self.too_fast_distance, too_fast_time=self.too_fast_time,
-                        warn_every=self.warn_every, params=self.params)
+                        warn_every=self.warn_every, params=self.params, approach_time=self.approach_time,
+                        approach_to=self.approach_to)
 
     # ------------------------------------------------------------- inputs
     def _on_state(self, msg: Message) -> None:
-        follow = msg.xml.get("state") == "Follow"
+        state = msg.xml.get("state")
+        follow = state == "Follow"
         partner = msg.xml.get("partner") or None
+        if self.following and not follow:
+            # following ended ("stop", or she stopped to talk): come up to her first when she is
+            # further than a comfortable interaction distance (issue 26 item 10)
+            same = partner is not None and partner == self.partner_id
+            self.approach_until = self.now + self.approach_time if state == "Interaction" and same else None
+        elif state != "Interaction":
+            self.approach_until = None
         if follow and not self.following:
             self.trail.clear()
+            self.route.clear()
             self._history.clear()
             self._limit_since = None
         if follow and partner != self.partner_id:
@@ -141,17 +181,33 @@ class Follower(Module):
             if self.track is not None and self.track.get("id") != partner:
                 self.track = None
         self.following = follow
-        self._listen_to_people(follow)
+        self._listen_to_people(follow or self.approach_until is not None)
 
     def _listen_to_people(self, on: bool) -> None:
         """Read the person tracks while following, and only then (every delivery draws a network
         delay from the run's generator: a standing subscription would change every run)."""
         if on and self._tracks_sub is None:
             self._tracks_sub = self.bus.subscribe(TRACKS, lambda m: self.people.update(m.xml))
+            self._pose_sub = self.bus.subscribe(POSE, self._on_pose)
         elif not on and self._tracks_sub is not None:
             self._tracks_sub.close()
             self._tracks_sub = None
             self.people.clear()
+            self._pose_sub.close()
+            self._pose_sub = None
+
+    def _on_pose(self, msg: Message) -> None:
+        x = msg.xml
+        self.route.on_pose((float(x.get("x")), float(x.get("y")), float(x.get("theta"))), self.odom)
+
+    async def _fetch_map(self) -> None:
+        """The floor plan, once (the planner's grid): without it the follower steers along the trail only."""
+        self._map_asked = True
+        try:
+            reply = await self.bus.call("map_server", "map", etree.Element("request"), timeout=2.0)
+            self.route.set_grid(OccupancyGrid(parse_map(reply.xml), radius=self.limits.radius))
+        except (BusError, MapError, HomesimError, asyncio.TimeoutError):
+            pass
 
     def _on_partner(self, msg: Message) -> None:
         x = msg.xml
@@ -220,20 +276,19 @@ class Follower(Module):
 
     def control_step(self) -> tuple[float, float] | None:
         """One control step; returns the command sent (None when not driving)."""
-        if not self.following:
+        approaching = not self.following and self.approach_until is not None and self.now < self.approach_until
+        if not self.following and not approaching:
+            if self.approach_until is not None:
+                self._end_approach()
             self._halt()
             return None
         tr = self.track
         if tr is None or self.odom is None:
-            self._halt()
-            self._status(0.0, False, "searching")
-            return None
+            return self._stand(approaching, "searching")
         age = self.now - tr["t"]
         unseen = (0.0 if tr["visible"] else tr["lost_for"]) + age
         if unseen > self.lost_after:
-            self._halt()
-            self._status(0.0, False, "stopped")
-            return None
+            return self._stand(approaching, "stopped")
         # the partner now (constant velocity over the message's age), in odom and robot frames
         horizon = min(age, 0.5)
         px, py = tr["x"] + tr["vx"] * horizon, tr["y"] + tr["vy"] * horizon
@@ -245,13 +300,26 @@ class Follower(Module):
         c, s = math.cos(self.odom[2]), math.sin(self.odom[2])
         vrx, vry = c * tr["vx"] + s * tr["vy"], -s * tr["vx"] + c * tr["vy"]
         v_radial = (vrx * rx + vry * ry) / d if d > 1e-6 else 0.0
-        v_des = speed_law(d, v_radial, distance=self.distance, band=self.band, minimum=self.minimum,
-                          gain=self.gain, limits=self.limits)
         bearing = math.atan2(ry, rx)
+        if approaching:
+            # she stands: close in to the band's near part, the far end no further than approach_to;
+            # near enough, in sight (not behind a wall) and not in a door frame or a passage (where
+            # it would teach from the other room and block the way), face her and stop
+            near = d <= self.approach_to and self.route.in_sight(self.odom[:2], (px, py))
+            if near and (d <= self.band[0] or self.route.clearance(self.odom[:2]) >= APPROACH_ROOM):
+                return self._face(bearing)
+            v_des = speed_law(d, 0.0, distance=self.distance, band=(self.band[0], self.distance), minimum=self.minimum,
+                              gain=self.gain, limits=self.limits)
+            v_des = max(v_des, 0.15)  # in the next room (near but out of sight): on through the door
+        else:
+            v_des = speed_law(d, v_radial, distance=self.distance, band=self.band, minimum=self.minimum,
+                              gain=self.gain, limits=self.limits)
+        mapped = self.route.obstacles_near(self.odom)  # walls and furniture all round (the laser looks ahead)
         if v_des <= 0.05:
             # wait (or back off) facing the partner; reversing is slow and straight (no laser behind)
             w = max(-self.limits.max_turn, min(self.limits.max_turn, 1.8 * bearing))
             v = v_des if v_des < 0 and self.can_back_off() else 0.0
+            v, w = self._swept(v, w, mapped)
             state = "waiting"
             # the robot stands and sees the partner: the way to them is the straight line. Older trail
             # points are stale (a partner who turned back and walked past would otherwise be
@@ -263,12 +331,23 @@ class Follower(Module):
             while len(self.trail) > 1 and math.hypot(*self._to_robot(*self.trail[0])) < 0.6:
                 self.trail.popleft()
             goal = self._to_robot(*self.trail[0]) if self.trail else (rx, ry)
+            # through a door or round a corner: the planned path's middle of the door, not the trail
+            # that hugs the jamb (see robot.navigation.route)
+            way = self.route.goal(self.now, self.odom[:2], (px, py))
+            if way is not None:
+                # the pure-pursuit point gives the direction; the dynamic window's goal lies further
+                # out along it (a goal 0.35 m ahead would make it prefer arcs that stop there: slow)
+                gx, gy = self._to_robot(*way)
+                n = math.hypot(gx, gy)
+                goal = (gx * WAY_GOAL / n, gy * WAY_GOAL / n) if 1e-6 < n < WAY_GOAL else (gx, gy)
             # a goal off to the side (a partner who walked past): turn toward it first, and keep the
             # partner in the laser's field of view, instead of driving a wide arc forwards
             v_pref = heading_speed(v_des, math.atan2(goal[1], goal[0]))
             pts = self.scan.points()
             if len(pts):
                 pts = pts[np.hypot(pts[:, 0] - rx, pts[:, 1] - ry) > 0.45]  # not the partner's own legs
+            if len(mapped):
+                pts = np.concatenate((pts, mapped))
             # everyone else: keep out of their personal space, and pass them slowly (yield: slow,
             # stop and wait while they cross, then go on)
             # people walking about (a standing track may be a table's legs, which the laser keeps it
@@ -285,10 +364,63 @@ class Follower(Module):
             v, w = cmd.v, cmd.w
             state = "following" if cmd.ok else "waiting"
         self._command(v, w)
+        if approaching:
+            self._status(d, False, "approaching")
+            return v, w
         at_limit = v_des >= self.limits.max_speed - 1e-6
         self._too_fast(d, at_limit)
         self._status(d, at_limit, state if tr["visible"] else "searching")
         return v, w
+
+    def _stand(self, approaching: bool, state: str) -> None:
+        """Stop driving; following, say why (``state``); approaching, the approach is over."""
+        self._halt()
+        if approaching:
+            self._end_approach()
+        else:
+            self._status(0.0, False, state)
+        return None
+
+    def _face(self, bearing: float) -> tuple[float, float] | None:
+        """The approach's end: turn on the spot to face her (within 8 degrees), then stop."""
+        if abs(bearing) < math.radians(8):
+            return self._stand(True, "")
+        w = max(-self.limits.max_turn, min(self.limits.max_turn, 1.8 * bearing))
+        v, w = self._swept(0.0, w, self.route.obstacles_near(self.odom))  # type: ignore[arg-type]
+        if w == 0.0:
+            return self._stand(True, "")  # no room to turn: the attention turns it when it can
+        self._command(0.0, w)
+        self._status(0.0, False, "approaching")
+        return 0.0, w
+
+    def _end_approach(self) -> None:
+        self.approach_until = None
+        self._status(0.0, False, "stopped")  # the attention may turn the base again
+        self._listen_to_people(self.following)
+
+    def _swept(self, v: float, w: float, mapped: np.ndarray) -> tuple[float, float]:
+        """The wait's command made safe against the floor plan's walls and furniture (the corners
+        sweep ground behind the laser): its footprint must keep :data:`SWEEP_MARGIN` from them, and a
+        back-off must leave room to turn on the spot (the centre :data:`TURN_ROOM` m from them; the
+        attention turns the robot to face the partner once she stops), unless the command takes the
+        robot further off than it is. Backing is dropped first, then turning."""
+        if not len(mapped) or (v == 0.0 and w == 0.0):
+            return v, w
+        here = sweep_clearance(0.0, 0.0, mapped, 0.0, steps=1)
+        room = float(np.hypot(mapped[:, 0], mapped[:, 1]).min())
+        for cand in ((v, w), (v, 0.0), (0.0, w)):
+            if cand == (0.0, 0.0):
+                continue
+            gap = sweep_clearance(cand[0], cand[1], mapped, SWEEP_TIME)
+            if not (gap >= SWEEP_MARGIN or gap >= here + 1e-3):
+                continue
+            if cand[0] < 0.0:
+                x, y, _ = arcs(np.array([cand[0]]), np.array([cand[1]]), np.array([SWEEP_TIME]))
+                after = float(np.hypot(mapped[:, 0] - x[0, 0], mapped[:, 1] - y[0, 0]).min())
+                if after < TURN_ROOM and after < room + 1e-3:
+                    continue
+            return cand
+        return 0.0, 0.0
 
     def _too_fast(self, d: float, at_limit: bool) -> None:
         now = self.now
@@ -310,5 +442,7 @@ class Follower(Module):
     async def run(self) -> None:
         while True:
             self.beat()
+            if self.following and not self._map_asked:
+                await self._fetch_map()
             self.control_step()
             await asyncio.sleep(self.period)

@@ -265,6 +265,22 @@ def footprint_distance(px: np.ndarray, py: np.ndarray) -> np.ndarray:
     return np.hypot(dx, dy)
 
 
+def sweep_clearance(v: float, w: float, points: np.ndarray, duration: float, *, steps: int = 5) -> float:
+    """The smallest footprint distance (m) to ``points`` (robot frame) along the arc (v, w) for ``duration`` s.
+
+    What a command the dynamic window does not choose (the follower's wait: turning to face
+    the partner, backing off) is checked with: the footprint at each of ``steps`` poses,
+    the start included (inf without points).
+    """
+    if not len(points):
+        return math.inf
+    t = np.linspace(0.0, duration, steps + 1)
+    x, y, th = arcs(np.array([v]), np.array([w]), t)
+    c, s = np.cos(th[0])[:, None], np.sin(th[0])[:, None]
+    dx, dy = points[None, :, 0] - x[0][:, None], points[None, :, 1] - y[0][:, None]
+    return float(footprint_distance(c * dx + s * dy, -s * dx + c * dy).min())
+
+
 def arcs(v: np.ndarray, w: np.ndarray, times: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Poses (x, y, theta), each (len(v), len(times)), along constant-(v, w) arcs from the origin."""
     vv, ww, tt = v[:, None], w[:, None], times[None, :]

@@ -56,6 +56,11 @@ LOOKAHEAD = 0.7
 BACK_OFF = 0.3
 #: rad: a goal further off the heading than this has to be turned to (see :func:`heading_speed`).
 BACK_OFF_BEARING = math.pi / 3
+#: s, m, m: standing this long with something within WEDGED_GAP of the footprint and nobody within WEDGED_PERSON
+#: (a footprint corner at a door jamb, no arc that gets it through), it backs off too.
+WEDGED = 1.0
+WEDGED_PERSON = 1.0
+WEDGED_GAP = 0.15
 SCHEMA = Path(__file__).resolve().parent.parent / "schemas" / "navigation" / "player-status.xsd"
 
 
@@ -143,6 +148,7 @@ class Player(Module):
         self.leg_start: tuple[float, float] | None = None
         self.people = People()  # the attention's confirmed tracks, while driving
         self._backed = 0.0  # m backed off during the present move_to
+        self._stuck_since: float | None = None  # since when no arc was admissible
         self._best = math.inf
         self._best_t = 0.0
         self.bus.subscribe(ORDERS, self._on_order)
@@ -183,6 +189,7 @@ class Player(Module):
             self._listen_to_people(True)
             self._best, self._best_t = math.inf, self.now
             self._backed = 0.0
+            self._stuck_since = None
             self.state = ""  # a new pose: say "moving" even when it was already moving
             self._set_state("moving")
         elif name == "stop":
@@ -290,9 +297,16 @@ class Player(Module):
         v_pref = heading_speed(min(cap, 0.25 + 0.6 * dist), bearing)
         # everyone's space: wait at a polite distance, never at the body
         cmd = dwa(self.odo.v, self.odo.w, local, points, limits, v_pref=v_pref, params=self.params, people=people)
-        if self._backed < BACK_OFF and (self._backed > 0.0 or (not cmd.ok and abs(bearing) > BACK_OFF_BEARING)):
+        if cmd.ok and abs(cmd.v) > 0.02:
+            self._stuck_since = None
+        elif self._stuck_since is None:
+            self._stuck_since = self.now
+        wedged = (self._stuck_since is not None and self.now - self._stuck_since >= WEDGED and nearest(people) > WEDGED_PERSON
+                  and cmd.clearance < WEDGED_GAP)
+        if self._backed < BACK_OFF and (self._backed > 0.0 or wedged or (not cmd.ok and abs(bearing) > BACK_OFF_BEARING)):
             # stopped close in front of something with the way off to the side (a new leg after a
-            # replan): turning on the spot would sweep the corners into it, so back off BACK_OFF m
+            # replan), or wedged with a corner at a door jamb (standing for WEDGED s, something within
+            # WEDGED_GAP, nobody near): turning on the spot would sweep the corners into it, so back off BACK_OFF m
             # first, straight the way it came (the laser does not see behind; it has just driven there)
             v = -0.5 * limits.max_reverse
             cmd = Command(v, 0.0, True, cmd.clearance)

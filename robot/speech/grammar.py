@@ -165,6 +165,15 @@ class Understander:
             alt = self._parse(toks[1:])
             if alt[0] is not None and not alt[2]:
                 tree, ignored, partial = alt[0], [toks[0].text], True
+        if (tree is not None and len(toks) > 2 and toks[1].type in ("IS", "ARE") and ignored
+                and ignored[0] == toks[1].text and toks[0].text not in ignored):
+            # "to is the kitchen" (the recogniser's "to" for "this"): a parse that skips the copula
+            # after the first word turns a statement into a request ("to [is] the kitchen", go
+            # there). The copula says the turn is a statement: the first word was misheard and the
+            # rest is a teaching whose "this" was lost, as "is the living room" above.
+            alt = self._parse(toks[2:])
+            if alt[0] is not None and not alt[2] and tree_act(alt[0]) in _STATEMENT_ACTS:
+                tree, ignored, partial = alt[0], [toks[0].text, toks[1].text], True
         restart = self._restart(lex.raw)
         if restart is not None:  # "follow me, no wait, stop": the repair is a whole new request
             toks, (tree, ignored, partial) = restart
@@ -308,6 +317,8 @@ class Understander:
 #: Words that answer a question before the request that follows them ("no, the kitchen").
 _ANSWER_WORDS = frozenset({"YES", "OKAY", "NO"})
 #: Acts that continue a phrase rather than start a new clause: a repair made of them is aligned.
+#: what "<lost this> is ..." can be: a place or an object shown
+_STATEMENT_ACTS = frozenset({"place_fragment", "object_fragment", "teach_place", "teach_object"})
 _NOT_RESTARTS = frozenset({"object_fragment", "place_fragment", "that_one", "yes", "no"})
 
 # word classes that say nothing about a dangling object or place: deixis, articles, prepositions

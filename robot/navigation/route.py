@@ -1,0 +1,176 @@
+"""The way to a moving person on the floor plan: what the follower steers along through doors and round corners.
+
+Steering along the partner's own trail works in an open room. Through a door frame it
+does not: a person cuts the corner close to the jamb (a walker is 0.4 m wide, the
+PeopleBot 0.43 x 0.51 m and turns on its centre), the trail hugs the jamb, the dynamic
+window finds no arc that reaches it without touching the frame, and the robot stalls on
+this side of the wall until the wall hides the partner (issue 26: "the robot never
+entered the room it was led to"). A real follower with a map does what the player does
+for a go-to: it plans.
+
+:class:`Route` keeps the planner's occupancy grid (the map server's floor plan, inflated
+by the robot's radius: :class:`~robot.navigation.grid.OccupancyGrid`) and the localised
+pose, and whenever the straight line from the robot to the partner is not roomy on the
+grid (a door, a corner, furniture between them) it plans the shortest free path to the
+partner (at most every :data:`REPLAN` s, or sooner when the partner has moved
+:data:`MOVED` m from the planned end) and answers the pure-pursuit point
+:data:`LOOKAHEAD` m ahead on it, in the odometry frame. The path keeps to the middle of
+doorways (the grid's clearance cost), so the robot passes a 0.9 m door or a 1.0 m
+corridor with a hand's width either side. With a clear line (most of an open room) it
+answers None and the follower steers along the trail as before. The laser's dynamic
+window still has the last word on every command: the grid knows only the floor plan.
+
+The laser looks forwards only (180 degrees). Turning on the spot or backing off beside a
+door frame, the robot's rear corners sweep ground it does not see, and a wall corner
+behind it was touched (issue 26). :meth:`Route.obstacles_near` gives the floor plan's
+walls and furniture round the robot (the outline cells of the grid's occupied cells within
+:data:`NEAR` m) as robot-frame points, which the follower hands to the dynamic window
+with the laser's echoes: every arc, turning on the spot and backing off included, keeps
+the footprint off what the map holds all round, not just in front.
+
+Frames: the partner's track and the odometry are in ``odom``; the plan is in ``map``.
+Each localised pose (``/robot/localisation/pose``, map frame) is paired with the
+odometry pose current when it arrived (what the player does), which gives the
+odom -> map transform until the next one.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from scipy import ndimage
+
+from .grid import NoPathError, OccupancyGrid
+from .local import carrot
+
+Point = tuple[float, float]
+Pose = tuple[float, float, float]
+
+#: m: how far ahead on the path the follower steers (the player's pure pursuit uses 0.7 m).
+LOOKAHEAD = 0.35
+#: s: the path to a walking partner is planned again at most this often.
+REPLAN = 0.5
+#: m: ... or sooner, when the partner is this far from the planned path's end.
+MOVED = 0.4
+#: m: a path vertex this close to the robot is reached (the next leg is steered along).
+REACHED = 0.2
+#: m: the floor plan's obstacle outlines within this distance of the robot's centre are handed to the dynamic window.
+NEAR = 1.2
+
+
+class Route:
+    """Path to the partner on the floor plan (see the module docstring)."""
+
+    def __init__(self) -> None:
+        self.grid: OccupancyGrid | None = None
+        self._map_pose: Pose | None = None
+        self._odom_at: Pose | None = None
+        self.path: list[Point] | None = None  # map frame, first point where the robot was when planned
+        self._planned_at = -math.inf
+        self.plans = 0  # how many paths were planned (for tests and the run's curiosity)
+        self._outline = np.zeros((0, 2))  # map-frame centres of the occupied cells next to free ones
+
+    def set_grid(self, grid: OccupancyGrid) -> None:
+        self.grid = grid
+        occ = grid.occupied
+        edge = occ & ~ndimage.binary_erosion(occ, border_value=1)
+        ii, jj = np.nonzero(edge)
+        self._outline = np.column_stack((grid.origin[0] + (ii + 0.5) * grid.cell, grid.origin[1] + (jj + 0.5) * grid.cell))
+
+    def on_pose(self, map_pose: Pose, odom_pose: Pose | None) -> None:
+        """A localised pose and the odometry pose current when it arrived."""
+        if odom_pose is not None:
+            self._map_pose, self._odom_at = map_pose, odom_pose
+
+    def clear(self) -> None:
+        """Forget the path (a new following begins); the grid and the transform stay."""
+        self.path = None
+        self._planned_at = -math.inf
+
+    @property
+    def ready(self) -> bool:
+        return self.grid is not None and self._map_pose is not None
+
+    def to_map(self, p: Point) -> Point:
+        """An odom-frame point in the map frame (needs :attr:`ready`)."""
+        mx, my, mth = self._map_pose  # type: ignore[misc]
+        ox, oy, oth = self._odom_at  # type: ignore[misc]
+        a = mth - oth
+        c, s = math.cos(a), math.sin(a)
+        dx, dy = p[0] - ox, p[1] - oy
+        return mx + c * dx - s * dy, my + s * dx + c * dy
+
+    def to_odom(self, p: Point) -> Point:
+        """A map-frame point in the odometry frame (needs :attr:`ready`)."""
+        mx, my, mth = self._map_pose  # type: ignore[misc]
+        ox, oy, oth = self._odom_at  # type: ignore[misc]
+        a = oth - mth
+        c, s = math.cos(a), math.sin(a)
+        dx, dy = p[0] - mx, p[1] - my
+        return ox + c * dx - s * dy, oy + s * dx + c * dy
+
+    def clearance(self, robot: Point) -> float:
+        """Metres from ``robot`` (odom) to the floor plan's nearest wall or furniture (inf without a plan)."""
+        if not self.ready:
+            return math.inf
+        g = self.grid
+        assert g is not None
+        i, j = g.cell_of(self.to_map(robot))
+        return float(g.clearance[i, j]) if g.inside((i, j)) else 0.0
+
+    def in_sight(self, robot: Point, target: Point) -> bool:
+        """Whether the segment robot-target (odom) crosses no wall or furniture of the floor plan
+        (True without a plan: the laser then is the only judge)."""
+        if not self.ready:
+            return True
+        g = self.grid
+        assert g is not None
+        a, b = self.to_map(robot), self.to_map(target)
+        n = max(int(math.hypot(b[0] - a[0], b[1] - a[1]) / (g.cell / 2)) + 2, 2)
+        t = np.linspace(0.0, 1.0, n)
+        i = ((a[0] + (b[0] - a[0]) * t - g.origin[0]) / g.cell).astype(int)
+        j = ((a[1] + (b[1] - a[1]) * t - g.origin[1]) / g.cell).astype(int)
+        ok = (i >= 0) & (i < g.nx) & (j >= 0) & (j < g.ny)
+        return not bool(g.occupied[i[ok], j[ok]].any())
+
+    def obstacles_near(self, robot: Pose) -> np.ndarray:
+        """The floor plan's obstacle outlines within :data:`NEAR` m of ``robot`` (odom pose), robot frame, (N, 2)."""
+        if not self.ready or not len(self._outline):
+            return np.zeros((0, 2))
+        mx, my, mth = self._map_pose  # type: ignore[misc]
+        oth = self._odom_at[2]  # type: ignore[index]
+        x, y = self.to_map(robot[:2])
+        th = robot[2] + mth - oth
+        o = self._outline
+        dx, dy = o[:, 0] - x, o[:, 1] - y
+        keep = (np.abs(dx) < NEAR) & (np.abs(dy) < NEAR)
+        dx, dy = dx[keep], dy[keep]
+        c, s = math.cos(th), math.sin(th)
+        return np.column_stack((c * dx + s * dy, -s * dx + c * dy))
+
+    def goal(self, now: float, robot: Point, target: Point) -> Point | None:
+        """The odom-frame point to steer at on the way from ``robot`` to ``target`` (both odom), or
+        None when the straight line is roomy (steer as before) or the plan does not help."""
+        if not self.ready:
+            return None
+        grid = self.grid
+        assert grid is not None
+        r, q = self.to_map(robot), self.to_map(target)
+        if grid.line_free(r, q):
+            self.path = None
+            return None
+        path = self.path
+        if path is None or now - self._planned_at >= REPLAN or math.hypot(q[0] - path[-1][0], q[1] - path[-1][1]) > MOVED:
+            try:
+                path = grid.plan(r, q)
+            except NoPathError:
+                self.path = None
+                return None
+            self.path, self._planned_at = path, now
+            self.plans += 1
+        while len(path) > 2 and math.hypot(r[0] - path[1][0], r[1] - path[1][1]) < REACHED:
+            path.pop(0)
+        if len(path) < 2:
+            return None
+        return self.to_odom(carrot(path[0], path[1], r, LOOKAHEAD))
