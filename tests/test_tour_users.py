@@ -226,3 +226,22 @@ def test_a_bad_users_option_is_refused_before_anything_is_written(tmp_path, caps
     assert main(args + ["-o", str(out)]) == 2
     assert message in capsys.readouterr().err
     assert not out.exists()
+
+
+@pytest.mark.parametrize("about, right, wrong", [
+    ("my yellow ball", "Is this your yellow ball?", "Is this your red ball?"),
+    ("my ball", "Is this your ball?", "Is this Anna's ball?"),
+    ("the ball", "Is this the yellow ball?", "Is this your ball?"),
+    ("my favourite ball", "Is this your favourite ball?", "Is this your green ball?"),
+])
+def test_a_confirmation_with_a_wrong_colour_or_owner_is_corrected_not_accepted(about, right, wrong):
+    answers = U.reactions("object", words=["ball"], about=about, colour="yellow", obj="ball")
+    assert _answer(answers, right)[0].get("request") == "yes"  # type: ignore[index]
+    assert _answer(answers, wrong)[0].get("request") == "correct"  # type: ignore[index]
+
+
+@pytest.mark.parametrize("pattern, heard", [("bye", "Good-bye! It was nice talking to you."),
+                                            ("good-bye", "Good bye."), ("good-bye", "Good-bye.")])
+def test_a_hyphenated_word_is_heard_as_its_parts(pattern, heard):
+    from homesim.scenario.wordpattern import compile_words
+    assert compile_words(pattern).search(heard)

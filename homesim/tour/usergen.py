@@ -118,7 +118,7 @@ def reactions(kind: str, *, words: list[str] | None = None, about: str = "", col
     if kind == "object":
         assert obj is not None
         point = etree.Element("point", object=obj, duration="2")
-        return [(f"^is this * {alt}$", yes),
+        return [(_object_yes(alt, about, colour), yes),
                 ("^is this", [_say(request="correct", about=about)]),
                 ("^what is (it|this|that)", [_say(request="teach-object", about=about)]),
                 ("which one [do you mean]|^do you mean", [_say(request="which", about=colour, wait="false"), point])]
@@ -129,6 +129,23 @@ def reactions(kind: str, *, words: list[str] | None = None, about: str = "", col
                 ("^shall i go", [_say(request="no")]),
                 ("where shall i go|where should i go", [_say(request="go-to", about=about)])]
     raise ValueError(f"no reactions for {kind!r}")
+
+
+def _object_yes(alt: str, about: str, colour: str) -> str:
+    """"Is this your red cup?" answered yes only when every word of it is right.
+
+    The type must be hers (``alt``); a colour, if the robot says one, the object's (``colour``);
+    "your" only if she said "my", "favourite" only if she said it. Anything else the robot
+    adds (another colour, another owner) makes it a wrong confirmation, which she corrects.
+    """
+    said = about.lower().split()
+    dets = ["the", "a", "an"] + (["your"] if "my" in said else [])
+    parts = [f"[({'|'.join(dets)})]"]
+    if "favourite" in said:
+        parts.append("[favourite]")
+    if colour.strip():
+        parts.append(f"[{alternatives([colour])}]")
+    return f"^is this {' '.join(parts)} {alt}$"
 
 
 def step_aside(point: str, obj: str) -> Reaction:
