@@ -245,3 +245,41 @@ def test_a_confirmation_with_a_wrong_colour_or_owner_is_corrected_not_accepted(a
 def test_a_hyphenated_word_is_heard_as_its_parts(pattern, heard):
     from homesim.scenario.wordpattern import compile_words
     assert compile_words(pattern).search(heard)
+
+
+# ------------------------------------------------------------------ waits end on success only
+def _robot_sentences() -> tuple[list[str], list[str]]:
+    """BIRON's sentences (rendered with a cup and the kitchen): (successes, everything else).
+
+    Successes are the sentences that say the request was done; everything else (rejections,
+    questions, failures, apologies, technical problems) must not end a generated user's wait."""
+    root = parse_file(DIALOGS)
+    texts = sorted({" ".join((el.text or "").split()) for el in root.iter("say", "rejection", "ask", "confirm", "sentence")} - {""})
+    fill = lambda t: re.sub(r"\{[^}]*\}", lambda m: "your cup" if "noun-phrase" in m.group() else "kitchen", t)  # noqa: E731
+    done = re.compile(r"^(Hello, I am BIRON|We are already talking|OK, I am following|I am already following|OK, I stopped"
+                      r"|I am not moving\.$|OK, this is the|OK, I have learned|The \{query|I have seen|OK, I am going|I have arrived"
+                      r"|Good-bye|Now you can)")
+    return [fill(t) for t in texts if done.search(t)], [fill(t) for t in texts if not done.search(t)]
+
+
+def test_a_generated_wait_for_the_robots_answer_never_ends_on_a_failure_or_a_rejection():
+    from homesim.scenario.wordpattern import compile_words
+    from homesim.tour.generate import generate_one
+
+    done, others = _robot_sentences()
+    seen = 0
+    for k in range(6):
+        root = etree.fromstring(generate_one(3, k).xml)
+        for w in root.iter("wait-for"):
+            pattern = w.get("robot-says")
+            hears = w.get("hears")
+            for text in others:
+                if pattern is not None:
+                    assert not re.search(pattern, text, re.IGNORECASE), (pattern, text)
+                if hears is not None:
+                    assert not compile_words(hears).search(text), (hears, text)
+            hit = [t for t in done if (pattern is not None and re.search(pattern, t, re.IGNORECASE))
+                   or (hears is not None and compile_words(hears).search(t))]
+            assert hit, (pattern, hears)
+            seen += 1
+    assert seen > 20

@@ -266,7 +266,7 @@ class TourWriter:
     # --------------------------------------------------------------- steps
     def greet(self, again: bool = False) -> None:
         self.face_robot()
-        self.say(str(self.pick(P.GREET_AGAIN if again else P.GREET)), "I am BIRON|hello|hi\\b", 6, request="greet",
+        self.say(str(self.pick(P.GREET_AGAIN if again else P.GREET)), U.GREETED, 6, request="greet",
                  answers=U.reactions("greet"))
         self.interacting = True
         self.note()
@@ -274,7 +274,7 @@ class TourWriter:
     def capabilities(self) -> None:
         self.wait(0.5, 1.5)
         self.face_robot()
-        self.say(str(self.pick(P.CAPABILITIES)), "follow you|show me|ask me", 10, request="capabilities")
+        self.say(str(self.pick(P.CAPABILITIES)), U.EXPLAINED, 10, request="capabilities")
         self.asked_capabilities = True
         self.t += 6  # the robot's explanation is long
 
@@ -285,7 +285,7 @@ class TourWriter:
         self.face_robot()
         text = str(self.pick(P.PLACE)).format(word=word)
         about = f"the {word}"
-        self.say(text, "remember|" + rx(word), 6, request="teach-place", about=about,
+        self.say(text, U.PLACE_LEARNED, 6, request="teach-place", about=about,
                  answers=U.reactions("place", words=[word], about=about))
         self.taught_places[self.room] = (word, self.pos)
         self.note()
@@ -294,14 +294,14 @@ class TourWriter:
         """"Follow me", walk to ``goal`` with the robot behind her, "stop"."""
         self.wait(0.5, 1.5)
         self.face_robot()
-        self.say(str(self.pick(P.FOLLOW)), "following you", 6, request="follow", answers=U.reactions("follow"))
+        self.say(str(self.pick(P.FOLLOW)), U.FOLLOWING, 6, request="follow", answers=U.reactions("follow"))
         self.wait(0.3, 1.2)
         speed = snap(float(self.rng.uniform(*FOLLOW_SPEED)))
         self.act("walk-to", point=pt(goal), speed=fmt(speed))
         self.t += path_length(self.flat, self.pos, goal) / speed + 2
         self.pos, self.room = goal, room
         self.face_robot()
-        self.say(str(self.pick(P.STOP)), "stopped|not moving|stop", 6, request="stop")
+        self.say(str(self.pick(P.STOP)), U.STOPPED, 6, request="stop")
         self.wait(1.0, 3.0)  # the robot comes up to her
         if room not in self.led_to:
             self.led_to.append(room)
@@ -331,7 +331,7 @@ class TourWriter:
         aside = aside_spot(self.flat, o, spot)
         if aside is not None:  # "Could you step aside, please?": she steps round the object and points again
             answers.append(U.step_aside(pt(aside), o.name))
-        self.say(text, "learned|" + rx(word), 8, request="teach-object", about=about, words=True, answers=answers)
+        self.say(text, U.OBJECT_LEARNED, 8, request="teach-object", about=about, words=True, answers=answers)
         self.t += 2
         attrs = {"type": o.type}
         if owner:
@@ -354,7 +354,7 @@ class TourWriter:
         text = P.agree(str(self.pick(P.WHERE)).format(word=word), word)
         names = "|".join(sorted({rx(word), rx(o.type.replace("_", " "))}))
         about = ("my " if " my " in f" {text} " else "the ") + word
-        self.say(text, f"({names}) (is|are)|don't know|seen the", 8, request="where-is", about=about,
+        self.say(text, f"\\b({names}) (is|are)\\b|" + U.SEEN, 8, request="where-is", about=about,
                  answers=U.reactions("where", about=about))
         self.expect.append(("robot-says", {"pattern": f"\\b({names}) (is|are)\\b"}, f"{self.user} asks where the {o.name} is ({text!r})"))
         self.note()
@@ -365,7 +365,7 @@ class TourWriter:
         self.face_robot()
         text = str(self.pick(P.GOTO)).format(word=word)
         about = f"the {word}"
-        self.say(text, "going to", 6, request="go-to", about=about, answers=U.reactions("goto", words=[word], about=about))
+        self.say(text, U.GOING, 6, request="go-to", about=about, answers=U.reactions("goto", words=[word], about=about))
         self.gotos += 1
         self.expect.append(("robot-says", {"pattern": f"going to the {rx(word)}"}, f"{self.user}: {text!r}"))
         drive = path_length(self.flat, self.pos, where) / 0.35 + 10

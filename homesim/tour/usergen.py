@@ -33,6 +33,21 @@ USER_STREAM = 1
 ANSWERS = 2
 
 
+#: What she takes as the robot having done what she asked (regular expressions over its words):
+#: the everyday forms of "done" only, so that a rejection ("I am still following you; say stop
+#: first"), a question or a failure ("Sorry, I don't know where to find your cup") leaves her
+#: waiting and then repairing, as a person would (tests/test_tour_users.py checks every one of
+#: BIRON's other sentences leaves these unmatched).
+GREETED = r"I am BIRON|^(hello|hi)\b|already talking"
+FOLLOWING = r"(OK,? I am|already) following you"
+STOPPED = r"\bI stopped\b|^I am not moving"
+PLACE_LEARNED = r"\bI will remember\b"
+OBJECT_LEARNED = r"\bI have learned\b"
+SEEN = r"\bI have seen\b"
+EXPLAINED = r"\bnow you can\b"
+GOING = r"\b(I am )?going to\b"
+
+
 class MixError(ValueError):
     """A users mix that names no known profile, or gives a bad weight."""
 
@@ -165,9 +180,9 @@ def comeback() -> list[Reaction]:
     def back() -> list[etree._Element]:
         return [etree.Element("walk-to", robot="true", **{"stop-at": "1.2"}), etree.Element("face", robot="true")]
 
-    follow = back() + [_say(request="follow"), etree.Element("wait-for", hears="following you", timeout="6")]
+    follow = back() + [_say(request="follow"), etree.Element("wait-for", hears="(ok i am|already) following you", timeout="6")]
     attach(follow[-1], reactions("follow"))
-    greet = back() + [_say(request="greet"), etree.Element("wait-for", hears="i am biron|hello", timeout="6")]
+    greet = back() + [_say(request="greet"), etree.Element("wait-for", hears="i am biron|^hello|already talking", timeout="6")]
     attach(greet[-1], reactions("greet"))
     return [("i have lost you|please come back to me", follow),
             ("you left|say hello [to me] first|please look at me", greet)]
