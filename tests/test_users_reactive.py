@@ -355,3 +355,49 @@ def test_a_waits_own_reaction_fires_at_most_max_times_per_wait(asks, cap):
         _robot(st_, 2.0 + 4.0 * i, "Shall I follow you?")
     st_.run(38)
     assert [t for _, t in _said(st_)].count("Yes") == min(asks, cap)
+
+
+# ---------------------------------------------------------------- a robot in her way
+#: Two rooms joined by one door (x=4, y 2.4-3.6) with the robot standing in it: the only way through.
+DOORWAY = """<?xml version="1.0" encoding="UTF-8"?>
+<scenario name="doorway" seed="0" duration="90">
+  <flat>
+    <room name="hall" points="0,0 4,0 4,6 0,6"/>
+    <room name="kitchen" points="4,0 8,0 8,6 4,6"/>
+    <walls thickness="0.1">
+      <wall from="0 0" to="8 0"/><wall from="8 0" to="8 6"/><wall from="8 6" to="0 6"/><wall from="0 6" to="0 0"/>
+      <wall from="4 0" to="4 6"><door name="door" at="3.0" width="1.2"/></wall>
+    </walls>
+  </flat>
+  <robot x="4.0" y="3.0" heading="0"/>
+  <humans>
+    <human name="ann" x="2" y="3" heading="0" height="1.70" torso="yellow" ATTRS>
+      <script><walk-to point="6.5 3.0"/><say text="Hello BIRON"/></script>
+    </human>
+  </humans>
+</scenario>
+"""
+
+
+def _doorway(attrs: str) -> Stage:
+    sc = load_scenario_text(DOORWAY.replace("ATTRS", attrs), source="doorway.xml")
+    return Stage(Simulation(seed=0, scenario=sc.name), sc, actors=("humans.install",))
+
+
+def test_a_user_the_robot_blocks_asks_it_to_make_way_then_gives_the_walk_up():
+    # the robot stands in the only door and nothing moves it: she used to wait there, silent, to the end
+    st = _doorway('profile="typical"')
+    st.run(85)
+    ann = st.actors["ann"]
+    said = [t for _, t in _said(st)]
+    make_way = {p.render(None) for p in default_bank().phrasings("make-way")}
+    follow = {p.render(None) for p in default_bank().phrasings("follow")}
+    assert len(said) >= 2 and said[0] in make_way and said[1] in follow, said
+    assert ann.blocked_walks == 1 and ann.gave_up >= 1
+    assert "Hello BIRON" in said or ann.stopped_early  # her script goes on after the walk (or ends, her profile's way)
+
+
+def test_a_scripted_person_without_a_profile_still_waits_for_the_robot():
+    st = _doorway("")
+    st.run(85)
+    assert _said(st) == [] and st.actors["ann"].blocked_walks == 0
