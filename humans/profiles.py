@@ -28,7 +28,7 @@ from functools import lru_cache
 from pathlib import Path
 
 import numpy as np
-from scipy.special import ndtri
+from scipy.special import ndtr, ndtri
 
 from homesim.errors import InputError
 from homesim.scenario.model import GIVE_UPS, REPAIR_STRATEGIES, HumanSpec
@@ -93,7 +93,13 @@ class Dist:
             cum = np.cumsum(self.weights) / sum(self.weights)
             return self.params[int(min(np.searchsorted(cum, u, side="right"), len(self.params) - 1))]
         mean, sd = self.params
-        v = mean + sd * float(ndtri(min(max(u, 1e-12), 1 - 1e-12)))
+        if sd <= 0:
+            return min(max(mean, self.low), self.high)
+        # truncated to [low, high] by the inverse CDF (not clipped: a clipped draw piles a share of
+        # the users exactly on a bound; still one draw from rng)
+        a, b = float(ndtr((self.low - mean) / sd)), float(ndtr((self.high - mean) / sd))
+        p = a + u * (b - a)
+        v = mean + sd * float(ndtri(min(max(p, 1e-12), 1 - 1e-12)))
         return min(max(v, self.low), self.high)
 
 
