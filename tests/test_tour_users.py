@@ -283,3 +283,9 @@ def test_a_generated_wait_for_the_robots_answer_never_ends_on_a_failure_or_a_rej
             assert hit, (pattern, hears)
             seen += 1
     assert seen > 20
+
+
+def test_generate_and_study_accept_the_same_users_mix_syntax():
+    mix = U.parse_mix("typical:3+silent:1")
+    assert mix == U.parse_mix("typical:3,silent:1") == (("typical", 3.0), ("silent", 1.0))
+    assert parse_condition("x=users=typical:3+silent:1").users == mix

@@ -3,8 +3,8 @@
 A generated user is a person with a ``profile=`` of ``humans/profiles.xml`` (her voice,
 distance, patience, looking away, pointing, phrasing style and repairs are drawn from it with
 the run's seed, :mod:`humans.profiles`). Which profile is drawn per tour from a *mix* (the
-generator's ``--users`` option, a study's ``users=`` condition): ``typical,impatient`` (alike)
-or ``typical:3,silent:1`` (weights). The draw comes from its own generator,
+generator's ``--users`` option, a study's ``users=`` condition, one syntax for both):
+``typical+impatient`` (alike) or ``typical:3+silent:1`` (weights; ``,`` also accepted by the generator). The draw comes from its own generator,
 ``default_rng([seed, k, USER_STREAM])``, so the flat, the objects and the script of tour k are
 the same under every mix: two conditions that differ only in their users run the same homes.
 
