@@ -289,3 +289,13 @@ def test_generate_and_study_accept_the_same_users_mix_syntax():
     mix = U.parse_mix("typical:3+silent:1")
     assert mix == U.parse_mix("typical:3,silent:1") == (("typical", 3.0), ("silent", 1.0))
     assert parse_condition("x=users=typical:3+silent:1").users == mix
+
+
+def test_a_generated_description_has_no_pronoun_for_the_user_and_the_right_article():
+    from homesim.tour.generate import article
+
+    assert article("impatient") == "an" and article("typical") == "a"
+    for k in range(8):
+        root = etree.fromstring(generate_one(11, k).xml)
+        text = root.findtext("description") or ""
+        assert " her " not in f" {text} " and " his " not in f" {text} " and " a impatient" not in text, text
