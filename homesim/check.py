@@ -21,7 +21,8 @@ from typing import Any
 
 from lxml import etree
 
-from .documents import DocumentType, document_types, register_document  # noqa: F401 (re-exported)
+from .documents import DocumentType, document_types, example, register_document  # noqa: F401 (re-exported)
+from .cliargs import count
 from .errors import InputError
 from .xmlio import parse_file
 
@@ -52,18 +53,22 @@ def check_paths(paths: Iterable[str], out: Any = None, err: Any = None) -> int:
     types = document_types()
     bad = 0
     total = 0
+    schema_only = False  # a file with schema problems: its names and geometry are not checked yet
     for path in paths:
         kind, problems = check_path(path, types)
+        problems = sorted(problems, key=lambda p: p.line or 0)  # in line order, whichever check found them
         for p in problems:
             print(p, file=out)
         if problems:
             bad += 1
             total += len(problems)
+            schema_only |= any(p.message.endswith(".xsd)") for p in problems)
         else:
             print(f"{path}: ok ({kind})", file=out)
     if bad:
-        print(f"homesim check: {total} problem{'s' if total != 1 else ''} in {bad} file{'s' if bad != 1 else ''}",
-              file=err)
+        later = ("; a file with schema problems is checked for names, references and geometry once they are fixed"
+                 if schema_only else "")
+        print(f"homesim check: {count(total, 'problem')} in {count(bad, 'file')}{later}", file=err)
         return 1
     return 0
 
@@ -71,7 +76,8 @@ def check_paths(paths: Iterable[str], out: Any = None, err: Any = None) -> int:
 def register(sub: Any) -> None:
     """Add ``homesim check FILE...``."""
     p = sub.add_parser("check", help="validate scenario, AFSM (and other registered) documents: every problem, file:line",
-                       examples=["homesim check scenarios/*.xml", "homesim check machine.scxml scenarios/home_tour.xml"])
+                       examples=["homesim check scenarios/*.xml",
+                                 f"homesim check {example('AFSM', 'MY_MACHINE.scxml')} scenarios/home_tour.xml"])
     p.add_argument("files", nargs="+", metavar="FILE", type=Path,
                    help="documents to check, e.g. scenarios/home_tour.xml (the kind is read from the root element)")
     p.set_defaults(func=lambda a: check_paths([str(f) for f in a.files]))

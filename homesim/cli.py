@@ -20,7 +20,7 @@ from . import __version__
 from . import cliargs, completion
 from .cliparse import Parser
 from .realtime import MAX_WATCHDOG_S, Watchdog
-from .errors import HomesimError
+from .errors import HomesimError, OptionError
 
 #: Modules that add subcommands (each has ``register(subparsers)``).
 SUBCOMMAND_MODULES: list[str] = [
@@ -74,6 +74,12 @@ def main(argv: list[str] | None = None) -> int:
             status = int(args.func(args) or 0)
         sys.stdout.flush()  # a closed pipe shows here, not in the interpreter's last flush
         return status
+    except OptionError as exc:  # an option found wrong after parsing: the subcommand's usage and name, as argparse's own
+        leaf = getattr(parser, "leaf", None) or parser
+        try:
+            leaf.error(str(exc))
+        except SystemExit as stop:
+            return stop.code if isinstance(stop.code, int) else 2
     except BrokenPipeError:  # `homesim ... | head`: the reader has what it wanted
         _silence_stdout()
         return BROKEN_PIPE_STATUS

@@ -124,3 +124,8 @@ def store_dir(text: str) -> Path:
         return path
     _check_creatable(text, path)
     return path
+
+
+def count(n: int, one: str, many: str | None = None) -> str:
+    """``"1 person"``, ``"2 people"``, ``"0 places"``: a number and its noun, in the singular for one."""
+    return f"{n} {one if n == 1 else (many or one + 's')}"

@@ -69,6 +69,9 @@ class Parser(argparse.ArgumentParser):
         super().__init__(*args, **kwargs)
         self.register("action", "parsers", SubcommandsAction)
 
+    #: The deepest parser of the last :meth:`parse_args` (this one until then).
+    leaf: "Parser | None" = None
+
     def error(self, message: str) -> NoReturn:
         """Usage of this (sub)command, then ``prog: error: message`` on one line; exit status 2."""
         self.print_usage(sys.stderr)
@@ -85,6 +88,7 @@ class Parser(argparse.ArgumentParser):
                    namespace: argparse.Namespace | None = None) -> argparse.Namespace:
         ns, extras = self.parse_known_args(args, namespace)
         leaf: Parser = vars(ns).pop(_LEAF, self)
+        self.leaf = leaf  # the (sub)command's parser: refusals found after parsing go through its error()
         if extras:
             leaf.error(f"unrecognized arguments: {' '.join(extras)}{leaf._suggest(extras)}")
         return ns

@@ -114,5 +114,5 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--duration", type=cliargs.seconds(positive=True), default=6.0, metavar="SECONDS", help="virtual seconds")
     p.add_argument("--trace", type=cliargs.output_file, default=Path("out/demo-trace.jsonl"),
                    metavar="FILE", help="write the bus trace here (JSON Lines)")
-    p.add_argument("--realtime", type=cliargs.realtime_scale, default=None, metavar="SCALE", help="pace against the wall clock")
+    p.add_argument("--realtime", type=cliargs.realtime_scale, default=None, metavar="X", help="pace the demo at X times real time")
     p.set_defaults(func=lambda a: run_demo(seed=a.seed, duration=a.duration, trace=a.trace, realtime=a.realtime))

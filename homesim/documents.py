@@ -62,6 +62,20 @@ BUILTIN: tuple[DocumentType, ...] = (
 
 _registered: dict[str, DocumentType] = {}
 
+#: Kind -> a file of that kind a user can try, for ``--help`` examples; the package that ships one registers it
+#: (the kernel ships no AFSM of its own: the run package names the robot's).
+_examples: dict[str, str] = {}
+
+
+def register_example(kind: str, path: str) -> None:
+    """Name ``path`` (relative to the repository) as the example document of ``kind`` in ``--help``."""
+    _examples[kind] = path
+
+
+def example(kind: str, fallback: str) -> str:
+    """The registered example document of ``kind``, else ``fallback`` (a placeholder the user replaces)."""
+    return _examples.get(kind, fallback)
+
 
 def register_document(doc_type: DocumentType) -> None:
     """Add (or replace) the checker for ``doc_type.root``."""

@@ -160,9 +160,26 @@ def test_scenario_plot_without_at_draws_the_end(tmp_path, capsys):
     assert f"wrote {out}" in text and "at t = 2 s" in text and out.is_file()
 
 
-def test_plot_refuses_at_with_timeline(tmp_path, capsys):
-    code, _out, err = _run(["plot", str(tmp_path / "t.jsonl"), "--timeline", "--at", "3"], capsys)
-    assert code == 2 and "--at" in err and "--from" in err
+@pytest.fixture(scope="module")
+def short_trace(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """A real trace (half a second of walk_away), so a refusal cannot come from a missing file."""
+    trace = tmp_path_factory.mktemp("trace") / "t.jsonl"
+    assert main(["run", str(ROOT / "scenarios" / "walk_away.xml"), "--until", "0.5", "--quiet", "--trace", str(trace)]) in (0, 1)
+    return trace
+
+
+@pytest.mark.parametrize("argv, prog, option", [
+    (["plot", "{trace}", "--timeline", "--at", "3", "-o", "{tmp}/t.png"], "homesim plot", "--at"),
+    (["plot", "{trace}", "--from", "3", "-o", "{tmp}/t.png"], "homesim plot", "--from"),
+    (["plot", "{trace}", "-o", "{tmp}/p.jpg"], "homesim plot", "--out"),
+    (["scenario", "plot", str(ROOT / "scenarios" / "radio.xml"), "--at", "99", "-o", "{tmp}/x.png"], "homesim scenario plot", "--at"),
+])
+def test_a_refusal_found_after_parsing_shows_the_subcommands_usage_and_name(short_trace, tmp_path, capsys, argv, prog, option):
+    argv = [a.format(trace=short_trace, tmp=tmp_path) for a in argv]
+    code, out, err = _run(argv, capsys)
+    assert code == 2 and out == "", err
+    assert err.startswith(f"usage: {prog} ") and f"\n{prog}: error: argument {option}" in err, err
+    assert not list(tmp_path.iterdir())  # nothing written
 
 
 def test_run_names_its_people_in_the_singular_and_prints_what_it_wrote(tmp_path, capsys):
@@ -212,5 +229,30 @@ def test_the_later_visit_without_a_store_says_it_needs_one(capsys, tmp_path):
     line = next(i for i, text in enumerate(later.read_text(encoding="utf-8").splitlines(), 1) if "<robot " in text)
     assert err.startswith(f"homesim: error: {later}:{line}: <robot>: this scenario starts from what the robot learned")
     assert "--memory DIR" in err and "home_tour.xml" in err
-    code, _out, err = _run(["run", str(later), "--until", "1", "--memory", str(tmp_path / "store")], capsys)
-    assert code == 0, err  # with a store (even a new one) it runs
+    # A mistyped (missing) or empty store directory is refused the same way, before anything runs.
+    (tmp_path / "empty").mkdir()
+    for store, why in ((tmp_path / "stroe", "does not exist"), (tmp_path / "empty", "holds no scene model")):
+        code, out, err = _run(["run", str(later), "--until", "1", "--memory", str(store)], capsys)
+        assert code == 2 and out == "" and f"--memory {store} {why}" in err, err
+        assert err.startswith(f"homesim: error: {later}:{line}: <robot>:")
+    assert not (tmp_path / "stroe").exists()  # nothing was created
+
+
+def test_demo_and_run_name_the_realtime_scale_alike_and_sweep_until_has_its_unit():
+    parser = build_parser()
+    subs = next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction)).choices
+
+    def option(cmd: str, flag: str) -> argparse.Action:
+        return next(a for a in subs[cmd]._actions if flag in a.option_strings)
+
+    assert option("demo", "--realtime").metavar == option("run", "--realtime").metavar == "X"
+    assert option("sweep", "--until").metavar == "SECONDS" and "seconds" in option("sweep", "--until").help
+
+
+def test_afsm_and_check_examples_name_a_machine_that_exists():
+    parser = build_parser()
+    subs = next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction)).choices
+    afsm = next(a for a in subs["afsm"]._actions if isinstance(a, argparse._SubParsersAction)).choices
+    examples = subs["check"].examples + subs["afsm"].examples + afsm["show"].examples + afsm["check"].examples
+    machines = {w for e in examples for w in shlex.split(e) if w.endswith(".scxml")}
+    assert machines and all((ROOT / m).is_file() for m in machines), machines

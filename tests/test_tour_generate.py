@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import re
+
 import math
 from functools import lru_cache
 
@@ -193,3 +195,12 @@ def test_plural_objects_are_spoken_of_in_the_plural():
     for t, *_ in phrasing.OBJECT + phrasing.OBJECT_SIMILAR:
         text = phrasing.agree(t.format(word="keys", colour="grey"), "keys")
         assert " is " not in f" {text} " and "this " not in text.lower(), text
+
+
+def test_generate_counts_one_thing_in_the_singular(tmp_path, capsys):
+    # seed 7 makes tours with one taught place: "1 place", never "1 places" (the listing and the scenario's description)
+    assert main(["generate", "--seed", "7", "--count", "5", "--out", str(tmp_path)]) == 0
+    out = capsys.readouterr().out
+    assert "1 place and" in out
+    texts = [out] + [p.read_text(encoding="utf-8") for p in sorted(tmp_path.glob("*.xml"))]
+    assert not any(re.search(r"(?<![\d.])1 (places|objects|rooms|go-to requests)\b", t) for t in texts)

@@ -12,6 +12,7 @@ import sys
 from pathlib import Path
 from typing import Any
 
+from ..documents import example
 from ..errors import OptionError
 from .loader import check_file, load
 from .render import to_dot, to_mermaid
@@ -19,21 +20,22 @@ from .render import to_dot, to_mermaid
 
 def register(subparsers: Any) -> None:
     """Add the ``afsm`` command and its ``show``/``check`` subcommands."""
+    machine = example("AFSM", "MY_MACHINE.scxml")
     p = subparsers.add_parser("afsm", help="look at and check AFSM (SCXML) documents",
-                              examples=["homesim afsm show machine.scxml > out/machine.dot",
-                                        "homesim afsm check machine.scxml"])
+                              examples=[f"homesim afsm show {machine} > machine.dot",
+                                        f"homesim afsm check {machine}"])
     sub = p.add_subparsers(dest="afsm_command", metavar="ACTION")
     show = sub.add_parser("show", help="render an AFSM as Graphviz DOT or Mermaid",
-                          examples=["homesim afsm show machine.scxml | dot -Tsvg > out/machine.svg  (Graphviz)",
-                                    "homesim afsm show machine.scxml --format mermaid --current Interacting"])
-    show.add_argument("file", type=Path, help="an AFSM (SCXML) document, e.g. machine.scxml")
+                          examples=[f"homesim afsm show {machine} | dot -Tsvg > machine.svg  (Graphviz)",
+                                    f"homesim afsm show {machine} --format mermaid --current Interacting"])
+    show.add_argument("file", type=Path, help=f"an AFSM (SCXML) document, e.g. {machine}")
     show.add_argument("--format", choices=("dot", "mermaid"), default="dot", help="the notation")
     show.add_argument("--current", default=None, metavar="STATE", help="highlight this state")
     show.add_argument("--no-sends", action="store_true", help="leave orders/conditions off the labels")
     show.set_defaults(func=_show)
     chk = sub.add_parser("check", help="report every problem of an AFSM document",
-                         examples=["homesim afsm check machine.scxml"])
-    chk.add_argument("file", type=Path, help="an AFSM (SCXML) document, e.g. machine.scxml")
+                         examples=[f"homesim afsm check {machine}"])
+    chk.add_argument("file", type=Path, help=f"an AFSM (SCXML) document, e.g. {machine}")
     chk.set_defaults(func=_check)
     p.set_defaults(func=lambda args: (p.print_help(), 2)[1])
 

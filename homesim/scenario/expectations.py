@@ -31,6 +31,7 @@ from typing import Any
 from ..errors import ScenarioError
 from ..message import Message
 from ..observe import Dispatcher
+from ..suggest import closest
 from .model import Expectation, Scenario, Target, window_of
 
 
@@ -237,9 +238,12 @@ class MetricCheck(Check):
     def verdict(self, end: float, context: Mapping[str, Any]) -> tuple[bool, str]:
         name = str(self.e.get("name"))
         value: Any = context.get("metrics", {})
-        for part in name.split("."):
+        parts = name.split(".")
+        for k, part in enumerate(parts):
             if not isinstance(value, Mapping) or part not in value:
-                return False, f"the run has no metric {name!r}"
+                near = closest(part, [str(key) for key in value]) if isinstance(value, Mapping) else None
+                hint = f" (did you mean {'.'.join([*parts[:k], near])!r}?)" if near is not None else ""
+                return False, f"the run has no metric {name!r}{hint}"
             value = value[part]
         if not isinstance(value, (int, float)) or isinstance(value, bool) or not math.isfinite(value):
             return False, f"metric {name} is {value!r}, not a number"

@@ -13,6 +13,8 @@ returned, so a caller never sees a half-loaded scenario.
 
 from __future__ import annotations
 
+import copy
+
 import math
 import os
 import re
@@ -23,7 +25,7 @@ from lxml import etree
 from ..deployment import Override, override_from_element
 from ..errors import InputError, ScenarioError
 from ..xmlio import Schema, load_schema, parse_bytes, parse_file
-from .schemawords import Wording, describe_all, element_attributes, type_words
+from .schemawords import Wording, describe_all, element_attributes, element_children, local_type_words, type_words
 from . import checks
 from .model import (
     COLOURS,
@@ -106,10 +108,50 @@ def _from_root(root: etree._Element, source: str) -> Scenario:
     return scenario
 
 
+#: At most this many unexpected elements are taken out to look behind them (each costs one validation).
+MAX_SCHEMA_ROUNDS = 50
+
+
 def schema_problems(root: etree._Element, source: str) -> list[ScenarioError]:
-    """Every scenario.xsd problem of ``root`` as ``file:line: <element>: what is wrong; expected ...``."""
+    """Every scenario.xsd problem of ``root`` as ``file:line: <element>: what is wrong; expected ...``, by line.
+
+    libxml2 stops checking an element's later children at the first child it
+    does not expect (a misspelt ``<wiat>`` hides a wrong attribute two lines
+    below), so each unexpected element is taken out of a copy and the copy
+    validated again, until nothing new is unexpected. Problems a removal
+    causes (the parent now misses a child) are not reported.
+    """
+    errors = scenario_schema().errors(root)
+    found, seen = list(errors), set(errors)
+    parents: dict[tuple[int, str], str] = {}
+    doc = None
+    for _ in range(MAX_SCHEMA_ROUNDS):
+        unexpected = [(line, msg) for line, msg in errors if _is_unexpected(msg)]
+        if not unexpected:
+            break
+        if doc is None:
+            doc = copy.deepcopy(root)
+        removed = 0
+        for line, msg in unexpected:
+            tag = msg.split("'", 2)[1]
+            for el in doc.iter(tag):
+                if el.sourceline == line and el.getparent() is not None:
+                    parents[(line, tag)] = etree.QName(el.getparent()).localname
+                    el.getparent().remove(el)
+                    removed += 1
+                    break
+        if not removed:
+            break
+        errors = [e for e in scenario_schema().errors(doc) if e not in seen and "Missing child element" not in e[1]]
+        found += errors
+        seen.update(errors)
+    ordered = sorted(found, key=lambda e: e[0] or 0)  # stable: libxml2's order within a line
     return [ScenarioError(f"{words} (scenario.xsd)", source=source, line=line or None, element=element)
-            for line, element, words in describe_all(scenario_schema().errors(root), _wording())]
+            for line, element, words in describe_all(ordered, _wording(), parents)]
+
+
+def _is_unexpected(message: str) -> bool:
+    return message.startswith("Element '") and ": This element is not expected" in message
 
 
 def _wording() -> Wording:
@@ -117,7 +159,8 @@ def _wording() -> Wording:
     global _WORDING
     if _WORDING is None:
         schema = parse_file(SCHEMA_PATH)
-        _WORDING = Wording(patterns=_pattern_forms(), types=type_words(schema), attributes=element_attributes(schema))
+        _WORDING = Wording(patterns=_pattern_forms(), types=type_words(schema), attributes=element_attributes(schema),
+                           children=element_children(schema), local=local_type_words(schema, _pattern_forms()))
     return _WORDING
 
 

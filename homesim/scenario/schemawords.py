@@ -54,11 +54,35 @@ class Wording:
     patterns: Mapping[str, str] = field(default_factory=dict)
     types: Mapping[str, str] = field(default_factory=dict)
     attributes: Mapping[str, frozenset[str]] = field(default_factory=dict)  # element name -> the attributes it may have
+    children: Mapping[str, tuple[str, ...]] = field(default_factory=dict)  # element name -> the child elements it may hold
+    local: Mapping[tuple[str, str], str] = field(default_factory=dict)  # (element, attribute) -> its anonymous type in words
 
     def of_type(self, name: str | None) -> str:
         if not name:
             return "a value this attribute accepts"
         return self.types.get(name) or BUILTIN.get(name) or f"a value of type {name!r}"
+
+
+def restriction_words(rest: etree._Element, patterns: Mapping[str, str] | None = None) -> str:
+    """One ``xs:restriction`` in words: 'a number such as 1.5 ..., at least 0 and at most 9', 'one of 'a', 'b''."""
+    base = BUILTIN.get(rest.get("base", ""), "a value")
+    facets = {f.tag.removeprefix(XS): f.get("value") for f in rest}
+    if "enumeration" in facets:
+        return "one of " + ", ".join(repr(f.get("value")) for f in rest.iter(XS + "enumeration"))
+    bounds = []
+    for facet, words in (("minInclusive", "at least"), ("minExclusive", "greater than"), ("maxInclusive", "at most"),
+                         ("maxExclusive", "less than")):
+        if facet in facets:
+            bounds.append(f"{words} {facets[facet]}")
+    text = base + (f", {' and '.join(bounds)}" if bounds else "")
+    pattern = facets.get("pattern")
+    if pattern is not None and (digits := re.fullmatch(r"\[0-9\]\{1,(\d+)\}", pattern)) is not None:
+        text += f" (at most {digits.group(1)} digits)"
+    elif pattern is not None and patterns and pattern in patterns:
+        text += f" ({patterns[pattern]})"
+    if "minLength" in facets or "maxLength" in facets:
+        text += f" ({facets.get('minLength', '0')} to {facets.get('maxLength', 'any number of')} characters)"
+    return text
 
 
 def type_words(schema: etree._Element) -> dict[str, str]:
@@ -69,17 +93,32 @@ def type_words(schema: etree._Element) -> dict[str, str]:
         rest = st.find(XS + "restriction")
         if name is None or rest is None:
             continue
-        base = BUILTIN.get(rest.get("base", ""), "a value")
-        facets = {f.tag.removeprefix(XS): f.get("value") for f in rest}
-        if "enumeration" in facets:
-            out[name] = "one of " + ", ".join(repr(f.get("value")) for f in rest.iter(XS + "enumeration"))
+        out[name] = restriction_words(rest)
+    return out
+
+
+def local_type_words(schema: etree._Element, patterns: Mapping[str, str] | None = None) -> dict[tuple[str, str], str]:
+    """(element, attribute) -> the attribute's anonymous simple type in words (libxml2 names no type for these)."""
+    users: dict[str, list[str]] = {}  # complex type name -> the elements declared with it
+    for el in schema.iter(XS + "element"):
+        if el.get("name") and el.get("type"):
+            users.setdefault(el.get("type"), []).append(el.get("name"))
+    out: dict[tuple[str, str], str] = {}
+    for attr in schema.iter(XS + "attribute"):
+        rest = attr.find(f"{XS}simpleType/{XS}restriction")
+        if attr.get("name") is None or rest is None:
             continue
-        bounds = []
-        for facet, words in (("minInclusive", "at least"), ("minExclusive", "greater than"), ("maxInclusive", "at most"),
-                             ("maxExclusive", "less than")):
-            if facet in facets:
-                bounds.append(f"{words} {facets[facet]}")
-        out[name] = base + (f", {' and '.join(bounds)}" if bounds else "")
+        owner = attr.getparent()
+        while owner is not None and owner.tag not in (XS + "element", XS + "complexType", XS + "attributeGroup"):
+            owner = owner.getparent()
+        if owner is None:
+            continue
+        if owner.tag == XS + "complexType" and owner.get("name") is None:
+            owner = owner.getparent()  # an element's inline type
+        elements = [owner.get("name")] if owner.tag == XS + "element" else users.get(owner.get("name", ""), [])
+        for element in elements:
+            if element:
+                out[(element, attr.get("name"))] = restriction_words(rest, patterns)
     return out
 
 
@@ -111,11 +150,47 @@ def element_attributes(schema: etree._Element) -> dict[str, frozenset[str]]:
     return {k: frozenset(v) for k, v in found.items()}
 
 
-def describe(message: str, wording: Wording, *, missing: Iterable[str] = ()) -> tuple[str | None, str]:
+def element_children(schema: etree._Element) -> dict[str, tuple[str, ...]]:
+    """Element name -> the child elements its content model allows, in schema order (over all its declarations).
+
+    libxml2 names what it expected only for some content models (not for an
+    unbounded ``xs:choice``); this is what a refusal of a child then lists."""
+    groups = {g.get("name"): g for g in schema.iter(XS + "group") if g.get("name")}
+    complex_types = {t.get("name"): t for t in schema.iter(XS + "complexType") if t.get("name")}
+    model = (XS + "sequence", XS + "choice", XS + "all")
+
+    def kids(node: etree._Element, depth: int = 0) -> list[str]:
+        out: list[str] = []
+        for child in node:
+            if child.tag == XS + "element" and (child.get("name") or child.get("ref")):
+                out.append((child.get("name") or child.get("ref", "")).rsplit(":", 1)[-1])
+            elif child.tag in model:
+                out += kids(child, depth)
+            elif child.tag == XS + "group" and child.get("ref") in groups and depth < 8:
+                out += kids(groups[child.get("ref")], depth + 1)
+            elif child.tag in (XS + "complexContent", XS + "extension") and depth < 8:
+                if child.tag == XS + "extension" and child.get("base") in complex_types:
+                    out += kids(complex_types[child.get("base")], depth + 1)
+                out += kids(child, depth + 1)
+        return out
+
+    found: dict[str, list[str]] = {}
+    for el in schema.iter(XS + "element"):
+        name = el.get("name")
+        body = complex_types.get(el.get("type")) if el.get("type") else el.find(XS + "complexType")
+        if name is None or body is None:
+            continue
+        names = found.setdefault(name, [])
+        names += [k for k in kids(body) if k not in names]
+    return {k: tuple(v) for k, v in found.items() if v}
+
+
+def describe(message: str, wording: Wording, *, missing: Iterable[str] = (), parent: str | None = None) -> tuple[str | None, str]:
     """(element, what is wrong and what is expected) for one libxml2 message.
 
     ``missing``: the attributes the same element lacks (a misspelt attribute is then both not
-    allowed and missing: the closest missing one is suggested)."""
+    allowed and missing: the closest missing one is suggested). ``parent``: the element's
+    parent, whose allowed children are listed when libxml2 does not say what it expected."""
     m = _MESSAGE.match(message.strip())
     if m is None:
         return None, message
@@ -137,7 +212,8 @@ def describe(message: str, wording: Wording, *, missing: Iterable[str] = ()) -> 
         high = f"at most {p.group('high')}" if p.group("high") is not None else f"less than {p.group('below')}"
         return element, f"{what}{p.group('value')!r} is too large; expected {high}"
     if (p := _ATOMIC.match(rest)) is not None:
-        return element, f"{what}{p.group('value')!r} is not valid; expected {wording.of_type(p.group('type'))}"
+        words = wording.local.get((element, attribute or "")) if p.group("type") is None else None
+        return element, f"{what}{p.group('value')!r} is not valid; expected {words or wording.of_type(p.group('type'))}"
     if (p := _NOT_ALLOWED.match(rest)) is not None:
         allowed = sorted(wording.attributes.get(element, ()))
         near = closest(p.group("attribute"), missing) or closest(p.group("attribute"), allowed)
@@ -147,7 +223,7 @@ def describe(message: str, wording: Wording, *, missing: Iterable[str] = ()) -> 
     if (p := _REQUIRED.match(rest)) is not None:
         return element, f"attribute {p.group('attribute')}= is required but missing"
     if (p := _UNEXPECTED.match(rest)) is not None:
-        expected = _names(p.group("expected"))
+        expected = _names(p.group("expected")) or list(wording.children.get(parent or "", ()))
         if not expected:
             return element, "this element is not expected here"
         near = closest(element, expected)
@@ -160,8 +236,11 @@ def describe(message: str, wording: Wording, *, missing: Iterable[str] = ()) -> 
     return element, rest
 
 
-def describe_all(errors: Iterable[tuple[int, str]], wording: Wording) -> list[tuple[int, str | None, str]]:
-    """(line, element, words) for every (line, libxml2 message) of one validation, in order."""
+def describe_all(errors: Iterable[tuple[int, str]], wording: Wording,
+                 parents: Mapping[tuple[int, str], str] | None = None) -> list[tuple[int, str | None, str]]:
+    """(line, element, words) for every (line, libxml2 message) of one validation, in order.
+
+    ``parents``: (line, element name) -> its parent's name, for the elements libxml2 did not expect."""
     errors = list(errors)
     missing: dict[int, list[str]] = {}
     for line, message in errors:
@@ -169,7 +248,21 @@ def describe_all(errors: Iterable[tuple[int, str]], wording: Wording) -> list[tu
         r = _REQUIRED.match(m.group("rest")) if m is not None else None
         if r is not None:
             missing.setdefault(line, []).append(r.group("attribute"))
-    return [(line, *describe(message, wording, missing=missing.get(line, ()))) for line, message in errors]
+    paired: set[tuple[int, str]] = set()  # (line, required attribute) a misspelt one on that line stands for
+    for line, message in errors:
+        m = _MESSAGE.match(message.strip())
+        n = _NOT_ALLOWED.match(m.group("rest")) if m is not None else None
+        if n is not None and (near := closest(n.group("attribute"), missing.get(line, ()))) is not None:
+            paired.add((line, near))
+    out = []
+    for line, message in errors:
+        m = _MESSAGE.match(message.strip())
+        r = _REQUIRED.match(m.group("rest")) if m is not None else None
+        if r is not None and (line, r.group("attribute")) in paired:
+            continue  # said once: "attribute stat= is not allowed here (did you mean state=?)"
+        parent = (parents or {}).get((line, m.group("element"))) if m is not None else None
+        out.append((line, *describe(message, wording, missing=missing.get(line, ()), parent=parent)))
+    return out
 
 
 def _names(expected: str | None) -> list[str]:

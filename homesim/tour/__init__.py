@@ -19,4 +19,8 @@ expectation kinds and timeline phases (the metrics register when
 
 from __future__ import annotations
 
+from ..documents import register_example
 from . import expect, phases  # noqa: F401 (they register on import)
+
+#: The AFSM BIRON's supervisor runs: the example ``homesim afsm`` and ``homesim check`` show in ``--help``.
+register_example("AFSM", "robot/afsm/biron.scxml")

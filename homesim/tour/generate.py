@@ -48,7 +48,7 @@ from pathlib import Path
 import numpy as np
 from lxml import etree
 
-from ..cliargs import OptionError
+from ..cliargs import OptionError, count
 from ..world.acoustics import speech_duration
 from ..scenario.pathplan import NoPathError
 from . import phrasing as P
@@ -648,8 +648,8 @@ def _document(rng: np.random.Generator, name: str, flat: Flat, objects: list[Obj
                               f"{len(flat.rooms)} rooms; edit freely, it is an ordinary scenario "))
     desc = etree.SubElement(root, "description")
     desc.text = (f"{tw.user.capitalize()} ({article(profile)} {profile} user) shows the robot the flat ({', '.join(r.name for r in flat.rooms)}): "
-                 f"{len(tw.taught_places)} places and {len(tw.taught_objects)} objects taught, "
-                 f"{len(tw.led_to)} rooms led to, {tw.gotos} go-to requests.")
+                 f"{count(len(tw.taught_places), 'place')} and {count(len(tw.taught_objects), 'object')} taught, "
+                 f"{count(len(tw.led_to), 'room')} led to, {count(tw.gotos, 'go-to request')}.")
     fl = etree.SubElement(root, "flat")
     for r in flat.rooms:
         etree.SubElement(fl, "room", name=r.name, points=" ".join(f"{fmt(x)},{fmt(y)}" for x, y in r.polygon))
@@ -757,9 +757,9 @@ def generate_command(a: argparse.Namespace) -> int:
     made = generate(a.seed, a.count, Path(a.out), users_option(a.users))
     for g in made:
         s = g.summary
-        print(f"{a.out}/{g.name}.xml: {article(str(s['user']))} {s['user']} user, {s['layout']} flat, {len(s['rooms'])} rooms ({', '.join(s['rooms'])}), "  # type: ignore[arg-type]
-              f"{s['objects']} objects, {s['taught_places']} places and {s['taught_objects']} objects taught, "
-              f"{s['gotos']} go-to, {s['duration']} s")
+        print(f"{a.out}/{g.name}.xml: {article(str(s['user']))} {s['user']} user, {s['layout']} flat, {count(len(s['rooms']), 'room')} "  # type: ignore[arg-type]
+              f"({', '.join(s['rooms'])}), {count(s['objects'], 'object')}, {count(s['taught_places'], 'place')} and "  # type: ignore[arg-type]
+              f"{count(s['taught_objects'], 'object')} taught, {s['gotos']} go-to, {s['duration']} s")
     return 0
 
 

@@ -13,6 +13,13 @@ the closest name, instead of a failed expectation after the whole run.
 The states a run reports (and these expectations match) are the AFSM's leaf
 states; a category is refused with its leaves named. The events are those
 the AFSM declares or has a transition for.
+
+``<metric name=...>`` names a value of the run's summary: its first part must
+be a metric the run package registers (:mod:`homesim.tour.metrics`), so a
+misspelt metric is refused before the run instead of failing after it. The
+parts below it are the keys of that metric's summary, which depend on the
+run (people, links, dialogs); those are checked when the run ends, where a
+missing key is answered with the closest one the run has.
 """
 
 from __future__ import annotations
@@ -23,9 +30,11 @@ from robot.profiles import PROFILES
 from robot.supervisor import BIRON_AFSM
 
 from ..afsm.loader import load
+from ..scoring import registry as metric_registry
 from ..errors import ScenarioError
 from ..scenario.checks import unknown_name
 from ..scenario.model import Expectation, Scenario
+from . import metrics as _metrics  # noqa: F401  (registers the run's metrics)
 
 #: The expectation kinds that name the supervisor's states or events.
 KINDS = ("state-reached", "event-applied", "event-rejected")
@@ -52,7 +61,20 @@ def check_scenario(sc: Scenario) -> list[ScenarioError]:
     for e in sc.expectations:
         if e.kind in KINDS:
             out += _problems(sc, e, groups, events)
+        elif e.kind == "metric":
+            out += _metric(sc, e)
     return out
+
+
+def _metric(sc: Scenario, e: Expectation) -> list[ScenarioError]:
+    """A metric expectation whose first part is not a registered metric."""
+    name = str(e.get("name") or "")
+    head = name.split(".", 1)[0]
+    known = sorted(metric_registry())
+    if head in known:
+        return []
+    return [ScenarioError(f"name={name!r}: {unknown_name('metric', head, known)}",
+                          source=sc.source, line=e.line, element=e.kind)]
 
 
 def _problems(sc: Scenario, e: Expectation, groups: dict[str, list[str]], events: list[str]) -> list[ScenarioError]:

@@ -58,18 +58,11 @@ class Console:
         write(s, file=self.out)
 
 
-def _count(n: int, one: str, many: str | None = None) -> str:
-    """``"1 person"``, ``"2 people"``, ``"0 other sound sources"``."""
-    return f"{n} {one if n == 1 else (many or one + 's')}"
+_count = cliargs.count
 
 
 def _options(a: argparse.Namespace) -> RunOptions:
-    if a.until is not None and not (math.isfinite(a.until) and a.until >= 0):
-        raise HomesimError(f"--until must be a finite number of seconds >= 0, got {a.until}")
-    if a.realtime is not None and not (math.isfinite(a.realtime) and a.realtime > 0):
-        raise HomesimError(f"--realtime must be a finite scale > 0, got {a.realtime}")
-    if a.seed is not None and a.seed < 0:
-        raise HomesimError(f"--seed must be >= 0, got {a.seed}")
+    """The run's options; --until, --realtime and --seed were checked by their argparse types (homesim.cliargs)."""
     return RunOptions(seed=a.seed, until=a.until, trace=a.trace, memory=a.memory, realtime=a.realtime, strict=a.strict or None,
                       profile=a.profile, rates=a.rates)
 

@@ -43,6 +43,7 @@ from lxml import etree
 import robot.install as biron
 import robot.profiles as robot_profiles
 from robot.deployment import DEFAULT as ROBOT_DEPLOYMENT
+from robot.knowledge.scene_model import STORE_FILE
 from robot.supervisor import ExecutionSupervisor
 
 from . import metrics as metrics_pkg
@@ -143,8 +144,21 @@ class RobotConfig:
 
 
 def _check_memory(scenario: Scenario, options: RunOptions) -> None:
-    """A scenario that starts from an earlier run's knowledge (``<robot memory="required">``) needs a store."""
-    if scenario.robot.memory_required and options.memory is None:
+    """A scenario that starts from an earlier run's knowledge (``<robot memory="required">``) needs a store:
+    a directory an earlier run wrote its scene model into (a missing, mistyped or empty directory would run the
+    whole scenario on no knowledge and fail only at the end)."""
+    if not scenario.robot.memory_required:
+        return
+    if options.memory is not None:
+        store = Path(options.memory)
+        if not (store / STORE_FILE).is_file():
+            why = "does not exist" if not store.exists() else "is not a directory" if not store.is_dir() else \
+                f"holds no scene model ({STORE_FILE}): no run has written to it"
+            raise ScenarioError(f"this scenario starts from what the robot learned in an earlier run (memory=\"required\"), "
+                                f"but the store --memory {store} {why}; give the directory an earlier run wrote (e.g. "
+                                f"homesim run scenarios/home_tour.xml --memory DIR, then this scenario with the same DIR)",
+                                source=scenario.source, line=scenario.robot.line, element="robot")
+    if options.memory is None:
         raise ScenarioError("this scenario starts from what the robot learned in an earlier run (memory=\"required\"): "
                             "run it with --memory DIR, the store directory of that run (e.g. a home tour: homesim run "
                             "scenarios/home_tour.xml --memory DIR, then this scenario with the same DIR)",

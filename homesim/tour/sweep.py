@@ -276,7 +276,8 @@ def register(sub: argparse._SubParsersAction) -> None:
                                  "homesim sweep scenarios/home_tour.xml --seeds 0,3,7 --workers 1 -o out/sweep"])
     p.add_argument("scenarios", type=Path, nargs="+", metavar="SCENARIO", help="scenario files, e.g. scenarios/home_tour.xml")
     p.add_argument("--seeds", default="0", help="seeds: 0-99, or 0,3,7, or 0-9,20-29")
-    p.add_argument("--until", type=cliargs.seconds(), default=None, help="stop each run early (verdicts are then 'not checked')")
+    p.add_argument("--until", type=cliargs.seconds(), default=None, metavar="SECONDS",
+                   help="stop each run early, at this virtual time in seconds (verdicts are then 'not checked')")
     p.add_argument("--workers", type=_workers, default=None, help="local processes (default: the CPU count)")
     p.add_argument("--scheduler", type=_scheduler, default=None, metavar="ADDRESS", help="run on this Dask distributed scheduler (tcp://host:8786)")
     p.add_argument("-o", "--out", required=True, metavar="DIR", help="directory for sweep.csv, sweep.json and summaries/")
