@@ -774,7 +774,8 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("-o", "--out", required=True, metavar="DIR", help="directory for the scenario files")
     p.add_argument("--users", default=None, metavar="MIX",
                    help="the user profiles to draw each tour's user from: typical+impatient (alike) or typical:3+silent:1 "
-                        f"(weights; the same syntax as a study's users= condition, ',' also accepted); default {U.mix_text(U.DEFAULT_MIX)} (the flats and tours are the same under any mix)")
+                        "(weights; the same syntax as a study's users= condition, ',' also accepted); "
+                        f"default {U.mix_text(U.DEFAULT_MIX)} (the flats and tours are the same under any mix)")
     p.set_defaults(func=generate_command)
 
 
