@@ -45,6 +45,13 @@ ARRIVED = 0.05  # metres: close enough to a waypoint
 LEG_TIME = 0.5  # seconds between re-planning checks while walking
 ROBOT_STOP = 0.9  # default distance to keep from the robot when walking to it
 HUMAN_STOP = 0.8  # default distance to keep from a person when walking to them (not on top of them)
+#: A user (a person with a profile) held back by the robot this long (s) without a free step asks it
+#: to make way ("Excuse me, could you let me pass?"), then to come along ("Follow me"), and at
+#: BLOCKED_GIVE_UP gives the walk up her profile's way (skip: on with her script from where she
+#: is; stop, leave), counted as giving up (``blocked_walks``). A scripted person without a
+#: profile waits for the robot to move, as before (library scenarios time that themselves).
+BLOCKED_ASKS = ((4.0, "make-way"), (12.0, "follow"))
+BLOCKED_GIVE_UP = 25.0
 
 
 class Person(Actor):
@@ -59,6 +66,7 @@ class Person(Actor):
         if traits.speed is not None:
             self.body.speed = traits.speed
         self._looked_away = False  # her head is turned away because she looked away as she spoke
+        self.blocked_walks = 0  # walks she gave up because the robot stood in her way
 
     @property
     def active(self) -> bool:
@@ -111,6 +119,7 @@ class Person(Actor):
             stop_at = 0.0
         goal = where()
         path = self.plan(goal)
+        blocked, asked = 0.0, 0  # seconds held back by the robot without a free leg; requests made
         while True:
             here = self.body.position
             if math.hypot(goal[0] - here[0], goal[1] - here[1]) <= max(stop_at, ARRIVED):
@@ -150,8 +159,29 @@ class Person(Actor):
                     path = self.plan(goal)
                     continue
             if self.body.held_time > held:
+                blocked += t
+                if self.traits.profile and await self._blocked(blocked, asked):
+                    return
+                if self.traits.profile and asked < len(BLOCKED_ASKS) and blocked >= BLOCKED_ASKS[asked][0]:
+                    asked += 1
                 path = self.plan(goal)  # the robot got in the way: around it, or wait for it
+            else:
+                blocked = 0.0
         self.body.stand()
+
+    async def _blocked(self, blocked: float, asked: int) -> bool:
+        """Held back ``blocked`` s: ask the robot to make way / come along, or give the walk up (True)."""
+        if blocked >= BLOCKED_GIVE_UP:
+            self.body.stand()
+            self.blocked_walks += 1
+            await self.give_up(self.traits.give_up, "the robot blocks her way")
+            return True
+        if asked < len(BLOCKED_ASKS) and blocked >= BLOCKED_ASKS[asked][0]:
+            self.body.stand()
+            self.face_robot()
+            await self.say(Say(None, request=BLOCKED_ASKS[asked][1]))
+            await self.finish_speaking()
+        return False
 
     def approach_point(self, distance: float) -> tuple[float, float]:
         """The point ``distance`` from the robot on the line from it to her (where she is when nearer)."""

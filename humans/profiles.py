@@ -92,9 +92,15 @@ class Dist:
             cum = np.cumsum(self.weights) / sum(self.weights)
             return self.params[int(min(np.searchsorted(cum, u, side="right"), len(self.params) - 1))]
         mean, sd = self.params
-        from scipy.special import ndtri  # only a generated user draws: not on every run's start
+        if sd <= 0:
+            return min(max(mean, self.low), self.high)
+        from scipy.special import ndtr, ndtri  # only a generated user draws: not on every run's start
 
-        v = mean + sd * float(ndtri(min(max(u, 1e-12), 1 - 1e-12)))
+        # truncated to [low, high] by the inverse CDF (not clipped: a clipped draw piles a share of
+        # the users exactly on a bound; still one draw from rng)
+        a, b = float(ndtr((self.low - mean) / sd)), float(ndtr((self.high - mean) / sd))
+        p = a + u * (b - a)
+        v = mean + sd * float(ndtri(min(max(p, 1e-12), 1 - 1e-12)))
         return min(max(v, self.low), self.high)
 
 

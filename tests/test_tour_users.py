@@ -226,3 +226,76 @@ def test_a_bad_users_option_is_refused_before_anything_is_written(tmp_path, caps
     assert main(args + ["-o", str(out)]) == 2
     assert message in capsys.readouterr().err
     assert not out.exists()
+
+
+@pytest.mark.parametrize("about, right, wrong", [
+    ("my yellow ball", "Is this your yellow ball?", "Is this your red ball?"),
+    ("my ball", "Is this your ball?", "Is this Anna's ball?"),
+    ("the ball", "Is this the yellow ball?", "Is this your ball?"),
+    ("my favourite ball", "Is this your favourite ball?", "Is this your green ball?"),
+])
+def test_a_confirmation_with_a_wrong_colour_or_owner_is_corrected_not_accepted(about, right, wrong):
+    answers = U.reactions("object", words=["ball"], about=about, colour="yellow", obj="ball")
+    assert _answer(answers, right)[0].get("request") == "yes"  # type: ignore[index]
+    assert _answer(answers, wrong)[0].get("request") == "correct"  # type: ignore[index]
+
+
+@pytest.mark.parametrize("pattern, heard", [("bye", "Good-bye! It was nice talking to you."),
+                                            ("good-bye", "Good bye."), ("good-bye", "Good-bye.")])
+def test_a_hyphenated_word_is_heard_as_its_parts(pattern, heard):
+    from homesim.scenario.wordpattern import compile_words
+    assert compile_words(pattern).search(heard)
+
+
+# ------------------------------------------------------------------ waits end on success only
+def _robot_sentences() -> tuple[list[str], list[str]]:
+    """BIRON's sentences (rendered with a cup and the kitchen): (successes, everything else).
+
+    Successes are the sentences that say the request was done; everything else (rejections,
+    questions, failures, apologies, technical problems) must not end a generated user's wait."""
+    root = parse_file(DIALOGS)
+    texts = sorted({" ".join((el.text or "").split()) for el in root.iter("say", "rejection", "ask", "confirm", "sentence")} - {""})
+    fill = lambda t: re.sub(r"\{[^}]*\}", lambda m: "your cup" if "noun-phrase" in m.group() else "kitchen", t)  # noqa: E731
+    done = re.compile(r"^(Hello, I am BIRON|We are already talking|OK, I am following|I am already following|OK, I stopped"
+                      r"|I am not moving\.$|OK, this is the|OK, I have learned|The \{query|I have seen|OK, I am going|I have arrived"
+                      r"|Good-bye|Now you can)")
+    return [fill(t) for t in texts if done.search(t)], [fill(t) for t in texts if not done.search(t)]
+
+
+def test_a_generated_wait_for_the_robots_answer_never_ends_on_a_failure_or_a_rejection():
+    from homesim.scenario.wordpattern import compile_words
+    from homesim.tour.generate import generate_one
+
+    done, others = _robot_sentences()
+    seen = 0
+    for k in range(6):
+        root = etree.fromstring(generate_one(3, k).xml)
+        for w in root.iter("wait-for"):
+            pattern = w.get("robot-says")
+            hears = w.get("hears")
+            for text in others:
+                if pattern is not None:
+                    assert not re.search(pattern, text, re.IGNORECASE), (pattern, text)
+                if hears is not None:
+                    assert not compile_words(hears).search(text), (hears, text)
+            hit = [t for t in done if (pattern is not None and re.search(pattern, t, re.IGNORECASE))
+                   or (hears is not None and compile_words(hears).search(t))]
+            assert hit, (pattern, hears)
+            seen += 1
+    assert seen > 20
+
+
+def test_generate_and_study_accept_the_same_users_mix_syntax():
+    mix = U.parse_mix("typical:3+silent:1")
+    assert mix == U.parse_mix("typical:3,silent:1") == (("typical", 3.0), ("silent", 1.0))
+    assert parse_condition("x=users=typical:3+silent:1").users == mix
+
+
+def test_a_generated_description_has_no_pronoun_for_the_user_and_the_right_article():
+    from homesim.tour.generate import article
+
+    assert article("impatient") == "an" and article("typical") == "a"
+    for k in range(8):
+        root = etree.fromstring(generate_one(11, k).xml)
+        text = root.findtext("description") or ""
+        assert " her " not in f" {text} " and " his " not in f" {text} " and " a impatient" not in text, text

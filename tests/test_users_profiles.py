@@ -260,4 +260,17 @@ def _tour(seed: int, on: str) -> list[str]:
 def test_a_reaction_that_fires_does_not_change_the_rest_of_her_tour(seed):
     # one draw stream for all her acts: one answer "Yes, I do" (3 draws for looking away) changed
     # 6 to 7 of her 8 later phrasings; now every act of hers draws from its own stream
-    assert _tour(seed, "") == _tour(seed, '<on hears="shall i follow you"><say text="Yes, I do"/></on>')
+    assert _tour(seed, "") == _tour(seed, '<on hears="shall i follow you" max="5"><say text="Yes, I do"/></on>')
+
+
+def test_normal_traits_are_truncated_not_piled_on_their_bounds_and_distracted_users_keep_a_social_distance():
+    import numpy as np
+
+    profiles = default_profiles()
+    rng = np.random.default_rng(7)
+    for name in ("typical", "impatient", "distracted"):
+        dist = profiles[name].numeric["distance"]
+        draws = np.array([dist.draw(rng) for _ in range(4000)])
+        assert ((draws == dist.low) | (draws == dist.high)).mean() < 0.001, name  # clipping put 2 % exactly on a bound
+    social = np.array([profiles["distracted"].numeric["distance"].draw(rng) for _ in range(2000)])
+    assert social.min() >= 1.2  # Hall's social zone, as docs/users.md says

@@ -44,7 +44,7 @@ def _said(st: Stage, who: str = "ann") -> list[tuple[float, str]]:
 # ------------------------------------------------------------------ reactions
 def test_a_person_answers_the_robots_confirmation_question_and_carries_on():
     st = _stage('<say text="Follow me"/>\n<wait-for hears="following you" timeout="10"/>\n<say text="Thanks"/>',
-                on='<on hears="shall i follow you"><say text="Yes"/></on>')
+                on='<on hears="shall i follow you" max="5"><say text="Yes"/></on>')
     _robot(st, 2.0, "Shall I follow you?")
     _robot(st, 5.0, "OK, I am following you.")
     st.run(12)
@@ -56,8 +56,8 @@ def test_a_person_answers_the_robots_confirmation_question_and_carries_on():
 
 
 def test_a_wrong_confirmation_is_corrected_and_which_one_is_answered_by_pointing():
-    on = ('<on hears="is this the (kitchen|bedroom)"><say request="correct" about="the living room"/></on>\n'
-          '<on hears="which one [do you mean]"><point object="cup" duration="1"/><say text="that one"/></on>')
+    on = ('<on hears="is this the (kitchen|bedroom)" max="5"><say request="correct" about="the living room"/></on>\n'
+          '<on hears="which one [do you mean]" max="5"><point object="cup" duration="1"/><say text="that one"/></on>')
     st = _stage('<wait for="20"/>', on=on)
     _robot(st, 1.0, "Is this the kitchen?")
     _robot(st, 6.0, "Which one do you mean?")
@@ -86,7 +86,7 @@ def test_max_bounds_how_often_a_reaction_fires():
 
 
 def test_a_walking_person_stops_to_answer_then_walks_on():
-    st = _stage('<walk-to point="7 3" speed="0.5"/>', on='<on hears="shall i follow you"><say text="yes"/></on>', start='x="2" y="3"')
+    st = _stage('<walk-to point="7 3" speed="0.5"/>', on='<on hears="shall i follow you" max="5"><say text="yes"/></on>', start='x="2" y="3"')
     _robot(st, 2.0, "Shall I follow you?")
     st.run(20)
     (u,) = st.world.sound.by("ann")
@@ -99,7 +99,7 @@ def test_she_stands_while_she_reacts_in_the_middle_of_a_walk():
     # her walk's velocity was held through the reaction: 7.5 s of answer at 1 m/s took her
     # through the wall at x=8 to x=12.4 before she turned back
     st = _stage('<walk-to point="7.5 3" speed="1.0"/>', start='x="2" y="3"',
-                on='<on hears="shall i follow you"><say text="yes I would like that very much, please follow me to the other side of the room now"/></on>')
+                on='<on hears="shall i follow you" max="5"><say text="yes I would like that very much, please follow me to the other side of the room now"/></on>')
     _robot(st, 1.0, "Shall I follow you?")
     xs: list[float] = []
     for k in range(1, 150):
@@ -115,7 +115,7 @@ def test_she_stands_while_she_reacts_in_the_middle_of_a_walk():
 def test_what_the_robot_says_while_she_reacts_triggers_nothing_more_in_a_pause_or_a_wait(script):
     # in a wait-for the robot's second "hello", said while she answered the first, made her
     # answer again (in a pause it did not)
-    st = _stage(script, on='<on hears="hello"><say text="hi there my friend how are you today"/></on>')
+    st = _stage(script, on='<on hears="hello" max="5"><say text="hi there my friend how are you today"/></on>')
     _robot(st, 1.0, "hello")
     _robot(st, 2.6, "hello")  # while she answers
     st.run(15)
@@ -124,7 +124,7 @@ def test_what_the_robot_says_while_she_reacts_triggers_nothing_more_in_a_pause_o
 
 def test_what_the_robot_says_while_she_reacts_can_still_answer_her_wait():
     st = _stage('<say text="Follow me"/>\n<wait-for hears="following you" timeout="4"/>\n<say text="Thanks"/>',
-                on='<on hears="shall i follow you"><say text="Yes, please do that now"/></on>')
+                on='<on hears="shall i follow you" max="5"><say text="Yes, please do that now"/></on>')
     _robot(st, 1.0, "Shall I follow you?")
     st.sim.call_at(3.5, lambda: st.world.sound.say("robot", "I am following you", st.sim.now))  # during her answer
     st.run(12)
@@ -135,9 +135,9 @@ def test_what_the_robot_says_while_she_reacts_can_still_answer_her_wait():
 
 
 def test_a_reaction_that_loops_at_run_time_fails_the_run_naming_its_line():
-    st = _stage('<wait-for hears="never said" timeout="60"/>', on='<on hears="hello"><say text="hm"/></on>', duration=70)
+    st = _stage('<wait-for hears="never said" timeout="60"/>', on='<on hears="ping"><say text="hm"/></on>', duration=70)
     for k in range(60):
-        _robot(st, 0.5 + k * 0.9, "hello")
+        _robot(st, 0.5 + k * 0.9, "ping")
     with pytest.raises(TaskFailedError, match="in a row"):
         st.run(65)
 
@@ -259,6 +259,11 @@ def test_patience_bounds_the_repairs(patience, strategies):
     ('<on hears="did not understand"><say text="wibble wobble"/></on>', "", "say it again"),
     ('<on hears="pardon|say that again"><say request="greet"/></on>', "", "say it again"),
     ('<on hears="%s|*"><face robot="true"/></on>' % "|".join(["yes"] * 65), "", "whatever the robot says"),
+    # the robot's own replies to a request (biron-dialogs.xml), not only echoes of her words, can loop
+    ('<on hears="what can i do for you"><say text="Hello BIRON"/></on>', "", "in reply to a request"),
+    ('<on hears="say stop first"><say text="follow me"/></on>', "", "in reply to a request"),
+    ('<on hears="i am not moving"><say text="stop"/></on>', "", "in reply to a request"),
+    ("", '<wait-for hears="ok" timeout="5"><on hears="shall i follow you"><say request="yes"/></on></wait-for>', "in reply to a request"),
     ('<on hears="hello"><wait-for hears="x"/></on>', "", "may never end"),
     ('<on hears="hello"><repeat><wait for="1"/></repeat></on>', "", "never ends"),
     ('<on hears="hello"><leave/></on>', "", "carries on"),
@@ -350,3 +355,49 @@ def test_a_waits_own_reaction_fires_at_most_max_times_per_wait(asks, cap):
         _robot(st_, 2.0 + 4.0 * i, "Shall I follow you?")
     st_.run(38)
     assert [t for _, t in _said(st_)].count("Yes") == min(asks, cap)
+
+
+# ---------------------------------------------------------------- a robot in her way
+#: Two rooms joined by one door (x=4, y 2.4-3.6) with the robot standing in it: the only way through.
+DOORWAY = """<?xml version="1.0" encoding="UTF-8"?>
+<scenario name="doorway" seed="0" duration="90">
+  <flat>
+    <room name="hall" points="0,0 4,0 4,6 0,6"/>
+    <room name="kitchen" points="4,0 8,0 8,6 4,6"/>
+    <walls thickness="0.1">
+      <wall from="0 0" to="8 0"/><wall from="8 0" to="8 6"/><wall from="8 6" to="0 6"/><wall from="0 6" to="0 0"/>
+      <wall from="4 0" to="4 6"><door name="door" at="3.0" width="1.2"/></wall>
+    </walls>
+  </flat>
+  <robot x="4.0" y="3.0" heading="0"/>
+  <humans>
+    <human name="ann" x="2" y="3" heading="0" height="1.70" torso="yellow" ATTRS>
+      <script><walk-to point="6.5 3.0"/><say text="Hello BIRON"/></script>
+    </human>
+  </humans>
+</scenario>
+"""
+
+
+def _doorway(attrs: str) -> Stage:
+    sc = load_scenario_text(DOORWAY.replace("ATTRS", attrs), source="doorway.xml")
+    return Stage(Simulation(seed=0, scenario=sc.name), sc, actors=("humans.install",))
+
+
+def test_a_user_the_robot_blocks_asks_it_to_make_way_then_gives_the_walk_up():
+    # the robot stands in the only door and nothing moves it: she used to wait there, silent, to the end
+    st = _doorway('profile="typical"')
+    st.run(85)
+    ann = st.actors["ann"]
+    said = [t for _, t in _said(st)]
+    make_way = {p.render(None) for p in default_bank().phrasings("make-way")}
+    follow = {p.render(None) for p in default_bank().phrasings("follow")}
+    assert len(said) >= 2 and said[0] in make_way and said[1] in follow, said
+    assert ann.blocked_walks == 1 and ann.gave_up >= 1
+    assert "Hello BIRON" in said or ann.stopped_early  # her script goes on after the walk (or ends, her profile's way)
+
+
+def test_a_scripted_person_without_a_profile_still_waits_for_the_robot():
+    st = _doorway("")
+    st.run(85)
+    assert _said(st) == [] and st.actors["ann"].blocked_walks == 0

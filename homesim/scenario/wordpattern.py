@@ -85,8 +85,12 @@ _Node = Union[_Word, _Any, _One, _Seq, _Alt, _Opt]
 
 
 def words_of(text: str) -> tuple[str, ...]:
-    """An utterance as the words a listener matches: lower case, punctuation dropped."""
-    return tuple(w.casefold() for w in _TEXT_WORD.findall(text))
+    """An utterance as the words a listener matches: lower case, punctuation dropped.
+
+    A hyphenated word is its parts ("Good-bye" -> good, bye), in the utterance as in a pattern:
+    a listener who waits for "bye" hears it in "Good-bye!", and "good-bye" matches "good bye".
+    """
+    return tuple(p for w in _TEXT_WORD.findall(text) for p in w.casefold().split("-") if p)
 
 
 class WordPattern:
@@ -237,7 +241,10 @@ class _Parser:
                 m = _WORD.match(self.text, self.pos)
                 if m is None:
                     raise self.error(f"unknown pattern syntax {c!r}")
-                items.append(_Word(m.group().casefold()))
+                parts = [p for p in m.group().casefold().split("-") if p]
+                if not parts:
+                    raise self.error(f"unknown pattern syntax {c!r}")
+                items.extend(_Word(p) for p in parts)  # "good-bye": the words good, bye (see words_of)
                 self.pos = m.end()
         if not items and not (start and end):
             raise self.error("an empty alternative matches everything; write '*' if that is meant", at)

@@ -337,6 +337,8 @@ def analyse(rows: list[Row], expectations: dict[str, list[Any]], names: dict[str
             cause = cause_of(kind, f.get("detail", ""), names.get(r["file"], []))
             if r.get("metrics", {}).get("users.stopped"):  # not the robot's doing alone: she stopped or left
                 cause = f"{cause} (the user gave up)"
+            elif r.get("metrics", {}).get("users.blocked"):  # she gave up a walk the robot stood in the way of
+                cause = f"{cause} (the robot blocked her way)"
             _add(groups, cap, kind, cause, r)
     order = [c for c in CAPABILITIES if c in caps] + sorted(set(caps) - set(CAPABILITIES))
     capabilities = {}

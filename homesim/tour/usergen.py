@@ -3,8 +3,8 @@
 A generated user is a person with a ``profile=`` of ``humans/profiles.xml`` (her voice,
 distance, patience, looking away, pointing, phrasing style and repairs are drawn from it with
 the run's seed, :mod:`humans.profiles`). Which profile is drawn per tour from a *mix* (the
-generator's ``--users`` option, a study's ``users=`` condition): ``typical,impatient`` (alike)
-or ``typical:3,silent:1`` (weights). The draw comes from its own generator,
+generator's ``--users`` option, a study's ``users=`` condition, one syntax for both):
+``typical+impatient`` (alike) or ``typical:3+silent:1`` (weights; ``,`` also accepted by the generator). The draw comes from its own generator,
 ``default_rng([seed, k, USER_STREAM])``, so the flat, the objects and the script of tour k are
 the same under every mix: two conditions that differ only in their users run the same homes.
 
@@ -31,6 +31,21 @@ DEFAULT_MIX: tuple[tuple[str, float], ...] = (("typical", 0.5), ("cooperative", 
 USER_STREAM = 1
 #: How often she answers one question within one wait (the robot asking again is then a repair).
 ANSWERS = 2
+
+
+#: What she takes as the robot having done what she asked (regular expressions over its words):
+#: the everyday forms of "done" only, so that a rejection ("I am still following you; say stop
+#: first"), a question or a failure ("Sorry, I don't know where to find your cup") leaves her
+#: waiting and then repairing, as a person would (tests/test_tour_users.py checks every one of
+#: BIRON's other sentences leaves these unmatched).
+GREETED = r"I am BIRON|^(hello|hi)\b|already talking"
+FOLLOWING = r"(OK,? I am|already) following you"
+STOPPED = r"\bI stopped\b|^I am not moving"
+PLACE_LEARNED = r"\bI will remember\b"
+OBJECT_LEARNED = r"\bI have learned\b"
+SEEN = r"\bI have seen\b"
+EXPLAINED = r"\bnow you can\b"
+GOING = r"\b(I am )?going to\b"
 
 
 class MixError(ValueError):
@@ -118,7 +133,7 @@ def reactions(kind: str, *, words: list[str] | None = None, about: str = "", col
     if kind == "object":
         assert obj is not None
         point = etree.Element("point", object=obj, duration="2")
-        return [(f"^is this * {alt}$", yes),
+        return [(_object_yes(alt, about, colour), yes),
                 ("^is this", [_say(request="correct", about=about)]),
                 ("^what is (it|this|that)", [_say(request="teach-object", about=about)]),
                 ("which one [do you mean]|^do you mean", [_say(request="which", about=colour, wait="false"), point])]
@@ -129,6 +144,23 @@ def reactions(kind: str, *, words: list[str] | None = None, about: str = "", col
                 ("^shall i go", [_say(request="no")]),
                 ("where shall i go|where should i go", [_say(request="go-to", about=about)])]
     raise ValueError(f"no reactions for {kind!r}")
+
+
+def _object_yes(alt: str, about: str, colour: str) -> str:
+    """"Is this your red cup?" answered yes only when every word of it is right.
+
+    The type must be hers (``alt``); a colour, if the robot says one, the object's (``colour``);
+    "your" only if she said "my", "favourite" only if she said it. Anything else the robot
+    adds (another colour, another owner) makes it a wrong confirmation, which she corrects.
+    """
+    said = about.lower().split()
+    dets = ["the", "a", "an"] + (["your"] if "my" in said else [])
+    parts = [f"[({'|'.join(dets)})]"]
+    if "favourite" in said:
+        parts.append("[favourite]")
+    if colour.strip():
+        parts.append(f"[{alternatives([colour])}]")
+    return f"^is this {' '.join(parts)} {alt}$"
 
 
 def step_aside(point: str, obj: str) -> Reaction:
@@ -148,9 +180,9 @@ def comeback() -> list[Reaction]:
     def back() -> list[etree._Element]:
         return [etree.Element("walk-to", robot="true", **{"stop-at": "1.2"}), etree.Element("face", robot="true")]
 
-    follow = back() + [_say(request="follow"), etree.Element("wait-for", hears="following you", timeout="6")]
+    follow = back() + [_say(request="follow"), etree.Element("wait-for", hears="(ok i am|already) following you", timeout="6")]
     attach(follow[-1], reactions("follow"))
-    greet = back() + [_say(request="greet"), etree.Element("wait-for", hears="i am biron|hello", timeout="6")]
+    greet = back() + [_say(request="greet"), etree.Element("wait-for", hears="i am biron|^hello|already talking", timeout="6")]
     attach(greet[-1], reactions("greet"))
     return [("i have lost you|please come back to me", follow),
             ("you left|say hello [to me] first|please look at me", greet)]

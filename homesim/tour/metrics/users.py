@@ -4,7 +4,8 @@ Read from the people themselves at the end of the run (the actors of ``humans.in
 truth about the users, never about the robot): ``reactions`` (times a person answered the robot
 with an ``<on>``), ``repairs`` (turns done again because the robot asked or did not answer),
 ``gave_up`` (times a person's patience ran out), ``stopped`` (people whose script ended early:
-they gave up by stopping or leaving), and ``profiles`` (each profiled person's profile). A
+they gave up by stopping or leaving), ``blocked`` (walks given up because the robot stood in
+the way, humans/person.py), and ``profiles`` (each profiled person's profile). A
 study tells failures that follow a user giving up from the others with it.
 """
 
@@ -27,6 +28,7 @@ class Users(Observer):
             "repairs": sum(a.repairs for a in people),
             "gave_up": sum(a.gave_up for a in people),
             "stopped": sum(1 for a in people if getattr(a, "stopped_early", False)),
+            "blocked": sum(getattr(a, "blocked_walks", 0) for a in people),
             "profiles": {a.name: a.traits.profile for a in people if a.traits.profile},
         }
 
