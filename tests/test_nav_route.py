@@ -140,3 +140,15 @@ def test_a_slow_robot_catches_up_through_the_door_before_her_next_request():
     assert social["request_distance_max_m"] <= 2.0 and social["request_bearing_max_deg"] <= 30
     assert social["collisions_people"] == 0 and social["collisions_flat"] == 0
     assert all(v.passed for v in verdicts), [v.detail for v in verdicts if not v.passed]
+
+
+@given(st.integers(1, 25), st.integers(1, 25), st.integers(0, 2**32 - 1), st.floats(0.0, 1.0))
+@settings(max_examples=80, deadline=None)
+def test_the_routes_erosion_is_scipys(rows, cols, seed, share):
+    """The floor plan's outline cells: numpy's erosion equals ``scipy.ndimage.binary_erosion(border_value=1)``."""
+    from scipy import ndimage
+
+    from robot.navigation.route import _eroded
+
+    occ = np.random.default_rng(seed).random((rows, cols)) < share
+    assert (_eroded(occ) == ndimage.binary_erosion(occ, border_value=1)).all()

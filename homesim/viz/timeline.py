@@ -237,9 +237,10 @@ def plot_timeline(tl: Timeline, *, width: float = 14.0) -> Figure:
     span_boxes: list = []
     kept: list[Text] = []
     renderer = fig.canvas.get_renderer()  # the figure may have grown: its renderer now
+    frame = ax.get_window_extent(renderer)
     for txt in span_texts:
         bb = txt.get_window_extent(renderer)
-        if any(bb.x0 <= o.x1 + 2 and o.x0 <= bb.x1 + 2 and bb.y0 <= o.y1 and o.y0 <= bb.y1 for o in span_boxes):
+        if bb.x0 < frame.x0 or bb.x1 > frame.x1 or any(bb.x0 <= o.x1 + 2 and o.x0 <= bb.x1 + 2 and bb.y0 <= o.y1 and o.y0 <= bb.y1 for o in span_boxes):
             txt.remove()
         else:
             span_boxes.append(bb)
