@@ -17,10 +17,10 @@ Each problem names file and line.
 
 from __future__ import annotations
 
-from collections.abc import Iterator
 
+from homesim.scenario.checks import walk_actions
 from homesim.errors import ScenarioError
-from homesim.scenario.model import Action, Handler, Repeat, Say, Scenario, WaitFor
+from homesim.scenario.model import Action, Handler, Say, Scenario, WaitFor
 from homesim.scenario.wordpattern import compile_words
 
 from .phrasings import STYLES, default_bank
@@ -46,7 +46,7 @@ def check_scenario(sc: Scenario) -> None:
         for key, raw in h.traits:
             if key == "phrasing" and raw not in STYLES:
                 raise ScenarioError(f"phrasing={raw!r}: one of {', '.join(STYLES)}", source=sc.source, line=h.line, element="human")
-        acts = list(_walk(h.script)) + [a for hd in h.handlers for a in _walk(hd.body)]
+        acts = list(walk_actions(h.script)) + [a for hd in h.handlers for a in walk_actions(hd.body)]
         for act in acts:
             if isinstance(act, Say) and act.request is not None:
                 if act.request not in bank.requests:
@@ -56,7 +56,7 @@ def check_scenario(sc: Scenario) -> None:
                     raise ScenarioError(f"request={act.request!r} has phrasings with a slot: give about= (e.g. about=\"the kitchen\")",
                                         source=sc.source, line=act.line, element="say")
         _loops(sc, h.handlers)
-        for act in _walk(h.script + tuple(a for hd in h.handlers for a in hd.body)):
+        for act in walk_actions(h.script + tuple(a for hd in h.handlers for a in hd.body)):
             if isinstance(act, WaitFor) and act.handlers:  # a wait's reactions, with hers, during the wait
                 _loops(sc, act.handlers + h.handlers)
 
@@ -65,7 +65,7 @@ def spoken(actions: tuple[Action, ...]) -> list[str]:
     """Everything a person could say doing ``actions``: texts and every phrasing of their requests."""
     bank = default_bank()
     out: list[str] = []
-    for act in _walk(actions):
+    for act in walk_actions(actions):
         if isinstance(act, Say):
             if act.text is not None:
                 out.append(act.text)
@@ -115,13 +115,3 @@ def _cycle(start: Handler, edges: dict[int, list[Handler]]) -> list[Handler] | N
                 seen.add(id(nxt))
                 stack.append((nxt, path + [nxt]))
     return None
-
-
-def _walk(actions: tuple[Action, ...]) -> Iterator[Action]:
-    for a in actions:
-        yield a
-        if isinstance(a, Repeat):
-            yield from _walk(a.body)
-        elif isinstance(a, WaitFor):
-            for hd in a.handlers:  # a wait's own reactions (<on> inside the wait-for)
-                yield from _walk(hd.body)

@@ -388,7 +388,7 @@ class _Checker:
 
     def handler_body(self, actions: tuple[Action, ...], owner: str, line: int | None) -> None:
         """A reaction must end: it cannot leave, repeat for ever or wait without a timeout."""
-        for act in _walk(actions):
+        for act in walk_actions(actions):
             tag = _action_tag(act)
             if isinstance(act, Leave):
                 raise self.fail(act.line, tag, f"<leave> cannot be inside the <on> at line {line}: a reaction ends and {owner!r} carries on her script")
@@ -421,7 +421,7 @@ class _Checker:
         """Every fixed place ``h`` walks to, and the exit she leaves by, is in the part of the flat she starts in (each one that is not, named)."""
         sc = self.sc
         home = grid.component((h.x, h.y))
-        for act in _walk(h.script + tuple(a for hd in h.handlers for a in hd.body)):
+        for act in walk_actions(h.script + tuple(a for hd in h.handlers for a in hd.body)):
             if isinstance(act, WalkTo) and act.target.kind not in ("robot", "human"):
                 goal = self.fixed_point(act.target)
                 what = f"{act.target.kind} {act.target.name!r}" if act.target.name else f"({goal[0]:g}, {goal[1]:g})"
@@ -466,9 +466,9 @@ class _Checker:
     @cached_property
     def spoken(self) -> str:
         """Everything the people and sources say as written (``text=`` and ``about=``), lower case."""
-        words = [w for h in self.sc.humans for a in _walk(h.script + tuple(x for hd in h.handlers for x in hd.body))
+        words = [w for h in self.sc.humans for a in walk_actions(h.script + tuple(x for hd in h.handlers for x in hd.body))
                  if isinstance(a, Say) for w in (a.text, a.about) if w]
-        words += [w for s in self.sc.sources for a in _walk(s.script) if isinstance(a, Say) for w in (a.text, a.about) if w]
+        words += [w for s in self.sc.sources for a in walk_actions(s.script) if isinstance(a, Say) for w in (a.text, a.about) if w]
         return "\n".join(words).lower()
 
     def taught(self, e: Expectation, key: str, what: str, known: list[str]) -> None:
@@ -548,17 +548,18 @@ def _action_tag(act: Action) -> str:
 
 
 def _takes_time(actions: Iterable[Action]) -> bool:
-    for a in _walk(actions):
+    for a in walk_actions(actions):
         if isinstance(a, (Wait, Say, WalkTo, PointAt, WaitFor, StepCloser)) and not (isinstance(a, Wait) and a.duration <= 0):
             return True
     return False
 
 
-def _walk(actions: Iterable[Action]) -> Iterator[Action]:
+def walk_actions(actions: Iterable[Action]) -> Iterator[Action]:
+    """Every action of a script, depth first: repeats' bodies and a wait's own reactions included."""
     for a in actions:
         yield a
         if isinstance(a, Repeat):
-            yield from _walk(a.body)
+            yield from walk_actions(a.body)
         elif isinstance(a, WaitFor):
             for hd in a.handlers:  # a wait's own reactions (<on> inside the wait-for)
-                yield from _walk(hd.body)
+                yield from walk_actions(hd.body)
