@@ -45,7 +45,7 @@ from __future__ import annotations
 
 import asyncio
 import math
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 from lxml import etree
 
@@ -54,10 +54,11 @@ from homesim.message import Message
 from homesim.module import Module
 from robot.floorplan import FloorPlan, parse_map
 
-from robot.contract import ES_EVENTS, ES_ORDERS, FOCUS, GESTURES, OBJECTS, PARTNER, POSE
+from robot.contract import ES_EVENTS, ES_ORDERS, FOCUS, GESTURES, OBJECTS, PARTNER, PLAYER_STATUS, POSE, TRACKS
 
 from .gestures import CAMERA_HEIGHT, CAMERA_OFFSET, GestureTracker, camera_to_map
 from .resolve import Candidate, Pointing, Resolution, Wanted, merge, option_texts, resolve
+from .viewpoint import in_range, sight_clear, viewpoint
 
 if TYPE_CHECKING:
     from homesim.sim import Simulation
@@ -71,6 +72,8 @@ SENTENCE_RECENT = 15.0  # s: a sentence begun this long ago is still the one bei
 SEARCH_OFFSETS = (math.radians(-35.0), math.radians(35.0), math.radians(-70.0), math.radians(70.0))  # off her bearing
 SEARCH_LOOK = 1.0  # s the camera dwells on each side of her
 SEARCH_RADIUS = 1.5  # m: what she shows without a gesture the camera saw stands this near her
+MOVE_TIMEOUT = 20.0  # s: a drive to a better viewpoint that has not arrived by then is given up
+MOVE_BLOCKED = 4.0  # s: ... and one the player reports blocked this long
 
 OWNER_WORDS = {"speaker": "partner", "my": "partner", "me": "partner", "mine": "partner"}
 
@@ -128,6 +131,11 @@ class ObjectAttention(Module):
         self.bus.subscribe(OBJECTS, self._on_objects)
         self.bus.subscribe(POSE, self._on_pose)
         self.bus.subscribe(PARTNER, self._on_partner)
+        self._people: tuple[float, list[tuple[float, float]]] | None = None  # time, people's (bearing, distance), robot frame
+        self._player: tuple[str, float] | None = None  # the player's last state and when it came
+        self.moves = 0  # drives to a better viewpoint (for tests and introspection)
+        self._subs: list[Any] = []  # people's tracks and the player's status, only while a search runs
+        self._finds = 0  # searches begun
 
     async def run(self) -> None:
         try:
@@ -201,6 +209,9 @@ class ObjectAttention(Module):
         """One search (see the module docstring); always ends with an ES event. ``said``: when the
         sentence began (s, the frame's ``TIMESTAMP``), if the order carries it."""
         wanted = wanted_from(obj)
+        self._finds += 1
+        token = self._finds
+        self._listen(True)
         try:
             waited = 0.0
             start = self._gesture_start(said)
@@ -232,6 +243,13 @@ class ObjectAttention(Module):
                         waited += 0.1
                     pointing = self.gestures.pointing(self.now, since=since) or pointing
                     res = await self._look(wanted, pointing, cause)
+            if res.kind == "none" and pointing is not None:
+                # Still nothing where she points: if the camera cannot see that spot from here (her,
+                # someone else, furniture or a wall in the way, or out of its range), drive to a
+                # place from which it can and look again.
+                moved = await self._move_to_see(pointing, cause)
+                if moved:
+                    res = await self._look(wanted, pointing, cause)
             pose = self.pose
             assert pose is not None
             if res.kind == "none":
@@ -247,6 +265,20 @@ class ObjectAttention(Module):
             self._recognized(chosen, wanted, obj, cause)
         finally:
             self._looking = False
+            if token == self._finds:  # not a search cancelled by the next one (that one listens on)
+                self._listen(False)
+
+    def _listen(self, on: bool) -> None:
+        """Follow the people's tracks and the player's status while a search runs, and only then
+        (every delivery draws a network delay from the run's generator: a subscription held all
+        the time would change every run)."""
+        if on and not self._subs:
+            self._subs = [self.bus.subscribe(TRACKS, self._on_tracks), self.bus.subscribe(PLAYER_STATUS, self._on_player)]
+        elif not on:
+            for sub in self._subs:
+                sub.close()
+            self._subs = []
+            self._people = None
 
     async def _look(self, wanted: Wanted, pointing: Pointing | None, cause: str) -> Resolution:
         """Look where she points for ``look_time`` s, merge the detections, resolve the reference."""
@@ -292,6 +324,89 @@ class ObjectAttention(Module):
         res = resolve(cands, wanted, None, (px, py))
         self.last = res
         return res
+
+    def _people_map(self, pose: tuple[float, float, float]) -> list[tuple[float, float]]:
+        """Where the people the person attention tracks stand (map frame, from their fresh bearing
+        and distance), the partner among them."""
+        out = []
+        if self._people is not None and self.now - self._people[0] < 1.0:
+            out = [(pose[0] + d * math.cos(pose[2] + b), pose[1] + d * math.sin(pose[2] + b)) for b, d in self._people[1]]
+        p = self._partner
+        if p is not None and self.now - p[0] < 1.0:
+            out.append((pose[0] + p[2] * math.cos(pose[2] + p[1]), pose[1] + p[2] * math.sin(pose[2] + p[1])))
+        return out
+
+    def _target_3d(self, pointing: Pointing) -> tuple[float, float, float] | None:
+        """Where the ray comes down (:meth:`_ray_target`) with the height of what it stands on."""
+        t = self._ray_target(pointing)
+        if t is None:
+            return None
+        top = 0.0
+        if self.plan is not None:
+            for o in self.plan.obstacles:
+                if o.type != "leg" and o.top < CAMERA_HEIGHT and _inside(t[0], t[1], o.points):
+                    top = max(top, o.top)
+        return t[0], t[1], top + 0.05
+
+    def view_blocked(self, pointing: Pointing) -> bool:
+        """Whether the camera, from where the robot stands, cannot see where ``pointing`` comes
+        down: out of its range, or a wall, furniture (the floor plan) or a person in the way."""
+        pose, target = self.pose, self._target_3d(pointing)
+        if pose is None or target is None or self.plan is None:
+            return False
+        cam = (pose[0] + CAMERA_OFFSET * math.cos(pose[2]), pose[1] + CAMERA_OFFSET * math.sin(pose[2]), CAMERA_HEIGHT)
+        return not in_range(cam, target) or not sight_clear(self.plan, cam, target, self._people_map(pose))
+
+    async def _move_to_see(self, pointing: Pointing, cause: str) -> bool:
+        """Drive to a place from which the camera sees where she points (:func:`viewpoint`), through
+        the ES (event ``view_blocked`` with the ``POSE``; the ES orders the player ``move_to``), and
+        wait until the player has arrived (or is blocked, or ``MOVE_TIMEOUT`` s passed: the ES is
+        asked to stop it, event ``view_stop``). False when the view is not blocked or there is no
+        such place."""
+        pose, target = self.pose, self._target_3d(pointing)
+        if pose is None or target is None or self.plan is None or not self.view_blocked(pointing):
+            return False
+        goal = viewpoint(self.plan, (pose[0], pose[1]), target, self._people_map(pose), camera_height=CAMERA_HEIGHT, camera_offset=CAMERA_OFFSET)
+        if goal is None:
+            return False
+        self.moves += 1
+        ev = etree.Element("event", name="view_blocked")
+        etree.SubElement(ev, "POSE", x=f"{goal[0]:.3f}", y=f"{goal[1]:.3f}", theta=f"{goal[2]:.4f}", frame="map", tolerance="0.2", align="true")
+        sent = self.now
+        self._player = None
+        self.bus.publish(ES_EVENTS, ev, causes=(cause,))
+        blocked_since: float | None = None
+        while self.now - sent < MOVE_TIMEOUT:
+            await asyncio.sleep(0.2)
+            st = self._player
+            if st is None or st[1] < sent:
+                continue
+            if st[0] == "reached":
+                await asyncio.sleep(0.5)  # let the camera settle on the spot
+                return True
+            if st[0] == "stopped":
+                return True
+            if st[0] == "blocked":
+                blocked_since = st[1] if blocked_since is None else blocked_since
+                if self.now - blocked_since >= MOVE_BLOCKED:
+                    break
+            else:
+                blocked_since = None
+        self.bus.publish(ES_EVENTS, etree.Element("event", name="view_stop"), causes=(cause,))
+        await asyncio.sleep(0.5)
+        return True
+
+    def _on_tracks(self, msg: Message) -> None:
+        people = []
+        for tr in msg.xml.iterfind("track"):
+            if tr.get("confirmed") == "true":
+                people.append((math.radians(float(tr.get("bearing"))), float(tr.get("distance"))))  # type: ignore[arg-type]
+        self._people = (msg.created, people)
+
+    def _on_player(self, msg: Message) -> None:
+        state = msg.xml.get("state")
+        if state:
+            self._player = (state, msg.created)
 
     def _in_the_way(self, bearing: float, distance: float, pointing: Pointing) -> bool:
         """Whether a person at ``bearing``/``distance`` (robot frame) hides where ``pointing`` comes
