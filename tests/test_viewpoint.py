@@ -10,7 +10,7 @@ from hypothesis import strategies as st
 
 from robot.floorplan import FloorPlan, MapObstacle, MapRoom, MapWall
 from robot.objects.resolve import COLOURS, Candidate, Pointing, Wanted, resolve
-from robot.objects.viewpoint import CAMERA_RANGE, PERSON_CLEARANCE, ROBOT_CLEARANCE, _point_polygon, in_range, sight_clear, viewpoint
+from robot.objects.viewpoint import CAMERA_RANGE, PERSON_CLEARANCE, ROBOT_CLEARANCE, _point_polygon, in_range, pointed_spot, sight_clear, viewpoint
 
 CAM = 1.41
 
@@ -130,3 +130,18 @@ def test_a_candidate_seen_as_the_named_type_once_in_twenty_does_not_fit():
     for i in range(20):
         cup.add("bowl" if i % 4 == 0 else "cup", 2.0, 2.0, 0.8, COLOURS["red"])  # a quarter confused
     assert resolve([cup], Wanted(type="cup"), hand, (0.0, 2.0)).kind == "one"
+
+
+def test_the_pointed_spot_is_where_the_ray_runs_low_over_the_counter_not_where_it_comes_down():
+    """She points at a kettle 0.25 m tall on a 0.9 m counter from 0.35 m before it: the ray runs low
+    over the counter and comes down on the floor behind it; the spot is on the counter, by the kettle."""
+    counter = _box("counter", "counter", 4.4, 0.8, 5.0, 3.6, 0.9)
+    plan = _flat(counter)
+    hand, kettle = (4.35, 2.04, 1.17), (4.7, 2.02, 1.02)
+    d = math.hypot(kettle[0] - hand[0], kettle[1] - hand[1])
+    spot = pointed_spot(plan, hand, math.atan2(kettle[1] - hand[1], kettle[0] - hand[0]), math.atan2(kettle[2] - hand[2], d))
+    assert spot is not None and math.hypot(spot[0] - 4.7, spot[1] - 2.02) < 0.25 and abs(spot[2] - 0.95) < 1e-9
+    # pointing at the floor: the spot is where the ray meets it, before the wall
+    floor = pointed_spot(plan, (1.0, 2.0, 1.1), math.pi, math.radians(-60))
+    assert floor is not None and floor[2] == 0.05 and 0.0 < floor[0] < 1.0
+    assert pointed_spot(plan, (1.0, 2.0, 1.1), 0.0, math.radians(10)) is None  # pointing up: no spot

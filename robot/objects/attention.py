@@ -59,7 +59,7 @@ from robot.contract import ES_EVENTS, ES_ORDERS, FOCUS, GESTURES, OBJECTS, PARTN
 
 from .gestures import CAMERA_HEIGHT, CAMERA_OFFSET, GestureTracker, camera_to_map
 from .resolve import Candidate, Pointing, Resolution, Wanted, merge, option_texts, resolve
-from .viewpoint import in_range, sight_clear, viewpoint
+from .viewpoint import in_range, pointed_spot, sight_clear, viewpoint
 
 if TYPE_CHECKING:
     from homesim.sim import Simulation
@@ -403,7 +403,13 @@ class ObjectAttention(Module):
         return out
 
     def _target_3d(self, pointing: Pointing) -> tuple[float, float, float] | None:
-        """Where the ray comes down (:meth:`_ray_target`) with the height of what it stands on."""
+        """Where the ray most likely shows an object (:func:`pointed_spot`: the first stretch of it
+        low over a surface), else where it comes down (:meth:`_ray_target`), with the height of
+        what it stands on."""
+        if self.plan is not None:
+            spot = pointed_spot(self.plan, (pointing.x, pointing.y, pointing.z), pointing.direction, pointing.elevation)
+            if spot is not None:
+                return spot
         t = self._ray_target(pointing)
         if t is None:
             return None

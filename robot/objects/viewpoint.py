@@ -39,6 +39,7 @@ DIRECTIONS = 24  # per ring
 MAX_TRAVEL = 3.5  # m: a viewpoint farther than this drive is not worth it
 ROBOT_HEIGHT = 1.45  # m: furniture whose underside is higher does not stop the base
 GRID_CELL = 0.1  # m: the drive's grid
+OBJECT_BAND = 0.35  # m: how high above a surface an object a person points at reaches (most household objects)
 DRIVE_CLEARANCE = 0.8  # of the standing clearances, kept on the way (the player's own local planner keeps the footprint clear)
 
 
@@ -229,3 +230,35 @@ def viewpoint(plan: FloorPlan, robot: Point, target: tuple[float, float, float],
                 continue
             best = (cost, (q[0], q[1], heading))
     return None if best is None else best[1]
+
+
+def pointed_spot(plan: FloorPlan, hand: tuple[float, float, float], direction: float, elevation: float, *,
+                 band: float = OBJECT_BAND, reach: float = 3.0, step: float = 0.05) -> tuple[float, float, float] | None:
+    """Where on the plan a pointing ray (from ``hand``, map frame, ``direction`` and ``elevation``
+    in radians) most likely shows an object: the middle of the first stretch of the ray that runs
+    at most ``band`` m above what is under it (a piece of furniture's top, or the floor), before
+    it meets a wall; ``(x, y, z)`` with ``z`` a little above that surface. Objects have a height:
+    a ray aimed at a kettle on a counter passes the kettle low over the counter and may come
+    down on the floor behind it, so where it comes down is not where the object is. None when
+    the ray stays higher than ``band`` over everything within ``reach`` m."""
+    if elevation >= 0.0:
+        return None
+    walls = [tuple((float(x), float(y)) for x, y in w.rectangle()) for w in plan.walls]
+    tops = [(o.points, o.top) for o in plan.obstacles if o.type != "leg" and o.top < hand[2]]
+    c, s, slope = math.cos(direction), math.sin(direction), math.tan(elevation)
+    run: list[tuple[float, float, float]] = []
+    d = 0.1
+    while d <= reach:
+        x, y, z = hand[0] + d * c, hand[1] + d * s, hand[2] + d * slope
+        if any(_point_polygon((x, y), w) == 0.0 for w in walls) or z < 0.0:
+            break
+        under = max((top for pts, top in tops if _point_polygon((x, y), pts) == 0.0), default=0.0)
+        if z - under <= band:
+            run.append((x, y, under))
+        elif run:
+            break
+        d += step
+    if not run:
+        return None
+    x, y, under = run[len(run) // 2]
+    return x, y, under + 0.05
