@@ -361,3 +361,66 @@ def test_the_slower_hop_is_chosen_with_the_bandwidth_counted():
     net.add_host("a", link="thin")
     net.add_host("b", link="far")
     assert net.route("a", "b").link.name == "thin"
+
+
+# ------------------------------------------------------- placing a module that does not exist
+def test_a_placement_of_a_module_not_in_the_systems_list_is_refused_at_its_line_and_none_checks_nothing():
+    body = '<link name="l" min-ms="1" max-ms="2"/><host name="a" link="l"/>\n<place module="dailog" host="a"/>'
+    with pytest.raises(DeploymentError, match=r"no module 'dailog' to place \(did you mean 'dialog'\?\)") as err:
+        from_element(_doc(body), source="t.xml", modules=("dialog", "camera"))
+    assert err.value.line == 2 and "t.xml" in str(err.value)
+    assert from_element(_doc(body), source="t.xml").host_of("dailog") == "a"  # the kernel alone knows no modules
+
+
+@settings(max_examples=examples(25, 100), deadline=None)
+@given(placed=st.lists(st.sampled_from(["m0", "m1", "m2", "m3"]), unique=True, max_size=4),
+       known=st.sets(st.sampled_from(["m0", "m1", "m2", "m3"])))
+def test_a_deployment_loads_exactly_when_every_placed_module_is_known(placed, known):
+    body = '<link name="l" min-ms="1" max-ms="2"/><host name="a" link="l"/>' + "".join(
+        f'<place module="{m}" host="a"/>' for m in placed)
+    if set(placed) <= known:
+        assert dict(from_element(_doc(body), modules=known).placement) == {m: "a" for m in placed}
+    else:
+        with pytest.raises(DeploymentError, match="no module") as err:
+            from_element(_doc(body), modules=known)
+        first = next(m for m in placed if m not in known)  # the first one in the document is named
+        assert f"'{first}'" in err.value.message
+
+
+def test_biron_modules_are_the_modules_a_full_run_has():
+    from homesim.tour.runner import Run, RunOptions
+    from robot.deployment import MODULES
+
+    with Run.from_file(ROOT / "scenarios" / "radio.xml", RunOptions(until=0.1)) as run:
+        assert sorted(MODULES) == sorted(run.sim.modules)
+    assert {m for m, _ in load(BIRON).placement} <= set(MODULES)
+
+
+def test_a_scenario_placing_a_module_biron_does_not_have_is_refused_by_run_and_check_naming_file_and_line(tmp_path):
+    from homesim.check import check_path
+    from homesim.errors import ScenarioError
+    from homesim.tour.runner import Run
+
+    text = (ROOT / "scenarios" / "radio.xml").read_text(encoding="utf-8")
+    bad = text.replace("  <sources>", '  <deployment>\n    <place module="speech" host="laptop"/>\n  </deployment>\n  <sources>', 1)
+    path = tmp_path / "radio_speech.xml"
+    path.write_text(bad, encoding="utf-8")
+    line = bad.splitlines().index('    <place module="speech" host="laptop"/>') + 1
+    with pytest.raises(ScenarioError, match="no module 'speech' to place") as err:
+        Run.from_file(path)
+    assert err.value.line == line and str(path) in str(err.value)
+    kind, problems = check_path(str(path))
+    assert kind == "scenario" and [p.line for p in problems] == [line] and "no module 'speech'" in problems[0].message
+
+
+def test_homesim_check_refuses_a_deployment_document_placing_an_unknown_module(tmp_path):
+    from homesim.check import check_path
+
+    text = BIRON.read_text(encoding="utf-8").replace('<place module="camera" host="pc2"/>', '<place module="kamera" host="pc2"/>')
+    path = tmp_path / "d.xml"
+    path.write_text(text, encoding="utf-8")
+    kind, problems = check_path(str(path))
+    line = text.splitlines().index('  <place module="kamera" host="pc2"/>') + 1
+    assert kind == "deployment" and len(problems) == 1 and problems[0].line == line
+    assert "no module 'kamera' to place (did you mean 'camera'?)" in problems[0].message
+    assert check_path(str(BIRON))[1] == []
