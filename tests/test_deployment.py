@@ -140,6 +140,53 @@ def test_network_stats_count_deliveries_per_link():
         assert net.stats()["wlan"].count == 50
 
 
+def test_link_stats_count_what_was_delivered_not_what_was_sent_to_a_receiver_that_left():
+    """A receiver that leaves the bus while messages are on their way: those are not deliveries."""
+    with Simulation(seed=2) as sim:
+        net: Network = sim.network
+        load(BIRON).apply(net)
+        a, b = sim.bus.participant("dialog"), sim.bus.participant("laser")
+        got = []
+        b.subscribe("/y", got.append)
+        for i in range(50):
+            sim.call_at(i * 0.01, a.publish, "/y", etree.Element("y"))
+        sim.call_at(0.2505, b.close)  # about 25 sent before, some of them still on the WLAN
+        sim.run()
+        wlan = net.stats()["wlan"]
+        assert wlan.count == len(got) == sim.bus.delivered < 50 - wlan.lost
+        assert sim.bus.dropped >= 1  # what was on its way when it left: dropped, not a delivery
+
+
+@settings(max_examples=examples(25, 100), deadline=None)
+@given(times=st.lists(st.integers(0, 300), min_size=1, max_size=40), leave=st.integers(0, 400),
+       hang=st.booleans(), seed=st.integers(0, 2**32 - 1))
+def test_per_link_deliveries_add_up_to_the_bus_deliveries_and_the_losses_are_apart(times, leave, hang, seed):
+    """Publishes, requests and replies over LAN and WLAN, a receiver that leaves (or hangs): every
+    message sent ends once on its link as delivered or lost, or is dropped at the receiver."""
+    with Simulation(seed=seed) as sim:
+        net: Network = sim.network
+        load(BIRON).apply(net)
+        a, b, c = sim.bus.participant("dialog"), sim.bus.participant("laser"), sim.bus.participant("camera")
+        b.subscribe("/y", lambda m: None)
+        c.serve("m", lambda m: etree.Element("ok"))
+
+        async def ask() -> None:
+            try:
+                await a.call("camera", "m", etree.Element("q"), timeout=5.0)
+            except Exception:
+                pass
+
+        for t in times:
+            sim.call_at(t * 0.001, a.publish, "/y", etree.Element("y"))
+            sim.call_at(t * 0.001, lambda: sim.spawn(ask(), name="ask"))
+        sim.call_at(leave * 0.001, (lambda: setattr(b, "hung", True)) if hang else b.close)
+        sim.run(until=10.0)
+        stats = net.stats()
+        lost = sum(st.lost for st in stats.values())
+        assert sum(st.count for st in stats.values()) == sim.bus.delivered
+        assert sim.bus.delivered + sim.bus.dropped == sim.bus.sent - sim.bus.unheard and lost <= sim.bus.dropped
+
+
 def test_a_module_on_a_slower_host_takes_longer_in_proportion_to_the_cpu_speed():
     from robot.deployment import papers
     from robot.speech.module import SpeechUnderstanding
