@@ -563,3 +563,22 @@ def test_a_stale_partner_bearing_does_not_barge_in(robot):
     robot.sound(2.6, 0.0, 70.0)
     robot.sim.run(until=3.0)
     assert robot.dialog.summary()["barge_ins"] == 0
+
+
+def test_no_robot_module_asks_the_dialog_directly():
+    """The papers route every question a reactive or intermediate module has for the user through the ES
+    (an event to it, a condition to the dialog): no robot module calls the dialog's RPCs (``dialog/ask`` is
+    for tools)."""
+    import ast
+    from pathlib import Path
+
+    root = Path(__file__).resolve().parents[1] / "robot"
+    direct = []
+    for path in sorted(root.rglob("*.py")):
+        if path.parent.name == "dialog":
+            continue
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            if isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute) and node.func.attr == "call" \
+                    and node.args and isinstance(node.args[0], ast.Constant) and node.args[0].value == "dialog":
+                direct.append(f"{path.relative_to(root.parent)}:{node.lineno}")
+    assert direct == []
