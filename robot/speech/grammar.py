@@ -115,6 +115,7 @@ class Understanding:
     coverage: float = 0.0  # share of the meaningful words the frame used, 0..1
     rest: list[str] = field(default_factory=list)  # a whole request after a greeting, left out of the frame
     answer: str = ""  # "yes"/"no" said before the request ("no, the kitchen"): it answers an open question
+    fragment: bool = False  # a noun phrase alone ("the kitchen"): an answer, not a request or statement by itself
     reason: str = ""  # why nothing was understood
 
     @property
@@ -151,11 +152,13 @@ class Understander:
             res.reason = "no known words" if lex.unknown else "nothing said"
             return res
         tree, ignored, partial = self._parse(toks)
+        lost = 0  # words put back that the recogniser lost: they count against the coverage
         if toks[0].type in ("IS", "ARE") and len(toks) > 1 and (tree is None or partial):
-            # "is the living room": not a question about an object, a teaching whose "this" was lost
-            alt = self._parse(toks[1:])
-            if alt[0] is not None and (not alt[2] or tree is None):
-                tree, ignored, partial = alt[0], [toks[0].text, *alt[1]], True
+            # "is the living room", "is my cup": not a question about an object (nobody asks a bare
+            # "is my cup"), a teaching whose "this" was lost: parsed as the statement it was
+            alt = self._parse([_LOST_THIS, *toks])  # whole: "is my <lost>" lost too much to guess
+            if alt[0] is not None and not alt[2]:
+                tree, ignored, partial, lost = alt[0], list(alt[1]), True, 1
         elif ignored and len(toks) > 2 and [t.text for t in toks[len(toks) - len(ignored):]] != ignored:
             # "that to the kitchen" (the recogniser's "that" for "go"): a word skipped inside the
             # phrase ("that [to] the kitchen", a teaching) against a first word misheard, the rest a
@@ -171,9 +174,9 @@ class Understander:
             # after the first word turns a statement into a request ("to [is] the kitchen", go
             # there). The copula says the turn is a statement: the first word was misheard and the
             # rest is a teaching whose "this" was lost, as "is the living room" above.
-            alt = self._parse(toks[2:])
+            alt = self._parse([_LOST_THIS, *toks[1:]])
             if alt[0] is not None and not alt[2] and tree_act(alt[0]) in _STATEMENT_ACTS:
-                tree, ignored, partial = alt[0], [toks[0].text, toks[1].text], True
+                tree, ignored, partial = alt[0], [toks[0].text], True  # "this" heard as another word
         restart = self._restart(lex.raw)
         if restart is not None:  # "follow me, no wait, stop": the repair is a whole new request
             toks, (tree, ignored, partial) = restart
@@ -207,13 +210,14 @@ class Understander:
             res.reason = "nothing known said about it"
             return res
         res.frame = frame
+        res.fragment = tree_act(tree) in _FRAGMENTS
         res.ignored = ignored
         res.partial = partial or bool(ignored)
         used = len(toks) - len(ignored)
         if ignored and tree_act(tree) == "greeting" and self._request_after_greeting(toks, ignored):
             used = len(toks)  # "hello biron, follow me": the greeting is sure; the request is not noise
             res.rest = list(ignored)
-        res.coverage = used / max(1, len(toks) + len(lex.unknown))
+        res.coverage = used / max(1, len(toks) + len(lex.unknown) + lost)
         return res
 
     def _restart(self, raw: list[Tok]) -> tuple[list[Tok], tuple[Tree | None, list[str], bool]] | None:
@@ -316,6 +320,10 @@ class Understander:
 
 #: Words that answer a question before the request that follows them ("no, the kitchen").
 _ANSWER_WORDS = frozenset({"YES", "OKAY", "NO"})
+#: The "this" of a statement the recogniser lost ("[this] is my cup"): put back to parse the statement.
+_LOST_THIS = Tok("THIS", "this", "")
+#: Noun phrases alone: they answer a question; a whole statement ("this is the kitchen") is a request of its own.
+_FRAGMENTS = frozenset({"object_fragment", "place_fragment"})
 #: Acts that continue a phrase rather than start a new clause: a repair made of them is aligned.
 #: what "<lost this> is ..." can be: a place or an object shown
 _STATEMENT_ACTS = frozenset({"place_fragment", "object_fragment", "teach_place", "teach_object"})
