@@ -75,6 +75,28 @@ def test_a_correction_replaces_what_was_heard(dm, correction):
     assert s.event == "place_teaching" and s.children[0].find("PLACE/TITLE").get("name") == "kitchen"
 
 
+@pytest.mark.parametrize("statement", ["this is the kitchen", "no, this is the kitchen", "we are in the kitchen",
+                                       "here we have the kitchen", "is the kitchen", "this room is the kitchen"])
+def test_a_place_taught_while_a_misheard_goto_is_confirmed_is_taught_not_driven_to(dm, statement):
+    # she said "this is the kitchen", the recogniser heard "to the kitchen": the robot asks
+    # "Shall I go to the kitchen?" and she says it again. The same room is no repetition of the
+    # go-to: a whole statement teaches the room (it drove off to the kitchen before)
+    assert says(dm.on_frame(heard("to the kitchen", LOW))) == ["Shall I go to the kitchen?"]
+    out = dm.on_frame(heard(statement))
+    (s,) = sends(out)
+    assert s.event == "place_teaching" and s.children[0].find("PLACE/TITLE").get("name") == "kitchen"
+    assert says(out) == ["OK, I will stay here."]
+    assert dm.summary()["confirmed_by_repetition"] == 0
+
+
+@pytest.mark.parametrize("answer", ["the kitchen", "kitchen", "yes the kitchen", "go to the kitchen",
+                                    "to the kitchen please", "yes"])
+def test_the_goal_alone_or_the_request_again_confirms_the_goto(dm, answer):
+    assert says(dm.on_frame(heard("to the kitchen", LOW))) == ["Shall I go to the kitchen?"]
+    (s,) = sends(dm.on_frame(heard(answer)))
+    assert s.event == "goto" and s.children[0].find("PLACE/TITLE").get("name") == "kitchen"
+
+
 def test_no_then_the_robot_asks_for_the_right_name(dm):
     dm.on_frame(heard("this is the living room", LOW))
     assert says(dm.on_frame(heard("no"))) == ["Sorry.", "Which room is this?"]

@@ -241,6 +241,18 @@ class DialogManager:
         said = msg.get("answer", "")  # "yes"/"no" before the request: "no, the kitchen"
         out: list[Output] = []
         answered = self._answered_by(act)
+        if answered is not None and said != "yes" and self._another_request(answered, act, msg):
+            # "Shall I go to the kitchen?" - "this is the kitchen" (she was teaching the room; the
+            # recogniser heard "to the kitchen"): a whole statement of another dialog's act is no
+            # repetition of the request even where its value is the same. It says no to the
+            # question and is a request of its own (below); "the kitchen" alone still confirms.
+            assert answered.pending is not None
+            answered.slots[answered.pending[1]].status = "false"
+            answered.pending, answered.reasks, answered.passed_over = None, 0, 0
+            self.metrics["corrections"] += 1
+            self._step(answered, out)
+            answered = None
+            said = ""  # the implied no answered the question; a "no" said aloud answered it too
         if answered is None and said and self._confirming() is not None:
             # "no, go to the kitchen" to "Shall I follow you?": the no answers it, the rest is new
             top = self._confirming()
@@ -300,6 +312,20 @@ class DialogManager:
         act_el.set("replaces", old_title.get("name", ""))
         self.metrics["corrections"] += 1
         return act_el
+
+    def _another_request(self, inst: Instance, act: str, msg: etree._Element) -> bool:
+        """Whether a frame that fits ``inst``'s open confirmation is a request of another dialog instead.
+
+        A noun phrase alone (``fragment``) answers whatever asked for it; a whole statement
+        ("this is the kitchen", "we are in the kitchen") is the request of the dialog its act
+        triggers, and confirms only that dialog's question.
+        """
+        if inst.pending is None or inst.pending[0] != "confirm" or act in ("YES", "NO") or act in inst.d.trigger:
+            return False
+        if msg.get("fragment") == "true":
+            return False
+        own = self.doc.by_trigger(act)
+        return own is not None and own is not inst.d
 
     def _confirming(self) -> Instance | None:
         """The dialog whose confirmation question is the topmost open question, if any."""
