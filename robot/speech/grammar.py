@@ -180,6 +180,13 @@ class Understander:
         restart = self._restart(lex.raw)
         if restart is not None:  # "follow me, no wait, stop": the repair is a whole new request
             toks, (tree, ignored, partial) = restart
+        elif (tree is None or _guessed(tree)) and len(toks) > 2:
+            # "let's go, follow me, I will show you around", "let me show you, this is the guest
+            # room": a preamble the grammar cannot close, or closes only with a guessed empty place
+            # or object ("let's go <lost place>"), before a whole request said after it: the request wins
+            tail = self._whole_request_after(toks)
+            if tail is not None:
+                tree, ignored, partial = tail
         lead = 0
         while lead < len(toks) - 1 and toks[lead].type in _ANSWER_WORDS:
             lead += 1
@@ -242,6 +249,22 @@ class Understander:
         if parsed[0] is None or parsed[2] or tree_act(parsed[0]) in _NOT_RESTARTS:
             return None
         return tail, parsed
+
+    def _whole_request_after(self, toks: list[Tok]) -> tuple[Tree, list[str], bool] | None:
+        """The longest tail of ``toks`` (from the second token on) that opens with a whole request.
+
+        A request is an act of its own (not a noun phrase, a yes/no or a which-one answer), closed
+        without a guessed empty object or place; words after it may be left over. The words before
+        it are reported as ignored, so the coverage falls with the preamble's length.
+        """
+        for i in range(1, len(toks) - 1):
+            tree, ignored, _ = self._parse(toks[i:])
+            if tree is None or _guessed(tree) or tree_act(tree) in _NOT_REQUESTS:
+                continue
+            if ignored and [t.text for t in toks[len(toks) - len(ignored):]] != ignored:
+                continue  # a word skipped inside the request: not said as a whole
+            return tree, [t.text for t in toks[:i]] + ignored, True
+        return None
 
     def _request_after_greeting(self, toks: list[Tok], ignored: list[str]) -> bool:
         """Whether the words a greeting's parse left out are the utterance's end and a whole act alone.
@@ -327,6 +350,8 @@ _FRAGMENTS = frozenset({"object_fragment", "place_fragment"})
 #: Acts that continue a phrase rather than start a new clause: a repair made of them is aligned.
 #: what "<lost this> is ..." can be: a place or an object shown
 _STATEMENT_ACTS = frozenset({"place_fragment", "object_fragment", "teach_place", "teach_object"})
+#: Acts that are no request by themselves: answers to a question the robot asked.
+_NOT_REQUESTS = frozenset({"object_fragment", "place_fragment", "that_one", "yes", "no"})
 _NOT_RESTARTS = frozenset({"object_fragment", "place_fragment", "that_one", "yes", "no"})
 
 # word classes that say nothing about a dangling object or place: deixis, articles, prepositions
@@ -342,6 +367,12 @@ def _declared(text: str) -> set[str]:
         if line.startswith("%declare"):
             out.update(line.split()[1:])
     return out
+
+
+def _guessed(tree: Tree) -> bool:
+    """Whether the parse closed a dangling object or place with a guessed empty one ("this is my ...")."""
+    return any(isinstance(t, Token) and t.type in ("OBJ", "PLACE") and not _tok(t).text for t in tree.scan_values(
+        lambda v: isinstance(v, Token)))
 
 
 def tree_act(tree: Tree) -> str:
