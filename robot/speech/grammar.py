@@ -320,7 +320,13 @@ class Understander:
             except UnexpectedInput:
                 continue
             kept = set(fed[: k + 1])
-            return tree, [toks[i].text for i in range(len(stream)) if i not in kept], True
+            rest = [toks[i] for i in range(len(stream)) if i not in kept]
+            if (tree_act(tree) == "that_one" and not ignored and rest[0].type in ("IS", "ARE")
+                    and any(t.type not in _ONLY_POINTS for t in rest)):
+                # "this one here is my reading <lost>": a statement about the one she points at,
+                # its noun lost (a teaching to ask about), not the which-one answer "this one here"
+                break
+            return tree, [t.text for t in rest], True
         if used < 2:
             return None, ignored, True  # one word and a guessed rest is no understanding
         skipped = set(ignored)
@@ -544,7 +550,12 @@ def build(tree: Tree) -> etree._Element:
     elif kind in ("teach_place", "place_fragment"):
         speech.append(_place(_sub(act, "place_np")))  # type: ignore[arg-type]
     elif kind == "goto":
-        _S(speech, "GOTO").append(_place(_sub(act, "place_np")))  # type: ignore[arg-type]
+        np = _sub(act, "place_np")
+        req = _sub(act, "request")
+        if np is None and req is not None and any(t.type == "LETS" for t in _tokens(req)):
+            _S(speech, "FOLLOW")  # "let's go": together, and she knows where
+        else:
+            _S(speech, "GOTO").append(_place(np) if np is not None else _E("PLACE"))
     elif kind == "where":
         w = _S(speech, "WHERE")
         np = _sub(act, "object_np")
