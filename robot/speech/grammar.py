@@ -152,13 +152,13 @@ class Understander:
             res.reason = "no known words" if lex.unknown else "nothing said"
             return res
         tree, ignored, partial = self._parse(toks)
-        lost = 0  # words put back that the recogniser lost: they count against the coverage
         if toks[0].type in ("IS", "ARE") and len(toks) > 1 and (tree is None or partial):
             # "is the living room", "is my cup": not a question about an object (nobody asks a bare
             # "is my cup"), a teaching whose "this" was lost: parsed as the statement it was
             alt = self._parse([_LOST_THIS, *toks])  # whole: "is my <lost>" lost too much to guess
             if alt[0] is not None and not alt[2]:
-                tree, ignored, partial, lost = alt[0], list(alt[1]), True, 1
+                # the copula stays counted as unheard: the statement is a guess from a word missing
+                tree, ignored, partial = alt[0], [toks[0].text, *alt[1]], True
         elif ignored and len(toks) > 2 and [t.text for t in toks[len(toks) - len(ignored):]] != ignored:
             # "that to the kitchen" (the recogniser's "that" for "go"): a word skipped inside the
             # phrase ("that [to] the kitchen", a teaching) against a first word misheard, the rest a
@@ -176,7 +176,9 @@ class Understander:
             # rest is a teaching whose "this" was lost, as "is the living room" above.
             alt = self._parse([_LOST_THIS, *toks[1:]])
             if alt[0] is not None and not alt[2] and tree_act(alt[0]) in _STATEMENT_ACTS:
-                tree, ignored, partial = alt[0], [toks[0].text], True  # "this" heard as another word
+                # either of the two first words may be the misheard one ("go is the kitchen" is "go
+                # to the kitchen" as well): both count as unheard, so a confident guess is confirmed
+                tree, ignored, partial = alt[0], [toks[0].text, toks[1].text], True
         restart = self._restart(lex.raw)
         if restart is not None:  # "follow me, no wait, stop": the repair is a whole new request
             toks, (tree, ignored, partial) = restart
@@ -224,7 +226,7 @@ class Understander:
         if ignored and tree_act(tree) == "greeting" and self._request_after_greeting(toks, ignored):
             used = len(toks)  # "hello biron, follow me": the greeting is sure; the request is not noise
             res.rest = list(ignored)
-        res.coverage = used / max(1, len(toks) + len(lex.unknown) + lost)
+        res.coverage = used / max(1, len(toks) + len(lex.unknown))
         return res
 
     def _restart(self, raw: list[Tok]) -> tuple[list[Tok], tuple[Tree | None, list[str], bool]] | None:
