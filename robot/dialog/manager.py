@@ -226,7 +226,8 @@ class DialogManager:
         act_el = acts[0]
         act = str(act_el.tag)
         conf = float(msg.get("confidence", "1"))
-        if self._unheard >= MAX_SAME_QUESTION and conf >= self.doc.confirm_below / 2 and self.doc.confirm_below <= 1.0:
+        repaired = self._unheard >= MAX_SAME_QUESTION
+        if repaired and conf >= self.doc.confirm_below / 2 and self.doc.confirm_below <= 1.0:
             # she was asked to say it again twice already: what is heard now is taken, not confirmed
             # (a third question for one request; a more cautious document, confirm-below above 1, still asks)
             conf = self.doc.confirm_below
@@ -291,6 +292,10 @@ class DialogManager:
             return self._send_unattended(d, act_el, out, stamp)
         if said == "no":
             act_el = self._correcting(d.id, act_el)
+        if msg.get("fragment") == "true" and not said and not repaired:
+            # "the study" said unprompted names a room without saying what to do (teach it? go
+            # there? "the study, go" taught the study where the robot stood): the robot asks first
+            conf = min(conf, self.doc.confirm_below / 2)
         inst = self._push(d, out)
         self._fill_frame(inst, [f for f in d.fills if f.frame and act in f.frame], act_el, conf, stamp)
         self._step(inst, out)
