@@ -292,9 +292,12 @@ class DialogManager:
             return self._send_unattended(d, act_el, out, stamp)
         if said == "no":
             act_el = self._correcting(d.id, act_el)
-        if msg.get("fragment") == "true" and not said and not repaired:
-            # "the study" said unprompted names a room without saying what to do (teach it? go
-            # there? "the study, go" taught the study where the robot stood): the robot asks first
+        if msg.get("fragment") == "true" and (msg.get("partial") == "true" or msg.get("unknown")) and not said \
+                and not repaired:
+            # a noun phrase said unprompted with words the grammar could not use ("the study, go",
+            # "the garden looks great") names a thing without saying what to do with it (the vague
+            # user's "the study, go" taught the study where the robot stood): the robot asks first.
+            # A clean "the kitchen" (the recogniser often drops "this is") is taken as before.
             conf = min(conf, self.doc.confirm_below / 2)
         inst = self._push(d, out)
         self._fill_frame(inst, [f for f in d.fills if f.frame and act in f.frame], act_el, conf, stamp)
