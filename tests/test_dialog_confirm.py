@@ -89,6 +89,38 @@ def test_a_place_taught_while_a_misheard_goto_is_confirmed_is_taught_not_driven_
     assert dm.summary()["confirmed_by_repetition"] == 0
 
 
+def _corpus(acts: tuple[str, ...]) -> list[str]:
+    from pathlib import Path
+
+    rows = (Path(__file__).resolve().parents[1] / "robot" / "speech" / "corpus" / "tuning.tsv").read_text().splitlines()
+    u = shared_understander()
+    out = []
+    for line in rows:
+        if line.startswith("#") or not line.strip():
+            continue
+        words = line.split("\t")[0]
+        r = u.understand(words)
+        if r.act in acts and not r.answer:
+            out.append(words)
+    return out
+
+
+STATEMENTS = [w for w in _corpus(("PLACE",)) if not shared_understander().understand(w).fragment]
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.sampled_from(STATEMENTS), st.sampled_from([0.3, 0.6, 0.95]))
+def test_no_place_statement_ever_confirms_a_goto(statement, conf):
+    """Whatever words teach a room, said to "Shall I go to ...?", the robot does not drive: it teaches
+    (or asks about) the room."""
+    m = DialogManager(DOC)
+    m.es_state = "Interacting"
+    m.on_frame(heard("to the kitchen", LOW))
+    out = m.on_frame(heard(statement, conf))
+    assert all(s.event != "goto" for s in sends(out))
+    assert m.summary()["confirmed_by_repetition"] == 0
+
+
 @pytest.mark.parametrize("answer", ["the kitchen", "kitchen", "yes the kitchen", "go to the kitchen",
                                     "to the kitchen please", "yes"])
 def test_the_goal_alone_or_the_request_again_confirms_the_goto(dm, answer):
