@@ -93,6 +93,23 @@ class Typed:
         raise NotImplementedError
 
 
+class Frozen(Typed):
+    """A payload the sender keeps unchanged (a template per state, say) sent as a typed record.
+
+    The element itself never leaves the sender: a receiver asking for ``msg.xml`` gets a copy of
+    it (lxml copies the subtree in C), and nobody asking costs nothing. The sender must never
+    change the element after sending it.
+    """
+
+    __slots__ = ("element",)
+
+    def __init__(self, element: etree._Element) -> None:
+        self.element = element
+
+    def to_xml(self) -> etree._Element:
+        return self.element.__copy__()
+
+
 class TypedMessage(Message):
     """A :class:`Message` whose payload slot holds a :class:`Typed` record; ``xml`` is built on first use.
 

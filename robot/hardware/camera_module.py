@@ -19,11 +19,11 @@ from __future__ import annotations
 
 import asyncio
 import math
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 from lxml import etree
 
-from homesim.message import Message
+from homesim.message import Frozen, Message
 from homesim.module import Module
 
 from robot.contract import FACES, GESTURES, OBJECTS, PTU_CMD, PTU_STATE, TORSOS
@@ -50,7 +50,7 @@ class Camera(Module):
         self.confusion = confusion
         self.ptu = PanTilt()
         # The frame's elements as last built for a pan-tilt state (see _elements).
-        self._templates: tuple[tuple[str, str, str, str], tuple[etree._Element, ...]] | None = None
+        self._templates: tuple[tuple[str, str, str, str], Frozen, tuple[etree._Element, ...]] | None = None
         self.bus.subscribe(PTU_CMD, self._on_cmd)
 
     def _on_cmd(self, msg: Message) -> None:
@@ -78,9 +78,9 @@ class Camera(Module):
         # Every kind's sight lines in one pass, against the people as they are now (their occluding
         # cylinders built in that pass, once, and only when some percept is a candidate).
         frame = detect_frame(w, pose, ptu, self.spec, self.rng, confusion=self.confusion)
-        ptu_el, faces, torsos, gestures, objects = self._elements(ptu)
+        ptu_state, faces, torsos, gestures, objects = self._elements(ptu)
         time = f"{self.now:.6f}"
-        self.bus.publish(PTU_STATE, ptu_el, transfer=True)
+        self.bus.publish(PTU_STATE, ptu_state)  # (its XML is copied from the template only if somebody reads it)
         faces.set("time", time)
         for f in frame.faces:
             etree.SubElement(faces, "face", bearing=_deg(f.bearing), distance=f"{f.distance:.3f}", height=f"{f.height:.3f}")
@@ -100,19 +100,20 @@ class Camera(Module):
                 b=f"{o.colour[2]:.3f}", width=_deg(o.width))
         self.bus.publish(OBJECTS, objects, transfer=True)
 
-    def _elements(self, ptu: PanTilt) -> tuple[etree._Element, ...]:
-        """Fresh elements for a frame: ``<ptu pan tilt target_pan target_tilt/>`` and the four
-        percept lists' ``<faces time pan tilt/>`` (etc.; ``time`` to be set), each a copy of a
-        template kept for the pan-tilt state as formatted. The unit mostly holds still between
-        frames, and a copy with one attribute set costs a third of building an element with its
-        three (same attributes, same order: the same message)."""
+    def _elements(self, ptu: PanTilt) -> tuple[Any, ...]:
+        """For a frame: ``<ptu pan tilt target_pan target_tilt/>`` as a typed record (the template
+        itself, :class:`~homesim.message.Frozen`: nobody subscribes to it in a run, so it is
+        copied only for the trace) and fresh elements of the four percept lists'
+        ``<faces time pan tilt/>`` (etc.; ``time`` to be set), each a copy of a template kept for
+        the pan-tilt state as formatted. The unit mostly holds still between frames, and a copy
+        with one attribute set costs a third of building an element with its three (same
+        attributes, same order: the same message)."""
         key = (_deg(ptu.pan), _deg(ptu.tilt), _deg(ptu.target_pan), _deg(ptu.target_tilt))
         kept = self._templates
         if kept is None or kept[0] != key:
             pan, tilt, target_pan, target_tilt = key
             stamp = {"time": "", "pan": pan, "tilt": tilt}
-            kept = self._templates = (key, (
+            kept = self._templates = (key, Frozen(
                 etree.Element("ptu", pan=pan, tilt=tilt, target_pan=target_pan, target_tilt=target_tilt),
-                *(etree.Element(tag, stamp) for tag in ("faces", "torsos", "gestures", "objects")),
-            ))
-        return tuple(el.__copy__() for el in kept[1])
+            ), tuple(etree.Element(tag, stamp) for tag in ("faces", "torsos", "gestures", "objects")))
+        return (kept[1], *(el.__copy__() for el in kept[2]))
