@@ -23,6 +23,7 @@ from homesim.sim import Simulation
 from homesim.trace import MemoryTrace
 from homesim.xmlio import hardened_parser, schema_from_text
 from robot.attention.records import TrackRow, TracksRecord
+from robot.percepts import FaceRow, PerceptList, TorsoRow
 
 POINT_XSD = """<xs:schema xmlns:xs="http://www.w3.org/2001/XMLSchema">
   <xs:element name="point">
@@ -200,3 +201,28 @@ def test_a_beat_is_read_as_its_xml_would_be_and_writes_the_same_bytes(interval):
     as_xml = Message(m.id, m.kind, m.sender, m.channel, old, m.created_ns, m.sent_ns)
     assert _read_beat(as_xml) == _read_beat(m)
     sim.close()
+
+
+_deg_text = st.floats(-4, 4).map(lambda a: f"{math.degrees(a):.3f}")
+_m_text = st.floats(0, 10).map(lambda v: f"{v:.3f}")
+
+
+@given(st.booleans(), st.floats(0, 1e5), st.lists(st.tuples(_deg_text, _m_text, _m_text, _m_text), max_size=4))
+@settings(max_examples=40, deadline=None)
+def test_percept_list_writes_what_the_camera_wrote(faces, t, items):
+    # The camera built each list as a copy of its per-pan-tilt template with the time set and a
+    # SubElement per item (keyword attributes, in this order); the record must give the same bytes.
+    template = etree.Element("faces" if faces else "torsos", {"time": "", "pan": "1.000", "tilt": "-2.500"})
+    old = template.__copy__()
+    old.set("time", f"{t:.6f}")
+    rows: list = []
+    for a, b, c, d in items:
+        if faces:
+            etree.SubElement(old, "face", bearing=a, distance=b, height=c)
+            rows.append(FaceRow(a, b, c))
+        else:
+            etree.SubElement(old, "torso", bearing=a, r=b, g=c, b=d)
+            rows.append(TorsoRow(a, b, c, d))
+    rec = PerceptList(template, f"{t:.6f}", "face" if faces else "torso", tuple(rows))
+    assert etree.tostring(rec.to_xml()) == etree.tostring(old)
+    assert template.get("time") == "" and len(template) == 0  # the sender's template is never changed

@@ -309,7 +309,9 @@ class PersonAttention(Module):
         prow = self.tracks.row(self.partner)
         if prow < 0:
             return
-        bearings = [math.radians(float(s.get("bearing"))) for s in msg.xml]
+        data = msg.data  # the camera's typed PerceptList (robot.percepts), else XML: the same texts
+        bearings = [math.radians(float(s.bearing)) for s in data.rows] if data is not None else [
+            math.radians(float(s.get("bearing"))) for s in msg.xml]
         if not bearings:
             return
         pb = bearings_from(self._robot_xy(t)[prow : prow + 1], self.cues.camera_offset)[0]
@@ -322,7 +324,9 @@ class PersonAttention(Module):
         t = msg.created
         tracks = self.tracks.tracks
         ids = [tk.id for tk in tracks]
-        faces = [(math.radians(float(f.get("bearing"))), float(f.get("distance"))) for f in msg.xml]
+        data = msg.data  # the camera's typed PerceptList (robot.percepts), else XML: the same texts
+        faces = [(math.radians(float(f.bearing)), float(f.distance)) for f in data.rows] if data is not None else [
+            (math.radians(float(f.get("bearing"))), float(f.get("distance"))) for f in msg.xml]
         rows = match_faces(self._robot_xy(t), faces, self.cues) if tracks and faces else []
         self.facing.feed(t, ids, {ids[r] for r in rows})
         self.tracks.support([r for r in rows if tracks[r].confirmed], t)
