@@ -12,6 +12,14 @@
  * points compared as fractions by cross-multiplication (no division, no float). The caller takes
  * the square root of the float64 of each value (as ndgrid does). fg must hold a false cell.
  *
+ * astar(free, ny, start, goal) -> list of flat cell indices from start to goal, or None (no path):
+ * homesim/scenario/pathplan.py's PathGrid._astar (the reference) step for step: the same moves in
+ * the same order (east, west, north, south, then the diagonals, none cutting a corner), the same
+ * costs and priorities in the same float operations, and the same pops: the frontier is ordered by
+ * (priority, push counter), a total order, so a binary heap here pops what heapq pops there. The
+ * grids' borders are blocked, so no neighbour leaves the grid; one that would is refused here
+ * (IndexError) where the reference would index outside its list.
+ *
  * label(fg, nx, ny, out) -> count: out (int32, nx*ny) receives the 4-connected regions of fg's
  * true cells numbered 1.. in row-major order of their first cell, 0 elsewhere (SciPy's numbering):
  * union-find over the right and lower neighbours, then one row-major pass numbering each root at
@@ -22,7 +30,9 @@
 #include <stdint.h>
 #include <stdlib.h>
 
-#define VERSION 1
+#include <math.h>
+
+#define VERSION 2
 /* The SHA-256 of this file as built, set by setup.py (homesim.kernels.load compares it). */
 #ifndef KERNEL_SOURCE_SHA256
 #define KERNEL_SOURCE_SHA256 ""
@@ -220,7 +230,213 @@ static PyObject *label(PyObject *self, PyObject *args)
     return PyLong_FromLong(count);
 }
 
+typedef struct {
+    double prio;
+    int64_t counter;
+    Py_ssize_t cell;
+} Entry;
+
+static int entry_less(const Entry *a, const Entry *b)
+{
+    return a->prio < b->prio || (a->prio == b->prio && a->counter < b->counter);
+}
+
+typedef struct {
+    Entry *items;
+    Py_ssize_t size, cap;
+} Heap;
+
+static int heap_push(Heap *h, double prio, int64_t counter, Py_ssize_t cell)
+{
+    if (h->size == h->cap) {
+        Py_ssize_t cap = h->cap ? 2 * h->cap : 1024;
+        Entry *items = realloc(h->items, sizeof(Entry) * (size_t)cap);
+        if (items == NULL) {
+            return -1;
+        }
+        h->items = items;
+        h->cap = cap;
+    }
+    Py_ssize_t i = h->size++;
+    Entry e = {prio, counter, cell};
+    while (i > 0) {
+        Py_ssize_t parent = (i - 1) / 2;
+        if (!entry_less(&e, &h->items[parent])) {
+            break;
+        }
+        h->items[i] = h->items[parent];
+        i = parent;
+    }
+    h->items[i] = e;
+    return 0;
+}
+
+static Py_ssize_t heap_pop(Heap *h)
+{
+    Py_ssize_t top = h->items[0].cell;
+    Entry last = h->items[--h->size];
+    Py_ssize_t i = 0, n = h->size;
+    while (1) {
+        Py_ssize_t l = 2 * i + 1, best = i;
+        const Entry *b = &last;
+        if (l < n && entry_less(&h->items[l], b)) {
+            best = l;
+            b = &h->items[l];
+        }
+        if (l + 1 < n && entry_less(&h->items[l + 1], b)) {
+            best = l + 1;
+        }
+        if (best == i) {
+            break;
+        }
+        h->items[i] = h->items[best];
+        i = best;
+    }
+    if (n > 0) {
+        h->items[i] = last;
+    }
+    return top;
+}
+
+static PyObject *astar(PyObject *self, PyObject *args)
+{
+    PyObject *free_obj;
+    Py_ssize_t ny, start, goal;
+    if (!PyArg_ParseTuple(args, "Onnn", &free_obj, &ny, &start, &goal)) {
+        return NULL;
+    }
+    Py_buffer fb;
+    if (PyObject_GetBuffer(free_obj, &fb, PyBUF_C_CONTIGUOUS) < 0) {
+        return NULL;
+    }
+    const unsigned char *free_ = (const unsigned char *)fb.buf;
+    const Py_ssize_t n = fb.len;
+    if (ny <= 0 || start < 0 || start >= n || goal < 0 || goal >= n) {
+        PyBuffer_Release(&fb);
+        PyErr_SetString(PyExc_ValueError, "astar: start, goal or ny outside the grid");
+        return NULL;
+    }
+    double *cost = malloc(sizeof(double) * (size_t)n);
+    Py_ssize_t *came = malloc(sizeof(Py_ssize_t) * (size_t)n);
+    unsigned char *closed = calloc((size_t)n, 1);
+    Heap heap = {NULL, 0, 0};
+    int status = 0; /* 0 no path, 1 found, -1 out of memory, -2 index past the end */
+    if (cost == NULL || came == NULL || closed == NULL) {
+        status = -1;
+        goto done;
+    }
+    for (Py_ssize_t c = 0; c < n; c++) {
+        cost[c] = INFINITY;
+    }
+    cost[start] = 0.0;
+    const double sq2 = sqrt(2.0);
+    const double km1 = (sq2 - 1.0) - 1.0;
+    const Py_ssize_t gi = goal / ny, gj = goal % ny;
+    int64_t counter = 0;
+    if (heap_push(&heap, 0.0, 0, start) < 0) {
+        status = -1;
+        goto done;
+    }
+    /* the eight moves in the reference's order: offsets in cells (di, dj) */
+    static const int mdi[8] = {1, -1, 0, 0, 1, 1, -1, -1};
+    static const int mdj[8] = {0, 0, 1, -1, 1, -1, 1, -1};
+    while (heap.size > 0) {
+        Py_ssize_t c = heap_pop(&heap);
+        if (c == goal) {
+            status = 1;
+            break;
+        }
+        if (closed[c]) {
+            continue;
+        }
+        closed[c] = 1;
+        double base = cost[c];
+        Py_ssize_t ci = c / ny, cj = c % ny;
+        Py_ssize_t ex = ci - gi, ey = cj - gj;
+        int f4[4];
+        for (int m = 0; m < 4; m++) {
+            Py_ssize_t q = c + mdi[m] * ny + mdj[m];
+            if (q < 0 || q >= n) {
+                status = -2;
+                goto done;
+            }
+            f4[m] = free_[q] != 0;
+        }
+        for (int m = 0; m < 8; m++) {
+            if (m < 4) {
+                if (!f4[m]) {
+                    continue;
+                }
+            }
+            else if (!(f4[m < 6 ? 0 : 1] && f4[(m % 2) ? 3 : 2])) { /* no corner cutting: both orthogonals free */
+                continue;
+            }
+            Py_ssize_t q = c + mdi[m] * ny + mdj[m];
+            if (q < 0 || q >= n) {
+                status = -2;
+                goto done;
+            }
+            if (m >= 4 && !free_[q]) {
+                continue;
+            }
+            double nc = base + (m < 4 ? 1.0 : sq2);
+            if (nc < cost[q]) {
+                cost[q] = nc;
+                came[q] = c;
+                Py_ssize_t dx = ex + mdi[m], dy = ey + mdj[m];
+                dx = dx < 0 ? -dx : dx;
+                dy = dy < 0 ? -dy : dy;
+                counter++;
+                double h = (double)(dx + dy) + km1 * (double)(dx < dy ? dx : dy);
+                if (heap_push(&heap, nc + h, counter, q) < 0) {
+                    status = -1;
+                    goto done;
+                }
+            }
+        }
+    }
+done:
+    free(heap.items);
+    free(closed);
+    PyBuffer_Release(&fb);
+    PyObject *result = NULL;
+    if (status == 1) {
+        Py_ssize_t len = 1;
+        for (Py_ssize_t q = goal; q != start; q = came[q]) {
+            len++;
+        }
+        result = PyList_New(len);
+        if (result != NULL) {
+            Py_ssize_t q = goal;
+            for (Py_ssize_t k = len - 1; k >= 0; k--) {
+                PyObject *v = PyLong_FromSsize_t(q);
+                if (v == NULL) {
+                    Py_CLEAR(result);
+                    break;
+                }
+                PyList_SET_ITEM(result, k, v);
+                if (k > 0) {
+                    q = came[q];
+                }
+            }
+        }
+    }
+    else if (status == 0) {
+        result = Py_NewRef(Py_None);
+    }
+    else if (status == -1) {
+        PyErr_NoMemory();
+    }
+    else {
+        PyErr_SetString(PyExc_IndexError, "astar: a neighbour outside the grid (its border is not blocked)");
+    }
+    free(cost);
+    free(came);
+    return result;
+}
+
 static PyMethodDef methods[] = {
+    {"astar", astar, METH_VARARGS, "astar(free, ny, start, goal) -> cells or None: pathplan's A* (see the file's comment)."},
     {"edt_sq", edt_sq, METH_VARARGS, "edt_sq(fg, nx, ny, out): squared exact distance transform (see the file's comment)."},
     {"label", label, METH_VARARGS, "label(fg, nx, ny, out) -> count: 4-connected regions, SciPy's numbering."},
     {NULL, NULL, 0, NULL},

@@ -36,7 +36,7 @@ def _kernel() -> ModuleType | None:
     if not _K:
         from .kernels import load
 
-        _K.append(load("homesim._gridkernels", 1))
+        _K.append(load("homesim._gridkernels", 2))
     return _K[0]
 
 

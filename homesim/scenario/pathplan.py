@@ -120,6 +120,7 @@ class Grid:
         self.blocked = blocked
         self._components: np.ndarray | None = None
         self._free: list[bool] | None = None  # (~blocked).ravel().tolist(), made when A* first needs it
+        self._free_u8: np.ndarray | None = None  # the same as bytes, for the compiled A*
         # The last plans and A* cell paths asked for (both pure functions of their keys).
         self._plans: OrderedDict[tuple[object, ...], tuple[Point, ...] | str] = OrderedDict()  # str: NoPathError's message
         self._paths: OrderedDict[tuple[object, ...], tuple[tuple[int, int], ...] | None] = OrderedDict()  # None: no path
@@ -284,6 +285,18 @@ class Grid:
         min(dx, dy))`` with the same operations), so the same path.
         """
         ny = self.ny
+        start, goal = s[0] * ny + s[1], g[0] * ny + g[1]
+        k = ndgrid._kernel()
+        if k is not None:  # the same search compiled (homesim/_gridkernels.c): same pops, same path
+            cells = k.astar(self._free_bytes(blocked), ny, start, goal)
+            if cells is None:
+                raise NoPathError(self._no_path(s, g))
+            return [divmod(q, ny) for q in cells]
+        return self._astar_python(blocked, s, g)
+
+    def _astar_python(self, blocked: np.ndarray, s: tuple[int, int], g: tuple[int, int]) -> list[tuple[int, int]]:
+        """:meth:`_astar` in Python: the reference, and the path when the grid kernel is not built."""
+        ny = self.ny
         free = self._free_list(blocked)
         start, goal = s[0] * ny + s[1], g[0] * ny + g[1]
         gi, gj = g
@@ -390,6 +403,14 @@ class Grid:
                             counter += 1
                             push(frontier, (nc + (dx + dy + km1 * min(dx, dy)), counter, n))
         raise NoPathError(self._no_path(s, g))
+
+    def _free_bytes(self, blocked: np.ndarray) -> np.ndarray:
+        """The free cells as flat bytes for the compiled A* (the grid's own kept, as :meth:`_free_list`)."""
+        if blocked is not self.blocked:
+            return np.ascontiguousarray(~blocked).view(np.uint8).ravel()
+        if self._free_u8 is None:
+            self._free_u8 = np.ascontiguousarray(~self.blocked).view(np.uint8).ravel()
+        return self._free_u8
 
     def _free_list(self, blocked: np.ndarray) -> list[bool]:
         """The free cells as a flat list (the grid's own kept: plans without discs ask for it every time)."""
