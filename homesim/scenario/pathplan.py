@@ -486,6 +486,29 @@ class Grid:
         half_w = door.width / 2 + 0.5
         half_t = wall.thickness / 2
         half_d = half_t + self.clearance + 0.6
+        corners = [(cx + a * half_w * ux + b * half_d * nx_, cy + a * half_w * uy + b * half_d * ny_) for a in (-1, 1) for b in (-1, 1)]
+        lo = self.cell_of((min(p[0] for p in corners), min(p[1] for p in corners)))
+        hi = self.cell_of((max(p[0] for p in corners), max(p[1] for p in corners)))
+        # Each cell's (along, across) in the door's frame, elementwise as where() computes it in floats.
+        xs = self.x0 + (np.arange(lo[0], hi[0] + 1) + 0.5) * self.cell
+        ys = self.y0 + (np.arange(lo[1], hi[1] + 1) + 0.5) * self.cell
+        dx, dy = (xs - cx)[:, None], (ys - cy)[None, :]
+        along, across = dx * ux + dy * uy, dx * nx_ + dy * ny_
+        box = ~self.blocked[lo[0] : hi[0] + 1, lo[1] : hi[1] + 1] & (np.abs(along) <= half_w) & (np.abs(across) <= half_d)
+        # A walk from a cell on one side to one on the other within the box, 4-connected: the
+        # breadth-first search of _passable_search, as one region shared by a source and a target.
+        labels, _ = ndgrid.label(box)
+        sources = np.unique(labels[box & (across > half_t)])
+        targets = np.unique(labels[box & (across < -half_t)])
+        return bool(np.intersect1d(sources, targets).size)
+
+    def _passable_search(self, wall: Wall, door: Door) -> bool:
+        """:meth:`passable` as the breadth-first search it stands for (the reference; tests compare them)."""
+        (cx, cy), (ux, uy) = door_frame(wall, door)
+        nx_, ny_ = -uy, ux
+        half_w = door.width / 2 + 0.5
+        half_t = wall.thickness / 2
+        half_d = half_t + self.clearance + 0.6
 
         def where(c: tuple[int, int]) -> tuple[float, float]:
             x, y = self.centre(c)
