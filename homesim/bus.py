@@ -78,7 +78,7 @@ from .errors import (
     UnknownParticipantError,
 )
 from .message import _NO_ATTACHMENTS, ERROR, PUBLISH, REPLY, REQUEST, Attachment, Message, Typed, TypedMessage
-from .network import Network
+from .network import LinkStats, Network
 import numpy as np
 
 from .vloop import BARE, NS_PER_S, VirtualEventLoop, _Delivery, to_ns
@@ -873,7 +873,8 @@ class Bus:
             fn(obs)
 
     def _schedule(self, sender: Participant, receiver: Participant, msg: Message, action: Callable[..., None], *args: Any) -> None:
-        """Deliver ``msg`` to ``receiver`` after the link's delay, FIFO per pair."""
+        """Deliver ``msg`` to ``receiver`` after the link's delay, FIFO per pair; ``action`` gets the
+        link's statistics and the delay last, to count the message there if it is delivered."""
         net = self.network
         path = net.route(sender.host, receiver.host)
         delay = net.draw(path, message_size(msg) if path.link.bandwidth_bps else 0)
@@ -886,10 +887,9 @@ class Bus:
         if when < fifo[0]:
             when = fifo[0]
         fifo[0] = when
-        path.stats.add(when - now)
         # Deliveries run in no copied context: a receiver does not inherit the
         # sender's context variables (and copying one per message is costly).
-        self.loop._call_at_bare(when, action, (receiver, msg, *args))
+        self.loop._call_at_bare(when, action, (receiver, msg, *args, path.stats, when - now))
 
     def _drop(self, msg: Message, receiver: str, reason: str) -> None:
         self.dropped += 1
@@ -957,15 +957,16 @@ class Bus:
             if when < fifo[0]:
                 when = fifo[0]
             fifo[0] = when
-            path.stats.add(when - now)
             # Deliveries run in no copied context: a receiver does not inherit the
             # sender's context variables (and copying one per message is costly).
+            # The link's statistics count it when it is delivered (not a message the receiver
+            # no longer takes: closed, hung, unsubscribed); a loss is counted apart, above.
             handle = _new(_Delivery)
             handle._callback = deliver
-            handle._args = (receiver, own, sub)
+            handle._args = (receiver, own, sub, path.stats, when - now)
             push(when, handle)
 
-    def _deliver_publish(self, receiver: Participant, msg: Message, sub: Subscription) -> None:
+    def _deliver_publish(self, receiver: Participant, msg: Message, sub: Subscription, stats: LinkStats, ns: int) -> None:
         if sub.closed:
             self._drop(msg, receiver.name, "receiver closed")
             return
@@ -973,6 +974,7 @@ class Bus:
             self._receivable(receiver, msg)
             return
         self.delivered += 1
+        stats.add(ns)
         if self._delivery_interceptors:
             obs = _tuple_new(Observation, (self.loop._now_ns, DELIVER, msg, (receiver.name,), ""))
             for fn in self._delivery_interceptors:
@@ -997,13 +999,15 @@ class Bus:
             self._observe(Observation(msg.sent_ns, SEND, msg, (entry.server.name,)))
         self._schedule(caller, entry.server, msg, self._deliver_request, entry, caller, fut)
 
-    def _deliver_request(self, server: Participant, msg: Message, entry: _Method, caller: Participant, fut: asyncio.Future[Message] | None) -> None:
+    def _deliver_request(self, server: Participant, msg: Message, entry: _Method, caller: Participant, fut: asyncio.Future[Message] | None,
+                         stats: LinkStats, ns: int) -> None:
         if self._methods.get((server.name, entry.name)) is not entry:
             self._drop(msg, server.name, "method withdrawn")
             return
         if not self._receivable(server, msg):
             return
         self.delivered += 1
+        stats.add(ns)
         if self._interceptors:
             self._observe(Observation(self.loop.now_ns, DELIVER, msg, (server.name,)))
         try:
@@ -1060,10 +1064,11 @@ class Bus:
             self._observe(Observation(reply.sent_ns, SEND, reply, (caller.name,)))
         self._schedule(server, caller, reply, self._deliver_reply, fut)
 
-    def _deliver_reply(self, caller: Participant, reply: Message, fut: asyncio.Future[Message] | None) -> None:
+    def _deliver_reply(self, caller: Participant, reply: Message, fut: asyncio.Future[Message] | None, stats: LinkStats, ns: int) -> None:
         if not self._receivable(caller, reply):
             return
         self.delivered += 1
+        stats.add(ns)
         if self._interceptors:
             self._observe(Observation(self.loop.now_ns, DELIVER, reply, (caller.name,)))
         if fut is None or fut.done():
