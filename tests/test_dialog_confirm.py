@@ -121,6 +121,18 @@ def test_no_place_statement_ever_confirms_a_goto(statement, conf):
     assert m.summary()["confirmed_by_repetition"] == 0
 
 
+def test_a_place_statement_that_closes_a_goto_answers_the_teaching_question_below_it(dm):
+    # lang_preamble seed 4: "Is this the study?" - (her repetition heard as a go-to) "Shall I go to
+    # the study?" - "this is my study": the go-to is declined and the study confirmed, not asked
+    # about twice more ("Is this the study? Is this the study?") and lost
+    assert says(dm.on_frame(heard("this is my study", LOW))) == ["Is this the study?"]
+    assert says(dm.on_frame(heard("to the study", LOW))) == ["Shall I go to the study?"]
+    out = dm.on_frame(heard("this is my study", LOW))
+    (s,) = sends(out)
+    assert s.event == "place_teaching" and s.children[0].find("PLACE/TITLE").get("name") == "study"
+    assert says(out) == ["OK, I will stay here."]
+
+
 @pytest.mark.parametrize("answer", ["the kitchen", "kitchen", "yes the kitchen", "go to the kitchen",
                                     "to the kitchen please", "yes"])
 def test_the_goal_alone_or_the_request_again_confirms_the_goto(dm, answer):
