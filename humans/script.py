@@ -77,6 +77,29 @@ MAX_BOOST = 18.0
 MAX_STREAK = 50
 
 
+#: Objects of one type within this many metres of each other are "the one on the left / right".
+SIDE_GROUP = 1.0
+
+
+def side_seen_by_robot(world: World, name: str) -> str:
+    """Where object ``name`` stands among the similar objects next to it, as the robot sees them
+    now: "left", "right" or "middle". A person answering the robot's "which one?" takes the
+    robot's view, the frame BIRON itself words its options in ("the cup on the left or the one
+    on the right?"); users instructing a robot often do (Moratz, Tenbrink, Bateman and Fischer
+    2003, "Spatial knowledge representation for human-robot interaction"). The similar objects
+    are those of its type within :data:`SIDE_GROUP` m; alone, its side of the robot's line of sight."""
+    o = world.objects[name]
+    rx, ry, th = world.robot.pose
+    group = [p for p in world.objects.values() if p.type == o.type and math.hypot(p.x - o.x, p.y - o.y) <= SIDE_GROUP]
+    if len(group) < 2:
+        return "left" if math.remainder(math.atan2(o.y - ry, o.x - rx) - th, math.tau) > 0 else "right"
+    cx, cy = sum(p.x for p in group) / len(group), sum(p.y for p in group) / len(group)
+    ref = math.atan2(cy - ry, cx - rx)
+    order = sorted(group, key=lambda p: (-math.remainder(math.atan2(p.y - ry, p.x - rx) - ref, math.tau), p.name))
+    rank = order.index(o)
+    return "left" if rank == 0 else "right" if rank == len(order) - 1 else "middle"
+
+
 class GaveUp(Exception):
     """She gave up on the whole tour (give-up stop or leave): her script ends."""
 
@@ -213,13 +236,14 @@ class Actor:
         """What she says: the text; or a phrasing of the request (another one when she rephrases)."""
         if act.request is None or (act.text is not None and not rephrase):
             return act.text or ""
-        key = (act.request, act.about)
+        about = act.about if act.side_of is None else side_seen_by_robot(self.world, act.side_of)
+        key = (act.request, about)
         avoid = self._last_phrase.get(key, act.text) if rephrase else None
         rng = self.draws(f"say:{act.line}" if act.line is not None else f"say:{act.request}")
         if rng is None:
             raise ScriptError(f"{self.name!r} has no paraphrase bank", source=self.world.scenario.source, line=act.line, element="say")
         bank = default_bank()
-        text = bank.render(bank.draw(rng, act.request, self.traits.phrasing, avoid=avoid, about=act.about), act.about)
+        text = bank.render(bank.draw(rng, act.request, self.traits.phrasing, avoid=avoid, about=about), about)
         self._last_phrase[key] = text
         return text
 
