@@ -25,8 +25,8 @@ from lxml import etree
 
 #: The default mix: mostly typical users, with some of every other population (our choice; no
 #: published figure gives the share of impatient or vague users in a home; vary it in studies).
-DEFAULT_MIX: tuple[tuple[str, float], ...] = (("typical", 0.5), ("cooperative", 0.1), ("impatient", 0.1),
-                                             ("vague", 0.1), ("distracted", 0.1), ("silent", 0.1))
+DEFAULT_MIX: tuple[tuple[str, float], ...] = (("typical", 0.4), ("cooperative", 0.1), ("impatient", 0.1),
+                                             ("vague", 0.1), ("distracted", 0.1), ("silent", 0.1), ("wrong", 0.1))
 #: Third key of the user's generator (tour k of seed N: ``default_rng([N, k, USER_STREAM])``).
 USER_STREAM = 1
 #: How often she answers one question within one wait (the robot asking again is then a repair).
