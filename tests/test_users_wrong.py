@@ -84,3 +84,24 @@ def test_a_study_marks_failures_after_a_users_mistake():
     assert _user_wrong({"users.misnamed": 2, "users.self_corrected": 1})
     assert not _user_wrong({"users.misnamed": 1, "users.self_corrected": 1})
     assert not _user_wrong({})
+
+
+def test_a_misnamed_room_is_another_room_of_her_home_and_a_misnamed_thing_another_type():
+    from types import SimpleNamespace
+
+    from humans.profiles import Traits
+    from humans.script import Actor
+
+    rooms = tuple(SimpleNamespace(name=n) for n in ("kitchen", "living room", "bedroom"))
+    world = SimpleNamespace(scenario=SimpleNamespace(rooms=rooms))
+    ann = Actor(world, "ann", (), traits=Traits(misname=1.0), rng=np.random.default_rng(5))  # type: ignore[arg-type]
+    rooms_said = {ann.misnaming("the living room", "misname:1") for _ in range(40)}
+    assert rooms_said == {"the kitchen", "the bedroom"}
+    words = default_bank().object_words
+    type_of = {w: t for t, ws in words.items() for w in ws}
+    for _ in range(40):
+        wrong = ann.misnaming("my favourite mug", "misname:2")
+        assert wrong is not None and wrong.startswith("my favourite ") and type_of[wrong[13:]] != "cup"
+    assert ann.misnaming("it", "misname:3") is None  # nothing she could name wrongly
+    careful = Actor(world, "bo", (), traits=Traits(misname=0.0), rng=np.random.default_rng(5))  # type: ignore[arg-type]
+    assert careful.misnaming("the kitchen", "misname:1") is None
