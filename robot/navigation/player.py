@@ -69,6 +69,8 @@ WEDGED_GAP = 0.15
 SWEEP_MARGIN = 0.05
 #: s: how far ahead such a command is checked (a few control steps).
 SWEEP_TIME = 0.5
+#: m: a final turn begun clear goes on while its next steps keep this much air (the sweep check is sampled)
+TURN_GUARD = 0.02
 #: m: how far it backs out of a spot too tight to turn in at the goal, at most, to turn to the goal's heading.
 ALIGN_BACK = 0.6
 SCHEMA = Path(__file__).resolve().parent.parent / "schemas" / "navigation" / "player-status.xsd"
@@ -169,6 +171,7 @@ class Player(Module):
         self.outline: FloorOutline | None = None  # the floor plan round the robot (asked at the first move_to)
         self._map_asked = False
         self._aligning: float | None = None  # m backed off to make room for the final turn (None: not there yet)
+        self._turning = False  # the final turn has begun (its whole sweep was clear)
 
     def respawn(self) -> Player:
         """A fresh instance with the same configuration (what a process manager's restart gives)."""
@@ -203,12 +206,14 @@ class Player(Module):
             self._best, self._best_t = math.inf, self.now
             self._backed = 0.0
             self._aligning = None
+            self._turning = False
             self._stuck_since = None
             self.state = ""  # a new pose: say "moving" even when it was already moving
             self._set_state("moving")
         elif name == "stop":
             self.goal = self._reached = None
             self._aligning = None
+            self._turning = False
             self._listen_to_people(False)
             self.bus.publish(BASE_CMD, etree.Element("velocity", v="0", w="0"))
             self._set_state("stopped")
@@ -282,20 +287,35 @@ class Player(Module):
             self._aligning = 0.0
         w = max(-self.limits.max_turn, min(self.limits.max_turn, 1.5 * turn))
         v = 0.0
-        if abs(turn) >= math.radians(8) and not self._sweep_ok(0.0, w, mapped):
+        if abs(turn) >= math.radians(8) and self._turning:
+            if len(mapped) and sweep_clearance(0.0, w, mapped, SWEEP_TIME) < TURN_GUARD:
+                turn = 0.0  # the turn, clear when begun, is not any more (the pose drifts): arrive as it stands
+        elif abs(turn) >= math.radians(8) and not self._turn_ok(turn, mapped):
             v, w = -0.5 * self.limits.max_reverse, 0.0
             if self._aligning >= ALIGN_BACK or not self._sweep_ok(v, 0.0, mapped):
                 turn, v = 0.0, 0.0  # no room to turn, none to back into: arrive as it stands
+        elif abs(turn) >= math.radians(8):
+            self._turning = True  # the whole turn is clear: make it
         if abs(turn) < math.radians(8):
             self.bus.publish(BASE_CMD, etree.Element("velocity", v="0", w="0"))
             self._set_state("reached", dist)
             self._reached, self.goal = self.goal, None
             self._aligning = None
+            self._turning = False
             self._listen_to_people(False)
             return (0.0, 0.0)
         self._aligning -= v * self.period
         self.bus.publish(BASE_CMD, etree.Element("velocity", v=f"{v:.4f}", w=f"{w:.4f}"))
         return (v, w)
+
+    def _turn_ok(self, turn: float, mapped: np.ndarray) -> bool:
+        """Whether turning on the spot through the whole of ``turn`` (rad) keeps the footprint
+        :data:`SWEEP_MARGIN` off the floor plan (a turn begun and then blocked half way would leave
+        the robot askew, its backing no longer the way it came)."""
+        if not len(mapped):
+            return True
+        steps = max(int(abs(turn) / math.radians(10)) + 1, 2)
+        return sweep_clearance(0.0, math.copysign(1.0, turn), mapped, abs(turn), steps=steps) >= SWEEP_MARGIN
 
     # ------------------------------------------------------------- control
     def pose(self) -> tuple[float, float, float] | None:
