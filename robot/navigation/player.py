@@ -50,7 +50,7 @@ from .config import Limits, limits_from_config
 from .grid import MapError, parse_map
 from .local import Command, DWAParams, LatestScan, carrot, dwa, heading_speed, social_speed_limit, sweep_clearance
 from .outline import FloorOutline
-from .people import People, nearest
+from .people import People, closing_in, nearest
 
 ORDERS = f"{ES_ORDERS}/player"
 #: m: how far ahead on the leg the controller steers (pure pursuit).
@@ -64,6 +64,12 @@ BACK_OFF_BEARING = math.pi / 3
 WEDGED = 1.0
 WEDGED_PERSON = 1.0
 WEDGED_GAP = 0.15
+#: m: air the go-to keeps to a tracked person's body: the 0.25 m the robot promises (SOCIAL_GAP) and the
+#: few centimetres by which the tracker misplaces someone standing (goto_standing_person passed Ida 0.244 m off)
+GOTO_SOCIAL_GAP = 0.30
+#: m, m/s: with someone this near walking toward its centre faster than this, it stands (yields)
+YIELD_NEAR = 1.6
+YIELD_SPEED = 0.15
 #: m: a turn on the spot at the goal (``align``) or a back-off keeps the footprint this far from the floor
 #: plan's walls and furniture (they sweep ground the laser does not see), or it is not made.
 SWEEP_MARGIN = 0.05
@@ -148,6 +154,8 @@ class Player(Module):
         self.tolerance = tolerance
         self.stall_time = stall_time
         self.params = params
+        # the go-to's own margin to people (its dynamic window's; the follower keeps the default)
+        self._goto_params = replace(params, social_gap=max(params.social_gap, GOTO_SOCIAL_GAP))
         sim.bus.declare_channel(PLAYER_STATUS, SCHEMA)
         self.goal: tuple[float, float, float, float, bool] | None = None  # x, y, theta, tolerance, align
         self._reached: tuple[float, float, float, float, bool] | None = None  # the step just reached
@@ -364,7 +372,8 @@ class Player(Module):
         local = (c * (ax - x) + s * (ay - y), -s * (ax - x) + c * (ay - y))
         echoes = self.scan.points()
         odo = self.odo.pose
-        people = self.people.around(odo, self.now, echoes=echoes) if odo is not None else np.zeros((0, 2))
+        moving = self.people.around(odo, self.now, echoes=echoes, velocity=True) if odo is not None else np.zeros((0, 4))
+        people = moving[:, :2]
         # the laser's echoes ahead, the floor plan all round (the corners sweep ground the laser does not see)
         points = np.concatenate((echoes, mapped)) if len(mapped) else echoes
         cap = social_speed_limit(nearest(people), self.limits.max_speed)
@@ -372,7 +381,10 @@ class Player(Module):
         bearing = math.atan2(local[1], local[0])
         v_pref = heading_speed(min(cap, 0.25 + 0.6 * dist), bearing)
         # everyone's space: wait at a polite distance, never at the body
-        cmd = dwa(self.odo.v, self.odo.w, local, points, limits, v_pref=v_pref, params=self.params, people=people)
+        cmd = dwa(self.odo.v, self.odo.w, local, points, limits, v_pref=v_pref, params=self._goto_params, people=people)
+        if cmd.ok and cmd.v > 0.0 and closing_in(moving, near=YIELD_NEAR, speed=YIELD_SPEED):
+            # someone near walks at it: stand and let them pass (yield), turning on the spot at most
+            cmd = Command(0.0, cmd.w if abs(cmd.v) < 0.02 else 0.0, True, cmd.clearance)
         if cmd.ok and abs(cmd.v) > 0.02:
             self._stuck_since = None
         elif self._stuck_since is None:
