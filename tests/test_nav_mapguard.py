@@ -145,3 +145,32 @@ def test_no_give_way_spot_when_there_is_no_room_anywhere_near():
     corridor = OccupancyGrid(Plan2D((wall_rectangle((0, 0), (6, 0), 0.1), wall_rectangle((0, 1.0), (6, 1.0), 0.1)),
                                     (1.0, 0.5, 0.0)), radius=0.30)
     assert give_way_spot(corridor, (3.0, 0.5), (3.8, 0.5)) is None  # a 0.9 m corridor: nowhere roomy
+
+
+# ---------------------------------------------------------------- yielding to someone walking at it
+def test_someone_near_walking_at_the_robot_makes_it_yield_but_not_someone_walking_away_or_past():
+    from robot.navigation.people import closing_in
+
+    at_it = np.array([[1.2, 0.1, -0.6, 0.0]])  # ahead, walking toward the robot
+    away = np.array([[1.2, 0.1, 0.6, 0.0]])
+    across = np.array([[1.2, 0.0, 0.0, 0.7]])  # crossing in front, not toward the centre
+    far = np.array([[3.0, 0.0, -0.8, 0.0]])
+    behind = np.array([[-1.0, 0.0, 0.8, 0.0]])  # overtaking from behind: the laser does not see there
+    assert closing_in(at_it, near=1.6, speed=0.15)
+    assert not any(closing_in(p, near=1.6, speed=0.15) for p in (away, across, far, behind))
+    assert not closing_in(np.zeros((0, 4)), near=1.6, speed=0.15)
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.floats(-0.29, 1.5), st.floats(-1.5, 1.5), st.floats(0.16, 1.2), st.floats(-0.5, 0.5))
+def test_whoever_walks_straight_at_it_from_near_is_yielded_to_and_whoever_walks_away_is_not(x, y, speed, skew):
+    from robot.navigation.people import closing_in
+
+    d = math.hypot(x, y)
+    if not 0.3 < d < 1.6:
+        return
+    a = math.atan2(-y, -x) + skew  # toward the centre, up to ~30 degrees off
+    toward = speed * math.cos(skew)
+    vx, vy = speed * math.cos(a), speed * math.sin(a)
+    assert closing_in(np.array([[x, y, vx, vy]]), near=1.6, speed=0.15) == (toward > 0.15)
+    assert not closing_in(np.array([[x, y, -vx, -vy]]), near=1.6, speed=0.15)
