@@ -115,8 +115,9 @@ GRID = _two_rooms()
 
 def test_a_robot_in_the_door_steps_aside_into_the_partners_room_out_of_her_way():
     robot, partner = (4.25, 2.0), (5.0, 1.6)
-    spot = give_way_spot(GRID, robot, partner, keep=1.0)
-    assert spot is not None
+    path = give_way_spot(GRID, robot, partner, keep=1.0)
+    assert path is not None and path[0] == robot
+    spot = path[-1]
     assert spot[0] > 4.0  # her side of the door: not ahead of her on her way through it
     i, j = GRID.cell_of(spot)
     assert GRID.clearance[i, j] >= ROOM  # out of the door frame
@@ -125,11 +126,12 @@ def test_a_robot_in_the_door_steps_aside_into_the_partners_room_out_of_her_way()
 
 @settings(max_examples=60, deadline=None)
 @given(st.floats(4.1, 4.4), st.floats(1.8, 2.2), st.floats(4.6, 6.5), st.floats(0.6, 3.4))
-def test_every_give_way_spot_is_roomy_off_her_way_not_at_her_and_reached_in_a_straight_free_line(rx, ry, px, py):
+def test_every_give_way_spot_is_roomy_off_her_way_not_at_her_and_reached_on_a_free_way_past_her(rx, ry, px, py):
     robot, partner = (rx, ry), (px, py)
-    spot = give_way_spot(GRID, robot, partner, keep=1.0)
-    if spot is None:
+    path = give_way_spot(GRID, robot, partner, keep=1.0)
+    if path is None:
         return
+    spot = path[-1]
     i, j = GRID.cell_of(spot)
     assert GRID.clearance[i, j] >= ROOM
     d = math.hypot(rx - px, ry - py)
@@ -138,7 +140,14 @@ def test_every_give_way_spot_is_roomy_off_her_way_not_at_her_and_reached_in_a_st
     assert abs(sx * uy - sy * ux) >= LATERAL - 1e-9  # to the side of the line from her through the robot
     assert sx * ux + sy * uy <= d + 1e-9  # not further down her way than the robot stands
     assert math.hypot(sx, sy) >= 1.0
-    assert GRID.line_free(robot, spot, roomy=False)
+    # the way there: free on the grid, never nearer her than she stands now (or 0.7 m), first leg toward her side
+    for a, b in zip(path, path[1:]):
+        assert GRID.line_free(a, b, roomy=False) or a == robot
+        for t in np.linspace(0.0, 1.0, 11):
+            q = (a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1]))
+            assert math.hypot(q[0] - px, q[1] - py) >= min(0.7, d) - 0.01 - 1e-9
+    lx, ly = path[1][0] - rx, path[1][1] - ry
+    assert -(ux * lx + uy * ly) >= math.cos(math.radians(100)) * math.hypot(lx, ly) - 1e-9
 
 
 def test_no_give_way_spot_when_there_is_no_room_anywhere_near():

@@ -69,7 +69,7 @@ from robot.contract import ATTENTION_STATE, BASE_CMD, ES_EVENTS, FOLLOW_STATUS, 
 
 from .config import Limits
 from .grid import MapError, OccupancyGrid, parse_map
-from .local import DWAParams, LatestScan, arcs, dwa, heading_speed, social_speed_limit, sweep_clearance
+from .local import DWAParams, LatestScan, arcs, carrot, dwa, heading_speed, social_speed_limit, sweep_clearance
 from .giveway import give_way_spot
 from .people import People, nearest
 from .route import Route
@@ -101,6 +101,8 @@ GIVE_WAY_TIME = 8.0
 GIVE_WAY_SPEED = 0.35
 #: m/s: it gives way to a partner slower than this (held up in front of it), never into a walking one
 GIVE_WAY_STILL = 0.2
+#: s: following, a partner standing that close this long is held up by the robot, wherever it stands
+GIVE_WAY_HELD = 1.5
 #: rad: giving way, the partner is kept within this bearing (turned to when further off)
 GIVE_WAY_BEARING = math.radians(80)
 
@@ -160,7 +162,8 @@ class Follower(Module):
         self.people = People()  # everyone else the attention tracks, while following
         self._tracks_sub: Any = None
         self.route = Route()  # the way to the partner on the floor plan (through doors)
-        self._aside: tuple[float, float, float] | None = None  # give-way spot (odom) and until when
+        self._aside: tuple[list[tuple[float, float]], float] | None = None  # give-way path (odom) and until when
+        self._close_since: float | None = None  # following, since when she has stood close in front
         self._map_asked = False
         self._pose_sub: Any = None
 
@@ -334,10 +337,16 @@ class Follower(Module):
             v_des = speed_law(d, v_radial, distance=self.distance, band=self.band, minimum=self.minimum,
                               gain=self.gain, limits=self.limits)
         mapped = self.route.obstacles_near(self.odom)  # walls and furniture all round (the laser looks ahead)
-        if v_des <= 0.05 and not approaching and d < self.band[0] and math.hypot(tr["vx"], tr["vy"]) < GIVE_WAY_STILL:
-            # she stands close in front of it (held up: it is in her way): step aside; while she walks,
-            # it stands (moving into a walking person's path is how one is touched)
-            aside = self._give_way(px, py, mapped)
+        close = v_des <= 0.05 and not approaching and d < self.band[0] and math.hypot(tr["vx"], tr["vy"]) < GIVE_WAY_STILL
+        if not close:
+            self._close_since = None
+        elif self._close_since is None:
+            self._close_since = self.now
+        if close:
+            # she stands close in front of it while it follows: it is in her way (in a door frame or a
+            # passage at once; anywhere once she has stood there GIVE_WAY_HELD s, held up): step aside;
+            # while she walks, it stands (moving into a walking person's path is how one is touched)
+            aside = self._give_way(px, py, mapped, held=self.now - self._close_since >= GIVE_WAY_HELD)
             if aside is not None:  # she is close and it stands in her way in a door or passage: step aside
                 self._command(*aside)
                 self._status(d, False, "giving_way")
@@ -399,28 +408,34 @@ class Follower(Module):
         self._status(d, at_limit, state if tr["visible"] else "searching")
         return v, w
 
-    def _give_way(self, px: float, py: float, mapped: np.ndarray) -> tuple[float, float] | None:
+    def _give_way(self, px: float, py: float, mapped: np.ndarray, *, held: bool = False) -> tuple[float, float] | None:
         """The command that takes the robot aside when the partner (odom ``px, py``) is too close and
-        it stands in a door frame or a passage (:mod:`robot.navigation.giveway`), None otherwise
-        (no floor plan, room enough here, or nowhere to go)."""
+        it stands in a door frame or a passage, or anywhere when ``held`` (she has stood held up in
+        front of it a while) (:mod:`robot.navigation.giveway`), None otherwise (no floor plan, room
+        enough here and she is not held up, or nowhere to go)."""
         if not self.route.ready or self.odom is None:
             self._aside = None
             return None
-        if self._aside is None or self.now > self._aside[2]:
+        if self._aside is None or self.now > self._aside[1]:
             self._aside = None
-            if self.route.clearance(self.odom[:2]) >= GIVE_WAY_ROOM:
+            if not held and self.route.clearance(self.odom[:2]) >= GIVE_WAY_ROOM:
                 return None
             grid = self.route.grid
             assert grid is not None
-            spot = give_way_spot(grid, self.route.to_map(self.odom[:2]), self.route.to_map((px, py)), keep=self.band[0])
-            if spot is None:
+            path = give_way_spot(grid, self.route.to_map(self.odom[:2]), self.route.to_map((px, py)), keep=self.band[0])
+            if path is None:
                 return None
-            sx, sy = self.route.to_odom(spot)
-            self._aside = (sx, sy, self.now + GIVE_WAY_TIME)
-        gx, gy = self._to_robot(self._aside[0], self._aside[1])
-        if math.hypot(gx, gy) < 0.15:
+            self._aside = ([self.route.to_odom(p) for p in path], self.now + GIVE_WAY_TIME)
+        way = self._aside[0]
+        ox, oy = self.odom[0], self.odom[1]
+        while len(way) > 1 and math.hypot(way[1][0] - ox, way[1][1] - oy) < 0.2:
+            way.pop(0)  # a vertex reached: on along the next leg
+        end = way[-1]
+        if math.hypot(end[0] - ox, end[1] - oy) < 0.15:
             self._aside = None  # there: wait (and face her) as before
             return None
+        cx, cy = carrot(way[0], way[1], (ox, oy), 0.35) if len(way) > 1 else end
+        gx, gy = self._to_robot(cx, cy)
         rx, ry = self._to_robot(px, py)
         bearing = math.atan2(ry, rx)
         if abs(bearing) > GIVE_WAY_BEARING:

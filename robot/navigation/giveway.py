@@ -17,11 +17,14 @@ frame), among the cells within :data:`REACH` m of the robot:
 * out of her way: at least :data:`LATERAL` m to the side of the line from her
   through the robot (the way she presumably wants to go), and not further
   down that way than the robot stands now;
-* not at her: at least ``keep`` m from her, and reached on a straight, free
-  segment that passes her no closer than :data:`PASS` m;
+* not at her: at least ``keep`` m from her, and reached on the grid's shortest
+  path (no longer than twice :data:`REACH`; out of a door frame it may lead
+  round the jamb) that passes her no closer than :data:`PASS` m and starts off
+  no more than :data:`FACE` from the direction to her (she stays in the view of
+  the forward-looking laser and camera; backing out of her way is not done);
 
-and of those the nearest to the robot. None when there is no such place (then
-the robot waits where it is, as before).
+and of those the nearest to the robot: the answer is the path there. None when
+there is no such place (then the robot waits where it is, as before).
 """
 
 from __future__ import annotations
@@ -30,7 +33,7 @@ import math
 
 import numpy as np
 
-from .grid import OccupancyGrid
+from .grid import NoPathError, OccupancyGrid, path_length
 
 Point = tuple[float, float]
 
@@ -40,23 +43,21 @@ ROOM = 0.5
 LATERAL = 0.75
 #: m: ... and within this distance of the robot.
 REACH = 1.8
-#: m: the straight way there passes the partner's centre no closer than this.
+#: m: the way there (the grid's shortest path: round a door jamb, through the door) passes the
+#: partner's centre no closer than this (or than she stands now, if nearer).
 PASS = 0.7
-
-
-def _segment_distance(a: np.ndarray, b: np.ndarray, p: Point) -> np.ndarray:
-    """Distance from ``p`` to each segment a[k]-b (a: (K, 2), b: (2,))."""
-    ab = b[None, :] - a
-    ap = np.array(p)[None, :] - a
-    n2 = np.maximum((ab * ab).sum(axis=1), 1e-12)
-    t = np.clip((ap * ab).sum(axis=1) / n2, 0.0, 1.0)
-    q = a + ab * t[:, None]
-    return np.hypot(q[:, 0] - p[0], q[:, 1] - p[1])
+#: the nearest this many candidate spots are planned to, at most (one Dijkstra each).
+CANDIDATES = 8
+#: rad: the way's first leg lies at most this far off the direction to her (she stays in view as it drives).
+FACE = math.radians(100)
+#: m: ... each at least this far from the ones before it (nearer ones first).
+SPREAD = 0.4
 
 
 def give_way_spot(grid: OccupancyGrid, robot: Point, partner: Point, *, keep: float = 1.0, room: float = ROOM,
-                  lateral: float = LATERAL, reach: float = REACH) -> Point | None:
-    """Where the robot at ``robot`` steps aside for the partner at ``partner`` (map frame), or None.
+                  lateral: float = LATERAL, reach: float = REACH) -> list[Point] | None:
+    """The path (map frame, from ``robot``; its last point the spot) by which the robot steps aside
+    for the partner at ``partner``, or None.
 
     See the module docstring for the rule; ``keep``: the least distance to her (the follower's
     near band).
@@ -85,12 +86,38 @@ def give_way_spot(grid: OccupancyGrid, robot: Point, partner: Point, *, keep: fl
     if not ok.any():
         return None
     pts = np.column_stack((x[ok], y[ok]))
-    travel = travel[ok]
-    ok2 = _segment_distance(pts, np.array(robot, dtype=float), partner) >= min(PASS, d) - 0.01
-    for k in np.argsort(np.where(ok2, travel, np.inf), kind="stable"):
-        if not ok2[k]:
-            break
+    order = np.argsort(travel[ok], kind="stable")
+    keep_off = min(PASS, d) - 0.01
+    tried: list[Point] = []
+    for k in order:
         spot = (float(pts[k, 0]), float(pts[k, 1]))
-        if grid.line_free(robot, spot, roomy=False):
-            return spot
+        if any(math.hypot(spot[0] - a, spot[1] - b) < SPREAD for a, b in tried):
+            continue  # a neighbour of a spot already tried: the same way there
+        if len(tried) >= CANDIDATES:
+            break
+        tried.append(spot)
+        try:
+            path = grid.plan(robot, spot)
+        except NoPathError:
+            continue
+        if path_length(path) > 2 * reach or _passes(path, partner) < keep_off:
+            continue
+        if len(path) > 1:
+            lx, ly = path[1][0] - robot[0], path[1][1] - robot[1]
+            if (-ux * lx - uy * ly) < math.cos(FACE) * math.hypot(lx, ly):
+                continue  # it would drive off with her behind it, out of the laser's and camera's view
+        return path
     return None
+
+
+def _passes(path: list[Point], p: Point) -> float:
+    """How close (m) the polyline ``path`` comes to ``p``."""
+    a = np.array(path[:-1], dtype=float)
+    b = np.array(path[1:], dtype=float)
+    if not len(a):
+        return math.hypot(path[0][0] - p[0], path[0][1] - p[1])
+    ab = b - a
+    ap = np.array(p)[None, :] - a
+    t = np.clip((ap * ab).sum(axis=1) / np.maximum((ab * ab).sum(axis=1), 1e-12), 0.0, 1.0)
+    q = a + ab * t[:, None]
+    return float(np.hypot(q[:, 0] - p[0], q[:, 1] - p[1]).min())
