@@ -82,6 +82,9 @@ from .seen import SeenGround, footprint_samples
 
 #: s: searching, where she was heading is her last message carried on with its velocity this long at most
 SEARCH_HORIZON = 1.5
+#: s and m/s: wedged this long (it should drive, the dynamic window finds nothing), it backs this slowly
+STUCK_TIME = 1.0
+UNSTICK_SPEED = 0.1
 SCHEMA = Path(__file__).resolve().parent.parent / "schemas" / "navigation" / "follow-status.xsd"
 #: how many of the robot's own past positions (odometry, every CRUMB m) the back-off may retrace
 BREADCRUMBS = 200
@@ -150,6 +153,7 @@ class Follower(Module):
         self.crumbs: deque[tuple[float, float]] = deque(maxlen=BREADCRUMBS)  # where the robot itself has been (odom)
         self.driving = False
         self._limit_since: float | None = None
+        self._stuck_since: float | None = None  # since when it should drive but cannot (see _unstick)
         self._history: deque[tuple[float, float]] = deque(maxlen=64)  # (t, d) while at the limit
         self._warned_at = -math.inf
         self.bus.subscribe(ATTENTION_STATE, self._on_state)
@@ -331,6 +335,7 @@ class Follower(Module):
                               gain=self.gain, limits=self.limits)
         mapped = self.route.obstacles_near(self.odom)  # walls and furniture all round (the laser looks ahead)
         if v_des <= 0.05:
+            self._stuck_since = None
             # wait (or back off) facing the partner; reversing is slow and straight (no laser behind)
             w = max(-self.limits.max_turn, min(self.limits.max_turn, 1.8 * bearing))
             v = v_des if v_des < 0 and self.can_back_off() else 0.0
@@ -378,6 +383,7 @@ class Follower(Module):
             cmd = dwa(self.v, self.w, goal, pts, limits, v_pref=v_pref, params=self.params, people=others)
             v, w = cmd.v, cmd.w
             state = "following" if cmd.ok else "waiting"
+            v, w = self._unstick(v, w, mapped)
         self._command(v, w)
         if approaching:
             self._status(d, False, "approaching")
@@ -390,6 +396,20 @@ class Follower(Module):
         self._too_fast(d, at_limit)
         self._status(d, at_limit, state if tr["visible"] else "searching")
         return v, w
+
+    def _unstick(self, v: float, w: float, mapped: np.ndarray) -> tuple[float, float]:
+        """Wedged (issue 26: a chair's corner beside the robot when the way turns off): it should drive
+        but the dynamic window finds neither a forward arc nor room to turn on the spot. After
+        :data:`STUCK_TIME` s of that, it backs a little over ground it drove or saw free (never where
+        the laser did not look), which gives the corners room to turn; nothing when backing is unsafe."""
+        if abs(v) > 0.02 or abs(w) > 0.05:
+            self._stuck_since = None
+            return v, w
+        if self._stuck_since is None:
+            self._stuck_since = self.now
+        if self.now - self._stuck_since < STUCK_TIME or not self.can_back_off():
+            return v, w
+        return self._swept(-UNSTICK_SPEED, 0.0, mapped)
 
     def _standing(self, partner: tuple[float, float]) -> np.ndarray:
         """Odom-frame centres of the people standing about (not the partner, nor a second track on
