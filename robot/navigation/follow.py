@@ -375,6 +375,8 @@ class Follower(Module):
             # as a phantom in the door)
             others = self.people.around(self.odom, self.now, exclude=self.partner_id, near=(px, py), moving=0.2)
             limits = self.limits
+            if searching:  # slowly: she may step out from behind whatever hid her
+                limits = replace(limits, max_speed=min(limits.max_speed, self.search_speed))
             if len(others):
                 cap = social_speed_limit(nearest(others), self.limits.max_speed)
                 if cap < limits.max_speed:
