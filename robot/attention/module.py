@@ -478,7 +478,9 @@ class PersonAttention(Module):
                 self.partner_lost_sent = True
         elif row >= 0:
             self.partner_lost_sent = False
-        if row < 0 and self.partner_lost_sent:
+        if row < 0 and (self.partner_lost_sent or self.partner is None):
+            # (partner None: lost while following, her track died, and the ES's order back to
+            # Interaction found nobody to choose: without this nobody could ever take the place)
             self.partner = None
             self._partner_last = None
             # The partner may come back: someone speaking while facing the robot takes the place.

@@ -44,9 +44,10 @@ Control, every ``1/rate`` seconds:
 * Searching: not seen for ``lost_after`` s (a door frame, someone crossing between, a partner
   who walked past the robot's side, out of the laser's half-circle) it does not stop: it drives,
   at most ``search_speed``, to where she was heading (her last track message carried on with its
-  velocity for at most ``search_horizon`` s, along the floor plan's way through doors), comes no
-  closer than ``search_reach`` to that point and turns to face it, so it sees round the corner
-  or past the person in between. Status ``searching``.
+  velocity for at most :data:`SEARCH_HORIZON` s, along the floor plan's way through doors), comes no
+  closer than ``search_reach`` to that point, once the floor plan says it is in sight (not behind
+  a wall), and turns to face it, so it sees round the corner or past the person in between.
+  Status ``searching``.
 * Lost: not seen for ``search_time`` s: it stops (the attention's ``partner_lost``,
   its ``follow_lost_after`` = the same 6 s, makes the ES stop the player and the dialog ask).
 
@@ -328,8 +329,12 @@ class Follower(Module):
                               gain=self.gain, limits=self.limits)
             v_des = max(v_des, 0.15)  # in the next room (near but out of sight): on through the door
         elif searching:
-            # to where she was heading, slowly, no closer than search_reach (she may stand there unseen)
-            v_des = min(self.search_speed, self.gain * (d - self.search_reach)) if d > self.search_reach else 0.0
+            # to where she was heading, slowly, no closer than search_reach (she may stand there unseen);
+            # behind a wall (she went through a door) on through the door until the point is in sight
+            if not self.route.in_sight(self.odom[:2], (px, py)):
+                v_des = self.search_speed
+            else:
+                v_des = min(self.search_speed, self.gain * (d - self.search_reach)) if d > self.search_reach else 0.0
         else:
             v_des = speed_law(d, v_radial, distance=self.distance, band=self.band, minimum=self.minimum,
                               gain=self.gain, limits=self.limits)
