@@ -45,6 +45,7 @@ from ..cliargs import OptionError
 from ..realtime import Stopwatch
 from .sweep import ERROR, FAIL, PASS, dask_client, _scheduler, _workers, parse_seeds, run_one
 from .capabilities import CAPABILITIES, capability_of, cause_of, rate
+from .socialtable import social_navigation, social_table
 
 Row = dict[str, Any]
 DEFAULT = "default"
@@ -466,6 +467,7 @@ def study(files: list[str], seeds: list[int], conditions: list[Condition], out: 
         "overall": result["overall"],
         "capabilities": result["capabilities"],
         "failures": [{k: v for k, v in g.items() if k != "_seen"} for g in result["failures"]],
+        "social_navigation": social_navigation(rows, cnames),
         "throughput": {"runs": len(made), "cpu_s": round(cpu, 3), "simulated_s": round(sim, 3), "wall_s": round(wall, 3),
                        "workers": "dask" if scheduler is not None else workers,
                        "runs_per_cpu_minute": round(60 * len(made) / cpu, 3) if cpu else None,
@@ -476,7 +478,7 @@ def study(files: list[str], seeds: list[int], conditions: list[Condition], out: 
         "runs": [_public(r) for r in rows],
     }
     (out / "study.json").write_text(json.dumps(doc, indent=2, ensure_ascii=False) + "\n", encoding="utf-8")
-    (out / "study.md").write_text(table(result, cnames), encoding="utf-8")
+    (out / "study.md").write_text(table(result, cnames) + "\n" + social_table(doc["social_navigation"], cnames), encoding="utf-8")
     from ..viz.study import plot_rates
 
     for suffix in ("png", "svg"):
