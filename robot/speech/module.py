@@ -5,7 +5,7 @@ the older recogniser's ``wer`` stands in for a missing confidence as ``1 - wer``
 and its ``self="true"`` utterances are skipped).
 
 Output: ``/robot/speech/frames`` (``robot/schemas/speech-frames.xsd``):
-``<understood start end confidence [unknown ignored corrected partial answer]><SPEECH><TIMESTAMP val/>..</SPEECH><words>..</words></understood>``
+``<understood start end confidence [unknown ignored corrected partial answer fragment]><SPEECH><TIMESTAMP val/>..</SPEECH><words>..</words></understood>``
 (``TIMESTAMP``: the utterance's start in virtual milliseconds, as the papers' frames carry it)
 or ``<not_understood start end confidence [unknown] reason>words</not_understood>``.
 
@@ -92,6 +92,8 @@ def frame_message(u: Understanding, start: float, end: float, confidence: float)
         el.set("partial", "true")
     if u.answer:
         el.set("answer", u.answer)
+    if u.fragment:
+        el.set("fragment", "true")
     # the frame carries when the utterance began, as the papers' frames do (<TIMESTAMP val/>, ms)
     speech = etree.SubElement(el, "SPEECH")
     etree.SubElement(speech, "TIMESTAMP", val=str(max(0, round(start * 1000.0))))
