@@ -67,6 +67,9 @@ from .stage import Stage
 ACTORS: tuple[str, ...] = ("humans.install", "robot.hardware.install")
 #: Virtual seconds per run chunk (progress, replay's early stop); results do not depend on it.
 CHUNK = 1.0
+#: The verdict of a complete run of a scenario that states no expectation: nothing was checked,
+#: so it neither passed nor failed.
+NO_EXPECTATIONS = "no expectations"
 
 Line = Callable[[float, str, str], None]
 
@@ -418,10 +421,14 @@ class Run:
         return dict(counts()) if callable(counts) else {}
 
     def verdict(self) -> str:
-        """PASS, FAIL, or "not checked" when the run stopped before the scenario's end."""
+        """PASS, FAIL, "not checked" when the run stopped before the scenario's end, or
+        "no expectations" when the scenario states none (a run that asserted nothing did not pass)."""
         if not self.complete():
             return "not checked"
-        return "PASS" if all(v.passed for v in self.finish()) else "FAIL"
+        verdicts = self.finish()
+        if not verdicts:
+            return NO_EXPECTATIONS
+        return "PASS" if all(v.passed for v in verdicts) else "FAIL"
 
     def close(self) -> None:
         self.sim.close()
