@@ -296,6 +296,11 @@ class Progress:
 
 
 # ------------------------------------------------------------------ analysis
+def _user_wrong(metrics: dict[str, Any]) -> bool:
+    """Whether a user confirmed a wrong guess of the robot's or left a misnaming of hers uncorrected."""
+    return bool(metrics.get("users.confirmed_wrongly")) or (metrics.get("users.misnamed") or 0) > (metrics.get("users.self_corrected") or 0)
+
+
 def analyse(rows: list[Row], expectations: dict[str, list[Any]], names: dict[str, list[str]], conditions: list[str]) -> dict[str, Any]:
     """Capabilities (overall and by condition) and failures grouped by cause, from the run rows.
 
@@ -340,6 +345,8 @@ def analyse(rows: list[Row], expectations: dict[str, list[Any]], names: dict[str
                 cause = f"{cause} (the user gave up)"
             elif r.get("metrics", {}).get("users.blocked"):  # she gave up a walk the robot stood in the way of
                 cause = f"{cause} (the robot blocked her way)"
+            elif _user_wrong(r.get("metrics", {})):  # she said yes to a wrong guess, or misnamed and let it stand
+                cause = f"{cause} (the user got it wrong)"
             _add(groups, cap, kind, cause, r)
     order = [c for c in CAPABILITIES if c in caps] + sorted(set(caps) - set(CAPABILITIES))
     capabilities = {}

@@ -60,7 +60,7 @@ from lxml import etree
 from homesim.message import Message
 from homesim.module import Module
 
-from robot.contract import ATTENTION_STATE, BASE_CMD, ES_EVENTS, ES_ORDERS, FACES, FOCUS, FOLLOW_STATUS, ODOMETRY, PARTNER, POSE, PTU_CMD, SCAN, SOURCES, STEER, TORSOS, TRACKS
+from robot.contract import ATTENTION_STATE, BASE_CMD, ES_EVENTS, ES_ORDERS, FACES, FOCUS, FOLLOW_STATUS, ODOMETRY, PARTNER, PLAYER_STATUS, POSE, PTU_CMD, SCAN, SOURCES, STEER, TORSOS, TRACKS
 
 from .clutter import FurnitureLegs
 from .cues import CueSpec, Hysteresis, bearings_from, match_faces, match_sounds, sound_bearings_from
@@ -197,6 +197,11 @@ class PersonAttention(Module):
         # the follower comes up to the partner after "stop" and turns the base itself meanwhile
         self._follower_drives = False
         self.bus.subscribe(FOLLOW_STATUS, lambda m: setattr(self, "_follower_drives", m.xml.get("state") == "approaching"))
+        # The player drives the base in Object (the object attention moves to see what she points at):
+        # no turning to her meanwhile. Subscribed only in Object: every delivery draws a network delay
+        # from the run's generator, so a subscription held all the time would change every run.
+        self._player_drives = False
+        self._player_sub: Any = None
 
     async def run(self) -> None:
         await self._load_map()
@@ -354,7 +359,20 @@ class PersonAttention(Module):
             self.partner_lost_sent = False
             self._partner_last = None
         self.pp_sent = None
+        self._listen_to_player(state == "Object")
         self._publish_state(self.now, force=True)
+
+    def _listen_to_player(self, on: bool) -> None:
+        """Follow the player's status (moving or not) while in Object, and only then."""
+        if on and self._player_sub is None:
+            self._player_sub = self.bus.subscribe(PLAYER_STATUS, self._on_player)
+        elif not on and self._player_sub is not None:
+            self._player_sub.close()
+            self._player_sub = None
+            self._player_drives = False
+
+    def _on_player(self, msg: Message) -> None:
+        self._player_drives = msg.xml.get("state") in ("moving", "blocked")
 
     def _choose_partner(self) -> int | None:
         """The partner on interact: the last potential partner if still tracked, else the selected person."""
@@ -566,7 +584,7 @@ class PersonAttention(Module):
             else:
                 self._turning = True
                 self._base(max(-p.max_turn, min(p.max_turn, p.turn_gain * b)))
-        elif state in TURNS and row >= 0 and not self._follower_drives:
+        elif state in TURNS and row >= 0 and not self._follower_drives and not self._player_drives:
             b = bearing[row]
             if self._turning and abs(b) < p.turn_stop:
                 self._base(0.0)

@@ -76,7 +76,8 @@ from robot.contract import ATTENTION_STATE, BASE_CMD, ES_EVENTS, FOLLOW_STATUS, 
 
 from .config import Limits
 from .grid import MapError, OccupancyGrid, parse_map
-from .local import DWAParams, LatestScan, arcs, dwa, heading_speed, social_speed_limit, sweep_clearance
+from .local import DWAParams, LatestScan, arcs, carrot, dwa, heading_speed, social_speed_limit, sweep_clearance
+from .giveway import give_way_spot
 from .people import People, nearest
 from .route import Route
 from .seen import SeenGround, footprint_samples
@@ -104,6 +105,18 @@ WAY_GOAL = 1.0
 APPROACH_ROOM = 0.5
 #: m: backing off must leave the centre this far from the floor plan's obstacles (the footprint's corners reach 0.34 m)
 TURN_ROOM = 0.40
+#: m: with the partner inside the near band and its centre closer than this to the floor plan's walls (a door
+#: frame, a passage), the robot gives way (:mod:`robot.navigation.giveway`)
+GIVE_WAY_ROOM = 0.45
+#: s, m/s: a give-way spot is driven to for at most this long, this slowly
+GIVE_WAY_TIME = 8.0
+GIVE_WAY_SPEED = 0.35
+#: m/s: it gives way to a partner slower than this (held up in front of it), never into a walking one
+GIVE_WAY_STILL = 0.2
+#: s: following, a partner standing that close this long is held up by the robot, wherever it stands
+GIVE_WAY_HELD = 1.5
+#: rad: giving way, the partner is kept within this bearing (turned to when further off)
+GIVE_WAY_BEARING = math.radians(80)
 
 
 def speed_law(d: float, v_radial: float, *, distance: float, band: tuple[float, float], minimum: float,
@@ -164,6 +177,8 @@ class Follower(Module):
         self.people = People()  # everyone else the attention tracks, while following
         self._tracks_sub: Any = None
         self.route = Route()  # the way to the partner on the floor plan (through doors)
+        self._aside: tuple[list[tuple[float, float]], float] | None = None  # give-way path (odom) and until when
+        self._close_since: float | None = None  # following, since when she has stood close in front
         self._map_asked = False
         self._pose_sub: Any = None
 
@@ -324,6 +339,13 @@ class Follower(Module):
             # it would teach from the other room and block the way), face her and stop
             near = d <= self.approach_to and self.route.in_sight(self.odom[:2], (px, py))
             if near and (d <= self.band[0] or self.route.clearance(self.odom[:2]) >= APPROACH_ROOM):
+                # so close to her in a door frame or a passage: out of her way first (her next
+                # "follow me" walks her through it), then face her
+                aside = self._give_way(px, py, self.route.obstacles_near(self.odom)) if d <= self.band[0] else None
+                if aside is not None:
+                    self._command(*aside)
+                    self._status(d, False, "approaching")
+                    return aside
                 return self._face(bearing)
             v_des = speed_law(d, 0.0, distance=self.distance, band=(self.band[0], self.distance), minimum=self.minimum,
                               gain=self.gain, limits=self.limits)
@@ -339,6 +361,20 @@ class Follower(Module):
             v_des = speed_law(d, v_radial, distance=self.distance, band=self.band, minimum=self.minimum,
                               gain=self.gain, limits=self.limits)
         mapped = self.route.obstacles_near(self.odom)  # walls and furniture all round (the laser looks ahead)
+        close = v_des <= 0.05 and not approaching and not searching and d < self.band[0] and math.hypot(tr["vx"], tr["vy"]) < GIVE_WAY_STILL
+        if not close:
+            self._close_since = None
+        elif self._close_since is None:
+            self._close_since = self.now
+        if close:
+            # she stands close in front of it while it follows: it is in her way (in a door frame or a
+            # passage at once; anywhere once she has stood there GIVE_WAY_HELD s, held up): step aside;
+            # while she walks, it stands (moving into a walking person's path is how one is touched)
+            aside = self._give_way(px, py, mapped, held=self.now - self._close_since >= GIVE_WAY_HELD)
+            if aside is not None:  # she is close and it stands in her way in a door or passage: step aside
+                self._command(*aside)
+                self._status(d, False, "giving_way")
+                return aside
         if v_des <= 0.05:
             self._stuck_since = None
             # wait (or back off) facing the partner; reversing is slow and straight (no laser behind)
@@ -403,6 +439,51 @@ class Follower(Module):
         self._too_fast(d, at_limit)
         self._status(d, at_limit, state if tr["visible"] else "searching")
         return v, w
+
+    def _give_way(self, px: float, py: float, mapped: np.ndarray, *, held: bool = False) -> tuple[float, float] | None:
+        """The command that takes the robot aside when the partner (odom ``px, py``) is too close and
+        it stands in a door frame or a passage, or anywhere when ``held`` (she has stood held up in
+        front of it a while) (:mod:`robot.navigation.giveway`), None otherwise (no floor plan, room
+        enough here and she is not held up, or nowhere to go)."""
+        if not self.route.ready or self.odom is None:
+            self._aside = None
+            return None
+        if self._aside is None or self.now > self._aside[1]:
+            self._aside = None
+            if not held and self.route.clearance(self.odom[:2]) >= GIVE_WAY_ROOM:
+                return None
+            grid = self.route.grid
+            assert grid is not None
+            path = give_way_spot(grid, self.route.to_map(self.odom[:2]), self.route.to_map((px, py)), keep=self.band[0])
+            if path is None:
+                return None
+            self._aside = ([self.route.to_odom(p) for p in path], self.now + GIVE_WAY_TIME)
+        way = self._aside[0]
+        ox, oy = self.odom[0], self.odom[1]
+        while len(way) > 1 and math.hypot(way[1][0] - ox, way[1][1] - oy) < 0.2:
+            way.pop(0)  # a vertex reached: on along the next leg
+        end = way[-1]
+        if math.hypot(end[0] - ox, end[1] - oy) < 0.15:
+            self._aside = None  # there: wait (and face her) as before
+            return None
+        cx, cy = carrot(way[0], way[1], (ox, oy), 0.35) if len(way) > 1 else end
+        gx, gy = self._to_robot(cx, cy)
+        rx, ry = self._to_robot(px, py)
+        bearing = math.atan2(ry, rx)
+        if abs(bearing) > GIVE_WAY_BEARING:
+            # keep her in view (the laser and the camera look ahead; the attention lets a partner go
+            # who is not seen for a while): turn towards her, then go on aside
+            return self._swept(0.0, max(-self.limits.max_turn, min(self.limits.max_turn, 1.8 * bearing)), mapped)
+        pts = self.scan.points()
+        if len(mapped):
+            pts = np.concatenate((pts, mapped))
+        people = self.people.around(self.odom, self.now, near=(px, py))
+        partner = np.array([(rx, ry)])
+        people = np.concatenate((people, partner)) if len(people) else partner
+        limits = replace(self.limits, max_speed=min(self.limits.max_speed, GIVE_WAY_SPEED))
+        v_pref = heading_speed(GIVE_WAY_SPEED, math.atan2(gy, gx))
+        cmd = dwa(self.v, self.w, (gx, gy), pts, limits, v_pref=v_pref, params=self.params, people=people)
+        return cmd.v, cmd.w
 
     def _unstick(self, v: float, w: float, mapped: np.ndarray) -> tuple[float, float]:
         """Wedged (issue 26: a chair's corner beside the robot when the way turns off): it should drive
