@@ -121,6 +121,35 @@ def test_no_place_statement_ever_confirms_a_goto(statement, conf):
     assert m.summary()["confirmed_by_repetition"] == 0
 
 
+@pytest.mark.parametrize("conf", [0.6, 0.8, 0.95])
+def test_an_object_shown_with_its_this_lost_is_confirmed_never_taught_unasked(dm, conf):
+    # "[this] is my cup" or "[where] is my cup": the robot asks before it stores anything
+    out = dm.on_frame(heard("is my cup", conf))
+    assert sends(out) == [] and says(out) == ["Is this cup?"]
+    long = DialogManager(DOC)
+    long.es_state = "Interacting"
+    assert says(long.on_frame(heard("is my favourite blue cup", conf))) == ["Is this cup?"]
+    (s,) = sends(dm.on_frame(heard("yes")))
+    assert s.event == "object_teaching"
+    dm2 = DialogManager(DOC)
+    dm2.es_state = "Interacting"
+    dm2.on_frame(heard("is my cup", conf))
+    (w,) = sends(dm2.on_frame(heard("no, where is my cup")))
+    assert w.event == "query_object"
+
+
+def test_a_place_statement_that_closes_a_goto_answers_the_teaching_question_below_it(dm):
+    # lang_preamble seed 4: "Is this the study?" - (her repetition heard as a go-to) "Shall I go to
+    # the study?" - "this is my study": the go-to is declined and the study confirmed, not asked
+    # about twice more ("Is this the study? Is this the study?") and lost
+    assert says(dm.on_frame(heard("this is my study", LOW))) == ["Is this the study?"]
+    assert says(dm.on_frame(heard("to the study", LOW))) == ["Shall I go to the study?"]
+    out = dm.on_frame(heard("this is my study", LOW))
+    (s,) = sends(out)
+    assert s.event == "place_teaching" and s.children[0].find("PLACE/TITLE").get("name") == "study"
+    assert says(out) == ["OK, I will stay here."]
+
+
 @pytest.mark.parametrize("answer", ["the kitchen", "kitchen", "yes the kitchen", "go to the kitchen",
                                     "to the kitchen please", "yes"])
 def test_the_goal_alone_or_the_request_again_confirms_the_goto(dm, answer):

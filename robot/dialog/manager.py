@@ -171,6 +171,7 @@ class DialogManager:
         self._serial = 0
         self._last_done: tuple[str, dict[str, Any], int] | None = None  # (dialog, values, user turn) of the last success
         self._unheard = 0  # user turns in a row not understood (each answered with "say that again")
+        self._hold_resume = False  # a turn that closes one dialog goes on to the next: no resumption speech
         self.metrics: dict[str, Any] = {
             "user_turns": 0, "robot_turns": 0, "not_understood": 0, "reasks": 0, "confirmations": 0,
             "give_ups": 0, "rejections": 0, "rejections_explained": 0, "interruptions": 0, "resumptions": 0,
@@ -251,8 +252,16 @@ class DialogManager:
             answered.slots[answered.pending[1]].status = "false"
             answered.pending, answered.reasks, answered.passed_over = None, 0, 0
             self.metrics["corrections"] += 1
-            self._step(answered, out)
-            answered = None
+            # the dialog below does not resume with its question now: this turn goes on to it (it may
+            # answer that question, "Is this the study?" - "this is my study") or starts its own
+            self._hold_resume = True
+            try:
+                self._step(answered, out)
+            finally:
+                self._hold_resume = False
+            answered = self._answered_by(act)
+            if answered is not None:
+                answered.interrupted = False  # taken up again by this very turn
             said = ""  # the implied no answered the question; a "no" said aloud answered it too
         if answered is None and said and self._confirming() is not None:
             # "no, go to the kitchen" to "Shall I follow you?": the no answers it, the rest is new
@@ -644,7 +653,7 @@ class DialogManager:
         self.stack.remove(inst)
         if inst.on_end is not None:
             inst.on_end(inst)
-        if resume and was_top and self.stack:
+        if resume and was_top and self.stack and not self._hold_resume:
             below = self.stack[-1]
             if below.interrupted and below.pending is not None and (
                     below.passed_over >= self.doc.drop_after or below.interrupted_in != self.es_state):

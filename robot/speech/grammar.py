@@ -152,13 +152,18 @@ class Understander:
             res.reason = "no known words" if lex.unknown else "nothing said"
             return res
         tree, ignored, partial = self._parse(toks)
+        guess = False  # an object teaching rebuilt from a lost first word
         if toks[0].type in ("IS", "ARE") and len(toks) > 1 and (tree is None or partial):
             # "is the living room", "is my cup": not a question about an object (nobody asks a bare
             # "is my cup"), a teaching whose "this" was lost: parsed as the statement it was
             alt = self._parse([_LOST_THIS, *toks])  # whole: "is my <lost>" lost too much to guess
             if alt[0] is not None and not alt[2]:
-                # the copula stays counted as unheard: the statement is a guess from a word missing
+                # the copula stays counted as unheard: the statement is a guess from a word missing.
+                # An object shown this way is a guess at half the coverage, so the dialog confirms it
+                # ("Is this cup?"): the lost word may have been "where" as well, and a wrong teaching
+                # stores an object where it is not
                 tree, ignored, partial = alt[0], [toks[0].text, *alt[1]], True
+                guess = tree_act(tree) == "teach_object"
         elif ignored and len(toks) > 2 and [t.text for t in toks[len(toks) - len(ignored):]] != ignored:
             # "that to the kitchen" (the recogniser's "that" for "go"): a word skipped inside the
             # phrase ("that [to] the kitchen", a teaching) against a first word misheard, the rest a
@@ -226,7 +231,7 @@ class Understander:
         if ignored and tree_act(tree) == "greeting" and self._request_after_greeting(toks, ignored):
             used = len(toks)  # "hello biron, follow me": the greeting is sure; the request is not noise
             res.rest = list(ignored)
-        res.coverage = used / max(1, len(toks) + len(lex.unknown))
+        res.coverage = used / max(1, len(toks) + len(lex.unknown)) * (0.5 if guess else 1.0)
         return res
 
     def _restart(self, raw: list[Tok]) -> tuple[list[Tok], tuple[Tree | None, list[str], bool]] | None:
