@@ -60,7 +60,8 @@ from lxml import etree
 from homesim.message import Message
 from homesim.module import Module
 
-from robot.contract import ATTENTION_STATE, BASE_CMD, ES_EVENTS, ES_ORDERS, FACES, FOCUS, FOLLOW_STATUS, ODOMETRY, PARTNER, PLAYER_STATUS, POSE, PTU_CMD, SCAN, SOURCES, STEER, TORSOS, TRACKS
+from robot.contract import (ATTENTION_STATE, BASE_CMD, ES_EVENTS, ES_ORDERS, FACES, FOCUS, FOLLOW_STATUS, ODOMETRY, PARTNER, PLAYER_STATUS,
+                            POSE, PTU_CMD, SCAN, SOURCES, STEER, TORSOS, TRACKS)
 
 from .clutter import FurnitureLegs
 from .cues import CueSpec, Hysteresis, bearings_from, match_faces, match_sounds, sound_bearings_from

@@ -270,7 +270,6 @@ class ObjectAttention(Module):
         wanted = wanted_from(obj)
         self._finds += 1
         token = self._finds
-        self._listen(True)
         try:
             waited = 0.0
             start = self._gesture_start(said)
@@ -343,9 +342,9 @@ class ObjectAttention(Module):
                 self._listen(False)
 
     def _listen(self, on: bool) -> None:
-        """Follow the people's tracks and the player's status while a search runs, and only then
-        (every delivery draws a network delay from the run's generator: a subscription held all
-        the time would change every run)."""
+        """Follow the people's tracks and the player's status from when a search considers moving
+        until it ends, and only then (every delivery draws a network delay from the run's
+        generator: a subscription held longer would change every run with object teaching)."""
         if on and not self._subs:
             self._subs = [self.bus.subscribe(TRACKS, self._on_tracks), self.bus.subscribe(PLAYER_STATUS, self._on_player)]
         elif not on:
@@ -444,7 +443,12 @@ class ObjectAttention(Module):
         asked to stop it, event ``view_stop``). False when the view is not blocked or there is no
         such place."""
         target = self._target_3d(pointing)
-        if target is None or not self.view_blocked(pointing):
+        if target is None or self.pose is None or self.plan is None:
+            return False
+        if not self._subs:  # the people around: from now until the search ends
+            self._listen(True)
+            await asyncio.sleep(0.3)
+        if not self.view_blocked(pointing):
             return False
         return await self._move_to_see_spot(target, cause)
 
@@ -462,9 +466,13 @@ class ObjectAttention(Module):
 
     async def _move_to_see_spot(self, target: tuple[float, float, float], cause: str) -> bool:
         """Drive to the nearest place from which the camera sees ``target`` (see :meth:`_move_to_see`)."""
-        pose = self.pose
-        if pose is None or self.plan is None:
+        if self.pose is None or self.plan is None:
             return False
+        if not self._subs:  # the people around and the player's status: from now until the search ends
+            self._listen(True)
+            await asyncio.sleep(0.3)
+        pose = self.pose
+        assert pose is not None
         goal = viewpoint(self.plan, (pose[0], pose[1]), target, self._people_map(pose), camera_height=CAMERA_HEIGHT, camera_offset=CAMERA_OFFSET)
         if goal is None:
             return False
