@@ -218,7 +218,8 @@ class Actor:
         rng = self.draws(f"say:{act.line}" if act.line is not None else f"say:{act.request}")
         if rng is None:
             raise ScriptError(f"{self.name!r} has no paraphrase bank", source=self.world.scenario.source, line=act.line, element="say")
-        text = default_bank().draw(rng, act.request, self.traits.phrasing, avoid=avoid).render(act.about)
+        bank = default_bank()
+        text = bank.render(bank.draw(rng, act.request, self.traits.phrasing, avoid=avoid, about=act.about), act.about)
         self._last_phrase[key] = text
         return text
 
