@@ -61,7 +61,8 @@ def fillings(request: str) -> list[str | None]:
             "correct": rooms + objects, "self-correct": rooms + objects,
             "which": sorted({c for k in KINDS.values() for c in k[3]}),
             "which-side": ["left", "right", "middle"],
-            "which-place": ["on the floor"] + [f"on the {p[1]}" for p in PIECES.values() if p[7]],
+            "which-place": ["on the floor"] + [f"on the {r}{p[1]}" for p in PIECES.values() if p[7]
+                                                 for r in ["", *(w[4:] + " " for w in rooms)]],
             }.get(request, [None])
 
 

@@ -194,6 +194,13 @@ def path_length(flat: Flat, a: Point, b: Point) -> float:
     return total
 
 
+def where_it_stands(o: ObjectPlan) -> str:
+    """"on the coffee table", "on the kitchen counter", "on the floor": what a person says of where ``o`` stands."""
+    if o.on is None:
+        return "on the floor"
+    return "on the " + re.sub(r"\s+\d+$", "", o.on.name)
+
+
 # ------------------------------------------------------------------ the tour
 @dataclass
 class TourWriter:
@@ -217,6 +224,7 @@ class TourWriter:
     slack_base: float = 0.0  # extra seconds when the robot is silent: each wait to its timeout, one question answered
     slack_repair: float = 0.0  # and per repair of every request (a gap, her turn again, the wait)
     patience: int = 2  # the most repairs her profile makes for one request
+    objects: dict[str, ObjectPlan] = field(default_factory=dict)  # the flat's objects, by name
 
     def pick(self, options: tuple) -> object:  # type: ignore[type-arg]
         return options[int(self.rng.integers(len(options)))]
@@ -339,7 +347,8 @@ class TourWriter:
         about = ("my " if owner else "the ") + ("favourite " if favourite else "") + (f"{o.colour} " if colour else "") + word
         text = self.phrase("teach-object", about, slotted=True)
         self.act("point", object=o.name, duration=fmt(snap(float(self.rng.uniform(1.5, 2.5)))))
-        answers = U.reactions("object", words=[word, o.type.replace("_", " ")], about=about, colour=o.colour, obj=o.name)
+        answers = U.reactions("object", words=[word, o.type.replace("_", " ")], about=about, colour=o.colour, obj=o.name,
+                              which=self.which_answer(o))
         aside = aside_spot(self.flat, o, spot)
         if aside is not None:  # "Could you step aside, please?": she steps round the object and points again
             answers.append(U.step_aside(pt(aside), o.name))
@@ -355,6 +364,18 @@ class TourWriter:
         self.expect.append(("object-learned", attrs, f"{self.user} taught the {o.name} ({text!r})"))
         self.taught_objects.append((o, word))
         self.note()
+
+    def which_answer(self, o: ObjectPlan) -> list[etree._Element]:
+        """How she answers "Which one do you mean?" about ``o``, one way drawn among those that
+        tell it from its twin: by colour (not when the twin has the same colour), by position as
+        the robot sees them, by where it stands (not when the twin stands there too), by pointing."""
+        twin = self.objects.get(o.twin) if o.twin else None
+        place = where_it_stands(o)
+        kinds = [k for k in U.WHICH_KINDS
+                 if not (k == "colour" and twin is not None and twin.colour == o.colour)
+                 and not (k == "place" and twin is not None and where_it_stands(twin) == place)]
+        kind = kinds[int(self.rng.integers(len(kinds)))]
+        return U.which_answer(kind, o.name, colour=o.colour, place=place)
 
     def where_is(self) -> None:
         plain = [(o, w) for o, w in self.taught_objects if o.twin is None]
@@ -454,7 +475,8 @@ def _attempt(rng: np.random.Generator, name: str, seed: int, k: int, profile: st
         return None
     user = USER_NAMES[int(rng.integers(len(USER_NAMES)))]
     script = etree.Element("script")
-    tw = TourWriter(rng, flat, user, user_pos, start, script, patience=U.max_patience(profile))
+    tw = TourWriter(rng, flat, user, user_pos, start, script, patience=U.max_patience(profile),
+                    objects={o.name: o for o in objects})
     tw.wait(0.5, 2.0)
     tw.greet()
     _agenda(rng, tw, objects)

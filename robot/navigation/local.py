@@ -58,6 +58,7 @@ class DWAParams:
     w_speed: float = 0.8
     reach: float = 2.5  # m: laser points further than this from the robot are ignored
     period: float = 0.1  # s: the caller's control period (the robot keeps a command that long)
+    social_gap: float = 0.25  # m: air kept to people's bodies (SOCIAL_GAP; see social_mask)
 
 
 @dataclass(frozen=True)
@@ -414,16 +415,16 @@ def dwa(v0: float, w0: float, goal: tuple[float, float], points: np.ndarray, lim
         here = np.inf
     social = None
     if people is not None and len(people):
-        social, gaps = social_mask(x, y, th, np.asarray(people, dtype=float).reshape(-1, 2), V)
+        social, gaps = social_mask(x, y, th, np.asarray(people, dtype=float).reshape(-1, 2), V, gap=p.social_gap)
         clear = np.minimum(clear, gaps)
     return choose(V, W, x, y, th, hard, clear, here, d if len(pts) else None, goal, v_pref, p, social=social)
 
 
 def social_mask(x: np.ndarray, y: np.ndarray, th: np.ndarray, people: np.ndarray,
-                v: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+                v: np.ndarray | None = None, *, gap: float = SOCIAL_GAP) -> tuple[np.ndarray, np.ndarray]:
     """Which arcs (rows of the (K, S) poses) respect people's space, and each arc's smallest gap to a body.
 
-    An arc is fine when its footprint stays :data:`SOCIAL_GAP` from every body over its whole
+    An arc is fine when its footprint stays ``gap`` (:data:`SOCIAL_GAP`) from every body over its whole
     horizon, or when it never brings the robot closer than it is now (standing still always does),
     or when it turns on the spot (``v`` 0: nobody comes nearer the centre).
     The whole horizon, not just the stopping distance as for walls: people's positions come from
@@ -432,7 +433,7 @@ def social_mask(x: np.ndarray, y: np.ndarray, th: np.ndarray, people: np.ndarray
     """
     gaps = people_gaps(x, y, th, people).min(axis=1)
     now = float(people_gaps(np.zeros(1), np.zeros(1), np.zeros(1), people)[0])
-    ok = (gaps >= SOCIAL_GAP) | (gaps >= min(now, SOCIAL_GAP) - 1e-3)
+    ok = (gaps >= gap) | (gaps >= min(now, gap) - 1e-3)
     if v is not None:
         ok |= np.abs(v) < 1e-9
     return ok, gaps

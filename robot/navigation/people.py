@@ -72,18 +72,21 @@ class People:
 
     def around(self, odom: tuple[float, float, float], now: float, *, exclude: str | None = None,
                near: tuple[float, float] | None = None, near_radius: float = 0.6,
-               echoes: np.ndarray | None = None, moving: float | None = None) -> np.ndarray:
+               echoes: np.ndarray | None = None, moving: float | None = None, velocity: bool = False,
+               standing: float | None = None) -> np.ndarray:
         """(K, 2) robot-frame centres of the confirmed people within :data:`REACH` m, predicted to ``now``.
 
         ``exclude``: a track id left out (the partner the follower drives after); ``near``: an
         odom-frame point whose surroundings (``near_radius``) are left out too (a second track
         on the partner's own legs). ``echoes``: the latest scan's robot-frame points; a lost
         track is kept (see the module docstring) while one of them is near it. ``moving``: only
-        tracks faster than this (m/s), and no lost ones.
+        tracks faster than this (m/s), and no lost ones; ``standing``: only tracks slower than this
+        (m/s), lost ones too (where the laser still has an echo). ``velocity``: (K, 4), each centre with
+        the person's velocity in the robot frame (m/s; 0 for a remembered lost track).
         """
         xml = self.xml
         if xml is None:
-            return np.zeros((0, 2))
+            return np.zeros((0, 4 if velocity else 2))
         try:
             age = min(max(now - float(xml.get("time", now)), 0.0), HORIZON)
         except ValueError:
@@ -95,17 +98,19 @@ class People:
             if t.get("confirmed") != "true" or (exclude is not None and t.get("id") == exclude):
                 continue
             try:
-                x = float(t.get("x")) + float(t.get("vx", "0")) * age
-                y = float(t.get("y")) + float(t.get("vy", "0")) * age
+                vx, vy = float(t.get("vx", "0")), float(t.get("vy", "0"))
+                x = float(t.get("x")) + vx * age
+                y = float(t.get("y")) + vy * age
             except (TypeError, ValueError):
                 continue
             if near is not None and math.hypot(x - near[0], y - near[1]) < near_radius:
                 continue
-            if moving is not None and math.hypot(float(t.get("vx", "0")), float(t.get("vy", "0"))) <= moving:
+            speed = math.hypot(float(t.get("vx", "0")), float(t.get("vy", "0")))
+            if (moving is not None and speed <= moving) or (standing is not None and speed >= standing):
                 continue
             dx, dy = x - ox, y - oy
             if math.hypot(dx, dy) <= REACH:
-                out.append((c * dx + s * dy, -s * dx + c * dy))
+                out.append((c * dx + s * dy, -s * dx + c * dy) + ((c * vx + s * vy, -s * vx + c * vy) if velocity else ()))
         for tid in sorted(self.ghosts) if moving is None else ():
             x, y, lost = self.ghosts[tid]
             if now - lost > GHOST_MAX or echoes is None or not len(echoes) or tid == exclude:
@@ -116,10 +121,25 @@ class People:
             dx, dy = x - ox, y - oy
             lx, ly = c * dx + s * dy, -s * dx + c * dy
             if math.hypot(dx, dy) <= REACH and np.min(np.hypot(echoes[:, 0] - lx, echoes[:, 1] - ly)) <= GHOST_ECHO:
-                out.append((lx, ly))
+                out.append((lx, ly) + ((0.0, 0.0) if velocity else ()))
             else:
                 self.ghosts.pop(tid)  # nothing there any more: gone
-        return np.array(out) if out else np.zeros((0, 2))
+        return np.array(out) if out else np.zeros((0, 4 if velocity else 2))
+
+
+def closing_in(people: np.ndarray, *, near: float, speed: float) -> bool:
+    """Whether someone within ``near`` m, ahead of the robot's rear, walks toward its centre faster
+    than ``speed`` m/s (``people``: (K, 4) robot-frame centres and velocities, :meth:`People.around`).
+
+    A robot that drives on while a person walks at it meets them half way, at twice the closing
+    speed; one that stands lets them pass, or stop, at a distance of their choosing.
+    """
+    if not len(people):
+        return False
+    x, y, vx, vy = people[:, 0], people[:, 1], people[:, 2], people[:, 3]
+    d = np.hypot(x, y)
+    toward = -(x * vx + y * vy) / np.maximum(d, 1e-6)
+    return bool(np.any((d < near) & (x > -0.3) & (toward > speed)))
 
 
 def nearest(centres: np.ndarray) -> float:

@@ -40,14 +40,17 @@ from typing import Any
 import numpy as np
 from lxml import etree
 
+from homesim.errors import BusError, HomesimError
 from homesim.message import Message
 from homesim.module import Module
 
 from robot.contract import BASE_CMD, DISPLAY_CMD, ES_ORDERS, ODOMETRY, PLAYER_STATUS, POSE, SCAN, TRACKS
 
 from .config import Limits, limits_from_config
-from .local import Command, DWAParams, LatestScan, carrot, dwa, heading_speed, social_speed_limit
-from .people import People, nearest
+from .grid import MapError, parse_map
+from .local import Command, DWAParams, LatestScan, carrot, dwa, heading_speed, social_speed_limit, sweep_clearance
+from .outline import FloorOutline
+from .people import People, closing_in, nearest
 
 ORDERS = f"{ES_ORDERS}/player"
 #: m: how far ahead on the leg the controller steers (pure pursuit).
@@ -61,6 +64,21 @@ BACK_OFF_BEARING = math.pi / 3
 WEDGED = 1.0
 WEDGED_PERSON = 1.0
 WEDGED_GAP = 0.15
+#: m: air the go-to keeps to a tracked person's body: the 0.25 m the robot promises (SOCIAL_GAP) and the
+#: few centimetres by which the tracker misplaces someone standing (goto_standing_person passed Ida 0.244 m off)
+GOTO_SOCIAL_GAP = 0.30
+#: m, m/s: with someone this near walking toward its centre faster than this, it stands (yields)
+YIELD_NEAR = 1.6
+YIELD_SPEED = 0.15
+#: m: a turn on the spot at the goal (``align``) or a back-off keeps the footprint this far from the floor
+#: plan's walls and furniture (they sweep ground the laser does not see), or it is not made.
+SWEEP_MARGIN = 0.05
+#: s: how far ahead such a command is checked (a few control steps).
+SWEEP_TIME = 0.5
+#: m: a final turn begun clear goes on while its next steps keep this much air (the sweep check is sampled)
+TURN_GUARD = 0.02
+#: m: how far it backs out of a spot too tight to turn in at the goal, at most, to turn to the goal's heading.
+ALIGN_BACK = 0.6
 SCHEMA = Path(__file__).resolve().parent.parent / "schemas" / "navigation" / "player-status.xsd"
 
 
@@ -136,6 +154,8 @@ class Player(Module):
         self.tolerance = tolerance
         self.stall_time = stall_time
         self.params = params
+        # the go-to's own margin to people (its dynamic window's; the follower keeps the default)
+        self._goto_params = replace(params, social_gap=max(params.social_gap, GOTO_SOCIAL_GAP))
         sim.bus.declare_channel(PLAYER_STATUS, SCHEMA)
         self.goal: tuple[float, float, float, float, bool] | None = None  # x, y, theta, tolerance, align
         self._reached: tuple[float, float, float, float, bool] | None = None  # the step just reached
@@ -156,6 +176,10 @@ class Player(Module):
         self.bus.subscribe(SCAN, self._on_scan)
         self.bus.subscribe(ODOMETRY, self._on_odometry)
         self._tracks_sub: Any = None  # subscribed only while driving (see _listen_to_people)
+        self.outline: FloorOutline | None = None  # the floor plan round the robot (asked at the first move_to)
+        self._map_asked = False
+        self._aligning: float | None = None  # m backed off to make room for the final turn (None: not there yet)
+        self._turning = False  # the final turn has begun (its whole sweep was clear)
 
     def respawn(self) -> Player:
         """A fresh instance with the same configuration (what a process manager's restart gives)."""
@@ -189,11 +213,15 @@ class Player(Module):
             self._listen_to_people(True)
             self._best, self._best_t = math.inf, self.now
             self._backed = 0.0
+            self._aligning = None
+            self._turning = False
             self._stuck_since = None
             self.state = ""  # a new pose: say "moving" even when it was already moving
             self._set_state("moving")
         elif name == "stop":
             self.goal = self._reached = None
+            self._aligning = None
+            self._turning = False
             self._listen_to_people(False)
             self.bus.publish(BASE_CMD, etree.Element("velocity", v="0", w="0"))
             self._set_state("stopped")
@@ -235,6 +263,68 @@ class Player(Module):
         """Distance (m) to the nearest confirmed person track (inf: none)."""
         return nearest(self.people_around())
 
+    async def _fetch_map(self) -> None:
+        """The floor plan, once: without it the laser (forwards only) is the only guard."""
+        self._map_asked = True
+        try:
+            reply = await self.bus.call("map_server", "map", etree.Element("request"), timeout=2.0)
+            self.outline = FloorOutline(parse_map(reply.xml))
+        except (BusError, MapError, HomesimError, asyncio.TimeoutError):
+            pass
+
+    def mapped(self, pose: tuple[float, float, float]) -> np.ndarray:
+        """The floor plan's outline round ``pose`` (map frame) as robot-frame points ((0, 2) without a map)."""
+        return self.outline.around(pose) if self.outline is not None else np.zeros((0, 2))
+
+    def _sweep_ok(self, v: float, w: float, mapped: np.ndarray) -> bool:
+        """Whether (v, w) for :data:`SWEEP_TIME` keeps the footprint :data:`SWEEP_MARGIN` off the floor plan
+        (or brings it no closer than it is)."""
+        if not len(mapped):
+            return True
+        gap = sweep_clearance(v, w, mapped, SWEEP_TIME)
+        return gap >= SWEEP_MARGIN or gap >= sweep_clearance(0.0, 0.0, mapped, 0.0, steps=1) + 1e-3
+
+    def _arrive(self, dist: float, turn: float, mapped: np.ndarray) -> tuple[float, float]:
+        """At the goal: turn on the spot to its heading (``turn`` rad to go), then report ``reached``.
+
+        Where turning would sweep a corner into the floor plan's furniture or walls (a goal
+        between a bed and a wardrobe, at the end of a corridor), it backs out straight the way it
+        came, up to :data:`ALIGN_BACK` m, until it can turn; where it cannot, it arrives as it stands.
+        """
+        if self._aligning is None:
+            self._aligning = 0.0
+        w = max(-self.limits.max_turn, min(self.limits.max_turn, 1.5 * turn))
+        v = 0.0
+        if abs(turn) >= math.radians(8) and self._turning:
+            if len(mapped) and sweep_clearance(0.0, w, mapped, SWEEP_TIME) < TURN_GUARD:
+                turn = 0.0  # the turn, clear when begun, is not any more (the pose drifts): arrive as it stands
+        elif abs(turn) >= math.radians(8) and not self._turn_ok(turn, mapped):
+            v, w = -0.5 * self.limits.max_reverse, 0.0
+            if self._aligning >= ALIGN_BACK or not self._sweep_ok(v, 0.0, mapped):
+                turn, v = 0.0, 0.0  # no room to turn, none to back into: arrive as it stands
+        elif abs(turn) >= math.radians(8):
+            self._turning = True  # the whole turn is clear: make it
+        if abs(turn) < math.radians(8):
+            self.bus.publish(BASE_CMD, etree.Element("velocity", v="0", w="0"))
+            self._set_state("reached", dist)
+            self._reached, self.goal = self.goal, None
+            self._aligning = None
+            self._turning = False
+            self._listen_to_people(False)
+            return (0.0, 0.0)
+        self._aligning -= v * self.period
+        self.bus.publish(BASE_CMD, etree.Element("velocity", v=f"{v:.4f}", w=f"{w:.4f}"))
+        return (v, w)
+
+    def _turn_ok(self, turn: float, mapped: np.ndarray) -> bool:
+        """Whether turning on the spot through the whole of ``turn`` (rad) keeps the footprint
+        :data:`SWEEP_MARGIN` off the floor plan (a turn begun and then blocked half way would leave
+        the robot askew, its backing no longer the way it came)."""
+        if not len(mapped):
+            return True
+        steps = max(int(abs(turn) / math.radians(10)) + 1, 2)
+        return sweep_clearance(0.0, math.copysign(1.0, turn), mapped, abs(turn), steps=steps) >= SWEEP_MARGIN
+
     # ------------------------------------------------------------- control
     def pose(self) -> tuple[float, float, float] | None:
         """The localised pose advanced by odometry since it was estimated (None before the first)."""
@@ -274,40 +364,39 @@ class Player(Module):
         gx, gy, gth, tol, align = self.goal
         x, y, th = pose
         dist = math.hypot(gx - x, gy - y)
-        if dist <= tol:
-            turn = wrap(gth - th) if align else 0.0
-            if abs(turn) < math.radians(8):
-                self.bus.publish(BASE_CMD, etree.Element("velocity", v="0", w="0"))
-                self._set_state("reached", dist)
-                self._reached, self.goal = self.goal, None
-                self._listen_to_people(False)
-                return (0.0, 0.0)
-            w = max(-self.limits.max_turn, min(self.limits.max_turn, 1.5 * turn))
-            self.bus.publish(BASE_CMD, etree.Element("velocity", v="0", w=f"{w:.4f}"))
-            return (0.0, w)
+        mapped = self.mapped(pose)
+        if dist <= tol or self._aligning is not None:
+            return self._arrive(dist, wrap(gth - th) if align else 0.0, mapped)
         c, s = math.cos(th), math.sin(th)
         ax, ay = carrot(self.leg_start, (gx, gy), (x, y), LOOKAHEAD) if self.leg_start is not None else (gx, gy)
         local = (c * (ax - x) + s * (ay - y), -s * (ax - x) + c * (ay - y))
-        points = self.scan.points()
+        echoes = self.scan.points()
         odo = self.odo.pose
-        people = self.people.around(odo, self.now, echoes=points) if odo is not None else np.zeros((0, 2))
+        moving = self.people.around(odo, self.now, echoes=echoes, velocity=True) if odo is not None else np.zeros((0, 4))
+        people = moving[:, :2]
+        # the laser's echoes ahead, the floor plan all round (the corners sweep ground the laser does not see)
+        points = np.concatenate((echoes, mapped)) if len(mapped) else echoes
         cap = social_speed_limit(nearest(people), self.limits.max_speed)
         limits = self.limits if cap >= self.limits.max_speed else replace(self.limits, max_speed=cap)  # a hard limit
         bearing = math.atan2(local[1], local[0])
         v_pref = heading_speed(min(cap, 0.25 + 0.6 * dist), bearing)
         # everyone's space: wait at a polite distance, never at the body
-        cmd = dwa(self.odo.v, self.odo.w, local, points, limits, v_pref=v_pref, params=self.params, people=people)
+        cmd = dwa(self.odo.v, self.odo.w, local, points, limits, v_pref=v_pref, params=self._goto_params, people=people)
+        if cmd.ok and cmd.v > 0.0 and closing_in(moving, near=YIELD_NEAR, speed=YIELD_SPEED):
+            # someone near walks at it: stand and let them pass (yield), turning on the spot at most
+            cmd = Command(0.0, cmd.w if abs(cmd.v) < 0.02 else 0.0, True, cmd.clearance)
         if cmd.ok and abs(cmd.v) > 0.02:
             self._stuck_since = None
         elif self._stuck_since is None:
             self._stuck_since = self.now
         wedged = (self._stuck_since is not None and self.now - self._stuck_since >= WEDGED and nearest(people) > WEDGED_PERSON
                   and cmd.clearance < WEDGED_GAP)
-        if self._backed < BACK_OFF and (self._backed > 0.0 or wedged or (not cmd.ok and abs(bearing) > BACK_OFF_BEARING)):
+        if (self._backed < BACK_OFF and (self._backed > 0.0 or wedged or (not cmd.ok and abs(bearing) > BACK_OFF_BEARING))
+                and self._sweep_ok(-0.5 * limits.max_reverse, 0.0, mapped)):
             # stopped close in front of something with the way off to the side (a new leg after a
             # replan), or wedged with a corner at a door jamb (standing for WEDGED s, something within
             # WEDGED_GAP, nobody near): turning on the spot would sweep the corners into it, so back off BACK_OFF m
-            # first, straight the way it came (the laser does not see behind; it has just driven there)
+            # first, straight the way it came (the laser does not see behind: the floor plan must leave room)
             v = -0.5 * limits.max_reverse
             cmd = Command(v, 0.0, True, cmd.clearance)
             self._backed -= v * self.period
@@ -331,6 +420,8 @@ class Player(Module):
     async def run(self) -> None:
         while True:
             self.beat()
+            if self.goal is not None and not self._map_asked:
+                await self._fetch_map()
             self.control_step()
             await asyncio.sleep(self.period)
 
