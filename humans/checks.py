@@ -52,8 +52,8 @@ def check_scenario(sc: Scenario) -> None:
                 if act.request not in bank.requests:
                     raise ScenarioError(f"request={act.request!r} is not in the paraphrase bank; requests: {', '.join(sorted(bank.requests))}",
                                         source=sc.source, line=act.line, element="say")
-                if act.about is None and any(p.has_slot for p in bank.phrasings(act.request)):
-                    raise ScenarioError(f"request={act.request!r} has phrasings with a slot: give about= (e.g. about=\"the kitchen\")",
+                if act.about is None and act.side_of is None and any(p.has_slot for p in bank.phrasings(act.request)):
+                    raise ScenarioError(f"request={act.request!r} has phrasings with a slot: give about= (e.g. about=\"the kitchen\") or side-of=",
                                         source=sc.source, line=act.line, element="say")
         _loops(sc, h.handlers)
         for act in walk_actions(h.script + tuple(a for hd in h.handlers for a in hd.body)):

@@ -16,8 +16,11 @@ Traits (docs/users.md gives the sources): ``voice`` (dB SPL at 1 m),
 before she gives up), ``off_axis`` (probability that she speaks without
 facing the robot), ``pointing_error`` (standard deviation of her pointing
 direction, degrees), ``phrasing`` (weights of the paraphrase styles),
-``repairs`` (the repair strategies she uses) and ``give_up`` (what she does
-when her patience is used up). Nothing here reaches the robot: it hears her
+``repairs`` (the repair strategies she uses), ``give_up`` (what she does
+when her patience is used up) and ``mistakes`` (how often she is wrong: says
+yes to a wrong guess of the robot's, ``confirm``; names a room or a thing
+wrongly when she teaches it, ``misname``; and then corrects herself at once,
+``self-correct``: probabilities per occasion, drawn as she goes). Nothing here reaches the robot: it hears her
 words and sees her body through its sensor models only.
 """
 
@@ -47,7 +50,9 @@ NUMERIC: dict[str, tuple[float, float]] = {
     "pointing-error": (0.0, 45.0),
 }
 #: Every trait, in draw order.
-TRAITS = ("voice", "distance", "speed", "patience", "off-axis", "pointing-error", "phrasing", "repairs", "give-up")
+TRAITS = ("voice", "distance", "speed", "patience", "off-axis", "pointing-error", "phrasing", "repairs", "give-up", "mistakes")
+#: What a user can get wrong (``<mistakes confirm= misname= self-correct=/>``: probabilities per occasion).
+MISTAKES = ("confirm", "misname", "self-correct")
 
 
 @dataclass(frozen=True)
@@ -68,6 +73,11 @@ class Traits:
     repairing: bool = False
     #: whether she walks up to the robot face to face at her distance (a profile, or distance= given)
     approach: bool = False
+    #: how often she is wrong (probabilities per occasion): says yes to a wrong guess of the robot's,
+    #: names a room or a thing she teaches wrongly, corrects such a slip of hers at once
+    confirm_wrongly: float = 0.0
+    misname: float = 0.0
+    self_correct: float = 0.0
 
 
 @dataclass(frozen=True)
@@ -114,6 +124,7 @@ class Profile:
     give_up: tuple[tuple[str, float], ...]
     line: int | None = None
     extra: dict[str, str] = field(default_factory=dict)
+    mistakes: tuple[tuple[str, float], ...] = ()
 
 
 def _floats(raw: str, what: str, source: str, line: int | None) -> tuple[float, ...]:
@@ -215,8 +226,11 @@ def load_profiles(path: str | Path = PROFILES_PATH) -> dict[str, Profile]:
         repairs = _weights(p.find("repairs"), REPAIR_STRATEGIES, "repairs", source)
         if any(w > 1 for _, w in repairs):
             raise InputError(f"profile {name!r}: <repairs> gives probabilities (0 to 1)", source=source, line=p.sourceline)
+        mistakes = _weights(p.find("mistakes"), MISTAKES, "mistakes", source)
+        if any(w > 1 for _, w in mistakes):
+            raise InputError(f"profile {name!r}: <mistakes> gives probabilities (0 to 1)", source=source, line=p.find("mistakes").sourceline)
         out[name] = Profile(name, p.get("description", ""), numeric, _weights(p.find("phrasing"), STYLES, "phrasing", source),
-                            repairs, give_up, p.sourceline)
+                            repairs, give_up, p.sourceline, mistakes=mistakes)
     return out
 
 
@@ -239,7 +253,11 @@ def draw_profile(profile: Profile, rng: np.random.Generator) -> Traits:
     k = int(min(np.searchsorted(np.cumsum(w) / w.sum(), u, side="right"), len(w) - 1))
     return Traits(voice=values["voice"], distance=values["distance"], speed=values["speed"], patience=int(round(values["patience"])),
                   off_axis=values["off-axis"], pointing_error=values["pointing-error"], phrasing=profile.phrasing,
-                  repairs=repairs, give_up=profile.give_up[k][0], profile=profile.name, repairing=True, approach=True)
+                  repairs=repairs, give_up=profile.give_up[k][0], profile=profile.name, repairing=True, approach=True,
+                  # probabilities, not draws: each occasion draws as she goes (no draw here, so adding
+                  # mistakes to a profile leaves every other trait's draw as it was)
+                  confirm_wrongly=dict(profile.mistakes).get("confirm", 0.0), misname=dict(profile.mistakes).get("misname", 0.0),
+                  self_correct=dict(profile.mistakes).get("self-correct", 0.0))
 
 
 def apply_overrides(traits: Traits, given: tuple[tuple[str, str], ...]) -> Traits:

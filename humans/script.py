@@ -77,6 +77,29 @@ MAX_BOOST = 18.0
 MAX_STREAK = 50
 
 
+#: Objects of one type within this many metres of each other are "the one on the left / right".
+SIDE_GROUP = 1.0
+
+
+def side_seen_by_robot(world: World, name: str) -> str:
+    """Where object ``name`` stands among the similar objects next to it, as the robot sees them
+    now: "left", "right" or "middle". A person answering the robot's "which one?" takes the
+    robot's view, the frame BIRON itself words its options in ("the cup on the left or the one
+    on the right?"); users instructing a robot often do (Moratz, Tenbrink, Bateman and Fischer
+    2003, "Spatial knowledge representation for human-robot interaction"). The similar objects
+    are those of its type within :data:`SIDE_GROUP` m; alone, its side of the robot's line of sight."""
+    o = world.objects[name]
+    rx, ry, th = world.robot.pose
+    group = [p for p in world.objects.values() if p.type == o.type and math.hypot(p.x - o.x, p.y - o.y) <= SIDE_GROUP]
+    if len(group) < 2:
+        return "left" if math.remainder(math.atan2(o.y - ry, o.x - rx) - th, math.tau) > 0 else "right"
+    cx, cy = sum(p.x for p in group) / len(group), sum(p.y for p in group) / len(group)
+    ref = math.atan2(cy - ry, cx - rx)
+    order = sorted(group, key=lambda p: (-math.remainder(math.atan2(p.y - ry, p.x - rx) - ref, math.tau), p.name))
+    rank = order.index(o)
+    return "left" if rank == 0 else "right" if rank == len(order) - 1 else "middle"
+
+
 class GaveUp(Exception):
     """She gave up on the whole tour (give-up stop or leave): her script ends."""
 
@@ -115,6 +138,10 @@ class Actor:
         self._streak = 0
         self._absorbed: frozenset[int] = frozenset()  # robot utterances heard during her last reaction
         self._last_phrase: dict[tuple[str, str | None], str] = {}
+        self._slip: str | None = None  # what she meant when she just misnamed it (to correct herself)
+        self.confirmed_wrongly = 0  # wrong guesses of the robot's she said yes to
+        self.misnamed = 0  # rooms or things she named wrongly when she taught them
+        self.self_corrected = 0  # of those, the slips she corrected at once
         self.scoped_fired_total = 0  # how often a wait's own reactions fired over the run
         self.stopped_early = False  # she gave up by stopping or leaving: her script ended there
         self.scoped: tuple[Handler, ...] = ()  # the reactions of the wait-for she is in (``<on>`` inside it)
@@ -199,6 +226,7 @@ class Actor:
         self.before_speaking(act)
         u = self.world.sound.say(self.name, text, self.now, loudness=loudness, duration=act.duration)
         self.speech_end = u.end
+        meant, self._slip = self._slip, None
         if not act.wait:
             return
         self.on_speaking(True)
@@ -206,21 +234,78 @@ class Actor:
             await asyncio.sleep(u.end - u.start)
         finally:
             self.on_speaking(False)
+        if meant is not None and self.chance(f"self-correct:{act.line}", self.traits.self_correct):
+            self.self_corrected += 1  # "Sorry, I mean the kitchen", right after her slip
+            await self.say(Say(None, line=act.line, request="self-correct", about=meant))
+            return
         if self.handlers:
             await self.react()
 
     def phrase(self, act: Say, *, rephrase: bool = False) -> str:
-        """What she says: the text; or a phrasing of the request (another one when she rephrases)."""
-        if act.request is None or (act.text is not None and not rephrase):
+        """What she says: the text; or a phrasing of the request (another one when she rephrases).
+
+        Her profile's mistakes happen here: a correction she was to make becomes a "yes" (she
+        confirms the robot's wrong guess), and the first telling of a room or a thing she
+        teaches may name it wrongly (:meth:`misnaming`; she may correct herself, :meth:`say`).
+        """
+        if act.request is None:
             return act.text or ""
-        key = (act.request, act.about)
+        about = act.about if act.side_of is None else side_seen_by_robot(self.world, act.side_of)
+        if act.request in ("correct", "no") and self._reacting and self.chance(f"confirm:{act.line}", self.traits.confirm_wrongly):
+            # she says yes to the robot's wrong guess (did not listen closely, or thinks it close enough)
+            self.confirmed_wrongly += 1
+            act, about = Say(None, line=act.line, request="yes"), None
+        elif act.request in ("teach-place", "teach-object") and not rephrase and about and self.traits.misname > 0:
+            wrong = self.misnaming(about, f"misname:{act.line}")
+            if wrong is not None and (act.text is None or about in act.text):
+                self.misnamed += 1
+                self._slip = about  # she meant this (she may correct herself once she has said it)
+                if act.text is not None:
+                    return act.text.replace(about, wrong)
+                about = wrong
+        if act.text is not None and not rephrase:
+            return act.text
+        key = (act.request, about)
         avoid = self._last_phrase.get(key, act.text) if rephrase else None
         rng = self.draws(f"say:{act.line}" if act.line is not None else f"say:{act.request}")
         if rng is None:
             raise ScriptError(f"{self.name!r} has no paraphrase bank", source=self.world.scenario.source, line=act.line, element="say")
-        text = default_bank().draw(rng, act.request, self.traits.phrasing, avoid=avoid).render(act.about)
+        bank = default_bank()
+        text = bank.render(bank.draw(rng, act.request, self.traits.phrasing, avoid=avoid, about=about), about)
         self._last_phrase[key] = text
         return text
+
+    def chance(self, key: str, p: float) -> bool:
+        """True with probability ``p`` (from the act's own generator ``key``; no draw when p is 0)."""
+        if p <= 0:
+            return False
+        rng = self.draws(key)
+        return rng is not None and float(rng.random()) < p
+
+    def misnaming(self, about: str, key: str) -> str | None:
+        """``about`` with its room or thing named wrongly ("the bedroom" for "the kitchen", "my
+        red book" for "my red cup"), with her ``misname`` probability; None: she names it right.
+
+        A room becomes another room of her home; a thing, a word of another type."""
+        if not self.chance(key, self.traits.misname):
+            return None
+        rng = self.draws(key)
+        assert rng is not None
+        low = about.lower()
+        rooms = sorted((r.name for r in self.world.scenario.rooms), key=len, reverse=True)
+        hit = next((r for r in rooms if re.search(rf"\b{re.escape(r)}\b", low)), None)
+        if hit is not None:
+            others = sorted(r for r in rooms if r != hit)
+        else:
+            words = default_bank().object_words
+            type_of = {w: t for t, ws in words.items() for w in ws}
+            hit = next((w for w in sorted(type_of, key=len, reverse=True) if re.search(rf"\b{re.escape(w)}\b", low)), None)
+            if hit is None:
+                return None
+            others = sorted(ws[0] for t, ws in words.items() if t != type_of[hit] and ws[0] not in default_bank().plurals)
+        if not others:
+            return None
+        return re.sub(rf"\b{re.escape(hit)}\b", others[int(rng.integers(len(others)))], low, count=1)
 
     def draws(self, key: str) -> np.random.Generator | None:
         """The generator of one of her acts (``key``: ``say:<line>``, ``look:<line>``, ``point:<line>``).

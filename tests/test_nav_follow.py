@@ -93,7 +93,7 @@ def _too_fast_setup(run):
 
 @pytest.fixture(scope="module")
 def too_fast():
-    run = _follow("follow_too_fast", 12.0, setup=_too_fast_setup)
+    run = _follow("follow_too_fast", 17.5, setup=_too_fast_setup)
     yield run
     run.close()
 
@@ -112,11 +112,21 @@ def test_a_partner_who_walks_too_fast_is_told_so(too_fast):
     assert warn and warn[0][2]["distance"] == warnings[0][2]["distance"]
 
 
-def test_a_lost_partner_stops_the_robot(too_fast):
-    after = [(t, st) for t, st in too_fast.status if t > 9.0 + 1.3]
+def test_a_partner_out_of_view_is_searched_for_where_she_was_heading_then_the_robot_stops(too_fast):
+    from robot.navigation.follow import Follower
+
+    f = too_fast.modules["follower"]
+    # hidden at 9.0 s: after lost_after (1 s) it searches, slowly, for search_time (6 s) since last seen
+    searching = [(t, st) for t, st in too_fast.status if 9.0 + 1.3 < t < 9.0 + f.search_time - 0.2]
+    assert searching and all(st["state"] == "searching" for _, st in searching)
+    # (the odometry's speed, noisy, as it slows from the following speed)
+    assert all(float(st["speed"]) <= f.search_speed + 0.1 for t, st in searching if t > 10.5)
+    assert any(float(st["speed"]) > 0.1 for _, st in searching)  # it drives on where she went, not standing
+    after = [(t, st) for t, st in too_fast.status if t > 9.0 + f.search_time + 0.4]
     assert after and all(st["state"] == "stopped" for _, st in after)
     assert abs(too_fast.world.robot.v) < 1e-6  # standing still by the end
-    assert too_fast.world.robot.odometer < 0.5 * 11.0  # it never went faster than its limit
+    assert too_fast.world.robot.odometer < 0.5 * 17.5  # it never went faster than its limit
+    assert Follower.__init__.__kwdefaults__["search_time"] == 6.0  # the attention's follow_lost_after is the same
 
 
 def test_the_follower_drives_only_in_follow():
@@ -159,7 +169,7 @@ def test_a_partner_out_of_sight_for_a_moment_is_reacquired_and_the_time_measured
     assert s["reacquisitions"] == 1
     assert s["time_to_reacquire_s"]["mean"] == pytest.approx(1.5, abs=0.11)  # the oracle's 10 Hz
     states = [(t, st["state"]) for t, st in run.status]
-    assert any(st == "stopped" for t, st in states if 5.1 < t < 5.5)  # lost for > 1 s: it stopped
+    assert any(st == "searching" for t, st in states if 5.1 < t < 5.5)  # lost for > 1 s: it searched
     assert any(st == "following" for t, st in states if t > 5.8)  # and followed on once seen again
     assert s["identity_switches"] == 0
     run.close()

@@ -176,3 +176,27 @@ def test_a_person_who_pushed_the_robot_would_fail_no_collision(monkeypatch):
     monkeypatch.setattr(Person, "plan", lambda self, goal: self.world.walk_grid().plan(self.body.position, goal))
     monkeypatch.setattr(World, "_hold_people_back", lambda self, *args: None)
     assert "<no-collision/>" in _failing(EXAMPLE_TEXT)
+
+
+def test_a_scenario_without_expectations_says_nothing_was_checked_not_pass_0_of_0(tmp_path, capsys):
+    """A run that asserts nothing did not pass: the verdict says so, and a sweep counts it apart."""
+    import json
+    from pathlib import Path
+
+    from homesim.tour.sweep import aggregate, run_one
+
+    room = Path(__file__).parent / "scenarios" / "room.xml"
+    text = room.read_text(encoding="utf-8").replace('duration="10"', 'duration="2"')
+    assert "<expect" not in text
+    scenario = tmp_path / "room.xml"
+    scenario.write_text(text, encoding="utf-8")
+    summary = tmp_path / "summary.json"
+    assert main(["run", str(scenario), "--summary", str(summary)]) == 0
+    out = capsys.readouterr().out
+    assert "0/0" not in out and "PASS" not in out
+    assert out.splitlines()[-1].startswith("verdict: no expectations (the run completed")
+    assert json.loads(summary.read_text())["verdict"] == "no expectations"
+    row = run_one(str(scenario), 0, None, None)
+    assert row["verdict"] == "no expectations"
+    (a,) = aggregate([row, {**row, "seed": 1, "verdict": "PASS"}])
+    assert (a["passed"], a["failed"], a["errors"], a["unchecked"]) == (1, 0, 0, 1)

@@ -12,11 +12,11 @@ from homesim.tour.metrics.teaching import TeachingMetric
 from homesim.scenario.loader import load_scenario_text
 from homesim.world.bodies import Pointing
 from homesim.world.world import World
-from tests.test_object_attention import SCENARIO, _run
+from tests.test_object_attention import POINT, SCENARIO, _run
 
 
 def _world():
-    return World(load_scenario_text(SCENARIO.replace("POINTING", ""), source="teaching_cups.xml"))
+    return World(load_scenario_text(SCENARIO.replace(POINT, ""), source="teaching_cups.xml"))
 
 
 def _learned(x, y, type_="cup", colour="red", t=1.0):
@@ -60,7 +60,7 @@ def test_pointing_between_two_cups_accepts_either_and_a_late_object_is_not_credi
     m = TeachingMetric(None, world=world)
     _point(world, m, "point", (2.7, 2.5, 0.0), 1.0)
     m.on_message(_learned(2.7, 2.7, colour="blue", t=5.0))
-    m.on_message(_learned(2.7, 2.3, colour="red", t=40.0))  # long after the gesture
+    m.on_message(_learned(2.7, 2.3, colour="red", t=90.0))  # long after the gesture
     s = m.summary()
     assert s["episodes"] == 1 and s["correct"] == 1 and s["learned"] == 2 and s["recall"] == 1.0
 

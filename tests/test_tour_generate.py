@@ -14,7 +14,8 @@ from hypothesis import strategies as st
 from homesim.cli import main
 from homesim.scenario.loader import load_scenario, load_scenario_text
 from homesim.scenario.model import PointAt, Say, Scenario, WalkTo
-from homesim.tour import objectgen, phrasing
+from homesim.tour import objectgen
+from humans.phrasings import default_bank
 from homesim.tour.flatgen import DOOR_MAX, DOOR_MIN, generate_flat, robot_grid
 from homesim.tour.generate import generate_one, sight
 from homesim.geometry import point_in_polygon, polygon_area
@@ -170,7 +171,7 @@ def test_object_words_and_types_are_the_robots_lexicon():
     for words, (terminal, value) in lex.entries.items():
         if terminal == "OBJ":
             obj[" ".join(words)] = value
-    for typ, words in phrasing.OBJECT_WORDS.items():
+    for typ, words in default_bank().object_words.items():
         assert typ in objectgen.KINDS
         for w in words:
             assert obj.get(w) == typ, (w, typ)
@@ -188,13 +189,14 @@ def test_flats_are_random_but_every_room_is_reachable_for_the_robot():
 
 
 def test_plural_objects_are_spoken_of_in_the_plural():
-    assert phrasing.agree("Look, this is the glasses", "glasses") == "Look, these are the glasses"
-    assert phrasing.agree("Can you tell me where the keys is", "keys") == "Can you tell me where the keys are"
-    assert phrasing.agree("This is a shoes", "shoes") == "These are shoes"
-    assert phrasing.agree("This is my cup", "cup") == "This is my cup"
-    for t, *_ in phrasing.OBJECT + phrasing.OBJECT_SIMILAR:
-        text = phrasing.agree(t.format(word="keys", colour="grey"), "keys")
-        assert " is " not in f" {text} " and "this " not in text.lower(), text
+    bank = default_bank()
+    for request in ("teach-object", "where-is", "correct", "self-correct"):
+        for p in bank.phrasings(request):
+            for about in ("my keys", "the grey keys", "my favourite glasses", "the shoes"):
+                text = bank.render(p, about)
+                assert not re.search(r"\b(is|this|it's|that is)\b", text, re.I), text
+            for about in ("my cup", "the red mug"):
+                assert bank.render(p, about) == p.render(about)
 
 
 def test_generate_counts_one_thing_in_the_singular(tmp_path, capsys):

@@ -238,3 +238,37 @@ def test_two_scenario_files_of_one_name_are_refused(tmp_path):
         (tmp_path / d / "radio.xml").write_bytes(Path("scenarios/radio.xml").read_bytes())
     with pytest.raises(OptionError, match="the same name"):
         study([str(tmp_path / "a" / "radio.xml"), str(tmp_path / "b" / "radio.xml")], [0], [Condition("default")], tmp_path / "out", workers=1)
+
+
+def _cell(passed: int, runs: int) -> dict:
+    from homesim.tour.capabilities import wilson
+
+    return {"runs": runs, "passed": passed, "rate": passed / runs, "ci95": list(wilson(passed, runs))}
+
+
+@pytest.mark.parametrize("k", [2, 3, 5])
+def test_the_study_plots_legend_covers_no_bar_interval_or_count(k):
+    """With several conditions the legend sits outside the axes: rates near 100 % reach the
+    right edge (where the old "lower right" legend hid them), and the counts stand past it."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    from homesim.viz.study import rates_figure
+
+    conds = [f"condition-{j}" for j in range(k)]
+    caps = {name: {"by_condition": {c: _cell(40 - j, 40) for j, c in enumerate(conds)}}
+            for name in ("greeting", "following", "good-bye", "no collision")}
+    doc = {"study": {"conditions": conds, "runs": 40 * k, "scenarios": 40, "seeds": [0]},
+           "overall": {"by_condition": {c: _cell(39, 40) for c in conds}}, "capabilities": caps}
+    fig = rates_figure(doc)
+    renderer = FigureCanvasAgg(fig).get_renderer()
+    fig.draw(renderer)
+    (legend,) = fig.legends
+    box = legend.get_window_extent(renderer)
+    (ax,) = fig.axes
+    drawn = [a.get_window_extent(renderer) for a in (*ax.patches, *ax.texts, ax.title)]
+    drawn += [c.get_datalim(ax.transData).transformed(ax.transData) for c in ax.collections]  # the intervals
+    assert len(ax.texts) == 5 * k and len(ax.collections) == k
+    assert not any(box.overlaps(b) for b in drawn)
+    assert not box.overlaps(ax.get_window_extent(renderer))
+    fig_box = fig.bbox
+    assert fig_box.x0 <= box.x0 and box.x1 <= fig_box.x1 and fig_box.y0 <= box.y0 and box.y1 <= fig_box.y1

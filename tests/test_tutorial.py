@@ -87,3 +87,26 @@ def test_every_step_of_the_tutorial_runs(scratch):
     for f in ("out/tour.jsonl", "out/moment.png", "out/timeline.svg", "out/tour.perfetto.json", "out/tour.mcap",
               "out/homes/tour-7-2.xml", "out/study/study.json", "out/study/study.png", "out/users/study.json"):
         assert (scratch / f).stat().st_size > 0, f
+
+
+#: The tutorial's account of Bea's two runs (section 3a): seed, the robot's question, her answer, twice.
+BEA = re.compile(r'With seed (\d+) the robot .*?\("([^"]+)"\) and she\s+answers "([^"]+)"; with seed (\d+) it asks "([^"]+)" and she says\s+"([^"]+)"', re.S)
+
+
+@pytest.mark.slow
+def test_what_the_tutorial_says_bea_answers_is_what_she_answers(tmp_path, capsys):
+    """Section 3a quotes the robot's question and Bea's answer for two seeds: the runs say just that."""
+    from homesim.cli import main
+
+    m = BEA.search(TUTORIAL)
+    assert m, "section 3a no longer says what Bea answers with which seed"
+    bea = tmp_path / "bea.xml"
+    bea.write_text(BLOCKS[[i for i, (lang, _) in enumerate(BLOCKS) if lang == "xml"][SAVE_AS.index("out/bea.xml")]][1], encoding="utf-8")
+    assert f"homesim run out/bea.xml --seed {m.group(4)}" in TUTORIAL
+    for seed, question, answer in ((m.group(1), m.group(2), m.group(3)), (m.group(4), m.group(5), m.group(6))):
+        assert main(["run", str(bea), "--seed", seed]) == 0
+        said = [line.split(": ", 1) for line in capsys.readouterr().out.splitlines() if re.match(r"\s+[\d.]+\s+(robot|bea): ", line)]
+        turns = [(who.split()[-1], text) for who, text in said]
+        assert ("robot", question) in turns, (seed, turns)
+        i = turns.index(("robot", question))
+        assert turns[i + 1] == ("bea", answer), (seed, turns[i:i + 2])

@@ -92,15 +92,6 @@ def test_every_request_has_many_phrasings_in_several_styles():
         assert {p.style for p in ps} <= set(STYLES)
 
 
-def test_the_banks_are_not_the_robots_understanding_corpus():
-    from pathlib import Path
-
-    robot_speech = Path(__file__).resolve().parents[1] / "robot" / "speech"
-    corpus = " ".join(p.read_text(encoding="utf-8").lower() for p in robot_speech.rglob("*") if p.suffix in (".tsv", ".txt", ".xml", ".lark", ".json"))
-    phrasings = [p.text.lower() for ps in default_bank().requests.values() for p in ps if len(p.text.split()) >= 4]
-    assert phrasings and sum(p in corpus for p in phrasings) <= len(phrasings) // 10
-
-
 def test_a_bad_profile_file_is_refused_with_its_line(tmp_path):
     f = tmp_path / "p.xml"
     f.write_text('<profiles>\n<profile name="x">\n<voice normal="60 3"/>\n</profile>\n</profiles>\n')

@@ -339,6 +339,10 @@ class _Checker:
         elif isinstance(act, Say):
             if not person and act.request is not None:
                 raise self.fail(act.line, tag, f"{owner!r} is a sound source: it says text=, it has no paraphrase bank (request=)")
+            if act.side_of is not None:
+                found = self.kinds.get(act.side_of)
+                if found is None or found[0] != "object":
+                    raise self.fail(act.line, tag, "side-of: " + unknown_name("object", act.side_of, self.named("object")))
         elif isinstance(act, StepCloser):
             if act.nearest < ROBOT_RADIUS + HUMAN_RADIUS - 1e-9:
                 raise self.fail(act.line, tag, f"nearest={act.nearest:g} m would put her on the robot: at least {ROBOT_RADIUS + HUMAN_RADIUS:g} m")

@@ -502,10 +502,14 @@ class _Builder:
         if tag == "say":
             if el.get("text") is None and el.get("request") is None:
                 raise self.fail(el, "<say> needs text= or request= (a phrasing drawn from the paraphrase bank)")
-            if el.get("about") is not None and el.get("request") is None:
-                raise self.fail(el, "about= fills a bank phrasing's slot: it needs request=")
+            for slot in ("about", "side-of"):
+                if el.get(slot) is not None and el.get("request") is None:
+                    raise self.fail(el, f"{slot}= fills a bank phrasing's slot: it needs request=")
+            if el.get("about") is not None and el.get("side-of") is not None:
+                raise self.fail(el, "about= and side-of= both fill the one slot: give one")
             return Say(el.get("text"), loudness=self.opt(el, "loudness"), duration=self.opt(el, "duration"), line=line,
-                       request=el.get("request"), about=el.get("about"), wait=self.flag(el, "wait", True))
+                       request=el.get("request"), about=el.get("about"), wait=self.flag(el, "wait", True),
+                       side_of=el.get("side-of"))
         if tag == "wait-speech":
             return WaitSpeech(line=line)
         if tag == "step-closer":

@@ -124,7 +124,8 @@ class Say:
     """Say ``text``, or a phrasing of ``request`` drawn from the person's paraphrase bank.
 
     ``about`` fills the bank phrasing's ``{about}`` slot ("the kitchen",
-    "my favourite cup"). With ``text`` and ``request`` both given, the text is
+    "my favourite cup"); ``side_of`` fills it, when she speaks, with an object's
+    side among its neighbours as the robot sees them. With ``text`` and ``request`` both given, the text is
     said first and rephrasings come from the bank. ``wait=False`` does not
     freeze the person: the next action starts while she talks (``wait-speech``
     waits for the end).
@@ -137,6 +138,9 @@ class Say:
     request: str | None = None
     about: str | None = None
     wait: bool = True
+    #: an object's name: ``{about}`` is its side ("left", "right", "middle") among the similar
+    #: objects next to it, as the robot sees them now (a "which one" answered by position)
+    side_of: str | None = None
 
 
 @dataclass(frozen=True)

@@ -18,8 +18,9 @@ import re
 from collections.abc import Sequence
 
 from ..scenario.model import Expectation
-from .phrasing import OBJECT_WORDS as _WORDS
+from humans.phrasings import default_bank
 
+_WORDS = default_bank().object_words
 OBJECT_WORDS = sorted({w for words in _WORDS.values() for w in words} | set(_WORDS), key=len, reverse=True)
 
 #: The capabilities, in the order of a home tour (tables and plots use it).

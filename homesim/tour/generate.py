@@ -15,7 +15,8 @@ a spot 0.6 to 0.9 m from the object from which the object can be seen, and
 from which the robot, too, has a place to see it from), asks where an object
 she taught is, sends the robot to a room she taught (then walks over to it
 and greets it again), and says good-bye. Every request is worded from the
-generator's own phrasing bank (:mod:`homesim.tour.phrasing`). She waits for
+users' one paraphrase bank (``humans/phrasings.xml``, :mod:`humans.phrasings`), which is kept
+apart from the robot's understanding corpus. She waits for
 the robot's answer to each request and repeats her turn when it asks her to
 or does not answer (at most twice), like the library's users.
 
@@ -51,10 +52,10 @@ from lxml import etree
 from ..cliargs import OptionError, count
 from ..world.acoustics import speech_duration
 from ..scenario.pathplan import NoPathError
-from . import phrasing as P
 from . import usergen as U
 from .flatgen import Flat, RoomPlan, generate_flat, snap
 from .objectgen import ObjectPlan, generate_objects
+from humans.phrasings import default_bank
 
 Point = tuple[float, float]
 
@@ -67,6 +68,11 @@ MAX_COUNT = 10_000
 #: The bystanders' scripts are made for a run this long (a user repairing every request this many
 #: times), whatever the user's profile: the same home under every users mix.
 BYSTANDER_PATIENCE = 3
+#: What she mentions when she teaches an object: (owner "my", "favourite", its colour), one
+#: drawn alike; with a similar object next to it she always says the colour.
+MENTIONS = ((True, False, False), (True, True, False), (False, False, False), (False, False, False),
+            (True, False, False), (False, False, True), (True, False, True))
+MENTIONS_SIMILAR = ((False, False, True), (True, False, True), (True, False, True))
 #: Why draws were refused by the scenario checks (for the generator's tests and debugging).
 REFUSED: list[str] = []
 
@@ -188,6 +194,13 @@ def path_length(flat: Flat, a: Point, b: Point) -> float:
     return total
 
 
+def where_it_stands(o: ObjectPlan) -> str:
+    """"on the coffee table", "on the kitchen counter", "on the floor": what a person says of where ``o`` stands."""
+    if o.on is None:
+        return "on the floor"
+    return "on the " + re.sub(r"\s+\d+$", "", o.on.name)
+
+
 # ------------------------------------------------------------------ the tour
 @dataclass
 class TourWriter:
@@ -211,9 +224,15 @@ class TourWriter:
     slack_base: float = 0.0  # extra seconds when the robot is silent: each wait to its timeout, one question answered
     slack_repair: float = 0.0  # and per repair of every request (a gap, her turn again, the wait)
     patience: int = 2  # the most repairs her profile makes for one request
+    objects: dict[str, ObjectPlan] = field(default_factory=dict)  # the flat's objects, by name
 
     def pick(self, options: tuple) -> object:  # type: ignore[type-arg]
         return options[int(self.rng.integers(len(options)))]
+
+    def phrase(self, request: str, about: str | None = None, *, slotted: bool = False) -> str:
+        """A phrasing of ``request`` from the users' bank (any style), its slot filled with ``about``."""
+        bank = default_bank()
+        return bank.render(bank.draw(self.rng, request, slotted=slotted, about=about), about)
 
     def act(self, tag: str, **attrs: str) -> None:
         etree.SubElement(self.script, tag, {k.replace("_", "-"): v for k, v in attrs.items()})
@@ -266,7 +285,8 @@ class TourWriter:
     # --------------------------------------------------------------- steps
     def greet(self, again: bool = False) -> None:
         self.face_robot()
-        self.say(str(self.pick(P.GREET_AGAIN if again else P.GREET)), U.GREETED, 6, request="greet",
+        request = "greet-again" if again else "greet"
+        self.say(self.phrase(request), U.GREETED, 6, request=request,
                  answers=U.reactions("greet"))
         self.interacting = True
         self.note()
@@ -274,7 +294,7 @@ class TourWriter:
     def capabilities(self) -> None:
         self.wait(0.5, 1.5)
         self.face_robot()
-        self.say(str(self.pick(P.CAPABILITIES)), U.EXPLAINED, 10, request="capabilities")
+        self.say(self.phrase("capabilities"), U.EXPLAINED, 10, request="capabilities")
         self.asked_capabilities = True
         self.t += 6  # the robot's explanation is long
 
@@ -283,8 +303,8 @@ class TourWriter:
         word = room.name
         self.wait(0.5, 1.5)
         self.face_robot()
-        text = str(self.pick(P.PLACE)).format(word=word)
         about = f"the {word}"
+        text = self.phrase("teach-place", about)
         self.say(text, U.PLACE_LEARNED, 6, request="teach-place", about=about,
                  answers=U.reactions("place", words=[word], about=about))
         self.taught_places[self.room] = (word, self.pos)
@@ -294,14 +314,14 @@ class TourWriter:
         """"Follow me", walk to ``goal`` with the robot behind her, "stop"."""
         self.wait(0.5, 1.5)
         self.face_robot()
-        self.say(str(self.pick(P.FOLLOW)), U.FOLLOWING, 6, request="follow", answers=U.reactions("follow"))
+        self.say(self.phrase("follow"), U.FOLLOWING, 6, request="follow", answers=U.reactions("follow"))
         self.wait(0.3, 1.2)
         speed = snap(float(self.rng.uniform(*FOLLOW_SPEED)))
         self.act("walk-to", point=pt(goal), speed=fmt(speed))
         self.t += path_length(self.flat, self.pos, goal) / speed + 2
         self.pos, self.room = goal, room
         self.face_robot()
-        self.say(str(self.pick(P.STOP)), U.STOPPED, 6, request="stop")
+        self.say(self.phrase("stop"), U.STOPPED, 6, request="stop")
         self.wait(1.0, 3.0)  # the robot comes up to her
         if room not in self.led_to:
             self.led_to.append(room)
@@ -320,14 +340,15 @@ class TourWriter:
             self.follow_to(spot, o.room)
         else:
             self.step_to(spot)
-        words = P.OBJECT_WORDS[o.type]
+        words = default_bank().object_words[o.type]
         word = words[0] if self.rng.random() < 0.6 else str(self.pick(words))
-        template, owner, favourite, colour = self.pick(P.OBJECT_SIMILAR if o.twin else P.OBJECT)  # type: ignore[misc]
-        text = P.agree(template.format(word=word, colour=o.colour), word)
-        self.act("point", object=o.name, duration=fmt(snap(float(self.rng.uniform(1.5, 2.5)))))
-        # what she calls it when she rephrases or answers (with what her sentence said: mine, favourite, colour)
+        owner, favourite, colour = self.pick(MENTIONS_SIMILAR if o.twin else MENTIONS)  # type: ignore[misc]
+        # what she calls it, in her sentence and when she rephrases or answers: mine, favourite, colour
         about = ("my " if owner else "the ") + ("favourite " if favourite else "") + (f"{o.colour} " if colour else "") + word
-        answers = U.reactions("object", words=[word, o.type.replace("_", " ")], about=about, colour=o.colour, obj=o.name)
+        text = self.phrase("teach-object", about, slotted=True)
+        self.act("point", object=o.name, duration=fmt(snap(float(self.rng.uniform(1.5, 2.5)))))
+        answers = U.reactions("object", words=[word, o.type.replace("_", " ")], about=about, colour=o.colour, obj=o.name,
+                              which=self.which_answer(o))
         aside = aside_spot(self.flat, o, spot)
         if aside is not None:  # "Could you step aside, please?": she steps round the object and points again
             answers.append(U.step_aside(pt(aside), o.name))
@@ -344,6 +365,18 @@ class TourWriter:
         self.taught_objects.append((o, word))
         self.note()
 
+    def which_answer(self, o: ObjectPlan) -> list[etree._Element]:
+        """How she answers "Which one do you mean?" about ``o``, one way drawn among those that
+        tell it from its twin: by colour (not when the twin has the same colour), by position as
+        the robot sees them, by where it stands (not when the twin stands there too), by pointing."""
+        twin = self.objects.get(o.twin) if o.twin else None
+        place = where_it_stands(o)
+        kinds = [k for k in U.WHICH_KINDS
+                 if not (k == "colour" and twin is not None and twin.colour == o.colour)
+                 and not (k == "place" and twin is not None and where_it_stands(twin) == place)]
+        kind = kinds[int(self.rng.integers(len(kinds)))]
+        return U.which_answer(kind, o.name, colour=o.colour, place=place)
+
     def where_is(self) -> None:
         plain = [(o, w) for o, w in self.taught_objects if o.twin is None]
         if not plain:
@@ -351,9 +384,9 @@ class TourWriter:
         o, word = plain[int(self.rng.integers(len(plain)))]
         self.wait(0.5, 2.0)
         self.face_robot()
-        text = P.agree(str(self.pick(P.WHERE)).format(word=word), word)
+        about = ("my " if self.rng.random() < 0.6 else "the ") + word
+        text = self.phrase("where-is", about)
         names = "|".join(sorted({rx(word), rx(o.type.replace("_", " "))}))
-        about = ("my " if " my " in f" {text} " else "the ") + word
         self.say(text, f"\\b({names}) (is|are)\\b|" + U.SEEN, 8, request="where-is", about=about,
                  answers=U.reactions("where", about=about))
         self.expect.append(("robot-says", {"pattern": f"\\b({names}) (is|are)\\b"}, f"{self.user} asks where the {o.name} is ({text!r})"))
@@ -363,8 +396,8 @@ class TourWriter:
         word, where = self.taught_places[target]
         self.wait(0.5, 1.5)
         self.face_robot()
-        text = str(self.pick(P.GOTO)).format(word=word)
         about = f"the {word}"
+        text = self.phrase("go-to", about)
         self.say(text, U.GOING, 6, request="go-to", about=about, answers=U.reactions("goto", words=[word], about=about))
         self.gotos += 1
         self.expect.append(("robot-says", {"pattern": f"going to the {rx(word)}"}, f"{self.user}: {text!r}"))
@@ -379,7 +412,7 @@ class TourWriter:
     def goodbye(self) -> None:
         self.wait(0.5, 1.5)
         self.face_robot()
-        self.say(str(self.pick(P.GOODBYE)), "bye", 6, request="goodbye")
+        self.say(self.phrase("goodbye"), "bye", 6, request="goodbye")
         self.note()
 
 
@@ -442,7 +475,8 @@ def _attempt(rng: np.random.Generator, name: str, seed: int, k: int, profile: st
         return None
     user = USER_NAMES[int(rng.integers(len(USER_NAMES)))]
     script = etree.Element("script")
-    tw = TourWriter(rng, flat, user, user_pos, start, script, patience=U.max_patience(profile))
+    tw = TourWriter(rng, flat, user, user_pos, start, script, patience=U.max_patience(profile),
+                    objects={o.name: o for o in objects})
     tw.wait(0.5, 2.0)
     tw.greet()
     _agenda(rng, tw, objects)
@@ -571,7 +605,7 @@ def _bystanders(rng: np.random.Generator, flat: Flat, tw: TourWriter, taken: lis
                 etree.SubElement(rep, "walk-to", point=pt(q))
                 etree.SubElement(rep, "wait", **{"for": fmt(snap(float(rng.uniform(3, 15))))})
                 if rng.random() < 0.3:
-                    etree.SubElement(rep, "say", text=str(P.CHAT[int(rng.integers(len(P.CHAT)))]))
+                    etree.SubElement(rep, "say", text=default_bank().line(rng, "chat"))
             if len(rep) == 0:
                 etree.SubElement(rep, "wait", **{"for": "5"})
         else:  # crosser: comes through where the tour is, at about the time it is there
@@ -608,7 +642,7 @@ def _chat(rng: np.random.Generator, pair: list[tuple[str, Point]], a: etree._Ele
     turns = int(min(40, max(3, duration / 12)))
     t_a = t_b = 0.0
     for i in range(turns):
-        line = str(P.CHAT[int(rng.integers(len(P.CHAT)))])
+        line = default_bank().line(rng, "chat")
         gap = snap(float(rng.uniform(3, 10)))
         speaker, other = (a, b) if i % 2 == 0 else (b, a)
         # the speaker waits for her turn, says her line; the other waits through it
@@ -634,8 +668,8 @@ def _source(rng: np.random.Generator, flat: Flat, taken: list[Point]) -> etree._
     etree.SubElement(s, "wait", **{"for": fmt(snap(float(rng.uniform(0, 20))))})
     rep = etree.SubElement(s, "repeat")
     for _ in range(3):
-        bank = P.BROADCAST_GREETING if rng.random() < 0.2 else P.BROADCAST
-        etree.SubElement(rep, "say", text=str(bank[int(rng.integers(len(bank)))]))
+        talk = "broadcast-greeting" if rng.random() < 0.2 else "broadcast"
+        etree.SubElement(rep, "say", text=default_bank().line(rng, talk))
         etree.SubElement(rep, "wait", **{"for": fmt(snap(float(rng.uniform(3, 12))))})
     return el
 

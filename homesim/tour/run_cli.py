@@ -4,8 +4,9 @@
 prints a live transcript (virtual time, speaker, words; supervisor state
 changes; rejections with their reasons; faults and heartbeat failures), a
 progress bar when stdout is a terminal, one line per expectation and the
-verdict; exit status 0 when every expectation holds, 1 when one fails, 2
-for bad input (a message naming file and line). ``--summary FILE`` writes
+verdict; exit status 0 when every expectation holds (or the scenario
+states none: the verdict is then "no expectations", never PASS 0/0), 1 when
+one fails, 2 for bad input (a message naming file and line). ``--summary FILE`` writes
 the run summary as JSON, ``--trace FILE`` the bus trace (JSON Lines) whose
 header lets ``homesim replay TRACE`` run the same scenario, seed and
 options again and compare every line: the first differing line is printed
@@ -156,6 +157,10 @@ def _run_and_report(a: argparse.Namespace, run: Run, console: Console, out: IO[s
             print("  " + v.line(), file=out)
     if not a.quiet:
         print(network_line(summary), file=out)
+    if not verdicts:
+        print("verdict: no expectations (the run completed; the scenario states no <expect>, so nothing was "
+              "checked: it neither passed nor failed)", file=out)
+        return 0
     passed = sum(v.passed for v in verdicts)
     print(f"verdict: {summary['verdict']} ({passed}/{len(verdicts)} expectations hold)", file=out)
     return 0 if summary["verdict"] == "PASS" else 1

@@ -43,6 +43,7 @@ from lxml import etree
 import robot.install as biron
 import robot.profiles as robot_profiles
 from robot.deployment import DEFAULT as ROBOT_DEPLOYMENT
+from robot.deployment import MODULES as ROBOT_MODULES
 from robot.knowledge.scene_model import STORE_FILE
 from robot.supervisor import ExecutionSupervisor
 
@@ -66,6 +67,9 @@ from .stage import Stage
 ACTORS: tuple[str, ...] = ("humans.install", "robot.hardware.install")
 #: Virtual seconds per run chunk (progress, replay's early stop); results do not depend on it.
 CHUNK = 1.0
+#: The verdict of a complete run of a scenario that states no expectation: nothing was checked,
+#: so it neither passed nor failed.
+NO_EXPECTATIONS = "no expectations"
 
 Line = Callable[[float, str, str], None]
 
@@ -417,10 +421,14 @@ class Run:
         return dict(counts()) if callable(counts) else {}
 
     def verdict(self) -> str:
-        """PASS, FAIL, or "not checked" when the run stopped before the scenario's end."""
+        """PASS, FAIL, "not checked" when the run stopped before the scenario's end, or
+        "no expectations" when the scenario states none (a run that asserted nothing did not pass)."""
         if not self.complete():
             return "not checked"
-        return "PASS" if all(v.passed for v in self.finish()) else "FAIL"
+        verdicts = self.finish()
+        if not verdicts:
+            return NO_EXPECTATIONS
+        return "PASS" if all(v.passed for v in verdicts) else "FAIL"
 
     def close(self) -> None:
         self.sim.close()
@@ -436,7 +444,7 @@ def resolve_deployment(scenario: Scenario) -> Deployment:
     """The run's deployment: the robot's default document with the scenario's ``<deployment>`` applied."""
     base_dir = Path(scenario.source).parent if scenario.source and not scenario.source.startswith("<") else None
     try:
-        return deployment_mod.resolve(ROBOT_DEPLOYMENT, scenario.deployment, base_dir=base_dir)
+        return deployment_mod.resolve(ROBOT_DEPLOYMENT, scenario.deployment, base_dir=base_dir, modules=ROBOT_MODULES)
     except InputError as exc:
         raise ScenarioError(exc.message, source=exc.source, line=exc.line, element=exc.element) from exc
 

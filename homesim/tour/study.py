@@ -45,6 +45,7 @@ from ..cliargs import OptionError
 from ..realtime import Stopwatch
 from .sweep import ERROR, FAIL, PASS, dask_client, _scheduler, _workers, parse_seeds, run_one
 from .capabilities import CAPABILITIES, capability_of, cause_of, rate
+from .socialtable import social_navigation, social_table
 
 Row = dict[str, Any]
 DEFAULT = "default"
@@ -295,6 +296,11 @@ class Progress:
 
 
 # ------------------------------------------------------------------ analysis
+def _user_wrong(metrics: dict[str, Any]) -> bool:
+    """Whether a user confirmed a wrong guess of the robot's or left a misnaming of hers uncorrected."""
+    return bool(metrics.get("users.confirmed_wrongly")) or (metrics.get("users.misnamed") or 0) > (metrics.get("users.self_corrected") or 0)
+
+
 def analyse(rows: list[Row], expectations: dict[str, list[Any]], names: dict[str, list[str]], conditions: list[str]) -> dict[str, Any]:
     """Capabilities (overall and by condition) and failures grouped by cause, from the run rows.
 
@@ -339,6 +345,8 @@ def analyse(rows: list[Row], expectations: dict[str, list[Any]], names: dict[str
                 cause = f"{cause} (the user gave up)"
             elif r.get("metrics", {}).get("users.blocked"):  # she gave up a walk the robot stood in the way of
                 cause = f"{cause} (the robot blocked her way)"
+            elif _user_wrong(r.get("metrics", {})):  # she said yes to a wrong guess, or misnamed and let it stand
+                cause = f"{cause} (the user got it wrong)"
             _add(groups, cap, kind, cause, r)
     order = [c for c in CAPABILITIES if c in caps] + sorted(set(caps) - set(CAPABILITIES))
     capabilities = {}
@@ -459,6 +467,7 @@ def study(files: list[str], seeds: list[int], conditions: list[Condition], out: 
         "overall": result["overall"],
         "capabilities": result["capabilities"],
         "failures": [{k: v for k, v in g.items() if k != "_seen"} for g in result["failures"]],
+        "social_navigation": social_navigation(rows, cnames),
         "throughput": {"runs": len(made), "cpu_s": round(cpu, 3), "simulated_s": round(sim, 3), "wall_s": round(wall, 3),
                        "workers": "dask" if scheduler is not None else workers,
                        "runs_per_cpu_minute": round(60 * len(made) / cpu, 3) if cpu else None,
@@ -469,7 +478,7 @@ def study(files: list[str], seeds: list[int], conditions: list[Condition], out: 
         "runs": [_public(r) for r in rows],
     }
     (out / "study.json").write_text(json.dumps(doc, indent=2, ensure_ascii=False) + "\n", encoding="utf-8")
-    (out / "study.md").write_text(table(result, cnames), encoding="utf-8")
+    (out / "study.md").write_text(table(result, cnames) + "\n" + social_table(doc["social_navigation"], cnames), encoding="utf-8")
     from ..viz.study import plot_rates
 
     for suffix in ("png", "svg"):

@@ -24,6 +24,7 @@ import os
 import re
 import sys
 import traceback
+from collections import Counter
 from collections.abc import Callable, Iterable, Iterator, Mapping
 from concurrent.futures import ProcessPoolExecutor, as_completed
 from pathlib import Path
@@ -120,7 +121,7 @@ def aggregate(rows: list[Row]) -> list[Row]:
         passed = sum(r["verdict"] == PASS for r in mine)
         out.append({"scenario": name, "runs": len(mine), "passed": passed, "pass_rate": passed / len(mine),
                     "failed": sum(r["verdict"] == FAIL for r in mine), "errors": sum(r["verdict"] == ERROR for r in mine),
-                    "metrics": metrics})
+                    "unchecked": sum(r["verdict"] not in (PASS, FAIL, ERROR) for r in mine), "metrics": metrics})
     return out
 
 
@@ -250,7 +251,9 @@ def sweep_command(a: argparse.Namespace) -> int:
         rows, agg = sweep(a.scenarios, seeds, out, until=a.until, workers=a.workers, scheduler=a.scheduler,
                           progress=progress, refused=refused, profile=a.profile)
     for g in agg:
-        print(f"{g['scenario']}: {g['passed']}/{g['runs']} pass ({100 * g['pass_rate']:.0f} %), {g['failed']} fail, {g['errors']} error")
+        unchecked = "".join(f", {n} {v}" for v, n in sorted(Counter(r["verdict"] for r in rows if r["scenario"] == g["scenario"]
+                                                                  and r["verdict"] not in (PASS, FAIL, ERROR)).items()))
+        print(f"{g['scenario']}: {g['passed']}/{g['runs']} pass ({100 * g['pass_rate']:.0f} %), {g['failed']} fail, {g['errors']} error{unchecked}")
     print(f"wrote {out / 'sweep.csv'} and {out / 'sweep.json'}")
     return 1 if any(r["verdict"] in (FAIL, ERROR) for r in rows) else 0
 

@@ -25,8 +25,8 @@ from lxml import etree
 
 #: The default mix: mostly typical users, with some of every other population (our choice; no
 #: published figure gives the share of impatient or vague users in a home; vary it in studies).
-DEFAULT_MIX: tuple[tuple[str, float], ...] = (("typical", 0.5), ("cooperative", 0.1), ("impatient", 0.1),
-                                             ("vague", 0.1), ("distracted", 0.1), ("silent", 0.1))
+DEFAULT_MIX: tuple[tuple[str, float], ...] = (("typical", 0.4), ("cooperative", 0.1), ("impatient", 0.1),
+                                             ("vague", 0.1), ("distracted", 0.1), ("silent", 0.1), ("wrong", 0.1))
 #: Third key of the user's generator (tour k of seed N: ``default_rng([N, k, USER_STREAM])``).
 USER_STREAM = 1
 #: How often she answers one question within one wait (the robot asking again is then a repair).
@@ -112,13 +112,36 @@ def alternatives(words: list[str]) -> str:
     return "(" + "|".join(clean) + ")"
 
 
+#: How she answers "Which one do you mean?": by colour, by position (as the robot sees the
+#: objects), by where it stands, or by pointing at it again ("this one").
+WHICH_KINDS = ("colour", "side", "place", "pointing")
+
+
+def which_answer(kind: str, obj: str, *, colour: str = "", place: str = "") -> list[etree._Element]:
+    """Her acts answering "Which one do you mean?" about object ``obj`` (``kind`` of
+    :data:`WHICH_KINDS`): "The red one" while pointing again; "The one on the left" (its side
+    among the similar objects as the robot sees them when she speaks, ``side-of``); "The one on
+    the table" (``place``: where it stands, "on the table"); "This one here" while pointing."""
+    point = etree.Element("point", object=obj, duration="2")
+    if kind == "colour":
+        return [_say(request="which", about=colour, wait="false"), point]
+    if kind == "side":
+        return [_say(request="which-side", **{"side-of": obj})]
+    if kind == "place":
+        return [_say(request="which-place", about=place)]
+    if kind == "pointing":
+        return [_say(request="which-pointing", wait="false"), point]
+    raise ValueError(f"no 'which one' answer {kind!r}: one of {', '.join(WHICH_KINDS)}")
+
+
 def reactions(kind: str, *, words: list[str] | None = None, about: str = "", colour: str = "",
-              obj: str | None = None) -> list[Reaction]:
+              obj: str | None = None, which: list[etree._Element] | None = None) -> list[Reaction]:
     """Her answers to the robot's questions about the request she just made.
 
     ``kind``: greet, follow, place, object, where, goto. ``words``: her words (and the type's)
     for what the request is about, ``about`` the phrase she names it with ("the kitchen",
-    "my cup"), ``colour`` and ``obj`` (the object's name in the scenario) for objects.
+    "my cup"), ``colour`` and ``obj`` (the object's name in the scenario) for objects, and
+    ``which``: her answer to "which one?" (:func:`which_answer`; default by colour, pointing).
     """
     yes: list[etree._Element] = [_say(request="yes")]
     alt = alternatives(words or [])
@@ -132,11 +155,10 @@ def reactions(kind: str, *, words: list[str] | None = None, about: str = "", col
                 ("which room is this|what room is this|where are we", [_say(request="teach-place", about=about)])]
     if kind == "object":
         assert obj is not None
-        point = etree.Element("point", object=obj, duration="2")
         return [(_object_yes(alt, about, colour), yes),
                 ("^is this", [_say(request="correct", about=about)]),
                 ("^what is (it|this|that)", [_say(request="teach-object", about=about)]),
-                ("which one [do you mean]|^do you mean", [_say(request="which", about=colour, wait="false"), point])]
+                ("which one [do you mean]|^do you mean", which if which is not None else which_answer("colour", obj, colour=colour))]
     if kind == "where":
         return [("what are you looking for|what you are looking for", [_say(request="where-is", about=about)])]
     if kind == "goto":

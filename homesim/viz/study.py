@@ -21,10 +21,24 @@ COLOURS = ("#3b75af", "#ef8636", "#519e3e", "#c53a32", "#8d69b8", "#84584e")
 def plot_rates(doc: dict[str, Any], path: str | Path) -> Path:
     """Draw the rates of ``doc`` (a study.json) into ``path`` (.png or .svg); returns the path."""
     path = Path(path)
+    fig = rates_figure(doc)
+    canvas = FigureCanvasSVG(fig) if path.suffix.lower() == ".svg" else FigureCanvasAgg(fig)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    if path.suffix.lower() == ".svg":
+        canvas.print_svg(str(path), metadata={"Date": None})  # no date: same study, same file
+    else:
+        canvas.print_png(str(path), metadata={"Software": None})
+    return path
+
+
+def rates_figure(doc: dict[str, Any]) -> Figure:
+    """The figure of :func:`plot_rates` (a legend of the conditions above the axes when there are several)."""
     conditions = list(doc["study"]["conditions"])
     rows = [("every expectation", doc["overall"])] + list(doc["capabilities"].items())
     n, k = len(rows), max(1, len(conditions))
-    fig = Figure(figsize=(7.5, 0.5 + 0.42 * n * (1 + 0.35 * (k - 1))))
+    # constrained layout: the legend sits outside the axes, above them, so it never covers a bar,
+    # an interval or a count (inside "lower right" it hid the bars of rates near 100 %)
+    fig = Figure(figsize=(7.5, 0.5 + 0.42 * n * (1 + 0.35 * (k - 1)) + (0.35 if k > 1 else 0)), layout="constrained")
     ax = fig.add_subplot(1, 1, 1)
     height = 0.8 / k
     for j, cond in enumerate(conditions):
@@ -51,13 +65,6 @@ def plot_rates(doc: dict[str, Any], path: str | Path) -> Path:
     ns, nn = doc['study']['scenarios'], len(doc['study']['seeds'])
     ax.set_title(f"{ns} scenario{'s' * (ns != 1)} x {nn} seed{'s' * (nn != 1)}: {runs} runs", fontsize=10)
     if k > 1:
-        ax.legend(loc="lower right", fontsize=8)
+        fig.legend(loc="outside upper center", ncols=min(k, 4), fontsize=8, frameon=False)
     ax.grid(axis="x", alpha=0.3)
-    fig.tight_layout()
-    canvas = FigureCanvasSVG(fig) if path.suffix.lower() == ".svg" else FigureCanvasAgg(fig)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    if path.suffix.lower() == ".svg":
-        canvas.print_svg(str(path), metadata={"Date": None})  # no date: same study, same file
-    else:
-        canvas.print_png(str(path), metadata={"Software": None})
-    return path
+    return fig

@@ -17,8 +17,8 @@ the person of interest (:mod:`.selection`), advance the attention FSM
   while facing the robot, repeated every ``pp_repeat`` s while it lasts;
   ``potential_partner_lost`` when they stop and the last ``potential_partner``
   has run out of its validity (``pp_valid``, its AFSM lifetime); ``partner_lost`` in a
-  top-down state when the partner's track has had no anchored evidence
-  for ``partner_lost_after`` s (once per loss): a leg update, a frontal
+  top-down state by the leaving rule (:meth:`PersonAttention.partner_left`; once per loss) on the
+  partner's anchored evidence: a leg update, a frontal
   face, a torso blob at the partner's bearing (``/robot/camera/torsos``)
   or their voice from there: a partner the camera still sees is not lost
   because their legs did not associate for a moment. Lifetimes are the AFSM's;
@@ -59,14 +59,14 @@ from lxml import etree
 
 from homesim.message import Message
 from homesim.module import Module
-from homesim.xmlio import hardened_parser
 
-from robot.contract import ATTENTION_STATE, BASE_CMD, ES_EVENTS, ES_ORDERS, FACES, FOCUS, FOLLOW_STATUS, ODOMETRY, PARTNER, POSE, PTU_CMD, SCAN, SOURCES, STEER, TORSOS, TRACKS
+from robot.contract import ATTENTION_STATE, BASE_CMD, ES_EVENTS, ES_ORDERS, FACES, FOCUS, FOLLOW_STATUS, ODOMETRY, PARTNER, PLAYER_STATUS, POSE, PTU_CMD, SCAN, SOURCES, STEER, TORSOS, TRACKS
 
 from .clutter import FurnitureLegs
 from .cues import CueSpec, Hysteresis, bearings_from, match_faces, match_sounds, sound_bearings_from
 from .fsm import CAMERA, TURNS, AttentionFSM, OrderRefused
 from .legs import LegDetector, LegSpec
+from .records import TrackRow, TracksRecord, own_document as _own_document
 from .selection import SelectionParams, Selector
 from .tracker import Tracks, TrackerSpec
 
@@ -97,7 +97,11 @@ class AttentionParams:
     # so a greeting still on its way (recognition, then the WLAN) meets the partner it belongs to.
     pp_valid: float = 1.5
     partner_lost_after: float = 2.0  # s without anchored evidence of the partner (legs, frontal face, torso, voice) ...
-    # ... is "lost" in Follow; in Interaction and Object only with evidence of leaving (docs/attention.md):
+    # ... is "lost" in Interaction and Object only with evidence of leaving (docs/subsystems.md):
+    # s unseen while following: she leads, so being out of view a moment (a door frame, someone crossing,
+    # walking past the robot's side) is no evidence of leaving; the follower searches where she was
+    # predicted to be meanwhile (its search_time, 6 s) and this is how long it may
+    follow_lost_after: float = 6.0
     interaction_radius: float = 3.0  # m: last seen further from the robot than this is outside the interaction space
     leave_speed: float = 0.3  # m/s: last seen walking away from the robot at least this fast
     out_of_view_after: float = 10.0  # s without any evidence: gone, wherever she was last seen
@@ -123,18 +127,7 @@ class AttentionParams:
     max_refused: int = 32
 
 
-_PARSER = hardened_parser()
-
-
-def _own_document(text: str) -> etree._Element:
-    """A message this module wrote as text, parsed with the project's hardened parser.
-
-    Only numbers, ``tN`` ids, names and true/false go into these texts (nothing to escape, no
-    DOCTYPE, no other encoding), so the checks ``parse_bytes`` makes on documents from outside
-    (size, encoding, DOCTYPE: ~10 us a message) are left out; a malformed text would still raise
-    lxml's XMLSyntaxError.
-    """
-    return etree.fromstring(text.encode(), _PARSER)
+_row = TrackRow._make
 
 
 def _deg(a: float) -> str:
@@ -204,6 +197,11 @@ class PersonAttention(Module):
         # the follower comes up to the partner after "stop" and turns the base itself meanwhile
         self._follower_drives = False
         self.bus.subscribe(FOLLOW_STATUS, lambda m: setattr(self, "_follower_drives", m.xml.get("state") == "approaching"))
+        # The player drives the base in Object (the object attention moves to see what she points at):
+        # no turning to her meanwhile. Subscribed only in Object: every delivery draws a network delay
+        # from the run's generator, so a subscription held all the time would change every run.
+        self._player_drives = False
+        self._player_sub: Any = None
 
     async def run(self) -> None:
         await self._load_map()
@@ -320,7 +318,9 @@ class PersonAttention(Module):
         prow = self.tracks.row(self.partner)
         if prow < 0:
             return
-        bearings = [math.radians(float(s.get("bearing"))) for s in msg.xml]
+        data = msg.data  # the camera's typed PerceptList (robot.percepts), else XML: the same texts
+        bearings = [math.radians(float(s.bearing)) for s in data.rows] if data is not None else [
+            math.radians(float(s.get("bearing"))) for s in msg.xml]
         if not bearings:
             return
         pb = bearings_from(self._robot_xy(t)[prow : prow + 1], self.cues.camera_offset)[0]
@@ -333,7 +333,9 @@ class PersonAttention(Module):
         t = msg.created
         tracks = self.tracks.tracks
         ids = [tk.id for tk in tracks]
-        faces = [(math.radians(float(f.get("bearing"))), float(f.get("distance"))) for f in msg.xml]
+        data = msg.data  # the camera's typed PerceptList (robot.percepts), else XML: the same texts
+        faces = [(math.radians(float(f.bearing)), float(f.distance)) for f in data.rows] if data is not None else [
+            (math.radians(float(f.get("bearing"))), float(f.get("distance"))) for f in msg.xml]
         rows = match_faces(self._robot_xy(t), faces, self.cues) if tracks and faces else []
         self.facing.feed(t, ids, {ids[r] for r in rows})
         self.tracks.support([r for r in rows if tracks[r].confirmed], t)
@@ -357,7 +359,20 @@ class PersonAttention(Module):
             self.partner_lost_sent = False
             self._partner_last = None
         self.pp_sent = None
+        self._listen_to_player(state == "Object")
         self._publish_state(self.now, force=True)
+
+    def _listen_to_player(self, on: bool) -> None:
+        """Follow the player's status (moving or not) while in Object, and only then."""
+        if on and self._player_sub is None:
+            self._player_sub = self.bus.subscribe(PLAYER_STATUS, self._on_player)
+        elif not on and self._player_sub is not None:
+            self._player_sub.close()
+            self._player_sub = None
+            self._player_drives = False
+
+    def _on_player(self, msg: Message) -> None:
+        self._player_drives = msg.xml.get("state") in ("moving", "blocked")
 
     def _choose_partner(self) -> int | None:
         """The partner on interact: the last potential partner if still tracked, else the selected person."""
@@ -474,7 +489,9 @@ class PersonAttention(Module):
                 self.partner_lost_sent = True
         elif row >= 0:
             self.partner_lost_sent = False
-        if row < 0 and self.partner_lost_sent:
+        if row < 0 and (self.partner_lost_sent or self.partner is None):
+            # (partner None: lost while following, her track died, and the ES's order back to
+            # Interaction found nobody to choose: without this nobody could ever take the place)
             self.partner = None
             self._partner_last = None
             # The partner may come back: someone speaking while facing the robot takes the place.
@@ -485,8 +502,10 @@ class PersonAttention(Module):
     def partner_left(self, t: float) -> bool:
         """The leaving rule (docs/attention.md): has the partner left?
 
-        Unseen (no leg update, frontal face, torso or voice of theirs) for ``partner_lost_after``
-        s is enough in Follow, where the robot must stop and say so at once. In Interaction and
+        In Follow she leads and is often out of view for a moment (a door frame, someone crossing
+        between, walking past the robot's side): unseen (no leg update, frontal face, torso or voice
+        of theirs) for ``follow_lost_after`` s, while the follower drives to where she was heading
+        and looks for her, she is lost. Unseen for ``partner_lost_after`` s in Interaction and
         Object, a partner unseen that long has left only when they were last seen outside the
         interaction space (further than ``interaction_radius`` from the robot) or walking away from
         it (``leave_speed``); one who stepped aside (to a shelf, to let someone pass, to chat
@@ -499,9 +518,11 @@ class PersonAttention(Module):
         seen, x, y, vx, vy, ox, oy = last
         unseen = t - seen
         p = self.params
+        if self.fsm.state == "Follow":
+            return unseen >= p.follow_lost_after
         if unseen < p.partner_lost_after:
             return False
-        if self.fsm.state == "Follow" or unseen >= p.out_of_view_after:
+        if unseen >= p.out_of_view_after:
             return True
         dx, dy = x - ox, y - oy
         dist = math.hypot(dx, dy)
@@ -563,7 +584,7 @@ class PersonAttention(Module):
             else:
                 self._turning = True
                 self._base(max(-p.max_turn, min(p.max_turn, p.turn_gain * b)))
-        elif state in TURNS and row >= 0 and not self._follower_drives:
+        elif state in TURNS and row >= 0 and not self._follower_drives and not self._player_drives:
             b = bearing[row]
             if self._turning and abs(b) < p.turn_stop:
                 self._base(0.0)
@@ -651,24 +672,18 @@ class PersonAttention(Module):
 
     # ------------------------------------------------------------ outputs
     def _publish_tracks(self, t: float, cats: dict[int, int], bearing: list[float], dist: list[float]) -> None:
-        # Written as text and read back with the hardened parser: lxml sets an attribute given as a
-        # keyword at ~1.7 us (name and value checks), so a message of four tracks cost ~100 us built
-        # node by node and ~50 us this way. Every value is a number, a "tN" id or true/false: nothing
-        # to escape.
+        # A typed record (records.TracksRecord): its XML is written only when somebody reads it.
         facing = self.facing
-        parts = [f'<tracks time="{t:.6f}" frame="odom">']
+        rows = []
+        degrees = math.degrees
         for i, tk in enumerate(self.tracks.tracks):
             tid = tk.id
             x0, x1, x2, x3 = tk.x
             P = tk.P
             cat = cats.get(tid, 0)
-            parts.append(
-                f'<track id="t{tid}" x="{x0:.3f}" y="{x1:.3f}" vx="{x2:.3f}" vy="{x3:.3f}" cxx="{P[0]:.5f}" cxy="{P[1]:.5f}" cyy="{P[4]:.5f}"'
-                f' bearing="{math.degrees(bearing[i]):.3f}" distance="{dist[i]:.3f}" confirmed="{"true" if tk.confirmed else "false"}"'
-                f' speaking="{"true" if cat >= 2 else "false"}" facing="{"true" if cat and facing.on(tid) else "false"}"/>'
-            )
-        parts.append("</tracks>")
-        self.bus.publish(TRACKS, _own_document("".join(parts)), transfer=True)
+            rows.append(_row((f"t{tid}", x0, x1, x2, x3, P[0], P[1], P[4], degrees(bearing[i]), dist[i],
+                              tk.confirmed, cat >= 2, bool(cat) and facing.on(tid))))
+        self.bus.publish(TRACKS, TracksRecord(t, tuple(rows)))
 
     def _publish_partner(self, t: float, row: int, bearing: list[float], dist: list[float], visible: bool) -> None:
         tk = self.tracks.tracks[row]

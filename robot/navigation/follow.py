@@ -41,8 +41,15 @@ Control, every ``1/rate`` seconds:
   door frame would teach from the other room). Its status says ``approaching`` meanwhile;
   the attention leaves turning the base to it, and the dialog holds her requests, until
   then. No too-fast warnings while approaching. Any other state (a go-to) ends it.
-* Lost: not seen for ``lost_after`` s: it stops (the attention's
-  ``partner_lost`` makes the ES stop the player and the dialog ask).
+* Searching: not seen for ``lost_after`` s (a door frame, someone crossing between, a partner
+  who walked past the robot's side, out of the laser's half-circle) it does not stop: it drives,
+  at most ``search_speed``, to where she was heading (her last track message carried on with its
+  velocity for at most :data:`SEARCH_HORIZON` s, along the floor plan's way through doors), comes no
+  closer than ``search_reach`` to that point, once the floor plan says it is in sight (not behind
+  a wall), and turns to face it, so it sees round the corner or past the person in between.
+  Status ``searching``.
+* Lost: not seen for ``search_time`` s: it stops (the attention's ``partner_lost``,
+  its ``follow_lost_after`` = the same 6 s, makes the ES stop the player and the dialog ask).
 
 ``/robot/follow/status`` (``<follow distance speed at_limit state/>``) goes out
 every control step while following. The follower drives only in Follow, and
@@ -75,6 +82,11 @@ from .people import People, nearest
 from .route import Route
 from .seen import SeenGround, footprint_samples
 
+#: s: searching, where she was heading is her last message carried on with its velocity this long at most
+SEARCH_HORIZON = 1.5
+#: s and m/s: wedged this long (it should drive, the dynamic window finds nothing), it backs this slowly
+STUCK_TIME = 1.0
+UNSTICK_SPEED = 0.1
 SCHEMA = Path(__file__).resolve().parent.parent / "schemas" / "navigation" / "follow-status.xsd"
 #: how many of the robot's own past positions (odometry, every CRUMB m) the back-off may retrace
 BREADCRUMBS = 200
@@ -130,7 +142,8 @@ class Follower(Module):
                  distance: float = 1.2, band: tuple[float, float] = (1.0, 1.5), minimum: float = 0.8,
                  gain: float = 0.8, lost_after: float = 1.0, too_fast_distance: float = 2.0,
                  too_fast_time: float = 1.0, warn_every: float = 5.0, params: DWAParams = DWAParams(),
-                 approach_time: float = 15.0, approach_to: float = 1.5) -> None:
+                 approach_time: float = 15.0, approach_to: float = 1.5, search_time: float = 6.0,
+                 search_speed: float = 0.4, search_reach: float = 0.6) -> None:
         super().__init__(sim, name)
         self.limits = limits or Limits()
         self.period = 1.0 / rate
@@ -139,6 +152,7 @@ class Follower(Module):
         self.too_fast_distance, self.too_fast_time, self.warn_every = too_fast_distance, too_fast_time, warn_every
         self.params = params
         self.approach_time, self.approach_to = approach_time, approach_to
+        self.search_time, self.search_speed, self.search_reach = search_time, search_speed, search_reach
         self.approach_until: float | None = None  # coming up to the partner after following, until then
         sim.bus.declare_channel(FOLLOW_STATUS, SCHEMA)
         self.following = False
@@ -153,6 +167,7 @@ class Follower(Module):
         self.crumbs: deque[tuple[float, float]] = deque(maxlen=BREADCRUMBS)  # where the robot itself has been (odom)
         self.driving = False
         self._limit_since: float | None = None
+        self._stuck_since: float | None = None  # since when it should drive but cannot (see _unstick)
         self._history: deque[tuple[float, float]] = deque(maxlen=64)  # (t, d) while at the limit
         self._warned_at = -math.inf
         self.bus.subscribe(ATTENTION_STATE, self._on_state)
@@ -172,7 +187,8 @@ class Follower(Module):
                         band=self.band, minimum=self.minimum, gain=self.gain, lost_after=self.lost_after,
                         too_fast_distance=self.too_fast_distance, too_fast_time=self.too_fast_time,
                         warn_every=self.warn_every, params=self.params, approach_time=self.approach_time,
-                        approach_to=self.approach_to)
+                        approach_to=self.approach_to, search_time=self.search_time, search_speed=self.search_speed,
+                        search_reach=self.search_reach)
 
     # ------------------------------------------------------------- inputs
     def _on_state(self, msg: Message) -> None:
@@ -302,10 +318,11 @@ class Follower(Module):
             return self._stand(approaching, "searching")
         age = self.now - tr["t"]
         unseen = (0.0 if tr["visible"] else tr["lost_for"]) + age
-        if unseen > self.lost_after:
+        if unseen > (self.lost_after if approaching else self.search_time):
             return self._stand(approaching, "stopped")
+        searching = unseen > self.lost_after  # not approaching: out of view a while, look where she went
         # the partner now (constant velocity over the message's age), in odom and robot frames
-        horizon = min(age, 0.5)
+        horizon = min(age, SEARCH_HORIZON if searching else 0.5)
         px, py = tr["x"] + tr["vx"] * horizon, tr["y"] + tr["vy"] * horizon
         if not self.trail or math.hypot(px - self.trail[-1][0], py - self.trail[-1][1]) > 0.15:
             self.trail.append((px, py))
@@ -333,11 +350,18 @@ class Follower(Module):
             v_des = speed_law(d, 0.0, distance=self.distance, band=(self.band[0], self.distance), minimum=self.minimum,
                               gain=self.gain, limits=self.limits)
             v_des = max(v_des, 0.15)  # in the next room (near but out of sight): on through the door
+        elif searching:
+            # to where she was heading, slowly, no closer than search_reach (she may stand there unseen);
+            # behind a wall (she went through a door) on through the door until the point is in sight
+            if not self.route.in_sight(self.odom[:2], (px, py)):
+                v_des = self.search_speed
+            else:
+                v_des = min(self.search_speed, self.gain * (d - self.search_reach)) if d > self.search_reach else 0.0
         else:
             v_des = speed_law(d, v_radial, distance=self.distance, band=self.band, minimum=self.minimum,
                               gain=self.gain, limits=self.limits)
         mapped = self.route.obstacles_near(self.odom)  # walls and furniture all round (the laser looks ahead)
-        close = v_des <= 0.05 and not approaching and d < self.band[0] and math.hypot(tr["vx"], tr["vy"]) < GIVE_WAY_STILL
+        close = v_des <= 0.05 and not approaching and not searching and d < self.band[0] and math.hypot(tr["vx"], tr["vy"]) < GIVE_WAY_STILL
         if not close:
             self._close_since = None
         elif self._close_since is None:
@@ -352,6 +376,7 @@ class Follower(Module):
                 self._status(d, False, "giving_way")
                 return aside
         if v_des <= 0.05:
+            self._stuck_since = None
             # wait (or back off) facing the partner; reversing is slow and straight (no laser behind)
             w = max(-self.limits.max_turn, min(self.limits.max_turn, 1.8 * bearing))
             v = v_des if v_des < 0 and self.can_back_off() else 0.0
@@ -369,7 +394,7 @@ class Follower(Module):
             goal = self._to_robot(*self.trail[0]) if self.trail else (rx, ry)
             # through a door or round a corner: the planned path's middle of the door, not the trail
             # that hugs the jamb (see robot.navigation.route)
-            way = self.route.goal(self.now, self.odom[:2], (px, py))
+            way = self.route.goal(self.now, self.odom[:2], (px, py), standing=self._standing((px, py)))
             if way is not None:
                 # the pure-pursuit point gives the direction; the dynamic window's goal lies further
                 # out along it (a goal 0.35 m ahead would make it prefer arcs that stop there: slow)
@@ -380,7 +405,7 @@ class Follower(Module):
             # partner in the laser's field of view, instead of driving a wide arc forwards
             v_pref = heading_speed(v_des, math.atan2(goal[1], goal[0]))
             pts = self.scan.points()
-            if len(pts):
+            if len(pts) and not searching:
                 pts = pts[np.hypot(pts[:, 0] - rx, pts[:, 1] - ry) > 0.45]  # not the partner's own legs
             if len(mapped):
                 pts = np.concatenate((pts, mapped))
@@ -391,6 +416,8 @@ class Follower(Module):
             # as a phantom in the door)
             others = self.people.around(self.odom, self.now, exclude=self.partner_id, near=(px, py), moving=0.2)
             limits = self.limits
+            if searching:  # slowly: she may step out from behind whatever hid her
+                limits = replace(limits, max_speed=min(limits.max_speed, self.search_speed))
             if len(others):
                 cap = social_speed_limit(nearest(others), self.limits.max_speed)
                 if cap < limits.max_speed:
@@ -399,9 +426,14 @@ class Follower(Module):
             cmd = dwa(self.v, self.w, goal, pts, limits, v_pref=v_pref, params=self.params, people=others)
             v, w = cmd.v, cmd.w
             state = "following" if cmd.ok else "waiting"
+            v, w = self._unstick(v, w, mapped)
         self._command(v, w)
         if approaching:
             self._status(d, False, "approaching")
+            return v, w
+        if searching:
+            self._too_fast(d, False)
+            self._status(d, False, "searching")
             return v, w
         at_limit = v_des >= self.limits.max_speed - 1e-6
         self._too_fast(d, at_limit)
@@ -452,6 +484,32 @@ class Follower(Module):
         v_pref = heading_speed(GIVE_WAY_SPEED, math.atan2(gy, gx))
         cmd = dwa(self.v, self.w, (gx, gy), pts, limits, v_pref=v_pref, params=self.params, people=people)
         return cmd.v, cmd.w
+
+    def _unstick(self, v: float, w: float, mapped: np.ndarray) -> tuple[float, float]:
+        """Wedged (issue 26: a chair's corner beside the robot when the way turns off): it should drive
+        but the dynamic window finds neither a forward arc nor room to turn on the spot. After
+        :data:`STUCK_TIME` s of that, it backs a little over ground it drove or saw free (never where
+        the laser did not look), which gives the corners room to turn; nothing when backing is unsafe."""
+        if abs(v) > 0.02 or abs(w) > 0.05:
+            self._stuck_since = None
+            return v, w
+        if self._stuck_since is None:
+            self._stuck_since = self.now
+        if self.now - self._stuck_since < STUCK_TIME or not self.can_back_off():
+            return v, w
+        return self._swept(-UNSTICK_SPEED, 0.0, mapped)
+
+    def _standing(self, partner: tuple[float, float]) -> np.ndarray:
+        """Odom-frame centres of the people standing about (not the partner, nor a second track on
+        her legs): the route plans round them (robot.navigation.route)."""
+        pts = self.scan.points()
+        rel = self.people.around(self.odom, self.now, exclude=self.partner_id, near=partner,  # type: ignore[arg-type]
+                                 echoes=pts if len(pts) else None, standing=0.2)
+        if not len(rel):
+            return rel
+        ox, oy, oth = self.odom  # type: ignore[misc]
+        c, s = math.cos(oth), math.sin(oth)
+        return np.column_stack((ox + c * rel[:, 0] - s * rel[:, 1], oy + s * rel[:, 0] + c * rel[:, 1]))
 
     def _stand(self, approaching: bool, state: str) -> None:
         """Stop driving; following, say why (``state``); approaching, the approach is over."""

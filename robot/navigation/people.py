@@ -72,19 +72,21 @@ class People:
 
     def around(self, odom: tuple[float, float, float], now: float, *, exclude: str | None = None,
                near: tuple[float, float] | None = None, near_radius: float = 0.6,
-               echoes: np.ndarray | None = None, moving: float | None = None, velocity: bool = False) -> np.ndarray:
+               echoes: np.ndarray | None = None, moving: float | None = None, velocity: bool = False,
+               standing: float | None = None) -> np.ndarray:
         """(K, 2) robot-frame centres of the confirmed people within :data:`REACH` m, predicted to ``now``.
 
         ``exclude``: a track id left out (the partner the follower drives after); ``near``: an
         odom-frame point whose surroundings (``near_radius``) are left out too (a second track
         on the partner's own legs). ``echoes``: the latest scan's robot-frame points; a lost
         track is kept (see the module docstring) while one of them is near it. ``moving``: only
-        tracks faster than this (m/s), and no lost ones. ``velocity``: (K, 4), each centre with
+        tracks faster than this (m/s), and no lost ones; ``standing``: only tracks slower than this
+        (m/s), lost ones too (where the laser still has an echo). ``velocity``: (K, 4), each centre with
         the person's velocity in the robot frame (m/s; 0 for a remembered lost track).
         """
         xml = self.xml
         if xml is None:
-            return np.zeros((0, 2))
+            return np.zeros((0, 4 if velocity else 2))
         try:
             age = min(max(now - float(xml.get("time", now)), 0.0), HORIZON)
         except ValueError:
@@ -103,7 +105,8 @@ class People:
                 continue
             if near is not None and math.hypot(x - near[0], y - near[1]) < near_radius:
                 continue
-            if moving is not None and math.hypot(float(t.get("vx", "0")), float(t.get("vy", "0"))) <= moving:
+            speed = math.hypot(float(t.get("vx", "0")), float(t.get("vy", "0")))
+            if (moving is not None and speed <= moving) or (standing is not None and speed >= standing):
                 continue
             dx, dy = x - ox, y - oy
             if math.hypot(dx, dy) <= REACH:

@@ -28,6 +28,16 @@ walls and furniture round the robot (the outline cells of the grid's occupied ce
 with the laser's echoes: every arc, turning on the spot and backing off included, keeps
 the footprint off what the map holds all round, not just in front.
 
+People standing in the way (issue 26: a bystander standing in front of a door while the partner
+walks through it) are not on the floor plan, and the dynamic window alone, steering at the
+door, stops in front of them for good. :meth:`Route.goal` takes the odom-frame centres of
+the people standing round the robot (the attention's confirmed tracks, partner left out) and
+plans on a copy of the grid with a disc of :data:`BODY` m round each
+(:meth:`~robot.navigation.grid.OccupancyGrid.with_obstacles`, inflated by the robot's radius
+like a wall): the path goes round them (the other half of the door), or through no gap too
+narrow to pass with a body's clearance. The copy is made again only when they moved
+:data:`MOVED` m.
+
 Frames: the partner's track and the odometry are in ``odom``; the plan is in ``map``.
 Each localised pose (``/robot/localisation/pose``, map frame) is paired with the
 odometry pose current when it arrived (what the player does), which gives the
@@ -56,6 +66,26 @@ MOVED = 0.4
 REACHED = 0.2
 #: m: the floor plan's obstacle outlines within this distance of the robot's centre are handed to the dynamic window.
 NEAR = 1.2
+#: m: a standing person's body on the plan (a person is about 0.4-0.5 m across; the robot's radius is added by the grid)
+BODY = 0.3
+#: m: only standing people this close to the robot are put on the plan (the local problem; the plan is replanned as it goes)
+PEOPLE_REACH = 3.0
+
+
+def body_points(centres: np.ndarray, radius: float = BODY, cell: float = 0.05) -> np.ndarray:
+    """Points filling a disc of ``radius`` round each centre ((N, 2) in, (M, 2) out, same frame), a
+    cell or less apart, so that marking their cells occupies the whole disc."""
+    c = np.asarray(centres, dtype=float).reshape(-1, 2)
+    if not len(c):
+        return np.zeros((0, 2))
+    r = np.arange(0.0, radius + 1e-9, cell / 2)
+    out = [c]
+    for rr in r[1:]:
+        n = max(int(math.ceil(2 * math.pi * rr / (cell / 2))), 6)
+        a = np.arange(n) * (2 * math.pi / n)
+        ring = np.column_stack((np.cos(a), np.sin(a))) * rr
+        out.append((c[:, None, :] + ring[None, :, :]).reshape(-1, 2))
+    return np.concatenate(out)
 
 
 class Route:
@@ -69,6 +99,8 @@ class Route:
         self._planned_at = -math.inf
         self.plans = 0  # how many paths were planned (for tests and the run's curiosity)
         self._outline = np.zeros((0, 2))  # map-frame centres of the occupied cells next to free ones
+        self._people: np.ndarray = np.zeros((0, 2))  # map-frame centres of the standing people on the plan
+        self._with_people: OccupancyGrid | None = None  # the grid with them (None: nobody standing near)
 
     def set_grid(self, grid: OccupancyGrid) -> None:
         self.grid = grid
@@ -148,14 +180,35 @@ class Route:
         c, s = math.cos(th), math.sin(th)
         return np.column_stack((c * dx + s * dy, -s * dx + c * dy))
 
-    def goal(self, now: float, robot: Point, target: Point) -> Point | None:
-        """The odom-frame point to steer at on the way from ``robot`` to ``target`` (both odom), or
-        None when the straight line is roomy (steer as before) or the plan does not help."""
-        if not self.ready:
-            return None
+    def _grid_with(self, standing: np.ndarray | None, robot: Point) -> OccupancyGrid:
+        """The grid with the standing people near ``robot`` (map) on it; the floor plan's grid without any."""
         grid = self.grid
         assert grid is not None
+        if standing is None or not len(standing):
+            self._people, self._with_people = np.zeros((0, 2)), None
+            return grid
+        pts = np.array([self.to_map((float(x), float(y))) for x, y in standing])
+        pts = pts[np.hypot(pts[:, 0] - robot[0], pts[:, 1] - robot[1]) <= PEOPLE_REACH]
+        if not len(pts):
+            self._people, self._with_people = np.zeros((0, 2)), None
+            return grid
+        old = self._people
+        same = (self._with_people is not None and len(old) == len(pts)
+                and bool((np.hypot(*(old - pts).T) < MOVED).all()))
+        if not same:
+            self._people, self._with_people = pts, grid.with_obstacles(body_points(pts, cell=grid.cell))
+            self._planned_at = -math.inf  # the way may have changed
+        assert self._with_people is not None
+        return self._with_people
+
+    def goal(self, now: float, robot: Point, target: Point, standing: np.ndarray | None = None) -> Point | None:
+        """The odom-frame point to steer at on the way from ``robot`` to ``target`` (both odom), or
+        None when the straight line is roomy (steer as before) or the plan does not help.
+        ``standing``: (N, 2) odom-frame centres of people standing about (not the partner), planned round."""
+        if not self.ready:
+            return None
         r, q = self.to_map(robot), self.to_map(target)
+        grid = self._grid_with(standing, r)
         if grid.line_free(r, q):
             self.path = None
             return None

@@ -12,7 +12,8 @@ Bus (docs/robot-contract.md). On the ES order ``find_object`` (on
    the person attention turns the camera there;
 3. collects ``/robot/camera/objects`` detections for ``look_time`` s (when
    nothing fits and the pointing person stands between the camera and where
-   she points, it first asks her to step aside (``dialog/ask about="occluded"``),
+   she points, it first asks her to step aside through the ES (event ``occluded``,
+   the dialog's condition ``step_aside``, its answer back as the order ``asked_aside``),
    waits until ``/robot/attention/partner`` shows her out of the way, and looks
    again at where she points then), places
    each in the map frame with the localised pose (``/robot/localisation/pose``)
@@ -45,7 +46,8 @@ from __future__ import annotations
 
 import asyncio
 import math
-from typing import TYPE_CHECKING
+from collections import deque
+from typing import TYPE_CHECKING, Any
 
 from lxml import etree
 
@@ -54,10 +56,11 @@ from homesim.message import Message
 from homesim.module import Module
 from robot.floorplan import FloorPlan, parse_map
 
-from robot.contract import ES_EVENTS, ES_ORDERS, FOCUS, GESTURES, OBJECTS, PARTNER, POSE
+from robot.contract import ES_EVENTS, ES_ORDERS, FOCUS, GESTURES, OBJECTS, PARTNER, PLAYER_STATUS, POSE, TRACKS
 
 from .gestures import CAMERA_HEIGHT, CAMERA_OFFSET, GestureTracker, camera_to_map
 from .resolve import Candidate, Pointing, Resolution, Wanted, merge, option_texts, resolve
+from .viewpoint import in_range, pointed_spot, sight_clear, viewpoint
 
 if TYPE_CHECKING:
     from homesim.sim import Simulation
@@ -71,6 +74,11 @@ SENTENCE_RECENT = 15.0  # s: a sentence begun this long ago is still the one bei
 SEARCH_OFFSETS = (math.radians(-35.0), math.radians(35.0), math.radians(-70.0), math.radians(70.0))  # off her bearing
 SEARCH_LOOK = 1.0  # s the camera dwells on each side of her
 SEARCH_RADIUS = 1.5  # m: what she shows without a gesture the camera saw stands this near her
+POSE_WAIT = 0.3  # s: a percept waits this long for the localised pose of its capture time
+PARTNER_FAR = 2.6  # m: a partner farther away is approached when neither her gesture nor what she shows was seen
+MOVE_TIMEOUT = 20.0  # s: a drive to a better viewpoint that has not arrived by then is given up
+MOVE_BLOCKED = 4.0  # s: ... and one the player reports blocked this long
+STEP_ASIDE_ASK = 20.0  # s: the question "could you step aside" is said within this (through the ES and the dialog)
 
 OWNER_WORDS = {"speaker": "partner", "my": "partner", "me": "partner", "mine": "partner"}
 
@@ -122,12 +130,20 @@ class ObjectAttention(Module):
         self._seen: list[tuple[str, float, float, float, tuple[float, float, float], float | None]] = []
         self._search: asyncio.Task[None] | None = None
         self._answer: asyncio.Future[etree._Element] | None = None  # waiting for the order "clarified"
+        self._asked_aside: asyncio.Future[bool] | None = None  # waiting for the order "asked_aside"
         self.last: Resolution | None = None  # the latest resolution (for tests and introspection)
         self.bus.subscribe(ORDERS, self._on_order)
         self.bus.subscribe(GESTURES, self._on_gestures)
         self.bus.subscribe(OBJECTS, self._on_objects)
         self.bus.subscribe(POSE, self._on_pose)
         self.bus.subscribe(PARTNER, self._on_partner)
+        self._people: tuple[float, list[tuple[float, float]]] | None = None  # time, people's (bearing, distance), robot frame
+        self._player: tuple[str, float] | None = None  # the player's last state and when it came
+        self.moves = 0  # drives to a better viewpoint (for tests and introspection)
+        self._subs: list[Any] = []  # people's tracks and the player's status, only while a search runs
+        self._finds = 0  # searches begun
+        self._poses: deque[tuple[float, tuple[float, float, float]]] = deque(maxlen=30)  # (time, pose), the last 3 s
+        self._pending: list[tuple[float, str, etree._Element]] = []  # percepts waiting for the pose of their time
 
     async def run(self) -> None:
         try:
@@ -143,24 +159,70 @@ class ObjectAttention(Module):
     def _on_pose(self, msg: Message) -> None:
         x = msg.xml
         self.pose = (float(x.get("x")), float(x.get("y")), float(x.get("theta")))  # type: ignore[arg-type]
+        t = float(x.get("time", msg.created))  # type: ignore[arg-type]
+        if self._poses and t < self._poses[-1][0]:
+            return  # an older pose delivered late: the history stays in time order
+        self._poses.append((t, self.pose))
+        self._flush()
+
+    def pose_at(self, t: float) -> tuple[float, float, float] | None:
+        """The localised pose at time ``t`` (interpolated between the two poses around it; the
+        latest one if ``t`` is newer): an image is placed with the pose of its capture, not the
+        latest one, so what the camera saw while the robot turned stays where it is."""
+        poses = self._poses
+        if not poses:
+            return None
+        if t >= poses[-1][0]:
+            return poses[-1][1]
+        prev = poses[0]
+        if t <= prev[0]:
+            return prev[1]
+        for cur in poses:
+            if cur[0] >= t:
+                (t0, a), (t1, b) = prev, cur
+                f = 0.0 if t1 <= t0 else (t - t0) / (t1 - t0)
+                th = a[2] + f * math.remainder(b[2] - a[2], 2 * math.pi)
+                return a[0] + f * (b[0] - a[0]), a[1] + f * (b[1] - a[1]), math.remainder(th, 2 * math.pi)
+            prev = cur
+        return poses[-1][1]
+
+    def _flush(self) -> None:
+        """Place the percepts waiting for the pose of their capture time (all once it has come,
+        or when they waited ``POSE_WAIT`` s: then with the latest pose)."""
+        if not self._pending or not self._poses:
+            return
+        latest = self._poses[-1][0]
+        keep = []
+        for t, kind, el in self._pending:
+            if t > latest + 1e-9 and self.now - t < POSE_WAIT:
+                keep.append((t, kind, el))
+                continue
+            pose = self.pose_at(t)
+            assert pose is not None
+            if kind == "g":
+                for p in el.iterfind("pointing"):
+                    self.gestures.add(t, pose, float(p.get("bearing")), float(p.get("distance")), float(p.get("direction")), float(p.get("elevation")), float(p.get("hand_height")))  # type: ignore[arg-type]
+            elif self._looking:
+                for o in el.iterfind("object"):
+                    b, d = math.radians(float(o.get("bearing"))), float(o.get("distance"))  # type: ignore[arg-type]
+                    x, y, z = self.place(pose, b, d)
+                    w = o.get("width")
+                    # The size across: the image extent at the measured (slant) distance.
+                    size = 2 * d * math.tan(math.radians(float(w)) / 2) if w is not None else None
+                    self._seen.append((o.get("type", ""), x, y, z, (float(o.get("r")), float(o.get("g")), float(o.get("b"))), size))  # type: ignore[arg-type]
+        self._pending = keep
 
     def _on_gestures(self, msg: Message) -> None:
-        if self.pose is None:
+        if self.pose is None or msg.xml.find("pointing") is None:
             return
-        t = float(msg.xml.get("time", msg.created))  # type: ignore[arg-type]
-        for p in msg.xml.iterfind("pointing"):
-            self.gestures.add(t, self.pose, float(p.get("bearing")), float(p.get("distance")), float(p.get("direction")), float(p.get("elevation")), float(p.get("hand_height")))  # type: ignore[arg-type]
+        self._pending.append((float(msg.xml.get("time", msg.created)), "g", msg.xml))  # type: ignore[arg-type]
+        self._flush()
 
     def _on_objects(self, msg: Message) -> None:
-        if not self._looking or self.pose is None:
+        if not self._looking or self.pose is None or msg.xml.find("object") is None:
             return
-        for o in msg.xml.iterfind("object"):
-            b, d = math.radians(float(o.get("bearing"))), float(o.get("distance"))  # type: ignore[arg-type]
-            x, y, z = self.place(self.pose, b, d)
-            w = o.get("width")
-            # The size across: the image extent at the measured (slant) distance.
-            size = 2 * d * math.tan(math.radians(float(w)) / 2) if w is not None else None
-            self._seen.append((o.get("type", ""), x, y, z, (float(o.get("r")), float(o.get("g")), float(o.get("b"))), size))  # type: ignore[arg-type]
+        self._pending.append((float(msg.xml.get("time", msg.created)), "o", msg.xml))  # type: ignore[arg-type]
+        self._flush()
 
     def place(self, pose: tuple[float, float, float], bearing: float, distance: float) -> tuple[float, float, float]:
         """Map position of an object seen at ``bearing``/``distance``: first assume it stands on a
@@ -179,6 +241,11 @@ class ObjectAttention(Module):
 
     # ------------------------------------------------------------ orders
     def _on_order(self, msg: Message) -> None:
+        if msg.xml.get("name") == "asked_aside":  # the dialog asked her to step aside, through the ES
+            said = next((p.text for p in msg.xml.iterfind("param") if p.get("name") == "said"), None)
+            if self._asked_aside is not None and not self._asked_aside.done():
+                self._asked_aside.set_result((said or "").strip() == "true")
+            return
         if msg.xml.get("name") == "clarified":  # the partner's answer to our question, through the ES
             answer = next((p.find("ANSWER") for p in msg.xml.iterfind("param") if p.find("ANSWER") is not None), None)
             if self._answer is not None and not self._answer.done() and answer is not None:
@@ -201,6 +268,9 @@ class ObjectAttention(Module):
         """One search (see the module docstring); always ends with an ES event. ``said``: when the
         sentence began (s, the frame's ``TIMESTAMP``), if the order carries it."""
         wanted = wanted_from(obj)
+        self._finds += 1
+        token = self._finds
+        self._listen(True)
         try:
             waited = 0.0
             start = self._gesture_start(said)
@@ -232,6 +302,28 @@ class ObjectAttention(Module):
                         waited += 0.1
                     pointing = self.gestures.pointing(self.now, since=since) or pointing
                     res = await self._look(wanted, pointing, cause)
+            if res.kind == "none" and pointing is not None:
+                # Still nothing where she points: if the camera cannot see that spot from here (her,
+                # someone else, furniture or a wall in the way, or out of its range), drive to a
+                # place from which it can and look again.
+                moved = await self._move_to_see(pointing, cause)
+                if moved:
+                    res = await self._look(wanted, pointing, cause)
+            elif res.kind == "none" and pointing is None and self._partner_far():
+                # No gesture seen and nothing found: she stands too far for the camera to see her
+                # hand or what she shows (the robot lagged behind). Come closer, then look for her
+                # gesture and what she named again.
+                since = self.now
+                near = self._partner_map()
+                if near is not None and await self._move_to_see_spot((near[0], near[1], 1.0), cause):
+                    waited = 0.0
+                    while self.gestures.pointing(self.now, since=since) is None and waited < self.gesture_wait:
+                        await asyncio.sleep(0.1)
+                        waited += 0.1
+                    pointing = self.gestures.pointing(self.now, since=since)
+                    res = await self._look(wanted, pointing, cause)
+                    if res.kind == "none" and pointing is None:
+                        res = await self._search_near_partner(wanted, cause) or res
             pose = self.pose
             assert pose is not None
             if res.kind == "none":
@@ -247,6 +339,20 @@ class ObjectAttention(Module):
             self._recognized(chosen, wanted, obj, cause)
         finally:
             self._looking = False
+            if token == self._finds:  # not a search cancelled by the next one (that one listens on)
+                self._listen(False)
+
+    def _listen(self, on: bool) -> None:
+        """Follow the people's tracks and the player's status while a search runs, and only then
+        (every delivery draws a network delay from the run's generator: a subscription held all
+        the time would change every run)."""
+        if on and not self._subs:
+            self._subs = [self.bus.subscribe(TRACKS, self._on_tracks), self.bus.subscribe(PLAYER_STATUS, self._on_player)]
+        elif not on:
+            for sub in self._subs:
+                sub.close()
+            self._subs = []
+            self._people = None
 
     async def _look(self, wanted: Wanted, pointing: Pointing | None, cause: str) -> Resolution:
         """Look where she points for ``look_time`` s, merge the detections, resolve the reference."""
@@ -293,6 +399,114 @@ class ObjectAttention(Module):
         self.last = res
         return res
 
+    def _people_map(self, pose: tuple[float, float, float]) -> list[tuple[float, float]]:
+        """Where the people the person attention tracks stand (map frame, from their fresh bearing
+        and distance), the partner among them."""
+        out = []
+        if self._people is not None and self.now - self._people[0] < 1.0:
+            out = [(pose[0] + d * math.cos(pose[2] + b), pose[1] + d * math.sin(pose[2] + b)) for b, d in self._people[1]]
+        p = self._partner
+        if p is not None and self.now - p[0] < 1.0:
+            out.append((pose[0] + p[2] * math.cos(pose[2] + p[1]), pose[1] + p[2] * math.sin(pose[2] + p[1])))
+        return out
+
+    def _target_3d(self, pointing: Pointing) -> tuple[float, float, float] | None:
+        """Where the ray most likely shows an object (:func:`pointed_spot`: the first stretch of it
+        low over a surface), else where it comes down (:meth:`_ray_target`), with the height of
+        what it stands on."""
+        if self.plan is not None:
+            spot = pointed_spot(self.plan, (pointing.x, pointing.y, pointing.z), pointing.direction, pointing.elevation)
+            if spot is not None:
+                return spot
+        t = self._ray_target(pointing)
+        if t is None:
+            return None
+        top = 0.0
+        if self.plan is not None:
+            for o in self.plan.obstacles:
+                if o.type != "leg" and o.top < CAMERA_HEIGHT and _inside(t[0], t[1], o.points):
+                    top = max(top, o.top)
+        return t[0], t[1], top + 0.05
+
+    def view_blocked(self, pointing: Pointing) -> bool:
+        """Whether the camera, from where the robot stands, cannot see where ``pointing`` comes
+        down: out of its range, or a wall, furniture (the floor plan) or a person in the way."""
+        pose, target = self.pose, self._target_3d(pointing)
+        if pose is None or target is None or self.plan is None:
+            return False
+        cam = (pose[0] + CAMERA_OFFSET * math.cos(pose[2]), pose[1] + CAMERA_OFFSET * math.sin(pose[2]), CAMERA_HEIGHT)
+        return not in_range(cam, target) or not sight_clear(self.plan, cam, target, self._people_map(pose))
+
+    async def _move_to_see(self, pointing: Pointing, cause: str) -> bool:
+        """Drive to a place from which the camera sees where she points (:func:`viewpoint`), through
+        the ES (event ``view_blocked`` with the ``POSE``; the ES orders the player ``move_to``), and
+        wait until the player has arrived (or is blocked, or ``MOVE_TIMEOUT`` s passed: the ES is
+        asked to stop it, event ``view_stop``). False when the view is not blocked or there is no
+        such place."""
+        target = self._target_3d(pointing)
+        if target is None or not self.view_blocked(pointing):
+            return False
+        return await self._move_to_see_spot(target, cause)
+
+    def _partner_map(self) -> tuple[float, float] | None:
+        """Where the partner stands (map frame), if the person attention reported her lately."""
+        pose, p = self.pose, self._partner
+        if pose is None or p is None or self.now - p[0] > 1.0:
+            return None
+        return pose[0] + p[2] * math.cos(pose[2] + p[1]), pose[1] + p[2] * math.sin(pose[2] + p[1])
+
+    def _partner_far(self) -> bool:
+        """She stands farther than the camera sees a hand or an object near her well."""
+        p = self._partner
+        return p is not None and self.now - p[0] <= 1.0 and p[2] > PARTNER_FAR
+
+    async def _move_to_see_spot(self, target: tuple[float, float, float], cause: str) -> bool:
+        """Drive to the nearest place from which the camera sees ``target`` (see :meth:`_move_to_see`)."""
+        pose = self.pose
+        if pose is None or self.plan is None:
+            return False
+        goal = viewpoint(self.plan, (pose[0], pose[1]), target, self._people_map(pose), camera_height=CAMERA_HEIGHT, camera_offset=CAMERA_OFFSET)
+        if goal is None:
+            return False
+        self.moves += 1
+        ev = etree.Element("event", name="view_blocked")
+        etree.SubElement(ev, "POSE", x=f"{goal[0]:.3f}", y=f"{goal[1]:.3f}", theta=f"{goal[2]:.4f}", frame="map", tolerance="0.2", align="true")
+        sent = self.now
+        self._player = None
+        self.bus.publish(ES_EVENTS, ev, causes=(cause,))
+        blocked_since: float | None = None
+        while self.now - sent < MOVE_TIMEOUT:
+            await asyncio.sleep(0.2)
+            st = self._player
+            if st is None or st[1] < sent:
+                continue
+            if st[0] == "reached":
+                await asyncio.sleep(0.5)  # let the camera settle on the spot
+                return True
+            if st[0] == "stopped":
+                return True
+            if st[0] == "blocked":
+                blocked_since = st[1] if blocked_since is None else blocked_since
+                if self.now - blocked_since >= MOVE_BLOCKED:
+                    break
+            else:
+                blocked_since = None
+        self.bus.publish(ES_EVENTS, etree.Element("event", name="view_stop"), causes=(cause,))
+        await asyncio.sleep(0.5)
+        return True
+
+    def _on_tracks(self, msg: Message) -> None:
+        people = []
+        for tr in msg.xml.iterfind("track"):
+            if tr.get("confirmed") == "true":
+                people.append((math.radians(float(tr.get("bearing"))), float(tr.get("distance"))))  # type: ignore[arg-type]
+        self._people = (msg.created, people)
+
+    def _on_player(self, msg: Message) -> None:
+        state = msg.xml.get("state")
+        if state:
+            self._player = (state, msg.created)
+
     def _in_the_way(self, bearing: float, distance: float, pointing: Pointing) -> bool:
         """Whether a person at ``bearing``/``distance`` (robot frame) hides where ``pointing`` comes
         down (her body, ``BODY_HALF_WIDTH`` either side, nearer to the camera than that spot)."""
@@ -335,12 +549,20 @@ class ObjectAttention(Module):
         return p.x + math.cos(p.direction), p.y + math.sin(p.direction)
 
     async def _ask_step_aside(self, cause: str) -> bool:
-        """Ask the partner (through the dialog) to step aside; False if it could not be asked."""
+        """Ask the partner to step aside, through the ES (the papers' control flow): the event
+        ``occluded`` becomes the dialog's condition ``step_aside``; once the question has been said
+        the dialog's answer comes back as the order ``asked_aside`` (param ``said``). False if it
+        was not said within ``STEP_ASIDE_ASK`` s (no dialog, or the ES rejected the event)."""
+        fut: asyncio.Future[bool] = self.sim.loop.create_future()
+        self._asked_aside = fut
+        self.bus.publish(ES_EVENTS, etree.Element("event", name="occluded"), causes=(cause,), transfer=True)
         try:
-            reply = await self.bus.call("dialog", "ask", etree.Element("ask", about="occluded"), timeout=20.0, causes=(cause,))
-        except Exception:  # no dialog: nobody to ask
+            async with asyncio.timeout(STEP_ASIDE_ASK):
+                return await fut
+        except TimeoutError:
             return False
-        return reply.xml.get("said") == "true"
+        finally:
+            self._asked_aside = None
 
     def _partner_in_view(self) -> bool:
         """No pointing seen and nothing found, with the partner standing in front of the camera:

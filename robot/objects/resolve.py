@@ -9,7 +9,9 @@ against what was said (the speech frame's type, name, colour) and shown
 
 - type: the detector confuses types now and then, so a candidate whose
   detections mostly say another type is only scored down; one seen
-  ``TYPE_EVIDENCE`` times and never as the named type does not fit;
+  ``TYPE_EVIDENCE`` times or more and as the named type in fewer than
+  ``TYPE_SHARE`` of them does not fit (a lamp that the detector once took
+  for glasses is not the glasses she named);
 - colour: the distance between the candidate's mean colour and the named
   colour's RGB (the robot's own colour vocabulary, :data:`COLOURS`); a
   candidate clearly of another colour does not fit;
@@ -50,6 +52,7 @@ AIM_SIGMA = math.radians(6.0)  # a person's aim at an object within a few metres
 GESTURE_SIGMA = math.radians(12.0)  # a ray whose own uncertainty is not known (Pointing.sigma None)
 GESTURE_FIT = math.radians(30.0)  # further off the pointing ray: not the object pointed at
 TYPE_EVIDENCE = 3  # detections, none of the named type, that rule a candidate out
+TYPE_SHARE = 0.25  # with TYPE_EVIDENCE or more detections, a candidate seen as the named type less often does not fit
 CLEAR = 3.0  # the best candidate's score ratio over the second to decide without asking
 
 
@@ -389,10 +392,11 @@ def score(c: Candidate, wanted: Wanted, pointing: Pointing | None, origin: tuple
     if kinds:
         share = sum(v for t, v in c.types.items() if t in kinds) / max(1, c.n)
         s *= 0.1 + 0.9 * share  # a confused detector: other types only score down
-        if share == 0.0:
+        if share < TYPE_SHARE:
             why.append(f"seen as {c.type}")
-            s *= 0.5
-            if c.n >= TYPE_EVIDENCE:  # confusion is rare: this many detections, none of the type
+            if share == 0.0:
+                s *= 0.5
+            if c.n >= TYPE_EVIDENCE:  # confusion is rare: this many detections, (almost) none of the type
                 fits = False
     if wanted.colour:
         ref = COLOURS.get(COLOUR_ALIASES.get(wanted.colour, wanted.colour))

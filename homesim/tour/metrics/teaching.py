@@ -34,7 +34,10 @@ from .stats import Running
 
 NEAR = 0.5  # metres: objects this close to a pointed spot are all meant
 MATCH = 0.3  # metres: a learned position this close to an object is that object
-WINDOW = 20.0  # seconds from the gesture's start to the object's arrival
+# seconds from the gesture's start to the object's arrival: a robot that asks her to step aside
+# (10 s for her to do so) and then drives to see the object (slowly, near her) learns it 30-40 s
+# after she pointed, and it is still the object she meant
+WINDOW = 60.0
 MAX_EPISODES = 1000
 
 

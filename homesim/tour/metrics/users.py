@@ -5,8 +5,10 @@ truth about the users, never about the robot): ``reactions`` (times a person ans
 with an ``<on>``), ``repairs`` (turns done again because the robot asked or did not answer),
 ``gave_up`` (times a person's patience ran out), ``stopped`` (people whose script ended early:
 they gave up by stopping or leaving), ``blocked`` (walks given up because the robot stood in
-the way, humans/person.py), and ``profiles`` (each profiled person's profile). A
-study tells failures that follow a user giving up from the others with it.
+the way, humans/person.py), ``confirmed_wrongly`` (wrong guesses of the robot's a person said
+yes to), ``misnamed`` (rooms or things named wrongly when taught) and ``self_corrected`` (of
+those, the slips corrected at once), and ``profiles`` (each profiled person's profile). A study
+tells failures that follow a user giving up or getting things wrong from the others with it.
 """
 
 from __future__ import annotations
@@ -29,6 +31,9 @@ class Users(Observer):
             "gave_up": sum(a.gave_up for a in people),
             "stopped": sum(1 for a in people if getattr(a, "stopped_early", False)),
             "blocked": sum(getattr(a, "blocked_walks", 0) for a in people),
+            "confirmed_wrongly": sum(getattr(a, "confirmed_wrongly", 0) for a in people),
+            "misnamed": sum(getattr(a, "misnamed", 0) for a in people),
+            "self_corrected": sum(getattr(a, "self_corrected", 0) for a in people),
             "profiles": {a.name: a.traits.profile for a in people if a.traits.profile},
         }
 

@@ -1,0 +1,264 @@
+"""Where to stand to see what the partner points at: sight lines over the floor plan and a viewpoint.
+
+Pure functions, no bus and no time. The object attention knows roughly where
+an object is from the pointing ray (where it comes down on a table top or the
+floor) but the camera may not see that spot from where the robot stopped: the
+partner stands in front of it, a sofa or a wall is in the way (the robot is
+still at the door of the previous room), or it is out of the camera's range.
+:func:`sight_clear` tells from the robot's own floor plan (walls, furniture
+with their heights) and the people it tracks whether the camera at a point
+sees a target; :func:`viewpoint` finds the nearest place, reachable on a
+drive (through a door too), from which it does, so the robot moves there and looks
+again, as a real robot would instead of saying it found nothing.
+
+The plan's furniture hides a sight line only where the line, at its height
+there, passes between the piece's bottom and top (the camera looks over a low
+table at what is behind it, under a table top at the floor), as the camera
+model's own sight lines do; people are upright cylinders taller than the
+camera.
+"""
+
+from __future__ import annotations
+
+import heapq
+import math
+from collections.abc import Sequence
+
+import numpy as np
+
+from robot.floorplan import FloorPlan
+
+Point = tuple[float, float]
+
+CAMERA_RANGE = (0.8, 3.0)  # m: where the camera's object detector is reliable (its range is 0.3-3.5 m)
+BODY_RADIUS = 0.3  # m: a person's body and arm, seen from the camera
+ROBOT_CLEARANCE = 0.35  # m: the robot's half-width (0.43 m wide) and a margin, to walls and furniture
+PERSON_CLEARANCE = 0.7  # m: never stand or drive closer than this to a person's centre
+RINGS = (1.2, 1.5, 1.9, 2.4)  # m from the target: where a viewpoint may be
+DIRECTIONS = 24  # per ring
+MAX_TRAVEL = 3.5  # m: a viewpoint farther than this drive is not worth it
+ROBOT_HEIGHT = 1.45  # m: furniture whose underside is higher does not stop the base
+GRID_CELL = 0.1  # m: the drive's grid
+OBJECT_BAND = 0.35  # m: how high above a surface an object a person points at reaches (most household objects)
+DRIVE_CLEARANCE = 0.8  # of the standing clearances, kept on the way (the player's own local planner keeps the footprint clear)
+
+
+def _clip(a: Point, b: Point, poly: Sequence[Point]) -> tuple[float, float] | None:
+    """The parameter interval [t0, t1] of segment a->b inside a convex polygon (either winding)
+    (Cyrus-Beck), or None if it misses it."""
+    n = len(poly)
+    area = sum(poly[i][0] * poly[(i + 1) % n][1] - poly[(i + 1) % n][0] * poly[i][1] for i in range(n))
+    sign = 1.0 if area >= 0 else -1.0
+    dx, dy = b[0] - a[0], b[1] - a[1]
+    t0, t1 = 0.0, 1.0
+    for i in range(n):
+        (x1, y1), (x2, y2) = poly[i], poly[(i + 1) % n]
+        # inward normal of edge i (left of the edge for a counter-clockwise polygon)
+        nx, ny = -(y2 - y1) * sign, (x2 - x1) * sign
+        num = nx * (a[0] - x1) + ny * (a[1] - y1)  # >= 0: a is inside this edge's half-plane
+        den = nx * dx + ny * dy
+        if abs(den) < 1e-12:
+            if num < 0:
+                return None
+            continue
+        t = -num / den
+        if den > 0:
+            t0 = max(t0, t)
+        else:
+            t1 = min(t1, t)
+        if t0 > t1:
+            return None
+    return t0, t1
+
+
+def _point_polygon(p: Point, poly: Sequence[Point]) -> float:
+    """Distance from a point to a convex polygon (0 inside)."""
+    inside, best = True, math.inf
+    n = len(poly)
+    area = sum(poly[i][0] * poly[(i + 1) % n][1] - poly[(i + 1) % n][0] * poly[i][1] for i in range(n))
+    for i in range(n):
+        (x1, y1), (x2, y2) = poly[i], poly[(i + 1) % n]
+        cross = (x2 - x1) * (p[1] - y1) - (y2 - y1) * (p[0] - x1)
+        if (cross < 0) if area >= 0 else (cross > 0):
+            inside = False
+        dx, dy = x2 - x1, y2 - y1
+        L = dx * dx + dy * dy
+        t = 0.0 if L == 0 else max(0.0, min(1.0, ((p[0] - x1) * dx + (p[1] - y1) * dy) / L))
+        best = min(best, math.hypot(p[0] - x1 - t * dx, p[1] - y1 - t * dy))
+    return 0.0 if inside else best
+
+
+def _blocks(plan: FloorPlan) -> list[tuple[tuple[Point, ...], float, float]]:
+    """Every footprint of the plan with its vertical span: walls (floor to ceiling), furniture."""
+    out: list[tuple[tuple[Point, ...], float, float]] = [(tuple((float(x), float(y)) for x, y in w.rectangle()), 0.0, math.inf) for w in plan.walls]
+    out += [(o.points, o.bottom, o.top) for o in plan.obstacles]
+    return out
+
+
+def sight_clear(plan: FloorPlan, camera: tuple[float, float, float], target: tuple[float, float, float],
+                people: Sequence[Point] = (), *, body_radius: float = BODY_RADIUS) -> bool:
+    """Whether the straight line from ``camera`` (x, y, z) to ``target`` (x, y, z) passes no wall,
+    no piece of furniture (between its bottom and top where the line crosses it) and no person
+    (a cylinder of ``body_radius`` around each of ``people``, taller than the camera)."""
+    a, b = (camera[0], camera[1]), (target[0], target[1])
+    za, zb = camera[2], target[2]
+    for poly, bottom, top in _blocks(plan):
+        span = _clip(a, b, poly)
+        if span is None:
+            continue
+        t0, t1 = span
+        t1 = min(t1, 1.0 - 1e-6)  # the target's own support (the table it stands on) does not hide it
+        if t1 <= t0:
+            continue
+        z0, z1 = za + t0 * (zb - za), za + t1 * (zb - za)
+        if min(z0, z1) < top - 1e-9 and max(z0, z1) > bottom + 1e-9:
+            return False
+    dx, dy = b[0] - a[0], b[1] - a[1]
+    length = math.hypot(dx, dy)
+    for px, py in people:
+        along = 0.0 if length == 0 else ((px - a[0]) * dx + (py - a[1]) * dy) / length
+        if 0.0 < along < length - 0.1 and abs((px - a[0]) * dy - (py - a[1]) * dx) / max(length, 1e-9) < body_radius:
+            return False  # nearer the camera than the target, across the line
+    return True
+
+
+def in_range(camera: tuple[float, float, float], target: tuple[float, float, float], rng: tuple[float, float] = CAMERA_RANGE) -> bool:
+    """Whether the target lies within the camera's reliable object range."""
+    return rng[0] <= math.dist(camera, target) <= rng[1]
+
+
+def _free(plan_blocks: list[tuple[tuple[Point, ...], float, float]], p: Point, people: Sequence[Point], clearance: float, person_clearance: float) -> bool:
+    for poly, bottom, _top in plan_blocks:
+        if bottom < ROBOT_HEIGHT and _point_polygon(p, poly) < clearance:
+            return False
+    return all(math.hypot(p[0] - q[0], p[1] - q[1]) >= person_clearance for q in people)
+
+
+def _inside_room(plan: FloorPlan, p: Point) -> bool:
+    for room in plan.rooms:
+        poly, inside, n = room.points, False, len(room.points)
+        for i in range(n):
+            (x1, y1), (x2, y2) = poly[i], poly[(i + 1) % n]
+            if (y1 > p[1]) != (y2 > p[1]) and p[0] < x1 + (p[1] - y1) * (x2 - x1) / (y2 - y1):
+                inside = not inside
+        if inside:
+            return True
+    return not plan.rooms
+
+
+def _inside_mask(xs: np.ndarray, ys: np.ndarray, poly: Sequence[Point]) -> np.ndarray:
+    """Crossing-number point-in-polygon test for grids of points."""
+    inside = np.zeros(xs.shape, dtype=bool)
+    n = len(poly)
+    for i in range(n):
+        (x1, y1), (x2, y2) = poly[i], poly[(i + 1) % n]
+        if y1 == y2:
+            continue
+        cross = (ys > y1) != (ys > y2)
+        xint = x1 + (ys - y1) * (x2 - x1) / (y2 - y1)
+        inside ^= cross & (xs < xint)
+    return inside
+
+
+def travel_map(plan: FloorPlan, robot: Point, people: Sequence[Point], *, reach: float, clearance: float, person_clearance: float,
+               cell: float = GRID_CELL) -> tuple[np.ndarray, float, float]:
+    """Driving distances (m) from ``robot`` over a grid of ``cell`` m around it (``reach`` m each
+    way): cells ``clearance`` from walls and furniture and ``person_clearance`` from people,
+    8-connected (Dijkstra); ``inf`` where it cannot drive. Returns the grid and its origin (x0, y0).
+    The robot's own cell is always a start (it may stand closer to something than ``clearance``)."""
+    from scipy.ndimage import distance_transform_edt  # lazily: scipy.ndimage is slow to import at start-up
+
+    n = int(math.ceil(2 * reach / cell)) + 1
+    x0, y0 = robot[0] - reach, robot[1] - reach
+    xs, ys = np.meshgrid(x0 + cell * np.arange(n), y0 + cell * np.arange(n), indexing="xy")
+    occ = np.zeros(xs.shape, dtype=bool)
+    for poly, bottom, _top in _blocks(plan):
+        if bottom < ROBOT_HEIGHT:
+            occ |= _inside_mask(xs, ys, poly)
+    free = distance_transform_edt(~occ) * cell >= clearance
+    for px, py in people:
+        free &= np.hypot(xs - px, ys - py) >= person_clearance
+    dist = np.full(xs.shape, np.inf)
+    si, sj = int(round((robot[1] - y0) / cell)), int(round((robot[0] - x0) / cell))
+    dist[si, sj] = 0.0
+    heap = [(0.0, si, sj)]
+    steps = [(di, dj, cell * math.hypot(di, dj)) for di in (-1, 0, 1) for dj in (-1, 0, 1) if di or dj]
+    while heap:
+        d, i, j = heapq.heappop(heap)
+        if d > dist[i, j] or d > reach:
+            continue
+        for di, dj, w in steps:
+            a, b = i + di, j + dj
+            if 0 <= a < n and 0 <= b < n and free[a, b] and d + w < dist[a, b]:
+                dist[a, b] = d + w
+                heapq.heappush(heap, (d + w, a, b))
+    return dist, x0, y0
+
+
+def viewpoint(plan: FloorPlan, robot: Point, target: tuple[float, float, float], people: Sequence[Point] = (), *,
+              camera_height: float, camera_offset: float = 0.0, max_travel: float = MAX_TRAVEL,
+              clearance: float = ROBOT_CLEARANCE, person_clearance: float = PERSON_CLEARANCE) -> tuple[float, float, float] | None:
+    """The nearest pose (x, y, heading towards the target) from which the camera sees ``target``:
+    in a room of the plan, ``clearance`` from walls and furniture and ``person_clearance`` from
+    every person, reached by a drive from ``robot`` that keeps those clearances (through a door
+    too; at most ``max_travel`` m, :func:`travel_map`), with the target in the camera's range
+    and a clear sight line. Of equal travel, the one nearer 1.5 m from the target. None when
+    there is no such place."""
+    blocks = [(poly, bottom, top) for poly, bottom, top in _blocks(plan)
+              if min(math.hypot(x - target[0], y - target[1]) for x, y in poly) < max(RINGS) + 1.0 or top == math.inf]
+    dist, gx, gy = travel_map(plan, robot, people, reach=max_travel, clearance=clearance * DRIVE_CLEARANCE, person_clearance=person_clearance * DRIVE_CLEARANCE)
+    n = dist.shape[0]
+    best: tuple[float, tuple[float, float, float]] | None = None
+    for r in RINGS:
+        for k in range(DIRECTIONS):
+            a = 2 * math.pi * k / DIRECTIONS
+            q = (target[0] + r * math.cos(a), target[1] + r * math.sin(a))
+            i, j = int(round((q[1] - gy) / GRID_CELL)), int(round((q[0] - gx) / GRID_CELL))
+            if not (0 <= i < n and 0 <= j < n):
+                continue
+            travel = float(dist[i, j])
+            if travel > max_travel:
+                continue
+            cost = travel + 0.5 * abs(r - 1.5)
+            if best is not None and cost >= best[0]:
+                continue
+            heading = math.atan2(target[1] - q[1], target[0] - q[0])
+            cam = (q[0] + camera_offset * math.cos(heading), q[1] + camera_offset * math.sin(heading), camera_height)
+            if not in_range(cam, target) or not _inside_room(plan, q) or not _free(blocks, q, people, clearance, person_clearance):
+                continue
+            if not sight_clear(plan, cam, target, people):
+                continue
+            best = (cost, (q[0], q[1], heading))
+    return None if best is None else best[1]
+
+
+def pointed_spot(plan: FloorPlan, hand: tuple[float, float, float], direction: float, elevation: float, *,
+                 band: float = OBJECT_BAND, reach: float = 3.0, step: float = 0.05) -> tuple[float, float, float] | None:
+    """Where on the plan a pointing ray (from ``hand``, map frame, ``direction`` and ``elevation``
+    in radians) most likely shows an object: the middle of the first stretch of the ray that runs
+    at most ``band`` m above what is under it (a piece of furniture's top, or the floor), before
+    it meets a wall; ``(x, y, z)`` with ``z`` a little above that surface. Objects have a height:
+    a ray aimed at a kettle on a counter passes the kettle low over the counter and may come
+    down on the floor behind it, so where it comes down is not where the object is. None when
+    the ray stays higher than ``band`` over everything within ``reach`` m."""
+    if elevation >= 0.0:
+        return None
+    walls = [tuple((float(x), float(y)) for x, y in w.rectangle()) for w in plan.walls]
+    tops = [(o.points, o.top) for o in plan.obstacles if o.type != "leg" and o.top < hand[2]]
+    c, s, slope = math.cos(direction), math.sin(direction), math.tan(elevation)
+    run: list[tuple[float, float, float]] = []
+    d = 0.1
+    while d <= reach:
+        x, y, z = hand[0] + d * c, hand[1] + d * s, hand[2] + d * slope
+        if any(_point_polygon((x, y), w) == 0.0 for w in walls) or z < 0.0:
+            break
+        under = max((top for pts, top in tops if _point_polygon((x, y), pts) == 0.0), default=0.0)
+        if z - under <= band:
+            run.append((x, y, under))
+        elif run:
+            break
+        d += step
+    if not run:
+        return None
+    x, y, under = run[len(run) // 2]
+    return x, y, under + 0.05

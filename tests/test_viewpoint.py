@@ -1,0 +1,147 @@
+"""Where the robot stands to see what the partner points at: sight lines over the robot's floor plan
+(walls, furniture with its heights, people) and the viewpoint it drives to when it cannot see the spot."""
+
+from __future__ import annotations
+
+import math
+
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from robot.floorplan import FloorPlan, MapObstacle, MapRoom, MapWall
+from robot.objects.resolve import COLOURS, Candidate, Pointing, Wanted, resolve
+from robot.objects.viewpoint import CAMERA_RANGE, PERSON_CLEARANCE, ROBOT_CLEARANCE, _point_polygon, in_range, pointed_spot, sight_clear, viewpoint
+
+CAM = 1.41
+
+
+def _box(name: str, type_: str, x0: float, y0: float, x1: float, y1: float, top: float, bottom: float = 0.0) -> MapObstacle:
+    return MapObstacle(name, type_, ((x0, y0), (x1, y0), (x1, y1), (x0, y1)), bottom, top)
+
+
+def _flat(*obstacles: MapObstacle, inner_wall: bool = False) -> FloorPlan:
+    """A 6 x 4 m room (two rooms of 3 x 4 m with a 1 m door at y 1.5-2.5 when ``inner_wall``)."""
+    walls = [MapWall(0, 0, 6, 0, 0.1), MapWall(6, 0, 6, 4, 0.1), MapWall(6, 4, 0, 4, 0.1), MapWall(0, 4, 0, 0, 0.1)]
+    rooms = [MapRoom("hall", ((0, 0), (6, 0), (6, 4), (0, 4)))]
+    if inner_wall:
+        walls += [MapWall(3, 0, 3, 1.5, 0.1), MapWall(3, 2.5, 3, 4, 0.1)]
+        rooms = [MapRoom("left", ((0, 0), (3, 0), (3, 4), (0, 4))), MapRoom("right", ((3, 0), (6, 0), (6, 4), (3, 4)))]
+    return FloorPlan(tuple(walls), tuple(obstacles), tuple(rooms), (1.0, 2.0, 0.0))
+
+
+SHELF = _box("shelf", "cupboard", 4.6, 3.4, 5.6, 3.8, 0.9)
+CUP = (5.1, 3.6, 0.95)  # on the shelf
+
+
+def test_sight_over_a_low_table_and_past_a_person_beside_the_line():
+    plan = _flat(SHELF, _box("coffee table", "table", 3.0, 2.5, 3.6, 3.0, 0.45))
+    assert sight_clear(plan, (1.5, 1.5, CAM), CUP)  # over the coffee table, onto the shelf's top
+    assert sight_clear(plan, (1.5, 1.5, CAM), CUP, [(3.0, 1.2)])  # someone well off the line
+
+
+def test_sight_hidden_by_a_person_a_wall_or_tall_furniture():
+    assert not sight_clear(_flat(SHELF), (1.5, 1.5, CAM), CUP, [(3.3, 2.55)])  # she stands on the line
+    assert not sight_clear(_flat(SHELF, inner_wall=True), (1.5, 3.5, CAM), CUP)  # the wall between the rooms
+    sofa = _box("sofa", "sofa", 4.5, 2.6, 5.7, 3.3, 0.8)
+    floor_ball = (5.1, 3.6, 0.15)
+    assert not sight_clear(_flat(sofa), (5.1, 1.0, CAM), floor_ball)  # a ball on the floor behind the sofa
+    assert sight_clear(_flat(sofa), (5.1, 1.0, CAM), (5.1, 3.6, 1.0))  # what stands higher is seen over it
+    tall = _box("wardrobe", "cupboard", 3.5, 2.0, 4.0, 3.0, 2.0)
+    assert not sight_clear(_flat(SHELF, tall), (1.5, 1.5, CAM), CUP)
+
+
+def test_sight_under_a_table_top_to_the_floor():
+    top = _box("table", "table", 2.5, 1.0, 3.5, 2.0, 0.75, bottom=0.7)
+    # the line passes the table's footprint above its top, or below its top's underside: clear;
+    # through the top: hidden
+    assert sight_clear(_flat(top), (1.0, 1.5, CAM), (5.0, 1.5, 0.9))
+    assert sight_clear(_flat(top), (1.0, 1.5, CAM), (3.6, 1.5, 0.0))
+    assert not sight_clear(_flat(top), (1.0, 1.5, CAM), (4.5, 1.5, 0.0))
+
+
+def test_viewpoint_past_the_partner():
+    plan = _flat(SHELF)
+    partner = (4.9, 2.9)  # she stands right in front of the cup, the robot behind her
+    robot = (4.6, 1.4)
+    assert not sight_clear(plan, (robot[0], robot[1], CAM), CUP, [partner])
+    vp = viewpoint(plan, robot, CUP, [partner], camera_height=CAM)
+    assert vp is not None
+    x, y, th = vp
+    assert sight_clear(plan, (x, y, CAM), CUP, [partner]) and in_range((x, y, CAM), CUP)
+    assert math.hypot(x - partner[0], y - partner[1]) >= PERSON_CLEARANCE
+    assert abs(math.remainder(math.atan2(CUP[1] - y, CUP[0] - x) - th, 2 * math.pi)) < 1e-9  # facing the cup
+
+
+def test_viewpoint_through_the_door_into_the_next_room():
+    plan = _flat(SHELF, inner_wall=True)
+    robot = (2.0, 3.0)  # still in the left room, a metre from the door
+    assert not sight_clear(plan, (robot[0], robot[1], CAM), CUP)
+    vp = viewpoint(plan, robot, CUP, [], camera_height=CAM)
+    assert vp is not None and vp[0] > 3.0  # it drives through the door into the right room
+    assert sight_clear(plan, (vp[0], vp[1], CAM), CUP)
+
+
+def test_no_viewpoint_when_nothing_reachable_sees_it():
+    boxed = _box("cabinet", "cupboard", 4.4, 3.2, 5.8, 3.95, 2.0)  # the spot inside a tall closed cabinet
+    assert viewpoint(_flat(boxed), (1.0, 1.0), (5.1, 3.6, 0.95), [], camera_height=CAM) is None
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.floats(0.6, 5.4), st.floats(0.6, 3.4), st.floats(0.5, 5.5), st.floats(0.5, 3.5),
+       st.lists(st.tuples(st.floats(0.3, 5.7), st.floats(0.3, 3.7)), max_size=3))
+def test_a_viewpoint_is_free_in_range_and_sees_the_target(rx, ry, tx, ty, people):
+    """Whatever the flat's people and the target: a viewpoint found keeps its clearances, has the
+    target in the camera's range and a clear sight line, and is at most the allowed drive away."""
+    plan = _flat(SHELF, _box("sofa", "sofa", 0.5, 0.2, 2.0, 0.9, 0.8))
+    target = (tx, ty, 0.05)
+    vp = viewpoint(plan, (rx, ry), target, people, camera_height=CAM)
+    if vp is None:
+        return
+    x, y, _ = vp
+    assert sight_clear(plan, (x, y, CAM), target, people)
+    assert CAMERA_RANGE[0] <= math.dist((x, y, CAM), target) <= CAMERA_RANGE[1]
+    assert all(math.hypot(x - px, y - py) >= PERSON_CLEARANCE for px, py in people)
+    for o in plan.obstacles:
+        assert _point_polygon((x, y), o.points) >= ROBOT_CLEARANCE - 1e-9
+    assert math.hypot(x - rx, y - ry) <= 3.5 + 1e-9
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.floats(0.2, 5.8), st.floats(0.2, 3.8), st.floats(0.2, 5.8), st.floats(0.2, 3.8), st.floats(0.0, 1.3))
+def test_sight_without_anything_in_the_way_is_clear_and_a_wall_on_it_always_hides(ax, ay, bx, by, bz):
+    empty = _flat()
+    assert sight_clear(empty, (ax, ay, CAM), (bx, by, bz))
+    walled = _flat(inner_wall=True)
+    if (ax - 3.0) * (bx - 3.0) < 0 and abs(ax - bx) > 0.2:  # on either side of the inner wall ...
+        y_at = ay + (3.0 - ax) * (by - ay) / (bx - ax)
+        if not 1.4 <= y_at <= 2.6:  # ... and the line does not pass through the door
+            assert not sight_clear(walled, (ax, ay, CAM), (bx, by, bz))
+
+
+def test_a_candidate_seen_as_the_named_type_once_in_twenty_does_not_fit():
+    """The detector took a lamp for glasses once: the lamp is not the glasses she named."""
+    lamp = Candidate(2.0, 2.0, 0.8)
+    for i in range(20):
+        lamp.add("glasses" if i == 7 else "lamp", 2.0, 2.0, 0.8, COLOURS["yellow"])
+    hand = Pointing(1.0, 2.0, 1.1, 0.0, math.radians(-20))
+    res = resolve([lamp], Wanted(type="glasses"), hand, (0.0, 2.0))
+    assert res.kind == "none" and res.reason == "no_match"
+    cup = Candidate(2.0, 2.0, 0.8)
+    for i in range(20):
+        cup.add("bowl" if i % 4 == 0 else "cup", 2.0, 2.0, 0.8, COLOURS["red"])  # a quarter confused
+    assert resolve([cup], Wanted(type="cup"), hand, (0.0, 2.0)).kind == "one"
+
+
+def test_the_pointed_spot_is_where_the_ray_runs_low_over_the_counter_not_where_it_comes_down():
+    """She points at a kettle 0.25 m tall on a 0.9 m counter from 0.35 m before it: the ray runs low
+    over the counter and comes down on the floor behind it; the spot is on the counter, by the kettle."""
+    counter = _box("counter", "counter", 4.4, 0.8, 5.0, 3.6, 0.9)
+    plan = _flat(counter)
+    hand, kettle = (4.35, 2.04, 1.17), (4.7, 2.02, 1.02)
+    d = math.hypot(kettle[0] - hand[0], kettle[1] - hand[1])
+    spot = pointed_spot(plan, hand, math.atan2(kettle[1] - hand[1], kettle[0] - hand[0]), math.atan2(kettle[2] - hand[2], d))
+    assert spot is not None and math.hypot(spot[0] - 4.7, spot[1] - 2.02) < 0.25 and abs(spot[2] - 0.95) < 1e-9
+    # pointing at the floor: the spot is where the ray meets it, before the wall
+    floor = pointed_spot(plan, (1.0, 2.0, 1.1), math.pi, math.radians(-60))
+    assert floor is not None and floor[2] == 0.05 and 0.0 < floor[0] < 1.0
+    assert pointed_spot(plan, (1.0, 2.0, 1.1), 0.0, math.radians(10)) is None  # pointing up: no spot
