@@ -36,6 +36,7 @@ def kernel(name: str, source: str) -> Extension:
 KERNELS = [
     kernel("homesim.world._raykernels", "homesim/world/_raykernels.c"),
     kernel("robot.attention._legkernel", "robot/attention/_legkernel.c"),
+    kernel("homesim._gridkernels", "homesim/_gridkernels.c"),
 ]
 
 setup(ext_modules=KERNELS)

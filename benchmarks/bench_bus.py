@@ -9,6 +9,9 @@ Run: ``python benchmarks/bench_bus.py [--messages N]``. Every figure is process 
   copy is delivered; under the default policy (the module's element trusted) and under the
   strict one (every message XSD-validated, as in the tests and ``--strict``);
 - the same published as text (a document from outside: hardened parse + XSD);
+- the same as a typed record (``homesim.message.Typed``, issue 25): shared by the receivers, its
+  XML never built because no handler reads it (``typed``), and with every receiver reading
+  ``msg.xml`` once (``typed, XML read``: each builds its own document);
 - the same with the system-wide trace recorded to a file: the difference per trace line (a
   send line with its XML, and one delivery line per receiver);
 - heartbeats as in a home tour: 19 modules beating at 2 Hz from their main loops (each loop
@@ -28,6 +31,7 @@ from typing import Any
 
 from lxml import etree
 
+from homesim.message import Typed
 from homesim.sim import Simulation
 
 POSE_SCHEMA = Path(__file__).resolve().parents[1] / "robot" / "schemas" / "localisation-pose.xsd"
@@ -39,8 +43,22 @@ def _pose(i: int) -> etree._Element:
                          cyy="0.000100", ctt="0.000010", frame="map")
 
 
-def run(n: int, *, receivers: int = 1, strict: bool = False, text: bool = False, trace: Path | None = None) -> tuple[float, int]:
-    """(CPU seconds, trace lines) for ``n`` publishes, each delivered to ``receivers`` handlers."""
+class _PoseRecord(Typed):
+    """The pose as a typed record: its nine fields, the element built only when read."""
+
+    __slots__ = ("i",)
+
+    def __init__(self, i: int) -> None:
+        self.i = i
+
+    def to_xml(self) -> etree._Element:
+        return _pose(self.i)
+
+
+def run(n: int, *, receivers: int = 1, strict: bool = False, text: bool = False, trace: Path | None = None,
+        typed: bool = False, read: bool = False) -> tuple[float, int]:
+    """(CPU seconds, trace lines) for ``n`` publishes, each delivered to ``receivers`` handlers
+    (``read``: each handler reads ``msg.xml``)."""
     sim = Simulation(seed=1, scenario="bench", strict=strict)
     sim.bus.declare_channel(CHANNEL, POSE_SCHEMA)
     sender = sim.bus.participant("localisation", host="robot")
@@ -48,6 +66,8 @@ def run(n: int, *, receivers: int = 1, strict: bool = False, text: bool = False,
 
     def handler(msg: Any) -> None:
         got[0] += 1
+        if read:
+            msg.xml.get("x")
 
     for k in range(receivers):
         sim.bus.participant(f"r{k}", host="robot").subscribe(CHANNEL, handler)
@@ -55,6 +75,8 @@ def run(n: int, *, receivers: int = 1, strict: bool = False, text: bool = False,
     payloads: list[Any] = [_pose(i) for i in range(n)]
     if text:
         payloads = [etree.tostring(p) for p in payloads]
+    if typed:
+        payloads = [_PoseRecord(i) for i in range(n)]
     publish = sender.publish
     step = 1_000_000  # 1 ms of virtual time between messages
     t0 = time.process_time()
@@ -127,6 +149,13 @@ def main() -> None:
             if not strict:
                 base[receivers] = dt
             label = f"element, {receivers} receiver(s), {'strict (XSD every message)' if strict else 'default (trusted)'}"
+            print(f"{label:52} {1e6 * dt / n:10.1f}")
+    for receivers in (0, 1, 3):
+        for read in (False, True):
+            if read and not receivers:
+                continue
+            dt, _ = best(a.repeat, n, receivers=receivers, typed=True, read=read)
+            label = f"typed, {receivers} receiver(s){', XML read' if read else ''}, default"
             print(f"{label:52} {1e6 * dt / n:10.1f}")
     dt, _ = best(a.repeat, n, receivers=1, text=True)
     print(f"{'text from outside (parse + XSD), 1 receiver':52} {1e6 * dt / n:10.1f}")

@@ -24,6 +24,11 @@ Which messages are validated is the bus's policy (``Bus(validation=...)``):
   delivered (as it was built) instead of refused: run ``--strict`` to find
   such a bug.
 
+A payload may be a typed record (:class:`~homesim.message.Typed`): the message
+(:class:`~homesim.message.TypedMessage`) carries the record, receivers share it
+(no copy per receiver) and its XML is built only when someone reads ``msg.xml``
+(the trace, an XML-reading module; strict builds and validates it at send).
+
 A payload may be a function that builds the element: it is called only if
 someone will see the message (a subscriber, or an interceptor that wants its
 channel; the trace wants all), always under the strict policy. The message is
@@ -72,8 +77,8 @@ from .errors import (
     RemoteCallTimeout,
     UnknownParticipantError,
 )
-from .message import _NO_ATTACHMENTS, ERROR, PUBLISH, REPLY, REQUEST, Attachment, Message
-from .network import Network
+from .message import _NO_ATTACHMENTS, ERROR, PUBLISH, REPLY, REQUEST, Attachment, Message, Typed, TypedMessage
+from .network import LinkStats, Network
 import numpy as np
 
 from .vloop import BARE, NS_PER_S, VirtualEventLoop, _Delivery, to_ns
@@ -81,7 +86,7 @@ from .xmlio import Schema, load_schema, parse_bytes
 
 XMLLike = Union[etree._Element, str, bytes]
 #: A payload, or a function that builds it (built only if someone receives or observes the message).
-PayloadLike = Union[etree._Element, str, bytes, Callable[[], etree._Element]]
+PayloadLike = Union[etree._Element, str, bytes, Typed, Callable[[], etree._Element]]
 Handler = Callable[[Message], Any]
 SchemaLike = Union[Schema, str, "os.PathLike[str]", None]
 
@@ -299,6 +304,10 @@ class Participant:
         anyone will see the message (a subscriber, or an interceptor such as
         the trace; always when strict), and not at all otherwise. The message
         is sent either way (its id, the counters); unbuilt, its ``xml`` is None.
+
+        ``xml`` may also be a :class:`~homesim.message.Typed` record: the message is a
+        :class:`~homesim.message.TypedMessage` whose XML is built only when read (see the module
+        docstring); under the strict policy it is built and validated at once.
         """
         bus = self.bus
         if xml.__class__ is _Element and not bus.validate_all and not self.closed:
@@ -333,6 +342,10 @@ class Participant:
                 causes if causes.__class__ is tuple else tuple(causes),
                 _frozen_attachments(attachments, channel) if attachments else _NO_ATTACHMENTS,
             ))
+            bus._publish(self, msg)
+            return msg
+        if isinstance(xml, Typed):
+            msg = self._make_typed(channel, xml, attachments, causes, created)
             bus._publish(self, msg)
             return msg
         if callable(xml) and not isinstance(xml, (etree._Element, str, bytes)):
@@ -453,6 +466,52 @@ class Participant:
         return msg, fut
 
     # ------------------------------------------------------------- internals
+    def _make_typed(
+        self,
+        channel: str,
+        record: Typed,
+        attachments: Mapping[str, Attachment] | None,
+        causes: tuple[str, ...] | list[str],
+        created: float | None,
+    ) -> TypedMessage:
+        """A published :class:`TypedMessage`: no XML built, unless strict (then built and validated now)."""
+        if self.closed:
+            raise BusError(f"participant {self.name!r} is closed")
+        bus = self.bus
+        built = None
+        if bus.validate_all:  # --strict: the record's XML is checked against the channel's contract at send
+            built = record.to_xml()
+            if not isinstance(built, etree._Element):
+                raise BusError(f"{self.name}: {type(record).__name__}.to_xml() for {channel} returned "
+                               f"{type(built).__name__}, not an XML element (nothing sent)")
+            schema = bus.channel_schema(channel)
+            if schema is not None and not schema.is_valid(built):
+                errors = schema.errors(built)
+                detail = errors[0][1] if errors else "invalid"
+                raise MessageValidationError(
+                    f"{self.name}: message on {channel} refused (nothing delivered): "
+                    f"schema {schema.name}: {detail}"
+                )
+        now = bus.loop._now_ns
+        name = self.name
+        count = self._count
+        n = count[0] = count[0] + 1
+        self._rate(now, n)
+        msg = _tuple_new(TypedMessage, (
+            f"{name}#{n}",
+            PUBLISH,
+            name,
+            channel,
+            record,
+            now if created is None else _created_ns(created, now, channel),
+            now,
+            causes if causes.__class__ is tuple else tuple(causes),
+            _frozen_attachments(attachments, channel) if attachments else _NO_ATTACHMENTS,
+        ))
+        if built is not None:
+            msg.__dict__["_xml"] = built
+        return msg
+
     def _make(
         self,
         kind: str,
@@ -814,7 +873,8 @@ class Bus:
             fn(obs)
 
     def _schedule(self, sender: Participant, receiver: Participant, msg: Message, action: Callable[..., None], *args: Any) -> None:
-        """Deliver ``msg`` to ``receiver`` after the link's delay, FIFO per pair."""
+        """Deliver ``msg`` to ``receiver`` after the link's delay, FIFO per pair; ``action`` gets the
+        link's statistics and the delay last, to count the message there if it is delivered."""
         net = self.network
         path = net.route(sender.host, receiver.host)
         delay = net.draw(path, message_size(msg) if path.link.bandwidth_bps else 0)
@@ -827,10 +887,9 @@ class Bus:
         if when < fifo[0]:
             when = fifo[0]
         fifo[0] = when
-        path.stats.add(when - now)
         # Deliveries run in no copied context: a receiver does not inherit the
         # sender's context variables (and copying one per message is costly).
-        self.loop._call_at_bare(when, action, (receiver, msg, *args))
+        self.loop._call_at_bare(when, action, (receiver, msg, *args, path.stats, when - now))
 
     def _drop(self, msg: Message, receiver: str, reason: str) -> None:
         self.dropped += 1
@@ -898,15 +957,16 @@ class Bus:
             if when < fifo[0]:
                 when = fifo[0]
             fifo[0] = when
-            path.stats.add(when - now)
             # Deliveries run in no copied context: a receiver does not inherit the
             # sender's context variables (and copying one per message is costly).
+            # The link's statistics count it when it is delivered (not a message the receiver
+            # no longer takes: closed, hung, unsubscribed); a loss is counted apart, above.
             handle = _new(_Delivery)
             handle._callback = deliver
-            handle._args = (receiver, own, sub)
+            handle._args = (receiver, own, sub, path.stats, when - now)
             push(when, handle)
 
-    def _deliver_publish(self, receiver: Participant, msg: Message, sub: Subscription) -> None:
+    def _deliver_publish(self, receiver: Participant, msg: Message, sub: Subscription, stats: LinkStats, ns: int) -> None:
         if sub.closed:
             self._drop(msg, receiver.name, "receiver closed")
             return
@@ -914,6 +974,7 @@ class Bus:
             self._receivable(receiver, msg)
             return
         self.delivered += 1
+        stats.add(ns)
         if self._delivery_interceptors:
             obs = _tuple_new(Observation, (self.loop._now_ns, DELIVER, msg, (receiver.name,), ""))
             for fn in self._delivery_interceptors:
@@ -938,13 +999,15 @@ class Bus:
             self._observe(Observation(msg.sent_ns, SEND, msg, (entry.server.name,)))
         self._schedule(caller, entry.server, msg, self._deliver_request, entry, caller, fut)
 
-    def _deliver_request(self, server: Participant, msg: Message, entry: _Method, caller: Participant, fut: asyncio.Future[Message] | None) -> None:
+    def _deliver_request(self, server: Participant, msg: Message, entry: _Method, caller: Participant, fut: asyncio.Future[Message] | None,
+                         stats: LinkStats, ns: int) -> None:
         if self._methods.get((server.name, entry.name)) is not entry:
             self._drop(msg, server.name, "method withdrawn")
             return
         if not self._receivable(server, msg):
             return
         self.delivered += 1
+        stats.add(ns)
         if self._interceptors:
             self._observe(Observation(self.loop.now_ns, DELIVER, msg, (server.name,)))
         try:
@@ -1001,10 +1064,11 @@ class Bus:
             self._observe(Observation(reply.sent_ns, SEND, reply, (caller.name,)))
         self._schedule(server, caller, reply, self._deliver_reply, fut)
 
-    def _deliver_reply(self, caller: Participant, reply: Message, fut: asyncio.Future[Message] | None) -> None:
+    def _deliver_reply(self, caller: Participant, reply: Message, fut: asyncio.Future[Message] | None, stats: LinkStats, ns: int) -> None:
         if not self._receivable(caller, reply):
             return
         self.delivered += 1
+        stats.add(ns)
         if self._interceptors:
             self._observe(Observation(self.loop.now_ns, DELIVER, reply, (caller.name,)))
         if fut is None or fut.done():
@@ -1020,7 +1084,7 @@ def message_size(msg: Message) -> int:
 
     Computed only for links with a bandwidth (the delay's size term).
     """
-    xml = msg[4]
+    xml = msg.xml  # (a typed message's XML is built for its size: the bytes a real link would carry)
     n = len(etree.tostring(xml)) if xml is not None else 0
     for value in msg[8].values():
         n += value.nbytes if isinstance(value, np.ndarray) else len(value)
@@ -1028,6 +1092,10 @@ def message_size(msg: Message) -> int:
 
 
 def _copy_message(msg: Message) -> Message:
+    """A receiver's own message: a copy of the payload; a typed message's record is shared (immutable),
+    only the message object is new (so the XML one receiver builds from it is its own)."""
+    if msg.__class__ is TypedMessage:
+        return _tuple_new(TypedMessage, msg)
     return _tuple_new(Message, (msg[0], msg[1], msg[2], msg[3], msg[4].__copy__(), msg[5], msg[6], msg[7], msg[8]))
 
 

@@ -37,12 +37,35 @@ SUBCOMMAND_MODULES: list[str] = [
     "homesim.tour.study",
 ]
 
+#: Each subcommand's name and the module that adds it: ``homesim NAME ...`` imports only that module
+#: (the others' imports, e.g. sweep's multiprocessing, are start-up time a run does not need).
+#: ``tests/test_cli.py`` checks this table against what the modules register.
+COMMANDS: dict[str, str] = {
+    "demo": "homesim.demo",
+    "run": "homesim.tour.run_cli", "replay": "homesim.tour.run_cli", "scenario": "homesim.tour.run_cli",
+    "afsm": "homesim.afsm.cli",
+    "check": "homesim.check",
+    "memory": "homesim.memory.cli",
+    "plot": "homesim.tour.plot_cli",
+    "export": "homesim.tour.export_cli",
+    "trace": "homesim.tour.trace_cli",
+    "sweep": "homesim.tour.sweep",
+    "generate": "homesim.tour.generate",
+    "study": "homesim.tour.study",
+    "completion": "homesim.completion",
+}
+
 #: Exit status after the reader of our output went away (128 + SIGPIPE, as a shell reports a process killed by it).
 BROKEN_PIPE_STATUS = 141
 
 
-def build_parser() -> argparse.ArgumentParser:
-    """The whole command tree (every module of :data:`SUBCOMMAND_MODULES` adds its subcommands)."""
+def build_parser(command: str | None = None) -> argparse.ArgumentParser:
+    """The whole command tree (every module of :data:`SUBCOMMAND_MODULES` adds its subcommands).
+
+    With ``command`` (a key of :data:`COMMANDS`) only the module adding it is imported and registered:
+    the tree that parses that command's arguments exactly as the whole tree would (same parser, same
+    usage and errors); top-level help, completion and unknown commands need the whole tree.
+    """
     parser = Parser(prog="homesim", description="Deterministic simulator of BIRON's home tour.",
                     epilog="examples:\n  homesim run scenarios/home_tour.xml\n  homesim run --help\n"
                            "  homesim completion bash > ~/.local/share/bash-completion/completions/homesim")
@@ -50,15 +73,36 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--watchdog", type=cliargs.seconds(positive=True, high=MAX_WATCHDOG_S), default=None, metavar="WALL_SECONDS",
                         help="dump every stack and exit (status 1) after this many seconds of wall time (for runs that hang)")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
-    for name in SUBCOMMAND_MODULES:
-        importlib.import_module(name).register(sub)
-    completion.register(sub, build_parser)
+    modules = SUBCOMMAND_MODULES if command is None else [COMMANDS[command]]
+    for name in modules:
+        if name != "homesim.completion":
+            importlib.import_module(name).register(sub)
+    if command is None or command == "completion":
+        completion.register(sub, build_parser)
     return parser
+
+
+def _command(argv: list[str]) -> str | None:
+    """The subcommand ``argv`` names when no option but ``--watchdog`` stands before it, else None (build all)."""
+    i = 0
+    while i < len(argv):
+        token = argv[i]
+        if token == "--watchdog":
+            i += 2
+        elif token.startswith("--watchdog="):
+            i += 1
+        elif token in COMMANDS:
+            return token
+        else:  # --help, --version, an abbreviated option, an unknown command: the whole tree answers
+            return None
+    return None
 
 
 def main(argv: list[str] | None = None) -> int:
     """Parse ``argv``, run the subcommand; the exit status (0 ok, 1 a check failed, 2 bad input)."""
-    parser = build_parser()
+    if argv is None:
+        argv = sys.argv[1:]
+    parser = build_parser(_command(argv))
     try:
         args = parser.parse_args(argv)
     except SystemExit as exc:  # argparse's refusals (usage + one line), --help, --version

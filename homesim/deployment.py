@@ -15,13 +15,20 @@ The kernel knows no particular system: the document names hosts and modules
 as data. How it fails: every problem is an :class:`~homesim.errors.InputError`
 naming the file, the line and the element (a schema violation, a name given
 twice, a host or route on an unknown link, a route or placement on an unknown
-host, a route from a host to itself); nothing is
+host, a route from a host to itself, and, when the caller says which modules
+exist, a placement of a module that does not); nothing is
 applied from a document that does not load.
+
+Which modules exist is the simulated system's to say, never the kernel's: the
+loading functions take ``modules`` (the names a placement may use; None: not
+checked), and the simulated system passes its own list (through the run package,
+its scenario check and its ``homesim check`` document type, an entry point).
 """
 
 from __future__ import annotations
 
 import os
+from collections.abc import Collection
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
@@ -30,6 +37,7 @@ from lxml import etree
 
 from .errors import HomesimError, InputError
 from .network import LinkModel, Network
+from .suggest import did_you_mean
 from .xmlio import load_schema, parse_file
 
 SCHEMA = Path(__file__).with_name("schemas") / "deployment.xsd"
@@ -122,8 +130,11 @@ class Deployment:
                 return lk
         raise KeyError(name)
 
-    def merged(self, override: Override) -> Deployment:
-        """This deployment with ``override``'s links, hosts, routes (by host pair) and placements replacing those of the same name."""
+    def merged(self, override: Override, *, modules: Collection[str] | None = None) -> Deployment:
+        """This deployment with ``override``'s links, hosts, routes (by host pair) and placements replacing those of the same name.
+
+        ``modules``: the modules that exist (a placement of another is refused at its line); None: not checked.
+        """
         links = {lk.name: lk for lk in self.links}
         links.update((lk.name, lk) for lk in override.links)
         hosts = {h.name: h for h in self.hosts}
@@ -136,6 +147,7 @@ class Deployment:
                       placement=tuple(sorted(placement.items())), routes=tuple(routes.values()),
                       default_host=override.default_host or self.default_host, overridden=True)
         _check_refs(out, override.source, override.line, dict(override.place_lines))
+        _check_modules(override.placement, modules, override.source, override.line, dict(override.place_lines))
         return out
 
     def apply(self, network: Network) -> None:
@@ -267,6 +279,19 @@ def _check_refs(d: Deployment, source: str, line: int | None = None,
                               source=source, line=line, element="deployment")
 
 
+def _check_modules(placement: Collection[tuple[str, str]], modules: Collection[str] | None, source: str,
+                   line: int | None = None, place_lines: dict[str, int | None] | None = None) -> None:
+    """Every placed module is one of ``modules`` (None: any name; the system says which exist)."""
+    if modules is None:
+        return
+    known = sorted(set(modules))
+    for module, _host in placement:  # in the document's order: the first wrong one is named
+        if module not in known:
+            raise DeploymentError(f"no module {module!r} to place{did_you_mean(module, known)}; modules: "
+                                  f"{', '.join(known) or '(none)'}",
+                                  source=source, line=(place_lines or {}).get(module) or line, element="place")
+
+
 def _validate(el: etree._Element, source: str) -> None:
     schema = load_schema(SCHEMA)
     problems = schema.errors(el)
@@ -275,8 +300,9 @@ def _validate(el: etree._Element, source: str) -> None:
         raise DeploymentError(f"does not satisfy deployment.xsd: {msg}", source=source, line=line or el.sourceline)
 
 
-def from_element(root: etree._Element, *, source: str = "<deployment>") -> Deployment:
-    """A :class:`Deployment` from a parsed ``<deployment>`` element (schema, then names and references)."""
+def from_element(root: etree._Element, *, source: str = "<deployment>", modules: Collection[str] | None = None) -> Deployment:
+    """A :class:`Deployment` from a parsed ``<deployment>`` element (schema, then names and references;
+    each placed module one of ``modules`` unless that is None)."""
     if root.tag != "deployment":
         raise _fail(f"root element is <{root.tag}>, not <deployment>", source, root)
     _validate(root, source)
@@ -288,13 +314,15 @@ def from_element(root: etree._Element, *, source: str = "<deployment>") -> Deplo
                    routes=tuple(routes))
     _check_refs(d, source, root.sourceline, lines)
     # Every placement's host must be a host; every module at most once (checked in _children).
+    _check_modules(placement, modules, source, root.sourceline, lines)
     return d
 
 
-def load(path: str | os.PathLike[str]) -> Deployment:
-    """Load and check a deployment document (the hardened parser, the schema, the references)."""
+def load(path: str | os.PathLike[str], *, modules: Collection[str] | None = None) -> Deployment:
+    """Load and check a deployment document (the hardened parser, the schema, the references, the
+    placed modules against ``modules`` unless that is None)."""
     source = str(path)
-    return from_element(parse_file(path), source=source)
+    return from_element(parse_file(path), source=source, modules=modules)
 
 
 def override_from_element(el: etree._Element, *, source: str) -> Override:
@@ -324,9 +352,17 @@ def override_from_element(el: etree._Element, *, source: str) -> Override:
 
 
 def resolve(default: Deployment | str | os.PathLike[str], override: Override | None, *,
-            base_dir: str | os.PathLike[str] | None = None) -> Deployment:
-    """The deployment a run uses: ``default`` (or the override's ``href`` document), then the override's parts."""
-    base = default if isinstance(default, Deployment) else load(default)
+            base_dir: str | os.PathLike[str] | None = None, modules: Collection[str] | None = None) -> Deployment:
+    """The deployment a run uses: ``default`` (or the override's ``href`` document), then the override's parts.
+
+    ``modules``: the modules that exist; every placement (the default's, the ``href`` document's, the
+    override's) must name one of them, else a :class:`DeploymentError` at its line. None: not checked.
+    """
+    if isinstance(default, Deployment):
+        base = default
+        _check_modules(base.placement, modules, base.source)
+    else:
+        base = load(default, modules=modules)
     if override is None:
         return base
     if override.href is not None:
@@ -334,19 +370,20 @@ def resolve(default: Deployment | str | os.PathLike[str], override: Override | N
         if not path.is_absolute() and base_dir is not None:
             path = Path(base_dir) / path
         try:
-            base = load(path)
+            base = load(path, modules=modules)
         except DeploymentError:
             raise
         except InputError as exc:
             raise DeploymentError(f"deployment href={override.href!r}: {exc.message}", source=override.source,
                                   line=override.line, element="deployment") from exc
-    return base.merged(override)
+    return base.merged(override, modules=modules)
 
 
-def check_file(path: str) -> list[InputError]:
-    """``homesim check``: every problem of a deployment document (empty when it loads)."""
+def check_file(path: str, *, modules: Collection[str] | None = None) -> list[InputError]:
+    """``homesim check``: every problem of a deployment document (empty when it loads; placed modules
+    checked against ``modules`` unless that is None)."""
     try:
-        load(path)
+        load(path, modules=modules)
     except InputError as exc:
         return [exc]
     return []

@@ -68,6 +68,70 @@ class Message(NamedTuple):
         """The payload serialized as text."""
         return etree.tostring(self.xml, encoding="unicode")
 
+    @property
+    def data(self) -> Typed | None:
+        """The typed record this message carries (:class:`TypedMessage`), or None: an XML-only message."""
+        return None
+
+
+class Typed:
+    """A message's payload as an immutable typed record; its XML form is built only when asked.
+
+    As ROS 2's intra-process communication skips serialisation, a sender may publish a record
+    instead of an element: receivers that know the record read its fields (no XML built, no copy
+    per receiver: they share it), and its XML (the channel's contract, what the trace holds) is
+    made by :meth:`to_xml` only when somebody asks for ``msg.xml`` (the trace, ``--strict``
+    validation, a module that reads XML). A subclass must be immutable and :meth:`to_xml` must
+    return a new element each call, built from the record alone, byte for byte what the sender
+    would have sent as XML.
+    """
+
+    __slots__ = ()
+
+    def to_xml(self) -> etree._Element:
+        """A new element holding this record: the channel's contract."""
+        raise NotImplementedError
+
+
+class Frozen(Typed):
+    """A payload the sender keeps unchanged (a template per state, say) sent as a typed record.
+
+    The element itself never leaves the sender: a receiver asking for ``msg.xml`` gets a copy of
+    it (lxml copies the subtree in C), and nobody asking costs nothing. The sender must never
+    change the element after sending it.
+    """
+
+    __slots__ = ("element",)
+
+    def __init__(self, element: etree._Element) -> None:
+        self.element = element
+
+    def to_xml(self) -> etree._Element:
+        return self.element.__copy__()
+
+
+class TypedMessage(Message):
+    """A :class:`Message` whose payload slot holds a :class:`Typed` record; ``xml`` is built on first use.
+
+    Each receiver gets a message object of its own sharing the record, so the element one
+    receiver builds (and may change) is its own, as with XML messages. (No ``__slots__``:
+    the per-object ``__dict__`` caches the built element.)
+    """
+
+    @property
+    def xml(self) -> etree._Element:  # type: ignore[override]
+        """The payload as XML: built from the record on first use, then this message's own."""
+        d = self.__dict__
+        el = d.get("_xml")
+        if el is None:
+            el = d["_xml"] = tuple.__getitem__(self, 4).to_xml()
+        return el
+
+    @property
+    def data(self) -> Typed:
+        """The record (shared by every receiver: read-only)."""
+        return tuple.__getitem__(self, 4)
+
 
 def describe_attachment(value: Attachment) -> dict[str, Any]:
     """Digest, dtype and shape of an attachment, for traces (never inline)."""

@@ -16,11 +16,28 @@ structure) and ``binary_dilation`` (3x3 ones, one iteration) on 2D boolean grids
   runs of cells, and pointer jumping),
   so a region's label is its first cell in row-major order, numbered 1, 2, ... in that order,
   which is SciPy's numbering.
+
+The distance transform and the labels run in the optional compiled kernel
+``homesim/_gridkernels.c`` when it is built (the same integers: exact arithmetic both ways; the
+numpy paths here stay the reference, ``tests/test_ndgrid.py`` checks all three against each other).
 """
 
 from __future__ import annotations
 
+from types import ModuleType
+
 import numpy as np
+
+_K: list[ModuleType | None] = []
+
+
+def _kernel() -> ModuleType | None:
+    """The compiled grid kernel, or None (not built, stale, ``HOMESIM_PURE_PYTHON``); looked up once."""
+    if not _K:
+        from .kernels import load
+
+        _K.append(load("homesim._gridkernels", 2))
+    return _K[0]
 
 
 def distance_transform_edt(grid: np.ndarray) -> np.ndarray:
@@ -36,6 +53,17 @@ def distance_transform_edt(grid: np.ndarray) -> np.ndarray:
         from scipy import ndimage  # no background: whatever SciPy defines
 
         return ndimage.distance_transform_edt(grid)  # type: ignore[no-any-return]
+    nx, ny = fg.shape
+    k = _kernel()
+    if k is not None:
+        sq = np.empty((nx, ny), dtype=np.int64)
+        k.edt_sq(np.ascontiguousarray(fg).view(np.uint8), nx, ny, sq)
+        return np.sqrt(sq.astype(np.float64))
+    return _edt_numpy(fg)
+
+
+def _edt_numpy(fg: np.ndarray) -> np.ndarray:
+    """The numpy path of :func:`distance_transform_edt` (the reference) on a 2D bool grid with a false cell."""
     nx, ny = fg.shape
     cap = nx + ny  # more than any distance along a column: "no zero in this column"
     far = cap * cap  # more than any squared distance in the grid
@@ -79,6 +107,17 @@ def label(grid: np.ndarray) -> tuple[np.ndarray, int]:
     out = np.zeros((nx, ny), dtype=np.int32)
     if n == 0 or not fg.any():
         return out, 0
+    k = _kernel()
+    if k is not None:
+        count = k.label(np.ascontiguousarray(fg).view(np.uint8), nx, ny, out)
+        return out, int(count)
+    return _label_numpy(fg, out)
+
+
+def _label_numpy(fg: np.ndarray, out: np.ndarray) -> tuple[np.ndarray, int]:
+    """The numpy path of :func:`label` (the reference): ``out`` zeros of ``fg``'s shape, filled in."""
+    nx, ny = fg.shape
+    n = nx * ny
     flat = fg.ravel()
     cells = np.flatnonzero(flat)  # the true cells, row-major: label = a cell's flat index
     rank = np.zeros(n, dtype=np.int64)

@@ -14,9 +14,12 @@ which is display only: nothing in the simulation reads it.
 from __future__ import annotations
 
 import sys
-from typing import IO, Any
+from typing import IO, TYPE_CHECKING, Any
 
-from tqdm import tqdm
+if TYPE_CHECKING:  # tqdm is imported with the first bar drawn: a run piped into a file never loads it (start-up)
+    from tqdm import tqdm
+
+_drawn: list[bool] = []  # one item once any bar was made (tqdm imported): write() must then go through it
 
 #: A bar over virtual seconds: "replay  42%|████      | 63.0/150 s [00:05<00:07]".
 _SECONDS = "{desc}: {percentage:3.0f}%|{bar}| {n:.1f}/{total:g} s [{elapsed}<{remaining}]"
@@ -24,6 +27,10 @@ _SECONDS = "{desc}: {percentage:3.0f}%|{bar}| {n:.1f}/{total:g} s [{elapsed}<{re
 
 def bar(total: float, *, desc: str, unit: str = "it", file: IO[str] | None = None, **kwargs: Any) -> tqdm:
     """A tqdm bar on ``file`` (default stderr), silent when that is not a terminal, gone when closed."""
+    from tqdm import tqdm
+
+    if not _drawn:
+        _drawn.append(True)
     return tqdm(total=total, desc=desc, unit=unit, file=sys.stderr if file is None else file, disable=None,
                 leave=False, dynamic_ncols=True, **kwargs)
 
@@ -41,6 +48,9 @@ class VirtualSeconds:
 
     def __call__(self, now: float, end: float) -> None:
         if self._bar is None:
+            f = sys.stderr if self.file is None else self.file
+            if hasattr(f, "isatty") and not f.isatty():  # tqdm's own rule for disable=None: nothing would be drawn
+                return
             self._bar = bar(max(end, 1e-9), desc=self.desc, unit="s", file=self.file, bar_format=_SECONDS)
         self._bar.update(min(now, end) - self._bar.n)
 
@@ -58,4 +68,11 @@ class VirtualSeconds:
 
 def write(text: str, *, file: IO[str] | None = None) -> None:
     """Print a line without tearing a bar that is being drawn (tqdm clears it, prints, redraws)."""
-    tqdm.write(text, file=sys.stdout if file is None else file)
+    out = sys.stdout if file is None else file
+    if not _drawn:  # no bar yet, so none to clear: tqdm.write's two writes
+        out.write(text)
+        out.write("\n")
+        return
+    from tqdm import tqdm
+
+    tqdm.write(text, file=out)

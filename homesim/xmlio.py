@@ -332,9 +332,18 @@ def _load_schema_cached(path: str) -> Schema:
     return Schema(Path(path).name, xsd)
 
 
+_BY_GIVEN: dict[str, Schema] = {}  # an absolute path as given -> its schema (no resolve() per call)
+
+
 def load_schema(path: str | os.PathLike[str]) -> Schema:
     """Load (once per process) and compile an XSD file."""
-    return _load_schema_cached(str(Path(path).resolve()))
+    given = os.fspath(path)
+    schema = _BY_GIVEN.get(given) if isinstance(given, str) else None
+    if schema is None:
+        schema = _load_schema_cached(str(Path(path).resolve()))
+        if isinstance(given, str) and os.path.isabs(given):  # a relative one depends on the working directory
+            _BY_GIVEN[given] = schema
+    return schema
 
 
 def schema_from_text(name: str, text: str | bytes) -> Schema:

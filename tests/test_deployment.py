@@ -140,6 +140,53 @@ def test_network_stats_count_deliveries_per_link():
         assert net.stats()["wlan"].count == 50
 
 
+def test_link_stats_count_what_was_delivered_not_what_was_sent_to_a_receiver_that_left():
+    """A receiver that leaves the bus while messages are on their way: those are not deliveries."""
+    with Simulation(seed=2) as sim:
+        net: Network = sim.network
+        load(BIRON).apply(net)
+        a, b = sim.bus.participant("dialog"), sim.bus.participant("laser")
+        got = []
+        b.subscribe("/y", got.append)
+        for i in range(50):
+            sim.call_at(i * 0.01, a.publish, "/y", etree.Element("y"))
+        sim.call_at(0.2505, b.close)  # about 25 sent before, some of them still on the WLAN
+        sim.run()
+        wlan = net.stats()["wlan"]
+        assert wlan.count == len(got) == sim.bus.delivered < 50 - wlan.lost
+        assert sim.bus.dropped >= 1  # what was on its way when it left: dropped, not a delivery
+
+
+@settings(max_examples=examples(25, 100), deadline=None)
+@given(times=st.lists(st.integers(0, 300), min_size=1, max_size=40), leave=st.integers(0, 400),
+       hang=st.booleans(), seed=st.integers(0, 2**32 - 1))
+def test_per_link_deliveries_add_up_to_the_bus_deliveries_and_the_losses_are_apart(times, leave, hang, seed):
+    """Publishes, requests and replies over LAN and WLAN, a receiver that leaves (or hangs): every
+    message sent ends once on its link as delivered or lost, or is dropped at the receiver."""
+    with Simulation(seed=seed) as sim:
+        net: Network = sim.network
+        load(BIRON).apply(net)
+        a, b, c = sim.bus.participant("dialog"), sim.bus.participant("laser"), sim.bus.participant("camera")
+        b.subscribe("/y", lambda m: None)
+        c.serve("m", lambda m: etree.Element("ok"))
+
+        async def ask() -> None:
+            try:
+                await a.call("camera", "m", etree.Element("q"), timeout=5.0)
+            except Exception:
+                pass
+
+        for t in times:
+            sim.call_at(t * 0.001, a.publish, "/y", etree.Element("y"))
+            sim.call_at(t * 0.001, lambda: sim.spawn(ask(), name="ask"))
+        sim.call_at(leave * 0.001, (lambda: setattr(b, "hung", True)) if hang else b.close)
+        sim.run(until=10.0)
+        stats = net.stats()
+        lost = sum(st.lost for st in stats.values())
+        assert sum(st.count for st in stats.values()) == sim.bus.delivered
+        assert sim.bus.delivered + sim.bus.dropped == sim.bus.sent - sim.bus.unheard and lost <= sim.bus.dropped
+
+
 def test_a_module_on_a_slower_host_takes_longer_in_proportion_to_the_cpu_speed():
     from robot.deployment import papers
     from robot.speech.module import SpeechUnderstanding
@@ -361,3 +408,66 @@ def test_the_slower_hop_is_chosen_with_the_bandwidth_counted():
     net.add_host("a", link="thin")
     net.add_host("b", link="far")
     assert net.route("a", "b").link.name == "thin"
+
+
+# ------------------------------------------------------- placing a module that does not exist
+def test_a_placement_of_a_module_not_in_the_systems_list_is_refused_at_its_line_and_none_checks_nothing():
+    body = '<link name="l" min-ms="1" max-ms="2"/><host name="a" link="l"/>\n<place module="dailog" host="a"/>'
+    with pytest.raises(DeploymentError, match=r"no module 'dailog' to place \(did you mean 'dialog'\?\)") as err:
+        from_element(_doc(body), source="t.xml", modules=("dialog", "camera"))
+    assert err.value.line == 2 and "t.xml" in str(err.value)
+    assert from_element(_doc(body), source="t.xml").host_of("dailog") == "a"  # the kernel alone knows no modules
+
+
+@settings(max_examples=examples(25, 100), deadline=None)
+@given(placed=st.lists(st.sampled_from(["m0", "m1", "m2", "m3"]), unique=True, max_size=4),
+       known=st.sets(st.sampled_from(["m0", "m1", "m2", "m3"])))
+def test_a_deployment_loads_exactly_when_every_placed_module_is_known(placed, known):
+    body = '<link name="l" min-ms="1" max-ms="2"/><host name="a" link="l"/>' + "".join(
+        f'<place module="{m}" host="a"/>' for m in placed)
+    if set(placed) <= known:
+        assert dict(from_element(_doc(body), modules=known).placement) == {m: "a" for m in placed}
+    else:
+        with pytest.raises(DeploymentError, match="no module") as err:
+            from_element(_doc(body), modules=known)
+        first = next(m for m in placed if m not in known)  # the first one in the document is named
+        assert f"'{first}'" in err.value.message
+
+
+def test_biron_modules_are_the_modules_a_full_run_has():
+    from homesim.tour.runner import Run, RunOptions
+    from robot.deployment import MODULES
+
+    with Run.from_file(ROOT / "scenarios" / "radio.xml", RunOptions(until=0.1)) as run:
+        assert sorted(MODULES) == sorted(run.sim.modules)
+    assert {m for m, _ in load(BIRON).placement} <= set(MODULES)
+
+
+def test_a_scenario_placing_a_module_biron_does_not_have_is_refused_by_run_and_check_naming_file_and_line(tmp_path):
+    from homesim.check import check_path
+    from homesim.errors import ScenarioError
+    from homesim.tour.runner import Run
+
+    text = (ROOT / "scenarios" / "radio.xml").read_text(encoding="utf-8")
+    bad = text.replace("  <sources>", '  <deployment>\n    <place module="speech" host="laptop"/>\n  </deployment>\n  <sources>', 1)
+    path = tmp_path / "radio_speech.xml"
+    path.write_text(bad, encoding="utf-8")
+    line = bad.splitlines().index('    <place module="speech" host="laptop"/>') + 1
+    with pytest.raises(ScenarioError, match="no module 'speech' to place") as err:
+        Run.from_file(path)
+    assert err.value.line == line and str(path) in str(err.value)
+    kind, problems = check_path(str(path))
+    assert kind == "scenario" and [p.line for p in problems] == [line] and "no module 'speech'" in problems[0].message
+
+
+def test_homesim_check_refuses_a_deployment_document_placing_an_unknown_module(tmp_path):
+    from homesim.check import check_path
+
+    text = BIRON.read_text(encoding="utf-8").replace('<place module="camera" host="pc2"/>', '<place module="kamera" host="pc2"/>')
+    path = tmp_path / "d.xml"
+    path.write_text(text, encoding="utf-8")
+    kind, problems = check_path(str(path))
+    line = text.splitlines().index('  <place module="kamera" host="pc2"/>') + 1
+    assert kind == "deployment" and len(problems) == 1 and problems[0].line == line
+    assert "no module 'kamera' to place (did you mean 'camera'?)" in problems[0].message
+    assert check_path(str(BIRON))[1] == []

@@ -324,6 +324,40 @@ def test_a_question_routed_through_the_supervisor_is_asked_and_answered_as_an_ev
     assert answers and answers[0].xml.find("param/ANSWER").get("index") == "1"
 
 
+def test_the_occlusion_question_goes_through_the_supervisor_and_is_answered_once_said(robot):
+    """The object attention cannot see past the partner: event occluded -> condition step_aside -> the
+    dialog asks her to step aside -> event asked_aside (said) -> order asked_aside to the object attention,
+    after the question has been said (not before: the object attention then waits for her to move)."""
+    robot.greet()
+    obj = robot.sim.bus.participant("object_attention")
+    orders = []
+    obj.subscribe("/robot/es/orders/object_attention", orders.append)
+
+    def teach_and_occlude() -> None:
+        frame = etree.fromstring('<event name="object_teaching"><SPEECH><OBJECT type="plant"/></SPEECH></event>')
+        robot.sim.bus.get("dialog").publish(ES_EVENTS, frame)
+        robot.sim.call_at(7.5, obj.publish, ES_EVENTS, etree.Element("event", name="occluded"))
+
+    robot.sim.call_at(7.0, teach_and_occlude)
+    robot.sim.run(until=20.0)
+    assert any("step aside" in s for s in robot.sentences())
+    conds = [r for r in robot.records("/robot/es/conditions/dialog") if 'name="step_aside"' in r["xml"]]
+    (said,) = [o for o in orders if o.xml.get("name") == "asked_aside"]
+    assert conds and said.xml.find("param[@name='said']").text == "true"
+    done = [r["t"] for r in robot.records("/robot/speaker/status") if r["xml"].startswith("<done") and "step aside" in r["xml"]]
+    assert done and said.created >= done[0]
+
+
+def test_an_occlusion_report_outside_object_teaching_asks_nothing(robot):
+    """Stale: the partner is no longer showing an object; the ES consumes the event, the dialog says nothing."""
+    robot.greet()
+    obj = robot.sim.bus.participant("object_attention")
+    robot.sim.call_at(7.0, obj.publish, ES_EVENTS, etree.Element("event", name="occluded"))
+    robot.sim.run(until=12.0)
+    assert not any("step aside" in s for s in robot.sentences())
+    assert not [r for r in robot.records("/robot/es/conditions/dialog") if 'name="step_aside"' in r["xml"]]
+
+
 def test_clarification_without_an_answer_times_out_to_none(robot):
     obj = robot.sim.bus.participant("object_attention")
     replies = []
@@ -529,3 +563,22 @@ def test_a_stale_partner_bearing_does_not_barge_in(robot):
     robot.sound(2.6, 0.0, 70.0)
     robot.sim.run(until=3.0)
     assert robot.dialog.summary()["barge_ins"] == 0
+
+
+def test_no_robot_module_asks_the_dialog_directly():
+    """The papers route every question a reactive or intermediate module has for the user through the ES
+    (an event to it, a condition to the dialog): no robot module calls the dialog's RPCs (``dialog/ask`` is
+    for tools)."""
+    import ast
+    from pathlib import Path
+
+    root = Path(__file__).resolve().parents[1] / "robot"
+    direct = []
+    for path in sorted(root.rglob("*.py")):
+        if path.parent.name == "dialog":
+            continue
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            if isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute) and node.func.attr == "call" \
+                    and node.args and isinstance(node.args[0], ast.Constant) and node.args[0].value == "dialog":
+                direct.append(f"{path.relative_to(root.parent)}:{node.lineno}")
+    assert direct == []

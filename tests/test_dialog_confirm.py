@@ -75,6 +75,77 @@ def test_a_correction_replaces_what_was_heard(dm, correction):
     assert s.event == "place_teaching" and s.children[0].find("PLACE/TITLE").get("name") == "kitchen"
 
 
+@pytest.mark.parametrize("statement", ["this is the kitchen", "no, this is the kitchen", "we are in the kitchen",
+                                       "here we have the kitchen", "is the kitchen", "this room is the kitchen"])
+def test_a_place_taught_while_a_misheard_goto_is_confirmed_is_taught_not_driven_to(dm, statement):
+    # she said "this is the kitchen", the recogniser heard "to the kitchen": the robot asks
+    # "Shall I go to the kitchen?" and she says it again. The same room is no repetition of the
+    # go-to: a whole statement teaches the room (it drove off to the kitchen before)
+    assert says(dm.on_frame(heard("to the kitchen", LOW))) == ["Shall I go to the kitchen?"]
+    out = dm.on_frame(heard(statement))
+    (s,) = sends(out)
+    assert s.event == "place_teaching" and s.children[0].find("PLACE/TITLE").get("name") == "kitchen"
+    assert says(out) == ["OK, I will stay here."]
+    assert dm.summary()["confirmed_by_repetition"] == 0
+
+
+def _corpus(acts: tuple[str, ...]) -> list[str]:
+    from pathlib import Path
+
+    rows = (Path(__file__).resolve().parents[1] / "robot" / "speech" / "corpus" / "tuning.tsv").read_text().splitlines()
+    u = shared_understander()
+    out = []
+    for line in rows:
+        if line.startswith("#") or not line.strip():
+            continue
+        words = line.split("\t")[0]
+        r = u.understand(words)
+        if r.act in acts and not r.answer:
+            out.append(words)
+    return out
+
+
+STATEMENTS = [w for w in _corpus(("PLACE",)) if not shared_understander().understand(w).fragment]
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.sampled_from(STATEMENTS), st.sampled_from([0.3, 0.6, 0.95]))
+def test_no_place_statement_ever_confirms_a_goto(statement, conf):
+    """Whatever words teach a room, said to "Shall I go to ...?", the robot does not drive: it teaches
+    (or asks about) the room."""
+    m = DialogManager(DOC)
+    m.es_state = "Interacting"
+    m.on_frame(heard("to the kitchen", LOW))
+    out = m.on_frame(heard(statement, conf))
+    assert all(s.event != "goto" for s in sends(out))
+    assert m.summary()["confirmed_by_repetition"] == 0
+
+
+@pytest.mark.parametrize("answer", ["the kitchen", "kitchen", "yes the kitchen", "go to the kitchen",
+                                    "to the kitchen please", "yes"])
+def test_the_goal_alone_or_the_request_again_confirms_the_goto(dm, answer):
+    assert says(dm.on_frame(heard("to the kitchen", LOW))) == ["Shall I go to the kitchen?"]
+    (s,) = sends(dm.on_frame(heard(answer)))
+    assert s.event == "goto" and s.children[0].find("PLACE/TITLE").get("name") == "kitchen"
+
+
+@pytest.mark.parametrize("words,question", [("the study go", "Is this the study?"), ("the garden looks great", "Is this the garden?"),
+                                            ("my cup over there", "Is this cup?")])
+def test_a_noun_phrase_said_unprompted_with_words_left_over_is_asked_about_first(dm, words, question):
+    # "the study, go" taught the study where the robot stood, at full confidence: a noun phrase
+    # with words the grammar could not use says what, not what to do with it
+    out = dm.on_frame(heard(words, 0.95))
+    assert sends(out) == [] and says(out) == [question]
+    (s,) = sends(dm.on_frame(heard("yes")))
+    assert s.event in ("place_teaching", "object_teaching")
+
+
+def test_a_clean_noun_phrase_is_taken_as_before(dm):
+    # "this is the kitchen" often reaches the dialog as "the kitchen" (the recogniser drops short words)
+    (s,) = sends(dm.on_frame(heard("the kitchen", 0.95)))
+    assert s.event == "place_teaching"
+
+
 def test_no_then_the_robot_asks_for_the_right_name(dm):
     dm.on_frame(heard("this is the living room", LOW))
     assert says(dm.on_frame(heard("no"))) == ["Sorry.", "Which room is this?"]

@@ -216,12 +216,13 @@ def test_the_kernel_never_names_the_robot_not_even_in_a_string():
 #: What every robot module may import of another robot package: the contract, the floor plan, and the
 #: robot's configuration (its deployment: which host a module runs on and how fast that host is, for
 #: processing costs; its profile: which robot is simulated). None of them imports another robot package.
-ROBOT_SHARED = ("robot.contract", "robot.floorplan", "robot.deployment", "robot.profiles")
+ROBOT_SHARED = ("robot.contract", "robot.percepts", "robot.floorplan", "robot.deployment", "robot.profiles")
 
 
 def test_robot_modules_talk_only_over_the_bus():
     """A robot module imports nothing of another robot package (``robot/install.py``, which installs
-    them, and the shared contract and floor plan aside): modules meet on the bus, not in code."""
+    them, and the shared contract, its typed percept records and the floor plan aside): modules meet on the bus,
+    not in code."""
     bad = []
     for path, module in sources():
         parts = module.split(".")

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
+import pytest
 from lxml import etree
 
 from robot.speech.module import shared_understander
@@ -37,23 +38,30 @@ def understood_share(rows: list[tuple[str, str]]) -> float:
     return ok / len(rows)
 
 
+HELD_OUT = ("heldout.tsv", "heldout-2.tsv")
+
+
 def test_the_corpus_has_500_utterances_and_a_fifth_held_out():
-    tuning, held = _rows("tuning.tsv"), _rows("heldout.tsv")
+    tuning, held = _rows("tuning.tsv"), [r for name in HELD_OUT for r in _rows(name)]
     assert len(tuning) + len(held) >= 500
     assert len(held) / (len(tuning) + len(held)) >= 0.2
 
 
-def test_the_held_out_slice_shares_no_utterance_with_the_tuning_part():
-    assert not {w for w, _ in _rows("tuning.tsv")} & {w for w, _ in _rows("heldout.tsv")}
+def test_the_held_out_slices_share_no_utterance_with_the_tuning_part_or_each_other():
+    words = [{w for w, _ in _rows(name)} for name in ("tuning.tsv", *HELD_OUT)]
+    assert sum(map(len, words)) == len(set().union(*words))
 
 
-def test_held_out_phrasings_are_understood_about_nine_times_in_ten():
-    # measured 160/163 = 98.2 % when this test was written (main before the work: 108/163 = 66.3 %)
-    assert understood_share(_rows("heldout.tsv")) >= 0.9
+@pytest.mark.parametrize("name", HELD_OUT)
+def test_held_out_phrasings_are_understood_about_nine_times_in_ten(name):
+    # heldout.tsv: 160/163 = 98.2 % when first measured (main before that work: 108/163 = 66.3 %);
+    # heldout-2.tsv: 107/110 = 97.3 % when first run, 103/106 after 4 rows the users' bank uses were dropped
+    # (the README in the corpus folder)
+    assert understood_share(_rows(name)) >= 0.9
 
 
 def test_every_expected_frame_is_well_formed():
-    for name in ("tuning.tsv", "heldout.tsv"):
+    for name in ("tuning.tsv", *HELD_OUT):
         for words, frame in _rows(name):
             if frame != "NOT_UNDERSTOOD":
                 el = etree.fromstring(frame)

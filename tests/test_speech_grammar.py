@@ -93,6 +93,26 @@ def test_fragment_is_partial_and_lowers_confidence(u):
     SCHEMA.check(msg)
 
 
+@pytest.mark.parametrize("words,fragment", [
+    ("the kitchen", True), ("my cup", True), ("the red one", False), ("this is the kitchen", False),
+    ("we are in the kitchen", False), ("is the kitchen", False), ("go to the kitchen", False),
+    ("this is my cup", False), ("is my cup", False), ("no, the kitchen", True)])
+def test_a_noun_phrase_alone_is_marked_a_fragment_a_statement_is_not(u, words, fragment):
+    # "Shall I go to the kitchen?" - "the kitchen" says it again; "this is the kitchen" teaches the
+    # room (the recogniser had heard "to the kitchen"): the dialog must tell the two apart
+    msg = frame_message(u.understand(words), 0, 1, 0.9)
+    assert (msg.get("fragment") == "true") is fragment
+    SCHEMA.check(msg)
+
+
+def test_a_lost_this_is_put_back_and_costs_confidence(u):
+    # "[this] is my cup": a teaching (a bare "is my cup" asks nothing), heard with a word missing
+    full, lost = (frame_message(u.understand(w), 0, 1, 0.9) for w in ("this is my cup", "is my cup"))
+    assert lost.find("SPEECH/OBJECT/GESTURE") is not None and lost.find("SPEECH/WHERE") is None
+    assert lost.get("partial") == "true" and float(lost.get("confidence")) < float(full.get("confidence"))
+    assert frame_message(u.understand("is my cup here"), 0, 1, 0.9).find("SPEECH/WHERE") is not None
+
+
 def test_greeting_that_opens_a_request_keeps_the_full_confidence(u):
     # a radio's "hello biron follow me" gave the greeting at half the confidence, so the
     # dialog asked "Did you say hello to me?" instead of greeting: the request is no noise

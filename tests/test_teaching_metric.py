@@ -12,11 +12,11 @@ from homesim.tour.metrics.teaching import TeachingMetric
 from homesim.scenario.loader import load_scenario_text
 from homesim.world.bodies import Pointing
 from homesim.world.world import World
-from tests.test_object_attention import SCENARIO, _run
+from tests.test_object_attention import POINT, SCENARIO, _run
 
 
 def _world():
-    return World(load_scenario_text(SCENARIO.replace("POINTING", ""), source="teaching_cups.xml"))
+    return World(load_scenario_text(SCENARIO.replace(POINT, ""), source="teaching_cups.xml"))
 
 
 def _learned(x, y, type_="cup", colour="red", t=1.0):

@@ -294,3 +294,24 @@ def test_no_timeline_label_covers_another_or_leaves_the_axes_on_a_real_run(long_
         assert not clash, (t.get_text(), clash)
     if start == 0.0:
         assert any(t.get_text() == "understood what can you do" for t in texts)
+
+
+@pytest.mark.parametrize("window", [(0.0, 15.0), (None, None)])
+def test_no_message_or_latency_label_lies_across_a_rule_between_host_bands(long_tour, window):
+    """The review: WLAN latency labels sat on the rule between two hosts' bands (an arrow from pc1 to the laptop
+    crosses it at its middle), hiding where one host ends. Message and latency labels now keep off the rules."""
+    from homesim.viz.timeline import SLOW, plot_timeline
+
+    start, end = window
+    fig = plot_timeline(read_timeline(long_tour, start=start, end=end))
+    fig.canvas.draw()
+    ax = fig.axes[0]
+    r = fig.canvas.get_renderer()
+    rules = [ln for ln in ax.lines if ln.get_color() == "#9999bb"]
+    assert len(rules) == 2  # pc1 | pc2 | laptop
+    rule_y = [ax.transData.transform((0.0, ln.get_ydata()[0]))[1] for ln in rules]
+    placed = [t for t in ax.texts if t.get_text() and t.get_fontsize() == 5.5]  # message and latency labels
+    assert any(t.get_color() == SLOW for t in placed)  # latencies over the WLAN are among them
+    for t in placed:
+        bb = t.get_window_extent(r)
+        assert not any(bb.y0 < yr < bb.y1 for yr in rule_y), (t.get_text(), bb, rule_y)

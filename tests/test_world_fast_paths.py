@@ -17,6 +17,7 @@ from hypothesis import strategies as st
 
 from homesim.world.acoustics import SoundField, Utterance, first_words, speech_duration, words_spoken
 from homesim.geometry import point_in_polygon
+from homesim import ndgrid
 from homesim.scenario.pathplan import Grid, NoPathError, scenario_bounds
 from homesim.world.world import World
 from tests.conftest import examples
@@ -215,6 +216,33 @@ def test_plans_are_the_textbook_plans(sx, sy, gx, gy, robot):
     assert again == want
     again.pop()
     assert HOME_GRID.plan((sx, sy), (gx, gy), avoid=avoid) == want
+
+
+@pytest.mark.skipif(ndgrid._kernel() is None, reason="homesim._gridkernels not built")
+@settings(max_examples=examples(60, 300), deadline=None)
+@given(shape=st.tuples(st.integers(3, 30), st.integers(3, 30)), density=st.floats(0.0, 0.6), seed=st.integers(0, 2**32 - 1),
+       ends=st.tuples(st.floats(0, 1), st.floats(0, 1), st.floats(0, 1), st.floats(0, 1)))
+def test_the_compiled_search_is_the_python_search(shape, density, seed, ends):
+    """The grid kernel's A* returns the Python loop's path cell for cell (or both find none) on random
+    grids with blocked borders: open ones (many equal-cost ties), mazes, walled-off goals."""
+    nx, ny = shape
+    blocked = np.random.default_rng(seed).random(shape) < density
+    blocked[0, :] = blocked[-1, :] = blocked[:, 0] = blocked[:, -1] = True
+    s = (1 + int(ends[0] * (nx - 3)), 1 + int(ends[1] * (ny - 3)))
+    g = (1 + int(ends[2] * (nx - 3)), 1 + int(ends[3] * (ny - 3)))
+    blocked[s] = blocked[g] = False
+    grid = object.__new__(Grid)
+    grid.nx, grid.ny, grid.blocked, grid._free, grid._free_u8 = nx, ny, blocked, None, None
+    grid.x0 = grid.y0 = 0.0
+    grid.cell = 0.05
+    try:
+        want = grid._astar_python(blocked, s, g)
+    except NoPathError:
+        with pytest.raises(NoPathError):
+            grid._astar(blocked, s, g)
+        return
+    assert grid._astar(blocked, s, g) == want
+    assert grid._astar(blocked.copy(), s, g) == want  # a grid with discs: its own bytes
 
 
 @settings(max_examples=examples(30, 100), deadline=None)

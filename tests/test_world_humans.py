@@ -377,3 +377,20 @@ def test_a_person_held_by_the_robot_in_the_only_doorway_walks_on_when_it_leaves(
     st.run(20)
     sim.close()
     assert math.hypot(ann.position[0] - 2.0, ann.position[1] - 3.0) < 0.1 and ann.held_time == held
+
+
+@settings(max_examples=examples(40, 200), deadline=None)
+@given(width=st.floats(0.2, 1.2), at=st.floats(1.0, 5.0), angle=st.floats(0.0, math.pi), thickness=st.sampled_from([0.05, 0.1, 0.2]),
+       block=st.lists(st.tuples(st.floats(-1.2, 1.2), st.floats(-1.0, 1.0), st.floats(0.05, 0.6)), max_size=4))
+def test_door_passability_is_the_breadth_first_search(width, at, angle, thickness, block):
+    """passable() (one labelling of the box around the gap) answers as the walk from cell to cell it
+    replaced, for doors too narrow, wide ones, and furniture (squares) next to or inside the gap."""
+    c, s = math.cos(angle), math.sin(angle)
+    wall = Wall((1.0, 1.0), (1.0 + 6 * c, 1.0 + 6 * s), thickness, (Door(at, width),))
+    polys = [wall_rectangle(a, b, thickness) for a, b in split_wall(wall.start, wall.end, [(at, width)])]
+    (cx, cy), (ux, uy) = door_frame(wall, wall.doors[0])
+    for along, across, half in block:  # a square piece of furniture placed in the door's frame
+        x, y = cx + along * ux - across * uy, cy + along * uy + across * ux
+        polys.append([(x - half, y - half), (x + half, y - half), (x + half, y + half), (x - half, y + half)])
+    grid = Grid(polys, (1.0 - 6, 1.0 - 6, 1.0 + 6, 1.0 + 6))
+    assert grid.passable(wall, wall.doors[0]) == grid._passable_search(wall, wall.doors[0])

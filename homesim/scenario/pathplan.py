@@ -120,6 +120,7 @@ class Grid:
         self.blocked = blocked
         self._components: np.ndarray | None = None
         self._free: list[bool] | None = None  # (~blocked).ravel().tolist(), made when A* first needs it
+        self._free_u8: np.ndarray | None = None  # the same as bytes, for the compiled A*
         # The last plans and A* cell paths asked for (both pure functions of their keys).
         self._plans: OrderedDict[tuple[object, ...], tuple[Point, ...] | str] = OrderedDict()  # str: NoPathError's message
         self._paths: OrderedDict[tuple[object, ...], tuple[tuple[int, int], ...] | None] = OrderedDict()  # None: no path
@@ -284,6 +285,18 @@ class Grid:
         min(dx, dy))`` with the same operations), so the same path.
         """
         ny = self.ny
+        start, goal = s[0] * ny + s[1], g[0] * ny + g[1]
+        k = ndgrid._kernel()
+        if k is not None:  # the same search compiled (homesim/_gridkernels.c): same pops, same path
+            cells = k.astar(self._free_bytes(blocked), ny, start, goal)
+            if cells is None:
+                raise NoPathError(self._no_path(s, g))
+            return [divmod(q, ny) for q in cells]
+        return self._astar_python(blocked, s, g)
+
+    def _astar_python(self, blocked: np.ndarray, s: tuple[int, int], g: tuple[int, int]) -> list[tuple[int, int]]:
+        """:meth:`_astar` in Python: the reference, and the path when the grid kernel is not built."""
+        ny = self.ny
         free = self._free_list(blocked)
         start, goal = s[0] * ny + s[1], g[0] * ny + g[1]
         gi, gj = g
@@ -391,6 +404,14 @@ class Grid:
                             push(frontier, (nc + (dx + dy + km1 * min(dx, dy)), counter, n))
         raise NoPathError(self._no_path(s, g))
 
+    def _free_bytes(self, blocked: np.ndarray) -> np.ndarray:
+        """The free cells as flat bytes for the compiled A* (the grid's own kept, as :meth:`_free_list`)."""
+        if blocked is not self.blocked:
+            return np.ascontiguousarray(~blocked).view(np.uint8).ravel()
+        if self._free_u8 is None:
+            self._free_u8 = np.ascontiguousarray(~self.blocked).view(np.uint8).ravel()
+        return self._free_u8
+
     def _free_list(self, blocked: np.ndarray) -> list[bool]:
         """The free cells as a flat list (the grid's own kept: plans without discs ask for it every time)."""
         if blocked is not self.blocked:
@@ -460,6 +481,29 @@ class Grid:
         within a box around the gap (0.5 m beyond its edges along the wall,
         0.6 m beyond the clearance zone across it).
         """
+        (cx, cy), (ux, uy) = door_frame(wall, door)
+        nx_, ny_ = -uy, ux
+        half_w = door.width / 2 + 0.5
+        half_t = wall.thickness / 2
+        half_d = half_t + self.clearance + 0.6
+        corners = [(cx + a * half_w * ux + b * half_d * nx_, cy + a * half_w * uy + b * half_d * ny_) for a in (-1, 1) for b in (-1, 1)]
+        lo = self.cell_of((min(p[0] for p in corners), min(p[1] for p in corners)))
+        hi = self.cell_of((max(p[0] for p in corners), max(p[1] for p in corners)))
+        # Each cell's (along, across) in the door's frame, elementwise as where() computes it in floats.
+        xs = self.x0 + (np.arange(lo[0], hi[0] + 1) + 0.5) * self.cell
+        ys = self.y0 + (np.arange(lo[1], hi[1] + 1) + 0.5) * self.cell
+        dx, dy = (xs - cx)[:, None], (ys - cy)[None, :]
+        along, across = dx * ux + dy * uy, dx * nx_ + dy * ny_
+        box = ~self.blocked[lo[0] : hi[0] + 1, lo[1] : hi[1] + 1] & (np.abs(along) <= half_w) & (np.abs(across) <= half_d)
+        # A walk from a cell on one side to one on the other within the box, 4-connected: the
+        # breadth-first search of _passable_search, as one region shared by a source and a target.
+        labels, _ = ndgrid.label(box)
+        sources = np.unique(labels[box & (across > half_t)])
+        targets = np.unique(labels[box & (across < -half_t)])
+        return bool(np.intersect1d(sources, targets).size)
+
+    def _passable_search(self, wall: Wall, door: Door) -> bool:
+        """:meth:`passable` as the breadth-first search it stands for (the reference; tests compare them)."""
         (cx, cy), (ux, uy) = door_frame(wall, door)
         nx_, ny_ = -uy, ux
         half_w = door.width / 2 + 0.5

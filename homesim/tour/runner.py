@@ -43,6 +43,7 @@ from lxml import etree
 import robot.install as biron
 import robot.profiles as robot_profiles
 from robot.deployment import DEFAULT as ROBOT_DEPLOYMENT
+from robot.deployment import MODULES as ROBOT_MODULES
 from robot.knowledge.scene_model import STORE_FILE
 from robot.supervisor import ExecutionSupervisor
 
@@ -443,7 +444,7 @@ def resolve_deployment(scenario: Scenario) -> Deployment:
     """The run's deployment: the robot's default document with the scenario's ``<deployment>`` applied."""
     base_dir = Path(scenario.source).parent if scenario.source and not scenario.source.startswith("<") else None
     try:
-        return deployment_mod.resolve(ROBOT_DEPLOYMENT, scenario.deployment, base_dir=base_dir)
+        return deployment_mod.resolve(ROBOT_DEPLOYMENT, scenario.deployment, base_dir=base_dir, modules=ROBOT_MODULES)
     except InputError as exc:
         raise ScenarioError(exc.message, source=exc.source, line=exc.line, element=exc.element) from exc
 

@@ -19,6 +19,7 @@ import math
 from collections.abc import Sequence
 
 import numpy as np
+from matplotlib.artist import Artist
 from matplotlib.axes import Axes
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.collections import Collection
@@ -47,18 +48,27 @@ def _segments_of_path(path, transform) -> np.ndarray:  # noqa: ANN001 (matplotli
     return np.vstack(segs) if segs else np.zeros((0, 4))
 
 
-def marks(ax: Axes) -> tuple[np.ndarray, np.ndarray]:
-    """What labels must keep off, in pixels: segments (S, 4) and points with a radius (P, 3)."""
+def marks(ax: Axes, only: Sequence[Artist] | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """What labels must keep off, in pixels: segments (S, 4) and points with a radius (P, 3); of the
+    artists ``only`` when given (e.g. the rules between a timeline's host bands), else of everything drawn."""
     renderer = ax.figure.canvas.get_renderer()  # type: ignore[attr-defined]
     segs: list[np.ndarray] = []
     pts: list[np.ndarray] = []
     dpi = ax.figure.dpi
-    for p in ax.patches:
+    if only is not None:
+        chosen = {id(a) for a in only}
+        patches = [p for p in ax.patches if id(p) in chosen]
+        lines = [ln for ln in ax.lines if id(ln) in chosen]
+        collections = [c for c in ax.collections if id(c) in chosen]
+        texts = [t for t in ax.texts if id(t) in chosen]
+    else:
+        patches, lines, collections, texts = list(ax.patches), list(ax.lines), list(ax.collections), list(ax.texts)
+    for p in patches:
         if p.get_gid() in BACKGROUND or not p.get_visible():
             continue
         if p.get_linewidth() > 0 and p.get_edgecolor()[3] > 0:
             segs.append(_segments_of_path(p.get_path(), p.get_transform()))
-    for ln in ax.lines:
+    for ln in lines:
         if ln.get_gid() in BACKGROUND or not ln.get_visible() or _alpha(ln) < FAINT:
             continue
         xy = ln.get_transform().transform(np.column_stack([ln.get_xdata(), ln.get_ydata()]).astype(float))
@@ -67,7 +77,7 @@ def marks(ax: Axes) -> tuple[np.ndarray, np.ndarray]:
         if ln.get_marker() not in (None, "None", "none", "", " "):
             r = ln.get_markersize() * dpi / 72 / 2
             pts.append(np.column_stack([xy, np.full(len(xy), r)]))
-    for c in ax.collections:
+    for c in collections:
         if c.get_gid() in BACKGROUND or not c.get_visible() or not isinstance(c, Collection):
             continue
         off = c.get_offsets()
@@ -76,7 +86,7 @@ def marks(ax: Axes) -> tuple[np.ndarray, np.ndarray]:
             sizes = c.get_sizes() if len(c.get_sizes()) else np.array([4.0])
             r = np.sqrt(np.resize(sizes, len(xy))) * dpi / 72 / 2
             pts.append(np.column_stack([xy, r]))
-    for t in ax.texts:
+    for t in texts:
         if isinstance(t, Annotation) and t.arrow_patch is not None and t.get_gid() not in BACKGROUND:
             t.update_positions(renderer)
             ap = t.arrow_patch
@@ -118,10 +128,10 @@ def _overlap(a: Sequence[float], b: Sequence[float]) -> bool:
 
 
 def place_clear(ax: Axes, labels: Sequence[Text], *, reach: float = 12.0, leader: str = "#999999",
-                avoid_marks: bool = True, avoid: Sequence[Text] = ()) -> None:
+                avoid_marks: bool | Sequence[Artist] = True, avoid: Sequence[Text] = ()) -> None:
     """Move each label (in the order given: the important first) to the nearest place that covers no other label
-    (nor the fixed texts ``avoid``) and, with ``avoid_marks``, no drawn mark, within ``reach`` label heights of
-    where it was asked for, inside the axes."""
+    (nor the fixed texts ``avoid``) and no drawn mark (``avoid_marks``: True every mark, False none, or the
+    marks of the artists given), within ``reach`` label heights of where it was asked for, inside the axes."""
     labels = [t for t in labels if t.get_text()]
     if not labels:
         return
@@ -129,7 +139,12 @@ def place_clear(ax: Axes, labels: Sequence[Text], *, reach: float = 12.0, leader
     canvas = fig.canvas if isinstance(fig.canvas, FigureCanvasAgg) else FigureCanvasAgg(fig)  # type: ignore[arg-type]
     renderer = canvas.get_renderer()
     ax.apply_aspect()  # an equal-aspect axes takes its drawn box only now: measure what will be drawn
-    segs, pts = marks(ax) if avoid_marks else (np.zeros((0, 4)), np.zeros((0, 3)))
+    if avoid_marks is True:
+        segs, pts = marks(ax)
+    elif avoid_marks is False:
+        segs, pts = np.zeros((0, 4)), np.zeros((0, 3))
+    else:
+        segs, pts = marks(ax, only=avoid_marks)
     frame = ax.get_window_extent(renderer)
     to_px, to_data = ax.transData, ax.transData.inverted()
     placed: list[tuple[float, float, float, float]] = [tuple(t.get_window_extent(renderer).extents) for t in avoid]  # type: ignore[misc]

@@ -149,6 +149,7 @@ def plot_timeline(tl: Timeline, *, width: float = 14.0) -> Figure:
     min_w = dur / 600  # a zero-length span still shows
     # Lanes grouped by host (the run's deployment): a band, a rule between groups and the host's name per group.
     groups: dict[str, list[float]] = {}
+    rules: list[Line2D] = []  # the rules between host groups: labels keep off them (a latency label sat on one)
     for name, yy in y.items():
         groups.setdefault(tl.hosts.get(name, ""), []).append(yy)
     for i, (host, ys) in enumerate(groups.items()):
@@ -157,7 +158,7 @@ def plot_timeline(tl: Timeline, *, width: float = 14.0) -> Figure:
         if i % 2 == 0:
             ax.axhspan(min(ys) - 0.5, max(ys) + 0.5, color="#f4f4fa", zorder=0)
         if i:
-            ax.axhline(max(ys) + 0.5, color="#9999bb", linewidth=0.8, zorder=1)
+            rules.append(ax.axhline(max(ys) + 0.5, color="#9999bb", linewidth=0.8, zorder=1))
         ax.text(1.004, (min(ys) + max(ys)) / 2, host, transform=ax.get_yaxis_transform(), rotation=90, va="center", ha="left",
                 fontsize=8, fontweight="bold", color="#555577")
     renderer = fig.canvas.get_renderer()
@@ -246,6 +247,7 @@ def plot_timeline(tl: Timeline, *, width: float = 14.0) -> Figure:
             span_boxes.append(bb)
             kept.append(txt)
     # message and latency labels off each other and inside the axes (not over the y axis or the host names);
-    # arrows are everywhere in a timeline, so labels keep off labels only (their white boxes keep them legible)
-    place_clear(ax, labels + latencies, avoid_marks=False, avoid=phase_texts + kept)
+    # arrows are everywhere in a timeline, so labels keep off labels and the rules between host bands only
+    # (their white boxes keep them legible over arrows; over a rule they hid where one host ends)
+    place_clear(ax, labels + latencies, avoid_marks=rules, avoid=phase_texts + kept)
     return fig

@@ -59,7 +59,6 @@ from lxml import etree
 
 from homesim.message import Message
 from homesim.module import Module
-from homesim.xmlio import hardened_parser
 
 from robot.contract import ATTENTION_STATE, BASE_CMD, ES_EVENTS, ES_ORDERS, FACES, FOCUS, FOLLOW_STATUS, ODOMETRY, PARTNER, POSE, PTU_CMD, SCAN, SOURCES, STEER, TORSOS, TRACKS
 
@@ -67,6 +66,7 @@ from .clutter import FurnitureLegs
 from .cues import CueSpec, Hysteresis, bearings_from, match_faces, match_sounds, sound_bearings_from
 from .fsm import CAMERA, TURNS, AttentionFSM, OrderRefused
 from .legs import LegDetector, LegSpec
+from .records import TrackRow, TracksRecord, own_document as _own_document
 from .selection import SelectionParams, Selector
 from .tracker import Tracks, TrackerSpec
 
@@ -123,18 +123,7 @@ class AttentionParams:
     max_refused: int = 32
 
 
-_PARSER = hardened_parser()
-
-
-def _own_document(text: str) -> etree._Element:
-    """A message this module wrote as text, parsed with the project's hardened parser.
-
-    Only numbers, ``tN`` ids, names and true/false go into these texts (nothing to escape, no
-    DOCTYPE, no other encoding), so the checks ``parse_bytes`` makes on documents from outside
-    (size, encoding, DOCTYPE: ~10 us a message) are left out; a malformed text would still raise
-    lxml's XMLSyntaxError.
-    """
-    return etree.fromstring(text.encode(), _PARSER)
+_row = TrackRow._make
 
 
 def _deg(a: float) -> str:
@@ -320,7 +309,9 @@ class PersonAttention(Module):
         prow = self.tracks.row(self.partner)
         if prow < 0:
             return
-        bearings = [math.radians(float(s.get("bearing"))) for s in msg.xml]
+        data = msg.data  # the camera's typed PerceptList (robot.percepts), else XML: the same texts
+        bearings = [math.radians(float(s.bearing)) for s in data.rows] if data is not None else [
+            math.radians(float(s.get("bearing"))) for s in msg.xml]
         if not bearings:
             return
         pb = bearings_from(self._robot_xy(t)[prow : prow + 1], self.cues.camera_offset)[0]
@@ -333,7 +324,9 @@ class PersonAttention(Module):
         t = msg.created
         tracks = self.tracks.tracks
         ids = [tk.id for tk in tracks]
-        faces = [(math.radians(float(f.get("bearing"))), float(f.get("distance"))) for f in msg.xml]
+        data = msg.data  # the camera's typed PerceptList (robot.percepts), else XML: the same texts
+        faces = [(math.radians(float(f.bearing)), float(f.distance)) for f in data.rows] if data is not None else [
+            (math.radians(float(f.get("bearing"))), float(f.get("distance"))) for f in msg.xml]
         rows = match_faces(self._robot_xy(t), faces, self.cues) if tracks and faces else []
         self.facing.feed(t, ids, {ids[r] for r in rows})
         self.tracks.support([r for r in rows if tracks[r].confirmed], t)
@@ -651,24 +644,18 @@ class PersonAttention(Module):
 
     # ------------------------------------------------------------ outputs
     def _publish_tracks(self, t: float, cats: dict[int, int], bearing: list[float], dist: list[float]) -> None:
-        # Written as text and read back with the hardened parser: lxml sets an attribute given as a
-        # keyword at ~1.7 us (name and value checks), so a message of four tracks cost ~100 us built
-        # node by node and ~50 us this way. Every value is a number, a "tN" id or true/false: nothing
-        # to escape.
+        # A typed record (records.TracksRecord): its XML is written only when somebody reads it.
         facing = self.facing
-        parts = [f'<tracks time="{t:.6f}" frame="odom">']
+        rows = []
+        degrees = math.degrees
         for i, tk in enumerate(self.tracks.tracks):
             tid = tk.id
             x0, x1, x2, x3 = tk.x
             P = tk.P
             cat = cats.get(tid, 0)
-            parts.append(
-                f'<track id="t{tid}" x="{x0:.3f}" y="{x1:.3f}" vx="{x2:.3f}" vy="{x3:.3f}" cxx="{P[0]:.5f}" cxy="{P[1]:.5f}" cyy="{P[4]:.5f}"'
-                f' bearing="{math.degrees(bearing[i]):.3f}" distance="{dist[i]:.3f}" confirmed="{"true" if tk.confirmed else "false"}"'
-                f' speaking="{"true" if cat >= 2 else "false"}" facing="{"true" if cat and facing.on(tid) else "false"}"/>'
-            )
-        parts.append("</tracks>")
-        self.bus.publish(TRACKS, _own_document("".join(parts)), transfer=True)
+            rows.append(_row((f"t{tid}", x0, x1, x2, x3, P[0], P[1], P[4], degrees(bearing[i]), dist[i],
+                              tk.confirmed, cat >= 2, bool(cat) and facing.on(tid))))
+        self.bus.publish(TRACKS, TracksRecord(t, tuple(rows)))
 
     def _publish_partner(self, t: float, row: int, bearing: list[float], dist: list[float], visible: bool) -> None:
         tk = self.tracks.tracks[row]

@@ -20,7 +20,23 @@ from functools import lru_cache
 from pathlib import Path
 from typing import Any
 
-from homesim.deployment import Deployment, load
+from homesim.deployment import Deployment, check_file, load
+from homesim.documents import DocumentType
+from homesim.errors import InputError
+
+#: Every module of a full run, by name: the hardware models (``robot.hardware.install``), the
+#: execution supervisor and those ``robot.install.SUBSYSTEMS`` install. What a deployment may place
+#: (``<place module>``): the kernel does not know BIRON's modules, the run and ``homesim check`` pass
+#: this list (tests/test_deployment.py checks it against a run's modules).
+MODULES: tuple[str, ...] = (
+    # hardware
+    "base", "camera", "display", "laser", "map_server", "microphones", "speaker",
+    # the execution supervisor
+    "supervisor",
+    # the subsystems
+    "localiser", "person_attention", "scene_model", "object_attention", "understanding", "dialog", "watchdog",
+    "follower", "planner", "sequencer", "player",
+)
 
 #: The papers' deployment (the default of every run).
 DEFAULT = Path(__file__).with_name("biron.xml")
@@ -28,8 +44,17 @@ DEFAULT = Path(__file__).with_name("biron.xml")
 
 @lru_cache(maxsize=1)
 def papers() -> Deployment:
-    """The default document, loaded once."""
-    return load(DEFAULT)
+    """The default document, loaded once (its placements checked against BIRON's modules)."""
+    return load(DEFAULT, modules=MODULES)
+
+
+def _check(path: str) -> list[InputError]:
+    return check_file(path, modules=MODULES)
+
+
+#: ``homesim check`` of a deployment document (entry point ``homesim.documents``): the kernel's checks
+#: and every ``<place module>`` one of BIRON's modules (:data:`MODULES`).
+DOCUMENT_TYPE = DocumentType("deployment", "deployment", _check)
 
 
 def cost_scale(sim: Any, module: str, host: str) -> float:
@@ -49,8 +74,8 @@ def check_scenario(sc: Any) -> None:
     """``homesim.scenario_checks``: the scenario's ``<deployment>`` merged into BIRON's default.
 
     What the schema cannot see (a host, route or placement naming a host or
-    link that neither the default nor the override declares, an ``href``
-    document that does not load) is found by ``homesim check``, not first by
+    link that neither the default nor the override declares, a placement of a
+    module BIRON does not have, an ``href`` document that does not load) is found by ``homesim check``, not first by
     ``homesim run``. Raises :class:`~homesim.errors.ScenarioError` naming the
     file and line.
     """
@@ -61,6 +86,6 @@ def check_scenario(sc: Any) -> None:
 
     base_dir = Path(sc.source).parent if sc.source and not str(sc.source).startswith("<") else None
     try:
-        resolve(papers(), sc.deployment, base_dir=base_dir)
+        resolve(papers(), sc.deployment, base_dir=base_dir, modules=MODULES)
     except InputError as exc:
         raise ScenarioError(exc.message, source=exc.source, line=exc.line, element=exc.element) from exc

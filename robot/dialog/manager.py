@@ -226,7 +226,8 @@ class DialogManager:
         act_el = acts[0]
         act = str(act_el.tag)
         conf = float(msg.get("confidence", "1"))
-        if self._unheard >= MAX_SAME_QUESTION and conf >= self.doc.confirm_below / 2 and self.doc.confirm_below <= 1.0:
+        repaired = self._unheard >= MAX_SAME_QUESTION
+        if repaired and conf >= self.doc.confirm_below / 2 and self.doc.confirm_below <= 1.0:
             # she was asked to say it again twice already: what is heard now is taken, not confirmed
             # (a third question for one request; a more cautious document, confirm-below above 1, still asks)
             conf = self.doc.confirm_below
@@ -241,6 +242,18 @@ class DialogManager:
         said = msg.get("answer", "")  # "yes"/"no" before the request: "no, the kitchen"
         out: list[Output] = []
         answered = self._answered_by(act)
+        if answered is not None and said != "yes" and self._another_request(answered, act, msg):
+            # "Shall I go to the kitchen?" - "this is the kitchen" (she was teaching the room; the
+            # recogniser heard "to the kitchen"): a whole statement of another dialog's act is no
+            # repetition of the request even where its value is the same. It says no to the
+            # question and is a request of its own (below); "the kitchen" alone still confirms.
+            assert answered.pending is not None
+            answered.slots[answered.pending[1]].status = "false"
+            answered.pending, answered.reasks, answered.passed_over = None, 0, 0
+            self.metrics["corrections"] += 1
+            self._step(answered, out)
+            answered = None
+            said = ""  # the implied no answered the question; a "no" said aloud answered it too
         if answered is None and said and self._confirming() is not None:
             # "no, go to the kitchen" to "Shall I follow you?": the no answers it, the rest is new
             top = self._confirming()
@@ -279,6 +292,13 @@ class DialogManager:
             return self._send_unattended(d, act_el, out, stamp)
         if said == "no":
             act_el = self._correcting(d.id, act_el)
+        if msg.get("fragment") == "true" and (msg.get("partial") == "true" or msg.get("unknown")) and not said \
+                and not repaired:
+            # a noun phrase said unprompted with words the grammar could not use ("the study, go",
+            # "the garden looks great") names a thing without saying what to do with it (the vague
+            # user's "the study, go" taught the study where the robot stood): the robot asks first.
+            # A clean "the kitchen" (the recogniser often drops "this is") is taken as before.
+            conf = min(conf, self.doc.confirm_below / 2)
         inst = self._push(d, out)
         self._fill_frame(inst, [f for f in d.fills if f.frame and act in f.frame], act_el, conf, stamp)
         self._step(inst, out)
@@ -300,6 +320,20 @@ class DialogManager:
         act_el.set("replaces", old_title.get("name", ""))
         self.metrics["corrections"] += 1
         return act_el
+
+    def _another_request(self, inst: Instance, act: str, msg: etree._Element) -> bool:
+        """Whether a frame that fits ``inst``'s open confirmation is a request of another dialog instead.
+
+        A noun phrase alone (``fragment``) answers whatever asked for it; a whole statement
+        ("this is the kitchen", "we are in the kitchen") is the request of the dialog its act
+        triggers, and confirms only that dialog's question.
+        """
+        if inst.pending is None or inst.pending[0] != "confirm" or act in ("YES", "NO") or act in inst.d.trigger:
+            return False
+        if msg.get("fragment") == "true":
+            return False
+        own = self.doc.by_trigger(act)
+        return own is not None and own is not inst.d
 
     def _confirming(self) -> Instance | None:
         """The dialog whose confirmation question is the topmost open question, if any."""

@@ -9,10 +9,11 @@ Listens to ``/robot/speech/frames`` (the understanding), ``/robot/es/conditions/
 route everything: the condition ``ask`` (``<OPTIONS timeout><option index text/>+</OPTIONS>``)
 starts the clarify sub-dialog, and the answer goes back as the ES event ``clarified``
 (``<ANSWER index/>`` or ``<ANSWER none="true"/>``, the latter with ``deixis="true"`` for "this one"
-and the answer's ``POSITION`` for "the one on the table": :func:`unchosen_answer`). ``dialog/ask``
-(RPC, the same question answered directly) stays for tools; with ``about="occluded"`` it asks the
-partner to step aside (the object attention cannot see what she points at) and answers
-``<answer said="true"/>`` once it has been said.
+and the answer's ``POSITION`` for "the one on the table": :func:`unchosen_answer`). The occlusion
+question too: the condition ``step_aside`` (the object attention cannot see what the partner points
+at, she stands in front of it) starts the ``step_aside`` sub-dialog, and once it has been said the
+dialog sends the ES event ``asked_aside`` (``said="true"``). ``dialog/ask`` (RPC, the same
+questions answered directly, ``about="occluded"`` for the second) stays for tools only.
 
 Timing (virtual, docs/semantics.md §7): the dialog is a serial processor; each input
 costs ``dialog_cost``; its events leave then, and what the robot says leaves
@@ -264,6 +265,9 @@ class Dialog(Module):
         if msg.xml.get("name") == "ask":  # a reactive module's question, routed through the ES
             self.sim.spawn(self._ask_for_es(msg), name=f"{self.name}-ask")
             return
+        if msg.xml.get("name") == "step_aside":  # the object attention cannot see past the partner
+            self.sim.spawn(self._step_aside_for_es(msg), name=f"{self.name}-step-aside")
+            return
         self._emit(self.manager.on_condition(msg.xml), msg.id)
 
     async def _ask_for_es(self, msg: Message) -> None:
@@ -282,6 +286,19 @@ class Dialog(Module):
         out = etree.SubElement(ev, "ANSWER", dict(answer.attrib))
         for child in answer:  # "the one on the table": its POSITION
             out.append(child)
+        self.bus.publish(ES_EVENTS, ev, causes=(msg.id,), transfer=True)
+
+    async def _step_aside_for_es(self, msg: Message) -> None:
+        """Condition ``step_aside``: ask the partner to step aside (the ``step_aside`` sub-dialog),
+        then tell the ES it has been said: event ``asked_aside`` with ``said="true"`` (``"false"``
+        when the sub-dialog could not start), which the ES routes back to the object attention."""
+        inst, outs = self.manager.start("step_aside", {"asked": "true"})
+        if inst is not None:
+            self._emit(outs, msg.id)
+            await self._until_said()
+        if self.bus.closed or self.bus.hung:
+            return
+        ev = etree.Element("event", name="asked_aside", said="true" if inst is not None else "false")
         self.bus.publish(ES_EVENTS, ev, causes=(msg.id,), transfer=True)
 
     def _on_rejected(self, msg: Message) -> None:

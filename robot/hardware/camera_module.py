@@ -19,14 +19,16 @@ from __future__ import annotations
 
 import asyncio
 import math
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 from lxml import etree
 
-from homesim.message import Message
+from homesim.message import Frozen, Message
 from homesim.module import Module
 
 from robot.contract import FACES, GESTURES, OBJECTS, PTU_CMD, PTU_STATE, TORSOS
+
+from robot.percepts import FaceRow, PerceptList, TorsoRow
 
 from .camera import CameraSpec, PanTilt, detect_frame, ptu_step
 
@@ -50,7 +52,7 @@ class Camera(Module):
         self.confusion = confusion
         self.ptu = PanTilt()
         # The frame's elements as last built for a pan-tilt state (see _elements).
-        self._templates: tuple[tuple[str, str, str, str], tuple[etree._Element, ...]] | None = None
+        self._templates: tuple[tuple[str, str, str, str], Frozen, tuple[etree._Element, ...]] | None = None
         self.bus.subscribe(PTU_CMD, self._on_cmd)
 
     def _on_cmd(self, msg: Message) -> None:
@@ -78,17 +80,15 @@ class Camera(Module):
         # Every kind's sight lines in one pass, against the people as they are now (their occluding
         # cylinders built in that pass, once, and only when some percept is a candidate).
         frame = detect_frame(w, pose, ptu, self.spec, self.rng, confusion=self.confusion)
-        ptu_el, faces, torsos, gestures, objects = self._elements(ptu)
+        ptu_state, faces, torsos, gestures, objects = self._elements(ptu)
         time = f"{self.now:.6f}"
-        self.bus.publish(PTU_STATE, ptu_el, transfer=True)
-        faces.set("time", time)
-        for f in frame.faces:
-            etree.SubElement(faces, "face", bearing=_deg(f.bearing), distance=f"{f.distance:.3f}", height=f"{f.height:.3f}")
-        self.bus.publish(FACES, faces, transfer=True)
-        torsos.set("time", time)
-        for t in frame.torsos:
-            etree.SubElement(torsos, "torso", bearing=_deg(t.bearing), r=f"{t.colour[0]:.3f}", g=f"{t.colour[1]:.3f}", b=f"{t.colour[2]:.3f}")
-        self.bus.publish(TORSOS, torsos, transfer=True)
+        self.bus.publish(PTU_STATE, ptu_state)  # (its XML is copied from the template only if somebody reads it)
+        # Faces and torsos as typed records (robot.percepts): their one reader, person attention,
+        # reads the rows; the lists' XML is built from the templates only if somebody reads it.
+        self.bus.publish(FACES, PerceptList(faces, time, "face", tuple(
+            FaceRow(_deg(f.bearing), f"{f.distance:.3f}", f"{f.height:.3f}") for f in frame.faces)))
+        self.bus.publish(TORSOS, PerceptList(torsos, time, "torso", tuple(
+            TorsoRow(_deg(t.bearing), f"{t.colour[0]:.3f}", f"{t.colour[1]:.3f}", f"{t.colour[2]:.3f}") for t in frame.torsos)))
         gestures.set("time", time)
         for g in frame.gestures:
             etree.SubElement(gestures, "pointing", bearing=_deg(g.bearing), distance=f"{g.distance:.3f}", direction=_deg(g.direction), elevation=_deg(g.elevation),
@@ -100,19 +100,22 @@ class Camera(Module):
                 b=f"{o.colour[2]:.3f}", width=_deg(o.width))
         self.bus.publish(OBJECTS, objects, transfer=True)
 
-    def _elements(self, ptu: PanTilt) -> tuple[etree._Element, ...]:
-        """Fresh elements for a frame: ``<ptu pan tilt target_pan target_tilt/>`` and the four
-        percept lists' ``<faces time pan tilt/>`` (etc.; ``time`` to be set), each a copy of a
-        template kept for the pan-tilt state as formatted. The unit mostly holds still between
-        frames, and a copy with one attribute set costs a third of building an element with its
-        three (same attributes, same order: the same message)."""
+    def _elements(self, ptu: PanTilt) -> tuple[Any, ...]:
+        """For a frame: ``<ptu pan tilt target_pan target_tilt/>`` as a typed record (the template
+        itself, :class:`~homesim.message.Frozen`: nobody subscribes to it in a run, so it is
+        copied only for the trace) and fresh elements of the four percept lists'
+        ``<faces time pan tilt/>`` (etc.; ``time`` to be set), each a copy of a template kept for
+        the pan-tilt state as formatted (the faces' and torsos' templates themselves: their
+        :class:`~robot.percepts.PerceptList` copies them only when its XML is read). The unit mostly holds still between frames, and a copy
+        with one attribute set costs a third of building an element with its three (same
+        attributes, same order: the same message)."""
         key = (_deg(ptu.pan), _deg(ptu.tilt), _deg(ptu.target_pan), _deg(ptu.target_tilt))
         kept = self._templates
         if kept is None or kept[0] != key:
             pan, tilt, target_pan, target_tilt = key
             stamp = {"time": "", "pan": pan, "tilt": tilt}
-            kept = self._templates = (key, (
+            kept = self._templates = (key, Frozen(
                 etree.Element("ptu", pan=pan, tilt=tilt, target_pan=target_pan, target_tilt=target_tilt),
-                *(etree.Element(tag, stamp) for tag in ("faces", "torsos", "gestures", "objects")),
-            ))
-        return tuple(el.__copy__() for el in kept[1])
+            ), tuple(etree.Element(tag, stamp) for tag in ("faces", "torsos", "gestures", "objects")))
+        faces, torsos, gestures, objects = kept[2]
+        return kept[1], faces, torsos, gestures.__copy__(), objects.__copy__()

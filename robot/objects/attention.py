@@ -12,7 +12,8 @@ Bus (docs/robot-contract.md). On the ES order ``find_object`` (on
    the person attention turns the camera there;
 3. collects ``/robot/camera/objects`` detections for ``look_time`` s (when
    nothing fits and the pointing person stands between the camera and where
-   she points, it first asks her to step aside (``dialog/ask about="occluded"``),
+   she points, it first asks her to step aside through the ES (event ``occluded``,
+   the dialog's condition ``step_aside``, its answer back as the order ``asked_aside``),
    waits until ``/robot/attention/partner`` shows her out of the way, and looks
    again at where she points then), places
    each in the map frame with the localised pose (``/robot/localisation/pose``)
@@ -71,6 +72,7 @@ SENTENCE_RECENT = 15.0  # s: a sentence begun this long ago is still the one bei
 SEARCH_OFFSETS = (math.radians(-35.0), math.radians(35.0), math.radians(-70.0), math.radians(70.0))  # off her bearing
 SEARCH_LOOK = 1.0  # s the camera dwells on each side of her
 SEARCH_RADIUS = 1.5  # m: what she shows without a gesture the camera saw stands this near her
+STEP_ASIDE_ASK = 20.0  # s: the question "could you step aside" is said within this (through the ES and the dialog)
 
 OWNER_WORDS = {"speaker": "partner", "my": "partner", "me": "partner", "mine": "partner"}
 
@@ -122,6 +124,7 @@ class ObjectAttention(Module):
         self._seen: list[tuple[str, float, float, float, tuple[float, float, float], float | None]] = []
         self._search: asyncio.Task[None] | None = None
         self._answer: asyncio.Future[etree._Element] | None = None  # waiting for the order "clarified"
+        self._asked_aside: asyncio.Future[bool] | None = None  # waiting for the order "asked_aside"
         self.last: Resolution | None = None  # the latest resolution (for tests and introspection)
         self.bus.subscribe(ORDERS, self._on_order)
         self.bus.subscribe(GESTURES, self._on_gestures)
@@ -179,6 +182,11 @@ class ObjectAttention(Module):
 
     # ------------------------------------------------------------ orders
     def _on_order(self, msg: Message) -> None:
+        if msg.xml.get("name") == "asked_aside":  # the dialog asked her to step aside, through the ES
+            said = next((p.text for p in msg.xml.iterfind("param") if p.get("name") == "said"), None)
+            if self._asked_aside is not None and not self._asked_aside.done():
+                self._asked_aside.set_result((said or "").strip() == "true")
+            return
         if msg.xml.get("name") == "clarified":  # the partner's answer to our question, through the ES
             answer = next((p.find("ANSWER") for p in msg.xml.iterfind("param") if p.find("ANSWER") is not None), None)
             if self._answer is not None and not self._answer.done() and answer is not None:
@@ -335,12 +343,20 @@ class ObjectAttention(Module):
         return p.x + math.cos(p.direction), p.y + math.sin(p.direction)
 
     async def _ask_step_aside(self, cause: str) -> bool:
-        """Ask the partner (through the dialog) to step aside; False if it could not be asked."""
+        """Ask the partner to step aside, through the ES (the papers' control flow): the event
+        ``occluded`` becomes the dialog's condition ``step_aside``; once the question has been said
+        the dialog's answer comes back as the order ``asked_aside`` (param ``said``). False if it
+        was not said within ``STEP_ASIDE_ASK`` s (no dialog, or the ES rejected the event)."""
+        fut: asyncio.Future[bool] = self.sim.loop.create_future()
+        self._asked_aside = fut
+        self.bus.publish(ES_EVENTS, etree.Element("event", name="occluded"), causes=(cause,), transfer=True)
         try:
-            reply = await self.bus.call("dialog", "ask", etree.Element("ask", about="occluded"), timeout=20.0, causes=(cause,))
-        except Exception:  # no dialog: nobody to ask
+            async with asyncio.timeout(STEP_ASIDE_ASK):
+                return await fut
+        except TimeoutError:
             return False
-        return reply.xml.get("said") == "true"
+        finally:
+            self._asked_aside = None
 
     def _partner_in_view(self) -> bool:
         """No pointing seen and nothing found, with the partner standing in front of the camera:

@@ -115,6 +115,7 @@ class Understanding:
     coverage: float = 0.0  # share of the meaningful words the frame used, 0..1
     rest: list[str] = field(default_factory=list)  # a whole request after a greeting, left out of the frame
     answer: str = ""  # "yes"/"no" said before the request ("no, the kitchen"): it answers an open question
+    fragment: bool = False  # a noun phrase alone ("the kitchen"): an answer, not a request or statement by itself
     reason: str = ""  # why nothing was understood
 
     @property
@@ -152,9 +153,11 @@ class Understander:
             return res
         tree, ignored, partial = self._parse(toks)
         if toks[0].type in ("IS", "ARE") and len(toks) > 1 and (tree is None or partial):
-            # "is the living room": not a question about an object, a teaching whose "this" was lost
-            alt = self._parse(toks[1:])
-            if alt[0] is not None and (not alt[2] or tree is None):
+            # "is the living room", "is my cup": not a question about an object (nobody asks a bare
+            # "is my cup"), a teaching whose "this" was lost: parsed as the statement it was
+            alt = self._parse([_LOST_THIS, *toks])  # whole: "is my <lost>" lost too much to guess
+            if alt[0] is not None and not alt[2]:
+                # the copula stays counted as unheard: the statement is a guess from a word missing
                 tree, ignored, partial = alt[0], [toks[0].text, *alt[1]], True
         elif ignored and len(toks) > 2 and [t.text for t in toks[len(toks) - len(ignored):]] != ignored:
             # "that to the kitchen" (the recogniser's "that" for "go"): a word skipped inside the
@@ -171,12 +174,21 @@ class Understander:
             # after the first word turns a statement into a request ("to [is] the kitchen", go
             # there). The copula says the turn is a statement: the first word was misheard and the
             # rest is a teaching whose "this" was lost, as "is the living room" above.
-            alt = self._parse(toks[2:])
+            alt = self._parse([_LOST_THIS, *toks[1:]])
             if alt[0] is not None and not alt[2] and tree_act(alt[0]) in _STATEMENT_ACTS:
+                # either of the two first words may be the misheard one ("go is the kitchen" is "go
+                # to the kitchen" as well): both count as unheard, so a confident guess is confirmed
                 tree, ignored, partial = alt[0], [toks[0].text, toks[1].text], True
         restart = self._restart(lex.raw)
         if restart is not None:  # "follow me, no wait, stop": the repair is a whole new request
             toks, (tree, ignored, partial) = restart
+        elif (tree is None or _guessed(tree)) and len(toks) > 2:
+            # "let's go, follow me, I will show you around", "let me show you, this is the guest
+            # room": a preamble the grammar cannot close, or closes only with a guessed empty place
+            # or object ("let's go <lost place>"), before a whole request said after it: the request wins
+            tail = self._whole_request_after(toks)
+            if tail is not None:
+                tree, ignored, partial = tail
         lead = 0
         while lead < len(toks) - 1 and toks[lead].type in _ANSWER_WORDS:
             lead += 1
@@ -207,6 +219,7 @@ class Understander:
             res.reason = "nothing known said about it"
             return res
         res.frame = frame
+        res.fragment = tree_act(tree) in _FRAGMENTS
         res.ignored = ignored
         res.partial = partial or bool(ignored)
         used = len(toks) - len(ignored)
@@ -238,6 +251,22 @@ class Understander:
         if parsed[0] is None or parsed[2] or tree_act(parsed[0]) in _NOT_RESTARTS:
             return None
         return tail, parsed
+
+    def _whole_request_after(self, toks: list[Tok]) -> tuple[Tree, list[str], bool] | None:
+        """The longest tail of ``toks`` (from the second token on) that opens with a whole request.
+
+        A request is an act of its own (not a noun phrase, a yes/no or a which-one answer), closed
+        without a guessed empty object or place; words after it may be left over. The words before
+        it are reported as ignored, so the coverage falls with the preamble's length.
+        """
+        for i in range(1, len(toks) - 1):
+            tree, ignored, _ = self._parse(toks[i:])
+            if tree is None or _guessed(tree) or tree_act(tree) in _NOT_REQUESTS:
+                continue
+            if ignored and [t.text for t in toks[len(toks) - len(ignored):]] != ignored:
+                continue  # a word skipped inside the request: not said as a whole
+            return tree, [t.text for t in toks[:i]] + ignored, True
+        return None
 
     def _request_after_greeting(self, toks: list[Tok], ignored: list[str]) -> bool:
         """Whether the words a greeting's parse left out are the utterance's end and a whole act alone.
@@ -293,7 +322,13 @@ class Understander:
             except UnexpectedInput:
                 continue
             kept = set(fed[: k + 1])
-            return tree, [toks[i].text for i in range(len(stream)) if i not in kept], True
+            rest = [toks[i] for i in range(len(stream)) if i not in kept]
+            if (tree_act(tree) == "that_one" and not ignored and rest[0].type in ("IS", "ARE")
+                    and any(t.type not in _ONLY_POINTS for t in rest)):
+                # "this one here is my reading <lost>": a statement about the one she points at,
+                # its noun lost (a teaching to ask about), not the which-one answer "this one here"
+                break
+            return tree, [t.text for t in rest], True
         if used < 2:
             return None, ignored, True  # one word and a guessed rest is no understanding
         skipped = set(ignored)
@@ -316,9 +351,15 @@ class Understander:
 
 #: Words that answer a question before the request that follows them ("no, the kitchen").
 _ANSWER_WORDS = frozenset({"YES", "OKAY", "NO"})
+#: The "this" of a statement the recogniser lost ("[this] is my cup"): put back to parse the statement.
+_LOST_THIS = Tok("THIS", "this", "")
+#: Noun phrases alone: they answer a question; a whole statement ("this is the kitchen") is a request of its own.
+_FRAGMENTS = frozenset({"object_fragment", "place_fragment"})
 #: Acts that continue a phrase rather than start a new clause: a repair made of them is aligned.
 #: what "<lost this> is ..." can be: a place or an object shown
 _STATEMENT_ACTS = frozenset({"place_fragment", "object_fragment", "teach_place", "teach_object"})
+#: Acts that are no request by themselves: answers to a question the robot asked.
+_NOT_REQUESTS = frozenset({"object_fragment", "place_fragment", "that_one", "yes", "no"})
 _NOT_RESTARTS = frozenset({"object_fragment", "place_fragment", "that_one", "yes", "no"})
 
 # word classes that say nothing about a dangling object or place: deixis, articles, prepositions
@@ -334,6 +375,12 @@ def _declared(text: str) -> set[str]:
         if line.startswith("%declare"):
             out.update(line.split()[1:])
     return out
+
+
+def _guessed(tree: Tree) -> bool:
+    """Whether the parse closed a dangling object or place with a guessed empty one ("this is my ...")."""
+    return any(isinstance(t, Token) and t.type in ("OBJ", "PLACE") and not _tok(t).text for t in tree.scan_values(
+        lambda v: isinstance(v, Token)))
 
 
 def tree_act(tree: Tree) -> str:
@@ -505,7 +552,12 @@ def build(tree: Tree) -> etree._Element:
     elif kind in ("teach_place", "place_fragment"):
         speech.append(_place(_sub(act, "place_np")))  # type: ignore[arg-type]
     elif kind == "goto":
-        _S(speech, "GOTO").append(_place(_sub(act, "place_np")))  # type: ignore[arg-type]
+        np = _sub(act, "place_np")
+        req = _sub(act, "request")
+        if np is None and req is not None and any(t.type == "LETS" for t in _tokens(req)):
+            _S(speech, "FOLLOW")  # "let's go": together, and she knows where
+        else:
+            _S(speech, "GOTO").append(_place(np) if np is not None else _E("PLACE"))
     elif kind == "where":
         w = _S(speech, "WHERE")
         np = _sub(act, "object_np")

@@ -5,7 +5,7 @@ the older recogniser's ``wer`` stands in for a missing confidence as ``1 - wer``
 and its ``self="true"`` utterances are skipped).
 
 Output: ``/robot/speech/frames`` (``robot/schemas/speech-frames.xsd``):
-``<understood start end confidence [unknown ignored corrected partial answer]><SPEECH><TIMESTAMP val/>..</SPEECH><words>..</words></understood>``
+``<understood start end confidence [unknown ignored corrected partial answer fragment]><SPEECH><TIMESTAMP val/>..</SPEECH><words>..</words></understood>``
 (``TIMESTAMP``: the utterance's start in virtual milliseconds, as the papers' frames carry it)
 or ``<not_understood start end confidence [unknown] reason>words</not_understood>``.
 
@@ -38,7 +38,7 @@ from collections import deque
 from dataclasses import dataclass
 from difflib import SequenceMatcher
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from lxml import etree
 
@@ -49,7 +49,8 @@ from homesim.vloop import to_ns
 
 from robot.contract import FRAMES, SPEAKER_STATUS, SPEECH
 
-from .grammar import Understander, Understanding
+if TYPE_CHECKING:  # the grammar (lark, the lexicon, the LALR tables) is loaded at the first utterance
+    from .grammar import Understander, Understanding
 
 FRAMES_XSD = Path(__file__).resolve().parent.parent / "schemas" / "speech-frames.xsd"
 
@@ -59,6 +60,8 @@ _SHARED: list[Understander] = []
 def shared_understander() -> Understander:
     """One grammar per process (loading the lexicon and building the LALR tables takes ~0.1 s)."""
     if not _SHARED:
+        from .grammar import Understander
+
         _SHARED.append(Understander())
     return _SHARED[0]
 
@@ -89,6 +92,8 @@ def frame_message(u: Understanding, start: float, end: float, confidence: float)
         el.set("partial", "true")
     if u.answer:
         el.set("answer", u.answer)
+    if u.fragment:
+        el.set("fragment", "true")
     # the frame carries when the utterance began, as the papers' frames do (<TIMESTAMP val/>, ms)
     speech = etree.SubElement(el, "SPEECH")
     etree.SubElement(speech, "TIMESTAMP", val=str(max(0, round(start * 1000.0))))
@@ -155,7 +160,7 @@ class SpeechUnderstanding(Module):
         typed: bool = True,
     ) -> None:
         super().__init__(sim, name, host=host)
-        self.understander = understander or shared_understander()
+        self._understander = understander  # None: the shared grammar, loaded when the first utterance arrives (start-up)
         # Calibrated to the papers' laptop (Fig. 6); on another host the CPU speed scales them (docs/deployment.md).
         scale = cost_scale(sim, self.name, self.bus.host)
         self.recognition_base = recognition_base * scale
@@ -170,6 +175,13 @@ class SpeechUnderstanding(Module):
             sim.bus.declare_channel(FRAMES, FRAMES_XSD)
         self.bus.subscribe(SPEECH, self._on_utterance)
         self.bus.subscribe(SPEAKER_STATUS, self._on_speaker)
+
+    @property
+    def understander(self) -> Understander:
+        """The grammar this module runs (the process's shared one unless one was given)."""
+        if self._understander is None:
+            self._understander = shared_understander()
+        return self._understander
 
     async def run(self) -> None:
         """Beat; utterances are handled as they are delivered."""

@@ -313,13 +313,23 @@ class TrackingMetric(Observer):
         gt = [(float(px), float(py)) for _, (px, py) in people]
         ids, hyp = [], []
         x, y, th = pose
-        for t in m.xml:
-            if t.get("confirmed") != "true":
-                continue
-            b = math.radians(float(t.get("bearing"))) + th
-            d = float(t.get("distance"))
-            ids.append(t.get("id"))
-            hyp.append((x + d * math.cos(b), y + d * math.sin(b)))
+        data = getattr(m, "data", None)
+        if data is not None:  # the typed record: its fields as the contract's XML carries them (3 decimals)
+            for t in data.tracks:
+                if not t.confirmed:
+                    continue
+                b = math.radians(round(t.bearing, 3)) + th
+                d = round(t.distance, 3)
+                ids.append(t.id)
+                hyp.append((x + d * math.cos(b), y + d * math.sin(b)))
+        else:
+            for t in m.xml:
+                if t.get("confirmed") != "true":
+                    continue
+                b = math.radians(float(t.get("bearing"))) + th
+                d = float(t.get("distance"))
+                ids.append(t.get("id"))
+                hyp.append((x + d * math.cos(b), y + d * math.sin(b)))
         # People and tracks in one visibility test (each point's answer is its own).
         n = len(gt)
         both = self.sight.visible(pose, gt + hyp)
