@@ -563,7 +563,7 @@ def test_every_scenario_that_checks_what_only_the_full_robot_does_says_it_needs_
     """The 2005 demonstrator measures no object position and asks nobody to step aside: a scenario
     expecting a teaching precision, a position error or "step aside" says <robot profile="full">, so
     that a --profile biron-2005 sweep reports it as skipped, not as the robot failing (measured: each
-    of these fails under biron-2005 at seed 0 and passes under full)."""
+    of these failed under biron-2005 at seed 0)."""
     import re as _re
 
     from homesim.scenario.loader import load_scenario
