@@ -272,3 +272,20 @@ def test_the_study_plots_legend_covers_no_bar_interval_or_count(k):
     assert not box.overlaps(ax.get_window_extent(renderer))
     fig_box = fig.bbox
     assert fig_box.x0 <= box.x0 and box.x1 <= fig_box.x1 and fig_box.y0 <= box.y0 and box.y1 <= fig_box.y1
+
+
+def test_a_condition_with_another_profile_skips_a_scenario_that_needs_full(tmp_path):
+    """A scenario saying <robot profile="full"> under a biron-2005 condition is not run and not
+    counted as failing any capability: a 'skipped' group says why."""
+    import re
+    from pathlib import Path
+
+    from homesim.tour.study import study
+
+    scen = tmp_path / "radio_full.xml"
+    scen.write_text(re.sub(r"<robot\b", '<robot profile="full"', Path("scenarios/radio.xml").read_text(encoding="utf-8"), count=1),
+                    encoding="utf-8")
+    doc = study([str(scen)], [0], [parse_condition("old=profile=biron-2005")], tmp_path / "out", workers=1)
+    assert [r["verdict"] for r in doc["runs"]] == ["SKIPPED"]
+    assert all(c.get("old", {}).get("runs", 0) == 0 for c in doc["capabilities"].values())
+    assert any(g["capability"] == "skipped" and "needs profile full" in g["cause"] for g in doc["failures"])
