@@ -78,7 +78,7 @@ from .config import Limits
 from .grid import MapError, OccupancyGrid, parse_map
 from .local import DWAParams, LatestScan, arcs, carrot, dwa, heading_speed, social_speed_limit, sweep_clearance
 from .giveway import give_way_spot
-from .people import People, nearest
+from .people import People, behind_clear, nearest
 from .route import Route
 from .seen import SeenGround, footprint_samples
 
@@ -96,6 +96,8 @@ CRUMB_NEAR = 0.15
 #: m: the base's footprint (length, width) and the margin kept backing over seen ground
 FOOTPRINT = (0.51, 0.43)
 BACK_MARGIN = 0.05
+#: m: how far a back-off may take the robot before it checks again (the people behind are kept clear of it).
+BACK_REACH = 0.3
 #: s and m: a waiting command's sweep is checked this far ahead, and must keep this far from the floor plan's obstacles
 SWEEP_TIME = 0.5
 SWEEP_MARGIN = 0.05
@@ -280,6 +282,12 @@ class Follower(Module):
             return False
         x, y, th = self.odom
         bx, by = x - CRUMB * math.cos(th), y - CRUMB * math.sin(th)
+        # nobody the attention tracks stands behind within reach (a bystander it drove past; the
+        # partner too, should she have walked round it): the laser does not look there
+        pts = self.scan.points()
+        people = self.people.around(self.odom, self.now, echoes=pts if len(pts) else None)
+        if not behind_clear(people, length=FOOTPRINT[0], width=FOOTPRINT[1], reach=BACK_REACH):
+            return False
         if any(math.hypot(bx - cx, by - cy) <= CRUMB_NEAR for cx, cy in self.crumbs):
             return True
         back = 2 * CRUMB
