@@ -50,6 +50,12 @@ Control, every ``1/rate`` seconds:
   Status ``searching``.
 * Lost: not seen for ``search_time`` s: it stops (the attention's ``partner_lost``,
   its ``follow_lost_after`` = the same 6 s, makes the ES stop the player and the dialog ask).
+* Inside the flat: it never drives its front out of the floor plan's rooms (the map's ``<room>``
+  outlines), so after a partner who leaves through the exit door it stops in the door, inside;
+  when following ends with it facing out through an opening, it turns back toward the middle of
+  its room, so the people in the flat can speak to it.
+* Backing off (from a partner too close, or wedged) never reverses toward a person the attention
+  tracks behind it (within the back-off's reach plus 0.45 m: ``people.behind_clear``).
 
 ``/robot/follow/status`` (``<follow distance speed at_limit state/>``) goes out
 every control step while following. The follower drives only in Follow, and
