@@ -9,7 +9,7 @@ so a run's memory does not grow with its length. At the end
 names the expectation's file and line and says why it failed.
 
 This module holds the mechanism and the kinds that need nothing but the
-world and the run's numbers: ``reached`` and ``robot-near`` (ground truth,
+world and the run's numbers: ``reached``, ``robot-near`` and ``robot-inside`` (ground truth,
 step by step), ``no-collision`` (the world's contact log) and ``metric``
 (the run's metrics). Kinds that read a robot's messages or knowledge are
 added by the run package with :func:`register_check` (``homesim.tour.expect``).
@@ -207,6 +207,40 @@ class RobotNearCheck(Check):
         return self.never, f"the robot came no closer than {closest} {self.window()}"
 
 
+class RobotInsideCheck(Check):
+    """The robot's centre stays in a room of the flat (ground truth, step by step) inside the window:
+    a robot that drives out through an exit door after someone who left fails it."""
+
+    steps = True
+
+    def __init__(self, *args: Any) -> None:
+        super().__init__(*args)
+        self.out: tuple[float, float, float] | None = None  # first time and place outside
+        self.longest = 0.0  # s: the longest stretch outside
+        self._since: float | None = None
+
+    def on_step(self, world: Any) -> None:
+        t = world.time
+        if not (self.t0 <= t <= self.t1):
+            return
+        rx, ry, _ = world.robot.pose
+        if world.room_of(rx, ry) is not None:
+            self._since = None
+            return
+        if self.out is None:
+            self.out = (t, rx, ry)
+        if self._since is None:
+            self._since = t
+        self.longest = max(self.longest, t - self._since)
+
+    def verdict(self, end: float, context: Mapping[str, Any]) -> tuple[bool, str]:
+        if self.out is None:
+            return True, f"the robot stayed inside the flat {self.window()}"
+        t, x, y = self.out
+        return False, (f"the robot left the flat at t={t:.2f} s ({x:.2f}, {y:.2f}); "
+                       f"longest time outside {self.longest:.1f} s")
+
+
 class NoCollisionCheck(Check):
     """The robot touches nothing (or nothing of one kind, ``with``) in the window: counted as
     contacts begin (:meth:`World.add_contact_listener`), the first one kept for the detail."""
@@ -258,6 +292,7 @@ CHECKS: dict[str, Callable[..., Check]] = {
     "reached": ReachedCheck,
     "robot-near": RobotNearCheck,
     "no-collision": NoCollisionCheck,
+    "robot-inside": RobotInsideCheck,
     "metric": MetricCheck,
 }
 

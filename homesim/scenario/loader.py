@@ -550,6 +550,8 @@ class _Builder:
             attrs += [("between", self.window(el)), ("absent", self.flag(el, "absent"))]
         elif tag == "no-collision":
             attrs += [("with", el.get("with")), ("between", self.window(el))]
+        elif tag == "robot-inside":
+            attrs += [("between", self.window(el))]
         elif tag == "robot-near":
             attrs += [("target", self.target(el)), ("within", self.num(el, "within", 1.0))] + self.when(el)
         elif tag == "robot-says":

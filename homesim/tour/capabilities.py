@@ -67,6 +67,8 @@ def capability_of(e: Expectation, context: Sequence[Expectation] = ()) -> str:
         return "no collision"
     if k == "following-distance":
         return "following"
+    if k == "robot-inside":  # it does not drive out of the flat after someone who left
+        return "following"
     if k in ("legs-seen", "face-seen", "sound-heard"):
         return "perception"
     if k == "reached":  # a simulated person got where the script sends them: the user, not the robot

@@ -105,6 +105,9 @@ class AttentionParams:
     follow_lost_after: float = 6.0
     interaction_radius: float = 3.0  # m: last seen further from the robot than this is outside the interaction space
     leave_speed: float = 0.3  # m/s: last seen walking away from the robot at least this fast
+    # m: after a loss, someone speaking while facing the robot takes the partner's place only this
+    # near (Hall's social distance: a conversation with the robot, not a chat across the room)
+    retake_radius: float = 2.0
     out_of_view_after: float = 10.0  # s without any evidence: gone, wherever she was last seen
     reacquire_radius: float = 1.0  # m: a new track this near where the unseen partner was (plus ...
     reacquire_speed: float = 0.3  # ... this many m per s unseen, at most 2.5 m) is the partner again
@@ -496,7 +499,10 @@ class PersonAttention(Module):
             self.partner = None
             self._partner_last = None
             # The partner may come back: someone speaking while facing the robot takes the place.
-            threes = sorted(i for i, c in cats.items() if c == 3)
+            rx, ry, _ = self._pose_at(t)
+            rows = {tk.id: tk for tk in tr.tracks}
+            threes = sorted(i for i, c in cats.items() if c == 3 and i in rows
+                            and math.hypot(rows[i].x[0] - rx, rows[i].x[1] - ry) <= self.params.retake_radius)
             if threes:
                 self.partner, self.partner_lost_sent = threes[0], False
 

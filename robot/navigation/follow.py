@@ -50,6 +50,12 @@ Control, every ``1/rate`` seconds:
   Status ``searching``.
 * Lost: not seen for ``search_time`` s: it stops (the attention's ``partner_lost``,
   its ``follow_lost_after`` = the same 6 s, makes the ES stop the player and the dialog ask).
+* Inside the flat: it never drives its front out of the floor plan's rooms (the map's ``<room>``
+  outlines), so after a partner who leaves through the exit door it stops in the door, inside;
+  when following ends with it facing out through an opening, it turns back toward the middle of
+  its room, so the people in the flat can speak to it.
+* Backing off (from a partner too close, or wedged) never reverses toward a person the attention
+  tracks behind it (within the back-off's reach plus 0.45 m: ``people.behind_clear``).
 
 ``/robot/follow/status`` (``<follow distance speed at_limit state/>``) goes out
 every control step while following. The follower drives only in Follow, and
@@ -72,13 +78,14 @@ from homesim.message import Message
 from homesim.module import Module
 
 from homesim.errors import BusError, HomesimError
+from robot import floorplan
 from robot.contract import ATTENTION_STATE, BASE_CMD, ES_EVENTS, FOLLOW_STATUS, ODOMETRY, PARTNER, POSE, SCAN, TRACKS
 
 from .config import Limits
 from .grid import MapError, OccupancyGrid, parse_map
 from .local import DWAParams, LatestScan, arcs, carrot, dwa, heading_speed, social_speed_limit, sweep_clearance
 from .giveway import give_way_spot
-from .people import People, nearest
+from .people import People, behind_clear, nearest
 from .route import Route
 from .seen import SeenGround, footprint_samples
 
@@ -96,6 +103,14 @@ CRUMB_NEAR = 0.15
 #: m: the base's footprint (length, width) and the margin kept backing over seen ground
 FOOTPRINT = (0.51, 0.43)
 BACK_MARGIN = 0.05
+#: m: beyond its front edge the robot keeps this much of the flat (plus what it covers in
+#: :data:`INSIDE_TIME` s): it never drives out through an exit door after someone who left.
+INSIDE_AHEAD = 0.05
+INSIDE_TIME = 0.6
+#: m: looking this far past its front edge through an opening and out of the flat, it faces out of an exit door.
+FACING_OUT = 0.8
+#: m: how far a back-off may take the robot before it checks again (the people behind are kept clear of it).
+BACK_REACH = 0.3
 #: s and m: a waiting command's sweep is checked this far ahead, and must keep this far from the floor plan's obstacles
 SWEEP_TIME = 0.5
 SWEEP_MARGIN = 0.05
@@ -181,6 +196,7 @@ class Follower(Module):
         self._close_since: float | None = None  # following, since when she has stood close in front
         self._map_asked = False
         self._pose_sub: Any = None
+        self._turn_in = False  # following ended: turn back into the flat if it faces out of an exit door
 
     def respawn(self) -> Follower:
         return Follower(self.sim, name=self.name, limits=self.limits, rate=1.0 / self.period, distance=self.distance,
@@ -196,6 +212,7 @@ class Follower(Module):
         follow = state == "Follow"
         partner = msg.xml.get("partner") or None
         if self.following and not follow:
+            self._turn_in = True
             # following ended ("stop", or she stopped to talk): come up to her first when she is
             # further than a comfortable interaction distance (issue 26 item 10)
             same = partner is not None and partner == self.partner_id
@@ -237,6 +254,8 @@ class Follower(Module):
         try:
             reply = await self.bus.call("map_server", "map", etree.Element("request"), timeout=2.0)
             self.route.set_grid(OccupancyGrid(parse_map(reply.xml), radius=self.limits.radius))
+            rooms = floorplan.parse_map(reply.xml).rooms
+            self.route.set_rooms(tuple(np.array(r.points, dtype=float) for r in rooms))
         except (BusError, MapError, HomesimError, asyncio.TimeoutError):
             pass
 
@@ -280,6 +299,12 @@ class Follower(Module):
             return False
         x, y, th = self.odom
         bx, by = x - CRUMB * math.cos(th), y - CRUMB * math.sin(th)
+        # nobody the attention tracks stands behind within reach (a bystander it drove past; the
+        # partner too, should she have walked round it): the laser does not look there
+        pts = self.scan.points()
+        people = self.people.around(self.odom, self.now, echoes=pts if len(pts) else None)
+        if not behind_clear(people, length=FOOTPRINT[0], width=FOOTPRINT[1], reach=BACK_REACH):
+            return False
         if any(math.hypot(bx - cx, by - cy) <= CRUMB_NEAR for cx, cy in self.crumbs):
             return True
         back = 2 * CRUMB
@@ -311,6 +336,11 @@ class Follower(Module):
         if not self.following and not approaching:
             if self.approach_until is not None:
                 self._end_approach()
+            if self._turn_in:
+                turn = self._face_in()
+                if turn is not None:
+                    return turn
+                self._turn_in = False
             self._halt()
             return None
         tr = self.track
@@ -319,6 +349,10 @@ class Follower(Module):
         age = self.now - tr["t"]
         unseen = (0.0 if tr["visible"] else tr["lost_for"]) + age
         if unseen > (self.lost_after if approaching else self.search_time):
+            turn = None if approaching else self._face_in()
+            if turn is not None:  # the search ended at an exit door: back to the room first
+                self._status(0.0, False, "searching")
+                return turn
             return self._stand(approaching, "stopped")
         searching = unseen > self.lost_after  # not approaching: out of view a while, look where she went
         # the partner now (constant velocity over the message's age), in odom and robot frames
@@ -427,6 +461,7 @@ class Follower(Module):
             v, w = cmd.v, cmd.w
             state = "following" if cmd.ok else "waiting"
             v, w = self._unstick(v, w, mapped)
+        v = self._keep_inside(v, w)
         self._command(v, w)
         if approaching:
             self._status(d, False, "approaching")
@@ -498,6 +533,44 @@ class Follower(Module):
         if self.now - self._stuck_since < STUCK_TIME or not self.can_back_off():
             return v, w
         return self._swept(-UNSTICK_SPEED, 0.0, mapped)
+
+    def _ahead(self, reach: float) -> tuple[float, float]:
+        """The odom point ``reach`` m past the robot's front edge, straight ahead."""
+        x, y, th = self.odom  # type: ignore[misc]
+        r = FOOTPRINT[0] / 2 + reach
+        return x + r * math.cos(th), y + r * math.sin(th)
+
+    def _keep_inside(self, v: float, w: float) -> float:
+        """``v``, or 0 where driving on would take the robot's front out of the flat (past the
+        rooms of its floor plan: through an exit door after a partner who left, review of issue
+        26). It stops in the door, inside; turning stays allowed."""
+        if v <= 0.0 or self.route.inside(self._ahead(INSIDE_AHEAD + v * INSIDE_TIME)):
+            return v
+        return 0.0
+
+    def _face_in(self) -> tuple[float, float] | None:
+        """Facing out of the flat through an opening (an exit door the search took it to): the
+        command that turns it on the spot back toward the middle of the room it stands in, so
+        the people in the flat can speak to it; None when it faces the flat (or cannot turn)."""
+        if self.odom is None or not self.route.ready:
+            return None
+        ahead = self._ahead(FACING_OUT)
+        if self.route.inside(ahead) or not self.route.in_sight(self.odom[:2], ahead):
+            return None
+        room = self.route.room_at(self.odom[:2])
+        if room is None:
+            return None
+        cx, cy = self.route.to_odom((float(room[:, 0].mean()), float(room[:, 1].mean())))
+        gx, gy = self._to_robot(cx, cy)
+        bearing = math.atan2(gy, gx)
+        w = max(-self.limits.max_turn, min(self.limits.max_turn, 1.8 * bearing))
+        if abs(bearing) < math.radians(8):
+            return None
+        _, w = self._swept(0.0, w, self.route.obstacles_near(self.odom))
+        if w == 0.0:
+            return None
+        self._command(0.0, w)
+        return 0.0, w
 
     def _standing(self, partner: tuple[float, float]) -> np.ndarray:
         """Odom-frame centres of the people standing about (not the partner, nor a second track on

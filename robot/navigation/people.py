@@ -147,3 +147,30 @@ def nearest(centres: np.ndarray) -> float:
     if not len(centres):
         return math.inf
     return float(np.min(np.hypot(centres[:, 0], centres[:, 1])))
+
+
+#: m: a person's body, as a disc round the track's centre (for the clearance behind the robot).
+BODY_RADIUS = 0.25
+#: m: nobody may be left closer than this to the footprint after a back-off (personal space,
+#: the ~0.45 m of the social-navigation metrics).
+BACK_GAP = 0.45
+
+
+def behind_clear(people: np.ndarray, *, length: float, width: float, reach: float,
+                 gap: float = BACK_GAP, radius: float = BODY_RADIUS) -> bool:
+    """Whether backing straight up to ``reach`` m keeps every person behind the robot's centre
+    at least ``gap`` m from the footprint (``length`` x ``width``, centred on the robot;
+    ``people``: robot-frame centres, (K, >=2), :meth:`People.around`).
+
+    The laser does not look behind, but the attention's tracks do know who stands there (a
+    bystander the robot drove past): reversing toward a tracked person is how one is touched.
+    People ahead of the centre are the forward controllers' business (backing takes the robot off them).
+    """
+    if not len(people):
+        return True
+    x, y = people[:, 0], people[:, 1]
+    # distance from each centre to the region the footprint sweeps backing ``reach`` m
+    dx = np.maximum(np.maximum(-length / 2 - reach - x, x - length / 2), 0.0)
+    dy = np.maximum(np.abs(y) - width / 2, 0.0)
+    clearance = np.hypot(dx, dy) - radius
+    return not bool(np.any((x < 0.0) & (clearance < gap)))

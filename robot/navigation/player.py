@@ -48,9 +48,9 @@ from robot.contract import BASE_CMD, DISPLAY_CMD, ES_ORDERS, ODOMETRY, PLAYER_ST
 
 from .config import Limits, limits_from_config
 from .grid import MapError, parse_map
-from .local import Command, DWAParams, LatestScan, carrot, dwa, heading_speed, social_speed_limit, sweep_clearance
+from .local import HALF_LENGTH, HALF_WIDTH, Command, DWAParams, LatestScan, carrot, dwa, heading_speed, social_speed_limit, sweep_clearance
 from .outline import FloorOutline
-from .people import People, closing_in, nearest
+from .people import People, behind_clear, closing_in, nearest
 
 ORDERS = f"{ES_ORDERS}/player"
 #: m: how far ahead on the leg the controller steers (pure pursuit).
@@ -300,7 +300,7 @@ class Player(Module):
                 turn = 0.0  # the turn, clear when begun, is not any more (the pose drifts): arrive as it stands
         elif abs(turn) >= math.radians(8) and not self._turn_ok(turn, mapped):
             v, w = -0.5 * self.limits.max_reverse, 0.0
-            if self._aligning >= ALIGN_BACK or not self._sweep_ok(v, 0.0, mapped):
+            if self._aligning >= ALIGN_BACK or not self._sweep_ok(v, 0.0, mapped) or not self._behind_clear(ALIGN_BACK - self._aligning):
                 turn, v = 0.0, 0.0  # no room to turn, none to back into: arrive as it stands
         elif abs(turn) >= math.radians(8):
             self._turning = True  # the whole turn is clear: make it
@@ -315,6 +315,11 @@ class Player(Module):
         self._aligning -= v * self.period
         self.bus.publish(BASE_CMD, etree.Element("velocity", v=f"{v:.4f}", w=f"{w:.4f}"))
         return (v, w)
+
+    def _behind_clear(self, reach: float) -> bool:
+        """Whether backing up to ``reach`` m keeps every tracked person behind out of personal space
+        (:func:`robot.navigation.people.behind_clear`; the laser does not look behind)."""
+        return behind_clear(self.people_around(), length=2 * HALF_LENGTH, width=2 * HALF_WIDTH, reach=max(reach, 0.0))
 
     def _turn_ok(self, turn: float, mapped: np.ndarray) -> bool:
         """Whether turning on the spot through the whole of ``turn`` (rad) keeps the footprint
@@ -392,7 +397,8 @@ class Player(Module):
         wedged = (self._stuck_since is not None and self.now - self._stuck_since >= WEDGED and nearest(people) > WEDGED_PERSON
                   and cmd.clearance < WEDGED_GAP)
         if (self._backed < BACK_OFF and (self._backed > 0.0 or wedged or (not cmd.ok and abs(bearing) > BACK_OFF_BEARING))
-                and self._sweep_ok(-0.5 * limits.max_reverse, 0.0, mapped)):
+                and self._sweep_ok(-0.5 * limits.max_reverse, 0.0, mapped)
+                and self._behind_clear(BACK_OFF - self._backed)):
             # stopped close in front of something with the way off to the side (a new leg after a
             # replan), or wedged with a corner at a door jamb (standing for WEDGED s, something within
             # WEDGED_GAP, nobody near): turning on the spot would sweep the corners into it, so back off BACK_OFF m

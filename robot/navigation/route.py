@@ -50,7 +50,7 @@ import math
 
 import numpy as np
 
-from .grid import NoPathError, OccupancyGrid
+from .grid import NoPathError, OccupancyGrid, _inside
 from .local import carrot
 
 Point = tuple[float, float]
@@ -101,6 +101,7 @@ class Route:
         self._outline = np.zeros((0, 2))  # map-frame centres of the occupied cells next to free ones
         self._people: np.ndarray = np.zeros((0, 2))  # map-frame centres of the standing people on the plan
         self._with_people: OccupancyGrid | None = None  # the grid with them (None: nobody standing near)
+        self.rooms: tuple[np.ndarray, ...] = ()  # map-frame outlines of the flat's rooms (the map's <room>s)
 
     def set_grid(self, grid: OccupancyGrid) -> None:
         self.grid = grid
@@ -108,6 +109,29 @@ class Route:
         edge = occ & ~_eroded(occ)
         ii, jj = np.nonzero(edge)
         self._outline = np.column_stack((grid.origin[0] + (ii + 0.5) * grid.cell, grid.origin[1] + (jj + 0.5) * grid.cell))
+
+    def set_rooms(self, rooms: tuple[np.ndarray, ...]) -> None:
+        """The flat's rooms (map frame, as the map server's ``<room>`` outlines): the flat's inside."""
+        self.rooms = tuple(np.asarray(r, dtype=float) for r in rooms if len(r) >= 3)
+
+    def room_at(self, p: Point) -> np.ndarray | None:
+        """The outline (map frame) of the room holding ``p`` (odom), None outside the flat or
+        without a plan or rooms (see :meth:`inside`)."""
+        if not self.ready or not self.rooms:
+            return None
+        m = self.to_map(p)
+        x, y = np.array([m[0]]), np.array([m[1]])
+        for r in self.rooms:
+            if bool(_inside(x, y, r)[0]):
+                return r
+        return None
+
+    def inside(self, p: Point) -> bool:
+        """Whether ``p`` (odom) lies inside the flat: in one of its rooms. True without a plan or
+        without rooms (nothing says where the flat ends: the laser is the only judge)."""
+        if not self.ready or not self.rooms:
+            return True
+        return self.room_at(p) is not None
 
     def on_pose(self, map_pose: Pose, odom_pose: Pose | None) -> None:
         """A localised pose and the odometry pose current when it arrived."""

@@ -25,7 +25,8 @@ its own (``Navigating``, a go-to):
   the plan's goal (the world's own planner; ``path_ratio`` = driven / shortest, ``time_ratio``
   = time / (shortest / top speed)), ``success`` when the episode ended in ``goal_reached``;
 * following: the robot's path and the partner's over the same time (``path_ratio`` = robot /
-  partner);
+  partner, both counted only while the partner is in the flat: a search after she left adds
+  to ``path_length_m`` but not to the ratio);
 * partner identity: each ``/robot/attention/partner`` message (bearing, distance of the
   partner track) is matched to the true person nearest that point (within 0.7 m); within one
   interaction (the supervisor leaving the idle states until it is back in one) a change of that
@@ -112,6 +113,7 @@ class Social(Observer):
         self.partner: str | None = None  # the true person the latest partner message points at
         self.partner_last: tuple[float, float] | None = None
         self.partner_path = 0.0
+        self.follow_path = 0.0  # m the robot drove following while its partner was in the flat
         self.in_interaction = False
         self.identity_switches = 0
         self.partner_lost = 0
@@ -281,6 +283,7 @@ class Social(Observer):
         if self.mode == "following" and partner_pos is not None:
             if self.partner_last is not None:
                 self.partner_path += math.hypot(partner_pos[0] - self.partner_last[0], partner_pos[1] - self.partner_last[1])
+                self.follow_path += step  # the robot's path over the same steps (her path's ratio)
             self.partner_last = partner_pos
         else:
             self.partner_last = None
@@ -300,7 +303,9 @@ class Social(Observer):
         })
         fol = self.modes["following"].as_dict()
         fol["partner_path_length_m"] = round(self.partner_path, 3)
-        fol["path_ratio"] = round(fol["path_length_m"] / self.partner_path, 3) if self.partner_path > 0.5 else None
+        # robot / partner over the same steps: the robot's path after she left the flat (searching
+        # for her) is in path_length_m, not in the ratio
+        fol["path_ratio"] = round(self.follow_path / self.partner_path, 3) if self.partner_path > 0.5 else None
         goto = self.modes["goto"].as_dict()
         goto.update({
             "episodes": self.goto_n,

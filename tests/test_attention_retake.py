@@ -1,0 +1,55 @@
+"""After a loss, whoever speaks facing the robot takes the partner's place (03d9112), but only
+within conversation distance (review of issue 26 item 4): a bystander chatting across the room,
+who happens to face the robot, is no new partner."""
+
+from __future__ import annotations
+
+import numpy as np
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from robot.attention.fsm import AttentionFSM
+from robot.attention.module import AttentionParams, PersonAttention
+from robot.attention.tracker import Tracks, TrackerSpec
+
+
+def _attention(positions: list[tuple[float, float]]) -> PersonAttention:
+    """A person attention after a loss (no partner), the robot at the odom origin, confirmed
+    tracks at ``positions`` (odom)."""
+    a = PersonAttention.__new__(PersonAttention)
+    a.params = AttentionParams()
+    a.fsm = AttentionFSM()
+    a.fsm.order("interact")
+    a.tracks = Tracks(TrackerSpec())
+    if positions:
+        a.tracks._birth(0.0, np.array(positions, dtype=float), np.full(len(positions), 0.01))
+        for tk in a.tracks.tracks:
+            tk.confirmed = True
+    a.partner, a.partner_lost_sent, a._partner_last = None, False, None
+    a._odom = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+    return a
+
+
+def test_someone_speaking_facing_the_robot_close_by_takes_the_place():
+    a = _attention([(1.2, 0.3)])
+    tid = a.tracks.tracks[0].id
+    a._top_down(1.0, {tid: 3})
+    assert a.partner == tid
+
+
+def test_a_bystander_speaking_facing_the_robot_from_across_the_room_does_not():
+    a = _attention([(3.4, 1.0)])
+    a._top_down(1.0, {a.tracks.tracks[0].id: 3})
+    assert a.partner is None
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.lists(st.tuples(st.floats(-5, 5), st.floats(-5, 5)), min_size=1, max_size=4),
+       st.lists(st.sampled_from([1, 2, 3]), min_size=4, max_size=4))
+def test_the_new_partner_speaks_facing_the_robot_within_the_retake_radius(positions, categories):
+    a = _attention(positions)
+    cats = {tk.id: c for tk, c in zip(a.tracks.tracks, categories)}
+    a._top_down(1.0, cats)
+    near = [tk.id for tk in a.tracks.tracks
+            if cats[tk.id] == 3 and np.hypot(tk.x[0], tk.x[1]) <= a.params.retake_radius]
+    assert a.partner == (min(near) if near else None)
