@@ -718,17 +718,28 @@ class PersonAttention(Module):
         self.bus.publish(PARTNER, _own_document(  # as text: see _publish_tracks
             f'<partner id="t{tk.id}" bearing="{math.degrees(bearing[row]):.3f}" distance="{dist[row]:.3f}"'
             f' x="{x[0]:.3f}" y="{x[1]:.3f}" vx="{x[2]:.3f}" vy="{x[3]:.3f}" visible="{"true" if visible else "false"}"'
-            f' lost_for="{max(0.0, t - tk.last_update):.3f}" facing="{self._facing(t, tk.id)}"'
+            f' lost_for="{max(0.0, t - tk.last_update):.3f}" facing="{self._facing(t, tk.id, self._walks_away(t, x))}"'
             f' company="{company}"/>'
         ), transfer=True)
 
-    def _facing(self, t: float, tid: int) -> str:
+    def _walks_away(self, t: float, x: Any) -> bool:
+        """Does the track (odom state ``x``: x, y, vx, vy) walk away from the robot at ``leave_speed``
+        or faster? A person walking faces where she goes: her face is turned from the robot."""
+        rx, ry, _ = self._pose_at(t)
+        dx, dy = x[0] - rx, x[1] - ry
+        d = math.hypot(dx, dy)
+        return d > 1e-6 and (x[2] * dx + x[3] * dy) / d >= self.params.leave_speed
+
+    def _facing(self, t: float, tid: int, walks_away: bool = False) -> str:
         """Does the partner face the robot? ``true``: her frontal face is anchored to her track;
         ``false``: the camera's latest frame had her face in the image (within ``face_view_fresh``)
-        and the detector, which sees frontal faces only, found none there: she looks away;
-        ``unknown``: the camera looks elsewhere (at her hands, at an object), so it cannot tell."""
+        and the detector, which sees frontal faces only, found none there, or she walks away from
+        the robot (``walks_away``): she looks away; ``unknown``: the camera looks elsewhere (at her
+        hands, at an object), so it cannot tell."""
         if self.facing.on(tid):
             return "true"
+        if walks_away:
+            return "false"
         pf = self._partner_face
         if pf is not None and pf[1] == tid and pf[2] and t - pf[0] <= self.params.face_view_fresh:
             return "false"

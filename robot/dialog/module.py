@@ -56,9 +56,12 @@ partner speaks facing it; the person attention's ``/robot/attention/partner`` sa
 face is seen (``facing="true"``), whether the camera had her face in the image and found no frontal
 face there, i.e. she looks away (``"false"``), or cannot tell (``"unknown"``: the camera is on her
 hands or an object), and how many other people stand within 1.6 m of her (``company``). A frame is
-*not addressed* (dropped, counted as ``not_addressed``) when every partner report during the
-utterance (its ``start``..``end``) says ``facing="false"`` with ``company`` >= 1: she stands in a group
-turned to the others, so the words (hers or a bystander's a few degrees beside her) are their chat.
+*not addressed* (dropped, understood or not, counted as ``not_addressed``: no "say that again" to
+others' chat) when, of the partner reports during the utterance (its ``start``..``end``), none
+says ``facing="true"``, at least half say ``"false"`` (turned away, or walking away from the robot)
+and the last one says ``"false"`` with ``company`` >= 1: she was not facing the robot while the
+words were spoken and ended up in a group turned to the others, so the words (hers or a
+bystander's a few degrees beside her) are their chat.
 Looking away alone is not enough (a user speaks while glancing at a shelf), nor is company alone (a
 bystander beside a partner who faces the robot); without reports, or when the camera cannot tell,
 the utterance counts as addressed. Not while the supervisor is in ``Following``: she leads with her
@@ -268,17 +271,21 @@ class Dialog(Module):
 
     def addressed(self, start: float, end: float) -> bool:
         """The addressee rule (module docstring): is speech heard from ``start`` to ``end`` meant for
-        the robot? No only when every partner report in that span has her turned away (``facing``
-        ``false``: her face in the image, no frontal face) while someone else stands near her."""
+        the robot? No only when no partner report in that span has her facing it, at least half
+        have her turned away (``facing="false"``) and the last one too, with someone else near her."""
         if self.manager.es_state in LEADING_STATES:
             return True
         during = [(f, c) for t, f, c in self._partner_cues if start <= t <= end]
-        return not during or not all(f == "false" and c >= 1 for f, c in during)
+        if not during or any(f == "true" for f, _ in during):
+            return True
+        away = sum(f == "false" for f, _ in during)
+        last_f, last_c = during[-1]
+        return not (2 * away >= len(during) and last_f == "false" and last_c >= 1)
 
     # ------------------------------------------------------------------ inputs
     def _on_frame(self, msg: Message) -> None:
         x = msg.xml
-        if x.tag == "understood" and not self.addressed(float(x.get("start", "nan")), float(x.get("end", "nan"))):
+        if x.tag in ("understood", "not_understood") and not self.addressed(float(x.get("start", "nan")), float(x.get("end", "nan"))):
             self.not_addressed += 1  # chat among the partner's group: not a request to the robot
             return
         if self.now - self._approach_seen < APPROACH_FRESH:
