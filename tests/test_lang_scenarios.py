@@ -1,6 +1,6 @@
 """The language scenarios (tests/scenarios/lang_*.xml) pass as whole runs: names, everyday
 language and confirmations in flats the robot never saw. Seed 0 here; the rates over seeds
-0-9 are in docs/architecture.md (speech)."""
+0-9 are in robot/speech/corpus/README.md."""
 
 from __future__ import annotations
 

@@ -177,6 +177,24 @@ def test_a_where_is_answer_is_relayed_after_follow_or_teaching(biron, first):
     assert isinstance(rec, Applied) and [(o.target, o.name) for o in rec.outputs] == [("dialog", "object_info")]
 
 
+def test_showing_again_while_teaching_restarts_the_search_at_once(biron):
+    """Her second "this is my cup" (with a new gesture) while the robot still looks (e.g. waits for
+    her to step aside) is taken at once: a new find_object with the new words, never left to expire
+    behind the first search (generated tours: 'object_teaching rejected (expired) in ObjectTeaching')."""
+    e = interacting(biron)
+    step(e, ev(1, "object_teaching", 1 * S, xml='<event><SPEECH><OBJECT type="cup"/></SPEECH></event>'))
+    (rec,) = step(e, ev(2, "object_teaching", 12 * S, xml='<event><SPEECH><OBJECT type="mug"/></SPEECH></event>'))
+    assert isinstance(rec, Applied) and rec.target_state == "ObjectTeaching" and len(e) == 0
+    finds = [o for o in rec.outputs if o.name == "find_object"]
+    assert [o.target for o in finds] == ["object_attention"]
+    (obj,) = dict(finds[0].params)["object"]
+    assert obj.get("type") == "mug"  # the new request's words, not the old
+    # nothing is left queued to expire later; the result of the new search ends the teaching
+    recs = step(e, ev(3, "object_recognized", 14 * S, "object_attention", "<event><OBJECT/></event>"))
+    assert kinds(recs) == [("applied", "object_recognized", "Interacting")]
+    assert e.state == "Interacting" and len(e) == 0
+
+
 def test_technical_failure_ends_only_when_no_module_is_still_failed(biron):
     e = Engine(biron)
 
