@@ -121,7 +121,7 @@ def test_cli_check_lists_every_problem_and_fails(tmp_path, capsys):
     out = capsys.readouterr().out.splitlines()
     assert len(out) == 2 and all(line.startswith(f"{bad}:") for line in out)
     assert main(["afsm", "check", "robot/afsm/biron.scxml"]) == 0
-    assert "ok (8 states, 4 categories" in capsys.readouterr().out
+    assert "ok (8 states, 6 categories" in capsys.readouterr().out
 
 
 def test_cli_show_renders_dot_and_mermaid(capsys):

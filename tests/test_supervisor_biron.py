@@ -23,33 +23,11 @@ from robot.supervisor import BIRON_AFSM
 
 S = 1_000_000_000
 
-_INSTRUCTION_WAITS_FOR_STOP = (
-    "an instruction given while following waits for 'stop' (the papers: only stop ends following) "
-    "and is then taken in the order given"
-)
-_INSTRUCTION_WAITS_FOR_TEACHING = (
-    "an instruction given while an object is being taught waits until the teaching ends and is then "
-    "taken in the order given (Interacting consumes what it cannot use, e.g. a stop)"
-)
-
 #: (state, event) -> why the event is deliberately retained there.
 RETAINED: dict[tuple[str, str], str] = {
     ("LookingAround", "greeting"): "synchronisation: a greeting waits for the person attention's potential partner "
                                    "(the papers' example); the radio's greeting expires",
     ("AskingForHelp", "greeting"): "synchronisation, as in LookingAround: a greeting waits for a potential partner",
-    ("Following", "object_teaching"): _INSTRUCTION_WAITS_FOR_STOP + " (the issue: retained until 'stop')",
-    ("Following", "place_teaching"): _INSTRUCTION_WAITS_FOR_STOP,
-    ("Following", "query_object"): _INSTRUCTION_WAITS_FOR_STOP,
-    ("Following", "goto"): _INSTRUCTION_WAITS_FOR_STOP,
-    ("Following", "query_result"): "the answer to a question asked before 'follow me' is told once the robot "
-                                   "stands again (Interacting relays it); it undoes nothing",
-    ("ObjectTeaching", "follow"): _INSTRUCTION_WAITS_FOR_TEACHING,
-    ("ObjectTeaching", "stop"): _INSTRUCTION_WAITS_FOR_TEACHING + "; consumed at once, a 'follow' given "
-                                "before it would win over it",
-    ("ObjectTeaching", "place_teaching"): _INSTRUCTION_WAITS_FOR_TEACHING,
-    ("ObjectTeaching", "query_object"): _INSTRUCTION_WAITS_FOR_TEACHING,
-    ("ObjectTeaching", "goto"): _INSTRUCTION_WAITS_FOR_TEACHING,
-    ("ObjectTeaching", "query_result"): "the answer to an earlier question is relayed once the teaching ends",
 }
 
 
@@ -165,15 +143,38 @@ def test_a_stale_potential_partner_lost_does_not_undo_a_new_potential_partner(bi
     assert e.state == "PotentialPartner" and len(e) == 0
 
 
-def test_instructions_retained_while_teaching_are_taken_in_the_order_given(biron):
+@pytest.mark.parametrize("name", ["object_teaching", "place_teaching", "query_object", "goto"])
+def test_an_instruction_while_following_is_rejected_at_once(biron, name):
+    """Issue 23 item 4: the ES rejects what does not apply in its state (the dialog then says "say
+    stop first" at once) instead of keeping it silently until its lifetime ends."""
+    e = interacting(biron)
+    step(e, ev(1, "follow", 1 * S))
+    assert e.state == "Following"
+    assert kinds(step(e, ev(2, name, 2 * S, xml="<event><SPEECH><OBJECT/><PLACE>kitchen</PLACE></SPEECH></event>"))) == [
+        ("rejected", name, "inapplicable")]
+    assert e.state == "Following" and len(e) == 0
+    assert kinds(step(e, ev(3, "stop", 3 * S))) == [("applied", "stop", "Interacting")]
+
+
+@pytest.mark.parametrize("name", ["follow", "stop", "place_teaching", "query_object", "goto"])
+def test_an_instruction_while_looking_at_an_object_is_rejected_at_once(biron, name):
+    """"Follow me" while the robot still looks at an object: refused at once (the dialog says it is
+    still looking at the object), not kept until it expires; the teaching goes on."""
     e = interacting(biron)
     step(e, ev(1, "object_teaching", 1 * S, xml="<event><SPEECH><OBJECT/></SPEECH></event>"))
-    assert kinds(step(e, ev(2, "follow", 2 * S))) == [("retained", "follow", "ObjectTeaching")]
-    assert kinds(step(e, ev(3, "stop", 3 * S))) == [("retained", "stop", "ObjectTeaching")]
+    assert kinds(step(e, ev(2, name, 2 * S, xml="<event><SPEECH><PLACE>kitchen</PLACE></SPEECH></event>"))) == [
+        ("rejected", name, "inapplicable")]
     recs = step(e, ev(4, "object_recognized", 4 * S, "object_attention", "<event><OBJECT/></event>"))
-    assert [k for k in kinds(recs) if k[0] == "applied"] == [
-        ("applied", "object_recognized", "Interacting"), ("applied", "follow", "Following"),
-        ("applied", "stop", "Interacting")]
+    assert kinds(recs) == [("applied", "object_recognized", "Interacting")] and len(e) == 0
+
+
+@pytest.mark.parametrize("first", ["follow", "object_teaching"])
+def test_a_where_is_answer_is_relayed_after_follow_or_teaching(biron, first):
+    e = interacting(biron)
+    step(e, ev(1, "query_object", 1 * S, xml="<event><SPEECH><OBJECT/></SPEECH></event>"))
+    step(e, ev(2, first, 2 * S, xml="<event><SPEECH><OBJECT/></SPEECH></event>"))
+    (rec,) = step(e, ev(3, "query_result", 3 * S, "scene_model", "<event><RESULT/></event>"))
+    assert isinstance(rec, Applied) and [(o.target, o.name) for o in rec.outputs] == [("dialog", "object_info")]
 
 
 def test_showing_again_while_teaching_restarts_the_search_at_once(biron):

@@ -116,11 +116,19 @@ class AttentionParams:
     turn_gain: float = 1.5  # rad/s per rad of bearing
     max_turn: float = 0.8  # rad/s
     camera_height: float = 1.41
+    # the camera's own field of view (its data sheet: 48.8 x 37.6 degrees), less a margin: a face
+    # this far inside the image that the detector does not report looks away (facing="false")
+    camera_hfov: float = math.radians(48.8 - 4.0)
+    camera_vfov: float = math.radians(37.6 - 4.0)
+    face_view_fresh: float = 0.5  # s: the latest such look at the partner's face counts this long
     heights: dict[str, float] = field(default_factory=lambda: {"face": 1.60, "hands": 1.0, "torso": 1.25})
     ptu_deadband: float = math.radians(1.5)
     ptu_refresh: float = 1.0  # s
     steer_deadband: float = math.radians(3.0)
     dominant_max_age: float = 0.35  # s: a sound-direction frame older than this no longer steers the beam
+    # m: another person standing this near the partner makes a group she may be talking with
+    # (published as the partner's ``company``; the dialog's addressee rule reads it, docs/attention.md)
+    group_radius: float = 1.6
     partner_voice_tolerance: float = math.radians(4.0)  # a direction this near the partner's bearing is her voice (beam gate)
     # Turning to a voice nobody seen explains (bottom-up, nobody selected speaks): someone greeting
     # from the side, beyond the laser's or the camera's field, or hidden from the laser:
@@ -162,6 +170,7 @@ class PersonAttention(Module):
         self.facing = Hysteresis(cues.facing_on, cues.facing_off)
         self.partner: int | None = None
         self.partner_lost_sent = False
+        self._partner_face: tuple[float, int, bool] | None = None  # (frame time, partner, her face in the image)
         # Where the partner was last seen (odom x, y, vx, vy; the robot's odom x, y then) and when:
         # the evidence the leaving rule reads, kept when the track itself has died.
         self._partner_last: tuple[float, float, float, float, float, float, float] | None = None
@@ -340,8 +349,19 @@ class PersonAttention(Module):
         data = msg.data  # the camera's typed PerceptList (robot.percepts), else XML: the same texts
         faces = [(math.radians(float(f.bearing)), float(f.distance)) for f in data.rows] if data is not None else [
             (math.radians(float(f.get("bearing"))), float(f.get("distance"))) for f in msg.xml]
-        rows = match_faces(self._robot_xy(t), faces, self.cues) if tracks and faces else []
+        xy = self._robot_xy(t)
+        rows = match_faces(xy, faces, self.cues) if tracks and faces else []
         self.facing.feed(t, ids, {ids[r] for r in rows})
+        prow = self.tracks.row(self.partner) if self.partner is not None else -1
+        if prow >= 0:  # was the partner's face in the image? (then a missing face means she looks away)
+            tpl = data.template if data is not None else msg.xml
+            pan, tilt = math.radians(float(tpl.get("pan", "nan"))), math.radians(float(tpl.get("tilt", "nan")))
+            px, py = xy[prow]
+            d = math.hypot(px, py)
+            elev = math.atan2(self.params.heights["face"] - self.params.camera_height, max(d, 0.3))
+            in_view = (abs(math.remainder(math.atan2(py, px) - pan, 2 * math.pi)) <= self.params.camera_hfov / 2
+                       and abs(elev - tilt) <= self.params.camera_vfov / 2)
+            self._partner_face = (t, self.partner, in_view)
         self.tracks.support([r for r in rows if tracks[r].confirmed], t)
 
     def _on_order(self, msg: Message) -> None:
@@ -695,11 +715,41 @@ class PersonAttention(Module):
     def _publish_partner(self, t: float, row: int, bearing: list[float], dist: list[float], visible: bool) -> None:
         tk = self.tracks.tracks[row]
         x = tk.x
+        # facing: her frontal face is anchored to her track now (the camera detects frontal faces
+        # only); company: other confirmed people within group_radius of her (a group she may be
+        # talking with). The dialog decides from both whether an utterance is addressed to it.
+        r2 = self.params.group_radius ** 2
+        company = sum(1 for o in self.tracks.tracks if o.confirmed and o.id != tk.id
+                      and (o.x[0] - x[0]) ** 2 + (o.x[1] - x[1]) ** 2 <= r2)
         self.bus.publish(PARTNER, _own_document(  # as text: see _publish_tracks
             f'<partner id="t{tk.id}" bearing="{math.degrees(bearing[row]):.3f}" distance="{dist[row]:.3f}"'
             f' x="{x[0]:.3f}" y="{x[1]:.3f}" vx="{x[2]:.3f}" vy="{x[3]:.3f}" visible="{"true" if visible else "false"}"'
-            f' lost_for="{max(0.0, t - tk.last_update):.3f}"/>'
+            f' lost_for="{max(0.0, t - tk.last_update):.3f}" facing="{self._facing(t, tk.id, self._walks_away(t, x))}"'
+            f' company="{company}"/>'
         ), transfer=True)
+
+    def _walks_away(self, t: float, x: Any) -> bool:
+        """Does the track (odom state ``x``: x, y, vx, vy) walk away from the robot at ``leave_speed``
+        or faster? A person walking faces where she goes: her face is turned from the robot."""
+        rx, ry, _ = self._pose_at(t)
+        dx, dy = x[0] - rx, x[1] - ry
+        d = math.hypot(dx, dy)
+        return d > 1e-6 and (x[2] * dx + x[3] * dy) / d >= self.params.leave_speed
+
+    def _facing(self, t: float, tid: int, walks_away: bool = False) -> str:
+        """Does the partner face the robot? ``true``: her frontal face is anchored to her track;
+        ``false``: the camera's latest frame had her face in the image (within ``face_view_fresh``)
+        and the detector, which sees frontal faces only, found none there, or she walks away from
+        the robot (``walks_away``): she looks away; ``unknown``: the camera looks elsewhere (at her
+        hands, at an object), so it cannot tell."""
+        if self.facing.on(tid):
+            return "true"
+        if walks_away:
+            return "false"
+        pf = self._partner_face
+        if pf is not None and pf[1] == tid and pf[2] and t - pf[0] <= self.params.face_view_fresh:
+            return "false"
+        return "unknown"
 
     def _publish_state(self, t: float, *, force: bool = False) -> None:
         sel = self.partner if self.fsm.top_down else self.selector.selected

@@ -50,6 +50,23 @@ Leaving the interaction: when the supervisor's status leaves a sub-dialog's stat
 (:meth:`DialogManager.on_state`) and its sentences not yet said are dropped: the
 person it asked has gone, and a bystander's next words must not answer it.
 
+Addressee (issue 26, chat near the partner): an utterance is taken as addressed to the robot unless
+the robot's own percepts say otherwise. As the papers have it, speech is meant for the robot when the
+partner speaks facing it; the person attention's ``/robot/attention/partner`` says whether her frontal
+face is seen (``facing="true"``), whether the camera had her face in the image and found no frontal
+face there, i.e. she looks away (``"false"``), or cannot tell (``"unknown"``: the camera is on her
+hands or an object), and how many other people stand within 1.6 m of her (``company``). A frame is
+*not addressed* (dropped, understood or not, counted as ``not_addressed``: no "say that again" to
+others' chat) when, of the partner reports during the utterance (its ``start``..``end``), none
+says ``facing="true"``, at least half say ``"false"`` (turned away, or walking away from the robot)
+and the last one says ``"false"`` with ``company`` >= 1: she was not facing the robot while the
+words were spoken and ended up in a group turned to the others, so the words (hers or a
+bystander's a few degrees beside her) are their chat.
+Looking away alone is not enough (a user speaks while glancing at a shelf), nor is company alone (a
+bystander beside a partner who faces the robot); without reports, or when the camera cannot tell,
+the utterance counts as addressed. Not while the supervisor is in ``Following``: she leads with her
+back to the robot, and her "stop" is addressed to it.
+
 Catching up (issue 26 item 10): while the follower's ``/robot/follow/status`` says
 ``approaching`` (it comes up to the partner after "stop"), a request she makes waits (the
 latest one) and is handled when the robot stands near her facing her, so a place is not
@@ -93,6 +110,8 @@ HELD_MAX = 8
 #: s: after a released request, time for the ES's answer to come back before the next (a WLAN round trip
 #: with a retransmission is well under this)
 RELEASE_SETTLE = 0.5
+#: ES states in which the partner leads, back turned: the addressee rule does not apply
+LEADING_STATES = frozenset({"Following"})
 #: the microphone pair's geometry (m: ahead of the centre, spacing, height) and a standing adult's
 #: mouth height, as the person attention's CueSpec has them (modules share no code: tests/test_layers.py)
 MIC_OFFSET, MIC_SPACING, MIC_HEIGHT, MOUTH_HEIGHT = 0.10, 0.281, 1.06, 1.6
@@ -216,6 +235,9 @@ class Dialog(Module):
         self.barge_in_width = barge_in_width
         self.partner_fresh = partner_fresh
         self._partner: tuple[float, float] | None = None  # (bearing in degrees, robot frame; when heard)
+        # (time, facing, company) of the latest partner reports, for the addressee rule (bounded: ~30 s at 10 Hz)
+        self._partner_cues: deque[tuple[float, str, int]] = deque(maxlen=300)
+        self.not_addressed = 0
         self.ask_timeout = ask_timeout
         self._busy_until = 0.0
         self._pose: etree._Element | None = None  # the latest pose message's payload (read only for place teaching)
@@ -250,10 +272,29 @@ class Dialog(Module):
 
     def summary(self) -> dict[str, Any]:
         """Dialog metrics for the run summary (plain data)."""
-        return self.manager.summary()
+        out = self.manager.summary()
+        out["not_addressed"] = self.not_addressed
+        return out
+
+    def addressed(self, start: float, end: float) -> bool:
+        """The addressee rule (module docstring): is speech heard from ``start`` to ``end`` meant for
+        the robot? No only when no partner report in that span has her facing it, at least half
+        have her turned away (``facing="false"``) and the last one too, with someone else near her."""
+        if self.manager.es_state in LEADING_STATES:
+            return True
+        during = [(f, c) for t, f, c in self._partner_cues if start <= t <= end]
+        if not during or any(f == "true" for f, _ in during):
+            return True
+        away = sum(f == "false" for f, _ in during)
+        last_f, last_c = during[-1]
+        return not (2 * away >= len(during) and last_f == "false" and last_c >= 1)
 
     # ------------------------------------------------------------------ inputs
     def _on_frame(self, msg: Message) -> None:
+        x = msg.xml
+        if x.tag in ("understood", "not_understood") and not self.addressed(float(x.get("start", "nan")), float(x.get("end", "nan"))):
+            self.not_addressed += 1  # chat among the partner's group: not a request to the robot
+            return
         if self.now - self._approach_seen < APPROACH_FRESH or self._releasing:
             if len(self._held) >= HELD_MAX:  # bounded: the oldest goes now, none is lost
                 self._handle_frame(self._held.popleft())
@@ -363,6 +404,7 @@ class Dialog(Module):
             # heard nearer the front: the person attention matches voices to tracks the same way)
             b = heard_bearing(b, d)
         self._partner = (b, self.now) if math.isfinite(b) else None
+        self._partner_cues.append((msg.created, msg.xml.get("facing", "unknown"), int(msg.xml.get("company", "0"))))
 
     def partner_bearing(self) -> float | None:
         """The partner's bearing (degrees, robot frame) if the person attention reported it recently."""
