@@ -77,6 +77,10 @@ class PerceptForm:
     def __delattr__(self, name: str) -> None:
         raise AttributeError("PerceptForm is immutable (every frame in its pan-tilt state shares it)")
 
+    def get(self, name: str, default: str | None = None) -> str | None:
+        """An attribute's text as the list's XML carries it (``pan``, ``tilt``), read without a copy."""
+        return self._template.get(name, default)
+
     def sizes(self) -> tuple[int, int]:
         """(bytes of the list with ``time=""`` and no items, bytes more when it has items), measured once."""
         sz = self._sizes

@@ -354,7 +354,7 @@ class PersonAttention(Module):
         self.facing.feed(t, ids, {ids[r] for r in rows})
         prow = self.tracks.row(self.partner) if self.partner is not None else -1
         if prow >= 0:  # was the partner's face in the image? (then a missing face means she looks away)
-            tpl = data.template if data is not None else msg.xml
+            tpl = data.form if data is not None else msg.xml  # the pan-tilt state the frame was taken in
             pan, tilt = math.radians(float(tpl.get("pan", "nan"))), math.radians(float(tpl.get("tilt", "nan")))
             px, py = xy[prow]
             d = math.hypot(px, py)
