@@ -98,6 +98,21 @@ def test_analyse_counts_capabilities_per_run_and_groups_failures():
     assert any(g["kind"] == "error" for g in out["failures"])
 
 
+def test_runs_that_checked_nothing_are_counted_apart_not_as_failures():
+    """A scenario without expectations ("no expectations") neither passed nor failed: it stays out
+    of every rate and the table shows it in its own row."""
+    from homesim.tour.study import table
+
+    exps = [E("state-reached", 10, state="Interacting")]
+    rows = [{"file": "f.xml", "scenario": "f", "seed": 0, "condition": "default", "verdict": "PASS", "failed": []},
+            {"file": "g.xml", "scenario": "g", "seed": 0, "condition": "default", "verdict": "no expectations", "failed": []},
+            {"file": "g.xml", "scenario": "g", "seed": 1, "condition": "default", "verdict": "no expectations", "failed": []}]
+    out = analyse(rows, {"f.xml": exps, "g.xml": []}, {"f.xml": [], "g.xml": []}, ["default"])
+    assert (out["overall"]["runs"], out["overall"]["passed"], out["overall"]["rate"]) == (1, 1, 1.0)
+    assert out["nothing_checked"] == {"runs": 2, "by_condition": {"default": 2}}
+    assert "| nothing checked (runs, in no rate) | 2 |" in table(out, ["default"])
+
+
 def test_conditions_parse_and_refuse_unknown_keys():
     c = parse_condition("slow=robot.max-speed=0.3,option.follow-distance=1.4,strict=true")
     assert c.name == "slow" and c.robot == (("max-speed", "0.3"),) and c.options == (("follow-distance", "1.4"),)

@@ -308,11 +308,15 @@ def analyse(rows: list[Row], expectations: dict[str, list[Any]], names: dict[str
     (rooms, objects, people) to take out of failure details."""
     caps: dict[str, dict[str, list[int]]] = {}  # capability -> condition -> [runs, passed]
     overall: dict[str, list[int]] = {c: [0, 0] for c in conditions}
+    nothing: dict[str, int] = {c: 0 for c in conditions}  # runs that checked nothing ("no expectations", "not checked")
     groups: dict[str, dict[str, Any]] = {}
     for r in rows:
         exps = expectations.get(r["file"], [])
         failed_lines = _failed_lines(r)
         cond = r["condition"]
+        if r["verdict"] not in (PASS, FAIL, ERROR):  # neither passed nor failed: counted apart, out of every rate
+            nothing[cond] += 1
+            continue
         overall[cond][0] += 1
         overall[cond][1] += r["verdict"] == PASS
         by_cap: dict[str, bool] = {}
@@ -359,6 +363,7 @@ def analyse(rows: list[Row], expectations: dict[str, list[Any]], names: dict[str
     for g in failures:
         g["examples"] = g["examples"][:3]
     return {"overall": {**rate(pass_all, runs_all), "by_condition": {c: rate(overall[c][1], overall[c][0]) for c in conditions}},
+            "nothing_checked": {"runs": sum(nothing.values()), "by_condition": nothing},
             "capabilities": capabilities, "failures": failures}
 
 
@@ -396,6 +401,9 @@ def table(result: dict[str, Any], conditions: list[str]) -> str:
     lines.append("| **every expectation** | " + " | ".join(cell(result["overall"]["by_condition"][c]) for c in conditions) + " |")
     for cap, c in result["capabilities"].items():
         lines.append(f"| {cap} | " + " | ".join(cell(c["by_condition"][k]) for k in conditions) + " |")
+    nothing = result.get("nothing_checked", {"runs": 0})
+    if nothing["runs"]:  # runs without expectations (or stopped early): in no rate above
+        lines.append("| nothing checked (runs, in no rate) | " + " | ".join(str(nothing["by_condition"].get(c, 0)) for c in conditions) + " |")
     lines += ["", "rate (passed/runs) [95 % Wilson interval], in %", ""]
     if result["failures"]:
         lines += ["| runs | capability | cause | " + " | ".join(conditions) + " |", "|" + "---|" * (len(conditions) + 3)]
@@ -465,6 +473,7 @@ def study(files: list[str], seeds: list[int], conditions: list[Condition], out: 
         "study": {"scenarios": len(files), "seeds": seeds, "runs": len(rows),
                   "conditions": {c.name: c.text() for c in conditions}},
         "overall": result["overall"],
+        "nothing_checked": result["nothing_checked"],
         "capabilities": result["capabilities"],
         "failures": [{k: v for k, v in g.items() if k != "_seen"} for g in result["failures"]],
         "social_navigation": social_navigation(rows, cnames),
