@@ -287,3 +287,13 @@ def test_the_study_plots_legend_covers_no_bar_interval_or_count(k):
     assert not box.overlaps(ax.get_window_extent(renderer))
     fig_box = fig.bbox
     assert fig_box.x0 <= box.x0 and box.x1 <= fig_box.x1 and fig_box.y0 <= box.y0 and box.y1 <= fig_box.y1
+
+
+def test_a_fully_resumed_study_says_it_made_no_run():
+    from homesim.tour.study import throughput_line
+
+    line = throughput_line({"runs": 0, "cpu_s": 0.0, "runs_per_cpu_minute": None, "cpu_s_all": 0.4,
+                            "runs_per_cpu_minute_all": None, "wall_s": 1.0})
+    assert "None" not in line and line.startswith("no run made")
+    made = throughput_line({"runs": 3, "cpu_s": 6.0, "runs_per_cpu_minute": 30.0, "wall_s": 7.0})
+    assert made.startswith("3 runs made") and "30.0 runs per CPU minute" in made

@@ -541,10 +541,19 @@ def study_command(a: argparse.Namespace) -> int:
         shown.close()
     print((out / "study.md").read_text(encoding="utf-8"))
     t = doc["throughput"]
-    allcpu = f"; {t['cpu_s_all']:.0f} CPU s with start-up and set-up: {t['runs_per_cpu_minute_all']} runs per CPU minute" if t.get("cpu_s_all") else ""
-    print(f"{t['runs']} runs made, {t['cpu_s']:.0f} CPU s in the runs ({t['runs_per_cpu_minute']} runs per CPU minute){allcpu}, {t['wall_s']:.0f} s wall")
+    print(throughput_line(t))
     print(f"wrote {out / 'study.json'}, {out / 'study.md'}, {out / 'study.png'} and {out / 'study.svg'}")
     return 0
+
+
+def throughput_line(t: dict[str, Any]) -> str:
+    """The closing line on throughput; a fully resumed study made no run, so it has no rate to give."""
+    if not t["runs"]:
+        return f"no run made (every run resumed from an earlier summary), so no throughput; {t['wall_s']:.0f} s wall"
+    rate = f"{t['runs_per_cpu_minute']} runs per CPU minute" if t["runs_per_cpu_minute"] is not None else "no CPU time measured"
+    allcpu = (f"; {t['cpu_s_all']:.0f} CPU s with start-up and set-up: {t['runs_per_cpu_minute_all']} runs per CPU minute"
+              if t.get("cpu_s_all") else "")
+    return f"{t['runs']} runs made, {t['cpu_s']:.0f} CPU s in the runs ({rate}){allcpu}, {t['wall_s']:.0f} s wall"
 
 
 def register(sub: argparse._SubParsersAction) -> None:
