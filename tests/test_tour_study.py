@@ -261,15 +261,20 @@ def _cell(passed: int, runs: int) -> dict:
     return {"runs": runs, "passed": passed, "rate": passed / runs, "ci95": list(wilson(passed, runs))}
 
 
-@pytest.mark.parametrize("k", [2, 3, 5])
-def test_the_study_plots_legend_covers_no_bar_interval_or_count(k):
+LONG = ["robot.max-speed=0.15,user=impatient", "robot.max-speed=0.3,user=patient-and-chatty",
+        "option.follow-distance=1.4,robot.max-speed=0.6", "user-profile=wrong-confirmer-who-misnames",
+        "biron-2005-as-in-the-papers-with-slow-speech"]
+
+
+@pytest.mark.parametrize("k, long", [(2, False), (3, False), (5, False), (4, True), (5, True)])
+def test_the_study_plots_legend_covers_no_bar_interval_or_count(k, long):
     """With several conditions the legend sits outside the axes: rates near 100 % reach the
     right edge (where the old "lower right" legend hid them), and the counts stand past it."""
     from matplotlib.backends.backend_agg import FigureCanvasAgg
 
     from homesim.viz.study import rates_figure
 
-    conds = [f"condition-{j}" for j in range(k)]
+    conds = LONG[:k] if long else [f"condition-{j}" for j in range(k)]
     caps = {name: {"by_condition": {c: _cell(40 - j, 40) for j, c in enumerate(conds)}}
             for name in ("greeting", "following", "good-bye", "no collision")}
     doc = {"study": {"conditions": conds, "runs": 40 * k, "scenarios": 40, "seeds": [0]},
@@ -287,6 +292,10 @@ def test_the_study_plots_legend_covers_no_bar_interval_or_count(k):
     assert not box.overlaps(ax.get_window_extent(renderer))
     fig_box = fig.bbox
     assert fig_box.x0 <= box.x0 and box.x1 <= fig_box.x1 and fig_box.y0 <= box.y0 and box.y1 <= fig_box.y1
+    assert [t.get_text().replace("\n", "") for t in legend.get_texts()] == conds  # every name, whole
+    for t in legend.get_texts():  # no name clipped at the figure's edges
+        tb = t.get_window_extent(renderer)
+        assert fig_box.x0 <= tb.x0 and tb.x1 <= fig_box.x1, t.get_text()
 
 
 def test_a_fully_resumed_study_says_it_made_no_run():
