@@ -218,6 +218,28 @@ def test_resume_never_reuses_a_run_of_another_scenario_version_or_condition(tmp_
     assert edited["throughput"]["runs"] == 1  # the scenario file changed: made again
 
 
+def test_resume_makes_again_the_runs_of_other_code_and_says_so(tmp_path, monkeypatch, capsys):
+    """A researcher fixes the robot and resumes: the old robot's runs are not mixed into the new
+    rates (the key holds homesim's version and a digest of homesim/robot/humans)."""
+    from pathlib import Path
+
+    from homesim import __version__
+    from homesim.tour import study as st
+
+    assert st.code_digest() == st.code_digest() and st.code_digest().startswith(__version__ + "+sha256:")
+    scen = tmp_path / "radio.xml"
+    scen.write_bytes(Path("scenarios/radio.xml").read_bytes())
+    out = tmp_path / "out"
+    first = st.study([str(scen)], [0], [st.Condition("default")], out, workers=1)
+    assert first["study"]["code"] == st.code_digest()
+    capsys.readouterr()
+    monkeypatch.setattr(st, "code_digest", lambda: __version__ + "+sha256:changedrobot0000")
+    again = st.study([str(scen)], [0], [st.Condition("default")], out, workers=1, resume=True)
+    assert again["throughput"]["runs"] == 1  # made again, with this code
+    err = capsys.readouterr().err
+    assert "1 run in" in err and "made by other code" in err
+
+
 def test_every_expectation_of_the_library_and_the_generator_has_a_capability(tmp_path):
     """No expectation falls silently into "other": each library scenario's and each generated tour's
     expectations map to a named capability (a new kind or event needs a line in capabilities.py)."""
