@@ -49,7 +49,7 @@ class _PoseRecord(Typed):
     __slots__ = ("i",)
 
     def __init__(self, i: int) -> None:
-        self.i = i
+        object.__setattr__(self, "i", i)  # (Typed refuses attribute assignment: records are shared)
 
     def to_xml(self) -> etree._Element:
         return _pose(self.i)

@@ -1082,10 +1082,14 @@ class Bus:
 def message_size(msg: Message) -> int:
     """Bytes a message puts on a link: its serialized XML plus its attachments' raw bytes.
 
-    Computed only for links with a bandwidth (the delay's size term).
+    Computed only for links with a bandwidth (the delay's size term). A typed message's record
+    gives the length of its XML from its fields (:meth:`Typed.size`): sizing builds no XML.
     """
-    xml = msg.xml  # (a typed message's XML is built for its size: the bytes a real link would carry)
-    n = len(etree.tostring(xml)) if xml is not None else 0
+    if msg.__class__ is TypedMessage:
+        n = tuple.__getitem__(msg, 4).size()
+    else:
+        xml = msg.xml
+        n = len(etree.tostring(xml)) if xml is not None else 0
     for value in msg[8].values():
         n += value.nbytes if isinstance(value, np.ndarray) else len(value)
     return n

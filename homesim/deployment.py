@@ -47,6 +47,26 @@ class DeploymentError(InputError):
     """A deployment document (or a scenario's override) cannot be accepted."""
 
 
+class DeploymentProblems(DeploymentError):
+    """Several problems of one deployment (``homesim check`` lists them all); reads as the first."""
+
+    def __init__(self, problems: list[DeploymentError]) -> None:
+        if not problems:
+            raise ValueError("DeploymentProblems needs at least one problem")
+        self.problems = list(problems)
+        first, more = problems[0], len(problems) - 1
+        msg = first.message + (f" (and {more} more problem{'s' if more > 1 else ''}; 'homesim check' lists them)" if more else "")
+        super().__init__(msg, source=first.source, line=first.line, element=first.element)
+
+
+def _raise_all(found: list[DeploymentError]) -> None:
+    """Raise the problems found (one: itself; more: :class:`DeploymentProblems`)."""
+    if len(found) == 1:
+        raise found[0]
+    if found:
+        raise DeploymentProblems(found)
+
+
 @dataclass(frozen=True)
 class HostSpec:
     """A computer: the link kind it is attached by, its CPU speed in MHz (None: unknown), the CPU's name.
@@ -146,8 +166,9 @@ class Deployment:
         out = replace(self, links=tuple(links.values()), hosts=tuple(hosts.values()),
                       placement=tuple(sorted(placement.items())), routes=tuple(routes.values()),
                       default_host=override.default_host or self.default_host, overridden=True)
-        _check_refs(out, override.source, override.line, dict(override.place_lines))
-        _check_modules(override.placement, modules, override.source, override.line, dict(override.place_lines))
+        found = _check_refs(out, override.source, override.line, dict(override.place_lines))
+        found += _check_modules(override.placement, modules, override.source, override.line, dict(override.place_lines))
+        _raise_all(sorted(found, key=lambda e: e.line or 0))
         return out
 
     def apply(self, network: Network) -> None:
@@ -218,10 +239,12 @@ def _route(el: etree._Element, source: str) -> RouteSpec:
 _KEYS = {"link": ("name",), "host": ("name",), "place": ("module",), "route": ("from", "to")}
 
 
-def _children(parent: etree._Element, source: str, place_lines: dict[str, int | None] | None = None
+def _children(parent: etree._Element, source: str, place_lines: dict[str, int | None] | None = None,
+              found: list[DeploymentError] | None = None
               ) -> tuple[list[LinkModel], list[HostSpec], list[tuple[str, str]], list[RouteSpec]]:
     """Links, hosts, placements and routes of ``parent``, each name (a route: each pair) at most once
-    (else an error at the repeat)."""
+    (else an error at the repeat). ``found``: collect the problems there (the bad element is left
+    out) instead of raising the first."""
     links: list[LinkModel] = []
     hosts: list[HostSpec] = []
     placement: list[tuple[str, str]] = []
@@ -235,16 +258,22 @@ def _children(parent: etree._Element, source: str, place_lines: dict[str, int | 
         if key_attrs is None:
             continue
         key = (tag, " -> ".join(el.get(a, "") for a in key_attrs))
-        if key in seen:
-            raise _fail(f"{tag} {key[1]!r} is given twice (first at line {seen[key]})", source, el)
-        seen[key] = el.sourceline
-        if tag == "link":
-            links.append(_link(el, source))
-        elif tag == "host":
+        try:
+            if key in seen:
+                raise _fail(f"{tag} {key[1]!r} is given twice (first at line {seen[key]})", source, el)
+            seen[key] = el.sourceline
+            if tag == "link":
+                links.append(_link(el, source))
+            elif tag == "route":
+                routes.append(_route(el, source))
+        except DeploymentError as exc:
+            if found is None:
+                raise
+            found.append(exc)
+            continue
+        if tag == "host":
             hosts.append(_host(el))
-        elif tag == "route":
-            routes.append(_route(el, source))
-        else:
+        elif tag == "place":
             placement.append((el.get("module", ""), el.get("host", "")))
             if place_lines is not None:
                 place_lines[el.get("module", "")] = el.sourceline
@@ -252,52 +281,57 @@ def _children(parent: etree._Element, source: str, place_lines: dict[str, int | 
 
 
 def _check_refs(d: Deployment, source: str, line: int | None = None,
-                place_lines: dict[str, int | None] | None = None) -> None:
+                place_lines: dict[str, int | None] | None = None) -> list[DeploymentError]:
+    """Every reference of ``d`` (a host's link and uplink, a route's hosts and link, a placement's
+    host, the default host) names something declared: the problems, in the document's order."""
+    found: list[DeploymentError] = []
     links = {lk.name for lk in d.links} | {"local"}
     hosts = {h.name for h in d.hosts}
     for h in d.hosts:
         if h.link not in links:
-            raise DeploymentError(f"host {h.name!r} is attached by unknown link {h.link!r}; links: {sorted(links)}",
-                                  source=source, line=h.line or line, element="host")
+            found.append(DeploymentError(f"host {h.name!r} is attached by unknown link {h.link!r}; links: {sorted(links)}",
+                                         source=source, line=h.line or line, element="host"))
         if h.uplink is not None and h.uplink not in links:
-            raise DeploymentError(f"host {h.name!r} sends over unknown link {h.uplink!r} (uplink); links: "
-                                  f"{sorted(links)}", source=source, line=h.line or line, element="host")
+            found.append(DeploymentError(f"host {h.name!r} sends over unknown link {h.uplink!r} (uplink); links: "
+                                         f"{sorted(links)}", source=source, line=h.line or line, element="host"))
     for r in d.routes:
         for end, host in (("from", r.src), ("to", r.dst)):
             if host not in hosts:
-                raise DeploymentError(f"route {r.src!r} -> {r.dst!r}: {end} unknown host {host!r}; hosts: "
-                                      f"{sorted(hosts)}", source=source, line=r.line or line, element="route")
+                found.append(DeploymentError(f"route {r.src!r} -> {r.dst!r}: {end} unknown host {host!r}; hosts: "
+                                             f"{sorted(hosts)}", source=source, line=r.line or line, element="route"))
         if r.link not in links:
-            raise DeploymentError(f"route {r.src!r} -> {r.dst!r} takes unknown link {r.link!r}; links: "
-                                  f"{sorted(links)}", source=source, line=r.line or line, element="route")
+            found.append(DeploymentError(f"route {r.src!r} -> {r.dst!r} takes unknown link {r.link!r}; links: "
+                                         f"{sorted(links)}", source=source, line=r.line or line, element="route"))
     for module, host in d.placement:
         if host not in hosts:
-            raise DeploymentError(f"module {module!r} is placed on unknown host {host!r}; hosts: {sorted(hosts)}",
-                                  source=source, line=(place_lines or {}).get(module) or line, element="place")
+            found.append(DeploymentError(f"module {module!r} is placed on unknown host {host!r}; hosts: {sorted(hosts)}",
+                                         source=source, line=(place_lines or {}).get(module) or line, element="place"))
     if d.default_host not in hosts:
-        raise DeploymentError(f"default-host {d.default_host!r} is not a host; hosts: {sorted(hosts)}",
-                              source=source, line=line, element="deployment")
+        found.append(DeploymentError(f"default-host {d.default_host!r} is not a host; hosts: {sorted(hosts)}",
+                                         source=source, line=line, element="deployment"))
+    return found
 
 
 def _check_modules(placement: Collection[tuple[str, str]], modules: Collection[str] | None, source: str,
-                   line: int | None = None, place_lines: dict[str, int | None] | None = None) -> None:
+                   line: int | None = None, place_lines: dict[str, int | None] | None = None) -> list[DeploymentError]:
     """Every placed module is one of ``modules`` (None: any name; the system says which exist)."""
     if modules is None:
-        return
+        return []
+    found: list[DeploymentError] = []
     known = sorted(set(modules))
-    for module, _host in placement:  # in the document's order: the first wrong one is named
+    for module, _host in placement:  # in the document's order
         if module not in known:
-            raise DeploymentError(f"no module {module!r} to place{did_you_mean(module, known)}; modules: "
-                                  f"{', '.join(known) or '(none)'}",
-                                  source=source, line=(place_lines or {}).get(module) or line, element="place")
+            found.append(DeploymentError(f"no module {module!r} to place{did_you_mean(module, known)}; modules: "
+                                         f"{', '.join(known) or '(none)'}",
+                                         source=source, line=(place_lines or {}).get(module) or line, element="place"))
+    return found
 
 
 def _validate(el: etree._Element, source: str) -> None:
     schema = load_schema(SCHEMA)
     problems = schema.errors(el)
-    if problems:
-        line, msg = problems[0]
-        raise DeploymentError(f"does not satisfy deployment.xsd: {msg}", source=source, line=line or el.sourceline)
+    _raise_all([DeploymentError(f"does not satisfy deployment.xsd: {msg}", source=source, line=line or el.sourceline)
+                for line, msg in problems])
 
 
 def from_element(root: etree._Element, *, source: str = "<deployment>", modules: Collection[str] | None = None) -> Deployment:
@@ -307,14 +341,16 @@ def from_element(root: etree._Element, *, source: str = "<deployment>", modules:
         raise _fail(f"root element is <{root.tag}>, not <deployment>", source, root)
     _validate(root, source)
     lines: dict[str, int | None] = {}
-    links, hosts, placement, routes = _children(root, source, lines)
+    found: list[DeploymentError] = []
+    links, hosts, placement, routes = _children(root, source, lines, found)
     desc = root.find("description")
     d = Deployment(root.get("name", ""), root.get("default-host", ""), tuple(links), tuple(hosts),
                    tuple(sorted(placement)), " ".join((desc.text or "").split()) if desc is not None else "", source,
                    routes=tuple(routes))
-    _check_refs(d, source, root.sourceline, lines)
+    found += _check_refs(d, source, root.sourceline, lines)
     # Every placement's host must be a host; every module at most once (checked in _children).
-    _check_modules(placement, modules, source, root.sourceline, lines)
+    found += _check_modules(placement, modules, source, root.sourceline, lines)
+    _raise_all(sorted(found, key=lambda e: e.line or 0))
     return d
 
 
@@ -360,7 +396,7 @@ def resolve(default: Deployment | str | os.PathLike[str], override: Override | N
     """
     if isinstance(default, Deployment):
         base = default
-        _check_modules(base.placement, modules, base.source)
+        _raise_all(_check_modules(base.placement, modules, base.source))
     else:
         base = load(default, modules=modules)
     if override is None:
@@ -384,10 +420,12 @@ def check_file(path: str, *, modules: Collection[str] | None = None) -> list[Inp
     checked against ``modules`` unless that is None)."""
     try:
         load(path, modules=modules)
+    except DeploymentProblems as exc:
+        return list(exc.problems)
     except InputError as exc:
         return [exc]
     return []
 
 
-__all__ = ("Deployment", "DeploymentError", "HostSpec", "Override", "RouteSpec", "check_file", "from_element", "load",
+__all__ = ("Deployment", "DeploymentError", "DeploymentProblems", "HostSpec", "Override", "RouteSpec", "check_file", "from_element", "load",
            "override_from_element", "resolve")

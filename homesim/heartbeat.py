@@ -30,28 +30,63 @@ MIN_INTERVAL_S = 0.001
 MAX_INTERVAL_S = 3600.0
 
 
+class BeatForm:
+    """What every beat of one module shares: its name, its interval and the ``<heartbeat/>`` they make.
+
+    Made once per :class:`Heartbeat` from the module's name and interval, so a beat's fields and its
+    XML come from the same values and cannot disagree; immutable, and its template never leaves it.
+    """
+
+    __slots__ = ("module", "interval", "_template", "_size0")
+
+    def __init__(self, module: str, interval: int | float) -> None:
+        template = etree.Element("heartbeat", module=module, seq="0", interval=repr(interval))
+        set_ = object.__setattr__
+        set_(self, "module", module)
+        set_(self, "interval", float(repr(interval)))  # float(the interval attribute's text): what an XML reader reads
+        set_(self, "_template", template)
+        set_(self, "_size0", len(etree.tostring(template)) - 1)  # without seq's one digit "0"
+
+    def __setattr__(self, name: str, value: object) -> None:
+        raise AttributeError("BeatForm is immutable (every beat of a module shares it)")
+
+    def __delattr__(self, name: str) -> None:
+        raise AttributeError("BeatForm is immutable (every beat of a module shares it)")
+
+
 class BeatRecord(Typed):
     """A heartbeat as a typed record (:class:`~homesim.message.Typed`): its XML is built only when read.
 
     Every module beats (about 40 beats per simulated second in the home tour) and the monitor
-    reads two fields, so a beat carries the fields and its ``<heartbeat module= seq= interval=/>``
-    is made (for the trace, ``--strict``, an XML reader) as a copy of the sender's template with
-    ``seq`` set (lxml checks an attribute's name whenever one is set by name, ~2k instructions
-    each in CPython 3.11: one name instead of a tag and three). The same bytes as before.
+    reads two fields, so a beat carries its module's :class:`BeatForm` and its number, and its
+    ``<heartbeat module= seq= interval=/>`` is made (for the trace, ``--strict``, an XML reader) as
+    a copy of the form's template with ``seq`` set (lxml checks an attribute's name whenever one is
+    set by name, ~2k instructions each in CPython 3.11: one name instead of a tag and three). The
+    same bytes as before. Immutable (receivers share it); ``module`` and ``interval`` are the
+    form's, so what the monitor reads is what the XML says.
     """
 
-    __slots__ = ("module", "seq", "interval", "_template")
+    __slots__ = ("form", "seq")
 
-    def __init__(self, module: str, seq: int, interval: float, template: etree._Element) -> None:
-        self.module = module
-        self.seq = seq
-        self.interval = interval  # float(the interval attribute's text): what an XML reader reads
-        self._template = template
+    def __init__(self, form: BeatForm, seq: int) -> None:
+        object.__setattr__(self, "form", form)
+        object.__setattr__(self, "seq", int(seq))
+
+    @property
+    def module(self) -> str:
+        return self.form.module
+
+    @property
+    def interval(self) -> float:
+        return self.form.interval
 
     def to_xml(self) -> etree._Element:
-        el = self._template.__copy__()
+        el = self.form._template.__copy__()
         el.set("seq", str(self.seq))  # (set in place: the attributes keep their order)
         return el
+
+    def size(self) -> int:
+        return self.form._size0 + len(str(self.seq))
 
 
 class Heartbeat:
@@ -75,9 +110,7 @@ class Heartbeat:
         self._interval_ns = to_ns(interval)
         self._loop = participant.bus.loop
         self._next_ns = -1  # the first call beats
-        self._template = etree.Element("heartbeat", module=participant.name, seq="0", interval=repr(interval))
-        self._module = participant.name
-        self._interval_f = float(repr(interval))  # (the value the XML's text gives)
+        self._form = BeatForm(participant.name, interval)
         self.seq = 0
 
     def beat(self) -> bool:
@@ -86,7 +119,7 @@ class Heartbeat:
         if now < self._next_ns:
             return False
         self.seq += 1
-        self.participant.publish(self.channel, BeatRecord(self._module, self.seq, self._interval_f, self._template))
+        self.participant.publish(self.channel, BeatRecord(self._form, self.seq))
         self._next_ns = now + self._interval_ns
         return True
 
@@ -214,15 +247,21 @@ class BackstopMonitor(HeartbeatMonitor):
         channel = msg.channel
         if not channel.startswith("/system/"):  # (called for every send: the cheapest test first)
             return
-        xml = msg.xml
-        if xml is None or msg.sender == self.participant.name or not self.wants(channel):
+        if msg.sender == self.participant.name or not self.wants(channel):
             return
         if channel == HEALTH_CHANNEL:  # what the primary reported: not reported again
+            xml = msg.xml
+            if xml is None:
+                return
             module = xml.get("module")
             if module is not None and xml.tag == "module_failed":
                 self.failed.setdefault(module, msg.created_ns)
             elif module is not None and xml.tag == "module_recovered":
                 self.failed.pop(module, None)
+            return
+        # A typed beat is read from its record (no XML built: every beat of every module passes
+        # here); anything else from its XML, if it has one.
+        if msg.data.__class__ is not BeatRecord and msg.xml is None:
             return
         try:
             name, interval = _read_beat(msg)

@@ -88,26 +88,52 @@ class Typed:
 
     __slots__ = ()
 
+    def __setattr__(self, name: str, value: object) -> None:
+        # Receivers share the record: a field one of them rebinds would reach every other receiver,
+        # later messages and the trace. A subclass sets its fields with object.__setattr__.
+        raise AttributeError(f"{type(self).__name__} is immutable (receivers share it)")
+
+    def __delattr__(self, name: str) -> None:
+        raise AttributeError(f"{type(self).__name__} is immutable (receivers share it)")
+
     def to_xml(self) -> etree._Element:
         """A new element holding this record: the channel's contract."""
         raise NotImplementedError
+
+    def size(self) -> int:
+        """``len(etree.tostring(self.to_xml()))``: the bytes its XML puts on a link.
+
+        A link with a bandwidth asks for every message it carries; a record that knows its size
+        from its fields overrides this so that sizing a message builds no XML.
+        """
+        return len(etree.tostring(self.to_xml()))
 
 
 class Frozen(Typed):
     """A payload the sender keeps unchanged (a template per state, say) sent as a typed record.
 
-    The element itself never leaves the sender: a receiver asking for ``msg.xml`` gets a copy of
-    it (lxml copies the subtree in C), and nobody asking costs nothing. The sender must never
-    change the element after sending it.
+    The record holds a copy of the element made when it is created (the sender's own element stays
+    the sender's: changing it later changes no record), never hands it out (a receiver asking for
+    ``msg.xml`` gets a copy of its own; lxml copies the subtree in C) and refuses new fields, so a
+    receiver can change neither what another receiver reads nor the trace. Nobody asking costs
+    nothing; its size is measured once, on first use.
     """
 
-    __slots__ = ("element",)
+    __slots__ = ("_element", "_size")
 
     def __init__(self, element: etree._Element) -> None:
-        self.element = element
+        object.__setattr__(self, "_element", element.__copy__())
+        object.__setattr__(self, "_size", -1)
 
     def to_xml(self) -> etree._Element:
-        return self.element.__copy__()
+        return self._element.__copy__()
+
+    def size(self) -> int:
+        n = self._size
+        if n < 0:
+            n = len(etree.tostring(self._element))
+            object.__setattr__(self, "_size", n)
+        return n
 
 
 class TypedMessage(Message):

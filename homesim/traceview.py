@@ -16,7 +16,7 @@ registered span markers (:func:`register_spans`) name or replace the spans they
 recognise (the run package's: speech detection, speech recognition, the ES's
 reconfiguration). With the run's deployment in the trace header (``run.hosts``,
 ``run.placement``, ``run.link_worst_ms``), lanes are grouped by host and the
-messages that crossed the slowest link are known (:meth:`Timeline.crosses_slow_link`).
+messages that crossed a slow link (slower than the LAN) are known (:meth:`Timeline.crosses_slow_link`).
 
 Both passes stream the file; memory holds one small record per event
 message in the asked window, a thinned sample of each stream, and bounded
@@ -159,10 +159,13 @@ class Timeline:
     streams: dict[tuple[str, str], StreamStats]
     hosts: dict[str, str] = field(default_factory=dict)  # lane -> host (the run's deployment, from the header)
     host_order: list[str] = field(default_factory=list)
-    slow: set[tuple[str, str]] = field(default_factory=set)  # (sender, receiver) lanes joined by the slowest link
+    #: (sender, receiver) lanes joined by a slow link -> that link's name
+    slow: dict[tuple[str, str], str] = field(default_factory=dict)
+    #: the links the run used that are slower than its fastest one between hosts (the LAN), slowest first
+    slow_links: tuple[str, ...] = ()
 
     def crosses_slow_link(self, sender: str, receiver: str) -> bool:
-        """Whether a message from ``sender`` to ``receiver`` went over the deployment's slowest link."""
+        """Whether a message from ``sender`` to ``receiver`` went over a slow link (one of :attr:`slow_links`)."""
         return (sender, receiver) in self.slow
 
 
@@ -171,10 +174,11 @@ def label_of(rec: dict[str, Any]) -> str:
     xml = rec.get("xml") or ""
     tag = xml[1:].split(" ", 1)[0].split(">", 1)[0].split("/", 1)[0]
     name = ""
+    head = xml[:xml.find(">") + 1]  # the root's start tag: a child's name (a state's <event name>) is not the root's
     for key in (' name="', ' text="', ' state="'):
-        i = xml.find(key)
-        if 0 <= i < 200:
-            name = xml[i + len(key):xml.find('"', i + len(key))]
+        i = head.find(key)
+        if i >= 0:
+            name = head[i + len(key):head.find('"', i + len(key))]
             break
     if not name and tag == "utterance":
         name = xml[xml.find(">") + 1:xml.rfind("<")]
@@ -372,19 +376,22 @@ def read_timeline(path: str | os.PathLike[str], *, start: float | None = None, e
         if name in stream_first:
             return (0, 0, stream_first[name], name)
         return (2, 0, t1, name)
-    hosts, host_order, slow = _deployment(header, names, order)
+    hosts, host_order, slow, slow_links = _deployment(header, names, order)
     order_of = {h: i for i, h in enumerate(host_order)}
     lanes = sorted(names, key=lambda n: (order_of.get(hosts.get(n, ""), len(order_of)), rank(n)))
     return Timeline(str(header.get("scenario", "?")), int(header.get("seed", 0)), t0, t1, lanes, order,
                     sorted(spans.values(), key=lambda s: (s.start, s.lane)), flows, phases, streams,
-                    hosts, host_order, slow)
+                    hosts, host_order, slow, slow_links)
 
 
 def _deployment(header: dict[str, Any], names: set[str], order: list[Message]
-                ) -> tuple[dict[str, str], list[str], set[tuple[str, str]]]:
-    """From the header's run deployment: lane -> host, the hosts in order, and the (sender, receiver)
-    pairs whose messages took the slowest link (as the network does: the pair's route if it has one,
-    else the slower of the sender's uplink and the receiver's link)."""
+                ) -> tuple[dict[str, str], list[str], dict[tuple[str, str], str], tuple[str, ...]]:
+    """From the header's run deployment: lane -> host, the hosts in order, the (sender, receiver)
+    pairs whose messages took a slow link -> that link (as the network does: the pair's route if it
+    has one, else the slower of the sender's uplink and the receiver's link), and the slow links,
+    slowest first. A slow link is one slower (worst case) than the fastest link the run's hosts use:
+    with the papers' deployment the WLAN; with a laptop that receives over a queued downlink and sends
+    over the WLAN, both (its messages out are slower than the LAN too)."""
     run = header.get("run") if isinstance(header.get("run"), dict) else {}
 
     def mapping(key: str) -> dict[str, Any]:
@@ -394,21 +401,23 @@ def _deployment(header: dict[str, Any], names: set[str], order: list[Message]
     host_links, placement, worst = mapping("hosts"), mapping("placement"), mapping("link_worst_ms")
     uplinks, routes = mapping("uplinks"), mapping("routes")
     if not placement:
-        return {}, [], set()
+        return {}, [], {}, ()
     default = placement.get("default")
     hosts = {n: str(placement.get(n, default)) for n in names}
-    slow: set[tuple[str, str]] = set()
+    slow: dict[tuple[str, str], str] = {}
     used = set(host_links.values()) | set(uplinks.values()) | set(routes.values())
     kinds = {lk for lk in used if isinstance(worst.get(lk), (int, float))}
-    if len(kinds) > 1:
-        slowest = max(kinds, key=lambda lk: worst[lk])
-        for m in order:
-            for r in m.delivered:
-                a, b = hosts.get(m.sender, ""), hosts.get(r, "")
-                la, lb = uplinks.get(a, host_links.get(a)), host_links.get(b)
-                if a == b or la is None or lb is None:
-                    continue
-                link = routes.get(f"{a}->{b}") or (la if worst.get(la, 0) >= worst.get(lb, 0) else lb)
-                if link == slowest:
-                    slow.add((m.sender, r))
-    return hosts, list(host_links), slow
+    if len(kinds) < 2:
+        return hosts, list(host_links), slow, ()
+    fastest = min(worst[lk] for lk in kinds)
+    slow_kinds = {lk for lk in kinds if worst[lk] > fastest}
+    for m in order:
+        for r in m.delivered:
+            a, b = hosts.get(m.sender, ""), hosts.get(r, "")
+            la, lb = uplinks.get(a, host_links.get(a)), host_links.get(b)
+            if a == b or la is None or lb is None:
+                continue
+            link = routes.get(f"{a}->{b}") or (la if worst.get(la, 0) >= worst.get(lb, 0) else lb)
+            if link in slow_kinds:
+                slow[(m.sender, r)] = link
+    return hosts, list(host_links), slow, tuple(sorted(slow_kinds, key=lambda lk: (-worst[lk], lk)))

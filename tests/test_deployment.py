@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import json
 import math
 from pathlib import Path
 
@@ -471,3 +472,105 @@ def test_homesim_check_refuses_a_deployment_document_placing_an_unknown_module(t
     assert kind == "deployment" and len(problems) == 1 and problems[0].line == line
     assert "no module 'kamera' to place (did you mean 'camera'?)" in problems[0].message
     assert check_path(str(BIRON))[1] == []
+
+
+def test_homesim_check_lists_every_problem_of_a_deployment_document_and_of_a_scenario_override(tmp_path):
+    """Like the other document kinds: each problem at its own line, not only the first."""
+    from homesim.check import check_path
+
+    text = BIRON.read_text(encoding="utf-8")
+    bad = (text.replace('<place module="camera" host="pc2"/>', '<place module="kamera" host="pc2"/>')
+           .replace('<place module="dialog" host="laptop"/>', '<place module="dailog" host="laptop"/>')
+           .replace('<place module="laser" host="pc1"/>', '<place module="laser" host="pc9"/>'))
+    assert bad.count("kamera") == bad.count("dailog") == bad.count("pc9") == 1
+    path = tmp_path / "d.xml"
+    path.write_text(bad, encoding="utf-8")
+    rows = bad.splitlines()
+    want = sorted(rows.index(f"  {el}") + 1 for el in ('<place module="kamera" host="pc2"/>',
+                                                       '<place module="dailog" host="laptop"/>',
+                                                       '<place module="laser" host="pc1"/>'.replace("pc1", "pc9")))
+    kind, problems = check_path(str(path))
+    assert kind == "deployment" and sorted(p.line for p in problems) == want
+    assert all(str(path) == p.source for p in problems)
+    from robot.deployment import MODULES
+
+    with pytest.raises(DeploymentError, match=r"and 2 more problems") as err:
+        load(path, modules=MODULES)
+    assert err.value.line == want[0]
+    scen = (ROOT / "scenarios" / "radio.xml").read_text(encoding="utf-8").replace(
+        "  <sources>", '  <deployment>\n    <place module="dailog" host="laptop"/>\n    <place module="camera" host="moon"/>\n'
+        '    <place module="Supervisor" host="laptop"/>\n  </deployment>\n  <sources>', 1)
+    spath = tmp_path / "s.xml"
+    spath.write_text(scen, encoding="utf-8")
+    kind, problems = check_path(str(spath))
+    first = scen.splitlines().index('    <place module="dailog" host="laptop"/>') + 1
+    assert kind == "scenario" and sorted(p.line for p in problems) == [first, first + 1, first + 2]
+
+
+# ------------------------------------------------------------ profiles asked for vs needed (review of issue 23)
+def _needs_full(tmp_path):
+    text = (ROOT / "scenarios" / "radio.xml").read_text(encoding="utf-8")
+    import re as _re
+    new = _re.sub(r"<robot\b", '<robot profile="full"', text, count=1)
+    assert new != text
+    path = tmp_path / "radio_full.xml"
+    path.write_text(new, encoding="utf-8")
+    return path
+
+
+def test_a_profile_other_than_the_one_the_scenario_needs_is_refused_naming_file_and_line(tmp_path):
+    from homesim.tour.runner import ProfileMismatch, Run, RunOptions
+
+    path = _needs_full(tmp_path)
+    with pytest.raises(ProfileMismatch, match="needs robot profile 'full'") as err:
+        Run.from_file(path, RunOptions(profile="biron-2005"))
+    assert str(path) in str(err.value) and err.value.line is not None
+    with Run.from_file(path, RunOptions(until=0.5, profile="full")) as run:  # the one it needs: runs
+        assert run.profile == "full"
+
+
+def test_a_sweep_with_another_profile_skips_what_needs_full_and_does_not_call_it_failing(tmp_path, capsys):
+    import argparse as _argparse
+
+    from homesim.tour.sweep import SKIPPED, sweep_command
+
+    path = _needs_full(tmp_path)
+    a = _argparse.Namespace(scenarios=[path], seeds="0", out=str(tmp_path / "out"), until=1.0, workers=1, scheduler=None,
+                            profile="biron-2005")
+    assert sweep_command(a) == 0  # skipped is not a failure
+    out = capsys.readouterr().out
+    assert "radio_full: needs profile full, skipped (run as biron-2005) (1 run)" in out
+    rows = json.loads((tmp_path / "out" / "sweep.json").read_text())["runs"]
+    assert [r["verdict"] for r in rows] == [SKIPPED] and rows[0]["needs_profile"] == "full"
+
+
+def test_the_trace_header_and_trace_info_name_the_profile_that_ran(tmp_path):
+    from homesim.tour.runner import Run, RunOptions
+    from homesim.tour.trace_cli import file_info
+
+    for path, asked, ran in ((ROOT / "scenarios" / "radio.xml", None, "full"), (_needs_full(tmp_path), None, "full"),
+                             (ROOT / "scenarios" / "radio.xml", "biron-2005", "biron-2005")):
+        trace = tmp_path / f"t-{ran}-{asked}.jsonl"
+        with Run.from_file(path, RunOptions(until=0.5, profile=asked, trace=str(trace))) as run:
+            run.run()
+            run.finish()
+        header = json.loads(trace.read_text(encoding="utf-8").splitlines()[0])
+        assert header["run"]["profile"] == ran
+        assert ("Profile", ran) in file_info(trace).about
+
+
+def test_every_scenario_that_checks_what_only_the_full_robot_does_says_it_needs_full():
+    """The 2005 demonstrator measures no object position and asks nobody to step aside: a scenario
+    expecting a teaching precision, a position error or "step aside" says <robot profile="full">, so
+    that a --profile biron-2005 sweep reports it as skipped, not as the robot failing (measured: each
+    of these failed under biron-2005 at seed 0)."""
+    import re as _re
+
+    from homesim.scenario.loader import load_scenario
+
+    rule = _re.compile(r'name="teaching\.(precision|position_error)|pattern="[^"]*step aside')
+    files = sorted((ROOT / "scenarios").rglob("*.xml")) + sorted((ROOT / "tests" / "scenarios").rglob("*.xml"))
+    needing = [f for f in files if rule.search(f.read_text(encoding="utf-8"))]
+    assert len(needing) >= 10
+    undeclared = [str(f.relative_to(ROOT)) for f in needing if load_scenario(f).robot.profile != "full"]
+    assert not undeclared, undeclared

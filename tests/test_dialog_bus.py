@@ -11,6 +11,7 @@ from lxml import etree
 from homesim.scenario.loader import load_scenario
 from homesim.sim import Simulation
 from homesim.tour.stage import Stage
+from robot.contract import FOLLOW_STATUS
 from robot.dialog.module import Dialog
 from robot.dialog.transcript import transcript
 from robot.speech.module import RobotSentence, SpeechUnderstanding, is_own_voice
@@ -273,6 +274,39 @@ def test_place_teaching_sends_the_latest_pose(robot):
     assert robot.sentences()[-1] == "OK, this is the kitchen. I will remember it."
     orders = [r for r in robot.records("/robot/es/orders/scene_model") if "store_place" in r["xml"]]
     assert orders and "<POSE " in orders[0]["xml"]
+
+
+def _approaching(robot, start: float, stop: float) -> None:
+    """The follower's status: "approaching" every 0.1 s from ``start``, then "stopped" at ``stop``."""
+    fol = robot.sim.bus.participant("follower")
+    def beat(t: float) -> None:
+        fol.publish(FOLLOW_STATUS, etree.Element(
+            "follow", distance="1.5", speed="0.2", at_limit="false", state="approaching"))
+        if t + 0.1 < stop:
+            robot.sim.call_at(t + 0.1, lambda: beat(t + 0.1))
+    robot.sim.call_at(start, lambda: beat(start))
+    robot.sim.call_at(stop, lambda: fol.publish(FOLLOW_STATUS, etree.Element(
+        "follow", distance="1.0", speed="0", at_limit="false", state="stopped")))
+
+
+def test_every_request_made_during_an_approach_is_handled_in_order_when_it_ends(robot):
+    """Two requests while the robot comes up to her: both reach the ES / are answered, in order, after
+    the approach (issue 23 item 4: every understood instruction goes to the ES; none is overwritten)."""
+    loc = robot.sim.bus.participant("localiser")
+    robot.sim.call_at(2.0, lambda: loc.publish("/robot/localisation/pose", etree.Element(
+        "pose", time="2", x="1.5", y="2.0", theta="0.3", cxx="0.01", cyy="0.01", ctt="0.001", frame="map")))
+    robot.greet()
+    _approaching(robot, 6.0, 14.0)
+    robot.utter("this is the kitchen", 7.0, 8.0)
+    robot.utter("what can you do", 10.0, 11.0)
+    robot.sim.run(until=30.0)
+    teach = [r for r in robot.records(ES_EVENTS) if 'name="place_teaching"' in r["xml"]]
+    assert len(teach) == 1 and teach[0]["t"] >= 14.0
+    said = robot.sentences()
+    assert "OK, this is the kitchen. I will remember it." in said
+    assert any(s.startswith("I am listening to you.") for s in said)
+    assert said.index("OK, this is the kitchen. I will remember it.") < next(
+        i for i, s in enumerate(said) if s.startswith("I am listening to you."))
 
 
 def test_teaching_while_following_is_explained_when_it_expires(robot):

@@ -232,7 +232,7 @@ def test_an_exported_mcap_says_which_run_it_came_from(mcaps):
     assert meta["scenario"] == header["scenario"] == "home_tour" and meta["seed"] == str(header["seed"])
     assert meta["homesim_version"] == header["homesim_version"] and meta["exporter"].startswith("homesim ")
     assert meta["run.scenario_file"] == header["run"]["scenario_file"] and meta["run.scenario_digest"].startswith("sha256:")
-    assert meta["run.profile"] == json.dumps(header["run"]["profile"]) and meta["run.deployment"] == header["run"]["deployment"]
+    assert meta["run.profile"] == header["run"]["profile"] == "full" and meta["run.deployment"] == header["run"]["deployment"]
     assert meta["trace"] == trace.name
 
 

@@ -328,3 +328,20 @@ def test_a_fully_resumed_study_says_it_made_no_run():
     assert "None" not in line and line.startswith("no run made")
     made = throughput_line({"runs": 3, "cpu_s": 6.0, "runs_per_cpu_minute": 30.0, "wall_s": 7.0})
     assert made.startswith("3 runs made") and "30.0 runs per CPU minute" in made
+
+
+def test_a_condition_with_another_profile_skips_a_scenario_that_needs_full(tmp_path):
+    """A scenario saying <robot profile="full"> under a biron-2005 condition is not run and not
+    counted as failing any capability: a 'skipped' group says why."""
+    import re
+    from pathlib import Path
+
+    from homesim.tour.study import study
+
+    scen = tmp_path / "radio_full.xml"
+    scen.write_text(re.sub(r"<robot\b", '<robot profile="full"', Path("scenarios/radio.xml").read_text(encoding="utf-8"), count=1),
+                    encoding="utf-8")
+    doc = study([str(scen)], [0], [parse_condition("old=profile=biron-2005")], tmp_path / "out", workers=1)
+    assert [r["verdict"] for r in doc["runs"]] == ["SKIPPED"]
+    assert all(c.get("old", {}).get("runs", 0) == 0 for c in doc["capabilities"].values())
+    assert any(g["capability"] == "skipped" and "needs profile full" in g["cause"] for g in doc["failures"])

@@ -17,13 +17,15 @@ from hypothesis import strategies as st
 from lxml import etree
 
 from homesim.errors import MessageValidationError
-from homesim.heartbeat import BeatRecord, Heartbeat, HeartbeatMonitor, _read_beat
+from homesim.bus import message_size
+from homesim.heartbeat import BackstopMonitor, BeatForm, BeatRecord, Heartbeat, HeartbeatMonitor, _read_beat
 from homesim.message import Frozen, Message, Typed, TypedMessage
+from homesim.network import LinkModel
 from homesim.sim import Simulation
 from homesim.trace import MemoryTrace
 from homesim.xmlio import hardened_parser, schema_from_text
 from robot.attention.records import TrackRow, TracksRecord
-from robot.percepts import FaceRow, PerceptList, TorsoRow
+from robot.percepts import FaceRow, PerceptForm, PerceptList, TorsoRow
 
 POINT_XSD = """<xs:schema xmlns:xs="http://www.w3.org/2001/XMLSchema">
   <xs:element name="point">
@@ -42,8 +44,8 @@ class Point(Typed):
     built = 0
 
     def __init__(self, x: float | str, label: str = "") -> None:
-        self.x = x
-        self.label = label
+        object.__setattr__(self, "x", x)
+        object.__setattr__(self, "label", label)
 
     def to_xml(self) -> etree._Element:
         Point.built += 1
@@ -223,6 +225,191 @@ def test_percept_list_writes_what_the_camera_wrote(faces, t, items):
         else:
             etree.SubElement(old, "torso", bearing=a, r=b, g=c, b=d)
             rows.append(TorsoRow(a, b, c, d))
-    rec = PerceptList(template, f"{t:.6f}", "face" if faces else "torso", tuple(rows))
+    form = PerceptForm(template.tag, "face" if faces else "torso", {"pan": "1.000", "tilt": "-2.500"})
+    rec = PerceptList(form, f"{t:.6f}", tuple(rows))
     assert etree.tostring(rec.to_xml()) == etree.tostring(old)
-    assert template.get("time") == "" and len(template) == 0  # the sender's template is never changed
+    assert etree.tostring(rec.to_xml()) == etree.tostring(old)  # the form's template is never changed
+
+
+# ------------------------------------------------------------------ shared records stay as sent
+class _Sender:
+    """Sends as the camera and a heartbeat do: one form, one Frozen record, one beat form shared by every message."""
+
+    def __init__(self) -> None:
+        self.form = PerceptForm("faces", "face", {"pan": "1.000", "tilt": "0.000"})
+        self.ptu = Frozen(etree.Element("ptu", pan="1.000", tilt="0.000"))
+        self.beat = BeatForm("cam", 0.5)
+
+    def records(self, bearing: str, seq: int) -> dict[str, Typed]:
+        return {
+            "/faces": PerceptList(self.form, f"{seq:.6f}", (FaceRow(bearing, "2.000", "1.600"),)),
+            "/ptu": self.ptu,
+            "/system/heartbeat/cam": BeatRecord(self.beat, seq),
+        }
+
+
+def _records(bearing: str, seq: int) -> dict[str, Typed]:
+    return _Sender().records(bearing, seq)
+
+
+_JUNK = {"rows": (), "time": "9.000000", "seq": 77, "interval": 0.001, "module": "x", "item": "x", "tag": "x"}
+
+
+def _rude(msg: Message) -> None:
+    """A receiver that tries every way to change a shared record; refusals are what must happen.
+
+    The test then checks the effect (another receiver, later messages, the trace): a guard that
+    lets a change through fails there too, not only here."""
+    d = msg.data
+    refused = 0
+    names = (*type(d).__slots__, "module", "interval", "tag", "template", "element", "new_field")
+    for target in (d, getattr(d, "form", None)):
+        if target is None:
+            continue
+        for name in names + (type(target).__slots__ if target is not d else ()):
+            try:
+                setattr(target, name, _JUNK.get(name, None))
+            except AttributeError:
+                refused += 1
+            try:
+                delattr(target, name)
+            except AttributeError:
+                refused += 1
+    for name in ("template", "element"):
+        assert not hasattr(d, name)  # the sender's template is never handed out
+    el = msg.xml  # its own document: changing it changes nobody else's
+    el.set("pan", "99.000")
+    el.set("interval", "0.001")
+    for child in list(el):
+        el.remove(child)
+    d.to_xml().set("seq", "77")  # a fresh copy each call
+    _REFUSED.append(refused)
+
+
+_REFUSED: list[int] = []
+
+
+def _run_shared(with_rude: bool, pans: list[str]) -> tuple[list, str]:
+    sim = _sim()
+    trace = MemoryTrace(sim.bus, scenario="s", seed=5)
+    a = sim.bus.participant("cam")
+    seen: list = []
+    for name in ("rude", "other"):  # (the same receivers either way: the trace lists them)
+        p = sim.bus.participant(name)
+        for ch in ("/faces", "/ptu", "/system/heartbeat/cam"):
+            p.subscribe(ch, (_rude if with_rude else lambda m: None) if name == "rude" else
+                        lambda m: seen.append((m.channel, etree.tostring(m.xml), getattr(m.data, "interval", None),
+                                               getattr(m.data, "rows", None))))
+    sender = _Sender()
+    for i, bearing in enumerate(pans):
+        for ch, rec in sender.records(bearing, i + 1).items():
+            a.publish(ch, rec)
+        sim.run()
+    text = trace.text()
+    sim.close()
+    return seen, text
+
+
+@given(st.lists(st.floats(-180, 180).map(lambda v: f"{v:.3f}"), min_size=1, max_size=4))
+@settings(max_examples=20, deadline=None)
+def test_a_rude_receiver_changes_nothing_another_receiver_the_next_message_or_the_trace_sees(pans):
+    polite, polite_trace = _run_shared(False, pans)
+    _REFUSED.clear()
+    rude, rude_trace = _run_shared(True, pans)
+    assert rude == polite
+    assert rude_trace == polite_trace
+    assert len(_REFUSED) == 3 * len(pans) and all(_REFUSED)
+    assert len(polite) == 3 * len(pans)
+
+
+def test_a_sender_changing_its_element_after_sending_a_frozen_record_changes_nothing_sent():
+    el = etree.Element("ptu", pan="1.000", tilt="0.000")
+    rec = Frozen(el)
+    el.set("pan", "99.000")
+    assert rec.to_xml().get("pan") == "1.000"
+
+
+def test_a_beat_says_in_its_xml_what_the_monitor_reads():
+    # Module and interval come from one form: the fields and the XML cannot disagree.
+    b = BeatRecord(BeatForm("laser", 2), 3)
+    el = b.to_xml()
+    assert (el.get("module"), float(el.get("interval")), el.get("seq")) == (b.module, b.interval, "3")
+
+
+# ------------------------------------------------------------------ the backstop builds no beat XML
+def test_the_backstop_monitor_reads_typed_beats_without_building_their_xml(monkeypatch):
+    built = []
+    orig = BeatRecord.to_xml
+    monkeypatch.setattr(BeatRecord, "to_xml", lambda self: built.append(self.seq) or orig(self))
+    sim = _sim()
+    primary = HeartbeatMonitor(sim.bus.participant("watchdog"))
+    backstop = BackstopMonitor(sim.bus.participant("kernel"), primary="watchdog")
+    hb = Heartbeat(sim.bus.participant("laser"), 0.1)
+    hb_w = Heartbeat(sim.bus.participant("watchdog-beat"), 0.1)
+    for _ in range(5):
+        hb.beat()
+        hb_w.beat()
+        sim.run(until=sim.bus.loop.now + 0.1)
+    assert backstop.intervals["laser"] == 0.1 and primary.intervals["laser"] == 0.1
+    assert built == []  # no trace, no XML reader: no beat's XML was built
+    sim.close()
+
+
+# ------------------------------------------------------------------ sizes from the record
+_attr_text = st.text(st.characters(blacklist_categories=("Cs", "Cc")) | st.sampled_from("\t\n\r&<>\"'"), max_size=12)
+
+
+@given(st.sampled_from(["faces", "torsos"]), _attr_text, st.dictionaries(st.sampled_from(["pan", "tilt", "x"]), _attr_text),
+       st.lists(st.tuples(_attr_text, _attr_text, _attr_text, _attr_text), max_size=4))
+@settings(max_examples=80, deadline=None)
+def test_a_percept_lists_size_is_the_length_of_its_xml(kind, time, attrs, items):
+    faces = kind == "faces"
+    form = PerceptForm(kind, "face" if faces else "torso", attrs)
+    rows = tuple(FaceRow(a, b, c) if faces else TorsoRow(a, b, c, d) for a, b, c, d in items)
+    rec = PerceptList(form, time, rows)
+    assert rec.size() == len(etree.tostring(rec.to_xml()))
+
+
+@given(st.floats(0, 1e9) | st.just(0.0), st.lists(_row, max_size=5))
+@settings(max_examples=60, deadline=None)
+def test_a_tracks_records_size_is_the_length_of_its_xml(t, rows):
+    rec = TracksRecord(t, tuple(rows))
+    assert rec.size() == len(etree.tostring(rec.to_xml()))
+
+
+@given(st.text(st.characters(blacklist_categories=("Cs", "Cc")), min_size=1, max_size=10),
+       st.floats(0.001, 3600) | st.integers(1, 3600), st.integers(0, 10**12))
+@settings(max_examples=60, deadline=None)
+def test_a_beats_size_is_the_length_of_its_xml(module, interval, seq):
+    rec = BeatRecord(BeatForm(module, interval), seq)
+    assert rec.size() == len(etree.tostring(rec.to_xml()))
+
+
+@given(_attr_text, _attr_text)
+@settings(max_examples=40, deadline=None)
+def test_a_frozen_records_size_is_the_length_of_its_xml(a, b):
+    rec = Frozen(etree.Element("ptu", pan=a, tilt=b))
+    assert rec.size() == len(etree.tostring(rec.to_xml()))
+    assert Point(1.5, "x").size() == len(etree.tostring(Point(1.5, "x").to_xml()))  # the default: measured
+
+
+def test_a_link_with_a_bandwidth_sizes_typed_messages_without_building_their_xml(monkeypatch):
+    built = []
+    for cls in (PerceptList, TracksRecord, BeatRecord, Frozen):
+        orig = cls.to_xml
+        monkeypatch.setattr(cls, "to_xml", lambda self, _o=orig: built.append(type(self)) or _o(self))
+    sim = _sim()
+    sim.network.set_link(LinkModel("slow", 0.001, 0.001, bandwidth_bps=1e5))
+    sim.network.add_host("robot", link="slow")
+    sim.network.add_host("laptop", link="slow")
+    a = sim.bus.participant("cam", host="robot")
+    got: list[Message] = []
+    sim.bus.participant("far", host="laptop").subscribe("/c/**", got.append)
+    recs = [*_records("1.000", 1).values(), TracksRecord(2.0, (TrackRow("t1", 1, 2, 0, 0, 0.1, 0, 0.1, 3, 2, True, False, True),))]
+    for i, rec in enumerate(recs):
+        a.publish(f"/c/{i}", rec)
+    sim.run()
+    assert len(got) == len(recs) and built == []
+    sizes = [message_size(m) for m in got]
+    assert sizes == [len(etree.tostring(r.to_xml())) for r in recs]
+    sim.close()

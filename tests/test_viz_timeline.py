@@ -112,7 +112,7 @@ def test_plot_timeline_writes_png_and_the_same_svg_twice(tour, tmp_path, capsys)
     svg = a.read_text(encoding="utf-8")
     assert a.read_bytes() == b.read_bytes()
     for text in ("B: greeting", "understanding", "continuous stream", "processing (cause delivered", "speech recognition",
-                 "over the slowest link (WLAN)", "laptop"):
+                 "over the slowest link (wlan)", "laptop"):
         assert text in svg, text
     assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
 
@@ -217,8 +217,45 @@ def test_the_slow_arrows_follow_a_link_per_direction_and_a_route():
            "link_worst_ms": {"lan": 4.0, "wlan": 30.0, "wlan_down": 700.0}}
     msgs = [SimpleNamespace(sender="attention", delivered=["dialog"]), SimpleNamespace(sender="dialog", delivered=["attention"]),
             SimpleNamespace(sender="camera", delivered=["dialog"])]
-    _, _, slow = _deployment({"run": run}, {"attention", "dialog", "camera"}, msgs)
-    assert slow == {("attention", "dialog")}  # to the laptop over its queued downlink; back over wlan; pc2's route is the LAN
+    _, _, slow, links = _deployment({"run": run}, {"attention", "dialog", "camera"}, msgs)
+    # to the laptop over its queued downlink; back over wlan (slower than the LAN too); pc2's route is the LAN
+    assert slow == {("attention", "dialog"): "wlan_down", ("dialog", "attention"): "wlan"}
+    assert links == ("wlan_down", "wlan")  # slowest first: the legend names them
+
+
+def test_the_legend_names_the_slow_links_the_run_used():
+    from homesim.viz.timeline import slow_key
+
+    assert slow_key(("wlan",)) == "over the slowest link (wlan), with its latency"
+    assert slow_key(("wlan_down", "wlan")) == "over a slow link (wlan_down, the slowest; wlan), with its latency"
+
+
+def test_a_label_names_the_root_element_not_a_child():
+    """es_status's state, not the name of the event inside it (the review: "es_status greeting")."""
+    from homesim.traceview import label_of
+
+    xml = '<es_status state="Interacting" at="3.2"><last event="dialog#4" name="greeting"/></es_status>'
+    assert label_of({"xml": xml}) == "es_status Interacting"
+    assert label_of({"xml": '<event name="greeting"><SPEECH text="hi"/></event>'}) == "event greeting"
+    assert label_of({"xml": '<order target="dialog"><param name="place"/></order>'}) == "order"
+
+
+def test_an_events_wait_in_the_es_queue_is_not_drawn_as_the_es_working(tmp_path):
+    """wlan_reorder: the greeting waits ~0.27 s in the ES's queue for the older potential-partner event
+    still on the WLAN. That wait (delivered -> the ES's record that applies it) is its own span kind,
+    not the ES working (the review: "es_record greeting 266 ms" drawn as processing)."""
+    from homesim.tour.phases import ES_QUEUE
+
+    trace = tmp_path / "wr.jsonl"
+    assert main(["run", "scenarios/wlan_reorder.xml", "--seed", "0", "--until", "4.5", "--quiet", "--trace", str(trace)]) == 0
+    tl = read_timeline(trace, start=0, end=4.5)
+    greeting = next(m for m in tl.messages if m.label == "event greeting" and m.sender == "dialog")
+    es = [s for s in tl.spans if s.lane == "supervisor" and s.cause == greeting.id]
+    waits = [s for s in es if s.kind == ES_QUEUE]
+    assert len(waits) == 1 and waits[0].end - waits[0].start > 0.1
+    assert [s.kind for s in es if s is not waits[0]] and all(
+        s.kind == "ES reconfiguration" and s.end - s.start < 0.02 for s in es if s is not waits[0])
+    assert not any(s.kind == "processing" for s in tl.spans if s.lane == "supervisor")
 
 
 @pytest.fixture(scope="module")

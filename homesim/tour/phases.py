@@ -40,6 +40,9 @@ _START = re.compile(r' start="([0-9.eE+-]+)"')
 _END = re.compile(r' end="([0-9.eE+-]+)"')
 _V = re.compile(r' v="([-0-9.eE+]+)"')
 _EVENT = re.compile(r' event="([^"]+)"')
+#: The span kind of an event's wait in the ES's queue (delivered -> the ES's record of its decision): the
+#: queue holds an event until older ones can no longer arrive, so this is waiting, not the ES working.
+ES_QUEUE = "ES queue (waiting)"
 #: Decisions remembered until their first output (bounded).
 _DECIDED = 256
 
@@ -64,7 +67,8 @@ class BironPhases:
 
 
 class BironSpans:
-    """One timeline's span marker: speech detection, speech recognition, the ES's reconfiguration, the robot's speech."""
+    """One timeline's span marker: speech detection, speech recognition, an event's wait in the ES's queue,
+    the ES's reconfiguration, the robot's speech."""
 
     def __init__(self) -> None:
         self.decided: dict[str, float] = {}
@@ -78,6 +82,8 @@ class BironSpans:
                 if len(self.decided) >= _DECIDED:
                     self.decided.pop(next(iter(self.decided)))
                 self.decided[ev.group(1)] = t
+            if span is not None:  # delivered -> decided: the event waited in the ES's time-ordered queue
+                return replace(span, kind=ES_QUEUE)
             return None
         if ch == SPEECH:  # detection: while the person speaks, until the recognised words go out
             st = _START.search(rec.get("xml", ""))

@@ -199,7 +199,7 @@ class Run:
                 scenario.robot, laser_rate=laser_rate, camera_rate=camera_rate))
         self.scenario = scenario
         seed = scenario.seed if options.seed is None else options.seed
-        self.profile = resolve_profile(options.profile or scenario.robot.profile, scenario)
+        self.profile = resolve_profile(options.profile, scenario)
         self.sim = Simulation(seed=seed, scenario=scenario.name, realtime=options.realtime,
                               **({} if options.strict is None else {"strict": options.strict}))
         try:
@@ -217,7 +217,7 @@ class Run:
             "memory_digest": None if options.memory is None else store_digest(options.memory),
             "subsystems": None if options.subsystems is None else list(options.subsystems),
             "metrics": None if options.metrics is None else list(options.metrics),
-            "profile": options.profile,
+            "profile": self.profile,  # the profile that ran (the option, the scenario's, or the default)
             "deployment": self.deployment.name,
             # Where modules run and what links join the hosts (the timeline groups lanes by host
             # and marks the messages that crossed a slow link).
@@ -454,14 +454,33 @@ def profiles() -> dict[str, str]:
     return dict(robot_profiles.PROFILES)
 
 
-def resolve_profile(name: str | None, scenario: Scenario) -> str:
-    """The profile a run simulates: ``name`` if given (refused with the known ones if unknown), else the default."""
-    if name is None:
-        return str(robot_profiles.DEFAULT_PROFILE)
-    if name not in robot_profiles.PROFILES:
-        raise ScenarioError(f"unknown robot profile {name!r}; known: {', '.join(sorted(robot_profiles.PROFILES))}",
-                            source=scenario.source, line=scenario.robot.line, element="robot")
-    return name
+class ProfileMismatch(ScenarioError):
+    """The run asks for one robot profile, the scenario's ``<robot profile>`` says it needs another.
+
+    Not a failure of the robot: a sweep or study reports such runs as skipped (``needs_profile``)."""
+
+    def __init__(self, message: str, *, needs: str, asked: str, **where: Any) -> None:
+        super().__init__(message, **where)
+        self.needs, self.asked = needs, asked
+
+
+def resolve_profile(asked: str | None, scenario: Scenario) -> str:
+    """The profile a run simulates: ``asked`` (``--profile``) if given, else the scenario's
+    ``<robot profile>``, else the default. Unknown names are refused with the known ones; an
+    ``asked`` profile other than the one the scenario says it needs is refused
+    (:class:`ProfileMismatch`): silently running a scenario's test of the full robot on the
+    2005 demonstrator would report the demonstrator's missing abilities as the robot failing."""
+    needs = scenario.robot.profile
+    for name in (needs, asked):
+        if name is not None and name not in robot_profiles.PROFILES:
+            raise ScenarioError(f"unknown robot profile {name!r}; known: {', '.join(sorted(robot_profiles.PROFILES))}",
+                                source=scenario.source, line=scenario.robot.line, element="robot")
+    if asked is not None and needs is not None and asked != needs:
+        raise ProfileMismatch(f"the scenario needs robot profile {needs!r} (<robot profile=\"{needs}\">); "
+                              f"it cannot run as {asked!r} (run it without --profile, or with --profile {needs})",
+                              needs=needs, asked=asked, source=scenario.source, line=scenario.robot.line, element="robot")
+    name = asked if asked is not None else needs
+    return str(robot_profiles.DEFAULT_PROFILE) if name is None else name
 
 
 def element_dict(el: etree._Element) -> dict[str, Any]:

@@ -47,7 +47,7 @@ from typing import IO, Any
 from .. import cliargs
 from ..cliargs import OptionError
 from ..realtime import Stopwatch
-from .sweep import ERROR, FAIL, PASS, dask_client, _scheduler, _workers, parse_seeds, run_one
+from .sweep import ERROR, FAIL, PASS, SKIPPED, dask_client, _scheduler, _workers, parse_seeds, run_one
 from .capabilities import CAPABILITIES, capability_of, cause_of, rate
 from .socialtable import social_navigation, social_table
 
@@ -357,6 +357,9 @@ def analyse(rows: list[Row], expectations: dict[str, list[Any]], names: dict[str
     nothing: dict[str, int] = {c: 0 for c in conditions}  # runs that checked nothing ("no expectations", "not checked")
     groups: dict[str, dict[str, Any]] = {}
     for r in rows:
+        if r["verdict"] == SKIPPED:  # the scenario needs another robot profile: not run, neither passed nor failed
+            _add(groups, "skipped", "skipped", r.get("error", "skipped"), r)
+            continue
         exps = expectations.get(r["file"], [])
         failed_lines = _failed_lines(r)
         cond = r["condition"]

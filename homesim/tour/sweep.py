@@ -36,6 +36,8 @@ from ..errors import HomesimError
 
 Row = dict[str, Any]
 PASS, FAIL, ERROR = "PASS", "FAIL", "ERROR"
+#: a run not made: the scenario needs another robot profile than the sweep's --profile (not a robot failure)
+SKIPPED = "SKIPPED"
 
 
 #: Most seeds one sweep takes (ranges together).
@@ -80,7 +82,7 @@ def run_one(scenario: str, seed: int, until: float | None = None, summaries: str
     ``options``: further :class:`~homesim.tour.runner.RunOptions` fields (a study's condition);
     ``tag``: appended to the summary's file name; ``profile``: the robot profile (None: the
     scenario's own, else the default; a condition's ``profile`` option wins)."""
-    from .runner import Run, RunOptions
+    from .runner import ProfileMismatch, Run, RunOptions
 
     row: Row = {"scenario": Path(scenario).stem, "file": scenario, "seed": seed, "verdict": ERROR,
                 "passed": 0, "expectations": 0, "sim_time_s": None, "cpu_time_s": None, "error": "", "metrics": {}}
@@ -90,6 +92,9 @@ def run_one(scenario: str, seed: int, until: float | None = None, summaries: str
             run.run()
             verdicts = run.finish()
             summary = run.summary()
+    except ProfileMismatch as exc:  # the scenario tests another robot: skipped, said why, not counted as failing
+        row.update(verdict=SKIPPED, error=f"needs profile {exc.needs}, skipped (run as {exc.asked})", needs_profile=exc.needs)
+        return row
     except Exception as exc:  # a failing run is a row, never the end of the sweep
         row["error"] = f"{type(exc).__name__}: {exc}"[:2000]
         row["traceback"] = traceback.format_exc(limit=8)[-4000:]
@@ -258,6 +263,10 @@ def sweep_command(a: argparse.Namespace) -> int:
     for g in agg:
         unchecked = "".join(f", {n} {v}" for v, n in sorted(Counter(r["verdict"] for r in rows if r["scenario"] == g["scenario"]
                                                                   and r["verdict"] not in (PASS, FAIL, ERROR)).items()))
+        skipped = [r for r in rows if r["scenario"] == g["scenario"] and r["verdict"] == SKIPPED]
+        if skipped and len(skipped) == g["runs"]:
+            print(f"{g['scenario']}: {skipped[0]['error']} ({len(skipped)} run{'s' if len(skipped) > 1 else ''})")
+            continue
         if g["checked"]:
             rate = f"{g['passed']}/{g['checked']} pass ({100 * g['pass_rate']:.0f} %)"
         else:

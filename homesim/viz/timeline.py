@@ -3,9 +3,10 @@
 One horizontal lane per module, grouped by the host it ran on (the run's
 deployment; within a host sensors first, then by causal depth,
 :func:`homesim.traceview.read_timeline`), time to the right. Messages over the
-slowest link (the WLAN) are dashed and labelled with their latency; spans are
-coloured by what they measure (speech detection, speech recognition, the ES's
-reconfiguration, other processing). A message is
+slow links (slower than the LAN: with the papers' deployment the WLAN) are
+dashed and labelled with their latency, the legend naming the links; spans are
+coloured by what they measure (speech detection, speech recognition, an event's
+wait in the ES's queue, the ES's reconfiguration, other processing). A message is
 an arrow from its sender's lane at the send time to each receiver's lane at
 the delivery time; continuous streams (scans, odometry, tracks) are thinned
 and drawn light grey, as the paper draws its brightening arrows; a
@@ -37,8 +38,12 @@ SPAN = "#f0a030"
 PHASE = "#c0392b"
 SLOW = "#8e44ad"
 #: Span colours by what they measure (traceview.Span.kind).
-SPAN_COLOURS = {"speech detection": "#9ecae1", "speech recognition": "#3182bd", "ES reconfiguration": "#e6550d",
+SPAN_COLOURS = {"speech detection": "#9ecae1", "speech recognition": "#3182bd",
+                "ES queue (waiting)": "#fdd9b5", "ES reconfiguration": "#e6550d",
                 "robot speech": "#74c476", "processing": SPAN}
+#: What a span kind measures, where its name does not say it (the legend).
+SPAN_NOTES = {"processing": " (cause delivered -> message sent)",
+              "ES queue (waiting)": " (event delivered -> decided: held until older events can no longer arrive)"}
 #: At most this many event arrows are labelled (the rarest channels first: a word said before the 20th attention state).
 LABEL_EVENTS = 60
 #: Label a span with its duration from this length on (seconds).
@@ -49,6 +54,13 @@ LABEL_SPAN_S = 0.02
 REPEAT_MIN = 5
 REPEAT_GAP = 2.0
 REPEAT = "#7f93b8"
+
+
+def slow_key(links: tuple[str, ...]) -> str:
+    """The legend's line for the dashed arrows: the slow links by name (slowest first)."""
+    if len(links) == 1:
+        return f"over the slowest link ({links[0]}), with its latency"
+    return f"over a slow link ({links[0]}, the slowest; {', '.join(links[1:])}), with its latency"
 
 
 def _ms(d: float) -> str:
@@ -196,7 +208,7 @@ def plot_timeline(tl: Timeline, *, width: float = 14.0) -> Figure:
                                          color=SLOW if slow else colour, linewidth=0.5 if light else 0.9,
                                          linestyle="--" if slow else "-",
                                          alpha=0.45 if m.continuous else 0.7 if rep else 0.9, zorder=2 if m.continuous else 3 if rep else 4))
-            if slow and m.id in label:  # the latency over the WLAN, at the arrow's middle
+            if slow and m.id in label:  # the latency over a slow link (the WLAN), at the arrow's middle
                 latencies.append(ax.text((m.t + td) / 2, (y[m.sender] + y[r]) / 2, _ms(td - m.t) if td - m.t >= 0.001 else "<1 ms",
                         fontsize=5.5, color=SLOW, ha="center", va="center", zorder=7,
                         bbox={"facecolor": "white", "edgecolor": "none", "alpha": 0.7, "pad": 0.3}))
@@ -217,14 +229,13 @@ def plot_timeline(tl: Timeline, *, width: float = 14.0) -> Figure:
                  f"({len(events)} messages, {len(tl.spans)} processing spans)", fontsize=9)
     # The legend names what this picture shows (a window without a burst does not promise "(repeats)" labels).
     keys = [(Line2D([], [], color=EVENT, marker=">", markersize=4), "message (sender -> receiver, send -> delivery)"),
-            (Line2D([], [], color=SLOW, marker=">", markersize=4, linestyle="--"), "over the slowest link (WLAN), with its latency"),
+            *([(Line2D([], [], color=SLOW, marker=">", markersize=4, linestyle="--"), slow_key(tl.slow_links))] if tl.slow_links else []),
             (Line2D([], [], color=REPLY, marker=">", markersize=4), "RPC reply")]
     if burst:
         keys.append((Line2D([], [], color=REPEAT, marker=">", markersize=4),
                      f"repeating ({REPEAT_MIN}+ in a row, < {REPEAT_GAP:g} s apart; first labelled \"(repeats)\")"))
     keys.append((Line2D([], [], color=STREAM, marker=">", markersize=4), "continuous stream (thinned)"))
-    keys += [(Patch(facecolor=c, edgecolor="#555555"), k + (" (cause delivered -> message sent)" if k == "processing" else ""))
-             for k, c in SPAN_COLOURS.items()]
+    keys += [(Patch(facecolor=c, edgecolor="#555555"), k + SPAN_NOTES.get(k, "")) for k, c in SPAN_COLOURS.items()]
     keys.append((Line2D([], [], color=PHASE, linestyle="--"), "phase"))
     ax.legend([h for h, _ in keys], [t for _, t in keys], loc="upper left", bbox_to_anchor=(1.02, 1.0), fontsize=7, frameon=False)
     fig.tight_layout()

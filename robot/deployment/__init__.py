@@ -70,7 +70,7 @@ def cost_scale(sim: Any, module: str, host: str) -> float:
     return ref_mhz / mhz
 
 
-def check_scenario(sc: Any) -> None:
+def check_scenario(sc: Any) -> "list[Any] | None":
     """``homesim.scenario_checks``: the scenario's ``<deployment>`` merged into BIRON's default.
 
     What the schema cannot see (a host, route or placement naming a host or
@@ -81,11 +81,14 @@ def check_scenario(sc: Any) -> None:
     """
     if sc.deployment is None:
         return
-    from homesim.deployment import resolve
+    from homesim.deployment import DeploymentProblems, resolve
     from homesim.errors import InputError, ScenarioError
 
     base_dir = Path(sc.source).parent if sc.source and not str(sc.source).startswith("<") else None
     try:
         resolve(papers(), sc.deployment, base_dir=base_dir, modules=MODULES)
+    except DeploymentProblems as exc:  # every one, at its line
+        return [ScenarioError(p.message, source=p.source, line=p.line, element=p.element) for p in exc.problems]
     except InputError as exc:
         raise ScenarioError(exc.message, source=exc.source, line=exc.line, element=exc.element) from exc
+    return None

@@ -87,6 +87,12 @@ CONDITIONS = f"{ES_CONDITIONS}/dialog"
 REJECTED = f"{ES_REJECTED}/dialog"
 #: s: the follower says "approaching" every control step (0.1 s); older than this, it no longer drives
 APPROACH_FRESH = 1.0
+#: requests held during one approach: every understood instruction reaches the ES in order (issue 23
+#: item 4); beyond this many, the oldest is handled at once rather than dropped (keeps memory bounded)
+HELD_MAX = 8
+#: s: after a released request, time for the ES's answer to come back before the next (a WLAN round trip
+#: with a retransmission is well under this)
+RELEASE_SETTLE = 0.5
 #: the microphone pair's geometry (m: ahead of the centre, spacing, height) and a standing adult's
 #: mouth height, as the person attention's CueSpec has them (modules share no code: tests/test_layers.py)
 MIC_OFFSET, MIC_SPACING, MIC_HEIGHT, MOUTH_HEIGHT = 0.10, 0.281, 1.06, 1.6
@@ -220,9 +226,10 @@ class Dialog(Module):
         self._said = 0  # serial of the last <say> sent
         # the follower comes up to the partner after "stop" (issue 26 item 10): a request she makes
         # meanwhile waits until it stands facing her (a place taught from the other room would be
-        # stored where the robot lags); the latest one is kept, and released when the approach ends
+        # stored where the robot lags); they are kept in order and released when the approach ends
         self._approach_seen = -math.inf  # when the follower last said "approaching"
-        self._held: Message | None = None
+        self._held: deque[Message] = deque()
+        self._releasing = False  # held requests are being handled one turn at a time
         bus = self.bus
         bus.subscribe(FRAMES, self._on_frame)
         bus.subscribe(CONDITIONS, self._on_condition)
@@ -247,19 +254,41 @@ class Dialog(Module):
 
     # ------------------------------------------------------------------ inputs
     def _on_frame(self, msg: Message) -> None:
-        if self.now - self._approach_seen < APPROACH_FRESH:
-            self._held = msg  # handled once the robot stands near her (see _on_follow)
+        if self.now - self._approach_seen < APPROACH_FRESH or self._releasing:
+            if len(self._held) >= HELD_MAX:  # bounded: the oldest goes now, none is lost
+                self._handle_frame(self._held.popleft())
+            self._held.append(msg)  # handled once the robot stands near her (see _on_follow)
+            if not self.now - self._approach_seen < APPROACH_FRESH:
+                self._release_held()  # the follower fell silent without "stopped"
             return
+        self._handle_frame(msg)
+
+    def _handle_frame(self, msg: Message) -> None:
         self._emit(self.manager.on_frame(msg.xml), msg.id)
+
+    def _release_held(self) -> None:
+        """Handle the requests held during an approach, oldest first, one turn each (as if she had
+        waited for each answer: two released at once would interleave their sub-dialogs)."""
+        if self._held and not self._releasing:
+            self._releasing = True
+            self.sim.spawn(self._release_in_turn(), name=f"{self.name}-held")
+
+    async def _release_in_turn(self) -> None:
+        try:
+            while self._held and not (self.bus.closed or self.bus.hung):
+                self._handle_frame(self._held.popleft())
+                if self._held:
+                    await asyncio.sleep(RELEASE_SETTLE)  # the ES's answer to it comes back first
+                    await self._until_said()
+        finally:
+            self._releasing = False
 
     def _on_follow(self, msg: Message) -> None:
         if msg.xml.get("state") == "approaching":
             self._approach_seen = self.now
             return
         self._approach_seen = -math.inf
-        held, self._held = self._held, None
-        if held is not None:
-            self._emit(self.manager.on_frame(held.xml), held.id)
+        self._release_held()
 
     def _on_condition(self, msg: Message) -> None:
         if msg.xml.get("name") == "ask":  # a reactive module's question, routed through the ES

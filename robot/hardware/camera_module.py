@@ -28,7 +28,7 @@ from homesim.module import Module
 
 from robot.contract import FACES, GESTURES, OBJECTS, PTU_CMD, PTU_STATE, TORSOS
 
-from robot.percepts import FaceRow, PerceptList, TorsoRow
+from robot.percepts import FaceRow, PerceptForm, PerceptList, TorsoRow
 
 from .camera import CameraSpec, PanTilt, detect_frame, ptu_step
 
@@ -52,7 +52,7 @@ class Camera(Module):
         self.confusion = confusion
         self.ptu = PanTilt()
         # The frame's elements as last built for a pan-tilt state (see _elements).
-        self._templates: tuple[tuple[str, str, str, str], Frozen, tuple[etree._Element, ...]] | None = None
+        self._templates: tuple[tuple[str, str, str, str], Frozen, tuple[Any, ...]] | None = None
         self.bus.subscribe(PTU_CMD, self._on_cmd)
 
     def _on_cmd(self, msg: Message) -> None:
@@ -85,9 +85,9 @@ class Camera(Module):
         self.bus.publish(PTU_STATE, ptu_state)  # (its XML is copied from the template only if somebody reads it)
         # Faces and torsos as typed records (robot.percepts): their one reader, person attention,
         # reads the rows; the lists' XML is built from the templates only if somebody reads it.
-        self.bus.publish(FACES, PerceptList(faces, time, "face", tuple(
+        self.bus.publish(FACES, PerceptList(faces, time, tuple(
             FaceRow(_deg(f.bearing), f"{f.distance:.3f}", f"{f.height:.3f}") for f in frame.faces)))
-        self.bus.publish(TORSOS, PerceptList(torsos, time, "torso", tuple(
+        self.bus.publish(TORSOS, PerceptList(torsos, time, tuple(
             TorsoRow(_deg(t.bearing), f"{t.colour[0]:.3f}", f"{t.colour[1]:.3f}", f"{t.colour[2]:.3f}") for t in frame.torsos)))
         gestures.set("time", time)
         for g in frame.gestures:
@@ -101,12 +101,12 @@ class Camera(Module):
         self.bus.publish(OBJECTS, objects, transfer=True)
 
     def _elements(self, ptu: PanTilt) -> tuple[Any, ...]:
-        """For a frame: ``<ptu pan tilt target_pan target_tilt/>`` as a typed record (the template
-        itself, :class:`~homesim.message.Frozen`: nobody subscribes to it in a run, so it is
-        copied only for the trace) and fresh elements of the four percept lists'
+        """For a frame: ``<ptu pan tilt target_pan target_tilt/>`` as a typed record
+        (:class:`~homesim.message.Frozen`, kept per state: nobody subscribes to it in a run, so
+        its XML is copied only for the trace) and fresh elements of the four percept lists'
         ``<faces time pan tilt/>`` (etc.; ``time`` to be set), each a copy of a template kept for
-        the pan-tilt state as formatted (the faces' and torsos' templates themselves: their
-        :class:`~robot.percepts.PerceptList` copies them only when its XML is read). The unit mostly holds still between frames, and a copy
+        the pan-tilt state as formatted (for faces and torsos the :class:`~robot.percepts.PerceptForm`
+        itself: a :class:`~robot.percepts.PerceptList` copies its template only when its XML is read). The unit mostly holds still between frames, and a copy
         with one attribute set costs a third of building an element with its three (same
         attributes, same order: the same message)."""
         key = (_deg(ptu.pan), _deg(ptu.tilt), _deg(ptu.target_pan), _deg(ptu.target_tilt))
@@ -116,6 +116,7 @@ class Camera(Module):
             stamp = {"time": "", "pan": pan, "tilt": tilt}
             kept = self._templates = (key, Frozen(
                 etree.Element("ptu", pan=pan, tilt=tilt, target_pan=target_pan, target_tilt=target_tilt),
-            ), tuple(etree.Element(tag, stamp) for tag in ("faces", "torsos", "gestures", "objects")))
+            ), (PerceptForm("faces", "face", stamp), PerceptForm("torsos", "torso", stamp))
+              + tuple(etree.Element(tag, stamp) for tag in ("gestures", "objects")))
         faces, torsos, gestures, objects = kept[2]
         return kept[1], faces, torsos, gestures.__copy__(), objects.__copy__()
