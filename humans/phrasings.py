@@ -52,6 +52,13 @@ class Phrasing:
         return self.text.replace("{about}", about or "it")
 
 
+def side_request(side: str) -> tuple[str, str | None]:
+    """The request and slot filling for answering "which one?" by position: ``which-side`` with
+    "left"/"right", but the middle one has its own wording (``which-middle``: "the one in the
+    middle"), since "the one on your middle" is no English and the robot would not hear a side."""
+    return ("which-middle", None) if side == "middle" else ("which-side", side)
+
+
 #: Verb and pronoun agreement for a plural thing ("This is my keys" -> "These are my keys"), in order.
 _AGREE = ((r"\b(this|that) one\b", lambda m: _plural(m.group(1))),
           (r"\b(this|that) thing\b", lambda m: _plural(m.group(1)) + " things"),

@@ -39,6 +39,7 @@ leaves). ``retries=`` keeps its meaning: the turn again, word for word.
 from __future__ import annotations
 
 import asyncio
+import dataclasses
 import math
 import re
 from collections import deque
@@ -52,7 +53,7 @@ from homesim.scenario.wordpattern import WordPattern, compile_words
 from homesim.world.acoustics import Utterance
 from homesim.world.world import World
 
-from .phrasings import default_bank
+from .phrasings import default_bank, side_request
 from .profiles import Traits
 
 #: How many of an actor's latest actions its ``log`` keeps.
@@ -251,6 +252,9 @@ class Actor:
         if act.request is None:
             return act.text or ""
         about = act.about if act.side_of is None else side_seen_by_robot(self.world, act.side_of)
+        if act.request == "which-side" and about is not None:
+            request, about = side_request(about)
+            act = dataclasses.replace(act, request=request)
         if act.request in ("correct", "no") and self._reacting and self.chance(f"confirm:{act.line}", self.traits.confirm_wrongly):
             # she says yes to the robot's wrong guess (did not listen closely, or thinks it close enough)
             self.confirmed_wrongly += 1

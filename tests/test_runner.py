@@ -321,3 +321,34 @@ def test_hardware_rates_run_the_laser_and_camera_at_the_peoplebots_rates_and_rep
     assert main(["replay", str(tmp_path / "hardware.jsonl")]) == 0
     with pytest.raises(Exception, match="rates"):
         Run.from_file(EXAMPLE, RunOptions(until=1, rates="fast"))
+
+
+def test_place_learned_checks_where_the_place_was_stored():
+    """A wrong user says "this is the study" in the kitchen and never corrects it: the name is
+    stored, but in the kitchen; place-learned with room= fails and says where it was stored."""
+    two_rooms = '<room name="kitchen" points="0,0 4,0 4,6 0,6"/>\n    <room name="study" points="4,0 8,0 8,6 4,6"/>'
+    text = _room('<place-learned name="study" room="study"/>\n<place-learned name="study"/>\n'
+                 '<place-learned name="study" room="kitchen"/>\n<place-learned name="study" point="1 3" within="1"/>\n'
+                 '<place-learned name="study" room="study" never="true"/>')
+    text = text.replace('<room name="room" points="0,0 8,0 8,6 0,6"/>', two_rooms).replace("<robot ", '<robot memory="required" ')
+    sc = load_scenario_text(text, source="two.xml")
+    stage = Stage(Simulation(seed=1, scenario=sc.name), sc, actors=())
+    slip = etree.fromstring('<PLACE name="study" x="1.5" y="3" theta="0" frame="map"/>')  # stored in the kitchen
+    v = _verdicts(stage, knowledge={"objects": [], "places": [slip]})
+    ok, detail = v['<place-learned name="study" room="study"/>']
+    assert not ok and "(1.50, 3.00) in the kitchen" in detail and "not in the study" in detail
+    assert v['<place-learned name="study"/>'][0]  # without a target only the name is checked
+    assert v['<place-learned name="study" room="kitchen"/>'][0]
+    assert v['<place-learned name="study" point="1 3" within="1"/>'][0]
+    assert v['<place-learned name="study" room="study" never="true"/>'][0]
+    # at the doorway, 0.3 m outside the study's outline, still counts as the study (default margin 0.5 m)
+    door = etree.fromstring('<PLACE name="study" x="3.7" y="3" theta="0" frame="map"/>')
+    stage = Stage(Simulation(seed=1, scenario=sc.name), sc, actors=())
+    assert _verdicts(stage, knowledge={"objects": [], "places": [door]})['<place-learned name="study" room="study"/>'][0]
+
+
+def test_place_learned_target_must_name_a_room_of_the_flat(tmp_path):
+    text = _room('<place-learned name="room" room="attic"/>')
+    path = tmp_path / "bad.xml"
+    path.write_text(text, encoding="utf-8")
+    assert main(["check", str(path)]) != 0

@@ -200,3 +200,7 @@ def test_a_scenario_without_expectations_says_nothing_was_checked_not_pass_0_of_
     assert row["verdict"] == "no expectations"
     (a,) = aggregate([row, {**row, "seed": 1, "verdict": "PASS"}])
     assert (a["passed"], a["failed"], a["errors"], a["unchecked"]) == (1, 0, 0, 1)
+    # the run that checked nothing is not a failure: out of the pass rate, counted apart
+    assert (a["checked"], a["pass_rate"]) == (1, 1.0)
+    (b,) = aggregate([row])
+    assert (b["checked"], b["pass_rate"], b["unchecked"]) == (0, None, 1)

@@ -98,6 +98,21 @@ def test_analyse_counts_capabilities_per_run_and_groups_failures():
     assert any(g["kind"] == "error" for g in out["failures"])
 
 
+def test_runs_that_checked_nothing_are_counted_apart_not_as_failures():
+    """A scenario without expectations ("no expectations") neither passed nor failed: it stays out
+    of every rate and the table shows it in its own row."""
+    from homesim.tour.study import table
+
+    exps = [E("state-reached", 10, state="Interacting")]
+    rows = [{"file": "f.xml", "scenario": "f", "seed": 0, "condition": "default", "verdict": "PASS", "failed": []},
+            {"file": "g.xml", "scenario": "g", "seed": 0, "condition": "default", "verdict": "no expectations", "failed": []},
+            {"file": "g.xml", "scenario": "g", "seed": 1, "condition": "default", "verdict": "no expectations", "failed": []}]
+    out = analyse(rows, {"f.xml": exps, "g.xml": []}, {"f.xml": [], "g.xml": []}, ["default"])
+    assert (out["overall"]["runs"], out["overall"]["passed"], out["overall"]["rate"]) == (1, 1, 1.0)
+    assert out["nothing_checked"] == {"runs": 2, "by_condition": {"default": 2}}
+    assert "| nothing checked (runs, in no rate) | 2 |" in table(out, ["default"])
+
+
 def test_conditions_parse_and_refuse_unknown_keys():
     c = parse_condition("slow=robot.max-speed=0.3,option.follow-distance=1.4,strict=true")
     assert c.name == "slow" and c.robot == (("max-speed", "0.3"),) and c.options == (("follow-distance", "1.4"),)
@@ -203,6 +218,28 @@ def test_resume_never_reuses_a_run_of_another_scenario_version_or_condition(tmp_
     assert edited["throughput"]["runs"] == 1  # the scenario file changed: made again
 
 
+def test_resume_makes_again_the_runs_of_other_code_and_says_so(tmp_path, monkeypatch, capsys):
+    """A researcher fixes the robot and resumes: the old robot's runs are not mixed into the new
+    rates (the key holds homesim's version and a digest of homesim/robot/humans)."""
+    from pathlib import Path
+
+    from homesim import __version__
+    from homesim.tour import study as st
+
+    assert st.code_digest() == st.code_digest() and st.code_digest().startswith(__version__ + "+sha256:")
+    scen = tmp_path / "radio.xml"
+    scen.write_bytes(Path("scenarios/radio.xml").read_bytes())
+    out = tmp_path / "out"
+    first = st.study([str(scen)], [0], [st.Condition("default")], out, workers=1)
+    assert first["study"]["code"] == st.code_digest()
+    capsys.readouterr()
+    monkeypatch.setattr(st, "code_digest", lambda: __version__ + "+sha256:changedrobot0000")
+    again = st.study([str(scen)], [0], [st.Condition("default")], out, workers=1, resume=True)
+    assert again["throughput"]["runs"] == 1  # made again, with this code
+    err = capsys.readouterr().err
+    assert "1 run in" in err and "made by other code" in err
+
+
 def test_every_expectation_of_the_library_and_the_generator_has_a_capability(tmp_path):
     """No expectation falls silently into "other": each library scenario's and each generated tour's
     expectations map to a named capability (a new kind or event needs a line in capabilities.py)."""
@@ -246,15 +283,20 @@ def _cell(passed: int, runs: int) -> dict:
     return {"runs": runs, "passed": passed, "rate": passed / runs, "ci95": list(wilson(passed, runs))}
 
 
-@pytest.mark.parametrize("k", [2, 3, 5])
-def test_the_study_plots_legend_covers_no_bar_interval_or_count(k):
+LONG = ["robot.max-speed=0.15,user=impatient", "robot.max-speed=0.3,user=patient-and-chatty",
+        "option.follow-distance=1.4,robot.max-speed=0.6", "user-profile=wrong-confirmer-who-misnames",
+        "biron-2005-as-in-the-papers-with-slow-speech"]
+
+
+@pytest.mark.parametrize("k, long", [(2, False), (3, False), (5, False), (4, True), (5, True)])
+def test_the_study_plots_legend_covers_no_bar_interval_or_count(k, long):
     """With several conditions the legend sits outside the axes: rates near 100 % reach the
     right edge (where the old "lower right" legend hid them), and the counts stand past it."""
     from matplotlib.backends.backend_agg import FigureCanvasAgg
 
     from homesim.viz.study import rates_figure
 
-    conds = [f"condition-{j}" for j in range(k)]
+    conds = LONG[:k] if long else [f"condition-{j}" for j in range(k)]
     caps = {name: {"by_condition": {c: _cell(40 - j, 40) for j, c in enumerate(conds)}}
             for name in ("greeting", "following", "good-bye", "no collision")}
     doc = {"study": {"conditions": conds, "runs": 40 * k, "scenarios": 40, "seeds": [0]},
@@ -272,6 +314,20 @@ def test_the_study_plots_legend_covers_no_bar_interval_or_count(k):
     assert not box.overlaps(ax.get_window_extent(renderer))
     fig_box = fig.bbox
     assert fig_box.x0 <= box.x0 and box.x1 <= fig_box.x1 and fig_box.y0 <= box.y0 and box.y1 <= fig_box.y1
+    assert [t.get_text().replace("\n", "") for t in legend.get_texts()] == conds  # every name, whole
+    for t in legend.get_texts():  # no name clipped at the figure's edges
+        tb = t.get_window_extent(renderer)
+        assert fig_box.x0 <= tb.x0 and tb.x1 <= fig_box.x1, t.get_text()
+
+
+def test_a_fully_resumed_study_says_it_made_no_run():
+    from homesim.tour.study import throughput_line
+
+    line = throughput_line({"runs": 0, "cpu_s": 0.0, "runs_per_cpu_minute": None, "cpu_s_all": 0.4,
+                            "runs_per_cpu_minute_all": None, "wall_s": 1.0})
+    assert "None" not in line and line.startswith("no run made")
+    made = throughput_line({"runs": 3, "cpu_s": 6.0, "runs_per_cpu_minute": 30.0, "wall_s": 7.0})
+    assert made.startswith("3 runs made") and "30.0 runs per CPU minute" in made
 
 
 def test_a_condition_with_another_profile_skips_a_scenario_that_needs_full(tmp_path):

@@ -64,3 +64,26 @@ def test_a_soft_distant_user_repairs_once_then_gives_up_and_no_interaction_start
         assert "What can you do" not in [u.text for u in said]
         assert dora.gave_up == 1 and dora.repairs == 1 and dora.done
         assert all(v.passed for v in verdicts), [v.line() for v in verdicts]
+
+
+def test_showcases_that_teach_among_similar_objects_check_the_right_one_was_learned():
+    """Where two objects of one type stand within 1.5 m, learning *a* cup is not enough: the
+    scenario must also demand teaching.precision = 1 (nothing stored that she did not point at)."""
+    import math
+
+    from homesim.scenario.loader import load_scenario
+
+    checked = 0
+    for path in sorted(USERS.glob("*.xml")):
+        sc = load_scenario(path)
+        if not any(e.kind == "object-learned" for e in sc.expectations):
+            continue
+        objs = sc.objects
+        similar = any(a.type == b.type and math.hypot(a.x - b.x, a.y - b.y) <= 1.5
+                      for i, a in enumerate(objs) for b in objs[i + 1:])
+        if not similar:
+            continue
+        checked += 1
+        precision = [e for e in sc.expectations if e.kind == "metric" and e.get("name") == "teaching.precision"]
+        assert precision and float(precision[0].get("min")) == 1.0, path.name  # type: ignore[arg-type]
+    assert checked >= 1

@@ -90,6 +90,7 @@ _TARGET_KINDS = {
     "point": {"place", "room", "object", "furniture", "point"},
     "reached": {"place", "room", "object", "furniture", "human", "robot", "point"},
     "robot-near": {"place", "room", "object", "furniture", "human", "point"},
+    "place-learned": {"place", "room", "point"},
 }
 
 
@@ -493,6 +494,8 @@ class _Checker:
     def expectation(self, e: Expectation) -> None:
         if e.kind == "place-learned":
             self.taught(e, "name", "room or place", self.named("room") + self.named("place"))
+            if e.get("where") is not None:
+                self.target(e.get("where"), "place-learned", e.line)  # type: ignore[arg-type]
         if e.kind == "object-learned":
             self.taught(e, "type", "object type", sorted({o.type for o in self.sc.objects}))
             self.taught(e, "name", "object", self.named("object"))

@@ -572,6 +572,8 @@ class _Builder:
             attrs += [(k, el.get(k)) for k in keys if el.get(k) is not None]
             if not attrs:
                 raise self.fail(el, f"<{tag}> needs at least one of {', '.join(keys)}")
+            if tag == "place-learned":
+                attrs += [("where", self.target(el, required=False)), ("within", self.opt(el, "within"))]
             attrs.append(("never", self.flag(el, "never")))
         elif tag == "following-distance":
             attrs += [("who", el.get("who")), ("min", self.num(el, "min")), ("max", self.num(el, "max")),

@@ -223,25 +223,89 @@ def matches(doc: etree._Element, wanted: Mapping[str, str]) -> bool:
     return True
 
 
+def _distance_to_outline(poly: Sequence[tuple[float, float]], x: float, y: float) -> float:
+    """Shortest distance from (x, y) to a polygon's edges (metres)."""
+    best = math.inf
+    for (ax, ay), (bx, by) in zip(poly, list(poly[1:]) + [poly[0]]):
+        dx, dy = bx - ax, by - ay
+        n = dx * dx + dy * dy
+        u = 0.0 if n == 0 else min(1.0, max(0.0, ((x - ax) * dx + (y - ay) * dy) / n))
+        best = min(best, math.hypot(x - ax - u * dx, y - ay - u * dy))
+    return best
+
+
 class LearnedCheck(Check):
-    """``object-learned`` / ``place-learned``: the scene model holds a matching document at the end."""
+    """``object-learned`` / ``place-learned``: the scene model holds a matching document at the end.
+
+    A ``place-learned`` with a target (``room=``, ``place=`` or ``point=``) also checks,
+    against ground truth, *where* the robot stored the place: inside the room (or at most
+    ``within`` metres outside its outline: the robot may stand in the doorway) or within
+    ``within`` metres of the place or point. A name stored in the wrong room (a user's
+    uncorrected slip) does not pass.
+    """
 
     knowledge = True
+    ROOM_MARGIN = 0.5  # m outside a room's outline still counted as in it (doorways)
+    POINT_WITHIN = 1.0
 
     def __init__(self, *args: Any) -> None:
         super().__init__(*args)
         self.kb = "objects" if self.e.kind == "object-learned" else "places"
-        self.wanted = {k: str(v) for k, v in self.e.attrs if k not in ("never",) and v is not None}
+        self.where = self.e.get("where")
+        within = self.e.get("within")
+        self.within = (float(within) if within is not None  # type: ignore[arg-type]
+                       else self.ROOM_MARGIN if getattr(self.where, "kind", None) == "room" else self.POINT_WITHIN)
+        self.wanted = {k: str(v) for k, v in self.e.attrs if k not in ("never", "where", "within") and v is not None}
+
+    def stored_at(self, doc: etree._Element) -> tuple[float, float] | None:
+        try:
+            return float(doc.get("x")), float(doc.get("y"))  # type: ignore[arg-type]
+        except (TypeError, ValueError):
+            return None
+
+    def describe_place(self, xy: tuple[float, float] | None) -> str:
+        if xy is None:
+            return "without a position"
+        room = self.world.room_of(*xy)
+        return f"at ({xy[0]:.2f}, {xy[1]:.2f}) " + (f"in the {room}" if room else "outside every room")
+
+    def in_place(self, xy: tuple[float, float] | None) -> bool:
+        if xy is None:
+            return False
+        t = self.where
+        if t.kind == "room":  # type: ignore[union-attr]
+            if self.world.room_of(*xy) == t.name:  # type: ignore[union-attr]
+                return True
+            poly = next(p for n, p in self.world._room_polys if n == t.name)  # type: ignore[union-attr]
+            return _distance_to_outline(poly, *xy) <= self.within
+        gx, gy, _ = self.world.target_point(t)
+        return math.hypot(xy[0] - gx, xy[1] - gy) <= self.within
+
+    def target_text(self) -> str:
+        t = self.where
+        if t.kind == "room":  # type: ignore[union-attr]
+            return f"in the {t.name} (or within {self.within:g} m of it)"  # type: ignore[union-attr]
+        if t.kind == "point":  # type: ignore[union-attr]
+            return f"within {self.within:g} m of ({t.x:g}, {t.y:g})"  # type: ignore[union-attr]
+        return f"within {self.within:g} m of the {t.kind} {t.name}"  # type: ignore[union-attr]
 
     def verdict(self, end: float, context: Mapping[str, Any]) -> tuple[bool, str]:
         docs = context.get("knowledge", {}).get(self.kb)
         if docs is None:
             return False, f"no scene model answered a query of the {self.kb} base at the end of the run"
         found = [d for d in docs if matches(d, self.wanted)]
+        named = found
+        if self.where is not None:
+            found = [d for d in named if self.in_place(self.stored_at(d))]
         if self.never:
-            return not found, f"{len(found)} of {len(docs)} {self.kb} match"
+            where = f" {self.target_text()}" if self.where is not None else ""
+            return not found, f"{len(found)} of {len(docs)} {self.kb} match{where}"
         if found:
             return True, f"the scene model holds {etree.tostring(found[0], encoding='unicode')[:160]}"
+        if named:
+            stored = "; ".join(self.describe_place(self.stored_at(d)) for d in named)
+            return False, (f"the robot stored {self.wanted.get('name', self.wanted)!r} {stored}, "
+                           f"not {self.target_text()}")
         return False, f"none of the {len(docs)} {self.kb} in the scene model matches {self.wanted}"
 
 

@@ -747,7 +747,8 @@ def _expectations(tw: TourWriter) -> list[tuple[str, dict[str, str], str]]:
     if tw.asked_capabilities:
         out.append(("robot-says", {"pattern": "ask me to follow you|show me objects"}, "the self-explanation"))
     for room, (word, _) in sorted(tw.taught_places.items()):
-        out.append(("place-learned", {"name": word}, f"{tw.user} taught the {word} (her word for it)"))
+        out.append(("place-learned", {"name": word, "room": tw.flat.rooms[room].name},
+                    f"{tw.user} taught the {word} (her word for it) in the {tw.flat.rooms[room].name}"))
     if tw.led_to:
         out.append(("state-reached", {"state": "Following"}, "following her through the flat"))
         out.append(("following-distance", {"who": tw.user, "min": "0.5", "max": "2.5", "fraction": "0.8"}, ""))

@@ -23,8 +23,10 @@ rate and Wilson ``ci95``, overall and by condition; ``failures``: failed expecta
 by cause; ``throughput``), ``DIR/study.md`` (the tables), ``DIR/study.png`` and ``.svg``
 (rates with intervals), ``DIR/summaries/`` (each run's summary). ``--resume`` reuses the runs
 whose summaries are already there (an interrupted study, or one extended by more seeds,
-scenarios or conditions; only runs made from the same scenario file content, seed and run
-options, stamped in ``summaries/*.key``) and makes only the others. Exit status 0 when the
+scenarios or conditions; only runs made from the same scenario file content, seed, run
+options and code (homesim's version and a digest of the homesim, robot and humans packages'
+files), stamped in ``summaries/*.key``) and makes only the others; runs made by other code are
+made again, and the study says how many. Exit status 0 when the
 study ran (failed runs are results, not errors), 2 for bad input.
 """
 
@@ -32,6 +34,8 @@ from __future__ import annotations
 
 import argparse
 import dataclasses
+import functools
+import hashlib
 import json
 import os
 import sys
@@ -212,12 +216,54 @@ def stamp_path(job: Job) -> Path:
     return summary_path(job).with_suffix(".key")
 
 
+#: The packages whose code and data make a run's result: the simulator, the robot (its modules,
+#: configuration, grammar, corpus, AFSM) and the simulated people (scripts, phrasing bank).
+CODE_PACKAGES = ("homesim", "robot", "humans")
+
+
+@functools.lru_cache(maxsize=1)
+def code_digest() -> str:
+    """A digest of the code that makes runs: homesim's version and every source and data file of
+    :data:`CODE_PACKAGES` (compiled files left out: they follow their sources), ~250 files, ~10 ms.
+
+    A researcher who fixes the robot and resumes a study expects the runs made by the old robot
+    to be made again, not mixed into the new rates; a commit id would also change on a docs-only
+    commit and is missing outside a git checkout, so the content is what is hashed."""
+    import importlib
+
+    from .. import __version__
+
+    h = hashlib.sha256(f"homesim {__version__}\n".encode())
+    for name in CODE_PACKAGES:
+        root = Path(importlib.import_module(name).__file__ or "").parent
+        for f in sorted(root.rglob("*")):
+            rel = f.relative_to(root.parent)
+            if (not f.is_file() or f.suffix in (".pyc", ".pyo", ".so", ".pyd")
+                    or any(part == "__pycache__" or part.startswith(".") for part in rel.parts)):
+                continue
+            h.update(f"{rel.as_posix()}\0{f.stat().st_size}\0".encode())
+            h.update(f.read_bytes())
+    return f"{__version__}+sha256:{h.hexdigest()[:16]}"
+
+
 def run_key(job: Job) -> str:
-    """A run's identity for ``--resume``: the scenario file's content digest, the seed and the condition's run options."""
+    """A run's identity for ``--resume``: the scenario file's content digest, the seed, the
+    condition's run options and the code that made it (:func:`code_digest`)."""
     from .runner import file_digest
 
     file, seed, _, options, _ = job
-    return json.dumps({"scenario": file_digest(file), "seed": seed, "options": {k: options[k] for k in sorted(options)}}, default=str)
+    return json.dumps({"scenario": file_digest(file), "seed": seed, "options": {k: options[k] for k in sorted(options)},
+                       "code": code_digest()}, default=str)
+
+
+def stale_by_code(job: Job) -> bool:
+    """Whether a run's summary is there for the same scenario, seed and options but was made by other code."""
+    try:
+        old = json.loads(stamp_path(job).read_text(encoding="utf-8"))
+        new = json.loads(run_key(job))
+    except (OSError, ValueError):
+        return False
+    return isinstance(old, dict) and old.get("code") != new["code"] and all(old.get(k) == new[k] for k in ("scenario", "seed", "options"))
 
 
 def row_from_summary(job: Job) -> Row | None:
@@ -308,6 +354,7 @@ def analyse(rows: list[Row], expectations: dict[str, list[Any]], names: dict[str
     (rooms, objects, people) to take out of failure details."""
     caps: dict[str, dict[str, list[int]]] = {}  # capability -> condition -> [runs, passed]
     overall: dict[str, list[int]] = {c: [0, 0] for c in conditions}
+    nothing: dict[str, int] = {c: 0 for c in conditions}  # runs that checked nothing ("no expectations", "not checked")
     groups: dict[str, dict[str, Any]] = {}
     for r in rows:
         if r["verdict"] == SKIPPED:  # the scenario needs another robot profile: not run, neither passed nor failed
@@ -316,6 +363,9 @@ def analyse(rows: list[Row], expectations: dict[str, list[Any]], names: dict[str
         exps = expectations.get(r["file"], [])
         failed_lines = _failed_lines(r)
         cond = r["condition"]
+        if r["verdict"] not in (PASS, FAIL, ERROR):  # neither passed nor failed: counted apart, out of every rate
+            nothing[cond] += 1
+            continue
         overall[cond][0] += 1
         overall[cond][1] += r["verdict"] == PASS
         by_cap: dict[str, bool] = {}
@@ -362,6 +412,7 @@ def analyse(rows: list[Row], expectations: dict[str, list[Any]], names: dict[str
     for g in failures:
         g["examples"] = g["examples"][:3]
     return {"overall": {**rate(pass_all, runs_all), "by_condition": {c: rate(overall[c][1], overall[c][0]) for c in conditions}},
+            "nothing_checked": {"runs": sum(nothing.values()), "by_condition": nothing},
             "capabilities": capabilities, "failures": failures}
 
 
@@ -399,6 +450,9 @@ def table(result: dict[str, Any], conditions: list[str]) -> str:
     lines.append("| **every expectation** | " + " | ".join(cell(result["overall"]["by_condition"][c]) for c in conditions) + " |")
     for cap, c in result["capabilities"].items():
         lines.append(f"| {cap} | " + " | ".join(cell(c["by_condition"][k]) for k in conditions) + " |")
+    nothing = result.get("nothing_checked", {"runs": 0})
+    if nothing["runs"]:  # runs without expectations (or stopped early): in no rate above
+        lines.append("| nothing checked (runs, in no rate) | " + " | ".join(str(nothing["by_condition"].get(c, 0)) for c in conditions) + " |")
     lines += ["", "rate (passed/runs) [95 % Wilson interval], in %", ""]
     if result["failures"]:
         lines += ["| runs | capability | cause | " + " | ".join(conditions) + " |", "|" + "---|" * (len(conditions) + 3)]
@@ -438,15 +492,20 @@ def study(files: list[str], seeds: list[int], conditions: list[Condition], out: 
     rows: list[Row] = []
     if resume:  # runs made before (an interrupted study): their summaries, not the runs again
         todo = []
+        recode = 0
         for job in jobs:
             old = row_from_summary(job)
             if old is None:
                 todo.append(job)
+                recode += stale_by_code(job)
             else:
                 rows.append(old)
                 if progress is not None:
                     progress(old)
         jobs = todo
+        if recode:  # said, not silent: the researcher may have expected these to be reused
+            print(f"homesim study: {recode} run{'s' * (recode != 1)} in {summaries} were made by other code "
+                  f"(homesim/robot/humans changed since): made again with this code ({code_digest()})", file=sys.stderr)
     watch = Stopwatch()  # the study's report only (homesim.realtime: the one place that reads the clock)
     start_cpu = _cpu_used()
     workers = workers or os.cpu_count() or 1
@@ -465,9 +524,10 @@ def study(files: list[str], seeds: list[int], conditions: list[Condition], out: 
     cpu = sum(r["cpu_time_s"] or 0.0 for r in made)
     sim = sum(r["sim_time_s"] or 0.0 for r in made)
     doc = {
-        "study": {"scenarios": len(files), "seeds": seeds, "runs": len(rows),
+        "study": {"scenarios": len(files), "seeds": seeds, "runs": len(rows), "code": code_digest(),
                   "conditions": {c.name: c.text() for c in conditions}},
         "overall": result["overall"],
+        "nothing_checked": result["nothing_checked"],
         "capabilities": result["capabilities"],
         "failures": [{k: v for k, v in g.items() if k != "_seen"} for g in result["failures"]],
         "social_navigation": social_navigation(rows, cnames),
@@ -535,10 +595,19 @@ def study_command(a: argparse.Namespace) -> int:
         shown.close()
     print((out / "study.md").read_text(encoding="utf-8"))
     t = doc["throughput"]
-    allcpu = f"; {t['cpu_s_all']:.0f} CPU s with start-up and set-up: {t['runs_per_cpu_minute_all']} runs per CPU minute" if t.get("cpu_s_all") else ""
-    print(f"{t['runs']} runs made, {t['cpu_s']:.0f} CPU s in the runs ({t['runs_per_cpu_minute']} runs per CPU minute){allcpu}, {t['wall_s']:.0f} s wall")
+    print(throughput_line(t))
     print(f"wrote {out / 'study.json'}, {out / 'study.md'}, {out / 'study.png'} and {out / 'study.svg'}")
     return 0
+
+
+def throughput_line(t: dict[str, Any]) -> str:
+    """The closing line on throughput; a fully resumed study made no run, so it has no rate to give."""
+    if not t["runs"]:
+        return f"no run made (every run resumed from an earlier summary), so no throughput; {t['wall_s']:.0f} s wall"
+    rate = f"{t['runs_per_cpu_minute']} runs per CPU minute" if t["runs_per_cpu_minute"] is not None else "no CPU time measured"
+    allcpu = (f"; {t['cpu_s_all']:.0f} CPU s with start-up and set-up: {t['runs_per_cpu_minute_all']} runs per CPU minute"
+              if t.get("cpu_s_all") else "")
+    return f"{t['runs']} runs made, {t['cpu_s']:.0f} CPU s in the runs ({rate}){allcpu}, {t['wall_s']:.0f} s wall"
 
 
 def register(sub: argparse._SubParsersAction) -> None:

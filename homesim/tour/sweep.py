@@ -124,9 +124,14 @@ def aggregate(rows: list[Row]) -> list[Row]:
             std = math.sqrt(sum((v - mean) ** 2 for v in vals) / len(vals))
             metrics[k] = {"mean": mean, "std": std, "n": len(vals)}
         passed = sum(r["verdict"] == PASS for r in mine)
-        out.append({"scenario": name, "runs": len(mine), "passed": passed, "pass_rate": passed / len(mine),
+        # A run that checked nothing ("no expectations", or stopped early: "not checked") neither
+        # passed nor failed: it is counted apart and left out of the pass rate (None: none checked).
+        unchecked = sum(r["verdict"] not in (PASS, FAIL, ERROR) for r in mine)
+        checked = len(mine) - unchecked
+        out.append({"scenario": name, "runs": len(mine), "checked": checked, "passed": passed,
+                    "pass_rate": passed / checked if checked else None,
                     "failed": sum(r["verdict"] == FAIL for r in mine), "errors": sum(r["verdict"] == ERROR for r in mine),
-                    "unchecked": sum(r["verdict"] not in (PASS, FAIL, ERROR) for r in mine), "metrics": metrics})
+                    "unchecked": unchecked, "metrics": metrics})
     return out
 
 
@@ -262,7 +267,11 @@ def sweep_command(a: argparse.Namespace) -> int:
         if skipped and len(skipped) == g["runs"]:
             print(f"{g['scenario']}: {skipped[0]['error']} ({len(skipped)} run{'s' if len(skipped) > 1 else ''})")
             continue
-        print(f"{g['scenario']}: {g['passed']}/{g['runs']} pass ({100 * g['pass_rate']:.0f} %), {g['failed']} fail, {g['errors']} error{unchecked}")
+        if g["checked"]:
+            rate = f"{g['passed']}/{g['checked']} pass ({100 * g['pass_rate']:.0f} %)"
+        else:
+            rate = f"nothing checked in {g['runs']} run{'s' * (g['runs'] != 1)}"
+        print(f"{g['scenario']}: {rate}, {g['failed']} fail, {g['errors']} error{unchecked}")
     print(f"wrote {out / 'sweep.csv'} and {out / 'sweep.json'}")
     return 1 if any(r["verdict"] in (FAIL, ERROR) for r in rows) else 0
 
