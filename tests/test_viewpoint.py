@@ -74,11 +74,43 @@ def test_viewpoint_past_the_partner():
 
 def test_viewpoint_through_the_door_into_the_next_room():
     plan = _flat(SHELF, inner_wall=True)
-    robot = (2.0, 3.0)  # still in the left room, a metre from the door
+    robot = (2.0, 2.0)  # still in the left room, a metre before the door
     assert not sight_clear(plan, (robot[0], robot[1], CAM), CUP)
     vp = viewpoint(plan, robot, CUP, [], camera_height=CAM)
     assert vp is not None and vp[0] > 3.0  # it drives through the door into the right room
     assert sight_clear(plan, (vp[0], vp[1], CAM), CUP)
+    assert _leg_clear(plan, robot, vp)  # the player drives the leg straight: through the door, not the wall
+    # a metre off the door's line, no straight leg through the door reaches a place that sees it
+    # (the grid's way round the door frame is not what the player drives): none rather than the wall
+    off = (2.0, 3.0)
+    vp = viewpoint(plan, off, CUP, [], camera_height=CAM)
+    assert vp is None or _leg_clear(plan, off, vp)
+
+
+def _leg_clear(plan: FloorPlan, start, goal, leave: float = 0.3) -> bool:
+    """The straight leg start -> goal keeps the robot's half-width (0.215 m) off walls and furniture."""
+    walls = [tuple((float(x), float(y)) for x, y in w.rectangle()) for w in plan.walls]
+    length = math.hypot(goal[0] - start[0], goal[1] - start[1])
+    k = max(1, int(length / 0.02))
+    for m in range(k + 1):
+        d = length * m / k
+        if d < leave:
+            continue
+        p = (start[0] + (goal[0] - start[0]) * m / k, start[1] + (goal[1] - start[1]) * m / k)
+        if any(_point_polygon(p, pts) < 0.215 for pts in walls + [o.points for o in plan.obstacles]):
+            return False
+    return True
+
+
+def test_viewpoint_round_the_sofa_corner_is_driven_straight():
+    # the review's flat: the robot in front of a sofa, a book on the floor behind it; the grid's
+    # shortest way round the sofa's corner is not the player's straight leg
+    sofa = _box("sofa", "sofa", 2.8, 2.0, 4.2, 2.9, 0.85)
+    book = (3.5, 3.5, 0.05)
+    robot = (3.5, 0.8)
+    vp = viewpoint(_flat(sofa), robot, book, [(4.9, 2.4)], camera_height=CAM)
+    assert vp is not None
+    assert _leg_clear(_flat(sofa), robot, vp)
 
 
 def test_no_viewpoint_when_nothing_reachable_sees_it():
@@ -103,6 +135,7 @@ def test_a_viewpoint_is_free_in_range_and_sees_the_target(rx, ry, tx, ty, people
     assert all(math.hypot(x - px, y - py) >= PERSON_CLEARANCE for px, py in people)
     for o in plan.obstacles:
         assert _point_polygon((x, y), o.points) >= ROBOT_CLEARANCE - 1e-9
+    assert _leg_clear(plan, (rx, ry), vp)
     assert math.hypot(x - rx, y - ry) <= 3.5 + 1e-9
 
 
