@@ -39,7 +39,8 @@ Bus (docs/robot-contract.md). On the ES order ``find_object`` (on
 
 Owner: "my" (``OWNER name="speaker"``) is stored as ``partner``: the robot
 does not know names unless told ("this cup belongs to Anna" gives ``anna``).
-A new ``find_object`` cancels a search in progress.
+A new ``find_object`` cancels a search in progress; so does the order ``cancel`` (the ES, on
+good-bye or partner lost during ObjectTeaching, with a ``stop`` to the player), without a result.
 """
 
 from __future__ import annotations
@@ -250,6 +251,10 @@ class ObjectAttention(Module):
             answer = next((p.find("ANSWER") for p in msg.xml.iterfind("param") if p.find("ANSWER") is not None), None)
             if self._answer is not None and not self._answer.done() and answer is not None:
                 self._answer.set_result(answer)
+            return
+        if msg.xml.get("name") == "cancel":  # good-bye or partner lost: the search ends, no result
+            if self._search is not None and not self._search.done():
+                self._search.cancel()
             return
         if msg.xml.get("name") != "find_object":
             return
