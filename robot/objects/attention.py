@@ -61,7 +61,7 @@ from robot.contract import ES_EVENTS, ES_ORDERS, FOCUS, GESTURES, OBJECTS, PARTN
 
 from .gestures import CAMERA_HEIGHT, CAMERA_OFFSET, GestureTracker, camera_to_map
 from .resolve import Candidate, Pointing, Resolution, Wanted, merge, option_texts, resolve
-from .viewpoint import in_range, pointed_spot, sight_clear, viewpoint
+from .viewpoint import ARRIVE_TOLERANCE, in_range, pointed_spot, sight_clear, viewpoint
 
 if TYPE_CHECKING:
     from homesim.sim import Simulation
@@ -483,7 +483,7 @@ class ObjectAttention(Module):
             return False
         self.moves += 1
         ev = etree.Element("event", name="view_blocked")
-        etree.SubElement(ev, "POSE", x=f"{goal[0]:.3f}", y=f"{goal[1]:.3f}", theta=f"{goal[2]:.4f}", frame="map", tolerance="0.2", align="true")
+        etree.SubElement(ev, "POSE", x=f"{goal[0]:.3f}", y=f"{goal[1]:.3f}", theta=f"{goal[2]:.4f}", frame="map", tolerance=f"{ARRIVE_TOLERANCE:g}", align="true")
         sent = self.now
         self._player = None
         self.bus.publish(ES_EVENTS, ev, causes=(cause,))

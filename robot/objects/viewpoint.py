@@ -41,6 +41,7 @@ ROBOT_HEIGHT = 1.45  # m: furniture whose underside is higher does not stop the 
 GRID_CELL = 0.1  # m: the drive's grid
 OBJECT_BAND = 0.35  # m: how high above a surface an object a person points at reaches (most household objects)
 DRIVE_CLEARANCE = 0.8  # of the standing clearances, kept on the way (the player's own local planner keeps the footprint clear)
+ARRIVE_TOLERANCE = 0.2  # m: the tolerance of the POSE the object attention sends the player (move_to)
 LEG_LEAVE = 0.3  # m: the start of a straight leg may run closer to something than the clearance (where the robot stands)
 
 
@@ -162,12 +163,11 @@ def _inside_mask(xs: np.ndarray, ys: np.ndarray, poly: Sequence[Point]) -> np.nd
 
 
 def travel_map(plan: FloorPlan, robot: Point, people: Sequence[Point], *, reach: float, clearance: float, person_clearance: float,
-               cell: float = GRID_CELL) -> tuple[np.ndarray, float, float, np.ndarray]:
+               cell: float = GRID_CELL) -> tuple[np.ndarray, float, float]:
     """Driving distances (m) from ``robot`` over a grid of ``cell`` m around it (``reach`` m each
     way): cells ``clearance`` from walls and furniture and ``person_clearance`` from people,
-    8-connected (Dijkstra); ``inf`` where it cannot drive. Returns the grid, its origin (x0, y0)
-    and the mask of cells it may drive over. The robot's own cell is always a start (it may stand
-    closer to something than ``clearance``)."""
+    8-connected (Dijkstra); ``inf`` where it cannot drive. Returns the grid and its origin (x0, y0).
+    The robot's own cell is always a start (it may stand closer to something than ``clearance``)."""
     from scipy.ndimage import distance_transform_edt  # lazily: scipy.ndimage is slow to import at start-up
 
     n = int(math.ceil(2 * reach / cell)) + 1
@@ -194,43 +194,44 @@ def travel_map(plan: FloorPlan, robot: Point, people: Sequence[Point], *, reach:
             if 0 <= a < n and 0 <= b < n and free[a, b] and d + w < dist[a, b]:
                 dist[a, b] = d + w
                 heapq.heappush(heap, (d + w, a, b))
-    return dist, x0, y0, free
+    return dist, x0, y0
 
 
-def straight_leg_free(free: np.ndarray, x0: float, y0: float, start: Point, goal: Point, *, cell: float = GRID_CELL,
-                      leave: float = LEG_LEAVE) -> bool:
-    """Does the straight line from ``start`` to ``goal`` run over free cells only (the first
-    ``leave`` m excepted: the robot may stand closer to something than the clearance)? The player
-    drives a viewpoint's leg straight, so a viewpoint reached only round a corner is not one."""
+def straight_leg_free(plan_blocks: list[tuple[tuple[Point, ...], float, float]], people: Sequence[Point], start: Point, goal: Point, *,
+                      clearance: float, person_clearance: float, leave: float = LEG_LEAVE, step: float = 0.05) -> bool:
+    """Does the straight line from ``start`` to ``goal`` keep ``clearance`` from walls and furniture
+    (exactly, on the footprints: a grid's cells err by their size) and ``person_clearance`` from
+    people, the first ``leave`` m excepted (the robot may stand closer to something than the
+    clearance)? The player drives a viewpoint's leg straight, so a viewpoint reached only round a
+    corner is not one."""
     length = math.hypot(goal[0] - start[0], goal[1] - start[1])
-    n = free.shape[0]
-    k = max(1, int(math.ceil(length / (cell / 2))))
+    k = max(1, int(math.ceil(length / step)))
     for m in range(k + 1):
-        d = length * m / k
-        if d < leave:
+        if length * m / k < leave:
             continue
-        x = start[0] + (goal[0] - start[0]) * m / k
-        y = start[1] + (goal[1] - start[1]) * m / k
-        fi, fj = (y - y0) / cell, (x - x0) / cell
-        i0, j0 = int(math.floor(fi)), int(math.floor(fj))
-        if not (0 <= i0 and i0 + 1 < n and 0 <= j0 and j0 + 1 < n) or not free[i0:i0 + 2, j0:j0 + 2].all():
-            return False  # all four cells round the point: the grid errs on the safe side
+        q = (start[0] + (goal[0] - start[0]) * m / k, start[1] + (goal[1] - start[1]) * m / k)
+        if not _free(plan_blocks, q, people, clearance, person_clearance):
+            return False
     return True
 
 
 def viewpoint(plan: FloorPlan, robot: Point, target: tuple[float, float, float], people: Sequence[Point] = (), *,
               camera_height: float, camera_offset: float = 0.0, max_travel: float = MAX_TRAVEL,
-              clearance: float = ROBOT_CLEARANCE, person_clearance: float = PERSON_CLEARANCE) -> tuple[float, float, float] | None:
+              clearance: float = ROBOT_CLEARANCE, person_clearance: float = PERSON_CLEARANCE,
+              arrive: float = ARRIVE_TOLERANCE) -> tuple[float, float, float] | None:
     """The nearest pose (x, y, heading towards the target) from which the camera sees ``target``:
     in a room of the plan, ``clearance`` from walls and furniture and ``person_clearance`` from
     every person, reached by a straight drive from ``robot`` that keeps those clearances (the
     player drives the one leg it is sent straight: through a door only when the line passes it;
     at most ``max_travel`` m, :func:`travel_map`, :func:`straight_leg_free`), with the target in the camera's range
-    and a clear sight line. Of equal travel, the one nearer 1.5 m from the target. None when
+    and a clear sight line, also from ``arrive`` m either way (the player stops within its
+    tolerance of the pose: a line grazing a sofa's corner from the pose itself is hidden from
+    where it stops). Of equal travel, the one nearer 1.5 m from the target. None when
     there is no such place."""
-    blocks = [(poly, bottom, top) for poly, bottom, top in _blocks(plan)
+    every = _blocks(plan)
+    blocks = [(poly, bottom, top) for poly, bottom, top in every
               if min(math.hypot(x - target[0], y - target[1]) for x, y in poly) < max(RINGS) + 1.0 or top == math.inf]
-    dist, gx, gy, free = travel_map(plan, robot, people, reach=max_travel, clearance=clearance * DRIVE_CLEARANCE, person_clearance=person_clearance * DRIVE_CLEARANCE)
+    dist, gx, gy = travel_map(plan, robot, people, reach=max_travel, clearance=clearance * DRIVE_CLEARANCE, person_clearance=person_clearance * DRIVE_CLEARANCE)
     n = dist.shape[0]
     best: tuple[float, tuple[float, float, float]] | None = None
     for r in RINGS:
@@ -252,9 +253,10 @@ def viewpoint(plan: FloorPlan, robot: Point, target: tuple[float, float, float],
             cam = (q[0] + camera_offset * math.cos(heading), q[1] + camera_offset * math.sin(heading), camera_height)
             if not in_range(cam, target) or not _inside_room(plan, q) or not _free(blocks, q, people, clearance, person_clearance):
                 continue
-            if not sight_clear(plan, cam, target, people):
-                continue
-            if not straight_leg_free(free, gx, gy, robot, q):
+            if not all(sight_clear(plan, (cam[0] + dx, cam[1] + dy, camera_height), target, people)
+                       for dx, dy in ((0.0, 0.0), (arrive, 0.0), (-arrive, 0.0), (0.0, arrive), (0.0, -arrive))):
+                continue  # the player stops within ``arrive`` of the pose: the view must hold there too
+            if not straight_leg_free(every, people, robot, q, clearance=clearance * DRIVE_CLEARANCE, person_clearance=person_clearance * DRIVE_CLEARANCE):
                 continue
             best = (cost, (q[0], q[1], heading))
     return None if best is None else best[1]
