@@ -190,3 +190,13 @@ def test_the_pointed_spot_is_where_the_ray_runs_low_over_the_counter_not_where_i
     floor = pointed_spot(plan, (1.0, 2.0, 1.1), math.pi, math.radians(-60))
     assert floor is not None and floor[2] == 0.05 and 0.0 < floor[0] < 1.0
     assert pointed_spot(plan, (1.0, 2.0, 1.1), 0.0, math.radians(10)) is None  # pointing up: no spot
+
+
+def test_the_pointed_spot_is_past_a_kitchen_island_she_points_over():
+    # review (issue 26): she stands behind a 0.9 m island and points past it at a cup on a coffee
+    # table 2.3 m away; the ray runs low over the island first, but ends at the table, by the cup
+    plan = _flat(_box("island", "counter", 1.3, 1.5, 1.9, 2.5, 0.9), _box("coffee table", "table", 3.0, 1.7, 3.6, 2.3, 0.45))
+    hand, cup = (1.4, 2.0, 1.3), (3.3, 2.0, 0.5)
+    el = math.atan2(cup[2] - hand[2], cup[0] - hand[0])
+    spot = pointed_spot(plan, hand, 0.0, el)
+    assert spot is not None and abs(spot[2] - 0.5) < 1e-9 and math.hypot(spot[0] - cup[0], spot[1] - cup[1]) < 0.3

@@ -415,8 +415,8 @@ class ObjectAttention(Module):
         return out
 
     def _target_3d(self, pointing: Pointing) -> tuple[float, float, float] | None:
-        """Where the ray most likely shows an object (:func:`pointed_spot`: the first stretch of it
-        low over a surface), else where it comes down (:meth:`_ray_target`), with the height of
+        """Where the ray most likely shows an object (:func:`pointed_spot`: the last stretch of it
+        low over a surface before the ray ends), else where it comes down (:meth:`_ray_target`), with the height of
         what it stands on."""
         if self.plan is not None:
             spot = pointed_spot(self.plan, (pointing.x, pointing.y, pointing.z), pointing.direction, pointing.elevation)

@@ -265,9 +265,10 @@ def viewpoint(plan: FloorPlan, robot: Point, target: tuple[float, float, float],
 def pointed_spot(plan: FloorPlan, hand: tuple[float, float, float], direction: float, elevation: float, *,
                  band: float = OBJECT_BAND, reach: float = 3.0, step: float = 0.05) -> tuple[float, float, float] | None:
     """Where on the plan a pointing ray (from ``hand``, map frame, ``direction`` and ``elevation``
-    in radians) most likely shows an object: the middle of the first stretch of the ray that runs
+    in radians) most likely shows an object: the middle of the last stretch of the ray that runs
     at most ``band`` m above what is under it (a piece of furniture's top, or the floor), before
-    it meets a wall; ``(x, y, z)`` with ``z`` a little above that surface. Objects have a height:
+    it meets a wall, the floor or a piece of furniture (where the ray ends: a first stretch low
+    over a kitchen island she points past is not where she points); ``(x, y, z)`` with ``z`` a little above that surface. Objects have a height:
     a ray aimed at a kettle on a counter passes the kettle low over the counter and may come
     down on the floor behind it, so where it comes down is not where the object is. None when
     the ray stays higher than ``band`` over everything within ``reach`` m."""
@@ -276,19 +277,26 @@ def pointed_spot(plan: FloorPlan, hand: tuple[float, float, float], direction: f
     walls = [tuple((float(x), float(y)) for x, y in w.rectangle()) for w in plan.walls]
     tops = [(o.points, o.top) for o in plan.obstacles if o.type != "leg" and o.top < hand[2]]
     c, s, slope = math.cos(direction), math.sin(direction), math.tan(elevation)
-    run: list[tuple[float, float, float]] = []
+    runs: list[list[tuple[float, float, float]]] = []
+    low = False
     d = 0.1
     while d <= reach:
         x, y, z = hand[0] + d * c, hand[1] + d * s, hand[2] + d * slope
         if any(_point_polygon((x, y), w) == 0.0 for w in walls) or z < 0.0:
             break
         under = max((top for pts, top in tops if _point_polygon((x, y), pts) == 0.0), default=0.0)
-        if z - under <= band:
-            run.append((x, y, under))
-        elif run:
+        if z < under:  # it meets a piece of furniture (its top, or its side): the ray ends there
             break
+        if z - under <= band:
+            if not low:
+                runs.append([])
+            runs[-1].append((x, y, under))
+            low = True
+        else:
+            low = False
         d += step
-    if not run:
+    if not runs:
         return None
+    run = runs[-1]
     x, y, under = run[len(run) // 2]
     return x, y, under + 0.05
