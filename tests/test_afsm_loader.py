@@ -182,3 +182,26 @@ def test_module_names_are_ncnames_in_the_schema_and_in_validate(name):
     m.modules[name] = ModuleDecl(name, "reactive", 9)
     (p,) = validate(m)
     assert (p.source, p.line) == ("m.scxml", 9) and "NCName" in p.message
+
+
+def _taken(m, state: str, event: str):
+    """The transition an event takes in ``state``: the innermost state's own wins (SCXML)."""
+    sid = state
+    while sid is not None:
+        for t in m.states[sid].transitions:
+            if t.event == event:
+                return t
+        sid = m.states[sid].parent
+    return None
+
+
+def test_goodbye_or_partner_lost_during_object_teaching_stops_the_base_and_the_search():
+    # a viewpoint drive (player move_to) may be under way while the object attention searches:
+    # the interaction's end must stop the player and cancel the search, not leave them running
+    m = load("robot/afsm/biron.scxml")
+    for event in ("goodbye", "partner_lost"):
+        t = _taken(m, "ObjectTeaching", event)
+        assert t is not None and t.target == "LookingAround"
+        sends = {(s.target, s.name) for s in t.sends}
+        assert ("player", "stop") in sends and ("object_attention", "cancel") in sends
+        assert ("person_attention", "look_around") in sends and ("dialog", "interaction_ended") in sends

@@ -579,3 +579,17 @@ def test_the_good_bye_is_said_when_the_status_comes_before_the_condition(dm):
     assert [s.event for s in sends(dm.on_frame(frame("<GOODBYE/>")))] == ["goodbye"]
     assert dm.on_state("LookingAround") == []  # the good-bye awaits the supervisor, no question of hers
     assert any(s.startswith("Good-bye") for s in says(dm.on_condition(cond("interaction_ended"))))
+
+
+def test_good_bye_during_teaching_ends_the_teaching_and_nothing_resumes_it(dm):
+    # review (issue 26): after good-bye, "Now, back to your kettle." followed every later sentence
+    dm.on_frame(frame(CUP))  # teaching waits for the object attention's result
+    dm.es_state = "ObjectTeaching"
+    (s,) = sends(dm.on_frame(frame('<GOODBYE/>')))
+    assert s.event == "goodbye"
+    dm.es_state = "LookingAround"
+    out = dm.on_condition(cond("interaction_ended"))
+    assert says(out) == ["Good-bye! It was nice talking to you."] and dm.stack == []
+    dm.es_state = "PotentialPartner"
+    later = dm.on_frame(frame('<GOODBYE/>')) + dm.on_rejected(rejected("goodbye", "inapplicable", "PotentialPartner"))
+    assert not any("back to your" in t for t in says(later))

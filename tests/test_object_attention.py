@@ -46,6 +46,29 @@ def test_one_candidate_pointed_at_is_the_one():
     assert [s.fits for s in res.ranked] == [True, False]  # blue is 45 degrees off the pointing
 
 
+def test_an_object_just_past_her_hand_is_what_she_points_at():
+    # review (issue 26): a cup 0.2 m past her hand and 0.15 m to the side is 37 deg off the ray seen
+    # from the fingertip; judged by its sideways offset it fits, and a cup 1.5 m away 30 deg off does not
+    near = _cand(3.2, 2.55, "red")  # HAND at (3.4, 2.4) points at -x
+    res = resolve([near], Wanted(type="cup"), HAND, (4.0, 2.4))
+    assert res.kind == "one" and res.best is near
+    far = _cand(3.4 - 1.5, 2.4 + 1.5 * math.tan(math.radians(33)), "red")
+    assert resolve([far], Wanted(type="cup"), HAND, (4.0, 2.4)).kind == "none"
+    behind = _cand(3.6, 2.45, "red")  # behind her hand (at her body): not pointed at
+    assert resolve([behind], Wanted(type="cup"), HAND, (4.0, 2.4)).kind == "none"
+
+
+@given(along=st.floats(0.02, 3.0), side=st.floats(-1.5, 1.5))
+@settings(max_examples=200, deadline=None)
+def test_fitting_the_pointing_is_a_sideways_offset_near_the_hand_and_an_angle_beyond(along, side):
+    hand = Pointing(0.0, 0.0, 1.1, 0.0, math.radians(-20))
+    c = _cand(along, side, "red")
+    fits = resolve([c], Wanted(type="cup"), hand, (-1.0, 0.0)).kind == "one"
+    limit = math.tan(math.radians(30.0)) * max(along, 0.5)
+    if abs(abs(side) - limit) > 1e-6:
+        assert fits == (abs(side) < limit)
+
+
 def test_two_fitting_candidates_are_ambiguous_until_the_colour_is_said():
     red, blue = _cand(2.7, 2.25, "red"), _cand(2.7, 2.55, "blue")  # both within the pointing's spread
     res = resolve([red, blue], Wanted(type="cup"), HAND, (1.0, 2.5))

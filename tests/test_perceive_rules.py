@@ -95,7 +95,21 @@ def _attention(state: str, last: tuple[float, float, float, float, float, float,
     pa.params = AttentionParams()
     pa.fsm = _Fsm(state)  # type: ignore[assignment]
     pa._partner_last = last
+    pa._driven, pa._drive_start, pa._player_drives = 0.0, None, False
     return pa
+
+
+@settings(max_examples=100, deadline=None)
+@given(d=st.floats(0.5, 2.9), start=st.floats(0.0, 5.0), drive=st.floats(10.0, 20.0), state=st.sampled_from(["Interaction", "Object"]))
+def test_a_partner_who_stood_still_is_kept_while_the_robot_drives_away_to_a_viewpoint(d, start, drive, state):
+    # the viewpoint drive (up to MOVE_TIMEOUT, 20 s) turns the robot's back on her: she did not leave
+    pa = _attention(state, (0.0, d, 0.0, 0.0, 0.0, 0.0, 0.0))
+    pa._drive(start, True)
+    assert not pa.partner_left(start + drive)  # during the drive
+    pa._drive(start + drive, False)
+    p = pa.params
+    assert not pa.partner_left(start + drive + 0.5)
+    assert pa.partner_left(start + drive + p.out_of_view_after + 0.01 - min(start, p.out_of_view_after))
 
 
 @settings(max_examples=200, deadline=None)

@@ -78,3 +78,36 @@ def test_the_metric_scores_a_real_teaching_run():
     s = metric["m"].summary()
     assert (s["learned"], s["correct"], s["episodes"], s["precision"], s["recall"]) == (1, 1, 1, 1.0, 1.0)
     assert s["attributes"]["precision"] == 1.0 and s["position_error_m"]["mean"] < 0.15
+
+
+def _request(t):
+    return SimpleNamespace(xml=etree.Element("event", name="object_teaching"), created=t)
+
+
+def test_a_stored_object_is_credited_only_to_the_gesture_of_the_request_it_answers():
+    # review (issue 26): she pointed at the red cup, then showed the green one; the robot stored the
+    # red cup in answer to the second request: wrong, although she pointed at it 34 s before
+    world = _world()
+    m = TeachingMetric(None, world=world)
+    _point(world, m, "red cup", (2.7, 2.3, 0.8), 1.0)
+    m.on_message(_request(4.0))
+    _point(world, m, "green cup", (3.1, 3.2, 0.8), 25.0)
+    m.on_message(_request(28.0))
+    m.on_message(_learned(2.7, 2.3, colour="red", t=35.0))
+    s = m.summary()
+    assert (s["learned"], s["correct"], s["precision"], s["recall"]) == (1, 0, 0.0, 0.0)
+    # the same store in answer to the first request (slow: a step aside, a drive) is right
+    m = TeachingMetric(None, world=_world())
+    world = m.world
+    _point(world, m, "red cup", (2.7, 2.3, 0.8), 1.0)
+    m.on_message(_request(4.0))
+    _point(world, m, "red cup", (2.8, 2.3, 0.8), 20.0)  # she points again while it drives
+    m.on_message(_learned(2.7, 2.3, colour="red", t=45.0))
+    assert m.summary()["correct"] == 1
+    # without requests (no supervisor): the latest gesture before the store
+    m = TeachingMetric(None, world=_world())
+    world = m.world
+    _point(world, m, "red cup", (2.7, 2.3, 0.8), 1.0)
+    _point(world, m, "green cup", (3.1, 3.2, 0.8), 25.0)
+    m.on_message(_learned(2.7, 2.3, colour="red", t=35.0))
+    assert m.summary()["correct"] == 0

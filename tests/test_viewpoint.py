@@ -74,11 +74,55 @@ def test_viewpoint_past_the_partner():
 
 def test_viewpoint_through_the_door_into_the_next_room():
     plan = _flat(SHELF, inner_wall=True)
-    robot = (2.0, 3.0)  # still in the left room, a metre from the door
+    robot = (2.0, 2.0)  # still in the left room, a metre before the door
     assert not sight_clear(plan, (robot[0], robot[1], CAM), CUP)
     vp = viewpoint(plan, robot, CUP, [], camera_height=CAM)
     assert vp is not None and vp[0] > 3.0  # it drives through the door into the right room
     assert sight_clear(plan, (vp[0], vp[1], CAM), CUP)
+    assert _leg_clear(plan, robot, vp)  # the player drives the leg straight: through the door, not the wall
+    # a metre off the door's line, no straight leg through the door reaches a place that sees it
+    # (the grid's way round the door frame is not what the player drives): none rather than the wall
+    off = (2.0, 3.0)
+    vp = viewpoint(plan, off, CUP, [], camera_height=CAM)
+    assert vp is None or _leg_clear(plan, off, vp)
+
+
+def _leg_clear(plan: FloorPlan, start, goal, leave: float = 0.3) -> bool:
+    """The straight leg start -> goal keeps the robot's half-width (0.215 m) off walls and furniture."""
+    walls = [tuple((float(x), float(y)) for x, y in w.rectangle()) for w in plan.walls]
+    length = math.hypot(goal[0] - start[0], goal[1] - start[1])
+    k = max(1, int(length / 0.02))
+    for m in range(k + 1):
+        d = length * m / k
+        if d < leave:
+            continue
+        p = (start[0] + (goal[0] - start[0]) * m / k, start[1] + (goal[1] - start[1]) * m / k)
+        if any(_point_polygon(p, pts) < 0.215 for pts in walls + [o.points for o in plan.obstacles]):
+            return False
+    return True
+
+
+def test_viewpoint_round_the_sofa_corner_is_driven_straight():
+    # the review's flat: the robot in front of a sofa, a book on the floor behind it; the grid's
+    # shortest way round the sofa's corner is not the player's straight leg
+    sofa = _box("sofa", "sofa", 2.8, 2.0, 4.2, 2.9, 0.85)
+    book = (3.5, 3.5, 0.05)
+    robot = (3.5, 0.8)
+    vp = viewpoint(_flat(sofa), robot, book, [(4.9, 2.4)], camera_height=CAM)
+    assert vp is not None
+    assert _leg_clear(_flat(sofa), robot, vp)
+
+
+def test_the_view_from_a_viewpoint_holds_where_the_player_stops():
+    # the player stops within 0.2 m of the pose; from (2.06, 2.27) (0.18 m off the pose chosen,
+    # seed 0 of the review's flat) the line to the spot grazed the sofa's back: nothing seen
+    sofa = _box("sofa", "sofa", 2.8, 2.0, 4.2, 2.9, 0.85)
+    spot = (3.61, 3.38, 0.05)
+    vp = viewpoint(_flat(sofa), (3.48, 0.79), spot, [(4.9, 2.4)], camera_height=CAM)
+    assert vp is not None
+    for k in range(16):
+        a = 2 * math.pi * k / 16
+        assert sight_clear(_flat(sofa), (vp[0] + 0.15 * math.cos(a), vp[1] + 0.15 * math.sin(a), CAM), spot)
 
 
 def test_no_viewpoint_when_nothing_reachable_sees_it():
@@ -103,6 +147,7 @@ def test_a_viewpoint_is_free_in_range_and_sees_the_target(rx, ry, tx, ty, people
     assert all(math.hypot(x - px, y - py) >= PERSON_CLEARANCE for px, py in people)
     for o in plan.obstacles:
         assert _point_polygon((x, y), o.points) >= ROBOT_CLEARANCE - 1e-9
+    assert _leg_clear(plan, (rx, ry), vp)
     assert math.hypot(x - rx, y - ry) <= 3.5 + 1e-9
 
 
@@ -145,3 +190,13 @@ def test_the_pointed_spot_is_where_the_ray_runs_low_over_the_counter_not_where_i
     floor = pointed_spot(plan, (1.0, 2.0, 1.1), math.pi, math.radians(-60))
     assert floor is not None and floor[2] == 0.05 and 0.0 < floor[0] < 1.0
     assert pointed_spot(plan, (1.0, 2.0, 1.1), 0.0, math.radians(10)) is None  # pointing up: no spot
+
+
+def test_the_pointed_spot_is_past_a_kitchen_island_she_points_over():
+    # review (issue 26): she stands behind a 0.9 m island and points past it at a cup on a coffee
+    # table 2.3 m away; the ray runs low over the island first, but ends at the table, by the cup
+    plan = _flat(_box("island", "counter", 1.3, 1.5, 1.9, 2.5, 0.9), _box("coffee table", "table", 3.0, 1.7, 3.6, 2.3, 0.45))
+    hand, cup = (1.4, 2.0, 1.3), (3.3, 2.0, 0.5)
+    el = math.atan2(cup[2] - hand[2], cup[0] - hand[0])
+    spot = pointed_spot(plan, hand, 0.0, el)
+    assert spot is not None and abs(spot[2] - 0.5) < 1e-9 and math.hypot(spot[0] - cup[0], spot[1] - cup[1]) < 0.3

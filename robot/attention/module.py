@@ -214,6 +214,11 @@ class PersonAttention(Module):
         # no turning to her meanwhile. Subscribed only in Object: every delivery draws a network delay
         # from the run's generator, so a subscription held all the time would change every run.
         self._player_drives = False
+        # The leaving rule's clock stands still while the robot drives on the ES's order (a drive to
+        # a better viewpoint, up to the object attention's MOVE_TIMEOUT, 20 s): she did not leave,
+        # the robot did. Drive time since her last sighting: finished legs, and the leg under way.
+        self._driven = 0.0
+        self._drive_start: float | None = None
         self._player_sub: Any = None
 
     async def run(self) -> None:
@@ -393,10 +398,26 @@ class PersonAttention(Module):
         elif not on and self._player_sub is not None:
             self._player_sub.close()
             self._player_sub = None
-            self._player_drives = False
+            self._drive(self.now, False)
 
     def _on_player(self, msg: Message) -> None:
-        self._player_drives = msg.xml.get("state") in ("moving", "blocked")
+        self._drive(self.now, msg.xml.get("state") in ("moving", "blocked"))
+
+    def _drive(self, t: float, drives: bool) -> None:
+        """The player drives (on the ES's order) from ``t`` on, or stopped at ``t``: the time it
+        drove after the partner's last sighting is not counted as her time unseen."""
+        if drives and self._drive_start is None:
+            self._drive_start = t
+        elif not drives and self._drive_start is not None:
+            seen = self._partner_last[0] if self._partner_last is not None else t
+            self._driven += max(0.0, t - max(self._drive_start, seen))
+            self._drive_start = None
+        self._player_drives = drives
+
+    def _unseen(self, t: float, seen: float) -> float:
+        """Seconds the partner has been unseen at ``t``, less the time the robot drove away on the ES's order."""
+        driving = t - max(self._drive_start, seen) if self._drive_start is not None else 0.0
+        return t - seen - self._driven - max(0.0, driving)
 
     def _choose_partner(self) -> int | None:
         """The partner on interact: the last potential partner if still tracked, else the selected person."""
@@ -503,6 +524,7 @@ class PersonAttention(Module):
             if self._partner_last is None or tk.last_seen > self._partner_last[0]:
                 ox, oy, _ = self._pose_at(tk.last_seen)
                 self._partner_last = (tk.last_seen, tk.x[0], tk.x[1], tk.x[2], tk.x[3], ox, oy)
+                self._driven = 0.0
         elif self.partner is not None and not self.partner_lost_sent:
             row = self._reacquire(t)
         if self.partner is None and not self.partner_lost_sent:
@@ -537,13 +559,15 @@ class PersonAttention(Module):
         interaction space (further than ``interaction_radius`` from the robot) or walking away from
         it (``leave_speed``); one who stepped aside (to a shelf, to let someone pass, to chat
         next to the robot) is waited for, found again where they went (:meth:`_reacquire`), and
-        declared gone only after ``out_of_view_after`` s without any evidence at all.
+        declared gone only after ``out_of_view_after`` s without any evidence at all. Time the robot
+        drove on the ES's order (a viewpoint drive: she stood, the robot moved away and may have
+        turned its back on her) does not count as time unseen (:meth:`_unseen`).
         """
         last = self._partner_last
         if last is None:
             return True
         seen, x, y, vx, vy, ox, oy = last
-        unseen = t - seen
+        unseen = self._unseen(t, seen)
         p = self.params
         if self.fsm.state == "Follow":
             return unseen >= p.follow_lost_after

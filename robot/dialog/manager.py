@@ -396,13 +396,25 @@ class DialogManager:
         """A condition from the supervisor (``<condition name ...><param>...``)."""
         name = cond.get("name", "")
         out: list[Output] = []
+        d = self.doc.by_condition(name)
         for inst in reversed(self.stack):
             fills = [f for f in inst.d.fills if f.condition == name]
             if fills:
                 self._fill_other(inst, fills, cond)
-                self._step(inst, out)
+                if d is not None and d.clears:
+                    # the interaction is over (good-bye agreed): the dialog that waited for it says its
+                    # last words and the rest ends with it, unresumed (an object teaching waiting for a
+                    # search the ES cancelled said "Now, back to your kettle." after every later sentence)
+                    held, self._hold_resume = self._hold_resume, True
+                    try:
+                        self._step(inst, out)
+                    finally:
+                        self._hold_resume = held
+                    while self.stack:
+                        self._finish(self.stack[-1], out, abandoned=True, resume=False)
+                else:
+                    self._step(inst, out)
                 return out
-        d = self.doc.by_condition(name)
         if d is None:
             self.metrics["unhandled_conditions"] += 1
             return out

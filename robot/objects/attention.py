@@ -39,7 +39,8 @@ Bus (docs/robot-contract.md). On the ES order ``find_object`` (on
 
 Owner: "my" (``OWNER name="speaker"``) is stored as ``partner``: the robot
 does not know names unless told ("this cup belongs to Anna" gives ``anna``).
-A new ``find_object`` cancels a search in progress.
+A new ``find_object`` cancels a search in progress; so does the order ``cancel`` (the ES, on
+good-bye or partner lost during ObjectTeaching, with a ``stop`` to the player), without a result.
 """
 
 from __future__ import annotations
@@ -60,7 +61,7 @@ from robot.contract import ES_EVENTS, ES_ORDERS, FOCUS, GESTURES, OBJECTS, PARTN
 
 from .gestures import CAMERA_HEIGHT, CAMERA_OFFSET, GestureTracker, camera_to_map
 from .resolve import Candidate, Pointing, Resolution, Wanted, merge, option_texts, resolve
-from .viewpoint import in_range, pointed_spot, sight_clear, viewpoint
+from .viewpoint import ARRIVE_TOLERANCE, in_range, pointed_spot, sight_clear, viewpoint
 
 if TYPE_CHECKING:
     from homesim.sim import Simulation
@@ -251,6 +252,10 @@ class ObjectAttention(Module):
             if self._answer is not None and not self._answer.done() and answer is not None:
                 self._answer.set_result(answer)
             return
+        if msg.xml.get("name") == "cancel":  # good-bye or partner lost: the search ends, no result
+            if self._search is not None and not self._search.done():
+                self._search.cancel()
+            return
         if msg.xml.get("name") != "find_object":
             return
         if self._search is not None and not self._search.done():
@@ -410,8 +415,8 @@ class ObjectAttention(Module):
         return out
 
     def _target_3d(self, pointing: Pointing) -> tuple[float, float, float] | None:
-        """Where the ray most likely shows an object (:func:`pointed_spot`: the first stretch of it
-        low over a surface), else where it comes down (:meth:`_ray_target`), with the height of
+        """Where the ray most likely shows an object (:func:`pointed_spot`: the last stretch of it
+        low over a surface before the ray ends), else where it comes down (:meth:`_ray_target`), with the height of
         what it stands on."""
         if self.plan is not None:
             spot = pointed_spot(self.plan, (pointing.x, pointing.y, pointing.z), pointing.direction, pointing.elevation)
@@ -478,7 +483,7 @@ class ObjectAttention(Module):
             return False
         self.moves += 1
         ev = etree.Element("event", name="view_blocked")
-        etree.SubElement(ev, "POSE", x=f"{goal[0]:.3f}", y=f"{goal[1]:.3f}", theta=f"{goal[2]:.4f}", frame="map", tolerance="0.2", align="true")
+        etree.SubElement(ev, "POSE", x=f"{goal[0]:.3f}", y=f"{goal[1]:.3f}", theta=f"{goal[2]:.4f}", frame="map", tolerance=f"{ARRIVE_TOLERANCE:g}", align="true")
         sent = self.now
         self._player = None
         self.bus.publish(ES_EVENTS, ev, causes=(cause,))

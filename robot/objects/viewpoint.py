@@ -41,6 +41,8 @@ ROBOT_HEIGHT = 1.45  # m: furniture whose underside is higher does not stop the 
 GRID_CELL = 0.1  # m: the drive's grid
 OBJECT_BAND = 0.35  # m: how high above a surface an object a person points at reaches (most household objects)
 DRIVE_CLEARANCE = 0.8  # of the standing clearances, kept on the way (the player's own local planner keeps the footprint clear)
+ARRIVE_TOLERANCE = 0.2  # m: the tolerance of the POSE the object attention sends the player (move_to)
+LEG_LEAVE = 0.3  # m: the start of a straight leg may run closer to something than the clearance (where the robot stands)
 
 
 def _clip(a: Point, b: Point, poly: Sequence[Point]) -> tuple[float, float] | None:
@@ -195,16 +197,39 @@ def travel_map(plan: FloorPlan, robot: Point, people: Sequence[Point], *, reach:
     return dist, x0, y0
 
 
+def straight_leg_free(plan_blocks: list[tuple[tuple[Point, ...], float, float]], people: Sequence[Point], start: Point, goal: Point, *,
+                      clearance: float, person_clearance: float, leave: float = LEG_LEAVE, step: float = 0.05) -> bool:
+    """Does the straight line from ``start`` to ``goal`` keep ``clearance`` from walls and furniture
+    (exactly, on the footprints: a grid's cells err by their size) and ``person_clearance`` from
+    people, the first ``leave`` m excepted (the robot may stand closer to something than the
+    clearance)? The player drives a viewpoint's leg straight, so a viewpoint reached only round a
+    corner is not one."""
+    length = math.hypot(goal[0] - start[0], goal[1] - start[1])
+    k = max(1, int(math.ceil(length / step)))
+    for m in range(k + 1):
+        if length * m / k < leave:
+            continue
+        q = (start[0] + (goal[0] - start[0]) * m / k, start[1] + (goal[1] - start[1]) * m / k)
+        if not _free(plan_blocks, q, people, clearance, person_clearance):
+            return False
+    return True
+
+
 def viewpoint(plan: FloorPlan, robot: Point, target: tuple[float, float, float], people: Sequence[Point] = (), *,
               camera_height: float, camera_offset: float = 0.0, max_travel: float = MAX_TRAVEL,
-              clearance: float = ROBOT_CLEARANCE, person_clearance: float = PERSON_CLEARANCE) -> tuple[float, float, float] | None:
+              clearance: float = ROBOT_CLEARANCE, person_clearance: float = PERSON_CLEARANCE,
+              arrive: float = ARRIVE_TOLERANCE) -> tuple[float, float, float] | None:
     """The nearest pose (x, y, heading towards the target) from which the camera sees ``target``:
     in a room of the plan, ``clearance`` from walls and furniture and ``person_clearance`` from
-    every person, reached by a drive from ``robot`` that keeps those clearances (through a door
-    too; at most ``max_travel`` m, :func:`travel_map`), with the target in the camera's range
-    and a clear sight line. Of equal travel, the one nearer 1.5 m from the target. None when
+    every person, reached by a straight drive from ``robot`` that keeps those clearances (the
+    player drives the one leg it is sent straight: through a door only when the line passes it;
+    at most ``max_travel`` m, :func:`travel_map`, :func:`straight_leg_free`), with the target in the camera's range
+    and a clear sight line, also from ``arrive`` m either way (the player stops within its
+    tolerance of the pose: a line grazing a sofa's corner from the pose itself is hidden from
+    where it stops). Of equal travel, the one nearer 1.5 m from the target. None when
     there is no such place."""
-    blocks = [(poly, bottom, top) for poly, bottom, top in _blocks(plan)
+    every = _blocks(plan)
+    blocks = [(poly, bottom, top) for poly, bottom, top in every
               if min(math.hypot(x - target[0], y - target[1]) for x, y in poly) < max(RINGS) + 1.0 or top == math.inf]
     dist, gx, gy = travel_map(plan, robot, people, reach=max_travel, clearance=clearance * DRIVE_CLEARANCE, person_clearance=person_clearance * DRIVE_CLEARANCE)
     n = dist.shape[0]
@@ -216,7 +241,9 @@ def viewpoint(plan: FloorPlan, robot: Point, target: tuple[float, float, float],
             i, j = int(round((q[1] - gy) / GRID_CELL)), int(round((q[0] - gx) / GRID_CELL))
             if not (0 <= i < n and 0 <= j < n):
                 continue
-            travel = float(dist[i, j])
+            if not math.isfinite(float(dist[i, j])):
+                continue
+            travel = math.hypot(q[0] - robot[0], q[1] - robot[1])  # the player drives it straight
             if travel > max_travel:
                 continue
             cost = travel + 0.5 * abs(r - 1.5)
@@ -226,7 +253,10 @@ def viewpoint(plan: FloorPlan, robot: Point, target: tuple[float, float, float],
             cam = (q[0] + camera_offset * math.cos(heading), q[1] + camera_offset * math.sin(heading), camera_height)
             if not in_range(cam, target) or not _inside_room(plan, q) or not _free(blocks, q, people, clearance, person_clearance):
                 continue
-            if not sight_clear(plan, cam, target, people):
+            if not all(sight_clear(plan, (cam[0] + dx, cam[1] + dy, camera_height), target, people)
+                       for dx, dy in ((0.0, 0.0), (arrive, 0.0), (-arrive, 0.0), (0.0, arrive), (0.0, -arrive))):
+                continue  # the player stops within ``arrive`` of the pose: the view must hold there too
+            if not straight_leg_free(every, people, robot, q, clearance=clearance * DRIVE_CLEARANCE, person_clearance=person_clearance * DRIVE_CLEARANCE):
                 continue
             best = (cost, (q[0], q[1], heading))
     return None if best is None else best[1]
@@ -235,9 +265,10 @@ def viewpoint(plan: FloorPlan, robot: Point, target: tuple[float, float, float],
 def pointed_spot(plan: FloorPlan, hand: tuple[float, float, float], direction: float, elevation: float, *,
                  band: float = OBJECT_BAND, reach: float = 3.0, step: float = 0.05) -> tuple[float, float, float] | None:
     """Where on the plan a pointing ray (from ``hand``, map frame, ``direction`` and ``elevation``
-    in radians) most likely shows an object: the middle of the first stretch of the ray that runs
+    in radians) most likely shows an object: the middle of the last stretch of the ray that runs
     at most ``band`` m above what is under it (a piece of furniture's top, or the floor), before
-    it meets a wall; ``(x, y, z)`` with ``z`` a little above that surface. Objects have a height:
+    it meets a wall, the floor or a piece of furniture (where the ray ends: a first stretch low
+    over a kitchen island she points past is not where she points); ``(x, y, z)`` with ``z`` a little above that surface. Objects have a height:
     a ray aimed at a kettle on a counter passes the kettle low over the counter and may come
     down on the floor behind it, so where it comes down is not where the object is. None when
     the ray stays higher than ``band`` over everything within ``reach`` m."""
@@ -246,19 +277,26 @@ def pointed_spot(plan: FloorPlan, hand: tuple[float, float, float], direction: f
     walls = [tuple((float(x), float(y)) for x, y in w.rectangle()) for w in plan.walls]
     tops = [(o.points, o.top) for o in plan.obstacles if o.type != "leg" and o.top < hand[2]]
     c, s, slope = math.cos(direction), math.sin(direction), math.tan(elevation)
-    run: list[tuple[float, float, float]] = []
+    runs: list[list[tuple[float, float, float]]] = []
+    low = False
     d = 0.1
     while d <= reach:
         x, y, z = hand[0] + d * c, hand[1] + d * s, hand[2] + d * slope
         if any(_point_polygon((x, y), w) == 0.0 for w in walls) or z < 0.0:
             break
         under = max((top for pts, top in tops if _point_polygon((x, y), pts) == 0.0), default=0.0)
-        if z - under <= band:
-            run.append((x, y, under))
-        elif run:
+        if z < under:  # it meets a piece of furniture (its top, or its side): the ray ends there
             break
+        if z - under <= band:
+            if not low:
+                runs.append([])
+            runs[-1].append((x, y, under))
+            low = True
+        else:
+            low = False
         d += step
-    if not run:
+    if not runs:
         return None
+    run = runs[-1]
     x, y, under = run[len(run) // 2]
     return x, y, under + 0.05

@@ -14,7 +14,12 @@ scene model (``/robot/es/orders/scene_model``; ``source="events"`` takes the
 object attention's ``object_recognized`` events instead, for runs without a
 supervisor). A learned object is matched to the nearest scenario object
 within ``MATCH`` metres of its ``x y``; it is *correct* when that object is
-intended by an episode that began at most ``WINDOW`` seconds before.
+intended by the episode it answers: the latest gesture that began before the
+request it answers (the last ``object_teaching`` event the dialog sent the
+supervisor before the store: the supervisor runs one search at a time, a new
+request replaces the old; without a supervisor, the store itself), and at
+most ``WINDOW`` seconds before it. Pointing at the red cup, then at the green
+one, and storing the red one scores 0.
 
 Summary: ``learned``, ``correct``, ``episodes``, ``precision`` (correct /
 learned), ``recall`` (episodes with a correct object learned / episodes),
@@ -54,6 +59,7 @@ class TeachingMetric(Observer):
         self.source = source
         self.world = world if world is not None else getattr(run, "world", None)
         self.episodes: list[tuple[float, frozenset[str]]] = []  # (start, intended object names)
+        self._request: float | None = None  # when the last object_teaching request reached the supervisor
         self._current: dict[str, tuple[str, tuple[float, float, float]]] = {}
         self.learned = 0
         self.correct = 0
@@ -87,6 +93,9 @@ class TeachingMetric(Observer):
     # ------------------------------------------------------------ learned
     def on_message(self, msg: Any) -> None:
         xml = msg.xml
+        if xml.tag == "event" and xml.get("name") == "object_teaching":
+            self._request = float(msg.created)
+            return
         if self.source == "orders":
             if xml.tag != "order" or xml.get("name") != "store_object":
                 return
@@ -97,10 +106,20 @@ class TeachingMetric(Observer):
             obj = xml.find("OBJECT")
         if obj is None or obj.get("x") is None or obj.get("y") is None or self.world is None:
             return
-        self.score(obj, float(msg.created))
+        t = float(msg.created)
+        self.score(obj, t, self._request if self._request is not None and self._request <= t else t)
 
-    def score(self, obj: Any, t: float) -> None:
-        """Score one learned ``<OBJECT>`` that arrived at virtual time ``t``."""
+    def _answered(self, asked: float) -> int | None:
+        """The episode a request made at ``asked`` answers: the latest gesture begun before it."""
+        for i in range(len(self.episodes) - 1, -1, -1):
+            start = self.episodes[i][0]
+            if start <= asked + 1e-9:
+                return i if asked - start <= WINDOW else None
+        return None
+
+    def score(self, obj: Any, t: float, asked: float | None = None) -> None:
+        """Score one learned ``<OBJECT>`` that arrived at virtual time ``t`` in answer to a request
+        made at ``asked`` (default ``t``)."""
         self.learned += 1
         x, y = float(obj.get("x")), float(obj.get("y"))
         near = sorted((math.hypot(o.x - x, o.y - y), n) for n, o in self.world.objects.items())
@@ -108,11 +127,11 @@ class TeachingMetric(Observer):
             self.unmatched += 1
             return
         dist, name = near[0]
-        hit = [i for i, (start, names) in enumerate(self.episodes) if name in names and start - 1e-9 <= t <= start + WINDOW]
-        if not hit:
+        ep = self._answered(t if asked is None else asked)
+        if ep is None or name not in self.episodes[ep][1]:
             return
         self.correct += 1
-        self._hit_episodes.add(hit[-1])
+        self._hit_episodes.add(ep)
         self.position.add(dist)
         truth = self.world.objects[name]
         for key, want in (("type", truth.type), ("colour", truth.colour_name)):
