@@ -466,6 +466,23 @@ class Participant:
         return msg, fut
 
     # ------------------------------------------------------------- internals
+    def _refuse_invalid(self, schema: Schema | None, xml: etree._Element, channel: str) -> None:
+        """Raise :class:`MessageValidationError` when ``xml`` breaks the channel's ``schema`` (None: no contract)."""
+        if schema is not None and not schema.is_valid(xml):
+            errors = schema.errors(xml)
+            detail = errors[0][1] if errors else "invalid"
+            raise MessageValidationError(
+                f"{self.name}: message on {channel} refused (nothing delivered): "
+                f"schema {schema.name}: {detail}"
+            )
+
+    def _next_seq(self, now: int) -> int:
+        """This participant's next message number (the id's ``#n``), counted into its send rate."""
+        count = self._count
+        n = count[0] = count[0] + 1
+        self._rate(now, n)
+        return n
+
     def _make_typed(
         self,
         channel: str,
@@ -484,19 +501,10 @@ class Participant:
             if not isinstance(built, etree._Element):
                 raise BusError(f"{self.name}: {type(record).__name__}.to_xml() for {channel} returned "
                                f"{type(built).__name__}, not an XML element (nothing sent)")
-            schema = bus.channel_schema(channel)
-            if schema is not None and not schema.is_valid(built):
-                errors = schema.errors(built)
-                detail = errors[0][1] if errors else "invalid"
-                raise MessageValidationError(
-                    f"{self.name}: message on {channel} refused (nothing delivered): "
-                    f"schema {schema.name}: {detail}"
-                )
+            self._refuse_invalid(bus.channel_schema(channel), built, channel)
         now = bus.loop._now_ns
         name = self.name
-        count = self._count
-        n = count[0] = count[0] + 1
-        self._rate(now, n)
+        n = self._next_seq(now)
         msg = _tuple_new(TypedMessage, (
             f"{name}#{n}",
             PUBLISH,
@@ -540,18 +548,11 @@ class Participant:
             xml = _own_payload(xml, channel, transfer)
         if check and kind == PUBLISH:  # (a trusted element is not validated: no schema needed)
             schema = bus.channel_schema(channel)
-        if check and schema is not None and not schema.is_valid(xml):
-            errors = schema.errors(xml)
-            detail = errors[0][1] if errors else "invalid"
-            raise MessageValidationError(
-                f"{self.name}: message on {channel} refused (nothing delivered): "
-                f"schema {schema.name}: {detail}"
-            )
+        if check:
+            self._refuse_invalid(schema, xml, channel)
         now = bus.loop._now_ns
         name = self.name
-        count = self._count
-        n = count[0] = count[0] + 1
-        self._rate(now, n)
+        n = self._next_seq(now)
         return _tuple_new(Message, (
             f"{name}#{n}",
             kind,
