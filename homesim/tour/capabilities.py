@@ -37,15 +37,17 @@ _EVENTS = {
 }
 _STATES = {"Interacting": "greeting", "PotentialPartner": "greeting", "Following": "following",
            "Navigating": "go-to", "AskingForHelp": "go-to", "Object": "object teaching",
+           "ObjectTeaching": "object teaching",
            "LookingAround": "partner kept", "TechnicalFailure": "robustness"}
 _METRICS = {"following": "following", "navigation": "go-to", "teaching": "object teaching", "tracking": "perception",
             "social": "no collision", "network": "network"}
 #: The robot's words (robot-says patterns), first match wins.
 _SAYS = ((r"good-?bye|\bbye\b", "good-bye"),
          (r"i am biron|hello|\bhi\b", "greeting"),
-         (r"following|too fast|slow", "following"),
+         (r"following|too fast|slow|stop first", "following"),
          (r"you left|look around", "partner kept"),
-         (r"step aside", "object teaching"),
+         (r"did not understand", "partner kept"),  # never said to others' chat: she stays the one it talks to
+         (r"step aside|still looking", "object teaching"),
          (r"technical|support|technician", "robustness"),
          (r"follow you|show me|ask me|can do", "self-explanation"),
          (r"going to|arrived|help|cannot get", "go-to"),
