@@ -149,21 +149,11 @@ class Route:
 
     def to_map(self, p: Point) -> Point:
         """An odom-frame point in the map frame (needs :attr:`ready`)."""
-        mx, my, mth = self._map_pose  # type: ignore[misc]
-        ox, oy, oth = self._odom_at  # type: ignore[misc]
-        a = mth - oth
-        c, s = math.cos(a), math.sin(a)
-        dx, dy = p[0] - ox, p[1] - oy
-        return mx + c * dx - s * dy, my + s * dx + c * dy
+        return _rebase(p, self._odom_at, self._map_pose)  # type: ignore[arg-type]
 
     def to_odom(self, p: Point) -> Point:
         """A map-frame point in the odometry frame (needs :attr:`ready`)."""
-        mx, my, mth = self._map_pose  # type: ignore[misc]
-        ox, oy, oth = self._odom_at  # type: ignore[misc]
-        a = oth - mth
-        c, s = math.cos(a), math.sin(a)
-        dx, dy = p[0] - mx, p[1] - my
-        return ox + c * dx - s * dy, oy + s * dx + c * dy
+        return _rebase(p, self._map_pose, self._odom_at)  # type: ignore[arg-type]
 
     def clearance(self, robot: Point) -> float:
         """Metres from ``robot`` (odom) to the floor plan's nearest wall or furniture (inf without a plan)."""
@@ -258,3 +248,14 @@ def _eroded(occ: np.ndarray) -> np.ndarray:
     occupied is all this needs."""
     p = np.pad(occ.astype(bool), 1, constant_values=True)
     return p[1:-1, 1:-1] & p[:-2, 1:-1] & p[2:, 1:-1] & p[1:-1, :-2] & p[1:-1, 2:]
+
+
+def _rebase(p: Point, src: tuple[float, float, float], dst: tuple[float, float, float]) -> Point:
+    """``p`` given in the frame where the robot's pose is ``src``, in the frame where the same pose is ``dst``
+    (the odom -> map pairing and back)."""
+    sx, sy, sth = src
+    dx_, dy_, dth = dst
+    a = dth - sth
+    c, s = math.cos(a), math.sin(a)
+    dx, dy = p[0] - sx, p[1] - sy
+    return dx_ + c * dx - s * dy, dy_ + s * dx + c * dy
