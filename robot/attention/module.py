@@ -97,6 +97,10 @@ class AttentionParams:
     # "how long an event remains valid"): potential_partner_lost goes out only when it has run out,
     # so a greeting still on its way (recognition, then the WLAN) meets the partner it belongs to.
     pp_valid: float = 1.5
+    # s: ... but someone who spoke to the robot facing it and still faces it, silent, awaits its
+    # answer: she stays the potential partner this long after she last spoke, so a greeting that a
+    # slow dialog host or link delivers late still meets her (docs/semantics.md §2, synchronisation)
+    pp_wait: float = 8.0
     partner_lost_after: float = 2.0  # s without anchored evidence of the partner (legs, frontal face, torso, voice) ...
     # ... is "lost" in Interaction and Object only with evidence of leaving (docs/subsystems.md):
     # s unseen while following: she leads, so being out of view a moment (a door frame, someone crossing,
@@ -511,9 +515,16 @@ class PersonAttention(Module):
                 person = etree.Element("PERSON", id=f"t{pp}", bearing=_deg(bearing[i]), distance=f"{dist[i]:.3f}", speaking="true", facing="true")
                 self._event("potential_partner", (person,))
                 self.pp_sent, self._pp_at = pp, t
-        elif self.pp_sent is not None and t - self._pp_at >= self.params.pp_valid - 1e-9:
+        elif self.pp_sent is not None and t - self._pp_at >= self.params.pp_valid - 1e-9 and not self._awaits_answer(t, selected):
             self._event("potential_partner_lost")
             self.pp_sent = None
+
+    def _awaits_answer(self, t: float, selected: int | None) -> bool:
+        """The potential partner spoke facing the robot and still faces it, silent, still selected, for
+        less than ``pp_wait`` s since she last spoke: she waits for the robot's answer to what she said."""
+        pp, last = self.pp_sent, self._last_pp
+        return (pp is not None and pp == selected and last is not None and last[0] == pp
+                and t - last[1] < self.params.pp_wait and self.facing.on(pp))
 
     def _top_down(self, t: float, cats: dict[int, int]) -> None:
         """The partner's evidence, and ``partner_lost`` by the leaving rule (:meth:`partner_left`)."""

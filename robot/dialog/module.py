@@ -82,6 +82,7 @@ import asyncio
 import math
 import os
 from collections import deque
+from copy import deepcopy
 from dataclasses import replace
 from typing import Any
 
@@ -110,6 +111,11 @@ HELD_MAX = 8
 #: s: after a released request, time for the ES's answer to come back before the next (a WLAN round trip
 #: with a retransmission is well under this)
 RELEASE_SETTLE = 0.5
+#: ES states where an expired greeting met nobody: a "late" one if a potential partner was reported meanwhile
+SEEN_STATES = frozenset({"LookingAround", "PotentialPartner", "AskingForHelp"})
+#: s: a potential partner reported this long before the greeting's recorded start still counts (the
+#: person attention reports her as she begins to speak; the recorder's start may lie a little later)
+PERSON_SLACK = 1.0
 #: ES states in which the partner leads, back turned: the addressee rule does not apply
 LEADING_STATES = frozenset({"Following"})
 #: the microphone pair's geometry (m: ahead of the centre, spacing, height) and a standing adult's
@@ -238,6 +244,7 @@ class Dialog(Module):
         # (time, facing, company) of the latest partner reports, for the addressee rule (bounded: ~30 s at 10 Hz)
         self._partner_cues: deque[tuple[float, str, int]] = deque(maxlen=300)
         self.not_addressed = 0
+        self._person_at: float | None = None  # when the supervisor last reported a potential partner (person_info)
         self.ask_timeout = ask_timeout
         self._busy_until = 0.0
         self._pose: etree._Element | None = None  # the latest pose message's payload (read only for place teaching)
@@ -335,6 +342,8 @@ class Dialog(Module):
         if msg.xml.get("name") == "ask":  # a reactive module's question, routed through the ES
             self.sim.spawn(self._ask_for_es(msg), name=f"{self.name}-ask")
             return
+        if msg.xml.get("name") == "person_info":  # someone speaks facing the robot (potential partner)
+            self._person_at = msg.created
         if msg.xml.get("name") == "step_aside":  # the object attention cannot see past the partner
             self.sim.spawn(self._step_aside_for_es(msg), name=f"{self.name}-step-aside")
             return
@@ -372,7 +381,17 @@ class Dialog(Module):
         self.bus.publish(ES_EVENTS, ev, causes=(msg.id,), transfer=True)
 
     def _on_rejected(self, msg: Message) -> None:
-        self._emit(self.manager.on_rejected(msg.xml), msg.id)
+        rej = msg.xml
+        if rej.get("name") == "greeting" and rej.get("reason") == "expired" and rej.get("state") in SEEN_STATES:
+            # The supervisor had seen her speak facing the robot since she began the greeting (its
+            # person_info), so the greeting expired because it came too late (a slow dialog host, a
+            # slow link), not because nobody was there: "I can't see you" would be untrue.
+            stamp = rej.find(".//SPEECH/TIMESTAMP")
+            said = float(stamp.get("val", "nan")) / 1000.0 if stamp is not None else math.nan
+            if self._person_at is not None and math.isfinite(said) and self._person_at >= said - PERSON_SLACK:
+                rej = deepcopy(rej)
+                rej.set("reason", "late")
+        self._emit(self.manager.on_rejected(rej), msg.id)
 
     def _on_status(self, msg: Message) -> None:
         gone = self.manager.on_state(msg.xml.get("state", ""))
