@@ -384,9 +384,12 @@ class PersonAttention(Module):
             # A partner unseen for a moment (stepped aside) stays the partner across the change.
             pending = self.partner is not None and self._partner_last is not None and not self.partner_lost_sent
             if self.partner is None or (self.tracks.row(self.partner) < 0 and not pending):
+                before, lost = self.partner, self.partner_lost_sent or self.partner is None
                 self.partner = self._choose_partner()
                 self.partner_lost_sent = False
                 self._partner_last = None
+                if lost and self.partner is not None and self.partner != before and self.fsm.state == "Interaction":
+                    self._new_partner(self.now, self.partner, "false")  # back from a loss: who it attends to now
         else:
             self.partner = None
             self.partner_lost_sent = False
@@ -519,6 +522,18 @@ class PersonAttention(Module):
             self._event("potential_partner_lost")
             self.pp_sent = None
 
+    def _new_partner(self, t: float, tid: int, speaking: str) -> None:
+        """ES event ``new_partner`` (``<PERSON id bearing distance speaking facing/>``): after a loss, another
+        person (track) took the partner's place, so the supervisor knows whom the robot attends to now
+        (the ES paper's events carry the data the supervisor routes on; it tells the dialog)."""
+        row = self.tracks.row(tid)
+        if row < 0:
+            return
+        x, y = self._robot_xy(t)[row]
+        self._event("new_partner", (etree.Element("PERSON", id=f"t{tid}", bearing=_deg(math.atan2(y, x)),
+                                                   distance=f"{math.hypot(x, y):.3f}", speaking=speaking,
+                                                   facing="true" if self.facing.on(tid) else "false"),))
+
     def _awaits_answer(self, t: float, selected: int | None) -> bool:
         """The potential partner spoke facing the robot and still faces it, silent, still selected, for
         less than ``pp_wait`` s since she last spoke: she waits for the robot's answer to what she said."""
@@ -558,6 +573,7 @@ class PersonAttention(Module):
                             and math.hypot(rows[i].x[0] - rx, rows[i].x[1] - ry) <= self.params.retake_radius)
             if threes:
                 self.partner, self.partner_lost_sent = threes[0], False
+                self._new_partner(t, threes[0], "true")
 
     def partner_left(self, t: float) -> bool:
         """The leaving rule (docs/attention.md): has the partner left?
