@@ -302,6 +302,11 @@ class DialogManager:
         # 2. a new sub-dialog
         d = self.doc.by_trigger(act)
         if d is None:
+            if not out and (msg.get("partial") == "true" or msg.get("unknown")):
+                # words the understanding could not use around an answer nobody asked for ("alright
+                # you can stop there we have arrived" heard as a bare "alright"): she asked for
+                # something; silence would leave her waiting, so the robot asks to hear it again
+                return self._not_understood()
             self.metrics["ignored_frames"] += 1
             return out
         if d.in_states is not None and self.es_state not in d.in_states:
@@ -573,6 +578,12 @@ class DialogManager:
                 self._say(out, inst.pending[2], inst.d.id)
             return out
         if self.attending():
+            help_ = self.doc.sentence("not-understood-help")
+            if help_ and self._unheard > MAX_SAME_QUESTION and self._unheard % (MAX_SAME_QUESTION + 1) == 0:
+                # "Could you say that again?" twice in a row already: not a third time, but what she can say
+                self.metrics["help_given"] = self.metrics.get("help_given", 0) + 1
+                self._say(out, help_, "")
+                return out
             self.metrics["reasks"] += 1
             self._say(out, self.doc.not_understood, "")
         return out
