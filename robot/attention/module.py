@@ -224,6 +224,7 @@ class PersonAttention(Module):
         self._driven = 0.0
         self._drive_start: float | None = None
         self._player_sub: Any = None
+        self._alone_since: float | None = None  # since when Interaction/Object has had no partner at all
 
     async def run(self) -> None:
         await self._load_map()
@@ -395,6 +396,7 @@ class PersonAttention(Module):
             self.partner_lost_sent = False
             self._partner_last = None
         self.pp_sent = None
+        self._alone_since = None
         self._listen_to_player(state == "Object")
         self._publish_state(self.now, force=True)
 
@@ -574,6 +576,21 @@ class PersonAttention(Module):
             if threes:
                 self.partner, self.partner_lost_sent = threes[0], False
                 self._new_partner(t, threes[0], "true")
+        self._nobody_there(t)
+
+    def _nobody_there(self, t: float) -> None:
+        """An interaction with nobody in it ends: with no partner at all (lost while following, asked to
+        come back, and nobody took the place) for ``out_of_view_after`` s in Interaction or Object,
+        ``partner_lost`` goes out once, so the robot looks around again (bottom-up: it hears and turns
+        to whoever speaks to it) instead of standing deaf in Interacting for the rest of the run."""
+        if self.partner is not None or self.fsm.state not in ("Interaction", "Object"):
+            self._alone_since = None
+            return
+        if self._alone_since is None:
+            self._alone_since = t
+        elif t - self._alone_since >= self.params.out_of_view_after and not self.partner_lost_sent:
+            self._event("partner_lost")
+            self.partner_lost_sent = True
 
     def partner_left(self, t: float) -> bool:
         """The leaving rule (docs/attention.md): has the partner left?
