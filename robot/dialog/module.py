@@ -111,6 +111,12 @@ HELD_MAX = 8
 #: s: after a released request, time for the ES's answer to come back before the next (a WLAN round trip
 #: with a retransmission is well under this)
 RELEASE_SETTLE = 0.5
+#: sound frames with a direction, during one utterance, that the rule while she leads needs before it
+#: may say the words were not hers (at the microphones' 10 Hz, 0.3 s of speech)
+VOICE_FRAMES = 3
+#: dB: a direction this loud is a voice for that rule (speech at 1-4 m is 50-65 dB; the hum of the
+#: flat is far below)
+VOICE_LEVEL = 40.0
 #: ES states where an expired greeting met nobody: a "late" one if a potential partner was reported meanwhile
 SEEN_STATES = frozenset({"LookingAround", "PotentialPartner", "AskingForHelp"})
 #: s: a potential partner reported this long before the greeting's recorded start still counts (the
@@ -241,8 +247,10 @@ class Dialog(Module):
         self.barge_in_width = barge_in_width
         self.partner_fresh = partner_fresh
         self._partner: tuple[float, float] | None = None  # (bearing in degrees, robot frame; when heard)
-        # (time, facing, company) of the latest partner reports, for the addressee rule (bounded: ~30 s at 10 Hz)
-        self._partner_cues: deque[tuple[float, str, int]] = deque(maxlen=300)
+        # (time, facing, company, heard bearing) of the latest partner reports, for the addressee rule (bounded: ~30 s at 10 Hz)
+        self._partner_cues: deque[tuple[float, str, int, float]] = deque(maxlen=300)
+        # (time, directions heard) of the latest sound frames with a voice, for the rule while she leads (bounded)
+        self._sources: deque[tuple[float, tuple[float, ...]]] = deque(maxlen=300)
         self.not_addressed = 0
         self._person_at: float | None = None  # when the supervisor last reported a potential partner (person_info)
         self.ask_timeout = ask_timeout
@@ -288,13 +296,32 @@ class Dialog(Module):
         the robot? No only when no partner report in that span has her facing it, at least half
         have her turned away (``facing="false"``) and the last one too, with someone else near her."""
         if self.manager.es_state in LEADING_STATES:
-            return True
-        during = [(f, c) for t, f, c in self._partner_cues if start <= t <= end]
+            return self._her_voice(start, end)
+        during = [(f, c) for t, f, c, _ in self._partner_cues if start <= t <= end]
         if not during or any(f == "true" for f, _ in during):
             return True
         away = sum(f == "false" for f, _ in during)
         last_f, last_c = during[-1]
         return not (2 * away >= len(during) and last_f == "false" and last_c >= 1)
+
+    def _her_voice(self, start: float, end: float) -> bool:
+        """The addressee rule while she leads (``Following``): her back is turned, so her face tells
+        nothing, but the microphones tell where the words came from. Speech is *not* hers (a bystander's
+        remark as she walks past him) only when at least ``VOICE_FRAMES`` sound frames during the
+        utterance heard a direction and none of them lay within ``barge_in_width`` of where the pair
+        hears her (:func:`heard_bearing`, both folded to the front: the pair cannot tell front from
+        back). Without such frames, or without her bearing, it is hers: her "stop" must never be lost."""
+        cues = [(t, b) for t, _, _, b in self._partner_cues if math.isfinite(b) and start - 0.5 <= t <= end + 0.5]
+        if not cues:
+            return True
+        frames = [(t, bs) for t, bs in self._sources if start <= t <= end and bs]
+        if len(frames) < VOICE_FRAMES:
+            return True
+        for t, bs in frames:
+            her = front_bearing(min(cues, key=lambda c: abs(c[0] - t))[1])
+            if any(abs(front_bearing(b) - her) <= self.barge_in_width for b in bs):
+                return True
+        return False
 
     # ------------------------------------------------------------------ inputs
     def _on_frame(self, msg: Message) -> None:
@@ -423,7 +450,8 @@ class Dialog(Module):
             # heard nearer the front: the person attention matches voices to tracks the same way)
             b = heard_bearing(b, d)
         self._partner = (b, self.now) if math.isfinite(b) else None
-        self._partner_cues.append((msg.created, msg.xml.get("facing", "unknown"), int(msg.xml.get("company", "0"))))
+        self._partner_cues.append((msg.created, msg.xml.get("facing", "unknown"), int(msg.xml.get("company", "0")),
+                                   b if math.isfinite(b) else math.nan))
 
     def partner_bearing(self) -> float | None:
         """The partner's bearing (degrees, robot frame) if the person attention reported it recently."""
@@ -432,6 +460,11 @@ class Dialog(Module):
         return self._partner[0]
 
     def _on_sources(self, msg: Message) -> None:
+        if self.manager.es_state in LEADING_STATES:
+            heard = tuple(float(src.get("bearing", "nan")) for src in msg.xml.iterfind("source")
+                          if float(src.get("level", "0")) >= VOICE_LEVEL and math.isfinite(float(src.get("bearing", "nan"))))
+            if heard:
+                self._sources.append((float(msg.xml.get("time", repr(msg.created))), heard))
         if not self._talking or self._cut:
             return
         if float(msg.xml.get("time", "inf")) < self._talk_start:
