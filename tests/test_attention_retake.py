@@ -29,6 +29,7 @@ def _attention(positions: list[tuple[float, float]]) -> PersonAttention:
     a.partner, a.partner_lost_sent, a._partner_last = None, False, None
     a._odom = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
     a._alone_since = None
+    a._voice_turn = None
     a.facing = Hysteresis(CueSpec().facing_on, CueSpec().facing_off)
     a.events = []  # the ES events it would publish: (name, PERSON attributes)
     a._event = lambda name, children=(): a.events.append((name, [dict(c.attrib) for c in children]))

@@ -385,7 +385,7 @@ class PersonAttention(Module):
             # A partner unseen for a moment (stepped aside) stays the partner across the change.
             pending = self.partner is not None and self._partner_last is not None and not self.partner_lost_sent
             if self.partner is None or (self.tracks.row(self.partner) < 0 and not pending):
-                before, lost = self.partner, self.partner_lost_sent or self.partner is None
+                before, lost = self.partner, self.partner_lost_sent
                 self.partner = self._choose_partner()
                 self.partner_lost_sent = False
                 self._partner_last = None
@@ -578,6 +578,13 @@ class PersonAttention(Module):
                 self._new_partner(t, threes[0], "true")
         self._nobody_there(t)
 
+    def _searching(self) -> bool:
+        """In Interaction with no partner at all (lost while following; the robot asked her to come
+        back): it listens and turns to a voice as when looking around (:meth:`_voice_heading`,
+        :meth:`beam`), so whoever calls it from behind or beside, beyond the laser and the camera,
+        comes into view and can take the place (retake), instead of being neither seen nor heard."""
+        return self.partner is None and self.fsm.state == "Interaction"
+
     def _nobody_there(self, t: float) -> None:
         """An interaction with nobody in it ends: with no partner at all (lost while following, asked to
         come back, and nobody took the place) for ``out_of_view_after`` s in Interaction or Object,
@@ -586,8 +593,8 @@ class PersonAttention(Module):
         if self.partner is not None or self.fsm.state not in ("Interaction", "Object"):
             self._alone_since = None
             return
-        if self._alone_since is None:
-            self._alone_since = t
+        if self._alone_since is None or self._voice_turn is not None:
+            self._alone_since = t  # (turning to a voice: someone is there, calling it)
         elif t - self._alone_since >= self.params.out_of_view_after and not self.partner_lost_sent:
             self._event("partner_lost")
             self.partner_lost_sent = True
@@ -704,12 +711,17 @@ class PersonAttention(Module):
         a chair hides, is then in front of the laser and the camera.
         """
         p = self.params
-        if self.fsm.top_down or self.fsm.held or (row >= 0 and category >= 2):
+        if not self._searching() and (self.fsm.top_down or self.fsm.held or (row >= 0 and category >= 2)):
             self._voice_turn = None
             return None
         d = self._dominant
-        if d is not None and t - d[0] <= p.dominant_max_age and abs(d[1]) > p.voice_turn_min and (self._voice_turn is None or d[0] > self._voice_turn[2]):
-            self._voice_turn = (t + p.voice_turn_time, self._pose_at(d[0])[2] + d[1], d[0])
+        # Searching for her after a loss (:meth:`_searching`): a voice read near the axis that nobody
+        # seen in front explains comes from behind (the pair cannot tell front from back, the laser
+        # and the camera see the front): turn round to its mirrored direction.
+        behind = self._searching() and d is not None and abs(d[1]) <= p.voice_turn_min
+        if d is not None and t - d[0] <= p.dominant_max_age and (abs(d[1]) > p.voice_turn_min or behind) and (self._voice_turn is None or d[0] > self._voice_turn[2]):
+            b = math.pi - d[1] if behind else d[1]
+            self._voice_turn = (t + p.voice_turn_time, self._pose_at(d[0])[2] + b, d[0])
         vt = self._voice_turn
         if vt is None or t > vt[0]:
             self._voice_turn = None
@@ -726,7 +738,7 @@ class PersonAttention(Module):
         from where nobody is seen is unexplained, so the robot listens, and the supervisor rejects a
         greeting that no person backs (the radio, docs/semantics.md §2) instead of never hearing it.
         """
-        if self.fsm.top_down:
+        if self.fsm.top_down and not self._searching():
             if bearing is not None and self.partner is not None and self._other_talks(t):
                 return None  # a bystander next to the partner talks, the partner does not: not for the robot
             return bearing
