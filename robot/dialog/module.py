@@ -64,8 +64,9 @@ words were spoken and ended up in a group turned to the others, so the words (he
 bystander's a few degrees beside her) are their chat.
 Looking away alone is not enough (a user speaks while glancing at a shelf), nor is company alone (a
 bystander beside a partner who faces the robot); without reports, or when the camera cannot tell,
-the utterance counts as addressed. Not while the supervisor is in ``Following``: she leads with her
-back to the robot, and her "stop" is addressed to it.
+the utterance counts as addressed. While the supervisor is in ``Following`` she leads with her back
+to the robot, so the microphones decide instead (:meth:`Dialog._her_voice`): not addressed only when
+several sound frames during the words heard a voice and none from her direction.
 
 Catching up (issue 26 item 10): while the follower's ``/robot/follow/status`` says
 ``approaching`` (it comes up to the partner after "stop"), a request she makes waits (the
