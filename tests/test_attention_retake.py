@@ -68,17 +68,17 @@ def test_the_new_partner_speaks_facing_the_robot_within_the_retake_radius(positi
 
 @settings(max_examples=40, deadline=None)
 @given(st.lists(st.tuples(st.floats(2.1, 6), st.floats(-1.5, 1.5)), max_size=3), st.floats(0.05, 0.5))
-def test_an_interaction_with_nobody_in_it_ends_after_out_of_view_after(positions, dt):
+def test_an_interaction_with_nobody_in_it_ends_after_come_back_after(positions, dt):
     """Lost while following, asked to come back, and nobody takes the place (people only further than
-    the retake radius, or nobody): exactly one partner_lost, out_of_view_after s after the loss, so the
+    the retake radius, or nobody): exactly one partner_lost, come_back_after s after the loss, so the
     robot looks around again instead of standing deaf in Interacting (long_tour seed 0)."""
     a = _attention(positions)
     cats = {tk.id: 3 for tk in a.tracks.tracks}
     t, lost_at = 0.0, []
-    while t < 25.0:
+    while t < 35.0:
         before = len(a.events)
         a._top_down(t, cats)
         lost_at += [t for name, _ in a.events[before:] if name == "partner_lost"]
         t += dt
     assert a.partner is None and len(lost_at) == 1
-    assert a.params.out_of_view_after <= lost_at[0] < a.params.out_of_view_after + dt + 1e-9
+    assert a.params.come_back_after <= lost_at[0] < a.params.come_back_after + dt + 1e-9

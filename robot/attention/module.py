@@ -113,6 +113,9 @@ class AttentionParams:
     # near (Hall's social distance: a conversation with the robot, not a chat across the room)
     retake_radius: float = 2.0
     out_of_view_after: float = 10.0  # s without any evidence: gone, wherever she was last seen
+    # s with no partner at all after a loss (the robot asked her to come back): time to walk back from
+    # the next room; then the interaction ends and the robot looks around (:meth:`_nobody_there`)
+    come_back_after: float = 20.0
     reacquire_radius: float = 1.0  # m: a new track this near where the unseen partner was (plus ...
     reacquire_speed: float = 0.3  # ... this many m per s unseen, at most 2.5 m) is the partner again
     turn_start: float = math.radians(12.0)  # start turning when the person is further off the axis
@@ -587,7 +590,7 @@ class PersonAttention(Module):
 
     def _nobody_there(self, t: float) -> None:
         """An interaction with nobody in it ends: with no partner at all (lost while following, asked to
-        come back, and nobody took the place) for ``out_of_view_after`` s in Interaction or Object,
+        come back, and nobody took the place) for ``come_back_after`` s in Interaction or Object,
         ``partner_lost`` goes out once, so the robot looks around again (bottom-up: it hears and turns
         to whoever speaks to it) instead of standing deaf in Interacting for the rest of the run."""
         if self.partner is not None or self.fsm.state not in ("Interaction", "Object"):
@@ -595,7 +598,7 @@ class PersonAttention(Module):
             return
         if self._alone_since is None or self._voice_turn is not None:
             self._alone_since = t  # (turning to a voice: someone is there, calling it)
-        elif t - self._alone_since >= self.params.out_of_view_after and not self.partner_lost_sent:
+        elif t - self._alone_since >= self.params.come_back_after and not self.partner_lost_sent:
             self._event("partner_lost")
             self.partner_lost_sent = True
 
