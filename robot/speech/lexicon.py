@@ -46,6 +46,9 @@ CONTRACTIONS = {
     "she's": ("she", "is"), "who's": ("who", "is"), "how's": ("how", "is"), "wasn't": ("was", "not"),
     "gotta": ("got", "to"), "wanna": ("want", "to"), "gonna": ("going", "to"),
 }
+#: Sounds a listener makes; a turn made only of them, with one that agrees, is a yes ("mhm", "uh huh").
+BACKCHANNELS = frozenset({"mhm", "mhmm", "mm", "hmm", "hm", "uh", "huh", "hmhm", "aha", "ah"})
+_AGREEING = frozenset({"mhm", "mhmm", "huh", "hmhm", "aha"})
 #: Words whose "'s" is "is", not a possessive.
 _IS_CONTRACTED = frozenset({"that's", "it's", "what's", "where's", "here's", "this's"})
 
@@ -135,6 +138,10 @@ class Lexicon:
     def tokens(self, text: str) -> Tokens:
         """The grammar tokens of ``text`` after fillers, unknown words, corrections and repetitions."""
         words = self.words(text)
+        if words and all(w in BACKCHANNELS for w in words) and any(w in _AGREEING for w in words):
+            # "mhm", "uh huh", "mm hmm" said alone: a listener's yes; inside a turn they are hesitations
+            return Tokens([Tok("YES", "yes", " ".join(words))], words=len(words),
+                          raw=[Tok("YES", "yes", " ".join(words))])
         hes = self.hesitations
         words = [w for w in words if w not in hes]
         toks: list[Tok] = []
@@ -176,7 +183,7 @@ _LEFT_AS_PUT = frozenset({"HAVE", "I", "DID", "WE", "YOU"})
 #: Words that name a side after an article or before "one"/a noun ("the right one", "at the back",
 #: "the right cup") and something else elsewhere ("right!", "go back").
 _SIDE_WORDS = {"right": "right", "back": "back"}
-_BEFORE_SIDE = frozenset({"THE", "A", "THIS", "THAT"})
+_BEFORE_SIDE = frozenset({"THE", "A", "THIS", "THAT", "MY", "YOUR"})  # "to my right", "on your right"
 _AFTER_SIDE = frozenset({"ONE", "OBJ", "COLOUR", "ATTR"})
 
 
