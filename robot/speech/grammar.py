@@ -146,7 +146,8 @@ class Understander:
         while toks and toks[0].type == EDIT:  # "sorry, this is my cup": nothing before it to repair
             res.corrected.append(toks[0].text)
             toks = toks[1:]
-        if len(toks) > 1 and toks[0].type in ("OKAY", "COMEON"):
+        if len(toks) > 1 and toks[0].type in ("OKAY", "COMEON") and any(
+                t.type not in ("ROBOTNAME", "ROBOT") for t in toks[1:]):
             toks = toks[1:]  # "okay, bye", "come on, this way": a leading okay or come-on only takes the turn
         if not toks:
             res.reason = "no known words" if lex.unknown else "nothing said"

@@ -48,7 +48,7 @@ CONTRACTIONS = {
 }
 #: Sounds a listener makes; a turn made only of them, with one that agrees, is a yes ("mhm", "uh huh").
 BACKCHANNELS = frozenset({"mhm", "mhmm", "mm", "hmm", "hm", "uh", "huh", "hmhm", "aha", "ah"})
-_AGREEING = frozenset({"mhm", "mhmm", "huh", "hmhm", "aha"})
+_AGREEING = frozenset({"mhm", "mhmm", "huh", "hmhm", "aha", "mm"})
 #: Words whose "'s" is "is", not a possessive.
 _IS_CONTRACTED = frozenset({"that's", "it's", "what's", "where's", "here's", "this's"})
 
@@ -198,7 +198,8 @@ def _sides(toks: list[Tok]) -> list[Tok]:
             continue
         before = toks[i - 1].type if i else ""
         after = toks[i + 1].type if i + 1 < len(toks) else ""
-        if before in _BEFORE_SIDE or (after in _AFTER_SIDE and before not in ("GO", "COME", "IS", "YES")):
+        if before in _BEFORE_SIDE or (after in _AFTER_SIDE and before not in ("GO", "COME", "IS", "YES")) or (
+                after == "OF" and i + 2 < len(toks) and toks[i + 2].type == "ME"):  # "the one right of me"
             toks[i] = Tok("SIDE", side, t.text)
     return toks
 
