@@ -138,7 +138,8 @@ class Lexicon:
     def tokens(self, text: str) -> Tokens:
         """The grammar tokens of ``text`` after fillers, unknown words, corrections and repetitions."""
         words = self.words(text)
-        if words and all(w in BACKCHANNELS for w in words) and any(w in _AGREEING for w in words):
+        if words and all(w in BACKCHANNELS or w in self.hesitations for w in words) and any(
+                w in _AGREEING for w in words):
             # "mhm", "uh huh", "mm hmm" said alone: a listener's yes; inside a turn they are hesitations
             return Tokens([Tok("YES", "yes", " ".join(words))], words=len(words),
                           raw=[Tok("YES", "yes", " ".join(words))])
