@@ -172,6 +172,7 @@ class Lexicon:
         toks = _sides(toks)
         out = Tokens(toks, unknown, words=n, raw=_compounds(list(toks)))
         out.tokens = _repairs(out.tokens, out.corrected)
+        out.tokens = _negated(out.tokens, out.corrected)
         out.tokens = _repetitions(out.tokens, out.repeated)
         out.tokens = _restatements(out.tokens, out.corrected)
         out.tokens = _compounds(out.tokens)
@@ -274,6 +275,56 @@ def _repairs(toks: list[Tok], removed: list[str]) -> list[Tok]:
             del toks[start:end]
             changed = True
             break
+    return toks
+
+
+#: Words of a noun phrase before its head, and its heads by class ("the red one", "my cup", "the kitchen").
+_NP_WORDS = frozenset({"A", "THE", "MY", "YOUR", "OUR", "NAME", "POSS", "COLOUR", "ATTR", "USE", "ORD", "SIDE"})
+_HEADS = {"OBJ": "OBJ", "ONE": "OBJ", "PLACE": "PLACE", "ROOM": "PLACE"}
+
+
+def _np_at(toks: list[Tok], i: int) -> tuple[int, str] | None:
+    """(end, head class) of the noun phrase that starts at ``i``, or None."""
+    j = i
+    while j < len(toks) and toks[j].type in _NP_WORDS:
+        j += 1
+    if j < len(toks) and toks[j].type in _HEADS:
+        while j + 1 < len(toks) and toks[j + 1].type in _HEADS and _HEADS[toks[j + 1].type] == _HEADS[toks[j].type]:
+            j += 1  # "the living room" said as PLACE ROOM
+        return j + 1, _HEADS[toks[j].type]
+    return None
+
+
+def _negated(toks: list[Tok], removed: list[str]) -> list[Tok]:
+    """A contrast names what is not meant and what is: only what is meant counts.
+
+    "not the kitchen, the bathroom", "that's not the kitchen, that's the bathroom", "no, it's not a
+    cup, it's a glass" (the negated phrase first, the right one after it) and "it's a mug, not a
+    cup", "the kitchen, not the bathroom" (the negated one last): the negated noun phrase (with its
+    "that is not") is taken out when a noun phrase of the same kind (an object, a place) stands on
+    the other side. A "not" with nothing to contrast ("this is not my cup") is left alone: a no.
+    """
+    for i, t in enumerate(toks):
+        if t.type != "NOT":
+            continue
+        np = _np_at(toks, i + 1)
+        if np is None:
+            continue
+        end, kind = np
+        start = i
+        if i >= 1 and toks[i - 1].type in ("IS", "ARE"):
+            start = i - 1
+            if i >= 2 and toks[i - 2].type in ("THIS", "THAT", "IT"):
+                start = i - 2
+        after = next((k for k in range(end, len(toks)) if _np_at(toks, k) is not None), None)
+        if after is not None and _np_at(toks, after)[1] == kind and all(  # type: ignore[index]
+                x.type in ("THIS", "THAT", "IT", "IS", "ARE", "NO", EDIT) for x in toks[end:after]):
+            removed += [x.text for x in toks[start:end]]
+            return toks[:start] + toks[end:]  # the corrected phrase follows
+        before = [k for k in range(0, i) if (n := _np_at(toks, k)) is not None and n[0] == i]
+        if end == len(toks) and before and _np_at(toks, before[0])[1] == kind:  # type: ignore[index]
+            removed += [x.text for x in toks[i:end]]
+            return toks[:i]  # "a mug, not a cup": the contrast said last
     return toks
 
 
