@@ -521,7 +521,10 @@ def _position(tree: Tree) -> etree._Element:
 
 
 def _that_one(act: Tree) -> etree._Element:
-    """``THAT_ONE`` (index, side, type; GESTURE, TITLE, COLOUR, ATTRIBUTE*, POSITION): which of several."""
+    """``THAT_ONE`` (index, side, view, type; GESTURE, TITLE, COLOUR, ATTRIBUTE*, POSITION): which of several.
+
+    ``view="speaker"``: a left/right said from her side ("on my left"); without it a side is the robot's
+    (the side the robot's own question named: docs/semantics.md §4)."""
     el = _E("THAT_ONE")
     toks = _tokens(act)
     where = _sub(act, "ref_where")
