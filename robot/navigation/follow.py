@@ -84,7 +84,7 @@ from robot.contract import ATTENTION_STATE, BASE_CMD, ES_EVENTS, FOLLOW_STATUS, 
 from .config import Limits
 from .grid import MapError, OccupancyGrid, parse_map
 from .local import (SOCIAL_GAP, DWAParams, LatestScan, arcs, carrot, dwa, heading_speed, people_gaps, social_speed_limit,
-                    sweep_clearance)
+                    sweep_clearance, turn_clear)
 from .giveway import NARROW, back_out_spot, give_way_spot, reverse_command
 from .people import People, behind_clear, nearest
 from .route import Route
@@ -521,8 +521,12 @@ class Follower(Module):
         bearing = math.atan2(ry, rx)
         if abs(bearing) > GIVE_WAY_BEARING:
             # keep her in view (the laser and the camera look ahead; the attention lets a partner go
-            # who is not seen for a while): turn towards her, then go on aside
-            return self._swept(0.0, max(-self.limits.max_turn, min(self.limits.max_turn, 1.8 * bearing)), mapped)
+            # who is not seen for a while): turn towards her, then go on aside; not while a corner
+            # would swing into her or anyone
+            w = max(-self.limits.max_turn, min(self.limits.max_turn, 1.8 * bearing))
+            near = self.people.around(self.odom, self.now)
+            bodies = np.concatenate((near[:, :2], [(rx, ry)])) if len(near) else np.array([(rx, ry)])
+            return self._swept(0.0, w, mapped) if turn_clear(w, bodies, duration=SWEEP_TIME) else (0.0, 0.0)
         pts = self.scan.points()
         if len(mapped):
             pts = np.concatenate((pts, mapped))
