@@ -48,8 +48,10 @@ Control, every ``1/rate`` seconds:
   closer than ``search_reach`` to that point, once the floor plan says it is in sight (not behind
   a wall), and turns to face it, so it sees round the corner or past the person in between.
   Status ``searching``.
-* Lost: not seen for ``search_time`` s: it stops (the attention's ``partner_lost``,
-  its ``follow_lost_after`` = the same 6 s, makes the ES stop the player and the dialog ask).
+* Lost: not seen for ``search_time`` s (6 s; longer when she was last seen beyond the band, by the
+  time it takes to drive the gap at ``search_speed``, at most 15 s: :mod:`robot.attention.search`):
+  it stops (the attention's ``partner_lost``, by the same rule with its ``follow_lost_after`` = the
+  same 6 s, makes the ES stop the player and the dialog ask).
 * Inside the flat: it never drives its front out of the floor plan's rooms (the map's ``<room>``
   outlines), so after a partner who leaves through the exit door it stops in the door, inside;
   when following ends with it facing out through an opening, it turns back toward the middle of
@@ -79,6 +81,7 @@ from homesim.module import Module
 
 from homesim.errors import BusError, HomesimError
 from robot import floorplan
+from robot.attention.search import follow_search_time
 from robot.contract import ATTENTION_STATE, BASE_CMD, ES_EVENTS, FOLLOW_STATUS, ODOMETRY, PARTNER, POSE, SCAN, TRACKS
 
 from .config import Limits
@@ -173,6 +176,7 @@ class Follower(Module):
         self.following = False
         self.partner_id: str | None = None
         self.track: dict[str, float] | None = None  # the partner's last message (odom frame) and when
+        self._seen_distance = 0.0  # how far she was when a scan last saw her (the search's length grows with it)
         self.odom: tuple[float, float, float] | None = None
         self.v = self.w = 0.0
         self.scan = LatestScan()
@@ -271,6 +275,8 @@ class Follower(Module):
             "vx": float(x.get("vx", "0")), "vy": float(x.get("vy", "0")),
             "visible": x.get("visible", "true") == "true", "lost_for": float(x.get("lost_for", "0")),
         }  # type: ignore[dict-item]
+        if self.track["visible"]:
+            self._seen_distance = float(x.get("distance", "0"))
 
     def _on_scan(self, msg: Message) -> None:
         self.scan.update(msg)  # turned into points only when a control step needs them
@@ -311,6 +317,12 @@ class Follower(Module):
         return self.seen.clear(*footprint_samples(x - back * math.cos(th), y - back * math.sin(th), th,
                                                   length=FOOTPRINT[0], width=FOOTPRINT[1], margin=BACK_MARGIN))
 
+    def search_for(self) -> float:
+        """How long it searches for her (s unseen): ``search_time``, longer when she was last seen
+        beyond the band (it fell behind yielding to people crossing; :mod:`robot.attention.search`,
+        the rule the attention's leaving rule reads too)."""
+        return follow_search_time(self._seen_distance, base=self.search_time, near=self.band[1], speed=self.search_speed)
+
     # ------------------------------------------------------------- control
     def _to_robot(self, px: float, py: float) -> tuple[float, float]:
         ox, oy, oth = self.odom  # type: ignore[misc]
@@ -348,7 +360,7 @@ class Follower(Module):
             return self._stand(approaching, "searching")
         age = self.now - tr["t"]
         unseen = (0.0 if tr["visible"] else tr["lost_for"]) + age
-        if unseen > (self.lost_after if approaching else self.search_time):
+        if unseen > (self.lost_after if approaching else self.search_for()):
             turn = None if approaching else self._face_in()
             if turn is not None:  # the search ended at an exit door: back to the room first
                 self._status(0.0, False, "searching")
