@@ -92,6 +92,10 @@ from .people import People, behind_clear, nearest
 from .route import Route
 from .seen import SeenGround, footprint_samples
 
+#: m: following, people standing (slower than 0.2 m/s) this close to the robot's centre are kept clear
+#: of as people (their space, the social speed limit), as walking ones are everywhere: someone
+#: crossing who stopped in its way (held up by the robot) is still a person
+STANDING_NEAR = 1.2
 #: s: searching, where she was heading is her last message carried on with its velocity this long at most
 SEARCH_HORIZON = 1.5
 #: s and m/s: wedged this long (it should drive, the dynamic window finds nothing), it backs this slowly
@@ -461,6 +465,12 @@ class Follower(Module):
             # off anyway); no lost tracks (a partner's second track lost at a door frame would live on
             # as a phantom in the door)
             others = self.people.around(self.odom, self.now, exclude=self.partner_id, near=(px, py), moving=0.2)
+            # and anyone standing close by: someone crossing who stopped in front of it (held up by
+            # the robot, or waiting for it) is standing, and still a person to keep clear of
+            close = self.people.around(self.odom, self.now, exclude=self.partner_id, near=(px, py), standing=0.2)
+            close = close[np.hypot(close[:, 0], close[:, 1]) < STANDING_NEAR] if len(close) else close
+            if len(close):
+                others = np.concatenate((others, close)) if len(others) else close
             limits = self.limits
             if searching:  # slowly: she may step out from behind whatever hid her
                 limits = replace(limits, max_speed=min(limits.max_speed, self.search_speed))
