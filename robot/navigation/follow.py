@@ -54,7 +54,7 @@ Control, every ``1/rate`` seconds:
   same 6 s, makes the ES stop the player and the dialog ask).
 * Inside the flat: it never drives its front out of the floor plan's rooms (the map's ``<room>``
   outlines), so after a partner who leaves through the exit door it stops in the door, inside;
-  when following ends with it facing out through an opening, it turns back toward the middle of
+  when following ends with it facing out of the flat (an opening, the outer wall beside it), it turns back toward the middle of
   its room, so the people in the flat can speak to it.
 * Backing off (from a partner too close, or wedged) never reverses toward a person the attention
   tracks behind it (within the back-off's reach plus 0.45 m: ``people.behind_clear``).
@@ -571,13 +571,16 @@ class Follower(Module):
         return 0.0
 
     def _face_in(self) -> tuple[float, float] | None:
-        """Facing out of the flat through an opening (an exit door the search took it to): the
+        """Facing out of the flat (through an exit door the search took it to, or at the outer wall
+        beside it; a point :data:`FACING_OUT` m past its front is in none of the rooms): the
         command that turns it on the spot back toward the middle of the room it stands in, so
         the people in the flat can speak to it; None when it faces the flat (or cannot turn)."""
         if self.odom is None or not self.route.ready:
             return None
         ahead = self._ahead(FACING_OUT)
-        if self.route.inside(ahead) or not self.route.in_sight(self.odom[:2], ahead):
+        # out of the flat, through an opening or at the outer wall beside it (a longer search takes
+        # it into the exit door's corner, facing the jamb): the people are in the flat, behind it
+        if self.route.inside(ahead):
             return None
         room = self.route.room_at(self.odom[:2])
         if room is None:
