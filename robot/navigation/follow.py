@@ -48,11 +48,13 @@ Control, every ``1/rate`` seconds:
   closer than ``search_reach`` to that point, once the floor plan says it is in sight (not behind
   a wall), and turns to face it, so it sees round the corner or past the person in between.
   Status ``searching``.
-* Lost: not seen for ``search_time`` s: it stops (the attention's ``partner_lost``,
-  its ``follow_lost_after`` = the same 6 s, makes the ES stop the player and the dialog ask).
+* Lost: not seen for ``search_time`` s (6 s; longer when she was last seen beyond the band, by the
+  time it takes to drive the gap at ``search_speed``, at most 15 s: :mod:`robot.attention.search`):
+  it stops (the attention's ``partner_lost``, by the same rule with its ``follow_lost_after`` = the
+  same 6 s, makes the ES stop the player and the dialog ask).
 * Inside the flat: it never drives its front out of the floor plan's rooms (the map's ``<room>``
   outlines), so after a partner who leaves through the exit door it stops in the door, inside;
-  when following ends with it facing out through an opening, it turns back toward the middle of
+  when following ends with it facing out of the flat (an opening, the outer wall beside it), it turns back toward the middle of
   its room, so the people in the flat can speak to it.
 * Backing off (from a partner too close, or wedged) never reverses toward a person the attention
   tracks behind it (within the back-off's reach plus 0.45 m: ``people.behind_clear``).
@@ -79,6 +81,7 @@ from homesim.module import Module
 
 from homesim.errors import BusError, HomesimError
 from robot import floorplan
+from robot.attention.search import follow_search_time
 from robot.contract import ATTENTION_STATE, BASE_CMD, ES_EVENTS, FOLLOW_STATUS, ODOMETRY, PARTNER, POSE, SCAN, TRACKS
 
 from .config import Limits
@@ -90,6 +93,10 @@ from .people import People, behind_clear, nearest
 from .route import Route
 from .seen import SeenGround, footprint_samples
 
+#: m: following, people standing (slower than 0.2 m/s) this close to the robot's centre are kept clear
+#: of as people (their space, the social speed limit), as walking ones are everywhere: someone
+#: crossing who stopped in its way (held up by the robot) is still a person
+STANDING_NEAR = 1.2
 #: s: searching, where she was heading is her last message carried on with its velocity this long at most
 SEARCH_HORIZON = 1.5
 #: s and m/s: wedged this long (it should drive, the dynamic window finds nothing), it backs this slowly
@@ -174,6 +181,7 @@ class Follower(Module):
         self.following = False
         self.partner_id: str | None = None
         self.track: dict[str, float] | None = None  # the partner's last message (odom frame) and when
+        self._seen_distance = 0.0  # how far she was when a scan last saw her (the search's length grows with it)
         self.odom: tuple[float, float, float] | None = None
         self.v = self.w = 0.0
         self.scan = LatestScan()
@@ -272,6 +280,8 @@ class Follower(Module):
             "vx": float(x.get("vx", "0")), "vy": float(x.get("vy", "0")),
             "visible": x.get("visible", "true") == "true", "lost_for": float(x.get("lost_for", "0")),
         }  # type: ignore[dict-item]
+        if self.track["visible"]:
+            self._seen_distance = float(x.get("distance", "0"))
 
     def _on_scan(self, msg: Message) -> None:
         self.scan.update(msg)  # turned into points only when a control step needs them
@@ -312,6 +322,12 @@ class Follower(Module):
         return self.seen.clear(*footprint_samples(x - back * math.cos(th), y - back * math.sin(th), th,
                                                   length=FOOTPRINT[0], width=FOOTPRINT[1], margin=BACK_MARGIN))
 
+    def search_for(self) -> float:
+        """How long it searches for her (s unseen): ``search_time``, longer when she was last seen
+        beyond the band (it fell behind yielding to people crossing; :mod:`robot.attention.search`,
+        the rule the attention's leaving rule reads too)."""
+        return follow_search_time(self._seen_distance, base=self.search_time, near=self.band[1], speed=self.search_speed)
+
     # ------------------------------------------------------------- control
     def _to_robot(self, px: float, py: float) -> tuple[float, float]:
         ox, oy, oth = self.odom  # type: ignore[misc]
@@ -349,7 +365,7 @@ class Follower(Module):
             return self._stand(approaching, "searching")
         age = self.now - tr["t"]
         unseen = (0.0 if tr["visible"] else tr["lost_for"]) + age
-        if unseen > (self.lost_after if approaching else self.search_time):
+        if unseen > (self.lost_after if approaching else self.search_for()):
             turn = None if approaching else self._face_in()
             if turn is not None:  # the search ended at an exit door: back to the room first
                 self._status(0.0, False, "searching")
@@ -456,6 +472,12 @@ class Follower(Module):
             # off anyway); no lost tracks (a partner's second track lost at a door frame would live on
             # as a phantom in the door)
             others = self.people.around(self.odom, self.now, exclude=self.partner_id, near=(px, py), moving=0.2)
+            # and anyone standing close by: someone crossing who stopped in front of it (held up by
+            # the robot, or waiting for it) is standing, and still a person to keep clear of
+            close = self.people.around(self.odom, self.now, exclude=self.partner_id, near=(px, py), standing=0.2)
+            close = close[np.hypot(close[:, 0], close[:, 1]) < STANDING_NEAR] if len(close) else close
+            if len(close):
+                others = np.concatenate((others, close)) if len(others) else close
             limits = self.limits
             if searching:  # slowly: she may step out from behind whatever hid her
                 limits = replace(limits, max_speed=min(limits.max_speed, self.search_speed))
@@ -594,13 +616,16 @@ class Follower(Module):
         return 0.0
 
     def _face_in(self) -> tuple[float, float] | None:
-        """Facing out of the flat through an opening (an exit door the search took it to): the
+        """Facing out of the flat (through an exit door the search took it to, or at the outer wall
+        beside it; a point :data:`FACING_OUT` m past its front is in none of the rooms): the
         command that turns it on the spot back toward the middle of the room it stands in, so
         the people in the flat can speak to it; None when it faces the flat (or cannot turn)."""
         if self.odom is None or not self.route.ready:
             return None
         ahead = self._ahead(FACING_OUT)
-        if self.route.inside(ahead) or not self.route.in_sight(self.odom[:2], ahead):
+        # out of the flat, through an opening or at the outer wall beside it (a longer search takes
+        # it into the exit door's corner, facing the jamb): the people are in the flat, behind it
+        if self.route.inside(ahead):
             return None
         room = self.route.room_at(self.odom[:2])
         if room is None:
