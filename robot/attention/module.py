@@ -68,7 +68,7 @@ from .cues import CueSpec, Hysteresis, bearings_from, match_faces, match_sounds,
 from .fsm import CAMERA, TURNS, AttentionFSM, OrderRefused
 from .legs import LegDetector, LegSpec
 from .records import TrackRow, TracksRecord, own_document as _own_document
-from .search import follow_search_time
+from robot.partner_search import follow_search_time
 from .selection import SelectionParams, Selector
 from .tracker import Tracks, TrackerSpec
 
@@ -606,7 +606,7 @@ class PersonAttention(Module):
         In Follow she leads and is often out of view for a moment (a door frame, someone crossing
         between, walking past the robot's side): unseen (no leg update, frontal face, torso or voice
         of theirs) for ``follow_lost_after`` s, longer when she was last seen further than the
-        following band (:func:`robot.attention.search.follow_search_time`: the time to drive the
+        following band (:func:`robot.partner_search.follow_search_time`: the time to drive the
         gap, at most 15 s), while the follower drives to where she was heading and looks for her,
         she is lost. Unseen for ``partner_lost_after`` s in Interaction and
         Object, a partner unseen that long has left only when they were last seen outside the
@@ -627,7 +627,7 @@ class PersonAttention(Module):
         dist = math.hypot(dx, dy)
         if self.fsm.state == "Follow":
             # the longer the further behind the robot was when she went out of view (it yielded
-            # to people crossing its way): robot.attention.search, the follower's search time
+            # to people crossing its way): robot.partner_search, the follower's search time
             return unseen >= follow_search_time(dist, base=p.follow_lost_after)
         if unseen < p.partner_lost_after:
             return False

@@ -49,7 +49,7 @@ Control, every ``1/rate`` seconds:
   a wall), and turns to face it, so it sees round the corner or past the person in between.
   Status ``searching``.
 * Lost: not seen for ``search_time`` s (6 s; longer when she was last seen beyond the band, by the
-  time it takes to drive the gap at ``search_speed``, at most 15 s: :mod:`robot.attention.search`):
+  time it takes to drive the gap at ``search_speed``, at most 15 s: :mod:`robot.partner_search`):
   it stops (the attention's ``partner_lost``, by the same rule with its ``follow_lost_after`` = the
   same 6 s, makes the ES stop the player and the dialog ask).
 * Inside the flat: it never drives its front out of the floor plan's rooms (the map's ``<room>``
@@ -81,7 +81,7 @@ from homesim.module import Module
 
 from homesim.errors import BusError, HomesimError
 from robot import floorplan
-from robot.attention.search import follow_search_time
+from robot.partner_search import follow_search_time
 from robot.contract import ATTENTION_STATE, BASE_CMD, ES_EVENTS, FOLLOW_STATUS, ODOMETRY, PARTNER, POSE, SCAN, TRACKS
 
 from .config import Limits
@@ -324,7 +324,7 @@ class Follower(Module):
 
     def search_for(self) -> float:
         """How long it searches for her (s unseen): ``search_time``, longer when she was last seen
-        beyond the band (it fell behind yielding to people crossing; :mod:`robot.attention.search`,
+        beyond the band (it fell behind yielding to people crossing; :mod:`robot.partner_search`,
         the rule the attention's leaving rule reads too)."""
         return follow_search_time(self._seen_distance, base=self.search_time, near=self.band[1], speed=self.search_speed)
 
