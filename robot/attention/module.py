@@ -68,6 +68,7 @@ from .cues import CueSpec, Hysteresis, bearings_from, match_faces, match_sounds,
 from .fsm import CAMERA, TURNS, AttentionFSM, OrderRefused
 from .legs import LegDetector, LegSpec
 from .records import TrackRow, TracksRecord, own_document as _own_document
+from robot.partner_search import follow_search_time
 from .selection import SelectionParams, Selector
 from .tracker import Tracks, TrackerSpec
 
@@ -607,8 +608,10 @@ class PersonAttention(Module):
 
         In Follow she leads and is often out of view for a moment (a door frame, someone crossing
         between, walking past the robot's side): unseen (no leg update, frontal face, torso or voice
-        of theirs) for ``follow_lost_after`` s, while the follower drives to where she was heading
-        and looks for her, she is lost. Unseen for ``partner_lost_after`` s in Interaction and
+        of theirs) for ``follow_lost_after`` s, longer when she was last seen further than the
+        following band (:func:`robot.partner_search.follow_search_time`: the time to drive the
+        gap, at most 15 s), while the follower drives to where she was heading and looks for her,
+        she is lost. Unseen for ``partner_lost_after`` s in Interaction and
         Object, a partner unseen that long has left only when they were last seen outside the
         interaction space (further than ``interaction_radius`` from the robot) or walking away from
         it (``leave_speed``); one who stepped aside (to a shelf, to let someone pass, to chat
@@ -623,14 +626,16 @@ class PersonAttention(Module):
         seen, x, y, vx, vy, ox, oy = last
         unseen = self._unseen(t, seen)
         p = self.params
+        dx, dy = x - ox, y - oy
+        dist = math.hypot(dx, dy)
         if self.fsm.state == "Follow":
-            return unseen >= p.follow_lost_after
+            # the longer the further behind the robot was when she went out of view (it yielded
+            # to people crossing its way): robot.partner_search, the follower's search time
+            return unseen >= follow_search_time(dist, base=p.follow_lost_after)
         if unseen < p.partner_lost_after:
             return False
         if unseen >= p.out_of_view_after:
             return True
-        dx, dy = x - ox, y - oy
-        dist = math.hypot(dx, dy)
         away = (vx * dx + vy * dy) / dist if dist > 1e-6 else 0.0
         return dist > p.interaction_radius or away >= p.leave_speed
 

@@ -169,8 +169,23 @@ def options_phrase(doc: Dialogs, options: list[str]) -> str:
     return doc.listing([doc.sentence("option", option=o) for o in out])
 
 
-def choose(options: list[tuple[int, str]], answer: Any) -> int | None:
-    """The option an answer picks (THAT_ONE with index/colour, an OBJECT, YES to a single option); None if unclear."""
+def robot_side(side: str, view: str | None, facing: str) -> str:
+    """A side said in an answer, in the robot's view (the options' words are the robot's).
+
+    A plain side ("the one on the left", "on your left") is the robot's. "On my left" is the speaker's
+    (``view="speaker"``): when the partner faces the robot (its camera sees her frontal face,
+    ``facing="true"``), her left is the robot's right; otherwise she stands beside or behind it looking
+    the same way as its camera, and her left is its left (docs/semantics.md §4).
+    """
+    if view == "speaker" and facing == "true":
+        return {"left": "right", "right": "left"}.get(side, side)
+    return side
+
+
+def choose(options: list[tuple[int, str]], answer: Any, facing: str = "unknown") -> int | None:
+    """The option an answer picks (THAT_ONE with index/colour, an OBJECT, YES to a single option); None if unclear.
+
+    ``facing``: whether the partner faced the robot when she answered (for a side said from her view)."""
     if not isinstance(answer, etree._Element) or not options:
         return None
     if answer.tag == "NO":
@@ -179,6 +194,7 @@ def choose(options: list[tuple[int, str]], answer: Any) -> int | None:
         return options[0][0] if len(options) == 1 else None
     side = answer.get("side")
     if side is not None:  # "the left one": the option the object attention worded by its side
+        side = robot_side(side, answer.get("view"), facing)
         words = "in the middle" if side == "middle" else f"on the {side}"
         hits = [idx for idx, text in options if words in text]
         return hits[0] if len(hits) == 1 else None
@@ -454,6 +470,12 @@ class Dialog(Module):
         self._partner_cues.append((msg.created, msg.xml.get("facing", "unknown"), int(msg.xml.get("company", "0")),
                                    b if math.isfinite(b) else math.nan))
 
+    def _facing_now(self) -> str:
+        """The latest partner report's ``facing`` ("true", "false", "unknown"), if recent."""
+        if self._partner_cues and self.now - self._partner_cues[-1][0] <= self.partner_fresh:
+            return self._partner_cues[-1][1]
+        return "unknown"
+
     def partner_bearing(self) -> float | None:
         """The partner's bearing (degrees, robot frame) if the person attention reported it recently."""
         if self._partner is None or self.now - self._partner[1] > self.partner_fresh:
@@ -614,7 +636,7 @@ class Dialog(Module):
             self._emit(self.manager.cancel(inst), cause)
             return etree.Element("answer", none="true")
         value = done.slots["choice"].value if done.success else None
-        picked = choose(options, value)
+        picked = choose(options, value, self._facing_now())
         if picked is None:
             return unchosen_answer(value)
         return etree.Element("answer", index=str(picked))
