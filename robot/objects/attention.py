@@ -60,7 +60,7 @@ from robot.floorplan import FloorPlan, parse_map
 from robot.contract import ES_EVENTS, ES_ORDERS, FOCUS, GESTURES, OBJECTS, PARTNER, PLAYER_STATUS, POSE, TRACKS
 
 from .gestures import CAMERA_HEIGHT, CAMERA_OFFSET, GestureTracker, camera_to_map
-from .resolve import Candidate, Pointing, Resolution, Wanted, merge, option_texts, resolve
+from .resolve import Candidate, Pointing, Resolution, Wanted, choose_pointed, merge, option_texts, resolve
 from .viewpoint import ARRIVE_TOLERANCE, in_range, pointed_spot, sight_clear, viewpoint_route
 
 if TYPE_CHECKING:
@@ -341,7 +341,7 @@ class ObjectAttention(Module):
                 return
             chosen = res.best
             if res.kind == "ambiguous":
-                chosen = await self._ask(res.fitting()[:3], wanted, pose, cause)
+                chosen = await self._ask(res.fitting()[:3], wanted, pose, cause, pointing)
                 if chosen is None:
                     self._not_found("unclear", cause)
                     return
@@ -661,7 +661,8 @@ class ObjectAttention(Module):
             dist = max(0.3, math.hypot(dx, dy) - CAMERA_OFFSET)
         self.bus.publish(FOCUS, etree.Element("focus", bearing=f"{math.degrees(bearing):.2f}", distance=f"{dist:.3f}"), causes=(cause,))
 
-    async def _ask(self, cands: list[Candidate], wanted: Wanted, pose: tuple[float, float, float], cause: str) -> Candidate | None:
+    async def _ask(self, cands: list[Candidate], wanted: Wanted, pose: tuple[float, float, float], cause: str,
+                   first: Pointing | None = None) -> Candidate | None:
         """Ask the partner which candidate they mean, through the ES (the papers' control flow):
         the event ``clarification`` (``<OPTIONS timeout><option index text/>+</OPTIONS>``) becomes the
         dialog's condition ``ask``; the dialog's answer comes back as the order ``clarified``
@@ -676,6 +677,7 @@ class ObjectAttention(Module):
         fut: asyncio.Future[etree._Element] = self.sim.loop.create_future()
         self._answer = fut
         self.bus.publish(ES_EVENTS, ev, causes=(cause,), transfer=True)
+        watch = self.sim.spawn(self._watch_answer(cands, cause), name=f"{self.name}:watch")
         try:
             async with asyncio.timeout(self.ask_timeout + 20.0):  # the question itself takes a while to say
                 answer = await fut
@@ -683,11 +685,12 @@ class ObjectAttention(Module):
             return None
         finally:
             self._answer = None
+            watch.cancel()
         idx = answer.get("index")
         if idx is not None and idx.isdigit() and int(idx) < len(cands) and answer.get("none") != "true":
             return cands[int(idx)]
         if answer.get("deixis") == "true":  # "this one": where she points now
-            return await self._pointed_again(cands, wanted, pose, asked)
+            return await self._pointed_again(cands, wanted, pose, asked, first)
         pos = answer.find("POSITION")
         if pos is not None:  # "the one on the table": the only candidate standing on it
             ground = pos.find("TITLE")
@@ -695,18 +698,38 @@ class ObjectAttention(Module):
             return on[0] if len(on) == 1 else None
         return None
 
-    async def _pointed_again(self, cands: list[Candidate], wanted: Wanted, pose: tuple[float, float, float], since: float) -> Candidate | None:
+    async def _watch_answer(self, cands: list[Candidate], cause: str) -> None:
+        """While the question waits for its answer, keep the camera where her answer's gesture will
+        be ("this one" with pointing): between her and the options asked about, where her hand
+        reaches when she points at one of them (at her, when they lie too far apart for one image)."""
+        while True:
+            pose, p = self.pose, self._partner
+            if pose is not None and p is not None and self.now - p[0] < 1.0 and cands:
+                mx, my = sum(c.x for c in cands) / len(cands), sum(c.y for c in cands) / len(cands)
+                ob = math.remainder(math.atan2(my - pose[1], mx - pose[0]) - pose[2], 2 * math.pi)
+                gap = math.remainder(ob - p[1], 2 * math.pi)
+                bearing = p[1] + gap / 2 if abs(gap) < 2 * VIEW_HALF_WIDTH * 0.8 else p[1]
+                self.bus.publish(FOCUS, etree.Element("focus", bearing=f"{math.degrees(bearing):.2f}", distance=f"{max(0.8, p[2]):.3f}"), causes=(cause,))
+            await asyncio.sleep(0.2)
+
+    async def _pointed_again(self, cands: list[Candidate], wanted: Wanted, pose: tuple[float, float, float], since: float,
+                             first: Pointing | None = None) -> Candidate | None:
         """"This one" after the question: the asked candidates resolved by the pointing the camera
-        saw since the question (waiting up to ``gesture_wait`` s for it); None if it still does
-        not single one out."""
+        saw since the question (waiting up to ``gesture_wait`` s for it) together with ``first``, the
+        gesture of the request (both point at the same object: each aims with its own error, so
+        their likelihoods multiply, :func:`~robot.objects.resolve.choose_pointed`); None if they
+        still do not single one out."""
         waited = 0.0
         while waited < self.gesture_wait + 1e-9:
-            p = self.gestures.pointing(self.now, since=since)
+            # since the question, however long ago (she points, then says "this one": by the time
+            # the answer has been understood and reached this module her arm may be down again)
+            p = self.gestures.pointing(self.now, since=since, start=since)
             if p is not None:
                 res = resolve(cands, Wanted(type=wanted.type, name=wanted.name), p, (pose[0], pose[1]))
                 self.last = res
                 if res.kind == "one":
                     return res.best
+                return choose_pointed(cands, [p] if first is None else [p, first])
             await asyncio.sleep(0.1)
             waited += 0.1
         return None

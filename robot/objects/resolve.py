@@ -58,6 +58,7 @@ NEAR_HAND = 0.5
 TYPE_EVIDENCE = 3  # detections, none of the named type, that rule a candidate out
 TYPE_SHARE = 0.25  # with TYPE_EVIDENCE or more detections, a candidate seen as the named type less often does not fit
 CLEAR = 3.0  # the best candidate's score ratio over the second to decide without asking
+ANSWER_CLEAR = 1.5  # ... and after asking, with her answer's gesture and the request's together (she has been asked once)
 
 
 def colour_name(rgb: tuple[float, float, float] | np.ndarray) -> str:
@@ -449,6 +450,28 @@ def resolve(candidates: list[Candidate], wanted: Wanted, pointing: Pointing | No
     if len(fit) == 1 or fit[0].score >= CLEAR * fit[1].score:
         return Resolution("one", tuple(ranked))
     return Resolution("ambiguous", tuple(ranked))
+
+
+def choose_pointed(cands: list[Candidate], gestures: list[Pointing]) -> Candidate | None:
+    """Of candidates she was asked to choose from, the one several gestures at the same object
+    point at: each gesture's aim errs on its own, so their likelihoods (as in :func:`score`)
+    multiply. The best when it is ``ANSWER_CLEAR`` times as likely as the next and within
+    ``GESTURE_FIT`` of every gesture; else None."""
+    if not cands or not gestures:
+        return None
+    ranked = []
+    for c in cands:
+        like, fits = 1.0, True
+        for g in gestures:
+            a = g.angle_off(c.x, c.y)
+            like *= math.exp(-0.5 * (a / g.spread) ** 2) + 1e-6
+            fits = fits and a <= GESTURE_FIT
+        ranked.append((like, fits, c))
+    ranked.sort(key=lambda r: -r[0])
+    best = ranked[0]
+    if not best[1] or (len(ranked) > 1 and best[0] < ANSWER_CLEAR * ranked[1][0]):
+        return None
+    return best[2]
 
 
 def option_texts(cands: list[Candidate], wanted: Wanted, robot_pose: tuple[float, float, float]) -> list[str]:
