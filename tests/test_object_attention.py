@@ -73,7 +73,8 @@ def test_two_fitting_candidates_are_ambiguous_until_the_colour_is_said():
     red, blue = _cand(2.7, 2.25, "red"), _cand(2.7, 2.55, "blue")  # both within the pointing's spread
     res = resolve([red, blue], Wanted(type="cup"), HAND, (1.0, 2.5))
     assert res.kind == "ambiguous" and set(map(id, res.fitting())) == {id(red), id(blue)}
-    assert option_texts(res.fitting(), Wanted(type="cup"), (1.0, 2.5, 0.0))[1] == "the blue one"
+    # the colour, and the side as the robot sees it (she may answer either way)
+    assert option_texts(res.fitting(), Wanted(type="cup"), (1.0, 2.5, 0.0))[1] == "the blue one on the left"
     said = resolve([red, blue], Wanted(type="cup", colour="blue"), HAND, (1.0, 2.5))
     assert said.kind == "one" and said.best is blue
 
@@ -209,7 +210,7 @@ def test_pointing_at_the_red_cup_teaches_it_in_the_map_frame():
 
 def test_pointing_between_two_cups_asks_and_uses_the_answer():
     stage, oa, asked, events = _run('<point point="2.7 2.5" duration="8"/>', '<OBJECT type="cup"/>', answer=1)
-    assert len(asked) == 1 and sorted(asked[0]) in (["the blue one", "the red cup"], ["the blue cup", "the red one"])
+    assert len(asked) == 1 and sorted(asked[0]) in (["the blue one on the left", "the red cup on the right"], ["the blue cup on the left", "the red one on the right"])
     chosen = asked[0][1]
     obj = events[-1].xml.find("OBJECT")
     assert events[-1].xml.get("name") == "object_recognized"

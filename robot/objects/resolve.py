@@ -58,6 +58,7 @@ NEAR_HAND = 0.5
 TYPE_EVIDENCE = 3  # detections, none of the named type, that rule a candidate out
 TYPE_SHARE = 0.25  # with TYPE_EVIDENCE or more detections, a candidate seen as the named type less often does not fit
 CLEAR = 3.0  # the best candidate's score ratio over the second to decide without asking
+SIDE_APART = math.radians(3.0)  # rad: options this far apart, seen from the robot, are told apart by side too (3x the camera's bearing noise)
 ANSWER_CLEAR = 1.5  # ... and after asking, with her answer's gesture and the request's together (she has been asked once)
 
 
@@ -476,11 +477,12 @@ def choose_pointed(cands: list[Candidate], gestures: list[Pointing]) -> Candidat
 
 def option_texts(cands: list[Candidate], wanted: Wanted, robot_pose: tuple[float, float, float]) -> list[str]:
     """Words that tell the candidates apart: "the red cup", "the blue one"; by side or distance
-    when the colours are the same ("the cup on the left", "the one on the right")."""
+    when the colours are the same ("the cup on the left", "the one on the right"). Different colours
+    are said with their side too when the sides differ by ``SIDE_APART`` or more ("the green book on
+    the right", "the brown one on the left"): people answer "which one?" by colour or by side alike,
+    and the answer is matched to the words of the options."""
     noun = wanted.name or wanted.type or cands[0].type
     colours = [c.colour for c in cands]
-    if len(set(colours)) == len(colours):
-        return [f"the {col} {noun}" if i == 0 else f"the {col} one" for i, col in enumerate(colours)]
     x, y, th = robot_pose
     side = [math.remainder(math.atan2(c.y - y, c.x - x) - th, 2 * math.pi) for c in cands]
     order = sorted(range(len(cands)), key=lambda i: -side[i])  # leftmost first
@@ -490,4 +492,7 @@ def option_texts(cands: list[Candidate], wanted: Wanted, robot_pose: tuple[float
     else:
         for rank, i in enumerate(order):
             words[i] = "on the left" if rank == 0 else "on the right" if rank == len(cands) - 1 else "in the middle"
+    if len(set(colours)) == len(colours):
+        apart = all(abs(side[a] - side[b]) >= SIDE_APART for a, b in zip(order, order[1:]))
+        return [(f"the {col} {noun}" if i == 0 else f"the {col} one") + (f" {words[i]}" if apart else "") for i, col in enumerate(colours)]
     return [f"the {noun} {words[i]}" if i == 0 else f"the one {words[i]}" for i in range(len(cands))]
