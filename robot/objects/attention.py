@@ -368,7 +368,7 @@ class ObjectAttention(Module):
         """Look where she points for ``look_time`` s, merge the detections, resolve the reference."""
         self._seen = []
         self._looking = True
-        fallback = self._ray_target(pointing) if pointing is not None else None
+        fallback = self._target_3d(pointing) if pointing is not None else None
         t_end = self.now + self.look_time
         while self.now < t_end - 1e-9:
             self._publish_focus(cause, fallback)
@@ -647,19 +647,26 @@ class ObjectAttention(Module):
         x = msg.xml
         self._partner = (msg.created, math.radians(float(x.get("bearing"))), float(x.get("distance")))  # type: ignore[arg-type]
 
-    def _publish_focus(self, cause: str, fallback: tuple[float, float] | None = None) -> None:
+    def _publish_focus(self, cause: str, fallback: tuple[float, float, float] | None = None) -> None:
         """Where the camera looks: where the pointing seen now comes down, else ``fallback`` (where
-        an earlier pointing came down: she pointed, then stepped aside), else ahead and down."""
+        an earlier pointing came down, with the height of what it stands on: she pointed, then
+        stepped aside), else ahead and down. The region's height goes with it when known, so the
+        camera tilts down to the floor for what lies there (not to a table top's height)."""
         pose = self.pose
         assert pose is not None
         target = self.gestures.target(self.now) or fallback
+        el = etree.Element("focus")
         if target is None:  # no gesture: look ahead and down, at a table in front of the robot
             bearing, dist = 0.0, 1.2
         else:
             dx, dy = target[0] - pose[0], target[1] - pose[1]
             bearing = math.remainder(math.atan2(dy, dx) - pose[2], 2 * math.pi)
             dist = max(0.3, math.hypot(dx, dy) - CAMERA_OFFSET)
-        self.bus.publish(FOCUS, etree.Element("focus", bearing=f"{math.degrees(bearing):.2f}", distance=f"{dist:.3f}"), causes=(cause,))
+        el.set("bearing", f"{math.degrees(bearing):.2f}")
+        el.set("distance", f"{dist:.3f}")
+        if target is not None:
+            el.set("height", f"{min(3.0, max(0.0, target[2])):.2f}")
+        self.bus.publish(FOCUS, el, causes=(cause,))
 
     async def _ask(self, cands: list[Candidate], wanted: Wanted, pose: tuple[float, float, float], cause: str,
                    first: Pointing | None = None) -> Candidate | None:
