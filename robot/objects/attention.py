@@ -119,7 +119,7 @@ def _inside(px: float, py: float, poly: tuple[tuple[float, float], ...]) -> bool
 class ObjectAttention(Module):
     """Gestures + camera objects + localised pose -> the object meant (see the module docstring)."""
 
-    def __init__(self, sim: Simulation, *, name: str = "object_attention", gesture_wait: float = 1.5, look_time: float = 2.0, ask_timeout: float = 8.0,
+    def __init__(self, sim: Simulation, *, name: str = "object_attention", gesture_wait: float = 1.5, look_time: float = 2.0, ask_timeout: float = 15.0,
                  step_aside_wait: float = 10.0) -> None:
         super().__init__(sim, name, host="robot")
         self.step_aside_wait = step_aside_wait
@@ -673,7 +673,9 @@ class ObjectAttention(Module):
         """Ask the partner which candidate they mean, through the ES (the papers' control flow):
         the event ``clarification`` (``<OPTIONS timeout><option index text/>+</OPTIONS>``) becomes the
         dialog's condition ``ask``; the dialog's answer comes back as the order ``clarified``
-        (``<ANSWER index/>`` or ``none``). No answer within ``ask_timeout`` + 2 s: None."""
+        (``<ANSWER index/>`` or ``none``). No answer within ``ask_timeout`` + 20 s: None. The
+        dialog gives her ``ask_timeout`` s (15) after the question to answer: room for one misheard
+        answer and the question again, and a gesture before the words ("this one")."""
         asked = self.now
         texts = option_texts(cands, wanted, pose)
         opts = etree.Element("OPTIONS", timeout=f"{self.ask_timeout:g}")
