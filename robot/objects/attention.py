@@ -61,7 +61,7 @@ from robot.contract import ES_EVENTS, ES_ORDERS, FOCUS, GESTURES, OBJECTS, PARTN
 
 from .gestures import CAMERA_HEIGHT, CAMERA_OFFSET, GestureTracker, camera_to_map
 from .resolve import Candidate, Pointing, Resolution, Wanted, choose_pointed, merge, option_texts, resolve
-from .viewpoint import ARRIVE_TOLERANCE, in_range, pointed_spot, sight_clear, viewpoint_route
+from .viewpoint import ARRIVE_TOLERANCE, in_range, pointed_spot, sight_clear, viewpoint, viewpoint_route
 
 if TYPE_CHECKING:
     from homesim.sim import Simulation
@@ -484,7 +484,11 @@ class ObjectAttention(Module):
             await asyncio.sleep(0.3)
         pose = self.pose
         assert pose is not None
-        route = viewpoint_route(self.plan, (pose[0], pose[1]), target, self._people_map(pose), camera_height=CAMERA_HEIGHT, camera_offset=CAMERA_OFFSET)
+        people = self._people_map(pose)
+        # A place one straight leg away first (the player's own leg, the surest drive); only when there
+        # is none, one round a corner (legs through waypoints).
+        one = viewpoint(self.plan, (pose[0], pose[1]), target, people, camera_height=CAMERA_HEIGHT, camera_offset=CAMERA_OFFSET)
+        route = [one] if one is not None else viewpoint_route(self.plan, (pose[0], pose[1]), target, people, camera_height=CAMERA_HEIGHT, camera_offset=CAMERA_OFFSET)
         if route is None:
             return False
         self.moves += 1
