@@ -19,7 +19,7 @@ from homesim.tour.stage import Stage
 from robot.localisation import install as install_localiser
 from robot.objects import install as install_objects
 from robot.objects.gestures import GestureTracker
-from robot.objects.resolve import CLEAR, COLOURS, Candidate, Pointing, Wanted, merge, option_texts, resolve
+from robot.objects.resolve import ANSWER_CLEAR, CLEAR, COLOURS, GESTURE_FIT, Candidate, Pointing, Wanted, choose_pointed, merge, option_texts, resolve
 from tests.world_helpers import HERE
 
 SCENARIO = (HERE / "scenarios" / "teaching_cups.xml").read_text()
@@ -73,7 +73,8 @@ def test_two_fitting_candidates_are_ambiguous_until_the_colour_is_said():
     red, blue = _cand(2.7, 2.25, "red"), _cand(2.7, 2.55, "blue")  # both within the pointing's spread
     res = resolve([red, blue], Wanted(type="cup"), HAND, (1.0, 2.5))
     assert res.kind == "ambiguous" and set(map(id, res.fitting())) == {id(red), id(blue)}
-    assert option_texts(res.fitting(), Wanted(type="cup"), (1.0, 2.5, 0.0))[1] == "the blue one"
+    # the colour, and the side as the robot sees it (she may answer either way)
+    assert option_texts(res.fitting(), Wanted(type="cup"), (1.0, 2.5, 0.0))[1] == "the blue one on the left"
     said = resolve([red, blue], Wanted(type="cup", colour="blue"), HAND, (1.0, 2.5))
     assert said.kind == "one" and said.best is blue
 
@@ -209,7 +210,7 @@ def test_pointing_at_the_red_cup_teaches_it_in_the_map_frame():
 
 def test_pointing_between_two_cups_asks_and_uses_the_answer():
     stage, oa, asked, events = _run('<point point="2.7 2.5" duration="8"/>', '<OBJECT type="cup"/>', answer=1)
-    assert len(asked) == 1 and sorted(asked[0]) in (["the blue one", "the red cup"], ["the blue cup", "the red one"])
+    assert len(asked) == 1 and sorted(asked[0]) in (["the blue one on the left", "the red cup on the right"], ["the blue cup on the left", "the red one on the right"])
     chosen = asked[0][1]
     obj = events[-1].xml.find("OBJECT")
     assert events[-1].xml.get("name") == "object_recognized"
@@ -265,3 +266,37 @@ def test_percepts_are_placed_with_the_pose_of_their_capture_time():
     assert abs(abs(th) - math.pi) < 1e-6  # halfway from 3.0 to -3.0 the short way round: pi
     assert oa.pose_at(0.5) == (0.0, 0.0, 3.0) and oa.pose_at(2.0) == (0.1, 0.0, -3.0)
     sim.close()
+
+
+@given(ys=st.lists(st.floats(1.5, 3.5), min_size=2, max_size=3, unique=True), aims=st.lists(st.floats(-0.6, 0.6), min_size=1, max_size=3))
+@settings(max_examples=150, deadline=None)
+def test_this_one_after_the_question_never_picks_an_option_off_a_gesture_or_a_near_tie(ys, aims):
+    """'This one' with one or more gestures: the option chosen lies within the fit of every gesture
+    and is at least ANSWER_CLEAR times as likely as any other; otherwise none is chosen (asking
+    was for not guessing)."""
+    cands = [_cand(2.7, y, "red") for y in ys]
+    gestures = [Pointing(3.4, 2.4, 1.1, math.pi + a, math.radians(-25)) for a in aims]
+    chosen = choose_pointed(cands, gestures)
+    def like(c):
+        return math.prod(math.exp(-0.5 * (g.angle_off(c.x, c.y) / g.spread) ** 2) + 1e-6 for g in gestures)
+    if chosen is not None:
+        assert all(g.angle_off(chosen.x, chosen.y) <= GESTURE_FIT for g in gestures)
+        assert all(like(chosen) >= ANSWER_CLEAR * like(c) for c in cands if c is not chosen)
+
+
+def test_two_gestures_at_the_same_cup_single_it_out_where_one_does_not():
+    # two red cups 0.3 m apart 0.8 m from her hand: one gesture aimed between them leaves it open;
+    # with the request's gesture at the left one, the left one
+    left, right = _cand(2.6, 2.55, "red"), _cand(2.6, 2.25, "red")
+    between = Pointing(3.4, 2.4, 1.1, math.pi, math.radians(-25))
+    at_left = Pointing(3.4, 2.4, 1.1, math.atan2(2.55 - 2.4, 2.6 - 3.4), math.radians(-25), sigma=math.radians(1.0))
+    assert choose_pointed([left, right], [between]) is None
+    assert choose_pointed([left, right], [between, at_left]) is left
+
+
+def test_options_of_different_colours_side_by_side_also_say_their_side():
+    green, brown = _cand(2.7, 2.2, "green"), _cand(2.7, 2.8, "brown")
+    assert option_texts([green, brown], Wanted(type="book"), (1.0, 2.5, 0.0)) == ["the green book on the right", "the brown one on the left"]
+    # one behind the other as the robot sees them: the side would mislead, the colour alone is said
+    near, far = _cand(2.2, 2.5, "green"), _cand(3.2, 2.5, "brown")
+    assert option_texts([near, far], Wanted(type="book"), (1.0, 2.5, 0.0)) == ["the green book", "the brown one"]

@@ -190,7 +190,7 @@ class PersonAttention(Module):
         self._bearings: np.ndarray | None = None
         self._bearings_key: tuple[str, str, str] | None = None
         self._detector: tuple[np.ndarray, LegSpec, LegDetector] | None = None  # bearings, spec, their detector
-        self._focus: tuple[float, float] | None = None
+        self._focus: tuple[float, float, float] | None = None  # bearing (rad), distance, height (m) of the object region
         self._turning = False
         self._ptu_sent: tuple[float, float] | None = None
         self._ptu_at = -math.inf
@@ -298,7 +298,7 @@ class PersonAttention(Module):
 
     def _on_focus(self, msg: Message) -> None:
         el = msg.xml
-        self._focus = (math.radians(float(el.get("bearing", "0"))), float(el.get("distance", "1")))
+        self._focus = (math.radians(float(el.get("bearing", "0"))), float(el.get("distance", "1")), float(el.get("height", "0.8")))
 
     def _on_sounds(self, msg: Message) -> None:
         t = msg.created
@@ -673,8 +673,8 @@ class PersonAttention(Module):
         # Camera.
         pan = tilt = 0.0
         if target == "object" and self._focus is not None:
-            pan, d = self._focus
-            tilt = math.atan2(0.8 - p.camera_height, max(d, 0.3))
+            pan, d, h = self._focus
+            tilt = math.atan2(h - p.camera_height, max(d, 0.3))  # the region's height: a table top, or the floor
         elif target in p.heights and row >= 0:
             pan = bearing[row]
             tilt = math.atan2(p.heights[target] - p.camera_height, max(dist[row], 0.3))

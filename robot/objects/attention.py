@@ -60,8 +60,8 @@ from robot.floorplan import FloorPlan, parse_map
 from robot.contract import ES_EVENTS, ES_ORDERS, FOCUS, GESTURES, OBJECTS, PARTNER, PLAYER_STATUS, POSE, TRACKS
 
 from .gestures import CAMERA_HEIGHT, CAMERA_OFFSET, GestureTracker, camera_to_map
-from .resolve import Candidate, Pointing, Resolution, Wanted, merge, option_texts, resolve
-from .viewpoint import ARRIVE_TOLERANCE, in_range, pointed_spot, sight_clear, viewpoint_route
+from .resolve import Candidate, Pointing, Resolution, Wanted, choose_pointed, merge, option_texts, resolve
+from .viewpoint import ARRIVE_TOLERANCE, in_range, pointed_spot, sight_clear, viewpoint, viewpoint_route
 
 if TYPE_CHECKING:
     from homesim.sim import Simulation
@@ -79,6 +79,9 @@ POSE_WAIT = 0.3  # s: a percept waits this long for the localised pose of its ca
 PARTNER_FAR = 2.6  # m: a partner farther away is approached when neither her gesture nor what she shows was seen
 MOVE_TIMEOUT = 20.0  # s: a drive to a better viewpoint that has not arrived by then is given up
 MOVE_BLOCKED = 4.0  # s: ... and one the player reports blocked this long
+TABLE_HEIGHT = 0.8  # m: the height the person attention tilts to without a focus height
+HEIGHT_OFF = 0.3  # m: a region this far above or below it is sent with its height (the floor; not a table top, where the
+# default view is the one measured: mugs_in_a_row seed 8 placed a mug 0.15 m off with the sideboard's own 0.9 m)
 STEP_ASIDE_ASK = 20.0  # s: the question "could you step aside" is said within this (through the ES and the dialog)
 STEP_ASIDE_STIR = 3.0  # s after the question: a partner who has not begun to step aside by then is not going to
 STEP_ASIDE_START = 0.25  # m: that far from where she stood when asked, she has begun to move
@@ -119,7 +122,7 @@ def _inside(px: float, py: float, poly: tuple[tuple[float, float], ...]) -> bool
 class ObjectAttention(Module):
     """Gestures + camera objects + localised pose -> the object meant (see the module docstring)."""
 
-    def __init__(self, sim: Simulation, *, name: str = "object_attention", gesture_wait: float = 1.5, look_time: float = 2.0, ask_timeout: float = 8.0,
+    def __init__(self, sim: Simulation, *, name: str = "object_attention", gesture_wait: float = 1.5, look_time: float = 2.0, ask_timeout: float = 15.0,
                  step_aside_wait: float = 10.0) -> None:
         super().__init__(sim, name, host="robot")
         self.step_aside_wait = step_aside_wait
@@ -341,7 +344,7 @@ class ObjectAttention(Module):
                 return
             chosen = res.best
             if res.kind == "ambiguous":
-                chosen = await self._ask(res.fitting()[:3], wanted, pose, cause)
+                chosen = await self._ask(res.fitting()[:3], wanted, pose, cause, pointing)
                 if chosen is None:
                     self._not_found("unclear", cause)
                     return
@@ -368,7 +371,7 @@ class ObjectAttention(Module):
         """Look where she points for ``look_time`` s, merge the detections, resolve the reference."""
         self._seen = []
         self._looking = True
-        fallback = self._ray_target(pointing) if pointing is not None else None
+        fallback = self._target_3d(pointing) if pointing is not None else None
         t_end = self.now + self.look_time
         while self.now < t_end - 1e-9:
             self._publish_focus(cause, fallback)
@@ -484,7 +487,11 @@ class ObjectAttention(Module):
             await asyncio.sleep(0.3)
         pose = self.pose
         assert pose is not None
-        route = viewpoint_route(self.plan, (pose[0], pose[1]), target, self._people_map(pose), camera_height=CAMERA_HEIGHT, camera_offset=CAMERA_OFFSET)
+        people = self._people_map(pose)
+        # A place one straight leg away first (the player's own leg, the surest drive); only when there
+        # is none, one round a corner (legs through waypoints).
+        one = viewpoint(self.plan, (pose[0], pose[1]), target, people, camera_height=CAMERA_HEIGHT, camera_offset=CAMERA_OFFSET)
+        route = [one] if one is not None else viewpoint_route(self.plan, (pose[0], pose[1]), target, people, camera_height=CAMERA_HEIGHT, camera_offset=CAMERA_OFFSET)
         if route is None:
             return False
         self.moves += 1
@@ -647,25 +654,36 @@ class ObjectAttention(Module):
         x = msg.xml
         self._partner = (msg.created, math.radians(float(x.get("bearing"))), float(x.get("distance")))  # type: ignore[arg-type]
 
-    def _publish_focus(self, cause: str, fallback: tuple[float, float] | None = None) -> None:
+    def _publish_focus(self, cause: str, fallback: tuple[float, float, float] | None = None) -> None:
         """Where the camera looks: where the pointing seen now comes down, else ``fallback`` (where
-        an earlier pointing came down: she pointed, then stepped aside), else ahead and down."""
+        an earlier pointing came down, with the height of what it stands on: she pointed, then
+        stepped aside), else ahead and down. The region's height goes with it when known, so the
+        camera tilts down to the floor for what lies there (not to a table top's height)."""
         pose = self.pose
         assert pose is not None
         target = self.gestures.target(self.now) or fallback
+        el = etree.Element("focus")
         if target is None:  # no gesture: look ahead and down, at a table in front of the robot
             bearing, dist = 0.0, 1.2
         else:
             dx, dy = target[0] - pose[0], target[1] - pose[1]
             bearing = math.remainder(math.atan2(dy, dx) - pose[2], 2 * math.pi)
             dist = max(0.3, math.hypot(dx, dy) - CAMERA_OFFSET)
-        self.bus.publish(FOCUS, etree.Element("focus", bearing=f"{math.degrees(bearing):.2f}", distance=f"{dist:.3f}"), causes=(cause,))
+        el.set("bearing", f"{math.degrees(bearing):.2f}")
+        el.set("distance", f"{dist:.3f}")
+        if target is not None and abs(target[2] - TABLE_HEIGHT) > HEIGHT_OFF:
+            # far from the table height the person attention assumes: the floor, a high shelf
+            el.set("height", f"{min(3.0, max(0.0, target[2])):.2f}")
+        self.bus.publish(FOCUS, el, causes=(cause,))
 
-    async def _ask(self, cands: list[Candidate], wanted: Wanted, pose: tuple[float, float, float], cause: str) -> Candidate | None:
+    async def _ask(self, cands: list[Candidate], wanted: Wanted, pose: tuple[float, float, float], cause: str,
+                   first: Pointing | None = None) -> Candidate | None:
         """Ask the partner which candidate they mean, through the ES (the papers' control flow):
         the event ``clarification`` (``<OPTIONS timeout><option index text/>+</OPTIONS>``) becomes the
         dialog's condition ``ask``; the dialog's answer comes back as the order ``clarified``
-        (``<ANSWER index/>`` or ``none``). No answer within ``ask_timeout`` + 2 s: None."""
+        (``<ANSWER index/>`` or ``none``). No answer within ``ask_timeout`` + 20 s: None. The
+        dialog gives her ``ask_timeout`` s (15) after the question to answer: room for one misheard
+        answer and the question again, and a gesture before the words ("this one")."""
         asked = self.now
         texts = option_texts(cands, wanted, pose)
         opts = etree.Element("OPTIONS", timeout=f"{self.ask_timeout:g}")
@@ -676,6 +694,7 @@ class ObjectAttention(Module):
         fut: asyncio.Future[etree._Element] = self.sim.loop.create_future()
         self._answer = fut
         self.bus.publish(ES_EVENTS, ev, causes=(cause,), transfer=True)
+        watch = self.sim.spawn(self._watch_answer(cands, cause), name=f"{self.name}:watch")
         try:
             async with asyncio.timeout(self.ask_timeout + 20.0):  # the question itself takes a while to say
                 answer = await fut
@@ -683,11 +702,12 @@ class ObjectAttention(Module):
             return None
         finally:
             self._answer = None
+            watch.cancel()
         idx = answer.get("index")
         if idx is not None and idx.isdigit() and int(idx) < len(cands) and answer.get("none") != "true":
             return cands[int(idx)]
         if answer.get("deixis") == "true":  # "this one": where she points now
-            return await self._pointed_again(cands, wanted, pose, asked)
+            return await self._pointed_again(cands, wanted, pose, asked, first)
         pos = answer.find("POSITION")
         if pos is not None:  # "the one on the table": the only candidate standing on it
             ground = pos.find("TITLE")
@@ -695,18 +715,38 @@ class ObjectAttention(Module):
             return on[0] if len(on) == 1 else None
         return None
 
-    async def _pointed_again(self, cands: list[Candidate], wanted: Wanted, pose: tuple[float, float, float], since: float) -> Candidate | None:
+    async def _watch_answer(self, cands: list[Candidate], cause: str) -> None:
+        """While the question waits for its answer, keep the camera where her answer's gesture will
+        be ("this one" with pointing): between her and the options asked about, where her hand
+        reaches when she points at one of them (at her, when they lie too far apart for one image)."""
+        while True:
+            pose, p = self.pose, self._partner
+            if pose is not None and p is not None and self.now - p[0] < 1.0 and cands:
+                mx, my = sum(c.x for c in cands) / len(cands), sum(c.y for c in cands) / len(cands)
+                ob = math.remainder(math.atan2(my - pose[1], mx - pose[0]) - pose[2], 2 * math.pi)
+                gap = math.remainder(ob - p[1], 2 * math.pi)
+                bearing = p[1] + gap / 2 if abs(gap) < 2 * VIEW_HALF_WIDTH * 0.8 else p[1]
+                self.bus.publish(FOCUS, etree.Element("focus", bearing=f"{math.degrees(bearing):.2f}", distance=f"{max(0.8, p[2]):.3f}"), causes=(cause,))
+            await asyncio.sleep(0.2)
+
+    async def _pointed_again(self, cands: list[Candidate], wanted: Wanted, pose: tuple[float, float, float], since: float,
+                             first: Pointing | None = None) -> Candidate | None:
         """"This one" after the question: the asked candidates resolved by the pointing the camera
-        saw since the question (waiting up to ``gesture_wait`` s for it); None if it still does
-        not single one out."""
+        saw since the question (waiting up to ``gesture_wait`` s for it) together with ``first``, the
+        gesture of the request (both point at the same object: each aims with its own error, so
+        their likelihoods multiply, :func:`~robot.objects.resolve.choose_pointed`); None if they
+        still do not single one out."""
         waited = 0.0
         while waited < self.gesture_wait + 1e-9:
-            p = self.gestures.pointing(self.now, since=since)
+            # since the question, however long ago (she points, then says "this one": by the time
+            # the answer has been understood and reached this module her arm may be down again)
+            p = self.gestures.pointing(self.now, since=since, start=since)
             if p is not None:
                 res = resolve(cands, Wanted(type=wanted.type, name=wanted.name), p, (pose[0], pose[1]))
                 self.last = res
                 if res.kind == "one":
                     return res.best
+                return choose_pointed(cands, [p] if first is None else [p, first])
             await asyncio.sleep(0.1)
             waited += 0.1
         return None

@@ -58,6 +58,8 @@ NEAR_HAND = 0.5
 TYPE_EVIDENCE = 3  # detections, none of the named type, that rule a candidate out
 TYPE_SHARE = 0.25  # with TYPE_EVIDENCE or more detections, a candidate seen as the named type less often does not fit
 CLEAR = 3.0  # the best candidate's score ratio over the second to decide without asking
+SIDE_APART = math.radians(3.0)  # rad: options this far apart, seen from the robot, are told apart by side too (3x the camera's bearing noise)
+ANSWER_CLEAR = 1.5  # ... and after asking, with her answer's gesture and the request's together (she has been asked once)
 
 
 def colour_name(rgb: tuple[float, float, float] | np.ndarray) -> str:
@@ -451,13 +453,36 @@ def resolve(candidates: list[Candidate], wanted: Wanted, pointing: Pointing | No
     return Resolution("ambiguous", tuple(ranked))
 
 
+def choose_pointed(cands: list[Candidate], gestures: list[Pointing]) -> Candidate | None:
+    """Of candidates she was asked to choose from, the one several gestures at the same object
+    point at: each gesture's aim errs on its own, so their likelihoods (as in :func:`score`)
+    multiply. The best when it is ``ANSWER_CLEAR`` times as likely as the next and within
+    ``GESTURE_FIT`` of every gesture; else None."""
+    if not cands or not gestures:
+        return None
+    ranked = []
+    for c in cands:
+        like, fits = 1.0, True
+        for g in gestures:
+            a = g.angle_off(c.x, c.y)
+            like *= math.exp(-0.5 * (a / g.spread) ** 2) + 1e-6
+            fits = fits and a <= GESTURE_FIT
+        ranked.append((like, fits, c))
+    ranked.sort(key=lambda r: -r[0])
+    best = ranked[0]
+    if not best[1] or (len(ranked) > 1 and best[0] < ANSWER_CLEAR * ranked[1][0]):
+        return None
+    return best[2]
+
+
 def option_texts(cands: list[Candidate], wanted: Wanted, robot_pose: tuple[float, float, float]) -> list[str]:
     """Words that tell the candidates apart: "the red cup", "the blue one"; by side or distance
-    when the colours are the same ("the cup on the left", "the one on the right")."""
+    when the colours are the same ("the cup on the left", "the one on the right"). Different colours
+    are said with their side too when the sides differ by ``SIDE_APART`` or more ("the green book on
+    the right", "the brown one on the left"): people answer "which one?" by colour or by side alike,
+    and the answer is matched to the words of the options."""
     noun = wanted.name or wanted.type or cands[0].type
     colours = [c.colour for c in cands]
-    if len(set(colours)) == len(colours):
-        return [f"the {col} {noun}" if i == 0 else f"the {col} one" for i, col in enumerate(colours)]
     x, y, th = robot_pose
     side = [math.remainder(math.atan2(c.y - y, c.x - x) - th, 2 * math.pi) for c in cands]
     order = sorted(range(len(cands)), key=lambda i: -side[i])  # leftmost first
@@ -467,4 +492,7 @@ def option_texts(cands: list[Candidate], wanted: Wanted, robot_pose: tuple[float
     else:
         for rank, i in enumerate(order):
             words[i] = "on the left" if rank == 0 else "on the right" if rank == len(cands) - 1 else "in the middle"
+    if len(set(colours)) == len(colours):
+        apart = all(abs(side[a] - side[b]) >= SIDE_APART for a, b in zip(order, order[1:]))
+        return [(f"the {col} {noun}" if i == 0 else f"the {col} one") + (f" {words[i]}" if apart else "") for i, col in enumerate(colours)]
     return [f"the {noun} {words[i]}" if i == 0 else f"the one {words[i]}" for i in range(len(cands))]
