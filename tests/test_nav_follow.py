@@ -85,15 +85,18 @@ def test_it_never_backs_off_into_what_it_cannot_see_behind():
     run.close()
 
 
+HIDDEN_AT = 5.0  # s: the oracle stops seeing her (the warning came before)
+
+
 def _too_fast_setup(run):
     run.at(0.1, run.engage)
     run.at(0.2, lambda: run.say("follow", etree.Element("FOLLOW")))
-    run.at(9.0, lambda: run.oracle.hidden.add("anna"))
+    run.at(HIDDEN_AT, lambda: run.oracle.hidden.add("anna"))
 
 
 @pytest.fixture(scope="module")
 def too_fast():
-    run = _follow("follow_too_fast", 17.5, setup=_too_fast_setup)
+    run = _follow("follow_too_fast", 20.0, setup=_too_fast_setup)
     yield run
     run.close()
 
@@ -113,19 +116,25 @@ def test_a_partner_who_walks_too_fast_is_told_so(too_fast):
 
 
 def test_a_partner_out_of_view_is_searched_for_where_she_was_heading_then_the_robot_stops(too_fast):
+    from robot.partner_search import follow_search_time
     from robot.navigation.follow import Follower
 
     f = too_fast.modules["follower"]
-    # hidden at 9.0 s: after lost_after (1 s) it searches, slowly, for search_time (6 s) since last seen
-    searching = [(t, st) for t, st in too_fast.status if 9.0 + 1.3 < t < 9.0 + f.search_time - 0.2]
+    # hidden at HIDDEN_AT: after lost_after (1 s) it searches, slowly, for its search time since last
+    # seen: search_time (6 s), longer by the time to drive the gap beyond the band (she was far ahead)
+    seen_d = [float(st["distance"]) for t, st in too_fast.status if t < HIDDEN_AT]
+    search = f.search_for()
+    assert search == follow_search_time(f._seen_distance, base=f.search_time, near=f.band[1], speed=f.search_speed)
+    assert seen_d[-1] > f.band[1] + 0.5 and search > f.search_time + 1.0  # far ahead: it searches longer
+    searching = [(t, st) for t, st in too_fast.status if HIDDEN_AT + 1.3 < t < HIDDEN_AT + search - 0.2]
     assert searching and all(st["state"] == "searching" for _, st in searching)
     # (the odometry's speed, noisy, as it slows from the following speed)
-    assert all(float(st["speed"]) <= f.search_speed + 0.1 for t, st in searching if t > 10.5)
+    assert all(float(st["speed"]) <= f.search_speed + 0.1 for t, st in searching if t > HIDDEN_AT + 1.5)
     assert any(float(st["speed"]) > 0.1 for _, st in searching)  # it drives on where she went, not standing
-    after = [(t, st) for t, st in too_fast.status if t > 9.0 + f.search_time + 0.4]
+    after = [(t, st) for t, st in too_fast.status if t > HIDDEN_AT + search + 0.4]
     assert after and all(st["state"] == "stopped" for _, st in after)
     assert abs(too_fast.world.robot.v) < 1e-6  # standing still by the end
-    assert too_fast.world.robot.odometer < 0.5 * 17.5  # it never went faster than its limit
+    assert too_fast.world.robot.odometer < 0.5 * 20.0  # it never went faster than its limit
     assert Follower.__init__.__kwdefaults__["search_time"] == 6.0  # the attention's follow_lost_after is the same
 
 

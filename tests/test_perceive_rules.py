@@ -141,12 +141,33 @@ def test_a_partner_last_seen_outside_the_interaction_space_has_left_after_two_se
 @given(d=st.floats(0.3, 8.0), speed=st.floats(0.0, 1.5), unseen=st.floats(0.0, 20.0))
 def test_while_following_she_is_lost_only_after_the_followers_search_time_unseen_wherever_she_went(d, speed, unseen):
     # she leads: out of view a moment (a door frame, someone crossing) is no evidence of leaving; the
-    # follower searches where she was heading for its search_time, and the attention waits as long
+    # follower searches where she was heading for its search time (longer when she was last seen
+    # further than the band: it fell behind yielding), and the attention waits exactly as long
+    from robot.partner_search import follow_search_time
     from robot.navigation.follow import Follower
 
     pa = _attention("Follow", (0.0, d, 0.0, speed, 0.0, 0.0, 0.0))
     assert pa.params.follow_lost_after == Follower.__init__.__kwdefaults__["search_time"]
-    assert pa.partner_left(unseen) == (unseen >= pa.params.follow_lost_after)
+    f = Follower.__new__(Follower)  # only the rule's inputs
+    f.search_time, f.band, f.search_speed = pa.params.follow_lost_after, (1.0, 1.5), Follower.__init__.__kwdefaults__["search_speed"]
+    f._seen_distance = d
+    assert f.search_for() == follow_search_time(d, base=pa.params.follow_lost_after)
+    assert pa.partner_left(unseen) == (unseen >= f.search_for())
+
+
+@settings(max_examples=200, deadline=None)
+@given(d=st.floats(0.0, 50.0), e=st.floats(0.0, 10.0), base=st.floats(1.0, 10.0))
+def test_the_search_for_an_unseen_partner_is_longer_the_further_behind_the_robot_was_and_bounded(d, e, base):
+    from robot.partner_search import SEARCH_CAP, SEARCH_NEAR, SEARCH_SPEED, follow_search_time
+
+    t = follow_search_time(d, base=base)
+    assert base <= t <= max(base, SEARCH_CAP)  # never shorter than the base, never longer than the cap
+    assert follow_search_time(d + e, base=base) >= t  # further behind: at least as long
+    if d <= SEARCH_NEAR:
+        assert t == base  # a partner seen within the band: the base time
+    elif base + (d - SEARCH_NEAR) / SEARCH_SPEED <= SEARCH_CAP:
+        # long enough to drive the gap beyond the band at the search speed
+        assert t * SEARCH_SPEED >= base * SEARCH_SPEED + (d - SEARCH_NEAR) - 1e-9
 
 
 # ------------------------------------------------------------ similar objects

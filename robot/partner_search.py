@@ -1,0 +1,33 @@
+"""How long a partner may be out of view while the robot follows her (issue 26 item 1).
+
+Following, she leads: out of view a moment (a door frame, someone crossing between, walking
+past the robot's side) is no evidence that she left. The follower searches where she was
+heading meanwhile and the attention's leaving rule waits as long. A robot that yielded to people
+crossing its way falls behind a partner who walks at its own top speed; when she then turns a
+corner or goes through a door it needs longer than a near follower to come where she was. So the
+time allowed grows with the distance at which she was last seen: the base time, plus the time
+to drive the gap beyond the following band at the search speed, at most a cap (a partner unseen
+that long has gone, wherever she was). Both the follower (its search) and the attention (its
+``partner_lost``) read this one rule, so the robot never stops searching before the attention
+lets her go, nor the other way round.
+"""
+
+from __future__ import annotations
+
+#: s: unseen this long a near partner (within :data:`SEARCH_NEAR`) is lost
+SEARCH_BASE = 6.0
+#: m: the following band's far end: a partner seen this near needs no extra time
+SEARCH_NEAR = 1.5
+#: m/s: the follower's search speed (it drives at most this fast where she was heading)
+SEARCH_SPEED = 0.4
+#: s: the longest a partner may be unseen while following, however far she was last seen
+SEARCH_CAP = 15.0
+
+
+def follow_search_time(distance: float, *, base: float = SEARCH_BASE, near: float = SEARCH_NEAR,
+                       speed: float = SEARCH_SPEED, cap: float = SEARCH_CAP) -> float:
+    """Seconds a partner last seen ``distance`` m from the robot may stay unseen while it follows
+    her: ``base``, plus the time to drive the gap beyond ``near`` at ``speed``, at most ``cap``
+    (never less than ``base``)."""
+    extra = max(0.0, distance - near) / speed if distance == distance else 0.0  # NaN: no extra time
+    return max(base, min(cap, base + extra))
