@@ -187,27 +187,6 @@ def test_whoever_walks_straight_at_it_from_near_is_yielded_to_and_whoever_walks_
     assert not closing_in(np.array([[x, y, -vx, -vy]]), near=1.6, speed=0.15)
 
 
-# ---------------------------------------------------------------- turning to a leg is not a blockage
-ROOM_SLOW_TURN = NICHE.replace('<robot x="1.2" y="1.9" heading="0"/>', '<robot x="2.2" y="1.9" heading="0" max-turn="40"/>')
-
-
-def test_turning_on_the_spot_to_a_goal_behind_is_progress_not_a_blockage():
-    # a robot that turns slowly (40 degrees/s: 4.5 s for the half turn, over twice the stall time)
-    # to a place behind it is not "blocked": the sequencer would replan in mid-turn and restart the leg
-    run = start_run("nav_niche", text=ROOM_SLOW_TURN)
-    states: list[str] = []
-    run.sim.bus.participant("player_watch").subscribe("/robot/player/status", lambda m: states.append(m.xml.get("state")))
-    run.at(0.5, run.engage)
-    run.at(1.0, lambda: run.teach_place("window", 0.7, 1.9, math.pi))
-    run.at(1.5, lambda: run.goto("window"))
-    run.until(20.0)
-    try:
-        assert "goal_reached" in [e[1] for e in run.events]
-        assert "blocked" not in states and "replan" not in [e[1] for e in run.events]
-        assert run.world.contacts == []
-    finally:
-        run.close()
-
 
 # ---------------------------------------------------------------- backing out of a door (doors5)
 def _storeroom() -> OccupancyGrid:
