@@ -422,6 +422,10 @@ class Follower(Module):
             w = max(-self.limits.max_turn, min(self.limits.max_turn, 1.8 * bearing))
             v = v_des if v_des < 0 and self.can_back_off() else 0.0
             v, w = self._swept(v, w, mapped)
+            if v == 0.0 and w != 0.0:  # turning to her: no corner swung into her (she may stand close) or anyone
+                near = self.people.around(self.odom, self.now)
+                bodies = np.concatenate((near[:, :2], [(rx, ry)])) if len(near) else np.array([(rx, ry)])
+                w = w if turn_clear(w, bodies, duration=SWEEP_TIME) else 0.0
             state = "waiting"
             # the robot stands and sees the partner: the way to them is the straight line. Older trail
             # points are stale (a partner who turned back and walked past would otherwise be
