@@ -463,6 +463,8 @@ class Follower(Module):
             # off anyway); no lost tracks (a partner's second track lost at a door frame would live on
             # as a phantom in the door)
             others = self.people.around(self.odom, self.now, exclude=self.partner_id, near=(px, py), moving=0.2)
+            if searching:  # unseen, where she is heading: her body too (she may stand there, out of view)
+                others = np.concatenate((others, [(rx, ry)])) if len(others) else np.array([(rx, ry)])
             limits = self.limits
             if searching:  # slowly: she may step out from behind whatever hid her
                 limits = replace(limits, max_speed=min(limits.max_speed, self.search_speed))
