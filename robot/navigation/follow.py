@@ -134,6 +134,8 @@ GIVE_WAY_ROOM = 0.45
 #: s, m/s: a give-way spot is driven to for at most this long, this slowly
 GIVE_WAY_TIME = 8.0
 GIVE_WAY_SPEED = 0.35
+#: s: when there is no give-way spot, it looks again after this long (the search plans on the grid)
+GIVE_WAY_RETRY = 1.0
 #: m/s: it gives way to a partner slower than this (held up in front of it), never into a walking one
 GIVE_WAY_STILL = 0.2
 #: s: following, a partner standing that close this long is held up by the robot, wherever it stands
@@ -203,6 +205,7 @@ class Follower(Module):
         self.route = Route()  # the way to the partner on the floor plan (through doors)
         self._aside: tuple[list[tuple[float, float]], float, bool] | None = None  # give-way path (odom), until when, reversing
         self._close_since: float | None = None  # following, since when she has stood close in front
+        self._no_spot_until = -math.inf  # no give-way spot found: the next search not before then
         self._map_asked = False
         self._pose_sub: Any = None
         self._turn_in = False  # following ended: turn back into the flat if it faces out of an exit door
@@ -438,6 +441,10 @@ class Follower(Module):
             w = max(-self.limits.max_turn, min(self.limits.max_turn, 1.8 * bearing))
             v = v_des if v_des < 0 and self.can_back_off() else 0.0
             v, w = self._swept(v, w, mapped)
+            if v == 0.0 and w != 0.0:  # turning to her: no corner swung into her (she may stand close) or anyone
+                near = self.people.around(self.odom, self.now)
+                bodies = np.concatenate((near[:, :2], [(rx, ry)])) if len(near) else np.array([(rx, ry)])
+                w = w if turn_clear(w, bodies, duration=SWEEP_TIME) else 0.0
             state = "waiting"
             # the robot stands and sees the partner: the way to them is the straight line. Older trail
             # points are stale (a partner who turned back and walked past would otherwise be
@@ -478,6 +485,8 @@ class Follower(Module):
             close = close[np.hypot(close[:, 0], close[:, 1]) < STANDING_NEAR] if len(close) else close
             if len(close):
                 others = np.concatenate((others, close)) if len(others) else close
+            if searching:  # unseen, where she is heading: her body too (she may stand there, out of view)
+                others = np.concatenate((others, [(rx, ry)])) if len(others) else np.array([(rx, ry)])
             limits = self.limits
             if searching:  # slowly: she may step out from behind whatever hid her
                 limits = replace(limits, max_speed=min(limits.max_speed, self.search_speed))
@@ -516,6 +525,8 @@ class Follower(Module):
             return None
         if self._aside is None or self.now > self._aside[1]:
             self._aside = None
+            if self.now < self._no_spot_until:
+                return None
             if not held and self.route.clearance(self.odom[:2]) >= GIVE_WAY_ROOM:
                 return None
             grid = self.route.grid
@@ -525,6 +536,7 @@ class Follower(Module):
             if path is None:  # nowhere ahead (a storeroom): back out the way it came, facing her
                 path, back = back_out_spot(grid, here, her, keep=self.band[0]), True
             if path is None:
+                self._no_spot_until = self.now + GIVE_WAY_RETRY  # up to 24 grid searches: not every step
                 return None
             self._aside = ([self.route.to_odom(p) for p in path], self.now + GIVE_WAY_TIME, back)
         way = self._aside[0]
