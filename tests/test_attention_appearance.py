@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import math
 
-from hypothesis import given, settings
+from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
 from robot.attention.appearance import AppearanceSpec, Colours, anchor_torsos, same_clothes
@@ -73,3 +73,33 @@ def test_the_camera_noise_does_not_split_one_persons_clothes_but_red_and_green_d
         b.observe(1, tuple(np.clip(np.array(green) + rng.normal(0, 0.04, 3), 0, 1)))
     assert same_clothes(a.colour(1), b.colour(1))
     assert not same_clothes(a.colour(1), yellow) and not same_clothes(a.colour(1), red)
+
+
+# ------------------------------------------------------------ one person tracked twice
+def _confirmed_tracks(positions):
+    from robot.attention.tracker import Track, Tracks
+
+    tr = Tracks()
+    for k, (x, y) in enumerate(positions):
+        tk = Track(k + 1, [x, y, 0.0, 0.0], [0.01, 0, 0, 0, 0.01, 0, 0, 0.1, 0, 0.1], 0.0)
+        tk.confirmed = True
+        tr.tracks.append(tk)
+    tr._next = len(positions) + 1
+    return tr
+
+
+@settings(max_examples=200, deadline=None)
+@given(gap=st.floats(0.0, 1.0), steps=st.integers(1, 30))
+def test_two_confirmed_tracks_on_one_spot_for_longer_than_a_crossing_become_one_the_older(gap, steps):
+    from robot.attention.tracker import TrackerSpec
+
+    spec = TrackerSpec()
+    assume(abs(gap - spec.merge_distance) > 1e-6)  # (not on the rounding edge)
+    tr = _confirmed_tracks([(2.0, 0.0), (2.0 + gap, 0.0)])
+    twins: set[int] = set()
+    for k in range(steps + 1):
+        twins = tr._twins(0.1 * k)
+    merged = gap < spec.merge_distance and 0.1 * steps >= spec.merge_time - 1e-9
+    assert twins == ({2} if merged else set())  # the younger (id 2) goes, never the older
+    tr._twins(0.1 * (steps + 1) + 10.0)
+    assert len(tr._together) <= 1  # only pairs of tracks alive and close now are kept
