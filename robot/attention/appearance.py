@@ -30,6 +30,8 @@ class AppearanceSpec:
     alpha: float = 0.25  # weight of a new blob in a track's running mean colour
     min_obs: int = 3  # blobs before a track's colour counts
     differ: float = 0.25  # RGB distance: clothes this far apart are different clothes
+    fresh: float = 2.0  # s: a colour not seen again for longer is no evidence (the track may have
+    # passed to another person since: a crossing, a track coasting onto someone else)
 
 
 def _off(a: float, b: float) -> float:
@@ -66,9 +68,11 @@ class Colours:
     def __init__(self, spec: AppearanceSpec = AppearanceSpec()) -> None:
         self.spec = spec
         self._mean: dict[int, tuple[float, float, float, int]] = {}
+        self._seen: dict[int, float] = {}  # when each track's colour was last observed
 
-    def observe(self, track_id: int, rgb: RGB) -> None:
-        """One anchored blob of colour ``rgb`` for ``track_id``."""
+    def observe(self, track_id: int, rgb: RGB, t: float = 0.0) -> None:
+        """One anchored blob of colour ``rgb`` for ``track_id`` at time ``t``."""
+        self._seen[track_id] = t
         old = self._mean.get(track_id)
         if old is None:
             self._mean[track_id] = (rgb[0], rgb[1], rgb[2], 1)
@@ -77,11 +81,17 @@ class Colours:
         self._mean[track_id] = (old[0] + a * (rgb[0] - old[0]), old[1] + a * (rgb[1] - old[1]),
                                 old[2] + a * (rgb[2] - old[2]), old[3] + 1)
 
-    def colour(self, track_id: int) -> RGB | None:
-        """The track's colour once it has ``min_obs`` blobs, else None."""
+    def colour(self, track_id: int, t: float | None = None) -> RGB | None:
+        """The track's colour once it has ``min_obs`` blobs, else None; with ``t``, also None when
+        it was last seen more than ``fresh`` s before ``t``."""
         m = self._mean.get(track_id)
-        return (m[0], m[1], m[2]) if m is not None and m[3] >= self.spec.min_obs else None
+        if m is None or m[3] < self.spec.min_obs:
+            return None
+        if t is not None and t - self._seen.get(track_id, -math.inf) > self.spec.fresh:
+            return None
+        return (m[0], m[1], m[2])
 
     def forget(self, alive: set[int]) -> None:
-        for k in [k for k in self._mean if k not in alive]:
-            del self._mean[k]
+        for d in (self._mean, self._seen):
+            for k in [k for k in d if k not in alive]:
+                del d[k]

@@ -350,7 +350,7 @@ class PersonAttention(Module):
         for j, i in anchor_torsos(tb, bearings, self.cues.torso_bearing_tolerance):
             if tracks[i].confirmed:
                 r = rows[j]
-                self.colours.observe(tracks[i].id, (float(get(r, "r")), float(get(r, "g")), float(get(r, "b"))))
+                self.colours.observe(tracks[i].id, (float(get(r, "r")), float(get(r, "g")), float(get(r, "b"))), t)
         if self.partner is None:
             return
         prow = self.tracks.row(self.partner)
@@ -537,7 +537,7 @@ class PersonAttention(Module):
         row = tr.row(self.partner) if self.partner is not None else -1
         if row >= 0:
             tk = tr.tracks[row]
-            colour = self.colours.colour(tk.id)
+            colour = self.colours.colour(tk.id, t)
             if colour is not None:
                 self._partner_colour = colour
             if self._partner_last is None or tk.last_seen > self._partner_last[0]:
@@ -616,7 +616,7 @@ class PersonAttention(Module):
         best, row = radius, -1
         for i, tk in enumerate(self.tracks.tracks):
             # someone in other clothes is not her, however near (a person who crossed between)
-            if tk.confirmed and same_clothes(self._partner_colour, self.colours.colour(tk.id)):
+            if tk.confirmed and same_clothes(self._partner_colour, self.colours.colour(tk.id, t)):
                 d = math.hypot(tk.x[0] - x, tk.x[1] - y)
                 if d <= best:
                     best, row = d, i

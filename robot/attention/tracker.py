@@ -277,12 +277,13 @@ class Tracks:
 
     def _twins(self, t: float) -> set[int]:
         """Ids of confirmed tracks that have followed an older confirmed track closer than
-        ``merge_distance`` for ``merge_time`` s: one person tracked twice (a second track born on
+        ``merge_distance`` for ``merge_time`` s, both measured all the while: one person tracked twice (a second track born on
         her legs while the first coasted elsewhere, then converged). No two people's centres come
         that close (their bodies are in the way), and a crossing lets them part within a second;
         the older track keeps the person (it is the one the attention knows)."""
         spec = self.spec
-        conf = [tk for tk in self.tracks if tk.confirmed]
+        # both measured just now: a track coasting unseen over someone else's position is not a twin
+        conf = [tk for tk in self.tracks if tk.confirmed and t - tk.last_update <= spec.tentative_gap + 1e-9]
         d2 = spec.merge_distance**2
         together: dict[tuple[int, int], float] = {}
         for a, ta in enumerate(conf):
