@@ -98,8 +98,28 @@ def test_two_confirmed_tracks_on_one_spot_for_longer_than_a_crossing_become_one_
     tr = _confirmed_tracks([(2.0, 0.0), (2.0 + gap, 0.0)])
     twins: set[int] = set()
     for k in range(steps + 1):
+        for tk in tr.tracks:
+            tk.last_update = 0.1 * k  # both measured every scan
         twins = tr._twins(0.1 * k)
     merged = gap < spec.merge_distance and 0.1 * steps >= spec.merge_time - 1e-9
     assert twins == ({2} if merged else set())  # the younger (id 2) goes, never the older
     tr._twins(0.1 * (steps + 1) + 10.0)
     assert len(tr._together) <= 1  # only pairs of tracks alive and close now are kept
+
+
+def test_a_track_coasting_unseen_over_someone_else_is_not_their_twin():
+    tr = _confirmed_tracks([(2.0, 0.0), (2.05, 0.0)])
+    for k in range(40):
+        tr.tracks[1].last_update = 0.1 * k  # only the younger is measured: the older coasts over it
+        assert tr._twins(0.1 * k) == set()
+
+
+@settings(max_examples=100, deadline=None)
+@given(last=st.floats(0.0, 100.0), later=st.floats(0.0, 10.0))
+def test_a_colour_not_seen_again_for_a_while_is_no_evidence(last, later):
+    c = Colours()
+    for k in range(c.spec.min_obs):
+        c.observe(3, (0.1, 0.65, 0.2), last - 0.1 * (c.spec.min_obs - 1 - k))
+    fresh = later <= c.spec.fresh
+    assert (c.colour(3, last + later) is not None) == fresh
+    assert same_clothes(c.colour(3, last + later), (0.95, 0.85, 0.1)) == (not fresh)  # stale: could be anyone
