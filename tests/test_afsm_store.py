@@ -85,3 +85,26 @@ def test_biron_tells_the_dialog_who_greeted_and_what_they_said():
     found = next(o for o in applied.outputs if o.name == "partner_found")
     partner = dict(found.params)["partner"]
     assert [x.tag for x in partner] == ["PERSON", "SPEECH"] and partner[0].get("id") == "t3"
+
+
+def test_biron_keeps_and_tells_who_took_the_lost_partners_place():
+    """After a loss (Following -> Interacting), new_partner stores the new PERSON in place of the greeter's
+    and tells the dialog (person_info); the interaction goes on in Interacting."""
+    from homesim.afsm.loader import load
+    from robot.supervisor import BIRON_AFSM
+
+    engine = Engine(load(BIRON_AFSM))
+    ev = lambda eid, name, src, t, life, xml: engine.queue(Event(eid, name, src, t, life, etree.fromstring(xml)), t)
+    ev("a#1", "potential_partner", "person_attention", 1, 10**9, '<event><PERSON id="t3" bearing="0" distance="1.2" speaking="true" facing="true"/></event>')
+    engine.process(1)
+    ev("d#1", "greeting", "dialog", 2, 3 * 10**9, "<event><SPEECH><GREETING/></SPEECH></event>")
+    ev("d#2", "follow", "dialog", 3, 5 * 10**9, "<event><SPEECH><FOLLOW/></SPEECH></event>")
+    ev("a#2", "partner_lost", "person_attention", 4, 2 * 10**9, "<event/>")
+    engine.process(4)
+    assert engine.state == "Interacting"
+    ev("a#3", "new_partner", "person_attention", 5, 2 * 10**9, '<event><PERSON id="t9" bearing="10" distance="1.5" speaking="true" facing="true"/></event>')
+    (applied,) = engine.process(5)
+    assert engine.state == "Interacting"
+    (info,) = [o for o in applied.outputs if o.name == "person_info"]
+    assert dict(info.params)["person"][0].get("id") == "t9"
+    assert [p.get("id") for p in engine.stored["partner"]] == ["t9"]

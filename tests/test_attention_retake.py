@@ -8,6 +8,7 @@ import numpy as np
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from robot.attention.cues import CueSpec, Hysteresis
 from robot.attention.fsm import AttentionFSM
 from robot.attention.module import AttentionParams, PersonAttention
 from robot.attention.tracker import Tracks, TrackerSpec
@@ -27,6 +28,11 @@ def _attention(positions: list[tuple[float, float]]) -> PersonAttention:
             tk.confirmed = True
     a.partner, a.partner_lost_sent, a._partner_last = None, False, None
     a._odom = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+    a._alone_since = None
+    a._voice_turn = None
+    a.facing = Hysteresis(CueSpec().facing_on, CueSpec().facing_off)
+    a.events = []  # the ES events it would publish: (name, PERSON attributes)
+    a._event = lambda name, children=(): a.events.append((name, [dict(c.attrib) for c in children]))
     return a
 
 
@@ -35,12 +41,15 @@ def test_someone_speaking_facing_the_robot_close_by_takes_the_place():
     tid = a.tracks.tracks[0].id
     a._top_down(1.0, {tid: 3})
     assert a.partner == tid
+    # the supervisor is told who took the place (ES event new_partner with the PERSON)
+    (name, (person,)), = a.events
+    assert name == "new_partner" and person["id"] == f"t{tid}" and abs(float(person["distance"]) - np.hypot(1.2, 0.3)) < 1e-3
 
 
 def test_a_bystander_speaking_facing_the_robot_from_across_the_room_does_not():
     a = _attention([(3.4, 1.0)])
     a._top_down(1.0, {a.tracks.tracks[0].id: 3})
-    assert a.partner is None
+    assert a.partner is None and a.events == []
 
 
 @settings(max_examples=40, deadline=None)
@@ -53,3 +62,23 @@ def test_the_new_partner_speaks_facing_the_robot_within_the_retake_radius(positi
     near = [tk.id for tk in a.tracks.tracks
             if cats[tk.id] == 3 and np.hypot(tk.x[0], tk.x[1]) <= a.params.retake_radius]
     assert a.partner == (min(near) if near else None)
+    # exactly one new_partner event, for that person, whenever someone takes the place; none otherwise
+    assert [p[0]["id"] for _, p in a.events] == ([f"t{min(near)}"] if near else [])
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.lists(st.tuples(st.floats(2.1, 6), st.floats(-1.5, 1.5)), max_size=3), st.floats(0.05, 0.5))
+def test_an_interaction_with_nobody_in_it_ends_after_out_of_view_after(positions, dt):
+    """Lost while following, asked to come back, and nobody takes the place (people only further than
+    the retake radius, or nobody): exactly one partner_lost, out_of_view_after s after the loss, so the
+    robot looks around again instead of standing deaf in Interacting (long_tour seed 0)."""
+    a = _attention(positions)
+    cats = {tk.id: 3 for tk in a.tracks.tracks}
+    t, lost_at = 0.0, []
+    while t < 25.0:
+        before = len(a.events)
+        a._top_down(t, cats)
+        lost_at += [t for name, _ in a.events[before:] if name == "partner_lost"]
+        t += dt
+    assert a.partner is None and len(lost_at) == 1
+    assert a.params.out_of_view_after <= lost_at[0] < a.params.out_of_view_after + dt + 1e-9

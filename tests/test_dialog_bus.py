@@ -115,6 +115,31 @@ def test_a_greeting_the_supervisor_rejects_is_explained_in_words(robot):
     assert robot.dialog.summary()["rejections_explained"] == 1
 
 
+def test_a_greeting_that_comes_too_late_for_a_person_seen_is_no_i_cant_see_you(robot):
+    # she speaks facing the robot (potential partner at 0.5 s, lost again at 2.5 s), but the greeting
+    # reaches the supervisor only at 6 s (a slow dialog host): it expires, and the robot says why
+    robot.partner(0.5)
+    robot.sim.call_at(2.5, lambda: robot.attention.publish(ES_EVENTS, event_xml("potential_partner_lost")))
+    robot.utter("hello biron", 0.3, 1.0)
+    robot.dialog.dialog_cost = 5.0  # understanding done at once, the dialog host takes 5 s
+    robot.sim.run(until=20.0)
+    (rej,) = robot.records("/robot/es/rejected/dialog")
+    assert 'reason="expired"' in rej["xml"]
+    assert robot.sentences() == ["Sorry, I was too slow. Please look at me and say hello again."]
+
+
+def test_a_greeting_expiring_in_a_technical_failure_is_told_as_the_failure(robot):
+    robot.sim.call_at(0.5, lambda: robot.attention.publish(ES_EVENTS, event_xml("module_failed", attrs={"module": "camera", "still_failed": "1"})))
+    # the greeting arrives after its lifetime (a congested WLAN: wlan_congested), in TechnicalFailure
+    greeting = etree.fromstring('<event name="greeting"><SPEECH><TIMESTAMP val="300"/><GREETING name="biron"/></SPEECH></event>')
+    robot.sim.call_at(4.5, lambda: robot.dialog.bus.publish(ES_EVENTS, greeting, created=1.2))
+    robot.sim.run(until=8.0)
+    (rej,) = robot.records("/robot/es/rejected/dialog")
+    assert 'reason="expired"' in rej["xml"] and 'state="TechnicalFailure"' in rej["xml"]
+    said = robot.sentences()
+    assert said and all("can't see you" not in s for s in said), said
+
+
 def test_transcript_shows_the_answer_and_the_explained_rejection():
     r = Robot()
     try:

@@ -484,6 +484,19 @@ def test_question_and_choice():
     assert choose(sides, etree.fromstring('<THAT_ONE side="middle"/>')) is None
 
 
+@pytest.mark.parametrize("answer, facing, picked", [
+    ('<THAT_ONE side="left"/>', "true", 1),  # a plain side is the robot's, whichever way she faces
+    ('<THAT_ONE side="left"/>', "false", 1),
+    ('<THAT_ONE side="left" view="speaker"/>', "true", 0),  # face to face: her left is the robot's right
+    ('<THAT_ONE side="left" view="speaker"/>', "false", 1),  # beside it, looking the same way: the same left
+    ('<THAT_ONE side="left" view="speaker"/>', "unknown", 1),
+    ('<THAT_ONE side="right" view="speaker"/>', "true", 1),
+])
+def test_a_side_said_from_her_view_is_turned_into_the_robots(answer, facing, picked):
+    sides = [(0, "the plant on the right"), (1, "the one on the left")]
+    assert choose(sides, etree.fromstring(answer), facing) == picked
+
+
 def test_clarify_dialog_asks_and_ends_with_the_choice(dm):
     ended = []
     with pytest.raises(ValueError, match="no slot question"):

@@ -50,11 +50,13 @@ def test_follow_me_while_the_robot_looks_at_an_object_is_refused_with_the_reason
 
 
 # ------------------------------------------------------------------- the rule itself
-def _dialog(state: str, reports: list[tuple[float, str, int]]) -> Dialog:
+def _dialog(state: str, reports: list[tuple[float, str, int]], sources=(), bearing: float = 0.0) -> Dialog:
     d = Dialog.__new__(Dialog)  # the rule only: no bus
     d.manager = DialogManager(DOC)
     d.manager.es_state = state
-    d._partner_cues = deque(reports, maxlen=300)
+    d._partner_cues = deque([(*r, bearing) for r in reports], maxlen=300)
+    d._sources = deque(sources, maxlen=300)
+    d.barge_in_width = 9.0
     return d
 
 
@@ -91,3 +93,33 @@ def test_a_partner_walking_away_from_the_robot_counts_as_turned_away(vx, vy, x, 
     d = (x * x + y * y) ** 0.5
     away = d > 1e-6 and (vx * x + vy * y) / d >= pa.params.leave_speed
     assert pa._walks_away(0.0, (x, y, vx, vy)) == away
+
+
+# ------------------------------------------------------------- the rule while she leads
+VOICES = st.lists(st.lists(st.floats(-90, 90), min_size=0, max_size=2), max_size=20)
+
+
+@settings(max_examples=300, deadline=None)
+@given(frames=VOICES, her=st.floats(-40, 40))
+def test_while_following_words_are_hers_unless_every_voice_came_from_elsewhere(frames, her):
+    """Following (her back turned, her face tells nothing): the words are not hers only when at least
+    three sound frames during them heard a voice and none from within 9 degrees of her bearing (front
+    and back folded); her "stop" is never dropped for want of evidence."""
+    reports = [(10.0 + 0.1 * i, "false", 1) for i in range(21)]
+    sources = [(10.0 + 0.1 * i, tuple(bs)) for i, bs in enumerate(frames) if bs]
+    d = _dialog("Following", reports, sources, bearing=her)
+    heard = d.addressed(10.0, 12.0)
+    near = any(abs(b - her) <= 9.0 for _, bs in sources for b in bs)
+    assert heard == (len(sources) < 3 or near)
+    # from behind, the pair hears her at the mirrored bearing: the same answer (folded to the front)
+    d2 = _dialog("Following", reports, sources, bearing=180.0 - her)
+    assert d2.addressed(10.0, 12.0) == heard
+
+
+def test_a_bystanders_remark_from_the_side_while_she_leads_is_not_taken_as_her_request():
+    reports = [(10.0 + 0.1 * i, "false", 1) for i in range(21)]
+    beside = [(10.0 + 0.1 * i, (62.0,)) for i in range(15)]
+    assert not _dialog("Following", reports, beside, bearing=2.0).addressed(10.0, 12.0)
+    hers = beside + [(11.6, (1.0,))]
+    assert _dialog("Following", reports, hers, bearing=2.0).addressed(10.0, 12.0)
+    assert _dialog("Following", [], beside, bearing=2.0).addressed(10.0, 12.0)  # where she is unknown: hers

@@ -116,7 +116,7 @@ def test_a_partner_who_walks_too_fast_is_told_so(too_fast):
 
 
 def test_a_partner_out_of_view_is_searched_for_where_she_was_heading_then_the_robot_stops(too_fast):
-    from robot.attention.search import follow_search_time
+    from robot.partner_search import follow_search_time
     from robot.navigation.follow import Follower
 
     f = too_fast.modules["follower"]

@@ -17,8 +17,10 @@ import numpy as np
 from hypothesis import given, settings, strategies as st
 
 from robot.floorplan import wall_rectangle
-from robot.navigation.giveway import LATERAL, ROOM, give_way_spot
+from robot.navigation.giveway import (BACK_FACE, BACK_GAIN, LATERAL, ROOM, back_out_spot, give_way_spot,
+                                      reverse_command)
 from robot.navigation.grid import OccupancyGrid, Plan2D
+from robot.navigation.local import arcs
 from robot.navigation.outline import FloorOutline, outline_points
 
 from tests.nav_helpers import start_run
@@ -183,3 +185,86 @@ def test_whoever_walks_straight_at_it_from_near_is_yielded_to_and_whoever_walks_
     vx, vy = speed * math.cos(a), speed * math.sin(a)
     assert closing_in(np.array([[x, y, vx, vy]]), near=1.6, speed=0.15) == (toward > 0.15)
     assert not closing_in(np.array([[x, y, -vx, -vy]]), near=1.6, speed=0.15)
+
+
+# ---------------------------------------------------------------- turning to a leg is not a blockage
+ROOM_SLOW_TURN = NICHE.replace('<robot x="1.2" y="1.9" heading="0"/>', '<robot x="2.2" y="1.9" heading="0" max-turn="40"/>')
+
+
+def test_turning_on_the_spot_to_a_goal_behind_is_progress_not_a_blockage():
+    # a robot that turns slowly (40 degrees/s: 4.5 s for the half turn, over twice the stall time)
+    # to a place behind it is not "blocked": the sequencer would replan in mid-turn and restart the leg
+    run = start_run("nav_niche", text=ROOM_SLOW_TURN)
+    states: list[str] = []
+    run.sim.bus.participant("player_watch").subscribe("/robot/player/status", lambda m: states.append(m.xml.get("state")))
+    run.at(0.5, run.engage)
+    run.at(1.0, lambda: run.teach_place("window", 0.7, 1.9, math.pi))
+    run.at(1.5, lambda: run.goto("window"))
+    run.until(20.0)
+    try:
+        assert "goal_reached" in [e[1] for e in run.events]
+        assert "blocked" not in states and "replan" not in [e[1] for e in run.events]
+        assert run.world.contacts == []
+    finally:
+        run.close()
+
+
+# ---------------------------------------------------------------- backing out of a door (doors5)
+def _storeroom() -> OccupancyGrid:
+    """A kitchen (0-5 x 0-4) and a small storeroom (5-7.6 x 0-2.6) behind a 1.0 m door at y 0.8-1.8,
+    a freezer along the storeroom's side and shelves along its far wall: nowhere roomy to step aside in it."""
+    walls = [wall_rectangle(a, b, 0.1) for a, b in (((0, 0), (7.6, 0)), ((0, 4), (5, 4)), ((0, 0), (0, 4)),
+                                                     ((5, 0), (5, 0.8)), ((5, 1.8), (5, 4)), ((5, 2.6), (7.6, 2.6)),
+                                                     ((7.6, 0), (7.6, 2.6)))]
+    furniture = [_box(7.1, 0.1, 7.5, 2.5), _box(5.9, 0.1, 6.9, 0.6)]
+    return OccupancyGrid(Plan2D(tuple(walls + furniture), (1.0, 1.0, 0.0)), radius=0.30)
+
+
+STOREROOM = _storeroom()
+
+
+def test_a_robot_in_a_storeroom_door_with_her_inside_backs_out_into_the_kitchen_beside_the_door():
+    robot, partner = (5.3, 1.19), (5.7, 1.55)  # it faces her; she wants out through the door behind it
+    assert give_way_spot(STOREROOM, robot, partner, keep=1.0) is None  # nowhere ahead
+    path = back_out_spot(STOREROOM, robot, partner, keep=1.0)
+    assert path is not None and path[0] == robot
+    spot = path[-1]
+    assert spot[0] < 4.95  # through the door, in the kitchen
+    i, j = STOREROOM.cell_of(spot)
+    assert STOREROOM.clearance[i, j] >= ROOM
+    assert abs(spot[1] - 1.3) >= 0.5  # beside the door's mouth, not on along her way out of it
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.floats(5.1, 5.5), st.floats(1.0, 1.6), st.floats(5.9, 6.6), st.floats(0.9, 2.2))
+def test_every_back_out_path_leads_away_from_her_to_a_roomy_spot_further_off_and_never_nearer_her(rx, ry, px, py):
+    robot, partner = (rx, ry), (px, py)
+    path = back_out_spot(STOREROOM, robot, partner, keep=1.0)
+    if path is None:
+        return
+    spot = path[-1]
+    i, j = STOREROOM.cell_of(spot)
+    assert STOREROOM.clearance[i, j] >= ROOM
+    d = math.hypot(rx - px, ry - py)
+    assert math.hypot(spot[0] - px, spot[1] - py) >= max(1.0, d + BACK_GAIN) - 1e-9
+    ux, uy = (rx - px) / d, (ry - py) / d
+    lx, ly = path[1][0] - rx, path[1][1] - ry
+    assert ux * lx + uy * ly >= math.cos(BACK_FACE) * math.hypot(lx, ly) - 1e-9  # it reverses straight away from her
+    for a, b in zip(path, path[1:]):
+        for t in np.linspace(0.0, 1.0, 11):
+            q = (a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1]))
+            assert math.hypot(q[0] - px, q[1] - py) >= min(0.7, d) - 0.01 - 1e-9
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.floats(-3.0, -0.1), st.floats(-2.0, 2.0))
+def test_reversing_steers_the_rear_toward_a_goal_behind_and_never_drives_forwards(gx, gy):
+    v, w = reverse_command((gx, gy), speed=0.2, max_turn=1.0)
+    assert -0.2 - 1e-9 <= v <= 0.0
+    off = math.atan2(-gy, -gx)
+    if abs(off) > 1e-6:
+        assert w * off > 0  # turning so the rear swings toward it
+    if abs(off) >= math.pi / 2:
+        assert v == 0.0
+    x, y, _ = arcs(np.array([v]), np.array([w]), np.array([0.3]))
+    assert math.hypot(gx - x[0, 0], gy - y[0, 0]) <= math.hypot(gx, gy) + 1e-9  # no further from it

@@ -18,7 +18,7 @@ from lxml import etree
 
 from homesim.tour.runner import Run, RunOptions
 from robot.navigation.config import Limits
-from robot.navigation.local import SOCIAL_GAP, arcs, dwa, people_gaps
+from robot.navigation.local import SOCIAL_GAP, TURN_GAP, arcs, dwa, people_gaps, turn_clear
 from robot.navigation.people import People
 
 NAV = Path(__file__).resolve().parent / "scenarios" / "nav"
@@ -42,8 +42,10 @@ def test_the_window_never_closes_in_on_a_person_inside_their_space(people, v0, w
     cmd = dwa(v0, w0, goal, np.zeros((0, 2)), LIM, v_pref=0.5, people=pts)
     now, along = _gap_along(cmd.v, cmd.w, pts)
     # the arc chosen keeps the social gap all along, or brings the robot no closer than it is, or
-    # turns on the spot
-    assert along >= SOCIAL_GAP - 1e-6 or along >= min(now, SOCIAL_GAP) - 1e-3 or cmd.v == 0.0
+    # turns on the spot without swinging a corner within TURN_GAP of anyone (or nearer than it is)
+    x, y, th = arcs(np.array([cmd.v]), np.array([cmd.w]), np.array([1.6 / 6]))  # the window's first pose
+    turn_ok = cmd.v == 0.0 and float(people_gaps(x, y, th, pts).min()) >= min(now, TURN_GAP) - 1e-3
+    assert along >= SOCIAL_GAP - 1e-6 or along >= min(now, SOCIAL_GAP) - 1e-3 or turn_ok or (cmd.v == 0.0 and cmd.w == 0.0)
     # and there is always an answer the base can take (braking within its window is waiting)
     assert cmd.ok or (cmd.v == 0.0 and cmd.w == 0.0)
 
@@ -112,3 +114,13 @@ def test_every_run_summary_has_the_social_navigation_figures():
         assert key in social
     assert social["following"]["time_s"] > 0 and social["goto"]["episodes"] == 0
     assert social["collisions_people"] == 0 and social["partner_kept"] is True
+
+
+def test_a_robot_with_someone_pressed_against_its_front_does_not_swing_a_corner_into_them():
+    # she stands 0.53 m in front (2.5 cm of air to the bumper); the goal lies to the left
+    pts = np.array([[0.53, 0.0]])
+    cmd = dwa(0.0, 0.0, (0.0, 2.0), np.zeros((0, 2)), LIM, v_pref=0.3, people=pts)
+    x, y, th = arcs(np.array([cmd.v]), np.array([cmd.w]), np.linspace(0.05, 0.5, 10))
+    assert float(people_gaps(x, y, th, pts).min()) >= float(people_gaps(np.zeros(1), np.zeros(1), np.zeros(1), pts)[0]) - 1e-3
+    assert not turn_clear(1.0, pts, duration=0.5)  # the follower's own turns are held to the same rule
+    assert turn_clear(1.0, np.array([[1.5, 0.0]]), duration=0.5)

@@ -143,7 +143,7 @@ def test_while_following_she_is_lost_only_after_the_followers_search_time_unseen
     # she leads: out of view a moment (a door frame, someone crossing) is no evidence of leaving; the
     # follower searches where she was heading for its search time (longer when she was last seen
     # further than the band: it fell behind yielding), and the attention waits exactly as long
-    from robot.attention.search import follow_search_time
+    from robot.partner_search import follow_search_time
     from robot.navigation.follow import Follower
 
     pa = _attention("Follow", (0.0, d, 0.0, speed, 0.0, 0.0, 0.0))
@@ -158,7 +158,7 @@ def test_while_following_she_is_lost_only_after_the_followers_search_time_unseen
 @settings(max_examples=200, deadline=None)
 @given(d=st.floats(0.0, 50.0), e=st.floats(0.0, 10.0), base=st.floats(1.0, 10.0))
 def test_the_search_for_an_unseen_partner_is_longer_the_further_behind_the_robot_was_and_bounded(d, e, base):
-    from robot.attention.search import SEARCH_CAP, SEARCH_NEAR, SEARCH_SPEED, follow_search_time
+    from robot.partner_search import SEARCH_CAP, SEARCH_NEAR, SEARCH_SPEED, follow_search_time
 
     t = follow_search_time(d, base=base)
     assert base <= t <= max(base, SEARCH_CAP)  # never shorter than the base, never longer than the cap

@@ -222,3 +222,42 @@ def test_cached_tables_parse_every_corpus_utterance_as_freshly_built_ones(tmp_pa
     rebuilt = Understander()
     assert _text(rebuilt.understand("this is my cup").frame) == _text(built.understand("this is my cup").frame)
     assert len(files[0].read_bytes()) > 1000  # written whole again
+
+
+PLACES = sorted(" ".join(k) for k, (t, _) in Lexicon.load().entries.items() if t == "PLACE" and "POSS" not in k)
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.sampled_from(PLACES), st.sampled_from(PLACES), st.sampled_from(["no not the {a} the {b}",
+       "that's not the {a} that's the {b}", "this is the {b} not the {a}", "the {b} not the {a}"]))
+def test_a_contrast_keeps_the_place_that_is_meant(a, b, form):
+    # "not the kitchen, the bathroom", "the bathroom, not the kitchen": whichever order, the one not negated
+    u = shared_understander()
+    place = u.understand(form.format(a=a, b=b)).frame.find("PLACE/TITLE")
+    assert place is not None and place.get("name") == b
+
+
+@pytest.mark.parametrize("words", ["mhm", "uh huh", "um mhm", "mm hmm"])
+def test_a_backchannel_alone_is_a_yes(words, u):
+    assert u.understand(words).act == "YES"
+
+
+def test_a_backchannel_inside_a_turn_is_a_hesitation(u):
+    assert _text(u.understand("this is mhm my cup").frame) == _text(u.understand("this is my cup").frame)
+    assert u.understand("hmm").frame is None  # thinking, not agreeing
+
+
+@pytest.mark.parametrize("words", ["this is nice", "that's lovely", "it's beautiful", "that's my favourite spot",
+                                   "this corner is my favourite", "the weather is nice today"])
+def test_small_talk_teaches_no_object(words, u):
+    r = u.understand(words)
+    assert r.frame is None and r.reason
+
+
+@pytest.mark.parametrize("words, side, view", [
+    ("the one on the left", "left", None), ("the one on your left", "left", None),
+    ("the one on my left", "left", "speaker"), ("the cup to my right", "right", "speaker"),
+    ("the one right of me", "right", "speaker")])
+def test_whose_side_the_answer_names(words, side, view, u):
+    el = u.understand(words).frame.find("THAT_ONE")
+    assert (el.get("side"), el.get("view")) == (side, view)

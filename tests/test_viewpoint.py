@@ -10,7 +10,8 @@ from hypothesis import strategies as st
 
 from robot.floorplan import FloorPlan, MapObstacle, MapRoom, MapWall
 from robot.objects.resolve import COLOURS, Candidate, Pointing, Wanted, resolve
-from robot.objects.viewpoint import CAMERA_RANGE, PERSON_CLEARANCE, ROBOT_CLEARANCE, _point_polygon, in_range, pointed_spot, sight_clear, viewpoint
+from robot.objects.viewpoint import (CAMERA_RANGE, DRIVE_CLEARANCE, MAX_LEGS, MAX_ROUTE, PERSON_CLEARANCE, ROBOT_CLEARANCE, _blocks, _point_polygon, in_range,
+                                     pointed_spot, sight_clear, straight_leg_free, viewpoint, viewpoint_route)
 
 CAM = 1.41
 
@@ -200,3 +201,37 @@ def test_the_pointed_spot_is_past_a_kitchen_island_she_points_over():
     el = math.atan2(cup[2] - hand[2], cup[0] - hand[0])
     spot = pointed_spot(plan, hand, 0.0, el)
     assert spot is not None and abs(spot[2] - 0.5) < 1e-9 and math.hypot(spot[0] - cup[0], spot[1] - cup[1]) < 0.3
+
+
+def _divider_flat() -> FloorPlan:
+    """A 6.5 x 5 m living room with a tall bookcase standing out from the wall as a room divider."""
+    walls = [MapWall(0, 0, 6.5, 0, 0.1), MapWall(6.5, 0, 6.5, 5, 0.1), MapWall(6.5, 5, 0, 5, 0.1), MapWall(0, 5, 0, 0, 0.1)]
+    return FloorPlan(tuple(walls), (_box("bookcase", "shelf", 3.0, 0.1, 3.3, 2.2, 1.9),),
+                     (MapRoom("living room", ((0, 0), (6.5, 0), (6.5, 5), (0, 5))),), (1.0, 2.0, 0.0))
+
+
+def test_a_viewpoint_reached_only_round_a_corner_is_a_route_of_straight_legs():
+    # scenarios/perceive/view_round_corner.xml: the box on the floor behind the bookcase; no straight
+    # leg from the robot reaches a place that sees it, the way round the bookcase's end does
+    plan, robot, box, nora = _divider_flat(), (1.5, 2.0), (4.2, 0.8, 0.05), (3.6, 3.0)
+    assert viewpoint(plan, robot, box, [nora], camera_height=CAM) is None
+    route = viewpoint_route(plan, robot, box, [nora], camera_height=CAM)
+    assert route is not None and 2 <= len(route) <= MAX_LEGS
+    x, y, _ = route[-1]
+    assert sight_clear(plan, (x, y, CAM), box, [nora])
+    legs = list(zip([robot, *[(p[0], p[1]) for p in route[:-1]]], [(p[0], p[1]) for p in route]))
+    for k, (a, b) in enumerate(legs):
+        assert straight_leg_free(_blocks(plan), [nora], a, b, clearance=ROBOT_CLEARANCE * DRIVE_CLEARANCE,
+                                 person_clearance=PERSON_CLEARANCE * DRIVE_CLEARANCE, leave=0.3 if k == 0 else 0.0)
+    assert sum(math.dist(a, b) for a, b in legs) <= MAX_ROUTE + 1e-9
+    for p, nxt in zip(route[:-1], route[1:]):  # a waypoint heads along its next leg
+        assert abs(math.remainder(p[2] - math.atan2(nxt[1] - p[1], nxt[0] - p[0]), 2 * math.pi)) < 1e-9
+
+
+def test_a_straight_viewpoint_is_kept_when_there_is_one():
+    # in front of a sofa, the review's flat: the route is the one straight leg viewpoint() finds
+    sofa = _box("sofa", "sofa", 2.8, 2.0, 4.2, 2.9, 0.85)
+    book, robot = (3.5, 3.5, 0.05), (3.5, 0.8)
+    one = viewpoint(_flat(sofa), robot, book, [(4.9, 2.4)], camera_height=CAM)
+    route = viewpoint_route(_flat(sofa), robot, book, [(4.9, 2.4)], camera_height=CAM, max_travel=3.5)
+    assert one is not None and route is not None and route[-1] == one

@@ -69,7 +69,7 @@ from .cues import CueSpec, Hysteresis, bearings_from, match_faces, match_sounds,
 from .fsm import CAMERA, TURNS, AttentionFSM, OrderRefused
 from .legs import LegDetector, LegSpec
 from .records import TrackRow, TracksRecord, own_document as _own_document
-from .search import follow_search_time
+from robot.partner_search import follow_search_time
 from .selection import SelectionParams, Selector
 from .tracker import Tracks, TrackerSpec
 
@@ -99,6 +99,10 @@ class AttentionParams:
     # "how long an event remains valid"): potential_partner_lost goes out only when it has run out,
     # so a greeting still on its way (recognition, then the WLAN) meets the partner it belongs to.
     pp_valid: float = 1.5
+    # s: ... but someone who spoke to the robot facing it and still faces it, silent, awaits its
+    # answer: she stays the potential partner this long after she last spoke, so a greeting that a
+    # slow dialog host or link delivers late still meets her (docs/semantics.md §2, synchronisation)
+    pp_wait: float = 8.0
     partner_lost_after: float = 2.0  # s without anchored evidence of the partner (legs, frontal face, torso, voice) ...
     # ... is "lost" in Interaction and Object only with evidence of leaving (docs/subsystems.md):
     # s unseen while following: she leads, so being out of view a moment (a door frame, someone crossing,
@@ -224,6 +228,7 @@ class PersonAttention(Module):
         self._driven = 0.0
         self._drive_start: float | None = None
         self._player_sub: Any = None
+        self._alone_since: float | None = None  # since when Interaction/Object has had no partner at all
 
     async def run(self) -> None:
         await self._load_map()
@@ -395,14 +400,18 @@ class PersonAttention(Module):
             # A partner unseen for a moment (stepped aside) stays the partner across the change.
             pending = self.partner is not None and self._partner_last is not None and not self.partner_lost_sent
             if self.partner is None or (self.tracks.row(self.partner) < 0 and not pending):
+                before, lost = self.partner, self.partner_lost_sent
                 self.partner = self._choose_partner()
                 self.partner_lost_sent = False
                 self._partner_last = self._partner_colour = None
+                if lost and self.partner is not None and self.partner != before and self.fsm.state == "Interaction":
+                    self._new_partner(self.now, self.partner, "false")  # back from a loss: who it attends to now
         else:
             self.partner = None
             self.partner_lost_sent = False
             self._partner_last = self._partner_colour = None
         self.pp_sent = None
+        self._alone_since = None
         self._listen_to_player(state == "Object")
         self._publish_state(self.now, force=True)
 
@@ -527,9 +536,28 @@ class PersonAttention(Module):
                 person = etree.Element("PERSON", id=f"t{pp}", bearing=_deg(bearing[i]), distance=f"{dist[i]:.3f}", speaking="true", facing="true")
                 self._event("potential_partner", (person,))
                 self.pp_sent, self._pp_at = pp, t
-        elif self.pp_sent is not None and t - self._pp_at >= self.params.pp_valid - 1e-9:
+        elif self.pp_sent is not None and t - self._pp_at >= self.params.pp_valid - 1e-9 and not self._awaits_answer(t, selected):
             self._event("potential_partner_lost")
             self.pp_sent = None
+
+    def _new_partner(self, t: float, tid: int, speaking: str) -> None:
+        """ES event ``new_partner`` (``<PERSON id bearing distance speaking facing/>``): after a loss, another
+        person (track) took the partner's place, so the supervisor knows whom the robot attends to now
+        (the ES paper's events carry the data the supervisor routes on; it tells the dialog)."""
+        row = self.tracks.row(tid)
+        if row < 0:
+            return
+        x, y = self._robot_xy(t)[row]
+        self._event("new_partner", (etree.Element("PERSON", id=f"t{tid}", bearing=_deg(math.atan2(y, x)),
+                                                   distance=f"{math.hypot(x, y):.3f}", speaking=speaking,
+                                                   facing="true" if self.facing.on(tid) else "false"),))
+
+    def _awaits_answer(self, t: float, selected: int | None) -> bool:
+        """The potential partner spoke facing the robot and still faces it, silent, still selected, for
+        less than ``pp_wait`` s since she last spoke: she waits for the robot's answer to what she said."""
+        pp, last = self.pp_sent, self._last_pp
+        return (pp is not None and pp == selected and last is not None and last[0] == pp
+                and t - last[1] < self.params.pp_wait and self.facing.on(pp))
 
     def _top_down(self, t: float, cats: dict[int, int]) -> None:
         """The partner's evidence, and ``partner_lost`` by the leaving rule (:meth:`partner_left`)."""
@@ -566,6 +594,29 @@ class PersonAttention(Module):
                             and math.hypot(rows[i].x[0] - rx, rows[i].x[1] - ry) <= self.params.retake_radius)
             if threes:
                 self.partner, self.partner_lost_sent = threes[0], False
+                self._new_partner(t, threes[0], "true")
+        self._nobody_there(t)
+
+    def _searching(self) -> bool:
+        """In Interaction with no partner at all (lost while following; the robot asked her to come
+        back): it listens and turns to a voice as when looking around (:meth:`_voice_heading`,
+        :meth:`beam`), so whoever calls it from behind or beside, beyond the laser and the camera,
+        comes into view and can take the place (retake), instead of being neither seen nor heard."""
+        return self.partner is None and self.fsm.state == "Interaction"
+
+    def _nobody_there(self, t: float) -> None:
+        """An interaction with nobody in it ends: with no partner at all (lost while following, asked to
+        come back, and nobody took the place) for ``out_of_view_after`` s in Interaction or Object,
+        ``partner_lost`` goes out once, so the robot looks around again (bottom-up: it hears and turns
+        to whoever speaks to it) instead of standing deaf in Interacting for the rest of the run."""
+        if self.partner is not None or self.fsm.state not in ("Interaction", "Object"):
+            self._alone_since = None
+            return
+        if self._alone_since is None or self._voice_turn is not None:
+            self._alone_since = t  # (turning to a voice: someone is there, calling it)
+        elif t - self._alone_since >= self.params.out_of_view_after and not self.partner_lost_sent:
+            self._event("partner_lost")
+            self.partner_lost_sent = True
 
     def partner_left(self, t: float) -> bool:
         """The leaving rule (docs/attention.md): has the partner left?
@@ -573,7 +624,7 @@ class PersonAttention(Module):
         In Follow she leads and is often out of view for a moment (a door frame, someone crossing
         between, walking past the robot's side): unseen (no leg update, frontal face, torso or voice
         of theirs) for ``follow_lost_after`` s, longer when she was last seen further than the
-        following band (:func:`robot.attention.search.follow_search_time`: the time to drive the
+        following band (:func:`robot.partner_search.follow_search_time`: the time to drive the
         gap, at most 15 s), while the follower drives to where she was heading and looks for her,
         she is lost. Unseen for ``partner_lost_after`` s in Interaction and
         Object, a partner unseen that long has left only when they were last seen outside the
@@ -594,7 +645,7 @@ class PersonAttention(Module):
         dist = math.hypot(dx, dy)
         if self.fsm.state == "Follow":
             # the longer the further behind the robot was when she went out of view (it yielded
-            # to people crossing its way): robot.attention.search, the follower's search time
+            # to people crossing its way): robot.partner_search, the follower's search time
             return unseen >= follow_search_time(dist, base=p.follow_lost_after)
         if unseen < p.partner_lost_after:
             return False
@@ -685,12 +736,17 @@ class PersonAttention(Module):
         a chair hides, is then in front of the laser and the camera.
         """
         p = self.params
-        if self.fsm.top_down or self.fsm.held or (row >= 0 and category >= 2):
+        if not self._searching() and (self.fsm.top_down or self.fsm.held or (row >= 0 and category >= 2)):
             self._voice_turn = None
             return None
         d = self._dominant
-        if d is not None and t - d[0] <= p.dominant_max_age and abs(d[1]) > p.voice_turn_min and (self._voice_turn is None or d[0] > self._voice_turn[2]):
-            self._voice_turn = (t + p.voice_turn_time, self._pose_at(d[0])[2] + d[1], d[0])
+        # Searching for her after a loss (:meth:`_searching`): a voice read near the axis that nobody
+        # seen in front explains comes from behind (the pair cannot tell front from back, the laser
+        # and the camera see the front): turn round to its mirrored direction.
+        behind = self._searching() and d is not None and abs(d[1]) <= p.voice_turn_min
+        if d is not None and t - d[0] <= p.dominant_max_age and (abs(d[1]) > p.voice_turn_min or behind) and (self._voice_turn is None or d[0] > self._voice_turn[2]):
+            b = math.pi - d[1] if behind else d[1]
+            self._voice_turn = (t + p.voice_turn_time, self._pose_at(d[0])[2] + b, d[0])
         vt = self._voice_turn
         if vt is None or t > vt[0]:
             self._voice_turn = None
@@ -707,7 +763,7 @@ class PersonAttention(Module):
         from where nobody is seen is unexplained, so the robot listens, and the supervisor rejects a
         greeting that no person backs (the radio, docs/semantics.md §2) instead of never hearing it.
         """
-        if self.fsm.top_down:
+        if self.fsm.top_down and not self._searching():
             if bearing is not None and self.partner is not None and self._other_talks(t):
                 return None  # a bystander next to the partner talks, the partner does not: not for the robot
             return bearing

@@ -43,6 +43,9 @@ ROOT = "dialogs"
 SENTENCES: dict[str, frozenset[str]] = {
     "not-understood-reask": frozenset(),  # before an open question said again when nothing was understood
     "give-up": frozenset(),  # a dialog gives up after too many re-asks
+    # a third turn in a row not understood, no question open: no third "could you say that again?"
+    # but what she can say (the robot never asks the same question more than twice)
+    "not-understood-help": frozenset(),
     "can-now": frozenset({"capabilities"}),  # the self-explanation's list of what the user can do now
     "list": frozenset({"items", "last"}),  # how a list is said: "{items} or {last}"
     "option": frozenset({"option"}),  # one option of a clarification question: "the {option}"

@@ -270,7 +270,18 @@ class DialogManager:
             top.passed_over = 0
             top.slots[top.pending[1]].status = "true" if said == "yes" else "false"
             top.pending = None
-            self._step(top, out)
+            # as above: the rest of this turn goes on to the dialog below (it may answer its open
+            # question: "Is this the kitchen?" - "follow me" - "no, the kitchen"), so that dialog does
+            # not resume with its question first (it was asked, then asked again by the rest)
+            self._hold_resume = True
+            try:
+                self._step(top, out)
+            finally:
+                self._hold_resume = False
+            answered = self._answered_by(act)
+            if answered is not None:
+                answered.interrupted = False
+                said = ""
         for inst in self.stack:
             if inst.pending is not None:
                 inst.passed_over = 0 if inst is answered else inst.passed_over + 1
@@ -291,6 +302,11 @@ class DialogManager:
         # 2. a new sub-dialog
         d = self.doc.by_trigger(act)
         if d is None:
+            if not out and (msg.get("partial") == "true" or msg.get("unknown")):
+                # words the understanding could not use around an answer nobody asked for ("alright
+                # you can stop there we have arrived" heard as a bare "alright"): she asked for
+                # something; silence would leave her waiting, so the robot asks to hear it again
+                return self._not_understood()
             self.metrics["ignored_frames"] += 1
             return out
         if d.in_states is not None and self.es_state not in d.in_states:
@@ -308,8 +324,20 @@ class DialogManager:
             # user's "the study, go" taught the study where the robot stood): the robot asks first.
             # A clean "the kitchen" (the recogniser often drops "this is") is taken as before.
             conf = min(conf, self.doc.confirm_below / 2)
+        # the same request again while its own confirmation waits below another question ("Is this
+        # the kitchen?" - "follow me" - "this is the kitchen"): two hearings agree, as when it answers
+        # the question directly; the new instance keeps the old one's count of questions asked
+        prior = next((i for i in reversed(self.stack) if i.d is d and i.pending is not None), None)
         inst = self._push(d, out)
         self._fill_frame(inst, [f for f in d.fills if f.frame and act in f.frame], act_el, conf, stamp)
+        if prior is not None:
+            for q, n in prior.asked.items():
+                inst.asked[q] = max(inst.asked.get(q, 0), n)
+            kind, slot = prior.pending[0], prior.pending[1]  # type: ignore[index]
+            if (kind == "confirm" and said != "no" and inst.slots[slot].status == "filled"
+                    and _same(prior.slots[slot].value, inst.slots[slot].value)):
+                inst.slots[slot].status = "true"
+                self.metrics["confirmed_by_repetition"] += 1
         self._step(inst, out)
         return out
 
@@ -550,6 +578,12 @@ class DialogManager:
                 self._say(out, inst.pending[2], inst.d.id)
             return out
         if self.attending():
+            help_ = self.doc.sentence("not-understood-help")
+            if help_ and self._unheard > MAX_SAME_QUESTION and self._unheard % (MAX_SAME_QUESTION + 1) == 0:
+                # "Could you say that again?" twice in a row already: not a third time, but what she can say
+                self.metrics["help_given"] = self.metrics.get("help_given", 0) + 1
+                self._say(out, help_, "")
+                return out
             self.metrics["reasks"] += 1
             self._say(out, self.doc.not_understood, "")
         return out

@@ -64,8 +64,9 @@ words were spoken and ended up in a group turned to the others, so the words (he
 bystander's a few degrees beside her) are their chat.
 Looking away alone is not enough (a user speaks while glancing at a shelf), nor is company alone (a
 bystander beside a partner who faces the robot); without reports, or when the camera cannot tell,
-the utterance counts as addressed. Not while the supervisor is in ``Following``: she leads with her
-back to the robot, and her "stop" is addressed to it.
+the utterance counts as addressed. While the supervisor is in ``Following`` she leads with her back
+to the robot, so the microphones decide instead (:meth:`Dialog._her_voice`): not addressed only when
+several sound frames during the words heard a voice and none from her direction.
 
 Catching up (issue 26 item 10): while the follower's ``/robot/follow/status`` says
 ``approaching`` (it comes up to the partner after "stop"), a request she makes waits (the
@@ -82,6 +83,7 @@ import asyncio
 import math
 import os
 from collections import deque
+from copy import deepcopy
 from dataclasses import replace
 from typing import Any
 
@@ -110,6 +112,17 @@ HELD_MAX = 8
 #: s: after a released request, time for the ES's answer to come back before the next (a WLAN round trip
 #: with a retransmission is well under this)
 RELEASE_SETTLE = 0.5
+#: sound frames with a direction, during one utterance, that the rule while she leads needs before it
+#: may say the words were not hers (at the microphones' 10 Hz, 0.3 s of speech)
+VOICE_FRAMES = 3
+#: dB: a direction this loud is a voice for that rule (speech at 1-4 m is 50-65 dB; the hum of the
+#: flat is far below)
+VOICE_LEVEL = 40.0
+#: ES states where an expired greeting met nobody: a "late" one if a potential partner was reported meanwhile
+SEEN_STATES = frozenset({"LookingAround", "PotentialPartner", "AskingForHelp"})
+#: s: a potential partner reported this long before the greeting's recorded start still counts (the
+#: person attention reports her as she begins to speak; the recorder's start may lie a little later)
+PERSON_SLACK = 1.0
 #: ES states in which the partner leads, back turned: the addressee rule does not apply
 LEADING_STATES = frozenset({"Following"})
 #: the microphone pair's geometry (m: ahead of the centre, spacing, height) and a standing adult's
@@ -156,8 +169,23 @@ def options_phrase(doc: Dialogs, options: list[str]) -> str:
     return doc.listing([doc.sentence("option", option=o) for o in out])
 
 
-def choose(options: list[tuple[int, str]], answer: Any) -> int | None:
-    """The option an answer picks (THAT_ONE with index/colour, an OBJECT, YES to a single option); None if unclear."""
+def robot_side(side: str, view: str | None, facing: str) -> str:
+    """A side said in an answer, in the robot's view (the options' words are the robot's).
+
+    A plain side ("the one on the left", "on your left") is the robot's. "On my left" is the speaker's
+    (``view="speaker"``): when the partner faces the robot (its camera sees her frontal face,
+    ``facing="true"``), her left is the robot's right; otherwise she stands beside or behind it looking
+    the same way as its camera, and her left is its left (docs/semantics.md §4).
+    """
+    if view == "speaker" and facing == "true":
+        return {"left": "right", "right": "left"}.get(side, side)
+    return side
+
+
+def choose(options: list[tuple[int, str]], answer: Any, facing: str = "unknown") -> int | None:
+    """The option an answer picks (THAT_ONE with index/colour, an OBJECT, YES to a single option); None if unclear.
+
+    ``facing``: whether the partner faced the robot when she answered (for a side said from her view)."""
     if not isinstance(answer, etree._Element) or not options:
         return None
     if answer.tag == "NO":
@@ -166,6 +194,7 @@ def choose(options: list[tuple[int, str]], answer: Any) -> int | None:
         return options[0][0] if len(options) == 1 else None
     side = answer.get("side")
     if side is not None:  # "the left one": the option the object attention worded by its side
+        side = robot_side(side, answer.get("view"), facing)
         words = "in the middle" if side == "middle" else f"on the {side}"
         hits = [idx for idx, text in options if words in text]
         return hits[0] if len(hits) == 1 else None
@@ -235,9 +264,12 @@ class Dialog(Module):
         self.barge_in_width = barge_in_width
         self.partner_fresh = partner_fresh
         self._partner: tuple[float, float] | None = None  # (bearing in degrees, robot frame; when heard)
-        # (time, facing, company) of the latest partner reports, for the addressee rule (bounded: ~30 s at 10 Hz)
-        self._partner_cues: deque[tuple[float, str, int]] = deque(maxlen=300)
+        # (time, facing, company, heard bearing) of the latest partner reports, for the addressee rule (bounded: ~30 s at 10 Hz)
+        self._partner_cues: deque[tuple[float, str, int, float]] = deque(maxlen=300)
+        # (time, directions heard) of the latest sound frames with a voice, for the rule while she leads (bounded)
+        self._sources: deque[tuple[float, tuple[float, ...]]] = deque(maxlen=300)
         self.not_addressed = 0
+        self._person_at: float | None = None  # when the supervisor last reported a potential partner (person_info)
         self.ask_timeout = ask_timeout
         self._busy_until = 0.0
         self._pose: etree._Element | None = None  # the latest pose message's payload (read only for place teaching)
@@ -281,13 +313,32 @@ class Dialog(Module):
         the robot? No only when no partner report in that span has her facing it, at least half
         have her turned away (``facing="false"``) and the last one too, with someone else near her."""
         if self.manager.es_state in LEADING_STATES:
-            return True
-        during = [(f, c) for t, f, c in self._partner_cues if start <= t <= end]
+            return self._her_voice(start, end)
+        during = [(f, c) for t, f, c, _ in self._partner_cues if start <= t <= end]
         if not during or any(f == "true" for f, _ in during):
             return True
         away = sum(f == "false" for f, _ in during)
         last_f, last_c = during[-1]
         return not (2 * away >= len(during) and last_f == "false" and last_c >= 1)
+
+    def _her_voice(self, start: float, end: float) -> bool:
+        """The addressee rule while she leads (``Following``): her back is turned, so her face tells
+        nothing, but the microphones tell where the words came from. Speech is *not* hers (a bystander's
+        remark as she walks past him) only when at least ``VOICE_FRAMES`` sound frames during the
+        utterance heard a direction and none of them lay within ``barge_in_width`` of where the pair
+        hears her (:func:`heard_bearing`, both folded to the front: the pair cannot tell front from
+        back). Without such frames, or without her bearing, it is hers: her "stop" must never be lost."""
+        cues = [(t, b) for t, _, _, b in self._partner_cues if math.isfinite(b) and start - 0.5 <= t <= end + 0.5]
+        if not cues:
+            return True
+        frames = [(t, bs) for t, bs in self._sources if start <= t <= end and bs]
+        if len(frames) < VOICE_FRAMES:
+            return True
+        for t, bs in frames:
+            her = front_bearing(min(cues, key=lambda c: abs(c[0] - t))[1])
+            if any(abs(front_bearing(b) - her) <= self.barge_in_width for b in bs):
+                return True
+        return False
 
     # ------------------------------------------------------------------ inputs
     def _on_frame(self, msg: Message) -> None:
@@ -335,6 +386,8 @@ class Dialog(Module):
         if msg.xml.get("name") == "ask":  # a reactive module's question, routed through the ES
             self.sim.spawn(self._ask_for_es(msg), name=f"{self.name}-ask")
             return
+        if msg.xml.get("name") == "person_info":  # someone speaks facing the robot (potential partner)
+            self._person_at = msg.created
         if msg.xml.get("name") == "step_aside":  # the object attention cannot see past the partner
             self.sim.spawn(self._step_aside_for_es(msg), name=f"{self.name}-step-aside")
             return
@@ -372,7 +425,17 @@ class Dialog(Module):
         self.bus.publish(ES_EVENTS, ev, causes=(msg.id,), transfer=True)
 
     def _on_rejected(self, msg: Message) -> None:
-        self._emit(self.manager.on_rejected(msg.xml), msg.id)
+        rej = msg.xml
+        if rej.get("name") == "greeting" and rej.get("reason") == "expired" and rej.get("state") in SEEN_STATES:
+            # The supervisor had seen her speak facing the robot since she began the greeting (its
+            # person_info), so the greeting expired because it came too late (a slow dialog host, a
+            # slow link), not because nobody was there: "I can't see you" would be untrue.
+            stamp = rej.find(".//SPEECH/TIMESTAMP")
+            said = float(stamp.get("val", "nan")) / 1000.0 if stamp is not None else math.nan
+            if self._person_at is not None and math.isfinite(said) and self._person_at >= said - PERSON_SLACK:
+                rej = deepcopy(rej)
+                rej.set("reason", "late")
+        self._emit(self.manager.on_rejected(rej), msg.id)
 
     def _on_status(self, msg: Message) -> None:
         gone = self.manager.on_state(msg.xml.get("state", ""))
@@ -404,7 +467,14 @@ class Dialog(Module):
             # heard nearer the front: the person attention matches voices to tracks the same way)
             b = heard_bearing(b, d)
         self._partner = (b, self.now) if math.isfinite(b) else None
-        self._partner_cues.append((msg.created, msg.xml.get("facing", "unknown"), int(msg.xml.get("company", "0"))))
+        self._partner_cues.append((msg.created, msg.xml.get("facing", "unknown"), int(msg.xml.get("company", "0")),
+                                   b if math.isfinite(b) else math.nan))
+
+    def _facing_now(self) -> str:
+        """The latest partner report's ``facing`` ("true", "false", "unknown"), if recent."""
+        if self._partner_cues and self.now - self._partner_cues[-1][0] <= self.partner_fresh:
+            return self._partner_cues[-1][1]
+        return "unknown"
 
     def partner_bearing(self) -> float | None:
         """The partner's bearing (degrees, robot frame) if the person attention reported it recently."""
@@ -413,6 +483,11 @@ class Dialog(Module):
         return self._partner[0]
 
     def _on_sources(self, msg: Message) -> None:
+        if self.manager.es_state in LEADING_STATES:
+            heard = tuple(float(src.get("bearing", "nan")) for src in msg.xml.iterfind("source")
+                          if float(src.get("level", "0")) >= VOICE_LEVEL and math.isfinite(float(src.get("bearing", "nan"))))
+            if heard:
+                self._sources.append((float(msg.xml.get("time", repr(msg.created))), heard))
         if not self._talking or self._cut:
             return
         if float(msg.xml.get("time", "inf")) < self._talk_start:
@@ -561,7 +636,7 @@ class Dialog(Module):
             self._emit(self.manager.cancel(inst), cause)
             return etree.Element("answer", none="true")
         value = done.slots["choice"].value if done.success else None
-        picked = choose(options, value)
+        picked = choose(options, value, self._facing_now())
         if picked is None:
             return unchosen_answer(value)
         return etree.Element("answer", index=str(picked))

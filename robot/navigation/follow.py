@@ -49,7 +49,7 @@ Control, every ``1/rate`` seconds:
   a wall), and turns to face it, so it sees round the corner or past the person in between.
   Status ``searching``.
 * Lost: not seen for ``search_time`` s (6 s; longer when she was last seen beyond the band, by the
-  time it takes to drive the gap at ``search_speed``, at most 15 s: :mod:`robot.attention.search`):
+  time it takes to drive the gap at ``search_speed``, at most 15 s: :mod:`robot.partner_search`):
   it stops (the attention's ``partner_lost``, by the same rule with its ``follow_lost_after`` = the
   same 6 s, makes the ES stop the player and the dialog ask).
 * Inside the flat: it never drives its front out of the floor plan's rooms (the map's ``<room>``
@@ -81,13 +81,14 @@ from homesim.module import Module
 
 from homesim.errors import BusError, HomesimError
 from robot import floorplan
-from robot.attention.search import follow_search_time
+from robot.partner_search import follow_search_time
 from robot.contract import ATTENTION_STATE, BASE_CMD, ES_EVENTS, FOLLOW_STATUS, ODOMETRY, PARTNER, POSE, SCAN, TRACKS
 
 from .config import Limits
 from .grid import MapError, OccupancyGrid, parse_map
-from .local import DWAParams, LatestScan, arcs, carrot, dwa, heading_speed, social_speed_limit, sweep_clearance
-from .giveway import give_way_spot
+from .local import (SOCIAL_GAP, DWAParams, LatestScan, arcs, carrot, dwa, heading_speed, people_gaps, social_speed_limit,
+                    sweep_clearance, turn_clear)
+from .giveway import NARROW, back_out_spot, give_way_spot, reverse_command
 from .people import People, behind_clear, nearest
 from .route import Route
 from .seen import SeenGround, footprint_samples
@@ -200,7 +201,7 @@ class Follower(Module):
         self.people = People()  # everyone else the attention tracks, while following
         self._tracks_sub: Any = None
         self.route = Route()  # the way to the partner on the floor plan (through doors)
-        self._aside: tuple[list[tuple[float, float]], float] | None = None  # give-way path (odom) and until when
+        self._aside: tuple[list[tuple[float, float]], float, bool] | None = None  # give-way path (odom), until when, reversing
         self._close_since: float | None = None  # following, since when she has stood close in front
         self._map_asked = False
         self._pose_sub: Any = None
@@ -323,7 +324,7 @@ class Follower(Module):
 
     def search_for(self) -> float:
         """How long it searches for her (s unseen): ``search_time``, longer when she was last seen
-        beyond the band (it fell behind yielding to people crossing; :mod:`robot.attention.search`,
+        beyond the band (it fell behind yielding to people crossing; :mod:`robot.partner_search`,
         the rule the attention's leaving rule reads too)."""
         return follow_search_time(self._seen_distance, base=self.search_time, near=self.band[1], speed=self.search_speed)
 
@@ -416,11 +417,17 @@ class Follower(Module):
             self._close_since = None
         elif self._close_since is None:
             self._close_since = self.now
-        if close:
+        # she walks at it while it stands in a door frame or a passage: it backs out of her way at
+        # once (away from her, never into her path), before she stands pressed against its front
+        coming = (v_des <= 0.05 and not approaching and not searching and d < self.band[0]
+                  and v_radial < -GIVE_WAY_STILL and self.route.clearance(self.odom[:2]) < NARROW)
+        if close or coming:
             # she stands close in front of it while it follows: it is in her way (in a door frame or a
             # passage at once; anywhere once she has stood there GIVE_WAY_HELD s, held up): step aside;
             # while she walks, it stands (moving into a walking person's path is how one is touched)
-            aside = self._give_way(px, py, mapped, held=self.now - self._close_since >= GIVE_WAY_HELD)
+            # or, in a door frame or passage, backs out
+            aside = self._give_way(px, py, mapped, held=close and self.now - self._close_since >= GIVE_WAY_HELD,
+                                   back_only=not close)
             if aside is not None:  # she is close and it stands in her way in a door or passage: step aside
                 self._command(*aside)
                 self._status(d, False, "giving_way")
@@ -497,11 +504,13 @@ class Follower(Module):
         self._status(d, at_limit, state if tr["visible"] else "searching")
         return v, w
 
-    def _give_way(self, px: float, py: float, mapped: np.ndarray, *, held: bool = False) -> tuple[float, float] | None:
+    def _give_way(self, px: float, py: float, mapped: np.ndarray, *, held: bool = False,
+                  back_only: bool = False) -> tuple[float, float] | None:
         """The command that takes the robot aside when the partner (odom ``px, py``) is too close and
         it stands in a door frame or a passage, or anywhere when ``held`` (she has stood held up in
         front of it a while) (:mod:`robot.navigation.giveway`), None otherwise (no floor plan, room
-        enough here and she is not held up, or nowhere to go)."""
+        enough here and she is not held up, or nowhere to go). ``back_only``: she walks at it, so
+        only backing out the way it came (away from her) will do."""
         if not self.route.ready or self.odom is None:
             self._aside = None
             return None
@@ -511,10 +520,13 @@ class Follower(Module):
                 return None
             grid = self.route.grid
             assert grid is not None
-            path = give_way_spot(grid, self.route.to_map(self.odom[:2]), self.route.to_map((px, py)), keep=self.band[0])
+            here, her = self.route.to_map(self.odom[:2]), self.route.to_map((px, py))
+            path, back = (None, False) if back_only else (give_way_spot(grid, here, her, keep=self.band[0]), False)
+            if path is None:  # nowhere ahead (a storeroom): back out the way it came, facing her
+                path, back = back_out_spot(grid, here, her, keep=self.band[0]), True
             if path is None:
                 return None
-            self._aside = ([self.route.to_odom(p) for p in path], self.now + GIVE_WAY_TIME)
+            self._aside = ([self.route.to_odom(p) for p in path], self.now + GIVE_WAY_TIME, back)
         way = self._aside[0]
         ox, oy = self.odom[0], self.odom[1]
         while len(way) > 1 and math.hypot(way[1][0] - ox, way[1][1] - oy) < 0.2:
@@ -526,11 +538,17 @@ class Follower(Module):
         cx, cy = carrot(way[0], way[1], (ox, oy), 0.35) if len(way) > 1 else end
         gx, gy = self._to_robot(cx, cy)
         rx, ry = self._to_robot(px, py)
+        if self._aside[2]:
+            return self._back_out((gx, gy), (rx, ry), mapped)
         bearing = math.atan2(ry, rx)
         if abs(bearing) > GIVE_WAY_BEARING:
             # keep her in view (the laser and the camera look ahead; the attention lets a partner go
-            # who is not seen for a while): turn towards her, then go on aside
-            return self._swept(0.0, max(-self.limits.max_turn, min(self.limits.max_turn, 1.8 * bearing)), mapped)
+            # who is not seen for a while): turn towards her, then go on aside; not while a corner
+            # would swing into her or anyone
+            w = max(-self.limits.max_turn, min(self.limits.max_turn, 1.8 * bearing))
+            near = self.people.around(self.odom, self.now)
+            bodies = np.concatenate((near[:, :2], [(rx, ry)])) if len(near) else np.array([(rx, ry)])
+            return self._swept(0.0, w, mapped) if turn_clear(w, bodies, duration=SWEEP_TIME) else (0.0, 0.0)
         pts = self.scan.points()
         if len(mapped):
             pts = np.concatenate((pts, mapped))
@@ -541,6 +559,33 @@ class Follower(Module):
         v_pref = heading_speed(GIVE_WAY_SPEED, math.atan2(gy, gx))
         cmd = dwa(self.v, self.w, (gx, gy), pts, limits, v_pref=v_pref, params=self.params, people=people)
         return cmd.v, cmd.w
+
+    def _back_out(self, goal: tuple[float, float], partner: tuple[float, float], mapped: np.ndarray) -> tuple[float, float]:
+        """Reversing along a back-out path (``goal``: its pure-pursuit point, robot frame): slowly, the
+        footprint's sweep kept off the floor plan's walls and furniture (no laser behind) and no
+        closer to anyone's body (``partner`` in front included: turning swings the corners) than
+        :data:`~robot.navigation.local.SOCIAL_GAP` or than it is, never toward a person the
+        attention tracks behind it."""
+        v, w = reverse_command(goal, speed=min(self.limits.max_reverse, GIVE_WAY_SPEED), max_turn=self.limits.max_turn)
+        pts = self.scan.points()
+        people = self.people.around(self.odom, self.now, echoes=pts if len(pts) else None)  # type: ignore[arg-type]
+        if v < 0.0 and not behind_clear(people, length=FOOTPRINT[0], width=FOOTPRINT[1], reach=BACK_REACH):
+            v = 0.0
+        bodies = np.concatenate((people[:, :2], [partner])) if len(people) else np.array([partner])
+        now = float(people_gaps(np.zeros(1), np.zeros(1), np.zeros(1), bodies)[0])
+        here = sweep_clearance(0.0, 0.0, mapped, 0.0, steps=1) if len(mapped) else math.inf
+        t = np.linspace(0.0, SWEEP_TIME, 6)
+        for cand in ((v, w), (v, w / 2), (v, w / 4), (v, 0.0), (0.0, w)):  # gentler turns swing the front less
+            if cand == (0.0, 0.0):
+                continue
+            gap = sweep_clearance(cand[0], cand[1], mapped, SWEEP_TIME) if len(mapped) else math.inf
+            if not (gap >= SWEEP_MARGIN or gap >= here + 1e-3):
+                continue
+            x, y, th = arcs(np.array([cand[0]]), np.array([cand[1]]), t)
+            if float(people_gaps(x[0], y[0], th[0], bodies).min()) < min(now, SOCIAL_GAP) - 1e-3:
+                continue
+            return cand
+        return 0.0, 0.0
 
     def _unstick(self, v: float, w: float, mapped: np.ndarray) -> tuple[float, float]:
         """Wedged (issue 26: a chair's corner beside the robot when the way turns off): it should drive

@@ -21,10 +21,20 @@ frame), among the cells within :data:`REACH` m of the robot:
   path (no longer than twice :data:`REACH`; out of a door frame it may lead
   round the jamb) that passes her no closer than :data:`PASS` m and starts off
   no more than :data:`FACE` from the direction to her (she stays in the view of
-  the forward-looking laser and camera; backing out of her way is not done);
+  the forward-looking laser and camera; backing is for when nothing lies ahead, below);
 
 and of those the nearest to the robot: the answer is the path there. None when
 there is no such place (then the robot waits where it is, as before).
+
+When there is none ahead (a storeroom behind a door: she stands in the little
+room and wants out through the door the robot stands in), it backs out the way
+it came: :func:`back_out_spot` picks, by the same rule but further down her way,
+a roomy spot behind the robot (through the door, round the jamb), :data:`BACK_GAIN` m
+further from her than the robot stands and to the side of the door's or passage's
+mouth (:data:`BACK_SIDE`; she walks on along it next),
+whose path starts straight away from her (within :data:`BACK_FACE`), so the robot
+reverses along it facing her; the floor plan checks the ground behind it, where
+the laser does not look (:func:`reverse_command` steers the rear along the path).
 """
 
 from __future__ import annotations
@@ -52,6 +62,15 @@ CANDIDATES = 8
 FACE = math.radians(100)
 #: m: ... each at least this far from the ones before it (nearer ones first).
 SPREAD = 0.4
+#: rad: backing out, the way's first leg lies at most this far off straight away from her.
+BACK_FACE = math.radians(60)
+#: m: a centre closer than this to the floor plan's walls and furniture stands in a door frame or a
+#: passage (the middle of a 1.1 m door is 0.55 m from its jambs): a partner walking at it there is backed away from.
+NARROW = 0.6
+#: m: backing out, the spot is at least this much further from her than the robot stands now.
+BACK_GAIN = 0.5
+#: rad: backing out, the spot lies at least this far off the direction of the door or passage it leaves.
+BACK_SIDE = math.radians(45)
 
 
 def give_way_spot(grid: OccupancyGrid, robot: Point, partner: Point, *, keep: float = 1.0, room: float = ROOM,
@@ -62,6 +81,31 @@ def give_way_spot(grid: OccupancyGrid, robot: Point, partner: Point, *, keep: fl
     See the module docstring for the rule; ``keep``: the least distance to her (the follower's
     near band).
     """
+    return _spot(grid, robot, partner, keep=keep, room=room, lateral=lateral, reach=reach, backing=False)
+
+
+def back_out_spot(grid: OccupancyGrid, robot: Point, partner: Point, *, keep: float = 1.0, room: float = ROOM,
+                  lateral: float = LATERAL, reach: float = REACH) -> list[Point] | None:
+    """The path (map frame, from ``robot``) by which the robot backs out of her way when no spot
+    lies ahead (see the module docstring): a roomy spot beside her way, further down it than the
+    robot stands (behind the robot, through the door it came in by), reached by a path whose first
+    leg points away from her (it reverses, facing her); None when there is none.
+    """
+    return _spot(grid, robot, partner, keep=keep, room=room, lateral=lateral, reach=reach, backing=True)
+
+
+def reverse_command(goal: Point, *, speed: float, max_turn: float, gain: float = 1.8) -> tuple[float, float]:
+    """(v, w) that backs the robot toward ``goal`` (robot frame, behind it): the rear is steered at the
+    goal, and the speed falls with the cosine of how far off it points (0 from a right angle on: it
+    turns on the spot). The caller checks the sweep (and may keep only v or only w)."""
+    off = math.atan2(-goal[1], -goal[0])  # the goal's bearing from the rear (0: straight behind)
+    w = max(-max_turn, min(max_turn, gain * off))
+    return -speed * max(math.cos(off), 0.0), w
+
+
+def _spot(grid: OccupancyGrid, robot: Point, partner: Point, *, keep: float, room: float, lateral: float,
+          reach: float, backing: bool) -> list[Point] | None:
+    """:func:`give_way_spot` (ahead, ``backing`` False) and :func:`back_out_spot` (behind)."""
     ux, uy = robot[0] - partner[0], robot[1] - partner[1]
     d = math.hypot(ux, uy)
     if d < 1e-6:
@@ -82,7 +126,10 @@ def give_way_spot(grid: OccupancyGrid, robot: Point, partner: Point, *, keep: fl
     along = dx * ux + dy * uy
     side = np.abs(dx * uy - dy * ux)
     travel = np.hypot(x - robot[0], y - robot[1])
-    ok = (travel <= reach) & (np.hypot(dx, dy) >= keep) & (side >= lateral) & (along <= d)
+    if backing:  # further from her than it stands, off the door or passage it backs out of (checked below)
+        ok = (travel <= reach) & (travel >= lateral) & (np.hypot(dx, dy) >= max(keep, d + BACK_GAIN))
+    else:
+        ok = (travel <= reach) & (np.hypot(dx, dy) >= keep) & (side >= lateral) & (along <= d)
     if not ok.any():
         return None
     pts = np.column_stack((x[ok], y[ok]))
@@ -93,7 +140,7 @@ def give_way_spot(grid: OccupancyGrid, robot: Point, partner: Point, *, keep: fl
         spot = (float(pts[k, 0]), float(pts[k, 1]))
         if any(math.hypot(spot[0] - a, spot[1] - b) < SPREAD for a, b in tried):
             continue  # a neighbour of a spot already tried: the same way there
-        if len(tried) >= CANDIDATES:
+        if len(tried) >= (2 * CANDIDATES if backing else CANDIDATES):
             break
         tried.append(spot)
         try:
@@ -104,10 +151,42 @@ def give_way_spot(grid: OccupancyGrid, robot: Point, partner: Point, *, keep: fl
             continue
         if len(path) > 1:
             lx, ly = path[1][0] - robot[0], path[1][1] - robot[1]
-            if (-ux * lx - uy * ly) < math.cos(FACE) * math.hypot(lx, ly):
+            if backing and (ux * lx + uy * ly) < math.cos(BACK_FACE) * math.hypot(lx, ly):
+                continue  # not straight back from her: it would reverse across her way
+            if backing and not _off_the_way(grid, path, room, (ux, uy)):
+                continue  # by the door or passage it backs out of: where she walks next
+            if not backing and (-ux * lx - uy * ly) < math.cos(FACE) * math.hypot(lx, ly):
                 continue  # it would drive off with her behind it, out of the laser's and camera's view
         return path
     return None
+
+
+def _off_the_way(grid: OccupancyGrid, path: list[Point], room: float, away: Point) -> bool:
+    """Whether the end of ``path`` lies off the way out of the door frame or passage the path starts
+    in (the first run of points, every quarter cell, whose clearance is under ``room``; she walks
+    along it next): at least ``room`` m from the run's end and at least :data:`BACK_SIDE` off its
+    direction (to the side of the door's mouth, not on along it). Where the path starts roomy (a
+    1.0 m door's middle is 0.5 m from its jambs), the way out is ``away`` (the direction from her)."""
+    pts = []
+    for a, b in zip(path, path[1:]):
+        n = max(int(math.hypot(b[0] - a[0], b[1] - a[1]) / (grid.cell / 4)) + 2, 2)
+        t = np.linspace(0.0, 1.0, n)[:, None]
+        pts.append(np.asarray(a, dtype=float) + t * (np.asarray(b, dtype=float) - np.asarray(a, dtype=float)))
+    q = np.concatenate(pts)
+    i = np.clip(((q[:, 0] - grid.origin[0]) / grid.cell).astype(int), 0, grid.nx - 1)
+    j = np.clip(((q[:, 1] - grid.origin[1]) / grid.cell).astype(int), 0, grid.ny - 1)
+    roomy = np.flatnonzero(grid.clearance[i, j] >= room)
+    if not len(roomy):
+        return False  # it never leaves the door's mouth
+    mouth = q[max(roomy[0] - 1, 0)]
+    rx, ry = mouth[0] - q[0, 0], mouth[1] - q[0, 1]
+    ex, ey = path[-1][0] - mouth[0], path[-1][1] - mouth[1]
+    e, r = math.hypot(ex, ey), math.hypot(rx, ry)
+    if e < room:
+        return False
+    if r < 0.1:
+        rx, ry, r = away[0], away[1], 1.0
+    return (ex * rx + ey * ry) <= math.cos(BACK_SIDE) * e * r
 
 
 def _passes(path: list[Point], p: Point) -> float:

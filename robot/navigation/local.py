@@ -118,11 +118,13 @@ _RING_COS, _RING_SIN = np.cos(_RING), np.sin(_RING)
 #: fled into something, and waiting is always allowed). Head-on that is a stop about 0.76 m from
 #: the person's centre, 0.25 m of air in front of the bumper; passing beside someone, 0.72 m centre
 #: to centre (issue 26: yield, stop at a safe distance, never touch). Turning on the spot is
-#: exempt (it brings nobody nearer the robot's centre; the laser echoes still guard the corners),
-#: so a robot stopped beside a person can always turn to a way round.
+#: exempt (it brings nobody nearer the robot's centre) while its corners keep :data:`TURN_GAP`
+#: from everyone's body, so a robot stopped beside a person can turn to a way round.
 SOCIAL_GAP = 0.25
 #: m: a person's body radius round their tracked centre (the laser sees their legs).
 BODY = 0.25
+#: m: a turn on the spot keeps the footprint's corners this far from a person's body (see social_mask).
+TURN_GAP = 0.05
 
 
 def people_gaps(x: np.ndarray, y: np.ndarray, th: np.ndarray, people: np.ndarray) -> np.ndarray:
@@ -420,22 +422,38 @@ def dwa(v0: float, w0: float, goal: tuple[float, float], points: np.ndarray, lim
     return choose(V, W, x, y, th, hard, clear, here, d if len(pts) else None, goal, v_pref, p, social=social)
 
 
+def turn_clear(w: float, people: np.ndarray, *, duration: float) -> bool:
+    """Whether turning on the spot at ``w`` rad/s for ``duration`` s keeps the footprint's corners
+    :data:`TURN_GAP` from every body (``people``: (P, 2) robot-frame centres), or no nearer than now."""
+    if not len(people):
+        return True
+    t = np.linspace(0.0, duration, 6)
+    th = w * t
+    now = float(people_gaps(np.zeros(1), np.zeros(1), np.zeros(1), people)[0])
+    return float(people_gaps(np.zeros_like(t), np.zeros_like(t), th, people).min()) >= min(now, TURN_GAP) - 1e-3
+
+
 def social_mask(x: np.ndarray, y: np.ndarray, th: np.ndarray, people: np.ndarray,
                 v: np.ndarray | None = None, *, gap: float = SOCIAL_GAP) -> tuple[np.ndarray, np.ndarray]:
     """Which arcs (rows of the (K, S) poses) respect people's space, and each arc's smallest gap to a body.
 
     An arc is fine when its footprint stays ``gap`` (:data:`SOCIAL_GAP`) from every body over its whole
     horizon, or when it never brings the robot closer than it is now (standing still always does),
-    or when it turns on the spot (``v`` 0: nobody comes nearer the centre).
+    or when it turns on the spot (``v`` 0: nobody comes nearer the centre) without its corners coming
+    within :data:`TURN_GAP` of a body (or nearer than it is) by the arc's first pose (issue 26: a robot
+    turning with its partner pressed 0.5 m in front of it swung a corner into her).
     The whole horizon, not just the stopping distance as for walls: people's positions come from
     a tracker and jitter by a decimetre, and a robot that may close in until it could just stop
     creeps up to them step by step.
     """
-    gaps = people_gaps(x, y, th, people).min(axis=1)
+    per_pose = people_gaps(x, y, th, people)
+    gaps = per_pose.min(axis=1)
     now = float(people_gaps(np.zeros(1), np.zeros(1), np.zeros(1), people)[0])
     ok = (gaps >= gap) | (gaps >= min(now, gap) - 1e-3)
     if v is not None:
-        ok |= np.abs(v) < 1e-9
+        # a turn on the spot swings the footprint's corners (0.34 m from the centre) round: it may not
+        # bring them within TURN_GAP of a body (or nearer than the footprint is) by its first pose
+        ok |= (np.abs(v) < 1e-9) & (per_pose[:, 0] >= min(now, TURN_GAP) - 1e-3)
     return ok, gaps
 
 

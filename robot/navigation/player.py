@@ -24,7 +24,8 @@ Orders arrive on ``/robot/es/orders/player`` (docs/robot-contract.md):
 
 ``/robot/player/status`` says ``moving``, ``blocked`` (no admissible arc, or
 less than 5 cm of progress in ``stall_time``: the way is blocked, it waits),
-``reached`` or ``stopped`` on each change; the sequencer decides how long
+``reached`` or ``stopped`` on each change (turning on the spot towards the leg, at least
+10 degrees nearer its bearing per ``stall_time``, is progress, not a stall); the sequencer decides how long
 waiting is acceptable. The player drives the base only while executing a
 ``move_to`` (the base's watchdog stops the robot when it goes quiet).
 """
@@ -77,6 +78,8 @@ SWEEP_MARGIN = 0.05
 SWEEP_TIME = 0.5
 #: m: a final turn begun clear goes on while its next steps keep this much air (the sweep check is sampled)
 TURN_GUARD = 0.02
+#: rad: turning this much closer to the carrot's bearing counts as progress (no stall while turning to a leg)
+TURN_PROGRESS = math.radians(10)
 #: m: how far it backs out of a spot too tight to turn in at the goal, at most, to turn to the goal's heading.
 ALIGN_BACK = 0.6
 SCHEMA = Path(__file__).resolve().parent.parent / "schemas" / "navigation" / "player-status.xsd"
@@ -171,6 +174,7 @@ class Player(Module):
         self._stuck_since: float | None = None  # since when no arc was admissible
         self._best = math.inf
         self._best_t = 0.0
+        self._best_bearing = math.inf  # rad: the smallest |bearing| to the carrot since the last progress
         self.bus.subscribe(ORDERS, self._on_order)
         self.bus.subscribe(POSE, self._on_pose)
         self.bus.subscribe(SCAN, self._on_scan)
@@ -212,6 +216,7 @@ class Player(Module):
             self.goal = (x, y, th, tol, pose.get("align") == "true")
             self._listen_to_people(True)
             self._best, self._best_t = math.inf, self.now
+            self._best_bearing = math.inf
             self._backed = 0.0
             self._aligning = None
             self._turning = False
@@ -415,6 +420,11 @@ class Player(Module):
             return (cmd.v, cmd.w)
         if dist < self._best - 0.05:
             self._best, self._best_t = dist, self.now
+            self._best_bearing = abs(bearing)
+        elif cmd.ok and abs(bearing) < self._best_bearing - TURN_PROGRESS:
+            # turning on the spot towards the leg (a new leg at a door, a goal behind it) is progress,
+            # not a stall: reporting "blocked" then would have the sequencer replan in mid-turn
+            self._best_bearing, self._best_t = abs(bearing), self.now
         stalled = self.now - self._best_t > self.stall_time
         if not cmd.ok or stalled:
             self._best = min(self._best, dist)

@@ -61,7 +61,7 @@ from robot.contract import ES_EVENTS, ES_ORDERS, FOCUS, GESTURES, OBJECTS, PARTN
 
 from .gestures import CAMERA_HEIGHT, CAMERA_OFFSET, GestureTracker, camera_to_map
 from .resolve import Candidate, Pointing, Resolution, Wanted, merge, option_texts, resolve
-from .viewpoint import ARRIVE_TOLERANCE, in_range, pointed_spot, sight_clear, viewpoint
+from .viewpoint import ARRIVE_TOLERANCE, in_range, pointed_spot, sight_clear, viewpoint_route
 
 if TYPE_CHECKING:
     from homesim.sim import Simulation
@@ -80,6 +80,9 @@ PARTNER_FAR = 2.6  # m: a partner farther away is approached when neither her ge
 MOVE_TIMEOUT = 20.0  # s: a drive to a better viewpoint that has not arrived by then is given up
 MOVE_BLOCKED = 4.0  # s: ... and one the player reports blocked this long
 STEP_ASIDE_ASK = 20.0  # s: the question "could you step aside" is said within this (through the ES and the dialog)
+STEP_ASIDE_STIR = 3.0  # s after the question: a partner who has not begun to step aside by then is not going to
+STEP_ASIDE_START = 0.25  # m: that far from where she stood when asked, she has begun to move
+STEP_ASIDE_AGAIN = 60.0  # s: a partner asked this recently who stays in the way is not asked again (the robot moves)
 
 OWNER_WORDS = {"speaker": "partner", "my": "partner", "me": "partner", "mine": "partner"}
 
@@ -132,6 +135,7 @@ class ObjectAttention(Module):
         self._search: asyncio.Task[None] | None = None
         self._answer: asyncio.Future[etree._Element] | None = None  # waiting for the order "clarified"
         self._asked_aside: asyncio.Future[bool] | None = None  # waiting for the order "asked_aside"
+        self._asked_where: tuple[float, tuple[float, float] | None] | None = None  # when she was last asked to step aside, where she stood
         self.last: Resolution | None = None  # the latest resolution (for tests and introspection)
         self.bus.subscribe(ORDERS, self._on_order)
         self.bus.subscribe(GESTURES, self._on_gestures)
@@ -294,18 +298,20 @@ class ObjectAttention(Module):
                 if near is not None and near.kind != "none":
                     res = near
             hidden = pointing is not None and self._partner_in_the_way(pointing)
-            if res.kind == "none" and (hidden or (pointing is None and self._partner_in_view())):
+            if res.kind == "none" and (hidden or (pointing is None and self._partner_in_view())) and not self._asked_in_vain():
                 # She stands between the camera and what she points at: ask her to step aside,
                 # wait until she has, and look again (at where she points then, if she does).
-                since = self.now
+                # If she does not step aside, the robot moves to see instead (below).
+                since, stood = self.now, self._partner_map()
                 if await self._ask_step_aside(cause):
-                    await self._wait_partner_clear(pointing)
-                    waited = 0.0
-                    while self.gestures.pointing(self.now, since=since) is None and waited < self.gesture_wait:
-                        await asyncio.sleep(0.1)
-                        waited += 0.1
-                    pointing = self.gestures.pointing(self.now, since=since) or pointing
-                    res = await self._look(wanted, pointing, cause)
+                    self._asked_where = (since, stood)
+                    if await self._wait_partner_clear(pointing):
+                        waited = 0.0
+                        while self.gestures.pointing(self.now, since=since) is None and waited < self.gesture_wait:
+                            await asyncio.sleep(0.1)
+                            waited += 0.1
+                        pointing = self.gestures.pointing(self.now, since=since) or pointing
+                        res = await self._look(wanted, pointing, cause)
             if res.kind == "none" and pointing is not None:
                 # Still nothing where she points: if the camera cannot see that spot from here (her,
                 # someone else, furniture or a wall in the way, or out of its range), drive to a
@@ -478,12 +484,30 @@ class ObjectAttention(Module):
             await asyncio.sleep(0.3)
         pose = self.pose
         assert pose is not None
-        goal = viewpoint(self.plan, (pose[0], pose[1]), target, self._people_map(pose), camera_height=CAMERA_HEIGHT, camera_offset=CAMERA_OFFSET)
-        if goal is None:
+        route = viewpoint_route(self.plan, (pose[0], pose[1]), target, self._people_map(pose), camera_height=CAMERA_HEIGHT, camera_offset=CAMERA_OFFSET)
+        if route is None:
             return False
         self.moves += 1
+        for k, goal in enumerate(route):
+            state = await self._drive_leg(goal, k == len(route) - 1, cause)
+            if state == "stopped":  # the ES stopped the base: no further leg
+                return True
+            if state != "reached":
+                self.bus.publish(ES_EVENTS, etree.Element("event", name="view_stop"), causes=(cause,))
+                await asyncio.sleep(0.5)
+                return True
+        await asyncio.sleep(0.5)  # let the camera settle on the spot
+        return True
+
+    async def _drive_leg(self, goal: tuple[float, float, float], last: bool, cause: str) -> str:
+        """One straight leg of the drive to a viewpoint, through the ES (event ``view_blocked`` with
+        the ``POSE``; the ES orders the player ``move_to``): a waypoint on the way round a corner
+        (``last`` False: no turn on the spot there), or the viewpoint itself, turned towards the
+        target. ``reached`` or ``stopped`` as the player reports it; ``failed`` when it has not
+        arrived within ``MOVE_TIMEOUT`` s or has been blocked for ``MOVE_BLOCKED`` s."""
         ev = etree.Element("event", name="view_blocked")
-        etree.SubElement(ev, "POSE", x=f"{goal[0]:.3f}", y=f"{goal[1]:.3f}", theta=f"{goal[2]:.4f}", frame="map", tolerance=f"{ARRIVE_TOLERANCE:g}", align="true")
+        etree.SubElement(ev, "POSE", x=f"{goal[0]:.3f}", y=f"{goal[1]:.3f}", theta=f"{goal[2]:.4f}", frame="map",
+                         tolerance=f"{ARRIVE_TOLERANCE:g}", align="true" if last else "false")
         sent = self.now
         self._player = None
         self.bus.publish(ES_EVENTS, ev, causes=(cause,))
@@ -493,20 +517,15 @@ class ObjectAttention(Module):
             st = self._player
             if st is None or st[1] < sent:
                 continue
-            if st[0] == "reached":
-                await asyncio.sleep(0.5)  # let the camera settle on the spot
-                return True
-            if st[0] == "stopped":
-                return True
+            if st[0] in ("reached", "stopped"):
+                return st[0]
             if st[0] == "blocked":
                 blocked_since = st[1] if blocked_since is None else blocked_since
                 if self.now - blocked_since >= MOVE_BLOCKED:
-                    break
+                    return "failed"
             else:
                 blocked_since = None
-        self.bus.publish(ES_EVENTS, etree.Element("event", name="view_stop"), causes=(cause,))
-        await asyncio.sleep(0.5)
-        return True
+        return "failed"
 
     def _on_tracks(self, msg: Message) -> None:
         people = []
@@ -577,23 +596,43 @@ class ObjectAttention(Module):
         finally:
             self._asked_aside = None
 
+    def _asked_in_vain(self) -> bool:
+        """She was asked to step aside within ``STEP_ASIDE_AGAIN`` s and still stands where she
+        stood then: asking the same again would loop (she repeats her request, the robot its
+        question); the robot moves to see instead."""
+        if self._asked_where is None:
+            return False
+        t, where = self._asked_where
+        here = self._partner_map()
+        return (self.now - t <= STEP_ASIDE_AGAIN and where is not None and here is not None
+                and math.hypot(here[0] - where[0], here[1] - where[1]) < STEP_ASIDE_START)
+
     def _partner_in_view(self) -> bool:
         """No pointing seen and nothing found, with the partner standing in front of the camera:
         her body may hide both her hand and what she shows."""
         p = self._partner
         return p is not None and self.now - p[0] < 0.5 and abs(p[1]) <= VIEW_HALF_WIDTH and p[2] <= 3.0
 
-    async def _wait_partner_clear(self, pointing: Pointing | None) -> None:
-        """Wait (up to ``step_aside_wait`` s) until the partner no longer stands in the way."""
+    async def _wait_partner_clear(self, pointing: Pointing | None) -> bool:
+        """Wait (up to ``step_aside_wait`` s) until the partner no longer stands in the way; True
+        when she has stepped aside. She may not have heard or may not want to: when she has not
+        begun to move (``STEP_ASIDE_START`` m) within ``STEP_ASIDE_STIR`` s, waiting longer is
+        pointless (False: the robot moves to see instead)."""
         waited = 0.0
+        start = self._partner_map()
         while waited < self.step_aside_wait:
             p = self._partner
             if p is not None and self.now - p[0] < 0.5 and (
                     not self._in_the_way(p[1], p[2], pointing) if pointing is not None else abs(p[1]) > math.radians(10.0)):
                 await asyncio.sleep(0.5)  # and come to a stop
-                return
+                return True
+            if waited >= STEP_ASIDE_STIR and start is not None:
+                here = self._partner_map()
+                if here is not None and math.hypot(here[0] - start[0], here[1] - start[1]) < STEP_ASIDE_START:
+                    return False
             await asyncio.sleep(0.2)
             waited += 0.2
+        return False
 
     def _gesture_start(self, said: float | None) -> float | None:
         """Where to look back for the gesture that went with the request: from ``GESTURE_LEAD`` s

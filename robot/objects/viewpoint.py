@@ -43,6 +43,8 @@ OBJECT_BAND = 0.35  # m: how high above a surface an object a person points at r
 DRIVE_CLEARANCE = 0.8  # of the standing clearances, kept on the way (the player's own local planner keeps the footprint clear)
 ARRIVE_TOLERANCE = 0.2  # m: the tolerance of the POSE the object attention sends the player (move_to)
 LEG_LEAVE = 0.3  # m: the start of a straight leg may run closer to something than the clearance (where the robot stands)
+MAX_LEGS = 3  # straight legs to a viewpoint round corners (the player drives each pose it is sent straight)
+MAX_ROUTE = 5.0  # m: the longest drive, round corners, to a viewpoint (through a door into the next room)
 
 
 def _clip(a: Point, b: Point, poly: Sequence[Point]) -> tuple[float, float] | None:
@@ -227,13 +229,30 @@ def viewpoint(plan: FloorPlan, robot: Point, target: tuple[float, float, float],
     and a clear sight line, also from ``arrive`` m either way (the player stops within its
     tolerance of the pose: a line grazing a sofa's corner from the pose itself is hidden from
     where it stops). Of equal travel, the one nearer 1.5 m from the target. None when
-    there is no such place."""
+    there is no such place. :func:`viewpoint_route` also finds places reached only round a corner."""
+    route = viewpoint_route(plan, robot, target, people, camera_height=camera_height, camera_offset=camera_offset, max_travel=max_travel,
+                            clearance=clearance, person_clearance=person_clearance, arrive=arrive, max_legs=1)
+    return None if route is None else route[-1]
+
+
+def viewpoint_route(plan: FloorPlan, robot: Point, target: tuple[float, float, float], people: Sequence[Point] = (), *,
+                    camera_height: float, camera_offset: float = 0.0, max_travel: float = MAX_ROUTE,
+                    clearance: float = ROBOT_CLEARANCE, person_clearance: float = PERSON_CLEARANCE,
+                    arrive: float = ARRIVE_TOLERANCE, max_legs: int = MAX_LEGS) -> list[tuple[float, float, float]] | None:
+    """Like :func:`viewpoint`, but a place reached only round a corner (a sofa's end, a door
+    frame, the partner) counts too: the way there is the grid's shortest path (:func:`travel_map`)
+    cut into at most ``max_legs`` straight legs that keep the clearances (:func:`_legs`), since the
+    player drives each pose it is sent on a straight leg from the previous one. Returns the poses
+    to send one after the other (each waypoint heading along its next leg; the last the viewpoint,
+    heading towards the target), at most ``max_travel`` m of legs in all; None when no place the
+    robot can reach sees the target."""
     every = _blocks(plan)
     blocks = [(poly, bottom, top) for poly, bottom, top in every
               if min(math.hypot(x - target[0], y - target[1]) for x, y in poly) < max(RINGS) + 1.0 or top == math.inf]
-    dist, gx, gy = travel_map(plan, robot, people, reach=max_travel, clearance=clearance * DRIVE_CLEARANCE, person_clearance=person_clearance * DRIVE_CLEARANCE)
+    drive_c, drive_p = clearance * DRIVE_CLEARANCE, person_clearance * DRIVE_CLEARANCE
+    dist, gx, gy = travel_map(plan, robot, people, reach=max_travel, clearance=drive_c, person_clearance=drive_p)
     n = dist.shape[0]
-    best: tuple[float, tuple[float, float, float]] | None = None
+    best: tuple[float, list[tuple[float, float, float]]] | None = None
     for r in RINGS:
         for k in range(DIRECTIONS):
             a = 2 * math.pi * k / DIRECTIONS
@@ -243,12 +262,9 @@ def viewpoint(plan: FloorPlan, robot: Point, target: tuple[float, float, float],
                 continue
             if not math.isfinite(float(dist[i, j])):
                 continue
-            travel = math.hypot(q[0] - robot[0], q[1] - robot[1])  # the player drives it straight
-            if travel > max_travel:
-                continue
-            cost = travel + 0.5 * abs(r - 1.5)
-            if best is not None and cost >= best[0]:
-                continue
+            straight = math.hypot(q[0] - robot[0], q[1] - robot[1])
+            if straight > max_travel or float(dist[i, j]) > max_travel + GRID_CELL or (best is not None and straight + 0.5 * abs(r - 1.5) >= best[0]):
+                continue  # no way there is shorter than the straight line
             heading = math.atan2(target[1] - q[1], target[0] - q[0])
             cam = (q[0] + camera_offset * math.cos(heading), q[1] + camera_offset * math.sin(heading), camera_height)
             if not in_range(cam, target) or not _inside_room(plan, q) or not _free(blocks, q, people, clearance, person_clearance):
@@ -256,10 +272,64 @@ def viewpoint(plan: FloorPlan, robot: Point, target: tuple[float, float, float],
             if not all(sight_clear(plan, (cam[0] + dx, cam[1] + dy, camera_height), target, people)
                        for dx, dy in ((0.0, 0.0), (arrive, 0.0), (-arrive, 0.0), (0.0, arrive), (0.0, -arrive))):
                 continue  # the player stops within ``arrive`` of the pose: the view must hold there too
-            if not straight_leg_free(every, people, robot, q, clearance=clearance * DRIVE_CLEARANCE, person_clearance=person_clearance * DRIVE_CLEARANCE):
+            if straight_leg_free(every, people, robot, q, clearance=drive_c, person_clearance=drive_p):
+                points = [q]
+            elif max_legs > 1:
+                cut = _legs(every, people, robot, q, _grid_path(dist, gx, gy, (i, j)), clearance=drive_c, person_clearance=drive_p)
+                if cut is None or len(cut) > max_legs:
+                    continue
+                points = cut
+            else:
                 continue
-            best = (cost, (q[0], q[1], heading))
+            travel = sum(math.dist(p0, p1) for p0, p1 in zip([robot, *points[:-1]], points))
+            cost = travel + 0.5 * abs(r - 1.5)
+            if travel > max_travel or (best is not None and cost >= best[0]):
+                continue
+            poses = [(p[0], p[1], math.atan2(nxt[1] - p[1], nxt[0] - p[0])) for p, nxt in zip(points[:-1], points[1:])]
+            best = (cost, [*poses, (q[0], q[1], heading)])
     return None if best is None else best[1]
+
+
+def _grid_path(dist: np.ndarray, gx: float, gy: float, cell: tuple[int, int]) -> list[Point]:
+    """The grid's shortest way from the robot (distance 0) to ``cell``, as points from the robot's end
+    (steepest descent over the driving distances of :func:`travel_map`)."""
+    n = dist.shape[0]
+    i, j = cell
+    out = [(gx + j * GRID_CELL, gy + i * GRID_CELL)]
+    while dist[i, j] > 0.0:
+        nxt = min(((i + di, j + dj) for di in (-1, 0, 1) for dj in (-1, 0, 1) if (di or dj) and 0 <= i + di < n and 0 <= j + dj < n),
+                  key=lambda c: (float(dist[c]), c))
+        if not dist[nxt] < dist[i, j]:
+            break
+        i, j = nxt
+        out.append((gx + j * GRID_CELL, gy + i * GRID_CELL))
+    return out[::-1]
+
+
+def _legs(plan_blocks: list[tuple[tuple[Point, ...], float, float]], people: Sequence[Point], robot: Point, goal: Point, path: list[Point], *,
+          clearance: float, person_clearance: float) -> list[Point] | None:
+    """The grid path cut into straight legs that keep the clearances (exactly, :func:`straight_leg_free`):
+    from each end, the farthest point of the path a straight leg reaches; the waypoints and ``goal``
+    last. None when a stretch of the path cannot be driven straight at all."""
+    pts = [*path[1:-1], goal] if len(path) > 1 else [goal]
+    out: list[Point] = []
+    here, first = robot, True
+    k = 0
+    while k < len(pts):
+        reach = None
+        for m in range(len(pts) - 1, k - 1, -1):
+            if straight_leg_free(plan_blocks, people, here, pts[m], clearance=clearance, person_clearance=person_clearance,
+                                 leave=LEG_LEAVE if first else 0.0):
+                reach = m
+                break
+        if reach is None:
+            return None
+        here, first = pts[reach], False
+        out.append(here)
+        k = reach + 1
+        if len(out) > MAX_LEGS:
+            return None
+    return out
 
 
 def pointed_spot(plan: FloorPlan, hand: tuple[float, float, float], direction: float, elevation: float, *,

@@ -146,8 +146,9 @@ class Understander:
         while toks and toks[0].type == EDIT:  # "sorry, this is my cup": nothing before it to repair
             res.corrected.append(toks[0].text)
             toks = toks[1:]
-        if len(toks) > 1 and toks[0].type == "OKAY":  # "okay, bye": a leading okay only takes the turn
-            toks = toks[1:]
+        if len(toks) > 1 and toks[0].type in ("OKAY", "COMEON") and any(
+                t.type not in ("ROBOTNAME", "ROBOT") for t in toks[1:]):
+            toks = toks[1:]  # "okay, bye", "come on, this way": a leading okay or come-on only takes the turn
         if not toks:
             res.reason = "no known words" if lex.unknown else "nothing said"
             return res
@@ -199,7 +200,12 @@ class Understander:
             lead += 1
         if lead and (tree is None or partial or tree_act(tree) in ("yes", "no")):
             alt = self._parse(toks[lead:])  # "no, the blue one", "yes, this is the kitchen": the rest counts
-            if alt[0] is not None and not alt[2] and tree_act(alt[0]) not in ("yes", "no"):
+            if alt[0] is not None and alt[2] and not _guessed(alt[0]) and tree_act(alt[0]) not in _NOT_REQUESTS \
+                    and alt[1] and [t.text for t in toks[len(toks) - len(alt[1]):]] == alt[1]:
+                pass  # "alright, you can stop there, we have arrived": a whole request, then more words
+            elif alt[0] is None or alt[2]:
+                alt = (None, [], True)
+            if alt[0] is not None and tree_act(alt[0]) not in ("yes", "no"):
                 said = {t.type for t in toks[:lead]}
                 res.answer = "no" if "NO" in said else "yes"
                 toks = toks[lead:]
@@ -216,12 +222,18 @@ class Understander:
         frame = build(tree)
         obj = frame[0]
         if partial and lex.unknown and obj.tag == "OBJECT" and obj.get("type") is None and all(
-                c.tag == "GESTURE" for c in obj):
-            # "that's the end of the tour": a deixis and words the robot does not know describe no
-            # object (a closing turn must not become an empty object frame); "this is a <lost>"
-            # without unknown words stays an object to look at
+                c.tag in ("GESTURE", "ATTRIBUTE") for c in obj):
+            # "that's the end of the tour", "the weather is nice today": a deixis, an adjective and
+            # words the robot does not know describe no object (a closing turn or small talk must
+            # not become an empty object frame); "this is a <lost>" without unknown words stays an
+            # object to look at
             res.ignored = [t.text for t in toks]
             res.reason = "nothing known said about it"
+            return res
+        small_talk = _small_talk(tree, obj, toks)
+        if small_talk:
+            res.ignored = [t.text for t in toks]
+            res.reason = small_talk
             return res
         res.frame = frame
         res.fragment = tree_act(tree) in _FRAGMENTS
@@ -374,6 +386,28 @@ _ONLY_POINTS = frozenset({"THIS", "THAT", "HERE", "THERE", "IT", "A", "THE", "TO
                           "IS", "ARE", "CALLED"})
 
 
+def _small_talk(tree: Tree, obj: etree._Element, toks: list[Tok]) -> str:
+    """Why an object frame without a noun is small talk, not an object shown ("" when it is not).
+
+    "this is nice", "that's lovely": an adjective said of what she points at, with no article and no
+    owner, evaluates it; nobody names a thing that way, so no object is taught (with an article,
+    "this is a nice <lost word>", a noun was said and lost: the dialog asks what it is). "that's my
+    favourite spot", "this is my corner": a word for a spot in the room (lexicon class SPOT) is no
+    object either.
+    """
+    if obj.tag != "OBJECT" or obj.get("type") is not None:
+        return ""
+    if any(t.type == "SPOT" for t in toks):
+        return "a spot in the room, not an object"
+    act = next((c for c in tree.children if isinstance(c, Tree) and c.data != "address"), None)
+    np = _sub(act, "object_np") if act is not None else None
+    if (act is not None and act.data == "teach_object" and np is not None and _sub(np, "det") is None
+            and _sub(np, "possessor") is None and all(c.tag in ("GESTURE", "ATTRIBUTE") for c in obj)
+            and obj.find("ATTRIBUTE") is not None):
+        return "an evaluation, not an object named"
+    return ""
+
+
 def _declared(text: str) -> set[str]:
     out: set[str] = set()
     for line in text.splitlines():
@@ -487,16 +521,24 @@ def _position(tree: Tree) -> etree._Element:
 
 
 def _that_one(act: Tree) -> etree._Element:
-    """``THAT_ONE`` (index, side, type; GESTURE, TITLE, COLOUR, ATTRIBUTE*, POSITION): which of several."""
+    """``THAT_ONE`` (index, side, view, type; GESTURE, TITLE, COLOUR, ATTRIBUTE*, POSITION): which of several.
+
+    ``view="speaker"``: a left/right said from her side ("on my left"); without it a side is the robot's
+    (the side the robot's own question named: docs/semantics.md §4)."""
     el = _E("THAT_ONE")
     toks = _tokens(act)
     where = _sub(act, "ref_where")
     side_tree = _sub(act, "side") or (_sub(where, "side") if where is not None else None)
     sides = [t for t in toks if t.type == "SIDE"] + ([t for t in _tokens(side_tree) if t.type == "SIDE"]
                                                      if side_tree is not None else [])
-    deixis = _sub(act, "deixis")
-    pointing = (deixis is not None and any(t.type in ("THIS", "THAT", "HERE") for t in _tokens(deixis))) or (
+    pointing = any(t.type in ("THIS", "THAT", "HERE") for d in _subs(act, "deixis") for t in _tokens(d)) or (
         where is not None and any(t.type == "POINTING" for t in _tokens(where)))
+    # whose left: the robot's unless she says hers ("on my left", "the one left of me"); the robot
+    # words its own question from its side ("the cup on the left"), so a plain side is the robot's too
+    speaker_view = bool(sides) and (
+        (side_tree is not None and _owner(_sub(side_tree, "possessor")) == "speaker")
+        or (side_tree is not None and any(t.type == "ME" and t.value == "me" for t in _tokens(side_tree)))
+        or any(t.type == "ME" and t.value == "me" for t in toks))
     np = _sub(act, "object_np")
     if np is not None:
         toks = toks + _tokens(np)
@@ -506,6 +548,8 @@ def _that_one(act: Tree) -> etree._Element:
             el.set("index", t.value)
     if sides:
         el.set("side", sides[-1].value)
+        if speaker_view and sides[-1].value in ("left", "right"):
+            el.set("view", "speaker")
     noun = next((t for t in toks if t.type == "OBJ"), None)
     if noun is not None and noun.value:
         el.set("type", noun.value)
@@ -518,7 +562,8 @@ def _that_one(act: Tree) -> etree._Element:
         _S(el, "COLOUR", name=colours[-1])
     for a in attrs:
         _S(el, "ATTRIBUTE", name=a)
-    position = _sub(act, "position") or (_sub(where, "position") if where is not None else None)
+    position = (_sub(act, "position") or (_sub(where, "position") if where is not None else None)
+                or _sub(act, "landmark"))  # "on the table": the answer names where it stands
     if position is not None:
         el.append(_position(position))
     return el

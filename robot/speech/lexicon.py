@@ -46,6 +46,9 @@ CONTRACTIONS = {
     "she's": ("she", "is"), "who's": ("who", "is"), "how's": ("how", "is"), "wasn't": ("was", "not"),
     "gotta": ("got", "to"), "wanna": ("want", "to"), "gonna": ("going", "to"),
 }
+#: Sounds a listener makes; a turn made only of them, with one that agrees, is a yes ("mhm", "uh huh").
+BACKCHANNELS = frozenset({"mhm", "mhmm", "mm", "hmm", "hm", "uh", "huh", "hmhm", "aha", "ah"})
+_AGREEING = frozenset({"mhm", "mhmm", "huh", "hmhm", "aha", "mm"})
 #: Words whose "'s" is "is", not a possessive.
 _IS_CONTRACTED = frozenset({"that's", "it's", "what's", "where's", "here's", "this's"})
 
@@ -135,6 +138,11 @@ class Lexicon:
     def tokens(self, text: str) -> Tokens:
         """The grammar tokens of ``text`` after fillers, unknown words, corrections and repetitions."""
         words = self.words(text)
+        if words and all(w in BACKCHANNELS or w in self.hesitations for w in words) and any(
+                w in _AGREEING for w in words):
+            # "mhm", "uh huh", "mm hmm" said alone: a listener's yes; inside a turn they are hesitations
+            return Tokens([Tok("YES", "yes", " ".join(words))], words=len(words),
+                          raw=[Tok("YES", "yes", " ".join(words))])
         hes = self.hesitations
         words = [w for w in words if w not in hes]
         toks: list[Tok] = []
@@ -164,6 +172,7 @@ class Lexicon:
         toks = _sides(toks)
         out = Tokens(toks, unknown, words=n, raw=_compounds(list(toks)))
         out.tokens = _repairs(out.tokens, out.corrected)
+        out.tokens = _negated(out.tokens, out.corrected)
         out.tokens = _repetitions(out.tokens, out.repeated)
         out.tokens = _restatements(out.tokens, out.corrected)
         out.tokens = _compounds(out.tokens)
@@ -176,7 +185,7 @@ _LEFT_AS_PUT = frozenset({"HAVE", "I", "DID", "WE", "YOU"})
 #: Words that name a side after an article or before "one"/a noun ("the right one", "at the back",
 #: "the right cup") and something else elsewhere ("right!", "go back").
 _SIDE_WORDS = {"right": "right", "back": "back"}
-_BEFORE_SIDE = frozenset({"THE", "A", "THIS", "THAT"})
+_BEFORE_SIDE = frozenset({"THE", "A", "THIS", "THAT", "MY", "YOUR"})  # "to my right", "on your right"
 _AFTER_SIDE = frozenset({"ONE", "OBJ", "COLOUR", "ATTR"})
 
 
@@ -191,7 +200,8 @@ def _sides(toks: list[Tok]) -> list[Tok]:
             continue
         before = toks[i - 1].type if i else ""
         after = toks[i + 1].type if i + 1 < len(toks) else ""
-        if before in _BEFORE_SIDE or (after in _AFTER_SIDE and before not in ("GO", "COME", "IS", "YES")):
+        if before in _BEFORE_SIDE or (after in _AFTER_SIDE and before not in ("GO", "COME", "IS", "YES")) or (
+                after == "OF" and i + 2 < len(toks) and toks[i + 2].type == "ME"):  # "the one right of me"
             toks[i] = Tok("SIDE", side, t.text)
     return toks
 
@@ -265,6 +275,56 @@ def _repairs(toks: list[Tok], removed: list[str]) -> list[Tok]:
             del toks[start:end]
             changed = True
             break
+    return toks
+
+
+#: Words of a noun phrase before its head, and its heads by class ("the red one", "my cup", "the kitchen").
+_NP_WORDS = frozenset({"A", "THE", "MY", "YOUR", "OUR", "NAME", "POSS", "COLOUR", "ATTR", "USE", "ORD", "SIDE"})
+_HEADS = {"OBJ": "OBJ", "ONE": "OBJ", "PLACE": "PLACE", "ROOM": "PLACE"}
+
+
+def _np_at(toks: list[Tok], i: int) -> tuple[int, str] | None:
+    """(end, head class) of the noun phrase that starts at ``i``, or None."""
+    j = i
+    while j < len(toks) and toks[j].type in _NP_WORDS:
+        j += 1
+    if j < len(toks) and toks[j].type in _HEADS:
+        while j + 1 < len(toks) and toks[j + 1].type in _HEADS and _HEADS[toks[j + 1].type] == _HEADS[toks[j].type]:
+            j += 1  # "the living room" said as PLACE ROOM
+        return j + 1, _HEADS[toks[j].type]
+    return None
+
+
+def _negated(toks: list[Tok], removed: list[str]) -> list[Tok]:
+    """A contrast names what is not meant and what is: only what is meant counts.
+
+    "not the kitchen, the bathroom", "that's not the kitchen, that's the bathroom", "no, it's not a
+    cup, it's a glass" (the negated phrase first, the right one after it) and "it's a mug, not a
+    cup", "the kitchen, not the bathroom" (the negated one last): the negated noun phrase (with its
+    "that is not") is taken out when a noun phrase of the same kind (an object, a place) stands on
+    the other side. A "not" with nothing to contrast ("this is not my cup") is left alone: a no.
+    """
+    for i, t in enumerate(toks):
+        if t.type != "NOT":
+            continue
+        np = _np_at(toks, i + 1)
+        if np is None:
+            continue
+        end, kind = np
+        start = i
+        if i >= 1 and toks[i - 1].type in ("IS", "ARE"):
+            start = i - 1
+            if i >= 2 and toks[i - 2].type in ("THIS", "THAT", "IT"):
+                start = i - 2
+        after = next((k for k in range(end, len(toks)) if _np_at(toks, k) is not None), None)
+        if after is not None and _np_at(toks, after)[1] == kind and all(  # type: ignore[index]
+                x.type in ("THIS", "THAT", "IT", "IS", "ARE", "NO", EDIT) for x in toks[end:after]):
+            removed += [x.text for x in toks[start:end]]
+            return toks[:start] + toks[end:]  # the corrected phrase follows
+        before = [k for k in range(0, i) if (n := _np_at(toks, k)) is not None and n[0] == i]
+        if end == len(toks) and before and _np_at(toks, before[0])[1] == kind:  # type: ignore[index]
+            removed += [x.text for x in toks[i:end]]
+            return toks[:i]  # "a mug, not a cup": the contrast said last
     return toks
 
 
