@@ -63,6 +63,7 @@ from homesim.module import Module
 from robot.contract import (ATTENTION_STATE, BASE_CMD, ES_EVENTS, ES_ORDERS, FACES, FOCUS, FOLLOW_STATUS, ODOMETRY, PARTNER, PLAYER_STATUS,
                             POSE, PTU_CMD, SCAN, SOURCES, STEER, TORSOS, TRACKS)
 
+from .appearance import Colours, anchor_torsos, same_clothes
 from .clutter import FurnitureLegs
 from .cues import CueSpec, Hysteresis, bearings_from, match_faces, match_sounds, sound_bearings_from
 from .fsm import CAMERA, TURNS, AttentionFSM, OrderRefused
@@ -178,6 +179,8 @@ class PersonAttention(Module):
         self.facing = Hysteresis(cues.facing_on, cues.facing_off)
         self.partner: int | None = None
         self.partner_lost_sent = False
+        self.colours = Colours()  # each track's torso colour (robot.attention.appearance)
+        self._partner_colour: tuple[float, float, float] | None = None  # hers, kept when her track dies
         self._partner_face: tuple[float, int, bool] | None = None  # (frame time, partner, her face in the image)
         # Where the partner was last seen (odom x, y, vx, vy; the robot's odom x, y then) and when:
         # the evidence the leaving rule reads, kept when the track itself has died.
@@ -338,19 +341,30 @@ class PersonAttention(Module):
                 self.tracks.seen([prow], t)
 
     def _on_torsos(self, msg: Message) -> None:
-        """A torso blob at the partner's bearing (the camera is on the partner in the top-down states)."""
-        if self.partner is None:
+        """Torso blobs: each track's clothing colour where the blob is surely its own
+        (:mod:`.appearance`), and a torso at the partner's bearing (the camera is on the partner
+        in the top-down states) as evidence that she is there."""
+        tracks = self.tracks.tracks
+        if not tracks:
             return
         t = msg.created
+        data = msg.data  # the camera's typed PerceptList (robot.percepts), else XML: the same texts
+        rows = data.rows if data is not None else list(msg.xml)
+        if not rows:
+            return
+        get = (lambda r, k: getattr(r, k)) if data is not None else (lambda r, k: r.get(k))
+        bearings = [math.radians(float(get(r, "bearing"))) for r in rows]
+        tb = bearings_from(self._robot_xy(t), self.cues.camera_offset)
+        for j, i in anchor_torsos(tb, bearings, self.cues.torso_bearing_tolerance):
+            if tracks[i].confirmed:
+                r = rows[j]
+                self.colours.observe(tracks[i].id, (float(get(r, "r")), float(get(r, "g")), float(get(r, "b"))), t)
+        if self.partner is None:
+            return
         prow = self.tracks.row(self.partner)
         if prow < 0:
             return
-        data = msg.data  # the camera's typed PerceptList (robot.percepts), else XML: the same texts
-        bearings = [math.radians(float(s.bearing)) for s in data.rows] if data is not None else [
-            math.radians(float(s.get("bearing"))) for s in msg.xml]
-        if not bearings:
-            return
-        pb = bearings_from(self._robot_xy(t)[prow : prow + 1], self.cues.camera_offset)[0]
+        pb = tb[prow]
         if min(abs((b - pb + math.pi) % (2 * math.pi) - math.pi) for b in bearings) <= self.cues.torso_bearing_tolerance:
             # A torso is a body (a table leg has none): strong evidence, as a frontal face, so a
             # partner standing sideways on single legs is kept while the camera sees them.
@@ -392,13 +406,13 @@ class PersonAttention(Module):
                 before, lost = self.partner, self.partner_lost_sent
                 self.partner = self._choose_partner()
                 self.partner_lost_sent = False
-                self._partner_last = None
+                self._partner_last = self._partner_colour = None
                 if lost and self.partner is not None and self.partner != before and self.fsm.state == "Interaction":
                     self._new_partner(self.now, self.partner, "false")  # back from a loss: who it attends to now
         else:
             self.partner = None
             self.partner_lost_sent = False
-            self._partner_last = None
+            self._partner_last = self._partner_colour = None
         self.pp_sent = None
         self._alone_since = None
         self._listen_to_player(state == "Object")
@@ -483,6 +497,7 @@ class PersonAttention(Module):
             alive = {tk.id for tk in tracks}
             self.speaking.forget(alive)
             self.facing.forget(alive)
+            self.colours.forget(alive)
             self.selector.forget(alive)
         # Every track in the robot frame: bearing and distance.
         rx, ry = [], []
@@ -553,6 +568,9 @@ class PersonAttention(Module):
         row = tr.row(self.partner) if self.partner is not None else -1
         if row >= 0:
             tk = tr.tracks[row]
+            colour = self.colours.colour(tk.id, t)
+            if colour is not None:
+                self._partner_colour = colour
             if self._partner_last is None or tk.last_seen > self._partner_last[0]:
                 ox, oy, _ = self._pose_at(tk.last_seen)
                 self._partner_last = (tk.last_seen, tk.x[0], tk.x[1], tk.x[2], tk.x[3], ox, oy)
@@ -560,7 +578,7 @@ class PersonAttention(Module):
         elif self.partner is not None and not self.partner_lost_sent:
             row = self._reacquire(t)
         if self.partner is None and not self.partner_lost_sent:
-            self._partner_last = None
+            self._partner_last = self._partner_colour = None
         if self.partner is not None and self.partner_left(t):
             if not self.partner_lost_sent:
                 self._event("partner_lost")
@@ -571,7 +589,7 @@ class PersonAttention(Module):
             # (partner None: lost while following, her track died, and the ES's order back to
             # Interaction found nobody to choose: without this nobody could ever take the place)
             self.partner = None
-            self._partner_last = None
+            self._partner_last = self._partner_colour = None
             # The partner may come back: someone speaking while facing the robot takes the place.
             rx, ry, _ = self._pose_at(t)
             rows = {tk.id: tk for tk in tr.tracks}
@@ -641,7 +659,8 @@ class PersonAttention(Module):
 
     def _reacquire(self, t: float) -> int:
         """The partner's track died while they were within the interaction space: a confirmed track
-        near where they were last seen (growing with the time unseen) is taken as theirs again."""
+        near where they were last seen (growing with the time unseen) is taken as theirs again,
+        unless the camera saw it wear other clothes than hers (:mod:`.appearance`)."""
         last = self._partner_last
         if last is None:
             return -1
@@ -650,7 +669,8 @@ class PersonAttention(Module):
         radius = min(2.5, p.reacquire_radius + p.reacquire_speed * max(0.0, t - seen))
         best, row = radius, -1
         for i, tk in enumerate(self.tracks.tracks):
-            if tk.confirmed:
+            # someone in other clothes is not her, however near (a person who crossed between)
+            if tk.confirmed and same_clothes(self._partner_colour, self.colours.colour(tk.id, t)):
                 d = math.hypot(tk.x[0] - x, tk.x[1] - y)
                 if d <= best:
                     best, row = d, i

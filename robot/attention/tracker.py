@@ -40,7 +40,8 @@ confirmed track dies ``death_timeout`` seconds after its last anchored evidence
 person standing still whose legs do not associate for a while is still
 there while the camera sees them; its
 prediction coasts through occlusions and crossings meanwhile, with its
-velocity damped so it does not run away).
+velocity damped so it does not run away). Two confirmed tracks closer than ``merge_distance``
+for ``merge_time`` seconds are one person tracked twice: the younger is dropped (:meth:`Tracks._twins`).
 """
 
 from __future__ import annotations
@@ -79,6 +80,8 @@ class TrackerSpec:
     init_speed_std: float = 1.0  # m/s: velocity uncertainty of a new track
     contact: float = 0.6  # m: two confirmed tracks predicted this close: their legs mix (pairs of one leg each, merged blobs) ...
     contact_std: float = 0.6  # m: ... so a candidate there may be the other person's: off this one's centre by up to a contact
+    merge_distance: float = 0.25  # m: two confirmed tracks closer than this (no two bodies' centres are) ...
+    merge_time: float = 1.5  # s: ... for this long (longer than a crossing lasts) are one person: the younger goes
 
     def __post_init__(self) -> None:
         for name in ("gate", "single_gate"):
@@ -161,6 +164,7 @@ class Tracks:
         self._next = 1
         self._t: float | None = None
         self._model: tuple[float, float, float, float] | None = None  # dt, q a, q b, q c of the last predict
+        self._together: dict[tuple[int, int], float] = {}  # (older id, younger id) of confirmed tracks this close, since
 
     def __len__(self) -> int:
         return len(self.tracks)
@@ -243,8 +247,9 @@ class Tracks:
         anchors = [(tk.x[0], tk.x[1]) for tk in tracks if tk.confirmed]
         keep: list[Track] = []
         row_of: list[int] = []
+        twins = self._twins(t)
         for tk in tracks:
-            crowded = not tk.confirmed and any((tk.x[0] - ax) ** 2 + (tk.x[1] - ay) ** 2 < clear2 for ax, ay in anchors)
+            crowded = tk.id in twins or not tk.confirmed and any((tk.x[0] - ax) ** 2 + (tk.x[1] - ay) ** 2 < clear2 for ax, ay in anchors)
             if not tk.confirmed and not crowded and tk.hits >= spec.confirm_hits and t - tk.born <= window:
                 tk.confirmed = True
             dead = crowded or (
@@ -269,6 +274,25 @@ class Tracks:
                     continue
                 self._birth_one(t, zx, zy, spec.meas_std**2)
         return assigned
+
+    def _twins(self, t: float) -> set[int]:
+        """Ids of confirmed tracks that have followed an older confirmed track closer than
+        ``merge_distance`` for ``merge_time`` s, both measured all the while: one person tracked twice (a second track born on
+        her legs while the first coasted elsewhere, then converged). No two people's centres come
+        that close (their bodies are in the way), and a crossing lets them part within a second;
+        the older track keeps the person (it is the one the attention knows)."""
+        spec = self.spec
+        # both measured just now: a track coasting unseen over someone else's position is not a twin
+        conf = [tk for tk in self.tracks if tk.confirmed and t - tk.last_update <= spec.tentative_gap + 1e-9]
+        d2 = spec.merge_distance**2
+        together: dict[tuple[int, int], float] = {}
+        for a, ta in enumerate(conf):
+            for tb in conf[a + 1 :]:
+                if (ta.x[0] - tb.x[0]) ** 2 + (ta.x[1] - tb.x[1]) ** 2 < d2:
+                    key = (ta.id, tb.id) if ta.id < tb.id else (tb.id, ta.id)
+                    together[key] = self._together.get(key, t)
+        self._together = together  # only pairs close now: bounded by the tracks alive
+        return {young for (_, young), since in together.items() if t - since >= spec.merge_time - 1e-9}
 
     def _birth_one(self, t: float, zx: float, zy: float, r: float) -> None:
         v = self.spec.init_speed_std**2
