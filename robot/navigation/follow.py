@@ -134,6 +134,9 @@ GIVE_WAY_ROOM = 0.45
 #: s, m/s: a give-way spot is driven to for at most this long, this slowly
 GIVE_WAY_TIME = 8.0
 GIVE_WAY_SPEED = 0.35
+#: m: she walks at the robot when her line of walking passes its centre closer than this (half its
+#: width, her body and a margin); a partner passing beside it is not walking at it
+WALKS_AT = 0.55
 #: s: when there is no give-way spot, it looks again after this long (the search plans on the grid)
 GIVE_WAY_RETRY = 1.0
 #: m/s: it gives way to a partner slower than this (held up in front of it), never into a walking one
@@ -422,8 +425,12 @@ class Follower(Module):
             self._close_since = self.now
         # she walks at it while it stands in a door frame or a passage: it backs out of her way at
         # once (away from her, never into her path), before she stands pressed against its front
+        # (her line of walking passes the robot's body: someone walking past it beside a bed is not
+        # walking at it, and backing out then turned it away from her as she passed)
+        speed = math.hypot(vrx, vry)
+        miss = abs(rx * vry - ry * vrx) / speed if speed > 1e-6 else math.inf
         coming = (v_des <= 0.05 and not approaching and not searching and d < self.band[0]
-                  and v_radial < -GIVE_WAY_STILL and self.route.clearance(self.odom[:2]) < NARROW)
+                  and v_radial < -GIVE_WAY_STILL and miss < WALKS_AT and self.route.clearance(self.odom[:2]) < NARROW)
         if close or coming:
             # she stands close in front of it while it follows: it is in her way (in a door frame or a
             # passage at once; anywhere once she has stood there GIVE_WAY_HELD s, held up): step aside;
