@@ -33,6 +33,11 @@ GHOST_MAX = 15.0
 GHOST_SPEED = 0.3
 #: m: a lost track is remembered while the laser has an echo this close to where it was.
 GHOST_ECHO = 0.35
+#: s: any confirmed track that vanished (walking or standing) is remembered this long for what the
+#: laser cannot see: behind the robot, where someone it lost sight of may have walked to.
+LOST_MAX = 10.0
+#: m/s: how fast someone lost from view may have walked since (a brisk walk).
+WALK = 1.0
 
 
 class People:
@@ -42,6 +47,7 @@ class People:
         self.xml: Any = None
         self._confirmed: dict[str, tuple[float, float, float]] = {}  # id -> last odom position and speed
         self.ghosts: dict[str, tuple[float, float, float]] = {}  # lost confirmed tracks: id -> (x, y, lost at)
+        self.lost: dict[str, tuple[float, float, float]] = {}  # every vanished confirmed track: id -> (x, y, lost at)
 
     def update(self, xml: Any) -> None:
         """Keep the latest tracks payload (the receiver's own copy); remember tracks that vanished."""
@@ -59,16 +65,22 @@ class People:
         except ValueError:
             t0 = 0.0
         for tid, (x, y, speed) in self._confirmed.items():
+            if tid not in now:
+                self.lost[tid] = (x, y, t0)
             if tid not in now and speed < GHOST_SPEED:  # someone walking on is not remembered standing
                 self.ghosts[tid] = (x, y, t0)
         for tid in now:
             self.ghosts.pop(tid, None)
+            self.lost.pop(tid, None)
+        for tid in [k for k, (_, _, t) in self.lost.items() if t0 - t > LOST_MAX]:
+            del self.lost[tid]
         self._confirmed = now
 
     def clear(self) -> None:
         self.xml = None
         self._confirmed = {}
         self.ghosts = {}
+        self.lost = {}
 
     def around(self, odom: tuple[float, float, float], now: float, *, exclude: str | None = None,
                near: tuple[float, float] | None = None, near_radius: float = 0.6,
@@ -125,6 +137,22 @@ class People:
             else:
                 self.ghosts.pop(tid)  # nothing there any more: gone
         return np.array(out) if out else np.zeros((0, 4 if velocity else 2))
+
+
+def maybe_behind(people: People, odom: tuple[float, float, float], now: float, *, reach: float,
+                 walk: float = WALK) -> bool:
+    """Whether someone the tracker lost sight of in the last :data:`LOST_MAX` s may stand within
+    ``reach`` m of the robot now (the last place seen no further than ``reach`` plus how far they
+    could have walked since). The laser does not look behind: a person who walked out of its view
+    (behind the robot, to the door it waits at) is not free space to reverse into (goto_l_flat
+    seed 0: Ben, lost from view as the robot turned to the door, was touched by a back-off).
+    """
+    ox, oy, _ = odom
+    for x, y, lost in people.lost.values():
+        dt = now - lost
+        if 0.0 <= dt <= LOST_MAX and math.hypot(x - ox, y - oy) <= reach + walk * dt:
+            return True
+    return False
 
 
 def closing_in(people: np.ndarray, *, near: float, speed: float) -> bool:

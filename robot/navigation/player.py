@@ -50,7 +50,7 @@ from .config import Limits, limits_from_config
 from .grid import MapError, parse_map
 from .local import HALF_LENGTH, HALF_WIDTH, Command, DWAParams, LatestScan, carrot, dwa, heading_speed, social_speed_limit, sweep_clearance
 from .outline import FloorOutline
-from .people import People, behind_clear, closing_in, nearest
+from .people import BACK_GAP, BODY_RADIUS, People, behind_clear, closing_in, maybe_behind, nearest
 
 ORDERS = f"{ES_ORDERS}/player"
 #: m: how far ahead on the leg the controller steers (pure pursuit).
@@ -319,6 +319,9 @@ class Player(Module):
     def _behind_clear(self, reach: float) -> bool:
         """Whether backing up to ``reach`` m keeps every tracked person behind out of personal space
         (:func:`robot.navigation.people.behind_clear`; the laser does not look behind)."""
+        odo = self.odo.pose
+        if odo is not None and maybe_behind(self.people, odo, self.now, reach=max(reach, 0.0) + HALF_LENGTH + BACK_GAP + BODY_RADIUS):
+            return False  # someone lost from view may have walked there: the laser does not look behind
         return behind_clear(self.people_around(), length=2 * HALF_LENGTH, width=2 * HALF_WIDTH, reach=max(reach, 0.0))
 
     def _turn_ok(self, turn: float, mapped: np.ndarray) -> bool:
