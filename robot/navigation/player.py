@@ -13,7 +13,9 @@ Orders arrive on ``/robot/es/orders/player`` (docs/robot-contract.md):
   where the previous ``move_to`` ended, or where the robot stood), so it keeps
   to the planned line through doorways; a goal more than 60 degrees off its
   heading is turned to on the spot first; when that is impossible (stopped
-  close in front of something) it backs off up to 0.3 m the way it came. Near people (the attention's
+  close in front of something) it backs off up to 0.3 m the way it came, never toward a person
+  tracked behind it, and not at all while someone the tracker lost sight of in the last 10 s could
+  have walked behind it since (the laser does not look behind). Near people (the attention's
   confirmed tracks, ``/robot/attention/tracks``) it slows down: at most
   0.2 m/s within 1.2 m of anyone, full speed from 2 m
   (:func:`~robot.navigation.local.social_speed_limit`).
