@@ -135,6 +135,7 @@ class ObjectAttention(Module):
         self.plan: FloorPlan | None = None
         self._looking = False
         self._seen: list[tuple[str, float, float, float, tuple[float, float, float], float | None]] = []
+        self._frames: list[float] = []  # each seen detection's capture time (its camera frame)
         self._search: asyncio.Task[None] | None = None
         self._answer: asyncio.Future[etree._Element] | None = None  # waiting for the order "clarified"
         self._asked_aside: asyncio.Future[bool] | None = None  # waiting for the order "asked_aside"
@@ -218,6 +219,7 @@ class ObjectAttention(Module):
                     # The size across: the image extent at the measured (slant) distance.
                     size = 2 * d * math.tan(math.radians(float(w)) / 2) if w is not None else None
                     self._seen.append((o.get("type", ""), x, y, z, (float(o.get("r")), float(o.get("g")), float(o.get("b"))), size))  # type: ignore[arg-type]
+                    self._frames.append(t)
         self._pending = keep
 
     def _on_gestures(self, msg: Message) -> None:
@@ -369,7 +371,7 @@ class ObjectAttention(Module):
 
     async def _look(self, wanted: Wanted, pointing: Pointing | None, cause: str) -> Resolution:
         """Look where she points for ``look_time`` s, merge the detections, resolve the reference."""
-        self._seen = []
+        self._seen, self._frames = [], []
         self._looking = True
         fallback = self._target_3d(pointing) if pointing is not None else None
         t_end = self.now + self.look_time
@@ -379,7 +381,7 @@ class ObjectAttention(Module):
         self._looking = False
         pose = self.pose
         assert pose is not None
-        cands = merge(self._seen, (pose[0], pose[1]), eye_height=CAMERA_HEIGHT)
+        cands = merge(self._seen, (pose[0], pose[1]), eye_height=CAMERA_HEIGHT, frames=self._frames)
         res = resolve(cands, wanted, pointing, (pose[0], pose[1]))
         self.last = res
         return res
@@ -395,7 +397,7 @@ class ObjectAttention(Module):
             return None
         _, pb, pd = p
         px, py = pose[0] + pd * math.cos(pose[2] + pb), pose[1] + pd * math.sin(pose[2] + pb)
-        self._seen = []
+        self._seen, self._frames = [], []
         self._looking = True
         try:
             for off in SEARCH_OFFSETS:
@@ -407,7 +409,7 @@ class ObjectAttention(Module):
             self._looking = False
         pose = self.pose
         assert pose is not None
-        cands = [c for c in merge(self._seen, (pose[0], pose[1]), eye_height=CAMERA_HEIGHT) if math.hypot(c.x - px, c.y - py) <= SEARCH_RADIUS]
+        cands = [c for c in merge(self._seen, (pose[0], pose[1]), eye_height=CAMERA_HEIGHT, frames=self._frames) if math.hypot(c.x - px, c.y - py) <= SEARCH_RADIUS]
         res = resolve(cands, wanted, None, (px, py))
         self.last = res
         return res
