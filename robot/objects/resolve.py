@@ -59,6 +59,7 @@ TYPE_EVIDENCE = 3  # detections, none of the named type, that rule a candidate o
 TYPE_SHARE = 0.25  # with TYPE_EVIDENCE or more detections, a candidate seen as the named type less often does not fit
 CLEAR = 3.0  # the best candidate's score ratio over the second to decide without asking
 SIDE_APART = math.radians(3.0)  # rad: options this far apart, seen from the robot, are told apart by side too (3x the camera's bearing noise)
+CO_SEEN = 0.5  # two parts are two objects only if seen together in this share of the frames of the one seen less
 ANSWER_CLEAR = 1.5  # ... and after asking, with her answer's gesture and the request's together (she has been asked once)
 
 
@@ -160,6 +161,7 @@ def merge(
     *,
     min_share: float = 0.25,
     eye_height: float | None = None,
+    frames: list[float] | None = None,
 ) -> list[Candidate]:
     """Detections (type, x, y, z, rgb[, size]) -> candidates, in order of first sight.
 
@@ -178,6 +180,13 @@ def merge(
     bearings fall in two groups is split (:func:`_split`), and a weak candidate between two
     stronger ones is dissolved into them (:func:`_dissolve_between`): every candidate's position is
     the mean of its own detections, never a point between two objects.
+    With ``frames`` (each detection's capture time, one camera frame per time), the camera's own
+    evidence of two things decides: it reports each object once per frame, so two objects side by
+    side are seen together in most frames, and one object's detections never are. Parts of a
+    split that were not seen together in ``CO_SEEN`` of the frames of the one seen less are one
+    object (a noisy bearing or two, not a second cup), and so are two candidates close by
+    (bearings within ``2 * MERGE_BEARING``, ranges within the gate, colours alike) never seen
+    together: the partner is never asked to choose between two detections of one thing.
     """
     def gate(c: Candidate, x: float, y: float, z: float, rgb: np.ndarray) -> float | None:
         """How far a point is from a candidate (None: not the same object)."""
@@ -226,8 +235,10 @@ def merge(
     if origin is not None:
         split: list[tuple[Candidate, list[int]]] = []
         for c in out:
-            split += _split(c, members[id(c)], detections, origin)
+            split += _split(c, members[id(c)], detections, origin, frames)
         split = _dissolve_between(split, detections, origin)
+        if frames is not None:
+            split = _join_apart(split, detections, origin, frames, eye_height)
         out = [c for c, _ in split]
     top = max((c.n for c in out), default=0)
     return [c for c in out if c.n >= min_share * top]
@@ -275,6 +286,41 @@ def _dissolve_between(parts: list[tuple[Candidate, list[int]]], detections: list
     return parts
 
 
+def _seen_together(a: list[int], b: list[int], frames: list[float]) -> bool:
+    """Were the detections ``a`` and ``b`` seen in the same frames (``CO_SEEN`` of the frames of the
+    one seen in fewer)? The camera reports an object once per frame: one object's detections are
+    never seen together, two objects in view are seen together in nearly every frame."""
+    fa, fb = {frames[k] for k in a}, {frames[k] for k in b}
+    return len(fa & fb) >= CO_SEEN * min(len(fa), len(fb))
+
+
+def _join_apart(parts: list[tuple[Candidate, list[int]]], detections: list, origin: tuple[float, float], frames: list[float],
+                eye_height: float | None) -> list[tuple[Candidate, list[int]]]:
+    """Join candidates close by (bearings within ``2 * MERGE_BEARING``, ranges within
+    ``MERGE_RANGE``, colours alike) that were never seen together: one object, not two."""
+    joined = True
+    while joined:
+        joined = False
+        for i, (a, ia) in enumerate(parts):
+            for j in range(i + 1, len(parts)):
+                b, ib = parts[j]
+                if float(np.linalg.norm(a.rgb - b.rgb)) > 0.35 or _seen_together(ia, ib, frames):
+                    continue
+                ra, rb = math.hypot(a.x - origin[0], a.y - origin[1]), math.hypot(b.x - origin[0], b.y - origin[1])
+                if eye_height is not None:
+                    ra, rb = math.hypot(ra, eye_height - a.z), math.hypot(rb, eye_height - b.z)
+                da = abs(math.remainder(_bearing(origin, a.x, a.y) - _bearing(origin, b.x, b.y), 2 * math.pi))
+                if da <= 2 * MERGE_BEARING and abs(ra - rb) < MERGE_RANGE * max(ra, rb):
+                    own = sorted(ia + ib)
+                    parts = [p for k, p in enumerate(parts) if k != j]
+                    parts[i] = (_from_detections(own, detections), own)
+                    joined = True
+                    break
+            if joined:
+                break
+    return parts
+
+
 def _from_detections(idx: list[int], detections: list) -> Candidate:
     """A candidate made of exactly these detections (in their order)."""
     first = detections[idx[0]]
@@ -286,7 +332,8 @@ def _from_detections(idx: list[int], detections: list) -> Candidate:
     return c
 
 
-def _split(c: Candidate, idx: list[int], detections: list, origin: tuple[float, float]) -> list[tuple[Candidate, list[int]]]:
+def _split(c: Candidate, idx: list[int], detections: list, origin: tuple[float, float],
+           frames: list[float] | None = None) -> list[tuple[Candidate, list[int]]]:
     """Two objects side by side, merged into one candidate, made two again.
 
     The camera's bearings of one object spread by its noise (``BEARING_NOISE``); those of two
@@ -296,6 +343,8 @@ def _split(c: Candidate, idx: list[int], detections: list, origin: tuple[float, 
     quarter of the detections and their means lie ``SPLIT_APART`` noises apart, they are two
     candidates, each the mean of its own detections (never a position between two objects),
     and each is split again the same way (three objects side by side).
+    With ``frames``, the two groups must also have been seen together (:func:`_seen_together`):
+    an outlier or two of one object's bearings fall apart from the rest, but never in the same frame.
     ``idx``: the candidate's detections (indices into ``detections``); returns each part with its own.
     """
     n = len(idx)
@@ -320,10 +369,12 @@ def _split(c: Candidate, idx: list[int], detections: list, origin: tuple[float, 
     lo, hi = vals[:cut], vals[cut:]
     if sum(hi) / len(hi) - sum(lo) / len(lo) < SPLIT_APART * BEARING_NOISE:
         return [(c, idx)]
+    if frames is not None and not _seen_together([k for _, k in b[:cut]], [k for _, k in b[cut:]], frames):
+        return [(c, idx)]
     parts = []
     for group in (b[:cut], b[cut:]):  # each part may itself be two objects (three side by side)
         own = sorted(k for _, k in group)
-        parts += _split(_from_detections(own, detections), own, detections, origin)
+        parts += _split(_from_detections(own, detections), own, detections, origin, frames)
     return parts
 
 
