@@ -669,9 +669,15 @@ class PersonAttention(Module):
         radius = min(2.5, p.reacquire_radius + p.reacquire_speed * max(0.0, t - seen))
         best, row = radius, -1
         for i, tk in enumerate(self.tracks.tracks):
+            colour = self.colours.colour(tk.id, t)
             # someone in other clothes is not her, however near (a person who crossed between)
-            if tk.confirmed and same_clothes(self._partner_colour, self.colours.colour(tk.id, t)):
+            if tk.confirmed and same_clothes(self._partner_colour, colour):
                 d = math.hypot(tk.x[0] - x, tk.x[1] - y)
+                # her colour known, this track's unseen: position alone, so only as near as she can have
+                # stepped unseen, not the growing radius (four_people seed 8: a man walking past the
+                # robot 2.5 m from where she went out of view was taken as her, the search followed him)
+                if colour is None and self._partner_colour is not None and d > p.reacquire_radius:
+                    continue
                 if d <= best:
                     best, row = d, i
         if row >= 0:
