@@ -8,6 +8,14 @@ furniture, not people. People can stand next to a table but not inside its
 footprint (their legs are at least a body radius from its edge), so the
 margin stays below that.
 
+Wall pieces too (grown by ``wall_margin``): a door jamb's end, 10 cm of wall
+seen end on, is a leg-sized segment, and its centre (pushed back by a leg
+radius like every candidate's) lies inside the wall. A confirmed track that
+coasted near a door took such a jamb as its person standing still (the
+partner's track then stood in the door frame and the robot turned to it,
+four_people seed 8). A person's leg centre is at least a leg radius off a
+wall's surface, so a margin below that keeps people against a wall.
+
 The candidates are put into the map frame with the robot's pose there: the
 localiser's (``/robot/localisation/pose``) when it publishes, else the
 start pose of the plan composed with odometry (what the robot was given at
@@ -32,11 +40,12 @@ class FurnitureLegs:
     footprints whose bounding box holds the point.
     """
 
-    def __init__(self, plan: FloorPlan, *, margin: float = 0.06, min_bottom: float = 0.05) -> None:
+    def __init__(self, plan: FloorPlan, *, margin: float = 0.06, min_bottom: float = 0.05, wall_margin: float = 0.02) -> None:
         self.start = plan.start
         self._footprints: list[tuple[float, float, float, float, list[tuple[float, float, float]]]] = []
-        for ob in (o for o in plan.obstacles if o.bottom >= min_bottom):
-            p = ob.polygon()
+        polys = [(ob.polygon(), margin) for ob in plan.obstacles if ob.bottom >= min_bottom]
+        polys += [(w.rectangle(), wall_margin) for w in plan.walls]
+        for p, margin in polys:
             x, y = p[:, 0], p[:, 1]
             if float(np.dot(x, np.roll(y, -1)) - np.dot(np.roll(x, -1), y)) < 0:
                 p = p[::-1]

@@ -573,7 +573,11 @@ class PersonAttention(Module):
                 self._partner_colour = colour
             if self._partner_last is None or tk.last_seen > self._partner_last[0]:
                 ox, oy, _ = self._pose_at(tk.last_seen)
-                self._partner_last = (tk.last_seen, tk.x[0], tk.x[1], tk.x[2], tk.x[3], ox, oy)
+                # where her legs were last measured, not the prediction: seen by voice or torso only,
+                # the track coasts, and its prediction can drift through a wall (she stopped to say
+                # 'stop' behind the door; later tracks on her were then too far to be taken as her)
+                zx, zy = tk.last_z
+                self._partner_last = (tk.last_seen, zx, zy, tk.x[2], tk.x[3], ox, oy)
                 self._driven = 0.0
         elif self.partner is not None and not self.partner_lost_sent:
             row = self._reacquire(t)
@@ -669,9 +673,17 @@ class PersonAttention(Module):
         radius = min(2.5, p.reacquire_radius + p.reacquire_speed * max(0.0, t - seen))
         best, row = radius, -1
         for i, tk in enumerate(self.tracks.tracks):
+            colour = self.colours.colour(tk.id, t)
             # someone in other clothes is not her, however near (a person who crossed between)
-            if tk.confirmed and same_clothes(self._partner_colour, self.colours.colour(tk.id, t)):
+            if tk.confirmed and same_clothes(self._partner_colour, colour):
                 d = math.hypot(tk.x[0] - x, tk.x[1] - y)
+                # her colour known, this track's unseen: position alone, so only as near as she can have
+                # stepped unseen, not the growing radius, unless the track was born within it (four_people seed 8: a man walking past the
+                # robot 2.5 m from where she went out of view was taken as her, the search followed him)
+                if colour is None and self._partner_colour is not None and d > p.reacquire_radius:
+                    # ... or first seen where she went out of view (she comes back from there)
+                    if math.hypot(tk.origin[0] - x, tk.origin[1] - y) > radius:
+                        continue
                 if d <= best:
                     best, row = d, i
         if row >= 0:

@@ -82,6 +82,7 @@ class TrackerSpec:
     contact_std: float = 0.6  # m: ... so a candidate there may be the other person's: off this one's centre by up to a contact
     merge_distance: float = 0.25  # m: two confirmed tracks closer than this (no two bodies' centres are) ...
     merge_time: float = 1.5  # s: ... for this long (longer than a crossing lasts) are one person: the younger goes
+    max_gate_std: float = 1.0  # m: a coasting track's position spread (and the stopped spread) is gated at most this wide
 
     def __post_init__(self) -> None:
         for name in ("gate", "single_gate"):
@@ -95,7 +96,7 @@ class Track:
     entries of the symmetric 4x4 matrix row by row (00 01 02 03 11 12 13 22 23 33), its id,
     the pair/blob hits that confirm it and the times of its evidence."""
 
-    __slots__ = ("id", "x", "P", "hits", "born", "last_update", "last_strong", "last_seen", "confirmed", "last_z")
+    __slots__ = ("id", "x", "P", "hits", "born", "last_update", "last_strong", "last_seen", "confirmed", "last_z", "origin")
 
     def __init__(self, track_id: int, x: list[float], P: list[float], t: float) -> None:
         self.id = track_id
@@ -107,6 +108,7 @@ class Track:
         self.last_seen = t  # last anchored evidence of any kind (legs, frontal face, torso, voice)
         self.confirmed = False
         self.last_z = (x[0], x[1])  # where the last measurement put the person (the "stopped" hypothesis)
+        self.origin = (x[0], x[1])  # where the person was first seen (did they come from where someone vanished?)
 
     def cov(self) -> np.ndarray:
         """The full 4x4 covariance."""
@@ -409,9 +411,12 @@ def _gated(
     found where they were instead of being searched for where they would have walked to.
 
     ``extra`` (per track) is added to every candidate's variance for that track (see :func:`_contact_variance`).
+
+    Both spreads are gated at most ``spec.max_gate_std`` wide (the filter's own covariance is untouched).
     """
     out = []
     stopped: set[tuple[int, int]] = set()
+    cap2 = spec.max_gate_std**2
     for i, tk in enumerate(tracks):
         x0, x1 = tk.x[0], tk.x[1]
         P = tk.P
@@ -419,6 +424,17 @@ def _gated(
         bb = b * b
         hidden = t - tk.last_update
         spread = (spec.stop_spread * hidden) ** 2 if hidden >= spec.stop_after else 0.0
+        # A long-coasting track (kept alive by her voice or torso) has a spread of metres: gated
+        # at that width it took someone 5 m away, across the room, as its person (four_people
+        # seed 6: the partner's track jumped out of the kitchen onto a man in the living room).
+        # Beyond ``max_gate_std`` a candidate is likelier someone else; a person who went that far
+        # unseen is found again by the attention's reacquisition, not by the gate.
+        if p00 > cap2 or p11 > cap2:
+            k = cap2 / (p00 if p00 > p11 else p11)
+            p00, p11, bb = p00 * k, p11 * k, bb * k * k
+            b *= k
+        if spread > cap2:
+            spread = cap2
         lx, ly = tk.last_z
         ex = extra[i] if extra else 0.0
         for j, zj in enumerate(z):

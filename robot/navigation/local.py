@@ -427,10 +427,14 @@ def turn_clear(w: float, people: np.ndarray, *, duration: float) -> bool:
     :data:`TURN_GAP` from every body (``people``: (P, 2) robot-frame centres), or no nearer than now."""
     if not len(people):
         return True
-    t = np.linspace(0.0, duration, 6)
-    th = w * t
-    now = float(people_gaps(np.zeros(1), np.zeros(1), np.zeros(1), people)[0])
-    return float(people_gaps(np.zeros_like(t), np.zeros_like(t), th, people).min()) >= min(now, TURN_GAP) - 1e-3
+    # per body: someone already pressed against it (or a track misplaced onto it) must not make a
+    # turn into anyone else clear (a global minimum did: cross_studio_four seed 0, a corner swung
+    # into a man held up beside it while a ghost track lay on the robot)
+    th = w * np.linspace(0.0, duration, 6)
+    c, s = np.cos(th)[:, None], np.sin(th)[:, None]
+    px, py = people[:, 0][None, :], people[:, 1][None, :]
+    gaps = footprint_distance(c * px + s * py, -s * px + c * py) - BODY  # (6, P); row 0 is now
+    return bool(np.all(gaps.min(axis=0) >= np.minimum(gaps[0], TURN_GAP) - 1e-3))
 
 
 def social_mask(x: np.ndarray, y: np.ndarray, th: np.ndarray, people: np.ndarray,

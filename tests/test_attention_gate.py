@@ -1,0 +1,99 @@
+"""Person tracking near walls and after long coasting: the rules that keep a track on its own person.
+
+- A coasting track (legs unseen, kept alive by the camera) is never updated by a candidate farther
+  than its widest gate (``max_gate_std`` at the chi-square 99 % point) from both its prediction and
+  where it was last measured: someone across the room is someone else.
+- Leg candidates inside a wall piece (a door jamb's end looks like a leg) are not people; a person
+  standing against a wall (leg centre a leg radius off its surface) still is.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from robot.attention.clutter import FurnitureLegs
+from robot.attention.legs import PAIR
+from robot.attention.tracker import Tracks, TrackerSpec
+from robot.floorplan import FloorPlan, MapWall
+
+EMPTY, NONE = np.zeros((0, 2)), np.zeros(0, dtype=np.int8)
+
+
+def _walker(spec: TrackerSpec, vx: float, vy: float) -> tuple[Tracks, float]:
+    """A confirmed track on a person walking at (vx, vy) from the origin for 2 s."""
+    tr = Tracks(spec)
+    t = 0.0
+    for k in range(21):
+        t = k * 0.1
+        tr.step(t, np.array([[vx * t, vy * t]]), np.array([PAIR], dtype=np.int8))
+    assert len(tr) == 1 and tr.confirmed[0]
+    return tr, t
+
+
+@settings(max_examples=150, deadline=None)
+@given(
+    vx=st.floats(-1.2, 1.2), vy=st.floats(-1.2, 1.2),
+    coast=st.floats(0.3, 7.0),
+    bearing=st.floats(-math.pi, math.pi),
+    extra=st.floats(0.05, 6.0),
+)
+def test_a_coasting_track_never_takes_a_candidate_beyond_its_widest_gate(vx, vy, coast, bearing, extra):
+    spec = TrackerSpec()
+    tr, t = _walker(spec, vx, vy)
+    last = (vx * t, vy * t)
+    steps = int(coast / 0.1)
+    for _ in range(steps):  # legs unseen, the camera keeps the person (support)
+        t += 0.1
+        tr.step(t, EMPTY, NONE)
+        tr.support([0], t)
+    assert len(tr) == 1
+    # the widest gate: max_gate_std (plus a pair's measurement spread) at the gate's chi-square point
+    reach = math.sqrt(spec.gate * (spec.max_gate_std**2 + spec.meas_std**2))
+    pred = (tr.tracks[0].x[0], tr.tracks[0].x[1])
+    # a candidate at least that far from both the prediction and the last measurement
+    r = reach + extra + math.dist(pred, last)
+    z = (last[0] + r * math.cos(bearing), last[1] + r * math.sin(bearing))
+    assert math.dist(z, pred) > reach and math.dist(z, last) > reach
+    t += 0.1
+    assigned = tr.step(t, np.array([z]), np.array([PAIR], dtype=np.int8))
+    assert assigned == [-1]
+
+
+def test_a_track_briefly_hidden_in_a_crossing_is_still_found_where_it_walked_to():
+    """The cap does not cut the ordinary gate: 0.8 s unseen at 1 m/s, found 0.8 m on."""
+    spec = TrackerSpec()
+    tr, t = _walker(spec, 1.0, 0.0)
+    for _ in range(8):
+        t += 0.1
+        tr.step(t, EMPTY, NONE)
+    t += 0.1
+    assigned = tr.step(t, np.array([[t * 1.0 + 0.15, 0.1]]), np.array([PAIR], dtype=np.int8))
+    assert assigned == [0]
+
+
+def _plan(walls: list[MapWall]) -> FloorPlan:
+    return FloorPlan(walls=tuple(walls), obstacles=(), rooms=(), start=(0.0, 0.0, 0.0))
+
+
+@settings(max_examples=150, deadline=None)
+@given(
+    x1=st.floats(-5, 5), y1=st.floats(-5, 5), angle=st.floats(0, 2 * math.pi), length=st.floats(0.3, 6.0),
+    thickness=st.floats(0.06, 0.3), along=st.floats(0.0, 1.0), across=st.floats(-1.0, 1.0), off=st.floats(0.05, 1.0),
+)
+def test_candidates_inside_a_wall_are_dropped_and_people_against_it_kept(x1, y1, angle, length, thickness, along, across, off):
+    ux, uy = math.cos(angle), math.sin(angle)
+    wall = MapWall(x1, y1, x1 + length * ux, y1 + length * uy, thickness)
+    legs = FurnitureLegs(_plan([wall]))
+    nx, ny = -uy, ux
+    # a point inside the wall piece (a jamb's end seen end on: its centre pushed back into the wall)
+    s, a = along * length, across * thickness / 2 * 0.999
+    inside = (x1 + s * ux + a * nx, y1 + s * uy + a * ny)
+    # a leg a leg radius (>= 5 cm) off the wall's side: a person standing against it
+    side = 1.0 if across >= 0 else -1.0
+    d = thickness / 2 + off
+    outside = (x1 + s * ux + side * d * nx, y1 + s * uy + side * d * ny)
+    assert legs.inside_points([inside, outside]) == [True, False]
