@@ -405,7 +405,7 @@ class PersonAttention(Module):
             pending = self.partner is not None and self._partner_last is not None and not self.partner_lost_sent
             if self.partner is None or (self.tracks.row(self.partner) < 0 and not pending):
                 before, lost = self.partner, self.partner_lost_sent
-                self.partner = self._choose_partner()
+                self.partner = self._caller if self._caller is not None and self.tracks.row(self._caller) >= 0 else self._choose_partner()
                 self.partner_lost_sent = False
                 self._partner_last = self._partner_colour = None
                 if lost and self.partner is not None and self.partner != before and self.fsm.state == "Interaction":
@@ -606,8 +606,8 @@ class PersonAttention(Module):
 
     def _find_caller(self, t: float, cats: dict[int, int]) -> int | None:
         """With no partner in Interaction (she was lost, the robot asked her to come back): the seen
-        person within the interaction space who speaks (nearest first), else one walking up to the
-        robot. Someone there is no reason to end the interaction (:meth:`_nobody_there`), and the
+        person who speaks (nearest first), else one walking up to the robot (within ``retake_radius``
+        for a speaker, the interaction space for one coming up to it). Someone there is no reason to end the interaction (:meth:`_nobody_there`), and the
         robot turns to a speaker so the camera finds the face and the beam the voice; speaking
         while facing it then takes the place (the retake rule in :meth:`_top_down`)."""
         if not self._searching():
@@ -622,7 +622,7 @@ class PersonAttention(Module):
             d = math.hypot(dx, dy)
             if d > p.interaction_radius:
                 continue
-            speaks = cats.get(tk.id, 1) >= 2
+            speaks = cats.get(tk.id, 1) >= 2 and d <= p.retake_radius  # talking to it (conversation distance)
             comes = d > 1e-6 and (tk.x[2] * dx + tk.x[3] * dy) / d >= p.leave_speed
             if speaks or comes:
                 key = (0 if speaks else 1, d, tk.id)
@@ -642,12 +642,16 @@ class PersonAttention(Module):
         come back, and nobody took the place) for ``come_back_after`` s in Interaction or Object,
         ``partner_lost`` goes out once, so the robot looks around again (bottom-up: it hears and turns
         to whoever speaks to it) instead of standing deaf in Interacting for the rest of the run."""
-        if self.partner is not None or self.fsm.state not in ("Interaction", "Object"):
+        state = self.fsm.state
+        if self.partner is not None or state not in ("Interaction", "Object", "Follow"):
             self._alone_since = None
             return
+        # Follow with nobody to follow (ordered to follow a voice no track explains, or her track died
+        # and nobody was chosen): the follower only searches, so it is a loss after the follow search time
+        limit = self.params.follow_lost_after if state == "Follow" else self.params.come_back_after
         if self._alone_since is None or self._voice_turn is not None or self._caller is not None:
             self._alone_since = t  # (turning to a voice, someone speaking or coming up: someone is there)
-        elif t - self._alone_since >= self.params.come_back_after and not self.partner_lost_sent:
+        elif t - self._alone_since >= limit and not self.partner_lost_sent:
             self._event("partner_lost")
             self.partner_lost_sent = True
 
