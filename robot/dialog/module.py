@@ -123,7 +123,8 @@ SEEN_STATES = frozenset({"LookingAround", "PotentialPartner", "AskingForHelp"})
 #: s: a potential partner reported this long before the greeting's recorded start still counts (the
 #: person attention reports her as she begins to speak; the recorder's start may lie a little later)
 PERSON_SLACK = 1.0
-#: ES states in which the partner leads, back turned: the addressee rule does not apply
+#: ES states in which the partner leads, back turned: the addressee rule decides by where the voice came
+#: from (:meth:`Dialog._her_voice`), since her face cannot tell
 LEADING_STATES = frozenset({"Following"})
 #: the microphone pair's geometry (m: ahead of the centre, spacing, height) and a standing adult's
 #: mouth height, as the person attention's CueSpec has them (modules share no code: tests/test_layers.py)
