@@ -782,6 +782,12 @@ class PersonAttention(Module):
         if not self._searching() and (self.fsm.top_down or self.fsm.held or (row >= 0 and category >= 2)):
             self._voice_turn = None
             return None
+        if row >= 0 and self.tracks.tracks[row].confirmed and self.facing.on(self.tracks.tracks[row].id):
+            # the person it attends to faces it (she just greeted it and waits for its answer): a voice
+            # nobody seen explains (a TV or radio behind the robot, read in front by the pair) does
+            # not turn the robot away from her (studio_confirm_repeat)
+            self._voice_turn = None
+            return None
         d = self._dominant
         # Searching for her after a loss (:meth:`_searching`): a voice read near the axis that nobody
         # seen in front explains comes from behind (the pair cannot tell front from back, the laser
