@@ -607,9 +607,10 @@ class PersonAttention(Module):
     def _find_caller(self, t: float, cats: dict[int, int]) -> int | None:
         """With no partner in Interaction (she was lost, the robot asked her to come back): the seen
         person who speaks (nearest first), else one walking up to the robot (within ``retake_radius``
-        for a speaker, the interaction space for one coming up to it). Someone there is no reason to end the interaction (:meth:`_nobody_there`), and the
-        robot turns to a speaker so the camera finds the face and the beam the voice; speaking
-        while facing it then takes the place (the retake rule in :meth:`_top_down`)."""
+        for a speaker, the interaction space for one coming up to it). Someone there is no reason to
+        end the interaction (:meth:`_nobody_there`), and the robot turns to a speaker so the camera
+        finds the face and the beam the voice; speaking while facing it then takes the place (the
+        retake rule in :meth:`_top_down`)."""
         if not self._searching():
             return None
         p = self.params
@@ -639,7 +640,9 @@ class PersonAttention(Module):
 
     def _nobody_there(self, t: float) -> None:
         """An interaction with nobody in it ends: with no partner at all (lost while following, asked to
-        come back, and nobody took the place) for ``come_back_after`` s in Interaction or Object,
+        come back, and nobody took the place; nobody seen speaking near it or walking up to it:
+        :meth:`_find_caller`) for ``come_back_after`` s in Interaction or Object (``follow_lost_after``
+        in Follow),
         ``partner_lost`` goes out once, so the robot looks around again (bottom-up: it hears and turns
         to whoever speaks to it) instead of standing deaf in Interacting for the rest of the run."""
         state = self.fsm.state
