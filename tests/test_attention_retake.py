@@ -82,3 +82,51 @@ def test_an_interaction_with_nobody_in_it_ends_after_come_back_after(positions, 
         t += dt
     assert a.partner is None and len(lost_at) == 1
     assert a.params.come_back_after <= lost_at[0] < a.params.come_back_after + dt + 1e-9
+
+
+def _walk(a: PersonAttention, cats: dict[int, int], until: float, dt: float = 0.1) -> list[float]:
+    """Run the top-down decisions from 0 to ``until`` s; the times partner_lost went out."""
+    t, lost_at = 0.0, []
+    while t < until:
+        before = len(a.events)
+        a._top_down(t, cats)
+        lost_at += [t for name, _ in a.events[before:] if name == "partner_lost"]
+        t += dt
+    return lost_at
+
+
+@settings(max_examples=30, deadline=None)
+@given(st.floats(0.6, 2.0), st.floats(-3.0, 3.0))
+def test_someone_speaking_near_the_robot_keeps_the_interaction_and_is_turned_to(r, angle):
+    """New_person_takes_over seed 0: Ben stood 1.1 m away at 60 deg, speaking, his face outside the
+    camera's image (category 2), and the 'nobody there' rule ended the interaction on him. A seen person
+    speaking within conversation distance is someone there: no partner_lost, and he is the caller the
+    robot turns to (so the camera finds his face and speaking facing it takes the place)."""
+    a = _attention([(r * np.cos(angle), r * np.sin(angle))])
+    tid = a.tracks.tracks[0].id
+    assert _walk(a, {tid: 2}, 3 * a.params.come_back_after) == []
+    assert a._caller == tid and a.partner is None
+
+
+def test_someone_walking_up_to_the_robot_keeps_the_interaction():
+    """u_catch_up_slow seed 0: she walked back 20 s after 'please come back' and the rule fired 0.2 s
+    before she spoke. One walking up to the robot within the interaction space is someone there."""
+    a = _attention([(2.9, 0.2)])
+    tk = a.tracks.tracks[0]
+    a._alone_since = 0.0
+    tk.x[2], tk.x[3] = -0.6, 0.0  # coming at 0.6 m/s
+    assert _walk(a, {tk.id: 1}, a.params.come_back_after + 1.0) == []
+    # standing still, silent, it ends after come_back_after once she stopped coming
+    tk.x[2] = 0.0
+    a._alone_since = None
+    assert len(_walk(a, {tk.id: 1}, a.params.come_back_after + 1.0)) == 1
+
+
+def test_follow_with_nobody_to_follow_is_a_loss():
+    """hall_names_study seed 1: 'follow me' from a voice no track explained started Follow with no
+    partner; the follower searched for ever and every later request was rejected. Nobody to follow
+    for follow_lost_after s is a loss (Following -> Interacting: 'please come back')."""
+    a = _attention([])
+    a.fsm.order("follow")
+    lost = _walk(a, {}, 20.0)
+    assert len(lost) == 1 and a.params.follow_lost_after <= lost[0] < a.params.follow_lost_after + 0.2

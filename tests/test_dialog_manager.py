@@ -606,3 +606,24 @@ def test_good_bye_during_teaching_ends_the_teaching_and_nothing_resumes_it(dm):
     dm.es_state = "PotentialPartner"
     later = dm.on_frame(frame('<GOODBYE/>')) + dm.on_rejected(rejected("goodbye", "inapplicable", "PotentialPartner"))
     assert not any("back to your" in t for t in says(later))
+
+
+@pytest.mark.parametrize("state", ["Following", "Navigating", "PotentialPartner"])
+@pytest.mark.parametrize("obj", [CUP, '<OBJECT><GESTURE val="probably_pointing"/></OBJECT>'])
+def test_a_teaching_where_it_does_not_apply_gets_only_the_rejection(state, obj):
+    """u_catch_up_slow: "Let me have a look." then "I am still following you; say stop first." The
+    robot promises to look only where a teaching applies; elsewhere it sends the teaching (the
+    supervisor decides) and says only why it cannot."""
+    m = DialogManager(DOC)
+    m.es_state = state
+    out = m.on_frame(frame(obj))
+    assert [s.event for s in sends(out)] == ["object_teaching"] and says(out) == []
+    assert says(m.on_rejected(rejected("object_teaching", "inapplicable", state))) != []
+
+
+@pytest.mark.parametrize("state", ["Interacting", "ObjectTeaching"])
+def test_a_teaching_that_applies_is_announced(state):
+    m = DialogManager(DOC)
+    m.es_state = state
+    out = m.on_frame(frame(CUP))
+    assert [s.event for s in sends(out)] == ["object_teaching"] and says(out) == ["Let me have a look."]

@@ -21,3 +21,15 @@ def test_showing_an_object_again_while_the_robot_looks_is_taken_at_once(name):
     failed = [f"{e['name']}: {e['detail']}" for e in s["expectations"] if not e["passed"]]
     assert not failed, failed
     assert s["es"]["rejected_expired"] == 0
+
+
+@pytest.mark.parametrize("name", ["bystander_remarks_while_following", "bystander_in_beam_while_following",
+                                  "greet_slow_laptop", "new_person_takes_over"])
+def test_the_review_scenes_pass(name):
+    """The outside review's scenes (seed 0): a bystander's remarks while following (beside the way, and
+    inside the recogniser's beam), a greeting over a slow laptop, and someone taking a lost partner's
+    place: he speaks to the robot near it, so the 'nobody there' rule must not end the interaction
+    on him, and his request is answered."""
+    s = run_file(SCENES / f"{name}.xml", RunOptions(seed=0))
+    failed = [f"{e['name']}: {e['detail']}" for e in s["expectations"] if not e["passed"]]
+    assert not failed, failed

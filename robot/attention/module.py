@@ -232,6 +232,7 @@ class PersonAttention(Module):
         self._drive_start: float | None = None
         self._player_sub: Any = None
         self._alone_since: float | None = None  # since when Interaction/Object has had no partner at all
+        self._caller: int | None = None  # searching: the seen person who speaks to it or comes up to it (:meth:`_find_caller`)
 
     async def run(self) -> None:
         await self._load_map()
@@ -404,7 +405,7 @@ class PersonAttention(Module):
             pending = self.partner is not None and self._partner_last is not None and not self.partner_lost_sent
             if self.partner is None or (self.tracks.row(self.partner) < 0 and not pending):
                 before, lost = self.partner, self.partner_lost_sent
-                self.partner = self._choose_partner()
+                self.partner = self._caller if self._caller is not None and self.tracks.row(self._caller) >= 0 else self._choose_partner()
                 self.partner_lost_sent = False
                 self._partner_last = self._partner_colour = None
                 if lost and self.partner is not None and self.partner != before and self.fsm.state == "Interaction":
@@ -516,6 +517,8 @@ class PersonAttention(Module):
         if self.fsm.top_down:
             self._top_down(t, cats)
             selected = self.partner
+            if selected is None and self._searching() and self._caller is not None and cats.get(self._caller, 0) >= 2:
+                selected = self._caller  # turn to who speaks (face to the camera, beam on the voice)
         else:
             selected = self.selector.update(t, cats)
             self.fsm.bottom_up(t, bool(cats), cats.get(selected) if selected is not None else None)
@@ -602,7 +605,35 @@ class PersonAttention(Module):
             if threes:
                 self.partner, self.partner_lost_sent = threes[0], False
                 self._new_partner(t, threes[0], "true")
+        self._caller = self._find_caller(t, cats) if self.partner is None else None
         self._nobody_there(t)
+
+    def _find_caller(self, t: float, cats: dict[int, int]) -> int | None:
+        """With no partner in Interaction (she was lost, the robot asked her to come back): the seen
+        person who speaks (nearest first), else one walking up to the robot (within ``retake_radius``
+        for a speaker, the interaction space for one coming up to it). Someone there is no reason to
+        end the interaction (:meth:`_nobody_there`), and the robot turns to a speaker so the camera
+        finds the face and the beam the voice; speaking while facing it then takes the place (the
+        retake rule in :meth:`_top_down`)."""
+        if not self._searching():
+            return None
+        p = self.params
+        rx, ry, _ = self._pose_at(t)
+        best: tuple[int, float, int] | None = None
+        for tk in self.tracks.tracks:
+            if not tk.confirmed:
+                continue
+            dx, dy = rx - tk.x[0], ry - tk.x[1]
+            d = math.hypot(dx, dy)
+            if d > p.interaction_radius:
+                continue
+            speaks = cats.get(tk.id, 1) >= 2 and d <= p.retake_radius  # talking to it (conversation distance)
+            comes = d > 1e-6 and (tk.x[2] * dx + tk.x[3] * dy) / d >= p.leave_speed
+            if speaks or comes:
+                key = (0 if speaks else 1, d, tk.id)
+                if best is None or key < best:
+                    best = key
+        return best[2] if best is not None else None
 
     def _searching(self) -> bool:
         """In Interaction with no partner at all (lost while following; the robot asked her to come
@@ -613,15 +644,21 @@ class PersonAttention(Module):
 
     def _nobody_there(self, t: float) -> None:
         """An interaction with nobody in it ends: with no partner at all (lost while following, asked to
-        come back, and nobody took the place) for ``come_back_after`` s in Interaction or Object,
+        come back, and nobody took the place; nobody seen speaking near it or walking up to it:
+        :meth:`_find_caller`) for ``come_back_after`` s in Interaction or Object (``follow_lost_after``
+        in Follow),
         ``partner_lost`` goes out once, so the robot looks around again (bottom-up: it hears and turns
         to whoever speaks to it) instead of standing deaf in Interacting for the rest of the run."""
-        if self.partner is not None or self.fsm.state not in ("Interaction", "Object"):
+        state = self.fsm.state
+        if self.partner is not None or state not in ("Interaction", "Object", "Follow"):
             self._alone_since = None
             return
-        if self._alone_since is None or self._voice_turn is not None:
-            self._alone_since = t  # (turning to a voice: someone is there, calling it)
-        elif t - self._alone_since >= self.params.come_back_after and not self.partner_lost_sent:
+        # Follow with nobody to follow (ordered to follow a voice no track explains, or her track died
+        # and nobody was chosen): the follower only searches, so it is a loss after the follow search time
+        limit = self.params.follow_lost_after if state == "Follow" else self.params.come_back_after
+        if self._alone_since is None or self._voice_turn is not None or self._caller is not None:
+            self._alone_since = t  # (turning to a voice, someone speaking or coming up: someone is there)
+        elif t - self._alone_since >= limit and not self.partner_lost_sent:
             self._event("partner_lost")
             self.partner_lost_sent = True
 
@@ -707,6 +744,9 @@ class PersonAttention(Module):
         if target == "object" and self._focus is not None:
             pan, d, h = self._focus
             tilt = math.atan2(h - p.camera_height, max(d, 0.3))  # the region's height: a table top, or the floor
+        elif row >= 0 and self._searching():
+            pan = bearing[row]  # a caller (:meth:`_find_caller`): find the face
+            tilt = math.atan2(p.heights["face"] - p.camera_height, max(dist[row], 0.3))
         elif target in p.heights and row >= 0:
             pan = bearing[row]
             tilt = math.atan2(p.heights[target] - p.camera_height, max(dist[row], 0.3))
@@ -751,7 +791,16 @@ class PersonAttention(Module):
         a chair hides, is then in front of the laser and the camera.
         """
         p = self.params
+        if self._searching() and row >= 0:
+            self._voice_turn = None  # a seen caller speaks: turn to them (:meth:`_act`), not to the voice
+            return None
         if not self._searching() and (self.fsm.top_down or self.fsm.held or (row >= 0 and category >= 2)):
+            self._voice_turn = None
+            return None
+        if row >= 0 and self.tracks.tracks[row].confirmed and self.facing.on(self.tracks.tracks[row].id):
+            # the person it attends to faces it (she just greeted it and waits for its answer): a voice
+            # nobody seen explains (a TV or radio behind the robot, read in front by the pair) does
+            # not turn the robot away from her (studio_confirm_repeat)
             self._voice_turn = None
             return None
         d = self._dominant
@@ -778,6 +827,8 @@ class PersonAttention(Module):
         from where nobody is seen is unexplained, so the robot listens, and the supervisor rejects a
         greeting that no person backs (the radio, docs/semantics.md §2) instead of never hearing it.
         """
+        if self._searching() and bearing is not None:
+            return bearing  # a seen caller speaking (:meth:`_find_caller`)
         if self.fsm.top_down and not self._searching():
             if bearing is not None and self.partner is not None and self._other_talks(t):
                 return None  # a bystander next to the partner talks, the partner does not: not for the robot

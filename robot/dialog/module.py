@@ -123,8 +123,12 @@ SEEN_STATES = frozenset({"LookingAround", "PotentialPartner", "AskingForHelp"})
 #: s: a potential partner reported this long before the greeting's recorded start still counts (the
 #: person attention reports her as she begins to speak; the recorder's start may lie a little later)
 PERSON_SLACK = 1.0
-#: ES states in which the partner leads, back turned: the addressee rule does not apply
+#: ES states in which the partner leads, back turned: the addressee rule decides by where the voice came
+#: from (:meth:`Dialog._her_voice`), since her face cannot tell
 LEADING_STATES = frozenset({"Following"})
+#: ES states in which the robot drives on its own, away from the partner, and its person attention sleeps:
+#: words are hers when a voice came from where she was last seen (:meth:`Dialog._from_her_place`)
+DRIVING_STATES = frozenset({"Navigating"})
 #: the microphone pair's geometry (m: ahead of the centre, spacing, height) and a standing adult's
 #: mouth height, as the person attention's CueSpec has them (modules share no code: tests/test_layers.py)
 MIC_OFFSET, MIC_SPACING, MIC_HEIGHT, MOUTH_HEIGHT = 0.10, 0.281, 1.06, 1.6
@@ -266,6 +270,7 @@ class Dialog(Module):
         self._partner: tuple[float, float] | None = None  # (bearing in degrees, robot frame; when heard)
         # (time, facing, company, heard bearing) of the latest partner reports, for the addressee rule (bounded: ~30 s at 10 Hz)
         self._partner_cues: deque[tuple[float, str, int, float]] = deque(maxlen=300)
+        self._partner_place: tuple[float, float] | None = None  # where she was last reported (map frame, via the pose)
         # (time, directions heard) of the latest sound frames with a voice, for the rule while she leads (bounded)
         self._sources: deque[tuple[float, tuple[float, ...]]] = deque(maxlen=300)
         self.not_addressed = 0
@@ -314,6 +319,8 @@ class Dialog(Module):
         have her turned away (``facing="false"``) and the last one too, with someone else near her."""
         if self.manager.es_state in LEADING_STATES:
             return self._her_voice(start, end)
+        if self.manager.es_state in DRIVING_STATES:
+            return self._from_her_place(start, end)
         during = [(f, c) for t, f, c, _ in self._partner_cues if start <= t <= end]
         if not during or any(f == "true" for f, _ in during):
             return True
@@ -340,12 +347,43 @@ class Dialog(Module):
                 return True
         return False
 
+    def _from_her_place(self, start: float, end: float) -> bool:
+        """The addressee rule while the robot drives on its own (``Navigating``): its person attention
+        sleeps, so no face or track says who speaks, but the partner stays where she sent it (or
+        follows slowly), and the pair hears where a voice comes from. Words are *not* hers (a bystander
+        on the phone in the corridor, facing the robot as it passes: "see you later then") only when at
+        least ``VOICE_FRAMES`` sound frames during them heard a voice and none lay within
+        ``barge_in_width`` of the direction of the place she was last reported at (from the robot's
+        pose at each frame, folded to the front). Without that evidence they are hers."""
+        place, pose = self._partner_place, self._pose
+        if place is None or pose is None:
+            return True
+        frames = [(t, bs) for t, bs in self._sources if start <= t <= end and bs]
+        if len(frames) < VOICE_FRAMES:
+            return True
+        try:
+            px, py, th = float(pose.get("x", "nan")), float(pose.get("y", "nan")), float(pose.get("theta", "nan"))
+        except ValueError:
+            return True
+        dx, dy = place[0] - px, place[1] - py
+        if not all(math.isfinite(v) for v in (dx, dy, th)):
+            return True
+        d = math.hypot(dx, dy)
+        her = front_bearing(heard_bearing(math.degrees(math.remainder(math.atan2(dy, dx) - th, 2 * math.pi)), max(d, 0.3)))
+        return any(abs(front_bearing(b) - her) <= self.barge_in_width for _, bs in frames for b in bs)
+
     # ------------------------------------------------------------------ inputs
     def _on_frame(self, msg: Message) -> None:
         x = msg.xml
+        if self.manager.es_state in DRIVING_STATES and (x.find("SPEECH/STOP") is not None or x.find("SPEECH/WAIT") is not None):
+            self._on_addressed(msg)  # anyone may stop a robot that drives on its own (safety): never dropped
+            return
         if x.tag in ("understood", "not_understood") and not self.addressed(float(x.get("start", "nan")), float(x.get("end", "nan"))):
             self.not_addressed += 1  # chat among the partner's group: not a request to the robot
             return
+        self._on_addressed(msg)
+
+    def _on_addressed(self, msg: Message) -> None:
         if self.now - self._approach_seen < APPROACH_FRESH or self._releasing:
             if len(self._held) >= HELD_MAX:  # bounded: the oldest goes now, none is lost
                 self._handle_frame(self._held.popleft())
@@ -467,6 +505,11 @@ class Dialog(Module):
             # heard nearer the front: the person attention matches voices to tracks the same way)
             b = heard_bearing(b, d)
         self._partner = (b, self.now) if math.isfinite(b) else None
+        pose = self._pose
+        raw = float(msg.xml.get("bearing", "nan"))
+        if pose is not None and math.isfinite(raw) and math.isfinite(d):
+            th = float(pose.get("theta", "nan")) + math.radians(raw)
+            self._partner_place = (float(pose.get("x", "nan")) + d * math.cos(th), float(pose.get("y", "nan")) + d * math.sin(th))
         self._partner_cues.append((msg.created, msg.xml.get("facing", "unknown"), int(msg.xml.get("company", "0")),
                                    b if math.isfinite(b) else math.nan))
 
@@ -483,7 +526,7 @@ class Dialog(Module):
         return self._partner[0]
 
     def _on_sources(self, msg: Message) -> None:
-        if self.manager.es_state in LEADING_STATES:
+        if self.manager.es_state in LEADING_STATES or self.manager.es_state in DRIVING_STATES:
             heard = tuple(float(src.get("bearing", "nan")) for src in msg.xml.iterfind("source")
                           if float(src.get("level", "0")) >= VOICE_LEVEL and math.isfinite(float(src.get("bearing", "nan"))))
             if heard:
