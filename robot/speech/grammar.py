@@ -255,7 +255,7 @@ class Understander:
             used = len(toks)  # "hello biron, follow me": the greeting is sure; the request is not noise
             res.rest = list(ignored)
         res.coverage = used / max(1, len(toks) + len(lex.unknown)) * (0.5 if guess else 1.0)
-        why = _not_meant(tree, toks, res, Lexicon.words(words))
+        why = _not_meant(tree, toks, res, [w for w in Lexicon.words(words) if w not in _SOUNDS])
         if why:
             res.frame, res.fragment, res.rest = None, False, []
             res.ignored = [t.text for t in toks]
@@ -424,6 +424,8 @@ _VERBS = frozenset({"STOP", "WAIT", "FOLLOW", "FOLLOWING", "COME", "COMEON", "GO
 _BEFORE_VERB = frozenset({"YOU", "I", "ME", "WANT", "TO", "CAN"})
 #: What a bare word act may be said with and still be that act alone ("back again", "come on, please").
 _ALONE_WITH = {"BACK": frozenset({"again"}), "COMEON": frozenset({"please"})}
+#: Hesitation sounds: they say nothing about what else was said ("uh, come on" is still "come on").
+_SOUNDS = frozenset({"uh", "um", "uhm", "er", "erm", "hmm", "hm", "mm", "well"})
 #: The spot words that say "we are there" in "that's the spot" (not "the corner", "the view").
 _ARRIVED = frozenset({"spot", "place"})
 
