@@ -477,6 +477,11 @@ def _not_meant(tree: Tree, toks: list[Tok], res: Understanding, words: list[str]
         besides = set(_said_besides(toks, words))
         if res.partial or res.unknown or not besides <= _ALONE_WITH[own[0].type]:
             return "said with other words, not alone" if own[0].type == "BACK" else "an exasperated remark"
+    if (kind == "that_one" and len(act.children) == 2 and _sub(act, "here") is not None
+            and (d := _sub(act, "deixis")) is not None
+            and (_tokens(d)[0].type not in ("THIS", "THAT") or res.partial or res.unknown)):
+        # "that there" answers which one only as the whole turn; "it there", "this here this": noise
+        return "a deixis and 'here' alone point at nothing"
     if kind == "stop" and any(t.type == "SPOT" for t in own):
         spot = next(t for t in own if t.type == "SPOT")
         if res.partial or res.unknown or spot.value not in _ARRIVED or _said_besides(toks, words):
