@@ -272,8 +272,10 @@ class Understander:
             tree, _, partial = self._parse(toks[k:])
             if tree is None or partial or _guessed(tree) or tree_act(tree) in _NOT_REQUESTS:
                 continue
-            said = self._parse(toks[at:k])[0]
-            if said is not None and etree.tostring(build(said)) == etree.tostring(build(tree)):
+            said, _, cut = self._parse(toks[at:k])
+            if said is None or cut or _guessed(said):
+                continue  # the negation's scope is a whole request: "don't go [to the kitchen]" is one
+            if etree.tostring(build(said)) == etree.tostring(build(tree)):
                 continue  # "don't stop, stop": the same request said again is still negated
             return toks[k:]
         return None
