@@ -132,7 +132,7 @@ def test_polite_follow_requests(words):
 
 @pytest.mark.parametrize("words", ["It's this one here", "This one, where I am pointing", "That there",
                                    "The one my finger points at", "this here"])
-def test_a_which_one_answer_by_pointing_is_that_one_with_the_gesture(words):
+def test_a_which_one_answer_by_pointing_is_that_one_with_the_gesture(words):  # u_two_plants_pointing
     u = understand(words)
     assert u.act == "THAT_ONE" and u.frame[0].find("GESTURE") is not None
 
@@ -147,6 +147,13 @@ def test_a_command_heard_in_mostly_unknown_words_is_no_command(words):
     assert act(words) not in ("WAIT", "STOP")
 
 
-@pytest.mark.parametrize("words", ["wait a bit", "stop", "please wait here", "stay put", "OK, stop, that is far enough"])
+@pytest.mark.parametrize("words", ["wait a bit", "stop", "please wait here", "stay put", "OK, stop, that is far enough",
+                                   "Wait here until I come back"])
 def test_plain_stop_and_wait_requests_stay_commands(words):
     assert act(words) in ("WAIT", "STOP")
+
+
+@pytest.mark.parametrize("words", ["this here is my cup", "this here is the red mug"])
+def test_this_here_is_still_a_teaching(words):
+    u = understand(words)
+    assert u.act == "OBJECT" and u.frame[0].get("type") == "cup" and not u.partial

@@ -467,8 +467,9 @@ def _not_meant(tree: Tree, toks: list[Tok], res: Understanding, words: list[str]
     - "that's the spot" stops only as a whole turn with "spot"/"place": "this is the spot where I read",
       "this is the corner", "that's the view" are statements about the room.
     - A question ("is this with me", "are these shoes yours") is never a command or a teaching.
-    - A stop or wait heard in a turn of mostly unknown words ("stay tuned for a music": a TV, a
-      bystander) is no command: stopping a go-to on noise is worse than asking again.
+    - A stop or wait heard in a partial parse under half its words, its verb followed at once by a word it
+      does not know ("stay tuned for a music": a TV), is no command: stopping a go-to on noise is worse
+      than asking again.
     """
     act = next((c for c in tree.children if isinstance(c, Tree) and c.data != "address"), None)
     if act is None:
@@ -492,7 +493,13 @@ def _not_meant(tree: Tree, toks: list[Tok], res: Understanding, words: list[str]
             and kind != "where":
         return "a question, not a request or a teaching"
     if kind in ("stop", "wait") and res.partial and res.unknown and res.coverage < 0.5:
-        return "a command heard in words it does not know"
+        verb = next((t for t in own if t.type in ("STOP", "WAIT")), None)
+        last = verb.text.split()[-1] if verb is not None else ""
+        at = words.index(last) if last in words else -1
+        if 0 <= at < len(words) - 1 and words[at + 1] in res.unknown:
+            # "stay tuned for a music", "stop ..." followed at once by a word it does not know: the verb
+            # is part of a phrase it does not know, not a command ("wait here until I come back" is)
+            return "a command heard in words it does not know"
     return ""
 
 
