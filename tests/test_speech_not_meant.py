@@ -157,3 +157,10 @@ def test_plain_stop_and_wait_requests_stay_commands(words):
 def test_this_here_is_still_a_teaching(words):
     u = understand(words)
     assert u.act == "OBJECT" and u.frame[0].get("type") == "cup" and not u.partial
+
+
+def test_a_misheard_goto_starting_with_in_stays_a_goto():
+    # lang_names seed 5: "BIRON please go to the lounge" heard as "in please to that lounge": the bare
+    # side answer must not take the "in" as its start and turn the go-to into a teaching (main: GOTO)
+    u = understand("in please to that lounge")
+    assert u.act == "GOTO" and u.frame[0].find("PLACE/TITLE").get("name") == "lounge"

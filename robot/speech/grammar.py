@@ -654,6 +654,7 @@ def _that_one(act: Tree) -> etree._Element:
     # words its own question from its side ("the cup on the left"), so a plain side is the robot's too
     speaker_view = bool(sides) and (
         (side_tree is not None and _owner(_sub(side_tree, "possessor")) == "speaker")
+        or _owner(_sub(act, "possessor")) == "speaker"  # a side alone ("on my left")
         or (side_tree is not None and any(t.type == "ME" and t.value == "me" for t in _tokens(side_tree)))
         or any(t.type == "ME" and t.value == "me" for t in toks))
     np = _sub(act, "object_np")
