@@ -203,8 +203,15 @@ def test_lexicon_terminal_missing_from_grammar_is_refused(tmp_path):
                 min_size=1, max_size=8))
 def test_deixis_articles_and_prepositions_alone_are_never_understood(words):
     # recogniser noise made of short words ("this the to") must not start a teaching or go-to
-    # dialog about an object or place nobody named
+    # dialog about an object or place nobody named. The one exception is "that there"/"this here"
+    # alone: the answer to "which one?" by pointing (THAT_ONE with the gesture), which starts no
+    # dialog by itself (only an open which-one question takes it)
     r = shared_understander().understand(" ".join(words))
+    if r.act == "THAT_ONE":
+        toks = shared_understander().lexicon.tokens(" ".join(words)).tokens
+        assert [t.type for t in toks] in (["THIS", "HERE"], ["THIS", "THERE"], ["THAT", "HERE"], ["THAT", "THERE"])
+        assert r.frame[0].find("GESTURE") is not None
+        return
     assert r.frame is None and r.reason
 
 

@@ -152,6 +152,17 @@ class Understander:
         if not toks:
             res.reason = "no known words" if lex.unknown else "nothing said"
             return res
+        negated = _negation(toks, Lexicon.words(words))
+        if negated is not None:
+            # "don't stop, keep going", "do not follow me": a request said negated is never that request;
+            # what she says after it instead is (a repair, like "follow me, no wait, stop")
+            tail = self._after_negation(toks, negated)
+            if tail is None:
+                res.ignored = [t.text for t in toks]
+                res.reason = "a request said negated"
+                return res
+            res.corrected += [t.text for t in toks[: len(toks) - len(tail)]]
+            toks = tail
         tree, ignored, partial = self._parse(toks)
         guess = False  # an object teaching rebuilt from a lost first word
         if toks[0].type in ("IS", "ARE") and len(toks) > 1 and (tree is None or partial):
@@ -185,7 +196,7 @@ class Understander:
                 # either of the two first words may be the misheard one ("go is the kitchen" is "go
                 # to the kitchen" as well): both count as unheard, so a confident guess is confirmed
                 tree, ignored, partial = alt[0], [toks[0].text, toks[1].text], True
-        restart = self._restart(lex.raw)
+        restart = self._restart(lex.raw) if negated is None else None
         if restart is not None:  # "follow me, no wait, stop": the repair is a whole new request
             toks, (tree, ignored, partial) = restart
         elif (tree is None or _guessed(tree)) and len(toks) > 2:
@@ -244,7 +255,30 @@ class Understander:
             used = len(toks)  # "hello biron, follow me": the greeting is sure; the request is not noise
             res.rest = list(ignored)
         res.coverage = used / max(1, len(toks) + len(lex.unknown)) * (0.5 if guess else 1.0)
+        why = _not_meant(tree, toks, res, [w for w in Lexicon.words(words) if w not in _SOUNDS])
+        if why:
+            res.frame, res.fragment, res.rest = None, False, []
+            res.ignored = [t.text for t in toks]
+            res.reason = why
         return res
+
+    def _after_negation(self, toks: list[Tok], at: int) -> list[Tok] | None:
+        """What she says instead after a negated request (``toks[at]`` is its verb), or None.
+
+        The first tail after the verb that is a whole request by itself (not a noun phrase, a yes/no
+        or a which-one answer) and differs from the negated one: "don't stop, keep going" (follow),
+        "don't go to the kitchen, go to the bathroom" (the bathroom). """
+        for k in range(at + 1, len(toks)):
+            tree, _, partial = self._parse(toks[k:])
+            if tree is None or partial or _guessed(tree) or tree_act(tree) in _NOT_REQUESTS:
+                continue
+            said, _, cut = self._parse(toks[at:k])
+            if said is None or cut or _guessed(said):
+                continue  # the negation's scope is a whole request: "don't go [to the kitchen]" is one
+            if etree.tostring(build(said)) == etree.tostring(build(tree)):
+                continue  # "don't stop, stop": the same request said again is still negated
+            return toks[k:]
+        return None
 
     def _restart(self, raw: list[Tok]) -> tuple[list[Tok], tuple[Tree | None, list[str], bool]] | None:
         """The words after the last editing term, when they are a whole request by themselves.
@@ -384,6 +418,89 @@ _NOT_RESTARTS = frozenset({"object_fragment", "place_fragment", "that_one", "yes
 # start teaching an object nobody named)
 _ONLY_POINTS = frozenset({"THIS", "THAT", "HERE", "THERE", "IT", "A", "THE", "TO", "IN", "REL", "OF", "ONE",
                           "IS", "ARE", "CALLED"})
+
+
+#: Verbs of the requests a "don't"/"do not" negates ("don't stop", "do not go to the kitchen").
+_VERBS = frozenset({"STOP", "WAIT", "FOLLOW", "FOLLOWING", "COME", "COMEON", "GO", "TAKE", "BACK", "LOOK"})
+#: Words between the negation and the verb ("don't you follow me", "I don't want you to go there").
+_BEFORE_VERB = frozenset({"YOU", "I", "ME", "WANT", "TO", "CAN"})
+#: What a bare word act may be said with and still be that act alone ("back again", "come on, please").
+_ALONE_WITH = {"BACK": frozenset({"again"}), "COMEON": frozenset({"please"})}
+#: Hesitation sounds: they say nothing about what else was said ("uh, come on" is still "come on").
+_SOUNDS = frozenset({"uh", "um", "uhm", "er", "erm", "hmm", "hm", "mm", "well"})
+#: The spot words that say "we are there" in "that's the spot" (not "the corner", "the view").
+_ARRIVED = frozenset({"spot", "place"})
+
+
+def _negation(toks: list[Tok], words: list[str]) -> int | None:
+    """Index of the verb a "do not"/"don't"/"never" negates, or None.
+
+    "Why don't you follow me" is a suggestion, not a negation."""
+    if "why" in words:
+        return None
+    for i, t in enumerate(toks):
+        if t.type != "NOT" or (i and toks[i - 1].type in ("IS", "ARE")):
+            continue  # "that is not the kitchen": a no or a contrast (lexicon), not a negated request
+        k = i + 1
+        while k < len(toks) and toks[k].type in _BEFORE_VERB:
+            k += 1
+        if k < len(toks) and toks[k].type in _VERBS:
+            return k
+    return None
+
+
+def _said_besides(toks: list[Tok], words: list[str]) -> list[str]:
+    """The words of the utterance that no token stands for (fillers, politeness, unknown words)."""
+    rest = list(words)
+    for t in toks:
+        for w in t.text.split():
+            if w in rest:
+                rest.remove(w)
+    return [w for w in rest if w != "POSS"]
+
+
+def _not_meant(tree: Tree, toks: list[Tok], res: Understanding, words: list[str]) -> str:
+    """Why a parse is not what she meant ("" when it is): a request heard in words that say otherwise.
+
+    - "back" greets (a partner's return) and "come on" follows only said alone: "back off", "step
+      back", "back please" ask the robot to move back; "oh come on", "come on, really" are exasperation.
+    - "that's the spot" stops only as a whole turn with "spot"/"place": "this is the spot where I read",
+      "this is the corner", "that's the view" are statements about the room.
+    - A question ("is this with me", "are these shoes yours") is never a command or a teaching.
+    - A stop or wait heard in a partial parse under half its words, its verb followed at once by a word it
+      does not know ("stay tuned for a music": a TV), is no command: stopping a go-to on noise is worse
+      than asking again.
+    """
+    act = next((c for c in tree.children if isinstance(c, Tree) and c.data != "address"), None)
+    if act is None:
+        return ""
+    kind = str(act.data)
+    own = _tokens(act)
+    if len(own) == 1 and own[0].type in _ALONE_WITH and kind in ("greeting", "follow"):
+        besides = set(_said_besides(toks, words))
+        if res.partial or res.unknown or not besides <= _ALONE_WITH[own[0].type]:
+            return "said with other words, not alone" if own[0].type == "BACK" else "an exasperated remark"
+    if (kind == "that_one" and len(act.children) == 2 and _sub(act, "here") is not None
+            and (d := _sub(act, "deixis")) is not None
+            and (_tokens(d)[0].type not in ("THIS", "THAT") or res.partial or res.unknown)):
+        # "that there" answers which one only as the whole turn; "it there", "this here this": noise
+        return "a deixis and 'here' alone point at nothing"
+    if kind == "stop" and any(t.type == "SPOT" for t in own):
+        spot = next(t for t in own if t.type == "SPOT")
+        if res.partial or res.unknown or spot.value not in _ARRIVED or _said_besides(toks, words):
+            return "a spot in a statement, not a stop"
+    if toks[0].type in ("IS", "ARE") and len(toks) > 1 and toks[1].type in ("THIS", "THAT", "IT") \
+            and kind != "where":
+        return "a question, not a request or a teaching"
+    if kind in ("stop", "wait") and res.partial and res.unknown and res.coverage < 0.5:
+        verb = next((t for t in own if t.type in ("STOP", "WAIT")), None)
+        last = verb.text.split()[-1] if verb is not None else ""
+        at = words.index(last) if last in words else -1
+        if 0 <= at < len(words) - 1 and words[at + 1] in res.unknown:
+            # "stay tuned for a music", "stop ..." followed at once by a word it does not know: the verb
+            # is part of a phrase it does not know, not a command ("wait here until I come back" is)
+            return "a command heard in words it does not know"
+    return ""
 
 
 def _small_talk(tree: Tree, obj: etree._Element, toks: list[Tok]) -> str:
@@ -537,6 +654,7 @@ def _that_one(act: Tree) -> etree._Element:
     # words its own question from its side ("the cup on the left"), so a plain side is the robot's too
     speaker_view = bool(sides) and (
         (side_tree is not None and _owner(_sub(side_tree, "possessor")) == "speaker")
+        or _owner(_sub(act, "possessor")) == "speaker"  # a side alone ("on my left")
         or (side_tree is not None and any(t.type == "ME" and t.value == "me" for t in _tokens(side_tree)))
         or any(t.type == "ME" and t.value == "me" for t in toks))
     np = _sub(act, "object_np")
