@@ -441,7 +441,8 @@ class ObjectAttention(Module):
             self._looking = False
         pose = self.pose
         assert pose is not None
-        cands = [c for c in merge(one_surface(self._seen, self._rays), (pose[0], pose[1]), eye_height=CAMERA_HEIGHT, frames=self._frames) if math.hypot(c.x - px, c.y - py) <= SEARCH_RADIUS]
+        merged = merge(one_surface(self._seen, self._rays), (pose[0], pose[1]), eye_height=CAMERA_HEIGHT, frames=self._frames)
+        cands = [c for c in merged if math.hypot(c.x - px, c.y - py) <= SEARCH_RADIUS]
         res = resolve(cands, wanted, None, (px, py))
         self.last = res
         return res
