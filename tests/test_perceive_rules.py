@@ -149,7 +149,8 @@ def test_while_following_she_is_lost_only_after_the_followers_search_time_unseen
     pa = _attention("Follow", (0.0, d, 0.0, speed, 0.0, 0.0, 0.0))
     assert pa.params.follow_lost_after == Follower.__init__.__kwdefaults__["search_time"]
     f = Follower.__new__(Follower)  # only the rule's inputs
-    f.search_time, f.band, f.search_speed = pa.params.follow_lost_after, (1.0, 1.5), Follower.__init__.__kwdefaults__["search_speed"]
+    # a follower set up with another band and search speed still waits as long as the attention does
+    f.search_time, f.band, f.search_speed = pa.params.follow_lost_after, (1.0, 3.0), 0.2
     f._seen_distance = d
     assert f.search_for() == follow_search_time(d, base=pa.params.follow_lost_after)
     assert pa.partner_left(unseen) == (unseen >= f.search_for())

@@ -332,7 +332,8 @@ class Follower(Module):
         """How long it searches for her (s unseen): ``search_time``, longer when she was last seen
         beyond the band (it fell behind yielding to people crossing; :mod:`robot.partner_search`,
         the rule the attention's leaving rule reads too)."""
-        return follow_search_time(self._seen_distance, base=self.search_time, near=self.band[1], speed=self.search_speed)
+        # the rule's own band end and speed, as the attention reads it: one rule, not two settings of it
+        return follow_search_time(self._seen_distance, base=self.search_time)
 
     # ------------------------------------------------------------- control
     def _to_robot(self, px: float, py: float) -> tuple[float, float]:
