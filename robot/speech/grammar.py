@@ -224,7 +224,10 @@ class Understander:
                 pass  # "alright, you can stop there, we have arrived": a whole request, then more words
             elif alt[0] is None or alt[2]:
                 alt = (None, [], True)
-                if len(toks) > lead + 2:
+                question = self._asked(toks[lead:])
+                if question is not None:  # "no, is it my laptop": the no answers, the question names it
+                    alt, asked, guess = (question, [], False), question, True
+                elif len(toks) > lead + 2 and toks[lead].type not in ("IS", "ARE"):
                     # "right, [so→that] this room is the living room": the word after the answer misheard,
                     # the rest a whole request or statement of its own (not an answer): it counts
                     rest = self._parse(toks[lead + 1:])
@@ -422,6 +425,12 @@ class Understander:
                 # "this one here is my reading <lost>": a statement about the one she points at,
                 # its noun lost (a teaching to ask about), not the which-one answer "this one here"
                 break
+            if (tree_act(tree) == "teach_object" and any(t.type in ("IS", "ARE") for t in rest)
+                    and any(t.type == "THING" for t in toks)
+                    and not any(isinstance(c, Tree) and c.data == "object_np" for c in tree.iter_subtrees())):
+                # "this thing [here] that is my favourite red <lost>": what she says of it after the
+                # copula (owner, colour) is kept with its noun lost, rather than "this thing" alone
+                break
             return tree, [t.text for t in rest], True
         if used < 2:
             return None, ignored, True  # one word and a guessed rest is no understanding
@@ -444,7 +453,8 @@ class Understander:
 
 
 #: Where the noun phrase of a question's statement begins ("is this [the kitchen]", "is this room [my study]").
-_NP_START = frozenset({"A", "THE", "MY", "OUR", "NAME", "COLOUR", "ATTR", "USE", "OBJ", "PLACE"})
+#: ("is that toy there" is no such question: "that toy" is its noun phrase, and it asks where the toy is)
+_NP_START = frozenset({"A", "THE", "MY", "OUR", "NAME"})
 #: Words that answer a question before the request that follows them ("no, the kitchen").
 _ANSWER_WORDS = frozenset({"YES", "OKAY", "NO"})
 #: The "this" of a statement the recogniser lost ("[this] is my cup"): put back to parse the statement.
@@ -531,6 +541,14 @@ def _not_meant(tree: Tree, toks: list[Tok], res: Understanding, words: list[str]
             and (_tokens(d)[0].type not in ("THIS", "THAT") or res.partial or res.unknown)):
         # "that there" answers which one only as the whole turn; "it there", "this here this": noise
         return "a deixis and 'here' alone point at nothing"
+    if kind == "yes" and own and own[0].type not in ("YES", "OKAY") and any(t.type in ("IS", "ARE") for t in own) \
+            and (res.partial or res.unknown):
+        # "that is exactly right", "you are correct" say yes only as the whole turn: "you are standing right
+        # where I want to go", "it is right next to the door" say where something is
+        return "a statement with 'right' in it, not a yes"
+    if kind == "teach_place" and own and own[0].type == "YOU" and _guessed(act):
+        # "you are in the kitchen" tells the robot where it is; "you are in my way" names no room
+        return "no room named"
     if kind == "stop" and any(t.type == "SPOT" for t in own):
         spot = next(t for t in own if t.type == "SPOT")
         if res.partial or res.unknown or spot.value not in _ARRIVED or _said_besides(toks, words):

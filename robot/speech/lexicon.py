@@ -175,6 +175,7 @@ class Lexicon:
                     unknown.append(words[i])
                 i += 1
         toks = _owners(toks)
+        toks = _things(toks, unknown)
         toks = _named_rooms(toks)
         toks = _sides(toks)
         out = Tokens(toks, unknown, words=n, raw=_compounds(list(toks)))
@@ -192,6 +193,27 @@ _NAMING = frozenset({"THE", "MY", "OUR", "POSS"})
 #: Words that make a room's name with "room" after them: a noun, a use, a colour ("the breakfast room",
 #: "the reading room", "the blue room").
 _ROOM_NAMERS = frozenset({"OBJ", "USE", "COLOUR"})
+
+
+#: What "thing" refers with: a deixis and the words that describe it ("that red thing", "this thing here").
+_THING_AFTER = frozenset({"THIS", "THAT", "IT", "COLOUR", "ATTR"})
+
+
+def _things(toks: list[Tok], unknown: list[str]) -> list[Tok]:
+    """"Thing" is what she points at only after a deixis or its describing words ("that red thing is my
+    backpack"); elsewhere ("to thing is my toy", the recogniser's "to" for "this") it says nothing the
+    grammar can use: a word not understood, as before it was in the lexicon."""
+    out: list[Tok] = []
+    for i, t in enumerate(toks):
+        if t.type == "THING":
+            k = i - 1
+            while k >= 0 and toks[k].type in ("COLOUR", "ATTR"):
+                k -= 1
+            if k < 0 or toks[k].type not in _THING_AFTER:
+                unknown.append(t.text)
+                continue
+        out.append(t)
+    return out
 
 
 def _named_rooms(toks: list[Tok]) -> list[Tok]:
