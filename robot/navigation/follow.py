@@ -63,6 +63,10 @@ Control, every ``1/rate`` seconds:
   its room, so the people in the flat can speak to it.
 * Backing off (from a partner too close, or wedged) never reverses toward a person the attention
   tracks behind it (within the back-off's reach plus 0.45 m: ``people.behind_clear``).
+* Wedged (a jamb at a front corner in a 0.9 m door): when it should drive but has neither moved
+  :data:`STUCK_MOVE` nor turned :data:`STUCK_TURN` net for :data:`STUCK_TIME` s, it backs for
+  :data:`UNSTICK_TIME` s over ground it drove or saw free. Close to the floor plan already, its own
+  commands may keep their distance (:func:`sweep_allowed`: the sweep's start pose is not "closer").
 
 ``/robot/follow/status`` (``<follow distance speed at_limit state/>``) goes out
 every control step while following. The follower drives only in Follow, and
