@@ -26,21 +26,26 @@ Control, every ``1/rate`` seconds:
   instead of backing into it).
 * Obstacles: the dynamic window (:mod:`robot.navigation.local`) on the laser
   echoes, without the echoes of the partner's own legs.
-* Too fast: while the commanded speed is at the limit for ``too_fast_time`` and
-  the distance is beyond ``too_fast_distance`` and still growing, the ES gets
-  ``partner_too_fast`` with ``@distance`` (at most every ``warn_every`` s).
+* Too fast: while the commanded speed is at the limit for ``too_fast_time``, the
+  distance is beyond ``too_fast_distance`` and still growing, and her tracked speed
+  (averaged over that time) exceeds the robot's top speed (``max_speed``, a scenario
+  value) by the factor :data:`TOO_FAST_RATIO`, the ES gets ``partner_too_fast`` with ``@distance``
+  (at most every ``warn_every`` s). A partner walking at its top speed is not told to slow down.
 * Catching up (issue 26 item 10): when following ends with the partner still tracked
   ("stop", the attention back in ``Interaction`` with the same partner) and she stands
   further than ``approach_to`` (the band's far end, 1.5 m) or out of the robot's line of
   sight on the floor plan (in the next room), it goes on driving the same way (the floor
   plan's path through the door, the dynamic window, everyone's space) for at most
-  ``approach_time`` s until she is that close and it does not stand in a door frame or a
+  ``approach_time`` s until she is that close, it stands in her room (the floor plan's rooms;
+  or it is within the band's near end of her) and it does not stand in a door frame or a
   passage (its centre ``APPROACH_ROOM`` m from the walls; closer to her than the band's near
   end it stops anyway), then turns to face her and stops, so it stands at a comfortable
   interaction distance facing her before her next request is handled (a robot lagging at a
   door frame would teach from the other room). Its status says ``approaching`` meanwhile;
   the attention leaves turning the base to it, and the dialog holds her requests, until
-  then. No too-fast warnings while approaching. Any other state (a go-to) ends it.
+  then. No too-fast warnings while approaching. She stands, so her last position holds while
+  she is unseen (behind a table's or a chair's legs, the door frame) for up to ``search_time`` s.
+  Any other state (a go-to) ends it.
 * Searching: not seen for ``lost_after`` s (a door frame, someone crossing between, a partner
   who walked past the robot's side, out of the laser's half-circle) it does not stop: it drives,
   at most ``search_speed``, to where she was heading (her last track message carried on with its
@@ -58,6 +63,10 @@ Control, every ``1/rate`` seconds:
   its room, so the people in the flat can speak to it.
 * Backing off (from a partner too close, or wedged) never reverses toward a person the attention
   tracks behind it (within the back-off's reach plus 0.45 m: ``people.behind_clear``).
+* Wedged (a jamb at a front corner in a 0.9 m door): when it should drive but has neither moved
+  :data:`STUCK_MOVE` nor turned :data:`STUCK_TURN` net for :data:`STUCK_TIME` s, it backs for
+  :data:`UNSTICK_TIME` s over ground it drove or saw free. Close to the floor plan already, its own
+  commands may keep their distance (:func:`sweep_allowed`: the sweep's start pose is not "closer").
 
 ``/robot/follow/status`` (``<follow distance speed at_limit state/>``) goes out
 every control step while following. The follower drives only in Follow, and
@@ -86,8 +95,8 @@ from robot.contract import ATTENTION_STATE, BASE_CMD, ES_EVENTS, FOLLOW_STATUS, 
 
 from .config import Limits
 from .grid import MapError, OccupancyGrid, parse_map
-from .local import (SOCIAL_GAP, DWAParams, LatestScan, arcs, carrot, dwa, heading_speed, people_gaps, social_speed_limit,
-                    sweep_clearance, turn_clear)
+from .local import (SOCIAL_GAP, DWAParams, LatestScan, arcs, carrot, dwa, footprint_distance, heading_speed, people_gaps,
+                    social_speed_limit, sweep_clearance, turn_clear)
 from .giveway import NARROW, back_out_spot, give_way_spot, reverse_command
 from .people import People, behind_clear, nearest
 from .route import Route
@@ -102,6 +111,12 @@ SEARCH_HORIZON = 1.5
 #: s and m/s: wedged this long (it should drive, the dynamic window finds nothing), it backs this slowly
 STUCK_TIME = 1.0
 UNSTICK_SPEED = 0.1
+#: m, rad: within STUCK_TIME it moved less than this far and turned less than this much net: no progress
+#: (the dynamic window turning a little to and fro with a jamb at its front corner is as stuck as standing)
+STUCK_MOVE = 0.05
+STUCK_TURN = math.radians(15)
+#: s: once stuck, it backs this long (10 cm at UNSTICK_SPEED) unless a way forward opens
+UNSTICK_TIME = 1.0
 SCHEMA = Path(__file__).resolve().parent.parent / "schemas" / "navigation" / "follow-status.xsd"
 #: how many of the robot's own past positions (odometry, every CRUMB m) the back-off may retrace
 BREADCRUMBS = 200
@@ -122,6 +137,11 @@ BACK_REACH = 0.3
 #: s and m: a waiting command's sweep is checked this far ahead, and must keep this far from the floor plan's obstacles
 SWEEP_TIME = 0.5
 SWEEP_MARGIN = 0.05
+#: poses along a waiting command's sweep after the start that are checked (as many as sweep_clearance's)
+SWEEP_STEPS = 5
+#: she is too fast for the robot when her tracked speed exceeds its top speed this many times (the track's speed
+#: runs 20 % over hers for a second after she is found again: 0.6 m/s for a partner at 0.5 m/s)
+TOO_FAST_RATIO = 1.2
 #: m: the dynamic window's goal along the route's direction at least this far out
 WAY_GOAL = 1.0
 #: m: the approach does not end where the robot's centre is closer than this to a wall (a door frame, a passage)
@@ -163,6 +183,29 @@ def speed_law(d: float, v_radial: float, *, distance: float, band: tuple[float, 
     return float(min(max(v, -limits.max_reverse), limits.max_speed))
 
 
+def sweep_allowed(v: float, w: float, mapped: np.ndarray, here: float | None = None) -> bool:
+    """Whether the command (``v``, ``w``) held :data:`SWEEP_TIME` s keeps the footprint off the floor plan's
+    obstacles (``mapped``, robot frame): :data:`SWEEP_MARGIN` all along, or, closer than that already
+    (``here``, the footprint's distance now) but not touching, no pose after the start closer than now.
+
+    The sweep's first pose is the start, so "further off than now" measured on the whole sweep
+    never held: wedged 2 cm from a table's corner, every command, backing away included, was refused
+    and the robot stood there until its partner was lost (issue 26 item 2, hall_follow_doors)."""
+    if not len(mapped):
+        return True
+    if sweep_clearance(v, w, mapped, SWEEP_TIME, steps=SWEEP_STEPS) >= SWEEP_MARGIN:
+        return True
+    if here is None:
+        here = sweep_clearance(0.0, 0.0, mapped, 0.0, steps=1)
+    if here <= 0.0:
+        return False  # touching already: only standing
+    t = np.linspace(SWEEP_TIME / SWEEP_STEPS, SWEEP_TIME, SWEEP_STEPS)
+    x, y, th = arcs(np.array([v]), np.array([w]), t)
+    c, s = np.cos(th[0])[:, None], np.sin(th[0])[:, None]
+    dx, dy = mapped[None, :, 0] - x[0][:, None], mapped[None, :, 1] - y[0][:, None]
+    return float(footprint_distance(c * dx + s * dy, -s * dx + c * dy).min()) >= here - 1e-9
+
+
 class Follower(Module):
     """Follows the partner track in Follow (see the module docstring)."""
 
@@ -197,7 +240,9 @@ class Follower(Module):
         self.driving = False
         self._limit_since: float | None = None
         self._stuck_since: float | None = None  # since when it should drive but cannot (see _unstick)
-        self._history: deque[tuple[float, float]] = deque(maxlen=64)  # (t, d) while at the limit
+        self._stuck_at: tuple[float, float, float] | None = None  # where it was then (odom)
+        self._unstick_until = -math.inf  # backing out of a wedge until then
+        self._history: deque[tuple[float, float, float]] = deque(maxlen=64)  # (t, d, her speed) at the limit
         self._warned_at = -math.inf
         self.bus.subscribe(ATTENTION_STATE, self._on_state)
         self.bus.subscribe(PARTNER, self._on_partner)
@@ -372,7 +417,9 @@ class Follower(Module):
             return self._stand(approaching, "searching")
         age = self.now - tr["t"]
         unseen = (0.0 if tr["visible"] else tr["lost_for"]) + age
-        if unseen > (self.lost_after if approaching else self.search_for()):
+        # approaching, she stands: unseen a moment (behind a table's legs, a chair, the door frame) is
+        # no reason to give up the approach and teach from across the room; her last position holds
+        if unseen > (self.search_time if approaching else self.search_for()):
             turn = None if approaching else self._face_in()
             if turn is not None:  # the search ended at an exit door: back to the room first
                 self._status(0.0, False, "searching")
@@ -395,7 +442,12 @@ class Follower(Module):
             # she stands: close in to the band's near part, the far end no further than approach_to;
             # near enough, in sight (not behind a wall) and not in a door frame or a passage (where
             # it would teach from the other room and block the way), face her and stop
-            near = d <= self.approach_to and self.route.in_sight(self.odom[:2], (px, py))
+            # and in the room she stands in (the floor plan's rooms): short of a wide door with her just
+            # inside, it would teach "kitchen" from the living room (issue 26 item 10); within the band's
+            # near end it stops wherever it is (rooms with no wall between, a kitchen corner)
+            same_room = self.route.room_at(self.odom[:2]) is self.route.room_at((px, py))
+            near = (d <= self.approach_to and self.route.in_sight(self.odom[:2], (px, py))
+                    and (same_room or d <= self.band[0]))
             if near and (d <= self.band[0] or self.route.clearance(self.odom[:2]) >= APPROACH_ROOM):
                 # so close to her in a door frame or a passage: out of her way first (her next
                 # "follow me" walks her through it), then face her
@@ -444,7 +496,7 @@ class Follower(Module):
                 self._status(d, False, "giving_way")
                 return aside
         if v_des <= 0.05:
-            self._stuck_since = None
+            self._stuck_since, self._stuck_at, self._unstick_until = None, None, -math.inf
             # wait (or back off) facing the partner; reversing is slow and straight (no laser behind)
             w = max(-self.limits.max_turn, min(self.limits.max_turn, 1.8 * bearing))
             v = v_des if v_des < 0 and self.can_back_off() else 0.0
@@ -459,8 +511,7 @@ class Follower(Module):
             self.trail.append((px, py))
         else:
             # steer along the partner's trail (round furniture, through doors), dodging laser echoes
-            while len(self.trail) > 1 and math.hypot(*self._to_robot(*self.trail[0])) < 0.6:
-                self.trail.popleft()
+            self._trim_trail(rx)
             goal = self._to_robot(*self.trail[0]) if self.trail else (rx, ry)
             # through a door or round a corner: the planned path's middle of the door, not the trail
             # that hugs the jamb (see robot.navigation.route)
@@ -491,13 +542,19 @@ class Follower(Module):
             close = close[np.hypot(close[:, 0], close[:, 1]) < STANDING_NEAR] if len(close) else close
             if len(close):
                 others = np.concatenate((others, close)) if len(others) else close
+            capped = others  # whose nearness slows it (the social speed limit)
             if searching:  # unseen, where she is heading: her body too (she may stand there, out of view)
                 others = np.concatenate((others, [(rx, ry)])) if len(others) else np.array([(rx, ry)])
+                # but only where that point is in sight: behind a wall (she went through a door) the
+                # limit round it held the robot to 0.2 m/s in a 1.0 m hall until the search ran out
+                # short of the door (issue 26, hall_follow_doors); in the door it is in sight again
+                if self.route.in_sight(self.odom[:2], (px, py)):
+                    capped = others
             limits = self.limits
             if searching:  # slowly: she may step out from behind whatever hid her
                 limits = replace(limits, max_speed=min(limits.max_speed, self.search_speed))
-            if len(others):
-                cap = social_speed_limit(nearest(others), self.limits.max_speed)
+            if len(capped):
+                cap = social_speed_limit(nearest(capped), self.limits.max_speed)
                 if cap < limits.max_speed:
                     limits = replace(limits, max_speed=cap)
                     v_pref = min(v_pref, cap)
@@ -520,9 +577,26 @@ class Follower(Module):
             self._status(d, False, "searching")
             return v, w
         at_limit = v_des >= self.limits.max_speed - 1e-6
-        self._too_fast(d, at_limit)
+        self._too_fast(d, at_limit, math.hypot(tr["vx"], tr["vy"]))
         self._status(d, at_limit, state if tr["visible"] else "searching")
         return v, w
+
+    def _trim_trail(self, rx: float) -> None:
+        """Drop the trail's points the robot is past: those before its point nearest the robot (pure
+        pursuit: they are where she walked while it stood, wedged, approached or gave way), with her
+        ahead (``rx`` > 0, robot frame) those behind it, and those within reach. Steering back to such a
+        point turned the robot away from her in the door she had led it to, then into her (issue 26,
+        hall_follow_doors). Her own latest point is always kept."""
+        trail = self.trail
+        if len(trail) > 2:
+            near = [math.hypot(*self._to_robot(*p)) for p in trail]
+            for _ in range(min(near.index(min(near)), len(trail) - 1)):
+                trail.popleft()
+        while len(trail) > 1:
+            x, y = self._to_robot(*trail[0])
+            if not ((rx > 0.0 and x < 0.0) or math.hypot(x, y) < 0.6):
+                break
+            trail.popleft()
 
     def _bodies(self, rx: float, ry: float) -> np.ndarray:
         """Robot-frame centres of everyone near (confirmed tracks) and of the partner at (``rx``, ``ry``)."""
@@ -606,8 +680,7 @@ class Follower(Module):
         for cand in ((v, w), (v, w / 2), (v, w / 4), (v, 0.0), (0.0, w)):  # gentler turns swing the front less
             if cand == (0.0, 0.0):
                 continue
-            gap = sweep_clearance(cand[0], cand[1], mapped, SWEEP_TIME) if len(mapped) else math.inf
-            if not (gap >= SWEEP_MARGIN or gap >= here + 1e-3):
+            if not sweep_allowed(cand[0], cand[1], mapped, here):
                 continue
             x, y, th = arcs(np.array([cand[0]]), np.array([cand[1]]), t)
             if float(people_gaps(x[0], y[0], th[0], bodies).min()) < min(now, SOCIAL_GAP) - 1e-3:
@@ -616,18 +689,32 @@ class Follower(Module):
         return 0.0, 0.0
 
     def _unstick(self, v: float, w: float, mapped: np.ndarray) -> tuple[float, float]:
-        """Wedged (issue 26: a chair's corner beside the robot when the way turns off): it should drive
-        but the dynamic window finds neither a forward arc nor room to turn on the spot. After
-        :data:`STUCK_TIME` s of that, it backs a little over ground it drove or saw free (never where
-        the laser did not look), which gives the corners room to turn; nothing when backing is unsafe."""
-        if abs(v) > 0.02 or abs(w) > 0.05:
-            self._stuck_since = None
+        """Wedged (issue 26: a chair's corner beside the robot when the way turns off; a door jamb at
+        its front corner in a 0.9 m door): it should drive but the dynamic window finds no forward arc,
+        and in :data:`STUCK_TIME` s it has neither moved :data:`STUCK_MOVE` nor turned :data:`STUCK_TURN`
+        net (standing, or turning a little to and fro). Then it backs for :data:`UNSTICK_TIME` s over
+        ground it drove or saw free (never where the laser did not look), which gives the corners room
+        to turn, unless a forward arc opens first; nothing when backing is unsafe."""
+        if abs(v) > 0.02 or self.odom is None:
+            self._stuck_since, self._stuck_at, self._unstick_until = None, None, -math.inf
             return v, w
-        if self._stuck_since is None:
-            self._stuck_since = self.now
+        if self.now < self._unstick_until and self.can_back_off():
+            back = self._swept(-UNSTICK_SPEED, 0.0, mapped)
+            if back[0] < 0.0:
+                return back
+        self._unstick_until = -math.inf
+        at, x = self._stuck_at, self.odom
+        if (self._stuck_since is None or at is None or math.hypot(x[0] - at[0], x[1] - at[1]) > STUCK_MOVE
+                or abs(math.remainder(x[2] - at[2], math.tau)) > STUCK_TURN):
+            self._stuck_since, self._stuck_at = self.now, x  # progress (or a first step): a new window
+            return v, w
         if self.now - self._stuck_since < STUCK_TIME or not self.can_back_off():
             return v, w
-        return self._swept(-UNSTICK_SPEED, 0.0, mapped)
+        back = self._swept(-UNSTICK_SPEED, 0.0, mapped)
+        if back[0] < 0.0:
+            self._unstick_until = self.now + UNSTICK_TIME
+            self._stuck_since, self._stuck_at = None, None
+        return back
 
     def _ahead(self, reach: float) -> tuple[float, float]:
         """The odom point ``reach`` m past the robot's front edge, straight ahead."""
@@ -710,8 +797,8 @@ class Follower(Module):
 
     def _swept(self, v: float, w: float, mapped: np.ndarray) -> tuple[float, float]:
         """The wait's command made safe against the floor plan's walls and furniture (the corners
-        sweep ground behind the laser): its footprint must keep :data:`SWEEP_MARGIN` from them, and a
-        back-off must leave room to turn on the spot (the centre :data:`TURN_ROOM` m from them; the
+        sweep ground behind the laser): its footprint must keep :data:`SWEEP_MARGIN` from them, or
+        (closer already) come no closer than it is (:func:`sweep_allowed`), and a back-off must leave room to turn on the spot (the centre :data:`TURN_ROOM` m from them; the
         attention turns the robot to face the partner once she stops), unless the command takes the
         robot further off than it is. Backing is dropped first, then turning."""
         if not len(mapped) or (v == 0.0 and w == 0.0):
@@ -721,8 +808,7 @@ class Follower(Module):
         for cand in ((v, w), (v, 0.0), (0.0, w)):
             if cand == (0.0, 0.0):
                 continue
-            gap = sweep_clearance(cand[0], cand[1], mapped, SWEEP_TIME)
-            if not (gap >= SWEEP_MARGIN or gap >= here + 1e-3):
+            if not sweep_allowed(cand[0], cand[1], mapped, here):
                 continue
             if cand[0] < 0.0:
                 x, y, _ = arcs(np.array([cand[0]]), np.array([cand[1]]), np.array([SWEEP_TIME]))
@@ -732,7 +818,12 @@ class Follower(Module):
             return cand
         return 0.0, 0.0
 
-    def _too_fast(self, d: float, at_limit: bool) -> None:
+    def _too_fast(self, d: float, at_limit: bool, speed: float = 0.0) -> None:
+        """Warn (``partner_too_fast``) when she walks away faster than the robot can drive: at its
+        speed limit for ``too_fast_time`` s, further than ``too_fast_distance`` and the gap still
+        growing, and her tracked speed (``speed``, averaged over that time) above its top speed by
+        20 % (:data:`TOO_FAST_RATIO`; issue 26 item 10: a partner at its own top speed was told to slow
+        down; the gap then grows only on turns and in door frames, and it catches up when she stops)."""
         now = self.now
         if not at_limit:
             self._limit_since = None
@@ -740,12 +831,13 @@ class Follower(Module):
             return
         if self._limit_since is None:
             self._limit_since = now
-        self._history.append((now, d))
+        self._history.append((now, d, speed))
         while self._history and now - self._history[0][0] > self.too_fast_time:
             self._history.popleft()
-        t0, d0 = self._history[0]
+        d0 = self._history[0][1]
+        mean_speed = sum(h[2] for h in self._history) / len(self._history)
         if (now - self._limit_since >= self.too_fast_time and d > self.too_fast_distance and d - d0 > 0.05
-                and now - self._warned_at >= self.warn_every):
+                and mean_speed > self.limits.max_speed * TOO_FAST_RATIO and now - self._warned_at >= self.warn_every):
             self._warned_at = now
             self.bus.publish(ES_EVENTS, etree.Element("event", name="partner_too_fast", distance=f"{d:.2f}"))
 
