@@ -72,6 +72,7 @@ from .records import TrackRow, TracksRecord, own_document as _own_document
 from robot.partner_search import follow_search_time
 from .selection import SelectionParams, Selector
 from .tracker import Tracks, TrackerSpec
+from .visibility import hidden_points
 
 SCHEMAS = Path(__file__).resolve().parent.parent / "schemas"
 ORDERS = f"{ES_ORDERS}/person_attention"
@@ -328,7 +329,7 @@ class PersonAttention(Module):
                 self._voices = (t, any(o <= tol for o in offs), any(o > tol for o in offs))
         if bearings:
             levels = [float(s.get("level", "0")) for s in sources]
-            seen = [b for b, tk in zip(track_bearings, tracks) if tk.confirmed]
+            seen = [b for b, tk in zip(track_bearings, tracks) if tk.confirmed and not tk.dormant]
             free = [k for k in range(len(bearings)) if not match_sounds(seen, bearings[k : k + 1], self.cues.sound_tolerance)]
             if free:
                 k = max(free, key=lambda j: levels[j])
@@ -357,7 +358,7 @@ class PersonAttention(Module):
         bearings = [math.radians(float(get(r, "bearing"))) for r in rows]
         tb = bearings_from(self._robot_xy(t), self.cues.camera_offset)
         for j, i in anchor_torsos(tb, bearings, self.cues.torso_bearing_tolerance):
-            if tracks[i].confirmed:
+            if tracks[i].confirmed and not tracks[i].dormant:
                 r = rows[j]
                 self.colours.observe(tracks[i].id, (float(get(r, "r")), float(get(r, "g")), float(get(r, "b"))), t)
         if self.partner is None:
@@ -492,7 +493,22 @@ class PersonAttention(Module):
         px, py, th = pose
         c, s = math.cos(th), math.sin(th)
         z = [(px + c * x - s * y, py + s * x + c * y) for x, y in det.points]  # into odom
-        assigned = self.tracks.step(t, z, det.kinds)
+        bearings = self._bearings
+        assert bearings is not None
+
+        def hidden(points: list[tuple[float, float]]) -> list[bool]:  # tracks the laser could not see on this scan
+            robot = [(c * (x - px) + s * (y - py), -s * (x - px) + c * (y - py)) for x, y in points]
+            return hidden_points(robot, ranges, float(bearings[0]), float(bearings[1] - bearings[0]),
+                                 max_range=self.legs.max_range, offset=self.legs.offset)
+
+        blocked = None
+        if reject is not None:
+            on_plan = reject
+
+            def blocked(points: list[tuple[float, float]]) -> list[bool]:  # odom points inside a wall or raised furniture
+                return on_plan([(c * (x - px) + s * (y - py), -s * (x - px) + c * (y - py)) for x, y in points])
+
+        assigned = self.tracks.step(t, z, det.kinds, hidden, blocked)
         tracks = self.tracks.tracks
         if self.scans % 50 == 0:
             alive = {tk.id for tk in tracks}
@@ -511,7 +527,7 @@ class PersonAttention(Module):
         cats: dict[int, int] = {}
         speaking, facing = self.speaking, self.facing
         for tk in tracks:
-            if tk.confirmed:
+            if tk.confirmed and not tk.dormant:  # a dormant track's person is out of sight: nobody to attend to
                 tid = tk.id
                 cats[tid] = (3 if facing.on(tid) else 2) if speaking.on(tid) else 1
         if self.fsm.top_down:
@@ -528,7 +544,7 @@ class PersonAttention(Module):
         self._act(t, row, bearing, dist, cats.get(selected, 0) if selected is not None else 0)
         if self.partner is not None:
             prow = self.tracks.row(self.partner)
-            if prow >= 0:
+            if prow >= 0 and not tracks[prow].dormant:  # (dormant: unseen too long to be reported where she is)
                 self._publish_partner(t, prow, bearing, dist, prow in assigned)
         self._publish_state(t)
 
@@ -569,6 +585,8 @@ class PersonAttention(Module):
         """The partner's evidence, and ``partner_lost`` by the leaving rule (:meth:`partner_left`)."""
         tr = self.tracks
         row = tr.row(self.partner) if self.partner is not None else -1
+        if row >= 0 and tr.tracks[row].dormant:
+            row = -1  # her track is kept while she is hidden, but she is unseen: as if it had died
         if row >= 0:
             tk = tr.tracks[row]
             colour = self.colours.colour(tk.id, t)
@@ -621,7 +639,7 @@ class PersonAttention(Module):
         rx, ry, _ = self._pose_at(t)
         best: tuple[int, float, int] | None = None
         for tk in self.tracks.tracks:
-            if not tk.confirmed:
+            if not tk.confirmed or tk.dormant:
                 continue
             dx, dy = rx - tk.x[0], ry - tk.x[1]
             d = math.hypot(dx, dy)
@@ -712,7 +730,7 @@ class PersonAttention(Module):
         for i, tk in enumerate(self.tracks.tracks):
             colour = self.colours.colour(tk.id, t)
             # someone in other clothes is not her, however near (a person who crossed between)
-            if tk.confirmed and same_clothes(self._partner_colour, colour):
+            if tk.confirmed and not tk.dormant and same_clothes(self._partner_colour, colour):
                 d = math.hypot(tk.x[0] - x, tk.x[1] - y)
                 # her colour known, this track's unseen: position alone, so only as near as she can have
                 # stepped unseen, not the growing radius, unless the track was born within it (four_people seed 8: a man walking past the
@@ -879,8 +897,10 @@ class PersonAttention(Module):
             x0, x1, x2, x3 = tk.x
             P = tk.P
             cat = cats.get(tid, 0)
+            # a dormant track (its person hidden longer than the death timeout) is kept to be found again
+            # under its id, but is not reported as a person seen (confirmed="false")
             rows.append(_row((f"t{tid}", x0, x1, x2, x3, P[0], P[1], P[4], degrees(bearing[i]), dist[i],
-                              tk.confirmed, cat >= 2, bool(cat) and facing.on(tid))))
+                              tk.confirmed and not tk.dormant, cat >= 2, bool(cat) and facing.on(tid))))
         self.bus.publish(TRACKS, TracksRecord(t, tuple(rows)))
 
     def _publish_partner(self, t: float, row: int, bearing: list[float], dist: list[float], visible: bool) -> None:
@@ -890,7 +910,7 @@ class PersonAttention(Module):
         # only); company: other confirmed people within group_radius of her (a group she may be
         # talking with). The dialog decides from both whether an utterance is addressed to it.
         r2 = self.params.group_radius ** 2
-        company = sum(1 for o in self.tracks.tracks if o.confirmed and o.id != tk.id
+        company = sum(1 for o in self.tracks.tracks if o.confirmed and not o.dormant and o.id != tk.id
                       and (o.x[0] - x[0]) ** 2 + (o.x[1] - x[1]) ** 2 <= r2)
         self.bus.publish(PARTNER, _own_document(  # as text: see _publish_tracks
             f'<partner id="t{tk.id}" bearing="{math.degrees(bearing[row]):.3f}" distance="{dist[row]:.3f}"'
