@@ -509,6 +509,8 @@ class PersonAttention(Module):
                 return on_plan([(c * (x - px) + s * (y - py), -s * (x - px) + c * (y - py)) for x, y in points])
 
         assigned = self.tracks.step(t, z, det.kinds, hidden, blocked)
+        if self.tracks.confirmed_now:
+            assigned = self._reidentify(t, assigned)
         tracks = self.tracks.tracks
         if self.scans % 50 == 0:
             alive = {tk.id for tk in tracks}
@@ -744,6 +746,51 @@ class PersonAttention(Module):
         if row >= 0:
             self.partner = self.tracks.tracks[row].id
         return row
+
+    def _could_be(self, t: float, seen: float, x: float, y: float, colour: tuple[float, float, float] | None, tk: Any) -> bool:
+        """Could track ``tk`` be the person last seen at ``seen`` at (``x``, ``y``) (odom) wearing ``colour``?
+        The reacquisition rule (:meth:`_reacquire`): within ``reacquire_radius`` plus ``reacquire_speed``
+        per second unseen (at most 2.5 m), never in other clothes, and, with the colour known but the
+        track's not yet, only within ``reacquire_radius`` unless first seen within the radius."""
+        p = self.params
+        radius = min(2.5, p.reacquire_radius + p.reacquire_speed * max(0.0, t - seen))
+        theirs = self.colours.colour(tk.id, t)
+        if not same_clothes(colour, theirs):
+            return False
+        d = math.hypot(tk.x[0] - x, tk.x[1] - y)
+        if theirs is None and colour is not None and d > p.reacquire_radius:
+            return math.hypot(tk.origin[0] - x, tk.origin[1] - y) <= radius
+        return d <= radius
+
+    def _reidentify(self, t: float, assigned: list[int]) -> list[int]:
+        """Re-identification of people found again (issue 26 item 1): a track just confirmed takes the id
+        of the one dormant track (kept while its person was hidden: behind a door jamb, someone else,
+        the robot's back) whose person it could be by :meth:`_could_be` (where they were last measured
+        and their clothes; for the partner, her evidence as the leaving rule keeps it). A person
+        back in view is then the same track, not a new one: no identity switch, and a partner found
+        again stays the partner the follower follows. With two candidates it decides nothing."""
+        tr = self.tracks
+        for nid in list(tr.confirmed_now):
+            row = tr.row(nid)
+            if row < 0:
+                continue
+            new = tr.tracks[row]
+            fits = []
+            for old in tr.tracks:
+                if not (old.confirmed and old.dormant) or old.id == nid:
+                    continue
+                if old.id == self.partner and self._partner_last is not None:
+                    seen, x, y = self._partner_last[0], self._partner_last[1], self._partner_last[2]
+                    colour = self._partner_colour
+                else:
+                    seen, (x, y), colour = old.last_seen, old.last_z, self.colours.colour(old.id)
+                if self._could_be(t, seen, x, y, colour, new):
+                    fits.append(old.id)
+            if len(fits) == 1:
+                gone = tr.adopt(nid, fits[0])
+                if gone >= 0:
+                    assigned = [a - 1 if a > gone else (-1 if a == gone else a) for a in assigned]
+        return assigned
 
     def _event(self, name: str, children: tuple[etree._Element, ...] = ()) -> None:
         el = etree.Element("event", name=name)

@@ -189,6 +189,7 @@ class Tracks:
         self._t: float | None = None
         self._model: tuple[float, float, float, float] | None = None  # dt, q a, q b, q c of the last predict
         self._together: dict[tuple[int, int], float] = {}  # (older id, younger id) of confirmed tracks this close, since
+        self.confirmed_now: list[int] = []  # ids of the tracks the last step confirmed
 
     def __len__(self) -> int:
         return len(self.tracks)
@@ -246,6 +247,7 @@ class Tracks:
         if isinstance(kind, np.ndarray):
             kind = kind.tolist()
         spec = self.spec
+        self.confirmed_now = []
         before = self._t
         was = [(tk.x[0], tk.x[1]) for tk in self.tracks] if blocked is not None else None
         self.predict(t)
@@ -307,6 +309,7 @@ class Tracks:
             crowded = tk.id in twins or not tk.confirmed and any((tk.x[0] - ax) ** 2 + (tk.x[1] - ay) ** 2 < clear2 for ax, ay in anchors)
             if not tk.confirmed and not crowded and tk.hits >= spec.confirm_hits and t - tk.born <= window:
                 tk.confirmed = True
+                self.confirmed_now.append(tk.id)
             unseen = t - tk.last_seen
             dead = crowded or (
                 (not tk.confirmed and (t - tk.last_update > spec.tentative_gap + 1e-9 or t - tk.born > window))
@@ -333,6 +336,18 @@ class Tracks:
                     continue
                 self._birth_one(t, zx, zy, spec.meas_std**2)
         return assigned
+
+    def adopt(self, new_id: int, old_id: int) -> int:
+        """Re-identification: the track ``new_id`` (just confirmed) is the person of the dormant track
+        ``old_id`` found again; it takes that id and the dormant track is dropped. Returns the row
+        that was dropped (rows after it move up by one), or -1 when either id is unknown or they are one."""
+        new, old = self.row(new_id), self.row(old_id)
+        if new < 0 or old < 0 or new == old:
+            return -1
+        self.tracks[new].id = old_id
+        del self.tracks[old]
+        self.confirmed_now = [old_id if i == new_id else i for i in self.confirmed_now]
+        return old
 
     def _twins(self, t: float) -> set[int]:
         """Ids of confirmed tracks that have followed an older confirmed track closer than
