@@ -72,6 +72,7 @@ from .records import TrackRow, TracksRecord, own_document as _own_document
 from robot.partner_search import follow_search_time
 from .selection import SelectionParams, Selector
 from .tracker import Tracks, TrackerSpec
+from .visibility import hidden_points
 
 SCHEMAS = Path(__file__).resolve().parent.parent / "schemas"
 ORDERS = f"{ES_ORDERS}/person_attention"
@@ -328,7 +329,7 @@ class PersonAttention(Module):
                 self._voices = (t, any(o <= tol for o in offs), any(o > tol for o in offs))
         if bearings:
             levels = [float(s.get("level", "0")) for s in sources]
-            seen = [b for b, tk in zip(track_bearings, tracks) if tk.confirmed]
+            seen = [b for b, tk in zip(track_bearings, tracks) if tk.confirmed and not tk.dormant]
             free = [k for k in range(len(bearings)) if not match_sounds(seen, bearings[k : k + 1], self.cues.sound_tolerance)]
             if free:
                 k = max(free, key=lambda j: levels[j])
@@ -357,7 +358,7 @@ class PersonAttention(Module):
         bearings = [math.radians(float(get(r, "bearing"))) for r in rows]
         tb = bearings_from(self._robot_xy(t), self.cues.camera_offset)
         for j, i in anchor_torsos(tb, bearings, self.cues.torso_bearing_tolerance):
-            if tracks[i].confirmed:
+            if tracks[i].confirmed and not tracks[i].dormant:
                 r = rows[j]
                 self.colours.observe(tracks[i].id, (float(get(r, "r")), float(get(r, "g")), float(get(r, "b"))), t)
         if self.partner is None:
@@ -492,7 +493,24 @@ class PersonAttention(Module):
         px, py, th = pose
         c, s = math.cos(th), math.sin(th)
         z = [(px + c * x - s * y, py + s * x + c * y) for x, y in det.points]  # into odom
-        assigned = self.tracks.step(t, z, det.kinds)
+        bearings = self._bearings
+        assert bearings is not None
+
+        def hidden(points: list[tuple[float, float]]) -> list[bool]:  # tracks the laser could not see on this scan
+            robot = [(c * (x - px) + s * (y - py), -s * (x - px) + c * (y - py)) for x, y in points]
+            return hidden_points(robot, ranges, float(bearings[0]), float(bearings[1] - bearings[0]),
+                                 max_range=self.legs.max_range, offset=self.legs.offset)
+
+        blocked = None
+        if reject is not None:
+            on_plan = reject
+
+            def blocked(points: list[tuple[float, float]]) -> list[bool]:  # odom points inside a wall or raised furniture
+                return on_plan([(c * (x - px) + s * (y - py), -s * (x - px) + c * (y - py)) for x, y in points])
+
+        assigned = self.tracks.step(t, z, det.kinds, hidden, blocked)
+        if self.tracks.confirmed_now:
+            assigned = self._reidentify(t, assigned)
         tracks = self.tracks.tracks
         if self.scans % 50 == 0:
             alive = {tk.id for tk in tracks}
@@ -511,7 +529,7 @@ class PersonAttention(Module):
         cats: dict[int, int] = {}
         speaking, facing = self.speaking, self.facing
         for tk in tracks:
-            if tk.confirmed:
+            if tk.confirmed and not tk.dormant:  # a dormant track's person is out of sight: nobody to attend to
                 tid = tk.id
                 cats[tid] = (3 if facing.on(tid) else 2) if speaking.on(tid) else 1
         if self.fsm.top_down:
@@ -528,7 +546,7 @@ class PersonAttention(Module):
         self._act(t, row, bearing, dist, cats.get(selected, 0) if selected is not None else 0)
         if self.partner is not None:
             prow = self.tracks.row(self.partner)
-            if prow >= 0:
+            if prow >= 0 and not tracks[prow].dormant:  # (dormant: unseen too long to be reported where she is)
                 self._publish_partner(t, prow, bearing, dist, prow in assigned)
         self._publish_state(t)
 
@@ -569,6 +587,8 @@ class PersonAttention(Module):
         """The partner's evidence, and ``partner_lost`` by the leaving rule (:meth:`partner_left`)."""
         tr = self.tracks
         row = tr.row(self.partner) if self.partner is not None else -1
+        if row >= 0 and tr.tracks[row].dormant:
+            row = -1  # her track is kept while she is hidden, but she is unseen: as if it had died
         if row >= 0:
             tk = tr.tracks[row]
             colour = self.colours.colour(tk.id, t)
@@ -621,7 +641,7 @@ class PersonAttention(Module):
         rx, ry, _ = self._pose_at(t)
         best: tuple[int, float, int] | None = None
         for tk in self.tracks.tracks:
-            if not tk.confirmed:
+            if not tk.confirmed or tk.dormant:
                 continue
             dx, dy = rx - tk.x[0], ry - tk.x[1]
             d = math.hypot(dx, dy)
@@ -712,7 +732,7 @@ class PersonAttention(Module):
         for i, tk in enumerate(self.tracks.tracks):
             colour = self.colours.colour(tk.id, t)
             # someone in other clothes is not her, however near (a person who crossed between)
-            if tk.confirmed and same_clothes(self._partner_colour, colour):
+            if tk.confirmed and not tk.dormant and same_clothes(self._partner_colour, colour):
                 d = math.hypot(tk.x[0] - x, tk.x[1] - y)
                 # her colour known, this track's unseen: position alone, so only as near as she can have
                 # stepped unseen, not the growing radius, unless the track was born within it (four_people seed 8: a man walking past the
@@ -726,6 +746,51 @@ class PersonAttention(Module):
         if row >= 0:
             self.partner = self.tracks.tracks[row].id
         return row
+
+    def _could_be(self, t: float, seen: float, x: float, y: float, colour: tuple[float, float, float] | None, tk: Any) -> bool:
+        """Could track ``tk`` be the person last seen at ``seen`` at (``x``, ``y``) (odom) wearing ``colour``?
+        The reacquisition rule (:meth:`_reacquire`): within ``reacquire_radius`` plus ``reacquire_speed``
+        per second unseen (at most 2.5 m), never in other clothes, and, with the colour known but the
+        track's not yet, only within ``reacquire_radius`` unless first seen within the radius."""
+        p = self.params
+        radius = min(2.5, p.reacquire_radius + p.reacquire_speed * max(0.0, t - seen))
+        theirs = self.colours.colour(tk.id, t)
+        if not same_clothes(colour, theirs):
+            return False
+        d = math.hypot(tk.x[0] - x, tk.x[1] - y)
+        if theirs is None and colour is not None and d > p.reacquire_radius:
+            return math.hypot(tk.origin[0] - x, tk.origin[1] - y) <= radius
+        return d <= radius
+
+    def _reidentify(self, t: float, assigned: list[int]) -> list[int]:
+        """Re-identification of people found again (issue 26 item 1): a track just confirmed takes the id
+        of the one dormant track (kept while its person was hidden: behind a door jamb, someone else,
+        the robot's back) whose person it could be by :meth:`_could_be` (where they were last measured
+        and their clothes; for the partner, her evidence as the leaving rule keeps it). A person
+        back in view is then the same track, not a new one: no identity switch, and a partner found
+        again stays the partner the follower follows. With two candidates it decides nothing."""
+        tr = self.tracks
+        for nid in list(tr.confirmed_now):
+            row = tr.row(nid)
+            if row < 0:
+                continue
+            new = tr.tracks[row]
+            fits = []
+            for old in tr.tracks:
+                if not (old.confirmed and old.dormant) or old.id == nid:
+                    continue
+                if old.id == self.partner and self._partner_last is not None:
+                    seen, x, y = self._partner_last[0], self._partner_last[1], self._partner_last[2]
+                    colour = self._partner_colour
+                else:
+                    seen, (x, y), colour = old.last_seen, old.last_z, self.colours.colour(old.id)
+                if self._could_be(t, seen, x, y, colour, new):
+                    fits.append(old.id)
+            if len(fits) == 1:
+                gone = tr.adopt(nid, fits[0])
+                if gone >= 0:
+                    assigned = [a - 1 if a > gone else (-1 if a == gone else a) for a in assigned]
+        return assigned
 
     def _event(self, name: str, children: tuple[etree._Element, ...] = ()) -> None:
         el = etree.Element("event", name=name)
@@ -879,8 +944,10 @@ class PersonAttention(Module):
             x0, x1, x2, x3 = tk.x
             P = tk.P
             cat = cats.get(tid, 0)
+            # a dormant track (its person hidden longer than the death timeout) is kept to be found again
+            # under its id, but is not reported as a person seen (confirmed="false")
             rows.append(_row((f"t{tid}", x0, x1, x2, x3, P[0], P[1], P[4], degrees(bearing[i]), dist[i],
-                              tk.confirmed, cat >= 2, bool(cat) and facing.on(tid))))
+                              tk.confirmed and not tk.dormant, cat >= 2, bool(cat) and facing.on(tid))))
         self.bus.publish(TRACKS, TracksRecord(t, tuple(rows)))
 
     def _publish_partner(self, t: float, row: int, bearing: list[float], dist: list[float], visible: bool) -> None:
@@ -890,7 +957,7 @@ class PersonAttention(Module):
         # only); company: other confirmed people within group_radius of her (a group she may be
         # talking with). The dialog decides from both whether an utterance is addressed to it.
         r2 = self.params.group_radius ** 2
-        company = sum(1 for o in self.tracks.tracks if o.confirmed and o.id != tk.id
+        company = sum(1 for o in self.tracks.tracks if o.confirmed and not o.dormant and o.id != tk.id
                       and (o.x[0] - x[0]) ** 2 + (o.x[1] - x[1]) ** 2 <= r2)
         self.bus.publish(PARTNER, _own_document(  # as text: see _publish_tracks
             f'<partner id="t{tk.id}" bearing="{math.degrees(bearing[row]):.3f}" distance="{dist[row]:.3f}"'

@@ -47,7 +47,7 @@ for ``merge_time`` seconds are one person tracked twice: the younger is dropped 
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -83,6 +83,20 @@ class TrackerSpec:
     merge_distance: float = 0.25  # m: two confirmed tracks closer than this (no two bodies' centres are) ...
     merge_time: float = 1.5  # s: ... for this long (longer than a crossing lasts) are one person: the younger goes
     max_gate_std: float = 1.0  # m: a coasting track's position spread (and the stopped spread) is gated at most this wide
+    # s: a confirmed track whose person the laser could not see (hidden behind a wall's edge or someone
+    # else, outside its half circle: ``step``'s ``hidden``) does not count that time towards
+    # ``death_timeout``; it is dropped at the latest this long after its last evidence
+    hidden_timeout: float = 30.0
+    # m: a dormant track (unseen longer than ``death_timeout``, kept because hidden) is gated at most this
+    # wide around where it coasted to and where it was last measured: long unseen, the person is found
+    # again near there or not at all (ines' track, hidden behind a wall, took a bookshelf's corner 2.5 m
+    # off at the 1 m cap, then the partner: cross_u_pair seed 7; at 0.5 m another's track 1.5 m off took
+    # hugo: seed 4)
+    dormant_gate_std: float = 0.3
+    # m: a lone leg (the other hidden, or a table leg, a door jamb's end) feeds a track only if it lies
+    # within this spread of the prediction, however long the track coasted: the person's leg is within a
+    # leg spread of their centre, and a coasting partner's track took a jamb 1.8 m off (cross_u_pair seed 2)
+    single_gate_std: float = 0.5
 
     def __post_init__(self) -> None:
         for name in ("gate", "single_gate"):
@@ -96,7 +110,8 @@ class Track:
     entries of the symmetric 4x4 matrix row by row (00 01 02 03 11 12 13 22 23 33), its id,
     the pair/blob hits that confirm it and the times of its evidence."""
 
-    __slots__ = ("id", "x", "P", "hits", "born", "last_update", "last_strong", "last_seen", "confirmed", "last_z", "origin")
+    __slots__ = ("id", "x", "P", "hits", "born", "last_update", "last_strong", "last_seen", "confirmed", "last_z", "origin",
+                 "blind_seen", "blind_strong", "dormant")
 
     def __init__(self, track_id: int, x: list[float], P: list[float], t: float) -> None:
         self.id = track_id
@@ -109,6 +124,13 @@ class Track:
         self.confirmed = False
         self.last_z = (x[0], x[1])  # where the last measurement put the person (the "stopped" hypothesis)
         self.origin = (x[0], x[1])  # where the person was first seen (did they come from where someone vanished?)
+        # seconds since ``last_seen`` / ``last_strong`` in which the laser could not have seen the person
+        # (:mod:`.visibility`): no evidence of absence, so not counted towards the timeouts
+        self.blind_seen = 0.0
+        self.blind_strong = 0.0
+        # alive only because the person was hidden (unseen longer than ``death_timeout``): kept to be
+        # found again under the same id, but not reported as a person seen (:meth:`Tracks.step`)
+        self.dormant = False
 
     def cov(self) -> np.ndarray:
         """The full 4x4 covariance."""
@@ -167,6 +189,7 @@ class Tracks:
         self._t: float | None = None
         self._model: tuple[float, float, float, float] | None = None  # dt, q a, q b, q c of the last predict
         self._together: dict[tuple[int, int], float] = {}  # (older id, younger id) of confirmed tracks this close, since
+        self.confirmed_now: list[int] = []  # ids of the tracks the last step confirmed
 
     def __len__(self) -> int:
         return len(self.tracks)
@@ -202,15 +225,33 @@ class Tracks:
                     x[2] *= vmax / speed
                     x[3] *= vmax / speed
 
-    def step(self, t: float, z: Sequence[Sequence[float]] | np.ndarray, kind: Sequence[int] | np.ndarray) -> list[int]:
+    def step(
+        self, t: float, z: Sequence[Sequence[float]] | np.ndarray, kind: Sequence[int] | np.ndarray,
+        hidden: Callable[[list[tuple[float, float]]], list[bool]] | None = None,
+        blocked: Callable[[list[tuple[float, float]]], list[bool]] | None = None,
+    ) -> list[int]:
         """One scan: predict to ``t``, associate candidates ``z`` (M, 2, odom) of ``kind``, update,
-        give birth and bury. Returns, per candidate, the row of the track it updated (or -1)."""
+        give birth and bury. Returns, per candidate, the row of the track it updated (or -1).
+
+        ``hidden`` (optional) tells, for the tracks' predicted odom positions, which the laser could
+        not have seen on this scan (:func:`.visibility.hidden_points`): a track that gets no
+        candidate there is not counted unseen for ``death_timeout`` and the single-leg allowance
+        (up to ``hidden_timeout``). Without it every track is taken as in view.
+
+        ``blocked`` (optional) tells which odom positions nobody can stand at (inside a wall or raised
+        furniture, from the floor plan): a track no candidate fed that coasted into one stops where it
+        was before this scan's prediction. Nobody walks through a wall; a track that coasted on through
+        one (she turned along it, unseen) was metres from her when she came back into view."""
         if isinstance(z, np.ndarray):
             z = z.tolist()
         if isinstance(kind, np.ndarray):
             kind = kind.tolist()
         spec = self.spec
+        self.confirmed_now = []
+        before = self._t
+        was = [(tk.x[0], tk.x[1]) for tk in self.tracks] if blocked is not None else None
         self.predict(t)
+        dt = t - before if before is not None and t > before else 0.0
         m = len(z)
         assigned = [-1] * m
         single = [k == SINGLE for k in kind]
@@ -239,9 +280,23 @@ class Tracks:
                     tk.last_update = t
                     if t > tk.last_seen:
                         tk.last_seen = t
+                        tk.blind_seen = 0.0
                     if not single[j]:  # only pairs and blobs confirm a track
                         tk.last_strong = t
+                        tk.blind_strong = 0.0
                         tk.hits += 1
+        fed = set(assigned)
+        if was is not None and dt > 0 and tracks:
+            for i, stop in enumerate(blocked([(tk.x[0], tk.x[1]) for tk in tracks])):  # type: ignore[misc]
+                if stop and i not in fed:
+                    tk = tracks[i]
+                    tk.x = [was[i][0], was[i][1], 0.0, 0.0]
+        if hidden is not None and dt > 0 and tracks:
+            for i, h in enumerate(hidden([(tk.x[0], tk.x[1]) for tk in tracks])):
+                if h and i not in fed:
+                    tk = tracks[i]
+                    tk.blind_seen += dt
+                    tk.blind_strong += dt
         # Confirmation on repeated evidence; a tentative track that missed this scan is dropped, and
         # so is one that came within ``birth_clearance`` of a confirmed track (the same person twice).
         window = spec.confirm_window + 1e-9
@@ -254,11 +309,16 @@ class Tracks:
             crowded = tk.id in twins or not tk.confirmed and any((tk.x[0] - ax) ** 2 + (tk.x[1] - ay) ** 2 < clear2 for ax, ay in anchors)
             if not tk.confirmed and not crowded and tk.hits >= spec.confirm_hits and t - tk.born <= window:
                 tk.confirmed = True
+                self.confirmed_now.append(tk.id)
+            unseen = t - tk.last_seen
             dead = crowded or (
                 (not tk.confirmed and (t - tk.last_update > spec.tentative_gap + 1e-9 or t - tk.born > window))
-                or t - tk.last_seen > spec.death_timeout
-                or t - tk.last_strong > spec.single_support  # a table leg must not keep a track forever
+                or unseen - tk.blind_seen > spec.death_timeout  # the laser looked and saw no legs
+                or unseen > spec.hidden_timeout
+                # a table leg must not keep a track forever
+                or t - tk.last_strong - tk.blind_strong > spec.single_support
             )
+            tk.dormant = unseen > spec.death_timeout
             row_of.append(-1 if dead else len(keep))
             if not dead:
                 keep.append(tk)
@@ -276,6 +336,18 @@ class Tracks:
                     continue
                 self._birth_one(t, zx, zy, spec.meas_std**2)
         return assigned
+
+    def adopt(self, new_id: int, old_id: int) -> int:
+        """Re-identification: the track ``new_id`` (just confirmed) is the person of the dormant track
+        ``old_id`` found again; it takes that id and the dormant track is dropped. Returns the row
+        that was dropped (rows after it move up by one), or -1 when either id is unknown or they are one."""
+        new, old = self.row(new_id), self.row(old_id)
+        if new < 0 or old < 0 or new == old:
+            return -1
+        self.tracks[new].id = old_id
+        del self.tracks[old]
+        self.confirmed_now = [old_id if i == new_id else i for i in self.confirmed_now]
+        return old
 
     def _twins(self, t: float) -> set[int]:
         """Ids of confirmed tracks that have followed an older confirmed track closer than
@@ -312,8 +384,11 @@ class Tracks:
         it keeps them alive (``last_seen``) and renews the single-leg allowance (``last_strong``)."""
         for i in rows:
             tk = self.tracks[i]
-            tk.last_strong = max(tk.last_strong, t)
-            tk.last_seen = max(tk.last_seen, t)
+            if t >= tk.last_strong:
+                tk.last_strong, tk.blind_strong = t, 0.0
+            if t >= tk.last_seen:
+                tk.last_seen, tk.blind_seen = t, 0.0
+                tk.dormant = False
 
     def seen(self, rows: list[int], t: float) -> None:
         """Weak anchored evidence for tracks ``rows`` at ``t`` (the partner's voice from its bearing):
@@ -321,7 +396,9 @@ class Tracks:
         or face, so a bearing-only cue cannot hold a track whose person has gone."""
         for i in rows:
             tk = self.tracks[i]
-            tk.last_seen = max(tk.last_seen, t)
+            if t >= tk.last_seen:
+                tk.last_seen, tk.blind_seen = t, 0.0
+                tk.dormant = False
 
     # ------------------------------------------------------------ views
     def row(self, track_id: int) -> int:
@@ -416,8 +493,9 @@ def _gated(
     """
     out = []
     stopped: set[tuple[int, int]] = set()
-    cap2 = spec.max_gate_std**2
+    wide, narrow = spec.max_gate_std**2, spec.dormant_gate_std**2
     for i, tk in enumerate(tracks):
+        cap2 = narrow if tk.dormant else wide
         x0, x1 = tk.x[0], tk.x[1]
         P = tk.P
         p00, b, p11 = P[0], P[1], P[4]
@@ -437,7 +515,14 @@ def _gated(
             spread = cap2
         lx, ly = tk.last_z
         ex = extra[i] if extra else 0.0
+        dormant = tk.dormant and single is not None
+        # the spread a lone leg is gated with (capped at single_gate_std)
+        k1 = min(1.0, spec.single_gate_std**2 / max(p00, p11, 1e-12))
+        s00, s01, s11 = p00 * k1, b * k1, p11 * k1
         for j, zj in enumerate(z):
+            lone = single is not None and single[j]
+            if dormant and lone:
+                continue  # a lone leg where someone was long unseen is as likely a chair's: pairs and blobs only
             r = var[j] + ex
             a = p00 + r
             d = p11 + r
@@ -446,6 +531,9 @@ def _gated(
             dy = zj[1] - x1
             d2 = (d * dx * dx - 2 * b * dx * dy + a * dy * dy) / det
             ok = d2 <= gates[j]
+            if ok and lone and k1 < 1.0:  # gated at the capped spread, scored as before
+                a1, d1 = s00 + r, s11 + r
+                ok = (d1 * dx * dx - 2 * s01 * dx * dy + a1 * dy * dy) / (a1 * d1 - s01 * s01) <= gates[j]
             cost = d2 + math.log(det)
             if spread and not (single and single[j]):
                 s2 = r + spread
