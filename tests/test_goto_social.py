@@ -23,7 +23,7 @@ from homesim.sim import Simulation
 from robot.navigation.grid import NoPathError, OccupancyGrid, Plan2D
 from robot.navigation.local import BODY, HALF_WIDTH, LatestScan, footprint_distance
 from robot.navigation.planner import PERSON_CLEAR, Planner, social_grid
-from robot.navigation.people import BACK_GAP, standing_in_the_way
+from robot.navigation.people import BACK_GAP, passing_close, standing_in_the_way
 from robot.navigation.player import GOTO_SOCIAL_GAP, TURN_FIRST, WAIT_GAP, Player
 
 
@@ -135,7 +135,7 @@ class _Bus:
         self.sent.append((channel, el))
 
 
-def _player(goal: tuple[float, float], *, facing: bool, tracks: list[tuple[float, float]] = ()) -> Player:
+def _player(goal: tuple[float, float], *, facing: bool, tracks: list[tuple[float, ...]] = ()) -> Player:
     """A player standing at the origin facing +x with a ``move_to`` under way (no bus, no map)."""
     sim = Simulation(seed=0)
     p = Player(sim)
@@ -150,8 +150,9 @@ def _player(goal: tuple[float, float], *, facing: bool, tracks: list[tuple[float
     p._facing = facing
     p._best, p._best_t = math.inf, 0.0
     el = etree.Element("tracks", time="0", frame="odom")
-    for i, (x, y) in enumerate(tracks):
-        etree.SubElement(el, "track", id=f"t{i}", x=str(x), y=str(y), vx="0", vy="0", confirmed="true")
+    for i, (x, y, *v) in enumerate(tracks):
+        vx, vy = v if v else (0.0, 0.0)
+        etree.SubElement(el, "track", id=f"t{i}", x=str(x), y=str(y), vx=str(vx), vy=str(vy), confirmed="true")
     p.people.update(el)
     p.state = "moving"
     return p
@@ -204,3 +205,21 @@ def test_someone_standing_in_the_lane_is_waited_for_outside_their_personal_space
     assert v > 0.0  # further off it drives on (slowly, near a person)
     v, w = _player((4.0, 0.0), facing=False, tracks=[(1.0, 0.8)]).control_step()
     assert v > 0.0  # beside the lane: passed, at the window's air
+
+
+@settings(max_examples=200, deadline=None)
+@given(x=st.floats(-3.0, 3.0), y=st.floats(-2.0, 2.0), vx=st.floats(-1.2, 1.2), vy=st.floats(-1.2, 1.2))
+def test_someone_walking_by_within_arms_length_is_let_pass_and_nobody_else_stops_the_robot(x, y, vx, vy):
+    people = np.array([[x, y, vx, vy]])
+    air = footprint_distance(np.array([x]), np.array([y])) - BODY
+    got = passing_close(people, air, gap=GOTO_SOCIAL_GAP, speed=0.15)
+    assert got == (math.hypot(vx, vy) > 0.15 and x > -0.3 and float(air[0]) < GOTO_SOCIAL_GAP)
+
+
+def test_the_go_to_stands_while_someone_walks_by_it_close():
+    # Max walks past its left side, 0.185 m of air, not toward its centre (goto_standing_person seed 8:
+    # it crept on beside him); the goal straight ahead
+    v, _ = _player((4.0, 0.0), facing=False, tracks=[(0.02, 0.65, -0.7, 0.0)]).control_step()
+    assert v == 0.0
+    v, _ = _player((4.0, 0.0), facing=False, tracks=[(0.02, 1.5, -0.7, 0.0)]).control_step()
+    assert v > 0.0  # further off he does not hold it up

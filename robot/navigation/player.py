@@ -53,9 +53,9 @@ from robot.contract import BASE_CMD, DISPLAY_CMD, ES_ORDERS, ODOMETRY, PLAYER_ST
 
 from .config import Limits, limits_from_config
 from .grid import MapError, parse_map
-from .local import HALF_LENGTH, HALF_WIDTH, Command, DWAParams, LatestScan, carrot, dwa, heading_speed, social_speed_limit, sweep_clearance, turn_clear
+from .local import HALF_LENGTH, HALF_WIDTH, Command, DWAParams, LatestScan, carrot, dwa, footprint_distance, heading_speed, social_speed_limit, sweep_clearance, turn_clear
 from .outline import FloorOutline
-from .people import BACK_GAP, BODY_RADIUS, People, behind_clear, closing_in, maybe_behind, nearest, standing_in_the_way
+from .people import BACK_GAP, BODY_RADIUS, People, behind_clear, closing_in, maybe_behind, nearest, passing_close, standing_in_the_way
 
 ORDERS = f"{ES_ORDERS}/player"
 #: m: how far ahead on the leg the controller steers (pure pursuit).
@@ -421,8 +421,10 @@ class Player(Module):
                                                           travel=cmd.v * self.period, gap=WAIT_GAP):
             # someone stands in its lane: wait outside their personal space (a replan may find a way round)
             cmd = Command(0.0, 0.0, False, cmd.clearance)
-        if cmd.ok and cmd.v > 0.0 and closing_in(moving, near=YIELD_NEAR, speed=YIELD_SPEED):
-            # someone near walks at it: stand and let them pass (yield), turning on the spot at most
+        if cmd.ok and cmd.v > 0.0 and (closing_in(moving, near=YIELD_NEAR, speed=YIELD_SPEED) or passing_close(
+                moving, footprint_distance(moving[:, 0], moving[:, 1]) - BODY_RADIUS, gap=BACK_GAP, speed=YIELD_SPEED)):
+            # someone near walks at it, or by it inside their personal space (BACK_GAP, 0.45 m of air; the
+            # tracker misplaces people by a decimetre): stand and let them pass (yield), turning on the spot at most
             cmd = Command(0.0, cmd.w if abs(cmd.v) < 0.02 else 0.0, True, cmd.clearance)
         if cmd.ok and abs(cmd.v) > 0.02:
             self._stuck_since = None
