@@ -26,8 +26,10 @@ def test_someone_lost_from_view_is_maybe_behind_exactly_while_they_could_have_wa
     people = People()
     people.update(tracks(10.0, ("t1", x, y, speed)))
     people.update(tracks(10.1))  # the track vanished (walking or standing)
-    got = maybe_behind(people, (0.0, 0.0, 0.0), 10.1 + dt, reach=reach)
-    expected = dt <= LOST_MAX and math.hypot(x, y) <= reach + WALK * dt
+    now = 10.1 + dt
+    got = maybe_behind(people, (0.0, 0.0, 0.0), now, reach=reach)
+    since = now - 10.1  # as the clock has it (10.1 + 10.0 - 10.1 is a hair over 10.0)
+    expected = since <= LOST_MAX and math.hypot(x, y) <= reach + WALK * since
     assert got == expected
 
 

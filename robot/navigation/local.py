@@ -88,9 +88,22 @@ def scan_points(ranges: np.ndarray, min_angle: float, resolution: float, max_ran
     pts = np.column_stack((offset + r[keep] * cos_all[::stride][keep], r[keep] * sin_all[::stride][keep]))
     if not bodies:
         return pts
-    centres = narrow_clusters(r_all, a_all, max_range, trig=(cos_all, sin_all))
-    if not len(centres):
+    d = leg_discs(r_all, a_all, max_range, offset, trig=(cos_all, sin_all))
+    if not len(d):
         return pts
+    rx = (d[:, 0:1] + d[:, 2:3] * _RING_COS[None, :]).ravel()
+    ry = (d[:, 1:2] + d[:, 2:3] * _RING_SIN[None, :]).ravel()
+    return np.concatenate((pts, np.column_stack((rx, ry))))
+
+
+def leg_discs(r_all: np.ndarray, a_all: np.ndarray, max_range: float, offset: float, *,
+              trig: tuple[np.ndarray, np.ndarray] | None = None) -> np.ndarray:
+    """(K, 3) robot-frame discs (x, y, radius) the narrow clusters of a scan stand for: a pair of legs
+    is a body of :data:`BODY_RING` m round their middle, a lone cluster (a leg hiding the other, a
+    table leg) :data:`LONE_RING` m (``r_all``, ``a_all``: every beam's range and angle, radians)."""
+    centres = narrow_clusters(r_all, a_all, max_range, trig=trig)
+    if not len(centres):
+        return np.zeros((0, 3))
     cx = offset + centres[:, 0] * np.cos(centres[:, 1])
     cy = centres[:, 0] * np.sin(centres[:, 1])
     discs = []  # (x, y, radius): a pair of legs is a body between them, a lone cluster a smaller disc
@@ -104,10 +117,7 @@ def scan_points(ranges: np.ndarray, min_angle: float, resolution: float, max_ran
         else:
             used[j] = True
             discs.append(((cx[i] + cx[j]) / 2, (cy[i] + cy[j]) / 2, BODY_RING))
-    d = np.array(discs)
-    rx = (d[:, 0:1] + d[:, 2:3] * _RING_COS[None, :]).ravel()
-    ry = (d[:, 1:2] + d[:, 2:3] * _RING_SIN[None, :]).ravel()
-    return np.concatenate((pts, np.column_stack((rx, ry))))
+    return np.array(discs)
 
 
 _RING = np.linspace(0.0, 2 * math.pi, 10, endpoint=False)
@@ -204,10 +214,23 @@ class LatestScan:
     def __init__(self) -> None:
         self._msg: Any = None
         self._points = np.zeros((0, 2))
+        self._raw: Any = None  # the latest scan message, for :meth:`bodies`
 
     def update(self, msg: Any) -> None:
         """Keep ``msg`` (a scan Message: XML attributes and the ``ranges`` attachment)."""
         self._msg = msg
+        self._raw = msg
+
+    def bodies(self) -> np.ndarray:
+        """(K, 2) robot-frame centres of the people (pairs of legs, :func:`leg_discs`) in the latest scan."""
+        msg = self._raw
+        if msg is None:
+            return np.zeros((0, 2))
+        x = msg.xml
+        r = np.asarray(msg.attachments["ranges"], dtype=float)
+        a, c, s = _beams(math.radians(float(x.get("min_angle"))), math.radians(float(x.get("resolution"))), len(r))
+        d = leg_discs(r, a, float(x.get("max_range")), float(x.get("offset")), trig=(c, s))
+        return d[d[:, 2] >= BODY_RING - 1e-9, :2] if len(d) else np.zeros((0, 2))
 
     def points(self) -> np.ndarray:
         """The latest scan as (N, 2) robot-frame points (computed once per scan)."""

@@ -23,7 +23,11 @@ has been blocked a while): the echoes of the next laser scan
 (``/robot/laser/scan``, legs inflated to bodies) within :data:`LOCAL_RANGE` m
 that the floor plan does not explain (more than :data:`UNMAPPED` m from every
 mapped obstacle) are marked in a copy of the grid, a local costmap, and the
-path to the same goal is planned again from the latest pose. The answer has
+path to the same goal is planned again from the latest pose. The people in
+that scan (pairs of legs) get their space on it (:func:`social_grid`): the path
+keeps the robot's centre :data:`PERSON_CLEAR` m from theirs (what the player's
+dynamic window drives past), and further where the room allows; where no such
+way exists it keeps only their bodies clear. The answer has
 ``replan="true"``: a path round the obstacle, or ``failed`` when there is
 none (one door, a person standing in it), and then the sequencer just keeps
 waiting until its timeout.
@@ -48,7 +52,9 @@ from robot.contract import ES_CONDITIONS, PLAN, POSE, REPLAN, SCAN
 
 from .config import Limits, limits_from_config
 from .grid import MapError, NoPathError, OccupancyGrid, parse_map, path_length
-from .local import LatestScan
+from .local import BODY, HALF_WIDTH, LatestScan
+from .player import GOTO_SOCIAL_GAP
+from .route import body_points
 
 CONDITIONS = f"{ES_CONDITIONS}/planner"
 #: m: laser echoes further than this from the robot are not marked when replanning.
@@ -56,6 +62,18 @@ LOCAL_RANGE = 3.0
 #: m: an echo this much clear of every mapped obstacle is something the map does not hold.
 UNMAPPED = 0.10
 SCHEMA = Path(__file__).resolve().parent.parent / "schemas" / "navigation" / "plan.xsd"
+#: m: how near a path's centre line may come to a person's centre on a replan: their body
+#: (:data:`~robot.navigation.local.BODY`), the go-to's air to it (the player's GOTO_SOCIAL_GAP) and
+#: the footprint's half width. A path any nearer is one the player's window will not drive: it stood
+#: blocked beside Ida for 14 s in goto_standing_person seed 2, replanned three times past her at 0.55 m.
+PERSON_CLEAR = BODY + GOTO_SOCIAL_GAP + HALF_WIDTH
+
+
+def social_grid(grid: OccupancyGrid, people: np.ndarray) -> OccupancyGrid:
+    """``grid`` with a disc round each person (map-frame centres, (K, 2)) such that its free cells keep
+    the robot's centre :data:`PERSON_CLEAR` m from them; the grid's clearance cost then keeps paths a
+    further ``soft`` m off them where there is room (personal space, not just the body)."""
+    return grid.with_obstacles(body_points(people, radius=max(PERSON_CLEAR - grid.radius, 0.0), cell=grid.cell))
 
 
 def place_title(place: etree._Element | None) -> str | None:
@@ -226,10 +244,27 @@ class Planner(Module):
         if self.pose is None or self.grid is None or not len(pts):
             return np.zeros((0, 2))
         pts = pts[np.hypot(pts[:, 0], pts[:, 1]) <= LOCAL_RANGE]
+        return self._unmapped(self._to_map(pts))
+
+    def people(self) -> np.ndarray:
+        """Map-frame centres ((K, 2)) of the people (pairs of legs) in the latest scan within
+        :data:`LOCAL_RANGE` m whom the floor plan does not explain."""
+        pts = self.scan.bodies()
+        if self.pose is None or self.grid is None or not len(pts):
+            return np.zeros((0, 2))
+        pts = pts[np.hypot(pts[:, 0], pts[:, 1]) <= LOCAL_RANGE]
+        return self._unmapped(self._to_map(pts))
+
+    def _to_map(self, pts: np.ndarray) -> np.ndarray:
+        assert self.pose is not None
         x, y, th = self.pose
         c, s = math.cos(th), math.sin(th)
-        mp = np.column_stack((x + c * pts[:, 0] - s * pts[:, 1], y + s * pts[:, 0] + c * pts[:, 1]))
+        return np.column_stack((x + c * pts[:, 0] - s * pts[:, 1], y + s * pts[:, 0] + c * pts[:, 1]))
+
+    def _unmapped(self, mp: np.ndarray) -> np.ndarray:
+        """The map-frame points of ``mp`` more than :data:`UNMAPPED` m from every mapped obstacle."""
         g = self.grid
+        assert g is not None
         i = np.floor((mp[:, 0] - g.origin[0]) / g.cell).astype(int)
         j = np.floor((mp[:, 1] - g.origin[1]) / g.cell).astype(int)
         inside = (i >= 0) & (i < g.nx) & (j >= 0) & (j < g.ny)
@@ -238,15 +273,27 @@ class Planner(Module):
         return mp[keep]
 
     def replan(self) -> list[tuple[float, float]] | None:
-        """Plan to the last goal again round the unmapped echoes of the latest scan; publish the answer."""
+        """Plan to the last goal again round the unmapped echoes of the latest scan; publish the answer.
+
+        People in the scan (pairs of legs) get their space on the plan (:func:`social_grid`): a path
+        the player's window may drive, past them with :data:`~robot.navigation.player.GOTO_SOCIAL_GAP`
+        of air and more where the room allows. Only where there is none (a person in a door of the
+        only way) the plan keeps just their body clear, as before, and the player waits.
+        """
         assert self.goal is not None and self.grid is not None and self.pose is not None
         title, place = self.goal
         grid = self.grid.with_obstacles(self.unmapped())
+        people = self.people()
         try:
-            points = grid.plan(self.pose[:2], place[:2])
-        except NoPathError as e:
-            self._publish(title, [], failed=e.reason, replan=True)
-            return None
+            if not len(people):
+                raise NoPathError("nobody in the scan", "no_people")
+            points = social_grid(grid, people).plan(self.pose[:2], place[:2])
+        except NoPathError:
+            try:
+                points = grid.plan(self.pose[:2], place[:2])
+            except NoPathError as e:
+                self._publish(title, [], failed=e.reason, replan=True)
+                return None
         self._publish(title, points, theta=place[2], replan=True)
         return points
 

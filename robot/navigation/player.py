@@ -12,7 +12,10 @@ Orders arrive on ``/robot/es/orders/player`` (docs/robot-contract.md):
   It steers at a point 0.7 m ahead on the leg (pure pursuit: the leg starts
   where the previous ``move_to`` ended, or where the robot stood), so it keeps
   to the planned line through doorways; a goal more than 60 degrees off its
-  heading is turned to on the spot first; when that is impossible (stopped
+  heading is turned to on the spot first (a leg that starts where the robot stands, the first of a
+  plan or a replan, already when it is more than :data:`TURN_FIRST` off: an arc from standing swings
+  it off the line, into a door jamb); a turn on the spot never swings a corner into a tracked
+  person's body (:func:`~robot.navigation.local.turn_clear`); when that is impossible (stopped
   close in front of something) it backs off up to 0.3 m the way it came, never toward a person
   tracked behind it, and not at all while someone the tracker lost sight of in the last 10 s could
   have walked behind it since (the laser does not look behind). Near people (the attention's
@@ -50,9 +53,9 @@ from robot.contract import BASE_CMD, DISPLAY_CMD, ES_ORDERS, ODOMETRY, PLAYER_ST
 
 from .config import Limits, limits_from_config
 from .grid import MapError, parse_map
-from .local import HALF_LENGTH, HALF_WIDTH, Command, DWAParams, LatestScan, carrot, dwa, heading_speed, social_speed_limit, sweep_clearance
+from .local import HALF_LENGTH, HALF_WIDTH, Command, DWAParams, LatestScan, carrot, dwa, footprint_distance, heading_speed, social_speed_limit, sweep_clearance, turn_clear
 from .outline import FloorOutline
-from .people import BACK_GAP, BODY_RADIUS, People, behind_clear, closing_in, maybe_behind, nearest
+from .people import BACK_GAP, BODY_RADIUS, People, behind_clear, closing_in, maybe_behind, nearest, passing_close, standing_in_the_way
 
 ORDERS = f"{ES_ORDERS}/player"
 #: m: how far ahead on the leg the controller steers (pure pursuit).
@@ -61,6 +64,10 @@ LOOKAHEAD = 0.7
 BACK_OFF = 0.3
 #: rad: a goal further off the heading than this has to be turned to (see :func:`heading_speed`).
 BACK_OFF_BEARING = math.pi / 3
+#: rad: the carrot of a leg that starts where the robot stands, further off its heading than this, is
+#: turned to on the spot before the robot drives: an arc begun 47 degrees off swung it 8 cm off the
+#: leg, its corner to a door jamb, where it stood wedged and backed off (goto_l_flat seeds 7, 9)
+TURN_FIRST = math.radians(30)
 #: s, m, m: standing this long with something within WEDGED_GAP of the footprint and nobody within WEDGED_PERSON
 #: (a footprint corner at a door jamb, no arc that gets it through), it backs off too.
 WEDGED = 1.0
@@ -69,6 +76,9 @@ WEDGED_GAP = 0.15
 #: m: air the go-to keeps to a tracked person's body: the 0.25 m the robot promises (SOCIAL_GAP) and the
 #: few centimetres by which the tracker misplaces someone standing (goto_standing_person passed Ida 0.244 m off)
 GOTO_SOCIAL_GAP = 0.30
+#: m: air the go-to leaves to someone standing in its lane when it stops to wait (people.standing_in_the_way):
+#: outside their personal space (0.45 m, BACK_GAP) by the few centimetres the tracker misplaces them
+WAIT_GAP = BACK_GAP + 0.05
 #: m, m/s: with someone this near walking toward its centre faster than this, it stands (yields)
 YIELD_NEAR = 1.6
 YIELD_SPEED = 0.15
@@ -182,6 +192,7 @@ class Player(Module):
         self._map_asked = False
         self._aligning: float | None = None  # m backed off to make room for the final turn (None: not there yet)
         self._turning = False  # the final turn has begun (its whole sweep was clear)
+        self._facing = False  # turning to face a first leg before driving it (see TURN_FIRST)
 
     def respawn(self) -> Player:
         """A fresh instance with the same configuration (what a process manager's restart gives)."""
@@ -210,6 +221,8 @@ class Player(Module):
                 self.leg_start = (prev[0], prev[1])
             else:
                 self.leg_start = (here[0], here[1])
+            # a leg from where the robot stands (a plan's or a replan's first) is faced before it drives
+            self._facing = prev is None or self.leg_start != (prev[0], prev[1])
             self._reached = None
             self.goal = (x, y, th, tol, pose.get("align") == "true")
             self._listen_to_people(True)
@@ -390,10 +403,28 @@ class Player(Module):
         limits = self.limits if cap >= self.limits.max_speed else replace(self.limits, max_speed=cap)  # a hard limit
         bearing = math.atan2(local[1], local[0])
         v_pref = heading_speed(min(cap, 0.25 + 0.6 * dist), bearing)
+        if self._facing and abs(bearing) > TURN_FIRST:
+            # the first leg, from where it stood (facing anywhere), is turned to on the spot first: a
+            # forward arc while turning swings the robot off the planned line, into a door jamb
+            # (goto_l_flat seeds 7, 9). At a corner between legs it arcs on: it comes along the line,
+            # and a turn on the spot swings the rear corners through ground the laser does not see
+            limits = replace(limits, max_speed=0.0)
+        elif abs(bearing) <= TURN_FIRST:
+            self._facing = False
         # everyone's space: wait at a polite distance, never at the body
         cmd = dwa(self.odo.v, self.odo.w, local, points, limits, v_pref=v_pref, params=self._goto_params, people=people)
-        if cmd.ok and cmd.v > 0.0 and closing_in(moving, near=YIELD_NEAR, speed=YIELD_SPEED):
-            # someone near walks at it: stand and let them pass (yield), turning on the spot at most
+        if cmd.ok and abs(cmd.v) < 0.02 and cmd.w != 0.0 and not turn_clear(cmd.w, people, duration=SWEEP_TIME):
+            # the window lets any turn on the spot pass people (nobody comes nearer the centre), but the
+            # corners swing out, behind too, where the laser does not look: not into a tracked body
+            cmd = Command(0.0, 0.0, False, cmd.clearance)
+        if cmd.ok and cmd.v > 0.0 and standing_in_the_way(moving, half_length=HALF_LENGTH, half_width=HALF_WIDTH,
+                                                          travel=cmd.v * self.period, gap=WAIT_GAP):
+            # someone stands in its lane: wait outside their personal space (a replan may find a way round)
+            cmd = Command(0.0, 0.0, False, cmd.clearance)
+        if cmd.ok and cmd.v > 0.0 and (closing_in(moving, near=YIELD_NEAR, speed=YIELD_SPEED) or passing_close(
+                moving, footprint_distance(moving[:, 0], moving[:, 1]) - BODY_RADIUS, gap=BACK_GAP, speed=YIELD_SPEED)):
+            # someone near walks at it, or by it inside their personal space (BACK_GAP, 0.45 m of air; the
+            # tracker misplaces people by a decimetre): stand and let them pass (yield), turning on the spot at most
             cmd = Command(0.0, cmd.w if abs(cmd.v) < 0.02 else 0.0, True, cmd.clearance)
         if cmd.ok and abs(cmd.v) > 0.02:
             self._stuck_since = None
