@@ -165,10 +165,18 @@ class Lexicon:
             else:
                 if i + 1 < n and words[i + 1] == "POSS":  # "sarah's cup": whoever owns it is named
                     toks.append(Tok("NAME", words[i], words[i]))
+                elif i + 1 < n and words[i + 1] == "room" and toks and toks[-1].type in _NAMING:
+                    # "the craft room", "my sewing room": a room she names with a word the lexicon lacks
+                    # is a place, named in her words
+                    toks.append(Tok("PLACE", f"{words[i]} room", f"{words[i]} room"))
+                    i += 2
+                    continue
                 else:
                     unknown.append(words[i])
                 i += 1
         toks = _owners(toks)
+        toks = _things(toks, unknown)
+        toks = _named_rooms(toks)
         toks = _sides(toks)
         out = Tokens(toks, unknown, words=n, raw=_compounds(list(toks)))
         out.tokens = _repairs(out.tokens, out.corrected)
@@ -177,6 +185,49 @@ class Lexicon:
         out.tokens = _restatements(out.tokens, out.corrected)
         out.tokens = _compounds(out.tokens)
         return out
+
+
+#: Words before a room she names ("the reading room", "my sewing room", "anna's blue room"): not "a"
+#: ("a lovely room", "a big room" evaluate a room, they name none).
+_NAMING = frozenset({"THE", "MY", "OUR", "POSS"})
+#: Words that make a room's name with "room" after them: a noun, a use, a colour ("the breakfast room",
+#: "the reading room", "the blue room").
+_ROOM_NAMERS = frozenset({"OBJ", "USE", "COLOUR"})
+
+
+#: What "thing" refers with: a deixis and the words that describe it ("that red thing", "this thing here").
+_THING_AFTER = frozenset({"THIS", "THAT", "IT", "COLOUR", "ATTR"})
+
+
+def _things(toks: list[Tok], unknown: list[str]) -> list[Tok]:
+    """"Thing" is what she points at only after a deixis or its describing words ("that red thing is my
+    backpack"); elsewhere ("to thing is my toy", the recogniser's "to" for "this") it says nothing the
+    grammar can use: a word not understood, as before it was in the lexicon."""
+    out: list[Tok] = []
+    for i, t in enumerate(toks):
+        if t.type == "THING":
+            k = i - 1
+            while k >= 0 and toks[k].type in ("COLOUR", "ATTR"):
+                k -= 1
+            if k < 0 or toks[k].type not in _THING_AFTER:
+                unknown.append(t.text)
+                continue
+        out.append(t)
+    return out
+
+
+def _named_rooms(toks: list[Tok]) -> list[Tok]:
+    """A noun, a use or a colour before "room" after an article or owner names a room: one PLACE in her
+    words ("the drawing room" is no drawing, "the reading room" no reading lamp)."""
+    out: list[Tok] = []
+    for t in toks:
+        if (t.type == "ROOM" and len(out) >= 2 and out[-1].type in _ROOM_NAMERS
+                and out[-2].type in _NAMING | {"NAME"}):
+            prev = out.pop()
+            out.append(Tok("PLACE", f"{prev.text} {t.text}", f"{prev.text} {t.text}"))
+            continue
+        out.append(t)
+    return out
 
 
 #: "left" after "have", "I", "did", "we" is the verb ("where could I have left my bag").
