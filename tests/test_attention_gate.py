@@ -97,3 +97,20 @@ def test_candidates_inside_a_wall_are_dropped_and_people_against_it_kept(x1, y1,
     d = thickness / 2 + off
     outside = (x1 + s * ux + side * d * nx, y1 + s * uy + side * d * ny)
     assert legs.inside_points([inside, outside]) == [True, False]
+
+
+@settings(max_examples=150, deadline=None)
+@given(
+    x0=st.floats(-5, 5), y0=st.floats(-5, 5), w=st.floats(0.3, 2.5), d=st.floats(0.3, 1.0),
+    u=st.floats(0.0, 1.0), v=st.floats(0.0, 1.0), off=st.floats(0.05, 1.0), side=st.sampled_from(range(4)),
+)
+def test_candidates_inside_furniture_on_the_floor_are_dropped_and_people_beside_it_kept(x0, y0, w, d, u, v, off, side):
+    """A cabinet's corner seen at an angle is a leg-sized segment whose centre lies inside the cabinet
+    (four_people seeds 3 and 5: confirmed as a person); a leg 5 cm or more beside it is a person's."""
+    from robot.floorplan import MapObstacle
+
+    cab = MapObstacle("cabinet", "shelf", ((x0, y0), (x0 + w, y0), (x0 + w, y0 + d), (x0, y0 + d)), 0.0, 1.0)
+    legs = FurnitureLegs(FloorPlan(walls=(), obstacles=(cab,), rooms=(), start=(0.0, 0.0, 0.0)))
+    inside = (x0 + 0.001 + u * (w - 0.002), y0 + 0.001 + v * (d - 0.002))
+    beside = [(x0 - off, y0 + v * d), (x0 + w + off, y0 + v * d), (x0 + u * w, y0 - off), (x0 + u * w, y0 + d + off)][side]
+    assert legs.inside_points([inside, beside]) == [True, False]
