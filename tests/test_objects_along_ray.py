@@ -209,3 +209,16 @@ def test_asked_by_depth_from_the_far_side_the_one_closer_to_the_robot_is_stored_
     assert s["verdict"] == "PASS"
     (bottle,) = s["learned"]["objects"]
     assert math.hypot(float(bottle["x"]) - 3.0, float(bottle["y"]) - 2.25) < 0.1
+
+
+def test_a_garbled_box_extent_never_validates() -> None:
+    """The box's width and height are numbers in the strict lexical form every other number of the
+    camera's messages has (libxml2 alone takes "1e" for a double: the schema's mutation property drew it)."""
+    from homesim.xmlio import load_schema
+    from robot.contract import SCHEMA_DIR
+
+    schema = load_schema(SCHEMA_DIR / "hardware" / "camera-objects.xsd")
+    good = '<objects time="1" pan="0" tilt="0"><object type="cup" bearing="1" distance="1" r="0.1" g="0.1" b="0.1" width="{w}" height="{h}"/></objects>'
+    assert schema.is_valid(etree.fromstring(good.format(w="1.5", h="0.75")))
+    for w, h in (("1e", "1"), ("1", "1e"), ("1", "-2"), ("1", "1,5")):
+        assert not schema.is_valid(etree.fromstring(good.format(w=w, h=h))), (w, h)
