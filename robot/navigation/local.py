@@ -437,6 +437,30 @@ def turn_clear(w: float, people: np.ndarray, *, duration: float) -> bool:
     return bool(np.all(gaps.min(axis=0) >= np.minimum(gaps[0], TURN_GAP) - 1e-3))
 
 
+#: m and rad: the largest step of a command's sweep between the poses :func:`people_sweep_clear` checks
+#: (a corner 0.33 m out moves under 2 cm per 0.05 rad)
+SWEEP_STEP = 0.02
+SWEEP_TURN_STEP = 0.05
+
+
+def people_sweep_clear(v: float, w: float, people: np.ndarray, *, duration: float, gap: float = SOCIAL_GAP) -> bool:
+    """Whether the footprint swept by (``v``, ``w``) held ``duration`` s keeps ``gap`` m from every body
+    (``people``: (P, 2) robot-frame centres), or, from a body closer than that already, no nearer than now.
+
+    Per body, and with poses as dense as the sweep needs at any turn rate (:data:`SWEEP_STEP`,
+    :data:`SWEEP_TURN_STEP`): the dynamic window's six poses over 1.6 s are 0.45 rad apart at
+    1.4 rad/s, and it exempts turns on the spot, so its give-way command swung a corner into the
+    partner 0.6-0.9 m away (u_catch_up_slow seed 5). Standing still is always clear."""
+    if not len(people) or (v == 0.0 and w == 0.0):
+        return True
+    n = max(5, math.ceil(abs(w) * duration / SWEEP_TURN_STEP), math.ceil(abs(v) * duration / SWEEP_STEP))
+    x, y, th = arcs(np.array([v]), np.array([w]), np.linspace(0.0, duration, n + 1))
+    c, s = np.cos(th[0])[:, None], np.sin(th[0])[:, None]
+    dx, dy = people[None, :, 0] - x[0][:, None], people[None, :, 1] - y[0][:, None]
+    gaps = footprint_distance(c * dx + s * dy, -s * dx + c * dy) - BODY  # (n + 1, P); row 0 is now
+    return bool(np.all(gaps.min(axis=0) >= np.minimum(gaps[0], gap) - 1e-3))
+
+
 def social_mask(x: np.ndarray, y: np.ndarray, th: np.ndarray, people: np.ndarray,
                 v: np.ndarray | None = None, *, gap: float = SOCIAL_GAP) -> tuple[np.ndarray, np.ndarray]:
     """Which arcs (rows of the (K, S) poses) respect people's space, and each arc's smallest gap to a body.
