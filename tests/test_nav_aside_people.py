@@ -15,7 +15,7 @@ from lxml import etree
 
 from robot.navigation.config import Limits
 from robot.navigation.follow import SWEEP_TIME, Follower
-from robot.navigation.local import BODY, TURN_GAP, DWAParams, LatestScan, arcs, footprint_distance, people_sweep_clear
+from robot.navigation.local import BODY, SOCIAL_GAP, TURN_GAP, DWAParams, LatestScan, arcs, footprint_distance, people_sweep_clear
 from robot.navigation.people import People
 
 
@@ -98,3 +98,23 @@ def test_people_sweep_clear_agrees_with_a_dense_reference(v, w, p, gap):
         assert not ok
     if ok:
         assert worst >= -3e-3
+
+
+@settings(max_examples=300, deadline=None)
+@given(her=st.tuples(st.floats(0.5, 1.0), st.floats(-math.pi, math.pi)), w=st.floats(-math.radians(100), math.radians(100)),
+       other=st.none() | polar)
+def test_backing_off_while_turning_to_her_never_swings_a_corner_into_a_body(her, w, other):
+    """The wait backs off (0.2 m/s) turning to face her: the command kept (u_catch_up_slow seed 5:
+    backing at 1.75 rad/s toward her as she walked up touched her) keeps its swept footprint SOCIAL_GAP
+    from every body or no nearer than now; a turn alone is left to turn_clear (v 0)."""
+    f = _stepping_aside((her[0] * math.cos(her[1]), her[0] * math.sin(her[1])), (1.0, 0.0), 0.0, 0.0, None)
+    pts = [(her[0] * math.cos(her[1]), her[0] * math.sin(her[1]))]
+    if other is not None:
+        pts.append((other[0] * math.cos(other[1]), other[0] * math.sin(other[1])))
+    bodies = np.array(pts)
+    v, w2 = f._back_off_clear(-0.2, w, bodies, np.zeros((0, 2)))
+    if v == 0.0:
+        assert w2 == w
+        return
+    g = _gaps(v, w2, bodies, SWEEP_TIME)
+    assert np.all(g.min(axis=0) >= np.minimum(g[0], SOCIAL_GAP) - 2e-3), (v, w2, g.min(axis=0), g[0])

@@ -501,6 +501,8 @@ class Follower(Module):
             w = max(-self.limits.max_turn, min(self.limits.max_turn, 1.8 * bearing))
             v = v_des if v_des < 0 and self.can_back_off() else 0.0
             v, w = self._swept(v, w, mapped)
+            if v != 0.0:
+                v, w = self._back_off_clear(v, w, self._bodies(rx, ry), mapped)
             if v == 0.0 and w != 0.0:  # turning to her: no corner swung into her (she may stand close) or anyone
                 w = w if turn_clear(w, self._bodies(rx, ry), duration=SWEEP_TIME) else 0.0
             state = "waiting"
@@ -661,6 +663,20 @@ class Follower(Module):
         v_pref = heading_speed(GIVE_WAY_SPEED, math.atan2(gy, gx))
         cmd = dwa(self.v, self.w, (gx, gy), pts, limits, v_pref=v_pref, params=self.params, people=people)
         return self._aside_clear(cmd.v, cmd.w, self._bodies(rx, ry), pts)
+
+    def _back_off_clear(self, v: float, w: float, bodies: np.ndarray, mapped: np.ndarray) -> tuple[float, float]:
+        """Backing off while turning to face her, made safe against everyone's body (``bodies``, robot
+        frame, hers included): the footprint swept :data:`SWEEP_TIME` s keeps
+        :data:`~robot.navigation.local.SOCIAL_GAP` from each, or no nearer than now
+        (:func:`~robot.navigation.local.people_sweep_clear`); else straight back, else the turn alone
+        (held to :func:`~robot.navigation.local.turn_clear` by the caller). Backing at 0.2 m/s while
+        turning at 1.75 rad/s toward her as she walked up swung a front corner into her
+        (u_catch_up_slow seed 5, 92.44 s): the wait's turn was checked only when it stood."""
+        if people_sweep_clear(v, w, bodies, duration=SWEEP_TIME):
+            return v, w
+        if w != 0.0 and self._swept(v, 0.0, mapped) == (v, 0.0) and people_sweep_clear(v, 0.0, bodies, duration=SWEEP_TIME):
+            return v, 0.0
+        return self._swept(0.0, w, mapped)
 
     def _aside_clear(self, v: float, w: float, bodies: np.ndarray, pts: np.ndarray) -> tuple[float, float]:
         """The dynamic window's give-way command (``v``, ``w``) made safe against everyone's body
