@@ -48,6 +48,8 @@ def _wedged_follower(track_x: float) -> Follower:
     f.seen = SeenGround()
     f.scan = LatestScan()
     f._stuck_since = 10.0 - STUCK_TIME - 0.1
+    f._stuck_at = f.odom  # no progress since then (the wedge rule)
+    f._unstick_until = -math.inf
     f.people = People()
     tracks = etree.Element("tracks", time="10.0", frame="odom")
     etree.SubElement(tracks, "track", id="t7", x=str(track_x), y="0.0", vx="0", vy="0", confirmed="true")

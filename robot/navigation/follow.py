@@ -54,7 +54,7 @@ Control, every ``1/rate`` seconds:
   a wall), and turns to face it, so it sees round the corner or past the person in between.
   Status ``searching``.
 * Lost: not seen for ``search_time`` s (6 s; longer when she was last seen beyond the band, by the
-  time it takes to drive the gap at ``search_speed``, at most 15 s: :mod:`robot.partner_search`):
+  time it takes to drive the gap at 0.4 m/s or its lower top speed, at most 15 s: :mod:`robot.partner_search`):
   it stops (the attention's ``partner_lost``, by the same rule with its ``follow_lost_after`` = the
   same 6 s, makes the ES stop the player and the dialog ask).
 * Inside the flat: it never drives its front out of the floor plan's rooms (the map's ``<room>``
@@ -95,8 +95,8 @@ from robot.contract import ATTENTION_STATE, BASE_CMD, ES_EVENTS, FOLLOW_STATUS, 
 
 from .config import Limits
 from .grid import MapError, OccupancyGrid, parse_map
-from .local import (SOCIAL_GAP, DWAParams, LatestScan, arcs, carrot, dwa, footprint_distance, heading_speed, people_gaps,
-                    social_speed_limit, sweep_clearance, turn_clear)
+from .local import (SOCIAL_GAP, TURN_GAP, DWAParams, LatestScan, arcs, carrot, dwa, footprint_distance, heading_speed,
+                    people_gaps, people_sweep_clear, social_speed_limit, sweep_clearance, turn_clear)
 from .giveway import NARROW, back_out_spot, give_way_spot, reverse_command
 from .people import People, behind_clear, nearest
 from .route import Route
@@ -378,7 +378,7 @@ class Follower(Module):
         beyond the band (it fell behind yielding to people crossing; :mod:`robot.partner_search`,
         the rule the attention's leaving rule reads too)."""
         # the rule's own band end and speed, as the attention reads it: one rule, not two settings of it
-        return follow_search_time(self._seen_distance, base=self.search_time)
+        return follow_search_time(self._seen_distance, base=self.search_time, top_speed=self.limits.max_speed)
 
     # ------------------------------------------------------------- control
     def _to_robot(self, px: float, py: float) -> tuple[float, float]:
@@ -501,6 +501,8 @@ class Follower(Module):
             w = max(-self.limits.max_turn, min(self.limits.max_turn, 1.8 * bearing))
             v = v_des if v_des < 0 and self.can_back_off() else 0.0
             v, w = self._swept(v, w, mapped)
+            if v != 0.0:
+                v, w = self._back_off_clear(v, w, self._bodies(rx, ry), mapped)
             if v == 0.0 and w != 0.0:  # turning to her: no corner swung into her (she may stand close) or anyone
                 w = w if turn_clear(w, self._bodies(rx, ry), duration=SWEEP_TIME) else 0.0
             state = "waiting"
@@ -648,9 +650,9 @@ class Follower(Module):
             # who is not seen for a while): turn towards her, then go on aside; not while a corner
             # would swing into her or anyone
             w = max(-self.limits.max_turn, min(self.limits.max_turn, 1.8 * bearing))
-            near = self.people.around(self.odom, self.now)
-            bodies = np.concatenate((near[:, :2], [(rx, ry)])) if len(near) else np.array([(rx, ry)])
-            return self._swept(0.0, w, mapped) if turn_clear(w, bodies, duration=SWEEP_TIME) else (0.0, 0.0)
+            bodies = self._bodies(rx, ry)
+            v, w = self._swept(0.0, w, mapped)
+            return (v, w) if people_sweep_clear(v, w, bodies, duration=SWEEP_TIME, gap=TURN_GAP) else (0.0, 0.0)
         pts = self.scan.points()
         if len(mapped):
             pts = np.concatenate((pts, mapped))
@@ -660,7 +662,41 @@ class Follower(Module):
         limits = replace(self.limits, max_speed=min(self.limits.max_speed, GIVE_WAY_SPEED))
         v_pref = heading_speed(GIVE_WAY_SPEED, math.atan2(gy, gx))
         cmd = dwa(self.v, self.w, (gx, gy), pts, limits, v_pref=v_pref, params=self.params, people=people)
-        return cmd.v, cmd.w
+        return self._aside_clear(cmd.v, cmd.w, self._bodies(rx, ry), pts)
+
+    def _back_off_clear(self, v: float, w: float, bodies: np.ndarray, mapped: np.ndarray) -> tuple[float, float]:
+        """Backing off while turning to face her, made safe against everyone's body (``bodies``, robot
+        frame, hers included): the footprint swept :data:`SWEEP_TIME` s keeps
+        :data:`~robot.navigation.local.SOCIAL_GAP` from each, or no nearer than now
+        (:func:`~robot.navigation.local.people_sweep_clear`); else straight back, else the turn alone
+        (held to :func:`~robot.navigation.local.turn_clear` by the caller). Backing at 0.2 m/s while
+        turning at 1.75 rad/s toward her as she walked up swung a front corner into her
+        (u_catch_up_slow seed 5, 92.44 s): the wait's turn was checked only when it stood."""
+        if people_sweep_clear(v, w, bodies, duration=SWEEP_TIME):
+            return v, w
+        if w != 0.0 and self._swept(v, 0.0, mapped) == (v, 0.0) and people_sweep_clear(v, 0.0, bodies, duration=SWEEP_TIME):
+            return v, 0.0
+        return self._swept(0.0, w, mapped)
+
+    def _aside_clear(self, v: float, w: float, bodies: np.ndarray, pts: np.ndarray) -> tuple[float, float]:
+        """The dynamic window's give-way command (``v``, ``w``) made safe against everyone's body
+        (``bodies``, robot frame, the partner's included): its footprint swept :data:`SWEEP_TIME` s, at
+        poses dense enough for any turn rate, keeps :data:`~robot.navigation.local.SOCIAL_GAP` from each
+        (:data:`~robot.navigation.local.TURN_GAP` turning on the spot), or no nearer than now
+        (:func:`~robot.navigation.local.people_sweep_clear`). The window checks people at six poses over
+        1.6 s and exempts turns on the spot: giving way forwards at 1.4 rad/s with the partner
+        0.6-0.9 m away, a corner touched her (u_catch_up_slow seed 5). Gentler turns first (they swing
+        the corners less), kept off the laser's echoes and the floor plan (``pts``); else it stands."""
+        here = sweep_clearance(0.0, 0.0, pts, 0.0, steps=1) if len(pts) else math.inf
+        for k, cand in enumerate(((v, w), (v, w / 2), (v, w / 4), (v, 0.0))):
+            if cand == (0.0, 0.0):
+                break
+            if k and not sweep_allowed(cand[0], cand[1], pts, here):
+                continue  # the window's own choice is already kept off the echoes
+            if people_sweep_clear(cand[0], cand[1], bodies, duration=SWEEP_TIME,
+                                  gap=TURN_GAP if cand[0] == 0.0 else SOCIAL_GAP):
+                return cand
+        return 0.0, 0.0
 
     def _back_out(self, goal: tuple[float, float], partner: tuple[float, float], mapped: np.ndarray) -> tuple[float, float]:
         """Reversing along a back-out path (``goal``: its pure-pursuit point, robot frame): slowly, the
@@ -674,16 +710,14 @@ class Follower(Module):
         if v < 0.0 and not behind_clear(people, length=FOOTPRINT[0], width=FOOTPRINT[1], reach=BACK_REACH):
             v = 0.0
         bodies = np.concatenate((people[:, :2], [partner])) if len(people) else np.array([partner])
-        now = float(people_gaps(np.zeros(1), np.zeros(1), np.zeros(1), bodies)[0])
         here = sweep_clearance(0.0, 0.0, mapped, 0.0, steps=1) if len(mapped) else math.inf
-        t = np.linspace(0.0, SWEEP_TIME, 6)
         for cand in ((v, w), (v, w / 2), (v, w / 4), (v, 0.0), (0.0, w)):  # gentler turns swing the front less
             if cand == (0.0, 0.0):
                 continue
             if not sweep_allowed(cand[0], cand[1], mapped, here):
                 continue
-            x, y, th = arcs(np.array([cand[0]]), np.array([cand[1]]), t)
-            if float(people_gaps(x[0], y[0], th[0], bodies).min()) < min(now, SOCIAL_GAP) - 1e-3:
+            # per body and at poses dense enough for the turn rate (six over 0.5 s missed corners)
+            if not people_sweep_clear(cand[0], cand[1], bodies, duration=SWEEP_TIME):
                 continue
             return cand
         return 0.0, 0.0

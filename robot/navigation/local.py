@@ -448,16 +448,35 @@ def dwa(v0: float, w0: float, goal: tuple[float, float], points: np.ndarray, lim
 def turn_clear(w: float, people: np.ndarray, *, duration: float) -> bool:
     """Whether turning on the spot at ``w`` rad/s for ``duration`` s keeps the footprint's corners
     :data:`TURN_GAP` from every body (``people``: (P, 2) robot-frame centres), or no nearer than now."""
-    if not len(people):
-        return True
     # per body: someone already pressed against it (or a track misplaced onto it) must not make a
     # turn into anyone else clear (a global minimum did: cross_studio_four seed 0, a corner swung
-    # into a man held up beside it while a ghost track lay on the robot)
-    th = w * np.linspace(0.0, duration, 6)
-    c, s = np.cos(th)[:, None], np.sin(th)[:, None]
-    px, py = people[:, 0][None, :], people[:, 1][None, :]
-    gaps = footprint_distance(c * px + s * py, -s * px + c * py) - BODY  # (6, P); row 0 is now
-    return bool(np.all(gaps.min(axis=0) >= np.minimum(gaps[0], TURN_GAP) - 1e-3))
+    # into a man held up beside it while a ghost track lay on the robot); at poses dense enough for
+    # the turn rate (six over 0.5 s let a corner move 6 cm between them at 1.75 rad/s)
+    return people_sweep_clear(0.0, w, people, duration=duration, gap=TURN_GAP)
+
+
+#: m and rad: the largest step of a command's sweep between the poses :func:`people_sweep_clear` checks
+#: (a corner 0.33 m out moves under 2 cm per 0.05 rad)
+SWEEP_STEP = 0.02
+SWEEP_TURN_STEP = 0.05
+
+
+def people_sweep_clear(v: float, w: float, people: np.ndarray, *, duration: float, gap: float = SOCIAL_GAP) -> bool:
+    """Whether the footprint swept by (``v``, ``w``) held ``duration`` s keeps ``gap`` m from every body
+    (``people``: (P, 2) robot-frame centres), or, from a body closer than that already, no nearer than now.
+
+    Per body, and with poses as dense as the sweep needs at any turn rate (:data:`SWEEP_STEP`,
+    :data:`SWEEP_TURN_STEP`): the dynamic window's six poses over 1.6 s are 0.45 rad apart at
+    1.4 rad/s, and it exempts turns on the spot, so its give-way command swung a corner into the
+    partner 0.6-0.9 m away (u_catch_up_slow seed 5). Standing still is always clear."""
+    if not len(people) or (v == 0.0 and w == 0.0):
+        return True
+    n = max(5, math.ceil(abs(w) * duration / SWEEP_TURN_STEP), math.ceil(abs(v) * duration / SWEEP_STEP))
+    x, y, th = arcs(np.array([v]), np.array([w]), np.linspace(0.0, duration, n + 1))
+    c, s = np.cos(th[0])[:, None], np.sin(th[0])[:, None]
+    dx, dy = people[None, :, 0] - x[0][:, None], people[None, :, 1] - y[0][:, None]
+    gaps = footprint_distance(c * dx + s * dy, -s * dx + c * dy) - BODY  # (n + 1, P); row 0 is now
+    return bool(np.all(gaps.min(axis=0) >= np.minimum(gaps[0], gap) - 1e-3))
 
 
 def social_mask(x: np.ndarray, y: np.ndarray, th: np.ndarray, people: np.ndarray,
