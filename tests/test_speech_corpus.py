@@ -39,16 +39,20 @@ def understood_share(rows: list[tuple[str, str]]) -> float:
 
 
 HELD_OUT = ("heldout.tsv", "heldout-2.tsv", "heldout-3.tsv", "heldout-4.tsv")
+# heldout-5.tsv (fresh7, the outside checker) was written without reading the grammar, the lexicon or
+# tuning.tsv; it is kept apart and well formed like the others, and its rate is measured and reported
+# (the README in the corpus folder), not held to the 9-in-10 line here.
+ALL_HELD_OUT = (*HELD_OUT, "heldout-5.tsv")
 
 
 def test_the_corpus_has_500_utterances_and_a_fifth_held_out():
-    tuning, held = _rows("tuning.tsv"), [r for name in HELD_OUT for r in _rows(name)]
+    tuning, held = _rows("tuning.tsv"), [r for name in ALL_HELD_OUT for r in _rows(name)]
     assert len(tuning) + len(held) >= 500
     assert len(held) / (len(tuning) + len(held)) >= 0.2
 
 
 def test_the_held_out_slices_share_no_utterance_with_the_tuning_part_or_each_other():
-    words = [{w for w, _ in _rows(name)} for name in ("tuning.tsv", *HELD_OUT)]
+    words = [{w for w, _ in _rows(name)} for name in ("tuning.tsv", *ALL_HELD_OUT)]
     assert sum(map(len, words)) == len(set().union(*words))
 
 
@@ -63,7 +67,7 @@ def test_held_out_phrasings_are_understood_about_nine_times_in_ten(name):
 
 
 def test_every_expected_frame_is_well_formed():
-    for name in ("tuning.tsv", *HELD_OUT):
+    for name in ("tuning.tsv", *ALL_HELD_OUT):
         for words, frame in _rows(name):
             if frame != "NOT_UNDERSTOOD":
                 el = etree.fromstring(frame)
