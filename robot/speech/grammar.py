@@ -164,8 +164,16 @@ class Understander:
             res.corrected += [t.text for t in toks[: len(toks) - len(tail)]]
             toks = tail
         tree, ignored, partial = self._parse(toks)
-        guess = False  # an object teaching rebuilt from a lost first word
-        if toks[0].type in ("IS", "ARE") and len(toks) > 1 and (tree is None or partial):
+        guess = False  # an object teaching rebuilt from a lost first word, or asked as a question
+        asked = self._asked(toks)
+        if asked is not None:
+            # "is this the kitchen?", "is that my cup?": she names what she shows and asks the robot to
+            # take it up; the statement she asks about is the frame, at half the coverage, so the
+            # dialog confirms it before anything is stored (and her question said back to the robot's
+            # own "Is this the kitchen?" is that request again: it confirms)
+            tree, ignored, partial = asked, [], False
+            guess = True
+        elif toks[0].type in ("IS", "ARE") and len(toks) > 1 and (tree is None or partial):
             # "is the living room", "is my cup": not a question about an object (nobody asks a bare
             # "is my cup"), a teaching whose "this" was lost: parsed as the statement it was
             alt = self._parse([_LOST_THIS, *toks])  # whole: "is my <lost>" lost too much to guess
@@ -216,6 +224,16 @@ class Understander:
                 pass  # "alright, you can stop there, we have arrived": a whole request, then more words
             elif alt[0] is None or alt[2]:
                 alt = (None, [], True)
+                question = self._asked(toks[lead:])
+                if question is not None:  # "no, is it my laptop": the no answers, the question names it
+                    alt, asked, guess = (question, [], False), question, True
+                elif len(toks) > lead + 2 and toks[lead].type not in ("IS", "ARE"):
+                    # "right, [so→that] this room is the living room": the word after the answer misheard,
+                    # the rest a whole request or statement of its own (not an answer): it counts
+                    rest = self._parse(toks[lead + 1:])
+                    if rest[0] is not None and not rest[2] and not _guessed(rest[0]) \
+                            and tree_act(rest[0]) not in _NOT_REQUESTS:
+                        alt = (rest[0], [toks[lead].text], True)
             if alt[0] is not None and tree_act(alt[0]) not in ("yes", "no"):
                 said = {t.type for t in toks[:lead]}
                 res.answer = "no" if "NO" in said else "yes"
@@ -255,12 +273,40 @@ class Understander:
             used = len(toks)  # "hello biron, follow me": the greeting is sure; the request is not noise
             res.rest = list(ignored)
         res.coverage = used / max(1, len(toks) + len(lex.unknown)) * (0.5 if guess else 1.0)
-        why = _not_meant(tree, toks, res, [w for w in Lexicon.words(words) if w not in _SOUNDS])
+        why = _not_meant(tree, toks, res, [w for w in Lexicon.words(words) if w not in _SOUNDS], asked is not None)
         if why:
             res.frame, res.fragment, res.rest = None, False, []
             res.ignored = [t.text for t in toks]
             res.reason = why
         return res
+
+    def _asked(self, toks: list[Tok]) -> Tree | None:
+        """The teaching a yes/no question about what she shows asks about, or None.
+
+        "is this the kitchen", "is that my cup", "is this room the study", "is it the red book": the
+        copula first, then a deixis, then a place or an object named by its noun. The question is
+        parsed as the statement it asks about (the copula moved before the noun phrase): a whole
+        place or object teaching with its noun said, not of the robot's own things ("is this your
+        cup", "are these shoes yours" ask about the robot, and teach nothing), and nothing left over.
+        """
+        starts = [k for k in range(len(toks) - 2) if toks[k].type in ("IS", "ARE")
+                  and toks[k + 1].type in ("THIS", "THAT", "IT")]
+        if not starts or starts[0] != 0 or any(t.type not in ("IS", "ARE", "THIS", "THAT", "IT")
+                                               for t in toks[: starts[-1]]):
+            return None
+        toks = toks[starts[-1]:]  # "is it, is this the bedroom": the question said again counts
+        while len(toks) > 3 and toks[-1].type in ("YES", "OKAY"):
+            toks = toks[:-1]  # "is this the bathroom, right?": a tag asks for the same yes
+        at = next((k for k in range(2, len(toks)) if toks[k].type in _NP_START), None)
+        if at is None:
+            return None
+        tree, ignored, partial = self._parse([*toks[1:at], toks[0], *toks[at:]])
+        if tree is None or partial or ignored or _guessed(tree) or tree_act(tree) not in ("teach_place",
+                                                                                            "teach_object"):
+            return None
+        if any(t.type in ("YOUR", "MINE") and t.value == "robot" for t in toks):
+            return None
+        return tree
 
     def _after_negation(self, toks: list[Tok], at: int) -> list[Tok] | None:
         """What she says instead after a negated request (``toks[at]`` is its verb), or None.
@@ -379,6 +425,12 @@ class Understander:
                 # "this one here is my reading <lost>": a statement about the one she points at,
                 # its noun lost (a teaching to ask about), not the which-one answer "this one here"
                 break
+            if (tree_act(tree) == "teach_object" and any(t.type in ("IS", "ARE") for t in rest)
+                    and any(t.type == "THING" for t in toks)
+                    and not any(isinstance(c, Tree) and c.data == "object_np" for c in tree.iter_subtrees())):
+                # "this thing [here] that is my favourite red <lost>": what she says of it after the
+                # copula (owner, colour) is kept with its noun lost, rather than "this thing" alone
+                break
             return tree, [t.text for t in rest], True
         if used < 2:
             return None, ignored, True  # one word and a guessed rest is no understanding
@@ -400,6 +452,9 @@ class Understander:
         return None, ignored, True
 
 
+#: Where the noun phrase of a question's statement begins ("is this [the kitchen]", "is this room [my study]").
+#: ("is that toy there" is no such question: "that toy" is its noun phrase, and it asks where the toy is)
+_NP_START = frozenset({"A", "THE", "MY", "OUR", "NAME"})
 #: Words that answer a question before the request that follows them ("no, the kitchen").
 _ANSWER_WORDS = frozenset({"YES", "OKAY", "NO"})
 #: The "this" of a statement the recogniser lost ("[this] is my cup"): put back to parse the statement.
@@ -459,14 +514,15 @@ def _said_besides(toks: list[Tok], words: list[str]) -> list[str]:
     return [w for w in rest if w != "POSS"]
 
 
-def _not_meant(tree: Tree, toks: list[Tok], res: Understanding, words: list[str]) -> str:
+def _not_meant(tree: Tree, toks: list[Tok], res: Understanding, words: list[str], asked: bool = False) -> str:
     """Why a parse is not what she meant ("" when it is): a request heard in words that say otherwise.
 
     - "back" greets (a partner's return) and "come on" follows only said alone: "back off", "step
       back", "back please" ask the robot to move back; "oh come on", "come on, really" are exasperation.
     - "that's the spot" stops only as a whole turn with "spot"/"place": "this is the spot where I read",
       "this is the corner", "that's the view" are statements about the room.
-    - A question ("is this with me", "are these shoes yours") is never a command or a teaching.
+    - A question ("is this with me", "are these shoes yours") is never a command or a teaching, but one
+      that names what she shows ("is this the kitchen", ``asked``) asks about that teaching.
     - A stop or wait heard in a partial parse under half its words, its verb followed at once by a word it
       does not know ("stay tuned for a music": a TV), is no command: stopping a go-to on noise is worse
       than asking again.
@@ -485,12 +541,20 @@ def _not_meant(tree: Tree, toks: list[Tok], res: Understanding, words: list[str]
             and (_tokens(d)[0].type not in ("THIS", "THAT") or res.partial or res.unknown)):
         # "that there" answers which one only as the whole turn; "it there", "this here this": noise
         return "a deixis and 'here' alone point at nothing"
+    if kind == "yes" and own and own[0].type not in ("YES", "OKAY") and any(t.type in ("IS", "ARE") for t in own) \
+            and (res.partial or res.unknown):
+        # "that is exactly right", "you are correct" say yes only as the whole turn: "you are standing right
+        # where I want to go", "it is right next to the door" say where something is
+        return "a statement with 'right' in it, not a yes"
+    if kind == "teach_place" and own and own[0].type == "YOU" and _guessed(act):
+        # "you are in the kitchen" tells the robot where it is; "you are in my way" names no room
+        return "no room named"
     if kind == "stop" and any(t.type == "SPOT" for t in own):
         spot = next(t for t in own if t.type == "SPOT")
         if res.partial or res.unknown or spot.value not in _ARRIVED or _said_besides(toks, words):
             return "a spot in a statement, not a stop"
     if toks[0].type in ("IS", "ARE") and len(toks) > 1 and toks[1].type in ("THIS", "THAT", "IT") \
-            and kind != "where":
+            and kind != "where" and not asked:
         return "a question, not a request or a teaching"
     if kind in ("stop", "wait") and res.partial and res.unknown and res.coverage < 0.5:
         verb = next((t for t in own if t.type in ("STOP", "WAIT")), None)
@@ -516,6 +580,9 @@ def _small_talk(tree: Tree, obj: etree._Element, toks: list[Tok]) -> str:
         return ""
     if any(t.type == "SPOT" for t in toks):
         return "a spot in the room, not an object"
+    if any(t.type == "ROOM" for t in toks) and all(c.tag in ("GESTURE", "ATTRIBUTE") for c in obj):
+        # "this is a lovely room", "what a big room": an adjective said of the room is no object
+        return "a remark about the room, not an object"
     act = next((c for c in tree.children if isinstance(c, Tree) and c.data != "address"), None)
     np = _sub(act, "object_np") if act is not None else None
     if (act is not None and act.data == "teach_object" and np is not None and _sub(np, "det") is None
@@ -583,7 +650,10 @@ def _owner(tree: Tree | None) -> str | None:
     return None
 
 
-def _object(np: Tree | None, *, gesture: bool, position: Tree | None = None, tail: Tree | None = None) -> etree._Element:
+def _object(np: Tree | None, *, gesture: bool, position: Tree | None = None, tail: Tree | None = None,
+            shown: Tree | None = None) -> etree._Element:
+    """``OBJECT`` of a noun phrase; ``shown``: the act, whose own modifiers describe the thing she points at
+    ("that red thing is my backpack": red)."""
     if np is None:  # "look at this": the pointing says which, the scene what
         el = _E("OBJECT")
         if gesture:
@@ -598,13 +668,13 @@ def _object(np: Tree | None, *, gesture: bool, position: Tree | None = None, tai
         _S(el, "GESTURE", val="probably_pointing")
     if noun is not None and noun.value:
         _S(el, "TITLE", name=noun.text)
-    owner = _owner(tail) or _owner(_sub(np, "possessor"))
-    of = [t for t in toks if t.type == "NAME"]  # "the cup of anna"
-    if owner is None and of:
-        owner = of[-1].value
+    owner = _owner(tail) or _owner(_sub(np, "possessor")) or _owner(_sub(np, "of_owner"))  # "the cup of anna"
     if owner is not None:
         _S(el, "OWNER", name=owner)
     colours, attrs = _modifiers(np)
+    if shown is not None:
+        before = _modifiers(shown)
+        colours, attrs = before[0] + colours, list(dict.fromkeys(before[1] + attrs))
     if colours:
         _S(el, "COLOUR", name=colours[-1])
     for a in attrs:
@@ -637,11 +707,18 @@ def _position(tree: Tree) -> etree._Element:
     return pos
 
 
+#: Sides that say how far along her arm (or from whom) the one meant stands: "the nearer one", "the one
+#: in front", "the far one", "the one at the back", "the one behind it".
+DEPTH_SIDES = frozenset({"near", "front", "far", "back"})
+
+
 def _that_one(act: Tree) -> etree._Element:
     """``THAT_ONE`` (index, side, view, type; GESTURE, TITLE, COLOUR, ATTRIBUTE*, POSITION): which of several.
 
     ``view="speaker"``: a left/right said from her side ("on my left"); without it a side is the robot's
-    (the side the robot's own question named: docs/semantics.md §4)."""
+    (the side the robot's own question named: docs/semantics.md §4). A distance ("the one closer to me")
+    carries whose: ``view="speaker"`` (nearer her), ``view="addressee"`` (nearer the robot), none when
+    not said (the question's own words say from where)."""
     el = _E("THAT_ONE")
     toks = _tokens(act)
     where = _sub(act, "ref_where")
@@ -668,6 +745,11 @@ def _that_one(act: Tree) -> etree._Element:
         el.set("side", sides[-1].value)
         if speaker_view and sides[-1].value in ("left", "right"):
             el.set("view", "speaker")
+        elif sides[-1].value in DEPTH_SIDES:  # "closer to me" is nearer her, "closer to you" nearer the robot
+            if any(t.type == "ME" for t in toks):
+                el.set("view", "speaker")
+            elif any(t.type == "YOU" for t in toks):
+                el.set("view", "addressee")
     noun = next((t for t in toks if t.type == "OBJ"), None)
     if noun is not None and noun.value:
         el.set("type", noun.value)
@@ -689,12 +771,14 @@ def _that_one(act: Tree) -> etree._Element:
 
 def _place(np: Tree) -> etree._Element:
     el = _E("PLACE")
-    place = next((t for t in _tokens(np) if t.type in ("PLACE", "ROOM")), None)
+    toks = _tokens(np)
+    place = next((t for t in toks if t.type in ("PLACE", "ROOM")), None)
     if place is not None and place.value:
-        # the user's words are the name ("that's the study" is the study); the lexicon's
-        # synonyms only let the grammar know it is a place
-        _S(el, "TITLE", name=place.text)
-    owner = _owner(_sub(np, "possessor"))
+        # the user's words are the name ("that's the study" is the study, "the study room" the study
+        # room); the lexicon's synonyms only let the grammar know it is a place
+        room = next((t for t in toks if t.type == "ROOM"), None) if place.type == "PLACE" else None
+        _S(el, "TITLE", name=place.text if room is None else f"{place.text} {room.text}")
+    owner = _owner(_sub(np, "possessor")) or _owner(_sub(np, "of_owner"))  # "the room of my daughter"
     if owner is not None:
         _S(el, "OWNER", name=owner)
     return el
@@ -716,7 +800,7 @@ def build(tree: Tree) -> etree._Element:
         speech.append(_that_one(act))
     elif kind in ("teach_object", "object_fragment"):
         speech.append(_object(_sub(act, "object_np"), gesture=kind == "teach_object",  # type: ignore[arg-type]
-                              position=_sub(act, "position"), tail=_sub(act, "owner_tail")))
+                              position=_sub(act, "position"), tail=_sub(act, "owner_tail"), shown=act))
     elif kind in ("teach_place", "place_fragment"):
         speech.append(_place(_sub(act, "place_np")))  # type: ignore[arg-type]
     elif kind == "goto":

@@ -165,10 +165,18 @@ class Lexicon:
             else:
                 if i + 1 < n and words[i + 1] == "POSS":  # "sarah's cup": whoever owns it is named
                     toks.append(Tok("NAME", words[i], words[i]))
+                elif i + 1 < n and words[i + 1] == "room" and toks and toks[-1].type in _NAMING:
+                    # "the craft room", "my sewing room": a room she names with a word the lexicon lacks
+                    # is a place, named in her words
+                    toks.append(Tok("PLACE", f"{words[i]} room", f"{words[i]} room"))
+                    i += 2
+                    continue
                 else:
                     unknown.append(words[i])
                 i += 1
         toks = _owners(toks)
+        toks = _things(toks, unknown)
+        toks = _named_rooms(toks)
         toks = _sides(toks)
         out = Tokens(toks, unknown, words=n, raw=_compounds(list(toks)))
         out.tokens = _repairs(out.tokens, out.corrected)
@@ -177,6 +185,49 @@ class Lexicon:
         out.tokens = _restatements(out.tokens, out.corrected)
         out.tokens = _compounds(out.tokens)
         return out
+
+
+#: Words before a room she names ("the reading room", "my sewing room", "anna's blue room"): not "a"
+#: ("a lovely room", "a big room" evaluate a room, they name none).
+_NAMING = frozenset({"THE", "MY", "OUR", "POSS"})
+#: Words that make a room's name with "room" after them: a noun, a use, a colour ("the breakfast room",
+#: "the reading room", "the blue room").
+_ROOM_NAMERS = frozenset({"OBJ", "USE", "COLOUR"})
+
+
+#: What "thing" refers with: a deixis and the words that describe it ("that red thing", "this thing here").
+_THING_AFTER = frozenset({"THIS", "THAT", "IT", "COLOUR", "ATTR"})
+
+
+def _things(toks: list[Tok], unknown: list[str]) -> list[Tok]:
+    """"Thing" is what she points at only after a deixis or its describing words ("that red thing is my
+    backpack"); elsewhere ("to thing is my toy", the recogniser's "to" for "this") it says nothing the
+    grammar can use: a word not understood, as before it was in the lexicon."""
+    out: list[Tok] = []
+    for i, t in enumerate(toks):
+        if t.type == "THING":
+            k = i - 1
+            while k >= 0 and toks[k].type in ("COLOUR", "ATTR"):
+                k -= 1
+            if k < 0 or toks[k].type not in _THING_AFTER:
+                unknown.append(t.text)
+                continue
+        out.append(t)
+    return out
+
+
+def _named_rooms(toks: list[Tok]) -> list[Tok]:
+    """A noun, a use or a colour before "room" after an article or owner names a room: one PLACE in her
+    words ("the drawing room" is no drawing, "the reading room" no reading lamp)."""
+    out: list[Tok] = []
+    for t in toks:
+        if (t.type == "ROOM" and len(out) >= 2 and out[-1].type in _ROOM_NAMERS
+                and out[-2].type in _NAMING | {"NAME"}):
+            prev = out.pop()
+            out.append(Tok("PLACE", f"{prev.text} {t.text}", f"{prev.text} {t.text}"))
+            continue
+        out.append(t)
+    return out
 
 
 #: "left" after "have", "I", "did", "we" is the verb ("where could I have left my bag").
@@ -189,8 +240,22 @@ _BEFORE_SIDE = frozenset({"THE", "A", "THIS", "THAT", "MY", "YOUR"})  # "to my r
 _AFTER_SIDE = frozenset({"ONE", "OBJ", "COLOUR", "ATTR"})
 
 
+#: After "the one" or a noun, "behind" or "in front of it" that ends the answer ("the one behind",
+#: "the plant behind it") says which of two along her arm: the one at the back, the one in front; not a
+#: place behind a landmark ("the one behind the sofa" stays one).
+_BEHIND_AFTER = frozenset({"ONE", "OBJ"})
+_BEHIND_WHAT = frozenset({"IT", "THAT", "THIS"})
+_DEPTH_RELATIONS = {"behind": "back", "in_front_of": "front"}
+
+
 def _sides(toks: list[Tok]) -> list[Tok]:
-    """Read "right" and "back" as a side where the words around them say so."""
+    """Read "right" and "back" as a side where the words around them say so, and "behind" / "in front
+    of it" ending an answer ("the one behind", "the plant behind it") as the side "back" / "front"."""
+    for i, t in enumerate(toks):
+        depth = _DEPTH_RELATIONS.get(t.value) if t.type == "REL" else None
+        if (depth is not None and i and toks[i - 1].type in _BEHIND_AFTER
+                and (i + 1 == len(toks) or (i + 2 == len(toks) and toks[i + 1].type in _BEHIND_WHAT))):
+            return [*toks[:i], Tok("SIDE", depth, t.text)]
     for i, t in enumerate(toks):
         if t.type == "SIDE" and t.text == "left" and i and toks[i - 1].type in _LEFT_AS_PUT:
             toks[i] = Tok("PUT", "put", t.text)
