@@ -53,13 +53,15 @@ HUMAN_STOP = 0.8  # default distance to keep from a person when walking to them 
 #: profile waits for the robot to move, as before (library scenarios time that themselves).
 BLOCKED_ASKS = ((4.0, "make-way"), (12.0, "follow"))
 BLOCKED_GIVE_UP = 25.0
-#: Making way (the other direction): anyone standing in the robot's way (ahead of it within
-#: PASS_NEAR m and PASS_LANE m of its axis) who hears it ask to pass ("excuse me") steps about
-#: PASS_STEP m aside, out of its lane, faces as before and carries on with what she was doing.
+#: Making way (the other direction): the nearest person standing in the robot's way (ahead of it within
+#: PASS_NEAR m and PASS_LANE m of its axis, or beside it within PASS_BESIDE m, not behind) who hears it
+#: ask to pass ("excuse me") steps about PASS_STEP m aside, out of its lane, faces as before and carries
+#: on with what she was doing (someone further on, the partner it follows, stays).
 #: She listens every PASS_POLL s (a task of her own: her script's timing is untouched).
 PASS_WORDS = re.compile(r"\bexcuse me\b", re.IGNORECASE)
-PASS_NEAR = 2.0
+PASS_NEAR = 1.6
 PASS_LANE = 0.9
+PASS_BESIDE = 1.2
 PASS_STEP = 0.9
 PASS_POLL = 0.5
 
@@ -123,14 +125,31 @@ class Person(Actor):
                     await self.step_aside(spot)
 
     def in_the_way(self) -> tuple[float, float] | None:
-        """Where she steps to if she stands in the robot's way (ahead of it, near its axis): PASS_STEP
-        m further out from its axis on her side, else None."""
+        """Where she steps to if she stands in the robot's way (ahead of it, near its axis) and is the
+        nearest there (the one it speaks to: someone further on, the partner it follows, stays):
+        PASS_STEP m further out from its axis on her side, else None."""
         rx, ry, th = self.world.robot.pose
         x, y = self.body.position
         c, s = math.cos(th), math.sin(th)
-        along, lateral = c * (x - rx) + s * (y - ry), -s * (x - rx) + c * (y - ry)
-        if not (-0.3 < along < PASS_NEAR and abs(lateral) < PASS_LANE):
-            return None  # (beside it counts: her space may wedge it against a door's jamb)
+
+        def lane(px: float, py: float) -> tuple[float, float] | None:
+            a, lat = c * (px - rx) + s * (py - ry), -s * (px - rx) + c * (py - ry)
+            ahead = 0.0 < a < PASS_NEAR and abs(lat) < PASS_LANE
+            beside = a > -0.3 and math.hypot(a, lat) < PASS_BESIDE  # her space may wedge it against a jamb
+            return (a, lat) if ahead or beside else None
+
+        mine = lane(x, y)
+        if mine is None:
+            return None
+        d = math.hypot(x - rx, y - ry)
+        humans = getattr(self.world, "humans", {})
+        for other in humans.values():
+            if other is self.body or not other.present:
+                continue
+            ox, oy = other.position
+            if lane(ox, oy) is not None and math.hypot(ox - rx, oy - ry) < d:
+                return None  # someone nearer stands in its way: it asks them
+        along, lateral = mine
         side = 1.0 if lateral >= 0 else -1.0
         return x - s * side * PASS_STEP, y + c * side * PASS_STEP
 

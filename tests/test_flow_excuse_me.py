@@ -16,7 +16,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from homesim.tour.runner import Run, RunOptions
-from humans.person import PASS_LANE, PASS_NEAR, PASS_STEP, Person
+from humans.person import PASS_BESIDE, PASS_LANE, PASS_NEAR, PASS_STEP, Person
 
 SCENE = Path(__file__).resolve().parent / "scenarios" / "follow" / "bystander_at_door.xml"
 
@@ -36,7 +36,7 @@ def test_held_up_by_a_bystander_the_robot_asks_to_pass_and_he_steps_aside():
 
 def _person(x: float, y: float, rx: float, ry: float, th: float) -> Person:
     p = Person.__new__(Person)
-    p.world = SimpleNamespace(robot=SimpleNamespace(pose=(rx, ry, th)))
+    p.world = SimpleNamespace(robot=SimpleNamespace(pose=(rx, ry, th)), humans={})
     p.body = SimpleNamespace(position=(x, y))
     return p
 
@@ -47,7 +47,9 @@ def test_only_who_stands_in_its_way_steps_aside_and_out_of_its_lane(x, y, rx, ry
     spot = _person(x, y, rx, ry, th).in_the_way()
     c, s = math.cos(th), math.sin(th)
     along, lateral = c * (x - rx) + s * (y - ry), -s * (x - rx) + c * (y - ry)
-    if not (-0.3 < along < PASS_NEAR and abs(lateral) < PASS_LANE):
+    ahead = 0.0 < along < PASS_NEAR and abs(lateral) < PASS_LANE
+    beside = along > -0.3 and math.hypot(along, lateral) < PASS_BESIDE
+    if not (ahead or beside):
         assert spot is None  # behind it, far, or off its lane: she stays
         return
     assert spot is not None
