@@ -14,6 +14,7 @@ from collections import deque
 from pathlib import Path
 from types import SimpleNamespace
 
+import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 from lxml import etree
@@ -23,6 +24,7 @@ from robot.attention.module import AttentionParams, PersonAttention
 from robot.dialog.manager import DialogManager
 from robot.dialog.module import ASIDE, ASIDE_DISTANCE, Dialog
 from robot.dialog.loader import BIRON_DIALOGS, load
+from robot.speech.module import calls_robot, frame_message, shared_understander
 
 SCENE = Path(__file__).resolve().parent / "scenarios" / "flow" / "mutter_at_window.xml"
 DOC = load(BIRON_DIALOGS)
@@ -126,3 +128,24 @@ def test_a_report_is_kept_as_turned_aside_only_away_and_far_and_not_facing(facin
     assert (kept == ASIDE) == (away and distance >= ASIDE_DISTANCE and facing != "true")
     if kept == ASIDE:
         assert d._facing_now() == "false"  # her back turned: sides are taken as her own view's
+
+
+@settings(max_examples=200, deadline=None)
+@given(cues=CUES, state=st.sampled_from(["Interacting", "ObjectTeaching"]))
+def test_words_that_call_the_robot_by_its_name_are_for_it_even_turned_aside(cues, state):
+    # lang_names: Ben walks off to the lounge, turns round out of the camera's face range and says
+    # "BIRON please go to the lounge": his name for the robot says whom the words are for
+    d = _dialog(state, [(10.0 + 0.1 * i, f, c) for i, (f, c) in enumerate(cues)])
+    end = 10.0 + 0.1 * (len(cues) - 1)
+    if all(f == ASIDE for f, _ in cues):
+        assert d.addressed(10.0, end, named=True)
+    assert d.addressed(10.0, end) <= d.addressed(10.0, end, named=True)  # the name never makes words less addressed
+
+
+@pytest.mark.parametrize(("words", "named"), [
+    ("BIRON please go to the lounge", True), ("byron, follow me", True), ("hello biron", True),
+    ("where did I put that novel", False), ("go to the lounge", False)])
+def test_the_frame_says_when_the_words_call_the_robot_by_its_name(words, named):
+    understander = shared_understander()
+    el = frame_message(understander.understand(words), 1.0, 2.0, 0.9, calls_robot(words, understander.lexicon))
+    assert (el.get("named") == "true") == named

@@ -68,7 +68,9 @@ the utterance counts as addressed. Alone, she talks to herself (issue 26 item 3:
 that novel", searching a bookcase 2 m away) when every report during the words says ``away="true"``
 (she walked off from the robot, facing where she went, and the camera, on her face since, has not
 seen her frontal face, nor has she walked back towards it) and she stands ``ASIDE_DISTANCE`` (1.2 m)
-or further away: a partner who turns back to it, or comes back, is heard again. While the supervisor is in ``Following`` she leads with her back
+or further away and does not call the robot by its name (the speech module's ``named``: from across
+the room the camera cannot see her face turn back, but "BIRON, go to the lounge" is meant for it): a partner
+who turns back to it, or comes back, is heard again. While the supervisor is in ``Following`` she leads with her back
 to the robot, so the microphones decide instead (:meth:`Dialog._her_voice`): not addressed only when
 several sound frames during the words heard a voice and none from her direction.
 
@@ -323,12 +325,13 @@ class Dialog(Module):
         out["not_addressed"] = self.not_addressed
         return out
 
-    def addressed(self, start: float, end: float) -> bool:
+    def addressed(self, start: float, end: float, named: bool = False) -> bool:
         """The addressee rule (module docstring): is speech heard from ``start`` to ``end`` meant for
         the robot? No when no partner report in that span has her facing it, at least half have her
         turned away (``facing="false"``) and the last one too, with someone else near her; and no when
         every report has her turned aside (the attention's ``away``: she walked off and has not faced
-        the robot or come back since, at least ``ASIDE_DISTANCE`` from it): she talks to herself."""
+        the robot or come back since, at least ``ASIDE_DISTANCE`` from it) and she does not call it by
+        its name (``named``, the speech module's ``named="true"``): she talks to herself."""
         if self.manager.es_state in LEADING_STATES:
             return self._her_voice(start, end)
         if self.manager.es_state in DRIVING_STATES:
@@ -337,7 +340,10 @@ class Dialog(Module):
         if not during or any(f == "true" for f, _ in during):
             return True
         if all(f == ASIDE for f, _ in during):
-            return False  # she walked off, her back to the robot, the whole time: talking to herself
+            # she walked off, her back to the robot, the whole time: talking to herself, unless she
+            # calls it by its name ("BIRON, go to the lounge" from across the room, where the camera
+            # cannot see her face turn back)
+            return named
         away = sum(f in ("false", ASIDE) for f, _ in during)
         last_f, last_c = during[-1]
         return not (2 * away >= len(during) and last_f in ("false", ASIDE) and last_c >= 1)
@@ -392,7 +398,8 @@ class Dialog(Module):
         if self.manager.es_state in DRIVING_STATES and (x.find("SPEECH/STOP") is not None or x.find("SPEECH/WAIT") is not None):
             self._on_addressed(msg)  # anyone may stop a robot that drives on its own (safety): never dropped
             return
-        if x.tag in ("understood", "not_understood") and not self.addressed(float(x.get("start", "nan")), float(x.get("end", "nan"))):
+        if x.tag in ("understood", "not_understood") and not self.addressed(
+                float(x.get("start", "nan")), float(x.get("end", "nan")), named=x.get("named") == "true"):
             self.not_addressed += 1  # chat among the partner's group: not a request to the robot
             return
         self._on_addressed(msg)
