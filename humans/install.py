@@ -33,6 +33,8 @@ def install(stage: Any) -> dict[str, Actor]:
         traits = traits_for(spec, stage.sim.rng(f"human:{spec.name}") if spec.profile is not None else None)
         actors[spec.name] = Person(stage.world, spec, traits, stage.sim.rng(f"human:{spec.name}:acts"), streams=_streams(stage.sim, spec.name))
         stage.sim.spawn(actors[spec.name].run(), name=f"human:{spec.name}")
+        # making way when the robot asks to pass: a task of its own, so her script's timing is untouched
+        stage.sim.spawn(actors[spec.name].courtesy(), name=f"human:{spec.name}:courtesy")
     for src in stage.scenario.sources:
         actors[src.name] = Radio(stage.world, src)
         stage.sim.spawn(actors[src.name].run(), name=f"{src.kind}:{src.name}")

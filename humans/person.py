@@ -27,6 +27,7 @@ from __future__ import annotations
 
 import asyncio
 import math
+import re
 
 import numpy as np
 
@@ -52,6 +53,17 @@ HUMAN_STOP = 0.8  # default distance to keep from a person when walking to them 
 #: profile waits for the robot to move, as before (library scenarios time that themselves).
 BLOCKED_ASKS = ((4.0, "make-way"), (12.0, "follow"))
 BLOCKED_GIVE_UP = 25.0
+#: Making way (the other direction): the nearest person standing in the robot's way (ahead of it within
+#: PASS_NEAR m and PASS_LANE m of its axis, or beside it within PASS_BESIDE m, not behind) who hears it
+#: ask to pass ("excuse me") steps about PASS_STEP m aside, out of its lane, faces as before and carries
+#: on with what she was doing (someone further on, the partner it follows, stays).
+#: She listens every PASS_POLL s (a task of her own: her script's timing is untouched).
+PASS_WORDS = re.compile(r"\bexcuse me\b", re.IGNORECASE)
+PASS_NEAR = 1.6
+PASS_LANE = 0.9
+PASS_BESIDE = 1.2
+PASS_STEP = 0.9
+PASS_POLL = 0.5
 
 
 class Person(Actor):
@@ -67,6 +79,8 @@ class Person(Actor):
             self.body.speed = traits.speed
         self._looked_away = False  # her head is turned away because she looked away as she spoke
         self.blocked_walks = 0  # walks she gave up because the robot stood in her way
+        self.made_way = 0  # times she stepped out of the robot's way when it asked to pass
+        self._stepping = False  # stepping aside for the robot: her script's next walk waits for it
 
     @property
     def active(self) -> bool:
@@ -95,17 +109,81 @@ class Person(Actor):
             raise ScriptError(f"{self.name!r} at ({self.body.position[0]:.2f}, {self.body.position[1]:.2f}) cannot get there: {exc}", source=self.world.scenario.source,
                 line=act.line, element=tag) from exc
 
+    # ------------------------------------------------------------ making way
+    async def courtesy(self) -> None:
+        """Step out of the robot's way when it asks to pass (:data:`PASS_WORDS`), as people do:
+        only she who stands (not walking) ahead of it in its lane (:meth:`in_the_way`)."""
+        last = self.now
+        while True:
+            await asyncio.sleep(PASS_POLL)
+            now = self.now
+            asked = [u for u in self.world.sound.ended(last, now) if u.source == "robot" and PASS_WORDS.search(u.text)]
+            last = now
+            if asked and self.body.present and self.body.walk_speed < 1e-3 and not self._stepping:
+                spot = self.in_the_way()
+                if spot is not None:
+                    await self.step_aside(spot)
+
+    def in_the_way(self) -> tuple[float, float] | None:
+        """Where she steps to if she stands in the robot's way (ahead of it, near its axis) and is the
+        nearest there (the one it speaks to: someone further on, the partner it follows, stays):
+        PASS_STEP m further out from its axis on her side, else None."""
+        rx, ry, th = self.world.robot.pose
+        x, y = self.body.position
+        c, s = math.cos(th), math.sin(th)
+
+        def lane(px: float, py: float) -> tuple[float, float] | None:
+            a, lat = c * (px - rx) + s * (py - ry), -s * (px - rx) + c * (py - ry)
+            ahead = 0.0 < a < PASS_NEAR and abs(lat) < PASS_LANE
+            beside = a > -0.3 and math.hypot(a, lat) < PASS_BESIDE  # her space may wedge it against a jamb
+            return (a, lat) if ahead or beside else None
+
+        mine = lane(x, y)
+        if mine is None:
+            return None
+        d = math.hypot(x - rx, y - ry)
+        humans = getattr(self.world, "humans", {})
+        for other in humans.values():
+            if other is self.body or not other.present:
+                continue
+            ox, oy = other.position
+            if lane(ox, oy) is not None and math.hypot(ox - rx, oy - ry) < d:
+                return None  # someone nearer stands in its way: it asks them
+        along, lateral = mine
+        side = 1.0 if lateral >= 0 else -1.0
+        return x - s * side * PASS_STEP, y + c * side * PASS_STEP
+
+    async def step_aside(self, spot: tuple[float, float]) -> None:
+        """Walk to ``spot`` (the free spot nearest it), turn back as she faced, carry on."""
+        self._stepping = True
+        heading, head = self.body.heading, self.body.head
+        start = self.now
+        try:
+            self.log.append((start, start, f"steps aside for the robot to ({spot[0]:.2f}, {spot[1]:.2f})"))
+            await self.walk_to(Target("point", x=spot[0], y=spot[1]), speed=min(self.body.speed, 0.6), aside=True)
+            self.body.stand()
+            self.body.turn_to(heading)
+            self.body.head = head
+            self.made_way += 1
+        except NoPathError:
+            self.body.stand()  # nowhere to go: she stays where she is
+        finally:
+            self._stepping = False
+
     # ------------------------------------------------------------ walking
     def goal_of(self, target: Target) -> tuple[float, float]:
         x, y, _ = self.world.target_point(target, who=self.name)
         return x, y
 
-    async def walk_to(self, target: Target, *, stop_at: float = 0.0, speed: float | None = None) -> None:
+    async def walk_to(self, target: Target, *, stop_at: float = 0.0, speed: float | None = None, aside: bool = False) -> None:
         """Walk until within ``stop_at`` of the target (or at the nearest free spot).
 
         Raises NoPathError when walls or furniture close the goal off (the
-        person never walks through them).
+        person never walks through them). A walk of her script waits while she steps out of the
+        robot's way (``aside``: that step itself).
         """
+        while self._stepping and not aside:
+            await asyncio.sleep(PASS_POLL)
         speed = speed or self.body.speed
         if stop_at <= 0 and target.kind in ("robot", "human"):
             stop_at = self.traits.distance if target.kind == "robot" else HUMAN_STOP
@@ -147,7 +225,7 @@ class Person(Actor):
             self.body.walk_velocity(v * dx / dist, v * dy / dist)
             held = self.body.held_time
             await asyncio.sleep(t)
-            if self.handlers and await self.react():
+            if self.handlers and not aside and await self.react():
                 # she stopped to react (answer, point, step aside): on from where she is now
                 goal = where()
                 path = self.plan(goal)
@@ -160,7 +238,7 @@ class Person(Actor):
                     continue
             if self.body.held_time > held:
                 blocked += t
-                if self.traits.profile and await self._blocked(blocked, asked):
+                if self.traits.profile and not aside and await self._blocked(blocked, asked):
                     return
                 if self.traits.profile and asked < len(BLOCKED_ASKS) and blocked >= BLOCKED_ASKS[asked][0]:
                     asked += 1

@@ -142,6 +142,11 @@ class AttentionParams:
     # m: another person standing this near the partner makes a group she may be talking with
     # (published as the partner's ``company``; the dialog's addressee rule reads it, docs/attention.md)
     group_radius: float = 1.6
+    # Turned away (issue 26 item 3, the dialog's addressee rule): in Interaction a partner who walks
+    # away from the robot (``leave_speed`` or faster) faces where she goes, her back to it; she is
+    # turned away until the camera sees her frontal face or she walks towards the robot. Meanwhile the
+    # camera looks at her face instead of her hands (beyond ~1.2 m her hands stay in the image), so
+    # that it sees her turn back; the partner message says ``away="true"``.
     partner_voice_tolerance: float = math.radians(4.0)  # a direction this near the partner's bearing is her voice (beam gate)
     # Turning to a voice nobody seen explains (bottom-up, nobody selected speaks): someone greeting
     # from the side, beyond the laser's or the camera's field, or hidden from the laser:
@@ -153,6 +158,8 @@ class AttentionParams:
 
 
 _row = TrackRow._make
+#: the partner message's attribute while she is turned away (only then: the message keeps its size otherwise)
+AWAY = ' away="true"'
 
 
 def _deg(a: float) -> str:
@@ -186,6 +193,7 @@ class PersonAttention(Module):
         self.colours = Colours()  # each track's torso colour (robot.attention.appearance)
         self._partner_colour: tuple[float, float, float] | None = None  # hers, kept when her track dies
         self._partner_face: tuple[float, int, bool] | None = None  # (frame time, partner, her face in the image)
+        self.turned_away = False  # the partner walked away in Interaction, not seen facing it since (AttentionParams)
         # Where the partner was last seen (odom x, y, vx, vy; the robot's odom x, y then) and when:
         # the evidence the leaving rule reads, kept when the track itself has died.
         self._partner_last: tuple[float, float, float, float, float, float, float] | None = None
@@ -420,6 +428,7 @@ class PersonAttention(Module):
             self._partner_last = self._partner_colour = None
         self.pp_sent = None
         self._alone_since = None
+        self.turned_away = False  # (leading her in Follow she walks away from it: no turning away)
         self._listen_to_player(state == "Object")
         self._publish_state(self.now, force=True)
 
@@ -537,6 +546,7 @@ class PersonAttention(Module):
                 cats[tid] = (3 if facing.on(tid) else 2) if speaking.on(tid) else 1
         if self.fsm.top_down:
             self._top_down(t, cats)
+            self._turning_away(t)
             selected = self.partner
             if selected is None and self._searching() and self._caller is not None and cats.get(self._caller, 0) >= 2:
                 selected = self._caller  # turn to who speaks (face to the camera, beam on the voice)
@@ -630,6 +640,30 @@ class PersonAttention(Module):
                 self._new_partner(t, threes[0], "true")
         self._caller = self._find_caller(t, cats) if self.partner is None else None
         self._nobody_there(t)
+
+    def _turning_away(self, t: float) -> None:
+        """Whether the partner has turned her back on the robot (:attr:`turned_away`): in Interaction,
+        set when her track walks away from it at ``leave_speed`` or faster (a person walking faces
+        where she goes: to a shelf, to the window), cleared when her frontal face is anchored to her
+        track or she walks towards the robot as fast. The camera cannot see a turn otherwise, so while
+        it is set the camera looks at her face (:meth:`_act`). Only evidence changes it: standing
+        still, she stays as she was last seen."""
+        row = self.tracks.row(self.partner) if self.partner is not None else -1
+        if self.fsm.state != "Interaction" or row < 0:
+            self.turned_away = False
+            return
+        tk = self.tracks.tracks[row]
+        if self.facing.on(tk.id):
+            self.turned_away = False
+            return
+        rx, ry, _ = self._pose_at(t)
+        dx, dy = tk.x[0] - rx, tk.x[1] - ry
+        d = math.hypot(dx, dy)
+        radial = (tk.x[2] * dx + tk.x[3] * dy) / d if d > 1e-6 else 0.0
+        if radial >= self.params.leave_speed:
+            self.turned_away = True
+        elif radial <= -self.params.leave_speed:
+            self.turned_away = False
 
     def _find_caller(self, t: float, cats: dict[int, int]) -> int | None:
         """With no partner in Interaction (she was lost, the robot asked her to come back): the seen
@@ -817,7 +851,9 @@ class PersonAttention(Module):
             tilt = math.atan2(p.heights["face"] - p.camera_height, max(dist[row], 0.3))
         elif target in p.heights and row >= 0:
             pan = bearing[row]
-            tilt = math.atan2(p.heights[target] - p.camera_height, max(dist[row], 0.3))
+            # turned away (:meth:`_turning_away`): her face, to see her turn back to the robot
+            look = "face" if self.turned_away and self.tracks.tracks[row].id == self.partner else target
+            tilt = math.atan2(p.heights[look] - p.camera_height, max(dist[row], 0.3))
         voice = self._voice_heading(t, row, category)
         if voice is not None:  # look where the voice came from (the base turns there below)
             pan, tilt = math.remainder(voice - self._pose_at(t)[2], 2 * math.pi), math.atan2(p.heights["face"] - p.camera_height, 1.5)
@@ -966,7 +1002,7 @@ class PersonAttention(Module):
             f'<partner id="t{tk.id}" bearing="{math.degrees(bearing[row]):.3f}" distance="{dist[row]:.3f}"'
             f' x="{x[0]:.3f}" y="{x[1]:.3f}" vx="{x[2]:.3f}" vy="{x[3]:.3f}" visible="{"true" if visible else "false"}"'
             f' lost_for="{max(0.0, t - tk.last_update):.3f}" facing="{self._facing(t, tk.id, self._walks_away(t, x))}"'
-            f' company="{company}"/>'
+            f' company="{company}"{AWAY if self.turned_away else ""}/>'
         ), transfer=True)
 
     def _walks_away(self, t: float, x: Any) -> bool:

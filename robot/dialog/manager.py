@@ -42,6 +42,9 @@ from .model import Action, DialogDef, Dialogs, Fill, render
 
 #: The robot never asks the same question more than twice (issue 26: confirmations that loop).
 MAX_SAME_QUESTION = 2
+#: ... nor says the same refusal outside a sub-dialog ("Please look at me and say hello first.") more
+#: than twice in a row, with nothing else said and the supervisor's state unchanged in between
+MAX_SAME_REFUSAL = 2
 
 
 @dataclass(frozen=True, slots=True)
@@ -177,8 +180,10 @@ class DialogManager:
             "give_ups": 0, "rejections": 0, "rejections_explained": 0, "interruptions": 0, "resumptions": 0,
             "barge_ins": 0, "dropped": 0, "events_sent": 0, "ignored_frames": 0, "unhandled_conditions": 0,
             "confirmed_by_repetition": 0, "corrections": 0, "asked_twice_gave_up": 0, "max_same_question": 0, "taken_after_repairs": 0,
-            "dialogs": {},
+            "refusals_unsaid": 0, "dialogs": {},
         }
+        # (sentence, times in a row) of the last refusal said outside any sub-dialog (:meth:`on_rejected`)
+        self._refusal: tuple[str, int] | None = None
 
     # ------------------------------------------------------------------ queries
     @property
@@ -196,6 +201,8 @@ class DialogManager:
         supervisor leaves them: the person
         it asked has gone (the robot looks around again), and the next words heard, someone else's,
         must not answer its question. Returns the ids of the dialogs abandoned."""
+        if state != self.es_state:
+            self._refusal = None  # a new state: its refusal is news again
         self.es_state = state
         gone: list[str] = []
         for inst in list(reversed(self.stack)):
@@ -469,8 +476,17 @@ class DialogManager:
                     self._say(out, self.doc.rejection_text(name, reason, state), inst.d.id)
                 self.metrics["rejections_explained"] += 1
                 return out
-        self._say(out, self.doc.rejection_text(name, reason, state), "")
+        # No refusal a third time in a row (the same sentence, nothing else said, the state unchanged):
+        # words nobody can take back (a TV's "stay with us ..." heard while it looks around) would
+        # otherwise get "Please look at me and say hello first." every few seconds; she heard it twice.
+        text = self.doc.rejection_text(name, reason, state)
+        times = self._refusal[1] if self._refusal is not None and self._refusal[0] == text else 0
         self.metrics["rejections_explained"] += 1
+        if times >= MAX_SAME_REFUSAL:
+            self.metrics["refusals_unsaid"] += 1
+            return out
+        self._say(out, text, "")
+        self._refusal = (text, times + 1)
         return out
 
     def start(self, did: str, values: dict[str, Any] | None = None,
@@ -556,6 +572,7 @@ class DialogManager:
     def _say(self, out: list[Output], text: str, did: str) -> None:
         if text:
             out.append(Say(text, did))
+            self._refusal = None  # something else was said (on_rejected sets it again after its own)
 
     def _not_understood(self) -> list[Output]:
         out: list[Output] = []

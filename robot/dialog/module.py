@@ -64,7 +64,13 @@ words were spoken and ended up in a group turned to the others, so the words (he
 bystander's a few degrees beside her) are their chat.
 Looking away alone is not enough (a user speaks while glancing at a shelf), nor is company alone (a
 bystander beside a partner who faces the robot); without reports, or when the camera cannot tell,
-the utterance counts as addressed. While the supervisor is in ``Following`` she leads with her back
+the utterance counts as addressed. Alone, she talks to herself (issue 26 item 3: "where did I put
+that novel", searching a bookcase 2 m away) when every report during the words says ``away="true"``
+(she walked off from the robot, facing where she went, and the camera, on her face since, has not
+seen her frontal face, nor has she walked back towards it) and she stands ``ASIDE_DISTANCE`` (1.2 m)
+or further away and does not call the robot by its name (the speech module's ``named``: from across
+the room the camera cannot see her face turn back, but "BIRON, go to the lounge" is meant for it): a partner
+who turns back to it, or comes back, is heard again. While the supervisor is in ``Following`` she leads with her back
 to the robot, so the microphones decide instead (:meth:`Dialog._her_voice`): not addressed only when
 several sound frames during the words heard a voice and none from her direction.
 
@@ -118,6 +124,12 @@ VOICE_FRAMES = 3
 #: dB: a direction this loud is a voice for that rule (speech at 1-4 m is 50-65 dB; the hum of the
 #: flat is far below)
 VOICE_LEVEL = 40.0
+#: m: a partner turned away (the person attention's ``away``: she walked off from the robot and was not
+#: seen facing it or coming back since) this far from it or further, beyond arm's reach and the near
+#: personal zone, talks to herself, not to the robot (the addressee rule; nearer, she may show it something)
+ASIDE_DISTANCE = 1.2
+#: the partner report's facing as the addressee rule keeps it for a partner turned away that far
+ASIDE = "aside"
 #: ES states where an expired greeting met nobody: a "late" one if a potential partner was reported meanwhile
 SEEN_STATES = frozenset({"LookingAround", "PotentialPartner", "AskingForHelp"})
 #: s: a potential partner reported this long before the greeting's recorded start still counts (the
@@ -339,10 +351,13 @@ class Dialog(Module):
         out["not_addressed"] = self.not_addressed
         return out
 
-    def addressed(self, start: float, end: float) -> bool:
+    def addressed(self, start: float, end: float, named: bool = False) -> bool:
         """The addressee rule (module docstring): is speech heard from ``start`` to ``end`` meant for
-        the robot? No only when no partner report in that span has her facing it, at least half
-        have her turned away (``facing="false"``) and the last one too, with someone else near her."""
+        the robot? No when no partner report in that span has her facing it, at least half have her
+        turned away (``facing="false"``) and the last one too, with someone else near her; and no when
+        every report has her turned aside (the attention's ``away``: she walked off and has not faced
+        the robot or come back since, at least ``ASIDE_DISTANCE`` from it) and she does not call it by
+        its name (``named``, the speech module's ``named="true"``): she talks to herself."""
         if self.manager.es_state in LEADING_STATES:
             return self._her_voice(start, end)
         if self.manager.es_state in DRIVING_STATES:
@@ -350,9 +365,14 @@ class Dialog(Module):
         during = [(f, c) for t, f, c, _ in self._partner_cues if start <= t <= end]
         if not during or any(f == "true" for f, _ in during):
             return True
-        away = sum(f == "false" for f, _ in during)
+        if all(f == ASIDE for f, _ in during):
+            # she walked off, her back to the robot, the whole time: talking to herself, unless she
+            # calls it by its name ("BIRON, go to the lounge" from across the room, where the camera
+            # cannot see her face turn back)
+            return named
+        away = sum(f in ("false", ASIDE) for f, _ in during)
         last_f, last_c = during[-1]
-        return not (2 * away >= len(during) and last_f == "false" and last_c >= 1)
+        return not (2 * away >= len(during) and last_f in ("false", ASIDE) and last_c >= 1)
 
     def _her_voice(self, start: float, end: float) -> bool:
         """The addressee rule while she leads (``Following``): her back is turned, so her face tells
@@ -404,7 +424,8 @@ class Dialog(Module):
         if self.manager.es_state in DRIVING_STATES and (x.find("SPEECH/STOP") is not None or x.find("SPEECH/WAIT") is not None):
             self._on_addressed(msg)  # anyone may stop a robot that drives on its own (safety): never dropped
             return
-        if x.tag in ("understood", "not_understood") and not self.addressed(float(x.get("start", "nan")), float(x.get("end", "nan"))):
+        if x.tag in ("understood", "not_understood") and not self.addressed(
+                float(x.get("start", "nan")), float(x.get("end", "nan")), named=x.get("named") == "true"):
             self.not_addressed += 1  # chat among the partner's group: not a request to the robot
             return
         self._on_addressed(msg)
@@ -536,13 +557,16 @@ class Dialog(Module):
         if pose is not None and math.isfinite(raw) and math.isfinite(d):
             th = float(pose.get("theta", "nan")) + math.radians(raw)
             self._partner_place = (float(pose.get("x", "nan")) + d * math.cos(th), float(pose.get("y", "nan")) + d * math.sin(th))
-        self._partner_cues.append((msg.created, msg.xml.get("facing", "unknown"), int(msg.xml.get("company", "0")),
-                                   b if math.isfinite(b) else math.nan))
+        facing = msg.xml.get("facing", "unknown")
+        if facing != "true" and msg.xml.get("away") == "true" and math.isfinite(d) and d >= ASIDE_DISTANCE:
+            facing = ASIDE  # she walked off and turned her back on the robot (the addressee rule)
+        self._partner_cues.append((msg.created, facing, int(msg.xml.get("company", "0")), b if math.isfinite(b) else math.nan))
 
     def _facing_now(self) -> str:
         """The latest partner report's ``facing`` ("true", "false", "unknown"), if recent."""
         if self._partner_cues and self.now - self._partner_cues[-1][0] <= self.partner_fresh:
-            return self._partner_cues[-1][1]
+            f = self._partner_cues[-1][1]
+            return "false" if f == ASIDE else f  # her back turned: she does not face it
         return "unknown"
 
     def partner_bearing(self) -> float | None:

@@ -165,6 +165,24 @@ GIVE_WAY_STILL = 0.2
 GIVE_WAY_HELD = 1.5
 #: rad: giving way, the partner is kept within this bearing (turned to when further off)
 GIVE_WAY_BEARING = math.radians(80)
+#: Held up (issue 26, "excuse me"): it should drive after her, but someone standing (slower than
+#: GIVE_WAY_STILL) in its way, ahead within HELD_UP_NEAR m and HELD_UP_LANE m of its line to the goal,
+#: or beside it closer than HELD_UP_BESIDE m (not behind: a person's space that wedges it against a
+#: door's jamb), keeps it stopped or crawling for HELD_UP_TIME s: the ES gets ``way_blocked`` (the
+#: dialog asks to pass), at most every ``warn_every`` s; no "slow down" to her meanwhile
+HELD_UP_NEAR = 1.6
+HELD_UP_LANE = 0.6
+HELD_UP_BESIDE = 1.2
+HELD_UP_GAP = 1.0  # s: a blocker unseen this long no longer holds it up
+#: s, m: someone seen standing near it is remembered this long where the laser still has an echo within
+#: HELD_UP_ECHO m of the spot (standing still beside it, at the laser's edge, a person's track dies)
+HELD_UP_MEMORY = 10.0
+HELD_UP_ECHO = 0.3
+HELD_UP_SPEED = 0.05
+#: m/s and share: ... or crawls (slower than HELD_UP_CRAWL and than this share of the speed it should drive)
+HELD_UP_CRAWL = 0.25
+HELD_UP_SHARE = 0.5
+HELD_UP_TIME = 2.0
 
 
 def speed_law(d: float, v_radial: float, *, distance: float, band: tuple[float, float], minimum: float,
@@ -244,6 +262,10 @@ class Follower(Module):
         self._unstick_until = -math.inf  # backing out of a wedge until then
         self._history: deque[tuple[float, float, float]] = deque(maxlen=64)  # (t, d, her speed) at the limit
         self._warned_at = -math.inf
+        self._held_since: float | None = None  # since when someone standing in its way has held it up
+        self._held_last = -math.inf  # when it last saw them there
+        self._standers: deque[tuple[float, float, float]] = deque(maxlen=32)  # (t, odom x, y) of people seen standing near
+        self._excused_at = -math.inf  # when it last asked to pass (way_blocked)
         self.bus.subscribe(ATTENTION_STATE, self._on_state)
         self.bus.subscribe(PARTNER, self._on_partner)
         self.bus.subscribe(SCAN, self._on_scan)
@@ -495,6 +517,7 @@ class Follower(Module):
                 self._command(*aside)
                 self._status(d, False, "giving_way")
                 return aside
+        held = False
         if v_des <= 0.05:
             self._stuck_since, self._stuck_at, self._unstick_until = None, None, -math.inf
             # wait (or back off) facing the partner; reversing is slow and straight (no laser behind)
@@ -569,6 +592,7 @@ class Follower(Module):
                 w = 0.0
             state = "following" if cmd.ok else "waiting"
             v, w = self._unstick(v, w, mapped)
+            held = self._held_up(v, v_des, goal, px, py)
         v = self._keep_inside(v, w)
         self._command(v, w)
         if approaching:
@@ -579,7 +603,7 @@ class Follower(Module):
             self._status(d, False, "searching")
             return v, w
         at_limit = v_des >= self.limits.max_speed - 1e-6
-        self._too_fast(d, at_limit, math.hypot(tr["vx"], tr["vy"]))
+        self._too_fast(d, at_limit and not held, math.hypot(tr["vx"], tr["vy"]))
         self._status(d, at_limit, state if tr["visible"] else "searching")
         return v, w
 
@@ -851,6 +875,46 @@ class Follower(Module):
                     continue
             return cand
         return 0.0, 0.0
+
+    def _held_up(self, v: float, v_des: float, goal: tuple[float, float], px: float, py: float) -> bool:
+        """Is someone standing in its way holding it up (it should drive, it does not)? After
+        ``HELD_UP_TIME`` s of it, ``way_blocked`` goes to the ES with that person's bearing and
+        distance (the dialog says "excuse me"), at most every ``warn_every`` s."""
+        blocker = None
+        if v_des > HELD_UP_SPEED and v < min(HELD_UP_CRAWL, HELD_UP_SHARE * v_des) and self.odom is not None:
+            n = math.hypot(*goal)
+            ux, uy = (goal[0] / n, goal[1] / n) if n > 1e-6 else (1.0, 0.0)
+            standing = self.people.around(self.odom, self.now, exclude=self.partner_id, near=(px, py), standing=GIVE_WAY_STILL)
+            ox, oy, oth = self.odom
+            c, s = math.cos(oth), math.sin(oth)
+            here = [(float(x), float(y)) for x, y in standing[:, :2]] if len(standing) else []
+            for x, y in here:
+                if math.hypot(x, y) < HELD_UP_NEAR:
+                    self._standers.append((self.now, ox + c * x - s * y, oy + s * x + c * y))
+            while self._standers and self.now - self._standers[0][0] > HELD_UP_MEMORY:
+                self._standers.popleft()
+            echoes = self.scan.points()
+            for _, sx, sy in self._standers:  # remembered where the laser still sees something
+                x, y = self._to_robot(sx, sy)
+                if len(echoes) and float(np.min(np.hypot(echoes[:, 0] - x, echoes[:, 1] - y))) < HELD_UP_ECHO:
+                    here.append((x, y))
+            for x, y in here:
+                along, lateral = x * ux + y * uy, abs(x * uy - y * ux)
+                ahead = 0.0 < along < HELD_UP_NEAR and lateral < HELD_UP_LANE
+                beside = along > -0.3 and math.hypot(x, y) < HELD_UP_BESIDE
+                if (ahead or beside) and (blocker is None or math.hypot(x, y) < blocker[0]):
+                    blocker = (math.hypot(x, y), float(x), float(y))
+        if blocker is None:
+            return False
+        if self._held_since is None or self.now - self._held_last > HELD_UP_GAP:
+            self._held_since = self.now  # (gaps shorter than HELD_UP_GAP are bridged: a track beside it flickers at the laser's edge)
+        self._held_last = self.now
+        if self.now - self._held_since >= HELD_UP_TIME and self.now - self._excused_at >= self.warn_every:
+            self._excused_at = self.now
+            _, x, y = blocker
+            self.bus.publish(ES_EVENTS, etree.Element("event", name="way_blocked", bearing=f"{math.degrees(math.atan2(y, x)):.1f}",
+                                                      distance=f"{math.hypot(x, y):.2f}"))
+        return True
 
     def _too_fast(self, d: float, at_limit: bool, speed: float = 0.0) -> None:
         """Warn (``partner_too_fast``) when she walks away faster than the robot can drive: at its

@@ -51,6 +51,7 @@ from robot.contract import FRAMES, SPEAKER_STATUS, SPEECH
 
 if TYPE_CHECKING:  # the grammar (lark, the lexicon, the LALR tables) is loaded at the first utterance
     from .grammar import Understander, Understanding
+    from .lexicon import Lexicon
 
 FRAMES_XSD = Path(__file__).resolve().parent.parent / "schemas" / "speech-frames.xsd"
 
@@ -74,17 +75,29 @@ def _xml_safe(text: str) -> str:
     return _NOT_XML.sub("", text)
 
 
-def frame_message(u: Understanding, start: float, end: float, confidence: float) -> etree._Element:
-    """The frames-channel element for one understanding."""
+def calls_robot(words: str, lexicon: Lexicon) -> bool:
+    """Whether ``words`` call the robot by its name ("BIRON, go to the lounge"): a word the lexicon
+    lists as the robot's name (ROBOTNAME). The dialog's addressee rule takes such words as meant for
+    the robot whichever way the speaker faces (docs/semantics.md, the addressee rule)."""
+    return any(lexicon.entries.get((w,), ("", ""))[0] == "ROBOTNAME" for w in lexicon.words(words))
+
+
+def frame_message(u: Understanding, start: float, end: float, confidence: float, named: bool = False) -> etree._Element:
+    """The frames-channel element for one understanding; ``named``: the words call the robot by its
+    name (:func:`calls_robot`), said as ``named="true"``."""
     if u.frame is None:
         el = etree.Element("not_understood", start=f"{start:.6f}", end=f"{end:.6f}", confidence=f"{confidence:.3f}",
                            reason=u.reason)
         if u.unknown:
             el.set("unknown", _xml_safe(" ".join(u.unknown)))
+        if named:
+            el.set("named", "true")
         el.text = _xml_safe(u.words)
         return el
     conf = confidence * u.coverage
     el = etree.Element("understood", start=f"{start:.6f}", end=f"{end:.6f}", confidence=f"{conf:.3f}")
+    if named:
+        el.set("named", "true")
     for attr, words in (("unknown", u.unknown), ("ignored", u.ignored), ("corrected", u.corrected)):
         if words:
             el.set(attr, _xml_safe(" ".join(words)))
@@ -234,4 +247,5 @@ class SpeechUnderstanding(Module):
         u = self.understander.understand(words)
         self.counts["utterances"] += 1
         self.counts["understood" if u.frame is not None else "not_understood"] += 1
-        self.bus.publish(FRAMES, frame_message(u, start, end, confidence), causes=(cause,), transfer=True)
+        named = calls_robot(words, self.understander.lexicon)
+        self.bus.publish(FRAMES, frame_message(u, start, end, confidence, named), causes=(cause,), transfer=True)
