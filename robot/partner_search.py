@@ -6,13 +6,17 @@ heading meanwhile and the attention's leaving rule waits as long. A robot that y
 crossing its way falls behind a partner who walks at its own top speed; when she then turns a
 corner or goes through a door it needs longer than a near follower to come where she was. So the
 time allowed grows with the distance at which she was last seen: the base time, plus the time
-to drive the gap beyond the following band at the search speed, at most a cap (a partner unseen
-that long has gone, wherever she was). Both the follower (its search) and the attention (its
+to drive the gap beyond the following band at the search speed (or the robot's own top speed,
+from its configuration, when that is lower: a robot that does 0.3 m/s needs a third longer to
+drive the gap than one that searches at 0.4 m/s), at most a cap (a partner unseen that long has
+gone, wherever she was). Both the follower (its search) and the attention (its
 ``partner_lost``) read this one rule, so the robot never stops searching before the attention
 lets her go, nor the other way round.
 """
 
 from __future__ import annotations
+
+from typing import Any
 
 #: s: unseen this long a near partner (within :data:`SEARCH_NEAR`) is lost
 SEARCH_BASE = 6.0
@@ -24,10 +28,20 @@ SEARCH_SPEED = 0.4
 SEARCH_CAP = 15.0
 
 
+def robot_top_speed(config: Any) -> float | None:
+    """The robot's top speed (m/s) from its own configuration (``run.config``: ``max_speed``), None
+    when it does not say (the base's default, above :data:`SEARCH_SPEED`, then applies)."""
+    get = config.get if isinstance(config, dict) else (lambda k, d=None: getattr(config, k, d))
+    speed = get("max_speed", None)
+    return None if speed is None else float(speed)
+
+
 def follow_search_time(distance: float, *, base: float = SEARCH_BASE, near: float = SEARCH_NEAR,
-                       speed: float = SEARCH_SPEED, cap: float = SEARCH_CAP) -> float:
+                       speed: float = SEARCH_SPEED, top_speed: float | None = None, cap: float = SEARCH_CAP) -> float:
     """Seconds a partner last seen ``distance`` m from the robot may stay unseen while it follows
-    her: ``base``, plus the time to drive the gap beyond ``near`` at ``speed``, at most ``cap``
-    (never less than ``base``)."""
+    her: ``base``, plus the time to drive the gap beyond ``near`` at ``speed`` (no faster than the
+    robot's ``top_speed`` when given), at most ``cap`` (never less than ``base``)."""
+    if top_speed is not None and 0.0 < top_speed < speed:
+        speed = top_speed
     extra = max(0.0, distance - near) / speed if distance == distance else 0.0  # NaN: no extra time
     return max(base, min(cap, base + extra))

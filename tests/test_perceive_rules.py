@@ -5,6 +5,7 @@ the object's size from the camera (issue 23 item 5)."""
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import numpy as np
 from hypothesis import example, given, settings
@@ -138,37 +139,74 @@ def test_a_partner_last_seen_outside_the_interaction_space_has_left_after_two_se
 
 
 @settings(max_examples=100, deadline=None)
-@given(d=st.floats(0.3, 8.0), speed=st.floats(0.0, 1.5), unseen=st.floats(0.0, 20.0))
-def test_while_following_she_is_lost_only_after_the_followers_search_time_unseen_wherever_she_went(d, speed, unseen):
+@given(d=st.floats(0.3, 8.0), speed=st.floats(0.0, 1.5), unseen=st.floats(0.0, 20.0), top=st.floats(0.1, 1.0))
+def test_while_following_she_is_lost_only_after_the_followers_search_time_unseen_wherever_she_went(d, speed, unseen, top):
     # she leads: out of view a moment (a door frame, someone crossing) is no evidence of leaving; the
     # follower searches where she was heading for its search time (longer when she was last seen
     # further than the band: it fell behind yielding), and the attention waits exactly as long
-    from robot.partner_search import follow_search_time
+    from dataclasses import replace
+
+    from robot.navigation.config import Limits
     from robot.navigation.follow import Follower
+    from robot.partner_search import follow_search_time
 
     pa = _attention("Follow", (0.0, d, 0.0, speed, 0.0, 0.0, 0.0))
+    pa.params = replace(pa.params, robot_top_speed=top)  # the robot's configured top speed, as install() passes it
     assert pa.params.follow_lost_after == Follower.__init__.__kwdefaults__["search_time"]
     f = Follower.__new__(Follower)  # only the rule's inputs
     # a follower set up with another band and search speed still waits as long as the attention does
     f.search_time, f.band, f.search_speed = pa.params.follow_lost_after, (1.0, 3.0), 0.2
+    f.limits = Limits(max_speed=top)
     f._seen_distance = d
-    assert f.search_for() == follow_search_time(d, base=pa.params.follow_lost_after)
+    assert f.search_for() == follow_search_time(d, base=pa.params.follow_lost_after, top_speed=top)
     assert pa.partner_left(unseen) == (unseen >= f.search_for())
 
 
 @settings(max_examples=200, deadline=None)
-@given(d=st.floats(0.0, 50.0), e=st.floats(0.0, 10.0), base=st.floats(1.0, 10.0))
-def test_the_search_for_an_unseen_partner_is_longer_the_further_behind_the_robot_was_and_bounded(d, e, base):
+@given(d=st.floats(0.0, 50.0), e=st.floats(0.0, 10.0), base=st.floats(1.0, 10.0),
+       top=st.none() | st.floats(0.05, 1.5))
+def test_the_search_for_an_unseen_partner_is_longer_the_further_behind_the_robot_was_and_bounded(d, e, base, top):
     from robot.partner_search import SEARCH_CAP, SEARCH_NEAR, SEARCH_SPEED, follow_search_time
 
-    t = follow_search_time(d, base=base)
+    t = follow_search_time(d, base=base, top_speed=top)
     assert base <= t <= max(base, SEARCH_CAP)  # never shorter than the base, never longer than the cap
-    assert follow_search_time(d + e, base=base) >= t  # further behind: at least as long
+    assert follow_search_time(d + e, base=base, top_speed=top) >= t  # further behind: at least as long
+    # the gap is driven no faster than the search speed, nor than the robot's own top speed
+    speed = SEARCH_SPEED if top is None else min(SEARCH_SPEED, top)
     if d <= SEARCH_NEAR:
         assert t == base  # a partner seen within the band: the base time
-    elif base + (d - SEARCH_NEAR) / SEARCH_SPEED <= SEARCH_CAP:
-        # long enough to drive the gap beyond the band at the search speed
-        assert t * SEARCH_SPEED >= base * SEARCH_SPEED + (d - SEARCH_NEAR) - 1e-9
+    elif base + (d - SEARCH_NEAR) / speed <= SEARCH_CAP:
+        # long enough to drive the gap beyond the band at that speed
+        assert t * speed >= base * speed + (d - SEARCH_NEAR) - 1e-9
+    # a slower robot never gets less time; one faster than the search speed gets the search speed's
+    if top is not None:
+        assert t >= follow_search_time(d, base=base) - 1e-12
+        if top >= SEARCH_SPEED:
+            assert t == follow_search_time(d, base=base)
+
+
+def test_a_robot_slower_than_the_search_speed_searches_longer_and_the_attention_is_told_its_top_speed():
+    """u_catch_up_slow: a 0.3 m/s robot 3.5 m behind needs 6.7 s, not 5 s, to drive the 2 m gap beyond the band."""
+    from types import SimpleNamespace
+
+    from robot.attention import install
+    from robot.partner_search import follow_search_time, robot_top_speed
+
+    assert math.isclose(follow_search_time(3.5, base=6.0, top_speed=0.3), 6.0 + 2.0 / 0.3)
+    assert math.isclose(follow_search_time(3.5, base=6.0), 6.0 + 2.0 / 0.4)
+    assert follow_search_time(3.5, base=6.0, top_speed=0.5) == follow_search_time(3.5, base=6.0)
+    assert robot_top_speed({"max_speed": 0.3}) == 0.3 and robot_top_speed({}) is None
+    assert robot_top_speed(SimpleNamespace(max_speed=0.25)) == 0.25
+    # the run's configuration (max-speed="0.3" on the scene's robot) reaches both readers of the rule
+    from homesim.scenario.loader import load_scenario
+    from homesim.tour.runner import Run, RunOptions
+
+    run = Run(load_scenario(Path(__file__).resolve().parent / "scenarios" / "fresh" / "u_catch_up_slow.xml"), RunOptions())
+    try:
+        assert run.modules["person_attention"].params.robot_top_speed == 0.3
+        assert run.modules["follower"].limits.max_speed == 0.3
+    finally:
+        run.close()
 
 
 # ------------------------------------------------------------ similar objects

@@ -109,6 +109,9 @@ class AttentionParams:
     # walking past the robot's side) is no evidence of leaving; the follower searches where she was
     # predicted to be meanwhile (its search_time, 6 s) and this is how long it may
     follow_lost_after: float = 6.0
+    # m/s: the robot's own top speed (its configuration, robot.partner_search.robot_top_speed; None: the
+    # base's default): a slow robot needs longer to drive the gap to where a far partner went out of view
+    robot_top_speed: float | None = None
     interaction_radius: float = 3.0  # m: last seen further from the robot than this is outside the interaction space
     leave_speed: float = 0.3  # m/s: last seen walking away from the robot at least this fast
     # m: after a loss, someone speaking while facing the robot takes the partner's place only this
@@ -690,7 +693,7 @@ class PersonAttention(Module):
         if self.fsm.state == "Follow":
             # the longer the further behind the robot was when she went out of view (it yielded
             # to people crossing its way): robot.partner_search, the follower's search time
-            return unseen >= follow_search_time(dist, base=p.follow_lost_after)
+            return unseen >= follow_search_time(dist, base=p.follow_lost_after, top_speed=p.robot_top_speed)
         if unseen < p.partner_lost_after:
             return False
         if unseen >= p.out_of_view_after:
