@@ -128,7 +128,7 @@ def test_tiny_study_end_to_end_with_two_conditions(tmp_path, capsys):
     slow robot's following rate drops, the table shows both side by side, the files are written."""
     out = tmp_path / "st"
     code = main(["study", "scenarios/radio.xml", "scenarios/follow_crossing.xml", "--seeds", "0", "--workers", "1",
-                 "--condition", "as-written", "--condition", "slow=robot.max-speed=0.15", "--out", str(out)])
+                 "--condition", "as-written", "--condition", "slow=robot.max-speed=0.08", "--out", str(out)])
     assert code == 0
     doc = json.loads((out / "study.json").read_text())
     assert len(doc["runs"]) == 4 and {r["condition"] for r in doc["runs"]} == {"as-written", "slow"}

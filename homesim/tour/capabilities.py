@@ -25,7 +25,7 @@ OBJECT_WORDS = sorted({w for words in _WORDS.values() for w in words} | set(_WOR
 
 #: The capabilities, in the order of a home tour (tables and plots use it).
 CAPABILITIES = ("greeting", "self-explanation", "place teaching", "following", "partner kept", "object teaching",
-                "where-is", "go-to", "good-bye", "no collision", "perception", "robustness", "network", "user script",
+                "where-is", "go-to", "good-bye", "conversation", "no collision", "perception", "robustness", "network", "user script",
                 "other")
 
 _EVENTS = {
@@ -40,7 +40,8 @@ _STATES = {"Interacting": "greeting", "PotentialPartner": "greeting", "Following
            "ObjectTeaching": "object teaching",
            "LookingAround": "partner kept", "TechnicalFailure": "robustness"}
 _METRICS = {"following": "following", "navigation": "go-to", "teaching": "object teaching", "tracking": "perception",
-            "social": "no collision", "network": "network"}
+            "social": "no collision", "network": "network",
+            "dialog": "conversation"}  # the dialog's own figures: no question asked a third time, ...
 #: The robot's words (robot-says patterns), first match wins.
 _SAYS = ((r"good-?bye|\bbye\b", "good-bye"),
          (r"i am biron|hello|\bhi\b", "greeting"),
