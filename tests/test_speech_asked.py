@@ -178,3 +178,9 @@ def test_a_question_is_never_a_command_and_a_teaching_it_names_is_always_confirm
     assert u.act not in ("FOLLOW", "STOP", "WAIT", "GOTO")
     if u.act in ("PLACE", "OBJECT"):
         assert u.coverage <= 0.5  # below the dialog's confirm-below (0.5) at any recogniser confidence short of 1
+
+
+@pytest.mark.parametrize("words, title", [("no no is bathroom", "bathroom"), ("no, is my cup", "cup")])
+def test_a_correction_with_its_this_lost_is_a_guess_to_confirm(words, title):
+    u = shared_understander().understand(words)  # on main 2e607e0: a plain no
+    assert u.answer == "no" and u.frame.find(".//TITLE").get("name") == title and u.coverage <= 0.5

@@ -225,8 +225,13 @@ class Understander:
             elif alt[0] is None or alt[2]:
                 alt = (None, [], True)
                 question = self._asked(toks[lead:])
+                lost = self._parse([_LOST_THIS, *toks[lead:]]) if toks[lead].type in ("IS", "ARE") else None
                 if question is not None:  # "no, is it my laptop": the no answers, the question names it
                     alt, asked, guess = (question, [], False), question, True
+                elif lost is not None and lost[0] is not None and not lost[2] \
+                        and tree_act(lost[0]) in ("teach_place", "teach_object"):
+                    # "no, no, is bathroom": the correction's "this" (or "it") lost, as "[this] is my cup" alone
+                    alt, guess = (lost[0], [toks[lead].text], True), True
                 elif len(toks) > lead + 2 and toks[lead].type not in ("IS", "ARE"):
                     # "right, [so→that] this room is the living room": the word after the answer misheard,
                     # the rest a whole request or statement of its own (not an answer): it counts
