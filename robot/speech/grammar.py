@@ -249,6 +249,12 @@ class Understander:
             # "that's it for today, goodbye": whatever else was in a closing turn, it closes
             tree, ignored, partial = self._parse([t for t in toks if t.type == "GOODBYE"])
             ignored = [t.text for t in toks if t.type != "GOODBYE"]
+        if tree is None and _room_unnamed(toks):
+            # "this is the [lost] room", "uh is the room": she names this room and its name was lost; a
+            # place with no name, so the dialog asks which room this is rather than to say it all again
+            tree, ignored, partial = self._parse([_LOST_THIS, Tok("IS", "is", ""), Tok("THE", "the", ""),
+                                                  Tok("PLACE", "", "")])
+            ignored, partial = [], True
         if tree is None:
             res.ignored = [t.text for t in toks]
             res.reason = "no parse"
@@ -595,6 +601,14 @@ def _small_talk(tree: Tree, obj: etree._Element, toks: list[Tok]) -> str:
             and obj.find("ATTRIBUTE") is not None):
         return "an evaluation, not an object named"
     return ""
+
+
+def _room_unnamed(toks: list[Tok]) -> bool:
+    """Whether ``toks`` are a statement about "the room" whose name was lost: a deixis or copula, then
+    "the"/"a" and "room" and nothing else ("this is the room", "is the room", "this the room")."""
+    kinds = [t.type for t in toks]
+    return (len(kinds) >= 3 and kinds[-2:] in (["THE", "ROOM"], ["A", "ROOM"])
+            and all(k in ("THIS", "THAT", "IT", "HERE", "IS", "ARE") for k in kinds[:-2]))
 
 
 def _declared(text: str) -> set[str]:

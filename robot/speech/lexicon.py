@@ -176,6 +176,7 @@ class Lexicon:
                 i += 1
         toks = _owners(toks)
         toks = _things(toks, unknown)
+        toks = _rooms_of(toks)
         toks = _named_rooms(toks)
         toks = _sides(toks)
         out = Tokens(toks, unknown, words=n, raw=_compounds(list(toks)))
@@ -214,6 +215,20 @@ def _things(toks: list[Tok], unknown: list[str]) -> list[Tok]:
                 continue
         out.append(t)
     return out
+
+
+def _rooms_of(toks: list[Tok]) -> list[Tok]:
+    """"The room of my daughter" is "my daughter's room": the owner said after "room" with "of" becomes the
+    possessor (the grammar then needs one form; "the room" alone stays no place's name)."""
+    for i in range(len(toks) - 3):
+        if [t.type for t in toks[i:i + 3]] == ["THE", "ROOM", "OF"]:
+            k = i + 3
+            mine = toks[k] if toks[k].type in ("MY", "OUR") else None
+            k += mine is not None or toks[k].type == "THE"
+            if k < len(toks) and toks[k].type == "NAME":
+                owner = ([mine] if mine is not None else []) + [toks[k], Tok("POSS", "poss", "POSS")]
+                return toks[:i] + owner + [toks[i + 1]] + toks[k + 1:]
+    return toks
 
 
 def _named_rooms(toks: list[Tok]) -> list[Tok]:
