@@ -335,6 +335,14 @@ def _repairs(toks: list[Tok], removed: list[str]) -> list[Tok]:
                 break
             cls = _cls(toks[end])
             start = next((k for k in range(e - 1, -1, -1) if _cls(toks[k]) == cls), None)
+            if start is None and (np := _np_at(toks, end)) is not None and toks[np[0] - 1].type != "ONE":
+                # "where is [the→uh] kettle, sorry, the bowl": the reparandum's article was lost; the repair
+                # is a noun phrase, so it replaces the nearest noun phrase of its kind before the editing term
+                k = next((k for k in range(e - 1, -1, -1) if _HEADS.get(toks[k].type) == np[1]), None)
+                if k is not None:
+                    while k > 0 and toks[k - 1].type in _NP_WORDS:
+                        k -= 1
+                    start = k
             if start is None:
                 start = e  # no aligned word: drop only the editing term(s)
             removed += [x.text for x in toks[start:end]]
