@@ -63,3 +63,27 @@ def test_keep_going_no_stopping_does_not_stop_a_following_robot():
 
 def test_would_you_mind_stopping_still_stops():
     assert frame("would you mind stopping here") == "<SPEECH><STOP/></SPEECH>"
+
+
+# ------------------------------------------------------------------ 2: "the study room" finds "the study"
+_WORD = st.text(alphabet="abcdefghijklmnopqrstuvwxyz", min_size=1, max_size=8).filter(lambda w: w != "room")
+
+
+@settings(max_examples=80, deadline=None)
+@given(st.lists(_WORD, min_size=1, max_size=3))
+def test_a_place_is_looked_up_with_and_without_a_trailing_room(words):
+    """Taught as "the study", asked as "the study room" (lang7 stored and asked the words said, so the
+    planner never found the study: AskingForHelp), and the reverse: her own words are tried first."""
+    from robot.navigation.planner import place_names
+
+    name = " ".join(words)
+    assert place_names(name) == [name, f"{name} room"]
+    assert place_names(f"{name} room") == [f"{name} room", name]
+    assert place_names(f"  {name.upper()}  room ")[1] == name
+
+
+def test_room_alone_is_never_taken_off():
+    from robot.navigation.planner import place_names
+
+    assert place_names("room") == ["room"]
+    assert place_names("") == []
