@@ -13,6 +13,7 @@ from lxml import etree
 
 from robot.dialog.loader import load
 from robot.dialog.manager import DialogManager, Say, Send
+from robot.speech.lexicon import NEVER_ROOM, Lexicon
 from robot.speech.module import frame_message, shared_understander
 
 
@@ -87,3 +88,31 @@ def test_room_alone_is_never_taken_off():
 
     assert place_names("room") == ["room"]
     assert place_names("") == []
+
+
+# ------------------------------------------------------------------ 3: an unknown word + "room" is a guess
+@settings(max_examples=60, deadline=None)
+@given(st.sampled_from(sorted(w for w in NEVER_ROOM if (w,) not in Lexicon.load().entries)),
+       st.sampled_from(["this is the {} room", "go to the {} room", "we are in my {} room", "let's go into the {} room"]))
+def test_a_word_that_says_which_room_names_none(word, form):
+    """"this is the next room", "go to the next room" named a place "next room" at full coverage
+    (taught or driven to unasked)."""
+    f = frame(form.format(word))
+    assert f is None or f"{word} room" not in f
+
+
+_COINED = st.text(alphabet="bcdfgkmpqvwxz", min_size=4, max_size=7)  # no lexicon word is made of these letters
+
+
+@settings(max_examples=60, deadline=None)
+@given(_COINED, st.sampled_from(["this is the {} room", "go to the {} room", "this is our {} room"]))
+def test_a_room_named_with_an_unknown_word_is_a_guess_at_half_coverage(word, form):
+    u = understood(form.format(word))
+    assert u.frame is not None and f'name="{word} room"' in etree.tostring(u.frame, encoding="unicode")
+    assert u.coverage <= 0.5
+
+
+def test_the_dialog_asks_before_it_stores_a_room_named_with_an_unknown_word():
+    out = said("Interacting", "this is the craft room")[0]
+    assert "place_teaching" not in sends(out)
+    assert any(isinstance(o, Say) and "craft room" in o.text for o in out)

@@ -283,6 +283,10 @@ class Understander:
         if ignored and tree_act(tree) == "greeting" and self._request_after_greeting(toks, ignored):
             used = len(toks)  # "hello biron, follow me": the greeting is sure; the request is not noise
             res.rest = list(ignored)
+        if any(t.type == "PLACE" and t.text in lex.coined for t in toks) and not set(lex.coined) <= set(res.ignored):
+            # "this is the craft room": a room named with a word the lexicon lacks may be a remark ("the
+            # cold room") or a misheard word: a guess the dialog confirms before it is stored or driven to
+            guess = True
         res.coverage = used / max(1, len(toks) + len(lex.unknown)) * (0.5 if guess else 1.0)
         why = _not_meant(tree, toks, res, [w for w in Lexicon.words(words) if w not in _SOUNDS], asked is not None)
         if why:
