@@ -116,3 +116,31 @@ def test_the_dialog_asks_before_it_stores_a_room_named_with_an_unknown_word():
     out = said("Interacting", "this is the craft room")[0]
     assert "place_teaching" not in sends(out)
     assert any(isinstance(o, Say) and "craft room" in o.text for o in out)
+
+
+# ------------------------------------------------------------------ 5: "where is that thing" teaches nothing
+_ASKING = st.sampled_from(["where is", "where's", "where did you put", "where have you put", "do you know where",
+                           "where are", "can you find", "where can i find"])
+_SHOWN = st.sampled_from(["that thing", "this thing", "that red thing", "this big thing", "that thing there",
+                          "this thing here", "it", "that", "this one", "my cup", "the kitchen", "that thing is"])
+
+
+@settings(max_examples=80, deadline=None)
+@given(_ASKING, _SHOWN)
+@example("where is", "that thing")
+@example("where is", "that red thing")
+def test_a_turn_with_where_never_teaches(ask, shown):
+    """"where is that thing" became an object teaching ("What is it?") in lang7; "where is" is never
+    teaching (docs/semantics.md §4)."""
+    assert understood(f"{ask} {shown}").act not in ("OBJECT", "PLACE")
+
+
+@pytest.mark.parametrize("words", ["what is that thing", "what's this thing", "have you seen that thing",
+                                   "can you see that thing", "where did you put that thing"])
+def test_a_question_about_that_thing_shows_nothing(words):
+    assert understood(words).act != "OBJECT"
+
+
+@pytest.mark.parametrize("words", ["that red thing is my backpack", "look at that thing", "this thing here"])
+def test_pointing_at_that_thing_still_shows_it(words):
+    assert understood(words).act == "OBJECT"

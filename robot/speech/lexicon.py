@@ -214,6 +214,10 @@ _ROOM_NAMERS = frozenset({"OBJ", "USE", "COLOUR"})
 _THING_AFTER = frozenset({"THIS", "THAT", "IT", "COLOUR", "ATTR"})
 
 
+#: Words of a question before "that thing": it asks about the thing, it shows nothing.
+_THING_ASKED = frozenset({"WHERE", "WHAT", "HAVE", "CAN", "DID", "SEEK", "FIND", "KNOW", "HOW"})
+
+
 def _things(toks: list[Tok], unknown: list[str]) -> list[Tok]:
     """"Thing" is what she points at only after a deixis or its describing words ("that red thing is my
     backpack"); elsewhere ("to thing is my toy", the recogniser's "to" for "this") it says nothing the
@@ -224,7 +228,9 @@ def _things(toks: list[Tok], unknown: list[str]) -> list[Tok]:
             k = i - 1
             while k >= 0 and toks[k].type in ("COLOUR", "ATTR"):
                 k -= 1
-            if k < 0 or toks[k].type not in _THING_AFTER:
+            if k < 0 or toks[k].type not in _THING_AFTER or any(x.type in _THING_ASKED for x in toks[:k]):
+                # "where is that thing", "what is this thing", "have you seen that thing": a question
+                # about it, never a teaching ("where is" is never teaching: docs/semantics.md §4)
                 unknown.append(t.text)
                 continue
         out.append(t)
