@@ -144,3 +144,23 @@ def test_a_question_about_that_thing_shows_nothing(words):
 @pytest.mark.parametrize("words", ["that red thing is my backpack", "look at that thing", "this thing here"])
 def test_pointing_at_that_thing_still_shows_it(words):
     assert understood(words).act == "OBJECT"
+
+
+# ------------------------------------------------------------------ 4: "you are next to X" teaches no X
+_NEARBY = st.sampled_from(["next to", "near", "in front of", "beside", "behind", "by"])
+_ROOMS = st.sampled_from(["the kitchen", "the bathroom", "my bedroom", "the living room", "the study"])
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.sampled_from(["you are", "you're", "we are", "we're", "here we are", "now you are"]), _NEARBY, _ROOMS)
+@example("you are", "next to", "the bathroom")
+def test_a_room_nearby_is_never_taught_as_the_one_we_are_in(who, rel, room):
+    """"you are next to the bathroom" was PLACE bathroom 1.0: the dialog stored the pose where the robot
+    stood, outside the bathroom, as the bathroom."""
+    assert understood(f"{who} {rel} {room}").act != "PLACE"
+
+
+@pytest.mark.parametrize("words", ["you are in the kitchen", "we are in the living room", "we are at the kitchen",
+                                   "here we are in the bathroom"])
+def test_the_room_we_are_in_is_still_taught(words):
+    assert understood(words).act == "PLACE"

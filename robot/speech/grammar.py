@@ -561,6 +561,10 @@ def _not_meant(tree: Tree, toks: list[Tok], res: Understanding, words: list[str]
         # "that is exactly right", "you are correct" say yes only as the whole turn: "you are standing right
         # where I want to go", "it is right next to the door" say where something is
         return "a statement with 'right' in it, not a yes"
+    if kind == "teach_place" and any(t.type == "REL" and t.value != "at" for t in own):
+        # "you are next to the bathroom", "we are near the kitchen": a room beside the one she stands in;
+        # taught, the robot would store where it stands (outside that room) as that room
+        return "a room nearby, not the one we are in"
     if kind == "teach_place" and own and own[0].type == "YOU" and _guessed(act):
         # "you are in the kitchen" tells the robot where it is; "you are in my way" names no room
         return "no room named"
