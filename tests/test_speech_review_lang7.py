@@ -164,3 +164,29 @@ def test_a_room_nearby_is_never_taught_as_the_one_we_are_in(who, rel, room):
                                    "here we are in the bathroom"])
 def test_the_room_we_are_in_is_still_taught(words):
     assert understood(words).act == "PLACE"
+
+
+# ------------------------------------------------------------------ 6: a closing before a request
+_CLOSINGS = st.sampled_from(["that will be all", "that is all for now", "goodbye", "that's all", "bye"])
+_REQUESTS = st.sampled_from([("follow me", "FOLLOW"), ("now follow me", "FOLLOW"), ("go to the kitchen", "GOTO"),
+                             ("this is the kitchen", "PLACE"), ("wait here", "WAIT")])
+
+
+@settings(max_examples=60, deadline=None)
+@given(_CLOSINGS, _REQUESTS)
+@example("that will be all", ("now follow me", "FOLLOW"))
+def test_a_whole_request_after_a_closing_is_the_request(closing, request):
+    """"that will be all, now follow me" was GOODBYE and the dialog ended the tour."""
+    words, act = request
+    assert understood(f"{closing}, {words}").act == act
+
+
+@pytest.mark.parametrize("words", ["that will be all", "that will be all, thank you, goodbye", "bye, see you tomorrow",
+                                   "that's it for today, goodbye"])
+def test_a_closing_alone_still_closes(words):
+    assert understood(words).act == "GOODBYE"
+
+
+def test_the_dialog_does_not_end_the_tour_on_a_closing_before_a_request():
+    for state in ("Interacting", "Following"):
+        assert "goodbye" not in sends(said(state, "that will be all, now follow me")[0])

@@ -244,7 +244,14 @@ class Understander:
                 res.answer = "no" if "NO" in said else "yes"
                 toks = toks[lead:]
                 tree, ignored, partial = alt
-        if any(t.type == "GOODBYE" for t in toks) and (tree is None or partial) and (
+        closing = max((i for i, t in enumerate(toks) if t.type == "GOODBYE"), default=None)
+        after = self._parse(toks[closing + 1:]) if closing is not None and closing + 1 < len(toks) else None
+        if (closing is not None and (tree is None or partial) and after is not None and after[0] is not None
+                and not after[2] and not _guessed(after[0]) and tree_act(after[0]) not in _AFTER_CLOSING):
+            # "that will be all, now follow me": a whole request after the closing is what she wants now
+            # (the closing ended the last task, not the tour); the closing counts as words not used
+            tree, ignored, partial = after[0], [t.text for t in toks[: closing + 1]], True
+        elif any(t.type == "GOODBYE" for t in toks) and (tree is None or partial) and (
                 tree is None or tree_act(tree) != "goodbye"):
             # "that's it for today, goodbye": whatever else was in a closing turn, it closes
             tree, ignored, partial = self._parse([t for t in toks if t.type == "GOODBYE"])
@@ -481,6 +488,9 @@ _FRAGMENTS = frozenset({"object_fragment", "place_fragment"})
 _STATEMENT_ACTS = frozenset({"place_fragment", "object_fragment", "teach_place", "teach_object"})
 #: Acts that are no request by themselves: answers to a question the robot asked.
 _NOT_REQUESTS = frozenset({"object_fragment", "place_fragment", "that_one", "yes", "no"})
+#: What a closing followed by more words stays a closing with ("that will be all, thank you, goodbye", "bye,
+#: yes"): answers and greetings are no request of their own.
+_AFTER_CLOSING = frozenset({"object_fragment", "place_fragment", "that_one", "yes", "no", "goodbye", "greeting"})
 _NOT_RESTARTS = frozenset({"object_fragment", "place_fragment", "that_one", "yes", "no"})
 
 # word classes that say nothing about a dangling object or place: deixis, articles, prepositions
