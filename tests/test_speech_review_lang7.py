@@ -190,3 +190,20 @@ def test_a_closing_alone_still_closes(words):
 def test_the_dialog_does_not_end_the_tour_on_a_closing_before_a_request():
     for state in ("Interacting", "Following"):
         assert "goodbye" not in sends(said(state, "that will be all, now follow me")[0])
+
+
+# ------------------------------------------------------------------ 7: "behind it" keeps a side said before it
+@settings(max_examples=60, deadline=None)
+@given(st.sampled_from(["left", "right"]), st.sampled_from(["one", "cup", "plant", "red one", "blue cup"]),
+       st.sampled_from(["behind it", "in front of it", "behind", "behind that"]))
+@example("right", "one", "behind it")
+def test_a_left_or_right_said_before_behind_it_stays_the_side(side, head, depth):
+    """"the right one behind it" was side="back" in lang7: the answer that named the right one picked none."""
+    f = understood(f"the {side} {head} {depth}").frame
+    assert f is not None and f[0].get("side") == side
+
+
+def test_left_as_the_verb_is_still_read_before_behind_it():
+    """"where have i left the cup behind it" was no parse in lang7 (the depth rule returned before the
+    left-as-put rule ran)."""
+    assert understood("where have i left the cup behind it").act == "WHERE"

@@ -286,11 +286,24 @@ _DEPTH_RELATIONS = {"behind": "back", "in_front_of": "front"}
 def _sides(toks: list[Tok]) -> list[Tok]:
     """Read "right" and "back" as a side where the words around them say so, and "behind" / "in front
     of it" ending an answer ("the one behind", "the plant behind it") as the side "back" / "front"."""
+    toks = _left_right(toks)
     for i, t in enumerate(toks):
         depth = _DEPTH_RELATIONS.get(t.value) if t.type == "REL" else None
         if (depth is not None and i and toks[i - 1].type in _BEHIND_AFTER
-                and (i + 1 == len(toks) or (i + 2 == len(toks) and toks[i + 1].type in _BEHIND_WHAT))):
+                and (i + 1 == len(toks) or (i + 2 == len(toks) and toks[i + 1].type in _BEHIND_WHAT))
+                and not any(x.type == "WHERE" or (x.type == "SIDE" and x.value not in _DEPTH_VALUES)
+                            for x in toks[:i])):
+            # not when a left/right was said already ("the right one behind it": the side stays right) nor
+            # in a question ("where have I left the cup behind it")
             return [*toks[:i], Tok("SIDE", depth, t.text)]
+    return toks
+
+
+_DEPTH_VALUES = frozenset({"near", "front", "far", "back"})
+
+
+def _left_right(toks: list[Tok]) -> list[Tok]:
+    """"left" as the verb after "have"/"I", and "right"/"back" as a side where the words around say so."""
     for i, t in enumerate(toks):
         if t.type == "SIDE" and t.text == "left" and i and toks[i - 1].type in _LEFT_AS_PUT:
             toks[i] = Tok("PUT", "put", t.text)
