@@ -207,3 +207,36 @@ def test_left_as_the_verb_is_still_read_before_behind_it():
     """"where have i left the cup behind it" was no parse in lang7 (the depth rule returned before the
     left-as-put rule ran)."""
     assert understood("where have i left the cup behind it").act == "WHERE"
+
+
+# ------------------------------------------------------------------ 11: a bare side said unasked
+_BARE = st.sampled_from(["closer", "closer please", "a bit closer please", "further", "a bit further",
+                         "left please", "then left", "keep left", "turn left", "far away", "right"])
+
+
+@settings(max_examples=40, deadline=None)
+@given(_BARE, st.sampled_from(["Interacting", "Following", "LookingAround"]))
+@example("closer please", "Interacting")
+def test_a_bare_side_said_unasked_gets_an_answer(words, state):
+    """"closer please" was THAT_ONE side=near 1.0 in lang7 and the robot said nothing at all."""
+    u = understood(words)
+    if u.act != "THAT_ONE":
+        return  # not understood as a side at all: the dialog asks again as for any such turn
+    out = said(state, words)[0]
+    assert out == said(state, "blorp zzyzx")[0]  # as any turn not understood (2e607e0's reply)
+    if state != "LookingAround":  # with a partner: "Sorry, I did not understand you"
+        assert any(isinstance(o, Say) for o in out), out
+
+
+@pytest.mark.parametrize("words, picked", [("left", 1), ("right one", 0), ("left please", 1), ("closer", None)])
+def test_a_bare_side_still_answers_an_open_which_one_question(words, picked):
+    from robot.dialog.module import choose
+
+    dm = DialogManager(load())
+    dm.es_state = "Interacting"
+    ended = []
+    _, out = dm.start("clarify", {"options": "the cup on the right or the one on the left"}, on_end=ended.append)
+    dm.on_frame(frame_message(understood(words), 5.0, 6.0, 0.9))
+    assert ended and ended[0].success  # taken as the answer, not "Sorry, I did not understand you"
+    value = ended[0].slots["choice"].value
+    assert choose([(0, "the cup on the right"), (1, "the one on the left")], value) == picked

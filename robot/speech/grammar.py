@@ -283,7 +283,7 @@ class Understander:
             res.reason = small_talk
             return res
         res.frame = frame
-        res.fragment = tree_act(tree) in _FRAGMENTS
+        res.fragment = tree_act(tree) in _FRAGMENTS or _bare_side(tree)
         res.ignored = ignored
         res.partial = partial or bool(ignored)
         used = len(toks) - len(ignored)
@@ -619,6 +619,14 @@ def _small_talk(tree: Tree, obj: etree._Element, toks: list[Tok]) -> str:
             and obj.find("ATTRIBUTE") is not None):
         return "an evaluation, not an object named"
     return ""
+
+
+def _bare_side(tree: Tree) -> bool:
+    """Whether the parse is a side or distance said alone ("left", "closer", "further"): an answer to a
+    which-one question only (said unasked, "closer please", "turn left" ask for something else)."""
+    act = next((c for c in tree.children if isinstance(c, Tree) and c.data != "address"), None)
+    return (act is not None and act.data == "that_one" and len(act.children) == 1
+            and isinstance(act.children[0], Token) and act.children[0].type == "SIDE")
 
 
 def _room_unnamed(toks: list[Tok]) -> bool:
