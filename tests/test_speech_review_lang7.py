@@ -240,3 +240,27 @@ def test_a_bare_side_still_answers_an_open_which_one_question(words, picked):
     assert ended and ended[0].success  # taken as the answer, not "Sorry, I did not understand you"
     value = ended[0].slots["choice"].value
     assert choose([(0, "the cup on the right"), (1, "the one on the left")], value) == picked
+
+
+# ------------------------------------------------------------------ 9: either/or questions teach nothing
+_NPS = st.sampled_from(["the kitchen", "the living room", "a cup", "a mug", "my phone", "the study", "my bedroom"])
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.sampled_from(["is this", "is that", "is it"]), _NPS, _NPS)
+@example("is this", "the kitchen", "the living room")
+def test_an_either_or_question_is_no_teaching(ask, a, b):
+    """"is this the kitchen or the living room" was PLACE "living room" 0.4: the robot asked "Is this the
+    living room?" and her "no" got "Sorry. Which room is this?"."""
+    assert understood(f"{ask} {a} or {b}").act not in ("PLACE", "OBJECT")
+
+
+@pytest.mark.parametrize("words", ["is it my phone ringing", "is it the same cup"])
+def test_a_question_with_words_not_known_is_no_teaching(words):
+    assert understood(words).act not in ("PLACE", "OBJECT")
+
+
+@pytest.mark.parametrize("words", ["is this the kitchen", "is that my cup", "is this the bathroom, right?"])
+def test_a_plain_question_naming_what_she_shows_is_still_confirmed(words):
+    u = understood(words)
+    assert u.act in ("PLACE", "OBJECT") and u.coverage <= 0.5

@@ -165,7 +165,9 @@ class Understander:
             toks = tail
         tree, ignored, partial = self._parse(toks)
         guess = False  # an object teaching rebuilt from a lost first word, or asked as a question
-        asked = self._asked(toks)
+        # a question with words the lexicon lacks ("is this the kitchen or the living room", "is it my
+        # phone ringing") asks something else than the statement its known words make: no teaching
+        asked = self._asked(toks) if not lex.unknown else None
         if asked is not None:
             # "is this the kitchen?", "is that my cup?": she names what she shows and asks the robot to
             # take it up; the statement she asks about is the frame, at half the coverage, so the
@@ -224,7 +226,7 @@ class Understander:
                 pass  # "alright, you can stop there, we have arrived": a whole request, then more words
             elif alt[0] is None or alt[2]:
                 alt = (None, [], True)
-                question = self._asked(toks[lead:])
+                question = self._asked(toks[lead:]) if not lex.unknown else None
                 lost = self._parse([_LOST_THIS, *toks[lead:]]) if toks[lead].type in ("IS", "ARE") else None
                 if question is not None:  # "no, is it my laptop": the no answers, the question names it
                     alt, asked, guess = (question, [], False), question, True
