@@ -264,3 +264,27 @@ def test_a_question_with_words_not_known_is_no_teaching(words):
 def test_a_plain_question_naming_what_she_shows_is_still_confirmed(words):
     u = understood(words)
     assert u.act in ("PLACE", "OBJECT") and u.coverage <= 0.5
+
+
+# ------------------------------------------------------------------ 12: "morning biron, follow me"
+@settings(max_examples=40, deadline=None)
+@given(st.sampled_from(["morning", "evening", "yo"]), st.sampled_from(["", "biron", "robot"]), _REQUESTS)
+@example("morning", "biron", ("follow me", "FOLLOW"))
+def test_a_request_after_an_opening_word_is_the_request(word, name, request):
+    """"morning biron follow me" was GREETING only in lang7 (the follow lost); before lang7 taught these
+    words it was FOLLOW, and it is again."""
+    words, act = request
+    assert understood(f"{word} {name}, {words}").act == act
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.sampled_from(["in the {} i sit here", "every {} we watch tv here", "you are listening to the {} show",
+                        "we eat here in the {}", "this is where i read in the {}"]),
+       st.sampled_from(["morning", "evening", "yo"]))
+def test_morning_inside_a_turn_greets_nobody(form, word):
+    assert understood(form.format(word)).act != "GREETING"
+
+
+@pytest.mark.parametrize("words", ["morning", "morning biron", "good evening robot", "yo biron"])
+def test_an_opening_word_alone_still_greets(words):
+    assert understood(words).act == "GREETING"

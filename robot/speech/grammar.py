@@ -29,6 +29,7 @@ when addressed by name), ``GOODBYE``, ``CAPABILITIES``, ``FOLLOW``,
 from __future__ import annotations
 
 import hashlib
+import itertools
 import os
 import sys
 import tempfile
@@ -152,6 +153,16 @@ class Understander:
         if not toks:
             res.reason = "no known words" if lex.unknown else "nothing said"
             return res
+        if toks[0].type == "HELLO" and toks[0].text in _OPENING_WORDS and len(toks) > 1:
+            # "morning biron, follow me", "yo, follow me": a word that greets only by opening a turn, before
+            # a whole request, is not heard as the greeting (the request is what she wants; these words
+            # were not understood before they greeted, and the request was taken then)
+            k = 1 + sum(1 for _ in itertools.takewhile(lambda t: t.type in ("ROBOTNAME", "ROBOT"), toks[1:]))
+            after = self._parse(toks[k:]) if k < len(toks) else None
+            if after is not None and after[0] is not None and not after[2] and not _guessed(after[0]) \
+                    and tree_act(after[0]) not in _AFTER_CLOSING:
+                res.unknown.append(toks[0].text)
+                toks = toks[1:]
         negated = _negation(toks, Lexicon.words(words))
         if negated is not None:
             # "don't stop, keep going", "do not follow me": a request said negated is never that request;
@@ -490,6 +501,9 @@ _FRAGMENTS = frozenset({"object_fragment", "place_fragment"})
 _STATEMENT_ACTS = frozenset({"place_fragment", "object_fragment", "teach_place", "teach_object"})
 #: Acts that are no request by themselves: answers to a question the robot asked.
 _NOT_REQUESTS = frozenset({"object_fragment", "place_fragment", "that_one", "yes", "no"})
+#: Greeting words that greet only as the turn's first word ("morning, biron"; not "in the morning", "the
+#: morning show", "every evening").
+_OPENING_WORDS = frozenset({"morning", "evening", "yo"})
 #: What a closing followed by more words stays a closing with ("that will be all, thank you, goodbye", "bye,
 #: yes"): answers and greetings are no request of their own.
 _AFTER_CLOSING = frozenset({"object_fragment", "place_fragment", "that_one", "yes", "no", "goodbye", "greeting"})

@@ -158,7 +158,7 @@ class Lexicon:
                     continue
                 key = tuple(words[i : i + k])
                 hit = entries.get(key)
-                if hit is not None:
+                if hit is not None and not (i and k == 1 and words[i] in OPENING_ONLY):
                     term, value = hit
                     if term != DROP:
                         toks.append(Tok(term, value, words[i] if k == 1 else " ".join(key).replace(" POSS", "'s")))
@@ -235,6 +235,12 @@ def _things(toks: list[Tok], unknown: list[str]) -> list[Tok]:
                 continue
         out.append(t)
     return out
+
+
+#: Greeting words that greet only as the first word of a turn ("morning, biron"): "in the morning", "the
+#: morning show", "every evening we watch tv" say when, and greet nobody (review-lang7 item 12); elsewhere
+#: they are words not understood.
+OPENING_ONLY = frozenset({"morning", "evening", "yo"})
 
 
 def _rooms_of(toks: list[Tok]) -> list[Tok]:
