@@ -182,7 +182,7 @@ def test_a_whole_request_after_a_closing_is_the_request(closing, request):
 
 
 @pytest.mark.parametrize("words", ["that will be all", "that will be all, thank you, goodbye", "bye, see you tomorrow",
-                                   "that's it for today, goodbye"])
+                                   "that's it for today, goodbye", "say goodbye to the kitchen"])
 def test_a_closing_alone_still_closes(words):
     assert understood(words).act == "GOODBYE"
 

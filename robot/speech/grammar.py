@@ -258,7 +258,8 @@ class Understander:
                 toks = toks[lead:]
                 tree, ignored, partial = alt
         closing = max((i for i, t in enumerate(toks) if t.type == "GOODBYE"), default=None)
-        after = self._parse(toks[closing + 1:]) if closing is not None and closing + 1 < len(toks) else None
+        after = (self._parse(toks[closing + 1:]) if closing is not None and closing + 1 < len(toks)
+                 and toks[closing + 1].type != "TO" else None)  # "goodbye to the kitchen" is a farewell
         if (closing is not None and (tree is None or partial) and after is not None and after[0] is not None
                 and not after[2] and not _guessed(after[0]) and tree_act(after[0]) not in _AFTER_CLOSING):
             # "that will be all, now follow me": a whole request after the closing is what she wants now
