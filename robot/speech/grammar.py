@@ -726,11 +726,18 @@ def _position(tree: Tree) -> etree._Element:
     return pos
 
 
+#: Sides that say how far along her arm (or from whom) the one meant stands: "the nearer one", "the one
+#: in front", "the far one", "the one at the back", "the one behind it".
+DEPTH_SIDES = frozenset({"near", "front", "far", "back"})
+
+
 def _that_one(act: Tree) -> etree._Element:
     """``THAT_ONE`` (index, side, view, type; GESTURE, TITLE, COLOUR, ATTRIBUTE*, POSITION): which of several.
 
     ``view="speaker"``: a left/right said from her side ("on my left"); without it a side is the robot's
-    (the side the robot's own question named: docs/semantics.md §4)."""
+    (the side the robot's own question named: docs/semantics.md §4). A distance ("the one closer to me")
+    carries whose: ``view="speaker"`` (nearer her), ``view="addressee"`` (nearer the robot), none when
+    not said (the question's own words say from where)."""
     el = _E("THAT_ONE")
     toks = _tokens(act)
     where = _sub(act, "ref_where")
@@ -757,6 +764,11 @@ def _that_one(act: Tree) -> etree._Element:
         el.set("side", sides[-1].value)
         if speaker_view and sides[-1].value in ("left", "right"):
             el.set("view", "speaker")
+        elif sides[-1].value in DEPTH_SIDES:  # "closer to me" is nearer her, "closer to you" nearer the robot
+            if any(t.type == "ME" for t in toks):
+                el.set("view", "speaker")
+            elif any(t.type == "YOU" for t in toks):
+                el.set("view", "addressee")
     noun = next((t for t in toks if t.type == "OBJ"), None)
     if noun is not None and noun.value:
         el.set("type", noun.value)

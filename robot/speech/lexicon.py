@@ -255,8 +255,22 @@ _BEFORE_SIDE = frozenset({"THE", "A", "THIS", "THAT", "MY", "YOUR"})  # "to my r
 _AFTER_SIDE = frozenset({"ONE", "OBJ", "COLOUR", "ATTR"})
 
 
+#: After "the one" or a noun, "behind" or "in front of it" that ends the answer ("the one behind",
+#: "the plant behind it") says which of two along her arm: the one at the back, the one in front; not a
+#: place behind a landmark ("the one behind the sofa" stays one).
+_BEHIND_AFTER = frozenset({"ONE", "OBJ"})
+_BEHIND_WHAT = frozenset({"IT", "THAT", "THIS"})
+_DEPTH_RELATIONS = {"behind": "back", "in_front_of": "front"}
+
+
 def _sides(toks: list[Tok]) -> list[Tok]:
-    """Read "right" and "back" as a side where the words around them say so."""
+    """Read "right" and "back" as a side where the words around them say so, and "behind" / "in front
+    of it" ending an answer ("the one behind", "the plant behind it") as the side "back" / "front"."""
+    for i, t in enumerate(toks):
+        depth = _DEPTH_RELATIONS.get(t.value) if t.type == "REL" else None
+        if (depth is not None and i and toks[i - 1].type in _BEHIND_AFTER
+                and (i + 1 == len(toks) or (i + 2 == len(toks) and toks[i + 1].type in _BEHIND_WHAT))):
+            return [*toks[:i], Tok("SIDE", depth, t.text)]
     for i, t in enumerate(toks):
         if t.type == "SIDE" and t.text == "left" and i and toks[i - 1].type in _LEFT_AS_PUT:
             toks[i] = Tok("PUT", "put", t.text)
