@@ -22,6 +22,7 @@ from robot.hardware.camera import (
     detect_objects,
     detect_torsos,
     image_extent,
+    image_rise,
     ptu_step,
 )
 from tests.conftest import examples
@@ -360,7 +361,8 @@ def _plain_frame(world, pose, ptu, spec, rng, confusion):
                 b += float(rng.normal(0.0, spec.bearing_noise))
                 d *= float(1.0 + rng.normal(0.0, spec.distance_noise))
             rgb = colour(o.colour)
-            objects.append(ObjectDetection(confuse(o.type, types, confusion, rng), rgb, float(wrap_angle(b)), max(0.05, d), o.name, image_extent(o.size, d0, spec)))
+            objects.append(ObjectDetection(confuse(o.type, types, confusion, rng), rgb, float(wrap_angle(b)), max(0.05, d), o.name, image_extent(o.size, d0, spec),
+                                           image_rise(cam, (p[0], p[1], p[2] + o.height / 2), o.height, spec)))
     return faces, torsos, gestures, objects
 
 

@@ -186,6 +186,30 @@ def robot_side(side: str, view: str | None, facing: str) -> str:
     return side
 
 
+#: Sides that say a distance ("the nearer one", "the one in front", "the far one", "the one at the back").
+DEPTH_SIDES = frozenset({"near", "front", "far", "back"})
+#: An option's depth words -> its rank from her and from the robot (0 nearest, -1 farthest), as the object
+#: attention words options one behind the other along her arm (robot.objects.resolve.option_texts).
+DEPTH_RANKS = {"in front": (0, 0), "in the middle": (1, 1), "behind it": (-1, -1), "at the back": (-1, -1),
+               "nearer to you": (0, -1), "nearer to me": (-1, 0)}
+
+
+def _by_depth(options: list[tuple[int, str]], near: bool, view: str | None) -> int | None:
+    """The option a distance answer picks: the nearest (``near``) or the farthest, from her (``view``
+    "speaker", or none when the options stand in the same order from her and from the robot: "in front",
+    "behind it") or from the robot ("addressee": "the one closer to you"). None when the options were not
+    worded by depth, when two fit, or when the options are nearer to one of them each ("nearer to you",
+    "nearer to me") and the answer does not say to whom (the robot does not guess)."""
+    worded = [ranks for _, text in options for words, ranks in DEPTH_RANKS.items() if words in text]
+    if view is None and any(r[0] != r[1] for r in worded):
+        return None  # "the nearer one" to "the bottle nearer to you or the one nearer to me?": nearer to whom?
+    who = 1 if view == "addressee" else 0
+    want = 0 if near else -1
+    hits = [idx for idx, text in options
+            for words, ranks in DEPTH_RANKS.items() if words in text and ranks[who] == want]
+    return hits[0] if len(hits) == 1 else None
+
+
 def choose(options: list[tuple[int, str]], answer: Any, facing: str = "unknown") -> int | None:
     """The option an answer picks (THAT_ONE with index/colour, an OBJECT, YES to a single option); None if unclear.
 
@@ -197,6 +221,8 @@ def choose(options: list[tuple[int, str]], answer: Any, facing: str = "unknown")
     if answer.tag == "YES":
         return options[0][0] if len(options) == 1 else None
     side = answer.get("side")
+    if side in DEPTH_SIDES:  # "the nearer one", "the one at the back": the option worded by its depth
+        return _by_depth(options, side in ("near", "front"), answer.get("view"))
     if side is not None:  # "the left one": the option the object attention worded by its side
         side = robot_side(side, answer.get("view"), facing)
         words = "in the middle" if side == "middle" else f"on the {side}"
@@ -669,15 +695,22 @@ class Dialog(Module):
         if inst is None:
             return etree.Element("answer", none="true")
         self._emit(outs, cause)
-        try:
-            # The partner has ``timeout`` s to answer once the question has been said (a long
-            # question with its options takes several seconds to say).
-            await self._until_said(fut)
-            async with asyncio.timeout(timeout):
-                done = await fut
-        except TimeoutError:
-            self._emit(self.manager.cancel(inst), cause)
-            return etree.Element("answer", none="true")
+        # The partner has ``timeout`` s to answer once the question has been said (a long
+        # question with its options takes several seconds to say), and again once the sub-dialog
+        # asked it again (an answer it did not understand): her time runs from the latest asking.
+        await self._until_said(fut)
+        asked = sum(inst.asked.values())
+        while True:
+            try:
+                async with asyncio.timeout(timeout):
+                    done = await asyncio.shield(fut)  # a timeout leaves the sub-dialog's end to come
+                break
+            except TimeoutError:
+                if sum(inst.asked.values()) > asked and not fut.done():
+                    asked = sum(inst.asked.values())
+                    continue
+                self._emit(self.manager.cancel(inst), cause)
+                return etree.Element("answer", none="true")
         value = done.slots["choice"].value if done.success else None
         picked = choose(options, value, self._facing_now())
         if picked is None:

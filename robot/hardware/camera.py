@@ -11,7 +11,8 @@ deg/s), tilt +-25 deg (up to 50 deg/s), horizontal field of view 48.8 deg
 - torsos: colour (RGB with noise) and bearing, any facing direction;
 - pointing gestures: when the pointing hand is in view; the arm's
   direction in the robot frame;
-- objects: type through a confusion model, colour, bearing, distance.
+- objects: type through a confusion model, colour, bearing, distance, and the
+  object's extent across and up the image (its detection box, whole pixels).
 
 Bearings are in the robot frame (0 ahead, + left). The module wrapper is
 in :mod:`robot.hardware.camera_module`.
@@ -166,6 +167,7 @@ class ObjectDetection:
     distance: float
     truth: str
     width: float = 0.0  # rad: the object's extent across the image (whole pixels)
+    height: float = 0.0  # rad: its extent up the image, from its bottom to its top (whole pixels)
 
 
 @dataclass(frozen=True)
@@ -306,9 +308,10 @@ def _gestures(cand: list[Candidate], pose: tuple[float, float, float], spec: Cam
     return out
 
 
-def _objects(cand: list[Candidate], types: list[str], confusion: float, spec: CameraSpec, rng: np.random.Generator | None) -> list[ObjectDetection]:
+def _objects(cand: list[Candidate], types: list[str], confusion: float, spec: CameraSpec, rng: np.random.Generator | None,
+             cam: tuple[float, float, float] | None = None) -> list[ObjectDetection]:
     out = []
-    for o, _, b, d in cand:
+    for o, top, b, d in cand:
         rgb = o.colour
         true_d = d
         if rng is not None:
@@ -316,8 +319,17 @@ def _objects(cand: list[Candidate], types: list[str], confusion: float, spec: Ca
             d *= float(1.0 + rng.normal(0.0, spec.distance_noise))
             rgb = _noisy_colour(rgb, rng.normal(0.0, spec.colour_noise, 3).tolist())
         out.append(ObjectDetection(confuse(o.type, types, confusion, rng), (float(rgb[0]), float(rgb[1]), float(rgb[2])), float(wrap_angle(b)), max(0.05, d), o.name,
-                                   image_extent(o.size, true_d, spec)))
+                                   image_extent(o.size, true_d, spec), 0.0 if cam is None else image_rise(cam, top, o.height, spec)))
     return out
+
+
+def image_rise(cam: tuple[float, float, float], top: tuple[float, float, float], height: float, spec: CameraSpec) -> float:
+    """The angle (rad) an upright object ``height`` metres tall with its top at ``top`` spans up the
+    image seen from ``cam``, in whole pixels (at least one): a detector's box is as tall as it is wide."""
+    pixel = spec.vfov / (spec.image_width * 3 // 4)
+    horiz = max(math.hypot(top[0] - cam[0], top[1] - cam[1]), 1e-3)
+    rise = math.atan2(top[2] - cam[2], horiz) - math.atan2(top[2] - height - cam[2], horiz)
+    return max(1, round(rise / pixel)) * pixel
 
 
 def image_extent(size: float, distance: float, spec: CameraSpec) -> float:
@@ -347,7 +359,7 @@ def detect_frame(world: World, pose: tuple[float, float, float], ptu: PanTilt, s
     groups = _candidates(world, cam, pose[2], ptu, spec, "ftgo")
     faces, torsos, gestures, objects = _seen(world, cam, groups, [True, True, True, False], occluders)
     return Frame(_faces(faces, spec, rng), _torsos(torsos, spec, rng), _gestures(gestures, pose, spec, rng),
-                 _objects(objects, _object_types(world), confusion, spec, rng))
+                 _objects(objects, _object_types(world), confusion, spec, rng, cam))
 
 
 def detect_faces(world: World, pose: tuple[float, float, float], ptu: PanTilt, spec: CameraSpec, rng: np.random.Generator | None,
@@ -387,4 +399,4 @@ def detect_objects(world: World, pose: tuple[float, float, float], ptu: PanTilt,
     """Objects in the image, unoccluded, 0.3-3.5 m away; types through :func:`confuse`."""
     cam = camera_point(pose, spec)
     (cand,) = _seen(world, cam, _candidates(world, cam, pose[2], ptu, spec, "o"), [False], occluders)
-    return _objects(cand, _object_types(world), confusion, spec, rng)
+    return _objects(cand, _object_types(world), confusion, spec, rng, cam)

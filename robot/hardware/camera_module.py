@@ -8,8 +8,8 @@ publishes, all bearings in degrees in the robot frame:
 - ``/robot/camera/faces``: ``<faces><face bearing distance height/>...</faces>``
 - ``/robot/camera/torsos``: ``<torsos><torso bearing r g b/>...</torsos>``
 - ``/robot/camera/gestures``: ``<gestures><pointing bearing distance direction elevation hand_height/>...</gestures>``
-- ``/robot/camera/objects``: ``<objects><object type bearing distance r g b width/>...</objects>``
-  (``width``: the object's extent across the image, degrees)
+- ``/robot/camera/objects``: ``<objects><object type bearing distance r g b width height/>...</objects>``
+  (``width``, ``height``: the object's extent across and up the image, degrees)
 
 Every message carries the capture time and the pan/tilt it was taken with.
 Ground-truth identities never leave this module.
@@ -97,7 +97,7 @@ class Camera(Module):
         objects.set("time", time)
         for o in frame.objects:
             etree.SubElement(objects, "object", type=o.type, bearing=_deg(o.bearing), distance=f"{o.distance:.3f}", r=f"{o.colour[0]:.3f}", g=f"{o.colour[1]:.3f}",
-                b=f"{o.colour[2]:.3f}", width=_deg(o.width))
+                b=f"{o.colour[2]:.3f}", width=_deg(o.width), height=_deg(o.height))
         self.bus.publish(OBJECTS, objects, transfer=True)
 
     def _elements(self, ptu: PanTilt) -> tuple[Any, ...]:

@@ -60,7 +60,7 @@ from robot.floorplan import FloorPlan, parse_map
 from robot.contract import ES_EVENTS, ES_ORDERS, FOCUS, GESTURES, OBJECTS, PARTNER, PLAYER_STATUS, POSE, TRACKS
 
 from .gestures import CAMERA_HEIGHT, CAMERA_OFFSET, GestureTracker, camera_to_map
-from .resolve import MERGE_BEARING, Candidate, Pointing, Resolution, Wanted, choose_pointed, merge, option_texts, resolve
+from .resolve import MERGE_BEARING, Candidate, Pointing, Resolution, Wanted, along_ray, choose_pointed, merge, option_texts, resolve
 from .viewpoint import ARRIVE_TOLERANCE, in_range, pointed_spot, sight_clear, viewpoint, viewpoint_route
 
 if TYPE_CHECKING:
@@ -85,6 +85,7 @@ HEIGHT_OFF = 0.3  # m: a region this far above or below it is sent with its heig
 STEP_ASIDE_ASK = 20.0  # s: the question "could you step aside" is said within this (through the ES and the dialog)
 STEP_ASIDE_STIR = 3.0  # s after the question: a partner who has not begun to step aside by then is not going to
 STEP_ASIDE_START = 0.25  # m: that far from where she stood when asked, she has begun to move
+UPRIGHT_STEPS = 8  # placements with the height the image shows (each 2-5x nearer; within 1 mm after a few)
 STEP_ASIDE_AGAIN = 60.0  # s: a partner asked this recently who stays in the way is not asked again (the robot moves)
 
 OWNER_WORDS = {"speaker": "partner", "my": "partner", "me": "partner", "mine": "partner"}
@@ -119,10 +120,42 @@ def _inside(px: float, py: float, poly: tuple[tuple[float, float], ...]) -> bool
     return inside
 
 
-Seen = tuple[str, float, float, float, tuple[float, float, float], float | None]
+Seen = tuple[str, float, float, float, tuple[float, float, float], float | None, float | None]
 
 
-def one_surface(seen: list[Seen], rays: list[tuple[tuple[float, float, float], float, float]]) -> list[Seen]:
+def upright(pose: tuple[float, float, float], bearing: float, distance: float, x: float, y: float, z: float,
+            rise: float | None) -> tuple[float, float, float | None]:
+    """An object placed at (x, y) on a surface (``z`` 0.05 above it) from a detection at ``bearing``
+    and ``distance``, placed again with the height the image shows (``rise``, rad; None: as it is):
+    the camera's distance is to the object's middle, not to its foot, so a plant 0.6 m tall on the
+    floor placed as if its middle were at the floor comes 0.1-0.2 m too near. Returns x, y and its
+    height (m, None without ``rise``)."""
+    if rise is None:
+        return x, y, None
+    tall = object_tall(pose, x, y, z, rise)
+    for _ in range(UPRIGHT_STEPS):  # its height from where it stands, where it stands from its height
+        x, y = camera_to_map(pose, bearing, distance, z - 0.05 + tall / 2)
+        now = object_tall(pose, x, y, z, rise)
+        if abs(now - tall) < 1e-3:
+            return x, y, now
+        tall = now
+    return x, y, tall
+
+
+def object_tall(pose: tuple[float, float, float], x: float, y: float, z: float, rise: float) -> float:
+    """How tall (m) an object standing at (x, y) on a surface at ``z`` - 0.05 is, from the angle
+    ``rise`` (rad) it spans up the image seen from the camera at ``pose``: its top is where the sight
+    line that much above the one to its bottom meets its own upright."""
+    cx, cy = pose[0] + CAMERA_OFFSET * math.cos(pose[2]), pose[1] + CAMERA_OFFSET * math.sin(pose[2])
+    horiz = max(math.hypot(x - cx, y - cy), 1e-3)
+    base = z - 0.05
+    up = math.atan2(base - CAMERA_HEIGHT, horiz) + rise
+    if up >= math.pi / 2 - 1e-3:
+        return 0.0
+    return max(0.0, CAMERA_HEIGHT + horiz * math.tan(up) - base)
+
+
+def one_surface(seen: list[Seen], rays: list[tuple[tuple[float, float, float], float, float, float | None]]) -> list[Seen]:
     """Detections of one object placed on one surface.
 
     Each detection is placed on the surface under it (:meth:`ObjectAttention.place`), but the
@@ -145,7 +178,8 @@ def one_surface(seen: list[Seen], rays: list[tuple[tuple[float, float, float], f
         z = max(sorted(votes), key=lambda h: votes[h])
         if votes.get(det[3], 0) < votes[z]:
             x, y = camera_to_map(rays[i][0], rays[i][1], rays[i][2], z)
-            out[i] = (det[0], x, y, z, det[4], det[5])
+            x, y, tall = upright(rays[i][0], rays[i][1], rays[i][2], x, y, z, rays[i][3] if len(rays[i]) > 3 else None)  # type: ignore[misc]
+            out[i] = (det[0], x, y, z, det[4], det[5], tall)
     return out
 
 
@@ -164,9 +198,9 @@ class ObjectAttention(Module):
         self.pose: tuple[float, float, float] | None = None
         self.plan: FloorPlan | None = None
         self._looking = False
-        self._seen: list[tuple[str, float, float, float, tuple[float, float, float], float | None]] = []
+        self._seen: list[Seen] = []
         self._frames: list[float] = []  # each seen detection's capture time (its camera frame)
-        self._rays: list[tuple[tuple[float, float, float], float, float]] = []  # each one's pose, bearing, distance
+        self._rays: list[tuple[tuple[float, float, float], float, float, float | None]] = []  # each one's pose, bearing, distance, rise
         self._search: asyncio.Task[None] | None = None
         self._answer: asyncio.Future[etree._Element] | None = None  # waiting for the order "clarified"
         self._asked_aside: asyncio.Future[bool] | None = None  # waiting for the order "asked_aside"
@@ -246,12 +280,14 @@ class ObjectAttention(Module):
                 for o in el.iterfind("object"):
                     b, d = math.radians(float(o.get("bearing"))), float(o.get("distance"))  # type: ignore[arg-type]
                     x, y, z = self.place(pose, b, d)
-                    w = o.get("width")
+                    w, h = o.get("width"), o.get("height")
                     # The size across: the image extent at the measured (slant) distance.
                     size = 2 * d * math.tan(math.radians(float(w)) / 2) if w is not None else None
-                    self._seen.append((o.get("type", ""), x, y, z, (float(o.get("r")), float(o.get("g")), float(o.get("b"))), size))  # type: ignore[arg-type]
+                    rise = math.radians(float(h)) if h is not None else None
+                    x, y, tall = upright(pose, b, d, x, y, z, rise)
+                    self._seen.append((o.get("type", ""), x, y, z, (float(o.get("r")), float(o.get("g")), float(o.get("b"))), size, tall))  # type: ignore[arg-type]
                     self._frames.append(t)
-                    self._rays.append((pose, b, d))
+                    self._rays.append((pose, b, d, rise))
         self._pending = keep
 
     def _on_gestures(self, msg: Message) -> None:
@@ -716,11 +752,14 @@ class ObjectAttention(Module):
         """Ask the partner which candidate they mean, through the ES (the papers' control flow):
         the event ``clarification`` (``<OPTIONS timeout><option index text/>+</OPTIONS>``) becomes the
         dialog's condition ``ask``; the dialog's answer comes back as the order ``clarified``
-        (``<ANSWER index/>`` or ``none``). No answer within ``ask_timeout`` + 20 s: None. The
+        (``<ANSWER index/>`` or ``none``). No answer within 2 ``ask_timeout`` + 20 s: None. The
         dialog gives her ``ask_timeout`` s (15) after the question to answer: room for one misheard
         answer and the question again, and a gesture before the words ("this one")."""
         asked = self.now
-        texts = option_texts(cands, wanted, pose)
+        depth = along_ray(cands, first)
+        if depth is not None:  # one behind the other along her arm: asked from the front one back
+            cands = [cands[i] for i in depth]
+        texts = option_texts(cands, wanted, pose, first)
         opts = etree.Element("OPTIONS", timeout=f"{self.ask_timeout:g}")
         for i, t in enumerate(texts):
             etree.SubElement(opts, "option", index=str(i), text=t)
@@ -731,7 +770,8 @@ class ObjectAttention(Module):
         self.bus.publish(ES_EVENTS, ev, causes=(cause,), transfer=True)
         watch = self.sim.spawn(self._watch_answer(cands, cause), name=f"{self.name}:watch")
         try:
-            async with asyncio.timeout(self.ask_timeout + 20.0):  # the question itself takes a while to say
+            # the question itself takes a while to say, and the dialog may ask it twice (an answer it did not understand)
+            async with asyncio.timeout(2 * self.ask_timeout + 20.0):
                 answer = await fut
         except TimeoutError:  # no dialog, or the ES did not route the question: the partner could not be asked
             return None
@@ -768,9 +808,10 @@ class ObjectAttention(Module):
                              first: Pointing | None = None) -> Candidate | None:
         """"This one" after the question: the asked candidates resolved by the pointing the camera
         saw since the question (waiting up to ``gesture_wait`` s for it) together with ``first``, the
-        gesture of the request (both point at the same object: each aims with its own error, so
-        their likelihoods multiply, :func:`~robot.objects.resolve.choose_pointed`); None if they
-        still do not single one out."""
+        gesture of the request (all point at the same object: each gesture, the request's and every
+        one since the question (:meth:`~robot.objects.gestures.GestureTracker.bouts`), aims with its
+        own error, so their likelihoods multiply, :func:`~robot.objects.resolve.choose_pointed`);
+        None if they still do not single one out."""
         waited = 0.0
         while waited < self.gesture_wait + 1e-9:
             # since the question, however long ago (she points, then says "this one": by the time
@@ -781,7 +822,10 @@ class ObjectAttention(Module):
                 self.last = res
                 if res.kind == "one":
                     return res.best
-                return choose_pointed(cands, [p] if first is None else [p, first])
+                # each time she pointed since the question is its own aim (she may have pointed twice,
+                # asked again), and so is the request's gesture
+                again = self.gestures.bouts(self.now, since) or [p]
+                return choose_pointed(cands, again if first is None else [*again, first])
             await asyncio.sleep(0.1)
             waited += 0.1
         return None

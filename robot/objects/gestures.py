@@ -61,40 +61,31 @@ class GestureTracker:
         lo = max(since, now - self.window if start is None else max(start, now - self.memory))
         return [p for t, p in self._seen if t >= lo]
 
+    def bouts(self, now: float, since: float, gap: float = 1.0) -> list[Pointing]:
+        """The pointing gestures made since ``since`` (at most ``memory`` s back), each its own ray:
+        detections apart by more than ``gap`` s are two gestures (her arm came down between them),
+        and each gesture is averaged as :meth:`pointing` averages (the largest consistent group).
+        Each gesture aims with its own error, so each is its own evidence (she pointed again)."""
+        seen = [(t, p) for t, p in self._seen if t >= max(since, now - self.memory)]
+        runs: list[list[tuple[float, Pointing]]] = []
+        for t, p in seen:
+            if runs and t - runs[-1][-1][0] <= gap:
+                runs[-1].append((t, p))
+            else:
+                runs.append([(t, p)])
+        out = []
+        for run in runs:
+            ray = _consensus([p for _, p in run], self.min_count, latest=False)
+            if ray is not None:
+                out.append(ray)
+        return out
+
     def pointing(self, now: float, since: float = -math.inf, start: float | None = None) -> Pointing | None:
         """The averaged ray of the largest group of consistent recent detections (taken at
         ``since`` or later; ``start``: look back to then instead of ``window`` s, e.g. to the
         beginning of the sentence the gesture went with), or None. Of groups equally large, the
         earliest (with ``start``: the latest)."""
-        seen = self.recent(now, since, start)
-        if len(seen) < self.min_count:
-            return None
-        groups: list[list[Pointing]] = []
-        for p in seen:
-            for g in groups:
-                if math.hypot(g[0].x - p.x, g[0].y - p.y) < 0.5 and abs(math.remainder(g[0].direction - p.direction, 2 * math.pi)) < math.radians(30):
-                    g.append(p)
-                    break
-            else:
-                groups.append([p])
-        if start is None:
-            best = max(groups, key=len)  # first of the largest: the earliest group on ties
-        else:  # looking back to the sentence: of the largest, the latest (groups are in order of first detection)
-            best = max(reversed(groups), key=len)
-        if len(best) < self.min_count:
-            return None
-        n = len(best)
-        sx = sum(math.sin(p.direction) for p in best)
-        cx = sum(math.cos(p.direction) for p in best)
-        mean = math.atan2(sx, cx)
-        # The standard error of the mean direction: the detections' spread over sqrt(n) (at least
-        # the camera's own noise over sqrt(n): a few detections can agree by chance).
-        var = sum(math.remainder(p.direction - mean, 2 * math.pi) ** 2 for p in best) / max(1, n - 1)
-        sigma = math.sqrt(max(var, DIRECTION_NOISE**2) / n)
-        return Pointing(
-            sum(p.x for p in best) / n, sum(p.y for p in best) / n, sum(p.z for p in best) / n,
-            mean, sum(p.elevation for p in best) / n, sigma,
-        )
+        return _consensus(self.recent(now, since, start), self.min_count, latest=start is not None)
 
     def target(self, now: float, floor_heights: tuple[float, ...] = (0.75, 0.0)) -> tuple[float, float, float] | None:
         """Where the ray comes down to the first of ``floor_heights`` (a table top, then the
@@ -109,3 +100,34 @@ class GestureTracker:
                 if reach <= 3.0:
                     return p.x + reach * math.cos(p.direction), p.y + reach * math.sin(p.direction), h
         return p.x + 1.0 * math.cos(p.direction), p.y + 1.0 * math.sin(p.direction), max(p.z - 0.3, 0.0)
+
+
+def _consensus(seen: list[Pointing], min_count: int, *, latest: bool) -> Pointing | None:
+    """The averaged ray of the largest group of consistent detections (hands within 0.5 m, directions
+    within 30 degrees), or None under ``min_count``. Of groups equally large, the earliest (``latest``:
+    the latest; groups are in order of first detection)."""
+    if len(seen) < min_count:
+        return None
+    groups: list[list[Pointing]] = []
+    for p in seen:
+        for g in groups:
+            if math.hypot(g[0].x - p.x, g[0].y - p.y) < 0.5 and abs(math.remainder(g[0].direction - p.direction, 2 * math.pi)) < math.radians(30):
+                g.append(p)
+                break
+        else:
+            groups.append([p])
+    best = max(reversed(groups), key=len) if latest else max(groups, key=len)
+    if len(best) < min_count:
+        return None
+    n = len(best)
+    sx = sum(math.sin(p.direction) for p in best)
+    cx = sum(math.cos(p.direction) for p in best)
+    mean = math.atan2(sx, cx)
+    # The standard error of the mean direction: the detections' spread over sqrt(n) (at least
+    # the camera's own noise over sqrt(n): a few detections can agree by chance).
+    var = sum(math.remainder(p.direction - mean, 2 * math.pi) ** 2 for p in best) / max(1, n - 1)
+    sigma = math.sqrt(max(var, DIRECTION_NOISE**2) / n)
+    return Pointing(
+        sum(p.x for p in best) / n, sum(p.y for p in best) / n, sum(p.z for p in best) / n,
+        mean, sum(p.elevation for p in best) / n, sigma,
+    )

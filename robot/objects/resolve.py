@@ -19,7 +19,11 @@ against what was said (the speech frame's type, name, colour) and shown
   the hand to the candidate, against the ray's own uncertainty: the person's
   aim (``AIM_SIGMA``) and the camera's estimate of the arm's direction
   (the spread of its detections over their number, :attr:`Pointing.sigma`);
-  far off the ray does not fit;
+  far off the ray does not fit; along the ray, the arm's elevation says how
+  far out it comes down (:meth:`Pointing.elevation_likelihood`, with the
+  object's height measured from the image: two plants one behind the other on
+  the floor, the arm points down more steeply at the nearer one's middle), as
+  evidence that only scores down;
 - distance: nearer to the hand (or to the robot without a gesture) is
   slightly preferred.
 
@@ -61,6 +65,12 @@ CLEAR = 3.0  # the best candidate's score ratio over the second to decide withou
 SIDE_APART = math.radians(3.0)  # rad: options this far apart, seen from the robot, are told apart by side too (3x the camera's bearing noise)
 CO_SEEN = 0.5  # two parts are two objects only if seen together in this share of the frames of the one seen less
 ANSWER_CLEAR = 1.5  # ... and after asking, with her answer's gesture and the request's together (she has been asked once)
+# Along the ray: the arm's elevation says how far out it comes down. She points at an object's middle
+# (its surface plus half the height the camera measured, Candidate.tall); ELEVATION_OUTLIER is the share
+# of rays whose elevation says nothing (an object placed on the wrong surface, an arm held lazily), so a
+# miss only scores down. Without a measured height the elevation is not used.
+ELEVATION_OUTLIER = 0.1
+ALONG_RAY = 0.25  # m: two options this much farther apart along her arm than across it are told apart by depth
 
 
 def colour_name(rgb: tuple[float, float, float] | np.ndarray) -> str:
@@ -82,17 +92,28 @@ class Candidate:
     n: int = 0
     size_sum: float = 0.0  # metres, over the detections that measured it
     size_n: int = 0
+    tall_sum: float = 0.0  # metres from its surface to its top, over the detections that measured it
+    tall_n: int = 0
+
+    @property
+    def tall(self) -> float | None:
+        """The mean height measured from the image (metres from its surface up), or None if not measured."""
+        return self.tall_sum / self.tall_n if self.tall_n else None
 
     @property
     def size(self) -> float | None:
         """The mean size measured from the image (metres across), or None if no detection measured it."""
         return self.size_sum / self.size_n if self.size_n else None
 
-    def add(self, type_: str, x: float, y: float, z: float, rgb: tuple[float, float, float], size: float | None = None) -> None:
-        """Merge one detection (running mean of the position, colour sums, type votes, size)."""
+    def add(self, type_: str, x: float, y: float, z: float, rgb: tuple[float, float, float], size: float | None = None,
+            tall: float | None = None) -> None:
+        """Merge one detection (running mean of the position, colour sums, type votes, size, height)."""
         if size is not None:
             self.size_sum += size
             self.size_n += 1
+        if tall is not None:
+            self.tall_sum += tall
+            self.tall_n += 1
         k = self.n + 1
         self.x += (x - self.x) / k
         self.y += (y - self.y) / k
@@ -113,6 +134,8 @@ class Candidate:
         self.z = (self.z * self.n + other.z * other.n) / k
         self.size_sum += other.size_sum
         self.size_n += other.size_n
+        self.tall_sum += other.tall_sum
+        self.tall_n += other.tall_n
         self.rgb_sum = self.rgb_sum + other.rgb_sum
         self.rgb_sq = self.rgb_sq + other.rgb_sq
         for t, v in other.types.items():
@@ -206,6 +229,7 @@ def merge(
     for k, det in enumerate(detections):
         type_, x, y, z, rgb = det[:5]
         size = det[5] if len(det) > 5 else None  # type: ignore[misc]
+        tall = det[6] if len(det) > 6 else None  # type: ignore[misc]
         best, bd = None, math.inf
         for c in out:
             d = gate(c, x, y, z, np.asarray(rgb, dtype=float))
@@ -215,7 +239,7 @@ def merge(
             best = Candidate(x, y, z)
             out.append(best)
             members[id(best)] = []
-        best.add(type_, x, y, z, rgb, size)
+        best.add(type_, x, y, z, rgb, size, tall)
         members[id(best)].append(k)
     # A first sight that was an outlier splits one object in two: join candidates whose means
     # (far better than single detections) pass the same gate, the earlier one absorbing.
@@ -328,7 +352,7 @@ def _from_detections(idx: list[int], detections: list) -> Candidate:
     c.x = c.y = c.z = 0.0
     for k in idx:
         d = detections[k]
-        c.add(d[0], d[1], d[2], d[3], d[4], d[5] if len(d) > 5 else None)
+        c.add(d[0], d[1], d[2], d[3], d[4], d[5] if len(d) > 5 else None, d[6] if len(d) > 6 else None)
     return c
 
 
@@ -404,6 +428,23 @@ class Pointing:
         u = np.array([math.cos(self.elevation) * math.cos(self.direction), math.cos(self.elevation) * math.sin(self.direction), math.sin(self.elevation)])
         return math.acos(max(-1.0, min(1.0, float(d @ u) / n)))
 
+    def elevation_off(self, c: Candidate) -> float | None:
+        """How far (rad) the ray's elevation passes above or below the candidate's middle, seen from
+        the hand; None without its measured height (:attr:`Candidate.tall`), or within ``NEAR_HAND``
+        of the hand along the floor (there a few centimetres' difference is a large angle)."""
+        r = math.hypot(c.x - self.x, c.y - self.y)
+        if c.tall is None or r < NEAR_HAND:
+            return None
+        middle = c.z - 0.05 + c.tall / 2  # candidates stand 0.05 m above their surface
+        return abs(self.elevation - math.atan2(middle - self.z, r))
+
+    def elevation_likelihood(self, c: Candidate) -> float:
+        """The ray's elevation as evidence for a candidate (1 on it, down to ``ELEVATION_OUTLIER`` far off)."""
+        off = self.elevation_off(c)
+        if off is None:
+            return 1.0
+        return (1.0 - ELEVATION_OUTLIER) * math.exp(-0.5 * (off / self.spread) ** 2) + ELEVATION_OUTLIER
+
     def angle_horizontal(self, x: float, y: float) -> float:
         """Angle (rad) between the ray's heading and the hand-to-point heading, on the floor plan."""
         return abs(math.remainder(math.atan2(y - self.y, x - self.x) - self.direction, 2 * math.pi))
@@ -476,7 +517,7 @@ def score(c: Candidate, wanted: Wanted, pointing: Pointing | None, origin: tuple
                 why.append(f"{c.colour}, not {wanted.colour}")
     if pointing is not None:
         a = pointing.angle_off(c.x, c.y)
-        s *= math.exp(-0.5 * (a / pointing.spread) ** 2) + 1e-3
+        s *= (math.exp(-0.5 * (a / pointing.spread) ** 2) + 1e-3) * pointing.elevation_likelihood(c)
         if a > GESTURE_FIT:
             fits = False
             why.append(f"{math.degrees(a):.0f} deg off the pointing")
@@ -506,8 +547,8 @@ def resolve(candidates: list[Candidate], wanted: Wanted, pointing: Pointing | No
 
 def choose_pointed(cands: list[Candidate], gestures: list[Pointing]) -> Candidate | None:
     """Of candidates she was asked to choose from, the one several gestures at the same object
-    point at: each gesture's aim errs on its own, so their likelihoods (as in :func:`score`)
-    multiply. The best when it is ``ANSWER_CLEAR`` times as likely as the next and within
+    point at: each gesture's aim errs on its own, so their likelihoods (as in :func:`score`: across the
+    ray and, by the arm's elevation, along it) multiply. The best when it is ``ANSWER_CLEAR`` times as likely as the next and within
     ``GESTURE_FIT`` of every gesture; else None."""
     if not cands or not gestures:
         return None
@@ -516,7 +557,7 @@ def choose_pointed(cands: list[Candidate], gestures: list[Pointing]) -> Candidat
         like, fits = 1.0, True
         for g in gestures:
             a = g.angle_off(c.x, c.y)
-            like *= math.exp(-0.5 * (a / g.spread) ** 2) + 1e-6
+            like *= (math.exp(-0.5 * (a / g.spread) ** 2) + 1e-6) * g.elevation_likelihood(c)
             fits = fits and a <= GESTURE_FIT
         ranked.append((like, fits, c))
     ranked.sort(key=lambda r: -r[0])
@@ -526,24 +567,67 @@ def choose_pointed(cands: list[Candidate], gestures: list[Pointing]) -> Candidat
     return best[2]
 
 
-def option_texts(cands: list[Candidate], wanted: Wanted, robot_pose: tuple[float, float, float]) -> list[str]:
+def along_ray(cands: list[Candidate], pointing: Pointing | None) -> list[int] | None:
+    """The candidates' order from her hand outwards (indices) when they stand one behind the other
+    along her arm: each next one at least ``ALONG_RAY`` farther out and farther out than twice its
+    offset across the arm from the one before (two plants by a wardrobe, in line with her arm: left
+    and right tell them apart badly, "the one in front" well); None otherwise."""
+    if pointing is None or len(cands) < 2:
+        return None
+    c, s = math.cos(pointing.direction), math.sin(pointing.direction)
+    along = [(k.x - pointing.x) * c + (k.y - pointing.y) * s for k in cands]
+    across = [-(k.x - pointing.x) * s + (k.y - pointing.y) * c for k in cands]
+    order = sorted(range(len(cands)), key=lambda i: along[i])
+    for a, b in zip(order, order[1:]):
+        gap = along[b] - along[a]
+        if gap < ALONG_RAY or gap <= 2 * abs(across[b] - across[a]):
+            return None
+    return order
+
+
+#: The words of an option by its place along her arm (index: from her hand outwards).
+DEPTH_WORDS = {2: ("in front", "behind it"), 3: ("in front", "in the middle", "at the back")}
+
+
+def option_texts(cands: list[Candidate], wanted: Wanted, robot_pose: tuple[float, float, float],
+                 pointing: Pointing | None = None) -> list[str]:
     """Words that tell the candidates apart: "the red cup", "the blue one"; by side or distance
     when the colours are the same ("the cup on the left", "the one on the right"). Different colours
     are said with their side too when the sides differ by ``SIDE_APART`` or more ("the green book on
     the right", "the brown one on the left"): people answer "which one?" by colour or by side alike,
-    and the answer is matched to the words of the options."""
+    and the answer is matched to the words of the options.
+    Options one behind the other along her arm (:func:`along_ray`, with ``pointing``) are told apart by
+    depth: "the plant in front", "the one behind it" when they stand in the same order from her and
+    from the robot; two that do not (the robot sees them from the other side) are "the plant nearer to
+    you" and "the one nearer to me" (the robot speaking). Two the robot sees ``SIDE_APART`` apart say
+    their side after it ("the plant in front on the right"): she may answer by either."""
     noun = wanted.name or wanted.type or cands[0].type
     colours = [c.colour for c in cands]
     x, y, th = robot_pose
     side = [math.remainder(math.atan2(c.y - y, c.x - x) - th, 2 * math.pi) for c in cands]
     order = sorted(range(len(cands)), key=lambda i: -side[i])  # leftmost first
     words = {}
+    depth = along_ray(cands, pointing) if len(cands) in DEPTH_WORDS else None
     if len(cands) == 2:
         words[order[0]], words[order[1]] = "on the left", "on the right"
     else:
         for rank, i in enumerate(order):
             words[i] = "on the left" if rank == 0 else "on the right" if rank == len(cands) - 1 else "in the middle"
+    if depth is not None:
+        from_robot = sorted(range(len(cands)), key=lambda i: math.hypot(cands[i].x - x, cands[i].y - y))
+        if from_robot == depth:
+            deep = dict(zip(depth, DEPTH_WORDS[len(cands)]))
+        elif len(cands) == 2 and from_robot == depth[::-1]:
+            deep = {depth[0]: "nearer to you", depth[1]: "nearer to me"}
+        else:
+            deep = None
+        if deep is not None:
+            # their sides too when the robot sees them apart: she may answer by side as well
+            sides = len(cands) == 2 and abs(side[order[0]] - side[order[1]]) >= SIDE_APART
+            words = {i: deep[i] + (f" {words[i]}" if sides else "") for i in range(len(cands))}
+        else:
+            depth = None
     if len(set(colours)) == len(colours):
-        apart = all(abs(side[a] - side[b]) >= SIDE_APART for a, b in zip(order, order[1:]))
+        apart = depth is not None or all(abs(side[a] - side[b]) >= SIDE_APART for a, b in zip(order, order[1:]))
         return [(f"the {col} {noun}" if i == 0 else f"the {col} one") + (f" {words[i]}" if apart else "") for i, col in enumerate(colours)]
     return [f"the {noun} {words[i]}" if i == 0 else f"the one {words[i]}" for i in range(len(cands))]
