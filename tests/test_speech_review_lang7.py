@@ -288,3 +288,35 @@ def test_morning_inside_a_turn_greets_nobody(form, word):
 @pytest.mark.parametrize("words", ["morning", "morning biron", "good evening robot", "yo biron"])
 def test_an_opening_word_alone_still_greets(words):
     assert understood(words).act == "GREETING"
+
+
+# ------------------------------------------------------------------ 7: a colour said with a side no option has
+_SIDED = [(0, "the blue cup on the left"), (1, "the red one on the right")]
+
+
+@pytest.mark.parametrize("words, picked", [("the blue cup behind it", 0), ("the red cup in front of it", 1),
+                                           ("the blue one at the back", 0), ("the cup behind it", None),
+                                           ("the right one behind it", 1)])
+def test_a_colour_said_with_a_side_no_option_has_still_picks(words, picked):
+    """"the blue cup behind it" was THAT_ONE side=back with the colour blue, and choose() took the side
+    branch ("on the back": no option) and returned None, the colour ignored."""
+    from robot.dialog.module import choose
+
+    assert choose(_SIDED, understood(words).frame[0]) == picked
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.sampled_from(["near", "far", "front", "back", "left", "right"]),
+       st.sampled_from(["blue", "red"]), st.permutations(["blue", "red"]))
+def test_a_side_that_fits_no_option_never_overrides_the_colour(side, colour, order):
+    """Property: options worded by colour and left/right; an answer with a depth side (no option has one)
+    and a colour picks the option of that colour, and an answer never picks an option of another colour."""
+    from robot.dialog.module import choose
+
+    options = [(0, f"the {order[0]} cup on the left"), (1, f"the {order[1]} one on the right")]
+    answer = etree.fromstring(f'<THAT_ONE side="{side}"><COLOUR name="{colour}"/></THAT_ONE>')
+    picked = choose(options, answer)
+    if side in ("near", "far", "front", "back"):
+        assert picked == order.index(colour)
+    if picked is not None and side not in ("left", "right"):
+        assert colour in options[picked][1]
