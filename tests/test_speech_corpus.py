@@ -13,6 +13,7 @@ from pathlib import Path
 import pytest
 from lxml import etree
 
+from robot.speech.lexicon import CONTRACTIONS, DROP, Lexicon
 from robot.speech.module import shared_understander
 
 CORPUS = Path(__file__).resolve().parent.parent / "robot" / "speech" / "corpus"
@@ -54,6 +55,75 @@ def test_the_corpus_has_500_utterances_and_a_fifth_held_out():
 def test_the_held_out_slices_share_no_utterance_with_the_tuning_part_or_each_other():
     words = [{w for w, _ in _rows(name)} for name in ("tuning.tsv", *ALL_HELD_OUT)]
     assert sum(map(len, words)) == len(set().union(*words))
+
+
+_FILLERS = frozenset(k[0] for k, (t, _) in Lexicon.load().entries.items() if len(k) == 1 and t == DROP)
+
+
+def _said(words: str) -> tuple[str, ...]:
+    """An utterance as the understanding hears it: lower case, no punctuation, contractions said as two
+    words, fillers and politeness words (the lexicon's dropped words) left out."""
+    fillers = _FILLERS
+    out: list[str] = []
+    for w in Lexicon.words(words):
+        out += ["'s"] if w == "POSS" else list(CONTRACTIONS.get(w, (w,)))
+    return tuple(w for w in out if w not in fillers)
+
+
+_DEIXIS = frozenset({"this", "that", "here", "it", "these", "those", "there"})
+
+
+def near_duplicates(a: str, b: str) -> bool:
+    """Whether two utterances are one phrasing: the same words once fillers, contractions and punctuation
+    are taken out, or but one deixis word apart ("this is the room of my daughter" / "here is ...")."""
+    x, y = _said(a), _said(b)
+    if x == y:
+        return True
+    diff = [(p, q) for p, q in zip(x, y) if p != q] if len(x) == len(y) else []
+    return len(diff) == 1 and diff[0][0] in _DEIXIS and diff[0][1] in _DEIXIS
+
+
+@pytest.mark.parametrize("a, b, same", [("um, could you follow me, please?", "could you follow me", True),
+                                        ("this is the room of my daughter", "here is the room of my daughter", True),
+                                        ("where's my cup", "where is my cup", True),
+                                        ("this is the kitchen", "this is the bathroom", False),
+                                        ("this is my cup", "this is my red cup", False)])
+def test_near_duplicates_are_one_phrasing(a, b, same):
+    assert near_duplicates(a, b) == same
+
+
+#: Tuning rows (4 words or more as heard) that are one phrasing with some held-out row, counted when this
+#: check was added (2026-11-27, review-lang7 item 15): most are everyday requests every slice holds ("go to
+#: the kitchen"); "this is the room of my daughter" and "this is where we cook this is the kitchen" were
+#: added by lang7 after heldout-5 was in the repository (heldout-5's gains from them are exposed, not
+#: unseen: corpus README). No tuning row may join them: a held-out rate is an unseen figure only while
+#: the tuning part holds no copy of its rows.
+KNOWN_NEAR_DUPLICATES = frozenset({
+    'come along with me please', 'come with me biron', 'could you follow me please',
+    'er could you um follow me', 'follow me this way please', 'go to the kitchen',
+    'go to the kitchen no the living room', 'go to the kitchen please',
+    'go to the kitchen uh i mean the bathroom', 'hello i am back', 'here is the bathroom',
+    "here's the bathroom", 'i cannot find my phone', 'i would like you to follow me',
+    "i'd like you to follow me please", "i'm off bye", 'it is that one there', 'maybe go to the kitchen',
+    'no it is not', 'no that is wrong', "no that's not right", "please don't follow me",
+    'please hold on a second', 'please tell me what you can do', 'take me back to the kitchen please',
+    'thank you very much and goodbye', 'that is the remote', "that's the bathroom", 'the one on the right',
+    'this is a mug', "this is my son's room", 'this is the fruit bowl', 'this is the guest room',
+    'this is the lamp next to the sofa', 'this is the room of my daughter', 'this is the study',
+    'this is the utility room', 'this is where we cook this is the kitchen', 'uh could you maybe follow me',
+    'uh where is uh my cup', 'um excuse me biron hello', 'wait for me here please', 'we are in the study',
+    'we are now in the hallway', "we're now in the dining room", 'what are your skills',
+    'what can you do biron', 'what else do you know how to do', 'where did i put my glasses', 'where is my cup',
+    'where is the red cup', "where's my cup", "where's my phone", "yes that's right",
+})
+
+
+def test_no_new_tuning_row_is_a_near_duplicate_of_a_held_out_row():
+    held = {_said(w) for name in ALL_HELD_OUT for w, _ in _rows(name)}
+    deixis_free = {tuple("·" if w in _DEIXIS else w for w in h) for h in held}
+    new = [w for w, _ in _rows("tuning.tsv") if len(s := _said(w)) >= 4 and w not in KNOWN_NEAR_DUPLICATES
+           and (s in held or tuple("·" if x in _DEIXIS else x for x in s) in deixis_free)]
+    assert new == [], "tuning rows that are one phrasing with a held-out row (rewrite or drop them)"
 
 
 @pytest.mark.parametrize("name", HELD_OUT)

@@ -309,6 +309,10 @@ class DialogManager:
         # 2. a new sub-dialog
         d = self.doc.by_trigger(act)
         if d is None:
+            if not out and act == "THAT_ONE" and msg.get("fragment") == "true":
+                # "closer please", "turn left", "further": a side alone answers only a which-one question
+                # (none is open); said now she asks for something the robot did not understand
+                return self._not_understood()
             if not out and (msg.get("partial") == "true" or msg.get("unknown")):
                 # words the understanding could not use around an answer nobody asked for ("alright
                 # you can stop there we have arrived" heard as a bare "alright"): she asked for

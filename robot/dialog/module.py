@@ -233,12 +233,19 @@ def choose(options: list[tuple[int, str]], answer: Any, facing: str = "unknown")
     if answer.tag == "YES":
         return options[0][0] if len(options) == 1 else None
     side = answer.get("side")
+    # "the blue cup behind it" to "the blue cup on the left or the one on the right?": a side no option was
+    # worded by picks nothing; the colour or attribute said with it still may (review-lang7 item 7)
+    described = {str(c.get("name")) for c in answer if c.tag in ("COLOUR", "ATTRIBUTE") and c.get("name")}
     if side in DEPTH_SIDES:  # "the nearer one", "the one at the back": the option worded by its depth
+        if described and not any(words in text for _, text in options for words in DEPTH_RANKS):
+            return _by_words(options, described)
         return _by_depth(options, side in ("near", "front"), answer.get("view"))
     if side is not None:  # "the left one": the option the object attention worded by its side
         side = robot_side(side, answer.get("view"), facing)
         words = "in the middle" if side == "middle" else f"on the {side}"
         hits = [idx for idx, text in options if words in text]
+        if not hits and described:
+            return _by_words(options, described)
         return hits[0] if len(hits) == 1 else None
     index = answer.get("index")
     if index is not None:
@@ -254,6 +261,11 @@ def choose(options: list[tuple[int, str]], answer: Any, facing: str = "unknown")
         words.add(answer.get("side", ""))
     if answer.get("type"):
         words.add(answer.get("type", "").replace("_", " "))
+    return _by_words(options, words)
+
+
+def _by_words(options: list[tuple[int, str]], words: set[str]) -> int | None:
+    """The one option that shares the most of ``words`` (at least one), or None when none or a tie."""
     scores = [(sum(w in text.split() or w == text for w in words), idx) for idx, text in options]
     best = max(s for s, _ in scores)
     winners = [idx for s, idx in scores if s == best]

@@ -86,6 +86,22 @@ def place_title(place: etree._Element | None) -> str | None:
     return place.get("name")
 
 
+def place_names(title: str) -> list[str]:
+    """The stored names a go-to's ``title`` may mean, in the order to try them: her own words first,
+    then the same words with or without a trailing "room".
+
+    She names a room in her words ("this is the study") and asks for it in others ("go to the study
+    room"), or the reverse; the stored name stays hers (docs/semantics.md §4), so the look-up forgives
+    the word "room" (a bare "room" is no name and is never taken off).
+    """
+    name = " ".join(title.strip().lower().split())
+    if not name:
+        return []
+    words = name.split()
+    other = " ".join(words[:-1]) if len(words) > 1 and words[-1] == "room" else f"{name} room"
+    return [name] if other == "room room" else [name, other]
+
+
 def find_place_pose(reply: etree._Element, title: str) -> tuple[float, float, float] | None:
     """The pose of the last place in a KB reply named ``title`` (case-insensitive), or None.
 
@@ -167,10 +183,14 @@ class Planner(Module):
         return self.grid
 
     async def _place(self, title: str) -> tuple[float, float, float] | None:
-        req = etree.Element("request", kb="places", op="query")
-        etree.SubElement(req, "where", index="name", value=title.strip().lower())
-        reply = await self.bus.call("scene_model", "request", req, timeout=self.timeout)
-        return find_place_pose(reply.xml, title)
+        for name in place_names(title):
+            req = etree.Element("request", kb="places", op="query")
+            etree.SubElement(req, "where", index="name", value=name)
+            reply = await self.bus.call("scene_model", "request", req, timeout=self.timeout)
+            pose = find_place_pose(reply.xml, name)
+            if pose is not None:
+                return pose
+        return None
 
     def _publish(self, title: str, points: list[tuple[float, float]], theta: float | None = None, failed: str | None = None,
                  replan: bool = False) -> None:

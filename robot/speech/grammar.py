@@ -29,6 +29,7 @@ when addressed by name), ``GOODBYE``, ``CAPABILITIES``, ``FOLLOW``,
 from __future__ import annotations
 
 import hashlib
+import itertools
 import os
 import sys
 import tempfile
@@ -152,6 +153,16 @@ class Understander:
         if not toks:
             res.reason = "no known words" if lex.unknown else "nothing said"
             return res
+        if toks[0].type == "HELLO" and toks[0].text in _OPENING_WORDS and len(toks) > 1:
+            # "morning biron, follow me", "yo, follow me": a word that greets only by opening a turn, before
+            # a whole request, is not heard as the greeting (the request is what she wants; these words
+            # were not understood before they greeted, and the request was taken then)
+            k = 1 + sum(1 for _ in itertools.takewhile(lambda t: t.type in ("ROBOTNAME", "ROBOT"), toks[1:]))
+            after = self._parse(toks[k:]) if k < len(toks) else None
+            if after is not None and after[0] is not None and not after[2] and not _guessed(after[0]) \
+                    and tree_act(after[0]) not in _AFTER_CLOSING:
+                res.unknown.append(toks[0].text)
+                toks = toks[1:]
         negated = _negation(toks, Lexicon.words(words))
         if negated is not None:
             # "don't stop, keep going", "do not follow me": a request said negated is never that request;
@@ -165,7 +176,9 @@ class Understander:
             toks = tail
         tree, ignored, partial = self._parse(toks)
         guess = False  # an object teaching rebuilt from a lost first word, or asked as a question
-        asked = self._asked(toks)
+        # a question with words the lexicon lacks ("is this the kitchen or the living room", "is it my
+        # phone ringing") asks something else than the statement its known words make: no teaching
+        asked = self._asked(toks) if not lex.unknown else None
         if asked is not None:
             # "is this the kitchen?", "is that my cup?": she names what she shows and asks the robot to
             # take it up; the statement she asks about is the frame, at half the coverage, so the
@@ -224,9 +237,14 @@ class Understander:
                 pass  # "alright, you can stop there, we have arrived": a whole request, then more words
             elif alt[0] is None or alt[2]:
                 alt = (None, [], True)
-                question = self._asked(toks[lead:])
+                question = self._asked(toks[lead:]) if not lex.unknown else None
+                lost = self._parse([_LOST_THIS, *toks[lead:]]) if toks[lead].type in ("IS", "ARE") else None
                 if question is not None:  # "no, is it my laptop": the no answers, the question names it
                     alt, asked, guess = (question, [], False), question, True
+                elif lost is not None and lost[0] is not None and not lost[2] \
+                        and tree_act(lost[0]) in ("teach_place", "teach_object"):
+                    # "no, no, is bathroom": the correction's "this" (or "it") lost, as "[this] is my cup" alone
+                    alt, guess = (lost[0], [toks[lead].text], True), True
                 elif len(toks) > lead + 2 and toks[lead].type not in ("IS", "ARE"):
                     # "right, [so→that] this room is the living room": the word after the answer misheard,
                     # the rest a whole request or statement of its own (not an answer): it counts
@@ -239,11 +257,25 @@ class Understander:
                 res.answer = "no" if "NO" in said else "yes"
                 toks = toks[lead:]
                 tree, ignored, partial = alt
-        if any(t.type == "GOODBYE" for t in toks) and (tree is None or partial) and (
+        closing = max((i for i, t in enumerate(toks) if t.type == "GOODBYE"), default=None)
+        after = (self._parse(toks[closing + 1:]) if closing is not None and closing + 1 < len(toks)
+                 and toks[closing + 1].type != "TO" else None)  # "goodbye to the kitchen" is a farewell
+        if (closing is not None and (tree is None or partial) and after is not None and after[0] is not None
+                and not after[2] and not _guessed(after[0]) and tree_act(after[0]) not in _AFTER_CLOSING):
+            # "that will be all, now follow me": a whole request after the closing is what she wants now
+            # (the closing ended the last task, not the tour); the closing counts as words not used
+            tree, ignored, partial = after[0], [t.text for t in toks[: closing + 1]], True
+        elif any(t.type == "GOODBYE" for t in toks) and (tree is None or partial) and (
                 tree is None or tree_act(tree) != "goodbye"):
             # "that's it for today, goodbye": whatever else was in a closing turn, it closes
             tree, ignored, partial = self._parse([t for t in toks if t.type == "GOODBYE"])
             ignored = [t.text for t in toks if t.type != "GOODBYE"]
+        if tree is None and _room_unnamed(toks):
+            # "this is the [lost] room", "uh is the room": she names this room and its name was lost; a
+            # place with no name, so the dialog asks which room this is rather than to say it all again
+            tree, ignored, partial = self._parse([_LOST_THIS, Tok("IS", "is", ""), Tok("THE", "the", ""),
+                                                  Tok("PLACE", "", "")])
+            ignored, partial = [], True
         if tree is None:
             res.ignored = [t.text for t in toks]
             res.reason = "no parse"
@@ -265,13 +297,17 @@ class Understander:
             res.reason = small_talk
             return res
         res.frame = frame
-        res.fragment = tree_act(tree) in _FRAGMENTS
+        res.fragment = tree_act(tree) in _FRAGMENTS or _bare_side(tree)
         res.ignored = ignored
         res.partial = partial or bool(ignored)
         used = len(toks) - len(ignored)
         if ignored and tree_act(tree) == "greeting" and self._request_after_greeting(toks, ignored):
             used = len(toks)  # "hello biron, follow me": the greeting is sure; the request is not noise
             res.rest = list(ignored)
+        if any(t.type == "PLACE" and t.text in lex.coined for t in toks) and not set(lex.coined) <= set(res.ignored):
+            # "this is the craft room": a room named with a word the lexicon lacks may be a remark ("the
+            # cold room") or a misheard word: a guess the dialog confirms before it is stored or driven to
+            guess = True
         res.coverage = used / max(1, len(toks) + len(lex.unknown)) * (0.5 if guess else 1.0)
         why = _not_meant(tree, toks, res, [w for w in Lexicon.words(words) if w not in _SOUNDS], asked is not None)
         if why:
@@ -466,6 +502,12 @@ _FRAGMENTS = frozenset({"object_fragment", "place_fragment"})
 _STATEMENT_ACTS = frozenset({"place_fragment", "object_fragment", "teach_place", "teach_object"})
 #: Acts that are no request by themselves: answers to a question the robot asked.
 _NOT_REQUESTS = frozenset({"object_fragment", "place_fragment", "that_one", "yes", "no"})
+#: Greeting words that greet only as the turn's first word ("morning, biron"; not "in the morning", "the
+#: morning show", "every evening").
+_OPENING_WORDS = frozenset({"morning", "evening", "yo"})
+#: What a closing followed by more words stays a closing with ("that will be all, thank you, goodbye", "bye,
+#: yes"): answers and greetings are no request of their own.
+_AFTER_CLOSING = frozenset({"object_fragment", "place_fragment", "that_one", "yes", "no", "goodbye", "greeting"})
 _NOT_RESTARTS = frozenset({"object_fragment", "place_fragment", "that_one", "yes", "no"})
 
 # word classes that say nothing about a dangling object or place: deixis, articles, prepositions
@@ -546,6 +588,10 @@ def _not_meant(tree: Tree, toks: list[Tok], res: Understanding, words: list[str]
         # "that is exactly right", "you are correct" say yes only as the whole turn: "you are standing right
         # where I want to go", "it is right next to the door" say where something is
         return "a statement with 'right' in it, not a yes"
+    if kind == "teach_place" and any(t.type == "REL" and t.value != "at" for t in own):
+        # "you are next to the bathroom", "we are near the kitchen": a room beside the one she stands in;
+        # taught, the robot would store where it stands (outside that room) as that room
+        return "a room nearby, not the one we are in"
     if kind == "teach_place" and own and own[0].type == "YOU" and _guessed(act):
         # "you are in the kitchen" tells the robot where it is; "you are in my way" names no room
         return "no room named"
@@ -590,6 +636,22 @@ def _small_talk(tree: Tree, obj: etree._Element, toks: list[Tok]) -> str:
             and obj.find("ATTRIBUTE") is not None):
         return "an evaluation, not an object named"
     return ""
+
+
+def _bare_side(tree: Tree) -> bool:
+    """Whether the parse is a side or distance said alone ("left", "closer", "further"): an answer to a
+    which-one question only (said unasked, "closer please", "turn left" ask for something else)."""
+    act = next((c for c in tree.children if isinstance(c, Tree) and c.data != "address"), None)
+    return (act is not None and act.data == "that_one" and len(act.children) == 1
+            and isinstance(act.children[0], Token) and act.children[0].type == "SIDE")
+
+
+def _room_unnamed(toks: list[Tok]) -> bool:
+    """Whether ``toks`` are a statement about "the room" whose name was lost: a deixis or copula, then
+    "the"/"a" and "room" and nothing else ("this is the room", "is the room", "this the room")."""
+    kinds = [t.type for t in toks]
+    return (len(kinds) >= 3 and kinds[-2:] in (["THE", "ROOM"], ["A", "ROOM"])
+            and all(k in ("THIS", "THAT", "IT", "HERE", "IS", "ARE") for k in kinds[:-2]))
 
 
 def _declared(text: str) -> set[str]:
