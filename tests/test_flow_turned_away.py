@@ -142,6 +142,14 @@ def test_words_that_call_the_robot_by_its_name_are_for_it_even_turned_aside(cues
     assert d.addressed(10.0, end) <= d.addressed(10.0, end, named=True)  # the name never makes words less addressed
 
 
+@pytest.mark.parametrize("state", ["Interacting", "ObjectTeaching"])
+def test_a_partner_turned_aside_throughout_is_heard_only_when_she_names_the_robot(state):
+    # the case the property above reaches only when Hypothesis draws every cue turned aside
+    d = _dialog(state, [(10.0 + 0.1 * i, ASIDE, 0) for i in range(8)])
+    assert not d.addressed(10.0, 10.7)  # "where did I put that novel": to herself
+    assert d.addressed(10.0, 10.7, named=True)  # "BIRON, go to the lounge": to the robot
+
+
 @pytest.mark.parametrize(("words", "named"), [
     ("BIRON please go to the lounge", True), ("byron, follow me", True), ("hello biron", True),
     ("where did I put that novel", False), ("go to the lounge", False)])
