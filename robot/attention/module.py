@@ -169,6 +169,9 @@ def _deg(a: float) -> str:
 class PersonAttention(Module):
     """Leg detection, anchoring, selection and the attention FSM on the bus (see the module docstring)."""
 
+    #: the ES's last order was ``look_for_help`` (the robot asked for help; :meth:`_voice_heading`)
+    seeking_help: bool = False
+
     def __init__(
         self,
         sim: Any,
@@ -412,6 +415,7 @@ class PersonAttention(Module):
         except OrderRefused as exc:
             self.refused.append(str(exc))
             return
+        self.seeking_help = name == "look_for_help"  # until the next order (:meth:`_voice_heading`)
         if state in ("Interaction", "Follow", "Object"):
             # A partner unseen for a moment (stepped aside) stays the partner across the change.
             pending = self.partner is not None and self._partner_last is not None and not self.partner_lost_sent
@@ -926,10 +930,12 @@ class PersonAttention(Module):
             self._voice_turn = None
             return None
         d = self._dominant
-        # Searching for her after a loss (:meth:`_searching`): a voice read near the axis that nobody
+        # Searching for her after a loss (:meth:`_searching`), or for whoever answers its call for help
+        # (``seeking_help``: it drove away from its partner, who comes up behind it, the laser's blind
+        # half; hall_goto_doorway_person, sq_goto_bedroom_door): a voice read near the axis that nobody
         # seen in front explains comes from behind (the pair cannot tell front from back, the laser
         # and the camera see the front): turn round to its mirrored direction.
-        behind = self._searching() and d is not None and abs(d[1]) <= p.voice_turn_min
+        behind = (self._searching() or self.seeking_help) and d is not None and abs(d[1]) <= p.voice_turn_min
         if d is not None and t - d[0] <= p.dominant_max_age and (abs(d[1]) > p.voice_turn_min or behind) and (self._voice_turn is None or d[0] > self._voice_turn[2]):
             b = math.pi - d[1] if behind else d[1]
             self._voice_turn = (t + p.voice_turn_time, self._pose_at(d[0])[2] + b, d[0])
