@@ -166,6 +166,11 @@ class AttentionParams:
     voice_refine: float = math.radians(25.0)  # a new reading this near the direction turned to refines it
     voice_recall_tolerance: float = math.radians(12.0)
     face_look_tolerance: float = math.radians(10.0)  # a face this near a direction: someone is there
+    # rad: how far the pan-tilt unit pans (the EVI-D31's data sheet). In Object, a focus further round
+    # than this (she points behind the robot) turns the base until it lies ``focus_margin`` inside it,
+    # instead of turning to her: the camera cannot look there otherwise
+    pan_limit: float = math.radians(100.0)
+    focus_margin: float = math.radians(15.0)
     # Faces whose legs the laser cannot see (a table top or a sofa between, robot.attention.tracker FACE):
     # a frontal face no track explains, where the scan is blocked short of it, is a person candidate
     # for this long after its frame
@@ -233,6 +238,8 @@ class PersonAttention(Module):
         self._voice_turn: tuple[float, float, float] | None = None  # (until, odom heading, heard at): turning to an unexplained voice
         self.looked = LookedAt()  # where the camera looked lately and whether it saw a face there (robot.attention.looking)
         self.heard = HeardFrom()  # the last voices nobody in view explained
+        self._focus_at = -math.inf
+        self._focus_turning = False  # in Object: turning the base to a focus beyond the pan range (:meth:`_focus_turn`)
         self._loose_faces: tuple[float, list[tuple[float, float]]] | None = None  # (frame time, odom points): the last frame's faces
         self._state_sent: tuple[str, int | None, int | None] | None = None
         self._state_at = -math.inf
@@ -336,6 +343,7 @@ class PersonAttention(Module):
     def _on_focus(self, msg: Message) -> None:
         el = msg.xml
         self._focus = (math.radians(float(el.get("bearing", "0"))), float(el.get("distance", "1")), float(el.get("height", "0.8")))
+        self._focus_at = msg.created
 
     def _on_sounds(self, msg: Message) -> None:
         t = msg.created
@@ -935,6 +943,14 @@ class PersonAttention(Module):
             else:
                 self._turning = True
                 self._base(max(-p.max_turn, min(p.max_turn, p.turn_gain * b)))
+        elif (turn := self._focus_turn(target)) is not None:
+            if abs(turn) < p.turn_stop:
+                if self._turning:
+                    self._base(0.0)
+                    self._turning = False
+            else:
+                self._turning = True
+                self._base(max(-p.max_turn, min(p.max_turn, p.turn_gain * turn)))
         elif state in TURNS and row >= 0 and not self._follower_drives and not self._player_drives:
             b = bearing[row]
             if self._turning and abs(b) < p.turn_stop:
@@ -972,6 +988,25 @@ class PersonAttention(Module):
         if self.looked.face_since(front, heard - p.dominant_max_age):
             return None  # a face there: someone whose legs the laser does not see (a FACE track)
         return front
+
+    def _focus_turn(self, target: str) -> float | None:
+        """In Object, while the object attention's focus lies beyond the pan-tilt unit's reach (she
+        points beside and behind the robot): the angle (rad) still to turn the base so that it lies
+        ``focus_margin`` inside the reach; 0 once it does (the turn is over while the focus stays
+        there), None when no such turn is under way (the base turns to her, as in Interaction).
+        Not while the player drives (a drive to a viewpoint turns the robot itself)."""
+        f = self._focus
+        if target != "object" or f is None or self.now - self._focus_at > 0.5 or self._player_drives or self._follower_drives:
+            self._focus_turning = False
+            return None
+        p = self.params
+        b = f[0]
+        inside = p.pan_limit - p.focus_margin
+        if abs(b) > p.pan_limit:
+            self._focus_turning = True
+        if not self._focus_turning:
+            return None
+        return 0.0 if abs(b) <= inside else b - math.copysign(inside, b)
 
     def _voice_heading(self, t: float, row: int, category: int) -> float | None:
         """The odometry heading to turn to for a voice nobody seen explains, or None.

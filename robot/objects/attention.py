@@ -87,6 +87,7 @@ SEARCH_RADIUS_WIDE = 2.0
 # degrees) takes 1.75 s, and a look timed from the order saw the far side for no frame at all.
 PAN_SPEED = math.radians(80.0)
 PAN_LIMIT = math.radians(100.0)
+TURN_TO_LOOK = 5.0  # s: a look at a spot beyond the pan range waits at most this long for the base's turn to it
 POSE_WAIT = 0.3  # s: a percept waits this long for the localised pose of its capture time
 PARTNER_FAR = 2.6  # m: a partner farther away is approached when neither her gesture nor what she shows was seen
 MOVE_TIMEOUT = 20.0  # s: a drive to a better viewpoint that has not arrived by then is given up
@@ -211,6 +212,7 @@ class ObjectAttention(Module):
         self.plan: FloorPlan | None = None
         self._looking = False
         self._seen: list[Seen] = []
+        self._focus_bearing = 0.0  # rad, robot frame: where the last focus sent the camera
         self._frames: list[float] = []  # each seen detection's capture time (its camera frame)
         self._rays: list[tuple[tuple[float, float, float], float, float, float | None]] = []  # each one's pose, bearing, distance, rise
         self._search: asyncio.Task[None] | None = None
@@ -455,8 +457,13 @@ class ObjectAttention(Module):
         self._looking = True
         fallback = self._target_3d(pointing) if pointing is not None else None
         t_end = self.now + self.look_time
+        latest = t_end + TURN_TO_LOOK
         while self.now < t_end - 1e-9:
             self._publish_focus(cause, fallback)
+            if abs(self._focus_bearing) > PAN_LIMIT and t_end < latest:
+                # beyond the pan-tilt unit's reach (she points behind the robot): the person attention
+                # turns the base towards it; the look begins when the camera can get there
+                t_end = min(latest, self.now + self.look_time)
             await asyncio.sleep(0.2)
         self._looking = False
         pose = self.pose
@@ -771,6 +778,7 @@ class ObjectAttention(Module):
             dx, dy = target[0] - pose[0], target[1] - pose[1]
             bearing = math.remainder(math.atan2(dy, dx) - pose[2], 2 * math.pi)
             dist = max(0.3, math.hypot(dx, dy) - CAMERA_OFFSET)
+        self._focus_bearing = bearing
         el.set("bearing", f"{math.degrees(bearing):.2f}")
         el.set("distance", f"{dist:.3f}")
         if target is not None and abs(target[2] - TABLE_HEIGHT) > HEIGHT_OFF:
