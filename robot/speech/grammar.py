@@ -342,6 +342,9 @@ class Understander:
             return None
         if any(t.type in ("YOUR", "MINE") and t.value == "robot" for t in toks):
             return None
+        if any(t.type == "NAME" and self.lexicon.entries.get(tuple(t.text.split()), ("", ""))[0] in ("ROBOT", "ROBOTNAME")
+               for t in toks):
+            return None  # "is this biron's cup", "is that the robot's charger": the robot's own things
         return tree
 
     def _after_negation(self, toks: list[Tok], at: int) -> list[Tok] | None:
@@ -712,6 +715,10 @@ def _owner(tree: Tree | None) -> str | None:
     return None
 
 
+#: Object types whose "of" names what they show ("a photo of my daughter"), not whose they are.
+DEPICTING = frozenset({"picture"})
+
+
 def _object(np: Tree | None, *, gesture: bool, position: Tree | None = None, tail: Tree | None = None,
             shown: Tree | None = None) -> etree._Element:
     """``OBJECT`` of a noun phrase; ``shown``: the act, whose own modifiers describe the thing she points at
@@ -730,7 +737,10 @@ def _object(np: Tree | None, *, gesture: bool, position: Tree | None = None, tai
         _S(el, "GESTURE", val="probably_pointing")
     if noun is not None and noun.value:
         _S(el, "TITLE", name=noun.text)
-    owner = _owner(tail) or _owner(_sub(np, "possessor")) or _owner(_sub(np, "of_owner"))  # "the cup of anna"
+    # "the cup of anna": her cup; but "a picture of my daughter" shows the daughter, it is not hers
+    # (review-lang7 item 14): a picture's "of" names what it depicts, never an owner
+    of_owner = None if noun is not None and noun.value in DEPICTING else _sub(np, "of_owner")
+    owner = _owner(tail) or _owner(_sub(np, "possessor")) or _owner(of_owner)
     if owner is not None:
         _S(el, "OWNER", name=owner)
     colours, attrs = _modifiers(np)
