@@ -17,6 +17,7 @@ from hypothesis import strategies as st
 from homesim.afsm.loader import load
 from robot.attention.cues import CueSpec, Hysteresis
 from robot.attention.fsm import AttentionFSM
+from robot.attention.looking import HeardFrom, LookedAt
 from robot.attention.module import AttentionParams, PersonAttention
 from robot.attention.tracker import Tracks, TrackerSpec
 
@@ -37,6 +38,8 @@ def _asking(seeking: bool, track: tuple[float, float] | None = (1.3, 5.2)) -> Pe
     a.partner = None
     a._odom = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
     a._voice_turn = None
+    a.looked = LookedAt()  # nothing looked at yet: a front reading is looked at first
+    a.heard = HeardFrom()
     a.facing = Hysteresis(CueSpec().facing_on, CueSpec().facing_off)
     return a
 
