@@ -223,3 +223,69 @@ def test_the_go_to_stands_while_someone_walks_by_it_close():
     assert v == 0.0
     v, _ = _player((4.0, 0.0), facing=False, tracks=[(0.02, 1.5, -0.7, 0.0)]).control_step()
     assert v > 0.0  # further off he does not hold it up
+
+
+@pytest.mark.parametrize("person", [(3.0, 2.0), (2.4, 1.85), (3.6, 2.2)])
+def test_the_first_plan_of_a_go_to_gives_a_person_standing_on_the_way_their_space(person):
+    """Only replans used to see people: the first plan ran straight through someone standing between
+    the robot and the goal, and the robot met her in its window. The first plan reads a fresh scan as
+    a replan does."""
+    import asyncio
+
+    pl, out = _planner(ROOM, (1.0, 2.0, 0.0), (5.0, 2.0), person)
+    pl.goal = None
+    pl._request = 1
+    pl.scan.update = lambda msg: None
+
+    async def place(title):  # noqa: ANN001, ANN202
+        return (5.0, 2.0, 0.0)
+
+    async def grid():  # noqa: ANN202
+        return ROOM
+
+    async def scan():  # noqa: ANN202
+        return object()
+
+    pl._place, pl._map, pl._next_scan = place, grid, scan  # type: ignore[method-assign]
+    goal = etree.fromstring('<PLACE><TITLE name="kitchen"/></PLACE>')
+    path = asyncio.run(pl.plan_for(goal))
+    assert path is not None and not out[-1].failed and not out[-1].replan
+    assert _min_distance(path, person) >= PERSON_CLEAR - 1.5 * ROOM.cell
+
+
+def test_a_person_in_the_only_door_does_not_fail_the_first_plan():
+    """Where her space closes every way (she stands in the only door), the first plan is the floor
+    plan's: people move, and the player waits for her at a polite distance."""
+    import asyncio
+
+    pl, out = _planner(DOOR, (1.5, 2.0, 0.0), (5.0, 2.0), (3.0, 2.0))
+    pl.goal = None
+    pl._request = 1
+    pl.scan.update = lambda msg: None
+
+    async def place(title):  # noqa: ANN001, ANN202
+        return (5.0, 2.0, 0.0)
+
+    async def grid():  # noqa: ANN202
+        return DOOR
+
+    async def scan():  # noqa: ANN202
+        return object()
+
+    pl._place, pl._map, pl._next_scan = place, grid, scan  # type: ignore[method-assign]
+    path = asyncio.run(pl.plan_for(etree.fromstring('<PLACE><TITLE name="kitchen"/></PLACE>')))
+    assert path is not None and not out[-1].failed
+
+
+def test_the_turn_to_the_goals_heading_never_swings_a_corner_into_someone_beside_the_goal():
+    """At the goal the player turns on the spot to the place's heading; the floor plan checks that
+    turn, and now the people too: she stands 3 cm off the rear left corner."""
+    x, y = -0.255 - BODY - 0.03, 0.2
+    p = _player((0.05, 0.0), facing=False, tracks=[(x, y)])
+    p.goal = (0.05, 0.0, math.pi / 2, 0.2, True)  # within tolerance; align to face +y: turn left
+    v, w = p.control_step()
+    assert w == 0.0 and v <= 0.0
+    p = _player((0.05, 0.0), facing=False, tracks=[(3.0, -2.0)])
+    p.goal = (0.05, 0.0, math.pi / 2, 0.2, True)
+    v, w = p.control_step()
+    assert w > 0.0  # with her far away it turns

@@ -215,11 +215,11 @@ def test_the_kernel_never_names_the_robot_not_even_in_a_string():
 
 #: What every robot module may import of another robot package: the contract, the floor plan, and the
 #: robot's configuration (its deployment: which host a module runs on and how fast that host is, for
-#: processing costs; its profile: which robot is simulated), and the one rule two modules must agree on (how long a
-#: followed partner may stay unseen: the follower's search and person attention's leaving rule). None of them imports
-#: another robot package.
+#: processing costs; its profile: which robot is simulated), and the rules modules must agree on (how long a
+#: followed partner may stay unseen: the follower's search and person attention's leaving rule; the footprint and
+#: the people sweep rule every module that sends a base command keeps). None of them imports another robot package.
 ROBOT_SHARED = ("robot.contract", "robot.percepts", "robot.floorplan", "robot.deployment", "robot.profiles",
-                "robot.partner_search")
+                "robot.partner_search", "robot.footprint")
 
 
 def test_robot_modules_talk_only_over_the_bus():

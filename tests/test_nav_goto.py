@@ -32,7 +32,7 @@ def _run(text: str, until: float):
 
 @pytest.fixture(scope="module")
 def aside():
-    run = _run(BASE, 26.0)
+    run = _run(BASE, 30.0)  # Tom steps aside at 14 s; it arrives at about 26 s (the first plan waits for a scan)
     yield run
     run.close()
 

@@ -70,6 +70,7 @@ from .fsm import CAMERA, TURNS, AttentionFSM, OrderRefused
 from .legs import LegDetector, LegSpec
 from .looking import HeardFrom, LookedAt, angle_between
 from .records import TrackRow, TracksRecord, own_document as _own_document
+from robot.footprint import outline, points_sweep_clear, sweep_poses, turn_clear
 from robot.partner_search import follow_search_time, way_distance
 from .selection import SelectionParams, Selector
 from .tracker import FACE, Tracks, TrackerSpec
@@ -129,6 +130,21 @@ class AttentionParams:
     turn_stop: float = math.radians(4.0)  # stop turning when within this
     turn_gain: float = 1.5  # rad/s per rad of bearing
     max_turn: float = 0.8  # rad/s
+    # Turning on the spot sweeps the footprint's corners round a 0.33 m circle: each turn is held to the
+    # people sweep rule (robot.footprint.turn_clear) over ``turn_check`` s against everyone within
+    # ``turn_reach`` m (every track, seen, hidden or dormant, and this scan's leg candidates), and a turn
+    # toward a bearing the laser does not see (further off the axis than ``blind_bearing``: someone who
+    # spoke from beside or behind the robot may stand there) is at most ``blind_turn`` rad/s, so that the
+    # laser sees what the leading corner comes to in time to stop it (u_catch_up_slow seeds 6, 8)
+    turn_check: float = 0.5  # s
+    turn_reach: float = 1.5  # m
+    echo_gap: float = 0.03  # m: a turn keeps the corners this far from the laser's echoes (walls, furniture), or no nearer than now
+    # m: an echo this near the floor plan's walls and furniture (the map pose's error) is the flat; any other
+    # echo near the robot may be a person's leg (the leg detector needs whole legs, and at the laser's edge
+    # it sees half of one): a turn keeps clear of a body behind it as of a tracked one
+    plan_explains: float = 0.12
+    blind_bearing: float = math.radians(70.0)
+    blind_turn: float = 0.4  # rad/s
     camera_height: float = 1.41
     # the camera's own field of view (its data sheet: 48.8 x 37.6 degrees), less a margin: a face
     # this far inside the image that the detector does not report looks away (facing="false")
@@ -181,6 +197,33 @@ class AttentionParams:
 
 
 _row = TrackRow._make
+
+
+#: m: an echo is a leg's near surface: the leg's centre lies this far behind it along the beam
+LEG_BEHIND = 0.06
+
+
+def echo_bodies(echoes: np.ndarray, explained: np.ndarray, offset: float) -> np.ndarray:
+    """(K, 2) robot-frame bodies a turn keeps clear of for the ``echoes`` (robot frame) that the floor plan
+    does not explain (``explained``): each a leg, its centre :data:`LEG_BEHIND` m behind the echo as seen from
+    the laser (``offset`` m ahead of the centre)."""
+    e = echoes[~explained] if len(echoes) else echoes
+    if not len(e):
+        return np.zeros((0, 2))
+    dx, dy = e[:, 0] - offset, e[:, 1]
+    r = np.maximum(np.hypot(dx, dy), 1e-6)
+    return np.column_stack((e[:, 0] + LEG_BEHIND * dx / r, e[:, 1] + LEG_BEHIND * dy / r))
+
+
+def turn_rate(b: float, bodies: np.ndarray, p: AttentionParams) -> float:
+    """The rate (rad/s) person attention turns on the spot toward bearing ``b`` (rad, robot frame) with
+    ``bodies`` (robot-frame centres: tracks and leg candidates) near: the turn law's (``turn_gain``, at most
+    ``max_turn``), at most ``blind_turn`` toward a bearing beyond ``blind_bearing``, 0 where the footprint's
+    sweep over ``turn_check`` s would come within ``TURN_GAP`` of a body it is not already nearer
+    (:func:`robot.footprint.turn_clear`; u_catch_up_slow seed 0: a corner swung into Cora 0.58 m away)."""
+    top = p.blind_turn if abs(b) > p.blind_bearing else p.max_turn
+    w = max(-top, min(top, p.turn_gain * b))
+    return w if turn_clear(w, bodies, duration=p.turn_check) else 0.0
 #: the partner message's attribute while she is turned away (only then: the message keeps its size otherwise)
 AWAY = ' away="true"'
 
@@ -233,6 +276,10 @@ class PersonAttention(Module):
         self._detector: tuple[np.ndarray, LegSpec, LegDetector] | None = None  # bearings, spec, their detector
         self._focus: tuple[float, float, float] | None = None  # bearing (rad), distance, height (m) of the object region
         self._turning = False
+        self._near: np.ndarray = np.zeros((0, 2))  # robot-frame bodies a turn must keep clear of (this scan)
+        self._ranges: np.ndarray | None = None  # this scan's ranges (a turn keeps off its echoes)
+        self._plan_near: FurnitureLegs | None = None  # the floor plan grown by plan_explains: echoes it explains
+        self._map_pose: tuple[float, float, float] | None = None  # the robot's map pose at this scan (the floor plan)
         self._ptu_sent: tuple[float, float] | None = None
         self._ptu_at = -math.inf
         self._steer_sent: float | None | str = "unset"
@@ -311,7 +358,9 @@ class PersonAttention(Module):
 
         try:
             reply = await self.bus.call("map_server", "map", etree.Element("map_request"), timeout=2.0)
-            self.furniture = FurnitureLegs(parse_map(reply.xml))
+            plan = parse_map(reply.xml)
+            self.furniture = FurnitureLegs(plan)
+            self._plan_near = FurnitureLegs(plan, margin=self.params.plan_explains, wall_margin=self.params.plan_explains)
         except (HomesimError, MapFormatError, TimeoutError) as exc:
             self.refused.append(f"no floor plan, furniture legs are not filtered: {exc}")
 
@@ -565,8 +614,9 @@ class PersonAttention(Module):
         self.scans += 1
         pose = self._pose_at(t)
         reject = None
+        self._ranges, self._map_pose = ranges, None
         if self.furniture is not None:
-            mx, my, mth = self._robot_in_map(t, pose)
+            mx, my, mth = self._map_pose = self._robot_in_map(t, pose)
             cm, sm = math.cos(mth), math.sin(mth)
             inside = self.furniture.inside_points
 
@@ -615,6 +665,7 @@ class PersonAttention(Module):
             ry.append(-s * dx + c * dy)
         bearing = [math.atan2(y, x) for x, y in zip(rx, ry)]
         dist = np.hypot(rx, ry).tolist() if tracks else []
+        self._near = self._bodies_near(list(zip(rx, ry)) + list(det.points))
         cats: dict[int, int] = {}
         speaking, facing = self.speaking, self.facing
         for tk in tracks:
@@ -966,7 +1017,7 @@ class PersonAttention(Module):
                     self._turning = False
             else:
                 self._turning = True
-                self._base(max(-p.max_turn, min(p.max_turn, p.turn_gain * b)))
+                self._turn(b)
         elif (turn := self._focus_turn(target)) is not None:
             if abs(turn) < p.turn_stop:
                 if self._turning:
@@ -974,7 +1025,7 @@ class PersonAttention(Module):
                     self._turning = False
             else:
                 self._turning = True
-                self._base(max(-p.max_turn, min(p.max_turn, p.turn_gain * turn)))
+                self._turn(turn)
         elif state in TURNS and row >= 0 and not self._follower_drives and not self._player_drives:
             b = bearing[row]
             if self._turning and abs(b) < p.turn_stop:
@@ -982,7 +1033,7 @@ class PersonAttention(Module):
                 self._turning = False
             elif self._turning or abs(b) > p.turn_start:
                 self._turning = True
-                self._base(max(-p.max_turn, min(p.max_turn, p.turn_gain * b)))
+                self._turn(b)
         elif self._turning:
             self._base(0.0)
             self._turning = False
@@ -1131,6 +1182,66 @@ class PersonAttention(Module):
         if last is None or abs(last[0] - pan) > p.ptu_deadband or abs(last[1] - tilt) > p.ptu_deadband or t - self._ptu_at >= p.ptu_refresh:
             self.bus.publish(PTU_CMD, etree.Element("ptu", pan=_deg(pan), tilt=_deg(tilt)), transfer=True)
             self._ptu_sent, self._ptu_at = (pan, tilt), t
+
+    def _bodies_near(self, points: list[tuple[float, float]]) -> np.ndarray:
+        """(K, 2) the robot-frame ``points`` within ``turn_reach`` m: the bodies a turn must keep clear of."""
+        reach = self.params.turn_reach
+        near = [(x, y) for x, y in points if x * x + y * y <= reach * reach]
+        return np.array(near, dtype=float) if near else np.zeros((0, 2))
+
+    def _turn(self, b: float) -> None:
+        """Turn on the spot toward bearing ``b`` (rad, robot frame), at the turn law's rate (slower toward
+        a bearing the laser does not see), if the footprint's sweep keeps clear of everyone near
+        (:func:`robot.footprint.turn_clear`); else stand, and try again on the next scan. The camera
+        still looks at the person meanwhile (the pan-tilt unit)."""
+        echoes = self._echoes()
+        w = self.turn_rate(b, np.vstack((self._near, echo_bodies(echoes, self._explained(echoes), self.legs.offset))))
+        if w and not self._flat_clear(w, echoes):
+            w = 0.0
+        self._base(w)
+
+    def _echoes(self) -> np.ndarray:
+        """(N, 2) this scan's echoes within ``turn_reach`` m of the laser, robot frame."""
+        ranges, bearings = self._ranges, self._bearings
+        if ranges is None or bearings is None or len(ranges) != len(bearings):
+            return np.zeros((0, 2))
+        near = (ranges > 0.02) & (ranges < self.params.turn_reach)
+        r, a = ranges[near], bearings[near]
+        return np.column_stack((self.legs.offset + r * np.cos(a), r * np.sin(a)))
+
+    def _explained(self, echoes: np.ndarray) -> np.ndarray:
+        """Which ``echoes`` the floor plan explains (within ``plan_explains`` m of a wall or a piece of
+        furniture, the robot's map pose as the tracker's filter uses it); none without a plan."""
+        if self._plan_near is None or self._map_pose is None or not len(echoes):
+            return np.zeros(len(echoes), dtype=bool)
+        mx, my, mth = self._map_pose
+        c, s = math.cos(mth), math.sin(mth)
+        return np.array(self._plan_near.inside_points([(mx + c * x - s * y, my + s * x + c * y) for x, y in echoes.tolist()]), dtype=bool)
+
+    def turn_rate(self, b: float, bodies: np.ndarray) -> float:
+        """:func:`turn_rate` with this module's parameters."""
+        return turn_rate(b, bodies, self.params)
+
+    def _flat_clear(self, w: float, echoes: np.ndarray) -> bool:
+        """Whether turning at ``w`` for ``turn_check`` s keeps the corners off this scan's echoes (``echo_gap``,
+        or no nearer than now) and off the floor plan's walls and furniture (no outline point comes to lie
+        inside one that did not already: the laser does not look behind, the plan does; hall_goto_doors
+        seed 7, a turn to a voice in the hall swung a rear corner into the wall)."""
+        p = self.params
+        if not points_sweep_clear(0.0, w, echoes, duration=p.turn_check, gap=p.echo_gap):
+            return False
+        if self.furniture is not None and self._map_pose is not None:
+            mx, my, mth = self._map_pose
+            x, y, th = sweep_poses(0.0, w, p.turn_check)
+            ring = outline()
+            inside = []
+            for px, py, pth in zip(x.tolist(), y.tolist(), th.tolist()):
+                c, s = math.cos(mth + pth), math.sin(mth + pth)
+                ox, oy = mx + math.cos(mth) * px - math.sin(mth) * py, my + math.sin(mth) * px + math.cos(mth) * py
+                inside.append(sum(self.furniture.inside_points([(ox + c * u - s * v, oy + s * u + c * v) for u, v in ring.tolist()])))
+            if max(inside) > inside[0]:
+                return False
+        return True
 
     def _base(self, w: float) -> None:
         self.bus.publish(BASE_CMD, etree.Element("velocity", v="0", w=f"{w:.4f}"), transfer=True)

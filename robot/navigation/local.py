@@ -33,11 +33,12 @@ from typing import Any
 
 import numpy as np
 
-from .config import Limits
+# The footprint and the people rule every base command keeps (robot.footprint), imported from here by
+# the follower, the player and the planner.
+from robot.footprint import (BODY, HALF_LENGTH, HALF_WIDTH, SOCIAL_GAP, SWEEP_STEP, SWEEP_TURN_STEP, TURN_GAP,  # noqa: F401
+                             arcs, footprint_distance, people_sweep_clear, turn_clear)
 
-#: The PeopleBot's footprint: half length and half width (m), centred on the base.
-HALF_LENGTH = 0.51 / 2
-HALF_WIDTH = 0.43 / 2
+from .config import Limits
 
 
 @dataclass(frozen=True)
@@ -122,21 +123,6 @@ def leg_discs(r_all: np.ndarray, a_all: np.ndarray, max_range: float, offset: fl
 
 _RING = np.linspace(0.0, 2 * math.pi, 10, endpoint=False)
 _RING_COS, _RING_SIN = np.cos(_RING), np.sin(_RING)
-#: m: the air the robot keeps between its footprint and a tracked person's body when it can help
-#: it: an arc that drives and would come closer within its whole horizon is inadmissible, unless it
-#: does not bring the robot any closer than it is (so a person who walks up to the robot is never
-#: fled into something, and waiting is always allowed). Head-on that is a stop about 0.76 m from
-#: the person's centre, 0.25 m of air in front of the bumper; passing beside someone, 0.72 m centre
-#: to centre (issue 26: yield, stop at a safe distance, never touch). Turning on the spot is
-#: exempt (it brings nobody nearer the robot's centre; the laser echoes still guard the corners),
-#: so a robot stopped beside a person can always turn to a way round.
-SOCIAL_GAP = 0.25
-#: m: a person's body radius round their tracked centre (the laser sees their legs).
-BODY = 0.25
-#: m: a turn on the spot keeps the footprint's corners this far from a person's body (see social_mask).
-TURN_GAP = 0.05
-
-
 def people_gaps(x: np.ndarray, y: np.ndarray, th: np.ndarray, people: np.ndarray) -> np.ndarray:
     """The air gap (m) between the footprint at each pose (arrays of one shape) and the nearest body.
 
@@ -284,13 +270,6 @@ def narrow_clusters(r: np.ndarray, a: np.ndarray, max_range: float, *, near: flo
     return np.column_stack((mid[keep] + 0.06, amid[keep]))
 
 
-def footprint_distance(px: np.ndarray, py: np.ndarray) -> np.ndarray:
-    """Distance from points (in a pose's frame) to the footprint rectangle (0 inside)."""
-    dx = np.maximum(np.abs(px) - HALF_LENGTH, 0.0)
-    dy = np.maximum(np.abs(py) - HALF_WIDTH, 0.0)
-    return np.hypot(dx, dy)
-
-
 def sweep_clearance(v: float, w: float, points: np.ndarray, duration: float, *, steps: int = 5) -> float:
     """The smallest footprint distance (m) to ``points`` (robot frame) along the arc (v, w) for ``duration`` s.
 
@@ -305,17 +284,6 @@ def sweep_clearance(v: float, w: float, points: np.ndarray, duration: float, *, 
     c, s = np.cos(th[0])[:, None], np.sin(th[0])[:, None]
     dx, dy = points[None, :, 0] - x[0][:, None], points[None, :, 1] - y[0][:, None]
     return float(footprint_distance(c * dx + s * dy, -s * dx + c * dy).min())
-
-
-def arcs(v: np.ndarray, w: np.ndarray, times: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Poses (x, y, theta), each (len(v), len(times)), along constant-(v, w) arcs from the origin."""
-    vv, ww, tt = v[:, None], w[:, None], times[None, :]
-    th = ww * tt
-    small = np.abs(ww) < 1e-6
-    safe_w = np.where(small, 1.0, ww)
-    x = np.where(small, vv * tt, vv / safe_w * np.sin(th))
-    y = np.where(small, 0.0, vv / safe_w * (1.0 - np.cos(th)))
-    return x, y, th
 
 
 def nearest_per_sector(points: np.ndarray, reach: float, sectors: int) -> np.ndarray:
@@ -443,40 +411,6 @@ def dwa(v0: float, w0: float, goal: tuple[float, float], points: np.ndarray, lim
         social, gaps = social_mask(x, y, th, np.asarray(people, dtype=float).reshape(-1, 2), V, gap=p.social_gap)
         clear = np.minimum(clear, gaps)
     return choose(V, W, x, y, th, hard, clear, here, d if len(pts) else None, goal, v_pref, p, social=social)
-
-
-def turn_clear(w: float, people: np.ndarray, *, duration: float) -> bool:
-    """Whether turning on the spot at ``w`` rad/s for ``duration`` s keeps the footprint's corners
-    :data:`TURN_GAP` from every body (``people``: (P, 2) robot-frame centres), or no nearer than now."""
-    # per body: someone already pressed against it (or a track misplaced onto it) must not make a
-    # turn into anyone else clear (a global minimum did: cross_studio_four seed 0, a corner swung
-    # into a man held up beside it while a ghost track lay on the robot); at poses dense enough for
-    # the turn rate (six over 0.5 s let a corner move 6 cm between them at 1.75 rad/s)
-    return people_sweep_clear(0.0, w, people, duration=duration, gap=TURN_GAP)
-
-
-#: m and rad: the largest step of a command's sweep between the poses :func:`people_sweep_clear` checks
-#: (a corner 0.33 m out moves under 2 cm per 0.05 rad)
-SWEEP_STEP = 0.02
-SWEEP_TURN_STEP = 0.05
-
-
-def people_sweep_clear(v: float, w: float, people: np.ndarray, *, duration: float, gap: float = SOCIAL_GAP) -> bool:
-    """Whether the footprint swept by (``v``, ``w``) held ``duration`` s keeps ``gap`` m from every body
-    (``people``: (P, 2) robot-frame centres), or, from a body closer than that already, no nearer than now.
-
-    Per body, and with poses as dense as the sweep needs at any turn rate (:data:`SWEEP_STEP`,
-    :data:`SWEEP_TURN_STEP`): the dynamic window's six poses over 1.6 s are 0.45 rad apart at
-    1.4 rad/s, and it exempts turns on the spot, so its give-way command swung a corner into the
-    partner 0.6-0.9 m away (u_catch_up_slow seed 5). Standing still is always clear."""
-    if not len(people) or (v == 0.0 and w == 0.0):
-        return True
-    n = max(5, math.ceil(abs(w) * duration / SWEEP_TURN_STEP), math.ceil(abs(v) * duration / SWEEP_STEP))
-    x, y, th = arcs(np.array([v]), np.array([w]), np.linspace(0.0, duration, n + 1))
-    c, s = np.cos(th[0])[:, None], np.sin(th[0])[:, None]
-    dx, dy = people[None, :, 0] - x[0][:, None], people[None, :, 1] - y[0][:, None]
-    gaps = footprint_distance(c * dx + s * dy, -s * dx + c * dy) - BODY  # (n + 1, P); row 0 is now
-    return bool(np.all(gaps.min(axis=0) >= np.minimum(gaps[0], gap) - 1e-3))
 
 
 def social_mask(x: np.ndarray, y: np.ndarray, th: np.ndarray, people: np.ndarray,

@@ -18,8 +18,9 @@ free path) is published as a plan with ``failed`` set, so the sequencer
 reports ``navigation_failed`` with that reason. ``navigation_cancelled``
 drops a request still being planned.
 
+The first plan and every replan see the people in the way the same way.
 Replanning (``/robot/navigation/replan``, from the sequencer when the player
-has been blocked a while): the echoes of the next laser scan
+has been blocked a while), and the first plan of a go-to: the echoes of the next laser scan
 (``/robot/laser/scan``, legs inflated to bodies) within :data:`LOCAL_RANGE` m
 that the floor plan does not explain (more than :data:`UNMAPPED` m from every
 mapped obstacle) are marked in a copy of the grid, a local costmap, and the
@@ -68,6 +69,9 @@ CONDITIONS = f"{ES_CONDITIONS}/planner"
 LOCAL_RANGE = 3.0
 #: m: an echo this much clear of every mapped obstacle is something the map does not hold.
 UNMAPPED = 0.10
+#: s: the first plan of a go-to waits this long for a fresh scan (people and obstacles the floor plan
+#: does not hold: the replan's local costmap), else it plans on the floor plan alone.
+SCAN_WAIT = 0.5
 SCHEMA = Path(__file__).resolve().parent.parent / "schemas" / "navigation" / "plan.xsd"
 #: rad: a watched way is known to be clear only this far either side of the heading (the laser's
 #: half circle, less a margin for the legs at its edge it does not pair).
@@ -265,14 +269,42 @@ class Planner(Module):
         if self.pose is None:
             self._publish(title, [], failed="not_localised")
             return None
+        scan = await self._next_scan()
+        if req != self._request:
+            return None
+        if scan is not None:
+            self.scan.update(scan)
         try:
-            points = grid.plan(self.pose[:2], place[:2])
+            # the first plan sees the people and unmapped obstacles of a fresh scan as a replan does; where
+            # they close every way (someone standing in the only door), it plans on the floor plan alone:
+            # people move, and the player waits for them at a polite distance (a replan then tries again)
+            try:
+                points = self._plan_round(place, squeeze=False) if scan is not None else grid.plan(self.pose[:2], place[:2])
+            except NoPathError:
+                points = grid.plan(self.pose[:2], place[:2])
         except NoPathError as e:
             self._publish(title, [], failed=e.reason)
             return None
         self.goal = (title, place)
         self._publish(title, points, theta=place[2])
         return points
+
+    async def _next_scan(self) -> Message | None:
+        """The next laser scan (None if none comes within :data:`SCAN_WAIT` s: planned on the floor plan alone).
+        Subscribed for that one scan only, as for a replan."""
+        got: asyncio.Future[Message] = asyncio.get_running_loop().create_future()
+
+        def once(msg: Message) -> None:
+            if not got.done():
+                got.set_result(msg)
+
+        sub = self.bus.subscribe(SCAN, once)
+        try:
+            return await asyncio.wait_for(got, SCAN_WAIT)
+        except asyncio.TimeoutError:
+            return None
+        finally:
+            sub.close()
 
     def _on_replan(self, msg: Message) -> None:
         """Replan on the next laser scan (the planner listens to the laser only for that one scan:
@@ -341,25 +373,31 @@ class Planner(Module):
         """
         assert self.goal is not None and self.grid is not None and self.pose is not None
         title, place = self.goal
-        grid = self.grid.with_obstacles(self.unmapped())
-        people = self.people()
         try:
-            if not len(people):
-                raise NoPathError("nobody in the scan", "no_people")
-            points = social_grid(grid, people).plan(self.pose[:2], place[:2])
+            points = self._plan_round(place, squeeze=not watch)  # watching: a way only past someone's body is no clear way
         except NoPathError as e:
-            try:
-                if watch and len(people):
-                    raise e  # a way only past someone's body is no clear way
-                points = grid.plan(self.pose[:2], place[:2])
-            except NoPathError as e2:
-                self._publish(title, [], failed=e2.reason, replan=True, **({"watch": True} if watch else {}))
-                return None
+            self._publish(title, [], failed=e.reason, replan=True, **({"watch": True} if watch else {}))
+            return None
         if watch and not in_view(points, self.pose, reach=LOCAL_RANGE):
             self._publish(title, [], failed="unseen", replan=True, watch=True)
             return None
         self._publish(title, points, theta=place[2], replan=True, **({"watch": True} if watch else {}))
         return points
+
+    def _plan_round(self, place: tuple[float, float, float], *, squeeze: bool = True) -> list[tuple[float, float]]:
+        """A path from the latest pose to ``place`` round the latest scan's unmapped echoes, giving the people
+        in it their space (:func:`social_grid`) where the room allows, else (``squeeze``) keeping only their
+        bodies clear (raises :class:`NoPathError` when there is no such way)."""
+        assert self.grid is not None and self.pose is not None
+        grid = self.grid.with_obstacles(self.unmapped())
+        people = self.people()
+        if len(people):
+            try:
+                return social_grid(grid, people).plan(self.pose[:2], place[:2])
+            except NoPathError:
+                if not squeeze:
+                    raise
+        return grid.plan(self.pose[:2], place[:2])
 
     async def run(self) -> None:
         while True:
