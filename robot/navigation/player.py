@@ -462,17 +462,20 @@ class Player(Module):
             # the window lets any turn on the spot pass people (nobody comes nearer the centre), but the
             # corners swing out, behind too, where the laser does not look: not into a tracked body
             cmd = Command(0.0, 0.0, False, cmd.clearance)
+        held = False  # someone standing in its lane holds it up (the wait below)
         if cmd.ok and cmd.v > 0.0 and self._waits_for(moving, odo, cmd.v * self.period):
             # someone stands in its lane: wait outside their personal space (a replan may find a way round)
             cmd = Command(0.0, 0.0, False, cmd.clearance)
+            held = True
         if cmd.ok and cmd.v > 0.0 and (closing_in(moving, near=YIELD_NEAR, speed=YIELD_SPEED) or passing_close(
                 moving, footprint_distance(moving[:, 0], moving[:, 1]) - BODY_RADIUS, gap=BACK_GAP, speed=YIELD_SPEED)):
             # someone near walks at it, or by it inside their personal space (BACK_GAP, 0.45 m of air; the
             # tracker misplaces people by a decimetre): stand and let them pass (yield), turning on the spot at most
             cmd = Command(0.0, cmd.w if abs(cmd.v) < 0.02 else 0.0, True, cmd.clearance)
-        if (align and dist <= ARRIVE_BESIDE and abs(cmd.v) < 0.02 and goal_taken(moving, local_goal(pose, (gx, gy)))
+        if (held and align and dist <= ARRIVE_BESIDE and goal_taken(moving, local_goal(pose, (gx, gy)))
                 and in_sight(local_goal(pose, (gx, gy)), mapped)):
-            # someone stands on the place itself and holds it up: it has arrived as near as it politely can
+            # someone standing on the place itself holds it up (waiting for them, not turning to a leg or
+            # finding no arc): it has arrived as near as it politely can
             # (it does not turn to the place's heading beside them: the corners swing behind it)
             return self._arrive(dist, 0.0, mapped)
         if cmd.ok and abs(cmd.v) > 0.02:
