@@ -36,6 +36,7 @@ def _asking(seeking: bool, track: tuple[float, float] | None = (1.3, 5.2)) -> Pe
         a.tracks.tracks[0].confirmed = True
         a.fsm.bottom_up(0.0, True, 1)
     a.partner = None
+    a._last_pp = None
     a._odom = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
     a._voice_turn = None
     a.looked = LookedAt()  # nothing looked at yet: a front reading is looked at first
@@ -84,3 +85,33 @@ def test_someone_seen_speaking_is_turned_to_not_the_voice_behind():
     a = _asking(True)
     a._dominant = (0.3, math.radians(10))
     assert a._voice_heading(0.3, 0, 2) is None
+
+
+def _faces(a: PersonAttention) -> int:
+    tid = a.tracks.tracks[0].id
+    for k in range(CueSpec().facing_on):
+        a.facing.feed(0.1 * k, [tid], {tid})
+    return tid
+
+
+def test_the_blocker_facing_it_silently_does_not_keep_it_from_turning_to_the_voice_behind():
+    """regreet seed 2: Uwe, standing in the door it could not pass, faced the robot without a word;
+    Tara's greeting from behind was never turned to."""
+    a = _asking(True, (1.2, 0.1))
+    _faces(a)
+    a._dominant = (0.5, math.radians(4))
+    heading = a._voice_heading(0.5, 0, 1)
+    assert heading is not None and abs(heading - (math.pi - math.radians(4))) < 1e-9
+
+
+def test_someone_facing_it_who_has_just_spoken_to_it_keeps_it_from_turning_away():
+    a = _asking(True, (1.2, 0.1))
+    tid = _faces(a)
+    a._last_pp = (tid, 0.2)  # she spoke facing it a moment ago and waits for its answer
+    a._dominant = (0.5, math.radians(4))
+    assert a._voice_heading(0.5, 0, 1) is None
+    # looking around (not asking for help), anyone facing it keeps it, as before
+    b = _asking(False, (1.2, 0.1))
+    _faces(b)
+    b._dominant = (0.5, math.radians(40))
+    assert b._voice_heading(0.5, 0, 1) is None

@@ -20,7 +20,7 @@ from lxml import etree
 
 from robot.navigation.people import BODY_RADIUS, waits_for
 from robot.navigation.planner import WATCH_FIELD, in_view
-from robot.navigation.player import GOAL_TAKEN, goal_taken, local_goal
+from robot.navigation.player import GOAL_TAKEN, goal_taken, in_sight, local_goal
 from robot.navigation.sequencer import Sequencer
 from robot.navigation.local import HALF_LENGTH, HALF_WIDTH
 
@@ -167,6 +167,13 @@ def test_a_place_is_taken_exactly_by_someone_standing_within_goal_taken_of_it(gx
     if abs(d - GOAL_TAKEN) < 1e-6 or abs(speed - 0.3) < 1e-6:
         return
     assert goal_taken(people, (gx, gy)) == (d < GOAL_TAKEN and speed < 0.3)
+
+
+def test_a_goal_behind_a_wall_or_a_table_is_not_in_sight():
+    wall = np.array([[0.8, y] for y in np.arange(-2.0, 2.0, 0.05)])  # a wall across, 0.8 m ahead
+    assert not in_sight((1.2, 0.1), wall) and in_sight((0.6, 0.1), wall)
+    assert in_sight((1.2, 0.1), np.zeros((0, 2)))
+    assert in_sight((-1.0, 0.0), wall)  # the wall is not between the robot and a goal behind it
 
 
 def test_local_goal_is_the_goal_in_the_robots_frame():

@@ -95,6 +95,19 @@ def test_plan_steps_head_along_each_leg_and_align_only_at_the_place():
     assert float(steps[0]["theta"]) == pytest.approx(math.pi / 4, abs=1e-4) and steps[1]["theta"] == "1.50000"
 
 
+def test_a_last_corner_a_few_centimetres_from_the_place_is_no_step_of_its_own():
+    plan = etree.fromstring('<plan goal="kitchen" length="3"><waypoint x="0" y="0"/><waypoint x="1" y="1"/>'
+                            '<waypoint x="2" y="1"/><waypoint x="2.05" y="0.93" theta="1.5"/></plan>')
+    steps = steps_of(plan)
+    assert [(s["x"], s["y"], s["align"], s["tolerance"]) for s in steps] == [
+        ("1.0000", "1.0000", "false", "0.25"), ("2.0500", "0.9300", "true", "0.15")]
+    # one further off is a step, and a plan of a single leg keeps it
+    far = etree.fromstring('<plan goal="k" length="3"><waypoint x="0" y="0"/><waypoint x="2" y="1"/><waypoint x="2.5" y="1" theta="0"/></plan>')
+    assert len(steps_of(far)) == 2
+    one = etree.fromstring('<plan goal="k" length="0.1"><waypoint x="0" y="0"/><waypoint x="0.1" y="0" theta="0"/></plan>')
+    assert len(steps_of(one)) == 1
+
+
 # ------------------------------------------------------------------ the dynamic window
 LIM = Limits()
 

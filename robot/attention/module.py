@@ -1105,10 +1105,13 @@ class PersonAttention(Module):
         if not self._searching() and (self.fsm.top_down or self.fsm.held or (row >= 0 and (category >= 3 or category == 2 and self._voice_turn is None))):
             self._voice_turn = None
             return None
-        if row >= 0 and self.tracks.tracks[row].confirmed and self.facing.on(self.tracks.tracks[row].id):
+        if (row >= 0 and self.tracks.tracks[row].confirmed and self.facing.on(self.tracks.tracks[row].id)
+                and not (self.seeking_help and not self._spoke_lately(t, self.tracks.tracks[row].id))):
             # the person it attends to faces it (she just greeted it and waits for its answer): a voice
             # nobody seen explains (a TV or radio behind the robot, read in front by the pair) does
-            # not turn the robot away from her (studio_confirm_repeat)
+            # not turn the robot away from her (studio_confirm_repeat). Asking for help, someone who
+            # faces it without a word (the man standing in the door it could not pass) is not her
+            # (regreet seed 2: it never turned to the partner greeting it from behind)
             self._voice_turn = None
             return None
         d = self._dominant
@@ -1140,6 +1143,11 @@ class PersonAttention(Module):
             self._voice_turn = None
             return None
         return vt[1]
+
+    def _spoke_lately(self, t: float, tid: int) -> bool:
+        """Whether track ``tid`` was the potential partner (spoke facing the robot) less than ``pp_wait`` s ago."""
+        last = self._last_pp
+        return last is not None and last[0] == tid and t - last[1] < self.params.pp_wait
 
     def beam(self, t: float, bearing: float | None, category: int) -> float | None:
         """Where the recogniser listens: the partner (top-down), the selected person while they speak
