@@ -173,3 +173,17 @@ def test_an_object_pointed_at_behind_the_robot_is_looked_at_and_learned():
     s = run_file(SCENES / "point_behind_robot.xml", RunOptions(seed=0, until=20))
     (obj,) = s["learned"]["objects"]
     assert obj["type"] == "bin" and math.hypot(float(obj["x"]) - 2.5, float(obj["y"]) - 1.6) < 0.15
+
+
+def test_a_track_fed_only_by_faces_says_its_legs_are_hidden_and_one_fed_by_legs_does_not():
+    """The camera keeps the face of a partner whose legs the laser cannot see in view (in Interaction
+    it looks at her hands otherwise, loses her face, and her track starves: greet_over_sofa seed 7,
+    her good-bye unheard). It reads ``last_legs``: only leg candidates renew it."""
+    from robot.attention.legs import PAIR
+
+    faces, legs = Tracks(TrackerSpec()), Tracks(TrackerSpec())
+    for k in range(5):
+        faces.step(0.1 * k, [(2.0, 0.5)], [FACE])
+        legs.step(0.1 * k, [(2.0, 0.5)], [PAIR])
+    assert faces.tracks[0].confirmed and faces.tracks[0].last_legs == -math.inf
+    assert legs.tracks[0].confirmed and legs.tracks[0].last_legs == 0.4

@@ -175,6 +175,7 @@ class AttentionParams:
     # a frontal face no track explains, where the scan is blocked short of it, is a person candidate
     # for this long after its frame
     face_candidate_age: float = 0.15
+    legs_hidden_after: float = 2.5  # s without a leg update (the tracker's death timeout): her legs are hidden, the camera keeps her face in view
     state_refresh: float = 1.0  # s
     cue_max_age: float = 0.3  # s: an odometry pose older than this is extrapolated
     max_refused: int = 32
@@ -924,8 +925,11 @@ class PersonAttention(Module):
             tilt = math.atan2(p.heights["face"] - p.camera_height, max(dist[row], 0.3))
         elif target in p.heights and row >= 0:
             pan = bearing[row]
-            # turned away (:meth:`_turning_away`): her face, to see her turn back to the robot
-            look = "face" if self.turned_away and self.tracks.tracks[row].id == self.partner else target
+            # turned away (:meth:`_turning_away`): her face, to see her turn back to the robot; her legs
+            # hidden from the laser (a sofa's back, a table top: her track lives on her face alone,
+            # tracker FACE): her face, or the robot loses her (beyond ~1.2 m her hands stay in the image)
+            tk = self.tracks.tracks[row]
+            look = "face" if tk.id == self.partner and (self.turned_away or t - tk.last_legs > p.legs_hidden_after) else target
             tilt = math.atan2(p.heights[look] - p.camera_height, max(dist[row], 0.3))
         voice = self._voice_heading(t, row, category)
         if voice is not None:  # look where the voice came from (the base turns there below)
