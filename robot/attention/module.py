@@ -70,7 +70,7 @@ from .fsm import CAMERA, TURNS, AttentionFSM, OrderRefused
 from .legs import LegDetector, LegSpec
 from .looking import HeardFrom, LookedAt, angle_between
 from .records import TrackRow, TracksRecord, own_document as _own_document
-from robot.partner_search import follow_search_time
+from robot.partner_search import follow_search_time, way_distance
 from .selection import SelectionParams, Selector
 from .tracker import FACE, Tracks, TrackerSpec
 from .visibility import hidden_points
@@ -192,6 +192,9 @@ def _deg(a: float) -> str:
 
 class PersonAttention(Module):
     """Leg detection, anchoring, selection and the attention FSM on the bus (see the module docstring)."""
+
+    #: the ES's last order was ``look_for_help`` (the robot asked for help; :meth:`_voice_heading`)
+    seeking_help: bool = False
 
     def __init__(
         self,
@@ -479,6 +482,7 @@ class PersonAttention(Module):
         except OrderRefused as exc:
             self.refused.append(str(exc))
             return
+        self.seeking_help = name == "look_for_help"  # until the next order (:meth:`_voice_heading`)
         if state in ("Interaction", "Follow", "Object"):
             # A partner unseen for a moment (stepped aside) stays the partner across the change.
             pending = self.partner is not None and self._partner_last is not None and not self.partner_lost_sent
@@ -832,7 +836,8 @@ class PersonAttention(Module):
     def _reacquire(self, t: float) -> int:
         """The partner's track died while they were within the interaction space: a confirmed track
         near where they were last seen (growing with the time unseen) is taken as theirs again,
-        unless the camera saw it wear other clothes than hers (:mod:`.appearance`)."""
+        unless the camera saw it wear other clothes than hers (:mod:`.appearance`). Following, "where
+        she was last seen" is her way on (:meth:`_her_way`): she leads, and walks on out of view."""
         last = self._partner_last
         if last is None:
             return -1
@@ -844,13 +849,13 @@ class PersonAttention(Module):
             colour = self.colours.colour(tk.id, t)
             # someone in other clothes is not her, however near (a person who crossed between)
             if tk.confirmed and not tk.dormant and same_clothes(self._partner_colour, colour):
-                d = math.hypot(tk.x[0] - x, tk.x[1] - y)
+                d = self._her_way(t, (tk.x[0], tk.x[1]))
                 # her colour known, this track's unseen: position alone, so only as near as she can have
                 # stepped unseen, not the growing radius, unless the track was born within it (four_people seed 8: a man walking past the
                 # robot 2.5 m from where she went out of view was taken as her, the search followed him)
                 if colour is None and self._partner_colour is not None and d > p.reacquire_radius:
                     # ... or first seen where she went out of view (she comes back from there)
-                    if math.hypot(tk.origin[0] - x, tk.origin[1] - y) > radius:
+                    if self._her_way(t, tk.origin) > radius:
                         continue
                 if d <= best:
                     best, row = d, i
@@ -858,19 +863,34 @@ class PersonAttention(Module):
             self.partner = self.tracks.tracks[row].id
         return row
 
-    def _could_be(self, t: float, seen: float, x: float, y: float, colour: tuple[float, float, float] | None, tk: Any) -> bool:
+    def _her_way(self, t: float, point: tuple[float, float]) -> float:
+        """Metres from ``point`` (odom) to where the unseen partner can be: where her legs were last
+        measured; following (she leads), anywhere on her way on from there at her last velocity for
+        the time unseen (:func:`robot.partner_search.way_distance`). A partner faster than the robot
+        who went out of view in the next room was seen again 4 m on from there and not taken back,
+        so the robot lost her while it saw her (u_catch_up_slow seed 0)."""
+        seen, x, y, vx, vy = self._partner_last[:5]  # type: ignore[index]
+        if self.fsm.state != "Follow":
+            return math.hypot(point[0] - x, point[1] - y)
+        return way_distance(point, (x, y), (vx, vy), t - seen, walking=self.params.leave_speed)
+
+    def _could_be(self, t: float, seen: float, x: float, y: float, colour: tuple[float, float, float] | None, tk: Any,
+                  way: Any = None) -> bool:
         """Could track ``tk`` be the person last seen at ``seen`` at (``x``, ``y``) (odom) wearing ``colour``?
         The reacquisition rule (:meth:`_reacquire`): within ``reacquire_radius`` plus ``reacquire_speed``
         per second unseen (at most 2.5 m), never in other clothes, and, with the colour known but the
-        track's not yet, only within ``reacquire_radius`` unless first seen within the radius."""
+        track's not yet, only within ``reacquire_radius`` unless first seen within the radius.
+        ``way``: the distance from a point to where they can be, when not just (``x``, ``y``) (the
+        partner who led the robot: :meth:`_her_way`)."""
         p = self.params
         radius = min(2.5, p.reacquire_radius + p.reacquire_speed * max(0.0, t - seen))
         theirs = self.colours.colour(tk.id, t)
         if not same_clothes(colour, theirs):
             return False
-        d = math.hypot(tk.x[0] - x, tk.x[1] - y)
+        dist = way or (lambda q: math.hypot(q[0] - x, q[1] - y))
+        d = dist((tk.x[0], tk.x[1]))
         if theirs is None and colour is not None and d > p.reacquire_radius:
-            return math.hypot(tk.origin[0] - x, tk.origin[1] - y) <= radius
+            return dist(tk.origin) <= radius
         return d <= radius
 
     def _reidentify(self, t: float, assigned: list[int]) -> list[int]:
@@ -890,12 +910,14 @@ class PersonAttention(Module):
             for old in tr.tracks:
                 if not (old.confirmed and old.dormant) or old.id == nid:
                     continue
+                way = None
                 if old.id == self.partner and self._partner_last is not None:
                     seen, x, y = self._partner_last[0], self._partner_last[1], self._partner_last[2]
                     colour = self._partner_colour
+                    way = lambda q: self._her_way(t, q)  # noqa: E731 (following: her way on)
                 else:
                     seen, (x, y), colour = old.last_seen, old.last_z, self.colours.colour(old.id)
-                if self._could_be(t, seen, x, y, colour, new):
+                if self._could_be(t, seen, x, y, colour, new, way):
                     fits.append(old.id)
             if len(fits) == 1:
                 gone = tr.adopt(nid, fits[0])
@@ -1040,10 +1062,12 @@ class PersonAttention(Module):
             self._voice_turn = None
             return None
         d = self._dominant
-        # Searching for her after a loss (:meth:`_searching`): a voice read near the axis that nobody
+        # Searching for her after a loss (:meth:`_searching`), or for whoever answers its call for help
+        # (``seeking_help``: it drove away from its partner, who comes up behind it, the laser's blind
+        # half; hall_goto_doorway_person, sq_goto_bedroom_door): a voice read near the axis that nobody
         # seen in front explains comes from behind (the pair cannot tell front from back, the laser
         # and the camera see the front): turn round to its mirrored direction.
-        behind = self._searching() and d is not None and abs(d[1]) <= p.voice_turn_min
+        behind = (self._searching() or self.seeking_help) and d is not None and abs(d[1]) <= p.voice_turn_min
         if d is not None and t - d[0] <= p.dominant_max_age and (self._voice_turn is None or d[0] > self._voice_turn[2]):
             if behind:
                 target = self._pose_at(d[0])[2] + math.pi - d[1]
