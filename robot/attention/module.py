@@ -394,9 +394,6 @@ class PersonAttention(Module):
         """Torso blobs: each track's clothing colour where the blob is surely its own
         (:mod:`.appearance`), and a torso at the partner's bearing (the camera is on the partner
         in the top-down states) as evidence that she is there."""
-        tracks = self.tracks.tracks
-        if not tracks:
-            return
         t = msg.created
         data = msg.data  # the camera's typed PerceptList (robot.percepts), else XML: the same texts
         rows = data.rows if data is not None else list(msg.xml)
@@ -404,6 +401,12 @@ class PersonAttention(Module):
             return
         get = (lambda r, k: getattr(r, k)) if data is not None else (lambda r, k: r.get(k))
         bearings = [math.radians(float(get(r, "bearing"))) for r in rows]
+        th = self._pose_at(t)[2]
+        # someone there, facing the robot or not (a voice from there is not from behind: _voice_target)
+        self.looked.someone(t, [th + b for b in bearings], self.params.face_look_tolerance)
+        tracks = self.tracks.tracks
+        if not tracks:
+            return
         tb = bearings_from(self._robot_xy(t), self.cues.camera_offset)
         for j, i in anchor_torsos(tb, bearings, self.cues.torso_bearing_tolerance):
             if tracks[i].confirmed and not tracks[i].dormant:
@@ -1009,10 +1012,13 @@ class PersonAttention(Module):
         p = self.params
         th = self._pose_at(heard)[2]
         front, back = th + bearing, th + math.pi - bearing
-        if self.looked.empty_since(front, heard - p.dominant_max_age):
+        x, y, _ = self._pose_at(heard)
+        legs = any(not tk.dormant and angle_between(math.atan2(tk.x[1] - y, tk.x[0] - x), front) <= p.voice_recall_tolerance
+                   for tk in self.tracks.tracks)
+        if self.looked.empty_since(front, heard - p.dominant_max_age) and not legs:
             return None if self.looked.empty_since(back, t - p.voice_look_memory) else back
-        if self.looked.face_since(front, heard - p.dominant_max_age):
-            return None  # a face there: someone whose legs the laser does not see (a FACE track)
+        if self.looked.someone_since(front, heard - p.dominant_max_age):
+            return None  # a face or a torso there: someone whose legs the laser does not see
         return front
 
     def _focus_turn(self, target: str) -> float | None:
