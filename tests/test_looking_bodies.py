@@ -25,9 +25,9 @@ def test_a_torso_in_view_makes_its_direction_not_empty(centre, offset, t):
     looked = LookedAt()
     body = centre + offset
     looked.observe(t, centre, HALF, [], TOL)  # no frontal face anywhere in the frame
-    looked.bodies(t, [body], TOL)  # but a torso
+    looked.someone(t, [body], TOL)  # but a torso
     assert not looked.empty_since(body, t)
-    assert looked.body_since(body, t)
+    assert looked.someone_since(body, t)
 
 
 @settings(max_examples=200, deadline=None)
@@ -36,13 +36,13 @@ def test_a_torso_elsewhere_leaves_an_empty_direction_empty(centre, offset, away)
     looked = LookedAt()
     looked.observe(1.0, centre, HALF, [], TOL)
     here = centre + offset
-    looked.bodies(1.0, [here + away], TOL)
+    looked.someone(1.0, [here + away], TOL)
     assert angle_between(here, here + away) > TOL
     assert looked.empty_since(here, 1.0)
 
 
 def test_a_body_seen_before_a_later_empty_look_does_not_hold_the_direction():
     looked = LookedAt()
-    looked.bodies(1.0, [0.0], TOL)
+    looked.someone(1.0, [0.0], TOL)
     looked.observe(3.0, 0.0, HALF, [], TOL)  # she walked off: looked again, nobody
     assert looked.empty_since(0.0, 2.0)

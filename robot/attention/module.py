@@ -191,6 +191,7 @@ class AttentionParams:
     # a frontal face no track explains, where the scan is blocked short of it, is a person candidate
     # for this long after its frame
     face_candidate_age: float = 0.15
+    legs_hidden_after: float = 2.5  # s without a leg update (the tracker's death timeout): her legs are hidden, the camera keeps her face in view
     state_refresh: float = 1.0  # s
     cue_max_age: float = 0.3  # s: an odometry pose older than this is extrapolated
     max_refused: int = 32
@@ -450,7 +451,8 @@ class PersonAttention(Module):
         get = (lambda r, k: getattr(r, k)) if data is not None else (lambda r, k: r.get(k))
         bearings = [math.radians(float(get(r, "bearing"))) for r in rows]
         th = self._pose_at(t)[2]
-        self.looked.bodies(t, [th + b for b in bearings], self.params.face_look_tolerance)  # someone there (:meth:`_voice_target`)
+        # someone there, facing the robot or not (a voice from there is not from behind: _voice_target)
+        self.looked.someone(t, [th + b for b in bearings], self.params.face_look_tolerance)
         tracks = self.tracks.tracks
         if not tracks:
             return
@@ -999,8 +1001,11 @@ class PersonAttention(Module):
             tilt = math.atan2(p.heights["face"] - p.camera_height, max(dist[row], 0.3))
         elif target in p.heights and row >= 0:
             pan = bearing[row]
-            # turned away (:meth:`_turning_away`): her face, to see her turn back to the robot
-            look = "face" if self.turned_away and self.tracks.tracks[row].id == self.partner else target
+            # turned away (:meth:`_turning_away`): her face, to see her turn back to the robot; her legs
+            # hidden from the laser (a sofa's back, a table top: her track lives on her face alone,
+            # tracker FACE): her face, or the robot loses her (beyond ~1.2 m her hands stay in the image)
+            tk = self.tracks.tracks[row]
+            look = "face" if tk.id == self.partner and (self.turned_away or t - tk.last_legs > p.legs_hidden_after) else target
             tilt = math.atan2(p.heights[look] - p.camera_height, max(dist[row], 0.3))
         voice = self._voice_heading(t, row, category)
         if voice is not None:  # look where the voice came from (the base turns there below)
@@ -1059,10 +1064,13 @@ class PersonAttention(Module):
         p = self.params
         th = self._pose_at(heard)[2]
         front, back = th + bearing, th + math.pi - bearing
-        if self.looked.empty_since(front, heard - p.dominant_max_age):
+        x, y, _ = self._pose_at(heard)
+        legs = any(not tk.dormant and angle_between(math.atan2(tk.x[1] - y, tk.x[0] - x), front) <= p.voice_recall_tolerance
+                   for tk in self.tracks.tracks)
+        if self.looked.empty_since(front, heard - p.dominant_max_age) and not legs:
             return None if self.looked.empty_since(back, t - p.voice_look_memory) else back
-        if self.looked.face_since(front, heard - p.dominant_max_age):
-            return None  # a face there: someone whose legs the laser does not see (a FACE track)
+        if self.looked.someone_since(front, heard - p.dominant_max_age):
+            return None  # a face or a torso there: someone whose legs the laser does not see
         return front
 
     def _focus_turn(self, target: str) -> float | None:

@@ -119,7 +119,7 @@ class Track:
     the pair/blob hits that confirm it and the times of its evidence."""
 
     __slots__ = ("id", "x", "P", "hits", "born", "last_update", "last_strong", "last_seen", "confirmed", "last_z", "origin",
-                 "blind_seen", "blind_strong", "dormant")
+                 "blind_seen", "blind_strong", "dormant", "last_legs")
 
     def __init__(self, track_id: int, x: list[float], P: list[float], t: float) -> None:
         self.id = track_id
@@ -127,6 +127,7 @@ class Track:
         self.P = P
         self.hits = 1
         self.born = self.last_update = t
+        self.last_legs = -math.inf  # last update by a leg candidate (not a FACE): are the person's legs in the laser's view?
         self.last_strong = t  # last update by a pair or blob
         self.last_seen = t  # last anchored evidence of any kind (legs, frontal face, torso, voice)
         self.confirmed = False
@@ -286,6 +287,8 @@ class Tracks:
                     tk.last_z = (zj[0], zj[1])
                     assigned[j] = i
                     tk.last_update = t
+                    if kind[j] != FACE:
+                        tk.last_legs = t
                     if t > tk.last_seen:
                         tk.last_seen = t
                         tk.blind_seen = 0.0
@@ -342,7 +345,8 @@ class Tracks:
                 zx, zy = z[j][0], z[j][1]
                 if any((zx - ax) ** 2 + (zy - ay) ** 2 < clear2 for ax, ay in anchors):
                     continue
-                self._birth_one(t, zx, zy, spec.face_std**2 if kind[j] == FACE else spec.meas_std**2)
+                face = kind[j] == FACE
+                self._birth_one(t, zx, zy, spec.face_std**2 if face else spec.meas_std**2, legs=not face)
         return assigned
 
     def adopt(self, new_id: int, old_id: int) -> int:
@@ -376,9 +380,12 @@ class Tracks:
         self._together = together  # only pairs close now: bounded by the tracks alive
         return {young for (_, young), since in together.items() if t - since >= spec.merge_time - 1e-9}
 
-    def _birth_one(self, t: float, zx: float, zy: float, r: float) -> None:
+    def _birth_one(self, t: float, zx: float, zy: float, r: float, legs: bool = True) -> None:
         v = self.spec.init_speed_std**2
-        self.tracks.append(Track(self._next, [zx, zy, 0.0, 0.0], [r, 0.0, 0.0, 0.0, r, 0.0, 0.0, v, 0.0, v], t))
+        tk = Track(self._next, [zx, zy, 0.0, 0.0], [r, 0.0, 0.0, 0.0, r, 0.0, 0.0, v, 0.0, v], t)
+        if legs:
+            tk.last_legs = t
+        self.tracks.append(tk)
         self._next += 1
 
     def _birth(self, t: float, z: np.ndarray, r: np.ndarray) -> None:
