@@ -113,3 +113,17 @@ def test_a_room_named_only_room_is_a_guess_the_dialog_confirms(words):
 @pytest.mark.parametrize("words", ["this is my daughter's room", "this is the kids' room", "this is our living room"])
 def test_a_room_named_by_whose_or_what_it_is_is_taken_at_once(words):
     assert shared_understander().understand(words).coverage == 1.0
+
+
+@pytest.mark.parametrize("words", ["oh the bed is not made sorry", "the sofa is new", "the kitchen is a mess",
+                                   "the sun is shining today", "my desk is a bit messy"])
+def test_something_said_of_a_thing_is_a_remark_not_a_teaching(words):
+    """fresh2/galley_long_tour: "Oh the bed is not made sorry" got "Is this bed?" (a noun phrase with its
+    predicate left over was taken as the answer "the bed")."""
+    u = shared_understander().understand(words)
+    assert u.frame is None and u.reason in ("a remark about it", "no parse", "nothing known said about it")
+
+
+@pytest.mark.parametrize("words", ["the kitchen", "my cup", "the kitchen is", "this is the bed", "the bed is mine"])
+def test_a_noun_phrase_alone_or_a_whole_statement_still_counts(words):
+    assert shared_understander().understand(words).frame is not None

@@ -299,7 +299,7 @@ class Understander:
             res.ignored = [t.text for t in toks]
             res.reason = "nothing known said about it"
             return res
-        small_talk = _small_talk(tree, obj, toks)
+        small_talk = _small_talk(tree, obj, toks) or _said_of(tree, toks, ignored, bool(lex.unknown))
         if small_talk:
             res.ignored = [t.text for t in toks]
             res.reason = small_talk
@@ -690,6 +690,20 @@ def _hesitated_before_room(words: list[str], hesitations: frozenset[str]) -> boo
     it without a pause inside)."""
     return any(words[i] in hesitations and words[i + 1] == "room" and words[i - 1] in _NAME_GOES_AFTER
                for i in range(1, len(words) - 1))
+
+
+def _said_of(tree: Tree, toks: list[Tok], ignored: list[str], unknown: bool) -> str:
+    """Why a noun phrase followed by a copula and words the grammar could not place is no answer: she says
+    something of the thing ("oh the bed is not made, sorry", "the sofa is new", "the kitchen is a mess"),
+    a remark about it, not "this is the bed" (galley_long_tour: "Is this bed?"). Empty when it is none."""
+    if tree_act(tree) not in _FRAGMENTS or not ignored:
+        return ""
+    at = len(toks) - len(ignored)
+    if at < 1 or [t.text for t in toks[at:]] != ignored or toks[at].type not in ("IS", "ARE"):
+        return ""
+    if len(ignored) < 2 and not unknown:
+        return ""  # "the kitchen is": the rest of the sentence was not heard, the noun phrase may answer
+    return "a remark about it"
 
 
 def _only_room(place: etree._Element) -> bool:
