@@ -141,3 +141,13 @@ def test_a_known_rooms_first_word_ending_the_turn_is_that_room_asked_first(words
 @pytest.mark.parametrize("words", ["is the living", "for a living", "this is living"])
 def test_no_room_is_guessed_in_a_question_or_without_an_article(words):
     assert shared_understander().understand(words).frame is None
+
+
+@pytest.mark.parametrize("words", ["is that the kitchen, no", "is this my cup, no"])
+def test_a_question_she_answers_no_herself_asks_nothing_to_confirm(words):
+    """review-lang7 item 9: "is that the kitchen, no" was confirmed as "Is this the kitchen?"."""
+    assert frame(words) is None
+
+
+def test_a_question_with_a_yes_tag_is_still_confirmed():
+    assert shared_understander().understand("is this the kitchen, right").coverage == 0.5

@@ -179,6 +179,11 @@ class Understander:
         # a question with words the lexicon lacks ("is this the kitchen or the living room", "is it my
         # phone ringing") asks something else than the statement its known words make: no teaching
         asked = self._asked(toks) if not lex.unknown else None
+        if asked is not None and lex.raw and lex.raw[-1].type == "NO":
+            # "is that the kitchen, no": she asks and doubts it herself (review-lang7 item 9): nothing to confirm
+            res.ignored = [t.text for t in toks]
+            res.reason = "a question she answers no herself"
+            return res
         if asked is not None:
             # "is this the kitchen?", "is that my cup?": she names what she shows and asks the robot to
             # take it up; the statement she asks about is the frame, at half the coverage, so the
