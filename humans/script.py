@@ -65,10 +65,9 @@ POLL = 0.1  # seconds between checks of a wait-for condition
 TURN_GAP = 0.5
 
 #: What a person takes for the robot asking her to say it again, or asking whether it heard
-#: her right ("Did you say hello to me?", "Is this plant?", "Do you want to end the tour?": she does
-#: her turn again rather than answer "yes"); ``repair=`` overrides.
-DEFAULT_REPAIR = (r"(say|point at) (that|it) again|pardon|repeat that|did not understand|didn't understand|did not catch"
-                  r"|did you say|shall i\b|^is this\b|do you want to end")
+#: her right ("Did you say hello to me?", "Is this plant?": she does her turn again rather than
+#: answer "yes"); ``repair=`` overrides.
+DEFAULT_REPAIR = r"(say|point at) (that|it) again|pardon|repeat that|did not understand|didn't understand|did not catch|did you say|shall i\b|^is this\b"
 
 #: How much louder each "louder" repair makes her (dB), up to MAX_BOOST: one step of vocal
 #: effort (ANSI S3.5-1997: normal 62.4, raised 68.3, loud 74.9 dB, about 6 dB apart).

@@ -48,3 +48,12 @@ def test_a_clear_good_bye_ends_the_tour_at_any_confidence(words, confidence):
 def test_the_question_is_never_asked_more_than_twice():
     steps = acts(said("Interacting", "that will be all for the cup", "la la la", "la la la", "la la la"))
     assert sum(s.count(QUESTION) for s in steps) <= 2
+
+
+@pytest.mark.parametrize("state", ["PotentialPartner", "LookingAround", "AskingForHelp"])
+def test_before_the_tour_a_weak_good_bye_is_not_asked_about(state):
+    """wlan_reorder seed 8: in PotentialPartner (greetings not yet answered over the slow link) a weak
+    good-bye got "Do you want to end the tour?"; there is no tour yet: the good-bye goes to the supervisor,
+    whose refusal answers, as before."""
+    steps = acts(said(state, "that will be all for the cup"))
+    assert QUESTION not in steps[0] and "goodbye" in steps[0]

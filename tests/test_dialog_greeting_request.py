@@ -84,3 +84,15 @@ def test_a_greeting_before_a_whole_request_keeps_the_request(hello, name, reques
     assert said.act == "GREETING"
     assert said.rest
     assert u.understand(" ".join(said.rest)).act == alone.act
+
+
+def test_during_the_interaction_a_greeting_with_words_not_understood_asks_to_hear_it_again(robot):
+    """lang_greet_request seed 2: "Hello again, this is the kitchen", misheard, got "Did you say hello to
+    me?" in Interacting, and then "We are already talking": the turn was not understood."""
+    robot.greet()
+    robot.sim.run(until=6.0)
+    robot.sentences()
+    robot.utter("hello again uh is the the", 6.3, 7.6)
+    robot.sim.run(until=12.0)
+    assert robot.sentences() == ["Sorry, I did not understand you. Could you say that again?"]
+    assert robot.es.state == "Interacting"

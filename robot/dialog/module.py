@@ -474,6 +474,15 @@ class Dialog(Module):
             # "hello BIRON, follow me" while they are already talking: the greeting is a greeting only,
             # nothing to start ("We are already talking"); the request in its next frame is what she wants
             return
+        if not greetable and x.get("partial") == "true" and x.find("SPEECH/GREETING") is not None:
+            # "hello again, [this is→is the] kitchen" during the tour: a greeting with words the robot
+            # could not use is a turn it did not understand ("Did you say hello to me?" or "We are
+            # already talking" would answer the greeting she did not mean as the request)
+            heard = etree.Element("not_understood", start=x.get("start", "0"), end=x.get("end", "0"),
+                                  confidence=x.get("confidence", "0"), reason="a greeting with words not understood")
+            heard.text = x.findtext("words") or ""
+            self._emit(self.manager.on_frame(heard), msg.id)
+            return
         if x.get("after") == "greeting" and greetable:
             # the request said with the greeting waits until the greeting is taken (partner_found);
             # a greeting refused or not taken in time takes the request with it
