@@ -393,9 +393,6 @@ class PersonAttention(Module):
         """Torso blobs: each track's clothing colour where the blob is surely its own
         (:mod:`.appearance`), and a torso at the partner's bearing (the camera is on the partner
         in the top-down states) as evidence that she is there."""
-        tracks = self.tracks.tracks
-        if not tracks:
-            return
         t = msg.created
         data = msg.data  # the camera's typed PerceptList (robot.percepts), else XML: the same texts
         rows = data.rows if data is not None else list(msg.xml)
@@ -403,6 +400,11 @@ class PersonAttention(Module):
             return
         get = (lambda r, k: getattr(r, k)) if data is not None else (lambda r, k: r.get(k))
         bearings = [math.radians(float(get(r, "bearing"))) for r in rows]
+        th = self._pose_at(t)[2]
+        self.looked.bodies(t, [th + b for b in bearings], self.params.face_look_tolerance)  # someone there (:meth:`_voice_target`)
+        tracks = self.tracks.tracks
+        if not tracks:
+            return
         tb = bearings_from(self._robot_xy(t), self.cues.camera_offset)
         for j, i in anchor_torsos(tb, bearings, self.cues.torso_bearing_tolerance):
             if tracks[i].confirmed and not tracks[i].dormant:
@@ -997,7 +999,8 @@ class PersonAttention(Module):
         """Where to look for a voice heard at ``heard`` at front reading ``bearing`` that nobody seen
         explains (robot.attention.looking): the odometry heading, or None (no turn).
 
-        Its front reading unless the camera has looked there since and seen no face; then the mirrored
+        Its front reading unless the camera has looked there since and seen nobody (no frontal face, no
+        torso: someone with her back to it is someone); then the mirrored
         reading behind, unless that too was looked at and found empty within ``voice_look_memory``
         (a radio, heard from a direction with nobody in it, is not looked for again and again). A
         front reading the camera has not looked at since is looked at first: off the axis by a few
