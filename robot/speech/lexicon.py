@@ -176,13 +176,6 @@ class Lexicon:
                     coined.append(f"{words[i]} room")
                     i += 2
                     continue
-                elif (i + 1 == n and toks and toks[-1].type in _NAMING and toks[0].type not in _ASKING
-                      and entries.get((words[i], "room"), ("", ""))[0] == "PLACE"):
-                    # "this is our living" ending the turn: the first word of a room the lexicon knows
-                    # ("living room"), its "room" lost by the recogniser: that room, as a guess (``coined``:
-                    # the dialog asks "Is this the living room?")
-                    toks.append(Tok("PLACE", entries[(words[i], "room")][1], f"{words[i]} room"))
-                    coined.append(f"{words[i]} room")
                 else:
                     unknown.append(words[i])
                 i += 1
@@ -200,8 +193,6 @@ class Lexicon:
         return out
 
 
-#: First words of a question whose first word may be lost ("[where] is the living"): no room guessed.
-_ASKING = frozenset({"IS", "ARE", "WHERE", "WHAT"})
 #: Words before a room she names ("the reading room", "my sewing room", "anna's blue room"): not "a"
 #: ("a lovely room", "a big room" evaluate a room, they name none).
 _NAMING = frozenset({"THE", "MY", "OUR", "POSS"})
