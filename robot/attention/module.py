@@ -402,8 +402,7 @@ class PersonAttention(Module):
         get = (lambda r, k: getattr(r, k)) if data is not None else (lambda r, k: r.get(k))
         bearings = [math.radians(float(get(r, "bearing"))) for r in rows]
         th = self._pose_at(t)[2]
-        # someone there, facing the robot or not (a voice from there is not from behind: _voice_target)
-        self.looked.someone(t, [th + b for b in bearings], self.params.face_look_tolerance)
+        self.looked.bodies(t, [th + b for b in bearings], self.params.face_look_tolerance)  # someone there (:meth:`_voice_target`)
         tracks = self.tracks.tracks
         if not tracks:
             return
@@ -1004,7 +1003,8 @@ class PersonAttention(Module):
         """Where to look for a voice heard at ``heard`` at front reading ``bearing`` that nobody seen
         explains (robot.attention.looking): the odometry heading, or None (no turn).
 
-        Its front reading unless the camera has looked there since and seen no face; then the mirrored
+        Its front reading unless the camera has looked there since and seen nobody (no frontal face, no
+        torso: someone with her back to it is someone); then the mirrored
         reading behind, unless that too was looked at and found empty within ``voice_look_memory``
         (a radio, heard from a direction with nobody in it, is not looked for again and again). A
         front reading the camera has not looked at since is looked at first: off the axis by a few
@@ -1017,8 +1017,8 @@ class PersonAttention(Module):
                    for tk in self.tracks.tracks)
         if self.looked.empty_since(front, heard - p.dominant_max_age) and not legs:
             return None if self.looked.empty_since(back, t - p.voice_look_memory) else back
-        if self.looked.someone_since(front, heard - p.dominant_max_age):
-            return None  # a face or a torso there: someone whose legs the laser does not see
+        if self.looked.face_since(front, heard - p.dominant_max_age):
+            return None  # a face there: someone whose legs the laser does not see (a FACE track)
         return front
 
     def _focus_turn(self, target: str) -> float | None:
