@@ -31,7 +31,9 @@ def test_a_torso_in_view_makes_its_direction_not_empty(centre, offset, t):
 
 
 @settings(max_examples=200, deadline=None)
-@given(st.floats(-math.pi, math.pi), st.floats(-HALF, HALF), st.floats(math.radians(30), math.pi))
+# (a direction within one 5-degree bin of the field's edge may lie in a bin whose middle is outside the
+# field, which the frame does not count as looked at: the property holds a bin inside the edge)
+@given(st.floats(-math.pi, math.pi), st.floats(-HALF + math.radians(5), HALF - math.radians(5)), st.floats(math.radians(30), math.pi))
 def test_a_torso_elsewhere_leaves_an_empty_direction_empty(centre, offset, away):
     looked = LookedAt()
     looked.observe(1.0, centre, HALF, [], TOL)
