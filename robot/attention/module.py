@@ -1019,6 +1019,11 @@ class PersonAttention(Module):
             return None if self.looked.empty_since(back, t - p.voice_look_memory) else back
         if self.looked.face_since(front, heard - p.dominant_max_age):
             return None  # a face there: someone whose legs the laser does not see (a FACE track)
+        if abs(bearing) <= p.voice_turn_min and self.looked.body_since(front, heard - p.dominant_max_age):
+            # someone in the image there, turned away (wlan_reorder: Ben steps out from behind a sideboard,
+            # calling): no turn, as before the voice search; the beam follows his voice, and a turn to a
+            # fixed direction while he walks on took the beam off him (seed 3)
+            return None
         return front
 
     def _focus_turn(self, target: str) -> float | None:
