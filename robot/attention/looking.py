@@ -8,8 +8,7 @@ the other way. Two memories make that search, both in the odometry frame (a dire
 direction while the robot turns on the spot to look):
 
 - :class:`LookedAt`: per direction (5 degree bins of odometry heading), when the camera last had
-  it in its field with nobody there, and when it last saw someone there: a frontal face, or a torso
-  (a person turned away shows no frontal face, but her clothes). "Looked, nobody"
+  it in its field with no frontal face there, and when it last saw a face or a torso there. "Looked, nobody"
   sends the robot to the mirrored reading; "looked at both, nobody" (a radio) ends the search, so
   a voice nobody explains never spins the robot round and round.
 - :class:`HeardFrom`: the last few voices that no person the robot saw explained: when, the two
@@ -42,8 +41,9 @@ class LookedAt:
             raise ValueError(f"LookedAt: bin_deg = {bin_deg}, not in (0, 90]")
         self.n = int(round(360.0 / bin_deg))
         self.width = _TWO_PI / self.n
-        self._empty = [-math.inf] * self.n  # last time looked at with nobody there
-        self._someone = [-math.inf] * self.n  # last time someone was seen there (a face, a torso)
+        self._empty = [-math.inf] * self.n  # last time looked at with no face there
+        self._face = [-math.inf] * self.n  # last time a face was seen there
+        self._body = [-math.inf] * self.n  # last time a body (a torso, any side of it) was seen there
 
     def _bin(self, heading: float) -> int:
         return int((heading % _TWO_PI) / self.width) % self.n
@@ -60,31 +60,35 @@ class LookedAt:
             if angle_between(mid, centre) > half_width:
                 continue
             if any(angle_between(mid, f) <= face_tolerance for f in faces):
-                self._someone[b] = t
+                self._face[b] = t
             else:
                 self._empty[b] = t
 
-    def someone(self, t: float, headings: Iterable[float], tolerance: float) -> None:
-        """Someone seen at ``t`` at each of the odometry ``headings`` (a torso in the frame: a person
-        looking away shows no frontal face); within ``tolerance`` of one, a direction is not empty."""
-        hs = list(headings)
-        k = int(math.ceil(tolerance / self.width))
-        for h in hs:
+    def bodies(self, t: float, headings: Iterable[float], tolerance: float) -> None:
+        """A camera frame at ``t`` showed torsos at odometry ``headings``: someone is there, facing the
+        camera or not. A person who calls the robot with her back to it (busy at a shelf, stepping out
+        from behind a sideboard: wlan_reorder) shows no frontal face, so "no face" alone is not "nobody"."""
+        for h in headings:
+            k = int(math.ceil(tolerance / self.width))
             c = self._bin(h)
             for i in range(c - k, c + k + 1):
                 b = i % self.n
-                if angle_between((b + 0.5) * self.width, h) <= tolerance:
-                    self._someone[b] = t
+                if angle_between((b + 0.5) * self.width, h) <= tolerance + self.width / 2:
+                    self._body[b] = t
 
     def empty_since(self, heading: float, since: float) -> bool:
-        """Has the camera looked at ``heading`` at ``since`` or later and seen nobody there, not even in
-        the same frame (a face, a torso), since it last saw someone?"""
+        """Has the camera looked at ``heading`` at ``since`` or later and seen nobody there (no frontal
+        face, no torso) since it last saw someone?"""
         b = self._bin(heading)
-        return self._empty[b] >= since and self._empty[b] > self._someone[b]
+        return self._empty[b] >= since and self._empty[b] > self._face[b] and self._empty[b] > self._body[b]
 
-    def someone_since(self, heading: float, since: float) -> bool:
-        """Has the camera seen someone (a frontal face, a torso) at ``heading`` at ``since`` or later?"""
-        return self._someone[self._bin(heading)] >= since
+    def body_since(self, heading: float, since: float) -> bool:
+        """Has the camera seen a torso at ``heading`` at ``since`` or later?"""
+        return self._body[self._bin(heading)] >= since
+
+    def face_since(self, heading: float, since: float) -> bool:
+        """Has the camera seen a frontal face at ``heading`` at ``since`` or later?"""
+        return self._face[self._bin(heading)] >= since
 
 
 class HeardFrom:

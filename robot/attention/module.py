@@ -451,8 +451,7 @@ class PersonAttention(Module):
         get = (lambda r, k: getattr(r, k)) if data is not None else (lambda r, k: r.get(k))
         bearings = [math.radians(float(get(r, "bearing"))) for r in rows]
         th = self._pose_at(t)[2]
-        # someone there, facing the robot or not (a voice from there is not from behind: _voice_target)
-        self.looked.someone(t, [th + b for b in bearings], self.params.face_look_tolerance)
+        self.looked.bodies(t, [th + b for b in bearings], self.params.face_look_tolerance)  # someone there (:meth:`_voice_target`)
         tracks = self.tracks.tracks
         if not tracks:
             return
@@ -1069,8 +1068,13 @@ class PersonAttention(Module):
                    for tk in self.tracks.tracks)
         if self.looked.empty_since(front, heard - p.dominant_max_age) and not legs:
             return None if self.looked.empty_since(back, t - p.voice_look_memory) else back
-        if self.looked.someone_since(front, heard - p.dominant_max_age):
-            return None  # a face or a torso there: someone whose legs the laser does not see
+        if self.looked.face_since(front, heard - p.dominant_max_age):
+            return None  # a face there: someone whose legs the laser does not see (a FACE track)
+        if abs(bearing) <= p.voice_turn_min and self.looked.body_since(front, heard - p.dominant_max_age):
+            # someone in the image there, turned away (wlan_reorder: Ben steps out from behind a sideboard,
+            # calling): no turn, as before the voice search; the beam follows his voice, and a turn to a
+            # fixed direction while he walks on took the beam off him (seed 3)
+            return None
         return front
 
     def _focus_turn(self, target: str) -> float | None:
