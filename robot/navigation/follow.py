@@ -163,6 +163,8 @@ GIVE_WAY_RETRY = 1.0
 GIVE_WAY_STILL = 0.2
 #: s: following, a partner standing that close this long is held up by the robot, wherever it stands
 GIVE_WAY_HELD = 1.5
+#: m: backing out of her way into a corridor, where it came from is its own position this far back (see _came_from)
+CAME_FROM = 1.5
 #: rad: giving way, the partner is kept within this bearing (turned to when further off)
 GIVE_WAY_BEARING = math.radians(80)
 #: Held up (issue 26, "excuse me"): it should drive after her, but someone standing (slower than
@@ -650,7 +652,7 @@ class Follower(Module):
             here, her = self.route.to_map(self.odom[:2]), self.route.to_map((px, py))
             path, back = (None, False) if back_only else (give_way_spot(grid, here, her, keep=self.band[0]), False)
             if path is None:  # nowhere ahead (a storeroom): back out the way it came, facing her
-                path, back = back_out_spot(grid, here, her, keep=self.band[0]), True
+                path, back = back_out_spot(grid, here, her, keep=self.band[0], came=self._came_from()), True
             if path is None:
                 self._no_spot_until = self.now + GIVE_WAY_RETRY  # up to 24 grid searches: not every step
                 return None
@@ -687,6 +689,18 @@ class Follower(Module):
         v_pref = heading_speed(GIVE_WAY_SPEED, math.atan2(gy, gx))
         cmd = dwa(self.v, self.w, (gx, gy), pts, limits, v_pref=v_pref, params=self.params, people=people)
         return self._aside_clear(cmd.v, cmd.w, self._bodies(rx, ry), pts)
+
+    def _came_from(self) -> tuple[float, float] | None:
+        """Where the robot drove from (map frame): its latest own position (odometry, driving forwards)
+        at least :data:`CAME_FROM` m from where it stands, None when it has not driven that far. Backing
+        out into a corridor, it waits on the other side (:func:`~robot.navigation.giveway.back_out_spot`)."""
+        if self.odom is None:
+            return None
+        x, y = self.odom[0], self.odom[1]
+        for cx, cy in reversed(self.crumbs):
+            if math.hypot(cx - x, cy - y) >= CAME_FROM:
+                return self.route.to_map((cx, cy))
+        return None
 
     def _back_off_clear(self, v: float, w: float, bodies: np.ndarray, mapped: np.ndarray) -> tuple[float, float]:
         """Backing off while turning to face her, made safe against everyone's body (``bodies``, robot
