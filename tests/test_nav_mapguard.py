@@ -17,7 +17,7 @@ import numpy as np
 from hypothesis import given, settings, strategies as st
 
 from robot.floorplan import wall_rectangle
-from robot.navigation.giveway import (BACK_FACE, BACK_GAIN, LATERAL, ROOM, back_out_spot, give_way_spot,
+from robot.navigation.giveway import (BACK_FACE, BACK_GAIN, LATERAL, PASSAGE_ROOM, ROOM, back_out_spot, give_way_spot,
                                       reverse_command)
 from robot.navigation.grid import OccupancyGrid, Plan2D
 from robot.navigation.local import arcs
@@ -247,3 +247,58 @@ def test_reversing_steers_the_rear_toward_a_goal_behind_and_never_drives_forward
         assert v == 0.0
     x, y, _ = arcs(np.array([v]), np.array([w]), np.array([0.3]))
     assert math.hypot(gx - x[0, 0], gy - y[0, 0]) <= math.hypot(gx, gy) + 1e-9  # no further from it
+
+
+# ---------------------------------------------------------------- backing out of a door into a corridor (yield9)
+def _corridor_study() -> OccupancyGrid:
+    """A corridor 1.0 m wide between its walls (x 0-8, walls on y = 0 and y = 1.1, 0.1 m thick) and a
+    study (x 3-6, y 1.1-4) behind a 0.9 m door at x 4.05-4.95: the study is a dead end, the corridor has
+    no cell 0.5 m from every wall (issue 26, galley_follow_bend: the robot stood in the study door
+    while its partner waited to come out)."""
+    walls = [wall_rectangle(a, b, 0.1) for a, b in (((0, 0), (8, 0)), ((0, 1.1), (4.05, 1.1)), ((4.95, 1.1), (8, 1.1)),
+                                                     ((0, 0), (0, 1.1)), ((8, 0), (8, 1.1)), ((3, 1.1), (3, 4)),
+                                                     ((6, 1.1), (6, 4)), ((3, 4), (6, 4)))]
+    return OccupancyGrid(Plan2D(tuple(walls), (1.0, 0.5, 0.0)), radius=0.30)
+
+
+CORRIDOR_STUDY = _corridor_study()
+
+
+def test_a_robot_in_a_dead_end_rooms_door_backs_out_along_the_corridor_to_the_side_it_did_not_come_by():
+    robot, partner = (4.5, 1.2), (4.75, 1.75)  # in the door, facing her; she wants out through it
+    assert give_way_spot(CORRIDOR_STUDY, robot, partner, keep=1.0) is None
+    for came, east in (((1.5, 0.55), True), ((7.0, 0.55), False)):
+        path = back_out_spot(CORRIDOR_STUDY, robot, partner, keep=1.0, came=came)
+        assert path is not None and path[0] == robot  # (None on the old code: no cell has ROOM)
+        x, y = path[-1]
+        assert 0.1 < y < 1.0  # in the corridor
+        assert (x > 4.5) == east  # the way it did not come by: she leads it back the way it came
+        assert abs(x - 4.5) >= LATERAL  # off the door's line: she walks out of the door past it
+        i, j = CORRIDOR_STUDY.cell_of((x, y))
+        assert CORRIDOR_STUDY.clearance[i, j] >= PASSAGE_ROOM
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.floats(4.3, 4.7), st.floats(1.1, 1.3), st.floats(4.2, 5.6), st.floats(1.7, 2.6))
+def test_backing_out_into_a_corridor_never_takes_the_side_it_came_by_when_the_other_has_a_spot(rx, ry, px, py):
+    robot, partner = (rx, ry), (px, py)
+    west = back_out_spot(CORRIDOR_STUDY, robot, partner, keep=1.0, came=(1.0, 0.55))
+    east = back_out_spot(CORRIDOR_STUDY, robot, partner, keep=1.0, came=(8.0, 0.55))
+    assert (west is None) == (east is None)  # where it came from only orders the spots
+    if west is None or east is None:
+        return
+    # came from the west it takes the east unless the east has none (then the call from the east, which
+    # prefers the west, takes the west too), and the other way round
+    assert not (west[-1][0] < rx and east[-1][0] > rx)
+    d = math.hypot(rx - px, ry - py)
+    for path in (west, east):
+        x, y = path[-1]
+        i, j = CORRIDOR_STUDY.cell_of((x, y))
+        assert CORRIDOR_STUDY.clearance[i, j] >= PASSAGE_ROOM
+        assert math.hypot(x - px, y - py) >= max(1.0, d + BACK_GAIN) - 1e-9  # further from her
+        lx, ly = path[1][0] - rx, path[1][1] - ry
+        assert abs((x - rx) * ly - (y - ry) * lx) >= LATERAL * math.hypot(lx, ly) - 1e-9  # off the line out of the door
+        for a, b in zip(path, path[1:]):
+            for t in np.linspace(0.0, 1.0, 11):
+                q = (a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1]))
+                assert math.hypot(q[0] - px, q[1] - py) >= min(0.7, d) - 0.01 - 1e-9  # never nearer her
