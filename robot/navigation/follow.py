@@ -90,7 +90,7 @@ from homesim.module import Module
 
 from homesim.errors import BusError, HomesimError
 from robot import floorplan
-from robot.partner_search import follow_search_time
+from robot.partner_search import follow_search_time, yielding
 from robot.contract import ATTENTION_STATE, BASE_CMD, ES_EVENTS, FOLLOW_STATUS, ODOMETRY, PARTNER, POSE, SCAN, TRACKS
 
 from .config import Limits
@@ -108,6 +108,11 @@ from .seen import SeenGround, footprint_samples
 STANDING_NEAR = 1.2
 #: s: searching, where she was heading is her last message carried on with its velocity this long at most
 SEARCH_HORIZON = 1.5
+#: s: ... and, her track gone quiet longer than that (unseen through a door: the robot yielded to people
+#: crossing and fell behind), she walks on: the point moves on along her velocity up to this long, but
+#: never through a wall of the floor plan (issue 26 item 1, sq_cross_pair: the search stopped at the
+#: spot 1.5 s past where she went out of view while she stood in the next room, in view from a step on)
+SEARCH_WALK_ON = 5.0
 #: s and m/s: wedged this long (it should drive, the dynamic window finds nothing), it backs this slowly
 STUCK_TIME = 1.0
 UNSTICK_SPEED = 0.1
@@ -268,6 +273,8 @@ class Follower(Module):
         self._held_last = -math.inf  # when it last saw them there
         self._standers: deque[tuple[float, float, float]] = deque(maxlen=32)  # (t, odom x, y) of people seen standing near
         self._excused_at = -math.inf  # when it last asked to pass (way_blocked)
+        self._yielded = 0.0  # s since she was last seen spent yielding to someone near it (not search time)
+        self._yield_t: float | None = None
         self.bus.subscribe(ATTENTION_STATE, self._on_state)
         self.bus.subscribe(PARTNER, self._on_partner)
         self.bus.subscribe(SCAN, self._on_scan)
@@ -441,9 +448,10 @@ class Follower(Module):
             return self._stand(approaching, "searching")
         age = self.now - tr["t"]
         unseen = (0.0 if tr["visible"] else tr["lost_for"]) + age
+        yielded = self._count_yield(approaching, tr["visible"] and age < 2 * self.period)
         # approaching, she stands: unseen a moment (behind a table's legs, a chair, the door frame) is
         # no reason to give up the approach and teach from across the room; her last position holds
-        if unseen > (self.search_time if approaching else self.search_for()):
+        if unseen - yielded > (self.search_time if approaching else self.search_for()):
             turn = None if approaching else self._face_in()
             if turn is not None:  # the search ended at an exit door: back to the room first
                 self._status(0.0, False, "searching")
@@ -453,6 +461,8 @@ class Follower(Module):
         # the partner now (constant velocity over the message's age), in odom and robot frames
         horizon = min(age, SEARCH_HORIZON if searching else 0.5)
         px, py = tr["x"] + tr["vx"] * horizon, tr["y"] + tr["vy"] * horizon
+        if searching and age > SEARCH_HORIZON:
+            px, py = self._walk_on((px, py), (tr["vx"], tr["vy"]), min(age, SEARCH_WALK_ON) - SEARCH_HORIZON)
         if not self.trail or math.hypot(px - self.trail[-1][0], py - self.trail[-1][1]) > 0.15:
             self.trail.append((px, py))
         rx, ry = self._to_robot(px, py)
@@ -689,6 +699,30 @@ class Follower(Module):
         v_pref = heading_speed(GIVE_WAY_SPEED, math.atan2(gy, gx))
         cmd = dwa(self.v, self.w, (gx, gy), pts, limits, v_pref=v_pref, params=self.params, people=people)
         return self._aside_clear(cmd.v, cmd.w, self._bodies(rx, ry), pts)
+
+    def _walk_on(self, start: tuple[float, float], v: tuple[float, float], duration: float) -> tuple[float, float]:
+        """``start`` (odom) carried on at velocity ``v`` for ``duration`` s, in steps of a quarter second,
+        stopping before a step that would cross a wall or furniture of the floor plan."""
+        x, y = start
+        for _ in range(int(max(0.0, duration) / 0.25)):
+            nx, ny = x + v[0] * 0.25, y + v[1] * 0.25
+            if not self.route.in_sight((x, y), (nx, ny)):
+                break
+            x, y = nx, ny
+        return x, y
+
+    def _count_yield(self, approaching: bool, seen: bool) -> float:
+        """Seconds since she was last seen that the robot spent yielding to someone near it
+        (:func:`robot.partner_search.yielding`, the attention's rule: held up by a person crossing its
+        way it does not search, so that time is not search time); reset when she is seen."""
+        last, self._yield_t = self._yield_t, self.now
+        if seen or approaching or self.odom is None:
+            self._yielded = 0.0
+        elif last is not None and self.now - last <= 1.0:
+            others = self.people.around(self.odom, self.now, exclude=self.partner_id)
+            if yielding(others[:, :2] if len(others) else ()):
+                self._yielded += self.now - last
+        return self._yielded
 
     def _came_from(self) -> tuple[float, float] | None:
         """Where the robot drove from (map frame): its latest own position (odometry, driving forwards)
