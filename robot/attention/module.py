@@ -174,6 +174,11 @@ def _deg(a: float) -> str:
 class PersonAttention(Module):
     """Leg detection, anchoring, selection and the attention FSM on the bus (see the module docstring)."""
 
+    # following, the time since her last sighting spent yielding (set in __init__; here for the rule's
+    # unit tests, which build the module without a bus)
+    _yielded: float = 0.0
+    _yield_t: float | None = None
+
     def __init__(
         self,
         sim: Any,

@@ -52,7 +52,12 @@ Control, every ``1/rate`` seconds:
   velocity for at most :data:`SEARCH_HORIZON` s, along the floor plan's way through doors), comes no
   closer than ``search_reach`` to that point, once the floor plan says it is in sight (not behind
   a wall), and turns to face it, so it sees round the corner or past the person in between.
-  Status ``searching``.
+  Status ``searching``. Her track gone quiet longer than that (it yielded to people crossing and fell
+  behind, she went on through a door), the point walks on at her pace when last seen (a coasting track's
+  velocity decays) up to :data:`SEARCH_WALK_ON` s,
+  never through a wall of the floor plan, so it looks into the room she went on into.
+* Yielding is not searching: time in which someone other than her is near it
+  (:func:`robot.partner_search.yielding`, the attention's rule too) does not count as time unseen.
 * Lost: not seen for ``search_time`` s (6 s; longer when she was last seen beyond the band, by the
   time it takes to drive the gap at 0.4 m/s or its lower top speed, at most 15 s: :mod:`robot.partner_search`):
   it stops (the attention's ``partner_lost``, by the same rule with its ``follow_lost_after`` = the
@@ -255,6 +260,7 @@ class Follower(Module):
         self.partner_id: str | None = None
         self.track: dict[str, float] | None = None  # the partner's last message (odom frame) and when
         self._seen_distance = 0.0  # how far she was when a scan last saw her (the search's length grows with it)
+        self._seen_v = (0.0, 0.0)  # her velocity (odom) when a scan last saw her: where the search walks on
         self.odom: tuple[float, float, float] | None = None
         self.v = self.w = 0.0
         self.scan = LatestScan()
@@ -364,6 +370,7 @@ class Follower(Module):
         }  # type: ignore[dict-item]
         if self.track["visible"]:
             self._seen_distance = float(x.get("distance", "0"))
+            self._seen_v = (self.track["vx"], self.track["vy"])  # her pace when last seen (a quiet track's decays)
 
     def _on_scan(self, msg: Message) -> None:
         self.scan.update(msg)  # turned into points only when a control step needs them
@@ -462,7 +469,7 @@ class Follower(Module):
         horizon = min(age, SEARCH_HORIZON if searching else 0.5)
         px, py = tr["x"] + tr["vx"] * horizon, tr["y"] + tr["vy"] * horizon
         if searching and age > SEARCH_HORIZON:
-            px, py = self._walk_on((px, py), (tr["vx"], tr["vy"]), min(age, SEARCH_WALK_ON) - SEARCH_HORIZON)
+            px, py = self._walk_on((px, py), self._seen_v, min(age, SEARCH_WALK_ON) - SEARCH_HORIZON)
         if not self.trail or math.hypot(px - self.trail[-1][0], py - self.trail[-1][1]) > 0.15:
             self.trail.append((px, py))
         rx, ry = self._to_robot(px, py)
