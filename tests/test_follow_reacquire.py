@@ -116,3 +116,26 @@ def test_time_spent_yielding_to_a_crosser_is_not_time_she_was_unseen():
     assert 2.8 <= a._yielded <= 3.1
     assert not a.partner_left(SEEN + search + 2.0)  # unseen search + 2 s, 3 of them yielding: still searching
     assert a.partner_left(SEEN + search + 3.2)
+
+
+@settings(max_examples=60, deadline=None)
+@given(vx=st.floats(-1.0, 1.0), vy=st.floats(-1.0, 1.0), duration=st.floats(0.0, 5.0), wall=st.floats(0.5, 3.0))
+def test_the_search_walks_on_at_her_pace_and_never_through_a_wall(vx, vy, duration, wall):
+    """Her track gone quiet, the search point walks on along her last seen velocity (a quarter second at
+    a time) for the time given, and stops before the first step that would cross a wall (here the
+    line x = ``wall``; the floor plan's ``in_sight`` in the follower)."""
+    from robot.navigation.follow import Follower
+
+    f = Follower.__new__(Follower)
+
+    class _Plan:
+        @staticmethod
+        def in_sight(a, b):
+            return (a[0] < wall) == (b[0] < wall)
+
+    f.route = _Plan()
+    x, y = f._walk_on((0.0, 0.0), (vx, vy), duration)
+    steps = int(duration / 0.25)
+    free = steps if vx <= 0 else min(steps, next((k for k in range(steps + 1) if (k + 1) * 0.25 * vx >= wall), steps))
+    assert x < wall  # never through the wall
+    assert math.isclose(x, vx * 0.25 * free, abs_tol=1e-9) and math.isclose(y, vy * 0.25 * free, abs_tol=1e-9)
