@@ -265,9 +265,11 @@ CORRIDOR_STUDY = _corridor_study()
 
 
 def test_a_robot_in_a_dead_end_rooms_door_backs_out_along_the_corridor_to_the_side_it_did_not_come_by():
-    robot, partner = (4.5, 1.2), (4.75, 1.75)  # in the door, facing her; she wants out through it
-    assert give_way_spot(CORRIDOR_STUDY, robot, partner, keep=1.0) is None
-    for came, east in (((1.5, 0.55), True), ((7.0, 0.55), False)):
+    robot = (4.5, 1.2)  # in the door, facing her; she wants out through it
+    for partner, came, east in (((4.75, 1.75), (1.5, 0.55), True), ((4.75, 1.75), (7.0, 0.55), False),
+                                # she stands diagonally in the room, on the side it did not come by
+                                ((5.0, 1.6), (1.5, 0.55), True), ((4.0, 1.6), (7.0, 0.55), False)):
+        assert give_way_spot(CORRIDOR_STUDY, robot, partner, keep=1.0) is None
         path = back_out_spot(CORRIDOR_STUDY, robot, partner, keep=1.0, came=came)
         assert path is not None and path[0] == robot  # (None on the old code: no cell has ROOM)
         x, y = path[-1]

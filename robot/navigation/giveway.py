@@ -40,7 +40,8 @@ Out of a door into a passage no roomier than 1.0 m (a corridor: issue 26, galley
 galley_long_tour, where a robot in a dead-end room's 0.9 m door stood in the way of its partner for the
 rest of the run), no cell has :data:`ROOM`. Then a spot in the passage will do where the robot can
 still turn (:data:`PASSAGE_ROOM`), but she cannot walk round it there: it must stand at least
-:data:`LATERAL` m along the passage from the mouth's axis, where she walks out. Of the two ways
+(:data:`LATERAL` m along the passage from the mouth's axis, where she walks out; its first leg
+need only lead away from her, :data:`PASSAGE_FACE`). Of the two ways
 along the passage it prefers the one it did not come by (``came``: where it drove from): the way
 it came is the way to the rest of the flat, where she leads it next; the other is the dead end.
 """
@@ -83,6 +84,10 @@ BACK_SIDE = math.radians(45)
 #: grid), a back-out spot's centre this far from walls and furniture: the footprint (half diagonal
 #: 0.34 m) still turns on the spot there (the follower's own turning room)
 PASSAGE_ROOM = 0.40
+#: rad: ... and its path's first leg at most this far off straight away from her: out of a door into a
+#: corridor it backs out along the door's axis whichever side of it she stands (standing diagonally in
+#: the room, :data:`BACK_FACE` left only the side it came by, and she then walked into it there)
+PASSAGE_FACE = math.radians(90)
 
 
 def give_way_spot(grid: OccupancyGrid, robot: Point, partner: Point, *, keep: float = 1.0, room: float = ROOM,
@@ -172,7 +177,7 @@ def _spot(grid: OccupancyGrid, robot: Point, partner: Point, *, keep: float, roo
             continue
         if len(path) > 1:
             lx, ly = path[1][0] - robot[0], path[1][1] - robot[1]
-            if backing and (ux * lx + uy * ly) < math.cos(BACK_FACE) * math.hypot(lx, ly):
+            if backing and (ux * lx + uy * ly) < math.cos(PASSAGE_FACE if passage else BACK_FACE) * math.hypot(lx, ly):
                 continue  # not straight back from her: it would reverse across her way
             if backing and not passage and not _off_the_way(grid, path, room, (ux, uy)):
                 continue  # by the door or passage it backs out of: where she walks next
