@@ -313,3 +313,44 @@ def test_backing_out_into_a_corridor_never_takes_the_side_it_came_by_when_the_ot
             for t in np.linspace(0.0, 1.0, 11):
                 q = (a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1]))
                 assert math.hypot(q[0] - px, q[1] - py) >= min(0.7, d) - 0.01 - 1e-9  # never nearer her
+
+
+def test_a_give_way_that_cannot_move_for_two_seconds_backs_out_into_the_corridor_instead():
+    """galley_follow_bend seeds 2, 5, 6: the approach ended just inside the study, the forward give-way
+    spot lay beside her and every step toward it swung a corner into her, so the robot stood there
+    with her 0.5 m in front for the rest of the run. Its command zero for GIVE_WAY_STALL s, it takes
+    the back-out path into the corridor (the side it did not come by) instead."""
+    from collections import deque
+
+    from robot.navigation.follow import GIVE_WAY_STALL, Follower
+
+    class _Follower(Follower):
+        now = 0.0  # (the simulation's clock, set by hand)
+
+    f = _Follower.__new__(_Follower)
+
+    class _Route:
+        grid = CORRIDOR_STUDY
+        to_map = to_odom = staticmethod(lambda p: p)
+
+    f.route, f.odom, f.band = _Route(), (4.5, 1.2, math.pi / 2), (1.0, 1.5)
+    f.crumbs = deque([(x, 0.55) for x in np.arange(1.0, 4.4, 0.05)] + [(4.5, 1.0)])  # it came from the west
+    f._aside, f._aside_stall = None, None
+    f.now = 0.0
+    assert f._unstall((0.1, 0.2), 4.75, 1.75, np.zeros((0, 2))) == (0.1, 0.2)  # moving: nothing changes
+    while f.now < GIVE_WAY_STALL - 0.05:
+        f._unstall((0.0, 0.0), 4.75, 1.75, np.zeros((0, 2)))
+        assert f._aside is None  # (not yet)
+        f.now += 0.1
+    f.now = GIVE_WAY_STALL + 0.05
+    f._unstall((0.0, 0.0), 4.75, 1.75, np.zeros((0, 2)))
+    assert f._aside is not None and f._aside[2]  # backing out
+    x, y = f._aside[0][-1]
+    assert 0.1 < y < 1.0 and x >= 4.5 + LATERAL  # along the corridor, east: the way it did not come by
+    f._aside, f._aside_stall, f.now = None, None, 10.0  # a stall that was interrupted starts again
+    f._unstall((0.0, 0.0), 4.75, 1.75, np.zeros((0, 2)))
+    f.now = 11.0
+    f._unstall((0.0, 0.0), 4.75, 1.75, np.zeros((0, 2)))  # (a second later, not 0.1 s: a new stall)
+    f.now = 11.5
+    f._unstall((0.0, 0.0), 4.75, 1.75, np.zeros((0, 2)))
+    assert f._aside is None

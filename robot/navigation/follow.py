@@ -167,6 +167,8 @@ GIVE_WAY_SPEED = 0.35
 #: m: she walks at the robot when her line of walking passes its centre closer than this (half its
 #: width, her body and a margin); a partner passing beside it is not walking at it
 WALKS_AT = 0.55
+#: s: the forward give-way's command zero this long (every step swings a corner into her), it backs out instead
+GIVE_WAY_STALL = 2.0
 #: s: when there is no give-way spot, it looks again after this long (the search plans on the grid)
 GIVE_WAY_RETRY = 1.0
 #: m/s: it gives way to a partner slower than this (held up in front of it), never into a walking one
@@ -291,6 +293,7 @@ class Follower(Module):
         self._aside: tuple[list[tuple[float, float]], float, bool] | None = None  # give-way path (odom), until when, reversing
         self._close_since: float | None = None  # following, since when she has stood close in front
         self._no_spot_until = -math.inf  # no give-way spot found: the next search not before then
+        self._aside_stall: tuple[float, float] | None = None  # (since, last): the forward give-way's command zero
         self._map_asked = False
         self._pose_sub: Any = None
         self._turn_in = False  # following ended: turn back into the flat if it faces out of an exit door
@@ -705,7 +708,31 @@ class Follower(Module):
         limits = replace(self.limits, max_speed=min(self.limits.max_speed, GIVE_WAY_SPEED))
         v_pref = heading_speed(GIVE_WAY_SPEED, math.atan2(gy, gx))
         cmd = dwa(self.v, self.w, (gx, gy), pts, limits, v_pref=v_pref, params=self.params, people=people)
-        return self._aside_clear(cmd.v, cmd.w, self._bodies(rx, ry), pts)
+        out = self._aside_clear(cmd.v, cmd.w, self._bodies(rx, ry), pts)
+        return self._unstall(out, px, py, mapped)
+
+    def _unstall(self, cmd: tuple[float, float], px: float, py: float, mapped: np.ndarray) -> tuple[float, float]:
+        """The forward give-way's command ``cmd``; when it has stayed zero for :data:`GIVE_WAY_STALL` s
+        (the spot lies beside her and every step toward it swings a corner into her: galley_follow_bend,
+        the approach ended just inside a dead-end room's door with her 0.5 m in front), the robot backs
+        out of her way instead (:func:`~robot.navigation.giveway.back_out_spot`), if there is a way."""
+        stall = self._aside_stall
+        if cmd != (0.0, 0.0):
+            self._aside_stall = None
+            return cmd
+        if stall is None or self.now - stall[1] > 0.5:  # (a new stall, not one from an earlier give-way)
+            self._aside_stall = (self.now, self.now)
+            return cmd
+        self._aside_stall = (stall[0], self.now)
+        if self.now - stall[0] < GIVE_WAY_STALL or self.route.grid is None or self.odom is None:
+            return cmd
+        self._aside_stall = None
+        path = back_out_spot(self.route.grid, self.route.to_map(self.odom[:2]), self.route.to_map((px, py)),
+                             keep=self.band[0], came=self._came_from())
+        if path is None:
+            return cmd
+        self._aside = ([self.route.to_odom(p) for p in path], self.now + GIVE_WAY_TIME, True)
+        return cmd
 
     def _walk_on(self, start: tuple[float, float], v: tuple[float, float], duration: float) -> tuple[float, float]:
         """``start`` (odom) carried on at velocity ``v`` for ``duration`` s, in steps of a quarter second,
