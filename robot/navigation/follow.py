@@ -241,6 +241,9 @@ def sweep_allowed(v: float, w: float, mapped: np.ndarray, here: float | None = N
 class Follower(Module):
     """Follows the partner track in Follow (see the module docstring)."""
 
+    # (set in __init__; here too for the rules' unit tests, which build a follower without a bus)
+    _aside_stall: tuple[float, float] | None = None
+
     def __init__(self, sim: Any, *, name: str = "follower", limits: Limits | None = None, rate: float = 10.0,
                  distance: float = 1.2, band: tuple[float, float] = (1.0, 1.5), minimum: float = 0.8,
                  gain: float = 0.8, lost_after: float = 1.0, too_fast_distance: float = 2.0,
