@@ -11,7 +11,9 @@ from its configuration, when that is lower: a robot that does 0.3 m/s needs a th
 drive the gap than one that searches at 0.4 m/s), at most a cap (a partner unseen that long has
 gone, wherever she was). Both the follower (its search) and the attention (its
 ``partner_lost``) read this one rule, so the robot never stops searching before the attention
-lets her go, nor the other way round.
+lets her go, nor the other way round. Time spent yielding to someone near it (:func:`yielding`)
+is not search time: held up by a person crossing its way, the robot does not search, and both
+clocks stand still meanwhile.
 """
 
 from __future__ import annotations
@@ -27,6 +29,19 @@ SEARCH_NEAR = 1.5
 SEARCH_SPEED = 0.4
 #: s: the longest a partner may be unseen while following, however far she was last seen
 SEARCH_CAP = 15.0
+#: m: while someone other than the partner is this near the robot (a person crossing its way, walking
+#: past it), it yields to them (slows, stops, waits) instead of searching: that time does not count
+#: as time she was unseen (issue 26 item 1, sq_cross_pair: it yielded to two people crossing, she
+#: went through the next door meanwhile, and the search ran out at that door)
+YIELD_NEAR = 1.2
+
+
+def yielding(others: Any, near: float = YIELD_NEAR) -> bool:
+    """Whether the robot yields now: someone other than the partner (``others``: their positions
+    in the robot frame, rows of at least x and y) stands or walks within ``near`` m of it. The
+    follower (its people) and the attention (its tracks) read this one rule, each with the time it
+    holds subtracted from the time she is unseen."""
+    return any(math.hypot(float(o[0]), float(o[1])) < near for o in others)
 
 
 def robot_top_speed(config: Any) -> float | None:

@@ -17,8 +17,9 @@ import numpy as np
 from hypothesis import given, settings, strategies as st
 
 from robot.floorplan import wall_rectangle
-from robot.navigation.giveway import (BACK_FACE, BACK_GAIN, LATERAL, ROOM, back_out_spot, give_way_spot,
+from robot.navigation.giveway import (BACK_FACE, BACK_GAIN, LATERAL, PASSAGE_ROOM, ROOM, back_out_spot, give_way_spot,
                                       reverse_command)
+from robot.navigation import giveway
 from robot.navigation.grid import OccupancyGrid, Plan2D
 from robot.navigation.local import arcs
 from robot.navigation.outline import FloorOutline, outline_points
@@ -223,12 +224,20 @@ def test_every_back_out_path_leads_away_from_her_to_a_roomy_spot_further_off_and
         return
     spot = path[-1]
     i, j = STOREROOM.cell_of(spot)
-    assert STOREROOM.clearance[i, j] >= ROOM
+    # a roomy spot when there is one (the rule of doors5); else one where it still turns, off the door's
+    # line, first leg away from her (yield9: a dead-end room's door onto a corridor has no roomy spot)
+    roomy = giveway._spot(STOREROOM, robot, partner, keep=1.0, room=ROOM, lateral=LATERAL, reach=giveway.REACH,
+                          backing=True)
+    assert roomy is None or path == roomy
+    assert STOREROOM.clearance[i, j] >= (ROOM if roomy is not None else PASSAGE_ROOM)
     d = math.hypot(rx - px, ry - py)
     assert math.hypot(spot[0] - px, spot[1] - py) >= max(1.0, d + BACK_GAIN) - 1e-9
     ux, uy = (rx - px) / d, (ry - py) / d
     lx, ly = path[1][0] - rx, path[1][1] - ry
-    assert ux * lx + uy * ly >= math.cos(BACK_FACE) * math.hypot(lx, ly) - 1e-9  # it reverses straight away from her
+    face = BACK_FACE if roomy is not None else giveway.PASSAGE_FACE
+    assert ux * lx + uy * ly >= math.cos(face) * math.hypot(lx, ly) - 1e-9  # it reverses away from her
+    if roomy is None:  # off the line it backs out along
+        assert abs((spot[0] - rx) * ly - (spot[1] - ry) * lx) >= LATERAL * math.hypot(lx, ly) - 1e-9
     for a, b in zip(path, path[1:]):
         for t in np.linspace(0.0, 1.0, 11):
             q = (a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1]))
@@ -247,3 +256,101 @@ def test_reversing_steers_the_rear_toward_a_goal_behind_and_never_drives_forward
         assert v == 0.0
     x, y, _ = arcs(np.array([v]), np.array([w]), np.array([0.3]))
     assert math.hypot(gx - x[0, 0], gy - y[0, 0]) <= math.hypot(gx, gy) + 1e-9  # no further from it
+
+
+# ---------------------------------------------------------------- backing out of a door into a corridor (yield9)
+def _corridor_study() -> OccupancyGrid:
+    """A corridor 1.0 m wide between its walls (x 0-8, walls on y = 0 and y = 1.1, 0.1 m thick) and a
+    study (x 3-6, y 1.1-4) behind a 0.9 m door at x 4.05-4.95: the study is a dead end, the corridor has
+    no cell 0.5 m from every wall (issue 26, galley_follow_bend: the robot stood in the study door
+    while its partner waited to come out)."""
+    walls = [wall_rectangle(a, b, 0.1) for a, b in (((0, 0), (8, 0)), ((0, 1.1), (4.05, 1.1)), ((4.95, 1.1), (8, 1.1)),
+                                                     ((0, 0), (0, 1.1)), ((8, 0), (8, 1.1)), ((3, 1.1), (3, 4)),
+                                                     ((6, 1.1), (6, 4)), ((3, 4), (6, 4)))]
+    return OccupancyGrid(Plan2D(tuple(walls), (1.0, 0.5, 0.0)), radius=0.30)
+
+
+CORRIDOR_STUDY = _corridor_study()
+
+
+def test_a_robot_in_a_dead_end_rooms_door_backs_out_along_the_corridor_to_the_side_it_did_not_come_by():
+    robot = (4.5, 1.2)  # in the door, facing her; she wants out through it
+    for partner, came, east in (((4.75, 1.75), (1.5, 0.55), True), ((4.75, 1.75), (7.0, 0.55), False),
+                                # she stands diagonally in the room, on the side it did not come by
+                                ((5.0, 1.6), (1.5, 0.55), True), ((4.0, 1.6), (7.0, 0.55), False)):
+        assert give_way_spot(CORRIDOR_STUDY, robot, partner, keep=1.0) is None
+        path = back_out_spot(CORRIDOR_STUDY, robot, partner, keep=1.0, came=came)
+        assert path is not None and path[0] == robot  # (None on the old code: no cell has ROOM)
+        x, y = path[-1]
+        assert 0.1 < y < 1.0  # in the corridor
+        assert (x > 4.5) == east  # the way it did not come by: she leads it back the way it came
+        assert abs(x - 4.5) >= LATERAL  # off the door's line: she walks out of the door past it
+        i, j = CORRIDOR_STUDY.cell_of((x, y))
+        assert CORRIDOR_STUDY.clearance[i, j] >= PASSAGE_ROOM
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.floats(4.3, 4.7), st.floats(1.1, 1.3), st.floats(4.2, 5.6), st.floats(1.7, 2.6))
+def test_backing_out_into_a_corridor_never_takes_the_side_it_came_by_when_the_other_has_a_spot(rx, ry, px, py):
+    robot, partner = (rx, ry), (px, py)
+    west = back_out_spot(CORRIDOR_STUDY, robot, partner, keep=1.0, came=(1.0, 0.55))
+    east = back_out_spot(CORRIDOR_STUDY, robot, partner, keep=1.0, came=(8.0, 0.55))
+    assert (west is None) == (east is None)  # where it came from only orders the spots
+    if west is None or east is None:
+        return
+    # came from the west it takes the east unless the east has none (then the call from the east, which
+    # prefers the west, takes the west too), and the other way round
+    assert not (west[-1][0] < rx and east[-1][0] > rx)
+    d = math.hypot(rx - px, ry - py)
+    for path in (west, east):
+        x, y = path[-1]
+        i, j = CORRIDOR_STUDY.cell_of((x, y))
+        assert CORRIDOR_STUDY.clearance[i, j] >= PASSAGE_ROOM
+        assert math.hypot(x - px, y - py) >= max(1.0, d + BACK_GAIN) - 1e-9  # further from her
+        lx, ly = path[1][0] - rx, path[1][1] - ry
+        assert abs((x - rx) * ly - (y - ry) * lx) >= LATERAL * math.hypot(lx, ly) - 1e-9  # off the line out of the door
+        for a, b in zip(path, path[1:]):
+            for t in np.linspace(0.0, 1.0, 11):
+                q = (a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1]))
+                assert math.hypot(q[0] - px, q[1] - py) >= min(0.7, d) - 0.01 - 1e-9  # never nearer her
+
+
+def test_a_give_way_that_cannot_move_for_two_seconds_backs_out_into_the_corridor_instead():
+    """galley_follow_bend seeds 2, 5, 6: the approach ended just inside the study, the forward give-way
+    spot lay beside her and every step toward it swung a corner into her, so the robot stood there
+    with her 0.5 m in front for the rest of the run. Its command zero for GIVE_WAY_STALL s, it takes
+    the back-out path into the corridor (the side it did not come by) instead."""
+    from collections import deque
+
+    from robot.navigation.follow import GIVE_WAY_STALL, Follower
+
+    class _Follower(Follower):
+        now = 0.0  # (the simulation's clock, set by hand)
+
+    f = _Follower.__new__(_Follower)
+
+    class _Route:
+        grid = CORRIDOR_STUDY
+        to_map = to_odom = staticmethod(lambda p: p)
+
+    f.route, f.odom, f.band = _Route(), (4.5, 1.2, math.pi / 2), (1.0, 1.5)
+    f.crumbs = deque([(x, 0.55) for x in np.arange(1.0, 4.4, 0.05)] + [(4.5, 1.0)])  # it came from the west
+    f._aside, f._aside_stall = None, None
+    f.now = 0.0
+    assert f._unstall((0.1, 0.2), 4.75, 1.75, np.zeros((0, 2))) == (0.1, 0.2)  # moving: nothing changes
+    while f.now < GIVE_WAY_STALL - 0.05:
+        f._unstall((0.0, 0.0), 4.75, 1.75, np.zeros((0, 2)))
+        assert f._aside is None  # (not yet)
+        f.now += 0.1
+    f.now = GIVE_WAY_STALL + 0.05
+    f._unstall((0.0, 0.0), 4.75, 1.75, np.zeros((0, 2)))
+    assert f._aside is not None and f._aside[2]  # backing out
+    x, y = f._aside[0][-1]
+    assert 0.1 < y < 1.0 and x >= 4.5 + LATERAL  # along the corridor, east: the way it did not come by
+    f._aside, f._aside_stall, f.now = None, None, 10.0  # a stall that was interrupted starts again
+    f._unstall((0.0, 0.0), 4.75, 1.75, np.zeros((0, 2)))
+    f.now = 11.0
+    f._unstall((0.0, 0.0), 4.75, 1.75, np.zeros((0, 2)))  # (a second later, not 0.1 s: a new stall)
+    f.now = 11.5
+    f._unstall((0.0, 0.0), 4.75, 1.75, np.zeros((0, 2)))
+    assert f._aside is None

@@ -71,7 +71,7 @@ from .legs import LegDetector, LegSpec
 from .looking import HeardFrom, LookedAt, angle_between
 from .records import TrackRow, TracksRecord, own_document as _own_document
 from robot.footprint import outline, points_sweep_clear, sweep_poses, turn_clear
-from robot.partner_search import follow_search_time, way_distance
+from robot.partner_search import follow_search_time, way_distance, yielding
 from .selection import SelectionParams, Selector
 from .tracker import FACE, Tracks, TrackerSpec
 from .visibility import hidden_points
@@ -126,6 +126,11 @@ class AttentionParams:
     come_back_after: float = 20.0
     reacquire_radius: float = 1.0  # m: a new track this near where the unseen partner was (plus ...
     reacquire_speed: float = 0.3  # ... this many m per s unseen, at most 2.5 m) is the partner again
+    # following, she walks on while unseen: a track in her clothes this far from where she was last
+    # measured (her last speed, at most follow_walk_speed m/s, per s unseen; at most
+    # follow_reacquire_cap m) is hers again (PersonAttention._reacquire_walking)
+    follow_walk_speed: float = 1.0
+    follow_reacquire_cap: float = 5.0
     turn_start: float = math.radians(12.0)  # start turning when the person is further off the axis
     turn_stop: float = math.radians(4.0)  # stop turning when within this
     turn_gain: float = 1.5  # rad/s per rad of bearing
@@ -239,6 +244,11 @@ class PersonAttention(Module):
     #: the ES's last order was ``look_for_help`` (the robot asked for help; :meth:`_voice_heading`)
     seeking_help: bool = False
 
+    # following, the time since her last sighting spent yielding (set in __init__; here for the rule's
+    # unit tests, which build the module without a bus)
+    _yielded: float = 0.0
+    _yield_t: float | None = None
+
     def __init__(
         self,
         sim: Any,
@@ -321,6 +331,10 @@ class PersonAttention(Module):
         # the robot did. Drive time since her last sighting: finished legs, and the leg under way.
         self._driven = 0.0
         self._drive_start: float | None = None
+        # Following, time spent yielding to someone near the robot since her last sighting does not
+        # count as time unseen (robot.partner_search.yielding); the scan time it was last added up to
+        self._yielded = 0.0
+        self._yield_t: float | None = None
         self._player_sub: Any = None
         self._alone_since: float | None = None  # since when Interaction/Object has had no partner at all
         self._caller: int | None = None  # searching: the seen person who speaks to it or comes up to it (:meth:`_find_caller`)
@@ -733,6 +747,8 @@ class PersonAttention(Module):
         row = tr.row(self.partner) if self.partner is not None else -1
         if row >= 0 and tr.tracks[row].dormant:
             row = -1  # her track is kept while she is hidden, but she is unseen: as if it had died
+        if self.partner is not None and not self.partner_lost_sent:
+            self._count_yield(t)  # (reset below when she is seen again)
         if row >= 0:
             tk = tr.tracks[row]
             colour = self.colours.colour(tk.id, t)
@@ -746,6 +762,7 @@ class PersonAttention(Module):
                 zx, zy = tk.last_z
                 self._partner_last = (tk.last_seen, zx, zy, tk.x[2], tk.x[3], ox, oy)
                 self._driven = 0.0
+                self._yielded = 0.0
         elif self.partner is not None and not self.partner_lost_sent:
             row = self._reacquire(t)
         if self.partner is None and not self.partner_lost_sent:
@@ -771,6 +788,20 @@ class PersonAttention(Module):
                 self._new_partner(t, threes[0], "true")
         self._caller = self._find_caller(t, cats) if self.partner is None else None
         self._nobody_there(t)
+
+    def _count_yield(self, t: float) -> None:
+        """Following with her unseen: add the time since the last scan to :attr:`_yielded` when
+        someone else is near the robot (:func:`robot.partner_search.yielding`: it yields to them
+        and does not search meanwhile; the follower's search clock stands still by the same rule)."""
+        last, self._yield_t = self._yield_t, t
+        if self.fsm.state != "Follow" or last is None or t - last > 1.0:
+            return
+        rx, ry, th = self._pose_at(t)
+        c, s = math.cos(th), math.sin(th)
+        others = [(c * (tk.x[0] - rx) + s * (tk.x[1] - ry), -s * (tk.x[0] - rx) + c * (tk.x[1] - ry))
+                  for tk in self.tracks.tracks if tk.confirmed and not tk.dormant and tk.id != self.partner]
+        if yielding(others):
+            self._yielded += t - last
 
     def _turning_away(self, t: float) -> None:
         """Whether the partner has turned her back on the robot (:attr:`turned_away`): in Interaction,
@@ -878,7 +909,7 @@ class PersonAttention(Module):
         if self.fsm.state == "Follow":
             # the longer the further behind the robot was when she went out of view (it yielded
             # to people crossing its way): robot.partner_search, the follower's search time
-            return unseen >= follow_search_time(dist, base=p.follow_lost_after, top_speed=p.robot_top_speed)
+            return unseen - self._yielded >= follow_search_time(dist, base=p.follow_lost_after, top_speed=p.robot_top_speed)
         if unseen < p.partner_lost_after:
             return False
         if unseen >= p.out_of_view_after:
@@ -912,6 +943,8 @@ class PersonAttention(Module):
                         continue
                 if d <= best:
                     best, row = d, i
+        if row < 0 and self.fsm.state == "Follow":
+            row = self._reacquire_walking(t, seen, x, y)
         if row >= 0:
             self.partner = self.tracks.tracks[row].id
         return row
@@ -926,6 +959,56 @@ class PersonAttention(Module):
         if self.fsm.state != "Follow":
             return math.hypot(point[0] - x, point[1] - y)
         return way_distance(point, (x, y), (vx, vy), t - seen, walking=self.params.leave_speed)
+
+    def _reacquire_walking(self, t: float, seen: float, x: float, y: float) -> int:
+        """Following, she leads and walks on while out of view (through a door the robot has not
+        reached yet, round a corner): the one confirmed track in her clothes (its colour seen, the same
+        as hers) within :meth:`_walk_reach` of where she was last measured is hers, however far beyond
+        the reacquisition radius (position history and clothes: issue 26 item 1, sq_cross_pair, where
+        she was found again 4 m on, in the next room); two such tracks, or none whose colour is known:
+        nobody (the camera looks at the candidates meanwhile, :meth:`_candidate`)."""
+        if self._partner_colour is None:
+            return -1
+        reach = self._walk_reach(t, seen)
+        rows = [i for i, tk in enumerate(self.tracks.tracks)
+                if tk.confirmed and not tk.dormant and math.hypot(tk.x[0] - x, tk.x[1] - y) <= reach
+                and (c := self.colours.colour(tk.id, t)) is not None and same_clothes(self._partner_colour, c)]
+        return rows[0] if len(rows) == 1 else -1
+
+    def _walk_reach(self, t: float, seen: float) -> float:
+        """How far she may have walked since ``seen`` while the robot follows: her last tracked speed
+        (at least ``reacquire_speed``, at most ``follow_walk_speed``) for the time unseen, plus
+        ``reacquire_radius``, at most ``follow_reacquire_cap``."""
+        p = self.params
+        last = self._partner_last
+        speed = math.hypot(last[3], last[4]) if last is not None else 0.0
+        speed = min(p.follow_walk_speed, max(p.reacquire_speed, speed))
+        return min(p.follow_reacquire_cap, p.reacquire_radius + speed * max(0.0, t - seen))
+
+    def _candidate(self, t: float) -> int:
+        """Following with her unseen (and her clothes known): the row of the nearest confirmed track
+        within :meth:`_walk_reach` whose clothes the camera has not seen lately, so the camera looks
+        at it (:meth:`_act`) and :meth:`_reacquire_walking` can tell whether she is the one; -1 when
+        there is none."""
+        last = self._partner_last
+        if (self.fsm.state != "Follow" or self.partner is None or self.partner_lost_sent or last is None
+                or self._partner_colour is None):
+            return -1
+        prow = self.tracks.row(self.partner)
+        if prow >= 0 and not self.tracks.tracks[prow].dormant:
+            return -1
+        reach = self._walk_reach(t, last[0])
+        rx, ry, _ = self._pose_at(t)
+        best, row = math.inf, -1
+        for i, tk in enumerate(self.tracks.tracks):
+            if not tk.confirmed or tk.dormant or tk.id == self.partner or self.colours.colour(tk.id, t) is not None:
+                continue
+            if math.hypot(tk.x[0] - last[1], tk.x[1] - last[2]) > reach:
+                continue
+            d = math.hypot(tk.x[0] - rx, tk.x[1] - ry)
+            if d < best:
+                best, row = d, i
+        return row
 
     def _could_be(self, t: float, seen: float, x: float, y: float, colour: tuple[float, float, float] | None, tk: Any,
                   way: Any = None) -> bool:
@@ -998,6 +1081,10 @@ class PersonAttention(Module):
         elif row >= 0 and self._searching():
             pan = bearing[row]  # a caller (:meth:`_find_caller`): find the face
             tilt = math.atan2(p.heights["face"] - p.camera_height, max(dist[row], 0.3))
+        elif target in p.heights and (look := self._candidate(t)) >= 0:
+            # following, her unseen: look at whoever she could be, to see their clothes
+            pan = bearing[look]
+            tilt = math.atan2(p.heights["torso"] - p.camera_height, max(dist[look], 0.3))
         elif target in p.heights and row >= 0:
             pan = bearing[row]
             # turned away (:meth:`_turning_away`): her face, to see her turn back to the robot; her legs

@@ -52,7 +52,12 @@ Control, every ``1/rate`` seconds:
   velocity for at most :data:`SEARCH_HORIZON` s, along the floor plan's way through doors), comes no
   closer than ``search_reach`` to that point, once the floor plan says it is in sight (not behind
   a wall), and turns to face it, so it sees round the corner or past the person in between.
-  Status ``searching``.
+  Status ``searching``. Her track gone quiet longer than that (it yielded to people crossing and fell
+  behind, she went on through a door), the point walks on at her pace when last seen (a coasting track's
+  velocity decays) up to :data:`SEARCH_WALK_ON` s,
+  never through a wall of the floor plan, so it looks into the room she went on into.
+* Yielding is not searching: time in which someone other than her is near it
+  (:func:`robot.partner_search.yielding`, the attention's rule too) does not count as time unseen.
 * Lost: not seen for ``search_time`` s (6 s; longer when she was last seen beyond the band, by the
   time it takes to drive the gap at 0.4 m/s or its lower top speed, at most 15 s, or the time to drive the same gap
   at a top speed below 0.4 m/s: :mod:`robot.partner_search`):
@@ -91,7 +96,7 @@ from homesim.module import Module
 
 from homesim.errors import BusError, HomesimError
 from robot import floorplan
-from robot.partner_search import follow_search_time
+from robot.partner_search import follow_search_time, yielding
 from robot.contract import ATTENTION_STATE, BASE_CMD, ES_EVENTS, FOLLOW_STATUS, ODOMETRY, PARTNER, POSE, SCAN, TRACKS
 
 from .config import Limits
@@ -109,6 +114,11 @@ from .seen import SeenGround, footprint_samples
 STANDING_NEAR = 1.2
 #: s: searching, where she was heading is her last message carried on with its velocity this long at most
 SEARCH_HORIZON = 1.5
+#: s: ... and, her track gone quiet longer than that (unseen through a door: the robot yielded to people
+#: crossing and fell behind), she walks on: the point moves on along her velocity up to this long, but
+#: never through a wall of the floor plan (issue 26 item 1, sq_cross_pair: the search stopped at the
+#: spot 1.5 s past where she went out of view while she stood in the next room, in view from a step on)
+SEARCH_WALK_ON = 5.0
 #: s and m/s: wedged this long (it should drive, the dynamic window finds nothing), it backs this slowly
 STUCK_TIME = 1.0
 UNSTICK_SPEED = 0.1
@@ -158,12 +168,16 @@ GIVE_WAY_SPEED = 0.35
 #: m: she walks at the robot when her line of walking passes its centre closer than this (half its
 #: width, her body and a margin); a partner passing beside it is not walking at it
 WALKS_AT = 0.55
+#: s: the forward give-way's command zero this long (every step swings a corner into her), it backs out instead
+GIVE_WAY_STALL = 2.0
 #: s: when there is no give-way spot, it looks again after this long (the search plans on the grid)
 GIVE_WAY_RETRY = 1.0
 #: m/s: it gives way to a partner slower than this (held up in front of it), never into a walking one
 GIVE_WAY_STILL = 0.2
 #: s: following, a partner standing that close this long is held up by the robot, wherever it stands
 GIVE_WAY_HELD = 1.5
+#: m: backing out of her way into a corridor, where it came from is its own position this far back (see _came_from)
+CAME_FROM = 1.5
 #: rad: giving way, the partner is kept within this bearing (turned to when further off)
 GIVE_WAY_BEARING = math.radians(80)
 #: Held up (issue 26, "excuse me"): it should drive after her, but someone standing (slower than
@@ -228,6 +242,9 @@ def sweep_allowed(v: float, w: float, mapped: np.ndarray, here: float | None = N
 class Follower(Module):
     """Follows the partner track in Follow (see the module docstring)."""
 
+    # (set in __init__; here too for the rules' unit tests, which build a follower without a bus)
+    _aside_stall: tuple[float, float] | None = None
+
     def __init__(self, sim: Any, *, name: str = "follower", limits: Limits | None = None, rate: float = 10.0,
                  distance: float = 1.2, band: tuple[float, float] = (1.0, 1.5), minimum: float = 0.8,
                  gain: float = 0.8, lost_after: float = 1.0, too_fast_distance: float = 2.0,
@@ -249,6 +266,7 @@ class Follower(Module):
         self.partner_id: str | None = None
         self.track: dict[str, float] | None = None  # the partner's last message (odom frame) and when
         self._seen_distance = 0.0  # how far she was when a scan last saw her (the search's length grows with it)
+        self._seen_v = (0.0, 0.0)  # her velocity (odom) when a scan last saw her: where the search walks on
         self.odom: tuple[float, float, float] | None = None
         self.v = self.w = 0.0
         self.scan = LatestScan()
@@ -267,6 +285,8 @@ class Follower(Module):
         self._held_last = -math.inf  # when it last saw them there
         self._standers: deque[tuple[float, float, float]] = deque(maxlen=32)  # (t, odom x, y) of people seen standing near
         self._excused_at = -math.inf  # when it last asked to pass (way_blocked)
+        self._yielded = 0.0  # s since she was last seen spent yielding to someone near it (not search time)
+        self._yield_t: float | None = None
         self.bus.subscribe(ATTENTION_STATE, self._on_state)
         self.bus.subscribe(PARTNER, self._on_partner)
         self.bus.subscribe(SCAN, self._on_scan)
@@ -277,6 +297,7 @@ class Follower(Module):
         self._aside: tuple[list[tuple[float, float]], float, bool] | None = None  # give-way path (odom), until when, reversing
         self._close_since: float | None = None  # following, since when she has stood close in front
         self._no_spot_until = -math.inf  # no give-way spot found: the next search not before then
+        self._aside_stall: tuple[float, float] | None = None  # (since, last): the forward give-way's command zero
         self._map_asked = False
         self._pose_sub: Any = None
         self._turn_in = False  # following ended: turn back into the flat if it faces out of an exit door
@@ -356,6 +377,7 @@ class Follower(Module):
         }  # type: ignore[dict-item]
         if self.track["visible"]:
             self._seen_distance = float(x.get("distance", "0"))
+            self._seen_v = (self.track["vx"], self.track["vy"])  # her pace when last seen (a quiet track's decays)
 
     def _on_scan(self, msg: Message) -> None:
         self.scan.update(msg)  # turned into points only when a control step needs them
@@ -440,9 +462,10 @@ class Follower(Module):
             return self._stand(approaching, "searching")
         age = self.now - tr["t"]
         unseen = (0.0 if tr["visible"] else tr["lost_for"]) + age
+        yielded = self._count_yield(approaching, tr["visible"] and age < 2 * self.period)
         # approaching, she stands: unseen a moment (behind a table's legs, a chair, the door frame) is
         # no reason to give up the approach and teach from across the room; her last position holds
-        if unseen > (self.search_time if approaching else self.search_for()):
+        if unseen - yielded > (self.search_time if approaching else self.search_for()):
             turn = None if approaching else self._face_in()
             if turn is not None:  # the search ended at an exit door: back to the room first
                 self._status(0.0, False, "searching")
@@ -452,6 +475,8 @@ class Follower(Module):
         # the partner now (constant velocity over the message's age), in odom and robot frames
         horizon = min(age, SEARCH_HORIZON if searching else 0.5)
         px, py = tr["x"] + tr["vx"] * horizon, tr["y"] + tr["vy"] * horizon
+        if searching and age > SEARCH_HORIZON:
+            px, py = self._walk_on((px, py), self._seen_v, min(age, SEARCH_WALK_ON) - SEARCH_HORIZON)
         if not self.trail or math.hypot(px - self.trail[-1][0], py - self.trail[-1][1]) > 0.15:
             self.trail.append((px, py))
         rx, ry = self._to_robot(px, py)
@@ -651,7 +676,7 @@ class Follower(Module):
             here, her = self.route.to_map(self.odom[:2]), self.route.to_map((px, py))
             path, back = (None, False) if back_only else (give_way_spot(grid, here, her, keep=self.band[0]), False)
             if path is None:  # nowhere ahead (a storeroom): back out the way it came, facing her
-                path, back = back_out_spot(grid, here, her, keep=self.band[0]), True
+                path, back = back_out_spot(grid, here, her, keep=self.band[0], came=self._came_from()), True
             if path is None:
                 self._no_spot_until = self.now + GIVE_WAY_RETRY  # up to 24 grid searches: not every step
                 return None
@@ -687,7 +712,67 @@ class Follower(Module):
         limits = replace(self.limits, max_speed=min(self.limits.max_speed, GIVE_WAY_SPEED))
         v_pref = heading_speed(GIVE_WAY_SPEED, math.atan2(gy, gx))
         cmd = dwa(self.v, self.w, (gx, gy), pts, limits, v_pref=v_pref, params=self.params, people=people)
-        return self._aside_clear(cmd.v, cmd.w, self._bodies(rx, ry), pts)
+        out = self._aside_clear(cmd.v, cmd.w, self._bodies(rx, ry), pts)
+        return self._unstall(out, px, py, mapped)
+
+    def _unstall(self, cmd: tuple[float, float], px: float, py: float, mapped: np.ndarray) -> tuple[float, float]:
+        """The forward give-way's command ``cmd``; when it has stayed zero for :data:`GIVE_WAY_STALL` s
+        (the spot lies beside her and every step toward it swings a corner into her: galley_follow_bend,
+        the approach ended just inside a dead-end room's door with her 0.5 m in front), the robot backs
+        out of her way instead (:func:`~robot.navigation.giveway.back_out_spot`), if there is a way."""
+        stall = self._aside_stall
+        if cmd != (0.0, 0.0):
+            self._aside_stall = None
+            return cmd
+        if stall is None or self.now - stall[1] > 0.5:  # (a new stall, not one from an earlier give-way)
+            self._aside_stall = (self.now, self.now)
+            return cmd
+        self._aside_stall = (stall[0], self.now)
+        if self.now - stall[0] < GIVE_WAY_STALL or self.route.grid is None or self.odom is None:
+            return cmd
+        self._aside_stall = None
+        path = back_out_spot(self.route.grid, self.route.to_map(self.odom[:2]), self.route.to_map((px, py)),
+                             keep=self.band[0], came=self._came_from())
+        if path is None:
+            return cmd
+        self._aside = ([self.route.to_odom(p) for p in path], self.now + GIVE_WAY_TIME, True)
+        return cmd
+
+    def _walk_on(self, start: tuple[float, float], v: tuple[float, float], duration: float) -> tuple[float, float]:
+        """``start`` (odom) carried on at velocity ``v`` for ``duration`` s, in steps of a quarter second,
+        stopping before a step that would cross a wall or furniture of the floor plan."""
+        x, y = start
+        for _ in range(int(max(0.0, duration) / 0.25)):
+            nx, ny = x + v[0] * 0.25, y + v[1] * 0.25
+            if not self.route.in_sight((x, y), (nx, ny)):
+                break
+            x, y = nx, ny
+        return x, y
+
+    def _count_yield(self, approaching: bool, seen: bool) -> float:
+        """Seconds since she was last seen that the robot spent yielding to someone near it
+        (:func:`robot.partner_search.yielding`, the attention's rule: held up by a person crossing its
+        way it does not search, so that time is not search time); reset when she is seen."""
+        last, self._yield_t = self._yield_t, self.now
+        if seen or approaching or self.odom is None:
+            self._yielded = 0.0
+        elif last is not None and self.now - last <= 1.0:
+            others = self.people.around(self.odom, self.now, exclude=self.partner_id)
+            if yielding(others[:, :2] if len(others) else ()):
+                self._yielded += self.now - last
+        return self._yielded
+
+    def _came_from(self) -> tuple[float, float] | None:
+        """Where the robot drove from (map frame): its latest own position (odometry, driving forwards)
+        at least :data:`CAME_FROM` m from where it stands, None when it has not driven that far. Backing
+        out into a corridor, it waits on the other side (:func:`~robot.navigation.giveway.back_out_spot`)."""
+        if self.odom is None:
+            return None
+        x, y = self.odom[0], self.odom[1]
+        for cx, cy in reversed(self.crumbs):
+            if math.hypot(cx - x, cy - y) >= CAME_FROM:
+                return self.route.to_map((cx, cy))
+        return None
 
     def _back_off_clear(self, v: float, w: float, bodies: np.ndarray, mapped: np.ndarray) -> tuple[float, float]:
         """Backing off while turning to face her, made safe against everyone's body (``bodies``, robot

@@ -35,6 +35,15 @@ mouth (:data:`BACK_SIDE`; she walks on along it next),
 whose path starts straight away from her (within :data:`BACK_FACE`), so the robot
 reverses along it facing her; the floor plan checks the ground behind it, where
 the laser does not look (:func:`reverse_command` steers the rear along the path).
+
+Out of a door into a passage no roomier than 1.0 m (a corridor: issue 26, galley_follow_bend and
+galley_long_tour, where a robot in a dead-end room's 0.9 m door stood in the way of its partner for the
+rest of the run), no cell has :data:`ROOM`. Then a spot in the passage will do where the robot can
+still turn (:data:`PASSAGE_ROOM`), but she cannot walk round it there: it must stand at least
+(:data:`LATERAL` m along the passage from the mouth's axis, where she walks out; its first leg
+need only lead away from her, :data:`PASSAGE_FACE`). Of the two ways
+along the passage it prefers the one it did not come by (``came``: where it drove from): the way
+it came is the way to the rest of the flat, where she leads it next; the other is the dead end.
 """
 
 from __future__ import annotations
@@ -71,6 +80,14 @@ NARROW = 0.6
 BACK_GAIN = 0.5
 #: rad: backing out, the spot lies at least this far off the direction of the door or passage it leaves.
 BACK_SIDE = math.radians(45)
+#: m: with no :data:`ROOM` anywhere near (a 1.0 m corridor's middle is 0.47 m from its walls on the
+#: grid), a back-out spot's centre this far from walls and furniture: the footprint (half diagonal
+#: 0.34 m) still turns on the spot there (the follower's own turning room)
+PASSAGE_ROOM = 0.40
+#: rad: ... and its path's first leg at most this far off straight away from her: out of a door into a
+#: corridor it backs out along the door's axis whichever side of it she stands (standing diagonally in
+#: the room, :data:`BACK_FACE` left only the side it came by, and she then walked into it there)
+PASSAGE_FACE = math.radians(90)
 
 
 def give_way_spot(grid: OccupancyGrid, robot: Point, partner: Point, *, keep: float = 1.0, room: float = ROOM,
@@ -85,13 +102,19 @@ def give_way_spot(grid: OccupancyGrid, robot: Point, partner: Point, *, keep: fl
 
 
 def back_out_spot(grid: OccupancyGrid, robot: Point, partner: Point, *, keep: float = 1.0, room: float = ROOM,
-                  lateral: float = LATERAL, reach: float = REACH) -> list[Point] | None:
+                  lateral: float = LATERAL, reach: float = REACH, came: Point | None = None) -> list[Point] | None:
     """The path (map frame, from ``robot``) by which the robot backs out of her way when no spot
     lies ahead (see the module docstring): a roomy spot beside her way, further down it than the
     robot stands (behind the robot, through the door it came in by), reached by a path whose first
-    leg points away from her (it reverses, facing her); None when there is none.
+    leg points away from her (it reverses, facing her); with no roomy spot (a corridor), one in the
+    passage at least ``lateral`` m along it from the mouth (:data:`PASSAGE_ROOM`); None when there is
+    none. ``came``: where it drove from (map frame); the spot on the other side of her way is preferred.
     """
-    return _spot(grid, robot, partner, keep=keep, room=room, lateral=lateral, reach=reach, backing=True)
+    path = _spot(grid, robot, partner, keep=keep, room=room, lateral=lateral, reach=reach, backing=True, came=came)
+    if path is None and room > PASSAGE_ROOM:
+        path = _spot(grid, robot, partner, keep=keep, room=PASSAGE_ROOM, lateral=lateral, reach=reach, backing=True,
+                     came=came, passage=True)
+    return path
 
 
 def reverse_command(goal: Point, *, speed: float, max_turn: float, gain: float = 1.8) -> tuple[float, float]:
@@ -104,8 +127,10 @@ def reverse_command(goal: Point, *, speed: float, max_turn: float, gain: float =
 
 
 def _spot(grid: OccupancyGrid, robot: Point, partner: Point, *, keep: float, room: float, lateral: float,
-          reach: float, backing: bool) -> list[Point] | None:
-    """:func:`give_way_spot` (ahead, ``backing`` False) and :func:`back_out_spot` (behind)."""
+          reach: float, backing: bool, came: Point | None = None, passage: bool = False) -> list[Point] | None:
+    """:func:`give_way_spot` (ahead, ``backing`` False) and :func:`back_out_spot` (behind; ``passage``:
+    its spot at least ``lateral`` off the line of the path's first leg, out of the door; ``came``: the
+    side of her way it came from is taken only when the other side has no spot)."""
     ux, uy = robot[0] - partner[0], robot[1] - partner[1]
     d = math.hypot(ux, uy)
     if d < 1e-6:
@@ -136,6 +161,7 @@ def _spot(grid: OccupancyGrid, robot: Point, partner: Point, *, keep: float, roo
     order = np.argsort(travel[ok], kind="stable")
     keep_off = min(PASS, d) - 0.01
     tried: list[Point] = []
+    fallback: list[Point] | None = None  # a valid spot on the side it came from
     for k in order:
         spot = (float(pts[k, 0]), float(pts[k, 1]))
         if any(math.hypot(spot[0] - a, spot[1] - b) < SPREAD for a, b in tried):
@@ -151,14 +177,23 @@ def _spot(grid: OccupancyGrid, robot: Point, partner: Point, *, keep: float, roo
             continue
         if len(path) > 1:
             lx, ly = path[1][0] - robot[0], path[1][1] - robot[1]
-            if backing and (ux * lx + uy * ly) < math.cos(BACK_FACE) * math.hypot(lx, ly):
+            if backing and (ux * lx + uy * ly) < math.cos(PASSAGE_FACE if passage else BACK_FACE) * math.hypot(lx, ly):
                 continue  # not straight back from her: it would reverse across her way
-            if backing and not _off_the_way(grid, path, room, (ux, uy)):
+            if backing and not passage and not _off_the_way(grid, path, room, (ux, uy)):
                 continue  # by the door or passage it backs out of: where she walks next
+            if passage and abs((path[-1][0] - robot[0]) * ly - (path[-1][1] - robot[1]) * lx) < lateral * math.hypot(lx, ly):
+                continue  # in the passage, on the line it backs out along (out of the door): where she walks out
             if not backing and (-ux * lx - uy * ly) < math.cos(FACE) * math.hypot(lx, ly):
                 continue  # it would drive off with her behind it, out of the laser's and camera's view
+        if came is not None and passage:
+            # which side of her way (the line from her through the robot) the spot and where it came from lie on
+            side = (path[-1][0] - robot[0]) * -uy + (path[-1][1] - robot[1]) * ux
+            back = (came[0] - robot[0]) * -uy + (came[1] - robot[1]) * ux
+            if side * back > 0.0:
+                fallback = fallback or path  # toward the rest of the flat: where she leads it next
+                continue
         return path
-    return None
+    return fallback
 
 
 def _off_the_way(grid: OccupancyGrid, path: list[Point], room: float, away: Point) -> bool:

@@ -1,0 +1,141 @@
+"""Following through people crossing and a door (issue 26 item 1, fresh2/sq_cross_pair): the robot
+yields to two people crossing its way, she walks on through the next door meanwhile, and on main the
+search ran out at that door and she was declared lost while she stood in view a step further on.
+
+* Yielding is not searching: the time someone other than the partner is near the robot does not count
+  as time she was unseen (``robot.partner_search.yielding``), for the attention's leaving rule and the
+  follower's search alike.
+* She walks on: following, a track in her clothes (its colour seen, the same as hers) up to where she
+  can have walked since she was last measured is hers again (``PersonAttention._reacquire_walking``);
+  never one in other clothes, nor one of two in her clothes, nor one whose clothes are not yet seen
+  (the camera looks at that one meanwhile: ``PersonAttention._candidate``).
+"""
+
+from __future__ import annotations
+
+import math
+
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from robot.attention.appearance import Colours
+from robot.attention.fsm import AttentionFSM
+from robot.attention.module import AttentionParams, PersonAttention
+from robot.attention.tracker import Track, Tracks, TrackerSpec
+from robot.partner_search import YIELD_NEAR, follow_search_time, yielding
+
+RED, GREEN, YELLOW = (0.85, 0.1, 0.1), (0.1, 0.65, 0.2), (0.9, 0.85, 0.1)
+SEEN = 20.0  # she was last measured then, at the origin (odom), walking 0.5 m/s along +x
+
+
+def _following(others: list[tuple[float, float, tuple[float, float, float] | None]], t: float,
+               state: str = "Follow") -> PersonAttention:
+    """The attention following partner 1 (red), her track dormant since SEEN; ``others``: confirmed
+    tracks 2.. at (x, y) with the colour the camera saw on them just before ``t`` (None: not seen)."""
+    a = PersonAttention.__new__(PersonAttention)
+    a.params = AttentionParams()
+    a.fsm = AttentionFSM()
+    a.fsm.state = state
+    a.tracks = Tracks(TrackerSpec())
+    a.colours = Colours()
+    her = Track(1, [0.5, 0.0, 0.5, 0.0], [1.0, 0, 0, 0, 1.0, 0, 0, 0.1, 0, 0.1], 0.0)
+    her.confirmed, her.dormant, her.last_seen, her.last_z = True, True, SEEN, (0.0, 0.0)
+    a.tracks.tracks.append(her)
+    for k, (x, y, colour) in enumerate(others):
+        tk = Track(k + 2, [x, y, 0.0, 0.0], [0.01, 0, 0, 0, 0.01, 0, 0, 1.0, 0, 1.0], t - 1.0)
+        tk.confirmed = True
+        a.tracks.tracks.append(tk)
+        if colour is not None:
+            for j in range(3):
+                a.colours.observe(tk.id, colour, t - 0.3 + 0.1 * j)
+    a.partner, a.partner_lost_sent = 1, False
+    a._partner_last = (SEEN, 0.0, 0.0, 0.5, 0.0, -2.0, 0.0)
+    a._partner_colour = RED
+    a._pose_at = lambda t: (-1.0, 0.0, 0.0)  # the robot 1 m behind where she went out of view
+    return a
+
+
+def test_she_is_found_again_in_her_clothes_where_she_walked_on_but_nobody_else_is():
+    t = SEEN + 8.0  # 0.5 m/s for 8 s: up to 1 + 4 = 5 m on
+    a = _following([(3.8, 1.2, RED)], t)
+    assert a._reacquire(t) == 1 and a.partner == 2  # (main: 2.5 m at most, nobody)
+    for others in ([(3.8, 1.2, GREEN)],  # other clothes
+                   [(3.8, 1.2, RED), (3.0, -1.5, RED)],  # two in her clothes: which one?
+                   [(3.8, 1.2, None)],  # clothes not yet seen
+                   [(6.5, 0.0, RED)]):  # further than she can have walked
+        a = _following(others, t)
+        assert a._reacquire(t) == -1 and a.partner == 1, others
+    a = _following([(3.8, 1.2, RED)], t, state="Interaction")  # standing with it, a step aside is not 4 m
+    assert a._reacquire(t) == -1
+
+
+def test_the_camera_looks_at_whoever_she_could_be_while_his_clothes_are_unseen():
+    t = SEEN + 8.0
+    a = _following([(3.8, 1.2, None), (1.0, -0.5, GREEN), (9.0, 0.0, None)], t)
+    assert a._candidate(t) == 1  # the unseen one within her walking reach, not the green man, not the far one
+    a = _following([(3.8, 1.2, RED)], t)
+    assert a._candidate(t) == -1  # seen: nothing left to look at
+
+
+@settings(max_examples=120, deadline=None)
+@given(x=st.floats(-6, 6), y=st.floats(-6, 6), unseen=st.floats(0.5, 15.0), speed=st.floats(0.0, 2.0),
+       same=st.booleans())
+def test_taken_following_exactly_when_in_her_clothes_and_within_her_walking_reach(x, y, unseen, speed, same):
+    t = SEEN + unseen
+    a = _following([(x, y, RED if same else YELLOW)], t)
+    a._partner_last = (SEEN, 0.0, 0.0, speed, 0.0, -2.0, 0.0)
+    p = a.params
+    reach = min(p.follow_reacquire_cap, p.reacquire_radius + min(p.follow_walk_speed, max(p.reacquire_speed, speed)) * unseen)
+    d = math.hypot(x, y)
+    if abs(d - reach) < 1e-6:
+        return
+    row = a._reacquire(t)
+    assert (row == 1) == (same and d <= reach)
+    assert reach <= p.follow_reacquire_cap
+
+
+@settings(max_examples=100, deadline=None)
+@given(st.lists(st.tuples(st.floats(-5, 5), st.floats(-5, 5)), max_size=5))
+def test_the_robot_yields_exactly_while_someone_is_within_reach_of_it(others):
+    assert yielding(others) == any(math.hypot(x, y) < YIELD_NEAR for x, y in others)
+
+
+def test_time_spent_yielding_to_a_crosser_is_not_time_she_was_unseen():
+    a = _following([(-0.5, 0.8, GREEN)], SEEN)  # a man crossing right beside the robot (robot frame (0.5, 0.8))
+    a._yield_t, a._yielded = None, 0.0
+    search = follow_search_time(2.0, base=a.params.follow_lost_after, top_speed=a.params.robot_top_speed)
+    a._driven, a._drive_start = 0.0, None
+    t = SEEN
+    while t < SEEN + 3.0:  # he stands beside it for 3 s
+        a._count_yield(t)
+        t += 0.1
+    a.tracks.tracks[1].x[0] = 10.0  # then he has gone on
+    while t < SEEN + search + 2.0:
+        a._count_yield(t)
+        t += 0.1
+    assert 2.8 <= a._yielded <= 3.1
+    assert not a.partner_left(SEEN + search + 2.0)  # unseen search + 2 s, 3 of them yielding: still searching
+    assert a.partner_left(SEEN + search + 3.2)
+
+
+@settings(max_examples=60, deadline=None)
+@given(vx=st.floats(-1.0, 1.0), vy=st.floats(-1.0, 1.0), duration=st.floats(0.0, 5.0), wall=st.floats(0.5, 3.0))
+def test_the_search_walks_on_at_her_pace_and_never_through_a_wall(vx, vy, duration, wall):
+    """Her track gone quiet, the search point walks on along her last seen velocity (a quarter second at
+    a time) for the time given, and stops before the first step that would cross a wall (here the
+    line x = ``wall``; the floor plan's ``in_sight`` in the follower)."""
+    from robot.navigation.follow import Follower
+
+    f = Follower.__new__(Follower)
+
+    class _Plan:
+        @staticmethod
+        def in_sight(a, b):
+            return (a[0] < wall) == (b[0] < wall)
+
+    f.route = _Plan()
+    x, y = f._walk_on((0.0, 0.0), (vx, vy), duration)
+    steps = int(duration / 0.25)
+    free = steps if vx <= 0 else min(steps, next((k for k in range(steps + 1) if (k + 1) * 0.25 * vx >= wall), steps))
+    assert x < wall  # never through the wall
+    assert math.isclose(x, vx * 0.25 * free, abs_tol=1e-9) and math.isclose(y, vy * 0.25 * free, abs_tol=1e-9)
