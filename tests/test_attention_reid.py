@@ -134,7 +134,9 @@ def test_following_taken_exactly_within_the_radius_of_her_way_on(dx, dy, vx, vy,
     """Following, without colours: the new track takes her id iff it lies within the reacquisition
     radius (reacquire_radius + reacquire_speed per s unseen, at most 2.5 m) of the segment from where she
     was last measured to where her last velocity carried her in the time unseen (at most 15 s), or of that
-    point alone when she stood (slower than leave_speed)."""
+    point alone when she stood (slower than leave_speed), and no further from where she was last measured
+    than she can have walked (PersonAttention._walk_reach: her last speed, at least reacquire_speed, at most
+    follow_walk_speed, per s unseen plus reacquire_radius, at most follow_reacquire_cap)."""
     a = _following((2.0 + dx, dy), velocity=(vx, vy), t=5.0 + unseen)
     a._reidentify(5.0 + unseen, [])
     p = a.params
@@ -142,5 +144,8 @@ def test_following_taken_exactly_within_the_radius_of_her_way_on(dx, dy, vx, vy,
     h = min(unseen, 15.0) if math.hypot(vx, vy) >= p.leave_speed else 0.0
     s = np.linspace(0.0, 1.0, 4001)  # dense points on her way: the reference distance
     d = float(np.min(np.hypot(dx - s * vx * h, dy - s * vy * h)))
-    if abs(d - radius) > 0.01:
-        assert ([tk.id for tk in a.tracks.tracks] == [1]) == (d <= radius)
+    speed = min(p.follow_walk_speed, max(p.reacquire_speed, math.hypot(vx, vy)))
+    reach = min(p.follow_reacquire_cap, p.reacquire_radius + speed * unseen)
+    far = math.hypot(dx, dy)  # from where she was last measured (the test's origin is 2 m on: dx, dy from there)
+    if abs(d - radius) > 0.01 and abs(far - reach) > 0.01:
+        assert ([tk.id for tk in a.tracks.tracks] == [1]) == (d <= radius and far <= reach)

@@ -59,10 +59,17 @@ def test_she_is_found_again_in_her_clothes_where_she_walked_on_but_nobody_else_i
     t = SEEN + 8.0  # 0.5 m/s for 8 s: up to 1 + 4 = 5 m on
     a = _following([(3.8, 1.2, RED)], t)
     assert a._reacquire(t) == 1 and a.partner == 2  # (main: 2.5 m at most, nobody)
+    # two in her clothes, or one whose clothes are unseen: the one on her way on is hers (doors9's rule,
+    # position history: she walked on along +x; PersonAttention._her_way) ...
+    for others in ([(3.8, 0.3, RED), (3.0, -2.9, RED)], [(3.8, 0.3, None)]):
+        a = _following(others, t)
+        assert a._reacquire(t) == 1 and a.partner == 2, others
+    # ... off her way (more than the reacquisition radius from it) the clothes decide alone: two in her
+    # clothes, which one? clothes not yet seen: nobody
     for others in ([(3.8, 1.2, GREEN)],  # other clothes
-                   [(3.8, 1.2, RED), (3.0, -1.5, RED)],  # two in her clothes: which one?
-                   [(3.8, 1.2, None)],  # clothes not yet seen
-                   [(6.5, 0.0, RED)]):  # further than she can have walked
+                   [(3.8, 2.9, RED), (3.0, -2.9, RED)],  # two in her clothes off her way: which one?
+                   [(3.8, 2.9, None)],  # clothes not yet seen, off her way
+                   [(6.5, 0.0, RED)]):  # further than she can have walked, on her way or not
         a = _following(others, t)
         assert a._reacquire(t) == -1 and a.partner == 1, others
     a = _following([(3.8, 1.2, RED)], t, state="Interaction")  # standing with it, a step aside is not 4 m

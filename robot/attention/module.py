@@ -954,10 +954,13 @@ class PersonAttention(Module):
         measured; following (she leads), anywhere on her way on from there at her last velocity for
         the time unseen (:func:`robot.partner_search.way_distance`). A partner faster than the robot
         who went out of view in the next room was seen again 4 m on from there and not taken back,
-        so the robot lost her while it saw her (u_catch_up_slow seed 0)."""
+        so the robot lost her while it saw her (u_catch_up_slow seed 0). Never further from where she was
+        last measured than she can have walked (:meth:`_walk_reach`): her way on is not a line without end."""
         seen, x, y, vx, vy = self._partner_last[:5]  # type: ignore[index]
         if self.fsm.state != "Follow":
             return math.hypot(point[0] - x, point[1] - y)
+        if math.hypot(point[0] - x, point[1] - y) > self._walk_reach(t, seen):
+            return math.inf
         return way_distance(point, (x, y), (vx, vy), t - seen, walking=self.params.leave_speed)
 
     def _reacquire_walking(self, t: float, seen: float, x: float, y: float) -> int:
