@@ -304,6 +304,13 @@ class Understander:
             res.ignored = [t.text for t in toks]
             res.reason = "nothing known said about it"
             return res
+        inverted = self._said_where(tree, toks, ignored)
+        if inverted is not None:
+            # "the study is this room", "the keys are on the table": the noun phrase first, then where it
+            # is; the same teaching as "this room is the study", "the keys are here on the table"
+            tree, ignored, partial = inverted, [], False
+            frame = build(tree)
+            obj = frame[0]
         small_talk = _small_talk(tree, obj, toks) or _said_of(tree, toks, ignored, bool(lex.unknown))
         if small_talk:
             res.ignored = [t.text for t in toks]
@@ -333,6 +340,28 @@ class Understander:
             res.ignored = [t.text for t in toks]
             res.reason = why
         return res
+
+    def _said_where(self, tree: Tree, toks: list[Tok], ignored: list[str]) -> Tree | None:
+        """The teaching a noun phrase, a copula and where it is make, or None.
+
+        "the study is this room", "my cup is this one" say "this room is the study", "this one is my cup"
+        with the noun phrase first; "the keys are on the table" is "the keys are here on the table". The
+        grammar places only the noun phrase (a fragment, the rest not placed): the statement said in the
+        order the grammar knows is the teaching, when it parses whole.
+        """
+        at = _copula_at(tree, toks, ignored)
+        if at is None or at + 1 >= len(toks):
+            return None
+        np, cop, rest = toks[:at], toks[at], toks[at + 1:]
+        if rest[0].type in _DEIXIS:
+            alt = self._parse([*rest, cop, *np])
+        elif rest[0].type in _RELATIONS:
+            alt = self._parse([*np, cop, _SAID_HERE, *rest])
+        else:
+            return None
+        if alt[0] is None or alt[2] or alt[1] or _guessed(alt[0]) or tree_act(alt[0]) not in _STATEMENT_ACTS:
+            return None
+        return alt[0]
 
     def _asked(self, toks: list[Tok]) -> Tree | None:
         """The teaching a yes/no question about what she shows asks about, or None.
@@ -516,6 +545,14 @@ _NP_START = frozenset({"A", "THE", "MY", "OUR", "NAME"})
 _ANSWER_WORDS = frozenset({"YES", "OKAY", "NO"})
 #: The "this" of a statement the recogniser lost ("[this] is my cup"): put back to parse the statement.
 _LOST_THIS = Tok("THIS", "this", "")
+#: "here" put before the relation of "the keys are on the table": said there, as "are here on the table".
+_SAID_HERE = Tok("HERE", "here", "")
+#: Words that start the "where" of "the study is this room", "my cup is that one over there".
+_DEIXIS = frozenset({"THIS", "THAT", "HERE", "THERE"})
+#: Words that start the "where" of "the keys are on the table", "my keys are in the drawer".
+_RELATIONS = frozenset({"REL", "IN"})
+#: Words after "X is" that say which or where it is (not what it is like): no remark.
+_REFERRING = _DEIXIS | _RELATIONS | frozenset({"ONE", "SIDE", "COLOUR", "OBJ", "PLACE", "ROOM"})
 #: Noun phrases alone: they answer a question; a whole statement ("this is the kitchen") is a request of its own.
 _FRAGMENTS = frozenset({"object_fragment", "place_fragment"})
 #: Acts that continue a phrase rather than start a new clause: a repair made of them is aligned.
@@ -697,17 +734,32 @@ def _hesitated_before_room(words: list[str], hesitations: frozenset[str]) -> boo
                for i in range(1, len(words) - 1))
 
 
+def _copula_at(tree: Tree, toks: list[Tok], ignored: list[str]) -> int | None:
+    """Where the copula stands when the parse is a noun phrase alone and everything from a copula after
+    it on was left out ("the sofa | is new", "the study | is this room"), else None."""
+    if tree_act(tree) not in _FRAGMENTS or not ignored:
+        return None
+    at = len(toks) - len(ignored)
+    if at < 1 or [t.text for t in toks[at:]] != ignored or toks[at].type not in ("IS", "ARE"):
+        return None
+    return at
+
+
 def _said_of(tree: Tree, toks: list[Tok], ignored: list[str], unknown: bool) -> str:
     """Why a noun phrase followed by a copula and words the grammar could not place is no answer: she says
     something of the thing ("oh the bed is not made, sorry", "the sofa is new", "the kitchen is a mess"),
-    a remark about it, not "this is the bed" (galley_long_tour: "Is this bed?"). Empty when it is none."""
-    if tree_act(tree) not in _FRAGMENTS or not ignored:
-        return ""
-    at = len(toks) - len(ignored)
-    if at < 1 or [t.text for t in toks[at:]] != ignored or toks[at].type not in ("IS", "ARE"):
+    a remark about it, not "this is the bed" (galley_long_tour: "Is this bed?"). Empty when it is none.
+
+    Words after the copula that point or refer ("is the left one", "is next door", "is on the table":
+    a deixis, "one", a side, a colour, a relation or a thing) say which or where it is, not what it is
+    like: the noun phrase still answers (review9 item 1)."""
+    at = _copula_at(tree, toks, ignored)
+    if at is None:
         return ""
     if len(ignored) < 2 and not unknown:
         return ""  # "the kitchen is": the rest of the sentence was not heard, the noun phrase may answer
+    if any(t.type in _REFERRING for t in toks[at + 1:]):
+        return ""
     return "a remark about it"
 
 
