@@ -168,6 +168,12 @@ class Understander:
             # "don't stop, keep going", "do not follow me": a request said negated is never that request;
             # what she says after it instead is (a repair, like "follow me, no wait, stop")
             tail = self._after_negation(toks, negated)
+            greeted = self._greeting_before(toks, negated) if tail is None else None
+            if greeted is not None:
+                # "hello biron, don't follow me": she greets, then says what not to do; the greeting
+                # stands (review9 item 6), the request said negated is not taken
+                res.corrected += [t.text for t in toks[greeted:]]
+                tail = toks[:greeted]
             if tail is None:
                 res.ignored = [t.text for t in toks]
                 res.reason = "a request said negated"
@@ -311,7 +317,8 @@ class Understander:
             tree, ignored, partial = inverted, [], False
             frame = build(tree)
             obj = frame[0]
-        small_talk = _small_talk(tree, obj, toks) or _said_of(tree, toks, ignored, bool(lex.unknown))
+        small_talk = (_small_talk(tree, obj, toks) or _said_of(tree, toks, ignored, bool(lex.unknown))
+                      or _denied(tree, lex.raw))
         if small_talk:
             res.ignored = [t.text for t in toks]
             res.reason = small_talk
@@ -321,7 +328,8 @@ class Understander:
         res.ignored = ignored
         res.partial = partial or bool(ignored)
         used = len(toks) - len(ignored)
-        if ignored and tree_act(tree) == "greeting" and self._request_after_greeting(toks, ignored):
+        if ignored and tree_act(tree) == "greeting" and self._request_after_greeting(toks, ignored,
+                                                                                       not lex.unknown):
             used = len(toks)  # "hello biron, follow me": the greeting is sure; the request is not noise
             res.rest = list(ignored)
         if any(t.type == "PLACE" and t.text in lex.coined for t in toks) and not set(lex.coined) <= set(res.ignored):
@@ -451,18 +459,32 @@ class Understander:
             return tree, [t.text for t in toks[:i]] + ignored, True
         return None
 
-    def _request_after_greeting(self, toks: list[Tok], ignored: list[str]) -> bool:
+    def _greeting_before(self, toks: list[Tok], negated: int) -> int | None:
+        """Where a negated request starts when a whole greeting comes before it ("hello biron, don't
+        follow me", "hi, please do not follow me"), else None."""
+        k = negated
+        while k > 0 and (toks[k - 1].type in _BEFORE_VERB or toks[k - 1].type in ("NOT", "DO")):
+            k -= 1
+        if k == 0 or toks[0].type != "HELLO":
+            return None
+        tree, ignored, partial = self._parse(toks[:k])
+        return k if tree is not None and not partial and not ignored and tree_act(tree) == "greeting" else None
+
+    def _request_after_greeting(self, toks: list[Tok], ignored: list[str], asking: bool = True) -> bool:
         """Whether the words a greeting's parse left out are the utterance's end and a whole act alone.
 
         A greeting that opens a request ("hello biron, follow me") is a sure
         greeting: the frame is the greeting (what opens the interaction) and the
         request, reported in ``rest``, is left for the user to say again. Words
         that do not make a complete act by themselves stay noise and lower the
-        coverage.
+        coverage. A question about what she shows ("hello, is this the kitchen") is such an act too,
+        when every word is known (``asking``), as the question said alone.
         """
         tail = toks[len(toks) - len(ignored):]
         if [t.text for t in tail] != ignored:
             return False
+        if asking and self._asked(tail) is not None:
+            return True  # "hello, is this the kitchen": a question she asks about what she shows (review9 item 6)
         tree, _, partial = self._parse(tail)
         return tree is not None and not partial and tree_act(tree) not in ("greeting", "object_fragment",
                                                                            "place_fragment")
@@ -761,6 +783,18 @@ def _said_of(tree: Tree, toks: list[Tok], ignored: list[str], unknown: bool) -> 
     if any(t.type in _REFERRING for t in toks[at + 1:]):
         return ""
     return "a remark about it"
+
+
+def _denied(tree: Tree, raw: list[Tok]) -> str:
+    """Why a teaching she ends with a bare "no" is none: "this is the kitchen, no", "this is my cup no no"
+    (review9 item 5). She says it and takes it back, as "is that the kitchen, no" (a question she answers
+    no herself): nothing to store or confirm. A "no" before the statement ("no, this is the kitchen")
+    corrects what the robot said and still teaches. Empty when it is none."""
+    if tree_act(tree) not in ("teach_place", "teach_object") or not raw or raw[-1].type != "NO":
+        return ""
+    if all(t.type == "NO" for t in raw):
+        return ""
+    return "a statement she answers no herself"
 
 
 def _only_room(place: etree._Element) -> bool:
