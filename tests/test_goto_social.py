@@ -15,13 +15,13 @@ from types import SimpleNamespace
 
 import numpy as np
 import pytest
-from hypothesis import assume, given, settings
+from hypothesis import assume, event, given, settings
 from hypothesis import strategies as st
 from lxml import etree
 
 from homesim.sim import Simulation
 from robot.navigation.grid import NoPathError, OccupancyGrid, Plan2D
-from robot.navigation.local import BODY, HALF_WIDTH, LatestScan, footprint_distance
+from robot.navigation.local import BODY, HALF_WIDTH, LatestScan, footprint_distance, social_mask
 from robot.navigation.planner import PERSON_CLEAR, Planner, social_grid
 from robot.navigation.people import BACK_GAP, passing_close, standing_in_the_way
 from robot.navigation.player import GOTO_SOCIAL_GAP, TURN_FIRST, WAIT_GAP, Player
@@ -46,23 +46,53 @@ def _min_distance(path: list[tuple[float, float]], p: tuple[float, float]) -> fl
     return best
 
 
-def test_the_person_clearance_is_what_the_players_window_keeps():
-    assert PERSON_CLEAR == pytest.approx(BODY + GOTO_SOCIAL_GAP + HALF_WIDTH)
+@pytest.mark.parametrize("side", [1.0, -1.0])
+def test_the_window_drives_past_someone_at_the_person_clearance_and_not_nearer(side):
+    """The planner's PERSON_CLEAR is the nearest the player's window drives past a person: a straight
+    drive passing her centre at PERSON_CLEAR is admitted by the window's social rule (GOTO_SOCIAL_GAP of
+    air from her body), one passing 5 cm nearer is not (review9 item 7: this was the formula restated)."""
+    x = np.linspace(0.0, 3.0, 61)
+    zeros = np.zeros_like(x)
+    for lateral, admitted in ((PERSON_CLEAR, True), (PERSON_CLEAR - 0.05, False)):
+        person = np.array([[1.5, side * lateral]])  # robot-frame: she stands beside the line it drives
+        ok, gaps = social_mask(x[None, :], zeros[None, :], zeros[None, :], person, gap=GOTO_SOCIAL_GAP)
+        assert bool(ok[0]) == admitted, (lateral, float(gaps[0]))
+
+
+def _social_path_is_clear(people: list[tuple[float, float]]) -> None:
+    path = social_grid(ROOM, np.array(people, dtype=float)).plan((0.6, 2.0), (5.4, 2.0))
+    for p in people:  # a cell and a half of slack: the marked disc and the free cells are rasterised
+        assert _min_distance(path, p) >= PERSON_CLEAR - 1.5 * ROOM.cell
+
+
+def _away_from_the_ends(people: list[tuple[float, float]]) -> bool:
+    return all(min(math.hypot(x - 0.6, y - 2.0), math.hypot(x - 5.4, y - 2.0)) > PERSON_CLEAR + 0.1 for x, y in people)
 
 
 @settings(max_examples=40, deadline=None)
-@given(st.lists(st.tuples(st.floats(0.8, 5.2), st.floats(0.6, 3.4)), min_size=1, max_size=3))
+@given(st.tuples(st.floats(0.8, 5.2), st.floats(0.6, 3.4)))
+def test_a_social_path_past_one_person_always_exists_and_keeps_her_clear(person):
+    # the 4 m room always leaves a way past one person with her space (so no draw is skipped)
+    assume(_away_from_the_ends([person]))
+    _social_path_is_clear([person])
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.lists(st.tuples(st.floats(0.8, 5.2), st.floats(0.6, 3.4)), min_size=2, max_size=3))
 def test_a_social_path_keeps_every_person_clear_by_what_the_window_drives_past(people):
-    pts = np.array(people, dtype=float)
-    start, goal = (0.6, 2.0), (5.4, 2.0)
-    assume(all(min(math.hypot(x - start[0], y - start[1]), math.hypot(x - goal[0], y - goal[1])) > PERSON_CLEAR + 0.1
-               for x, y in people))
+    assume(_away_from_the_ends(people))
     try:
-        path = social_grid(ROOM, pts).plan(start, goal)
+        _social_path_is_clear(people)
     except NoPathError:
-        return  # no way past them with their space: the planner falls back to their bodies (below)
-    for p in people:  # a cell and a half of slack: the marked disc and the free cells are rasterised
-        assert _min_distance(path, p) >= PERSON_CLEAR - 1.5 * ROOM.cell
+        # no way past them all with their space: the planner falls back to their bodies (below). Such
+        # draws are counted (hypothesis --hypothesis-show-statistics); the one-person property above and the
+        # fixed cases below must plan, so the property cannot pass by every draw finding no path
+        event("no way with everyone's space")
+
+
+@pytest.mark.parametrize("people", [[(2.0, 1.0), (4.0, 3.0)], [(2.5, 2.0), (4.0, 2.2)], [(1.5, 3.2), (3.0, 0.8), (4.5, 3.2)]])
+def test_a_social_path_past_people_standing_apart_is_found_and_keeps_them_clear(people):
+    _social_path_is_clear(people)  # raises NoPathError if their space were taken to close the room
 
 
 def _planner(grid: OccupancyGrid, pose: tuple[float, float, float], goal: tuple[float, float],

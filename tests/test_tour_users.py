@@ -256,9 +256,11 @@ def _robot_sentences() -> tuple[list[str], list[str]]:
     root = parse_file(DIALOGS)
     texts = sorted({" ".join((el.text or "").split()) for el in root.iter("say", "rejection", "ask", "confirm", "sentence")} - {""})
     fill = lambda t: re.sub(r"\{[^}]*\}", lambda m: "your cup" if "noun-phrase" in m.group() else "kitchen", t)  # noqa: E731
-    done = re.compile(r"^(Hello, I am BIRON|We are already talking|OK, I am following|I am already following|OK, I stopped"
-                      r"|I am not moving\.$|OK, this is the|OK, I have learned|The \{query|I have seen|OK, I am going|I have arrived"
-                      r"|Good-bye|Now you can)")
+    # a success may open the sentence or follow a thanks or a clause ("Thank you. The way is clear now, I am
+    # going to the kitchen.": the robot goes, which is what her go-to waits for)
+    done = re.compile(r"(^|[.,] )(Hello, I am BIRON|We are already talking|OK, I am following|I am already following"
+                      r"|OK, I stopped|I am not moving\.$|OK, this is the|OK, I have learned|The \{query|I have seen"
+                      r"|(OK, )?I am going|I have arrived|Good-bye|Now you can)")
     return [fill(t) for t in texts if done.search(t)], [fill(t) for t in texts if not done.search(t)]
 
 
@@ -299,3 +301,12 @@ def test_a_generated_description_has_no_pronoun_for_the_user_and_the_right_artic
         root = etree.fromstring(generate_one(11, k).xml)
         text = root.findtext("description") or ""
         assert " her " not in f" {text} " and " his " not in f" {text} " and " a impatient" not in text, text
+
+
+@pytest.mark.parametrize("said, ends", [("OK, I am going to the kitchen.", True),
+                                        ("Thank you. The way is clear now, I am going to the kitchen.", True),
+                                        ("I am not going to the kitchen.", False),
+                                        ("Are you going to show me the kitchen?", False)])
+def test_a_go_to_wait_ends_on_the_robot_saying_it_goes_not_on_any_going_to(said, ends):
+    """fix10: the wait pattern was "(I am )?going to" (any "going to"); the robot says it goes as "I am going to"."""
+    assert bool(re.search(U.GOING, said, re.IGNORECASE)) == ends

@@ -56,15 +56,38 @@ def test_a_face_seen_in_a_direction_makes_it_not_empty_until_it_is_looked_at_aga
 @settings(max_examples=60, deadline=None)
 @given(angles, angles, st.floats(0.0, 8.0), st.booleans())
 def test_a_person_where_a_voice_came_from_lately_was_its_speaker_unless_in_view_then(front, probe, later, in_view):
-    heard = HeardFrom(maxlen=4)
+    heard = HeardFrom(keep=4.0)
     back = math.pi - front
     heard.add(10.0, front, back, [7] if in_view else [])
     tol, within = math.radians(12), 4.0
     near = min(angle_between(probe, front), angle_between(probe, back)) <= tol
     assert heard.recall(10.0 + later, probe, 7, within, tol) == (near and later <= within and not in_view)
-    for k in range(10):  # bounded: a long run keeps only the last few
+    for k in range(10):  # bounded: a long run keeps only the last keep seconds
         heard.add(11.0 + k, 0.0, math.pi, [])
-    assert len(heard) == 4
+    assert len(heard) == 5  # 16..20 s
+
+
+@settings(max_examples=80, deadline=None)
+@given(heading=angles, spoke=st.integers(1, 40), others=st.lists(st.tuples(angles, st.integers(1, 3)), max_size=4),
+       gap=st.floats(0.0, 4.0), rate=st.sampled_from([10.0, 20.0]))
+def test_a_voice_is_recalled_for_its_whole_recall_whatever_was_heard_after_it(heading, spoke, others, gap, rate):
+    """review9 item 3: the memory was 32 readings, so a radio talking on after her (10 Hz, 3.2 s) made the
+    robot forget her voice before voice_recall (4 s) ended. Now it is kept by age: recalled while within
+    the recall, whatever else was heard since; and it stays bounded by what the recall can hold."""
+    heard = HeardFrom(keep=4.0)
+    t = 0.0
+    for _ in range(spoke):
+        heard.add(t, heading, math.pi - heading, [])
+        t += 1 / rate
+    last = t - 1 / rate
+    while t <= last + gap:  # other voices from elsewhere, several a frame
+        for bearing, n in others:
+            for _ in range(n):
+                heard.add(t, bearing, math.pi - bearing, [])
+        t += 1 / rate
+    now = last + gap
+    assert heard.recall(now, heading, 7, 4.0, math.radians(12))
+    assert len(heard) <= (4.0 * rate + 2) * max(1, sum(n for _, n in others))
 
 
 # ---------------------------------------------------------------- the attention, fixed cases

@@ -45,7 +45,7 @@ PLACE_LEARNED = r"\bI will remember\b"
 OBJECT_LEARNED = r"\bI have learned\b"
 SEEN = r"\bI have seen\b"
 EXPLAINED = r"\bnow you can\b"
-GOING = r"\b(I am )?going to\b"
+GOING = r"\bI am going to\b"
 
 
 class MixError(ValueError):

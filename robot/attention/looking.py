@@ -16,7 +16,7 @@ direction while the robot turns on the spot to look):
   those directions, facing the robot, is the one who spoke (she greeted it and now waits, silent, for
   its answer): the attention counts her as speaking while the memory lasts (``recall``).
 
-Both are bounded (fixed bins, a deque): nothing grows with the length of a run.
+Both are bounded (fixed bins; a deque pruned by age, with a cap): nothing grows with the length of a run.
 """
 
 from __future__ import annotations
@@ -94,17 +94,26 @@ class LookedAt:
 class HeardFrom:
     """The last voices no person in view explained (see the module docstring)."""
 
-    def __init__(self, maxlen: int = 32) -> None:
-        self._heard: deque[tuple[float, float, float, frozenset[int]]] = deque(maxlen=maxlen)
+    def __init__(self, keep: float = 4.0, cap: int = 512) -> None:
+        """``keep``: seconds a voice is remembered (the longest ``within`` a caller recalls, the attention's
+        ``voice_recall``); voices older than that are dropped as new ones come (review9 item 3: a count
+        bound of 32 readings, 3.2 s at the microphones' 10 Hz, forgot her before ``voice_recall`` while a
+        radio talked on). ``cap``: a safety bound only, far above what ``keep`` holds (10 Hz x 4 s x 12
+        directions a frame), so a flood of readings cannot grow it either."""
+        self.keep = keep
+        self._heard: deque[tuple[float, float, float, frozenset[int]]] = deque(maxlen=cap)
 
     def add(self, t: float, front: float, back: float, in_view: Iterable[int]) -> None:
         """A voice at ``t`` from odometry heading ``front`` or its mirror ``back``; ``in_view``: the
         ids of the people the robot saw then (none of whom it was)."""
+        while self._heard and t - self._heard[0][0] > self.keep:
+            self._heard.popleft()
         self._heard.append((t, front, back, frozenset(in_view)))
 
     def recall(self, t: float, heading: float, track_id: int, within: float, tolerance: float) -> bool:
         """Did a voice come from ``heading`` (either reading, within ``tolerance``) in the last ``within``
-        seconds, while the person ``track_id`` was not in view (so it may have been theirs)?"""
+        seconds (at most ``keep``), while the person ``track_id`` was not in view (so it may have been
+        theirs)?"""
         for heard, front, back, seen in reversed(self._heard):
             if t - heard > within:
                 break

@@ -298,7 +298,7 @@ class PersonAttention(Module):
         self._voices: tuple[float, bool, bool] | None = None  # (time, the partner talks, someone else does): the last sound frame
         self._voice_turn: tuple[float, float, float] | None = None  # (until, odom heading, heard at): turning to an unexplained voice
         self.looked = LookedAt()  # where the camera looked lately and whether it saw a face there (robot.attention.looking)
-        self.heard = HeardFrom()  # the last voices nobody in view explained
+        self.heard = HeardFrom(keep=params.voice_recall)  # the last voices nobody in view explained
         self._focus_at = -math.inf
         self._focus_turning = False  # in Object: turning the base to a focus beyond the pan range (:meth:`_focus_turn`)
         self._loose_faces: tuple[float, list[tuple[float, float]]] | None = None  # (frame time, odom points): the last frame's faces

@@ -276,6 +276,21 @@ class OccupancyGrid:
         return out
 
 
+def without_end_corner(points: list[Point], grid: OccupancyGrid, near: float) -> list[Point]:
+    """``points`` without their last corner when it is nearer the goal than ``near`` and the straight leg
+    from the corner before it to the goal keeps the robot's body clear on ``grid`` (free cells, inflated
+    by the robot's radius).
+
+    The grid's path often ends a few centimetres past its last free corner (the goal cell's centre, then
+    the goal): such a corner is no step of its own. But a corner the path turns at to get round a door
+    jamb or a furniture corner stays, however near the goal (review9 item 2: a leg cut straight through
+    the jamb, with only the player's window between the footprint and the wall)."""
+    if len(points) >= 3 and math.hypot(points[-1][0] - points[-2][0], points[-1][1] - points[-2][1]) < near \
+            and grid.line_free(points[-3], points[-1], roomy=False):
+        return [*points[:-2], points[-1]]
+    return points
+
+
 def path_length(points: list[Point]) -> float:
     """Length of a polyline (metres)."""
     return float(sum(math.hypot(b[0] - a[0], b[1] - a[1]) for a, b in zip(points, points[1:])))

@@ -57,17 +57,12 @@ REPLAN_SCHEMA = Path(__file__).resolve().parent.parent / "schemas" / "navigation
 def steps_of(plan: etree._Element, *, tolerance: float = 0.25, final_tolerance: float = 0.15) -> list[dict[str, str]]:
     """The POSE attributes of each plan step (every waypoint after the start).
 
-    A corner within the place's own arrival tolerance (``final_tolerance``) is no step of its own (the
-    grid's path ends a few centimetres past its last free corner; arriving at the place, the robot is at
-    that corner as far as its tolerance can tell): the last step goes from the corner before it straight to
-    the place, so the place is the step the player drives to when it comes near. A corner further off is a
-    real corner of the way (round a jamb, into a niche: the straight leg would cut it), and is kept
-    (and arrives beside someone standing on it, robot.navigation.player.goal_taken; hall_goto_doorway_person
-    seed 1 was held up by the man at the counter on the way to a corner 7 cm from the place)."""
+    Every corner of the plan is a step. A last corner a few centimetres from the place, which the
+    grid's path often ends with, is dropped by the planner, which can see whether the straight leg to
+    the place is free (robot.navigation.grid.without_end_corner, END_CORNER in the planner: these two
+    tolerances together); a corner round a door jamb stays a step however near the place."""
     pts = [(float(w.get("x")), float(w.get("y"))) for w in plan.findall("waypoint")]
     last = plan.findall("waypoint")[-1] if pts else None
-    if len(pts) >= 3 and math.hypot(pts[-1][0] - pts[-2][0], pts[-1][1] - pts[-2][1]) < final_tolerance:
-        del pts[-2]
     out = []
     for i in range(1, len(pts)):
         (x0, y0), (x, y) = pts[i - 1], pts[i]

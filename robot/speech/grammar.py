@@ -168,6 +168,12 @@ class Understander:
             # "don't stop, keep going", "do not follow me": a request said negated is never that request;
             # what she says after it instead is (a repair, like "follow me, no wait, stop")
             tail = self._after_negation(toks, negated)
+            greeted = self._greeting_before(toks, negated) if tail is None else None
+            if greeted is not None:
+                # "hello biron, don't follow me": she greets, then says what not to do; the greeting
+                # stands (review9 item 6), the request said negated is not taken
+                res.corrected += [t.text for t in toks[greeted:]]
+                tail = toks[:greeted]
             if tail is None:
                 res.ignored = [t.text for t in toks]
                 res.reason = "a request said negated"
@@ -304,7 +310,15 @@ class Understander:
             res.ignored = [t.text for t in toks]
             res.reason = "nothing known said about it"
             return res
-        small_talk = _small_talk(tree, obj, toks) or _said_of(tree, toks, ignored, bool(lex.unknown))
+        inverted = self._said_where(tree, toks, ignored)
+        if inverted is not None:
+            # "the study is this room", "the keys are on the table": the noun phrase first, then where it
+            # is; the same teaching as "this room is the study", "the keys are here on the table"
+            tree, ignored, partial = inverted, [], False
+            frame = build(tree)
+            obj = frame[0]
+        small_talk = (_small_talk(tree, obj, toks) or _said_of(tree, toks, ignored, bool(lex.unknown))
+                      or _denied(tree, lex.raw))
         if small_talk:
             res.ignored = [t.text for t in toks]
             res.reason = small_talk
@@ -314,7 +328,8 @@ class Understander:
         res.ignored = ignored
         res.partial = partial or bool(ignored)
         used = len(toks) - len(ignored)
-        if ignored and tree_act(tree) == "greeting" and self._request_after_greeting(toks, ignored):
+        if ignored and tree_act(tree) == "greeting" and self._request_after_greeting(toks, ignored,
+                                                                                       not lex.unknown):
             used = len(toks)  # "hello biron, follow me": the greeting is sure; the request is not noise
             res.rest = list(ignored)
         if any(t.type == "PLACE" and t.text in lex.coined for t in toks) and not set(lex.coined) <= set(res.ignored):
@@ -333,6 +348,28 @@ class Understander:
             res.ignored = [t.text for t in toks]
             res.reason = why
         return res
+
+    def _said_where(self, tree: Tree, toks: list[Tok], ignored: list[str]) -> Tree | None:
+        """The teaching a noun phrase, a copula and where it is make, or None.
+
+        "the study is this room", "my cup is this one" say "this room is the study", "this one is my cup"
+        with the noun phrase first; "the keys are on the table" is "the keys are here on the table". The
+        grammar places only the noun phrase (a fragment, the rest not placed): the statement said in the
+        order the grammar knows is the teaching, when it parses whole.
+        """
+        at = _copula_at(tree, toks, ignored)
+        if at is None or at + 1 >= len(toks):
+            return None
+        np, cop, rest = toks[:at], toks[at], toks[at + 1:]
+        if rest[0].type in _DEIXIS:
+            alt = self._parse([*rest, cop, *np])
+        elif rest[0].type in _RELATIONS:
+            alt = self._parse([*np, cop, _SAID_HERE, *rest])
+        else:
+            return None
+        if alt[0] is None or alt[2] or alt[1] or _guessed(alt[0]) or tree_act(alt[0]) not in _STATEMENT_ACTS:
+            return None
+        return alt[0]
 
     def _asked(self, toks: list[Tok]) -> Tree | None:
         """The teaching a yes/no question about what she shows asks about, or None.
@@ -422,18 +459,32 @@ class Understander:
             return tree, [t.text for t in toks[:i]] + ignored, True
         return None
 
-    def _request_after_greeting(self, toks: list[Tok], ignored: list[str]) -> bool:
+    def _greeting_before(self, toks: list[Tok], negated: int) -> int | None:
+        """Where a negated request starts when a whole greeting comes before it ("hello biron, don't
+        follow me", "hi, please do not follow me"), else None."""
+        k = negated
+        while k > 0 and (toks[k - 1].type in _BEFORE_VERB or toks[k - 1].type in ("NOT", "DO")):
+            k -= 1
+        if k == 0 or toks[0].type != "HELLO":
+            return None
+        tree, ignored, partial = self._parse(toks[:k])
+        return k if tree is not None and not partial and not ignored and tree_act(tree) == "greeting" else None
+
+    def _request_after_greeting(self, toks: list[Tok], ignored: list[str], asking: bool = True) -> bool:
         """Whether the words a greeting's parse left out are the utterance's end and a whole act alone.
 
         A greeting that opens a request ("hello biron, follow me") is a sure
         greeting: the frame is the greeting (what opens the interaction) and the
         request, reported in ``rest``, is left for the user to say again. Words
         that do not make a complete act by themselves stay noise and lower the
-        coverage.
+        coverage. A question about what she shows ("hello, is this the kitchen") is such an act too,
+        when every word is known (``asking``), as the question said alone.
         """
         tail = toks[len(toks) - len(ignored):]
         if [t.text for t in tail] != ignored:
             return False
+        if asking and self._asked(tail) is not None:
+            return True  # "hello, is this the kitchen": a question she asks about what she shows (review9 item 6)
         tree, _, partial = self._parse(tail)
         return tree is not None and not partial and tree_act(tree) not in ("greeting", "object_fragment",
                                                                            "place_fragment")
@@ -516,6 +567,14 @@ _NP_START = frozenset({"A", "THE", "MY", "OUR", "NAME"})
 _ANSWER_WORDS = frozenset({"YES", "OKAY", "NO"})
 #: The "this" of a statement the recogniser lost ("[this] is my cup"): put back to parse the statement.
 _LOST_THIS = Tok("THIS", "this", "")
+#: "here" put before the relation of "the keys are on the table": said there, as "are here on the table".
+_SAID_HERE = Tok("HERE", "here", "")
+#: Words that start the "where" of "the study is this room", "my cup is that one over there".
+_DEIXIS = frozenset({"THIS", "THAT", "HERE", "THERE"})
+#: Words that start the "where" of "the keys are on the table", "my keys are in the drawer".
+_RELATIONS = frozenset({"REL", "IN"})
+#: Words after "X is" that say which or where it is (not what it is like): no remark.
+_REFERRING = _DEIXIS | _RELATIONS | frozenset({"ONE", "SIDE", "COLOUR", "OBJ", "PLACE", "ROOM"})
 #: Noun phrases alone: they answer a question; a whole statement ("this is the kitchen") is a request of its own.
 _FRAGMENTS = frozenset({"object_fragment", "place_fragment"})
 #: Acts that continue a phrase rather than start a new clause: a repair made of them is aligned.
@@ -697,18 +756,45 @@ def _hesitated_before_room(words: list[str], hesitations: frozenset[str]) -> boo
                for i in range(1, len(words) - 1))
 
 
+def _copula_at(tree: Tree, toks: list[Tok], ignored: list[str]) -> int | None:
+    """Where the copula stands when the parse is a noun phrase alone and everything from a copula after
+    it on was left out ("the sofa | is new", "the study | is this room"), else None."""
+    if tree_act(tree) not in _FRAGMENTS or not ignored:
+        return None
+    at = len(toks) - len(ignored)
+    if at < 1 or [t.text for t in toks[at:]] != ignored or toks[at].type not in ("IS", "ARE"):
+        return None
+    return at
+
+
 def _said_of(tree: Tree, toks: list[Tok], ignored: list[str], unknown: bool) -> str:
     """Why a noun phrase followed by a copula and words the grammar could not place is no answer: she says
     something of the thing ("oh the bed is not made, sorry", "the sofa is new", "the kitchen is a mess"),
-    a remark about it, not "this is the bed" (galley_long_tour: "Is this bed?"). Empty when it is none."""
-    if tree_act(tree) not in _FRAGMENTS or not ignored:
-        return ""
-    at = len(toks) - len(ignored)
-    if at < 1 or [t.text for t in toks[at:]] != ignored or toks[at].type not in ("IS", "ARE"):
+    a remark about it, not "this is the bed" (galley_long_tour: "Is this bed?"). Empty when it is none.
+
+    Words after the copula that point or refer ("is the left one", "is next door", "is on the table":
+    a deixis, "one", a side, a colour, a relation or a thing) say which or where it is, not what it is
+    like: the noun phrase still answers (review9 item 1)."""
+    at = _copula_at(tree, toks, ignored)
+    if at is None:
         return ""
     if len(ignored) < 2 and not unknown:
         return ""  # "the kitchen is": the rest of the sentence was not heard, the noun phrase may answer
+    if any(t.type in _REFERRING for t in toks[at + 1:]):
+        return ""
     return "a remark about it"
+
+
+def _denied(tree: Tree, raw: list[Tok]) -> str:
+    """Why a teaching she ends with a bare "no" is none: "this is the kitchen, no", "this is my cup no no"
+    (review9 item 5). She says it and takes it back, as "is that the kitchen, no" (a question she answers
+    no herself): nothing to store or confirm. A "no" before the statement ("no, this is the kitchen")
+    corrects what the robot said and still teaches. Empty when it is none."""
+    if tree_act(tree) not in ("teach_place", "teach_object") or not raw or raw[-1].type != "NO":
+        return ""
+    if all(t.type == "NO" for t in raw):
+        return ""
+    return "a statement she answers no herself"
 
 
 def _only_room(place: etree._Element) -> bool:
