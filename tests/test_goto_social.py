@@ -21,7 +21,7 @@ from lxml import etree
 
 from homesim.sim import Simulation
 from robot.navigation.grid import NoPathError, OccupancyGrid, Plan2D
-from robot.navigation.local import BODY, HALF_WIDTH, LatestScan, footprint_distance, social_mask
+from robot.navigation.local import BODY, HALF_WIDTH, LatestScan, footprint_distance, social_mask, turn_clear
 from robot.navigation.planner import PERSON_CLEAR, Planner, social_grid
 from robot.navigation.people import BACK_GAP, passing_close, standing_in_the_way
 from robot.navigation.player import GOTO_SOCIAL_GAP, TURN_FIRST, WAIT_GAP, Player
@@ -319,3 +319,64 @@ def test_the_turn_to_the_goals_heading_never_swings_a_corner_into_someone_beside
     p.goal = (0.05, 0.0, math.pi / 2, 0.2, True)
     v, w = p.control_step()
     assert w > 0.0  # with her far away it turns
+
+
+def _drive(p: Player, steps: int) -> list[tuple[float, float, float, float, float]]:
+    """``steps`` control steps of ``p`` with the base doing exactly what it is told: (x, y, theta, v, w) each."""
+    x = y = th = 0.0
+    out = []
+    for _ in range(steps):
+        v, w = p.control_step() or (0.0, 0.0)
+        out.append((x, y, th, v, w))
+        th_mid = th + 0.5 * w * p.period
+        x, y, th = x + v * p.period * math.cos(th_mid), y + v * p.period * math.sin(th_mid), th + w * p.period
+        p.odo.update(etree.Element("odometry", x=f"{x:.6f}", y=f"{y:.6f}", theta=f"{th:.6f}", v=f"{v:.6f}", w=f"{w:.6f}"))
+    return out
+
+
+def _air(pose: tuple[float, float, float], person: tuple[float, float]) -> float:
+    """Air (m) between the footprint at ``pose`` and the body of the person standing at ``person``."""
+    x, y, th = pose
+    dx, dy = person[0] - x, person[1] - y
+    c, s = math.cos(th), math.sin(th)
+    return float(footprint_distance(np.array([c * dx + s * dy]), np.array([-s * dx + c * dy]))[0]) - BODY
+
+
+@pytest.mark.parametrize("side", [1.0, -1.0])
+def test_a_person_standing_just_inside_the_lane_is_gone_round_when_the_leg_points_past_them(side):
+    """lang_names seed 0: Ben stood 1 m ahead, 0.33 m left of the robot's heading, the replanned leg
+    20 degrees right of it, past him. The robot was held by him in the lane of its heading and stood,
+    neither driving nor turning, until it asked for help. It turns on the spot toward the leg (he then
+    stands beside its lane) and drives round him, keeping its social air, never swinging into him."""
+    person = (0.98, side * 0.33)
+    leg = math.radians(-20.0) * side
+    goal = (1.3 * math.cos(leg), 1.3 * math.sin(leg))
+    p = _player(goal, facing=False, tracks=[person])
+    v, w = p.control_step()
+    assert v == 0.0 and w * side < 0.0  # turns toward the leg, away from him
+    p = _player(goal, facing=False, tracks=[person])
+    path = _drive(p, 200)
+    assert all(_air(pose[:3], person) >= GOTO_SOCIAL_GAP - 0.02 for pose in path)
+    assert p.state == "reached"  # round him, never reported blocked on the way
+    assert min(pose[1] * side for pose in path) < -0.3  # by the way round, his side of it kept clear
+
+
+def test_a_person_squarely_in_the_way_of_the_leg_is_still_waited_for():
+    # the leg points 10 degrees right, but he stands in the lane toward it too: no turn helps, it waits
+    leg = math.radians(-10.0)
+    v, w = _player((3.0 * math.cos(leg), 3.0 * math.sin(leg)), facing=False, tracks=[(1.0, -0.1)]).control_step()
+    assert v == 0.0 and w == 0.0
+
+
+@settings(max_examples=150, deadline=None)
+@given(x=st.floats(0.3, 2.0), y=st.floats(-0.8, 0.8), leg=st.floats(-80.0, 80.0))
+def test_held_by_someone_standing_ahead_it_only_turns_where_no_corner_swings_into_them_and_never_drives_at_them(x, y, leg):
+    assume(footprint_distance(np.array([x]), np.array([y]))[0] > BODY + 0.02)
+    goal = (2.5 * math.cos(math.radians(leg)), 2.5 * math.sin(math.radians(leg)))
+    v, w = _player(goal, facing=False, tracks=[(x, y)]).control_step()
+    person = np.array([[x, y]])
+    if v == 0.0 and w != 0.0:
+        assert turn_clear(w, person, duration=0.5)
+    if v > 0.0:
+        assert not standing_in_the_way(np.array([[x, y, 0.0, 0.0]]), half_length=0.255, half_width=HALF_WIDTH,
+                                       travel=v * 0.1, gap=WAIT_GAP)

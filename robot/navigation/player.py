@@ -79,6 +79,9 @@ GOTO_SOCIAL_GAP = 0.30
 #: m: air the go-to leaves to someone standing in its lane when it stops to wait (people.standing_in_the_way):
 #: outside their personal space (0.45 m, BACK_GAP) by the few centimetres the tracker misplaces them
 WAIT_GAP = BACK_GAP + 0.05
+#: rad: held by someone standing in the lane of its heading, with the leg further off the heading than
+#: this and the lane toward the leg clear of them, it turns on the spot toward the leg (the way round them)
+WAY_ROUND = math.radians(5)
 #: m, m/s: with someone this near walking toward its centre faster than this, it stands (yields)
 YIELD_NEAR = 1.6
 YIELD_SPEED = 0.15
@@ -104,6 +107,16 @@ SCHEMA = Path(__file__).resolve().parent.parent / "schemas" / "navigation" / "pl
 
 def wrap(a: float) -> float:
     return math.remainder(a, 2 * math.pi)
+
+
+def turned(people: np.ndarray, turn: float) -> np.ndarray:
+    """``people`` ((K, 4) robot-frame centres and velocities) in the frame of the robot turned on the spot by ``turn`` rad."""
+    c, s = math.cos(turn), math.sin(turn)
+    rot = np.array([[c, -s], [s, c]])  # row vectors: (x, y) @ rot = (c x + s y, -s x + c y)
+    out = np.array(people, dtype=float, copy=True)
+    out[:, :2] = out[:, :2] @ rot
+    out[:, 2:4] = out[:, 2:4] @ rot
+    return out
 
 
 class Odometry:
@@ -313,11 +326,15 @@ class Player(Module):
         odo = self.odo.pose
         return self.people.around(odo, self.now) if odo is not None else np.zeros((0, 2))
 
-    def _waits_for(self, people: np.ndarray, odo: tuple[float, float, float] | None, travel: float) -> bool:
+    def _waits_for(self, people: np.ndarray, odo: tuple[float, float, float] | None, travel: float, turn: float = 0.0) -> bool:
         """Whether someone stands in its lane (:func:`~robot.navigation.people.waits_for`; ``people``: the
-        tracks and then the ghosts, as :meth:`People.around` lists them with the scan's echoes)."""
+        tracks and then the ghosts, as :meth:`People.around` lists them with the scan's echoes), or would,
+        turned on the spot by ``turn`` rad first (the lane it drives along once it faces the way round)."""
         seen = self.people.around(odo, self.now, velocity=True) if odo is not None else np.zeros((0, 4))
-        return waits_for(seen, people[len(seen):], half_length=HALF_LENGTH, half_width=HALF_WIDTH, travel=travel, gap=WAIT_GAP)
+        if turn:
+            people = turned(people, turn)
+        return waits_for(people[:len(seen)], people[len(seen):], half_length=HALF_LENGTH, half_width=HALF_WIDTH, travel=travel,
+                         gap=WAIT_GAP)
 
     def nearest_person(self) -> float:
         """Distance (m) to the nearest confirmed person track (inf: none)."""
@@ -469,7 +486,8 @@ class Player(Module):
             # corners swing out, behind too, where the laser does not look: not into a tracked body
             cmd = Command(0.0, 0.0, False, cmd.clearance)
         held = False  # someone standing in its lane holds it up (the wait below)
-        if cmd.ok and cmd.v > 0.0 and self._waits_for(moving, odo, cmd.v * self.period):
+        travel = cmd.v * self.period
+        if cmd.ok and cmd.v > 0.0 and self._waits_for(moving, odo, travel):
             # someone stands in its lane: wait outside their personal space (a replan may find a way round)
             cmd = Command(0.0, 0.0, False, cmd.clearance)
             held = True
@@ -484,6 +502,16 @@ class Player(Module):
             # finding no arc): it has arrived as near as it politely can
             # (it does not turn to the place's heading beside them: the corners swing behind it)
             return self._arrive(dist, 0.0, mapped)
+        if held and abs(bearing) > WAY_ROUND and not self._waits_for(moving, odo, travel, turn=bearing):
+            # held by someone standing in the lane of its heading while the leg (a replan's way round
+            # them) points past them: turn on the spot toward the leg, if that swings no corner into
+            # anyone or the floor plan; facing the leg they stand beside the lane and the window takes
+            # it past them at its social gap (it stood held 1 m from a man, 20 degrees short of a way
+            # round him, until it asked for help: lang_names seed 0). The whole turn must keep the
+            # corners off everyone and off the floor plan (the window exempts turns on the spot)
+            w = max(-limits.max_turn, min(limits.max_turn, 1.5 * bearing))
+            if turn_clear(w, people, duration=max(SWEEP_TIME, bearing / w)) and self._turn_ok(bearing, mapped):
+                cmd = Command(0.0, w, True, cmd.clearance)
         if cmd.ok and abs(cmd.v) > 0.02:
             self._stuck_since = None
         elif self._stuck_since is None:
