@@ -121,8 +121,8 @@ def test_a_corner_round_a_jamb_stays_a_step_however_near_the_place(jamb):
     """review9 item 2: the sequencer dropped any last corner within 0.40 m of the place; here the corner
     (0.33 m from a place just round the door's jamb) is what keeps the leg off the jamb."""
     pts = jamb.plan((1.0, 0.8), (3.45, 1.35))
-    assert len(pts) == 4 and math.dist(pts[-2], pts[-1]) < END_CORNER
-    kept = without_end_corner(pts, jamb, END_CORNER)
+    assert len(pts) == 4 and math.dist(pts[-2], pts[-1]) > END_CORNER  # the planner keeps it by distance alone
+    kept = without_end_corner(pts, jamb, 0.40)  # and within the old 0.40 m, the leg's check keeps it too
     assert kept == pts and not jamb.line_free(pts[-3], pts[-1], roomy=False)
     steps = steps_of(_plan_xml(kept))
     assert len(steps) == 3 and (float(steps[1]["x"]), float(steps[1]["y"])) == pytest.approx(pts[-2], abs=1e-4)

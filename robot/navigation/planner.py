@@ -79,9 +79,11 @@ WATCH_FIELD = math.radians(80.0)
 #: m: path points nearer the robot's centre than this lie under its own footprint (not looked at).
 WATCH_NEAR = 0.35
 #: m: a plan's last corner nearer the place than this is dropped where the straight leg to the place is
-#: free (:func:`~robot.navigation.grid.without_end_corner`): the sequencer's two step tolerances together
-#: (0.25 m on a corner, 0.15 m at the place), within which the player would take the corner as reached.
-END_CORNER = 0.25 + 0.15
+#: free (:func:`~robot.navigation.grid.without_end_corner`): the place's own arrival tolerance (0.15 m),
+#: within which arriving at the place is arriving at the corner. Not the two step tolerances together
+#: (0.40 m): a free straight leg cut a niche's corner 0.35 m from its place, and the robot arrived at an
+#: angle from which it could not turn to the place's heading (tests/test_nav_mapguard.py).
+END_CORNER = 0.15
 #: m: how near a path's centre line may come to a person's centre on a replan: their body
 #: (:data:`~robot.navigation.local.BODY`), the go-to's air to it (the player's GOTO_SOCIAL_GAP) and
 #: the footprint's half width. A path any nearer is one the player's window will not drive: it stood

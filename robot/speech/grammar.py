@@ -289,7 +289,8 @@ class Understander:
             ignored, partial = [], True
         if tree is not None and tree_act(tree) == "teach_place" and (
                 (ignored and _name_lost_before_room(toks, ignored))
-                or _hesitated_before_room(Lexicon.words(words), self.lexicon.hesitations)):
+                or (_hesitated_before_room(Lexicon.words(words), self.lexicon.hesitations)
+                    and _room_alone(build(tree)[0]))):
             # "this is our [the→living] room": a word the grammar could not place stands where the room's
             # name goes, between her "our" and "room"; "our room" would store a room called "room" unasked.
             # The name was lost: a place with no name, so the dialog asks which room this is
@@ -795,6 +796,14 @@ def _denied(tree: Tree, raw: list[Tok]) -> str:
     if all(t.type == "NO" for t in raw):
         return ""
     return "a statement she answers no herself"
+
+
+def _room_alone(place: etree._Element) -> bool:
+    """Whether a place frame names no room but "room" itself, whoever's ("our room", "anna's room"): a
+    hesitation before its "room" may stand for the lost name; "the children's uh room" names one, and a
+    hesitation never changes a frame that is whole without it."""
+    title = place.find("TITLE")
+    return title is None or title.get("name") == "room"
 
 
 def _only_room(place: etree._Element) -> bool:
