@@ -48,7 +48,7 @@ from collections.abc import Callable
 import numpy as np
 
 from homesim.errors import ScenarioError
-from homesim.scenario.model import Action, Handler, Leave, PointAt, Repeat, Say, SourceSpec, StepCloser, Wait, WaitFor, WaitSpeech
+from homesim.scenario.model import Action, Handler, Leave, PointAt, Repeat, Say, SourceSpec, StepCloser, Wait, WaitFor, WaitSpeech, WalkTo
 from homesim.scenario.wordpattern import WordPattern, compile_words
 from homesim.world.acoustics import Utterance
 from homesim.world.world import World
@@ -65,9 +65,10 @@ POLL = 0.1  # seconds between checks of a wait-for condition
 TURN_GAP = 0.5
 
 #: What a person takes for the robot asking her to say it again, or asking whether it heard
-#: her right ("Did you say hello to me?", "Is this plant?": she does her turn again rather than
-#: answer "yes"); ``repair=`` overrides.
-DEFAULT_REPAIR = r"(say|point at) (that|it) again|pardon|repeat that|did not understand|didn't understand|did not catch|did you say|shall i\b|^is this\b"
+#: her right ("Did you say hello to me?", "Is this plant?", "Do you want to end the tour?": she does
+#: her turn again rather than answer "yes"); ``repair=`` overrides.
+DEFAULT_REPAIR = (r"(say|point at) (that|it) again|pardon|repeat that|did not understand|didn't understand|did not catch"
+                  r"|did you say|shall i\b|^is this\b|do you want to end")
 
 #: How much louder each "louder" repair makes her (dB), up to MAX_BOOST: one step of vocal
 #: effort (ANSI S3.5-1997: normal 62.4, raised 68.3, loud 74.9 dB, about 6 dB apart).
@@ -513,7 +514,10 @@ class Actor:
             await asyncio.sleep(TURN_GAP)
             if not self.active:
                 return False
-            await self.play(turn)
+            # asked to say it again ("Could you say that again?"), she says it again where she stands: the
+            # walk that led up to her words is not part of what she repeats (walking her route back and
+            # again, with the robot following her, was hall_names_study seed 2's lost tour)
+            await self.play(turn if outcome != "repair" else tuple(a for a in turn if not isinstance(a, WalkTo)))
             self.turn = []
         return False
 

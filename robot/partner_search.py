@@ -16,6 +16,7 @@ lets her go, nor the other way round.
 
 from __future__ import annotations
 
+import math
 from typing import Any
 
 #: s: unseen this long a near partner (within :data:`SEARCH_NEAR`) is lost
@@ -40,8 +41,40 @@ def follow_search_time(distance: float, *, base: float = SEARCH_BASE, near: floa
                        speed: float = SEARCH_SPEED, top_speed: float | None = None, cap: float = SEARCH_CAP) -> float:
     """Seconds a partner last seen ``distance`` m from the robot may stay unseen while it follows
     her: ``base``, plus the time to drive the gap beyond ``near`` at ``speed`` (no faster than the
-    robot's ``top_speed`` when given), at most ``cap`` (never less than ``base``)."""
+    robot's ``top_speed`` when given), at most ``cap`` (never less than ``base``). The cap bounds how
+    far behind a partner may be last seen and still be searched for: a robot slower than ``speed``
+    gets the time to drive that same distance at its own top speed (:func:`search_cap`)."""
+    cap = search_cap(speed, top_speed, cap)
     if top_speed is not None and 0.0 < top_speed < speed:
         speed = top_speed
     extra = max(0.0, distance - near) / speed if distance == distance else 0.0  # NaN: no extra time
     return max(base, min(cap, base + extra))
+
+
+def search_cap(speed: float = SEARCH_SPEED, top_speed: float | None = None, cap: float = SEARCH_CAP) -> float:
+    """The longest search (s): ``cap`` for a robot as fast as ``speed``; for a slower one, the cap's
+    time beyond :data:`SEARCH_BASE` is the time to drive the same gap (3.6 m at the defaults) at its top
+    speed. A 0.3 m/s robot whose partner (0.8 m/s) went into the next room 5 m ahead was 15 s at the
+    cap and still short of the door when the search ran out (u_catch_up_slow)."""
+    if top_speed is None or not 0.0 < top_speed < speed:
+        return cap
+    return cap + max(0.0, cap - SEARCH_BASE) * (speed / top_speed - 1.0)
+
+
+def way_distance(point: tuple[float, float], last: tuple[float, float], velocity: tuple[float, float],
+                 unseen: float, *, walking: float = 0.3, horizon: float = SEARCH_CAP) -> float:
+    """Metres from ``point`` to the way a partner who led the robot went while unseen: the segment from
+    where she was last measured (``last``) to where her last velocity (``velocity``, m/s) carried on
+    for ``unseen`` s (at most ``horizon``) takes her; just ``last`` when she was slower than ``walking``
+    (a standing person's velocity is noise). A partner who walks on out of view is found again where
+    she went, not only where she disappeared: at 0.8 m/s she is 4 m on after 5 s, and a robot slower
+    than her sees her there, far beyond any radius round the point where it lost her (issue 26 item 10)."""
+    px, py = point
+    x, y = last
+    vx, vy = velocity
+    h = min(max(unseen, 0.0), horizon)
+    if vx * vx + vy * vy < walking * walking or h <= 0.0:
+        return math.hypot(px - x, py - y)
+    ex, ey = vx * h, vy * h
+    u = max(0.0, min(1.0, ((px - x) * ex + (py - y) * ey) / (ex * ex + ey * ey)))
+    return math.hypot(px - x - u * ex, py - y - u * ey)

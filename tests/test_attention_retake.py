@@ -10,6 +10,7 @@ from hypothesis import strategies as st
 
 from robot.attention.cues import CueSpec, Hysteresis
 from robot.attention.fsm import AttentionFSM
+from robot.attention.looking import HeardFrom, LookedAt
 from robot.attention.module import AttentionParams, PersonAttention
 from robot.attention.tracker import Tracks, TrackerSpec
 
@@ -30,6 +31,7 @@ def _attention(positions: list[tuple[float, float]]) -> PersonAttention:
     a._odom = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
     a._alone_since = None
     a._voice_turn = None
+    a.looked, a.heard = LookedAt(), HeardFrom()
     a.facing = Hysteresis(CueSpec().facing_on, CueSpec().facing_off)
     a.events = []  # the ES events it would publish: (name, PERSON attributes)
     a._event = lambda name, children=(): a.events.append((name, [dict(c.attrib) for c in children]))

@@ -13,6 +13,7 @@ from hypothesis import strategies as st
 
 from robot.attention.cues import CueSpec, Hysteresis
 from robot.attention.fsm import AttentionFSM
+from robot.attention.looking import HeardFrom, LookedAt
 from robot.attention.module import AttentionParams, PersonAttention
 from robot.attention.tracker import Tracks, TrackerSpec
 
@@ -28,6 +29,7 @@ def _attention(x: float, y: float, faces: bool) -> PersonAttention:
     a.partner = None
     a._odom = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
     a._voice_turn = None
+    a.looked, a.heard = LookedAt(), HeardFrom()
     a.facing = Hysteresis(CueSpec().facing_on, CueSpec().facing_off)
     tid = a.tracks.tracks[0].id
     if faces:

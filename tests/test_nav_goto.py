@@ -13,6 +13,8 @@ from tests.nav_helpers import HERE, start_run
 
 BASE = (HERE / "nav_goto.xml").read_text(encoding="utf-8")
 STAYS = BASE.replace('<wait for="14"/>', '<wait for="100"/>')
+#: Tom stays past the help request (about 25 s) and then steps into the kitchen's corner, out of the way.
+CLEARS = BASE.replace('<wait for="14"/>', '<wait for="30"/>')
 
 
 def _run(text: str, until: float):
@@ -37,7 +39,14 @@ def aside():
 
 @pytest.fixture(scope="module")
 def stays():
-    run = _run(STAYS, 25.0)
+    run = _run(STAYS, 40.0)
+    yield run
+    run.close()
+
+
+@pytest.fixture(scope="module")
+def clears():
+    run = _run(CLEARS, 55.0)
     yield run
     run.close()
 
@@ -69,6 +78,23 @@ def test_a_person_who_stays_in_the_way_makes_the_robot_ask_for_help(stays):
     assert ep["outcome"] == "failed: blocked" and ep["replans"] >= 1 and ep["replans_found"] == 0
     x, y, _ = stays.world.robot.pose
     assert x < 6.0  # still in the living room, in front of the door
+    # it watched the way the 15 s after asking, and never took it for clear while Tom stood in it
+    assert "way_clear" not in [e[1] for e in stays.events] and "way_clear" not in stays.condition_names()
+
+
+def test_when_the_blocker_steps_aside_after_the_help_request_the_robot_goes_on_by_itself(clears):
+    """Issue 26 item 4: a go-to that recovers. The robot asked for help; Tom steps aside at 30 s; it
+    sees the way clear, says so, and drives on to the kitchen without anyone asking again."""
+    names = [e[1] for e in clears.events]
+    assert names.count("navigation_failed") == 1 and names.count("way_clear") == 1
+    failed_at = next(e[0] for e in clears.events if e[1] == "navigation_failed")
+    clear_at = next(e[0] for e in clears.events if e[1] == "way_clear")
+    assert failed_at < 30.0 < clear_at < 36.0  # only once he had gone, and soon after
+    assert [c for c in clears.condition_names() if c in ("need_help", "way_clear", "arrived")] == ["need_help", "way_clear", "arrived"]
+    assert "goal_reached" in names and clears.es.state == "LookingAround"
+    ep = clears.metric("navigation")["goto"][-1]
+    assert ep["outcome"] == "reached" and ep["goal_error"] < 0.2 and ep["collisions"] == 0
+    assert clears.world.contacts == []
 
 
 def test_an_unknown_place_fails_at_once_with_the_reason():

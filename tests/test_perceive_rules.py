@@ -166,16 +166,18 @@ def test_while_following_she_is_lost_only_after_the_followers_search_time_unseen
 @given(d=st.floats(0.0, 50.0), e=st.floats(0.0, 10.0), base=st.floats(1.0, 10.0),
        top=st.none() | st.floats(0.05, 1.5))
 def test_the_search_for_an_unseen_partner_is_longer_the_further_behind_the_robot_was_and_bounded(d, e, base, top):
-    from robot.partner_search import SEARCH_CAP, SEARCH_NEAR, SEARCH_SPEED, follow_search_time
+    from robot.partner_search import SEARCH_BASE, SEARCH_CAP, SEARCH_NEAR, SEARCH_SPEED, follow_search_time
 
     t = follow_search_time(d, base=base, top_speed=top)
-    assert base <= t <= max(base, SEARCH_CAP)  # never shorter than the base, never longer than the cap
+    speed = SEARCH_SPEED if top is None else min(SEARCH_SPEED, top)
+    # the cap: 15 s, or for a slower robot the time to drive the same 3.6 m gap at its top speed
+    cap = SEARCH_BASE + (SEARCH_CAP - SEARCH_BASE) * SEARCH_SPEED / speed
+    assert base <= t <= max(base, cap) + 1e-9  # never shorter than the base, never longer than the cap
     assert follow_search_time(d + e, base=base, top_speed=top) >= t  # further behind: at least as long
     # the gap is driven no faster than the search speed, nor than the robot's own top speed
-    speed = SEARCH_SPEED if top is None else min(SEARCH_SPEED, top)
     if d <= SEARCH_NEAR:
         assert t == base  # a partner seen within the band: the base time
-    elif base + (d - SEARCH_NEAR) / speed <= SEARCH_CAP:
+    elif base + (d - SEARCH_NEAR) / speed <= cap:
         # long enough to drive the gap beyond the band at that speed
         assert t * speed >= base * speed + (d - SEARCH_NEAR) - 1e-9
     # a slower robot never gets less time; one faster than the search speed gets the search speed's
@@ -195,6 +197,10 @@ def test_a_robot_slower_than_the_search_speed_searches_longer_and_the_attention_
     assert math.isclose(follow_search_time(3.5, base=6.0, top_speed=0.3), 6.0 + 2.0 / 0.3)
     assert math.isclose(follow_search_time(3.5, base=6.0), 6.0 + 2.0 / 0.4)
     assert follow_search_time(3.5, base=6.0, top_speed=0.5) == follow_search_time(3.5, base=6.0)
+    # last seen 5.5 m ahead (she turned into the bedroom): the cap is the time to drive the same 3.6 m
+    # beyond the band at 0.3 m/s, not 15 s (at 15 s the search ran out short of the door)
+    assert math.isclose(follow_search_time(5.5, base=6.0, top_speed=0.3), 6.0 + 3.6 / 0.3)
+    assert follow_search_time(5.5, base=6.0) == 15.0
     assert robot_top_speed({"max_speed": 0.3}) == 0.3 and robot_top_speed({}) is None
     assert robot_top_speed(SimpleNamespace(max_speed=0.25)) == 0.25
     # the run's configuration (max-speed="0.3" on the scene's robot) reaches both readers of the rule

@@ -10,7 +10,9 @@ machine top-down):
 Top-down states, entered and left only by the execution supervisor's orders
 on ``/robot/es/orders/person_attention``: ``interact`` -> ``Interaction``,
 ``follow`` -> ``Follow``, ``focus_object`` -> ``Object``; ``look_around``
-returns to bottom-up attention; ``sleep`` holds ``Sleeping`` (the robot
+returns to bottom-up attention, ``look_for_help`` too (the robot asked for help: a voice near
+its axis that nobody seen in front explains comes from behind, and it turns round to it, as
+when it searches for a lost partner); ``sleep`` holds ``Sleeping`` (the robot
 drives autonomously and looks ahead) until ``look_around`` or ``interact``.
 Unknown orders are refused with a clear reason (:class:`OrderRefused`).
 
@@ -28,7 +30,8 @@ BOTTOM_UP = ("Sleeping", "Alertness", "Listen")
 TOP_DOWN = ("Interaction", "Follow", "Object")
 STATES = BOTTOM_UP + TOP_DOWN
 
-ORDERS = {"interact": "Interaction", "follow": "Follow", "focus_object": "Object", "look_around": None, "sleep": "Sleeping"}
+ORDERS = {"interact": "Interaction", "follow": "Follow", "focus_object": "Object", "look_around": None, "look_for_help": None,
+          "sleep": "Sleeping"}
 
 #: Where the camera looks, per state: a height on the person (m), or a named target.
 CAMERA = {"Sleeping": "ahead", "Alertness": "face", "Listen": "face", "Interaction": "hands", "Follow": "torso", "Object": "object"}
@@ -56,7 +59,7 @@ class AttentionFSM:
         if name not in ORDERS:
             raise OrderRefused(f"person_attention: unknown order {name!r} (known: {', '.join(sorted(ORDERS))})")
         target = ORDERS[name]
-        if target is None:  # look_around: back to bottom-up, the tracks decide
+        if target is None:  # look_around, look_for_help: back to bottom-up, the tracks decide
             self.held = False
             self.state = "Alertness"
         else:

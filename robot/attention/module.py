@@ -68,10 +68,11 @@ from .clutter import FurnitureLegs
 from .cues import CueSpec, Hysteresis, bearings_from, match_faces, match_sounds, sound_bearings_from
 from .fsm import CAMERA, TURNS, AttentionFSM, OrderRefused
 from .legs import LegDetector, LegSpec
+from .looking import HeardFrom, LookedAt, angle_between
 from .records import TrackRow, TracksRecord, own_document as _own_document
-from robot.partner_search import follow_search_time
+from robot.partner_search import follow_search_time, way_distance
 from .selection import SelectionParams, Selector
-from .tracker import Tracks, TrackerSpec
+from .tracker import FACE, Tracks, TrackerSpec
 from .visibility import hidden_points
 
 SCHEMAS = Path(__file__).resolve().parent.parent / "schemas"
@@ -151,7 +152,29 @@ class AttentionParams:
     # Turning to a voice nobody seen explains (bottom-up, nobody selected speaks): someone greeting
     # from the side, beyond the laser's or the camera's field, or hidden from the laser:
     voice_turn_min: float = math.radians(30.0)  # turn when the voice comes from further off the axis
-    voice_turn_time: float = 4.0  # s: the turn ends after this (the voice may be a radio)
+    voice_turn_time: float = 4.0  # s: the turn ends after this (the voice may be a radio) ...
+    voice_turn_slack: float = 1.5  # s: ... or, for a turn round to a voice from behind, its angle at max_turn plus this
+    # Front or back (robot.attention.looking): a voice read where the camera has just looked and seen
+    # no face, and no laser track explains, came from behind: turn to its mirrored reading. A direction
+    # looked at and found empty is not turned to again for this long (a radio is heard from both; a
+    # person may walk up behind the robot after it looked there, so not much longer than a turn round)
+    voice_look_memory: float = 10.0
+    # s: a person found facing the robot where an unexplained voice came from (either reading) this
+    # recently, not in view when it was heard, is the one who spoke (she greeted it from behind or
+    # beside and waits, silent, for its answer): she counts as speaking (category 3 when facing)
+    voice_recall: float = 4.0
+    voice_refine: float = math.radians(25.0)  # a new reading this near the direction turned to refines it
+    voice_recall_tolerance: float = math.radians(12.0)
+    face_look_tolerance: float = math.radians(10.0)  # a face this near a direction: someone is there
+    # rad: how far the pan-tilt unit pans (the EVI-D31's data sheet). In Object, a focus further round
+    # than this (she points behind the robot) turns the base until it lies ``focus_margin`` inside it,
+    # instead of turning to her: the camera cannot look there otherwise
+    pan_limit: float = math.radians(100.0)
+    focus_margin: float = math.radians(15.0)
+    # Faces whose legs the laser cannot see (a table top or a sofa between, robot.attention.tracker FACE):
+    # a frontal face no track explains, where the scan is blocked short of it, is a person candidate
+    # for this long after its frame
+    face_candidate_age: float = 0.15
     state_refresh: float = 1.0  # s
     cue_max_age: float = 0.3  # s: an odometry pose older than this is extrapolated
     max_refused: int = 32
@@ -168,6 +191,9 @@ def _deg(a: float) -> str:
 
 class PersonAttention(Module):
     """Leg detection, anchoring, selection and the attention FSM on the bus (see the module docstring)."""
+
+    #: the ES's last order was ``look_for_help`` (the robot asked for help; :meth:`_voice_heading`)
+    seeking_help: bool = False
 
     def __init__(
         self,
@@ -213,6 +239,11 @@ class PersonAttention(Module):
         self._dominant: tuple[float, float] | None = None  # (time, front bearing rad): the loudest unexplained direction
         self._voices: tuple[float, bool, bool] | None = None  # (time, the partner talks, someone else does): the last sound frame
         self._voice_turn: tuple[float, float, float] | None = None  # (until, odom heading, heard at): turning to an unexplained voice
+        self.looked = LookedAt()  # where the camera looked lately and whether it saw a face there (robot.attention.looking)
+        self.heard = HeardFrom()  # the last voices nobody in view explained
+        self._focus_at = -math.inf
+        self._focus_turning = False  # in Object: turning the base to a focus beyond the pan range (:meth:`_focus_turn`)
+        self._loose_faces: tuple[float, list[tuple[float, float]]] | None = None  # (frame time, odom points): the last frame's faces
         self._state_sent: tuple[str, int | None, int | None] | None = None
         self._state_at = -math.inf
         self.scans = 0
@@ -315,6 +346,7 @@ class PersonAttention(Module):
     def _on_focus(self, msg: Message) -> None:
         el = msg.xml
         self._focus = (math.radians(float(el.get("bearing", "0"))), float(el.get("distance", "1")), float(el.get("height", "0.8")))
+        self._focus_at = msg.created
 
     def _on_sounds(self, msg: Message) -> None:
         t = msg.created
@@ -345,6 +377,10 @@ class PersonAttention(Module):
             if free:
                 k = max(free, key=lambda j: levels[j])
                 self._dominant = (t, bearings[k])
+                th = self._pose_at(t)[2]
+                in_view = [tk.id for tk in tracks if tk.confirmed and not tk.dormant]
+                for j in free:
+                    self.heard.add(t, th + bearings[j], th + math.pi - bearings[j], in_view)
 
     def _partner_seen(self, rows: list[int], t: float) -> None:
         """Weak evidence (the voice from the partner's bearing) counts for the partner only."""
@@ -357,9 +393,6 @@ class PersonAttention(Module):
         """Torso blobs: each track's clothing colour where the blob is surely its own
         (:mod:`.appearance`), and a torso at the partner's bearing (the camera is on the partner
         in the top-down states) as evidence that she is there."""
-        tracks = self.tracks.tracks
-        if not tracks:
-            return
         t = msg.created
         data = msg.data  # the camera's typed PerceptList (robot.percepts), else XML: the same texts
         rows = data.rows if data is not None else list(msg.xml)
@@ -367,6 +400,11 @@ class PersonAttention(Module):
             return
         get = (lambda r, k: getattr(r, k)) if data is not None else (lambda r, k: r.get(k))
         bearings = [math.radians(float(get(r, "bearing"))) for r in rows]
+        th = self._pose_at(t)[2]
+        self.looked.bodies(t, [th + b for b in bearings], self.params.face_look_tolerance)  # someone there (:meth:`_voice_target`)
+        tracks = self.tracks.tracks
+        if not tracks:
+            return
         tb = bearings_from(self._robot_xy(t), self.cues.camera_offset)
         for j, i in anchor_torsos(tb, bearings, self.cues.torso_bearing_tolerance):
             if tracks[i].confirmed and not tracks[i].dormant:
@@ -393,10 +431,11 @@ class PersonAttention(Module):
         xy = self._robot_xy(t)
         rows = match_faces(xy, faces, self.cues) if tracks and faces else []
         self.facing.feed(t, ids, {ids[r] for r in rows})
+        tpl = data.form if data is not None else msg.xml  # the pan-tilt state the frame was taken in
+        pan, tilt = math.radians(float(tpl.get("pan", "nan"))), math.radians(float(tpl.get("tilt", "nan")))
+        self._looked_at(t, pan, faces, xy)
         prow = self.tracks.row(self.partner) if self.partner is not None else -1
         if prow >= 0:  # was the partner's face in the image? (then a missing face means she looks away)
-            tpl = data.form if data is not None else msg.xml  # the pan-tilt state the frame was taken in
-            pan, tilt = math.radians(float(tpl.get("pan", "nan"))), math.radians(float(tpl.get("tilt", "nan")))
             px, py = xy[prow]
             d = math.hypot(px, py)
             elev = math.atan2(self.params.heights["face"] - self.params.camera_height, max(d, 0.3))
@@ -405,6 +444,38 @@ class PersonAttention(Module):
             self._partner_face = (t, self.partner, in_view)
         self.tracks.support([r for r in rows if tracks[r].confirmed], t)
 
+    def _looked_at(self, t: float, pan: float, faces: list[tuple[float, float]], xy: list[tuple[float, float]]) -> None:
+        """A camera frame (pan ``pan`` rad, frontal ``faces`` as (bearing, distance) in the robot frame,
+        the tracks at ``xy``): what it showed of each direction (:attr:`looked`), and where its faces are
+        (:attr:`_loose_faces`, for :meth:`_face_candidates`: a person whose legs the laser may not see)."""
+        if math.isnan(pan):
+            return
+        x, y, th = self._pose_at(t)
+        self.looked.observe(t, th + pan, self.params.camera_hfov / 2, [th + b for b, _ in faces], self.params.face_look_tolerance)
+        off = self.cues.camera_offset
+        c, s = math.cos(th), math.sin(th)
+        pts = [(x + c * (off + d * math.cos(b)) - s * d * math.sin(b), y + s * (off + d * math.cos(b)) + c * d * math.sin(b)) for b, d in faces]
+        self._loose_faces = (t, pts) if pts else None
+
+    def _face_candidates(self, t: float, hidden: Any) -> list[tuple[float, float]]:
+        """The odometry points of the last camera frame's faces whose legs the laser cannot see on this
+        scan (``hidden``: something nearer blocks its beams there) and that no person the laser does
+        see explains (nobody it sees in that direction: a face's distance is only a guess from its
+        size). A person behind a coffee table or a sofa is a person: the camera sees her face, the
+        laser only the furniture (the papers' multi-modal anchoring: faces are one of a person's
+        percepts); her track is then fed by her face (FACE candidates) as long as her legs stay hidden."""
+        lf = self._loose_faces
+        if lf is None or abs(t - lf[0]) > self.params.face_candidate_age:
+            return []
+        pts = [pt for pt, h in zip(lf[1], hidden(lf[1])) if h]
+        if not pts:
+            return []
+        tracks = self.tracks.tracks
+        x, y, _ = self._pose_at(t)
+        seen = [math.atan2(tk.x[1] - y, tk.x[0] - x) for tk, h in zip(tracks, hidden([(tk.x[0], tk.x[1]) for tk in tracks])) if not h]
+        wide = 2 * self.cues.face_bearing_tolerance
+        return [pt for pt in pts if not any(angle_between(math.atan2(pt[1] - y, pt[0] - x), k) <= wide for k in seen)]
+
     def _on_order(self, msg: Message) -> None:
         name = msg.xml.get("name", "")
         try:
@@ -412,6 +483,7 @@ class PersonAttention(Module):
         except OrderRefused as exc:
             self.refused.append(str(exc))
             return
+        self.seeking_help = name == "look_for_help"  # until the next order (:meth:`_voice_heading`)
         if state in ("Interaction", "Follow", "Object"):
             # A partner unseen for a moment (stepped aside) stays the partner across the change.
             pending = self.partner is not None and self._partner_last is not None and not self.partner_lost_sent
@@ -520,7 +592,12 @@ class PersonAttention(Module):
             def blocked(points: list[tuple[float, float]]) -> list[bool]:  # odom points inside a wall or raised furniture
                 return on_plan([(c * (x - px) + s * (y - py), -s * (x - px) + c * (y - py)) for x, y in points])
 
-        assigned = self.tracks.step(t, z, det.kinds, hidden, blocked)
+        kinds = det.kinds
+        faces = self._face_candidates(t, hidden)
+        if faces:
+            z = z + faces
+            kinds = list(kinds.tolist() if isinstance(kinds, np.ndarray) else kinds) + [FACE] * len(faces)
+        assigned = self.tracks.step(t, z, kinds, hidden, blocked)
         if self.tracks.confirmed_now:
             assigned = self._reidentify(t, assigned)
         tracks = self.tracks.tracks
@@ -544,6 +621,8 @@ class PersonAttention(Module):
             if tk.confirmed and not tk.dormant:  # a dormant track's person is out of sight: nobody to attend to
                 tid = tk.id
                 cats[tid] = (3 if facing.on(tid) else 2) if speaking.on(tid) else 1
+                if cats[tid] == 1 and len(self.heard) and facing.on(tid) and self._spoke_before(t, tk, px, py):
+                    cats[tid] = 3
         if self.fsm.top_down:
             self._top_down(t, cats)
             self._turning_away(t)
@@ -758,7 +837,8 @@ class PersonAttention(Module):
     def _reacquire(self, t: float) -> int:
         """The partner's track died while they were within the interaction space: a confirmed track
         near where they were last seen (growing with the time unseen) is taken as theirs again,
-        unless the camera saw it wear other clothes than hers (:mod:`.appearance`)."""
+        unless the camera saw it wear other clothes than hers (:mod:`.appearance`). Following, "where
+        she was last seen" is her way on (:meth:`_her_way`): she leads, and walks on out of view."""
         last = self._partner_last
         if last is None:
             return -1
@@ -770,13 +850,13 @@ class PersonAttention(Module):
             colour = self.colours.colour(tk.id, t)
             # someone in other clothes is not her, however near (a person who crossed between)
             if tk.confirmed and not tk.dormant and same_clothes(self._partner_colour, colour):
-                d = math.hypot(tk.x[0] - x, tk.x[1] - y)
+                d = self._her_way(t, (tk.x[0], tk.x[1]))
                 # her colour known, this track's unseen: position alone, so only as near as she can have
                 # stepped unseen, not the growing radius, unless the track was born within it (four_people seed 8: a man walking past the
                 # robot 2.5 m from where she went out of view was taken as her, the search followed him)
                 if colour is None and self._partner_colour is not None and d > p.reacquire_radius:
                     # ... or first seen where she went out of view (she comes back from there)
-                    if math.hypot(tk.origin[0] - x, tk.origin[1] - y) > radius:
+                    if self._her_way(t, tk.origin) > radius:
                         continue
                 if d <= best:
                     best, row = d, i
@@ -784,19 +864,34 @@ class PersonAttention(Module):
             self.partner = self.tracks.tracks[row].id
         return row
 
-    def _could_be(self, t: float, seen: float, x: float, y: float, colour: tuple[float, float, float] | None, tk: Any) -> bool:
+    def _her_way(self, t: float, point: tuple[float, float]) -> float:
+        """Metres from ``point`` (odom) to where the unseen partner can be: where her legs were last
+        measured; following (she leads), anywhere on her way on from there at her last velocity for
+        the time unseen (:func:`robot.partner_search.way_distance`). A partner faster than the robot
+        who went out of view in the next room was seen again 4 m on from there and not taken back,
+        so the robot lost her while it saw her (u_catch_up_slow seed 0)."""
+        seen, x, y, vx, vy = self._partner_last[:5]  # type: ignore[index]
+        if self.fsm.state != "Follow":
+            return math.hypot(point[0] - x, point[1] - y)
+        return way_distance(point, (x, y), (vx, vy), t - seen, walking=self.params.leave_speed)
+
+    def _could_be(self, t: float, seen: float, x: float, y: float, colour: tuple[float, float, float] | None, tk: Any,
+                  way: Any = None) -> bool:
         """Could track ``tk`` be the person last seen at ``seen`` at (``x``, ``y``) (odom) wearing ``colour``?
         The reacquisition rule (:meth:`_reacquire`): within ``reacquire_radius`` plus ``reacquire_speed``
         per second unseen (at most 2.5 m), never in other clothes, and, with the colour known but the
-        track's not yet, only within ``reacquire_radius`` unless first seen within the radius."""
+        track's not yet, only within ``reacquire_radius`` unless first seen within the radius.
+        ``way``: the distance from a point to where they can be, when not just (``x``, ``y``) (the
+        partner who led the robot: :meth:`_her_way`)."""
         p = self.params
         radius = min(2.5, p.reacquire_radius + p.reacquire_speed * max(0.0, t - seen))
         theirs = self.colours.colour(tk.id, t)
         if not same_clothes(colour, theirs):
             return False
-        d = math.hypot(tk.x[0] - x, tk.x[1] - y)
+        dist = way or (lambda q: math.hypot(q[0] - x, q[1] - y))
+        d = dist((tk.x[0], tk.x[1]))
         if theirs is None and colour is not None and d > p.reacquire_radius:
-            return math.hypot(tk.origin[0] - x, tk.origin[1] - y) <= radius
+            return dist(tk.origin) <= radius
         return d <= radius
 
     def _reidentify(self, t: float, assigned: list[int]) -> list[int]:
@@ -816,12 +911,14 @@ class PersonAttention(Module):
             for old in tr.tracks:
                 if not (old.confirmed and old.dormant) or old.id == nid:
                     continue
+                way = None
                 if old.id == self.partner and self._partner_last is not None:
                     seen, x, y = self._partner_last[0], self._partner_last[1], self._partner_last[2]
                     colour = self._partner_colour
+                    way = lambda q: self._her_way(t, q)  # noqa: E731 (following: her way on)
                 else:
                     seen, (x, y), colour = old.last_seen, old.last_z, self.colours.colour(old.id)
-                if self._could_be(t, seen, x, y, colour, new):
+                if self._could_be(t, seen, x, y, colour, new, way):
                     fits.append(old.id)
             if len(fits) == 1:
                 gone = tr.adopt(nid, fits[0])
@@ -870,6 +967,14 @@ class PersonAttention(Module):
             else:
                 self._turning = True
                 self._base(max(-p.max_turn, min(p.max_turn, p.turn_gain * b)))
+        elif (turn := self._focus_turn(target)) is not None:
+            if abs(turn) < p.turn_stop:
+                if self._turning:
+                    self._base(0.0)
+                    self._turning = False
+            else:
+                self._turning = True
+                self._base(max(-p.max_turn, min(p.max_turn, p.turn_gain * turn)))
         elif state in TURNS and row >= 0 and not self._follower_drives and not self._player_drives:
             b = bearing[row]
             if self._turning and abs(b) < p.turn_stop:
@@ -882,6 +987,51 @@ class PersonAttention(Module):
             self._base(0.0)
             self._turning = False
         self._steer(self.beam(t, bearing[row] if row >= 0 else None, category))
+
+    def _spoke_before(self, t: float, tk: Any, px: float, py: float) -> bool:
+        """Is the track ``tk`` (the robot at odom ``px``, ``py``) where a voice came from lately that nobody
+        in view explained (:attr:`heard`, either reading, within ``voice_recall`` s)? Then it was she who
+        spoke: she greeted the robot from behind or beside, out of its view, and it turned to find her."""
+        p = self.params
+        return self.heard.recall(t, math.atan2(tk.x[1] - py, tk.x[0] - px), tk.id, p.voice_recall, p.voice_recall_tolerance)
+
+    def _voice_target(self, t: float, heard: float, bearing: float) -> float | None:
+        """Where to look for a voice heard at ``heard`` at front reading ``bearing`` that nobody seen
+        explains (robot.attention.looking): the odometry heading, or None (no turn).
+
+        Its front reading unless the camera has looked there since and seen nobody (no frontal face, no
+        torso: someone with her back to it is someone); then the mirrored
+        reading behind, unless that too was looked at and found empty within ``voice_look_memory``
+        (a radio, heard from a direction with nobody in it, is not looked for again and again). A
+        front reading the camera has not looked at since is looked at first: off the axis by a few
+        degrees a short turn brings it into the image, by more than ``voice_turn_min`` a turn."""
+        p = self.params
+        th = self._pose_at(heard)[2]
+        front, back = th + bearing, th + math.pi - bearing
+        if self.looked.empty_since(front, heard - p.dominant_max_age):
+            return None if self.looked.empty_since(back, t - p.voice_look_memory) else back
+        if self.looked.face_since(front, heard - p.dominant_max_age):
+            return None  # a face there: someone whose legs the laser does not see (a FACE track)
+        return front
+
+    def _focus_turn(self, target: str) -> float | None:
+        """In Object, while the object attention's focus lies beyond the pan-tilt unit's reach (she
+        points beside and behind the robot): the angle (rad) still to turn the base so that it lies
+        ``focus_margin`` inside the reach; 0 once it does (the turn is over while the focus stays
+        there), None when no such turn is under way (the base turns to her, as in Interaction).
+        Not while the player drives (a drive to a viewpoint turns the robot itself)."""
+        f = self._focus
+        if target != "object" or f is None or self.now - self._focus_at > 0.5 or self._player_drives or self._follower_drives:
+            self._focus_turning = False
+            return None
+        p = self.params
+        b = f[0]
+        inside = p.pan_limit - p.focus_margin
+        if abs(b) > p.pan_limit:
+            self._focus_turning = True
+        if not self._focus_turning:
+            return None
+        return 0.0 if abs(b) <= inside else b - math.copysign(inside, b)
 
     def _voice_heading(self, t: float, row: int, category: int) -> float | None:
         """The odometry heading to turn to for a voice nobody seen explains, or None.
@@ -898,7 +1048,10 @@ class PersonAttention(Module):
         if self._searching() and row >= 0:
             self._voice_turn = None  # a seen caller speaks: turn to them (:meth:`_act`), not to the voice
             return None
-        if not self._searching() and (self.fsm.top_down or self.fsm.held or (row >= 0 and category >= 2)):
+        # (someone seen speaking (category 2) does not stop a turn under way: while the robot turns
+        # round to a voice from behind, its front reading sweeps past the people in front, and one
+        # of them, talking on the phone, is heard as its speaker: sq_goto_bedroom_door)
+        if not self._searching() and (self.fsm.top_down or self.fsm.held or (row >= 0 and (category >= 3 or category == 2 and self._voice_turn is None))):
             self._voice_turn = None
             return None
         if row >= 0 and self.tracks.tracks[row].confirmed and self.facing.on(self.tracks.tracks[row].id):
@@ -908,13 +1061,29 @@ class PersonAttention(Module):
             self._voice_turn = None
             return None
         d = self._dominant
-        # Searching for her after a loss (:meth:`_searching`): a voice read near the axis that nobody
+        # Searching for her after a loss (:meth:`_searching`), or for whoever answers its call for help
+        # (``seeking_help``: it drove away from its partner, who comes up behind it, the laser's blind
+        # half; hall_goto_doorway_person, sq_goto_bedroom_door): a voice read near the axis that nobody
         # seen in front explains comes from behind (the pair cannot tell front from back, the laser
         # and the camera see the front): turn round to its mirrored direction.
-        behind = self._searching() and d is not None and abs(d[1]) <= p.voice_turn_min
-        if d is not None and t - d[0] <= p.dominant_max_age and (abs(d[1]) > p.voice_turn_min or behind) and (self._voice_turn is None or d[0] > self._voice_turn[2]):
-            b = math.pi - d[1] if behind else d[1]
-            self._voice_turn = (t + p.voice_turn_time, self._pose_at(d[0])[2] + b, d[0])
+        behind = (self._searching() or self.seeking_help) and d is not None and abs(d[1]) <= p.voice_turn_min
+        if d is not None and t - d[0] <= p.dominant_max_age and (self._voice_turn is None or d[0] > self._voice_turn[2]):
+            if behind:
+                target = self._pose_at(d[0])[2] + math.pi - d[1]
+            elif self._voice_turn is None:
+                target = self._voice_target(t, d[0], d[1])
+            else:
+                # Turning to it already: a new reading refines the direction decided on (the reading
+                # nearer it), and does not decide afresh: turning, the camera has not looked at the
+                # other reading yet, and the voice sweeps across the readings as the robot turns.
+                th = self._pose_at(d[0])[2]
+                now = self._voice_turn[1]
+                target = min((th + d[1], th + math.pi - d[1]), key=lambda h: angle_between(h, now))
+                if angle_between(target, now) > p.voice_refine:
+                    target = None
+            if target is not None:
+                turn = angle_between(target, self._pose_at(t)[2])
+                self._voice_turn = (t + max(p.voice_turn_time, turn / p.max_turn + p.voice_turn_slack), target, d[0])
         vt = self._voice_turn
         if vt is None or t > vt[0]:
             self._voice_turn = None
@@ -939,6 +1108,12 @@ class PersonAttention(Module):
             return bearing
         if bearing is not None and category == 3:
             return bearing
+        vt = self._voice_turn
+        if vt is not None and t <= vt[0]:
+            # turning to a voice nobody seen explains (:meth:`_voice_heading`): the beam stays on the
+            # direction turned to, moved against the robot's own turn, so the utterance under way stays
+            # in it (a reading a frame old lags a robot turning at 45 degrees a second by more than the beam)
+            return math.remainder(vt[1] - self._pose_at(t)[2], 2 * math.pi)
         if self._dominant is not None and t - self._dominant[0] <= self.params.dominant_max_age:
             return self._dominant[1]
         return None

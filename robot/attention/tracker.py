@@ -27,7 +27,8 @@ predicted position (2x2 innovation covariances), gated at the chi-square
 ``scipy.optimize.linear_sum_assignment`` on the gated cost matrix. When
 the gate leaves no choice (no candidate within two tracks' gates, no track
 with two candidates in its gate), the optimal assignment is every gated
-pair, and the solver is not called. Pairs and blobs can start tracks;
+pair, and the solver is not called. Pairs and blobs can start tracks, and so can faces whose legs
+the laser cannot see (``FACE``: a person behind a coffee table; their spread is ``face_std``);
 single legs (the other hidden, or a table leg) feed tracks but never start
 or confirm one, and alone (with frontal faces, :meth:`Tracks.support`) keep one for at most
 ``single_support`` seconds after a pair or blob last fed it, so a track that
@@ -54,6 +55,10 @@ import numpy as np
 from homesim.lsap import linear_sum_assignment  # SciPy's solver, without importing scipy.optimize
 
 from .legs import SINGLE
+
+#: A candidate kind besides the leg detector's PAIR, BLOB and SINGLE: a frontal face whose legs the laser
+#: cannot see (a table or a sofa between), placed at the distance its size gives (robot.attention.module)
+FACE = 3
 
 GATE_99 = 9.2103  # chi-square, 2 degrees of freedom, 99 %
 _FILL = 1e6  # the cost of a pair outside the gate (far above any gate: every gated pair that can be in the assignment is)
@@ -97,6 +102,9 @@ class TrackerSpec:
     # within this spread of the prediction, however long the track coasted: the person's leg is within a
     # leg spread of their centre, and a coasting partner's track took a jamb 1.8 m off (cross_u_pair seed 2)
     single_gate_std: float = 0.5
+    # m: a face candidate's position spread (FACE): its distance comes from the face's size, some
+    # tenths of a metre off at conversation distance; it starts and confirms a track as a pair does
+    face_std: float = 0.25
 
     def __post_init__(self) -> None:
         for name in ("gate", "single_gate"):
@@ -257,7 +265,7 @@ class Tracks:
         single = [k == SINGLE for k in kind]
         tracks = self.tracks
         if tracks and m:
-            var = [spec.single_std**2 if s else spec.meas_std**2 for s in single]
+            var = [spec.single_std**2 if s else spec.face_std**2 if k == FACE else spec.meas_std**2 for s, k in zip(single, kind)]
             gates = [spec.single_gate if s else spec.gate for s in single]
             extra = _contact_variance(tracks, spec)
             pairs, stopped = _gated(tracks, z, var, gates, t, spec, single, extra)
@@ -334,7 +342,7 @@ class Tracks:
                 zx, zy = z[j][0], z[j][1]
                 if any((zx - ax) ** 2 + (zy - ay) ** 2 < clear2 for ax, ay in anchors):
                     continue
-                self._birth_one(t, zx, zy, spec.meas_std**2)
+                self._birth_one(t, zx, zy, spec.face_std**2 if kind[j] == FACE else spec.meas_std**2)
         return assigned
 
     def adopt(self, new_id: int, old_id: int) -> int:

@@ -74,6 +74,12 @@ who turns back to it, or comes back, is heard again. While the supervisor is in 
 to the robot, so the microphones decide instead (:meth:`Dialog._her_voice`): not addressed only when
 several sound frames during the words heard a voice and none from her direction.
 
+A greeting with a request ("hello BIRON, follow me"): the understanding sends the greeting
+(``opens="true"``) and then the request (``after="greeting"``). Before the interaction (LookingAround,
+PotentialPartner, AskingForHelp) the request waits until the supervisor takes the greeting
+(``partner_found``), at most ``AFTER_GREETING_WAIT`` s, and goes when the greeting is refused; during the
+interaction the greeting is left out and the request handled at once.
+
 Catching up (issue 26 item 10): while the follower's ``/robot/follow/status`` says
 ``approaching`` (it comes up to the partner after "stop"), a request she makes waits (the
 latest one) and is handled when the robot stands near her facing her, so a place is not
@@ -135,6 +141,12 @@ SEEN_STATES = frozenset({"LookingAround", "PotentialPartner", "AskingForHelp"})
 #: s: a potential partner reported this long before the greeting's recorded start still counts (the
 #: person attention reports her as she begins to speak; the recorder's start may lie a little later)
 PERSON_SLACK = 1.0
+#: ES states in which a greeting is what starts the interaction: a request said after "hello BIRON" in
+#: the same breath waits there until the greeting has been taken (the ES takes requests only from a partner)
+GREETABLE = frozenset({"", "LookingAround", "PotentialPartner", "AskingForHelp"})
+#: s: how long a request said with a greeting waits for the greeting to be taken (the ES keeps a greeting
+#: 3 s; a greeting heard with low confidence is first confirmed: "Did you say hello to me?")
+AFTER_GREETING_WAIT = 15.0
 #: ES states in which the partner leads, back turned: the addressee rule decides by where the voice came
 #: from (:meth:`Dialog._her_voice`), since her face cannot tell
 LEADING_STATES = frozenset({"Following"})
@@ -338,6 +350,9 @@ class Dialog(Module):
         # stored where the robot lags); they are kept in order and released when the approach ends
         self._approach_seen = -math.inf  # when the follower last said "approaching"
         self._held: deque[Message] = deque()
+        # a request said with a greeting ("hello BIRON, follow me") and until when it may wait for the
+        # greeting to be taken (:meth:`_greeting_taken`)
+        self._after_greeting: tuple[Message, float] | None = None
         self._releasing = False  # held requests are being handled one turn at a time
         bus = self.bus
         bus.subscribe(FRAMES, self._on_frame)
@@ -453,7 +468,24 @@ class Dialog(Module):
         self._handle_frame(msg)
 
     def _handle_frame(self, msg: Message) -> None:
-        self._emit(self.manager.on_frame(msg.xml), msg.id)
+        x = msg.xml
+        greetable = self.manager.es_state in GREETABLE
+        if x.get("opens") == "true" and not greetable:
+            # "hello BIRON, follow me" while they are already talking: the greeting is a greeting only,
+            # nothing to start ("We are already talking"); the request in its next frame is what she wants
+            return
+        if x.get("after") == "greeting" and greetable:
+            # the request said with the greeting waits until the greeting is taken (partner_found);
+            # a greeting refused or not taken in time takes the request with it
+            self._after_greeting = (msg, self.now + AFTER_GREETING_WAIT)
+            return
+        self._emit(self.manager.on_frame(x), msg.id)
+
+    def _greeting_taken(self) -> None:
+        """The supervisor took the greeting (partner found): the request said with it is handled now."""
+        held, self._after_greeting = self._after_greeting, None
+        if held is not None and self.now <= held[1]:
+            self._emit(self.manager.on_frame(held[0].xml), held[0].id)
 
     def _release_held(self) -> None:
         """Handle the requests held during an approach, oldest first, one turn each (as if she had
@@ -489,6 +521,8 @@ class Dialog(Module):
             self.sim.spawn(self._step_aside_for_es(msg), name=f"{self.name}-step-aside")
             return
         self._emit(self.manager.on_condition(msg.xml), msg.id)
+        if msg.xml.get("name") == "partner_found":
+            self._greeting_taken()
 
     async def _ask_for_es(self, msg: Message) -> None:
         """Condition ``ask`` (param ``options``: ``<OPTIONS timeout><option index text/>+</OPTIONS>``):
@@ -523,6 +557,8 @@ class Dialog(Module):
 
     def _on_rejected(self, msg: Message) -> None:
         rej = msg.xml
+        if rej.get("name") == "greeting":
+            self._after_greeting = None  # nobody took the greeting: the request said with it goes too
         if rej.get("name") == "greeting" and rej.get("reason") == "expired" and rej.get("state") in SEEN_STATES:
             # The supervisor had seen her speak facing the robot since she began the greeting (its
             # person_info), so the greeting expired because it came too late (a slow dialog host, a

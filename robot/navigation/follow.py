@@ -54,7 +54,8 @@ Control, every ``1/rate`` seconds:
   a wall), and turns to face it, so it sees round the corner or past the person in between.
   Status ``searching``.
 * Lost: not seen for ``search_time`` s (6 s; longer when she was last seen beyond the band, by the
-  time it takes to drive the gap at 0.4 m/s or its lower top speed, at most 15 s: :mod:`robot.partner_search`):
+  time it takes to drive the gap at 0.4 m/s or its lower top speed, at most 15 s, or the time to drive the same gap
+  at a top speed below 0.4 m/s: :mod:`robot.partner_search`):
   it stops (the attention's ``partner_lost``, by the same rule with its ``follow_lost_after`` = the
   same 6 s, makes the ES stop the player and the dialog ask).
 * Inside the flat: it never drives its front out of the floor plan's rooms (the map's ``<room>``

@@ -236,3 +236,17 @@ def passing_close(people: np.ndarray, gaps: np.ndarray, *, gap: float, speed: fl
         return False
     walking = np.hypot(people[:, 2], people[:, 3]) > speed
     return bool(np.any(walking & (people[:, 0] > rear) & (gaps < gap)))
+
+
+def waits_for(seen: np.ndarray, ghosts: np.ndarray, *, half_length: float, half_width: float, travel: float,
+              gap: float = BACK_GAP, radius: float = BODY_RADIUS) -> bool:
+    """Whether the go-to waits for someone standing in its lane (:func:`standing_in_the_way`): a person
+    the attention tracks now (``seen``) in the lane as wide as the footprint and their body; one only
+    remembered where the tracker lost them (``ghosts``, :class:`People`: where the track was last, which
+    may lie a few decimetres off the person) only squarely ahead, within the footprint's own width.
+    Both (K, 4) robot-frame centres and velocities. A ghost beside the front held the robot for good
+    while the man it stood for was 0.8 m to its side (goto_u_flat seed 2: 14 s blocked, then a help
+    request); the dynamic window still keeps its social gap to every ghost."""
+    return (standing_in_the_way(seen, half_length=half_length, half_width=half_width, travel=travel, gap=gap, radius=radius)
+            or standing_in_the_way(ghosts, half_length=half_length, half_width=half_width - radius, travel=travel, gap=gap,
+                                   radius=radius))

@@ -31,6 +31,13 @@ way exists it keeps only their bodies clear. The answer has
 ``replan="true"``: a path round the obstacle, or ``failed`` when there is
 none (one door, a person standing in it), and then the sequencer just keeps
 waiting until its timeout.
+
+Watching (``/robot/navigation/replan`` with ``watch="true"``, from the sequencer after a go-to
+failed ``blocked`` and the robot asked for help): the same replan, answered with
+``watch="true"``, but a way counts as clear only when it gives every person in the scan their
+space (no falling back to their bodies) and its first :data:`LOCAL_RANGE` m lie where the laser
+looks (within :data:`WATCH_FIELD` of the robot's heading): a way the laser does not see (the
+robot turned to someone behind it) is not known to be clear (``failed="unseen"``).
 """
 
 from __future__ import annotations
@@ -62,6 +69,11 @@ LOCAL_RANGE = 3.0
 #: m: an echo this much clear of every mapped obstacle is something the map does not hold.
 UNMAPPED = 0.10
 SCHEMA = Path(__file__).resolve().parent.parent / "schemas" / "navigation" / "plan.xsd"
+#: rad: a watched way is known to be clear only this far either side of the heading (the laser's
+#: half circle, less a margin for the legs at its edge it does not pair).
+WATCH_FIELD = math.radians(80.0)
+#: m: path points nearer the robot's centre than this lie under its own footprint (not looked at).
+WATCH_NEAR = 0.35
 #: m: how near a path's centre line may come to a person's centre on a replan: their body
 #: (:data:`~robot.navigation.local.BODY`), the go-to's air to it (the player's GOTO_SOCIAL_GAP) and
 #: the footprint's half width. A path any nearer is one the player's window will not drive: it stood
@@ -74,6 +86,25 @@ def social_grid(grid: OccupancyGrid, people: np.ndarray) -> OccupancyGrid:
     the robot's centre :data:`PERSON_CLEAR` m from them; the grid's clearance cost then keeps paths a
     further ``soft`` m off them where there is room (personal space, not just the body)."""
     return grid.with_obstacles(body_points(people, radius=max(PERSON_CLEAR - grid.radius, 0.0), cell=grid.cell))
+
+
+def in_view(points: list[tuple[float, float]], pose: tuple[float, float, float], *, reach: float,
+            field: float = WATCH_FIELD, near: float = WATCH_NEAR, step: float = 0.1) -> bool:
+    """Whether the path ``points`` (map frame), sampled every ``step`` m, lies within ``field`` rad of
+    the heading of ``pose`` wherever it is between ``near`` and ``reach`` m of the robot's centre
+    (up to the first point beyond ``reach``): ground the laser looks at, so what it sees there is
+    known. A path that turns back behind the robot within reach is not in view."""
+    x, y, th = pose
+    for (ax, ay), (bx, by) in zip(points, points[1:]):
+        n = max(int(math.hypot(bx - ax, by - ay) / step), 1)
+        for k in range(n + 1):
+            px, py = ax + (bx - ax) * k / n, ay + (by - ay) * k / n
+            d = math.hypot(px - x, py - y)
+            if d > reach:
+                return True
+            if d >= near and abs(math.remainder(math.atan2(py - y, px - x) - th, 2 * math.pi)) > field:
+                return False
+    return True
 
 
 def place_title(place: etree._Element | None) -> str | None:
@@ -151,6 +182,7 @@ class Planner(Module):
         self.goal: tuple[str, tuple[float, float, float]] | None = None  # the last goal planned to
         self.scan = LatestScan()
         self._scan_sub: Any = None  # subscribed only while a replan waits for a fresh scan
+        self._watch = False  # the replan waiting for that scan is a watch question (see the module docstring)
         self.bus.subscribe(CONDITIONS, self._on_condition)
         self.bus.subscribe(POSE, self._on_pose)
         self.bus.subscribe(REPLAN, self._on_replan)
@@ -193,12 +225,14 @@ class Planner(Module):
         return None
 
     def _publish(self, title: str, points: list[tuple[float, float]], theta: float | None = None, failed: str | None = None,
-                 replan: bool = False) -> None:
+                 replan: bool = False, watch: bool = False) -> None:
         el = etree.Element("plan", goal=title, length=f"{path_length(points):.4f}" if points else "0")
         if failed:
             el.set("failed", failed)
         if replan:
             el.set("replan", "true")
+        if watch:
+            el.set("watch", "true")
         for i, (x, y) in enumerate(points):
             wp = etree.SubElement(el, "waypoint", x=f"{x:.4f}", y=f"{y:.4f}")
             if theta is not None and i == len(points) - 1:
@@ -244,9 +278,11 @@ class Planner(Module):
         """Replan on the next laser scan (the planner listens to the laser only for that one scan:
         every delivery draws a network delay, so a standing subscription would change every run)."""
         title = msg.xml.get("goal", "")
+        watch = msg.xml.get("watch") == "true"
         if self.goal is None or self.goal[0] != title or self.grid is None or self.pose is None:
-            self._publish(title, [], failed="no_plan", replan=True)
+            self._publish(title, [], failed="no_plan", replan=True, **({"watch": True} if watch else {}))
             return
+        self._watch = watch
         if self._scan_sub is None:
             self._scan_sub = self.bus.subscribe(SCAN, self._on_scan)
 
@@ -256,7 +292,7 @@ class Planner(Module):
             self._scan_sub = None
         self.scan.update(msg)
         if self.goal is not None and self.grid is not None and self.pose is not None:
-            self.replan()
+            self.replan(watch=self._watch)
 
     def unmapped(self) -> np.ndarray:
         """The latest scan's echoes (map frame, (N, 2)) near the robot that the floor plan does not explain."""
@@ -292,13 +328,16 @@ class Planner(Module):
         keep[inside] = g.clearance[i[inside], j[inside]] > UNMAPPED
         return mp[keep]
 
-    def replan(self) -> list[tuple[float, float]] | None:
+    def replan(self, *, watch: bool = False) -> list[tuple[float, float]] | None:
         """Plan to the last goal again round the unmapped echoes of the latest scan; publish the answer.
 
         People in the scan (pairs of legs) get their space on the plan (:func:`social_grid`): a path
         the player's window may drive, past them with :data:`~robot.navigation.player.GOTO_SOCIAL_GAP`
         of air and more where the room allows. Only where there is none (a person in a door of the
         only way) the plan keeps just their body clear, as before, and the player waits.
+
+        ``watch``: is the way clear now (see the module docstring)? Only a path that gives everyone
+        their space and that the laser looks along counts; the answer says ``watch="true"``.
         """
         assert self.goal is not None and self.grid is not None and self.pose is not None
         title, place = self.goal
@@ -308,13 +347,18 @@ class Planner(Module):
             if not len(people):
                 raise NoPathError("nobody in the scan", "no_people")
             points = social_grid(grid, people).plan(self.pose[:2], place[:2])
-        except NoPathError:
+        except NoPathError as e:
             try:
+                if watch and len(people):
+                    raise e  # a way only past someone's body is no clear way
                 points = grid.plan(self.pose[:2], place[:2])
-            except NoPathError as e:
-                self._publish(title, [], failed=e.reason, replan=True)
+            except NoPathError as e2:
+                self._publish(title, [], failed=e2.reason, replan=True, **({"watch": True} if watch else {}))
                 return None
-        self._publish(title, points, theta=place[2], replan=True)
+        if watch and not in_view(points, self.pose, reach=LOCAL_RANGE):
+            self._publish(title, [], failed="unseen", replan=True, watch=True)
+            return None
+        self._publish(title, points, theta=place[2], replan=True, **({"watch": True} if watch else {}))
         return points
 
     async def run(self) -> None:

@@ -53,9 +53,9 @@ from robot.contract import BASE_CMD, DISPLAY_CMD, ES_ORDERS, ODOMETRY, PLAYER_ST
 
 from .config import Limits, limits_from_config
 from .grid import MapError, parse_map
-from .local import HALF_LENGTH, HALF_WIDTH, Command, DWAParams, LatestScan, carrot, dwa, footprint_distance, heading_speed, social_speed_limit, sweep_clearance, turn_clear
+from .local import BODY, HALF_LENGTH, HALF_WIDTH, Command, DWAParams, LatestScan, carrot, dwa, footprint_distance, heading_speed, social_speed_limit, sweep_clearance, turn_clear
 from .outline import FloorOutline
-from .people import BACK_GAP, BODY_RADIUS, People, behind_clear, closing_in, maybe_behind, nearest, passing_close, standing_in_the_way
+from .people import BACK_GAP, BODY_RADIUS, People, behind_clear, closing_in, maybe_behind, nearest, passing_close, waits_for
 
 ORDERS = f"{ES_ORDERS}/player"
 #: m: how far ahead on the leg the controller steers (pure pursuit).
@@ -82,6 +82,13 @@ WAIT_GAP = BACK_GAP + 0.05
 #: m, m/s: with someone this near walking toward its centre faster than this, it stands (yields)
 YIELD_NEAR = 1.6
 YIELD_SPEED = 0.15
+#: m: someone standing with their centre this near the goal occupies it (the robot cannot stand there and
+#: keep GOTO_SOCIAL_GAP of air to them: their body, the air and its half width) ...
+GOAL_TAKEN = BODY + GOTO_SOCIAL_GAP + HALF_WIDTH
+#: m: ... and held up this near the goal by them, the robot has arrived beside them (a person standing at
+#: the kitchen counter where the kitchen was taught: it waited 10 s at 0.6 m, asked for help, and
+#: went round and round; hall_goto_doorway_person)
+ARRIVE_BESIDE = 1.0
 #: m: a turn on the spot at the goal (``align``) or a back-off keeps the footprint this far from the floor
 #: plan's walls and furniture (they sweep ground the laser does not see), or it is not made.
 SWEEP_MARGIN = 0.05
@@ -142,6 +149,24 @@ class Odometry:
 def pose_of(xml: etree._Element) -> tuple[float, float, float]:
     """``(x, y, theta)`` of a pose or odometry message."""
     return (float(xml.get("x")), float(xml.get("y")), float(xml.get("theta")))  # type: ignore[arg-type]
+
+
+def local_goal(pose: tuple[float, float, float], goal: tuple[float, float]) -> tuple[float, float]:
+    """``goal`` (map frame) in the frame of the robot at ``pose``."""
+    x, y, th = pose
+    c, s = math.cos(th), math.sin(th)
+    dx, dy = goal[0] - x, goal[1] - y
+    return c * dx + s * dy, -s * dx + c * dy
+
+
+def goal_taken(people: np.ndarray, goal: tuple[float, float], *, radius: float = GOAL_TAKEN, speed: float = 0.3) -> bool:
+    """Whether someone standing (slower than ``speed`` m/s) has their centre within ``radius`` m of
+    ``goal`` (``people``: (K, >=4) robot-frame centres and velocities, :meth:`People.around`; ``goal``
+    in the robot frame): the place is theirs for now, the robot cannot stand on it."""
+    if not len(people):
+        return False
+    standing = np.hypot(people[:, 2], people[:, 3]) < speed
+    return bool(np.any(standing & (np.hypot(people[:, 0] - goal[0], people[:, 1] - goal[1]) < radius)))
 
 
 def compose_delta(map_pose: tuple[float, float, float], odo_then: tuple[float, float, float],
@@ -273,6 +298,12 @@ class Player(Module):
         """Robot-frame centres of the confirmed people the attention tracks (predicted to now), (K, 2)."""
         odo = self.odo.pose
         return self.people.around(odo, self.now) if odo is not None else np.zeros((0, 2))
+
+    def _waits_for(self, people: np.ndarray, odo: tuple[float, float, float] | None, travel: float) -> bool:
+        """Whether someone stands in its lane (:func:`~robot.navigation.people.waits_for`; ``people``: the
+        tracks and then the ghosts, as :meth:`People.around` lists them with the scan's echoes)."""
+        seen = self.people.around(odo, self.now, velocity=True) if odo is not None else np.zeros((0, 4))
+        return waits_for(seen, people[len(seen):], half_length=HALF_LENGTH, half_width=HALF_WIDTH, travel=travel, gap=WAIT_GAP)
 
     def nearest_person(self) -> float:
         """Distance (m) to the nearest confirmed person track (inf: none)."""
@@ -417,8 +448,7 @@ class Player(Module):
             # the window lets any turn on the spot pass people (nobody comes nearer the centre), but the
             # corners swing out, behind too, where the laser does not look: not into a tracked body
             cmd = Command(0.0, 0.0, False, cmd.clearance)
-        if cmd.ok and cmd.v > 0.0 and standing_in_the_way(moving, half_length=HALF_LENGTH, half_width=HALF_WIDTH,
-                                                          travel=cmd.v * self.period, gap=WAIT_GAP):
+        if cmd.ok and cmd.v > 0.0 and self._waits_for(moving, odo, cmd.v * self.period):
             # someone stands in its lane: wait outside their personal space (a replan may find a way round)
             cmd = Command(0.0, 0.0, False, cmd.clearance)
         if cmd.ok and cmd.v > 0.0 and (closing_in(moving, near=YIELD_NEAR, speed=YIELD_SPEED) or passing_close(
@@ -426,6 +456,10 @@ class Player(Module):
             # someone near walks at it, or by it inside their personal space (BACK_GAP, 0.45 m of air; the
             # tracker misplaces people by a decimetre): stand and let them pass (yield), turning on the spot at most
             cmd = Command(0.0, cmd.w if abs(cmd.v) < 0.02 else 0.0, True, cmd.clearance)
+        if align and dist <= ARRIVE_BESIDE and abs(cmd.v) < 0.02 and goal_taken(moving, local_goal(pose, (gx, gy))):
+            # someone stands on the place itself and holds it up: it has arrived as near as it politely can
+            # (it does not turn to the place's heading beside them: the corners swing behind it)
+            return self._arrive(dist, 0.0, mapped)
         if cmd.ok and abs(cmd.v) > 0.02:
             self._stuck_since = None
         elif self._stuck_since is None:

@@ -25,6 +25,16 @@ passes both to the dialog's ``need_help``: "I cannot get to the kitchen"):
   ``start_timeout`` (e.g. the ES rejected the step).
 
 The ES's ``cancel`` order drops the plan.
+
+The way clears (issue 26 item 4: a go-to that recovers). After a ``blocked`` failure the robot
+asks for help, but it keeps an eye on its way: for ``watch_time`` seconds it asks the planner
+every ``watch_every`` s whether the way is clear now (``/robot/navigation/replan`` with
+``watch="true"``: a path round what the laser sees that gives every person in the scan their
+space, along ground the laser looks at, :meth:`robot.navigation.planner.Planner.replan`). Two
+such answers in a row (the blocker has stepped aside, not just moved a moment) send the ES
+``way_clear`` with the goal's ``PLACE``: asking for help, the robot goes on to its goal on its
+own. At most ``max_resumes`` times per goal (each new blockage asks for help again), and
+never after the ES's ``cancel`` (she stopped it, or a new plan began).
 """
 
 from __future__ import annotations
@@ -65,7 +75,8 @@ class Sequencer(Module):
     """Hands the plan to the ES step by step (see the module docstring)."""
 
     def __init__(self, sim: Any, *, name: str = "sequencer", blocked_timeout: float = 10.0, start_timeout: float = 3.0,
-                 replan_after: float = 3.0, max_replans: int = 3) -> None:
+                 replan_after: float = 3.0, max_replans: int = 3, watch_time: float = 60.0, watch_every: float = 1.0,
+                 max_resumes: int = 2) -> None:
         super().__init__(sim, name)
         self.blocked_timeout = blocked_timeout
         self.start_timeout = start_timeout
@@ -73,6 +84,14 @@ class Sequencer(Module):
         self.max_replans = max_replans
         self.replans = 0  # asked for this goal
         self._asked = False  # a replan was asked during the present blockage
+        self.watch_time = watch_time
+        self.watch_every = watch_every
+        self.max_resumes = max_resumes
+        self.resumes = 0  # way_clear sent for this goal
+        self.watching: float | None = None  # since when the way of a goal failed "blocked" is watched
+        self._watch_asked = -math.inf  # when the last watch question went out
+        self._clear = 0  # clear answers in a row
+        self._resumed = False  # way_clear sent: the next plan to the goal is its resumption
         sim.bus.declare_channel(REPLAN, REPLAN_SCHEMA)
         self.goal = ""
         self.steps: list[dict[str, str]] = []
@@ -86,7 +105,8 @@ class Sequencer(Module):
 
     def respawn(self) -> Sequencer:
         return Sequencer(self.sim, name=self.name, blocked_timeout=self.blocked_timeout, start_timeout=self.start_timeout,
-                         replan_after=self.replan_after, max_replans=self.max_replans)
+                         replan_after=self.replan_after, max_replans=self.max_replans, watch_time=self.watch_time,
+                         watch_every=self.watch_every, max_resumes=self.max_resumes)
 
     @property
     def active(self) -> bool:
@@ -101,6 +121,8 @@ class Sequencer(Module):
     def _fail(self, reason: str) -> None:
         self.steps, self.index, self.blocked_since = [], -1, None
         self._event("navigation_failed", attrs={"reason": reason}, child=self._place())
+        if reason == "blocked" and self.resumes < self.max_resumes:
+            self.watching, self._watch_asked, self._clear = self.now, -math.inf, 0
 
     def _place(self) -> etree._Element:
         """The goal as a PLACE frame (``<PLACE><TITLE name/></PLACE>``), what the dialog names."""
@@ -110,12 +132,18 @@ class Sequencer(Module):
 
     def _on_plan(self, msg: Message) -> None:
         plan = msg.xml
+        if plan.get("watch") == "true":
+            self._on_watch(plan)
+            return
         if plan.get("replan") == "true":
             if not self.active or plan.get("goal", "") != self.goal or plan.get("failed"):
                 return  # no way round (wait on), or an answer about a goal given up meanwhile
         else:
+            if plan.get("goal", "") != self.goal or not self._resumed:
+                self.resumes = 0  # a new request (the plan of a go-to resumed on way_clear keeps its count)
             self.goal = plan.get("goal", "")
             self.replans = 0
+            self.watching, self._resumed = None, False
             if plan.get("failed"):
                 self._fail(str(plan.get("failed")))
                 return
@@ -156,9 +184,26 @@ class Sequencer(Module):
     def _on_order(self, msg: Message) -> None:
         if msg.xml.get("name") == "cancel":
             self.steps, self.index, self.blocked_since = [], -1, None
+            self.watching = None
+
+    def _on_watch(self, plan: etree._Element) -> None:
+        """The planner's answer to a watch question: is the way of the failed goal clear now?"""
+        if self.watching is None or self.active or plan.get("goal", "") != self.goal:
+            return  # an answer about a watch that ended meanwhile
+        self._clear = 0 if plan.get("failed") else self._clear + 1
+        if self._clear >= 2:
+            self.watching, self._resumed = None, True
+            self.resumes += 1
+            self._event("way_clear", child=self._place())
 
     def check(self) -> None:
-        """Fail a step that stays blocked or never starts (called every 0.1 s)."""
+        """Fail a step that stays blocked or never starts; watch a blocked way (called every 0.1 s)."""
+        if self.watching is not None and not self.active:
+            if self.now - self.watching >= self.watch_time:
+                self.watching = None
+            elif self.now - self._watch_asked >= self.watch_every - 1e-9:
+                self._watch_asked = self.now
+                self.bus.publish(REPLAN, etree.Element("replan", goal=self.goal, watch="true"))
         if not self.active:
             return
         if self.blocked_since is not None and self.now - self.blocked_since >= self.blocked_timeout:

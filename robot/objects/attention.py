@@ -72,9 +72,22 @@ VIEW_HALF_WIDTH = math.radians(24.0)  # the camera's half field of view
 BODY_HALF_WIDTH = 0.3  # metres either side of a person's centre that hide what is behind (shoulders, arm)
 GESTURE_LEAD = 3.0  # s: a pointing that goes with a sentence may begin this long before its first word
 SENTENCE_RECENT = 15.0  # s: a sentence begun this long ago is still the one being resolved (said, understood, sent)
-SEARCH_OFFSETS = (math.radians(-35.0), math.radians(35.0), math.radians(-70.0), math.radians(70.0))  # off her bearing
+SEARCH_OFFSETS = (math.radians(-35.0), math.radians(-70.0), math.radians(35.0), math.radians(70.0))  # off her bearing, one side then the other
 SEARCH_LOOK = 1.0  # s the camera dwells on each side of her
 SEARCH_RADIUS = 1.5  # m: what she shows without a gesture the camera saw stands this near her
+# Then, nothing of it found there, further round on both sides (off her bearing): standing close to the
+# robot she points past its side or behind it, her hand leaves the image at once (at 1 m the image at
+# hand height is 0.9 m wide) and the camera never sees the gesture; beyond the pan-tilt unit's 100
+# degrees the image still reaches 124 degrees. What she shows there stands within ``SEARCH_RADIUS_WIDE``
+# of her (an arm's reach and a step: the plant by the armchair 1.6 m from her, diag_step_aside_child).
+SEARCH_OFFSETS_WIDE = (math.radians(-105.0), math.radians(105.0))
+SEARCH_RADIUS_WIDE = 2.0
+# The pan-tilt unit (Sony EVI-D31's data sheet): it pans at most this fast and this far. A look of
+# SEARCH_LOOK s begins when the camera has got there: swinging from one side of her to the other (140
+# degrees) takes 1.75 s, and a look timed from the order saw the far side for no frame at all.
+PAN_SPEED = math.radians(80.0)
+PAN_LIMIT = math.radians(100.0)
+TURN_TO_LOOK = 5.0  # s: a look at a spot beyond the pan range waits at most this long for the base's turn to it
 POSE_WAIT = 0.3  # s: a percept waits this long for the localised pose of its capture time
 PARTNER_FAR = 2.6  # m: a partner farther away is approached when neither her gesture nor what she shows was seen
 MOVE_TIMEOUT = 20.0  # s: a drive to a better viewpoint that has not arrived by then is given up
@@ -199,6 +212,7 @@ class ObjectAttention(Module):
         self.plan: FloorPlan | None = None
         self._looking = False
         self._seen: list[Seen] = []
+        self._focus_bearing = 0.0  # rad, robot frame: where the last focus sent the camera
         self._frames: list[float] = []  # each seen detection's capture time (its camera frame)
         self._rays: list[tuple[tuple[float, float, float], float, float, float | None]] = []  # each one's pose, bearing, distance, rise
         self._search: asyncio.Task[None] | None = None
@@ -443,8 +457,13 @@ class ObjectAttention(Module):
         self._looking = True
         fallback = self._target_3d(pointing) if pointing is not None else None
         t_end = self.now + self.look_time
+        latest = t_end + TURN_TO_LOOK
         while self.now < t_end - 1e-9:
             self._publish_focus(cause, fallback)
+            if abs(self._focus_bearing) > PAN_LIMIT and t_end < latest:
+                # beyond the pan-tilt unit's reach (she points behind the robot): the person attention
+                # turns the base towards it; the look begins when the camera can get there
+                t_end = min(latest, self.now + self.look_time)
             await asyncio.sleep(0.2)
         self._looking = False
         pose = self.pose
@@ -457,7 +476,9 @@ class ObjectAttention(Module):
     async def _search_near_partner(self, wanted: Wanted, cause: str) -> Resolution | None:
         """Look to either side of the partner (``SEARCH_OFFSETS`` off her bearing, ``SEARCH_LOOK`` s
         each) and resolve what she named among the objects within ``SEARCH_RADIUS`` of her, by
-        type, name and colour alone (nearer to her preferred); two that fit alike: ask. None when
+        type, name and colour alone (nearer to her preferred); two that fit alike: ask. Nothing
+        found there: further round, beside and behind the robot (``SEARCH_OFFSETS_WIDE``, within
+        ``SEARCH_RADIUS_WIDE`` of her). None when
         there is no partner to search around or nothing was named (an unnamed "this" needs the
         gesture)."""
         p, pose = self._partner, self.pose
@@ -466,21 +487,38 @@ class ObjectAttention(Module):
         _, pb, pd = p
         px, py = pose[0] + pd * math.cos(pose[2] + pb), pose[1] + pd * math.sin(pose[2] + pb)
         self._seen, self._frames, self._rays = [], [], []
-        self._looking = True
-        try:
-            for off in SEARCH_OFFSETS:
-                t_end = self.now + SEARCH_LOOK
+        pan = max(-PAN_LIMIT, min(PAN_LIMIT, pb))  # the camera is on her hands
+
+        async def look(off: float) -> None:
+            nonlocal pan
+            to = max(-PAN_LIMIT, min(PAN_LIMIT, pb + off))
+            t_end = self.now + SEARCH_LOOK + abs(to - pan) / PAN_SPEED
+            pan = to
+            self._looking = True
+            try:
                 while self.now < t_end - 1e-9:
                     self.bus.publish(FOCUS, etree.Element("focus", bearing=f"{math.degrees(pb + off):.2f}", distance=f"{max(0.8, pd):.3f}"), causes=(cause,))
                     await asyncio.sleep(0.2)
-        finally:
-            self._looking = False
-        pose = self.pose
-        assert pose is not None
-        merged = merge(one_surface(self._seen, self._rays), (pose[0], pose[1]), eye_height=CAMERA_HEIGHT, frames=self._frames)
-        cands = [c for c in merged if math.hypot(c.x - px, c.y - py) <= SEARCH_RADIUS]
-        res = resolve(cands, wanted, None, (px, py))
-        self.last = res
+            finally:
+                self._looking = False
+
+        def found(radius: float) -> Resolution:
+            pose = self.pose
+            assert pose is not None
+            merged = merge(one_surface(self._seen, self._rays), (pose[0], pose[1]), eye_height=CAMERA_HEIGHT, frames=self._frames)
+            res = resolve([c for c in merged if math.hypot(c.x - px, c.y - py) <= radius], wanted, None, (px, py))
+            self.last = res
+            return res
+
+        for off in SEARCH_OFFSETS:
+            await look(off)
+        res = found(SEARCH_RADIUS)
+        # the nearer side first, and done as soon as it is found there
+        for off in sorted(SEARCH_OFFSETS_WIDE, key=lambda o: abs(max(-PAN_LIMIT, min(PAN_LIMIT, pb + o)) - pan)):
+            if res.kind != "none":
+                break
+            await look(off)
+            res = found(SEARCH_RADIUS_WIDE)
         return res
 
     def _people_map(self, pose: tuple[float, float, float]) -> list[tuple[float, float]]:
@@ -740,6 +778,7 @@ class ObjectAttention(Module):
             dx, dy = target[0] - pose[0], target[1] - pose[1]
             bearing = math.remainder(math.atan2(dy, dx) - pose[2], 2 * math.pi)
             dist = max(0.3, math.hypot(dx, dy) - CAMERA_OFFSET)
+        self._focus_bearing = bearing
         el.set("bearing", f"{math.degrees(bearing):.2f}")
         el.set("distance", f"{dist:.3f}")
         if target is not None and abs(target[2] - TABLE_HEIGHT) > HEIGHT_OFF:

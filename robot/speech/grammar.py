@@ -276,6 +276,14 @@ class Understander:
             tree, ignored, partial = self._parse([_LOST_THIS, Tok("IS", "is", ""), Tok("THE", "the", ""),
                                                   Tok("PLACE", "", "")])
             ignored, partial = [], True
+        if tree is not None and tree_act(tree) == "teach_place" and (
+                (ignored and _name_lost_before_room(toks, ignored))
+                or _hesitated_before_room(Lexicon.words(words), self.lexicon.hesitations)):
+            # "this is our [the→living] room": a word the grammar could not place stands where the room's
+            # name goes, between her "our" and "room"; "our room" would store a room called "room" unasked.
+            # The name was lost: a place with no name, so the dialog asks which room this is
+            tree, _, _ = self._parse([_LOST_THIS, Tok("IS", "is", ""), Tok("THE", "the", ""), Tok("PLACE", "", "")])
+            partial = True
         if tree is None:
             res.ignored = [t.text for t in toks]
             res.reason = "no parse"
@@ -342,6 +350,9 @@ class Understander:
             return None
         if any(t.type in ("YOUR", "MINE") and t.value == "robot" for t in toks):
             return None
+        if any(t.type == "NAME" and self.lexicon.entries.get(tuple(t.text.split()), ("", ""))[0] in ("ROBOT", "ROBOTNAME")
+               for t in toks):
+            return None  # "is this biron's cup", "is that the robot's charger": the robot's own things
         return tree
 
     def _after_negation(self, toks: list[Tok], at: int) -> list[Tok] | None:
@@ -654,6 +665,28 @@ def _room_unnamed(toks: list[Tok]) -> bool:
             and all(k in ("THIS", "THAT", "IT", "HERE", "IS", "ARE") for k in kinds[:-2]))
 
 
+def _name_lost_before_room(toks: list[Tok], ignored: list[str]) -> bool:
+    """Whether a word the parse left out stands right before the last "room", after an article or an
+    owner ("this is our [the] room", "this is my [a] room"): where the room's name goes, so the name was
+    misheard."""
+    at = max((i for i, t in enumerate(toks) if t.type == "ROOM"), default=None)
+    return (at is not None and at >= 2 and toks[at - 1].text in ignored
+            and toks[at - 1].type not in ("MY", "OUR", "POSS", "NAME")
+            and toks[at - 2].type in ("MY", "OUR", "POSS", "THE", "YOUR"))
+
+
+#: Words after which a room's name goes: "our [living] room", "the [guest] room", "anna's [music] room".
+_NAME_GOES_AFTER = frozenset({"my", "our", "your", "the", "POSS"})
+
+
+def _hesitated_before_room(words: list[str], hesitations: frozenset[str]) -> bool:
+    """Whether a hesitation stands where the room's name goes ("this is our uh room"): the recogniser puts
+    "uh" for a word it could not make out, so the name may be lost (a speaker who says "our room" says
+    it without a pause inside)."""
+    return any(words[i] in hesitations and words[i + 1] == "room" and words[i - 1] in _NAME_GOES_AFTER
+               for i in range(1, len(words) - 1))
+
+
 def _declared(text: str) -> set[str]:
     out: set[str] = set()
     for line in text.splitlines():
@@ -712,6 +745,10 @@ def _owner(tree: Tree | None) -> str | None:
     return None
 
 
+#: Object types whose "of" names what they show ("a photo of my daughter"), not whose they are.
+DEPICTING = frozenset({"picture"})
+
+
 def _object(np: Tree | None, *, gesture: bool, position: Tree | None = None, tail: Tree | None = None,
             shown: Tree | None = None) -> etree._Element:
     """``OBJECT`` of a noun phrase; ``shown``: the act, whose own modifiers describe the thing she points at
@@ -730,7 +767,10 @@ def _object(np: Tree | None, *, gesture: bool, position: Tree | None = None, tai
         _S(el, "GESTURE", val="probably_pointing")
     if noun is not None and noun.value:
         _S(el, "TITLE", name=noun.text)
-    owner = _owner(tail) or _owner(_sub(np, "possessor")) or _owner(_sub(np, "of_owner"))  # "the cup of anna"
+    # "the cup of anna": her cup; but "a picture of my daughter" shows the daughter, it is not hers
+    # (review-lang7 item 14): a picture's "of" names what it depicts, never an owner
+    of_owner = None if noun is not None and noun.value in DEPICTING else _sub(np, "of_owner")
+    owner = _owner(tail) or _owner(_sub(np, "possessor")) or _owner(of_owner)
     if owner is not None:
         _S(el, "OWNER", name=owner)
     colours, attrs = _modifiers(np)

@@ -327,11 +327,19 @@ def _left_right(toks: list[Tok]) -> list[Tok]:
 
 def _owners(toks: list[Tok]) -> list[Tok]:
     """A word before a possessive names an owner ("the dog's bowl", "the baby's bottle")."""
-    for i in range(len(toks) - 1):
-        t = toks[i]
-        if toks[i + 1].type == "POSS" and t.type not in ("NAME", "POSS", EDIT, "NO"):
-            toks[i] = Tok("NAME", t.text, t.text)
-    return toks
+    out: list[Tok] = []
+    for i, t in enumerate(toks):
+        if i + 1 < len(toks) and toks[i + 1].type == "POSS" and t.type not in ("NAME", "POSS", EDIT, "NO"):
+            head, _, rest = t.text.partition(" ")
+            if t.type == "ROBOT" and head == "my" and rest:
+                # "my friend's cup": a way to address the robot ("my friend") said before a possessive
+                # is her friend, owned as "my sister's cup" is: MY, then the name without "my"
+                # (review-lang7 item 14)
+                out += [Tok("MY", "speaker", head), Tok("NAME", rest, rest)]
+                continue
+            t = Tok("NAME", t.text, t.text)
+        out.append(t)
+    return out
 
 
 #: Nouns that say what something is made of when they stand before another noun ("a glass vase").

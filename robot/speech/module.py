@@ -5,9 +5,12 @@ the older recogniser's ``wer`` stands in for a missing confidence as ``1 - wer``
 and its ``self="true"`` utterances are skipped).
 
 Output: ``/robot/speech/frames`` (``robot/schemas/speech-frames.xsd``):
-``<understood start end confidence [unknown ignored corrected partial answer fragment]><SPEECH><TIMESTAMP val/>..</SPEECH><words>..</words></understood>``
+``<understood start end confidence [unknown ignored corrected partial answer fragment named opens after]><SPEECH><TIMESTAMP val/>..</SPEECH><words>..</words></understood>``
 (``TIMESTAMP``: the utterance's start in virtual milliseconds, as the papers' frames carry it)
 or ``<not_understood start end confidence [unknown] reason>words</not_understood>``.
+A greeting that opens a request ("hello BIRON, follow me") is two frames: the greeting
+(``opens="true"``), then the request (``after="greeting"``), which the dialog handles once the
+greeting has been taken.
 
 Timing (virtual, docs/semantics.md §7 / the papers' Fig. 6): recognition takes most
 of the time and grows with the utterance's length, ``recognition_base +
@@ -248,4 +251,16 @@ class SpeechUnderstanding(Module):
         self.counts["utterances"] += 1
         self.counts["understood" if u.frame is not None else "not_understood"] += 1
         named = calls_robot(words, self.understander.lexicon)
-        self.bus.publish(FRAMES, frame_message(u, start, end, confidence, named), causes=(cause,), transfer=True)
+        rest = self.understander.understand(" ".join(u.rest)) if u.rest else None
+        if rest is not None and rest.frame is None:
+            rest = None
+        greeting = frame_message(u, start, end, confidence, named)
+        if rest is not None:
+            greeting.set("opens", "true")
+        self.bus.publish(FRAMES, greeting, causes=(cause,), transfer=True)
+        if rest is not None:
+            # "hello BIRON, follow me": the request said after the greeting is a frame of its own, for
+            # the dialog to handle once the greeting is taken (the ES takes a follow only from a partner)
+            req = frame_message(rest, start, end, confidence, named)
+            req.set("after", "greeting")
+            self.bus.publish(FRAMES, req, causes=(cause,), transfer=True)
