@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import math
 from types import SimpleNamespace
+from typing import Any
 
 import numpy as np
 import pytest
@@ -255,14 +256,12 @@ def test_the_go_to_stands_while_someone_walks_by_it_close():
     assert v > 0.0  # further off he does not hold it up
 
 
-@pytest.mark.parametrize("person", [(3.0, 2.0), (2.4, 1.85), (3.6, 2.2)])
-def test_the_first_plan_of_a_go_to_gives_a_person_standing_on_the_way_their_space(person):
-    """Only replans used to see people: the first plan ran straight through someone standing between
-    the robot and the goal, and the robot met her in its window. The first plan reads a fresh scan as
-    a replan does."""
+def _first_plan(grid: OccupancyGrid, start: tuple[float, float, float], person: tuple[float, float]) -> tuple[Any, list[Any]]:
+    """The planner's first plan of a go-to to the kitchen at (5, 2) on ``grid``, with ``person`` standing in
+    the fresh scan it waits for: (the path, the plans it published)."""
     import asyncio
 
-    pl, out = _planner(ROOM, (1.0, 2.0, 0.0), (5.0, 2.0), person)
+    pl, out = _planner(grid, start, (5.0, 2.0), person)
     pl.goal = None
     pl._request = 1
     pl.scan.update = lambda msg: None
@@ -270,15 +269,23 @@ def test_the_first_plan_of_a_go_to_gives_a_person_standing_on_the_way_their_spac
     async def place(title):  # noqa: ANN001, ANN202
         return (5.0, 2.0, 0.0)
 
-    async def grid():  # noqa: ANN202
-        return ROOM
+    async def floor():  # noqa: ANN202
+        return grid
 
     async def scan():  # noqa: ANN202
         return object()
 
-    pl._place, pl._map, pl._next_scan = place, grid, scan  # type: ignore[method-assign]
-    goal = etree.fromstring('<PLACE><TITLE name="kitchen"/></PLACE>')
-    path = asyncio.run(pl.plan_for(goal))
+    pl._place, pl._map, pl._next_scan = place, floor, scan  # type: ignore[method-assign]
+    path = asyncio.run(pl.plan_for(etree.fromstring('<PLACE><TITLE name="kitchen"/></PLACE>')))
+    return path, out
+
+
+@pytest.mark.parametrize("person", [(3.0, 2.0), (2.4, 1.85), (3.6, 2.2)])
+def test_the_first_plan_of_a_go_to_gives_a_person_standing_on_the_way_their_space(person):
+    """Only replans used to see people: the first plan ran straight through someone standing between
+    the robot and the goal, and the robot met her in its window. The first plan reads a fresh scan as
+    a replan does."""
+    path, out = _first_plan(ROOM, (1.0, 2.0, 0.0), person)
     assert path is not None and not out[-1].failed and not out[-1].replan
     assert _min_distance(path, person) >= PERSON_CLEAR - 1.5 * ROOM.cell
 
@@ -286,24 +293,7 @@ def test_the_first_plan_of_a_go_to_gives_a_person_standing_on_the_way_their_spac
 def test_a_person_in_the_only_door_does_not_fail_the_first_plan():
     """Where her space closes every way (she stands in the only door), the first plan is the floor
     plan's: people move, and the player waits for her at a polite distance."""
-    import asyncio
-
-    pl, out = _planner(DOOR, (1.5, 2.0, 0.0), (5.0, 2.0), (3.0, 2.0))
-    pl.goal = None
-    pl._request = 1
-    pl.scan.update = lambda msg: None
-
-    async def place(title):  # noqa: ANN001, ANN202
-        return (5.0, 2.0, 0.0)
-
-    async def grid():  # noqa: ANN202
-        return DOOR
-
-    async def scan():  # noqa: ANN202
-        return object()
-
-    pl._place, pl._map, pl._next_scan = place, grid, scan  # type: ignore[method-assign]
-    path = asyncio.run(pl.plan_for(etree.fromstring('<PLACE><TITLE name="kitchen"/></PLACE>')))
+    path, out = _first_plan(DOOR, (1.5, 2.0, 0.0), (3.0, 2.0))
     assert path is not None and not out[-1].failed
 
 
