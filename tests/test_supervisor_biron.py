@@ -28,6 +28,11 @@ RETAINED: dict[tuple[str, str], str] = {
     ("LookingAround", "greeting"): "synchronisation: a greeting waits for the person attention's potential partner "
                                    "(the papers' example); the radio's greeting expires",
     ("AskingForHelp", "greeting"): "synchronisation, as in LookingAround: a greeting waits for a potential partner",
+    ("LookingAround", "way_clear"): "the sequencer's watch answer that the way cleared can arrive after the ES left "
+                                    "AskingForHelp for LookingAround (its partner lost meanwhile): nothing takes it and it "
+                                    "expires; a catch-all transition lengthened every run's introspection (goto9)",
+    ("PotentialPartner", "way_clear"): "as in LookingAround: a late watch answer after the ES left AskingForHelp "
+                                       "for a potential partner; it expires",
 }
 
 

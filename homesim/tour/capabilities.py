@@ -44,7 +44,7 @@ _METRICS = {"following": "following", "navigation": "go-to", "teaching": "object
             "dialog": "conversation"}  # the dialog's own figures: no question asked a third time, ...
 #: The robot's words (robot-says patterns), first match wins.
 _SAYS = ((r"good-?bye|\bbye\b", "good-bye"),
-         (r"i am biron|hello|\bhi\b", "greeting"),
+         (r"i am biron|hello|\bhi\b|can't see you", "greeting"),  # "I can't see you": a greeting it could not place
          (r"following|too fast|slow|stop first", "following"),
          (r"you left|look around", "partner kept"),
          (r"did not understand", "partner kept"),  # never said to others' chat: she stays the one it talks to
