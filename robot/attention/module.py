@@ -243,6 +243,8 @@ class PersonAttention(Module):
 
     #: the ES's last order was ``look_for_help`` (the robot asked for help; :meth:`_voice_heading`)
     seeking_help: bool = False
+    #: when the beam last listened to a voice nobody seen explained (:meth:`beam`)
+    _heard_voice_at: float = -math.inf
 
     # following, the time since her last sighting spent yielding (set in __init__; here for the rule's
     # unit tests, which build the module without a bus)
@@ -1276,7 +1278,14 @@ class PersonAttention(Module):
             # in it (a reading a frame old lags a robot turning at 45 degrees a second by more than the beam)
             return math.remainder(vt[1] - self._pose_at(t)[2], 2 * math.pi)
         if self._dominant is not None and t - self._dominant[0] <= self.params.dominant_max_age:
+            self._heard_voice_at = t
             return self._dominant[1]
+        if bearing is not None and category == 2 and t - self._heard_voice_at <= self.params.dominant_max_age:
+            # the voice it was listening to is now explained by the person it attends to, who speaks
+            # still turned away (stepping out from behind a sideboard, turning to the robot as he ends):
+            # the utterance under way is followed to its end, not cut off (wlan_reorder seed 8)
+            self._heard_voice_at = t
+            return bearing
         return None
 
     def _other_talks(self, t: float) -> bool:
