@@ -59,8 +59,8 @@ def steps_of(plan: etree._Element, *, tolerance: float = 0.25, final_tolerance: 
 
     Every corner of the plan is a step. A last corner a few centimetres from the place, which the
     grid's path often ends with, is dropped by the planner, which can see whether the straight leg to
-    the place is free (robot.navigation.grid.without_end_corner, END_CORNER in the planner: these two
-    tolerances together); a corner round a door jamb stays a step however near the place."""
+    the place is free (robot.navigation.grid.without_end_corner, END_CORNER in the planner: the place's
+    own arrival tolerance); a corner round a door jamb stays a step however near the place."""
     pts = [(float(w.get("x")), float(w.get("y"))) for w in plan.findall("waypoint")]
     last = plan.findall("waypoint")[-1] if pts else None
     out = []
