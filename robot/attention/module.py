@@ -60,8 +60,9 @@ from lxml import etree
 from homesim.message import Message
 from homesim.module import Module
 
+from robot.blindside import SonarEchoes, blind_clear, blind_points
 from robot.contract import (ATTENTION_STATE, BASE_CMD, ES_EVENTS, ES_ORDERS, FACES, FOCUS, FOLLOW_STATUS, ODOMETRY, PARTNER, PLAYER_STATUS,
-                            POSE, PTU_CMD, SCAN, SOURCES, STEER, TORSOS, TRACKS)
+                            POSE, PTU_CMD, SCAN, SONAR, SOURCES, STEER, TORSOS, TRACKS)
 
 from .appearance import Colours, anchor_torsos, same_clothes
 from .clutter import FurnitureLegs
@@ -315,6 +316,8 @@ class PersonAttention(Module):
             declare_channels(sim.bus)
         self.bus.subscribe(SCAN, self._on_scan)
         self.bus.subscribe(ODOMETRY, self._on_odometry)
+        self.sonar = SonarEchoes()  # the sonar rings' echoes: the blind half a turn swings a rear corner into
+        self.bus.subscribe(SONAR, lambda m: self.sonar.update(m.xml, self._odom_pose(), self.now))
         self.bus.subscribe(FACES, self._on_faces)
         self.bus.subscribe(TORSOS, self._on_torsos)
         self.bus.subscribe(SOURCES, self._on_sounds)
@@ -1337,6 +1340,15 @@ class PersonAttention(Module):
         c, s = math.cos(mth), math.sin(mth)
         return np.array(self._plan_near.inside_points([(mx + c * x - s * y, my + s * x + c * y) for x, y in echoes.tolist()]), dtype=bool)
 
+    def _blind_clear(self, w: float) -> bool:
+        """Whether turning at ``w`` keeps the corners off what the sonar hears beside and behind that the floor
+        plan does not explain (:func:`robot.blindside.blind_clear`): the last check of every turn it sends."""
+        arcs = self.sonar.arcs(self._odom_pose(), self.now)
+        if not arcs:
+            return True
+        pts = blind_points(arcs, lambda arc: bool(self._explained(arc).any()))
+        return blind_clear(0.0, w, pts, duration=self.params.turn_check)
+
     def turn_rate(self, b: float, bodies: np.ndarray) -> float:
         """:func:`turn_rate` with this module's parameters."""
         return turn_rate(b, bodies, self.params)
@@ -1362,7 +1374,13 @@ class PersonAttention(Module):
                 return False
         return True
 
+    def _odom_pose(self) -> tuple[float, float, float] | None:
+        o = self._odom
+        return None if o is None else (o[1], o[2], o[3])
+
     def _base(self, w: float) -> None:
+        if w and not self._blind_clear(w):
+            w = 0.0
         self.bus.publish(BASE_CMD, etree.Element("velocity", v="0", w=f"{w:.4f}"), transfer=True)
 
     def _steer(self, bearing: float | None) -> None:
