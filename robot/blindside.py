@@ -13,9 +13,10 @@ What a reading says: something lies somewhere on the arc at its range across the
 (a sonar gives no bearing within its cone), so each reading becomes :data:`ARC_POINTS` points on
 that arc. A reading the floor plan explains (its arc within :data:`EXPLAIN` m of a wall or a piece
 of furniture the robot knows) is the flat's, which the modules' own floor-plan checks keep to; the
-others may be a person's legs, and a person's body reaches up to 0.19 m nearer than their legs
-(a 0.25 m body round legs 0.1 m either side of the centre), so the footprint keeps
-:data:`BLIND_GAP` from them, or comes no nearer than it is (standing still is always clear). Only
+others may be a person's legs, and a person's body reaches up to 0.29 m nearer than the echo of
+their far leg (a 0.25 m body round legs 0.1 m either side of the centre; the near leg may lie
+between two cones and go unheard), so the footprint keeps :data:`BLIND_GAP` from them, or comes no
+nearer than it is (standing still is always clear). Only
 echoes behind the laser's line count: ahead of it the laser sees, and the modules' people rules
 already hold.
 
@@ -43,8 +44,8 @@ ECHO_AGE = 0.7
 ARC_POINTS = 5
 #: m: the laser's line (its offset ahead of the centre): echoes behind it are the sonar's alone
 BLIND_X = 0.13
-#: m: the footprint keeps this far from an unexplained echo (a person's body beyond their legs), or comes no nearer
-BLIND_GAP = 0.20
+#: m: the footprint keeps this far from an unexplained echo (a person's body beyond their far leg), or comes no nearer
+BLIND_GAP = 0.30
 #: m: a reading whose arc comes this close to the floor plan's outline is the flat's
 EXPLAIN = 0.12
 

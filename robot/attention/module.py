@@ -149,6 +149,10 @@ class AttentionParams:
     # echo near the robot may be a person's leg (the leg detector needs whole legs, and at the laser's edge
     # it sees half of one): a turn keeps clear of a body behind it as of a tracked one
     plan_explains: float = 0.12
+    # m: the leg filter grows the walls (and furniture standing on the floor) by a leg's radius: a leg's
+    # centre is never nearer a wall's surface, and a door jamb's end placed with the map pose's error of a
+    # few centimetres is not a leg (robot.attention.clutter)
+    leg_wall_margin: float = 0.06
     blind_bearing: float = math.radians(70.0)
     blind_turn: float = 0.4  # rad/s
     camera_height: float = 1.41
@@ -310,6 +314,7 @@ class PersonAttention(Module):
         self.scans = 0
         self._scan_id: str | None = None  # the scan being processed: the cause of the events it decides
         self.furniture: FurnitureLegs | None = None  # from map_server/map, once it answered
+        self._leg_plan: FurnitureLegs | None = None  # the same plan, walls grown by leg_wall_margin: the leg filter
         self._map_pose: tuple[float, float, float, float] | None = None  # t, x, y, theta (localiser)
         self._map_odom: tuple[float, float, float] | None = None  # odometry when that pose came
         if typed:
@@ -380,6 +385,7 @@ class PersonAttention(Module):
             reply = await self.bus.call("map_server", "map", etree.Element("map_request"), timeout=2.0)
             plan = parse_map(reply.xml)
             self.furniture = FurnitureLegs(plan)
+            self._leg_plan = FurnitureLegs(plan, wall_margin=self.params.leg_wall_margin)
             self._plan_near = FurnitureLegs(plan, margin=self.params.plan_explains, wall_margin=self.params.plan_explains)
         except (HomesimError, MapFormatError, TimeoutError) as exc:
             self.refused.append(f"no floor plan, furniture legs are not filtered: {exc}")
@@ -638,7 +644,7 @@ class PersonAttention(Module):
         if self.furniture is not None:
             mx, my, mth = self._map_pose = self._robot_in_map(t, pose)
             cm, sm = math.cos(mth), math.sin(mth)
-            inside = self.furniture.inside_points
+            inside = (self._leg_plan or self.furniture).inside_points
 
             def reject(points: list[tuple[float, float]]) -> list[bool]:  # leg candidates (robot frame) on raised furniture's footprints
                 return inside([(mx + cm * x - sm * y, my + sm * x + cm * y) for x, y in points])
