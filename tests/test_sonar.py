@@ -173,3 +173,19 @@ def test_a_command_the_rule_lets_through_never_touches_someone_beside_or_behind(
     dx, dy = cx - x, cy - y
     gaps = footprint_distance(c * dx + s * dy, -s * dx + c * dy) - BODY
     assert gaps.min() >= min(0.0, float(gaps[0])) - 1e-3, (cx, cy, gaps.min())
+
+
+def test_a_packet_in_one_pass_reads_what_ray_by_ray_casting_reads_float_for_float():
+    """The module casts a packet's rays in one pass (cast_from); RayCaster, one transducer at a time, is the
+    reference: the same floats, so traces do not depend on which is used."""
+    from homesim.world.raycast import RayCaster
+
+    rng = np.random.default_rng(3)
+    spec = SonarSpec()
+    for _ in range(300):
+        segs = [((rng.uniform(-4, 4), rng.uniform(-4, 4)), (rng.uniform(-4, 4), rng.uniform(-4, 4))) for _ in range(rng.integers(0, 30))]
+        legs = [(rng.uniform(-2, 2), rng.uniform(-2, 2)) for _ in range(rng.integers(0, 6))]
+        world = FakeWorld(segments=segs, legs=legs)
+        pose = (rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-math.pi, math.pi))
+        which = tuple(int(i) for i in rng.choice(16, size=5, replace=False))
+        assert np.array_equal(sonar_readings(world, pose, spec, which, None), sonar_readings(world, pose, spec, which, None, caster=RayCaster()))
