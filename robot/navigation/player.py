@@ -64,6 +64,9 @@ ORDERS = f"{ES_ORDERS}/player"
 LOOKAHEAD = 0.7
 #: m: how far the player backs off, at most, per ``move_to``, to get room to turn.
 BACK_OFF = 0.3
+#: m the robot backs off, standing with its partner, when told it is in someone's way ("you are in my way":
+#: the ES's order make_way); only where the floor plan and the people behind it leave room
+MAKE_WAY_BACK = 0.5
 #: rad: a goal further off the heading than this has to be turned to (see :func:`heading_speed`).
 BACK_OFF_BEARING = math.pi / 3
 #: rad: the carrot of a leg that starts where the robot stands, further off its heading than this, is
@@ -279,6 +282,7 @@ class Player(Module):
         self._aligning: float | None = None  # m backed off to make room for the final turn (None: not there yet)
         self._turning = False  # the final turn has begun (its whole sweep was clear)
         self._facing = False  # turning to face a first leg before driving it (see TURN_FIRST)
+        self._make_way = 0.0  # m still to back off out of someone's way (order make_way; 0: not making way)
 
     def respawn(self) -> Player:
         """A fresh instance with the same configuration (what a process manager's restart gives)."""
@@ -317,9 +321,17 @@ class Player(Module):
             self._aligning = None
             self._turning = False
             self._stuck_since = None
+            self._make_way = 0.0
             self.state = ""  # a new pose: say "moving" even when it was already moving
             self._set_state("moving")
+        elif name == "make_way":
+            # "you are in my way" while it stands with its partner: back off MAKE_WAY_BACK m, straight, as
+            # far as the floor plan and the people behind it allow (no goal, no status: it is no go-to)
+            if self.goal is None:
+                self._make_way = MAKE_WAY_BACK
+                self._listen_to_people(True)
         elif name == "stop":
+            self._make_way = 0.0
             self.goal = self._reached = None
             self._aligning = None
             self._turning = False
@@ -516,7 +528,7 @@ class Player(Module):
     def control_step(self) -> tuple[float, float] | None:
         """One step of ``move_to``: the velocity sent, or None when not driving."""
         if self.goal is None:
-            return None
+            return self._making_way() if self._make_way > 0.0 else None
         pose = self.pose()
         if pose is None:
             self._set_state("blocked")
@@ -627,10 +639,32 @@ class Player(Module):
             self._set_state("moving", dist)
         return (cmd.v, cmd.w)
 
+    def _making_way(self) -> tuple[float, float] | None:
+        """One step of backing off out of someone's way (order make_way): straight back at half the reverse
+        speed while the floor plan leaves room and nobody tracked is behind (the laser does not look
+        behind); without a floor plan it does not move at all. Stops when done or when the room ends."""
+        pose = self.pose()
+        if pose is None or self.outline is None:
+            if self._map_asked:  # no floor plan to back into: it stays where it is
+                self._make_way = 0.0
+                self._listen_to_people(False)
+            return None
+        mapped = self.mapped(pose)
+        v = -0.5 * self.limits.max_reverse
+        if len(mapped) and self._sweep_ok(v, 0.0, mapped) and self._behind_clear(self._make_way):
+            self.bus.publish(BASE_CMD, etree.Element("velocity", v=f"{v:.4f}", w="0.0000"))
+            self._make_way += v * self.period
+            if self._make_way > 0.0:
+                return (v, 0.0)
+        self._make_way = 0.0
+        self._listen_to_people(False)
+        self.bus.publish(BASE_CMD, etree.Element("velocity", v="0", w="0"))
+        return (0.0, 0.0)
+
     async def run(self) -> None:
         while True:
             self.beat()
-            if self.goal is not None and not self._map_asked:
+            if (self.goal is not None or self._make_way > 0.0) and not self._map_asked:
                 await self._fetch_map()
             self.control_step()
             await asyncio.sleep(self.period)
