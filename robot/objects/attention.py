@@ -60,7 +60,7 @@ from robot.floorplan import FloorPlan, parse_map
 from robot.contract import ES_EVENTS, ES_ORDERS, FOCUS, GESTURES, OBJECTS, PARTNER, PLAYER_STATUS, POSE, TRACKS
 
 from .gestures import CAMERA_HEIGHT, CAMERA_OFFSET, GestureTracker, camera_to_map
-from .resolve import MERGE_BEARING, Candidate, Pointing, Resolution, Wanted, along_ray, choose_pointed, merge, option_texts, resolve
+from .resolve import MERGE_BEARING, Candidate, Pointing, Resolution, Wanted, along_ray, choose_pointed, learned_type, merge, option_texts, resolve
 from .viewpoint import ARRIVE_TOLERANCE, in_range, pointed_spot, sight_clear, viewpoint, viewpoint_route
 
 if TYPE_CHECKING:
@@ -881,7 +881,7 @@ class ObjectAttention(Module):
 
     # ------------------------------------------------------------ results
     def _recognized(self, c: Candidate, wanted: Wanted, obj: etree._Element | None, cause: str) -> None:
-        typ = wanted.type or c.type
+        typ = learned_type(c, wanted)
         el = etree.Element("OBJECT", type=typ, name=wanted.name or typ)
         if wanted.owner:
             el.set("owner", wanted.owner)
