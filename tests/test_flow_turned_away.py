@@ -186,3 +186,19 @@ def test_once_she_has_talked_with_the_robot_turned_aside_she_goes_on_talking_to_
     d._addressed_at = 12.5  # the robot took a turn of hers after she turned aside
     d._partner_cues.extend((13.0 + 0.1 * i, ASIDE, 0, 0.0) for i in range(10))
     assert d.addressed(13.0, 13.9)
+
+
+@settings(max_examples=200, deadline=None)
+@given(other=st.floats(10.0, 80.0), n=st.integers(3, 40), hers=st.integers(0, 40), facing=st.sampled_from(["unknown", "false", "true"]))
+def test_face_to_face_words_mostly_heard_from_elsewhere_are_another_talkers(other, n, hers, facing):
+    # distractor seed 0 (obj12): Tom's "I need to find my keys now", 13 degrees off Anna, overlapping
+    # the start of her next turn by 0.3 s, was taught as her keys
+    hers = min(hers, n)
+    d = _dialog("Interacting", [(10.0 + 0.1 * i, facing, 0) for i in range(n)])
+    for i in range(n):
+        d._sources.append((10.0 + 0.1 * i, (0.5,) if i < hers else (other,)))
+    heard = d.addressed(10.0, 10.0 + 0.1 * (n - 1))
+    if facing == "true":
+        assert heard  # she faced the robot while the words were said
+    else:
+        assert heard == (hers >= 0.25 * n)

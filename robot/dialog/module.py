@@ -158,6 +158,9 @@ DRIVING_STATES = frozenset({"Navigating"})
 #: the sentence at once anyway). Above the microphones' frame interval (0.1 s) and a breath between words,
 #: below the ~1 s from the end of an utterance to the robot's answer to it, so answers are not delayed.
 TURN_GAP = 0.5
+#: face to face, words of which fewer than this share of the voiced sound frames came from where she stands
+#: are another talker's (the addressee rule; an overlap with her next turn is a few frames)
+HER_SHARE = 0.25
 #: s: a sentence held for a pause this long is said anyway (someone talking on and on near her)
 HOLD_MAX = 8.0
 #: s: how often a held sentence looks for the pause
@@ -411,7 +414,14 @@ class Dialog(Module):
         if self.manager.es_state in DRIVING_STATES:
             return self._from_her_place(start, end)
         during = [(f, c) for t, f, c, _ in self._partner_cues if start <= t <= end]
-        if not during or any(f == "true" for f, _ in during):
+        if during and any(f == "true" for f, _ in during):
+            return True
+        if self._voice_elsewhere(start, end):
+            # the microphones heard the words, and hardly any of it from where she stands (distractor
+            # seed 0 on obj12: Tom's "I need to find my keys" 13 degrees off Anna, her face not seen,
+            # overlapping her next words by 0.3 s, was taught as her keys): another talker's
+            return False
+        if not during:
             return True
         if all(f == ASIDE for f, _ in during):
             # she walked off, her back to the robot, the whole time: talking to herself, unless she
@@ -443,6 +453,22 @@ class Dialog(Module):
             if any(abs(front_bearing(b) - her) <= self.barge_in_width for b in bs):
                 return True
         return False
+
+    def _voice_elsewhere(self, start: float, end: float) -> bool:
+        """Face to face (not while she leads), the words are another talker's when at least
+        ``VOICE_FRAMES`` sound frames during them heard a voice and fewer than ``HER_SHARE`` of those
+        frames heard one within ``barge_in_width`` of where the pair hears her: the tail of her own next
+        turn, overlapping his words, does not make them hers. Without such frames, or without her
+        bearing, nothing is decided here (False)."""
+        cues = [(t, b) for t, _, _, b in self._partner_cues if math.isfinite(b) and start - 0.5 <= t <= end + 0.5]
+        frames = [(t, bs) for t, bs in self._sources if start <= t <= end and bs]
+        if not cues or len(frames) < VOICE_FRAMES:
+            return False
+        hers = 0
+        for t, bs in frames:
+            her = front_bearing(min(cues, key=lambda c: abs(c[0] - t))[1])
+            hers += any(abs(front_bearing(b) - her) <= self.barge_in_width for b in bs)
+        return hers < HER_SHARE * len(frames)
 
     def _from_her_place(self, start: float, end: float) -> bool:
         """The addressee rule while the robot drives on its own (``Navigating``): its person attention
@@ -663,11 +689,11 @@ class Dialog(Module):
 
     def _on_sources(self, msg: Message) -> None:
         self._note_voice(msg)
-        if self.manager.es_state in LEADING_STATES or self.manager.es_state in DRIVING_STATES:
-            heard = tuple(float(src.get("bearing", "nan")) for src in msg.xml.iterfind("source")
-                          if float(src.get("level", "0")) >= VOICE_LEVEL and math.isfinite(float(src.get("bearing", "nan"))))
-            if heard:
-                self._sources.append((float(msg.xml.get("time", repr(msg.created))), heard))
+        # every state: the addressee rule asks where the words came from (bounded deque)
+        heard = tuple(float(src.get("bearing", "nan")) for src in msg.xml.iterfind("source")
+                      if float(src.get("level", "0")) >= VOICE_LEVEL and math.isfinite(float(src.get("bearing", "nan"))))
+        if heard:
+            self._sources.append((float(msg.xml.get("time", repr(msg.created))), heard))
         if not self._talking or self._cut:
             return
         if float(msg.xml.get("time", "inf")) < self._talk_start:
