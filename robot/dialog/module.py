@@ -507,7 +507,11 @@ class Dialog(Module):
             self.not_addressed += 1  # chat among the partner's group: not a request to the robot
             return
         if x.tag == "understood":
-            self._addressed_at = self.now  # a turn taken as meant for the robot (the rule's exchange)
+            # a turn taken as meant for the robot (the rule's exchange): when its words began, so that
+            # words said before she turned aside ("wait, I want to show you my book", then she walks off
+            # to the shelf) do not make her muttering there ("now where did I put it") meant for it
+            began = float(x.get("start", "nan"))
+            self._addressed_at = began if math.isfinite(began) else self.now
         self._on_addressed(msg)
 
     def _on_addressed(self, msg: Message) -> None:
