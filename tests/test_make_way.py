@@ -108,6 +108,12 @@ def _player(*, mapped: bool = True, behind_clear: bool = True, sweep_ok: bool = 
     p._sweep_ok = lambda v, w, m: sweep_ok  # type: ignore[method-assign]
     p._behind_clear = lambda reach: behind_clear  # type: ignore[method-assign]
     p._listen_to_people = lambda on: None  # type: ignore[method-assign]
+    from types import SimpleNamespace
+    from robot.blindside import SonarEchoes
+    p.sim = SimpleNamespace(now=0.0)
+    p.odo = SimpleNamespace(pose=(0.0, 0.0, 0.0))
+    p.sonar = SonarEchoes()  # a packet came, nothing heard behind (closed loop: test_make_way_closed_loop.py)
+    p._make_way_at = p._sonar_at = p._tracks_at = 0.0
     return p
 
 

@@ -65,8 +65,12 @@ LOOKAHEAD = 0.7
 #: m: how far the player backs off, at most, per ``move_to``, to get room to turn.
 BACK_OFF = 0.3
 #: m the robot backs off, standing with its partner, when told it is in someone's way ("you are in my way":
-#: the ES's order make_way); only where the floor plan and the people behind it leave room
+#: the ES's order make_way); only where the sonar's blind half, the floor plan and the people behind leave room
 MAKE_WAY_BACK = 0.5
+#: s the make-way back-off waits for the first sonar packet and the first person tracks after the order
+#: (both are subscribed with it): backing off on empty echo and track buffers would be backing off blind.
+#: The sonar sends at 10 Hz and the tracker at its scan rate; heard nothing in this time, it stays.
+MAKE_WAY_WAIT = 1.5
 #: rad: a goal further off the heading than this has to be turned to (see :func:`heading_speed`).
 BACK_OFF_BEARING = math.pi / 3
 #: rad: the carrot of a leg that starts where the robot stands, further off its heading than this, is
@@ -283,6 +287,9 @@ class Player(Module):
         self._turning = False  # the final turn has begun (its whole sweep was clear)
         self._facing = False  # turning to face a first leg before driving it (see TURN_FIRST)
         self._make_way = 0.0  # m still to back off out of someone's way (order make_way; 0: not making way)
+        self._make_way_at = 0.0  # when the make_way order came (see MAKE_WAY_WAIT)
+        self._sonar_at: float | None = None  # when the newest sonar packet came (None: none since subscribing)
+        self._tracks_at: float | None = None  # when the newest person tracks came (None: none since subscribing)
 
     def respawn(self) -> Player:
         """A fresh instance with the same configuration (what a process manager's restart gives)."""
@@ -329,6 +336,7 @@ class Player(Module):
             # far as the floor plan and the people behind it allow (no goal, no status: it is no go-to)
             if self.goal is None:
                 self._make_way = MAKE_WAY_BACK
+                self._make_way_at = self.now
                 self._listen_to_people(True)
         elif name == "stop":
             self._make_way = 0.0
@@ -359,7 +367,7 @@ class Player(Module):
         """
         if on and self._tracks_sub is None:
             self._tracks_sub = self.bus.subscribe(TRACKS, self._on_tracks)
-            self._sonar_sub = self.bus.subscribe(SONAR, lambda m: self.sonar.update(m.xml, self.odo.pose, self.now))
+            self._sonar_sub = self.bus.subscribe(SONAR, self._on_sonar)
         elif not on and self._tracks_sub is not None:
             self._tracks_sub.close()
             self._tracks_sub = None
@@ -367,9 +375,15 @@ class Player(Module):
             self._sonar_sub.close()
             self._sonar_sub = None
             self.sonar = SonarEchoes()
+            self._sonar_at = self._tracks_at = None
+
+    def _on_sonar(self, msg: Message) -> None:
+        self.sonar.update(msg.xml, self.odo.pose, self.now)
+        self._sonar_at = self.now
 
     def _on_tracks(self, msg: Message) -> None:
         self.people.update(msg.xml)  # read only when a control step needs it
+        self._tracks_at = self.now
 
     def people_around(self) -> np.ndarray:
         """Robot-frame centres of the confirmed people the attention tracks (predicted to now), (K, 2)."""
@@ -641,21 +655,31 @@ class Player(Module):
 
     def _making_way(self) -> tuple[float, float] | None:
         """One step of backing off out of someone's way (order make_way): straight back at half the reverse
-        speed while the floor plan leaves room and nobody tracked is behind (the laser does not look
-        behind); without a floor plan it does not move at all. Stops when done or when the room ends."""
+        speed, held like every other base command to the sonar's blind-half rule (:meth:`_blind_checked`),
+        and to the floor plan and the tracked people behind. It starts only once a sonar packet and the
+        person tracks have come in after the order (:data:`MAKE_WAY_WAIT`); without a floor plan it does not
+        move at all (an empty neighbourhood on the plan is room). Stops when done or when the room ends."""
         pose = self.pose()
         if pose is None or self.outline is None:
             if self._map_asked:  # no floor plan to back into: it stays where it is
-                self._make_way = 0.0
-                self._listen_to_people(False)
+                return self._stay_put()
             return None
+        if self._sonar_at is None or self._tracks_at is None:
+            if self.now - self._make_way_at > MAKE_WAY_WAIT:
+                return self._stay_put()  # no sonar or no tracks: it cannot know what is behind it
+            return None  # not yet heard behind it: nothing sent
         mapped = self.mapped(pose)
         v = -0.5 * self.limits.max_reverse
-        if len(mapped) and self._sweep_ok(v, 0.0, mapped) and self._behind_clear(self._make_way):
+        if ((not len(mapped) or self._sweep_ok(v, 0.0, mapped)) and self._behind_clear(self._make_way)
+                and self._blind_checked(v, 0.0, mapped) != (0.0, 0.0)):
             self.bus.publish(BASE_CMD, etree.Element("velocity", v=f"{v:.4f}", w="0.0000"))
             self._make_way += v * self.period
             if self._make_way > 0.0:
                 return (v, 0.0)
+        return self._stay_put()
+
+    def _stay_put(self) -> tuple[float, float]:
+        """End a make-way back-off: stop, and stop listening behind."""
         self._make_way = 0.0
         self._listen_to_people(False)
         self.bus.publish(BASE_CMD, etree.Element("velocity", v="0", w="0"))
