@@ -32,9 +32,19 @@ def frame(words: str) -> str:
 
 @pytest.mark.parametrize("words", ["excuse me, you're in my way", "you are blocking the door biron", "let me through",
                                    "could you please move out of the way", "can I get past", "I can't get past you",
-                                   "mind out", "sorry BIRON, you are standing in my way", "make way please"])
+                                   "mind out", "sorry BIRON, you are standing in my way", "make way please",
+                                   "i cannot get past", "can i get past you", "you are blocking me"])
 def test_telling_it_it_blocks_someone_is_make_way(words):
     assert frame(words) == "<SPEECH><MAKE_WAY/></SPEECH>"
+
+
+@pytest.mark.parametrize("words", ["you are not in my way", "you're not in the way", "you are not in the way anymore",
+                                   "you aren't in my way", "you're not blocking anything", "you are not in my way, are you",
+                                   "i can get past", "i can get past you now", "it's ok, i can get past",
+                                   "you are blocking my view", "never mind, you're not in my way"])
+def test_saying_it_is_not_in_the_way_or_that_she_can_pass_never_makes_way(words):
+    # review12 item 2: a negation or "I can get past" turned into a blind reverse
+    assert shared_understander().understand(words).act != "MAKE_WAY"
 
 
 @pytest.mark.parametrize("words, act", [("make your way to the kitchen", "GOTO"), ("you are in the kitchen", "PLACE"),

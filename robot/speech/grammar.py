@@ -729,6 +729,8 @@ def _not_meant(tree: Tree, toks: list[Tok], res: Understanding, words: list[str]
     if kind == "teach_place" and own and own[0].type == "YOU" and _guessed(act):
         # "you are in the kitchen" tells the robot where it is; "you are in my way" names no room
         return "no room named"
+    if kind == "make_way" and (why := _not_in_the_way(toks, res)):
+        return why
     if kind == "stop" and any(t.type == "SPOT" for t in own):
         spot = next(t for t in own if t.type == "SPOT")
         if res.partial or res.unknown or spot.value not in _ARRIVED or _said_besides(toks, words):
@@ -744,6 +746,28 @@ def _not_meant(tree: Tree, toks: list[Tok], res: Understanding, words: list[str]
             # "stay tuned for a music", "stop ..." followed at once by a word it does not know: the verb
             # is part of a phrase it does not know, not a command ("wait here until I come back" is)
             return "a command heard in words it does not know"
+    return ""
+
+
+def _not_in_the_way(toks: list[Tok], res: Understanding) -> str:
+    """Why words about being in the way do not ask the robot to move ("" when they do).
+
+    Backing off drives the robot into the half its laser does not see, so the words must say it is in the
+    way: a "not" anywhere but in "can't" ("you are not in my way", "you're not blocking anything", "it isn't
+    in the way any more") says the opposite, and so does "I can get past" (her statement that she can;
+    "can I get past" and "I can't get past" ask). A bare "blocking" says it is in the way only of the
+    person or of what the grammar knows as a way or a thing: "you are blocking my view", heard as a partial
+    parse round words it does not take, is a remark.
+    """
+    for i, t in enumerate(toks):
+        if t.type == "NOT" and not (i and toks[i - 1].type == "CAN"):
+            return "said not to be in the way"
+        if t.type == "I" and i + 1 < len(toks) and toks[i + 1].type == "CAN" \
+                and not (i + 2 < len(toks) and toks[i + 2].type == "NOT"):
+            return "she says she can get past"
+    block = next((i for i, t in enumerate(toks) if t.type == "BLOCK"), None)
+    if block is not None and toks[block].text == "blocking" and res.partial and res.ignored:
+        return "blocking something else, not the way"
     return ""
 
 
