@@ -87,6 +87,29 @@ def test_words_said_to_someone_else_are_no_request_and_get_no_say_that_again(wor
     assert msg.tag == "not_understood" and msg.get("addressee") == "other"
 
 
+@pytest.mark.parametrize("words", ["go to the kitchen, peter", "follow me, kids", "follow me tom", "come on tom, follow me",
+                                   "stop, tom", "stop it tom", "wait for me anna", "and this is the kitchen, tom",
+                                   "hey tom, look at this", "please tom, follow me", "i'm coming, dear"])
+def test_a_call_to_someone_else_is_heard_wherever_the_name_stands(words):
+    # review12 item 3: only a name said first was a call; said last, the robot drove off on words for Peter
+    msg = heard(words)
+    assert msg.tag == "not_understood" and msg.get("addressee") == "other"
+
+
+@pytest.mark.parametrize("words, act", [("mark this as the kitchen", "PLACE"), ("no love, the kitchen", "PLACE"),
+                                        ("follow me please dear", "FOLLOW"), ("this is the kitchen, dear", "PLACE"),
+                                        ("goodbye my little friend", "GOODBYE")])
+def test_a_name_or_endearment_that_calls_nobody_else_keeps_the_request(words, act):
+    # review12 item 4: "mark" is a verb, a correction with "love" answers the robot, people call a robot "dear"
+    assert shared_understander().understand(words).act == act
+
+
+@pytest.mark.parametrize("words", ["peter is my husband", "guests bedroom", "partner mode", "thank you dear",
+                                   "no, the cup dear", "this is peter", "tom and i live here"])
+def test_a_statement_naming_someone_is_not_said_to_them(words):
+    assert heard(words).get("addressee") != "other"
+
+
 @pytest.mark.parametrize("words, act", [("this is tom's cup", "OBJECT"), ("this cup belongs to anna", "OBJECT"),
                                         ("bye tom", "GOODBYE"), ("tara love", "GOODBYE"), ("hello anna", "GREETING"),
                                         ("this is my cup which I really love", "OBJECT"), ("follow me biron", "FOLLOW")])

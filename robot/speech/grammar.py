@@ -625,25 +625,55 @@ ENDEARMENTS = frozenset({"dear", "darling", "honey", "sweetie", "sweetheart", "l
 _ALSO_VERBS = frozenset({"love", "sugar"})
 #: Acts a vocative does not take from the robot: a greeting or good-bye may name anyone ("tara love", "bye tom").
 _SOCIAL = frozenset({"HELLO", "GOODBYE"})
-#: Words before a name that make it no vocative: an owner, a determiner, an object of a verb or preposition.
-_NOT_CALLING = frozenset({"the", "my", "our", "your", "a", "to", "with", "of", "for", "at", "and", "is", "are", "like"})
+#: Tokens a greeting or good-bye with a name is made of; with anything else the name calls someone ("hey tom, look").
+_GREETING_ALONE = frozenset({"HELLO", "GOODBYE", "NAME", "YES", "OKAY", "ATTR", "MY", "YOUR", "OUR", "THE"})
+#: Words before a name that make it no vocative: an owner, a determiner, an object of a verb or preposition,
+#: a person introduced ("this is peter", "I want you to meet peter").
+_NOT_CALLING = frozenset({"the", "my", "our", "your", "his", "her", "their", "a", "to", "with", "of", "for", "at", "and",
+                          "is", "are", "was", "like", "from", "by", "about", "as", "than", "in", "on", "near", "behind",
+                          "beside", "meet", "called", "named", "call", "ask", "tell", "POSS"})
+#: Words after a name that make it no vocative: an owner ("tom's cup"), a statement about the person
+#: ("peter is my husband", "tom and I live here"), a name that is no call ("mark this as the kitchen").
+_NOT_CALLED = frozenset({"POSS", "and", "is", "are", "was", "were", "has", "this", "that", "these", "those", "the", "a",
+                         "an", "it", "as"})
+#: Token kinds after a name that make the name a modifier, not a call ("guests bedroom", "family room").
+_NAME_AS_MODIFIER = frozenset({"PLACE", "ROOM", "OBJ", "SPOT", "NAME"})
+#: Words a call may come after: answer words, fillers, "come on", "hey" ("come on tom, follow me", "hey tom").
+_BEFORE_CALL = frozenset({"yes", "yeah", "no", "okay", "ok", "oh", "well", "so", "right", "please", "hey", "hi",
+                          "hello", "come", "on", "now"})
+#: Determiners an answer fragment starts with ("no love, the kitchen": a correction said to the robot).
+_ANSWER_START = frozenset({"the", "a", "an", "my", "your", "our", "his", "her", "this", "that"})
+#: Words in which she speaks of herself ("I'm coming, dear"): said with a final endearment, to someone else.
+_FIRST_PERSON = frozenset({"i", "we", "i'm", "i'll", "we're", "we'll"})
+
+
+def _token_of(toks: list[Tok], word: str) -> Tok | None:
+    """The token whose words include ``word`` (None: a word the lexicon does not know)."""
+    return next((t for t in toks if word in t.text.split()), None)
 
 
 def _said_to_another(toks: list[Tok], words: list[str], hesitations: frozenset[str]) -> str:
     """Why a turn is said to someone else in the robot's hearing ("" when it may be for the robot).
 
-    - It calls another person first: a name or kin word ("Tom, can you put the kettle on", "mum, come and look")
-      or a term of endearment ("darling, can you get the door", "yes dear, just a minute", "no sweetie"), or
-      ends with an endearment ("I'm coming, dear"), and does not call the robot.
+    - It calls another person by name or kin word, wherever the name stands: first ("Tom, can you put the
+      kettle on", "come on tom, follow me", "hey tom, look at this") or last ("go to the kitchen, peter",
+      "stop it tom"), and does not call the robot. A name is no call when it is an owner ("tom's cup"), the
+      object of a preposition or verb ("belongs to anna", "meet peter"), introduced ("this is peter"), the
+      subject of a statement ("peter is my husband", "tom and I"), a modifier ("guests bedroom") or followed
+      by a word the lexicon does not know ("partner mode"), or "mark this as ...".
+    - It calls someone by a term of endearment first ("darling, can you get the door", "yes dear, just a
+      minute"), unless what follows is an answer ("no love, the kitchen"); or ends with one while she speaks
+      of herself ("I'm coming, dear"). A request, teaching or thanks ending in "dear" may be for the robot
+      ("follow me please dear", "thank you dear"): people call a robot "dear" too.
     - "Not you, BIRON": she tells the robot the last words were for someone else.
     - It speaks of the robot in the third person ("look, the robot is listening", "isn't the robot clever").
-    A greeting or good-bye keeps its vocative ("tara love", "bye Tom"): the robot hears good-byes said near it.
+    A greeting or good-bye with only a name keeps it ("tara love", "bye Tom", "hello anna").
     """
-    if not toks or any(t.type in _SOCIAL for t in toks):
+    if not toks or (any(t.type in _SOCIAL for t in toks) and all(t.type in _GREETING_ALONE for t in toks)):
         return ""
     said = [w for w in words if w not in hesitations]
     i = 0
-    while i < len(said) and said[i] in ("yes", "yeah", "no", "okay", "ok", "oh", "well", "so", "right"):
+    while i < len(said) and said[i] in _BEFORE_CALL:
         i += 1
     calls_robot = any(t.type in ("ROBOTNAME", "ROBOT") for t in toks)
     if i < len(said) - 1 and said[i] == "not" and said[i + 1] == "you":
@@ -651,14 +681,21 @@ def _said_to_another(toks: list[Tok], words: list[str], hesitations: frozenset[s
     if any(a == "the" and b in ("robot", "robots") and c != "POSS"
            for a, b, c in zip(said, said[1:], [*said[2:], ""])):
         return "said about the robot, to someone else"
-    if calls_robot:
+    if calls_robot or not said:
         return ""
+    names = {t.text for t in toks if t.type == "NAME"}
     first = said[i] if i < len(said) else ""
     after = said[i + 1] if i + 1 < len(said) else ""
-    name = next((t for t in toks if t.type == "NAME" and t.text == first), None)
-    if first in ENDEARMENTS or (name is not None and after not in ("POSS", "and") and len(said) > i + 1):
+    if first in names and after and after not in _NOT_CALLED:
+        nxt = _token_of(toks, after)
+        if nxt is not None and nxt.type not in _NAME_AS_MODIFIER:
+            return "said to someone else"
+    if len(said) > 1 and said[-1] in names and said[-2] not in _NOT_CALLING and said[-2] not in names:
         return "said to someone else"
-    if len(said) > 1 and said[-1] in ENDEARMENTS - _ALSO_VERBS and said[-2] not in _NOT_CALLING:
+    if first in ENDEARMENTS and after and after not in _ANSWER_START:
+        return "said to someone else"
+    if len(said) > 1 and said[-1] in ENDEARMENTS - _ALSO_VERBS and said[-2] not in _NOT_CALLING \
+            and any(w in _FIRST_PERSON for w in said):
         return "said to someone else"
     return ""
 
