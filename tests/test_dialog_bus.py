@@ -692,3 +692,45 @@ def test_with_a_pause_the_repair_is_said_and_voices_elsewhere_hold_nothing(robot
     robot.sim.run(until=10.0)
     assert robot.sentences() == ["Sorry, I did not understand you. Could you say that again?"]
     assert robot.dialog.summary()["held_for_a_pause"] == 0
+
+
+def _radio(robot, bearing: float, start: float, end: float, level: float = 58.0) -> None:
+    """A radio reading on from ``bearing``: 4 s of voice, a 0.3 s breath, again, from ``start`` to ``end``."""
+    t = start
+    while t < end:
+        _voices(robot, bearing, t, min(t + 4.0, end), level)
+        t += 4.3
+
+
+def test_a_radio_where_she_stands_that_never_pauses_does_not_silence_the_robot(robot):
+    # review12 item 5: a radio behind her, on her bearing, reading the news with 0.3 s breaths held every
+    # sentence up to HOLD_MAX s and cut every answer off; a voice with no pause for VOICE_RUN_MAX s is no turn
+    from robot.dialog.module import VOICE_RUN_MAX
+    robot.greet()
+    robot.partner_at(0.0, 1.5, 40.0)
+    robot.sim.run(until=2.0)
+    robot.sentences()
+    _radio(robot, 2.0, 2.0, 40.0)
+    at = 2.0 + VOICE_RUN_MAX + 1.0
+    robot.sim.run(until=at)
+    robot.sentences()
+    cut = robot.dialog.summary()["barge_ins"]  # the greeting's end, cut as the radio began: it could not know
+    robot.utter("what can you do", at, at + 0.8)
+    robot.sim.run(until=at + 3.0)
+    (answer,) = robot.sentences()  # answered within 2.2 s, not held, and not cut off
+    assert answer.startswith("I am listening to you.")
+    assert robot.dialog.summary()["barge_ins"] == cut
+
+
+def test_a_repair_is_never_dropped_twice_in_a_row(robot):
+    robot.greet()
+    robot.partner_at(0.0, 1.5, 20.0)
+    robot.sim.run(until=6.5)
+    robot.sentences()
+    robot.utter("gorble flimp", 7.0, 7.8)
+    _voices(robot, -3.0, 8.2, 10.0)  # the talk went on: this repair is dropped
+    robot.utter("gorble flimp", 10.4, 11.2)
+    _voices(robot, -3.0, 11.6, 13.0)  # and on again: the second one is said in the next pause
+    robot.sim.run(until=16.0)
+    assert robot.sentences() == ["Sorry, I did not understand you. Could you say that again?"]
+    assert robot.dialog.summary()["stale_repairs_dropped"] == 1

@@ -165,6 +165,14 @@ HER_SHARE = 0.25
 HOLD_MAX = 8.0
 #: s: how often a held sentence looks for the pause
 HOLD_STEP = 0.1
+#: s: a voice from her direction that has gone on this long with no pause of TURN_GAP is no turn of hers
+#: but a source that never pauses (a radio or TV behind her, review12 item 5): the robot neither waits for it
+#: nor is cut off by it. The longest turn in the corpus (28 words) lasts 11.5 s at the users' speech rate
+#: (homesim.world.acoustics: 0.4 s a word); a radio reading the news goes on for minutes with 0.3 s breaths.
+VOICE_RUN_MAX = 15.0
+#: s of holding allowed in any HOLD_WINDOW s: beyond it the robot talks (a room where someone talks on and
+#: on near her would otherwise silence it for good)
+HOLD_BUDGET, HOLD_WINDOW = 15.0, 60.0
 #: the microphone pair's geometry (m: ahead of the centre, spacing, height) and a standing adult's
 #: mouth height, as the person attention's CueSpec has them (modules share no code: tests/test_layers.py)
 MIC_OFFSET, MIC_SPACING, MIC_HEIGHT, MOUTH_HEIGHT = 0.10, 0.281, 1.06, 1.6
@@ -360,6 +368,9 @@ class Dialog(Module):
         # text, causes, dialogs, when it was ready to be said, whether it is a repair ("say that again")
         self._queue: deque[tuple[str, tuple[str, ...], frozenset[str], float, bool]] = deque()
         self._voice_at = -math.inf  # when a voice from the partner's direction was last heard (turn-taking)
+        self._voice_since = -math.inf  # when that voice began with no pause of TURN_GAP since (VOICE_RUN_MAX)
+        self._hold_steps: deque[float] = deque(maxlen=int(HOLD_WINDOW / HOLD_STEP) + 1)  # when each hold step began
+        self._repair_dropped = False  # the last repair due was dropped (the next is said: never twice in a row)
         self._holding = False  # a held sentence waits for a pause (one timer)
         self._held_head: tuple[Any, ...] | None = None  # the sentence held (counted once)
         self.held_sentences = 0  # sentences that waited for a pause (metrics)
@@ -708,8 +719,8 @@ class Dialog(Module):
         if float(msg.xml.get("time", "inf")) < self._talk_start:
             return  # recorded before the robot began this sentence (a late frame): not an interruption
         partner = self.partner_bearing()
-        if partner is None:
-            return
+        if partner is None or self._endless_voice():
+            return  # a radio or TV where she stands talks on: it does not cut the robot off
         want = front_bearing(partner)
         for src in msg.xml.iterfind("source"):
             level, bearing = float(src.get("level", "0")), float(src.get("bearing", "nan"))
@@ -731,8 +742,16 @@ class Dialog(Module):
         for src in msg.xml.iterfind("source"):
             level, bearing = float(src.get("level", "0")), float(src.get("bearing", "nan"))
             if level >= self.barge_in_level and math.isfinite(bearing) and abs(front_bearing(bearing) - want) <= self.barge_in_width:
-                self._voice_at = max(self._voice_at, float(msg.xml.get("time", repr(msg.created))))
+                t = float(msg.xml.get("time", repr(msg.created)))
+                if t - self._voice_at >= TURN_GAP:
+                    self._voice_since = t  # a pause before it: a new turn begins
+                self._voice_at = max(self._voice_at, t)
                 return
+
+    def _endless_voice(self) -> bool:
+        """Whether the voice from her direction has gone on for ``VOICE_RUN_MAX`` s without a pause: a source
+        that never pauses (a radio, a TV), not her turn; the robot neither waits for it nor yields to it."""
+        return self._voice_at - self._voice_since >= VOICE_RUN_MAX
 
     # ----------------------------------------------------------------- outputs
     def _slot(self) -> float:
@@ -804,6 +823,7 @@ class Dialog(Module):
         if not self._queue or self.bus.closed or self.bus.hung or self._hold():
             return
         text, causes, *_ = self._queue.popleft()
+        self._repair_dropped = False  # something said: the next repair due may be dropped again
         self._talking = True
         self._cut = False
         self._talk_start = self.now
@@ -821,12 +841,21 @@ class Dialog(Module):
         direction was heard within ``TURN_GAP`` s, the next sentence waits for a pause. A repair ("Could
         you say that again?") for words after which the talk went on is dropped: someone has taken the
         turn, and what she says now is her next turn, answered in its own right. A sentence held
-        ``HOLD_MAX`` s is said anyway. True while a sentence is held (a timer looks again)."""
-        if self.now - self._voice_at >= TURN_GAP:
+        ``HOLD_MAX`` s is said anyway. It never waits for a voice that does not pause (:meth:`_endless_voice`:
+        a radio or TV behind her), nor holds more than ``HOLD_BUDGET`` s in ``HOLD_WINDOW`` s, and never
+        drops two repairs in a row (review12 item 5). True while a sentence is held (a timer looks again)."""
+        if self.now - self._voice_at >= TURN_GAP or self._endless_voice():
             return False
-        before = len(self._queue)
-        self._queue = deque(q for q in self._queue if not (q[4] and self._voice_at > q[3]))
-        self.stale_repairs += before - len(self._queue)
+        if sum(1 for t in self._hold_steps if self.now - t < HOLD_WINDOW) * HOLD_STEP >= HOLD_BUDGET:
+            return False
+        kept: deque[tuple[Any, ...]] = deque()
+        for q in self._queue:
+            if q[4] and self._voice_at > q[3] and not self._repair_dropped:
+                self._repair_dropped = True
+                self.stale_repairs += 1
+                continue
+            kept.append(q)
+        self._queue = kept
         if not self._queue or self.now - self._queue[0][3] >= HOLD_MAX:
             return not self._queue
         if self._queue[0] is not self._held_head:
@@ -834,6 +863,7 @@ class Dialog(Module):
             self.held_sentences += 1
         if not self._holding:
             self._holding = True
+            self._hold_steps.append(self.now)
             self.sim.loop.call_at_ns(to_ns(self.now + HOLD_STEP), self._hold_over)
         return True
 
