@@ -196,20 +196,20 @@ class SceneModel(Module):
             if query is not None:
                 result.append(query)
             return result
-        obj = found[0].xml
-        other = _other_owners(query, found)
-        if other is not None and describe(other.xml)["owner"] == "partner":
-            obj, other = other.xml, found[0]  # hers first: the speaker's own is the likelier meant
+        others = _other_owners(query, found)
+        mine = next((r for r in others if describe(r.xml)["owner"] == "partner"), None)
+        obj = found[0].xml if mine is None else mine.xml  # hers first: the speaker's own is the likelier meant
+        rest = [r for r in others if r.xml is not obj]
         loc = self._location(obj)
         result = etree.Element("RESULT", found="true", phrase=loc.phrase())
-        if other is not None:
-            # "where is the cup?" with her cup and her husband's stored, the question saying no owner:
-            # both fit alike, so the answer says both, each with its owner ("Your cup is on the counter in
-            # the kitchen, and husband's cup is on the desk in the study"), never one of them as "the cup"
-            there = self._location(other.xml).phrase()
-            if loc.phrase() and there:
-                result.set("whose", _whose(obj).capitalize())
-                result.set("also", f"{_whose(other.xml)} is {there}")
+        if len(others) > 1:
+            # "where is the cup?" with her cup and her husband's stored (and Tom's), the question saying no
+            # owner: all fit alike, so the answer says each with its owner ("Your cup is on the counter in
+            # the kitchen, and your husband's cup is on the desk in the study"), never one of them as "the cup"
+            theres = [(r, self._location(r.xml).phrase()) for r in rest]
+            if loc.phrase() and all(there for _, there in theres):
+                result.set("whose", (w := _whose(obj))[:1].upper() + w[1:])
+                result.set("also", ", and ".join(f"{_whose(r.xml)} is {there}" for r, there in theres))
         result.append(obj)
         if loc.room is not None:
             place = etree.SubElement(result, "PLACE", name=loc.room, relation="in", source=loc.room_source or "")
@@ -223,26 +223,44 @@ class SceneModel(Module):
         return result
 
 
+#: Owners that are the partner's kin or household (the lexicon's kin words): said "your husband's cup",
+#: not "husband's cup"; a name is said as it is ("Tom's cup").
+KIN = frozenset({"husband", "wife", "son", "daughter", "mother", "father", "mum", "dad", "grandma", "grandpa",
+                 "grandmother", "grandfather", "mother in law", "brother", "sister", "kids", "children", "child",
+                 "boyfriend", "girlfriend", "friend", "roommate", "flatmate", "neighbour", "aunt", "uncle", "cousin",
+                 "niece", "nephew", "parents", "grandparents", "family", "guests", "boss", "nanny", "cleaner",
+                 "cat", "dog"})
+
+
 def _whose(obj: etree._Element) -> str:
-    """ "your cup", "husband's cup", "the cup": a stored object named with its owner, as the robot says it."""
+    """ "your cup", "your husband's cup", "Tom's cup", "the cup": a stored object named with its owner, as
+    the robot says it to the partner (the owner "partner" is whoever taught it: the robot knows no one else)."""
     d = describe(obj)
     noun = d["name"] or d["type"].replace("_", " ")
     owner = d["owner"]
     if owner == "partner":
         return f"your {noun}"
-    return f"{owner}'s {noun}" if owner else f"the {noun}"
+    if not owner:
+        return f"the {noun}"
+    if owner.lower() in KIN:
+        return f"your {owner.lower()}'s {noun}"
+    return f"{' '.join(w[:1].upper() + w[1:] for w in owner.split())}'s {noun}"
 
 
-def _other_owners(query: etree._Element, found: list[Any]) -> Any | None:
-    """The second answer to a question that names no owner when the two best stored objects fit it
-    alike (the same type and name) but belong to different owners: the question does not single one
-    out. None otherwise (an owner asked for, one object, or the same owner)."""
+def _other_owners(query: etree._Element, found: list[Any]) -> list[Any]:
+    """The stored objects a question that names no owner fits alike (the same type and name as the best)
+    but that belong to different owners, one per owner, in the order found: the question does not single
+    one out, so the answer names each. Empty or one only: an owner asked for, one object, or one owner."""
     if describe(query)["owner"] or len(found) < 2:
-        return None
-    a, b = describe(found[0].xml), describe(found[1].xml)
-    if (a["type"], a["name"]) != (b["type"], b["name"]) or a["owner"] == b["owner"]:
-        return None
-    return found[1]
+        return []
+    a = describe(found[0].xml)
+    out, owners = [found[0]], {a["owner"]}
+    for r in found[1:]:
+        b = describe(r.xml)
+        if (a["type"], a["name"]) == (b["type"], b["name"]) and b["owner"] not in owners:
+            out.append(r)
+            owners.add(b["owner"])
+    return out if len(out) > 1 else []
 
 
 def _param(order: etree._Element, name: str, tag: str) -> etree._Element | None:
