@@ -92,8 +92,6 @@ GOTO_SOCIAL_GAP = 0.30
 #: someone standing in its lane is still waited for (WAIT_GAP), someone walking still yielded to
 SQUEEZE_GAP = 0.27
 SQUEEZE_SPEED = 0.15
-#: m: an arc nearer than SQUEEZE_GAP to someone is driven only if it ends at least this much further from them
-LEAVING = 0.02
 #: m: air the go-to leaves to someone standing in its lane when it stops to wait (people.standing_in_the_way):
 #: outside their personal space (0.45 m, BACK_GAP) by the few centimetres the tracker misplaces them
 WAIT_GAP = BACK_GAP + 0.05
@@ -425,23 +423,6 @@ class Player(Module):
         gap = sweep_clearance(v, w, mapped, SWEEP_TIME)
         return gap >= SWEEP_MARGIN or gap >= sweep_clearance(0.0, 0.0, mapped, 0.0, steps=1) + 1e-3
 
-    def _no_creeping(self, cmd: Command, people: np.ndarray) -> Command:
-        """A forward arc the window let pass someone at less than the go-to's gap (it lets any arc pass that
-        brings nobody nearer than now, and a turn on the spot swings a corner nearer first: step by step the
-        robot crept past Ole at 0.19-0.24 m, open_island_goto) is driven slowly (:data:`SQUEEZE_SPEED`,
-        the same arc), and not at all nearer than :data:`SQUEEZE_GAP` unless it takes the robot away."""
-        air = arc_air(cmd.v, cmd.w, people, self._goto_params)
-        if air >= GOTO_SOCIAL_GAP - 1e-3:
-            return cmd
-        if air < SQUEEZE_GAP - 1e-3:
-            now = arc_air(0.0, 0.0, people, self._goto_params)
-            end = arc_air(cmd.v, cmd.w, people, replace(self._goto_params, steps=1))
-            if end < now + LEAVING:
-                return Command(0.0, 0.0, False, cmd.clearance)  # alongside them, nearer than the squeeze: stand
-        if cmd.v > SQUEEZE_SPEED:
-            return Command(SQUEEZE_SPEED, cmd.w * SQUEEZE_SPEED / cmd.v, True, cmd.clearance)
-        return cmd
-
     def _arrive(self, dist: float, turn: float, mapped: np.ndarray) -> tuple[float, float]:
         """At the goal: turn on the spot to its heading (``turn`` rad to go), then report ``reached``.
 
@@ -576,8 +557,6 @@ class Player(Module):
             self._facing = False
         # everyone's space: wait at a polite distance, never at the body
         cmd = dwa(self.odo.v, self.odo.w, local, points, limits, v_pref=v_pref, params=self._goto_params, people=people)
-        if cmd.ok and cmd.v > 0.02 and len(people):
-            cmd = self._no_creeping(cmd, people)
         if abs(cmd.v) < 0.02 and limits.max_speed > SQUEEZE_SPEED and standing_beside(moving):
             # no arc on past someone standing beside the way at the full gap: pass them slowly at SQUEEZE_GAP
             slow = replace(limits, max_speed=SQUEEZE_SPEED)
