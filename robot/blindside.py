@@ -20,6 +20,11 @@ nearer than it is (standing still is always clear). Only
 echoes behind the laser's line count: ahead of it the laser sees, and the modules' people rules
 already hold.
 
+Known limits: a reading's arc stands for the leg it heard, not for the body round it, so held open
+loop for the whole look-ahead a turn past someone pressed against the flank can end a few millimetres
+into them (the modules decide again every 0.1 s, on fresh readings); and the cones leave gaps (between
+the 90 and 130 degree transducers a leg pressed against the flank is heard by none).
+
 The echoes are kept in the odometry frame, one per transducer (the newest with an echo), and
 forgotten after :data:`ECHO_AGE` s: a reading lost to a dropout does not open a hole for the
 0.32 s a ring takes to come round again. Pure code and one small bounded state; no world, no

@@ -654,7 +654,7 @@ class PersonAttention(Module):
 
         det = self._leg_detector()(ranges, reject_points=reject)
         points, kinds = det.points, det.kinds
-        if self._map_pose is not None and self._plan_near is not None and SINGLE in kinds:
+        if self._scan_pose is not None and self._plan_near is not None and SINGLE in kinds:
             # a lone leg the floor plan explains (within plan_explains of a wall, a jamb's end or a piece of
             # furniture: the map pose is a few centimetres off, a table leg or a jamb seen at a slant is a
             # leg-sized segment) keeps no track alive: a coasting partner track took such a leg and stood
