@@ -10,6 +10,8 @@ else ("Tom, can you put the kettle on", "yes dear") are neither requests nor ans
 from __future__ import annotations
 
 import pytest
+from hypothesis import given
+from hypothesis import strategies as st
 from lxml import etree
 
 from robot.dialog.loader import load
@@ -166,3 +168,18 @@ def test_the_player_does_not_back_into_a_person_the_furniture_or_without_a_floor
     out = p.control_step()
     assert out in (None, (0.0, 0.0)) and p._make_way == 0.0
     assert all(float(el.get("v", "0")) == 0.0 for _, el in p.bus.sent)
+
+
+_REQUESTS = ["follow me", "go to the kitchen", "can you put the kettle on", "where are my keys", "this is my cup",
+             "come and look at this", "stop", "wait here"]
+_CALLED = ["tom", "anna", "mum", "dad", "peter", "darling", "honey", "sweetie", "kids"]
+
+
+@given(st.sampled_from(_CALLED), st.sampled_from(_REQUESTS), st.sampled_from(["", "yes ", "no ", "oh "]))
+def test_a_turn_that_calls_someone_else_first_is_theirs_and_one_that_calls_the_robot_is_its(who, request, answer):
+    """The rule's invariant: the same words after another person's name or an endearment are said to that
+    person (no frame, addressee other); after BIRON's name they are the robot's (the aside rule never fires)."""
+    u = shared_understander().understand(f"{answer}{who} {request}")
+    assert u.frame is None and u.aside
+    mine = shared_understander().understand(f"{answer}biron {request}")
+    assert not mine.aside

@@ -772,6 +772,11 @@ def _not_meant(tree: Tree, toks: list[Tok], res: Understanding, words: list[str]
         spot = next(t for t in own if t.type == "SPOT")
         if res.partial or res.unknown or spot.value not in _ARRIVED or _said_besides(toks, words):
             return "a spot in a statement, not a stop"
+    if kind == "where" and toks[0].type in ("IS", "ARE") and words and words[0] in res.unknown:
+        # "they are on the table in the hall" (an answer to someone else), "[mumble] is the cup in the kitchen":
+        # a word the robot does not know before the copula is a subject; a statement, not "is my cup in the
+        # kitchen?" (the question puts the copula first)
+        return "a statement about something, not a where-question"
     if toks[0].type in ("IS", "ARE") and len(toks) > 1 and toks[1].type in ("THIS", "THAT", "IT") \
             and kind != "where" and not asked:
         return "a question, not a request or a teaching"
