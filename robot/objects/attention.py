@@ -61,7 +61,7 @@ from robot.contract import ES_EVENTS, ES_ORDERS, FOCUS, GESTURES, OBJECTS, PARTN
 
 from .gestures import CAMERA_HEIGHT, CAMERA_OFFSET, GestureTracker, camera_to_map
 from .resolve import MERGE_BEARING, Candidate, Pointing, Resolution, Wanted, along_ray, choose_pointed, learned_type, merge, option_texts, resolve
-from .viewpoint import ARRIVE_TOLERANCE, CAMERA_RANGE, in_range, pointed_spot, sight_clear, viewpoint, viewpoint_route
+from .viewpoint import ARRIVE_TOLERANCE, CAMERA_RANGE, POINT_REACH, in_range, pointed_spot, sight_clear, viewpoint, viewpoint_route
 
 if TYPE_CHECKING:
     from homesim.sim import Simulation
@@ -703,13 +703,13 @@ class ObjectAttention(Module):
 
     def _ray_target(self, p: Pointing) -> tuple[float, float] | None:
         """Where a pointing ray first comes down onto a piece of furniture (its top, from the floor
-        plan) or the floor, within 3 m of the hand; 1 m along it if it does not come down."""
+        plan) or the floor, within ``POINT_REACH`` (5 m) of the hand; 1 m along it if it does not come down."""
         if p.elevation >= -math.radians(3):
             return p.x + math.cos(p.direction), p.y + math.sin(p.direction)
         tops = sorted({o.top for o in self.plan.obstacles if o.type != "leg" and 0.0 < o.top < p.z} if self.plan else set(), reverse=True)
         for h in [*tops, 0.0]:
             reach = (p.z - h) / math.tan(-p.elevation)
-            if reach > 3.0:
+            if reach > POINT_REACH:
                 break
             x, y = p.x + reach * math.cos(p.direction), p.y + reach * math.sin(p.direction)
             if h == 0.0 or any(abs(o.top - h) < 1e-9 and _inside(x, y, o.points) for o in self.plan.obstacles):  # type: ignore[union-attr]
