@@ -61,7 +61,7 @@ from robot.contract import ES_EVENTS, ES_ORDERS, FOCUS, GESTURES, OBJECTS, PARTN
 
 from .gestures import CAMERA_HEIGHT, CAMERA_OFFSET, GestureTracker, camera_to_map
 from .resolve import MERGE_BEARING, Candidate, Pointing, Resolution, Wanted, along_ray, choose_pointed, learned_type, merge, option_texts, resolve
-from .viewpoint import ARRIVE_TOLERANCE, CAMERA_RANGE, in_range, pointed_spot, sight_clear, viewpoint, viewpoint_route
+from .viewpoint import ARRIVE_TOLERANCE, CAMERA_RANGE, POINT_REACH, in_range, pointed_spot, sight_clear, viewpoint, viewpoint_route
 
 if TYPE_CHECKING:
     from homesim.sim import Simulation
@@ -664,9 +664,25 @@ class ObjectAttention(Module):
         if state:
             self._player = (state, msg.created)
 
+    def _landing(self, pointing: Pointing) -> tuple[float, float, float] | None:
+        """Where the ray first comes down on a surface (:meth:`_ray_target`, with that surface's height):
+        what she may stand in front of, and how far the camera must see. A ray that does not come down
+        (she points up, at a book on a tall shelf): where it shows an object (:meth:`_target_3d`)."""
+        if pointing.elevation >= -math.radians(3):
+            return self._target_3d(pointing)
+        t = self._ray_target(pointing)
+        if t is None:
+            return None
+        top = 0.0
+        if self.plan is not None:
+            for o in self.plan.obstacles:
+                if o.type != "leg" and o.top < pointing.z and _inside(t[0], t[1], o.points):
+                    top = max(top, o.top)
+        return t[0], t[1], top + 0.05
+
     def _out_of_range(self, pointing: Pointing) -> bool:
-        """Where ``pointing`` shows an object lies beyond the camera's reliable object range from here."""
-        pose, target = self.pose, self._target_3d(pointing)
+        """Where ``pointing`` comes down (:meth:`_landing`) lies beyond the camera's reliable object range from here."""
+        pose, target = self.pose, self._landing(pointing)
         if pose is None or target is None:
             return False
         cam = (pose[0] + CAMERA_OFFSET * math.cos(pose[2]), pose[1] + CAMERA_OFFSET * math.sin(pose[2]), CAMERA_HEIGHT)
@@ -677,7 +693,7 @@ class ObjectAttention(Module):
         object (her body, ``BODY_HALF_WIDTH`` either side and up to ``PERSON_TOP``, nearer to the camera
         than that spot): the sight line to a book on top of a tall shelf passes over her head."""
         pose = self.pose
-        target = self._target_3d(pointing)
+        target = self._landing(pointing)
         if pose is None or target is None:
             return False
         dx, dy = target[0] - pose[0], target[1] - pose[1]
@@ -703,13 +719,13 @@ class ObjectAttention(Module):
 
     def _ray_target(self, p: Pointing) -> tuple[float, float] | None:
         """Where a pointing ray first comes down onto a piece of furniture (its top, from the floor
-        plan) or the floor, within 3 m of the hand; 1 m along it if it does not come down."""
+        plan) or the floor, within ``POINT_REACH`` (5 m) of the hand; 1 m along it if it does not come down."""
         if p.elevation >= -math.radians(3):
             return p.x + math.cos(p.direction), p.y + math.sin(p.direction)
         tops = sorted({o.top for o in self.plan.obstacles if o.type != "leg" and 0.0 < o.top < p.z} if self.plan else set(), reverse=True)
         for h in [*tops, 0.0]:
             reach = (p.z - h) / math.tan(-p.elevation)
-            if reach > 3.0:
+            if reach > POINT_REACH:
                 break
             x, y = p.x + reach * math.cos(p.direction), p.y + reach * math.sin(p.direction)
             if h == 0.0 or any(abs(o.top - h) < 1e-9 and _inside(x, y, o.points) for o in self.plan.obstacles):  # type: ignore[union-attr]

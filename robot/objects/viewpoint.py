@@ -39,6 +39,10 @@ DIRECTIONS = 24  # per ring
 MAX_TRAVEL = 3.5  # m: a viewpoint farther than this drive is not worth it
 ROBOT_HEIGHT = 1.45  # m: furniture whose underside is higher does not stop the base
 GRID_CELL = 0.1  # m: the drive's grid
+#: m from the hand: how far out a pointing ray is followed (across a living room: she points from the
+#: door at the remote on the coffee table 4 m away, fresh3 angle_long_tour; beyond the camera's range the
+#: robot comes closer to look)
+POINT_REACH = 5.0
 OBJECT_BAND = 0.35  # m: how high above a surface an object a person points at reaches (most household objects)
 DRIVE_CLEARANCE = 0.8  # of the standing clearances, kept on the way (the player's own local planner keeps the footprint clear)
 ARRIVE_TOLERANCE = 0.2  # m: the tolerance of the POSE the object attention sends the player (move_to)
@@ -333,7 +337,7 @@ def _legs(plan_blocks: list[tuple[tuple[Point, ...], float, float]], people: Seq
 
 
 def pointed_spot(plan: FloorPlan, hand: tuple[float, float, float], direction: float, elevation: float, *,
-                 band: float = OBJECT_BAND, reach: float = 3.0, step: float = 0.05) -> tuple[float, float, float] | None:
+                 band: float = OBJECT_BAND, reach: float = POINT_REACH, step: float = 0.05) -> tuple[float, float, float] | None:
     """Where on the plan a pointing ray (from ``hand``, map frame, ``direction`` and ``elevation``
     in radians) most likely shows an object: the middle of the last stretch of the ray that runs
     at most ``band`` m above what is under it (a piece of furniture's top, or the floor), before
