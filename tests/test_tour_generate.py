@@ -206,3 +206,47 @@ def test_generate_counts_one_thing_in_the_singular(tmp_path, capsys):
     assert "1 place and" in out
     texts = [out] + [p.read_text(encoding="utf-8") for p in sorted(tmp_path.glob("*.xml"))]
     assert not any(re.search(r"(?<![\d.])1 (places|objects|rooms|go-to requests)\b", t) for t in texts)
+
+
+def _wall_between(sc: Scenario, a: tuple[float, float], b: tuple[float, float]) -> bool:
+    """Does the segment a-b pass through a wall's thickness (sampled every centimetre)?"""
+    from homesim.geometry import points_in_polygon
+    from homesim.scenario.pathplan import split_wall, wall_rectangle
+
+    n = max(2, int(math.hypot(b[0] - a[0], b[1] - a[1]) / 0.01))
+    pts = np.array([(a[0] + (b[0] - a[0]) * i / n, a[1] + (b[1] - a[1]) * i / n) for i in range(n + 1)])
+    for wall in sc.walls:
+        for p, q in split_wall(wall.start, wall.end, [(d.at, d.width) for d in wall.doors]):
+            if points_in_polygon(pts, wall_rectangle(p, q, wall.thickness)).any():
+                return True
+    return False
+
+
+def _user_in_sight(seed: int, k: int) -> None:
+    _, sc = tour(seed, k)
+    user = sc.humans[0]
+    assert not _wall_between(sc, (sc.robot.x, sc.robot.y), (user.x, user.y)), (
+        f"tour {seed}-{k}: the user starts behind a wall corner, out of the robot's sight and hearing")
+
+
+def test_the_user_does_not_start_behind_an_l_rooms_inner_corner():
+    """tour-3000-07 (a045923's generator): the line from the robot to the user grazed the inner corner
+    of an L-shaped kitchen, inside the room's polygon but through the wall's thickness; she greeted
+    three times and the robot never heard or saw her."""
+    _user_in_sight(3000, 7)
+
+
+@settings(max_examples=examples(6, 25))
+@given(st.integers(0, 10**6))
+def test_the_user_starts_in_the_robots_sight(seed):
+    """The tour's first request needs the robot to hear and see her: no wall between them."""
+    _user_in_sight(seed, 0)
+
+
+def test_inner_corners_are_the_reflex_vertices_in_either_winding():
+    from homesim.tour.generate import inner_corners
+
+    l_room = ((0, 0), (2.8, 0), (2.8, 1.6), (4.9, 1.6), (4.9, 5.3), (0, 5.3))
+    assert inner_corners(l_room) == [(2.8, 1.6)]
+    assert inner_corners(tuple(reversed(l_room))) == [(2.8, 1.6)]
+    assert inner_corners(((0, 0), (3, 0), (3, 2), (0, 2))) == []

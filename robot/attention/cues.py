@@ -48,6 +48,7 @@ class Hysteresis:
     _count: dict[int, int] = field(default_factory=dict)
     _last: dict[int, float] = field(default_factory=dict)
     _on: dict[int, bool] = field(default_factory=dict)
+    _since: dict[int, float] = field(default_factory=dict)  # when each track's attribute last came on
 
     def feed(self, now: float, ids: Iterable[int], matched: set[int]) -> None:
         """One frame: which of ``ids`` matched the cue."""
@@ -57,6 +58,8 @@ class Hysteresis:
                 c = count[i] = count.get(i, 0) + 1
                 last[i] = now
                 if c >= self.on_frames:
+                    if not on.get(i):
+                        self._since[i] = now
                     on[i] = True
             else:
                 count[i] = 0
@@ -66,8 +69,12 @@ class Hysteresis:
     def on(self, i: int) -> bool:
         return self._on.get(i, False)
 
+    def since(self, i: int) -> float:
+        """When the attribute of track ``i`` came on (it has been on since); -inf when not known."""
+        return self._since.get(i, -math.inf) if self.on(i) else math.inf
+
     def forget(self, alive: set[int]) -> None:
-        for d in (self._count, self._last, self._on):
+        for d in (self._count, self._last, self._on, self._since):
             for k in [k for k in d if k not in alive]:
                 del d[k]
 

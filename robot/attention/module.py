@@ -1233,13 +1233,15 @@ class PersonAttention(Module):
         if not self._searching() and (self.fsm.top_down or self.fsm.held or (row >= 0 and (category >= 3 or category == 2 and self._voice_turn is None))):
             self._voice_turn = None
             return None
-        if (row >= 0 and self.tracks.tracks[row].confirmed and self.facing.on(self.tracks.tracks[row].id)
-                and not (self.seeking_help and not self._spoke_lately(t, self.tracks.tracks[row].id))):
-            # the person it attends to faces it (she just greeted it and waits for its answer): a voice
-            # nobody seen explains (a TV or radio behind the robot, read in front by the pair) does
-            # not turn the robot away from her (studio_confirm_repeat). Asking for help, someone who
-            # faces it without a word (the man standing in the door it could not pass) is not her
-            # (regreet seed 2: it never turned to the partner greeting it from behind)
+        if row >= 0 and self.tracks.tracks[row].confirmed and self._waits_facing(t, self.tracks.tracks[row].id):
+            # the person it attends to faces it and has just spoken to it or just turned to it (she
+            # greeted it and waits for its answer, or is about to): a voice nobody seen explains (a TV or
+            # radio behind the robot, read in front by the pair) does not turn the robot away from her
+            # (studio_confirm_repeat). Someone who has faced it longer without a word is not waiting
+            # for an answer: a bystander looking on (tour-3000-10: after a go-to, Ben facing it from its
+            # right held it while the user greeted it from behind, and every greeting expired), or,
+            # asking for help, the man standing in the door it could not pass (regreet seed 2: it never
+            # turned to the partner greeting it from behind)
             self._voice_turn = None
             return None
         d = self._dominant
@@ -1271,6 +1273,16 @@ class PersonAttention(Module):
             self._voice_turn = None
             return None
         return vt[1]
+
+    def _waits_facing(self, t: float, tid: int) -> bool:
+        """Track ``tid`` faces the robot and waits for it: she spoke facing it less than ``pp_wait`` s
+        ago, or (not while it asks for help, when whoever stands in its way faces it) turned to face it
+        less than ``pp_wait`` s ago (she walked up to it and is about to speak)."""
+        if not self.facing.on(tid):
+            return False
+        if self._spoke_lately(t, tid):
+            return True
+        return not self.seeking_help and t - self.facing.since(tid) < self.params.pp_wait
 
     def _spoke_lately(self, t: float, tid: int) -> bool:
         """Whether track ``tid`` was the potential partner (spoke facing the robot) less than ``pp_wait`` s ago."""
