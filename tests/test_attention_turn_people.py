@@ -124,7 +124,7 @@ def _in_hall(y0: float, th0: float, width: float) -> PersonAttention:
     a = PersonAttention.__new__(PersonAttention)
     a.params = AttentionParams()
     a.furniture = FurnitureLegs(plan)
-    a._map_pose = (0.0, y0, th0)
+    a._scan_pose = (0.0, y0, th0)
     a._ranges, a._bearings = None, None
     return a
 
@@ -157,4 +157,4 @@ def test_a_turn_to_a_voice_in_a_narrow_hall_never_swings_a_corner_into_a_wall(wi
         for k in range(1, 11):
             assert _corner_air(y0, th0 + turned + w * PERIOD * k / 10, width) > 0.0
         turned += w * PERIOD
-        a._map_pose = (0.0, y0, th0 + turned)
+        a._scan_pose = (0.0, y0, th0 + turned)

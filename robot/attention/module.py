@@ -292,7 +292,10 @@ class PersonAttention(Module):
         self._near: np.ndarray = np.zeros((0, 2))  # robot-frame bodies a turn must keep clear of (this scan)
         self._ranges: np.ndarray | None = None  # this scan's ranges (a turn keeps off its echoes)
         self._plan_near: FurnitureLegs | None = None  # the floor plan grown by plan_explains: echoes it explains
-        self._map_pose: tuple[float, float, float] | None = None  # the robot's map pose at this scan (the floor plan)
+        # the robot's map pose at this scan (the floor plan's frame: _robot_in_map), for the turn's checks; not
+        # _map_pose, the localiser's pose that _robot_in_map moves on by odometry (one name for both reset the
+        # localiser's pose every scan, so the floor plan was placed by dead reckoning alone)
+        self._scan_pose: tuple[float, float, float] | None = None
         self._ptu_sent: tuple[float, float] | None = None
         self._ptu_at = -math.inf
         self._steer_sent: float | None | str = "unset"
@@ -631,9 +634,9 @@ class PersonAttention(Module):
         self.scans += 1
         pose = self._pose_at(t)
         reject = None
-        self._ranges, self._map_pose = ranges, None
+        self._ranges, self._scan_pose = ranges, None
         if self.furniture is not None:
-            mx, my, mth = self._map_pose = self._robot_in_map(t, pose)
+            mx, my, mth = self._scan_pose = self._robot_in_map(t, pose)
             cm, sm = math.cos(mth), math.sin(mth)
             inside = self.furniture.inside_points
 
@@ -1331,9 +1334,9 @@ class PersonAttention(Module):
     def _explained(self, echoes: np.ndarray) -> np.ndarray:
         """Which ``echoes`` the floor plan explains (within ``plan_explains`` m of a wall or a piece of
         furniture, the robot's map pose as the tracker's filter uses it); none without a plan."""
-        if self._plan_near is None or self._map_pose is None or not len(echoes):
+        if self._plan_near is None or self._scan_pose is None or not len(echoes):
             return np.zeros(len(echoes), dtype=bool)
-        mx, my, mth = self._map_pose
+        mx, my, mth = self._scan_pose
         c, s = math.cos(mth), math.sin(mth)
         return np.array(self._plan_near.inside_points([(mx + c * x - s * y, my + s * x + c * y) for x, y in echoes.tolist()]), dtype=bool)
 
@@ -1349,8 +1352,8 @@ class PersonAttention(Module):
         p = self.params
         if not points_sweep_clear(0.0, w, echoes, duration=p.turn_check, gap=p.echo_gap):
             return False
-        if self.furniture is not None and self._map_pose is not None:
-            mx, my, mth = self._map_pose
+        if self.furniture is not None and self._scan_pose is not None:
+            mx, my, mth = self._scan_pose
             x, y, th = sweep_poses(0.0, w, p.turn_check)
             ring = outline()
             inside = []
