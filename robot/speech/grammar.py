@@ -634,8 +634,10 @@ _NOT_CALLING = frozenset({"the", "my", "our", "your", "his", "her", "their", "a"
                           "beside", "meet", "called", "named", "call", "ask", "tell", "POSS"})
 #: Words after a name that make it no vocative: an owner ("tom's cup"), a statement about the person
 #: ("peter is my husband", "tom and I live here"), a name that is no call ("mark this as the kitchen").
-_NOT_CALLED = frozenset({"POSS", "and", "is", "are", "was", "were", "has", "this", "that", "these", "those", "the", "a",
-                         "an", "it", "as"})
+_NOT_CALLED = frozenset({"POSS", "and", "is", "are", "was", "were", "has", "as"})
+#: Words after a name that still make it a call ("tom, this is my cup", "anna, the kettle is on"), unless the turn
+#: goes on with "as": "mark this as the kitchen" marks, it calls no Mark.
+_DETERMINERS_AFTER_CALL = frozenset({"this", "that", "these", "those", "the", "a", "an", "it"})
 #: Token kinds after a name that make the name a modifier, not a call ("guests bedroom", "family room").
 _NAME_AS_MODIFIER = frozenset({"PLACE", "ROOM", "OBJ", "SPOT", "NAME"})
 #: Words a call may come after: answer words, fillers, "come on", "hey" ("come on tom, follow me", "hey tom").
@@ -643,6 +645,8 @@ _BEFORE_CALL = frozenset({"yes", "yeah", "no", "okay", "ok", "oh", "well", "so",
                           "hello", "come", "on", "now"})
 #: Determiners an answer fragment starts with ("no love, the kitchen": a correction said to the robot).
 _ANSWER_START = frozenset({"the", "a", "an", "my", "your", "our", "his", "her", "this", "that"})
+#: An endearment and then a sentence, not an answer fragment: "darling, this is my cup" is said to him.
+_COPULAS = frozenset({"is", "are", "was", "were"})
 #: Words in which she speaks of herself ("I'm coming, dear"): said with a final endearment, to someone else.
 _FIRST_PERSON = frozenset({"i", "we", "i'm", "i'll", "we're", "we'll"})
 
@@ -686,13 +690,14 @@ def _said_to_another(toks: list[Tok], words: list[str], hesitations: frozenset[s
     names = {t.text for t in toks if t.type == "NAME"}
     first = said[i] if i < len(said) else ""
     after = said[i + 1] if i + 1 < len(said) else ""
-    if first in names and after and after not in _NOT_CALLED:
+    if first in names and after and after not in _NOT_CALLED \
+            and not (after in _DETERMINERS_AFTER_CALL and "as" in said[i + 2:]):
         nxt = _token_of(toks, after)
         if nxt is not None and nxt.type not in _NAME_AS_MODIFIER:
             return "said to someone else"
     if len(said) > 1 and said[-1] in names and said[-2] not in _NOT_CALLING and said[-2] not in names:
         return "said to someone else"
-    if first in ENDEARMENTS and after and after not in _ANSWER_START:
+    if first in ENDEARMENTS and after and (after not in _ANSWER_START or _COPULAS & set(said[i + 2:])):
         return "said to someone else"
     if len(said) > 1 and said[-1] in ENDEARMENTS - _ALSO_VERBS and said[-2] not in _NOT_CALLING \
             and any(w in _FIRST_PERSON for w in said):
