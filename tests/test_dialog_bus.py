@@ -641,3 +641,54 @@ def test_no_robot_module_asks_the_dialog_directly():
                     and node.args and isinstance(node.args[0], ast.Constant) and node.args[0].value == "dialog":
                 direct.append(f"{path.relative_to(root.parent)}:{node.lineno}")
     assert direct == []
+
+
+def _voices(robot, bearing: float, start: float, end: float, level: float = 58.0) -> None:
+    """A voice from ``bearing`` in every microphone frame (10 Hz) from ``start`` to ``end``."""
+    k = 0
+    while start + 0.1 * k <= end + 1e-9:
+        robot.sound(start + 0.1 * k, bearing, level)
+        k += 1
+
+
+def test_the_robot_does_not_begin_to_talk_while_someone_talks_where_she_stands(robot):
+    # fresh3 passage_talk_aside: Sara and Tom talk to each other in turns; the robot began its answer
+    # between their overlapping turns and was cut off at once, eight times. It waits for a pause.
+    robot.greet()
+    robot.partner_at(0.0, 1.5, 14.0)
+    robot.sim.run(until=6.5)
+    robot.sentences()
+    robot.utter("what can you do", 7.0, 7.8)
+    _voices(robot, 2.0, 7.9, 10.0)  # someone at her side goes on talking for 2 s
+    robot.sim.run(until=10.2)
+    assert robot.sentences() == []  # held: nobody is cut off, no empty <say/>
+    robot.sim.run(until=13.0)
+    (answer,) = robot.sentences()
+    assert answer.startswith("I am listening to you.")
+    said = [r for r in robot.records("/robot/speaker/say") if r["t"] > 7.0]
+    assert said[0]["t"] >= 10.0 + 0.5  # after the pause the rule waits for
+    assert robot.dialog.summary()["held_for_a_pause"] == 1 and robot.dialog.summary()["barge_ins"] == 0
+
+
+def test_a_repair_for_words_after_which_the_talk_went_on_is_dropped(robot):
+    robot.greet()
+    robot.partner_at(0.0, 1.5, 14.0)
+    robot.sim.run(until=6.5)
+    robot.sentences()
+    robot.utter("gorble flimp", 7.0, 7.8)  # not understood
+    _voices(robot, -3.0, 8.2, 10.0)  # the next turn, another voice where she stands
+    robot.sim.run(until=13.0)
+    assert robot.sentences() == []  # no "Could you say that again?" to a talk that went on
+    assert robot.dialog.summary()["stale_repairs_dropped"] == 1
+
+
+def test_with_a_pause_the_repair_is_said_and_voices_elsewhere_hold_nothing(robot):
+    robot.greet()
+    robot.partner_at(0.0, 1.5, 14.0)
+    robot.sim.run(until=6.5)
+    robot.sentences()
+    robot.utter("gorble flimp", 7.0, 7.8)
+    _voices(robot, 60.0, 7.9, 10.0)  # a radio to the left: not where she stands
+    robot.sim.run(until=10.0)
+    assert robot.sentences() == ["Sorry, I did not understand you. Could you say that again?"]
+    assert robot.dialog.summary()["held_for_a_pause"] == 0

@@ -88,6 +88,8 @@ def _dialog(state: str, reports: list[tuple[float, str, int]]) -> Dialog:
     d._partner_cues = deque([(*r, 0.0) for r in reports], maxlen=300)
     d._sources = deque(maxlen=300)
     d.barge_in_width = 9.0
+    d._addressed_at = -math.inf  # no exchange with the robot yet
+    d._aside_since = math.inf
     return d
 
 
@@ -157,3 +159,46 @@ def test_the_frame_says_when_the_words_call_the_robot_by_its_name(words, named):
     understander = shared_understander()
     el = frame_message(understander.understand(words), 1.0, 2.0, 0.9, calls_robot(words, understander.lexicon))
     assert (el.get("named") == "true") == named
+
+
+@settings(max_examples=200, deadline=None)
+@given(cues=CUES, state=st.sampled_from(["Interacting", "ObjectTeaching"]))
+def test_showing_something_turned_aside_is_for_the_robot(cues, state):
+    # fresh3 open_two_cups_rooms seeds 0-2: Nina walks on to the desk, her back to the robot 1.3 m
+    # behind her, and says "and this one is my husband's cup" pointing at it: showing needs an onlooker
+    d = _dialog(state, [(10.0 + 0.1 * i, f, c) for i, (f, c) in enumerate(cues)])
+    end = 10.0 + 0.1 * (len(cues) - 1)
+    if all(f == ASIDE for f, _ in cues):
+        assert d.addressed(10.0, end, shows=True) and not d.addressed(10.0, end)
+    else:  # the other rules as they were: showing never makes words less meant for the robot
+        assert d.addressed(10.0, end, shows=True) or not d.addressed(10.0, end)
+
+
+def test_once_she_has_talked_with_the_robot_turned_aside_she_goes_on_talking_to_it():
+    """The rule's evidence is the whole exchange: words turned aside are her own only until the robot
+    has taken a turn of hers since she turned aside (then "where is my cup" and "good bye" with her
+    back still turned are meant for it: open_two_cups_rooms lost both)."""
+    d = _dialog("Interacting", [(10.0 + 0.1 * i, ASIDE, 0) for i in range(20)])
+    d._aside_since = 10.0
+    assert not d.addressed(10.0, 11.9)  # muttering, nothing said to the robot since she turned aside
+    d._addressed_at = 9.0  # an exchange before she turned aside says nothing about now
+    assert not d.addressed(10.0, 11.9)
+    d._addressed_at = 12.5  # the robot took a turn of hers after she turned aside
+    d._partner_cues.extend((13.0 + 0.1 * i, ASIDE, 0, 0.0) for i in range(10))
+    assert d.addressed(13.0, 13.9)
+
+
+@settings(max_examples=200, deadline=None)
+@given(other=st.floats(10.0, 80.0), n=st.integers(3, 40), hers=st.integers(0, 40), facing=st.sampled_from(["unknown", "false", "true"]))
+def test_face_to_face_words_mostly_heard_from_elsewhere_are_another_talkers(other, n, hers, facing):
+    # distractor seed 0 (obj12): Tom's "I need to find my keys now", 13 degrees off Anna, overlapping
+    # the start of her next turn by 0.3 s, was taught as her keys
+    hers = min(hers, n)
+    d = _dialog("Interacting", [(10.0 + 0.1 * i, facing, 0) for i in range(n)])
+    for i in range(n):
+        d._sources.append((10.0 + 0.1 * i, (0.5,) if i < hers else (other,)))
+    heard = d.addressed(10.0, 10.0 + 0.1 * (n - 1))
+    if facing == "true":
+        assert heard  # she faced the robot while the words were said
+    else:
+        assert heard == (hers >= 0.25 * n)

@@ -131,3 +131,26 @@ def test_found_objects_never_contradict_the_question(stored, question):
     if found:  # the best fit agrees on the most details
         score = lambda r: (bool(owner) and same_owner(r.xml.get("owner"), owner)) + (r.xml.get("colour") == colour and bool(colour))
         assert score(found[0]) == max(score(r) for r in found)
+
+
+def test_where_is_the_cup_with_her_cup_and_her_husbands_says_both_with_their_owners():
+    # issue 26 item 5 (fresh3 open_two_cups_rooms seed 5 on a045923): "where is my cup" with "my" lost
+    # was answered with her husband's cup, the one taught last; a question naming no owner that two
+    # stored cups of different owners fit alike is answered with both
+    scenario = load_scenario("scenarios/two_people_radio.xml")
+    with Simulation(seed=0) as sim:
+        MapServer(sim, scenario)
+        scene = SceneModel(sim)
+        sim.start()
+        sim.run(until=0.5)
+        scene.places.store(etree.fromstring('<PLACE name="Kitchen"><POSE x="7.5" y="2" theta="0"/></PLACE>'))
+        scene.places.store(etree.fromstring('<PLACE name="living room"><POSE x="2.5" y="2" theta="0"/></PLACE>'))
+        scene.objects.store(etree.fromstring('<OBJECT type="cup" name="cup" owner="partner" x="9.1" y="1.0" frame="map"/>'), now=10.0)
+        scene.objects.store(etree.fromstring('<OBJECT type="cup" name="cup" owner="husband" x="4.0" y="3.7" frame="map"/>'), now=20.0)
+        both = scene.answer(etree.fromstring('<OBJECT type="cup"><TITLE name="cup"/></OBJECT>'))
+        assert both.get("whose") == "Your cup" and both.get("phrase") == "on the counter in the kitchen"
+        assert both.get("also") == "husband's cup is on the table in the living room"
+        mine = scene.answer(etree.fromstring('<OBJECT type="cup"><TITLE name="cup"/><OWNER name="speaker"/></OBJECT>'))
+        assert mine.get("also") is None and mine.find("OBJECT").get("owner") == "partner"
+        his = scene.answer(etree.fromstring('<OBJECT type="cup"><TITLE name="cup"/><OWNER name="husband"/></OBJECT>'))
+        assert his.get("also") is None and his.find("OBJECT").get("owner") == "husband"

@@ -235,3 +235,28 @@ def test_a_straight_viewpoint_is_kept_when_there_is_one():
     one = viewpoint(_flat(sofa), robot, book, [(4.9, 2.4)], camera_height=CAM)
     route = viewpoint_route(_flat(sofa), robot, book, [(4.9, 2.4)], camera_height=CAM, max_travel=3.5)
     assert one is not None and route is not None and route[-1] == one
+
+
+def test_a_ray_pointing_up_at_a_book_on_a_tall_bookshelf_shows_its_top():
+    # fresh3 open_sofa_guest: Eva points up (about 27 degrees) from 1.1 m at her book on top of a
+    # 1.9 m bookshelf; the ray passes low over the shelf's top there
+    shelf = _box("bookshelf", "shelf", 4.6, 3.4, 5.6, 3.85, 1.9)
+    plan = _flat(shelf)
+    hand = (5.1, 2.4, 1.6)
+    book = (5.1, 3.6, 2.02)
+    d = math.hypot(book[0] - hand[0], book[1] - hand[1])
+    spot = pointed_spot(plan, hand, math.atan2(book[1] - hand[1], book[0] - hand[0]), math.atan2(book[2] - hand[2], d))
+    assert spot is not None and spot[2] == 1.9 + 0.05
+    assert _point_polygon(spot[:2], shelf.points) == 0.0 and math.dist(spot[:2], book[:2]) < 0.3
+
+
+@settings(max_examples=100, deadline=None)
+@given(el=st.floats(0.0, 1.2), direction=st.floats(-math.pi, math.pi), top=st.floats(0.3, 2.4))
+def test_a_rising_ray_shows_a_spot_only_on_a_top_it_passes_within_the_band(el, direction, top):
+    plan = _flat(_box("cabinet", "cupboard", 4.0, 1.0, 5.0, 3.0, top))
+    hand = (2.0, 2.0, 1.5)
+    spot = pointed_spot(plan, hand, direction, el)
+    if spot is not None:
+        assert spot[2] == top + 0.05 and _point_polygon(spot[:2], plan.obstacles[0].points) == 0.0
+        reach = math.hypot(spot[0] - hand[0], spot[1] - hand[1])
+        assert abs(hand[2] + reach * math.tan(el) - top) <= 0.35 + 1e-9  # within the band of the top

@@ -771,7 +771,7 @@ class PersonAttention(Module):
         """The partner's evidence, and ``partner_lost`` by the leaving rule (:meth:`partner_left`)."""
         tr = self.tracks
         row = tr.row(self.partner) if self.partner is not None else -1
-        if row >= 0 and tr.tracks[row].dormant:
+        if row >= 0 and (tr.tracks[row].dormant or self._unmeasured(t, tr.tracks[row])):
             row = -1  # her track is kept while she is hidden, but she is unseen: as if it had died
         if self.partner is not None and not self.partner_lost_sent:
             self._count_yield(t)  # (reset below when she is seen again)
@@ -814,6 +814,16 @@ class PersonAttention(Module):
                 self._new_partner(t, threes[0], "true")
         self._caller = self._find_caller(t, cats) if self.partner is None else None
         self._nobody_there(t)
+
+    def _unmeasured(self, t: float, tk: Any) -> bool:
+        """Following, whether the partner's track ``tk`` has had no position (no leg candidate, no face
+        candidate) for longer than the tracker's ``death_timeout``: a torso or a voice at its bearing keeps
+        such a track alive (:meth:`_on_torsos`), but says nothing of where she is, and its prediction has
+        coasted metres off. She is then unseen as if the track had died: her unseen time runs from her last
+        position, and whoever she can be on her way on is found again (:meth:`_reacquire`). The camera saw
+        her torso beside a coasting track 2 m off for 10 s while she stood 4 m ahead in view, in her own new
+        track, and the robot lost her (u_catch_up_slow seed 3, 62-78 s)."""
+        return self.fsm.state == "Follow" and t - tk.last_update > self.tracks.spec.death_timeout
 
     def _count_yield(self, t: float) -> None:
         """Following with her unseen: add the time since the last scan to :attr:`_yielded` when
@@ -958,7 +968,7 @@ class PersonAttention(Module):
         for i, tk in enumerate(self.tracks.tracks):
             colour = self.colours.colour(tk.id, t)
             # someone in other clothes is not her, however near (a person who crossed between)
-            if tk.confirmed and not tk.dormant and same_clothes(self._partner_colour, colour):
+            if tk.confirmed and not tk.dormant and not self._unmeasured(t, tk) and same_clothes(self._partner_colour, colour):
                 d = self._her_way(t, (tk.x[0], tk.x[1]))
                 # her colour known, this track's unseen: position alone, so only as near as she can have
                 # stepped unseen, not the growing radius, unless the track was born within it (four_people seed 8: a man walking past the
@@ -1000,7 +1010,7 @@ class PersonAttention(Module):
             return -1
         reach = self._walk_reach(t, seen)
         rows = [i for i, tk in enumerate(self.tracks.tracks)
-                if tk.confirmed and not tk.dormant and math.hypot(tk.x[0] - x, tk.x[1] - y) <= reach
+                if tk.confirmed and not tk.dormant and not self._unmeasured(t, tk) and math.hypot(tk.x[0] - x, tk.x[1] - y) <= reach
                 and (c := self.colours.colour(tk.id, t)) is not None and same_clothes(self._partner_colour, c)]
         return rows[0] if len(rows) == 1 else -1
 
@@ -1024,13 +1034,14 @@ class PersonAttention(Module):
                 or self._partner_colour is None):
             return -1
         prow = self.tracks.row(self.partner)
-        if prow >= 0 and not self.tracks.tracks[prow].dormant:
+        if prow >= 0 and not self.tracks.tracks[prow].dormant and not self._unmeasured(t, self.tracks.tracks[prow]):
             return -1
         reach = self._walk_reach(t, last[0])
         rx, ry, _ = self._pose_at(t)
         best, row = math.inf, -1
         for i, tk in enumerate(self.tracks.tracks):
-            if not tk.confirmed or tk.dormant or tk.id == self.partner or self.colours.colour(tk.id, t) is not None:
+            if (not tk.confirmed or tk.dormant or tk.id == self.partner or self._unmeasured(t, tk)
+                    or self.colours.colour(tk.id, t) is not None):
                 continue
             if math.hypot(tk.x[0] - last[1], tk.x[1] - last[2]) > reach:
                 continue

@@ -49,7 +49,7 @@ from robot.floorplan import MapFormatError
 
 from robot.contract import ES_EVENTS, ES_ORDERS, SCENE_MODEL_REFUSED
 
-from .bases import SCHEMA, KnowledgeBase, ObjectBase, PlaceBase, said_position
+from .bases import SCHEMA, KnowledgeBase, ObjectBase, PlaceBase, describe, said_position
 from .where import Location, Plan, locate, parse_plan
 
 NAME = "scene_model"
@@ -180,6 +180,14 @@ class SceneModel(Module):
         self.bus.publish(ES_EVENTS, event, causes=(cause,), transfer=True)
 
     # --------------------------------------------------------------- where
+    def _location(self, obj: etree._Element) -> Location:
+        """Where a stored object is: from its position (rooms and furniture), or what was said."""
+        said = said_position(obj)
+        if obj.get("x") is None:  # taught from speech alone: only what the user said about where it is
+            return Location(furniture=said[1], relation=said[0] or "near", furniture_source="speech") if said else Location()
+        return locate(float(obj.get("x")), float(obj.get("y")), self.places.taught(), self.plan,  # type: ignore[arg-type]
+                      said=said)
+
     def answer(self, query: etree._Element | None) -> etree._Element:
         """The ``<RESULT>`` for a question's ``OBJECT`` frame (found or not), from memory only."""
         found = self.objects.find(query) if query is not None else []
@@ -189,13 +197,19 @@ class SceneModel(Module):
                 result.append(query)
             return result
         obj = found[0].xml
-        said = said_position(obj)
-        if obj.get("x") is None:  # taught from speech alone: only what the user said about where it is
-            loc = Location(furniture=said[1], relation=said[0] or "near", furniture_source="speech") if said else Location()
-        else:
-            loc = locate(float(obj.get("x")), float(obj.get("y")), self.places.taught(), self.plan,  # type: ignore[arg-type]
-                         said=said)
+        other = _other_owners(query, found)
+        if other is not None and describe(other.xml)["owner"] == "partner":
+            obj, other = other.xml, found[0]  # hers first: the speaker's own is the likelier meant
+        loc = self._location(obj)
         result = etree.Element("RESULT", found="true", phrase=loc.phrase())
+        if other is not None:
+            # "where is the cup?" with her cup and her husband's stored, the question saying no owner:
+            # both fit alike, so the answer says both, each with its owner ("Your cup is on the counter in
+            # the kitchen, and husband's cup is on the desk in the study"), never one of them as "the cup"
+            there = self._location(other.xml).phrase()
+            if loc.phrase() and there:
+                result.set("whose", _whose(obj).capitalize())
+                result.set("also", f"{_whose(other.xml)} is {there}")
         result.append(obj)
         if loc.room is not None:
             place = etree.SubElement(result, "PLACE", name=loc.room, relation="in", source=loc.room_source or "")
@@ -207,6 +221,28 @@ class SceneModel(Module):
             etree.SubElement(result, "FURNITURE", name=loc.furniture, relation=loc.relation or "near",
                              source=loc.furniture_source or "")
         return result
+
+
+def _whose(obj: etree._Element) -> str:
+    """ "your cup", "husband's cup", "the cup": a stored object named with its owner, as the robot says it."""
+    d = describe(obj)
+    noun = d["name"] or d["type"].replace("_", " ")
+    owner = d["owner"]
+    if owner == "partner":
+        return f"your {noun}"
+    return f"{owner}'s {noun}" if owner else f"the {noun}"
+
+
+def _other_owners(query: etree._Element, found: list[Any]) -> Any | None:
+    """The second answer to a question that names no owner when the two best stored objects fit it
+    alike (the same type and name) but belong to different owners: the question does not single one
+    out. None otherwise (an owner asked for, one object, or the same owner)."""
+    if describe(query)["owner"] or len(found) < 2:
+        return None
+    a, b = describe(found[0].xml), describe(found[1].xml)
+    if (a["type"], a["name"]) != (b["type"], b["name"]) or a["owner"] == b["owner"]:
+        return None
+    return found[1]
 
 
 def _param(order: etree._Element, name: str, tag: str) -> etree._Element | None:

@@ -60,8 +60,8 @@ from robot.floorplan import FloorPlan, parse_map
 from robot.contract import ES_EVENTS, ES_ORDERS, FOCUS, GESTURES, OBJECTS, PARTNER, PLAYER_STATUS, POSE, TRACKS
 
 from .gestures import CAMERA_HEIGHT, CAMERA_OFFSET, GestureTracker, camera_to_map
-from .resolve import MERGE_BEARING, Candidate, Pointing, Resolution, Wanted, along_ray, choose_pointed, merge, option_texts, resolve
-from .viewpoint import ARRIVE_TOLERANCE, in_range, pointed_spot, sight_clear, viewpoint, viewpoint_route
+from .resolve import MERGE_BEARING, Candidate, Pointing, Resolution, Wanted, along_ray, choose_pointed, learned_type, merge, option_texts, resolve
+from .viewpoint import ARRIVE_TOLERANCE, CAMERA_RANGE, in_range, pointed_spot, sight_clear, viewpoint, viewpoint_route
 
 if TYPE_CHECKING:
     from homesim.sim import Simulation
@@ -70,6 +70,7 @@ ORDERS = f"{ES_ORDERS}/object_attention"
 EVENTS = ES_EVENTS
 VIEW_HALF_WIDTH = math.radians(24.0)  # the camera's half field of view
 BODY_HALF_WIDTH = 0.3  # metres either side of a person's centre that hide what is behind (shoulders, arm)
+PERSON_TOP = 1.95  # m: no one standing hides what the camera sees over this height where she stands (a tall adult's head)
 GESTURE_LEAD = 3.0  # s: a pointing that goes with a sentence may begin this long before its first word
 SENTENCE_RECENT = 15.0  # s: a sentence begun this long ago is still the one being resolved (said, understood, sent)
 SEARCH_OFFSETS = (math.radians(-35.0), math.radians(-70.0), math.radians(35.0), math.radians(70.0))  # off her bearing, one side then the other
@@ -291,9 +292,10 @@ class ObjectAttention(Module):
                 for p in el.iterfind("pointing"):
                     self.gestures.add(t, pose, float(p.get("bearing")), float(p.get("distance")), float(p.get("direction")), float(p.get("elevation")), float(p.get("hand_height")))  # type: ignore[arg-type]
             elif self._looking:
+                up = float(el.get("tilt", "-90")) >= 0.0  # the camera looked level or up (a high shelf)
                 for o in el.iterfind("object"):
                     b, d = math.radians(float(o.get("bearing"))), float(o.get("distance"))  # type: ignore[arg-type]
-                    x, y, z = self.place(pose, b, d)
+                    x, y, z = self.place(pose, b, d, high=up)
                     w, h = o.get("width"), o.get("height")
                     # The size across: the image extent at the measured (slant) distance.
                     size = 2 * d * math.tan(math.radians(float(w)) / 2) if w is not None else None
@@ -316,16 +318,19 @@ class ObjectAttention(Module):
         self._pending.append((float(msg.xml.get("time", msg.created)), "o", msg.xml))  # type: ignore[arg-type]
         self._flush()
 
-    def place(self, pose: tuple[float, float, float], bearing: float, distance: float) -> tuple[float, float, float]:
+    def place(self, pose: tuple[float, float, float], bearing: float, distance: float, *, high: bool = False) -> tuple[float, float, float]:
         """Map position of an object seen at ``bearing``/``distance``: first assume it stands on a
         table-high surface, then take the height of the plan's furniture under that point (or
-        the floor) and place it again with that height."""
+        the floor) and place it again with that height. Furniture taller than the camera counts
+        only in an image taken looking level or up (``high``: the camera was turned up to a high
+        shelf she pointed at; looking down, a mug on a counter placed a little too far by the
+        range noise would otherwise land on top of the fridge behind it)."""
         z = 0.8
         x, y = camera_to_map(pose, bearing, distance, z)
         top = 0.0
         if self.plan is not None:
             for o in self.plan.obstacles:
-                if o.type != "leg" and o.top < CAMERA_HEIGHT and _inside(x, y, o.points):
+                if o.type != "leg" and (high or o.top < CAMERA_HEIGHT) and _inside(x, y, o.points):
                     top = max(top, o.top)
         z = top + 0.05
         x, y = camera_to_map(pose, bearing, distance, z)
@@ -384,7 +389,11 @@ class ObjectAttention(Module):
                 near = await self._search_near_partner(wanted, cause)
                 if near is not None and near.kind != "none":
                     res = near
-            hidden = pointing is not None and self._partner_in_the_way(pointing)
+            # Out of the camera's range (she points from afar, or up at a high shelf across the room):
+            # no one hides it, the robot must come closer (below), not ask her to step aside
+            # (fresh3 open_sofa_guest, angle_point_far: "you are standing in front of it" was untrue).
+            far = pointing is not None and self._out_of_range(pointing)
+            hidden = pointing is not None and not far and self._partner_in_the_way(pointing)
             if res.kind == "none" and (hidden or (pointing is None and self._partner_in_view())) and not self._asked_in_vain():
                 # She stands between the camera and what she points at: ask her to step aside,
                 # wait until she has, and look again (at where she points then, if she does).
@@ -655,11 +664,20 @@ class ObjectAttention(Module):
         if state:
             self._player = (state, msg.created)
 
+    def _out_of_range(self, pointing: Pointing) -> bool:
+        """Where ``pointing`` shows an object lies beyond the camera's reliable object range from here."""
+        pose, target = self.pose, self._target_3d(pointing)
+        if pose is None or target is None:
+            return False
+        cam = (pose[0] + CAMERA_OFFSET * math.cos(pose[2]), pose[1] + CAMERA_OFFSET * math.sin(pose[2]), CAMERA_HEIGHT)
+        return math.dist(cam, target) > CAMERA_RANGE[1]
+
     def _in_the_way(self, bearing: float, distance: float, pointing: Pointing) -> bool:
-        """Whether a person at ``bearing``/``distance`` (robot frame) hides where ``pointing`` comes
-        down (her body, ``BODY_HALF_WIDTH`` either side, nearer to the camera than that spot)."""
+        """Whether a person at ``bearing``/``distance`` (robot frame) hides where ``pointing`` shows an
+        object (her body, ``BODY_HALF_WIDTH`` either side and up to ``PERSON_TOP``, nearer to the camera
+        than that spot): the sight line to a book on top of a tall shelf passes over her head."""
         pose = self.pose
-        target = self._ray_target(pointing)
+        target = self._target_3d(pointing)
         if pose is None or target is None:
             return False
         dx, dy = target[0] - pose[0], target[1] - pose[1]
@@ -667,6 +685,8 @@ class ObjectAttention(Module):
         t_bearing = math.remainder(math.atan2(dy, dx) - pose[2], 2 * math.pi)
         if distance >= t_dist - 0.1:
             return False
+        if CAMERA_HEIGHT + (target[2] - CAMERA_HEIGHT) * distance / max(t_dist, 1e-6) > PERSON_TOP:
+            return False  # the sight line passes over her head
         return abs(math.remainder(bearing - t_bearing, 2 * math.pi)) <= math.atan2(BODY_HALF_WIDTH, max(distance, 0.3))
 
     def _partner_in_the_way(self, pointing: Pointing) -> bool:
@@ -881,7 +901,7 @@ class ObjectAttention(Module):
 
     # ------------------------------------------------------------ results
     def _recognized(self, c: Candidate, wanted: Wanted, obj: etree._Element | None, cause: str) -> None:
-        typ = wanted.type or c.type
+        typ = learned_type(c, wanted)
         el = etree.Element("OBJECT", type=typ, name=wanted.name or typ)
         if wanted.owner:
             el.set("owner", wanted.owner)

@@ -494,6 +494,21 @@ class Resolution:
         return [s.candidate for s in self.ranked if s.fits]
 
 
+def learned_type(c: Candidate, wanted: Wanted) -> str:
+    """The type an object is stored as: the user's own word when the camera saw the object as just
+    that (most of its detections), else the speech frame's type, else what the camera saw most.
+
+    The lexicon maps a word to the class it is understood by ("toaster", "microwave" and "grill"
+    are all understood as a ``stove``), so that a request finds the object; but her toaster is a
+    toaster: the class must not replace the thing she named by another appliance when the
+    camera itself tells them apart. A word the camera has no class for ("lemon tree": a plant)
+    keeps the frame's type, and her word stays the object's name either way."""
+    word = "_".join(wanted.name.split())
+    if word and word != wanted.type and c.n and c.types.get(word, 0) * 2 > c.n:
+        return word
+    return wanted.type or c.type
+
+
 def score(c: Candidate, wanted: Wanted, pointing: Pointing | None, origin: tuple[float, float]) -> Scored:
     """How well one candidate fits what was said and shown (a likelihood, up to a constant)."""
     s, fits, why = 1.0, True, []

@@ -343,7 +343,7 @@ def pointed_spot(plan: FloorPlan, hand: tuple[float, float, float], direction: f
     down on the floor behind it, so where it comes down is not where the object is. None when
     the ray stays higher than ``band`` over everything within ``reach`` m."""
     if elevation >= 0.0:
-        return None
+        return _spot_above(plan, hand, direction, elevation, band=band, reach=reach, step=step)
     walls = [tuple((float(x), float(y)) for x, y in w.rectangle()) for w in plan.walls]
     tops = [(o.points, o.top) for o in plan.obstacles if o.type != "leg" and o.top < hand[2]]
     c, s, slope = math.cos(direction), math.sin(direction), math.tan(elevation)
@@ -370,3 +370,29 @@ def pointed_spot(plan: FloorPlan, hand: tuple[float, float, float], direction: f
     run = runs[-1]
     x, y, under = run[len(run) // 2]
     return x, y, under + 0.05
+
+
+def _spot_above(plan: FloorPlan, hand: tuple[float, float, float], direction: float, elevation: float, *,
+                band: float, reach: float, step: float) -> tuple[float, float, float] | None:
+    """:func:`pointed_spot` for a ray that rises (she points up at a book on top of a bookshelf, a
+    clock on a tall cabinet): the first stretch of it over a piece of furniture taller than her hand
+    that runs at most ``band`` m above its top, or the point where it meets that furniture's side no
+    more than ``band`` below its top (aimed at an object's middle, the arm points a little low), before
+    it meets a wall; ``(x, y, top + 0.05)``. None when the ray passes over nothing that high within
+    ``reach`` m (it shows a picture on the wall, the ceiling lamp: nothing on a surface)."""
+    walls = [tuple((float(x), float(y)) for x, y in w.rectangle()) for w in plan.walls]
+    tall = [(o.points, o.top) for o in plan.obstacles if o.type != "leg" and o.top >= hand[2] - band]
+    c, s, slope = math.cos(direction), math.sin(direction), math.tan(elevation)
+    d = 0.1
+    while d <= reach:
+        x, y, z = hand[0] + d * c, hand[1] + d * s, hand[2] + d * slope
+        if any(_point_polygon((x, y), w) == 0.0 for w in walls):
+            return None
+        for pts, top in tall:
+            if _point_polygon((x, y), pts) == 0.0:
+                if z < top - band:
+                    return None  # into its side, well below the top: nothing on a surface there
+                if z - top <= band:
+                    return x, y, top + 0.05
+        d += step
+    return None
