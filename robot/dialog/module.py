@@ -363,7 +363,7 @@ class Dialog(Module):
         self._holding = False  # a held sentence waits for a pause (one timer)
         self._held_head: tuple[Any, ...] | None = None  # the sentence held (counted once)
         self.held_sentences = 0  # sentences that waited for a pause (metrics)
-        self.stale_repairs = 0  # "say that again" not said: the talk went on meanwhile (metrics)
+        self.stale_repairs = 0  # "say that again" dropped: the talk went on meanwhile (metrics)
         self._repairs = frozenset(t for t in (self.doc.not_understood, self.doc.sentence("not-understood-reask"),
                                               self.doc.sentence("not-understood-help")) if t)
         self._said = 0  # serial of the last <say> sent
@@ -813,19 +813,15 @@ class Dialog(Module):
     def _hold(self) -> bool:
         """Turn-taking (issue 26, fresh3 passage_talk_aside: the robot began and cut off "Sorry, I did not
         understand you" eight times over a couple talking to each other): while a voice from the partner's
-        direction was heard within ``TURN_GAP`` s, the next sentence waits for a pause. A sentence ready
-        before a voice was heard there is not said at all: begun, the barge-in rule would have cut it at
-        that voice's first frame (the same outcome, without talking over her; her words are her next
-        turn, answered in their own right; a "say that again" among them is counted as
-        ``stale_repairs``). A sentence held ``HOLD_MAX`` s is said anyway. True while a sentence is held
-        (a timer looks again)."""
+        direction was heard within ``TURN_GAP`` s, the next sentence waits for a pause. A repair ("Could
+        you say that again?") for words after which the talk went on is dropped: someone has taken the
+        turn, and what she says now is her next turn, answered in its own right. A sentence held
+        ``HOLD_MAX`` s is said anyway. True while a sentence is held (a timer looks again)."""
         if self.now - self._voice_at >= TURN_GAP:
             return False
         before = len(self._queue)
-        self.stale_repairs += sum(1 for q in self._queue if q[4] and self._voice_at > q[3])
-        self._queue = deque(q for q in self._queue if not self._voice_at > q[3])
-        if len(self._queue) < before:
-            self.manager.barge_in()  # as if begun and cut: the dialog's barge-in count
+        self._queue = deque(q for q in self._queue if not (q[4] and self._voice_at > q[3]))
+        self.stale_repairs += before - len(self._queue)
         if not self._queue or self.now - self._queue[0][3] >= HOLD_MAX:
             return not self._queue
         if self._queue[0] is not self._held_head:
