@@ -153,18 +153,9 @@ LEADING_STATES = frozenset({"Following"})
 #: ES states in which the robot drives on its own, away from the partner, and its person attention sleeps:
 #: words are hers when a voice came from where she was last seen (:meth:`Dialog._from_her_place`)
 DRIVING_STATES = frozenset({"Navigating"})
-#: s: a voice heard from the partner's direction this recently means someone is still talking there: the
-#: robot does not begin a sentence over it (turn-taking: it waits for a pause; the barge-in rule would cut
-#: the sentence at once anyway). Above the microphones' frame interval (0.1 s) and a breath between words,
-#: below the ~1 s from the end of an utterance to the robot's answer to it, so answers are not delayed.
-TURN_GAP = 0.5
 #: face to face, words of which fewer than this share of the voiced sound frames came from where she stands
 #: are another talker's (the addressee rule; an overlap with her next turn is a few frames)
 HER_SHARE = 0.25
-#: s: a sentence held for a pause this long is said anyway (someone talking on and on near her)
-HOLD_MAX = 8.0
-#: s: how often a held sentence looks for the pause
-HOLD_STEP = 0.1
 #: the microphone pair's geometry (m: ahead of the centre, spacing, height) and a standing adult's
 #: mouth height, as the person attention's CueSpec has them (modules share no code: tests/test_layers.py)
 MIC_OFFSET, MIC_SPACING, MIC_HEIGHT, MOUTH_HEIGHT = 0.10, 0.281, 1.06, 1.6
@@ -357,15 +348,7 @@ class Dialog(Module):
         self._talking = False  # a <say> is out and not yet done/interrupted
         self._cut = False  # this utterance was already cut by a barge-in
         self._talk_start = 0.0  # when the current sentence began (sent, then the speaker's start)
-        # text, causes, dialogs, when it was ready to be said, whether it is a repair ("say that again")
-        self._queue: deque[tuple[str, tuple[str, ...], frozenset[str], float, bool]] = deque()
-        self._voice_at = -math.inf  # when a voice from the partner's direction was last heard (turn-taking)
-        self._holding = False  # a held sentence waits for a pause (one timer)
-        self._held_head: tuple[Any, ...] | None = None  # the sentence held (counted once)
-        self.held_sentences = 0  # sentences that waited for a pause (metrics)
-        self.stale_repairs = 0  # "say that again" dropped: the talk went on meanwhile (metrics)
-        self._repairs = frozenset(t for t in (self.doc.not_understood, self.doc.sentence("not-understood-reask"),
-                                              self.doc.sentence("not-understood-help")) if t)
+        self._queue: deque[tuple[str, tuple[str, ...], frozenset[str]]] = deque()  # text, causes, dialogs
         self._said = 0  # serial of the last <say> sent
         # the follower comes up to the partner after "stop" (issue 26 item 10): a request she makes
         # meanwhile waits until it stands facing her (a place taught from the other room would be
@@ -398,8 +381,6 @@ class Dialog(Module):
         """Dialog metrics for the run summary (plain data)."""
         out = self.manager.summary()
         out["not_addressed"] = self.not_addressed
-        out["held_for_a_pause"] = self.held_sentences
-        out["stale_repairs_dropped"] = self.stale_repairs
         return out
 
     def addressed(self, start: float, end: float, named: bool = False, shows: bool = False) -> bool:
@@ -692,7 +673,6 @@ class Dialog(Module):
         return self._partner[0]
 
     def _on_sources(self, msg: Message) -> None:
-        self._note_voice(msg)
         # every state: the addressee rule asks where the words came from (bounded deque)
         heard = tuple(float(src.get("bearing", "nan")) for src in msg.xml.iterfind("source")
                       if float(src.get("level", "0")) >= VOICE_LEVEL and math.isfinite(float(src.get("bearing", "nan"))))
@@ -713,20 +693,6 @@ class Dialog(Module):
                 self._queue.clear()
                 self.manager.barge_in()
                 self.bus.publish(SAY, etree.Element("say", text=""), causes=(msg.id,))
-                return
-
-    def _note_voice(self, msg: Message) -> None:
-        """Remember when a voice came from the partner's direction (as the barge-in rule hears her:
-        ``barge_in_level`` dB or more within ``barge_in_width`` of her, folded to the front). The
-        microphones' echo cancellation takes the robot's own voice out; without a partner nothing counts."""
-        partner = self.partner_bearing()
-        if partner is None:
-            return
-        want = front_bearing(partner)
-        for src in msg.xml.iterfind("source"):
-            level, bearing = float(src.get("level", "0")), float(src.get("bearing", "nan"))
-            if level >= self.barge_in_level and math.isfinite(bearing) and abs(front_bearing(bearing) - want) <= self.barge_in_width:
-                self._voice_at = max(self._voice_at, float(msg.xml.get("time", repr(msg.created))))
                 return
 
     # ----------------------------------------------------------------- outputs
@@ -791,14 +757,14 @@ class Dialog(Module):
     def _enqueue(self, text: str, cause: str, dialogs: frozenset[str] = frozenset()) -> None:
         if not text:
             return
-        self._queue.append((text, (cause,), dialogs, self.now, text in self._repairs))
+        self._queue.append((text, (cause,), dialogs))
         if not self._talking:
             self._say_next()
 
     def _say_next(self) -> None:
-        if not self._queue or self.bus.closed or self.bus.hung or self._hold():
+        if not self._queue or self.bus.closed or self.bus.hung:
             return
-        text, causes, *_ = self._queue.popleft()
+        text, causes, _ = self._queue.popleft()
         self._talking = True
         self._cut = False
         self._talk_start = self.now
@@ -809,33 +775,6 @@ class Dialog(Module):
         # queue must not stall: give up waiting well after the sentence would end.
         patience = 0.5 + 0.45 * max(1, len(text.split()))
         self.sim.loop.call_at_ns(to_ns(self.now + patience), self._speaker_silent, self._said)
-
-    def _hold(self) -> bool:
-        """Turn-taking (issue 26, fresh3 passage_talk_aside: the robot began and cut off "Sorry, I did not
-        understand you" eight times over a couple talking to each other): while a voice from the partner's
-        direction was heard within ``TURN_GAP`` s, the next sentence waits for a pause. A repair ("Could
-        you say that again?") for words after which the talk went on is dropped: someone has taken the
-        turn, and what she says now is her next turn, answered in its own right. A sentence held
-        ``HOLD_MAX`` s is said anyway. True while a sentence is held (a timer looks again)."""
-        if self.now - self._voice_at >= TURN_GAP:
-            return False
-        before = len(self._queue)
-        self._queue = deque(q for q in self._queue if not (q[4] and self._voice_at > q[3]))
-        self.stale_repairs += before - len(self._queue)
-        if not self._queue or self.now - self._queue[0][3] >= HOLD_MAX:
-            return not self._queue
-        if self._queue[0] is not self._held_head:
-            self._held_head = self._queue[0]
-            self.held_sentences += 1
-        if not self._holding:
-            self._holding = True
-            self.sim.loop.call_at_ns(to_ns(self.now + HOLD_STEP), self._hold_over)
-        return True
-
-    def _hold_over(self) -> None:
-        self._holding = False
-        if not self._talking:
-            self._say_next()
 
     def _speaker_silent(self, serial: int) -> None:
         if serial == self._said and self._talking:
