@@ -1,4 +1,4 @@
-"""Sensor models' CPU: the laser and the camera, per update and in the simulated home.
+"""Sensor models' CPU: the laser, the sonar rings and the camera, per update and in the simulated home.
 
 Run: ``python -m benchmarks.bench_sensors [--duration S] [--reps N]``. Process CPU time
 (``time.process_time``), so the machine's other work counts less than on a wall clock. Prints, for
@@ -8,10 +8,13 @@ the example flat with 1, 3 and 10 people (:func:`benchmarks.bench_world.crowd_sc
   furniture kept from the last scan, only legs cast) and moving (everything cast), and the dense
   kernel (``RayCaster``: every beam against every edge and leg, what a moving scan cost before the
   fan caster) for comparison;
+- a sonar packet (``sonar_readings``: five transducers, each the nearest echo of its cone's seven
+  rays, with noise and dropouts; the rings fire 2.5 per ring per 0.1 s packet), in one pass and ray
+  by ray with a ``RayCaster`` (the same floats);
 - a camera frame's detections (``detect_frame``: faces, torsos, gestures, objects, one pass of 3D
   sight lines) against the four per-kind detectors called in turn (a pass each);
 - the whole simulated home (``Stage``: physics, people, every sensor and its bus messages) in CPU
-  ms per simulated second, and the laser's, the camera's, the microphones' and the base's modules'
+  ms per simulated second, and the laser's, the sonar's, the camera's, the microphones' and the base's modules'
   share of it (each wake-up timed, as :mod:`benchmarks.bench_modules` does, their bus messages
   included).
 
@@ -42,6 +45,7 @@ from homesim.tour.stage import Stage
 from homesim.world.world import World
 from robot.hardware.camera import CameraSpec, PanTilt, detect_faces, detect_frame, detect_gestures, detect_objects, detect_torsos
 from robot.hardware.laser import LaserSpec, laser_origin, simulate_scan
+from robot.hardware.sonar import SonarSpec, sonar_readings
 
 _clock = time.process_time
 
@@ -81,6 +85,7 @@ def kernels(n_people: int, reps: int) -> dict[str, float]:
     origin, angles = laser_origin(pose, spec), bearings + pose[2]
     dense = RayCaster()
     cspec, ptu = CameraSpec(), PanTilt()
+    sspec, scaster = SonarSpec(), RayCaster()
 
     def per_kind() -> None:
         occ = world.person_cylinders()
@@ -93,6 +98,8 @@ def kernels(n_people: int, reps: int) -> dict[str, float]:
         "scan standing": compiled_and_python(lambda: cpu_us(lambda: simulate_scan(world, pose, spec, rng, bearings=bearings), reps)),
         "scan moving": compiled_and_python(lambda: cpu_us(moving, reps)),
         "dense cast": compiled_and_python(lambda: cpu_us(lambda: dense.cast(origin, angles, a, b, c, r, spec.max_range, backfaces=False), reps)),
+        "sonar packet": compiled_and_python(lambda: cpu_us(lambda: sonar_readings(world, pose, sspec, (0, 8, 1, 9, 2), rng), reps)),
+        "sonar ray by ray": compiled_and_python(lambda: cpu_us(lambda: sonar_readings(world, pose, sspec, (0, 8, 1, 9, 2), rng, caster=scaster), reps)),
         "frame": compiled_and_python(lambda: cpu_us(lambda: detect_frame(world, pose, ptu, cspec, rng, occluders=world.person_cylinders()), reps)),
         "frame per kind": compiled_and_python(lambda: cpu_us(per_kind, reps)),
     }
@@ -131,7 +138,7 @@ def in_stage(n_people: int, duration: float) -> dict[str, float]:
     return {"home": 1000 * cpu / duration, **{m: 1000 * account.cpu[m] / duration for m in MODULES}}
 
 
-MODULES = ("laser", "camera", "microphones", "base")
+MODULES = ("laser", "sonar", "camera", "microphones", "base")
 
 
 def main() -> None:
@@ -146,6 +153,8 @@ def main() -> None:
         k = kernels(n, a.reps)
         print(f"{n:>6} " + " ".join(f"{k[name][0]:>{w - 7}.1f} / {k[name][1]:>5.1f}" for name, w in
                                    (("scan standing", 17), ("scan moving", 15), ("dense cast", 14), ("frame", 13), ("frame per kind", 13))), flush=True)
+        print(f"{'':>6} sonar packet us {k['sonar packet'][0]:.1f} / {k['sonar packet'][1]:.1f} "
+              f"(ray by ray {k['sonar ray by ray'][0]:.1f} / {k['sonar ray by ray'][1]:.1f})", flush=True)
     print(f"{'people':>6} {'home ms/s':>15} " + " ".join(f"{m + ' ms/s':>15}" for m in MODULES))
     for n in (1, 3, 10):
         s = compiled_and_python(lambda: in_stage(n, a.duration))

@@ -23,6 +23,7 @@ SCHEMA_DIR = Path(__file__).resolve().parent / "schemas"
 
 # ------------------------------------------------------------------ hardware (robot/hardware/)
 SCAN = "/robot/laser/scan"
+SONAR = "/robot/sonar"
 FACES = "/robot/camera/faces"
 TORSOS = "/robot/camera/torsos"
 GESTURES = "/robot/camera/gestures"
@@ -82,6 +83,7 @@ _EVENT_SOURCES = ("dialog", "person_attention", "follower", "object_attention", 
 #: Every channel of the contract, in the order of ``docs/robot-contract.md``'s table.
 CHANNELS: tuple[Channel, ...] = (
     Channel(SCAN, "hardware/laser-scan.xsd", ("laser",), "scan"),
+    Channel(SONAR, "hardware/sonar.xsd", ("sonar",), "sonar"),
     Channel(FACES, "hardware/camera-faces.xsd", ("camera",), "faces"),
     Channel(TORSOS, "hardware/camera-torsos.xsd", ("camera",), "torsos"),
     Channel(GESTURES, "hardware/camera-gestures.xsd", ("camera",), "gestures"),

@@ -220,6 +220,40 @@ def test_the_same_confirmation_after_an_interruption_counts_too(dm):
     assert says(out) == ["Sorry, let us leave that for now."]
 
 
+def test_the_same_request_again_after_its_dialog_gave_up_is_taken_not_asked_a_third_time(dm):
+    # lang12: "Is this the kitchen?" asked twice, given up while the follow below resumed; her "this is the
+    # kitchen" again started a new dialog that asked it a third time. Two hearings agree: it is taken.
+    dm.on_frame(heard("follow me", 0.2))
+    assert says(dm.on_frame(heard("this is the kitchen", 0.2))) == ["Is this the kitchen?"]
+    dm.on_frame(heard("blah", 0.2))
+    assert says(dm.on_frame(heard("blah", 0.2))) == ["Sorry, let us leave that for now.", "Shall I follow you?"]
+    out = dm.on_frame(heard("this is the kitchen", 0.2))
+    (s,) = sends(out)
+    assert s.event == "place_teaching" and "Is this the kitchen?" not in says(out)
+    assert s.children[0].find("PLACE/TITLE").get("name") == "kitchen"
+
+
+def test_another_value_after_a_given_up_dialog_is_asked_and_a_no_keeps_it_untaken(dm):
+    dm.on_frame(heard("this is the kitchen", 0.2))
+    dm.on_frame(heard("blah", 0.2))
+    assert says(dm.on_frame(heard("blah", 0.2))) == ["Sorry, let us leave that for now."]
+    assert says(dm.on_frame(heard("this is the bathroom", 0.2))) == ["Is this the bathroom?"]  # other content: asked
+    m = DialogManager(DOC)
+    m.es_state = "Interacting"
+    for w in ("this is the kitchen", "blah", "blah"):
+        m.on_frame(heard(w, 0.2))
+    out = m.on_frame(heard("no, this is the kitchen", 0.2))  # the same words with a no: nothing taken, not asked again
+    assert not sends(out) and "Is this the kitchen?" not in says(out)
+
+
+def test_something_done_lets_a_given_up_question_be_asked_afresh(dm):
+    for w in ("this is the kitchen", "blah", "blah"):
+        dm.on_frame(heard(w, 0.2))
+    (s,) = sends(dm.on_frame(heard("follow me")))  # done: a new topic
+    assert s.event == "follow"
+    assert says(dm.on_frame(heard("this is the kitchen", 0.2))) == ["Is this the kitchen?"]
+
+
 # ------------------------------------------------------------------ names
 @pytest.mark.parametrize("words,name", [("that's the study", "study"), ("this is the lounge", "lounge"),
                                         ("we are in the hallway", "hallway"), ("this is the sitting room", "sitting room"),
@@ -360,6 +394,10 @@ def test_after_two_requests_to_say_it_again_the_next_hearing_is_taken_without_a_
 @example([("no the kitchen", 0.2), ("follow me", 0.2), ("no the kitchen", 0.2)])
 @example([("no the kitchen", 0.2), ("what can you do", 0.2), ("follow me", 0.2), ("this is the kitchen", 0.2)])
 @example([("blah", 0.2), ("blah", 0.2), ("blah", 0.2), ("hmm", 0.9), ("blah", 0.2), ("blah", 0.2)])
+# a given-up sub-dialog's question resumed over by the one below, then the same request said again (lang12: the
+# dev profile found it; the given-up dialog had left the stack, and the new one counted its question from zero)
+@example([("follow me", 0.2), ("this is the kitchen", 0.2), ("blah", 0.2), ("blah", 0.2), ("this is the kitchen", 0.2)])
+@example([("look at this", 0.2), ("blah", 0.2), ("blah", 0.2), ("blah", 0.2), ("look at this", 0.2), ("blah", 0.2)])
 def test_no_question_is_said_a_third_time_in_a_row_across_dialogs(seq):
     """Item 7 over the whole interaction, not per sub-dialog: while the user neither answers yes/no nor
     gets anything done (an event sent) and every robot turn is a question, the same question is never

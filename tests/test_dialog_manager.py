@@ -389,6 +389,11 @@ GREETING_BY_STATE = {
     "TechnicalFailure": "I have a technical problem. Please call technical support.",
 }
 
+MAKE_WAY_BY_STATE = {
+    "Following": "Sorry. I am following you; I will keep my distance.",
+    "Navigating": "Sorry. I am driving to my goal and will pass you as soon as I can.",
+}
+
 
 def test_every_rejection_the_supervisor_can_produce_has_its_sentence():
     cases = _rejections_the_supervisor_produces()
@@ -397,6 +402,8 @@ def test_every_rejection_the_supervisor_can_produce_has_its_sentence():
         m = DialogManager(DOC)
         m.es_state = state
         want = GREETING_BY_STATE[state] if event == "greeting" else BY_STATE[state]
+        if event == "make_way":  # "you are in my way" while following or driving: it says what it does instead
+            want = MAKE_WAY_BY_STATE.get(state, want)
         assert says(m.on_rejected(rejected(event, reason, state))) == [want], (event, reason, state)
         # An event can also arrive after its lifetime in any state (latency, a busy supervisor): never the catch-all.
         late = says(DialogManager(DOC).on_rejected(rejected(event, "expired", state)))

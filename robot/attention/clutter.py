@@ -13,8 +13,14 @@ seen end on, is a leg-sized segment, and its centre (pushed back by a leg
 radius like every candidate's) lies inside the wall. A confirmed track that
 coasted near a door took such a jamb as its person standing still (the
 partner's track then stood in the door frame and the robot turned to it,
-four_people seed 8). A person's leg centre is at least a leg radius off a
-wall's surface, so a margin below that keeps people against a wall.
+four_people seed 8). A person's leg centre is at least a leg radius (6 cm) off a
+wall's surface, so person attention's leg filter grows the walls by that radius
+(``AttentionParams.leg_wall_margin``): the candidates are placed with the robot's map pose,
+which is a few centimetres off, and with a 2 cm margin a jamb's end 2 cm inside the wall came
+out as a leg in front of it (hall_follow_doors seeds 3 and 8, passage_follow_doors seed 0: the
+partner's coasting track jumped onto the jamb and the robot lost her behind it, doors9). A leg
+centre nearer a wall than its own radius is the wall's echo, whatever the pose. (The attention's
+turn check keeps the footprint's outline off the walls grown by the default 2 cm.)
 
 The candidates are put into the map frame with the robot's pose there: the
 localiser's (``/robot/localisation/pose``) when it publishes, else the

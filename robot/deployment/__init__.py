@@ -30,7 +30,7 @@ from homesim.errors import InputError
 #: this list (tests/test_deployment.py checks it against a run's modules).
 MODULES: tuple[str, ...] = (
     # hardware
-    "base", "camera", "display", "laser", "map_server", "microphones", "speaker",
+    "base", "camera", "display", "laser", "map_server", "microphones", "sonar", "speaker",
     # the execution supervisor
     "supervisor",
     # the subsystems

@@ -184,6 +184,11 @@ class DialogManager:
         }
         # (sentence, times in a row) of the last refusal said outside any sub-dialog (:meth:`on_rejected`)
         self._refusal: tuple[str, int] | None = None
+        # what the sub-dialogs given up since the last thing done had asked: question -> times said, and
+        # the values they were confirming (dialog, slot, value); a request said again takes them up
+        # (:meth:`_take_up_given_up`), so a given-up question is never put a third time
+        self._given_up_asked: dict[str, int] = {}
+        self._given_up_values: list[tuple[str, str, Any]] = []
 
     # ------------------------------------------------------------------ queries
     @property
@@ -277,6 +282,7 @@ class DialogManager:
             top.passed_over = 0
             top.slots[top.pending[1]].status = "true" if said == "yes" else "false"
             top.pending = None
+            self._something_done()
             # as above: the rest of this turn goes on to the dialog below (it may answer its open
             # question: "Is this the kitchen?" - "follow me" - "no, the kitchen"), so that dialog does
             # not resume with its question first (it was asked, then asked again by the rest)
@@ -299,6 +305,7 @@ class DialogManager:
             answered.reasks = 0
             if kind == "confirm" and act in ("YES", "NO"):
                 answered.slots[slot].status = "true" if act == "YES" else "false"
+                self._something_done()
             elif kind == "confirm":
                 self._confirm_by_frame(answered, slot, act, act_el, conf, said, stamp)
             else:
@@ -349,8 +356,47 @@ class DialogManager:
                     and _same(prior.slots[slot].value, inst.slots[slot].value)):
                 inst.slots[slot].status = "true"
                 self.metrics["confirmed_by_repetition"] += 1
+        self._take_up_given_up(inst, said)
         self._step(inst, out)
         return out
+
+    def _take_up_given_up(self, inst: Instance, said: str) -> None:
+        """A request said again after its sub-dialog gave up ("Is this the kitchen?" asked twice, nothing
+        understood, "Sorry, let us leave that for now.", then "this is the kitchen" again): the given-up
+        dialog is gone from the stack, but what it asked is not. The same question is the same words
+        whichever sub-dialog says them, so the new instance starts with the given-up counts (the policy
+        never puts a question a third time), and the same value it was confirming, heard again, is two
+        hearings that agree: confirmed, as when the request is repeated while its question is open."""
+        for q, n in self._given_up_asked.items():
+            inst.asked[q] = max(inst.asked.get(q, 0), n)
+        if said == "no":
+            return
+        for did, slot, value in self._given_up_values:
+            mine = inst.slots.get(slot)
+            if did == inst.d.id and mine is not None and mine.status == "filled" and _same(value, mine.value):
+                mine.status = "true"
+                self.metrics["confirmed_by_repetition"] += 1
+                return
+
+    def _give_up(self, inst: Instance, out: list[Output]) -> None:
+        """End ``inst`` unfinished ("Sorry, let us leave that for now."), remembering what it asked and
+        the values it was confirming until something is done (:meth:`_take_up_given_up`)."""
+        self.metrics["give_ups"] += 1
+        for q, n in inst.asked.items():
+            self._given_up_asked[q] = max(self._given_up_asked.get(q, 0), n)
+        if inst.pending is not None and inst.pending[0] == "confirm":
+            slot = inst.slots.get(inst.pending[1])
+            if slot is not None and slot.status == "filled":
+                # bounded: the last few given-up confirmations are all a repetition can take up
+                self._given_up_values = [*self._given_up_values[-3:], (inst.d.id, inst.pending[1], slot.value)]
+        inst.pending = None
+        self._say(out, self.doc.sentence("give-up"), inst.d.id)
+        self._finish(inst, out, abandoned=False)
+
+    def _something_done(self) -> None:
+        """An event sent or a question answered yes or no: a given-up question may be asked afresh."""
+        self._given_up_asked.clear()
+        self._given_up_values.clear()
 
     def _correcting(self, did: str, act_el: etree._Element) -> etree._Element:
         """"No, this is the bedroom" right after "OK, this is the kitchen. I will remember it.": the
@@ -564,10 +610,7 @@ class DialogManager:
         n = inst.asked.get(question, 0)
         if n >= MAX_SAME_QUESTION:
             self.metrics["asked_twice_gave_up"] += 1
-            self.metrics["give_ups"] += 1
-            inst.pending = None
-            self._say(out, self.doc.sentence("give-up"), inst.d.id)
-            self._finish(inst, out, abandoned=False)
+            self._give_up(inst, out)
             return False
         inst.asked[question] = n + 1
         self.metrics["max_same_question"] = max(self.metrics["max_same_question"], n + 1)
@@ -587,9 +630,7 @@ class DialogManager:
                 continue
             inst.reasks += 1
             if inst.reasks > self.doc.max_reasks:
-                self.metrics["give_ups"] += 1
-                self._say(out, self.doc.sentence("give-up"), inst.d.id)
-                self._finish(inst, out, abandoned=False)
+                self._give_up(inst, out)
             elif self._may_ask(inst, inst.pending[2], out):
                 self.metrics["reasks"] += 1
                 # the question said again is the request to repeat: the apology alone before it (with
@@ -697,6 +738,7 @@ class DialogManager:
                         children.append(w)
             inst.sent.append(a.event or "")
             self.metrics["events_sent"] += 1
+            self._something_done()
             out.append(Send(a.event or "", tuple(children), a.lifetime, a.pose, did))
         elif a.kind == "explain":
             out.append(Explain(did))

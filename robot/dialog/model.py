@@ -24,12 +24,12 @@ STATUSES = ("empty", "filled", "true", "false")
 #: Dialog acts of the understanding's frames (the children of <SPEECH>).
 ACTS = (
     "GREETING", "GOODBYE", "CAPABILITIES", "FOLLOW", "STOP", "WAIT", "YES", "NO", "THAT_ONE",
-    "GOTO", "WHERE", "OBJECT", "PLACE",
+    "GOTO", "WHERE", "OBJECT", "PLACE", "MAKE_WAY",
 )
 
 #: Events the dialog sends to the supervisor (docs/robot-contract.md).
 DIALOG_EVENTS = (
-    "greeting", "follow", "stop", "goodbye", "object_teaching", "query_object", "place_teaching", "goto",
+    "greeting", "follow", "stop", "goodbye", "object_teaching", "query_object", "place_teaching", "goto", "make_way",
 )
 
 

@@ -482,6 +482,11 @@ class Dialog(Module):
         if self.manager.es_state in DRIVING_STATES and (x.find("SPEECH/STOP") is not None or x.find("SPEECH/WAIT") is not None):
             self._on_addressed(msg)  # anyone may stop a robot that drives on its own (safety): never dropped
             return
+        if x.tag == "not_understood" and x.get("addressee") == "other":
+            # words that call someone else ("Tom, can you put the kettle on"): not for the robot, and no
+            # "say that again" to them (counted with the other chat it did not answer)
+            self.not_addressed += 1
+            return
         if x.tag in ("understood", "not_understood") and not self.addressed(
                 float(x.get("start", "nan")), float(x.get("end", "nan")), named=x.get("named") == "true",
                 shows=x.tag == "understood" and x.find("SPEECH//GESTURE") is not None):

@@ -1,4 +1,4 @@
-"""PeopleBot hardware models (Player-like): laser, pan-tilt camera, microphones,
+"""PeopleBot hardware models (Player-like): laser, sonar rings, pan-tilt camera, microphones,
 base with odometry, speaker and display.
 
 Each device has pure, vectorised kernels (geometry in, measurements out,

@@ -20,7 +20,7 @@ from pathlib import Path
 from typing import Any
 
 from robot.contract import (
-    BASE_CMD, DISPLAY_CMD, DISPLAY_STATE, FACES, GESTURES, OBJECTS, ODOMETRY, PTU_CMD, PTU_STATE, SAY, SCAN, SOURCES, SPEAKER_STATUS, SPEECH,
+    BASE_CMD, DISPLAY_CMD, DISPLAY_STATE, FACES, GESTURES, OBJECTS, ODOMETRY, PTU_CMD, PTU_STATE, SAY, SCAN, SONAR, SOURCES, SPEAKER_STATUS, SPEECH,
     STEER, TORSOS,
 )
 
@@ -44,6 +44,7 @@ class TypedChannel:
 
 CHANNELS: tuple[TypedChannel, ...] = (
     TypedChannel(SCAN, "laser-scan.xsd", "out", "laser"),
+    TypedChannel(SONAR, "sonar.xsd", "out", "sonar"),
     TypedChannel(FACES, "camera-faces.xsd", "out", "camera"),
     TypedChannel(TORSOS, "camera-torsos.xsd", "out", "camera"),
     TypedChannel(GESTURES, "camera-gestures.xsd", "out", "camera"),

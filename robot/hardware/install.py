@@ -22,17 +22,19 @@ from .camera_module import Camera
 from .channels import declare_channels
 from .laser import Laser, LaserSpec
 from .map_server import MapServer
+from .sonar import Sonar, SonarSpec
 from .microphones import MicSpec
 from .speaker import Display, Speaker
 
 
 def install(stage: Any) -> dict[str, Module]:
-    """Type the hardware channels, then create the laser, camera, microphones, base, speaker, display and map server modules."""
+    """Type the hardware channels, then create the laser, sonar rings, camera, microphones, base, speaker, display and map server modules."""
     r = stage.scenario.robot
     sim, world = stage.sim, stage.world
     declare_channels(sim.bus)
     modules: dict[str, Module] = {
         "laser": Laser(sim, world, replace(LaserSpec(), rate=r.laser_rate)),
+        "sonar": Sonar(sim, world, SonarSpec()),
         "camera": Camera(sim, world, replace(CameraSpec(), rate=r.camera_rate), confusion=r.object_confusion),
         "microphones": Microphones(sim, world, replace(MicSpec(), rate=r.audio_rate)),
         "base": Base(sim, world, replace(OdometrySpec(), rate=r.odometry_rate)),

@@ -96,8 +96,9 @@ from homesim.module import Module
 
 from homesim.errors import BusError, HomesimError
 from robot import floorplan
+from robot.blindside import SonarEchoes, blind_clear, blind_points, explained_by_points
 from robot.partner_search import follow_search_time, yielding
-from robot.contract import ATTENTION_STATE, BASE_CMD, ES_EVENTS, FOLLOW_STATUS, ODOMETRY, PARTNER, POSE, SCAN, TRACKS
+from robot.contract import ATTENTION_STATE, BASE_CMD, ES_EVENTS, FOLLOW_STATUS, ODOMETRY, PARTNER, POSE, SCAN, SONAR, TRACKS
 
 from .config import Limits
 from .grid import MapError, OccupancyGrid, parse_map
@@ -293,6 +294,8 @@ class Follower(Module):
         self.bus.subscribe(ODOMETRY, self._on_odometry)
         self.people = People()  # everyone else the attention tracks, while following
         self._tracks_sub: Any = None
+        self._sonar_sub: Any = None
+        self.sonar = SonarEchoes()  # the sonar rings' echoes, while following (robot.blindside)
         self.route = Route()  # the way to the partner on the floor plan (through doors)
         self._aside: tuple[list[tuple[float, float]], float, bool] | None = None  # give-way path (odom), until when, reversing
         self._close_since: float | None = None  # following, since when she has stood close in front
@@ -341,12 +344,16 @@ class Follower(Module):
         if on and self._tracks_sub is None:
             self._tracks_sub = self.bus.subscribe(TRACKS, lambda m: self.people.update(m.xml))
             self._pose_sub = self.bus.subscribe(POSE, self._on_pose)
+            self._sonar_sub = self.bus.subscribe(SONAR, lambda m: self.sonar.update(m.xml, self.odom, self.now))
         elif not on and self._tracks_sub is not None:
             self._tracks_sub.close()
             self._tracks_sub = None
             self.people.clear()
             self._pose_sub.close()
             self._pose_sub = None
+            self._sonar_sub.close()
+            self._sonar_sub = None
+            self.sonar = SonarEchoes()
 
     def _on_pose(self, msg: Message) -> None:
         x = msg.xml
@@ -432,8 +439,21 @@ class Follower(Module):
         return c * (px - ox) + s * (py - oy), -s * (px - ox) + c * (py - oy)
 
     def _command(self, v: float, w: float) -> None:
+        if not self._blind_clear(v, w):
+            v, w = 0.0, 0.0
         self.bus.publish(BASE_CMD, etree.Element("velocity", v=f"{v:.4f}", w=f"{w:.4f}"))
         self.driving = True
+
+    def _blind_clear(self, v: float, w: float) -> bool:
+        """Whether (v, w) keeps the footprint off what the sonar hears in the blind half that the floor plan
+        does not explain (:func:`robot.blindside.blind_clear`): the last check of every command it sends."""
+        if v == 0.0 and w == 0.0:
+            return True
+        arcs = self.sonar.arcs(self.odom, self.now)
+        if not arcs:
+            return True
+        mapped = self.route.obstacles_near(self.odom) if self.odom is not None else np.zeros((0, 2))
+        return blind_clear(v, w, blind_points(arcs, explained_by_points(mapped)), duration=SWEEP_TIME)
 
     def _halt(self) -> None:
         if self.driving:

@@ -49,11 +49,13 @@ from homesim.errors import BusError, HomesimError
 from homesim.message import Message
 from homesim.module import Module
 
-from robot.contract import BASE_CMD, DISPLAY_CMD, ES_ORDERS, ODOMETRY, PLAYER_STATUS, POSE, SCAN, TRACKS
+from robot.blindside import SonarEchoes, blind_clear, blind_points, explained_by_points
+from robot.contract import BASE_CMD, DISPLAY_CMD, ES_ORDERS, ODOMETRY, PLAYER_STATUS, POSE, SCAN, SONAR, TRACKS
 
 from .config import Limits, limits_from_config
 from .grid import MapError, parse_map
-from .local import BODY, HALF_LENGTH, HALF_WIDTH, Command, DWAParams, LatestScan, carrot, dwa, footprint_distance, heading_speed, social_speed_limit, sweep_clearance, turn_clear
+from .local import (BODY, HALF_LENGTH, HALF_WIDTH, Command, DWAParams, LatestScan, arcs_at, carrot, dwa, footprint_distance,
+                    heading_speed, people_gaps, social_speed_limit, sweep_clearance, turn_clear)
 from .outline import FloorOutline
 from .people import BACK_GAP, BODY_RADIUS, People, behind_clear, closing_in, maybe_behind, nearest, passing_close, waits_for
 
@@ -62,6 +64,9 @@ ORDERS = f"{ES_ORDERS}/player"
 LOOKAHEAD = 0.7
 #: m: how far the player backs off, at most, per ``move_to``, to get room to turn.
 BACK_OFF = 0.3
+#: m the robot backs off, standing with its partner, when told it is in someone's way ("you are in my way":
+#: the ES's order make_way); only where the floor plan and the people behind it leave room
+MAKE_WAY_BACK = 0.5
 #: rad: a goal further off the heading than this has to be turned to (see :func:`heading_speed`).
 BACK_OFF_BEARING = math.pi / 3
 #: rad: the carrot of a leg that starts where the robot stands, further off its heading than this, is
@@ -76,6 +81,15 @@ WEDGED_GAP = 0.15
 #: m: air the go-to keeps to a tracked person's body: the 0.25 m the robot promises (SOCIAL_GAP) and the
 #: few centimetres by which the tracker misplaces someone standing (goto_standing_person passed Ida 0.244 m off)
 GOTO_SOCIAL_GAP = 0.30
+#: m, m/s: where that gap leaves no way on at all past someone standing beside its way (a man 0.8 m inside
+#: a 1.1 m door, by its jamb: the only line through the door passes him with 0.25-0.29 m of air, so the
+#: window turned on the spot to and fro until the go-to failed; goto_corridor seeds 0, 2, 3, 4, 8), it
+#: passes them slowly with this much air (the robot's promised 0.25 m and a little of the tracker's error);
+#: someone standing in its lane is still waited for (WAIT_GAP), someone walking still yielded to
+SQUEEZE_GAP = 0.27
+SQUEEZE_SPEED = 0.15
+#: m: an arc nearer than SQUEEZE_GAP to someone is driven only if it ends at least this much further from them
+LEAVING = 0.02
 #: m: air the go-to leaves to someone standing in its lane when it stops to wait (people.standing_in_the_way):
 #: outside their personal space (0.45 m, BACK_GAP) by the few centimetres the tracker misplaces them
 WAIT_GAP = BACK_GAP + 0.05
@@ -196,6 +210,26 @@ def in_sight(goal: tuple[float, float], mapped: np.ndarray, *, width: float = 0.
     return not bool(np.any((along > 0.0) & (along < length) & (across < width)))
 
 
+def standing_beside(moving: np.ndarray, *, near: float = 1.5, speed: float = YIELD_SPEED) -> bool:
+    """Whether ``moving`` ((K, 4) robot-frame x, y, vx, vy of the tracked people) holds someone within
+    ``near`` m of the centre, and every such person stands (slower than ``speed``): the people a go-to
+    may pass slowly at :data:`SQUEEZE_GAP` (someone walking near is waited for instead)."""
+    if not len(moving):
+        return False
+    close = np.hypot(moving[:, 0], moving[:, 1]) < near
+    return bool(close.any() and np.all(np.hypot(moving[close, 2], moving[close, 3]) < speed))
+
+
+def arc_air(v: float, w: float, people: np.ndarray, params: DWAParams) -> float:
+    """The least air (m) between the footprint and the bodies of ``people`` (robot frame, (K, 2)) along
+    the arc (v, w) over the window's horizon (inf without people)."""
+    if not len(people):
+        return math.inf
+    t = np.linspace(params.horizon / params.steps, params.horizon, params.steps)
+    x, y, th = arcs_at(np.full(len(t), v), np.full(len(t), w), t)
+    return float(people_gaps(x, y, th, people).min())
+
+
 def compose_delta(map_pose: tuple[float, float, float], odo_then: tuple[float, float, float],
                   odo_now: tuple[float, float, float]) -> tuple[float, float, float]:
     """``map_pose`` moved by the odometry increment odo_then -> odo_now (taken in the robot frame)."""
@@ -220,6 +254,7 @@ class Player(Module):
         self.params = params
         # the go-to's own margin to people (its dynamic window's; the follower keeps the default)
         self._goto_params = replace(params, social_gap=max(params.social_gap, GOTO_SOCIAL_GAP))
+        self._squeeze_params = replace(params, social_gap=max(params.social_gap, SQUEEZE_GAP))
         sim.bus.declare_channel(PLAYER_STATUS, SCHEMA)
         self.goal: tuple[float, float, float, float, bool] | None = None  # x, y, theta, tolerance, align
         self._reached: tuple[float, float, float, float, bool] | None = None  # the step just reached
@@ -240,11 +275,14 @@ class Player(Module):
         self.bus.subscribe(SCAN, self._on_scan)
         self.bus.subscribe(ODOMETRY, self._on_odometry)
         self._tracks_sub: Any = None  # subscribed only while driving (see _listen_to_people)
+        self._sonar_sub: Any = None
+        self.sonar = SonarEchoes()  # the sonar rings' echoes, while driving (robot.blindside)
         self.outline: FloorOutline | None = None  # the floor plan round the robot (asked at the first move_to)
         self._map_asked = False
         self._aligning: float | None = None  # m backed off to make room for the final turn (None: not there yet)
         self._turning = False  # the final turn has begun (its whole sweep was clear)
         self._facing = False  # turning to face a first leg before driving it (see TURN_FIRST)
+        self._make_way = 0.0  # m still to back off out of someone's way (order make_way; 0: not making way)
 
     def respawn(self) -> Player:
         """A fresh instance with the same configuration (what a process manager's restart gives)."""
@@ -283,9 +321,17 @@ class Player(Module):
             self._aligning = None
             self._turning = False
             self._stuck_since = None
+            self._make_way = 0.0
             self.state = ""  # a new pose: say "moving" even when it was already moving
             self._set_state("moving")
+        elif name == "make_way":
+            # "you are in my way" while it stands with its partner: back off MAKE_WAY_BACK m, straight, as
+            # far as the floor plan and the people behind it allow (no goal, no status: it is no go-to)
+            if self.goal is None:
+                self._make_way = MAKE_WAY_BACK
+                self._listen_to_people(True)
         elif name == "stop":
+            self._make_way = 0.0
             self.goal = self._reached = None
             self._aligning = None
             self._turning = False
@@ -313,10 +359,14 @@ class Player(Module):
         """
         if on and self._tracks_sub is None:
             self._tracks_sub = self.bus.subscribe(TRACKS, self._on_tracks)
+            self._sonar_sub = self.bus.subscribe(SONAR, lambda m: self.sonar.update(m.xml, self.odo.pose, self.now))
         elif not on and self._tracks_sub is not None:
             self._tracks_sub.close()
             self._tracks_sub = None
             self.people.clear()
+            self._sonar_sub.close()
+            self._sonar_sub = None
+            self.sonar = SonarEchoes()
 
     def _on_tracks(self, msg: Message) -> None:
         self.people.update(msg.xml)  # read only when a control step needs it
@@ -361,6 +411,23 @@ class Player(Module):
         gap = sweep_clearance(v, w, mapped, SWEEP_TIME)
         return gap >= SWEEP_MARGIN or gap >= sweep_clearance(0.0, 0.0, mapped, 0.0, steps=1) + 1e-3
 
+    def _no_creeping(self, cmd: Command, people: np.ndarray) -> Command:
+        """A forward arc the window let pass someone at less than the go-to's gap (it lets any arc pass that
+        brings nobody nearer than now, and a turn on the spot swings a corner nearer first: step by step the
+        robot crept past Ole at 0.19-0.24 m, open_island_goto) is driven slowly (:data:`SQUEEZE_SPEED`,
+        the same arc), and not at all nearer than :data:`SQUEEZE_GAP` unless it takes the robot away."""
+        air = arc_air(cmd.v, cmd.w, people, self._goto_params)
+        if air >= GOTO_SOCIAL_GAP - 1e-3:
+            return cmd
+        if air < SQUEEZE_GAP - 1e-3:
+            now = arc_air(0.0, 0.0, people, self._goto_params)
+            end = arc_air(cmd.v, cmd.w, people, replace(self._goto_params, steps=1))
+            if end < now + LEAVING:
+                return Command(0.0, 0.0, False, cmd.clearance)  # alongside them, nearer than the squeeze: stand
+        if cmd.v > SQUEEZE_SPEED:
+            return Command(SQUEEZE_SPEED, cmd.w * SQUEEZE_SPEED / cmd.v, True, cmd.clearance)
+        return cmd
+
     def _arrive(self, dist: float, turn: float, mapped: np.ndarray) -> tuple[float, float]:
         """At the goal: turn on the spot to its heading (``turn`` rad to go), then report ``reached``.
 
@@ -378,12 +445,15 @@ class Player(Module):
             # the corners swing 0.34 m round, behind too: never into someone standing by the goal (the
             # floor plan checks below do not know people); arrive as it stands
             turn = 0.0
+        if abs(turn) >= math.radians(8) and self._blind_checked(0.0, w, mapped) == (0.0, 0.0):
+            turn = 0.0  # the sonar hears something unmapped beside or behind that a corner would swing toward: the same
         if abs(turn) >= math.radians(8) and self._turning:
             if len(mapped) and sweep_clearance(0.0, w, mapped, SWEEP_TIME) < TURN_GUARD:
                 turn = 0.0  # the turn, clear when begun, is not any more (the pose drifts): arrive as it stands
         elif abs(turn) >= math.radians(8) and not self._turn_ok(turn, mapped):
             v, w = -0.5 * self.limits.max_reverse, 0.0
-            if self._aligning >= ALIGN_BACK or not self._sweep_ok(v, 0.0, mapped) or not self._behind_clear(ALIGN_BACK - self._aligning):
+            if (self._aligning >= ALIGN_BACK or not self._sweep_ok(v, 0.0, mapped) or not self._behind_clear(ALIGN_BACK - self._aligning)
+                    or self._blind_checked(v, 0.0, mapped) == (0.0, 0.0)):
                 turn, v = 0.0, 0.0  # no room to turn, none to back into: arrive as it stands
         elif abs(turn) >= math.radians(8):
             self._turning = True  # the whole turn is clear: make it
@@ -395,9 +465,20 @@ class Player(Module):
             self._turning = False
             self._listen_to_people(False)
             return (0.0, 0.0)
+        v, w = self._blind_checked(v, w, mapped)
         self._aligning -= v * self.period
         self.bus.publish(BASE_CMD, etree.Element("velocity", v=f"{v:.4f}", w=f"{w:.4f}"))
         return (v, w)
+
+    def _blind_checked(self, v: float, w: float, mapped: np.ndarray) -> tuple[float, float]:
+        """(v, w), or a stop where it would bring the footprint toward what the sonar hears in the blind half
+        that the floor plan (``mapped``) does not explain (:func:`robot.blindside.blind_clear`)."""
+        if v == 0.0 and w == 0.0:
+            return v, w
+        arcs = self.sonar.arcs(self.odo.pose, self.now)
+        if arcs and not blind_clear(v, w, blind_points(arcs, explained_by_points(mapped)), duration=SWEEP_TIME):
+            return 0.0, 0.0
+        return v, w
 
     def _behind_clear(self, reach: float) -> bool:
         """Whether backing up to ``reach`` m keeps every tracked person behind out of personal space
@@ -447,7 +528,7 @@ class Player(Module):
     def control_step(self) -> tuple[float, float] | None:
         """One step of ``move_to``: the velocity sent, or None when not driving."""
         if self.goal is None:
-            return None
+            return self._making_way() if self._make_way > 0.0 else None
         pose = self.pose()
         if pose is None:
             self._set_state("blocked")
@@ -481,6 +562,15 @@ class Player(Module):
             self._facing = False
         # everyone's space: wait at a polite distance, never at the body
         cmd = dwa(self.odo.v, self.odo.w, local, points, limits, v_pref=v_pref, params=self._goto_params, people=people)
+        if cmd.ok and cmd.v > 0.02 and len(people):
+            cmd = self._no_creeping(cmd, people)
+        if abs(cmd.v) < 0.02 and limits.max_speed > SQUEEZE_SPEED and standing_beside(moving):
+            # no arc on past someone standing beside the way at the full gap: pass them slowly at SQUEEZE_GAP
+            slow = replace(limits, max_speed=SQUEEZE_SPEED)
+            squeeze = dwa(self.odo.v, self.odo.w, local, points, slow, v_pref=min(v_pref, SQUEEZE_SPEED),
+                          params=self._squeeze_params, people=people)
+            if squeeze.ok and squeeze.v > 0.02 and arc_air(squeeze.v, squeeze.w, moving[:, :2], self._squeeze_params) >= SQUEEZE_GAP:
+                cmd = squeeze  # (the whole arc at SQUEEZE_GAP: not the window's "no nearer than now", which turns ratchet down)
         if cmd.ok and abs(cmd.v) < 0.02 and cmd.w != 0.0 and not turn_clear(cmd.w, people, duration=SWEEP_TIME):
             # the window lets any turn on the spot pass people (nobody comes nearer the centre), but the
             # corners swing out, behind too, where the laser does not look: not into a tracked body
@@ -520,7 +610,8 @@ class Player(Module):
                   and cmd.clearance < WEDGED_GAP)
         if (self._backed < BACK_OFF and (self._backed > 0.0 or wedged or (not cmd.ok and abs(bearing) > BACK_OFF_BEARING))
                 and self._sweep_ok(-0.5 * limits.max_reverse, 0.0, mapped)
-                and self._behind_clear(BACK_OFF - self._backed)):
+                and self._behind_clear(BACK_OFF - self._backed)
+                and self._blind_checked(-0.5 * limits.max_reverse, 0.0, mapped) != (0.0, 0.0)):
             # stopped close in front of something with the way off to the side (a new leg after a
             # replan), or wedged with a corner at a door jamb (standing for WEDGED s, something within
             # WEDGED_GAP, nobody near): turning on the spot would sweep the corners into it, so back off BACK_OFF m
@@ -528,6 +619,9 @@ class Player(Module):
             v = -0.5 * limits.max_reverse
             cmd = Command(v, 0.0, True, cmd.clearance)
             self._backed -= v * self.period
+        bv, bw = self._blind_checked(cmd.v, cmd.w, mapped)
+        if (bv, bw) != (cmd.v, cmd.w):
+            cmd = Command(bv, bw, False, cmd.clearance)
         self.bus.publish(BASE_CMD, etree.Element("velocity", v=f"{cmd.v:.4f}", w=f"{cmd.w:.4f}"))
         if self.state == "blocked":
             # blocked until the way is really clear: 0.3 m of progress, not a nudge
@@ -545,10 +639,32 @@ class Player(Module):
             self._set_state("moving", dist)
         return (cmd.v, cmd.w)
 
+    def _making_way(self) -> tuple[float, float] | None:
+        """One step of backing off out of someone's way (order make_way): straight back at half the reverse
+        speed while the floor plan leaves room and nobody tracked is behind (the laser does not look
+        behind); without a floor plan it does not move at all. Stops when done or when the room ends."""
+        pose = self.pose()
+        if pose is None or self.outline is None:
+            if self._map_asked:  # no floor plan to back into: it stays where it is
+                self._make_way = 0.0
+                self._listen_to_people(False)
+            return None
+        mapped = self.mapped(pose)
+        v = -0.5 * self.limits.max_reverse
+        if len(mapped) and self._sweep_ok(v, 0.0, mapped) and self._behind_clear(self._make_way):
+            self.bus.publish(BASE_CMD, etree.Element("velocity", v=f"{v:.4f}", w="0.0000"))
+            self._make_way += v * self.period
+            if self._make_way > 0.0:
+                return (v, 0.0)
+        self._make_way = 0.0
+        self._listen_to_people(False)
+        self.bus.publish(BASE_CMD, etree.Element("velocity", v="0", w="0"))
+        return (0.0, 0.0)
+
     async def run(self) -> None:
         while True:
             self.beat()
-            if self.goal is not None and not self._map_asked:
+            if (self.goal is not None or self._make_way > 0.0) and not self._map_asked:
                 await self._fetch_map()
             self.control_step()
             await asyncio.sleep(self.period)

@@ -118,6 +118,7 @@ class Understanding:
     answer: str = ""  # "yes"/"no" said before the request ("no, the kitchen"): it answers an open question
     fragment: bool = False  # a noun phrase alone ("the kitchen"): an answer, not a request or statement by itself
     reason: str = ""  # why nothing was understood
+    aside: bool = False  # said to someone else in the robot's hearing ("Tom, can you put the kettle on")
 
     @property
     def act(self) -> str | None:
@@ -163,6 +164,13 @@ class Understander:
                     and tree_act(after[0]) not in _AFTER_CLOSING:
                 res.unknown.append(toks[0].text)
                 toks = toks[1:]
+        other = _said_to_another(toks, Lexicon.words(words), self.lexicon.hesitations)
+        if other:
+            # "Tom, can you put the kettle on", "yes dear, I'm coming", "isn't the robot clever": words for
+            # someone else in the robot's hearing; no request, and no "say that again" either
+            res.ignored = [t.text for t in toks]
+            res.reason, res.aside = other, True
+            return res
         negated = _negation(toks, Lexicon.words(words))
         if negated is not None:
             # "don't stop, keep going", "do not follow me": a request said negated is never that request;
@@ -610,6 +618,51 @@ _SOUNDS = frozenset({"uh", "um", "uhm", "er", "erm", "hmm", "hm", "mm", "well"})
 _ARRIVED = frozenset({"spot", "place"})
 
 
+#: Words that call a person by a term of endearment ("yes dear", "darling, can you get the door"): said first
+#: (after an answer word) or last, they address someone; the robot is called by its name or "robot".
+ENDEARMENTS = frozenset({"dear", "darling", "honey", "sweetie", "sweetheart", "love", "babe", "hun", "sugar"})
+#: Endearments that are also verbs or nouns said last ("a cup which I really love"): a vocative only said first.
+_ALSO_VERBS = frozenset({"love", "sugar"})
+#: Acts a vocative does not take from the robot: a greeting or good-bye may name anyone ("tara love", "bye tom").
+_SOCIAL = frozenset({"HELLO", "GOODBYE"})
+#: Words before a name that make it no vocative: an owner, a determiner, an object of a verb or preposition.
+_NOT_CALLING = frozenset({"the", "my", "our", "your", "a", "to", "with", "of", "for", "at", "and", "is", "are", "like"})
+
+
+def _said_to_another(toks: list[Tok], words: list[str], hesitations: frozenset[str]) -> str:
+    """Why a turn is said to someone else in the robot's hearing ("" when it may be for the robot).
+
+    - It calls another person first: a name or kin word ("Tom, can you put the kettle on", "mum, come and look")
+      or a term of endearment ("darling, can you get the door", "yes dear, just a minute", "no sweetie"), or
+      ends with an endearment ("I'm coming, dear"), and does not call the robot.
+    - "Not you, BIRON": she tells the robot the last words were for someone else.
+    - It speaks of the robot in the third person ("look, the robot is listening", "isn't the robot clever").
+    A greeting or good-bye keeps its vocative ("tara love", "bye Tom"): the robot hears good-byes said near it.
+    """
+    if not toks or any(t.type in _SOCIAL for t in toks):
+        return ""
+    said = [w for w in words if w not in hesitations]
+    i = 0
+    while i < len(said) and said[i] in ("yes", "yeah", "no", "okay", "ok", "oh", "well", "so", "right"):
+        i += 1
+    calls_robot = any(t.type in ("ROBOTNAME", "ROBOT") for t in toks)
+    if i < len(said) - 1 and said[i] == "not" and said[i + 1] == "you":
+        return "said to someone else"  # "no, not you BIRON, I was talking to Peter"
+    if any(a == "the" and b in ("robot", "robots") and c != "POSS"
+           for a, b, c in zip(said, said[1:], [*said[2:], ""])):
+        return "said about the robot, to someone else"
+    if calls_robot:
+        return ""
+    first = said[i] if i < len(said) else ""
+    after = said[i + 1] if i + 1 < len(said) else ""
+    name = next((t for t in toks if t.type == "NAME" and t.text == first), None)
+    if first in ENDEARMENTS or (name is not None and after not in ("POSS", "and") and len(said) > i + 1):
+        return "said to someone else"
+    if len(said) > 1 and said[-1] in ENDEARMENTS - _ALSO_VERBS and said[-2] not in _NOT_CALLING:
+        return "said to someone else"
+    return ""
+
+
 def _negation(toks: list[Tok], words: list[str]) -> int | None:
     """Index of the verb a "do not"/"don't"/"never" negates, or None.
 
@@ -1023,7 +1076,7 @@ def build(tree: Tree) -> etree._Element:
         g = _S(speech, "GREETING")
         if named:
             g.set("name", "biron")
-    elif kind in ("goodbye", "capabilities", "follow", "stop", "wait", "yes", "no"):
+    elif kind in ("goodbye", "capabilities", "follow", "stop", "wait", "yes", "no", "make_way"):
         _S(speech, {"goodbye": "GOODBYE", "capabilities": "CAPABILITIES"}.get(kind, kind.upper()))
     elif kind == "that_one":
         speech.append(_that_one(act))

@@ -95,6 +95,8 @@ def frame_message(u: Understanding, start: float, end: float, confidence: float,
             el.set("unknown", _xml_safe(" ".join(u.unknown)))
         if named:
             el.set("named", "true")
+        if u.aside:
+            el.set("addressee", "other")  # said to someone else: no request, and no "say that again"
         el.text = _xml_safe(u.words)
         return el
     conf = confidence * u.coverage

@@ -1,0 +1,126 @@
+"""The robot's blind half: what the sonar rings say is there, and the rule every base command keeps to it.
+
+The laser looks ahead only, from 0.13 m ahead of the centre; beside and behind that line the robot
+has only its sonar rings (``/robot/sonar``, :mod:`robot.hardware.sonar`). Backing off, turning on the
+spot, yielding and the corridor back-out all move the footprint into that half, and the people the
+robot was touching there (contacts9: someone pressed within 5 cm of its side or back, out of the
+laser's view and misplaced or untracked) were invisible to every check the modules make. So each
+module that sends ``/robot/base/cmd`` (the follower, the player, person attention) keeps a
+:class:`SonarEchoes` and holds its command to :func:`blind_clear` before it sends it; a command
+that is not clear is sent as a stop.
+
+What a reading says: something lies somewhere on the arc at its range across the transducer's cone
+(a sonar gives no bearing within its cone), so each reading becomes :data:`ARC_POINTS` points on
+that arc. A reading the floor plan explains (its arc within :data:`EXPLAIN` m of a wall or a piece
+of furniture the robot knows) is the flat's, which the modules' own floor-plan checks keep to; the
+others may be a person's legs, and a person's body reaches up to 0.29 m nearer than the echo of
+their far leg (a 0.25 m body round legs 0.1 m either side of the centre; the near leg may lie
+between two cones and go unheard), so the footprint keeps :data:`BLIND_GAP` from them, or comes no
+nearer than it is (standing still is always clear). Only
+echoes behind the laser's line count: ahead of it the laser sees, and the modules' people rules
+already hold.
+
+The echoes are kept in the odometry frame, one per transducer (the newest with an echo), and
+forgotten after :data:`ECHO_AGE` s: a reading lost to a dropout does not open a hole for the
+0.32 s a ring takes to come round again. Pure code and one small bounded state; no world, no
+ground truth: the robot sees only the sonar's messages and its own odometry.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+
+import numpy as np
+from lxml import etree
+
+from robot.footprint import footprint_distance, sweep_poses
+
+#: m: readings farther than this are no concern of a command (none sweeps that far in its horizon)
+SONAR_REACH = 1.2
+#: s: an echo older than this is forgotten (two turns of a ring)
+ECHO_AGE = 0.7
+#: points sampled on a reading's arc across the cone
+ARC_POINTS = 5
+#: m: the laser's line (its offset ahead of the centre): echoes behind it are the sonar's alone
+BLIND_X = 0.13
+#: m: the footprint keeps this far from an unexplained echo (a person's body beyond their far leg), or comes no nearer
+BLIND_GAP = 0.30
+#: m: a reading whose arc comes this close to the floor plan's outline is the flat's
+EXPLAIN = 0.12
+
+Pose = tuple[float, float, float]
+
+
+class SonarEchoes:
+    """The newest echo of every transducer, as odometry-frame arc points (see the module docstring)."""
+
+    __slots__ = ("_latest",)
+
+    def __init__(self) -> None:
+        self._latest: dict[int, tuple[float, np.ndarray]] = {}  # transducer -> (time, (ARC_POINTS, 2) odometry frame)
+
+    def update(self, xml: etree._Element, odom: Pose | None, now: float) -> None:
+        """Take a ``<sonar>`` packet read at odometry pose ``odom`` (None: not yet known, ignored)."""
+        if odom is None:
+            return
+        top = float(xml.get("max_range", "5"))
+        half = math.radians(float(xml.get("cone", "30"))) / 2
+        spread = np.linspace(-half, half, ARC_POINTS)
+        ox, oy, oth = odom
+        c, s = math.cos(oth), math.sin(oth)
+        for e in xml.iter("echo"):
+            r = float(e.get("range"))
+            if r >= top or r > SONAR_REACH:
+                continue  # no echo (or far): the last echo stands until it is too old
+            tx, ty, tb = float(e.get("x")), float(e.get("y")), math.radians(float(e.get("bearing")))
+            px, py = tx + r * np.cos(tb + spread), ty + r * np.sin(tb + spread)
+            self._latest[int(e.get("id"))] = (now, np.column_stack((ox + c * px - s * py, oy + s * px + c * py)))
+
+    def arcs(self, odom: Pose | None, now: float) -> list[np.ndarray]:
+        """The fresh echoes' arcs, robot frame at ``odom`` (each (ARC_POINTS, 2)); stale ones are dropped."""
+        for k in [k for k, (t, _) in self._latest.items() if now - t > ECHO_AGE]:
+            del self._latest[k]
+        if odom is None:
+            return []
+        ox, oy, oth = odom
+        c, s = math.cos(oth), math.sin(oth)
+        out = []
+        for _, pts in self._latest.values():
+            dx, dy = pts[:, 0] - ox, pts[:, 1] - oy
+            out.append(np.column_stack((c * dx + s * dy, -s * dx + c * dy)))
+        return out
+
+
+def explained_by_points(mapped: np.ndarray) -> Callable[[np.ndarray], bool]:
+    """An explanation test from the floor plan's outline points (robot frame): an arc within :data:`EXPLAIN` of one."""
+    def explains(arc: np.ndarray) -> bool:
+        if not len(mapped):
+            return False
+        d2 = (mapped[None, :, 0] - arc[:, 0, None]) ** 2 + (mapped[None, :, 1] - arc[:, 1, None]) ** 2
+        return bool(d2.min() <= EXPLAIN * EXPLAIN)
+    return explains
+
+
+def blind_points(arcs: list[np.ndarray], explains: Callable[[np.ndarray], bool] | None = None) -> np.ndarray:
+    """(K, 2) robot-frame points of the echoes a command must keep clear of: those in the blind half
+    (behind :data:`BLIND_X`) whose reading the floor plan does not explain (``explains``; None: none is)."""
+    keep = []
+    for arc in arcs:
+        blind = arc[arc[:, 0] < BLIND_X]
+        if len(blind) and (explains is None or not explains(arc)):
+            keep.append(blind)
+    return np.concatenate(keep) if keep else np.zeros((0, 2))
+
+
+def blind_clear(v: float, w: float, points: np.ndarray, *, duration: float, gap: float = BLIND_GAP) -> bool:
+    """Whether the footprint swept by (``v``, ``w``) held ``duration`` s keeps ``gap`` from every one of ``points``
+    (robot frame), or, from one already closer, comes no nearer to it. Per point: one echo pressed
+    against the robot must not make a sweep into another clear. Standing still is always clear."""
+    if not len(points) or (v == 0.0 and w == 0.0):
+        return True
+    x, y, th = sweep_poses(v, w, duration)
+    c, s = np.cos(th)[:, None], np.sin(th)[:, None]
+    dx, dy = points[None, :, 0] - x[:, None], points[None, :, 1] - y[:, None]
+    d = footprint_distance(c * dx + s * dy, -s * dx + c * dy)  # (poses, K)
+    return bool(np.all(d.min(axis=0) >= np.minimum(d[0], gap) - 1e-3))

@@ -1,0 +1,211 @@
+"""The PeopleBot's sonar rings: sixteen ultrasonic range readings all round the base.
+
+The laser looks ahead only (180 degrees from 0.13 m ahead of the centre); the robot's sides and
+back are seen by the Pioneer base's two rings of eight Polaroid-type transducers, front and rear,
+at about 0.2 m above the floor (the PeopleBot's base ring). The layout follows the Pioneer's:
+each ring at -90, -50, -30, -10, 10, 30, 50, 90 degrees (front) and the mirror of it (rear),
+the transducers on the footprint's edge.
+
+A reading is the nearest echo within the transducer's cone (``cone`` wide, sampled by ``rays``
+rays): walls and furniture that reach the sonar's height and people's legs (a sonar does not
+tell a leg from a wall). Each ring fires one transducer every ``fire_interval`` s (the Pioneer's
+25 Hz per ring, a whole ring in 0.32 s); the base reports the readings fired since its last
+packet at ``rate`` Hz, as the Pioneer's server information packets do. Noise: Gaussian with a
+standard deviation of ``noise + noise_per_m * range``; a reading is lost now and then
+(``dropout``: a specular reflection that never comes back, crosstalk), which reads
+``max_range``, the "no echo" value, like a cone that met nothing. An echo nearer than
+``min_range`` (inside the transducer's ring-down) reads ``min_range``: "something this close
+or closer". All randomness comes from the module's generator.
+
+Published on ``/robot/sonar`` as ``<sonar seq time min_range max_range cone height>`` with one
+``<echo id x y bearing range/>`` per new reading (the transducer's place and bearing in the robot
+frame, so a receiver needs no table of them).
+"""
+
+from __future__ import annotations
+
+import asyncio
+import math
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
+
+import numpy as np
+from lxml import etree
+
+from homesim.module import Module
+from homesim.world.raycast import RayCaster
+from robot.contract import SONAR
+
+if TYPE_CHECKING:
+    from homesim.sim import Simulation
+    from homesim.world.world import World
+
+__all__ = ["SonarSpec", "Sonar", "PEOPLEBOT_RING", "sonar_readings", "SONAR"]
+
+#: (x, y, bearing deg) of the sixteen transducers, robot frame: the front ring right to left, then
+#: the rear ring left to right (the Pioneer's numbering), on the 0.51 x 0.43 m footprint's edge.
+PEOPLEBOT_RING: tuple[tuple[float, float, float], ...] = (
+    (0.10, -0.215, -90.0), (0.215, -0.17, -50.0), (0.255, -0.10, -30.0), (0.255, -0.035, -10.0),
+    (0.255, 0.035, 10.0), (0.255, 0.10, 30.0), (0.215, 0.17, 50.0), (0.10, 0.215, 90.0),
+    (-0.10, 0.215, 90.0), (-0.215, 0.17, 130.0), (-0.255, 0.10, 150.0), (-0.255, 0.035, 170.0),
+    (-0.255, -0.035, -170.0), (-0.255, -0.10, -150.0), (-0.215, -0.17, -130.0), (-0.10, -0.215, -90.0),
+)
+
+
+@dataclass(frozen=True)
+class SonarSpec:
+    """Geometry, timing and noise of the rings (defaults: the PeopleBot's Pioneer sonars)."""
+
+    transducers: tuple[tuple[float, float, float], ...] = PEOPLEBOT_RING
+    rings: int = 2  # fired in parallel, each in turn through its share of ``transducers``
+    cone: float = math.radians(30.0)  # full width of a transducer's main lobe
+    rays: int = 7  # rays sampling the cone
+    min_range: float = 0.10
+    max_range: float = 5.0
+    noise: float = 0.01  # m
+    noise_per_m: float = 0.01  # m per m of range
+    dropout: float = 0.03  # probability that a reading is lost (reads max_range)
+    height: float = 0.20
+    fire_interval: float = 0.04  # s between two firings of one ring
+    rate: float = 10.0  # packets per second
+    offsets: tuple[float, ...] = field(init=False, default=())
+
+    def __post_init__(self) -> None:
+        if self.rays < 1 or self.rings < 1 or len(self.transducers) % self.rings:
+            raise ValueError("a sonar needs at least one ray and ring, and rings of equal size")
+        half = self.cone / 2
+        offs = (0.0,) if self.rays == 1 else tuple(float(a) for a in np.linspace(-half, half, self.rays))
+        object.__setattr__(self, "offsets", offs)
+
+    @property
+    def per_ring(self) -> int:
+        return len(self.transducers) // self.rings
+
+    def firing(self, k: int) -> tuple[int, ...]:
+        """The transducers fired at the ``k``-th firing (one per ring, each ring in its own order)."""
+        i = k % self.per_ring
+        return tuple(r * self.per_ring + i for r in range(self.rings))
+
+
+def cast_from(ox: np.ndarray, oy: np.ndarray, angles: np.ndarray, a: np.ndarray, b: np.ndarray, c: np.ndarray, r: np.ndarray,
+              max_range: float) -> np.ndarray:
+    """Ranges (N,) along rays from their own origins (``ox``, ``oy``, ``angles``: (N,)) to the first wall
+    segment (``a``, ``b``) or leg circle (``c``, ``r``) hit, ``max_range`` where none: what
+    :class:`~homesim.world.raycast.RayCaster` computes ray by ray, float for float (the same operations
+    on each element), for a packet's rays all at once: a packet's few dozen rays from a handful of
+    transducers cost one pass instead of one cast per transducer."""
+    n = angles.shape[0]
+    result = np.full(n, max_range)
+    dx, dy = np.cos(angles)[:, None], np.sin(angles)[:, None]
+    ox, oy = ox[:, None], oy[:, None]
+    if a.shape[0]:
+        ex, ey = (b[:, 0] - a[:, 0])[None, :], (b[:, 1] - a[:, 1])[None, :]
+        fx, fy = a[None, :, 0] - ox, a[None, :, 1] - oy
+        den = dx * ey - dy * ex
+        u = fx * dy - fy * dx
+        tnum = fx * ey - fy * ex
+        sign = np.sign(den)
+        u = u * sign
+        den = np.abs(den)
+        t = tnum * sign
+        mask = (t >= 0.0) & (u >= 0.0) & (u <= den) & (den > 1e-15)
+        t = np.divide(t, den, out=np.full_like(t, np.inf), where=mask)
+        np.minimum(result, t.min(axis=1), out=result)
+    if c.shape[0]:
+        fx, fy = c[None, :, 0] - ox, c[None, :, 1] - oy
+        ff = fx * fx + fy * fy
+        rr = (r * r)[None, :]
+        tca = dx * fx
+        tca += dy * fy
+        disc = tca * tca
+        disc += rr - ff
+        hit = disc >= 0.0
+        root = np.sqrt(disc, out=np.zeros_like(disc), where=hit)
+        near = np.subtract(tca, root, out=np.full_like(tca, np.inf), where=hit)
+        hit &= near >= 0.0
+        near[~hit] = np.inf
+        near[ff <= rr] = 0.0
+        np.minimum(result, near.min(axis=1), out=result)
+    return result
+
+
+def sonar_readings(
+    world: World,
+    pose: tuple[float, float, float],
+    spec: SonarSpec,
+    which: tuple[int, ...],
+    rng: np.random.Generator | None,
+    *,
+    caster: RayCaster | None = None,
+) -> np.ndarray:
+    """Ranges (len(which),) of the transducers ``which`` from robot pose ``pose``; noise from ``rng``
+    (None: exact, no dropouts). The nearest echo among the cone's rays; none reads ``max_range``.
+    All rays in one pass (:func:`cast_from`); ``caster``: ray by ray with it instead (the same floats)."""
+    if not which:
+        return np.zeros(0)
+    a, b = world.segments_at(spec.height)
+    cc, cr = world.leg_circles()
+    x, y, th = pose
+    c, s = math.cos(th), math.sin(th)
+    offs = np.asarray(spec.offsets)
+    if caster is not None:  # ray by ray (the reference the packet's one pass is checked against)
+        out = np.empty(len(which))
+        for j, i in enumerate(which):
+            tx, ty, tb = spec.transducers[i]
+            origin = (x + c * tx - s * ty, y + s * tx + c * ty)
+            out[j] = float(caster.cast(origin, th + math.radians(tb) + offs, a, b, cc, cr, spec.max_range).min())
+    else:
+        k = len(offs)
+        ox, oy, ang = np.empty(len(which) * k), np.empty(len(which) * k), np.empty(len(which) * k)
+        for j, i in enumerate(which):
+            tx, ty, tb = spec.transducers[i]
+            ox[j * k:(j + 1) * k] = x + c * tx - s * ty
+            oy[j * k:(j + 1) * k] = y + s * tx + c * ty
+            ang[j * k:(j + 1) * k] = th + math.radians(tb) + offs
+        out = cast_from(ox, oy, ang, a, b, cc, cr, spec.max_range).reshape(len(which), k).min(axis=1)
+    if rng is not None:
+        noise = rng.normal(0.0, 1.0, len(which))
+        lost = rng.random(len(which)) < spec.dropout
+        hit = out < spec.max_range
+        out = np.where(hit, out + noise * (spec.noise + spec.noise_per_m * out), out)
+        out = np.where(lost, spec.max_range, out)
+    return np.clip(out, spec.min_range, spec.max_range)
+
+
+def sonar_element(t: float, spec: SonarSpec, seq: int, which: tuple[int, ...], ranges: np.ndarray) -> etree._Element:
+    """The ``<sonar>`` message for the readings ``ranges`` of transducers ``which``."""
+    el = etree.Element("sonar", seq=str(seq), time=f"{t:.6f}", min_range=f"{spec.min_range:.3f}",
+                       max_range=f"{spec.max_range:.3f}", cone=f"{math.degrees(spec.cone):.3f}", height=f"{spec.height:.3f}")
+    for i, r in zip(which, ranges.tolist()):
+        tx, ty, tb = spec.transducers[i]
+        etree.SubElement(el, "echo", id=str(i), x=f"{tx:.3f}", y=f"{ty:.3f}", bearing=f"{tb:.3f}", range=f"{r:.4f}")
+    return el
+
+
+class Sonar(Module):
+    """Publishes the rings' new readings on ``/robot/sonar`` at ``spec.rate`` Hz (see the module docstring)."""
+
+    def __init__(self, sim: Simulation, world: World, spec: SonarSpec | None = None, *, name: str = "sonar") -> None:
+        super().__init__(sim, name, host="robot")
+        self.world = world
+        self.spec = spec or SonarSpec()
+        self.seq = 0
+        self._fired = 0  # firings so far (each fires one transducer per ring)
+
+    def due(self, seq: int) -> int:
+        """How many firings fall in packet ``seq``'s period (the firing clock runs on its own)."""
+        per = 1.0 / self.spec.rate / self.spec.fire_interval
+        return int(math.floor((seq + 1) * per + 1e-9)) - int(math.floor(seq * per + 1e-9))
+
+    async def run(self) -> None:
+        period = 1.0 / self.spec.rate
+        while True:
+            self.beat()
+            which: tuple[int, ...] = ()
+            for _ in range(self.due(self.seq)):
+                which += self.spec.firing(self._fired)
+                self._fired += 1
+            ranges = sonar_readings(self.world, self.world.robot.pose, self.spec, which, self.rng)
+            self.bus.publish(SONAR, sonar_element(self.now, self.spec, self.seq, which, ranges), transfer=True)
+            self.seq += 1
+            await asyncio.sleep(period)
