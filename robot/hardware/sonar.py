@@ -73,6 +73,9 @@ class SonarSpec:
     _tx: np.ndarray = field(init=False, repr=False, compare=False, default=None)  # type: ignore[assignment]
     _ty: np.ndarray = field(init=False, repr=False, compare=False, default=None)  # type: ignore[assignment]
     _tb: np.ndarray = field(init=False, repr=False, compare=False, default=None)  # type: ignore[assignment]
+    #: the message's fixed attribute texts: the packet's (min_range, max_range, cone, height), each transducer's (id, x, y, bearing)
+    _head: tuple[str, str, str, str] = field(init=False, repr=False, compare=False, default=("", "", "", ""))
+    _text: tuple[tuple[str, str, str, str], ...] = field(init=False, repr=False, compare=False, default=())
 
     def __post_init__(self) -> None:
         if self.rays < 1 or self.rings < 1 or len(self.transducers) % self.rings:
@@ -83,6 +86,8 @@ class SonarSpec:
         object.__setattr__(self, "_tx", np.array([t[0] for t in self.transducers], dtype=float))
         object.__setattr__(self, "_ty", np.array([t[1] for t in self.transducers], dtype=float))
         object.__setattr__(self, "_tb", np.array([math.radians(t[2]) for t in self.transducers], dtype=float))
+        object.__setattr__(self, "_head", (f"{self.min_range:.3f}", f"{self.max_range:.3f}", f"{math.degrees(self.cone):.3f}", f"{self.height:.3f}"))
+        object.__setattr__(self, "_text", tuple((str(i), f"{tx:.3f}", f"{ty:.3f}", f"{tb:.3f}") for i, (tx, ty, tb) in enumerate(self.transducers)))
 
     @property
     def per_ring(self) -> int:
@@ -150,12 +155,24 @@ class SegmentRanges:
     Bounded: one (rays,) array per transducer, for one pose and one set of segments. The segments are
     recognised by identity and only when read-only (the world's are); anything else is cast anew."""
 
-    __slots__ = ("_key", "_seg", "_rays")
+    __slots__ = ("_key", "_seg", "_rays", "_ring", "_ring_key")
 
     def __init__(self) -> None:
         self._key: tuple[float, float, float] | None = None
         self._seg: tuple[np.ndarray, np.ndarray] | None = None
         self._rays: dict[int, np.ndarray] = {}
+        self._ring: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None  # every transducer's rays at _ring_key
+        self._ring_key: tuple[SonarSpec, tuple[float, float, float]] | None = None
+
+    def ring(self, spec: SonarSpec, pose: tuple[float, float, float]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Every transducer's ray origins and angles at ``pose`` ((transducers, rays) each, :func:`_rays_of`'s
+        floats), kept for as long as the pose stays the same."""
+        if self._ring is None or self._ring_key is None or self._ring_key[1] != pose or self._ring_key[0] is not spec:
+            ox, oy, ang = _rays_of(spec, pose, tuple(range(len(spec.transducers))))
+            k = len(spec.offsets)
+            self._ring = (ox.reshape(-1, k), oy.reshape(-1, k), ang.reshape(-1, k))
+            self._ring_key = (spec, pose)
+        return self._ring
 
     def get(self, pose: tuple[float, float, float], a: np.ndarray, b: np.ndarray) -> dict[int, np.ndarray] | None:
         """The kept per-transducer ranges for ``pose`` and segments (``a``, ``b``), emptied when either
@@ -218,16 +235,22 @@ def sonar_readings(
         rays = kept.get(pose, a, b) if kept is not None else None
         todo = which if rays is None else tuple(dict.fromkeys(i for i in which if i not in rays))
         got: dict[int, np.ndarray] = {} if rays is None else rays
-        rays_all = None
+        if kept is not None:
+            ring = kept.ring(spec, pose)
+            rows = np.fromiter(which, dtype=np.intp, count=len(which))
+            rays_all = (ring[0][rows].ravel(), ring[1][rows].ravel(), ring[2][rows].ravel())
+        else:
+            rays_all = _rays_of(spec, pose, which)
         if todo:
-            rays_all = _rays_of(spec, pose, todo)
-            static = cast_from(*rays_all, a, b, _NO_LEGS, _NO_RADII, spec.max_range).reshape(len(todo), k)
+            todo_rays = rays_all
+            if todo != which:
+                sub = np.repeat([which.index(i) for i in todo], k) * k + np.tile(np.arange(k), len(todo))
+                todo_rays = (rays_all[0][sub], rays_all[1][sub], rays_all[2][sub])
+            static = cast_from(*todo_rays, a, b, _NO_LEGS, _NO_RADII, spec.max_range).reshape(len(todo), k)
             for j, i in enumerate(todo):
                 got[i] = static[j]
         ranges = static if todo == which else np.stack([got[i] for i in which])
         if cc.shape[0]:
-            if todo != which:
-                rays_all = _rays_of(spec, pose, which)
             legs = cast_from(*rays_all, _NO_SEGS, _NO_SEGS, cc, cr, spec.max_range).reshape(len(which), k)
             ranges = np.minimum(ranges, legs)
         out = ranges.min(axis=1)
@@ -242,11 +265,12 @@ def sonar_readings(
 
 def sonar_element(t: float, spec: SonarSpec, seq: int, which: tuple[int, ...], ranges: np.ndarray) -> etree._Element:
     """The ``<sonar>`` message for the readings ``ranges`` of transducers ``which``."""
-    el = etree.Element("sonar", seq=str(seq), time=f"{t:.6f}", min_range=f"{spec.min_range:.3f}",
-                       max_range=f"{spec.max_range:.3f}", cone=f"{math.degrees(spec.cone):.3f}", height=f"{spec.height:.3f}")
+    lo, hi, cone, height = spec._head
+    el = etree.Element("sonar", seq=str(seq), time=f"{t:.6f}", min_range=lo, max_range=hi, cone=cone, height=height)
+    sub, text = etree.SubElement, spec._text
     for i, r in zip(which, ranges.tolist()):
-        tx, ty, tb = spec.transducers[i]
-        etree.SubElement(el, "echo", id=str(i), x=f"{tx:.3f}", y=f"{ty:.3f}", bearing=f"{tb:.3f}", range=f"{r:.4f}")
+        ident, x, y, bearing = text[i]
+        sub(el, "echo", id=ident, x=x, y=y, bearing=bearing, range=f"{r:.4f}")
     return el
 
 
