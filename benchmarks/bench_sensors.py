@@ -9,8 +9,9 @@ the example flat with 1, 3 and 10 people (:func:`benchmarks.bench_world.crowd_sc
   kernel (``RayCaster``: every beam against every edge and leg, what a moving scan cost before the
   fan caster) for comparison;
 - a sonar packet (``sonar_readings``: five transducers, each the nearest echo of its cone's seven
-  rays, with noise and dropouts; the rings fire 2.5 per ring per 0.1 s packet), in one pass and ray
-  by ray with a ``RayCaster`` (the same floats);
+  rays, with noise and dropouts; the rings fire 2.5 per ring per 0.1 s packet), in one pass, in one
+  pass with the robot standing (``SegmentRanges``: walls kept, legs cast) and ray by ray with a
+  ``RayCaster`` (the same floats);
 - a camera frame's detections (``detect_frame``: faces, torsos, gestures, objects, one pass of 3D
   sight lines) against the four per-kind detectors called in turn (a pass each);
 - the whole simulated home (``Stage``: physics, people, every sensor and its bus messages) in CPU
@@ -45,7 +46,7 @@ from homesim.tour.stage import Stage
 from homesim.world.world import World
 from robot.hardware.camera import CameraSpec, PanTilt, detect_faces, detect_frame, detect_gestures, detect_objects, detect_torsos
 from robot.hardware.laser import LaserSpec, laser_origin, simulate_scan
-from robot.hardware.sonar import SonarSpec, sonar_readings
+from robot.hardware.sonar import SegmentRanges, SonarSpec, sonar_readings
 
 _clock = time.process_time
 
@@ -85,7 +86,7 @@ def kernels(n_people: int, reps: int) -> dict[str, float]:
     origin, angles = laser_origin(pose, spec), bearings + pose[2]
     dense = RayCaster()
     cspec, ptu = CameraSpec(), PanTilt()
-    sspec, scaster = SonarSpec(), RayCaster()
+    sspec, scaster, skept = SonarSpec(), RayCaster(), SegmentRanges()
 
     def per_kind() -> None:
         occ = world.person_cylinders()
@@ -99,6 +100,7 @@ def kernels(n_people: int, reps: int) -> dict[str, float]:
         "scan moving": compiled_and_python(lambda: cpu_us(moving, reps)),
         "dense cast": compiled_and_python(lambda: cpu_us(lambda: dense.cast(origin, angles, a, b, c, r, spec.max_range, backfaces=False), reps)),
         "sonar packet": compiled_and_python(lambda: cpu_us(lambda: sonar_readings(world, pose, sspec, (0, 8, 1, 9, 2), rng), reps)),
+        "sonar standing": compiled_and_python(lambda: cpu_us(lambda: sonar_readings(world, pose, sspec, (0, 8, 1, 9, 2), rng, kept=skept), reps)),
         "sonar ray by ray": compiled_and_python(lambda: cpu_us(lambda: sonar_readings(world, pose, sspec, (0, 8, 1, 9, 2), rng, caster=scaster), reps)),
         "frame": compiled_and_python(lambda: cpu_us(lambda: detect_frame(world, pose, ptu, cspec, rng, occluders=world.person_cylinders()), reps)),
         "frame per kind": compiled_and_python(lambda: cpu_us(per_kind, reps)),
@@ -154,7 +156,7 @@ def main() -> None:
         print(f"{n:>6} " + " ".join(f"{k[name][0]:>{w - 7}.1f} / {k[name][1]:>5.1f}" for name, w in
                                    (("scan standing", 17), ("scan moving", 15), ("dense cast", 14), ("frame", 13), ("frame per kind", 13))), flush=True)
         print(f"{'':>6} sonar packet us {k['sonar packet'][0]:.1f} / {k['sonar packet'][1]:.1f} "
-              f"(ray by ray {k['sonar ray by ray'][0]:.1f} / {k['sonar ray by ray'][1]:.1f})", flush=True)
+              f"(standing, walls kept {k['sonar standing'][0]:.1f} / {k['sonar standing'][1]:.1f}; ray by ray {k['sonar ray by ray'][0]:.1f} / {k['sonar ray by ray'][1]:.1f})", flush=True)
     print(f"{'people':>6} {'home ms/s':>15} " + " ".join(f"{m + ' ms/s':>15}" for m in MODULES))
     for n in (1, 3, 10):
         s = compiled_and_python(lambda: in_stage(n, a.duration))

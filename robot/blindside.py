@@ -60,18 +60,22 @@ Pose = tuple[float, float, float]
 class SonarEchoes:
     """The newest echo of every transducer, as odometry-frame arc points (see the module docstring)."""
 
-    __slots__ = ("_latest",)
+    __slots__ = ("_latest", "_spread")
 
     def __init__(self) -> None:
         self._latest: dict[int, tuple[float, np.ndarray]] = {}  # transducer -> (time, (ARC_POINTS, 2) odometry frame)
+        self._spread: tuple[str, np.ndarray] | None = None  # (cone attribute, its arc's angle offsets): a sonar's cone stays put
 
     def update(self, xml: etree._Element, odom: Pose | None, now: float) -> None:
         """Take a ``<sonar>`` packet read at odometry pose ``odom`` (None: not yet known, ignored)."""
         if odom is None:
             return
         top = float(xml.get("max_range", "5"))
-        half = math.radians(float(xml.get("cone", "30"))) / 2
-        spread = np.linspace(-half, half, ARC_POINTS)
+        cone = xml.get("cone", "30")
+        if self._spread is None or self._spread[0] != cone:
+            half = math.radians(float(cone)) / 2
+            self._spread = (cone, np.linspace(-half, half, ARC_POINTS))
+        spread = self._spread[1]
         ox, oy, oth = odom
         c, s = math.cos(oth), math.sin(oth)
         for e in xml.iter("echo"):

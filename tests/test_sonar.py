@@ -192,3 +192,27 @@ def test_a_packet_in_one_pass_reads_what_ray_by_ray_casting_reads_float_for_floa
         pose = (rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-math.pi, math.pi))
         which = tuple(int(i) for i in rng.choice(16, size=5, replace=False))
         assert np.array_equal(sonar_readings(world, pose, spec, which, None), sonar_readings(world, pose, spec, which, None, caster=RayCaster()))
+
+
+def test_readings_kept_at_a_pose_are_the_floats_of_casting_anew():
+    """The module keeps the walls' part of each transducer's readings while the robot stands still
+    (SegmentRanges) and its rays per pose: with people moving, walls swapped and the robot now still, now
+    moving, every packet reads bit for bit what a fresh cast reads (traces must not depend on the cache)."""
+    from robot.hardware.sonar import SegmentRanges
+
+    rng = np.random.default_rng(5)
+    spec, kept = SonarSpec(), SegmentRanges()
+    world = None
+    pose = (0.0, 0.0, 0.0)
+    for step in range(400):
+        if world is None or rng.random() < 0.05:  # new walls (read-only, as the world's)
+            segs = [((rng.uniform(-5, 5), rng.uniform(-5, 5)), (rng.uniform(-5, 5), rng.uniform(-5, 5))) for _ in range(rng.integers(0, 30))]
+            world = FakeWorld(segments=segs)
+            world._a.flags.writeable = world._b.flags.writeable = False
+        world._c = np.array([(rng.uniform(-2, 2), rng.uniform(-2, 2)) for _ in range(rng.integers(0, 6))]).reshape(-1, 2)
+        if rng.random() < 0.3:  # the robot moves now and then, and stands still in between
+            pose = (rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-math.pi, math.pi))
+        which = spec.firing(step) + spec.firing(step + 1) + (spec.firing(step + 2) if step % 2 else ())
+        got = sonar_readings(world, pose, spec, which, None, kept=kept)
+        want = sonar_readings(world, pose, spec, which, None)
+        assert got.tobytes() == want.tobytes(), (step, which)

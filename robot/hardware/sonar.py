@@ -40,7 +40,7 @@ if TYPE_CHECKING:
     from homesim.sim import Simulation
     from homesim.world.world import World
 
-__all__ = ["SonarSpec", "Sonar", "PEOPLEBOT_RING", "sonar_readings", "SONAR"]
+__all__ = ["SonarSpec", "Sonar", "PEOPLEBOT_RING", "SegmentRanges", "sonar_readings", "SONAR"]
 
 #: (x, y, bearing deg) of the sixteen transducers, robot frame: the front ring right to left, then
 #: the rear ring left to right (the Pioneer's numbering), on the 0.51 x 0.43 m footprint's edge.
@@ -69,6 +69,13 @@ class SonarSpec:
     fire_interval: float = 0.04  # s between two firings of one ring
     rate: float = 10.0  # packets per second
     offsets: tuple[float, ...] = field(init=False, default=())
+    #: per transducer: x, y and bearing (radians, ``math.radians``' floats), as arrays for one pass over a packet
+    _tx: np.ndarray = field(init=False, repr=False, compare=False, default=None)  # type: ignore[assignment]
+    _ty: np.ndarray = field(init=False, repr=False, compare=False, default=None)  # type: ignore[assignment]
+    _tb: np.ndarray = field(init=False, repr=False, compare=False, default=None)  # type: ignore[assignment]
+    #: the message's fixed attribute texts: the packet's (min_range, max_range, cone, height), each transducer's (id, x, y, bearing)
+    _head: tuple[str, str, str, str] = field(init=False, repr=False, compare=False, default=("", "", "", ""))
+    _text: tuple[tuple[str, str, str, str], ...] = field(init=False, repr=False, compare=False, default=())
 
     def __post_init__(self) -> None:
         if self.rays < 1 or self.rings < 1 or len(self.transducers) % self.rings:
@@ -76,6 +83,11 @@ class SonarSpec:
         half = self.cone / 2
         offs = (0.0,) if self.rays == 1 else tuple(float(a) for a in np.linspace(-half, half, self.rays))
         object.__setattr__(self, "offsets", offs)
+        object.__setattr__(self, "_tx", np.array([t[0] for t in self.transducers], dtype=float))
+        object.__setattr__(self, "_ty", np.array([t[1] for t in self.transducers], dtype=float))
+        object.__setattr__(self, "_tb", np.array([math.radians(t[2]) for t in self.transducers], dtype=float))
+        object.__setattr__(self, "_head", (f"{self.min_range:.3f}", f"{self.max_range:.3f}", f"{math.degrees(self.cone):.3f}", f"{self.height:.3f}"))
+        object.__setattr__(self, "_text", tuple((str(i), f"{tx:.3f}", f"{ty:.3f}", f"{tb:.3f}") for i, (tx, ty, tb) in enumerate(self.transducers)))
 
     @property
     def per_ring(self) -> int:
@@ -85,6 +97,11 @@ class SonarSpec:
         """The transducers fired at the ``k``-th firing (one per ring, each ring in its own order)."""
         i = k % self.per_ring
         return tuple(r * self.per_ring + i for r in range(self.rings))
+
+
+_NO_SEGS = np.zeros((0, 2))
+_NO_LEGS = np.zeros((0, 2))
+_NO_RADII = np.zeros(0)
 
 
 def cast_from(ox: np.ndarray, oy: np.ndarray, angles: np.ndarray, a: np.ndarray, b: np.ndarray, c: np.ndarray, r: np.ndarray,
@@ -129,6 +146,61 @@ def cast_from(ox: np.ndarray, oy: np.ndarray, angles: np.ndarray, a: np.ndarray,
     return result
 
 
+class SegmentRanges:
+    """The walls' and furniture's part of the readings, kept while the robot stands still.
+
+    A reading is the minimum over everything its rays hit, and a minimum is exact, so the segments'
+    per-ray ranges of a transducer cast at one pose serve every later packet at that same pose (the
+    same floats): a robot standing still (talking, waiting, being shown a room) casts only the legs.
+    Bounded: one (rays,) array per transducer, for one pose and one set of segments. The segments are
+    recognised by identity and only when read-only (the world's are); anything else is cast anew."""
+
+    __slots__ = ("_key", "_seg", "_rays", "_ring", "_ring_key")
+
+    def __init__(self) -> None:
+        self._key: tuple[float, float, float] | None = None
+        self._seg: tuple[np.ndarray, np.ndarray] | None = None
+        self._rays: dict[int, np.ndarray] = {}
+        self._ring: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None  # every transducer's rays at _ring_key
+        self._ring_key: tuple[SonarSpec, tuple[float, float, float]] | None = None
+
+    def ring(self, spec: SonarSpec, pose: tuple[float, float, float]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Every transducer's ray origins and angles at ``pose`` ((transducers, rays) each, :func:`_rays_of`'s
+        floats), kept for as long as the pose stays the same."""
+        if self._ring is None or self._ring_key is None or self._ring_key[1] != pose or self._ring_key[0] is not spec:
+            ox, oy, ang = _rays_of(spec, pose, tuple(range(len(spec.transducers))))
+            k = len(spec.offsets)
+            self._ring = (ox.reshape(-1, k), oy.reshape(-1, k), ang.reshape(-1, k))
+            self._ring_key = (spec, pose)
+        return self._ring
+
+    def get(self, pose: tuple[float, float, float], a: np.ndarray, b: np.ndarray) -> dict[int, np.ndarray] | None:
+        """The kept per-transducer ranges for ``pose`` and segments (``a``, ``b``), emptied when either
+        changed; None when the segments cannot be recognised (writeable arrays)."""
+        if a.flags.writeable or b.flags.writeable:
+            return None
+        seg = self._seg
+        if self._key != pose or seg is None or seg[0] is not a or seg[1] is not b:
+            self._key, self._seg = pose, (a, b)
+            self._rays.clear()
+        return self._rays
+
+
+def _rays_of(spec: SonarSpec, pose: tuple[float, float, float], which: tuple[int, ...]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Origins and angles ((len(which) * rays,) each) of the transducers ``which``' rays, transducer by
+    transducer: the ray-by-ray path's expressions (``x + c * tx - s * ty``, ``th + radians(tb) + offset``)
+    element by element, so the same floats."""
+    x, y, th = pose
+    c, s = math.cos(th), math.sin(th)
+    idx = np.fromiter(which, dtype=np.intp, count=len(which))
+    k = len(spec.offsets)
+    tx, ty = spec._tx[idx], spec._ty[idx]
+    ox = np.repeat(x + c * tx - s * ty, k)
+    oy = np.repeat(y + s * tx + c * ty, k)
+    ang = ((th + spec._tb[idx])[:, None] + np.asarray(spec.offsets)[None, :]).ravel()
+    return ox, oy, ang
+
+
 def sonar_readings(
     world: World,
     pose: tuple[float, float, float],
@@ -137,18 +209,22 @@ def sonar_readings(
     rng: np.random.Generator | None,
     *,
     caster: RayCaster | None = None,
+    kept: SegmentRanges | None = None,
 ) -> np.ndarray:
     """Ranges (len(which),) of the transducers ``which`` from robot pose ``pose``; noise from ``rng``
     (None: exact, no dropouts). The nearest echo among the cone's rays; none reads ``max_range``.
-    All rays in one pass (:func:`cast_from`); ``caster``: ray by ray with it instead (the same floats)."""
+    All rays in one pass (:func:`cast_from`), the segments' part and the legs' part apart (a minimum
+    of minima: the same floats); ``kept``: the segments' part kept
+    while the pose stays the same (:class:`SegmentRanges`); ``caster``: ray by ray with it instead
+    (the reference: the same floats)."""
     if not which:
         return np.zeros(0)
     a, b = world.segments_at(spec.height)
     cc, cr = world.leg_circles()
     x, y, th = pose
-    c, s = math.cos(th), math.sin(th)
     offs = np.asarray(spec.offsets)
     if caster is not None:  # ray by ray (the reference the packet's one pass is checked against)
+        c, s = math.cos(th), math.sin(th)
         out = np.empty(len(which))
         for j, i in enumerate(which):
             tx, ty, tb = spec.transducers[i]
@@ -156,13 +232,28 @@ def sonar_readings(
             out[j] = float(caster.cast(origin, th + math.radians(tb) + offs, a, b, cc, cr, spec.max_range).min())
     else:
         k = len(offs)
-        ox, oy, ang = np.empty(len(which) * k), np.empty(len(which) * k), np.empty(len(which) * k)
-        for j, i in enumerate(which):
-            tx, ty, tb = spec.transducers[i]
-            ox[j * k:(j + 1) * k] = x + c * tx - s * ty
-            oy[j * k:(j + 1) * k] = y + s * tx + c * ty
-            ang[j * k:(j + 1) * k] = th + math.radians(tb) + offs
-        out = cast_from(ox, oy, ang, a, b, cc, cr, spec.max_range).reshape(len(which), k).min(axis=1)
+        rays = kept.get(pose, a, b) if kept is not None else None
+        todo = which if rays is None else tuple(dict.fromkeys(i for i in which if i not in rays))
+        got: dict[int, np.ndarray] = {} if rays is None else rays
+        if kept is not None:
+            ring = kept.ring(spec, pose)
+            rows = np.fromiter(which, dtype=np.intp, count=len(which))
+            rays_all = (ring[0][rows].ravel(), ring[1][rows].ravel(), ring[2][rows].ravel())
+        else:
+            rays_all = _rays_of(spec, pose, which)
+        if todo:
+            todo_rays = rays_all
+            if todo != which:
+                sub = np.repeat([which.index(i) for i in todo], k) * k + np.tile(np.arange(k), len(todo))
+                todo_rays = (rays_all[0][sub], rays_all[1][sub], rays_all[2][sub])
+            static = cast_from(*todo_rays, a, b, _NO_LEGS, _NO_RADII, spec.max_range).reshape(len(todo), k)
+            for j, i in enumerate(todo):
+                got[i] = static[j]
+        ranges = static if todo == which else np.stack([got[i] for i in which])
+        if cc.shape[0]:
+            legs = cast_from(*rays_all, _NO_SEGS, _NO_SEGS, cc, cr, spec.max_range).reshape(len(which), k)
+            ranges = np.minimum(ranges, legs)
+        out = ranges.min(axis=1)
     if rng is not None:
         noise = rng.normal(0.0, 1.0, len(which))
         lost = rng.random(len(which)) < spec.dropout
@@ -174,11 +265,12 @@ def sonar_readings(
 
 def sonar_element(t: float, spec: SonarSpec, seq: int, which: tuple[int, ...], ranges: np.ndarray) -> etree._Element:
     """The ``<sonar>`` message for the readings ``ranges`` of transducers ``which``."""
-    el = etree.Element("sonar", seq=str(seq), time=f"{t:.6f}", min_range=f"{spec.min_range:.3f}",
-                       max_range=f"{spec.max_range:.3f}", cone=f"{math.degrees(spec.cone):.3f}", height=f"{spec.height:.3f}")
+    lo, hi, cone, height = spec._head
+    el = etree.Element("sonar", seq=str(seq), time=f"{t:.6f}", min_range=lo, max_range=hi, cone=cone, height=height)
+    sub, text = etree.SubElement, spec._text
     for i, r in zip(which, ranges.tolist()):
-        tx, ty, tb = spec.transducers[i]
-        etree.SubElement(el, "echo", id=str(i), x=f"{tx:.3f}", y=f"{ty:.3f}", bearing=f"{tb:.3f}", range=f"{r:.4f}")
+        ident, x, y, bearing = text[i]
+        sub(el, "echo", id=ident, x=x, y=y, bearing=bearing, range=f"{r:.4f}")
     return el
 
 
@@ -191,6 +283,7 @@ class Sonar(Module):
         self.spec = spec or SonarSpec()
         self.seq = 0
         self._fired = 0  # firings so far (each fires one transducer per ring)
+        self._kept = SegmentRanges()  # the walls' part of the readings while the robot stands still
 
     def due(self, seq: int) -> int:
         """How many firings fall in packet ``seq``'s period (the firing clock runs on its own)."""
@@ -205,7 +298,7 @@ class Sonar(Module):
             for _ in range(self.due(self.seq)):
                 which += self.spec.firing(self._fired)
                 self._fired += 1
-            ranges = sonar_readings(self.world, self.world.robot.pose, self.spec, which, self.rng)
+            ranges = sonar_readings(self.world, self.world.robot.pose, self.spec, which, self.rng, kept=self._kept)
             self.bus.publish(SONAR, sonar_element(self.now, self.spec, self.seq, which, ranges), transfer=True)
             self.seq += 1
             await asyncio.sleep(period)
