@@ -574,7 +574,10 @@ class Player(Module):
             # someone stands in its lane: wait outside their personal space (a replan may find a way round)
             cmd = Command(0.0, 0.0, False, cmd.clearance)
             held = True
-        if cmd.ok and cmd.v > 0.0 and (closing_in(moving, near=YIELD_NEAR, speed=YIELD_SPEED) or passing_close(
+        # (and someone just seen coming round a jamb, tentative still: People.emerging)
+        coming = (np.concatenate((moving, self.people.emerging(odo, self.now, moving=YIELD_SPEED, reach=YIELD_NEAR)))
+                  if odo is not None and cmd.ok and cmd.v > 0.0 else moving)
+        if cmd.ok and cmd.v > 0.0 and (closing_in(coming, near=YIELD_NEAR, speed=YIELD_SPEED) or passing_close(
                 moving, footprint_distance(moving[:, 0], moving[:, 1]) - BODY_RADIUS, gap=BACK_GAP, speed=YIELD_SPEED)):
             # someone near walks at it, or by it inside their personal space (BACK_GAP, 0.45 m of air; the
             # tracker misplaces people by a decimetre): stand and let them pass (yield), turning on the spot at most
