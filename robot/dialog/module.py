@@ -327,6 +327,9 @@ def unchosen_answer(value: Any) -> etree._Element:
 class Dialog(Module):
     """BIRON's dialog control as a bus module (participant ``dialog``)."""
 
+    #: (act, start) of the last words dropped as not addressed (the repeat rule, :data:`REPEAT_WINDOW`)
+    _unanswered: tuple[str, float] | None = None
+
     def __init__(
         self,
         sim: Any,
@@ -364,7 +367,7 @@ class Dialog(Module):
         self.not_addressed = 0
         self._addressed_at = -math.inf  # when an understood frame was last taken as meant for the robot
         self._aside_since = math.inf  # when she was last reported turning aside (the addressee rule)
-        self._unanswered: tuple[str, float] | None = None  # (act, start) of the last words dropped as not addressed
+        self._unanswered = None
         self._person_at: float | None = None  # when the supervisor last reported a potential partner (person_info)
         self.ask_timeout = ask_timeout
         self._busy_until = 0.0
