@@ -203,6 +203,11 @@ HELD_UP_TIME = 2.0
 #: 0: a second track on her legs, her own track's ghost, or a spot remembered standing where her legs
 #: now echo made the robot say "Excuse me, may I pass" to her, alone in the flat, after "Stop")
 HELD_UP_SELF = 0.8
+#: m^2: only a track measured now holds it up (position variance cxx + cyy at most this; a measured
+#: track has 0.002-0.013). A track coasting without echoes grows by 0.01-0.2 per 0.1 s: 25b2ff0
+#: fresh3 open_two_cups_rooms seed 1, a short-lived track 0.55 m beside it, coasting 2 s after "Stop"
+#: (variance 0.02 -> 1.9), made it ask its partner, alone in the flat, to let it pass
+HELD_UP_SURE = 0.02
 
 
 def speed_law(d: float, v_radial: float, *, distance: float, band: tuple[float, float], minimum: float,
@@ -994,7 +999,8 @@ class Follower(Module):
         if v_des > HELD_UP_SPEED and v < min(HELD_UP_CRAWL, HELD_UP_SHARE * v_des) and self.odom is not None:
             n = math.hypot(*goal)
             ux, uy = (goal[0] / n, goal[1] / n) if n > 1e-6 else (1.0, 0.0)
-            standing = self.people.around(self.odom, self.now, exclude=self.partner_id, near=(px, py), standing=GIVE_WAY_STILL)
+            standing = self.people.around(self.odom, self.now, exclude=self.partner_id, near=(px, py), standing=GIVE_WAY_STILL,
+                                          sure=HELD_UP_SURE)
             ox, oy, oth = self.odom
             c, s = math.cos(oth), math.sin(oth)
             here = [(float(x), float(y)) for x, y in standing[:, :2]] if len(standing) else []
