@@ -70,7 +70,8 @@ that novel", searching a bookcase 2 m away) when every report during the words s
 seen her frontal face, nor has she walked back towards it) and she stands ``ASIDE_DISTANCE`` (1.2 m)
 or further away and does not call the robot by its name (the speech module's ``named``: from across
 the room the camera cannot see her face turn back, but "BIRON, go to the lounge" is meant for it): a partner
-who turns back to it, or comes back, is heard again. While the supervisor is in ``Following`` she leads with her back
+who turns back to it, or comes back, is heard again; so is one who says again, within ``REPEAT_WINDOW`` s,
+what got no answer (the same act: one repeats a request that was not answered, not one's muttering). While the supervisor is in ``Following`` she leads with her back
 to the robot, so the microphones decide instead (:meth:`Dialog._her_voice`): not addressed only when
 several sound frames during the words heard a voice and none from her direction.
 
@@ -136,6 +137,11 @@ VOICE_LEVEL = 40.0
 ASIDE_DISTANCE = 1.2
 #: the partner report's facing as the addressee rule keeps it for a partner turned away that far
 ASIDE = "aside"
+#: s: words turned aside that say again what she said turned aside no more than this long before (the
+#: same act, unanswered) are meant for the robot: one repeats a request that got no answer, not one's
+#: muttering (issue 26, fresh12 defect 0: "where is my cup" and "good bye" three times each with her
+#: back to the robot, every one dropped, and the robot deaf to her for the rest of the tour)
+REPEAT_WINDOW = 20.0
 #: ES states where an expired greeting met nobody: a "late" one if a potential partner was reported meanwhile
 SEEN_STATES = frozenset({"LookingAround", "PotentialPartner", "AskingForHelp"})
 #: s: a potential partner reported this long before the greeting's recorded start still counts (the
@@ -312,6 +318,9 @@ def unchosen_answer(value: Any) -> etree._Element:
 class Dialog(Module):
     """BIRON's dialog control as a bus module (participant ``dialog``)."""
 
+    #: (act, start) of the last words dropped as not addressed (the repeat rule, :data:`REPEAT_WINDOW`)
+    _unanswered: tuple[str, float] | None = None
+
     def __init__(
         self,
         sim: Any,
@@ -349,6 +358,7 @@ class Dialog(Module):
         self.not_addressed = 0
         self._addressed_at = -math.inf  # when an understood frame was last taken as meant for the robot
         self._aside_since = math.inf  # when she was last reported turning aside (the addressee rule)
+        self._unanswered = None
         self._person_at: float | None = None  # when the supervisor last reported a potential partner (person_info)
         self.ask_timeout = ask_timeout
         self._busy_until = 0.0
@@ -393,13 +403,15 @@ class Dialog(Module):
         out["not_addressed"] = self.not_addressed
         return out
 
-    def addressed(self, start: float, end: float, named: bool = False, shows: bool = False) -> bool:
+    def addressed(self, start: float, end: float, named: bool = False, shows: bool = False,
+                  repeated: bool = False) -> bool:
         """The addressee rule (module docstring): is speech heard from ``start`` to ``end`` meant for
         the robot? No when no partner report in that span has her facing it, at least half have her
         turned away (``facing="false"``) and the last one too, with someone else near her; and no when
         every report has her turned aside (the attention's ``away``: she walked off and has not faced
         the robot or come back since, at least ``ASIDE_DISTANCE`` from it) and she does not call it by
-        its name (``named``, the speech module's ``named="true"``): she talks to herself."""
+        its name (``named``, the speech module's ``named="true"``) nor says again what got no answer
+        (``repeated``, see :data:`REPEAT_WINDOW`): she talks to herself."""
         if self.manager.es_state in LEADING_STATES:
             return self._her_voice(start, end)
         if self.manager.es_state in DRIVING_STATES:
@@ -420,8 +432,10 @@ class Dialog(Module):
             # cannot see her face turn back), shows something ("and this one is my husband's cup" at
             # the desk she walked up to: showing needs someone to show it to), or has talked with the
             # robot since she turned away (its answer heard, she goes on with her back to it:
-            # fresh3 open_two_cups_rooms seeds 0-2 lost every later request)
-            return named or shows or self._addressed_at > self._aside_since
+            # fresh3 open_two_cups_rooms seeds 0-2 lost every later request), or says again words
+            # that got no answer (a request repeated is waiting for one; without this rule nothing she
+            # said turned aside could ever start that exchange: deaf to her for the rest of the run)
+            return named or shows or repeated or self._addressed_at > self._aside_since
         away = sum(f in ("false", ASIDE) for f, _ in during)
         last_f, last_c = during[-1]
         return not (2 * away >= len(during) and last_f in ("false", ASIDE) and last_c >= 1)
@@ -497,11 +511,19 @@ class Dialog(Module):
             # "say that again" to them (counted with the other chat it did not answer)
             self.not_addressed += 1
             return
-        if x.tag in ("understood", "not_understood") and not self.addressed(
-                float(x.get("start", "nan")), float(x.get("end", "nan")), named=x.get("named") == "true",
-                shows=x.tag == "understood" and x.find("SPEECH//GESTURE") is not None):
-            self.not_addressed += 1  # chat among the partner's group: not a request to the robot
-            return
+        if x.tag in ("understood", "not_understood"):
+            began, act = float(x.get("start", "nan")), said_act(x)
+            last = self._unanswered
+            repeated = last is not None and act == last[0] and 0.0 <= began - last[1] <= REPEAT_WINDOW
+            if not self.addressed(began, float(x.get("end", "nan")), named=x.get("named") == "true",
+                                  shows=x.tag == "understood" and x.find("SPEECH//GESTURE") is not None,
+                                  repeated=repeated):
+                self.not_addressed += 1  # chat among the partner's group: not a request to the robot
+                self._unanswered = (act, began) if math.isfinite(began) else None
+                return
+            self._unanswered = None
+            if repeated and math.isfinite(began):
+                self._addressed_at = began  # said again for the robot, even not understood: their exchange
         if x.tag == "understood":
             # a turn taken as meant for the robot (the rule's exchange): when its words began, so that
             # words said before she turned aside ("wait, I want to show you my book", then she walks off
@@ -875,3 +897,15 @@ class Dialog(Module):
         if picked is None:
             return unchosen_answer(value)
         return etree.Element("answer", index=str(picked))
+
+
+def said_act(frame: etree._Element) -> str:
+    """What a speech frame asks or tells, for telling a repeat: its ``SPEECH`` without the time stamp
+    (so "where is my cup" and a misheard "where uh my cup" are one act), or its words when not understood."""
+    speech = frame.find("SPEECH")
+    if speech is None:
+        return "words:" + " ".join((frame.findtext("words") or frame.text or "").lower().split())
+    speech = deepcopy(speech)
+    for stamp in speech.findall("TIMESTAMP"):
+        speech.remove(stamp)
+    return etree.tostring(speech, encoding="unicode")

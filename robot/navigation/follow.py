@@ -199,6 +199,15 @@ HELD_UP_SPEED = 0.05
 HELD_UP_CRAWL = 0.25
 HELD_UP_SHARE = 0.5
 HELD_UP_TIME = 2.0
+#: m: a stander this close to the partner is her, never someone in the way (issue 26, fresh12 defect
+#: 0: a second track on her legs, her own track's ghost, or a spot remembered standing where her legs
+#: now echo made the robot say "Excuse me, may I pass" to her, alone in the flat, after "Stop")
+HELD_UP_SELF = 0.8
+#: m^2: only a track measured now holds it up (position variance cxx + cyy at most this; a measured
+#: track has 0.002-0.013). A track coasting without echoes grows by 0.01-0.2 per 0.1 s: 25b2ff0
+#: fresh3 open_two_cups_rooms seed 1, a short-lived track 0.55 m beside it, coasting 2 s after "Stop"
+#: (variance 0.02 -> 1.9), made it ask its partner, alone in the flat, to let it pass
+HELD_UP_SURE = 0.02
 
 
 def speed_law(d: float, v_radial: float, *, distance: float, band: tuple[float, float], minimum: float,
@@ -990,7 +999,8 @@ class Follower(Module):
         if v_des > HELD_UP_SPEED and v < min(HELD_UP_CRAWL, HELD_UP_SHARE * v_des) and self.odom is not None:
             n = math.hypot(*goal)
             ux, uy = (goal[0] / n, goal[1] / n) if n > 1e-6 else (1.0, 0.0)
-            standing = self.people.around(self.odom, self.now, exclude=self.partner_id, near=(px, py), standing=GIVE_WAY_STILL)
+            standing = self.people.around(self.odom, self.now, exclude=self.partner_id, near=(px, py), standing=GIVE_WAY_STILL,
+                                          sure=HELD_UP_SURE)
             ox, oy, oth = self.odom
             c, s = math.cos(oth), math.sin(oth)
             here = [(float(x), float(y)) for x, y in standing[:, :2]] if len(standing) else []
@@ -1004,12 +1014,7 @@ class Follower(Module):
                 x, y = self._to_robot(sx, sy)
                 if len(echoes) and float(np.min(np.hypot(echoes[:, 0] - x, echoes[:, 1] - y))) < HELD_UP_ECHO:
                     here.append((x, y))
-            for x, y in here:
-                along, lateral = x * ux + y * uy, abs(x * uy - y * ux)
-                ahead = 0.0 < along < HELD_UP_NEAR and lateral < HELD_UP_LANE
-                beside = along > -0.3 and math.hypot(x, y) < HELD_UP_BESIDE
-                if (ahead or beside) and (blocker is None or math.hypot(x, y) < blocker[0]):
-                    blocker = (math.hypot(x, y), float(x), float(y))
+            blocker = way_blocker(here, (ux, uy), self._to_robot(px, py))
         if blocker is None:
             return False
         if self._held_since is None or self.now - self._held_last > HELD_UP_GAP:
@@ -1052,3 +1057,28 @@ class Follower(Module):
                 await self._fetch_map()
             self.control_step()
             await asyncio.sleep(self.period)
+
+
+def way_blocker(standers: list[tuple[float, float]], lane: tuple[float, float],
+                partner: tuple[float, float]) -> tuple[float, float, float] | None:
+    """Who of ``standers`` (robot-frame people standing near it) holds the robot up on its way along
+    ``lane`` (a unit vector, robot frame) after the partner at ``partner`` (robot frame): the nearest
+    one ahead in its lane (``HELD_UP_NEAR``, ``HELD_UP_LANE``) or beside it (``HELD_UP_BESIDE``), as
+    (distance, x, y), or None. Never the partner herself: a stander within ``HELD_UP_SELF`` of her
+    (her legs' second track, her track's ghost, a remembered spot she stands on) is her, and one no
+    nearer the robot than she is does not stand between them (it stops before her anyway). The
+    robot must never ask its partner to let it pass."""
+    ux, uy = lane
+    px, py = partner
+    her = math.hypot(px, py) if math.isfinite(px) and math.isfinite(py) else math.inf
+    best = None
+    for x, y in standers:
+        r = math.hypot(x, y)
+        if her < math.inf and (math.hypot(x - px, y - py) < HELD_UP_SELF or r >= her):
+            continue
+        along, lateral = x * ux + y * uy, abs(x * uy - y * ux)
+        ahead = 0.0 < along < HELD_UP_NEAR and lateral < HELD_UP_LANE
+        beside = along > -0.3 and r < HELD_UP_BESIDE
+        if (ahead or beside) and (best is None or r < best[0]):
+            best = (r, float(x), float(y))
+    return best

@@ -131,7 +131,7 @@ class People:
     def around(self, odom: tuple[float, float, float], now: float, *, exclude: str | None = None,
                near: tuple[float, float] | None = None, near_radius: float = 0.6,
                echoes: np.ndarray | None = None, moving: float | None = None, velocity: bool = False,
-               standing: float | None = None) -> np.ndarray:
+               standing: float | None = None, sure: float | None = None) -> np.ndarray:
         """(K, 2) robot-frame centres of the confirmed people within :data:`REACH` m, predicted to ``now``.
 
         ``exclude``: a track id left out (the partner the follower drives after); ``near``: an
@@ -140,7 +140,9 @@ class People:
         track is kept (see the module docstring) while one of them is near it. ``moving``: only
         tracks faster than this (m/s), and no lost ones; ``standing``: only tracks slower than this
         (m/s), lost ones too (where the laser still has an echo). ``velocity``: (K, 4), each centre with
-        the person's velocity in the robot frame (m/s; 0 for a remembered lost track).
+        the person's velocity in the robot frame (m/s; 0 for a remembered lost track). ``sure``: only
+        tracks whose position variance (``cxx`` + ``cyy``, m^2) is at most this (measured now, not
+        coasting on its last velocity with no echo to update it).
         """
         xml = self.xml
         if xml is None:
@@ -162,6 +164,8 @@ class People:
             except (TypeError, ValueError):
                 continue
             if near is not None and math.hypot(x - near[0], y - near[1]) < near_radius:
+                continue
+            if sure is not None and float(t.get("cxx", "0")) + float(t.get("cyy", "0")) > sure:
                 continue
             speed = math.hypot(float(t.get("vx", "0")), float(t.get("vy", "0")))
             if (moving is not None and speed <= moving) or (standing is not None and speed >= standing):
