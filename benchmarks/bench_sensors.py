@@ -156,7 +156,8 @@ def main() -> None:
         print(f"{n:>6} " + " ".join(f"{k[name][0]:>{w - 7}.1f} / {k[name][1]:>5.1f}" for name, w in
                                    (("scan standing", 17), ("scan moving", 15), ("dense cast", 14), ("frame", 13), ("frame per kind", 13))), flush=True)
         print(f"{'':>6} sonar packet us {k['sonar packet'][0]:.1f} / {k['sonar packet'][1]:.1f} "
-              f"(standing, walls kept {k['sonar standing'][0]:.1f} / {k['sonar standing'][1]:.1f}; ray by ray {k['sonar ray by ray'][0]:.1f} / {k['sonar ray by ray'][1]:.1f})", flush=True)
+              f"(standing, walls kept {k['sonar standing'][0]:.1f} / {k['sonar standing'][1]:.1f}; "
+              f"ray by ray {k['sonar ray by ray'][0]:.1f} / {k['sonar ray by ray'][1]:.1f})", flush=True)
     print(f"{'people':>6} {'home ms/s':>15} " + " ".join(f"{m + ' ms/s':>15}" for m in MODULES))
     for n in (1, 3, 10):
         s = compiled_and_python(lambda: in_stage(n, a.duration))
