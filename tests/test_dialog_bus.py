@@ -643,13 +643,69 @@ def test_no_robot_module_asks_the_dialog_directly():
     assert direct == []
 
 
-
 def _voices(robot, bearing: float, start: float, end: float, level: float = 58.0) -> None:
     """A voice from ``bearing`` in every microphone frame (10 Hz) from ``start`` to ``end``."""
     k = 0
     while start + 0.1 * k <= end + 1e-9:
         robot.sound(start + 0.1 * k, bearing, level)
         k += 1
+
+
+def _answer_time(voices_until: float | None) -> tuple[float | None, dict]:
+    """When the answer to "what can you do" (said 7.0-7.8 s) is begun, with a voice where she stands
+    from 7.9 s until ``voices_until`` (None: no voice), and the dialog's summary."""
+    r = Robot()
+    try:
+        r.greet()
+        r.partner_at(0.0, 1.5, 16.0)
+        r.sim.run(until=6.5)
+        r.utter("what can you do", 7.0, 7.8)
+        if voices_until is not None:
+            _voices(r, 2.0, 7.9, voices_until)
+        r.sim.run(until=16.0)
+        said = [x for x in r.records("/robot/speaker/say") if x["t"] > 7.0]
+        return (said[0]["t"] if said else None), r.dialog.summary()
+    finally:
+        r.sim.close()
+
+
+def test_the_robot_does_not_begin_to_talk_while_someone_talks_where_she_stands():
+    # fresh3 passage_talk_aside: Sara and Tom talk to each other in turns; the robot began its answer
+    # between their overlapping turns and was cut off at once, eight times. It waits for a pause.
+    ready, _ = _answer_time(None)
+    assert ready is not None
+    # a voice that ends just before the answer is ready: the answer waits for the pause after it
+    t, summary = _answer_time(ready - 0.15)
+    assert t is not None and t >= ready - 0.15 + 0.5 - 0.1 and summary["held_for_a_pause"] == 1
+    assert summary["barge_ins"] == 0
+    # a voice that goes on after the answer was ready: begun, it would have been cut at once; it is
+    # not said at all (no words over hers, no empty <say/>), her words are her next turn
+    t, summary = _answer_time(ready + 2.0)
+    assert t is None and summary["barge_ins"] == 1
+
+
+def test_a_repair_for_words_after_which_the_talk_went_on_is_dropped(robot):
+    robot.greet()
+    robot.partner_at(0.0, 1.5, 14.0)
+    robot.sim.run(until=6.5)
+    robot.sentences()
+    robot.utter("gorble flimp", 7.0, 7.8)  # not understood
+    _voices(robot, -3.0, 8.2, 10.0)  # the next turn, another voice where she stands
+    robot.sim.run(until=13.0)
+    assert robot.sentences() == []  # no "Could you say that again?" to a talk that went on
+    assert robot.dialog.summary()["stale_repairs_dropped"] == 1
+
+
+def test_with_a_pause_the_repair_is_said_and_voices_elsewhere_hold_nothing(robot):
+    robot.greet()
+    robot.partner_at(0.0, 1.5, 14.0)
+    robot.sim.run(until=6.5)
+    robot.sentences()
+    robot.utter("gorble flimp", 7.0, 7.8)
+    _voices(robot, 60.0, 7.9, 10.0)  # a radio to the left: not where she stands
+    robot.sim.run(until=10.0)
+    assert robot.sentences() == ["Sorry, I did not understand you. Could you say that again?"]
+    assert robot.dialog.summary()["held_for_a_pause"] == 0
 
 
 def _radio(robot, bearing: float, start: float, end: float, level: float = 58.0) -> None:
@@ -661,8 +717,8 @@ def _radio(robot, bearing: float, start: float, end: float, level: float = 58.0)
 
 
 def test_a_radio_where_she_stands_that_never_pauses_does_not_silence_the_robot(robot):
-    # review12 item 5: a radio behind her, on her bearing, reading the news with 0.3 s breaths cut every
-    # answer off; a voice with no pause for VOICE_RUN_MAX s is no turn of hers
+    # review12 item 5: a radio behind her, on her bearing, reading the news with 0.3 s breaths held every
+    # sentence up to HOLD_MAX s and cut every answer off; a voice with no pause for VOICE_RUN_MAX s is no turn
     from robot.dialog.module import VOICE_RUN_MAX
     robot.greet()
     robot.partner_at(0.0, 1.5, 40.0)
@@ -675,6 +731,20 @@ def test_a_radio_where_she_stands_that_never_pauses_does_not_silence_the_robot(r
     cut = robot.dialog.summary()["barge_ins"]  # the greeting's end, cut as the radio began: it could not know
     robot.utter("what can you do", at, at + 0.8)
     robot.sim.run(until=at + 3.0)
-    (answer,) = robot.sentences()  # answered within 2.2 s and not cut off
+    (answer,) = robot.sentences()  # answered within 2.2 s, not held, and not cut off
     assert answer.startswith("I am listening to you.")
     assert robot.dialog.summary()["barge_ins"] == cut
+
+
+def test_a_repair_is_never_dropped_twice_in_a_row(robot):
+    robot.greet()
+    robot.partner_at(0.0, 1.5, 20.0)
+    robot.sim.run(until=6.5)
+    robot.sentences()
+    robot.utter("gorble flimp", 7.0, 7.8)
+    _voices(robot, -3.0, 8.2, 10.0)  # the talk went on: this repair is dropped
+    robot.utter("gorble flimp", 10.4, 11.2)
+    _voices(robot, -3.0, 11.6, 13.0)  # and on again: the second one is said in the next pause
+    robot.sim.run(until=16.0)
+    assert robot.sentences() == ["Sorry, I did not understand you. Could you say that again?"]
+    assert robot.dialog.summary()["stale_repairs_dropped"] == 1

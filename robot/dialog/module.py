@@ -159,17 +159,26 @@ LEADING_STATES = frozenset({"Following"})
 #: ES states in which the robot drives on its own, away from the partner, and its person attention sleeps:
 #: words are hers when a voice came from where she was last seen (:meth:`Dialog._from_her_place`)
 DRIVING_STATES = frozenset({"Navigating"})
+#: s: a voice heard from the partner's direction this recently means someone is still talking there: the
+#: robot does not begin a sentence over it (turn-taking: it waits for a pause; the barge-in rule would cut
+#: the sentence at once anyway). Above the microphones' frame interval (0.1 s) and a breath between words,
+#: below the ~1 s from the end of an utterance to the robot's answer to it, so answers are not delayed.
+TURN_GAP = 0.5
 #: face to face, words of which fewer than this share of the voiced sound frames came from where she stands
 #: are another talker's (the addressee rule; an overlap with her next turn is a few frames)
 HER_SHARE = 0.25
-#: s: a voice heard from the partner's direction this recently, and again, belongs to one run of talk; a
-#: pause this long begins a new one (above the microphones' frame interval and a breath between words)
-TURN_GAP = 0.5
+#: s: a sentence held for a pause this long is said anyway (someone talking on and on near her)
+HOLD_MAX = 8.0
+#: s: how often a held sentence looks for the pause
+HOLD_STEP = 0.1
 #: s: a voice from her direction that has gone on this long with no pause of TURN_GAP is no turn of hers
-#: but a source that never pauses (a radio or TV behind her, review12 item 5): the robot is not cut off by
-#: it. The longest turn in the corpus (28 words) lasts 11.5 s at the users' speech rate
+#: but a source that never pauses (a radio or TV behind her, review12 item 5): the robot neither waits for it
+#: nor is cut off by it. The longest turn in the corpus (28 words) lasts 11.5 s at the users' speech rate
 #: (homesim.world.acoustics: 0.4 s a word); a radio reading the news goes on for minutes with 0.3 s breaths.
 VOICE_RUN_MAX = 15.0
+#: s of holding allowed in any HOLD_WINDOW s: beyond it the robot talks (a room where someone talks on and
+#: on near her would otherwise silence it for good)
+HOLD_BUDGET, HOLD_WINDOW = 15.0, 60.0
 #: the microphone pair's geometry (m: ahead of the centre, spacing, height) and a standing adult's
 #: mouth height, as the person attention's CueSpec has them (modules share no code: tests/test_layers.py)
 MIC_OFFSET, MIC_SPACING, MIC_HEIGHT, MOUTH_HEIGHT = 0.10, 0.281, 1.06, 1.6
@@ -366,9 +375,18 @@ class Dialog(Module):
         self._talking = False  # a <say> is out and not yet done/interrupted
         self._cut = False  # this utterance was already cut by a barge-in
         self._talk_start = 0.0  # when the current sentence began (sent, then the speaker's start)
-        self._queue: deque[tuple[str, tuple[str, ...], frozenset[str]]] = deque()  # text, causes, dialogs
-        self._voice_at = -math.inf  # when a voice from the partner's direction was last heard
+        # text, causes, dialogs, when it was ready to be said, whether it is a repair ("say that again")
+        self._queue: deque[tuple[str, tuple[str, ...], frozenset[str], float, bool]] = deque()
+        self._voice_at = -math.inf  # when a voice from the partner's direction was last heard (turn-taking)
         self._voice_since = -math.inf  # when that voice began with no pause of TURN_GAP since (VOICE_RUN_MAX)
+        self._hold_steps: deque[float] = deque(maxlen=int(HOLD_WINDOW / HOLD_STEP) + 1)  # when each hold step began
+        self._repair_dropped = False  # the last repair due was dropped (the next is said: never twice in a row)
+        self._holding = False  # a held sentence waits for a pause (one timer)
+        self._held_head: tuple[Any, ...] | None = None  # the sentence held (counted once)
+        self.held_sentences = 0  # sentences that waited for a pause (metrics)
+        self.stale_repairs = 0  # "say that again" not said: the talk went on meanwhile (metrics)
+        self._repairs = frozenset(t for t in (self.doc.not_understood, self.doc.sentence("not-understood-reask"),
+                                              self.doc.sentence("not-understood-help")) if t)
         self._said = 0  # serial of the last <say> sent
         # the follower comes up to the partner after "stop" (issue 26 item 10): a request she makes
         # meanwhile waits until it stands facing her (a place taught from the other room would be
@@ -401,6 +419,8 @@ class Dialog(Module):
         """Dialog metrics for the run summary (plain data)."""
         out = self.manager.summary()
         out["not_addressed"] = self.not_addressed
+        out["held_for_a_pause"] = self.held_sentences
+        out["stale_repairs_dropped"] = self.stale_repairs
         return out
 
     def addressed(self, start: float, end: float, named: bool = False, shows: bool = False,
@@ -752,7 +772,7 @@ class Dialog(Module):
 
     def _endless_voice(self) -> bool:
         """Whether the voice from her direction has gone on for ``VOICE_RUN_MAX`` s without a pause: a source
-        that never pauses (a radio, a TV), not her turn; the robot does not yield to it."""
+        that never pauses (a radio, a TV), not her turn; the robot neither waits for it nor yields to it."""
         return self._voice_at - self._voice_since >= VOICE_RUN_MAX
 
     # ----------------------------------------------------------------- outputs
@@ -817,14 +837,15 @@ class Dialog(Module):
     def _enqueue(self, text: str, cause: str, dialogs: frozenset[str] = frozenset()) -> None:
         if not text:
             return
-        self._queue.append((text, (cause,), dialogs))
+        self._queue.append((text, (cause,), dialogs, self.now, text in self._repairs))
         if not self._talking:
             self._say_next()
 
     def _say_next(self) -> None:
-        if not self._queue or self.bus.closed or self.bus.hung:
+        if not self._queue or self.bus.closed or self.bus.hung or self._hold():
             return
-        text, causes, _ = self._queue.popleft()
+        text, causes, *_ = self._queue.popleft()
+        self._repair_dropped = False  # something said: the next repair due may be dropped again
         self._talking = True
         self._cut = False
         self._talk_start = self.now
@@ -835,6 +856,53 @@ class Dialog(Module):
         # queue must not stall: give up waiting well after the sentence would end.
         patience = 0.5 + 0.45 * max(1, len(text.split()))
         self.sim.loop.call_at_ns(to_ns(self.now + patience), self._speaker_silent, self._said)
+
+    def _hold(self) -> bool:
+        """Turn-taking (issue 26, fresh3 passage_talk_aside: the robot began and cut off "Sorry, I did not
+        understand you" eight times over a couple talking to each other): while a voice from the partner's
+        direction was heard within ``TURN_GAP`` s, the next sentence waits for a pause. A sentence ready
+        before a voice was heard there is not said at all: begun, the barge-in rule would have cut it at
+        that voice's first frame (the same outcome, without talking over her; her words are her next
+        turn, answered in their own right; a "say that again" among them is counted as
+        ``stale_repairs``), except a repair when the last repair due was dropped too (never two in a row,
+        review12 item 5). A sentence held ``HOLD_MAX`` s is said anyway. It never waits for a voice that
+        does not pause (:meth:`_endless_voice`: a radio or TV behind her), nor holds more than
+        ``HOLD_BUDGET`` s in ``HOLD_WINDOW`` s. True while a sentence is held (a timer looks again)."""
+        if self.now - self._voice_at >= TURN_GAP or self._endless_voice():
+            return False
+        if sum(1 for t in self._hold_steps if self.now - t < HOLD_WINDOW) * HOLD_STEP >= HOLD_BUDGET:
+            return False
+        kept: deque[tuple[Any, ...]] = deque()
+        dropped = 0
+        for q in self._queue:
+            if self._voice_at > q[3]:
+                if q[4]:
+                    if self._repair_dropped:
+                        kept.append(q)
+                        continue
+                    self._repair_dropped = True
+                    self.stale_repairs += 1
+                dropped += 1
+                continue
+            kept.append(q)
+        self._queue = kept
+        if dropped:
+            self.manager.barge_in()  # as if begun and cut: the dialog's barge-in count
+        if not self._queue or self.now - self._queue[0][3] >= HOLD_MAX:
+            return not self._queue
+        if self._queue[0] is not self._held_head:
+            self._held_head = self._queue[0]
+            self.held_sentences += 1
+        if not self._holding:
+            self._holding = True
+            self._hold_steps.append(self.now)
+            self.sim.loop.call_at_ns(to_ns(self.now + HOLD_STEP), self._hold_over)
+        return True
+
+    def _hold_over(self) -> None:
+        self._holding = False
+        if not self._talking:
+            self._say_next()
 
     def _speaker_silent(self, serial: int) -> None:
         if serial == self._said and self._talking:
