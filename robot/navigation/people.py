@@ -104,10 +104,7 @@ class People:
         xml = self.xml
         if xml is None:
             return np.zeros((0, 4))
-        try:
-            age = min(max(now - float(xml.get("time", now)), 0.0), HORIZON)
-        except ValueError:
-            age = 0.0
+        age = self._age(xml, now)
         ox, oy, oth = odom
         c, s = math.cos(oth), math.sin(oth)
         out = []
@@ -128,6 +125,15 @@ class People:
                 out.append((c * dx + s * dy, -s * dx + c * dy, c * vx + s * vy, -s * vx + c * vy))
         return np.array(out) if out else np.zeros((0, 4))
 
+    @staticmethod
+    def _age(xml: Any, now: float) -> float:
+        """How far (s, at most :data:`HORIZON`) the tracks message lies behind ``now``: its tracks are
+        predicted on by their velocity for that long."""
+        try:
+            return min(max(now - float(xml.get("time", now)), 0.0), HORIZON)
+        except ValueError:
+            return 0.0
+
     def around(self, odom: tuple[float, float, float], now: float, *, exclude: str | None = None,
                near: tuple[float, float] | None = None, near_radius: float = 0.6,
                echoes: np.ndarray | None = None, moving: float | None = None, velocity: bool = False,
@@ -147,10 +153,7 @@ class People:
         xml = self.xml
         if xml is None:
             return np.zeros((0, 4 if velocity else 2))
-        try:
-            age = min(max(now - float(xml.get("time", now)), 0.0), HORIZON)
-        except ValueError:
-            age = 0.0
+        age = self._age(xml, now)
         ox, oy, oth = odom
         c, s = math.cos(oth), math.sin(oth)
         out = []

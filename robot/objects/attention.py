@@ -591,12 +591,7 @@ class ObjectAttention(Module):
         t = self._ray_target(pointing)
         if t is None:
             return None
-        top = 0.0
-        if self.plan is not None:
-            for o in self.plan.obstacles:
-                if o.type != "leg" and o.top < CAMERA_HEIGHT and _inside(t[0], t[1], o.points):
-                    top = max(top, o.top)
-        return t[0], t[1], top + 0.05
+        return t[0], t[1], self._top_under(t[0], t[1], CAMERA_HEIGHT) + 0.05
 
     def view_blocked(self, pointing: Pointing) -> bool:
         """Whether the camera, from where the robot stands, cannot see where ``pointing`` comes
@@ -703,6 +698,16 @@ class ObjectAttention(Module):
         if state:
             self._player = (state, msg.created)
 
+    def _top_under(self, x: float, y: float, below: float) -> float:
+        """The height of the highest piece of the plan's furniture lower than ``below`` whose footprint
+        holds (x, y), else the floor (0): what a pointed-at object there stands on."""
+        top = 0.0
+        if self.plan is not None:
+            for o in self.plan.obstacles:
+                if o.type != "leg" and o.top < below and _inside(x, y, o.points):
+                    top = max(top, o.top)
+        return top
+
     def _landing(self, pointing: Pointing) -> tuple[float, float, float] | None:
         """Where the ray first comes down on a surface (:meth:`_ray_target`, with that surface's height):
         what she may stand in front of, and how far the camera must see. A ray that does not come down
@@ -712,12 +717,7 @@ class ObjectAttention(Module):
         t = self._ray_target(pointing)
         if t is None:
             return None
-        top = 0.0
-        if self.plan is not None:
-            for o in self.plan.obstacles:
-                if o.type != "leg" and o.top < pointing.z and _inside(t[0], t[1], o.points):
-                    top = max(top, o.top)
-        return t[0], t[1], top + 0.05
+        return t[0], t[1], self._top_under(t[0], t[1], pointing.z) + 0.05
 
     def _out_of_range(self, pointing: Pointing) -> bool:
         """Where ``pointing`` comes down (:meth:`_landing`) lies beyond the camera's reliable object range from here."""
