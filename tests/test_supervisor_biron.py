@@ -231,3 +231,21 @@ def test_stop_and_goodbye_end_a_navigation(biron, word, target, says):
     # a late plan step from the cancelled plan cannot move the robot any more
     assert kinds(step(e, ev(3, "plan_step", 2 * S + 1, "sequencer", "<event><POSE/></event>"))) == [
         ("rejected", "plan_step", "inapplicable")]
+
+
+def test_a_wait_while_following_pauses_it_and_only_stop_ends_it(biron):
+    """"Just a moment" said while she leads (fresh4/loft_walking_frame): the ES stays in Following (she need
+    not say "follow me" again when she walks on), orders the attention to pause and tells the dialog;
+    a second wait pauses again; "stop" (its frame STOP) still ends following."""
+    e = interacting(biron)
+    step(e, ev(1, "follow", 1 * S))
+    for n in (2, 3):
+        (rec,) = step(e, ev(n, "stop", n * S, xml="<event><SPEECH><WAIT/><TIMESTAMP val='1'/></SPEECH></event>"))
+        assert isinstance(rec, Applied) and rec.target_state == "Following" and e.state == "Following"
+        assert [(o.target, o.name) for o in rec.outputs] == [("person_attention", "pause"), ("dialog", "paused")]
+    (rec,) = step(e, ev(4, "stop", 4 * S, xml="<event><SPEECH><STOP/></SPEECH></event>"))
+    assert isinstance(rec, Applied) and rec.target_state == "Interacting"
+    assert ("player", "stop") in [(o.target, o.name) for o in rec.outputs]
+    # standing with her, a wait is answered as a stop ("I am not moving"): no pause outside following
+    (rec,) = step(e, ev(5, "stop", 5 * S, xml="<event><SPEECH><WAIT/></SPEECH></event>"))
+    assert [(o.target, o.name) for o in rec.outputs] == [("dialog", "not_moving")] and e.state == "Interacting"

@@ -9,7 +9,8 @@ machine top-down):
 
 Top-down states, entered and left only by the execution supervisor's orders
 on ``/robot/es/orders/person_attention``: ``interact`` -> ``Interaction``,
-``follow`` -> ``Follow``, ``focus_object`` -> ``Object``; ``look_around``
+``follow`` -> ``Follow``, ``pause`` -> ``Follow`` paused (a wait said while she leads: the follower
+stands facing her until she walks on, then follows again; docs/subsystems.md), ``focus_object`` -> ``Object``; ``look_around``
 returns to bottom-up attention, ``look_for_help`` too (the robot asked for help: a voice near
 its axis that nobody seen in front explains comes from behind, and it turns round to it, as
 when it searches for a lost partner); ``sleep`` holds ``Sleeping`` (the robot
@@ -30,8 +31,8 @@ BOTTOM_UP = ("Sleeping", "Alertness", "Listen")
 TOP_DOWN = ("Interaction", "Follow", "Object")
 STATES = BOTTOM_UP + TOP_DOWN
 
-ORDERS = {"interact": "Interaction", "follow": "Follow", "focus_object": "Object", "look_around": None, "look_for_help": None,
-          "sleep": "Sleeping"}
+ORDERS = {"interact": "Interaction", "follow": "Follow", "pause": "Follow", "focus_object": "Object", "look_around": None,
+          "look_for_help": None, "sleep": "Sleeping"}
 
 #: Where the camera looks, per state: a height on the person (m), or a named target.
 CAMERA = {"Sleeping": "ahead", "Alertness": "face", "Listen": "face", "Interaction": "hands", "Follow": "torso", "Object": "object"}
@@ -48,6 +49,7 @@ class AttentionFSM:
     sleep_after: float = 2.0  # s without tracks before Sleeping
     state: str = "Sleeping"
     held: bool = False  # True while an order holds the state (top-down, or sleep)
+    paused: bool = False  # the last order was ``pause`` (Follow, standing until she walks on)
     _empty_since: float | None = None
 
     @property
@@ -59,6 +61,7 @@ class AttentionFSM:
         if name not in ORDERS:
             raise OrderRefused(f"person_attention: unknown order {name!r} (known: {', '.join(sorted(ORDERS))})")
         target = ORDERS[name]
+        self.paused = name == "pause"
         if target is None:  # look_around, look_for_help: back to bottom-up, the tracks decide
             self.held = False
             self.state = "Alertness"

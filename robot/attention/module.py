@@ -313,6 +313,7 @@ class PersonAttention(Module):
         self._focus_turning = False  # in Object: turning the base to a focus beyond the pan range (:meth:`_focus_turn`)
         self._loose_faces: tuple[float, list[tuple[float, float]]] | None = None  # (frame time, odom points): the last frame's faces
         self._state_sent: tuple[str, int | None, int | None] | None = None
+        self._paused_at: float | None = None  # when the ES's last order, a pause, came (see _on_order)
         self._state_at = -math.inf
         self.scans = 0
         self._scan_id: str | None = None  # the scan being processed: the cause of the events it decides
@@ -562,6 +563,9 @@ class PersonAttention(Module):
             self.refused.append(str(exc))
             return
         self.seeking_help = name == "look_for_help"  # until the next order (:meth:`_voice_heading`)
+        # a wait said while following: when the ES's pause order came (told to the follower in the state
+        # message, which stands until she walks on); any other order ends it
+        self._paused_at = self.now if name == "pause" else None
         if state in ("Interaction", "Follow", "Object"):
             # A partner unseen for a moment (stepped aside) stays the partner across the change.
             pending = self.partner is not None and self._partner_last is not None and not self.partner_lost_sent
@@ -1488,7 +1492,10 @@ class PersonAttention(Module):
         sel = self.partner if self.fsm.top_down else self.selector.selected
         key = (self.fsm.state, sel, self.partner)
         if force or key != self._state_sent or t - self._state_at >= self.params.state_refresh:
-            self.bus.publish(ATTENTION_STATE, etree.Element(
+            msg = etree.Element(
                 "attention", state=key[0], selected=f"t{sel}" if sel is not None else "", partner=f"t{self.partner}" if self.partner is not None else "", time=f"{t:.6f}",
-            ), transfer=True)
+            )
+            if self._paused_at is not None:
+                msg.set("paused", f"{self._paused_at:.6f}")  # Follow paused by a wait (the follower's rule)
+            self.bus.publish(ATTENTION_STATE, msg, transfer=True)
             self._state_sent, self._state_at = key, t

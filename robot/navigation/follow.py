@@ -129,6 +129,12 @@ STUCK_MOVE = 0.05
 STUCK_TURN = math.radians(15)
 #: s: once stuck, it backs this long (10 cm at UNSTICK_SPEED) unless a way forward opens
 UNSTICK_TIME = 1.0
+#: m: paused by a wait said while she leads, she has walked on (following again) once she is this far from
+#: where she stood when the pause began (a step to a shelf beside her is no walking on; her walker's pace,
+#: 0.3 m/s, crosses it in under 2 s)
+PAUSE_WALK_ON = 0.5
+#: m/s: paused, out of view for a moment while walking at least this fast: she walked on (round a corner)
+PAUSE_WALKING = 0.2
 SCHEMA = Path(__file__).resolve().parent.parent / "schemas" / "navigation" / "follow-status.xsd"
 #: how many of the robot's own past positions (odometry, every CRUMB m) the back-off may retrace
 BREADCRUMBS = 200
@@ -313,6 +319,9 @@ class Follower(Module):
         self._map_asked = False
         self._pose_sub: Any = None
         self._turn_in = False  # following ended: turn back into the flat if it faces out of an exit door
+        self.paused = False  # a wait said while following: it stands facing her until she walks on
+        self._pause_seen: str | None = None  # the attention's pause (when its order came) last acted on
+        self._pause_from: tuple[float, float] | None = None  # where she stood when the pause began (odom)
 
     def respawn(self) -> Follower:
         return Follower(self.sim, name=self.name, limits=self.limits, rate=1.0 / self.period, distance=self.distance,
@@ -345,6 +354,13 @@ class Follower(Module):
             if self.track is not None and self.track.get("id") != partner:
                 self.track = None
         self.following = follow
+        # a wait said while she leads (the ES's pause order, docs/subsystems.md "Following"): a new pause
+        # stands until she walks on; the pause is no longer in the message once any other order came
+        paused = msg.xml.get("paused") if follow else None
+        if paused is None:
+            self.paused, self._pause_seen = False, None
+        elif paused != self._pause_seen:
+            self.paused, self._pause_seen, self._pause_from = True, paused, None
         self._listen_to_people(follow or self.approach_until is not None)
 
     def _listen_to_people(self, on: bool) -> None:
@@ -515,6 +531,10 @@ class Follower(Module):
         vrx, vry = c * tr["vx"] + s * tr["vy"], -s * tr["vx"] + c * tr["vy"]
         v_radial = (vrx * rx + vry * ry) / d if d > 1e-6 else 0.0
         bearing = math.atan2(ry, rx)
+        if self.paused and not approaching:
+            pause = self._pause(px, py, d, bearing, searching, math.hypot(tr["vx"], tr["vy"]))
+            if self.paused:
+                return pause
         if approaching:
             # she stands: close in to the band's near part, the far end no further than approach_to;
             # near enough, in sight (not behind a wall) and not in a door frame or a passage (where
@@ -661,6 +681,32 @@ class Follower(Module):
         self._too_fast(d, at_limit and not held, math.hypot(tr["vx"], tr["vy"]))
         self._status(d, at_limit, state if tr["visible"] else "searching")
         return v, w
+
+    def _pause(self, px: float, py: float, d: float, bearing: float, unseen: bool, speed: float) -> tuple[float, float]:
+        """Paused by a wait said while she leads: stand where it is, turned to face her (no corner swung
+        into her or anyone, none into the floor plan), until she walks on: she is :data:`PAUSE_WALK_ON`
+        from where she stood when the pause began, she comes closer than ``minimum`` (the follower's own
+        rules give her way), or she went out of view walking. Then following goes on (``paused`` false)."""
+        if self._pause_from is None:
+            self._pause_from = (px, py)
+        walked = math.hypot(px - self._pause_from[0], py - self._pause_from[1])
+        if walked > PAUSE_WALK_ON or d < self.minimum or (unseen and speed >= PAUSE_WALKING):
+            self.paused = False
+            self.trail.clear()  # from here the way to her is the straight line (as when it waits)
+            self.trail.append((px, py))
+            return 0.0, 0.0
+        w = max(-self.limits.max_turn, min(self.limits.max_turn, 1.8 * bearing)) if abs(bearing) > math.radians(8) else 0.0
+        if w != 0.0:
+            rx, ry = self._to_robot(px, py)
+            _, w = self._swept(0.0, w, self.route.obstacles_near(self.odom))  # type: ignore[arg-type]
+            if w != 0.0 and not turn_clear(w, self._bodies(rx, ry), duration=SWEEP_TIME):
+                w = 0.0
+        if w == 0.0:
+            self._halt()
+        else:
+            self._command(0.0, w)
+        self._status(d, False, "paused")
+        return 0.0, w
 
     def _trim_trail(self, rx: float) -> None:
         """Drop the trail's points the robot is past: those before its point nearest the robot (pure
