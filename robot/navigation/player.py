@@ -52,6 +52,7 @@ from homesim.module import Module
 from robot.blindside import SonarEchoes, blind_clear, blind_points, explained_by_points
 from robot.contract import BASE_CMD, DISPLAY_CMD, ES_ORDERS, ODOMETRY, PLAYER_STATUS, POSE, SCAN, SONAR, TRACKS
 
+from .blind import blind_speed_limit, scan_corners
 from .config import Limits, limits_from_config
 from .grid import MapError, parse_map
 from .local import (BODY, HALF_LENGTH, HALF_WIDTH, Command, DWAParams, LatestScan, arcs_at, carrot, dwa, footprint_distance,
@@ -288,6 +289,8 @@ class Player(Module):
         self._make_way_at = 0.0  # when the make_way order came (see MAKE_WAY_WAIT)
         self._sonar_at: float | None = None  # when the newest sonar packet came (None: none since subscribing)
         self._tracks_at: float | None = None  # when the newest person tracks came (None: none since subscribing)
+        self._corners_of: Any = None  # the scan whose blind corners are in _corners
+        self._corners = np.zeros((0, 2))
 
     def respawn(self) -> Player:
         """A fresh instance with the same configuration (what a process manager's restart gives)."""
@@ -397,6 +400,15 @@ class Player(Module):
             people = turned(people, turn)
         return waits_for(people[:len(seen)], people[len(seen):], half_length=HALF_LENGTH, half_width=HALF_WIDTH, travel=travel,
                          gap=WAIT_GAP)
+
+    def _blind_corners(self, mapped: np.ndarray) -> np.ndarray:
+        """The floor plan's corners in the latest scan that the laser does not see round (robot frame; computed
+        once per scan: :func:`robot.navigation.blind.scan_corners`)."""
+        msg = self.scan.latest
+        if msg is not self._corners_of:
+            self._corners_of = msg
+            self._corners = scan_corners(msg, mapped)
+        return self._corners
 
     def nearest_person(self) -> float:
         """Distance (m) to the nearest confirmed person track (inf: none)."""
@@ -544,6 +556,10 @@ class Player(Module):
         # the laser's echoes ahead, the floor plan all round (the corners sweep ground the laser does not see)
         points = np.concatenate((echoes, mapped)) if len(mapped) else echoes
         cap = social_speed_limit(nearest(people), self.limits.max_speed)
+        # and round a corner ahead it cannot see behind (a door's jamb), a speed it can stop from (blind.py)
+        blind = blind_speed_limit(self._blind_corners(mapped), cap, decel=self.limits.max_accel)
+        squeezable = cap > SQUEEZE_SPEED  # (not facing a first leg: below)
+        cap = min(cap, blind)
         limits = self.limits if cap >= self.limits.max_speed else replace(self.limits, max_speed=cap)  # a hard limit
         bearing = math.atan2(local[1], local[0])
         v_pref = heading_speed(min(cap, 0.25 + 0.6 * dist), bearing)
@@ -557,10 +573,10 @@ class Player(Module):
             self._facing = False
         # everyone's space: wait at a polite distance, never at the body
         cmd = dwa(self.odo.v, self.odo.w, local, points, limits, v_pref=v_pref, params=self._goto_params, people=people)
-        if abs(cmd.v) < 0.02 and limits.max_speed > SQUEEZE_SPEED and standing_beside(moving):
+        if abs(cmd.v) < 0.02 and squeezable and limits.max_speed > 0.0 and standing_beside(moving):
             # no arc on past someone standing beside the way at the full gap: pass them slowly at SQUEEZE_GAP
-            slow = replace(limits, max_speed=SQUEEZE_SPEED)
-            squeeze = dwa(self.odo.v, self.odo.w, local, points, slow, v_pref=min(v_pref, SQUEEZE_SPEED),
+            slow = replace(limits, max_speed=min(SQUEEZE_SPEED, limits.max_speed))
+            squeeze = dwa(self.odo.v, self.odo.w, local, points, slow, v_pref=min(v_pref, slow.max_speed),
                           params=self._squeeze_params, people=people)
             if squeeze.ok and squeeze.v > 0.02 and arc_air(squeeze.v, squeeze.w, moving[:, :2], self._squeeze_params) >= SQUEEZE_GAP:
                 cmd = squeeze  # (the whole arc at SQUEEZE_GAP: not the window's "no nearer than now", which turns ratchet down)
