@@ -102,6 +102,10 @@ WAY_ROUND = math.radians(5)
 #: m, m/s: with someone this near walking toward its centre faster than this, it stands (yields)
 YIELD_NEAR = 1.6
 YIELD_SPEED = 0.15
+#: m: with someone this near walking toward its centre faster than YIELD_SPEED, it backs off out of their way
+#: (ring_goto_other_way: Ben walked out of the kitchen through the opening the robot stood in and was held
+#: at its front for 3 s, 0.02 m of air, before it turned away)
+GIVE_WAY_NEAR = 1.0
 #: m: someone standing with their centre this near the goal occupies it (the robot cannot stand there and
 #: keep GOTO_SOCIAL_GAP of air to them: their body, the air and its half width) ...
 GOAL_TAKEN = BODY + GOTO_SOCIAL_GAP + HALF_WIDTH
@@ -598,6 +602,13 @@ class Player(Module):
             # someone near walks at it, or by it inside their personal space (BACK_GAP, 0.45 m of air; the
             # tracker misplaces people by a decimetre): stand and let them pass (yield), turning on the spot at most
             cmd = Command(0.0, cmd.w if abs(cmd.v) < 0.02 else 0.0, True, cmd.clearance)
+        # someone walking at it this close (out of the door it drives into): it steps back out of their way,
+        # as far as a back-off goes (BACK_OFF), where the floor plan, the people behind and the sonar leave room
+        giving_way = odo is not None and closing_in(
+            np.concatenate((moving, self.people.emerging(odo, self.now, moving=YIELD_SPEED, reach=GIVE_WAY_NEAR))),
+            near=GIVE_WAY_NEAR, speed=YIELD_SPEED)
+        if giving_way and cmd.v > 0.0:
+            cmd = Command(0.0, 0.0, True, cmd.clearance)
         if (held and align and dist <= ARRIVE_BESIDE and goal_taken(moving, local_goal(pose, (gx, gy)))
                 and in_sight(local_goal(pose, (gx, gy)), mapped)):
             # someone standing on the place itself holds it up (waiting for them, not turning to a leg or
@@ -620,7 +631,7 @@ class Player(Module):
             self._stuck_since = self.now
         wedged = (self._stuck_since is not None and self.now - self._stuck_since >= WEDGED and nearest(people) > WEDGED_PERSON
                   and cmd.clearance < WEDGED_GAP)
-        if (self._backed < BACK_OFF and (self._backed > 0.0 or wedged or (not cmd.ok and abs(bearing) > BACK_OFF_BEARING))
+        if (self._backed < BACK_OFF and (self._backed > 0.0 or wedged or giving_way or (not cmd.ok and abs(bearing) > BACK_OFF_BEARING))
                 and self._sweep_ok(-0.5 * limits.max_reverse, 0.0, mapped)
                 and self._behind_clear(BACK_OFF - self._backed)
                 and self._blind_checked(-0.5 * limits.max_reverse, 0.0, mapped) != (0.0, 0.0)):
