@@ -69,6 +69,9 @@ def test_the_jambs_of_an_opening_ahead_are_the_corners_it_cannot_see_round():
     # a plain wall ahead, or a wall beside the way seen at a grazing angle, hides nothing
     assert not len(corners(_cast([((1.2, -3.0), (1.2, 3.0))]), MIN_ANGLE, RES, MAX_RANGE, OFFSET))
     assert not len(corners(_cast([((-1.0, 0.35), (6.0, 0.35)), ((-1.0, -0.6), (6.0, -0.6))]), MIN_ANGLE, RES, MAX_RANGE, OFFSET))
+    # nor does a table's leg (5 cm) in front of the far wall: nobody hides behind it
+    leg = [((1.0, -0.025), (1.0, 0.025)), ((1.0, 0.025), (1.05, 0.025)), ((3.0, -3.0), (3.0, 3.0))]
+    assert not len(corners(_cast(leg), MIN_ANGLE, RES, MAX_RANGE, OFFSET))
 
 
 def test_only_corners_on_the_floor_plan_count():

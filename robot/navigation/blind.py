@@ -42,13 +42,18 @@ GAP = 0.30
 CRAWL = 0.12
 #: m: a beam without echo, as a range (far beyond any jump's near end)
 FAR = 1e6
+#: m: the occluder must be this wide to hide someone (a table's or a chair's leg, a person's own leg is not) ...
+WIDE = 0.25
+#: m: ... its echoes running on from the corner with neighbouring ranges this close (the leg filter's cluster jump)
+SAME = 0.15
 
 
 def corners(ranges: np.ndarray, min_angle: float, resolution: float, max_range: float, offset: float, *,
             jump: float = JUMP, reach: float = REACH) -> np.ndarray:
     """(K, 2) robot-frame points (laser ``offset`` m ahead of the centre; angles in radians) at the near end of
-    every range jump of at least ``jump`` m between neighbouring beams whose near range is within ``reach``:
-    the corners behind which the laser does not see (a beam without echo counts as far)."""
+    every range jump of at least ``jump`` m between neighbouring beams whose near range is within ``reach`` and
+    whose near side is an occluder at least :data:`WIDE` wide: the corners behind which the laser does not see
+    (a beam without echo counts as far)."""
     r = np.asarray(ranges, dtype=float)
     r = np.where(r >= max_range - 1e-6, FAR, r)
     if len(r) < 2:
@@ -62,7 +67,26 @@ def corners(ranges: np.ndarray, min_angle: float, resolution: float, max_range: 
     if not len(idx):
         return np.zeros((0, 2))
     idx = np.unique(idx)
-    return np.column_stack((offset + r[idx] * np.cos(a[idx]), r[idx] * np.sin(a[idx])))
+    x, y = offset + r * np.cos(a), r * np.sin(a)
+    keep = [i for i in idx if _occluder_width(x, y, r, int(i)) >= WIDE]
+    return np.column_stack((x[keep], y[keep])) if keep else np.zeros((0, 2))
+
+
+def _occluder_width(x: np.ndarray, y: np.ndarray, r: np.ndarray, i: int) -> float:
+    """How wide (m, chord) the run of echoes is that beam ``i`` ends: its neighbours on the near side, as long as
+    each is within :data:`SAME` m in range of the next (a leg or a table leg is a few centimetres; a wall's end
+    runs on along the wall)."""
+    n = len(r)
+    lo = hi = i
+    while lo > 0 and abs(r[lo - 1] - r[lo]) < SAME and r[lo - 1] < FAR:
+        lo -= 1
+        if math.hypot(x[lo] - x[i], y[lo] - y[i]) >= WIDE:
+            return WIDE
+    while hi < n - 1 and abs(r[hi + 1] - r[hi]) < SAME and r[hi + 1] < FAR:
+        hi += 1
+        if math.hypot(x[hi] - x[i], y[hi] - y[i]) >= WIDE:
+            return WIDE
+    return max(math.hypot(x[lo] - x[i], y[lo] - y[i]), math.hypot(x[hi] - x[i], y[hi] - y[i]))
 
 
 def on_plan(points: np.ndarray, mapped: np.ndarray, *, tol: float = EXPLAINED) -> np.ndarray:
