@@ -206,3 +206,37 @@ def test_whatever_holds_the_go_to_as_a_ghost_holds_it_as_a_tracked_person(x, y):
         assert waits_for(_at(x, y), none, **kw)
     if abs(y) >= HALF_WIDTH + BODY_RADIUS:
         assert not waits_for(_at(x, y), none, **kw)
+
+
+def _status(state: str, x: str = "3", y: str = "0") -> _Msg:
+    return _Msg(etree.Element("player", state=state, x=x, y=y))
+
+
+def _replans(sim: _Sim) -> int:
+    return sum(1 for ch, el in sim.bus.sent if el.tag == "replan" and el.get("watch") != "true")
+
+
+def _blocked_for(seq: Sequencer, sim: _Sim, seconds: float) -> None:
+    seq._on_player(_status("blocked"))
+    for _ in range(int(seconds * 10)):
+        sim.now += 0.1
+        seq.check()
+
+
+def test_a_blockage_after_progress_gets_its_own_replans_but_one_blockage_no_more_than_max_replans():
+    """open_island_goto seed 1: three replans went while Ole stood in the bedroom door; he then stood beside
+    the next corner, and the go-to, with none left, waited 10 s and asked for help though the way round him
+    was free. A blockage the robot got out of (the player on again: 0.3 m of progress) is over."""
+    seq, sim = _sequencer()
+    seq._on_plan(_Msg(_plan("kitchen")))
+    seq._on_player(_status("moving"))
+    for _ in range(3):  # blocked, a replan asked, its way round begun, blocked again at once (no progress)
+        _blocked_for(seq, sim, 3.5)
+        seq._on_plan(_Msg(_plan("kitchen", replan=True)))
+        seq._on_player(_status("moving"))  # (the new step's first status)
+    assert _replans(sim) == 3
+    _blocked_for(seq, sim, 3.5)
+    assert _replans(sim) == 3  # no more for this blockage
+    seq._on_player(_status("moving"))  # he stepped aside: on again, after 0.3 m of progress
+    _blocked_for(seq, sim, 3.5)
+    assert _replans(sim) == 4  # a new blockage further on: a way round is asked for again

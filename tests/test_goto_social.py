@@ -376,6 +376,8 @@ class _Walls:
     """A laser stand-in: the echoes of wall segments (world frame: the robot starts at the origin facing
     +x) seen from the player's odometry pose, robot frame, every 2 cm along each segment within 3 m."""
 
+    latest = None  # no raw ranges: no blind corners (robot/navigation/blind.py; test_goto_blind_corner.py)
+
     def __init__(self, p: Player, segments: list[tuple[float, float, float, float]]) -> None:
         self.p = p
         pts = []

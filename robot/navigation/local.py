@@ -207,6 +207,11 @@ class LatestScan:
         self._msg = msg
         self._raw = msg
 
+    @property
+    def latest(self) -> Any:
+        """The latest scan message (None before the first)."""
+        return self._raw
+
     def bodies(self) -> np.ndarray:
         """(K, 2) robot-frame centres of the people (pairs of legs, :func:`leg_discs`) in the latest scan."""
         msg = self._raw

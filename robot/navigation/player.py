@@ -52,6 +52,7 @@ from homesim.module import Module
 from robot.blindside import SonarEchoes, blind_clear, blind_points, explained_by_points
 from robot.contract import BASE_CMD, DISPLAY_CMD, ES_ORDERS, ODOMETRY, PLAYER_STATUS, POSE, SCAN, SONAR, TRACKS
 
+from .blind import blind_speed_limit, scan_corners
 from .config import Limits, limits_from_config
 from .grid import MapError, parse_map
 from .local import (BODY, HALF_LENGTH, HALF_WIDTH, Command, DWAParams, LatestScan, arcs_at, carrot, dwa, footprint_distance,
@@ -101,6 +102,10 @@ WAY_ROUND = math.radians(5)
 #: m, m/s: with someone this near walking toward its centre faster than this, it stands (yields)
 YIELD_NEAR = 1.6
 YIELD_SPEED = 0.15
+#: m: with someone this near walking toward its centre faster than YIELD_SPEED, it backs off out of their way
+#: (ring_goto_other_way: Ben walked out of the kitchen through the opening the robot stood in and was held
+#: at its front for 3 s, 0.02 m of air, before it turned away)
+GIVE_WAY_NEAR = 1.0
 #: m: someone standing with their centre this near the goal occupies it (the robot cannot stand there and
 #: keep GOTO_SOCIAL_GAP of air to them: their body, the air and its half width) ...
 GOAL_TAKEN = BODY + GOTO_SOCIAL_GAP + HALF_WIDTH
@@ -288,6 +293,8 @@ class Player(Module):
         self._make_way_at = 0.0  # when the make_way order came (see MAKE_WAY_WAIT)
         self._sonar_at: float | None = None  # when the newest sonar packet came (None: none since subscribing)
         self._tracks_at: float | None = None  # when the newest person tracks came (None: none since subscribing)
+        self._corners_of: Any = None  # the scan whose blind corners are in _corners
+        self._corners = np.zeros((0, 2))
 
     def respawn(self) -> Player:
         """A fresh instance with the same configuration (what a process manager's restart gives)."""
@@ -397,6 +404,15 @@ class Player(Module):
             people = turned(people, turn)
         return waits_for(people[:len(seen)], people[len(seen):], half_length=HALF_LENGTH, half_width=HALF_WIDTH, travel=travel,
                          gap=WAIT_GAP)
+
+    def _blind_corners(self, mapped: np.ndarray) -> np.ndarray:
+        """The floor plan's corners in the latest scan that the laser does not see round (robot frame; computed
+        once per scan: :func:`robot.navigation.blind.scan_corners`)."""
+        msg = self.scan.latest
+        if msg is not self._corners_of:
+            self._corners_of = msg
+            self._corners = scan_corners(msg, mapped)
+        return self._corners
 
     def nearest_person(self) -> float:
         """Distance (m) to the nearest confirmed person track (inf: none)."""
@@ -544,6 +560,10 @@ class Player(Module):
         # the laser's echoes ahead, the floor plan all round (the corners sweep ground the laser does not see)
         points = np.concatenate((echoes, mapped)) if len(mapped) else echoes
         cap = social_speed_limit(nearest(people), self.limits.max_speed)
+        # and round a corner ahead it cannot see behind (a door's jamb), a speed it can stop from (blind.py)
+        blind = blind_speed_limit(self._blind_corners(mapped), cap, decel=self.limits.max_accel)
+        squeezable = cap > SQUEEZE_SPEED  # (not facing a first leg: below)
+        cap = min(cap, blind)
         limits = self.limits if cap >= self.limits.max_speed else replace(self.limits, max_speed=cap)  # a hard limit
         bearing = math.atan2(local[1], local[0])
         v_pref = heading_speed(min(cap, 0.25 + 0.6 * dist), bearing)
@@ -557,10 +577,10 @@ class Player(Module):
             self._facing = False
         # everyone's space: wait at a polite distance, never at the body
         cmd = dwa(self.odo.v, self.odo.w, local, points, limits, v_pref=v_pref, params=self._goto_params, people=people)
-        if abs(cmd.v) < 0.02 and limits.max_speed > SQUEEZE_SPEED and standing_beside(moving):
+        if abs(cmd.v) < 0.02 and squeezable and limits.max_speed > 0.0 and standing_beside(moving):
             # no arc on past someone standing beside the way at the full gap: pass them slowly at SQUEEZE_GAP
-            slow = replace(limits, max_speed=SQUEEZE_SPEED)
-            squeeze = dwa(self.odo.v, self.odo.w, local, points, slow, v_pref=min(v_pref, SQUEEZE_SPEED),
+            slow = replace(limits, max_speed=min(SQUEEZE_SPEED, limits.max_speed))
+            squeeze = dwa(self.odo.v, self.odo.w, local, points, slow, v_pref=min(v_pref, slow.max_speed),
                           params=self._squeeze_params, people=people)
             if squeeze.ok and squeeze.v > 0.02 and arc_air(squeeze.v, squeeze.w, moving[:, :2], self._squeeze_params) >= SQUEEZE_GAP:
                 cmd = squeeze  # (the whole arc at SQUEEZE_GAP: not the window's "no nearer than now", which turns ratchet down)
@@ -582,6 +602,13 @@ class Player(Module):
             # someone near walks at it, or by it inside their personal space (BACK_GAP, 0.45 m of air; the
             # tracker misplaces people by a decimetre): stand and let them pass (yield), turning on the spot at most
             cmd = Command(0.0, cmd.w if abs(cmd.v) < 0.02 else 0.0, True, cmd.clearance)
+        # someone walking at it this close (out of the door it drives into): it steps back out of their way,
+        # as far as a back-off goes (BACK_OFF), where the floor plan, the people behind and the sonar leave room
+        giving_way = odo is not None and closing_in(
+            np.concatenate((moving, self.people.emerging(odo, self.now, moving=YIELD_SPEED, reach=GIVE_WAY_NEAR))),
+            near=GIVE_WAY_NEAR, speed=YIELD_SPEED)
+        if giving_way and cmd.v > 0.0:
+            cmd = Command(0.0, 0.0, True, cmd.clearance)
         if (held and align and dist <= ARRIVE_BESIDE and goal_taken(moving, local_goal(pose, (gx, gy)))
                 and in_sight(local_goal(pose, (gx, gy)), mapped)):
             # someone standing on the place itself holds it up (waiting for them, not turning to a leg or
@@ -604,7 +631,7 @@ class Player(Module):
             self._stuck_since = self.now
         wedged = (self._stuck_since is not None and self.now - self._stuck_since >= WEDGED and nearest(people) > WEDGED_PERSON
                   and cmd.clearance < WEDGED_GAP)
-        if (self._backed < BACK_OFF and (self._backed > 0.0 or wedged or (not cmd.ok and abs(bearing) > BACK_OFF_BEARING))
+        if (self._backed < BACK_OFF and (self._backed > 0.0 or wedged or giving_way or (not cmd.ok and abs(bearing) > BACK_OFF_BEARING))
                 and self._sweep_ok(-0.5 * limits.max_reverse, 0.0, mapped)
                 and self._behind_clear(BACK_OFF - self._backed)
                 and self._blind_checked(-0.5 * limits.max_reverse, 0.0, mapped) != (0.0, 0.0)):

@@ -20,7 +20,8 @@ passes both to the dialog's ``need_help``: "I cannot get to the kitchen"):
   seconds of a blockage the planner is asked once for a way round it
   (``/robot/navigation/replan``: it marks what the laser sees and the map
   does not hold); a new path (``replan="true"``) replaces the plan, "no way
-  round" changes nothing: the robot waits on. At most ``max_replans`` per goal;
+  round" changes nothing: the robot waits on. At most ``max_replans`` per goal and blockage (on again
+  after a blockage, 0.3 m of progress, the count starts afresh);
 * ``no_response``: the player did not start a step within
   ``start_timeout`` (e.g. the ES rejected the step).
 
@@ -176,6 +177,12 @@ class Sequencer(Module):
         if state in ("moving", "blocked", "reached") and not here:
             return  # about an earlier step
         if state == "moving":
+            if self.blocked_since is not None:
+                # on again after a blockage (the player says so only after 0.3 m of progress): a new blockage
+                # further on is another situation and gets its own replans (open_island_goto: three asked while
+                # Ole stood in the bedroom door; he then stood beside the next corner and the robot, with no
+                # replan left, waited 10 s and asked for help while the way round him was free)
+                self.replans = 0
             self.started, self.blocked_since, self._asked = True, None, False
         elif state == "blocked":
             self.started = True
