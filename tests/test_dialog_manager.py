@@ -181,6 +181,16 @@ def test_where_is_my_cup_normal_path(dm):
     assert says(dm.on_condition(found)) == ["The cup is in the kitchen."]
 
 
+@pytest.mark.parametrize("noun, verb", [("keys", "are"), ("car keys", "are"), ("glasses", "are"), ("scissors", "are"),
+                                        ("glass", "is"), ("cup", "is"), ("vase", "is"), ("bus", "is"), ("cactus", "is")])
+def test_where_is_answer_agrees_with_her_noun(dm, noun, verb):
+    # gen12 item 8: "The keys is on the table"
+    dm.on_frame(frame(f'<WHERE><OBJECT type="x"><TITLE name="{noun}"/></OBJECT></WHERE>'))
+    found = cond("object_info", '<param name="result"><RESULT found="true" phrase="on the table"><OBJECT type="x"/>'
+                 '<PLACE name="kitchen"/></RESULT></param>')
+    assert says(dm.on_condition(found)) == [f"The {noun} {verb} on the table."]
+
+
 def test_where_unknown_object(dm):
     dm.on_frame(frame('<WHERE><OBJECT type="keys"><TITLE name="keys"/></OBJECT></WHERE>'))
     out = dm.on_condition(cond("object_info", '<param name="result"><RESULT found="false"/></param>'))
