@@ -344,7 +344,7 @@ def test_technical_failure_and_too_fast_are_said(dm):
 @pytest.mark.parametrize("event,reason,state,sentence", [
     ("greeting", "expired", "LookingAround", "I can't see you. Please look at me."),
     ("greeting", "inapplicable", "Interacting", "We are already talking. What can I do for you?"),
-    ("object_teaching", "expired", "Following", "I am still following you; say stop first."),
+    ("object_teaching", "expired", "Following", "I am following you. When you stop, please show it to me again."),
     ("goto", "expired", "Following", "I am still following you; say stop first."),
     ("follow", "inapplicable", "Navigating", "I am driving to my goal; say stop first."),
     ("place_teaching", "expired", "ObjectTeaching", "I am still looking at the object you showed me. Please wait a moment."),
@@ -414,6 +414,8 @@ def test_every_rejection_the_supervisor_can_produce_has_its_sentence():
         want = GREETING_BY_STATE[state] if event == "greeting" else BY_STATE[state]
         if event == "make_way":  # "you are in my way" while following or driving: it says what it does instead
             want = MAKE_WAY_BY_STATE.get(state, want)
+        if (event, state) == ("object_teaching", "Following"):  # shown in passing: asked about once she stops
+            want = "I am following you. When you stop, please show it to me again."
         assert says(m.on_rejected(rejected(event, reason, state))) == [want], (event, reason, state)
         # An event can also arrive after its lifetime in any state (latency, a busy supervisor): never the catch-all.
         late = says(DialogManager(DOC).on_rejected(rejected(event, "expired", state)))
@@ -644,3 +646,40 @@ def test_a_teaching_that_applies_is_announced(state):
     m.es_state = state
     out = m.on_frame(frame(CUP))
     assert [s.event for s in sends(out)] == ["object_teaching"] and says(out) == ["Let me have a look."]
+
+
+KETTLE = '<OBJECT type="kettle"><GESTURE val="probably_pointing"/><TITLE name="kettle"/><OWNER name="speaker"/></OBJECT>'
+
+
+def test_an_object_shown_while_following_is_asked_about_once_she_stops(dm):
+    # fresh12 item 5: "oh and that is my kettle" said walking on got "say stop first" and was forgotten
+    dm.on_state("Following")
+    (s,) = sends(dm.on_frame(frame(KETTLE)))
+    assert s.event == "object_teaching"
+    out = dm.on_rejected(rejected("object_teaching", "inapplicable", "Following"))
+    assert says(out) == ["I am following you. When you stop, please show it to me again."]
+    assert dm.take_up_in_passing() == []  # still following: nothing to ask yet
+    dm.on_state("Interacting")
+    assert says(dm.take_up_in_passing()) == ["You showed me your kettle on the way. Could you show me again?"]
+    assert dm.take_up_in_passing() == []  # asked once
+    # her answer is an ordinary teaching
+    (s,) = sends(dm.on_frame(frame(KETTLE)))
+    assert s.event == "object_teaching"
+
+
+@pytest.mark.parametrize("then", ["LookingAround", "Navigating"])
+def test_an_object_shown_in_passing_is_forgotten_when_the_tour_moves_on(dm, then):
+    dm.on_state("Following")
+    dm.on_frame(frame(KETTLE))
+    dm.on_rejected(rejected("object_teaching", "inapplicable", "Following"))
+    dm.on_state(then)
+    dm.on_state("Interacting")
+    assert dm.take_up_in_passing() == []
+
+
+def test_other_refusals_while_following_remember_nothing(dm):
+    dm.on_state("Following")
+    dm.on_frame(frame('<PLACE><TITLE name="kitchen"/></PLACE>'))
+    dm.on_rejected(rejected("place_teaching", "inapplicable", "Following"))
+    dm.on_state("Interacting")
+    assert dm.take_up_in_passing() == []
