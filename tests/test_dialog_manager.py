@@ -683,3 +683,13 @@ def test_other_refusals_while_following_remember_nothing(dm):
     dm.on_rejected(rejected("place_teaching", "inapplicable", "Following"))
     dm.on_state("Interacting")
     assert dm.take_up_in_passing() == []
+
+
+def test_an_object_heard_partly_while_following_is_not_asked_about_until_she_stops(dm):
+    # "oh and that is my <lost>" while walking: no "What is it?" while she leads; asked once she stops
+    dm.on_state("Following")
+    out = dm.on_frame(frame('<OBJECT><GESTURE val="probably_pointing"/><OWNER name="speaker"/></OBJECT>', 0.3))
+    assert [s.event for s in sends(out)] == ["object_teaching"] and not says(out)
+    dm.on_rejected(rejected("object_teaching", "inapplicable", "Following"))
+    dm.on_state("Interacting")
+    assert says(dm.take_up_in_passing()) == ["You showed me something on the way. Could you show me again?"]

@@ -237,7 +237,8 @@ class DialogManager:
             return []  # a sub-dialog is still open ("OK, I stopped." not yet said, a question): after it
         obj, self._in_passing, self._in_passing_due = self._in_passing, None, False
         out: list[Output] = []
-        self._say(out, self.doc.sentence("shown-in-passing", object=obj), "")
+        named = obj.find("TITLE") is not None or obj.get("type")
+        self._say(out, self.doc.sentence("shown-in-passing", object=obj if named else None), "")
         self.metrics["taken_up_in_passing"] += 1
         return out
 
