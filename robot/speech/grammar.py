@@ -351,6 +351,15 @@ class Understander:
             res.ignored = [t.text for t in toks]
             res.reason = small_talk
             return res
+        if partial and ignored and tree_act(tree) == "where":
+            # "sorry where was [I], that vase is from my grandmother" ("I" lost): no where-question goes on with a
+            # copula after its object; the words from the deixis on are a statement of their own about what she
+            # shows (fresh4 ring_visitor_leaves seeds 4, 6, 7: "I don't know where to find the vase")
+            said = self._statement_after_where(toks)
+            if said is not None:
+                tree, ignored, partial = said
+                frame = build(tree)
+                obj = frame[0]
         if ignored and tree_act(tree) == "teach_object" and _from_someone(toks, ignored):
             # "that vase is from my grandmother", "this is my cup, it's from my mother": where it came from is
             # said of the object she shows, no words lost (fresh4 ring_visitor_leaves: "Is this vase?")
@@ -490,6 +499,24 @@ class Understander:
                 continue  # a word skipped inside the request: not said as a whole
             return tree, [t.text for t in toks[:i]] + ignored, True
         return None
+
+    def _statement_after_where(self, toks: list[Tok]) -> tuple[Tree, list[str], bool] | None:
+        """The object teaching said after a "where" whose object a copula follows ("where [was I] that vase
+        is from my grandmother"): the tail from the first deixis after "where", when it parses as a teaching
+        with a copula in it and no word lost but where the object came from, else None."""
+        at = next((k for k, t in enumerate(toks) if t.type == "WHERE"), None)
+        if at is None:
+            return None
+        k = next((k for k in range(at + 1, len(toks)) if toks[k].type in ("THIS", "THAT")), None)
+        if k is None or not any(t.type in ("IS", "ARE") for t in toks[k + 1:]) \
+                or not any(t.type in ("IS", "ARE") for t in toks[k + 2:]):
+            return None
+        tree, ignored, partial = self._parse(toks[k:])
+        if tree is None or _guessed(tree) or tree_act(tree) != "teach_object":
+            return None
+        if ignored and not _from_someone(toks[k:], ignored):
+            return None
+        return tree, [t.text for t in toks[:k]], True  # where it came from is said of it (no words lost)
 
     def _request_follows(self, toks: list[Tok]) -> bool:
         """Whether ``toks`` (or a tail of them after words it cannot use) hold a request of their own: an
