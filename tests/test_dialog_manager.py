@@ -661,10 +661,28 @@ def test_an_object_shown_while_following_is_asked_about_once_she_stops(dm):
     assert dm.take_up_in_passing() == []  # still following: nothing to ask yet
     dm.on_state("Interacting")
     assert says(dm.take_up_in_passing()) == ["You showed me your kettle on the way. Could you show me again?"]
-    assert dm.take_up_in_passing() == []  # asked once
-    # her answer is an ordinary teaching
+    assert dm.take_up_in_passing() == []  # not again before she has said something
+    # her answer is an ordinary teaching, and nothing is asked after it
     (s,) = sends(dm.on_frame(frame(KETTLE)))
     assert s.event == "object_teaching"
+    dm.on_condition(cond("object_learned", "<param><OBJECT type=\"kettle\"/></param>"))
+    assert dm.take_up_in_passing() == []
+
+
+def test_the_question_about_an_object_shown_in_passing_is_put_at_most_twice(dm):
+    # she may talk over the first ("And this is the kitchen" 2 s after "OK, I stopped."): asked again after that
+    # exchange, never a third time
+    dm.on_state("Following")
+    dm.on_frame(frame(KETTLE))
+    dm.on_rejected(rejected("object_teaching", "inapplicable", "Following"))
+    dm.on_state("Interacting")
+    asked = "You showed me your kettle on the way. Could you show me again?"
+    assert says(dm.take_up_in_passing()) == [asked]
+    for _ in range(3):
+        dm.on_frame(frame('<PLACE><TITLE name="kitchen"/></PLACE>'))
+        dm.on_condition(cond("place_learned"))
+        out = says(dm.take_up_in_passing())
+        assert out == ([asked] if _ == 0 else [])
 
 
 @pytest.mark.parametrize("then", ["LookingAround", "Navigating"])

@@ -194,6 +194,8 @@ class DialogManager:
         # stopped (:meth:`take_up_in_passing`) instead of forgetting it (fresh12 item 5)
         self._in_passing: etree._Element | None = None
         self._in_passing_due = False
+        self._in_passing_asked = 0  # times asked: at most twice (she may talk over the first)
+        self._in_passing_next = False  # asked once: again after her next turn
 
     # ------------------------------------------------------------------ queries
     @property
@@ -229,13 +231,22 @@ class DialogManager:
 
     def take_up_in_passing(self) -> list[Output]:
         """Once she has stopped after showing something while the robot followed her: ask her to show
-        it again ("You showed me your kettle on the way. Could you show me again?"), once; her answer is
-        an ordinary teaching. Nothing when nothing was shown in passing or a sub-dialog is open."""
+        it again ("You showed me your kettle on the way. Could you show me again?"); her answer is an
+        ordinary teaching. Asked at most twice, the second time after her next exchange (she may talk
+        over the first: fresh4 loft_teach_walking_past, "And this is the kitchen" 2 s after "OK, I
+        stopped."); forgotten once she shows something or the tour goes elsewhere. Nothing when nothing
+        was shown in passing or a sub-dialog is open."""
         if not self._in_passing_due or self._in_passing is None or self.es_state != "Interacting":
             return []
         if any(not i.done for i in self.stack):
             return []  # a sub-dialog is still open ("OK, I stopped." not yet said, a question): after it
-        obj, self._in_passing, self._in_passing_due = self._in_passing, None, False
+        obj = self._in_passing
+        self._in_passing_asked += 1
+        if self._in_passing_asked >= MAX_SAME_QUESTION:
+            self._in_passing, self._in_passing_due = None, False
+        else:
+            self._in_passing_due = False  # again only after her next exchange (the next status or condition)
+            self._in_passing_next = True
         out: list[Output] = []
         named = obj.find("TITLE") is not None or obj.get("type")
         self._say(out, self.doc.sentence("shown-in-passing", object=obj if named else None), "")
@@ -257,12 +268,16 @@ class DialogManager:
     def on_frame(self, msg: etree._Element) -> list[Output]:
         """An ``<understood>`` or ``<not_understood>`` from the understanding."""
         self.metrics["user_turns"] += 1
+        if self._in_passing is not None and self._in_passing_next:
+            self._in_passing_due, self._in_passing_next = True, False  # asked once, she said something else
         speech = msg.find("SPEECH")
         acts = [c for c in speech if c.tag != "TIMESTAMP"] if speech is not None else []
         if msg.tag != "understood" or not acts:
             return self._not_understood()
         act_el = acts[0]
         act = str(act_el.tag)
+        if act == "OBJECT" and self.es_state != "Following":
+            self._in_passing, self._in_passing_due = None, False  # she shows something now: no need to ask
         conf = float(msg.get("confidence", "1"))
         repaired = self._unheard >= MAX_SAME_QUESTION
         if repaired and conf >= self.doc.confirm_below / 2 and self.doc.confirm_below <= 1.0:
@@ -548,6 +563,7 @@ class DialogManager:
                 if name == "object_teaching" and state == "Following" and shown is not None \
                         and isinstance(shown.value, etree._Element):
                     self._in_passing, self._in_passing_due = deepcopy(shown.value), False
+                    self._in_passing_asked, self._in_passing_next = 0, False
                 inst.rejection = (name, reason, state)
                 self._fill_other(inst, fills, rej)
                 self._step(inst, out)
