@@ -341,7 +341,8 @@ def test_teaching_while_following_is_explained_when_it_expires(robot):
     robot.sim.run(until=30.0)
     said = robot.sentences()
     assert said[:2] == ["Hello, I am BIRON. What can I do for you?", "OK, I am following you."]
-    assert said[-1] == "I am still following you; say stop first."
+    # an object shown while it follows is asked about once she stops (talk13, fresh12 item 5)
+    assert said[-1] == "I am following you. When you stop, please show it to me again."
 
 
 def test_clarification_question_from_the_object_attention(robot):

@@ -181,6 +181,16 @@ def test_where_is_my_cup_normal_path(dm):
     assert says(dm.on_condition(found)) == ["The cup is in the kitchen."]
 
 
+@pytest.mark.parametrize("noun, verb", [("keys", "are"), ("car keys", "are"), ("glasses", "are"), ("scissors", "are"),
+                                        ("glass", "is"), ("cup", "is"), ("vase", "is"), ("bus", "is"), ("cactus", "is")])
+def test_where_is_answer_agrees_with_her_noun(dm, noun, verb):
+    # gen12 item 8: "The keys is on the table"
+    dm.on_frame(frame(f'<WHERE><OBJECT type="x"><TITLE name="{noun}"/></OBJECT></WHERE>'))
+    found = cond("object_info", '<param name="result"><RESULT found="true" phrase="on the table"><OBJECT type="x"/>'
+                 '<PLACE name="kitchen"/></RESULT></param>')
+    assert says(dm.on_condition(found)) == [f"The {noun} {verb} on the table."]
+
+
 def test_where_unknown_object(dm):
     dm.on_frame(frame('<WHERE><OBJECT type="keys"><TITLE name="keys"/></OBJECT></WHERE>'))
     out = dm.on_condition(cond("object_info", '<param name="result"><RESULT found="false"/></param>'))
@@ -334,7 +344,7 @@ def test_technical_failure_and_too_fast_are_said(dm):
 @pytest.mark.parametrize("event,reason,state,sentence", [
     ("greeting", "expired", "LookingAround", "I can't see you. Please look at me."),
     ("greeting", "inapplicable", "Interacting", "We are already talking. What can I do for you?"),
-    ("object_teaching", "expired", "Following", "I am still following you; say stop first."),
+    ("object_teaching", "expired", "Following", "I am following you. When you stop, please show it to me again."),
     ("goto", "expired", "Following", "I am still following you; say stop first."),
     ("follow", "inapplicable", "Navigating", "I am driving to my goal; say stop first."),
     ("place_teaching", "expired", "ObjectTeaching", "I am still looking at the object you showed me. Please wait a moment."),
@@ -404,6 +414,8 @@ def test_every_rejection_the_supervisor_can_produce_has_its_sentence():
         want = GREETING_BY_STATE[state] if event == "greeting" else BY_STATE[state]
         if event == "make_way":  # "you are in my way" while following or driving: it says what it does instead
             want = MAKE_WAY_BY_STATE.get(state, want)
+        if (event, state) == ("object_teaching", "Following"):  # shown in passing: asked about once she stops
+            want = "I am following you. When you stop, please show it to me again."
         assert says(m.on_rejected(rejected(event, reason, state))) == [want], (event, reason, state)
         # An event can also arrive after its lifetime in any state (latency, a busy supervisor): never the catch-all.
         late = says(DialogManager(DOC).on_rejected(rejected(event, "expired", state)))
@@ -634,3 +646,68 @@ def test_a_teaching_that_applies_is_announced(state):
     m.es_state = state
     out = m.on_frame(frame(CUP))
     assert [s.event for s in sends(out)] == ["object_teaching"] and says(out) == ["Let me have a look."]
+
+
+KETTLE = '<OBJECT type="kettle"><GESTURE val="probably_pointing"/><TITLE name="kettle"/><OWNER name="speaker"/></OBJECT>'
+
+
+def test_an_object_shown_while_following_is_asked_about_once_she_stops(dm):
+    # fresh12 item 5: "oh and that is my kettle" said walking on got "say stop first" and was forgotten
+    dm.on_state("Following")
+    (s,) = sends(dm.on_frame(frame(KETTLE)))
+    assert s.event == "object_teaching"
+    out = dm.on_rejected(rejected("object_teaching", "inapplicable", "Following"))
+    assert says(out) == ["I am following you. When you stop, please show it to me again."]
+    assert dm.take_up_in_passing() == []  # still following: nothing to ask yet
+    dm.on_state("Interacting")
+    assert says(dm.take_up_in_passing()) == ["You showed me your kettle on the way. Could you show me again?"]
+    assert dm.take_up_in_passing() == []  # not again before she has said something
+    # her answer is an ordinary teaching, and nothing is asked after it
+    (s,) = sends(dm.on_frame(frame(KETTLE)))
+    assert s.event == "object_teaching"
+    dm.on_condition(cond("object_learned", "<param><OBJECT type=\"kettle\"/></param>"))
+    assert dm.take_up_in_passing() == []
+
+
+def test_the_question_about_an_object_shown_in_passing_is_put_at_most_twice(dm):
+    # she may talk over the first ("And this is the kitchen" 2 s after "OK, I stopped."): asked again after that
+    # exchange, never a third time
+    dm.on_state("Following")
+    dm.on_frame(frame(KETTLE))
+    dm.on_rejected(rejected("object_teaching", "inapplicable", "Following"))
+    dm.on_state("Interacting")
+    asked = "You showed me your kettle on the way. Could you show me again?"
+    assert says(dm.take_up_in_passing()) == [asked]
+    for _ in range(3):
+        dm.on_frame(frame('<PLACE><TITLE name="kitchen"/></PLACE>'))
+        dm.on_condition(cond("place_learned"))
+        out = says(dm.take_up_in_passing())
+        assert out == ([asked] if _ == 0 else [])
+
+
+@pytest.mark.parametrize("then", ["LookingAround", "Navigating"])
+def test_an_object_shown_in_passing_is_forgotten_when_the_tour_moves_on(dm, then):
+    dm.on_state("Following")
+    dm.on_frame(frame(KETTLE))
+    dm.on_rejected(rejected("object_teaching", "inapplicable", "Following"))
+    dm.on_state(then)
+    dm.on_state("Interacting")
+    assert dm.take_up_in_passing() == []
+
+
+def test_other_refusals_while_following_remember_nothing(dm):
+    dm.on_state("Following")
+    dm.on_frame(frame('<PLACE><TITLE name="kitchen"/></PLACE>'))
+    dm.on_rejected(rejected("place_teaching", "inapplicable", "Following"))
+    dm.on_state("Interacting")
+    assert dm.take_up_in_passing() == []
+
+
+def test_an_object_heard_partly_while_following_is_not_asked_about_until_she_stops(dm):
+    # "oh and that is my <lost>" while walking: no "What is it?" while she leads; asked once she stops
+    dm.on_state("Following")
+    out = dm.on_frame(frame('<OBJECT><GESTURE val="probably_pointing"/><OWNER name="speaker"/></OBJECT>', 0.3))
+    assert [s.event for s in sends(out)] == ["object_teaching"] and not says(out)
+    dm.on_rejected(rejected("object_teaching", "inapplicable", "Following"))
+    dm.on_state("Interacting")
+    assert says(dm.take_up_in_passing()) == ["You showed me something on the way. Could you show me again?"]

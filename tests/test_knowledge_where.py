@@ -176,3 +176,17 @@ def test_where_is_the_cup_with_three_owners_names_every_owner():
         assert "your husband's cup is" in also and "Tom's cup is" in also and also.count(", and ") == 1
         mine = scene.answer(etree.fromstring('<OBJECT type="cup"><TITLE name="cup"/><OWNER name="tom"/></OBJECT>'))
         assert mine.get("also") is None  # an owner asked for: that one only
+
+
+def test_where_is_with_another_word_for_the_stored_type_finds_it_and_prefers_her_word():
+    # gen12 item 2: "where is my telephone" got "I don't know" for a phone stored as "phone"
+    from robot.knowledge.bases import ObjectBase
+
+    base = ObjectBase()
+    base.memory.insert(etree.fromstring('<OBJECT type="phone" name="phone" owner="partner" x="1" y="0" frame="map" taught="1"/>'))
+    q = etree.fromstring('<OBJECT type="phone"><TITLE name="telephone"/><OWNER name="speaker"/></OBJECT>')
+    assert [r.xml.get("name") for r in base.find(q)] == ["phone"]
+    base.memory.insert(etree.fromstring('<OBJECT type="phone" name="telephone" owner="partner" x="2" y="0" frame="map" taught="0"/>'))
+    assert [r.xml.get("name") for r in base.find(q)][0] == "telephone"  # her word ranks first, though older
+    other = etree.fromstring('<OBJECT type="cup"><TITLE name="telephone"/></OBJECT>')
+    assert all(r.xml.get("type") == "cup" or r.xml.get("name") == "telephone" for r in base.find(other))

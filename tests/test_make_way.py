@@ -1,7 +1,8 @@
 """lang12 (issue 26 item 8): telling the robot it is in someone's way, and words said to someone else.
 
-"Excuse me, you are in my way" is an act of its own (MAKE_WAY): the dialog sends it at once (never confirmed:
-getting out of someone's way is what a polite robot does first), the supervisor, standing with the partner,
+"Excuse me, you are in my way" is an act of its own (MAKE_WAY): heard clearly, the dialog sends it at once
+(getting out of someone's way is what a polite robot does first; heard below confirm-below it asks "Am I in your
+way?" first, as for every act that moves the robot: talk13), the supervisor, standing with the partner,
 orders the player to back off and the dialog says so; in other states the rejection says why not. The player
 backs off only where the floor plan leaves room and nobody tracked stands behind it. Words that call someone
 else ("Tom, can you put the kettle on", "yes dear") are neither requests nor answered with "say that again".
@@ -62,13 +63,26 @@ def _dm(state: str = "Interacting") -> DialogManager:
     return m
 
 
-def test_make_way_is_sent_at_once_even_heard_badly_and_the_robot_says_what_it_does():
+def test_make_way_heard_clearly_is_sent_at_once_and_the_robot_says_what_it_does():
     dm = _dm()
-    out = dm.on_frame(heard("excuse me you are in my way", 0.2))
+    out = dm.on_frame(heard("excuse me you are in my way", 0.9))
     (s,) = [o for o in out if isinstance(o, Send)]
     assert s.event == "make_way" and not [o for o in out if isinstance(o, Say)]
     out = dm.on_condition(etree.Element("condition", name="making_way"))
     assert [o.text for o in out if isinstance(o, Say)] == ["Sorry, I am in your way. I will back off if there is room behind me."]
+
+
+@pytest.mark.parametrize("answer, sent", [("yes", True), ("no", False)])
+def test_make_way_heard_badly_is_asked_first_as_every_act_that_moves_the_robot(answer, sent):
+    # talk13: a misheard "you are in my way" (below confirm-below) made the robot back off unasked
+    dm = _dm()
+    out = dm.on_frame(heard("excuse me you are in my way", 0.3))
+    assert not [o for o in out if isinstance(o, Send)]
+    assert [o.text for o in out if isinstance(o, Say)] == ["Am I in your way?"]
+    out = dm.on_frame(heard(answer))
+    assert bool([o for o in out if isinstance(o, Send) and o.event == "make_way"]) == sent
+    if not sent:
+        assert [o.text for o in out if isinstance(o, Say)] == ["OK, I will stay here."]
 
 
 @pytest.mark.parametrize("state, says", [("Following", "I am following you; I will keep my distance"),
@@ -113,10 +127,19 @@ def test_a_statement_naming_someone_is_not_said_to_them(words):
 
 
 @pytest.mark.parametrize("words, act", [("this is tom's cup", "OBJECT"), ("this cup belongs to anna", "OBJECT"),
-                                        ("bye tom", "GOODBYE"), ("tara love", "GOODBYE"), ("hello anna", "GREETING"),
+                                        ("tara love", "GOODBYE"), ("bye biron", "GOODBYE"), ("bye friend", "GOODBYE"),
+                                        ("goodbye my little friend", "GOODBYE"), ("hello robot", "GREETING"),
                                         ("this is my cup which I really love", "OBJECT"), ("follow me biron", "FOLLOW")])
-def test_a_name_as_owner_or_in_a_greeting_keeps_the_request(words, act):
+def test_a_name_as_owner_or_a_greeting_for_the_robot_keeps_the_request(words, act):
     assert shared_understander().understand(words).act == act
+
+
+@pytest.mark.parametrize("words", ["bye tom", "hello anna", "see you tomorrow julia", "good bye grandma",
+                                   "bye bye peter see you later"])
+def test_a_greeting_or_good_bye_naming_someone_else_is_said_to_them(words):
+    # talk13 (fresh4 ring_visitor_leaves): a visitor's "See you tomorrow Julia" ended Julia's tour
+    msg = heard(words)
+    assert msg.tag == "not_understood" and msg.get("addressee") == "other"
 
 
 class _Bus:

@@ -50,6 +50,8 @@ SENTENCES: dict[str, frozenset[str]] = {
     "list": frozenset({"items", "last"}),  # how a list is said: "{items} or {last}"
     "option": frozenset({"option"}),  # one option of a clarification question: "the {option}"
     "same-noun": frozenset(),  # the word for a repeated noun in options ("the blue one")
+    # she showed something while the robot followed (refused then): asked about once she has stopped
+    "shown-in-passing": frozenset({"object"}),
 }
 
 

@@ -180,7 +180,7 @@ class DialogManager:
             "give_ups": 0, "rejections": 0, "rejections_explained": 0, "interruptions": 0, "resumptions": 0,
             "barge_ins": 0, "dropped": 0, "events_sent": 0, "ignored_frames": 0, "unhandled_conditions": 0,
             "confirmed_by_repetition": 0, "corrections": 0, "asked_twice_gave_up": 0, "max_same_question": 0, "taken_after_repairs": 0,
-            "refusals_unsaid": 0, "dialogs": {},
+            "refusals_unsaid": 0, "taken_up_in_passing": 0, "dialogs": {},
         }
         # (sentence, times in a row) of the last refusal said outside any sub-dialog (:meth:`on_rejected`)
         self._refusal: tuple[str, int] | None = None
@@ -189,6 +189,13 @@ class DialogManager:
         # (:meth:`_take_up_given_up`), so a given-up question is never put a third time
         self._given_up_asked: dict[str, int] = {}
         self._given_up_values: list[tuple[str, str, Any]] = []
+        # an object she showed while the robot followed her ("oh and that is my kettle", said walking on):
+        # the supervisor refuses a teaching while following, so the robot asks her about it once she has
+        # stopped (:meth:`take_up_in_passing`) instead of forgetting it (fresh12 item 5)
+        self._in_passing: etree._Element | None = None
+        self._in_passing_due = False
+        self._in_passing_asked = 0  # times asked: at most twice (she may talk over the first)
+        self._in_passing_next = False  # asked once: again after her next turn
 
     # ------------------------------------------------------------------ queries
     @property
@@ -208,6 +215,11 @@ class DialogManager:
         must not answer its question. Returns the ids of the dialogs abandoned."""
         if state != self.es_state:
             self._refusal = None  # a new state: its refusal is news again
+            if self._in_passing is not None:
+                if self.es_state == "Following" and state == "Interacting":
+                    self._in_passing_due = True  # she stopped: now the robot can look at what she showed
+                elif state not in ("Following", "Interacting"):
+                    self._in_passing, self._in_passing_due = None, False  # shown again, or the tour went on
         self.es_state = state
         gone: list[str] = []
         for inst in list(reversed(self.stack)):
@@ -216,6 +228,30 @@ class DialogManager:
                 self._finish(inst, [], abandoned=True, resume=False)
                 gone.append(inst.d.id)
         return gone
+
+    def take_up_in_passing(self) -> list[Output]:
+        """Once she has stopped after showing something while the robot followed her: ask her to show
+        it again ("You showed me your kettle on the way. Could you show me again?"); her answer is an
+        ordinary teaching. Asked at most twice, the second time after her next exchange (she may talk
+        over the first: fresh4 loft_teach_walking_past, "And this is the kitchen" 2 s after "OK, I
+        stopped."); forgotten once she shows something or the tour goes elsewhere. Nothing when nothing
+        was shown in passing or a sub-dialog is open."""
+        if not self._in_passing_due or self._in_passing is None or self.es_state != "Interacting":
+            return []
+        if any(not i.done for i in self.stack):
+            return []  # a sub-dialog is still open ("OK, I stopped." not yet said, a question): after it
+        obj = self._in_passing
+        self._in_passing_asked += 1
+        if self._in_passing_asked >= MAX_SAME_QUESTION:
+            self._in_passing, self._in_passing_due = None, False
+        else:
+            self._in_passing_due = False  # again only after her next exchange (the next status or condition)
+            self._in_passing_next = True
+        out: list[Output] = []
+        named = obj.find("TITLE") is not None or obj.get("type")
+        self._say(out, self.doc.sentence("shown-in-passing", object=obj if named else None), "")
+        self.metrics["taken_up_in_passing"] += 1
+        return out
 
     def summary(self) -> dict[str, Any]:
         """Dialog metrics (turns, repairs, rejections explained, task success per sub-dialog)."""
@@ -232,12 +268,16 @@ class DialogManager:
     def on_frame(self, msg: etree._Element) -> list[Output]:
         """An ``<understood>`` or ``<not_understood>`` from the understanding."""
         self.metrics["user_turns"] += 1
+        if self._in_passing is not None and self._in_passing_next:
+            self._in_passing_due, self._in_passing_next = True, False  # asked once, she said something else
         speech = msg.find("SPEECH")
         acts = [c for c in speech if c.tag != "TIMESTAMP"] if speech is not None else []
         if msg.tag != "understood" or not acts:
             return self._not_understood()
         act_el = acts[0]
         act = str(act_el.tag)
+        if act == "OBJECT" and self.es_state != "Following":
+            self._in_passing, self._in_passing_due = None, False  # she shows something now: no need to ask
         conf = float(msg.get("confidence", "1"))
         repaired = self._unheard >= MAX_SAME_QUESTION
         if repaired and conf >= self.doc.confirm_below / 2 and self.doc.confirm_below <= 1.0:
@@ -519,6 +559,11 @@ class DialogManager:
         for inst in reversed(self.stack):
             fills = [f for f in inst.d.fills if f.rejected == name]
             if fills and name in inst.sent:
+                shown = inst.slots.get("object")
+                if name == "object_teaching" and state == "Following" and shown is not None \
+                        and isinstance(shown.value, etree._Element):
+                    self._in_passing, self._in_passing_due = deepcopy(shown.value), False
+                    self._in_passing_asked, self._in_passing_next = 0, False
                 inst.rejection = (name, reason, state)
                 self._fill_other(inst, fills, rej)
                 self._step(inst, out)

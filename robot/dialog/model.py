@@ -213,9 +213,47 @@ def _xpath_noun_phrase(context: Any, nodes: Any = None) -> str:
     return noun_phrase(el) if isinstance(el, etree._Element) else ""
 
 
+#: Nouns ending in "s" that are singular ("the glass is", "the bus is"); other nouns that end in "s" are plural.
+_SINGULAR_S = frozenset({"glass", "bus", "atlas", "canvas", "cactus", "lens", "chess", "news", "iris",
+                         "dress", "mattress", "compass", "address", "globus", "tennis", "octopus", "walrus", "fungus",
+                         "hibiscus", "asparagus", "hummus", "harness", "christmas", "gas", "bass", "moss", "boss",
+                         "class", "grass", "cross", "process", "press", "chassis", "series", "species", "abacus",
+                         "circus", "campus", "bonus", "virus", "radius", "status", "thesis", "basis", "analysis",
+                         "crisis", "oasis", "axis", "pelvis", "trellis", "ibis", "bias", "alias"})
+#: Plural nouns that do not end in "s".
+_PLURAL = frozenset({"people", "children", "mice", "feet", "teeth", "geese", "men", "women", "pyjamas", "clothes",
+                     "dishes", "cutlery"})
+
+
+def is_plural(noun: str) -> bool:
+    """Whether a noun as the user said it is plural ("keys", "glasses", "scissors"), for the verb said with it
+    ("the keys are on the table", gen12: "The keys is on ..."). The last word decides ("car keys")."""
+    words = noun.lower().split()
+    if not words:
+        return False
+    last = words[-1]
+    if last in _PLURAL:
+        return True
+    return last.endswith("s") and last not in _SINGULAR_S and not last.endswith(("ss", "us", "is", "'s"))
+
+
+def _xpath_be(context: Any, nodes: Any = None) -> str:
+    """``be()``: "are" for an object whose noun is plural, else "is" (of the context node or the argument's
+    first node; read as :func:`noun_phrase` reads the noun)."""
+    if isinstance(nodes, list):
+        el = next((n for n in nodes if isinstance(n, etree._Element)), None)
+    else:
+        el = context.context_node if nodes is None else None
+    if not isinstance(el, etree._Element):
+        return "is"
+    title = el.find("TITLE")
+    noun = (title.get("name") if title is not None else None) or el.get("name") or el.get("type") or ""
+    return "are" if is_plural(noun) else "is"
+
+
 #: XPath functions templates may use beyond XPath 1.0: ``noun-phrase()`` (of the context node, or of
-#: the first node of its argument), see :func:`noun_phrase`.
-XPATH_EXTENSIONS = {(None, "noun-phrase"): _xpath_noun_phrase}
+#: the first node of its argument), see :func:`noun_phrase`; ``be()`` ("is" or "are" for it), see :func:`is_plural`.
+XPATH_EXTENSIONS = {(None, "noun-phrase"): _xpath_noun_phrase, (None, "be"): _xpath_be}
 
 
 def value_text(value: Any, xpath: str = "") -> str:

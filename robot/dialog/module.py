@@ -627,6 +627,8 @@ class Dialog(Module):
         self._emit(self.manager.on_condition(msg.xml), msg.id)
         if msg.xml.get("name") == "partner_found":
             self._greeting_taken()
+        # "OK, I stopped." said (the stop dialog done): now ask about what she showed while it followed
+        self._emit(self.manager.take_up_in_passing(), msg.id)
 
     async def _ask_for_es(self, msg: Message) -> None:
         """Condition ``ask`` (param ``options``: ``<OPTIONS timeout><option index text/>+</OPTIONS>``):
@@ -679,6 +681,9 @@ class Dialog(Module):
         if gone and self._queue:
             # their sentences not yet said (a question waiting behind the good-bye) are dropped too
             self._queue = deque(q for q in self._queue if not q[2] or not q[2] <= set(gone))
+        # she stopped after showing something while it followed her: ask her to show it again (when no
+        # sub-dialog is still open, e.g. the stop's "OK, I stopped." waits for its condition: then after it)
+        self._emit(self.manager.take_up_in_passing(), msg.id)
 
     def _on_pose(self, msg: Message) -> None:
         self._pose = msg.xml  # this receiver's own copy; its POSE is built only when an event needs it

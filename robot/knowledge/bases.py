@@ -262,7 +262,10 @@ class ObjectBase(KnowledgeBase):
 
         A stored object fits when its type or name is the one asked for and
         nothing given in the question contradicts it (owner, colour, name);
-        more agreeing details rank higher, then the most recently taught.
+        more agreeing details rank higher, then the most recently taught. A name
+        that differs where the types agree is another word for the same kind of
+        thing ("where is my telephone", stored as "phone": gen12), no contradiction;
+        an object stored under the very word asked for still ranks first.
         """
         q = describe(query)
         ids: dict[int, None] = {}
@@ -280,6 +283,8 @@ class ObjectBase(KnowledgeBase):
                 if q[key] and s[key]:
                     if q[key] == s[key] or (key == "name" and q[key] == s["type"]):
                         score += 1
+                    elif key == "name" and q["type"] and q["type"] == s["type"]:
+                        pass  # another word for the same type ("my telephone", stored "phone"): no point, no veto
                     else:
                         ok = False
             if q["type"] and s["type"] == q["type"]:
