@@ -151,6 +151,10 @@ SWEEP_TIME = 0.5
 SWEEP_MARGIN = 0.05
 #: poses along a waiting command's sweep after the start that are checked (as many as sweep_clearance's)
 SWEEP_STEPS = 5
+#: s: the first instants of a sweep, checked as well when the footprint is closer than the margin already:
+#: a command whose first motion swings an edge nearer and then away (backing while turning, 2 mm from a
+#: wall's end) dips between the evenly spaced poses (tests/test_nav_wedged's dev-profile counterexample)
+SWEEP_START = (0.001, 0.004, 0.016, 0.05)
 #: she is too fast for the robot when her tracked speed exceeds its top speed this many times (the track's speed
 #: runs 20 % over hers for a second after she is found again: 0.6 m/s for a partner at 0.5 m/s)
 TOO_FAST_RATIO = 1.2
@@ -229,7 +233,8 @@ def speed_law(d: float, v_radial: float, *, distance: float, band: tuple[float, 
 def sweep_allowed(v: float, w: float, mapped: np.ndarray, here: float | None = None) -> bool:
     """Whether the command (``v``, ``w``) held :data:`SWEEP_TIME` s keeps the footprint off the floor plan's
     obstacles (``mapped``, robot frame): :data:`SWEEP_MARGIN` all along, or, closer than that already
-    (``here``, the footprint's distance now) but not touching, no pose after the start closer than now.
+    (``here``, the footprint's distance now) but not touching, no pose after the start closer than now
+    (its first instants included, :data:`SWEEP_START`: an edge that swings nearer first and then away).
 
     The sweep's first pose is the start, so "further off than now" measured on the whole sweep
     never held: wedged 2 cm from a table's corner, every command, backing away included, was refused
@@ -242,7 +247,7 @@ def sweep_allowed(v: float, w: float, mapped: np.ndarray, here: float | None = N
         here = sweep_clearance(0.0, 0.0, mapped, 0.0, steps=1)
     if here <= 0.0:
         return False  # touching already: only standing
-    t = np.linspace(SWEEP_TIME / SWEEP_STEPS, SWEEP_TIME, SWEEP_STEPS)
+    t = np.concatenate((SWEEP_START, np.linspace(SWEEP_TIME / SWEEP_STEPS, SWEEP_TIME, SWEEP_STEPS)))
     x, y, th = arcs(np.array([v]), np.array([w]), t)
     c, s = np.cos(th[0])[:, None], np.sin(th[0])[:, None]
     dx, dy = mapped[None, :, 0] - x[0][:, None], mapped[None, :, 1] - y[0][:, None]
