@@ -98,7 +98,8 @@ from homesim.errors import BusError, HomesimError
 from robot import floorplan
 from robot.blindside import SonarEchoes, blind_clear, blind_points, explained_by_points
 from robot.partner_search import follow_search_time, yielding
-from robot.contract import ATTENTION_STATE, BASE_CMD, ES_EVENTS, FOLLOW_STATUS, ODOMETRY, PARTNER, POSE, SCAN, SONAR, TRACKS
+from robot.bumpers import BumperReflex
+from robot.contract import ATTENTION_STATE, BASE_CMD, BUMPERS, ES_EVENTS, FOLLOW_STATUS, ODOMETRY, PARTNER, POSE, SCAN, SONAR, TRACKS
 
 from .config import Limits
 from .grid import MapError, OccupancyGrid, parse_map
@@ -259,6 +260,8 @@ class Follower(Module):
 
     # (set in __init__; here too for the rules' unit tests, which build a follower without a bus)
     _aside_stall: tuple[float, float] | None = None
+    #: nothing pressed, and never told otherwise (__init__ gives each follower its own, heard on the bus)
+    bumpers: BumperReflex = BumperReflex()
 
     def __init__(self, sim: Any, *, name: str = "follower", limits: Limits | None = None, rate: float = 10.0,
                  distance: float = 1.2, band: tuple[float, float] = (1.0, 1.5), minimum: float = 0.8,
@@ -310,6 +313,8 @@ class Follower(Module):
         self._tracks_sub: Any = None
         self._sonar_sub: Any = None
         self.sonar = SonarEchoes()  # the sonar rings' echoes, while following (robot.blindside)
+        self.bumpers = BumperReflex()  # the bumper rings (robot.bumpers): sent only when one changes, so always heard
+        self.bus.subscribe(BUMPERS, lambda m: self.bumpers.update(m.xml, self.now))
         self.route = Route()  # the way to the partner on the floor plan (through doors)
         self._aside: tuple[list[tuple[float, float]], float, bool] | None = None  # give-way path (odom), until when, reversing
         self._close_since: float | None = None  # following, since when she has stood close in front
@@ -453,6 +458,7 @@ class Follower(Module):
         return c * (px - ox) + s * (py - oy), -s * (px - ox) + c * (py - oy)
 
     def _command(self, v: float, w: float) -> None:
+        v, w = self.bumpers.command(v, w, self.now)  # a pressed bumper first (robot.bumpers), then the blind half
         if not self._blind_clear(v, w):
             v, w = 0.0, 0.0
         self.bus.publish(BASE_CMD, etree.Element("velocity", v=f"{v:.4f}", w=f"{w:.4f}"))
