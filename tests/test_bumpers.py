@@ -205,3 +205,49 @@ def test_no_command_ever_drives_into_a_pressed_ring(before, now, last_v, v, w, l
         assert cw == 0.0  # no turn on the spot against one pressed ring
     if not rings and later > BACKOFF_TIME:
         assert (cv, cw) == (v, w)  # nothing pressed, no back-off left: the module's own command
+
+
+# ------------------------------------------------------------------ closed loop on the bus
+def test_driving_into_a_wall_on_the_bus_the_base_reports_the_press_and_the_reflex_backs_away():
+    """The real base, world and (strict) bus: a driver that wants to go on into the east wall at 0.3 m/s,
+    its commands held to the reflex as the modules hold theirs. The base reports the front ring once it
+    touches and the reflex backs it away at once: each touch lasts no more than a few packets, never a robot
+    pushing on at the wall (this driver, unlike the modules, knows no floor plan and tries again)."""
+    import asyncio
+
+    from homesim.scenario.loader import load_scenario
+    from homesim.sim import Simulation
+    from homesim.tour.stage import Stage
+    from tests.world_helpers import ROOM
+
+    sc = load_scenario(ROOM)
+    sim = Simulation(seed=3, scenario=sc.name)
+    stage = Stage(sim, sc, actors=("robot.hardware.install",))
+    try:
+        stage.world.place_robot(7.4, 3.0, 0.0)  # 0.29 m of air to the east wall's face
+        driver = sim.bus.participant("follower", host="robot")
+        reflex, heard = BumperReflex(), []
+
+        def on_bumpers(m) -> None:
+            heard.append((sim.now, sorted((p.get("ring"), int(p.get("id"))) for p in m.xml.iter("pressed"))))
+            reflex.update(m.xml, sim.now)
+
+        driver.subscribe(BUMPERS, on_bumpers)
+
+        async def drive() -> None:
+            while True:
+                v, w = reflex.command(0.3, 0.0, sim.now)
+                driver.publish("/robot/base/cmd", etree.Element("velocity", v=f"{v:.4f}", w=f"{w:.4f}"))
+                await asyncio.sleep(0.1)
+
+        sim.spawn(drive(), name="driver")
+        stage.run(6.0)
+        assert heard and heard[0][1] and all(ring == "front" for ring, _ in heard[0][1])
+        presses = [t for k, (t, p) in enumerate(heard) if p and (k == 0 or not heard[k - 1][1])]
+        releases = [t for t, p in heard if not p]
+        assert presses and len(releases) >= len(presses) - 1
+        for t, r in zip(presses, releases):
+            assert r - t <= 0.35  # released within a few packets: it backed away at once
+        assert len(presses) == stage.world.contact_count  # the base felt every contact the world counted
+    finally:
+        sim.close()
