@@ -46,6 +46,8 @@ TRAVEL = 0.005
 WRAP = 0.10
 #: m: the spacing of the points each segment is tested at
 STEP = 0.01
+#: m: the cells of the centre positions known to be clear of every edge (a cache; the flat does not move)
+CELL = 0.05
 #: m: the world's person collision disc (homesim.world.bodies.HUMAN_RADIUS; the hardware layer may know the world)
 _PERSON = 0.25
 
@@ -108,32 +110,46 @@ class BumperSensor:
         self._a, self._b = a, b
         self._lo, self._hi = np.minimum(a, b), np.maximum(a, b)  # each edge's box (the flat does not move)
         self._reach = math.hypot(self.spec.half_length, self.spec.half_width) + self.spec.shell + self.spec.travel
+        self._clear: dict[tuple[int, int], bool] = {}  # CELL cells of the robot's centre no edge comes within reach of
         self.pressed: tuple[tuple[str, int], ...] = ()
+
+    def _clear_of_edges(self, x: float, y: float) -> bool:
+        """Whether no edge can be within reach of a centre in (x, y)'s cell (asked once per cell: the flat
+        does not move, and most of a run the robot is nowhere near a wall)."""
+        key = (math.floor(x / CELL), math.floor(y / CELL))
+        got = self._clear.get(key)
+        if got is None:
+            cx, cy = (key[0] + 0.5) * CELL, (key[1] + 0.5) * CELL
+            r = self._reach + CELL  # any centre in the cell is within CELL * 0.71 of its middle
+            near = (self._lo[:, 0] <= cx + r) & (self._hi[:, 0] >= cx - r) & (self._lo[:, 1] <= cy + r) & (self._hi[:, 1] >= cy - r)
+            got = not near.any() or bool(distance_points_segments(np.array([[cx, cy]]), self._a[near], self._b[near]).min() > r)
+            self._clear[key] = got
+        return got
 
     def read(self) -> tuple[tuple[str, int], ...]:
         """The pressed segments now, in the spec's order (front 0-4, then rear 0-4)."""
         spec = self.spec
         x, y, th = self.world.robot.pose
-        c, s = math.cos(th), math.sin(th)
         reach = self._reach
+        people = [h.position for h in self.world.humans.values() if h.present]
+        people = [(hx, hy) for hx, hy in people if math.hypot(hx - x, hy - y) <= reach + _PERSON]
+        if not people and (not len(self._a) or self._clear_of_edges(x, y)):
+            self.pressed = ()
+            return self.pressed
+        c, s = math.cos(th), math.sin(th)
         hits = np.zeros(len(spec.which), dtype=bool)
         lx, ly = spec.points[:, 1], spec.points[:, 2]
         wx, wy = x + c * lx - s * ly, y + s * lx + c * ly
         seg = spec.points[:, 0].astype(int)
         a, b = self._a, self._b
-        if len(a):
+        if len(a) and not self._clear_of_edges(x, y):
             # the edges near the robot only: those whose box meets the box round the footprint's bounding circle
             lo, hi = self._lo, self._hi
             near = (lo[:, 0] <= x + reach) & (hi[:, 0] >= x - reach) & (lo[:, 1] <= y + reach) & (hi[:, 1] >= y - reach)
             if near.any():
                 d = distance_points_segments(np.column_stack((wx, wy)), a[near], b[near]).min(axis=1)
                 np.logical_or.at(hits, seg[d <= spec.travel], True)
-        for h in self.world.humans.values():
-            if not h.present:
-                continue
-            hx, hy = h.position
-            if math.hypot(hx - x, hy - y) > reach + _PERSON:
-                continue
+        for hx, hy in people:
             d = np.hypot(wx - hx, wy - hy) - _PERSON
             np.logical_or.at(hits, seg[d <= spec.travel], True)
         self.pressed = tuple(w for w, hit in zip(spec.which, hits.tolist()) if hit)
