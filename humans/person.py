@@ -81,6 +81,7 @@ class Person(Actor):
         self.blocked_walks = 0  # walks she gave up because the robot stood in her way
         self.made_way = 0  # times she stepped out of the robot's way when it asked to pass
         self._stepping = False  # stepping aside for the robot: her script's next walk waits for it
+        self._leaving = False  # walking out through an exit: the one walk that may end outside the flat
 
     @property
     def active(self) -> bool:
@@ -262,13 +263,20 @@ class Person(Actor):
         return False
 
     def approach_point(self, distance: float) -> tuple[float, float]:
-        """The point ``distance`` from the robot on the line from it to her (where she is when nearer)."""
+        """The point ``distance`` from the robot on the line from it to her (where she is when nearer).
+
+        In an L-shaped flat that line can cut the inner corner, and the point fall outside the flat:
+        then the robot's own place, whose nearest free spot inside the flat her walk ends at
+        (:meth:`homesim.scenario.pathplan.Grid.plan`), never one beyond the outer wall."""
         rx, ry, _ = self.world.robot.pose
         hx, hy = self.body.position
         d = math.hypot(hx - rx, hy - ry)
         if d <= distance:
             return hx, hy
-        return rx + (hx - rx) * distance / d, ry + (hy - ry) * distance / d
+        x, y = rx + (hx - rx) * distance / d, ry + (hy - ry) * distance / d
+        if self.world.room_of(x, y) is None and self.world.room_of(rx, ry) is not None:
+            return rx, ry
+        return x, y
 
     def plan(self, goal: tuple[float, float]) -> list[tuple[float, float]]:
         """A path to ``goal`` around walls, furniture and the robot where it stands now.
@@ -276,13 +284,18 @@ class Person(Actor):
         When the robot blocks the only way (it stands in a doorway) the path
         goes through it: the world holds the person back at the robot until
         it moves. NoPathError when walls and furniture alone close the goal off.
+
+        Every walk but leaving ends inside the flat: where the goal is not free (the robot's disc over
+        it, a wall), at the free spot nearest it among the flat's rooms, never one beyond an outer wall
+        (gen12: a walk up to the robot by an outer wall went out through the front door).
         """
         grid = self.world.walk_grid()
         x, y, _ = self.world.robot.pose
+        inside = None if self._leaving else True  # every walk but leaving ends inside the flat
         try:
-            return grid.plan(self.body.position, goal, avoid=[(x, y, ROBOT_REACH)])
+            return grid.plan(self.body.position, goal, avoid=[(x, y, ROBOT_REACH)], inside=inside)
         except NoPathError:
-            return grid.plan(self.body.position, goal)
+            return grid.plan(self.body.position, goal, inside=inside)
 
     # ------------------------------------------------------- facing, pointing
     def direction_to(self, target: Target) -> float:
@@ -380,6 +393,7 @@ class Person(Actor):
         air that no microphone can place, and the robot would hear none of them.
         """
         _, outside = self.world.exit_points(act.door)
+        self._leaving = True  # the one walk that ends outside the flat (Person.plan)
         await self.walk_to(Target("point", x=outside[0], y=outside[1]))
         self.body.stand()
         await self.finish_speaking()

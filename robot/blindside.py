@@ -23,7 +23,13 @@ already hold.
 Known limits: a reading's arc stands for the leg it heard, not for the body round it, so held open
 loop for the whole look-ahead a turn past someone pressed against the flank can end a few millimetres
 into them (the modules decide again every 0.1 s, on fresh readings); and the cones leave gaps (between
-the 90 and 130 degree transducers a leg pressed against the flank is heard by none).
+the 90 and 130 degree transducers a leg pressed against the flank is heard by none). Measured (safe13,
+exact readings): of someone standing with her body 1-30 cm off the footprint behind the laser's line,
+anywhere round it, 0.8 % are heard by no transducer, and 0.7 % of the commands that would touch her pass
+this check held open loop 0.5 s, all at 115-120 degrees (the rear gaps); person attention's turn, closed
+loop with laser and sonar as tests/test_attention_turn_people runs it, touches someone standing 1-15 cm
+off at 100-130 degrees in 3 % of turns, by 2-14 mm. The bumper rings' corner segments lie at those gaps:
+such a touch presses one, and every module's bumper reflex stops the turn (:mod:`robot.bumpers`).
 
 The echoes are kept in the odometry frame, one per transducer (the newest with an echo), and
 forgotten after :data:`ECHO_AGE` s: a reading lost to a dropout does not open a hole for the

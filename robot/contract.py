@@ -35,6 +35,7 @@ SPEECH = "/robot/audio/speech"
 STEER = "/robot/audio/steer"
 BASE_CMD = "/robot/base/cmd"
 ODOMETRY = "/robot/odometry"
+BUMPERS = "/robot/bumpers"
 SAY = "/robot/speaker/say"
 SPEAKER_STATUS = "/robot/speaker/status"
 DISPLAY_CMD = "/robot/display/cmd"
@@ -95,6 +96,7 @@ CHANNELS: tuple[Channel, ...] = (
     Channel(STEER, "hardware/audio-steer.xsd", ("person_attention",), "steer"),
     Channel(BASE_CMD, "hardware/base-cmd.xsd", ("person_attention", "follower", "player"), "velocity"),
     Channel(ODOMETRY, "hardware/odometry.xsd", ("base",), "odometry"),
+    Channel(BUMPERS, "hardware/bumpers.xsd", ("base",), "bumpers"),
     Channel(SAY, "hardware/speaker-say.xsd", ("dialog",), "say"),
     Channel(SPEAKER_STATUS, "hardware/speaker-status.xsd", ("speaker",), "speaking"),
     Channel(DISPLAY_CMD, "hardware/display-cmd.xsd", ("player", "dialog"), "gaze|expression"),

@@ -13,7 +13,8 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from hypothesis import assume, given, settings
+import pytest
+from hypothesis import assume, example, given, settings
 from hypothesis import strategies as st
 
 from robot.attention.clutter import FurnitureLegs
@@ -110,6 +111,10 @@ def turn_towards(target: float, person: tuple[float, float], facing: float, p: A
 @settings(max_examples=300, deadline=None)
 @given(d=st.floats(0.35, 1.2), at=st.floats(-math.pi, math.pi), facing=st.floats(-math.pi, math.pi),
        target=st.one_of(st.none(), st.floats(-math.pi, math.pi)))
+# the dev profile's counterexamples before the sonar: someone 0.5 m away 86 degrees right (behind the laser's
+# line), a turn left swings the rear-right corner 8 cm into her; and 0.56 m away behind the left flank
+@example(d=0.5, at=-1.5, facing=0.0, target=1.0)
+@example(d=0.5625, at=2.0, facing=0.0, target=-1.0)
 def test_turning_to_a_voice_or_a_person_never_touches_someone_standing_beside_the_robot(d, at, facing, target):
     """Whoever stands round the robot, seen or not yet (beside or behind it, out of the laser's half
     circle), and wherever the turn goes (to her voice, or elsewhere), no corner touches her body.
@@ -123,12 +128,14 @@ def test_turning_to_a_voice_or_a_person_never_touches_someone_standing_beside_th
     assert gap > 0.0
 
 
-def test_the_sonar_keeps_a_rear_corner_off_someone_behind_the_robot_the_laser_cannot_see():
-    """Someone 0.56 m from the centre, behind the left flank (114 degrees); a turn to the right swings the
-    rear left corner into her: the laser's echoes and tracks know nothing of her, the sonar hears her."""
-    person = (0.5625 * math.cos(2.0), 0.5625 * math.sin(2.0))
-    assert turn_towards(-1.0, person, 0.0, AttentionParams(), sonar=False) < 0.0
-    assert turn_towards(-1.0, person, 0.0, AttentionParams()) > 0.0
+@pytest.mark.parametrize(("d", "at", "target"), [(0.5625, 2.0, -1.0), (0.5, -1.5, 1.0)])
+def test_the_sonar_keeps_a_rear_corner_off_someone_behind_the_robot_the_laser_cannot_see(d, at, target):
+    """Someone 0.56 m from the centre behind the left flank (114 degrees), or 0.5 m away 86 degrees right
+    (beside the laser's mount, behind its line); a turn away from her swings a rear corner into her: the
+    laser's echoes and tracks know nothing of her, the sonar hears her."""
+    person = (d * math.cos(at), d * math.sin(at))
+    assert turn_towards(target, person, 0.0, AttentionParams(), sonar=False) < 0.0
+    assert turn_towards(target, person, 0.0, AttentionParams()) > 0.0
 
 
 def test_a_turn_toward_her_standing_close_aside_is_refused_and_one_away_from_her_is_not():

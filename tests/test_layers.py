@@ -219,7 +219,7 @@ def test_the_kernel_never_names_the_robot_not_even_in_a_string():
 #: followed partner may stay unseen: the follower's search and person attention's leaving rule; the footprint and
 #: the people sweep rule every module that sends a base command keeps). None of them imports another robot package.
 ROBOT_SHARED = ("robot.contract", "robot.percepts", "robot.floorplan", "robot.deployment", "robot.profiles",
-                "robot.partner_search", "robot.footprint", "robot.blindside")
+                "robot.partner_search", "robot.footprint", "robot.blindside", "robot.bumpers")
 
 
 def test_robot_modules_talk_only_over_the_bus():

@@ -15,7 +15,10 @@ refuse narrower or obstructed doors (:meth:`Grid.passable`), and targets a
 person cannot reach from where they start (:meth:`Grid.component`).
 
 ``plan(..., avoid=[(x, y, r)])`` also keeps clear of discs (the robot's
-footprint), so people walk around the robot instead of into it.
+footprint), so people walk around the robot instead of into it. A goal that
+is not free ends at the free cell nearest to it; for a goal inside the flat
+(a grid given the rooms: :meth:`Grid.for_scenario`) that cell is inside the
+flat too, never beyond an outer wall.
 """
 
 from __future__ import annotations
@@ -92,8 +95,11 @@ def scenario_bounds(sc: Scenario) -> tuple[float, float, float, float]:
 class Grid:
     """Blocked cells of the flat for one walker size."""
 
-    def __init__(self, polygons: Sequence[np.ndarray], bounds: tuple[float, float, float, float], *, cell: float = CELL, clearance: float = WALKER_RADIUS) -> None:
+    def __init__(self, polygons: Sequence[np.ndarray], bounds: tuple[float, float, float, float], *, cell: float = CELL, clearance: float = WALKER_RADIUS,
+                 rooms: Sequence[np.ndarray] = ()) -> None:
         xmin, ymin, xmax, ymax = bounds
+        self._rooms = [np.asarray(r, dtype=float) for r in rooms]  # the flat's rooms: a goal inside ends inside
+        self._inside: np.ndarray | None = None  # cells whose centre lies in a room, made when a goal first needs it
         self.cell = cell
         self.clearance = clearance
         self.x0, self.y0 = xmin - PAD, ymin - PAD
@@ -127,7 +133,22 @@ class Grid:
 
     @classmethod
     def for_scenario(cls, sc: Scenario, *, clearance: float = WALKER_RADIUS) -> Grid:
-        return cls(walk_polygons(sc), scenario_bounds(sc), clearance=clearance)
+        return cls(walk_polygons(sc), scenario_bounds(sc), clearance=clearance, rooms=[np.array(r.polygon, dtype=float) for r in sc.rooms])
+
+    def inside(self) -> np.ndarray | None:
+        """Cells whose centre lies in one of the flat's rooms (None: the grid was given no rooms)."""
+        if not self._rooms:
+            return None
+        if self._inside is None:
+            xs = self.x0 + (np.arange(self.nx) + 0.5) * self.cell
+            ys = self.y0 + (np.arange(self.ny) + 0.5) * self.cell
+            gx, gy = np.meshgrid(xs, ys, indexing="ij")
+            pts = np.stack((gx.ravel(), gy.ravel()), axis=1)
+            inside = np.zeros(len(pts), dtype=bool)
+            for poly in self._rooms:
+                inside |= points_in_polygon(pts, poly)
+            self._inside = inside.reshape(self.nx, self.ny)
+        return self._inside
 
     # ------------------------------------------------------------- cells
     def cell_of(self, p: Point) -> tuple[int, int]:
@@ -142,15 +163,19 @@ class Grid:
         b = self.blocked if blocked is None else blocked
         return 0 <= c[0] < self.nx and 0 <= c[1] < self.ny and not b[c]
 
-    def nearest_free(self, c: tuple[int, int], *, max_distance: float = 1.5, blocked: np.ndarray | None = None) -> tuple[int, int] | None:
-        """The free cell nearest to ``c`` within ``max_distance`` metres (deterministic ties)."""
+    def nearest_free(self, c: tuple[int, int], *, max_distance: float = 1.5, blocked: np.ndarray | None = None,
+                     allowed: np.ndarray | None = None) -> tuple[int, int] | None:
+        """The free cell nearest to ``c`` within ``max_distance`` metres (deterministic ties); with ``allowed``
+        (a mask of cells), only among those."""
         b = self.blocked if blocked is None else blocked
-        if self.free(c, b):
+        if self.free(c, b) and (allowed is None or allowed[c]):
             return c
         r = max(1, int(math.ceil(max_distance / self.cell)))
         i0, i1 = max(c[0] - r, 0), min(c[0] + r + 1, self.nx)
         j0, j1 = max(c[1] - r, 0), min(c[1] + r + 1, self.ny)
         free = ~b[i0:i1, j0:j1]
+        if allowed is not None:
+            free &= allowed[i0:i1, j0:j1]
         if not free.any():
             return None
         di = np.arange(i0, i1)[:, None] - c[0]
@@ -211,17 +236,20 @@ class Grid:
         return ~np.logical_or.reduceat(bl[i, j], first)
 
     # ------------------------------------------------------------ planning
-    def plan(self, start: Point, goal: Point, *, avoid: Iterable[Disc] = ()) -> list[Point]:
+    def plan(self, start: Point, goal: Point, *, avoid: Iterable[Disc] = (), inside: bool | None = None) -> list[Point]:
         """Waypoints from ``start`` to ``goal`` (excluding start, ending at goal or the
         nearest free point to it), keeping clear of the ``avoid`` discs.
         Raises NoPathError when the goal is unreachable.
+
+        ``inside``: whether the walk must end inside the flat (the free spot nearest the goal among
+        the cells in a room; a grid given no rooms has none to keep to); None: when the goal is.
 
         A plan is a pure function of its arguments, so the last few are kept: a person held
         back by the robot re-plans from where she stands to the same goal, and people
         pacing between two places ask for the same cell path again (``_astar``'s own cache).
         """
         avoid = [(float(x), float(y), float(r)) for x, y, r in avoid]
-        key = (float(start[0]), float(start[1]), float(goal[0]), float(goal[1]), tuple(avoid))
+        key = (float(start[0]), float(start[1]), float(goal[0]), float(goal[1]), tuple(avoid), inside)
         got = self._plans.get(key)
         if got is not None:
             self._plans.move_to_end(key)
@@ -229,7 +257,7 @@ class Grid:
                 raise NoPathError(got)
             return list(got)
         try:
-            pts = self._plan(start, goal, avoid)
+            pts = self._plan(start, goal, avoid, inside)
         except NoPathError as exc:
             self._remember(key, str(exc))
             raise
@@ -246,13 +274,20 @@ class Grid:
         if len(self._plans) > PLAN_CACHE:
             self._plans.popitem(last=False)
 
-    def _plan(self, start: Point, goal: Point, avoid: list[Disc]) -> list[Point]:
+    def _plan(self, start: Point, goal: Point, avoid: list[Disc], inside: bool | None = None) -> list[Point]:
         blocked = self.with_discs(avoid) if avoid else self.blocked
         s = self.nearest_free(self.cell_of(start), blocked=blocked)
-        g = self.nearest_free(self.cell_of(goal), blocked=blocked)
+        # A goal inside the flat ends inside it: the free spot nearest a goal by an outer wall (the robot's
+        # disc covering it) may lie beyond the wall, and the walk then went out through the front door
+        # (gen12, tour-3000-03). Leaving walks to a point outside, which keeps the nearest spot anywhere.
+        cells_in = self.inside()
+        gc = self.cell_of(goal)
+        keep = cells_in is not None and (bool(cells_in[gc]) if inside is None else inside)
+        g = self.nearest_free(gc, blocked=blocked, allowed=cells_in if keep else None)
         if s is None or g is None:
-            raise NoPathError(f"no free space near ({(start if s is None else goal)[0]:.2f}, {(start if s is None else goal)[1]:.2f})")
-        end = goal if self.free(self.cell_of(goal), blocked) else self.centre(g)
+            raise NoPathError(f"no free space near ({(start if s is None else goal)[0]:.2f}, {(start if s is None else goal)[1]:.2f})"
+                              + (" inside the flat" if keep and g is None else ""))
+        end = goal if g == gc else self.centre(g)
         if self.free(self.cell_of(start), blocked) and self.line_free(start, end, blocked):
             return [end]
         akey = (s, g, tuple(avoid))

@@ -61,7 +61,8 @@ from homesim.message import Message
 from homesim.module import Module
 
 from robot.blindside import SonarEchoes, blind_clear, blind_points
-from robot.contract import (ATTENTION_STATE, BASE_CMD, ES_EVENTS, ES_ORDERS, FACES, FOCUS, FOLLOW_STATUS, ODOMETRY, PARTNER, PLAYER_STATUS,
+from robot.bumpers import BumperReflex
+from robot.contract import (ATTENTION_STATE, BASE_CMD, BUMPERS, ES_EVENTS, ES_ORDERS, FACES, FOCUS, FOLLOW_STATUS, ODOMETRY, PARTNER, PLAYER_STATUS,
                             POSE, PTU_CMD, SCAN, SONAR, SOURCES, STEER, TORSOS, TRACKS)
 
 from .appearance import Colours, anchor_torsos, same_clothes
@@ -248,6 +249,9 @@ class PersonAttention(Module):
 
     #: the ES's last order was ``look_for_help`` (the robot asked for help; :meth:`_voice_heading`)
     seeking_help: bool = False
+    #: nothing pressed, and never told otherwise: for unit tests that build the module without a bus (__init__
+    #: gives each its own, heard on the bus)
+    bumpers: BumperReflex = BumperReflex()
     #: when the beam last listened to a voice nobody seen explained (:meth:`beam`)
     _heard_voice_at: float = -math.inf
 
@@ -327,6 +331,8 @@ class PersonAttention(Module):
         self.bus.subscribe(ODOMETRY, self._on_odometry)
         self.sonar = SonarEchoes()  # the sonar rings' echoes: the blind half a turn swings a rear corner into
         self.bus.subscribe(SONAR, lambda m: self.sonar.update(m.xml, self._odom_pose(), self.now))
+        self.bumpers = BumperReflex()  # the bumper rings: a turn on the spot with one pressed grinds a corner (robot.bumpers)
+        self.bus.subscribe(BUMPERS, lambda m: self.bumpers.update(m.xml, self.now))
         self.bus.subscribe(FACES, self._on_faces)
         self.bus.subscribe(TORSOS, self._on_torsos)
         self.bus.subscribe(SOURCES, self._on_sounds)
@@ -1416,6 +1422,8 @@ class PersonAttention(Module):
         return None if o is None else (o[1], o[2], o[3])
 
     def _base(self, w: float) -> None:
+        if w:
+            w = self.bumpers.command(0.0, w, self.now)[1]
         if w and not self._blind_clear(w):
             w = 0.0
         self.bus.publish(BASE_CMD, etree.Element("velocity", v="0", w=f"{w:.4f}"), transfer=True)

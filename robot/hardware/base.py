@@ -1,4 +1,4 @@
-"""The PeopleBot base: velocity commands in, odometry with drift out.
+"""The PeopleBot base: velocity commands in, odometry with drift and the bumper switches out.
 
 Commands arrive on ``/robot/base/cmd`` as ``<velocity v="m/s" w="rad/s"/>``;
 the base holds the last one and stops when none came for ``watchdog``
@@ -12,7 +12,9 @@ depend on the publishing rate), so the pose it reports wanders away from
 the truth as a real base's does. It is published
 on ``/robot/odometry`` as ``<odometry x y theta v w/>`` at its rate; ``v`` and
 ``w`` are measured from the odometry increments (:func:`measured_velocities`),
-noisy as the encoders are, never the base's true velocities.
+noisy as the encoders are, never the base's true velocities. The bumper rings are read with
+each odometry packet, as the PeopleBot's microcontroller reports them in the same packet, and
+published on ``/robot/bumpers`` when a segment closes or opens (:mod:`robot.hardware.bumpers`).
 """
 
 from __future__ import annotations
@@ -28,7 +30,9 @@ from lxml import etree
 from homesim.message import Message
 from homesim.module import Module
 from homesim.geometry import wrap_angle
-from robot.contract import BASE_CMD, ODOMETRY
+from robot.contract import BASE_CMD, BUMPERS, ODOMETRY
+
+from .bumpers import BumperSensor, bumper_element
 
 if TYPE_CHECKING:
     from homesim.sim import Simulation
@@ -100,6 +104,7 @@ class Base(Module):
         self.last_cmd = -math.inf
         self.odometry = (0.0, 0.0, 0.0)  # starts at the origin, as a real base does
         self._last_true = world.robot.pose
+        self.bumpers = BumperSensor(world)  # the bumper rings, read with the odometry (robot.hardware.bumpers)
         self.bus.subscribe(BASE_CMD, self._on_cmd)
 
     def _on_cmd(self, msg: Message) -> None:
@@ -128,4 +133,7 @@ class Base(Module):
                 etree.Element("odometry", x=f"{x:.5f}", y=f"{y:.5f}", theta=f"{th:.5f}", v=f"{v:.4f}", w=f"{w:.4f}", stalled="true" if rb.cmd_v and abs(v) < 1e-3 else "false"),
                 transfer=True,  # a fresh element, not kept: no copy
             )
+            before_bump = self.bumpers.pressed
+            if self.bumpers.read() != before_bump:
+                self.bus.publish(BUMPERS, bumper_element(self.now, self.bumpers.pressed), transfer=True)
             await asyncio.sleep(period)

@@ -20,7 +20,7 @@ from pathlib import Path
 from typing import Any
 
 from robot.contract import (
-    BASE_CMD, DISPLAY_CMD, DISPLAY_STATE, FACES, GESTURES, OBJECTS, ODOMETRY, PTU_CMD, PTU_STATE, SAY, SCAN, SONAR, SOURCES, SPEAKER_STATUS, SPEECH,
+    BASE_CMD, BUMPERS, DISPLAY_CMD, DISPLAY_STATE, FACES, GESTURES, OBJECTS, ODOMETRY, PTU_CMD, PTU_STATE, SAY, SCAN, SONAR, SOURCES, SPEAKER_STATUS, SPEECH,
     STEER, TORSOS,
 )
 
@@ -56,6 +56,7 @@ CHANNELS: tuple[TypedChannel, ...] = (
     TypedChannel(STEER, "audio-steer.xsd", "in", "microphones"),
     TypedChannel(BASE_CMD, "base-cmd.xsd", "in", "base"),
     TypedChannel(ODOMETRY, "odometry.xsd", "out", "base"),
+    TypedChannel(BUMPERS, "bumpers.xsd", "out", "base"),
     TypedChannel(SAY, "speaker-say.xsd", "in", "speaker"),
     TypedChannel(SPEAKER_STATUS, "speaker-status.xsd", "out", "speaker"),
     TypedChannel(DISPLAY_CMD, "display-cmd.xsd", "in", "display"),

@@ -98,7 +98,8 @@ from homesim.errors import BusError, HomesimError
 from robot import floorplan
 from robot.blindside import SonarEchoes, blind_clear, blind_points, explained_by_points
 from robot.partner_search import follow_search_time, yielding
-from robot.contract import ATTENTION_STATE, BASE_CMD, ES_EVENTS, FOLLOW_STATUS, ODOMETRY, PARTNER, POSE, SCAN, SONAR, TRACKS
+from robot.bumpers import BumperReflex
+from robot.contract import ATTENTION_STATE, BASE_CMD, BUMPERS, ES_EVENTS, FOLLOW_STATUS, ODOMETRY, PARTNER, POSE, SCAN, SONAR, TRACKS
 
 from .config import Limits
 from .grid import MapError, OccupancyGrid, parse_map
@@ -157,6 +158,10 @@ SWEEP_TIME = 0.5
 SWEEP_MARGIN = 0.05
 #: poses along a waiting command's sweep after the start that are checked (as many as sweep_clearance's)
 SWEEP_STEPS = 5
+#: s: the first instants of a sweep, checked as well when the footprint is closer than the margin already:
+#: a command whose first motion swings an edge nearer and then away (backing while turning, 2 mm from a
+#: wall's end) dips between the evenly spaced poses (tests/test_nav_wedged's dev-profile counterexample)
+SWEEP_START = (0.001, 0.004, 0.016, 0.05)
 #: she is too fast for the robot when her tracked speed exceeds its top speed this many times (the track's speed
 #: runs 20 % over hers for a second after she is found again: 0.6 m/s for a partner at 0.5 m/s)
 TOO_FAST_RATIO = 1.2
@@ -235,7 +240,8 @@ def speed_law(d: float, v_radial: float, *, distance: float, band: tuple[float, 
 def sweep_allowed(v: float, w: float, mapped: np.ndarray, here: float | None = None) -> bool:
     """Whether the command (``v``, ``w``) held :data:`SWEEP_TIME` s keeps the footprint off the floor plan's
     obstacles (``mapped``, robot frame): :data:`SWEEP_MARGIN` all along, or, closer than that already
-    (``here``, the footprint's distance now) but not touching, no pose after the start closer than now.
+    (``here``, the footprint's distance now) but not touching, no pose after the start closer than now
+    (its first instants included, :data:`SWEEP_START`: an edge that swings nearer first and then away).
 
     The sweep's first pose is the start, so "further off than now" measured on the whole sweep
     never held: wedged 2 cm from a table's corner, every command, backing away included, was refused
@@ -248,7 +254,7 @@ def sweep_allowed(v: float, w: float, mapped: np.ndarray, here: float | None = N
         here = sweep_clearance(0.0, 0.0, mapped, 0.0, steps=1)
     if here <= 0.0:
         return False  # touching already: only standing
-    t = np.linspace(SWEEP_TIME / SWEEP_STEPS, SWEEP_TIME, SWEEP_STEPS)
+    t = np.concatenate((SWEEP_START, np.linspace(SWEEP_TIME / SWEEP_STEPS, SWEEP_TIME, SWEEP_STEPS)))
     x, y, th = arcs(np.array([v]), np.array([w]), t)
     c, s = np.cos(th[0])[:, None], np.sin(th[0])[:, None]
     dx, dy = mapped[None, :, 0] - x[0][:, None], mapped[None, :, 1] - y[0][:, None]
@@ -260,6 +266,8 @@ class Follower(Module):
 
     # (set in __init__; here too for the rules' unit tests, which build a follower without a bus)
     _aside_stall: tuple[float, float] | None = None
+    #: nothing pressed, and never told otherwise (__init__ gives each follower its own, heard on the bus)
+    bumpers: BumperReflex = BumperReflex()
 
     def __init__(self, sim: Any, *, name: str = "follower", limits: Limits | None = None, rate: float = 10.0,
                  distance: float = 1.2, band: tuple[float, float] = (1.0, 1.5), minimum: float = 0.8,
@@ -311,6 +319,8 @@ class Follower(Module):
         self._tracks_sub: Any = None
         self._sonar_sub: Any = None
         self.sonar = SonarEchoes()  # the sonar rings' echoes, while following (robot.blindside)
+        self.bumpers = BumperReflex()  # the bumper rings (robot.bumpers): sent only when one changes, so always heard
+        self.bus.subscribe(BUMPERS, lambda m: self.bumpers.update(m.xml, self.now))
         self.route = Route()  # the way to the partner on the floor plan (through doors)
         self._aside: tuple[list[tuple[float, float]], float, bool] | None = None  # give-way path (odom), until when, reversing
         self._close_since: float | None = None  # following, since when she has stood close in front
@@ -464,6 +474,7 @@ class Follower(Module):
         return c * (px - ox) + s * (py - oy), -s * (px - ox) + c * (py - oy)
 
     def _command(self, v: float, w: float) -> None:
+        v, w = self.bumpers.command(v, w, self.now)  # a pressed bumper first (robot.bumpers), then the blind half
         if not self._blind_clear(v, w):
             v, w = 0.0, 0.0
         self.bus.publish(BASE_CMD, etree.Element("velocity", v=f"{v:.4f}", w=f"{w:.4f}"))

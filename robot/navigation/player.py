@@ -50,7 +50,8 @@ from homesim.message import Message
 from homesim.module import Module
 
 from robot.blindside import SonarEchoes, blind_clear, blind_points, explained_by_points
-from robot.contract import BASE_CMD, DISPLAY_CMD, ES_ORDERS, ODOMETRY, PLAYER_STATUS, POSE, SCAN, SONAR, TRACKS
+from robot.bumpers import BumperReflex
+from robot.contract import BASE_CMD, BUMPERS, DISPLAY_CMD, ES_ORDERS, ODOMETRY, PLAYER_STATUS, POSE, SCAN, SONAR, TRACKS
 
 from .blind import blind_speed_limit, scan_corners
 from .config import Limits, limits_from_config
@@ -251,6 +252,10 @@ def compose_delta(map_pose: tuple[float, float, float], odo_then: tuple[float, f
 class Player(Module):
     """Executes ``move_to``/``stop``/``show_attention`` (see the module docstring)."""
 
+    #: nothing pressed, and never told otherwise: for the rules' unit tests, which build a player without a bus
+    #: (__init__ gives each player its own, heard on the bus)
+    bumpers: BumperReflex = BumperReflex()
+
     def __init__(self, sim: Any, *, name: str = "player", limits: Limits | None = None, rate: float = 10.0,
                  tolerance: float = 0.2, stall_time: float = 2.0, params: DWAParams = DWAParams()) -> None:
         super().__init__(sim, name)
@@ -284,6 +289,8 @@ class Player(Module):
         self._tracks_sub: Any = None  # subscribed only while driving (see _listen_to_people)
         self._sonar_sub: Any = None
         self.sonar = SonarEchoes()  # the sonar rings' echoes, while driving (robot.blindside)
+        self.bumpers = BumperReflex()  # the bumper rings (robot.bumpers): sent only when one changes, so always heard
+        self.bus.subscribe(BUMPERS, lambda m: self.bumpers.update(m.xml, self.now))
         self.outline: FloorOutline | None = None  # the floor plan round the robot (asked at the first move_to)
         self._map_asked = False
         self._aligning: float | None = None  # m backed off to make room for the final turn (None: not there yet)
@@ -476,10 +483,16 @@ class Player(Module):
             self._turning = False
             self._listen_to_people(False)
             return (0.0, 0.0)
-        v, w = self._blind_checked(v, w, mapped)
+        v, w = self._guarded(v, w, mapped)
         self._aligning -= v * self.period
         self.bus.publish(BASE_CMD, etree.Element("velocity", v=f"{v:.4f}", w=f"{w:.4f}"))
         return (v, w)
+
+    def _guarded(self, v: float, w: float, mapped: np.ndarray) -> tuple[float, float]:
+        """The last checks of a command it sends: a pressed bumper's reflex (:mod:`robot.bumpers`), then the
+        sonar's blind half (:meth:`_blind_checked`)."""
+        v, w = self.bumpers.command(v, w, self.now)
+        return self._blind_checked(v, w, mapped)
 
     def _blind_checked(self, v: float, w: float, mapped: np.ndarray) -> tuple[float, float]:
         """(v, w), or a stop where it would bring the footprint toward what the sonar hears in the blind half
@@ -642,7 +655,7 @@ class Player(Module):
             v = -0.5 * limits.max_reverse
             cmd = Command(v, 0.0, True, cmd.clearance)
             self._backed -= v * self.period
-        bv, bw = self._blind_checked(cmd.v, cmd.w, mapped)
+        bv, bw = self._guarded(cmd.v, cmd.w, mapped)
         if (bv, bw) != (cmd.v, cmd.w):
             cmd = Command(bv, bw, False, cmd.clearance)
         self.bus.publish(BASE_CMD, etree.Element("velocity", v=f"{cmd.v:.4f}", w=f"{cmd.w:.4f}"))
