@@ -216,3 +216,21 @@ def test_readings_kept_at_a_pose_are_the_floats_of_casting_anew():
         got = sonar_readings(world, pose, spec, which, None, kept=kept)
         want = sonar_readings(world, pose, spec, which, None)
         assert got.tobytes() == want.tobytes(), (step, which)
+
+
+@given(exact=st.lists(st.floats(0.0, 6.0) | st.sampled_from([0.0, -0.0, 0.1, 5.0]), max_size=12), seed=st.integers(0, 2**16))
+@settings(max_examples=200, deadline=None)
+def test_the_noise_step_in_floats_gives_the_array_expressions_floats(exact, seed):
+    """The readings' noise and dropouts are added in Python floats (``noisy``); the array expressions
+    they replace are the reference: the same bytes for any readings and draws."""
+    from robot.hardware.sonar import noisy
+
+    spec = SonarSpec()
+    rng = np.random.default_rng(seed)
+    out = np.array(exact, dtype=float)
+    noise = rng.normal(0.0, 3.0, len(exact))
+    lost = rng.random(len(exact)) < 0.2
+    want = np.where(out < spec.max_range, out + noise * (spec.noise + spec.noise_per_m * out), out)
+    want = np.clip(np.where(lost, spec.max_range, want), spec.min_range, spec.max_range)
+    got = np.array(noisy(out.tolist(), noise.tolist(), lost.tolist(), spec), dtype=float)
+    assert got.tobytes() == want.tobytes()
