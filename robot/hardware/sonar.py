@@ -19,7 +19,8 @@ or closer". All randomness comes from the module's generator.
 
 Published on ``/robot/sonar`` as ``<sonar seq time min_range max_range cone height>`` with one
 ``<echo id x y bearing range/>`` per new reading (the transducer's place and bearing in the robot
-frame, so a receiver needs no table of them).
+frame, so a receiver needs no table of them), sent as a typed record
+(:class:`~robot.sonar_packet.SonarPacket`: its readers share it, the XML is built when read).
 """
 
 from __future__ import annotations
@@ -36,12 +37,13 @@ from homesim.kernels import load
 from homesim.module import Module
 from homesim.world.raycast import RayCaster
 from robot.contract import SONAR
+from robot.sonar_packet import SonarPacket
 
 if TYPE_CHECKING:
     from homesim.sim import Simulation
     from homesim.world.world import World
 
-__all__ = ["SonarSpec", "Sonar", "PEOPLEBOT_RING", "SegmentRanges", "sonar_readings", "noisy", "SONAR"]
+__all__ = ["SonarSpec", "Sonar", "PEOPLEBOT_RING", "SegmentRanges", "sonar_readings", "sonar_packet", "sonar_element", "noisy", "SONAR"]
 
 #: (x, y, bearing deg) of the sixteen transducers, robot frame: the front ring right to left, then
 #: the rear ring left to right (the Pioneer's numbering), on the 0.51 x 0.43 m footprint's edge.
@@ -295,15 +297,17 @@ def noisy(exact: list[float], noise: list[float], lost: list[bool], spec: SonarS
     return out
 
 
+def sonar_packet(t: float, spec: SonarSpec, seq: int, which: tuple[int, ...], ranges: np.ndarray) -> SonarPacket:
+    """The ``<sonar>`` message for the readings ``ranges`` of transducers ``which``, as the typed record
+    the module publishes (:class:`~robot.sonar_packet.SonarPacket`: its XML is built only when read)."""
+    text = spec._text
+    return SonarPacket(str(seq), f"{t:.6f}", spec._head,
+                       tuple((*text[i], f"{r:.4f}") for i, r in zip(which, ranges.tolist())))
+
+
 def sonar_element(t: float, spec: SonarSpec, seq: int, which: tuple[int, ...], ranges: np.ndarray) -> etree._Element:
-    """The ``<sonar>`` message for the readings ``ranges`` of transducers ``which``."""
-    lo, hi, cone, height = spec._head
-    el = etree.Element("sonar", seq=str(seq), time=f"{t:.6f}", min_range=lo, max_range=hi, cone=cone, height=height)
-    sub, text = etree.SubElement, spec._text
-    for i, r in zip(which, ranges.tolist()):
-        ident, x, y, bearing = text[i]
-        sub(el, "echo", id=ident, x=x, y=y, bearing=bearing, range=f"{r:.4f}")
-    return el
+    """The ``<sonar>`` message for the readings ``ranges`` of transducers ``which``, as XML."""
+    return sonar_packet(t, spec, seq, which, ranges).to_xml()
 
 
 class Sonar(Module):
@@ -331,6 +335,6 @@ class Sonar(Module):
                 which += self.spec.firing(self._fired)
                 self._fired += 1
             ranges = sonar_readings(self.world, self.world.robot.pose, self.spec, which, self.rng, kept=self._kept)
-            self.bus.publish(SONAR, sonar_element(self.now, self.spec, self.seq, which, ranges), transfer=True)
+            self.bus.publish(SONAR, sonar_packet(self.now, self.spec, self.seq, which, ranges))
             self.seq += 1
             await asyncio.sleep(period)
