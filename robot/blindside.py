@@ -45,7 +45,9 @@ from collections.abc import Callable
 import numpy as np
 from lxml import etree
 
+from homesim.message import Message
 from robot.footprint import footprint_distance, sweep_poses
+from robot.sonar_packet import SonarPacket, echoes_of
 
 #: m: readings farther than this are no concern of a command (none sweeps that far in its horizon)
 SONAR_REACH = 1.2
@@ -63,34 +65,67 @@ EXPLAIN = 0.12
 Pose = tuple[float, float, float]
 
 
+Arc = tuple[int, np.ndarray, np.ndarray]
+
+#: The last packet's near arcs (robot frame), for its other receivers: (record, arcs), one packet held.
+_last: list[tuple[SonarPacket, list[Arc]] | None] = [None]
+#: (cone attribute, its arc's angle offsets): a sonar's cone stays put
+_spread: list[tuple[str, np.ndarray] | None] = [None]
+
+
+def near_arcs(packet: etree._Element | SonarPacket) -> list[Arc]:
+    """(transducer, x, y) robot-frame points (:data:`ARC_POINTS` each) on the arc of every echo of ``packet``
+    nearer than :data:`SONAR_REACH`: what a reading says, wherever the robot is. A function of the packet
+    alone, so a record's arcs are worked out once for all its receivers (the newest record's are kept;
+    the arrays are read-only)."""
+    record = packet if packet.__class__ is SonarPacket else None
+    if record is not None:
+        last = _last[0]
+        if last is not None and last[0] is record:
+            return last[1]
+    top = float(packet.get("max_range", "5"))
+    cone = packet.get("cone", "30")
+    spread = _spread[0]
+    if spread is None or spread[0] != cone:
+        half = math.radians(float(cone)) / 2
+        spread = _spread[0] = (cone, np.linspace(-half, half, ARC_POINTS))
+    offsets = spread[1]
+    out: list[Arc] = []
+    for e in (record.echoes() if record is not None else echoes_of(packet)):
+        r = e.range
+        if r >= top or r > SONAR_REACH:
+            continue  # no echo (or far): the last echo stands until it is too old
+        tb = e.bearing
+        px, py = e.x + r * np.cos(tb + offsets), e.y + r * np.sin(tb + offsets)
+        px.flags.writeable = py.flags.writeable = False
+        out.append((e.id, px, py))
+    if record is not None:
+        _last[0] = (record, out)
+    return out
+
+
 class SonarEchoes:
     """The newest echo of every transducer, as odometry-frame arc points (see the module docstring)."""
 
-    __slots__ = ("_latest", "_spread")
+    __slots__ = ("_latest",)
 
     def __init__(self) -> None:
         self._latest: dict[int, tuple[float, np.ndarray]] = {}  # transducer -> (time, (ARC_POINTS, 2) odometry frame)
-        self._spread: tuple[str, np.ndarray] | None = None  # (cone attribute, its arc's angle offsets): a sonar's cone stays put
 
-    def update(self, xml: etree._Element, odom: Pose | None, now: float) -> None:
-        """Take a ``<sonar>`` packet read at odometry pose ``odom`` (None: not yet known, ignored)."""
+    def update(self, packet: etree._Element | SonarPacket, odom: Pose | None, now: float) -> None:
+        """Take a ``<sonar>`` packet (its XML, or the record it came as) read at odometry pose ``odom``
+        (None: not yet known, ignored)."""
         if odom is None:
             return
-        top = float(xml.get("max_range", "5"))
-        cone = xml.get("cone", "30")
-        if self._spread is None or self._spread[0] != cone:
-            half = math.radians(float(cone)) / 2
-            self._spread = (cone, np.linspace(-half, half, ARC_POINTS))
-        spread = self._spread[1]
         ox, oy, oth = odom
         c, s = math.cos(oth), math.sin(oth)
-        for e in xml.iter("echo"):
-            r = float(e.get("range"))
-            if r >= top or r > SONAR_REACH:
-                continue  # no echo (or far): the last echo stands until it is too old
-            tx, ty, tb = float(e.get("x")), float(e.get("y")), math.radians(float(e.get("bearing")))
-            px, py = tx + r * np.cos(tb + spread), ty + r * np.sin(tb + spread)
-            self._latest[int(e.get("id"))] = (now, np.column_stack((ox + c * px - s * py, oy + s * px + c * py)))
+        for ident, px, py in near_arcs(packet):
+            self._latest[ident] = (now, np.column_stack((ox + c * px - s * py, oy + s * px + c * py)))
+
+    def hear(self, msg: Message, odom: Pose | None, now: float) -> None:
+        """:meth:`update` with a ``/robot/sonar`` message: its shared record when it came as one, else its XML."""
+        data = msg.data
+        self.update(data if data.__class__ is SonarPacket else msg.xml, odom, now)
 
     def arcs(self, odom: Pose | None, now: float) -> list[np.ndarray]:
         """The fresh echoes' arcs, robot frame at ``odom`` (each (ARC_POINTS, 2)); stale ones are dropped."""

@@ -218,13 +218,13 @@ def test_the_kernel_never_names_the_robot_not_even_in_a_string():
 #: processing costs; its profile: which robot is simulated), and the rules modules must agree on (how long a
 #: followed partner may stay unseen: the follower's search and person attention's leaving rule; the footprint and
 #: the people sweep rule every module that sends a base command keeps). None of them imports another robot package.
-ROBOT_SHARED = ("robot.contract", "robot.percepts", "robot.floorplan", "robot.deployment", "robot.profiles",
+ROBOT_SHARED = ("robot.contract", "robot.percepts", "robot.sonar_packet", "robot.floorplan", "robot.deployment", "robot.profiles",
                 "robot.partner_search", "robot.footprint", "robot.blindside", "robot.bumpers")
 
 
 def test_robot_modules_talk_only_over_the_bus():
     """A robot module imports nothing of another robot package (``robot/install.py``, which installs
-    them, and the shared contract, its typed percept records and the floor plan aside): modules meet on the bus,
+    them, and the shared contract, its typed percept and sonar records and the floor plan aside): modules meet on the bus,
     not in code."""
     bad = []
     for path, module in sources():

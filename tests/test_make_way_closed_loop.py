@@ -22,7 +22,7 @@ from lxml import etree
 
 from robot.blindside import SonarEchoes
 from robot.footprint import HALF_LENGTH, footprint_distance
-from robot.hardware.sonar import SonarSpec, sonar_element, sonar_readings
+from robot.hardware.sonar import SonarSpec, sonar_packet, sonar_readings
 from robot.navigation import player as player_mod
 from robot.navigation.player import MAKE_WAY_BACK, MAKE_WAY_WAIT, Player
 
@@ -80,8 +80,8 @@ def _hear(p: Player, world: _World, seq: int) -> None:
     """One sonar packet of every transducer's exact reading at the robot's pose, and an (empty) tracks packet."""
     spec = SonarSpec()
     which = tuple(range(len(spec.transducers)))
-    xml = sonar_element(p.now, spec, seq, which, sonar_readings(world, p.odo.pose, spec, which, None))
-    p._on_sonar(SimpleNamespace(xml=xml))
+    packet = sonar_packet(p.now, spec, seq, which, sonar_readings(world, p.odo.pose, spec, which, None))
+    p._on_sonar(SimpleNamespace(data=packet, xml=packet.to_xml()))  # as the sonar sends it: a typed record
     p._tracks_at = p.now
 
 

@@ -15,9 +15,10 @@ from pathlib import Path
 import numpy as np
 from hypothesis import assume, given, settings
 from hypothesis import strategies as st
+import pytest
 from lxml import etree
 
-from robot.blindside import BLIND_X, SonarEchoes, blind_clear, blind_points, explained_by_points
+from robot.blindside import BLIND_X, SonarEchoes, blind_clear, blind_points, explained_by_points, near_arcs
 from robot.footprint import BODY, footprint_distance, sweep_poses
 from robot.hardware.channels import SCHEMAS
 from robot.hardware.sonar import PEOPLEBOT_RING, Sonar, SonarSpec, sonar_element, sonar_readings
@@ -216,3 +217,53 @@ def test_readings_kept_at_a_pose_are_the_floats_of_casting_anew():
         got = sonar_readings(world, pose, spec, which, None, kept=kept)
         want = sonar_readings(world, pose, spec, which, None)
         assert got.tobytes() == want.tobytes(), (step, which)
+
+
+@given(exact=st.lists(st.floats(0.0, 6.0) | st.sampled_from([0.0, -0.0, 0.1, 5.0]), max_size=12), seed=st.integers(0, 2**16))
+@settings(max_examples=200, deadline=None)
+def test_the_noise_step_in_floats_gives_the_array_expressions_floats(exact, seed):
+    """The readings' noise and dropouts are added in Python floats (``noisy``); the array expressions
+    they replace are the reference: the same bytes for any readings and draws."""
+    from robot.hardware.sonar import noisy
+
+    spec = SonarSpec()
+    rng = np.random.default_rng(seed)
+    out = np.array(exact, dtype=float)
+    noise = rng.normal(0.0, 3.0, len(exact))
+    lost = rng.random(len(exact)) < 0.2
+    want = np.where(out < spec.max_range, out + noise * (spec.noise + spec.noise_per_m * out), out)
+    want = np.clip(np.where(lost, spec.max_range, want), spec.min_range, spec.max_range)
+    got = np.array(noisy(out.tolist(), noise.tolist(), lost.tolist(), spec), dtype=float)
+    assert got.tobytes() == want.tobytes()
+
+
+@given(seed=st.integers(0, 2**16), odom=st.tuples(st.floats(-5, 5), st.floats(-5, 5), st.floats(-4, 4)))
+@settings(max_examples=60, deadline=None)
+def test_the_typed_packet_says_what_its_xml_says(seed, odom):
+    """The sonar sends its packet as a typed record (robot.sonar_packet): a receiver keeping echoes from the
+    record keeps the floats one reading its XML keeps (the trace's document), the record's size is its XML's,
+    and no receiver can change it for the others."""
+    from robot.hardware.sonar import sonar_packet
+    from robot.sonar_packet import echoes_of
+
+    rng = np.random.default_rng(seed)
+    spec = SonarSpec()
+    legs = [(rng.uniform(-1.5, 1.5), rng.uniform(-1.5, 1.5)) for _ in range(rng.integers(0, 5))]
+    world = FakeWorld(segments=[((-0.8, -3.0), (-0.8, 3.0)), ((-3.0, 0.9), (3.0, 0.9))], legs=legs)
+    which = spec.firing(seed) + spec.firing(seed + 1) + spec.firing(seed + 2)
+    packet = sonar_packet(seed * 0.1, spec, seed, which, sonar_readings(world, odom, spec, which, rng))
+    xml = packet.to_xml()
+    assert packet.echoes() == echoes_of(xml) and packet.size() == len(etree.tostring(xml))
+    assert [packet.get(k) for k in ("seq", "time", "min_range", "max_range", "cone", "height")] == \
+        [xml.get(k) for k in ("seq", "time", "min_range", "max_range", "cone", "height")]
+    typed, plain = SonarEchoes(), SonarEchoes()
+    for _ in range(2):  # the second time from the arcs kept for the packet's other receivers
+        typed.update(packet, odom, 1.0)
+        plain.update(etree.fromstring(etree.tostring(xml)), odom, 1.0)
+        got, want = typed.arcs(odom, 1.0), plain.arcs(odom, 1.0)
+        assert len(got) == len(want) and all(g.tobytes() == w.tobytes() for g, w in zip(got, want))
+    with pytest.raises(AttributeError):
+        packet.rows = ()
+    for _, px, py in near_arcs(packet):  # shared by every receiver: read-only
+        with pytest.raises(ValueError):
+            px[0] = 0.0

@@ -1,5 +1,5 @@
 /* Compiled inner loops of homesim.world.raycast (the laser's fan caster, the camera's 3D sight
- * lines) and the laser's noise step. Optional: the package installs and runs without it, through
+ * lines), the laser's noise step and the sonar rings' cast (robot.hardware.sonar). Optional: the package installs and runs without it, through
  * the pure-Python/numpy paths in raycast.py, which give the same floats.
  *
  * Why these and why bit for bit. Every float here is computed with exactly the operations, in
@@ -19,7 +19,7 @@
 #include <stdint.h>
 #include <string.h>
 
-#define KERNEL_VERSION 1
+#define KERNEL_VERSION 2 /* 2: sonar_ranges */
 /* The SHA-256 of this file as built, set by setup.py (homesim.kernels.load compares it with the
  * file on disk: a build older than its source is not used). */
 #ifndef KERNEL_SOURCE_SHA256
@@ -493,12 +493,117 @@ fail:
     return NULL;
 }
 
+/* sonar_ranges(ox, oy, dx, dy, k, which, a, b, c, r, max_range, out)
+ * robot.hardware.sonar.sonar_readings' cast (its cast_from, walls' part and legs' part, then the
+ * least range of each transducer's rays), for a packet in one call: the ring's rays at the pose
+ * are rows of k (ox, oy: origins, dx, dy: np.cos and np.sin of the angles, so numpy's floats);
+ * out[j] is the least range over row which[j]'s rays of the first wall segment (a, b) or leg
+ * circle (c, r) hit, max_range where none. Each candidate is cast_from's float (its operations in
+ * its order); the result is their minimum, which is exact (a hit at range zero may come out as
+ * -0.0 here and 0.0 there: the caller clips to the sonar's min_range, so the readings agree). */
+static PyObject *sonar_ranges(PyObject *self, PyObject *args) {
+    PyObject *o_ox, *o_oy, *o_dx, *o_dy, *o_which, *o_a, *o_b, *o_c, *o_r, *o_out;
+    Py_ssize_t k;
+    double max_range;
+    if (!PyArg_ParseTuple(args, "OOOOnOOOOOdO", &o_ox, &o_oy, &o_dx, &o_dy, &k, &o_which, &o_a, &o_b, &o_c, &o_r, &max_range, &o_out))
+        return NULL;
+    if (k < 1) {
+        PyErr_SetString(PyExc_ValueError, "k: a transducer needs at least one ray");
+        return NULL;
+    }
+    PyObject *which = PySequence_Fast(o_which, "which: expected a sequence of transducer indices");
+    if (which == NULL) return NULL;
+    Buf b[9];
+    memset(b, 0, sizeof b);
+    Py_ssize_t nw = PySequence_Fast_GET_SIZE(which);
+    if (get_doubles(o_out, &b[0], nw, 1, "out") < 0 || get_doubles(o_ox, &b[1], -1, 0, "ox") < 0) goto fail;
+    Py_ssize_t n = NLEN(b[1]);
+    if (n % k) {
+        PyErr_SetString(PyExc_ValueError, "ox: expected whole rows of k rays");
+        goto fail;
+    }
+    if (get_doubles(o_oy, &b[2], n, 0, "oy") < 0 || get_doubles(o_dx, &b[3], n, 0, "dx") < 0 || get_doubles(o_dy, &b[4], n, 0, "dy") < 0) goto fail;
+    if (get_doubles(o_a, &b[5], -1, 0, "a") < 0) goto fail;
+    Py_ssize_t m = NLEN(b[5]) / 2;
+    if (NLEN(b[5]) % 2 || get_doubles(o_b, &b[6], 2 * m, 0, "b") < 0) {
+        if (!PyErr_Occurred()) PyErr_SetString(PyExc_ValueError, "a: expected (m, 2) values");
+        goto fail;
+    }
+    if (get_doubles(o_r, &b[7], -1, 0, "r") < 0) goto fail;
+    Py_ssize_t p = NLEN(b[7]);
+    if (get_doubles(o_c, &b[8], 2 * p, 0, "c") < 0) goto fail;
+    {
+        Py_ssize_t rows = n / k;
+        PyObject **items = PySequence_Fast_ITEMS(which);
+        double *out = D(b[0]);
+        const double *OX = D(b[1]), *OY = D(b[2]), *DX = D(b[3]), *DY = D(b[4]), *pa = D(b[5]), *pb = D(b[6]), *rad = D(b[7]), *cen = D(b[8]);
+        for (Py_ssize_t j = 0; j < nw; j++) {
+            Py_ssize_t row = PyNumber_AsSsize_t(items[j], PyExc_IndexError);
+            if (row == -1 && PyErr_Occurred()) goto fail;
+            if (row < 0 || row >= rows) {
+                PyErr_Format(PyExc_IndexError, "which: transducer %zd of %zd", row, rows);
+                goto fail;
+            }
+            double least = INFINITY;
+            for (Py_ssize_t i = row * k; i < (row + 1) * k; i++) {
+                double ox = OX[i], oy = OY[i], dx = DX[i], dy = DY[i];
+                double walls = INFINITY, legs = INFINITY;
+                for (Py_ssize_t s = 0; s < m; s++) {
+                    /* cast_from's segments: den = d x e ; u = f x d ; tnum = f x e ; the sign trick; its mask */
+                    double ex = pb[2 * s] - pa[2 * s], ey = pb[2 * s + 1] - pa[2 * s + 1];
+                    double fx = pa[2 * s] - ox, fy = pa[2 * s + 1] - oy;
+                    double den = dx * ey - dy * ex;
+                    double u = fx * dy - fy * dx;
+                    double tnum = fx * ey - fy * ex;
+                    double sign = den > 0.0 ? 1.0 : (den < 0.0 ? -1.0 : (den == 0.0 ? 0.0 : den));
+                    u = u * sign;
+                    den = fabs(den);
+                    double t = tnum * sign;
+                    if (t >= 0.0 && u >= 0.0 && u <= den && den > 1e-15) walls = np_min(walls, t / den);
+                }
+                for (Py_ssize_t c = 0; c < p; c++) {
+                    /* cast_from's circles: ff, rr, tca = dx*fx + dy*fy, disc = tca*tca + (rr - ff), near = tca - sqrt(disc) */
+                    double fx = cen[2 * c] - ox, fy = cen[2 * c + 1] - oy;
+                    double ff = fx * fx + fy * fy;
+                    double rr = rad[c] * rad[c];
+                    double near = INFINITY;
+                    if (ff <= rr) {
+                        near = 0.0;
+                    } else {
+                        double tca = dx * fx;
+                        tca += dy * fy;
+                        double disc = tca * tca;
+                        disc += rr - ff;
+                        if (disc >= 0.0) {
+                            double t = tca - sqrt(disc);
+                            if (t >= 0.0) near = t;
+                        }
+                    }
+                    legs = np_min(legs, near);
+                }
+                /* np.minimum(full(max_range), walls' least), the same for the legs, their np.minimum */
+                double ray = np_min(np_min(max_range, walls), np_min(max_range, legs));
+                least = np_min(least, ray);
+            }
+            out[j] = least;
+        }
+    }
+    Py_DECREF(which);
+    release(b, 9);
+    Py_RETURN_NONE;
+fail:
+    Py_DECREF(which);
+    release(b, 9);
+    return NULL;
+}
+
 static PyMethodDef methods[] = {
     {"hypots", hypots, METH_VARARGS, "The C library's hypot over arrays (for the tests)."},
     {"fan_circles", fan_circles, METH_VARARGS, "The fan caster's circle test (raycast._Fan._circles_in_floats)."},
     {"fan_segments", fan_segments, METH_VARARGS, "The fan caster's segment test (raycast._Fan.segments)."},
     {"scan_noise", scan_noise, METH_VARARGS, "The laser's noise step in place (laser.simulate_scan)."},
     {"sight_lines", sight_lines, METH_VARARGS, "3D sight lines against prisms and cylinders (raycast.sight_lines_clear)."},
+    {"sonar_ranges", sonar_ranges, METH_VARARGS, "The sonar rings' cast of a packet (robot.hardware.sonar.sonar_readings)."},
     {NULL, NULL, 0, NULL},
 };
 

@@ -26,7 +26,7 @@ from homesim.kernels import load
 FloatArray = np.ndarray
 # The compiled inner loops (homesim/world/_raykernels.c), same floats as the Python paths below;
 # None where not built (or HOMESIM_PURE_PYTHON is set): the Python paths run.
-_K = load("homesim.world._raykernels", 1)
+_K = load("homesim.world._raykernels", 2)
 
 _EMPTY2 = np.zeros((0, 2))
 _EMPTY1 = np.zeros(0)

@@ -330,7 +330,7 @@ class PersonAttention(Module):
         self.bus.subscribe(SCAN, self._on_scan)
         self.bus.subscribe(ODOMETRY, self._on_odometry)
         self.sonar = SonarEchoes()  # the sonar rings' echoes: the blind half a turn swings a rear corner into
-        self.bus.subscribe(SONAR, lambda m: self.sonar.update(m.xml, self._odom_pose(), self.now))
+        self.bus.subscribe(SONAR, lambda m: self.sonar.hear(m, self._odom_pose(), self.now))
         self.bumpers = BumperReflex()  # the bumper rings: a turn on the spot with one pressed grinds a corner (robot.bumpers)
         self.bus.subscribe(BUMPERS, lambda m: self.bumpers.update(m.xml, self.now))
         self.bus.subscribe(FACES, self._on_faces)

@@ -19,7 +19,8 @@ or closer". All randomness comes from the module's generator.
 
 Published on ``/robot/sonar`` as ``<sonar seq time min_range max_range cone height>`` with one
 ``<echo id x y bearing range/>`` per new reading (the transducer's place and bearing in the robot
-frame, so a receiver needs no table of them).
+frame, so a receiver needs no table of them), sent as a typed record
+(:class:`~robot.sonar_packet.SonarPacket`: its readers share it, the XML is built when read).
 """
 
 from __future__ import annotations
@@ -32,15 +33,17 @@ from typing import TYPE_CHECKING
 import numpy as np
 from lxml import etree
 
+from homesim.kernels import load
 from homesim.module import Module
 from homesim.world.raycast import RayCaster
 from robot.contract import SONAR
+from robot.sonar_packet import SonarPacket
 
 if TYPE_CHECKING:
     from homesim.sim import Simulation
     from homesim.world.world import World
 
-__all__ = ["SonarSpec", "Sonar", "PEOPLEBOT_RING", "SegmentRanges", "sonar_readings", "SONAR"]
+__all__ = ["SonarSpec", "Sonar", "PEOPLEBOT_RING", "SegmentRanges", "sonar_readings", "sonar_packet", "sonar_element", "noisy", "SONAR"]
 
 #: (x, y, bearing deg) of the sixteen transducers, robot frame: the front ring right to left, then
 #: the rear ring left to right (the Pioneer's numbering), on the 0.51 x 0.43 m footprint's edge.
@@ -98,6 +101,9 @@ class SonarSpec:
         i = k % self.per_ring
         return tuple(r * self.per_ring + i for r in range(self.rings))
 
+
+#: the compiled cast of a packet (``sonar_ranges`` in homesim/world/_raykernels.c), None: the numpy path
+_K = load("homesim.world._raykernels", 2)
 
 _NO_SEGS = np.zeros((0, 2))
 _NO_LEGS = np.zeros((0, 2))
@@ -161,16 +167,14 @@ class SegmentRanges:
         self._key: tuple[float, float, float] | None = None
         self._seg: tuple[np.ndarray, np.ndarray] | None = None
         self._rays: dict[int, np.ndarray] = {}
-        self._ring: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None  # every transducer's rays at _ring_key
+        self._ring: tuple[np.ndarray, ...] | None = None  # every transducer's rays at _ring_key (origins, angles, directions)
         self._ring_key: tuple[SonarSpec, tuple[float, float, float]] | None = None
 
-    def ring(self, spec: SonarSpec, pose: tuple[float, float, float]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Every transducer's ray origins and angles at ``pose`` ((transducers, rays) each, :func:`_rays_of`'s
-        floats), kept for as long as the pose stays the same."""
+    def ring(self, spec: SonarSpec, pose: tuple[float, float, float]) -> tuple[np.ndarray, ...]:
+        """Every transducer's ray origins, angles and directions at ``pose`` (:func:`_ring_at`), kept for as
+        long as the pose stays the same."""
         if self._ring is None or self._ring_key is None or self._ring_key[1] != pose or self._ring_key[0] is not spec:
-            ox, oy, ang = _rays_of(spec, pose, tuple(range(len(spec.transducers))))
-            k = len(spec.offsets)
-            self._ring = (ox.reshape(-1, k), oy.reshape(-1, k), ang.reshape(-1, k))
+            self._ring = _ring_at(spec, pose)
             self._ring_key = (spec, pose)
         return self._ring
 
@@ -184,6 +188,15 @@ class SegmentRanges:
             self._key, self._seg = pose, (a, b)
             self._rays.clear()
         return self._rays
+
+
+def _ring_at(spec: SonarSpec, pose: tuple[float, float, float]) -> tuple[np.ndarray, ...]:
+    """Every transducer's rays at ``pose``: origins x, y, angles, and the angles' cosines and sines
+    ((transducers, rays) each, :func:`_rays_of`'s floats; numpy's cos and sin, as :func:`cast_from` takes
+    them, element by element)."""
+    ox, oy, ang = _rays_of(spec, pose, tuple(range(len(spec.transducers))))
+    k = len(spec.offsets)
+    return (ox.reshape(-1, k), oy.reshape(-1, k), ang.reshape(-1, k), np.cos(ang).reshape(-1, k), np.sin(ang).reshape(-1, k))
 
 
 def _rays_of(spec: SonarSpec, pose: tuple[float, float, float], which: tuple[int, ...]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -210,13 +223,16 @@ def sonar_readings(
     *,
     caster: RayCaster | None = None,
     kept: SegmentRanges | None = None,
+    compiled: bool = True,
 ) -> np.ndarray:
     """Ranges (len(which),) of the transducers ``which`` from robot pose ``pose``; noise from ``rng``
     (None: exact, no dropouts). The nearest echo among the cone's rays; none reads ``max_range``.
     All rays in one pass (:func:`cast_from`), the segments' part and the legs' part apart (a minimum
     of minima: the same floats); ``kept``: the segments' part kept
     while the pose stays the same (:class:`SegmentRanges`); ``caster``: ray by ray with it instead
-    (the reference: the same floats)."""
+    (the reference: the same floats). With the compiled kernel (``compiled``, and built) the whole packet
+    is cast in one call (the rays' origins and directions kept per pose in ``kept``), the same floats
+    again: everything then but the noise costs a few microseconds, so nothing else is kept."""
     if not which:
         return np.zeros(0)
     a, b = world.segments_at(spec.height)
@@ -230,6 +246,12 @@ def sonar_readings(
             tx, ty, tb = spec.transducers[i]
             origin = (x + c * tx - s * ty, y + s * tx + c * ty)
             out[j] = float(caster.cast(origin, th + math.radians(tb) + offs, a, b, cc, cr, spec.max_range).min())
+    elif _K is not None and compiled:
+        ring = kept.ring(spec, pose) if kept is not None else _ring_at(spec, pose)
+        out = np.empty(len(which))
+        _K.sonar_ranges(ring[0], ring[1], ring[3], ring[4], len(offs), which, np.ascontiguousarray(a, dtype=float),
+                        np.ascontiguousarray(b, dtype=float), np.ascontiguousarray(cc, dtype=float),
+                        np.ascontiguousarray(cr, dtype=float), float(spec.max_range), out)
     else:
         k = len(offs)
         rays = kept.get(pose, a, b) if kept is not None else None
@@ -254,24 +276,38 @@ def sonar_readings(
             legs = cast_from(*rays_all, _NO_SEGS, _NO_SEGS, cc, cr, spec.max_range).reshape(len(which), k)
             ranges = np.minimum(ranges, legs)
         out = ranges.min(axis=1)
-    if rng is not None:
-        noise = rng.normal(0.0, 1.0, len(which))
-        lost = rng.random(len(which)) < spec.dropout
-        hit = out < spec.max_range
-        out = np.where(hit, out + noise * (spec.noise + spec.noise_per_m * out), out)
-        out = np.where(lost, spec.max_range, out)
-    return np.clip(out, spec.min_range, spec.max_range)
+    if rng is None:
+        return np.clip(out, spec.min_range, spec.max_range)
+    return np.array(noisy(out.tolist(), rng.normal(0.0, 1.0, len(which)).tolist(), (rng.random(len(which)) < spec.dropout).tolist(), spec))
+
+
+def noisy(exact: list[float], noise: list[float], lost: list[bool], spec: SonarSpec) -> list[float]:
+    """The readings with their noise (standard normal draws ``noise``) and dropouts (``lost``), clipped
+    to the sonar's range: ``np.where(hit, r + noise * (spec.noise + spec.noise_per_m * r), r)``, then
+    ``max_range`` where lost, then ``np.clip``, in Python floats (the same IEEE operations in the same
+    order, so the same floats; a packet's handful of readings cost less so than as arrays)."""
+    lo, hi, a, b = spec.min_range, spec.max_range, spec.noise, spec.noise_per_m
+    out = []
+    for r, z, gone in zip(exact, noise, lost):
+        if gone:
+            r = hi
+        elif r < hi:
+            r = r + z * (a + b * r)
+        out.append(lo if r < lo else (hi if r > hi else r))
+    return out
+
+
+def sonar_packet(t: float, spec: SonarSpec, seq: int, which: tuple[int, ...], ranges: np.ndarray) -> SonarPacket:
+    """The ``<sonar>`` message for the readings ``ranges`` of transducers ``which``, as the typed record
+    the module publishes (:class:`~robot.sonar_packet.SonarPacket`: its XML is built only when read)."""
+    text = spec._text
+    return SonarPacket(str(seq), f"{t:.6f}", spec._head,
+                       tuple((*text[i], f"{r:.4f}") for i, r in zip(which, ranges.tolist())))
 
 
 def sonar_element(t: float, spec: SonarSpec, seq: int, which: tuple[int, ...], ranges: np.ndarray) -> etree._Element:
-    """The ``<sonar>`` message for the readings ``ranges`` of transducers ``which``."""
-    lo, hi, cone, height = spec._head
-    el = etree.Element("sonar", seq=str(seq), time=f"{t:.6f}", min_range=lo, max_range=hi, cone=cone, height=height)
-    sub, text = etree.SubElement, spec._text
-    for i, r in zip(which, ranges.tolist()):
-        ident, x, y, bearing = text[i]
-        sub(el, "echo", id=ident, x=x, y=y, bearing=bearing, range=f"{r:.4f}")
-    return el
+    """The ``<sonar>`` message for the readings ``ranges`` of transducers ``which``, as XML."""
+    return sonar_packet(t, spec, seq, which, ranges).to_xml()
 
 
 class Sonar(Module):
@@ -299,6 +335,6 @@ class Sonar(Module):
                 which += self.spec.firing(self._fired)
                 self._fired += 1
             ranges = sonar_readings(self.world, self.world.robot.pose, self.spec, which, self.rng, kept=self._kept)
-            self.bus.publish(SONAR, sonar_element(self.now, self.spec, self.seq, which, ranges), transfer=True)
+            self.bus.publish(SONAR, sonar_packet(self.now, self.spec, self.seq, which, ranges))
             self.seq += 1
             await asyncio.sleep(period)

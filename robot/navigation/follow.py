@@ -379,7 +379,7 @@ class Follower(Module):
         if on and self._tracks_sub is None:
             self._tracks_sub = self.bus.subscribe(TRACKS, lambda m: self.people.update(m.xml))
             self._pose_sub = self.bus.subscribe(POSE, self._on_pose)
-            self._sonar_sub = self.bus.subscribe(SONAR, lambda m: self.sonar.update(m.xml, self.odom, self.now))
+            self._sonar_sub = self.bus.subscribe(SONAR, lambda m: self.sonar.hear(m, self.odom, self.now))
         elif not on and self._tracks_sub is not None:
             self._tracks_sub.close()
             self._tracks_sub = None

@@ -390,7 +390,7 @@ class Player(Module):
             self._sonar_at = self._tracks_at = None
 
     def _on_sonar(self, msg: Message) -> None:
-        self.sonar.update(msg.xml, self.odo.pose, self.now)
+        self.sonar.hear(msg, self.odo.pose, self.now)
         self._sonar_at = self.now
 
     def _on_tracks(self, msg: Message) -> None:
