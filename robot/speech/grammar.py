@@ -150,7 +150,12 @@ class Understander:
             res.corrected.append(toks[0].text)
             gave_up = gave_up or toks[0].value == "never mind"
             toks = toks[1:]
-        if gave_up and not self._request_follows(toks):
+        taken_back = bool(lex.raw) and len(lex.raw) > 1 and lex.raw[-1].type == EDIT and lex.raw[-1].value == "never mind"
+        if taken_back:
+            # "follow me, oh never mind", "this is the kitchen, never mind": she takes back what she just said
+            # (a no); the trailing editing term must not leave the request standing as if said whole
+            gave_up, toks = True, [t for t in lex.raw[:-1] if t.type != EDIT]
+        if gave_up and (taken_back or not self._request_follows(toks)):
             # "never mind", "oh never mind, we will do that another time": she gives up what was asked
             # (a no); "never mind her, you come with me" keeps the request said after it (fresh4
             # loft_flatmates_talk: the whole turn was a no, the follow lost)
