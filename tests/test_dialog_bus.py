@@ -749,3 +749,21 @@ def test_a_repair_is_never_dropped_twice_in_a_row(robot):
     robot.sim.run(until=16.0)
     assert robot.sentences() == ["Sorry, I did not understand you. Could you say that again?"]
     assert robot.dialog.summary()["stale_repairs_dropped"] == 1
+
+
+def test_a_good_bye_said_while_it_looks_waits_until_the_object_is_learned(robot):
+    # talk13 (fresh4 loft_teach_walking_past): "thanks bye" right after "Let me have a look" ended the look and the
+    # kettle was never stored; now the look ends first, then the good-bye
+    robot.greet()
+    robot.utter("this is my cup", 6.0, 7.0)
+    robot.utter("thanks bye", 9.0, 9.6)
+    objects = robot.sim.bus.participant("object_attention")
+    cup = etree.fromstring('<OBJECT type="cup" name="cup" owner="partner" x="1" y="0" z="0.8" frame="map"/>')
+    robot.sim.call_at(12.0, lambda: objects.publish(ES_EVENTS, event_xml("object_recognized", children=(cup,))))
+    robot.sim.run(until=11.5)
+    said = robot.sentences()
+    assert "Let me have a look." in said and not any("Good-bye" in s for s in said)  # still looking: no good-bye yet
+    robot.sim.run(until=20.0)
+    said = robot.sentences()
+    learned = next(i for i, s in enumerate(said) if s.startswith("OK, I have learned"))
+    assert any(i > learned for i, s in enumerate(said) if "Good-bye" in s)

@@ -153,6 +153,9 @@ GREETABLE = frozenset({"", "LookingAround", "PotentialPartner", "AskingForHelp"}
 #: s: how long a request said with a greeting waits for the greeting to be taken (the ES keeps a greeting
 #: 3 s; a greeting heard with low confidence is first confirmed: "Did you say hello to me?")
 AFTER_GREETING_WAIT = 15.0
+#: s: a good-bye said while the robot looks at what she showed waits this long at most for the look to end
+#: (the object is stored, "OK, I have learned your kettle", then the good-bye): a look takes a few seconds
+GOODBYE_AFTER_LOOK = 8.0
 #: ES states in which the partner leads, back turned: the addressee rule decides by where the voice came
 #: from (:meth:`Dialog._her_voice`), since her face cannot tell
 LEADING_STATES = frozenset({"Following"})
@@ -396,6 +399,7 @@ class Dialog(Module):
         # a request said with a greeting ("hello BIRON, follow me") and until when it may wait for the
         # greeting to be taken (:meth:`_greeting_taken`)
         self._after_greeting: tuple[Message, float] | None = None
+        self._goodbye_held: Message | None = None  # a good-bye said during ObjectTeaching (see GOODBYE_AFTER_LOOK)
         self._releasing = False  # held requests are being handled one turn at a time
         bus = self.bus
         bus.subscribe(FRAMES, self._on_frame)
@@ -578,12 +582,26 @@ class Dialog(Module):
             heard.text = x.findtext("words") or ""
             self._emit(self.manager.on_frame(heard), msg.id)
             return
+        if self.manager.es_state == "ObjectTeaching" and x.find("SPEECH/GOODBYE") is not None:
+            # "thanks, bye" while the robot still looks at what she showed (fresh4 loft_teach_walking_past: the
+            # good-bye ended the look and the kettle was never stored): the look ends first, then the good-bye
+            self._goodbye_held = msg
+            self.sim.loop.call_at_ns(to_ns(self.now + GOODBYE_AFTER_LOOK), self._release_goodbye, msg)
+            return
         if x.get("after") == "greeting" and greetable:
             # the request said with the greeting waits until the greeting is taken (partner_found);
             # a greeting refused or not taken in time takes the request with it
             self._after_greeting = (msg, self.now + AFTER_GREETING_WAIT)
             return
         self._emit(self.manager.on_frame(x), msg.id)
+
+    def _release_goodbye(self, msg: Message | None = None) -> None:
+        """The good-bye held during a look goes now (the look ended, or it took ``GOODBYE_AFTER_LOOK`` s)."""
+        held = self._goodbye_held
+        if held is None or (msg is not None and held is not msg):
+            return
+        self._goodbye_held = None
+        self._emit(self.manager.on_frame(held.xml), held.id)
 
     def _greeting_taken(self) -> None:
         """The supervisor took the greeting (partner found): the request said with it is handled now."""
@@ -629,6 +647,8 @@ class Dialog(Module):
             self._greeting_taken()
         # "OK, I stopped." said (the stop dialog done): now ask about what she showed while it followed
         self._emit(self.manager.take_up_in_passing(), msg.id)
+        if self._goodbye_held is not None and msg.xml.get("name") in ("object_learned", "object_not_found"):
+            self._release_goodbye()  # the look ended and its result was said: now her good-bye
 
     async def _ask_for_es(self, msg: Message) -> None:
         """Condition ``ask`` (param ``options``: ``<OPTIONS timeout><option index text/>+</OPTIONS>``):
@@ -681,6 +701,8 @@ class Dialog(Module):
         if gone and self._queue:
             # their sentences not yet said (a question waiting behind the good-bye) are dropped too
             self._queue = deque(q for q in self._queue if not q[2] or not q[2] <= set(gone))
+        if self._goodbye_held is not None and self.manager.es_state not in ("ObjectTeaching", "Interacting"):
+            self._release_goodbye()  # the look ended elsewhere (a failure, the partner gone): no reason to wait
         # she stopped after showing something while it followed her: ask her to show it again (when no
         # sub-dialog is still open, e.g. the stop's "OK, I stopped." waits for its condition: then after it)
         self._emit(self.manager.take_up_in_passing(), msg.id)

@@ -150,7 +150,12 @@ class Understander:
             res.corrected.append(toks[0].text)
             gave_up = gave_up or toks[0].value == "never mind"
             toks = toks[1:]
-        if gave_up and not self._request_follows(toks):
+        taken_back = bool(lex.raw) and len(lex.raw) > 1 and lex.raw[-1].type == EDIT and lex.raw[-1].value == "never mind"
+        if taken_back:
+            # "follow me, oh never mind", "this is the kitchen, never mind": she takes back what she just said
+            # (a no); the trailing editing term must not leave the request standing as if said whole
+            gave_up, toks = True, [t for t in lex.raw[:-1] if t.type != EDIT]
+        if gave_up and (taken_back or not self._request_follows(toks)):
             # "never mind", "oh never mind, we will do that another time": she gives up what was asked
             # (a no); "never mind her, you come with me" keeps the request said after it (fresh4
             # loft_flatmates_talk: the whole turn was a no, the follow lost)
@@ -351,6 +356,14 @@ class Understander:
             res.ignored = [t.text for t in toks]
             res.reason = small_talk
             return res
+        if partial and ignored and tree_act(tree) == "that_one" and not asked:
+            # "this one here, my kettle": the object named after the pointing is what "this one" is (a teaching
+            # said in apposition; fresh4 loft_teach_walking_past, her re-show, "Sorry, I did not understand you")
+            said = self._named_after_pointing(toks, ignored)
+            if said is not None:
+                tree, ignored, partial = said
+                frame = build(tree)
+                obj = frame[0]
         if partial and ignored and tree_act(tree) == "where":
             # "sorry where was [I], that vase is from my grandmother" ("I" lost): no where-question goes on with a
             # copula after its object; the words from the deixis on are a statement of their own about what she
@@ -499,6 +512,19 @@ class Understander:
                 continue  # a word skipped inside the request: not said as a whole
             return tree, [t.text for t in toks[:i]] + ignored, True
         return None
+
+    def _named_after_pointing(self, toks: list[Tok], ignored: list[str]) -> tuple[Tree, list[str], bool] | None:
+        """The object teaching "this one here, my kettle" makes: a which-one pointing ("this one", "this one
+        here") and then, as the turn's tail, a noun phrase with its noun ("my kettle", "the red cup"), read as
+        "this is my kettle"; None otherwise."""
+        tail = toks[len(toks) - len(ignored):]
+        if [t.text for t in tail] != ignored or not tail or tail[0].type in ("IS", "ARE") \
+                or not any(t.type == "OBJ" for t in tail) or toks[0].type not in ("THIS", "THAT"):
+            return None
+        tree, lost, cut = self._parse([Tok("THIS", "this", ""), Tok("IS", "is", ""), *tail])
+        if tree is None or cut or lost or _guessed(tree) or tree_act(tree) != "teach_object":
+            return None
+        return tree, [], False
 
     def _statement_after_where(self, toks: list[Tok]) -> tuple[Tree, list[str], bool] | None:
         """The object teaching said after a "where" whose object a copula follows ("where [was I] that vase
