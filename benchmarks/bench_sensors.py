@@ -46,6 +46,7 @@ from homesim.tour.stage import Stage
 from homesim.world.world import World
 from robot.hardware.camera import CameraSpec, PanTilt, detect_faces, detect_frame, detect_gestures, detect_objects, detect_torsos
 from robot.hardware.laser import LaserSpec, laser_origin, simulate_scan
+from robot.hardware import sonar as sonar_module
 from robot.hardware.sonar import SegmentRanges, SonarSpec, sonar_readings
 
 _clock = time.process_time
@@ -108,14 +109,15 @@ def kernels(n_people: int, reps: int) -> dict[str, float]:
 
 
 def compiled_and_python(measure: Callable[[], Any]) -> tuple[Any, Any]:
-    """``measure()`` with the compiled raycast kernel, then with the Python path, back to back."""
-    kernel = raycast._K
+    """``measure()`` with the compiled raycast kernel, then with the Python path, back to back (the sonar
+    model holds its own reference to the same kernel: switched with it)."""
+    kernel, sonar_kernel = raycast._K, sonar_module._K
     with_kernel = measure()
-    raycast._K = None
+    raycast._K = sonar_module._K = None
     try:
         return with_kernel, measure()
     finally:
-        raycast._K = kernel
+        raycast._K, sonar_module._K = kernel, sonar_kernel
 
 
 def in_stage(n_people: int, duration: float) -> dict[str, float]:

@@ -26,6 +26,7 @@ from homesim.trace import MemoryTrace
 from homesim.xmlio import hardened_parser, schema_from_text
 from robot.attention.records import TrackRow, TracksRecord
 from robot.percepts import FaceRow, PerceptForm, PerceptList, TorsoRow
+from robot.sonar_packet import SonarPacket
 
 POINT_XSD = """<xs:schema xmlns:xs="http://www.w3.org/2001/XMLSchema">
   <xs:element name="point">
@@ -245,6 +246,8 @@ class _Sender:
             "/faces": PerceptList(self.form, f"{seq:.6f}", (FaceRow(bearing, "2.000", "1.600"),)),
             "/ptu": self.ptu,
             "/system/heartbeat/cam": BeatRecord(self.beat, seq),
+            "/sonar": SonarPacket(str(seq), f"{seq:.6f}", ("0.100", "5.000", "30.000", "0.200"),
+                                  (("15", "-0.100", "-0.215", "-90.000", f"{1 + seq / 7:.4f}"),)),
         }
 
 
@@ -296,10 +299,11 @@ def _run_shared(with_rude: bool, pans: list[str]) -> tuple[list, str]:
     seen: list = []
     for name in ("rude", "other"):  # (the same receivers either way: the trace lists them)
         p = sim.bus.participant(name)
-        for ch in ("/faces", "/ptu", "/system/heartbeat/cam"):
+        for ch in ("/faces", "/ptu", "/system/heartbeat/cam", "/sonar"):
             p.subscribe(ch, (_rude if with_rude else lambda m: None) if name == "rude" else
                         lambda m: seen.append((m.channel, etree.tostring(m.xml), getattr(m.data, "interval", None),
-                                               getattr(m.data, "rows", None))))
+                                               getattr(m.data, "rows", None),
+                                               m.data.echoes() if isinstance(m.data, SonarPacket) else None)))
     sender = _Sender()
     for i, bearing in enumerate(pans):
         for ch, rec in sender.records(bearing, i + 1).items():
@@ -318,8 +322,8 @@ def test_a_rude_receiver_changes_nothing_another_receiver_the_next_message_or_th
     rude, rude_trace = _run_shared(True, pans)
     assert rude == polite
     assert rude_trace == polite_trace
-    assert len(_REFUSED) == 3 * len(pans) and all(_REFUSED)
-    assert len(polite) == 3 * len(pans)
+    assert len(_REFUSED) == 4 * len(pans) and all(_REFUSED)
+    assert len(polite) == 4 * len(pans)
 
 
 def test_a_sender_changing_its_element_after_sending_a_frozen_record_changes_nothing_sent():
