@@ -242,8 +242,8 @@ class Grid:
         Raises NoPathError when the goal is unreachable.
 
         ``inside``: the walk must end inside the flat (at the free spot nearest the goal among the
-        cells in a room; a grid given no rooms has none to keep to), as every person's walk but
-        leaving does (:meth:`humans.person.Person.plan`).
+        cells in a room; a grid given no rooms has none to keep to), as the simulated people ask for
+        on every walk but leaving the flat.
 
         A plan is a pure function of its arguments, so the last few are kept: a person held
         back by the robot re-plans from where she stands to the same goal, and people
