@@ -146,23 +146,3 @@ def test_the_search_walks_on_at_her_pace_and_never_through_a_wall(vx, vy, durati
     free = steps if vx <= 0 else min(steps, next((k for k in range(steps + 1) if (k + 1) * 0.25 * vx >= wall), steps))
     assert x < wall  # never through the wall
     assert math.isclose(x, vx * 0.25 * free, abs_tol=1e-9) and math.isclose(y, vy * 0.25 * free, abs_tol=1e-9)
-
-
-@settings(max_examples=120, deadline=None)
-@given(pace=st.floats(0.3, 1.0), slowed=st.floats(0.0, 1.0), unseen=st.floats(0.5, 10.0))
-def test_her_walking_reach_is_her_pace_not_the_speed_she_slowed_to_at_a_corner(pace, slowed, unseen):
-    """She walked at ``pace`` and her track's last speed lags at a corner (a share ``slowed`` of it) as she
-    goes out of view: the reach still grows at her pace (u_catch_up_slow seed 1: 0.59 m/s tracked for her
-    0.8, seen again 0.1 m beyond the reach and lost in view); a pace older than the window is forgotten."""
-    t = SEEN + unseen
-    a = _following([], t)
-    p = a.params
-    last = pace * slowed
-    a._partner_last = (SEEN, 0.0, 0.0, last, 0.0, -2.0, 0.0)
-    a._pace = ((SEEN - 2.0, pace), (SEEN - 1.0, 0.5 * (pace + last)), (SEEN, last))
-    want = min(p.follow_reacquire_cap, p.reacquire_radius + min(p.follow_walk_speed, max(p.reacquire_speed, pace)) * unseen)
-    assert math.isclose(a._walk_reach(t, SEEN), want, abs_tol=1e-9)
-    a._pace = ((SEEN, last),)  # only the slowed speed measured within the window: that is her pace
-    assert math.isclose(a._walk_reach(t, SEEN), min(p.follow_reacquire_cap, p.reacquire_radius
-                                                    + min(p.follow_walk_speed, max(p.reacquire_speed, last)) * unseen),
-                        abs_tol=1e-9)

@@ -132,10 +132,6 @@ class AttentionParams:
     # follow_reacquire_cap m) is hers again (PersonAttention._reacquire_walking)
     follow_walk_speed: float = 1.0
     follow_reacquire_cap: float = 5.0
-    # s: her walking pace for that reach is the fastest she was measured walking over this long before
-    # she went out of view, not her last speed: a constant-velocity track lags at a corner (0.59 m/s
-    # for her 0.8 in u_catch_up_slow seed 1) and she was seen again 0.1 m beyond the reach
-    follow_pace_window: float = 3.0
     turn_start: float = math.radians(12.0)  # start turning when the person is further off the axis
     turn_stop: float = math.radians(4.0)  # stop turning when within this
     turn_gain: float = 1.5  # rad/s per rad of bearing
@@ -260,12 +256,6 @@ class PersonAttention(Module):
     _yielded: float = 0.0
     _yield_t: float | None = None
 
-    #: (when, her speed) each time her legs were measured over the last ``follow_pace_window`` s
-    #: (:meth:`_walk_reach`); a tuple, replaced (a class default for the rules' unit tests too)
-    _pace: tuple[tuple[float, float], ...] = ()
-    #: when the ES's last order, a pause, came (:meth:`_on_order`; None: the last order was no pause)
-    _paused_at: float | None = None
-
     def __init__(
         self,
         sim: Any,
@@ -323,6 +313,7 @@ class PersonAttention(Module):
         self._focus_turning = False  # in Object: turning the base to a focus beyond the pan range (:meth:`_focus_turn`)
         self._loose_faces: tuple[float, list[tuple[float, float]]] | None = None  # (frame time, odom points): the last frame's faces
         self._state_sent: tuple[str, int | None, int | None] | None = None
+        self._paused_at: float | None = None  # when the ES's last order, a pause, came (see _on_order)
         self._state_at = -math.inf
         self.scans = 0
         self._scan_id: str | None = None  # the scan being processed: the cause of the events it decides
@@ -583,14 +574,12 @@ class PersonAttention(Module):
                 self.partner = self._caller if self._caller is not None and self.tracks.row(self._caller) >= 0 else self._choose_partner()
                 self.partner_lost_sent = False
                 self._partner_last = self._partner_colour = None
-                self._pace = ()
                 if lost and self.partner is not None and self.partner != before and self.fsm.state == "Interaction":
                     self._new_partner(self.now, self.partner, "false")  # back from a loss: who it attends to now
         else:
             self.partner = None
             self.partner_lost_sent = False
             self._partner_last = self._partner_colour = None
-            self._pace = ()
         self.pp_sent = None
         self._alone_since = None
         self.turned_away = False  # (leading her in Follow she walks away from it: no turning away)
@@ -802,16 +791,12 @@ class PersonAttention(Module):
                 # 'stop' behind the door; later tracks on her were then too far to be taken as her)
                 zx, zy = tk.last_z
                 self._partner_last = (tk.last_seen, zx, zy, tk.x[2], tk.x[3], ox, oy)
-                window = self.params.follow_pace_window
-                self._pace = (*(q for q in self._pace if tk.last_seen - q[0] <= window),
-                              (tk.last_seen, math.hypot(tk.x[2], tk.x[3])))
                 self._driven = 0.0
                 self._yielded = 0.0
         elif self.partner is not None and not self.partner_lost_sent:
             row = self._reacquire(t)
         if self.partner is None and not self.partner_lost_sent:
             self._partner_last = self._partner_colour = None
-            self._pace = ()
         if self.partner is not None and self.partner_left(t):
             if not self.partner_lost_sent:
                 self._event("partner_lost")
@@ -823,7 +808,6 @@ class PersonAttention(Module):
             # Interaction found nobody to choose: without this nobody could ever take the place)
             self.partner = None
             self._partner_last = self._partner_colour = None
-            self._pace = ()
             # The partner may come back: someone speaking while facing the robot takes the place.
             rx, ry, _ = self._pose_at(t)
             rows = {tk.id: tk for tk in tr.tracks}
@@ -1025,15 +1009,12 @@ class PersonAttention(Module):
         return rows[0] if len(rows) == 1 else -1
 
     def _walk_reach(self, t: float, seen: float) -> float:
-        """How far she may have walked since ``seen`` while the robot follows: her pace (the fastest her
-        track was measured over ``follow_pace_window`` s up to then; at least ``reacquire_speed``, at
-        most ``follow_walk_speed``) for the time unseen, plus
+        """How far she may have walked since ``seen`` while the robot follows: her last tracked speed
+        (at least ``reacquire_speed``, at most ``follow_walk_speed``) for the time unseen, plus
         ``reacquire_radius``, at most ``follow_reacquire_cap``."""
         p = self.params
         last = self._partner_last
         speed = math.hypot(last[3], last[4]) if last is not None else 0.0
-        if last is not None and self._pace and self._pace[-1][0] == last[0]:  # her pace, not the lagging last speed
-            speed = max(speed, max(v for _, v in self._pace))
         speed = min(p.follow_walk_speed, max(p.reacquire_speed, speed))
         return min(p.follow_reacquire_cap, p.reacquire_radius + speed * max(0.0, t - seen))
 
