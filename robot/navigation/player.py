@@ -55,7 +55,7 @@ from robot.contract import BASE_CMD, DISPLAY_CMD, ES_ORDERS, ODOMETRY, PLAYER_ST
 from .blind import blind_speed_limit, scan_corners
 from .config import Limits, limits_from_config
 from .grid import MapError, parse_map
-from .local import (BODY, HALF_LENGTH, HALF_WIDTH, Command, DWAParams, LatestScan, arcs_at, carrot, dwa, footprint_distance,
+from .local import (BODY, HALF_LENGTH, HALF_WIDTH, SOCIAL_SPEED, Command, DWAParams, LatestScan, arcs_at, carrot, dwa, footprint_distance,
                     heading_speed, people_gaps, social_speed_limit, sweep_clearance, turn_clear)
 from .outline import FloorOutline
 from .people import BACK_GAP, BODY_RADIUS, People, behind_clear, closing_in, maybe_behind, nearest, passing_close, waits_for
@@ -565,12 +565,14 @@ class Player(Module):
         points = np.concatenate((echoes, mapped)) if len(mapped) else echoes
         cap = social_speed_limit(nearest(people), self.limits.max_speed)
         # and round a corner ahead it cannot see behind (a door's jamb), a speed it can stop from (blind.py)
+        # (a hard limit down to the social speed, the speed it keeps near people anyway; below that only the speed it
+        # prefers: a hard limit of 0.12 m/s stalled the window in a niche between a bed and a wardrobe's end, nav_mapguard)
         blind = blind_speed_limit(self._blind_corners(mapped), cap, decel=self.limits.max_accel)
         squeezable = cap > SQUEEZE_SPEED  # (not facing a first leg: below)
-        cap = min(cap, blind)
-        limits = self.limits if cap >= self.limits.max_speed else replace(self.limits, max_speed=cap)  # a hard limit
+        cap_hard = min(cap, max(blind, SOCIAL_SPEED))
+        limits = self.limits if cap_hard >= self.limits.max_speed else replace(self.limits, max_speed=cap_hard)  # a hard limit
         bearing = math.atan2(local[1], local[0])
-        v_pref = heading_speed(min(cap, 0.25 + 0.6 * dist), bearing)
+        v_pref = heading_speed(min(cap, blind, 0.25 + 0.6 * dist), bearing)
         if self._facing and abs(bearing) > TURN_FIRST:
             # the first leg, from where it stood (facing anywhere), is turned to on the spot first: a
             # forward arc while turning swings the robot off the planned line, into a door jamb
