@@ -7,7 +7,7 @@ import math
 import motmetrics as mm
 import numpy as np
 import pytest
-from hypothesis import given, settings
+from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
 from homesim.tour.metrics.tracking import SightLines, StreamingMOT, detection_scores, visible_region
@@ -260,3 +260,102 @@ def test_legs_in_view_only_ever_lose_sight_when_something_is_added(leg, walls, o
         ux, uy = leg[0] / d, leg[1] / d
         blocked = any(0 < ox * ux + oy * uy < d and abs(-ox * uy + oy * ux) <= r + 1e-9 for ox, oy in others)
         assert crossed or blocked
+
+
+# ------------------------------------------------- who counts: people any of the robot's sensors has had in view
+
+COUNTER_ROOM = """<?xml version="1.0" encoding="UTF-8"?>
+<scenario name="behind_counter" seed="0" duration="10">
+  <flat>
+    <room name="room" points="0,0 8,0 8,6 0,6"/>
+    <walls thickness="0.1">
+      <wall from="0 0" to="8 0"/><wall from="8 0" to="8 6"/><wall from="8 6" to="0 6"/><wall from="0 6" to="0 0"/>
+    </walls>
+    <furniture name="counter" type="shelf" points="3,2.4 3.3,2.4 3.3,3.6 3,3.6" height="{height}"/>
+  </flat>
+  <robot x="1" y="3" heading="0"/>
+  <humans>
+    <human name="ann" x="4" y="3" heading="180" height="1.70" torso="yellow"/>
+    <human name="bob" x="3" y="1" heading="90" height="1.80" torso="black"/>
+  </humans>
+</scenario>
+"""
+
+
+def _counter_room(tmp_path, height=1.0):
+    from homesim.scenario.loader import load_scenario
+    from homesim.world.world import World
+
+    p = tmp_path / "behind_counter.xml"
+    p.write_text(COUNTER_ROOM.format(height=height))
+    return World(load_scenario(p))
+
+
+@pytest.mark.parametrize("facing, pan, counted", [
+    (180, 0, True),  # her face over the counter, in the image: the tracker can start a track on it (FACE)
+    (0, 0, True),  # turned away: her torso over the counter is in the image all the same
+    (180, 90, False),  # the camera looks elsewhere and the counter hides her legs: no sensor has her
+])
+def test_a_person_the_camera_sees_over_a_counter_counts_though_the_laser_never_had_her_legs(tmp_path, facing, pan, counted):
+    """Ann stands behind a 1 m counter: no beam reaches her legs, but the camera sees her face or torso over it,
+    so a tracker could know she is there and a missing track on her is a miss (review13 item 7: the first
+    sighting was the laser's alone). ``mota_all_present`` counts her in every case (the rule before 5596f11)."""
+    from types import SimpleNamespace
+
+    from homesim.tour.metrics.tracking import TrackingMetric
+    from tests.world_helpers import put_person
+
+    world = _counter_room(tmp_path)
+    put_person(world, "ann", 4.0, 3.0, heading=math.radians(facing))
+    world.ptu = (math.radians(pan), 0.0)
+    run = SimpleNamespace(world=world, es_state="LookingAround", sim=SimpleNamespace(now=0.0))
+    metric = TrackingMetric(run)
+    metric.on_message(_tracks_message(world, {"t1": world.humans["bob"].position}))
+    s = metric.summary()
+    assert (s["objects"], s["misses"]) == ((2, 1) if counted else (1, 0))
+    assert (s["objects_all_present"], s["misses_all_present"]) == (2, 1)
+    assert s["mota_all_present"] == 0.5 and s["mota"] == (0.5 if counted else 1.0)
+
+
+@given(
+    ann=st.tuples(st.floats(3.5, 7.5), st.floats(0.5, 5.5), st.floats(-math.pi, math.pi)),
+    height=st.floats(0.3, 2.2),
+    pan=st.floats(-math.radians(100), math.radians(100)),
+    frames=st.integers(1, 3),
+)
+@example(ann=(4.0, 3.0, math.pi), height=1.0, pan=0.0, frames=1)  # her face over the counter (the case above)
+@settings(max_examples=40, deadline=None)
+def test_whoever_a_sensor_reports_counts_and_nobody_else(tmp_path_factory, ann, height, pan, frames):
+    """A person in the laser's region is ground truth exactly when the laser has had her legs in view or the
+    camera model (the robot's own detector, without noise) reports her face or torso, on this frame or an
+    earlier one; the all-present figure counts a superset."""
+    from types import SimpleNamespace
+
+    from homesim.tour.metrics.tracking import SightLines, TrackingMetric, legs_in_view, wall_edges
+    from homesim.world.bodies import LASER_HEIGHT
+    from homesim.world.raycast import RayCaster
+    from robot.hardware.camera import CameraSpec, PanTilt, detect_frame
+    from tests.world_helpers import put_person
+
+    world = _counter_room(tmp_path_factory.mktemp("counter"), height)
+    x, y, heading = ann
+    put_person(world, "ann", x, y, heading=heading)
+    run = SimpleNamespace(world=world, es_state="LookingAround", sim=SimpleNamespace(now=0.0))
+    metric = TrackingMetric(run)
+    seen = False
+    for k in range(frames):
+        world.ptu = (pan * (k + 1) / frames, 0.0)  # the camera pans on, frame by frame
+        rx, ry, th = world.robot.pose
+        legs = [tuple(p) for p in world.humans["ann"].leg_centres().tolist()]
+        origin = (rx + 0.13 * math.cos(th), ry + 0.13 * math.sin(th))
+        frame = detect_frame(world, world.robot.pose, PanTilt(*world.ptu, *world.ptu), CameraSpec(), None)
+        in_region = SightLines(wall_edges(world)).visible(world.robot.pose, [world.humans["ann"].position])[0]
+        seen = seen or (in_region and legs_in_view(RayCaster(), origin, legs, world.segments_at(LASER_HEIGHT), world.leg_circles()))
+        seen = seen or "ann" in {d.truth for d in frame.faces} | {d.truth for d in frame.torsos}
+        before = metric.summary()
+        metric.on_message(_tracks_message(world, {}))
+        s = metric.summary()
+        counted = s["objects"] - before["objects"]
+        assert counted == 1 + (seen and in_region)  # bob (legs in view) and ann when a sensor has had her
+        assert s["objects"] <= s["objects_all_present"]
+        assert s["objects_all_present"] - before["objects_all_present"] == 1 + in_region
