@@ -291,7 +291,7 @@ class Person(Actor):
         """
         grid = self.world.walk_grid()
         x, y, _ = self.world.robot.pose
-        inside = None if self._leaving else True  # every walk but leaving ends inside the flat
+        inside = not self._leaving  # every walk but leaving ends inside the flat
         try:
             return grid.plan(self.body.position, goal, avoid=[(x, y, ROBOT_REACH)], inside=inside)
         except NoPathError:

@@ -146,3 +146,38 @@ def test_the_search_walks_on_at_her_pace_and_never_through_a_wall(vx, vy, durati
     free = steps if vx <= 0 else min(steps, next((k for k in range(steps + 1) if (k + 1) * 0.25 * vx >= wall), steps))
     assert x < wall  # never through the wall
     assert math.isclose(x, vx * 0.25 * free, abs_tol=1e-9) and math.isclose(y, vy * 0.25 * free, abs_tol=1e-9)
+
+
+def test_she_turned_through_the_door_as_she_went_out_of_view_her_pace_not_her_last_speed_is_her_reach():
+    """sq_cross_pair seed 0: turning through the hall door slowed her constant-velocity track to 0.3 m/s
+    just before the jamb hid her, though she walked 0.5 m/s; 8.3 s later she came into view in the next
+    room 4.1 m on. With her last speed she could be 3.5 m on (nobody looked at her, she was declared gone);
+    with the fastest her track went in the last seconds (0.5 m/s) she is within reach: found again."""
+    t = SEEN + 8.3
+    a = _following([(3.3, 2.4, RED)], t)  # 4.08 m from where her legs were last measured
+    a._partner_last = (SEEN, 0.0, 0.0, 0.3, 0.0, -2.0, 0.0)
+    a._partner_pace = (SEEN - 5.0, 0.5)  # a pace from before this sighting is not hers now
+    assert a._reacquire(t) == -1 and a.partner == 1
+    a = _following([(3.3, 2.4, RED)], t)
+    a._partner_last = (SEEN, 0.0, 0.0, 0.3, 0.0, -2.0, 0.0)
+    a._partner_pace = (SEEN, 0.5)  # renewed with this sighting: her pace
+    assert a._reacquire(t) == 1 and a.partner == 2
+    assert a._candidate(t) == -1  # (her clothes seen: nothing left to look at)
+
+
+@settings(max_examples=80, deadline=None)
+@given(speeds=st.lists(st.tuples(st.floats(0.05, 1.0), st.floats(0.0, 1.5)), min_size=1, max_size=12))
+def test_her_pace_is_never_below_her_last_speed_and_forgets_a_fast_step_within_seconds(speeds):
+    """walking_pace over a run of sightings: at least the last speed, at most the fastest, and every
+    earlier speed counts only faded by exp(-dt / PACE_MEMORY) (a quick step 10 s ago is no pace now)."""
+    from robot.attention.module import PACE_MEMORY, walking_pace
+
+    pace, t, history = None, SEEN, []
+    for dt, v in speeds:
+        t += dt
+        pace = walking_pace(pace, t, v)
+        history.append((t, v))
+    when, p = pace
+    assert when == t and history[-1][1] <= p <= max(v for _, v in history)
+    assert p <= max(v * math.exp(-(t - s) / PACE_MEMORY) for s, v in history) + 1e-9
+

@@ -126,3 +126,22 @@ def test_someone_walking_at_it_within_a_metre_makes_it_step_back_not_only_stand(
     p.people.update(_tracks([(0.8, 0.1, 0.0, 0.0, True, 0.007)]))
     v, _ = p.control_step()
     assert v >= 0.0
+
+
+def test_a_give_way_back_off_lasts_only_while_someone_walks_at_it_and_not_for_someone_beside():
+    """Library goto seed 0 (with a latch): a woman 0.9 m beside the robot stepped toward its side at 0.19 m/s,
+    it began to back off, and 12 s later went on backing 0.3 m for nobody."""
+    p = _player((4.0, 0.0))
+    p.people.update(_tracks([(0.8, 0.1, -0.6, 0.0, True, 0.007)]))
+    v, _ = p.control_step()
+    assert v < 0.0
+    p.odo.update(etree.Element("odometry", x="-0.01", y="0", theta="0", v=f"{v:.4f}", w="0"))
+    p.people.update(_tracks([(0.8, 1.5, 0.0, 0.6, True, 0.007)], time=0.1))  # he turned off: nobody at it
+    v, _ = p.control_step()
+    assert v >= 0.0
+    # someone beside it (not ahead) stepping toward its side, or ahead but only drifting (0.2 m/s): no back-off
+    for row in ((-0.05, 0.9, 0.0, -0.6, True, 0.007), (0.8, 0.1, -0.2, 0.0, True, 0.007)):
+        p = _player((4.0, 0.0))
+        p.people.update(_tracks([row]))
+        v, _ = p.control_step()
+        assert v >= 0.0, row

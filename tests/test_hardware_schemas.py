@@ -14,6 +14,7 @@ from __future__ import annotations
 import asyncio
 import copy
 import functools
+import math
 import string
 from collections.abc import Iterator
 from pathlib import Path
@@ -255,7 +256,11 @@ def _short_run() -> list[tuple[str, bytes]]:
         (5.0, "/robot/ptu/cmd", '<ptu pan="30" tilt="-10"/>'),
         (9.0, "/robot/base/cmd", '<velocity v="0.0" w="0.2"/>'),
         (9.3, "/robot/base/cmd", '<velocity v="0.1" w="0"/>'),
+        # the bumpers: driven into the south wall (placed facing it, 0.14 m off, at 12 s), then backed off
+        *((t, "/robot/base/cmd", '<velocity v="0.2" w="0"/>') for t in (12.05, 12.35, 12.65, 12.95, 13.25)),
+        *((t, "/robot/base/cmd", '<velocity v="-0.2" w="0"/>') for t in (13.55, 13.85)),
     ]
+    sim.call_at(12.0, lambda: stage.world.place_robot(3.2, 0.45, -math.pi / 2))
     for t, ch, text in commands:
         sim.call_at(t, lambda ch=ch, text=text: driver.publish(ch, text))
     stage.run(16.0)

@@ -68,7 +68,7 @@ def test_a_walk_up_to_the_robot_by_the_outer_wall_ends_inside_not_beyond_the_wal
 def test_leaving_still_ends_outside_by_the_exit():
     sc = _flat()
     grid = Grid.for_scenario(sc)
-    path = grid.plan((2.0, 1.5), (6.7, 1.5))  # the front door's outside point: inside=None, the goal's own side
+    path = grid.plan((2.0, 1.5), (6.7, 1.5), inside=False)  # the front door's outside point, as <leave/> walks
     assert not _inside(sc, path[-1]) and path[-1][0] > 6.0
 
 

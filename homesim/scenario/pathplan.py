@@ -16,9 +16,9 @@ person cannot reach from where they start (:meth:`Grid.component`).
 
 ``plan(..., avoid=[(x, y, r)])`` also keeps clear of discs (the robot's
 footprint), so people walk around the robot instead of into it. A goal that
-is not free ends at the free cell nearest to it; for a goal inside the flat
-(a grid given the rooms: :meth:`Grid.for_scenario`) that cell is inside the
-flat too, never beyond an outer wall.
+is not free ends at the free cell nearest to it; ``plan(..., inside=True)``
+(every person's walk but leaving) keeps that cell inside the flat (a grid
+given the rooms: :meth:`Grid.for_scenario`), never beyond an outer wall.
 """
 
 from __future__ import annotations
@@ -236,13 +236,14 @@ class Grid:
         return ~np.logical_or.reduceat(bl[i, j], first)
 
     # ------------------------------------------------------------ planning
-    def plan(self, start: Point, goal: Point, *, avoid: Iterable[Disc] = (), inside: bool | None = None) -> list[Point]:
+    def plan(self, start: Point, goal: Point, *, avoid: Iterable[Disc] = (), inside: bool = False) -> list[Point]:
         """Waypoints from ``start`` to ``goal`` (excluding start, ending at goal or the
         nearest free point to it), keeping clear of the ``avoid`` discs.
         Raises NoPathError when the goal is unreachable.
 
-        ``inside``: whether the walk must end inside the flat (the free spot nearest the goal among
-        the cells in a room; a grid given no rooms has none to keep to); None: when the goal is.
+        ``inside``: the walk must end inside the flat (at the free spot nearest the goal among the
+        cells in a room; a grid given no rooms has none to keep to), as the simulated people ask for
+        on every walk but leaving the flat.
 
         A plan is a pure function of its arguments, so the last few are kept: a person held
         back by the robot re-plans from where she stands to the same goal, and people
@@ -274,15 +275,15 @@ class Grid:
         if len(self._plans) > PLAN_CACHE:
             self._plans.popitem(last=False)
 
-    def _plan(self, start: Point, goal: Point, avoid: list[Disc], inside: bool | None = None) -> list[Point]:
+    def _plan(self, start: Point, goal: Point, avoid: list[Disc], inside: bool = False) -> list[Point]:
         blocked = self.with_discs(avoid) if avoid else self.blocked
         s = self.nearest_free(self.cell_of(start), blocked=blocked)
-        # A goal inside the flat ends inside it: the free spot nearest a goal by an outer wall (the robot's
-        # disc covering it) may lie beyond the wall, and the walk then went out through the front door
-        # (gen12, tour-3000-03). Leaving walks to a point outside, which keeps the nearest spot anywhere.
-        cells_in = self.inside()
+        # A walk inside the flat ends inside it: the free spot nearest a goal by an outer wall (the robot's
+        # disc covering it, the goal in the wall) may lie beyond the wall, and the walk then went out through
+        # the front door (gen12, tour-3000-03). Leaving walks to a point outside, the nearest spot anywhere.
+        cells_in = self.inside() if inside else None
         gc = self.cell_of(goal)
-        keep = cells_in is not None and (bool(cells_in[gc]) if inside is None else inside)
+        keep = cells_in is not None
         g = self.nearest_free(gc, blocked=blocked, allowed=cells_in if keep else None)
         if s is None or g is None:
             raise NoPathError(f"no free space near ({(start if s is None else goal)[0]:.2f}, {(start if s is None else goal)[1]:.2f})"

@@ -213,6 +213,19 @@ _row = TrackRow._make
 
 #: m: an echo is a leg's near surface: the leg's centre lies this far behind it along the beam
 LEG_BEHIND = 0.06
+#: s: the partner's walking pace (:meth:`PersonAttention._walk_reach`) remembers her fastest lately over this long
+PACE_MEMORY = 3.0
+
+
+def walking_pace(prev: tuple[float, float] | None, t: float, speed: float) -> tuple[float, float]:
+    """(``t``, pace): a person's walking pace after a sighting at ``t`` with track speed ``speed`` (m/s),
+    given the pace ``prev`` (when, m/s) kept so far (None: the first sighting). The faster of this speed
+    and the kept pace faded by ``exp(-dt / PACE_MEMORY)``: a track slows when she turns (a constant-
+    velocity filter cuts the corner), so the speed of one sighting understates how far she walks on."""
+    if prev is None:
+        return (t, speed)
+    when, pace = prev
+    return (t, max(speed, pace * math.exp(-max(0.0, t - when) / PACE_MEMORY)))
 
 
 def echo_bodies(echoes: np.ndarray, explained: np.ndarray, offset: float) -> np.ndarray:
@@ -254,6 +267,8 @@ class PersonAttention(Module):
     bumpers: BumperReflex = BumperReflex()
     #: when the beam last listened to a voice nobody seen explained (:meth:`beam`)
     _heard_voice_at: float = -math.inf
+    #: (when, m/s): the partner's walking pace, renewed with ``_partner_last`` (:meth:`_walk_reach`)
+    _partner_pace: tuple[float, float] = (-math.inf, 0.0)
 
     # following, the time since her last sighting spent yielding (set in __init__; here for the rule's
     # unit tests, which build the module without a bus)
@@ -288,6 +303,8 @@ class PersonAttention(Module):
         # Where the partner was last seen (odom x, y, vx, vy; the robot's odom x, y then) and when:
         # the evidence the leaving rule reads, kept when the track itself has died.
         self._partner_last: tuple[float, float, float, float, float, float, float] | None = None
+        # her walking pace: the fastest her track went lately, decaying over ``PACE_MEMORY`` s
+        self._partner_pace = (-math.inf, 0.0)
         self.pp_sent: int | None = None
         self._pp_at = -math.inf
         self._last_pp: tuple[int, float] | None = None  # last potential partner and when
@@ -791,6 +808,8 @@ class PersonAttention(Module):
             if colour is not None:
                 self._partner_colour = colour
             if self._partner_last is None or tk.last_seen > self._partner_last[0]:
+                self._partner_pace = walking_pace(self._partner_pace if self._partner_last is not None else None,
+                                                  tk.last_seen, math.hypot(tk.x[2], tk.x[3]))
                 ox, oy, _ = self._pose_at(tk.last_seen)
                 # where her legs were last measured, not the prediction: seen by voice or torso only,
                 # the track coasts, and its prediction can drift through a wall (she stopped to say
@@ -1015,12 +1034,18 @@ class PersonAttention(Module):
         return rows[0] if len(rows) == 1 else -1
 
     def _walk_reach(self, t: float, seen: float) -> float:
-        """How far she may have walked since ``seen`` while the robot follows: her last tracked speed
-        (at least ``reacquire_speed``, at most ``follow_walk_speed``) for the time unseen, plus
-        ``reacquire_radius``, at most ``follow_reacquire_cap``."""
+        """How far she may have walked since ``seen`` while the robot follows: her walking pace (the
+        fastest her track went in the last few seconds it was seen, at least ``reacquire_speed``, at
+        most ``follow_walk_speed``) for the time unseen, plus ``reacquire_radius``, at most
+        ``follow_reacquire_cap``. The pace, not the track's speed when last seen: a person turning
+        through a door slows her constant-velocity track just before the jamb hides her (sq_cross_pair
+        seed 0: 0.32 m/s at 0.5 m/s), and 9 s later she was seen again in the next room 0.3 m beyond
+        that reach, never looked at, and declared gone."""
         p = self.params
         last = self._partner_last
         speed = math.hypot(last[3], last[4]) if last is not None else 0.0
+        if last is not None and self._partner_pace[0] == last[0]:
+            speed = max(speed, self._partner_pace[1])
         speed = min(p.follow_walk_speed, max(p.reacquire_speed, speed))
         return min(p.follow_reacquire_cap, p.reacquire_radius + speed * max(0.0, t - seen))
 

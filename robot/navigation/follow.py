@@ -17,7 +17,9 @@ Control, every ``1/rate`` seconds:
 * Speed: ``v = v_partner,radial + gain (d - distance)``, clipped to the base's
   limits: it closes in when the partner is beyond 1.2 m and waits inside the
   1.0-1.5 m band; below 1.0 m (a partner who turns back) it backs off
-  slowly, turning to face them, so it never approaches closer than 0.8 m.
+  slowly, turning to face them, so it never approaches closer than 0.8 m;
+  only while she is ahead (:func:`back_off_away`): beside or behind it
+  (walking past its side) it stands and turns to her.
   The laser does not see behind: it backs off only where its centre has
   been driving forwards (the last ``BREADCRUMBS`` odometry positions, every
   5 cm) or where its footprint, 10 cm further back, lies on ground the laser
@@ -136,6 +138,9 @@ UNSTICK_TIME = 1.0
 PAUSE_WALK_ON = 0.5
 #: m/s: paused, out of view for a moment while walking at least this fast: she walked on (round a corner)
 PAUSE_WALKING = 0.2
+#: rad: the partner too close, it backs off only while she is within this of straight ahead (her estimate
+#: lags a partner walking past its side: ring_long_tour seed 3 backed to 0.03 m of her as she passed behind)
+BACK_OFF_BEARING = math.radians(60)
 SCHEMA = Path(__file__).resolve().parent.parent / "schemas" / "navigation" / "follow-status.xsd"
 #: how many of the robot's own past positions (odometry, every CRUMB m) the back-off may retrace
 BREADCRUMBS = 200
@@ -235,6 +240,12 @@ def speed_law(d: float, v_radial: float, *, distance: float, band: tuple[float, 
     elif d <= band[1]:
         v = min(v, max(v_radial, 0.0))
     return float(min(max(v, -limits.max_reverse), limits.max_speed))
+
+
+def back_off_away(rx: float, ry: float) -> bool:
+    """Whether backing straight off moves the robot away from a partner at (``rx``, ``ry``) (robot frame)
+    with a margin for her lagging estimate: she is within :data:`BACK_OFF_BEARING` of straight ahead."""
+    return rx > 0.0 and abs(math.atan2(ry, rx)) <= BACK_OFF_BEARING
 
 
 def sweep_allowed(v: float, w: float, mapped: np.ndarray, here: float | None = None) -> bool:
@@ -608,7 +619,9 @@ class Follower(Module):
             self._stuck_since, self._stuck_at, self._unstick_until = None, None, -math.inf
             # wait (or back off) facing the partner; reversing is slow and straight (no laser behind)
             w = max(-self.limits.max_turn, min(self.limits.max_turn, 1.8 * bearing))
-            v = v_des if v_des < 0 and self.can_back_off() else 0.0
+            # backing straight off takes it away from her only while she is ahead: beside or behind it (she
+            # walks past its side) it would reverse into her, so it stands and turns to her (back_off_away)
+            v = v_des if v_des < 0 and back_off_away(rx, ry) and self.can_back_off() else 0.0
             v, w = self._swept(v, w, mapped)
             if v != 0.0:
                 v, w = self._back_off_clear(v, w, self._bodies(rx, ry), mapped)

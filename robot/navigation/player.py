@@ -56,7 +56,7 @@ from robot.contract import BASE_CMD, BUMPERS, DISPLAY_CMD, ES_ORDERS, ODOMETRY, 
 from .blind import blind_speed_limit, scan_corners
 from .config import Limits, limits_from_config
 from .grid import MapError, parse_map
-from .local import (BODY, HALF_LENGTH, HALF_WIDTH, Command, DWAParams, LatestScan, arcs_at, carrot, dwa, footprint_distance,
+from .local import (BODY, HALF_LENGTH, HALF_WIDTH, SOCIAL_SPEED, Command, DWAParams, LatestScan, arcs_at, carrot, dwa, footprint_distance,
                     heading_speed, people_gaps, social_speed_limit, sweep_clearance, turn_clear)
 from .outline import FloorOutline
 from .people import BACK_GAP, BODY_RADIUS, People, behind_clear, closing_in, maybe_behind, nearest, passing_close, waits_for
@@ -107,6 +107,8 @@ YIELD_SPEED = 0.15
 #: (ring_goto_other_way: Ben walked out of the kitchen through the opening the robot stood in and was held
 #: at its front for 3 s, 0.02 m of air, before it turned away)
 GIVE_WAY_NEAR = 1.0
+#: m/s: ... and walking at it at least this fast (a walk, not a step toward its side)
+GIVE_WAY_SPEED = 0.3
 #: m: someone standing with their centre this near the goal occupies it (the robot cannot stand there and
 #: keep GOTO_SOCIAL_GAP of air to them: their body, the air and its half width) ...
 GOAL_TAKEN = BODY + GOTO_SOCIAL_GAP + HALF_WIDTH
@@ -279,6 +281,7 @@ class Player(Module):
         self.leg_start: tuple[float, float] | None = None
         self.people = People()  # the attention's confirmed tracks, while driving
         self._backed = 0.0  # m backed off during the present move_to
+        self._gave_way = False  # the back-off under way is a give-way (it stops when nobody walks at it)
         self._stuck_since: float | None = None  # since when no arc was admissible
         self._best = math.inf
         self._best_t = 0.0
@@ -337,6 +340,7 @@ class Player(Module):
             self._listen_to_people(True)
             self._best, self._best_t = math.inf, self.now
             self._backed = 0.0
+            self._gave_way = False
             self._aligning = None
             self._turning = False
             self._stuck_since = None
@@ -574,12 +578,14 @@ class Player(Module):
         points = np.concatenate((echoes, mapped)) if len(mapped) else echoes
         cap = social_speed_limit(nearest(people), self.limits.max_speed)
         # and round a corner ahead it cannot see behind (a door's jamb), a speed it can stop from (blind.py)
+        # (a hard limit down to the social speed, the speed it keeps near people anyway; below that only the speed it
+        # prefers: a hard limit of 0.12 m/s stalled the window in a niche between a bed and a wardrobe's end, nav_mapguard)
         blind = blind_speed_limit(self._blind_corners(mapped), cap, decel=self.limits.max_accel)
         squeezable = cap > SQUEEZE_SPEED  # (not facing a first leg: below)
-        cap = min(cap, blind)
-        limits = self.limits if cap >= self.limits.max_speed else replace(self.limits, max_speed=cap)  # a hard limit
+        cap_hard = min(cap, max(blind, SOCIAL_SPEED))
+        limits = self.limits if cap_hard >= self.limits.max_speed else replace(self.limits, max_speed=cap_hard)  # a hard limit
         bearing = math.atan2(local[1], local[0])
-        v_pref = heading_speed(min(cap, 0.25 + 0.6 * dist), bearing)
+        v_pref = heading_speed(min(cap, blind, 0.25 + 0.6 * dist), bearing)
         if self._facing and abs(bearing) > TURN_FIRST:
             # the first leg, from where it stood (facing anywhere), is turned to on the spot first: a
             # forward arc while turning swings the robot off the planned line, into a door jamb
@@ -617,9 +623,13 @@ class Player(Module):
             cmd = Command(0.0, cmd.w if abs(cmd.v) < 0.02 else 0.0, True, cmd.clearance)
         # someone walking at it this close (out of the door it drives into): it steps back out of their way,
         # as far as a back-off goes (BACK_OFF), where the floor plan, the people behind and the sonar leave room
-        giving_way = odo is not None and closing_in(
-            np.concatenate((moving, self.people.emerging(odo, self.now, moving=YIELD_SPEED, reach=GIVE_WAY_NEAR))),
-            near=GIVE_WAY_NEAR, speed=YIELD_SPEED)
+        # (only someone ahead of it, walking at it, not drifting toward its side: goto seed 0 backed from a
+        # woman 0.9 m beside it stepping at 0.19 m/s)
+        if odo is not None:
+            ahead = np.concatenate((moving, self.people.emerging(odo, self.now, moving=YIELD_SPEED, reach=GIVE_WAY_NEAR)))
+            giving_way = closing_in(ahead[ahead[:, 0] > 0.0], near=GIVE_WAY_NEAR, speed=GIVE_WAY_SPEED)
+        else:
+            giving_way = False
         if giving_way and cmd.v > 0.0:
             cmd = Command(0.0, 0.0, True, cmd.clearance)
         if (held and align and dist <= ARRIVE_BESIDE and goal_taken(moving, local_goal(pose, (gx, gy)))
@@ -644,7 +654,8 @@ class Player(Module):
             self._stuck_since = self.now
         wedged = (self._stuck_since is not None and self.now - self._stuck_since >= WEDGED and nearest(people) > WEDGED_PERSON
                   and cmd.clearance < WEDGED_GAP)
-        if (self._backed < BACK_OFF and (self._backed > 0.0 or wedged or giving_way or (not cmd.ok and abs(bearing) > BACK_OFF_BEARING))
+        if (self._backed < BACK_OFF and ((self._backed > 0.0 and not self._gave_way) or wedged or giving_way
+                                         or (not cmd.ok and abs(bearing) > BACK_OFF_BEARING))
                 and self._sweep_ok(-0.5 * limits.max_reverse, 0.0, mapped)
                 and self._behind_clear(BACK_OFF - self._backed)
                 and self._blind_checked(-0.5 * limits.max_reverse, 0.0, mapped) != (0.0, 0.0)):
@@ -654,6 +665,9 @@ class Player(Module):
             # first, straight the way it came (the laser does not see behind: the floor plan must leave room)
             v = -0.5 * limits.max_reverse
             cmd = Command(v, 0.0, True, cmd.clearance)
+            # a back-off begun to give way lasts only while someone walks at it (no latch: goto seed 0 went on
+            # backing 12 s later, 0.3 m for nobody)
+            self._gave_way = giving_way and (self._backed == 0.0 or self._gave_way)
             self._backed -= v * self.period
         bv, bw = self._guarded(cmd.v, cmd.w, mapped)
         if (bv, bw) != (cmd.v, cmd.w):
