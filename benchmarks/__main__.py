@@ -46,7 +46,7 @@ from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any, Callable
 
-from homesim.tour.runner import Run, RunOptions
+from homesim.tour.runner import ACTORS, Run, RunOptions
 from homesim.scenario.loader import load_scenario_text
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -105,7 +105,7 @@ def stage_ms(n_people: int, seconds: float) -> float:
 
     sc = load_scenario_text(crowd_scenario(n_people, seconds), source=f"crowd{n_people}")
     sim = Simulation(seed=1, scenario=sc.name)
-    stage = Stage(sim, sc)
+    stage = Stage(sim, sc, actors=ACTORS)
     t0 = time.process_time()
     stage.run()
     cpu = time.process_time() - t0

@@ -35,7 +35,7 @@ from pathlib import Path
 import numpy as np
 
 from homesim.tour.metrics.tracking import detection_scores, visible_region, wall_edges
-from homesim.tour.runner import Run, RunOptions
+from homesim.tour.runner import ACTORS, Run, RunOptions
 from homesim.scenario.loader import load_scenario
 from homesim.sim import Simulation
 from homesim.tour.stage import Stage
@@ -54,7 +54,7 @@ def record(path: Path, until: float | None = None):
     """Scans (t, ranges), odometry (t, x, y, th, v, w) and the truth (robot pose, people) at each scan."""
     sc = load_scenario(path)
     sim = Simulation(seed=sc.seed, scenario=sc.name)
-    st = Stage(sim, sc, keep_messages=True)
+    st = Stage(sim, sc, actors=ACTORS, keep_messages=True)
     plan = floor_plan(sc)
     rows, odom = [], []
     world = st.world

@@ -30,6 +30,7 @@ from pathlib import Path
 from homesim.tour.metrics.localisation import LocalisationMetric
 from homesim.scenario.loader import load_scenario
 from homesim.sim import Simulation
+from homesim.tour.runner import ACTORS
 from homesim.tour.stage import Stage
 from robot.hardware.map_server import floor_plan
 from robot.localisation import install
@@ -63,7 +64,7 @@ def tour(seconds: float, *, drive: bool) -> dict[str, float]:
 
     sc = load_scenario(EXAMPLE)
     sim = Simulation(seed=sc.seed, scenario=sc.name)
-    stage = Stage(sim, sc)
+    stage = Stage(sim, sc, actors=ACTORS)
     loc = install(_Run(sim))["localiser"]
     odo_t: list[float] = []
     scan_t: list[float] = []

@@ -27,6 +27,7 @@ from homesim.tour.metrics.following import Following
 from homesim.tour.metrics.navigation import Navigation
 from homesim.scenario.loader import load_scenario
 from homesim.sim import Simulation
+from homesim.tour.runner import ACTORS
 from homesim.tour.stage import Stage
 from robot.hardware.laser import LaserSpec, simulate_scan
 from robot.hardware.map_server import floor_plan, map_element
@@ -69,7 +70,7 @@ def main() -> None:
 
     sc = load_scenario(GOTO)
     sim = Simulation(seed=1)
-    stage = Stage(sim, sc)
+    stage = Stage(sim, sc, actors=ACTORS)
     sim.run(until=0.1)
     spec = LaserSpec()
     ranges = simulate_scan(stage.world, stage.world.robot.pose, spec, np.random.default_rng(0))

@@ -42,6 +42,7 @@ from homesim.scenario.loader import load_scenario_text
 from homesim.sim import Simulation
 from homesim.world import raycast
 from homesim.world.raycast import RayCaster
+from homesim.tour.runner import ACTORS
 from homesim.tour.stage import Stage
 from homesim.world.world import World
 from robot.hardware.camera import CameraSpec, PanTilt, detect_faces, detect_frame, detect_gestures, detect_objects, detect_torsos
@@ -132,7 +133,7 @@ def in_stage(n_people: int, duration: float) -> dict[str, float]:
     Simulation.spawn = timed_spawn  # type: ignore[method-assign]
     try:
         sim = Simulation(seed=1, scenario=sc.name)
-        stage = Stage(sim, sc)
+        stage = Stage(sim, sc, actors=ACTORS)
         t0 = _clock()
         stage.run()
         cpu = _clock() - t0

@@ -33,6 +33,7 @@ import numpy as np
 from homesim.scenario.loader import load_scenario, load_scenario_text
 from homesim.sim import Simulation
 from homesim.world.bodies import LASER_FILTER
+from homesim.tour.runner import ACTORS
 from homesim.tour.stage import Stage
 from homesim.world.world import World
 from robot.hardware.laser import LaserSpec, laser_origin, simulate_scan
@@ -136,7 +137,7 @@ def stage_parts(n_people: int, duration: float, *, parts: bool = True) -> dict[s
     if parts:
         Simulation.spawn, GroundTruth.capture = timed_spawn, timed_capture  # type: ignore[method-assign]
     try:
-        stage = Stage(sim, sc)
+        stage = Stage(sim, sc, actors=ACTORS)
         t0 = _clock()
         stage.run()
         cpu = _clock() - t0

@@ -1,7 +1,8 @@
 """Put a scenario's people and sound sources on a stage.
 
-``install(stage)`` is what :class:`homesim.tour.stage.Stage` calls (it loads
-this module by name, so the kernel never imports ``humans``). Each person
+``install(stage)`` is what :class:`homesim.tour.stage.Stage` calls: the run
+package (:mod:`homesim.tour.runner`'s ``ACTORS``) imports it and hands it to
+the stage, which names no actor; the kernel never imports ``humans``. Each person
 and each radio runs its script as one top-level task, named
 ``human:<name>`` or ``<kind>:<name>``, so a failing script fails the run.
 

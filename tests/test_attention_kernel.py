@@ -19,6 +19,7 @@ from hypothesis import strategies as st
 from robot.attention import legs as legs_module
 from robot.attention.legs import LegDetector, LegSpec
 from tests.test_attention_units import BEARINGS, _scan
+from tests.stage_helpers import ACTORS
 
 needs_kernel = pytest.mark.skipif(legs_module._KERNEL is None, reason="the compiled leg kernel is not built (pip install -e . with a C compiler)")
 
@@ -133,7 +134,7 @@ def test_the_compiled_pass_on_recorded_scans_of_three_crossing_people():
     root = Path(__file__).resolve().parents[1]
     sc = load_scenario(root / "scenarios" / "attention" / "three_crossing.xml")
     sim = Simulation(seed=sc.seed, scenario=sc.name)
-    stage = Stage(sim, sc)
+    stage = Stage(sim, sc, actors=ACTORS)
     scans: list[np.ndarray] = []
     stage.dispatcher.add("/robot/laser/scan", lambda m: scans.append(np.array(m.attachments["ranges"], dtype=float)))
     stage.run(6.0)

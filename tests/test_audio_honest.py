@@ -15,6 +15,7 @@ from homesim.sim import Simulation
 from homesim.tour.stage import Stage
 from robot.hardware.microphones import SPEED_OF_SOUND, MicSpec, OnsetTracker, Peak, mixture_peaks, path_loss_db, recognise_scored
 from tests.world_helpers import ROOM
+from tests.stage_helpers import ACTORS
 
 SPEC = MicSpec()
 
@@ -92,7 +93,7 @@ TWO = ROOM.read_text(encoding="utf-8").replace(
 def test_two_people_talking_at_once_in_nearly_the_same_direction_are_heard_as_one_direction():
     sc = load_scenario_text(TWO, source="two.xml")
     sim = Simulation(seed=4, scenario=sc.name)
-    st_ = Stage(sim, sc, keep_messages=True)
+    st_ = Stage(sim, sc, actors=ACTORS, keep_messages=True)
     st_.run(4.0)
     frames = [m for m in st_.messages if m.channel == "/robot/audio/sources" and 1.2 < m.created < 4.0]
     assert frames and all(len(m.xml) == 1 for m in frames)  # ann at 0 deg, bob at 7 deg: one direction
@@ -104,7 +105,7 @@ def test_two_people_talking_at_once_in_nearly_the_same_direction_are_heard_as_on
 def test_the_recogniser_only_hears_where_its_beam_points():
     sc = load_scenario_text(TWO.replace('<human name="bob" x="4.5" y="3.4"', '<human name="bob" x="2.5" y="5.0"'), source="two.xml")
     sim = Simulation(seed=4, scenario=sc.name)
-    st_ = Stage(sim, sc, keep_messages=True)
+    st_ = Stage(sim, sc, actors=ACTORS, keep_messages=True)
     steer = sim.bus.participant("attention", host="robot")
     sim.call_at(0.1, lambda: steer.publish("/robot/audio/steer", etree.Element("steer", bearing="0")))
     st_.run(6.0)

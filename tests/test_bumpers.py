@@ -23,6 +23,7 @@ from robot.hardware.bumpers import TRAVEL, BumperSensor, BumperSpec, bumper_elem
 from robot.hardware.channels import SCHEMAS
 from robot.contract import BUMPERS
 from tests.world_helpers import put_person, room
+from tests.stage_helpers import HARDWARE
 
 HL, HW = 0.51 / 2 + 0.01, 0.43 / 2 + 0.01  # the shell: the footprint and the body's rounding
 
@@ -222,7 +223,7 @@ def test_driving_into_a_wall_on_the_bus_the_base_reports_the_press_and_the_refle
 
     sc = load_scenario(ROOM)
     sim = Simulation(seed=3, scenario=sc.name)
-    stage = Stage(sim, sc, actors=("robot.hardware.install",))
+    stage = Stage(sim, sc, actors=HARDWARE)
     try:
         stage.world.place_robot(7.4, 3.0, 0.0)  # 0.29 m of air to the east wall's face
         driver = sim.bus.participant("follower", host="robot")

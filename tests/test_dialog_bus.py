@@ -17,6 +17,7 @@ from robot.dialog.transcript import transcript
 from robot.speech.module import RobotSentence, SpeechUnderstanding, is_own_voice
 from robot.supervisor import ES_EVENTS, ExecutionSupervisor, event_xml
 from tests.world_helpers import ROOM
+from tests.stage_helpers import HARDWARE
 
 PERSON = etree.fromstring('<PERSON id="t1" bearing="0" distance="1.2" speaking="true" facing="true"/>')
 
@@ -457,7 +458,7 @@ def test_barge_in_cuts_the_robots_sentence_in_the_world():
     # (louder at the robot than the partner) and does not cut it off; the partner in front does.
     sc = load_scenario(ROOM)
     sim = Simulation(seed=3, scenario=sc.name)
-    stage = Stage(sim, sc, actors=("robot.hardware.install",))
+    stage = Stage(sim, sc, actors=HARDWARE)
     stage.world.sources["radio"] = (1.5, 5.2, 1.0)  # about 77 degrees left of the robot at (1, 3)
     dialog = Dialog(sim)
     status: list[str] = []
@@ -497,7 +498,7 @@ def test_introspection_lists_what_the_current_state_accepts(robot):
 def test_an_empty_say_silences_the_speaker_without_a_new_utterance():
     sc = load_scenario(ROOM)
     sim = Simulation(seed=3, scenario=sc.name)
-    st = Stage(sim, sc, actors=("robot.hardware.install",))
+    st = Stage(sim, sc, actors=HARDWARE)
     p = sim.bus.participant("dialog")
     try:
         sim.call_at(0.5, lambda: p.publish("/robot/speaker/say", etree.Element("say", text="one two three four five six")))

@@ -29,10 +29,11 @@ from homesim.errors import MessageValidationError
 from homesim.message import PUBLISH
 from homesim.scenario.loader import load_scenario
 from homesim.sim import Simulation
-from homesim.tour.stage import Stage
+from homesim.tour.stage import Install, Stage
 from homesim.xmlio import load_schema, parse_bytes, parse_file, serialize
 from robot.hardware.channels import CHANNELS, SCHEMA_DIR, SCHEMAS, declare_channels
 from tests.world_helpers import EXAMPLE, ROOM
+from tests.stage_helpers import ACTORS, HARDWARE
 
 XS = "{http://www.w3.org/2001/XMLSchema}"
 HEARTBEATS = "/system/heartbeat/"  # the kernel's channels, typed (or not) by the kernel
@@ -87,10 +88,10 @@ def _attribute_table(path: Path) -> dict[str, dict[str, tuple[bool, bool]]]:
 TABLES = {c.channel: _attribute_table(c.path) for c in CHANNELS}
 
 
-def _stage(path: Path, seed: int | None = None, actors: tuple[str, ...] | None = None) -> tuple[Stage, Recorder]:
+def _stage(path: Path, seed: int | None = None, actors: tuple[Install, ...] | None = None) -> tuple[Stage, Recorder]:
     sc = load_scenario(path)
     sim = Simulation(seed=sc.seed if seed is None else seed, scenario=sc.name)
-    st_ = Stage(sim, sc) if actors is None else Stage(sim, sc, actors=actors)
+    st_ = Stage(sim, sc, actors=ACTORS) if actors is None else Stage(sim, sc, actors=actors)
     rec = Recorder()
     sim.bus.add_interceptor(rec)
     return st_, rec
@@ -180,7 +181,7 @@ BAD_COMMANDS = [
 
 @pytest.fixture()
 def room() -> Iterator[tuple[Stage, Recorder]]:
-    stage, rec = _stage(ROOM, actors=("robot.hardware.install",))
+    stage, rec = _stage(ROOM, actors=HARDWARE)
     yield stage, rec
     stage.sim.close()
 

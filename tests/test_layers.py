@@ -213,6 +213,48 @@ def test_the_kernel_never_names_the_robot_not_even_in_a_string():
     assert bad == []
 
 
+#: A whole string that is a robot or people module's dotted name, what a loader takes (``"humans.install"``,
+#: ``"robot.hardware.install:install"``, ``f"robot.{name}"``); channels (``/robot/...``) and files are not names.
+MODULE_NAME = re.compile(r"\s*(robot|humans)(?:\.[A-Za-z_]\w*)+(?::[A-Za-z_]\w*)?\s*")
+
+
+def module_names_in_strings(path: Path) -> Iterator[tuple[int, str]]:
+    """``(line, text)`` for every string of code (docstrings aside) that is a robot or people module's name."""
+    tree = ast.parse(path.read_text(encoding="utf-8"))
+    docs = _docstrings(tree)
+    for node in ast.walk(tree):
+        if isinstance(node, (ast.Constant, ast.JoinedStr, ast.BinOp)) and id(node) not in docs:
+            text = _folded(node)
+            if text is not None and MODULE_NAME.fullmatch(text):
+                yield node.lineno, text
+
+
+def test_homesim_never_names_a_robot_or_people_module_in_a_string():
+    """Not even the run package: it imports what it composes (``runner.ACTORS`` holds the install functions
+    it hands the stage), so every arrow up is an import the checks above see. A module name in a string
+    is a module loaded where the import graph cannot see it, and a stage that names the robot's hardware
+    is a kernel that knows BIRON."""
+    bad = [f"{path.relative_to(ROOT)}:{line}: {text!r}" for path, module in sources() if module.startswith("homesim")
+           for line, text in module_names_in_strings(path)]
+    assert bad == []
+
+
+@pytest.mark.parametrize("source, found", [
+    ("ACTORS = ('humans.install', 'robot.hardware.install')\n", ["humans.install", "robot.hardware.install"]),
+    ("def load(n):\n    return importlib.import_module(f'robot.{n}')\n", ["robot.x"]),
+    ("X = 'robot.hardware.install:install'\n", ["robot.hardware.install:install"]),
+    ("X = 'humans.' + 'install'\n", ["humans.install"]),
+    # not module names: a docstring, a channel, a file, a word, a sentence naming one
+    ('"""Installs ``humans.install``."""\n', []),
+    ("C = '/robot/es/log'\nF = 'robot/afsm/biron.scxml'\nW = 'robot'\n", []),
+    ("M = 'unknown subsystem (see robot.install.SUBSYSTEMS)'\n", []),
+])
+def test_a_module_named_in_a_string_is_found(tmp_path, source, found):
+    path = tmp_path / "m.py"
+    path.write_text(source, encoding="utf-8")
+    assert sorted(text for _, text in module_names_in_strings(path)) == found
+
+
 #: What every robot module may import of another robot package: the contract, the floor plan, and the
 #: robot's configuration (its deployment: which host a module runs on and how fast that host is, for
 #: processing costs; its profile: which robot is simulated), and the rules modules must agree on (how long a

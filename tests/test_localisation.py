@@ -20,6 +20,7 @@ from robot.hardware.map_server import floor_plan, map_element
 from robot.localisation import install
 from robot.localisation.mcl import MCL, MCLParams, compose, relative
 from tests.world_helpers import EXAMPLE, drive_base, scenario
+from tests.stage_helpers import ACTORS
 
 
 class _Run:
@@ -33,7 +34,7 @@ def _tour(*, noise=(0.05, 0.05, 0.05), start_error=None, until=40.0, seed=7):
     with odometry noisier than the default; returns (stage, localiser, metric, odometry error)."""
     sc = scenario(EXAMPLE)
     sim = Simulation(seed=seed, scenario=sc.name)
-    stage = Stage(sim, sc, keep_messages=True)
+    stage = Stage(sim, sc, actors=ACTORS, keep_messages=True)
     base = stage.hardware["base"]
     base.spec = replace(base.spec, distance_noise=noise[0], drift=noise[1], turn_noise=noise[2])
     if start_error is not None:  # the operator gives a start pose that is off

@@ -18,12 +18,13 @@ from homesim.xmlio import load_schema
 from robot.floorplan import MapFormatError, parse_map
 from robot.hardware.map_server import MAP_SCHEMA, floor_plan, map_element
 from tests.world_helpers import EXAMPLE, scenario
+from tests.stage_helpers import ACTORS
 
 
 def _fetch_map(seed: int = 1) -> tuple[Stage, etree._Element]:
     sc = scenario(EXAMPLE)
     sim = Simulation(seed=seed, scenario=sc.name)
-    stage = Stage(sim, sc, keep_messages=True)
+    stage = Stage(sim, sc, actors=ACTORS, keep_messages=True)
     client = sim.bus.participant("client", host="robot")
     got = {}
 
@@ -86,7 +87,7 @@ def test_a_malformed_reply_is_refused_by_the_schema_and_the_parser():
 def test_the_server_refuses_to_send_an_untyped_reply():
     sc = scenario(EXAMPLE)
     sim = Simulation(seed=1, scenario=sc.name)
-    stage = Stage(sim, sc, keep_messages=True)
+    stage = Stage(sim, sc, actors=ACTORS, keep_messages=True)
     server = stage.hardware["map_server"]
     bad = map_element(server.plan)
     bad.find("start").set("theta", "7")  # degrees by mistake: outside [-pi, pi]

@@ -21,6 +21,7 @@ from robot.objects import install as install_objects
 from robot.objects.gestures import GestureTracker
 from robot.objects.resolve import ANSWER_CLEAR, CLEAR, COLOURS, GESTURE_FIT, Candidate, Pointing, Wanted, choose_pointed, merge, option_texts, resolve
 from tests.world_helpers import HERE
+from tests.stage_helpers import ACTORS
 
 SCENARIO = (HERE / "scenarios" / "teaching_cups.xml").read_text()
 POINT = '<point object="red cup" duration="8"/>'  # Anna's gesture in the file, replaced by each test's
@@ -145,7 +146,7 @@ def test_gestures_average_into_one_ray_and_a_single_one_is_not_enough():
 def _run(pointing: str, frame: str, answer: int | None = 1, until: float = 9.0, setup=None):
     sc = load_scenario_text(SCENARIO.replace(POINT, pointing), source="teaching_cups.xml")
     sim = Simulation(seed=sc.seed, scenario=sc.name)
-    stage = Stage(sim, sc, keep_messages=True)
+    stage = Stage(sim, sc, actors=ACTORS, keep_messages=True)
 
     class Run:
         pass
@@ -252,7 +253,7 @@ def test_percepts_are_placed_with_the_pose_of_their_capture_time():
     interpolated to its time (across the +-pi seam too), not with the latest pose."""
     sc = load_scenario_text(SCENARIO.replace("POINTING", ""), source="teaching_cups.xml")
     sim = Simulation(seed=sc.seed, scenario=sc.name)
-    Stage(sim, sc)
+    Stage(sim, sc, actors=ACTORS)
 
     class Run:
         pass

@@ -11,6 +11,7 @@ from homesim.scenario.loader import load_scenario_text
 from homesim.sim import Simulation
 from homesim.tour.stage import Stage
 from tests.world_helpers import ROOM
+from tests.stage_helpers import PEOPLE
 
 ROOM_TEXT = ROOM.read_text(encoding="utf-8")
 
@@ -20,7 +21,7 @@ def _run(people: str, expect: str, *, until: float = 10.0, drive: tuple[float, f
     text = text.replace("</humans>", f"</humans>\n  <expect>\n    {expect}\n  </expect>")
     sc = load_scenario_text(text, source="expect.xml")
     sim = Simulation(seed=1, scenario=sc.name)
-    st = Stage(sim, sc, actors=("humans.install",), truth_every=1)
+    st = Stage(sim, sc, actors=PEOPLE, truth_every=1)
     if drive is not None:
         st.world.robot.command(*drive)
     st.run(until)

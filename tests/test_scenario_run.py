@@ -16,13 +16,14 @@ from homesim.tour.stage import Stage
 from homesim.world.world import World
 from humans.person import Person
 from tests.world_helpers import EXAMPLE
+from tests.stage_helpers import ACTORS
 
 
 @pytest.fixture(scope="module")
 def stage() -> Stage:
     sc = load_scenario(EXAMPLE)
     sim = Simulation(seed=sc.seed, scenario=sc.name)
-    st = Stage(sim, sc, keep_messages=True)
+    st = Stage(sim, sc, actors=ACTORS, keep_messages=True)
     st.run()
     yield st
     sim.close()
@@ -122,7 +123,7 @@ def _failing(text: str, *, duration: float = 13.0) -> set[str]:
     text = text.replace(LATE, "").replace('duration="40"', f'duration="{duration:g}"')
     sc = load_scenario_text(text, source="mutant.xml")
     sim = Simulation(seed=sc.seed, scenario=sc.name)
-    st = Stage(sim, sc)
+    st = Stage(sim, sc, actors=ACTORS)
     st.run()
     failed = {v.expectation.describe() for v in st.verdicts() if not v.passed}
     sim.close()

@@ -13,12 +13,13 @@ from homesim.sim import Simulation
 from homesim.tour.stage import Stage
 from robot.hardware.base import OdometrySpec, odometry_step
 from tests.world_helpers import ROOM, drive_base
+from tests.stage_helpers import ACTORS, HARDWARE
 
 
 def _stage(seed: int = 3) -> Stage:
     sc = load_scenario(ROOM)
     sim = Simulation(seed=seed, scenario=sc.name)
-    return Stage(sim, sc, actors=("robot.hardware.install",), keep_messages=True)
+    return Stage(sim, sc, actors=HARDWARE, keep_messages=True)
 
 
 def test_laser_publishes_ten_scans_a_second_with_the_ranges_attached():
@@ -145,7 +146,7 @@ def test_recognised_speech_carries_measured_not_true_direction_and_level():
         'torso="yellow"><script><face robot="true"/><repeat times="30"><say text="hello"/><wait for="0.3"/></repeat></script></human>')
     sc = load_scenario_text(text, source="speech.xml")
     sim = Simulation(seed=5, scenario=sc.name)
-    st = Stage(sim, sc, keep_messages=True)
+    st = Stage(sim, sc, actors=ACTORS, keep_messages=True)
     steer = sim.bus.participant("attention", host="robot")
     sim.call_at(0.05, lambda: steer.publish("/robot/audio/steer", etree.Element("steer", bearing="0")))  # ann is straight ahead
     st.run(30.0)

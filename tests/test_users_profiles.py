@@ -17,6 +17,7 @@ from homesim.tour.stage import Stage
 from humans.phrasings import STYLES, default_bank
 from humans.profiles import NUMERIC, default_profiles, draw_profile, load_profiles, traits_for
 from tests.test_users_reactive import _text
+from tests.stage_helpers import ACTORS, PEOPLE
 
 PROFILES = sorted(default_profiles())
 
@@ -68,7 +69,7 @@ def test_populations_differ_the_way_their_names_say():
 def test_a_person_with_a_profile_speaks_at_her_drawn_level_and_walks_at_her_drawn_speed():
     sc = load_scenario_text(_text('<say request="greet"/>', attrs='profile="typical"'), source="p.xml")
     sim = Simulation(seed=5, scenario=sc.name)
-    stage = Stage(sim, sc, actors=("humans.install",))
+    stage = Stage(sim, sc, actors=PEOPLE)
     stage.run(5)
     ann = stage.actors["ann"]
     (u,) = stage.world.sound.by("ann")
@@ -210,7 +211,7 @@ def test_nothing_of_her_profile_reaches_the_robots_bus():
     sc = load_scenario_text(_text('<wait for="1"/>\n<face robot="true"/>\n<say request="greet"/>\n<point object="cup" duration="1"/>',
                                   attrs='profile="distracted" patience="2"'), source="p.xml")
     sim = Simulation(seed=2, scenario=sc.name)
-    stage = Stage(sim, sc, actors=("humans.install", "robot.hardware.install"), keep_messages=True)
+    stage = Stage(sim, sc, actors=ACTORS, keep_messages=True)
     stage.run(6)
     assert stage.messages
     text = " ".join(m.text() for m in stage.messages).lower()
@@ -223,7 +224,7 @@ def test_nothing_of_her_profile_reaches_the_robots_bus():
 def _transcript(seed: int) -> list[tuple[float, str, float]]:
     sc = load_scenario_text(_text('<say request="greet"/>\n<wait-for hears="hello" timeout="2"/>\n<say request="follow"/>\n'
                                   '<wait-for hears="following" timeout="2"/>', attrs='profile="vague"'), source="p.xml")
-    stage = Stage(Simulation(seed=seed, scenario=sc.name), sc, actors=("humans.install",))
+    stage = Stage(Simulation(seed=seed, scenario=sc.name), sc, actors=PEOPLE)
     stage.run(30)
     return [(u.start, u.text, u.loudness) for u in stage.world.sound.by("ann")]
 
@@ -236,7 +237,7 @@ def test_the_same_seed_replays_the_same_user_word_for_word():
 def _tour(seed: int, on: str) -> list[str]:
     script = "\n".join(f'<wait for="2"/>\n<say request="{r}" about="the kitchen"/>' for r in ("greet", "teach-place", "follow", "teach-place", "goodbye"))
     sc = load_scenario_text(_text(script + '\n<point object="cup" duration="30"/>', attrs='profile="distracted"', on=on, duration=40), source="p.xml")
-    stage = Stage(Simulation(seed=seed, scenario=sc.name), sc, actors=("humans.install",))
+    stage = Stage(Simulation(seed=seed, scenario=sc.name), sc, actors=PEOPLE)
     stage.sim.call_at(0.5, lambda: stage.world.sound.say("robot", "Shall I follow you?", stage.sim.now))
     stage.run(35)
     ann = stage.actors["ann"]

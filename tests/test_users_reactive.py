@@ -18,6 +18,7 @@ from homesim.sim import Simulation
 from homesim.tour.stage import Stage
 from humans.phrasings import default_bank
 from tests.world_helpers import ROOM
+from tests.stage_helpers import PEOPLE
 
 ROOM_TEXT = ROOM.read_text(encoding="utf-8")
 
@@ -30,7 +31,7 @@ def _text(script: str, *, on: str = "", attrs: str = "", start: str = 'x="3" y="
 def _stage(script: str, *, seed: int = 0, **kw) -> Stage:  # type: ignore[no-untyped-def]
     sc = load_scenario_text(_text(script, **kw), source="users.xml")
     sim = Simulation(seed=seed, scenario=sc.name)
-    return Stage(sim, sc, actors=("humans.install",))
+    return Stage(sim, sc, actors=PEOPLE)
 
 
 def _robot(st: Stage, t: float, text: str) -> None:
@@ -381,7 +382,7 @@ DOORWAY = """<?xml version="1.0" encoding="UTF-8"?>
 
 def _doorway(attrs: str) -> Stage:
     sc = load_scenario_text(DOORWAY.replace("ATTRS", attrs), source="doorway.xml")
-    return Stage(Simulation(seed=0, scenario=sc.name), sc, actors=("humans.install",))
+    return Stage(Simulation(seed=0, scenario=sc.name), sc, actors=PEOPLE)
 
 
 def test_a_user_the_robot_blocks_asks_it_to_make_way_then_gives_the_walk_up():

@@ -12,6 +12,7 @@ from homesim.tour.stage import Stage
 from homesim.tour.study import _user_wrong
 from humans.phrasings import default_bank
 from humans.profiles import default_profiles, draw_profile
+from tests.stage_helpers import PEOPLE
 from tests.world_helpers import ROOM
 
 import numpy as np
@@ -23,7 +24,7 @@ ROOM_TEXT = ROOM.read_text(encoding="utf-8")
 def _stage(script: str, *, on: str = "", seed: int = 0, **mistakes: float) -> Stage:
     text = ROOM_TEXT.replace('torso="yellow"/>', f'torso="yellow">\n{on}\n<script>\n{script}\n</script>\n</human>')
     sc = load_scenario_text(text.replace('duration="10"', 'duration="30"'), source="wrong.xml")
-    st = Stage(Simulation(seed=seed, scenario=sc.name), sc, actors=("humans.install",))
+    st = Stage(Simulation(seed=seed, scenario=sc.name), sc, actors=PEOPLE)
     ann = st.actors["ann"]
     ann.traits = dataclasses.replace(ann.traits, **mistakes)
     return st

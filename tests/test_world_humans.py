@@ -23,6 +23,7 @@ from homesim.tour.stage import Stage
 from humans.script import ScriptError
 from tests.conftest import examples
 from tests.world_helpers import ROOM, drive_base
+from tests.stage_helpers import ACTORS, PEOPLE
 
 ROOM_TEXT = ROOM.read_text(encoding="utf-8")
 
@@ -32,7 +33,7 @@ def _stage(script: str, *, start: str = 'x="3" y="3"', hardware: bool = False, d
     text = text.replace('x="3" y="3" heading="180"', f'{start} heading="180"').replace('duration="10"', f'duration="{duration}"')
     sc = load_scenario_text(text, source="humans.xml")
     sim = Simulation(seed=sc.seed, scenario=sc.name)
-    actors = ("humans.install", "robot.hardware.install") if hardware else ("humans.install",)
+    actors = ACTORS if hardware else PEOPLE
     return Stage(sim, sc, actors=actors, keep_messages=hardware)
 
 
@@ -134,7 +135,7 @@ def test_run_time_guards_cover_scripts_built_without_the_loader():
     for script in ((forever_face, Say("done")), (leave_again,)):
         scn = dataclasses.replace(sc, humans=(dataclasses.replace(ann, script=script),), duration=12.0)
         sim = Simulation(seed=1, scenario=scn.name)
-        st = Stage(sim, scn, actors=("humans.install",))
+        st = Stage(sim, scn, actors=PEOPLE)
         st.run(12)
         assert st.world.time == pytest.approx(12.0, abs=st.world.dt + 1e-9)
         sim.close()
@@ -160,7 +161,7 @@ def test_people_go_through_a_narrow_inner_door_never_through_its_wall():
         '<human name="ann" x="6.5" y="4.5" heading="180" height="1.70" torso="yellow"><script><walk-to point="2 4.5"/><leave/></script></human>')
     sc = load_scenario_text(text, source="leave2.xml")
     sim = Simulation(seed=1, scenario=sc.name)
-    st = Stage(sim, sc, actors=("humans.install",), truth_every=1)
+    st = Stage(sim, sc, actors=PEOPLE, truth_every=1)
     st.run(15)
     track = st.truth.track("ann")
     inner, west = _crossings(track, 5.0), _crossings(track, 0.0)
@@ -221,7 +222,7 @@ def test_a_failed_plan_at_run_time_fails_the_run_naming_the_action_never_walks_t
     ann = dataclasses.replace(sc.human("ann"), x=2.0, y=5.0, script=(walk,))
     scn = dataclasses.replace(sc, walls=sc.walls + box, humans=(ann,), objects=())
     sim = Simulation(seed=1, scenario=scn.name)
-    st = Stage(sim, scn, actors=("humans.install",))
+    st = Stage(sim, scn, actors=PEOPLE)
     with pytest.raises(TaskFailedError) as exc:
         st.run(5)
     cause = exc.value.__cause__
@@ -287,7 +288,7 @@ def test_walking_up_to_a_person_stops_at_a_conversational_distance_by_default():
         '<human name="ann" x="3" y="3" heading="180" height="1.70" torso="yellow"/>\n    <human name="bob" x="6" y="4"><script><walk-to human="ann"/></script></human>')
     sc = load_scenario_text(text, source="meet.xml")
     sim = Simulation(seed=1, scenario=sc.name)
-    st = Stage(sim, sc, actors=("humans.install",))
+    st = Stage(sim, sc, actors=PEOPLE)
     st.run(8)
     d = math.dist(st.world.humans["bob"].position, st.world.humans["ann"].position)
     assert 0.7 <= d <= 0.85
@@ -367,7 +368,7 @@ def test_a_person_held_by_the_robot_in_the_only_doorway_walks_on_when_it_leaves(
                         '<human name="ann" x="7" y="3" heading="180" height="1.70" torso="yellow"><script><walk-to point="2 3"/></script></human>')
     sc = load_scenario_text(text.replace('duration="10"', 'duration="30"'), source="doorway.xml")
     sim = Simulation(seed=1, scenario=sc.name)
-    st = Stage(sim, sc, actors=("humans.install",), truth_every=None)
+    st = Stage(sim, sc, actors=PEOPLE, truth_every=None)
     ann = st.world.humans["ann"]
     st.world.place_robot(5.0, 3.0, 0.0)  # in the doorway
     st.run(8)

@@ -19,6 +19,7 @@ from homesim.tour.stage import Stage
 from homesim.world.world import World
 from tests.conftest import examples
 from tests.world_helpers import EXAMPLE, ROOM, put_person, room, scenario
+from tests.stage_helpers import PEOPLE
 
 
 def _drive(world, v, w, seconds):
@@ -193,7 +194,7 @@ def test_a_scripted_person_walks_around_the_robot_not_through_it():
         '<human name="ann" x="1.2" y="3" heading="270" height="1.70" torso="yellow"><script><walk-to point="1.2 0.4"/></script></human>')
     sc = load_scenario_text(text, source="push2.xml")
     sim = Simulation(seed=1, scenario=sc.name)
-    st = Stage(sim, sc, actors=("humans.install",))
+    st = Stage(sim, sc, actors=PEOPLE)
     st.run(8)
     assert st.world.robot.pose == pytest.approx((1.2, 1.0, math.pi / 2))
     assert st.world.contacts == []

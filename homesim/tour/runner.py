@@ -7,9 +7,11 @@ loaded scenario it builds, in this order:
    and, if asked, the trace (its header names the scenario file, its
    content digest and the options, so ``homesim replay`` can re-run it);
 2. the :class:`~homesim.tour.stage.Stage`: the world stepping in virtual
-   time, the scripted people and sound sources (``humans.install``), the
-   PeopleBot's hardware (``robot.hardware.install``) and the scenario's
-   expectations, checked as the run goes;
+   time, the scripted people and sound sources and the PeopleBot's hardware
+   (``ACTORS``: ``humans.install.install`` and
+   ``robot.hardware.install.install``, imported here and handed to the
+   stage, which names neither) and the scenario's expectations, checked as
+   the run goes;
 3. the execution supervisor (``robot.supervisor.ExecutionSupervisor`` with
    ``robot/afsm/biron.scxml``);
 4. BIRON's modules: ``robot.install.install(run)`` with the subsystems of
@@ -40,6 +42,8 @@ from typing import IO, Any
 
 from lxml import etree
 
+import humans.install as people
+import robot.hardware.install as hardware
 import robot.install as biron
 import robot.profiles as robot_profiles
 from robot.deployment import DEFAULT as ROBOT_DEPLOYMENT
@@ -61,10 +65,11 @@ from ..scenario.loader import load_scenario
 from ..scenario.model import Scenario
 from ..sim import FAULT_CHANNEL, Simulation
 from ..trace import FileTrace, TraceRecorder
-from .stage import Stage
+from .stage import Install, Stage
 
-#: What a run puts on the stage (modules with ``install(stage)``, by name).
-ACTORS: tuple[str, ...] = ("humans.install", "robot.hardware.install")
+#: What a run puts on the stage, in this order: the scripted people and sound sources, then the PeopleBot's
+#: hardware models (each an ``install(stage)``; the stage itself knows neither).
+ACTORS: tuple[Install, ...] = (people.install, hardware.install)
 #: Virtual seconds per run chunk (progress, replay's early stop); results do not depend on it.
 CHUNK = 1.0
 #: The verdict of a complete run of a scenario that states no expectation: nothing was checked,

@@ -1,13 +1,13 @@
 """A stage: one scenario's world, people and robot hardware on a Simulation.
 
 :class:`Stage` builds the :class:`~homesim.world.world.World`, steps it in
-virtual time as a top-level task (``world``), and installs the actors: by
-default the scripted people and sound sources (``humans.install``) and the
-PeopleBot hardware models (``robot.hardware.install``). Actor modules are
-named, not imported, here: the kernel never imports ``robot`` or ``humans``
-(the same pattern as the CLI's list of subcommand modules); each exposes
-``install(stage)``. A whole robot run is put together by
-:mod:`homesim.tour.runner`, which builds a stage first.
+virtual time as a top-level task (``world``), and installs the actors it is
+given: functions ``install(stage)`` called in order, each putting its actors
+on the stage. The stage knows none of them, has no default and loads nothing
+by name: whoever composes a run hands them in. :mod:`homesim.tour.runner`,
+the composition root, imports the people's and the PeopleBot hardware's and
+passes them (its ``ACTORS``); a test hands in only the ones it needs (an
+empty tuple: the world alone).
 
 The scenario's expectations are checked as the run goes
 (:class:`~homesim.tour.expect.Expectations`, through one bus
@@ -23,8 +23,7 @@ reach.
 from __future__ import annotations
 
 import asyncio
-import importlib
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from typing import Any
 
 from ..message import Message
@@ -35,8 +34,8 @@ from ..sim import Simulation
 from ..world.truth import GroundTruth
 from ..world.world import World
 
-#: Modules whose ``install(stage)`` puts actors on the stage, in this order.
-DEFAULT_ACTORS: tuple[str, ...] = ("humans.install", "robot.hardware.install")
+#: What puts actors on a stage: ``install(stage)`` (it may also return what it made).
+Install = Callable[["Stage"], Any]
 
 
 class Stage:
@@ -47,7 +46,7 @@ class Stage:
         sim: Simulation,
         scenario: Scenario,
         *,
-        actors: Sequence[str] = DEFAULT_ACTORS,
+        actors: Sequence[Install],
         truth_every: int | None = 5,
         keep_messages: bool = False,
         record_prefix: str = "/robot/",
@@ -64,8 +63,10 @@ class Stage:
             self.dispatcher.add(record_prefix, self.messages.append)
         self.expectations = Expectations(scenario, self.world, self.dispatcher)
         sim.spawn(self._step_world(), name="world")
-        for name in actors:
-            importlib.import_module(name).install(self)
+        for install in actors:
+            if not callable(install):
+                raise TypeError(f"Stage: an actor is an install(stage) function, not {install!r}")
+            install(self)
 
     async def _step_world(self) -> None:
         """Step physics every ``dt`` of virtual time, aligned to the step count."""

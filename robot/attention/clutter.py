@@ -36,6 +36,12 @@ import numpy as np
 
 from robot.floorplan import FloorPlan
 
+#: The side (m) of the grid index's cells. A cell lists the footprints whose bounding box overlaps it,
+#: so a point is tested against the few near it, not against every wall piece of the flat.
+CELL = 0.5
+
+Footprint = tuple[float, float, float, float, list[tuple[float, float, float]]]
+
 
 class FurnitureLegs:
     """Convex footprints of raised furniture as half-planes (grown by ``margin``), for an inside test.
@@ -43,12 +49,15 @@ class FurnitureLegs:
     A point is inside a footprint when it lies on the inner side of all of its edges' lines. The
     test runs in plain floats per point (a scan has a handful of leg candidates, a home a few
     dozen edges: numpy's per-call cost is larger than the arithmetic), and only against the
-    footprints whose bounding box holds the point.
+    footprints whose bounding box holds the point. Those are found through a grid index
+    (:data:`CELL`): a point's cell lists every footprint whose box could hold it. The cell of a
+    coordinate is a monotone function of it, so a box that holds a point overlaps the point's
+    cell, and the answer is the one a scan over every footprint gives.
     """
 
     def __init__(self, plan: FloorPlan, *, margin: float = 0.06, min_bottom: float = 0.05, wall_margin: float = 0.02) -> None:
         self.start = plan.start
-        self._footprints: list[tuple[float, float, float, float, list[tuple[float, float, float]]]] = []
+        self._footprints: list[Footprint] = []
         polys = [(ob.polygon(), margin) for ob in plan.obstacles if ob.bottom >= min_bottom]
         # furniture standing on the floor (a cabinet, a sofa): its corner seen at an angle is a leg-sized
         # segment whose centre, pushed back by a leg radius, lies inside it (four_people seeds 3 and 5: a
@@ -69,6 +78,37 @@ class FurnitureLegs:
             edges = [(float(a), float(b), float(cc)) for (a, b), cc in zip(n.tolist(), c.tolist())]
             self._footprints.append((float(lo[0]), float(lo[1]), float(hi[0]), float(hi[1]), edges))
         self.count = len(self._footprints)
+        self._index()
+
+    def _index(self) -> None:
+        """The grid over the footprints' boxes: for each cell, the footprints (in plan order) whose box overlaps it."""
+        fps = self._footprints
+        inv = self._inv = 1.0 / CELL
+        if not fps:
+            self._box = (1.0, 1.0, 0.0, 0.0)  # empty: holds no point
+            self._ny = 0
+            self._cells: list[list[Footprint]] = []
+            return
+        ox, oy = min(f[0] for f in fps), min(f[1] for f in fps)
+        ex, ey = max(f[2] for f in fps), max(f[3] for f in fps)
+        self._box = (ox, oy, ex, ey)
+        nx, ny = math.floor((ex - ox) * inv) + 1, math.floor((ey - oy) * inv) + 1
+        self._ny = ny
+        self._cells = [[] for _ in range(nx * ny)]
+        for f in fps:
+            x0, y0, x1, y1, _ = f
+            for i in range(math.floor((x0 - ox) * inv), math.floor((x1 - ox) * inv) + 1):
+                for j in range(math.floor((y0 - oy) * inv), math.floor((y1 - oy) * inv) + 1):
+                    self._cells[i * ny + j].append(f)
+
+    def near(self, x: float, y: float) -> list[Footprint] | tuple[()]:
+        """The footprints whose box may hold (x, y): those listed in its cell (none outside every box).
+
+        :meth:`inside_points` does the same inline (it runs for every leg candidate and sonar echo)."""
+        ox, oy, ex, ey = self._box
+        if not (ox <= x <= ex and oy <= y <= ey):
+            return ()
+        return self._cells[math.floor((x - ox) * self._inv) * self._ny + math.floor((y - oy) * self._inv)]
 
     def inside(self, xy: np.ndarray) -> np.ndarray:
         """Which map-frame points (K, 2) lie in a (grown) raised-furniture footprint."""
@@ -77,12 +117,17 @@ class FurnitureLegs:
     def inside_points(self, points: list[tuple[float, float]] | list[list[float]]) -> list[bool]:
         """:meth:`inside` for a list of (x, y) map-frame points."""
         out = []
+        ox, oy, ex, ey = self._box
+        cells, ny = self._cells, self._ny
+        inv = self._inv
         for x, y in points:
             hit = False
-            for x0, y0, x1, y1, edges in self._footprints:
+            # outside every box (also NaN): no footprint holds it; inside, the cell's floors stay in the grid
+            near = cells[math.floor((x - ox) * inv) * ny + math.floor((y - oy) * inv)] if ox <= x <= ex and oy <= y <= ey else ()
+            for x0, y0, x1, y1, edges in near:
                 if x0 <= x <= x1 and y0 <= y <= y1:
-                    for nx, ny, c in edges:
-                        if x * nx + y * ny > c:  # beyond this edge's line: outside this footprint
+                    for a, b, c in edges:
+                        if x * a + y * b > c:  # beyond this edge's line: outside this footprint
                             break
                     else:
                         hit = True

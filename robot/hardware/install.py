@@ -1,7 +1,8 @@
 """Put the PeopleBot's hardware models on a stage.
 
-``install(stage)`` is what :class:`homesim.tour.stage.Stage` calls (by
-module name; the kernel never imports ``robot``). Rates and the object
+``install(stage)`` is what :class:`homesim.tour.stage.Stage` calls: the run
+package (:mod:`homesim.tour.runner`'s ``ACTORS``) imports it and hands it to
+the stage, which names no actor; the kernel never imports ``robot``. Rates and the object
 confusion come from the scenario's ``<robot>`` element. Every channel the
 hardware publishes on or takes commands from is typed first
 (:func:`robot.hardware.channels.declare_channels`), so the bus validates each
