@@ -180,10 +180,16 @@ class Understander:
                     and tree_act(after[0]) not in _AFTER_CLOSING:
                 res.unknown.append(toks[0].text)
                 toks = toks[1:]
-        if _errand(Lexicon.words(words), self.lexicon.hesitations):
+        errand = _errand(Lexicon.words(words), self.lexicon.hesitations)
+        if errand is not None:
             # "oh wait, I'll just get the post", "let me just put the water on": she announces a short
             # errand; what she asks of the robot is to wait for her (the words after the verb say where
-            # she goes, not a request of their own: "put the water on" was an object with use water)
+            # she goes, not a request of their own: "put the water on" was an object with use water).
+            # A whole request said after the errand ("I will just grab my phone, follow me please", "let
+            # me just check, is this the kitchen") is what she asks: the errand is discourse (review13 item 1)
+            after = self._request_after_errand(words, errand)
+            if after is not None:
+                return after
             tree, _, _ = self._parse([Tok("WAIT", "wait", "wait")])
             res.frame = build(tree)
             res.coverage = 1.0
@@ -544,6 +550,21 @@ class Understander:
             return None
         return tree, [t.text for t in toks[:k]], True  # where it came from is said of it (no words lost)
 
+    def _request_after_errand(self, words: str, rest: list[str]) -> Understanding | None:
+        """The understanding of a whole request said after an errand's verb and its object ("[I will just
+        grab] my phone, follow me please"), or None when the errand ends the turn.
+
+        The first tail of ``rest`` (the words after the verb: "let me just see, where is my cup") understood whole
+        by itself: a request or statement with no word lost (not a noun phrase, a yes/no or a which-one
+        answer), so "let me just put the water on" stays a wait (its tails are noun phrases)."""
+        for j in range(len(rest)):
+            tail = self.understand(" ".join(rest[j:]))
+            if tail.frame is None or tail.partial or tail.fragment or tail.aside or tail.act in ("YES", "NO", "THAT_ONE"):
+                continue
+            tail.words = words
+            return tail
+        return None
+
     def _request_follows(self, toks: list[Tok]) -> bool:
         """Whether ``toks`` (or a tail of them after words it cannot use) hold a request of their own: an
         act that is not a noun phrase, a yes/no or a which-one answer, closed without a guessed rest."""
@@ -841,17 +862,18 @@ _ERRAND_OPENERS = frozenset({"wait", "hang", "hold", "moment", "minute", "second
 _LATER = frozenset({"later", "tomorrow", "tonight", "afterwards", "soon"})
 
 
-def _errand(words: list[str], hesitations: frozenset[str]) -> bool:
-    """Whether the turn announces a short errand of hers ("oh wait I will just get the post", "let me just
-    put the water on", "I'm going to check the oven"): a lead in the first person, the errand's verb
-    and nothing but openers before it; she asks the robot to wait for her (fresh12 items 3 and 11)."""
+def _errand(words: list[str], hesitations: frozenset[str]) -> list[str] | None:
+    """The words after the errand's verb when the turn announces a short errand of hers ("oh wait I will
+    just get the post", "let me just put the water on", "I'm going to check the oven"): a lead in the first
+    person, the errand's verb and nothing but openers before it; she asks the robot to wait for her
+    (fresh12 items 3 and 11). None when the turn announces none."""
     said = [w for w in words if w not in hesitations]
     if _LATER & set(said):
-        return False  # "I will call my sister later": what she plans, not an errand now
+        return None  # "I will call my sister later": what she plans, not an errand now
     for i in range(len(said)):
         if said[i] not in ("i", "let"):
             if said[i] not in _ERRAND_BEFORE:
-                return False
+                return None
             continue
         for lead in _ERRAND_LEADS:
             if tuple(said[i:i + len(lead)]) != lead:
@@ -863,9 +885,11 @@ def _errand(words: list[str], hesitations: frozenset[str]) -> bool:
                 # "just" or an opener ("oh wait", "sorry") marks it as a short break in the tour; "I need to
                 # find my keys now" (a bystander's remark in the library's distractor) is no errand announced
                 marked = "just" in said[i:k] or any(w in _ERRAND_OPENERS for w in said[:i])
-                return marked and not (said[k] == "get" and said[k + 1] in ("past", "by", "through", "out"))
-        return False
-    return False
+                if marked and not (said[k] == "get" and said[k + 1] in ("past", "by", "through", "out")):
+                    return said[k + 1:]
+                return None
+        return None
+    return None
 
 
 def _negation(toks: list[Tok], words: list[str]) -> int | None:
