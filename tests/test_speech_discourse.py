@@ -37,3 +37,46 @@ def test_a_request_said_after_an_errand_is_the_request(errand, request):
 @given(st.sampled_from(ERRANDS[:2] + ERRANDS[5:]))
 def test_an_errand_that_ends_the_turn_is_a_wait(errand):
     assert frame(errand) == "<SPEECH><WAIT/></SPEECH>"
+
+
+SET_ASIDE = ["the kitchen", "the bedroom", "the living room", "the cup", "my mug", "the red cup", "her", "him",
+             "that", "it", "the hall"]
+AFTER = ["go to the living room", "let's go to the hall", "take me to the kitchen", "this is my kettle",
+         "this is my cup", "this is the bathroom", "follow me", "where is my phone", "come with me", "stop here"]
+
+
+@settings(max_examples=80, deadline=None)
+@given(st.sampled_from(SET_ASIDE), st.sampled_from(AFTER))
+def test_never_mind_sets_aside_what_it_names_and_the_request_after_it_is_taken(thing, request):
+    # the frame is the request's own, never one built on the thing she set aside (review13 item 2)
+    said = frame(f"never mind {thing}, {request}")
+    assert said == frame(request) is not None
+    assert U.understand(f"never mind {thing}, {request}").coverage == 1.0
+
+
+@given(st.sampled_from(["never mind", "nevermind", "oh never mind", "never mind that"]),
+       st.sampled_from(["this is my cup", "that is the kitchen", "this is the living room", "that is my kettle",
+                        "it is my phone"]))
+def test_a_teaching_after_a_bare_never_mind_is_taught(lead, teaching):
+    # the lexicon's "never mind this/that/it" took her deixis; the teaching was a NO (review13 item 8)
+    assert frame(f"{lead}, {teaching}") == frame(teaching) != "<SPEECH><NO/></SPEECH>"
+
+
+def test_never_mind_alone_or_with_nothing_whole_after_it_still_gives_up():
+    for words in ("never mind", "nevermind", "oh never mind, we will do that another time",
+                  "never mind the kitchen, go to the living rom", "follow me, oh never mind"):
+        assert frame(words) == "<SPEECH><NO/></SPEECH>", words
+
+
+@given(st.sampled_from(["don't mind me", "do not mind me", "never mind me", "don't mind us", "don't mind him",
+                        "never mind us"]),
+       st.sampled_from(["", ", I'm just passing", ", I am just getting a glass", ", we are just talking"]))
+def test_dont_mind_me_is_no_answer(lead, rest):
+    # a passer-by's remark is not a no that could decline the partner's open question (review13 item 11)
+    u = U.understand(lead + rest)
+    assert u.frame is None and u.aside
+
+
+def test_dont_mind_me_before_a_request_keeps_the_request():
+    assert frame("don't mind me, follow me") == "<SPEECH><FOLLOW/></SPEECH>"
+    assert frame("don't mind him, come with me") == "<SPEECH><FOLLOW/></SPEECH>"

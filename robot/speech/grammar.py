@@ -146,16 +146,34 @@ class Understander:
         res = Understanding(words, None, unknown=lex.unknown, corrected=lex.corrected)
         toks = lex.tokens
         gave_up = False  # a leading "never mind (her)": she sets aside what came before
+        heed = False  # a leading "don't mind me", "never mind us": pay them no heed
+        lead_edit: Tok | None = None
         while toks and toks[0].type == EDIT:  # "sorry, this is my cup": nothing before it to repair
             res.corrected.append(toks[0].text)
             gave_up = gave_up or toks[0].value == "never mind"
-            toks = toks[1:]
+            heed = heed or toks[0].value == "mind me"
+            lead_edit, toks = toks[0], toks[1:]
         taken_back = bool(lex.raw) and len(lex.raw) > 1 and lex.raw[-1].type == EDIT and lex.raw[-1].value == "never mind"
         if taken_back:
             # "follow me, oh never mind", "this is the kitchen, never mind": she takes back what she just said
             # (a no); the trailing editing term must not leave the request standing as if said whole
             gave_up, toks = True, [t for t in lex.raw[:-1] if t.type != EDIT]
-        if gave_up and (taken_back or not self._request_follows(toks)):
+        elif (gave_up or heed) and lead_edit is not None:
+            # "never mind the kitchen, go to the living room", "never mind, this is my cup" (the lexicon's "never
+            # mind this" took her deixis): the request after what she sets aside is what she wants, never a
+            # frame built on the thing set aside (review13 items 2 and 8)
+            found = self._request_after_never_mind(lead_edit, toks)
+            if found is not None:
+                aside_words, toks = found
+                res.corrected += aside_words
+                gave_up = False
+            elif heed:
+                # "don't mind me, I'm just passing", "never mind us": no request and nothing given up (not a
+                # no that could answer an open question: review13 item 11); no "say that again" either
+                res.ignored = [t.text for t in toks]
+                res.reason, res.aside = "she asks the robot to pay no heed", True
+                return res
+        if gave_up:
             # "never mind", "oh never mind, we will do that another time": she gives up what was asked
             # (a no); "never mind her, you come with me" keeps the request said after it (fresh4
             # loft_flatmates_talk: the whole turn was a no, the follow lost)
@@ -565,15 +583,30 @@ class Understander:
             return tail
         return None
 
-    def _request_follows(self, toks: list[Tok]) -> bool:
-        """Whether ``toks`` (or a tail of them after words it cannot use) hold a request of their own: an
-        act that is not a noun phrase, a yes/no or a which-one answer, closed without a guessed rest."""
-        if not toks:
-            return False
-        tree, _, _ = self._parse(toks)
-        if tree is not None and not _guessed(tree) and tree_act(tree) not in _NOT_REQUESTS:
-            return True
-        return self._whole_request_after(toks) is not None if len(toks) > 2 else False
+    def _request_after_never_mind(self, edit: Tok, toks: list[Tok]) -> tuple[list[str], list[Tok]] | None:
+        """The words set aside and the whole request said after a leading "never mind (X)", or None.
+
+        The first tail of ``toks`` that parses whole by itself (a request or statement, not a noun phrase, a
+        yes/no or a which-one answer, no word lost, nothing guessed) is the request; the words before it are
+        what she sets aside ("never mind [the kitchen], go to the living room"). When the editing phrase
+        ended in a deixis ("never mind this", "never mind that", "never mind it"), the deixis may have
+        opened the request instead ("never mind, that is the kitchen"): that reading is tried too."""
+        readings = [toks]
+        last = edit.text.split()[-1]
+        if last in ("this", "that", "it") and len(edit.text.split()) > 1:
+            readings.append([*self.lexicon.tokens(last).tokens, *toks])
+        for loose in (False, True):  # then a request with words after it it could not place ("..., ehm yes")
+            for i in range(max(map(len, readings))):
+                for said in readings:
+                    if i >= len(said):
+                        continue
+                    tree, ignored, cut = self._parse(said[i:])
+                    if tree is None or _guessed(tree) or tree_act(tree) in _NOT_REQUESTS:
+                        continue
+                    if (ignored or cut) and not (loose and ignored and _left_at_end(said[i:], ignored)):
+                        continue
+                    return [t.text for t in said[:i]], said[i:]
+        return None
 
     def _greeting_before(self, toks: list[Tok], negated: int) -> int | None:
         """Where a negated request starts when a whole greeting comes before it ("hello biron, don't
@@ -860,6 +893,17 @@ _ERRAND_BEFORE = frozenset({"oh", "wait", "hang", "hold", "on", "one", "moment",
 _ERRAND_OPENERS = frozenset({"wait", "hang", "hold", "moment", "minute", "second", "sec", "sorry", "excuse", "oops"})
 #: Words that put the announcement off to later.
 _LATER = frozenset({"later", "tomorrow", "tonight", "afterwards", "soon"})
+
+
+#: Words that may trail a request without being part of one ("this is my kettle, ehm yes", "follow me okay biron").
+_TRAILING = frozenset({"YES", "NO", "OKAY", "ROBOT", "ROBOTNAME", "HERE", "THERE", "NOW"})
+
+
+def _left_at_end(toks: list[Tok], ignored: list[str]) -> bool:
+    """Whether the words a parse could not place are the turn's last words and only words that trail a request
+    (not the start of one: "the kitchen go [to the living rom]" left "to the", the real request's place)."""
+    left = toks[len(toks) - len(ignored):]
+    return [t.text for t in left] == ignored and all(t.type in _TRAILING for t in left)
 
 
 def _errand(words: list[str], hesitations: frozenset[str]) -> list[str] | None:
