@@ -80,3 +80,32 @@ def test_dont_mind_me_is_no_answer(lead, rest):
 def test_dont_mind_me_before_a_request_keeps_the_request():
     assert frame("don't mind me, follow me") == "<SPEECH><FOLLOW/></SPEECH>"
     assert frame("don't mind him, come with me") == "<SPEECH><FOLLOW/></SPEECH>"
+
+
+STAYS = ["wait here", "stay here", "wait here for me", "wait here I'll be right back", "just wait here a moment",
+         "stay", "stay there please", "don't move", "stay where you are", "wait for me", "wait for me at the door",
+         "wait here until I come back", "please wait for me right here", "stay put"]
+MOMENTS = ["wait", "hang on", "just a moment", "wait a sec", "hold on", "wait a minute biron", "please hold on a second",
+           "give me a moment biron", "one sec please", "hold up please", "wait a bit", "oh wait I will just get the post"]
+
+
+@given(st.sampled_from(STAYS), st.sampled_from(["", "okay ", "biron "]))
+def test_a_wait_that_tells_the_robot_to_stay_says_so_on_the_bus(words, lead):
+    # review13 item 9: "wait here" said while she leads must keep the robot there; the frame says stay="true"
+    # (the corpus frame is the same <WAIT/>; the published one carries the attribute the supervisor's guard reads)
+    from homesim.xmlio import load_schema
+
+    from robot.speech.module import FRAMES_XSD, frame_message
+    u = U.understand(lead + words)
+    assert u.act == "WAIT" and u.stay
+    el = frame_message(u, 1.0, 2.0, 0.9)
+    assert el.find("SPEECH/WAIT").get("stay") == "true"
+    assert load_schema(FRAMES_XSD).errors(el) == []
+
+
+@given(st.sampled_from(MOMENTS), st.sampled_from(["", "okay ", "oh "]))
+def test_a_wait_for_a_moment_is_no_stay(words, lead):
+    from robot.speech.module import frame_message
+    u = U.understand(lead + words)
+    assert u.act == "WAIT" and not u.stay
+    assert frame_message(u, 1.0, 2.0, 0.9).find("SPEECH/WAIT").get("stay") is None

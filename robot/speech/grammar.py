@@ -119,6 +119,7 @@ class Understanding:
     fragment: bool = False  # a noun phrase alone ("the kitchen"): an answer, not a request or statement by itself
     reason: str = ""  # why nothing was understood
     aside: bool = False  # said to someone else in the robot's hearing ("Tom, can you put the kettle on")
+    stay: bool = False  # a WAIT that tells the robot to stay ("wait here", "stay"), not a hesitation ("hang on")
 
     @property
     def act(self) -> str | None:
@@ -425,6 +426,8 @@ class Understander:
             res.frame, res.fragment, res.rest = None, False, []
             res.ignored = [t.text for t in toks]
             res.reason = why
+        elif obj.tag == "WAIT":
+            res.stay = _stays(toks, Lexicon.words(words))
         return res
 
     def _said_where(self, tree: Tree, toks: list[Tok], ignored: list[str]) -> Tree | None:
@@ -897,6 +900,24 @@ _LATER = frozenset({"later", "tomorrow", "tonight", "afterwards", "soon"})
 
 #: Words that may trail a request without being part of one ("this is my kettle, ehm yes", "follow me okay biron").
 _TRAILING = frozenset({"YES", "NO", "OKAY", "ROBOT", "ROBOTNAME", "HERE", "THERE", "NOW"})
+
+
+#: Words after a wait that say she goes and comes back ("wait here until I come back", "I'll be right back").
+_COMING_BACK = frozenset({"until", "till", "back", "return", "returns"})
+
+
+def _stays(toks: list[Tok], words: list[str]) -> bool:
+    """Whether a WAIT tells the robot to stay where it is rather than to hold on a moment (review13 item 9).
+
+    A wait with a place ("wait here", "stay there", "wait for me at the door"), "stay", "don't move",
+    "wait for me" (she goes and the robot waits for her) or a coming back ("until I come back", "I'll be
+    right back") tells it to stay; "wait", "hang on", "just a moment", "wait a sec" hold it a moment."""
+    verb = next((i for i, t in enumerate(toks) if t.type == "WAIT"), None)
+    if verb is None:
+        return False
+    after = toks[verb + 1:]
+    return (toks[verb].value == "stay" or any(t.type in ("HERE", "THERE") for t in after)
+            or [t.type for t in after[:2]] == ["FOR", "ME"] or bool(_COMING_BACK & set(words)))
 
 
 def _left_at_end(toks: list[Tok], ignored: list[str]) -> bool:
