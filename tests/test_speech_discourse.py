@@ -109,3 +109,10 @@ def test_a_wait_for_a_moment_is_no_stay(words, lead):
     u = U.understand(lead + words)
     assert u.act == "WAIT" and not u.stay
     assert frame_message(u, 1.0, 2.0, 0.9).find("SPEECH/WAIT").get("stay") is None
+
+
+@given(st.sampled_from(["hang on", "wait a sec", "just a moment", "hold on", "one sec"]),
+       st.sampled_from(["follow me", "this is my cup", "where is my cup", "go to the kitchen", "this is the kitchen"]))
+def test_a_moments_wait_that_opens_the_turn_leaves_the_request_after_it(wait, request):
+    # "hang on, follow me" dropped the follow (review13 item 14)
+    assert frame(f"{wait}, {request}") == frame(request) is not None
