@@ -116,3 +116,11 @@ def test_a_wait_for_a_moment_is_no_stay(words, lead):
 def test_a_moments_wait_that_opens_the_turn_leaves_the_request_after_it(wait, request):
     # "hang on, follow me" dropped the follow (review13 item 14)
     assert frame(f"{wait}, {request}") == frame(request) is not None
+
+
+@given(st.sampled_from(["never mind", "oh never mind", "never mind her"]),
+       st.sampled_from(["you're not in my way", "don't follow me", "do not go to the kitchen", "you are not blocking me"]))
+def test_what_she_says_negated_after_never_mind_is_never_taken_as_said(lead, negated):
+    # the set-aside words are a thing or an address, never a clause: "[you're not] in my way" made way
+    u = U.understand(f"{lead}, {negated}")
+    assert u.act not in ("MAKE_WAY", "FOLLOW", "GOTO")

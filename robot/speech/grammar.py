@@ -174,7 +174,8 @@ class Understander:
                 res.ignored = [t.text for t in toks]
                 res.reason, res.aside = "she asks the robot to pay no heed", True
                 return res
-        if gave_up:
+        if gave_up and (taken_back or not any(t.type == "NOT" for t in toks)):
+            # (a negation after it, "never mind, you're not in my way", is left to the negation rules below)
             # "never mind", "oh never mind, we will do that another time": she gives up what was asked
             # (a no); "never mind her, you come with me" keeps the request said after it (fresh4
             # loft_flatmates_talk: the whole turn was a no, the follow lost)
@@ -619,8 +620,20 @@ class Understander:
                         continue
                     if (ignored or cut) and not (loose and ignored and _left_at_end(said[i:], ignored)):
                         continue
+                    if i and not self._set_aside(said[:i]):
+                        continue  # "never mind, you're not [in my way]": a clause of hers, not a thing set aside
                     return [t.text for t in said[:i]], said[i:]
         return None
+
+    def _set_aside(self, toks: list[Tok]) -> bool:
+        """Whether ``toks`` name something she sets aside after "never mind": a noun phrase ("the kitchen",
+        "my mug") or words that only address ("you", "biron"); never a clause or a negation."""
+        if all(t.type in _ADDRESS for t in toks):
+            return True
+        if any(t.type == "NOT" for t in toks):
+            return False
+        tree, ignored, cut = self._parse(toks)
+        return tree is not None and not ignored and not cut and tree_act(tree) in ("object_fragment", "place_fragment")
 
     def _greeting_before(self, toks: list[Tok], negated: int) -> int | None:
         """Where a negated request starts when a whole greeting comes before it ("hello biron, don't
@@ -909,6 +922,8 @@ _ERRAND_OPENERS = frozenset({"wait", "hang", "hold", "moment", "minute", "second
 _LATER = frozenset({"later", "tomorrow", "tonight", "afterwards", "soon"})
 
 
+#: Words that only address someone or take the turn ("never mind her, [you] come with me").
+_ADDRESS = frozenset({"YOU", "ROBOT", "ROBOTNAME", "OKAY", "YES", "NO"})
 #: Words that may trail a request without being part of one ("this is my kettle, ehm yes", "follow me okay biron").
 _TRAILING = frozenset({"YES", "NO", "OKAY", "ROBOT", "ROBOTNAME", "HERE", "THERE", "NOW"})
 
