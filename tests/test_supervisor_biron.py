@@ -233,6 +233,20 @@ def test_stop_and_goodbye_end_a_navigation(biron, word, target, says):
         ("rejected", "plan_step", "inapplicable")]
 
 
+@pytest.mark.parametrize("frame", ["<WAIT stay='true'/>", "<TIMESTAMP val='1'/><WAIT stay='true'/>"])
+def test_a_wait_that_says_stay_ends_following_as_stop_does(biron, frame):
+    """"Wait here", "stay there" said while she leads (WAIT stay="true"): the robot is to stay where it is,
+    so following ends (as on b1219b1) and the robot does not follow her when she walks off (review13 item 9);
+    a bare wait ("hang on") still only pauses (the test below)."""
+    e = interacting(biron)
+    step(e, ev(1, "follow", 1 * S))
+    (rec,) = step(e, ev(2, "stop", 2 * S, xml=f"<event><SPEECH>{frame}</SPEECH></event>"))
+    assert isinstance(rec, Applied) and rec.target_state == "Interacting" and e.state == "Interacting"
+    sent = [(o.target, o.name) for o in rec.outputs]
+    assert ("player", "stop") in sent and ("dialog", "stopped") in sent
+    assert ("person_attention", "pause") not in sent
+
+
 def test_a_wait_while_following_pauses_it_and_only_stop_ends_it(biron):
     """"Just a moment" said while she leads (fresh4/loft_walking_frame): the ES stays in Following (she need
     not say "follow me" again when she walks on), orders the attention to pause and tells the dialog;

@@ -119,6 +119,7 @@ class Understanding:
     fragment: bool = False  # a noun phrase alone ("the kitchen"): an answer, not a request or statement by itself
     reason: str = ""  # why nothing was understood
     aside: bool = False  # said to someone else in the robot's hearing ("Tom, can you put the kettle on")
+    stay: bool = False  # a WAIT that tells the robot to stay ("wait here", "stay"), not a hesitation ("hang on")
 
     @property
     def act(self) -> str | None:
@@ -146,16 +147,35 @@ class Understander:
         res = Understanding(words, None, unknown=lex.unknown, corrected=lex.corrected)
         toks = lex.tokens
         gave_up = False  # a leading "never mind (her)": she sets aside what came before
+        heed = False  # a leading "don't mind me", "never mind us": pay them no heed
+        lead_edit: Tok | None = None
         while toks and toks[0].type == EDIT:  # "sorry, this is my cup": nothing before it to repair
             res.corrected.append(toks[0].text)
             gave_up = gave_up or toks[0].value == "never mind"
-            toks = toks[1:]
+            heed = heed or toks[0].value == "mind me"
+            lead_edit, toks = toks[0], toks[1:]
         taken_back = bool(lex.raw) and len(lex.raw) > 1 and lex.raw[-1].type == EDIT and lex.raw[-1].value == "never mind"
         if taken_back:
             # "follow me, oh never mind", "this is the kitchen, never mind": she takes back what she just said
             # (a no); the trailing editing term must not leave the request standing as if said whole
             gave_up, toks = True, [t for t in lex.raw[:-1] if t.type != EDIT]
-        if gave_up and (taken_back or not self._request_follows(toks)):
+        elif (gave_up or heed) and lead_edit is not None:
+            # "never mind the kitchen, go to the living room", "never mind, this is my cup" (the lexicon's "never
+            # mind this" took her deixis): the request after what she sets aside is what she wants, never a
+            # frame built on the thing set aside (review13 items 2 and 8)
+            found = self._request_after_never_mind(lead_edit, toks)
+            if found is not None:
+                aside_words, toks = found
+                res.corrected += aside_words
+                gave_up = False
+            elif heed:
+                # "don't mind me, I'm just passing", "never mind us": no request and nothing given up (not a
+                # no that could answer an open question: review13 item 11); no "say that again" either
+                res.ignored = [t.text for t in toks]
+                res.reason, res.aside = "she asks the robot to pay no heed", True
+                return res
+        if gave_up and (taken_back or not any(t.type == "NOT" for t in toks)):
+            # (a negation after it, "never mind, you're not in my way", is left to the negation rules below)
             # "never mind", "oh never mind, we will do that another time": she gives up what was asked
             # (a no); "never mind her, you come with me" keeps the request said after it (fresh4
             # loft_flatmates_talk: the whole turn was a no, the follow lost)
@@ -180,10 +200,16 @@ class Understander:
                     and tree_act(after[0]) not in _AFTER_CLOSING:
                 res.unknown.append(toks[0].text)
                 toks = toks[1:]
-        if _errand(Lexicon.words(words), self.lexicon.hesitations):
+        errand = _errand(Lexicon.words(words), self.lexicon.hesitations)
+        if errand is not None:
             # "oh wait, I'll just get the post", "let me just put the water on": she announces a short
             # errand; what she asks of the robot is to wait for her (the words after the verb say where
-            # she goes, not a request of their own: "put the water on" was an object with use water)
+            # she goes, not a request of their own: "put the water on" was an object with use water).
+            # A whole request said after the errand ("I will just grab my phone, follow me please", "let
+            # me just check, is this the kitchen") is what she asks: the errand is discourse (review13 item 1)
+            after = self._request_after_errand(words, errand)
+            if after is not None:
+                return after
             tree, _, _ = self._parse([Tok("WAIT", "wait", "wait")])
             res.frame = build(tree)
             res.coverage = 1.0
@@ -260,6 +286,17 @@ class Understander:
                 # either of the two first words may be the misheard one ("go is the kitchen" is "go
                 # to the kitchen" as well): both count as unheard, so a confident guess is confirmed
                 tree, ignored, partial = alt[0], [toks[0].text, toks[1].text], True
+        if tree is not None and tree_act(tree) == "wait" and ignored and toks[0].type == "WAIT" \
+                and [t.text for t in toks[len(toks) - len(ignored):]] == ignored \
+                and not _stays(toks[: len(toks) - len(ignored)], []):
+            # "hang on, follow me", "wait a sec, this is my cup": a moment's wait that only opens the turn; the
+            # whole request said after it is what she asks (review13 item 14; the follow was dropped)
+            alt = self._parse(toks[len(toks) - len(ignored):])
+            if alt[0] is not None and not alt[1] and not alt[2] and not _guessed(alt[0]) \
+                    and tree_act(alt[0]) not in _NOT_REQUESTS and tree_act(alt[0]) != "wait":
+                res.corrected += [t.text for t in toks[: len(toks) - len(ignored)]]
+                toks = toks[len(toks) - len(ignored):]
+                tree, ignored, partial = alt
         restart = self._restart(lex.raw) if negated is None else None
         if restart is not None:  # "follow me, no wait, stop": the repair is a whole new request
             toks, (tree, ignored, partial) = restart
@@ -401,6 +438,8 @@ class Understander:
             res.frame, res.fragment, res.rest = None, False, []
             res.ignored = [t.text for t in toks]
             res.reason = why
+        elif obj.tag == "WAIT":
+            res.stay = _stays(toks, Lexicon.words(words))
         return res
 
     def _said_where(self, tree: Tree, toks: list[Tok], ignored: list[str]) -> Tree | None:
@@ -544,15 +583,57 @@ class Understander:
             return None
         return tree, [t.text for t in toks[:k]], True  # where it came from is said of it (no words lost)
 
-    def _request_follows(self, toks: list[Tok]) -> bool:
-        """Whether ``toks`` (or a tail of them after words it cannot use) hold a request of their own: an
-        act that is not a noun phrase, a yes/no or a which-one answer, closed without a guessed rest."""
-        if not toks:
-            return False
-        tree, _, _ = self._parse(toks)
-        if tree is not None and not _guessed(tree) and tree_act(tree) not in _NOT_REQUESTS:
+    def _request_after_errand(self, words: str, rest: list[str]) -> Understanding | None:
+        """The understanding of a whole request said after an errand's verb and its object ("[I will just
+        grab] my phone, follow me please"), or None when the errand ends the turn.
+
+        The first tail of ``rest`` (the words after the verb: "let me just see, where is my cup") understood whole
+        by itself: a request or statement with no word lost (not a noun phrase, a yes/no or a which-one
+        answer), so "let me just put the water on" stays a wait (its tails are noun phrases)."""
+        for j in range(len(rest)):
+            tail = self.understand(" ".join(rest[j:]))
+            if tail.frame is None or tail.partial or tail.fragment or tail.aside or tail.act in ("YES", "NO", "THAT_ONE"):
+                continue
+            tail.words = words
+            return tail
+        return None
+
+    def _request_after_never_mind(self, edit: Tok, toks: list[Tok]) -> tuple[list[str], list[Tok]] | None:
+        """The words set aside and the whole request said after a leading "never mind (X)", or None.
+
+        The first tail of ``toks`` that parses whole by itself (a request or statement, not a noun phrase, a
+        yes/no or a which-one answer, no word lost, nothing guessed) is the request; the words before it are
+        what she sets aside ("never mind [the kitchen], go to the living room"). When the editing phrase
+        ended in a deixis ("never mind this", "never mind that", "never mind it"), the deixis may have
+        opened the request instead ("never mind, that is the kitchen"): that reading is tried too."""
+        readings = [toks]
+        last = edit.text.split()[-1]
+        if last in ("this", "that", "it") and len(edit.text.split()) > 1:
+            readings.append([*self.lexicon.tokens(last).tokens, *toks])
+        for loose in (False, True):  # then a request with words after it it could not place ("..., ehm yes")
+            for i in range(max(map(len, readings))):
+                for said in readings:
+                    if i >= len(said):
+                        continue
+                    tree, ignored, cut = self._parse(said[i:])
+                    if tree is None or _guessed(tree) or tree_act(tree) in _NOT_REQUESTS:
+                        continue
+                    if (ignored or cut) and not (loose and ignored and _left_at_end(said[i:], ignored)):
+                        continue
+                    if i and not self._set_aside(said[:i]):
+                        continue  # "never mind, you're not [in my way]": a clause of hers, not a thing set aside
+                    return [t.text for t in said[:i]], said[i:]
+        return None
+
+    def _set_aside(self, toks: list[Tok]) -> bool:
+        """Whether ``toks`` name something she sets aside after "never mind": a noun phrase ("the kitchen",
+        "my mug") or words that only address ("you", "biron"); never a clause or a negation."""
+        if all(t.type in _ADDRESS for t in toks):
             return True
-        return self._whole_request_after(toks) is not None if len(toks) > 2 else False
+        if any(t.type == "NOT" for t in toks):
+            return False
+        tree, ignored, cut = self._parse(toks)
+        return tree is not None and not ignored and not cut and tree_act(tree) in ("object_fragment", "place_fragment")
 
     def _greeting_before(self, toks: list[Tok], negated: int) -> int | None:
         """Where a negated request starts when a whole greeting comes before it ("hello biron, don't
@@ -841,17 +922,49 @@ _ERRAND_OPENERS = frozenset({"wait", "hang", "hold", "moment", "minute", "second
 _LATER = frozenset({"later", "tomorrow", "tonight", "afterwards", "soon"})
 
 
-def _errand(words: list[str], hesitations: frozenset[str]) -> bool:
-    """Whether the turn announces a short errand of hers ("oh wait I will just get the post", "let me just
-    put the water on", "I'm going to check the oven"): a lead in the first person, the errand's verb
-    and nothing but openers before it; she asks the robot to wait for her (fresh12 items 3 and 11)."""
+#: Words that only address someone or take the turn ("never mind her, [you] come with me").
+_ADDRESS = frozenset({"YOU", "ROBOT", "ROBOTNAME", "OKAY", "YES", "NO"})
+#: Words that may trail a request without being part of one ("this is my kettle, ehm yes", "follow me okay biron").
+_TRAILING = frozenset({"YES", "NO", "OKAY", "ROBOT", "ROBOTNAME", "HERE", "THERE", "NOW"})
+
+
+#: Words after a wait that say she goes and comes back ("wait here until I come back", "I'll be right back").
+_COMING_BACK = frozenset({"until", "till", "back", "return", "returns"})
+
+
+def _stays(toks: list[Tok], words: list[str]) -> bool:
+    """Whether a WAIT tells the robot to stay where it is rather than to hold on a moment (review13 item 9).
+
+    A wait with a place ("wait here", "stay there", "wait for me at the door"), "stay", "don't move",
+    "wait for me" (she goes and the robot waits for her) or a coming back ("until I come back", "I'll be
+    right back") tells it to stay; "wait", "hang on", "just a moment", "wait a sec" hold it a moment."""
+    verb = next((i for i, t in enumerate(toks) if t.type == "WAIT"), None)
+    if verb is None:
+        return False
+    after = toks[verb + 1:]
+    return (toks[verb].value == "stay" or any(t.type in ("HERE", "THERE") for t in after)
+            or [t.type for t in after[:2]] == ["FOR", "ME"] or bool(_COMING_BACK & set(words)))
+
+
+def _left_at_end(toks: list[Tok], ignored: list[str]) -> bool:
+    """Whether the words a parse could not place are the turn's last words and only words that trail a request
+    (not the start of one: "the kitchen go [to the living rom]" left "to the", the real request's place)."""
+    left = toks[len(toks) - len(ignored):]
+    return [t.text for t in left] == ignored and all(t.type in _TRAILING for t in left)
+
+
+def _errand(words: list[str], hesitations: frozenset[str]) -> list[str] | None:
+    """The words after the errand's verb when the turn announces a short errand of hers ("oh wait I will
+    just get the post", "let me just put the water on", "I'm going to check the oven"): a lead in the first
+    person, the errand's verb and nothing but openers before it; she asks the robot to wait for her
+    (fresh12 items 3 and 11). None when the turn announces none."""
     said = [w for w in words if w not in hesitations]
     if _LATER & set(said):
-        return False  # "I will call my sister later": what she plans, not an errand now
+        return None  # "I will call my sister later": what she plans, not an errand now
     for i in range(len(said)):
         if said[i] not in ("i", "let"):
             if said[i] not in _ERRAND_BEFORE:
-                return False
+                return None
             continue
         for lead in _ERRAND_LEADS:
             if tuple(said[i:i + len(lead)]) != lead:
@@ -863,9 +976,11 @@ def _errand(words: list[str], hesitations: frozenset[str]) -> bool:
                 # "just" or an opener ("oh wait", "sorry") marks it as a short break in the tour; "I need to
                 # find my keys now" (a bystander's remark in the library's distractor) is no errand announced
                 marked = "just" in said[i:k] or any(w in _ERRAND_OPENERS for w in said[:i])
-                return marked and not (said[k] == "get" and said[k + 1] in ("past", "by", "through", "out"))
-        return False
-    return False
+                if marked and not (said[k] == "get" and said[k + 1] in ("past", "by", "through", "out")):
+                    return said[k + 1:]
+                return None
+        return None
+    return None
 
 
 def _negation(toks: list[Tok], words: list[str]) -> int | None:

@@ -117,6 +117,8 @@ def frame_message(u: Understanding, start: float, end: float, confidence: float,
     etree.SubElement(speech, "TIMESTAMP", val=str(max(0, round(start * 1000.0))))
     for act in u.frame:
         speech.append(copy(act))  # the understanding's own frame stays as it was
+        if u.stay and act.tag == "WAIT":
+            speech[-1].set("stay", "true")  # "wait here": the robot is to stay, not to pause (biron.scxml)
     etree.SubElement(el, "words").text = _xml_safe(u.words)
     return el
 
