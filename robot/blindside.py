@@ -67,31 +67,23 @@ Pose = tuple[float, float, float]
 
 Arc = tuple[int, np.ndarray, np.ndarray]
 
-#: The last packet's near arcs (robot frame), for its other receivers: (record, arcs), one packet held.
-_last: list[tuple[SonarPacket, list[Arc]] | None] = [None]
-#: (cone attribute, its arc's angle offsets): a sonar's cone stays put
-_spread: list[tuple[str, np.ndarray] | None] = [None]
-
-
 def near_arcs(packet: etree._Element | SonarPacket) -> list[Arc]:
     """(transducer, x, y) robot-frame points (:data:`ARC_POINTS` each) on the arc of every echo of ``packet``
     nearer than :data:`SONAR_REACH`: what a reading says, wherever the robot is. A function of the packet
-    alone, so a record's arcs are worked out once for all its receivers (the newest record's are kept;
-    the arrays are read-only)."""
-    record = packet if packet.__class__ is SonarPacket else None
-    if record is not None:
-        last = _last[0]
-        if last is not None and last[0] is record:
-            return last[1]
+    alone, so a record's arcs are worked out once for all its receivers and kept on the record
+    (:meth:`SonarPacket.derived`; the arrays are read-only); no state of this module is shared by the
+    modules that read it (separate processes on the robot) or outlives a run."""
+    if packet.__class__ is SonarPacket:
+        return packet.derived("near_arcs", _arcs)  # type: ignore[union-attr]
+    return _arcs(packet)
+
+
+def _arcs(packet: etree._Element | SonarPacket) -> list[Arc]:
     top = float(packet.get("max_range", "5"))
-    cone = packet.get("cone", "30")
-    spread = _spread[0]
-    if spread is None or spread[0] != cone:
-        half = math.radians(float(cone)) / 2
-        spread = _spread[0] = (cone, np.linspace(-half, half, ARC_POINTS))
-    offsets = spread[1]
+    half = math.radians(float(packet.get("cone", "30"))) / 2
+    offsets = np.linspace(-half, half, ARC_POINTS)
     out: list[Arc] = []
-    for e in (record.echoes() if record is not None else echoes_of(packet)):
+    for e in (packet.echoes() if packet.__class__ is SonarPacket else echoes_of(packet)):  # type: ignore[union-attr]
         r = e.range
         if r >= top or r > SONAR_REACH:
             continue  # no echo (or far): the last echo stands until it is too old
@@ -99,8 +91,6 @@ def near_arcs(packet: etree._Element | SonarPacket) -> list[Arc]:
         px, py = e.x + r * np.cos(tb + offsets), e.y + r * np.sin(tb + offsets)
         px.flags.writeable = py.flags.writeable = False
         out.append((e.id, px, py))
-    if record is not None:
-        _last[0] = (record, out)
     return out
 
 
