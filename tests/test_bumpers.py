@@ -397,3 +397,26 @@ def test_between_two_obstacles_the_reflex_causes_no_contact_the_module_s_own_com
         assert all((v, w) == (0.0, 0.0) for _, _, v, w in after)  # asked to stand: stands
     finally:
         sim.close()
+
+
+def test_a_module_that_starts_listening_while_a_ring_stays_pressed_hears_it_within_a_packet():
+    """review13 item 6: the base sent /robot/bumpers only on a change, so a module restarted by the watchdog
+    (a fresh reflex, nothing pressed) or subscribed late drove on into a ring that stayed pressed."""
+    from homesim.scenario.loader import load_scenario
+    from homesim.sim import Simulation
+    from homesim.tour.stage import Stage
+    from tests.world_helpers import ROOM
+
+    sc = load_scenario(ROOM)
+    sim = Simulation(seed=3, scenario=sc.name)
+    stage = Stage(sim, sc, actors=("robot.hardware.install",))
+    try:
+        stage.world.place_robot(7.688, 3.0, 0.0)  # the front ring within its travel of the east wall: pressed
+        stage.run(0.5)
+        late = BumperReflex()
+        sim.bus.participant("follower", host="robot").subscribe(BUMPERS, lambda m: late.update(m.xml, sim.now))
+        stage.run(0.8)  # until 0.8 s of sim time: three packets later
+        assert late.rings() == (True, False)
+        assert late.command(0.3, 0.0, sim.now) == (0.0, 0.0)
+    finally:
+        sim.close()
