@@ -19,7 +19,7 @@ leg's 0.06 m radius that faces the footprint (the near leg may lie between two c
 The echo is the leg's point nearest the *transducer*, not the footprint: at the rear gaps (115-120 and
 240-245 degrees) a flank transducer hears the far leg obliquely and its arc lies up to 0.348 m further
 from the footprint than her body (3673 placements of someone 0-5 cm off the footprint, exact readings,
-/work/wt/reports/fixsafe13.md; 0.29 m straight on, the old gap's premise, 99th percentile 0.28 m). So the
+fixsafe13; 0.29 m straight on, the old gap's premise, 99th percentile 0.28 m). So the
 footprint keeps :data:`BLIND_GAP` from them, or comes no nearer than it is (standing still is always
 clear); with 0.30 m a turn pressed against her flank at 116 degrees swung the rear corner 3 mm into her
 within one control period (tests/test_sonar.py's property). Only
