@@ -13,7 +13,8 @@ document is built only when somebody reads ``msg.xml`` (the trace, ``--strict``,
 from __future__ import annotations
 
 import math
-from typing import NamedTuple
+from collections.abc import Callable
+from typing import Any, NamedTuple
 
 from lxml import etree
 
@@ -46,7 +47,7 @@ class SonarPacket(Typed):
     """One packet: the packet's attribute texts (``seq``, ``time``, then ``head``: min_range, max_range, cone,
     height) and one (id, x, y, bearing, range) row of texts per reading. Immutable: receivers share it."""
 
-    __slots__ = ("seq", "time", "head", "rows", "_echoes", "_size")
+    __slots__ = ("seq", "time", "head", "rows", "_echoes", "_size", "_derived")
 
     def __init__(self, seq: str, time: str, head: tuple[str, str, str, str], rows: tuple[tuple[str, str, str, str, str], ...]) -> None:
         set_ = object.__setattr__
@@ -56,6 +57,7 @@ class SonarPacket(Typed):
         set_(self, "rows", rows)
         set_(self, "_echoes", None)
         set_(self, "_size", -1)
+        set_(self, "_derived", None)
 
     def get(self, name: str, default: str | None = None) -> str | None:
         """A packet attribute's text as the XML carries it (``max_range``, ``cone``, ...)."""
@@ -71,6 +73,17 @@ class SonarPacket(Typed):
             got = tuple(_echo(*row) for row in self.rows)
             object.__setattr__(self, "_echoes", got)
         return got
+
+    def derived(self, key: str, make: Callable[[SonarPacket], Any]) -> Any:
+        """``make(self)``, worked out once for all the packet's receivers and kept on the packet (it dies with
+        it): a value that is a function of the packet alone (the blind side's arcs, :func:`robot.blindside.near_arcs`)."""
+        got = self._derived
+        if got is None:
+            got = {}
+            object.__setattr__(self, "_derived", got)
+        if key not in got:
+            got[key] = make(self)
+        return got[key]
 
     def to_xml(self) -> etree._Element:
         lo, hi, cone, height = self.head

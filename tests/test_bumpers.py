@@ -168,8 +168,59 @@ def test_a_new_press_while_driving_into_it_backs_away_for_a_while_then_gives_the
     assert r.command(0.3, 0.1, 0.2) == (-BACKOFF_SPEED, 0.0)
     assert r.backing_off(0.2 + BACKOFF_TIME / 2)
     _told(at=0.3, reflex=r)  # released as it backs
-    assert r.command(0.0, 0.0, 0.4) == (-BACKOFF_SPEED, 0.0)  # the back-off runs its course
+    assert r.command(0.3, 0.0, 0.4) == (-BACKOFF_SPEED, 0.0)  # the back-off runs its course
+    assert r.command(0.0, 0.0, 0.5) == (0.0, 0.0)  # asked to stand, it stands: the reflex adds no motion
     assert r.command(0.2, 0.0, 0.1 + BACKOFF_TIME + 0.05) == (0.2, 0.0)
+
+
+def test_a_back_off_the_module_s_own_rules_refuse_is_not_made():
+    r = BumperReflex()
+    r.command(0.3, 0.0, 0.0)
+    _told(("front", 2), at=0.1, reflex=r)
+    asked = []
+    assert r.command(0.3, 0.0, 0.2, lambda s: asked.append(s) or False) == (0.0, 0.0)  # held to the ring instead
+    assert asked == [-BACKOFF_SPEED]
+    assert not r.backing_off(0.3)  # refused once, given up: no back-off later behind the module's back
+    assert r.command(-0.05, 0.0, 0.3, lambda s: True) == (-0.05, 0.0)  # the module's own backing is its own
+
+
+def test_a_press_made_by_the_back_off_starts_no_back_off_the_other_way_and_stops_it():
+    r = BumperReflex()
+    r.command(0.3, 0.0, 0.0)
+    _told(("front", 2), at=0.1, reflex=r)
+    assert r.command(0.3, 0.0, 0.2) == (-BACKOFF_SPEED, 0.0)
+    _told(at=0.3, reflex=r)
+    _told(("rear", 2), at=0.5, reflex=r)  # backed into the box behind
+    assert not r.backing_off(0.6)
+    assert r.command(0.0, 0.0, 0.6) == (0.0, 0.0)
+    assert r.command(-0.2, 0.0, 0.7) == (0.0, 0.0)  # the rear ring holds
+
+
+def test_a_turn_on_the_spot_that_pressed_a_ring_may_be_undone_but_not_pushed_on():
+    """review13 item 4: attention turning right swung the front's right corner into a wall; the turn back
+    frees it and was refused, so attention could never turn again."""
+    r = BumperReflex()
+    r.command(0.0, -0.6, 0.0)
+    _told(("front", 0), at=0.1, reflex=r)
+    assert r.command(0.0, -0.6, 0.2) == (0.0, 0.0)  # on into the wall: no
+    assert r.command(0.0, 0.6, 0.3) == (0.0, 0.6)  # back the way it came: yes
+    assert r.command(0.3, 0.0, 0.4) == (0.0, 0.0)  # no forward speed while the front is pressed
+    s = _told(("front", 2))  # walked into (no turn under way): no turn frees it for sure
+    assert s.command(0.0, 0.6, 0.1) == (0.0, 0.0) and s.command(0.0, -0.6, 0.1) == (0.0, 0.0)
+
+
+def test_each_module_built_without_init_has_its_own_reflex():
+    """review13 item 13: one class-level reflex was shared by every module the unit tests build without a bus."""
+    from robot.attention.module import PersonAttention
+    from robot.navigation.follow import Follower
+    from robot.navigation.player import Player
+
+    for cls in (Follower, Player, PersonAttention):
+        a, b = object.__new__(cls), object.__new__(cls)
+        a.bumpers.command(0.3, 0.0, 0.0)
+        _told(("front", 1), at=0.1, reflex=a.bumpers)
+        assert a.bumpers.backing_off(0.2) and a.bumpers is a.bumpers
+        assert b.bumpers is not a.bumpers and not b.bumpers.pressed and b.bumpers.command(0.3, 0.0, 0.2) == (0.3, 0.0)
 
 
 def test_a_press_it_did_not_drive_into_starts_no_back_off():
@@ -250,5 +301,123 @@ def test_driving_into_a_wall_on_the_bus_the_base_reports_the_press_and_the_refle
         for t, r in zip(presses, releases):
             assert r - t <= 0.35  # released within a few packets: it backed away at once
         assert len(presses) == stage.world.contact_count  # the base felt every contact the world counted
+    finally:
+        sim.close()
+
+
+# ------------------------------------------------------------------ between two obstacles (review13 item 3)
+def _between(gap_front: float, gap_rear: float) -> str:
+    """A 3 x 2 m room, a box (0.5 m high, the rings meet it) behind the robot: the east wall's face ``gap_front``
+    m ahead of the front ring, the box's face ``gap_rear`` m behind the rear ring."""
+    face = 2.95 - 2 * HL - gap_front - gap_rear
+    return f"""<scenario name="between" seed="3" duration="10"><flat>
+      <room name="room" points="0,0 3,0 3,2 0,2"/>
+      <walls thickness="0.1"><wall from="0 0" to="3 0"/><wall from="3 0" to="3 2"/><wall from="3 2" to="0 2"/><wall from="0 2" to="0 0"/></walls>
+      <furniture name="box" type="shelf" points="{face - 0.45:.4f},0.6 {face:.4f},0.6 {face:.4f},1.4 {face - 0.45:.4f},1.4" height="0.5"/>
+    </flat><robot x="1.0" y="1.0" heading="0"/><humans/></scenario>"""
+
+
+def _outline(face: float) -> np.ndarray:
+    """The floor plan's edges near the robot as points every 1 cm (world frame): what a module knows of the flat."""
+    edges = [((2.95, 0.05), (2.95, 1.95)), ((face, 0.6), (face, 1.4)), ((face - 0.45, 0.6), (face, 0.6)), ((face - 0.45, 1.4), (face, 1.4))]
+    pts = []
+    for (ax, ay), (bx, by) in edges:
+        n = int(math.hypot(bx - ax, by - ay) / 0.01) + 1
+        pts.append(np.column_stack((np.linspace(ax, bx, n), np.linspace(ay, by, n))))
+    return np.concatenate(pts)
+
+
+_PLAN = st.lists(st.tuples(st.sampled_from([0.15, 0.08, 0.0, -0.08, -0.15]), st.sampled_from([0.0, 0.0, 0.4, -0.4]),
+                           st.integers(1, 6)), min_size=1, max_size=4)
+
+
+@settings(max_examples=10, deadline=None)
+@given(gap_front=st.floats(0.01, 0.12), gap_rear=st.floats(0.01, 0.15), plan=_PLAN)
+def test_between_two_obstacles_the_reflex_causes_no_contact_the_module_s_own_commands_would_not(gap_front, gap_rear, plan):
+    """The real base, world and bus; a module that sends ``plan`` ((v, w, tenths of a second) each, then stands)
+    through the reflex, holding its back-off to the floor plan as the follower and the player do
+    (:func:`robot.navigation.follow.sweep_allowed`). Every new press comes while the base was moving as the
+    module itself asked (held, never reversed): none while the reflex was driving on its own, and nothing
+    at all moves once the module asks to stand (on b1219b1's merge the back-off bounced the robot between
+    the wall and the box, 5 contacts in 4 s with the module asking to stand)."""
+    import asyncio
+
+    from homesim.scenario.loader import load_scenario_text
+    from homesim.sim import Simulation
+    from homesim.tour.stage import Stage
+    from robot.navigation.follow import sweep_allowed
+
+    sc = load_scenario_text(_between(gap_front, gap_rear))
+    face = 2.95 - 2 * HL - gap_front - gap_rear
+    outline = _outline(face)
+    sim = Simulation(seed=3, scenario=sc.name)
+    stage = Stage(sim, sc, actors=HARDWARE)
+    try:
+        stage.world.place_robot(2.95 - HL - gap_front, 1.0, 0.0)
+        module = sim.bus.participant("follower", host="robot")
+        reflex = BumperReflex()
+        sent: list[tuple[float, float, float, float]] = [(0.0, 0.0, 0.0, 0.0)]  # (asked v, asked w, sent v, sent w)
+        onsets: list[tuple[set[tuple[str, int]], tuple[float, float, float, float]]] = []
+        seen: set[tuple[str, int]] = set()
+
+        def on_bumpers(m) -> None:
+            now = {(p.get("ring"), int(p.get("id"))) for p in m.xml.iter("pressed")}
+            if now - seen:
+                onsets.append((now - seen, sent[-4:]))
+            seen.clear()
+            seen.update(now)
+            reflex.update(m.xml, sim.now)
+
+        module.subscribe(BUMPERS, on_bumpers)
+
+        def may_back(speed: float) -> bool:
+            x, y, th = stage.world.robot.pose
+            c, s = math.cos(th), math.sin(th)
+            dx, dy = outline[:, 0] - x, outline[:, 1] - y
+            return sweep_allowed(speed, 0.0, np.column_stack((c * dx + s * dy, -s * dx + c * dy)))
+
+        steps = [(v, w) for v, w, n in plan for _ in range(n)]
+
+        async def drive() -> None:
+            k = 0
+            while True:
+                asked = steps[k] if k < len(steps) else (0.0, 0.0)
+                v, w = reflex.command(*asked, sim.now, may_back)
+                sent.append((*asked, v, w))
+                module.publish("/robot/base/cmd", etree.Element("velocity", v=f"{v:.4f}", w=f"{w:.4f}"))
+                k += 1
+                await asyncio.sleep(0.1)
+
+        sim.spawn(drive(), name="module")
+        stage.run(0.1 * len(steps) + 2.0)
+        for segments, recent in onsets:
+            # the base answers within a few tenths (its acceleration): the commands of the last 0.3 s moved it
+            own = [(v, w) for av, aw, v, w in recent if (v, w) != (0.0, 0.0) and v * av >= 0.0 and w * aw >= 0.0]
+            assert own, (segments, recent)  # pressed while moving as the module asked (or less), never by the reflex alone
+        after = [(av, aw, v, w) for av, aw, v, w in sent[len(steps) + 1:]]
+        assert all((v, w) == (0.0, 0.0) for _, _, v, w in after)  # asked to stand: stands
+    finally:
+        sim.close()
+
+
+def test_a_module_that_starts_listening_while_a_ring_stays_pressed_hears_it_within_a_packet():
+    """review13 item 6: the base sent /robot/bumpers only on a change, so a module restarted by the watchdog
+    (a fresh reflex, nothing pressed) or subscribed late drove on into a ring that stayed pressed."""
+    from homesim.scenario.loader import load_scenario
+    from homesim.sim import Simulation
+    from homesim.tour.stage import Stage
+    from tests.world_helpers import ROOM
+
+    sc = load_scenario(ROOM)
+    sim = Simulation(seed=3, scenario=sc.name)
+    stage = Stage(sim, sc, actors=HARDWARE)
+    try:
+        stage.world.place_robot(7.688, 3.0, 0.0)  # the front ring within its travel of the east wall: pressed
+        stage.run(0.5)
+        late = BumperReflex()
+        sim.bus.participant("follower", host="robot").subscribe(BUMPERS, lambda m: late.update(m.xml, sim.now))
+        stage.run(0.8)  # until 0.8 s of sim time: three packets later
+        assert late.rings() == (True, False)
+        assert late.command(0.3, 0.0, sim.now) == (0.0, 0.0)
     finally:
         sim.close()

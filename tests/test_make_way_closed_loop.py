@@ -154,3 +154,16 @@ def test_once_heard_late_it_backs_off():
     p = _player(OPEN)
     _run(p, _World([]), heard_from=5)
     assert p.odo.pose[0] == pytest.approx(-MAKE_WAY_BACK, abs=0.03)
+
+
+def test_a_pressed_rear_bumper_stops_the_make_way_back_off():
+    """review13 item 5: make-way's backing was published without the bumper reflex (every other command goes
+    through it): with the rear ring pressed it backed on into what pressed it."""
+    from robot.contract import BASE_CMD
+    from robot.hardware.bumpers import bumper_element
+
+    p = _player(OPEN)
+    p.bumpers.update(bumper_element(0.0, (("rear", 2),)), 0.0)
+    _run(p, _World([]), steps=20)
+    assert p.odo.pose[0] == 0.0
+    assert all(float(el.get("v")) >= 0.0 for ch, el in p.bus.sent if ch == BASE_CMD)

@@ -61,7 +61,7 @@ from homesim.message import Message
 from homesim.module import Module
 
 from robot.blindside import SonarEchoes, blind_clear, blind_points
-from robot.bumpers import BumperReflex
+from robot.bumpers import BumperReflex, own_reflex
 from robot.contract import (ATTENTION_STATE, BASE_CMD, BUMPERS, ES_EVENTS, ES_ORDERS, FACES, FOCUS, FOLLOW_STATUS, ODOMETRY, PARTNER, PLAYER_STATUS,
                             POSE, PTU_CMD, SCAN, SONAR, SOURCES, STEER, TORSOS, TRACKS)
 
@@ -264,7 +264,7 @@ class PersonAttention(Module):
     seeking_help: bool = False
     #: nothing pressed, and never told otherwise: for unit tests that build the module without a bus (__init__
     #: gives each its own, heard on the bus)
-    bumpers: BumperReflex = BumperReflex()
+    bumpers = own_reflex()
     #: when the beam last listened to a voice nobody seen explained (:meth:`beam`)
     _heard_voice_at: float = -math.inf
     #: (when, m/s): the partner's walking pace, renewed with ``_partner_last`` (:meth:`_walk_reach`)

@@ -14,7 +14,8 @@ on ``/robot/odometry`` as ``<odometry x y theta v w/>`` at its rate; ``v`` and
 ``w`` are measured from the odometry increments (:func:`measured_velocities`),
 noisy as the encoders are, never the base's true velocities. The bumper rings are read with
 each odometry packet, as the PeopleBot's microcontroller reports them in the same packet, and
-published on ``/robot/bumpers`` when a segment closes or opens (:mod:`robot.hardware.bumpers`).
+published on ``/robot/bumpers`` when a segment closes or opens, and with every packet while one
+stays closed (:mod:`robot.hardware.bumpers`).
 """
 
 from __future__ import annotations
@@ -134,6 +135,8 @@ class Base(Module):
                 transfer=True,  # a fresh element, not kept: no copy
             )
             before_bump = self.bumpers.pressed
-            if self.bumpers.read() != before_bump:
+            if self.bumpers.read() != before_bump or self.bumpers.pressed:
+                # on every change, and with every odometry packet while a ring stays pressed (as the PeopleBot's
+                # SIP does): a module restarted or subscribed late, or a message dropped, still hears the press
                 self.bus.publish(BUMPERS, bumper_element(self.now, self.bumpers.pressed), transfer=True)
             await asyncio.sleep(period)

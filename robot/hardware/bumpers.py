@@ -17,8 +17,10 @@ a wall, a piece of furniture that reaches down to it, a table's leg, or a person
 no bumper contact, as on the real robot; the world's contact solver still stops it there.
 
 A switch has no noise and no dropouts; it is computed from the world's geometry every packet, and
-published only when a segment's state changes (a lossless bus: the robot's modules keep the last
-state), so a run that never touches anything carries no bumper message at all.
+published when a segment's state changes and again with every packet while any segment stays closed
+(as the PeopleBot's SIP carries the bumper bits in every packet): a module restarted by the watchdog,
+subscribed late or whose message was dropped knows a pressed ring within one packet. A run that
+never touches anything carries no bumper message at all.
 """
 
 from __future__ import annotations

@@ -100,7 +100,7 @@ from homesim.errors import BusError, HomesimError
 from robot import floorplan
 from robot.blindside import SonarEchoes, blind_clear, blind_points, explained_by_points
 from robot.partner_search import follow_search_time, yielding
-from robot.bumpers import BumperReflex
+from robot.bumpers import BumperReflex, own_reflex
 from robot.contract import ATTENTION_STATE, BASE_CMD, BUMPERS, ES_EVENTS, FOLLOW_STATUS, ODOMETRY, PARTNER, POSE, SCAN, SONAR, TRACKS
 
 from .config import Limits
@@ -278,7 +278,7 @@ class Follower(Module):
     # (set in __init__; here too for the rules' unit tests, which build a follower without a bus)
     _aside_stall: tuple[float, float] | None = None
     #: nothing pressed, and never told otherwise (__init__ gives each follower its own, heard on the bus)
-    bumpers: BumperReflex = BumperReflex()
+    bumpers = own_reflex()
 
     def __init__(self, sim: Any, *, name: str = "follower", limits: Limits | None = None, rate: float = 10.0,
                  distance: float = 1.2, band: tuple[float, float] = (1.0, 1.5), minimum: float = 0.8,
@@ -330,7 +330,7 @@ class Follower(Module):
         self._tracks_sub: Any = None
         self._sonar_sub: Any = None
         self.sonar = SonarEchoes()  # the sonar rings' echoes, while following (robot.blindside)
-        self.bumpers = BumperReflex()  # the bumper rings (robot.bumpers): sent only when one changes, so always heard
+        self.bumpers = BumperReflex()  # the bumper rings (robot.bumpers): sent on a change and while one stays pressed
         self.bus.subscribe(BUMPERS, lambda m: self.bumpers.update(m.xml, self.now))
         self.route = Route()  # the way to the partner on the floor plan (through doors)
         self._aside: tuple[list[tuple[float, float]], float, bool] | None = None  # give-way path (odom), until when, reversing
@@ -485,11 +485,26 @@ class Follower(Module):
         return c * (px - ox) + s * (py - oy), -s * (px - ox) + c * (py - oy)
 
     def _command(self, v: float, w: float) -> None:
-        v, w = self.bumpers.command(v, w, self.now)  # a pressed bumper first (robot.bumpers), then the blind half
+        v, w = self.bumpers.command(v, w, self.now, self._may_back)  # a pressed bumper first (robot.bumpers), then the blind half
         if not self._blind_clear(v, w):
             v, w = 0.0, 0.0
         self.bus.publish(BASE_CMD, etree.Element("velocity", v=f"{v:.4f}", w=f"{w:.4f}"))
         self.driving = True
+
+    def _may_back(self, speed: float) -> bool:
+        """The bumper reflex's back-off (straight, at ``speed``) held to the follower's own rules: backing onto
+        ground it drove over or saw free with nobody behind (:meth:`can_back_off`), driving forward clear of
+        the laser's echoes and the people it tracks, and either way clear of the floor plan
+        (:func:`sweep_allowed`)."""
+        if self.odom is None:
+            return False
+        mapped = self.route.obstacles_near(self.odom)
+        if speed < 0.0:
+            return self.can_back_off() and sweep_allowed(speed, 0.0, mapped)
+        pts = self.scan.points()
+        ahead = np.concatenate((mapped, pts)) if len(pts) else mapped
+        bodies = self.people.around(self.odom, self.now, echoes=pts if len(pts) else None)
+        return sweep_allowed(speed, 0.0, ahead) and people_sweep_clear(speed, 0.0, bodies, duration=SWEEP_TIME)
 
     def _blind_clear(self, v: float, w: float) -> bool:
         """Whether (v, w) keeps the footprint off what the sonar hears in the blind half that the floor plan

@@ -50,11 +50,12 @@ from homesim.message import Message
 from homesim.module import Module
 
 from robot.blindside import SonarEchoes, blind_clear, blind_points, explained_by_points
-from robot.bumpers import BumperReflex
+from robot.bumpers import BACKOFF_SPEED, BACKOFF_TIME, BumperReflex, own_reflex
 from robot.contract import BASE_CMD, BUMPERS, DISPLAY_CMD, ES_ORDERS, ODOMETRY, PLAYER_STATUS, POSE, SCAN, SONAR, TRACKS
 
 from .blind import blind_speed_limit, scan_corners
 from .config import Limits, limits_from_config
+from .follow import sweep_allowed
 from .grid import MapError, parse_map
 from .local import (BODY, HALF_LENGTH, HALF_WIDTH, SOCIAL_SPEED, Command, DWAParams, LatestScan, arcs_at, carrot, dwa, footprint_distance,
                     heading_speed, people_gaps, social_speed_limit, sweep_clearance, turn_clear)
@@ -256,7 +257,7 @@ class Player(Module):
 
     #: nothing pressed, and never told otherwise: for the rules' unit tests, which build a player without a bus
     #: (__init__ gives each player its own, heard on the bus)
-    bumpers: BumperReflex = BumperReflex()
+    bumpers = own_reflex()
 
     def __init__(self, sim: Any, *, name: str = "player", limits: Limits | None = None, rate: float = 10.0,
                  tolerance: float = 0.2, stall_time: float = 2.0, params: DWAParams = DWAParams()) -> None:
@@ -292,7 +293,7 @@ class Player(Module):
         self._tracks_sub: Any = None  # subscribed only while driving (see _listen_to_people)
         self._sonar_sub: Any = None
         self.sonar = SonarEchoes()  # the sonar rings' echoes, while driving (robot.blindside)
-        self.bumpers = BumperReflex()  # the bumper rings (robot.bumpers): sent only when one changes, so always heard
+        self.bumpers = BumperReflex()  # the bumper rings (robot.bumpers): sent on a change and while one stays pressed
         self.bus.subscribe(BUMPERS, lambda m: self.bumpers.update(m.xml, self.now))
         self.outline: FloorOutline | None = None  # the floor plan round the robot (asked at the first move_to)
         self._map_asked = False
@@ -495,8 +496,17 @@ class Player(Module):
     def _guarded(self, v: float, w: float, mapped: np.ndarray) -> tuple[float, float]:
         """The last checks of a command it sends: a pressed bumper's reflex (:mod:`robot.bumpers`), then the
         sonar's blind half (:meth:`_blind_checked`)."""
-        v, w = self.bumpers.command(v, w, self.now)
+        v, w = self.bumpers.command(v, w, self.now, lambda speed: self._may_back(speed, mapped))
         return self._blind_checked(v, w, mapped)
+
+    def _may_back(self, speed: float, mapped: np.ndarray) -> bool:
+        """The bumper reflex's back-off (straight, at ``speed``) held to the player's own rules: clear of the
+        floor plan (:func:`robot.navigation.follow.sweep_allowed`: touching, it may only move away), backing
+        with nobody tracked behind (:meth:`_behind_clear`), forward clear of the laser's echoes too."""
+        if speed < 0.0:
+            return sweep_allowed(speed, 0.0, mapped) and self._behind_clear(BACKOFF_SPEED * BACKOFF_TIME)
+        pts = self.scan.points()
+        return sweep_allowed(speed, 0.0, np.concatenate((mapped, pts)) if len(pts) else mapped)
 
     def _blind_checked(self, v: float, w: float, mapped: np.ndarray) -> tuple[float, float]:
         """(v, w), or a stop where it would bring the footprint toward what the sonar hears in the blind half
@@ -707,7 +717,7 @@ class Player(Module):
         mapped = self.mapped(pose)
         v = -0.5 * self.limits.max_reverse
         if ((not len(mapped) or self._sweep_ok(v, 0.0, mapped)) and self._behind_clear(self._make_way)
-                and self._blind_checked(v, 0.0, mapped) != (0.0, 0.0)):
+                and self._guarded(v, 0.0, mapped) == (v, 0.0)):  # the bumper reflex too: a pressed rear ring ends it
             self.bus.publish(BASE_CMD, etree.Element("velocity", v=f"{v:.4f}", w="0.0000"))
             self._make_way += v * self.period
             if self._make_way > 0.0:
