@@ -48,6 +48,9 @@ Control, every ``1/rate`` seconds:
   then. No too-fast warnings while approaching. She stands, so her last position holds while
   she is unseen (behind a table's or a chair's legs, the door frame) for up to ``search_time`` s.
   Any other state (a go-to) ends it.
+* Paused (a wait said while she leads: the attention state's ``paused``): only following on is
+  paused. It comes up to her by the same rule as the catch-up (status ``paused``), then stands
+  turning to face her until she walks on (:data:`PAUSE_WALK_ON`), and follows again.
 * Searching: not seen for ``lost_after`` s (a door frame, someone crossing between, a partner
   who walked past the robot's side, out of the laser's half-circle) it does not stop: it drives,
   at most ``search_speed``, to where she was heading (her last track message carried on with its
@@ -553,11 +556,12 @@ class Follower(Module):
         vrx, vry = c * tr["vx"] + s * tr["vy"], -s * tr["vx"] + c * tr["vy"]
         v_radial = (vrx * rx + vry * ry) / d if d > 1e-6 else 0.0
         bearing = math.atan2(ry, rx)
-        if self.paused and not approaching:
-            pause = self._pause(px, py, d, bearing, searching, math.hypot(tr["vx"], tr["vy"]))
-            if self.paused:
-                return pause
-        if approaching:
+        # paused (a wait said while she leads): only following on is paused; it still comes up to her
+        # as the approach does (issue 26 item 10: not 3.5 m behind her, not in a door frame), gives
+        # way there, and keeps every rule of driving (the dynamic window, everyone's space, the floor plan)
+        paused = self.paused and not approaching and self._pause_holds(px, py, d, searching,
+                                                                       math.hypot(tr["vx"], tr["vy"]))
+        if approaching or paused:
             # she stands: close in to the band's near part, the far end no further than approach_to;
             # near enough, in sight (not behind a wall) and not in a door frame or a passage (where
             # it would teach from the other room and block the way), face her and stop
@@ -573,9 +577,9 @@ class Follower(Module):
                 aside = self._give_way(px, py, self.route.obstacles_near(self.odom)) if d <= self.band[0] else None
                 if aside is not None:
                     self._command(*aside)
-                    self._status(d, False, "approaching")
+                    self._status(d, False, "paused" if paused else "approaching")
                     return aside
-                return self._face(bearing)
+                return self._pause(px, py, d, bearing) if paused else self._face(bearing)
             v_des = speed_law(d, 0.0, distance=self.distance, band=(self.band[0], self.distance), minimum=self.minimum,
                               gain=self.gain, limits=self.limits)
             v_des = max(v_des, 0.15)  # in the next room (near but out of sight): on through the door
@@ -694,8 +698,8 @@ class Follower(Module):
             held = self._held_up(v, v_des, goal, px, py)
         v = self._keep_inside(v, w)
         self._command(v, w)
-        if approaching:
-            self._status(d, False, "approaching")
+        if approaching or paused:
+            self._status(d, False, "paused" if paused else "approaching")
             return v, w
         if searching:
             self._too_fast(d, False)
@@ -706,19 +710,25 @@ class Follower(Module):
         self._status(d, at_limit, state if tr["visible"] else "searching")
         return v, w
 
-    def _pause(self, px: float, py: float, d: float, bearing: float, unseen: bool, speed: float) -> tuple[float, float]:
-        """Paused by a wait said while she leads: stand where it is, turned to face her (no corner swung
-        into her or anyone, none into the floor plan), until she walks on: she is :data:`PAUSE_WALK_ON`
-        from where she stood when the pause began, she comes closer than ``minimum`` (the follower's own
-        rules give her way), or she went out of view walking. Then following goes on (``paused`` false)."""
+    def _pause_holds(self, px: float, py: float, d: float, unseen: bool, speed: float) -> bool:
+        """Whether the pause (a wait said while she leads) still holds: until she walks on, that is she is
+        :data:`PAUSE_WALK_ON` from where she stood when the pause began, she comes closer than ``minimum``
+        (the follower's own rules give her way), or she went out of view walking. Then following goes on
+        (``paused`` false; the way to her is the straight line from here)."""
         if self._pause_from is None:
             self._pause_from = (px, py)
         walked = math.hypot(px - self._pause_from[0], py - self._pause_from[1])
         if walked > PAUSE_WALK_ON or d < self.minimum or (unseen and speed >= PAUSE_WALKING):
             self.paused = False
-            self.trail.clear()  # from here the way to her is the straight line (as when it waits)
+            self.trail.clear()
             self.trail.append((px, py))
-            return 0.0, 0.0
+            return False
+        return True
+
+    def _pause(self, px: float, py: float, d: float, bearing: float) -> tuple[float, float]:
+        """Paused and come up to her (the approach's end: near, in sight, in her room, not in a door
+        frame): stand there turned to face her (no corner swung into her or anyone, none into the floor
+        plan) while the pause holds; she may shift where she stands without it creeping after her."""
         w = max(-self.limits.max_turn, min(self.limits.max_turn, 1.8 * bearing)) if abs(bearing) > math.radians(8) else 0.0
         if w != 0.0:
             rx, ry = self._to_robot(px, py)
