@@ -120,7 +120,7 @@ _HALL_STUDY = """<?xml version="1.0" encoding="UTF-8"?>
       <wall from="10 0" to="10 4"/>
       <wall from="10 4" to="0 4"/>
       <wall from="0 4" to="0 0"/>
-      <wall from="5 0" to="5 4"><door name="study door" at="2.0" width="1.0"/></wall>
+      <wall from="5 0" to="5 4"><door name="study door" at="2.0" width="{door}"/></wall>
     </walls>
   </flat>
   <robot x="{rx}" y="2.0" heading="0"/>
@@ -133,12 +133,12 @@ _HALL_STUDY = """<?xml version="1.0" encoding="UTF-8"?>
 """
 
 
-def _paused_run(rx: float, hx: float, hy: float, until: float):
+def _paused_run(rx: float, hx: float, hy: float, until: float, door: float = 1.0):
     """She leads, has said "hang on" (the attention's pause order from the start) and stands at (hx, hy);
     the robot lags at (rx, 2.0) facing east. The oracle stands in for the attention (tests.nav_helpers)."""
     from tests.nav_helpers import start_run
 
-    run = start_run("pause_far", tracks={"anna": "t1"}, text=_HALL_STUDY.format(rx=rx, hx=hx, hy=hy))
+    run = start_run("pause_far", tracks={"anna": "t1"}, text=_HALL_STUDY.format(rx=rx, hx=hx, hy=hy, door=door))
     oracle = run.oracle
 
     def publish() -> None:  # Follow, paused since 0.3 s (docs/robot-contract.md, /robot/attention/state)
@@ -179,6 +179,23 @@ def test_paused_far_behind_her_it_comes_up_to_her_facing_her_and_stays_paused(hx
         assert abs(math.atan2(math.sin(off), math.cos(off))) < math.radians(12)
         follower = run.sim.modules["follower"]
         assert follower.paused, "standing she never walked on"
+        assert run.world.contacts == []
+    finally:
+        run.close()
+
+
+def test_paused_in_a_door_frame_with_her_close_beyond_it_steps_out_of_the_door_and_faces_her():
+    """Review13 item 10's second half: paused in a 0.9 m door frame with her resting 0.9 m beyond it, the
+    robot stood in the door she will walk back through. Now the give-way rule runs as after "stop": it
+    steps out of the door (its centre more than 0.5 m from the door's middle), then stands facing her,
+    still paused, touching nothing, and does not drive back into the door while she rests."""
+    run, closest = _paused_run(5.0, 5.9, 2.0, 20.0, door=0.9)
+    try:
+        x, y, th = run.world.robot.pose
+        assert math.hypot(x - 5.0, y - 2.0) > 0.5, (x, y)
+        off = math.atan2(2.0 - y, 5.9 - x) - th
+        assert abs(math.atan2(math.sin(off), math.cos(off))) < math.radians(12)
+        assert closest >= 0.8 and run.sim.modules["follower"].paused
         assert run.world.contacts == []
     finally:
         run.close()

@@ -346,6 +346,7 @@ class Follower(Module):
         self.paused = False  # a wait said while following: it stands facing her until she walks on
         self._pause_seen: str | None = None  # the attention's pause (when its order came) last acted on
         self._pause_from: tuple[float, float] | None = None  # where she stood when the pause began (odom)
+        self._pause_reached = False  # paused and come up to her: it stands there (turning to her) while the pause lasts
 
     def respawn(self) -> Follower:
         return Follower(self.sim, name=self.name, limits=self.limits, rate=1.0 / self.period, distance=self.distance,
@@ -384,7 +385,7 @@ class Follower(Module):
         if paused is None:
             self.paused, self._pause_seen = False, None
         elif paused != self._pause_seen:
-            self.paused, self._pause_seen, self._pause_from = True, paused, None
+            self.paused, self._pause_seen, self._pause_from, self._pause_reached = True, paused, None, False
         self._listen_to_people(follow or self.approach_until is not None)
 
     def _listen_to_people(self, on: bool) -> None:
@@ -571,15 +572,25 @@ class Follower(Module):
             same_room = self.route.room_at(self.odom[:2]) is self.route.room_at((px, py))
             near = (d <= self.approach_to and self.route.in_sight(self.odom[:2], (px, py))
                     and (same_room or d <= self.band[0]))
-            if near and (d <= self.band[0] or self.route.clearance(self.odom[:2]) >= APPROACH_ROOM):
+            arrived = near and (d <= self.band[0] or self.route.clearance(self.odom[:2]) >= APPROACH_ROOM)
+            # paused, come up to her (or stepping out of her way): it holds there while the pause lasts, not
+            # creeping after her as she shifts where she stands, nor back into the door it gave way from
+            stepping_aside = paused and self._aside is not None and self.now <= self._aside[1]
+            if paused and (self._pause_reached or stepping_aside):
+                arrived = True
+            if arrived:
                 # so close to her in a door frame or a passage: out of her way first (her next
                 # "follow me" walks her through it), then face her
-                aside = self._give_way(px, py, self.route.obstacles_near(self.odom)) if d <= self.band[0] else None
+                aside = (self._give_way(px, py, self.route.obstacles_near(self.odom))
+                         if d <= self.band[0] or stepping_aside else None)
                 if aside is not None:
                     self._command(*aside)
                     self._status(d, False, "paused" if paused else "approaching")
                     return aside
-                return self._pause(px, py, d, bearing) if paused else self._face(bearing)
+                if paused:
+                    self._pause_reached = True
+                    return self._pause(px, py, d, bearing)
+                return self._face(bearing)
             v_des = speed_law(d, 0.0, distance=self.distance, band=(self.band[0], self.distance), minimum=self.minimum,
                               gain=self.gain, limits=self.limits)
             v_des = max(v_des, 0.15)  # in the next room (near but out of sight): on through the door
@@ -719,7 +730,7 @@ class Follower(Module):
             self._pause_from = (px, py)
         walked = math.hypot(px - self._pause_from[0], py - self._pause_from[1])
         if walked > PAUSE_WALK_ON or d < self.minimum or (unseen and speed >= PAUSE_WALKING):
-            self.paused = False
+            self.paused, self._pause_reached, self._aside = False, False, None
             self.trail.clear()
             self.trail.append((px, py))
             return False
