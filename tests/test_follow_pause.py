@@ -14,6 +14,7 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 from hypothesis import given, settings
+from lxml import etree
 from hypothesis import strategies as st
 
 from homesim.tour.runner import Run, RunOptions
@@ -53,7 +54,8 @@ class _Paused(Follower):
 
 def _step(f: _Paused, x: float, y: float, unseen: bool = False, speed: float = 0.0) -> None:
     d = math.hypot(x, y)
-    f._pause(x, y, d, math.atan2(y, x), unseen, speed)
+    if f._pause_holds(x, y, d, unseen, speed):  # come up to her already: it stands facing her (see below)
+        f._pause(x, y, d, math.atan2(y, x))
 
 
 @settings(max_examples=200, deadline=None)
@@ -63,7 +65,8 @@ def _step(f: _Paused, x: float, y: float, unseen: bool = False, speed: float = 0
 def test_paused_it_stands_until_she_walks_on_then_follows_within_a_step(start, pause, fidget, fidget_dir, speed,
                                                                          walk_dir):
     """However long she rests (0-40 s) and however she shifts her weight where she stands (up to
-    0.45 m: a step to the shelf beside her; she stays beyond its 0.8 m minimum), the paused robot never drives forwards or backwards, only
+    0.45 m: a step to the shelf beside her; she stays beyond its 0.8 m minimum), the paused robot, come up
+    to her already (the far case is the scene test below), never drives forwards or backwards, only
     turns to face her; once she walks on (any direction, 0.2-1.4 m/s) it follows again no later than the
     step in which she is PAUSE_WALK_ON from where she stood, and never before she is."""
     x0, y0 = start[0] * math.cos(start[1]), start[0] * math.sin(start[1])
@@ -105,3 +108,94 @@ def test_she_rests_says_hang_on_and_walks_on_and_it_follows_her_into_the_next_ro
         run.run()
         s = run.summary()
     assert s["verdict"] == "PASS", [e for e in s["expectations"] if not e["passed"]]
+
+
+_HALL_STUDY = """<?xml version="1.0" encoding="UTF-8"?>
+<scenario name="pause_far" seed="0" duration="40">
+  <flat>
+    <room name="hall" points="0,0 5,0 5,4 0,4"/>
+    <room name="study" points="5,0 10,0 10,4 5,4"/>
+    <walls thickness="0.1">
+      <wall from="0 0" to="10 0"/>
+      <wall from="10 0" to="10 4"/>
+      <wall from="10 4" to="0 4"/>
+      <wall from="0 4" to="0 0"/>
+      <wall from="5 0" to="5 4"><door name="study door" at="2.0" width="{door}"/></wall>
+    </walls>
+  </flat>
+  <robot x="{rx}" y="2.0" heading="0"/>
+  <humans>
+    <human name="anna" x="{hx}" y="{hy}" heading="3.14159">
+      <script><wait for="60"/></script>
+    </human>
+  </humans>
+</scenario>
+"""
+
+
+def _paused_run(rx: float, hx: float, hy: float, until: float, door: float = 1.0):
+    """She leads, has said "hang on" (the attention's pause order from the start) and stands at (hx, hy);
+    the robot lags at (rx, 2.0) facing east. The oracle stands in for the attention (tests.nav_helpers)."""
+    from tests.nav_helpers import start_run
+
+    run = start_run("pause_far", tracks={"anna": "t1"}, text=_HALL_STUDY.format(rx=rx, hx=hx, hy=hy, door=door))
+    oracle = run.oracle
+
+    def publish() -> None:  # Follow, paused since 0.3 s (docs/robot-contract.md, /robot/attention/state)
+        oracle.bus.publish("/robot/attention/state", etree.Element(
+            "attention", state=oracle.state, selected=oracle.partner or "", partner=oracle.partner or "", paused="0.3"))
+
+    oracle._publish_state = publish
+    run.at(0.3, lambda: oracle.follow("t1"))
+    closest = [math.inf]
+
+    def watch() -> None:
+        x, y, _ = run.world.robot.pose
+        closest[0] = min(closest[0], math.hypot(hx - x, hy - y))
+        run.at(run.sim.now + 0.1, watch)
+
+    run.at(0.4, watch)
+    run.until(until)
+    return run, closest[0]
+
+
+@settings(max_examples=4, deadline=None, derandomize=True)
+@given(hx=st.floats(3.6, 4.5), hy=st.floats(1.2, 2.8), beyond=st.booleans())
+def test_paused_far_behind_her_it_comes_up_to_her_facing_her_and_stays_paused(hx, hy, beyond):
+    """Issue 26 item 10 holds in a pause too (review13 item 10: paused 3.5 m behind her it stood there, and
+    in the next room, while she rested): paused while she stands 2.6-3.5 m ahead in the hall, or beyond the
+    door in the study, it comes up to her room, to a comfortable interaction distance (the approach's band
+    end, 1.5 m; never closer than its 0.8 m minimum) and faces her; it does not follow on (no state but
+    ``paused``), and touches nothing."""
+    # beyond the door she stands in the study (6.1-7.0 m) and the robot in the hall, 3.1-4.0 m back
+    hx, rx = (hx + 2.5, 3.0) if beyond else (hx, 1.0)
+    run, closest = _paused_run(rx, hx, hy, 25.0)
+    try:
+        x, y, th = run.world.robot.pose
+        d = math.hypot(hx - x, hy - y)
+        assert d <= 1.55 and closest >= 0.8, (d, closest)
+        assert (x > 5.0) == (hx > 5.0), "it stays in the other room"
+        off = math.atan2(hy - y, hx - x) - th
+        assert abs(math.atan2(math.sin(off), math.cos(off))) < math.radians(12)
+        follower = run.sim.modules["follower"]
+        assert follower.paused, "standing she never walked on"
+        assert run.world.contacts == []
+    finally:
+        run.close()
+
+
+def test_paused_in_a_door_frame_with_her_close_beyond_it_steps_out_of_the_door_and_faces_her():
+    """Review13 item 10's second half: paused in a 0.9 m door frame with her resting 0.9 m beyond it, the
+    robot stood in the door she will walk back through. Now the give-way rule runs as after "stop": it
+    steps out of the door (its centre more than 0.5 m from the door's middle), then stands facing her,
+    still paused, touching nothing, and does not drive back into the door while she rests."""
+    run, closest = _paused_run(5.0, 5.9, 2.0, 20.0, door=0.9)
+    try:
+        x, y, th = run.world.robot.pose
+        assert math.hypot(x - 5.0, y - 2.0) > 0.5, (x, y)
+        off = math.atan2(2.0 - y, 5.9 - x) - th
+        assert abs(math.atan2(math.sin(off), math.cos(off))) < math.radians(12)
+        assert closest >= 0.8 and run.sim.modules["follower"].paused
+        assert run.world.contacts == []
+    finally:
+        run.close()

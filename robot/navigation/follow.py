@@ -48,6 +48,9 @@ Control, every ``1/rate`` seconds:
   then. No too-fast warnings while approaching. She stands, so her last position holds while
   she is unseen (behind a table's or a chair's legs, the door frame) for up to ``search_time`` s.
   Any other state (a go-to) ends it.
+* Paused (a wait said while she leads: the attention state's ``paused``): only following on is
+  paused. It comes up to her by the same rule as the catch-up (status ``paused``), then stands
+  turning to face her until she walks on (:data:`PAUSE_WALK_ON`), and follows again.
 * Searching: not seen for ``lost_after`` s (a door frame, someone crossing between, a partner
   who walked past the robot's side, out of the laser's half-circle) it does not stop: it drives,
   at most ``search_speed``, to where she was heading (her last track message carried on with its
@@ -343,6 +346,7 @@ class Follower(Module):
         self.paused = False  # a wait said while following: it stands facing her until she walks on
         self._pause_seen: str | None = None  # the attention's pause (when its order came) last acted on
         self._pause_from: tuple[float, float] | None = None  # where she stood when the pause began (odom)
+        self._pause_reached = False  # paused and come up to her: it stands there (turning to her) while the pause lasts
 
     def respawn(self) -> Follower:
         return Follower(self.sim, name=self.name, limits=self.limits, rate=1.0 / self.period, distance=self.distance,
@@ -381,7 +385,7 @@ class Follower(Module):
         if paused is None:
             self.paused, self._pause_seen = False, None
         elif paused != self._pause_seen:
-            self.paused, self._pause_seen, self._pause_from = True, paused, None
+            self.paused, self._pause_seen, self._pause_from, self._pause_reached = True, paused, None, False
         self._listen_to_people(follow or self.approach_until is not None)
 
     def _listen_to_people(self, on: bool) -> None:
@@ -568,11 +572,12 @@ class Follower(Module):
         vrx, vry = c * tr["vx"] + s * tr["vy"], -s * tr["vx"] + c * tr["vy"]
         v_radial = (vrx * rx + vry * ry) / d if d > 1e-6 else 0.0
         bearing = math.atan2(ry, rx)
-        if self.paused and not approaching:
-            pause = self._pause(px, py, d, bearing, searching, math.hypot(tr["vx"], tr["vy"]))
-            if self.paused:
-                return pause
-        if approaching:
+        # paused (a wait said while she leads): only following on is paused; it still comes up to her
+        # as the approach does (issue 26 item 10: not 3.5 m behind her, not in a door frame), gives
+        # way there, and keeps every rule of driving (the dynamic window, everyone's space, the floor plan)
+        paused = self.paused and not approaching and self._pause_holds(px, py, d, searching,
+                                                                       math.hypot(tr["vx"], tr["vy"]))
+        if approaching or paused:
             # she stands: close in to the band's near part, the far end no further than approach_to;
             # near enough, in sight (not behind a wall) and not in a door frame or a passage (where
             # it would teach from the other room and block the way), face her and stop
@@ -582,14 +587,24 @@ class Follower(Module):
             same_room = self.route.room_at(self.odom[:2]) is self.route.room_at((px, py))
             near = (d <= self.approach_to and self.route.in_sight(self.odom[:2], (px, py))
                     and (same_room or d <= self.band[0]))
-            if near and (d <= self.band[0] or self.route.clearance(self.odom[:2]) >= APPROACH_ROOM):
+            arrived = near and (d <= self.band[0] or self.route.clearance(self.odom[:2]) >= APPROACH_ROOM)
+            # paused, come up to her (or stepping out of her way): it holds there while the pause lasts, not
+            # creeping after her as she shifts where she stands, nor back into the door it gave way from
+            stepping_aside = paused and self._aside is not None and self.now <= self._aside[1]
+            if paused and (self._pause_reached or stepping_aside):
+                arrived = True
+            if arrived:
                 # so close to her in a door frame or a passage: out of her way first (her next
                 # "follow me" walks her through it), then face her
-                aside = self._give_way(px, py, self.route.obstacles_near(self.odom)) if d <= self.band[0] else None
+                aside = (self._give_way(px, py, self.route.obstacles_near(self.odom))
+                         if d <= self.band[0] or stepping_aside else None)
                 if aside is not None:
                     self._command(*aside)
-                    self._status(d, False, "approaching")
+                    self._status(d, False, "paused" if paused else "approaching")
                     return aside
+                if paused:
+                    self._pause_reached = True
+                    return self._pause(px, py, d, bearing)
                 return self._face(bearing)
             v_des = speed_law(d, 0.0, distance=self.distance, band=(self.band[0], self.distance), minimum=self.minimum,
                               gain=self.gain, limits=self.limits)
@@ -709,8 +724,8 @@ class Follower(Module):
             held = self._held_up(v, v_des, goal, px, py)
         v = self._keep_inside(v, w)
         self._command(v, w)
-        if approaching:
-            self._status(d, False, "approaching")
+        if approaching or paused:
+            self._status(d, False, "paused" if paused else "approaching")
             return v, w
         if searching:
             self._too_fast(d, False)
@@ -721,19 +736,25 @@ class Follower(Module):
         self._status(d, at_limit, state if tr["visible"] else "searching")
         return v, w
 
-    def _pause(self, px: float, py: float, d: float, bearing: float, unseen: bool, speed: float) -> tuple[float, float]:
-        """Paused by a wait said while she leads: stand where it is, turned to face her (no corner swung
-        into her or anyone, none into the floor plan), until she walks on: she is :data:`PAUSE_WALK_ON`
-        from where she stood when the pause began, she comes closer than ``minimum`` (the follower's own
-        rules give her way), or she went out of view walking. Then following goes on (``paused`` false)."""
+    def _pause_holds(self, px: float, py: float, d: float, unseen: bool, speed: float) -> bool:
+        """Whether the pause (a wait said while she leads) still holds: until she walks on, that is she is
+        :data:`PAUSE_WALK_ON` from where she stood when the pause began, she comes closer than ``minimum``
+        (the follower's own rules give her way), or she went out of view walking. Then following goes on
+        (``paused`` false; the way to her is the straight line from here)."""
         if self._pause_from is None:
             self._pause_from = (px, py)
         walked = math.hypot(px - self._pause_from[0], py - self._pause_from[1])
         if walked > PAUSE_WALK_ON or d < self.minimum or (unseen and speed >= PAUSE_WALKING):
-            self.paused = False
-            self.trail.clear()  # from here the way to her is the straight line (as when it waits)
+            self.paused, self._pause_reached, self._aside = False, False, None
+            self.trail.clear()
             self.trail.append((px, py))
-            return 0.0, 0.0
+            return False
+        return True
+
+    def _pause(self, px: float, py: float, d: float, bearing: float) -> tuple[float, float]:
+        """Paused and come up to her (the approach's end: near, in sight, in her room, not in a door
+        frame): stand there turned to face her (no corner swung into her or anyone, none into the floor
+        plan) while the pause holds; she may shift where she stands without it creeping after her."""
         w = max(-self.limits.max_turn, min(self.limits.max_turn, 1.8 * bearing)) if abs(bearing) > math.radians(8) else 0.0
         if w != 0.0:
             rx, ry = self._to_robot(px, py)
