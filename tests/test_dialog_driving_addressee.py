@@ -15,7 +15,7 @@ from lxml import etree
 
 from robot.dialog.loader import BIRON_DIALOGS, load
 from robot.dialog.manager import DialogManager
-from robot.dialog.module import VOICE_FRAMES, Dialog, front_bearing, heard_bearing
+from robot.dialog.module import VOICE_FRAMES, Dialog, front_bearing, heard_bearing, heard_span, span_off
 
 DOC = load(BIRON_DIALOGS)
 
@@ -48,7 +48,11 @@ def test_words_are_hers_unless_enough_voices_none_from_her_place(place, theta, v
     frames = [(10.0 + 0.1 * i, (b,)) for i, b in enumerate(voices)]
     d = _dialog(place, pose, frames)
     her = _her(place, pose)
-    near = any(abs(front_bearing(b) - her) <= 9.0 for b in voices)
+    # where she may be heard: a span over the mouth heights a person may have (heard_span)
+    b_deg = math.degrees(math.remainder(math.atan2(place[1], place[0]) - theta, 2 * math.pi))
+    span = heard_span(b_deg, max(math.hypot(*place), 0.3))
+    assert span[0] - 1e-9 <= her <= span[1] + 1e-9
+    near = any(span_off(b, span) <= 9.0 for b in voices)
     assert d.addressed(10.0, 11.0) == (len(voices) < VOICE_FRAMES or near)
 
 

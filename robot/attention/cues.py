@@ -36,6 +36,10 @@ class CueSpec:
     mic_height: float = 1.06  # m: the microphone pair's height on the robot (its own geometry)
     mic_spacing: float = 0.281  # m between the two microphones
     mouth_height: float = 1.6  # m: where an adult standing person's voice comes from (typical)
+    # m: the mouth heights a voice may come from (a child or a seated adult .. a tall adult): the
+    # robot does not know a person's height, and near the robot it moves the pair's bearing a lot
+    # (0.55 m away, 50 deg to the side: 56 deg from 1.15 m, 35 deg from 1.6 m, 27 deg from 1.85 m)
+    mouth_heights: tuple[float, float] = (1.15, 1.85)
     camera_offset: float = 0.05
 
 
@@ -111,6 +115,28 @@ def sound_bearings_from(xy_robot: np.ndarray | Sequence[Sequence[float]], spec: 
         dl = math.sqrt(ax * ax + (y - h) ** 2 + dz * dz)
         dr = math.sqrt(ax * ax + (y + h) ** 2 + dz * dz)
         out.append(math.asin(max(-1.0, min(1.0, (dr - dl) / spec.mic_spacing))))
+    return out
+
+
+def sound_bearing_span(x: float, y: float, spec: CueSpec) -> tuple[float, float]:
+    """(lowest, highest) front-half-plane bearing (rad) the microphone pair can report for a voice
+    from the robot-frame point (x, y), over the mouth heights ``spec.mouth_heights``: the person's
+    height is unknown, and the elevation it gives shortens the path difference (:func:`sound_bearings_from`).
+    Far off the span is narrow (a degree); at half a metre it is tens of degrees wide."""
+    lo, hi = spec.mouth_heights
+    heights = [lo, hi] + ([spec.mic_height] if lo < spec.mic_height < hi else [])
+    bs = [sound_bearings_from([(x, y)], CueSpec(mic_offset=spec.mic_offset, mic_height=spec.mic_height, mic_spacing=spec.mic_spacing, mouth_height=z))[0] for z in heights]
+    return min(bs), max(bs)
+
+
+def span_offset(span: tuple[float, float], b: float) -> float:
+    """How far (rad) the front-half-plane sound direction ``b`` lies outside ``span`` (0 inside);
+    the pair cannot tell ``b`` from ``180 - b``, so the nearer of the two counts."""
+    lo, hi = span
+    out = math.inf
+    for v in (b, math.pi - b):
+        v = math.remainder(v, 2 * math.pi)
+        out = min(out, max(0.0, lo - v, v - hi))
     return out
 
 

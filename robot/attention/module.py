@@ -67,7 +67,7 @@ from robot.contract import (ATTENTION_STATE, BASE_CMD, BUMPERS, ES_EVENTS, ES_OR
 
 from .appearance import Colours, anchor_torsos, same_clothes
 from .clutter import FurnitureLegs
-from .cues import CueSpec, Hysteresis, bearings_from, match_faces, match_sounds, sound_bearings_from
+from .cues import CueSpec, Hysteresis, bearings_from, match_faces, match_sounds, sound_bearing_span, sound_bearings_from, span_offset
 from .fsm import CAMERA, TURNS, AttentionFSM, OrderRefused
 from .legs import SINGLE, LegDetector, LegSpec
 from .looking import HeardFrom, LookedAt, angle_between
@@ -466,10 +466,15 @@ class PersonAttention(Module):
             prow = self.tracks.row(self.partner)
             if prow >= 0:
                 # Who talks, as the beam gate reads it: the partner only when a direction lies within
-                # ``partner_voice_tolerance`` of her (her own voice comes from within a degree or two);
-                # anyone else when a direction lies further off her than that.
-                pb = track_bearings[prow]
-                offs = [min(abs(math.remainder(pb - b, 2 * math.pi)), abs(math.remainder(pb - (math.pi - b), 2 * math.pi))) for b in bearings]
+                # ``partner_voice_tolerance`` of where her voice may come from; anyone else when a
+                # direction lies further off than that.
+                # Her voice's bearing is known only within the span her unknown mouth height allows
+                # (:func:`sound_bearing_span`): close to the robot that span is wide, and one typical
+                # height put her own voice 9 deg off her, so the robot stopped listening to its
+                # partner standing half a metre away (follow_while_looking seed 1).
+                px, py = self._robot_xy(t)[prow]
+                span = sound_bearing_span(float(px), float(py), self.cues)
+                offs = [span_offset(span, b) for b in bearings]
                 tol = self.params.partner_voice_tolerance
                 self._voices = (t, any(o <= tol for o in offs), any(o > tol for o in offs))
         if bearings:

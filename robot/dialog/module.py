@@ -185,18 +185,46 @@ HOLD_BUDGET, HOLD_WINDOW = 15.0, 60.0
 #: the microphone pair's geometry (m: ahead of the centre, spacing, height) and a standing adult's
 #: mouth height, as the person attention's CueSpec has them (modules share no code: tests/test_layers.py)
 MIC_OFFSET, MIC_SPACING, MIC_HEIGHT, MOUTH_HEIGHT = 0.10, 0.281, 1.06, 1.6
+#: m: the mouth heights a voice may come from (a child or a seated adult .. a tall adult), as the
+#: person attention's CueSpec.mouth_heights: her height is unknown, and half a metre from the robot it
+#: moves where the pair hears her by tens of degrees
+MOUTH_HEIGHTS = (1.15, 1.85)
 
 
-def heard_bearing(bearing_deg: float, distance: float) -> float:
+def heard_bearing(bearing_deg: float, distance: float, mouth: float = MOUTH_HEIGHT) -> float:
     """Where the microphone pair hears a voice from a person at (bearing, distance) (degrees, front
     half-plane): a mouth above the pair, beside it, shortens the path difference (a person 1.7 m away
     76 degrees to the side is heard at about 69), as the person attention matches voices to tracks."""
     b = math.radians(bearing_deg)
     x, y = distance * math.cos(b) - MIC_OFFSET, distance * math.sin(b)
-    h, dz = MIC_SPACING / 2, MOUTH_HEIGHT - MIC_HEIGHT
+    h, dz = MIC_SPACING / 2, mouth - MIC_HEIGHT
     dl = math.sqrt(x * x + (y - h) ** 2 + dz * dz)
     dr = math.sqrt(x * x + (y + h) ** 2 + dz * dz)
     return math.degrees(math.asin(max(-1.0, min(1.0, (dr - dl) / MIC_SPACING))))
+
+
+def heard_span(bearing_deg: float, distance: float) -> tuple[float, float]:
+    """(lowest, highest) bearing (degrees, front half-plane) the pair can hear a person at (bearing,
+    distance) at, over :data:`MOUTH_HEIGHTS`: a degree wide across the room, tens of degrees at half a
+    metre (follow_while_looking seed 1: her "follow me" from 0.55 m was heard 12 degrees off the
+    typical-height bearing and dropped as another talker's)."""
+    lo, hi = MOUTH_HEIGHTS
+    zs = [lo, hi] + ([MIC_HEIGHT] if lo < MIC_HEIGHT < hi else [])
+    bs = [heard_bearing(bearing_deg, distance, z) for z in zs]
+    return min(bs), max(bs)
+
+
+def span_off(deg: float, span: tuple[float, float] | float) -> float:
+    """How far (degrees) the direction ``deg``, folded to the front, lies outside ``span`` (0 inside;
+    a single bearing is a span of one, folded to the front too)."""
+    b = front_bearing(deg)
+    lo, hi = span if isinstance(span, tuple) else (front_bearing(span),) * 2
+    return max(0.0, lo - b, b - hi)
+
+
+def _known(span: tuple[float, float] | float | None) -> bool:
+    """A partner report that says where the pair hears her (a span, or a finite bearing)."""
+    return span is not None and (isinstance(span, tuple) or math.isfinite(span))
 
 
 def front_bearing(deg: float) -> float:
@@ -363,7 +391,8 @@ class Dialog(Module):
         self.partner_fresh = partner_fresh
         self._partner: tuple[float, float] | None = None  # (bearing in degrees, robot frame; when heard)
         # (time, facing, company, heard bearing) of the latest partner reports, for the addressee rule (bounded: ~30 s at 10 Hz)
-        self._partner_cues: deque[tuple[float, str, int, float]] = deque(maxlen=300)
+        # (time, facing, company, where the pair can hear her: a span of bearings, heard_span, or None)
+        self._partner_cues: deque[tuple[float, str, int, tuple[float, float] | float | None]] = deque(maxlen=300)
         self._partner_place: tuple[float, float] | None = None  # where she was last reported (map frame, via the pose)
         # (time, directions heard) of the latest sound frames with a voice, for the rule while she leads (bounded)
         self._sources: deque[tuple[float, tuple[float, ...]]] = deque(maxlen=300)
@@ -471,15 +500,15 @@ class Dialog(Module):
         utterance heard a direction and none of them lay within ``barge_in_width`` of where the pair
         hears her (:func:`heard_bearing`, both folded to the front: the pair cannot tell front from
         back). Without such frames, or without her bearing, it is hers: her "stop" must never be lost."""
-        cues = [(t, b) for t, _, _, b in self._partner_cues if math.isfinite(b) and start - 0.5 <= t <= end + 0.5]
+        cues = [(t, b) for t, _, _, b in self._partner_cues if _known(b) and start - 0.5 <= t <= end + 0.5]
         if not cues:
             return True
         frames = [(t, bs) for t, bs in self._sources if start <= t <= end and bs]
         if len(frames) < VOICE_FRAMES:
             return True
         for t, bs in frames:
-            her = front_bearing(min(cues, key=lambda c: abs(c[0] - t))[1])
-            if any(abs(front_bearing(b) - her) <= self.barge_in_width for b in bs):
+            her = min(cues, key=lambda c: abs(c[0] - t))[1]
+            if any(span_off(b, her) <= self.barge_in_width for b in bs):
                 return True
         return False
 
@@ -489,14 +518,14 @@ class Dialog(Module):
         frames heard one within ``barge_in_width`` of where the pair hears her: the tail of her own next
         turn, overlapping his words, does not make them hers. Without such frames, or without her
         bearing, nothing is decided here (False)."""
-        cues = [(t, b) for t, _, _, b in self._partner_cues if math.isfinite(b) and start - 0.5 <= t <= end + 0.5]
+        cues = [(t, b) for t, _, _, b in self._partner_cues if _known(b) and start - 0.5 <= t <= end + 0.5]
         frames = [(t, bs) for t, bs in self._sources if start <= t <= end and bs]
         if not cues or len(frames) < VOICE_FRAMES:
             return False
         hers = 0
         for t, bs in frames:
-            her = front_bearing(min(cues, key=lambda c: abs(c[0] - t))[1])
-            hers += any(abs(front_bearing(b) - her) <= self.barge_in_width for b in bs)
+            her = min(cues, key=lambda c: abs(c[0] - t))[1]
+            hers += any(span_off(b, her) <= self.barge_in_width for b in bs)
         return hers < HER_SHARE * len(frames)
 
     def _from_her_place(self, start: float, end: float) -> bool:
@@ -521,8 +550,8 @@ class Dialog(Module):
         if not all(math.isfinite(v) for v in (dx, dy, th)):
             return True
         d = math.hypot(dx, dy)
-        her = front_bearing(heard_bearing(math.degrees(math.remainder(math.atan2(dy, dx) - th, 2 * math.pi)), max(d, 0.3)))
-        return any(abs(front_bearing(b) - her) <= self.barge_in_width for _, bs in frames for b in bs)
+        her = heard_span(math.degrees(math.remainder(math.atan2(dy, dx) - th, 2 * math.pi)), max(d, 0.3))
+        return any(span_off(b, her) <= self.barge_in_width for _, bs in frames for b in bs)
 
     # ------------------------------------------------------------------ inputs
     def _on_frame(self, msg: Message) -> None:
@@ -726,9 +755,11 @@ class Dialog(Module):
     def _on_partner(self, msg: Message) -> None:
         b = float(msg.xml.get("bearing", "nan"))
         d = float(msg.xml.get("distance", "nan"))
+        span = None
         if math.isfinite(b) and math.isfinite(d) and d > 0:
             # where the microphone pair hears her voice (a mouth above the pair, beside it, is
             # heard nearer the front: the person attention matches voices to tracks the same way)
+            span = heard_span(b, d)
             b = heard_bearing(b, d)
         self._partner = (b, self.now) if math.isfinite(b) else None
         pose = self._pose
@@ -741,7 +772,7 @@ class Dialog(Module):
             facing = ASIDE  # she walked off and turned her back on the robot (the addressee rule)
             if not self._partner_cues or self._partner_cues[-1][1] != ASIDE:
                 self._aside_since = msg.created
-        self._partner_cues.append((msg.created, facing, int(msg.xml.get("company", "0")), b if math.isfinite(b) else math.nan))
+        self._partner_cues.append((msg.created, facing, int(msg.xml.get("company", "0")), span))
 
     def _facing_now(self) -> str:
         """The latest partner report's ``facing`` ("true", "false", "unknown"), if recent."""
