@@ -149,7 +149,7 @@ def test_top_down_states_only_by_orders_and_unknown_orders_refused():
     assert fsm.bottom_up(0.3, False, None) == "Alertness"
     assert fsm.bottom_up(2.4, False, None) == "Sleeping"  # nobody for sleep_after seconds
     assert fsm.order("sleep") == "Sleeping" and fsm.bottom_up(3.0, True, 3) == "Sleeping"
-    with pytest.raises(OrderRefused, match="'dance'.*known: focus_object, follow, interact, look_around, look_for_help, sleep"):
+    with pytest.raises(OrderRefused, match="'dance'.*known: focus_object, follow, interact, look_around, look_for_help, pause, sleep"):
         fsm.order("dance")
 
 
