@@ -476,6 +476,8 @@ class ObjectAttention(Module):
                 return
             chosen = res.best
             if res.kind == "ambiguous":
+                chosen = self._said_where(res.fitting(), obj)
+            if res.kind == "ambiguous" and chosen is None:
                 chosen = await self._ask(res.fitting()[:3], wanted, pose, cause, pointing)
                 if chosen is None:
                     self._not_found("unclear", cause)
@@ -943,6 +945,16 @@ class ObjectAttention(Module):
             await asyncio.sleep(0.1)
             waited += 0.1
         return None
+
+    def _said_where(self, cands: list[Candidate], obj: etree._Element | None) -> Candidate | None:
+        """The one candidate standing on the furniture she named with the request ("my cup on the
+        table", or "the one on the table" in answer to "Is this your cup?"): no need to ask which one.
+        None when she named none, or it does not single one out."""
+        ground = obj.find("POSITION/TITLE") if obj is not None else None
+        if ground is None:
+            return None
+        on = [c for c in cands if self._on_furniture(c, ground.get("name", ""))]
+        return on[0] if len(on) == 1 else None
 
     def _on_furniture(self, c: Candidate, word: str) -> bool:
         """Whether a candidate stands on a piece of furniture called or of type ``word`` (the floor plan)."""
