@@ -281,6 +281,11 @@ class DialogManager:
             return self._not_understood()
         act_el = acts[0]
         act = str(act_el.tag)
+        if act == "THAT_ONE" and len(act_el) == 0 and not act_el.attrib:
+            # "the one [to the table]" (the recogniser's "to" for "on"): a "which one" answer that
+            # picks nothing out (no side, index, colour, place, gesture) answers no question; taken
+            # as the choice it was thanked for and the object "not found" (cups_on_table seed 0)
+            return self._not_understood()
         if act == "OBJECT" and self.es_state != "Following":
             self._in_passing, self._in_passing_due = None, False  # she shows something now: no need to ask
         conf = float(msg.get("confidence", "1"))
