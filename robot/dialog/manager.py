@@ -112,6 +112,7 @@ class Instance:
     last_sig: tuple[str, ...] | None = None
     pending: tuple[str, str, str] | None = None  # (ask|confirm, slot, question)
     reasks: int = 0
+    ask_once: bool = False  # the open question is an ask put at most once (``<ask once="true">``)
     asked: dict[str, int] = field(default_factory=dict)  # how often each question was said
     passed_over: int = 0  # user turns that went to other dialogs while its question was open
     sent: list[str] = field(default_factory=list)
@@ -363,6 +364,10 @@ class DialogManager:
             else:
                 self._fill_frame(answered, [f for f in answered.d.fills if f.frame and act in f.frame], act_el, conf,
                                  stamp)
+                if answered.ask_once and answered.slots[slot].status == "empty":
+                    # "What is it?" - "this is my <lost word>" again: the same word lost twice; asking a
+                    # third time does not converge, so the policy goes on without it (the camera says what)
+                    answered.slots[slot].status = "false"
             self._step(answered, out)
             return out
         # 2. a new sub-dialog
@@ -795,6 +800,7 @@ class DialogManager:
             if not self._may_ask(inst, q, out):
                 return
             inst.pending = (a.kind, a.slot or "", q)
+            inst.ask_once = a.once
             if a.kind == "confirm":
                 self.metrics["confirmations"] += 1
             self._say(out, q, did)
