@@ -362,6 +362,28 @@ def test_clarification_question_from_the_object_attention(robot):
     assert replies and replies[0].xml.get("index") == "1"
 
 
+@pytest.mark.parametrize("side, index", [("left", "0"), ("right", "1")])
+def test_a_side_said_in_answer_to_the_confirmation_answers_the_which_one_question(robot, side, index):
+    # perceive/cups_across_10 seed 2: "Is this your cup?" - "the left one" was taken as a yes, and then the
+    # robot asked "Do you mean the cup on the left or the one on the right?", a question she had answered
+    robot.greet()
+    obj = robot.sim.bus.participant("object_attention")
+    replies = []
+
+    async def ask() -> None:
+        req = etree.fromstring('<ask timeout="8"><option index="0" text="the cup on the left"/>'
+                               '<option index="1" text="the one on the right"/></ask>')
+        replies.append(await obj.call("dialog", "ask", req, timeout=10.0))
+
+    robot.utter("is my cup", 6.0, 7.0)
+    robot.utter(f"the {side} one", 10.0, 10.8)
+    robot.sim.call_at(13.0, lambda: robot.sim.spawn(ask(), name="asker"))
+    robot.sim.run(until=16.0)
+    said = robot.sentences()
+    assert "Is this your cup?" in said and not any(s.startswith("Do you mean") for s in said)
+    assert replies and replies[0].xml.get("index") == index
+
+
 def test_a_question_routed_through_the_supervisor_is_asked_and_answered_as_an_event(robot):
     """The object attention asks through the ES: event clarification -> condition ask -> the dialog asks ->
     event clarified -> order clarified to the object attention (robot/afsm/biron.scxml, ObjectTeaching)."""

@@ -527,6 +527,23 @@ def test_clarify_dialog_asks_and_ends_with_the_choice(dm):
     assert says(out) == ["Thank you."] and ended == [inst] and inst.success
 
 
+@pytest.mark.parametrize("words", ["the one to the table", "the one", "the one uh"])
+def test_a_which_one_answer_that_picks_nothing_out_is_asked_again_not_thanked_for(dm, words):
+    # perceive/cups_on_table seed 0: "the one on the table" heard "the one to the table" (a bare
+    # THAT_ONE) got "Thank you." and the object "not found"; it picks out nothing, so the robot
+    # says it did not understand and asks again (at most twice, as every question)
+    from robot.speech.module import frame_message, shared_understander
+    ended = []
+    inst, out = dm.start("clarify", {"options": "the cup on the left or the one on the right"}, on_end=ended.append)
+    msg = frame_message(shared_understander().understand(words), 1.0, 2.0, 0.8)
+    assert msg.find("SPEECH/THAT_ONE") is not None
+    out = dm.on_frame(msg)
+    assert ended == [] and "Thank you." not in says(out)
+    assert says(out)[-1] == "Do you mean the cup on the left or the one on the right?"
+    out = dm.on_frame(frame('<THAT_ONE><POSITION><RELATION name="on"/><TITLE name="table"/></POSITION></THAT_ONE>'))
+    assert says(out) == ["Thank you."] and ended == [inst] and inst.success
+
+
 # ------------------------------------------------------------------ invariants
 INPUTS = [
     ("f", "<GREETING/>"), ("f", "<FOLLOW/>"), ("f", "<STOP/>"), ("f", CUP), ("f", "<OBJECT/>"), ("f", "<PLACE/>"),

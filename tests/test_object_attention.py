@@ -354,3 +354,26 @@ def test_something_seen_closer_than_the_floor_could_be_stands_on_the_furniture_t
     x, y, z = _placer([piece]).place(pose, bearing_seen, dist)
     assert z == pytest.approx(top + 0.05)
     assert math.hypot(x - ox, y - oy) < 1e-6
+
+
+@pytest.mark.parametrize("answer", [
+    '<ANSWER none="true"><POSITION><RELATION name="on"/><TITLE name="table"/></POSITION></ANSWER>',
+    # "that one on the table" (the recogniser's "that" for "the"): the place decides, no gesture awaited
+    '<ANSWER none="true" deixis="true"><POSITION><RELATION name="on"/><TITLE name="table"/></POSITION></ANSWER>',
+])
+def test_the_one_on_the_named_furniture_is_chosen_even_with_a_that_in_the_answer(answer):
+    # perceive/cups_on_table seed 6: "Do you mean the cup on the left or the one on the right?" - "that one
+    # on the table" waited for a new gesture (she gave none) and the cup was "not found"
+    from robot.floorplan import FloorPlan, MapObstacle
+    from robot.objects.attention import ObjectAttention
+    oa = object.__new__(ObjectAttention)
+    oa.plan = FloorPlan((), (MapObstacle("dining table", "table", ((3.1, 1.4), (3.9, 1.4), (3.9, 2.6), (3.1, 2.6)), 0.7, 0.75),
+                             MapObstacle("counter", "counter", ((4.9, 0.1), (5.4, 0.1), (5.4, 4.4), (4.9, 4.4)), 0.0, 0.9)), (), None)
+
+    async def no_gesture(*_a, **_k):
+        return None
+
+    oa._pointed_again = no_gesture
+    counter_cup, table_cup = Candidate(5.15, 1.5, 0.95), Candidate(3.45, 2.2, 0.8)
+    got = asyncio.run(oa._chosen(etree.fromstring(answer), [counter_cup, table_cup], Wanted(type="cup"), (1.7, 2.0, 0.0), 0.0, None))
+    assert got is table_cup

@@ -222,7 +222,8 @@ def _build_dialog(el: etree._Element, c: _Checker, states: dict[str, frozenset[s
             lifetime = a.get("lifetime")
             actions.append(Action(kind, slot=slot, text=text, event=event,
                                   lifetime=float(lifetime) if lifetime is not None else None,
-                                  copies=copies, pose=a.find("pose") is not None, line=_line(a)))
+                                  copies=copies, pose=a.find("pose") is not None, line=_line(a),
+                                  once=kind == "ask" and a.get("once") in ("true", "1")))
         rule_in = rel.get("in")
         if rule_in is not None and rule_in not in states:
             c.add(rel, f"dialog {did!r}: rule in={rule_in!r} names no <states> set")

@@ -83,6 +83,11 @@ class Slot:
     stamp: etree._Element | None = None  # the TIMESTAMP of the utterance that filled it
 
 
+def _is_object(value: Any) -> bool:
+    """Whether a slot holds a thing shown (an ``OBJECT`` frame), which "the one on the table" can pick out."""
+    return isinstance(value, etree._Element) and value.tag == "OBJECT"
+
+
 def _same(old: Any, new: Any) -> bool:
     """Whether two fills say the same thing: the same act, type and name (a paraphrase may add to it)."""
     if not (isinstance(old, etree._Element) and isinstance(new, etree._Element)):
@@ -107,6 +112,7 @@ class Instance:
     last_sig: tuple[str, ...] | None = None
     pending: tuple[str, str, str] | None = None  # (ask|confirm, slot, question)
     reasks: int = 0
+    ask_once: bool = False  # the open question is an ask put at most once (``<ask once="true">``)
     asked: dict[str, int] = field(default_factory=dict)  # how often each question was said
     passed_over: int = 0  # user turns that went to other dialogs while its question was open
     sent: list[str] = field(default_factory=list)
@@ -276,6 +282,11 @@ class DialogManager:
             return self._not_understood()
         act_el = acts[0]
         act = str(act_el.tag)
+        if act == "THAT_ONE" and len(act_el) == 0 and not act_el.attrib:
+            # "the one [to the table]" (the recogniser's "to" for "on"): a "which one" answer that
+            # picks nothing out (no side, index, colour, place, gesture) answers no question; taken
+            # as the choice it was thanked for and the object "not found" (cups_on_table seed 0)
+            return self._not_understood()
         if act == "OBJECT" and self.es_state != "Following":
             self._in_passing, self._in_passing_due = None, False  # she shows something now: no need to ask
         conf = float(msg.get("confidence", "1"))
@@ -346,11 +357,17 @@ class DialogManager:
             if kind == "confirm" and act in ("YES", "NO"):
                 answered.slots[slot].status = "true" if act == "YES" else "false"
                 self._something_done()
+            elif kind == "confirm" and act == "THAT_ONE":
+                self._confirm_by_choice(answered, slot, act_el, said)
             elif kind == "confirm":
                 self._confirm_by_frame(answered, slot, act, act_el, conf, said, stamp)
             else:
                 self._fill_frame(answered, [f for f in answered.d.fills if f.frame and act in f.frame], act_el, conf,
                                  stamp)
+                if answered.ask_once and answered.slots[slot].status == "empty":
+                    # "What is it?" - "this is my <lost word>" again: the same word lost twice; asking a
+                    # third time does not converge, so the policy goes on without it (the camera says what)
+                    answered.slots[slot].status = "false"
             self._step(answered, out)
             return out
         # 2. a new sub-dialog
@@ -500,6 +517,23 @@ class DialogManager:
             self.metrics["corrections"] += 1
             inst.last_sig = None  # the same slot statuses with a new value: the policy acts again (confirms it)
 
+    def _confirm_by_choice(self, inst: Instance, slot: str, choice: etree._Element, said: str) -> None:
+        """"Is this your cup?" - "the one on the table" (or "the left one", "the red one"): an answer
+        that says which one takes the thing asked about as meant (a yes) and adds how she picked it
+        out, so the object attention looks for that one. "No, the one on the table" is a no."""
+        if said == "no":
+            inst.slots[slot].status = "false"
+            return
+        obj = deepcopy(inst.slots[slot].value)
+        for child in choice:
+            if obj.find(str(child.tag)) is None or child.tag in ("ATTRIBUTE", "POSITION"):
+                obj.append(deepcopy(child))
+        if choice.get("side") and obj.get("side") is None:
+            obj.set("side", str(choice.get("side")))
+        inst.slots[slot].value, inst.slots[slot].status = obj, "true"
+        self.metrics["confirmed_by_choice"] = self.metrics.get("confirmed_by_choice", 0) + 1
+        self._something_done()
+
     def _send_unattended(self, d: Any, act_el: etree._Element, out: list[Output],
                          stamp: etree._Element | None = None) -> list[Output]:
         """Send the sub-dialog's event for an instruction heard outside its states, without starting it
@@ -643,6 +677,8 @@ class DialogManager:
             kind, slot, _ = inst.pending
             if kind == "confirm" and act in ("YES", "NO"):
                 return inst
+            if kind == "confirm" and act == "THAT_ONE" and _is_object(inst.slots[slot].value):
+                return inst  # "Is this your cup?" - "the one on the table": yes, and which one
             fills = [f for f in inst.d.fills if f.frame and act in f.frame]
             if fills and (kind == "ask" or any(f.slot == slot for f in fills)):
                 return inst
@@ -764,6 +800,7 @@ class DialogManager:
             if not self._may_ask(inst, q, out):
                 return
             inst.pending = (a.kind, a.slot or "", q)
+            inst.ask_once = a.once
             if a.kind == "confirm":
                 self.metrics["confirmations"] += 1
             self._say(out, q, did)

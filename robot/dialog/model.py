@@ -59,6 +59,7 @@ class Action:
     copies: tuple[tuple[str, str], ...] = ()
     pose: bool = False
     line: int | None = None
+    once: bool = False  # an ask put at most once: an answer without its slot sets it "false"
 
 
 @dataclass(frozen=True, slots=True)

@@ -988,9 +988,24 @@ class Dialog(Module):
         options = [(int(o.get("index", str(i))), o.get("text", "")) for i, o in enumerate(req.iterfind("option"))]
         return await self._clarify(options, float(req.get("timeout", str(self.ask_timeout))), msg.id)
 
+    def _said_which(self) -> etree._Element | None:
+        """The side she named in answer to the object teaching's confirmation ("Is this your cup?" -
+        "the left one", kept on the object by the manager), as a ``THAT_ONE`` :func:`choose` reads; None
+        when she named none."""
+        for inst in reversed(self.manager.stack):
+            obj = inst.slots["object"].value if "object" in inst.slots else None
+            if isinstance(obj, etree._Element) and obj.tag == "OBJECT" and obj.get("side"):
+                return etree.Element("THAT_ONE", side=str(obj.get("side")))
+        return None
+
     async def _clarify(self, options: list[tuple[int, str]], timeout: float, cause: str) -> etree._Element:
         """Ask the partner which option they mean (the clarify sub-dialog): ``<answer index/>``, or
         ``<answer none="true"/>`` with what the asker can still use (:func:`unchosen_answer`)."""
+        said = self._said_which()
+        if said is not None:
+            picked = choose(options, said, self._facing_now())
+            if picked is not None:  # "Is this your cup?" - "the left one": she said which one already
+                return etree.Element("answer", index=str(picked))
         fut: asyncio.Future[Instance] = self.sim.loop.create_future()
 
         def ended(inst: Instance) -> None:

@@ -476,6 +476,8 @@ class ObjectAttention(Module):
                 return
             chosen = res.best
             if res.kind == "ambiguous":
+                chosen = self._said_where(res.fitting(), obj)
+            if res.kind == "ambiguous" and chosen is None:
                 chosen = await self._ask(res.fitting()[:3], wanted, pose, cause, pointing)
                 if chosen is None:
                     self._not_found("unclear", cause)
@@ -892,16 +894,22 @@ class ObjectAttention(Module):
         finally:
             self._answer = None
             watch.cancel()
+        return await self._chosen(answer, cands, wanted, pose, asked, first)
+
+    async def _chosen(self, answer: etree._Element, cands: list[Candidate], wanted: Wanted, pose: tuple[float, float, float],
+                      asked: float, first: Pointing | None) -> Candidate | None:
+        """The candidate the dialog's ``ANSWER`` picks: an option's index, the one on the furniture she
+        named, or where she points now ("this one"); None when it picks none."""
         idx = answer.get("index")
         if idx is not None and idx.isdigit() and int(idx) < len(cands) and answer.get("none") != "true":
             return cands[int(idx)]
+        on_it = self._said_where(cands, answer)  # "the one on the table": the only candidate standing on it
+        if on_it is not None:
+            # also when a "that" came with it ("that one on the table", the recogniser's "that" for
+            # "the", cups_on_table seed 6): the place she named decides without waiting for a gesture
+            return on_it
         if answer.get("deixis") == "true":  # "this one": where she points now
             return await self._pointed_again(cands, wanted, pose, asked, first)
-        pos = answer.find("POSITION")
-        if pos is not None:  # "the one on the table": the only candidate standing on it
-            ground = pos.find("TITLE")
-            on = [c for c in cands if ground is not None and self._on_furniture(c, ground.get("name", ""))]
-            return on[0] if len(on) == 1 else None
         return None
 
     async def _watch_answer(self, cands: list[Candidate], cause: str) -> None:
@@ -943,6 +951,16 @@ class ObjectAttention(Module):
             await asyncio.sleep(0.1)
             waited += 0.1
         return None
+
+    def _said_where(self, cands: list[Candidate], obj: etree._Element | None) -> Candidate | None:
+        """The one candidate standing on the furniture she named with the request ("my cup on the
+        table", or "the one on the table" in answer to "Is this your cup?"): no need to ask which one.
+        None when she named none, or it does not single one out."""
+        ground = obj.find("POSITION/TITLE") if obj is not None else None
+        if ground is None:
+            return None
+        on = [c for c in cands if self._on_furniture(c, ground.get("name", ""))]
+        return on[0] if len(on) == 1 else None
 
     def _on_furniture(self, c: Candidate, word: str) -> bool:
         """Whether a candidate stands on a piece of furniture called or of type ``word`` (the floor plan)."""
