@@ -22,6 +22,7 @@ from homesim.sim import Simulation
 from robot.navigation.blind import CRAWL, GAP, REACT, WALK, blind_speed_limit, corners, on_plan, stop_speed
 from robot.footprint import footprint_distance
 from robot.navigation.player import Player
+from tests.player_helpers import moving_player
 
 MIN_ANGLE, RES, MAX_RANGE, OFFSET = math.radians(-90.0), math.radians(0.5), 8.19, 0.13
 
@@ -112,24 +113,7 @@ def test_the_cap_is_never_above_the_limit_nor_below_a_crawl_and_ignores_corners_
 def _player(scan: np.ndarray, outline: np.ndarray) -> Player:
     """A player at the origin facing +x driving at 0.5 m/s toward a goal 4 m ahead, with ``scan`` as its laser's
     latest ranges and ``outline`` as the floor plan round it (robot frame = map frame here)."""
-    sim = Simulation(seed=0)
-    p = Player(sim)
-
-    class _Bus:
-        def publish(self, channel, el):  # noqa: ANN001, ANN202
-            pass
-
-    p.bus = _Bus()  # type: ignore[assignment]
-    pose = etree.Element("pose", x="0", y="0", theta="0")
-    p._pose_xml = pose
-    odo = etree.Element("odometry", x="0", y="0", theta="0", v="0.5", w="0")
-    p.odo.update(odo)
-    p._odo_xml_at_pose = odo
-    p.goal = (4.0, 0.0, 0.0, 0.2, False)
-    p.leg_start = (0.0, 0.0)
-    p._facing = False
-    p._best, p._best_t = math.inf, 0.0
-    p.state = "moving"
+    p = moving_player((4.0, 0.0), 0.5)
     xml = etree.Element("scan", beams="361", min_angle="-90.000", resolution="0.500", max_range=f"{MAX_RANGE}", offset=f"{OFFSET}")
     p.scan.update(SimpleNamespace(xml=xml, attachments={"ranges": scan}))
     p.outline = SimpleNamespace(around=lambda pose: outline)  # type: ignore[assignment]

@@ -20,6 +20,7 @@ from lxml import etree
 from homesim.sim import Simulation
 from robot.navigation.people import TENTATIVE_VAR, People, closing_in
 from robot.navigation.player import YIELD_NEAR, YIELD_SPEED, Player
+from tests.player_helpers import moving_player
 
 
 def _tracks(rows: list[tuple[float, float, float, float, bool, float]], time: float = 0.0) -> etree._Element:
@@ -33,25 +34,7 @@ def _tracks(rows: list[tuple[float, float, float, float, bool, float]], time: fl
 
 def _player(goal: tuple[float, float]) -> Player:
     """A player at the origin facing +x, driving a ``move_to`` (no bus, no map)."""
-    sim = Simulation(seed=0)
-    p = Player(sim)
-
-    class _Bus:
-        def publish(self, channel, el):  # noqa: ANN001, ANN202
-            pass
-
-    p.bus = _Bus()  # type: ignore[assignment]
-    pose = etree.Element("pose", x="0", y="0", theta="0")
-    p._pose_xml = pose
-    odo = etree.Element("odometry", x="0", y="0", theta="0", v="0.45", w="0")
-    p.odo.update(odo)
-    p._odo_xml_at_pose = odo
-    p.goal = (goal[0], goal[1], 0.0, 0.2, False)
-    p.leg_start = (0.0, 0.0)
-    p._facing = False
-    p._best, p._best_t = math.inf, 0.0
-    p.state = "moving"
-    return p
+    return moving_player(goal, 0.45)
 
 
 def test_someone_just_seen_coming_round_a_jamb_at_the_robot_is_stood_for():
