@@ -329,6 +329,21 @@ def test_the_leg_detector_computes_what_the_vectorised_rules_say_bit_for_bit(see
     assert np.array_equal(got.xy, want.xy) and np.array_equal(got.kind, want.kind) and np.array_equal(got.legs, want.legs)
 
 
+@pytest.mark.parametrize("side", [1.0, -1.0])
+@pytest.mark.parametrize("compiled", [True, False])
+def test_a_person_half_hidden_behind_another_is_a_pair_not_a_lone_leg(side, compiled):
+    """Bea stands 1.2 m behind Al, her near leg's edge behind his leg: what shows of it is still a whole
+    leg's width standing out of the wall behind. Both her legs make a pair, so a track can start on her
+    (a lone leg never starts one: tour-3000-03's Paul stood so, untracked, for 61 s). Either side, either path."""
+    al = [(2.0, side * 0.1, 0.06), (2.0, side * -0.1, 0.06)]
+    bea = [(3.2, side * 0.29, 0.06), (3.2, side * 0.49, 0.06)]
+    det = LegDetector(BEARINGS, compiled=compiled)(_scan(al + bea, wall=5.0))
+    pairs = [p for p, k in zip(det.points, det.kinds) if k == PAIR]
+    assert any(math.hypot(x - 3.2 - 0.05, y - side * 0.39) < 0.1 for x, y in pairs), (det.points, det.kinds)
+    assert any(math.hypot(x - 2.0 - 0.05, y) < 0.1 for x, y in pairs)
+    assert SINGLE not in det.kinds
+
+
 def test_the_leg_detector_refuses_a_scan_of_the_wrong_size():
     with pytest.raises(ValueError, match=r"scan of shape \(360,\), expected \(361,\)"):
         detect(np.ones(360), BEARINGS)
