@@ -271,10 +271,7 @@ class Tracks:
             extra = _contact_variance(tracks, spec)
             pairs, stopped = _gated(tracks, z, var, gates, t, spec, single, extra)
             if pairs:
-                rows = {i for i, _, _ in pairs}
-                cols = {j for _, j, _ in pairs}
-                if len(rows) < len(pairs) or len(cols) < len(pairs):  # a choice to make
-                    pairs = _assign(pairs, len(tracks), m)
+                pairs = _associate(pairs, tracks, m)
                 for i, j, _ in pairs:
                     tk = tracks[i]
                     zj = z[j]
@@ -560,6 +557,33 @@ def _gated(
             if ok:
                 out.append((i, j, cost))
     return out, stopped
+
+
+def _associate(pairs: list[tuple[int, int, float]], tracks: list[Track], m: int) -> list[tuple[int, int, float]]:
+    """The gated pairs kept: first among the tracks whose person is in sight, then the dormant tracks
+    (unseen longer than ``death_timeout``) among the candidates those left.
+
+    Why two rounds: the assignment makes as many gated pairs as it can before it weighs their costs,
+    so in one round a dormant track that gates a seen person's pair took it, and pushed that
+    person's own, tightly predicting track onto a lone leg of someone else beside her
+    (bystander_at_door: the partner's track slid onto the bystander she walked past, and her voice,
+    no longer from her track's bearing, was taken for his: she was never heard again). A dormant
+    track is for a person coming back into view, never one the robot sees now."""
+    dormant = {i for i, _, _ in pairs if tracks[i].dormant}
+    if dormant and len(dormant) < len({i for i, _, _ in pairs}):
+        seen = _choose([p for p in pairs if p[0] not in dormant], len(tracks), m)
+        taken = {j for _, j, _ in seen}
+        return seen + _choose([p for p in pairs if p[0] in dormant and p[1] not in taken], len(tracks), m)
+    return _choose(pairs, len(tracks), m)
+
+
+def _choose(pairs: list[tuple[int, int, float]], n: int, m: int) -> list[tuple[int, int, float]]:
+    """Every gated pair when that leaves no choice, else the global nearest neighbour (:func:`_assign`)."""
+    rows = {i for i, _, _ in pairs}
+    cols = {j for _, j, _ in pairs}
+    if len(rows) < len(pairs) or len(cols) < len(pairs):  # a choice to make
+        return _assign(pairs, n, m)
+    return pairs
 
 
 def _assign(pairs: list[tuple[int, int, float]], n: int, m: int) -> list[tuple[int, int, float]]:
