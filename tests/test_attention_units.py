@@ -344,6 +344,41 @@ def test_a_person_half_hidden_behind_another_is_a_pair_not_a_lone_leg(side, comp
     assert SINGLE not in det.kinds
 
 
+@settings(max_examples=150, deadline=None)
+@given(d=st.floats(1.0, 2.5), gap=st.floats(0.6, 1.5), shown=st.floats(0.0, 1.0), side=st.sampled_from([1.0, -1.0]),
+       compiled=st.booleans())
+def test_a_leg_half_hidden_behind_someone_nearer_counts_iff_a_leg_width_of_it_shows(d, gap, shown, side, compiled):
+    """Al stands ``d`` m away; Bea ``gap`` m behind him, her near leg behind his outer leg's edge with a
+    fraction ``shown`` of its angular width in view. Al is always a pair. Bea is a pair (not a lone
+    leg) whenever what shows of her near leg is 2+ points a leg's width (``min_width``, with a beam's
+    spacing to spare) wide, standing out of the wall on its other side; when nothing of it shows she
+    is one lone leg. Either path (compiled kernel, Python)."""
+    r, spec = 0.06, LegSpec()
+    al = [(d, 0.1, r), (d, -0.1, r)]
+    depth = d + gap
+    edge = math.atan2(0.1 + r, d)  # Al's outer leg's edge, as the laser sees it
+    half = math.asin(r / depth)
+    a = edge + (2 * shown - 1) * half  # bearing of Bea's near leg's centre
+    near = (depth * math.cos(a), depth * math.sin(a))
+    far = (near[0], near[1] + 0.2)  # her other leg, further out
+    mirror = [(x, side * y, q) for x, y, q in al + [(near[0], near[1], r), (far[0], far[1], r)]]
+    ranges = _scan(mirror, wall=6.0)
+    alone = _scan([mirror[2]], wall=6.0)  # her near leg alone: which beams end on it
+    on_leg = np.flatnonzero(np.isclose(ranges, alone) & (alone < _scan([], wall=6.0) - 1e-6))
+    pts = np.column_stack((ranges[on_leg] * np.cos(BEARINGS[on_leg]), ranges[on_leg] * np.sin(BEARINGS[on_leg])))
+    width = float(np.hypot(*(pts[-1] - pts[0]))) if len(pts) >= 2 else 0.0
+    det = LegDetector(BEARINGS, spec, compiled=compiled)(ranges)
+    pairs = [p for p, k in zip(det.points, det.kinds) if k == PAIR]
+    bea = (depth * math.cos(a) + 0.05, side * (near[1] + 0.1))
+    assert any(math.hypot(x - d - 0.05, y) < 0.1 for x, y in pairs), (det.points, det.kinds)  # Al
+    bea_pair = any(math.hypot(x - bea[0], y - bea[1]) < 0.15 for x, y in pairs)
+    spacing = depth * math.radians(0.5)
+    if len(pts) >= 2 and width >= spec.min_width + spacing:
+        assert bea_pair, (width, len(pts), det.points, det.kinds)
+    if len(pts) == 0:
+        assert not bea_pair and SINGLE in det.kinds, (det.points, det.kinds)
+
+
 def test_the_leg_detector_refuses_a_scan_of_the_wrong_size():
     with pytest.raises(ValueError, match=r"scan of shape \(360,\), expected \(361,\)"):
         detect(np.ones(360), BEARINGS)
