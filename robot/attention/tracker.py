@@ -24,7 +24,9 @@ check it against filterpy); :meth:`Tracks.filterpy` builds that filter.
 Association: Mahalanobis distance of every candidate to every track's
 predicted position (2x2 innovation covariances), gated at the chi-square
 99 % point, then global nearest neighbour with
-``scipy.optimize.linear_sum_assignment`` on the gated cost matrix. When
+``scipy.optimize.linear_sum_assignment`` on the gated cost matrix, in two
+rounds: the tracks whose person is in sight first, the dormant ones among the
+candidates left (:func:`_associate`). When
 the gate leaves no choice (no candidate within two tracks' gates, no track
 with two candidates in its gate), the optimal assignment is every gated
 pair, and the solver is not called. Pairs and blobs can start tracks, and so can faces whose legs
