@@ -215,3 +215,20 @@ def test_a_dormant_track_still_takes_a_pair_no_seen_persons_track_wants():
     got = tr.step(t + 0.1, np.array([[2.0, 0.0], [2.55, 0.38]]), np.array([PAIR, PAIR], dtype=np.int8))
     assert got == [tr.row(jana), tr.row(olaf)]
     assert not tr.tracks[tr.row(olaf)].dormant
+
+
+def test_walked_past_a_hidden_flatmate_the_partner_is_still_heard():
+    """End to end, tests/scenarios/follow/past_flatmate_at_shelf.xml seed 0 to 27 s: Mia leads the robot past
+    Tom, whose track went dormant behind her; her "Stop" (24.1 s) is heard and answered. With one round of
+    assignment his dormant track took her pair, her track slid onto him and the beam gate took her voice
+    for a bystander's: never answered."""
+    from pathlib import Path
+
+    from homesim.tour.runner import Run, RunOptions
+
+    scene = Path(__file__).resolve().parent / "scenarios" / "follow" / "past_flatmate_at_shelf.xml"
+    with Run.from_file(scene, RunOptions(seed=0, until=27)) as run:
+        run.run()
+        said = [u.text for u in run.world.sound.all() if u.source == "robot"]
+        run.finish()
+    assert any("stopped" in t.lower() for t in said), said
