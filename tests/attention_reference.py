@@ -109,6 +109,11 @@ def reference_detect(ranges: np.ndarray, bearings: np.ndarray, spec: LegSpec = L
     leg = leg.copy()
     leg[1:] |= behind_prev
     leg[:-1] |= behind_next
+    # A leg partly hidden behind something well in front of it (more than ``hidden_behind[1]`` nearer on
+    # one side: not its own other leg), standing out of the background on its other side, a leg wide.
+    rest = ~leg & ~blob & (f["n"] >= 2) & (width >= spec.min_width) & (width <= spec.max_width)
+    occluded = ((f["before"] < rng_ - hi) & (f["after"] > rng_ + spec.background)) | ((f["after"] < rng_ - hi) & (f["before"] > rng_ + spec.background))
+    leg |= rest & occluded
     # A segment's points lie on the near surface: push the centre back by about a leg radius.
     norm = np.maximum(np.hypot(f["mx"], f["my"]), 1e-9)
     cx = f["mx"] + 0.05 * f["mx"] / norm + spec.offset

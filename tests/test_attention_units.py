@@ -329,6 +329,56 @@ def test_the_leg_detector_computes_what_the_vectorised_rules_say_bit_for_bit(see
     assert np.array_equal(got.xy, want.xy) and np.array_equal(got.kind, want.kind) and np.array_equal(got.legs, want.legs)
 
 
+@pytest.mark.parametrize("side", [1.0, -1.0])
+@pytest.mark.parametrize("compiled", [True, False])
+def test_a_person_half_hidden_behind_another_is_a_pair_not_a_lone_leg(side, compiled):
+    """Bea stands 1.2 m behind Al, her near leg's edge behind his leg: what shows of it is still a whole
+    leg's width standing out of the wall behind. Both her legs make a pair, so a track can start on her
+    (a lone leg never starts one: tour-3000-03's Paul stood so, untracked, for 61 s). Either side, either path."""
+    al = [(2.0, side * 0.1, 0.06), (2.0, side * -0.1, 0.06)]
+    bea = [(3.2, side * 0.29, 0.06), (3.2, side * 0.49, 0.06)]
+    det = LegDetector(BEARINGS, compiled=compiled)(_scan(al + bea, wall=5.0))
+    pairs = [p for p, k in zip(det.points, det.kinds) if k == PAIR]
+    assert any(math.hypot(x - 3.2 - 0.05, y - side * 0.39) < 0.1 for x, y in pairs), (det.points, det.kinds)
+    assert any(math.hypot(x - 2.0 - 0.05, y) < 0.1 for x, y in pairs)
+    assert SINGLE not in det.kinds
+
+
+@settings(max_examples=150, deadline=None)
+@given(d=st.floats(1.0, 2.5), gap=st.floats(0.6, 1.5), shown=st.floats(0.0, 1.0), side=st.sampled_from([1.0, -1.0]),
+       compiled=st.booleans())
+def test_a_leg_half_hidden_behind_someone_nearer_counts_iff_a_leg_width_of_it_shows(d, gap, shown, side, compiled):
+    """Al stands ``d`` m away; Bea ``gap`` m behind him, her near leg behind his outer leg's edge with a
+    fraction ``shown`` of its angular width in view. Al is always a pair. Bea is a pair (not a lone
+    leg) whenever what shows of her near leg is 2+ points a leg's width (``min_width``, with a beam's
+    spacing to spare) wide, standing out of the wall on its other side; when nothing of it shows she
+    is one lone leg. Either path (compiled kernel, Python)."""
+    r, spec = 0.06, LegSpec()
+    al = [(d, 0.1, r), (d, -0.1, r)]
+    depth = d + gap
+    edge = math.atan2(0.1 + r, d)  # Al's outer leg's edge, as the laser sees it
+    half = math.asin(r / depth)
+    a = edge + (2 * shown - 1) * half  # bearing of Bea's near leg's centre
+    near = (depth * math.cos(a), depth * math.sin(a))
+    far = (near[0], near[1] + 0.2)  # her other leg, further out
+    mirror = [(x, side * y, q) for x, y, q in al + [(near[0], near[1], r), (far[0], far[1], r)]]
+    ranges = _scan(mirror, wall=6.0)
+    alone = _scan([mirror[2]], wall=6.0)  # her near leg alone: which beams end on it
+    on_leg = np.flatnonzero(np.isclose(ranges, alone) & (alone < _scan([], wall=6.0) - 1e-6))
+    pts = np.column_stack((ranges[on_leg] * np.cos(BEARINGS[on_leg]), ranges[on_leg] * np.sin(BEARINGS[on_leg])))
+    width = float(np.hypot(*(pts[-1] - pts[0]))) if len(pts) >= 2 else 0.0
+    det = LegDetector(BEARINGS, spec, compiled=compiled)(ranges)
+    pairs = [p for p, k in zip(det.points, det.kinds) if k == PAIR]
+    bea = (depth * math.cos(a) + 0.05, side * (near[1] + 0.1))
+    assert any(math.hypot(x - d - 0.05, y) < 0.1 for x, y in pairs), (det.points, det.kinds)  # Al
+    bea_pair = any(math.hypot(x - bea[0], y - bea[1]) < 0.15 for x, y in pairs)
+    spacing = depth * math.radians(0.5)
+    if len(pts) >= 2 and width >= spec.min_width + spacing:
+        assert bea_pair, (width, len(pts), det.points, det.kinds)
+    if len(pts) == 0:
+        assert not bea_pair and SINGLE in det.kinds, (det.points, det.kinds)
+
+
 def test_the_leg_detector_refuses_a_scan_of_the_wrong_size():
     with pytest.raises(ValueError, match=r"scan of shape \(360,\), expected \(361,\)"):
         detect(np.ones(360), BEARINGS)

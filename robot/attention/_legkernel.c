@@ -219,6 +219,16 @@ static PyObject *candidates(PyObject *self, PyObject *args)
             }
         }
     }
+    /* A leg partly hidden behind something well in front of it, standing out on its other side. */
+    for (Py_ssize_t k = 0; k < count; k++) {
+        if (leg[k] || hidden[k] || blob[k] || size[k] < 2 || !(min_width <= wid[k] && wid[k] <= max_width)) {
+            continue;
+        }
+        double m = rng[k];
+        if ((before[k] < m - hidden_hi && after[k] > m + background) || (after[k] < m - hidden_hi && before[k] > m + background)) {
+            hidden[k] = 1;
+        }
+    }
     /* The candidates' centres, pushed back by about a leg radius. */
     PyObject *lx = PyList_New(0), *ly = PyList_New(0), *lf = PyList_New(0);
     if (lx == NULL || ly == NULL || lf == NULL) {

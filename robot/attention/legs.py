@@ -18,6 +18,8 @@ classifier, which the simulator's clean geometry does not need):
    width (a 5 cm table leg) and the pairing do. A leg half hidden behind
    the other (a person standing sideways) shows as a sliver just behind a
    leg, next to it in the scan: it counts as a leg, so the pair is found.
+   A leg a whole leg wide that something well in front hides on one side (a
+   person standing behind another) counts if it stands out on the other.
 4. Pairing: leg candidates at most ``pair_distance`` apart, nearest first,
    make a person candidate at their midpoint; a leftover single leg is a weak
    candidate (its partner hidden), which the tracker uses only to keep an
@@ -288,6 +290,18 @@ class LegDetector:
                     hidden.append(j)
         for k in hidden:
             leg[k] = True
+        # A leg partly hidden behind something well in front of it (someone standing or passing nearer,
+        # a chair's edge): on one side the scan jumps nearer by more than ``hidden_behind[1]`` (so not
+        # its own other leg, the rule above), on the other it stands out of the background, and what
+        # shows is 2+ points a whole leg wide. Without it a person standing just behind another is
+        # one lone leg for as long as both stand, which never starts a track (tour-3000-03: Paul,
+        # beside and behind two others, untracked for 61 s).
+        for k in range(count):
+            if leg[k] or blob[k] or size[k] < 2 or not min_width <= wid[k] <= max_width:
+                continue
+            m = rng[k]
+            if (before[k] < m - hi and after[k] > m + background) or (after[k] < m - hi and before[k] > m + background):
+                leg[k] = True
         cand = [k for k in range(count) if leg[k] or blob[k]]
         if not cand:
             return Detections([], [], [])

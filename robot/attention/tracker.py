@@ -24,7 +24,9 @@ check it against filterpy); :meth:`Tracks.filterpy` builds that filter.
 Association: Mahalanobis distance of every candidate to every track's
 predicted position (2x2 innovation covariances), gated at the chi-square
 99 % point, then global nearest neighbour with
-``scipy.optimize.linear_sum_assignment`` on the gated cost matrix. When
+``scipy.optimize.linear_sum_assignment`` on the gated cost matrix, in two
+rounds: the tracks whose person is in sight first, the dormant ones among the
+candidates left (:func:`_associate`). When
 the gate leaves no choice (no candidate within two tracks' gates, no track
 with two candidates in its gate), the optimal assignment is every gated
 pair, and the solver is not called. Pairs and blobs can start tracks, and so can faces whose legs
@@ -271,10 +273,7 @@ class Tracks:
             extra = _contact_variance(tracks, spec)
             pairs, stopped = _gated(tracks, z, var, gates, t, spec, single, extra)
             if pairs:
-                rows = {i for i, _, _ in pairs}
-                cols = {j for _, j, _ in pairs}
-                if len(rows) < len(pairs) or len(cols) < len(pairs):  # a choice to make
-                    pairs = _assign(pairs, len(tracks), m)
+                pairs = _associate(pairs, tracks, m)
                 for i, j, _ in pairs:
                     tk = tracks[i]
                     zj = z[j]
@@ -560,6 +559,33 @@ def _gated(
             if ok:
                 out.append((i, j, cost))
     return out, stopped
+
+
+def _associate(pairs: list[tuple[int, int, float]], tracks: list[Track], m: int) -> list[tuple[int, int, float]]:
+    """The gated pairs kept: first among the tracks whose person is in sight, then the dormant tracks
+    (unseen longer than ``death_timeout``) among the candidates those left.
+
+    Why two rounds: the assignment makes as many gated pairs as it can before it weighs their costs,
+    so in one round a dormant track that gates a seen person's pair took it, and pushed that
+    person's own, tightly predicting track onto a lone leg of someone else beside her
+    (bystander_at_door: the partner's track slid onto the bystander she walked past, and her voice,
+    no longer from her track's bearing, was taken for his: she was never heard again). A dormant
+    track is for a person coming back into view, never one the robot sees now."""
+    dormant = {i for i, _, _ in pairs if tracks[i].dormant}
+    if dormant and len(dormant) < len({i for i, _, _ in pairs}):
+        seen = _choose([p for p in pairs if p[0] not in dormant], len(tracks), m)
+        taken = {j for _, j, _ in seen}
+        return seen + _choose([p for p in pairs if p[0] in dormant and p[1] not in taken], len(tracks), m)
+    return _choose(pairs, len(tracks), m)
+
+
+def _choose(pairs: list[tuple[int, int, float]], n: int, m: int) -> list[tuple[int, int, float]]:
+    """Every gated pair when that leaves no choice, else the global nearest neighbour (:func:`_assign`)."""
+    rows = {i for i, _, _ in pairs}
+    cols = {j for _, j, _ in pairs}
+    if len(rows) < len(pairs) or len(cols) < len(pairs):  # a choice to make
+        return _assign(pairs, n, m)
+    return pairs
 
 
 def _assign(pairs: list[tuple[int, int, float]], n: int, m: int) -> list[tuple[int, int, float]]:
