@@ -111,3 +111,23 @@ def test_an_answer_that_picks_an_option_is_taken_at_once(robot) -> None:
     assert sum("Do you mean" in s for s in robot.sentences()) == 1
     ans = _answer(orders)
     assert ans is not None and ans.get("index") == "1"
+
+
+@pytest.mark.parametrize("words", ["this is mine", "that one belongs to my son"])
+def test_whose_said_without_what_is_asked_what_it_is(robot, words) -> None:
+    """bottles_across_island seed 1: "this bottle is mine" heard as "this is mine" was not understood ("Could you
+    say that again?"). Said pointing, it says whose and not what: the robot asks what it is."""
+    robot.greet()
+    robot.utter(words, 7.0, 8.2)
+    robot.sim.run(until=14.0)
+    assert robot.sentences()[-1] == "What is it?", robot.sentences()
+
+
+def test_yes_that_is_mine_confirms_the_object(robot) -> None:
+    """"Is this your cup?" - "yes, that is mine": the yes (whose, said again, is nothing new to show)."""
+    robot.greet()
+    robot.utter("this is my cup", 7.0, 8.2, confidence=0.3)
+    robot.utter("yes that is mine", 12.0, 13.2)
+    robot.sim.run(until=18.0)
+    said = robot.sentences()
+    assert "Is this your cup?" in said and "What is it?" not in said, said
