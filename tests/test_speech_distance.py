@@ -36,6 +36,11 @@ def u() -> Understander:
     ("the one closer to me", "near", "speaker"),  # nearer her: was a plain "near"
     ("the one closer to you", "near", "addressee"),  # nearer the robot: "to you" was left over
     ("the one nearest to me", "near", "speaker"),
+    # "the one" unsaid or lost ("the is closer to you", bottles_across_island seed 2): "to you" still says
+    # whose nearness; without it the answer to "nearer to you or nearer to me?" picked nothing
+    ("closer to you", "near", "addressee"),
+    ("nearer to me", "near", "speaker"),
+    ("the closer to you", "near", "addressee"),
 ])
 def test_a_distance_answer_names_its_side_and_whose(u: Understander, words: str, side: str, view: str | None) -> None:
     res = u.understand(words)
@@ -73,3 +78,14 @@ def test_any_object_named_behind_or_in_front_of_it_is_a_depth_answer(noun: str, 
     assert res.frame[0].get("side") == phrase[1]
     assert res.frame[0].get("type")
 
+
+
+def test_a_distance_answer_with_its_one_lost_picks_the_option_nearer_the_robot(u: Understander) -> None:
+    """"the is closer to you" (the recogniser's "is" for "one") to "the bottle nearer to you on the right or
+    the one nearer to me on the left?": the second, the one nearer the robot (was no choice: "to you" was
+    dropped with the "is", and the robot gave up on the bottle)."""
+    from robot.dialog.module import choose
+    res = u.understand("the is closer to you")
+    assert res.frame is not None
+    options = [(0, "the bottle nearer to you on the right"), (1, "the one nearer to me on the left")]
+    assert choose(options, res.frame[0]) == 1

@@ -10,12 +10,12 @@ from __future__ import annotations
 from pathlib import Path
 
 import pytest
-from hypothesis import example, given, settings
+from hypothesis import assume, example, given, settings
 from hypothesis import strategies as st
 from lxml import etree
 
 from homesim.xmlio import load_schema, parse_bytes
-from robot.speech.grammar import Understander
+from robot.speech.grammar import Understander, _hesitated_before_room
 from robot.speech.lexicon import Lexicon, LexiconError
 from robot.speech.module import FRAMES_XSD, frame_message, shared_understander
 
@@ -178,6 +178,9 @@ def test_hesitations_never_change_the_frame(words, filler, at):
     ws = words.split()
     at = min(at, len(ws))
     noisy = " ".join(ws[:at] + [filler] + ws[at:])
+    # "this is tom's uh room": a hesitation where a room's name goes is a lost name, by design (the place is
+    # asked for: grammar._hesitated_before_room); drawn once the tuning rows grew (libperc14)
+    assume(not _hesitated_before_room(Lexicon.words(noisy), u.lexicon.hesitations))
     assert _text(u.understand(noisy).frame) == _text(u.understand(words).frame)
 
 

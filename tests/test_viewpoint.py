@@ -260,3 +260,18 @@ def test_a_rising_ray_shows_a_spot_only_on_a_top_it_passes_within_the_band(el, d
         assert spot[2] == top + 0.05 and _point_polygon(spot[:2], plan.obstacles[0].points) == 0.0
         reach = math.hypot(spot[0] - hand[0], spot[1] - hand[1])
         assert abs(hand[2] + reach * math.tan(el) - top) <= 0.35 + 1e-9  # within the band of the top
+
+
+def test_a_viewpoint_is_a_place_the_player_will_stand_on() -> None:
+    """The player takes a goal with someone standing within GOAL_TAKEN of it for theirs and stops short of it
+    (perceive/view_round_corner seeds 1, 3: a viewpoint 0.70 m from the partner, the player stopped 0.3 m
+    short, where the bookcase hid the box). A viewpoint keeps more than that from everyone."""
+    from robot.navigation.player import GOAL_TAKEN, GOTO_SOCIAL_GAP
+    from robot.objects.viewpoint import STAND_GAP
+    assert STAND_GAP == GOTO_SOCIAL_GAP
+    assert PERSON_CLEARANCE > GOAL_TAKEN
+    plan, robot, box = _divider_flat(), (1.5, 2.0), (4.2, 0.8, 0.05)
+    for nora in ((3.7, 3.2), (3.75, 3.25), (4.6, 2.4)):
+        route = viewpoint_route(plan, robot, box, [nora], camera_height=CAM)
+        assert route is not None
+        assert math.dist(route[-1][:2], nora) > GOAL_TAKEN

@@ -429,6 +429,7 @@ class Dialog(Module):
         # greeting to be taken (:meth:`_greeting_taken`)
         self._after_greeting: tuple[Message, float] | None = None
         self._goodbye_held: Message | None = None  # a good-bye said during ObjectTeaching (see GOODBYE_AFTER_LOOK)
+        self._asking: list[tuple[int, str]] | None = None  # the open clarification's options (see _unanswerable)
         self._releasing = False  # held requests are being handled one turn at a time
         bus = self.bus
         bus.subscribe(FRAMES, self._on_frame)
@@ -617,12 +618,34 @@ class Dialog(Module):
             self._goodbye_held = msg
             self.sim.loop.call_at_ns(to_ns(self.now + GOODBYE_AFTER_LOOK), self._release_goodbye, msg)
             return
+        if self._unanswerable(x):
+            # "the [one→is] closer [to→is] you" to "the bottle nearer to you or the one nearer to me?": "closer"
+            # alone says not to whom, and picks neither; taken as the choice, the robot thanked her and gave
+            # up on the bottle (bottles_across_island seeds 2, 7). Not understood: the question is asked again
+            heard = etree.Element("not_understood", start=x.get("start", "0"), end=x.get("end", "0"),
+                                  confidence=x.get("confidence", "0"), reason="an answer that picks no option")
+            heard.text = x.findtext("words") or ""
+            self._emit(self.manager.on_frame(heard), msg.id)
+            return
         if x.get("after") == "greeting" and greetable:
             # the request said with the greeting waits until the greeting is taken (partner_found);
             # a greeting refused or not taken in time takes the request with it
             self._after_greeting = (msg, self.now + AFTER_GREETING_WAIT)
             return
         self._emit(self.manager.on_frame(x), msg.id)
+
+    def _unanswerable(self, x: etree._Element) -> bool:
+        """Whether frame ``x`` is a which-one answer (``THAT_ONE``) to the open clarification that picks none
+        of its options (:func:`choose`) and holds nothing else the asker can use (no pointing, no place:
+        :func:`unchosen_answer`): an answer the robot did not get, not the choice of neither."""
+        options = self._asking
+        act = x.find("SPEECH/THAT_ONE") if x.tag == "understood" and options else None
+        if act is None or options is None:
+            return False
+        if choose(options, act, self._facing_now()) is not None:
+            return False
+        left = unchosen_answer(act)
+        return left.get("deixis") is None and len(left) == 0
 
     def _release_goodbye(self, msg: Message | None = None) -> None:
         """The good-bye held during a look goes now (the look ended, or it took ``GOODBYE_AFTER_LOOK`` s)."""
@@ -1016,6 +1039,15 @@ class Dialog(Module):
         inst, outs = self.manager.start("clarify", {"options": phrase} if phrase else {}, on_end=ended)
         if inst is None:
             return etree.Element("answer", none="true")
+        self._asking = options
+        try:
+            return await self._clarified(inst, fut, options, timeout, cause, outs)
+        finally:
+            self._asking = None
+
+    async def _clarified(self, inst: Instance, fut: asyncio.Future[Instance], options: list[tuple[int, str]],
+                         timeout: float, cause: str, outs: list[Any]) -> etree._Element:
+        """The clarify sub-dialog ``inst`` started (its first outputs ``outs``): wait for its answer."""
         self._emit(outs, cause)
         # The partner has ``timeout`` s to answer once the question has been said (a long
         # question with its options takes several seconds to say), and again once the sub-dialog

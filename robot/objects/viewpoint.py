@@ -27,13 +27,22 @@ from collections.abc import Sequence
 import numpy as np
 
 from robot.floorplan import FloorPlan
+from robot.footprint import BODY, HALF_WIDTH
 
 Point = tuple[float, float]
 
 CAMERA_RANGE = (0.8, 3.0)  # m: where the camera's object detector is reliable (its range is 0.3-3.5 m)
 BODY_RADIUS = 0.3  # m: a person's body and arm, seen from the camera
 ROBOT_CLEARANCE = 0.35  # m: the robot's half-width (0.43 m wide) and a margin, to walls and furniture
-PERSON_CLEARANCE = 0.7  # m: never stand or drive closer than this to a person's centre
+#: m: the player's social gap between its footprint and someone standing by its goal
+#: (robot.navigation.player.GOTO_SOCIAL_GAP): a goal with someone standing within BODY + this + HALF_WIDTH
+#: (0.765 m) of it is theirs, and the player stops short of it, "as near as it politely can"
+STAND_GAP = 0.30
+#: m: never stand or drive closer than this to a person's centre: where the player can stand (the radius
+#: above and 5 cm of the tracker's noise on someone standing). At 0.7 m the viewpoint beside the partner was
+#: a place the player would not take: it stopped 0.3 m short, where the bookcase hid the box
+#: (perceive/view_round_corner seeds 1, 3)
+PERSON_CLEARANCE = BODY + STAND_GAP + HALF_WIDTH + 0.05
 RINGS = (1.2, 1.5, 1.9, 2.4)  # m from the target: where a viewpoint may be
 DIRECTIONS = 24  # per ring
 MAX_TRAVEL = 3.5  # m: a viewpoint farther than this drive is not worth it

@@ -332,7 +332,9 @@ class Understander:
                     if rest[0] is not None and not rest[2] and not _guessed(rest[0]) \
                             and tree_act(rest[0]) not in _NOT_REQUESTS:
                         alt = (rest[0], [toks[lead].text], True)
-            if alt[0] is not None and tree_act(alt[0]) not in ("yes", "no"):
+            if alt[0] is not None and tree_act(alt[0]) not in ("yes", "no") and not _owner_alone(alt[0]):
+                # ("yes, that is mine" to "Is this your cup?" stays the yes: whose it is, said again, names
+                # nothing new to show)
                 said = {t.type for t in toks[:lead]}
                 res.answer = "no" if "NO" in said else "yes"
                 toks = toks[lead:]
@@ -734,6 +736,11 @@ class Understander:
             except UnexpectedInput:
                 continue
         return None, ignored, True
+
+
+def _owner_alone(tree: Tree) -> bool:
+    """Whether ``tree`` says only whose the thing she points at is ("that one is mine")."""
+    return any(isinstance(c, Tree) and c.data == "owner_alone" for c in tree.iter_subtrees())
 
 
 #: Where the noun phrase of a question's statement begins ("is this [the kitchen]", "is this room [my study]").
@@ -1286,6 +1293,9 @@ def _object(np: Tree | None, *, gesture: bool, position: Tree | None = None, tai
         el = _E("OBJECT")
         if gesture:
             _S(el, "GESTURE", val="probably_pointing")
+        owner = _owner(tail)  # "this is mine": whose, not what (the dialog asks "What is it?")
+        if owner is not None:
+            _S(el, "OWNER", name=owner)
         return el
     toks = _tokens(np)
     noun = next((t for t in toks if t.type == "OBJ"), None)
@@ -1431,7 +1441,7 @@ def build(tree: Tree) -> etree._Element:
         speech.append(_that_one(act))
     elif kind in ("teach_object", "object_fragment"):
         speech.append(_object(_sub(act, "object_np"), gesture=kind == "teach_object",  # type: ignore[arg-type]
-                              position=_sub(act, "position"), tail=_sub(act, "owner_tail"), shown=act))
+                              position=_sub(act, "position"), tail=_sub(act, "owner_tail") or _sub(act, "owner_alone"), shown=act))
     elif kind in ("teach_place", "place_fragment"):
         speech.append(_place(_sub(act, "place_np")))  # type: ignore[arg-type]
     elif kind == "goto":
