@@ -198,10 +198,16 @@ class AttentionParams:
     # instead of turning to her: the camera cannot look there otherwise
     pan_limit: float = math.radians(100.0)
     # m: who addresses the robot is not only whom the camera happens to face: a person speaking out of the
-    # camera's image (it cannot tell whether she faces the robot) nearer than this and nearer than every
-    # speaker seen facing it is looked at first (:meth:`_unseen_speaker`; Hall's social distance, as
+    # camera's image (it cannot tell whether she faces the robot) nearer than this and markedly nearer than
+    # every speaker seen facing it is looked at first (:meth:`_unseen_speaker`; Hall's social distance, as
     # ``retake_radius``): two greeting at once, the near one the robot was not looking at is not passed over
     look_radius: float = 2.0
+    # ... and at most this fraction of the nearest category-3 person's distance: her voice then reaches the
+    # robot at least 6 dB louder at the same effort (inverse square law), enough to dominate a beam that
+    # rejects sound outside it by 6 dB (the microphones' model); a near voice no louder than the one facing
+    # the camera is no reason to look away from a greeting (distractor seed 1: Tom muttering 1.97 m away,
+    # turned away, while Anna greeted from 2.3 m)
+    look_ratio: float = 0.5
     look_settle: float = 0.5  # s in the image: long enough for the face detector to tell (facing_on frames)
     focus_margin: float = math.radians(15.0)
     # Faces whose legs the laser cannot see (a table top or a sofa between, robot.attention.tracker FACE):
@@ -782,7 +788,8 @@ class PersonAttention(Module):
     def _unseen_speaker(self, t: float, cats: dict[int, int], dist: list[float]) -> int | None:
         """A speaker to look at before any speaker seen facing the robot (bottom-up): someone speaking
         (category 2) whose face was not in the camera's latest image, so it cannot tell whether she faces
-        the robot, within ``look_radius`` m and nearer than every category-3 person. Two people greet or
+        the robot, within ``look_radius`` m and at most ``look_ratio`` times as far as every category-3
+        person (her voice markedly louder). Two people greet or
         talk at once, the camera facing the farther one: the near voice is as likely the robot's
         (chat_group_bye seed 1: Olga greeting from 1.3 m lost to Rosa chatting 3.5 m away, and her
         "Hello BIRON" went unheard, the beam on Rosa). The look lasts until her face has been in the
@@ -800,9 +807,9 @@ class PersonAttention(Module):
             self._look = None
         if not threes:
             return None
-        near = min(threes)
+        near = self.params.look_ratio * min(threes)
         cands = [(dist[rows[i]], i) for i, c in cats.items()
-                 if c == 2 and i not in self._in_image and dist[rows[i]] <= self.params.look_radius and dist[rows[i]] < near]
+                 if c == 2 and i not in self._in_image and dist[rows[i]] <= self.params.look_radius and dist[rows[i]] <= near]
         if not cands:
             return None
         tid = min(cands)[1]

@@ -23,8 +23,8 @@ communication partner. Rules, in order:
    robot must not wait out the inhibition while the robot looks at a
    silent person.
 5. A speaker whom the camera cannot see (her face is not in its image, so
-   it cannot tell whether she faces the robot), nearer than every
-   category-3 person, is looked at first (``look``: the person attention
+   it cannot tell whether she faces the robot), within 2 m and at most half
+   as far as every category-3 person, is looked at first (``look``: the person attention
    system decides who, PersonAttention._unseen_speaker): two people speak
    at once and the camera happens to face the farther one.
 
