@@ -197,6 +197,18 @@ class AttentionParams:
     # than this (she points behind the robot) turns the base until it lies ``focus_margin`` inside it,
     # instead of turning to her: the camera cannot look there otherwise
     pan_limit: float = math.radians(100.0)
+    # m: who addresses the robot is not only whom the camera happens to face: a person speaking out of the
+    # camera's image (it cannot tell whether she faces the robot) nearer than this and markedly nearer than
+    # every speaker seen facing it is looked at first (:meth:`_unseen_speaker`; Hall's social distance, as
+    # ``retake_radius``): two greeting at once, the near one the robot was not looking at is not passed over
+    look_radius: float = 2.0
+    # ... and at most this fraction of the nearest category-3 person's distance: her voice then reaches the
+    # robot at least 6 dB louder at the same effort (inverse square law), enough to dominate a beam that
+    # rejects sound outside it by 6 dB (the microphones' model); a near voice no louder than the one facing
+    # the camera is no reason to look away from a greeting (distractor seed 1: Tom muttering 1.97 m away,
+    # turned away, while Anna greeted from 2.3 m)
+    look_ratio: float = 0.5
+    look_settle: float = 0.5  # s in the image: long enough for the face detector to tell (facing_on frames)
     focus_margin: float = math.radians(15.0)
     # Faces whose legs the laser cannot see (a table top or a sofa between, robot.attention.tracker FACE):
     # a frontal face no track explains, where the scan is blocked short of it, is a person candidate
@@ -299,6 +311,8 @@ class PersonAttention(Module):
         self.colours = Colours()  # each track's torso colour (robot.attention.appearance)
         self._partner_colour: tuple[float, float, float] | None = None  # hers, kept when her track dies
         self._partner_face: tuple[float, int, bool] | None = None  # (frame time, partner, her face in the image)
+        self._in_image: set[int] = set()  # the tracks whose face lay in the camera's latest frame
+        self._look: tuple[int, float] | None = None  # (track, first in the image, inf before): an unseen speaker looked at
         self.turned_away = False  # the partner walked away in Interaction, not seen facing it since (AttentionParams)
         # Where the partner was last seen (odom x, y, vx, vy; the robot's odom x, y then) and when:
         # the evidence the leaving rule reads, kept when the track itself has died.
@@ -541,15 +555,19 @@ class PersonAttention(Module):
         tpl = data.form if data is not None else msg.xml  # the pan-tilt state the frame was taken in
         pan, tilt = math.radians(float(tpl.get("pan", "nan"))), math.radians(float(tpl.get("tilt", "nan")))
         self._looked_at(t, pan, faces, xy)
-        prow = self.tracks.row(self.partner) if self.partner is not None else -1
-        if prow >= 0:  # was the partner's face in the image? (then a missing face means she looks away)
-            px, py = xy[prow]
-            d = math.hypot(px, py)
-            elev = math.atan2(self.params.heights["face"] - self.params.camera_height, max(d, 0.3))
-            in_view = (abs(math.remainder(math.atan2(py, px) - pan, 2 * math.pi)) <= self.params.camera_hfov / 2
-                       and abs(elev - tilt) <= self.params.camera_vfov / 2)
-            self._partner_face = (t, self.partner, in_view)
+        self._in_image = {ids[r] for r, (px, py) in enumerate(xy) if self._face_in_image(px, py, pan, tilt)}
+        if self.partner is not None and self.tracks.row(self.partner) >= 0:
+            # was the partner's face in the image? (then a missing face means she looks away)
+            self._partner_face = (t, self.partner, self.partner in self._in_image)
         self.tracks.support([r for r in rows if tracks[r].confirmed], t)
+
+    def _face_in_image(self, px: float, py: float, pan: float, tilt: float) -> bool:
+        """Whether a face at robot-frame (px, py) lies inside the image of a camera panned/tilted so (rad)."""
+        if math.isnan(pan) or math.isnan(tilt):
+            return False
+        elev = math.atan2(self.params.heights["face"] - self.params.camera_height, max(math.hypot(px, py), 0.3))
+        return (abs(math.remainder(math.atan2(py, px) - pan, 2 * math.pi)) <= self.params.camera_hfov / 2
+                and abs(elev - tilt) <= self.params.camera_vfov / 2)
 
     def _looked_at(self, t: float, pan: float, faces: list[tuple[float, float]], xy: list[tuple[float, float]]) -> None:
         """A camera frame (pan ``pan`` rad, frontal ``faces`` as (bearing, distance) in the robot frame,
@@ -754,7 +772,7 @@ class PersonAttention(Module):
             if selected is None and self._searching() and self._caller is not None and cats.get(self._caller, 0) >= 2:
                 selected = self._caller  # turn to who speaks (face to the camera, beam on the voice)
         else:
-            selected = self.selector.update(t, cats)
+            selected = self.selector.update(t, cats, look=self._unseen_speaker(t, cats, dist))
             self.fsm.bottom_up(t, bool(cats), cats.get(selected) if selected is not None else None)
             self._bottom_up_events(t, selected, cats, bearing, dist)
         self._publish_tracks(t, cats, bearing, dist)
@@ -767,6 +785,37 @@ class PersonAttention(Module):
         self._publish_state(t)
 
     # ------------------------------------------------------------ decisions
+    def _unseen_speaker(self, t: float, cats: dict[int, int], dist: list[float]) -> int | None:
+        """A speaker to look at before any speaker seen facing the robot (bottom-up): someone speaking
+        (category 2) whose face was not in the camera's latest image, so it cannot tell whether she faces
+        the robot, within ``look_radius`` m and at most ``look_ratio`` times as far as every category-3
+        person (her voice markedly louder). Two people greet or
+        talk at once, the camera facing the farther one: the near voice is as likely the robot's
+        (chat_group_bye seed 1: Olga greeting from 1.3 m lost to Rosa chatting 3.5 m away, and her
+        "Hello BIRON" went unheard, the beam on Rosa). The look lasts until her face has been in the
+        image ``look_settle`` s: facing, she is category 3 and kept (the selection's rule 1); looking
+        away, the look ends and the selection goes on as before. None when there is nobody such."""
+        rows = {tk.id: i for i, tk in enumerate(self.tracks.tracks)}
+        threes = [dist[rows[i]] for i, c in cats.items() if c == 3]
+        look = self._look
+        if look is not None:
+            tid, since = look
+            if cats.get(tid) == 2 and (tid not in self._in_image or t - since < self.params.look_settle):
+                if tid in self._in_image and since == math.inf:
+                    self._look = (tid, t)
+                return tid
+            self._look = None
+        if not threes:
+            return None
+        near = self.params.look_ratio * min(threes)
+        cands = [(dist[rows[i]], i) for i, c in cats.items()
+                 if c == 2 and i not in self._in_image and dist[rows[i]] <= self.params.look_radius and dist[rows[i]] <= near]
+        if not cands:
+            return None
+        tid = min(cands)[1]
+        self._look = (tid, math.inf)
+        return tid
+
     def _bottom_up_events(self, t: float, selected: int | None, cats: dict[int, int], bearing: list[float], dist: list[float]) -> None:
         pp = selected if selected is not None and cats.get(selected) == 3 else None
         if pp is not None:

@@ -22,6 +22,11 @@ communication partner. Rules, in order:
    2) lifts the block: someone who was just looked at and then greets the
    robot must not wait out the inhibition while the robot looks at a
    silent person.
+5. A speaker whom the camera cannot see (her face is not in its image, so
+   it cannot tell whether she faces the robot), within 2 m and at most half
+   as far as every category-3 person, is looked at first (``look``: the person attention
+   system decides who, PersonAttention._unseen_speaker): two people speak
+   at once and the camera happens to face the farther one.
 
 :class:`Selector` is a pure state machine over (time, {track id: category}),
 with no bus or geometry, so the rules can be property-tested.
@@ -48,14 +53,18 @@ class Selector:
     blocked_until: dict[int, float] = field(default_factory=dict)
     previous: dict[int, int] = field(default_factory=dict)  # the categories of the last update
 
-    def update(self, now: float, categories: dict[int, int]) -> int | None:
-        """Select among ``categories`` (track id -> 1, 2 or 3) at ``now``; returns the selected id."""
+    def update(self, now: float, categories: dict[int, int], look: int | None = None) -> int | None:
+        """Select among ``categories`` (track id -> 1, 2 or 3) at ``now``; returns the selected id.
+        ``look``: a speaker to look at first (rule 5), if she is among ``categories``."""
         previous, self.previous = self.previous, dict(categories)
         cur = self.selected
         if cur is not None:
             self.last_selected[cur] = now
             if cur not in categories:
                 cur = None
+        if look is not None and look in categories:  # 5. before anyone else
+            self.blocked_until.pop(look, None)
+            return self._switch(now, look)
         # 1. Category 3: at once, and kept while it lasts.
         if cur is not None and categories[cur] == 3:
             return self._keep(now, cur)
