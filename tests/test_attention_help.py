@@ -53,7 +53,9 @@ def test_look_for_help_is_an_order_the_attention_knows_and_it_is_bottom_up():
 
 def test_a_failed_go_to_asks_for_help_and_orders_the_attention_to_look_for_help():
     m = load("robot/afsm/biron.scxml")
-    (t,) = [t for t in m.states["Navigating"].transitions if t.event == "navigation_failed"]
+    (u, t) = [t for t in m.states["Navigating"].transitions if t.event == "navigation_failed"]
+    # a place it was never shown is no call for help: back to her, the interaction goes on
+    assert u.target == "Interacting" and ("dialog", "unknown_place") in {(s.target, s.name) for s in u.sends}
     assert t.target == "AskingForHelp"
     assert ("person_attention", "look_for_help") in {(s.target, s.name) for s in t.sends}
     # and the way clearing while it asks takes it on to the goal, telling the dialog
