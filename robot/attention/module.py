@@ -1186,8 +1186,9 @@ class PersonAttention(Module):
             else:
                 self._turning = True
                 self._turn(turn)
-        elif state in TURNS and row >= 0 and not self._follower_drives and not self._player_drives:
-            b = bearing[row]
+        elif state in TURNS and (row >= 0 or (unseen_at := self._where_she_stood(t)) is not None) \
+                and not self._follower_drives and not self._player_drives:
+            b = bearing[row] if row >= 0 else unseen_at
             if self._turning and abs(b) < p.turn_stop:
                 self._base(0.0)
                 self._turning = False
@@ -1198,6 +1199,33 @@ class PersonAttention(Module):
             self._base(0.0)
             self._turning = False
         self._steer(self.beam(t, bearing[row] if row >= 0 else None, category))
+
+    def _where_she_stood(self, t: float) -> float | None:
+        """In Interaction, the partner unseen (her track died or went dormant) with no evidence of leaving:
+        the bearing (rad, robot frame) of where her legs were last measured, to turn to; else None.
+
+        A partner beside the robot is in the interaction space (the leaving rule): after a stop the
+        follower's approach may end with her 0.75 m to its side, beyond the laser's half-circle, and a
+        robot that does not turn to her sees nobody there and says "You left" 10 s later
+        (fresh5/row_phone_between, stair_names_snug). Turned to where she stood, the laser and the camera
+        find her again (:meth:`_reacquire`); nobody there, the leaving rule ends it as before."""
+        last = self._partner_last
+        if self.fsm.state != "Interaction" or self.partner is None or self.partner_lost_sent or last is None:
+            return None
+        row = self.tracks.row(self.partner)
+        if row >= 0 and not self.tracks.tracks[row].dormant:
+            return None  # she is tracked: turned to as usual
+        _, x, y, vx, vy, ox, oy = last
+        p = self.params
+        dx, dy = x - ox, y - oy
+        dist = math.hypot(dx, dy)
+        away = (vx * dx + vy * dy) / dist if dist > 1e-6 else 0.0
+        if dist > p.interaction_radius or away >= p.leave_speed:
+            return None  # evidence of leaving: nothing to turn to
+        px, py, th = self._pose_at(t)
+        if math.hypot(x - px, y - py) < 1e-6:
+            return None
+        return math.remainder(math.atan2(y - py, x - px) - th, 2 * math.pi)
 
     def _spoke_before(self, t: float, tk: Any, px: float, py: float) -> bool:
         """Is the track ``tk`` (the robot at odom ``px``, ``py``) where a voice came from lately that nobody
