@@ -262,6 +262,9 @@ class PersonAttention(Module):
 
     #: the ES's last order was ``look_for_help`` (the robot asked for help; :meth:`_voice_heading`)
     seeking_help: bool = False
+    #: asking for help: (time, odometry heading) of the mirror reading of the last voice a seen person who does
+    #: not face the robot explained (:meth:`_mirror_voice`); the pair cannot tell front from back
+    _mirror: tuple[float, float] | None = None
     #: nothing pressed, and never told otherwise: for unit tests that build the module without a bus (__init__
     #: gives each its own, heard on the bus)
     bumpers = own_reflex()
@@ -462,6 +465,8 @@ class PersonAttention(Module):
         self.speaking.feed(t, ids, {ids[r] for r in rows})
         if rows:
             self._partner_seen(rows, t)  # the partner's voice from the partner's direction keeps the partner
+            if self.seeking_help:
+                self._mirror_voice(t, bearings, track_bearings)
         if bearings and self.partner is not None:
             prow = self.tracks.row(self.partner)
             if prow >= 0:
@@ -488,6 +493,27 @@ class PersonAttention(Module):
                 in_view = [tk.id for tk in tracks if tk.confirmed and not tk.dormant]
                 for j in free:
                     self.heard.add(t, th + bearings[j], th + math.pi - bearings[j], in_view)
+
+    def _mirror_voice(self, t: float, bearings: list[float], track_bearings: list[float]) -> None:
+        """Asking for help: a voice that a seen person who does not face the robot explains may be someone
+        else's at the mirror reading (the pair cannot tell front from back). Whoever answers the call comes
+        up behind the robot, where the laser does not look, and greets it; her voice was taken for the man
+        in front on the phone, so it never turned round and her greeting expired (fresh3/open_island_goto).
+        Keep that mirror reading (:attr:`_mirror`, odometry heading) for :meth:`_voice_heading`."""
+        th = self._pose_at(t)[2]
+        rxy = self._robot_xy(t)
+        tracks = self.tracks.tracks
+        for b in bearings:
+            rows = match_sounds(track_bearings, [b], self.cues.sound_tolerance)
+            if not rows:
+                continue
+            tk = tracks[rows[0]]
+            if not tk.confirmed or tk.dormant or self.facing.on(tk.id):
+                continue  # someone facing it who speaks is the one who speaks to it
+            own = math.atan2(float(rxy[rows[0]][1]), float(rxy[rows[0]][0]))
+            front, back = b, math.pi - b
+            other = back if angle_between(own, front) <= angle_between(own, back) else front
+            self._mirror = (t, th + other)
 
     def _partner_seen(self, rows: list[int], t: float) -> None:
         """Weak evidence (the voice from the partner's bearing) counts for the partner only."""
@@ -1298,6 +1324,15 @@ class PersonAttention(Module):
         # (someone seen speaking (category 2) does not stop a turn under way: while the robot turns
         # round to a voice from behind, its front reading sweeps past the people in front, and one
         # of them, talking on the phone, is heard as its speaker: sq_goto_bedroom_door)
+        m = self._mirror
+        if (self.seeking_help and m is not None and self._voice_turn is None and not self.fsm.top_down
+                and not self.fsm.held and t - m[0] <= p.dominant_max_age):
+            # asking for help, a voice a seen person not facing it explains: look the other way too, unless
+            # the camera looked there lately and saw nobody (:meth:`_mirror_voice`)
+            self._mirror = None
+            if not self.looked.empty_since(m[1], t - p.voice_look_memory):
+                turn = angle_between(m[1], self._pose_at(t)[2])
+                self._voice_turn = (t + max(p.voice_turn_time, turn / p.max_turn + p.voice_turn_slack), m[1], m[0])
         if not self._searching() and (self.fsm.top_down or self.fsm.held or (row >= 0 and (category >= 3 or category == 2 and self._voice_turn is None))):
             self._voice_turn = None
             return None
