@@ -15,7 +15,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from homesim.afsm.loader import load
-from robot.attention.cues import CueSpec, Hysteresis
+from robot.attention.cues import CueSpec, Hysteresis, sound_bearings_from
 from robot.attention.fsm import AttentionFSM
 from robot.attention.looking import HeardFrom, LookedAt
 from robot.attention.module import AttentionParams, PersonAttention
@@ -53,7 +53,9 @@ def test_look_for_help_is_an_order_the_attention_knows_and_it_is_bottom_up():
 
 def test_a_failed_go_to_asks_for_help_and_orders_the_attention_to_look_for_help():
     m = load("robot/afsm/biron.scxml")
-    (t,) = [t for t in m.states["Navigating"].transitions if t.event == "navigation_failed"]
+    (u, t) = [t for t in m.states["Navigating"].transitions if t.event == "navigation_failed"]
+    # a place it was never shown is no call for help: back to her, the interaction goes on
+    assert u.target == "Interacting" and ("dialog", "unknown_place") in {(s.target, s.name) for s in u.sends}
     assert t.target == "AskingForHelp"
     assert ("person_attention", "look_for_help") in {(s.target, s.name) for s in t.sends}
     # and the way clearing while it asks takes it on to the goal, telling the dialog
@@ -115,3 +117,40 @@ def test_someone_facing_it_who_has_just_spoken_to_it_keeps_it_from_turning_away(
     _faces(b)
     b._dominant = (0.5, math.radians(40))
     assert b._voice_heading(0.5, 0, 1) is None
+
+
+def _speaks_from(a: PersonAttention, t: float) -> float:
+    """Feed the pair's reading of the voice of track 0 (where the pair hears it) to the mirror rule."""
+    a.cues = CueSpec()
+    a._dominant = None  # no voice nobody seen explains
+    (b,) = sound_bearings_from(a._robot_xy(t), a.cues)
+    a._mirror_voice(t, [b], [b])
+    return b
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.floats(-math.radians(75), math.radians(75)), st.floats(0.8, 3.0))
+def test_asking_for_help_a_voice_a_seen_person_not_facing_it_explains_is_looked_for_behind_too(where, d):
+    """fresh3/open_island_goto: Lena greets it from behind while Ole, in front, talks on the phone facing
+    away; the pair reads her where it would read him, so the voice was his and the robot never turned round.
+    Asking for help, it looks the other way too (the mirror reading), whoever stands in front."""
+    t = 0.3
+    a = _asking(True, (d * math.cos(where), d * math.sin(where)))
+    b = _speaks_from(a, t)
+    heading = a._voice_heading(t, 0, 2)
+    assert heading is not None and abs(math.remainder(heading - (math.pi - b), 2 * math.pi)) < 1e-9
+
+
+def test_the_mirror_is_not_looked_for_when_he_faces_it_or_it_looked_there_lately_or_it_is_not_asking():
+    t = 0.5
+    facing = _asking(True, (1.4, 0.3))
+    _faces(facing)
+    _speaks_from(facing, t)
+    assert facing._voice_heading(t, 0, 3) is None
+    looked = _asking(True, (1.4, 0.3))
+    b = _speaks_from(looked, t)
+    looked.looked.observe(0.2, math.pi - b, math.radians(20), [], math.radians(7))  # nobody there a moment ago
+    assert looked._voice_heading(t, 0, 2) is None
+    around = _asking(False, (1.4, 0.3))
+    _speaks_from(around, t)
+    assert around._voice_heading(t, 0, 2) is None

@@ -106,5 +106,7 @@ def test_an_unknown_place_fails_at_once_with_the_reason():
     run.at(1.5, lambda: run.goto("garage"))
     run.until(2.5)
     assert [(e[1], e[2].get("reason")) for e in run.events if e[1] == "navigation_failed"] == [("navigation_failed", "unknown_place")]
-    assert run.es.state == "AskingForHelp"
+    # nobody can help with a place it was never shown: it says so, naming it, and stays with her
+    assert run.es.state == "Interacting"
+    assert "unknown_place" in run.condition_names() and "need_help" not in run.condition_names()
     run.close()

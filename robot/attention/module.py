@@ -274,6 +274,9 @@ class PersonAttention(Module):
 
     #: the ES's last order was ``look_for_help`` (the robot asked for help; :meth:`_voice_heading`)
     seeking_help: bool = False
+    #: asking for help: (time, odometry heading) of the mirror reading of the last voice a seen person who does
+    #: not face the robot explained (:meth:`_mirror_voice`); the pair cannot tell front from back
+    _mirror: tuple[float, float] | None = None
     #: nothing pressed, and never told otherwise: for unit tests that build the module without a bus (__init__
     #: gives each its own, heard on the bus)
     bumpers = own_reflex()
@@ -476,6 +479,8 @@ class PersonAttention(Module):
         self.speaking.feed(t, ids, {ids[r] for r in rows})
         if rows:
             self._partner_seen(rows, t)  # the partner's voice from the partner's direction keeps the partner
+            if self.seeking_help:
+                self._mirror_voice(t, bearings, track_bearings)
         if bearings and self.partner is not None:
             prow = self.tracks.row(self.partner)
             if prow >= 0:
@@ -502,6 +507,27 @@ class PersonAttention(Module):
                 in_view = [tk.id for tk in tracks if tk.confirmed and not tk.dormant]
                 for j in free:
                     self.heard.add(t, th + bearings[j], th + math.pi - bearings[j], in_view)
+
+    def _mirror_voice(self, t: float, bearings: list[float], track_bearings: list[float]) -> None:
+        """Asking for help: a voice that a seen person who does not face the robot explains may be someone
+        else's at the mirror reading (the pair cannot tell front from back). Whoever answers the call comes
+        up behind the robot, where the laser does not look, and greets it; her voice was taken for the man
+        in front on the phone, so it never turned round and her greeting expired (fresh3/open_island_goto).
+        Keep that mirror reading (:attr:`_mirror`, odometry heading) for :meth:`_voice_heading`."""
+        th = self._pose_at(t)[2]
+        rxy = self._robot_xy(t)
+        tracks = self.tracks.tracks
+        for b in bearings:
+            rows = match_sounds(track_bearings, [b], self.cues.sound_tolerance)
+            if not rows:
+                continue
+            tk = tracks[rows[0]]
+            if not tk.confirmed or tk.dormant or self.facing.on(tk.id):
+                continue  # someone facing it who speaks is the one who speaks to it
+            own = math.atan2(float(rxy[rows[0]][1]), float(rxy[rows[0]][0]))
+            front, back = b, math.pi - b
+            other = back if angle_between(own, front) <= angle_between(own, back) else front
+            self._mirror = (t, th + other)
 
     def _partner_seen(self, rows: list[int], t: float) -> None:
         """Weak evidence (the voice from the partner's bearing) counts for the partner only."""
@@ -1235,8 +1261,9 @@ class PersonAttention(Module):
             else:
                 self._turning = True
                 self._turn(turn)
-        elif state in TURNS and row >= 0 and not self._follower_drives and not self._player_drives:
-            b = bearing[row]
+        elif state in TURNS and (row >= 0 or (unseen_at := self._where_she_stood(t)) is not None) \
+                and not self._follower_drives and not self._player_drives:
+            b = bearing[row] if row >= 0 else unseen_at
             if self._turning and abs(b) < p.turn_stop:
                 self._base(0.0)
                 self._turning = False
@@ -1247,6 +1274,33 @@ class PersonAttention(Module):
             self._base(0.0)
             self._turning = False
         self._steer(self.beam(t, bearing[row] if row >= 0 else None, category))
+
+    def _where_she_stood(self, t: float) -> float | None:
+        """In Interaction, the partner unseen (her track died or went dormant) with no evidence of leaving:
+        the bearing (rad, robot frame) of where her legs were last measured, to turn to; else None.
+
+        A partner beside the robot is in the interaction space (the leaving rule): after a stop the
+        follower's approach may end with her 0.75 m to its side, beyond the laser's half-circle, and a
+        robot that does not turn to her sees nobody there and says "You left" 10 s later
+        (fresh5/row_phone_between, stair_names_snug). Turned to where she stood, the laser and the camera
+        find her again (:meth:`_reacquire`); nobody there, the leaving rule ends it as before."""
+        last = self._partner_last
+        if self.fsm.state != "Interaction" or self.partner is None or self.partner_lost_sent or last is None:
+            return None
+        row = self.tracks.row(self.partner)
+        if row >= 0 and not self.tracks.tracks[row].dormant:
+            return None  # she is tracked: turned to as usual
+        _, x, y, vx, vy, ox, oy = last
+        p = self.params
+        dx, dy = x - ox, y - oy
+        dist = math.hypot(dx, dy)
+        away = (vx * dx + vy * dy) / dist if dist > 1e-6 else 0.0
+        if dist > p.interaction_radius or away >= p.leave_speed:
+            return None  # evidence of leaving: nothing to turn to
+        px, py, th = self._pose_at(t)
+        if math.hypot(x - px, y - py) < 1e-6:
+            return None
+        return math.remainder(math.atan2(y - py, x - px) - th, 2 * math.pi)
 
     def _spoke_before(self, t: float, tk: Any, px: float, py: float) -> bool:
         """Is the track ``tk`` (the robot at odom ``px``, ``py``) where a voice came from lately that nobody
@@ -1319,6 +1373,15 @@ class PersonAttention(Module):
         # (someone seen speaking (category 2) does not stop a turn under way: while the robot turns
         # round to a voice from behind, its front reading sweeps past the people in front, and one
         # of them, talking on the phone, is heard as its speaker: sq_goto_bedroom_door)
+        m = self._mirror
+        if (self.seeking_help and m is not None and self._voice_turn is None and not self.fsm.top_down
+                and not self.fsm.held and t - m[0] <= p.dominant_max_age):
+            # asking for help, a voice a seen person not facing it explains: look the other way too, unless
+            # the camera looked there lately and saw nobody (:meth:`_mirror_voice`)
+            self._mirror = None
+            if not self.looked.empty_since(m[1], t - p.voice_look_memory):
+                turn = angle_between(m[1], self._pose_at(t)[2])
+                self._voice_turn = (t + max(p.voice_turn_time, turn / p.max_turn + p.voice_turn_slack), m[1], m[0])
         if not self._searching() and (self.fsm.top_down or self.fsm.held or (row >= 0 and (category >= 3 or category == 2 and self._voice_turn is None))):
             self._voice_turn = None
             return None

@@ -596,6 +596,7 @@ class Player(Module):
         limits = self.limits if cap_hard >= self.limits.max_speed else replace(self.limits, max_speed=cap_hard)  # a hard limit
         bearing = math.atan2(local[1], local[0])
         v_pref = heading_speed(min(cap, blind, 0.25 + 0.6 * dist), bearing)
+        arc_limits = limits
         if self._facing and abs(bearing) > TURN_FIRST:
             # the first leg, from where it stood (facing anywhere), is turned to on the spot first: a
             # forward arc while turning swings the robot off the planned line, into a door jamb
@@ -606,6 +607,12 @@ class Player(Module):
             self._facing = False
         # everyone's space: wait at a polite distance, never at the body
         cmd = dwa(self.odo.v, self.odo.w, local, points, limits, v_pref=v_pref, params=self._goto_params, people=people)
+        if limits is not arc_limits and (not cmd.ok or abs(cmd.w) < 1e-3):
+            # no room to turn on the spot (a wall or a jamb at its back: it stood just outside a door it had
+            # backed out of, open_island_goto seeds 0, 3, 7, blocked for a minute with the way free): arc
+            # round to the leg as the window allows, every rule of driving kept
+            cmd = dwa(self.odo.v, self.odo.w, local, points, arc_limits, v_pref=max(v_pref, SOCIAL_SPEED),
+                      params=self._goto_params, people=people)
         if abs(cmd.v) < 0.02 and squeezable and limits.max_speed > 0.0 and standing_beside(moving):
             # no arc on past someone standing beside the way at the full gap: pass them slowly at SQUEEZE_GAP
             slow = replace(limits, max_speed=min(SQUEEZE_SPEED, limits.max_speed))
