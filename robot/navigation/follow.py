@@ -112,7 +112,6 @@ from robot.partner_search import follow_search_time, yielding
 from robot.bumpers import BumperReflex, own_reflex
 from robot.contract import ATTENTION_STATE, BASE_CMD, BUMPERS, ES_EVENTS, FOLLOW_STATUS, ODOMETRY, PARTNER, POSE, SCAN, SONAR, TRACKS
 
-from .blind import blind_speed_limit, scan_corners
 from .config import Limits
 from .grid import MapError, OccupancyGrid, parse_map
 from .local import (SOCIAL_GAP, TURN_GAP, DWAParams, LatestScan, arcs, carrot, dwa, footprint_distance, heading_speed,
@@ -318,8 +317,6 @@ class Follower(Module):
         self._seen_pos: tuple[float, float] | None = None  # where she was (odom) when a scan last saw her
         self._search_ended: float | None = None  # when the search ran out with her unseen (following)
         self._lost_told = False  # partner_lost sent for this following (see _search_over)
-        self._corners_of: Any = None  # the scan whose blind corners are in _corners
-        self._corners = np.zeros((0, 2))
         self.odom: tuple[float, float, float] | None = None
         self.v = self.w = 0.0
         self.scan = LatestScan()
@@ -733,14 +730,6 @@ class Follower(Module):
             limits = self.limits
             if searching:  # slowly: she may step out from behind whatever hid her
                 limits = replace(limits, max_speed=min(limits.max_speed, self.search_speed))
-                # and round a corner ahead it cannot see behind, a speed it can stop from (the go-to's
-                # rule, blind.py): searching, it drives where nobody is tracked, and whoever walks back
-                # round the corner appears within a metre (u_catch_up_slow seeds 4, 9: she came back
-                # round the U's corner, first seen 0.85 m off, and the search at 0.3 m/s touched her)
-                blind = blind_speed_limit(self._blind_corners(mapped), limits.max_speed, decel=self.limits.max_accel)
-                if blind < limits.max_speed:
-                    limits = replace(limits, max_speed=blind)
-                    v_pref = min(v_pref, blind)
             if len(capped):
                 cap = social_speed_limit(nearest(capped), self.limits.max_speed)
                 if cap < limits.max_speed:
@@ -769,15 +758,6 @@ class Follower(Module):
         self._too_fast(d, at_limit and not held, math.hypot(tr["vx"], tr["vy"]))
         self._status(d, at_limit, state if tr["visible"] else "searching")
         return v, w
-
-    def _blind_corners(self, mapped: np.ndarray) -> np.ndarray:
-        """The floor plan's corners in the latest scan that the laser does not see round (robot frame;
-        once per scan: :func:`robot.navigation.blind.scan_corners`)."""
-        msg = self.scan.latest
-        if msg is not self._corners_of:
-            self._corners_of = msg
-            self._corners = scan_corners(msg, mapped)
-        return self._corners
 
     def _search_over(self) -> None:
         """The search is over and she is still unseen: after :data:`SEARCH_OVER_SAY` s standing so,
