@@ -8,6 +8,7 @@ import numpy as np
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from robot.attention.appearance import Colours
 from robot.attention.cues import CueSpec, Hysteresis
 from robot.attention.fsm import AttentionFSM
 from robot.attention.looking import HeardFrom, LookedAt
@@ -28,6 +29,8 @@ def _attention(positions: list[tuple[float, float]]) -> PersonAttention:
         for tk in a.tracks.tracks:
             tk.confirmed = True
     a.partner, a.partner_lost_sent, a._partner_last = None, False, None
+    a._partner_colour = a._lost_colour = None
+    a.colours = Colours()
     a._odom = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
     a._alone_since = None
     a._voice_turn = None
@@ -132,3 +135,49 @@ def test_follow_with_nobody_to_follow_is_a_loss():
     a.fsm.order("follow")
     lost = _walk(a, {}, 20.0)
     assert len(lost) == 1 and a.params.follow_lost_after <= lost[0] < a.params.follow_lost_after + 0.2
+
+
+HERS, OTHER = (200.0, 40.0, 40.0), (40.0, 60.0, 200.0)  # her red jumper; someone else's blue
+
+
+def _lost_in(colour, positions, clothes):
+    """After a loss of a partner the camera saw in ``colour``: tracks at ``positions`` wearing ``clothes``."""
+    a = _attention(positions)
+    a._lost_colour = colour
+    for tk, rgb in zip(a.tracks.tracks, clothes):
+        for k in range(a.colours.spec.min_obs):
+            a.colours.observe(tk.id, rgb, 1.0)
+    return a
+
+
+def test_the_lost_partner_calling_from_across_the_room_is_taken_back():
+    """Issue 26: lost while following, she calls the robot from 4 m, facing it: her clothes are the
+    lost partner's, so she takes her place back (a stranger there does not: the test above)."""
+    a = _lost_in(HERS, [(3.8, 1.2)], [HERS])
+    tid = a.tracks.tracks[0].id
+    a._top_down(1.0, {tid: 3})
+    assert a.partner == tid and [e[0] for e in a.events] == ["new_partner"]
+    assert a._lost_colour is None  # she is back: the next loss learns her clothes again
+
+
+def test_someone_else_calling_from_across_the_room_after_a_loss_is_not():
+    a = _lost_in(HERS, [(3.8, 1.2)], [OTHER])
+    a._top_down(1.0, {a.tracks.tracks[0].id: 3})
+    assert a.partner is None and a.events == []
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.lists(st.tuples(st.floats(-6, 6), st.floats(-6, 6)), min_size=1, max_size=4),
+       st.lists(st.sampled_from([1, 2, 3]), min_size=4, max_size=4),
+       st.lists(st.booleans(), min_size=4, max_size=4))
+def test_only_she_is_taken_back_from_beyond_conversation_distance(positions, categories, hers):
+    """Whoever takes the place speaks facing the robot, within the retake radius, or within
+    retake_known_radius wearing the lost partner's clothes; never anyone else from further away."""
+    a = _lost_in(HERS, positions, [HERS if h else OTHER for h in hers])
+    cats = {tk.id: c for tk, c in zip(a.tracks.tracks, categories)}
+    wears = {tk.id: h for tk, h in zip(a.tracks.tracks, hers)}
+    a._top_down(1.0, cats)
+    p = a.params
+    ok = [tk.id for tk in a.tracks.tracks if cats[tk.id] == 3 and np.hypot(tk.x[0], tk.x[1])
+          <= (p.retake_known_radius if wears[tk.id] else p.retake_radius)]
+    assert a.partner == (min(ok) if ok else None)

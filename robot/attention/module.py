@@ -122,6 +122,10 @@ class AttentionParams:
     # m: after a loss, someone speaking while facing the robot takes the partner's place only this
     # near (Hall's social distance: a conversation with the robot, not a chat across the room)
     retake_radius: float = 2.0
+    # m: ... but one who speaks facing it in the lost partner's own clothes (the camera saw hers) is
+    # she, come back: taken back this far (issue 26: a partner who calls it from across the room
+    # after it lost her, 4 m away, was not heard as hers and the interaction ended)
+    retake_known_radius: float = 5.0
     out_of_view_after: float = 10.0  # s without any evidence: gone, wherever she was last seen
     # s with no partner at all after a loss (the robot asked her to come back): time to walk back from
     # the next room; then the interaction ends and the robot looks around (:meth:`_nobody_there`)
@@ -313,6 +317,7 @@ class PersonAttention(Module):
         self.partner_lost_sent = False
         self.colours = Colours()  # each track's torso colour (robot.attention.appearance)
         self._partner_colour: tuple[float, float, float] | None = None  # hers, kept when her track dies
+        self._lost_colour: tuple[float, float, float] | None = None  # the lost partner's clothes: who may retake from afar
         self._partner_face: tuple[float, int, bool] | None = None  # (frame time, partner, her face in the image)
         self._in_image: set[int] = set()  # the tracks whose face lay in the camera's latest frame
         self._look: tuple[int, float] | None = None  # (track, first in the image, inf before): an unseen speaker looked at
@@ -651,7 +656,7 @@ class PersonAttention(Module):
         else:
             self.partner = None
             self.partner_lost_sent = False
-            self._partner_last = self._partner_colour = None
+            self._partner_last = self._partner_colour = self._lost_colour = None
         self.pp_sent = None
         self._alone_since = None
         self.turned_away = False  # (leading her in Follow she walks away from it: no turning away)
@@ -911,15 +916,17 @@ class PersonAttention(Module):
         if row < 0 and (self.partner_lost_sent or self.partner is None):
             # (partner None: lost while following, her track died, and the ES's order back to
             # Interaction found nobody to choose: without this nobody could ever take the place)
+            if self.partner is not None and self._partner_colour is not None:
+                self._lost_colour = self._partner_colour  # she may come back: known by her clothes
             self.partner = None
             self._partner_last = self._partner_colour = None
             # The partner may come back: someone speaking while facing the robot takes the place.
             rx, ry, _ = self._pose_at(t)
             rows = {tk.id: tk for tk in tr.tracks}
             threes = sorted(i for i, c in cats.items() if c == 3 and i in rows
-                            and math.hypot(rows[i].x[0] - rx, rows[i].x[1] - ry) <= self.params.retake_radius)
+                            and math.hypot(rows[i].x[0] - rx, rows[i].x[1] - ry) <= self._retake_reach(rows[i], t))
             if threes:
-                self.partner, self.partner_lost_sent = threes[0], False
+                self.partner, self.partner_lost_sent, self._lost_colour = threes[0], False, None
                 self._new_partner(t, threes[0], "true")
         self._caller = self._find_caller(t, cats) if self.partner is None else None
         self._nobody_there(t)
@@ -962,6 +969,18 @@ class PersonAttention(Module):
         elif radial <= -self.params.leave_speed:
             self.turned_away = False
 
+    def _retake_reach(self, tk: Any, t: float) -> float:
+        """How far from the robot someone speaking facing it may take the lost partner's place:
+        ``retake_radius`` (a conversation with the robot, not a chat across the room), or
+        ``retake_known_radius`` when the camera sees the lost partner's own clothes on them
+        (:func:`.appearance.same_clothes`): she calls it from across the room, come back."""
+        p = self.params
+        if self._lost_colour is not None:
+            colour = self.colours.colour(tk.id, t)
+            if colour is not None and same_clothes(self._lost_colour, colour):
+                return p.retake_known_radius
+        return p.retake_radius
+
     def _find_caller(self, t: float, cats: dict[int, int]) -> int | None:
         """With no partner in Interaction (she was lost, the robot asked her to come back): the seen
         person who speaks (nearest first), else one walking up to the robot (within ``retake_radius``
@@ -979,9 +998,9 @@ class PersonAttention(Module):
                 continue
             dx, dy = rx - tk.x[0], ry - tk.x[1]
             d = math.hypot(dx, dy)
-            if d > p.interaction_radius:
+            if d > max(p.interaction_radius, self._retake_reach(tk, t)):
                 continue
-            speaks = cats.get(tk.id, 1) >= 2 and d <= p.retake_radius  # talking to it (conversation distance)
+            speaks = cats.get(tk.id, 1) >= 2 and d <= self._retake_reach(tk, t)  # talking to it (conversation distance)
             comes = d > 1e-6 and (tk.x[2] * dx + tk.x[3] * dy) / d >= p.leave_speed
             if speaks or comes:
                 key = (0 if speaks else 1, d, tk.id)
