@@ -1052,7 +1052,11 @@ class Dialog(Module):
         value = done.slots["choice"].value if done.success else None
         picked = choose(options, value, self._facing_now())
         if picked is None:
-            return unchosen_answer(value)
+            out = unchosen_answer(value)
+            # how often the question was put: an asker that finds the answer picks none of its options asks
+            # again only while the same question has been put once (never more than twice in all)
+            out.set("asked", str(max(1, sum(inst.asked.values()))))
+            return out
         return etree.Element("answer", index=str(picked))
 
 
