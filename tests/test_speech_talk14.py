@@ -100,3 +100,15 @@ def test_a_kin_owner_is_said_back_as_hers(owner, said):
     from robot.dialog.model import noun_phrase
     el = etree.fromstring(f'<OBJECT type="book"><TITLE name="book"/><OWNER name="{owner}"/><COLOUR name="blue"/></OBJECT>')
     assert noun_phrase(el) == said
+
+
+@pytest.mark.parametrize("words", ["come on the in is next door", "this is next door", "we are going next door",
+                                   "it is next door"])
+def test_next_door_is_no_door(words):
+    """fresh5 row_hidden_step_aside seed 4: "come on the in is next door" (misheard) became "Is this the door?"."""
+    u = understand(words)
+    assert u.frame is None or u.frame.find(".//OBJECT[@type='door']") is None
+
+
+def test_a_door_she_shows_is_still_a_door():
+    assert understand("this is the door to the garden").frame.find("OBJECT").get("type") == "door"

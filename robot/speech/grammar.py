@@ -146,6 +146,13 @@ class Understander:
         lex = self.lexicon.tokens(words)
         res = Understanding(words, None, unknown=lex.unknown, corrected=lex.corrected)
         toks = lex.tokens
+        said = Lexicon.words(words)
+        beside = sum(1 for a, b in itertools.pairwise(said) if (a, b) == ("next", "door"))
+        if beside and beside == said.count("door"):
+            # "the living room is next door", "come on, the in is next door" (misheard): "next door" says where,
+            # it names no door to teach or look at (fresh5 row_hidden_step_aside: "Is this the door?")
+            toks = [t for t in toks if not (t.type == "OBJ" and t.text == "door")]
+            lex.unknown.extend(["door"] * beside)
         gave_up = False  # a leading "never mind (her)": she sets aside what came before
         heed = False  # a leading "don't mind me", "never mind us": pay them no heed
         lead_edit: Tok | None = None
@@ -391,7 +398,7 @@ class Understander:
             tree, _, _ = self._parse([_LOST_THIS, Tok("IS", "is", ""), Tok("THE", "the", ""), Tok("PLACE", "", "")])
             partial = True
         called_along = come_on is not None and tree is not None and _place_said_elsewhere(tree, toks, ignored,
-                                                                                          bool(lex.unknown))
+                                                                                          bool(lex.unknown), beside > 0)
         if called_along:
             # "come on, the living room is next door", "come on, the kitchen is through here": she calls the
             # robot along and says where they are going; the room is not here (no teaching: fresh5
@@ -424,7 +431,7 @@ class Understander:
             tree, ignored, partial = inverted, [], False
             frame = build(tree)
             obj = frame[0]
-        small_talk = (_small_talk(tree, obj, toks) or _said_of(tree, toks, ignored, bool(lex.unknown))
+        small_talk = (_small_talk(tree, obj, toks) or _said_of(tree, toks, ignored, bool(lex.unknown), beside > 0)
                       or _denied(tree, lex.raw))
         if small_talk:
             res.ignored = [t.text for t in toks]
@@ -1228,14 +1235,14 @@ def _hesitated_before_room(words: list[str], hesitations: frozenset[str]) -> boo
                for i in range(1, len(words) - 1))
 
 
-def _place_said_elsewhere(tree: Tree, toks: list[Tok], ignored: list[str], unknown: bool) -> bool:
+def _place_said_elsewhere(tree: Tree, toks: list[Tok], ignored: list[str], unknown: bool, where: bool) -> bool:
     """A room named first, then a copula and words that say where it is from here ("the living room is next
     door", "the kitchen is through here", "the bedroom is upstairs"): said while going there, not of the room
     she stands in. Not "this is the kitchen" (a deixis first) nor "the kitchen is here" (said whole: here)."""
     if tree_act(tree) not in ("place_fragment", "teach_place") or not toks or toks[0].type in _DEIXIS:
         return False
     cop = next((k for k, t in enumerate(toks) if t.type in ("IS", "ARE")), None)
-    if cop is None or not any(t.type == "PLACE" for t in toks[:cop]) or _said_of(tree, toks, ignored, unknown):
+    if cop is None or not any(t.type == "PLACE" for t in toks[:cop]) or _said_of(tree, toks, ignored, unknown, where):
         return False  # "come on, the bedroom is nice": a remark about it
     # words after the copula the grammar could not place, or the lexicon does not know ("next door",
     # "upstairs", "through here"): where it is from here, not "here"
@@ -1253,7 +1260,7 @@ def _copula_at(tree: Tree, toks: list[Tok], ignored: list[str]) -> int | None:
     return at
 
 
-def _said_of(tree: Tree, toks: list[Tok], ignored: list[str], unknown: bool) -> str:
+def _said_of(tree: Tree, toks: list[Tok], ignored: list[str], unknown: bool, where: bool = False) -> str:
     """Why a noun phrase followed by a copula and words the grammar could not place is no answer: she says
     something of the thing ("oh the bed is not made, sorry", "the sofa is new", "the kitchen is a mess"),
     a remark about it, not "this is the bed" (galley_long_tour: "Is this bed?"). Empty when it is none.
@@ -1262,7 +1269,7 @@ def _said_of(tree: Tree, toks: list[Tok], ignored: list[str], unknown: bool) -> 
     a deixis, "one", a side, a colour, a relation or a thing) say which or where it is, not what it is
     like: the noun phrase still answers (review9 item 1)."""
     at = _copula_at(tree, toks, ignored)
-    if at is None:
+    if at is None or where:  # where: "next door" said after it (where it is, not what it is like)
         return ""
     if len(ignored) < 2 and not unknown:
         return ""  # "the kitchen is": the rest of the sentence was not heard, the noun phrase may answer
