@@ -112,3 +112,15 @@ def test_next_door_is_no_door(words):
 
 def test_a_door_she_shows_is_still_a_door():
     assert understand("this is the door to the garden").frame.find("OBJECT").get("type") == "door"
+
+
+@pytest.mark.parametrize("words", ["here we are stop", "here we are stop here", "okay here we are stop please"])
+def test_an_arrival_then_stop_is_a_stop(words):
+    """fresh5 stair_wait_walks_on: "Here we are, stop" was "Which room is this?" and the stop was lost, so every
+    teaching after it got "say stop first"."""
+    assert understand(words).act == "STOP"
+
+
+@pytest.mark.parametrize("words, act", [("here we are", "PLACE"), ("here we are in the kitchen", "PLACE")])
+def test_an_arrival_alone_or_with_its_room_is_still_a_place(words, act):
+    assert understand(words).act == act

@@ -315,6 +315,15 @@ class Understander:
             kept = self._owner_after_skip(toks, build(tree).find("OBJECT/TITLE"))
             if kept is not None:
                 tree, ignored, partial = kept
+        if tree is not None and ignored and tree_act(tree) == "teach_place" and build(tree).find("PLACE/TITLE") is None:
+            # "here we are, stop", "we are here, stop now": an arrival said before the stop, a place with no name
+            # to ask about ("Which room is this?" and the stop lost: fresh5 stair_wait_walks_on, "I am still
+            # following you; say stop first." to every teaching after it); the stop said after it is the request
+            tail = toks[len(toks) - len(ignored):]
+            alt = self._parse(tail) if [t.text for t in tail] == ignored else (None, [], True)
+            if alt[0] is not None and not alt[1] and not alt[2] and tree_act(alt[0]) == "stop":
+                res.corrected += [t.text for t in toks[: len(toks) - len(tail)]]
+                toks, (tree, ignored, partial) = tail, alt
         restart = self._restart(lex.raw) if negated is None else None
         if restart is not None:  # "follow me, no wait, stop": the repair is a whole new request
             toks, (tree, ignored, partial) = restart
