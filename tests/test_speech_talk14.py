@@ -124,3 +124,11 @@ def test_an_arrival_then_stop_is_a_stop(words):
 @pytest.mark.parametrize("words, act", [("here we are", "PLACE"), ("here we are in the kitchen", "PLACE")])
 def test_an_arrival_alone_or_with_its_room_is_still_a_place(words, act):
     assert understand(words).act == act
+
+
+@pytest.mark.parametrize("words, owner", [("the green lamp by the window a mine", "speaker"),
+                                          ("the old radio on the desk the my father's", "father")])
+def test_a_misheard_copula_before_the_owner_keeps_the_owner(words, owner):
+    """fresh5 stair_three_on_shelf seeds 5, 6: "the red book on the shelf [is→a] mine" was learned without her."""
+    u = understand(words)
+    assert u.frame.find("OBJECT/OWNER").get("name") == owner and u.partial and u.coverage < 1.0

@@ -605,20 +605,23 @@ class Understander:
         return tree, [t.text for t in toks[:i]] + ignored, True
 
     def _owner_after_skip(self, toks: list[Tok], title: etree._Element | None) -> tuple[Tree, list[str], bool] | None:
-        """The object teaching with an owner that leaving out the fewest contiguous words (one to three, not the
-        first word) gives, parsed whole, of the same thing (``title``: the noun the first parse heard); None
-        when none does."""
+        """The object teaching with an owner that a copula put in for one misheard word before the owner, or
+        leaving out the fewest contiguous words (one to three, not the first word), gives, parsed whole, of the
+        same thing (``title``: the noun the first parse heard); None when none does."""
         if title is None:
             return None
-        for n in (1, 2, 3):
-            for i in range(1, len(toks) - n):
-                rest = toks[:i] + toks[i + n:]
-                tree, lost, _ = self._parse(rest)
-                if tree is None or lost or _guessed(tree) or tree_act(tree) not in ("teach_object", "object_fragment"):
-                    continue
-                said = build(tree).find("OBJECT/TITLE")
-                if _owned(tree) is not None and said is not None and said.get("name") == title.get("name"):
-                    return tree, [t.text for t in toks[i:i + n]], True
+        trials = [(i, 1, toks[:i] + [_SAID_IS] + toks[i + 1:]) for i in range(1, len(toks) - 1)
+                  if toks[i].type not in ("IS", "ARE") and toks[i + 1].type in ("MINE", "MY", "NAME")]
+        trials += [(i, n, toks[:i] + toks[i + n:]) for n in (1, 2, 3) for i in range(1, len(toks) - n)]
+        # the copula misheard ("the red book on the shelf [is→a] mine", fresh5 stair_three_on_shelf seeds 5, 6)
+        # first, then the fewest words left out
+        for i, n, rest in trials:
+            tree, lost, _ = self._parse(rest)
+            if tree is None or lost or _guessed(tree) or tree_act(tree) not in ("teach_object", "object_fragment"):
+                continue
+            said = build(tree).find("OBJECT/TITLE")
+            if _owned(tree) is not None and said is not None and said.get("name") == title.get("name"):
+                return tree, [t.text for t in toks[i:i + n]], True
         return None
 
     def _whole_request_at(self, toks: list[Tok]) -> tuple[int, Tree, list[str]] | None:
@@ -828,6 +831,8 @@ _SCENE_WORDS = frozenset({"REL", "IN", "SIDE", "HERE", "THERE", "THE", "A", "MY"
 _ANSWER_WORDS = frozenset({"YES", "OKAY", "NO"})
 #: The "this" of a statement the recogniser lost ("[this] is my cup"): put back to parse the statement.
 _LOST_THIS = Tok("THIS", "this", "")
+#: The copula put in for a word misheard in its place before an owner ("the red book on the shelf [a] mine").
+_SAID_IS = Tok("IS", "is", "")
 #: "here" put before the relation of "the keys are on the table": said there, as "are here on the table".
 _SAID_HERE = Tok("HERE", "here", "")
 #: Words that start the "where" of "the study is this room", "my cup is that one over there".
