@@ -407,6 +407,29 @@ def test_a_question_routed_through_the_supervisor_is_asked_and_answered_as_an_ev
     assert answers and answers[0].xml.find("param/ANSWER").get("index") == "1"
 
 
+def test_an_answer_that_picks_no_option_says_how_often_the_question_was_put(robot):
+    """talk14 (issue 26 item 7): "the one on the sofa" picks neither the red nor the blue cup; the answer goes back
+    with ``asked="1"``, so the asker may put the question once more (and never a third time)."""
+    robot.greet()
+    obj = robot.sim.bus.participant("object_attention")
+    orders = []
+    obj.subscribe("/robot/es/orders/object_attention", orders.append)
+
+    def teach_and_ask() -> None:
+        frame = etree.fromstring('<event name="object_teaching"><SPEECH><OBJECT type="cup"/></SPEECH></event>')
+        robot.sim.bus.get("dialog").publish(ES_EVENTS, frame)
+        ev = etree.fromstring('<event name="clarification"><OPTIONS timeout="8"><option index="0" text="red cup"/>'
+                              '<option index="1" text="blue cup"/></OPTIONS></event>')
+        robot.sim.call_at(7.5, obj.publish, ES_EVENTS, ev)
+
+    robot.sim.call_at(7.0, teach_and_ask)
+    robot.utter("the one on the sofa", 11.0, 12.0)
+    robot.sim.run(until=16.0)
+    answers = [o for o in orders if o.xml.get("name") == "clarified"]
+    ans = answers[0].xml.find("param/ANSWER")
+    assert ans.get("none") == "true" and ans.get("asked") == "1" and ans.find("POSITION/TITLE").get("name") == "sofa"
+
+
 def test_the_occlusion_question_goes_through_the_supervisor_and_is_answered_once_said(robot):
     """The object attention cannot see past the partner: event occluded -> condition step_aside -> the
     dialog asks her to step aside -> event asked_aside (said) -> order asked_aside to the object attention,

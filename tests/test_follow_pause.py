@@ -199,3 +199,14 @@ def test_paused_in_a_door_frame_with_her_close_beyond_it_steps_out_of_the_door_a
         assert run.world.contacts == []
     finally:
         run.close()
+
+
+def test_a_pause_ends_the_walk_for_what_she_shows_next():
+    """talk14 (issue 26, session 8 item 5): after "just a moment" the robot waits by her; "that is my radio"
+    said then is taught (the dialog sends "stop" first: the walk is over), never "say stop first"; her next
+    "follow me" starts following again (tests/scenarios/follow/pause_then_teach.xml, seed 0; on 0b9766c the
+    radio was refused twice and never learned)."""
+    with Run.from_file(HERE / "follow" / "pause_then_teach.xml", RunOptions(seed=0)) as run:
+        run.run()
+        s = run.summary()
+    assert s["verdict"] == "PASS", [e for e in s["expectations"] if not e["passed"]]

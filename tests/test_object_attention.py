@@ -143,7 +143,7 @@ def test_gestures_average_into_one_ray_and_a_single_one_is_not_enough():
 
 # ------------------------------------------------------------ on the bus, in a flat
 
-def _run(pointing: str, frame: str, answer: int | None = 1, until: float = 9.0, setup=None):
+def _run(pointing: str, frame: str, answer: int | None | list[etree._Element] = 1, until: float = 9.0, setup=None):
     sc = load_scenario_text(SCENARIO.replace(POINT, pointing), source="teaching_cups.xml")
     sim = Simulation(seed=sc.seed, scenario=sc.name)
     stage = Stage(sim, sc, actors=ACTORS, keep_messages=True)
@@ -166,7 +166,10 @@ def _run(pointing: str, frame: str, answer: int | None = 1, until: float = 9.0, 
             return
         opts = m.xml.find("OPTIONS")
         asked.append([o.get("text") for o in opts.iterfind("option")])
-        ans = etree.Element("ANSWER", none="true") if answer is None else etree.Element("ANSWER", index=str(answer))
+        if isinstance(answer, list):  # one answer per asking, in turn
+            ans = answer[min(len(asked), len(answer)) - 1]
+        else:
+            ans = etree.Element("ANSWER", none="true") if answer is None else etree.Element("ANSWER", index=str(answer))
         order = etree.Element("order", name="clarified", target="object_attention", event=m.id, state="ObjectTeaching")
         etree.SubElement(order, "param", name="answer").append(ans)
         test.publish("/robot/es/orders/object_attention", order)
@@ -225,6 +228,27 @@ def test_no_answer_and_no_such_object_end_in_object_not_found():
     assert len(asked) == 1 and events[-1].xml.get("name") == "object_not_found" and events[-1].xml.get("reason") == "unclear"
     _, _, asked, events = _run('<point object="red cup" duration="8"/>', '<OBJECT type="plate"/>')
     assert asked == [] and events[-1].xml.get("name") == "object_not_found" and events[-1].xml.get("reason") == "no_match"
+
+
+def test_an_answer_that_picks_none_of_the_options_is_asked_again_once():
+    """talk14 (issue 26 item 7, perceive/cups_on_table seed 5: "the one on the table" heard "the that the table",
+    an object, picked neither cup, and the cup was "not found"): an answer she gave that picks none of the options
+    puts the question again; the second answer decides. Never a third asking."""
+    none = etree.Element("ANSWER", none="true", asked="1")
+    _, _, asked, events = _run('<point point="2.7 2.5" duration="8"/>', '<OBJECT type="cup"/>',
+                               answer=[none, etree.Element("ANSWER", index="1")], until=12.0)
+    assert len(asked) == 2 and asked[0] == asked[1] and events[-1].xml.get("name") == "object_recognized"
+    assert events[-1].xml.find("OBJECT").get("colour") in asked[1][1]
+    _, _, asked, events = _run('<point point="2.7 2.5" duration="8"/>', '<OBJECT type="cup"/>',
+                               answer=[none, etree.Element("ANSWER", none="true", asked="1")], until=12.0)
+    assert len(asked) == 2 and events[-1].xml.get("name") == "object_not_found"
+
+
+def test_an_answer_after_the_question_was_put_twice_or_no_answer_is_not_asked_again():
+    for answer in ([etree.Element("ANSWER", none="true", asked="2")], None):
+        _, _, asked, events = _run('<point point="2.7 2.5" duration="8"/>', '<OBJECT type="cup"/>', answer=answer,
+                                   until=12.0)
+        assert len(asked) == 1 and events[-1].xml.get("name") == "object_not_found"
 
 
 @pytest.mark.parametrize("seed", range(20))

@@ -173,6 +173,13 @@ def template_fields(text: str) -> list[tuple[str, str, str | None]]:
 #: Owners as the understanding and the object attention write them, seen from the partner's side.
 _OWNED_BY_PARTNER = frozenset({"speaker", "partner", "my", "me", "mine", "i"})
 _OWNER_WORDS = {"robot": "my", "your": "my", "us": "our", "our": "our"}
+#: Owners named by kin or household nouns ("my husband's", "the kids'"): said back as hers ("your husband's
+#: blue book"), not as a name ("Husband's blue book", fresh5 stair_three_on_shelf).
+_KIN = frozenset({"husband", "wife", "son", "daughter", "mother", "father", "mum", "dad", "mother in law",
+                  "father in law", "grandmother", "grandfather", "grandma", "grandpa", "brother", "sister", "kids",
+                  "children", "child", "boyfriend", "girlfriend", "friend", "roommate", "flatmate", "neighbour",
+                  "aunt", "uncle", "niece", "nephew", "cousin", "baby", "boss", "lodger", "family", "parents",
+                  "grandparents", "cleaner", "nanny", "guests"})
 
 
 def noun_phrase(el: etree._Element) -> str:
@@ -196,6 +203,8 @@ def noun_phrase(el: etree._Element) -> str:
         det = "your"
     elif owner.lower() in _OWNER_WORDS:
         det = _OWNER_WORDS[owner.lower()]
+    elif owner.lower() in _KIN:
+        det = f"your {owner.lower()}'" if owner.lower().endswith("s") else f"your {owner.lower()}'s"
     else:
         det = f"{owner[:1].upper()}{owner[1:]}'s"
     attrs = list(dict.fromkeys(" ".join((a.get("name") or "").split()) for a in el.iterfind("ATTRIBUTE")))

@@ -162,6 +162,10 @@ LEADING_STATES = frozenset({"Following"})
 #: ES states in which the robot drives on its own, away from the partner, and its person attention sleeps:
 #: words are hers when a voice came from where she was last seen (:meth:`Dialog._from_her_place`)
 DRIVING_STATES = frozenset({"Navigating"})
+#: Requests a pause ends the walk for (issue 26, session 8 item 5): said while following is paused ("hang on",
+#: the follower standing with her), "this is my cup" or "this is the kitchen" is taught; the dialog sends
+#: "stop" before it, so the supervisor leaves Following as after her "stop" (never "say stop first").
+ENDS_A_PAUSE = frozenset({"object_teaching", "place_teaching"})
 #: s: a voice heard from the partner's direction this recently means someone is still talking there: the
 #: robot does not begin a sentence over it (turn-taking: it waits for a pause; the barge-in rule would cut
 #: the sentence at once anyway). Above the microphones' frame interval (0.1 s) and a breath between words,
@@ -417,6 +421,7 @@ class Dialog(Module):
         self._held_head: tuple[Any, ...] | None = None  # the sentence held (counted once)
         self.held_sentences = 0  # sentences that waited for a pause (metrics)
         self.stale_repairs = 0  # "say that again" not said: the talk went on meanwhile (metrics)
+        self.pauses_ended = 0  # a teaching said while following was paused: "stop" sent before it (metrics)
         self._repairs = frozenset(t for t in (self.doc.not_understood, self.doc.sentence("not-understood-reask"),
                                               self.doc.sentence("not-understood-help")) if t)
         self._said = 0  # serial of the last <say> sent
@@ -424,6 +429,7 @@ class Dialog(Module):
         # meanwhile waits until it stands facing her (a place taught from the other room would be
         # stored where the robot lags); they are kept in order and released when the approach ends
         self._approach_seen = -math.inf  # when the follower last said "approaching"
+        self._follow_state = ""  # the follower's last status state ("paused": a wait said while she leads)
         self._held: deque[Message] = deque()
         # a request said with a greeting ("hello BIRON, follow me") and until when it may wait for the
         # greeting to be taken (:meth:`_greeting_taken`)
@@ -455,6 +461,7 @@ class Dialog(Module):
         out["not_addressed"] = self.not_addressed
         out["held_for_a_pause"] = self.held_sentences
         out["stale_repairs_dropped"] = self.stale_repairs
+        out["pauses_ended_by_teaching"] = self.pauses_ended
         return out
 
     def addressed(self, start: float, end: float, named: bool = False, shows: bool = False,
@@ -679,6 +686,7 @@ class Dialog(Module):
             self._releasing = False
 
     def _on_follow(self, msg: Message) -> None:
+        self._follow_state = msg.xml.get("state", "")
         if msg.xml.get("state") == "approaching":
             self._approach_seen = self.now
             return
@@ -904,6 +912,14 @@ class Dialog(Module):
             return
         for o in outs:
             if isinstance(o, Send):
+                if o.event in ENDS_A_PAUSE and self.manager.es_state in LEADING_STATES and self._follow_state == "paused":
+                    # she said "hang on" and the robot waits by her: the walk is over, what she shows now is
+                    # taught (fresh5 stair_wait_walks_on: "I am still following you; say stop first.")
+                    stop = etree.Element("event", name="stop")
+                    etree.SubElement(etree.SubElement(stop, "SPEECH"), "STOP")
+                    self.bus.publish(ES_EVENTS, stop, causes=(cause,), transfer=True)
+                    self._follow_state = ""
+                    self.pauses_ended += 1
                 el = etree.Element("event", name=o.event)
                 if o.lifetime is not None:
                     el.set("lifetime", repr(float(o.lifetime)))
@@ -1068,7 +1084,11 @@ class Dialog(Module):
         value = done.slots["choice"].value if done.success else None
         picked = choose(options, value, self._facing_now())
         if picked is None:
-            return unchosen_answer(value)
+            out = unchosen_answer(value)
+            # how often the question was put: an asker that finds the answer picks none of its options asks
+            # again only while the same question has been put once (never more than twice in all)
+            out.set("asked", str(max(1, sum(inst.asked.values()))))
+            return out
         return etree.Element("answer", index=str(picked))
 
 

@@ -871,10 +871,24 @@ class ObjectAttention(Module):
         (``<ANSWER index/>`` or ``none``). No answer within 2 ``ask_timeout`` + 20 s: None. The
         dialog gives her ``ask_timeout`` s (15) after the question to answer: room for one misheard
         answer and the question again, and a gesture before the words ("this one")."""
-        asked = self.now
         depth = along_ray(cands, first)
         if depth is not None:  # one behind the other along her arm: asked from the front one back
             cands = [cands[i] for i in depth]
+        for _ in range(MAX_ASKINGS):
+            asked = self.now
+            answer = await self._put(cands, wanted, pose, cause, first)
+            if answer is None:
+                return None
+            chosen = await self._chosen(answer, cands, wanted, pose, asked, first)
+            if chosen is not None or not _answered_none_of_them(answer):
+                return chosen
+            # "the one on the table" with both on the table (perceive/cups_on_table seed 5): an answer that
+            # picks none of the options she was asked about; asked again, not taken as "not found"
+        return None
+
+    async def _put(self, cands: list[Candidate], wanted: Wanted, pose: tuple[float, float, float], cause: str,
+                   first: Pointing | None) -> etree._Element | None:
+        """Put the question once (:meth:`_ask`): the dialog's ``ANSWER``, or None when none came in time."""
         texts = option_texts(cands, wanted, pose, first)
         opts = etree.Element("OPTIONS", timeout=f"{self.ask_timeout:g}")
         for i, t in enumerate(texts):
@@ -894,7 +908,7 @@ class ObjectAttention(Module):
         finally:
             self._answer = None
             watch.cancel()
-        return await self._chosen(answer, cands, wanted, pose, asked, first)
+        return answer
 
     async def _chosen(self, answer: etree._Element, cands: list[Candidate], wanted: Wanted, pose: tuple[float, float, float],
                       asked: float, first: Pointing | None) -> Candidate | None:
@@ -1006,3 +1020,18 @@ def _copy(el: etree._Element) -> etree._Element:
         if isinstance(ch.tag, str):
             out.append(_copy(ch))
     return out
+
+
+#: How often the object attention puts one which-one question: at most twice in all (issue 26 item 7).
+MAX_ASKINGS = 2
+
+
+def _answered_none_of_them(answer: etree._Element) -> bool:
+    """Whether the dialog's ``ANSWER`` is an answer she gave that picks none of the options, to a question
+    put only once so far: it fits them all or none ("the one on the table" with both on it, a misheard "that
+    the table" taken as an object). Not a pointing ("this one": the gesture decided), nor no answer in time
+    (the dialog says how often it asked only with an answer she gave)."""
+    if answer.get("none") != "true" or answer.get("deixis") == "true":
+        return False
+    asked = answer.get("asked", "")
+    return asked.isdigit() and int(asked) < MAX_ASKINGS
