@@ -71,9 +71,9 @@ Control, every ``1/rate`` seconds:
   at a top speed below 0.4 m/s: :mod:`robot.partner_search`):
   it stops (the attention's ``partner_lost``, by the same rule with its ``follow_lost_after`` = the
   same 6 s, makes the ES stop the player and the dialog ask). Should the attention still hold her
-  (a camera sighting keeps her "seen" while her legs stay hidden), the follower, standing with its
-  search over for :data:`SEARCH_OVER_SAY` s, sends ``partner_lost`` itself (once per following):
-  it never stands silent in Following.
+  (a camera sighting keeps her "seen" while her legs stay hidden), the status ``stopped`` it reads
+  makes it declare the loss 2 s later (``AttentionParams.follow_stopped_after``): the robot never
+  stands silent in Following.
 * Inside the flat: it never drives its front out of the floor plan's rooms (the map's ``<room>``
   outlines), so after a partner who leaves through the exit door it stops in the door, inside;
   when following ends with it facing out of the flat (an opening, the outer wall beside it), it turns back toward the middle of
@@ -132,9 +132,6 @@ SEARCH_HORIZON = 1.5
 #: never through a wall of the floor plan (issue 26 item 1, sq_cross_pair: the search stopped at the
 #: spot 1.5 s past where she went out of view while she stood in the next room, in view from a step on)
 SEARCH_WALK_ON = 5.0
-#: s: the search over and she still unseen, it stands this long before telling the ES it lost her
-#: (the attention's partner_lost normally comes at the search's end: the same rule)
-SEARCH_OVER_SAY = 2.0
 #: s and m/s: wedged this long (it should drive, the dynamic window finds nothing), it backs this slowly
 STUCK_TIME = 1.0
 UNSTICK_SPEED = 0.1
@@ -315,8 +312,6 @@ class Follower(Module):
         self._seen_distance = 0.0  # how far she was when a scan last saw her (the search's length grows with it)
         self._seen_v = (0.0, 0.0)  # her velocity (odom) when a scan last saw her: where the search walks on
         self._seen_pos: tuple[float, float] | None = None  # where she was (odom) when a scan last saw her
-        self._search_ended: float | None = None  # when the search ran out with her unseen (following)
-        self._lost_told = False  # partner_lost sent for this following (see _search_over)
         self.odom: tuple[float, float, float] | None = None
         self.v = self.w = 0.0
         self.scan = LatestScan()
@@ -382,7 +377,6 @@ class Follower(Module):
         elif state != "Interaction":
             self.approach_until = None
         if follow and not self.following:
-            self._search_ended, self._lost_told = None, False
             self.trail.clear()
             self.route.clear()
             self._history.clear()
@@ -570,10 +564,7 @@ class Follower(Module):
             if turn is not None:  # the search ended at an exit door: back to the room first
                 self._status(0.0, False, "searching")
                 return turn
-            if not approaching:
-                self._search_over()
             return self._stand(approaching, "stopped")
-        self._search_ended = None
         searching = unseen > self.lost_after  # not approaching: out of view a while, look where she went
         # the partner now (constant velocity over the message's age), in odom and robot frames
         horizon = min(age, SEARCH_HORIZON if searching else 0.5)
@@ -759,21 +750,6 @@ class Follower(Module):
         self._too_fast(d, at_limit and not held, math.hypot(tr["vx"], tr["vy"]))
         self._status(d, at_limit, state if tr["visible"] else "searching")
         return v, w
-
-    def _search_over(self) -> None:
-        """The search is over and she is still unseen: after :data:`SEARCH_OVER_SAY` s standing so,
-        the ES gets ``partner_lost`` (once per search), so the robot says it lost her and asks her to
-        come back instead of standing silent in Following. The attention declares the loss by the
-        same rule and time, but a camera sighting keeps her "seen" for it while her legs stay hidden
-        (fresh5/row_fast_then_waits seed 8: her face above an armchair, the robot stood silent for
-        25 s 0.8 m from where its search ended; issue 26 item 1: a follower that cannot make
-        progress says so). Sent by the attention first, the ES has left Following and this one is
-        not applied."""
-        if self._search_ended is None:
-            self._search_ended = self.now
-        elif self.now - self._search_ended >= SEARCH_OVER_SAY and not self._lost_told:
-            self._lost_told = True
-            self.bus.publish(ES_EVENTS, etree.Element("event", name="partner_lost"))
 
     def _pause_holds(self, px: float, py: float, d: float, unseen: bool, speed: float) -> bool:
         """Whether the pause (a wait said while she leads) still holds: until she walks on, that is she is
