@@ -571,12 +571,11 @@ class Follower(Module):
         px, py = tr["x"] + tr["vx"] * horizon, tr["y"] + tr["vy"] * horizon
         if searching and age > SEARCH_HORIZON:
             px, py = self._walk_on((px, py), self._seen_v, min(age, SEARCH_WALK_ON) - SEARCH_HORIZON)
-        elif searching and not approaching and not self.paused and self._seen_pos is not None:
+        elif searching and self._seen_pos is not None:
             # her track still reported but unseen: its coasting stops (the tracker's "stopped"
             # hypothesis) where she went out of view, behind an armchair; she walked on round it
             # (fresh5 row_fast_then_waits seed 8: the search stood at the armchair, silent, while
-            # she waited in the next door). The farther along her way of the two. Not while she
-            # stands (approaching after "stop", paused): her last position holds
+            # she waited in the next door). The farther along her way of the two
             px, py = self._further((px, py), self._walk_on(self._seen_pos, self._seen_v, min(unseen, SEARCH_WALK_ON)))
         if not self.trail or math.hypot(px - self.trail[-1][0], py - self.trail[-1][1]) > 0.15:
             self.trail.append((px, py))
