@@ -136,15 +136,9 @@ def test_the_search_walks_on_at_her_pace_and_never_through_a_wall(vx, vy, durati
     f = Follower.__new__(Follower)
 
     class _Plan:
-        ready = False  # (no grid: every point of the walk is one the robot could stand on)
-
         @staticmethod
         def in_sight(a, b):
             return (a[0] < wall) == (b[0] < wall)
-
-        @staticmethod
-        def room_at(p):  # a wall between two rooms (furniture would not stop her: test_follow_walk_on)
-            return "near" if p[0] < wall else "far"
 
     f.route = _Plan()
     x, y = f._walk_on((0.0, 0.0), (vx, vy), duration)
