@@ -60,10 +60,7 @@ Control, every ``1/rate`` seconds:
   Status ``searching``. Her track gone quiet longer than that (it yielded to people crossing and fell
   behind, she went on through a door), the point walks on at her pace when last seen (a coasting track's
   velocity decays) up to :data:`SEARCH_WALK_ON` s,
-  never through a wall of the floor plan, so it looks into the room she went on into; furniture does
-  not stop her walk within a room (she walks round an armchair: :func:`walk_on_past`). Her track still
-  reported but unseen (its coasting stopped where she went out of view), the point is the further
-  along her way of the track's and her walk on from where she was last seen at her pace then.
+  never through a wall of the floor plan, so it looks into the room she went on into.
 * Yielding is not searching: time in which someone other than her is near it
   (:func:`robot.partner_search.yielding`, the attention's rule too) does not count as time unseen.
 * Lost: not seen for ``search_time`` s (6 s; longer when she was last seen beyond the band, by the
@@ -311,7 +308,6 @@ class Follower(Module):
         self.track: dict[str, float] | None = None  # the partner's last message (odom frame) and when
         self._seen_distance = 0.0  # how far she was when a scan last saw her (the search's length grows with it)
         self._seen_v = (0.0, 0.0)  # her velocity (odom) when a scan last saw her: where the search walks on
-        self._seen_pos: tuple[float, float] | None = None  # where she was (odom) when a scan last saw her
         self.odom: tuple[float, float, float] | None = None
         self.v = self.w = 0.0
         self.scan = LatestScan()
@@ -442,7 +438,6 @@ class Follower(Module):
         if self.track["visible"]:
             self._seen_distance = float(x.get("distance", "0"))
             self._seen_v = (self.track["vx"], self.track["vy"])  # her pace when last seen (a quiet track's decays)
-            self._seen_pos = (self.track["x"], self.track["y"])
 
     def _on_scan(self, msg: Message) -> None:
         self.scan.update(msg)  # turned into points only when a control step needs them
@@ -571,12 +566,6 @@ class Follower(Module):
         px, py = tr["x"] + tr["vx"] * horizon, tr["y"] + tr["vy"] * horizon
         if searching and age > SEARCH_HORIZON:
             px, py = self._walk_on((px, py), self._seen_v, min(age, SEARCH_WALK_ON) - SEARCH_HORIZON)
-        elif searching and self._seen_pos is not None:
-            # her track still reported but unseen: its coasting stops (the tracker's "stopped"
-            # hypothesis) where she went out of view, behind an armchair; she walked on round it
-            # (fresh5 row_fast_then_waits seed 8: the search stood at the armchair, silent, while
-            # she waited in the next door). The farther along her way of the two
-            px, py = self._further((px, py), self._walk_on(self._seen_pos, self._seen_v, min(unseen, SEARCH_WALK_ON)))
         if not self.trail or math.hypot(px - self.trail[-1][0], py - self.trail[-1][1]) > 0.15:
             self.trail.append((px, py))
         rx, ry = self._to_robot(px, py)
@@ -889,17 +878,14 @@ class Follower(Module):
 
     def _walk_on(self, start: tuple[float, float], v: tuple[float, float], duration: float) -> tuple[float, float]:
         """``start`` (odom) carried on at velocity ``v`` for ``duration`` s, in steps of a quarter second,
-        stopping before a step that would cross a wall of the floor plan. Furniture does not stop her
-        within a room (she walks round an armchair or a table, :func:`walk_on_past`): the point is the
-        last one of the walk where the robot could stand (free on the floor plan)."""
-        grid = self.route.grid if self.route.ready else None
-        return walk_on_past(start, v, duration, sight=self.route.in_sight, room=self.route.room_at,
-                            free=(lambda p: grid.is_free(self.route.to_map(p))) if grid is not None else None)
-
-    def _further(self, a: tuple[float, float], b: tuple[float, float]) -> tuple[float, float]:
-        """Of two search points (odom), the one further along her way (her velocity when last seen)."""
-        vx, vy = self._seen_v
-        return b if vx * (b[0] - a[0]) + vy * (b[1] - a[1]) > 0.0 else a
+        stopping before a step that would cross a wall or furniture of the floor plan."""
+        x, y = start
+        for _ in range(int(max(0.0, duration) / 0.25)):
+            nx, ny = x + v[0] * 0.25, y + v[1] * 0.25
+            if not self.route.in_sight((x, y), (nx, ny)):
+                break
+            x, y = nx, ny
+        return x, y
 
     def _count_yield(self, approaching: bool, seen: bool) -> float:
         """Seconds since she was last seen that the robot spent yielding to someone near it
@@ -1180,34 +1166,6 @@ class Follower(Module):
                 await self._fetch_map()
             self.control_step()
             await asyncio.sleep(self.period)
-
-
-def walk_on_past(start: tuple[float, float], v: tuple[float, float], duration: float, *,
-                 sight: Any, room: Any, free: Any = None, step: float = 0.25) -> tuple[float, float]:
-    """Where someone at ``start`` walking at ``v`` (m/s) for ``duration`` s gets to, in steps of
-    ``step`` s. A step across a wall (``sight(a, b)`` false, and ``room`` of its end not the room of
-    where she is, or outside every room) ends the walk; furniture within a room (``sight`` false, the
-    same room) does not: she walks round it. Up to the first furniture the walk's last point is the
-    answer (as a straight walk stopping there); past furniture, the last point beyond it that is
-    ``free`` (where the robot can stand on the floor plan; any point when ``free`` is None), or the
-    point before the furniture when there is none."""
-    x, y = start
-    plain: tuple[float, float] | None = None  # the walk up to the first furniture it met
-    best: tuple[float, float] | None = None
-    for _ in range(int(max(0.0, duration) / step)):
-        nx, ny = x + v[0] * step, y + v[1] * step
-        if not sight((x, y), (nx, ny)):
-            here, there = room((x, y)), room((nx, ny))
-            if here is None or there is None or there is not here:
-                break  # a wall (or the flat's edge): she does not walk through it
-            if plain is None:
-                plain = (x, y)
-        x, y = nx, ny
-        if plain is not None and (free is None or free((x, y))):
-            best = (x, y)
-    if plain is None:
-        return x, y
-    return best if best is not None else plain
 
 
 def way_blocker(standers: list[tuple[float, float]], lane: tuple[float, float],
