@@ -51,6 +51,7 @@ def _following(others: list[tuple[float, float, tuple[float, float, float] | Non
     a.partner, a.partner_lost_sent = 1, False
     a._partner_last = (SEEN, 0.0, 0.0, 0.5, 0.0, -2.0, 0.0)
     a._partner_colour = RED
+    a._follow_stopped = None  # (the follower has not said its search is over)
     a._pose_at = lambda t: (-1.0, 0.0, 0.0)  # the robot 1 m behind where she went out of view
     return a
 

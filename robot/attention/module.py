@@ -280,6 +280,10 @@ class PersonAttention(Module):
     # following, the time since her last sighting spent yielding (set in __init__; here for the rule's
     # unit tests, which build the module without a bus)
     _yielded: float = 0.0
+    #: the lost partner's clothes (retake from afar) and since when the follower stands with its search
+    #: over (set in __init__; here for the unit tests that build the module without a bus)
+    _lost_colour: tuple[float, float, float] | None = None
+    _follow_stopped: float | None = None
     _yield_t: float | None = None
 
     def __init__(
