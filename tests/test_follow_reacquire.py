@@ -51,6 +51,7 @@ def _following(others: list[tuple[float, float, tuple[float, float, float] | Non
     a.partner, a.partner_lost_sent = 1, False
     a._partner_last = (SEEN, 0.0, 0.0, 0.5, 0.0, -2.0, 0.0)
     a._partner_colour = RED
+    a._follow_stopped = None  # (the follower has not said its search is over)
     a._pose_at = lambda t: (-1.0, 0.0, 0.0)  # the robot 1 m behind where she went out of view
     return a
 
@@ -136,15 +137,9 @@ def test_the_search_walks_on_at_her_pace_and_never_through_a_wall(vx, vy, durati
     f = Follower.__new__(Follower)
 
     class _Plan:
-        ready = False  # (no grid: every point of the walk is one the robot could stand on)
-
         @staticmethod
         def in_sight(a, b):
             return (a[0] < wall) == (b[0] < wall)
-
-        @staticmethod
-        def room_at(p):  # a wall between two rooms (furniture would not stop her: test_follow_walk_on)
-            return "near" if p[0] < wall else "far"
 
     f.route = _Plan()
     x, y = f._walk_on((0.0, 0.0), (vx, vy), duration)

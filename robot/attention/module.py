@@ -114,6 +114,9 @@ class AttentionParams:
     # walking past the robot's side) is no evidence of leaving; the follower searches where she was
     # predicted to be meanwhile (its search_time, 6 s) and this is how long it may
     follow_lost_after: float = 6.0
+    # s: following, the follower's status has said "stopped" (its search over, she unseen by its
+    # measure) this long: she is lost, whatever a camera sighting says (the robot never stands silent)
+    follow_stopped_after: float = 2.0
     # m/s: the robot's own top speed (its configuration, robot.partner_search.robot_top_speed; None: the
     # base's default): a slow robot needs longer to drive the gap to where a far partner went out of view
     robot_top_speed: float | None = None
@@ -292,6 +295,10 @@ class PersonAttention(Module):
     # following, the time since her last sighting spent yielding (set in __init__; here for the rule's
     # unit tests, which build the module without a bus)
     _yielded: float = 0.0
+    #: the lost partner's clothes (retake from afar) and since when the follower stands with its search
+    #: over (set in __init__; here for the unit tests that build the module without a bus)
+    _lost_colour: tuple[float, float, float] | None = None
+    _follow_stopped: float | None = None
     _yield_t: float | None = None
 
     def __init__(
@@ -318,6 +325,7 @@ class PersonAttention(Module):
         self.colours = Colours()  # each track's torso colour (robot.attention.appearance)
         self._partner_colour: tuple[float, float, float] | None = None  # hers, kept when her track dies
         self._lost_colour: tuple[float, float, float] | None = None  # the lost partner's clothes: who may retake from afar
+        self._follow_stopped: float | None = None  # since when the follower stands with its search over (its status)
         self._partner_face: tuple[float, int, bool] | None = None  # (frame time, partner, her face in the image)
         self._in_image: set[int] = set()  # the tracks whose face lay in the camera's latest frame
         self._look: tuple[int, float] | None = None  # (track, first in the image, inf before): an unseen speaker looked at
@@ -380,7 +388,7 @@ class PersonAttention(Module):
         self.bus.subscribe(POSE, self._on_pose)
         # the follower comes up to the partner after "stop" and turns the base itself meanwhile
         self._follower_drives = False
-        self.bus.subscribe(FOLLOW_STATUS, lambda m: setattr(self, "_follower_drives", m.xml.get("state") == "approaching"))
+        self.bus.subscribe(FOLLOW_STATUS, self._on_follow_status)
         # The player drives the base in Object (the object attention moves to see what she points at):
         # no turning to her meanwhile. Subscribed only in Object: every delivery draws a network delay
         # from the run's generator, so a subscription held all the time would change every run.
@@ -643,6 +651,7 @@ class PersonAttention(Module):
         # a wait said while following: when the ES's pause order came (told to the follower in the state
         # message, which stands until she walks on); any other order ends it
         self._paused_at = self.now if name == "pause" else None
+        self._follow_stopped = None  # (a new order: the follower's next status says where it stands)
         if state in ("Interaction", "Follow", "Object"):
             # A partner unseen for a moment (stepped aside) stays the partner across the change.
             pending = self.partner is not None and self._partner_last is not None and not self.partner_lost_sent
@@ -685,6 +694,16 @@ class PersonAttention(Module):
             self._driven += max(0.0, t - max(self._drive_start, seen))
             self._drive_start = None
         self._player_drives = drives
+
+    def _on_follow_status(self, msg: Message) -> None:
+        """The follower's status: approaching (the attention leaves the base to it), and since when it
+        stands with its search over (``stopped``, :attr:`_follow_stopped`: a loss, :meth:`partner_left`)."""
+        state = msg.xml.get("state")
+        self._follower_drives = state == "approaching"
+        if state != "stopped":
+            self._follow_stopped = None
+        elif self._follow_stopped is None:
+            self._follow_stopped = msg.created
 
     def _unseen(self, t: float, seen: float) -> float:
         """Seconds the partner has been unseen at ``t``, less the time the robot drove away on the ES's order."""
@@ -1063,7 +1082,11 @@ class PersonAttention(Module):
         if self.fsm.state == "Follow":
             # the longer the further behind the robot was when she went out of view (it yielded
             # to people crossing its way): robot.partner_search, the follower's search time
-            return unseen - self._yielded >= follow_search_time(dist, base=p.follow_lost_after, top_speed=p.robot_top_speed)
+            # or the follower has stood with its search over a while: her legs unseen while a camera
+            # sighting (Tracks.support) kept her "seen" here, and the robot stood silent in Following
+            # (fresh5/row_fast_then_waits seed 8, 25 s; issue 26 item 1: it says so instead)
+            stopped = self._follow_stopped is not None and t - self._follow_stopped >= p.follow_stopped_after
+            return stopped or unseen - self._yielded >= follow_search_time(dist, base=p.follow_lost_after, top_speed=p.robot_top_speed)
         if unseen < p.partner_lost_after:
             return False
         if unseen >= p.out_of_view_after:

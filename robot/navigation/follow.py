@@ -60,10 +60,7 @@ Control, every ``1/rate`` seconds:
   Status ``searching``. Her track gone quiet longer than that (it yielded to people crossing and fell
   behind, she went on through a door), the point walks on at her pace when last seen (a coasting track's
   velocity decays) up to :data:`SEARCH_WALK_ON` s,
-  never through a wall of the floor plan, so it looks into the room she went on into; furniture does
-  not stop her walk within a room (she walks round an armchair: :func:`walk_on_past`). Her track still
-  reported but unseen (its coasting stopped where she went out of view), the point is the further
-  along her way of the track's and her walk on from where she was last seen at her pace then.
+  never through a wall of the floor plan, so it looks into the room she went on into.
 * Yielding is not searching: time in which someone other than her is near it
   (:func:`robot.partner_search.yielding`, the attention's rule too) does not count as time unseen.
 * Lost: not seen for ``search_time`` s (6 s; longer when she was last seen beyond the band, by the
@@ -71,9 +68,9 @@ Control, every ``1/rate`` seconds:
   at a top speed below 0.4 m/s: :mod:`robot.partner_search`):
   it stops (the attention's ``partner_lost``, by the same rule with its ``follow_lost_after`` = the
   same 6 s, makes the ES stop the player and the dialog ask). Should the attention still hold her
-  (a camera sighting keeps her "seen" while her legs stay hidden), the follower, standing with its
-  search over for :data:`SEARCH_OVER_SAY` s, sends ``partner_lost`` itself (once per following):
-  it never stands silent in Following.
+  (a camera sighting keeps her "seen" while her legs stay hidden), the status ``stopped`` it reads
+  makes it declare the loss 2 s later (``AttentionParams.follow_stopped_after``): the robot never
+  stands silent in Following.
 * Inside the flat: it never drives its front out of the floor plan's rooms (the map's ``<room>``
   outlines), so after a partner who leaves through the exit door it stops in the door, inside;
   when following ends with it facing out of the flat (an opening, the outer wall beside it), it turns back toward the middle of
@@ -132,9 +129,6 @@ SEARCH_HORIZON = 1.5
 #: never through a wall of the floor plan (issue 26 item 1, sq_cross_pair: the search stopped at the
 #: spot 1.5 s past where she went out of view while she stood in the next room, in view from a step on)
 SEARCH_WALK_ON = 5.0
-#: s: the search over and she still unseen, it stands this long before telling the ES it lost her
-#: (the attention's partner_lost normally comes at the search's end: the same rule)
-SEARCH_OVER_SAY = 2.0
 #: s and m/s: wedged this long (it should drive, the dynamic window finds nothing), it backs this slowly
 STUCK_TIME = 1.0
 UNSTICK_SPEED = 0.1
@@ -314,9 +308,6 @@ class Follower(Module):
         self.track: dict[str, float] | None = None  # the partner's last message (odom frame) and when
         self._seen_distance = 0.0  # how far she was when a scan last saw her (the search's length grows with it)
         self._seen_v = (0.0, 0.0)  # her velocity (odom) when a scan last saw her: where the search walks on
-        self._seen_pos: tuple[float, float] | None = None  # where she was (odom) when a scan last saw her
-        self._search_ended: float | None = None  # when the search ran out with her unseen (following)
-        self._lost_told = False  # partner_lost sent for this following (see _search_over)
         self.odom: tuple[float, float, float] | None = None
         self.v = self.w = 0.0
         self.scan = LatestScan()
@@ -382,7 +373,6 @@ class Follower(Module):
         elif state != "Interaction":
             self.approach_until = None
         if follow and not self.following:
-            self._search_ended, self._lost_told = None, False
             self.trail.clear()
             self.route.clear()
             self._history.clear()
@@ -448,7 +438,6 @@ class Follower(Module):
         if self.track["visible"]:
             self._seen_distance = float(x.get("distance", "0"))
             self._seen_v = (self.track["vx"], self.track["vy"])  # her pace when last seen (a quiet track's decays)
-            self._seen_pos = (self.track["x"], self.track["y"])
 
     def _on_scan(self, msg: Message) -> None:
         self.scan.update(msg)  # turned into points only when a control step needs them
@@ -570,23 +559,13 @@ class Follower(Module):
             if turn is not None:  # the search ended at an exit door: back to the room first
                 self._status(0.0, False, "searching")
                 return turn
-            if not approaching:
-                self._search_over()
             return self._stand(approaching, "stopped")
-        self._search_ended = None
         searching = unseen > self.lost_after  # not approaching: out of view a while, look where she went
         # the partner now (constant velocity over the message's age), in odom and robot frames
         horizon = min(age, SEARCH_HORIZON if searching else 0.5)
         px, py = tr["x"] + tr["vx"] * horizon, tr["y"] + tr["vy"] * horizon
         if searching and age > SEARCH_HORIZON:
             px, py = self._walk_on((px, py), self._seen_v, min(age, SEARCH_WALK_ON) - SEARCH_HORIZON)
-        elif searching and not approaching and not self.paused and self._seen_pos is not None:
-            # her track still reported but unseen: its coasting stops (the tracker's "stopped"
-            # hypothesis) where she went out of view, behind an armchair; she walked on round it
-            # (fresh5 row_fast_then_waits seed 8: the search stood at the armchair, silent, while
-            # she waited in the next door). The farther along her way of the two. Not while she
-            # stands (approaching after "stop", paused): her last position holds
-            px, py = self._further((px, py), self._walk_on(self._seen_pos, self._seen_v, min(unseen, SEARCH_WALK_ON)))
         if not self.trail or math.hypot(px - self.trail[-1][0], py - self.trail[-1][1]) > 0.15:
             self.trail.append((px, py))
         rx, ry = self._to_robot(px, py)
@@ -760,21 +739,6 @@ class Follower(Module):
         self._status(d, at_limit, state if tr["visible"] else "searching")
         return v, w
 
-    def _search_over(self) -> None:
-        """The search is over and she is still unseen: after :data:`SEARCH_OVER_SAY` s standing so,
-        the ES gets ``partner_lost`` (once per search), so the robot says it lost her and asks her to
-        come back instead of standing silent in Following. The attention declares the loss by the
-        same rule and time, but a camera sighting keeps her "seen" for it while her legs stay hidden
-        (fresh5/row_fast_then_waits seed 8: her face above an armchair, the robot stood silent for
-        25 s 0.8 m from where its search ended; issue 26 item 1: a follower that cannot make
-        progress says so). Sent by the attention first, the ES has left Following and this one is
-        not applied."""
-        if self._search_ended is None:
-            self._search_ended = self.now
-        elif self.now - self._search_ended >= SEARCH_OVER_SAY and not self._lost_told:
-            self._lost_told = True
-            self.bus.publish(ES_EVENTS, etree.Element("event", name="partner_lost"))
-
     def _pause_holds(self, px: float, py: float, d: float, unseen: bool, speed: float) -> bool:
         """Whether the pause (a wait said while she leads) still holds: until she walks on, that is she is
         :data:`PAUSE_WALK_ON` from where she stood when the pause began, she comes closer than ``minimum``
@@ -914,17 +878,14 @@ class Follower(Module):
 
     def _walk_on(self, start: tuple[float, float], v: tuple[float, float], duration: float) -> tuple[float, float]:
         """``start`` (odom) carried on at velocity ``v`` for ``duration`` s, in steps of a quarter second,
-        stopping before a step that would cross a wall of the floor plan. Furniture does not stop her
-        within a room (she walks round an armchair or a table, :func:`walk_on_past`): the point is the
-        last one of the walk where the robot could stand (free on the floor plan)."""
-        grid = self.route.grid if self.route.ready else None
-        return walk_on_past(start, v, duration, sight=self.route.in_sight, room=self.route.room_at,
-                            free=(lambda p: grid.is_free(self.route.to_map(p))) if grid is not None else None)
-
-    def _further(self, a: tuple[float, float], b: tuple[float, float]) -> tuple[float, float]:
-        """Of two search points (odom), the one further along her way (her velocity when last seen)."""
-        vx, vy = self._seen_v
-        return b if vx * (b[0] - a[0]) + vy * (b[1] - a[1]) > 0.0 else a
+        stopping before a step that would cross a wall or furniture of the floor plan."""
+        x, y = start
+        for _ in range(int(max(0.0, duration) / 0.25)):
+            nx, ny = x + v[0] * 0.25, y + v[1] * 0.25
+            if not self.route.in_sight((x, y), (nx, ny)):
+                break
+            x, y = nx, ny
+        return x, y
 
     def _count_yield(self, approaching: bool, seen: bool) -> float:
         """Seconds since she was last seen that the robot spent yielding to someone near it
@@ -1205,34 +1166,6 @@ class Follower(Module):
                 await self._fetch_map()
             self.control_step()
             await asyncio.sleep(self.period)
-
-
-def walk_on_past(start: tuple[float, float], v: tuple[float, float], duration: float, *,
-                 sight: Any, room: Any, free: Any = None, step: float = 0.25) -> tuple[float, float]:
-    """Where someone at ``start`` walking at ``v`` (m/s) for ``duration`` s gets to, in steps of
-    ``step`` s. A step across a wall (``sight(a, b)`` false, and ``room`` of its end not the room of
-    where she is, or outside every room) ends the walk; furniture within a room (``sight`` false, the
-    same room) does not: she walks round it. Up to the first furniture the walk's last point is the
-    answer (as a straight walk stopping there); past furniture, the last point beyond it that is
-    ``free`` (where the robot can stand on the floor plan; any point when ``free`` is None), or the
-    point before the furniture when there is none."""
-    x, y = start
-    plain: tuple[float, float] | None = None  # the walk up to the first furniture it met
-    best: tuple[float, float] | None = None
-    for _ in range(int(max(0.0, duration) / step)):
-        nx, ny = x + v[0] * step, y + v[1] * step
-        if not sight((x, y), (nx, ny)):
-            here, there = room((x, y)), room((nx, ny))
-            if here is None or there is None or there is not here:
-                break  # a wall (or the flat's edge): she does not walk through it
-            if plain is None:
-                plain = (x, y)
-        x, y = nx, ny
-        if plain is not None and (free is None or free((x, y))):
-            best = (x, y)
-    if plain is None:
-        return x, y
-    return best if best is not None else plain
 
 
 def way_blocker(standers: list[tuple[float, float]], lane: tuple[float, float],
