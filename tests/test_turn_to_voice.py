@@ -13,7 +13,7 @@ import math
 from pathlib import Path
 
 import numpy as np
-from hypothesis import given, settings
+from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
 from homesim.tour.runner import RunOptions, run_file
@@ -86,6 +86,7 @@ def test_a_voice_is_recalled_for_its_whole_recall_whatever_was_heard_after_it(he
                 heard.add(t, bearing, math.pi - bearing, [])
         t += 1 / rate
     now = last + gap
+    assume(now - last <= 4.0)  # gap 4.0 can come out 4.000000000001 s after her voice in floats: past the recall
     assert heard.recall(now, heading, 7, 4.0, math.radians(12))
     assert len(heard) <= (4.0 * rate + 2) * max(1, sum(n for _, n in others))
 
