@@ -267,9 +267,10 @@ def options_phrase(doc: Dialogs, options: list[str]) -> str:
 
 def _whole(frame: etree._Element) -> bool:
     """Whether a frames-channel element is a whole understood request: understood, not partial, not a
-    fragment, no word unknown, left out or corrected (the addressee rule's :meth:`Dialog._talking_to_another`)."""
+    fragment, no word unknown or left out (a "sorry" before it, the speech module's ``corrected``, turns back to
+    the robot: "Sorry. Follow me please"; the addressee rule's :meth:`Dialog._talking_to_another`)."""
     return (frame.tag == "understood" and frame.get("partial") != "true" and frame.get("fragment") != "true"
-            and not frame.get("unknown") and not frame.get("ignored") and not frame.get("corrected"))
+            and not frame.get("unknown") and not frame.get("ignored"))
 
 
 def robot_side(side: str, view: str | None, facing: str) -> str:
