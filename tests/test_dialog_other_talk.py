@@ -99,3 +99,35 @@ def test_the_go_to_sentence_overtaken_by_an_unknown_place_is_never_said():
     d._enqueue("Sorry, I do not know where the study is.", "dialog#2", frozenset({"unknown_place"}), made=25.8)
     d._enqueue("OK, I am going to the kitchen.", "dialog#3", frozenset({"goto"}), made=30.0)  # a later go-to is said
     assert [q[0] for q in d._queue] == ["Sorry, I do not know where the study is.", "OK, I am going to the kitchen."]
+
+
+def _says(outs) -> list[str]:
+    from robot.dialog.manager import Say
+
+    return [o.text for o in outs if isinstance(o, Say)]
+
+
+def test_a_question_met_by_silence_is_put_once_more_then_left():
+    # issue 26 item 7 (the lead's item 4): "Where shall I go?" and nothing heard: asked again once, then the
+    # robot goes on politely; never the same question a third time, and no waiting on it for ever
+    m = DialogManager(DOC)
+    m.es_state = "Interacting"
+    first = _says(m.on_frame(_frame("can you go")))
+    assert first == ["Where shall I go?"]
+    q = m.open_question()
+    assert q is not None and q[1] == "Where shall I go?"
+    assert _says(m.on_silence(*q)) == ["Where shall I go?"]
+    assert m.open_question() == q
+    last = _says(m.on_silence(*q))
+    assert last and "Where shall I go?" not in last  # "Sorry, let us leave that for now."
+    assert m.open_question() is None
+    assert _says(m.on_silence(*q)) == []  # nothing open any more: silence is no question
+
+
+def test_silence_after_a_question_already_answered_changes_nothing():
+    m = DialogManager(DOC)
+    m.es_state = "Interacting"
+    m.on_frame(_frame("can you go"))
+    q = m.open_question()
+    m.on_frame(_frame("to the kitchen"))
+    assert _says(m.on_silence(*q)) == []

@@ -380,6 +380,7 @@ class Dialog(Module):
     #: when words said to someone else (or going on that talk) last ended; when a partner report last had
     #: her facing the robot (the addressee rule's :meth:`_talking_to_another`; set per instance as they come)
     _other_talk_end = -math.inf
+    _heard_at = -math.inf  # when a frame (understood or not) last came: a question was not met by silence
     _faced_at = -math.inf
     #: (act, start) of the last words dropped as not addressed (the repeat rule, :data:`REPEAT_WINDOW`)
     _unanswered: tuple[str, float] | None = None
@@ -607,6 +608,7 @@ class Dialog(Module):
     # ------------------------------------------------------------------ inputs
     def _on_frame(self, msg: Message) -> None:
         x = msg.xml
+        self._heard_at = self.now  # anything heard: no silence after a question (_on_silence)
         if self.manager.es_state in DRIVING_STATES and (x.find("SPEECH/STOP") is not None or x.find("SPEECH/WAIT") is not None):
             self._on_addressed(msg)  # anyone may stop a robot that drives on its own (safety): never dropped
             return
@@ -833,7 +835,26 @@ class Dialog(Module):
         elif tag in ("done", "interrupted"):
             if tag == "done" or not self._queue:
                 self._talking = False
+            if tag == "done":
+                self._watch_silence(msg.id)
             self._say_next()
+
+    def _watch_silence(self, cause: str) -> None:
+        """A sentence with the open question was said: if nothing is heard for ``ask_timeout`` s after it
+        (no frame, no voice from her direction), the manager puts it once more or goes on without it
+        (:meth:`DialogManager.on_silence`; issue 26 item 7: a question met by silence)."""
+        q = self.manager.open_question()
+        if q is None:
+            return
+        said_at = self.now
+        self.sim.loop.call_at_ns(to_ns(said_at + self.ask_timeout), self._on_silence, q, said_at, cause)
+
+    def _on_silence(self, q: tuple[int, str], said_at: float, cause: str) -> None:
+        if self.bus.closed or self.bus.hung or self._talking or self._queue:
+            return
+        if self._heard_at >= said_at or self._voice_at >= said_at or self.manager.open_question() != q:
+            return  # she answered, spoke, or the talk went on
+        self._emit(self.manager.on_silence(*q), cause)
 
     def _on_partner(self, msg: Message) -> None:
         b = float(msg.xml.get("bearing", "nan"))
