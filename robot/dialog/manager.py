@@ -685,6 +685,27 @@ class DialogManager:
             return None
         return None
 
+    def open_question(self) -> tuple[int, str] | None:
+        """(serial, question) of the question the top sub-dialog waits on (None: none, or one the
+        sub-dialog times itself: ``clarify``'s answer has the asker's own timeout)."""
+        inst = self.top
+        if inst is None or inst.pending is None or inst.d.id == "clarify":
+            return None
+        return inst.serial, inst.pending[2]
+
+    def on_silence(self, serial: int, question: str) -> list[Output]:
+        """Nothing was heard for a while after ``question`` (issue 26 item 7): put it once more, and when
+        it was put twice already, go on without it ("Sorry, let us leave that for now."): never the same
+        question a third time, never waiting on it for ever."""
+        out: list[Output] = []
+        inst = self.top
+        if inst is None or inst.serial != serial or inst.pending is None or inst.pending[2] != question:
+            return out  # answered, or another question by now
+        self.metrics["silence_reasks"] = self.metrics.get("silence_reasks", 0) + 1
+        if self._may_ask(inst, question, out):
+            self._say(out, question, inst.d.id)
+        return out
+
     def _may_ask(self, inst: Instance, question: str, out: list[Output]) -> bool:
         """Count a question about to be asked; the third time the same question would be asked,
         the dialog gives up instead ("Sorry, let us leave that for now."): no question loops."""

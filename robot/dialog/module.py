@@ -137,6 +137,13 @@ VOICE_LEVEL = 40.0
 ASIDE_DISTANCE = 1.2
 #: the partner report's facing as the addressee rule keeps it for a partner turned away that far
 ASIDE = "aside"
+#: conditions whose news overtakes a dialog's sentence not yet said: that dialog's sentences made before
+#: the condition came are dropped (the go-to's "OK, I am going to the study." when its plan fails at once)
+WITHDRAWN_BY = {"unknown_place": "goto"}
+#: s: words she says turned away from the robot no more than this long after words said to someone else
+#: (a call, a name, "the robot" in the third person), with no report of her facing the robot in between,
+#: go on that other conversation (on the phone: "oh hi Mum" ... "no, the kitchen is fine, come over at six")
+OTHER_TALK_GAP = 10.0
 #: s: words turned aside that say again what she said turned aside no more than this long before (the
 #: same act, unanswered) are meant for the robot: one repeats a request that got no answer, not one's
 #: muttering (issue 26, fresh12 defect 0: "where is my cup" and "good bye" three times each with her
@@ -258,6 +265,14 @@ def options_phrase(doc: Dialogs, options: list[str]) -> str:
     return doc.listing([doc.sentence("option", option=o) for o in out])
 
 
+def _whole(frame: etree._Element) -> bool:
+    """Whether a frames-channel element is a whole understood request: understood, not partial, not a
+    fragment, no word unknown or left out (a "sorry" before it, the speech module's ``corrected``, turns back to
+    the robot: "Sorry. Follow me please"; the addressee rule's :meth:`Dialog._talking_to_another`)."""
+    return (frame.tag == "understood" and frame.get("partial") != "true" and frame.get("fragment") != "true"
+            and not frame.get("unknown") and not frame.get("ignored"))
+
+
 def robot_side(side: str, view: str | None, facing: str) -> str:
     """A side said in an answer, in the robot's view (the options' words are the robot's).
 
@@ -362,6 +377,11 @@ def unchosen_answer(value: Any) -> etree._Element:
 class Dialog(Module):
     """BIRON's dialog control as a bus module (participant ``dialog``)."""
 
+    #: when words said to someone else (or going on that talk) last ended; when a partner report last had
+    #: her facing the robot (the addressee rule's :meth:`_talking_to_another`; set per instance as they come)
+    _other_talk_end = -math.inf
+    _heard_at = -math.inf  # when a frame (understood or not) last came: a question was not met by silence
+    _faced_at = -math.inf
     #: (act, start) of the last words dropped as not addressed (the repeat rule, :data:`REPEAT_WINDOW`)
     _unanswered: tuple[str, float] | None = None
 
@@ -403,6 +423,7 @@ class Dialog(Module):
         self.not_addressed = 0
         self._addressed_at = -math.inf  # when an understood frame was last taken as meant for the robot
         self._aside_since = math.inf  # when she was last reported turning aside (the addressee rule)
+        self._withdrawn: dict[str, float] = {}  # dialog id -> when its sentences not yet said were withdrawn
         self._unanswered = None
         self._person_at: float | None = None  # when the supervisor last reported a potential partner (person_info)
         self.ask_timeout = ask_timeout
@@ -465,7 +486,7 @@ class Dialog(Module):
         return out
 
     def addressed(self, start: float, end: float, named: bool = False, shows: bool = False,
-                  repeated: bool = False) -> bool:
+                  repeated: bool = False, whole: bool = True) -> bool:
         """The addressee rule (module docstring): is speech heard from ``start`` to ``end`` meant for
         the robot? No when no partner report in that span has her facing it, at least half have her
         turned away (``facing="false"``) and the last one too, with someone else near her; and no when
@@ -487,6 +508,12 @@ class Dialog(Module):
             return False
         if not during:
             return True
+        if self._talking_to_another(start, during, whole) and not (named or shows or repeated):
+            # she talks with someone else (on the phone nobody stands near her: fresh5 row_phone_between,
+            # "oh hi Mum ..." then, still turned away, "no, the kitchen is fine, come over at six"):
+            # what she says turned away goes on that talk until she faces the robot again
+            self._other_talk_end = max(self._other_talk_end, end) if math.isfinite(end) else self._other_talk_end
+            return False
         if all(f == ASIDE for f, _ in during):
             # she walked off, her back to the robot, the whole time: talking to herself, unless she
             # calls it by its name ("BIRON, go to the lounge" from across the room, where the camera
@@ -500,6 +527,23 @@ class Dialog(Module):
         away = sum(f in ("false", ASIDE) for f, _ in during)
         last_f, last_c = during[-1]
         return not (2 * away >= len(during) and last_f in ("false", ASIDE) and last_c >= 1)
+
+    def _talking_to_another(self, start: float, during: list[tuple[str, int]], whole: bool) -> bool:
+        """Whether words beginning at ``start`` go on a talk with someone else: words said to another
+        (the speech module's ``addressee="other"``) ended at most :data:`OTHER_TALK_GAP` s before, no
+        partner report has had her facing the robot since nor has one during these words, and either
+        she is seen turned away during them (at least half the reports say she looks away, the last one
+        too) or the camera cannot tell (it looks at her hands while she talks) and the words are no
+        whole request (``whole``: understood, nothing left out, misheard or partial): "no, the kitchen
+        is fine, come over at six" goes on her call; "follow me", said whole, is for the robot."""
+        if not math.isfinite(start) or not 0.0 <= start - self._other_talk_end <= OTHER_TALK_GAP:
+            return False
+        if self._faced_at >= self._other_talk_end or any(f == "true" for f, _ in during):
+            return False
+        away = sum(f in ("false", ASIDE) for f, _ in during)
+        if during and 2 * away >= len(during) and during[-1][0] in ("false", ASIDE):
+            return True
+        return not whole
 
     def _her_voice(self, start: float, end: float) -> bool:
         """The addressee rule while she leads (``Following``): her back is turned, so her face tells
@@ -564,6 +608,7 @@ class Dialog(Module):
     # ------------------------------------------------------------------ inputs
     def _on_frame(self, msg: Message) -> None:
         x = msg.xml
+        self._heard_at = self.now  # anything heard: no silence after a question (_on_silence)
         if self.manager.es_state in DRIVING_STATES and (x.find("SPEECH/STOP") is not None or x.find("SPEECH/WAIT") is not None):
             self._on_addressed(msg)  # anyone may stop a robot that drives on its own (safety): never dropped
             return
@@ -571,6 +616,9 @@ class Dialog(Module):
             # words that call someone else ("Tom, can you put the kettle on"): not for the robot, and no
             # "say that again" to them (counted with the other chat it did not answer)
             self.not_addressed += 1
+            end = float(x.get("end", "nan"))
+            if math.isfinite(end):
+                self._other_talk_end = max(self._other_talk_end, end)  # a talk with someone else goes on
             return
         if x.tag in ("understood", "not_understood"):
             began, act = float(x.get("start", "nan")), said_act(x)
@@ -578,7 +626,7 @@ class Dialog(Module):
             repeated = last is not None and act == last[0] and 0.0 <= began - last[1] <= REPEAT_WINDOW
             if not self.addressed(began, float(x.get("end", "nan")), named=x.get("named") == "true",
                                   shows=x.tag == "understood" and x.find("SPEECH//GESTURE") is not None,
-                                  repeated=repeated):
+                                  repeated=repeated, whole=_whole(x)):
                 self.not_addressed += 1  # chat among the partner's group: not a request to the robot
                 self._unanswered = (act, began) if math.isfinite(began) else None
                 return
@@ -702,6 +750,12 @@ class Dialog(Module):
         if msg.xml.get("name") == "step_aside":  # the object attention cannot see past the partner
             self.sim.spawn(self._step_aside_for_es(msg), name=f"{self.name}-step-aside")
             return
+        withdrawn = WITHDRAWN_BY.get(msg.xml.get("name", ""))
+        if withdrawn is not None:
+            # "OK, I am going to the study." made on entering Navigating, overtaken 0.1 s later by the plan's
+            # failure (a place it was never shown): only "Sorry, I do not know where the study is" is said
+            self._withdrawn[withdrawn] = self.now
+            self._queue = deque(q for q in self._queue if not q[2] or not q[2] <= {withdrawn})
         self._emit(self.manager.on_condition(msg.xml), msg.id)
         if msg.xml.get("name") == "partner_found":
             self._greeting_taken()
@@ -781,7 +835,26 @@ class Dialog(Module):
         elif tag in ("done", "interrupted"):
             if tag == "done" or not self._queue:
                 self._talking = False
+            if tag == "done":
+                self._watch_silence(msg.id)
             self._say_next()
+
+    def _watch_silence(self, cause: str) -> None:
+        """A sentence with the open question was said: if nothing is heard for ``ask_timeout`` s after it
+        (no frame, no voice from her direction), the manager puts it once more or goes on without it
+        (:meth:`DialogManager.on_silence`; issue 26 item 7: a question met by silence)."""
+        q = self.manager.open_question()
+        if q is None:
+            return
+        said_at = self.now
+        self.sim.loop.call_at_ns(to_ns(said_at + self.ask_timeout), self._on_silence, q, said_at, cause)
+
+    def _on_silence(self, q: tuple[int, str], said_at: float, cause: str) -> None:
+        if self.bus.closed or self.bus.hung or self._talking or self._queue:
+            return
+        if self._heard_at >= said_at or self._voice_at >= said_at or self.manager.open_question() != q:
+            return  # she answered, spoke, or the talk went on
+        self._emit(self.manager.on_silence(*q), cause)
 
     def _on_partner(self, msg: Message) -> None:
         b = float(msg.xml.get("bearing", "nan"))
@@ -803,6 +876,8 @@ class Dialog(Module):
             facing = ASIDE  # she walked off and turned her back on the robot (the addressee rule)
             if not self._partner_cues or self._partner_cues[-1][1] != ASIDE:
                 self._aside_since = msg.created
+        if facing == "true":
+            self._faced_at = msg.created
         self._partner_cues.append((msg.created, facing, int(msg.xml.get("company", "0")), span))
 
     def _facing_now(self) -> str:
@@ -882,7 +957,7 @@ class Dialog(Module):
         texts = [o.text for o in outs if isinstance(o, Say)]
         if texts:
             dialogs = frozenset(o.dialog for o in outs if isinstance(o, Say))
-            self.sim.loop.call_at_ns(to_ns(t + self.generation_time), self._enqueue, " ".join(texts), cause, dialogs)
+            self.sim.loop.call_at_ns(to_ns(t + self.generation_time), self._enqueue, " ".join(texts), cause, dialogs, t)
 
     async def _emit_with_explanation(self, outs: list[Output], t: float, cause: str) -> None:
         await asyncio.sleep(max(0.0, t - self.now))
@@ -931,9 +1006,11 @@ class Dialog(Module):
                                             frame=x.get("frame", "map")))
                 self.bus.publish(ES_EVENTS, el, causes=(cause,), transfer=True)
 
-    def _enqueue(self, text: str, cause: str, dialogs: frozenset[str] = frozenset()) -> None:
+    def _enqueue(self, text: str, cause: str, dialogs: frozenset[str] = frozenset(), made: float | None = None) -> None:
         if not text:
             return
+        if made is not None and dialogs and all(self._withdrawn.get(d, -math.inf) >= made for d in dialogs):
+            return  # made before its dialog's news was overtaken (see WITHDRAWN_BY): never said
         self._queue.append((text, (cause,), dialogs, self.now, text in self._repairs))
         if not self._talking:
             self._say_next()
