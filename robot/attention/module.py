@@ -62,8 +62,8 @@ from homesim.module import Module
 
 from robot.blindside import SonarEchoes, blind_clear, blind_points
 from robot.bumpers import BumperReflex, own_reflex
-from robot.contract import (ATTENTION_STATE, BASE_CMD, BUMPERS, ES_EVENTS, ES_ORDERS, FACES, FOCUS, FOLLOW_STATUS, ODOMETRY, PARTNER, PLAYER_STATUS,
-                            POSE, PTU_CMD, SCAN, SONAR, SOURCES, STEER, TORSOS, TRACKS)
+from robot.contract import (ATTENTION_STATE, BASE_CMD, BUMPERS, ES_EVENTS, ES_ORDERS, FACES, FOCUS, FOLLOW_STATUS, ODOMETRY, PARTNER, PLAN,
+                            PLAYER_STATUS, POSE, PTU_CMD, SCAN, SONAR, SOURCES, STEER, TORSOS, TRACKS)
 
 from .appearance import Colours, anchor_torsos, same_clothes
 from .clutter import FurnitureLegs
@@ -234,6 +234,8 @@ _row = TrackRow._make
 LEG_BEHIND = 0.06
 #: s: the partner's walking pace (:meth:`PersonAttention._walk_reach`) remembers her fastest lately over this long
 PACE_MEMORY = 3.0
+#: s: how long a watch answer "unseen" (the way outside the laser's view) is looked along (answers come every second)
+WAY_LOOK_AGE = 2.5
 
 
 def walking_pace(prev: tuple[float, float] | None, t: float, speed: float) -> tuple[float, float]:
@@ -386,6 +388,11 @@ class PersonAttention(Module):
         self.bus.subscribe(FOCUS, self._on_focus)
         self.bus.subscribe(ORDERS, self._on_order)
         self.bus.subscribe(POSE, self._on_pose)
+        # asking for help, the planner's watch (is the blocked way clear now?) answers "unseen" when the
+        # way lies outside the laser's view: the odometry heading to look along it, and when (:meth:`_on_plan`)
+        # (subscribed only while asking for help: every other run's deliveries stay as they were)
+        self._way_look: tuple[float, float] | None = None
+        self._plan_sub: Any = None
         # the follower comes up to the partner after "stop" and turns the base itself meanwhile
         self._follower_drives = False
         self.bus.subscribe(FOLLOW_STATUS, self._on_follow_status)
@@ -648,6 +655,11 @@ class PersonAttention(Module):
             self.refused.append(str(exc))
             return
         self.seeking_help = name == "look_for_help"  # until the next order (:meth:`_voice_heading`)
+        if self.seeking_help and self._plan_sub is None:
+            self._plan_sub = self.bus.subscribe(PLAN, self._on_plan)  # the watch's answers (:meth:`_look_along_way`)
+        elif not self.seeking_help and self._plan_sub is not None:
+            self._plan_sub.close()
+            self._plan_sub, self._way_look = None, None
         # a wait said while following: when the ES's pause order came (told to the follower in the state
         # message, which stands until she walks on); any other order ends it
         self._paused_at = self.now if name == "pause" else None
@@ -680,6 +692,27 @@ class PersonAttention(Module):
             self._player_sub.close()
             self._player_sub = None
             self._drive(self.now, False)
+
+    def _on_plan(self, msg: Message) -> None:
+        """A watch answer: where its way lies when the laser does not see it (``look``), else nothing to look at."""
+        x = msg.xml
+        if x.get("watch") != "true":
+            return
+        look = x.get("look")
+        if x.get("failed") == "unseen" and look is not None and self._odom is not None:
+            self._way_look = (self.now, self._pose_at(self.now)[2] + float(look))
+        else:
+            self._way_look = None
+
+    def _look_along_way(self, t: float) -> float | None:
+        """Asking for help with nobody to turn to: the bearing (robot frame) along its blocked way, which the
+        laser does not see, from the planner's last watch answer (at most ``WAY_LOOK_AGE`` s old), or None.
+        Turned to, the laser sees the way, and the watch finds it clear once the blocker has left
+        (fresh5/stair_goto_passage_person: facing a door off its way, it never went on)."""
+        w = self._way_look
+        if not self.seeking_help or w is None or t - w[0] > WAY_LOOK_AGE:
+            return None
+        return math.remainder(w[1] - self._pose_at(t)[2], 2 * math.pi)
 
     def _on_player(self, msg: Message) -> None:
         self._drive(self.now, msg.xml.get("state") in ("moving", "blocked"))
@@ -1312,6 +1345,14 @@ class PersonAttention(Module):
             elif self._turning or abs(b) > p.turn_start:
                 self._turning = True
                 self._turn(b)
+        elif row < 0 and not self._player_drives and (way := self._look_along_way(t)) is not None:
+            # asking for help, nobody to attend to: look along the blocked way, so the watch sees it clear
+            if self._turning and abs(way) < p.turn_stop:
+                self._base(0.0)
+                self._turning = False
+            elif self._turning or abs(way) > p.turn_start:
+                self._turning = True
+                self._turn(way)
         elif self._turning:
             self._base(0.0)
             self._turning = False

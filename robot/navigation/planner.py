@@ -38,7 +38,11 @@ failed ``blocked`` and the robot asked for help): the same replan, answered with
 ``watch="true"``, but a way counts as clear only when it gives every person in the scan their
 space (no falling back to their bodies) and its first :data:`LOCAL_RANGE` m lie where the laser
 looks (within :data:`WATCH_FIELD` of the robot's heading): a way the laser does not see (the
-robot turned to someone behind it) is not known to be clear (``failed="unseen"``).
+robot turned to someone behind it) is not known to be clear (``failed="unseen"``). Such an answer says
+where the way goes (``look``: its bearing from the robot's heading, rad, :func:`way_bearing`), so that a
+robot asking for help with nobody to turn to looks along its way and sees when it clears
+(:mod:`robot.attention.module`; fresh5/stair_goto_passage_person: it faced a door off its way, the way
+was never in view, and it never went on after the lodger had left the passage).
 """
 
 from __future__ import annotations
@@ -115,6 +119,24 @@ def in_view(points: list[tuple[float, float]], pose: tuple[float, float, float],
             if d >= near and abs(math.remainder(math.atan2(py - y, px - x) - th, 2 * math.pi)) > field:
                 return False
     return True
+
+
+def way_bearing(points: list[tuple[float, float]], pose: tuple[float, float, float], *,
+                near: float = WATCH_NEAR, reach: float = 1.5) -> float | None:
+    """The bearing (rad, from the heading of ``pose``) of the first point of the path ``points`` at least
+    ``reach`` m from the robot's centre (else its end, if at least ``near`` m off): where to look to see
+    the way's beginning. None for a path that ends within ``near`` m."""
+    x, y, th = pose
+    best = None
+    for px, py in points:
+        d = math.hypot(px - x, py - y)
+        if d >= near:
+            best = (px, py)
+        if d >= reach:
+            break
+    if best is None:
+        return None
+    return math.remainder(math.atan2(best[1] - y, best[0] - x) - th, 2 * math.pi)
 
 
 def place_title(place: etree._Element | None) -> str | None:
@@ -235,7 +257,7 @@ class Planner(Module):
         return None
 
     def _publish(self, title: str, points: list[tuple[float, float]], theta: float | None = None, failed: str | None = None,
-                 replan: bool = False, watch: bool = False) -> None:
+                 replan: bool = False, watch: bool = False, look: float | None = None) -> None:
         if points and self.grid is not None:
             # a last corner within the sequencer's two step tolerances of the place is no step of its own
             # when the leg to the place clears the floor plan (hall_goto_doorway_person seed 1: a corner
@@ -248,6 +270,8 @@ class Planner(Module):
             el.set("replan", "true")
         if watch:
             el.set("watch", "true")
+        if look is not None:
+            el.set("look", f"{look:.5f}")
         for i, (x, y) in enumerate(points):
             wp = etree.SubElement(el, "waypoint", x=f"{x:.4f}", y=f"{y:.4f}")
             if theta is not None and i == len(points) - 1:
@@ -390,7 +414,7 @@ class Planner(Module):
             self._publish(title, [], failed=e.reason, replan=True, **({"watch": True} if watch else {}))
             return None
         if watch and not in_view(points, self.pose, reach=LOCAL_RANGE):
-            self._publish(title, [], failed="unseen", replan=True, watch=True)
+            self._publish(title, [], failed="unseen", replan=True, watch=True, look=way_bearing(points, self.pose))
             return None
         self._publish(title, points, theta=place[2], replan=True, **({"watch": True} if watch else {}))
         return points
