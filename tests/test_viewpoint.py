@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import math
 
-from hypothesis import given, settings
+from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
 from robot.floorplan import FloorPlan, MapObstacle, MapRoom, MapWall
@@ -275,3 +275,21 @@ def test_a_viewpoint_is_a_place_the_player_will_stand_on() -> None:
         route = viewpoint_route(plan, robot, box, [nora], camera_height=CAM)
         assert route is not None
         assert math.dist(route[-1][:2], nora) > GOAL_TAKEN
+
+
+@settings(max_examples=6, deadline=None)
+@given(nx=st.floats(3.6, 3.8), ny=st.floats(3.1, 3.3))
+@example(nx=3.7056, ny=3.2037)
+def test_the_way_round_the_bookcase_past_nora_is_found_wherever_the_tracker_puts_her(nx, ny):
+    """perceive/view_round_corner seeds 1, 3: Nora 1.08 m from the bookcase's end, where the tracker put
+    her (3.706, 3.204): the grid's path ran past the end closer than a straight leg may, so no leg reached
+    it and there was no route at all. The grid now keeps the legs' own clearances: a route of straight legs."""
+    plan, robot, box, nora = _divider_flat(), (1.5, 2.0), (4.2, 0.8, 0.05), (nx, ny)
+    route = viewpoint_route(plan, robot, box, [nora, nora], camera_height=CAM)
+    assert route is not None
+    legs = list(zip([robot, *[(p[0], p[1]) for p in route[:-1]]], [(p[0], p[1]) for p in route]))
+    for k, (a, b) in enumerate(legs):
+        assert straight_leg_free(_blocks(plan), [nora], a, b, clearance=ROBOT_CLEARANCE * DRIVE_CLEARANCE,
+                                 person_clearance=PERSON_CLEARANCE * DRIVE_CLEARANCE, leave=0.3 if k == 0 else 0.0)
+    x, y, _ = route[-1]
+    assert sight_clear(plan, (x, y, CAM), box, [nora])
