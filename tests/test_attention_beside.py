@@ -67,7 +67,7 @@ def test_nothing_to_turn_to_once_she_was_declared_gone_or_outside_interaction():
 
 
 @settings(max_examples=60, deadline=None)
-@given(st.floats(0.5, 6.5), st.floats(-math.pi, math.pi), st.floats(0.0, 1.2), st.floats(2.0, 9.9))
+@given(st.floats(0.5, 6.5), st.floats(-math.pi, math.pi), st.floats(0.0, 1.2), st.floats(2.0, 15.0))
 def test_a_leader_the_follower_still_comes_up_to_after_stop_has_not_left(d, where, speed, unseen):
     # fresh6/div_fast_leader_stops: "Stop, here we are" from 4-6 m ahead past a divider, his last steps
     # still walking on; the follower approaches (status approaching): his distance and his last steps
