@@ -32,6 +32,7 @@ def _interacting(her: tuple[float, float], velocity: tuple[float, float], robot_
     a._odom = (0.0, 0.0, 0.0, robot_heading, 0.0, 0.0)
     a._partner_last = (1.0, her[0], her[1], velocity[0], velocity[1], 0.0, 0.0)
     a._driven, a._drive_start, a._yielded = 0.0, None, 0.0
+    a._follower_drives = False  # the follower's status: not approaching
     return a
 
 
@@ -63,3 +64,18 @@ def test_nothing_to_turn_to_once_she_was_declared_gone_or_outside_interaction():
     b = _interacting((0.2, 0.75), (0.0, 0.0), 0.0)
     b.fsm.order("follow")
     assert b._where_she_stood(3.0) is None
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.floats(0.5, 6.5), st.floats(-math.pi, math.pi), st.floats(0.0, 1.2), st.floats(2.0, 15.0))
+def test_a_leader_the_follower_still_comes_up_to_after_stop_has_not_left(d, where, speed, unseen):
+    # fresh6/div_fast_leader_stops: "Stop, here we are" from 4-6 m ahead past a divider, his last steps
+    # still walking on; the follower approaches (status approaching): his distance and his last steps
+    # are the robot's lag, not his leaving, until the approach ends (then the rule holds as before)
+    her = (d * math.cos(where), d * math.sin(where))
+    a = _interacting(her, (speed * math.cos(where), speed * math.sin(where)), 0.0)
+    a._follower_drives = True
+    assert not a.partner_left(1.0 + unseen)
+    a._follower_drives = False
+    leaving = d > a.params.interaction_radius or speed >= a.params.leave_speed
+    assert a.partner_left(1.0 + unseen) == (leaving or unseen >= a.params.out_of_view_after)

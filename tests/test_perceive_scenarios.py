@@ -67,3 +67,11 @@ def test_an_object_shown_before_the_sentence_by_a_partner_standing_close_is_lear
     assert s["verdict"] == "PASS"
     (vase,) = s["learned"]["objects"]
     assert math.hypot(float(vase["x"]) - 3.45, float(vase["y"]) - 0.3) < 0.1  # the blue vase, not the white one 0.45 m away
+
+
+def test_a_far_object_she_hides_with_nowhere_to_see_it_from_is_learned_after_asking_her_to_step_aside():
+    # hidden15: a narrow study, the radio 3.4 m away behind her; no place to see it from while she stands there
+    s = _run("study_far_behind_user")
+    said = " ".join(_said(s)).lower()
+    assert "step aside" in said and "could not find" not in said
+    assert any(o.get("type") == "radio" and o.get("owner") == "partner" for o in s["learned"]["objects"])

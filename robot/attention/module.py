@@ -1122,6 +1122,13 @@ class PersonAttention(Module):
             return stopped or unseen - self._yielded >= follow_search_time(dist, base=p.follow_lost_after, top_speed=p.robot_top_speed)
         if unseen < p.partner_lost_after:
             return False
+        if self._follower_drives:
+            # "Stop" ended following with her ahead and the follower comes up to her (its status
+            # ``approaching``): how far ahead she stood, and her last steps before she stopped, are the
+            # robot's lag, not her leaving (fresh6/div_fast_leader_stops: "You left" 1.5 s after "OK, I
+            # stopped", a fast leader 4.3 m ahead past a divider). The follower keeps her last position
+            # for its search time (at most 15 s) and then stands ("stopped"); then the rule below holds again.
+            return False
         if unseen >= p.out_of_view_after:
             return True
         away = (vx * dx + vy * dy) / dist if dist > 1e-6 else 0.0

@@ -46,7 +46,8 @@ Control, every ``1/rate`` seconds:
   door frame would teach from the other room). Its status says ``approaching`` meanwhile;
   the attention leaves turning the base to it, and the dialog holds her requests, until
   then. No too-fast warnings while approaching. She stands, so her last position holds while
-  she is unseen (behind a table's or a chair's legs, the door frame) for up to ``search_time`` s.
+  she is unseen (behind a table's or a chair's legs, the door frame) as long as following would
+  search for her (:meth:`Follower.search_for`: ``search_time`` s, longer when she was last seen far ahead).
   Any other state (a go-to) ends it.
 * Paused (a wait said while she leads: the attention state's ``paused``): only following on is
   paused. It comes up to her by the same rule as the catch-up (status ``paused``), then stands
@@ -553,8 +554,11 @@ class Follower(Module):
         unseen = (0.0 if tr["visible"] else tr["lost_for"]) + age
         yielded = self._count_yield(approaching, tr["visible"] and age < 2 * self.period)
         # approaching, she stands: unseen a moment (behind a table's legs, a chair, the door frame) is
-        # no reason to give up the approach and teach from across the room; her last position holds
-        if unseen - yielded > (self.search_time if approaching else self.search_for()):
+        # no reason to give up the approach and teach from across the room; her last position holds,
+        # as long as following would search for her there (longer when the robot had fallen behind: a
+        # fast leader stopped out of sight past a divider, fresh6/div_fast_leader_stops, and the
+        # approach gave up 3 s after "stop", still 3.6 m short of him)
+        if unseen - yielded > self.search_for():
             turn = None if approaching else self._face_in()
             if turn is not None:  # the search ended at an exit door: back to the room first
                 self._status(0.0, False, "searching")
