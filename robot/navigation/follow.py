@@ -60,9 +60,18 @@ Control, every ``1/rate`` seconds:
   Status ``searching``. Her track gone quiet longer than that (it yielded to people crossing and fell
   behind, she went on through a door), the point walks on at her pace when last seen (a coasting track's
   velocity decays) up to :data:`SEARCH_WALK_ON` s,
-  never through a wall of the floor plan, so it looks into the room she went on into.
+  never through a wall of the floor plan, so it looks into the room she went on into. A point the
+  latest scan looks at and sees through (:func:`robot.navigation.local.looked_empty`) is not where she
+  is: the search looks where her last measured velocity carried her on from where she was last seen
+  (beside or behind the robot when she walked past its side: it turns there), and such a point, or a
+  coasting track the scan sees through, refuses no turn (:meth:`Follower._bodies`).
+* Searching, round a corner of the floor plan ahead that the laser does not see behind, it drives no
+  faster than it can stop from before someone stepping out there (:mod:`robot.navigation.blind`, the
+  go-to's rule).
 * Yielding is not searching: time in which someone other than her is near it
-  (:func:`robot.partner_search.yielding`, the attention's rule too) does not count as time unseen.
+  (:func:`robot.partner_search.yielding`, the attention's rule too) does not count as time unseen;
+  nor does the time the blind-corner cap took off the search (:func:`robot.partner_search.held_time`,
+  published as the status's ``held`` for the attention's clock).
 * Lost: not seen for ``search_time`` s (6 s; longer when she was last seen beyond the band, by the
   time it takes to drive the gap at 0.4 m/s or its lower top speed, at most 15 s, or the time to drive the same gap
   at a top speed below 0.4 m/s: :mod:`robot.partner_search`):
