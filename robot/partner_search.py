@@ -44,18 +44,6 @@ def yielding(others: Any, near: float = YIELD_NEAR) -> bool:
     return any(math.hypot(float(o[0]), float(o[1])) < near for o in others)
 
 
-def held_time(dt: float, capped: float, full: float) -> float:
-    """Seconds of ``dt`` that a speed cap took off a search: driving ``dt`` s at ``capped`` m/s instead of
-    the search's own ``full`` m/s covers the way the full speed covers in ``dt * capped / full`` s, and
-    only that much is search time. Searching round a corner it cannot see behind, the robot drives no
-    faster than it can stop from (:mod:`robot.navigation.blind`); that slowing is safety, not search,
-    and must not make it give up on her sooner (u_catch_up_slow seeds 4, 9: the capped search touched
-    nobody but ran out before it came where she had gone). Never negative, never more than ``dt``."""
-    if dt <= 0.0 or full <= 0.0 or capped >= full:
-        return 0.0
-    return dt * (1.0 - max(0.0, capped) / full)
-
-
 def robot_top_speed(config: Any) -> float | None:
     """The robot's top speed (m/s) from its own configuration (``run.config``: ``max_speed``), None
     when it does not say (the base's default, above :data:`SEARCH_SPEED`, then applies)."""

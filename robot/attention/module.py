@@ -299,7 +299,6 @@ class PersonAttention(Module):
     #: over (set in __init__; here for the unit tests that build the module without a bus)
     _lost_colour: tuple[float, float, float] | None = None
     _follow_stopped: float | None = None
-    _follow_held: float = 0.0
     _yield_t: float | None = None
 
     def __init__(
@@ -327,7 +326,6 @@ class PersonAttention(Module):
         self._partner_colour: tuple[float, float, float] | None = None  # hers, kept when her track dies
         self._lost_colour: tuple[float, float, float] | None = None  # the lost partner's clothes: who may retake from afar
         self._follow_stopped: float | None = None  # since when the follower stands with its search over (its status)
-        self._follow_held = 0.0  # the follower's search time taken by its blind-corner cap (its status: held)
         self._partner_face: tuple[float, int, bool] | None = None  # (frame time, partner, her face in the image)
         self._in_image: set[int] = set()  # the tracks whose face lay in the camera's latest frame
         self._look: tuple[int, float] | None = None  # (track, first in the image, inf before): an unseen speaker looked at
@@ -654,7 +652,6 @@ class PersonAttention(Module):
         # message, which stands until she walks on); any other order ends it
         self._paused_at = self.now if name == "pause" else None
         self._follow_stopped = None  # (a new order: the follower's next status says where it stands)
-        self._follow_held = 0.0
         if state in ("Interaction", "Follow", "Object"):
             # A partner unseen for a moment (stepped aside) stays the partner across the change.
             pending = self.partner is not None and self._partner_last is not None and not self.partner_lost_sent
@@ -703,8 +700,6 @@ class PersonAttention(Module):
         stands with its search over (``stopped``, :attr:`_follow_stopped`: a loss, :meth:`partner_left`)."""
         state = msg.xml.get("state")
         self._follower_drives = state == "approaching"
-        # the time its blind-corner cap took off the search since she was last seen is not time unseen
-        self._follow_held = float(msg.xml.get("held", "0"))
         if state != "stopped":
             self._follow_stopped = None
         elif self._follow_stopped is None:
@@ -1091,7 +1086,7 @@ class PersonAttention(Module):
             # sighting (Tracks.support) kept her "seen" here, and the robot stood silent in Following
             # (fresh5/row_fast_then_waits seed 8, 25 s; issue 26 item 1: it says so instead)
             stopped = self._follow_stopped is not None and t - self._follow_stopped >= p.follow_stopped_after
-            return stopped or unseen - self._yielded - self._follow_held >= follow_search_time(dist, base=p.follow_lost_after, top_speed=p.robot_top_speed)
+            return stopped or unseen - self._yielded >= follow_search_time(dist, base=p.follow_lost_after, top_speed=p.robot_top_speed)
         if unseen < p.partner_lost_after:
             return False
         if unseen >= p.out_of_view_after:

@@ -65,13 +65,8 @@ Control, every ``1/rate`` seconds:
   is: the search looks where her last measured velocity carried her on from where she was last seen
   (beside or behind the robot when she walked past its side: it turns there), and such a point, or a
   coasting track the scan sees through, refuses no turn (:meth:`Follower._bodies`).
-* Searching, round a corner of the floor plan ahead that the laser does not see behind, it drives no
-  faster than it can stop from before someone stepping out there (:mod:`robot.navigation.blind`, the
-  go-to's rule).
 * Yielding is not searching: time in which someone other than her is near it
-  (:func:`robot.partner_search.yielding`, the attention's rule too) does not count as time unseen;
-  nor does the time the blind-corner cap took off the search (:func:`robot.partner_search.held_time`,
-  published as the status's ``held`` for the attention's clock).
+  (:func:`robot.partner_search.yielding`, the attention's rule too) does not count as time unseen.
 * Lost: not seen for ``search_time`` s (6 s; longer when she was last seen beyond the band, by the
   time it takes to drive the gap at 0.4 m/s or its lower top speed, at most 15 s, or the time to drive the same gap
   at a top speed below 0.4 m/s: :mod:`robot.partner_search`):
@@ -114,11 +109,10 @@ from homesim.module import Module
 from homesim.errors import BusError, HomesimError
 from robot import floorplan
 from robot.blindside import SonarEchoes, blind_clear, blind_points, explained_by_points
-from robot.partner_search import follow_search_time, held_time, yielding
+from robot.partner_search import follow_search_time, yielding
 from robot.bumpers import BumperReflex, own_reflex
 from robot.contract import ATTENTION_STATE, BASE_CMD, BUMPERS, ES_EVENTS, FOLLOW_STATUS, ODOMETRY, PARTNER, POSE, SCAN, SONAR, TRACKS
 
-from .blind import blind_speed_limit, scan_corners
 from .config import Limits
 from .grid import MapError, OccupancyGrid, parse_map
 from .local import (SOCIAL_GAP, TURN_GAP, DWAParams, LatestScan, arcs, carrot, dwa, footprint_distance, heading_speed,
@@ -321,11 +315,6 @@ class Follower(Module):
         self._seen_distance = 0.0  # how far she was when a scan last saw her (the search's length grows with it)
         self._seen_v = (0.0, 0.0)  # her velocity (odom) when a scan last saw her: where the search walks on
         self._seen_pos: tuple[float, float, float] | None = None  # where (odom) and when a scan last saw her
-        self._corners_of: Any = None  # the scan whose blind corners are in _corners
-        self._corners = np.zeros((0, 2))
-        self._held = 0.0  # s since she was last seen that the blind-corner cap took off the search (not search time)
-        self._held_t: float | None = None  # when _held was last added to
-        self._capped: tuple[float, float] | None = None  # the last step's blind-corner cap and the speed it capped
         self.odom: tuple[float, float, float] | None = None
         self.v = self.w = 0.0
         self.scan = LatestScan()
@@ -549,11 +538,8 @@ class Follower(Module):
             self.driving = False
 
     def _status(self, d: float, at_limit: bool, state: str) -> None:
-        msg = etree.Element("follow", distance=f"{max(d, 0.0):.4f}", speed=f"{self.v:.4f}",
-                            at_limit="true" if at_limit else "false", state=state)
-        if self._held > 0.0 and self.following:  # the search's time the blind-corner cap took (not search time)
-            msg.set("held", f"{self._held:.3f}")
-        self.bus.publish(FOLLOW_STATUS, msg)
+        self.bus.publish(FOLLOW_STATUS, etree.Element("follow", distance=f"{max(d, 0.0):.4f}", speed=f"{self.v:.4f}",
+                                               at_limit="true" if at_limit else "false", state=state))
 
     def control_step(self) -> tuple[float, float] | None:
         """One control step; returns the command sent (None when not driving)."""
@@ -574,7 +560,6 @@ class Follower(Module):
         age = self.now - tr["t"]
         unseen = (0.0 if tr["visible"] else tr["lost_for"]) + age
         yielded = self._count_yield(approaching, tr["visible"] and age < 2 * self.period)
-        yielded += self._count_held(approaching, tr["visible"] and age < 2 * self.period)
         # approaching, she stands: unseen a moment (behind a table's legs, a chair, the door frame) is
         # no reason to give up the approach and teach from across the room; her last position holds
         if unseen - yielded > (self.search_time if approaching else self.search_for()):
@@ -735,16 +720,6 @@ class Follower(Module):
             limits = self.limits
             if searching:  # slowly: she may step out from behind whatever hid her
                 limits = replace(limits, max_speed=min(limits.max_speed, self.search_speed))
-                # and round a corner ahead it cannot see behind, a speed it can stop from (the go-to's
-                # rule, blind.py): searching, it drives where nobody is tracked, and whoever walks back
-                # round the corner appears within a metre (u_catch_up_slow seeds 4, 9: she came back
-                # round the U's corner, first seen 0.85 m off, and the search at 0.3 m/s touched her)
-                # The time so held is not search time (robot.partner_search.held_time, _count_held)
-                blind = blind_speed_limit(self._blind_corners(mapped), limits.max_speed, decel=self.limits.max_accel)
-                if blind < limits.max_speed:
-                    self._capped = (blind, limits.max_speed)
-                    limits = replace(limits, max_speed=blind)
-                    v_pref = min(v_pref, blind)
             if len(capped):
                 cap = social_speed_limit(nearest(capped), self.limits.max_speed)
                 if cap < limits.max_speed:
@@ -773,15 +748,6 @@ class Follower(Module):
         self._too_fast(d, at_limit and not held, math.hypot(tr["vx"], tr["vy"]))
         self._status(d, at_limit, state if tr["visible"] else "searching")
         return v, w
-
-    def _blind_corners(self, mapped: np.ndarray) -> np.ndarray:
-        """The floor plan's corners in the latest scan that the laser does not see round (robot frame;
-        once per scan: :func:`robot.navigation.blind.scan_corners`)."""
-        msg = self.scan.latest
-        if msg is not self._corners_of:
-            self._corners_of = msg
-            self._corners = scan_corners(msg, mapped)
-        return self._corners
 
     def _pause_holds(self, px: float, py: float, d: float, unseen: bool, speed: float) -> bool:
         """Whether the pause (a wait said while she leads) still holds: until she walks on, that is she is
@@ -966,19 +932,6 @@ class Follower(Module):
             if yielding(others[:, :2] if len(others) else ()):
                 self._yielded += self.now - last
         return self._yielded
-
-    def _count_held(self, approaching: bool, seen: bool) -> float:
-        """Seconds since she was last seen that the blind-corner cap took off the search
-        (:func:`robot.partner_search.held_time`, at the cap the previous step drove at): driving slowly
-        round a corner it cannot see behind is safety, not search, so that time is not search time;
-        reset when she is seen. Published in the status (``held``) for the attention's clock."""
-        last, self._held_t = self._held_t, self.now
-        capped, self._capped = self._capped, None
-        if seen or approaching:
-            self._held = 0.0
-        elif last is not None and capped is not None and self.now - last <= 1.0:
-            self._held += held_time(self.now - last, *capped)
-        return self._held
 
     def _came_from(self) -> tuple[float, float] | None:
         """Where the robot drove from (map frame): its latest own position (odometry, driving forwards)
