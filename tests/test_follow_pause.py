@@ -20,6 +20,7 @@ from hypothesis import strategies as st
 from homesim.tour.runner import Run, RunOptions
 from robot.navigation.config import Limits
 from robot.navigation.follow import PAUSE_WALK_ON, Follower
+from robot.navigation.local import LatestScan
 from robot.navigation.people import People
 from tests.nav_helpers import HERE
 
@@ -37,6 +38,7 @@ class _Paused(Follower):
         self.minimum = 0.8
         self.route = SimpleNamespace(obstacles_near=lambda odom: np.zeros((0, 2)))
         self.people = People()
+        self.scan = LatestScan()  # no scan yet: it sees through nothing (Follower._bodies)
         self.trail = deque(maxlen=200)
         self.paused, self._pause_from = True, None
         self.sent: list[tuple[float, float]] = []

@@ -61,7 +61,11 @@ Control, every ``1/rate`` seconds:
   Status ``searching``. Her track gone quiet longer than that (it yielded to people crossing and fell
   behind, she went on through a door), the point walks on at her pace when last seen (a coasting track's
   velocity decays) up to :data:`SEARCH_WALK_ON` s,
-  never through a wall of the floor plan, so it looks into the room she went on into.
+  never through a wall of the floor plan, so it looks into the room she went on into. A point the
+  latest scan looks at and sees through (:func:`robot.navigation.local.looked_empty`) is not where she
+  is: the search looks where her last measured velocity carried her on from where she was last seen
+  (beside or behind the robot when she walked past its side: it turns there), and such a point, or a
+  coasting track the scan sees through, refuses no turn (:meth:`Follower._bodies`).
 * Yielding is not searching: time in which someone other than her is near it
   (:func:`robot.partner_search.yielding`, the attention's rule too) does not count as time unseen.
 * Lost: not seen for ``search_time`` s (6 s; longer when she was last seen beyond the band, by the
@@ -130,6 +134,8 @@ SEARCH_HORIZON = 1.5
 #: never through a wall of the floor plan (issue 26 item 1, sq_cross_pair: the search stopped at the
 #: spot 1.5 s past where she went out of view while she stood in the next room, in view from a step on)
 SEARCH_WALK_ON = 5.0
+#: m/s: searching, a partner last seen slower than this was standing: her velocity is no heading to look along
+WALKING = 0.3
 #: s and m/s: wedged this long (it should drive, the dynamic window finds nothing), it backs this slowly
 STUCK_TIME = 1.0
 UNSTICK_SPEED = 0.1
@@ -309,6 +315,7 @@ class Follower(Module):
         self.track: dict[str, float] | None = None  # the partner's last message (odom frame) and when
         self._seen_distance = 0.0  # how far she was when a scan last saw her (the search's length grows with it)
         self._seen_v = (0.0, 0.0)  # her velocity (odom) when a scan last saw her: where the search walks on
+        self._seen_pos: tuple[float, float, float] | None = None  # where (odom) and when a scan last saw her
         self.odom: tuple[float, float, float] | None = None
         self.v = self.w = 0.0
         self.scan = LatestScan()
@@ -439,6 +446,7 @@ class Follower(Module):
         if self.track["visible"]:
             self._seen_distance = float(x.get("distance", "0"))
             self._seen_v = (self.track["vx"], self.track["vy"])  # her pace when last seen (a quiet track's decays)
+            self._seen_pos = (self.track["x"], self.track["y"], self.now)
 
     def _on_scan(self, msg: Message) -> None:
         self.scan.update(msg)  # turned into points only when a control step needs them
@@ -570,6 +578,8 @@ class Follower(Module):
         px, py = tr["x"] + tr["vx"] * horizon, tr["y"] + tr["vy"] * horizon
         if searching and age > SEARCH_HORIZON:
             px, py = self._walk_on((px, py), self._seen_v, min(age, SEARCH_WALK_ON) - SEARCH_HORIZON)
+        if searching:
+            px, py = self._not_there(px, py)
         if not self.trail or math.hypot(px - self.trail[-1][0], py - self.trail[-1][1]) > 0.15:
             self.trail.append((px, py))
         rx, ry = self._to_robot(px, py)
@@ -793,9 +803,32 @@ class Follower(Module):
             trail.popleft()
 
     def _bodies(self, rx: float, ry: float) -> np.ndarray:
-        """Robot-frame centres of everyone near (confirmed tracks) and of the partner at (``rx``, ``ry``)."""
+        """Robot-frame centres of everyone near (confirmed tracks) and of the partner at (``rx``, ``ry``),
+        but not where the latest scan looks and finds nobody (:meth:`LatestScan.sees_through`): a coasting
+        track, or her predicted point, beside the robot after she walked past its side and on behind
+        it refused every turn toward where she went (flow/follow_while_looking, 9d2dc38's seed 8)."""
         near = self.people.around(self.odom, self.now)
-        return np.concatenate((near[:, :2], [(rx, ry)])) if len(near) else np.array([(rx, ry)])
+        bodies = np.concatenate((near[:, :2], [(rx, ry)])) if len(near) else np.array([(rx, ry)])
+        keep = [not self.scan.sees_through(float(bx), float(by)) for bx, by in bodies]
+        return bodies[np.array(keep, dtype=bool)] if not all(keep) else bodies
+
+    def _not_there(self, px: float, py: float) -> tuple[float, float]:
+        """Searching: where to look for her when the point her track predicts (odom ``px, py``) is in the
+        laser's view and empty (:meth:`LatestScan.sees_through`): she is not there. Then where her last
+        measured velocity carried her on from where she was last seen (:meth:`_walk_on`, never through a
+        wall), which may be beside or behind the robot (she walked past its side: it turns there
+        instead of standing at the stale point); the point as it was when she was slower than
+        :data:`WALKING` (no heading to go by)."""
+        if self._seen_pos is None or self.odom is None:
+            return px, py
+        rx, ry = self._to_robot(px, py)
+        if not self.scan.sees_through(rx, ry):
+            return px, py
+        vx, vy = self._seen_v
+        if math.hypot(vx, vy) < WALKING:
+            return px, py
+        sx, sy, st = self._seen_pos
+        return self._walk_on((sx, sy), (vx, vy), min(self.now - st, SEARCH_WALK_ON))
 
     def _give_way(self, px: float, py: float, mapped: np.ndarray, *, held: bool = False,
                   back_only: bool = False) -> tuple[float, float] | None:

@@ -144,6 +144,34 @@ def _beams(min_angle: float, resolution: float, n: int) -> tuple[np.ndarray, np.
     return out
 
 
+def looked_empty(ranges: Any, min_angle: float, resolution: float, offset: float, x: float, y: float,
+                 radius: float = 0.25) -> bool:
+    """Whether a scan (``ranges`` from ``min_angle`` in steps of ``resolution``, the laser ``offset`` m
+    ahead of the robot's centre) looks at the disc of ``radius`` m round (``x``, ``y``) (robot frame)
+    and finds nobody there: its middle (the half of it round its centre's bearing, where her legs
+    would be) lies in the laser's field of view, and every beam of the scan that crosses the disc
+    reaches beyond its far side. A body stands where the scan shows nothing only when the
+    scan does not look there (beside or behind the laser, behind a wall or someone nearer). A
+    partner's predicted position the laser sees through is no body: she is not there (she walked
+    past the robot's side; flow/follow_while_looking, libflow14)."""
+    lx, ly = x - offset, y
+    dist = math.hypot(lx, ly)
+    if dist <= radius + 0.05:
+        return False  # the laser is inside or at the disc: it cannot look across it
+    r = np.asarray(ranges, dtype=float)
+    half = math.asin(min(1.0, radius / dist))
+    bearing = math.atan2(ly, lx)
+    lo, hi = bearing - half, bearing + half
+    last = min_angle + resolution * (len(r) - 1)
+    if not min_angle + half / 2 <= bearing <= last - half / 2:
+        return False  # its middle (where her legs are) out of the field of view
+    i0 = max(0, int(math.ceil((lo - min_angle) / resolution)))
+    i1 = min(len(r) - 1, int(math.floor((hi - min_angle) / resolution)))
+    if i1 < i0:
+        return False
+    return bool(np.all(r[i0:i1 + 1] > dist + radius))
+
+
 def heading_speed(v: float, bearing: float) -> float:
     """``v`` scaled down as the goal's ``bearing`` (rad, robot frame) grows: 0 beyond 60 degrees.
 
@@ -222,6 +250,16 @@ class LatestScan:
         a, c, s = _beams(math.radians(float(x.get("min_angle"))), math.radians(float(x.get("resolution"))), len(r))
         d = leg_discs(r, a, float(x.get("max_range")), float(x.get("offset")), trig=(c, s))
         return d[d[:, 2] >= BODY_RING - 1e-9, :2] if len(d) else np.zeros((0, 2))
+
+    def sees_through(self, x: float, y: float, radius: float = 0.25) -> bool:
+        """Whether the latest scan looks at the disc of ``radius`` m round (``x``, ``y``) (robot frame)
+        and finds it empty: :func:`looked_empty`. False before the first scan."""
+        msg = self._raw
+        if msg is None:
+            return False
+        a = msg.xml
+        return looked_empty(msg.attachments["ranges"], math.radians(float(a.get("min_angle"))),
+                            math.radians(float(a.get("resolution"))), float(a.get("offset")), x, y, radius)
 
     def points(self) -> np.ndarray:
         """The latest scan as (N, 2) robot-frame points (computed once per scan)."""
