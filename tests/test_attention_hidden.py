@@ -7,6 +7,7 @@ unseen, a pair metres away is somebody else."""
 from __future__ import annotations
 
 import math
+import os
 
 import numpy as np
 import pytest
@@ -217,11 +218,17 @@ def test_a_dormant_track_still_takes_a_pair_no_seen_persons_track_wants():
     assert not tr.tracks[tr.row(olaf)].dormant
 
 
+@pytest.mark.slow
+@pytest.mark.skipif(os.environ.get("HOMESIM_SLOW", "") in ("", "0"),
+                    reason="a 27 s end-to-end run (about 30 s of CPU): set HOMESIM_SLOW=1")
 def test_walked_past_a_hidden_flatmate_the_partner_is_still_heard():
     """End to end, tests/scenarios/follow/past_flatmate_at_shelf.xml seed 0 to 27 s: Mia leads the robot past
     Tom, whose track went dormant behind her; her "Stop" (24.1 s) is heard and answered. With one round of
     assignment his dormant track took her pair, her track slid onto him and the beam gate took her voice
-    for a bystander's: never answered."""
+    for a bystander's: never answered. Slow (her "Stop" comes at 24 s, so no shorter run shows it): run with
+    the library's slow tests (HOMESIM_SLOW=1, review14 F3); in the fast suite the two Hypothesis properties
+    above (a dormant track never takes the pair a seen person's track predicts, and still takes one nobody
+    wants) fail on the one-round assignment."""
     from pathlib import Path
 
     from homesim.tour.runner import Run, RunOptions

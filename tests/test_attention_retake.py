@@ -181,3 +181,31 @@ def test_only_she_is_taken_back_from_beyond_conversation_distance(positions, cat
     ok = [tk.id for tk in a.tracks.tracks if cats[tk.id] == 3 and np.hypot(tk.x[0], tk.x[1])
           <= (p.retake_known_radius if wears[tk.id] else p.retake_radius)]
     assert a.partner == (min(ok) if ok else None)
+
+
+def test_after_a_loss_her_dormant_track_is_not_taken_as_a_new_partner():
+    """review14 F6 (flow/follow_while_looking seed 1): lost while following, the ES's order back to
+    Interaction came while her own track lay dormant beside the robot (out of the laser's view). Taken as
+    the "new partner" with nothing seen of it, the leaving rule found her gone at the next scan: a second
+    partner_lost 0.1 s after the first ended the interaction. Nobody is chosen; no second partner_lost
+    until the come-back time has run."""
+    from types import SimpleNamespace
+
+    from lxml import etree
+
+    a = _attention([(0.05, -0.78)])  # beside the robot, to its right
+    tk = a.tracks.tracks[0]
+    tk.last_seen, tk.dormant = 0.0, True
+    a.partner, a.partner_lost_sent = None, True  # lost while following; her track lay dormant
+    a._last_pp = (tk.id, 0.0)
+    a.selector = SimpleNamespace(selected=tk.id)
+    a.sim = SimpleNamespace(now=6.0)
+    a._caller = None
+    a.fsm = AttentionFSM()
+    a.fsm.order("follow")
+    a._listen_to_player = a._publish_state = lambda *args, **kw: None
+    a._on_order(SimpleNamespace(xml=etree.Element("order", name="interact")))
+    assert a.partner is None
+    for i in range(1, 30):  # 3 s of scans, her track still dormant
+        a._top_down(6.0 + 0.1 * i, {})
+    assert [name for name, _ in a.events if name == "partner_lost"] == [], a.events

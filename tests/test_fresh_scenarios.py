@@ -70,6 +70,23 @@ def test_similar_objects_demand_that_nothing_but_the_pointed_one_is_stored(path)
         assert precision and float(precision[0].get("min")) == 1.0  # type: ignore[arg-type]
 
 
+@pytest.mark.parametrize("said, ok", [
+    ("The plant is on the shelf in the dining room.", True),
+    ("Your plant is on the sideboard.", True),
+    ("The plant is in the dining room.", True),
+    ("The plant is next to the shelf in the dining room.", True),
+    ("The plant is in the kitchen, next to the dining room door.", False),
+    ("The plant is on the shelf in the living room, the dining room is next door.", False),
+    ("The plant is in the hall near the sideboard.", False),
+])
+def test_div_polite_where_is_takes_exactly_where_the_plant_is(said, ok):
+    """review14 F4: the where-is answer is the plant's place (on the sideboard, a shelf, in the dining room),
+    not any sentence that names the dining room after "plant is"."""
+    sc = load_scenario(FRESH6 / "div_polite_where_is.xml")
+    (pattern,) = [e.get("pattern") for e in sc.expectations if e.kind == "robot-says" and "plant is" in e.get("pattern")]
+    assert bool(re.search(pattern, said, re.IGNORECASE)) == ok
+
+
 @pytest.mark.parametrize("name", ["cross_u_pair", "hall_goto_doors", "studio_step_aside_fridge",
                                   "../fresh2/sq_cross_pair", "../fresh2/diag_step_aside_child",
                                   "../fresh2/galley_hidden_kettle", "../fresh3/open_sofa_guest",

@@ -744,11 +744,22 @@ class PersonAttention(Module):
         return t - seen - self._driven - max(0.0, driving)
 
     def _choose_partner(self) -> int | None:
-        """The partner on interact: the last potential partner if still tracked, else the selected person."""
-        if self._last_pp is not None and self.tracks.row(self._last_pp[0]) >= 0:
+        """The partner on interact: the last potential partner if still tracked, else the selected person.
+
+        Never a dormant track (kept while hidden, nothing seen of it now): after a loss while following,
+        the ES's order back to Interaction came while her own track lay dormant beside the robot (she
+        stood out of the laser's half-circle after it gave way, flow/follow_while_looking seed 1); taken
+        as the "new partner" with no record of her, the leaving rule found her gone at the next scan and
+        a second ``partner_lost`` 0.1 s after the first ended the interaction ("You left", review14 F6).
+        Nobody chosen, whoever speaks to the robot or walks up takes the place, and the come-back time
+        runs (:meth:`_nobody_there`); she is taken back when she speaks to it facing it (:meth:`_top_down`)."""
+        def in_view(tid: int) -> bool:
+            row = self.tracks.row(tid)
+            return row >= 0 and not self.tracks.tracks[row].dormant
+        if self._last_pp is not None and in_view(self._last_pp[0]):
             return self._last_pp[0]
         sel = self.selector.selected
-        return sel if sel is not None and self.tracks.row(sel) >= 0 else None
+        return sel if sel is not None and in_view(sel) else None
 
     # ------------------------------------------------------------ the scan
     def _on_scan(self, msg: Message) -> None:

@@ -619,8 +619,13 @@ class DialogManager:
         return out
 
     def start(self, did: str, values: dict[str, Any] | None = None,
-              on_end: Callable[[Instance], None] | None = None) -> tuple[Instance | None, list[Output]]:
+              on_end: Callable[[Instance], None] | None = None,
+              asked: dict[str, int] | None = None) -> tuple[Instance | None, list[Output]]:
         """Start dialog ``did`` directly (e.g. a clarification), its slots preset to ``values`` (status true).
+
+        ``asked``: how often each question was said already by the sub-dialog this one asks again for
+        (the object attention's second putting of a which-one question): the same question is the
+        same words whichever instance says them, so the policy never puts it a third time in all.
 
         Raises ValueError for a value of a slot the dialog does not have (nothing is started)."""
         out: list[Output] = []
@@ -634,8 +639,17 @@ class DialogManager:
         inst.on_end = on_end
         for k, v in (values or {}).items():
             inst.slots[k] = Slot("true", v)
+        for q, n in (asked or {}).items():
+            inst.asked[q] = max(inst.asked.get(q, 0), n)
         self._step(inst, out)
         return inst, out
+
+    def mark(self, inst: Instance, slot: str, on: bool) -> None:
+        """Set (``on``: status true) or clear the slot ``slot`` of the running ``inst`` that the module
+        decides, not the words: the clarify dialog's ``unchosen`` (the answer about to come picks none
+        of the options: no "Thank you." for it, the asker asks again). No slot of that name: nothing."""
+        if slot in inst.slots:
+            inst.slots[slot] = Slot("true", True) if on else Slot()
 
     def cancel(self, inst: Instance) -> list[Output]:
         """Abandon a running dialog (e.g. a clarification that timed out)."""

@@ -457,6 +457,8 @@ class Dialog(Module):
         self._after_greeting: tuple[Message, float] | None = None
         self._goodbye_held: Message | None = None  # a good-bye said during ObjectTeaching (see GOODBYE_AFTER_LOOK)
         self._asking: list[tuple[int, str]] | None = None  # the open clarification's options (see _unanswerable)
+        self._asking_inst: Instance | None = None  # ... and its clarify sub-dialog (see _mark_unchosen)
+        self._clarify_asked: dict[str, int] | None = None  # the last clarify sub-dialog's askings (see _clarify)
         self._releasing = False  # held requests are being handled one turn at a time
         bus = self.bus
         bus.subscribe(FRAMES, self._on_frame)
@@ -687,7 +689,20 @@ class Dialog(Module):
             # a greeting refused or not taken in time takes the request with it
             self._after_greeting = (msg, self.now + AFTER_GREETING_WAIT)
             return
+        self._mark_unchosen(x)
         self._emit(self.manager.on_frame(x), msg.id)
+
+    def _mark_unchosen(self, x: etree._Element) -> None:
+        """While a clarification is open, tell its sub-dialog whether frame ``x``, taken as the answer,
+        picks none of the options (:func:`choose`): then no "Thank you." (the asker may put the same
+        question again right after; thanked, then asked again, the user was told her answer was taken)."""
+        inst, options = self._asking_inst, self._asking
+        if inst is None or options is None:
+            return
+        speech = x.find("SPEECH") if x.tag == "understood" else None
+        act = None if speech is None else next(
+            (c for c in speech if isinstance(c.tag, str) and c.tag in ("THAT_ONE", "OBJECT", "YES", "NO")), None)
+        self.manager.mark(inst, "unchosen", act is not None and choose(options, act, self._facing_now()) is None)
 
     def _unanswerable(self, x: etree._Element) -> bool:
         """Whether frame ``x`` is a which-one answer (``THAT_ONE``) to the open clarification that picks none
@@ -773,7 +788,10 @@ class Dialog(Module):
         options = [] if opts is None else [(int(o.get("index", str(i))), o.get("text", ""))
                                            for i, o in enumerate(opts.iterfind("option"))]
         timeout = float(opts.get("timeout", str(self.ask_timeout))) if opts is not None else self.ask_timeout
-        answer = await self._clarify(options, timeout, msg.id)
+        # again="true": the asker puts the question it put just before once more (its answer picked none
+        # of the options): the sub-dialog goes on with the last one's count of askings (review14 F1)
+        again = opts is not None and opts.get("again") == "true"
+        answer = await self._clarify(options, timeout, msg.id, again=again)
         if self.bus.closed or self.bus.hung:
             return
         ev = etree.Element("event", name="clarified")
@@ -1114,9 +1132,13 @@ class Dialog(Module):
                 return etree.Element("THAT_ONE", side=str(obj.get("side")))
         return None
 
-    async def _clarify(self, options: list[tuple[int, str]], timeout: float, cause: str) -> etree._Element:
+    async def _clarify(self, options: list[tuple[int, str]], timeout: float, cause: str, *,
+                       again: bool = False) -> etree._Element:
         """Ask the partner which option they mean (the clarify sub-dialog): ``<answer index/>``, or
-        ``<answer none="true"/>`` with what the asker can still use (:func:`unchosen_answer`)."""
+        ``<answer none="true"/>`` with what the asker can still use (:func:`unchosen_answer`).
+        ``again``: the same question put once more by its asker; the new sub-dialog starts with the
+        last one's count of askings, so a which-one question is put at most twice in all, whichever
+        path (the asker's second putting, the dialog's "say that again") asks again."""
         said = self._said_which()
         if said is not None:
             picked = choose(options, said, self._facing_now())
@@ -1129,14 +1151,16 @@ class Dialog(Module):
                 fut.set_result(inst)
 
         phrase = options_phrase(self.doc, [t for _, t in options])
-        inst, outs = self.manager.start("clarify", {"options": phrase} if phrase else {}, on_end=ended)
+        prior, self._clarify_asked = self._clarify_asked if again else None, None
+        inst, outs = self.manager.start("clarify", {"options": phrase} if phrase else {}, on_end=ended, asked=prior)
         if inst is None:
             return etree.Element("answer", none="true")
-        self._asking = options
+        self._asking, self._asking_inst = options, inst
         try:
             return await self._clarified(inst, fut, options, timeout, cause, outs)
         finally:
-            self._asking = None
+            self._asking = self._asking_inst = None
+            self._clarify_asked = dict(inst.asked)  # (a few questions: what the next putting "again" goes on from)
 
     async def _clarified(self, inst: Instance, fut: asyncio.Future[Instance], options: list[tuple[int, str]],
                          timeout: float, cause: str, outs: list[Any]) -> etree._Element:

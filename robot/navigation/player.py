@@ -610,8 +610,11 @@ class Player(Module):
         if limits is not arc_limits and (not cmd.ok or abs(cmd.w) < 1e-3):
             # no room to turn on the spot (a wall or a jamb at its back: it stood just outside a door it had
             # backed out of, open_island_goto seeds 0, 3, 7, blocked for a minute with the way free): arc
-            # round to the leg as the window allows, every rule of driving kept
-            cmd = dwa(self.odo.v, self.odo.w, local, points, arc_limits, v_pref=max(v_pref, SOCIAL_SPEED),
+            # round to the leg as the window allows, every rule of driving kept: it prefers to move (the
+            # leg's heading alone prefers standing), at most at the speed it can stop from round a blind
+            # corner (a jamb at its back is where they are), which here is a hard limit too (review14 F2)
+            arc_limits = replace(arc_limits, max_speed=min(arc_limits.max_speed, blind))
+            cmd = dwa(self.odo.v, self.odo.w, local, points, arc_limits, v_pref=max(v_pref, min(SOCIAL_SPEED, blind)),
                       params=self._goto_params, people=people)
         if abs(cmd.v) < 0.02 and squeezable and limits.max_speed > 0.0 and standing_beside(moving):
             # no arc on past someone standing beside the way at the full gap: pass them slowly at SQUEEZE_GAP

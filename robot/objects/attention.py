@@ -890,9 +890,9 @@ class ObjectAttention(Module):
         depth = along_ray(cands, first)
         if depth is not None:  # one behind the other along her arm: asked from the front one back
             cands = [cands[i] for i in depth]
-        for _ in range(MAX_ASKINGS):
+        for n in range(MAX_ASKINGS):
             asked = self.now
-            answer = await self._put(cands, wanted, pose, cause, first)
+            answer = await self._put(cands, wanted, pose, cause, first, again=n > 0)
             if answer is None:
                 return None
             chosen = await self._chosen(answer, cands, wanted, pose, asked, first)
@@ -903,10 +903,14 @@ class ObjectAttention(Module):
         return None
 
     async def _put(self, cands: list[Candidate], wanted: Wanted, pose: tuple[float, float, float], cause: str,
-                   first: Pointing | None) -> etree._Element | None:
-        """Put the question once (:meth:`_ask`): the dialog's ``ANSWER``, or None when none came in time."""
+                   first: Pointing | None, again: bool = False) -> etree._Element | None:
+        """Put the question once (:meth:`_ask`): the dialog's ``ANSWER``, or None when none came in time.
+        ``again``: the second putting (``OPTIONS again="true"``): the dialog counts it with the first's
+        askings, so its own re-ask never makes it a third."""
         texts = option_texts(cands, wanted, pose, first)
         opts = etree.Element("OPTIONS", timeout=f"{self.ask_timeout:g}")
+        if again:
+            opts.set("again", "true")
         for i, t in enumerate(texts):
             etree.SubElement(opts, "option", index=str(i), text=t)
         ev = etree.Element("event", name="clarification")
