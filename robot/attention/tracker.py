@@ -200,6 +200,7 @@ class Tracks:
         self._t: float | None = None
         self._model: tuple[float, float, float, float] | None = None  # dt, q a, q b, q c of the last predict
         self._together: dict[tuple[int, int], float] = {}  # (older id, younger id) of confirmed tracks this close, since
+        self._heir_of: dict[int, int] = {}  # the last step's twins: younger id -> the older id that keeps the person
         self.confirmed_now: list[int] = []  # ids of the tracks the last step confirmed
 
     def __len__(self) -> int:
@@ -315,6 +316,18 @@ class Tracks:
         keep: list[Track] = []
         row_of: list[int] = []
         twins = self._twins(t)
+        heirs: dict[int, int] = {}  # row of a twin dropped -> row of the older track that took over its legs
+        if twins:
+            rows = {tk.id: i for i, tk in enumerate(tracks)}
+            for young, old in self._heir_of.items():
+                ty, to = tracks[rows[young]], tracks[rows[old]]
+                if t - to.last_update > spec.tentative_gap + 1e-9 >= t - ty.last_update:
+                    # the older had lost the legs to the younger: it takes them over where they are now
+                    heirs[rows[young]] = rows[old]
+                    to.x, to.P, to.last_z = list(ty.x), list(ty.P), ty.last_z
+                    to.last_update, to.last_legs = ty.last_update, max(to.last_legs, ty.last_legs)
+                    if ty.last_strong > to.last_strong:
+                        to.last_strong, to.blind_strong = ty.last_strong, ty.blind_strong
         for tk in tracks:
             crowded = tk.id in twins or not tk.confirmed and any((tk.x[0] - ax) ** 2 + (tk.x[1] - ay) ** 2 < clear2 for ax, ay in anchors)
             if not tk.confirmed and not crowded and tk.hits >= spec.confirm_hits and t - tk.born <= window:
@@ -333,7 +346,7 @@ class Tracks:
             if not dead:
                 keep.append(tk)
         if len(keep) < len(tracks):
-            assigned = [row_of[a] if a >= 0 else -1 for a in assigned]
+            assigned = [row_of[heirs.get(a, a)] if a >= 0 else -1 for a in assigned]
             self.tracks = tracks = keep
         # Birth: every unassigned pair or blob starts a tentative track, unless it lies within
         # ``birth_clearance`` of a confirmed track: two people close together give pairs made of
@@ -362,22 +375,49 @@ class Tracks:
 
     def _twins(self, t: float) -> set[int]:
         """Ids of confirmed tracks that have followed an older confirmed track closer than
-        ``merge_distance`` for ``merge_time`` s, both measured all the while: one person tracked twice (a second track born on
+        ``merge_distance`` for ``merge_time`` s: one person tracked twice (a second track born on
         her legs while the first coasted elsewhere, then converged). No two people's centres come
         that close (their bodies are in the way), and a crossing lets them part within a second;
-        the older track keeps the person (it is the one the attention knows)."""
+        the older track keeps the person (it is the one the attention knows; :attr:`_heir_of` maps
+        each younger id to it).
+
+        Both must be there all the while: measured just now (a track coasting unseen over someone
+        else's position is not a twin), or one measured and the other :meth:`_held_there`: kept by
+        anchored evidence (her torso, face) without legs, last measured where the other now
+        measures someone. That is a person whose legs another track took: fresh3/open_cross_child
+        seed 4, the running child's track, coasting, came out on Mia and took her legs; her partner
+        track, still held by her torso and face 0.1 m off, never got a leg again and never merged
+        (counted a false positive for the rest of the run)."""
         spec = self.spec
-        # both measured just now: a track coasting unseen over someone else's position is not a twin
-        conf = [tk for tk in self.tracks if tk.confirmed and t - tk.last_update <= spec.tentative_gap + 1e-9]
+        gap = spec.tentative_gap + 1e-9
         d2 = spec.merge_distance**2
+        conf = [tk for tk in self.tracks if tk.confirmed]
+        measured = [t - tk.last_update <= gap for tk in conf]
         together: dict[tuple[int, int], float] = {}
+        heir: dict[int, int] = {}
         for a, ta in enumerate(conf):
-            for tb in conf[a + 1 :]:
-                if (ta.x[0] - tb.x[0]) ** 2 + (ta.x[1] - tb.x[1]) ** 2 < d2:
-                    key = (ta.id, tb.id) if ta.id < tb.id else (tb.id, ta.id)
-                    together[key] = self._together.get(key, t)
+            for b in range(a + 1, len(conf)):
+                tb = conf[b]
+                if (ta.x[0] - tb.x[0]) ** 2 + (ta.x[1] - tb.x[1]) ** 2 >= d2:
+                    continue
+                if not (measured[a] and measured[b] or measured[a] and self._held_there(tb, ta, t)
+                        or measured[b] and self._held_there(ta, tb, t)):
+                    continue
+                key = (ta.id, tb.id) if ta.id < tb.id else (tb.id, ta.id)
+                together[key] = self._together.get(key, t)
+                if t - together[key] >= spec.merge_time - 1e-9:
+                    heir[key[1]] = key[0]
         self._together = together  # only pairs close now: bounded by the tracks alive
-        return {young for (_, young), since in together.items() if t - since >= spec.merge_time - 1e-9}
+        self._heir_of = heir
+        return set(heir)
+
+    def _held_there(self, tk: Track, other: Track, t: float) -> bool:
+        """Whether ``tk``, not measured now, is held by anchored evidence (:meth:`support`, :meth:`seen`)
+        just now and was last measured within ``merge_distance`` of where ``other`` is measured now."""
+        spec = self.spec
+        lx, ly = tk.last_z
+        return (not tk.dormant and t - tk.last_seen <= spec.tentative_gap + 1e-9
+                and (lx - other.x[0]) ** 2 + (ly - other.x[1]) ** 2 < spec.merge_distance**2)
 
     def _birth_one(self, t: float, zx: float, zy: float, r: float, legs: bool = True) -> None:
         v = self.spec.init_speed_std**2
