@@ -44,7 +44,8 @@ person standing still whose legs do not associate for a while is still
 there while the camera sees them; its
 prediction coasts through occlusions and crossings meanwhile, with its
 velocity damped so it does not run away). Two confirmed tracks closer than ``merge_distance``
-for ``merge_time`` seconds are one person tracked twice: the younger is dropped (:meth:`Tracks._twins`).
+for ``merge_time`` seconds (both measured, or one measured and the other held by torso or face where it last had
+the legs the first now measures) are one person tracked twice: the younger is dropped (:meth:`Tracks._twins`).
 """
 
 from __future__ import annotations
