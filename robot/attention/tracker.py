@@ -34,7 +34,8 @@ the laser cannot see (``FACE``: a person behind a coffee table; their spread is 
 single legs (the other hidden, or a table leg) feed tracks but never start
 or confirm one, and alone (with frontal faces, :meth:`Tracks.support`) keep one for at most
 ``single_support`` seconds after a pair or blob last fed it, so a track that
-lost its person does not live on a table leg. Birth: a tentative track per unassigned
+lost its person does not live on a table leg (time in which the laser could not see the rest of the
+person, a lone leg beside someone in front, does not count, up to ``hidden_timeout``). Birth: a tentative track per unassigned
 pair/blob, confirmed after ``confirm_hits`` pair/blob hits within
 ``confirm_window`` seconds (repeated evidence; a far person's legs pair only
 now and then); a tentative track unseen for ``tentative_gap`` is dropped; a
@@ -309,6 +310,14 @@ class Tracks:
                     tk = tracks[i]
                     tk.blind_seen += dt
                     tk.blind_strong += dt
+                elif h and tracks[i].last_strong < t:
+                    # half hidden: only a lone leg showed beside whatever hides the rest (a person in
+                    # front): the other leg is no more missing than a hidden person is, so the
+                    # single-leg allowance does not run (up to ``hidden_timeout``). A bystander standing
+                    # half behind the partner lost his track after ``single_support``; no track may be
+                    # born within ``birth_clearance`` of hers, so he stayed untracked when she walked off,
+                    # and pairs of one leg of each pulled her track onto him (she was not heard again).
+                    tracks[i].blind_strong += dt
         # Confirmation on repeated evidence; a tentative track that missed this scan is dropped, and
         # so is one that came within ``birth_clearance`` of a confirmed track (the same person twice).
         window = spec.confirm_window + 1e-9
@@ -341,6 +350,7 @@ class Tracks:
                 or unseen > spec.hidden_timeout
                 # a table leg must not keep a track forever
                 or t - tk.last_strong - tk.blind_strong > spec.single_support
+                or t - tk.last_strong > spec.hidden_timeout
             )
             tk.dormant = unseen > spec.death_timeout
             row_of.append(-1 if dead else len(keep))
