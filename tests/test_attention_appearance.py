@@ -123,3 +123,55 @@ def test_a_colour_not_seen_again_for_a_while_is_no_evidence(last, later):
     fresh = later <= c.spec.fresh
     assert (c.colour(3, last + later) is not None) == fresh
     assert same_clothes(c.colour(3, last + later), (0.95, 0.85, 0.1)) == (not fresh)  # stale: could be anyone
+
+
+@settings(max_examples=100, deadline=None)
+@given(gap=st.floats(0.0, 0.24), back=st.floats(0.0, 0.5), steps=st.integers(1, 30))
+def test_a_track_held_by_her_torso_where_another_track_took_her_legs_is_one_person_with_it(gap, back, steps):
+    """Her partner track, its legs taken by another track (a child's run coasted onto her), is kept by her
+    torso without legs beside it: the two are one person after ``merge_time``, and the older keeps her."""
+    from robot.attention.tracker import TrackerSpec
+
+    spec = TrackerSpec()
+    assume(abs(gap + back - spec.merge_distance) > 1e-6)  # (not on the rounding edge)
+    tr = _confirmed_tracks([(2.0, 0.0), (2.0 + gap, 0.0)])
+    tr.tracks[0].last_z = (2.0 - back, 0.0)  # last measured there, then coasted on
+    twins: set[int] = set()
+    for k in range(steps + 1):
+        tr.tracks[1].last_update = 0.1 * k  # the younger has the legs
+        tr.support([0], 0.1 * k)  # the older only her torso
+        twins = tr._twins(0.1 * k)
+    merged = gap + back < spec.merge_distance and 0.1 * steps >= spec.merge_time - 1e-9
+    assert twins == ({2} if merged else set())
+    assert tr._heir_of == ({2: 1} if merged else {})
+
+
+def test_the_older_track_takes_over_the_legs_of_its_twin_and_keeps_its_id():
+    from robot.attention.legs import PAIR
+    from robot.attention.tracker import TrackerSpec
+
+    spec = TrackerSpec()
+    tr = _confirmed_tracks([(2.1, 0.0), (2.0, 0.05)])
+    old, young = tr.tracks
+    old.P = [0.5, 0, 0, 0, 0.5, 0, 0, 0.5, 0, 0.5]  # long without legs
+    old.last_z = (2.05, 0.0)
+    t = 0.0
+    for k in range(int(spec.merge_time / 0.1) + 3):
+        t = 0.1 * k
+        tr.support([tr.row(1)], t)
+        assigned = tr.step(t, [[2.0, 0.05]], [PAIR])
+    assert [tk.id for tk in tr.tracks] == [1]
+    assert assigned == [0]  # her legs now feed the older track
+    assert abs(tr.tracks[0].x[0] - 2.0) < 0.05 and abs(tr.tracks[0].x[1] - 0.05) < 0.05
+    assert t - tr.tracks[0].last_update < 1e-9
+
+
+def test_a_track_held_by_a_torso_far_from_where_it_last_had_legs_is_no_ones_twin():
+    """A partner track that coasted (unseen) onto someone else and is held there by that person's torso at
+    its bearing: not merged with that person's track, whatever the time."""
+    tr = _confirmed_tracks([(2.0, 0.0), (2.05, 0.0)])
+    tr.tracks[0].last_z = (1.0, 0.0)  # last had legs a metre away
+    for k in range(40):
+        tr.tracks[1].last_update = 0.1 * k
+        tr.support([0], 0.1 * k)
+        assert tr._twins(0.1 * k) == set()

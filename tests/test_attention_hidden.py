@@ -239,3 +239,28 @@ def test_walked_past_a_hidden_flatmate_the_partner_is_still_heard():
         said = [u.text for u in run.world.sound.all() if u.source == "robot"]
         run.finish()
     assert any("stopped" in t.lower() for t in said), said
+
+
+def test_a_half_hidden_persons_track_lives_on_one_leg_while_someone_stands_in_front():
+    """A bystander half behind the partner shows one leg: while the laser cannot see the rest of him his
+    track is not dropped after ``single_support`` (no track may start again beside hers); a lone leg in
+    plain view (a table's) still holds a track only ``single_support`` s."""
+    from robot.attention.legs import PAIR, SINGLE
+    from robot.attention.tracker import Tracks, TrackerSpec
+
+    spec = TrackerSpec()
+    for half_hidden in (True, False):
+        tr = Tracks(spec)
+        t = 0.0
+        for k in range(6):  # a pair: born and confirmed
+            t = 0.1 * k
+            tr.step(t, [[2.3, -0.3]], [PAIR])
+        assert tr.tracks and tr.tracks[0].confirmed
+        while t < spec.single_support + 4.0:
+            t += 0.1
+            tr.step(t, [[2.32, -0.25]], [SINGLE], hidden=lambda pts: [half_hidden] * len(pts))
+        assert (len(tr.tracks) == 1) is half_hidden
+    while t < spec.hidden_timeout + 1.0:  # but not for ever: at most ``hidden_timeout`` after its last pair
+        t += 0.1
+        tr.step(t, [[2.32, -0.25]], [SINGLE], hidden=lambda pts: [True] * len(pts))
+    assert not tr.tracks

@@ -34,7 +34,8 @@ the laser cannot see (``FACE``: a person behind a coffee table; their spread is 
 single legs (the other hidden, or a table leg) feed tracks but never start
 or confirm one, and alone (with frontal faces, :meth:`Tracks.support`) keep one for at most
 ``single_support`` seconds after a pair or blob last fed it, so a track that
-lost its person does not live on a table leg. Birth: a tentative track per unassigned
+lost its person does not live on a table leg (time in which the laser could not see the rest of the
+person, a lone leg beside someone in front, does not count, up to ``hidden_timeout``). Birth: a tentative track per unassigned
 pair/blob, confirmed after ``confirm_hits`` pair/blob hits within
 ``confirm_window`` seconds (repeated evidence; a far person's legs pair only
 now and then); a tentative track unseen for ``tentative_gap`` is dropped; a
@@ -44,7 +45,8 @@ person standing still whose legs do not associate for a while is still
 there while the camera sees them; its
 prediction coasts through occlusions and crossings meanwhile, with its
 velocity damped so it does not run away). Two confirmed tracks closer than ``merge_distance``
-for ``merge_time`` seconds are one person tracked twice: the younger is dropped (:meth:`Tracks._twins`).
+for ``merge_time`` seconds (both measured, or one measured and the other held by torso or face where it last had
+the legs the first now measures) are one person tracked twice: the younger is dropped (:meth:`Tracks._twins`).
 """
 
 from __future__ import annotations
@@ -200,6 +202,7 @@ class Tracks:
         self._t: float | None = None
         self._model: tuple[float, float, float, float] | None = None  # dt, q a, q b, q c of the last predict
         self._together: dict[tuple[int, int], float] = {}  # (older id, younger id) of confirmed tracks this close, since
+        self._heir_of: dict[int, int] = {}  # the last step's twins: younger id -> the older id that keeps the person
         self.confirmed_now: list[int] = []  # ids of the tracks the last step confirmed
 
     def __len__(self) -> int:
@@ -307,6 +310,14 @@ class Tracks:
                     tk = tracks[i]
                     tk.blind_seen += dt
                     tk.blind_strong += dt
+                elif h and tracks[i].last_strong < t:
+                    # half hidden: only a lone leg showed beside whatever hides the rest (a person in
+                    # front): the other leg is no more missing than a hidden person is, so the
+                    # single-leg allowance does not run (up to ``hidden_timeout``). A bystander standing
+                    # half behind the partner lost his track after ``single_support``; no track may be
+                    # born within ``birth_clearance`` of hers, so he stayed untracked when she walked off,
+                    # and pairs of one leg of each pulled her track onto him (she was not heard again).
+                    tracks[i].blind_strong += dt
         # Confirmation on repeated evidence; a tentative track that missed this scan is dropped, and
         # so is one that came within ``birth_clearance`` of a confirmed track (the same person twice).
         window = spec.confirm_window + 1e-9
@@ -315,6 +326,18 @@ class Tracks:
         keep: list[Track] = []
         row_of: list[int] = []
         twins = self._twins(t)
+        heirs: dict[int, int] = {}  # row of a twin dropped -> row of the older track that took over its legs
+        if twins:
+            rows = {tk.id: i for i, tk in enumerate(tracks)}
+            for young, old in self._heir_of.items():
+                ty, to = tracks[rows[young]], tracks[rows[old]]
+                if t - to.last_update > spec.tentative_gap + 1e-9 >= t - ty.last_update:
+                    # the older had lost the legs to the younger: it takes them over where they are now
+                    heirs[rows[young]] = rows[old]
+                    to.x, to.P, to.last_z = list(ty.x), list(ty.P), ty.last_z
+                    to.last_update, to.last_legs = ty.last_update, max(to.last_legs, ty.last_legs)
+                    if ty.last_strong > to.last_strong:
+                        to.last_strong, to.blind_strong = ty.last_strong, ty.blind_strong
         for tk in tracks:
             crowded = tk.id in twins or not tk.confirmed and any((tk.x[0] - ax) ** 2 + (tk.x[1] - ay) ** 2 < clear2 for ax, ay in anchors)
             if not tk.confirmed and not crowded and tk.hits >= spec.confirm_hits and t - tk.born <= window:
@@ -327,13 +350,14 @@ class Tracks:
                 or unseen > spec.hidden_timeout
                 # a table leg must not keep a track forever
                 or t - tk.last_strong - tk.blind_strong > spec.single_support
+                or t - tk.last_strong > spec.hidden_timeout
             )
             tk.dormant = unseen > spec.death_timeout
             row_of.append(-1 if dead else len(keep))
             if not dead:
                 keep.append(tk)
         if len(keep) < len(tracks):
-            assigned = [row_of[a] if a >= 0 else -1 for a in assigned]
+            assigned = [row_of[heirs.get(a, a)] if a >= 0 else -1 for a in assigned]
             self.tracks = tracks = keep
         # Birth: every unassigned pair or blob starts a tentative track, unless it lies within
         # ``birth_clearance`` of a confirmed track: two people close together give pairs made of
@@ -362,22 +386,49 @@ class Tracks:
 
     def _twins(self, t: float) -> set[int]:
         """Ids of confirmed tracks that have followed an older confirmed track closer than
-        ``merge_distance`` for ``merge_time`` s, both measured all the while: one person tracked twice (a second track born on
+        ``merge_distance`` for ``merge_time`` s: one person tracked twice (a second track born on
         her legs while the first coasted elsewhere, then converged). No two people's centres come
         that close (their bodies are in the way), and a crossing lets them part within a second;
-        the older track keeps the person (it is the one the attention knows)."""
+        the older track keeps the person (it is the one the attention knows; :attr:`_heir_of` maps
+        each younger id to it).
+
+        Both must be there all the while: measured just now (a track coasting unseen over someone
+        else's position is not a twin), or one measured and the other :meth:`_held_there`: kept by
+        anchored evidence (her torso, face) without legs, last measured where the other now
+        measures someone. That is a person whose legs another track took: fresh3/open_cross_child
+        seed 4, the running child's track, coasting, came out on Mia and took her legs; her partner
+        track, still held by her torso and face 0.1 m off, never got a leg again and never merged
+        (counted a false positive for the rest of the run)."""
         spec = self.spec
-        # both measured just now: a track coasting unseen over someone else's position is not a twin
-        conf = [tk for tk in self.tracks if tk.confirmed and t - tk.last_update <= spec.tentative_gap + 1e-9]
+        gap = spec.tentative_gap + 1e-9
         d2 = spec.merge_distance**2
+        conf = [tk for tk in self.tracks if tk.confirmed]
+        measured = [t - tk.last_update <= gap for tk in conf]
         together: dict[tuple[int, int], float] = {}
+        heir: dict[int, int] = {}
         for a, ta in enumerate(conf):
-            for tb in conf[a + 1 :]:
-                if (ta.x[0] - tb.x[0]) ** 2 + (ta.x[1] - tb.x[1]) ** 2 < d2:
-                    key = (ta.id, tb.id) if ta.id < tb.id else (tb.id, ta.id)
-                    together[key] = self._together.get(key, t)
+            for b in range(a + 1, len(conf)):
+                tb = conf[b]
+                if (ta.x[0] - tb.x[0]) ** 2 + (ta.x[1] - tb.x[1]) ** 2 >= d2:
+                    continue
+                if not (measured[a] and measured[b] or measured[a] and self._held_there(tb, ta, t)
+                        or measured[b] and self._held_there(ta, tb, t)):
+                    continue
+                key = (ta.id, tb.id) if ta.id < tb.id else (tb.id, ta.id)
+                together[key] = self._together.get(key, t)
+                if t - together[key] >= spec.merge_time - 1e-9:
+                    heir[key[1]] = key[0]
         self._together = together  # only pairs close now: bounded by the tracks alive
-        return {young for (_, young), since in together.items() if t - since >= spec.merge_time - 1e-9}
+        self._heir_of = heir
+        return set(heir)
+
+    def _held_there(self, tk: Track, other: Track, t: float) -> bool:
+        """Whether ``tk``, not measured now, is held by anchored evidence (:meth:`support`, :meth:`seen`)
+        just now and was last measured within ``merge_distance`` of where ``other`` is measured now."""
+        spec = self.spec
+        lx, ly = tk.last_z
+        return (not tk.dormant and t - tk.last_seen <= spec.tentative_gap + 1e-9
+                and (lx - other.x[0]) ** 2 + (ly - other.x[1]) ** 2 < spec.merge_distance**2)
 
     def _birth_one(self, t: float, zx: float, zy: float, r: float, legs: bool = True) -> None:
         v = self.spec.init_speed_std**2
