@@ -101,6 +101,11 @@ WAIT_GAP = BACK_GAP + 0.05
 #: rad: held by someone standing in the lane of its heading, with the leg further off the heading than
 #: this and the lane toward the leg clear of them, it turns on the spot toward the leg (the way round them)
 WAY_ROUND = math.radians(5)
+#: rad: a leg at most this far off the heading, when the sonar's blind half stops the window's turn on the spot
+#: toward it, is arced onto forwards instead (see control_step), turning no faster than the first of ARC_ON_TURNS
+#: (rad/s) that the guards let pass
+ARC_ON_BEARING = math.radians(60)
+ARC_ON_TURNS = (0.3, 0.1, 0.002)
 #: m, m/s: with someone this near walking toward its centre faster than this, it stands (yields)
 YIELD_NEAR = 1.6
 YIELD_SPEED = 0.15
@@ -623,10 +628,12 @@ class Player(Module):
                           params=self._squeeze_params, people=people)
             if squeeze.ok and squeeze.v > 0.02 and arc_air(squeeze.v, squeeze.w, moving[:, :2], self._squeeze_params) >= SQUEEZE_GAP:
                 cmd = squeeze  # (the whole arc at SQUEEZE_GAP: not the window's "no nearer than now", which turns ratchet down)
+        refused = False  # a turn on the spot the window chose, refused for the people round it (below)
         if cmd.ok and abs(cmd.v) < 0.02 and cmd.w != 0.0 and not turn_clear(cmd.w, people, duration=SWEEP_TIME):
             # the window lets any turn on the spot pass people (nobody comes nearer the centre), but the
             # corners swing out, behind too, where the laser does not look: not into a tracked body
             cmd = Command(0.0, 0.0, False, cmd.clearance)
+            refused = True
         held = False  # someone standing in its lane holds it up (the wait below)
         travel = cmd.v * self.period
         if cmd.ok and cmd.v > 0.0 and self._waits_for(moving, odo, travel):
@@ -690,6 +697,21 @@ class Player(Module):
             self._gave_way = giving_way and (self._backed == 0.0 or self._gave_way)
             self._backed -= v * self.period
         bv, bw = self._guarded(cmd.v, cmd.w, mapped)
+        refused = refused or ((bv, bw) == (0.0, 0.0) and cmd.ok and cmd.w != 0.0 and cmd.v >= 0.0)
+        if refused and not held and not giving_way and self._backed == 0.0 and abs(bearing) <= ARC_ON_BEARING:
+            # the turn (on the spot or an arc) the window chose swings a corner into a tracked person or toward what the
+            # sonar hears in the blind half (the partner standing close beside and behind its side after a
+            # stop: stair_names_snug seeds 0, 2 stood blocked in the utility room until it asked for help): with
+            # the leg no further off than ARC_ON_BEARING, a gentle forward arc toward it takes the robot away
+            # from them; asked of the window with the turn rate held to ARC_ON_TURNS, every rule of driving kept
+            for turn in ARC_ON_TURNS:  # the sharpest arc the guard lets pass (a gentler one swings the rear less)
+                arc = dwa(self.odo.v, self.odo.w, local, points, replace(arc_limits, max_turn=turn),
+                          v_pref=max(v_pref, 0.5 * SOCIAL_SPEED), params=self._goto_params, people=people)
+                if not arc.ok or arc.v <= 0.02 or self._waits_for(moving, odo, arc.v * self.period):
+                    break
+                if self._guarded(arc.v, arc.w, mapped) == (arc.v, arc.w):
+                    cmd, (bv, bw) = arc, (arc.v, arc.w)
+                    break
         if (bv, bw) != (cmd.v, cmd.w):
             cmd = Command(bv, bw, False, cmd.clearance)
         self.bus.publish(BASE_CMD, etree.Element("velocity", v=f"{cmd.v:.4f}", w=f"{cmd.w:.4f}"))
