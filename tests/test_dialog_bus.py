@@ -384,12 +384,12 @@ def test_a_side_said_in_answer_to_the_confirmation_answers_the_which_one_questio
     assert replies and replies[0].xml.get("index") == index
 
 
-def test_a_question_routed_through_the_supervisor_is_asked_and_answered_as_an_event(robot):
-    """The object attention asks through the ES: event clarification -> condition ask -> the dialog asks ->
-    event clarified -> order clarified to the object attention (robot/afsm/biron.scxml, ObjectTeaching)."""
+def _ask_red_or_blue_cup(robot) -> list:
+    """Greeted, an object teaching at 7 s and the object attention's clarification "red cup or blue cup?" at 7.5 s,
+    through the ES; returns the list the object attention's orders are collected in."""
     robot.greet()
     obj = robot.sim.bus.participant("object_attention")
-    orders = []
+    orders: list = []
     obj.subscribe("/robot/es/orders/object_attention", orders.append)
 
     def teach_and_ask() -> None:
@@ -400,6 +400,13 @@ def test_a_question_routed_through_the_supervisor_is_asked_and_answered_as_an_ev
         robot.sim.call_at(7.5, obj.publish, ES_EVENTS, ev)
 
     robot.sim.call_at(7.0, teach_and_ask)
+    return orders
+
+
+def test_a_question_routed_through_the_supervisor_is_asked_and_answered_as_an_event(robot):
+    """The object attention asks through the ES: event clarification -> condition ask -> the dialog asks ->
+    event clarified -> order clarified to the object attention (robot/afsm/biron.scxml, ObjectTeaching)."""
+    orders = _ask_red_or_blue_cup(robot)
     robot.utter("the blue one", 11.0, 11.8)
     robot.sim.run(until=15.0)
     assert "Do you mean the red cup or the blue one?" in robot.sentences()
@@ -410,19 +417,7 @@ def test_a_question_routed_through_the_supervisor_is_asked_and_answered_as_an_ev
 def test_an_answer_that_picks_no_option_says_how_often_the_question_was_put(robot):
     """talk14 (issue 26 item 7): "the one on the sofa" picks neither the red nor the blue cup; the answer goes back
     with ``asked="1"``, so the asker may put the question once more (and never a third time)."""
-    robot.greet()
-    obj = robot.sim.bus.participant("object_attention")
-    orders = []
-    obj.subscribe("/robot/es/orders/object_attention", orders.append)
-
-    def teach_and_ask() -> None:
-        frame = etree.fromstring('<event name="object_teaching"><SPEECH><OBJECT type="cup"/></SPEECH></event>')
-        robot.sim.bus.get("dialog").publish(ES_EVENTS, frame)
-        ev = etree.fromstring('<event name="clarification"><OPTIONS timeout="8"><option index="0" text="red cup"/>'
-                              '<option index="1" text="blue cup"/></OPTIONS></event>')
-        robot.sim.call_at(7.5, obj.publish, ES_EVENTS, ev)
-
-    robot.sim.call_at(7.0, teach_and_ask)
+    orders = _ask_red_or_blue_cup(robot)
     robot.utter("the one on the sofa", 11.0, 12.0)
     robot.sim.run(until=16.0)
     answers = [o for o in orders if o.xml.get("name") == "clarified"]
