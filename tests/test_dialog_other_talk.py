@@ -124,6 +124,51 @@ def test_a_question_met_by_silence_is_put_once_more_then_left():
     assert _says(m.on_silence(*q)) == []  # nothing open any more: silence is no question
 
 
+def _unheard() -> etree._Element:
+    return etree.fromstring('<not_understood confidence="0.2"/>')
+
+
+def test_a_request_to_repeat_met_by_silence_is_put_once_more_then_left():
+    # the reviewer's F4 (lang_silence seeds 10, 11): "Can you go" not understood, "Could you say that again?",
+    # and she says nothing: the robot's most frequent question follows the same rule as a sub-dialog's
+    m = DialogManager(DOC)
+    m.es_state = "Interacting"
+    first = _says(m.on_frame(_unheard()))
+    assert first == [DOC.not_understood]
+    q = m.open_question()
+    assert q is not None and q[1] == DOC.not_understood
+    assert _says(m.on_silence(*q)) == [DOC.not_understood]  # once more
+    assert m.open_question() == q
+    last = _says(m.on_silence(*q))
+    assert last and DOC.not_understood not in last  # "Sorry, let us leave that for now."
+    assert m.open_question() is None
+    assert _says(m.on_silence(*q)) == []
+    # not understood twice in a row: the request was put twice already, silence then leaves it (no third)
+    m = DialogManager(DOC)
+    m.es_state = "Interacting"
+    m.on_frame(_unheard())
+    m.on_frame(_unheard())
+    q = m.open_question()
+    assert q is not None
+    last = _says(m.on_silence(*q))
+    assert last and DOC.not_understood not in last and m.open_question() is None
+
+
+def test_silence_after_a_request_to_repeat_answered_changes_nothing():
+    m = DialogManager(DOC)
+    m.es_state = "Interacting"
+    m.on_frame(_unheard())
+    q = m.open_question()
+    m.on_frame(_frame("follow me"))
+    assert m.open_question() != q
+    assert _says(m.on_silence(*q)) == []
+    m.on_frame(_unheard())
+    q2 = m.open_question()
+    m.on_frame(_unheard())  # said again, not understood again: a new request, the old watch is void
+    assert m.open_question() != q2
+    assert _says(m.on_silence(*q2)) == []
+
+
 def test_silence_after_a_question_already_answered_changes_nothing():
     m = DialogManager(DOC)
     m.es_state = "Interacting"
