@@ -169,6 +169,31 @@ def test_silence_after_a_request_to_repeat_answered_changes_nothing():
     assert _says(m.on_silence(*q2)) == []
 
 
+def test_words_to_someone_else_are_no_answer_to_the_robots_question():
+    # the reviewer's F5: words not meant for the robot (a call to someone else, a television's) do not keep
+    # the partner's silence after "Where shall I go?" from being met: the question is still put once more
+    from types import SimpleNamespace
+
+    d = _dialog([], other_talk_end=-math.inf)
+    d.sim = SimpleNamespace(now=12.0)
+    d.bus = SimpleNamespace(closed=False, hung=False)
+    d._talking, d._queue = False, deque()
+    d._heard_at, d._voice_at = -math.inf, -math.inf
+    d.not_addressed = 0
+    said: list[str] = []
+    d._emit = lambda outs, cause: said.extend(_says(outs))
+    d.manager.on_frame(_frame("can you go"))
+    q = d.manager.open_question()
+    assert q is not None
+    other = etree.fromstring('<not_understood start="11.0" end="12.0" confidence="0.8" addressee="other">'
+                             'tom can you put the kettle on</not_understood>')
+    d._on_frame(SimpleNamespace(xml=other, id="u#1"))
+    assert d.not_addressed == 1
+    d.sim.now = 20.5
+    d._on_silence(q, 10.0, "speaker#1")
+    assert said == ["Where shall I go?"]
+
+
 def test_silence_after_a_question_already_answered_changes_nothing():
     m = DialogManager(DOC)
     m.es_state = "Interacting"

@@ -380,7 +380,7 @@ class Dialog(Module):
     #: when words said to someone else (or going on that talk) last ended; when a partner report last had
     #: her facing the robot (the addressee rule's :meth:`_talking_to_another`; set per instance as they come)
     _other_talk_end = -math.inf
-    _heard_at = -math.inf  # when a frame (understood or not) last came: a question was not met by silence
+    _heard_at = -math.inf  # when a frame meant for the robot (understood or not) last came: no silence
     _faced_at = -math.inf
     #: (act, start) of the last words dropped as not addressed (the repeat rule, :data:`REPEAT_WINDOW`)
     _unanswered: tuple[str, float] | None = None
@@ -610,7 +610,6 @@ class Dialog(Module):
     # ------------------------------------------------------------------ inputs
     def _on_frame(self, msg: Message) -> None:
         x = msg.xml
-        self._heard_at = self.now  # anything heard: no silence after a question (_on_silence)
         if self.manager.es_state in DRIVING_STATES and (x.find("SPEECH/STOP") is not None or x.find("SPEECH/WAIT") is not None):
             self._on_addressed(msg)  # anyone may stop a robot that drives on its own (safety): never dropped
             return
@@ -644,6 +643,10 @@ class Dialog(Module):
         self._on_addressed(msg)
 
     def _on_addressed(self, msg: Message) -> None:
+        # words taken as meant for the robot: no silence after a question (_on_silence). Not words to
+        # someone else or a television's (the reviewer's F5: they kept a question ignored by the partner
+        # from ever being put again or left)
+        self._heard_at = self.now
         if self.now - self._approach_seen < APPROACH_FRESH or self._releasing:
             if len(self._held) >= HELD_MAX:  # bounded: the oldest goes now, none is lost
                 self._handle_frame(self._held.popleft())
