@@ -194,6 +194,31 @@ def test_words_to_someone_else_are_no_answer_to_the_robots_question():
     assert said == ["Where shall I go?"]
 
 
+def test_a_question_put_again_is_left_only_after_silence_following_the_second_putting():
+    # a watch set by an earlier sentence must not leave the question less than ask_timeout after it was put again
+    from types import SimpleNamespace
+
+    d = _dialog([], other_talk_end=-math.inf)
+    timers: list[tuple] = []
+    d.sim = SimpleNamespace(now=10.0, loop=SimpleNamespace(call_at_ns=lambda ns, f, *a: timers.append((ns, f, a))))
+    d.ask_timeout = 10.0
+    d.bus = SimpleNamespace(closed=False, hung=False)
+    d._talking, d._queue = False, deque()
+    d._heard_at, d._voice_at = -math.inf, -math.inf
+    said: list[str] = []
+    d._emit = lambda outs, cause: said.extend(_says(outs))
+    d.manager.on_frame(_frame("can you go"))
+    d._watch_silence("speaker#1")  # "Where shall I go?" said, done at 10 s
+    d.sim.now = 12.0
+    d._watch_silence("speaker#2")  # another sentence done at 12 s while the question is open
+    d.sim.now = 20.0
+    timers[0][1](*timers[0][2])  # the first watch (10 s + 10 s) gives way to the newer one
+    assert said == []
+    d.sim.now = 22.0
+    timers[1][1](*timers[1][2])
+    assert said == ["Where shall I go?"]
+
+
 def test_silence_after_a_question_already_answered_changes_nothing():
     m = DialogManager(DOC)
     m.es_state = "Interacting"

@@ -381,6 +381,7 @@ class Dialog(Module):
     #: her facing the robot (the addressee rule's :meth:`_talking_to_another`; set per instance as they come)
     _other_talk_end = -math.inf
     _heard_at = -math.inf  # when a frame meant for the robot (understood or not) last came: no silence
+    _silence_due = -math.inf  # when the newest silence watch was set: an older one gives way to it
     _faced_at = -math.inf
     #: (act, start) of the last words dropped as not addressed (the repeat rule, :data:`REPEAT_WINDOW`)
     _unanswered: tuple[str, float] | None = None
@@ -867,12 +868,14 @@ class Dialog(Module):
         q = self.manager.open_question()
         if q is None:
             return
-        said_at = self.now
+        said_at = self._silence_due = self.now
         self.sim.loop.call_at_ns(to_ns(said_at + self.ask_timeout), self._on_silence, q, said_at, cause)
 
     def _on_silence(self, q: tuple[int, str], said_at: float, cause: str) -> None:
         if self.bus.closed or self.bus.hung or self._talking or self._queue:
             return
+        if said_at < self._silence_due:
+            return  # the robot said more since (the question again): 10 s count from its newest sentence
         if self._heard_at >= said_at or self._voice_at >= said_at or self.manager.open_question() != q:
             return  # she answered, spoke, or the talk went on
         self._emit(self.manager.on_silence(*q), cause)
