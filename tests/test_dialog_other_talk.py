@@ -124,6 +124,101 @@ def test_a_question_met_by_silence_is_put_once_more_then_left():
     assert _says(m.on_silence(*q)) == []  # nothing open any more: silence is no question
 
 
+def _unheard() -> etree._Element:
+    return etree.fromstring('<not_understood confidence="0.2"/>')
+
+
+def test_a_request_to_repeat_met_by_silence_is_put_once_more_then_left():
+    # the reviewer's F4 (lang_silence seeds 10, 11): "Can you go" not understood, "Could you say that again?",
+    # and she says nothing: the robot's most frequent question follows the same rule as a sub-dialog's
+    m = DialogManager(DOC)
+    m.es_state = "Interacting"
+    first = _says(m.on_frame(_unheard()))
+    assert first == [DOC.not_understood]
+    q = m.open_question()
+    assert q is not None and q[1] == DOC.not_understood
+    assert _says(m.on_silence(*q)) == [DOC.not_understood]  # once more
+    assert m.open_question() == q
+    last = _says(m.on_silence(*q))
+    assert last and DOC.not_understood not in last  # "Sorry, let us leave that for now."
+    assert m.open_question() is None
+    assert _says(m.on_silence(*q)) == []
+    # not understood twice in a row: the request was put twice already, silence then leaves it (no third)
+    m = DialogManager(DOC)
+    m.es_state = "Interacting"
+    m.on_frame(_unheard())
+    m.on_frame(_unheard())
+    q = m.open_question()
+    assert q is not None
+    last = _says(m.on_silence(*q))
+    assert last and DOC.not_understood not in last and m.open_question() is None
+
+
+def test_silence_after_a_request_to_repeat_answered_changes_nothing():
+    m = DialogManager(DOC)
+    m.es_state = "Interacting"
+    m.on_frame(_unheard())
+    q = m.open_question()
+    m.on_frame(_frame("follow me"))
+    assert m.open_question() != q
+    assert _says(m.on_silence(*q)) == []
+    m.on_frame(_unheard())
+    q2 = m.open_question()
+    m.on_frame(_unheard())  # said again, not understood again: a new request, the old watch is void
+    assert m.open_question() != q2
+    assert _says(m.on_silence(*q2)) == []
+
+
+def test_words_to_someone_else_are_no_answer_to_the_robots_question():
+    # the reviewer's F5: words not meant for the robot (a call to someone else, a television's) do not keep
+    # the partner's silence after "Where shall I go?" from being met: the question is still put once more
+    from types import SimpleNamespace
+
+    d = _dialog([], other_talk_end=-math.inf)
+    d.sim = SimpleNamespace(now=12.0)
+    d.bus = SimpleNamespace(closed=False, hung=False)
+    d._talking, d._queue = False, deque()
+    d._heard_at, d._voice_at = -math.inf, -math.inf
+    d.not_addressed = 0
+    said: list[str] = []
+    d._emit = lambda outs, cause: said.extend(_says(outs))
+    d.manager.on_frame(_frame("can you go"))
+    q = d.manager.open_question()
+    assert q is not None
+    other = etree.fromstring('<not_understood start="11.0" end="12.0" confidence="0.8" addressee="other">'
+                             'tom can you put the kettle on</not_understood>')
+    d._on_frame(SimpleNamespace(xml=other, id="u#1"))
+    assert d.not_addressed == 1
+    d.sim.now = 20.5
+    d._on_silence(q, 10.0, "speaker#1")
+    assert said == ["Where shall I go?"]
+
+
+def test_a_question_put_again_is_left_only_after_silence_following_the_second_putting():
+    # a watch set by an earlier sentence must not leave the question less than ask_timeout after it was put again
+    from types import SimpleNamespace
+
+    d = _dialog([], other_talk_end=-math.inf)
+    timers: list[tuple] = []
+    d.sim = SimpleNamespace(now=10.0, loop=SimpleNamespace(call_at_ns=lambda ns, f, *a: timers.append((ns, f, a))))
+    d.ask_timeout = 10.0
+    d.bus = SimpleNamespace(closed=False, hung=False)
+    d._talking, d._queue = False, deque()
+    d._heard_at, d._voice_at = -math.inf, -math.inf
+    said: list[str] = []
+    d._emit = lambda outs, cause: said.extend(_says(outs))
+    d.manager.on_frame(_frame("can you go"))
+    d._watch_silence("speaker#1")  # "Where shall I go?" said, done at 10 s
+    d.sim.now = 12.0
+    d._watch_silence("speaker#2")  # another sentence done at 12 s while the question is open
+    d.sim.now = 20.0
+    timers[0][1](*timers[0][2])  # the first watch (10 s + 10 s) gives way to the newer one
+    assert said == []
+    d.sim.now = 22.0
+    timers[1][1](*timers[1][2])
+    assert said == ["Where shall I go?"]
+
+
 def test_silence_after_a_question_already_answered_changes_nothing():
     m = DialogManager(DOC)
     m.es_state = "Interacting"

@@ -16,6 +16,6 @@ SCENARIOS = Path(__file__).resolve().parent / "scenarios"
 @pytest.mark.parametrize("name", ["lang_names", "lang_everyday", "lang_confirm", "lang_correct", "lang_confirm_always",
                                   "lang_preamble", "lang_room_word", "lang_greet_request", "lang_make_way",
                                   "lang_make_way_behind", "lang_visitor_in_passing", "lang_phone_call", "lang_tv_alone",
-                                  "lang_silence"])
+                                  "lang_silence", "lang_silence_repair"])
 def test_language_scenario_passes(name, capsys):
     assert main(["run", str(SCENARIOS / f"{name}.xml"), "--quiet"]) == 0, capsys.readouterr().out

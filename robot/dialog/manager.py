@@ -180,6 +180,11 @@ class DialogManager:
         self._serial = 0
         self._last_done: tuple[str, dict[str, Any], int] | None = None  # (dialog, values, user turn) of the last success
         self._unheard = 0  # user turns in a row not understood (each answered with "say that again")
+        # the "Could you say that again?" waiting on her (no sub-dialog question open): its number (the
+        # silence watch's key, negative beside the sub-dialogs' serials) and how often it was put in a row
+        self._repair: int | None = None
+        self._repairs_put = 0
+        self._repair_count = 0
         self._hold_resume = False  # a turn that closes one dialog goes on to the next: no resumption speech
         self.metrics: dict[str, Any] = {
             "user_turns": 0, "robot_turns": 0, "not_understood": 0, "reasks": 0, "confirmations": 0,
@@ -297,6 +302,7 @@ class DialogManager:
             conf = self.doc.confirm_below
             self.metrics["taken_after_repairs"] += 1
         self._unheard = 0
+        self._repair, self._repairs_put = None, 0  # understood: the request to repeat is answered
         if msg.get("partial") == "true" and act_el.get("partial") is None:
             # the understanding lost or skipped words: the policy may ask rather than act on what is
             # left ("this is the <lost word>" is no "look at this")
@@ -703,7 +709,11 @@ class DialogManager:
         """(serial, question) of the question the top sub-dialog waits on (None: none, or one the
         sub-dialog times itself: ``clarify``'s answer has the asker's own timeout)."""
         inst = self.top
-        if inst is None or inst.pending is None or inst.d.id == "clarify":
+        if inst is None or inst.pending is None:
+            if self._repair is not None and not any(i.pending is not None for i in self.stack):
+                return -self._repair, self.doc.not_understood  # "Could you say that again?" waits too
+            return None
+        if inst.d.id == "clarify":
             return None
         return inst.serial, inst.pending[2]
 
@@ -712,12 +722,35 @@ class DialogManager:
         it was put twice already, go on without it ("Sorry, let us leave that for now."): never the same
         question a third time, never waiting on it for ever."""
         out: list[Output] = []
+        if serial < 0:
+            return self._repair_met_by_silence(-serial)
         inst = self.top
         if inst is None or inst.serial != serial or inst.pending is None or inst.pending[2] != question:
             return out  # answered, or another question by now
         self.metrics["silence_reasks"] = self.metrics.get("silence_reasks", 0) + 1
         if self._may_ask(inst, question, out):
             self._say(out, question, inst.d.id)
+        return out
+
+    def _repair_met_by_silence(self, repair: int) -> list[Output]:
+        """"Could you say that again?" and nothing heard (the reviewer's F4: the robot's most frequent
+        question): the same rule as for a sub-dialog's question, put once more, and when it was put twice
+        in a row already, go on politely ("Sorry, let us leave that for now."), never a third time."""
+        out: list[Output] = []
+        if repair != self._repair or self.open_question() != (-repair, self.doc.not_understood):
+            return out  # answered, or another question by now
+        if not self.attending():
+            self._repair = None  # nobody to ask any more
+            return out
+        self.metrics["silence_reasks"] = self.metrics.get("silence_reasks", 0) + 1
+        if self._repairs_put < MAX_SAME_QUESTION:
+            self._repairs_put += 1
+            self.metrics["max_same_question"] = max(self.metrics["max_same_question"], self._repairs_put)
+            self._say(out, self.doc.not_understood, "")
+        else:
+            self.metrics["asked_twice_gave_up"] += 1
+            self._repair, self._repairs_put = None, 0
+            self._say(out, self.doc.sentence("give-up"), "")
         return out
 
     def _may_ask(self, inst: Instance, question: str, out: list[Output]) -> bool:
@@ -760,9 +793,15 @@ class DialogManager:
             if help_ and self._unheard > MAX_SAME_QUESTION and self._unheard % (MAX_SAME_QUESTION + 1) == 0:
                 # "Could you say that again?" twice in a row already: not a third time, but what she can say
                 self.metrics["help_given"] = self.metrics.get("help_given", 0) + 1
+                self._repair, self._repairs_put = None, 0  # what she can say: no question to put again
                 self._say(out, help_, "")
                 return out
             self.metrics["reasks"] += 1
+            if self.doc.not_understood:
+                # a request to repeat waits on her like a question (the silence watch, on_silence)
+                self._repair_count += 1
+                self._repair = self._repair_count
+                self._repairs_put += 1
             self._say(out, self.doc.not_understood, "")
         return out
 

@@ -380,7 +380,8 @@ class Dialog(Module):
     #: when words said to someone else (or going on that talk) last ended; when a partner report last had
     #: her facing the robot (the addressee rule's :meth:`_talking_to_another`; set per instance as they come)
     _other_talk_end = -math.inf
-    _heard_at = -math.inf  # when a frame (understood or not) last came: a question was not met by silence
+    _heard_at = -math.inf  # when a frame meant for the robot (understood or not) last came: no silence
+    _silence_due = -math.inf  # when the newest silence watch was set: an older one gives way to it
     _faced_at = -math.inf
     #: (act, start) of the last words dropped as not addressed (the repeat rule, :data:`REPEAT_WINDOW`)
     _unanswered: tuple[str, float] | None = None
@@ -610,7 +611,6 @@ class Dialog(Module):
     # ------------------------------------------------------------------ inputs
     def _on_frame(self, msg: Message) -> None:
         x = msg.xml
-        self._heard_at = self.now  # anything heard: no silence after a question (_on_silence)
         if self.manager.es_state in DRIVING_STATES and (x.find("SPEECH/STOP") is not None or x.find("SPEECH/WAIT") is not None):
             self._on_addressed(msg)  # anyone may stop a robot that drives on its own (safety): never dropped
             return
@@ -644,6 +644,10 @@ class Dialog(Module):
         self._on_addressed(msg)
 
     def _on_addressed(self, msg: Message) -> None:
+        # words taken as meant for the robot: no silence after a question (_on_silence). Not words to
+        # someone else or a television's (the reviewer's F5: they kept a question ignored by the partner
+        # from ever being put again or left)
+        self._heard_at = self.now
         if self.now - self._approach_seen < APPROACH_FRESH or self._releasing:
             if len(self._held) >= HELD_MAX:  # bounded: the oldest goes now, none is lost
                 self._handle_frame(self._held.popleft())
@@ -864,12 +868,14 @@ class Dialog(Module):
         q = self.manager.open_question()
         if q is None:
             return
-        said_at = self.now
+        said_at = self._silence_due = self.now
         self.sim.loop.call_at_ns(to_ns(said_at + self.ask_timeout), self._on_silence, q, said_at, cause)
 
     def _on_silence(self, q: tuple[int, str], said_at: float, cause: str) -> None:
         if self.bus.closed or self.bus.hung or self._talking or self._queue:
             return
+        if said_at < self._silence_due:
+            return  # the robot said more since (the question again): 10 s count from its newest sentence
         if self._heard_at >= said_at or self._voice_at >= said_at or self.manager.open_question() != q:
             return  # she answered, spoke, or the talk went on
         self._emit(self.manager.on_silence(*q), cause)
