@@ -29,8 +29,7 @@ def _heard(p, x: float, y: float) -> None:  # noqa: ANN001
 
 
 @settings(max_examples=25, deadline=None)
-@given(st.floats(0.42, 0.6), st.floats(-0.15, BLIND_X - 0.1 - 0.005), st.floats(math.radians(20), math.radians(55)),
-       st.booleans())
+@given(st.floats(0.42, 0.6), st.floats(-0.15, BLIND_X - 0.1 - 0.005), st.floats(math.radians(20), math.radians(55)), st.booleans())
 def test_someone_close_behind_its_flank_it_arcs_onto_the_leg_away_from_them(side, x, off, left):
     # (the echo spans x +- 0.1: all of it in the blind half. A body far enough off that the guard lets the turn on the
     # spot pass is turned past on the spot: side 0.59, leg 43 deg, CI's derandomized draw; moving is what counts)
@@ -77,8 +76,7 @@ def _walking_at(distance: float, bearing: float, speed: float, skew: float) -> t
 
 
 @settings(max_examples=30, deadline=None)
-@given(st.floats(1.0, 1.5), st.floats(-0.7, 0.7), st.floats(0.2, 0.4), st.floats(-0.2, 0.2),
-       st.floats(math.radians(20), math.radians(55)), st.booleans())
+@given(st.floats(1.0, 1.5), st.floats(-0.7, 0.7), st.floats(0.2, 0.4), st.floats(-0.2, 0.2), st.floats(math.radians(20), math.radians(55)), st.booleans())
 @example(1.5, 0.0, 0.4, 0.0, 0.7, True)  # review15 F1: it arced at 0.125 m/s toward her, 1.5 m off, walking at it
 def test_someone_near_walking_at_it_it_stands_and_does_not_arc_toward_them(distance, bearing, speed, skew, off, left):
     """review15 F1: the gentle arc (a turn refused for the body heard behind its flank) is a forward drive like
@@ -96,8 +94,7 @@ def test_someone_near_walking_at_it_it_stands_and_does_not_arc_toward_them(dista
 
 
 @settings(max_examples=30, deadline=None)
-@given(st.floats(0.15, 0.7), st.floats(-0.5, 0.5), st.floats(math.radians(20), math.radians(55)),
-       st.floats(-0.12, 0.0), st.floats(0.45, 0.58), st.booleans())
+@given(st.floats(0.15, 0.7), st.floats(-0.5, 0.5), st.floats(math.radians(20), math.radians(55)), st.floats(-0.12, 0.0), st.floats(0.45, 0.58), st.booleans())
 @example(0.2, -0.4, 0.4, -0.05, 0.5, True)  # review15 F2: 0.15 m/s with a blind-corner limit of 0.12 m/s
 def test_arcing_away_from_someone_heard_is_never_faster_than_a_blind_corner_allows(ahead, side, off, hx, hside, left):
     """review15 F2: the gentle arc keeps the blind-corner speed (a jamb ahead that someone may step out from
