@@ -640,11 +640,8 @@ class Player(Module):
             # someone stands in its lane: wait outside their personal space (a replan may find a way round)
             cmd = Command(0.0, 0.0, False, cmd.clearance)
             held = True
-        # (and someone just seen coming round a jamb, tentative still: People.emerging)
-        coming = (np.concatenate((moving, self.people.emerging(odo, self.now, moving=YIELD_SPEED, reach=YIELD_NEAR)))
-                  if odo is not None and cmd.ok and cmd.v > 0.0 else moving)
-        if cmd.ok and cmd.v > 0.0 and (closing_in(coming, near=YIELD_NEAR, speed=YIELD_SPEED) or passing_close(
-                moving, footprint_distance(moving[:, 0], moving[:, 1]) - BODY_RADIUS, gap=BACK_GAP, speed=YIELD_SPEED)):
+        yielding = cmd.ok and cmd.v > 0.0 and self._yields(moving, odo)
+        if yielding:
             # someone near walks at it, or by it inside their personal space (BACK_GAP, 0.45 m of air; the
             # tracker misplaces people by a decimetre): stand and let them pass (yield), turning on the spot at most
             cmd = Command(0.0, cmd.w if abs(cmd.v) < 0.02 else 0.0, True, cmd.clearance)
@@ -698,15 +695,20 @@ class Player(Module):
             self._backed -= v * self.period
         bv, bw = self._guarded(cmd.v, cmd.w, mapped)
         refused = refused or ((bv, bw) == (0.0, 0.0) and cmd.ok and cmd.w != 0.0 and cmd.v >= 0.0)
-        if refused and not held and not giving_way and self._backed == 0.0 and abs(bearing) <= ARC_ON_BEARING:
+        if (refused and not held and not yielding and not giving_way and self._backed == 0.0
+                and abs(bearing) <= ARC_ON_BEARING and not self._yields(moving, odo)):
             # the turn (on the spot or an arc) the window chose swings a corner into a tracked person or toward what the
             # sonar hears in the blind half (the partner standing close beside and behind its side after a
             # stop: stair_names_snug seeds 0, 2 stood blocked in the utility room until it asked for help): with
             # the leg no further off than ARC_ON_BEARING, a gentle forward arc toward it takes the robot away
-            # from them; asked of the window with the turn rate held to ARC_ON_TURNS, every rule of driving kept
+            # from them; asked of the window with the turn rate held to ARC_ON_TURNS, every rule of driving kept:
+            # never while it stands for someone near walking at it or by it (the yield: the arc is a forward
+            # drive like any other, review15 F1), and no faster than it can stop from round a blind corner, a
+            # hard limit as for the arc above (review15 F2)
+            gentle = replace(arc_limits, max_speed=min(arc_limits.max_speed, blind))
             for turn in ARC_ON_TURNS:  # the sharpest arc the guard lets pass (a gentler one swings the rear less)
-                arc = dwa(self.odo.v, self.odo.w, local, points, replace(arc_limits, max_turn=turn),
-                          v_pref=max(v_pref, 0.5 * SOCIAL_SPEED), params=self._goto_params, people=people)
+                arc = dwa(self.odo.v, self.odo.w, local, points, replace(gentle, max_turn=turn),
+                          v_pref=max(v_pref, min(0.5 * SOCIAL_SPEED, blind)), params=self._goto_params, people=people)
                 if not arc.ok or arc.v <= 0.02 or self._waits_for(moving, odo, arc.v * self.period):
                     break
                 if self._guarded(arc.v, arc.w, mapped) == (arc.v, arc.w):
@@ -730,6 +732,15 @@ class Player(Module):
         else:
             self._set_state("moving", dist)
         return (cmd.v, cmd.w)
+
+    def _yields(self, moving: np.ndarray, odo: tuple[float, float, float] | None) -> bool:
+        """The yield rule for a forward drive: someone within YIELD_NEAR walks at the robot (a confirmed track, or
+        one just seen coming round a jamb, tentative still: People.emerging), or someone walks by it inside their
+        personal space (BACK_GAP). It stands for them then, turning on the spot at most."""
+        coming = (np.concatenate((moving, self.people.emerging(odo, self.now, moving=YIELD_SPEED, reach=YIELD_NEAR)))
+                  if odo is not None else moving)
+        return bool(closing_in(coming, near=YIELD_NEAR, speed=YIELD_SPEED) or passing_close(
+            moving, footprint_distance(moving[:, 0], moving[:, 1]) - BODY_RADIUS, gap=BACK_GAP, speed=YIELD_SPEED))
 
     def _making_way(self) -> tuple[float, float] | None:
         """One step of backing off out of someone's way (order make_way): straight back at half the reverse
