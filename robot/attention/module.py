@@ -301,6 +301,11 @@ class PersonAttention(Module):
     #: over (set in __init__; here for the unit tests that build the module without a bus)
     _lost_colour: tuple[float, float, float] | None = None
     _follow_stopped: float | None = None
+    #: the follower comes up to her after 'stop' (status approaching): her distance is no evidence of leaving
+    #: (set in __init__ and from the follower's status; here for the unit tests that build the module without a bus)
+    _follower_drives: bool = False
+    #: the plan subscription while asking for help (set in __init__; here for the unit tests without a bus)
+    _plan_sub: Any = None
     _yield_t: float | None = None
 
     def __init__(
