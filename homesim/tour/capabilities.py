@@ -52,7 +52,7 @@ _SAYS = ((r"good-?bye|\bbye\b", "good-bye"),
          (r"technical|support|technician", "robustness"),
          (r"follow you|show me|ask me|can do", "self-explanation"),
          (r"going to|arrived|help|cannot get", "go-to"),
-         (r"learned|could not find", "object teaching"),
+         (r"learned|could not (find|\(see)|found nothing", "object teaching"),  # "could not (see|find)": a look that failed
          (r"remember", "place teaching"),
          (r"\bis\b|don't know|seen the", "where-is"),
          (r"\b(" + "|".join(OBJECT_WORDS) + r")\b", "where-is"))  # the robot naming an object: a where-is answer
