@@ -94,12 +94,13 @@ class LookedAt:
 class HeardFrom:
     """The last voices no person in view explained (see the module docstring)."""
 
-    def __init__(self, keep: float = 4.0, cap: int = 512) -> None:
+    def __init__(self, keep: float = 4.0, cap: int = 1024) -> None:
         """``keep``: seconds a voice is remembered (the longest ``within`` a caller recalls, the attention's
         ``voice_recall``); voices older than that are dropped as new ones come (review9 item 3: a count
         bound of 32 readings, 3.2 s at the microphones' 10 Hz, forgot her before ``voice_recall`` while a
-        radio talked on). ``cap``: a safety bound only, far above what ``keep`` holds (10 Hz x 4 s x 12
-        directions a frame), so a flood of readings cannot grow it either."""
+        radio talked on). ``cap``: a safety bound only, above what ``keep`` holds (up to 20 Hz x 4 s x 12
+        directions a frame: 960; 512 dropped her voice at 20 Hz with 7 readings a frame, test_turn_to_voice),
+        so a flood of readings cannot grow it either."""
         self.keep = keep
         self._heard: deque[tuple[float, float, float, frozenset[int]]] = deque(maxlen=cap)
 
