@@ -105,6 +105,10 @@ WAY_ROUND = math.radians(5)
 #: toward it, is arced onto forwards instead (see control_step), turning no faster than the first of ARC_ON_TURNS
 #: (rad/s) that the guards let pass
 ARC_ON_BEARING = math.radians(60)
+#: rad/s: a turn on the spot slower than this toward its leg is no turn (a radian takes ten seconds): see :func:`turns_to`
+TURN_PROGRESS = 0.1
+#: rad: a leg this far round (behind it) is turned to either way round
+TURN_EITHER = math.radians(150)
 ARC_ON_TURNS = (0.3, 0.1, 0.002)
 #: m, m/s: with someone this near walking toward its centre faster than this, it stands (yields)
 YIELD_NEAR = 1.6
@@ -133,6 +137,17 @@ TURN_GUARD = 0.02
 #: m: how far it backs out of a spot too tight to turn in at the goal, at most, to turn to the goal's heading.
 ALIGN_BACK = 0.6
 SCHEMA = Path(__file__).resolve().parent.parent / "schemas" / "navigation" / "player-status.xsd"
+
+
+def turns_to(w: float, bearing: float) -> bool:
+    """Whether turning on the spot at ``w`` (rad/s) turns the robot toward a leg ``bearing`` (rad) off its heading:
+    the short way round at :data:`TURN_PROGRESS` at least, or either way round to a leg behind it (:data:`TURN_EITHER`).
+    The dynamic window admits any turn on the spot that brings no corner nearer the floor plan than it is, so where
+    the turn toward the leg is closed (a stair's side at its back) it may offer a creeping turn the other way, which
+    gets it nowhere."""
+    if abs(w) < TURN_PROGRESS:
+        return False
+    return abs(bearing) > TURN_EITHER or w * bearing > 0.0
 
 
 def wrap(a: float) -> float:
@@ -612,15 +627,19 @@ class Player(Module):
             self._facing = False
         # everyone's space: wait at a polite distance, never at the body
         cmd = dwa(self.odo.v, self.odo.w, local, points, limits, v_pref=v_pref, params=self._goto_params, people=people)
-        if limits is not arc_limits and (not cmd.ok or abs(cmd.w) < 1e-3):
-            # no room to turn on the spot (a wall or a jamb at its back: it stood just outside a door it had
-            # backed out of, open_island_goto seeds 0, 3, 7, blocked for a minute with the way free): arc
-            # round to the leg as the window allows, every rule of driving kept: it prefers to move (the
-            # leg's heading alone prefers standing), at most at the speed it can stop from round a blind
-            # corner (a jamb at its back is where they are), which here is a hard limit too (review14 F2)
+        if limits is not arc_limits and (not cmd.ok or not turns_to(cmd.w, bearing)):
+            # no room to turn on the spot toward the leg (a wall or a jamb at its back: it stood just outside a door it
+            # had backed out of, open_island_goto seeds 0, 3, 7, blocked for a minute with the way free; the side of
+            # the stairs at its back, the window offering only a creeping turn the other way: stair_goto_passage_person
+            # seeds 1, 9 dithered a minute at the passage's end): arc round to the leg as the window allows, every rule
+            # of driving kept: it prefers to move (the leg's heading alone prefers standing), at most at the speed it
+            # can stop from round a blind corner (a jamb at its back is where they are), which here is a hard limit
+            # too (review14 F2). No arc either: the turn on the spot stands, whatever it was
             arc_limits = replace(arc_limits, max_speed=min(arc_limits.max_speed, blind))
-            cmd = dwa(self.odo.v, self.odo.w, local, points, arc_limits, v_pref=max(v_pref, min(SOCIAL_SPEED, blind)),
+            arc = dwa(self.odo.v, self.odo.w, local, points, arc_limits, v_pref=max(v_pref, min(SOCIAL_SPEED, blind)),
                       params=self._goto_params, people=people)
+            if arc.ok or not cmd.ok:
+                cmd = arc
         if abs(cmd.v) < 0.02 and squeezable and limits.max_speed > 0.0 and standing_beside(moving):
             # no arc on past someone standing beside the way at the full gap: pass them slowly at SQUEEZE_GAP
             slow = replace(limits, max_speed=min(SQUEEZE_SPEED, limits.max_speed))
@@ -672,7 +691,9 @@ class Player(Module):
             w = max(-limits.max_turn, min(limits.max_turn, 1.5 * bearing))
             if turn_clear(w, people, duration=max(SWEEP_TIME, bearing / w)) and self._turn_ok(bearing, mapped):
                 cmd = Command(0.0, w, True, cmd.clearance)
-        if cmd.ok and abs(cmd.v) > 0.02:
+        if cmd.ok and (abs(cmd.v) > 0.02 or (abs(cmd.v) < 0.02 and turns_to(cmd.w, bearing))):
+            # (turning on the spot toward its leg is no standing wedged: backing off then, a turn under way broken
+            # off, took it back into the stairs' side that its rear was turning clear of, stair_goto_passage_person)
             self._stuck_since = None
         elif self._stuck_since is None:
             self._stuck_since = self.now
