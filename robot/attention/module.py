@@ -710,7 +710,7 @@ class PersonAttention(Module):
             self._way_look = None
 
     def _look_along_way(self, t: float) -> float | None:
-        """Asking for help with nobody to turn to: the bearing (robot frame) along its blocked way, which the
+        """Asking for help with nobody speaking to it: the bearing (robot frame) along its blocked way, which the
         laser does not see, from the planner's last watch answer (at most ``WAY_LOOK_AGE`` s old), or None.
         Turned to, the laser sees the way, and the watch finds it clear once the blocker has left
         (fresh5/stair_goto_passage_person: facing a door off its way, it never went on)."""
@@ -1368,8 +1368,11 @@ class PersonAttention(Module):
             elif self._turning or abs(b) > p.turn_start:
                 self._turning = True
                 self._turn(b)
-        elif row < 0 and not self._player_drives and (way := self._look_along_way(t)) is not None:
-            # asking for help, nobody to attend to: look along the blocked way, so the watch sees it clear
+        elif not self._player_drives and (way := self._look_along_way(t)) is not None:
+            # asking for help, nobody speaking to it (nobody tracked, or whoever it attends to stays silent: the base
+            # turns only to a speaker, Listen, above): look along the blocked way, so the watch sees it clear (facing
+            # a silent bystander it never saw the way clear: nav/goto_passage_lodger_leaves). The camera stays
+            # on her face as far as it pans; once she speaks, it turns to her
             if self._turning and abs(way) < p.turn_stop:
                 self._base(0.0)
                 self._turning = False
