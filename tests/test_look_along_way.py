@@ -3,7 +3,7 @@ answer): a way the laser does not look along is never known to be clear (``faile
 fresh5/stair_goto_passage_person: it asked for help facing the living-room door, its way north
 through the passage outside the laser's view; every answer was "unseen" for the whole watch and it
 never went on after the lodger had left. Now the unseen answer says where the way lies (``look``)
-and the attention, asking for help with nobody to attend to, turns the base to look along it."""
+and the attention, asking for help with nobody speaking to it, turns the base to look along it."""
 
 from __future__ import annotations
 
@@ -72,3 +72,50 @@ def test_a_clear_or_blocked_answer_or_not_asking_for_help_is_not_looked_along():
     b = _attention(False)
     _answer(b, failed="unseen", look="2.0")
     assert b._look_along_way(10.0) is None
+
+
+def _acting(seeking: bool, speaking: bool):
+    """The attention asking for help (or not), a confirmed person 1.5 m off at 120 deg to its left, attended to
+    (selected): silent (Alertness) or speaking to it (Listen); the base's turns recorded."""
+    a = _asking(seeking, track=(1.5 * math.cos(2.1), 1.5 * math.sin(2.1)))
+    a.fsm.bottom_up(0.0, True, 3 if speaking else 1)
+    a.sim = _Clock()
+    a._way_look = None
+    a._turning = False
+    a.turned_away = False
+    a._player_drives = a._follower_drives = False
+    a._focus = None
+    turns: list[float] = []
+    a._turn = turns.append  # type: ignore[method-assign]
+    a._base = lambda w: None  # type: ignore[method-assign]
+    a._ptu = lambda t, pan, tilt: None  # type: ignore[method-assign]
+    a._steer = lambda b: None  # type: ignore[method-assign]
+    a._voice_heading = lambda t, row, category: None  # type: ignore[method-assign]
+    a._focus_turn = lambda target: None  # type: ignore[method-assign]
+    a._candidate = lambda t: -1  # type: ignore[method-assign]
+    a.beam = lambda t, bearing, category: None  # type: ignore[method-assign]
+    return a, turns
+
+
+@given(st.floats(-2.8, -0.6))
+def test_asking_for_help_it_looks_along_its_way_while_the_one_it_attends_to_stays_silent(look):
+    """nav/goto_passage_lodger_leaves: Hedda stood silent behind it, attended to; it never looked along its way
+    and never saw it clear after the lodger had left. Silent, she is no reason not to look; speaking, she is
+    turned to (the base turns to a speaker)."""
+    a, turns = _acting(True, speaking=False)
+    assert a.fsm.state == "Alertness"
+    _answer(a, failed="unseen", look=f"{look:.5f}")
+    a._act(10.0, 0, [2.1], [1.5], 1)
+    assert turns and abs(math.remainder(turns[-1] - look, 2 * math.pi)) < 1e-4
+    b, turns = _acting(True, speaking=True)
+    assert b.fsm.state == "Listen"
+    _answer(b, failed="unseen", look=f"{look:.5f}")
+    b._act(10.0, 0, [2.1], [1.5], 3)
+    assert turns and abs(turns[-1] - 2.1) < 1e-6  # to her, not along the way
+
+
+def test_not_asking_for_help_a_silent_person_is_not_a_reason_to_turn():
+    a, turns = _acting(False, speaking=False)
+    _answer(a, failed="unseen", look="-1.5")  # (no watch while not asking; and none subscribed)
+    a._act(10.0, 0, [2.1], [1.5], 1)
+    assert not turns
