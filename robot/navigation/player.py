@@ -105,11 +105,11 @@ WAY_ROUND = math.radians(5)
 #: toward it, is arced onto forwards instead (see control_step), turning no faster than the first of ARC_ON_TURNS
 #: (rad/s) that the guards let pass
 ARC_ON_BEARING = math.radians(60)
+ARC_ON_TURNS = (0.3, 0.1, 0.002)
 #: rad/s: a turn on the spot slower than this toward its leg is no turn (a radian takes ten seconds): see :func:`turns_to`
 TURN_PROGRESS = 0.1
 #: rad: a leg this far round (behind it) is turned to either way round
 TURN_EITHER = math.radians(150)
-ARC_ON_TURNS = (0.3, 0.1, 0.002)
 #: m, m/s: with someone this near walking toward its centre faster than this, it stands (yields)
 YIELD_NEAR = 1.6
 YIELD_SPEED = 0.15
