@@ -442,7 +442,7 @@ class Understander:
             tree, ignored, partial = inverted, [], False
             frame = build(tree)
             obj = frame[0]
-        small_talk = (_small_talk(tree, obj, toks) or _said_of(tree, toks, ignored, bool(lex.unknown), beside > 0)
+        small_talk = (_small_talk(tree, obj, toks, Lexicon.words(words)) or _said_of(tree, toks, ignored, bool(lex.unknown), beside > 0)
                       or _denied(tree, lex.raw))
         if small_talk:
             res.ignored = [t.text for t in toks]
@@ -478,6 +478,11 @@ class Understander:
                                                                                        not lex.unknown):
             used = len(toks)  # "hello biron, follow me": the greeting is sure; the request is not noise
             res.rest = list(ignored)
+        elif ignored and tree_act(tree) == "greeting" and _greeted_by_name(tree, toks, ignored):
+            # "[good to] biron, it is a pleasure to meet you" ("good day" misheard): the robot named and greeted
+            # in words it knows; what it could not place came before its name, the turn's opening misheard.
+            # The greeting is sure (no "Did you say hello to me?" to a greeting said whole after the name)
+            used = len(toks)
         if any(t.type == "PLACE" and t.text in lex.coined for t in toks) and not set(lex.coined) <= set(res.ignored):
             # "this is the craft room": a room named with a word the lexicon lacks may be a remark ("the
             # cold room") or a misheard word: a guess the dialog confirms before it is stored or driven to
@@ -819,6 +824,17 @@ class Understander:
             except UnexpectedInput:
                 continue
         return None, ignored, True
+
+
+def _greeted_by_name(tree: Tree, toks: list[Tok], ignored: list[str]) -> bool:
+    """Whether a greeting names the robot, greets it after the name in words the parse used, and every word it
+    left out came before the name ("[good to] biron, nice to meet you")."""
+    name = next((i for i, t in enumerate(toks) if t.type == "ROBOTNAME"), None)
+    if name is None or not any(t.type == "ROBOTNAME" for a in _subs(tree, "address") for t in _tokens(a)):
+        return False
+    after = toks[name + 1:]
+    return (bool(after) and [t.text for t in toks[:len(ignored)]] == ignored and len(ignored) <= name
+            and all(t.type in ("HELLO", "MEET", "THERE") for t in after))
 
 
 def _owner_alone(tree: Tree) -> bool:
@@ -1193,7 +1209,11 @@ def _not_in_the_way(toks: list[Tok], res: Understanding) -> str:
     return ""
 
 
-def _small_talk(tree: Tree, obj: etree._Element, toks: list[Tok]) -> str:
+#: Words that say how much of a quality ("so boring", "very nice"): a remark follows, no name.
+_INTENSIFIERS = frozenset({"so", "very", "really", "quite", "too", "pretty", "super", "rather"})
+
+
+def _small_talk(tree: Tree, obj: etree._Element, toks: list[Tok], words: tuple[str, ...] | list[str] = ()) -> str:
     """Why an object frame without a noun is small talk, not an object shown ("" when it is not).
 
     "this is nice", "that's lovely": an adjective said of what she points at, with no article and no
@@ -1202,6 +1222,16 @@ def _small_talk(tree: Tree, obj: etree._Element, toks: list[Tok]) -> str:
     favourite spot", "this is my corner": a word for a spot in the room (lexicon class SPOT) is no
     object either.
     """
+    room = next((i for i, t in enumerate(toks) if t.type == "ROOM"), None)
+    if obj.tag == "PLACE" and obj.find("TITLE") is None and _guessed(tree) and room is not None and (
+            any(t.type == "ATTR" for t in toks[room:]) or any(w in _INTENSIFIERS for w in words)):
+        # "this room is nice", "dude, this room is so boring": an adjective (or "so", "very" before a word not
+        # known) said of the room after its copula is no name (no article, no owner before the word lost), so
+        # no nameless place to ask about ("Which room is this?"); "this room is my <lost>" keeps its owner and
+        # "this room is <lost>" stays a place whose name was lost
+        nps = [st for st in tree.iter_subtrees() if st.data == "place_np"]
+        if nps and not any(isinstance(c, Tree) and c.data in ("det", "possessor") for c in nps[0].children):
+            return "a remark about the room, not its name"
     if obj.tag != "OBJECT" or obj.get("type") is not None:
         return ""
     if any(t.type == "SPOT" for t in toks):
