@@ -794,7 +794,7 @@ class Understander:
                 continue
             kept = set(fed[: k + 1])
             rest = [toks[i] for i in range(len(stream)) if i not in kept]
-            if (tree_act(tree) == "that_one" and not ignored and rest[0].type in ("IS", "ARE")
+            if (tree_act(tree) == "that_one" and rest[0].type in ("IS", "ARE")
                     and any(t.type not in _ONLY_POINTS for t in rest)):
                 # "this one here is my reading <lost>": a statement about the one she points at,
                 # its noun lost (a teaching to ask about), not the which-one answer "this one here"
