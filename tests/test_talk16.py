@@ -86,3 +86,27 @@ def test_a_repeated_turn_is_her_words_not_what_she_did_before_them() -> None:
     assert _said_part((Wait(1.0), point, say, WalkTo(robot))) == (point, say, WalkTo(robot))
     walk = WalkTo(Target("point", x=1.0, y=1.0))
     assert _said_part((Wait(1.0), walk, Wait(2.0))) == (walk, Wait(2.0))  # no words: all but the opening pause
+
+
+@pytest.mark.parametrize("words,act", [
+    ("do you mind waiting here", "<WAIT/>"), ("would you mind holding on a second", "<WAIT/>"),
+    ("if you could just wait there", "<WAIT/>"), ("this way to the utility room", "<FOLLOW/>"),
+    ("with me to my study", "<FOLLOW/>"), ("walk with me to the mudroom", "<FOLLOW/>"),
+])
+def test_polite_and_indirect_requests_and_a_follow_with_where_to(u: Understander, words: str, act: str) -> None:
+    res = u.understand(words)
+    assert frame(u, words) == act and res.coverage == 1.0
+
+
+def test_a_verbless_go_to_after_follow_words_is_the_follow_confirmed(u: Understander) -> None:
+    res = u.understand("come with the to my study")  # "me" misheard
+    assert frame(u, "come with the to my study") == "<FOLLOW/>" and res.partial
+    # said alone, or after words of no follow, it stays the go-to
+    assert u.understand("to my study").act == "GOTO"
+    assert u.understand("go to my study").act == "GOTO"
+
+
+@pytest.mark.parametrize("words", ["good day biron, it is is pleasure to meet you", "hello biron, the the nice to meet you"])
+def test_words_not_placed_after_a_whole_greeting_by_name_take_nothing_from_it(u: Understander, words: str) -> None:
+    res = u.understand(words)
+    assert res.act == "GREETING" and res.coverage == 1.0

@@ -28,6 +28,7 @@ when addressed by name), ``GOODBYE``, ``CAPABILITIES``, ``FOLLOW``,
 
 from __future__ import annotations
 
+import collections
 import hashlib
 import itertools
 import os
@@ -407,6 +408,13 @@ class Understander:
             # name goes, between her "our" and "room"; "our room" would store a room called "room" unasked.
             # The name was lost: a place with no name, so the dialog asks which room this is
             tree, _, _ = self._parse([_LOST_THIS, Tok("IS", "is", ""), Tok("THE", "the", ""), Tok("PLACE", "", "")])
+            partial = True
+        if tree is not None and ignored and _led_to(tree, toks, ignored):
+            # "come with [me→the] to my study": a misheard word sank the follow, and what was left, "to my study",
+            # parsed as a go-to without a verb. The follow words before it say she leads the way there (a follow
+            # with a destination, never a go-to to a room perhaps not yet shown: "Sorry, I do not know where the
+            # study is"); words were lost, so the dialog confirms it ("Shall I follow you?")
+            tree, _, _ = self._parse([Tok("FOLLOW", "follow", ""), Tok("ME", "me", "")])
             partial = True
         called_along = come_on is not None and tree is not None and _place_said_elsewhere(tree, toks, ignored,
                                                                                           bool(lex.unknown), beside > 0)
@@ -826,15 +834,40 @@ class Understander:
         return None, ignored, True
 
 
+#: Words of a follow ("come with me", "walk along", "this way", "follow"): said before a verbless "to <room>" whose
+#: verb the parse could not use, she leads the way there.
+_FOLLOW_WORDS = frozenset({"COME", "FOLLOW", "FOLLOWING", "WITH", "ALONG", "WAY", "COMEON"})
+
+
+def _led_to(tree: Tree, toks: list[Tok], ignored: list[str]) -> bool:
+    """Whether ``tree`` is a go-to said without a verb ("to my study") after words of a follow it left out."""
+    act = next((c for c in tree.children if isinstance(c, Tree) and c.data != "address"), None)
+    if act is None or act.data != "goto" or not act.children:
+        return False
+    first = act.children[0]
+    if not (isinstance(first, Token) and first.type == "TO"):
+        return False
+    at = next((i for i, t in enumerate(toks) if t is _tok(first)), None)
+    return at is not None and any(t.type in _FOLLOW_WORDS and t.text in ignored for t in toks[:at])
+
+
 def _greeted_by_name(tree: Tree, toks: list[Tok], ignored: list[str]) -> bool:
-    """Whether a greeting names the robot, greets it after the name in words the parse used, and every word it
-    left out came before the name ("[good to] biron, nice to meet you")."""
+    """Whether a greeting names the robot and is whole but for words before the name when it greets after it
+    ("[good to] biron, nice to meet you"), or for words after the name when it greets before it ("hello biron,
+    it is [is] pleasure to meet you")."""
     name = next((i for i, t in enumerate(toks) if t.type == "ROBOTNAME"), None)
     if name is None or not any(t.type == "ROBOTNAME" for a in _subs(tree, "address") for t in _tokens(a)):
         return False
-    after = toks[name + 1:]
-    return (bool(after) and [t.text for t in toks[:len(ignored)]] == ignored and len(ignored) <= name
-            and all(t.type in ("HELLO", "MEET", "THERE") for t in after))
+    before, after = toks[:name], toks[name + 1:]
+    if (bool(after) and [t.text for t in before[:len(ignored)]] == ignored and len(ignored) <= name
+            and all(t.type in ("HELLO", "MEET", "THERE") for t in after)):
+        return True
+    # "good day biron, it is [is] pleasure to meet you": a whole greeting with the name opens the turn and the
+    # words that go with a greeting close it; the words between them the parse could not place take nothing
+    # from it (other words after a greeting, "hello biron follow [the]", still do: a request half heard)
+    said_after = collections.Counter(t.text for t in after)
+    return (any(t.type == "HELLO" for t in before) and all(t.type in ("HELLO", "THERE") for t in before)
+            and any(t.type == "MEET" for t in after) and not collections.Counter(ignored) - said_after)
 
 
 def _owner_alone(tree: Tree) -> bool:
