@@ -48,7 +48,7 @@ from collections.abc import Callable
 import numpy as np
 
 from homesim.errors import ScenarioError
-from homesim.scenario.model import Action, Handler, Leave, PointAt, Repeat, Say, SourceSpec, StepCloser, Wait, WaitFor, WaitSpeech, WalkTo
+from homesim.scenario.model import Action, Face, Handler, Leave, PointAt, Repeat, Say, SourceSpec, StepCloser, Wait, WaitFor, WaitSpeech, WalkTo
 from homesim.scenario.wordpattern import WordPattern, compile_words
 from homesim.world.acoustics import Utterance
 from homesim.world.world import World
@@ -100,6 +100,26 @@ def side_seen_by_robot(world: World, name: str) -> str:
     rank = order.index(o)
     return "left" if rank == 0 else "right" if rank == len(order) - 1 else "middle"
 
+
+
+def _said_part(turn: tuple[Action, ...]) -> tuple[Action, ...]:
+    """What she does again when the robot missed her turn: her words and what goes with them.
+
+    That is the turn from its first sentence or pointing on, with the facing just before it (she turns to
+    the robot to speak). What she did before she spoke (a pause, a walk, facing someone else: in
+    perceive/step_aside_chat she stands 8 s with two people, walks back and asks "What can you do") is not
+    part of it: replaying it made her wait 8 s with her back to the robot before each repeat. A turn with no
+    words and no pointing is done again whole but for the pause it opens with.
+    """
+    first = next((i for i, a in enumerate(turn) if isinstance(a, (Say, PointAt))), None)
+    if first is None:
+        i = 0
+        while i < len(turn) and isinstance(turn[i], Wait):  # the pause before her turn is not part of it
+            i += 1
+        return turn[i:]
+    while first and isinstance(turn[first - 1], Face):
+        first -= 1
+    return turn[first:]
 
 class GaveUp(Exception):
     """She gave up on the whole tour (give-up stop or leave): her script ends."""
@@ -500,9 +520,7 @@ class Actor:
 
     async def _retry_loop(self, act: WaitFor) -> bool:
         repair = re.compile(act.repair or DEFAULT_REPAIR, re.IGNORECASE) if act.retries else None
-        turn, self.turn = tuple(self.turn), []
-        while turn and isinstance(turn[0], Wait):  # the pause before her turn is not part of it
-            turn = turn[1:]
+        turn, self.turn = _said_part(tuple(self.turn)), []
         for attempt in range(act.retries + 1):
             outcome = await self._wait_once(act, repair)
             if outcome == "answered":

@@ -28,6 +28,7 @@ when addressed by name), ``GOODBYE``, ``CAPABILITIES``, ``FOLLOW``,
 
 from __future__ import annotations
 
+import collections
 import hashlib
 import itertools
 import os
@@ -408,6 +409,13 @@ class Understander:
             # The name was lost: a place with no name, so the dialog asks which room this is
             tree, _, _ = self._parse([_LOST_THIS, Tok("IS", "is", ""), Tok("THE", "the", ""), Tok("PLACE", "", "")])
             partial = True
+        if tree is not None and ignored and _led_to(tree, toks, ignored):
+            # "come with [me→the] to my study": a misheard word sank the follow, and what was left, "to my study",
+            # parsed as a go-to without a verb. The follow words before it say she leads the way there (a follow
+            # with a destination, never a go-to to a room perhaps not yet shown: "Sorry, I do not know where the
+            # study is"); words were lost, so the dialog confirms it ("Shall I follow you?")
+            tree, _, _ = self._parse([Tok("FOLLOW", "follow", ""), Tok("ME", "me", "")])
+            partial = True
         called_along = come_on is not None and tree is not None and _place_said_elsewhere(tree, toks, ignored,
                                                                                           bool(lex.unknown), beside > 0)
         if called_along:
@@ -442,7 +450,7 @@ class Understander:
             tree, ignored, partial = inverted, [], False
             frame = build(tree)
             obj = frame[0]
-        small_talk = (_small_talk(tree, obj, toks) or _said_of(tree, toks, ignored, bool(lex.unknown), beside > 0)
+        small_talk = (_small_talk(tree, obj, toks, Lexicon.words(words)) or _said_of(tree, toks, ignored, bool(lex.unknown), beside > 0)
                       or _denied(tree, lex.raw))
         if small_talk:
             res.ignored = [t.text for t in toks]
@@ -478,6 +486,11 @@ class Understander:
                                                                                        not lex.unknown):
             used = len(toks)  # "hello biron, follow me": the greeting is sure; the request is not noise
             res.rest = list(ignored)
+        elif ignored and tree_act(tree) == "greeting" and _greeted_by_name(tree, toks, ignored):
+            # "[good to] biron, it is a pleasure to meet you" ("good day" misheard): the robot named and greeted
+            # in words it knows; what it could not place came before its name, the turn's opening misheard.
+            # The greeting is sure (no "Did you say hello to me?" to a greeting said whole after the name)
+            used = len(toks)
         if any(t.type == "PLACE" and t.text in lex.coined for t in toks) and not set(lex.coined) <= set(res.ignored):
             # "this is the craft room": a room named with a word the lexicon lacks may be a remark ("the
             # cold room") or a misheard word: a guess the dialog confirms before it is stored or driven to
@@ -789,7 +802,7 @@ class Understander:
                 continue
             kept = set(fed[: k + 1])
             rest = [toks[i] for i in range(len(stream)) if i not in kept]
-            if (tree_act(tree) == "that_one" and not ignored and rest[0].type in ("IS", "ARE")
+            if (tree_act(tree) == "that_one" and rest[0].type in ("IS", "ARE")
                     and any(t.type not in _ONLY_POINTS for t in rest)):
                 # "this one here is my reading <lost>": a statement about the one she points at,
                 # its noun lost (a teaching to ask about), not the which-one answer "this one here"
@@ -819,6 +832,42 @@ class Understander:
             except UnexpectedInput:
                 continue
         return None, ignored, True
+
+
+#: Words of a follow ("come with me", "walk along", "this way", "follow"): said before a verbless "to <room>" whose
+#: verb the parse could not use, she leads the way there.
+_FOLLOW_WORDS = frozenset({"COME", "FOLLOW", "FOLLOWING", "WITH", "ALONG", "WAY", "COMEON"})
+
+
+def _led_to(tree: Tree, toks: list[Tok], ignored: list[str]) -> bool:
+    """Whether ``tree`` is a go-to said without a verb ("to my study") after words of a follow it left out."""
+    act = next((c for c in tree.children if isinstance(c, Tree) and c.data != "address"), None)
+    if act is None or act.data != "goto" or not act.children:
+        return False
+    first = act.children[0]
+    if not (isinstance(first, Token) and first.type == "TO"):
+        return False
+    at = next((i for i, t in enumerate(toks) if t is _tok(first)), None)
+    return at is not None and any(t.type in _FOLLOW_WORDS and t.text in ignored for t in toks[:at])
+
+
+def _greeted_by_name(tree: Tree, toks: list[Tok], ignored: list[str]) -> bool:
+    """Whether a greeting names the robot and is whole but for words before the name when it greets after it
+    ("[good to] biron, nice to meet you"), or for words after the name when it greets before it ("hello biron,
+    it is [is] pleasure to meet you")."""
+    name = next((i for i, t in enumerate(toks) if t.type == "ROBOTNAME"), None)
+    if name is None or not any(t.type == "ROBOTNAME" for a in _subs(tree, "address") for t in _tokens(a)):
+        return False
+    before, after = toks[:name], toks[name + 1:]
+    if (bool(after) and [t.text for t in before[:len(ignored)]] == ignored and len(ignored) <= name
+            and all(t.type in ("HELLO", "MEET", "THERE") for t in after)):
+        return True
+    # "good day biron, it is [is] pleasure to meet you": a whole greeting with the name opens the turn and the
+    # words that go with a greeting close it; the words between them the parse could not place take nothing
+    # from it (other words after a greeting, "hello biron follow [the]", still do: a request half heard)
+    said_after = collections.Counter(t.text for t in after)
+    return (any(t.type == "HELLO" for t in before) and all(t.type in ("HELLO", "THERE") for t in before)
+            and any(t.type == "MEET" for t in after) and not collections.Counter(ignored) - said_after)
 
 
 def _owner_alone(tree: Tree) -> bool:
@@ -1193,7 +1242,11 @@ def _not_in_the_way(toks: list[Tok], res: Understanding) -> str:
     return ""
 
 
-def _small_talk(tree: Tree, obj: etree._Element, toks: list[Tok]) -> str:
+#: Words that say how much of a quality ("so boring", "very nice"): a remark follows, no name.
+_INTENSIFIERS = frozenset({"so", "very", "really", "quite", "too", "pretty", "super", "rather"})
+
+
+def _small_talk(tree: Tree, obj: etree._Element, toks: list[Tok], words: tuple[str, ...] | list[str] = ()) -> str:
     """Why an object frame without a noun is small talk, not an object shown ("" when it is not).
 
     "this is nice", "that's lovely": an adjective said of what she points at, with no article and no
@@ -1202,6 +1255,16 @@ def _small_talk(tree: Tree, obj: etree._Element, toks: list[Tok]) -> str:
     favourite spot", "this is my corner": a word for a spot in the room (lexicon class SPOT) is no
     object either.
     """
+    room = next((i for i, t in enumerate(toks) if t.type == "ROOM"), None)
+    if obj.tag == "PLACE" and obj.find("TITLE") is None and _guessed(tree) and room is not None and (
+            any(t.type == "ATTR" for t in toks[room:]) or any(w in _INTENSIFIERS for w in words)):
+        # "this room is nice", "dude, this room is so boring": an adjective (or "so", "very" before a word not
+        # known) said of the room after its copula is no name (no article, no owner before the word lost), so
+        # no nameless place to ask about ("Which room is this?"); "this room is my <lost>" keeps its owner and
+        # "this room is <lost>" stays a place whose name was lost
+        nps = [st for st in tree.iter_subtrees() if st.data == "place_np"]
+        if nps and not any(isinstance(c, Tree) and c.data in ("det", "possessor") for c in nps[0].children):
+            return "a remark about the room, not its name"
     if obj.tag != "OBJECT" or obj.get("type") is not None:
         return ""
     if any(t.type == "SPOT" for t in toks):

@@ -406,6 +406,10 @@ def _repairs(toks: list[Tok], removed: list[str]) -> list[Tok]:
                     start = k
             if start is None:
                 start = e  # no aligned word: drop only the editing term(s)
+            elif start < e and (k := _np_start(toks, start)) and toks[k - 1].type == "NOT":
+                # "not the kitchen, I said the bathroom": the phrase she repairs was said negated; the "not"
+                # goes with it (left alone it made the whole turn a no, the bathroom lost)
+                start = k - 1
             removed += [x.text for x in toks[start:end]]
             del toks[start:end]
             changed = True
@@ -416,6 +420,13 @@ def _repairs(toks: list[Tok], removed: list[str]) -> list[Tok]:
 #: Words of a noun phrase before its head, and its heads by class ("the red one", "my cup", "the kitchen").
 _NP_WORDS = frozenset({"A", "THE", "MY", "YOUR", "OUR", "NAME", "POSS", "COLOUR", "ATTR", "USE", "ORD", "SIDE"})
 _HEADS = {"OBJ": "OBJ", "ONE": "OBJ", "PLACE": "PLACE", "ROOM": "PLACE"}
+
+
+def _np_start(toks: list[Tok], i: int) -> int:
+    """Where the noun phrase whose word stands at ``i`` begins (its article, owner, colour before it)."""
+    while i > 0 and toks[i - 1].type in _NP_WORDS:
+        i -= 1
+    return i
 
 
 def _np_at(toks: list[Tok], i: int) -> tuple[int, str] | None:
