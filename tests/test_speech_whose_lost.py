@@ -1,4 +1,5 @@
-"""A teaching whose one-word predicate ("this bottle is [mine]") was lost: whose it is, guessed and confirmed."""
+"""Words lost where they matter: a teaching whose one-word predicate ("this bottle is [mine]") was lost, whose it
+is guessed and confirmed; a which-one answer whose relation ("the one [on] the table") was lost, its landmark kept."""
 
 from __future__ import annotations
 
@@ -35,3 +36,13 @@ def test_a_word_heard_after_the_copula_is_not_replaced_by_a_guess(noun, word):
         assert owner is not None and r.coverage == 1.0
     else:
         assert owner is None
+
+
+@given(rel=st.sampled_from(["to", "a", "it", "in", "and", ""]), place=st.sampled_from(["table", "counter", "shelf", "desk"]))
+def test_a_which_one_answer_with_its_relation_lost_keeps_the_landmark(rel, place):
+    """"the one [on] the table" with "on" misheard or dropped: the landmark she named is kept (the one at it),
+    so the robot takes the option standing there instead of asking the same question again."""
+    r = U.understand(f"the one {rel} the {place}".replace("  ", " "))
+    assert r.act == "THAT_ONE"
+    title = r.frame.find("THAT_ONE/POSITION/TITLE")
+    assert title is not None and title.get("name") == place

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import math
 
-from hypothesis import example, given, settings
+from hypothesis import assume, example, given, settings
 from hypothesis import strategies as st
 
 from robot.floorplan import FloorPlan, MapObstacle, MapRoom, MapWall
@@ -293,3 +293,21 @@ def test_the_way_round_the_bookcase_past_nora_is_found_wherever_the_tracker_puts
                                  person_clearance=PERSON_CLEARANCE * DRIVE_CLEARANCE, leave=0.3 if k == 0 else 0.0)
     x, y, _ = route[-1]
     assert sight_clear(plan, (x, y, CAM), box, [nora])
+
+
+@settings(max_examples=10, deadline=None)
+@given(nx=st.floats(3.65, 4.0), ny=st.floats(3.2, 3.5), rx=st.floats(1.3, 1.9), ry=st.floats(1.7, 2.4))
+@example(nx=3.706, ny=3.204, rx=1.5, ry=2.0)
+def test_a_waypoint_round_the_bookcase_leaves_room_to_turn(nx, ny, rx, ry):
+    """perceive/view_round_corner seeds 0, 5: the route's first waypoint was the farthest point of the way
+    a straight leg reached, 0.29 m from the bookcase's corner (the legs keep 0.28 m); the robot turns there,
+    its corners sweep wider than its sides, and the player stopped 0.4 m short, blocked. A waypoint now keeps
+    the standing clearance from furniture where a point of the way that does is reached (else the farthest:
+    a route is never lost to it); here one always is, to a grid cell: beyond the 0.335 m the footprint's
+    corner reaches from its centre. (Where Nora stands so that there is no route at all is not this test's.)"""
+    plan, robot, box, nora = _divider_flat(), (rx, ry), (4.2, 0.8, 0.05), (nx, ny)
+    route = viewpoint_route(plan, robot, box, [nora, nora], camera_height=CAM)
+    assume(route is not None)
+    bookcase = ((3.0, 0.1), (3.3, 0.1), (3.3, 2.2), (3.0, 2.2))
+    for x, y, _ in route[:-1]:
+        assert _point_polygon((x, y), bookcase) > 0.335

@@ -349,7 +349,10 @@ def _grid_path(dist: np.ndarray, gx: float, gy: float, cell: tuple[int, int]) ->
 def _legs(plan_blocks: list[tuple[tuple[Point, ...], float, float]], people: Sequence[Point], robot: Point, goal: Point, path: list[Point], *,
           clearance: float, person_clearance: float) -> list[Point] | None:
     """The grid path cut into straight legs that keep the clearances (exactly, :func:`straight_leg_free`):
-    from each end, the farthest point of the path a straight leg reaches; the waypoints and ``goal``
+    from each end, the farthest point of the path a straight leg reaches that keeps the standing
+    clearance ``ROBOT_CLEARANCE`` as a waypoint (the robot turns there: its corners sweep wider than
+    its sides, and the player stopped short of a waypoint 0.29 m from a bookcase's corner,
+    perceive/view_round_corner seeds 0, 5), else the farthest it reaches; the waypoints and ``goal``
     last. None when a stretch of the path cannot be driven straight at all."""
     pts = [*path[1:-1], goal] if len(path) > 1 else [goal]
     out: list[Point] = []
@@ -357,11 +360,15 @@ def _legs(plan_blocks: list[tuple[tuple[Point, ...], float, float]], people: Seq
     k = 0
     while k < len(pts):
         reach = None
+        loose = None
         for m in range(len(pts) - 1, k - 1, -1):
             if straight_leg_free(plan_blocks, people, here, pts[m], clearance=clearance, person_clearance=person_clearance,
                                  leave=LEG_LEAVE if first else 0.0):
-                reach = m
-                break
+                loose = m if loose is None else loose
+                if m == len(pts) - 1 or _free(plan_blocks, pts[m], people, max(clearance, ROBOT_CLEARANCE), person_clearance):
+                    reach = m
+                    break
+        reach = loose if reach is None else reach
         if reach is None:
             return None
         here, first = pts[reach], False

@@ -320,6 +320,11 @@ class Understander:
             if whose is not None:  # whose it is, a guess: at half the coverage, so the dialog confirms it
                 tree, ignored, partial = whose
                 guess = True
+        if tree is not None and ignored and tree_act(tree) == "that_one" and len(build(tree)[0]) == 0 \
+                and not build(tree)[0].attrib:
+            where = self._where_lost(toks, ignored)
+            if where is not None:
+                tree, ignored, partial = where
         if tree is not None and ignored and tree_act(tree) == "teach_place" and build(tree).find("PLACE/TITLE") is None:
             # "here we are, stop", "we are here, stop now": an arrival said before the stop, a place with no name
             # to ask about ("Which room is this?" and the stop lost: fresh5 stair_wait_walks_on, "I am still
@@ -652,6 +657,23 @@ class Understander:
             return None
         return tree, ignored[1:] or ignored, True
 
+    def _where_lost(self, toks: list[Tok], ignored: list[str]) -> tuple[Tree, list[str], bool] | None:
+        """"the one [on→to] the table", "the one [on→] the counter": a which-one answer whose relation
+        word was lost (a function word that is no relation, or none), the place after it heard whole: the
+        one at that place (``POSITION`` with the landmark; the object attention takes the option standing
+        on it, and asks again when that singles none out). Still words lost (partial). None otherwise."""
+        k = len(toks) - len(ignored)
+        if k < 1 or toks[k - 1].type != "ONE" or [t.text for t in toks[k:]] != ignored:
+            return None
+        rest = toks[k + 1:] if toks[k].type in _LOST_PREDICATE and len(toks) > k + 1 and toks[k + 1].type in ("THE", "A", "MY", "OUR") \
+            else toks[k:]
+        if not rest or rest[0].type not in ("THE", "A", "MY", "OUR"):
+            return None
+        tree, lost, _ = self._parse([*toks[:k], _SAID_AT, *rest])
+        if tree is None or lost or tree_act(tree) != "that_one" or build(tree).find("THAT_ONE/POSITION/TITLE") is None:
+            return None
+        return tree, ignored[: len(ignored) - len(rest)], True
+
     def _whole_request_at(self, toks: list[Tok]) -> tuple[int, Tree, list[str]] | None:
         """(where it starts, its tree, the words left over after it) of :meth:`_whole_request_after`'s request."""
         for i in range(1, len(toks) - 1):
@@ -866,6 +888,8 @@ _ANSWER_WORDS = frozenset({"YES", "OKAY", "NO"})
 _LOST_THIS = Tok("THIS", "this", "")
 #: The copula put in for a word misheard in its place before an owner ("the red book on the shelf [a] mine").
 _SAID_IS = Tok("IS", "is", "")
+#: The relation put in for one lost before the landmark of "the one [on] the table" (:meth:`Understander._where_lost`).
+_SAID_AT = Tok("REL", "at", "at")
 #: The owner put in for the last word of "this bottle is [lost]" (:meth:`Understander._whose_lost`).
 _SAID_MINE = Tok("MINE", "speaker", "mine")
 #: Words that cannot end "this bottle is ...": a word misheard there (the recogniser's fillers are such words).
