@@ -127,3 +127,36 @@ def test_two_mugs_one_behind_the_other_are_never_stored_between_them(seed, near,
         assert min(math.hypot(cand.x - mx, cand.y - my) for mx, my in mugs) < 0.4 * sep, "a candidate stored between the two mugs"
     own = {min(range(2), key=lambda i: math.hypot(cand.x - mugs[i][0], cand.y - mugs[i][1])) for cand in cands}
     assert own == {0, 1}
+
+
+@settings(max_examples=60, deadline=None)
+@given(seed=st.integers(0, 2**31 - 1), near=st.floats(1.0, 2.5), ratio=st.floats(1.0, 1.6), bearing=st.floats(-0.5, 0.5),
+       n=st.integers(10, 20))
+@example(seed=0, near=2.4, ratio=1.12, bearing=0.0, n=10)
+def test_two_mugs_too_close_in_depth_are_never_taken_for_one(seed, near, ratio, bearing, n):
+    """Two mugs one behind the other at any depth separation, down to none: a candidate nearer the
+    point between them than either mug (and more than 0.1 m from both) is marked ``two``: the camera saw
+    two things there (two detections in most frames), so the robot looks from another side or asks
+    before it stores one, never the point between them as if it were a mug. (A part split off by depth
+    whose mean the per-frame ordering pushed past its mug is that mug's, not between them.)"""
+    eye = CAMERA_HEIGHT - 0.8
+    slant = math.hypot(near, eye) * ratio
+    far = math.sqrt(slant * slant - eye * eye)
+    c, s = math.cos(bearing), math.sin(bearing)
+    mugs = [(POSE[0] + near * c, POSE[1] + near * s), (POSE[0] + far * c, POSE[1] + far * s)]
+    dets, frames = _look(mugs, seed, n=n)
+    cands = merge(dets, POSE[:2], eye_height=CAMERA_HEIGHT, frames=frames)
+    mid = ((mugs[0][0] + mugs[1][0]) / 2, (mugs[0][1] + mugs[1][1]) / 2)
+    for cand in cands:
+        off = min(math.hypot(cand.x - mx, cand.y - my) for mx, my in mugs)
+        at_one = off < 0.1 or off < math.hypot(cand.x - mid[0], cand.y - mid[1])
+        assert at_one or cand.two, "a candidate between the two mugs, not marked as two"
+
+
+@settings(max_examples=40, deadline=None)
+@given(seed=st.integers(0, 2**31 - 1), dist=st.floats(1.0, 3.0), n=st.integers(8, 20))
+def test_one_mug_is_never_marked_two(seed, dist, n):
+    """One mug, seen once per frame: never taken for two things the camera could not tell apart (the
+    robot would drive round it for nothing)."""
+    dets, frames = _look([(POSE[0] + dist, POSE[1])], seed, n=n)
+    assert not any(c.two for c in merge(dets, POSE[:2], eye_height=CAMERA_HEIGHT, frames=frames))

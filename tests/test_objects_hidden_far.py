@@ -42,7 +42,7 @@ class _Probe(ObjectAttention):
         # seen only once she is out of the way and the robot stands near enough
         seen = self.log.count("ask") > 0 and (self.log.count("drive") > 0 or not self.far) and not self.in_way
         if seen:
-            return Resolution("one", (SimpleNamespace(candidate=SimpleNamespace(), fits=True),))  # type: ignore[arg-type]
+            return Resolution("one", (SimpleNamespace(candidate=SimpleNamespace(two=False), fits=True),))  # type: ignore[arg-type]
         return Resolution("none", (), "nothing_seen")
 
     def _out_of_range(self, pointing):  # type: ignore[no-untyped-def]

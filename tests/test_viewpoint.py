@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import math
 
+import pytest
 from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
@@ -293,3 +294,20 @@ def test_the_way_round_the_bookcase_past_nora_is_found_wherever_the_tracker_puts
                                  person_clearance=PERSON_CLEARANCE * DRIVE_CLEARANCE, leave=0.3 if k == 0 else 0.0)
     x, y, _ = route[-1]
     assert sight_clear(plan, (x, y, CAM), box, [nora])
+
+
+@pytest.mark.parametrize("nora", [(3.706, 3.204), (3.75, 3.25), (3.8, 3.3), (4.0, 3.5)])
+@pytest.mark.parametrize("robot", [(1.5, 2.0), (1.8, 2.3), (1.3, 1.8)])
+def test_a_waypoint_round_the_bookcase_leaves_room_to_turn(nora, robot):
+    """perceive/view_round_corner seeds 0, 5: the route's first waypoint was the farthest point of the way
+    a straight leg reached, 0.29-0.32 m from the bookcase's corner (the legs keep 0.28 m); the robot turns
+    there, its corners sweep wider than its sides, and the player stopped 0.4 m short, blocked. A waypoint
+    now keeps the standing clearance from furniture where a point of the way that does is reached (else the
+    farthest, as before: a route is never lost to it): with Nora where the tracker put her and the robot
+    about where it starts, one is."""
+    plan, box = _divider_flat(), (4.2, 0.8, 0.05)
+    route = viewpoint_route(plan, robot, box, [nora, nora], camera_height=CAM)
+    assert route is not None
+    bookcase = ((3.0, 0.1), (3.3, 0.1), (3.3, 2.2), (3.0, 2.2))
+    for x, y, _ in route[:-1]:
+        assert _point_polygon((x, y), bookcase) >= ROBOT_CLEARANCE - 1e-9

@@ -474,20 +474,38 @@ class ObjectAttention(Module):
             if res.kind == "none":
                 self._not_found(res.reason, cause)
                 return
-            chosen = res.best
-            if res.kind == "ambiguous":
-                chosen = self._said_where(res.fitting(), obj)
-            if res.kind == "ambiguous" and chosen is None:
-                chosen = await self._ask(res.fitting()[:3], wanted, pose, cause, pointing)
-                if chosen is None:
-                    self._not_found("unclear", cause)
-                    return
-            assert chosen is not None
+            chosen = await self._choose(res, obj, wanted, pose, cause, pointing)
+            if chosen is not None and chosen.two:
+                # Two things the camera saw there but could not tell apart (one behind the other on
+                # its line of sight, closer in depth than it resolves): its position lies between
+                # them. Look from another side, where they stand apart, before storing either.
+                stood = (pose[0], pose[1])
+                if await self._move_to_see_spot((chosen.x, chosen.y, chosen.z), cause, apart_from=stood):
+                    again = await self._look(wanted, pointing, cause)
+                    if again.kind != "none":
+                        pose = self.pose
+                        assert pose is not None
+                        chosen = await self._choose(again, obj, wanted, pose, cause, pointing)
+            if chosen is None:
+                self._not_found("unclear", cause)
+                return
             self._recognized(chosen, wanted, obj, cause)
         finally:
             self._looking = False
             if token == self._finds:  # not a search cancelled by the next one (that one listens on)
                 self._listen(False)
+
+    async def _choose(self, res: Resolution, obj: etree._Element | None, wanted: Wanted, pose: tuple[float, float, float], cause: str,
+                      pointing: Pointing | None) -> Candidate | None:
+        """The candidate a resolution (not ``none``) singles out: its best, or among several that fit
+        alike the one her words place (:meth:`_said_where`), else the one she chooses when asked
+        (None: she did not choose)."""
+        if res.kind != "ambiguous":
+            return res.best
+        chosen = self._said_where(res.fitting(), obj)
+        if chosen is None:
+            chosen = await self._ask(res.fitting()[:3], wanted, pose, cause, pointing)
+        return chosen
 
     async def _step_aside_and_look(self, res: Resolution, wanted: Wanted, pointing: Pointing | None, cause: str) -> tuple[Resolution, Pointing | None]:
         """Ask her to step aside (through the ES), wait until she has, and look again at where she
@@ -648,8 +666,9 @@ class ObjectAttention(Module):
         p = self._partner
         return p is not None and self.now - p[0] <= 1.0 and p[2] > PARTNER_FAR
 
-    async def _move_to_see_spot(self, target: tuple[float, float, float], cause: str) -> bool:
-        """Drive to the nearest place from which the camera sees ``target`` (see :meth:`_move_to_see`)."""
+    async def _move_to_see_spot(self, target: tuple[float, float, float], cause: str, apart_from: tuple[float, float] | None = None) -> bool:
+        """Drive to the nearest place from which the camera sees ``target`` (see :meth:`_move_to_see`);
+        with ``apart_from``, one that sees it from another side than from there (:func:`viewpoint`)."""
         if self.pose is None or self.plan is None:
             return False
         if not self._subs:  # the people around and the player's status: from now until the search ends
@@ -660,8 +679,9 @@ class ObjectAttention(Module):
         people = self._people_map(pose)
         # A place one straight leg away first (the player's own leg, the surest drive); only when there
         # is none, one round a corner (legs through waypoints).
-        one = viewpoint(self.plan, (pose[0], pose[1]), target, people, camera_height=CAMERA_HEIGHT, camera_offset=CAMERA_OFFSET)
-        route = [one] if one is not None else viewpoint_route(self.plan, (pose[0], pose[1]), target, people, camera_height=CAMERA_HEIGHT, camera_offset=CAMERA_OFFSET)
+        one = viewpoint(self.plan, (pose[0], pose[1]), target, people, camera_height=CAMERA_HEIGHT, camera_offset=CAMERA_OFFSET, apart_from=apart_from)
+        route = [one] if one is not None else viewpoint_route(self.plan, (pose[0], pose[1]), target, people, camera_height=CAMERA_HEIGHT,
+                                                              camera_offset=CAMERA_OFFSET, apart_from=apart_from)
         if route is None:
             return False
         self.moves += 1

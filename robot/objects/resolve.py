@@ -64,6 +64,7 @@ TYPE_EVIDENCE = 3  # detections, none of the named type, that rule a candidate o
 TYPE_SHARE = 0.25  # with TYPE_EVIDENCE or more detections, a candidate seen as the named type less often does not fit
 CLEAR = 3.0  # the best candidate's score ratio over the second to decide without asking
 SIDE_APART = math.radians(3.0)  # rad: options this far apart, seen from the robot, are told apart by side too (3x the camera's bearing noise)
+SPLIT_MIN = 8  # detections: fewer are never taken for two objects by depth
 CO_SEEN = 0.5  # two parts are two objects only if seen together in this share of the frames of the one seen less
 ANSWER_CLEAR = 1.5  # ... and after asking, with her answer's gesture and the request's together (she has been asked once)
 # Along the ray: the arm's elevation says how far out it comes down. She points at an object's middle
@@ -95,6 +96,9 @@ class Candidate:
     size_n: int = 0
     tall_sum: float = 0.0  # metres from its surface to its top, over the detections that measured it
     tall_n: int = 0
+    #: two objects the camera saw in most of its frames but could not tell apart (one behind the
+    #: other on its line of sight, closer in depth than it resolves): a position between them
+    two: bool = False
 
     @property
     def tall(self) -> float | None:
@@ -265,6 +269,8 @@ def merge(
         split = _dissolve_between(split, detections, origin)
         if frames is not None:
             split = _join_apart(split, detections, origin, frames, eye_height)
+            for c, idx in split:
+                c.two = _holds_two(idx, frames)
         out = [c for c, _ in split]
     top = max((c.n for c in out), default=0)
     return [c for c in out if c.n >= min_share * top]
@@ -404,6 +410,19 @@ def _split(c: Candidate, idx: list[int], detections: list, origin: tuple[float, 
     return parts
 
 
+def _holds_two(idx: list[int], frames: list[float]) -> bool:
+    """The camera reports an object once per frame: detections of one candidate seen two (or
+    more) in one frame in ``CO_SEEN`` of its frames, ``SPLIT_MIN`` or more, are two objects the
+    splits could not tell apart (:func:`_split_depth` keeps them one when their ranges are closer
+    than the camera resolves)."""
+    if len(idx) < SPLIT_MIN:
+        return False
+    by_frame: dict[float, int] = {}
+    for k in idx:
+        by_frame[frames[k]] = by_frame.get(frames[k], 0) + 1
+    return sum(1 for n in by_frame.values() if n >= 2) >= CO_SEEN * len(by_frame)
+
+
 def _split_depth(c: Candidate, idx: list[int], detections: list, origin: tuple[float, float], frames: list[float] | None,
                  eye_height: float | None) -> list[tuple[Candidate, list[int]]]:
     """Two objects one behind the other along the camera's line of sight, merged, made two again.
@@ -418,8 +437,9 @@ def _split_depth(c: Candidate, idx: list[int], detections: list, origin: tuple[f
     nearer. If the parts' mean ranges lie ``SPLIT_APART`` range noises apart, they are two
     candidates, each the mean of its own detections, and each is split again (three in a row).
     Closer than that, pairs of one range ordered by their noise alone drift apart by about one
-    noise: the camera cannot resolve them, and they stay one. Needs ``frames``."""
-    if frames is None or len(idx) < 8:
+    noise: the camera cannot resolve them, and they stay one, marked ``two`` (:func:`_holds_two`):
+    the object attention then looks from another side before it stores either. Needs ``frames``."""
+    if frames is None or len(idx) < SPLIT_MIN:
         return [(c, idx)]
     ox, oy = origin
 

@@ -60,6 +60,7 @@ LEG_LEAVE = 0.3  # m: the start of a straight leg may run closer to something th
 MAX_LEGS = 3  # straight legs to a viewpoint round corners (the player drives each pose it is sent straight)
 #: m of travel a waypoint costs (the robot stops and turns there): of two ways about as long, the straight one
 WAYPOINT_COST = 0.3
+APART_TURN = math.radians(40.0)  # a view this far round the target from the first: depth there is mostly across the image
 MAX_ROUTE = 5.0  # m: the longest drive, round corners, to a viewpoint (through a door into the next room)
 
 
@@ -253,7 +254,7 @@ def straight_leg_free(plan_blocks: list[tuple[tuple[Point, ...], float, float]],
 def viewpoint(plan: FloorPlan, robot: Point, target: tuple[float, float, float], people: Sequence[Point] = (), *,
               camera_height: float, camera_offset: float = 0.0, max_travel: float = MAX_TRAVEL,
               clearance: float = ROBOT_CLEARANCE, person_clearance: float = PERSON_CLEARANCE,
-              arrive: float = ARRIVE_TOLERANCE) -> tuple[float, float, float] | None:
+              arrive: float = ARRIVE_TOLERANCE, apart_from: Point | None = None) -> tuple[float, float, float] | None:
     """The nearest pose (x, y, heading towards the target) from which the camera sees ``target``:
     in a room of the plan, ``clearance`` from walls and furniture and ``person_clearance`` from
     every person, reached by a straight drive from ``robot`` that keeps those clearances (the
@@ -262,24 +263,28 @@ def viewpoint(plan: FloorPlan, robot: Point, target: tuple[float, float, float],
     and a clear sight line, also from ``arrive`` m either way (the player stops within its
     tolerance of the pose: a line grazing a sofa's corner from the pose itself is hidden from
     where it stops). Of equal travel, the one nearer 1.5 m from the target. None when
-    there is no such place. :func:`viewpoint_route` also finds places reached only round a corner."""
+    there is no such place. :func:`viewpoint_route` also finds places reached only round a corner.
+    With ``apart_from`` (where the camera saw the target from), only places that see it at least
+    ``APART_TURN`` from that line of sight: two things one behind the other on it stand side by side there."""
     route = viewpoint_route(plan, robot, target, people, camera_height=camera_height, camera_offset=camera_offset, max_travel=max_travel,
-                            clearance=clearance, person_clearance=person_clearance, arrive=arrive, max_legs=1)
+                            clearance=clearance, person_clearance=person_clearance, arrive=arrive, max_legs=1, apart_from=apart_from)
     return None if route is None else route[-1]
 
 
 def viewpoint_route(plan: FloorPlan, robot: Point, target: tuple[float, float, float], people: Sequence[Point] = (), *,
                     camera_height: float, camera_offset: float = 0.0, max_travel: float = MAX_ROUTE,
                     clearance: float = ROBOT_CLEARANCE, person_clearance: float = PERSON_CLEARANCE,
-                    arrive: float = ARRIVE_TOLERANCE, max_legs: int = MAX_LEGS) -> list[tuple[float, float, float]] | None:
+                    arrive: float = ARRIVE_TOLERANCE, max_legs: int = MAX_LEGS,
+                    apart_from: Point | None = None) -> list[tuple[float, float, float]] | None:
     """Like :func:`viewpoint`, but a place reached only round a corner (a sofa's end, a door
     frame, the partner) counts too: the way there is the grid's shortest path (:func:`travel_map`)
     cut into at most ``max_legs`` straight legs that keep the clearances (:func:`_legs`), since the
     player drives each pose it is sent on a straight leg from the previous one. Returns the poses
     to send one after the other (each waypoint heading along its next leg; the last the viewpoint,
     heading towards the target), at most ``max_travel`` m of legs in all; None when no place the
-    robot can reach sees the target."""
+    robot can reach sees the target; ``apart_from`` as in :func:`viewpoint`."""
     every = _blocks(plan)
+    seen_from = None if apart_from is None else math.atan2(apart_from[1] - target[1], apart_from[0] - target[0])
     blocks = [(poly, bottom, top) for poly, bottom, top in every
               if min(math.hypot(x - target[0], y - target[1]) for x, y in poly) < max(RINGS) + 1.0 or top == math.inf]
     drive_c, drive_p = clearance * DRIVE_CLEARANCE, person_clearance * DRIVE_CLEARANCE
@@ -289,6 +294,8 @@ def viewpoint_route(plan: FloorPlan, robot: Point, target: tuple[float, float, f
     for r in RINGS:
         for k in range(DIRECTIONS):
             a = 2 * math.pi * k / DIRECTIONS
+            if seen_from is not None and abs(math.remainder(a - seen_from, 2 * math.pi)) < APART_TURN:
+                continue
             q = (target[0] + r * math.cos(a), target[1] + r * math.sin(a))
             i, j = int(round((q[1] - gy) / GRID_CELL)), int(round((q[0] - gx) / GRID_CELL))
             if not (0 <= i < n and 0 <= j < n):
@@ -342,7 +349,10 @@ def _grid_path(dist: np.ndarray, gx: float, gy: float, cell: tuple[int, int]) ->
 def _legs(plan_blocks: list[tuple[tuple[Point, ...], float, float]], people: Sequence[Point], robot: Point, goal: Point, path: list[Point], *,
           clearance: float, person_clearance: float) -> list[Point] | None:
     """The grid path cut into straight legs that keep the clearances (exactly, :func:`straight_leg_free`):
-    from each end, the farthest point of the path a straight leg reaches; the waypoints and ``goal``
+    from each end, the farthest point of the path a straight leg reaches that keeps the standing
+    clearance ``ROBOT_CLEARANCE`` as a waypoint (the robot turns there: its corners sweep wider than
+    its sides, and the player stopped short of a waypoint 0.29 m from a bookcase's corner,
+    perceive/view_round_corner seeds 0, 5), else the farthest it reaches; the waypoints and ``goal``
     last. None when a stretch of the path cannot be driven straight at all."""
     pts = [*path[1:-1], goal] if len(path) > 1 else [goal]
     out: list[Point] = []
@@ -350,11 +360,15 @@ def _legs(plan_blocks: list[tuple[tuple[Point, ...], float, float]], people: Seq
     k = 0
     while k < len(pts):
         reach = None
+        loose = None
         for m in range(len(pts) - 1, k - 1, -1):
             if straight_leg_free(plan_blocks, people, here, pts[m], clearance=clearance, person_clearance=person_clearance,
                                  leave=LEG_LEAVE if first else 0.0):
-                reach = m
-                break
+                loose = m if loose is None else loose
+                if m == len(pts) - 1 or _free(plan_blocks, pts[m], people, max(clearance, ROBOT_CLEARANCE), person_clearance):
+                    reach = m
+                    break
+        reach = loose if reach is None else reach
         if reach is None:
             return None
         here, first = pts[reach], False

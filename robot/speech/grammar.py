@@ -316,6 +316,16 @@ class Understander:
             kept = self._owner_after_skip(toks, build(tree).find("OBJECT/TITLE"))
             if kept is not None:
                 tree, ignored, partial = kept
+        if tree is not None and ignored and tree_act(tree) == "teach_object" and _owned(tree) is None:
+            whose = self._whose_lost(toks, ignored)
+            if whose is not None:  # whose it is, a guess: at half the coverage, so the dialog confirms it
+                tree, ignored, partial = whose
+                guess = True
+        if tree is not None and ignored and tree_act(tree) == "that_one" and len(build(tree)[0]) == 0 \
+                and not build(tree)[0].attrib:
+            where = self._where_lost(toks, ignored)
+            if where is not None:
+                tree, ignored, partial = where
         if tree is not None and ignored and tree_act(tree) == "teach_place" and build(tree).find("PLACE/TITLE") is None:
             # "here we are, stop", "we are here, stop now": an arrival said before the stop, a place with no name
             # to ask about ("Which room is this?" and the stop lost: fresh5 stair_wait_walks_on, "I am still
@@ -639,6 +649,44 @@ class Understander:
                 return tree, [t.text for t in toks[i:i + n]], True
         return None
 
+    def _whose_lost(self, toks: list[Tok], ignored: list[str]) -> tuple[Tree, list[str], bool] | None:
+        """"This bottle is [mine→this]", "that vase is [mine→uh]": a pointed teaching whose subject
+        names the thing (deixis and noun, parsed whole) and whose predicate after the copula, the last
+        word, was lost (a function word that cannot end the sentence, or nothing). The only one-word
+        predicates the language has for "this bottle is ..." say whose it is (mine, ours, Anna's), and
+        "mine" is what people showing their things say: the teaching with the speaker as owner, still
+        words lost (partial), so the dialog confirms it with the owner said back ("Is this your
+        bottle?") and she can say no. None when the words say anything else."""
+        k = len(toks) - len(ignored)
+        if k < 2 or toks[0].type not in _DEIXIS or [t.text for t in toks[k:]] != ignored or toks[k].type not in ("IS", "ARE") \
+                or len(ignored) > 2 or any(t.type not in _LOST_PREDICATE for t in toks[k + 1:]):
+            return None
+        head, lost, _ = self._parse(toks[:k])
+        if head is None or lost or _guessed(head) or tree_act(head) != "teach_object" or _owned(head) is not None \
+                or build(head).find("OBJECT/TITLE") is None:
+            return None
+        tree, lost, _ = self._parse([*toks[:k], toks[k], _SAID_MINE])
+        if tree is None or lost or _owned(tree) != "speaker":
+            return None
+        return tree, ignored[1:] or ignored, True
+
+    def _where_lost(self, toks: list[Tok], ignored: list[str]) -> tuple[Tree, list[str], bool] | None:
+        """"the one [on→to] the table", "the one [on→] the counter": a which-one answer whose relation
+        word was lost (a function word that is no relation, or none), the place after it heard whole: the
+        one at that place (``POSITION`` with the landmark; the object attention takes the option standing
+        on it, and asks again when that singles none out). Still words lost (partial). None otherwise."""
+        k = len(toks) - len(ignored)
+        if k < 1 or toks[k - 1].type != "ONE" or [t.text for t in toks[k:]] != ignored:
+            return None
+        rest = toks[k + 1:] if toks[k].type in _LOST_PREDICATE and len(toks) > k + 1 and toks[k + 1].type in ("THE", "A", "MY", "OUR") \
+            else toks[k:]
+        if not rest or rest[0].type not in ("THE", "A", "MY", "OUR"):
+            return None
+        tree, lost, _ = self._parse([*toks[:k], _SAID_AT, *rest])
+        if tree is None or lost or tree_act(tree) != "that_one" or build(tree).find("THAT_ONE/POSITION/TITLE") is None:
+            return None
+        return tree, ignored[: len(ignored) - len(rest)], True
+
     def _whole_request_at(self, toks: list[Tok]) -> tuple[int, Tree, list[str]] | None:
         """(where it starts, its tree, the words left over after it) of :meth:`_whole_request_after`'s request."""
         for i in range(1, len(toks) - 1):
@@ -889,6 +937,12 @@ _ANSWER_WORDS = frozenset({"YES", "OKAY", "NO"})
 _LOST_THIS = Tok("THIS", "this", "")
 #: The copula put in for a word misheard in its place before an owner ("the red book on the shelf [a] mine").
 _SAID_IS = Tok("IS", "is", "")
+#: The relation put in for one lost before the landmark of "the one [on] the table" (:meth:`Understander._where_lost`).
+_SAID_AT = Tok("REL", "at", "at")
+#: The owner put in for the last word of "this bottle is [lost]" (:meth:`Understander._whose_lost`).
+_SAID_MINE = Tok("MINE", "speaker", "mine")
+#: Words that cannot end "this bottle is ...": a word misheard there (the recogniser's fillers are such words).
+_LOST_PREDICATE = frozenset({"THIS", "THAT", "IT", "A", "THE", "TO", "IN", "AND", "IS", "ARE"})
 #: "here" put before the relation of "the keys are on the table": said there, as "are here on the table".
 _SAID_HERE = Tok("HERE", "here", "")
 #: Words that start the "where" of "the study is this room", "my cup is that one over there".
