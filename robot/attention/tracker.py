@@ -549,7 +549,8 @@ def _gated(
     A track unobserved for ``spec.stop_after`` has two hypotheses: it walked on (the constant-velocity
     prediction) or it stopped or turned where it was last measured (radius ``stop_spread`` per second
     unobserved); only pairs and blobs are taken under the second (a lone leg there is as likely a
-    chair's). The likelier of the two counts: a person who turns back while hidden behind another is
+    chair's). Unobserved for less, the second only takes what the first's gate misses (someone who
+    stopped dead between two scans), never a pair the walk-on prediction explains. The likelier of the two counts: a person who turns back while hidden behind another is
     found where they were instead of being searched for where they would have walked to.
 
     ``extra`` (per track) is added to every candidate's variance for that track (see :func:`_contact_variance`).
@@ -566,7 +567,11 @@ def _gated(
         p00, b, p11 = P[0], P[1], P[4]
         bb = b * b
         hidden = t - tk.last_update
-        spread = (spec.stop_spread * hidden) ** 2 if hidden >= spec.stop_after else 0.0
+        spread = (spec.stop_spread * hidden) ** 2 if hidden > 0 else 0.0
+        # Before ``stop_after`` the stopped hypothesis only catches what the walk-on one misses: a
+        # runner who stops dead between two scans (fresh5/row_child_runs_across seed 0: the child's
+        # track lost him, 0.25 m behind its prediction, and a walker's track unseen for 1 s took him).
+        early = hidden < spec.stop_after
         # A long-coasting track (kept alive by her voice or torso) has a spread of metres: gated
         # at that width it took someone 5 m away, across the room, as its person (four_people
         # seed 6: the partner's track jumped out of the kitchen onto a man in the living room).
@@ -604,7 +609,7 @@ def _gated(
                 s2 = r + spread
                 ds = ((zj[0] - lx) ** 2 + (zj[1] - ly) ** 2) / s2
                 cs = ds + 2 * math.log(s2)
-                if ds <= gates[j] and (not ok or cs < cost):
+                if ds <= gates[j] and (not ok or not early and cs < cost):
                     ok, cost = True, cs
                     stopped.add((i, j))
             if ok:
