@@ -897,7 +897,7 @@ class PersonAttention(Module):
             return
         row = self.tracks.row(self.partner)
         if row >= 0 and row in assigned and self.tracks.still(row):
-            self.tracks.support([row], t)
+            self.tracks.hold(row, t)  # (not ``support``: that would move the place she is kept near)
 
     # ------------------------------------------------------------ decisions
     def _unseen_speaker(self, t: float, cats: dict[int, int], dist: list[float]) -> int | None:

@@ -455,6 +455,13 @@ class Tracks:
         sx, sy = tk.strong_xy
         return math.hypot(tk.x[0] - sx, tk.x[1] - sy) <= self.spec.still_radius
 
+    def hold(self, row: int, t: float) -> None:
+        """Renew track ``row``'s single-leg allowance without moving where its last strong evidence put it
+        (``strong_xy``): a partner kept by :meth:`still` stays kept only while she stays near that place."""
+        tk = self.tracks[row]
+        if t >= tk.last_strong:
+            tk.last_strong, tk.blind_strong = t, 0.0
+
     def support(self, rows: list[int], t: float) -> None:
         """Other strong evidence that tracks ``rows`` are people (a frontal face, or the partner's torso,
         matched them at ``t``):
