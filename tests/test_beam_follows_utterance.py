@@ -37,20 +37,3 @@ def test_someone_tracked_talking_turned_away_is_not_listened_to_unless_the_beam_
     a._dominant = (1.0, math.radians(-10))
     a.beam(1.0, None, 0)
     assert a.beam(2.0, math.radians(-6), 2) is None  # a second after: a new utterance, gated again
-
-
-from hypothesis import given, strategies as st  # noqa: E402
-
-
-@given(b=st.floats(-math.pi, math.pi), cat=st.sampled_from([1, 2, 3]), unseen=st.booleans())
-def test_a_speaker_whose_face_the_camera_cannot_see_is_listened_to(b, cat, unseen):
-    """perceive/greet_side_kitchen: Jon greets from 75 degrees to the side; the camera saw his face only
-    after "Hi BIRON" had ended, and the beam, waiting for the face, missed the words. Speaking with his
-    face out of the image he may well face the robot: the beam is on him. Seen turned away (his face in
-    the image, not frontal) he is not addressing the robot: gated as before; silent, nothing to hear."""
-    a = _attention()
-    got = a.beam(5.0, b, cat, unseen=unseen)
-    if cat == 3 or cat == 2 and unseen:
-        assert got == b
-    else:
-        assert got is None
