@@ -840,6 +840,7 @@ class PersonAttention(Module):
         assigned = self.tracks.step(t, z, kinds, hidden, blocked)
         if self.tracks.confirmed_now:
             assigned = self._reidentify(t, assigned)
+        self._keep_still_partner(t, assigned)
         tracks = self.tracks.tracks
         if self.scans % 50 == 0:
             alive = {tk.id for tk in tracks}
@@ -882,6 +883,21 @@ class PersonAttention(Module):
             if prow >= 0 and not tracks[prow].dormant:  # (dormant: unseen too long to be reported where she is)
                 self._publish_partner(t, prow, bearing, dist, prow in assigned)
         self._publish_state(t)
+
+    def _keep_still_partner(self, t: float, assigned: list[int]) -> None:
+        """In Object the camera looks at the thing shown, on the ES's order, not at the partner, so neither her
+        face nor her torso renews her track's single-leg allowance (``single_support``). A partner who
+        stands still side-on to the laser shows it one leg (the near one hides the other): her track
+        died 8 s into the look although she stood 1.1 m in front of the robot, and the robot said "You
+        left" (fresh5/row_partners_hand_over seeds 0, 6, 9). Her legs measured this scan where her last
+        strong evidence put her (:meth:`Tracks.still`) are that evidence renewed: the camera's looking
+        away is the robot's doing, not her absence. A partner who moves, or whose legs are not seen, is
+        left to the tracker's rules as before."""
+        if self.fsm.state != "Object" or self.partner is None:
+            return
+        row = self.tracks.row(self.partner)
+        if row >= 0 and row in assigned and self.tracks.still(row):
+            self.tracks.hold(row, t)  # (not ``support``: that would move the place she is kept near)
 
     # ------------------------------------------------------------ decisions
     def _unseen_speaker(self, t: float, cats: dict[int, int], dist: list[float]) -> int | None:

@@ -76,6 +76,7 @@ class TrackerSpec:
     gate: float = GATE_99  # squared Mahalanobis distance
     single_gate: float = 4.0  # tighter for single legs (clutter)
     single_support: float = 8.0  # s: singles (or faces) alone keep a track only this long after a pair/blob fed it
+    still_radius: float = 0.3  # m: a track this near where its last pair/blob/face put it has not moved (:meth:`Tracks.still`)
     confirm_hits: int = 3
     confirm_window: float = 1.0  # s: ... within this long after birth
     tentative_gap: float = 0.35  # s: a tentative track not seen for longer is dropped
@@ -123,7 +124,7 @@ class Track:
     the pair/blob hits that confirm it and the times of its evidence."""
 
     __slots__ = ("id", "x", "P", "hits", "born", "last_update", "last_strong", "last_seen", "confirmed", "last_z", "origin",
-                 "blind_seen", "blind_strong", "dormant", "last_legs")
+                 "blind_seen", "blind_strong", "dormant", "last_legs", "strong_xy")
 
     def __init__(self, track_id: int, x: list[float], P: list[float], t: float) -> None:
         self.id = track_id
@@ -133,6 +134,7 @@ class Track:
         self.born = self.last_update = t
         self.last_legs = -math.inf  # last update by a leg candidate (not a FACE): are the person's legs in the laser's view?
         self.last_strong = t  # last update by a pair or blob
+        self.strong_xy = (x[0], x[1])  # where the track stood then (a person standing still since: :meth:`Tracks._still`)
         self.last_seen = t  # last anchored evidence of any kind (legs, frontal face, torso, voice)
         self.confirmed = False
         self.last_z = (x[0], x[1])  # where the last measurement put the person (the "stopped" hypothesis)
@@ -296,6 +298,7 @@ class Tracks:
                         tk.blind_seen = 0.0
                     if not single[j]:  # only pairs and blobs confirm a track
                         tk.last_strong = t
+                        tk.strong_xy = (tk.x[0], tk.x[1])
                         tk.blind_strong = 0.0
                         tk.hits += 1
         fed = set(assigned)
@@ -337,7 +340,7 @@ class Tracks:
                     to.x, to.P, to.last_z = list(ty.x), list(ty.P), ty.last_z
                     to.last_update, to.last_legs = ty.last_update, max(to.last_legs, ty.last_legs)
                     if ty.last_strong > to.last_strong:
-                        to.last_strong, to.blind_strong = ty.last_strong, ty.blind_strong
+                        to.last_strong, to.blind_strong, to.strong_xy = ty.last_strong, ty.blind_strong, ty.strong_xy
         for tk in tracks:
             crowded = tk.id in twins or not tk.confirmed and any((tk.x[0] - ax) ** 2 + (tk.x[1] - ay) ** 2 < clear2 for ax, ay in anchors)
             if not tk.confirmed and not crowded and tk.hits >= spec.confirm_hits and t - tk.born <= window:
@@ -443,6 +446,22 @@ class Tracks:
         for (zx, zy), rr in zip(np.asarray(z, dtype=float).tolist(), np.asarray(r, dtype=float).tolist()):
             self._birth_one(t, zx, zy, rr)
 
+    def still(self, row: int) -> bool:
+        """Whether track ``row`` stands within ``still_radius`` of where its last pair, blob or face put it
+        (a person who has not moved since; a person standing side-on to the laser shows one leg, the
+        near one hiding the other). Used by the person attention for its partner while the camera looks
+        away from her on the ES's order (:meth:`robot.attention.module.PersonAttention._keep_still_partner`)."""
+        tk = self.tracks[row]
+        sx, sy = tk.strong_xy
+        return math.hypot(tk.x[0] - sx, tk.x[1] - sy) <= self.spec.still_radius
+
+    def hold(self, row: int, t: float) -> None:
+        """Renew track ``row``'s single-leg allowance without moving where its last strong evidence put it
+        (``strong_xy``): a partner kept by :meth:`still` stays kept only while she stays near that place."""
+        tk = self.tracks[row]
+        if t >= tk.last_strong:
+            tk.last_strong, tk.blind_strong = t, 0.0
+
     def support(self, rows: list[int], t: float) -> None:
         """Other strong evidence that tracks ``rows`` are people (a frontal face, or the partner's torso,
         matched them at ``t``):
@@ -450,7 +469,7 @@ class Tracks:
         for i in rows:
             tk = self.tracks[i]
             if t >= tk.last_strong:
-                tk.last_strong, tk.blind_strong = t, 0.0
+                tk.last_strong, tk.blind_strong, tk.strong_xy = t, 0.0, (tk.x[0], tk.x[1])
             if t >= tk.last_seen:
                 tk.last_seen, tk.blind_seen = t, 0.0
                 tk.dormant = False
