@@ -36,6 +36,7 @@ def _follower(ranges: float = 4.0, arcs: list[np.ndarray] | None = None, mapped:
     f.sonar = SimpleNamespace(arcs=lambda odom, now: list(arcs or []))
     f.route = SimpleNamespace(obstacles_near=lambda odom: mapped if mapped is not None else np.zeros((0, 2)))
     f.limits = SimpleNamespace(max_turn=math.radians(100))
+    f._seen_pos = (0.0, -0.6, 0.5)  # a scan saw her last beside it, half a second ago
     return f
 
 
@@ -60,11 +61,20 @@ def test_the_search_looks_at_an_echo_behind_the_laser_line(bearing, dist):
     if ex > BLIND_X - 0.05:
         return
     f = _follower(arcs=[_arc(ex, ey)])
+    f._seen_pos = (0.5 * ex, 0.5 * ey - 0.3, 0.5)  # she was last seen on her way there
     got = f._heard_there(-0.2, -0.7)  # she is looked for beside it, behind the laser's line
     assert got is not None and math.hypot(got[0] - ex, got[1] - ey) < 0.05
     # the floor plan explains the echo (a wall there): nobody heard
     f = _follower(arcs=[_arc(ex, ey)], mapped=np.array([(ex, ey)]))
     assert f._heard_there(-0.2, -0.7) is None
+
+
+def test_an_echo_she_cannot_have_walked_to_is_not_her():
+    f = _follower(arcs=[_arc(-0.7, 0.3)])
+    f._seen_pos = (3.0, -1.0, 0.0)  # last seen 3 m ahead a second ago: the echo behind the robot is not her
+    assert f._heard_there(-0.2, -0.7) is None
+    f._seen_pos = (0.2, -0.6, 0.0)
+    assert f._heard_there(-0.2, -0.7) is not None
 
 
 def test_no_echo_is_looked_at_while_she_may_stand_where_the_laser_looks():

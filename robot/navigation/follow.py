@@ -148,6 +148,11 @@ GUESS_ECHO = 0.5
 #: s: searching, someone the sonar heard beside or behind is looked for there this long after the echo has gone
 #: (she walked on out of its reach: the turn toward where she was heard still brings the laser to her way)
 HEARD_KEEP = 2.0
+#: m, m/s, m: ... and only an echo she can have walked to from where a scan last saw her: this near, plus her
+#: walk (this fast) for the time since, at most this far
+HEARD_NEAR = 0.6
+HEARD_WALK = 0.8
+HEARD_REACH = 2.0
 #: s and m/s: wedged this long (it should drive, the dynamic window finds nothing), it backs this slowly
 STUCK_TIME = 1.0
 UNSTICK_SPEED = 0.1
@@ -864,7 +869,8 @@ class Follower(Module):
         (odom ``px, py``) lies where the laser does not look (behind its line, :data:`BLIND_X`) or where
         the latest scan sees through (:meth:`LatestScan.sees_through`), the middle of the unexplained echo
         in the blind half (not the floor plan's, :func:`robot.blindside.explained_by_points`) nearest to
-        that point. The laser looks ahead only: a partner who stepped past the robot's side and stands
+        that point, among those she can have walked to from where a scan last saw her (:data:`HEARD_REACH`).
+        The laser looks ahead only: a partner who stepped past the robot's side and stands
         beside or behind it is heard there, not seen; the robot turns to look (the laser and the camera
         then find her again)."""
         if self.odom is None:
@@ -877,6 +883,12 @@ class Follower(Module):
         if not arcs:
             return kept[:2] if kept is not None else None
         explains = explained_by_points(self.route.obstacles_near(self.odom))
+        # only where she can have walked to from where a scan last saw her (an echo behind the robot is no
+        # partner last seen 3 m ahead: a jamb it drove past, u_catch_up_slow seed 3 turned round to one)
+        if self._seen_pos is None:
+            return kept[:2] if kept is not None else None
+        sx, sy = self._to_robot(self._seen_pos[0], self._seen_pos[1])
+        reach = min(HEARD_REACH, HEARD_NEAR + HEARD_WALK * max(0.0, self.now - self._seen_pos[2]))
         best, near = None, math.inf
         for arc in arcs:
             blind = arc[arc[:, 0] < BLIND_X]
@@ -884,7 +896,7 @@ class Follower(Module):
                 continue
             bx, by = (float(c) for c in blind.mean(axis=0))
             gap = math.hypot(bx - rx, by - ry)
-            if gap < near:
+            if gap < near and math.hypot(bx - sx, by - sy) <= reach:
                 best, near = (bx, by), gap
         if best is None:
             return kept[:2] if kept is not None else None
