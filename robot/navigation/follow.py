@@ -66,8 +66,8 @@ Control, every ``1/rate`` seconds:
   is: the search looks where her last measured velocity carried her on from where she was last seen
   (beside or behind the robot when she walked past its side: it turns there), and such a point, or a
   coasting track the scan sees through, refuses no turn (:meth:`Follower._bodies`). Searching, her guessed
-  point is a body only where the laser looks and has an echo near it; beside or behind, where only the
-  sonar hears, it looks at the unexplained echo nearest to where it looks for her: it stands and turns
+  point is a body only where the laser looks and has an echo near it; looking for her beside or behind,
+  where only the sonar hears, it looks at the unexplained echo nearest to that point: it stands and turns
   there (the other way round when the sonar refuses the short way), so the laser and the camera find
   her again (:meth:`Follower._heard_there`, :meth:`Follower._search_turn`).
 * Yielding is not searching: time in which someone other than her is near it
@@ -866,8 +866,8 @@ class Follower(Module):
 
     def _heard_there(self, px: float, py: float) -> tuple[float, float] | None:
         """Searching, where the sonar says she may be (odom), or None: when the point she is looked for at
-        (odom ``px, py``) lies where the laser does not look (behind its line, :data:`BLIND_X`) or where
-        the latest scan sees through (:meth:`LatestScan.sees_through`), the middle of the unexplained echo
+        (odom ``px, py``) lies where the laser does not look (behind its line, :data:`BLIND_X`), the middle
+        of the unexplained echo
         in the blind half (not the floor plan's, :func:`robot.blindside.explained_by_points`) nearest to
         that point, among those she can have walked to from where a scan last saw her (:data:`HEARD_REACH`).
         The laser looks ahead only: a partner who stepped past the robot's side and stands
@@ -876,7 +876,7 @@ class Follower(Module):
         if self.odom is None:
             return None
         rx, ry = self._to_robot(px, py)
-        if rx >= BLIND_X and not self.scan.sees_through(rx, ry):
+        if rx >= BLIND_X:  # ahead (seen through or not): she went on where the laser looks, the search goes there
             return None
         arcs = self.sonar.arcs(self.odom, self.now)
         kept = self._heard if self._heard is not None and self.now - self._heard[2] <= HEARD_KEEP else None
