@@ -81,9 +81,11 @@ def test_no_echo_is_looked_at_while_she_may_stand_where_the_laser_looks():
     f = _follower(ranges=1.0, arcs=[_arc(-0.6, -0.4)])
     assert f._heard_there(1.0, 0.0) is None  # her point is in view with echoes there: the search goes on as before
     f = _follower(ranges=4.0, arcs=[_arc(-0.6, -0.4)])
-    # the laser sees through her point ahead: she went on where it looks (u_catch_up_slow seed 3: round the
-    # corner ahead), not back past it
-    assert f._heard_there(1.0, 0.0) is None
+    assert f._heard_there(1.0, 0.0) is not None  # the laser sees through her point beside it: she is not there
+    # looked for out of the sonar's hearing (she went on round the corner ahead: u_catch_up_slow seed 3, an
+    # echo 1.3 m beside the robot turned it round), the search goes on where she went
+    f._seen_pos, f._heard = (0.0, -0.6, 0.9), None
+    assert f._heard_there(3.0, 0.0) is None
 
 
 def test_refused_the_short_way_round_it_turns_the_other_way_and_keeps_to_it():

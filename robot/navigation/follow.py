@@ -113,7 +113,7 @@ from homesim.module import Module
 
 from homesim.errors import BusError, HomesimError
 from robot import floorplan
-from robot.blindside import BLIND_X, SonarEchoes, blind_clear, blind_points, explained_by_points
+from robot.blindside import BLIND_X, SONAR_REACH, SonarEchoes, blind_clear, blind_points, explained_by_points
 from robot.partner_search import follow_search_time, yielding
 from robot.bumpers import BumperReflex, own_reflex
 from robot.contract import ATTENTION_STATE, BASE_CMD, BUMPERS, ES_EVENTS, FOLLOW_STATUS, ODOMETRY, PARTNER, POSE, SCAN, SONAR, TRACKS
@@ -866,8 +866,9 @@ class Follower(Module):
 
     def _heard_there(self, px: float, py: float) -> tuple[float, float] | None:
         """Searching, where the sonar says she may be (odom), or None: when the point she is looked for at
-        (odom ``px, py``) lies where the laser does not look (behind its line, :data:`BLIND_X`), the middle
-        of the unexplained echo
+        (odom ``px, py``) lies near the robot (within the sonar's reach, plus :data:`HEARD_NEAR`) where the
+        laser does not look (behind its line, :data:`BLIND_X`) or where the latest scan sees through it
+        (:meth:`LatestScan.sees_through`), the middle of the unexplained echo
         in the blind half (not the floor plan's, :func:`robot.blindside.explained_by_points`) nearest to
         that point, among those she can have walked to from where a scan last saw her (:data:`HEARD_REACH`).
         The laser looks ahead only: a partner who stepped past the robot's side and stands
@@ -876,10 +877,12 @@ class Follower(Module):
         if self.odom is None:
             return None
         rx, ry = self._to_robot(px, py)
-        if rx >= BLIND_X:  # ahead (seen through or not): she went on where the laser looks, the search goes there
-            return None
-        arcs = self.sonar.arcs(self.odom, self.now)
         kept = self._heard if self._heard is not None and self.now - self._heard[2] <= HEARD_KEEP else None
+        if rx >= BLIND_X and not self.scan.sees_through(rx, ry):  # ahead, where she may stand unseen
+            return kept[:2] if kept is not None else None
+        if math.hypot(rx, ry) > SONAR_REACH + HEARD_NEAR:  # looked for out of the sonar's hearing: she went on there
+            return kept[:2] if kept is not None else None
+        arcs = self.sonar.arcs(self.odom, self.now)
         if not arcs:
             return kept[:2] if kept is not None else None
         explains = explained_by_points(self.route.obstacles_near(self.odom))
