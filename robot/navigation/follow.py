@@ -65,7 +65,11 @@ Control, every ``1/rate`` seconds:
   latest scan looks at and sees through (:func:`robot.navigation.local.looked_empty`) is not where she
   is: the search looks where her last measured velocity carried her on from where she was last seen
   (beside or behind the robot when she walked past its side: it turns there), and such a point, or a
-  coasting track the scan sees through, refuses no turn (:meth:`Follower._bodies`).
+  coasting track the scan sees through, refuses no turn (:meth:`Follower._bodies`). Searching, her guessed
+  point is a body only where the laser looks and has an echo near it; looking for her beside or behind,
+  where only the sonar hears, it looks at the unexplained echo nearest to that point: it stands and turns
+  there (the other way round when the sonar refuses the short way), so the laser and the camera find
+  her again (:meth:`Follower._heard_there`, :meth:`Follower._search_turn`).
 * Yielding is not searching: time in which someone other than her is near it
   (:func:`robot.partner_search.yielding`, the attention's rule too) does not count as time unseen.
 * Lost: not seen for ``search_time`` s (6 s; longer when she was last seen beyond the band, by the
@@ -109,7 +113,7 @@ from homesim.module import Module
 
 from homesim.errors import BusError, HomesimError
 from robot import floorplan
-from robot.blindside import SonarEchoes, blind_clear, blind_points, explained_by_points
+from robot.blindside import BLIND_X, SONAR_REACH, SonarEchoes, blind_clear, blind_points, explained_by_points
 from robot.partner_search import follow_search_time, yielding
 from robot.bumpers import BumperReflex, own_reflex
 from robot.contract import ATTENTION_STATE, BASE_CMD, BUMPERS, ES_EVENTS, FOLLOW_STATUS, ODOMETRY, PARTNER, POSE, SCAN, SONAR, TRACKS
@@ -136,6 +140,19 @@ SEARCH_HORIZON = 1.5
 SEARCH_WALK_ON = 5.0
 #: m/s: searching, a partner last seen slower than this was standing: her velocity is no heading to look along
 WALKING = 0.3
+#: rad: searching, a point further off the heading than this is beside or behind: refused the short way
+#: round (the sonar hears her there), the turn toward it goes the other way (:meth:`Follower._search_turn`)
+SEARCH_BACK = math.radians(90)
+#: m: searching, her guessed point where the laser looks is a body only with an echo this near (legs, a body's ring)
+GUESS_ECHO = 0.5
+#: s: searching, someone the sonar heard beside or behind is looked for there this long after the echo has gone
+#: (she walked on out of its reach: the turn toward where she was heard still brings the laser to her way)
+HEARD_KEEP = 2.0
+#: m, m/s, m: ... and only an echo she can have walked to from where a scan last saw her: this near, plus her
+#: walk (this fast) for the time since, at most this far
+HEARD_NEAR = 0.6
+HEARD_WALK = 0.8
+HEARD_REACH = 2.0
 #: s and m/s: wedged this long (it should drive, the dynamic window finds nothing), it backs this slowly
 STUCK_TIME = 1.0
 UNSTICK_SPEED = 0.1
@@ -290,6 +307,8 @@ class Follower(Module):
 
     # (set in __init__; here too for the rules' unit tests, which build a follower without a bus)
     _aside_stall: tuple[float, float] | None = None
+    _turn_way = 0.0
+    _heard: tuple[float, float, float] | None = None
     #: nothing pressed, and never told otherwise (__init__ gives each follower its own, heard on the bus)
     bumpers = own_reflex()
 
@@ -336,6 +355,8 @@ class Follower(Module):
         self._excused_at = -math.inf  # when it last asked to pass (way_blocked)
         self._yielded = 0.0  # s since she was last seen spent yielding to someone near it (not search time)
         self._yield_t: float | None = None
+        self._turn_way = 0.0  # searching, the way round (+1 left, -1 right) it turns toward a point behind
+        self._heard: tuple[float, float, float] | None = None  # searching, where (odom) and when the sonar last heard her
         self.bus.subscribe(ATTENTION_STATE, self._on_state)
         self.bus.subscribe(PARTNER, self._on_partner)
         self.bus.subscribe(SCAN, self._on_scan)
@@ -578,8 +599,14 @@ class Follower(Module):
         px, py = tr["x"] + tr["vx"] * horizon, tr["y"] + tr["vy"] * horizon
         if searching and age > SEARCH_HORIZON:
             px, py = self._walk_on((px, py), self._seen_v, min(age, SEARCH_WALK_ON) - SEARCH_HORIZON)
-        if searching:
+        heard = False
+        if not searching:
+            self._heard = None
+        else:
             px, py = self._not_there(px, py)
+            echo = self._heard_there(px, py)
+            if echo is not None:  # the sonar hears someone beside or behind, where the laser does not look
+                px, py, heard = echo[0], echo[1], True
         if not self.trail or math.hypot(px - self.trail[-1][0], py - self.trail[-1][1]) > 0.15:
             self.trail.append((px, py))
         rx, ry = self._to_robot(px, py)
@@ -628,8 +655,11 @@ class Follower(Module):
             v_des = max(v_des, 0.15)  # in the next room (near but out of sight): on through the door
         elif searching:
             # to where she was heading, slowly, no closer than search_reach (she may stand there unseen);
-            # behind a wall (she went through a door) on through the door until the point is in sight
-            if not self.route.in_sight(self.odom[:2], (px, py)):
+            # behind a wall (she went through a door) on through the door until the point is in sight;
+            # someone the sonar hears beside or behind: it only turns to look (never driven at unseen)
+            if heard:
+                v_des = 0.0
+            elif not self.route.in_sight(self.odom[:2], (px, py)):
                 v_des = self.search_speed
             else:
                 v_des = min(self.search_speed, self.gain * (d - self.search_reach)) if d > self.search_reach else 0.0
@@ -673,7 +703,11 @@ class Follower(Module):
             if v != 0.0:
                 v, w = self._back_off_clear(v, w, self._bodies(rx, ry), mapped)
             if v == 0.0 and w != 0.0:  # turning to her: no corner swung into her (she may stand close) or anyone
-                w = w if turn_clear(w, self._bodies(rx, ry), duration=SWEEP_TIME) else 0.0
+                w = w if turn_clear(w, self._bodies(rx, ry, guess=searching), duration=SWEEP_TIME) else 0.0
+            if searching and v == 0.0:
+                w = self._search_turn(w, bearing, rx, ry, mapped)
+            elif not searching:
+                self._turn_way = 0.0
             state = "waiting"
             # the robot stands and sees the partner: the way to them is the straight line. Older trail
             # points are stale (a partner who turned back and walked past would otherwise be
@@ -731,7 +765,7 @@ class Follower(Module):
                     v_pref = min(v_pref, cap)
             cmd = dwa(self.v, self.w, goal, pts, limits, v_pref=v_pref, params=self.params, people=others)
             v, w = cmd.v, cmd.w
-            if v == 0.0 and w != 0.0 and not turn_clear(w, self._bodies(rx, ry), duration=SWEEP_TIME):
+            if v == 0.0 and w != 0.0 and not turn_clear(w, self._bodies(rx, ry, guess=searching), duration=SWEEP_TIME):
                 # the window's turn on the spot is exempt from people's space (the laser's leg echoes
                 # guard its corners, but a body is wider than its legs): a corner swung into a man
                 # held up beside it while a couple crossed (cross_studio_four seeds 0, 3, 5, 8)
@@ -802,15 +836,105 @@ class Follower(Module):
                 break
             trail.popleft()
 
-    def _bodies(self, rx: float, ry: float) -> np.ndarray:
+    def _bodies(self, rx: float, ry: float, *, guess: bool = False) -> np.ndarray:
         """Robot-frame centres of everyone near (confirmed tracks) and of the partner at (``rx``, ``ry``),
         but not where the latest scan looks and finds nobody (:meth:`LatestScan.sees_through`): a coasting
         track, or her predicted point, beside the robot after she walked past its side and on behind
-        it refused every turn toward where she went (flow/follow_while_looking, 9d2dc38's seed 8)."""
-        near = self.people.around(self.odom, self.now)
-        bodies = np.concatenate((near[:, :2], [(rx, ry)])) if len(near) else np.array([(rx, ry)])
+        it refused every turn toward where she went (flow/follow_while_looking, 9d2dc38's seed 8).
+        ``guess`` (searching: unseen, her point is where she might be): her point and her own coasting
+        track are left out in the blind half (behind the laser's line, :data:`BLIND_X`), where the sonar
+        is what knows who stands there and every command keeps clear of what it hears
+        (:meth:`_blind_clear`), and where the laser looks and has no echo within :data:`GUESS_ECHO` m of
+        it. Her guessed point 0.6 m beside the robot refused the turn toward where she went on behind
+        it until the search ran out (flow/follow_while_looking seed 1)."""
+        # searching, her own track is her guessed point (the same message): one body, where the laser looks
+        # and has an echo near it (nobody stands where the laser looks and hears nothing)
+        near = (self.people.around(self.odom, self.now, exclude=self.partner_id) if guess
+                else self.people.around(self.odom, self.now))
+        own = [(rx, ry)]
+        if guess:
+            pts = self.scan.points() if rx >= BLIND_X else np.zeros((0, 2))
+            if not len(pts) or float(np.hypot(pts[:, 0] - rx, pts[:, 1] - ry).min()) > GUESS_ECHO:
+                own = []
+        bodies = near[:, :2] if len(near) else np.zeros((0, 2))
+        if own:
+            bodies = np.concatenate((bodies, own)) if len(bodies) else np.array(own)
+        if not len(bodies):
+            return bodies
         keep = [not self.scan.sees_through(float(bx), float(by)) for bx, by in bodies]
         return bodies[np.array(keep, dtype=bool)] if not all(keep) else bodies
+
+    def _heard_there(self, px: float, py: float) -> tuple[float, float] | None:
+        """Searching, where the sonar says she may be (odom), or None: when the point she is looked for at
+        (odom ``px, py``) lies near the robot (within the sonar's reach, plus :data:`HEARD_NEAR`) where the
+        laser does not look (behind its line, :data:`BLIND_X`) or where the latest scan sees through it
+        (:meth:`LatestScan.sees_through`), the middle of the unexplained echo
+        in the blind half (not the floor plan's, :func:`robot.blindside.explained_by_points`) nearest to
+        that point, among those she can have walked to from where a scan last saw her (:data:`HEARD_REACH`).
+        The laser looks ahead only: a partner who stepped past the robot's side and stands
+        beside or behind it is heard there, not seen; the robot turns to look (the laser and the camera
+        then find her again)."""
+        if self.odom is None:
+            return None
+        rx, ry = self._to_robot(px, py)
+        kept = self._heard if self._heard is not None and self.now - self._heard[2] <= HEARD_KEEP else None
+        if rx >= BLIND_X and not self.scan.sees_through(rx, ry):  # ahead, where she may stand unseen
+            return kept[:2] if kept is not None else None
+        if math.hypot(rx, ry) > SONAR_REACH + HEARD_NEAR:  # looked for out of the sonar's hearing: she went on there
+            return kept[:2] if kept is not None else None
+        arcs = self.sonar.arcs(self.odom, self.now)
+        if not arcs:
+            return kept[:2] if kept is not None else None
+        explains = explained_by_points(self.route.obstacles_near(self.odom))
+        # only where she can have walked to from where a scan last saw her (an echo behind the robot is no
+        # partner last seen 3 m ahead: a jamb it drove past, u_catch_up_slow seed 3 turned round to one)
+        if self._seen_pos is None:
+            return kept[:2] if kept is not None else None
+        sx, sy = self._to_robot(self._seen_pos[0], self._seen_pos[1])
+        reach = min(HEARD_REACH, HEARD_NEAR + HEARD_WALK * max(0.0, self.now - self._seen_pos[2]))
+        best, near = None, math.inf
+        for arc in arcs:
+            blind = arc[arc[:, 0] < BLIND_X]
+            if not len(blind) or explains(arc):
+                continue
+            bx, by = (float(c) for c in blind.mean(axis=0))
+            gap = math.hypot(bx - rx, by - ry)
+            if gap < near and math.hypot(bx - sx, by - sy) <= reach:
+                best, near = (bx, by), gap
+        if best is None:
+            return kept[:2] if kept is not None else None
+        ox, oy, oth = self.odom
+        c, s = math.cos(oth), math.sin(oth)
+        self._heard = (ox + c * best[0] - s * best[1], oy + s * best[0] + c * best[1], self.now)
+        return self._heard[:2]
+
+    def _search_turn(self, w: float, bearing: float, rx: float, ry: float, mapped: np.ndarray) -> float:
+        """Searching and standing, the turn toward where she is looked for (``bearing``; ``w`` the short way's
+        rate, already held to the floor plan and the people it knows): when that way is refused (zero, or the
+        sonar hears someone in the blind half it would swing a corner toward: :meth:`_blind_clear`) and she
+        is looked for beside or behind (beyond :data:`SEARCH_BACK`), the other way round, so the laser comes
+        to look where she is. She walked past its side and on behind it: turning toward her swung the
+        rear corner at her own legs, which the sonar heard, and the robot stood until the search ran out
+        (flow/follow_while_looking seed 1). The way chosen is kept while it is turned (no to and fro)."""
+        if abs(bearing) <= SEARCH_BACK:
+            self._turn_way = 0.0
+            return w
+        if self._turn_way == 0.0 and w != 0.0 and self._blind_clear(0.0, w):
+            return w
+        rate = min(self.limits.max_turn, 1.8 * abs(bearing))
+        ways = (self._turn_way,) if self._turn_way != 0.0 else (-math.copysign(1.0, bearing),)
+        if self._turn_way != 0.0:
+            ways = (self._turn_way, -self._turn_way)
+        for way in ways:
+            cand = way * rate
+            _, cand = self._swept(0.0, cand, mapped)
+            if cand == 0.0 or not turn_clear(cand, self._bodies(rx, ry, guess=True), duration=SWEEP_TIME):
+                continue
+            if not self._blind_clear(0.0, cand):
+                continue
+            self._turn_way = way
+            return cand
+        return 0.0
 
     def _not_there(self, px: float, py: float) -> tuple[float, float]:
         """Searching: where to look for her when the point her track predicts (odom ``px, py``) is in the
