@@ -148,7 +148,9 @@ def test_a_cancel_ends_the_watch_and_the_watch_asks_once_a_second_for_its_time()
     for k in range(25):
         sim.now = k * 0.1
         seq.check()
-    asked = [el for ch, el in sim.bus.sent if el.tag == "replan"]
+    told = [el for ch, el in sim.bus.sent if el.tag == "replan" and el.get("blocked") == "true"]
+    assert len(told) == 1 and told[0].get("goal") == "kitchen"  # the planner remembers where it was blocked (goto17)
+    asked = [el for ch, el in sim.bus.sent if el.tag == "replan" and el.get("blocked") is None]
     assert len(asked) == 3 and all(el.get("watch") == "true" and el.get("goal") == "kitchen" for el in asked)
     sim.now = 61.0
     seq.check()

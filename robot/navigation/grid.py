@@ -159,6 +159,23 @@ class OccupancyGrid:
         new._derive(occ)
         return new
 
+    def with_cost(self, centres: list[Point], *, radius: float, cost: float) -> OccupancyGrid:
+        """A copy in which the cells within ``radius`` m of each of ``centres`` (map frame) cost ``cost``
+        more per metre: a path avoids them where another way costs less, and still goes through them
+        where there is none (nothing becomes occupied). The original grid is not changed."""
+        if not centres:
+            return self
+        new = copy.copy(self)
+        xs = self.origin[0] + (np.arange(self.nx) + 0.5) * self.cell
+        ys = self.origin[1] + (np.arange(self.ny) + 0.5) * self.cell
+        extra = np.zeros((self.nx, self.ny))
+        for cx, cy in centres:
+            near = (xs[:, None] - cx) ** 2 + (ys[None, :] - cy) ** 2 <= radius * radius
+            extra[near] = cost
+        new.cost = self.cost + extra
+        new._graph = None
+        return new
+
     # ------------------------------------------------------------- cells
     def cell_of(self, p: Point) -> tuple[int, int]:
         return int((p[0] - self.origin[0]) / self.cell), int((p[1] - self.origin[1]) / self.cell)

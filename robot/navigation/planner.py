@@ -43,6 +43,17 @@ where the way goes (``look``: its bearing from the robot's heading, rad, :func:`
 robot asking for help with nobody to turn to looks along its way and sees when it clears
 (:mod:`robot.attention.module`; fresh5/stair_goto_passage_person: it faced a door off its way, the way
 was never in view, and it never went on after the lodger had left the passage).
+
+Where it was blocked (``/robot/navigation/replan`` with ``blocked="true"``, from the sequencer when a go-to
+fails ``blocked``): the planner remembers the spot of its path :data:`AVOID_AHEAD` m ahead of where the
+robot stood, for :data:`AVOID_FOR` s (the robot's own map of where it was blocked; at most
+:data:`AVOID_MAX` spots). Every plan and replan in that time (the watch, the plan of the resumed go-to, a
+new request to any goal) pays :data:`AVOID_COST` per metre within :data:`AVOID_RADIUS` m of such a spot:
+a second way, even a much longer one, is taken before the blocked one is tried again, and where there is
+no other way the path still goes through it (a cost, not an obstacle: no route is lost).
+fresh7/split_goto_ramp_child seed 2: blocked by a child on the ramp, told the way was clear, it drove up
+to the same ramp three times and asked for help again each time; the way round through the utility room
+was never tried.
 """
 
 from __future__ import annotations
@@ -93,6 +104,18 @@ END_CORNER = 0.15
 #: the footprint's half width. A path any nearer is one the player's window will not drive: it stood
 #: blocked beside Ida for 14 s in goto_standing_person seed 2, replanned three times past her at 0.55 m.
 PERSON_CLEAR = BODY + GOTO_SOCIAL_GAP + HALF_WIDTH
+#: m: the spot remembered as blocked lies this far along the path ahead of where the robot stood blocked
+#: (the player stops about a body's length short of what blocks it).
+AVOID_AHEAD = 0.6
+#: m: the radius round a blocked spot a path pays for.
+AVOID_RADIUS = 0.6
+#: cost per metre of path within a blocked spot's radius (on top of the grid's own cost, 1 per metre in
+#: the open): crossing one costs about 2 * AVOID_RADIUS * AVOID_COST m of detour.
+AVOID_COST = 25.0
+#: s: how long a blocked spot is remembered.
+AVOID_FOR = 150.0
+#: the most blocked spots remembered (the oldest is forgotten first).
+AVOID_MAX = 4
 
 
 def social_grid(grid: OccupancyGrid, people: np.ndarray) -> OccupancyGrid:
@@ -137,6 +160,30 @@ def way_bearing(points: list[tuple[float, float]], pose: tuple[float, float, flo
     if best is None:
         return None
     return math.remainder(math.atan2(best[1] - y, best[0] - x) - th, 2 * math.pi)
+
+
+def point_ahead(path: list[tuple[float, float]], at: tuple[float, float], ahead: float) -> tuple[float, float]:
+    """The point ``ahead`` m along ``path`` past the point of the path nearest to ``at`` (its end, if the
+    path ends sooner)."""
+    best, where = math.inf, (0, 0.0)
+    for k, ((ax, ay), (bx, by)) in enumerate(zip(path, path[1:])):
+        dx, dy = bx - ax, by - ay
+        n2 = dx * dx + dy * dy
+        t = 0.0 if n2 == 0 else min(max(((at[0] - ax) * dx + (at[1] - ay) * dy) / n2, 0.0), 1.0)
+        d = math.hypot(ax + t * dx - at[0], ay + t * dy - at[1])
+        if d < best:
+            best, where = d, (k, t)
+    k, t = where
+    left = ahead
+    for j in range(k, len(path) - 1):
+        (ax, ay), (bx, by) = path[j], path[j + 1]
+        seg = math.hypot(bx - ax, by - ay)
+        start = t * seg if j == k else 0.0
+        if seg - start >= left:
+            f = (start + left) / seg if seg > 0 else 0.0
+            return ax + (bx - ax) * f, ay + (by - ay) * f
+        left -= seg - start
+    return path[-1]
 
 
 def place_title(place: etree._Element | None) -> str | None:
@@ -215,6 +262,8 @@ class Planner(Module):
         self.scan = LatestScan()
         self._scan_sub: Any = None  # subscribed only while a replan waits for a fresh scan
         self._watch = False  # the replan waiting for that scan is a watch question (see the module docstring)
+        self.path: list[tuple[float, float]] = []  # the last path published (the one being driven)
+        self.avoid: deque[tuple[float, float, float]] = deque(maxlen=AVOID_MAX)  # blocked spots (x, y, since)
         self.bus.subscribe(CONDITIONS, self._on_condition)
         self.bus.subscribe(POSE, self._on_pose)
         self.bus.subscribe(REPLAN, self._on_replan)
@@ -272,6 +321,8 @@ class Planner(Module):
             el.set("watch", "true")
         if look is not None:
             el.set("look", f"{look:.5f}")
+        if points and not failed and not watch:
+            self.path = list(points)
         for i, (x, y) in enumerate(points):
             wp = etree.SubElement(el, "waypoint", x=f"{x:.4f}", y=f"{y:.4f}")
             if theta is not None and i == len(points) - 1:
@@ -314,9 +365,10 @@ class Planner(Module):
             # they close every way (someone standing in the only door), it plans on the floor plan alone:
             # people move, and the player waits for them at a polite distance (a replan then tries again)
             try:
-                points = self._plan_round(place, squeeze=False) if scan is not None else grid.plan(self.pose[:2], place[:2])
+                points = self._plan_round(place, squeeze=False) if scan is not None \
+                    else self._avoiding(grid).plan(self.pose[:2], place[:2])
             except NoPathError:
-                points = grid.plan(self.pose[:2], place[:2])
+                points = self._avoiding(grid).plan(self.pose[:2], place[:2])
         except NoPathError as e:
             self._publish(title, [], failed=e.reason)
             return None
@@ -345,6 +397,9 @@ class Planner(Module):
         """Replan on the next laser scan (the planner listens to the laser only for that one scan:
         every delivery draws a network delay, so a standing subscription would change every run)."""
         title = msg.xml.get("goal", "")
+        if msg.xml.get("blocked") == "true":
+            self.remember_blocked()
+            return
         watch = msg.xml.get("watch") == "true"
         if self.goal is None or self.goal[0] != title or self.grid is None or self.pose is None:
             self._publish(title, [], failed="no_plan", replan=True, **({"watch": True} if watch else {}))
@@ -360,6 +415,23 @@ class Planner(Module):
         self.scan.update(msg)
         if self.goal is not None and self.grid is not None and self.pose is not None:
             self.replan(watch=self._watch)
+
+    def remember_blocked(self) -> tuple[float, float] | None:
+        """Remember the spot of the path being driven :data:`AVOID_AHEAD` m ahead of the robot's position
+        (projected on the path) as blocked, for :data:`AVOID_FOR` s; the spot, or None without a path or pose."""
+        if self.pose is None or len(self.path) < 2:
+            return None
+        spot = point_ahead(self.path, self.pose[:2], AVOID_AHEAD)
+        self.avoid.append((spot[0], spot[1], self.now))
+        return spot
+
+    def avoided(self) -> list[tuple[float, float]]:
+        """The blocked spots remembered now (younger than :data:`AVOID_FOR` s)."""
+        return [(x, y) for x, y, t in self.avoid if self.now - t < AVOID_FOR]
+
+    def _avoiding(self, grid: OccupancyGrid) -> OccupancyGrid:
+        """``grid`` with the remembered blocked spots made costly (see the module docstring)."""
+        return grid.with_cost(self.avoided(), radius=AVOID_RADIUS, cost=AVOID_COST)
 
     def unmapped(self) -> np.ndarray:
         """The latest scan's echoes (map frame, (N, 2)) near the robot that the floor plan does not explain."""
@@ -428,11 +500,11 @@ class Planner(Module):
         people = self.people()
         if len(people):
             try:
-                return social_grid(grid, people).plan(self.pose[:2], place[:2])
+                return self._avoiding(social_grid(grid, people)).plan(self.pose[:2], place[:2])
             except NoPathError:
                 if not squeeze:
                     raise
-        return grid.plan(self.pose[:2], place[:2])
+        return self._avoiding(grid).plan(self.pose[:2], place[:2])
 
     async def run(self) -> None:
         while True:

@@ -35,7 +35,9 @@ space, along ground the laser looks at, :meth:`robot.navigation.planner.Planner.
 such answers in a row (the blocker has stepped aside, not just moved a moment) send the ES
 ``way_clear`` with the goal's ``PLACE``: asking for help, the robot goes on to its goal on its
 own. At most ``max_resumes`` times per goal (each new blockage asks for help again), and
-never after the ES's ``cancel`` (she stopped it, or a new plan began).
+never after the ES's ``cancel`` (she stopped it, or a new plan began). A ``blocked`` failure also tells
+the planner (``replan`` with ``blocked="true"``) to remember where: its next plans (the watch's, the
+resumed go-to's) take another way round that spot where there is one.
 """
 
 from __future__ import annotations
@@ -127,6 +129,8 @@ class Sequencer(Module):
     def _fail(self, reason: str) -> None:
         self.steps, self.index, self.blocked_since = [], -1, None
         self._event("navigation_failed", attrs={"reason": reason}, child=self._place())
+        if reason == "blocked":  # the planner remembers where (its plans avoid that spot for a while)
+            self.bus.publish(REPLAN, etree.Element("replan", goal=self.goal, blocked="true"))
         if reason == "blocked" and self.resumes < self.max_resumes:
             self.watching, self._watch_asked, self._clear = self.now, -math.inf, 0
 

@@ -224,6 +224,14 @@ class Understander:
             res.frame = build(tree)
             res.coverage = 1.0
             return res
+        remark = _way_free_remark(Lexicon.words(words), self.lexicon.hesitations)
+        if remark:
+            # "the ramp is free now, go to the living room please", "she's gone, you can go to the kitchen
+            # now": a remark that the way is free (no place to teach: fresh7 split_goto_ramp_child, "Is this
+            # the living room?" to the go-to after it); the whole request said after it is what she asks
+            after = self._request_after_remark(words, Lexicon.words(words), remark)
+            if after is not None:
+                return after
         other = _said_to_another(toks, Lexicon.words(words), self.lexicon.hesitations)
         if other:
             # "Tom, can you put the kettle on", "yes dear, I'm coming", "isn't the robot clever": words for
@@ -744,6 +752,17 @@ class Understander:
             return tail
         return None
 
+    def _request_after_remark(self, words: str, said: list[str], at: int) -> Understanding | None:
+        """The understanding of ``said[at:]`` (the words after a remark that the way is free) when they are a
+        whole request by themselves (no word lost, not a noun phrase, a yes/no or a which-one answer, not an
+        aside), else None; the remark's words count as set aside (``corrected``)."""
+        tail = self.understand(" ".join(said[at:]))
+        if tail.frame is None or tail.partial or tail.fragment or tail.aside or tail.act in ("YES", "NO", "THAT_ONE"):
+            return None
+        tail.words = words
+        tail.corrected = [*said[:at], *tail.corrected]
+        return tail
+
     def _request_after_never_mind(self, edit: Tok, toks: list[Tok]) -> tuple[list[str], list[Tok]] | None:
         """The words set aside and the whole request said after a leading "never mind (X)", or None.
 
@@ -1151,6 +1170,52 @@ def _left_at_end(toks: list[Tok], ignored: list[str]) -> bool:
     (not the start of one: "the kitchen go [to the living rom]" left "to the", the real request's place)."""
     left = toks[len(toks) - len(ignored):]
     return [t.text for t in left] == ignored and all(t.type in _TRAILING for t in left)
+
+
+#: What the way (or the one in it) is when a remark says it is free: "the ramp is free now", "the door's clear".
+_WAY_FREE = frozenset({"free", "clear", "open", "empty", "gone"})
+#: Verbs of the one who blocked it having gone: "she has gone", "he's moved", "the boy has left".
+_WAY_LEFT = frozenset({"gone", "left", "moved"})
+#: What may follow the state word within the remark ("free now", "clear again", "all clear now").
+_WAY_AFTER = frozenset({"now", "again", "so", "and", "then", "already", "anymore"})
+
+
+def _way_free_remark(words: list[str], hesitations: frozenset[str]) -> int | None:
+    """Where the words after a leading remark that the way is free begin ("the ramp is free now | go to the
+    living room", "the hall's clear again | ...", "she has gone | you can go now"): a subject of at most four
+    words, a copula ("is", "are", the "'s" of "ramp's") or "has"/"have", a state word that says it is free
+    (:data:`_WAY_FREE`, or :data:`_WAY_LEFT` after "has"), and only :data:`_WAY_AFTER` words after it; at
+    least two words must follow. None when the turn opens with no such remark (or the state word is negated:
+    "the way is not free")."""
+    said = [w for w in words if w not in hesitations]
+    off = len(words) - len(said)  # hesitations are all dropped before the index is used on ``words`` below
+    for i in range(1, min(len(said), 6)):
+        verb = said[i]
+        if verb in ("is", "are", "POSS"):
+            states = _WAY_FREE
+        elif verb in ("has", "have"):
+            states = _WAY_LEFT
+        else:
+            continue
+        k = i + 1
+        while k < len(said) and said[k] in ("all", "completely", "quite", "now"):
+            k += 1
+        if k >= len(said) or said[k] not in states:
+            return None
+        k += 1
+        while k < len(said) and said[k] in _WAY_AFTER:
+            k += 1
+        if len(said) - k < 2:
+            return None
+        if off:  # map back onto ``words`` (hesitations kept there)
+            seen = 0
+            for j, w in enumerate(words):
+                if w not in hesitations:
+                    seen += 1
+                if seen == k:
+                    return j + 1
+        return k
+    return None
 
 
 def _errand(words: list[str], hesitations: frozenset[str]) -> list[str] | None:
