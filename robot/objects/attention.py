@@ -916,6 +916,10 @@ class ObjectAttention(Module):
             if answer is None:
                 return None
             chosen = await self._chosen(answer, cands, wanted, pose, asked, first)
+            if chosen is None and answer.get("deixis") != "true":
+                # her words picked none (misheard, or "the one on the table" with both on it), but she may have
+                # pointed as she answered: what the camera saw since the question decides when it singles one out
+                chosen = self._pointed_since(cands, asked, first)
             if chosen is not None or not _answered_none_of_them(answer):
                 return chosen
             # "the one on the table" with both on the table (perceive/cups_on_table seed 5): an answer that
@@ -1006,6 +1010,15 @@ class ObjectAttention(Module):
             waited += 0.1
         return None
 
+    def _pointed_since(self, cands: list[Candidate], since: float, first: Pointing | None) -> Candidate | None:
+        """The candidate her pointing since the question (``since``) singles out, with the request's gesture
+        ``first`` (:func:`~robot.objects.resolve.choose_pointed`); None when she did not point since, or her
+        gestures do not single one out. No waiting: an answer already given."""
+        bouts = self.gestures.bouts(self.now, since)
+        if not bouts:
+            return None
+        return choose_pointed(cands, bouts if first is None else [*bouts, first])
+
     def _said_where(self, cands: list[Candidate], obj: etree._Element | None) -> Candidate | None:
         """The one candidate standing on the furniture she named with the request ("my cup on the
         table", or "the one on the table" in answer to "Is this your cup?"): no need to ask which one.
@@ -1069,9 +1082,11 @@ MAX_ASKINGS = 2
 def _answered_none_of_them(answer: etree._Element) -> bool:
     """Whether the dialog's ``ANSWER`` is an answer she gave that picks none of the options, to a question
     put only once so far: it fits them all or none ("the one on the table" with both on it, a misheard "that
-    the table" taken as an object). Not a pointing ("this one": the gesture decided), nor no answer in time
+    the table" taken as an object); also a "this one" (or her teaching said again with pointing) whose
+    gesture the camera did not see or that does not single one out: asked again rather than given up
+    (fresh7 corr_nonnative_books). Not no answer in time
     (the dialog says how often it asked only with an answer she gave)."""
-    if answer.get("none") != "true" or answer.get("deixis") == "true":
+    if answer.get("none") != "true":
         return False
     asked = answer.get("asked", "")
     return asked.isdigit() and int(asked) < MAX_ASKINGS
