@@ -421,6 +421,11 @@ class ObjectAttention(Module):
                 self._not_found("no_pose", cause)
                 return
             res = await self._look(wanted, pointing, cause)
+            if res.kind == "none" and pointing is None and self._named_spot(obj) is not None:
+                # No gesture seen, but she said what it stands on ("the blue vase on the sideboard") and the
+                # map knows that piece of furniture: look there first (fresh6 div_long_tour: "could not find
+                # the blue vase" ~4 m away, her gesture never seen), coming closer if it cannot be seen from here.
+                res = await self._look_on_named(wanted, obj, cause) or res
             if res.kind == "none" and pointing is None:
                 # No gesture seen (her arm swung out of the image: she stands close, or pointed
                 # before the camera was on her hands) and nothing of the kind ahead: look on both
@@ -469,6 +474,10 @@ class ObjectAttention(Module):
                     res = await self._look(wanted, pointing, cause)
                     if res.kind == "none" and pointing is None:
                         res = await self._search_near_partner(wanted, cause) or res
+            if res.kind == "none" and pointing is not None and self._named_spot(obj) is not None:
+                # Nothing found where she pointed (her ray ends elsewhere, or the drive to see failed), but she
+                # said what it stands on and the map knows it: look there before saying "could not find".
+                res = await self._look_on_named(wanted, obj, cause) or res
             pose = self.pose
             assert pose is not None
             if res.kind == "none":
@@ -535,11 +544,13 @@ class ObjectAttention(Module):
             self._subs = []
             self._people = None
 
-    async def _look(self, wanted: Wanted, pointing: Pointing | None, cause: str) -> Resolution:
-        """Look where she points for ``look_time`` s, merge the detections, resolve the reference."""
+    async def _look(self, wanted: Wanted, pointing: Pointing | None, cause: str, spot: tuple[float, float, float] | None = None,
+                    on: str | None = None) -> Resolution:
+        """Look where she points for ``look_time`` s, merge the detections, resolve the reference.
+        ``spot``: where to look without a gesture; ``on``: only what stands on that furniture counts."""
         self._seen, self._frames, self._rays = [], [], []
         self._looking = True
-        fallback = self._target_3d(pointing) if pointing is not None else None
+        fallback = self._target_3d(pointing) if pointing is not None else spot
         t_end = self.now + self.look_time
         latest = t_end + TURN_TO_LOOK
         while self.now < t_end - 1e-9:
@@ -553,9 +564,45 @@ class ObjectAttention(Module):
         pose = self.pose
         assert pose is not None
         cands = merge(one_surface(self._seen, self._rays), (pose[0], pose[1]), eye_height=CAMERA_HEIGHT, frames=self._frames)
+        if on is not None:
+            cands = [c for c in cands if self._on_furniture(c, on)]
         res = resolve(cands, wanted, pointing, (pose[0], pose[1]))
         self.last = res
         return res
+
+    def _named_spot(self, obj: etree._Element | None) -> tuple[float, float, float] | None:
+        """The middle of the top of the one piece of furniture of the floor plan her request names as where
+        the thing is ("my vase on the sideboard": ``POSITION/TITLE``), a little above it; None when she named
+        none, or the plan has none or several of that name or type."""
+        ground = obj.find("POSITION/TITLE") if obj is not None else None
+        if ground is None or self.plan is None:
+            return None
+        w = ground.get("name", "").lower().replace("_", " ")
+        if not w:
+            return None
+        hits = [o for o in self.plan.obstacles if o.type != "leg" and 0.0 < o.top < PERSON_TOP
+                and (o.name.lower() == w or o.type.lower() == w or w in o.name.lower().split())]
+        if len(hits) != 1:
+            return None
+        pts = hits[0].points
+        return sum(x for x, _ in pts) / len(pts), sum(y for _, y in pts) / len(pts), hits[0].top + 0.05
+
+    async def _look_on_named(self, wanted: Wanted, obj: etree._Element | None, cause: str) -> Resolution | None:
+        """Look for what she named on the furniture she named (:meth:`_named_spot`), driving first to a place
+        that sees it when the camera cannot from here (too far, or she or something else in the way). Only
+        what stands on that furniture counts. None when there is no such spot or nothing was named."""
+        spot = self._named_spot(obj)
+        if spot is None or self.pose is None or not (wanted.type or wanted.name):
+            return None
+        if not self._subs:  # the people around: from now until the search ends
+            self._listen(True)
+            await asyncio.sleep(0.3)
+        pose = self.pose
+        cam = (pose[0] + CAMERA_OFFSET * math.cos(pose[2]), pose[1] + CAMERA_OFFSET * math.sin(pose[2]), CAMERA_HEIGHT)
+        if self.plan is not None and (not in_range(cam, spot) or not sight_clear(self.plan, cam, spot, self._people_map(pose))):
+            await self._move_to_see_spot(spot, cause)
+        ground = obj.find("POSITION/TITLE") if obj is not None else None
+        return await self._look(wanted, None, cause, spot=spot, on=ground.get("name", "") if ground is not None else None)
 
     async def _search_near_partner(self, wanted: Wanted, cause: str) -> Resolution | None:
         """Look to either side of the partner (``SEARCH_OFFSETS`` off her bearing, ``SEARCH_LOOK`` s
