@@ -587,6 +587,20 @@ class ObjectAttention(Module):
         pts = hits[0].points
         return sum(x for x, _ in pts) / len(pts), sum(y for _, y in pts) / len(pts), hits[0].top + 0.05
 
+    def _partner_before(self, spot: tuple[float, float, float]) -> bool:
+        """The partner stands between the camera and ``spot`` (within ``BODY_HALF_WIDTH`` + 0.3 m of the
+        sight line, nearer than the spot)."""
+        pose, her = self.pose, self._partner_map()
+        if pose is None or her is None:
+            return False
+        dx, dy = spot[0] - pose[0], spot[1] - pose[1]
+        length = math.hypot(dx, dy)
+        if length < 1e-6:
+            return False
+        along = ((her[0] - pose[0]) * dx + (her[1] - pose[1]) * dy) / length
+        across = abs((her[0] - pose[0]) * dy - (her[1] - pose[1]) * dx) / length
+        return 0.0 < along < length - 0.2 and across <= BODY_HALF_WIDTH + 0.3
+
     async def _look_on_named(self, wanted: Wanted, obj: etree._Element | None, cause: str) -> Resolution | None:
         """Look for what she named on the furniture she named (:meth:`_named_spot`), driving first to a place
         that sees it when the camera cannot from here (too far, or she or something else in the way). Only
@@ -600,7 +614,16 @@ class ObjectAttention(Module):
         pose = self.pose
         cam = (pose[0] + CAMERA_OFFSET * math.cos(pose[2]), pose[1] + CAMERA_OFFSET * math.sin(pose[2]), CAMERA_HEIGHT)
         if self.plan is not None and (not in_range(cam, spot) or not sight_clear(self.plan, cam, spot, self._people_map(pose))):
-            await self._move_to_see_spot(spot, cause)
+            moved = await self._move_to_see_spot(spot, cause)
+            if not moved and self._partner_before(spot) and not self._asked_in_vain():
+                # no place to see it from while she stands between the robot and that furniture (fresh6
+                # div_long_tour: Hanna 0.9 m ahead on the line to the sideboard 4 m away): ask her to step
+                # aside, then drive (she no longer blocks the ways and places)
+                since, stood = self.now, self._partner_map()
+                if await self._ask_step_aside(cause):
+                    self._asked_where = (since, stood)
+                    await self._wait_partner_clear(None)
+                    await self._move_to_see_spot(spot, cause)
         ground = obj.find("POSITION/TITLE") if obj is not None else None
         return await self._look(wanted, None, cause, spot=spot, on=ground.get("name", "") if ground is not None else None)
 
