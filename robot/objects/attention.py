@@ -1050,7 +1050,9 @@ class ObjectAttention(Module):
                 mx, my = sum(c.x for c in cands) / len(cands), sum(c.y for c in cands) / len(cands)
                 ob = math.remainder(math.atan2(my - pose[1], mx - pose[0]) - pose[2], 2 * math.pi)
                 gap = math.remainder(ob - p[1], 2 * math.pi)
-                bearing = p[1] + gap / 2 if abs(gap) < 2 * VIEW_HALF_WIDTH * 0.8 else p[1]
+                # too far apart for one image: still turned towards them by part of the image, her body kept in it
+                # (centred on her, the hand she stretches towards them left the image: fresh7 corr_nonnative_books)
+                bearing = p[1] + gap / 2 if abs(gap) < 2 * VIEW_HALF_WIDTH * 0.8 else p[1] + math.copysign(ASK_VIEW_OFF * VIEW_HALF_WIDTH, gap)
                 self.bus.publish(FOCUS, etree.Element("focus", bearing=f"{math.degrees(bearing):.2f}", distance=f"{max(0.8, p[2]):.3f}"), causes=(cause,))
             await asyncio.sleep(0.2)
 
@@ -1144,6 +1146,10 @@ def _copy(el: etree._Element) -> etree._Element:
             out.append(_copy(ch))
     return out
 
+
+#: While a which-one answer is awaited with the options too far apart for one image: how far (share of the
+#: image's half width) the camera looks from her towards them.
+ASK_VIEW_OFF = 0.6
 
 #: How often the object attention puts one which-one question: at most twice in all (issue 26 item 7).
 MAX_ASKINGS = 2
