@@ -19,12 +19,13 @@ def robot():
     r.sim.close()
 
 
-def _ask(robot: Robot, options: list[str], timeout: float = 8.0, at: float = 7.0) -> list:
-    """Teach, then the object attention's clarification with these option texts; the orders it gets."""
+def _ask(robot: Robot, options: list[str], timeout: float = 8.0, at: float = 7.0, on_order=None) -> list:
+    """Teach, then the object attention's clarification with these option texts; the orders it gets
+    (``on_order(participant, msg)``: called with each, as the asker would act on it)."""
     robot.greet()
     obj = robot.sim.bus.participant("object_attention")
     orders: list = []
-    obj.subscribe("/robot/es/orders/object_attention", orders.append)
+    obj.subscribe("/robot/es/orders/object_attention", lambda m: (orders.append(m), on_order(obj, m) if on_order else None))
 
     def teach_and_ask() -> None:
         frame = etree.fromstring('<event name="object_teaching"><SPEECH><OBJECT type="plant"/></SPEECH></event>')
@@ -64,14 +65,24 @@ def test_the_time_to_answer_runs_from_the_question_asked_again(robot) -> None:
     """She answers, the robot does not understand and asks again; her answer to the second asking comes
     more than the 8 s after the first question's end, but within 8 s of the second's: it is taken (on
     2e607e0 the first question's time ran out under her answer and the robot gave up, "unclear")."""
-    orders = _ask(robot, ["the plant in front", "the one behind it"])
-    robot.utter("blorp xyzzy", 15.0, 15.8)  # nothing understood: "Sorry, ... Do you mean ...?" again
+    def put_again(obj, msg) -> None:  # the asker (the object attention) puts the question again itself
+        ans = msg.xml.find("param/ANSWER")
+        if msg.xml.get("name") == "clarified" and ans is not None and ans.get("asked") == "1":
+            ev = etree.Element("event", name="clarification")
+            opts = etree.SubElement(ev, "OPTIONS", timeout="8", again="true")
+            for i, t in enumerate(["the plant in front", "the one behind it"]):
+                etree.SubElement(opts, "option", index=str(i), text=t)
+            obj.publish(ES_EVENTS, ev)
+
+    orders = _ask(robot, ["the plant in front", "the one behind it"], on_order=put_again)
+    robot.utter("blorp xyzzy", 15.0, 15.8)  # nothing understood: handed back to the asker, which asks again
     robot.utter("the one at the back", 25.0, 26.0)
     robot.sim.run(until=32.0)
     said = robot.sentences()
     assert sum("Do you mean the plant in front or the one behind it?" in s for s in said) == 2
-    ans = _answer(orders)
-    assert ans is not None and ans.get("index") == "1"
+    answers = [o.xml.find("param/ANSWER") for o in orders if o.xml.get("name") == "clarified"]
+    assert answers[0].get("none") == "true" and answers[0].get("asked") == "1"  # the misheard answer, handed back
+    assert answers[-1].get("index") == "1"
 
 
 def test_nearer_to_whom_is_not_guessed(robot) -> None:

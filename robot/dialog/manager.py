@@ -97,9 +97,17 @@ def _same(old: Any, new: Any) -> bool:
     if (old.get("type") or new.get("type")) and old.get("type") != new.get("type") and old.get("type") and new.get("type"):
         return False
     a, b = old.find(".//TITLE"), new.find(".//TITLE")
-    if a is not None and b is not None and (a.get("name") or "").lower() != (b.get("name") or "").lower():
+    if a is not None and b is not None and not _same_name((a.get("name") or "").lower(), (b.get("name") or "").lower()):
         return False
     return all(_same(x, y) for x, y in zip(old.findall("PLACE"), new.findall("PLACE")))
+
+
+def _same_name(a: str, b: str) -> bool:
+    """Whether two names say the same thing: equal, or one the other's last words ("alarm clock" and, said
+    again shorter, "clock": "Is this your alarm clock?" - "yes, my clock" is a yes, not a correction)."""
+    x, y = a.split(), b.split()
+    short, long_ = (x, y) if len(x) <= len(y) else (y, x)
+    return x == y or (bool(short) and long_[-len(short):] == short)
 
 
 @dataclass(slots=True)
@@ -513,7 +521,13 @@ class DialogManager:
         new = next((v for v in (_select(f, act_el) for f in fills if f.slot == slot) if v is not None), None)
         same = new is not None and _same(old, new)
         if same and said != "no":
+            kept = inst.slots[slot].stamp
             self._fill_frame(inst, fills, act_el, conf, stamp)
+            if kept is not None and act_el.find("GESTURE") is None:
+                # "Is this your clock?" - "yes, my clock": the pointing went with the request, not with the
+                # yes; the event keeps when the request was said, so the object attention looks back to
+                # that gesture (fresh7 split_talkative_hidden: the yes's time lost it, "could not find")
+                inst.slots[slot].stamp = kept
             inst.slots[slot].status = "true"
             self.metrics["confirmed_by_repetition"] += 1
         elif same:
@@ -657,11 +671,15 @@ class DialogManager:
         if slot in inst.slots:
             inst.slots[slot] = Slot("true", True) if on else Slot()
 
-    def cancel(self, inst: Instance) -> list[Output]:
-        """Abandon a running dialog (e.g. a clarification that timed out)."""
+    def cancel(self, inst: Instance, *, quiet: bool = False) -> list[Output]:
+        """Abandon a running dialog (e.g. a clarification that timed out). ``quiet``: the dialog below goes on
+        without its resume phrase or question said again (its asker puts the next question itself)."""
         out: list[Output] = []
         if inst in self.stack:
-            self._finish(inst, out, abandoned=True)
+            was_top = self.stack[-1] is inst
+            self._finish(inst, out, abandoned=True, resume=not quiet)
+            if quiet and was_top and self.stack:
+                self.stack[-1].interrupted = False
         return out
 
     def barge_in(self) -> None:

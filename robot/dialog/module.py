@@ -287,6 +287,10 @@ def robot_side(side: str, view: str | None, facing: str) -> str:
 
 
 #: Sides that say a distance ("the nearer one", "the one in front", "the far one", "the one at the back").
+#: How often a which-one question is put in all (the object attention's ``MAX_ASKINGS``): an answer to the
+#: first putting that is not understood goes back to the asker, which may have seen her point with it.
+MAX_CLARIFY_ASKINGS = 2
+
 DEPTH_SIDES = frozenset({"near", "front", "far", "back"})
 #: An option's depth words -> its rank from her and from the robot (0 nearest, -1 farthest), as the object
 #: attention words options one behind the other along her arm (robot.objects.resolve.option_texts).
@@ -320,6 +324,11 @@ def choose(options: list[tuple[int, str]], answer: Any, facing: str = "unknown")
         return None
     if answer.tag == "YES":
         return options[0][0] if len(options) == 1 else None
+    if answer.tag == "OBJECT" and answer.find("GESTURE") is not None:
+        # her teaching said again with pointing ("This red book is mine" while "Do you mean the book on the
+        # left or the one on the right?" is asked, fresh7 corr_nonnative_books): the pointing answers, not
+        # the noun, which the option worded first shares (the left book was stored when she pointed right)
+        return None
     side = answer.get("side")
     # "the blue cup behind it" to "the blue cup on the left or the one on the right?": a side no option was
     # worded by picks nothing; the colour or attribute said with it still may (review-lang7 item 7)
@@ -365,6 +374,8 @@ def unchosen_answer(value: Any) -> etree._Element:
     asker can still use: ``deixis="true"`` ("this one": look where the partner points now) and the
     answer's ``POSITION`` ("the one on the table": which is on the table)."""
     out = etree.Element("answer", none="true")
+    if isinstance(value, etree._Element) and value.tag == "OBJECT" and value.find("GESTURE") is not None:
+        out.set("deixis", "true")  # a teaching with pointing said again: where she points now
     if isinstance(value, etree._Element) and value.tag == "THAT_ONE":
         if value.get("deixis") == "true" or value.find("GESTURE") is not None:
             out.set("deixis", "true")
@@ -460,6 +471,7 @@ class Dialog(Module):
         self._asking: list[tuple[int, str]] | None = None  # the open clarification's options (see _unanswerable)
         self._asking_inst: Instance | None = None  # ... and its clarify sub-dialog (see _mark_unchosen)
         self._clarify_asked: dict[str, int] | None = None  # the last clarify sub-dialog's askings (see _clarify)
+        self._hand_back = False  # the open clarification's asker puts the question again itself (see _clarify)
         self._releasing = False  # held requests are being handled one turn at a time
         bus = self.bus
         bus.subscribe(FRAMES, self._on_frame)
@@ -693,6 +705,14 @@ class Dialog(Module):
             # a greeting refused or not taken in time takes the request with it
             self._after_greeting = (msg, self.now + AFTER_GREETING_WAIT)
             return
+        inst = self._asking_inst
+        if (x.tag == "not_understood" and inst is not None and self._hand_back and not inst.done and self.manager.stack
+                and self.manager.stack[-1] is inst and sum(inst.asked.values()) < MAX_CLARIFY_ASKINGS):
+            # her answer to "Do you mean ...?" not understood, the question put once: the asker may have seen
+            # her point with it ("this one" heard "is one", perceive/cups_this_one): it decides first, and puts
+            # the question again itself if the pointing does not single one out (no "say that again" here)
+            self._emit(self.manager.cancel(inst, quiet=True), msg.id)
+            return
         self._mark_unchosen(x)
         self._emit(self.manager.on_frame(x), msg.id)
 
@@ -795,7 +815,7 @@ class Dialog(Module):
         # again="true": the asker puts the question it put just before once more (its answer picked none
         # of the options): the sub-dialog goes on with the last one's count of askings (review14 F1)
         again = opts is not None and opts.get("again") == "true"
-        answer = await self._clarify(options, timeout, msg.id, again=again)
+        answer = await self._clarify(options, timeout, msg.id, again=again, hand_back=True)
         if self.bus.closed or self.bus.hung:
             return
         ev = etree.Element("event", name="clarified")
@@ -1139,12 +1159,15 @@ class Dialog(Module):
         return None
 
     async def _clarify(self, options: list[tuple[int, str]], timeout: float, cause: str, *,
-                       again: bool = False) -> etree._Element:
+                       again: bool = False, hand_back: bool = False) -> etree._Element:
         """Ask the partner which option they mean (the clarify sub-dialog): ``<answer index/>``, or
         ``<answer none="true"/>`` with what the asker can still use (:func:`unchosen_answer`).
         ``again``: the same question put once more by its asker; the new sub-dialog starts with the
         last one's count of askings, so a which-one question is put at most twice in all, whichever
-        path (the asker's second putting, the dialog's "say that again") asks again."""
+        path (the asker's second putting, the dialog's "say that again") asks again. ``hand_back``: the
+        asker (the object attention, through the ES) puts it again itself: an answer to its first putting
+        that is not understood ends the sub-dialog unanswered (``asked="1"``) instead of "Sorry, ... Do you
+        mean ...?", so the asker first uses the pointing it saw with the answer (:meth:`_handle_frame`)."""
         said = self._said_which()
         if said is not None:
             picked = choose(options, said, self._facing_now())
@@ -1162,10 +1185,12 @@ class Dialog(Module):
         if inst is None:
             return etree.Element("answer", none="true")
         self._asking, self._asking_inst = options, inst
+        self._hand_back = hand_back
         try:
             return await self._clarified(inst, fut, options, timeout, cause, outs)
         finally:
             self._asking = self._asking_inst = None
+            self._hand_back = False
             self._clarify_asked = dict(inst.asked)  # (a few questions: what the next putting "again" goes on from)
 
     async def _clarified(self, inst: Instance, fut: asyncio.Future[Instance], options: list[tuple[int, str]],

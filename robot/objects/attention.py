@@ -421,6 +421,11 @@ class ObjectAttention(Module):
                 self._not_found("no_pose", cause)
                 return
             res = await self._look(wanted, pointing, cause)
+            if res.kind == "none" and pointing is None and self._named_spot(obj) is not None:
+                # No gesture seen, but she said what it stands on ("the blue vase on the sideboard") and the
+                # map knows that piece of furniture: look there first (fresh6 div_long_tour: "could not find
+                # the blue vase" ~4 m away, her gesture never seen), coming closer if it cannot be seen from here.
+                res = await self._look_on_named(wanted, obj, cause) or res
             if res.kind == "none" and pointing is None:
                 # No gesture seen (her arm swung out of the image: she stands close, or pointed
                 # before the camera was on her hands) and nothing of the kind ahead: look on both
@@ -469,6 +474,10 @@ class ObjectAttention(Module):
                     res = await self._look(wanted, pointing, cause)
                     if res.kind == "none" and pointing is None:
                         res = await self._search_near_partner(wanted, cause) or res
+            if res.kind == "none" and pointing is not None and self._named_spot(obj) is not None:
+                # Nothing found where she pointed (her ray ends elsewhere, or the drive to see failed), but she
+                # said what it stands on and the map knows it: look there before saying "could not find".
+                res = await self._look_on_named(wanted, obj, cause) or res
             pose = self.pose
             assert pose is not None
             if res.kind == "none":
@@ -535,11 +544,13 @@ class ObjectAttention(Module):
             self._subs = []
             self._people = None
 
-    async def _look(self, wanted: Wanted, pointing: Pointing | None, cause: str) -> Resolution:
-        """Look where she points for ``look_time`` s, merge the detections, resolve the reference."""
+    async def _look(self, wanted: Wanted, pointing: Pointing | None, cause: str, spot: tuple[float, float, float] | None = None,
+                    on: str | None = None) -> Resolution:
+        """Look where she points for ``look_time`` s, merge the detections, resolve the reference.
+        ``spot``: where to look without a gesture; ``on``: only what stands on that furniture counts."""
         self._seen, self._frames, self._rays = [], [], []
         self._looking = True
-        fallback = self._target_3d(pointing) if pointing is not None else None
+        fallback = self._target_3d(pointing) if pointing is not None else spot
         t_end = self.now + self.look_time
         latest = t_end + TURN_TO_LOOK
         while self.now < t_end - 1e-9:
@@ -553,9 +564,68 @@ class ObjectAttention(Module):
         pose = self.pose
         assert pose is not None
         cands = merge(one_surface(self._seen, self._rays), (pose[0], pose[1]), eye_height=CAMERA_HEIGHT, frames=self._frames)
+        if on is not None:
+            cands = [c for c in cands if self._on_furniture(c, on)]
         res = resolve(cands, wanted, pointing, (pose[0], pose[1]))
         self.last = res
         return res
+
+    def _named_spot(self, obj: etree._Element | None) -> tuple[float, float, float] | None:
+        """The middle of the top of the one piece of furniture of the floor plan her request names as where
+        the thing is ("my vase on the sideboard": ``POSITION/TITLE``), a little above it; None when she named
+        none, or the plan has none or several of that name or type."""
+        ground = obj.find("POSITION/TITLE") if obj is not None else None
+        if ground is None or self.plan is None:
+            return None
+        w = ground.get("name", "").lower().replace("_", " ")
+        if not w:
+            return None
+        hits = [o for o in self.plan.obstacles if o.type != "leg" and 0.0 < o.top < PERSON_TOP
+                and (o.name.lower() == w or o.type.lower() == w or w in o.name.lower().split())]
+        if len(hits) != 1:
+            return None
+        pts = hits[0].points
+        return sum(x for x, _ in pts) / len(pts), sum(y for _, y in pts) / len(pts), hits[0].top + 0.05
+
+    def _partner_before(self, spot: tuple[float, float, float]) -> bool:
+        """The partner stands between the camera and ``spot`` (within ``BODY_HALF_WIDTH`` + 0.3 m of the
+        sight line, nearer than the spot)."""
+        pose, her = self.pose, self._partner_map()
+        if pose is None or her is None:
+            return False
+        dx, dy = spot[0] - pose[0], spot[1] - pose[1]
+        length = math.hypot(dx, dy)
+        if length < 1e-6:
+            return False
+        along = ((her[0] - pose[0]) * dx + (her[1] - pose[1]) * dy) / length
+        across = abs((her[0] - pose[0]) * dy - (her[1] - pose[1]) * dx) / length
+        return 0.0 < along < length - 0.2 and across <= BODY_HALF_WIDTH + 0.3
+
+    async def _look_on_named(self, wanted: Wanted, obj: etree._Element | None, cause: str) -> Resolution | None:
+        """Look for what she named on the furniture she named (:meth:`_named_spot`), driving first to a place
+        that sees it when the camera cannot from here (too far, or she or something else in the way). Only
+        what stands on that furniture counts. None when there is no such spot or nothing was named."""
+        spot = self._named_spot(obj)
+        if spot is None or self.pose is None or not (wanted.type or wanted.name):
+            return None
+        if not self._subs:  # the people around: from now until the search ends
+            self._listen(True)
+            await asyncio.sleep(0.3)
+        pose = self.pose
+        cam = (pose[0] + CAMERA_OFFSET * math.cos(pose[2]), pose[1] + CAMERA_OFFSET * math.sin(pose[2]), CAMERA_HEIGHT)
+        if self.plan is not None and (not in_range(cam, spot) or not sight_clear(self.plan, cam, spot, self._people_map(pose))):
+            moved = await self._move_to_see_spot(spot, cause)
+            if not moved and self._partner_before(spot) and not self._asked_in_vain():
+                # no place to see it from while she stands between the robot and that furniture (fresh6
+                # div_long_tour: Hanna 0.9 m ahead on the line to the sideboard 4 m away): ask her to step
+                # aside, then drive (she no longer blocks the ways and places)
+                since, stood = self.now, self._partner_map()
+                if await self._ask_step_aside(cause):
+                    self._asked_where = (since, stood)
+                    await self._wait_partner_clear(None)
+                    await self._move_to_see_spot(spot, cause)
+        ground = obj.find("POSITION/TITLE") if obj is not None else None
+        return await self._look(wanted, None, cause, spot=spot, on=ground.get("name", "") if ground is not None else None)
 
     async def _search_near_partner(self, wanted: Wanted, cause: str) -> Resolution | None:
         """Look to either side of the partner (``SEARCH_OFFSETS`` off her bearing, ``SEARCH_LOOK`` s
@@ -916,6 +986,10 @@ class ObjectAttention(Module):
             if answer is None:
                 return None
             chosen = await self._chosen(answer, cands, wanted, pose, asked, first)
+            if chosen is None and answer.get("deixis") != "true":
+                # her words picked none (misheard, or "the one on the table" with both on it), but she may have
+                # pointed as she answered: what the camera saw since the question decides when it singles one out
+                chosen = self._pointed_since(cands, asked, first)
             if chosen is not None or not _answered_none_of_them(answer):
                 return chosen
             # "the one on the table" with both on the table (perceive/cups_on_table seed 5): an answer that
@@ -976,7 +1050,9 @@ class ObjectAttention(Module):
                 mx, my = sum(c.x for c in cands) / len(cands), sum(c.y for c in cands) / len(cands)
                 ob = math.remainder(math.atan2(my - pose[1], mx - pose[0]) - pose[2], 2 * math.pi)
                 gap = math.remainder(ob - p[1], 2 * math.pi)
-                bearing = p[1] + gap / 2 if abs(gap) < 2 * VIEW_HALF_WIDTH * 0.8 else p[1]
+                # too far apart for one image: still turned towards them by part of the image, her body kept in it
+                # (centred on her, the hand she stretches towards them left the image: fresh7 corr_nonnative_books)
+                bearing = p[1] + gap / 2 if abs(gap) < 2 * VIEW_HALF_WIDTH * 0.8 else p[1] + math.copysign(ASK_VIEW_OFF * VIEW_HALF_WIDTH, gap)
                 self.bus.publish(FOCUS, etree.Element("focus", bearing=f"{math.degrees(bearing):.2f}", distance=f"{max(0.8, p[2]):.3f}"), causes=(cause,))
             await asyncio.sleep(0.2)
 
@@ -1005,6 +1081,15 @@ class ObjectAttention(Module):
             await asyncio.sleep(0.1)
             waited += 0.1
         return None
+
+    def _pointed_since(self, cands: list[Candidate], since: float, first: Pointing | None) -> Candidate | None:
+        """The candidate her pointing since the question (``since``) singles out, with the request's gesture
+        ``first`` (:func:`~robot.objects.resolve.choose_pointed`); None when she did not point since, or her
+        gestures do not single one out. No waiting: an answer already given."""
+        bouts = self.gestures.bouts(self.now, since)
+        if not bouts:
+            return None
+        return choose_pointed(cands, bouts if first is None else [*bouts, first])
 
     def _said_where(self, cands: list[Candidate], obj: etree._Element | None) -> Candidate | None:
         """The one candidate standing on the furniture she named with the request ("my cup on the
@@ -1062,6 +1147,10 @@ def _copy(el: etree._Element) -> etree._Element:
     return out
 
 
+#: While a which-one answer is awaited with the options too far apart for one image: how far (share of the
+#: image's half width) the camera looks from her towards them.
+ASK_VIEW_OFF = 0.6
+
 #: How often the object attention puts one which-one question: at most twice in all (issue 26 item 7).
 MAX_ASKINGS = 2
 
@@ -1069,9 +1158,11 @@ MAX_ASKINGS = 2
 def _answered_none_of_them(answer: etree._Element) -> bool:
     """Whether the dialog's ``ANSWER`` is an answer she gave that picks none of the options, to a question
     put only once so far: it fits them all or none ("the one on the table" with both on it, a misheard "that
-    the table" taken as an object). Not a pointing ("this one": the gesture decided), nor no answer in time
+    the table" taken as an object); also a "this one" (or her teaching said again with pointing) whose
+    gesture the camera did not see or that does not single one out: asked again rather than given up
+    (fresh7 corr_nonnative_books). Not no answer in time
     (the dialog says how often it asked only with an answer she gave)."""
-    if answer.get("none") != "true" or answer.get("deixis") == "true":
+    if answer.get("none") != "true":
         return False
     asked = answer.get("asked", "")
     return asked.isdigit() and int(asked) < MAX_ASKINGS
