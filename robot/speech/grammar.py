@@ -207,6 +207,13 @@ class Understander:
             # (it may answer a which-one question or point), only the emphatic "right" marks the spot
             at = toks.index(spots[0])
             toks = [*toks[:at], Tok("STOP", "stop", ""), *toks[at:]]
+        if [t.type for t in spots] in (["YOU", "GO"], ["CAN", "GO"]) and not lex.unknown:
+            # "[can] you go", "can [you] go": the short request to go somewhere with one word lost (the
+            # recogniser drops short words); nothing else is said, so it is the go-to with no place, which the
+            # dialog answers by asking where (lang_silence seeds 10, 11: "Sorry, I did not understand you")
+            at = toks.index(spots[0])
+            lost = Tok("CAN", "can", "") if spots[0].type == "YOU" else Tok("YOU", "you", "")
+            toks = [*toks[:at], lost, *toks[at:]] if lost.type == "CAN" else [*toks[:at + 1], lost, *toks[at + 1:]]
         if toks[0].type == "HELLO" and toks[0].text in _OPENING_WORDS and len(toks) > 1:
             # "morning biron, follow me", "yo, follow me": a word that greets only by opening a turn, before
             # a whole request, is not heard as the greeting (the request is what she wants; these words
