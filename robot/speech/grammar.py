@@ -200,6 +200,20 @@ class Understander:
         if not toks:
             res.reason = "no known words" if lex.unknown else "nothing said"
             return res
+        spots = [t for t in toks if t.type not in ("ROBOTNAME", "ROBOT")]
+        if len(spots) == 1 and spots[0].type in ("HERE", "THERE") and spots[0].text.startswith("right "):
+            # "right there", "right here, biron" said alone: the stop's verb left out ("stop right there"), as a
+            # user says it while the robot comes after her; a plain "here" or "there" alone stays no request
+            # (it may answer a which-one question or point), only the emphatic "right" marks the spot
+            at = toks.index(spots[0])
+            toks = [*toks[:at], Tok("STOP", "stop", ""), *toks[at:]]
+        if [t.type for t in spots] in (["YOU", "GO"], ["CAN", "GO"]) and not lex.unknown:
+            # "[can] you go", "can [you] go": the short request to go somewhere with one word lost (the
+            # recogniser drops short words); nothing else is said, so it is the go-to with no place, which the
+            # dialog answers by asking where (lang_silence seeds 10, 11: "Sorry, I did not understand you")
+            at = toks.index(spots[0])
+            lost = Tok("CAN", "can", "") if spots[0].type == "YOU" else Tok("YOU", "you", "")
+            toks = [*toks[:at], lost, *toks[at:]] if lost.type == "CAN" else [*toks[:at + 1], lost, *toks[at + 1:]]
         if toks[0].type == "HELLO" and toks[0].text in _OPENING_WORDS and len(toks) > 1:
             # "morning biron, follow me", "yo, follow me": a word that greets only by opening a turn, before
             # a whole request, is not heard as the greeting (the request is what she wants; these words
@@ -304,6 +318,15 @@ class Understander:
                 # either of the two first words may be the misheard one ("go is the kitchen" is "go
                 # to the kitchen" as well): both count as unheard, so a confident guess is confirmed
                 tree, ignored, partial = alt[0], [toks[0].text, toks[1].text], True
+        if tree is not None and ignored and tree_act(tree) in _STATEMENT_ACTS:
+            sent = self._goto_after_remark(toks)
+            if sent is not None:
+                # "the hall is clear now, go to the kitchen", "ok the way is free again, drive to the study": a
+                # remark about the way (no this/that/here: nothing shown or named here) before a whole go-to
+                # request; the go-to is what she asks (it was a place teaching of the room in the remark)
+                k, tree, ignored, partial = sent
+                res.corrected += [t.text for t in toks[:k]]
+                toks = toks[k:]
         if tree is not None and tree_act(tree) == "wait" and ignored and toks[0].type == "WAIT" \
                 and [t.text for t in toks[len(toks) - len(ignored):]] == ignored \
                 and not _stays(toks[: len(toks) - len(ignored)], []):
@@ -468,7 +491,8 @@ class Understander:
             tree, ignored, partial = inverted, [], False
             frame = build(tree)
             obj = frame[0]
-        small_talk = (_small_talk(tree, obj, toks, Lexicon.words(words)) or _said_of(tree, toks, ignored, bool(lex.unknown), beside > 0)
+        small_talk = (_small_talk(tree, obj, toks, Lexicon.words(words)) or _made_or_where(obj, toks, Lexicon.words(words))
+                      or _said_of(tree, toks, ignored, bool(lex.unknown), beside > 0)
                       or _denied(tree, lex.raw))
         if small_talk:
             res.ignored = [t.text for t in toks]
@@ -762,6 +786,23 @@ class Understander:
         tail.words = words
         tail.corrected = [*said[:at], *tail.corrected]
         return tail
+
+    def _goto_after_remark(self, toks: list[Tok]) -> tuple[int, Tree, list[str], bool] | None:
+        """The whole go-to said after a remark that shows and names nothing, or None.
+
+        The remark must hold no deixis (this, that, here, there): "this is the hall, go to the kitchen" names
+        the room she stands in. The go-to must open with its verb or a request ("go to", "can you go to").
+        """
+        for k in range(1, len(toks) - 1):
+            if toks[k - 1].type in ("THIS", "THAT", "HERE", "THERE", "IT"):
+                return None
+            if toks[k].type not in ("GO", "COME", "TAKE", "CAN", "YOU", "I", "LETS"):
+                continue
+            alt = self._parse(toks[k:])
+            if alt[0] is not None and not alt[1] and not alt[2] and tree_act(alt[0]) == "goto" \
+                    and any(t.type in ("GO", "COME", "TAKE") for t in toks[k:]):
+                return k, *alt
+        return None
 
     def _request_after_never_mind(self, edit: Tok, toks: list[Tok]) -> tuple[list[str], list[Tok]] | None:
         """The words set aside and the whole request said after a leading "never mind (X)", or None.
@@ -1397,6 +1438,32 @@ def _small_talk(tree: Tree, obj: etree._Element, toks: list[Tok], words: tuple[s
             and _sub(np, "possessor") is None and all(c.tag in ("GESTURE", "ATTRIBUTE") for c in obj)
             and obj.find("ATTRIBUTE") is not None):
         return "an evaluation, not an object named"
+    return ""
+
+
+#: Verbs that tell who made or did up a thing ("my father built that shelf"): said before the thing, the turn is
+#: a story about it, not a teaching (after it, "this is the cup my son made", the teaching stands)
+_MADE_VERBS = frozenset({"built", "made", "carved", "painted", "knitted", "sewed", "sewn", "designed", "repaired",
+                         "fixed", "assembled", "welded", "crafted"})
+
+
+def _made_or_where(obj: etree._Element, toks: list[Tok], words: tuple[str, ...] | list[str]) -> str:
+    """Why an object frame is small talk about who made the thing or what the spot is for ("" when not).
+
+    "my husband made this table", "I painted that picture myself": who made it, said before the thing, is a
+    story, no thing shown to be learned. "this is where the dog sleeps": the copula followed by "where" says
+    what happens at the spot (a nameless object with the rest as its use before).
+    """
+    if obj.tag != "OBJECT":
+        return ""
+    title = obj.find("TITLE")
+    noun = title.get("name", "").split()[-1] if title is not None and title.get("name") else None
+    made = next((i for i, w in enumerate(words) if w in _MADE_VERBS), None)
+    if made is not None and noun is not None and noun in words[made + 1:] and noun not in words[:made]:
+        return "who made it, not an object shown"
+    cop = next((i for i, t in enumerate(toks) if t.type in ("IS", "ARE")), None)
+    if obj.get("type") is None and cop is not None and cop + 1 < len(toks) and toks[cop + 1].type == "WHERE":
+        return "what the spot is for, not an object"
     return ""
 
 
