@@ -1398,7 +1398,8 @@ class PersonAttention(Module):
         elif self._turning:
             self._base(0.0)
             self._turning = False
-        self._steer(self.beam(t, bearing[row] if row >= 0 else None, category))
+        unseen = row >= 0 and self.tracks.tracks[row].id not in self._in_image
+        self._steer(self.beam(t, bearing[row] if row >= 0 else None, category, unseen=unseen))
 
     def _where_she_stood(self, t: float) -> float | None:
         """In Interaction, the partner unseen (her track died or went dormant) with no evidence of leaving:
@@ -1566,10 +1567,11 @@ class PersonAttention(Module):
         last = self._last_pp
         return last is not None and last[0] == tid and t - last[1] < self.params.pp_wait
 
-    def beam(self, t: float, bearing: float | None, category: int) -> float | None:
+    def beam(self, t: float, bearing: float | None, category: int, unseen: bool = False) -> float | None:
         """Where the recogniser listens: the partner (top-down), the selected person while they speak
-        facing the robot (``category`` 3), else the loudest sound direction that no confirmed track
-        explains if one was heard lately, else nowhere.
+        facing the robot (``category`` 3) or speak with their face out of the camera's image (``unseen``:
+        the camera cannot tell whether they face the robot, so the voice's direction is the cue), else
+        the loudest sound direction that no confirmed track explains if one was heard lately, else nowhere.
 
         ``bearing`` is the partner's / selected person's bearing (None: no such track). A person the
         robot tracks who talks without facing it is not addressing it (gated, docs/semantics.md §3); a sound
@@ -1583,6 +1585,13 @@ class PersonAttention(Module):
                 return None  # a bystander next to the partner talks, the partner does not: not for the robot
             return bearing
         if bearing is not None and category == 3:
+            return bearing
+        if bearing is not None and category == 2 and unseen:
+            # someone speaking beside or behind the robot, the camera not (yet) on her face: she may well
+            # face it (a greeting from the side, perceive/greet_side_kitchen: the face was seen only
+            # after "Hi BIRON" had ended, unheard). Her voice is listened to while the robot turns to
+            # her; whether it was for the robot is decided as before (a potential partner needs her
+            # face; words nobody faces the robot for are rejected by the dialog's supervisor).
             return bearing
         vt = self._voice_turn
         if vt is not None and t <= vt[0]:
