@@ -1398,7 +1398,13 @@ class PersonAttention(Module):
         elif self._turning:
             self._base(0.0)
             self._turning = False
-        unseen = row >= 0 and self.tracks.tracks[row].id not in self._in_image
+        # a speaker whose face the camera cannot see is listened to (:meth:`beam`), unless the robot waits for
+        # another person's answer (she spoke facing it within ``pp_wait``): a phone call beside it is then no
+        # answer to its "Did you say hello to me?" (flow/greet_beside_phone_call seed 0: Jonas' "yes I am at
+        # home" confirmed Karl's greeting)
+        tid = self.tracks.tracks[row].id if row >= 0 else None
+        lp = self._last_pp
+        unseen = tid is not None and tid not in self._in_image and not (lp is not None and lp[0] != tid and t - lp[1] < p.pp_wait)
         self._steer(self.beam(t, bearing[row] if row >= 0 else None, category, unseen=unseen))
 
     def _where_she_stood(self, t: float) -> float | None:
