@@ -98,7 +98,8 @@ def test_the_look_lasts_until_her_face_has_been_in_the_image_long_enough_to_tell
 def test_a_glance_that_finds_her_turned_away_owes_the_one_it_left_his_potential_partner():
     """attn17: the glance at a near voice took the selection from the person seen speaking facing the robot;
     when it finds her turned away (her face in the image long enough, still category 2), he is owed the
-    potential partner he would have been (flow/greet_past_near_caller seed 3); found facing, nobody is owed."""
+    potential partner he would have been (flow/greet_past_near_caller seed 3); found facing, or silent before
+    the camera could tell, nobody is owed."""
     for near_faces in (False, True):
         a = _attention([1, 2, 3], set())
         cats, dist = {1: 3, 2: 2, 3: 3}, [3.5, 1.3, 2.8]
@@ -110,6 +111,11 @@ def test_a_glance_that_finds_her_turned_away_owes_the_one_it_left_his_potential_
         assert a._unseen_speaker(8.5 + a.params.look_settle + 0.01, after, dist) is None
         assert a._owed_pp == (None if near_faces else (3, 8.2))
         assert a._glanced_from is None
+    # she falls silent before the camera has her face: whether she faced the robot is unknown, nobody is owed
+    a = _attention([1, 2, 3], set())
+    assert a._unseen_speaker(8.2, {1: 3, 2: 2, 3: 3}, [3.5, 1.3, 2.8]) == 2
+    assert a._unseen_speaker(8.4, {1: 3, 2: 1, 3: 1}, [3.5, 1.3, 2.8]) is None
+    assert a._owed_pp is None
 
 
 def test_a_far_unseen_speaker_is_not_looked_at_first():

@@ -924,9 +924,11 @@ class PersonAttention(Module):
                     self._look = (tid, t)
                 return tid
             self._look = None
-            if cats.get(tid) != 3 and self._glanced_from is not None:
-                # the glance found her not facing the robot: the person it glanced away from, seen speaking
-                # facing it, is owed his potential partner (:meth:`_bottom_up_events`)
+            if cats.get(tid) == 2 and tid in self._in_image and self._glanced_from is not None:
+                # the glance found her speaking turned away (her face in the image long enough, not frontal):
+                # the person it glanced away from, seen speaking facing it, is owed his potential partner
+                # (:meth:`_bottom_up_events`). Not when she fell silent before the camera could tell: she may
+                # have greeted it facing it (her greeting must not back his potential partner)
                 self._owed_pp = self._glanced_from
             self._glanced_from = None
         if not threes:
