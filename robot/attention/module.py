@@ -335,6 +335,9 @@ class PersonAttention(Module):
         self._follow_stopped: float | None = None  # since when the follower stands with its search over (its status)
         self._partner_face: tuple[float, int, bool] | None = None  # (frame time, partner, her face in the image)
         self._in_image: set[int] = set()  # the tracks whose face lay in the camera's latest frame
+        self._cats: dict[int, int] = {}  # the tracks' categories (1-3) at the latest scan
+        self._glanced_from: tuple[int, float] | None = None  # the category-3 person a glance left, and when
+        self._owed_pp: tuple[int, float] | None = None  # that person, once the glance found her turned away
         self._look: tuple[int, float] | None = None  # (track, first in the image, inf before): an unseen speaker looked at
         self.turned_away = False  # the partner walked away in Interaction, not seen facing it since (AttentionParams)
         # Where the partner was last seen (odom x, y, vx, vy; the robot's odom x, y then) and when:
@@ -876,6 +879,7 @@ class PersonAttention(Module):
             self.fsm.bottom_up(t, bool(cats), cats.get(selected) if selected is not None else None)
             self._bottom_up_events(t, selected, cats, bearing, dist)
         self._publish_tracks(t, cats, bearing, dist)
+        self._cats = cats
         row = self.tracks.row(selected) if selected is not None else -1
         self._act(t, row, bearing, dist, cats.get(selected, 0) if selected is not None else 0)
         if self.partner is not None:
@@ -920,6 +924,13 @@ class PersonAttention(Module):
                     self._look = (tid, t)
                 return tid
             self._look = None
+            if cats.get(tid) == 2 and tid in self._in_image and self._glanced_from is not None:
+                # the glance found her speaking turned away (her face in the image long enough, not frontal):
+                # the person it glanced away from, seen speaking facing it, is owed his potential partner
+                # (:meth:`_bottom_up_events`). Not when she fell silent before the camera could tell: she may
+                # have greeted it facing it (her greeting must not back his potential partner)
+                self._owed_pp = self._glanced_from
+            self._glanced_from = None
         if not threes:
             return None
         near = self.params.look_ratio * min(threes)
@@ -929,10 +940,20 @@ class PersonAttention(Module):
             return None
         tid = min(cands)[1]
         self._look = (tid, math.inf)
+        three = min((dist[rows[i]], i) for i, c in cats.items() if c == 3)[1]
+        self._glanced_from = (three, t)
         return tid
 
     def _bottom_up_events(self, t: float, selected: int | None, cats: dict[int, int], bearing: list[float], dist: list[float]) -> None:
         pp = selected if selected is not None and cats.get(selected) == 3 else None
+        owed, self._owed_pp = self._owed_pp, None
+        if pp is None and owed is not None and owed[0] in cats and t - owed[1] < self.params.pp_wait \
+                and self._look is None:
+            # a glance at a near voice (:meth:`_unseen_speaker`) took the selection from someone seen speaking
+            # facing the robot, and found her turned away: he is the potential partner, as he would have been
+            # without the glance (flow/greet_past_near_caller seed 3: Ben's "Hello BIRON" heard, Anna on the
+            # phone looked at, and the greeting rejected, "I can't see you", as nobody backed it)
+            pp = owed[0]
         if pp is not None:
             self._last_pp = (pp, t)
             if pp != self.pp_sent or t - self._pp_at >= self.params.pp_repeat - 1e-9:
@@ -1398,7 +1419,27 @@ class PersonAttention(Module):
         elif self._turning:
             self._base(0.0)
             self._turning = False
-        self._steer(self.beam(t, bearing[row] if row >= 0 else None, category))
+        # a speaker whose face the camera cannot see is listened to (:meth:`beam`), unless the robot waits for
+        # another person's answer (she spoke facing it within ``pp_wait``): a phone call beside it is then no
+        # answer to its "Did you say hello to me?" (flow/greet_beside_phone_call seed 0: Jonas' "yes I am at
+        # home" confirmed Karl's greeting)
+        # , nor while someone else speaks seen facing the robot (category 3): the camera's glance at a near voice
+        # (:meth:`_unseen_speaker`) must not take the ears from the person seen greeting it (flow/greet_past_near_caller:
+        # Ben's "Hello BIRON" cut in half when the beam went to Anna on the phone). While the selected person is
+        # not listened to, the nearest such person is.
+        tid = self.tracks.tracks[row].id if row >= 0 else None
+        lp = self._last_pp
+        cats = self._cats
+        threes = [i for i, c in cats.items() if c == 3 and i != tid]
+        unseen = (tid is not None and tid not in self._in_image and not threes
+                  and not (lp is not None and lp[0] != tid and t - lp[1] < p.pp_wait))
+        aim = self.beam(t, bearing[row] if row >= 0 else None, category, unseen=unseen)
+        if aim is None and threes and category != 3 and not self.fsm.top_down:
+            rows = [self.tracks.row(i) for i in threes]
+            near = min((r for r in rows if r >= 0), key=lambda r: dist[r], default=-1)
+            if near >= 0:
+                aim = bearing[near]
+        self._steer(aim)
 
     def _where_she_stood(self, t: float) -> float | None:
         """In Interaction, the partner unseen (her track died or went dormant) with no evidence of leaving:
@@ -1566,10 +1607,11 @@ class PersonAttention(Module):
         last = self._last_pp
         return last is not None and last[0] == tid and t - last[1] < self.params.pp_wait
 
-    def beam(self, t: float, bearing: float | None, category: int) -> float | None:
+    def beam(self, t: float, bearing: float | None, category: int, unseen: bool = False) -> float | None:
         """Where the recogniser listens: the partner (top-down), the selected person while they speak
-        facing the robot (``category`` 3), else the loudest sound direction that no confirmed track
-        explains if one was heard lately, else nowhere.
+        facing the robot (``category`` 3) or speak with their face out of the camera's image (``unseen``:
+        the camera cannot tell whether they face the robot, so the voice's direction is the cue), else
+        the loudest sound direction that no confirmed track explains if one was heard lately, else nowhere.
 
         ``bearing`` is the partner's / selected person's bearing (None: no such track). A person the
         robot tracks who talks without facing it is not addressing it (gated, docs/semantics.md §3); a sound
@@ -1583,6 +1625,13 @@ class PersonAttention(Module):
                 return None  # a bystander next to the partner talks, the partner does not: not for the robot
             return bearing
         if bearing is not None and category == 3:
+            return bearing
+        if bearing is not None and category == 2 and unseen:
+            # someone speaking beside or behind the robot, the camera not (yet) on her face: she may well
+            # face it (a greeting from the side, perceive/greet_side_kitchen: the face was seen only
+            # after "Hi BIRON" had ended, unheard). Her voice is listened to while the robot turns to
+            # her; whether it was for the robot is decided as before (a potential partner needs her
+            # face; words nobody faces the robot for are rejected by the dialog's supervisor).
             return bearing
         vt = self._voice_turn
         if vt is not None and t <= vt[0]:

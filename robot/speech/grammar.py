@@ -246,7 +246,8 @@ class Understander:
             after = self._request_after_remark(words, Lexicon.words(words), remark)
             if after is not None:
                 return after
-        other = _said_to_another(toks, Lexicon.words(words), self.lexicon.hesitations)
+        other = _said_to_another(toks, Lexicon.words(words), self.lexicon.hesitations) \
+            or _greets_unknown_name(toks, said, lex.unknown, self.lexicon.hesitations)
         if other:
             # "Tom, can you put the kettle on", "yes dear, I'm coming", "isn't the robot clever": words for
             # someone else in the robot's hearing; no request, and no "say that again" either
@@ -1142,6 +1143,26 @@ def _said_to_another(toks: list[Tok], words: list[str], hesitations: frozenset[s
             and any(w in _FIRST_PERSON for w in said):
         return "said to someone else"
     return ""
+
+
+def _greets_unknown_name(toks: list[Tok], words: list[str], unknown: list[str], hesitations: frozenset[str]) -> str:
+    """Why a greeting is said to someone whose name the lexicon does not know ("" when it may be for the robot).
+
+    The first word she says greets ("hi", "hello", "hey") and the next one is a word the lexicon does not know
+    ("hi Sara, yes it is me", "hello love", "hey Jule how are you"): a vocative, and the robot's name is in the
+    lexicon, so it is someone else's (a person on the phone, a visitor at the door). A greeting that also names
+    the robot ("hello darling BIRON", "hi little robot") or calls it a friend ("hello buddy") is the robot's.
+    Known names are :func:`_said_to_another`'s ("hi mum", "hello anna")."""
+    if not toks or toks[0].type != "HELLO" or any(t.type in ("ROBOTNAME", "ROBOT") for t in toks):
+        return ""
+    said = [w for w in words if w not in hesitations]
+    at = next((k for k, w in enumerate(said) if w == toks[0].text), None)
+    if at is None or at + 1 >= len(said):
+        return ""
+    after = said[at + 1]
+    if after in _MAY_CALL_ROBOT or after not in unknown:
+        return ""
+    return "a greeting said to someone the robot does not know by name"
 
 
 #: Words before "from" in a tail saying where a shown object came from ("[it] is [a present] from my mother").
