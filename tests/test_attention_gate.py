@@ -9,6 +9,7 @@
 
 from __future__ import annotations
 
+import copy
 import math
 
 import numpy as np
@@ -190,3 +191,26 @@ def test_a_walker_measured_where_they_walk_on_to_keeps_their_pace(v, heading):
     assert tr.step(t, np.array([[v * math.cos(heading) * t, v * math.sin(heading) * t]]), np.array([PAIR], dtype=np.int8)) == [0]
     vx, vy = tr.tracks[0].x[2], tr.tracks[0].x[3]
     assert math.hypot(vx - v * math.cos(heading), vy - v * math.sin(heading)) < 0.1 * v + 0.02
+
+
+@settings(max_examples=150, deadline=None)
+@given(v=st.floats(1.0, 2.5), heading=st.floats(-math.pi, math.pi), r=st.floats(0.0, 1.0),
+       bearing=st.floats(-math.pi, math.pi), unseen=st.floats(0.05, 0.24))
+def test_the_early_stopped_gate_never_reaches_past_its_bound(v, heading, r, bearing, unseen):
+    """Unseen for less than ``stop_after``, a track takes a pair as "stopped" only within
+    ``EARLY_STOP_RADIUS`` (0.14 m) of where it was last measured: never a second person's pair 0.28 m away in a
+    close crossing (review17 F8: the measurement's variance had set the radius, and one track gated two
+    people's pairs 0.28 m apart, two_people_radio seed 6)."""
+    from robot.attention.tracker import EARLY_STOP_RADIUS, _gated
+    spec = TrackerSpec()
+    tr, t = _walker(spec, v * math.cos(heading), v * math.sin(heading))
+    tk = copy.deepcopy(tr.tracks[0])
+    tk.x[0] += tk.x[2] * unseen  # the walk-on prediction (what Tracks.step gates against)
+    tk.x[1] += tk.x[3] * unseen
+    lx, ly = tk.last_z
+    z = [(lx + r * math.cos(bearing), ly + r * math.sin(bearing))]
+    now = t + unseen
+    assert now - tk.last_update < spec.stop_after
+    _, stopped = _gated([tk], z, [spec.meas_std**2], [spec.gate], now, spec)
+    if (0, 0) in stopped:
+        assert r <= EARLY_STOP_RADIUS + 1e-9

@@ -136,9 +136,11 @@ def test_two_mugs_one_behind_the_other_are_never_stored_between_them(seed, near,
 def test_two_mugs_too_close_in_depth_are_never_taken_for_one(seed, near, ratio, bearing, n):
     """Two mugs one behind the other at any depth separation, down to none: a candidate nearer the
     point between them than either mug (and more than 0.1 m from both) is marked ``two``: the camera saw
-    two things there (two detections in most frames), so the robot looks from another side or asks
-    before it stores one, never the point between them as if it were a mug. (A part split off by depth
-    whose mean the per-frame ordering pushed past its mug is that mug's, not between them.)"""
+    two things there (two detections in most frames), and carries its two parts, front and back, each
+    the mean of its own detections (the options of the which-one question): the object attention never
+    stores the point between them (that is checked through ``find`` in test_object_two_never_stored.py).
+    (A part split off by depth whose mean the per-frame ordering pushed past its mug is that mug's, not
+    between them.)"""
     eye = CAMERA_HEIGHT - 0.8
     slant = math.hypot(near, eye) * ratio
     far = math.sqrt(slant * slant - eye * eye)
@@ -151,6 +153,10 @@ def test_two_mugs_too_close_in_depth_are_never_taken_for_one(seed, near, ratio, 
         off = min(math.hypot(cand.x - mx, cand.y - my) for mx, my in mugs)
         at_one = off < 0.1 or off < math.hypot(cand.x - mid[0], cand.y - mid[1])
         assert at_one or cand.two, "a candidate between the two mugs, not marked as two"
+        if cand.two:
+            front, back = cand.parts
+            rf, rb = (math.hypot(p.x - POSE[0], p.y - POSE[1]) for p in (front, back))
+            assert rf <= rb, "the front part of a two lies behind its back part"
 
 
 @settings(max_examples=40, deadline=None)

@@ -554,6 +554,13 @@ def _contact_variance(tracks: list[Track], spec: TrackerSpec) -> list[float]:
     return out
 
 
+#: m: the early stopped hypothesis (unobserved less than ``stop_after``) gates within its spread plus this 1-sigma floor
+#: (a leg pair's own measurement noise) ...
+EARLY_STOP_FLOOR = 0.05
+#: m: ... and never wider than this: half the gap of two people passing close (0.28 m), so it never spans both
+EARLY_STOP_RADIUS = 0.14
+
+
 def _gated(
     tracks: list[Track], z: Sequence[Sequence[float]], var: list[float], gates: list[float], t: float, spec: TrackerSpec,
     single: list[bool] | None = None, extra: list[float] | None = None,
@@ -569,7 +576,9 @@ def _gated(
     prediction) or it stopped or turned where it was last measured (radius ``stop_spread`` per second
     unobserved); only pairs and blobs are taken under the second (a lone leg there is as likely a
     chair's). Unobserved for less, the second only takes what the first's gate misses (someone who
-    stopped dead between two scans), never a pair the walk-on prediction explains. The likelier of the two counts: a person who turns back while hidden behind another is
+    stopped dead between two scans), never a pair the walk-on prediction explains, and only within its
+    spread plus ``EARLY_STOP_FLOOR`` (not the measurement's variance), never farther than
+    ``EARLY_STOP_RADIUS`` (0.14 m) from where it was last measured. The likelier of the two counts: a person who turns back while hidden behind another is
     found where they were instead of being searched for where they would have walked to.
 
     ``extra`` (per track) is added to every candidate's variance for that track (see :func:`_contact_variance`).
@@ -626,9 +635,19 @@ def _gated(
             cost = d2 + math.log(det)
             if spread and not (single and single[j]):
                 s2 = r + spread
-                ds = ((zj[0] - lx) ** 2 + (zj[1] - ly) ** 2) / s2
+                dz2 = (zj[0] - lx) ** 2 + (zj[1] - ly) ** 2
+                ds = dz2 / s2
                 cs = ds + 2 * math.log(s2)
-                if ds <= gates[j] and (not ok or not early and cs < cost):
+                if early and not ok:
+                    # early: gated by how far someone gets from where they were last measured (the spread, a
+                    # floor for the measurement's own noise), never wider than EARLY_STOP_RADIUS: in a close crossing the
+                    # other person's pair is not offered as this one's "stopped" (review17 F8: it had gated pairs
+                    # 0.28 m apart, two_people_radio seed 6). (Not "only a pair no walk-on gate takes": the runner's
+                    # pair was taken by another walker's wide walk-on gate, the very case the rule is for)
+                    if dz2 <= min(gates[j] * (spread + EARLY_STOP_FLOOR**2), EARLY_STOP_RADIUS**2):
+                        ok, cost = True, cs
+                        stopped.add((i, j))
+                elif not early and ds <= gates[j] and (not ok or cs < cost):
                     ok, cost = True, cs
                     stopped.add((i, j))
             if ok:

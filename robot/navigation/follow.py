@@ -841,11 +841,12 @@ class Follower(Module):
         but not where the latest scan looks and finds nobody (:meth:`LatestScan.sees_through`): a coasting
         track, or her predicted point, beside the robot after she walked past its side and on behind
         it refused every turn toward where she went (flow/follow_while_looking, 9d2dc38's seed 8).
-        ``guess`` (searching: unseen, her point is where she might be): her point and her own coasting
-        track are left out in the blind half (behind the laser's line, :data:`BLIND_X`), where the sonar
-        is what knows who stands there and every command keeps clear of what it hears
-        (:meth:`_blind_clear`), and where the laser looks and has no echo within :data:`GUESS_ECHO` m of
-        it. Her guessed point 0.6 m beside the robot refused the turn toward where she went on behind
+        ``guess`` (searching: unseen, her point is where she might be): her own coasting track is always
+        left out, and the search point (``rx``, ``ry``: where it looks for her, which need not be where her
+        track coasts) stands for her: it too is left out in the blind half (behind the laser's line,
+        :data:`BLIND_X`), where the sonar is what knows who stands there and every command keeps clear of
+        what it hears (:meth:`_blind_clear`), and where the laser looks and has no echo within
+        :data:`GUESS_ECHO` m of it. Her guessed point 0.6 m beside the robot refused the turn toward where she went on behind
         it until the search ran out (flow/follow_while_looking seed 1)."""
         # searching, her own track is her guessed point (the same message): one body, where the laser looks
         # and has an echo near it (nobody stands where the laser looks and hears nothing)

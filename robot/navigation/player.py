@@ -691,9 +691,11 @@ class Player(Module):
             w = max(-limits.max_turn, min(limits.max_turn, 1.5 * bearing))
             if turn_clear(w, people, duration=max(SWEEP_TIME, bearing / w)) and self._turn_ok(bearing, mapped):
                 cmd = Command(0.0, w, True, cmd.clearance)
-        if cmd.ok and (abs(cmd.v) > 0.02 or (abs(cmd.v) < 0.02 and turns_to(cmd.w, bearing))):
+        if cmd.ok and (abs(cmd.v) > 0.02 or (abs(cmd.v) < 0.02 and turns_to(cmd.w, bearing)
+                                             and self._blind_checked(cmd.v, cmd.w, mapped) != (0.0, 0.0))):
             # (turning on the spot toward its leg is no standing wedged: backing off then, a turn under way broken
-            # off, took it back into the stairs' side that its rear was turning clear of, stair_goto_passage_person)
+            # off, took it back into the stairs' side that its rear was turning clear of, stair_goto_passage_person;
+            # but a turn the sonar's blind-half guard refuses leaves it standing, and standing it is: review17 F3)
             self._stuck_since = None
         elif self._stuck_since is None:
             self._stuck_since = self.now

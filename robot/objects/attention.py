@@ -495,6 +495,12 @@ class ObjectAttention(Module):
                         pose = self.pose
                         assert pose is not None
                         chosen = await self._choose(again, obj, wanted, pose, cause, pointing)
+                if chosen is not None and chosen.two:
+                    # No place to see them apart from, or still two from there: never store the point
+                    # between them (issue 26 item 5, review17 F2): ask which one she means, the front
+                    # or the back one, and with no answer (or no two to offer) it did not find it.
+                    parts = list(chosen.parts)
+                    chosen = await self._ask(parts, wanted, pose, cause, pointing) if len(parts) == 2 else None
             if chosen is None:
                 self._not_found("unclear", cause)
                 return

@@ -99,6 +99,9 @@ class Candidate:
     #: two objects the camera saw in most of its frames but could not tell apart (one behind the
     #: other on its line of sight, closer in depth than it resolves): a position between them
     two: bool = False
+    #: with ``two``: the front and the back one, each the mean of the detections nearer (farther) to the
+    #: camera in each frame that saw both (:func:`_front_back`), the options of a which-one question
+    parts: tuple = ()
 
     @property
     def tall(self) -> float | None:
@@ -271,6 +274,8 @@ def merge(
             split = _join_apart(split, detections, origin, frames, eye_height)
             for c, idx in split:
                 c.two = _holds_two(idx, frames)
+                if c.two:
+                    c.parts = _front_back(idx, detections, origin, frames, eye_height)
         out = [c for c, _ in split]
     top = max((c.n for c in out), default=0)
     return [c for c in out if c.n >= min_share * top]
@@ -421,6 +426,34 @@ def _holds_two(idx: list[int], frames: list[float]) -> bool:
     for k in idx:
         by_frame[frames[k]] = by_frame.get(frames[k], 0) + 1
     return sum(1 for n in by_frame.values() if n >= 2) >= CO_SEEN * len(by_frame)
+
+
+def _front_back(idx: list[int], detections: list, origin: tuple[float, float], frames: list[float],
+                eye_height: float | None) -> tuple:
+    """The two objects of a ``two`` candidate as (front, back): in each frame that saw two or more, the
+    nearer detection (the camera's own distance) goes to the front one, the others to the back one; each
+    the mean of its own detections (their ranges are too close for the camera to place them well, but
+    neither is the point between them). Empty when no frame saw two."""
+    ox, oy = origin
+
+    def rng_(k: int) -> float:
+        d = detections[k]
+        r = math.hypot(d[1] - ox, d[2] - oy)
+        return math.hypot(r, eye_height - d[3]) if eye_height is not None else r
+
+    by_frame: dict[float, list[int]] = {}
+    for k in idx:
+        by_frame.setdefault(frames[k], []).append(k)
+    front: list[int] = []
+    back: list[int] = []
+    for t in sorted(by_frame):
+        ks = sorted(by_frame[t], key=lambda k: (rng_(k), k))
+        if len(ks) >= 2:
+            front.append(ks[0])
+            back += ks[1:]
+    if not front or not back:
+        return ()
+    return (_from_detections(sorted(front), detections), _from_detections(sorted(back), detections))
 
 
 def _split_depth(c: Candidate, idx: list[int], detections: list, origin: tuple[float, float], frames: list[float] | None,
