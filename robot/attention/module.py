@@ -1617,6 +1617,12 @@ class PersonAttention(Module):
                     # are (only a stop is taken from a voice off her bearing)
                     return v[3]
                 return None  # a bystander next to the partner talks, the partner does not: not for the robot
+            if bearing is None and self.fsm.state == "Follow" and self._dominant is not None \
+                    and t - self._dominant[0] <= self.params.dominant_max_age:
+                # she leads out of its sight (a fast leader who turned through a door and stopped there,
+                # fresh7 corr_fast_walker_goto: "Here, stop" three times, never heard): a voice nobody seen
+                # explains may be hers, and her stop must be heard
+                return self._dominant[1]
             return bearing
         if bearing is not None and category == 3:
             return bearing
