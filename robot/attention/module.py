@@ -1179,7 +1179,8 @@ class PersonAttention(Module):
             # sighting (Tracks.support) kept her "seen" here, and the robot stood silent in Following
             # (fresh5/row_fast_then_waits seed 8, 25 s; issue 26 item 1: it says so instead)
             stopped = self._follow_stopped is not None and t - self._follow_stopped >= p.follow_stopped_after
-            return stopped or unseen - self._yielded >= follow_search_time(dist, base=p.follow_lost_after, top_speed=p.robot_top_speed)
+            return stopped or unseen - self._yielded >= follow_search_time(dist, base=p.follow_lost_after, top_speed=p.robot_top_speed,
+                                                                                   pace=math.hypot(vx, vy))
         if unseen < p.partner_lost_after:
             return False
         if self._follower_drives:

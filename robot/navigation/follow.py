@@ -517,7 +517,8 @@ class Follower(Module):
         beyond the band (it fell behind yielding to people crossing; :mod:`robot.partner_search`,
         the rule the attention's leaving rule reads too)."""
         # the rule's own band end and speed, as the attention reads it: one rule, not two settings of it
-        return follow_search_time(self._seen_distance, base=self.search_time, top_speed=self.limits.max_speed)
+        return follow_search_time(self._seen_distance, base=self.search_time, top_speed=self.limits.max_speed,
+                                  pace=math.hypot(*self._seen_v))
 
     # ------------------------------------------------------------- control
     def _to_robot(self, px: float, py: float) -> tuple[float, float]:
