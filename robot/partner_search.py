@@ -27,6 +27,9 @@ SEARCH_BASE = 6.0
 SEARCH_NEAR = 1.5
 #: m/s: the follower's search speed (it drives at most this fast where she was heading)
 SEARCH_SPEED = 0.4
+#: s: a partner walking faster than the robot when last seen is taken to walk on this long out of view
+#: (the gap she opens meanwhile is searched for too; :func:`follow_search_time`)
+PULL_AWAY = 4.0
 #: s: the longest a partner may be unseen while following, however far she was last seen
 SEARCH_CAP = 15.0
 #: m: while someone other than the partner is this near the robot (a person crossing its way, walking
@@ -53,15 +56,22 @@ def robot_top_speed(config: Any) -> float | None:
 
 
 def follow_search_time(distance: float, *, base: float = SEARCH_BASE, near: float = SEARCH_NEAR,
-                       speed: float = SEARCH_SPEED, top_speed: float | None = None, cap: float = SEARCH_CAP) -> float:
+                       speed: float = SEARCH_SPEED, top_speed: float | None = None, cap: float = SEARCH_CAP,
+                       pace: float = 0.0) -> float:
     """Seconds a partner last seen ``distance`` m from the robot may stay unseen while it follows
     her: ``base``, plus the time to drive the gap beyond ``near`` at ``speed`` (no faster than the
     robot's ``top_speed`` when given), at most ``cap`` (never less than ``base``). The cap bounds how
     far behind a partner may be last seen and still be searched for: a robot slower than ``speed``
-    gets the time to drive that same distance at its own top speed (:func:`search_cap`)."""
+    gets the time to drive that same distance at its own top speed (:func:`search_cap`). A partner
+    who walked faster than the robot searches (``pace``, m/s, her speed when last seen) pulled away
+    further while out of view: the gap counts what she gains on it in :data:`PULL_AWAY` s more (a fast
+    leader who went through a door and stopped in the next room was declared lost while the robot was
+    still in the passage 1.2 m short of that door: follow17, fresh7 corr_fast_walker_goto)."""
     cap = search_cap(speed, top_speed, cap)
     if top_speed is not None and 0.0 < top_speed < speed:
         speed = top_speed
+    if pace == pace and pace > speed:
+        distance = distance + (pace - speed) * PULL_AWAY
     extra = max(0.0, distance - near) / speed if distance == distance else 0.0  # NaN: no extra time
     return max(base, min(cap, base + extra))
 

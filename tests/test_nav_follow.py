@@ -96,7 +96,7 @@ def _too_fast_setup(run):
 
 @pytest.fixture(scope="module")
 def too_fast():
-    run = _follow("follow_too_fast", 20.0, setup=_too_fast_setup)
+    run = _follow("follow_too_fast", 22.0, setup=_too_fast_setup)
     yield run
     run.close()
 
@@ -125,7 +125,7 @@ def test_a_partner_out_of_view_is_searched_for_where_she_was_heading_then_the_ro
     seen_d = [float(st["distance"]) for t, st in too_fast.status if t < HIDDEN_AT]
     search = f.search_for()
     assert search == follow_search_time(f._seen_distance, base=f.search_time, near=f.band[1], speed=f.search_speed,
-                                        top_speed=f.limits.max_speed)
+                                        top_speed=f.limits.max_speed, pace=math.hypot(*f._seen_v))
     assert seen_d[-1] > f.band[1] + 0.5 and search > f.search_time + 1.0  # far ahead: it searches longer
     searching = [(t, st) for t, st in too_fast.status if HIDDEN_AT + 1.3 < t < HIDDEN_AT + search - 0.2]
     assert searching and all(st["state"] == "searching" for _, st in searching)

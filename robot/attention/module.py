@@ -234,6 +234,9 @@ _row = TrackRow._make
 LEG_BEHIND = 0.06
 #: s: the partner's walking pace (:meth:`PersonAttention._walk_reach`) remembers her fastest lately over this long
 PACE_MEMORY = 3.0
+#: s: following ended by a stop, a voice heard from a track this recently is the stop's (her "stop" ends its
+#: words 1-3 s before the supervisor's order comes: recognition, understanding and the bus)
+STOP_VOICE = 4.0
 #: s: how long a watch answer "unseen" (the way outside the laser's view) is looked along (answers come every second)
 WAY_LOOK_AGE = 2.5
 
@@ -343,6 +346,7 @@ class PersonAttention(Module):
         # Where the partner was last seen (odom x, y, vx, vy; the robot's odom x, y then) and when:
         # the evidence the leaving rule reads, kept when the track itself has died.
         self._partner_last: tuple[float, float, float, float, float, float, float] | None = None
+        self._was_following = False  # the state before the last order was Follow (:meth:`_stop_speaker`)
         # her walking pace: the fastest her track went lately, decaying over ``PACE_MEMORY`` s
         self._partner_pace = (-math.inf, 0.0)
         self.pp_sent: int | None = None
@@ -366,7 +370,8 @@ class PersonAttention(Module):
         self._ptu_at = -math.inf
         self._steer_sent: float | None | str = "unset"
         self._dominant: tuple[float, float] | None = None  # (time, front bearing rad): the loudest unexplained direction
-        self._voices: tuple[float, bool, bool] | None = None  # (time, the partner talks, someone else does): the last sound frame
+        # (time, the partner talks, someone else does, the loudest other direction, rad): the last sound frame
+        self._voices: tuple[float, bool, bool, float | None] | None = None
         self._voice_turn: tuple[float, float, float] | None = None  # (until, odom heading, heard at): turning to an unexplained voice
         self.looked = LookedAt()  # where the camera looked lately and whether it saw a face there (robot.attention.looking)
         self.heard = HeardFrom(keep=params.voice_recall)  # the last voices nobody in view explained
@@ -523,7 +528,9 @@ class PersonAttention(Module):
                 span = sound_bearing_span(float(px), float(py), self.cues)
                 offs = [span_offset(span, b) for b in bearings]
                 tol = self.params.partner_voice_tolerance
-                self._voices = (t, any(o <= tol for o in offs), any(o > tol for o in offs))
+                others = [k for k, o in enumerate(offs) if o > tol]
+                loud = max(others, key=lambda k: float(sources[k].get("level", "0"))) if others else None
+                self._voices = (t, any(o <= tol for o in offs), bool(others), bearings[loud] if loud is not None else None)
         if bearings:
             levels = [float(s.get("level", "0")) for s in sources]
             seen = [b for b, tk in zip(track_bearings, tracks) if tk.confirmed and not tk.dormant]
@@ -672,6 +679,9 @@ class PersonAttention(Module):
         # message, which stands until she walks on); any other order ends it
         self._paused_at = self.now if name == "pause" else None
         self._follow_stopped = None  # (a new order: the follower's next status says where it stands)
+        if state == "Interaction" and self._was_following:
+            self._stop_speaker()
+        self._was_following = state == "Follow"
         if state in ("Interaction", "Follow", "Object"):
             # A partner unseen for a moment (stepped aside) stays the partner across the change.
             pending = self.partner is not None and self._partner_last is not None and not self.partner_lost_sent
@@ -691,6 +701,24 @@ class PersonAttention(Module):
         self.turned_away = False  # (leading her in Follow she walks away from it: no turning away)
         self._listen_to_player(state == "Object")
         self._publish_state(self.now, force=True)
+
+    def _stop_speaker(self) -> None:
+        """Following ended with her partner track alive (her "stop"): if that track was silent for the last
+        ``STOP_VOICE`` s and another confirmed track was heard speaking then, the stop was that person's, and
+        that person is whom the robot attends to now. The track it followed was someone else (a child who
+        ran past her and was taken for her: fresh7 split_children_cross, where every later word of hers was
+        shut out of the beam as a bystander's, next to a partner who never spoke)."""
+        tr, now = self.tracks, self.now
+        if self.partner is None or self.partner_lost_sent or tr.row(self.partner) < 0:
+            return
+        window = now - STOP_VOICE
+        if self.speaking.last(self.partner) >= window:
+            return  # her own voice from her track: she said it
+        heard = [(self.speaking.last(tk.id), tk.id) for tk in tr.tracks
+                 if tk.id != self.partner and tk.confirmed and not tk.dormant and self.speaking.last(tk.id) >= window]
+        if heard:
+            self.partner = max(heard)[1]
+            self._partner_last = self._partner_colour = None
 
     def _listen_to_player(self, on: bool) -> None:
         """Follow the player's status (moving or not) while in Object, and only then."""
@@ -1172,7 +1200,8 @@ class PersonAttention(Module):
             # sighting (Tracks.support) kept her "seen" here, and the robot stood silent in Following
             # (fresh5/row_fast_then_waits seed 8, 25 s; issue 26 item 1: it says so instead)
             stopped = self._follow_stopped is not None and t - self._follow_stopped >= p.follow_stopped_after
-            return stopped or unseen - self._yielded >= follow_search_time(dist, base=p.follow_lost_after, top_speed=p.robot_top_speed)
+            return stopped or unseen - self._yielded >= follow_search_time(dist, base=p.follow_lost_after, top_speed=p.robot_top_speed,
+                                                                                   pace=math.hypot(vx, vy))
         if unseen < p.partner_lost_after:
             return False
         if self._follower_drives:
@@ -1622,7 +1651,21 @@ class PersonAttention(Module):
             return bearing  # a seen caller speaking (:meth:`_find_caller`)
         if self.fsm.top_down and not self._searching():
             if bearing is not None and self.partner is not None and self._other_talks(t):
+                v = self._voices
+                if self.fsm.state == "Follow" and v is not None and v[3] is not None:
+                    # while it follows, the track it calls the partner may be someone else (a child
+                    # who ran past her, fresh7 split_children_cross) or a step behind her: her "stop"
+                    # from elsewhere must still be heard (never deaf while following). The recogniser
+                    # listens to the other voice; the dialog's addressee rule decides whose words they
+                    # are (only a stop is taken from a voice off her bearing)
+                    return v[3]
                 return None  # a bystander next to the partner talks, the partner does not: not for the robot
+            if bearing is None and self.fsm.state == "Follow" and self._dominant is not None \
+                    and t - self._dominant[0] <= self.params.dominant_max_age:
+                # she leads out of its sight (a fast leader who turned through a door and stopped there,
+                # fresh7 corr_fast_walker_goto: "Here, stop" three times, never heard): a voice nobody seen
+                # explains may be hers, and her stop must be heard
+                return self._dominant[1]
             return bearing
         if bearing is not None and category == 3:
             return bearing

@@ -217,6 +217,9 @@ GIVE_WAY_SPEED = 0.35
 WALKS_AT = 0.55
 #: s: the forward give-way's command zero this long (every step swings a corner into her), it backs out instead
 GIVE_WAY_STALL = 2.0
+#: s, m: a back-out search that found no way is not repeated for this long while neither the robot nor she
+#: has moved this far (the search plans over the whole grid: a stuck follower repeated it every stall)
+BACKOUT_RETRY, BACKOUT_MOVED = 10.0, 0.2
 #: s: when there is no give-way spot, it looks again after this long (the search plans on the grid)
 GIVE_WAY_RETRY = 1.0
 #: m/s: it gives way to a partner slower than this (held up in front of it), never into a walking one
@@ -372,6 +375,7 @@ class Follower(Module):
         self._close_since: float | None = None  # following, since when she has stood close in front
         self._no_spot_until = -math.inf  # no give-way spot found: the next search not before then
         self._aside_stall: tuple[float, float] | None = None  # (since, last): the forward give-way's command zero
+        self._backout_failed: tuple[float, float, float, float, float] | None = None  # (when, robot x y, her x y): a back-out search found no way
         self._map_asked = False
         self._pose_sub: Any = None
         self._turn_in = False  # following ended: turn back into the flat if it faces out of an exit door
@@ -513,7 +517,8 @@ class Follower(Module):
         beyond the band (it fell behind yielding to people crossing; :mod:`robot.partner_search`,
         the rule the attention's leaving rule reads too)."""
         # the rule's own band end and speed, as the attention reads it: one rule, not two settings of it
-        return follow_search_time(self._seen_distance, base=self.search_time, top_speed=self.limits.max_speed)
+        return follow_search_time(self._seen_distance, base=self.search_time, top_speed=self.limits.max_speed,
+                                  pace=math.hypot(*self._seen_v))
 
     # ------------------------------------------------------------- control
     def _to_robot(self, px: float, py: float) -> tuple[float, float]:
@@ -1031,10 +1036,20 @@ class Follower(Module):
         if self.now - stall[0] < GIVE_WAY_STALL or self.route.grid is None or self.odom is None:
             return cmd
         self._aside_stall = None
+        failed = self._backout_failed
+        rx_, ry_ = self.odom[0], self.odom[1]
+        if (failed is not None and self.now - failed[0] < BACKOUT_RETRY
+                and math.hypot(rx_ - failed[1], ry_ - failed[2]) < BACKOUT_MOVED
+                and math.hypot(px - failed[3], py - failed[4]) < BACKOUT_MOVED):
+            # the same search found no way out a moment ago from here with her there: not again every
+            # stall (fresh hall_catch_up_fast seed 1: 39 searches of ~33 whole-grid plans each, half the run)
+            return cmd
         path = back_out_spot(self.route.grid, self.route.to_map(self.odom[:2]), self.route.to_map((px, py)),
                              keep=self.band[0], came=self._came_from())
         if path is None:
+            self._backout_failed = (self.now, rx_, ry_, px, py)
             return cmd
+        self._backout_failed = None
         self._aside = ([self.route.to_odom(p) for p in path], self.now + GIVE_WAY_TIME, True)
         return cmd
 
