@@ -29,3 +29,17 @@ def moving_player(goal: tuple[float, float], v: float) -> Player:
     p._best, p._best_t = math.inf, 0.0
     p.state = "moving"
     return p
+
+
+def player_standing_at(x: float, y: float, th: float, goal: tuple[float, float], w0: float) -> Player:
+    """A player standing at (x, y, th) on the first leg of a plan (a replan's, from where it stands), heading for
+    ``goal``, its odometry turning at ``w0``: the go-to's decisions at one place, without a simulation."""
+    p = moving_player(goal, 0.0)
+    p._pose_xml = etree.Element("pose", x=f"{x}", y=f"{y}", theta=f"{th}")
+    odo = etree.Element("odometry", x=f"{x}", y=f"{y}", theta=f"{th}", v="0", w=f"{w0}")
+    p.odo.update(odo)
+    p._odo_xml_at_pose = odo
+    p.goal = (goal[0], goal[1], 0.0, 0.25, False)
+    p.leg_start = (x, y)
+    p._facing = True  # a first leg, from where it stands
+    return p

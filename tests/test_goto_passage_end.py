@@ -14,7 +14,6 @@ from pathlib import Path
 import pytest
 from hypothesis import example, given, settings
 from hypothesis import strategies as st
-from lxml import etree
 
 from homesim.scenario.loader import load_scenario
 from robot.hardware.map_server import floor_plan, map_element
@@ -22,7 +21,7 @@ from robot.navigation.grid import parse_map
 from robot.navigation.local import sweep_clearance
 from robot.navigation.outline import FloorOutline
 from robot.navigation.player import SWEEP_TIME, TURN_EITHER, TURN_PROGRESS, turns_to
-from tests.player_helpers import moving_player
+from tests.player_helpers import player_standing_at
 
 SCENE = Path(__file__).resolve().parent / "scenarios" / "fresh5" / "stair_goto_passage_person.xml"
 #: the town house's floor plan, as the map server sends it
@@ -32,14 +31,7 @@ THROUGH_DOOR, UP_PASSAGE = (3.925, 1.275), (4.608, 7.307)
 
 
 def _at(x: float, y: float, th: float, goal: tuple[float, float], w0: float):  # noqa: ANN202
-    p = moving_player(goal, 0.0)
-    p._pose_xml = etree.Element("pose", x=f"{x}", y=f"{y}", theta=f"{th}")
-    odo = etree.Element("odometry", x=f"{x}", y=f"{y}", theta=f"{th}", v="0", w=f"{w0}")
-    p.odo.update(odo)
-    p._odo_xml_at_pose = odo
-    p.goal = (goal[0], goal[1], 0.0, 0.25, False)
-    p.leg_start = (x, y)
-    p._facing = True  # a first leg, from where it stands (a replan's)
+    p = player_standing_at(x, y, th, goal, w0)
     p.outline = OUTLINE  # type: ignore[assignment]
     return p
 

@@ -5,27 +5,14 @@ import math
 from types import SimpleNamespace
 
 import numpy as np
-from lxml import etree
 
-from tests.player_helpers import moving_player
-
-
-def _at(x, y, th, goal, w0):
-    p = moving_player(goal, 0.0)
-    p._pose_xml = etree.Element("pose", x=f"{x}", y=f"{y}", theta=f"{th}")
-    odo = etree.Element("odometry", x=f"{x}", y=f"{y}", theta=f"{th}", v="0", w=f"{w0}")
-    p.odo.update(odo)
-    p._odo_xml_at_pose = odo
-    p.goal = (goal[0], goal[1], 0.0, 0.25, False)
-    p.leg_start = (x, y)
-    p._facing = True
-    return p
+from tests.player_helpers import player_standing_at
 
 
 def test_a_turn_the_sonar_refuses_counts_as_standing():
     # in the open, the first leg 70 degrees to the left; something unexplained heard just behind-left of the rear
     # corner the left turn would swing
-    p = _at(4.6, 1.0, 0.0, (4.6 + math.cos(1.2), 1.0 + math.sin(1.2)), 0.0)
+    p = player_standing_at(4.6, 1.0, 0.0, (4.6 + math.cos(1.2), 1.0 + math.sin(1.2)), 0.0)
     arc = np.array([(-0.40 + 0.02 * k, 0.33) for k in range(-2, 3)])
     p.sonar = SimpleNamespace(arcs=lambda odom, now: [arc])
     clock = SimpleNamespace(now=10.0)
