@@ -234,9 +234,6 @@ _row = TrackRow._make
 LEG_BEHIND = 0.06
 #: s: the partner's walking pace (:meth:`PersonAttention._walk_reach`) remembers her fastest lately over this long
 PACE_MEMORY = 3.0
-#: s: following ended by a stop, a voice heard from a track this recently is the stop's (her "stop" ends its
-#: words 1-3 s before the supervisor's order comes: recognition, understanding and the bus)
-STOP_VOICE = 4.0
 #: s: how long a watch answer "unseen" (the way outside the laser's view) is looked along (answers come every second)
 WAY_LOOK_AGE = 2.5
 
@@ -346,7 +343,6 @@ class PersonAttention(Module):
         # Where the partner was last seen (odom x, y, vx, vy; the robot's odom x, y then) and when:
         # the evidence the leaving rule reads, kept when the track itself has died.
         self._partner_last: tuple[float, float, float, float, float, float, float] | None = None
-        self._was_following = False  # the state before the last order was Follow (:meth:`_stop_speaker`)
         # her walking pace: the fastest her track went lately, decaying over ``PACE_MEMORY`` s
         self._partner_pace = (-math.inf, 0.0)
         self.pp_sent: int | None = None
@@ -679,9 +675,6 @@ class PersonAttention(Module):
         # message, which stands until she walks on); any other order ends it
         self._paused_at = self.now if name == "pause" else None
         self._follow_stopped = None  # (a new order: the follower's next status says where it stands)
-        if state == "Interaction" and self._was_following:
-            self._stop_speaker()
-        self._was_following = state == "Follow"
         if state in ("Interaction", "Follow", "Object"):
             # A partner unseen for a moment (stepped aside) stays the partner across the change.
             pending = self.partner is not None and self._partner_last is not None and not self.partner_lost_sent
@@ -701,24 +694,6 @@ class PersonAttention(Module):
         self.turned_away = False  # (leading her in Follow she walks away from it: no turning away)
         self._listen_to_player(state == "Object")
         self._publish_state(self.now, force=True)
-
-    def _stop_speaker(self) -> None:
-        """Following ended with her partner track alive (her "stop"): if that track was silent for the last
-        ``STOP_VOICE`` s and another confirmed track was heard speaking then, the stop was that person's, and
-        that person is whom the robot attends to now. The track it followed was someone else (a child who
-        ran past her and was taken for her: fresh7 split_children_cross, where every later word of hers was
-        shut out of the beam as a bystander's, next to a partner who never spoke)."""
-        tr, now = self.tracks, self.now
-        if self.partner is None or self.partner_lost_sent or tr.row(self.partner) < 0:
-            return
-        window = now - STOP_VOICE
-        if self.speaking.last(self.partner) >= window:
-            return  # her own voice from her track: she said it
-        heard = [(self.speaking.last(tk.id), tk.id) for tk in tr.tracks
-                 if tk.id != self.partner and tk.confirmed and not tk.dormant and self.speaking.last(tk.id) >= window]
-        if heard:
-            self.partner = max(heard)[1]
-            self._partner_last = self._partner_colour = None
 
     def _listen_to_player(self, on: bool) -> None:
         """Follow the player's status (moving or not) while in Object, and only then."""
