@@ -366,8 +366,7 @@ class PersonAttention(Module):
         self._ptu_at = -math.inf
         self._steer_sent: float | None | str = "unset"
         self._dominant: tuple[float, float] | None = None  # (time, front bearing rad): the loudest unexplained direction
-        # (time, the partner talks, someone else does, the loudest other direction, rad): the last sound frame
-        self._voices: tuple[float, bool, bool, float | None] | None = None
+        self._voices: tuple[float, bool, bool] | None = None  # (time, the partner talks, someone else does): the last sound frame
         self._voice_turn: tuple[float, float, float] | None = None  # (until, odom heading, heard at): turning to an unexplained voice
         self.looked = LookedAt()  # where the camera looked lately and whether it saw a face there (robot.attention.looking)
         self.heard = HeardFrom(keep=params.voice_recall)  # the last voices nobody in view explained
@@ -524,9 +523,7 @@ class PersonAttention(Module):
                 span = sound_bearing_span(float(px), float(py), self.cues)
                 offs = [span_offset(span, b) for b in bearings]
                 tol = self.params.partner_voice_tolerance
-                others = [k for k, o in enumerate(offs) if o > tol]
-                loud = max(others, key=lambda k: float(sources[k].get("level", "0"))) if others else None
-                self._voices = (t, any(o <= tol for o in offs), bool(others), bearings[loud] if loud is not None else None)
+                self._voices = (t, any(o <= tol for o in offs), any(o > tol for o in offs))
         if bearings:
             levels = [float(s.get("level", "0")) for s in sources]
             seen = [b for b, tk in zip(track_bearings, tracks) if tk.confirmed and not tk.dormant]
@@ -1626,14 +1623,6 @@ class PersonAttention(Module):
             return bearing  # a seen caller speaking (:meth:`_find_caller`)
         if self.fsm.top_down and not self._searching():
             if bearing is not None and self.partner is not None and self._other_talks(t):
-                v = self._voices
-                if self.fsm.state == "Follow" and v is not None and v[3] is not None:
-                    # while it follows, the track it calls the partner may be someone else (a child
-                    # who ran past her, fresh7 split_children_cross) or a step behind her: her "stop"
-                    # from elsewhere must still be heard (never deaf while following). The recogniser
-                    # listens to the other voice; the dialog's addressee rule decides whose words they
-                    # are (only a stop is taken from a voice off her bearing)
-                    return v[3]
                 return None  # a bystander next to the partner talks, the partner does not: not for the robot
             if bearing is None and self.fsm.state == "Follow" and self._dominant is not None \
                     and t - self._dominant[0] <= self.params.dominant_max_age:

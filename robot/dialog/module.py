@@ -172,11 +172,7 @@ DRIVING_STATES = frozenset({"Navigating"})
 #: Requests a pause ends the walk for (issue 26, session 8 item 5): said while following is paused ("hang on",
 #: the follower standing with her), "this is my cup" or "this is the kitchen" is taught; the dialog sends
 #: "stop" before it, so the supervisor leaves Following as after her "stop" (never "say stop first").
-ENDS_A_PAUSE = frozenset({"object_teaching", "place_teaching", "goto"})
-#: s: the follower has stood by her ("waiting": she stopped and it came up to her) this long: the walk is over
-#: for her, and a request that ends a pause ends it too (fresh7 corr_fast_walker_goto: he stood by the robot in
-#: the guest room and "This is the guest room", "now go back to the kitchen" got "say stop first" to the end)
-STOOD_FOR = 2.0
+ENDS_A_PAUSE = frozenset({"object_teaching", "place_teaching"})
 #: s: a voice heard from the partner's direction this recently means someone is still talking there: the
 #: robot does not begin a sentence over it (turn-taking: it waits for a pause; the barge-in rule would cut
 #: the sentence at once anyway). Above the microphones' frame interval (0.1 s) and a breath between words,
@@ -467,7 +463,6 @@ class Dialog(Module):
         # stored where the robot lags); they are kept in order and released when the approach ends
         self._approach_seen = -math.inf  # when the follower last said "approaching"
         self._follow_state = ""  # the follower's last status state ("paused": a wait said while she leads)
-        self._waiting_since = math.inf  # since when the follower has said "waiting" (it stands by her) without a break
         self._held: deque[Message] = deque()
         # a request said with a greeting ("hello BIRON, follow me") and until when it may wait for the
         # greeting to be taken (:meth:`_greeting_taken`)
@@ -631,14 +626,6 @@ class Dialog(Module):
         if self.manager.es_state in DRIVING_STATES and (x.find("SPEECH/STOP") is not None or x.find("SPEECH/WAIT") is not None):
             self._on_addressed(msg)  # anyone may stop a robot that drives on its own (safety): never dropped
             return
-        if self.manager.es_state in LEADING_STATES and x.tag == "understood" and x.find("SPEECH/STOP") is not None:
-            # her "stop" ends the following from wherever it was heard: the track the robot follows may be
-            # someone else (a child who ran past her) or a step off her, so the microphones cannot tell
-            # hers from a bystander's there, and a stop lost keeps the robot deaf in Following to the end
-            # (fresh7 split_children_cross). A bystander's stop costs her a "follow me"; hers lost costs the tour
-            self._addressed_at = self.now
-            self._on_addressed(msg)
-            return
         if x.tag == "not_understood" and x.get("addressee") == "other":
             # words that call someone else ("Tom, can you put the kettle on"): not for the robot, and no
             # "say that again" to them (counted with the other chat it did not answer)
@@ -786,10 +773,7 @@ class Dialog(Module):
             self._releasing = False
 
     def _on_follow(self, msg: Message) -> None:
-        state = msg.xml.get("state", "")
-        if state == "waiting" and self._follow_state != "waiting":
-            self._waiting_since = self.now
-        self._follow_state = state
+        self._follow_state = msg.xml.get("state", "")
         if msg.xml.get("state") == "approaching":
             self._approach_seen = self.now
             return
@@ -1047,9 +1031,7 @@ class Dialog(Module):
             return
         for o in outs:
             if isinstance(o, Send):
-                stood = self._follow_state == "waiting" and self.now - self._waiting_since >= STOOD_FOR
-                if (o.event in ENDS_A_PAUSE and self.manager.es_state in LEADING_STATES
-                        and (self._follow_state == "paused" or stood)):
+                if o.event in ENDS_A_PAUSE and self.manager.es_state in LEADING_STATES and self._follow_state == "paused":
                     # she said "hang on" and the robot waits by her: the walk is over, what she shows now is
                     # taught (fresh5 stair_wait_walks_on: "I am still following you; say stop first.")
                     stop = etree.Element("event", name="stop")
