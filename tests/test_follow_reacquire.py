@@ -111,7 +111,9 @@ def test_the_robot_yields_exactly_while_someone_is_within_reach_of_it(others):
 def test_time_spent_yielding_to_a_crosser_is_not_time_she_was_unseen():
     a = _following([(-0.5, 0.8, GREEN)], SEEN)  # a man crossing right beside the robot (robot frame (0.5, 0.8))
     a._yield_t, a._yielded = None, 0.0
-    search = follow_search_time(2.0, base=a.params.follow_lost_after, top_speed=a.params.robot_top_speed)
+    # her pace when last seen lengthens the search as it does the follower's (robot.partner_search, follow17)
+    search = follow_search_time(2.0, base=a.params.follow_lost_after, top_speed=a.params.robot_top_speed,
+                                pace=math.hypot(*a._partner_last[3:5]))
     a._driven, a._drive_start = 0.0, None
     t = SEEN
     while t < SEEN + 3.0:  # he stands beside it for 3 s

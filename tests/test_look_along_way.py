@@ -93,7 +93,7 @@ def _acting(seeking: bool, speaking: bool):
     a._voice_heading = lambda t, row, category: None  # type: ignore[method-assign]
     a._focus_turn = lambda target: None  # type: ignore[method-assign]
     a._candidate = lambda t: -1  # type: ignore[method-assign]
-    a.beam = lambda t, bearing, category: None  # type: ignore[method-assign]
+    a.beam = lambda t, bearing, category, **kw: None  # type: ignore[method-assign]
     return a, turns
 
 

@@ -158,7 +158,8 @@ def test_while_following_she_is_lost_only_after_the_followers_search_time_unseen
     f.search_time, f.band, f.search_speed = pa.params.follow_lost_after, (1.0, 3.0), 0.2
     f.limits = Limits(max_speed=top)
     f._seen_distance = d
-    assert f.search_for() == follow_search_time(d, base=pa.params.follow_lost_after, top_speed=top)
+    f._seen_v = (speed, 0.0)  # her pace when last seen, as the attention's record of her holds it
+    assert f.search_for() == follow_search_time(d, base=pa.params.follow_lost_after, top_speed=top, pace=abs(speed))
     assert pa.partner_left(unseen) == (unseen >= f.search_for())
 
 

@@ -291,6 +291,8 @@ class PersonAttention(Module):
     bumpers = own_reflex()
     #: when the beam last listened to a voice nobody seen explained (:meth:`beam`)
     _heard_voice_at: float = -math.inf
+    _cats: dict[int, int] = {}  # noqa: RUF012 (read-only default for the rules' unit tests; __init__ gives each its own)
+    _in_image: frozenset[int] = frozenset()  # (the same: __init__ gives each its own set)
     #: (when, m/s): the partner's walking pace, renewed with ``_partner_last`` (:meth:`_walk_reach`)
     _partner_pace: tuple[float, float] = (-math.inf, 0.0)
 

@@ -312,6 +312,8 @@ class Follower(Module):
     _aside_stall: tuple[float, float] | None = None
     _turn_way = 0.0
     _heard: tuple[float, float, float] | None = None
+    _seen_v: tuple[float, float] = (0.0, 0.0)
+    _backout_failed: tuple[float, float, float, float, float] | None = None
     #: nothing pressed, and never told otherwise (__init__ gives each follower its own, heard on the bus)
     bumpers = own_reflex()
 
