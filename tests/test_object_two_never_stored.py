@@ -8,7 +8,8 @@ from types import SimpleNamespace
 import pytest
 
 from robot.objects.attention import ObjectAttention
-from robot.objects.resolve import Pointing, Resolution
+from tests.object_attention_probe import bare_search_state
+from robot.objects.resolve import Resolution
 
 FRONT = SimpleNamespace(two=False, x=1.9, y=0.0, z=0.8, parts=())
 BACK = SimpleNamespace(two=False, x=2.1, y=0.0, z=0.8, parts=())
@@ -16,15 +17,7 @@ BACK = SimpleNamespace(two=False, x=2.1, y=0.0, z=0.8, parts=())
 
 class _Probe(ObjectAttention):
     def __init__(self, place: bool, two_again: bool, answer: int | None):
-        self.sim = SimpleNamespace(now=10.0)
-        self.gestures = SimpleNamespace(pointing=lambda *a, **k: Pointing(1.0, 0.0, 1.2, 0.0, -0.3))
-        self.gesture_wait = 0.0
-        self.pose = (0.0, 0.0, 0.0)
-        self._partner = (10.0, 0.0, 1.5)
-        self._asked_where = None
-        self._finds = 0
-        self._looking = False
-        self._subs = []
+        bare_search_state(self)
         self.place, self.two_again, self.answer = place, two_again, answer
         self.stored, self.asked, self.looks = [], [], 0
 

@@ -7,29 +7,21 @@ find" without having asked or moved."""
 from __future__ import annotations
 
 import asyncio
-import math
 from types import SimpleNamespace
 
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from robot.objects.attention import ObjectAttention
-from robot.objects.resolve import Pointing, Resolution
+from tests.object_attention_probe import bare_search_state
+from robot.objects.resolve import Resolution
 
 
 class _Probe(ObjectAttention):
     """The search's decisions only: looking, asking and driving are recorded, not done."""
 
     def __init__(self, *, far: bool, in_way: bool, place: bool, steps_aside: bool) -> None:  # noqa: D107 (no bus)
-        self.sim = SimpleNamespace(now=10.0)
-        self.gestures = SimpleNamespace(pointing=lambda *a, **k: Pointing(1.0, 0.0, 1.2, 0.0, -0.3))
-        self.gesture_wait = 0.0
-        self.pose = (0.0, 0.0, 0.0)
-        self._partner = (10.0, 0.0, 1.5)
-        self._asked_where = None
-        self._finds = 0
-        self._looking = False
-        self._subs = []
+        bare_search_state(self)
         self.far, self.in_way, self.place, self.steps_aside = far, in_way, place, steps_aside
         self.log: list[str] = []
         self.events: list[str] = []
