@@ -116,6 +116,7 @@ from robot import floorplan
 from robot.blindside import BLIND_X, SONAR_REACH, SonarEchoes, blind_clear, blind_points, explained_by_points
 from robot.partner_search import follow_search_time, yielding
 from robot.bumpers import BumperReflex, own_reflex
+from robot.footprint import contact_speed_limit
 from robot.contract import ATTENTION_STATE, BASE_CMD, BUMPERS, ES_EVENTS, FOLLOW_STATUS, ODOMETRY, PARTNER, POSE, SCAN, SONAR, TRACKS
 
 from .config import Limits
@@ -124,7 +125,7 @@ from .local import (SOCIAL_GAP, TURN_GAP, DWAParams, LatestScan, arcs, carrot, d
                     people_gaps, people_sweep_clear, social_speed_limit, sweep_clearance, turn_clear)
 from .blind import follow_blind_limit, scan_corners
 from .giveway import NARROW, back_out_spot, give_way_spot, reverse_command
-from .people import People, behind_clear, nearest
+from .people import People, behind_clear, in_the_way, nearest
 from .route import Route
 from .seen import SeenGround, footprint_samples
 
@@ -782,6 +783,13 @@ class Follower(Module):
             if blind < limits.max_speed:
                 limits = replace(limits, max_speed=blind)
                 v_pref = min(v_pref, blind)
+            # and never faster than it can stop from before anyone walking into its way (the partner too;
+            # time to contact from the tracks' velocities: robot.footprint.contact_speed_limit)
+            contact = contact_speed_limit(in_the_way(self.people, self.odom, self.now, echoes=self.scan.points()),
+                                          limits.max_speed, decel=self.limits.max_accel, w=self.w)
+            if contact < limits.max_speed:
+                limits = replace(limits, max_speed=contact)
+                v_pref = min(v_pref, contact)
             cmd = dwa(self.v, self.w, goal, pts, limits, v_pref=v_pref, params=self.params, people=others)
             v, w = cmd.v, cmd.w
             if v == 0.0 and w != 0.0 and not turn_clear(w, self._bodies(rx, ry, guess=searching), duration=SWEEP_TIME):

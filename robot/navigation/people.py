@@ -208,6 +208,23 @@ def maybe_behind(people: People, odom: tuple[float, float, float], now: float, *
     return False
 
 
+#: m/s: a tentative track walking faster than this counts for the contact limit (:func:`in_the_way`)
+EMERGING_WALK = 0.3
+
+
+def in_the_way(people: People, odom: tuple[float, float, float], now: float, *, echoes: np.ndarray | None = None) -> np.ndarray:
+    """(K, 4) robot-frame centres and velocities of everyone the contact limit
+    (:func:`robot.footprint.contact_speed_limit`) reckons with: every confirmed track, the partner's too
+    (she may turn back into its way), those lost standing where the laser still has an echo (``echoes``),
+    and the tentative tracks that walk, freshly measured (:meth:`People.emerging`: a child running out of
+    a side door is a few scans old when he is in the robot's lane)."""
+    seen = people.around(odom, now, echoes=echoes, velocity=True)
+    new = people.emerging(odom, now, moving=EMERGING_WALK, reach=REACH)
+    if not len(new):
+        return seen
+    return np.concatenate((seen, new)) if len(seen) else new
+
+
 def closing_in(people: np.ndarray, *, near: float, speed: float) -> bool:
     """Whether someone within ``near`` m, ahead of the robot's rear, walks toward its centre faster
     than ``speed`` m/s (``people``: (K, 4) robot-frame centres and velocities, :meth:`People.around`).

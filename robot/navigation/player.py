@@ -51,6 +51,7 @@ from homesim.module import Module
 
 from robot.blindside import SonarEchoes, blind_clear, blind_points, explained_by_points
 from robot.bumpers import BACKOFF_SPEED, BACKOFF_TIME, BumperReflex, own_reflex
+from robot.footprint import contact_speed_limit
 from robot.contract import BASE_CMD, BUMPERS, DISPLAY_CMD, ES_ORDERS, ODOMETRY, PLAYER_STATUS, POSE, SCAN, SONAR, TRACKS
 
 from .blind import blind_speed_limit, scan_corners
@@ -60,9 +61,15 @@ from .grid import MapError, parse_map
 from .local import (BODY, HALF_LENGTH, HALF_WIDTH, SOCIAL_SPEED, Command, DWAParams, LatestScan, arcs_at, carrot, dwa, footprint_distance,
                     heading_speed, people_gaps, social_speed_limit, sweep_clearance, turn_clear)
 from .outline import FloorOutline
-from .people import BACK_GAP, BODY_RADIUS, People, behind_clear, closing_in, maybe_behind, nearest, passing_close, waits_for
+from .people import (BACK_GAP, BODY_RADIUS, People, behind_clear, closing_in, in_the_way, maybe_behind, nearest, passing_close,
+                     waits_for)
 
 ORDERS = f"{ES_ORDERS}/player"
+#: m/s: the contact limit (robot.footprint.contact_speed_limit) this low stands it for someone walking into its way
+STAND_FOR = 0.02
+#: s: standing for walkers (that limit, the yield) counts as no progress only beyond this much of one stall: someone
+#: walking at it passes; someone who keeps walking into its way blocks it
+YIELD_HOLD = 8.0
 #: m: how far ahead on the leg the controller steers (pure pursuit).
 LOOKAHEAD = 0.7
 #: m: how far the player backs off, at most, per ``move_to``, to get room to turn.
@@ -306,6 +313,7 @@ class Player(Module):
         self._stuck_since: float | None = None  # since when no arc was admissible
         self._best = math.inf
         self._best_t = 0.0
+        self._yielded = 0.0  # s of the present stall spent standing for walkers (not counted, up to YIELD_HOLD)
         self.bus.subscribe(ORDERS, self._on_order)
         self.bus.subscribe(POSE, self._on_pose)
         self.bus.subscribe(SCAN, self._on_scan)
@@ -360,6 +368,7 @@ class Player(Module):
             self.goal = (x, y, th, tol, pose.get("align") == "true")
             self._listen_to_people(True)
             self._best, self._best_t = math.inf, self.now
+            self._yielded = 0.0
             self._backed = 0.0
             self._gave_way = False
             self._aligning = None
@@ -613,9 +622,15 @@ class Player(Module):
         blind = blind_speed_limit(self._blind_corners(mapped), cap, decel=self.limits.max_accel)
         squeezable = cap > SQUEEZE_SPEED  # (not facing a first leg: below)
         cap_hard = min(cap, max(blind, SOCIAL_SPEED))
+        # never faster than it can stop from before anyone walking into its way (robot.footprint.contact_speed_limit)
+        contact = (contact_speed_limit(in_the_way(self.people, odo, self.now, echoes=echoes), cap_hard,
+                                       decel=self.limits.max_accel, w=self.odo.w) if odo is not None else cap_hard)
+        cap_hard = min(cap_hard, contact)
+        # standing for someone walking into its way is a yield, not a blocked way (below)
+        for_walker = odo is not None and contact <= STAND_FOR
         limits = self.limits if cap_hard >= self.limits.max_speed else replace(self.limits, max_speed=cap_hard)  # a hard limit
         bearing = math.atan2(local[1], local[0])
-        v_pref = heading_speed(min(cap, blind, 0.25 + 0.6 * dist), bearing)
+        v_pref = heading_speed(min(cap, blind, contact, 0.25 + 0.6 * dist), bearing)
         arc_limits = limits
         if self._facing and abs(bearing) > TURN_FIRST:
             # the first leg, from where it stood (facing anywhere), is turned to on the spot first: a
@@ -748,8 +763,15 @@ class Player(Module):
             return (cmd.v, cmd.w)
         if dist < self._best - 0.05:
             self._best, self._best_t = dist, self.now
+            self._yielded = 0.0
+        if (for_walker or yielding) and self._yielded < YIELD_HOLD:
+            # it stands for someone walking into its way (the contact limit, the yield): they pass, and the way is
+            # free again; that time is not "no progress" (goto_standing_person seeds 3, 6 asked for help while a
+            # man walked at them), up to YIELD_HOLD s (someone who keeps walking at it does block it)
+            self._best_t += self.period
+            self._yielded += self.period
         stalled = self.now - self._best_t > self.stall_time
-        if not cmd.ok or stalled:
+        if (not cmd.ok and not for_walker) or stalled:
             self._best = min(self._best, dist)
             self._set_state("blocked", dist)
         else:
