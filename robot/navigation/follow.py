@@ -123,6 +123,7 @@ from .config import Limits
 from .grid import MapError, OccupancyGrid, parse_map
 from .local import (SOCIAL_GAP, TURN_GAP, DWAParams, LatestScan, arcs, carrot, dwa, footprint_distance, heading_speed,
                     people_gaps, people_sweep_clear, social_speed_limit, sweep_clearance, turn_clear)
+from .blind import follow_blind_limit, scan_corners
 from .giveway import NARROW, back_out_spot, give_way_spot, reverse_command
 from .people import People, behind_clear, in_the_way, nearest
 from .route import Route
@@ -313,6 +314,9 @@ class Follower(Module):
     _aside_stall: tuple[float, float] | None = None
     _turn_way = 0.0
     _heard: tuple[float, float, float] | None = None
+    #: the scan whose blind corners are in ``_corners`` (:meth:`_blind_corners`)
+    _corners_of: Any = None
+    _corners: np.ndarray = np.zeros((0, 2))
     _seen_v: tuple[float, float] = (0.0, 0.0)
     _backout_failed: tuple[float, float, float, float, float] | None = None
     #: nothing pressed, and never told otherwise (__init__ gives each follower its own, heard on the bus)
@@ -771,6 +775,19 @@ class Follower(Module):
                 if cap < limits.max_speed:
                     limits = replace(limits, max_speed=cap)
                     v_pref = min(v_pref, cap)
+            # in a passage (a hallway, a door frame: its centre within NARROW of the floor plan, no room to swerve),
+            # past an opening it cannot see into (a side door, a corner: the scan's range jumps at the floor plan's
+            # corners), no faster than it can stand from short of someone stepping out there
+            # (robot.navigation.blind.follow_blind_limit): a boy running out of a side door of a 1.1 m hallway is
+            # first seen 0.6-0.7 m ahead, already in its lane (corr_hallway_crossing). In a room it has room to
+            # give way and the contact limit below reckons with whoever it sees (everywhere, the limit held it so
+            # far back that its partners, walking at its top speed, never stopped for it: library goto seed 7)
+            in_passage = self.route.clearance(self.odom[:2]) < NARROW
+            blind = (follow_blind_limit(self._blind_corners(mapped), limits.max_speed, decel=self.limits.max_accel)
+                     if in_passage else limits.max_speed)
+            if blind < limits.max_speed:
+                limits = replace(limits, max_speed=blind)
+                v_pref = min(v_pref, blind)
             # and never faster than it can stop from before anyone walking into its way (the partner too;
             # time to contact from the tracks' velocities: robot.footprint.contact_speed_limit)
             contact = contact_speed_limit(in_the_way(self.people, self.odom, self.now, echoes=self.scan.points()),
@@ -1286,6 +1303,15 @@ class Follower(Module):
                     continue
             return cand
         return 0.0, 0.0
+
+    def _blind_corners(self, mapped: np.ndarray) -> np.ndarray:
+        """The floor plan's corners (``mapped``: its outline near the robot, robot frame) in the latest scan that the
+        laser does not see round (robot frame; :func:`robot.navigation.blind.scan_corners`, once per scan)."""
+        msg = self.scan.latest
+        if msg is not self._corners_of:
+            self._corners_of = msg
+            self._corners = scan_corners(msg, mapped)
+        return self._corners
 
     def _held_up(self, v: float, v_des: float, goal: tuple[float, float], px: float, py: float) -> bool:
         """Is someone standing in its way holding it up (it should drive, it does not)? After
