@@ -581,10 +581,16 @@ class Dialog(Module):
                 return True
         return False
 
-    def _stood_by_her(self, start: float) -> bool:
-        """The follower had said ``waiting`` (it stands by the partner track) for at least
-        :data:`~robot.partner_search.STOOD_FOR` s when words beginning at ``start`` began, and still says so."""
-        return self._follow_state == "waiting" and math.isfinite(start) and start - self._waiting_since >= STOOD_FOR
+    def _stop_after_she_stood(self, x: Any, start: float) -> bool:
+        """A stop heard in Following from off the followed track's bearing (:meth:`_her_voice` said not
+        hers) is taken all the same when the follower had said ``waiting`` (it stands by that track) for
+        at least :data:`~robot.partner_search.STOOD_FOR` s when the words began, and still says so: her
+        walk is over, and the track may be someone she walked past who stands silent there (the person
+        attention listens to the other voice then, and makes the stop's speaker the partner:
+        :meth:`PersonAttention._stop_speaker`). Only a stop: other words from off her bearing stay a
+        bystander's, and so does a stop said while she walks."""
+        return (self.manager.es_state in LEADING_STATES and x.tag == "understood" and x.find("SPEECH/STOP") is not None
+                and self._follow_state == "waiting" and math.isfinite(start) and start - self._waiting_since >= STOOD_FOR)
 
     def _voice_elsewhere(self, start: float, end: float) -> bool:
         """Face to face (not while she leads), the words are another talker's when at least
@@ -641,23 +647,13 @@ class Dialog(Module):
             if math.isfinite(end):
                 self._other_talk_end = max(self._other_talk_end, end)  # a talk with someone else goes on
             return
-        if (self.manager.es_state in LEADING_STATES and x.tag == "understood" and x.find("SPEECH/STOP") is not None
-                and self._stood_by_her(float(x.get("start", "nan")))):
-            # a stop after the follower had stood by the track it follows a while: her walk is over, and
-            # the track may be someone she walked past who stands silent there (the person attention
-            # listens to the other voice then); a stop from any direction ends the following, and the
-            # attention makes its speaker the partner (:meth:`PersonAttention._stop_speaker`). Only a stop:
-            # other words from off her bearing stay a bystander's (:meth:`_her_voice`)
-            self._addressed_at = self.now
-            self._on_addressed(msg)
-            return
         if x.tag in ("understood", "not_understood"):
             began, act = float(x.get("start", "nan")), said_act(x)
             last = self._unanswered
             repeated = last is not None and act == last[0] and 0.0 <= began - last[1] <= REPEAT_WINDOW
             if not self.addressed(began, float(x.get("end", "nan")), named=x.get("named") == "true",
                                   shows=x.tag == "understood" and x.find("SPEECH//GESTURE") is not None,
-                                  repeated=repeated, whole=_whole(x)):
+                                  repeated=repeated, whole=_whole(x)) and not self._stop_after_she_stood(x, began):
                 self.not_addressed += 1  # chat among the partner's group: not a request to the robot
                 self._unanswered = (act, began) if math.isfinite(began) else None
                 return
