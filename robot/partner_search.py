@@ -30,6 +30,11 @@ SEARCH_SPEED = 0.4
 #: s: a partner walking faster than the robot when last seen is taken to walk on this long out of view
 #: (the gap she opens meanwhile is searched for too; :func:`follow_search_time`)
 PULL_AWAY = 4.0
+#: s: the follower has stood by the partner track this long (its status ``waiting``: she stopped and it came
+#: up to her): her walk is over, and she will say "stop". A voice from elsewhere while that track stays silent
+#: may be hers (the track it followed was someone she walked past): the person attention listens to it and the
+#: dialog takes a stop from it (one rule for both; docs/subsystems.md, "never deaf by the followed track")
+STOOD_FOR = 2.0
 #: s: the longest a partner may be unseen while following, however far she was last seen
 SEARCH_CAP = 15.0
 #: m: while someone other than the partner is this near the robot (a person crossing its way, walking

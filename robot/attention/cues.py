@@ -77,6 +77,10 @@ class Hysteresis:
         """When the attribute of track ``i`` came on (it has been on since); -inf when not known."""
         return self._since.get(i, -math.inf) if self.on(i) else math.inf
 
+    def last(self, i: int) -> float:
+        """When track ``i`` last matched the cue (a frame, whether or not the attribute is on); -inf never."""
+        return self._last.get(i, -math.inf)
+
     def forget(self, alive: set[int]) -> None:
         for d in (self._count, self._last, self._on, self._since):
             for k in [k for k in d if k not in alive]:

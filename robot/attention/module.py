@@ -73,7 +73,7 @@ from .legs import SINGLE, LegDetector, LegSpec
 from .looking import HeardFrom, LookedAt, angle_between
 from .records import TrackRow, TracksRecord, own_document as _own_document
 from robot.footprint import outline, points_sweep_clear, sweep_poses, turn_clear
-from robot.partner_search import follow_search_time, way_distance, yielding
+from robot.partner_search import STOOD_FOR, follow_search_time, way_distance, yielding
 from .selection import SelectionParams, Selector
 from .tracker import FACE, Tracks, TrackerSpec
 from .visibility import hidden_points
@@ -234,6 +234,9 @@ _row = TrackRow._make
 LEG_BEHIND = 0.06
 #: s: the partner's walking pace (:meth:`PersonAttention._walk_reach`) remembers her fastest lately over this long
 PACE_MEMORY = 3.0
+#: s: following ended by a stop, a voice heard from a track this recently is the stop's (her "stop" ends its
+#: words 1-3 s before the supervisor's order comes: recognition, understanding and the bus)
+STOP_VOICE = 4.0
 #: s: how long a watch answer "unseen" (the way outside the laser's view) is looked along (answers come every second)
 WAY_LOOK_AGE = 2.5
 
@@ -303,6 +306,8 @@ class PersonAttention(Module):
     #: over (set in __init__; here for the unit tests that build the module without a bus)
     _lost_colour: tuple[float, float, float] | None = None
     _follow_stopped: float | None = None
+    #: since when the follower says it stands by her (``waiting``; None: it does not)
+    _follow_waiting: float | None = None
     #: the follower comes up to her after 'stop' (status approaching): her distance is no evidence of leaving
     #: (set in __init__ and from the follower's status; here for the unit tests that build the module without a bus)
     _follower_drives: bool = False
@@ -335,6 +340,7 @@ class PersonAttention(Module):
         self._partner_colour: tuple[float, float, float] | None = None  # hers, kept when her track dies
         self._lost_colour: tuple[float, float, float] | None = None  # the lost partner's clothes: who may retake from afar
         self._follow_stopped: float | None = None  # since when the follower stands with its search over (its status)
+        self._follow_waiting: float | None = None  # since when the follower stands by her (its status ``waiting``)
         self._partner_face: tuple[float, int, bool] | None = None  # (frame time, partner, her face in the image)
         self._in_image: set[int] = set()  # the tracks whose face lay in the camera's latest frame
         self._cats: dict[int, int] = {}  # the tracks' categories (1-3) at the latest scan
@@ -368,7 +374,8 @@ class PersonAttention(Module):
         self._ptu_at = -math.inf
         self._steer_sent: float | None | str = "unset"
         self._dominant: tuple[float, float] | None = None  # (time, front bearing rad): the loudest unexplained direction
-        self._voices: tuple[float, bool, bool] | None = None  # (time, the partner talks, someone else does): the last sound frame
+        # (time, the partner talks, someone else does, the loudest other direction, rad): the last sound frame
+        self._voices: tuple[float, bool, bool, float | None] | None = None
         self._voice_turn: tuple[float, float, float] | None = None  # (until, odom heading, heard at): turning to an unexplained voice
         self.looked = LookedAt()  # where the camera looked lately and whether it saw a face there (robot.attention.looking)
         self.heard = HeardFrom(keep=params.voice_recall)  # the last voices nobody in view explained
@@ -525,7 +532,9 @@ class PersonAttention(Module):
                 span = sound_bearing_span(float(px), float(py), self.cues)
                 offs = [span_offset(span, b) for b in bearings]
                 tol = self.params.partner_voice_tolerance
-                self._voices = (t, any(o <= tol for o in offs), any(o > tol for o in offs))
+                others = [k for k, o in enumerate(offs) if o > tol]
+                loud = max(others, key=lambda k: float(sources[k].get("level", "0"))) if others else None
+                self._voices = (t, any(o <= tol for o in offs), bool(others), bearings[loud] if loud is not None else None)
         if bearings:
             levels = [float(s.get("level", "0")) for s in sources]
             seen = [b for b, tk in zip(track_bearings, tracks) if tk.confirmed and not tk.dormant]
@@ -659,6 +668,8 @@ class PersonAttention(Module):
 
     def _on_order(self, msg: Message) -> None:
         name = msg.xml.get("name", "")
+        was = self.fsm.state
+        stood = self._stood(self.now)
         try:
             state = self.fsm.order(name)
         except OrderRefused as exc:
@@ -674,6 +685,8 @@ class PersonAttention(Module):
         # message, which stands until she walks on); any other order ends it
         self._paused_at = self.now if name == "pause" else None
         self._follow_stopped = None  # (a new order: the follower's next status says where it stands)
+        if was == "Follow" and state == "Interaction" and stood:
+            self._stop_speaker()
         if state in ("Interaction", "Follow", "Object"):
             # A partner unseen for a moment (stepped aside) stays the partner across the change.
             pending = self.partner is not None and self._partner_last is not None and not self.partner_lost_sent
@@ -693,6 +706,31 @@ class PersonAttention(Module):
         self.turned_away = False  # (leading her in Follow she walks away from it: no turning away)
         self._listen_to_player(state == "Object")
         self._publish_state(self.now, force=True)
+
+    def _stop_speaker(self) -> None:
+        """Following ended (her "stop") after the follower had stood by the partner track
+        :data:`~robot.partner_search.STOOD_FOR` s: if that track was silent for the last ``STOP_VOICE`` s and
+        another confirmed track was heard speaking then, the stop was that person's, and that person is
+        whom the robot attends to now. The track it stood by was someone else: she walked past a silent
+        bystander who stood where she went, and the track went over to him (generated tours, a guest
+        standing in the guest room: every later word of hers was shut out of the beam as a bystander's,
+        next to a "partner" who never spoke)."""
+        tr, now = self.tracks, self.now
+        if self.partner is None or self.partner_lost_sent or tr.row(self.partner) < 0:
+            return
+        window = now - STOP_VOICE
+        if self.speaking.last(self.partner) >= window:
+            return  # her own voice from her track: she said it
+        heard = [(self.speaking.last(tk.id), tk.id) for tk in tr.tracks
+                 if tk.id != self.partner and tk.confirmed and not tk.dormant and self.speaking.last(tk.id) >= window]
+        if heard:
+            self.partner = max(heard)[1]
+            self._partner_last = self._partner_colour = None
+
+    def _stood(self, t: float) -> bool:
+        """The follower has stood by the partner track (its status ``waiting``) at least ``STOOD_FOR`` s."""
+        w = self._follow_waiting
+        return w is not None and t - w >= STOOD_FOR
 
     def _listen_to_player(self, on: bool) -> None:
         """Follow the player's status (moving or not) while in Object, and only then."""
@@ -743,6 +781,10 @@ class PersonAttention(Module):
         stands with its search over (``stopped``, :attr:`_follow_stopped`: a loss, :meth:`partner_left`)."""
         state = msg.xml.get("state")
         self._follower_drives = state == "approaching"
+        if state != "waiting":
+            self._follow_waiting = None
+        elif self._follow_waiting is None:
+            self._follow_waiting = msg.created
         if state != "stopped":
             self._follow_stopped = None
         elif self._follow_stopped is None:
@@ -1625,6 +1667,14 @@ class PersonAttention(Module):
             return bearing  # a seen caller speaking (:meth:`_find_caller`)
         if self.fsm.top_down and not self._searching():
             if bearing is not None and self.partner is not None and self._other_talks(t):
+                v = self._voices
+                if self.fsm.state == "Follow" and self._stood(t) and v is not None and v[3] is not None:
+                    # the follower has stood by the track it follows a while and that track is silent,
+                    # while someone else talks: her walk is over and she says "stop", but the track may
+                    # be someone she walked past (a guest standing in the room she led it into): her
+                    # stop must be heard. The recogniser listens to that voice; the dialog takes only a
+                    # stop from it (not hers by direction: :meth:`robot.dialog.module.Dialog._her_voice`)
+                    return v[3]
                 return None  # a bystander next to the partner talks, the partner does not: not for the robot
             if bearing is None and self.fsm.state == "Follow" and self._dominant is not None \
                     and t - self._dominant[0] <= self.params.dominant_max_age:

@@ -108,6 +108,7 @@ from homesim.module import Module
 from robot.deployment import cost_scale
 from homesim.vloop import to_ns
 
+from robot.partner_search import STOOD_FOR
 from robot.contract import (ES_CONDITIONS, ES_EVENTS, ES_REJECTED, ES_STATUS, FOLLOW_STATUS, FRAMES, PARTNER, POSE, SAY, SOURCES,
                             SPEAKER_STATUS)
 
@@ -463,6 +464,7 @@ class Dialog(Module):
         # stored where the robot lags); they are kept in order and released when the approach ends
         self._approach_seen = -math.inf  # when the follower last said "approaching"
         self._follow_state = ""  # the follower's last status state ("paused": a wait said while she leads)
+        self._waiting_since = math.inf  # since when the follower has said "waiting" (it stands by her) without a break
         self._held: deque[Message] = deque()
         # a request said with a greeting ("hello BIRON, follow me") and until when it may wait for the
         # greeting to be taken (:meth:`_greeting_taken`)
@@ -579,6 +581,17 @@ class Dialog(Module):
                 return True
         return False
 
+    def _stop_after_she_stood(self, x: Any, start: float) -> bool:
+        """A stop heard in Following from off the followed track's bearing (:meth:`_her_voice` said not
+        hers) is taken all the same when the follower had said ``waiting`` (it stands by that track) for
+        at least :data:`~robot.partner_search.STOOD_FOR` s when the words began, and still says so: her
+        walk is over, and the track may be someone she walked past who stands silent there (the person
+        attention listens to the other voice then, and makes the stop's speaker the partner:
+        :meth:`PersonAttention._stop_speaker`). Only a stop: other words from off her bearing stay a
+        bystander's, and so does a stop said while she walks."""
+        return (self.manager.es_state in LEADING_STATES and x.tag == "understood" and x.find("SPEECH/STOP") is not None
+                and self._follow_state == "waiting" and math.isfinite(start) and start - self._waiting_since >= STOOD_FOR)
+
     def _voice_elsewhere(self, start: float, end: float) -> bool:
         """Face to face (not while she leads), the words are another talker's when at least
         ``VOICE_FRAMES`` sound frames during them heard a voice and fewer than ``HER_SHARE`` of those
@@ -640,7 +653,7 @@ class Dialog(Module):
             repeated = last is not None and act == last[0] and 0.0 <= began - last[1] <= REPEAT_WINDOW
             if not self.addressed(began, float(x.get("end", "nan")), named=x.get("named") == "true",
                                   shows=x.tag == "understood" and x.find("SPEECH//GESTURE") is not None,
-                                  repeated=repeated, whole=_whole(x)):
+                                  repeated=repeated, whole=_whole(x)) and not self._stop_after_she_stood(x, began):
                 self.not_addressed += 1  # chat among the partner's group: not a request to the robot
                 self._unanswered = (act, began) if math.isfinite(began) else None
                 return
@@ -773,7 +786,12 @@ class Dialog(Module):
             self._releasing = False
 
     def _on_follow(self, msg: Message) -> None:
-        self._follow_state = msg.xml.get("state", "")
+        state = msg.xml.get("state", "")
+        if state != "waiting":
+            self._waiting_since = math.inf
+        elif self._follow_state != "waiting":
+            self._waiting_since = self.now
+        self._follow_state = state
         if msg.xml.get("state") == "approaching":
             self._approach_seen = self.now
             return
