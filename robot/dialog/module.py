@@ -157,6 +157,9 @@ PERSON_SLACK = 1.0
 #: ES states in which a greeting is what starts the interaction: a request said after "hello BIRON" in
 #: the same breath waits there until the greeting has been taken (the ES takes requests only from a partner)
 GREETABLE = frozenset({"", "LookingAround", "PotentialPartner", "AskingForHelp"})
+#: ES states with nobody greeted yet (no interaction, no help asked for): words the robot did not get whole
+#: and that neither greet nor call it are taken as other people's chat (:meth:`Dialog._chat_before_greeting`)
+UNGREETED = frozenset({"", "LookingAround", "PotentialPartner"})
 #: s: how long a request said with a greeting waits for the greeting to be taken (the ES keeps a greeting
 #: 3 s; a greeting heard with low confidence is first confirmed: "Did you say hello to me?")
 AFTER_GREETING_WAIT = 15.0
@@ -543,6 +546,24 @@ class Dialog(Module):
         last_f, last_c = during[-1]
         return not (2 * away >= len(during) and last_f in ("false", ASIDE) and last_c >= 1)
 
+    def _chat_before_greeting(self, x: etree._Element) -> bool:
+        """Whether frame ``x`` is chat the robot overheard before anyone greeted it: the supervisor has
+        nobody to talk with (:data:`UNGREETED`: looking around, or a potential partner who has not greeted),
+        the robot waits on no answer of its own (no sub-dialog's question, no "say that again" open), and
+        the words are no whole request (not understood, or understood only in part: a word unknown, lost
+        or left out) and neither greet nor take leave nor call the robot by its name. An interaction
+        begins with a greeting; a request said whole before one still gets "Please say hello to me first.",
+        and "BIRON, ..." misheard still gets "say that again"."""
+        if self.manager.es_state not in UNGREETED or x.tag not in ("understood", "not_understood"):
+            return False
+        if _whole(x) or x.get("named") == "true" or x.get("opens") == "true" or x.get("after") == "greeting":
+            return False
+        if x.find("SPEECH/GREETING") is not None or x.find("SPEECH/GOODBYE") is not None:
+            return False
+        if self.manager.open_question() is not None or any(not i.done for i in self.manager.stack):
+            return False
+        return True
+
     def _talking_to_another(self, start: float, during: list[tuple[str, int]], whole: bool) -> bool:
         """Whether words beginning at ``start`` go on a talk with someone else: words said to another
         (the speech module's ``addressee="other"``) ended at most :data:`OTHER_TALK_GAP` s before, no
@@ -633,6 +654,13 @@ class Dialog(Module):
             end = float(x.get("end", "nan"))
             if math.isfinite(end):
                 self._other_talk_end = max(self._other_talk_end, end)  # a talk with someone else goes on
+            return
+        if self._chat_before_greeting(x):
+            # nobody has greeted the robot: half-heard words that neither greet nor call it are people
+            # talking among themselves (tour-1000-014: after the good-bye, two visitors chatting face to
+            # face with the robot behind one of them got "Is this the watch?" and "Sorry, I did not
+            # understand you" six times). No answer, no question of its own
+            self.not_addressed += 1
             return
         if x.tag in ("understood", "not_understood"):
             began, act = float(x.get("start", "nan")), said_act(x)
