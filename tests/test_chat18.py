@@ -126,3 +126,62 @@ def test_step_aside_chat_seed_0_her_question_misheard_is_answered_and_her_good_b
     out = capsys.readouterr().out
     assert code == 0, out
     assert "did not understand" not in out
+
+
+# ---------------------------------------------------------------- the voice-level rule (item 2)
+from robot.dialog.module import FARTHER_DB, VOICE_FRAMES  # noqa: E402
+
+
+def _face_to_face(her_levels: list[float], frames: list[tuple[float, float, float]], dist: float = 1.2,
+                  her_turns: list[tuple[float, float]] | None = None) -> Dialog:
+    d = _dialog("Interacting")
+    d._partner_cues = deque([(10.0 + 0.1 * i, "true", 0, 1.0) for i in range(40)], maxlen=300)
+    d._sources = deque([(t, (b,)) for t, b, _ in frames], maxlen=300)
+    d._levels = deque(frames, maxlen=600)
+    d._partner_dist = (dist, 14.0)
+    d._her_levels = deque(her_levels, maxlen=5)
+    d._her_turns = deque(her_turns or [], maxlen=5)
+    return d
+
+
+def _turn(level: float, bearing: float = 2.0, n: int = 15, t0: float = 10.5) -> list[tuple[float, float, float]]:
+    return [(t0 + 0.1 * i, bearing, level + (1.5 if i % 2 else -1.5)) for i in range(n)]
+
+
+def test_a_voice_from_her_direction_much_quieter_than_hers_is_someone_behind_her():
+    # Hanna 1.2 m away speaks at about 58 dB at the robot (59.6 at 1 m); Omar 2.6 m away behind her at 51.6
+    ref = 58.0 + 20 * math.log10(1.2)
+    d = _face_to_face([ref], _turn(51.6))
+    assert not d.addressed(10.5, 12.0)
+    assert d.addressed(10.5, 12.0, named=True)  # "BIRON, ..." from behind her is for the robot
+    assert _face_to_face([ref], _turn(57.0)).addressed(10.5, 12.0)  # her own, a decibel softer: hers
+    assert _face_to_face([], _turn(45.0)).addressed(10.5, 12.0)  # nothing known of her voice: no rule
+
+
+def test_her_own_overlapping_turn_is_left_out_of_the_other_voice():
+    ref = 58.0 + 20 * math.log10(1.2)
+    frames = _turn(58.5, n=8) + _turn(51.0, n=10, t0=11.3)  # her turn 10.5-11.2, his overlapping and going on
+    assert not _face_to_face([ref], frames, her_turns=[(10.5, 11.25)]).addressed(10.5, 12.3)
+
+
+@settings(max_examples=200, deadline=None)
+@given(ref=st.floats(45.0, 70.0), delta=st.floats(-20.0, 20.0), dist=st.floats(0.5, 3.0), n=st.integers(0, 20))
+def test_the_level_rule_drops_only_voices_well_under_hers(ref, delta, dist, n):
+    level = ref + delta - 20 * math.log10(dist)  # the level at the robot of a voice delta dB from hers at 1 m
+    d = _face_to_face([ref], _turn(level, n=n), dist=dist)
+    dropped = not d.addressed(10.5, 10.5 + 0.1 * max(n, 1))
+    if n < VOICE_FRAMES or delta > -FARTHER_DB + 1.6:  # few frames, or near her own level (the frames spread 1.5 dB)
+        assert not dropped
+    if n >= VOICE_FRAMES and delta < -FARTHER_DB - 1.6:
+        assert dropped
+
+
+def test_remarks_behind_partner_seed_0_gets_no_say_that_again(capsys) -> None:
+    from pathlib import Path
+
+    from homesim.cli import main
+
+    scene = Path(__file__).resolve().parent / "scenarios" / "flow" / "chat18_remarks_behind_partner.xml"
+    code = main(["run", str(scene), "--seed", "0"])
+    out = capsys.readouterr().out
+    assert code == 0, out
