@@ -75,6 +75,13 @@ what got no answer (the same act: one repeats a request that was not answered, n
 to the robot, so the microphones decide instead (:meth:`Dialog._her_voice`): not addressed only when
 several sound frames during the words heard a voice and none from her direction.
 
+Someone behind her (chat18): the pair cannot tell two people a few degrees apart, but it hears how loud a
+voice is. Face to face, words whose voice from her direction is ``FARTHER_DB`` dB or more under her own voice
+(:meth:`Dialog._farther_than_her`: both taken back to 1 m by her distance; hers is the quietest of her recent
+turns understood whole) come from someone further away behind her, and are not addressed unless they name the
+robot. Before anyone greeted it, half-heard words that neither greet nor call it are overheard chat
+(:meth:`Dialog._chat_before_greeting`).
+
 A greeting with a request ("hello BIRON, follow me"): the understanding sends the greeting
 (``opens="true"``) and then the request (``after="greeting"``). Before the interaction (LookingAround,
 PotentialPartner, AskingForHelp) the request waits until the supervisor takes the greeting
