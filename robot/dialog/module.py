@@ -419,6 +419,7 @@ class Dialog(Module):
     #: of her recent turns taken back to 1 m: the voice-level rule (:meth:`_farther_than_her`)
     _levels: deque[tuple[float, float, float]] | None = None
     _partner_dist: tuple[float, float] | None = None
+    _partner_dists: deque[tuple[float, float]] | None = None  # (time, her distance) of recent reports
     _her_levels: deque[float] | None = None
     _her_turns: deque[tuple[float, float]] | None = None  # (start, end) of her recent turns: overlaps left out
 
@@ -460,6 +461,7 @@ class Dialog(Module):
         self._levels = deque(maxlen=600)
         self._her_levels = deque(maxlen=HER_TURNS)
         self._her_turns = deque(maxlen=HER_TURNS)
+        self._partner_dists = deque(maxlen=300)
         self.not_addressed = 0
         self._addressed_at = -math.inf  # when an understood frame was last taken as meant for the robot
         self._aside_since = math.inf  # when she was last reported turning aside (the addressee rule)
@@ -640,6 +642,7 @@ class Dialog(Module):
         cues = [(t, b) for t, _, _, b in self._partner_cues if _known(b) and start - 0.5 <= t <= end + 0.5]
         if not cues:
             return None
+        dists = [(t, d) for t, d in (self._partner_dists or ()) if start - 0.5 <= t <= end + 0.5]
         mine = []
         for t, b, level in self._levels:
             if start <= t <= end:
@@ -647,11 +650,13 @@ class Dialog(Module):
                     continue
                 her = min(cues, key=lambda c: abs(c[0] - t))[1]
                 if span_off(b, her) <= self.barge_in_width:
-                    mine.append(level)
+                    # her distance when the frame was heard (she may walk up while she talks)
+                    d = min(dists, key=lambda c: abs(c[0] - t))[1] if dists else self._partner_dist[0]
+                    mine.append(level + 20.0 * math.log10(max(d, 0.3)))
         if len(mine) < VOICE_FRAMES:
             return None
         mine.sort()
-        return mine[len(mine) // 2] + 20.0 * math.log10(max(self._partner_dist[0], 0.3))
+        return mine[len(mine) // 2]
 
     def _her_reference(self) -> float | None:
         """Her own voice's level at 1 m: the quietest of her recent turns (None before one was heard)."""
@@ -1016,6 +1021,8 @@ class Dialog(Module):
             b = heard_bearing(b, d)
         self._partner = (b, self.now) if math.isfinite(b) else None
         self._partner_dist = (d, self.now) if math.isfinite(d) and d > 0 else None
+        if self._partner_dist is not None and self._partner_dists is not None:
+            self._partner_dists.append((msg.created, d))
         pose = self._pose
         raw = float(msg.xml.get("bearing", "nan"))
         if pose is not None and math.isfinite(raw) and math.isfinite(d):
