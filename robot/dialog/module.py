@@ -75,6 +75,13 @@ what got no answer (the same act: one repeats a request that was not answered, n
 to the robot, so the microphones decide instead (:meth:`Dialog._her_voice`): not addressed only when
 several sound frames during the words heard a voice and none from her direction.
 
+Someone behind her (chat18): the pair cannot tell two people a few degrees apart, but it hears how loud a
+voice is. Face to face, words whose voice from her direction is ``FARTHER_DB`` dB or more under her own voice
+(:meth:`Dialog._farther_than_her`: both taken back to 1 m by her distance; hers is the quietest of her recent
+turns understood whole) come from someone further away behind her, and are not addressed unless they name the
+robot. Before anyone greeted it, half-heard words that neither greet nor call it are overheard chat
+(:meth:`Dialog._chat_before_greeting`).
+
 A greeting with a request ("hello BIRON, follow me"): the understanding sends the greeting
 (``opens="true"``) and then the request (``after="greeting"``). Before the interaction (LookingAround,
 PotentialPartner, AskingForHelp) the request waits until the supervisor takes the greeting
@@ -158,6 +165,9 @@ PERSON_SLACK = 1.0
 #: ES states in which a greeting is what starts the interaction: a request said after "hello BIRON" in
 #: the same breath waits there until the greeting has been taken (the ES takes requests only from a partner)
 GREETABLE = frozenset({"", "LookingAround", "PotentialPartner", "AskingForHelp"})
+#: ES states with nobody greeted yet (no interaction, no help asked for): words the robot did not get whole
+#: and that neither greet nor call it are taken as other people's chat (:meth:`Dialog._chat_before_greeting`)
+UNGREETED = frozenset({"", "LookingAround", "PotentialPartner"})
 #: s: how long a request said with a greeting waits for the greeting to be taken (the ES keeps a greeting
 #: 3 s; a greeting heard with low confidence is first confirmed: "Did you say hello to me?")
 AFTER_GREETING_WAIT = 15.0
@@ -179,6 +189,15 @@ ENDS_A_PAUSE = frozenset({"object_teaching", "place_teaching"})
 #: the sentence at once anyway). Above the microphones' frame interval (0.1 s) and a breath between words,
 #: below the ~1 s from the end of an utterance to the robot's answer to it, so answers are not delayed.
 TURN_GAP = 0.5
+#: dB: a voice from the partner's direction this much quieter than her own voice (both taken back to 1 m by
+#: her distance, the level of the quietest of her recent turns) comes from someone standing further away behind
+#: her (chat18, :meth:`Dialog._farther_than_her`): a voice twice as far is 6 dB quieter, and her own turns
+#: vary by a decibel or two about the quietest of them (the median of a turn's frames), so her words are not
+#: taken for another's
+FARTHER_DB = 4.0
+#: her recent turns whose level the rule keeps (the quietest of them is hers: a repair said louder never
+#: makes her normal voice sound like someone else's)
+HER_TURNS = 5
 #: face to face, words of which fewer than this share of the voiced sound frames came from where she stands
 #: are another talker's (the addressee rule; an overlap with her next turn is a few frames)
 HER_SHARE = 0.25
@@ -397,6 +416,13 @@ class Dialog(Module):
     _faced_at = -math.inf
     #: (act, start) of the last words dropped as not addressed (the repeat rule, :data:`REPEAT_WINDOW`)
     _unanswered: tuple[str, float] | None = None
+    #: (time, bearing, level) of the voiced sound frames (bounded), her distance (m, when reported) and the level
+    #: of her recent turns taken back to 1 m: the voice-level rule (:meth:`_farther_than_her`)
+    _levels: deque[tuple[float, float, float]] | None = None
+    _partner_dist: tuple[float, float] | None = None
+    _partner_dists: deque[tuple[float, float]] | None = None  # (time, her distance) of recent reports
+    _her_levels: deque[float] | None = None
+    _her_turns: deque[tuple[float, float]] | None = None  # (start, end) of her recent turns: overlaps left out
 
     def __init__(
         self,
@@ -433,6 +459,10 @@ class Dialog(Module):
         self._partner_place: tuple[float, float] | None = None  # where she was last reported (map frame, via the pose)
         # (time, directions heard) of the latest sound frames with a voice, for the rule while she leads (bounded)
         self._sources: deque[tuple[float, tuple[float, ...]]] = deque(maxlen=300)
+        self._levels = deque(maxlen=600)
+        self._her_levels = deque(maxlen=HER_TURNS)
+        self._her_turns = deque(maxlen=HER_TURNS)
+        self._partner_dists = deque(maxlen=300)
         self.not_addressed = 0
         self._addressed_at = -math.inf  # when an understood frame was last taken as meant for the robot
         self._aside_since = math.inf  # when she was last reported turning aside (the addressee rule)
@@ -515,6 +545,10 @@ class Dialog(Module):
             return self._her_voice(start, end)
         if self.manager.es_state in DRIVING_STATES:
             return self._from_her_place(start, end)
+        if not named and self._farther_than_her(start, end):
+            # a voice from her direction, much quieter than hers: someone standing behind her (a guest
+            # chatting by the bookcase behind her, tests/scenarios/flow/chat18_remarks_behind_partner.xml)
+            return False
         during = [(f, c) for t, f, c, _ in self._partner_cues if start <= t <= end]
         if during and any(f == "true" for f, _ in during):
             return True
@@ -544,6 +578,24 @@ class Dialog(Module):
         away = sum(f in ("false", ASIDE) for f, _ in during)
         last_f, last_c = during[-1]
         return not (2 * away >= len(during) and last_f in ("false", ASIDE) and last_c >= 1)
+
+    def _chat_before_greeting(self, x: etree._Element) -> bool:
+        """Whether frame ``x`` is chat the robot overheard before anyone greeted it: the supervisor has
+        nobody to talk with (:data:`UNGREETED`: looking around, or a potential partner who has not greeted),
+        the robot waits on no answer of its own (no sub-dialog's question, no "say that again" open), and
+        the words are no whole request (not understood, or understood only in part: a word unknown, lost
+        or left out) and neither greet nor take leave nor call the robot by its name. An interaction
+        begins with a greeting; a request said whole before one still gets "Please say hello to me first.",
+        and "BIRON, ..." misheard still gets "say that again"."""
+        if self.manager.es_state not in UNGREETED or x.tag not in ("understood", "not_understood"):
+            return False
+        if _whole(x) or x.get("named") == "true" or x.get("opens") == "true" or x.get("after") == "greeting":
+            return False
+        if x.find("SPEECH/GREETING") is not None or x.find("SPEECH/GOODBYE") is not None:
+            return False
+        if self.manager.open_question() is not None or any(not i.done for i in self.manager.stack):
+            return False
+        return True
 
     def _talking_to_another(self, start: float, during: list[tuple[str, int]], whole: bool) -> bool:
         """Whether words beginning at ``start`` go on a talk with someone else: words said to another
@@ -591,6 +643,55 @@ class Dialog(Module):
         bystander's, and so does a stop said while she walks."""
         return (self.manager.es_state in LEADING_STATES and x.tag == "understood" and x.find("SPEECH/STOP") is not None
                 and self._follow_state == "waiting" and math.isfinite(start) and start - self._waiting_since >= STOOD_FOR)
+
+    def _her_turn_level(self, start: float, end: float, others: bool = False) -> float | None:
+        """The level of the voice heard from her direction during ``start``..``end`` (the median of the
+        voiced sound frames within ``barge_in_width`` of where the pair hears her), taken back to 1 m by her
+        distance; None without her bearing or distance or with fewer than ``VOICE_FRAMES`` such frames.
+        ``others``: leave out the frames during her own recent turns (words overlapping hers: her voice and
+        the other one merge there)."""
+        if self._levels is None or self._partner_dist is None:
+            return None
+        cues = [(t, b) for t, _, _, b in self._partner_cues if _known(b) and start - 0.5 <= t <= end + 0.5]
+        if not cues:
+            return None
+        dists = [(t, d) for t, d in (self._partner_dists or ()) if start - 0.5 <= t <= end + 0.5]
+        mine = []
+        for t, b, level in self._levels:
+            if start <= t <= end:
+                if others and self._her_turns and any(a <= t <= b for a, b in self._her_turns):
+                    continue
+                her = min(cues, key=lambda c: abs(c[0] - t))[1]
+                if span_off(b, her) <= self.barge_in_width:
+                    # her distance when the frame was heard (she may walk up while she talks)
+                    d = min(dists, key=lambda c: abs(c[0] - t))[1] if dists else self._partner_dist[0]
+                    mine.append(level + 20.0 * math.log10(max(d, 0.3)))
+        if len(mine) < VOICE_FRAMES:
+            return None
+        mine.sort()
+        return mine[len(mine) // 2]
+
+    def _her_reference(self) -> float | None:
+        """Her own voice's level at 1 m: the quietest of her recent turns (None before one was heard)."""
+        return min(self._her_levels) if self._her_levels else None
+
+    def _farther_than_her(self, start: float, end: float) -> bool:
+        """Whether the words heard from her direction came from someone further away behind her: their
+        level, taken back to 1 m by *her* distance, lies ``FARTHER_DB`` or more under her own voice's (the
+        pair cannot tell two people a few degrees apart, but a voice from twice as far is 6 dB quieter)."""
+        ref = self._her_reference()
+        level = self._her_turn_level(start, end, others=True) if ref is not None else None
+        return ref is not None and level is not None and level <= ref - FARTHER_DB
+
+    def _learn_her_level(self, start: float, end: float) -> None:
+        """Remember the level of a turn understood and taken as hers (the voice-level rule's reference)."""
+        if self._her_levels is None or self.manager.es_state in LEADING_STATES or self.manager.es_state in DRIVING_STATES:
+            return
+        level = self._her_turn_level(start, end)
+        if level is not None:
+            self._her_levels.append(level)
+        if self._her_turns is not None and math.isfinite(start) and math.isfinite(end):
+            self._her_turns.append((start, end))
 
     def _voice_elsewhere(self, start: float, end: float) -> bool:
         """Face to face (not while she leads), the words are another talker's when at least
@@ -647,6 +748,13 @@ class Dialog(Module):
             if math.isfinite(end):
                 self._other_talk_end = max(self._other_talk_end, end)  # a talk with someone else goes on
             return
+        if self._chat_before_greeting(x):
+            # nobody has greeted the robot: half-heard words that neither greet nor call it are people
+            # talking among themselves (tour-1000-014: after the good-bye, two visitors chatting face to
+            # face with the robot behind one of them got "Is this the watch?" and "Sorry, I did not
+            # understand you" six times). No answer, no question of its own
+            self.not_addressed += 1
+            return
         if x.tag in ("understood", "not_understood"):
             began, act = float(x.get("start", "nan")), said_act(x)
             last = self._unanswered
@@ -660,6 +768,8 @@ class Dialog(Module):
             self._unanswered = None
             if repeated and math.isfinite(began):
                 self._addressed_at = began  # said again for the robot, even not understood: their exchange
+        if _whole(x) or (x.tag == "understood" and x.get("named") == "true"):
+            self._learn_her_level(float(x.get("start", "nan")), float(x.get("end", "nan")))
         if x.tag == "understood":
             # a turn taken as meant for the robot (the rule's exchange): when its words began, so that
             # words said before she turned aside ("wait, I want to show you my book", then she walks off
@@ -928,6 +1038,9 @@ class Dialog(Module):
             span = heard_span(b, d)
             b = heard_bearing(b, d)
         self._partner = (b, self.now) if math.isfinite(b) else None
+        self._partner_dist = (d, self.now) if math.isfinite(d) and d > 0 else None
+        if self._partner_dist is not None and self._partner_dists is not None:
+            self._partner_dists.append((msg.created, d))
         pose = self._pose
         raw = float(msg.xml.get("bearing", "nan"))
         if pose is not None and math.isfinite(raw) and math.isfinite(d):
@@ -962,6 +1075,12 @@ class Dialog(Module):
                       if float(src.get("level", "0")) >= VOICE_LEVEL and math.isfinite(float(src.get("bearing", "nan"))))
         if heard:
             self._sources.append((float(msg.xml.get("time", repr(msg.created))), heard))
+            if self._levels is not None:
+                t = float(msg.xml.get("time", repr(msg.created)))
+                for src in msg.xml.iterfind("source"):
+                    level, bearing = float(src.get("level", "0")), float(src.get("bearing", "nan"))
+                    if level >= VOICE_LEVEL and math.isfinite(bearing):
+                        self._levels.append((t, bearing, level))
         if not self._talking or self._cut:
             return
         if float(msg.xml.get("time", "inf")) < self._talk_start:

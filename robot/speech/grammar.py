@@ -214,6 +214,16 @@ class Understander:
             at = toks.index(spots[0])
             lost = Tok("CAN", "can", "") if spots[0].type == "YOU" else Tok("YOU", "you", "")
             toks = [*toks[:at], lost, *toks[at:]] if lost.type == "CAN" else [*toks[:at + 1], lost, *toks[at + 1:]]
+        kinds = [t.type for t in spots]
+        if kinds[:3] == ["WHAT", "CAN", "YOU"] and (len(kinds) == 3 or (len(kinds) == 4 and kinds[3] in _NO_LAST_WORD)) \
+                and not lex.unknown:
+            # "what can you [do]" with its verb lost or heard as a short word that cannot end the question ("what
+            # can you a", "what can you that": the recogniser drops and swaps short words, and "do" is one): the
+            # capabilities question, as "what [can] you do" and "what can [you] do" already are. A word that
+            # could end another question ("what can you see") is not this one (perceive/step_aside_chat seeds
+            # 0, 4, 6: "Sorry, I did not understand you" cost the repair that left no time for her good-bye)
+            at = toks.index(spots[2]) + 1
+            toks = [*toks[:at], Tok("DO", "do", ""), *toks[at:]]
         if toks[0].type == "HELLO" and toks[0].text in _OPENING_WORDS and len(toks) > 1:
             # "morning biron, follow me", "yo, follow me": a word that greets only by opening a turn, before
             # a whole request, is not heard as the greeting (the request is what she wants; these words
@@ -1036,6 +1046,9 @@ _NOT_REQUESTS = frozenset({"object_fragment", "place_fragment", "that_one", "yes
 #: Greeting words that greet only as the turn's first word ("morning, biron"; not "in the morning", "the
 #: morning show", "every evening").
 _OPENING_WORDS = frozenset({"morning", "evening", "yo"})
+#: token types a question cannot end on ("what can you a"): articles, a demonstrative or "it" left without its noun
+#: or verb, a preposition, the copula. A word the recogniser put in place of a lost one is usually one of these
+_NO_LAST_WORD = frozenset({"A", "THE", "THAT", "THIS", "IT", "IN", "TO", "IS"})
 #: What a closing followed by more words stays a closing with ("that will be all, thank you, goodbye", "bye,
 #: yes"): answers and greetings are no request of their own.
 _AFTER_CLOSING = frozenset({"object_fragment", "place_fragment", "that_one", "yes", "no", "goodbye", "greeting"})
