@@ -100,3 +100,16 @@ def test_the_thing_said_again_whole_without_my_drops_the_owner():
 def test_no_with_the_thing_drops_the_owner_and_keeps_the_thing():
     obj = _taught(_dm(), "no the vase")
     assert obj.find("OWNER") is None and obj.find("TITLE").get("name") == "vase"
+
+
+@settings(max_examples=40, deadline=None)
+@given(lost=st.sampled_from(["", "it", "to", "in"]), mod=MODIFIERS, noun=NOUNS, where=st.sampled_from(["there", "here"]))
+def test_the_thing_named_and_where_with_the_owner_lost_is_hers_and_confirmed(lost, mod, noun, where):
+    """"[my→] remote control, there" (the users' "my X, there"): a noun phrase said with where it is and nothing, or a
+    function word that is none, before it; "the vase there" and "that vase there" keep what was heard."""
+    r = U.understand(" ".join(w for w in (lost, f"{mod}{noun}", where) if w))
+    owner = r.frame.find("OBJECT/OWNER")
+    assert owner is not None and owner.get("name") == "speaker" and r.coverage <= CONFIRM_BELOW
+    for det in ("the", "that"):
+        heard = U.understand(f"{det} {mod}{noun} {where}")
+        assert heard.frame.find("OBJECT/OWNER") is None

@@ -353,7 +353,7 @@ class Understander:
             if whose is not None:  # whose it is, a guess: at half the coverage, so the dialog confirms it
                 tree, ignored, partial = whose
                 guess = True
-        if tree is None or (tree_act(tree) == "teach_object" and _owned(tree) is None):
+        if tree is None or (tree_act(tree) in ("teach_object", "object_fragment") and _owned(tree) is None):
             mine = self._determiner_lost(toks)
             if mine is not None:  # whose it is, a guess: at half the coverage, so the dialog confirms it
                 tree, ignored, partial = mine
@@ -730,20 +730,25 @@ class Understander:
         k = heads[0]
         while k > 0 and toks[k - 1].type in _NP_MODIFIERS:
             k -= 1
-        if k < 1:
+        shown = heads[0] == len(toks) - 2 and toks[-1].type in ("THERE", "HERE")
+        if shown and (k == 0 or (k == 1 and toks[0].type in _LOST_DETERMINER - {"THIS", "THAT"})):
+            # "[my→] remote control, there", "[my→to] orange ball there": the thing named and where, said
+            # whole, with nothing (or a function word that is none) before the noun phrase
+            at, lost, tail = 0, [t.text for t in toks[:k]] + [toks[-1].text], toks[k:-1]
+        elif k < 1:
             return None
-        before = toks[k - 1]
-        if before.type in ("IS", "ARE", "HERE"):
-            at, lost = k, []  # nothing heard between the copula and the noun phrase
-        elif k >= 2 and before.type in _LOST_DETERMINER and toks[k - 2].type in ("IS", "ARE", "HERE"):
-            at, lost = k - 1, [before.text]  # a function word that is no determiner in its place
+        elif toks[k - 1].type in ("IS", "ARE", "HERE"):
+            at, lost, tail = k, [], toks[k:]  # nothing heard between the copula and the noun phrase
+        elif k >= 2 and toks[k - 1].type in _LOST_DETERMINER and toks[k - 2].type in ("IS", "ARE", "HERE"):
+            at, lost, tail = k - 1, [toks[k - 1].text], toks[k:]  # a function word that is no determiner in its place
         else:
             return None
-        if toks[at - 1].type == "HERE" and not any(t.type in _DEIXIS - {"HERE"} for t in toks[:at - 1]) \
+        if at > 0 and toks[at - 1].type == "HERE" and not any(t.type in _DEIXIS - {"HERE"} for t in toks[:at - 1]) \
                 and toks[at - 1].text in ("here", "there"):
             return None  # "here [is] ...": "here" alone before the noun ("here keys") is no "here you can see"
-        tree, missed, _ = self._parse([*toks[:at], _SAID_MY, *toks[k:]])
-        if tree is None or missed or _guessed(tree) or tree_act(tree) != "teach_object" or _owned(tree) != "speaker":
+        tree, missed, _ = self._parse([*toks[:at], _SAID_MY, *tail])
+        if tree is None or missed or _guessed(tree) or tree_act(tree) not in ("teach_object", "object_fragment") \
+                or _owned(tree) != "speaker":
             return None
         return tree, lost, True
 
