@@ -5,7 +5,7 @@ drops it. A determiner heard ("the", "a") is no evidence and is left alone."""
 
 from __future__ import annotations
 
-from hypothesis import given, settings
+from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 from lxml import etree
 
@@ -29,6 +29,7 @@ OPENINGS = st.sampled_from(["this is", "that is", "this one is", "that one is", 
 @settings(max_examples=80, deadline=None)
 @given(opening=OPENINGS, lost=LOST, mod=MODIFIERS, noun=NOUNS)
 def test_a_determiner_lost_before_the_thing_shown_is_her_owner_and_is_confirmed(opening, lost, mod, noun):
+    assume(not (opening == "that is" and lost == "it"))  # "that is it" is "that's it", a yes (what follows answers)
     r = U.understand(" ".join(w for w in (opening, lost, f"{mod}{noun}") if w))
     assert r.act == "OBJECT"
     owner = r.frame.find("OBJECT/OWNER")

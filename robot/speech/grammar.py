@@ -353,6 +353,10 @@ class Understander:
             if whose is not None:  # whose it is, a guess: at half the coverage, so the dialog confirms it
                 tree, ignored, partial = whose
                 guess = True
+        if tree is not None and ignored and tree_act(tree) == "teach_object" and build(tree).find("OBJECT/POSITION") is None:
+            ground = self._relation_lost(toks)
+            if ground is not None:
+                tree, ignored, partial = ground
         if tree is None or (tree_act(tree) in ("teach_object", "object_fragment") and _owned(tree) is None):
             mine = self._determiner_lost(toks)
             if mine is not None:  # whose it is, a guess: at half the coverage, so the dialog confirms it
@@ -751,6 +755,36 @@ class Understander:
                 or _owned(tree) != "speaker":
             return None
         return tree, lost, True
+
+    def _relation_lost(self, toks: list[Tok]) -> tuple[Tree, list[str], bool] | None:
+        """"That blue vase [on→this] the sideboard was a wedding present", "this is my cup [on→to] the table": an
+        object teaching whose relation word before the landmark was misheard (a function word that is no relation),
+        so the landmark and every word after it were left out. Where she said it is, is what the robot's
+        look needs when it does not see her point (fresh6/div_long_tour seed 0: the vase "could not be found",
+        her gesture never seen and the sideboard lost). The teaching with the thing at that landmark (``POSITION``
+        with ``RELATION name="at"``, as :meth:`_where_lost`); the words after the landmark stay left out; still
+        partial. None when no landmark follows the thing in that way."""
+        heads = [i for i, t in enumerate(toks) if t.type == "OBJ"]
+        if len(heads) < 2:
+            return None
+        h = heads[0]
+        for k in range(h + 2, min(h + 4, len(toks))):
+            # the thing, then a word that is no relation (after the copula, if said), then "the <landmark>"; none
+            # at all ("the vase the sideboard") is left alone: nothing says a word was lost there
+            if toks[k].type not in ("THE", "A", "MY", "OUR") or any(t.type not in _LOST_PREDICATE for t in toks[h + 1:k]) \
+                    or toks[k - 1].type in ("IS", "ARE"):
+                continue
+            end = k + 1
+            while end < len(toks) and toks[end].type in _NP_MODIFIERS:
+                end += 1
+            if end >= len(toks) or toks[end].type != "OBJ":
+                return None
+            tree, lost, _ = self._parse([*toks[:k - 1], _SAID_AT, *toks[k:end + 1]])
+            if tree is None or lost or _guessed(tree) or tree_act(tree) != "teach_object" \
+                    or build(tree).find("OBJECT/POSITION/TITLE") is None:
+                return None
+            return tree, [toks[k - 1].text] + [t.text for t in toks[end + 1:]], True
+        return None
 
     def _where_lost(self, toks: list[Tok], ignored: list[str]) -> tuple[Tree, list[str], bool] | None:
         """"the one [on→to] the table", "the one [on→] the counter": a which-one answer whose relation
