@@ -46,3 +46,24 @@ def test_a_which_one_answer_with_its_relation_lost_keeps_the_landmark(rel, place
     assert r.act == "THAT_ONE"
     title = r.frame.find("THAT_ONE/POSITION/TITLE")
     assert title is not None and title.get("name") == place
+
+
+@settings(max_examples=60, deadline=None)
+@given(opening=st.sampled_from(["that", "this", "this is my", "that is the", "and this"]),
+       noun=st.sampled_from(["vase", "cup", "book", "lamp"]), lost=st.sampled_from(["this", "it", "a", "to", "that"]),
+       place=st.sampled_from(["sideboard", "table", "shelf", "desk", "counter"]),
+       tail=st.sampled_from(["", " was a wedding present", " okay"]))
+def test_a_teaching_whose_relation_before_the_landmark_was_misheard_keeps_the_landmark(opening, noun, lost, place, tail):
+    """"that blue vase [on→this] the sideboard was a wedding present" (fresh6/div_long_tour seed 0): the landmark is
+    where she says the thing is, which the robot looks at when it did not see her point; still partial."""
+    r = U.understand(f"{opening} {noun} {lost} the {place}{tail}")
+    assert r.act == "OBJECT" and r.frame.find("OBJECT/TITLE").get("name") == noun
+    assert r.frame.find("OBJECT/POSITION/TITLE").get("name") == place
+    assert r.partial
+
+
+@given(noun=st.sampled_from(["vase", "cup", "book"]), place=st.sampled_from(["sideboard", "table", "shelf"]))
+def test_a_landmark_after_the_thing_with_no_word_between_is_not_guessed(noun, place):
+    """"that vase the sideboard": no word was heard where the relation would be; nothing says one was lost."""
+    r = U.understand(f"that {noun} the {place}")
+    assert r.frame.find("OBJECT/POSITION") is None

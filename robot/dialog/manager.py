@@ -102,6 +102,13 @@ def _same(old: Any, new: Any) -> bool:
     return all(_same(x, y) for x, y in zip(old.findall("PLACE"), new.findall("PLACE")))
 
 
+def _owner_left_out(old: Any, new: Any, act_el: etree._Element) -> bool:
+    """Whether a repetition of a thing whose owner a confirmation named says it whole (not partial) without an
+    owner: "Is this your kettle?" - "this is the kettle" (her words heard whole, no "my")."""
+    return (_is_object(old) and _is_object(new) and old.find("OWNER") is not None and new.find("OWNER") is None
+            and act_el.get("partial") != "true")
+
+
 def _same_name(a: str, b: str) -> bool:
     """Whether two names say the same thing: equal, or one the other's last words ("alarm clock" and, said
     again shorter, "clock": "Is this your alarm clock?" - "yes, my clock" is a yes, not a correction)."""
@@ -520,9 +527,25 @@ class DialogManager:
         old = inst.slots[slot].value
         new = next((v for v in (_select(f, act_el) for f in fills if f.slot == slot) if v is not None), None)
         same = new is not None and _same(old, new)
-        if same and said != "no":
+        unowned = same and _owner_left_out(old, new, act_el)
+        if unowned and said == "no":
+            # "Is this your kettle?" - "no, the kettle": the thing is right, whose it is was not (a guess
+            # from a lost word, robot/speech/grammar.py _determiner_lost): the same thing, no owner
+            kept = inst.slots[slot].stamp
+            self._fill_frame(inst, fills, act_el, conf, stamp, replace=True)
+            if kept is not None and act_el.find("GESTURE") is None:
+                inst.slots[slot].stamp = kept
+            inst.slots[slot].status = "true"
+            self.metrics["corrections"] += 1
+        elif same and said != "no":
             kept = inst.slots[slot].stamp
             self._fill_frame(inst, fills, act_el, conf, stamp)
+            if unowned:
+                # "Is this your kettle?" - "this is the kettle", said again whole without "my": she says
+                # what it is and not that it is hers; the owner the question named is dropped
+                value = inst.slots[slot].value
+                for o in value.findall("OWNER"):
+                    value.remove(o)
             if kept is not None and act_el.find("GESTURE") is None:
                 # "Is this your clock?" - "yes, my clock": the pointing went with the request, not with the
                 # yes; the event keeps when the request was said, so the object attention looks back to

@@ -405,6 +405,34 @@ def unchosen_answer(value: Any) -> etree._Element:
     return out
 
 
+def landmark_answer(options: list[tuple[int, str]] | None, x: etree._Element) -> etree._Element | None:
+    """Frame ``x`` as the which-one answer "the one at <landmark>" when a clarification with ``options`` is
+    open and ``x`` is a partial object teaching (words lost) of a thing no option names, said without an
+    owner or a colour (the options are "the cup on the left", ...; what she names is what it stands on or
+    by); None otherwise. A teaching heard whole, or of the thing asked about, stays what it is."""
+    obj = x.find("SPEECH/OBJECT") if x.tag == "understood" and options else None
+    if obj is None or options is None or x.get("partial") != "true":
+        return None
+    title = obj.find("TITLE")
+    name = (title.get("name") or "").strip() if title is not None else ""
+    if not name or any(obj.find(tag) is not None for tag in ("OWNER", "COLOUR", "ATTRIBUTE", "POSITION")):
+        return None
+    words = {w for _, text in options for w in text.split()}
+    if any(w in words for w in name.split()) or (obj.get("type") or "").replace("_", " ") in words:
+        return None
+    out = deepcopy(x)
+    speech = out.find("SPEECH")
+    assert speech is not None
+    for c in list(speech):
+        if c.tag != "TIMESTAMP":
+            speech.remove(c)
+    that = etree.SubElement(speech, "THAT_ONE")
+    pos = etree.SubElement(that, "POSITION")
+    etree.SubElement(pos, "RELATION", name="at")
+    etree.SubElement(pos, "TITLE", name=name)
+    return out
+
+
 class Dialog(Module):
     """BIRON's dialog control as a bus module (participant ``dialog``)."""
 
@@ -814,6 +842,13 @@ class Dialog(Module):
             self._goodbye_held = msg
             self.sim.loop.call_at_ns(to_ns(self.now + GOODBYE_AFTER_LOOK), self._release_goodbye, msg)
             return
+        landmark = landmark_answer(self._asking, x)
+        if landmark is not None:
+            # "the [one on→that] the table" to "Do you mean the cup on the left or the one on the right?": words
+            # lost, what is left names another thing than the one asked about, no owner: the landmark of a
+            # which-one answer ("the one at the table"), not a new teaching of the table (perceive/cups_on_table
+            # seed 5: "Now, back to your cup." and the question again, unanswered)
+            x = landmark
         if self._unanswerable(x):
             # "the [one→is] closer [to→is] you" to "the bottle nearer to you or the one nearer to me?": "closer"
             # alone says not to whom, and picks neither; taken as the choice, the robot thanked her and gave

@@ -363,6 +363,15 @@ class Understander:
             if whose is not None:  # whose it is, a guess: at half the coverage, so the dialog confirms it
                 tree, ignored, partial = whose
                 guess = True
+        if tree is not None and ignored and tree_act(tree) == "teach_object" and build(tree).find("OBJECT/POSITION") is None:
+            ground = self._relation_lost(toks)
+            if ground is not None:
+                tree, ignored, partial = ground
+        if tree is None or (tree_act(tree) in ("teach_object", "object_fragment") and _owned(tree) is None):
+            mine = self._determiner_lost(toks)
+            if mine is not None:  # whose it is, a guess: at half the coverage, so the dialog confirms it
+                tree, ignored, partial = mine
+                guess = True
         if tree is not None and ignored and tree_act(tree) == "that_one" and len(build(tree)[0]) == 0 \
                 and not build(tree)[0].attrib:
             where = self._where_lost(toks, ignored)
@@ -718,6 +727,75 @@ class Understander:
             return None
         return tree, ignored[1:] or ignored, True
 
+    def _determiner_lost(self, toks: list[Tok]) -> tuple[Tree, list[str], bool] | None:
+        """"This is [my→and] vase", "that one is [my→it] cup", "here you can see [my→] blue bag": a teaching
+        whose noun phrase after the copula (or "here you can see") has no determiner, or a function word
+        that is none in its place (it, that, this, to, in; the lexicon drops "and", "uh" and a doubled
+        "is" before the grammar sees them). A singular noun after "is" needs one, and people showing
+        their things in their home say "my" (the owners the generated tours lost, measure16: 12 of 67):
+        the word there was lost, and which one it was is not known. The teaching with the speaker as
+        owner, words lost (partial) and a guess, so the dialog confirms it with the owner said back
+        ("Is this your vase?") and she can say no or say it again without "my" (the dialog then drops
+        the owner it guessed). None when a determiner was heard ("this is a vase", "the vase", "Anna's
+        vase": no evidence of a lost word; a/the misheard for my cannot be told from a/the said)."""
+        heads = [i for i, t in enumerate(toks) if t.type == "OBJ"]
+        if not heads or any(t.type in ("MY", "OUR", "YOUR", "MINE", "POSS", "NAME", "BELONGS") for t in toks):
+            return None
+        k = heads[0]
+        while k > 0 and toks[k - 1].type in _NP_MODIFIERS:
+            k -= 1
+        shown = heads[0] == len(toks) - 2 and toks[-1].type in ("THERE", "HERE")
+        if shown and (k == 0 or (k == 1 and toks[0].type in _LOST_DETERMINER - {"THIS", "THAT"})):
+            # "[my→] remote control, there", "[my→to] orange ball there": the thing named and where, said
+            # whole, with nothing (or a function word that is none) before the noun phrase
+            at, lost, tail = 0, [t.text for t in toks[:k]] + [toks[-1].text], toks[k:-1]
+        elif k < 1:
+            return None
+        elif toks[k - 1].type in ("IS", "ARE", "HERE"):
+            at, lost, tail = k, [], toks[k:]  # nothing heard between the copula and the noun phrase
+        elif k >= 2 and toks[k - 1].type in _LOST_DETERMINER and toks[k - 2].type in ("IS", "ARE", "HERE"):
+            at, lost, tail = k - 1, [toks[k - 1].text], toks[k:]  # a function word that is no determiner in its place
+        else:
+            return None
+        if at > 0 and toks[at - 1].type == "HERE" and not any(t.type in _DEIXIS - {"HERE"} for t in toks[:at - 1]) \
+                and toks[at - 1].text in ("here", "there"):
+            return None  # "here [is] ...": "here" alone before the noun ("here keys") is no "here you can see"
+        tree, missed, _ = self._parse([*toks[:at], _SAID_MY, *tail])
+        if tree is None or missed or _guessed(tree) or tree_act(tree) not in ("teach_object", "object_fragment") \
+                or _owned(tree) != "speaker":
+            return None
+        return tree, lost, True
+
+    def _relation_lost(self, toks: list[Tok]) -> tuple[Tree, list[str], bool] | None:
+        """"That blue vase [on→this] the sideboard was a wedding present", "this is my cup [on→to] the table": an
+        object teaching whose relation word before the landmark was misheard (a function word that is no relation),
+        so the landmark and every word after it were left out. Where she said it is, is what the robot's
+        look needs when it does not see her point (fresh6/div_long_tour seed 0: the vase "could not be found",
+        her gesture never seen and the sideboard lost). The teaching with the thing at that landmark (``POSITION``
+        with ``RELATION name="at"``, as :meth:`_where_lost`); the words after the landmark stay left out; still
+        partial. None when no landmark follows the thing in that way."""
+        heads = [i for i, t in enumerate(toks) if t.type == "OBJ"]
+        if len(heads) < 2:
+            return None
+        h = heads[0]
+        for k in range(h + 2, min(h + 4, len(toks))):
+            # the thing, then a word that is no relation (after the copula, if said), then "the <landmark>"; none
+            # at all ("the vase the sideboard") is left alone: nothing says a word was lost there
+            if toks[k].type not in ("THE", "A", "MY", "OUR") or any(t.type not in _LOST_PREDICATE for t in toks[h + 1:k]) \
+                    or toks[k - 1].type in ("IS", "ARE"):
+                continue
+            end = k + 1
+            while end < len(toks) and toks[end].type in _NP_MODIFIERS:
+                end += 1
+            if end >= len(toks) or toks[end].type != "OBJ":
+                return None
+            tree, lost, _ = self._parse([*toks[:k - 1], _SAID_AT, *toks[k:end + 1]])
+            if tree is None or lost or _guessed(tree) or tree_act(tree) != "teach_object" \
+                    or build(tree).find("OBJECT/POSITION/TITLE") is None:
+                return None
+            return tree, [toks[k - 1].text] + [t.text for t in toks[end + 1:]], True
+        return None
+
     def _where_lost(self, toks: list[Tok], ignored: list[str]) -> tuple[Tree, list[str], bool] | None:
         """"the one [on→to] the table", "the one [on→] the counter": a which-one answer whose relation
         word was lost (a function word that is no relation, or none), the place after it heard whole: the
@@ -1026,6 +1104,12 @@ _SAID_IS = Tok("IS", "is", "")
 _SAID_AT = Tok("REL", "at", "at")
 #: The owner put in for the last word of "this bottle is [lost]" (:meth:`Understander._whose_lost`).
 _SAID_MINE = Tok("MINE", "speaker", "mine")
+#: The "my" put in for a determiner lost before the noun phrase of "this is [my] vase" (:meth:`Understander._determiner_lost`).
+_SAID_MY = Tok("MY", "speaker", "my")
+#: Words before the noun in a noun phrase ("my [big blue coffee] mug").
+_NP_MODIFIERS = frozenset({"COLOUR", "ATTR", "USE"})
+#: Words the recogniser puts where a determiner was that are no determiner there ("this is [it] vase").
+_LOST_DETERMINER = frozenset({"IT", "THAT", "THIS", "TO", "IN"})
 #: Words that cannot end "this bottle is ...": a word misheard there (the recogniser's fillers are such words).
 _LOST_PREDICATE = frozenset({"THIS", "THAT", "IT", "A", "THE", "TO", "IN", "AND", "IS", "ARE"})
 #: "here" put before the relation of "the keys are on the table": said there, as "are here on the table".
