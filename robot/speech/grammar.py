@@ -272,6 +272,13 @@ class Understander:
             res.corrected += [t.text for t in toks[: len(toks) - len(tail)]]
             toks = tail
         tree, ignored, partial = self._parse(toks)
+        if tree is None and len(toks) > 1 and toks[0].type in _ONLY_POINTS:
+            # "[yes→to] you got it", "[no→a] that is not right": the answer's first word misheard as a short word,
+            # the rest a whole yes or no of two or more words (a one-word "to yes" stays unsure): she answers
+            alt = self._parse(toks[1:])
+            if alt[0] is not None and not alt[1] and not alt[2] and tree_act(alt[0]) in ("yes", "no") \
+                    and sum(len(t.text.split()) for t in toks[1:]) > 1:
+                tree, ignored, partial = alt[0], [toks[0].text], True
         guess = False  # an object teaching rebuilt from a lost first word, or asked as a question
         # a question with words the lexicon lacks ("is this the kitchen or the living room", "is it my
         # phone ringing") asks something else than the statement its known words make: no teaching
@@ -436,9 +443,13 @@ class Understander:
             # "that's it for today, goodbye": whatever else was in a closing turn, it closes
             tree, ignored, partial = self._parse([t for t in toks if t.type == "GOODBYE"])
             ignored = [t.text for t in toks if t.type != "GOODBYE"]
-        if tree is None and _room_unnamed(toks):
+        if (tree is None and _room_unnamed(toks)) or (_where_we_are(toks) and (
+                tree is None or (tree_act(tree) in _STATEMENT_ACTS and build(tree)[0].tag == "OBJECT"
+                                 and build(tree)[0].get("type") is None))):
             # "this is the [lost] room", "uh is the room": she names this room and its name was lost; a
-            # place with no name, so the dialog asks which room this is rather than to say it all again
+            # place with no name, so the dialog asks which room this is rather than to say it all again.
+            # "this is where we live", "here is where I work": the room she stands in, said by what the
+            # household does there and not by its name (the vague user's teaching): asked the same way
             tree, ignored, partial = self._parse([_LOST_THIS, Tok("IS", "is", ""), Tok("THE", "the", ""),
                                                   Tok("PLACE", "", "")])
             ignored, partial = [], True
@@ -1508,6 +1519,15 @@ def _bare_side(tree: Tree) -> bool:
     act = next((c for c in tree.children if isinstance(c, Tree) and c.data != "address"), None)
     return (act is not None and act.data == "that_one" and len(act.children) == 1
             and isinstance(act.children[0], Token) and act.children[0].type == "SIDE")
+
+
+def _where_we_are(toks: list[Tok]) -> bool:
+    """Whether ``toks`` say what the speaker's household does in the room she stands in, not its name: a
+    deixis, a copula, "where", then "we" or "I" ("this is where we live", "here is where I work", "that's where we
+    eat"). "this is where the dog sleeps" (someone else, a spot) stays small talk (:func:`_made_or_where`)."""
+    kinds = [t.type for t in toks]
+    return (len(kinds) >= 4 and kinds[0] in ("THIS", "THAT", "HERE", "IT") and kinds[1] in ("IS", "ARE")
+            and kinds[2] == "WHERE" and kinds[3] in ("WE", "I"))
 
 
 def _room_unnamed(toks: list[Tok]) -> bool:
