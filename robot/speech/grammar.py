@@ -238,14 +238,13 @@ class Understander:
             res.frame = build(tree)
             res.coverage = 1.0
             return res
-        remark = _way_free_remark(Lexicon.words(words), self.lexicon.hesitations)
-        if remark:
-            # "the ramp is free now, go to the living room please", "she's gone, you can go to the kitchen
-            # now": a remark that the way is free (no place to teach: fresh7 split_goto_ramp_child, "Is this
-            # the living room?" to the go-to after it); the whole request said after it is what she asks
-            after = self._request_after_remark(words, Lexicon.words(words), remark)
-            if after is not None:
-                return after
+        after = self._request_after_remark(words, Lexicon.words(words))
+        if after is not None:
+            # "the ramp is free now, go to the living room please", "she's gone, you can go to the kitchen now",
+            # "the hall is clear now, go to the kitchen": a remark that shows and names nothing here (no place to
+            # teach: fresh7 split_goto_ramp_child, "Is this the living room?" to the go-to after it); the whole
+            # request said after it is what she asks
+            return after
         other = _said_to_another(toks, Lexicon.words(words), self.lexicon.hesitations) \
             or _greets_unknown_name(toks, said, lex.unknown, self.lexicon.hesitations)
         if other:
@@ -326,15 +325,6 @@ class Understander:
                 # either of the two first words may be the misheard one ("go is the kitchen" is "go
                 # to the kitchen" as well): both count as unheard, so a confident guess is confirmed
                 tree, ignored, partial = alt[0], [toks[0].text, toks[1].text], True
-        if tree is not None and ignored and tree_act(tree) in _STATEMENT_ACTS:
-            sent = self._goto_after_remark(toks)
-            if sent is not None:
-                # "the hall is clear now, go to the kitchen", "ok the way is free again, drive to the study": a
-                # remark about the way (no this/that/here: nothing shown or named here) before a whole go-to
-                # request; the go-to is what she asks (it was a place teaching of the room in the remark)
-                k, tree, ignored, partial = sent
-                res.corrected += [t.text for t in toks[:k]]
-                toks = toks[k:]
         if tree is not None and tree_act(tree) == "wait" and ignored and toks[0].type == "WAIT" \
                 and [t.text for t in toks[len(toks) - len(ignored):]] == ignored \
                 and not _stays(toks[: len(toks) - len(ignored)], []):
@@ -793,32 +783,30 @@ class Understander:
             return tail
         return None
 
-    def _request_after_remark(self, words: str, said: list[str], at: int) -> Understanding | None:
-        """The understanding of ``said[at:]`` (the words after a remark that the way is free) when they are a
-        whole request by themselves (no word lost, not a noun phrase, a yes/no or a which-one answer, not an
-        aside), else None; the remark's words count as set aside (``corrected``)."""
-        tail = self.understand(" ".join(said[at:]))
-        if tail.frame is None or tail.partial or tail.fragment or tail.aside or tail.act in ("YES", "NO", "THAT_ONE"):
+    def _request_after_remark(self, words: str, said: list[str]) -> Understanding | None:
+        """The understanding of the whole request said after a leading remark (:func:`_remark_ends`), or None.
+
+        The first place after the remark's verb where the rest, understood by itself, is a whole request (no word
+        lost, not a noun phrase, a yes/no or a which-one answer, not an aside) that opens with a request's verb or
+        a request word ("go to", "you can go", "follow me", "could you go"); the remark's words count as set aside
+        (``corrected``). One rule for "the way is free now, go to X" and any other remark that shows nothing."""
+        verb = _remark_verb(said, self.lexicon)
+        if verb is None:
             return None
-        tail.words = words
-        tail.corrected = [*said[:at], *tail.corrected]
-        return tail
-
-    def _goto_after_remark(self, toks: list[Tok]) -> tuple[int, Tree, list[str], bool] | None:
-        """The whole go-to said after a remark that shows and names nothing, or None.
-
-        The remark must hold no deixis (this, that, here, there): "this is the hall, go to the kitchen" names
-        the room she stands in. The go-to must open with its verb or a request ("go to", "can you go to").
-        """
-        for k in range(1, len(toks) - 1):
-            if toks[k - 1].type in ("THIS", "THAT", "HERE", "THERE", "IT"):
-                return None
-            if toks[k].type not in ("GO", "COME", "TAKE", "CAN", "YOU", "I", "LETS"):
+        for at in range(verb + 2, len(said) - 1):
+            rest = self.lexicon.tokens(" ".join(said[at:]))
+            opening = next((j for j in range(at, len(said)) if self.lexicon.tokens(said[j]).tokens
+                            or self.lexicon.tokens(said[j]).unknown), None)  # the first word not a filler
+            if not rest.tokens or rest.tokens[0].type not in _REQUEST_OPENERS or opening is None \
+                    or self.lexicon.tokens(said[opening]).unknown:
                 continue
-            alt = self._parse(toks[k:])
-            if alt[0] is not None and not alt[1] and not alt[2] and tree_act(alt[0]) == "goto" \
-                    and any(t.type in ("GO", "COME", "TAKE") for t in toks[k:]):
-                return k, *alt
+            tail = self.understand(" ".join(said[at:]))
+            if tail.frame is None or tail.partial or tail.fragment or tail.aside \
+                    or tail.act in ("YES", "NO", "THAT_ONE", "PLACE", "OBJECT"):
+                continue
+            tail.words = words
+            tail.corrected = [*said[:at], *tail.corrected]
+            return tail
         return None
 
     def _request_after_never_mind(self, edit: Tok, toks: list[Tok]) -> tuple[list[str], list[Tok]] | None:
@@ -1259,49 +1247,32 @@ def _left_at_end(toks: list[Tok], ignored: list[str]) -> bool:
     return [t.text for t in left] == ignored and all(t.type in _TRAILING for t in left)
 
 
-#: What the way (or the one in it) is when a remark says it is free: "the ramp is free now", "the door's clear".
-_WAY_FREE = frozenset({"free", "clear", "open", "empty", "gone"})
-#: Verbs of the one who blocked it having gone: "she has gone", "he's moved", "the boy has left".
-_WAY_LEFT = frozenset({"gone", "left", "moved"})
-#: What may follow the state word within the remark ("free now", "clear again", "all clear now").
-_WAY_AFTER = frozenset({"now", "again", "so", "and", "then", "already", "anymore"})
+#: The first word of a request said after a remark (its verb, or the words that ask): "go to", "you can go",
+#: "could you go", "follow me", "let's go", "take me to", "stop", "wait".
+_REQUEST_OPENERS = frozenset({"GO", "COME", "TAKE", "FOLLOW", "STOP", "WAIT", "CAN", "YOU", "I", "LETS", "BACK"})
+#: Words that make a turn's head no remark: it shows or names something here, asks, answers, greets or denies.
+_NOT_IN_A_REMARK = frozenset({"THIS", "THAT", "HERE", "THERE", "IT", "WHERE", "WHAT", "HOW", "HELLO", "GOODBYE",
+                              "YES", "NO", "NOT", "EDIT", "MEET"})
 
 
-def _way_free_remark(words: list[str], hesitations: frozenset[str]) -> int | None:
-    """Where the words after a leading remark that the way is free begin ("the ramp is free now | go to the
-    living room", "the hall's clear again | ...", "she has gone | you can go now"): a subject of at most four
-    words, a copula ("is", "are", the "'s" of "ramp's") or "has"/"have", a state word that says it is free
-    (:data:`_WAY_FREE`, or :data:`_WAY_LEFT` after "has"), and only :data:`_WAY_AFTER` words after it; at
-    least two words must follow. None when the turn opens with no such remark (or the state word is negated:
-    "the way is not free")."""
-    said = [w for w in words if w not in hesitations]
-    off = len(words) - len(said)  # hesitations are all dropped before the index is used on ``words`` below
-    for i in range(1, min(len(said), 6)):
-        verb = said[i]
-        if verb in ("is", "are", "POSS"):
-            states = _WAY_FREE
-        elif verb in ("has", "have"):
-            states = _WAY_LEFT
-        else:
+def _remark_verb(words: list[str], lexicon: Lexicon) -> int | None:
+    """Where the verb of a leading remark stands in ``words`` ("the ramp [is] free now | go to the living room",
+    "the hall['s] clear again | ...", "my son [has] moved | ...", "ok the passage [is] clear now | could you go ..."),
+    or None: a subject of one to four words, then a copula ("is", "are", the "'s" of "ramp's") or "has"/"have";
+    the subject (an "ok" may open the turn) is no request and no deixis, and no word before the verb, nor the
+    one after it, shows, asks, answers or denies (:data:`_NOT_IN_A_REMARK`: "this is the hall, go to the
+    kitchen" names the room she stands in; "the way is not free" is no way free)."""
+    for i in range(1, min(len(words), 6)):
+        if words[i] not in ("is", "are", "POSS", "has", "have"):
             continue
-        k = i + 1
-        while k < len(said) and said[k] in ("all", "completely", "quite", "now"):
-            k += 1
-        if k >= len(said) or said[k] not in states:
+        head = lexicon.tokens(" ".join(words[: i + 2])).tokens
+        kinds = [t.type for t in head]
+        while kinds and kinds[0] == "OKAY":
+            kinds = kinds[1:]
+        if (kinds and kinds[0] in _REQUEST_OPENERS) or words[0] in ("is", "are", "has", "have", "POSS") \
+                or any(k in _NOT_IN_A_REMARK for k in kinds) or any(w in ("not", "never") for w in words[: i + 2]):
             return None
-        k += 1
-        while k < len(said) and said[k] in _WAY_AFTER:
-            k += 1
-        if len(said) - k < 2:
-            return None
-        if off:  # map back onto ``words`` (hesitations kept there)
-            seen = 0
-            for j, w in enumerate(words):
-                if w not in hesitations:
-                    seen += 1
-                if seen == k:
-                    return j + 1
-        return k
+        return i
     return None
 
 
@@ -1523,11 +1494,13 @@ def _bare_side(tree: Tree) -> bool:
 
 def _where_we_are(toks: list[Tok]) -> bool:
     """Whether ``toks`` say what the speaker's household does in the room she stands in, not its name: a
-    deixis, a copula, "where", then "we" or "I" ("this is where we live", "here is where I work", "that's where we
-    eat"). "this is where the dog sleeps" (someone else, a spot) stays small talk (:func:`_made_or_where`)."""
+    deixis, a copula (or none: the recogniser drops it), "where", then "we" or "I" ("this is where we live", "here is
+    where I work", "that's where we eat"). "this is where the dog sleeps" (someone else, a spot) stays small talk (:func:`_made_or_where`)."""
     kinds = [t.type for t in toks]
-    return (len(kinds) >= 4 and kinds[0] in ("THIS", "THAT", "HERE", "IT") and kinds[1] in ("IS", "ARE")
-            and kinds[2] == "WHERE" and kinds[3] in ("WE", "I"))
+    if kinds[1:2] in (["IS"], ["ARE"]):
+        kinds = kinds[:1] + kinds[2:]  # "this [is] where we live": the copula lost
+    return (len(kinds) >= 3 and kinds[0] in ("THIS", "THAT", "HERE", "IT")
+            and kinds[1] == "WHERE" and kinds[2] in ("WE", "I"))
 
 
 def _room_unnamed(toks: list[Tok]) -> bool:
