@@ -93,3 +93,15 @@ def test_a_remark_that_names_the_room_she_is_in_keeps_its_teaching(u: Understand
 def test_a_negated_state_or_a_question_is_no_remark_before_a_request(u: Understander, words: str) -> None:
     res = u.understand(words)
     assert not (res.act in ("GOTO", "FOLLOW") and res.coverage == 1.0)
+
+
+@pytest.mark.parametrize("words", ["goodbye dear", "bye bye sweetheart", "i won't keep you then bye love",
+                                   "i will not keep you any longer biron", "hello friend"])
+def test_a_greeting_or_good_bye_with_a_vocative_or_a_leave_taking_formula_is_whole(u: Understander, words: str) -> None:
+    res = u.understand(words)  # before: a half-heard good-bye ("Do you want to end the tour?") or not understood
+    assert res.act in ("GOODBYE", "GREETING") and not res.partial and res.coverage == 1.0
+
+
+@pytest.mark.parametrize("words", ["bye tom", "yes dear i'm coming", "hello love", "i won't be long dear"])
+def test_words_to_someone_else_stay_asides(u: Understander, words: str) -> None:
+    assert u.understand(words).frame is None

@@ -535,6 +535,16 @@ class Understander:
             # in words it knows; what it could not place came before its name, the turn's opening misheard.
             # The greeting is sure (no "Did you say hello to me?" to a greeting said whole after the name)
             used = len(toks)
+        vocative = _vocative_after(tree, Lexicon.words(words), self.lexicon.hesitations)
+        if vocative:
+            # "goodbye dear", "bye love", "hello friend": a greeting or good-bye that calls the one it is said to by
+            # an endearment (the turn was not said to someone else: :func:`_said_to_another` came first) is whole;
+            # the vocative is no word lost (it was a half-heard good-bye, "Do you want to end the tour?")
+            res.ignored = [w for w in res.ignored if w not in vocative]
+            res.unknown = [w for w in res.unknown if w not in vocative]
+            lex.unknown = [w for w in lex.unknown if w not in vocative]
+            used = len(toks) - len([w for w in ignored if w not in vocative])
+            res.partial = partial and bool(res.ignored)
         if tree_act(tree) == "greeting" and _hello_to_someone_else(toks, Lexicon.words(words), lex.unknown):
             # "hi sara, how are you doing": a hello to a name it does not know, its own name not said, greets
             # someone else (a phone call, a visitor); the words that go with a greeting make it no surer that it
@@ -1156,6 +1166,24 @@ def _said_to_another(toks: list[Tok], words: list[str], hesitations: frozenset[s
             and any(w in _FIRST_PERSON for w in said):
         return "said to someone else"
     return ""
+
+
+def _vocative_after(tree: Tree, words: list[str], hesitations: frozenset[str]) -> set[str]:
+    """The words after a greeting's or good-bye's last word that only call the one it is said to ("goodbye
+    dear", "bye love", "hello friend"): endearments and :data:`_MAY_CALL_ROBOT`; empty when anything else
+    follows or the act is no greeting or good-bye."""
+    if tree_act(tree) not in ("greeting", "goodbye"):
+        return set()
+    said = [w for w in words if w not in hesitations]
+    tail: list[str] = []
+    for w in reversed(said):
+        if w in ENDEARMENTS - _ALSO_VERBS or w in ("love",) or w in _MAY_CALL_ROBOT:
+            tail.append(w)
+        else:
+            break
+    if not tail or len(tail) == len(said):
+        return set()
+    return set(tail)
 
 
 def _greets_unknown_name(toks: list[Tok], words: list[str], unknown: list[str], hesitations: frozenset[str]) -> str:
