@@ -105,3 +105,15 @@ def test_a_greeting_or_good_bye_with_a_vocative_or_a_leave_taking_formula_is_who
 @pytest.mark.parametrize("words", ["bye tom", "yes dear i'm coming", "hello love", "i won't be long dear"])
 def test_words_to_someone_else_stay_asides(u: Understander, words: str) -> None:
     assert u.understand(words).frame is None
+
+
+@pytest.mark.parametrize(("words", "room"), [("biron a go to the lounge", "lounge"),
+                                             ("a you go to the study please", "study")])
+def test_a_go_to_after_a_misheard_short_opening_word_is_the_go_to(u: Understander, words: str, room: str) -> None:
+    # "BIRON, go to the lounge" with a short word heard in between (tests/scenarios/lang_names): no teaching of the room
+    res = u.understand(words)
+    assert res.act == "GOTO" and res.frame.find("GOTO/PLACE/TITLE").get("name") == room
+
+
+def test_a_deixis_before_a_go_to_is_no_misheard_opening(u: Understander) -> None:
+    assert u.understand("this is go to the kitchen").act == "PLACE"  # "this is [the] kitchen": the room she is in

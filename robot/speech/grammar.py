@@ -325,6 +325,15 @@ class Understander:
                 # either of the two first words may be the misheard one ("go is the kitchen" is "go
                 # to the kitchen" as well): both count as unheard, so a confident guess is confirmed
                 tree, ignored, partial = alt[0], [toks[0].text, toks[1].text], True
+        if tree is not None and ignored and tree_act(tree) in _STATEMENT_ACTS:
+            sent = self._request_after_misheard_opening(toks)
+            if sent is not None:
+                # "biron [a] go to the lounge", "[can→a] you go to the kitchen please": a short word misheard at the
+                # turn's opening made the rest a teaching of the room ("Is this the lounge?"); the whole go-to said
+                # after it is what she asks (talk17's case, kept when the remark rule became one)
+                k, tree, ignored, partial = sent
+                res.corrected += [t.text for t in toks[:k]]
+                toks = toks[k:]
         if tree is not None and tree_act(tree) == "wait" and ignored and toks[0].type == "WAIT" \
                 and [t.text for t in toks[len(toks) - len(ignored):]] == ignored \
                 and not _stays(toks[: len(toks) - len(ignored)], []):
@@ -819,6 +828,20 @@ class Understander:
             return tail
         return None
 
+    def _request_after_misheard_opening(self, toks: list[Tok]) -> tuple[int, Tree, list[str], bool] | None:
+        """The whole go-to said after the robot's name and short words only (a misheard opening: "biron [a]",
+        "[a]"), or None; never after a deixis, a copula or a word of meaning ("this go to the kitchen" stays)."""
+        for k in range(1, len(toks) - 1):
+            if toks[k - 1].type not in _MISHEARD_OPENING:
+                return None
+            if toks[k].type not in ("GO", "COME", "TAKE", "CAN", "YOU", "LETS"):
+                continue
+            alt = self._parse(toks[k:])
+            if alt[0] is not None and not alt[1] and not alt[2] and tree_act(alt[0]) == "goto" \
+                    and any(t.type in ("GO", "COME", "TAKE") for t in toks[k:]):
+                return k, *alt
+        return None
+
     def _request_after_never_mind(self, edit: Tok, toks: list[Tok]) -> tuple[list[str], list[Tok]] | None:
         """The words set aside and the whole request said after a leading "never mind (X)", or None.
 
@@ -1275,6 +1298,8 @@ def _left_at_end(toks: list[Tok], ignored: list[str]) -> bool:
     return [t.text for t in left] == ignored and all(t.type in _TRAILING for t in left)
 
 
+#: What a misheard turn opening may hold before a whole go-to: the robot's name and short words.
+_MISHEARD_OPENING = frozenset({"ROBOTNAME", "ROBOT", "A", "THE", "TO", "IN", "OF", "CAN", "YOU"})
 #: The first word of a request said after a remark (its verb, or the words that ask): "go to", "you can go",
 #: "could you go", "follow me", "let's go", "take me to", "stop", "wait".
 _REQUEST_OPENERS = frozenset({"GO", "COME", "TAKE", "FOLLOW", "STOP", "WAIT", "CAN", "YOU", "I", "LETS", "BACK"})
