@@ -117,3 +117,10 @@ def test_a_go_to_after_a_misheard_short_opening_word_is_the_go_to(u: Understande
 
 def test_a_deixis_before_a_go_to_is_no_misheard_opening(u: Understander) -> None:
     assert u.understand("this is go to the kitchen").act == "PLACE"  # "this is [the] kitchen": the room she is in
+
+
+@pytest.mark.parametrize("words", ["what other skills are you to to do", "what other are you able to do",
+                                   "could you tell me what a can do"])
+def test_a_capability_question_with_one_word_misheard_or_lost_is_still_one(u: Understander, words: str) -> None:
+    # variants of the users' capability questions with one recognition error (tour 7100-01: "able" heard as "to")
+    assert u.understand(words).act == "CAPABILITIES"
