@@ -248,14 +248,13 @@ class Understander:
             res.frame = build(tree)
             res.coverage = 1.0
             return res
-        remark = _way_free_remark(Lexicon.words(words), self.lexicon.hesitations)
-        if remark:
-            # "the ramp is free now, go to the living room please", "she's gone, you can go to the kitchen
-            # now": a remark that the way is free (no place to teach: fresh7 split_goto_ramp_child, "Is this
-            # the living room?" to the go-to after it); the whole request said after it is what she asks
-            after = self._request_after_remark(words, Lexicon.words(words), remark)
-            if after is not None:
-                return after
+        after = self._request_after_remark(words, Lexicon.words(words))
+        if after is not None:
+            # "the ramp is free now, go to the living room please", "she's gone, you can go to the kitchen now",
+            # "the hall is clear now, go to the kitchen": a remark that shows and names nothing here (no place to
+            # teach: fresh7 split_goto_ramp_child, "Is this the living room?" to the go-to after it); the whole
+            # request said after it is what she asks
+            return after
         other = _said_to_another(toks, Lexicon.words(words), self.lexicon.hesitations) \
             or _greets_unknown_name(toks, said, lex.unknown, self.lexicon.hesitations)
         if other:
@@ -282,6 +281,13 @@ class Understander:
             res.corrected += [t.text for t in toks[: len(toks) - len(tail)]]
             toks = tail
         tree, ignored, partial = self._parse(toks)
+        if tree is None and len(toks) > 1 and toks[0].type in _ONLY_POINTS:
+            # "[yes→to] you got it", "[no→a] that is not right": the answer's first word misheard as a short word,
+            # the rest a whole yes or no of two or more words (a one-word "to yes" stays unsure): she answers
+            alt = self._parse(toks[1:])
+            if alt[0] is not None and not alt[1] and not alt[2] and tree_act(alt[0]) in ("yes", "no") \
+                    and sum(len(t.text.split()) for t in toks[1:]) > 1:
+                tree, ignored, partial = alt[0], [toks[0].text], True
         guess = False  # an object teaching rebuilt from a lost first word, or asked as a question
         # a question with words the lexicon lacks ("is this the kitchen or the living room", "is it my
         # phone ringing") asks something else than the statement its known words make: no teaching
@@ -330,11 +336,11 @@ class Understander:
                 # to the kitchen" as well): both count as unheard, so a confident guess is confirmed
                 tree, ignored, partial = alt[0], [toks[0].text, toks[1].text], True
         if tree is not None and ignored and tree_act(tree) in _STATEMENT_ACTS:
-            sent = self._goto_after_remark(toks)
+            sent = self._request_after_misheard_opening(toks)
             if sent is not None:
-                # "the hall is clear now, go to the kitchen", "ok the way is free again, drive to the study": a
-                # remark about the way (no this/that/here: nothing shown or named here) before a whole go-to
-                # request; the go-to is what she asks (it was a place teaching of the room in the remark)
+                # "biron [a] go to the lounge", "[can→a] you go to the kitchen please": a short word misheard at the
+                # turn's opening made the rest a teaching of the room ("Is this the lounge?"); the whole go-to said
+                # after it is what she asks (talk17's case, kept when the remark rule became one)
                 k, tree, ignored, partial = sent
                 res.corrected += [t.text for t in toks[:k]]
                 toks = toks[k:]
@@ -455,9 +461,13 @@ class Understander:
             # "that's it for today, goodbye": whatever else was in a closing turn, it closes
             tree, ignored, partial = self._parse([t for t in toks if t.type == "GOODBYE"])
             ignored = [t.text for t in toks if t.type != "GOODBYE"]
-        if tree is None and _room_unnamed(toks):
+        if (tree is None and _room_unnamed(toks)) or (_where_we_are(toks) and (
+                tree is None or (tree_act(tree) in _STATEMENT_ACTS and build(tree)[0].tag == "OBJECT"
+                                 and build(tree)[0].get("type") is None))):
             # "this is the [lost] room", "uh is the room": she names this room and its name was lost; a
-            # place with no name, so the dialog asks which room this is rather than to say it all again
+            # place with no name, so the dialog asks which room this is rather than to say it all again.
+            # "this is where we live", "here is where I work": the room she stands in, said by what the
+            # household does there and not by its name (the vague user's teaching): asked the same way
             tree, ignored, partial = self._parse([_LOST_THIS, Tok("IS", "is", ""), Tok("THE", "the", ""),
                                                   Tok("PLACE", "", "")])
             ignored, partial = [], True
@@ -553,6 +563,16 @@ class Understander:
             # in words it knows; what it could not place came before its name, the turn's opening misheard.
             # The greeting is sure (no "Did you say hello to me?" to a greeting said whole after the name)
             used = len(toks)
+        vocative = _vocative_after(tree, Lexicon.words(words), self.lexicon.hesitations)
+        if vocative:
+            # "goodbye dear", "bye love", "hello friend": a greeting or good-bye that calls the one it is said to by
+            # an endearment (the turn was not said to someone else: :func:`_said_to_another` came first) is whole;
+            # the vocative is no word lost (it was a half-heard good-bye, "Do you want to end the tour?")
+            res.ignored = [w for w in res.ignored if w not in vocative]
+            res.unknown = [w for w in res.unknown if w not in vocative]
+            lex.unknown = [w for w in lex.unknown if w not in vocative]
+            used = len(toks) - len([w for w in ignored if w not in vocative])
+            res.partial = partial and bool(res.ignored)
         if tree_act(tree) == "greeting" and _hello_to_someone_else(toks, Lexicon.words(words), lex.unknown):
             # "hi sara, how are you doing": a hello to a name it does not know, its own name not said, greets
             # someone else (a phone call, a visitor); the words that go with a greeting make it no surer that it
@@ -870,27 +890,39 @@ class Understander:
             return tail
         return None
 
-    def _request_after_remark(self, words: str, said: list[str], at: int) -> Understanding | None:
-        """The understanding of ``said[at:]`` (the words after a remark that the way is free) when they are a
-        whole request by themselves (no word lost, not a noun phrase, a yes/no or a which-one answer, not an
-        aside), else None; the remark's words count as set aside (``corrected``)."""
-        tail = self.understand(" ".join(said[at:]))
-        if tail.frame is None or tail.partial or tail.fragment or tail.aside or tail.act in ("YES", "NO", "THAT_ONE"):
+    def _request_after_remark(self, words: str, said: list[str]) -> Understanding | None:
+        """The understanding of the whole request said after a leading remark (:func:`_remark_ends`), or None.
+
+        The first place after the remark's verb where the rest, understood by itself, is a whole request (no word
+        lost, not a noun phrase, a yes/no or a which-one answer, not an aside) that opens with a request's verb or
+        a request word ("go to", "you can go", "follow me", "could you go"); the remark's words count as set aside
+        (``corrected``). One rule for "the way is free now, go to X" and any other remark that shows nothing."""
+        verb = _remark_verb(said, self.lexicon)
+        if verb is None:
             return None
-        tail.words = words
-        tail.corrected = [*said[:at], *tail.corrected]
-        return tail
+        for at in range(verb + 2, len(said) - 1):
+            rest = self.lexicon.tokens(" ".join(said[at:]))
+            opening = next((j for j in range(at, len(said)) if self.lexicon.tokens(said[j]).tokens
+                            or self.lexicon.tokens(said[j]).unknown), None)  # the first word not a filler
+            if not rest.tokens or rest.tokens[0].type not in _REQUEST_OPENERS or opening is None \
+                    or self.lexicon.tokens(said[opening]).unknown:
+                continue
+            tail = self.understand(" ".join(said[at:]))
+            if tail.frame is None or tail.partial or tail.fragment or tail.aside \
+                    or tail.act in ("YES", "NO", "THAT_ONE", "PLACE", "OBJECT"):
+                continue
+            tail.words = words
+            tail.corrected = [*said[:at], *tail.corrected]
+            return tail
+        return None
 
-    def _goto_after_remark(self, toks: list[Tok]) -> tuple[int, Tree, list[str], bool] | None:
-        """The whole go-to said after a remark that shows and names nothing, or None.
-
-        The remark must hold no deixis (this, that, here, there): "this is the hall, go to the kitchen" names
-        the room she stands in. The go-to must open with its verb or a request ("go to", "can you go to").
-        """
+    def _request_after_misheard_opening(self, toks: list[Tok]) -> tuple[int, Tree, list[str], bool] | None:
+        """The whole go-to said after the robot's name and short words only (a misheard opening: "biron [a]",
+        "[a]"), or None; never after a deixis, a copula or a word of meaning ("this go to the kitchen" stays)."""
         for k in range(1, len(toks) - 1):
-            if toks[k - 1].type in ("THIS", "THAT", "HERE", "THERE", "IT"):
+            if toks[k - 1].type not in _MISHEARD_OPENING:
                 return None
-            if toks[k].type not in ("GO", "COME", "TAKE", "CAN", "YOU", "I", "LETS"):
+            if toks[k].type not in ("GO", "COME", "TAKE", "CAN", "YOU", "LETS"):
                 continue
             alt = self._parse(toks[k:])
             if alt[0] is not None and not alt[1] and not alt[2] and tree_act(alt[0]) == "goto" \
@@ -1256,6 +1288,24 @@ def _said_to_another(toks: list[Tok], words: list[str], hesitations: frozenset[s
     return ""
 
 
+def _vocative_after(tree: Tree, words: list[str], hesitations: frozenset[str]) -> set[str]:
+    """The words after a greeting's or good-bye's last word that only call the one it is said to ("goodbye
+    dear", "bye love", "hello friend"): endearments and :data:`_MAY_CALL_ROBOT`; empty when anything else
+    follows or the act is no greeting or good-bye."""
+    if tree_act(tree) not in ("greeting", "goodbye"):
+        return set()
+    said = [w for w in words if w not in hesitations]
+    tail: list[str] = []
+    for w in reversed(said):
+        if w in ENDEARMENTS - _ALSO_VERBS or w in ("love",) or w in _MAY_CALL_ROBOT:
+            tail.append(w)
+        else:
+            break
+    if not tail or len(tail) == len(said):
+        return set()
+    return set(tail)
+
+
 def _greets_unknown_name(toks: list[Tok], words: list[str], unknown: list[str], hesitations: frozenset[str]) -> str:
     """Why a greeting is said to someone whose name the lexicon does not know ("" when it may be for the robot).
 
@@ -1345,49 +1395,34 @@ def _left_at_end(toks: list[Tok], ignored: list[str]) -> bool:
     return [t.text for t in left] == ignored and all(t.type in _TRAILING for t in left)
 
 
-#: What the way (or the one in it) is when a remark says it is free: "the ramp is free now", "the door's clear".
-_WAY_FREE = frozenset({"free", "clear", "open", "empty", "gone"})
-#: Verbs of the one who blocked it having gone: "she has gone", "he's moved", "the boy has left".
-_WAY_LEFT = frozenset({"gone", "left", "moved"})
-#: What may follow the state word within the remark ("free now", "clear again", "all clear now").
-_WAY_AFTER = frozenset({"now", "again", "so", "and", "then", "already", "anymore"})
+#: What a misheard turn opening may hold before a whole go-to: the robot's name and short words.
+_MISHEARD_OPENING = frozenset({"ROBOTNAME", "ROBOT", "A", "THE", "TO", "IN", "OF", "CAN", "YOU"})
+#: The first word of a request said after a remark (its verb, or the words that ask): "go to", "you can go",
+#: "could you go", "follow me", "let's go", "take me to", "stop", "wait".
+_REQUEST_OPENERS = frozenset({"GO", "COME", "TAKE", "FOLLOW", "STOP", "WAIT", "CAN", "YOU", "I", "LETS", "BACK"})
+#: Words that make a turn's head no remark: it shows or names something here, asks, answers, greets or denies.
+_NOT_IN_A_REMARK = frozenset({"THIS", "THAT", "HERE", "THERE", "IT", "WHERE", "WHAT", "HOW", "HELLO", "GOODBYE",
+                              "YES", "NO", "NOT", "EDIT", "MEET"})
 
 
-def _way_free_remark(words: list[str], hesitations: frozenset[str]) -> int | None:
-    """Where the words after a leading remark that the way is free begin ("the ramp is free now | go to the
-    living room", "the hall's clear again | ...", "she has gone | you can go now"): a subject of at most four
-    words, a copula ("is", "are", the "'s" of "ramp's") or "has"/"have", a state word that says it is free
-    (:data:`_WAY_FREE`, or :data:`_WAY_LEFT` after "has"), and only :data:`_WAY_AFTER` words after it; at
-    least two words must follow. None when the turn opens with no such remark (or the state word is negated:
-    "the way is not free")."""
-    said = [w for w in words if w not in hesitations]
-    off = len(words) - len(said)  # hesitations are all dropped before the index is used on ``words`` below
-    for i in range(1, min(len(said), 6)):
-        verb = said[i]
-        if verb in ("is", "are", "POSS"):
-            states = _WAY_FREE
-        elif verb in ("has", "have"):
-            states = _WAY_LEFT
-        else:
+def _remark_verb(words: list[str], lexicon: Lexicon) -> int | None:
+    """Where the verb of a leading remark stands in ``words`` ("the ramp [is] free now | go to the living room",
+    "the hall['s] clear again | ...", "my son [has] moved | ...", "ok the passage [is] clear now | could you go ..."),
+    or None: a subject of one to four words, then a copula ("is", "are", the "'s" of "ramp's") or "has"/"have";
+    the subject (an "ok" may open the turn) is no request and no deixis, and no word before the verb, nor the
+    one after it, shows, asks, answers or denies (:data:`_NOT_IN_A_REMARK`: "this is the hall, go to the
+    kitchen" names the room she stands in; "the way is not free" is no way free)."""
+    for i in range(1, min(len(words), 6)):
+        if words[i] not in ("is", "are", "POSS", "has", "have"):
             continue
-        k = i + 1
-        while k < len(said) and said[k] in ("all", "completely", "quite", "now"):
-            k += 1
-        if k >= len(said) or said[k] not in states:
+        head = lexicon.tokens(" ".join(words[: i + 2])).tokens
+        kinds = [t.type for t in head]
+        while kinds and kinds[0] == "OKAY":
+            kinds = kinds[1:]
+        if (kinds and kinds[0] in _REQUEST_OPENERS) or words[0] in ("is", "are", "has", "have", "POSS") \
+                or any(k in _NOT_IN_A_REMARK for k in kinds) or any(w in ("not", "never") for w in words[: i + 2]):
             return None
-        k += 1
-        while k < len(said) and said[k] in _WAY_AFTER:
-            k += 1
-        if len(said) - k < 2:
-            return None
-        if off:  # map back onto ``words`` (hesitations kept there)
-            seen = 0
-            for j, w in enumerate(words):
-                if w not in hesitations:
-                    seen += 1
-                if seen == k:
-                    return j + 1
-        return k
+        return i
     return None
 
 
@@ -1605,6 +1640,17 @@ def _bare_side(tree: Tree) -> bool:
     act = next((c for c in tree.children if isinstance(c, Tree) and c.data != "address"), None)
     return (act is not None and act.data == "that_one" and len(act.children) == 1
             and isinstance(act.children[0], Token) and act.children[0].type == "SIDE")
+
+
+def _where_we_are(toks: list[Tok]) -> bool:
+    """Whether ``toks`` say what the speaker's household does in the room she stands in, not its name: a
+    deixis, a copula (or none: the recogniser drops it), "where", then "we" or "I" ("this is where we live", "here is
+    where I work", "that's where we eat"). "this is where the dog sleeps" (someone else, a spot) stays small talk (:func:`_made_or_where`)."""
+    kinds = [t.type for t in toks]
+    if kinds[1:2] in (["IS"], ["ARE"]):
+        kinds = kinds[:1] + kinds[2:]  # "this [is] where we live": the copula lost
+    return (len(kinds) >= 3 and kinds[0] in ("THIS", "THAT", "HERE", "IT")
+            and kinds[1] == "WHERE" and kinds[2] in ("WE", "I"))
 
 
 def _room_unnamed(toks: list[Tok]) -> bool:
