@@ -57,8 +57,10 @@ was never tried.
 
 Who stood in the way: a replan (not a watch question) remembers the people of its scan who stand on the
 way still ahead of the robot (within :data:`BLOCKER_NEAR` m of the path being driven) where they stood, at
-most :data:`BLOCKER_MAX`. Every later plan pays the same cost round them (:data:`AVOID_COST` within
-:data:`AVOID_RADIUS` m) until a scan looks at that place and finds it empty
+most :data:`BLOCKER_MAX`. Every later plan gives them their space as if it saw them (:func:`social_grid`,
+falling back as for people seen) and pays the blocked spots' cost round them (:data:`AVOID_COST` within
+:data:`AVOID_RADIUS` m: the fallback path too goes another way where there is one) until a scan looks at
+that place and finds it empty
 (:meth:`~robot.navigation.local.LatestScan.sees_through`, a :data:`BLOCKER_SEEN` m disc; checked before each
 replan and first plan) or :data:`BLOCKER_FOR` s have passed: out of the laser's sight he has not gone. The
 replan that first sees them plans as before (their space on the social grid). tests/scenarios/nav/
@@ -478,6 +480,12 @@ class Planner(Module):
         return [(x, y) for x, y, t in self.avoid if self.now - t < AVOID_FOR] \
             + [(x, y) for x, y, t in self.blockers if self.now - t < BLOCKER_FOR]
 
+    def remembered_people(self) -> np.ndarray:
+        """Map-frame centres ((K, 2)) of the people remembered standing in the way (younger than
+        :data:`BLOCKER_FOR` s)."""
+        pts = [(x, y) for x, y, t in self.blockers if self.now - t < BLOCKER_FOR]
+        return np.array(pts, dtype=float).reshape(-1, 2)
+
     def remember_blockers(self, people: np.ndarray) -> list[tuple[float, float]]:
         """Remember the people of ``people`` (map-frame centres) who stand on the way still ahead of the robot
         (within :data:`BLOCKER_NEAR` m of the path being driven): where they stood; returns them."""
@@ -582,6 +590,9 @@ class Planner(Module):
         assert self.grid is not None and self.pose is not None
         grid = self.grid.with_obstacles(self.unmapped())
         people = self.people()
+        gone = self.remembered_people()  # out of sight they still stand where they stood in the way
+        if len(gone):
+            people = np.vstack((people.reshape(-1, 2), gone))
         if len(people):
             try:
                 return self._avoiding(social_grid(grid, people)).plan(self.pose[:2], place[:2])
