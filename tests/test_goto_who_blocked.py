@@ -96,3 +96,13 @@ def test_nobody_in_the_way_changes_no_plan():
     _scan(pl, [(2.0, 4.0)], sees=False)  # someone far off the way, behind it
     pl.replan()
     assert not pl.blockers
+
+
+def test_the_watch_answers_from_what_it_sees_not_from_whom_it_remembers():
+    # asking for help, the way of the only door is watched: someone remembered there out of sight does not make
+    # the answer "no path" (which carries no bearing to look along); the way is judged where the laser looks
+    pl, out = _planner(ONE_WAY, (4.0 - 1.0, 0.55, 0.0), (8.0, 2.5))
+    pl.blockers.append((5.0, 0.55, 0.0))
+    _scan(pl, [], sees=False)
+    pl.replan(watch=True)
+    assert out[-1].failed != "no_path"

@@ -62,7 +62,9 @@ falling back as for people seen) and pays the blocked spots' cost round them (:d
 :data:`AVOID_RADIUS` m: the fallback path too goes another way where there is one) until a scan looks at
 that place and finds it empty
 (:meth:`~robot.navigation.local.LatestScan.sees_through`, a :data:`BLOCKER_SEEN` m disc; checked before each
-replan and first plan) or :data:`BLOCKER_FOR` s have passed: out of the laser's sight he has not gone. The
+replan and first plan) or :data:`BLOCKER_FOR` s have passed: out of the laser's sight he has not gone. A watch
+question is answered by what the laser sees now (remembered people only pay the cost there): a person remembered
+out of sight in the only way would answer "no path" with no bearing to look along, and it would never look. The
 replan that first sees them plans as before (their space on the social grid). tests/scenarios/nav/
 goto_two_ways_passage_end: blocked by a man at the passage's east end, it replanned round him (the kitchen
 way), was held up there by its partner, replanned with him out of sight, went back to the passage, and so
@@ -569,7 +571,9 @@ class Planner(Module):
         if not watch:  # who stands on the way ahead is remembered there for the plans to come (not this one)
             blockers = self.people()
         try:
-            points = self._plan_round(place, squeeze=not watch)  # watching: a way only past someone's body is no clear way
+            # watching: a way only past someone's body is no clear way; and what it sees now answers (a person
+            # remembered out of sight would close the way with no bearing to look along: it never looked again)
+            points = self._plan_round(place, squeeze=not watch, remembered=not watch)
         except NoPathError as e:
             if not watch:
                 self.remember_blockers(blockers)
@@ -583,14 +587,15 @@ class Planner(Module):
         self._publish(title, points, theta=place[2], replan=True, **({"watch": True} if watch else {}))
         return points
 
-    def _plan_round(self, place: tuple[float, float, float], *, squeeze: bool = True) -> list[tuple[float, float]]:
+    def _plan_round(self, place: tuple[float, float, float], *, squeeze: bool = True,
+                    remembered: bool = True) -> list[tuple[float, float]]:
         """A path from the latest pose to ``place`` round the latest scan's unmapped echoes, giving the people
         in it their space (:func:`social_grid`) where the room allows, else (``squeeze``) keeping only their
         bodies clear (raises :class:`NoPathError` when there is no such way)."""
         assert self.grid is not None and self.pose is not None
         grid = self.grid.with_obstacles(self.unmapped())
         people = self.people()
-        gone = self.remembered_people()  # out of sight they still stand where they stood in the way
+        gone = self.remembered_people() if remembered else np.zeros((0, 2))  # out of sight, still where they stood
         if len(gone):
             people = np.vstack((people.reshape(-1, 2), gone))
         if len(people):
