@@ -45,7 +45,7 @@ def _planner(grid: OccupancyGrid, pose: tuple[float, float, float], goal: tuple[
     pl._pose_xml = etree.Element("pose", x=str(pose[0]), y=str(pose[1]), theta=str(pose[2]))
     pl.goal = ("bedroom", (goal[0], goal[1], 0.0))
     pl.scan = SimpleNamespace(points=lambda: np.zeros((0, 2)), bodies=lambda: np.zeros((0, 2)))
-    pl.path, pl.avoid = [], deque(maxlen=AVOID_MAX)
+    pl.path, pl.avoid, pl.blockers = [], deque(maxlen=AVOID_MAX), deque()
     out: list = []
 
     def publish(title, points, theta=None, failed=None, replan=False, watch=False, look=None):  # noqa: ANN001, ANN202

@@ -102,7 +102,7 @@ def _planner(grid: OccupancyGrid, pose: tuple[float, float, float], goal: tuple[
     """A planner (no bus) that has planned to ``goal`` and whose latest scan shows one person standing
     at ``person`` (map frame): her legs and the ring of her body, as :func:`scan_points` gives them."""
     pl = Planner.__new__(Planner)
-    pl.avoid, pl.path = deque(), []  # no spot where a go-to was blocked remembered
+    pl.avoid, pl.path, pl.blockers = deque(), [], deque()  # no spot where a go-to was blocked, nobody who stood in the way
     pl.grid = grid
     pl._pose_xml = etree.Element("pose", x=str(pose[0]), y=str(pose[1]), theta=str(pose[2]))
     pl.goal = ("kitchen", (goal[0], goal[1], 0.0))
