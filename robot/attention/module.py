@@ -599,7 +599,11 @@ class PersonAttention(Module):
         if prow < 0:
             return
         pb = tb[prow]
-        if min(abs((b - pb + math.pi) % (2 * math.pi) - math.pi) for b in bearings) <= self.cues.torso_bearing_tolerance:
+        # near the robot her track may sit on one leg beside her body (a partner at its elbow, side-on to the
+        # laser): the angle ``leg_reach`` spans at her distance, when wider (as for faces: cues.match_faces)
+        px, py = self._robot_xy(t)[prow]
+        near = math.atan2(self.cues.leg_reach, max(math.hypot(px - self.cues.camera_offset, py), 1e-3))
+        if min(abs((b - pb + math.pi) % (2 * math.pi) - math.pi) for b in bearings) <= max(self.cues.torso_bearing_tolerance, near):
             # A torso is a body (a table leg has none): strong evidence, as a frontal face, so a
             # partner standing sideways on single legs is kept while the camera sees them.
             self.tracks.support([prow], t)
