@@ -28,6 +28,9 @@ class CueSpec:
     face_bearing_tolerance: float = math.radians(7.0)
     torso_bearing_tolerance: float = math.radians(8.0)  # a torso blob at the partner's bearing
     face_distance_tolerance: float = 0.35  # relative (face size -> distance is noisy)
+    # m: how far a track kept by one leg may lie beside the face of its person (a face matches a near track
+    # within the angle this spans, when wider than ``face_bearing_tolerance``: nearer than ~1.2 m)
+    leg_reach: float = 0.15
     speaking_on: int = 2  # frames
     speaking_off: float = 0.7  # s: longer than a pause between words
     facing_on: int = 2
@@ -133,6 +136,34 @@ def sound_bearing_span(x: float, y: float, spec: CueSpec) -> tuple[float, float]
     return min(bs), max(bs)
 
 
+#: m: the nearest a person's centre stands to the robot's (its half width and a body): :func:`voice_reach`
+NEAREST_SPEAKER = 0.45
+
+
+def voice_reach(b: float, spec: CueSpec) -> float:
+    """The furthest bearing (rad, 0 .. pi/2) off the axis a voice read at front bearing ``b`` (rad, its size is
+    used) may come from: the pair's reading of the tallest mouth (``spec.mouth_heights``) standing
+    :data:`NEAREST_SPEAKER` m from the robot's centre shrinks toward the axis the most
+    (:func:`sound_bearings_from`), so the true direction lies between ``|b|`` and this. Bisection over the
+    direction (the reading grows with it); pi/2 when even a voice from there reads nearer the axis than ``b``."""
+    b = min(abs(b), math.pi / 2)
+    near = CueSpec(mic_offset=spec.mic_offset, mic_height=spec.mic_height, mic_spacing=spec.mic_spacing, mouth_height=spec.mouth_heights[1])
+
+    def reading(a: float) -> float:
+        return sound_bearings_from([(NEAREST_SPEAKER * math.cos(a), NEAREST_SPEAKER * math.sin(a))], near)[0]
+
+    lo, hi = b, math.pi / 2
+    if reading(hi) <= b:
+        return hi
+    for _ in range(24):
+        mid = (lo + hi) / 2
+        if reading(mid) < b:
+            lo = mid
+        else:
+            hi = mid
+    return lo
+
+
 def span_offset(span: tuple[float, float], b: float) -> float:
     """How far (rad) the front-half-plane sound direction ``b`` lies outside ``span`` (0 inside);
     the pair cannot tell ``b`` from ``180 - b``, so the nearer of the two counts."""
@@ -163,7 +194,8 @@ def match_sounds(track_bearings: Sequence[float] | np.ndarray, sound_bearings: S
 
 
 def match_faces(track_xy: np.ndarray | Sequence[Sequence[float]], faces: np.ndarray | Sequence[Sequence[float]], spec: CueSpec) -> list[int]:
-    """Rows of the tracks that frontal faces (F, 2: bearing rad, distance m; robot frame) belong to."""
+    """Rows of the tracks that frontal faces (F, 2: bearing rad, distance m; robot frame) belong to: within
+    ``face_bearing_tolerance`` of the face's bearing, or nearer the robot the angle ``leg_reach`` m spans there."""
     out: list[int] = []
     pts = track_xy.tolist() if isinstance(track_xy, np.ndarray) else list(track_xy)
     face_list = faces.tolist() if isinstance(faces, np.ndarray) else list(faces)
@@ -174,9 +206,12 @@ def match_faces(track_xy: np.ndarray | Sequence[Sequence[float]], faces: np.ndar
     td = np.hypot([x - off for x, _ in pts], [y for _, y in pts]).tolist()
     for b, dist in face_list:
         best, k = math.inf, -1
+        # near the robot a person's track may sit on one leg, up to ``leg_reach`` m from her face's line (she
+        # stands side-on to the laser at its elbow): the angle that offset spans there, if wider
+        tol = max(spec.face_bearing_tolerance, math.atan2(spec.leg_reach, max(dist, 1e-3)))
         for i in range(len(pts)):
             db = _angle(tb[i] - b)
-            if db <= spec.face_bearing_tolerance and abs(td[i] - dist) <= spec.face_distance_tolerance * dist and db < best:
+            if db <= tol and abs(td[i] - dist) <= spec.face_distance_tolerance * dist and db < best:
                 best, k = db, i
         if k >= 0:
             out.append(k)

@@ -122,5 +122,17 @@ class HeardFrom:
                 return True
         return False
 
+    def recall_span(self, t: float, lo: float, hi: float, track_id: int, within: float, tolerance: float) -> bool:
+        """As :meth:`recall`, for a person whose voice may be read anywhere between odometry headings ``lo`` and
+        ``hi`` (``lo`` counter-clockwise to ``hi``, less than pi apart: near the robot, her unknown mouth height
+        spreads the pair's reading): a voice's front reading within ``tolerance`` of that arc."""
+        mid, half = lo + ((hi - lo) % _TWO_PI) / 2, ((hi - lo) % _TWO_PI) / 2
+        for heard, front, _back, seen in reversed(self._heard):
+            if t - heard > within:
+                break
+            if heard <= t and track_id not in seen and angle_between(front, mid) <= half + tolerance:
+                return True
+        return False
+
     def __len__(self) -> int:
         return len(self._heard)

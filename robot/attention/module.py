@@ -67,7 +67,7 @@ from robot.contract import (ATTENTION_STATE, BASE_CMD, BUMPERS, ES_EVENTS, ES_OR
 
 from .appearance import Colours, anchor_torsos, same_clothes
 from .clutter import FurnitureLegs
-from .cues import CueSpec, Hysteresis, bearings_from, match_faces, match_sounds, sound_bearing_span, sound_bearings_from, span_offset
+from .cues import CueSpec, Hysteresis, bearings_from, match_faces, match_sounds, sound_bearing_span, sound_bearings_from, span_offset, voice_reach
 from .fsm import CAMERA, TURNS, AttentionFSM, OrderRefused
 from .legs import SINGLE, LegDetector, LegSpec
 from .looking import HeardFrom, LookedAt, angle_between
@@ -381,6 +381,10 @@ class PersonAttention(Module):
         self.heard = HeardFrom(keep=params.voice_recall)  # the last voices nobody in view explained
         self._focus_at = -math.inf
         self._focus_turning = False  # in Object: turning the base to a focus beyond the pan range (:meth:`_focus_turn`)
+        # the last turn toward an unexplained voice could not be made (someone or something too near the
+        # footprint's sweep): the camera then looks where a near speaker may stand (:meth:`_voice_look`)
+        self._voice_blocked = False
+        self._sounds: tuple[float, list[float]] | None = None  # (when, front readings): the last sound frame with voices
         self._loose_faces: tuple[float, list[tuple[float, float]]] | None = None  # (frame time, odom points): the last frame's faces
         self._state_sent: tuple[str, int | None, int | None] | None = None
         self._paused_at: float | None = None  # when the ES's last order, a pause, came (see _on_order)
@@ -510,6 +514,8 @@ class PersonAttention(Module):
         ids = [tk.id for tk in tracks]
         sources = list(msg.xml)
         bearings = [math.radians(float(s.get("bearing"))) for s in sources]
+        if bearings:
+            self._sounds = (t, bearings)  # the last voices' readings (:meth:`_heard_at`)
         # The tracks' bearings only when there is a sound to match them with (most frames are quiet).
         track_bearings = sound_bearings_from(self._robot_xy(t), self.cues) if tracks and bearings else []
         rows = match_sounds(track_bearings, bearings, self.cues.sound_tolerance) if tracks and bearings else []
@@ -602,7 +608,11 @@ class PersonAttention(Module):
         if prow < 0:
             return
         pb = tb[prow]
-        if min(abs((b - pb + math.pi) % (2 * math.pi) - math.pi) for b in bearings) <= self.cues.torso_bearing_tolerance:
+        # near the robot her track may sit on one leg beside her body (a partner at its elbow, side-on to the
+        # laser): the angle ``leg_reach`` spans at her distance, when wider (as for faces: cues.match_faces)
+        px, py = self._robot_xy(t)[prow]
+        near = math.atan2(self.cues.leg_reach, max(math.hypot(px - self.cues.camera_offset, py), 1e-3))
+        if min(abs((b - pb + math.pi) % (2 * math.pi) - math.pi) for b in bearings) <= max(self.cues.torso_bearing_tolerance, near):
             # A torso is a body (a table leg has none): strong evidence, as a frontal face, so a
             # partner standing sideways on single legs is kept while the camera sees them.
             self.tracks.support([prow], t)
@@ -1418,8 +1428,10 @@ class PersonAttention(Module):
             look = "face" if tk.id == self.partner and (self.turned_away or t - tk.last_legs > p.legs_hidden_after) else target
             tilt = math.atan2(p.heights[look] - p.camera_height, max(dist[row], 0.3))
         voice = self._voice_heading(t, row, category)
-        if voice is not None:  # look where the voice came from (the base turns there below)
-            pan, tilt = math.remainder(voice - self._pose_at(t)[2], 2 * math.pi), math.atan2(p.heights["face"] - p.camera_height, 1.5)
+        if voice is None:
+            self._voice_blocked = False
+        else:  # look where the voice came from (the base turns there below)
+            pan, tilt = self._voice_look(math.remainder(voice - self._pose_at(t)[2], 2 * math.pi))
         self._ptu(t, pan, tilt)
         # Base: turn on the spot to the person in Listen, Interaction and Object, and to an
         # unexplained voice while bottom-up (:meth:`_voice_heading`).
@@ -1432,7 +1444,7 @@ class PersonAttention(Module):
                     self._turning = False
             else:
                 self._turning = True
-                self._turn(b)
+                self._voice_blocked = self._turn(b) == 0.0
         elif (turn := self._focus_turn(target)) is not None:
             if abs(turn) < p.turn_stop:
                 if self._turning:
@@ -1478,13 +1490,29 @@ class PersonAttention(Module):
         threes = [i for i, c in cats.items() if c == 3 and i != tid]
         unseen = (tid is not None and tid not in self._in_image and not threes
                   and not (lp is not None and lp[0] != tid and t - lp[1] < p.pp_wait))
-        aim = self.beam(t, bearing[row] if row >= 0 else None, category, unseen=unseen)
+        aim = self.beam(t, self._heard_at(t, bearing[row], dist[row]) if row >= 0 else None, category, unseen=unseen)
         if aim is None and threes and category != 3 and not self.fsm.top_down:
             rows = [self.tracks.row(i) for i in threes]
             near = min((r for r in rows if r >= 0), key=lambda r: dist[r], default=-1)
             if near >= 0:
-                aim = bearing[near]
+                aim = self._heard_at(t, bearing[near], dist[near])
         self._steer(aim)
+
+    def _heard_at(self, t: float, b: float, d: float) -> float:
+        """The bearing (rad, front half-plane) to steer the beam at for a person at bearing ``b``, ``d`` m away:
+        where the pair hears her voice, not where she stands. A delay-and-sum beam passes what its delay is
+        steered at, the reading of the voice's time difference (the microphones' model), and a mouth above
+        the pair close by reads nearer the axis than it stands (0.6 m away at 75 deg: about 45 deg). Her
+        mouth height is unknown, so the reading she may give spans a range (:func:`sound_bearing_span`): a
+        voice heard lately inside it is taken (the nearest), else the reading of a typical mouth."""
+        x, y = d * math.cos(b), d * math.sin(b)
+        heard = self._sounds
+        if heard is not None and t - heard[0] <= self.params.dominant_max_age and heard[1]:
+            span = sound_bearing_span(x, y, self.cues)
+            off, near = min((span_offset(span, v), v) for v in heard[1])
+            if off <= self.cues.sound_tolerance:
+                return near
+        return sound_bearings_from([(x, y)], self.cues)[0]
 
     def _where_she_stood(self, t: float) -> float | None:
         """In Interaction, the partner unseen (her track died or went dormant) with no evidence of leaving:
@@ -1518,7 +1546,16 @@ class PersonAttention(Module):
         in view explained (:attr:`heard`, either reading, within ``voice_recall`` s)? Then it was she who
         spoke: she greeted the robot from behind or beside, out of its view, and it turned to find her."""
         p = self.params
-        return self.heard.recall(t, math.atan2(tk.x[1] - py, tk.x[0] - px), tk.id, p.voice_recall, p.voice_recall_tolerance)
+        if self.heard.recall(t, math.atan2(tk.x[1] - py, tk.x[0] - px), tk.id, p.voice_recall, p.voice_recall_tolerance):
+            return True
+        # close by, her voice was read nearer the axis than she stands (her mouth above the microphones): any
+        # reading the span of her unknown mouth height allows (:func:`sound_bearing_span`) is hers (a person at
+        # the robot's elbow, found by the camera after the voice: :meth:`_voice_look`)
+        th = self._pose_at(t)[2]
+        c, s = math.cos(th), math.sin(th)
+        dx, dy = tk.x[0] - px, tk.x[1] - py
+        lo, hi = sound_bearing_span(c * dx + s * dy, -s * dx + c * dy, self.cues)
+        return self.heard.recall_span(t, th + lo, th + hi, tk.id, p.voice_recall, p.voice_recall_tolerance)
 
     def _voice_target(self, t: float, heard: float, bearing: float) -> float | None:
         """Where to look for a voice heard at ``heard`` at front reading ``bearing`` that nobody seen
@@ -1546,6 +1583,32 @@ class PersonAttention(Module):
             # fixed direction while he walks on took the beam off him (seed 3)
             return None
         return front
+
+    def _voice_look(self, b: float) -> tuple[float, float]:
+        """(pan, tilt) for a voice nobody seen explains, at bearing ``b`` (rad, robot frame) to turn to: its
+        reading, at a face 1.5 m away. While the base cannot turn there (:attr:`_voice_blocked`: someone
+        stands so near its side that a corner would sweep into her), the camera looks for her further round:
+        a mouth above the microphones close by is read nearer the axis than it stands (:func:`sound_bearing_span`;
+        at 0.5 m, 88 deg reads 45 deg), so a person at the robot's elbow, beyond the laser's half circle, was
+        looked for where the reading pointed and never found, and her greetings went unanswered for minutes
+        (generated tours: after a drive to a viewpoint left her beside the robot). The image is centred
+        between the reading and the furthest direction a voice so read can come from (:func:`voice_reach`),
+        that far end kept in the image (the reading itself was looked at before the turn failed), and tilted
+        for a face 1 m away."""
+        p = self.params
+        far_face = math.atan2(p.heights["face"] - p.camera_height, 1.5)
+        if not self._voice_blocked:
+            return b, far_face
+        front = abs(b) <= math.pi / 2
+        r = abs(b) if front else math.pi - abs(b)  # the front reading
+        reach = voice_reach(r, self.cues)
+        if not front:
+            r, reach = math.pi - r, math.pi - reach
+        mid = (r + reach) / 2
+        keep = p.camera_hfov / 2 - math.radians(5.0)
+        mid = max(mid, reach - keep)  # the far end in the image (the reading was looked at before the turn failed)
+        pan = math.copysign(min(mid, p.pan_limit), b)
+        return pan, math.atan2(p.heights["face"] - p.camera_height, 1.0)
 
     def _focus_turn(self, target: str) -> float | None:
         """In Object, while the object attention's focus lies beyond the pan-tilt unit's reach (she
@@ -1729,7 +1792,7 @@ class PersonAttention(Module):
         near = [(x, y) for x, y in points if x * x + y * y <= reach * reach]
         return np.array(near, dtype=float) if near else np.zeros((0, 2))
 
-    def _turn(self, b: float) -> None:
+    def _turn(self, b: float) -> float:
         """Turn on the spot toward bearing ``b`` (rad, robot frame), at the turn law's rate (slower toward
         a bearing the laser does not see), if the footprint's sweep keeps clear of everyone near
         (:func:`robot.footprint.turn_clear`); else stand, and try again on the next scan. The camera
@@ -1738,7 +1801,7 @@ class PersonAttention(Module):
         w = self.turn_rate(b, np.vstack((self._near, echo_bodies(echoes, self._explained(echoes), self.legs.offset))))
         if w and not self._flat_clear(w, echoes):
             w = 0.0
-        self._base(w)
+        return self._base(w)
 
     def _echoes(self) -> np.ndarray:
         """(N, 2) this scan's echoes within ``turn_reach`` m of the laser, robot frame."""
@@ -1796,12 +1859,14 @@ class PersonAttention(Module):
         o = self._odom
         return None if o is None else (o[1], o[2], o[3])
 
-    def _base(self, w: float) -> None:
+    def _base(self, w: float) -> float:
+        """Send the turn rate ``w`` (rad/s) after the bumpers' and the blind side's checks; the rate sent."""
         if w:
             w = self.bumpers.command(0.0, w, self.now)[1]
         if w and not self._blind_clear(w):
             w = 0.0
         self.bus.publish(BASE_CMD, etree.Element("velocity", v="0", w=f"{w:.4f}"), transfer=True)
+        return w
 
     def _steer(self, bearing: float | None) -> None:
         last = self._steer_sent

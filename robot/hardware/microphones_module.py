@@ -16,8 +16,10 @@ What two microphones and one recogniser really deliver, nothing more:
 - ``/robot/audio/speech``: ONE recognition stream, from the beam steered at
   ``/robot/audio/steer`` (``<steer bearing="deg"/>`` or ``<steer off="true"/>``,
   sent by the person attention system). An utterance is recognised when the
-  beam was on it (the utterance's direction at each moment, folded to the
-  front half-plane, within ``beam_width`` of the steering then: the robot
+  beam was on it (the utterance's direction at each moment as the pair
+  measures it, its TDOA's bearing in the front half-plane (a mouth above the
+  microphones close by reads nearer the axis than it stands), within
+  ``beam_width`` of the steering then: the robot
   turns while people talk) for at least half its duration, or when it
   ended: the recogniser keeps the segment's two channels and beamforms the
   whole buffered segment once it decodes, so the very "Hello BIRON" that
@@ -224,8 +226,14 @@ class Microphones(Module):
             src = self.world.source_point(u.source)
             if src is None:
                 continue
-            a = math.atan2(src[1] - pose[1], src[0] - pose[0]) - pose[2]
-            front = math.asin(max(-1.0, min(1.0, math.sin(a))))
+            # The direction the pair hears it from: its TDOA's bearing (the delay a delay-and-sum beam is
+            # steered with), not the planar azimuth. A mouth above the microphones and close to the robot
+            # is heard nearer the axis than it stands (1.2 m away at 95 deg, 1.74 m tall: read at 60 deg),
+            # and the person attention steers the beam at that reading; with the azimuth, a person
+            # greeting from the side was never in the beam she was heard from (fresh5/row_partners_hand_over
+            # seed 7). ``recognise`` without this history (``_beam_share``) compares the same TDOA bearing.
+            dts, _, _ = pair_geometry([src], pose, self.spec)
+            front = float(bearing_from_tdoa(dts[0], self.spec))
             on, total, _ = self._on_beam.get(u.n, (0.0, 0.0, False))
             hit = beam is not None and abs(math.asin(max(-1.0, min(1.0, math.sin(beam)))) - front) <= self.spec.beam_width
             self._on_beam[u.n] = (on + (period if hit else 0.0), total + period, hit)
