@@ -314,6 +314,11 @@ class PersonAttention(Module):
     #: the plan subscription while asking for help (set in __init__; here for the unit tests without a bus)
     _plan_sub: Any = None
     _yield_t: float | None = None
+    #: (when, front readings) of the last sound frame with voices (:meth:`_heard_at`; set in __init__ and on the
+    #: bus; here for the unit tests that build the module without one)
+    _sounds: tuple[float, list[float]] | None = None
+    #: the cue matching's tolerances (given to __init__; the defaults here for the same unit tests)
+    cues: CueSpec = CueSpec()
 
     def __init__(
         self,
