@@ -1396,7 +1396,7 @@ def _left_at_end(toks: list[Tok], ignored: list[str]) -> bool:
 
 
 #: What a misheard turn opening may hold before a whole go-to: the robot's name and short words.
-_MISHEARD_OPENING = frozenset({"ROBOTNAME", "ROBOT", "A", "THE", "TO", "IN", "OF", "CAN", "YOU"})
+_MISHEARD_OPENING = frozenset({"ROBOTNAME", "ROBOT", "A", "THE", "TO", "IN", "OF", "CAN", "YOU", "IT"})
 #: The first word of a request said after a remark (its verb, or the words that ask): "go to", "you can go",
 #: "could you go", "follow me", "let's go", "take me to", "stop", "wait".
 _REQUEST_OPENERS = frozenset({"GO", "COME", "TAKE", "FOLLOW", "STOP", "WAIT", "CAN", "YOU", "I", "LETS", "BACK"})
