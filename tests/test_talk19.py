@@ -99,3 +99,9 @@ def test_the_generated_user_says_yes_when_the_robot_asks_whether_to_end_the_tour
     acts = next(a for hears, a in answers if compile_words(hears).search("Do you want to end the tour?"))
     assert acts[0].get("request") == "yes"
     assert not any(compile_words(h).search("Shall I follow you?") for h, _ in answers)
+
+
+@pytest.mark.parametrize("words", ["down there behind me, that's my alarm clock", "there on the shelf, that is my red book"])
+def test_there_setting_the_scene_before_a_whole_teaching_keeps_the_teaching_whole(u: Understander, words: str) -> None:
+    res = u.understand(words)
+    assert res.act == "OBJECT" and not res.partial

@@ -409,7 +409,8 @@ class Understander:
             tail = self._whole_request_after(toks)
             if tail is not None:
                 tree, ignored, partial = tail
-        elif partial and ignored and len(toks) > 3 and tree_act(tree) == "that_one":
+        elif partial and ignored and len(toks) > 3 and (tree_act(tree) == "that_one" or (
+                tree_act(tree) == "teach_object" and toks[0].type == "THERE" and toks[1].type not in ("IS", "ARE"))):
             # "behind me on the sideboard, that is my blue vase", "over there on the shelf, this is my red
             # book": words that set the scene (where, which side) parse as an answer nobody asked for and the
             # request after them is left over; the whole request said after them is what she asks (fresh5
