@@ -105,3 +105,12 @@ def test_the_generated_user_says_yes_when_the_robot_asks_whether_to_end_the_tour
 def test_there_setting_the_scene_before_a_whole_teaching_keeps_the_teaching_whole(u: Understander, words: str) -> None:
     res = u.understand(words)
     assert res.act == "OBJECT" and not res.partial
+
+
+@pytest.mark.parametrize(("words", "owner"), [("the radio over there is ours", "us"), ("the lamp here is mine", "speaker"),
+                                              ("the green jug there on the shelf is mine", "speaker")])
+def test_the_thing_where_she_points_then_whose_is_a_pointing_teaching_with_its_owner(u: Understander, words: str,
+                                                                                    owner: str) -> None:
+    res = u.understand(words)
+    assert res.act == "OBJECT" and not res.partial and res.frame.find("OBJECT/GESTURE") is not None
+    assert res.frame.find("OBJECT/OWNER").get("name") == owner
