@@ -114,3 +114,14 @@ def test_the_thing_where_she_points_then_whose_is_a_pointing_teaching_with_its_o
     res = u.understand(words)
     assert res.act == "OBJECT" and not res.partial and res.frame.find("OBJECT/GESTURE") is not None
     assert res.frame.find("OBJECT/OWNER").get("name") == owner
+
+
+@pytest.mark.parametrize("words", ["let a just close the door a bit", "it me just open the window", "let me just shut the door",
+                                   "me just draw the curtains", "let just fold the blanket"])
+def test_an_errand_whose_lead_lost_or_misheard_a_word_is_still_a_wait_never_a_teaching(u: Understander, words: str) -> None:
+    assert u.understand(words).act == "WAIT"
+
+
+def test_an_errand_with_a_word_lost_keeps_the_request_after_it_and_let_me_alone_is_no_errand(u: Understander) -> None:
+    assert u.understand("let a just close the door, follow me").act == "FOLLOW"
+    assert u.understand("let me check, this is my cup").act == "OBJECT"  # no "just", nothing misheard: as before
