@@ -439,7 +439,7 @@ class TourWriter:
     def goodbye(self) -> None:
         self.wait(0.5, 1.5)
         self.face_robot()
-        self.say(self.phrase("goodbye"), "^good-?bye", 6, request="goodbye")
+        self.say(self.phrase("goodbye"), "^good-?bye", 6, request="goodbye", answers=U.reactions("goodbye"))
         self.note()
 
 

@@ -138,7 +138,7 @@ def reactions(kind: str, *, words: list[str] | None = None, about: str = "", col
               obj: str | None = None, which: list[etree._Element] | None = None) -> list[Reaction]:
     """Her answers to the robot's questions about the request she just made.
 
-    ``kind``: greet, follow, place, object, where, goto. ``words``: her words (and the type's)
+    ``kind``: greet, follow, place, object, where, goto, goodbye. ``words``: her words (and the type's)
     for what the request is about, ``about`` the phrase she names it with ("the kitchen",
     "my cup"), ``colour`` and ``obj`` (the object's name in the scenario) for objects, and
     ``which``: her answer to "which one?" (:func:`which_answer`; default by colour, pointing).
@@ -161,6 +161,9 @@ def reactions(kind: str, *, words: list[str] | None = None, about: str = "", col
                 ("which one [do you mean]|^do you mean", which if which is not None else which_answer("colour", obj, colour=colour))]
     if kind == "where":
         return [("what are you looking for|what you are looking for", [_say(request="where-is", about=about)])]
+    if kind == "goodbye":
+        # her good-bye half heard, the robot asks before it ends: she meant it (talk18's tours never answered it)
+        return [("do you want to end the tour|do you want to stop the tour|shall we end the tour", yes)]
     if kind == "goto":
         return [(f"^shall i go to [the] {alt}$", yes),
                 ("^shall i go", [_say(request="no")]),
