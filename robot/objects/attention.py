@@ -89,6 +89,7 @@ SEARCH_RADIUS_WIDE = 2.0
 PAN_SPEED = math.radians(80.0)
 PAN_LIMIT = math.radians(100.0)
 TURN_TO_LOOK = 5.0  # s: a look at a spot beyond the pan range waits at most this long for the base's turn to it
+GLIMPSE = 2  # detections: a thing seen fewer times in a look is not taken for the one she means (one frame can be a confusion)
 POSE_WAIT = 0.3  # s: a percept waits this long for the localised pose of its capture time
 PARTNER_FAR = 2.6  # m: a partner farther away is approached when neither her gesture nor what she shows was seen
 MOVE_TIMEOUT = 20.0  # s: a drive to a better viewpoint that has not arrived by then is given up
@@ -573,6 +574,13 @@ class ObjectAttention(Module):
         if on is not None:
             cands = [c for c in cands if self._on_furniture(c, on)]
         res = resolve(cands, wanted, pointing, (pose[0], pose[1]))
+        if res.kind != "none" and all(c.n < GLIMPSE for c in res.fitting()):
+            # What fits was seen in one frame only (a glimpse while the camera turned, or the detector taking
+            # another thing for the one named once): never stored on that. Without it, the look found nothing
+            # (fresh8 terr_twin_cups_nonnative 6, 9: one "kettle" detection of a white cup, caught as the camera
+            # swung away from the table, stored as the kettle 1.9 m from the real one: precision 0.5).
+            kept = [c for c in cands if c.n >= GLIMPSE]
+            res = resolve(kept, wanted, pointing, (pose[0], pose[1])) if kept else Resolution("none", (), "nothing_seen")
         self.last = res
         return res
 
