@@ -89,7 +89,7 @@ SEARCH_RADIUS_WIDE = 2.0
 PAN_SPEED = math.radians(80.0)
 PAN_LIMIT = math.radians(100.0)
 TURN_TO_LOOK = 5.0  # s: a look at a spot beyond the pan range waits at most this long for the base's turn to it
-GLIMPSE = 2  # detections: a thing seen fewer times in a look is not taken for the one she means (one frame can be a confusion)
+GLIMPSE = 2  # detections as the thing named: fewer in a look and it is not taken for the one she means (one can be a confusion)
 POSE_WAIT = 0.3  # s: a percept waits this long for the localised pose of its capture time
 PARTNER_FAR = 2.6  # m: a partner farther away is approached when neither her gesture nor what she shows was seen
 MOVE_TIMEOUT = 20.0  # s: a drive to a better viewpoint that has not arrived by then is given up
@@ -573,14 +573,7 @@ class ObjectAttention(Module):
         cands = merge(one_surface(self._seen, self._rays), (pose[0], pose[1]), eye_height=CAMERA_HEIGHT, frames=self._frames)
         if on is not None:
             cands = [c for c in cands if self._on_furniture(c, on)]
-        res = resolve(cands, wanted, pointing, (pose[0], pose[1]))
-        if res.kind != "none" and all(c.n < GLIMPSE for c in res.fitting()):
-            # What fits was seen in one frame only (a glimpse while the camera turned, or the detector taking
-            # another thing for the one named once): never stored on that. Without it, the look found nothing
-            # (fresh8 terr_twin_cups_nonnative 6, 9: one "kettle" detection of a white cup, caught as the camera
-            # swung away from the table, stored as the kettle 1.9 m from the real one: precision 0.5).
-            kept = [c for c in cands if c.n >= GLIMPSE]
-            res = resolve(kept, wanted, pointing, (pose[0], pose[1])) if kept else Resolution("none", (), "nothing_seen")
+        res = without_glimpses(resolve(cands, wanted, pointing, (pose[0], pose[1])), cands, wanted, pointing, (pose[0], pose[1]))
         self.last = res
         return res
 
@@ -674,7 +667,8 @@ class ObjectAttention(Module):
             pose = self.pose
             assert pose is not None
             merged = merge(one_surface(self._seen, self._rays), (pose[0], pose[1]), eye_height=CAMERA_HEIGHT, frames=self._frames)
-            res = resolve([c for c in merged if math.hypot(c.x - px, c.y - py) <= radius], wanted, None, (px, py))
+            near = [c for c in merged if math.hypot(c.x - px, c.y - py) <= radius]
+            res = without_glimpses(resolve(near, wanted, None, (px, py)), near, wanted, None, (px, py))
             self.last = res
             return res
 
@@ -1149,6 +1143,27 @@ class ObjectAttention(Module):
 
     def _not_found(self, reason: str, cause: str) -> None:
         self.bus.publish(ES_EVENTS, etree.Element("event", name="object_not_found", reason=reason), causes=(cause,))
+
+
+def evidence(c: Candidate, wanted: Wanted) -> int:
+    """How many of a candidate's detections say it is what she named (its type or her word); all of them
+    when she named nothing ("look at this")."""
+    kinds = {t for t in (wanted.type, wanted.name) if t}
+    return sum(v for t, v in c.types.items() if t in kinds) if kinds else c.n
+
+
+def without_glimpses(res: Resolution, cands: list[Candidate], wanted: Wanted, pointing: Pointing | None,
+                     origin: tuple[float, float]) -> Resolution:
+    """A resolution whose fitting candidates the camera saw as the thing named fewer than ``GLIMPSE``
+    times is made again without them: one detection (a glimpse as the camera swung away, or the
+    detector's one confusion of another thing for the type named) is never stored as it (fresh8
+    terr_twin_cups_nonnative 6, 9: a white cup once seen as a "kettle", in the look's first frames
+    while the camera still turned from the table, stored as the kettle 1.9 m from the real one)."""
+    if res.kind == "none" or all(evidence(c, wanted) >= GLIMPSE for c in res.fitting()):
+        return res
+    weak = {id(c) for c in res.fitting() if evidence(c, wanted) < GLIMPSE}
+    kept = [c for c in cands if id(c) not in weak]
+    return resolve(kept, wanted, pointing, origin) if kept else Resolution("none", (), "nothing_seen")
 
 
 def _copy(el: etree._Element) -> etree._Element:
