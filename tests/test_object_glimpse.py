@@ -58,3 +58,24 @@ def test_whatever_is_kept_was_seen_as_the_thing_named_at_least_twice(named, othe
     # enough evidence of the thing named and nothing else: it stays found
     if named >= GLIMPSE and other == 0:
         assert res.kind == "one"
+
+
+# ---- whose it is, said in the which-one answer (obj18's corr_nonnative_books seed 4)
+
+def test_an_owner_said_again_in_the_which_one_answer_goes_to_the_object_attention():
+    """"This red book is mine" heard without "mine" ("Is this the red book?" - yes), then said again
+    whole, pointing, as the answer to "the book on the left or the one on the right?": the answer the
+    object attention gets carries her OWNER with the deixis, and reads as hers."""
+    from lxml import etree
+
+    from robot.dialog.module import unchosen_answer
+    from robot.objects.attention import wanted_from
+
+    said = etree.fromstring('<OBJECT type="book"><GESTURE val="probably_pointing"/><TITLE name="book"/>'
+                            '<COLOUR name="red"/><OWNER name="speaker"/></OBJECT>')
+    ans = unchosen_answer(said)
+    assert ans.get("deixis") == "true" and ans.find("OWNER").get("name") == "speaker"
+    assert wanted_from(ans).owner == "partner"
+    # said again without an owner: none is made up
+    bare = etree.fromstring('<OBJECT type="book"><GESTURE val="probably_pointing"/><TITLE name="book"/></OBJECT>')
+    assert unchosen_answer(bare).find("OWNER") is None and wanted_from(unchosen_answer(bare)).owner == ""

@@ -46,6 +46,7 @@ good-bye or partner lost during ObjectTeaching, with a ``stop`` to the player), 
 from __future__ import annotations
 
 import asyncio
+import dataclasses
 import math
 from collections import deque
 from typing import TYPE_CHECKING, Any
@@ -232,6 +233,7 @@ class ObjectAttention(Module):
         self.moves = 0  # drives to a better viewpoint (for tests and introspection)
         self._subs: list[Any] = []  # people's tracks and the player's status, only while a search runs
         self._finds = 0  # searches begun
+        self._answer_owner = ""  # the owner her which-one answer named (her request named none)
         self._poses: deque[tuple[float, tuple[float, float, float]]] = deque(maxlen=30)  # (time, pose), the last 3 s
         self._pending: list[tuple[float, str, etree._Element]] = []  # percepts waiting for the pose of their time
 
@@ -409,6 +411,7 @@ class ObjectAttention(Module):
         """One search (see the module docstring); always ends with an ES event. ``said``: when the
         sentence began (s, the frame's ``TIMESTAMP``), if the order carries it."""
         wanted = wanted_from(obj)
+        self._answer_owner = ""  # whose it is, said in her answer to a which-one question
         self._finds += 1
         token = self._finds
         try:
@@ -505,6 +508,8 @@ class ObjectAttention(Module):
             if chosen is None:
                 self._not_found("unclear", cause)
                 return
+            if self._answer_owner and not wanted.owner:
+                wanted = dataclasses.replace(wanted, owner=self._answer_owner)
             self._recognized(chosen, wanted, obj, cause)
         finally:
             self._looking = False
@@ -998,6 +1003,9 @@ class ObjectAttention(Module):
                 # her words picked none (misheard, or "the one on the table" with both on it), but she may have
                 # pointed as she answered: what the camera saw since the question decides when it singles one out
                 chosen = self._pointed_since(cands, asked, first)
+            if chosen is not None and not wanted.owner and answer.find("OWNER") is not None:
+                # her answer said whose it is ("this red book is mine" again, pointing), her request did not
+                self._answer_owner = wanted_from(answer).owner
             if chosen is not None or not _answered_none_of_them(answer):
                 return chosen
             # "the one on the table" with both on the table (perceive/cups_on_table seed 5): an answer that
