@@ -1162,16 +1162,21 @@ def evidence(c: Candidate, wanted: Wanted) -> int:
 
 def without_glimpses(res: Resolution, cands: list[Candidate], wanted: Wanted, pointing: Pointing | None,
                      origin: tuple[float, float]) -> Resolution:
-    """A resolution whose fitting candidates the camera saw as the thing named fewer than ``GLIMPSE``
-    times is made again without them: one detection (a glimpse as the camera swung away, or the
-    detector's one confusion of another thing for the type named) is never stored as it (fresh8
+    """A resolution that would store a candidate the camera saw as the thing named fewer than ``GLIMPSE``
+    times is ``none``: one detection (a glimpse as the camera swung away, or the detector's one
+    confusion of another thing for the type named) is never stored as it (fresh8
     terr_twin_cups_nonnative 6, 9: a white cup once seen as a "kettle", in the look's first frames
-    while the camera still turned from the table, stored as the kettle 1.9 m from the real one)."""
-    if res.kind == "none" or all(evidence(c, wanted) >= GLIMPSE for c in res.fitting()):
+    while the camera still turned from the table, stored as the kettle 1.9 m from the real one). Not
+    resolved again without it: the glimpse may be the thing she points at, and another one that fits
+    less would be stored in its place. An ambiguous resolution with a better-seen option stays as it is
+    (she is asked); one whose fitting candidates are all glimpses is ``none`` too."""
+    fitting = res.fitting()
+    if res.kind == "none" or not fitting:
         return res
-    weak = {id(c) for c in res.fitting() if evidence(c, wanted) < GLIMPSE}
-    kept = [c for c in cands if id(c) not in weak]
-    return resolve(kept, wanted, pointing, origin) if kept else Resolution("none", (), "nothing_seen")
+    best = res.best
+    if (res.kind == "one" and best is not None and evidence(best, wanted) < GLIMPSE) or all(evidence(c, wanted) < GLIMPSE for c in fitting):
+        return Resolution("none", (), "nothing_seen")
+    return res
 
 
 def _copy(el: etree._Element) -> etree._Element:
