@@ -728,3 +728,19 @@ def test_an_object_heard_partly_while_following_is_not_asked_about_until_she_sto
     dm.on_rejected(rejected("object_teaching", "inapplicable", "Following"))
     dm.on_state("Interacting")
     assert says(dm.take_up_in_passing()) == ["You showed me something on the way. Could you show me again?"]
+
+
+def test_a_where_is_that_ended_the_look_ends_the_teaching_without_a_word(dm):
+    """Her where-is while the robot looks ends the look (the supervisor: condition look_abandoned): the
+    teaching's sub-dialog ends silently below the question, which is answered; nothing resumes it
+    ("Now, back to your cup.") and a late result of the cancelled search is not said."""
+    dm.on_frame(frame(CUP))
+    dm.es_state = "ObjectTeaching"
+    (s,) = sends(dm.on_frame(frame('<WHERE><OBJECT type="bottle"><TITLE name="bottle"/></OBJECT></WHERE>')))
+    assert s.event == "query_object"
+    assert says(dm.on_condition(cond("look_abandoned"))) == []
+    dm.es_state = "Interacting"
+    found = cond("object_info", '<param name="result"><RESULT found="true"><OBJECT type="bottle"/><PLACE name="kitchen"/></RESULT></param>')
+    assert says(dm.on_condition(found)) == ["The bottle is in the kitchen."]
+    assert says(dm.on_condition(cond("object_learned", '<param name="object"><OBJECT/></param>'))) == []
+    assert dm.summary()["dialogs"]["object_teaching"]["succeeded"] == 0

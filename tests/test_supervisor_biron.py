@@ -161,7 +161,7 @@ def test_an_instruction_while_following_is_rejected_at_once(biron, name):
     assert kinds(step(e, ev(3, "stop", 3 * S))) == [("applied", "stop", "Interacting")]
 
 
-@pytest.mark.parametrize("name", ["follow", "stop", "place_teaching", "query_object", "goto"])
+@pytest.mark.parametrize("name", ["follow", "stop", "place_teaching", "goto"])
 def test_an_instruction_while_looking_at_an_object_is_rejected_at_once(biron, name):
     """"Follow me" while the robot still looks at an object: refused at once (the dialog says it is
     still looking at the object), not kept until it expires; the teaching goes on."""
@@ -171,6 +171,23 @@ def test_an_instruction_while_looking_at_an_object_is_rejected_at_once(biron, na
         ("rejected", name, "inapplicable")]
     recs = step(e, ev(4, "object_recognized", 4 * S, "object_attention", "<event><OBJECT/></event>"))
     assert kinds(recs) == [("applied", "object_recognized", "Interacting")] and len(e) == 0
+
+
+def test_a_where_is_while_looking_abandons_the_look_and_is_answered(biron):
+    """Her where-is while the robot looks (fresh8 lflat_bar_two_bottles: refused with "I am still looking
+    at the object" for 20-30 s): the look ends (search cancelled, base stopped, the teaching's sub-dialog
+    told), the scene model is asked, and a late result of the cancelled search changes nothing."""
+    e = interacting(biron)
+    step(e, ev(1, "object_teaching", 1 * S, xml="<event><SPEECH><OBJECT/></SPEECH></event>"))
+    (rec,) = step(e, ev(2, "query_object", 2 * S, xml='<event><SPEECH><OBJECT type="cup"/></SPEECH></event>'))
+    assert isinstance(rec, Applied) and rec.target_state == "Interacting" and e.state == "Interacting"
+    assert {(o.target, o.name) for o in rec.outputs} >= {("object_attention", "cancel"), ("player", "stop"),
+                                                        ("dialog", "look_abandoned"), ("scene_model", "query")}
+    (q,) = [o for o in rec.outputs if o.name == "query"]
+    (obj,) = dict(q.params)["object"]
+    assert obj.get("type") == "cup"
+    recs = step(e, ev(3, "object_recognized", 3 * S, "object_attention", "<event><OBJECT/></event>"))
+    assert all(not (isinstance(r, Applied) and r.outputs) for r in recs) and e.state == "Interacting"
 
 
 @pytest.mark.parametrize("first", ["follow", "object_teaching"])

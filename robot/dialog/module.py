@@ -396,6 +396,11 @@ def unchosen_answer(value: Any) -> etree._Element:
     out = etree.Element("answer", none="true")
     if isinstance(value, etree._Element) and value.tag == "OBJECT" and value.find("GESTURE") is not None:
         out.set("deixis", "true")  # a teaching with pointing said again: where she points now
+        owner = value.find("OWNER")
+        if owner is not None:
+            # "this red book is mine" said again: whose it is goes with it (corr_nonnative_books seed 4: "mine"
+            # lost from the request, heard in the answer, and the book stored without owner)
+            out.append(etree.fromstring(etree.tostring(owner)))
     if isinstance(value, etree._Element) and value.tag == "THAT_ONE":
         if value.get("deixis") == "true" or value.find("GESTURE") is not None:
             out.set("deixis", "true")

@@ -46,6 +46,7 @@ good-bye or partner lost during ObjectTeaching, with a ``stop`` to the player), 
 from __future__ import annotations
 
 import asyncio
+import dataclasses
 import math
 from collections import deque
 from typing import TYPE_CHECKING, Any
@@ -89,6 +90,7 @@ SEARCH_RADIUS_WIDE = 2.0
 PAN_SPEED = math.radians(80.0)
 PAN_LIMIT = math.radians(100.0)
 TURN_TO_LOOK = 5.0  # s: a look at a spot beyond the pan range waits at most this long for the base's turn to it
+GLIMPSE = 2  # detections as the thing named: fewer in a look and it is not taken for the one she means (one can be a confusion)
 POSE_WAIT = 0.3  # s: a percept waits this long for the localised pose of its capture time
 PARTNER_FAR = 2.6  # m: a partner farther away is approached when neither her gesture nor what she shows was seen
 MOVE_TIMEOUT = 20.0  # s: a drive to a better viewpoint that has not arrived by then is given up
@@ -231,6 +233,7 @@ class ObjectAttention(Module):
         self.moves = 0  # drives to a better viewpoint (for tests and introspection)
         self._subs: list[Any] = []  # people's tracks and the player's status, only while a search runs
         self._finds = 0  # searches begun
+        self._answer_owner = ""  # the owner her which-one answer named (her request named none)
         self._poses: deque[tuple[float, tuple[float, float, float]]] = deque(maxlen=30)  # (time, pose), the last 3 s
         self._pending: list[tuple[float, str, etree._Element]] = []  # percepts waiting for the pose of their time
 
@@ -408,6 +411,7 @@ class ObjectAttention(Module):
         """One search (see the module docstring); always ends with an ES event. ``said``: when the
         sentence began (s, the frame's ``TIMESTAMP``), if the order carries it."""
         wanted = wanted_from(obj)
+        self._answer_owner = ""  # whose it is, said in her answer to a which-one question
         self._finds += 1
         token = self._finds
         try:
@@ -504,6 +508,8 @@ class ObjectAttention(Module):
             if chosen is None:
                 self._not_found("unclear", cause)
                 return
+            if self._answer_owner and not wanted.owner:
+                wanted = dataclasses.replace(wanted, owner=self._answer_owner)
             self._recognized(chosen, wanted, obj, cause)
         finally:
             self._looking = False
@@ -572,7 +578,7 @@ class ObjectAttention(Module):
         cands = merge(one_surface(self._seen, self._rays), (pose[0], pose[1]), eye_height=CAMERA_HEIGHT, frames=self._frames)
         if on is not None:
             cands = [c for c in cands if self._on_furniture(c, on)]
-        res = resolve(cands, wanted, pointing, (pose[0], pose[1]))
+        res = without_glimpses(resolve(cands, wanted, pointing, (pose[0], pose[1])), cands, wanted, pointing, (pose[0], pose[1]))
         self.last = res
         return res
 
@@ -666,7 +672,8 @@ class ObjectAttention(Module):
             pose = self.pose
             assert pose is not None
             merged = merge(one_surface(self._seen, self._rays), (pose[0], pose[1]), eye_height=CAMERA_HEIGHT, frames=self._frames)
-            res = resolve([c for c in merged if math.hypot(c.x - px, c.y - py) <= radius], wanted, None, (px, py))
+            near = [c for c in merged if math.hypot(c.x - px, c.y - py) <= radius]
+            res = without_glimpses(resolve(near, wanted, None, (px, py)), near, wanted, None, (px, py))
             self.last = res
             return res
 
@@ -996,6 +1003,9 @@ class ObjectAttention(Module):
                 # her words picked none (misheard, or "the one on the table" with both on it), but she may have
                 # pointed as she answered: what the camera saw since the question decides when it singles one out
                 chosen = self._pointed_since(cands, asked, first)
+            if chosen is not None and not wanted.owner and answer.find("OWNER") is not None:
+                # her answer said whose it is ("this red book is mine" again, pointing), her request did not
+                self._answer_owner = wanted_from(answer).owner
             if chosen is not None or not _answered_none_of_them(answer):
                 return chosen
             # "the one on the table" with both on the table (perceive/cups_on_table seed 5): an answer that
@@ -1141,6 +1151,32 @@ class ObjectAttention(Module):
 
     def _not_found(self, reason: str, cause: str) -> None:
         self.bus.publish(ES_EVENTS, etree.Element("event", name="object_not_found", reason=reason), causes=(cause,))
+
+
+def evidence(c: Candidate, wanted: Wanted) -> int:
+    """How many of a candidate's detections say it is what she named (its type or her word); all of them
+    when she named nothing ("look at this")."""
+    kinds = {t for t in (wanted.type, wanted.name) if t}
+    return sum(v for t, v in c.types.items() if t in kinds) if kinds else c.n
+
+
+def without_glimpses(res: Resolution, cands: list[Candidate], wanted: Wanted, pointing: Pointing | None,
+                     origin: tuple[float, float]) -> Resolution:
+    """A resolution that would store a candidate the camera saw as the thing named fewer than ``GLIMPSE``
+    times is ``none``: one detection (a glimpse as the camera swung away, or the detector's one
+    confusion of another thing for the type named) is never stored as it (fresh8
+    terr_twin_cups_nonnative 6, 9: a white cup once seen as a "kettle", in the look's first frames
+    while the camera still turned from the table, stored as the kettle 1.9 m from the real one). Not
+    resolved again without it: the glimpse may be the thing she points at, and another one that fits
+    less would be stored in its place. An ambiguous resolution with a better-seen option stays as it is
+    (she is asked); one whose fitting candidates are all glimpses is ``none`` too."""
+    fitting = res.fitting()
+    if res.kind == "none" or not fitting:
+        return res
+    best = res.best
+    if (res.kind == "one" and best is not None and evidence(best, wanted) < GLIMPSE) or all(evidence(c, wanted) < GLIMPSE for c in fitting):
+        return Resolution("none", (), "nothing_seen")
+    return res
 
 
 def _copy(el: etree._Element) -> etree._Element:
