@@ -232,8 +232,6 @@ GIVE_WAY_HELD = 1.5
 CAME_FROM = 1.5
 #: rad: giving way, the partner is kept within this bearing (turned to when further off)
 GIVE_WAY_BEARING = math.radians(80)
-#: m/s: backing while turning to face her when she stands too close beside it to turn on the spot (``_back_to_face``)
-BACK_TO_FACE = 0.1
 #: Held up (issue 26, "excuse me"): it should drive after her, but someone standing (slower than
 #: GIVE_WAY_STILL) in its way, ahead within HELD_UP_NEAR m and HELD_UP_LANE m of its line to the goal,
 #: or beside it closer than HELD_UP_BESIDE m (not behind: a person's space that wedges it against a
@@ -1047,14 +1045,7 @@ class Follower(Module):
             w = max(-self.limits.max_turn, min(self.limits.max_turn, 1.8 * bearing))
             bodies = self._bodies(rx, ry)
             v, w = self._swept(0.0, w, mapped)
-            if w != 0.0 and people_sweep_clear(v, w, bodies, duration=SWEEP_TIME, gap=TURN_GAP) and self._blind_clear(v, w):
-                return v, w
-            # no room to turn on the spot: a corner would swing into the floor plan (the end of a partition
-            # beside the opening it stepped aside in), into what the sonar hears beside it, or into her
-            # close beside it (fresh8/lflat_crossing_pair seed 7: she stood 0.77 m away at 89 deg for 8 s,
-            # and the next request was handled at 68 deg): back away while turning to her, as a person
-            # steps back to face someone at their elbow, onto ground it may back onto (no laser behind)
-            return self._back_to_face(bearing, bodies, mapped)
+            return (v, w) if people_sweep_clear(v, w, bodies, duration=SWEEP_TIME, gap=TURN_GAP) else (0.0, 0.0)
         pts = self.scan.points()
         if len(mapped):
             pts = np.concatenate((pts, mapped))
@@ -1066,22 +1057,6 @@ class Follower(Module):
         cmd = dwa(self.v, self.w, (gx, gy), pts, limits, v_pref=v_pref, params=self.params, people=people)
         out = self._aside_clear(cmd.v, cmd.w, self._bodies(rx, ry), pts)
         return self._unstall(out, px, py, mapped)
-
-    def _back_to_face(self, bearing: float, bodies: np.ndarray, mapped: np.ndarray) -> tuple[float, float]:
-        """Backing at :data:`BACK_TO_FACE` m/s while turning toward her (robot-frame ``bearing``), when
-        turning on the spot is refused (the floor plan, the sonar, her body beside it): the centre moves back and she comes
-        round to its front. Only where backing is safe (:meth:`can_back_off`), the footprint's sweep clear
-        of the floor plan (:meth:`_swept`) and of everyone's space (:meth:`_back_off_clear`); else it stands."""
-        if not self.can_back_off():
-            return 0.0, 0.0
-        w = max(-self.limits.max_turn, min(self.limits.max_turn, 1.8 * bearing))
-        v, w = self._swept(-BACK_TO_FACE, w, mapped)
-        if v >= 0.0:
-            return 0.0, 0.0
-        v, w = self._back_off_clear(v, w, bodies, mapped)
-        if v >= 0.0 or not people_sweep_clear(v, w, bodies, duration=SWEEP_TIME) or not self._blind_clear(v, w):
-            return 0.0, 0.0
-        return v, w
 
     def _unstall(self, cmd: tuple[float, float], px: float, py: float, mapped: np.ndarray) -> tuple[float, float]:
         """The forward give-way's command ``cmd``; when it has stayed zero for :data:`GIVE_WAY_STALL` s
