@@ -171,6 +171,16 @@ UNGREETED = frozenset({"", "LookingAround", "PotentialPartner"})
 #: s: how long a request said with a greeting waits for the greeting to be taken (the ES keeps a greeting
 #: 3 s; a greeting heard with low confidence is first confirmed: "Did you say hello to me?")
 AFTER_GREETING_WAIT = 15.0
+#: s: after "I have arrived at the kitchen" (condition ``arrived``), while the robot looks for a partner
+#: (LookingAround, PotentialPartner), a whole request or a good-bye said to it this long after the arrival
+#: is taken as said with a greeting: the partner who sent it there goes on with the tour (issue 26, tours
+#: 1000-011/059: her "bye for now" and requests after the arrival got "Please say hello to me first" or
+#: nothing). The greeting is synchronised with a potential partner as any greeting (someone speaking
+#: facing the robot), so a radio's words still start nothing; nobody seen, it expires: "I can't see you.
+#: Please look at me." (:meth:`Dialog._resume_after_arrival`)
+ARRIVAL_RESUME = 60.0
+#: acts that are no request of their own (answers, a greeting) and never resume the tour after an arrival
+NOT_RESUMING = frozenset({"GREETING", "YES", "NO", "THAT_ONE"})
 #: s: a good-bye said while the robot looks at what she showed waits this long at most for the look to end
 #: (the object is stored, "OK, I have learned your kettle", then the good-bye): a look takes a few seconds
 GOODBYE_AFTER_LOOK = 8.0
@@ -532,6 +542,8 @@ class Dialog(Module):
         # a request said with a greeting ("hello BIRON, follow me") and until when it may wait for the
         # greeting to be taken (:meth:`_greeting_taken`)
         self._after_greeting: tuple[Message, float] | None = None
+        # until when a request after an arrival resumes the tour with an implicit greeting (ARRIVAL_RESUME)
+        self._resume_until = -math.inf
         self._goodbye_held: Message | None = None  # a good-bye said during ObjectTeaching (see GOODBYE_AFTER_LOOK)
         self._asking: list[tuple[int, str]] | None = None  # the open clarification's options (see _unanswerable)
         self._asking_inst: Instance | None = None  # ... and its clarify sub-dialog (see _mark_unchosen)
@@ -868,6 +880,8 @@ class Dialog(Module):
             # a greeting refused or not taken in time takes the request with it
             self._after_greeting = (msg, self.now + AFTER_GREETING_WAIT)
             return
+        if self._resume_after_arrival(msg):
+            return
         inst = self._asking_inst
         if (x.tag == "not_understood" and inst is not None and self._hand_back and not inst.done and self.manager.stack
                 and self.manager.stack[-1] is inst and sum(inst.asked.values()) < MAX_CLARIFY_ASKINGS):
@@ -912,6 +926,32 @@ class Dialog(Module):
         self._goodbye_held = None
         self._emit(self.manager.on_frame(held.xml), held.id)
 
+    def _resume_after_arrival(self, msg: Message) -> bool:
+        """A whole request or good-bye said within ``ARRIVAL_RESUME`` s of an arrival while the robot looks
+        for a partner (no question of its own open): greet for her (a greeting of hers with the request's
+        time, ``<GREETING resumed="true"/>``: the greeting dialog then says nothing) and hold the request
+        until the supervisor takes the greeting (``partner_found``), as "hello BIRON, follow me". Once per
+        arrival. Returns whether it did."""
+        x = msg.xml
+        if not (self.now <= self._resume_until and self.manager.es_state in ("LookingAround", "PotentialPartner")
+                and _whole(x) and x.get("opens") != "true" and self._after_greeting is None
+                and self.manager.open_question() is None and not any(not i.done for i in self.manager.stack)):
+            return False
+        speech = x.find("SPEECH")
+        acts = [c for c in speech if c.tag != "TIMESTAMP"] if speech is not None else []
+        if not acts or str(acts[0].tag) in NOT_RESUMING:
+            return False
+        self._resume_until = -math.inf
+        greet = etree.Element("understood", start=x.get("start", "0"), end=x.get("end", "0"), confidence="1")
+        gs = etree.SubElement(greet, "SPEECH")
+        etree.SubElement(gs, "GREETING", resumed="true")
+        stamp = speech.find("TIMESTAMP") if speech is not None else None
+        if stamp is not None:
+            gs.append(deepcopy(stamp))
+        self._after_greeting = (msg, self.now + AFTER_GREETING_WAIT)
+        self._emit(self.manager.on_frame(greet), msg.id)
+        return True
+
     def _greeting_taken(self) -> None:
         """The supervisor took the greeting (partner found): the request said with it is handled now."""
         held, self._after_greeting = self._after_greeting, None
@@ -954,6 +994,8 @@ class Dialog(Module):
             return
         if msg.xml.get("name") == "person_info":  # someone speaks facing the robot (potential partner)
             self._person_at = msg.created
+        if msg.xml.get("name") == "arrived":  # a go-to ended: her next request resumes the tour
+            self._resume_until = self.now + ARRIVAL_RESUME
         if msg.xml.get("name") == "step_aside":  # the object attention cannot see past the partner
             self.sim.spawn(self._step_aside_for_es(msg), name=f"{self.name}-step-aside")
             return
@@ -1022,6 +1064,8 @@ class Dialog(Module):
 
     def _on_status(self, msg: Message) -> None:
         gone = self.manager.on_state(msg.xml.get("state", ""))
+        if self.manager.es_state not in ("LookingAround", "PotentialPartner"):
+            self._resume_until = -math.inf  # an interaction began (or anything else): the arrival is past
         if gone and self._queue:
             # their sentences not yet said (a question waiting behind the good-bye) are dropped too
             self._queue = deque(q for q in self._queue if not q[2] or not q[2] <= set(gone))
