@@ -308,6 +308,8 @@ class PersonAttention(Module):
     _follow_stopped: float | None = None
     #: since when the follower says it stands by her (``waiting``; None: it does not)
     _follow_waiting: float | None = None
+    #: since when the follower says it searches for her (``searching``: she is out of its sight; None: it does not)
+    _follow_searching: float | None = None
     #: the follower comes up to her after 'stop' (status approaching): her distance is no evidence of leaving
     #: (set in __init__ and from the follower's status; here for the unit tests that build the module without a bus)
     _follower_drives: bool = False
@@ -684,7 +686,9 @@ class PersonAttention(Module):
     def _on_order(self, msg: Message) -> None:
         name = msg.xml.get("name", "")
         was = self.fsm.state
-        stood = self._stood(self.now)
+        # (a stop heard while the follower searched for her is hers just as one heard after it stood by the
+        # track: whoever seen spoke it is the partner now)
+        stood = self._stood(self.now) or self._follow_searching is not None
         try:
             state = self.fsm.order(name)
         except OrderRefused as exc:
@@ -800,6 +804,10 @@ class PersonAttention(Module):
             self._follow_waiting = None
         elif self._follow_waiting is None:
             self._follow_waiting = msg.created
+        if state != "searching":
+            self._follow_searching = None
+        elif self._follow_searching is None:
+            self._follow_searching = msg.created
         if state != "stopped":
             self._follow_stopped = None
         elif self._follow_stopped is None:
@@ -1734,6 +1742,16 @@ class PersonAttention(Module):
         if self._searching() and bearing is not None:
             return bearing  # a seen caller speaking (:meth:`_find_caller`)
         if self.fsm.top_down and not self._searching():
+            if self.fsm.state == "Follow" and self._follow_searching is not None:
+                # the follower searches for her (she is out of its sight: a fast leader gone on through a door
+                # or a passage, her track coasting where it was guessed or handed to someone behind): a voice
+                # from elsewhere is most likely hers, saying "here, stop" where she stopped (fresh7
+                # corr_fast_walker_goto, fresh8 terr_fast_walker_passage: the beam stayed on the guess and her
+                # stops were never heard). The dialog takes only a stop from off her track's bearing then
+                # (:meth:`robot.dialog.module.Dialog._stop_while_searching`)
+                aim = self._searched_voice(t, bearing)
+                if aim is not None:
+                    return aim
             if bearing is not None and self.partner is not None and self._other_talks(t):
                 v = self._voices
                 if self.fsm.state == "Follow" and self._stood(t) and v is not None and v[3] is not None:
@@ -1775,6 +1793,17 @@ class PersonAttention(Module):
             # the utterance under way is followed to its end, not cut off (wlan_reorder seed 8)
             self._heard_voice_at = t
             return bearing
+        return None
+
+    def _searched_voice(self, t: float, bearing: float | None) -> float | None:
+        """The follower searches for her: the loudest voice lately heard that no person seen explains, else
+        the loudest voice off the followed track's bearing while that track is silent (the track may be a
+        guess where she is not, or someone else: then she is the person seen speaking); None: nobody else speaks."""
+        if self._dominant is not None and t - self._dominant[0] <= self.params.dominant_max_age:
+            return self._dominant[1]
+        v = self._voices
+        if bearing is not None and self.partner is not None and self._other_talks(t) and v is not None:
+            return v[3]
         return None
 
     def _other_talks(self, t: float) -> bool:

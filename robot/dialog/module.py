@@ -538,6 +538,7 @@ class Dialog(Module):
         self._approach_seen = -math.inf  # when the follower last said "approaching"
         self._follow_state = ""  # the follower's last status state ("paused": a wait said while she leads)
         self._waiting_since = math.inf  # since when the follower has said "waiting" (it stands by her) without a break
+        self._searching_since = math.inf  # since when the follower has said "searching" (she is out of sight) without a break
         self._held: deque[Message] = deque()
         # a request said with a greeting ("hello BIRON, follow me") and until when it may wait for the
         # greeting to be taken (:meth:`_greeting_taken`)
@@ -687,7 +688,17 @@ class Dialog(Module):
         :meth:`PersonAttention._stop_speaker`). Only a stop: other words from off her bearing stay a
         bystander's, and so does a stop said while she walks."""
         return (self.manager.es_state in LEADING_STATES and x.tag == "understood" and x.find("SPEECH/STOP") is not None
-                and self._follow_state == "waiting" and math.isfinite(start) and start - self._waiting_since >= STOOD_FOR)
+                and math.isfinite(start)
+                and ((self._follow_state == "waiting" and start - self._waiting_since >= STOOD_FOR)
+                     or self._stop_while_searching(start)))
+
+    def _stop_while_searching(self, start: float) -> bool:
+        """The follower said ``searching`` (she is out of its sight) from before the words began and still
+        says so: a stop heard then from off the bearing of the track it follows is hers (a fast leader who
+        went on through a door or a passage and stopped there; the track is a guess, or went over to someone
+        else); the person attention listens to the voice nobody seen explains then. Only a stop (the caller
+        checks that)."""
+        return self._follow_state == "searching" and start >= self._searching_since
 
     def _her_turn_level(self, start: float, end: float, others: bool = False) -> float | None:
         """The level of the voice heard from her direction during ``start``..``end`` (the median of the
@@ -981,6 +992,10 @@ class Dialog(Module):
             self._waiting_since = math.inf
         elif self._follow_state != "waiting":
             self._waiting_since = self.now
+        if state != "searching":
+            self._searching_since = math.inf
+        elif self._follow_state != "searching":
+            self._searching_since = self.now
         self._follow_state = state
         if msg.xml.get("state") == "approaching":
             self._approach_seen = self.now

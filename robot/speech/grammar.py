@@ -207,6 +207,14 @@ class Understander:
             # (it may answer a which-one question or point), only the emphatic "right" marks the spot
             at = toks.index(spots[0])
             toks = [*toks[:at], Tok("STOP", "stop", ""), *toks[at:]]
+        lead_spot = next((k for k, t in enumerate(toks) if t.type not in ("ROBOTNAME", "ROBOT")), None)
+        if lead_spot is not None and lead_spot + 1 < len(toks) and toks[lead_spot].type in ("HERE", "THERE") \
+                and toks[lead_spot + 1].type == "STOP":
+            # "here, stop", "right there, stop": the spot said before the stop, as a leader who has just
+            # stopped says it over her shoulder; the same request as "stop here" (fresh8
+            # terr_fast_walker_passage: "here stop" heard word for word, "no parse", three times)
+            k = lead_spot
+            toks = [*toks[:k], toks[k + 1], toks[k], *toks[k + 2:]]
         if [t.type for t in spots] in (["YOU", "GO"], ["CAN", "GO"]) and not lex.unknown:
             # "[can] you go", "can [you] go": the short request to go somewhere with one word lost (the
             # recogniser drops short words); nothing else is said, so it is the go-to with no place, which the
