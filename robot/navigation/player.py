@@ -105,6 +105,10 @@ GOTO_SOCIAL_GAP = 0.30
 #: someone standing in its lane is still waited for (WAIT_GAP), someone walking still yielded to
 SQUEEZE_GAP = 0.27
 SQUEEZE_SPEED = 0.15
+#: m: the nearest the go-to's window drives its centre past a person's centre: their body, GOTO_SOCIAL_GAP of air, its
+#: half width. The one rule of a passable way past someone: the planner gives people this much on every plan
+#: (robot.navigation.planner.social_grid), so it never plans past someone nearer than the window drives
+PERSON_CLEAR = BODY + GOTO_SOCIAL_GAP + HALF_WIDTH
 #: m: air the go-to leaves to someone standing in its lane when it stops to wait (people.standing_in_the_way):
 #: outside their personal space (0.45 m, BACK_GAP) by the few centimetres the tracker misplaces them
 WAIT_GAP = BACK_GAP + 0.05
@@ -131,7 +135,7 @@ GIVE_WAY_NEAR = 1.0
 GIVE_WAY_SPEED = 0.3
 #: m: someone standing with their centre this near the goal occupies it (the robot cannot stand there and
 #: keep GOTO_SOCIAL_GAP of air to them: their body, the air and its half width) ...
-GOAL_TAKEN = BODY + GOTO_SOCIAL_GAP + HALF_WIDTH
+GOAL_TAKEN = PERSON_CLEAR
 #: m: ... and held up this near the goal by them, with nothing of the floor plan between it and the goal
 #: (the same room, no furniture between), the robot has arrived beside them (a man standing at the
 #: kitchen counter where the kitchen was taught: it waited 10 s at 0.6 m and asked for help, and
