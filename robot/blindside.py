@@ -37,8 +37,13 @@ loop with laser and sonar as tests/test_attention_turn_people runs it, touches s
 off at 100-130 degrees in 3 % of turns, by 2-14 mm. The bumper rings' corner segments lie at those gaps:
 such a touch presses one, and every module's bumper reflex stops the turn (:mod:`robot.bumpers`).
 
-The echoes are kept in the odometry frame, one per transducer (the newest with an echo), and
-forgotten after :data:`ECHO_AGE` s: a reading lost to a dropout does not open a hole for the
+Someone walking up from behind (:meth:`SonarEchoes.closing`, the go-to's yield): a rear-facing transducer's
+unexplained echo near the footprint whose range fell, between its two latest readings, by more than the robot's own
+travel toward that cone explains plus :data:`CLOSING_SPEED` m/s (fresh7/split_goto_ramp_child: a child overtook the
+go-to at 0.9 m/s, 0.03 m off its flank, tracked only once level with it).
+
+The echoes are kept in the odometry frame, one per transducer (the newest with an echo, and the range and pose of
+the one before it), and forgotten after :data:`ECHO_AGE` s: a reading lost to a dropout does not open a hole for the
 0.32 s a ring takes to come round again. Pure code and one small bounded state; no world, no
 ground truth: the robot sees only the sonar's messages and its own odometry.
 """
@@ -68,8 +73,8 @@ BLIND_X = 0.13
 BLIND_GAP = 0.35
 #: m: a reading whose arc comes this close to the floor plan's outline is the flat's
 EXPLAIN = 0.12
-#: m/s: an unexplained echo behind the laser's line whose arc came nearer the footprint faster than this between its
-#: transducer's two latest readings, beyond what the robot's own travel and turn between them explain, is someone
+#: m/s: an unexplained echo behind the laser's line whose range fell faster than this between its transducer's two
+#: latest readings, beyond what the robot's own travel and turn between them explain, is someone
 #: walking up beside or behind the robot (:meth:`SonarEchoes.closing`): a wall, a chair or someone standing reads no
 #: nearer than the robot moved toward them. A walk is 0.8-1.4 m/s; a reading's range jitters by a centimetre or two.
 CLOSING_SPEED = 0.4
