@@ -37,8 +37,13 @@ loop with laser and sonar as tests/test_attention_turn_people runs it, touches s
 off at 100-130 degrees in 3 % of turns, by 2-14 mm. The bumper rings' corner segments lie at those gaps:
 such a touch presses one, and every module's bumper reflex stops the turn (:mod:`robot.bumpers`).
 
-The echoes are kept in the odometry frame, one per transducer (the newest with an echo), and
-forgotten after :data:`ECHO_AGE` s: a reading lost to a dropout does not open a hole for the
+Someone walking up from behind (:meth:`SonarEchoes.closing`, the go-to's yield): a rear-facing transducer's
+unexplained echo near the footprint whose range fell, between its two latest readings, by more than the robot's own
+travel toward that cone explains plus :data:`CLOSING_SPEED` m/s (fresh7/split_goto_ramp_child: a child overtook the
+go-to at 0.9 m/s, 0.03 m off its flank, tracked only once level with it).
+
+The echoes are kept in the odometry frame, one per transducer (the newest with an echo, and the range and pose of
+the one before it), and forgotten after :data:`ECHO_AGE` s: a reading lost to a dropout does not open a hole for the
 0.32 s a ring takes to come round again. Pure code and one small bounded state; no world, no
 ground truth: the robot sees only the sonar's messages and its own odometry.
 """
@@ -68,14 +73,30 @@ BLIND_X = 0.13
 BLIND_GAP = 0.35
 #: m: a reading whose arc comes this close to the floor plan's outline is the flat's
 EXPLAIN = 0.12
+#: m/s: an unexplained echo behind the laser's line whose range fell faster than this between its transducer's two
+#: latest readings, beyond what the robot's own travel and turn between them explain, is someone
+#: walking up beside or behind the robot (:meth:`SonarEchoes.closing`): a wall, a chair or someone standing reads no
+#: nearer than the robot moved toward them. A walk is 0.8-1.4 m/s; a reading's range jitters by a centimetre or two.
+CLOSING_SPEED = 0.4
+#: m: ... and its arc now within this much of the footprint (the personal space a passer-by is yielded to, with a
+#: body's reach: the echo is the leg, the body reaches nearer)
+CLOSING_NEAR = 0.8
+#: rad: only transducers facing back this far or more hear someone closing in (the rear ring's 130, 150 and 170 degree
+#: ones): someone walking up from behind is heard there first, while things passed beside the robot come and go in the
+#: side ones' cones (a leg entering a cone's edge reads nearer at once, as if it walked up)
+REAR = math.radians(120.0)
+#: rad: the half width of a transducer's cone, with a leg's width, over which its reading's bearing is unknown
+CONE_REACH = math.radians(25.0)
+#: m: a transducer's reach from the robot's centre (the footprint's corner), for what a turn alone changes a range by
+TRANSDUCER_REACH = 0.34
 
 Pose = tuple[float, float, float]
 
 
-Arc = tuple[int, np.ndarray, np.ndarray]
+Arc = tuple[int, np.ndarray, np.ndarray, float, float]
 
 def near_arcs(packet: etree._Element | SonarPacket) -> list[Arc]:
-    """(transducer, x, y) robot-frame points (:data:`ARC_POINTS` each) on the arc of every echo of ``packet``
+    """(transducer, x, y, range, bearing) robot-frame points (:data:`ARC_POINTS` each) on the arc of every echo of ``packet``
     nearer than :data:`SONAR_REACH`: what a reading says, wherever the robot is. A function of the packet
     alone, so a record's arcs are worked out once for all its receivers and kept on the record
     (:meth:`SonarPacket.derived`; the arrays are read-only); no state of this module is shared by the
@@ -97,17 +118,21 @@ def _arcs(packet: etree._Element | SonarPacket) -> list[Arc]:
         tb = e.bearing
         px, py = e.x + r * np.cos(tb + offsets), e.y + r * np.sin(tb + offsets)
         px.flags.writeable = py.flags.writeable = False
-        out.append((e.id, px, py))
+        out.append((e.id, px, py, r, tb))
     return out
 
 
 class SonarEchoes:
     """The newest echo of every transducer, as odometry-frame arc points (see the module docstring)."""
 
-    __slots__ = ("_latest",)
+    __slots__ = ("_latest", "_ranges", "_before", "_bearing")
 
     def __init__(self) -> None:
         self._latest: dict[int, tuple[float, np.ndarray]] = {}  # transducer -> (time, (ARC_POINTS, 2) odometry frame)
+        # transducer -> (time, range, odometry pose read at) of its latest reading, and of the one before it
+        self._ranges: dict[int, tuple[float, float, Pose]] = {}
+        self._before: dict[int, tuple[float, float, Pose]] = {}
+        self._bearing: dict[int, float] = {}  # transducer -> its bearing (rad, robot frame)
 
     def update(self, packet: etree._Element | SonarPacket, odom: Pose | None, now: float) -> None:
         """Take a ``<sonar>`` packet (its XML, or the record it came as) read at odometry pose ``odom``
@@ -116,7 +141,12 @@ class SonarEchoes:
             return
         ox, oy, oth = odom
         c, s = math.cos(oth), math.sin(oth)
-        for ident, px, py in near_arcs(packet):
+        for ident, px, py, rng, bearing in near_arcs(packet):
+            self._bearing[ident] = bearing
+            last = self._ranges.get(ident)
+            if last is not None and last[0] < now:
+                self._before[ident] = last
+            self._ranges[ident] = (now, rng, odom)
             self._latest[ident] = (now, np.column_stack((ox + c * px - s * py, oy + s * px + c * py)))
 
     def hear(self, msg: Message, odom: Pose | None, now: float) -> None:
@@ -126,17 +156,64 @@ class SonarEchoes:
 
     def arcs(self, odom: Pose | None, now: float) -> list[np.ndarray]:
         """The fresh echoes' arcs, robot frame at ``odom`` (each (ARC_POINTS, 2)); stale ones are dropped."""
-        for k in [k for k, (t, _) in self._latest.items() if now - t > ECHO_AGE]:
-            del self._latest[k]
+        self._forget(now)
         if odom is None:
             return []
-        ox, oy, oth = odom
-        c, s = math.cos(oth), math.sin(oth)
-        out = []
-        for _, pts in self._latest.values():
-            dx, dy = pts[:, 0] - ox, pts[:, 1] - oy
-            out.append(np.column_stack((c * dx + s * dy, -s * dx + c * dy)))
-        return out
+        return [_to_robot(pts, odom) for _, pts in self._latest.values()]
+
+    def _forget(self, now: float) -> None:
+        for k in [k for k, (t, _) in self._latest.items() if now - t > ECHO_AGE]:
+            del self._latest[k]
+        for k in [k for k, (t, _, _) in self._before.items() if now - t > ECHO_AGE or k not in self._latest]:
+            del self._before[k]
+
+    def closing(self, odom: Pose | None, now: float, explains: Callable[[np.ndarray], bool] | None = None, *,
+                speed: float = CLOSING_SPEED, near: float = CLOSING_NEAR) -> bool:
+        """Whether a transducer's latest echo, behind the laser's line (:data:`BLIND_X`) and not explained by the floor
+        plan (``explains``), lies within ``near`` m of the footprint and read nearer than the same transducer's reading
+        before it by more than the robot's own motion between the two explains (its travel, and its turn times the
+        transducer's reach) plus ``speed`` m/s: someone walking up beside or behind the robot, where the laser does not
+        look (see :data:`CLOSING_SPEED`). A reading gives no bearing within its cone, so ranges are compared, not places."""
+        self._forget(now)
+        if odom is None:
+            return False
+        for k, (t, pts) in self._latest.items():
+            prev = self._before.get(k)
+            if prev is None or abs(self._bearing[k]) < REAR:
+                continue
+            t0, r0, (x0, y0, th0) = prev
+            _t1, r1, (x1, y1, th1) = self._ranges[k]
+            if t <= t0:
+                continue
+            own = _toward(self._bearing[k], (x0, y0, th0), (x1, y1)) + abs(math.remainder(th1 - th0, 2 * math.pi)) * (r0 + TRANSDUCER_REACH)
+            if r0 - r1 - own <= speed * (t - t0):
+                continue
+            arc = _to_robot(pts, odom)
+            blind = arc[:, 0] < BLIND_X
+            if (blind.any() and float(footprint_distance(arc[blind, 0], arc[blind, 1]).min()) <= near
+                    and (explains is None or not explains(arc))):
+                return True
+        return False
+
+
+def _toward(bearing: float, then: Pose, now: tuple[float, float]) -> float:
+    """How much nearer the robot's travel from ``then`` to ``now`` (odometry frame) can bring a transducer at
+    ``bearing`` (robot frame) to something standing in its cone (with a leg's width either side): the travel's
+    largest component toward any direction in it, none for a transducer facing away from the travel."""
+    x0, y0, th0 = then
+    dx, dy = now[0] - x0, now[1] - y0
+    c, s = math.cos(th0), math.sin(th0)
+    fx, fy = c * dx + s * dy, -s * dx + c * dy  # the travel in the robot's frame then
+    half = CONE_REACH
+    return max(0.0, max(fx * math.cos(bearing + a) + fy * math.sin(bearing + a) for a in (-half, -half / 2, 0.0, half / 2, half)))
+
+
+def _to_robot(pts: np.ndarray, odom: Pose) -> np.ndarray:
+    """Odometry-frame points in the robot's frame at ``odom``."""
+    ox, oy, oth = odom
+    c, s = math.cos(oth), math.sin(oth)
+    dx, dy = pts[:, 0] - ox, pts[:, 1] - oy
+    return np.column_stack((c * dx + s * dy, -s * dx + c * dy))
 
 
 def explained_by_points(mapped: np.ndarray) -> Callable[[np.ndarray], bool]:

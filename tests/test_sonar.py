@@ -265,6 +265,6 @@ def test_the_typed_packet_says_what_its_xml_says(seed, odom):
         assert len(got) == len(want) and all(g.tobytes() == w.tobytes() for g, w in zip(got, want))
     with pytest.raises(AttributeError):
         packet.rows = ()
-    for _, px, py in near_arcs(packet):  # shared by every receiver: read-only
+    for _, px, py, _r, _b in near_arcs(packet):  # shared by every receiver: read-only
         with pytest.raises(ValueError):
             px[0] = 0.0

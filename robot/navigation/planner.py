@@ -26,7 +26,7 @@ that the floor plan does not explain (more than :data:`UNMAPPED` m from every
 mapped obstacle) are marked in a copy of the grid, a local costmap, and the
 path to the same goal is planned again from the latest pose. The people in
 that scan (pairs of legs) get their space on it (:func:`social_grid`): the path
-keeps the robot's centre :data:`PERSON_CLEAR` m from theirs (what the player's
+keeps the robot's centre :data:`~robot.navigation.player.PERSON_CLEAR` m from theirs (what the player's
 dynamic window drives past), and further where the room allows; where no such
 way exists it keeps only their bodies clear. The answer has
 ``replan="true"``: a path round the obstacle, or ``failed`` when there is
@@ -90,8 +90,8 @@ from robot.contract import ES_CONDITIONS, PLAN, POSE, REPLAN, SCAN
 
 from .config import Limits, limits_from_config
 from .grid import MapError, NoPathError, OccupancyGrid, parse_map, path_length, without_end_corner
-from .local import BODY, HALF_WIDTH, LatestScan
-from .player import GOTO_SOCIAL_GAP
+from .local import LatestScan
+from .player import PERSON_CLEAR
 from .route import body_points
 
 CONDITIONS = f"{ES_CONDITIONS}/planner"
@@ -114,11 +114,10 @@ WATCH_NEAR = 0.35
 #: (0.40 m): a free straight leg cut a niche's corner 0.35 m from its place, and the robot arrived at an
 #: angle from which it could not turn to the place's heading (tests/test_nav_mapguard.py).
 END_CORNER = 0.15
-#: m: how near a path's centre line may come to a person's centre on a replan: their body
-#: (:data:`~robot.navigation.local.BODY`), the go-to's air to it (the player's GOTO_SOCIAL_GAP) and
-#: the footprint's half width. A path any nearer is one the player's window will not drive: it stood
-#: blocked beside Ida for 14 s in goto_standing_person seed 2, replanned three times past her at 0.55 m.
-PERSON_CLEAR = BODY + GOTO_SOCIAL_GAP + HALF_WIDTH
+# PERSON_CLEAR (imported from the player, whose window's rule it is): how near a path's centre line may come to a
+# person's centre: their body, the go-to's air to it (GOTO_SOCIAL_GAP) and the footprint's half width. A path any
+# nearer is one the player's window will not drive: it stood blocked beside Ida for 14 s in goto_standing_person
+# seed 2, replanned three times past her at 0.55 m.
 #: m: the spot remembered as blocked lies this far along the path ahead of where the robot stood blocked
 #: (the player stops about a body's length short of what blocks it).
 AVOID_AHEAD = 0.6
@@ -144,7 +143,7 @@ BLOCKER_MAX = 4
 
 def social_grid(grid: OccupancyGrid, people: np.ndarray) -> OccupancyGrid:
     """``grid`` with a disc round each person (map-frame centres, (K, 2)) such that its free cells keep
-    the robot's centre :data:`PERSON_CLEAR` m from them; the grid's clearance cost then keeps paths a
+    the robot's centre :data:`~robot.navigation.player.PERSON_CLEAR` m from them; the grid's clearance cost then keeps paths a
     further ``soft`` m off them where there is room (personal space, not just the body)."""
     return grid.with_obstacles(body_points(people, radius=max(PERSON_CLEAR - grid.radius, 0.0), cell=grid.cell))
 
