@@ -185,9 +185,9 @@ def way_bearing(points: list[tuple[float, float]], pose: tuple[float, float, flo
     return math.remainder(math.atan2(best[1] - y, best[0] - x) - th, 2 * math.pi)
 
 
-def point_ahead(path: list[tuple[float, float]], at: tuple[float, float], ahead: float) -> tuple[float, float]:
-    """The point ``ahead`` m along ``path`` past the point of the path nearest to ``at`` (its end, if the
-    path ends sooner)."""
+def nearest_on_path(path: list[tuple[float, float]], at: tuple[float, float]) -> tuple[int, float]:
+    """(segment index, fraction along it) of the point of ``path`` nearest to ``at``: where a robot at ``at``
+    is on its way (the first of equally near points)."""
     best, where = math.inf, (0, 0.0)
     for k, ((ax, ay), (bx, by)) in enumerate(zip(path, path[1:])):
         dx, dy = bx - ax, by - ay
@@ -196,7 +196,13 @@ def point_ahead(path: list[tuple[float, float]], at: tuple[float, float], ahead:
         d = math.hypot(ax + t * dx - at[0], ay + t * dy - at[1])
         if d < best:
             best, where = d, (k, t)
-    k, t = where
+    return where
+
+
+def point_ahead(path: list[tuple[float, float]], at: tuple[float, float], ahead: float) -> tuple[float, float]:
+    """The point ``ahead`` m along ``path`` past the point of the path nearest to ``at`` (its end, if the
+    path ends sooner)."""
+    k, t = nearest_on_path(path, at)
     left = ahead
     for j in range(k, len(path) - 1):
         (ax, ay), (bx, by) = path[j], path[j + 1]
@@ -213,15 +219,7 @@ def near_path_ahead(path: list[tuple[float, float]], at: tuple[float, float], po
                     within: float) -> bool:
     """Whether ``point`` lies within ``within`` m of ``path`` past the point of the path nearest to ``at``
     (the part of the way still ahead of a robot at ``at``)."""
-    best, where = math.inf, (0, 0.0)
-    for k, ((ax, ay), (bx, by)) in enumerate(zip(path, path[1:])):
-        dx, dy = bx - ax, by - ay
-        n2 = dx * dx + dy * dy
-        t = 0.0 if n2 == 0 else min(max(((at[0] - ax) * dx + (at[1] - ay) * dy) / n2, 0.0), 1.0)
-        d = math.hypot(ax + t * dx - at[0], ay + t * dy - at[1])
-        if d < best:
-            best, where = d, (k, t)
-    k, t0 = where
+    k, t0 = nearest_on_path(path, at)
     for j in range(k, len(path) - 1):
         (ax, ay), (bx, by) = path[j], path[j + 1]
         dx, dy = bx - ax, by - ay
