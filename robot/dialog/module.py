@@ -101,6 +101,7 @@ from __future__ import annotations
 
 import asyncio
 import math
+import re
 import os
 from collections import deque
 from copy import deepcopy
@@ -195,6 +196,9 @@ TURN_GAP = 0.5
 #: vary by a decibel or two about the quietest of them (the median of a turn's frames), so her words are not
 #: taken for another's
 FARTHER_DB = 4.0
+#: s: a report of someone else seen this long before the words began still counts (the laser loses a person
+#: for a moment when her legs hide his)
+OTHERS_SLACK = 3.0
 #: her recent turns whose level the rule keeps (the quietest of them is hers: a repair said louder never
 #: makes her normal voice sound like someone else's)
 HER_TURNS = 5
@@ -283,6 +287,19 @@ def options_phrase(doc: Dialogs, options: list[str]) -> str:
             words[-1] = doc.sentence("same-noun")
         out.append(" ".join(words))
     return doc.listing([doc.sentence("option", option=o) for o in out])
+
+
+#: A whole stop said to the robot (the stood-stop exception, :meth:`Dialog._stop_after_she_stood`): "stop",
+#: "stop now", "stop here", "you can stop", with "please", "ok" or its name about them; not "stop it" or
+#: "stop that", said to other people
+STOP_REQUEST = re.compile(r"(?:(?:ok|okay|please|biron)\s+)*(?:you\s+can\s+)?stop(?:\s+(?:now|here))?(?:\s+(?:please|biron|now))*")
+
+
+def _plain_words(frame: etree._Element) -> str:
+    """The words of a frame, lower case, without punctuation (for :data:`STOP_REQUEST`)."""
+    w = frame.find("words")
+    text = (w.text if w is not None else frame.text) or ""
+    return " ".join(re.sub(r"[^a-z' ]+", " ", text.lower()).split())
 
 
 def _whole(frame: etree._Element) -> bool:
@@ -444,6 +461,9 @@ class Dialog(Module):
     _faced_at = -math.inf
     #: (act, start) of the last words dropped as not addressed (the repeat rule, :data:`REPEAT_WINDOW`)
     _unanswered: tuple[str, float] | None = None
+    #: the id of the frame whose stop was taken through the stood-stop exception (:meth:`_stop_after_she_stood`)
+    _stood_stop_cause: str | None = None
+    _people_info: deque[tuple[float, int]] | None = None  # see __init__
     #: (time, bearing, level) of the voiced sound frames (bounded), her distance (m, when reported) and the level
     #: of her recent turns taken back to 1 m: the voice-level rule (:meth:`_farther_than_her`)
     _levels: deque[tuple[float, float, float]] | None = None
@@ -451,6 +471,8 @@ class Dialog(Module):
     _partner_dists: deque[tuple[float, float]] | None = None  # (time, her distance) of recent reports
     _her_levels: deque[float] | None = None
     _her_turns: deque[tuple[float, float]] | None = None  # (start, end) of her recent turns: overlaps left out
+    #: (time, how many other people the attention tracks besides her: the partner report's ``others``)
+    _others_cues: deque[tuple[float, int]] | None = None
 
     def __init__(
         self,
@@ -491,12 +513,16 @@ class Dialog(Module):
         self._her_levels = deque(maxlen=HER_TURNS)
         self._her_turns = deque(maxlen=HER_TURNS)
         self._partner_dists = deque(maxlen=300)
+        self._others_cues = deque(maxlen=300)
         self.not_addressed = 0
         self._addressed_at = -math.inf  # when an understood frame was last taken as meant for the robot
         self._aside_since = math.inf  # when she was last reported turning aside (the addressee rule)
         self._withdrawn: dict[str, float] = {}  # dialog id -> when its sentences not yet said were withdrawn
         self._unanswered = None
         self._person_at: float | None = None  # when the supervisor last reported a potential partner (person_info)
+        # (time, company) of the latest person_info reports: someone speaking facing the robot, and how many
+        # other people stand near her (the chat-before-greeting rule's percepts; bounded)
+        self._people_info = deque(maxlen=64)
         self.ask_timeout = ask_timeout
         self._busy_until = 0.0
         self._pose: etree._Element | None = None  # the latest pose message's payload (read only for place teaching)
@@ -573,9 +599,11 @@ class Dialog(Module):
             return self._her_voice(start, end)
         if self.manager.es_state in DRIVING_STATES:
             return self._from_her_place(start, end)
-        if not named and self._farther_than_her(start, end):
-            # a voice from her direction, much quieter than hers: someone standing behind her (a guest
-            # chatting by the bookcase behind her, tests/scenarios/flow/chat18_remarks_behind_partner.xml)
+        if not (named or repeated) and self._farther_than_her(start, end):
+            # a voice from her direction, much quieter than hers, with someone else in the room: his (a guest
+            # chatting by the bookcase behind her, tests/scenarios/flow/chat18_remarks_behind_partner.xml).
+            # With nobody else seen, it is her own softer voice (across a counter, a quieter line: review18 F1,
+            # tests/scenarios/flow/fixrev19_alone_softer.xml); words said again after no answer are hers too
             return False
         during = [(f, c) for t, f, c, _ in self._partner_cues if start <= t <= end]
         if during and any(f == "true" for f, _ in during):
@@ -623,7 +651,18 @@ class Dialog(Module):
             return False
         if self.manager.open_question() is not None or any(not i.done for i in self.manager.stack):
             return False
-        return True
+        return self._sounds_like_chat(float(x.get("start", "nan")), float(x.get("end", "nan")))
+
+    def _sounds_like_chat(self, start: float, end: float) -> bool:
+        """Whether the percepts during words from ``start`` to ``end`` say they are chat among people (the
+        chat-before-greeting rule applies only then, review18 F7): the person seen speaking facing the robot
+        (``person_info``) has someone standing near her (two visitors face to face, the robot behind one of
+        them: to the camera the other speaks facing it). Someone alone who talks to the robot and is half-heard
+        still gets "say that again" or "say hello first" (fresh/studio_confirm_repeat seed 3: "This is the living
+        room" before any greeting, a TV talking beside him, so several voices at once do not make it chat)."""
+        if not (math.isfinite(start) and math.isfinite(end)):
+            return False
+        return any(c >= 1 for t, c in (self._people_info or ()) if start - PERSON_SLACK <= t <= end + PERSON_SLACK)
 
     def _talking_to_another(self, start: float, during: list[tuple[str, int]], whole: bool) -> bool:
         """Whether words beginning at ``start`` go on a talk with someone else: words said to another
@@ -668,8 +707,11 @@ class Dialog(Module):
         walk is over, and the track may be someone she walked past who stands silent there (the person
         attention listens to the other voice then, and makes the stop's speaker the partner:
         :meth:`PersonAttention._stop_speaker`). Only a stop: other words from off her bearing stay a
-        bystander's, and so does a stop said while she walks."""
+        bystander's, and so does a stop said while she walks. And only a whole stop said to the robot
+        (:data:`STOP_REQUEST`: "stop", "stop now", "you can stop"): "stop it" or "stop that" is said to
+        another person (review18 F2)."""
         return (self.manager.es_state in LEADING_STATES and x.tag == "understood" and x.find("SPEECH/STOP") is not None
+                and _whole(x) and STOP_REQUEST.fullmatch(_plain_words(x)) is not None
                 and self._follow_state == "waiting" and math.isfinite(start) and start - self._waiting_since >= STOOD_FOR)
 
     def _her_turn_level(self, start: float, end: float, others: bool = False) -> float | None:
@@ -708,8 +750,17 @@ class Dialog(Module):
         level, taken back to 1 m by *her* distance, lies ``FARTHER_DB`` or more under her own voice's (the
         pair cannot tell two people a few degrees apart, but a voice from twice as far is 6 dB quieter)."""
         ref = self._her_reference()
-        level = self._her_turn_level(start, end, others=True) if ref is not None else None
-        return ref is not None and level is not None and level <= ref - FARTHER_DB
+        if ref is None or not self._someone_else(start, end):
+            return False
+        level = self._her_turn_level(start, end, others=True)
+        return level is not None and level <= ref - FARTHER_DB
+
+    def _someone_else(self, start: float, end: float) -> bool:
+        """Whether a partner report from :data:`OTHERS_SLACK` s before ``start`` to the end of the words saw
+        someone else besides her (the attention's ``others``): only then can a quieter voice from her direction
+        be another person's (review18 F1). Not only someone seen in line behind her: her own legs hide a person
+        standing right behind her from the laser."""
+        return any(n >= 1 for t, n in (self._others_cues or ()) if start - OTHERS_SLACK <= t <= end + 0.5)
 
     def _learn_her_level(self, start: float, end: float) -> None:
         """Remember the level of a turn understood and taken as hers (the voice-level rule's reference)."""
@@ -789,10 +840,14 @@ class Dialog(Module):
             repeated = last is not None and act == last[0] and 0.0 <= began - last[1] <= REPEAT_WINDOW
             if not self.addressed(began, float(x.get("end", "nan")), named=x.get("named") == "true",
                                   shows=x.tag == "understood" and x.find("SPEECH//GESTURE") is not None,
-                                  repeated=repeated, whole=_whole(x)) and not self._stop_after_she_stood(x, began):
-                self.not_addressed += 1  # chat among the partner's group: not a request to the robot
-                self._unanswered = (act, began) if math.isfinite(began) else None
-                return
+                                  repeated=repeated, whole=_whole(x)):
+                if not self._stop_after_she_stood(x, began):
+                    self.not_addressed += 1  # chat among the partner's group: not a request to the robot
+                    self._unanswered = (act, began) if math.isfinite(began) else None
+                    return
+                # taken through the stood-stop exception: its stop event says so (stood="true"), and only then
+                # does the person attention make the stop's speaker the partner (review18 F2)
+                self._stood_stop_cause = msg.id
             self._unanswered = None
             if repeated and math.isfinite(began):
                 self._addressed_at = began  # said again for the robot, even not understood: their exchange
@@ -949,6 +1004,13 @@ class Dialog(Module):
             return
         if msg.xml.get("name") == "person_info":  # someone speaks facing the robot (potential partner)
             self._person_at = msg.created
+            person = msg.xml.find(".//PERSON")
+            try:
+                company = int(person.get("company", "0")) if person is not None else 0
+            except ValueError:
+                company = 0
+            if self._people_info is not None:
+                self._people_info.append((msg.created, company))
         if msg.xml.get("name") == "step_aside":  # the object attention cannot see past the partner
             self.sim.spawn(self._step_aside_for_es(msg), name=f"{self.name}-step-aside")
             return
@@ -1016,7 +1078,14 @@ class Dialog(Module):
         self._emit(self.manager.on_rejected(rej), msg.id)
 
     def _on_status(self, msg: Message) -> None:
-        gone = self.manager.on_state(msg.xml.get("state", ""))
+        state = msg.xml.get("state", "")
+        if state in UNGREETED and self.manager.es_state not in UNGREETED:
+            # the interaction is over: the voice-level rule's references were that partner's voice; the next
+            # partner's own turns make hers (a quiet earlier partner would switch the rule off: review18 F6)
+            for d in (self._her_levels, self._her_turns):
+                if d is not None:
+                    d.clear()
+        gone = self.manager.on_state(state)
         if gone and self._queue:
             # their sentences not yet said (a question waiting behind the good-bye) are dropped too
             self._queue = deque(q for q in self._queue if not q[2] or not q[2] <= set(gone))
@@ -1089,6 +1158,8 @@ class Dialog(Module):
         if facing == "true":
             self._faced_at = msg.created
         self._partner_cues.append((msg.created, facing, int(msg.xml.get("company", "0")), span))
+        if self._others_cues is not None:
+            self._others_cues.append((msg.created, int(msg.xml.get("others", "0"))))
 
     def _facing_now(self) -> str:
         """The latest partner report's ``facing`` ("true", "false", "unknown"), if recent."""
@@ -1212,6 +1283,9 @@ class Dialog(Module):
                     self._follow_state = ""
                     self.pauses_ended += 1
                 el = etree.Element("event", name=o.event)
+                if o.event == "stop" and cause == self._stood_stop_cause:
+                    el.set("stood", "true")  # taken through the stood-stop exception (the person attention reads it)
+                    self._stood_stop_cause = None
                 if o.lifetime is not None:
                     el.set("lifetime", repr(float(o.lifetime)))
                 for c in o.children:
