@@ -72,8 +72,8 @@ def test_alone_softer_scene_seed_1_her_quieter_request_is_answered(capsys) -> No
 
 
 # ---------------------------------------------------------------- F7
-def _seen(d: Dialog, company: int, t0: float = 9.5, t1: float = 11.5) -> Dialog:
-    d._people_info = deque([(t0 + 0.5 * i, company) for i in range(int((t1 - t0) / 0.5) + 1)], maxlen=64)
+def _seen(d: Dialog, others: int, t0: float = 9.5, t1: float = 11.5) -> Dialog:
+    d._people_info = deque([(t0 + 0.5 * i, others) for i in range(int((t1 - t0) / 0.5) + 1)], maxlen=64)
     return d
 
 
@@ -81,25 +81,25 @@ def test_someone_alone_talking_to_the_robot_half_heard_still_gets_an_answer_befo
     for state in ("LookingAround", "PotentialPartner"):
         for words in CHAT:
             x = _frame(words)
-            assert not _seen(_dialog(state), company=0)._chat_before_greeting(x), (state, words)
+            assert not _seen(_dialog(state), others=0)._chat_before_greeting(x), (state, words)
             # nobody seen speaking facing it (fresh/studio_confirm_repeat seed 3): "say hello first" as before
             nobody = _dialog(state)
             nobody._people_info = deque(maxlen=64)
             assert not nobody._chat_before_greeting(x), (state, words)
-            # two people face to face (one seen speaking facing the robot, the other near her): chat
-            assert _seen(_dialog(state), company=1)._chat_before_greeting(x), (state, words)
-            # a report of her company long before the words does not count
-            assert not _seen(_dialog(state), company=1, t0=0.0, t1=8.0)._chat_before_greeting(x), (state, words)
+            # two people face to face (one seen speaking facing the robot, the other tracked too): chat
+            assert _seen(_dialog(state), others=1)._chat_before_greeting(x), (state, words)
+            # a report of others long before the words does not count
+            assert not _seen(_dialog(state), others=1, t0=0.0, t1=8.0)._chat_before_greeting(x), (state, words)
 
 
-def test_person_info_records_her_company():
+def test_person_info_records_the_others_tracked():
     d = _dialog("LookingAround")
     d._people_info = deque(maxlen=64)
     d.sim = None
     d._emit = lambda outs, cause: None
     d._goodbye_held = None
     msg = etree.Element("condition", name="person_info")
-    etree.SubElement(etree.SubElement(msg, "param", name="person"), "PERSON", id="t3", company="1")
+    etree.SubElement(etree.SubElement(msg, "param", name="person"), "PERSON", id="t3", others="1")
     d._on_condition(SimpleNamespace(xml=msg, created=10.0, id="c1"))
     assert list(d._people_info) == [(10.0, 1)]
 

@@ -1034,12 +1034,9 @@ class PersonAttention(Module):
             if pp != self.pp_sent or t - self._pp_at >= self.params.pp_repeat - 1e-9:
                 i = self.tracks.row(pp)
                 person = etree.Element("PERSON", id=f"t{pp}", bearing=_deg(bearing[i]), distance=f"{dist[i]:.3f}", speaking="true", facing="true")
-                # company: other confirmed people near her (two visitors talking face to face: the dialog's
-                # chat-before-greeting rule, review18 F7)
-                px, py = self.tracks.tracks[i].x[0], self.tracks.tracks[i].x[1]
-                r2 = self.params.group_radius ** 2
-                person.set("company", str(sum(1 for o in self.tracks.tracks if o.confirmed and not o.dormant and o.id != pp
-                                              and (o.x[0] - px) ** 2 + (o.x[1] - py) ** 2 <= r2)))
+                # others: other confirmed people it tracks (two visitors talking face to face, a family across
+                # the dining table: the dialog's chat-before-greeting rule, review18 F7)
+                person.set("others", str(sum(1 for o in self.tracks.tracks if o.confirmed and not o.dormant and o.id != pp)))
                 self._event("potential_partner", (person,))
                 self.pp_sent, self._pp_at = pp, t
         elif self.pp_sent is not None and t - self._pp_at >= self.params.pp_valid - 1e-9 and not self._awaits_answer(t, selected):

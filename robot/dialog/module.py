@@ -520,8 +520,8 @@ class Dialog(Module):
         self._withdrawn: dict[str, float] = {}  # dialog id -> when its sentences not yet said were withdrawn
         self._unanswered = None
         self._person_at: float | None = None  # when the supervisor last reported a potential partner (person_info)
-        # (time, company) of the latest person_info reports: someone speaking facing the robot, and how many
-        # other people stand near her (the chat-before-greeting rule's percepts; bounded)
+        # (time, others) of the latest person_info reports: someone speaking facing the robot, and how many
+        # other people the attention tracks (the chat-before-greeting rule's percepts; bounded)
         self._people_info = deque(maxlen=64)
         self.ask_timeout = ask_timeout
         self._busy_until = 0.0
@@ -656,8 +656,8 @@ class Dialog(Module):
     def _sounds_like_chat(self, start: float, end: float) -> bool:
         """Whether the percepts during words from ``start`` to ``end`` say they are chat among people (the
         chat-before-greeting rule applies only then, review18 F7): the person seen speaking facing the robot
-        (``person_info``) has someone standing near her (two visitors face to face, the robot behind one of
-        them: to the camera the other speaks facing it). Someone alone who talks to the robot and is half-heard
+        (``person_info``) is not alone, someone else is tracked (two visitors face to face, the robot behind one
+        of them: to the camera the other speaks facing it; a family talking across the dining table). Someone alone who talks to the robot and is half-heard
         still gets "say that again" or "say hello first" (fresh/studio_confirm_repeat seed 3: "This is the living
         room" before any greeting, a TV talking beside him, so several voices at once do not make it chat)."""
         if not (math.isfinite(start) and math.isfinite(end)):
@@ -1006,11 +1006,11 @@ class Dialog(Module):
             self._person_at = msg.created
             person = msg.xml.find(".//PERSON")
             try:
-                company = int(person.get("company", "0")) if person is not None else 0
+                others = int(person.get("others", "0")) if person is not None else 0
             except ValueError:
-                company = 0
+                others = 0
             if self._people_info is not None:
-                self._people_info.append((msg.created, company))
+                self._people_info.append((msg.created, others))
         if msg.xml.get("name") == "step_aside":  # the object attention cannot see past the partner
             self.sim.spawn(self._step_aside_for_es(msg), name=f"{self.name}-step-aside")
             return
