@@ -35,8 +35,6 @@ def _dialog(state: str) -> Dialog:
     d._aside_since = math.inf
     d._other_talk_end = -math.inf
     d._faced_at = -math.inf
-    # someone seen speaking facing the robot with another person near her (review18 F7: only then is it chat)
-    d._people_info = deque([(9.5 + 0.5 * i, 1) for i in range(5)], maxlen=64)
     return d
 
 
@@ -138,7 +136,7 @@ def _face_to_face(her_levels: list[float], frames: list[tuple[float, float, floa
                   her_turns: list[tuple[float, float]] | None = None) -> Dialog:
     d = _dialog("Interacting")
     d._partner_cues = deque([(10.0 + 0.1 * i, "true", 0, 1.0) for i in range(40)], maxlen=300)
-    d._others_cues = deque([(10.0 + 0.1 * i, 1) for i in range(40)], maxlen=300)  # someone seen behind her
+    d._others_cues = deque([(10.0 + 0.1 * i, 1) for i in range(40)], maxlen=300)  # someone else tracked (the rule needs one)
     d._sources = deque([(t, (b,)) for t, b, _ in frames], maxlen=300)
     d._levels = deque(frames, maxlen=600)
     d._partner_dist = (dist, 14.0)
@@ -151,7 +149,7 @@ def _turn(level: float, bearing: float = 2.0, n: int = 15, t0: float = 10.5) -> 
     return [(t0 + 0.1 * i, bearing, level + (1.5 if i % 2 else -1.5)) for i in range(n)]
 
 
-def test_a_voice_from_her_direction_much_quieter_than_hers_is_someone_else_her():
+def test_a_voice_from_her_direction_much_quieter_than_hers_is_someone_behind_her():
     # Hanna 1.2 m away speaks at about 58 dB at the robot (59.6 at 1 m); Omar 2.6 m away behind her at 51.6
     ref = 58.0 + 20 * math.log10(1.2)
     d = _face_to_face([ref], _turn(51.6))

@@ -3,10 +3,7 @@
 F1: the voice-level rule takes a quieter voice from the partner's direction as another person's only when the
 robot sees someone else besides her (the attention's ``others``: a person right behind her is hidden from the
 laser by her legs, so not only someone seen in line behind her), and never words she says
-again after getting no answer. F7: the chat-before-greeting rule keeps silent only when the percepts say it is
-chat (nobody seen speaking facing the robot, someone standing near the one seen, or several voices at once):
-someone alone who faces the robot and is half-heard still gets "say hello first" or "say that again".
-F6: the level references are cleared when an interaction ends."""
+again after getting no answer. F6: the level references are cleared when an interaction ends."""
 
 from __future__ import annotations
 
@@ -71,39 +68,6 @@ def test_alone_softer_scene_seed_1_her_quieter_request_is_answered(capsys) -> No
     assert code == 0, out
 
 
-# ---------------------------------------------------------------- F7
-def _seen(d: Dialog, others: int, t0: float = 9.5, t1: float = 11.5) -> Dialog:
-    d._people_info = deque([(t0 + 0.5 * i, others) for i in range(int((t1 - t0) / 0.5) + 1)], maxlen=64)
-    return d
-
-
-def test_someone_alone_talking_to_the_robot_half_heard_still_gets_an_answer_before_greeting():
-    for state in ("LookingAround", "PotentialPartner"):
-        for words in CHAT:
-            x = _frame(words)
-            assert not _seen(_dialog(state), others=0)._chat_before_greeting(x), (state, words)
-            # nobody seen speaking facing it (fresh/studio_confirm_repeat seed 3): "say hello first" as before
-            nobody = _dialog(state)
-            nobody._people_info = deque(maxlen=64)
-            assert not nobody._chat_before_greeting(x), (state, words)
-            # two people face to face (one seen speaking facing the robot, the other tracked too): chat
-            assert _seen(_dialog(state), others=1)._chat_before_greeting(x), (state, words)
-            # a report of others long before the words does not count
-            assert not _seen(_dialog(state), others=1, t0=0.0, t1=8.0)._chat_before_greeting(x), (state, words)
-
-
-def test_person_info_records_the_others_tracked():
-    d = _dialog("LookingAround")
-    d._people_info = deque(maxlen=64)
-    d.sim = None
-    d._emit = lambda outs, cause: None
-    d._goodbye_held = None
-    msg = etree.Element("condition", name="person_info")
-    etree.SubElement(etree.SubElement(msg, "param", name="person"), "PERSON", id="t3", others="1")
-    d._on_condition(SimpleNamespace(xml=msg, created=10.0, id="c1"))
-    assert list(d._people_info) == [(10.0, 1)]
-
-
 # ---------------------------------------------------------------- F6
 def test_the_level_references_are_cleared_when_the_interaction_ends():
     d = _face_to_face([50.0], [])
@@ -115,3 +79,4 @@ def test_the_level_references_are_cleared_when_the_interaction_ends():
     assert list(d._her_levels) == [50.0]  # still hers
     d._on_status(SimpleNamespace(xml=etree.Element("status", state="LookingAround"), id="s2"))
     assert not d._her_levels and not d._her_turns  # the next partner's voice is learned from her own turns
+

@@ -1034,9 +1034,6 @@ class PersonAttention(Module):
             if pp != self.pp_sent or t - self._pp_at >= self.params.pp_repeat - 1e-9:
                 i = self.tracks.row(pp)
                 person = etree.Element("PERSON", id=f"t{pp}", bearing=_deg(bearing[i]), distance=f"{dist[i]:.3f}", speaking="true", facing="true")
-                # others: other confirmed people it tracks (two visitors talking face to face, a family across
-                # the dining table: the dialog's chat-before-greeting rule, review18 F7)
-                person.set("others", str(sum(1 for o in self.tracks.tracks if o.confirmed and not o.dormant and o.id != pp)))
                 self._event("potential_partner", (person,))
                 self.pp_sent, self._pp_at = pp, t
         elif self.pp_sent is not None and t - self._pp_at >= self.params.pp_valid - 1e-9 and not self._awaits_answer(t, selected):

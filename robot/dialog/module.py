@@ -463,7 +463,6 @@ class Dialog(Module):
     _unanswered: tuple[str, float] | None = None
     #: the id of the frame whose stop was taken through the stood-stop exception (:meth:`_stop_after_she_stood`)
     _stood_stop_cause: str | None = None
-    _people_info: deque[tuple[float, int]] | None = None  # see __init__
     #: (time, bearing, level) of the voiced sound frames (bounded), her distance (m, when reported) and the level
     #: of her recent turns taken back to 1 m: the voice-level rule (:meth:`_farther_than_her`)
     _levels: deque[tuple[float, float, float]] | None = None
@@ -520,9 +519,6 @@ class Dialog(Module):
         self._withdrawn: dict[str, float] = {}  # dialog id -> when its sentences not yet said were withdrawn
         self._unanswered = None
         self._person_at: float | None = None  # when the supervisor last reported a potential partner (person_info)
-        # (time, others) of the latest person_info reports: someone speaking facing the robot, and how many
-        # other people the attention tracks (the chat-before-greeting rule's percepts; bounded)
-        self._people_info = deque(maxlen=64)
         self.ask_timeout = ask_timeout
         self._busy_until = 0.0
         self._pose: etree._Element | None = None  # the latest pose message's payload (read only for place teaching)
@@ -651,18 +647,7 @@ class Dialog(Module):
             return False
         if self.manager.open_question() is not None or any(not i.done for i in self.manager.stack):
             return False
-        return self._sounds_like_chat(float(x.get("start", "nan")), float(x.get("end", "nan")))
-
-    def _sounds_like_chat(self, start: float, end: float) -> bool:
-        """Whether the percepts during words from ``start`` to ``end`` say they are chat among people (the
-        chat-before-greeting rule applies only then, review18 F7): the person seen speaking facing the robot
-        (``person_info``) is not alone, someone else is tracked (two visitors face to face, the robot behind one
-        of them: to the camera the other speaks facing it; a family talking across the dining table). Someone alone who talks to the robot and is half-heard
-        still gets "say that again" or "say hello first" (fresh/studio_confirm_repeat seed 3: "This is the living
-        room" before any greeting, a TV talking beside him, so several voices at once do not make it chat)."""
-        if not (math.isfinite(start) and math.isfinite(end)):
-            return False
-        return any(c >= 1 for t, c in (self._people_info or ()) if start - PERSON_SLACK <= t <= end + PERSON_SLACK)
+        return True
 
     def _talking_to_another(self, start: float, during: list[tuple[str, int]], whole: bool) -> bool:
         """Whether words beginning at ``start`` go on a talk with someone else: words said to another
@@ -1004,13 +989,6 @@ class Dialog(Module):
             return
         if msg.xml.get("name") == "person_info":  # someone speaks facing the robot (potential partner)
             self._person_at = msg.created
-            person = msg.xml.find(".//PERSON")
-            try:
-                others = int(person.get("others", "0")) if person is not None else 0
-            except ValueError:
-                others = 0
-            if self._people_info is not None:
-                self._people_info.append((msg.created, others))
         if msg.xml.get("name") == "step_aside":  # the object attention cannot see past the partner
             self.sim.spawn(self._step_aside_for_es(msg), name=f"{self.name}-step-aside")
             return
