@@ -135,9 +135,23 @@ CONTACT_STILL = 0.2
 CONTACT_STEP = 0.025
 
 
-def contact_speed_limit(people: np.ndarray, max_speed: float, *, decel: float, w: float = 0.0,
+def contact_speed_limit(people: np.ndarray, max_speed: float, *, decel: float, w: float = 0.0, dw: float = 0.0,
                         react: float = CONTACT_REACT, gap: float = CONTACT_GAP, still_gap: float = CONTACT_GAP_STANDING,
                         after: float = CONTACT_AFTER) -> float:
+    """:func:`contact_speed_limit_on_arc` for every turn rate the robot can reach in one step: the least of the
+    limits at ``w - dw``, ``w`` and ``w + dw`` (review18 F4: the dynamic window picks any turn rate within
+    ``dw`` of the present one, and one of them may turn toward someone). ``dw`` = 0: the present arc only."""
+    lim = contact_speed_limit_on_arc(people, max_speed, decel=decel, w=w, react=react, gap=gap, still_gap=still_gap, after=after)
+    if dw > 0.0 and lim > 0.0:
+        for wr in (w - dw, w + dw):
+            lim = min(lim, contact_speed_limit_on_arc(people, lim, decel=decel, w=wr, react=react, gap=gap,
+                                                      still_gap=still_gap, after=after))
+    return lim
+
+
+def contact_speed_limit_on_arc(people: np.ndarray, max_speed: float, *, decel: float, w: float = 0.0,
+                               react: float = CONTACT_REACT, gap: float = CONTACT_GAP, still_gap: float = CONTACT_GAP_STANDING,
+                               after: float = CONTACT_AFTER) -> float:
     """The highest forward speed (m/s, at most ``max_speed``) from which the robot, driving on ``react`` s
     along the arc of turn rate ``w`` and then braking straight at ``decel`` m/s^2, keeps ``gap`` m of air
     (``still_gap`` to someone standing, slower than :data:`CONTACT_STILL`) between its footprint and every

@@ -136,6 +136,7 @@ def _face_to_face(her_levels: list[float], frames: list[tuple[float, float, floa
                   her_turns: list[tuple[float, float]] | None = None) -> Dialog:
     d = _dialog("Interacting")
     d._partner_cues = deque([(10.0 + 0.1 * i, "true", 0, 1.0) for i in range(40)], maxlen=300)
+    d._others_cues = deque([(10.0 + 0.1 * i, 1) for i in range(40)], maxlen=300)  # someone else tracked (the rule needs one)
     d._sources = deque([(t, (b,)) for t, b, _ in frames], maxlen=300)
     d._levels = deque(frames, maxlen=600)
     d._partner_dist = (dist, 14.0)

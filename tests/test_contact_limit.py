@@ -87,3 +87,79 @@ def test_someone_standing_ahead_is_stopped_short_of():
 
 def test_nobody_no_limit():
     assert contact_speed_limit(np.zeros((0, 4)), TOP, decel=DECEL) == TOP
+
+
+def _in_robot(rx: float, ry: float, th: float, px: float, py: float, vx: float, vy: float) -> tuple[float, ...]:
+    c, s = math.cos(th), math.sin(th)
+    dx, dy = px - rx, py - ry
+    return (c * dx + s * dy, -s * dx + c * dy, c * vx + s * vy, -s * vx + c * vy)
+
+
+@settings(max_examples=80, deadline=None)
+@given(x0=st.floats(0.9, 4.0), y0=st.floats(-3.0, 3.0), speed=st.floats(0.3, 1.6),
+       heading=st.floats(-math.pi, math.pi), v0=st.floats(0.0, TOP), w=st.floats(-1.0, 1.0))
+def test_someone_walking_into_its_way_is_never_reached_on_an_arc(x0, y0, speed, heading, v0, w):
+    """review18 F4: the same closed loop with the robot turning at ``w`` (drawn from +-1 rad/s) the whole time,
+    the limit reckoned along that arc: someone walking into its way is never touched while ahead of it."""
+    vx, vy = speed * math.cos(heading), speed * math.sin(heading)
+    assume(_air(0.0, x0, y0) > CONTACT_GAP + 0.05)
+    assume(x0 > 0.0)
+    assume(contact_speed_limit(np.array([[x0, y0, vx, vy]]), TOP, decel=DECEL, w=w) >= v0)
+    rx = ry = th = 0.0
+    v, cmd = v0, v0
+    px, py = x0, y0
+    for _ in range(60):
+        nxt = contact_speed_limit(np.array([_in_robot(rx, ry, th, px, py, vx, vy)]), TOP, decel=DECEL, w=w)
+        v = max(v - DECEL * DT, min(cmd, v + DECEL * DT)) if cmd < v else min(cmd, v + DECEL * DT)
+        cmd = nxt
+        for _ in range(10):
+            rx, ry = rx + v * math.cos(th) * DT / 10, ry + v * math.sin(th) * DT / 10
+            th += w * DT / 10
+            px, py = px + vx * DT / 10, py + vy * DT / 10
+            lx, ly, _, _ = _in_robot(rx, ry, th, px, py, vx, vy)
+            air = float(footprint_distance(np.array([lx]), np.array([ly]))[0]) - BODY
+            assert v == 0.0 or lx <= 0.0 or air > 0.0, (rx, ry, th, v, px, py)
+            if air <= 0.0:
+                return
+
+
+@settings(max_examples=80, deadline=None)
+@given(x0=st.floats(0.9, 4.0), y0=st.floats(-3.0, 3.0), speed=st.floats(0.3, 1.6), heading=st.floats(-math.pi, math.pi),
+       v0=st.floats(0.0, TOP), w0=st.floats(-1.0, 1.0))
+def test_a_limit_over_the_reachable_turn_rates_keeps_off_someone_on_any_of_them(x0, y0, speed, heading, v0, w0):
+    """review18 F4: the robot changes its turn rate each step by up to ``dw`` (the window), within +-1 rad/s; with
+    the limit taken over the rates it can reach in one step, someone walking into its way is never touched
+    while ahead of it."""
+    dw = 0.5
+    vx, vy = speed * math.cos(heading), speed * math.sin(heading)
+    assume(_air(0.0, x0, y0) > CONTACT_GAP + 0.05)
+    assume(x0 > 0.0)
+    assume(contact_speed_limit(np.array([[x0, y0, vx, vy]]), TOP, decel=DECEL, w=w0, dw=dw) >= v0)
+    rx = ry = th = 0.0
+    v, cmd, w = v0, v0, w0
+    px, py = x0, y0
+    for _ in range(60):
+        nxt = contact_speed_limit(np.array([_in_robot(rx, ry, th, px, py, vx, vy)]), TOP, decel=DECEL, w=w, dw=dw)
+        v = max(v - DECEL * DT, min(cmd, v + DECEL * DT)) if cmd < v else min(cmd, v + DECEL * DT)
+        cmd = nxt
+        ly_now = _in_robot(rx, ry, th, px, py, vx, vy)[1]
+        w = max(-1.0, min(1.0, w + math.copysign(dw, ly_now)))  # the worst reachable pick: turning toward them
+        for _ in range(10):
+            rx, ry = rx + v * math.cos(th) * DT / 10, ry + v * math.sin(th) * DT / 10
+            th += w * DT / 10
+            px, py = px + vx * DT / 10, py + vy * DT / 10
+            lx, ly, _, _ = _in_robot(rx, ry, th, px, py, vx, vy)
+            air = float(footprint_distance(np.array([lx]), np.array([ly]))[0]) - BODY
+            assert v == 0.0 or lx <= 0.0 or air > 0.0, (rx, ry, th, v, w, px, py)
+            if air <= 0.0:
+                return
+
+
+def test_the_limit_counts_the_turn_the_window_can_take_next():
+    """review18 F4's example: someone ahead-left walking across; driving straight the robot may go at 0.45 m/s,
+    turning left at 1 rad/s it must stand: with that turn within reach, the limit is the turn's."""
+    walker = np.array([[0.54, 1.3, -0.32, -0.61]])
+    straight = contact_speed_limit(walker, TOP, decel=DECEL, w=0.0)
+    turning = contact_speed_limit(walker, TOP, decel=DECEL, w=1.0)
+    assert turning < straight
+    assert contact_speed_limit(walker, TOP, decel=DECEL, w=0.0, dw=1.0) <= turning

@@ -33,7 +33,7 @@ class _Clocked(Dialog):
     now = 0.0  # the rule only: a plain clock instead of the simulation's
 
 
-def _following(waiting_from: float | None, said_at: float, act: str = "STOP") -> tuple[Dialog, list[str]]:
+def _following(waiting_from: float | None, said_at: float, act: str = "STOP", words: str = "stop now") -> tuple[Dialog, list[str]]:
     """A dialog in Following; the follower said ``waiting`` every 0.1 s from ``waiting_from`` (None: it
     follows); words (``act``) begin at ``said_at`` from 60 degrees off the followed track, which is silent."""
     d = _Clocked.__new__(_Clocked)
@@ -59,8 +59,8 @@ def _following(waiting_from: float | None, said_at: float, act: str = "STOP") ->
     d._addressed_at = -math.inf
     taken: list[str] = []
     d._on_addressed = lambda msg: taken.append(msg.xml.find("SPEECH")[0].tag)
-    msg = SimpleNamespace(xml=etree.fromstring(
-        f'<understood start="{said_at}" end="{said_at + 0.6}" confidence="0.9"><SPEECH><{act}/></SPEECH><words>w</words></understood>'))
+    msg = SimpleNamespace(id="m1", xml=etree.fromstring(
+        f'<understood start="{said_at}" end="{said_at + 0.6}" confidence="0.9"><SPEECH><{act}/></SPEECH><words>{words}</words></understood>'))
     d._on_frame(msg)
     return d, taken
 
@@ -158,3 +158,32 @@ def test_her_own_stop_keeps_her_the_partner():
     quiet = _tracked(partner_spoke=5.0, other_spoke=10.0)  # nobody else heard lately: nothing to go by
     quiet._stop_speaker()
     assert quiet.partner == 1
+
+
+# ------------------------------------------------------------------ review18 F2: only a whole stop said to the robot
+@settings(max_examples=30, deadline=None)
+@given(st.sampled_from(["stop", "stop now", "stop here", "you can stop", "you can stop now", "stop now biron",
+                        "please stop", "ok stop here"]))
+def test_a_whole_stop_to_the_robot_is_taken_from_another_voice_once_it_stood(words):
+    d, taken = _following(10.0, 20.0, words=words)
+    assert taken == ["STOP"] and d._stood_stop_cause == "m1"  # its stop event will say stood="true"
+
+
+@settings(max_examples=30, deadline=None)
+@given(st.sampled_from(["stop it", "stop that", "oh stop it", "stop it now", "stop that please", "stop talking"]))
+def test_stop_it_from_another_voice_is_said_to_someone_else_even_when_it_stood(words):
+    # review18 F2: a guest's "stop it" (to the other guest) ended her walk once the robot had stood 2 s
+    d, taken = _following(10.0, 20.0, words=words)
+    assert taken == [] and d.not_addressed == 1 and d._stood_stop_cause is None
+
+
+def test_the_stop_speaker_is_looked_for_only_after_a_stop_the_dialog_took_through_the_exception():
+    a = _tracked(partner_spoke=5.0, other_spoke=29.0)
+    a._stood_stop_at = -math.inf
+    assert not a._took_stood_stop()  # a stop taken from her own bearing (or a button): no switch
+    a._on_es_event(SimpleNamespace(xml=etree.Element("event", name="stop"), created=29.5))
+    assert not a._took_stood_stop()
+    a._on_es_event(SimpleNamespace(xml=etree.Element("event", name="stop", stood="true"), created=29.5))
+    assert a._took_stood_stop()
+    a.now = 29.5 + 5.0  # an old one does not count
+    assert not a._took_stood_stop()

@@ -424,6 +424,11 @@ class PersonAttention(Module):
         # the follower comes up to the partner after "stop" and turns the base itself meanwhile
         self._follower_drives = False
         self.bus.subscribe(FOLLOW_STATUS, self._on_follow_status)
+        # when the dialog last took a stop through its stood-stop exception (event stop, stood="true"):
+        # only such a stop makes its speaker the partner (:meth:`_stop_speaker`, review18 F2)
+        # (subscribed only while following: every other run's deliveries stay as they were)
+        self._stood_stop_at = -math.inf
+        self._events_sub: Any = None
         # The player drives the base in Object (the object attention moves to see what she points at):
         # no turning to her meanwhile. Subscribed only in Object: every delivery draws a network delay
         # from the run's generator, so a subscription held all the time would change every run.
@@ -704,7 +709,7 @@ class PersonAttention(Module):
         # message, which stands until she walks on); any other order ends it
         self._paused_at = self.now if name == "pause" else None
         self._follow_stopped = None  # (a new order: the follower's next status says where it stands)
-        if was == "Follow" and state == "Interaction" and stood:
+        if was == "Follow" and state == "Interaction" and stood and self._took_stood_stop():
             self._stop_speaker()
         if state in ("Interaction", "Follow", "Object"):
             # A partner unseen for a moment (stepped aside) stays the partner across the change.
@@ -724,6 +729,11 @@ class PersonAttention(Module):
         self._alone_since = None
         self.turned_away = False  # (leading her in Follow she walks away from it: no turning away)
         self._listen_to_player(state == "Object")
+        if state == "Follow" and self._events_sub is None:
+            self._events_sub = self.bus.subscribe(ES_EVENTS, self._on_es_event)
+        elif state != "Follow" and self._events_sub is not None:
+            self._events_sub.close()
+            self._events_sub = None
         self._publish_state(self.now, force=True)
 
     def _stop_speaker(self) -> None:
@@ -745,6 +755,17 @@ class PersonAttention(Module):
         if heard:
             self.partner = max(heard)[1]
             self._partner_last = self._partner_colour = None
+
+    def _on_es_event(self, msg: Message) -> None:
+        """The dialog's stop taken from off the partner's bearing after the robot stood by her track."""
+        if msg.xml.get("name") == "stop" and msg.xml.get("stood") == "true":
+            self._stood_stop_at = msg.created
+
+    def _took_stood_stop(self) -> bool:
+        """Whether the dialog took a stop through its stood-stop exception in the last ``STOP_VOICE`` s (its
+        event ``stop`` with ``stood="true"``): only then may the stop's speaker be someone other than the track
+        the robot stood by (a stop it took from her own bearing keeps her the partner)."""
+        return self.now - self._stood_stop_at <= STOP_VOICE
 
     def _stood(self, t: float) -> bool:
         """The follower has stood by the partner track (its status ``waiting``) at least ``STOOD_FOR`` s."""
@@ -1940,11 +1961,16 @@ class PersonAttention(Module):
         r2 = self.params.group_radius ** 2
         company = sum(1 for o in self.tracks.tracks if o.confirmed and not o.dormant and o.id != tk.id
                       and (o.x[0] - x[0]) ** 2 + (o.x[1] - x[1]) ** 2 <= r2)
+        # others: every other confirmed person it tracks (the dialog's voice-level rule takes a quieter voice
+        # from her direction as another's only when someone else is there: review18 F1). Not only those in
+        # line behind her: her own legs hide a person standing right behind her from the laser
+        # (flow/chat18_remarks_behind_partner: the guest behind her is never tracked, his companion is)
+        others = sum(1 for o in self.tracks.tracks if o.confirmed and not o.dormant and o.id != tk.id)
         self.bus.publish(PARTNER, _own_document(  # as text: see _publish_tracks
             f'<partner id="t{tk.id}" bearing="{math.degrees(bearing[row]):.3f}" distance="{dist[row]:.3f}"'
             f' x="{x[0]:.3f}" y="{x[1]:.3f}" vx="{x[2]:.3f}" vy="{x[3]:.3f}" visible="{"true" if visible else "false"}"'
             f' lost_for="{max(0.0, t - tk.last_update):.3f}" facing="{self._facing(t, tk.id, self._walks_away(t, x))}"'
-            f' company="{company}"{AWAY if self.turned_away else ""}/>'
+            f' company="{company}" others="{others}"{AWAY if self.turned_away else ""}/>'
         ), transfer=True)
 
     def _walks_away(self, t: float, x: Any) -> bool:

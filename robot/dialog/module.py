@@ -101,6 +101,7 @@ from __future__ import annotations
 
 import asyncio
 import math
+import re
 import os
 from collections import deque
 from copy import deepcopy
@@ -205,6 +206,9 @@ TURN_GAP = 0.5
 #: vary by a decibel or two about the quietest of them (the median of a turn's frames), so her words are not
 #: taken for another's
 FARTHER_DB = 4.0
+#: s: a report of someone else seen this long before the words began still counts (the laser loses a person
+#: for a moment when her legs hide his)
+OTHERS_SLACK = 3.0
 #: her recent turns whose level the rule keeps (the quietest of them is hers: a repair said louder never
 #: makes her normal voice sound like someone else's)
 HER_TURNS = 5
@@ -293,6 +297,19 @@ def options_phrase(doc: Dialogs, options: list[str]) -> str:
             words[-1] = doc.sentence("same-noun")
         out.append(" ".join(words))
     return doc.listing([doc.sentence("option", option=o) for o in out])
+
+
+#: A whole stop said to the robot (the stood-stop exception, :meth:`Dialog._stop_after_she_stood`): "stop",
+#: "stop now", "stop here", "you can stop", with "please", "ok" or its name about them; not "stop it" or
+#: "stop that", said to other people
+STOP_REQUEST = re.compile(r"(?:(?:ok|okay|please|biron)\s+)*(?:you\s+can\s+)?stop(?:\s+(?:now|here))?(?:\s+(?:please|biron|now))*")
+
+
+def _plain_words(frame: etree._Element) -> str:
+    """The words of a frame, lower case, without punctuation (for :data:`STOP_REQUEST`)."""
+    w = frame.find("words")
+    text = (w.text if w is not None else frame.text) or ""
+    return " ".join(re.sub(r"[^a-z' ]+", " ", text.lower()).split())
 
 
 def _whole(frame: etree._Element) -> bool:
@@ -459,6 +476,8 @@ class Dialog(Module):
     _faced_at = -math.inf
     #: (act, start) of the last words dropped as not addressed (the repeat rule, :data:`REPEAT_WINDOW`)
     _unanswered: tuple[str, float] | None = None
+    #: the id of the frame whose stop was taken through the stood-stop exception (:meth:`_stop_after_she_stood`)
+    _stood_stop_cause: str | None = None
     #: (time, bearing, level) of the voiced sound frames (bounded), her distance (m, when reported) and the level
     #: of her recent turns taken back to 1 m: the voice-level rule (:meth:`_farther_than_her`)
     _levels: deque[tuple[float, float, float]] | None = None
@@ -466,6 +485,8 @@ class Dialog(Module):
     _partner_dists: deque[tuple[float, float]] | None = None  # (time, her distance) of recent reports
     _her_levels: deque[float] | None = None
     _her_turns: deque[tuple[float, float]] | None = None  # (start, end) of her recent turns: overlaps left out
+    #: (time, how many other people the attention tracks besides her: the partner report's ``others``)
+    _others_cues: deque[tuple[float, int]] | None = None
 
     def __init__(
         self,
@@ -506,6 +527,7 @@ class Dialog(Module):
         self._her_levels = deque(maxlen=HER_TURNS)
         self._her_turns = deque(maxlen=HER_TURNS)
         self._partner_dists = deque(maxlen=300)
+        self._others_cues = deque(maxlen=300)
         self.not_addressed = 0
         self._addressed_at = -math.inf  # when an understood frame was last taken as meant for the robot
         self._aside_since = math.inf  # when she was last reported turning aside (the addressee rule)
@@ -591,9 +613,11 @@ class Dialog(Module):
             return self._her_voice(start, end)
         if self.manager.es_state in DRIVING_STATES:
             return self._from_her_place(start, end)
-        if not named and self._farther_than_her(start, end):
-            # a voice from her direction, much quieter than hers: someone standing behind her (a guest
-            # chatting by the bookcase behind her, tests/scenarios/flow/chat18_remarks_behind_partner.xml)
+        if not (named or repeated) and self._farther_than_her(start, end):
+            # a voice from her direction, much quieter than hers, with someone else in the room: his (a guest
+            # chatting by the bookcase behind her, tests/scenarios/flow/chat18_remarks_behind_partner.xml).
+            # With nobody else seen, it is her own softer voice (across a counter, a quieter line: review18 F1,
+            # tests/scenarios/flow/fixrev19_alone_softer.xml); words said again after no answer are hers too
             return False
         during = [(f, c) for t, f, c, _ in self._partner_cues if start <= t <= end]
         if during and any(f == "true" for f, _ in during):
@@ -686,10 +710,13 @@ class Dialog(Module):
         walk is over, and the track may be someone she walked past who stands silent there (the person
         attention listens to the other voice then, and makes the stop's speaker the partner:
         :meth:`PersonAttention._stop_speaker`). Only a stop: other words from off her bearing stay a
-        bystander's, and so does a stop said while she walks."""
+        bystander's, and so does a stop said while she walks. And only a whole stop said to the robot
+        (:data:`STOP_REQUEST`: "stop", "stop now", "you can stop"): "stop it" or "stop that" is said to
+        another person (review18 F2)."""
         return (self.manager.es_state in LEADING_STATES and x.tag == "understood" and x.find("SPEECH/STOP") is not None
                 and math.isfinite(start)
-                and ((self._follow_state == "waiting" and start - self._waiting_since >= STOOD_FOR)
+                and ((self._follow_state == "waiting" and start - self._waiting_since >= STOOD_FOR
+                      and _whole(x) and STOP_REQUEST.fullmatch(_plain_words(x)) is not None)
                      or self._stop_while_searching(start)))
 
     def _stop_while_searching(self, start: float) -> bool:
@@ -736,8 +763,17 @@ class Dialog(Module):
         level, taken back to 1 m by *her* distance, lies ``FARTHER_DB`` or more under her own voice's (the
         pair cannot tell two people a few degrees apart, but a voice from twice as far is 6 dB quieter)."""
         ref = self._her_reference()
-        level = self._her_turn_level(start, end, others=True) if ref is not None else None
-        return ref is not None and level is not None and level <= ref - FARTHER_DB
+        if ref is None or not self._someone_else(start, end):
+            return False
+        level = self._her_turn_level(start, end, others=True)
+        return level is not None and level <= ref - FARTHER_DB
+
+    def _someone_else(self, start: float, end: float) -> bool:
+        """Whether a partner report from :data:`OTHERS_SLACK` s before ``start`` to the end of the words saw
+        someone else besides her (the attention's ``others``): only then can a quieter voice from her direction
+        be another person's (review18 F1). Not only someone seen in line behind her: her own legs hide a person
+        standing right behind her from the laser."""
+        return any(n >= 1 for t, n in (self._others_cues or ()) if start - OTHERS_SLACK <= t <= end + 0.5)
 
     def _learn_her_level(self, start: float, end: float) -> None:
         """Remember the level of a turn understood and taken as hers (the voice-level rule's reference)."""
@@ -817,10 +853,14 @@ class Dialog(Module):
             repeated = last is not None and act == last[0] and 0.0 <= began - last[1] <= REPEAT_WINDOW
             if not self.addressed(began, float(x.get("end", "nan")), named=x.get("named") == "true",
                                   shows=x.tag == "understood" and x.find("SPEECH//GESTURE") is not None,
-                                  repeated=repeated, whole=_whole(x)) and not self._stop_after_she_stood(x, began):
-                self.not_addressed += 1  # chat among the partner's group: not a request to the robot
-                self._unanswered = (act, began) if math.isfinite(began) else None
-                return
+                                  repeated=repeated, whole=_whole(x)):
+                if not self._stop_after_she_stood(x, began):
+                    self.not_addressed += 1  # chat among the partner's group: not a request to the robot
+                    self._unanswered = (act, began) if math.isfinite(began) else None
+                    return
+                # taken through the stood-stop exception: its stop event says so (stood="true"), and only then
+                # does the person attention make the stop's speaker the partner (review18 F2)
+                self._stood_stop_cause = msg.id
             self._unanswered = None
             if repeated and math.isfinite(began):
                 self._addressed_at = began  # said again for the robot, even not understood: their exchange
@@ -1078,7 +1118,14 @@ class Dialog(Module):
         self._emit(self.manager.on_rejected(rej), msg.id)
 
     def _on_status(self, msg: Message) -> None:
-        gone = self.manager.on_state(msg.xml.get("state", ""))
+        state = msg.xml.get("state", "")
+        if state in UNGREETED and self.manager.es_state not in UNGREETED:
+            # the interaction is over: the voice-level rule's references were that partner's voice; the next
+            # partner's own turns make hers (a quiet earlier partner would switch the rule off: review18 F6)
+            for d in (self._her_levels, self._her_turns):
+                if d is not None:
+                    d.clear()
+        gone = self.manager.on_state(state)
         if self.manager.es_state not in ("LookingAround", "PotentialPartner"):
             self._resume_until = -math.inf  # an interaction began (or anything else): the arrival is past
         if gone and self._queue:
@@ -1153,6 +1200,8 @@ class Dialog(Module):
         if facing == "true":
             self._faced_at = msg.created
         self._partner_cues.append((msg.created, facing, int(msg.xml.get("company", "0")), span))
+        if self._others_cues is not None:
+            self._others_cues.append((msg.created, int(msg.xml.get("others", "0"))))
 
     def _facing_now(self) -> str:
         """The latest partner report's ``facing`` ("true", "false", "unknown"), if recent."""
@@ -1276,6 +1325,9 @@ class Dialog(Module):
                     self._follow_state = ""
                     self.pauses_ended += 1
                 el = etree.Element("event", name=o.event)
+                if o.event == "stop" and cause == self._stood_stop_cause:
+                    el.set("stood", "true")  # taken through the stood-stop exception (the person attention reads it)
+                    self._stood_stop_cause = None
                 if o.lifetime is not None:
                     el.set("lifetime", repr(float(o.lifetime)))
                 for c in o.children:
