@@ -54,7 +54,7 @@ def _following(searching_from: float | None, said_at: float, act: str = "STOP") 
     d._addressed_at = -math.inf
     taken: list[str] = []
     d._on_addressed = lambda msg: taken.append(msg.xml.find("SPEECH")[0].tag)
-    msg = SimpleNamespace(xml=etree.fromstring(
+    msg = SimpleNamespace(id="m1", xml=etree.fromstring(
         f'<understood start="{said_at}" end="{said_at + 0.6}" confidence="0.9"><SPEECH><{act}/></SPEECH><words>w</words></understood>'))
     d._on_frame(msg)
     return taken
