@@ -20,44 +20,16 @@ from lxml import etree
 
 from robot.attention.fsm import AttentionFSM
 from robot.attention.module import AttentionParams, PersonAttention
-from robot.dialog.loader import BIRON_DIALOGS, load
-from robot.dialog.manager import DialogManager
-from robot.dialog.module import Dialog
-
-DOC = load(BIRON_DIALOGS)
-
-
-class _Clocked(Dialog):
-    now = 0.0
+from tests.follow_dialog_probe import dialog_hearing_off_track
 
 
 def _following(searching_from: float | None, said_at: float, act: str = "STOP") -> list[str]:
     """A dialog in Following; the follower said ``following`` every 0.1 s, then ``searching`` from
     ``searching_from`` (None: never); words (``act``) begin at ``said_at`` from 60 degrees off the followed
     track, which is silent. Returns the acts taken."""
-    d = _Clocked.__new__(_Clocked)
-    d.manager = DialogManager(DOC)
-    d.manager.es_state = "Following"
-    d._follow_state, d._waiting_since, d._searching_since = "", math.inf, math.inf
-    d._approach_seen = -math.inf
-    d._release_held = lambda: None
-    for k in range(0, int(said_at * 10) + 5):
-        d.now = k / 10.0
-        state = "searching" if searching_from is not None and d.now >= searching_from else "following"
-        d._on_follow(SimpleNamespace(xml=etree.Element("follow", state=state)))
-    d.now = said_at + 1.0
-    d._partner_cues = deque([(said_at - 0.5 + 0.1 * i, "false", 0, (-2.0, 2.0)) for i in range(15)], maxlen=300)
-    d._sources = deque([(said_at + 0.1 * i, (60.0,)) for i in range(6)], maxlen=300)
-    d.barge_in_width = 9.0
-    d.not_addressed = 0
-    d._unanswered = None
-    d._addressed_at = -math.inf
-    taken: list[str] = []
-    d._on_addressed = lambda msg: taken.append(msg.xml.find("SPEECH")[0].tag)
-    msg = SimpleNamespace(id="m1", xml=etree.fromstring(
-        f'<understood start="{said_at}" end="{said_at + 0.6}" confidence="0.9"><SPEECH><{act}/></SPEECH><words>w</words></understood>'))
-    d._on_frame(msg)
-    return taken
+    states = [(k / 10.0, "searching" if searching_from is not None and k / 10.0 >= searching_from else "following")
+              for k in range(0, int(said_at * 10) + 5)]
+    return dialog_hearing_off_track(states, said_at, act, words="w")[1]
 
 
 @settings(max_examples=50, deadline=None)

@@ -20,49 +20,20 @@ from lxml import etree
 
 from robot.attention.fsm import AttentionFSM
 from robot.attention.module import AttentionParams, PersonAttention
-from robot.dialog.loader import BIRON_DIALOGS, load
-from robot.dialog.manager import DialogManager
 from robot.dialog.module import Dialog
 from robot.partner_search import STOOD_FOR
 
-DOC = load(BIRON_DIALOGS)
+from tests.follow_dialog_probe import dialog_hearing_off_track
 
 
 # ------------------------------------------------------------------ the dialog: a stop from off her bearing
-class _Clocked(Dialog):
-    now = 0.0  # the rule only: a plain clock instead of the simulation's
-
-
 def _following(waiting_from: float | None, said_at: float, act: str = "STOP", words: str = "stop now") -> tuple[Dialog, list[str]]:
     """A dialog in Following; the follower said ``waiting`` every 0.1 s from ``waiting_from`` (None: it
     follows); words (``act``) begin at ``said_at`` from 60 degrees off the followed track, which is silent."""
-    d = _Clocked.__new__(_Clocked)
-    d.manager = DialogManager(DOC)
-    d.manager.es_state = "Following"
-    d._follow_state, d._waiting_since = "", math.inf
-    d._approach_seen = -math.inf
-    d._release_held = lambda: None
-    d.now = 0.0
     states = [(t / 10.0, "following") for t in range(0, int(said_at * 10))]
     if waiting_from is not None:
         states = [(t, "waiting" if t >= waiting_from else s) for t, s in states]
-    for t, state in states:
-        d.now = t
-        d._on_follow(SimpleNamespace(xml=etree.Element("follow", state=state)))
-    d.now = said_at + 1.0
-    # the followed track straight ahead (its heard span +-2 deg), the voice 60 deg to the left
-    d._partner_cues = deque([(said_at - 0.5 + 0.1 * i, "false", 0, (-2.0, 2.0)) for i in range(15)], maxlen=300)
-    d._sources = deque([(said_at + 0.1 * i, (60.0,)) for i in range(6)], maxlen=300)
-    d.barge_in_width = 9.0
-    d.not_addressed = 0
-    d._unanswered = None
-    d._addressed_at = -math.inf
-    taken: list[str] = []
-    d._on_addressed = lambda msg: taken.append(msg.xml.find("SPEECH")[0].tag)
-    msg = SimpleNamespace(id="m1", xml=etree.fromstring(
-        f'<understood start="{said_at}" end="{said_at + 0.6}" confidence="0.9"><SPEECH><{act}/></SPEECH><words>{words}</words></understood>'))
-    d._on_frame(msg)
-    return d, taken
+    return dialog_hearing_off_track(states, said_at, act, words)
 
 
 @settings(max_examples=60, deadline=None)
