@@ -321,6 +321,9 @@ class PersonAttention(Module):
     _sounds: tuple[float, list[float]] | None = None
     #: the cue matching's tolerances (given to __init__; the defaults here for the same unit tests)
     cues: CueSpec = CueSpec()
+    #: the ES events' subscription while following (the stood-stop's partner switch; set in __init__, here for
+    #: the unit tests without a bus)
+    _events_sub: Any = None
 
     def __init__(
         self,
