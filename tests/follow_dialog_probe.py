@@ -10,6 +10,8 @@ from types import SimpleNamespace
 
 from lxml import etree
 
+from robot.attention.fsm import AttentionFSM
+from robot.attention.module import AttentionParams, PersonAttention
 from robot.dialog.loader import BIRON_DIALOGS, load
 from robot.dialog.manager import DialogManager
 from robot.dialog.module import Dialog
@@ -48,3 +50,26 @@ def dialog_hearing_off_track(states: list[tuple[float, str]], said_at: float, ac
         f'<words>{words}</words></understood>'))
     d._on_frame(msg)
     return d, taken
+
+
+class _Attention(PersonAttention):
+    now = 0.0
+
+
+def attention_following(waiting_since: float | None = None, searching_since: float | None = None) -> PersonAttention:
+    """A person attention following partner 1 (built without a bus, a plain clock): the follower said ``waiting``
+    since ``waiting_since`` and ``searching`` since ``searching_since`` (None: not)."""
+    a = _Attention.__new__(_Attention)
+    a.params = AttentionParams()
+    a.fsm = AttentionFSM()
+    a.fsm.order("interact")
+    a.fsm.order("follow")
+    a._voice_turn = None
+    a._dominant = None
+    a._voices = None
+    a.partner = 1
+    a.partner_lost_sent = False
+    a._caller = None
+    a._follow_waiting = waiting_since
+    a._follow_searching = searching_since
+    return a

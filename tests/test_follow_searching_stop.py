@@ -20,7 +20,7 @@ from lxml import etree
 
 from robot.attention.fsm import AttentionFSM
 from robot.attention.module import AttentionParams, PersonAttention
-from tests.follow_dialog_probe import dialog_hearing_off_track
+from tests.follow_dialog_probe import attention_following, dialog_hearing_off_track
 
 
 def _following(searching_from: float | None, said_at: float, act: str = "STOP") -> list[str]:
@@ -49,36 +49,17 @@ def test_other_words_from_off_the_track_are_not_taken_while_it_searches():
     assert _following(10.0, 15.0, act="GOODBYE") == []
 
 
-class _Attention(PersonAttention):
-    now = 0.0
-
-
-def _attention(searching_since: float | None) -> _Attention:
-    a = _Attention.__new__(_Attention)
-    a.params = AttentionParams()
-    a.fsm = AttentionFSM()
-    a.fsm.order("interact")
-    a.fsm.order("follow")
-    a._voice_turn = None
-    a._dominant = None
-    a._voices = None
-    a.partner = 1
-    a.partner_lost_sent = False
-    a._caller = None
-    a._follow_waiting = None
-    a._follow_searching = searching_since
-    return a
 
 
 @settings(max_examples=60, deadline=None)
 @given(st.floats(-1.4, 1.4), st.floats(-1.4, 1.4))
 def test_searching_the_beam_listens_to_a_voice_nobody_seen_explains(voice, guess):
     t = 40.0
-    a = _attention(searching_since=35.0)
+    a = attention_following(searching_since=35.0)
     a._dominant = (t - 0.1, voice)
     assert a.beam(t, guess, 2) == voice
     # and to a voice off the followed track while that track is silent (she is the person seen speaking)
-    b = _attention(searching_since=35.0)
+    b = attention_following(searching_since=35.0)
     b._voices = (t, False, True, voice)
     assert b.beam(t, guess, 2) == voice
 
@@ -87,8 +68,8 @@ def test_searching_the_beam_listens_to_a_voice_nobody_seen_explains(voice, guess
 @given(st.floats(-1.4, 1.4), st.floats(-1.4, 1.4))
 def test_following_her_in_sight_the_beam_stays_off_other_voices(voice, her):
     t = 40.0
-    a = _attention(searching_since=None)
+    a = attention_following(searching_since=None)
     a._voices = (t, False, True, voice)
     assert a.beam(t, her, 2) is None  # a bystander talks while she walks: not for the robot
-    quiet = _attention(searching_since=35.0)  # searching, nobody speaks: the beam stays on the guess
+    quiet = attention_following(searching_since=35.0)  # searching, nobody speaks: the beam stays on the guess
     assert quiet.beam(t, her, 2) == her

@@ -23,7 +23,7 @@ from robot.attention.module import AttentionParams, PersonAttention
 from robot.dialog.module import Dialog
 from robot.partner_search import STOOD_FOR
 
-from tests.follow_dialog_probe import dialog_hearing_off_track
+from tests.follow_dialog_probe import attention_following, dialog_hearing_off_track
 
 
 # ------------------------------------------------------------------ the dialog: a stop from off her bearing
@@ -61,29 +61,12 @@ def test_other_words_from_off_the_followed_track_are_not_taken_even_when_it_stoo
 
 
 # ------------------------------------------------------------------ the attention: where the beam listens
-class _Attention(PersonAttention):
-    now = 0.0
-
-
-def _attention(waiting_since: float | None) -> _Attention:
-    a = _Attention.__new__(_Attention)
-    a.params = AttentionParams()
-    a.fsm = AttentionFSM()
-    a.fsm.order("interact")
-    a.fsm.order("follow")
-    a._voice_turn = None
-    a._dominant = None
-    a.partner = 1
-    a.partner_lost_sent = False
-    a._caller = None
-    a._follow_waiting = waiting_since
-    return a
 
 
 @settings(max_examples=60, deadline=None)
 @given(st.floats(-1.4, 1.4), st.floats(0.0, 10.0))
 def test_the_beam_listens_to_another_voice_when_the_followed_track_stood_silent(voice, after):
-    a = _attention(waiting_since=30.0)
+    a = attention_following(waiting_since=30.0)
     t = 30.0 + STOOD_FOR + after
     a._voices = (t, False, True, voice)  # the followed track silent, someone else talks
     assert a.beam(t, 0.0, 2) == voice
@@ -93,20 +76,20 @@ def test_the_beam_listens_to_another_voice_when_the_followed_track_stood_silent(
 @given(st.floats(-1.4, 1.4), st.floats(0.0, STOOD_FOR - 0.01))
 def test_the_beam_stays_off_a_bystander_while_she_walks_or_just_stopped(voice, stood):
     t = 40.0
-    walking = _attention(waiting_since=None)
+    walking = attention_following(waiting_since=None)
     walking._voices = (t, False, True, voice)
     assert walking.beam(t, 0.0, 2) is None
-    just = _attention(waiting_since=t - stood)
+    just = attention_following(waiting_since=t - stood)
     just._voices = (t, False, True, voice)
     assert just.beam(t, 0.0, 2) is None
     # and when she talks herself the beam is on her, stood or not
-    both = _attention(waiting_since=t - 10.0)
+    both = attention_following(waiting_since=t - 10.0)
     both._voices = (t, True, True, voice)
     assert both.beam(t, 0.25, 2) == 0.25
 
 
-def _tracked(partner_spoke: float, other_spoke: float) -> _Attention:
-    a = _attention(waiting_since=20.0)
+def _tracked(partner_spoke: float, other_spoke: float) -> PersonAttention:
+    a = attention_following(waiting_since=20.0)
     tracks = [SimpleNamespace(id=1, confirmed=True, dormant=False), SimpleNamespace(id=4, confirmed=True, dormant=False)]
     a.tracks = SimpleNamespace(tracks=tracks, row=lambda i: next((k for k, tk in enumerate(tracks) if tk.id == i), -1))
     spoke = {1: partner_spoke, 4: other_spoke}
