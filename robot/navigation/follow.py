@@ -800,9 +800,11 @@ class Follower(Module):
                 limits = replace(limits, max_speed=blind)
                 v_pref = min(v_pref, blind)
             # and never faster than it can stop from before anyone walking into its way (the partner too;
-            # time to contact from the tracks' velocities: robot.footprint.contact_speed_limit)
+            # time to contact from the tracks' velocities: robot.footprint.contact_speed_limit), on any turn rate
+            # the base reaches in one step (the window may turn toward someone the present arc passes: review18 F4)
             contact = contact_speed_limit(in_the_way(self.people, self.odom, self.now, echoes=self.scan.points()),
-                                          limits.max_speed, decel=self.limits.max_accel, w=self.w)
+                                          limits.max_speed, decel=self.limits.max_accel, w=self.w,
+                                          dw=self.limits.max_turn_accel * self.period)
             if contact < limits.max_speed:
                 limits = replace(limits, max_speed=contact)
                 v_pref = min(v_pref, contact)

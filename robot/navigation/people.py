@@ -50,6 +50,15 @@ WALK = 1.0
 TENTATIVE_VAR = 0.05
 
 
+#: m/s: a confirmed track this fast walks (for :meth:`People.stopped`: the velocity it may walk on at)
+RESUME_WALK = 0.5
+#: m/s: a track this much slower than its fastest walk of the last :data:`RESUME_FOR` s stopped or is slowing, or is
+#: setting off again (the tracker's velocity lags a restart by a few scans)
+RESUME_SLOWER = 0.3
+#: s: someone who stopped dead is reckoned with as walking on, as they walked, this long after they last walked
+RESUME_FOR = 2.0
+
+
 class People:
     """The latest ``/robot/attention/tracks`` payload, read only when a control step asks."""
 
@@ -58,22 +67,30 @@ class People:
         self._confirmed: dict[str, tuple[float, float, float]] = {}  # id -> last odom position and speed
         self.ghosts: dict[str, tuple[float, float, float]] = {}  # lost confirmed tracks: id -> (x, y, lost at)
         self.lost: dict[str, tuple[float, float, float]] = {}  # every vanished confirmed track: id -> (x, y, lost at)
+        self.walked: dict[str, tuple[float, float, float]] = {}  # present confirmed tracks: id -> (vx, vy, when) last walking
 
     def update(self, xml: Any) -> None:
         """Keep the latest tracks payload (the receiver's own copy); remember tracks that vanished."""
         self.xml = xml
         now = {}
-        for t in xml.iterfind("track"):
-            if t.get("confirmed") == "true":
-                try:
-                    now[str(t.get("id"))] = (float(t.get("x")), float(t.get("y")),
-                                             math.hypot(float(t.get("vx", "0")), float(t.get("vy", "0"))))
-                except (TypeError, ValueError):
-                    continue
         try:
             t0 = float(xml.get("time", "0"))
         except ValueError:
             t0 = 0.0
+        walked = {}
+        for t in xml.iterfind("track"):
+            if t.get("confirmed") == "true":
+                try:
+                    tid, vx, vy = str(t.get("id")), float(t.get("vx", "0")), float(t.get("vy", "0"))
+                    now[tid] = (float(t.get("x")), float(t.get("y")), math.hypot(vx, vy))
+                except (TypeError, ValueError):
+                    continue
+                last = self.walked.get(tid)
+                if last is not None and t0 - last[2] <= RESUME_FOR and math.hypot(last[0], last[1]) > math.hypot(vx, vy):
+                    walked[tid] = last  # their fastest walk of the last RESUME_FOR s
+                elif math.hypot(vx, vy) >= RESUME_WALK:
+                    walked[tid] = (vx, vy, t0)
+        self.walked = walked  # (only tracks present now: bounded)
         for tid, (x, y, speed) in self._confirmed.items():
             if tid not in now:
                 self.lost[tid] = (x, y, t0)
@@ -91,6 +108,36 @@ class People:
         self._confirmed = {}
         self.ghosts = {}
         self.lost = {}
+        self.walked = {}
+
+    def stopped(self, odom: tuple[float, float, float], now: float, *, reach: float = REACH) -> np.ndarray:
+        """(K, 4) robot-frame centres (predicted to ``now``) of the confirmed tracks within ``reach`` m that are
+        :data:`RESUME_SLOWER` m/s slower now than their fastest walk (:data:`RESUME_WALK` or faster) of the last
+        :data:`RESUME_FOR` s, each with the velocity of that walk: someone who stopped dead may walk on as they walked (a child running across stops for a moment in
+        front of the robot and runs on, cross_child_stops_twins seed 4: met at 0.01 m of air by a robot at full speed,
+        who reckoned her standing), and as they set off again the tracker's velocity lags theirs (the same child: 0.5
+        m/s reported three scans into her 2 m/s run). The tracks' own rows stay: the limit is the least over both."""
+        xml = self.xml
+        if xml is None or not self.walked:
+            return np.zeros((0, 4))
+        age = self._age(xml, now)
+        ox, oy, oth = odom
+        c, s = math.cos(oth), math.sin(oth)
+        out = []
+        for t in xml.iterfind("track"):
+            tid = str(t.get("id"))
+            if t.get("confirmed") != "true" or tid not in self.walked:
+                continue
+            try:
+                vx, vy = float(t.get("vx", "0")), float(t.get("vy", "0"))
+                x, y = float(t.get("x")) + vx * age, float(t.get("y")) + vy * age
+            except (TypeError, ValueError):
+                continue
+            wx, wy, _ = self.walked[tid]
+            dx, dy = x - ox, y - oy
+            if math.hypot(vx, vy) < math.hypot(wx, wy) - RESUME_SLOWER and math.hypot(dx, dy) <= reach:
+                out.append((c * dx + s * dy, -s * dx + c * dy, c * wx + s * wy, -s * wx + c * wy))
+        return np.array(out) if out else np.zeros((0, 4))
 
     def emerging(self, odom: tuple[float, float, float], now: float, *, moving: float,
                  reach: float) -> np.ndarray:
@@ -217,12 +264,12 @@ def in_the_way(people: People, odom: tuple[float, float, float], now: float, *, 
     (:func:`robot.footprint.contact_speed_limit`) reckons with: every confirmed track, the partner's too
     (she may turn back into its way), those lost standing where the laser still has an echo (``echoes``),
     and the tentative tracks that walk, freshly measured (:meth:`People.emerging`: a child running out of
-    a side door is a few scans old when he is in the robot's lane)."""
-    seen = people.around(odom, now, echoes=echoes, velocity=True)
-    new = people.emerging(odom, now, moving=EMERGING_WALK, reach=REACH)
-    if not len(new):
-        return seen
-    return np.concatenate((seen, new)) if len(seen) else new
+    a side door is a few scans old when he is in the robot's lane); and, once more, those who stopped dead
+    a moment ago, walking on as they walked (:meth:`People.stopped`: the limit is the least over both)."""
+    rows = [a for a in (people.around(odom, now, echoes=echoes, velocity=True),
+                        people.emerging(odom, now, moving=EMERGING_WALK, reach=REACH), people.stopped(odom, now))
+            if len(a)]
+    return np.concatenate(rows) if rows else np.zeros((0, 4))
 
 
 def closing_in(people: np.ndarray, *, near: float, speed: float) -> bool:

@@ -630,9 +630,11 @@ class Player(Module):
         blind = blind_speed_limit(self._blind_corners(mapped), cap, decel=self.limits.max_accel)
         squeezable = cap > SQUEEZE_SPEED  # (not facing a first leg: below)
         cap_hard = min(cap, max(blind, SOCIAL_SPEED))
-        # never faster than it can stop from before anyone walking into its way (robot.footprint.contact_speed_limit)
+        # never faster than it can stop from before anyone walking into its way (robot.footprint.contact_speed_limit),
+        # on any turn rate the base reaches in one step (the window may turn toward someone: review18 F4)
         contact = (contact_speed_limit(in_the_way(self.people, odo, self.now, echoes=echoes), cap_hard,
-                                       decel=self.limits.max_accel, w=self.odo.w) if odo is not None else cap_hard)
+                                       decel=self.limits.max_accel, w=self.odo.w,
+                                       dw=self.limits.max_turn_accel * self.period) if odo is not None else cap_hard)
         cap_hard = min(cap_hard, contact)
         # standing for someone walking into its way is a yield, not a blocked way (below)
         for_walker = odo is not None and contact <= STAND_FOR
