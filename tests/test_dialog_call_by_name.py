@@ -91,3 +91,16 @@ def test_during_an_interaction_a_bare_name_is_no_second_greeting(robot):
     robot.sim.run(until=13.0)
     assert HELLO not in robot.sentences()
     assert robot.es.state == "Interacting"
+
+
+def test_a_man_who_calls_its_name_from_behind_is_greeted_once_it_faces_him():
+    """tests/scenarios/flow/sub20_call_from_behind_kitchen.xml (another flat, another user, the call said on
+    purpose): "BIRON?" from 1.4 m behind it gets "Hello, I am BIRON" once the robot has turned to him."""
+    from pathlib import Path
+
+    from homesim.tour.runner import RunOptions, run_file
+
+    scene = Path(__file__).resolve().parent / "scenarios" / "flow" / "sub20_call_from_behind_kitchen.xml"
+    s = run_file(scene, RunOptions(seed=0))
+    failed = [f"{e['name']}: {e['detail']}" for e in s["expectations"] if not e["passed"]]
+    assert not failed, failed
