@@ -83,6 +83,20 @@ def test_a_call_is_answered_only_if_she_is_found_within_the_wait(late):
         robot.sim.close()
 
 
+def test_a_call_answering_did_you_say_hello_to_me_is_the_yes(robot):
+    # sub20_radio_says_the_name seed 4: "hello a" (0.39) -> "Did you say hello to me?"; her "Hello BIRON" again
+    # heard as "is biron" got "Sorry, I did not understand you. Did you say hello to me?" (asked a second time)
+    robot.partner(0.5)
+    robot.utter("hello a", 1.0, 1.8, confidence=0.39)
+    robot.sim.run(until=4.0)
+    assert robot.sentences() == ["Did you say hello to me?"]
+    robot.partner(5.0)
+    robot.utter("is biron", 5.5, 6.2, confidence=0.65)
+    robot.sim.run(until=9.0)
+    assert robot.sentences() == [HELLO]
+    assert robot.es.state == "Interacting"
+
+
 def test_during_an_interaction_a_bare_name_is_no_second_greeting(robot):
     robot.greet()
     robot.sim.run(until=4.0)

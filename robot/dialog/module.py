@@ -1019,11 +1019,14 @@ class Dialog(Module):
         greet_from_behind seeds 1, 8: "Hello BIRON" from behind heard as "biron" while the base turned to
         her voice; no answer, and her greeting said again came 7 s later). It is her greeting: answered at
         once when a potential partner is reported, else held until one is (``person_info``) within
-        :data:`CALL_WAIT` s, then dropped unanswered. Returns whether the frame was such a call."""
+        :data:`CALL_WAIT` s, then dropped unanswered. Said to "Did you say hello to me?" (the greeting's own
+        confirmation, "hello a" heard before), it is her greeting said again: the yes (sub20_radio_says_the_name
+        seed 4: "Hello BIRON" heard "is biron" got "Sorry, I did not understand you. Did you say hello to me?").
+        Not while another sub-dialog waits on her. Returns whether the frame was such a call."""
         x = msg.xml
         if not (x.tag == "not_understood" and x.get("call") == "true" and self.manager.es_state in UNGREETED
-                and self.manager.open_question() is None and not any(not i.done for i in self.manager.stack)):
-            return False
+                and not any(not i.done and i.d.id != "greeting" for i in self.manager.stack)):
+            return False  # (open: nothing, or the greeting's own "Did you say hello to me?", which the call answers)
         self._call = (msg, self.now + CALL_WAIT)
         if self.manager.es_state == "PotentialPartner":
             self._answer_call()
