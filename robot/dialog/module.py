@@ -180,6 +180,12 @@ AFTER_GREETING_WAIT = 15.0
 #: facing the robot), so a radio's words still start nothing; nobody seen, it expires: "I can't see you.
 #: Please look at me." (:meth:`Dialog._resume_after_arrival`)
 ARRIVAL_RESUME = 60.0
+#: s: a call by name alone before an interaction ("biron", "that biron": the speech module's ``call="true"``,
+#: the rest of "Hello BIRON" lost as the robot turns toward her voice) waits this long after it was heard for
+#: someone speaking facing the robot (the supervisor's ``person_info``) and is then answered as her greeting
+#: (:meth:`Dialog._take_call`); nobody seen by then, it is dropped without a word (a radio's "BIRON" starts
+#: nothing). About the time the base needs to turn round to a voice behind it and find her face
+CALL_WAIT = 8.0
 #: acts that are no request of their own (answers, a greeting) and never resume the tour after an arrival
 NOT_RESUMING = frozenset({"GREETING", "YES", "NO", "THAT_ONE"})
 #: s: a good-bye said while the robot looks at what she showed waits this long at most for the look to end
@@ -568,6 +574,8 @@ class Dialog(Module):
         # until when a request after an arrival resumes the tour with an implicit greeting (ARRIVAL_RESUME)
         self._resume_until = -math.inf
         self._goodbye_held: Message | None = None  # a good-bye said during ObjectTeaching (see GOODBYE_AFTER_LOOK)
+        # a call by name alone before an interaction and until when it waits for a potential partner (CALL_WAIT)
+        self._call: tuple[Message, float] | None = None
         self._asking: list[tuple[int, str]] | None = None  # the open clarification's options (see _unanswerable)
         self._asking_inst: Instance | None = None  # ... and its clarify sub-dialog (see _mark_unchosen)
         self._clarify_asked: dict[str, int] | None = None  # the last clarify sub-dialog's askings (see _clarify)
@@ -904,6 +912,8 @@ class Dialog(Module):
             heard.text = x.findtext("words") or ""
             self._emit(self.manager.on_frame(heard), msg.id)
             return
+        if self._take_call(msg):
+            return
         if self.manager.es_state == "ObjectTeaching" and x.find("SPEECH/GOODBYE") is not None:
             # "thanks, bye" while the robot still looks at what she showed (fresh4 loft_teach_walking_past: the
             # good-bye ended the look and the kettle was never stored): the look ends first, then the good-bye
@@ -1003,6 +1013,41 @@ class Dialog(Module):
         self._emit(self.manager.on_frame(greet), msg.id)
         return True
 
+    def _take_call(self, msg: Message) -> bool:
+        """A call by name alone (``call="true"``: "biron", "that biron") before anyone greeted the robot, no
+        question of its own open: someone wants its attention and the rest of her greeting was lost (turn/
+        greet_from_behind seeds 1, 8: "Hello BIRON" from behind heard as "biron" while the base turned to
+        her voice; no answer, and her greeting said again came 7 s later). It is her greeting: answered at
+        once when a potential partner is reported, else held until one is (``person_info``) within
+        :data:`CALL_WAIT` s, then dropped unanswered. Said to "Did you say hello to me?" (the greeting's own
+        confirmation, "hello a" heard before), it is her greeting said again: the yes (sub20_radio_says_the_name
+        seed 4: "Hello BIRON" heard "is biron" got "Sorry, I did not understand you. Did you say hello to me?").
+        Not while another sub-dialog waits on her. Returns whether the frame was such a call."""
+        x = msg.xml
+        if not (x.tag == "not_understood" and x.get("call") == "true" and self.manager.es_state in UNGREETED
+                and not any(not i.done and i.d.id != "greeting" for i in self.manager.stack)):
+            return False  # (open: nothing, or the greeting's own "Did you say hello to me?", which the call answers)
+        self._call = (msg, self.now + CALL_WAIT)
+        if self.manager.es_state == "PotentialPartner":
+            self._answer_call()
+        return True
+
+    def _answer_call(self) -> None:
+        """Send the held call by name as her greeting (``<GREETING name="biron"/>`` with the call's time), if it
+        is still waiting and nobody has greeted meanwhile."""
+        held, self._call = self._call, None
+        if held is None or self.now > held[1] or self.manager.es_state not in UNGREETED:
+            return
+        x = held[0].xml
+        greet = etree.Element("understood", start=x.get("start", "0"), end=x.get("end", "0"), confidence="1",
+                              named="true")
+        gs = etree.SubElement(greet, "SPEECH")
+        began = float(x.get("start", "nan"))
+        if math.isfinite(began):
+            etree.SubElement(gs, "TIMESTAMP", val=str(round(began * 1000.0)))
+        etree.SubElement(gs, "GREETING", name="biron")
+        self._emit(self.manager.on_frame(greet), held[0].id)
+
     def _greeting_taken(self) -> None:
         """The supervisor took the greeting (partner found): the request said with it is handled now."""
         held, self._after_greeting = self._after_greeting, None
@@ -1049,6 +1094,8 @@ class Dialog(Module):
             return
         if msg.xml.get("name") == "person_info":  # someone speaks facing the robot (potential partner)
             self._person_at = msg.created
+            if self._call is not None:
+                self._answer_call()  # her call by name, heard before the robot had turned to her
         if msg.xml.get("name") == "arrived":  # a go-to ended: her next request resumes the tour
             self._resume_until = self.now + ARRIVAL_RESUME
         if msg.xml.get("name") == "step_aside":  # the object attention cannot see past the partner
@@ -1125,6 +1172,8 @@ class Dialog(Module):
             for d in (self._her_levels, self._her_turns):
                 if d is not None:
                     d.clear()
+        if state not in UNGREETED:
+            self._call = None  # greeted (or anything else began): a call held for a potential partner is past
         gone = self.manager.on_state(state)
         if self.manager.es_state not in ("LookingAround", "PotentialPartner"):
             self._resume_until = -math.inf  # an interaction began (or anything else): the arrival is past

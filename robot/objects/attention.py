@@ -94,7 +94,8 @@ GLIMPSE = 2  # detections as the thing named: fewer in a look and it is not take
 POSE_WAIT = 0.3  # s: a percept waits this long for the localised pose of its capture time
 PARTNER_FAR = 2.6  # m: a partner farther away is approached when neither her gesture nor what she shows was seen
 MOVE_TIMEOUT = 20.0  # s: a drive to a better viewpoint that has not arrived by then is given up
-MOVE_BLOCKED = 4.0  # s: ... and one the player reports blocked this long
+MOVE_BLOCKED = 4.0  # s: ... and one the player reports blocked this long, the robot standing all that time
+MOVE_STILL = 0.05  # m: ... standing: its localised position moved less than this (a turn on the spot is standing)
 TABLE_HEIGHT = 0.8  # m: the height the person attention tilts to without a focus height
 HEIGHT_OFF = 0.3  # m: a region this far above or below it is sent with its height (the floor; not a table top, where the
 # default view is the one measured: mugs_in_a_row seed 8 placed a mug 0.15 m off with the sideboard's own 0.9 m)
@@ -784,7 +785,10 @@ class ObjectAttention(Module):
         the ``POSE``; the ES orders the player ``move_to``): a waypoint on the way round a corner
         (``last`` False: no turn on the spot there), or the viewpoint itself, turned towards the
         target. ``reached`` or ``stopped`` as the player reports it; ``failed`` when it has not
-        arrived within ``MOVE_TIMEOUT`` s or has been blocked for ``MOVE_BLOCKED`` s."""
+        arrived within ``MOVE_TIMEOUT`` s or has been blocked for ``MOVE_BLOCKED`` s standing (moved less than
+        ``MOVE_STILL`` m: the player's own way out, a back-off and on again, is no blockage; view_round_corner
+        seed 8: blocked at a bookcase's end, it stood 1 s, backed off 3 s and had just driven on when the look
+        gave the leg up, 4 s after "blocked")."""
         ev = etree.Element("event", name="view_blocked")
         etree.SubElement(ev, "POSE", x=f"{goal[0]:.3f}", y=f"{goal[1]:.3f}", theta=f"{goal[2]:.4f}", frame="map",
                          tolerance=f"{ARRIVE_TOLERANCE:g}", align="true" if last else "false")
@@ -792,6 +796,7 @@ class ObjectAttention(Module):
         self._player = None
         self.bus.publish(ES_EVENTS, ev, causes=(cause,))
         blocked_since: float | None = None
+        still_at: tuple[float, float, float] | None = None  # where it stood when the blockage (re)started
         while self.now - sent < MOVE_TIMEOUT:
             await asyncio.sleep(0.2)
             st = self._player
@@ -800,7 +805,11 @@ class ObjectAttention(Module):
             if st[0] in ("reached", "stopped"):
                 return st[0]
             if st[0] == "blocked":
-                blocked_since = st[1] if blocked_since is None else blocked_since
+                if blocked_since is None:
+                    blocked_since, still_at = st[1], self.pose
+                elif (still_at is not None and self.pose is not None
+                      and math.hypot(self.pose[0] - still_at[0], self.pose[1] - still_at[1]) >= MOVE_STILL):
+                    blocked_since, still_at = self.now, self.pose  # it moves (its own way out): not blocked standing
                 if self.now - blocked_since >= MOVE_BLOCKED:
                     return "failed"
             else:

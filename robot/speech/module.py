@@ -7,7 +7,8 @@ and its ``self="true"`` utterances are skipped).
 Output: ``/robot/speech/frames`` (``robot/schemas/speech-frames.xsd``):
 ``<understood start end confidence [unknown ignored corrected partial answer fragment named opens after]><SPEECH><TIMESTAMP val/>..</SPEECH><words>..</words></understood>``
 (``TIMESTAMP``: the utterance's start in virtual milliseconds, as the papers' frames carry it)
-or ``<not_understood start end confidence [unknown] reason>words</not_understood>``.
+or ``<not_understood start end confidence [unknown] reason [named] [call] [addressee]>words</not_understood>``
+(``call="true"``: the robot's name and at most one word more, :func:`only_calls_robot`).
 A greeting that opens a request ("hello BIRON, follow me") is two frames: the greeting
 (``opens="true"``), then the request (``after="greeting"``), which the dialog handles once the
 greeting has been taken.
@@ -85,9 +86,21 @@ def calls_robot(words: str, lexicon: Lexicon) -> bool:
     return any(lexicon.entries.get((w,), ("", ""))[0] == "ROBOTNAME" for w in lexicon.words(words))
 
 
-def frame_message(u: Understanding, start: float, end: float, confidence: float, named: bool = False) -> etree._Element:
+def only_calls_robot(words: str, lexicon: Lexicon) -> bool:
+    """Whether ``words`` are the robot's name and at most one word more ("biron", "that biron", "hey
+    byron"): a call for its attention, the rest of what was said lost ("Hello BIRON" heard while the robot
+    turns toward her voice). The dialog answers such a call before an interaction as a greeting, once
+    someone speaking is seen facing it (docs/semantics.md, the call by name)."""
+    said = lexicon.words(words)
+    names = sum(lexicon.entries.get((w,), ("", ""))[0] == "ROBOTNAME" for w in said)
+    return names > 0 and len(said) - names <= 1
+
+
+def frame_message(u: Understanding, start: float, end: float, confidence: float, named: bool = False,
+                  call: bool = False) -> etree._Element:
     """The frames-channel element for one understanding; ``named``: the words call the robot by its
-    name (:func:`calls_robot`), said as ``named="true"``."""
+    name (:func:`calls_robot`), said as ``named="true"``; ``call``: they say nothing else the robot
+    could use (:func:`only_calls_robot`), said on a ``not_understood`` as ``call="true"``."""
     if u.frame is None:
         el = etree.Element("not_understood", start=f"{start:.6f}", end=f"{end:.6f}", confidence=f"{confidence:.3f}",
                            reason=u.reason)
@@ -95,6 +108,8 @@ def frame_message(u: Understanding, start: float, end: float, confidence: float,
             el.set("unknown", _xml_safe(" ".join(u.unknown)))
         if named:
             el.set("named", "true")
+        if named and call and not u.aside:
+            el.set("call", "true")
         if u.aside:
             el.set("addressee", "other")  # said to someone else: no request, and no "say that again"
         el.text = _xml_safe(u.words)
@@ -258,7 +273,8 @@ class SpeechUnderstanding(Module):
         rest = self.understander.understand(" ".join(u.rest)) if u.rest else None
         if rest is not None and rest.frame is None:
             rest = None
-        greeting = frame_message(u, start, end, confidence, named)
+        call = named and u.frame is None and only_calls_robot(words, self.understander.lexicon)
+        greeting = frame_message(u, start, end, confidence, named, call)
         if rest is not None:
             greeting.set("opens", "true")
         self.bus.publish(FRAMES, greeting, causes=(cause,), transfer=True)

@@ -1,0 +1,120 @@
+"""A call by name alone before an interaction is her greeting, answered once someone faces the robot.
+
+turn/greet_from_behind seeds 1, 8 (library): Ines says "Hello BIRON" from behind; while the base turns
+toward her voice the recogniser hears only "biron" (or "that biron"): not understood, no answer, and her
+greeting said again 7 s later came after the scene's 14 s. Someone who calls the robot by its name wants its
+attention: the speech module marks such words ``call="true"`` (the name and at most one word more), and
+the dialog answers the call as her greeting once a potential partner is reported (at once when one is,
+else within ``CALL_WAIT`` s); nobody seen by then (a radio), it says nothing (docs/semantics.md, the call
+by name).
+"""
+
+from __future__ import annotations
+
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from robot.dialog.module import CALL_WAIT
+from robot.speech.module import calls_robot, frame_message, only_calls_robot, shared_understander
+from tests.test_dialog_bus import Robot
+
+HELLO = "Hello, I am BIRON. What can I do for you?"
+
+
+@pytest.fixture
+def robot():
+    r = Robot()
+    yield r
+    r.sim.close()
+
+
+@pytest.mark.parametrize("words, call", [
+    ("biron", True), ("that biron", True), ("byron", True), ("hey biron", True), ("biron um", True),
+    ("and biron it this the in", False), ("biron go to the kitchen", False), ("the kitchen", False),
+    ("that is the", False)])
+def test_the_frame_says_when_the_words_are_a_call_by_name_alone(words, call):
+    understander = shared_understander()
+    lex = understander.lexicon
+    u = understander.understand(words)
+    el = frame_message(u, 1.0, 2.0, 0.6, calls_robot(words, lex), only_calls_robot(words, lex))
+    assert (el.get("call") == "true") == (call and u.frame is None)
+
+
+def test_a_bare_name_heard_while_turning_is_answered_when_she_is_found(robot):
+    robot.utter("biron", 4.7, 6.0, confidence=0.61)  # "Hello BIRON" from behind, heard as the name only
+    robot.partner(7.9)  # the base has turned: someone speaking faces the robot
+    robot.sim.run(until=7.8)
+    assert robot.sentences() == []  # nobody seen yet: no answer into the room
+    robot.sim.run(until=10.0)
+    assert robot.sentences() == [HELLO]
+    assert robot.es.state == "Interacting"
+
+
+def test_a_bare_name_with_someone_facing_the_robot_is_answered_at_once(robot):
+    robot.partner(0.5)
+    robot.utter("that biron", 1.0, 1.8, confidence=0.7)
+    robot.sim.run(until=4.0)
+    assert robot.sentences() == [HELLO]  # not "Sorry, I did not understand you"
+    assert robot.es.state == "Interacting"
+
+
+def test_a_bare_name_with_nobody_there_gets_no_answer(robot):
+    robot.utter("biron", 1.0, 1.6)  # a radio: nobody ever faces the robot
+    robot.sim.run(until=1.6 + CALL_WAIT + 5.0)
+    assert robot.sentences() == []  # no "I can't see you", no "say that again"
+    assert robot.es.state == "LookingAround"
+
+
+@given(late=st.floats(min_value=0.5, max_value=12.0))
+@settings(max_examples=10, deadline=None)
+def test_a_call_is_answered_only_if_she_is_found_within_the_wait(late):
+    robot = Robot()
+    try:
+        robot.utter("biron", 1.0, 1.6)
+        robot.partner(1.6 + late)
+        robot.sim.run(until=1.6 + late + 3.0)
+        said = robot.sentences()
+        if late <= CALL_WAIT - 0.5:
+            assert said == [HELLO] and robot.es.state == "Interacting"
+        elif late > CALL_WAIT + 1.0:
+            assert said == [] and robot.es.state == "PotentialPartner"
+    finally:
+        robot.sim.close()
+
+
+def test_a_call_answering_did_you_say_hello_to_me_is_the_yes(robot):
+    # sub20_radio_says_the_name seed 4: "hello a" (0.39) -> "Did you say hello to me?"; her "Hello BIRON" again
+    # heard as "is biron" got "Sorry, I did not understand you. Did you say hello to me?" (asked a second time)
+    robot.partner(0.5)
+    robot.utter("hello a", 1.0, 1.8, confidence=0.39)
+    robot.sim.run(until=4.0)
+    assert robot.sentences() == ["Did you say hello to me?"]
+    robot.partner(5.0)
+    robot.utter("is biron", 5.5, 6.2, confidence=0.65)
+    robot.sim.run(until=9.0)
+    assert robot.sentences() == [HELLO]
+    assert robot.es.state == "Interacting"
+
+
+def test_during_an_interaction_a_bare_name_is_no_second_greeting(robot):
+    robot.greet()
+    robot.sim.run(until=4.0)
+    assert robot.sentences() == [HELLO]
+    robot.utter("biron", 9.0, 9.5)
+    robot.sim.run(until=13.0)
+    assert HELLO not in robot.sentences()
+    assert robot.es.state == "Interacting"
+
+
+def test_a_man_who_calls_its_name_from_behind_is_greeted_once_it_faces_him():
+    """tests/scenarios/flow/sub20_call_from_behind_kitchen.xml (another flat, another user, the call said on
+    purpose): "BIRON?" from 1.4 m behind it gets "Hello, I am BIRON" once the robot has turned to him."""
+    from pathlib import Path
+
+    from homesim.tour.runner import RunOptions, run_file
+
+    scene = Path(__file__).resolve().parent / "scenarios" / "flow" / "sub20_call_from_behind_kitchen.xml"
+    s = run_file(scene, RunOptions(seed=0))
+    failed = [f"{e['name']}: {e['detail']}" for e in s["expectations"] if not e["passed"]]
+    assert not failed, failed
