@@ -1351,7 +1351,7 @@ class PersonAttention(Module):
             tid = self.tracks.tracks[row].id
             if self._partner_colour is not None and self.colours.colour(tid, t) is None and tid != self.partner:
                 # taken on position alone: open to the camera's verdict (:meth:`_check_handovers`)
-                self._handovers[tid] = Handover(t, self._partner_colour, was=self.partner, partner=self._partner_state())
+                self._open(tid, Handover(t, self._partner_colour, was=self.partner, partner=self._partner_state()))
             self.partner = tid
         return row
 
@@ -1488,7 +1488,7 @@ class PersonAttention(Module):
                     assigned = [a - 1 if a > gone else (-1 if a == gone else a) for a in assigned]
                     self.colours.put(old.id, self.colours.take(nid))  # the track's own colour, not the person's
                     if handover is not None:
-                        self._handovers[old.id] = handover
+                        self._open(old.id, handover)
         return assigned
 
     def _restarted(self, t: float, before: Any) -> None:
@@ -1500,8 +1500,13 @@ class PersonAttention(Module):
         if self.partner in self._handovers:
             return
         record = self.colours.take(before.id)  # the clothes the track shows from now on are the track's own
-        self._handovers[before.id] = Handover(t, self._partner_colour, old=before, old_colour=record,  # type: ignore[arg-type]
-                                              partner=self._partner_state(), restart=True)
+        self._open(before.id, Handover(t, self._partner_colour, old=before, old_colour=record,  # type: ignore[arg-type]
+                                       partner=self._partner_state(), restart=True))
+
+    def _open(self, tid: int, h: Handover) -> None:
+        if "_handovers" not in vars(self):  # (a module built without __init__: never the class's default)
+            self._handovers = {}
+        self._handovers[tid] = h
 
     def _partner_state(self) -> tuple[Any, Any, Any]:
         return (self._partner_last, self._partner_pace, self._partner_colour)
@@ -1550,7 +1555,7 @@ class PersonAttention(Module):
                 self.partner = h.was
             self._partner_last, self._partner_pace, self._partner_colour = h.partner
             if refuted:
-                self._not_her.add(wrong)
+                self._not_her = self._not_her | {wrong}
         return assigned
 
     def _event(self, name: str, children: tuple[etree._Element, ...] = ()) -> None:
