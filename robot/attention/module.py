@@ -960,7 +960,8 @@ class PersonAttention(Module):
         if faces:
             z = z + faces
             kinds = list(kinds.tolist() if isinstance(kinds, np.ndarray) else kinds) + [FACE] * len(faces)
-        prow = self.tracks.row(self.partner) if self.partner is not None and self._partner_colour is not None else -1
+        prow = (self.tracks.row(self.partner) if self.partner is not None and self._partner_colour is not None
+                and self.fsm.state == "Follow" else -1)  # (following, the camera looks at her torso)
         before = Tracks.copy(self.tracks.tracks[prow]) if prow >= 0 else None  # her track as it was (:meth:`_restarted`)
         assigned = self.tracks.step(t, z, kinds, hidden, blocked)
         if before is not None and before.id in self.tracks.restarted:
