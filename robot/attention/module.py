@@ -1480,16 +1480,14 @@ class PersonAttention(Module):
             if len(fits) == 1:
                 old, colour = fits[0]
                 unseen = self.colours.colour(nid, t) is None
-                handover = None
-                if colour is not None and unseen:
-                    handover = Handover(t, colour, old=old, old_colour=self.colours.take(old.id),
-                                        partner=self._partner_state() if old.id == self.partner else None)
                 gone = tr.adopt(nid, old.id)
                 if gone >= 0:
                     assigned = [a - 1 if a > gone else (-1 if a == gone else a) for a in assigned]
-                    self.colours.put(old.id, self.colours.take(nid))  # the track's own colour, not the person's
-                    if handover is not None:
-                        self._open(old.id, handover)
+                    record = self.colours.take(old.id)  # the person's, kept with an open hand-over
+                    self.colours.put(old.id, self.colours.take(nid))  # the id's colour is the track's own from now on
+                    if colour is not None and unseen:
+                        self._open(old.id, Handover(t, colour, old=old, old_colour=record,
+                                                    partner=self._partner_state() if old.id == self.partner else None))
         return assigned
 
     def _restarted(self, t: float, before: Any) -> None:
