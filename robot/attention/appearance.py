@@ -91,6 +91,19 @@ class Colours:
             return None
         return (m[0], m[1], m[2])
 
+    def take(self, track_id: int) -> tuple[tuple[float, float, float, int], float] | None:
+        """Remove and return the track's record (running mean and count, when last observed), or None."""
+        m = self._mean.pop(track_id, None)
+        seen = self._seen.pop(track_id, -math.inf)
+        return None if m is None else (m, seen)
+
+    def put(self, track_id: int, record: tuple[tuple[float, float, float, int], float] | None) -> None:
+        """Give ``track_id`` the record :meth:`take` returned (None: no colour known for it)."""
+        self._mean.pop(track_id, None)
+        self._seen.pop(track_id, None)
+        if record is not None:
+            self._mean[track_id], self._seen[track_id] = record
+
     def forget(self, alive: set[int]) -> None:
         for d in (self._mean, self._seen):
             for k in [k for k in d if k not in alive]:

@@ -277,6 +277,29 @@ def turn_rate(b: float, bodies: np.ndarray, p: AttentionParams) -> float:
 AWAY = ' away="true"'
 
 
+#: s: an identity handed to a track on position alone (its clothes not yet seen) stays open to the camera's
+#: verdict this long; unseen clothes by then, the hand-over stands
+HANDOVER_CHECK = 15.0
+#: s: ... and a track that goes this long without a measurement before the camera saw its clothes loses it
+HANDOVER_UNMEASURED = 0.3
+
+
+@dataclass
+class Handover:
+    """An identity handed over on position alone (:meth:`PersonAttention._reidentify`, :meth:`PersonAttention._reacquire`):
+    the person's clothes were known, the track's were not yet. ``old``: the dormant track :meth:`Tracks.adopt`
+    dropped (re-identification), to be put back; ``was``: the partner id before a reacquisition; ``partner``: the
+    partner's evidence then (``_partner_last``, ``_partner_pace``, ``_partner_colour``), when the identity was hers."""
+
+    since: float
+    colour: tuple[float, float, float]
+    old: Any = None
+    old_colour: Any = None
+    was: int | None = None
+    partner: tuple[Any, Any, Any] | None = None
+    restart: bool = False  # the tracker's "stopped" hypothesis moved her track (:meth:`PersonAttention._restarted`)
+
+
 def _deg(a: float) -> str:
     return f"{math.degrees(a):.3f}"
 
@@ -296,6 +319,10 @@ class PersonAttention(Module):
     _heard_voice_at: float = -math.inf
     _cats: dict[int, int] = {}  # noqa: RUF012 (read-only default for the rules' unit tests; __init__ gives each its own)
     _in_image: frozenset[int] = frozenset()  # (the same: __init__ gives each its own set)
+    #: identities handed to a track on position alone, not yet checked against the clothes (:meth:`_check_handovers`)
+    _handovers: dict[int, Handover] = {}  # noqa: RUF012 (read-only default for unit tests; __init__ gives each its own)
+    #: tracks whose clothes showed they are not the partner they were taken for (:meth:`_give_back`)
+    _not_her: frozenset[int] = frozenset()
     #: (when, m/s): the partner's walking pace, renewed with ``_partner_last`` (:meth:`_walk_reach`)
     _partner_pace: tuple[float, float] = (-math.inf, 0.0)
 
@@ -348,6 +375,8 @@ class PersonAttention(Module):
         self.partner_lost_sent = False
         self.colours = Colours()  # each track's torso colour (robot.attention.appearance)
         self._partner_colour: tuple[float, float, float] | None = None  # hers, kept when her track dies
+        self._handovers: dict[int, Handover] = {}  # id -> an identity handed over on position alone, unchecked
+        self._not_her: set[int] = set()  # tracks the camera showed not to be the partner they were taken for
         self._lost_colour: tuple[float, float, float] | None = None  # the lost partner's clothes: who may retake from afar
         self._follow_stopped: float | None = None  # since when the follower stands with its search over (its status)
         self._follow_waiting: float | None = None  # since when the follower stands by her (its status ``waiting``)
@@ -931,9 +960,16 @@ class PersonAttention(Module):
         if faces:
             z = z + faces
             kinds = list(kinds.tolist() if isinstance(kinds, np.ndarray) else kinds) + [FACE] * len(faces)
+        prow = (self.tracks.row(self.partner) if self.partner is not None and self._partner_colour is not None
+                and self.fsm.state == "Follow" else -1)  # (following, the camera looks at her torso)
+        before = Tracks.copy(self.tracks.tracks[prow]) if prow >= 0 else None  # her track as it was (:meth:`_restarted`)
         assigned = self.tracks.step(t, z, kinds, hidden, blocked)
+        if before is not None and before.id in self.tracks.restarted:
+            self._restarted(t, before)
         if self.tracks.confirmed_now:
             assigned = self._reidentify(t, assigned)
+        if self._handovers:
+            assigned = self._check_handovers(t, assigned)
         self._keep_still_partner(t, assigned)
         tracks = self.tracks.tracks
         if self.scans % 50 == 0:
@@ -941,6 +977,7 @@ class PersonAttention(Module):
             self.speaking.forget(alive)
             self.facing.forget(alive)
             self.colours.forget(alive)
+            self._not_her &= alive
             self.selector.forget(alive)
         # Every track in the robot frame: bearing and distance.
         rx, ry = [], []
@@ -975,7 +1012,10 @@ class PersonAttention(Module):
         self._act(t, row, bearing, dist, cats.get(selected, 0) if selected is not None else 0)
         if self.partner is not None:
             prow = self.tracks.row(self.partner)
-            if prow >= 0 and not tracks[prow].dormant:  # (dormant: unseen too long to be reported where she is)
+            # (dormant: unseen too long to be reported where she is; moved by the tracker's "stopped" hypothesis and
+            # not yet seen in her clothes: perhaps someone else, not reported as her until the camera says so)
+            h = self._handovers.get(self.partner)
+            if prow >= 0 and not tracks[prow].dormant and not (h is not None and h.restart):
                 self._publish_partner(t, prow, bearing, dist, prow in assigned)
         self._publish_state(t)
 
@@ -1293,8 +1333,9 @@ class PersonAttention(Module):
         best, row = radius, -1
         for i, tk in enumerate(self.tracks.tracks):
             colour = self.colours.colour(tk.id, t)
-            # someone in other clothes is not her, however near (a person who crossed between)
-            if tk.confirmed and not tk.dormant and same_clothes(self._partner_colour, colour):
+            # someone in other clothes is not her, however near (a person who crossed between), nor
+            # someone the camera showed to be another after taking them for her (:meth:`_give_back`)
+            if tk.confirmed and not tk.dormant and same_clothes(self._partner_colour, colour) and tk.id not in self._not_her:
                 d = self._her_way(t, (tk.x[0], tk.x[1]))
                 # her colour known, this track's unseen: position alone, so only as near as she can have
                 # stepped unseen, not the growing radius, unless the track was born within it (four_people seed 8: a man walking past the
@@ -1308,7 +1349,11 @@ class PersonAttention(Module):
         if row < 0 and self.fsm.state == "Follow":
             row = self._reacquire_walking(t, seen, x, y)
         if row >= 0:
-            self.partner = self.tracks.tracks[row].id
+            tid = self.tracks.tracks[row].id
+            if self._partner_colour is not None and self.colours.colour(tid, t) is None and tid != self.partner:
+                # taken on position alone: open to the camera's verdict (:meth:`_check_handovers`)
+                self._open(tid, Handover(t, self._partner_colour, was=self.partner, partner=self._partner_state()))
+            self.partner = tid
         return row
 
     def _her_way(self, t: float, point: tuple[float, float]) -> float:
@@ -1372,7 +1417,8 @@ class PersonAttention(Module):
         rx, ry, _ = self._pose_at(t)
         best, row = math.inf, -1
         for i, tk in enumerate(self.tracks.tracks):
-            if not tk.confirmed or tk.dormant or tk.id == self.partner or self.colours.colour(tk.id, t) is not None:
+            if (not tk.confirmed or tk.dormant or tk.id == self.partner or tk.id in self._not_her
+                    or self.colours.colour(tk.id, t) is not None):
                 continue
             if math.hypot(tk.x[0] - last[1], tk.x[1] - last[2]) > reach:
                 continue
@@ -1406,7 +1452,12 @@ class PersonAttention(Module):
         the robot's back) whose person it could be by :meth:`_could_be` (where they were last measured
         and their clothes; for the partner, her evidence as the leaving rule keeps it). A person
         back in view is then the same track, not a new one: no identity switch, and a partner found
-        again stays the partner the follower follows. With two candidates it decides nothing."""
+        again stays the partner the follower follows. With two candidates it decides nothing.
+
+        The id's colour record is then the new track's own (what the camera saw of this track), not the
+        person's: when the person's clothes were known and the track's not yet, the hand-over rests on
+        position alone and stays open (:class:`Handover`) until the camera sees the track's clothes
+        (:meth:`_check_handovers`): other clothes, and it is undone."""
         tr = self.tracks
         for nid in list(tr.confirmed_now):
             row = tr.row(nid)
@@ -1425,11 +1476,85 @@ class PersonAttention(Module):
                 else:
                     seen, (x, y), colour = old.last_seen, old.last_z, self.colours.colour(old.id)
                 if self._could_be(t, seen, x, y, colour, new, way):
-                    fits.append(old.id)
+                    fits.append((old, colour))
             if len(fits) == 1:
-                gone = tr.adopt(nid, fits[0])
+                old, colour = fits[0]
+                unseen = self.colours.colour(nid, t) is None
+                gone = tr.adopt(nid, old.id)
                 if gone >= 0:
                     assigned = [a - 1 if a > gone else (-1 if a == gone else a) for a in assigned]
+                    record = self.colours.take(old.id)  # the person's, kept with an open hand-over
+                    self.colours.put(old.id, self.colours.take(nid))  # the id's colour is the track's own from now on
+                    if colour is not None and unseen:
+                        self._open(old.id, Handover(t, colour, old=old, old_colour=record,
+                                                    partner=self._partner_state() if old.id == self.partner else None))
+        return assigned
+
+    def _restarted(self, t: float, before: Any) -> None:
+        """The tracker took a candidate for the partner's track under its "stopped" hypothesis (she stopped or
+        turned while unseen, :func:`.tracker._gated`): on position alone, where she was last measured. Someone
+        else may stand there: a child running past her through a door while she was hidden behind him took her
+        track (fresh7/split_children_cross). With her clothes known and the camera not yet having seen the
+        track's since, the hand-over stays open (:meth:`_check_handovers`); undone, her track is ``before``."""
+        if self.partner in self._handovers:
+            return
+        record = self.colours.take(before.id)  # the clothes the track shows from now on are the track's own
+        self._open(before.id, Handover(t, self._partner_colour, old=before, old_colour=record,  # type: ignore[arg-type]
+                                       partner=self._partner_state(), restart=True))
+
+    def _open(self, tid: int, h: Handover) -> None:
+        if "_handovers" not in vars(self):  # (a module built without __init__: never the class's default)
+            self._handovers = {}
+        self._handovers[tid] = h
+
+    def _partner_state(self) -> tuple[Any, Any, Any]:
+        return (self._partner_last, self._partner_pace, self._partner_colour)
+
+    def _check_handovers(self, t: float, assigned: list[int]) -> list[int]:
+        """The camera's verdict on identities handed over on position alone (:class:`Handover`): the track's
+        clothes seen and the same as the person's, the hand-over stands; other clothes (a child running past
+        the partner through a door, taken for her while she was hidden: fresh7/split_children_cross), it
+        is undone (:meth:`_give_back`). Unseen for ``HANDOVER_CHECK`` s, or the track gone, it stands."""
+        for tid in sorted(self._handovers):
+            h = self._handovers[tid]
+            if self.tracks.row(tid) < 0 or t - h.since > HANDOVER_CHECK:
+                del self._handovers[tid]
+                continue
+            colour = self.colours.colour(tid, t)
+            if colour is None:
+                tk = self.tracks.tracks[self.tracks.row(tid)]
+                if h.restart and t - tk.last_update >= HANDOVER_UNMEASURED:
+                    # the track's person went out of view before the camera saw them: nothing but position ever
+                    # said it was this person, so the evidence goes back to what it was before
+                    del self._handovers[tid]
+                    assigned = self._give_back(t, tid, h, assigned, refuted=False)
+                continue
+            del self._handovers[tid]
+            if not same_clothes(h.colour, colour):
+                assigned = self._give_back(t, tid, h, assigned)
+        return assigned
+
+    def _give_back(self, t: float, tid: int, h: Handover, assigned: list[int], refuted: bool = True) -> list[int]:
+        """Undo the hand-over of identity ``tid`` (:meth:`_check_handovers`): the track holding it is someone
+        else and gets an id of its own; a re-identified person's dormant track is put back under ``tid``
+        (:meth:`Tracks.give_back`), a reacquired partner's id goes back to the one she had; the partner's
+        evidence (where and when she was last seen, her pace and clothes) is hers again, not what the wrong
+        track added, so the leaving rule and the search start from where she really went out of view."""
+        wrong = tid
+        if h.old is not None:
+            fresh, at = self.tracks.give_back(tid, h.old, h.since, t)
+            if fresh >= 0:
+                self.colours.put(fresh, self.colours.take(tid))
+                wrong = fresh
+            if at >= 0:
+                self.colours.put(tid, h.old_colour)
+                assigned = [a + 1 if a >= at else a for a in assigned]
+        if h.partner is not None and self.partner == tid:
+            if h.old is None and h.was is not None:
+                self.partner = h.was
+            self._partner_last, self._partner_pace, self._partner_colour = h.partner
+            if refuted:
+                self._not_her = self._not_her | {wrong}
         return assigned
 
     def _event(self, name: str, children: tuple[etree._Element, ...] = ()) -> None:

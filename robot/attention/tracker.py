@@ -206,6 +206,7 @@ class Tracks:
         self._together: dict[tuple[int, int], float] = {}  # (older id, younger id) of confirmed tracks this close, since
         self._heir_of: dict[int, int] = {}  # the last step's twins: younger id -> the older id that keeps the person
         self.confirmed_now: list[int] = []  # ids of the tracks the last step confirmed
+        self.restarted: list[int] = []  # ids of the tracks the last step took a candidate for under the "stopped" hypothesis
 
     def __len__(self) -> int:
         return len(self.tracks)
@@ -264,6 +265,7 @@ class Tracks:
             kind = kind.tolist()
         spec = self.spec
         self.confirmed_now = []
+        self.restarted = []
         before = self._t
         was = [(tk.x[0], tk.x[1]) for tk in self.tracks] if blocked is not None else None
         self.predict(t)
@@ -284,6 +286,7 @@ class Tracks:
                     zj = z[j]
                     if (i, j) in stopped:  # the person stopped or turned while unseen: start the motion afresh
                         v = spec.init_speed_std**2
+                        self.restarted.append(tk.id)
                         tk.x = [zj[0], zj[1], 0.0, 0.0]
                         tk.P = [var[j], 0.0, 0.0, 0.0, var[j], 0.0, 0.0, v, 0.0, v]
                     else:
@@ -386,6 +389,45 @@ class Tracks:
         del self.tracks[old]
         self.confirmed_now = [old_id if i == new_id else i for i in self.confirmed_now]
         return old
+
+    @staticmethod
+    def copy(tk: Track) -> Track:
+        """A copy of ``tk`` as it is now (its own state lists), for :meth:`give_back`."""
+        c = Track.__new__(Track)
+        for k in Track.__slots__:
+            setattr(c, k, getattr(tk, k))
+        c.x, c.P = list(tk.x), list(tk.P)
+        return c
+
+    def give_back(self, track_id: int, old: Track, since: float, t: float) -> tuple[int, int]:
+        """Undo a re-identification (:meth:`adopt` at ``since``) that later evidence contradicts: the track
+        now holding ``track_id`` is someone else, so it gets a new id of its own, and ``old`` (the track
+        :meth:`adopt` dropped, kept as it was then) is the person again, coasted on from ``since`` to ``t``
+        as the steps would have coasted it (unseen: damped). Returns (the new id given to the wrong track, or
+        -1 when no track holds ``track_id``; the row ``old`` was put in, or -1 when by now it would have
+        died of ``hidden_timeout`` and is not put back). Rows at and after that row move down by one."""
+        spec = self.spec
+        row = self.row(track_id)
+        fresh = -1
+        if row >= 0:
+            fresh = self._next
+            self._next += 1
+            self.tracks[row].id = fresh
+            self.confirmed_now = [fresh if i == track_id else i for i in self.confirmed_now]
+        if t - old.last_seen > spec.hidden_timeout:
+            return fresh, -1
+        dt = t - since
+        if dt > 0.0:
+            q = spec.accel_noise**2
+            old.predict(dt, q * (dt**4 / 4), q * (dt**3 / 2), q * dt**2)
+            damp = math.exp(-spec.coast_damping * dt)
+            old.x[2] *= damp
+            old.x[3] *= damp
+        old.id = track_id
+        old.dormant = True
+        at = next((i for i, tk in enumerate(self.tracks) if tk.born > old.born), len(self.tracks))
+        self.tracks.insert(at, old)
+        return fresh, at
 
     def _twins(self, t: float) -> set[int]:
         """Ids of confirmed tracks that have followed an older confirmed track closer than
