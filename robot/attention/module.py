@@ -73,7 +73,7 @@ from .legs import SINGLE, LegDetector, LegSpec
 from .looking import HeardFrom, LookedAt, angle_between
 from .records import TrackRow, TracksRecord, own_document as _own_document
 from robot.footprint import outline, points_sweep_clear, sweep_poses, turn_clear
-from robot.partner_search import STOOD_FOR, follow_search_time, way_distance, yielding
+from robot.partner_search import STOOD_FOR, Closing, follow_search_time, way_distance, yielding
 from .selection import SelectionParams, Selector
 from .tracker import FACE, Tracks, TrackerSpec
 from .visibility import hidden_points
@@ -117,6 +117,9 @@ class AttentionParams:
     # s: following, the follower's status has said "stopped" (its search over, she unseen by its
     # measure) this long: she is lost, whatever a camera sighting says (the robot never stands silent)
     follow_stopped_after: float = 2.0
+    # s: following ended (a stop) while the follower searched for her: this long its next status (approaching,
+    # or none) is waited for before she is taken as gone by the interaction's rule (:meth:`partner_left`)
+    follow_handover: float = 1.0
     # m/s: the robot's own top speed (its configuration, robot.partner_search.robot_top_speed; None: the
     # base's default): a slow robot needs longer to drive the gap to where a far partner went out of view
     robot_top_speed: float | None = None
@@ -302,6 +305,8 @@ class PersonAttention(Module):
     # following, the time since her last sighting spent yielding (set in __init__; here for the rule's
     # unit tests, which build the module without a bus)
     _yielded: float = 0.0
+    #: following, the time since her last sighting spent on the way to where she was last seen (None: not kept)
+    _closing: Closing | None = None
     #: the lost partner's clothes (retake from afar) and since when the follower stands with its search
     #: over (set in __init__; here for the unit tests that build the module without a bus)
     _lost_colour: tuple[float, float, float] | None = None
@@ -310,6 +315,8 @@ class PersonAttention(Module):
     _follow_waiting: float | None = None
     #: since when the follower says it searches for her (``searching``: she is out of its sight; None: it does not)
     _follow_searching: float | None = None
+    #: when the last order ended following (:meth:`partner_left`: the follower's next status is waited for)
+    _follow_ended: float = -math.inf
     #: the follower comes up to her after 'stop' (status approaching): her distance is no evidence of leaving
     #: (set in __init__ and from the follower's status; here for the unit tests that build the module without a bus)
     _follower_drives: bool = False
@@ -445,6 +452,8 @@ class PersonAttention(Module):
         # count as time unseen (robot.partner_search.yielding); the scan time it was last added up to
         self._yielded = 0.0
         self._yield_t: float | None = None
+        # ... nor the time it spends on its way to where she was last seen (robot.partner_search.Closing)
+        self._closing = Closing()
         self._player_sub: Any = None
         self._alone_since: float | None = None  # since when Interaction/Object has had no partner at all
         self._caller: int | None = None  # searching: the seen person who speaks to it or comes up to it (:meth:`_find_caller`)
@@ -712,6 +721,8 @@ class PersonAttention(Module):
         # message, which stands until she walks on); any other order ends it
         self._paused_at = self.now if name == "pause" else None
         self._follow_stopped = None  # (a new order: the follower's next status says where it stands)
+        if was == "Follow" and state != "Follow":
+            self._follow_ended = self.now
         if was == "Follow" and state == "Interaction" and stood and self._took_stood_stop():
             self._stop_speaker()
         if state in ("Interaction", "Follow", "Object"):
@@ -1083,6 +1094,7 @@ class PersonAttention(Module):
             row = -1  # her track is kept while she is hidden, but she is unseen: as if it had died
         if self.partner is not None and not self.partner_lost_sent:
             self._count_yield(t)  # (reset below when she is seen again)
+            self._count_closing(t)
         if row >= 0:
             tk = tr.tracks[row]
             colour = self.colours.colour(tk.id, t)
@@ -1099,6 +1111,8 @@ class PersonAttention(Module):
                 self._partner_last = (tk.last_seen, zx, zy, tk.x[2], tk.x[3], ox, oy)
                 self._driven = 0.0
                 self._yielded = 0.0
+                if self._closing is not None:
+                    self._closing.reset()
         elif self.partner is not None and not self.partner_lost_sent:
             row = self._reacquire(t)
         if self.partner is None and not self.partner_lost_sent:
@@ -1140,6 +1154,16 @@ class PersonAttention(Module):
                   for tk in self.tracks.tracks if tk.confirmed and not tk.dormant and tk.id != self.partner]
         if yielding(others):
             self._yielded += t - last
+
+    def _count_closing(self, t: float) -> None:
+        """Following with her unseen: the robot's distance to where her legs were last measured, so the
+        time it spends on its way there is not search time (:class:`robot.partner_search.Closing`, the
+        follower's search clock reads the same rule)."""
+        last = self._partner_last
+        if self.fsm.state != "Follow" or last is None or self._closing is None:
+            return
+        rx, ry, _ = self._pose_at(t)
+        self._closing.update(t, math.hypot(rx - last[1], ry - last[2]))
 
     def _turning_away(self, t: float) -> None:
         """Whether the partner has turned her back on the robot (:attr:`turned_away`): in Interaction,
@@ -1263,11 +1287,15 @@ class PersonAttention(Module):
             # sighting (Tracks.support) kept her "seen" here, and the robot stood silent in Following
             # (fresh5/row_fast_then_waits seed 8, 25 s; issue 26 item 1: it says so instead)
             stopped = self._follow_stopped is not None and t - self._follow_stopped >= p.follow_stopped_after
-            return stopped or unseen - self._yielded >= follow_search_time(dist, base=p.follow_lost_after, top_speed=p.robot_top_speed,
+            closed = self._closing.total if self._closing is not None else 0.0
+            return stopped or unseen - self._yielded - closed >= follow_search_time(dist, base=p.follow_lost_after, top_speed=p.robot_top_speed,
                                                                                    pace=math.hypot(vx, vy))
         if unseen < p.partner_lost_after:
             return False
-        if self._follower_drives:
+        if self._follower_drives or (self._follow_searching is not None and t - self._follow_ended < p.follow_handover):
+            # (the follower searched for her when the stop came: its next status, a moment after the ES's order
+            # reached both modules, says it comes up to where she was; fresh7 corr_fast_walker_goto seed 0:
+            # "You left" 0.06 s after the stop, before that status came)
             # "Stop" ended following with her ahead and the follower comes up to her (its status
             # ``approaching``): how far ahead she stood, and her last steps before she stopped, are the
             # robot's lag, not her leaving (fresh6/div_fast_leader_stops: "You left" 1.5 s after "OK, I

@@ -114,7 +114,7 @@ from homesim.module import Module
 from homesim.errors import BusError, HomesimError
 from robot import floorplan
 from robot.blindside import BLIND_X, SONAR_REACH, SonarEchoes, blind_clear, blind_points, explained_by_points
-from robot.partner_search import follow_search_time, yielding
+from robot.partner_search import Closing, follow_search_time, yielding
 from robot.bumpers import BumperReflex, own_reflex
 from robot.footprint import contact_speed_limit
 from robot.contract import ATTENTION_STATE, BASE_CMD, BUMPERS, ES_EVENTS, FOLLOW_STATUS, ODOMETRY, PARTNER, POSE, SCAN, SONAR, TRACKS
@@ -329,6 +329,7 @@ class Follower(Module):
     _corners_of: Any = None
     _corners: np.ndarray = np.zeros((0, 2))
     _seen_v: tuple[float, float] = (0.0, 0.0)
+    _closing: Closing | None = None  # (__init__ gives each follower its own)
     _backout_failed: tuple[float, float, float, float, float] | None = None
     #: nothing pressed, and never told otherwise (__init__ gives each follower its own, heard on the bus)
     bumpers = own_reflex()
@@ -376,6 +377,7 @@ class Follower(Module):
         self._excused_at = -math.inf  # when it last asked to pass (way_blocked)
         self._yielded = 0.0  # s since she was last seen spent yielding to someone near it (not search time)
         self._yield_t: float | None = None
+        self._closing = Closing()  # s since she was last seen spent on the way to where she was seen (not search time)
         self._turn_way = 0.0  # searching, the way round (+1 left, -1 right) it turns toward a point behind
         self._heard: tuple[float, float, float] | None = None  # searching, where (odom) and when the sonar last heard her
         self.bus.subscribe(ATTENTION_STATE, self._on_state)
@@ -605,6 +607,7 @@ class Follower(Module):
         age = self.now - tr["t"]
         unseen = (0.0 if tr["visible"] else tr["lost_for"]) + age
         yielded = self._count_yield(approaching, tr["visible"] and age < 2 * self.period)
+        yielded += self._count_closing(tr["visible"] and age < 2 * self.period)
         # approaching, she stands: unseen a moment (behind a table's legs, a chair, the door frame) is
         # no reason to give up the approach and teach from across the room; her last position holds,
         # as long as following would search for her there (longer when the robot had fallen behind: a
@@ -1114,6 +1117,20 @@ class Follower(Module):
             if yielding(others[:, :2] if len(others) else ()):
                 self._yielded += self.now - last
         return self._yielded
+
+    def _count_closing(self, seen: bool) -> float:
+        """Seconds since she was last seen that the robot spent on its way to where she was seen, still
+        further than :data:`~robot.partner_search.CLOSING_NEAR` and coming nearer
+        (:class:`robot.partner_search.Closing`, the attention's rule too: the search proper begins there,
+        so it ends on evidence, not on a clock set when she went out of view); reset when she is seen.
+        Approaching her after a stop (she stands where she was last seen) the same: on its way there."""
+        if self._closing is None:
+            return 0.0
+        if seen or self.odom is None or self._seen_pos is None:
+            self._closing.reset()
+            return 0.0
+        sx, sy, _ = self._seen_pos
+        return self._closing.update(self.now, math.hypot(self.odom[0] - sx, self.odom[1] - sy))
 
     def _came_from(self) -> tuple[float, float] | None:
         """Where the robot drove from (map frame): its latest own position (odometry, driving forwards)
