@@ -62,12 +62,14 @@ class Closing:
     corr_fast_walker_goto: a leader at 1.3 m/s went through a door 6 m ahead of a 0.45 m/s robot and
     stopped in the next room, out of its earshot; the search clock ran out while the robot was still
     driving along the hallway toward that door, one second before it would have heard and seen him).
-    A search ends on evidence: the robot has come where she was last seen (within :data:`CLOSING_NEAR`)
-    and looked there, or it could not come nearer. So the time in which the robot's distance to that
-    place fell at :data:`CLOSING_SPEED` or faster, while it was still further than :data:`CLOSING_NEAR`,
-    is not search time (at most :data:`CLOSING_CAP` s in all). The follower (its search) and the
-    attention (its ``partner_lost``) each keep one, fed with the robot's odometry and her last measured
-    position, so both clocks stand still by the same rule while it drives there; reset when she is seen."""
+    A search ends on evidence: the robot has come where it looks for her (where she was last seen, carried
+    on along her way: the follower's search point, within :data:`CLOSING_NEAR`) and looked there, or it
+    could not come nearer. So the time in which the robot's distance to that point fell at
+    :data:`CLOSING_SPEED` or faster, while it was still further than :data:`CLOSING_NEAR`, is not search
+    time (at most :data:`CLOSING_CAP` s in all). The follower (its search) and the attention (its
+    ``partner_lost``) each keep one, fed with the same distances (the follower's, which its status
+    ``searching`` carries), so both clocks stand still by the same rule while it drives there; reset when
+    she is seen."""
 
     __slots__ = ("total", "_last")
 
@@ -79,7 +81,7 @@ class Closing:
         self.total, self._last = 0.0, None
 
     def update(self, t: float, distance: float) -> float:
-        """The robot is ``distance`` m from where she was last seen at ``t``: the time not counted so far."""
+        """The robot is ``distance`` m from where it looks for her at ``t``: the time not counted so far."""
         last, self._last = self._last, (t, distance)
         if last is not None and distance == distance and last[1] == last[1]:
             dt = t - last[0]

@@ -725,6 +725,8 @@ class PersonAttention(Module):
             self._follow_ended = self.now
         if was == "Follow" and state == "Interaction" and stood and self._took_stood_stop():
             self._stop_speaker()
+        if was == "Follow" and state == "Interaction":
+            self._stop_unseen()
         if state in ("Interaction", "Follow", "Object"):
             # A partner unseen for a moment (stepped aside) stays the partner across the change.
             pending = self.partner is not None and self._partner_last is not None and not self.partner_lost_sent
@@ -769,6 +771,21 @@ class PersonAttention(Module):
         if heard:
             self.partner = max(heard)[1]
             self._partner_last = self._partner_colour = None
+
+    def _stop_unseen(self) -> None:
+        """Following ended (her stop) while the follower searched for her and her track is unseen: she is where the voice came from, not
+        where her track was last seen (a leader far ahead stopped in the next room; the track the search drove
+        to was a door jamb, fresh7 corr_fast_walker_goto seed 0, or her guessed point in the hall,
+        fast20_two_doors_slow_robot). Her track is let go without a loss: with nobody attended, the robot
+        listens and turns to a voice as after a loss (:meth:`_searching`), and whoever speaks to it facing it
+        takes the place; nobody within ``come_back_after`` s, and the loss goes out (:meth:`_nobody_there`)."""
+        if self.partner is None or self.partner_lost_sent or self._follow_searching is None:
+            return
+        row = self.tracks.row(self.partner)
+        if row >= 0 and not self.tracks.tracks[row].dormant:
+            return  # her track is seen: the stop's speaker is decided by _stop_speaker
+        self.partner = None
+        self._partner_last = None
 
     def _on_es_event(self, msg: Message) -> None:
         """The dialog's stop taken from off the partner's bearing after the robot stood by her track."""
@@ -843,6 +860,10 @@ class PersonAttention(Module):
             self._follow_searching = None
         elif self._follow_searching is None:
             self._follow_searching = msg.created
+        if state == "searching" and self._closing is not None and self._partner_last is not None:
+            # the follower on its way to where it looks for her (its distance to that point): not search
+            # time (robot.partner_search.Closing, the follower's own clock reads the same distances)
+            self._closing.update(msg.created, float(msg.xml.get("distance", "nan")))
         if state != "stopped":
             self._follow_stopped = None
         elif self._follow_stopped is None:
@@ -1094,7 +1115,6 @@ class PersonAttention(Module):
             row = -1  # her track is kept while she is hidden, but she is unseen: as if it had died
         if self.partner is not None and not self.partner_lost_sent:
             self._count_yield(t)  # (reset below when she is seen again)
-            self._count_closing(t)
         if row >= 0:
             tk = tr.tracks[row]
             colour = self.colours.colour(tk.id, t)
@@ -1154,16 +1174,6 @@ class PersonAttention(Module):
                   for tk in self.tracks.tracks if tk.confirmed and not tk.dormant and tk.id != self.partner]
         if yielding(others):
             self._yielded += t - last
-
-    def _count_closing(self, t: float) -> None:
-        """Following with her unseen: the robot's distance to where her legs were last measured, so the
-        time it spends on its way there is not search time (:class:`robot.partner_search.Closing`, the
-        follower's search clock reads the same rule)."""
-        last = self._partner_last
-        if self.fsm.state != "Follow" or last is None or self._closing is None:
-            return
-        rx, ry, _ = self._pose_at(t)
-        self._closing.update(t, math.hypot(rx - last[1], ry - last[2]))
 
     def _turning_away(self, t: float) -> None:
         """Whether the partner has turned her back on the robot (:attr:`turned_away`): in Interaction,
