@@ -1338,8 +1338,13 @@ class PersonAttention(Module):
                 # stepped unseen, not the growing radius, unless the track was born within it (four_people seed 8: a man walking past the
                 # robot 2.5 m from where she went out of view was taken as her, the search followed him)
                 if colour is None and self._partner_colour is not None and d > p.reacquire_radius:
-                    # ... or first seen where she went out of view (she comes back from there)
-                    if self._her_way(t, tk.origin) > radius:
+                    # ... or first seen where she went out of view (she comes back from there); not while she
+                    # leads (Follow): she walks on, ahead, and the camera looks at such a track meanwhile
+                    # (_candidate, taken by its clothes in _reacquire_walking); a track born beside her way, never
+                    # seen moving, was a door jamb 6 m ahead (the localiser's heading 1.8 deg off put its echo
+                    # 0.19 m off the wall), and the search drove to the jamb and stood there (fresh7
+                    # corr_fast_walker_goto seeds 0, 4)
+                    if self.fsm.state == "Follow" or self._her_way(t, tk.origin) > radius:
                         continue
                 if d <= best:
                     best, row = d, i
