@@ -224,3 +224,18 @@ def test_her_pace_is_never_below_her_last_speed_and_forgets_a_fast_step_within_s
     assert when == t and history[-1][1] <= p <= max(v for _, v in history)
     assert p <= max(v * math.exp(-(t - s) / PACE_MEMORY) for s, v in history) + 1e-9
 
+
+
+def test_following_a_track_whose_clothes_are_unseen_is_not_hers_for_being_first_seen_near_where_she_went():
+    """fresh7 corr_fast_walker_goto seed 0: a door jamb 6 m ahead came out as a standing track 1.3 m behind where
+    the leader went out of view (his way on leads away from it) and took his id by the origin exception; the
+    search drove to the jamb and stood there. Following (she leads, walks on), such a track waits for its clothes
+    (the camera looks at it: _candidate); standing with her (Interaction), the exception holds as before."""
+    t = SEEN + 3.0  # unseen 3 s: the reacquisition radius is 1.0 + 0.3 * 3 = 1.9 m
+    a = _following([(-1.3, 0.0, None)], t)
+    assert a._reacquire(t) == -1 and a.partner == 1
+    assert a._candidate(t) == 1  # the camera looks at it meanwhile
+    a = _following([(-1.3, 0.0, RED)], t)  # seen in her clothes (and within her walking reach): hers
+    assert a._reacquire(t) == 1 and a.partner == 2
+    a = _following([(-1.3, 0.0, None)], t, state="Interaction")
+    assert a._reacquire(t) == 1 and a.partner == 2
