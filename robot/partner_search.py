@@ -13,7 +13,11 @@ gone, wherever she was). Both the follower (its search) and the attention (its
 ``partner_lost``) read this one rule, so the robot never stops searching before the attention
 lets her go, nor the other way round. Time spent yielding to someone near it (:func:`yielding`)
 is not search time: held up by a person crossing its way, the robot does not search, and both
-clocks stand still meanwhile.
+clocks stand still meanwhile. Nor is the time it spends on its way to where she was last seen
+(:class:`Closing`): a leader faster than the robot may be far ahead when she goes out of view, and
+the search proper, looking round where she went, begins when it gets there; so the search ends on
+evidence (it came there and did not find her, or it could not come nearer), not on a clock set at
+the moment she went out of view.
 """
 
 from __future__ import annotations
@@ -42,6 +46,49 @@ SEARCH_CAP = 15.0
 #: as time she was unseen (issue 26 item 1, sq_cross_pair: it yielded to two people crossing, she
 #: went through the next door meanwhile, and the search ran out at that door)
 YIELD_NEAR = 1.2
+
+
+#: m/s: searching, the robot comes nearer where she was last seen at least this fast: it is still on its way
+#: there (it lagged behind a leader faster than itself), not yet searching; that time is not search time
+CLOSING_SPEED = 0.1
+#: m: ... until it is this near that place (there it looks for her, and the search clock runs)
+CLOSING_NEAR = 1.0
+#: s: at most this much time on the way there is not counted (a way round that never ends is no way there)
+CLOSING_CAP = 30.0
+
+
+class Closing:
+    """Time spent on the way to where the partner was last seen (issue 26 item 10, fresh7
+    corr_fast_walker_goto: a leader at 1.3 m/s went through a door 6 m ahead of a 0.45 m/s robot and
+    stopped in the next room, out of its earshot; the search clock ran out while the robot was still
+    driving along the hallway toward that door, one second before it would have heard and seen him).
+    A search ends on evidence: the robot has come where it looks for her (where she was last seen, carried
+    on along her way: the follower's search point, within :data:`CLOSING_NEAR`) and looked there, or it
+    could not come nearer. So the time in which the robot's distance to that point fell at
+    :data:`CLOSING_SPEED` or faster, while it was still further than :data:`CLOSING_NEAR`, is not search
+    time (at most :data:`CLOSING_CAP` s in all). The follower (its search) and the attention (its
+    ``partner_lost``) each keep one, fed with the same distances (the follower's, which its status
+    ``searching`` carries), so both clocks stand still by the same rule while it drives there; reset when
+    she is seen."""
+
+    __slots__ = ("total", "_last")
+
+    def __init__(self) -> None:
+        self.total = 0.0  # s not counted as search time since she was last seen
+        self._last: tuple[float, float] | None = None  # (time, distance) of the last update
+
+    def reset(self) -> None:
+        self.total, self._last = 0.0, None
+
+    def update(self, t: float, distance: float) -> float:
+        """The robot is ``distance`` m from where it looks for her at ``t``: the time not counted so far."""
+        last, self._last = self._last, (t, distance)
+        if last is not None and distance == distance and last[1] == last[1]:
+            dt = t - last[0]
+            if (0.0 < dt <= 1.0 and last[1] > CLOSING_NEAR and last[1] - distance >= CLOSING_SPEED * dt
+                    and self.total < CLOSING_CAP):
+                self.total = min(CLOSING_CAP, self.total + dt)
+        return self.total
 
 
 def yielding(others: Any, near: float = YIELD_NEAR) -> bool:

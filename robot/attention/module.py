@@ -73,7 +73,7 @@ from .legs import SINGLE, LegDetector, LegSpec
 from .looking import HeardFrom, LookedAt, angle_between
 from .records import TrackRow, TracksRecord, own_document as _own_document
 from robot.footprint import outline, points_sweep_clear, sweep_poses, turn_clear
-from robot.partner_search import STOOD_FOR, follow_search_time, way_distance, yielding
+from robot.partner_search import STOOD_FOR, Closing, follow_search_time, way_distance, yielding
 from .selection import SelectionParams, Selector
 from .tracker import FACE, Tracks, TrackerSpec
 from .visibility import hidden_points
@@ -117,6 +117,9 @@ class AttentionParams:
     # s: following, the follower's status has said "stopped" (its search over, she unseen by its
     # measure) this long: she is lost, whatever a camera sighting says (the robot never stands silent)
     follow_stopped_after: float = 2.0
+    # s: following ended (a stop) while the follower searched for her: this long its next status (approaching,
+    # or none) is waited for before she is taken as gone by the interaction's rule (:meth:`partner_left`)
+    follow_handover: float = 1.0
     # m/s: the robot's own top speed (its configuration, robot.partner_search.robot_top_speed; None: the
     # base's default): a slow robot needs longer to drive the gap to where a far partner went out of view
     robot_top_speed: float | None = None
@@ -329,6 +332,8 @@ class PersonAttention(Module):
     # following, the time since her last sighting spent yielding (set in __init__; here for the rule's
     # unit tests, which build the module without a bus)
     _yielded: float = 0.0
+    #: following, the time since her last sighting spent on the way to where she was last seen (None: not kept)
+    _closing: Closing | None = None
     #: the lost partner's clothes (retake from afar) and since when the follower stands with its search
     #: over (set in __init__; here for the unit tests that build the module without a bus)
     _lost_colour: tuple[float, float, float] | None = None
@@ -337,6 +342,8 @@ class PersonAttention(Module):
     _follow_waiting: float | None = None
     #: since when the follower says it searches for her (``searching``: she is out of its sight; None: it does not)
     _follow_searching: float | None = None
+    #: when the last order ended following (:meth:`partner_left`: the follower's next status is waited for)
+    _follow_ended: float = -math.inf
     #: the follower comes up to her after 'stop' (status approaching): her distance is no evidence of leaving
     #: (set in __init__ and from the follower's status; here for the unit tests that build the module without a bus)
     _follower_drives: bool = False
@@ -474,6 +481,8 @@ class PersonAttention(Module):
         # count as time unseen (robot.partner_search.yielding); the scan time it was last added up to
         self._yielded = 0.0
         self._yield_t: float | None = None
+        # ... nor the time it spends on its way to where she was last seen (robot.partner_search.Closing)
+        self._closing = Closing()
         self._player_sub: Any = None
         self._alone_since: float | None = None  # since when Interaction/Object has had no partner at all
         self._caller: int | None = None  # searching: the seen person who speaks to it or comes up to it (:meth:`_find_caller`)
@@ -741,8 +750,12 @@ class PersonAttention(Module):
         # message, which stands until she walks on); any other order ends it
         self._paused_at = self.now if name == "pause" else None
         self._follow_stopped = None  # (a new order: the follower's next status says where it stands)
+        if was == "Follow" and state != "Follow":
+            self._follow_ended = self.now
         if was == "Follow" and state == "Interaction" and stood and self._took_stood_stop():
             self._stop_speaker()
+        if was == "Follow" and state == "Interaction":
+            self._stop_unseen()
         if state in ("Interaction", "Follow", "Object"):
             # A partner unseen for a moment (stepped aside) stays the partner across the change.
             pending = self.partner is not None and self._partner_last is not None and not self.partner_lost_sent
@@ -787,6 +800,21 @@ class PersonAttention(Module):
         if heard:
             self.partner = max(heard)[1]
             self._partner_last = self._partner_colour = None
+
+    def _stop_unseen(self) -> None:
+        """Following ended (her stop) while the follower searched for her and her track is unseen: she is where the voice came from, not
+        where her track was last seen (a leader far ahead stopped in the next room; the track the search drove
+        to was a door jamb, fresh7 corr_fast_walker_goto seed 0, or her guessed point in the hall,
+        fast20_two_doors_slow_robot). Her track is let go without a loss: with nobody attended, the robot
+        listens and turns to a voice as after a loss (:meth:`_searching`), and whoever speaks to it facing it
+        takes the place; nobody within ``come_back_after`` s, and the loss goes out (:meth:`_nobody_there`)."""
+        if self.partner is None or self.partner_lost_sent or self._follow_searching is None:
+            return
+        row = self.tracks.row(self.partner)
+        if row >= 0 and not self.tracks.tracks[row].dormant:
+            return  # her track is seen: the stop's speaker is decided by _stop_speaker
+        self.partner = None
+        self._partner_last = None
 
     def _on_es_event(self, msg: Message) -> None:
         """The dialog's stop taken from off the partner's bearing after the robot stood by her track."""
@@ -861,6 +889,10 @@ class PersonAttention(Module):
             self._follow_searching = None
         elif self._follow_searching is None:
             self._follow_searching = msg.created
+        if state == "searching" and self._closing is not None and self._partner_last is not None:
+            # the follower on its way to where it looks for her (its distance to that point): not search
+            # time (robot.partner_search.Closing, the follower's own clock reads the same distances)
+            self._closing.update(msg.created, float(msg.xml.get("distance", "nan")))
         if state != "stopped":
             self._follow_stopped = None
         elif self._follow_stopped is None:
@@ -1139,6 +1171,8 @@ class PersonAttention(Module):
                 self._partner_last = (tk.last_seen, zx, zy, tk.x[2], tk.x[3], ox, oy)
                 self._driven = 0.0
                 self._yielded = 0.0
+                if self._closing is not None:
+                    self._closing.reset()
         elif self.partner is not None and not self.partner_lost_sent:
             row = self._reacquire(t)
         if self.partner is None and not self.partner_lost_sent:
@@ -1303,11 +1337,15 @@ class PersonAttention(Module):
             # sighting (Tracks.support) kept her "seen" here, and the robot stood silent in Following
             # (fresh5/row_fast_then_waits seed 8, 25 s; issue 26 item 1: it says so instead)
             stopped = self._follow_stopped is not None and t - self._follow_stopped >= p.follow_stopped_after
-            return stopped or unseen - self._yielded >= follow_search_time(dist, base=p.follow_lost_after, top_speed=p.robot_top_speed,
+            closed = self._closing.total if self._closing is not None else 0.0
+            return stopped or unseen - self._yielded - closed >= follow_search_time(dist, base=p.follow_lost_after, top_speed=p.robot_top_speed,
                                                                                    pace=math.hypot(vx, vy))
         if unseen < p.partner_lost_after:
             return False
-        if self._follower_drives:
+        if self._follower_drives or (self._follow_searching is not None and t - self._follow_ended < p.follow_handover):
+            # (the follower searched for her when the stop came: its next status, a moment after the ES's order
+            # reached both modules, says it comes up to where she was; fresh7 corr_fast_walker_goto seed 0:
+            # "You left" 0.06 s after the stop, before that status came)
             # "Stop" ended following with her ahead and the follower comes up to her (its status
             # ``approaching``): how far ahead she stood, and her last steps before she stopped, are the
             # robot's lag, not her leaving (fresh6/div_fast_leader_stops: "You left" 1.5 s after "OK, I
@@ -1341,8 +1379,13 @@ class PersonAttention(Module):
                 # stepped unseen, not the growing radius, unless the track was born within it (four_people seed 8: a man walking past the
                 # robot 2.5 m from where she went out of view was taken as her, the search followed him)
                 if colour is None and self._partner_colour is not None and d > p.reacquire_radius:
-                    # ... or first seen where she went out of view (she comes back from there)
-                    if self._her_way(t, tk.origin) > radius:
+                    # ... or first seen where she went out of view (she comes back from there); not while she
+                    # leads (Follow): she walks on, ahead, and the camera looks at such a track meanwhile
+                    # (_candidate, taken by its clothes in _reacquire_walking); a track born beside her way, never
+                    # seen moving, was a door jamb 6 m ahead (the localiser's heading 1.8 deg off put its echo
+                    # 0.19 m off the wall), and the search drove to the jamb and stood there (fresh7
+                    # corr_fast_walker_goto seeds 0, 4)
+                    if self.fsm.state == "Follow" or self._her_way(t, tk.origin) > radius:
                         continue
                 if d <= best:
                     best, row = d, i

@@ -114,7 +114,7 @@ from homesim.module import Module
 from homesim.errors import BusError, HomesimError
 from robot import floorplan
 from robot.blindside import BLIND_X, SONAR_REACH, SonarEchoes, blind_clear, blind_points, explained_by_points
-from robot.partner_search import follow_search_time, yielding
+from robot.partner_search import Closing, follow_search_time, yielding
 from robot.bumpers import BumperReflex, own_reflex
 from robot.footprint import contact_speed_limit
 from robot.contract import ATTENTION_STATE, BASE_CMD, BUMPERS, ES_EVENTS, FOLLOW_STATUS, ODOMETRY, PARTNER, POSE, SCAN, SONAR, TRACKS
@@ -140,6 +140,9 @@ SEARCH_HORIZON = 1.5
 #: never through a wall of the floor plan (issue 26 item 1, sq_cross_pair: the search stopped at the
 #: spot 1.5 s past where she went out of view while she stood in the next room, in view from a step on)
 SEARCH_WALK_ON = 5.0
+#: rad: searching, a step of her way on that would cross the floor plan goes round it turned by the first of these
+#: that is free (:meth:`Follower._walk_on`); its length is the step's part along her heading
+WALK_ROUND = (0.0, math.radians(30), -math.radians(30), math.radians(60), -math.radians(60))
 #: m/s: searching, a partner last seen slower than this was standing: her velocity is no heading to look along
 WALKING = 0.3
 #: rad: searching, a point further off the heading than this is beside or behind: refused the short way
@@ -329,6 +332,7 @@ class Follower(Module):
     _corners_of: Any = None
     _corners: np.ndarray = np.zeros((0, 2))
     _seen_v: tuple[float, float] = (0.0, 0.0)
+    _closing: Closing | None = None  # (__init__ gives each follower its own)
     _backout_failed: tuple[float, float, float, float, float] | None = None
     #: nothing pressed, and never told otherwise (__init__ gives each follower its own, heard on the bus)
     bumpers = own_reflex()
@@ -376,6 +380,7 @@ class Follower(Module):
         self._excused_at = -math.inf  # when it last asked to pass (way_blocked)
         self._yielded = 0.0  # s since she was last seen spent yielding to someone near it (not search time)
         self._yield_t: float | None = None
+        self._closing = Closing()  # s since she was last seen spent on the way to where it looks for her (not search time)
         self._turn_way = 0.0  # searching, the way round (+1 left, -1 right) it turns toward a point behind
         self._heard: tuple[float, float, float] | None = None  # searching, where (odom) and when the sonar last heard her
         self.bus.subscribe(ATTENTION_STATE, self._on_state)
@@ -605,6 +610,7 @@ class Follower(Module):
         age = self.now - tr["t"]
         unseen = (0.0 if tr["visible"] else tr["lost_for"]) + age
         yielded = self._count_yield(approaching, tr["visible"] and age < 2 * self.period)
+        yielded += self._closed(tr["visible"] and age < 2 * self.period)
         # approaching, she stands: unseen a moment (behind a table's legs, a chair, the door frame) is
         # no reason to give up the approach and teach from across the room; her last position holds,
         # as long as following would search for her there (longer when the robot had fallen behind: a
@@ -634,6 +640,8 @@ class Follower(Module):
             self.trail.append((px, py))
         rx, ry = self._to_robot(px, py)
         d = math.hypot(rx, ry)
+        if (searching or approaching) and self._closing is not None and not heard:
+            self._closing.update(self.now, d)  # on its way to where it looks for her: not search time
         # radial speed: the partner's velocity along the line robot -> partner
         c, s = math.cos(self.odom[2]), math.sin(self.odom[2])
         vrx, vry = c * tr["vx"] + s * tr["vy"], -s * tr["vx"] + c * tr["vy"]
@@ -1095,13 +1103,20 @@ class Follower(Module):
 
     def _walk_on(self, start: tuple[float, float], v: tuple[float, float], duration: float) -> tuple[float, float]:
         """``start`` (odom) carried on at velocity ``v`` for ``duration`` s, in steps of a quarter second,
-        stopping before a step that would cross a wall or furniture of the floor plan."""
+        never across a wall or furniture of the floor plan: a step that would cross one goes round it as a
+        walker does, turned by the least of :data:`WALK_ROUND` that is free (left before right), at the pace along her heading; none free, it stops there. So the point follows her on along a
+        hall past a cabinet in her way and through the door her heading meets, where she went out of view
+        (the search looks into the room she went on into, not at the cabinet: fast20_two_doors_slow_robot)."""
         x, y = start
         for _ in range(int(max(0.0, duration) / 0.25)):
-            nx, ny = x + v[0] * 0.25, y + v[1] * 0.25
-            if not self.route.in_sight((x, y), (nx, ny)):
+            for turn in WALK_ROUND:
+                c, s_ = math.cos(turn), math.sin(turn)
+                sx, sy = (c * v[0] - s_ * v[1]) * c * 0.25, (s_ * v[0] + c * v[1]) * c * 0.25
+                if self.route.in_sight((x, y), (x + sx, y + sy)):
+                    x, y = x + sx, y + sy
+                    break
+            else:
                 break
-            x, y = nx, ny
         return x, y
 
     def _count_yield(self, approaching: bool, seen: bool) -> float:
@@ -1116,6 +1131,19 @@ class Follower(Module):
             if yielding(others[:, :2] if len(others) else ()):
                 self._yielded += self.now - last
         return self._yielded
+
+    def _closed(self, seen: bool) -> float:
+        """Seconds since she was last seen that the robot spent on its way to where it looks for her, still
+        further than :data:`~robot.partner_search.CLOSING_NEAR` from that point and coming nearer
+        (:class:`robot.partner_search.Closing`; the attention reads the same rule from this module's status,
+        whose distance is to that point): the search proper begins there, so it ends on evidence, not on a
+        clock set when she went out of view. Reset when she is seen. Approaching her after a stop (she stands
+        where she was last seen) the same: on its way there."""
+        if self._closing is None:
+            return 0.0
+        if seen or self.odom is None:
+            self._closing.reset()
+        return self._closing.total
 
     def _came_from(self) -> tuple[float, float] | None:
         """Where the robot drove from (map frame): its latest own position (odometry, driving forwards)
