@@ -419,6 +419,7 @@ class Follower(Module):
         self._pause_from: tuple[float, float] | None = None  # where she stood when the pause began (odom)
         self._pause_reached = False  # paused and come up to her: it stands there (turning to her) while the pause lasts
         self._approach_reached = False  # the catch-up came up to her: it gives way and faces her there, no more driving at her
+        self._aside_refused = False  # ... and its step aside was refused: it only faces her (no to and fro)
 
     def respawn(self) -> Follower:
         return Follower(self.sim, name=self.name, limits=self.limits, rate=1.0 / self.period, distance=self.distance,
@@ -440,6 +441,7 @@ class Follower(Module):
             same = partner is not None and partner == self.partner_id
             self.approach_until = self.now + self.approach_time if state == "Interaction" and same else None
             self._approach_reached = False
+            self._aside_refused = False
         elif state != "Interaction":
             self.approach_until = None
         if follow and not self.following:
@@ -712,7 +714,7 @@ class Follower(Module):
                 # "follow me" walks her through it), then face her
                 aside = (self._give_way(px, py, self.route.obstacles_near(self.odom),
                                         view=GIVE_WAY_BEARING if paused else APPROACH_VIEW)
-                         if d <= self.band[0] or stepping_aside else None)
+                         if (d <= self.band[0] or stepping_aside) and (paused or not self._aside_refused) else None)
                 # after the catch-up, a step aside that is refused (its sweep, her body, the sonar) leaves it
                 # free to turn to her meanwhile: stood 10 s in a 0.9 m door with her 26 deg off, retrying the
                 # give-way until the approach's time ran out (face20_stop_past_narrow_door seed 1)
@@ -720,6 +722,8 @@ class Follower(Module):
                     self._command(*aside)
                     self._status(d, False, "paused" if paused else "approaching")
                     return aside
+                if aside is not None:  # refused: it faces her from here on (stepping and turning back to and fro
+                    self._aside_refused, self._aside = True, None  # on the spot: library home_tour seed 4)
                 if paused:
                     self._pause_reached = True
                     return self._pause(px, py, d, bearing)
