@@ -43,7 +43,9 @@ Control, every ``1/rate`` seconds:
   passage (its centre ``APPROACH_ROOM`` m from the walls; closer to her than the band's near
   end it stops anyway), then turns to face her and stops, so it stands at a comfortable
   interaction distance facing her before her next request is handled (a robot lagging at a
-  door frame would teach from the other room). Its status says ``approaching`` meanwhile;
+  door frame would teach from the other room). Once come up to her it drives at her no more (it
+  gives way if it must, then faces her), with at least :data:`ARRIVED_TIME` s for that; giving way
+  there it keeps her within :data:`APPROACH_VIEW`, ahead of the laser's line. Its status says ``approaching`` meanwhile;
   the attention leaves turning the base to it, and the dialog holds her requests, until
   then. No too-fast warnings while approaching. She stands, so her last position holds while
   she is unseen (behind a table's or a chair's legs, the door frame) as long as following would
@@ -235,6 +237,21 @@ GIVE_WAY_HELD = 1.5
 CAME_FROM = 1.5
 #: rad: giving way, the partner is kept within this bearing (turned to when further off)
 GIVE_WAY_BEARING = math.radians(80)
+#: rad: the catch-up's end faces her when she is within this bearing
+FACED = math.radians(8)
+#: m: laser echoes this close to the partner's track are her legs (as the dynamic window leaves them out: 0.45 m)
+HER_LEGS = 0.45
+#: s: the catch-up come up to her, it has at least this long to give way (``GIVE_WAY_TIME``) and face her: her
+#: request is held until then (the approach's own time running out mid give-way let her request be handled with her
+#: at its side)
+ARRIVED_TIME = GIVE_WAY_TIME + 3.0
+#: rad: giving way at the catch-up's end (she stands close, it is about to face her), she is kept within this
+#: bearing instead: ahead of the laser's line (``BLIND_X``) with her legs, so the laser and camera see her and a turn
+#: back to her is not refused by the sonar's blind-half check (her legs heard at 0.65 m beside it lie within
+#: ``BLIND_GAP`` of a swung corner: face19's lflat_crossing_pair seed 7, left standing sideways to her). At the
+#: band's near end less her legs' reach (1.0 - 0.16 m) the legs stay ahead of the line up to 76 degrees; 60 leaves room
+#: for a step's turn and a coasting track
+APPROACH_VIEW = math.radians(60)
 #: Held up (issue 26, "excuse me"): it should drive after her, but someone standing (slower than
 #: GIVE_WAY_STILL) in its way, ahead within HELD_UP_NEAR m and HELD_UP_LANE m of its line to the goal,
 #: or beside it closer than HELD_UP_BESIDE m (not behind: a person's space that wedges it against a
@@ -406,6 +423,8 @@ class Follower(Module):
         self._pause_seen: str | None = None  # the attention's pause (when its order came) last acted on
         self._pause_from: tuple[float, float] | None = None  # where she stood when the pause began (odom)
         self._pause_reached = False  # paused and come up to her: it stands there (turning to her) while the pause lasts
+        self._approach_reached = False  # the catch-up came up to her: it gives way and faces her there, no more driving at her
+        self._aside_refused = False  # ... and its step aside was refused: it only faces her (no to and fro)
 
     def respawn(self) -> Follower:
         return Follower(self.sim, name=self.name, limits=self.limits, rate=1.0 / self.period, distance=self.distance,
@@ -426,6 +445,8 @@ class Follower(Module):
             # further than a comfortable interaction distance (issue 26 item 10)
             same = partner is not None and partner == self.partner_id
             self.approach_until = self.now + self.approach_time if state == "Interaction" and same else None
+            self._approach_reached = False
+            self._aside_refused = False
         elif state != "Interaction":
             self.approach_until = None
         if follow and not self.following:
@@ -580,7 +601,26 @@ class Follower(Module):
         if not arcs:
             return True
         mapped = self.route.obstacles_near(self.odom) if self.odom is not None else np.zeros((0, 2))
+        # and her legs where the laser sees them ahead of its line (within HER_LEGS of her track): a flank
+        # transducer hears the partner standing beside its front across its cone, and its arc runs on round the
+        # flank; the reading is her legs, seen, as a reading near a wall is the wall's, and her body is kept
+        # clear by the follower's own checks (face20: the turn back to her refused while she stood at 40-60 deg)
+        her = self._her_legs_seen()
+        if len(her):
+            mapped = np.concatenate((mapped, her)) if len(mapped) else her
         return blind_clear(v, w, blind_points(arcs, explained_by_points(mapped)), duration=SWEEP_TIME)
+
+    def _her_legs_seen(self) -> np.ndarray:
+        """The laser's echoes (robot frame) ahead of its line (``BLIND_X``) within :data:`HER_LEGS` m of the partner's
+        track (its position now, constant velocity), an empty array without a track."""
+        tr = self.track
+        pts = self.scan.points()
+        if tr is None or self.odom is None or not len(pts):
+            return np.zeros((0, 2))
+        age = min(max(self.now - tr["t"], 0.0), 0.5)
+        hx, hy = self._to_robot(tr["x"] + tr["vx"] * age, tr["y"] + tr["vy"] * age)
+        keep = (pts[:, 0] >= BLIND_X) & (np.hypot(pts[:, 0] - hx, pts[:, 1] - hy) <= HER_LEGS)
+        return pts[keep]
 
     def _halt(self) -> None:
         if self.driving:
@@ -668,15 +708,30 @@ class Follower(Module):
             stepping_aside = paused and self._aside is not None and self.now <= self._aside[1]
             if paused and (self._pause_reached or stepping_aside):
                 arrived = True
+            # come up to her once, it stays there: it gives way (if it must) and turns to face her; backing out
+            # of her way just past the band's near end it drove at her again, to and fro until the approach's
+            # time ran out with her 20-30 degrees off (face20: face19_stop_past_opening seed 1)
+            if approaching and self._approach_reached:
+                arrived = True
+            elif approaching and arrived:
+                self._approach_reached = True
+                # and time to give way and turn to her there: her request is held until it faces her
+                self.approach_until = max(self.approach_until, self.now + ARRIVED_TIME)  # type: ignore[type-var]
             if arrived:
                 # so close to her in a door frame or a passage: out of her way first (her next
                 # "follow me" walks her through it), then face her
-                aside = (self._give_way(px, py, self.route.obstacles_near(self.odom))
-                         if d <= self.band[0] or stepping_aside else None)
-                if aside is not None:
+                aside = (self._give_way(px, py, self.route.obstacles_near(self.odom),
+                                        view=GIVE_WAY_BEARING if paused else APPROACH_VIEW)
+                         if (d <= self.band[0] or stepping_aside) and (paused or not self._aside_refused) else None)
+                # after the catch-up, a step aside that is refused (its sweep, her body, the sonar) leaves it
+                # free to turn to her meanwhile: stood 10 s in a 0.9 m door with her 26 deg off, retrying the
+                # give-way until the approach's time ran out (face20_stop_past_narrow_door seed 1)
+                if aside is not None and (paused or aside != (0.0, 0.0) or abs(bearing) < FACED):
                     self._command(*aside)
                     self._status(d, False, "paused" if paused else "approaching")
                     return aside
+                if aside is not None:  # refused: it faces her from here on (stepping and turning back to and fro
+                    self._aside_refused, self._aside = True, None  # on the spot: library home_tour seed 4)
                 if paused:
                     self._pause_reached = True
                     return self._pause(px, py, d, bearing)
@@ -1009,12 +1064,13 @@ class Follower(Module):
         return self._walk_on((sx, sy), (vx, vy), min(self.now - st, SEARCH_WALK_ON))
 
     def _give_way(self, px: float, py: float, mapped: np.ndarray, *, held: bool = False,
-                  back_only: bool = False) -> tuple[float, float] | None:
+                  back_only: bool = False, view: float = GIVE_WAY_BEARING) -> tuple[float, float] | None:
         """The command that takes the robot aside when the partner (odom ``px, py``) is too close and
         it stands in a door frame or a passage, or anywhere when ``held`` (she has stood held up in
         front of it a while) (:mod:`robot.navigation.giveway`), None otherwise (no floor plan, room
         enough here and she is not held up, or nowhere to go). ``back_only``: she walks at it, so
-        only backing out the way it came (away from her) will do."""
+        only backing out the way it came (away from her) will do. ``view``: she is kept within this bearing
+        (turned to first when further off)."""
         if not self.route.ready or self.odom is None:
             self._aside = None
             return None
@@ -1048,7 +1104,7 @@ class Follower(Module):
         if self._aside[2]:
             return self._back_out((gx, gy), (rx, ry), mapped)
         bearing = math.atan2(ry, rx)
-        if abs(bearing) > GIVE_WAY_BEARING:
+        if abs(bearing) > view:
             # keep her in view (the laser and the camera look ahead; the attention lets a partner go
             # who is not seen for a while): turn towards her, then go on aside; not while a corner
             # would swing into her or anyone
@@ -1313,8 +1369,8 @@ class Follower(Module):
         return None
 
     def _face(self, bearing: float) -> tuple[float, float] | None:
-        """The approach's end: turn on the spot to face her (within 8 degrees), then stop."""
-        if abs(bearing) < math.radians(8):
+        """The approach's end: turn on the spot to face her (within :data:`FACED`), then stop."""
+        if abs(bearing) < FACED:
             return self._stand(True, "")
         w = max(-self.limits.max_turn, min(self.limits.max_turn, 1.8 * bearing))
         v, w = self._swept(0.0, w, self.route.obstacles_near(self.odom))  # type: ignore[arg-type]
