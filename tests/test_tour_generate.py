@@ -8,7 +8,7 @@ import math
 from functools import lru_cache
 
 import numpy as np
-from hypothesis import given, settings
+from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
 from homesim.cli import main
@@ -96,6 +96,7 @@ def test_furniture_of_both_kinds_and_shapes_of_every_kind_occur():
 
 @settings(max_examples=examples(6, 25))
 @given(st.integers(0, 10**6))
+@example(20126)  # a red bag on the floor in the nook between a wall, the stove and a chair: no one could get near it
 def test_objects_are_inside_rooms_on_what_they_say_and_reachable(seed):
     _, sc = tour(seed)
     assert 3 <= len(sc.objects) <= 15

@@ -6,7 +6,9 @@ in (a kettle in a kitchen). Sometimes two similar objects (the same type)
 stand side by side, 15 to 35 cm apart, in different colours or, now and then,
 the same colour (the robot must then ask which one is meant). Objects never
 stand inside a wall or a piece of furniture they are not on, and keep clear
-of each other.
+of each other. A person can always stand 0.5 to 1.1 m from each of them, on
+floor joined to the rest of the flat (never an object in a nook between a
+wall and furniture, where nobody could point at it or show it).
 """
 
 from __future__ import annotations
@@ -120,7 +122,7 @@ def _spot(rng: np.random.Generator, flat: Flat, room: int, size: float, where: s
         if inner.w <= 0 or inner.h <= 0:
             return None
         x, y = snap(float(rng.uniform(inner.x0, inner.x1))), snap(float(rng.uniform(inner.y0, inner.y1)))
-        if not inner.contains((x, y)) or not _clear_of(x, y, size, objs):
+        if not inner.contains((x, y)) or not _clear_of(x, y, size, objs) or not _within_reach(flat, x, y):
             return None
         return x, y, f
     # on the floor: near a wall or a piece of furniture (where people put things), never in a door's way
@@ -134,7 +136,8 @@ def _spot(rng: np.random.Generator, flat: Flat, room: int, size: float, where: s
     x = inner.x0 + t * inner.w if side in (0, 2) else (inner.x0 if side == 3 else inner.x1)
     y = inner.y0 + t * inner.h if side in (1, 3) else (inner.y0 if side == 0 else inner.y1)
     x, y = snap(x), snap(y)
-    if not room_plan.contains((x, y)) or not _floor_free(flat, x, y, size) or not _clear_of(x, y, size, objs):
+    if (not room_plan.contains((x, y)) or not _floor_free(flat, x, y, size) or not _clear_of(x, y, size, objs)
+            or not _within_reach(flat, x, y)):
         return None
     return x, y, None
 
@@ -153,6 +156,29 @@ def _floor_free(flat: Flat, x: float, y: float, size: float) -> bool:
     return all(flat.rooms[k].contains(c) for k in [flat.room_at((x, y))] if k is not None for c in box.corners())
 
 
+#: How far from an object a person may stand to show it (the ring :func:`_within_reach` tries).
+REACH_RADII = (0.5, 0.7, 0.9, 1.1)
+
+
+def _within_reach(flat: Flat, x: float, y: float) -> bool:
+    """A person can stand 0.5-1.1 m from (x, y), on free floor joined to the rest of the flat.
+
+    Checked on the flat's walking grid (a person's radius plus a margin, every piece of furniture
+    blocking), so an object is never placed in a nook no one can get near (between a wall, the
+    stove and a chair, say), whatever its room or its furniture.
+    """
+    grid = flat.walk_grid
+    if grid is None:  # a flat not laid out by generate_flat (tests build some by hand)
+        return True
+    home = grid.component(flat.anchor)
+    for r in REACH_RADII:
+        for a in np.linspace(0, 2 * math.pi, 16):
+            p = (x + r * math.cos(a), y + r * math.sin(a))
+            if not grid.blocked[grid.cell_of(p)] and grid.component(p) == home:
+                return True
+    return False
+
+
 def _beside(rng: np.random.Generator, flat: Flat, obj: ObjectPlan, objs: list[ObjectPlan]) -> tuple[float, float] | None:
     """A spot 15-35 cm (edge to edge) from ``obj`` on the same top (or floor)."""
     for _ in range(16):
@@ -163,8 +189,8 @@ def _beside(rng: np.random.Generator, flat: Flat, obj: ObjectPlan, objs: list[Ob
         if not _clear_of(x, y, obj.size, others) or math.hypot(x - obj.x, y - obj.y) < obj.size + 0.12:
             continue
         if obj.on is not None:
-            if obj.on.rect.inset(obj.size / 2 + 0.03).contains((x, y)):
+            if obj.on.rect.inset(obj.size / 2 + 0.03).contains((x, y)) and _within_reach(flat, x, y):
                 return x, y
-        elif flat.room_at((x, y)) == obj.room and _floor_free(flat, x, y, obj.size):
+        elif flat.room_at((x, y)) == obj.room and _floor_free(flat, x, y, obj.size) and _within_reach(flat, x, y):
             return x, y
     return None
