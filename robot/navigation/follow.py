@@ -1162,7 +1162,8 @@ class Follower(Module):
         never across a wall or furniture of the floor plan: a step that would cross one goes round it as a
         walker does, turned by the least of :data:`WALK_ROUND` that is free (left before right), at the pace
         along her heading; none free, it stops there. So the point follows her on along a hall past a cabinet
-        in her way and through the door her heading meets, where she went out of view (the search looks into the room she went on into, not at the cabinet: fast20_two_doors_slow_robot)."""
+        in her way and through the door her heading meets, where she went out of view (the search looks into the
+        room she went on into, not at the cabinet: fast20_two_doors_slow_robot)."""
         x, y = start
         for _ in range(int(max(0.0, duration) / 0.25)):
             for turn in WALK_ROUND:
