@@ -134,10 +134,17 @@ def test_a_partner_out_of_view_is_searched_for_where_she_was_heading_then_the_ro
     assert any(float(st["speed"]) > 0.1 for _, st in searching)  # it drives on where she went, not standing
     # the time it spent on its way to where it looks for her (coming nearer that point from over 1 m) is not
     # search time (robot.partner_search.Closing): the search ends that much later, and not before it got there
-    closed = f._closing.total
+    # the rule written out (1.0 m, 0.1 m/s, 30 s at most) over the distances the follower's status rows gave
+    # while it searched (to where it looks for her), not the follower's own counter (review20 F4)
+    rows = [(t, float(st["distance"])) for t, st in too_fast.status if t > HIDDEN_AT and st["state"] == "searching"]
+    closed = 0.0
+    for (t0, d0), (t1, d1) in zip(rows, rows[1:]):
+        if 0.0 < t1 - t0 <= 1.0 and d0 > 1.0 and d0 - d1 >= 0.1 * (t1 - t0):
+            closed = min(30.0, closed + (t1 - t0))
     assert 0.0 < closed <= 30.0
     ended = min(t for t, st in too_fast.status if t > HIDDEN_AT and st["state"] == "stopped")
     assert ended == pytest.approx(HIDDEN_AT + search + closed, abs=0.5)
+    assert ended <= HIDDEN_AT + search + 30.0 + 0.5  # never more than the cap later than a clock set when she went
     after = [(t, st) for t, st in too_fast.status if t > HIDDEN_AT + search + closed + 0.4]
     assert after and all(st["state"] == "stopped" for _, st in after)
     assert abs(too_fast.world.robot.v) < 1e-6  # standing still by the end

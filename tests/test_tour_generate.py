@@ -96,6 +96,7 @@ def test_furniture_of_both_kinds_and_shapes_of_every_kind_occur():
 
 @settings(max_examples=examples(6, 25))
 @given(st.integers(0, 10**6))
+@example(72)  # a bowl on the kitchen counter reachable only from floor outside the flat (review20 F3)
 @example(20126)  # a red bag on the floor in the nook between a wall, the stove and a chair: no one could get near it
 def test_objects_are_inside_rooms_on_what_they_say_and_reachable(seed):
     _, sc = tour(seed)
@@ -106,8 +107,11 @@ def test_objects_are_inside_rooms_on_what_they_say_and_reachable(seed):
         if o.on is None:  # on the floor: not inside a piece of furniture
             for f in sc.furniture:
                 assert not point_in_polygon((o.x, o.y), np.array(f.polygon)), (o.name, f.name)
-        # a person can get within 1.2 m of it
-        near = [(o.x + r * math.cos(a), o.y + r * math.sin(a)) for r in (0.5, 0.7, 0.9, 1.1) for a in np.linspace(0, 2 * math.pi, 16)]
+        # a person can get within 1.2 m of it, standing inside the flat (floor outside the rooms is joined to the
+        # flat's grid through the exit door and does not count: seed 72's bowl, reachable only from outside)
+        near = [(o.x + r * math.cos(a), o.y + r * math.sin(a)) for r in (0.5, 0.7, 0.9, 1.1)
+                for a in np.linspace(0, 2 * math.pi, 16, endpoint=False)]
+        near = [p for p in near if room_of(sc, p[0], p[1]) is not None]
         assert any(not grid.blocked[grid.cell_of(p)] and grid.component(p) == grid.component((sc.robot.x, sc.robot.y)) for p in near), o.name
         assert o.type in objectgen.KINDS
 

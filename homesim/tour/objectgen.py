@@ -161,20 +161,23 @@ REACH_RADII = (0.5, 0.7, 0.9, 1.1)
 
 
 def _within_reach(flat: Flat, x: float, y: float) -> bool:
-    """A person can stand 0.5-1.1 m from (x, y), on free floor joined to the rest of the flat.
+    """A person can stand 0.5-1.1 m from (x, y), on free floor inside a room of the flat joined to the rest of it.
 
     Checked on the flat's walking grid (a person's radius plus a margin, every piece of furniture
     blocking), so an object is never placed in a nook no one can get near (between a wall, the
-    stove and a chair, say), whatever its room or its furniture.
+    stove and a chair, say), whatever its room or its furniture. The grid covers the flat's bounding
+    box, and floor outside the rooms is joined to the flat through its exit door: a standing point
+    there does not count (review20 F3: seed 72's bowl on a counter was reachable only from outside the
+    kitchen's outer walls).
     """
     grid = flat.walk_grid
     if grid is None:  # a flat not laid out by generate_flat (tests build some by hand)
         return True
     home = grid.component(flat.anchor)
     for r in REACH_RADII:
-        for a in np.linspace(0, 2 * math.pi, 16):
+        for a in np.linspace(0, 2 * math.pi, 16, endpoint=False):
             p = (x + r * math.cos(a), y + r * math.sin(a))
-            if not grid.blocked[grid.cell_of(p)] and grid.component(p) == home:
+            if flat.room_at(p) is not None and not grid.blocked[grid.cell_of(p)] and grid.component(p) == home:
                 return True
     return False
 

@@ -754,8 +754,6 @@ class PersonAttention(Module):
             self._follow_ended = self.now
         if was == "Follow" and state == "Interaction" and stood and self._took_stood_stop():
             self._stop_speaker()
-        if was == "Follow" and state == "Interaction":
-            self._stop_unseen()
         if state in ("Interaction", "Follow", "Object"):
             # A partner unseen for a moment (stepped aside) stays the partner across the change.
             pending = self.partner is not None and self._partner_last is not None and not self.partner_lost_sent
@@ -800,21 +798,6 @@ class PersonAttention(Module):
         if heard:
             self.partner = max(heard)[1]
             self._partner_last = self._partner_colour = None
-
-    def _stop_unseen(self) -> None:
-        """Following ended (her stop) while the follower searched for her and her track is unseen: she is where the voice came from, not
-        where her track was last seen (a leader far ahead stopped in the next room; the track the search drove
-        to was a door jamb, fresh7 corr_fast_walker_goto seed 0, or her guessed point in the hall,
-        fast20_two_doors_slow_robot). Her track is let go without a loss: with nobody attended, the robot
-        listens and turns to a voice as after a loss (:meth:`_searching`), and whoever speaks to it facing it
-        takes the place; nobody within ``come_back_after`` s, and the loss goes out (:meth:`_nobody_there`)."""
-        if self.partner is None or self.partner_lost_sent or self._follow_searching is None:
-            return
-        row = self.tracks.row(self.partner)
-        if row >= 0 and not self.tracks.tracks[row].dormant:
-            return  # her track is seen: the stop's speaker is decided by _stop_speaker
-        self.partner = None
-        self._partner_last = None
 
     def _on_es_event(self, msg: Message) -> None:
         """The dialog's stop taken from off the partner's bearing after the robot stood by her track."""
