@@ -87,3 +87,9 @@ def test_a_remark_about_another_thing_that_is_no_owner_is_not_set_aside(u: Under
 def test_a_stop_said_twice_in_other_words_is_one_whole_stop(u: Understander, words: str) -> None:
     res = u.understand(words)
     assert res.act == "STOP" and not res.partial
+
+
+@pytest.mark.parametrize("words", ["the biron follow me", "the you follow me please"])
+def test_a_misheard_word_before_a_follow_is_no_destination_and_stays_a_word_lost(u: Understander, words: str) -> None:
+    res = u.understand(words)
+    assert res.act == "FOLLOW" and res.partial

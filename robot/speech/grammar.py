@@ -1486,8 +1486,10 @@ _DESTINATION_DETERMINERS = frozenset({"the", "my", "our"})
 # words that make the lead before a follow more than a noun phrase naming where (a clause: left to the other rules)
 _NOT_A_NOUN_PHRASE = frozenset({"is", "are", "was", "were", "be", "'s", "s", "this", "that", "here", "there", "where", "not",
                                 "don't", "dont", "do", "does", "has", "have", "had", "can", "will", "go", "come", "stop", "wait", "follow", "look",
-                                # "the one on the table, follow me": a which-one answer, then the request (talk21)
-                                "one"})
+                                # "the one on the table, follow me": a which-one answer, then the request (talk21);
+                                # the robot or a pronoun after the article is no place ("[hey→the] biron, follow me",
+                                # "[can→the] you follow me": a word misheard, still partial)
+                                "one", "biron", "byron", "robot", "you", "me", "i"})
 _SUGGESTION_BEFORE = frozenset({"so", "okay", "ok", "right", "now", "then", "well", "and", "alright", "biron", "robot"})
 #: Words between the lead and the verb ("I'll just quickly go and get").
 _ERRAND_FILL = frozenset({"just", "quickly", "quick", "first", "only", "go", "and", "run", "nip", "dash"})
