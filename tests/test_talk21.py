@@ -93,3 +93,11 @@ def test_a_stop_said_twice_in_other_words_is_one_whole_stop(u: Understander, wor
 def test_a_misheard_word_before_a_follow_is_no_destination_and_stays_a_word_lost(u: Understander, words: str) -> None:
     res = u.understand(words)
     assert res.act == "FOLLOW" and res.partial
+
+
+@pytest.mark.parametrize("words", ["this is my pen, the other one belongs to my son",
+                                   "this one's my bag, the other belongs to my daughter"])
+def test_whom_the_other_thing_belongs_to_is_never_the_shown_things_owner(u: Understander, words: str) -> None:
+    res = u.understand(words)
+    assert res.act == "OBJECT" and not res.partial
+    assert [o.get("name") for o in res.frame.iter("OWNER")] == ["speaker"]

@@ -594,12 +594,16 @@ class Understander:
             # "that vase is from my grandmother", "this is my cup, it's from my mother": where it came from is
             # said of the object she shows, no words lost (fresh4 ring_visitor_leaves: "Is this vase?")
             ignored, partial = [], False
-        if ignored and tree_act(tree) == "teach_object" and _owned(tree) is not None and _contrast(toks, ignored):
-            # "this lamp here is mine, the other one is my husband's", "this cup is mine, that one is anna's": a
-            # second clause that says whose another thing is (one she does not show) contrasts with the teaching;
-            # it is set aside, and the teaching, whole, keeps its own owner (talk21: the husband's lamp was stored)
-            res.corrected += ignored
-            ignored, partial = [], False
+        split = self._contrast_split(toks, bool(lex.unknown)) if tree_act(tree) == "teach_object" else None
+        if split is not None:
+            # "this lamp here is mine, the other one is my husband's", "this cup is mine, that one is anna's", "this
+            # is my pen, the other one belongs to my son": a second clause that says whose another thing is (one she
+            # does not show) contrasts with the teaching; it is set aside, and the teaching, whole, keeps its own
+            # owner (talk21: the husband's lamp was stored, "belongs to my son" was taken as the pen's owner)
+            res.corrected += [t.text for t in toks[split[0]:]]
+            tree, ignored, partial = split[1], [], False
+            frame = build(tree)
+            obj = frame[0]
         res.frame = frame
         res.fragment = tree_act(tree) in _FRAGMENTS or _bare_side(tree)
         res.ignored = ignored + given_up
@@ -973,6 +977,18 @@ class Understander:
             return tail
         return None
 
+    def _contrast_split(self, toks: list[Tok], name_lost: bool) -> tuple[int, Tree] | None:
+        """Where a clause saying whose another thing is (:func:`_contrast`) starts after a whole object teaching
+        with an owner, and that teaching parsed by itself; None when the turn has no such two parts."""
+        for k in range(2, len(toks) - 2):
+            if toks[k].type not in ("THE", "THAT") or not _contrast(toks[k:], name_lost):
+                continue
+            head, lost, part = self._parse(toks[:k])
+            if head is not None and not lost and not part and not _guessed(head) \
+                    and tree_act(head) == "teach_object" and _owned(head) is not None:
+                return k, head
+        return None
+
     def _follow_after_suggestion(self, words: str, said: list[str]) -> Understanding | None:
         """The whole follow request said after a suggestion question ("shall we go to the kitchen? follow me"),
         or None.
@@ -1331,21 +1347,28 @@ def _token_of(toks: list[Tok], word: str) -> Tok | None:
     return next((t for t in toks if word in t.text.split()), None)
 
 
-def _contrast(toks: list[Tok], ignored: list[str]) -> bool:
-    """Whether the words left over after a whole teaching with an owner are a clause that says whose another
-    thing is: "the other one is my husband's", "that one is anna's", "the red one is ours", "the other cup is
-    his" (a determiner or "that", words for which one, "one" or a noun, the copula, then only whose)."""
-    tail = toks[len(toks) - len(ignored):]
-    if [t.text for t in tail] != ignored or len(tail) < 4 or tail[0].type not in ("THE", "THAT"):
+def _contrast(tail: list[Tok], name_lost: bool) -> bool:
+    """Whether ``tail`` is a clause that says whose another thing is: "the other one is my husband's", "that one
+    is anna's", "the red one is ours", "the other cup is his", "the other (one) belongs to my son" (a determiner
+    or "that", words for which one, then "one" or a noun, unless "other" says it; the copula then only whose, or
+    "belongs to" and whom, that name perhaps a word the robot does not know: ``name_lost``)."""
+    if len(tail) < 3 or tail[0].type not in ("THE", "THAT"):
         return False
-    cop = next((k for k, t in enumerate(tail) if t.type in ("IS", "ARE")), None)
-    if cop is None or cop < 2 or tail[cop - 1].type not in ("ONE", "OBJ"):
+    cop = next((k for k, t in enumerate(tail) if t.type in ("IS", "ARE", "BELONGS")), None)
+    if cop is None or cop < 2 or any(t.type not in ("ORD", "COLOUR", "ATTR", "ONE", "OBJ") for t in tail[1:cop]):
         return False
-    if any(t.type not in ("ORD", "COLOUR", "ATTR", "ONE", "OBJ") for t in tail[1:cop]):
+    other = any(t.type == "ORD" and t.text == "other" for t in tail[1:cop])
+    if tail[cop - 1].type not in ("ONE", "OBJ") and not other:
         return False
     if tail[0].type == "THE" and not any(t.type in ("ORD", "COLOUR", "ATTR") for t in tail[1:cop]):
         return False  # "the cup is mine" names the thing; only "the other/red one" points away from it
     whose = tail[cop + 1:]
+    if tail[cop].type == "BELONGS":
+        if not whose or whose[0].type != "TO":
+            return False
+        whose = whose[1:]
+        return (not whose and name_lost) or (bool(whose) and all(t.type in ("MY", "OUR", "YOUR", "NAME", "ME", "US")
+                                                                  for t in whose))
     return bool(whose) and all(t.type in ("MY", "OUR", "YOUR", "NAME", "POSS", "MINE", "OBJ") for t in whose) \
         and any(t.type in ("MINE", "POSS") or (t.type == "MY" and t.text != "my") for t in whose)
 
