@@ -101,3 +101,11 @@ def test_whom_the_other_thing_belongs_to_is_never_the_shown_things_owner(u: Unde
     res = u.understand(words)
     assert res.act == "OBJECT" and not res.partial
     assert [o.get("name") for o in res.frame.iter("OWNER")] == ["speaker"]
+
+
+@pytest.mark.parametrize("who", ["we", "i"])
+@pytest.mark.parametrize("verb", ["put", "leave"])
+def test_where_did_we_put_a_thing_is_the_where_question_never_a_teaching(u: Understander, who: str,
+                                                                                verb: str) -> None:
+    res = u.understand(f"where did {who} {verb} the green vase again")
+    assert res.act == "WHERE" and not res.partial
