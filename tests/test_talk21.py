@@ -109,3 +109,9 @@ def test_where_did_we_put_a_thing_is_the_where_question_never_a_teaching(u: Unde
                                                                                 verb: str) -> None:
     res = u.understand(f"where did {who} {verb} the green vase again")
     assert res.act == "WHERE" and not res.partial
+
+
+def test_the_other_things_owner_never_becomes_the_shown_things_when_her_own_whose_was_lost(u: Understander) -> None:
+    res = u.understand("this pen here the other one is my son's")
+    assert res.act == "OBJECT" and res.partial
+    assert [o.get("name") for o in res.frame.iter("OWNER")] == []

@@ -601,7 +601,8 @@ class Understander:
             # does not show) contrasts with the teaching; it is set aside, and the teaching, whole, keeps its own
             # owner (talk21: the husband's lamp was stored, "belongs to my son" was taken as the pen's owner)
             res.corrected += [t.text for t in toks[split[0]:]]
-            tree, ignored, partial = split[1], [], False
+            # whose the shown thing is, lost ("this lamp here [is mine], the other one is ..."): still a word lost
+            tree, ignored, partial = split[1], [], _owned(split[1]) is None
             frame = build(tree)
             obj = frame[0]
         res.frame = frame
@@ -979,13 +980,12 @@ class Understander:
 
     def _contrast_split(self, toks: list[Tok], name_lost: bool) -> tuple[int, Tree] | None:
         """Where a clause saying whose another thing is (:func:`_contrast`) starts after a whole object teaching
-        with an owner, and that teaching parsed by itself; None when the turn has no such two parts."""
+        (its owner perhaps lost), and that teaching parsed by itself; None when the turn has no such two parts."""
         for k in range(2, len(toks) - 2):
             if toks[k].type not in ("THE", "THAT") or not _contrast(toks[k:], name_lost):
                 continue
             head, lost, part = self._parse(toks[:k])
-            if head is not None and not lost and not part and not _guessed(head) \
-                    and tree_act(head) == "teach_object" and _owned(head) is not None:
+            if head is not None and not lost and not part and not _guessed(head) and tree_act(head) == "teach_object":
                 return k, head
         return None
 
@@ -1352,7 +1352,7 @@ def _contrast(tail: list[Tok], name_lost: bool) -> bool:
     is anna's", "the red one is ours", "the other cup is his", "the other (one) belongs to my son" (a determiner
     or "that", words for which one, then "one" or a noun, unless "other" says it; the copula then only whose, or
     "belongs to" and whom, that name perhaps a word the robot does not know: ``name_lost``)."""
-    if len(tail) < 3 or tail[0].type not in ("THE", "THAT"):
+    if len(tail) < 3 or tail[0].type not in ("THE", "THAT", "A"):
         return False
     cop = next((k for k, t in enumerate(tail) if t.type in ("IS", "ARE", "BELONGS")), None)
     if cop is None or cop < 2 or any(t.type not in ("ORD", "COLOUR", "ATTR", "ONE", "OBJ") for t in tail[1:cop]):
@@ -1360,7 +1360,7 @@ def _contrast(tail: list[Tok], name_lost: bool) -> bool:
     other = any(t.type == "ORD" and t.text == "other" for t in tail[1:cop])
     if tail[cop - 1].type not in ("ONE", "OBJ") and not other:
         return False
-    if tail[0].type == "THE" and not any(t.type in ("ORD", "COLOUR", "ATTR") for t in tail[1:cop]):
+    if tail[0].type in ("THE", "A") and not any(t.type in ("ORD", "COLOUR", "ATTR") for t in tail[1:cop]):
         return False  # "the cup is mine" names the thing; only "the other/red one" points away from it
     whose = tail[cop + 1:]
     if tail[cop].type == "BELONGS":
@@ -1370,7 +1370,7 @@ def _contrast(tail: list[Tok], name_lost: bool) -> bool:
         return (not whose and name_lost) or (bool(whose) and all(t.type in ("MY", "OUR", "YOUR", "NAME", "ME", "US")
                                                                   for t in whose))
     return bool(whose) and all(t.type in ("MY", "OUR", "YOUR", "NAME", "POSS", "MINE", "OBJ") for t in whose) \
-        and any(t.type in ("MINE", "POSS") or (t.type == "MY" and t.text != "my") for t in whose)
+        and any(t.type in ("MINE", "POSS", "NAME") or (t.type == "MY" and t.text != "my") for t in whose)
 
 
 def _said_to_another(toks: list[Tok], words: list[str], hesitations: frozenset[str]) -> str:
