@@ -115,3 +115,9 @@ def test_the_other_things_owner_never_becomes_the_shown_things_when_her_own_whos
     res = u.understand("this pen here the other one is my son's")
     assert res.act == "OBJECT" and res.partial
     assert [o.get("name") for o in res.frame.iter("OWNER")] == []
+
+
+def test_the_other_things_owner_is_set_aside_when_her_copula_was_lost(u: Understander) -> None:
+    res = u.understand("this pen here mine the other one is my son's")
+    assert res.act == "OBJECT" and res.partial
+    assert "son" not in [o.get("name") for o in res.frame.iter("OWNER")]

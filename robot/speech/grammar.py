@@ -602,7 +602,7 @@ class Understander:
             # owner (talk21: the husband's lamp was stored, "belongs to my son" was taken as the pen's owner)
             res.corrected += [t.text for t in toks[split[0]:]]
             # whose the shown thing is, lost ("this lamp here [is mine], the other one is ..."): still a word lost
-            tree, ignored, partial = split[1], [], _owned(split[1]) is None
+            tree, ignored, partial = split[1], [], split[2] or _owned(split[1]) is None
             frame = build(tree)
             obj = frame[0]
         res.frame = frame
@@ -978,15 +978,15 @@ class Understander:
             return tail
         return None
 
-    def _contrast_split(self, toks: list[Tok], name_lost: bool) -> tuple[int, Tree] | None:
+    def _contrast_split(self, toks: list[Tok], name_lost: bool) -> tuple[int, Tree, bool] | None:
         """Where a clause saying whose another thing is (:func:`_contrast`) starts after a whole object teaching
         (its owner perhaps lost), and that teaching parsed by itself; None when the turn has no such two parts."""
         for k in range(2, len(toks) - 2):
             if toks[k].type not in ("THE", "THAT") or not _contrast(toks[k:], name_lost):
                 continue
             head, lost, part = self._parse(toks[:k])
-            if head is not None and not lost and not part and not _guessed(head) and tree_act(head) == "teach_object":
-                return k, head
+            if head is not None and not _guessed(head) and tree_act(head) == "teach_object":
+                return k, head, bool(lost or part)
         return None
 
     def _follow_after_suggestion(self, words: str, said: list[str]) -> Understanding | None:
