@@ -278,6 +278,12 @@ class Understander:
             # teach: fresh7 split_goto_ramp_child, "Is this the living room?" to the go-to after it); the whole
             # request said after it is what she asks
             return after
+        after = self._follow_after_destination(words, Lexicon.words(words))
+        if after is not None:
+            # "now the study, follow me please", "and now the last room, follow me": where they go next, named
+            # by a noun phrase alone, then the follow she asks for (the room is not here: no teaching, nor a
+            # which-one answer: fresh7 corr_long_tour, "Sorry, I did not understand you")
+            return after
         other = _said_to_another(toks, Lexicon.words(words), self.lexicon.hesitations) \
             or _greets_unknown_name(toks, said, lex.unknown, self.lexicon.hesitations)
         if other:
@@ -416,6 +422,13 @@ class Understander:
                 res.corrected += [t.text for t in toks[: len(toks) - len(tail)]]
                 toks, (tree, ignored, partial) = tail, alt
         restart = self._restart(lex.raw) if negated is None else None
+        if restart is not None and restart[0][0].type == "TO" and tree_act(restart[1][0]) == "goto" \
+                and tree is not None and not ignored and not partial and tree_act(tree) == "follow":
+            # "follow me to the bathroom, um, no, to the kitchen": the repair is only where to, with no verb of
+            # its own; it continues her follow (the lexicon aligned it: "follow me to the kitchen"), never a
+            # go-to of its own to a room perhaps not yet shown (fresh9 wg_self_correcting: "Sorry, I do not
+            # know where the kitchen is" and "You left"). "No, go to the kitchen" (a verb) still restarts
+            restart = None
         if restart is not None:  # "follow me, no wait, stop": the repair is a whole new request
             toks, (tree, ignored, partial) = restart
         elif (tree is None or _guessed(tree)) and len(toks) > 2:
@@ -581,6 +594,17 @@ class Understander:
             # "that vase is from my grandmother", "this is my cup, it's from my mother": where it came from is
             # said of the object she shows, no words lost (fresh4 ring_visitor_leaves: "Is this vase?")
             ignored, partial = [], False
+        split = self._contrast_split(toks, bool(lex.unknown)) if tree_act(tree) == "teach_object" else None
+        if split is not None:
+            # "this lamp here is mine, the other one is my husband's", "this cup is mine, that one is anna's", "this
+            # is my pen, the other one belongs to my son": a second clause that says whose another thing is (one she
+            # does not show) contrasts with the teaching; it is set aside, and the teaching, whole, keeps its own
+            # owner (talk21: the husband's lamp was stored, "belongs to my son" was taken as the pen's owner)
+            res.corrected += [t.text for t in toks[split[0]:]]
+            # whose the shown thing is, lost ("this lamp here [is mine], the other one is ..."): still a word lost
+            tree, ignored, partial = split[1], [], split[2] or _owned(split[1]) is None
+            frame = build(tree)
+            obj = frame[0]
         res.frame = frame
         res.fragment = tree_act(tree) in _FRAGMENTS or _bare_side(tree)
         res.ignored = ignored + given_up
@@ -954,6 +978,17 @@ class Understander:
             return tail
         return None
 
+    def _contrast_split(self, toks: list[Tok], name_lost: bool) -> tuple[int, Tree, bool] | None:
+        """Where a clause saying whose another thing is (:func:`_contrast`) starts after a whole object teaching
+        (its owner perhaps lost), and that teaching parsed by itself; None when the turn has no such two parts."""
+        for k in range(2, len(toks) - 2):
+            if toks[k].type not in ("THE", "THAT") or not _contrast(toks[k:], name_lost):
+                continue
+            head, lost, part = self._parse(toks[:k])
+            if head is not None and not _guessed(head) and tree_act(head) == "teach_object":
+                return k, head, bool(lost or part)
+        return None
+
     def _follow_after_suggestion(self, words: str, said: list[str]) -> Understanding | None:
         """The whole follow request said after a suggestion question ("shall we go to the kitchen? follow me"),
         or None.
@@ -968,6 +1003,29 @@ class Understander:
         if not any(tuple(plain[start:start + len(lead)]) == lead for lead in _SUGGESTION_LEADS):
             return None
         for at in range(start + 3, len(plain)):
+            tail = self.understand(" ".join(plain[at:]))
+            if tail.act != "FOLLOW" or tail.partial or tail.aside or tail.frame is None:
+                continue
+            tail.words = words
+            tail.corrected = [*plain[:at], *tail.corrected]
+            return tail
+        return None
+
+    def _follow_after_destination(self, words: str, said: list[str]) -> Understanding | None:
+        """The whole follow request said after a noun phrase alone that names where they go next ("now the
+        study, follow me please", "and now the last room, follow me", "next the kitchen, come with me"), or None.
+
+        After openers and hesitations the turn opens with a determiner ("the", "my", "our"), the words up to
+        the first tail that, understood by itself, is a whole follow (no word lost) hold no verb and no copula
+        (a noun phrase: "the last room is the bedroom, follow me" and "the kitchen is this way" are left to
+        the other rules), and that tail is what she asks; the noun phrase counts as set aside (``corrected``)."""
+        plain = [w for w in said if w not in _SOUNDS and w not in self.lexicon.hesitations]
+        start = next((i for i, w in enumerate(plain) if w not in _SUGGESTION_BEFORE and w != "next"), len(plain))
+        if start >= len(plain) or plain[start] not in _DESTINATION_DETERMINERS:
+            return None
+        for at in range(start + 2, min(len(plain), start + 6)):
+            if plain[at - 1] in _NOT_A_NOUN_PHRASE:
+                return None
             tail = self.understand(" ".join(plain[at:]))
             if tail.act != "FOLLOW" or tail.partial or tail.aside or tail.frame is None:
                 continue
@@ -1289,6 +1347,32 @@ def _token_of(toks: list[Tok], word: str) -> Tok | None:
     return next((t for t in toks if word in t.text.split()), None)
 
 
+def _contrast(tail: list[Tok], name_lost: bool) -> bool:
+    """Whether ``tail`` is a clause that says whose another thing is: "the other one is my husband's", "that one
+    is anna's", "the red one is ours", "the other cup is his", "the other (one) belongs to my son" (a determiner
+    or "that", words for which one, then "one" or a noun, unless "other" says it; the copula then only whose, or
+    "belongs to" and whom, that name perhaps a word the robot does not know: ``name_lost``)."""
+    if len(tail) < 3 or tail[0].type not in ("THE", "THAT", "A"):
+        return False
+    cop = next((k for k, t in enumerate(tail) if t.type in ("IS", "ARE", "BELONGS")), None)
+    if cop is None or cop < 2 or any(t.type not in ("ORD", "COLOUR", "ATTR", "ONE", "OBJ") for t in tail[1:cop]):
+        return False
+    other = any(t.type == "ORD" and t.text == "other" for t in tail[1:cop])
+    if tail[cop - 1].type not in ("ONE", "OBJ") and not other:
+        return False
+    if tail[0].type in ("THE", "A") and not any(t.type in ("ORD", "COLOUR", "ATTR") for t in tail[1:cop]):
+        return False  # "the cup is mine" names the thing; only "the other/red one" points away from it
+    whose = tail[cop + 1:]
+    if tail[cop].type == "BELONGS":
+        if not whose or whose[0].type != "TO":
+            return False
+        whose = whose[1:]
+        return (not whose and name_lost) or (bool(whose) and all(t.type in ("MY", "OUR", "YOUR", "NAME", "ME", "US")
+                                                                  for t in whose))
+    return bool(whose) and all(t.type in ("MY", "OUR", "YOUR", "NAME", "POSS", "MINE", "OBJ") for t in whose) \
+        and any(t.type in ("MINE", "POSS", "NAME") or (t.type == "MY" and t.text != "my") for t in whose)
+
+
 def _said_to_another(toks: list[Tok], words: list[str], hesitations: frozenset[str]) -> str:
     """Why a turn is said to someone else in the robot's hearing ("" when it may be for the robot).
 
@@ -1326,7 +1410,9 @@ def _said_to_another(toks: list[Tok], words: list[str], hesitations: frozenset[s
     if i < len(said) - 1 and said[i] == "not" and said[i + 1] == "you":
         return "said to someone else"  # "no, not you BIRON, I was talking to Peter"
     if any(a == "the" and b in ("robot", "robots") and c != "POSS"
-           for a, b, c in zip(said, said[1:], [*said[2:], ""])):
+           for a, b, c in zip(said, said[1:], [*said[2:], ""])) \
+            and not any(t.type == "MEET" and " robot" in t.text for t in toks):
+        # ("you must be the robot", a greeting's words said to the robot itself, are not about it: talk21)
         return "said about the robot, to someone else"
     if calls_robot or not said:
         return ""
@@ -1413,8 +1499,20 @@ _ERRAND_VERBS = frozenset({"get", "fetch", "grab", "put", "check", "answer", "br
                            "close", "shut", "draw", "tidy", "move", "fix", "lock", "light", "wipe", "fold", "air"})
 #: Suggestions to go somewhere together, said as a question ("shall we go to the kitchen?").
 _SUGGESTION_LEADS = (("shall", "we"), ("should", "we"), ("shall", "i"), ("how", "about"), ("what", "about"),
-                     ("why", "do", "not", "we"), ("why", "not"))
+                     ("why", "do", "not", "we"), ("why", "not"),
+                     # going somewhere together said as a statement ("let's go over to the kitchen, follow me", "we
+                     # are going to the study now, come with me"): the same lead of a follow (talk21)
+                     ("let's",), ("lets",), ("let", "us"), ("we", "go"), ("we", "will"), ("we'll",), ("we", "are", "going"),
+                     ("we're", "going"), ("we", "need", "to", "go"))
 #: Words that may open a turn before the suggestion ("so, shall we ...", "okay then, shall we ...").
+_DESTINATION_DETERMINERS = frozenset({"the", "my", "our"})
+# words that make the lead before a follow more than a noun phrase naming where (a clause: left to the other rules)
+_NOT_A_NOUN_PHRASE = frozenset({"is", "are", "was", "were", "be", "'s", "s", "this", "that", "here", "there", "where", "not",
+                                "don't", "dont", "do", "does", "has", "have", "had", "can", "will", "go", "come", "stop", "wait", "follow", "look",
+                                # "the one on the table, follow me": a which-one answer, then the request (talk21);
+                                # the robot or a pronoun after the article is no place ("[hey→the] biron, follow me",
+                                # "[can→the] you follow me": a word misheard, still partial)
+                                "one", "biron", "byron", "robot", "you", "me", "i"})
 _SUGGESTION_BEFORE = frozenset({"so", "okay", "ok", "right", "now", "then", "well", "and", "alright", "biron", "robot"})
 #: Words between the lead and the verb ("I'll just quickly go and get").
 _ERRAND_FILL = frozenset({"just", "quickly", "quick", "first", "only", "go", "and", "run", "nip", "dash"})

@@ -50,7 +50,10 @@ CONTRACTIONS = {
 BACKCHANNELS = frozenset({"mhm", "mhmm", "mm", "hmm", "hm", "uh", "huh", "hmhm", "aha", "ah"})
 _AGREEING = frozenset({"mhm", "mhmm", "huh", "hmhm", "aha", "mm"})
 #: Words whose "'s" is "is", not a possessive.
-_IS_CONTRACTED = frozenset({"that's", "it's", "what's", "where's", "here's", "this's"})
+_IS_CONTRACTED = frozenset({"that's", "it's", "what's", "where's", "here's", "this's",
+                            # "this one's my cup", "the blue one's ours": the pronoun "one" owns nothing (talk21:
+                            # it was the owner "One", "Is this One's cup?")
+                            "one's"})
 
 
 @dataclass(frozen=True, slots=True)
@@ -489,13 +492,16 @@ def _restatements(toks: list[Tok], removed: list[str]) -> list[Tok]:
 
 
 def _repetitions(toks: list[Tok], removed: list[str]) -> list[Tok]:
-    """Keep one copy of an n-gram (n = 3, 2, 1) said twice in a row."""
+    """Keep one copy of an n-gram (n = 3, 2, 1) said twice in a row (two stops in a row are one, whatever words)."""
     for n in (3, 2, 1):
         i = 0
         while i + 2 * n <= len(toks):
             a = [(t.type, t.text) for t in toks[i : i + n]]
             b = [(t.type, t.text) for t in toks[i + n : i + 2 * n]]
-            if a == b and not (n == 1 and toks[i].type in ("HELLO", "GOODBYE", "YES", "NO")):
+            # a stop said twice in other words ("stop, that is far enough", "that will do, stop") is one stop
+            # (talk21: it was half understood, the dialog unsure of a plain stop)
+            same = a == b or (n == 1 and toks[i].type == toks[i + 1].type == "STOP")
+            if same and not (n == 1 and toks[i].type in ("HELLO", "GOODBYE", "YES", "NO")):
                 removed += [t.text for t in toks[i + n : i + 2 * n]]
                 del toks[i + n : i + 2 * n]
             else:
