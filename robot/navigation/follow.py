@@ -142,9 +142,6 @@ SEARCH_HORIZON = 1.5
 #: never through a wall of the floor plan (issue 26 item 1, sq_cross_pair: the search stopped at the
 #: spot 1.5 s past where she went out of view while she stood in the next room, in view from a step on)
 SEARCH_WALK_ON = 5.0
-#: rad: searching, a step of her way on that would cross the floor plan goes round it turned by the first of these
-#: that is free (:meth:`Follower._walk_on`); its length is the step's part along her heading
-WALK_ROUND = (0.0, math.radians(30), -math.radians(30), math.radians(60), -math.radians(60))
 #: m/s: searching, a partner last seen slower than this was standing: her velocity is no heading to look along
 WALKING = 0.3
 #: rad: searching, a point further off the heading than this is beside or behind: refused the short way
@@ -1159,21 +1156,13 @@ class Follower(Module):
 
     def _walk_on(self, start: tuple[float, float], v: tuple[float, float], duration: float) -> tuple[float, float]:
         """``start`` (odom) carried on at velocity ``v`` for ``duration`` s, in steps of a quarter second,
-        never across a wall or furniture of the floor plan: a step that would cross one goes round it as a
-        walker does, turned by the least of :data:`WALK_ROUND` that is free (left before right), at the pace
-        along her heading; none free, it stops there. So the point follows her on along a hall past a cabinet
-        in her way and through the door her heading meets, where she went out of view (the search looks into the
-        room she went on into, not at the cabinet: fast20_two_doors_slow_robot)."""
+        stopping before a step that would cross a wall or furniture of the floor plan."""
         x, y = start
         for _ in range(int(max(0.0, duration) / 0.25)):
-            for turn in WALK_ROUND:
-                c, s_ = math.cos(turn), math.sin(turn)
-                sx, sy = (c * v[0] - s_ * v[1]) * c * 0.25, (s_ * v[0] + c * v[1]) * c * 0.25
-                if self.route.in_sight((x, y), (x + sx, y + sy)):
-                    x, y = x + sx, y + sy
-                    break
-            else:
+            nx, ny = x + v[0] * 0.25, y + v[1] * 0.25
+            if not self.route.in_sight((x, y), (nx, ny)):
                 break
+            x, y = nx, ny
         return x, y
 
     def _count_yield(self, approaching: bool, seen: bool) -> float:
