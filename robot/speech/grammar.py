@@ -1002,14 +1002,7 @@ class Understander:
         start = next((i for i, w in enumerate(plain) if w not in _SUGGESTION_BEFORE), len(plain))
         if not any(tuple(plain[start:start + len(lead)]) == lead for lead in _SUGGESTION_LEADS):
             return None
-        for at in range(start + 3, len(plain)):
-            tail = self.understand(" ".join(plain[at:]))
-            if tail.act != "FOLLOW" or tail.partial or tail.aside or tail.frame is None:
-                continue
-            tail.words = words
-            tail.corrected = [*plain[:at], *tail.corrected]
-            return tail
-        return None
+        return self._whole_follow_in_tail(words, plain, range(start + 3, len(plain)))
 
     def _follow_after_destination(self, words: str, said: list[str]) -> Understanding | None:
         """The whole follow request said after a noun phrase alone that names where they go next ("now the
@@ -1023,8 +1016,16 @@ class Understander:
         start = next((i for i, w in enumerate(plain) if w not in _SUGGESTION_BEFORE and w != "next"), len(plain))
         if start >= len(plain) or plain[start] not in _DESTINATION_DETERMINERS:
             return None
-        for at in range(start + 2, min(len(plain), start + 6)):
-            if plain[at - 1] in _NOT_A_NOUN_PHRASE:
+        return self._whole_follow_in_tail(words, plain, range(start + 2, min(len(plain), start + 6)),
+                                          stop_after=_NOT_A_NOUN_PHRASE)
+
+    def _whole_follow_in_tail(self, words: str, plain: list[str], starts: range,
+                              stop_after: frozenset[str] | set[str] = frozenset()) -> Understanding | None:
+        """The first tail ``plain[at:]`` (``at`` in ``starts``) that, understood by itself, is a whole follow (no
+        word lost), with the words before it set aside (``corrected``); None when there is none, or when a word
+        of ``stop_after`` ends the words before a tail first (they are no longer a lead-in)."""
+        for at in starts:
+            if plain[at - 1] in stop_after:
                 return None
             tail = self.understand(" ".join(plain[at:]))
             if tail.act != "FOLLOW" or tail.partial or tail.aside or tail.frame is None:
