@@ -11,7 +11,7 @@ import os
 
 import numpy as np
 import pytest
-from hypothesis import given, settings
+from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
 from robot.attention.legs import PAIR, SINGLE
@@ -51,7 +51,9 @@ def test_bad_scans_are_refused():
 @given(d=st.floats(0.4, 6.4), bearing=st.floats(-1.5, 1.5), reach=st.floats(0.0, 8.19))
 def test_hidden_exactly_when_the_beams_at_the_point_end_well_in_front_of_it(d, bearing, reach):
     """With every beam ending at ``reach``, a point inside the field of view and range is hidden
-    iff the beams end more than the margin in front of it."""
+    iff the beams end more than the margin in front of it. Exactly at the margin (a set of measure
+    zero) float rounding of the point's distance decides, so that boundary is left out."""
+    assume(abs(reach - (d - MARGIN)) > 1e-9)
     ranges = np.full(361, reach)
     (h,) = _hidden([(d * math.cos(bearing), d * math.sin(bearing))], ranges)
     assert h == (reach < d - MARGIN)
