@@ -60,7 +60,7 @@ from lxml import etree
 from homesim.message import Message
 from homesim.module import Module
 
-from robot.blindside import SonarEchoes, blind_clear, blind_points
+from robot.blindside import SonarEchoes, blind_clear, blind_points, explained_by_points, seen_legs
 from robot.bumpers import BumperReflex, own_reflex
 from robot.contract import (ATTENTION_STATE, BASE_CMD, BUMPERS, ES_EVENTS, ES_ORDERS, FACES, FOCUS, FOLLOW_STATUS, ODOMETRY, PARTNER, PLAN,
                             PLAYER_STATUS, POSE, PTU_CMD, SCAN, SONAR, SOURCES, STEER, TORSOS, TRACKS)
@@ -410,6 +410,7 @@ class PersonAttention(Module):
         self._focus: tuple[float, float, float] | None = None  # bearing (rad), distance, height (m) of the object region
         self._turning = False
         self._near: np.ndarray = np.zeros((0, 2))  # robot-frame bodies a turn must keep clear of (this scan)
+        self._people: np.ndarray = np.zeros((0, 2))  # robot-frame confirmed tracks (this scan)
         self._ranges: np.ndarray | None = None  # this scan's ranges (a turn keeps off its echoes)
         self._plan_near: FurnitureLegs | None = None  # the floor plan grown by plan_explains: echoes it explains
         # the robot's map pose at this scan (the floor plan's frame: _robot_in_map), for the turn's checks; not
@@ -1020,6 +1021,8 @@ class PersonAttention(Module):
         bearing = [math.atan2(y, x) for x, y in zip(rx, ry)]
         dist = np.hypot(rx, ry).tolist() if tracks else []
         self._near = self._bodies_near(list(zip(rx, ry)) + list(det.points))
+        # the confirmed tracks (robot frame): the people whose legs the laser sees explain a sonar reading (_blind_clear)
+        self._people = np.array([(x, y) for tk, x, y in zip(tracks, rx, ry) if tk.confirmed], dtype=float).reshape(-1, 2)
         cats: dict[int, int] = {}
         speaking, facing = self.speaking, self.facing
         for tk in tracks:
@@ -2053,7 +2056,13 @@ class PersonAttention(Module):
         arcs = self.sonar.arcs(self._odom_pose(), self.now)
         if not arcs:
             return True
-        pts = blind_points(arcs, lambda arc: bool(self._explained(arc).any()))
+        # a reading near the legs the laser sees of a tracked person is that person (robot.blindside.seen_legs, the
+        # rule the follower keeps too): a flank transducer hears the partner standing beside the robot's front, and
+        # its arc runs on round the flank where the turn toward her swings a corner; her body is kept clear by the
+        # turn's own sweep of the bodies near (turn_rate, echo_bodies): face20, the turn to her stopped at 65 deg
+        legs = seen_legs(self._echoes(), self._people)
+        by_legs = explained_by_points(legs)
+        pts = blind_points(arcs, lambda arc: bool(self._explained(arc).any()) or by_legs(arc))
         return blind_clear(0.0, w, pts, duration=self.params.turn_check)
 
     def turn_rate(self, b: float, bodies: np.ndarray) -> float:
