@@ -168,13 +168,13 @@ class AttentionParams:
     blind_turn: float = 0.4  # rad/s
     # Making room (turn21): a turn toward a person that only the sonar refuses (someone heard close behind the
     # robot, where either way round swings a rear corner nearer to them, robot.blindside.blind_clear) is preceded
-    # by a creep straight ahead, away from them, at ``room_speed`` m/s, at most ``room_max`` m (then it stands, as
-    # before), only where the laser's echoes ahead keep ``room_gap`` m, every body near keeps the social gap (or no
+    # by a creep ahead, away from them, at ``room_speed`` m/s (turning on as it creeps where that is clear, else
+    # straight), at most ``room_max`` m (then it stands, as before), only where the laser's echoes ahead keep ``room_gap`` m, every body near keeps the social gap (or no
     # nearer than now), the floor plan's walls and furniture are not entered and the sonar has nothing the creep
     # comes nearer to. A partner who walked past the robot's side and stood at its back (generated tour 8900-3:
     # 0.36 m behind it, her track coasting 1 m off to its side) was never turned to: "You left", and her greetings
     # from there were never answered. A refusal that stops for ``room_reset`` s starts a new allowance
-    room_speed: float = 0.1  # m/s
+    room_speed: float = 0.15  # m/s
     room_max: float = 0.3  # m
     room_gap: float = 0.15  # m
     room_reset: float = 2.0  # s
@@ -2044,32 +2044,33 @@ class PersonAttention(Module):
         w = self.turn_rate(b, bodies)
         if w and not self._flat_clear(w, echoes):
             w = 0.0
-        if w and not self._blind_clear(w) and (v := self._make_room(echoes, bodies)):
-            self._base(0.0, v=v)
-            return 0.0
+        if w and not self._blind_clear(w):
+            v, wr = self._make_room(echoes, bodies, w)
+            if v:
+                return self._base(wr, v=v)
         return self._base(w)
 
-    def _make_room(self, echoes: np.ndarray, bodies: np.ndarray) -> float:
-        """The speed (m/s) to creep straight ahead so that a turn the sonar refuses can be made (see
-        ``AttentionParams.room_speed``), or 0: the allowance of ``room_max`` m used up, or the creep not clear."""
+    def _make_room(self, echoes: np.ndarray, bodies: np.ndarray, w: float) -> tuple[float, float]:
+        """The command (m/s, rad/s) to creep ahead so that the turn at ``w`` the sonar refuses can be made (see
+        ``AttentionParams.room_speed``): turning on as it creeps where that is clear, else straight ahead; (0, 0)
+        when the allowance of ``room_max`` m is used up or no creep is clear."""
         p, odom = self.params, self._odom_pose()
         if odom is None:
-            return 0.0
+            return 0.0, 0.0
         room = self._room
         if room is None or self.now - room[2] > p.room_reset:
             room = (odom[0], odom[1], self.now)
+        self._room = (room[0], room[1], self.now)
         if math.hypot(odom[0] - room[0], odom[1] - room[1]) >= p.room_max:
-            self._room = (room[0], room[1], self.now)
-            return 0.0
+            return 0.0, 0.0
         v = p.room_speed
         ahead = echoes[echoes[:, 0] >= 0.0] if len(echoes) else echoes
-        if not (points_sweep_clear(v, 0.0, ahead, duration=p.turn_check, gap=p.room_gap)
-                and people_sweep_clear(v, 0.0, bodies, duration=p.turn_check)
-                and self._flat_clear(0.0, echoes, v=v) and self._blind_clear(0.0, v=v)):
-            self._room = (room[0], room[1], self.now)
-            return 0.0
-        self._room = (room[0], room[1], self.now)
-        return v
+        for cw in (w, 0.0):
+            if (points_sweep_clear(v, cw, ahead, duration=p.turn_check, gap=p.room_gap)
+                    and people_sweep_clear(v, cw, bodies, duration=p.turn_check)
+                    and self._flat_clear(cw, echoes, v=v) and self._blind_clear(cw, v=v)):
+                return v, cw
+        return 0.0, 0.0
 
     def _echoes(self) -> np.ndarray:
         """(N, 2) this scan's echoes within ``turn_reach`` m of the laser, robot frame."""
@@ -2137,11 +2138,11 @@ class PersonAttention(Module):
         """Send the turn rate ``w`` (rad/s; or, making room, the creep ``v`` m/s straight ahead) after the bumpers'
         and the blind side's checks; the rate sent."""
         if v:
-            v = self.bumpers.command(v, 0.0, self.now)[0]
-            if v and not self._blind_clear(0.0, v=v):
-                v = 0.0
-            self.bus.publish(BASE_CMD, etree.Element("velocity", v=f"{v:.4f}", w="0"), transfer=True)
-            return 0.0
+            v, w = self.bumpers.command(v, w, self.now)
+            if (v or w) and not self._blind_clear(w, v=v):
+                v = w = 0.0
+            self.bus.publish(BASE_CMD, etree.Element("velocity", v=f"{v:.4f}", w=f"{w:.4f}"), transfer=True)
+            return w
         if w:
             w = self.bumpers.command(0.0, w, self.now)[1]
         if w and not self._blind_clear(w):
