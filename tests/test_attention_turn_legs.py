@@ -19,7 +19,7 @@ import numpy as np
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from robot.attention.module import AttentionParams, PersonAttention
+from robot.attention.module import AttentionParams, PersonAttention, echo_bodies
 from robot.blindside import BLIND_X, EXPLAIN, LEGS_NEAR, blind_clear, blind_points, explained_by_points, seen_legs
 from robot.navigation.follow import HER_LEGS
 
@@ -32,7 +32,7 @@ def _attention(*, legs: list[tuple[float, float]], people: list[tuple[float, flo
     a.legs = SimpleNamespace(offset=0.13)
     a._odom = (5.0, 0.0, 0.0, 0.0, 0.0, 0.0)
     a.sonar = SimpleNamespace(arcs=lambda odom, now: list(arcs))
-    a._plan_near, a._scan_pose = None, None
+    a._plan_near, a._scan_pose, a.furniture = None, None, None
     pts = np.array(legs, dtype=float).reshape(-1, 2)
     dx = pts[:, 0] - 0.13
     a._ranges, a._bearings = np.hypot(dx, pts[:, 1]), np.arctan2(pts[:, 1], dx)
@@ -104,3 +104,53 @@ def test_seen_legs_are_ahead_of_the_line_and_near_a_person(ex, ey, hx, hy):
     if expect or not (ex >= BLIND_X and math.hypot(ex - hx, ey - hy) <= LEGS_NEAR + 1e-9):
         assert (len(out) == 1) == expect
     assert not len(seen_legs(np.array([(ex, ey)]), np.zeros((0, 2))))
+
+
+# Making room (generated tour 8900-3): she walked past the robot's side and stood at its back, 0.36 m behind it. Either
+# way round a turn on the spot swings a rear corner nearer to her, so the sonar refused every turn toward her, "You
+# left", and her greetings from there got "I can't see you". A turn only the sonar refuses is now preceded by a creep
+# ahead, away from her, while everything ahead is clear; at most room_max m.
+
+def _plan_ahead(points: np.ndarray) -> np.ndarray:
+    """The floor plan explains what lies more than 0.3 m ahead of the centre (a wall there), nothing else."""
+    return points[:, 0] > 0.3 if len(points) else np.zeros(0, dtype=bool)
+
+
+class _Bus:
+    def __init__(self) -> None:
+        self.sent: list[tuple[float, float]] = []
+
+    def publish(self, channel, el, transfer=False) -> None:
+        self.sent.append((float(el.get("v")), float(el.get("w"))))
+
+
+def _turning(*, ahead: list[tuple[float, float]], moved: float = 0.0) -> _Bus:
+    behind = np.array([(-0.45, -0.1 + 0.05 * k) for k in range(5)])  # someone 0.2 m behind the rear edge
+    a = _attention(legs=ahead, people=[], arcs=[behind])
+    a._explained = _plan_ahead
+    a._near = np.zeros((0, 2))
+    a.furniture = None
+    a.bumpers = SimpleNamespace(command=lambda v, w, now, *rest: (v, w))
+    a.bus = _Bus()
+    a._room = None if not moved else (-moved, 0.0, 5.0)
+    a._turn(math.radians(175.0))
+    return a.bus
+
+
+def test_someone_close_behind_the_robot_makes_room_then_turns():
+    sent = _turning(ahead=[])
+    assert len(sent.sent) == 1
+    v, w = sent.sent[0]
+    assert v > 0.0  # ahead, away from her
+    assert not blind_clear(0.0, 0.4, np.array([(-0.45, -0.1 + 0.05 * k) for k in range(5)]), duration=0.5)
+
+
+def test_no_room_is_made_toward_a_wall_ahead_nor_beyond_the_allowance():
+    wall = [(0.42, y) for y in np.linspace(-0.6, 0.6, 13)]  # the laser sees a wall 0.17 m ahead of the front
+    assert _turning(ahead=wall).sent == [(0.0, 0.0)]
+    # the wall itself leaves the turn free (only the sonar refuses it): it is the creep toward it that is refused
+    a = _attention(legs=wall, people=[], arcs=[])
+    e = a._echoes()
+    assert a.turn_rate(math.radians(175.0), echo_bodies(e, _plan_ahead(e), 0.13)) != 0.0 and a._flat_clear(0.4, e)
+    params = AttentionParams()
+    assert _turning(ahead=[], moved=params.room_max + 0.01).sent == [(0.0, 0.0)]
