@@ -402,7 +402,9 @@ class PersonAttention(Module):
         self._partner_face: tuple[float, int, bool] | None = None  # (frame time, partner, her face in the image)
         self._in_image: set[int] = set()  # the tracks whose face lay in the camera's latest frame
         self._cats: dict[int, int] = {}  # the tracks' categories (1-3) at the latest scan
-        self._glanced_from: tuple[int, float] | None = None  # the category-3 person a glance left, and when
+        # the category-3 person a glance left, and when a potential_partner for him came due during the glance (None
+        # while none did: he was reported already and fell silent before its repeat; then the glance owes him nothing)
+        self._glanced_from: tuple[int, float | None] | None = None
         self._owed_pp: tuple[int, float] | None = None  # that person, once the glance found her turned away
         self._look: tuple[int, float] | None = None  # (track, first in the image, inf before): an unseen speaker looked at
         self.turned_away = False  # the partner walked away in Interaction, not seen facing it since (AttentionParams)
@@ -1081,17 +1083,24 @@ class PersonAttention(Module):
         look = self._look
         if look is not None:
             tid, since = look
+            gf = self._glanced_from
+            if gf is not None and gf[1] is None and cats.get(gf[0]) == 3 and self._pp_due(gf[0], t):
+                self._glanced_from = gf = (gf[0], t)
             if cats.get(tid) == 2 and (tid not in self._in_image or t - since < self.params.look_settle):
                 if tid in self._in_image and since == math.inf:
                     self._look = (tid, t)
                 return tid
             self._look = None
-            if cats.get(tid) == 2 and tid in self._in_image and self._glanced_from is not None:
+            if cats.get(tid) == 2 and tid in self._in_image and gf is not None and gf[1] is not None:
                 # the glance found her speaking turned away (her face in the image long enough, not frontal):
                 # the person it glanced away from, seen speaking facing it, is owed his potential partner
                 # (:meth:`_bottom_up_events`). Not when she fell silent before the camera could tell: she may
-                # have greeted it facing it (her greeting must not back his potential partner)
-                self._owed_pp = self._glanced_from
+                # have greeted it facing it (her greeting must not back his potential partner). Only the one
+                # the glance kept from him: a potential_partner that came due while he spoke facing it. One
+                # sent before the glance, whose repeat he never reached (silent by then), is not owed again: a
+                # second glance that began in his speech's last moments (the hysteresis) paid him one more, 1.3 s
+                # after he fell silent, while a radio said "Hello BIRON" (two_people_radio, turn21's creep)
+                self._owed_pp = (gf[0], gf[1])
             self._glanced_from = None
         if not threes:
             return None
@@ -1103,8 +1112,13 @@ class PersonAttention(Module):
         tid = min(cands)[1]
         self._look = (tid, math.inf)
         three = min((dist[rows[i]], i) for i, c in cats.items() if c == 3)[1]
-        self._glanced_from = (three, t)
+        self._glanced_from = (three, t if self._pp_due(three, t) else None)
         return tid
+
+    def _pp_due(self, tid: int, t: float) -> bool:
+        """Whether a potential_partner for ``tid``, speaking facing the robot at ``t``, would go out now (the first,
+        or a repeat ``pp_repeat`` s after the last: :meth:`_bottom_up_events`)."""
+        return tid != self.pp_sent or t - self._pp_at >= self.params.pp_repeat - 1e-9
 
     def _bottom_up_events(self, t: float, selected: int | None, cats: dict[int, int], bearing: list[float], dist: list[float]) -> None:
         pp = selected if selected is not None and cats.get(selected) == 3 else None
