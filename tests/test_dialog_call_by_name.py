@@ -122,16 +122,17 @@ def test_a_man_who_calls_its_name_from_behind_is_greeted_once_it_faces_him():
 
 # ------------------------------------------------------------------ the call tied to where it came from (turn22)
 def _heading(robot, t: float, theta_deg: float) -> None:
-    """The base's odometry from ``t`` on: standing at the origin, heading ``theta_deg`` (every 0.1 s for 1 s)."""
+    """The localiser's pose from ``t`` on: standing at the origin, heading ``theta_deg`` (every 0.1 s for 1 s)."""
     import math
 
     from lxml import etree
 
-    base = robot.sim.bus.participant("base") if not hasattr(robot, "_base") else robot._base
-    robot._base = base
+    loc = robot.sim.bus.participant("localiser") if not hasattr(robot, "_loc") else robot._loc
+    robot._loc = loc
     for k in range(10):
-        robot.sim.call_at(t + 0.1 * k, lambda: base.publish("/robot/odometry", etree.Element(
-            "odometry", x="0", y="0", theta=f"{math.radians(theta_deg):.5f}", v="0", w="0", stalled="false")))
+        robot.sim.call_at(t + 0.1 * k, lambda: loc.publish("/robot/localisation/pose", etree.Element(
+            "pose", time=f"{robot.sim.now:.6f}", x="0", y="0", theta=f"{math.radians(theta_deg):.5f}", cxx="0.01", cyy="0.01",
+            ctt="0.01", frame="map")))
 
 
 def _someone(robot, t: float, bearing: float, distance: float = 1.0) -> None:

@@ -117,8 +117,8 @@ from robot.deployment import cost_scale
 from homesim.vloop import to_ns
 
 from robot.partner_search import STOOD_FOR
-from robot.contract import (ES_CONDITIONS, ES_EVENTS, ES_REJECTED, ES_STATUS, FOLLOW_STATUS, FRAMES, ODOMETRY, PARTNER, POSE, SAY,
-                            SOURCES, SPEAKER_STATUS)
+from robot.contract import (ES_CONDITIONS, ES_EVENTS, ES_REJECTED, ES_STATUS, FOLLOW_STATUS, FRAMES, PARTNER, POSE, SAY, SOURCES,
+                            SPEAKER_STATUS)
 
 from .loader import BIRON_DIALOGS, load
 from .manager import DialogManager, Explain, Instance, Output, Say, Send
@@ -188,15 +188,18 @@ ARRIVAL_RESUME = 60.0
 CALL_WAIT = 8.0
 #: A held call is answered only for a potential partner standing where the call came from (review20 F2: a radio's
 #: "Byron!" then anyone who spoke facing the robot within CALL_WAIT was greeted). The call's sound frames are kept
-#: with the odometry pose at each (the robot turns between the call and her face: a robot-frame bearing will not
-#: do, fixrev21); at ``person_info`` her place (its bearing and distance, odometry frame) gives where the pair
-#: would have heard her from each of those poses (:func:`heard_span`, front and back alike). At least half the
-#: call's frames with a direction must lie within :data:`CALL_WIDTH` of that; with fewer than VOICE_FRAMES such
-#: frames (or no odometry) nothing tells, and the call is hers as before. A call not hers stays held for another
+#: with the robot's pose at each (the localiser's, map frame, which the dialog hears anyway: the robot turns between
+#: the call and her face, so a robot-frame bearing will not do, fixrev21); at ``person_info`` her place (its bearing
+#: and distance, put in the same frame) gives where the pair
+#: would have heard her from each of those poses (:func:`heard_span`, front and back alike). More than half the
+#: call's frames with a direction must lie within :data:`CALL_WIDTH` of that (a robot turning during the call brings
+#: a voice from the far side and her mirrored bearing together for a frame or two: review20's radio_then_mutter
+#: seed 0, 3 of 6 frames); with fewer than VOICE_FRAMES such
+#: frames (or no pose) nothing tells, and the call is hers as before. A call not hers stays held for another
 #: potential partner until CALL_WAIT is over
 CALL_FRAMES_HERS = 0.5
 #: degrees: the error budget of a frame's direction against where she stands: the pair's reading (TDOA noise 20 us,
-#: about 1.4 degrees ahead), the frame against the nearest odometry pose (0.05 s of a 0.8 rad/s turn: 2.3) and a
+#: about 1.4 degrees ahead), the frame against the nearest pose (0.05 s of a 0.8 rad/s turn: 2.3) and a
 #: margin. The calls of the library (turn/greet_from_behind, flow/sub20_call_from_behind_kitchen) lie within 4; the
 #: barge-in width (9) let a radio 14 degrees off her mirrored bearing through (review20's radio_then_mutter)
 CALL_WIDTH = 6.0
@@ -589,12 +592,12 @@ class Dialog(Module):
         self._resume_until = -math.inf
         self._goodbye_held: Message | None = None  # a good-bye said during ObjectTeaching (see GOODBYE_AFTER_LOOK)
         # a call by name alone before an interaction and until when it waits for a potential partner (CALL_WAIT)
-        # with the sound frames heard during it: (odometry x, y, theta then, directions heard in degrees) each
+        # with the sound frames heard during it: (the robot's map x, y, theta then, directions heard in degrees) each
         self._call: tuple[Message, float, list[tuple[float, float, float, tuple[float, ...]]]] | None = None
-        # the latest odometry poses (time, x, y, theta), to place the call's frames (bounded: 10 s at 10 Hz)
-        self._odom: deque[tuple[float, float, float, float]] = deque(maxlen=100)
-        # where the supervisor's latest potential partner stands (odometry x, y), None when unknown (person_info)
-        self._person_odom: tuple[float, float] | None = None
+        # the latest poses (time, map x, y, theta: the localiser's), to place the call's frames (bounded: 10 s at 10 Hz)
+        self._poses: deque[tuple[float, float, float, float]] = deque(maxlen=100)
+        # where the supervisor's latest potential partner stands (map x, y), None when unknown (person_info)
+        self._person_place: tuple[float, float] | None = None
         self._asking: list[tuple[int, str]] | None = None  # the open clarification's options (see _unanswerable)
         self._asking_inst: Instance | None = None  # ... and its clarify sub-dialog (see _mark_unchosen)
         self._clarify_asked: dict[str, int] | None = None  # the last clarify sub-dialog's askings (see _clarify)
@@ -606,7 +609,6 @@ class Dialog(Module):
         bus.subscribe(REJECTED, self._on_rejected)
         bus.subscribe(ES_STATUS, self._on_status)
         bus.subscribe(POSE, self._on_pose)
-        bus.subscribe(ODOMETRY, self._on_odometry)
         bus.subscribe(SPEAKER_STATUS, self._on_speaker)
         bus.subscribe(SOURCES, self._on_sources)
         bus.subscribe(PARTNER, self._on_partner)
@@ -1050,8 +1052,8 @@ class Dialog(Module):
         start, end = float(x.get("start", "nan")), float(x.get("end", "nan"))
         frames = []
         for t, bs in self._sources:
-            if start <= t <= end and bs and self._odom:
-                _, ox, oy, oth = min(self._odom, key=lambda o: abs(o[0] - t))
+            if start <= t <= end and bs and self._poses:
+                _, ox, oy, oth = min(self._poses, key=lambda o: abs(o[0] - t))
                 frames.append((ox, oy, oth, bs))
         self._call = (msg, self.now + CALL_WAIT, frames)
         if self.manager.es_state == "PotentialPartner":
@@ -1061,7 +1063,7 @@ class Dialog(Module):
     def _call_hers(self, frames: list[tuple[float, float, float, tuple[float, ...]]]) -> bool:
         """Whether the call heard in ``frames`` came from where the potential partner stands (:data:`CALL_FRAMES_HERS`):
         from each frame's pose, where the pair would hear her (:func:`heard_span`) against what it heard."""
-        her = self._person_odom
+        her = self._person_place
         if her is None or len(frames) < VOICE_FRAMES:
             return True  # nothing tells where the call came from, or where she stands: hers, as before
         hers = 0
@@ -1069,7 +1071,7 @@ class Dialog(Module):
             dx, dy = her[0] - ox, her[1] - oy
             span = heard_span(math.degrees(math.atan2(dy, dx) - oth), math.hypot(dx, dy))
             hers += any(span_off(b, span) <= CALL_WIDTH for b in bs)
-        return hers >= CALL_FRAMES_HERS * len(frames)
+        return hers > CALL_FRAMES_HERS * len(frames)
 
     def _answer_call(self) -> None:
         """Send the held call by name as her greeting (``<GREETING name="biron"/>`` with the call's time), if it
@@ -1138,7 +1140,7 @@ class Dialog(Module):
             return
         if msg.xml.get("name") == "person_info":  # someone speaks facing the robot (potential partner)
             self._person_at = msg.created
-            self._person_odom = self._place_of(msg.xml.find(".//PERSON"))
+            self._person_place = self._place_of(msg.xml.find(".//PERSON"))
             if self._call is not None:
                 self._answer_call()  # her call by name, heard before the robot had turned to her
         if msg.xml.get("name") == "arrived":  # a go-to ended: her next request resumes the tour
@@ -1232,22 +1234,19 @@ class Dialog(Module):
         self._emit(self.manager.take_up_in_passing(), msg.id)
 
     def _place_of(self, person: etree._Element | None) -> tuple[float, float] | None:
-        """Where a reported PERSON (bearing in degrees and distance, robot frame now) stands in the odometry frame,
-        None without odometry or a place."""
-        if person is None or not self._odom:
+        """Where a reported PERSON (bearing in degrees and distance, robot frame now) stands in the map frame (the
+        localiser's latest pose), None without a pose or a place."""
+        if person is None or not self._poses:
             return None
         b, d = float(person.get("bearing", "nan")), float(person.get("distance", "nan"))
         if not (math.isfinite(b) and math.isfinite(d)):
             return None
-        _, ox, oy, oth = self._odom[-1]
+        _, ox, oy, oth = self._poses[-1]
         return ox + d * math.cos(oth + math.radians(b)), oy + d * math.sin(oth + math.radians(b))
 
-    def _on_odometry(self, msg: Message) -> None:
-        el = msg.xml
-        self._odom.append((msg.created, float(el.get("x")), float(el.get("y")), float(el.get("theta"))))
-
     def _on_pose(self, msg: Message) -> None:
-        self._pose = msg.xml  # this receiver's own copy; its POSE is built only when an event needs it
+        self._pose = el = msg.xml  # this receiver's own copy; its POSE is built only when an event needs it
+        self._poses.append((float(el.get("time", repr(msg.created))), float(el.get("x")), float(el.get("y")), float(el.get("theta"))))
 
     def _on_speaker(self, msg: Message) -> None:
         tag = msg.xml.tag
