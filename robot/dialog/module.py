@@ -1051,10 +1051,15 @@ class Dialog(Module):
             return False  # (open: nothing, or the greeting's own "Did you say hello to me?", which the call answers)
         start, end = float(x.get("start", "nan")), float(x.get("end", "nan"))
         frames = []
+        last: tuple[float, ...] = ()
         for t, bs in self._sources:
-            if start <= t <= end and bs and self._poses:
+            if start <= t <= end and bs and self._poses and bs != last:
+                # (a frame that repeats the one before word for word is the detector's hangover after the voice
+                # ended: its last reading again, no new evidence of where it came from, whatever the robot's turn)
                 _, ox, oy, oth = min(self._poses, key=lambda o: abs(o[0] - t))
                 frames.append((ox, oy, oth, bs))
+            if start <= t <= end:
+                last = bs
         self._call = (msg, self.now + CALL_WAIT, frames)
         if self.manager.es_state == "PotentialPartner":
             self._answer_call()
