@@ -218,3 +218,17 @@ def test_the_detectors_hangover_is_no_evidence_of_where_the_call_came_from(robot
     _someone(robot, 3.0, 180.0 + 1.0, 1.0)  # right behind it, where the pair hears about -1 degree
     robot.sim.run(until=1.8 + CALL_WAIT + 2.0)
     assert robot.sentences() == []
+
+
+def test_a_tvs_call_by_name_is_not_taken_for_the_greeting_of_a_man_who_grumbles_facing_the_robot():
+    """tests/scenarios/flow/turn22_tv_name_then_grumble.xml (review20 F2 in another flat): the TV says "BIRON!", a man
+    behind the robot's right grumbles facing it: nothing said to him (main: "Hello, I am BIRON", seeds 0-8); his own
+    greeting later is answered."""
+    from pathlib import Path
+
+    from homesim.tour.runner import RunOptions, run_file
+
+    scene = Path(__file__).resolve().parent / "scenarios" / "flow" / "turn22_tv_name_then_grumble.xml"
+    s = run_file(scene, RunOptions(seed=0))
+    failed = [f"{e['name']}: {e['detail']}" for e in s["expectations"] if not e["passed"]]
+    assert not failed, failed
