@@ -73,6 +73,9 @@ BLIND_X = 0.13
 BLIND_GAP = 0.35
 #: m: a reading whose arc comes this close to the floor plan's outline is the flat's
 EXPLAIN = 0.12
+#: m: laser echoes this close to a tracked person's position are that person's legs (:func:`seen_legs`; as the
+#: follower's dynamic window leaves its partner's legs out: 0.45 m)
+LEGS_NEAR = 0.45
 #: m/s: an unexplained echo behind the laser's line whose range fell faster than this between its transducer's two
 #: latest readings, beyond what the robot's own travel and turn between them explain, is someone
 #: walking up beside or behind the robot (:meth:`SonarEchoes.closing`): a wall, a chair or someone standing reads no
@@ -224,6 +227,25 @@ def explained_by_points(mapped: np.ndarray) -> Callable[[np.ndarray], bool]:
         d2 = (mapped[None, :, 0] - arc[:, 0, None]) ** 2 + (mapped[None, :, 1] - arc[:, 1, None]) ** 2
         return bool(d2.min() <= EXPLAIN * EXPLAIN)
     return explains
+
+
+def seen_legs(echoes: np.ndarray, people: np.ndarray, reach: float = LEGS_NEAR) -> np.ndarray:
+    """The laser's ``echoes`` (robot frame) ahead of its line (:data:`BLIND_X`) within ``reach`` m of a tracked person
+    (``people``: (P, 2) robot-frame positions): their legs, seen. A sonar reading whose arc comes within
+    :data:`EXPLAIN` of one is that person (:func:`explained_by_points` on them with the floor plan), not something
+    unseen: a flank transducer hears someone standing beside the robot's front across its cone, and its arc runs on
+    round the flank, where a turn on the spot swings a corner (face20: the follower's turn back to her; turn21: the
+    person attention's). The person's body is the turning module's own concern, kept clear by its sweep of the
+    tracked bodies (:func:`robot.footprint.turn_clear`), so nobody is turned into; a reading far from every seen leg
+    is judged as before. The follower and person attention share this rule."""
+    people = np.asarray(people, dtype=float).reshape(-1, 2)
+    if not len(echoes) or not len(people):
+        return np.zeros((0, 2))
+    ahead = echoes[echoes[:, 0] >= BLIND_X]
+    if not len(ahead):
+        return np.zeros((0, 2))
+    d2 = (ahead[:, None, 0] - people[None, :, 0]) ** 2 + (ahead[:, None, 1] - people[None, :, 1]) ** 2
+    return ahead[d2.min(axis=1) <= reach * reach]
 
 
 def blind_points(arcs: list[np.ndarray], explains: Callable[[np.ndarray], bool] | None = None) -> np.ndarray:

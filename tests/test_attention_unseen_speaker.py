@@ -65,6 +65,7 @@ def _attention(tracks: list[int], in_image: set[int]) -> PersonAttention:
     a._in_image = set(in_image)
     a._look = None
     a._glanced_from = a._owed_pp = None
+    a.pp_sent, a._pp_at = None, -math.inf  # no potential_partner sent yet
     return a
 
 
@@ -116,6 +117,23 @@ def test_a_glance_that_finds_her_turned_away_owes_the_one_it_left_his_potential_
     assert a._unseen_speaker(8.2, {1: 3, 2: 2, 3: 3}, [3.5, 1.3, 2.8]) == 2
     assert a._unseen_speaker(8.4, {1: 3, 2: 1, 3: 1}, [3.5, 1.3, 2.8]) is None
     assert a._owed_pp is None
+
+
+def test_a_glance_owes_only_the_potential_partner_it_kept_from_him():
+    """turn22: he was reported (a potential_partner 0.3 s before the glance) and fell silent before its repeat came
+    due: the glance kept nothing from him, and owes nothing (two_people_radio: a second glance, begun in his speech's
+    last moments, paid him one more 1.3 s after he fell silent, while a radio said "Hello BIRON" with nobody facing).
+    Still speaking facing the robot when the repeat comes due during the glance, he is owed it, from then."""
+    for still_speaking in (False, True):
+        a = _attention([1, 2, 3], set())
+        a.pp_sent, a._pp_at = 3, 7.9
+        dist = [3.5, 1.3, 2.8]
+        assert a._unseen_speaker(8.2, {1: 1, 2: 2, 3: 3}, dist) == 2
+        a._in_image = {1, 2, 3}
+        due = 7.9 + a.params.pp_repeat
+        assert a._unseen_speaker(due, {1: 1, 2: 2, 3: 3 if still_speaking else 1}, dist) == 2
+        assert a._unseen_speaker(due + a.params.look_settle + 0.01, {1: 1, 2: 2, 3: 1}, dist) is None
+        assert a._owed_pp == ((3, due) if still_speaking else None)
 
 
 def test_a_far_unseen_speaker_is_not_looked_at_first():

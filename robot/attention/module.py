@@ -60,7 +60,7 @@ from lxml import etree
 from homesim.message import Message
 from homesim.module import Module
 
-from robot.blindside import SonarEchoes, blind_clear, blind_points
+from robot.blindside import SonarEchoes, blind_clear, blind_points, explained_by_points, seen_legs
 from robot.bumpers import BumperReflex, own_reflex
 from robot.contract import (ATTENTION_STATE, BASE_CMD, BUMPERS, ES_EVENTS, ES_ORDERS, FACES, FOCUS, FOLLOW_STATUS, ODOMETRY, PARTNER, PLAN,
                             PLAYER_STATUS, POSE, PTU_CMD, SCAN, SONAR, SOURCES, STEER, TORSOS, TRACKS)
@@ -72,7 +72,7 @@ from .fsm import CAMERA, TURNS, AttentionFSM, OrderRefused
 from .legs import SINGLE, LegDetector, LegSpec
 from .looking import HeardFrom, LookedAt, angle_between
 from .records import TrackRow, TracksRecord, own_document as _own_document
-from robot.footprint import outline, points_sweep_clear, sweep_poses, turn_clear
+from robot.footprint import outline, people_sweep_clear, points_sweep_clear, sweep_poses, turn_clear
 from robot.partner_search import STOOD_FOR, Closing, follow_search_time, way_distance, yielding
 from .selection import SelectionParams, Selector
 from .tracker import FACE, Tracks, TrackerSpec
@@ -166,6 +166,18 @@ class AttentionParams:
     leg_wall_margin: float = 0.06
     blind_bearing: float = math.radians(70.0)
     blind_turn: float = 0.4  # rad/s
+    # Making room (turn21): a turn toward a person that only the sonar refuses (someone heard close behind the
+    # robot, where either way round swings a rear corner nearer to them, robot.blindside.blind_clear) is preceded
+    # by a creep ahead, away from them, at ``room_speed`` m/s (turning on as it creeps where that is clear, else
+    # straight), at most ``room_max`` m (then it stands, as before), only where the laser's echoes ahead keep ``room_gap`` m, every body near keeps the social gap (or no
+    # nearer than now), the floor plan's walls and furniture are not entered and the sonar has nothing the creep
+    # comes nearer to. A partner who walked past the robot's side and stood at its back (generated tour 8900-3:
+    # 0.36 m behind it, her track coasting 1 m off to its side) was never turned to: "You left", and her greetings
+    # from there were never answered. A refusal that stops for ``room_reset`` s starts a new allowance
+    room_speed: float = 0.15  # m/s
+    room_max: float = 0.3  # m
+    room_gap: float = 0.15  # m
+    room_reset: float = 2.0  # s
     camera_height: float = 1.41
     # the camera's own field of view (its data sheet: 48.8 x 37.6 degrees), less a margin: a face
     # this far inside the image that the detector does not report looks away (facing="false")
@@ -390,7 +402,9 @@ class PersonAttention(Module):
         self._partner_face: tuple[float, int, bool] | None = None  # (frame time, partner, her face in the image)
         self._in_image: set[int] = set()  # the tracks whose face lay in the camera's latest frame
         self._cats: dict[int, int] = {}  # the tracks' categories (1-3) at the latest scan
-        self._glanced_from: tuple[int, float] | None = None  # the category-3 person a glance left, and when
+        # the category-3 person a glance left, and when a potential_partner for him came due during the glance (None
+        # while none did: he was reported already and fell silent before its repeat; then the glance owes him nothing)
+        self._glanced_from: tuple[int, float | None] | None = None
         self._owed_pp: tuple[int, float] | None = None  # that person, once the glance found her turned away
         self._look: tuple[int, float] | None = None  # (track, first in the image, inf before): an unseen speaker looked at
         self.turned_away = False  # the partner walked away in Interaction, not seen facing it since (AttentionParams)
@@ -410,6 +424,8 @@ class PersonAttention(Module):
         self._focus: tuple[float, float, float] | None = None  # bearing (rad), distance, height (m) of the object region
         self._turning = False
         self._near: np.ndarray = np.zeros((0, 2))  # robot-frame bodies a turn must keep clear of (this scan)
+        self._people: np.ndarray = np.zeros((0, 2))  # robot-frame confirmed tracks (this scan)
+        self._room: tuple[float, float, float] | None = None  # making room: where the creep began (odom x, y), last asked
         self._ranges: np.ndarray | None = None  # this scan's ranges (a turn keeps off its echoes)
         self._plan_near: FurnitureLegs | None = None  # the floor plan grown by plan_explains: echoes it explains
         # the robot's map pose at this scan (the floor plan's frame: _robot_in_map), for the turn's checks; not
@@ -1003,6 +1019,8 @@ class PersonAttention(Module):
         bearing = [math.atan2(y, x) for x, y in zip(rx, ry)]
         dist = np.hypot(rx, ry).tolist() if tracks else []
         self._near = self._bodies_near(list(zip(rx, ry)) + list(det.points))
+        # the confirmed tracks (robot frame): the people whose legs the laser sees explain a sonar reading (_blind_clear)
+        self._people = np.array([(x, y) for tk, x, y in zip(tracks, rx, ry) if tk.confirmed], dtype=float).reshape(-1, 2)
         cats: dict[int, int] = {}
         speaking, facing = self.speaking, self.facing
         for tk in tracks:
@@ -1065,17 +1083,24 @@ class PersonAttention(Module):
         look = self._look
         if look is not None:
             tid, since = look
+            gf = self._glanced_from
+            if gf is not None and gf[1] is None and cats.get(gf[0]) == 3 and self._pp_due(gf[0], t):
+                self._glanced_from = gf = (gf[0], t)
             if cats.get(tid) == 2 and (tid not in self._in_image or t - since < self.params.look_settle):
                 if tid in self._in_image and since == math.inf:
                     self._look = (tid, t)
                 return tid
             self._look = None
-            if cats.get(tid) == 2 and tid in self._in_image and self._glanced_from is not None:
+            if cats.get(tid) == 2 and tid in self._in_image and gf is not None and gf[1] is not None:
                 # the glance found her speaking turned away (her face in the image long enough, not frontal):
                 # the person it glanced away from, seen speaking facing it, is owed his potential partner
                 # (:meth:`_bottom_up_events`). Not when she fell silent before the camera could tell: she may
-                # have greeted it facing it (her greeting must not back his potential partner)
-                self._owed_pp = self._glanced_from
+                # have greeted it facing it (her greeting must not back his potential partner). Only the one
+                # the glance kept from him: a potential_partner that came due while he spoke facing it. One
+                # sent before the glance, whose repeat he never reached (silent by then), is not owed again: a
+                # second glance that began in his speech's last moments (the hysteresis) paid him one more, 1.3 s
+                # after he fell silent, while a radio said "Hello BIRON" (two_people_radio, turn21's creep)
+                self._owed_pp = (gf[0], gf[1])
             self._glanced_from = None
         if not threes:
             return None
@@ -1087,8 +1112,13 @@ class PersonAttention(Module):
         tid = min(cands)[1]
         self._look = (tid, math.inf)
         three = min((dist[rows[i]], i) for i, c in cats.items() if c == 3)[1]
-        self._glanced_from = (three, t)
+        self._glanced_from = (three, t if self._pp_due(three, t) else None)
         return tid
+
+    def _pp_due(self, tid: int, t: float) -> bool:
+        """Whether a potential_partner for ``tid``, speaking facing the robot at ``t``, would go out now (the first,
+        or a repeat ``pp_repeat`` s after the last: :meth:`_bottom_up_events`)."""
+        return tid != self.pp_sent or t - self._pp_at >= self.params.pp_repeat - 1e-9
 
     def _bottom_up_events(self, t: float, selected: int | None, cats: dict[int, int], bearing: list[float], dist: list[float]) -> None:
         pp = selected if selected is not None and cats.get(selected) == 3 else None
@@ -2007,10 +2037,37 @@ class PersonAttention(Module):
         (:func:`robot.footprint.turn_clear`); else stand, and try again on the next scan. The camera
         still looks at the person meanwhile (the pan-tilt unit)."""
         echoes = self._echoes()
-        w = self.turn_rate(b, np.vstack((self._near, echo_bodies(echoes, self._explained(echoes), self.legs.offset))))
+        bodies = np.vstack((self._near, echo_bodies(echoes, self._explained(echoes), self.legs.offset)))
+        w = self.turn_rate(b, bodies)
         if w and not self._flat_clear(w, echoes):
             w = 0.0
+        if w and not self._blind_clear(w):
+            v, wr = self._make_room(echoes, bodies, w)
+            if v:
+                return self._base(wr, v=v)
         return self._base(w)
+
+    def _make_room(self, echoes: np.ndarray, bodies: np.ndarray, w: float) -> tuple[float, float]:
+        """The command (m/s, rad/s) to creep ahead so that the turn at ``w`` the sonar refuses can be made (see
+        ``AttentionParams.room_speed``): turning on as it creeps where that is clear, else straight ahead; (0, 0)
+        when the allowance of ``room_max`` m is used up or no creep is clear."""
+        p, odom = self.params, self._odom_pose()
+        if odom is None:
+            return 0.0, 0.0
+        room = self._room
+        if room is None or self.now - room[2] > p.room_reset:
+            room = (odom[0], odom[1], self.now)
+        self._room = (room[0], room[1], self.now)
+        if math.hypot(odom[0] - room[0], odom[1] - room[1]) >= p.room_max:
+            return 0.0, 0.0
+        v = p.room_speed
+        ahead = echoes[echoes[:, 0] >= 0.0] if len(echoes) else echoes
+        for cw in (w, 0.0):
+            if (points_sweep_clear(v, cw, ahead, duration=p.turn_check, gap=p.room_gap)
+                    and people_sweep_clear(v, cw, bodies, duration=p.turn_check)
+                    and self._flat_clear(cw, echoes, v=v) and self._blind_clear(cw, v=v)):
+                return v, cw
+        return 0.0, 0.0
 
     def _echoes(self) -> np.ndarray:
         """(N, 2) this scan's echoes within ``turn_reach`` m of the laser, robot frame."""
@@ -2030,30 +2087,36 @@ class PersonAttention(Module):
         c, s = math.cos(mth), math.sin(mth)
         return np.array(self._plan_near.inside_points([(mx + c * x - s * y, my + s * x + c * y) for x, y in echoes.tolist()]), dtype=bool)
 
-    def _blind_clear(self, w: float) -> bool:
+    def _blind_clear(self, w: float, v: float = 0.0) -> bool:
         """Whether turning at ``w`` keeps the corners off what the sonar hears beside and behind that the floor
         plan does not explain (:func:`robot.blindside.blind_clear`): the last check of every turn it sends."""
         arcs = self.sonar.arcs(self._odom_pose(), self.now)
         if not arcs:
             return True
-        pts = blind_points(arcs, lambda arc: bool(self._explained(arc).any()))
-        return blind_clear(0.0, w, pts, duration=self.params.turn_check)
+        # a reading near the legs the laser sees of a tracked person is that person (robot.blindside.seen_legs, the
+        # rule the follower keeps too): a flank transducer hears the partner standing beside the robot's front, and
+        # its arc runs on round the flank where the turn toward her swings a corner; her body is kept clear by the
+        # turn's own sweep of the bodies near (turn_rate, echo_bodies): face20, the turn to her stopped at 65 deg
+        legs = seen_legs(self._echoes(), self._people)
+        by_legs = explained_by_points(legs)
+        pts = blind_points(arcs, lambda arc: bool(self._explained(arc).any()) or by_legs(arc))
+        return blind_clear(v, w, pts, duration=self.params.turn_check)
 
     def turn_rate(self, b: float, bodies: np.ndarray) -> float:
         """:func:`turn_rate` with this module's parameters."""
         return turn_rate(b, bodies, self.params)
 
-    def _flat_clear(self, w: float, echoes: np.ndarray) -> bool:
+    def _flat_clear(self, w: float, echoes: np.ndarray, v: float = 0.0) -> bool:
         """Whether turning at ``w`` for ``turn_check`` s keeps the corners off this scan's echoes (``echo_gap``,
         or no nearer than now) and off the floor plan's walls and furniture (no outline point comes to lie
         inside one that did not already: the laser does not look behind, the plan does; hall_goto_doors
         seed 7, a turn to a voice in the hall swung a rear corner into the wall)."""
         p = self.params
-        if not points_sweep_clear(0.0, w, echoes, duration=p.turn_check, gap=p.echo_gap):
+        if not points_sweep_clear(v, w, echoes, duration=p.turn_check, gap=p.echo_gap):
             return False
         if self.furniture is not None and self._scan_pose is not None:
             mx, my, mth = self._scan_pose
-            x, y, th = sweep_poses(0.0, w, p.turn_check)
+            x, y, th = sweep_poses(v, w, p.turn_check)
             ring = outline()
             inside = []
             for px, py, pth in zip(x.tolist(), y.tolist(), th.tolist()):
@@ -2068,8 +2131,15 @@ class PersonAttention(Module):
         o = self._odom
         return None if o is None else (o[1], o[2], o[3])
 
-    def _base(self, w: float) -> float:
-        """Send the turn rate ``w`` (rad/s) after the bumpers' and the blind side's checks; the rate sent."""
+    def _base(self, w: float, v: float = 0.0) -> float:
+        """Send the turn rate ``w`` (rad/s; or, making room, the creep ``v`` m/s straight ahead) after the bumpers'
+        and the blind side's checks; the rate sent."""
+        if v:
+            v, w = self.bumpers.command(v, w, self.now)
+            if (v or w) and not self._blind_clear(w, v=v):
+                v = w = 0.0
+            self.bus.publish(BASE_CMD, etree.Element("velocity", v=f"{v:.4f}", w=f"{w:.4f}"), transfer=True)
+            return w
         if w:
             w = self.bumpers.command(0.0, w, self.now)[1]
         if w and not self._blind_clear(w):

@@ -186,6 +186,23 @@ ARRIVAL_RESUME = 60.0
 #: (:meth:`Dialog._take_call`); nobody seen by then, it is dropped without a word (a radio's "BIRON" starts
 #: nothing). About the time the base needs to turn round to a voice behind it and find her face
 CALL_WAIT = 8.0
+#: A held call is answered only for a potential partner standing where the call came from (review20 F2: a radio's
+#: "Byron!" then anyone who spoke facing the robot within CALL_WAIT was greeted). The call's sound frames are kept
+#: with the robot's pose at each (the localiser's, map frame, which the dialog hears anyway: the robot turns between
+#: the call and her face, so a robot-frame bearing will not do, fixrev21); at ``person_info`` her place (its bearing
+#: and distance, put in the same frame) gives where the pair
+#: would have heard her from each of those poses (:func:`heard_span`, front and back alike). More than half the
+#: call's frames with a direction must lie within :data:`CALL_WIDTH` of that (a robot turning during the call brings
+#: a voice from the far side and her mirrored bearing together for a frame or two: review20's radio_then_mutter
+#: seed 0, 3 of 6 frames); with fewer than VOICE_FRAMES such
+#: frames (or no pose) nothing tells, and the call is hers as before. A call not hers stays held for another
+#: potential partner until CALL_WAIT is over
+CALL_FRAMES_HERS = 0.5
+#: degrees: the error budget of a frame's direction against where she stands: the pair's reading (TDOA noise 20 us,
+#: about 1.4 degrees ahead), the frame against the nearest pose (0.05 s of a 0.8 rad/s turn: 2.3) and a
+#: margin. The calls of the library (turn/greet_from_behind, flow/sub20_call_from_behind_kitchen) lie within 4; the
+#: barge-in width (9) let a radio 14 degrees off her mirrored bearing through (review20's radio_then_mutter)
+CALL_WIDTH = 6.0
 #: acts that are no request of their own (answers, a greeting) and never resume the tour after an arrival
 NOT_RESUMING = frozenset({"GREETING", "YES", "NO", "THAT_ONE"})
 #: s: a good-bye said while the robot looks at what she showed waits this long at most for the look to end
@@ -575,7 +592,12 @@ class Dialog(Module):
         self._resume_until = -math.inf
         self._goodbye_held: Message | None = None  # a good-bye said during ObjectTeaching (see GOODBYE_AFTER_LOOK)
         # a call by name alone before an interaction and until when it waits for a potential partner (CALL_WAIT)
-        self._call: tuple[Message, float] | None = None
+        # with the sound frames heard during it: (the robot's map x, y, theta then, directions heard in degrees) each
+        self._call: tuple[Message, float, list[tuple[float, float, float, tuple[float, ...]]]] | None = None
+        # the latest poses (time, map x, y, theta: the localiser's), to place the call's frames (bounded: 10 s at 10 Hz)
+        self._poses: deque[tuple[float, float, float, float]] = deque(maxlen=100)
+        # where the supervisor's latest potential partner stands (map x, y), None when unknown (person_info)
+        self._person_place: tuple[float, float] | None = None
         self._asking: list[tuple[int, str]] | None = None  # the open clarification's options (see _unanswerable)
         self._asking_inst: Instance | None = None  # ... and its clarify sub-dialog (see _mark_unchosen)
         self._clarify_asked: dict[str, int] | None = None  # the last clarify sub-dialog's askings (see _clarify)
@@ -1027,17 +1049,46 @@ class Dialog(Module):
         if not (x.tag == "not_understood" and x.get("call") == "true" and self.manager.es_state in UNGREETED
                 and not any(not i.done and i.d.id != "greeting" for i in self.manager.stack)):
             return False  # (open: nothing, or the greeting's own "Did you say hello to me?", which the call answers)
-        self._call = (msg, self.now + CALL_WAIT)
+        start, end = float(x.get("start", "nan")), float(x.get("end", "nan"))
+        frames = []
+        last: tuple[float, ...] = ()
+        for t, bs in self._sources:
+            if start <= t <= end and bs and self._poses and bs != last:
+                # (a frame that repeats the one before word for word is the detector's hangover after the voice
+                # ended: its last reading again, no new evidence of where it came from, whatever the robot's turn)
+                _, ox, oy, oth = min(self._poses, key=lambda o: abs(o[0] - t))
+                frames.append((ox, oy, oth, bs))
+            if start <= t <= end:
+                last = bs
+        self._call = (msg, self.now + CALL_WAIT, frames)
         if self.manager.es_state == "PotentialPartner":
             self._answer_call()
         return True
 
+    def _call_hers(self, frames: list[tuple[float, float, float, tuple[float, ...]]]) -> bool:
+        """Whether the call heard in ``frames`` came from where the potential partner stands (:data:`CALL_FRAMES_HERS`):
+        from each frame's pose, where the pair would hear her (:func:`heard_span`) against what it heard."""
+        her = self._person_place
+        if her is None or len(frames) < VOICE_FRAMES:
+            return True  # nothing tells where the call came from, or where she stands: hers, as before
+        hers = 0
+        for ox, oy, oth, bs in frames:
+            dx, dy = her[0] - ox, her[1] - oy
+            span = heard_span(math.degrees(math.atan2(dy, dx) - oth), math.hypot(dx, dy))
+            hers += any(span_off(b, span) <= CALL_WIDTH for b in bs)
+        return hers > CALL_FRAMES_HERS * len(frames)
+
     def _answer_call(self) -> None:
         """Send the held call by name as her greeting (``<GREETING name="biron"/>`` with the call's time), if it
-        is still waiting and nobody has greeted meanwhile."""
-        held, self._call = self._call, None
+        is still waiting, nobody has greeted meanwhile and the potential partner stands where the call came from
+        (:data:`CALL_FRAMES_HERS`; else it waits on for another)."""
+        held = self._call
         if held is None or self.now > held[1] or self.manager.es_state not in UNGREETED:
+            self._call = None
             return
+        if not self._call_hers(held[2]):
+            return  # someone else faces the robot: the call was not hers (a radio's "Byron!", then her mutter)
+        self._call = None
         x = held[0].xml
         greet = etree.Element("understood", start=x.get("start", "0"), end=x.get("end", "0"), confidence="1",
                               named="true")
@@ -1094,6 +1145,7 @@ class Dialog(Module):
             return
         if msg.xml.get("name") == "person_info":  # someone speaks facing the robot (potential partner)
             self._person_at = msg.created
+            self._person_place = self._place_of(msg.xml.find(".//PERSON"))
             if self._call is not None:
                 self._answer_call()  # her call by name, heard before the robot had turned to her
         if msg.xml.get("name") == "arrived":  # a go-to ended: her next request resumes the tour
@@ -1186,8 +1238,20 @@ class Dialog(Module):
         # sub-dialog is still open, e.g. the stop's "OK, I stopped." waits for its condition: then after it)
         self._emit(self.manager.take_up_in_passing(), msg.id)
 
+    def _place_of(self, person: etree._Element | None) -> tuple[float, float] | None:
+        """Where a reported PERSON (bearing in degrees and distance, robot frame now) stands in the map frame (the
+        localiser's latest pose), None without a pose or a place."""
+        if person is None or not self._poses:
+            return None
+        b, d = float(person.get("bearing", "nan")), float(person.get("distance", "nan"))
+        if not (math.isfinite(b) and math.isfinite(d)):
+            return None
+        _, ox, oy, oth = self._poses[-1]
+        return ox + d * math.cos(oth + math.radians(b)), oy + d * math.sin(oth + math.radians(b))
+
     def _on_pose(self, msg: Message) -> None:
-        self._pose = msg.xml  # this receiver's own copy; its POSE is built only when an event needs it
+        self._pose = el = msg.xml  # this receiver's own copy; its POSE is built only when an event needs it
+        self._poses.append((float(el.get("time", repr(msg.created))), float(el.get("x")), float(el.get("y")), float(el.get("theta"))))
 
     def _on_speaker(self, msg: Message) -> None:
         tag = msg.xml.tag

@@ -115,7 +115,7 @@ from homesim.module import Module
 
 from homesim.errors import BusError, HomesimError
 from robot import floorplan
-from robot.blindside import BLIND_X, SONAR_REACH, SonarEchoes, blind_clear, blind_points, explained_by_points
+from robot.blindside import BLIND_X, LEGS_NEAR, SONAR_REACH, SonarEchoes, blind_clear, blind_points, explained_by_points, seen_legs
 from robot.partner_search import Closing, follow_search_time, yielding
 from robot.bumpers import BumperReflex, own_reflex
 from robot.footprint import contact_speed_limit
@@ -236,8 +236,9 @@ CAME_FROM = 1.5
 GIVE_WAY_BEARING = math.radians(80)
 #: rad: the catch-up's end faces her when she is within this bearing
 FACED = math.radians(8)
-#: m: laser echoes this close to the partner's track are her legs (as the dynamic window leaves them out: 0.45 m)
-HER_LEGS = 0.45
+#: m: laser echoes this close to the partner's track are her legs (the rule shared with person attention:
+#: :func:`robot.blindside.seen_legs`)
+HER_LEGS = LEGS_NEAR
 #: s: the catch-up come up to her, it has at least this long to give way (``GIVE_WAY_TIME``) and face her: her
 #: request is held until then (the approach's own time running out mid give-way let her request be handled with her
 #: at its side)
@@ -616,8 +617,7 @@ class Follower(Module):
             return np.zeros((0, 2))
         age = min(max(self.now - tr["t"], 0.0), 0.5)
         hx, hy = self._to_robot(tr["x"] + tr["vx"] * age, tr["y"] + tr["vy"] * age)
-        keep = (pts[:, 0] >= BLIND_X) & (np.hypot(pts[:, 0] - hx, pts[:, 1] - hy) <= HER_LEGS)
-        return pts[keep]
+        return seen_legs(pts, np.array([(hx, hy)]), HER_LEGS)
 
     def _halt(self) -> None:
         if self.driving:
