@@ -584,6 +584,7 @@ class Dialog(Module):
         self._follow_state = ""  # the follower's last status state ("paused": a wait said while she leads)
         self._waiting_since = math.inf  # since when the follower has said "waiting" (it stands by her) without a break
         self._searching_since = math.inf  # since when the follower has said "searching" (she is out of sight) without a break
+        self._began: tuple[str, float] | None = None  # the frame last handled: (its id, when its words began)
         self._held: deque[Message] = deque()
         # a request said with a greeting ("hello BIRON, follow me") and until when it may wait for the
         # greeting to be taken (:meth:`_greeting_taken`)
@@ -748,6 +749,20 @@ class Dialog(Module):
                 and ((self._follow_state == "waiting" and start - self._waiting_since >= STOOD_FOR
                       and _whole(x) and STOP_REQUEST.fullmatch(_plain_words(x)) is not None)
                      or self._stop_while_searching(start)))
+
+    def _walk_over(self, cause: str) -> bool:
+        """Whether her walk is over for a teaching said while the robot follows (:data:`ENDS_A_PAUSE`): a pause
+        (she said "hang on": the follower's status ``paused``), or the follower has said ``waiting`` (it stands by
+        her: she stands) for at least :data:`~robot.partner_search.STOOD_FOR` s when the words began and still
+        says so, as for a stop from off her bearing (:meth:`_stop_after_she_stood`). fresh7 corr_fast_walker_goto:
+        a fast leader's "here, stop" was not heard from 6 m behind a wall, the robot came up to him and stood by
+        him, and "this is the guest room", the sunglasses and the go-to all got "say stop first" to the end. A
+        teaching said while she walks on (status ``following``) is refused as before."""
+        if self._follow_state == "paused":
+            return True
+        start = self._began[1] if self._began is not None and self._began[0] == cause else self.now
+        return (self._follow_state == "waiting" and math.isfinite(start)
+                and start - self._waiting_since >= STOOD_FOR)
 
     def _stop_while_searching(self, start: float) -> bool:
         """The follower said ``searching`` (she is out of its sight) from before the words began and still
@@ -920,6 +935,7 @@ class Dialog(Module):
 
     def _handle_frame(self, msg: Message) -> None:
         x = msg.xml
+        self._began = (msg.id, float(x.get("start", "nan")))
         greetable = self.manager.es_state in GREETABLE
         if x.get("opens") == "true" and not greetable:
             # "hello BIRON, follow me" while they are already talking: the greeting is a greeting only,
@@ -1429,7 +1445,7 @@ class Dialog(Module):
             return
         for o in outs:
             if isinstance(o, Send):
-                if o.event in ENDS_A_PAUSE and self.manager.es_state in LEADING_STATES and self._follow_state == "paused":
+                if o.event in ENDS_A_PAUSE and self.manager.es_state in LEADING_STATES and self._walk_over(cause):
                     # she said "hang on" and the robot waits by her: the walk is over, what she shows now is
                     # taught (fresh5 stair_wait_walks_on: "I am still following you; say stop first.")
                     stop = etree.Element("event", name="stop")

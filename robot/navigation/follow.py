@@ -447,6 +447,12 @@ class Follower(Module):
             self._aside_refused = False
         elif state != "Interaction":
             self.approach_until = None
+        elif self.approach_until is not None and partner is not None and partner != self.partner_id:
+            # coming up to her after "stop", the attention found her again under a new track (she turned into a room
+            # out of view and stood still): that track is the one it comes up to, not her old track's last guess
+            # (corr_hallway_crossing: it stood at the dining room's door 1.8 m from her, facing where a sonar echo
+            # had put her). Her old track keeps the approach going until the new one's first message.
+            self.partner_id = partner
         if follow and not self.following:
             self.trail.clear()
             self.route.clear()
@@ -710,7 +716,9 @@ class Follower(Module):
             # time ran out with her 20-30 degrees off (face20: face19_stop_past_opening seed 1)
             if approaching and self._approach_reached:
                 arrived = True
-            elif approaching and arrived:
+            elif approaching and arrived and not searching:
+                # come up to her where it sees her: near a guess (her walked-on point, a sonar echo beside it) it
+                # faces that way, and drives on to her once she is seen elsewhere (in the room past the door)
                 self._approach_reached = True
                 # and time to give way and turn to her there: her request is held until it faces her
                 self.approach_until = max(self.approach_until, self.now + ARRIVED_TIME)  # type: ignore[type-var]
