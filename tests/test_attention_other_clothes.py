@@ -122,3 +122,38 @@ def test_a_loss_exactly_when_her_track_showed_other_clothes_long_enough(hers, ot
         assert lost == []
     elif hold >= a.params.other_clothes_after + 2.0:
         assert len(lost) == 1
+
+
+def _another_track(a: PersonAttention, at: tuple[float, float], clothes, t: float) -> int:
+    a.tracks._birth(t, np.array([at], dtype=float), np.full(1, 0.01))
+    tk = a.tracks.tracks[-1]
+    tk.confirmed = True
+    for k in range(a.colours.spec.min_obs):
+        a.colours.observe(tk.id, clothes, t - 0.3 + 0.1 * k)
+    return tk.id
+
+
+def test_her_identity_passed_to_another_track_keeps_her_clothes():
+    """The identity passes between track ids (re-identification, the leaving rule's reacquisition): that is where
+    someone else takes her place, so her clothes go with the identity, not with a track id."""
+    a, tid = _interacting()
+    assert _run(a, tid, lambda t: HERS, 0.0, 5.0) == []
+    guest = _another_track(a, (1.1, 0.2), OTHER, 5.0)
+    a.tracks.tracks = [tk for tk in a.tracks.tracks if tk.id != tid]
+    a.partner = guest  # as _reacquire hands her role over (the guest's clothes were already seen: no hand-over open)
+    lost = _run(a, guest, lambda t: OTHER, 5.0, 12.0)
+    assert len(lost) == 1 and lost[0] >= 5.0 + a.params.other_clothes_after - 1e-9
+
+
+def test_whoever_takes_the_place_after_the_loss_is_known_by_their_own_clothes():
+    """After the loss the next partner (speaking facing the robot close by) starts a record of their own: the
+    guest who answers is not lost again for not wearing hers."""
+    a, tid = _interacting()
+    _run(a, tid, lambda t: HERS, 0.0, 5.0)
+    assert len(_run(a, tid, lambda t: OTHER, 5.0, 10.0)) == 1
+    a._lost_colour = None  # (taken back within conversation distance whatever the clothes)
+    a.partner_lost_sent, a.events = True, []
+    other = _another_track(a, (1.2, -0.3), OTHER, 10.0)
+    a._top_down(10.1, {other: 3})
+    assert a.partner == other
+    assert _run(a, other, lambda t: OTHER, 10.2, 20.0) == []

@@ -390,8 +390,8 @@ class PersonAttention(Module):
         self._handovers: dict[int, Handover] = {}  # id -> an identity handed over on position alone, unchecked
         self._not_her: set[int] = set()  # tracks the camera showed not to be the partner they were taken for
         self._lost_colour: tuple[float, float, float] | None = None  # the lost partner's clothes: who may retake from afar
-        #: (partner id, the clothes her track first showed as hers) and since when her track shows others (:meth:`_her_clothes_gone`)
-        self._her_clothes: tuple[int, tuple[float, float, float]] | None = None
+        #: the clothes the partner's track first showed as hers, and since when it shows others (:meth:`_her_clothes_gone`)
+        self._her_clothes: tuple[float, float, float] | None = None
         self._other_clothes_since: float | None = None
         self._follow_stopped: float | None = None  # since when the follower stands with its search over (its status)
         self._follow_waiting: float | None = None  # since when the follower stands by her (its status ``waiting``)
@@ -770,6 +770,7 @@ class PersonAttention(Module):
                 self.partner = self._caller if self._caller is not None and self.tracks.row(self._caller) >= 0 else self._choose_partner()
                 self.partner_lost_sent = False
                 self._partner_last = self._partner_colour = None
+                self._her_clothes = self._other_clothes_since = None
                 if lost and self.partner is not None and self.partner != before and self.fsm.state == "Interaction":
                     self._new_partner(self.now, self.partner, "false")  # back from a loss: who it attends to now
         else:
@@ -807,6 +808,7 @@ class PersonAttention(Module):
         if heard:
             self.partner = max(heard)[1]
             self._partner_last = self._partner_colour = None
+            self._her_clothes = self._other_clothes_since = None
 
     def _on_es_event(self, msg: Message) -> None:
         """The dialog's stop taken from off the partner's bearing after the robot stood by her track."""
@@ -1154,7 +1156,7 @@ class PersonAttention(Module):
                 self._event("partner_lost")
                 self.partner_lost_sent = True
             self._not_her.add(tr.tracks[row].id)
-            self._partner_colour = self._her_clothes[1] if self._her_clothes is not None else self._partner_colour
+            self._partner_colour = self._her_clothes or self._partner_colour
             row = -1
         if row >= 0:
             tk = tr.tracks[row]
@@ -1308,18 +1310,20 @@ class PersonAttention(Module):
             self.partner_lost_sent = True
 
     def _her_clothes_gone(self, t: float, tk: Any) -> bool:
-        """In Interaction or Object: has the partner's track ``tk`` shown other clothes than it showed when it
-        became hers for ``other_clothes_after`` s? Clothes do not change during a tour, so her track is then on
-        someone else (it went over to a bystander she walked past). The first colour the camera gives the partner's
-        track is hers; a new partner (another id) starts again; an open hand-over is left to its own check
+        """In Interaction or Object: has the partner's track ``tk`` shown other clothes than hers for
+        ``other_clothes_after`` s? Clothes do not change during a tour, so her track is then on someone else (it
+        went over to a bystander she walked past). Hers are the first colour the camera gives her track once she
+        is the partner (greeted, chosen, taken back after a loss, or the one who said "stop": a new partner starts
+        again); her track passing to another track id (re-identification, the leaving rule's reacquisition) keeps
+        them, for that is where someone else can take her place. An open hand-over is left to its own check
         (:meth:`_check_handovers`), and an unknown or stale colour is no evidence."""
         colour = self.colours.colour(tk.id, t)
-        her = self._her_clothes
-        if her is None or her[0] != tk.id:
-            self._her_clothes = (tk.id, colour) if colour is not None else None
+        if self._her_clothes is None:
+            if colour is not None and tk.id not in self._handovers:
+                self._her_clothes = colour
             self._other_clothes_since = None
             return False
-        if colour is None or same_clothes(her[1], colour) or tk.id in self._handovers \
+        if colour is None or same_clothes(self._her_clothes, colour) or tk.id in self._handovers \
                 or self.fsm.state not in ("Interaction", "Object"):
             self._other_clothes_since = None
             return False
