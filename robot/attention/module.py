@@ -132,6 +132,11 @@ class AttentionParams:
     # she, come back: taken back this far (issue 26: a partner who calls it from across the room
     # after it lost her, 4 m away, was not heard as hers and the interaction ended)
     retake_known_radius: float = 5.0
+    # s: in Interaction and Object, the partner's track seen this long in other clothes than those it showed when
+    # it became hers (the camera's running colour, fresh, further off than the appearance's ``differ``) is someone
+    # else: the identity went over to a bystander she walked past (generated tours 8800-01, -19: the robot stood
+    # talking to a silent guest and shut her every word out of the beam as a bystander's, for the rest of the tour)
+    other_clothes_after: float = 3.0
     out_of_view_after: float = 10.0  # s without any evidence: gone, wherever she was last seen
     # s with no partner at all after a loss (the robot asked her to come back): time to walk back from
     # the next room; then the interaction ends and the robot looks around (:meth:`_nobody_there`)
@@ -397,6 +402,9 @@ class PersonAttention(Module):
         self._handovers: dict[int, Handover] = {}  # id -> an identity handed over on position alone, unchecked
         self._not_her: set[int] = set()  # tracks the camera showed not to be the partner they were taken for
         self._lost_colour: tuple[float, float, float] | None = None  # the lost partner's clothes: who may retake from afar
+        #: the clothes the partner's track first showed as hers, and since when it shows others (:meth:`_her_clothes_gone`)
+        self._her_clothes: tuple[float, float, float] | None = None
+        self._other_clothes_since: float | None = None
         self._follow_stopped: float | None = None  # since when the follower stands with its search over (its status)
         self._follow_waiting: float | None = None  # since when the follower stands by her (its status ``waiting``)
         self._partner_face: tuple[float, int, bool] | None = None  # (frame time, partner, her face in the image)
@@ -778,12 +786,14 @@ class PersonAttention(Module):
                 self.partner = self._caller if self._caller is not None and self.tracks.row(self._caller) >= 0 else self._choose_partner()
                 self.partner_lost_sent = False
                 self._partner_last = self._partner_colour = None
+                self._her_clothes = self._other_clothes_since = None
                 if lost and self.partner is not None and self.partner != before and self.fsm.state == "Interaction":
                     self._new_partner(self.now, self.partner, "false")  # back from a loss: who it attends to now
         else:
             self.partner = None
             self.partner_lost_sent = False
             self._partner_last = self._partner_colour = self._lost_colour = None
+            self._her_clothes = self._other_clothes_since = None
         self.pp_sent = None
         self._alone_since = None
         self.turned_away = False  # (leading her in Follow she walks away from it: no turning away)
@@ -814,6 +824,7 @@ class PersonAttention(Module):
         if heard:
             self.partner = max(heard)[1]
             self._partner_last = self._partner_colour = None
+            self._her_clothes = self._other_clothes_since = None
 
     def _on_es_event(self, msg: Message) -> None:
         """The dialog's stop taken from off the partner's bearing after the robot stood by her track."""
@@ -1168,6 +1179,15 @@ class PersonAttention(Module):
             row = -1  # her track is kept while she is hidden, but she is unseen: as if it had died
         if self.partner is not None and not self.partner_lost_sent:
             self._count_yield(t)  # (reset below when she is seen again)
+        if row >= 0 and self._her_clothes_gone(t, tr.tracks[row]):
+            # her track shows another person's clothes: she is not there (where she is, the camera has not seen);
+            # she may come back and is known by her own clothes (:meth:`_retake_reach`)
+            if not self.partner_lost_sent:
+                self._event("partner_lost")
+                self.partner_lost_sent = True
+            self._not_her.add(tr.tracks[row].id)
+            self._partner_colour = self._her_clothes or self._partner_colour
+            row = -1
         if row >= 0:
             tk = tr.tracks[row]
             colour = self.colours.colour(tk.id, t)
@@ -1202,6 +1222,7 @@ class PersonAttention(Module):
             if self.partner is not None and self._partner_colour is not None:
                 self._lost_colour = self._partner_colour  # she may come back: known by her clothes
             self.partner = None
+            self._her_clothes = self._other_clothes_since = None
             self._partner_last = self._partner_colour = None
             # The partner may come back: someone speaking while facing the robot takes the place.
             rx, ry, _ = self._pose_at(t)
@@ -1317,6 +1338,28 @@ class PersonAttention(Module):
         elif t - self._alone_since >= limit and not self.partner_lost_sent:
             self._event("partner_lost")
             self.partner_lost_sent = True
+
+    def _her_clothes_gone(self, t: float, tk: Any) -> bool:
+        """In Interaction or Object: has the partner's track ``tk`` shown other clothes than hers for
+        ``other_clothes_after`` s? Clothes do not change during a tour, so her track is then on someone else (it
+        went over to a bystander she walked past). Hers are the first colour the camera gives her track once she
+        is the partner (greeted, chosen, taken back after a loss, or the one who said "stop": a new partner starts
+        again); her track passing to another track id (re-identification, the leaving rule's reacquisition) keeps
+        them, for that is where someone else can take her place. An open hand-over is left to its own check
+        (:meth:`_check_handovers`), and an unknown or stale colour is no evidence."""
+        colour = self.colours.colour(tk.id, t)
+        if self._her_clothes is None:
+            if colour is not None and tk.id not in self._handovers:
+                self._her_clothes = colour
+            self._other_clothes_since = None
+            return False
+        if colour is None or same_clothes(self._her_clothes, colour) or tk.id in self._handovers \
+                or self.fsm.state not in ("Interaction", "Object"):
+            self._other_clothes_since = None
+            return False
+        if self._other_clothes_since is None:
+            self._other_clothes_since = t
+        return t - self._other_clothes_since >= self.params.other_clothes_after
 
     def partner_left(self, t: float) -> bool:
         """The leaving rule (docs/attention.md): has the partner left?
