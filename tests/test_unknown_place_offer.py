@@ -88,3 +88,35 @@ def test_a_go_to_heard_as_a_room_it_was_never_shown_ends_with_following_her(dm):
     assert OFFER in says(dm.on_condition(unknown("sitting room")))
     (f,) = sends(dm.on_frame(heard("yes please do")))
     assert f.event == "follow"
+
+
+@pytest.mark.parametrize("again", ["now come into the sitting room", "go to the sitting room please",
+                                   "could you come to the sitting room"])
+def test_the_same_go_to_said_again_while_the_offer_is_open_is_a_yes(dm, again):
+    # she still wants it in a room only she knows the way to: no second "Sorry, I do not know where ..."
+    dm.on_condition(unknown("sitting room"))
+    out = dm.on_frame(heard(again))
+    (s,) = sends(out)
+    assert s.event == "follow"
+    assert not any("do not know" in line for line in says(out))
+
+
+def test_a_go_to_to_another_place_is_a_go_to_not_a_yes(dm):
+    dm.on_condition(unknown("sitting room"))
+    out = dm.on_frame(heard("go to the kitchen"))
+    assert [s.event for s in sends(out)] == ["goto"]
+
+
+def test_no_then_the_place_again_is_not_taken_as_following(dm):
+    dm.on_condition(unknown("sitting room"))
+    out = dm.on_frame(heard("no, go to the sitting room"))
+    assert "follow" not in [s.event for s in sends(out)]
+
+
+def test_her_follow_me_while_another_question_is_open_is_not_taken_for_the_offer(dm):
+    # only the offer's own question takes "follow me" as its yes; otherwise the follow dialog decides
+    out = dm.on_frame(heard("go to the sitting room", 0.3))
+    assert says(out) == ["Shall I go to the sitting room?"]
+    out = dm.on_frame(heard("follow me"))
+    assert [s.event for s in sends(out)] == ["follow"]
+    assert "Shall I follow you there?" not in says(out)
