@@ -153,10 +153,22 @@ class Instance:
         return all(self.slots[s].status == st for s, st in whens)
 
 
+#: possessive pronouns of the third person: as an owner they refer back to the owner already named
+#: ("Is this your husband's green cup?" - "Yes, his cup"), they name nobody of their own
+OWNER_PRONOUNS = frozenset({"his", "her", "their"})
+
+
 def _merge(old: Any, new: Any) -> Any:
-    """A refilled element keeps what the new one does not say ("this is my ..." + "a cup")."""
+    """A refilled element keeps what the new one does not say ("this is my ..." + "a cup"); an owner said as
+    "his", "her" or "their" keeps the owner it refers to (long22: hall_hub_long_tour seed 0 stored the cup as
+    "his" and said "OK, I have learned His's green cup.")."""
     if not (isinstance(old, etree._Element) and isinstance(new, etree._Element)) or old.tag != new.tag:
         return new
+    pronoun = [o for o in new.findall("OWNER") if (o.get("name") or "").lower() in OWNER_PRONOUNS]
+    if pronoun and old.find("OWNER") is not None:
+        new = deepcopy(new)
+        for o in new.findall("OWNER"):
+            new.remove(o)
     out = deepcopy(old)
     for k, v in new.attrib.items():
         out.set(k, v)
