@@ -35,7 +35,8 @@ def test_an_unknown_place_is_named_and_the_talk_goes_on(name):
     m = DialogManager(DOC)
     m.es_state = "Interacting"
     out = says(m.on_condition(cond("unknown_place", f'<param name="goal"><PLACE><TITLE name="{name}"/></PLACE></param>')))
-    assert out == [f"Sorry, I do not know where the {name} is. You can show it to me, or send me to another room."]
+    # and offers to be shown it (tests/test_unknown_place_offer.py)
+    assert out == [f"Sorry, I do not know where the {name} is.", "Shall I follow you there?"]
     assert not any("help" in line for line in out)
 
 

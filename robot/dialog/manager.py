@@ -45,6 +45,11 @@ MAX_SAME_QUESTION = 2
 #: ... nor says the same refusal outside a sub-dialog ("Please look at me and say hello first.") more
 #: than twice in a row, with nothing else said and the supervisor's state unchanged in between
 MAX_SAME_REFUSAL = 2
+#: The sub-dialog that offers to follow her to a place it was never shown ("Sorry, I do not know where the
+#: sitting room is. Shall I follow you there?", biron-dialogs.xml) and the slot that holds the offer:
+#: while that question is open, her "follow me" and her go-to to the same place said again answer yes
+#: (:meth:`DialogManager._offer_taken`)
+OFFER_DIALOG, OFFER_SLOT = "unknown_place", "offer"
 
 
 @dataclass(frozen=True, slots=True)
@@ -148,10 +153,22 @@ class Instance:
         return all(self.slots[s].status == st for s, st in whens)
 
 
+#: possessive pronouns of the third person: as an owner they refer back to the owner already named
+#: ("Is this your husband's green cup?" - "Yes, his cup"), they name nobody of their own
+OWNER_PRONOUNS = frozenset({"his", "her", "their"})
+
+
 def _merge(old: Any, new: Any) -> Any:
-    """A refilled element keeps what the new one does not say ("this is my ..." + "a cup")."""
+    """A refilled element keeps what the new one does not say ("this is my ..." + "a cup"); an owner said as
+    "his", "her" or "their" keeps the owner it refers to (long22: hall_hub_long_tour seed 0 stored the cup as
+    "his" and said "OK, I have learned His's green cup.")."""
     if not (isinstance(old, etree._Element) and isinstance(new, etree._Element)) or old.tag != new.tag:
         return new
+    pronoun = [o for o in new.findall("OWNER") if (o.get("name") or "").lower() in OWNER_PRONOUNS]
+    if pronoun and old.find("OWNER") is not None:
+        new = deepcopy(new)
+        for o in new.findall("OWNER"):
+            new.remove(o)
     out = deepcopy(old)
     for k, v in new.attrib.items():
         out.set(k, v)
@@ -326,6 +343,9 @@ class DialogManager:
         stamp = speech.find("TIMESTAMP") if speech is not None else None
         said = msg.get("answer", "")  # "yes"/"no" before the request: "no, the kitchen"
         out: list[Output] = []
+        offer = self._offer_taken(act, act_el, said)
+        if offer is not None:
+            return self._take_offer(offer)
         answered = self._answered_by(act)
         if answered is not None and said != "yes" and self._another_request(answered, act, msg):
             # "Shall I go to the kitchen?" - "this is the kitchen" (she was teaching the room; the
@@ -435,6 +455,37 @@ class DialogManager:
                 inst.slots[slot].status = "true"
                 self.metrics["confirmed_by_repetition"] += 1
         self._take_up_given_up(inst, said)
+        self._step(inst, out)
+        return out
+
+    def _offer_taken(self, act: str, act_el: etree._Element, said: str) -> Instance | None:
+        """The open offer to follow her to a place it was never shown that this frame answers yes, or None.
+
+        "Shall I follow you there?" - "follow me" is yes (without this the follow dialog started on top and
+        the offer waited below it). "Now come into the sitting room" said again is yes too: she still wants
+        the robot in a room only she knows the way to (fresh9/bay_long_tour: her repetition was a new go-to,
+        the same "Sorry", and she walked on alone). A go-to to another place, or a "no" first, is not."""
+        if said == "no" or act not in ("FOLLOW", "GOTO"):
+            return None
+        top = next((i for i in reversed(self.stack) if i.pending is not None), None)
+        if top is None or top.d.id != OFFER_DIALOG or top.pending != ("confirm", OFFER_SLOT, top.pending[2]):
+            return None
+        if act == "GOTO":
+            place = act_el.find(".//PLACE") if act_el.tag != "PLACE" else act_el
+            if place is None or not _same(top.slots[OFFER_SLOT].value, place):
+                return None
+        return top
+
+    def _take_offer(self, inst: Instance) -> list[Output]:
+        """Her answer taken as yes to the offer: the offer dialog follows her (``_offer_taken``)."""
+        out: list[Output] = []
+        for other in self.stack:
+            if other.pending is not None and other is not inst:
+                other.passed_over += 1
+        inst.pending, inst.reasks, inst.passed_over = None, 0, 0
+        inst.slots[OFFER_SLOT].status = "true"
+        self.metrics["confirmed_by_repetition"] += 1
+        self._something_done()
         self._step(inst, out)
         return out
 
