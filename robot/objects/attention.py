@@ -555,10 +555,13 @@ class ObjectAttention(Module):
 
     async def _look_after_aside(self, wanted: Wanted, pointing: Pointing | None, cause: str,
                                 since: float) -> tuple[Resolution, Pointing | None]:
-        """She has stepped aside (asked at ``since``): once she stands (:meth:`_until_still`), her gesture
-        since the question (else ``pointing``); look where it points, and with no gesture at all round her
-        where she stands now (the camera followed her: ahead is no longer where she stood)."""
-        await self._until_still()
+        """She has stepped aside (asked at ``since``): her gesture since the question (else ``pointing``); look
+        where it points. With no gesture seen before, first until she stands (:meth:`_until_still`: she points
+        again once there), and with none at all round her where she stands now (the camera followed her: ahead
+        is no longer where she stood). With a ray, the look goes on at once (a drive to see where it comes down
+        may follow, planned while she still walks off its way: perceive/study_far_behind_user)."""
+        if pointing is None:
+            await self._until_still()
         waited = 0.0
         while self.gestures.pointing(self.now, since=since) is None and waited < self.gesture_wait:
             await asyncio.sleep(0.1)
