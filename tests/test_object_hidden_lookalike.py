@@ -13,7 +13,8 @@ from lxml import etree
 
 from robot.dialog.loader import load
 from robot.dialog.manager import DialogManager, Say, Send
-from robot.objects.attention import BODY_HALF_WIDTH, ROW_GAP, beside_her_shadow
+from robot.objects.attention import BODY_HALF_WIDTH, ROW_GAP, beside_her_shadow, on_her_ray
+from robot.objects.resolve import Pointing
 
 CAM = (0.0, 0.0)
 
@@ -57,6 +58,29 @@ def test_three_books_behind_him_the_one_at_the_end_is_doubted():
     assert beside_her_shadow((4.58, 1.76), (4.48, 0.60), (4.81, -0.70))
     # standing 1.2 m aside, he hides none of them
     assert not any(beside_her_shadow((4.58, 1.76), (5.70, 0.60), (x, -0.72)) for x in (4.2, 4.5, 4.8))
+
+
+# ------------------------------------------------------------------ seen where her ray points: not doubted
+
+
+@settings(max_examples=200, deadline=None)
+@given(headings, st.floats(0.6, 3.0), st.floats(-1.0, 1.0), st.floats(0.005, 0.2))
+def test_a_thing_within_her_rays_spread_is_on_it_and_one_a_little_beyond_is_not(direction, reach, share, sigma):
+    ray = Pointing(0.0, 0.0, 1.1, direction, -0.4, sigma)
+    # ``reach`` out along her arm, ``share`` of the spread to one side, and just beyond the spread
+    assert on_her_ray(ray, _at(reach, reach * math.tan(share * ray.spread * 0.999), direction))
+    assert not on_her_ray(ray, _at(reach, reach * math.tan(ray.spread * 1.01) * (1 if share >= 0 else -1), direction))
+
+
+def test_his_mug_seen_where_he_points_is_on_his_ray_the_jar_beside_hers_is_not():
+    # tests/scenarios/lang_names seed 0 (traced): Ben's ray comes down on the desk behind him (his body hides that
+    # spot by the robot's reckoning), and the camera saw his mug there, 1 deg off the ray: no look-alike to doubt
+    ben = Pointing(1.109, 3.326, 1.08, 1.959, -0.780, 0.0235)
+    assert on_her_ray(ben, (0.982, 3.616))
+    # perceive/jars_behind_her seed 1 (traced): Hilde hides the middle jar she points at; the camera saw the
+    # right-hand one, 0.3 m beside it (30 deg off her ray): still doubted (she is asked to step aside)
+    hilde = Pointing(2.905, 0.676, 1.116, -1.551, -0.516, 0.0194)
+    assert not on_her_ray(hilde, (3.2, 0.351))
 
 
 # ------------------------------------------------------------------ the dialog: the same teaching said again
