@@ -53,7 +53,7 @@ class _Probe(ObjectAttention):
         self.log.append("ask")
         return True
 
-    async def _wait_partner_clear(self, pointing):  # type: ignore[no-untyped-def]
+    async def _wait_partner_clear(self, pointing, stood=None):  # type: ignore[no-untyped-def]
         if self.steps_aside:
             self.in_way = False
         return self.steps_aside

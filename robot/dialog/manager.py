@@ -440,6 +440,15 @@ class DialogManager:
             # user's "the study, go" taught the study where the robot stood): the robot asks first.
             # A clean "the kitchen" (the recogniser often drops "this is") is taken as before.
             conf = min(conf, self.doc.confirm_below / 2)
+        busy = self._carrying_out(d, act, act_el)
+        if busy is not None and said != "no":
+            # the same request again while the robot carries it out (she repeats her teaching when "I have
+            # learned" has not come yet, generated tour 8900-1): not a new request; replacing it restarted
+            # the look and its "OK, I have learned" was never said. The robot says it is still at it.
+            if any(r.state == self.es_state and r.score(busy.sent[-1], "", self.es_state) >= 0 for r in self.doc.rejections):
+                # the words of the state it is busy in ("I am still looking at the object you showed me")
+                self._say(out, self.doc.rejection_text(busy.sent[-1], "", self.es_state), busy.d.id)
+            return out
         # the same request again while its own confirmation waits below another question ("Is this
         # the kitchen?" - "follow me" - "this is the kitchen"): two hearings agree, as when it answers
         # the question directly; the new instance keeps the old one's count of questions asked
@@ -896,6 +905,20 @@ class DialogManager:
                 self._repairs_put += 1
             self._say(out, self.doc.not_understood, "")
         return out
+
+    def _carrying_out(self, d: DialogDef, act: str, act_el: etree._Element) -> Instance | None:
+        """The running instance of ``d`` whose request the robot is carrying out (its event sent, its goal
+        not reached, no question of its own open) when ``act_el`` asks for the same again (:func:`_same`
+        on the slot the whole frame fills); None otherwise."""
+        whole = [f for f in d.fills if f.frame and act in f.frame and f.select is None]
+        for inst in reversed(self.stack):
+            if inst.d is not d or inst.done or not inst.sent or inst.pending is not None or inst.holds(d.goal):
+                continue
+            for f in whole:
+                slot = inst.slots.get(f.slot)
+                if slot is not None and slot.status in ("true", "filled") and _same(slot.value, act_el):
+                    return inst
+        return None
 
     def _push(self, d: DialogDef, out: list[Output]) -> Instance:
         for old in [i for i in self.stack if i.d.id == d.id]:  # said again: the new request replaces the old

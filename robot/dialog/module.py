@@ -223,6 +223,8 @@ ENDS_A_PAUSE = frozenset({"object_teaching", "place_teaching"})
 #: the sentence at once anyway). Above the microphones' frame interval (0.1 s) and a breath between words,
 #: below the ~1 s from the end of an utterance to the robot's answer to it, so answers are not delayed.
 TURN_GAP = 0.5
+STEP_ASIDE_TRIES = 2  # the step-aside question dropped unsaid (she was speaking) is put once more,
+STEP_ASIDE_PAUSE = 10.0  # s: ... when she pauses, waiting at most this long
 #: dB: a voice from the partner's direction this much quieter than her own voice (both taken back to 1 m by
 #: her distance, the level of the quietest of her recent turns) comes from someone standing further away behind
 #: her (chat18, :meth:`Dialog._farther_than_her`): a voice twice as far is 6 dB quieter, and her own turns
@@ -566,6 +568,7 @@ class Dialog(Module):
         # text, causes, dialogs, when it was ready to be said, whether it is a repair ("say that again")
         self._queue: deque[tuple[str, tuple[str, ...], frozenset[str], float, bool]] = deque()
         self._voice_at = -math.inf  # when a voice from the partner's direction was last heard (turn-taking)
+        self._dropped_at: dict[str, float] = {}  # sub-dialog id -> when a sentence of it was last dropped unsaid (turn-taking)
         self._voice_since = -math.inf  # when that voice began with no pause of TURN_GAP since (VOICE_RUN_MAX)
         self._hold_steps: deque[float] = deque(maxlen=int(HOLD_WINDOW / HOLD_STEP) + 1)  # when each hold step began
         self._repair_dropped = False  # the last repair due was dropped (the next is said: never twice in a row)
@@ -1208,13 +1211,25 @@ class Dialog(Module):
         """Condition ``step_aside``: ask the partner to step aside (the ``step_aside`` sub-dialog),
         then tell the ES it has been said: event ``asked_aside`` with ``said="true"`` (``"false"``
         when the sub-dialog could not start), which the ES routes back to the object attention."""
-        inst, outs = self.manager.start("step_aside", {"asked": "true"})
-        if inst is not None:
+        said = False
+        for _ in range(STEP_ASIDE_TRIES):
+            made = self.now
+            inst, outs = self.manager.start("step_aside", {"asked": "true"})
+            if inst is None:
+                break
             self._emit(outs, msg.id)
             await self._until_said()
+            # dropped unsaid by the turn-taking (she was speaking when it was ready, fresh9 bay_three_books):
+            # she was not asked; ask again now that she has paused, never report it said
+            said = self._dropped_at.get("step_aside", -math.inf) < made
+            if said or self.bus.closed or self.bus.hung:
+                break
+            paused = self.now + STEP_ASIDE_PAUSE
+            while self.now - self._voice_at < TURN_GAP and self.now < paused:  # until she pauses
+                await asyncio.sleep(0.1)
         if self.bus.closed or self.bus.hung:
             return
-        ev = etree.Element("event", name="asked_aside", said="true" if inst is not None else "false")
+        ev = etree.Element("event", name="asked_aside", said="true" if said else "false")
         self.bus.publish(ES_EVENTS, ev, causes=(msg.id,), transfer=True)
 
     def _on_rejected(self, msg: Message) -> None:
@@ -1517,6 +1532,8 @@ class Dialog(Module):
                         continue
                     self._repair_dropped = True
                     self.stale_repairs += 1
+                for d in q[2]:
+                    self._dropped_at[d] = self.now
                 dropped += 1
                 continue
             kept.append(q)
