@@ -808,3 +808,39 @@ def test_a_good_bye_said_while_it_looks_waits_until_the_object_is_learned(robot)
     said = robot.sentences()
     learned = next(i for i, s in enumerate(said) if s.startswith("OK, I have learned"))
     assert any(i > learned for i, s in enumerate(said) if "Good-bye" in s)
+
+
+def test_a_step_aside_question_cut_by_her_voice_is_asked_again_and_reported_said_only_then(robot):
+    """review22 R2 (fresh10 hall_wardrobe_bags): her voice cut the step-aside question after three words and the
+    dialog still told the ES it had been said; the object attention then waited for a step she never heard of. A
+    question cut by a barge-in is not said: it is put again once she pauses, and ``asked_aside`` comes after that."""
+    robot.greet()
+    robot.partner_at(0.0, 1.5, 40.0)
+    obj = robot.sim.bus.participant("object_attention")
+    orders = []
+    obj.subscribe("/robot/es/orders/object_attention", orders.append)
+
+    def teach_and_occlude() -> None:
+        frame = etree.fromstring('<event name="object_teaching"><SPEECH><OBJECT type="plant"/></SPEECH></event>')
+        robot.sim.bus.get("dialog").publish(ES_EVENTS, frame)
+        robot.sim.call_at(7.5, obj.publish, ES_EVENTS, etree.Element("event", name="occluded"))
+
+    robot.sim.call_at(7.0, teach_and_occlude)
+    asked = None
+    while asked is None and robot.sim.now < 20.0:
+        robot.sim.run(until=robot.sim.now + 0.1)
+        asked = next((m for m in robot.said.drain() if "step aside" in (m.xml.get("text") or "")), None)
+    assert asked is not None
+    for k in range(5):  # she talks over it right away, from where she stands
+        robot.sound(robot.sim.now + 0.2 + 0.1 * k, 0.0, 70.0)
+    robot.sim.run(until=robot.sim.now + 0.8)
+    assert robot.dialog.summary()["barge_ins"] >= 1
+    cut_at = robot.sim.now
+    assert not [o for o in orders if o.xml.get("name") == "asked_aside"]  # not reported said when it was cut
+    robot.sim.run(until=cut_at + 30.0)
+    asks = [r["t"] for r in robot.records("/robot/speaker/say") if "step aside" in r["xml"]]
+    assert len(asks) == 2 and asks[1] > cut_at  # put again once she paused
+    done = [r["t"] for r in robot.records("/robot/speaker/status")
+            if r["xml"].startswith("<done") and "step aside" in r["xml"] and r["t"] > asks[1]]
+    (said,) = [o for o in orders if o.xml.get("name") == "asked_aside"]
+    assert done and said.xml.find("param[@name='said']").text == "true" and said.created >= done[0]

@@ -569,6 +569,7 @@ class Dialog(Module):
         self._queue: deque[tuple[str, tuple[str, ...], frozenset[str], float, bool]] = deque()
         self._voice_at = -math.inf  # when a voice from the partner's direction was last heard (turn-taking)
         self._dropped_at: dict[str, float] = {}  # sub-dialog id -> when a sentence of it was last dropped unsaid (turn-taking)
+        self._talk_dialogs: tuple[str, ...] = ()  # the sub-dialogs of the sentence being said (a barge-in drops them unsaid)
         self._voice_since = -math.inf  # when that voice began with no pause of TURN_GAP since (VOICE_RUN_MAX)
         self._hold_steps: deque[float] = deque(maxlen=int(HOLD_WINDOW / HOLD_STEP) + 1)  # when each hold step began
         self._repair_dropped = False  # the last repair due was dropped (the next is said: never twice in a row)
@@ -1385,6 +1386,10 @@ class Dialog(Module):
             level, bearing = float(src.get("level", "0")), float(src.get("bearing", "nan"))
             if level >= self.barge_in_level and math.isfinite(bearing) and abs(front_bearing(bearing) - want) <= self.barge_in_width:
                 self._cut = True
+                # cut by her voice: this sentence and those queued were not heard (review22 R2: a step-aside
+                # question cut after three words was reported said, and the robot waited for a step she never heard of)
+                for d in (*self._talk_dialogs, *(d for q in self._queue for d in q[2])):
+                    self._dropped_at[d] = self.now
                 self._queue.clear()
                 self.manager.barge_in()
                 self.bus.publish(SAY, etree.Element("say", text=""), causes=(msg.id,))
@@ -1494,7 +1499,8 @@ class Dialog(Module):
     def _say_next(self) -> None:
         if not self._queue or self.bus.closed or self.bus.hung or self._hold():
             return
-        text, causes, *_ = self._queue.popleft()
+        text, causes, dialogs, *_ = self._queue.popleft()
+        self._talk_dialogs = tuple(sorted(dialogs))
         self._repair_dropped = False  # something said: the next repair due may be dropped again
         self._talking = True
         self._cut = False
