@@ -40,3 +40,12 @@ def test_an_answer_naming_another_owner_still_corrects_it(dm):
     dm.on_frame(heard("the green cup on the table is my husband's", LOW))
     (s,) = sends(dm.on_frame(heard("yes my daughter's cup")))
     assert [o.get("name") for o in s.children[0].iter("OWNER")] == ["daughter"]
+
+
+@pytest.mark.parametrize("answer", ["yes his cup", "yes her cup", "yes their cup"])
+def test_a_pronoun_answer_to_a_question_that_named_no_owner_stores_no_owner(dm, answer):
+    """review22 R6: "Is this the green cup?" - "yes his cup" stored the owner "his" ("His's green cup")."""
+    asked = says(dm.on_frame(heard("the green cup on the table", LOW)))
+    assert asked and "your" not in asked[0]
+    (s,) = sends(dm.on_frame(heard(answer)))
+    assert [o.get("name") for o in s.children[0].iter("OWNER")] == []

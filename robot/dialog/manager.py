@@ -160,12 +160,12 @@ OWNER_PRONOUNS = frozenset({"his", "her", "their"})
 
 def _merge(old: Any, new: Any) -> Any:
     """A refilled element keeps what the new one does not say ("this is my ..." + "a cup"); an owner said as
-    "his", "her" or "their" keeps the owner it refers to (long22: hall_hub_long_tour seed 0 stored the cup as
+    "his", "her" or "their" keeps the owner it refers to, or none when none was named (long22: hall_hub_long_tour seed 0 stored the cup as
     "his" and said "OK, I have learned His's green cup.")."""
     if not (isinstance(old, etree._Element) and isinstance(new, etree._Element)) or old.tag != new.tag:
         return new
     pronoun = [o for o in new.findall("OWNER") if (o.get("name") or "").lower() in OWNER_PRONOUNS]
-    if pronoun and old.find("OWNER") is not None:
+    if pronoun:  # the owner named before stays; with none named, no owner is better than "his" (review22 R6)
         new = deepcopy(new)
         for o in new.findall("OWNER"):
             new.remove(o)
