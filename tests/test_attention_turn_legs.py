@@ -21,7 +21,6 @@ from hypothesis import strategies as st
 
 from robot.attention.module import AttentionParams, PersonAttention, echo_bodies
 from robot.blindside import BLIND_X, EXPLAIN, LEGS_NEAR, blind_clear, blind_points, explained_by_points, seen_legs
-from robot.navigation.follow import HER_LEGS
 
 
 def _attention(*, legs: list[tuple[float, float]], people: list[tuple[float, float]], arcs: list[np.ndarray]) -> PersonAttention:
@@ -45,10 +44,6 @@ def _flank_arc(r: float, side: float = 1.0) -> np.ndarray:
     its 30 deg cone, from ahead of the laser's line round to beside the footprint."""
     a = np.radians(np.linspace(75.0, 105.0, 5))
     return np.column_stack((0.1 + r * np.cos(a), side * (0.22 + r * np.sin(a))))
-
-
-def test_both_modules_keep_one_rule():
-    assert HER_LEGS == LEGS_NEAR
 
 
 def test_her_legs_seen_explain_the_flank_reading_so_the_attention_turns_to_her():
