@@ -210,7 +210,8 @@ def test_the_call_is_answered_for_the_caller_whatever_the_turn_and_never_for_one
 def test_the_detectors_hangover_is_no_evidence_of_where_the_call_came_from(robot):
     """A radio's name ahead, its readings drifting toward the axis; its last reading repeated word for word after the
     voice ended (the detector's hangover), where the pair would hear someone right behind the robot: the repeats
-    are not counted as frames from the person then behind it (review20's radio_then_mutter seeds 1, 8: 3 of 7 frames hers with the repeats, 3 of 6 without)."""
+    are not counted as frames from the person then behind it (review20's radio_then_mutter seeds 1, 8: 3 of 7
+    frames hers with the repeats, 3 of 6 without)."""
     _heading(robot, 0.0, 0.0)
     for k, b in enumerate((8.3, 6.0, 6.0 + 0.01, 0.6, -1.3, -1.4, -1.4, -1.4, -1.4)):
         robot.sound(1.0 + 0.1 * k, b, 60.0)
