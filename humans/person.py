@@ -36,6 +36,7 @@ from collections.abc import Callable
 from homesim.scenario.model import Action, Face, Handler, HumanSpec, Leave, PointAt, Say, StepCloser, Target, WalkTo
 from homesim.world.acoustics import Utterance
 from homesim.world.bodies import ROBOT_REACH, HumanBody, Pointing
+from homesim.world.raycast import line_of_sight
 from homesim.scenario.pathplan import NoPathError
 from homesim.world.world import World
 
@@ -64,6 +65,11 @@ PASS_LANE = 0.9
 PASS_BESIDE = 1.2
 PASS_STEP = 0.9
 PASS_POLL = 0.5
+#: m: a walk up to the robot or to a person ends only where nothing this high (a wall, a tall shelf) stands on the
+#: straight line between them: who walks up to someone to talk stops where they see each other, never on the
+#: other side of a wall at her distance (fresh10/hall_goto_music_room: he stopped in the hall 1.2 m from the robot
+#: standing in the music room behind the wall, and greeted it through the wall, unseen, for the rest of the run)
+SIGHT_HEIGHT = 1.0
 
 
 class Person(Actor):
@@ -201,7 +207,8 @@ class Person(Actor):
         blocked, asked = 0.0, 0  # seconds held back by the robot without a free leg; requests made
         while True:
             here = self.body.position
-            if math.hypot(goal[0] - here[0], goal[1] - here[1]) <= max(stop_at, ARRIVED):
+            sees = not moving or self.sees(self.goal_of(target))  # (a walk up to someone ends in sight of them)
+            if math.hypot(goal[0] - here[0], goal[1] - here[1]) <= max(stop_at, ARRIVED) and sees:
                 break
             if not path:
                 break
@@ -209,7 +216,7 @@ class Person(Actor):
             dx, dy = wx - here[0], wy - here[1]
             dist = math.hypot(dx, dy)
             travel = dist
-            if len(path) == 1 and stop_at > 0:
+            if len(path) == 1 and stop_at > 0 and sees:
                 # Stop short of the goal along the last leg (the last waypoint may
                 # already be short of it: the free spot nearest to a goal inside
                 # furniture or next to the robot).
@@ -263,7 +270,8 @@ class Person(Actor):
         return False
 
     def approach_point(self, distance: float) -> tuple[float, float]:
-        """The point ``distance`` from the robot on the line from it to her (where she is when nearer).
+        """The point ``distance`` from the robot on the line from it to her (where she is when nearer; the robot's
+        own place while that point lies behind a wall from it: :meth:`sees`).
 
         In an L-shaped flat that line can cut the inner corner, and the point fall outside the flat:
         then the robot's own place, whose nearest free spot inside the flat her walk ends at
@@ -272,11 +280,25 @@ class Person(Actor):
         hx, hy = self.body.position
         d = math.hypot(hx - rx, hy - ry)
         if d <= distance:
-            return hx, hy
-        x, y = rx + (hx - rx) * distance / d, ry + (hy - ry) * distance / d
+            x, y = hx, hy
+        else:
+            x, y = rx + (hx - rx) * distance / d, ry + (hy - ry) * distance / d
         if self.world.room_of(x, y) is None and self.world.room_of(rx, ry) is not None:
             return rx, ry
+        if not self.sees((rx, ry), (x, y)):
+            # that point lies behind a wall from the robot (it stands in a room, she comes along the hall
+            # outside): towards the robot itself, round through the door, until the point is in its sight
+            return rx, ry
         return x, y
+
+    def sees(self, point: tuple[float, float], here: tuple[float, float] | None = None) -> bool:
+        """Whether nothing :data:`SIGHT_HEIGHT` high (walls, tall furniture) stands on the straight line from
+        ``here`` (where she stands) to ``point``: whom she walks up to she stops in sight of."""
+        a, b = self.world.segments_at(SIGHT_HEIGHT)
+        if not len(a):
+            return True
+        origin = self.body.position if here is None else here
+        return bool(line_of_sight(origin, np.array([point], dtype=float), a, b)[0])
 
     def plan(self, goal: tuple[float, float]) -> list[tuple[float, float]]:
         """A path to ``goal`` around walls, furniture and the robot where it stands now.
