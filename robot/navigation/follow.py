@@ -1516,6 +1516,8 @@ class Follower(Module):
         if self._held_since is None or self.now - self._held_last > HELD_UP_GAP:
             self._held_since = self.now  # (gaps shorter than HELD_UP_GAP are bridged: a track beside it flickers at the laser's edge)
         self._held_last = self.now
+        if self._held_back:  # someone who walked at it stands close in front: it is in their way, not they in its
+            return True        # (it makes way once they have stood MAKE_WAY_HELD s; it asks nobody to let it pass)
         if self.now - self._held_since >= HELD_UP_TIME and self.now - self._excused_at >= self.warn_every:
             self._excused_at = self.now
             _, x, y = blocker
