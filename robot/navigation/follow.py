@@ -364,6 +364,9 @@ class Follower(Module):
     _seen_v: tuple[float, float] = (0.0, 0.0)
     _closing: Closing | None = None  # (__init__ gives each follower its own)
     _backout_failed: tuple[float, float, float, float, float] | None = None
+    _oncoming: dict[str, float] = {}  # (replaced by _make_way, never mutated)
+    _held_back: dict[str, float] = {}
+    _making_way: tuple[float] | None = None
     #: nothing pressed, and never told otherwise (__init__ gives each follower its own, heard on the bus)
     bumpers = own_reflex()
 
@@ -438,8 +441,8 @@ class Follower(Module):
         self._pause_reached = False  # paused and come up to her: it stands there (turning to her) while the pause lasts
         self._approach_reached = False  # the catch-up came up to her: it gives way and faces her there, no more driving at her
         self._aside_refused = False  # ... and its step aside was refused: it only faces her (no to and fro)
-        self._oncoming: dict[str, float] = {}  # track id -> when it last walked at the robot (making way)
-        self._held_back: dict[str, float] = {}  # track id -> since when it has stood close ahead after that
+        self._oncoming: dict[str, float] = {}  # track id -> when it last walked at the robot (making way; replaced, never mutated)
+        self._held_back: dict[str, float] = {}  # track id -> since when it has stood close ahead after that (replaced, never mutated)
         self._making_way: tuple[float] | None = None  # (since when) backing out of the way of someone held back
 
     def respawn(self) -> Follower:
@@ -1167,6 +1170,7 @@ class Follower(Module):
         prx, pry = self._to_robot(px, py)
         her = math.hypot(prx, pry)
         held: dict[str, float] = {}
+        oncoming = {k: t for k, t in self._oncoming.items() if self.now - t <= MAKE_WAY_MEMORY}  # (bounded: recent walkers)
         best = None
         backing = self._making_way is not None and self.now - self._making_way[0] <= MAKE_WAY_TIME
         for tid, x, y, vx, vy in rows:
@@ -1174,19 +1178,17 @@ class Follower(Module):
             if math.hypot(x - prx, y - pry) < HELD_UP_SELF or r >= her:
                 continue  # her (a second track on her legs), or nobody between them
             if x > 0.0 and r < MAKE_WAY_SEEN and -(x * vx + y * vy) / max(r, 1e-6) >= MAKE_WAY_WALK:
-                self._oncoming[tid] = self.now
-            came = self._oncoming.get(tid)
+                oncoming[tid] = self.now
+            came = oncoming.get(tid)
             if came is None or x <= 0.0 or r >= MAKE_WAY_NEAR:
                 continue
-            if math.hypot(vx, vy) < GIVE_WAY_STILL and self.now - came <= MAKE_WAY_MEMORY:
+            if math.hypot(vx, vy) < GIVE_WAY_STILL:
                 held[tid] = since = self._held_back.get(tid, self.now)
                 if self.now - since >= MAKE_WAY_HELD and (best is None or r < best[0]):
                     best = (r, x, y)
             elif backing and math.hypot(vx, vy) < MAKE_WAY_WALK and (best is None or r < best[0]):
                 best = (r, x, y)  # following it as it backs: still held back
-        self._held_back = held
-        for tid in [k for k, t in self._oncoming.items() if self.now - t > MAKE_WAY_MEMORY]:
-            del self._oncoming[tid]  # (bounded: only recent walkers)
+        self._held_back, self._oncoming = held, oncoming
         if best is None:
             self._making_way = None
             return None
