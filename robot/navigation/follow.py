@@ -365,7 +365,7 @@ class Follower(Module):
     _closing: Closing | None = None  # (__init__ gives each follower its own)
     _backout_failed: tuple[float, float, float, float, float] | None = None
     _oncoming: dict[str, float] = {}  # (replaced by _make_way, never mutated)
-    _held_back: dict[str, float] = {}
+    _held_back: dict[str, tuple[float, float]] = {}
     _making_way: tuple[float] | None = None
     #: nothing pressed, and never told otherwise (__init__ gives each follower its own, heard on the bus)
     bumpers = own_reflex()
@@ -442,7 +442,7 @@ class Follower(Module):
         self._approach_reached = False  # the catch-up came up to her: it gives way and faces her there, no more driving at her
         self._aside_refused = False  # ... and its step aside was refused: it only faces her (no to and fro)
         self._oncoming: dict[str, float] = {}  # track id -> when it last walked at the robot (making way; replaced, never mutated)
-        self._held_back: dict[str, float] = {}  # track id -> since when it has stood close ahead after that (replaced, never mutated)
+        self._held_back: dict[str, tuple[float, float]] = {}  # track id -> (since, last) it has stood close ahead after that (replaced, never mutated)
         self._making_way: tuple[float] | None = None  # (since when) backing out of the way of someone held back
 
     def respawn(self) -> Follower:
@@ -1166,14 +1166,15 @@ class Follower(Module):
         they came from is free, and where they go (a door beside it) it cannot know, so no spot beside."""
         if self.odom is None:
             return None
-        rows = self.people.tracks(self.odom, self.now, exclude=self.partner_id, sure=HELD_UP_SURE)
+        rows = self.people.tracks(self.odom, self.now, exclude=self.partner_id)
+        echoes = self.scan.points()
         prx, pry = self._to_robot(px, py)
         her = math.hypot(prx, pry)
-        held: dict[str, float] = {}
+        held: dict[str, tuple[float, float]] = {}
         oncoming = {k: t for k, t in self._oncoming.items() if self.now - t <= MAKE_WAY_MEMORY}  # (bounded: recent walkers)
         best = None
         backing = self._making_way is not None and self.now - self._making_way[0] <= MAKE_WAY_TIME
-        for tid, x, y, vx, vy in rows:
+        for tid, x, y, vx, vy, var in rows:
             r = math.hypot(x, y)
             if math.hypot(x - prx, y - pry) < HELD_UP_SELF or r >= her:
                 continue  # her (a second track on her legs), or nobody between them
@@ -1182,12 +1183,18 @@ class Follower(Module):
             came = oncoming.get(tid)
             if came is None or x <= 0.0 or r >= MAKE_WAY_NEAR:
                 continue
+            if var > HELD_UP_SURE and not (len(echoes) and float(np.min(np.hypot(echoes[:, 0] - x, echoes[:, 1] - y))) < HELD_UP_ECHO):
+                continue  # coasting where the laser sees nothing: nobody there (a child's legs hidden by her brother's: an echo)
             if math.hypot(vx, vy) < GIVE_WAY_STILL:
-                held[tid] = since = self._held_back.get(tid, self.now)
+                since = self._held_back.get(tid, (self.now, self.now))[0]
+                held[tid] = (since, self.now)
                 if self.now - since >= MAKE_WAY_HELD and (best is None or r < best[0]):
                     best = (r, x, y)
             elif backing and math.hypot(vx, vy) < MAKE_WAY_WALK and (best is None or r < best[0]):
                 best = (r, x, y)  # following it as it backs: still held back
+        for tid, (since, last) in self._held_back.items():  # a moment unsure or unseen (legs hidden): still there
+            if tid not in held and self.now - last <= HELD_UP_GAP:
+                held[tid] = (since, last)
         self._held_back, self._oncoming = held, oncoming
         if best is None:
             self._making_way = None

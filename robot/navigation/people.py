@@ -111,10 +111,10 @@ class People:
         self.walked = {}
 
     def tracks(self, odom: tuple[float, float, float], now: float, *, exclude: str | None = None,
-               sure: float | None = None) -> list[tuple[str, float, float, float, float]]:
-        """The confirmed tracks within :data:`REACH` m as (id, x, y, vx, vy), robot frame, predicted to ``now``
-        (``exclude``: a track id left out; ``sure``: as in :meth:`around`): who walked at the robot is a
-        matter of one person's track over time (the follower's making way)."""
+               sure: float | None = None) -> list[tuple[str, float, float, float, float, float]]:
+        """The confirmed tracks within :data:`REACH` m as (id, x, y, vx, vy, variance), robot frame, predicted to
+        ``now`` (``exclude``: a track id left out; ``sure``: as in :meth:`around`; variance: ``cxx`` + ``cyy``): who
+        walked at the robot is a matter of one person's track over time (the follower's making way)."""
         xml = self.xml
         if xml is None:
             return []
@@ -135,7 +135,7 @@ class People:
                 continue
             dx, dy = x - ox, y - oy
             if math.hypot(dx, dy) <= REACH:
-                out.append((str(t.get("id")), c * dx + s * dy, -s * dx + c * dy, c * vx + s * vy, -s * vx + c * vy))
+                out.append((str(t.get("id")), c * dx + s * dy, -s * dx + c * dy, c * vx + s * vy, -s * vx + c * vy, var))
         return out
 
     def stopped(self, odom: tuple[float, float, float], now: float, *, reach: float = REACH) -> np.ndarray:
