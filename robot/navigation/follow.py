@@ -279,6 +279,21 @@ HELD_UP_SELF = 0.8
 HELD_UP_SURE = 0.02
 
 
+#: Making way (issue 26, fresh10 hall_crossing_kids: two children held back 0.5 m in front of it at the door
+#: they ran to while it asked them three times to let it pass): someone other than the partner who walked at
+#: the robot (toward its centre at MAKE_WAY_WALK m/s or faster, ahead within MAKE_WAY_SEEN m, in the last
+#: MAKE_WAY_MEMORY s) and then stands (slower than GIVE_WAY_STILL) ahead within MAKE_WAY_NEAR m for
+#: MAKE_WAY_HELD s is held back by it: the robot is in their way, so it backs straight out of it the way it
+#: came (MAKE_WAY_SPEED, at most MAKE_WAY_TIME s) and does not ask them to let it pass
+MAKE_WAY_WALK = 0.3
+MAKE_WAY_SEEN = 2.0
+MAKE_WAY_MEMORY = 10.0
+MAKE_WAY_NEAR = 1.0
+MAKE_WAY_HELD = 1.5
+MAKE_WAY_SPEED = 0.2  # m/s backing
+MAKE_WAY_TIME = 10.0  # s: one back-out at most this long
+
+
 def speed_law(d: float, v_radial: float, *, distance: float, band: tuple[float, float], minimum: float,
               gain: float, limits: Limits) -> float:
     """The forward speed that keeps a partner ``d`` metres away (moving away at ``v_radial``) at ``distance``.
@@ -349,6 +364,9 @@ class Follower(Module):
     _seen_v: tuple[float, float] = (0.0, 0.0)
     _closing: Closing | None = None  # (__init__ gives each follower its own)
     _backout_failed: tuple[float, float, float, float, float] | None = None
+    _oncoming: dict[str, float] = {}  # (replaced by _make_way, never mutated)
+    _held_back: dict[str, tuple[float, float]] = {}
+    _making_way: tuple[float] | None = None
     #: nothing pressed, and never told otherwise (__init__ gives each follower its own, heard on the bus)
     bumpers = own_reflex()
 
@@ -423,6 +441,9 @@ class Follower(Module):
         self._pause_reached = False  # paused and come up to her: it stands there (turning to her) while the pause lasts
         self._approach_reached = False  # the catch-up came up to her: it gives way and faces her there, no more driving at her
         self._aside_refused = False  # ... and its step aside was refused: it only faces her (no to and fro)
+        self._oncoming: dict[str, float] = {}  # track id -> when it last walked at the robot (making way; replaced, never mutated)
+        self._held_back: dict[str, tuple[float, float]] = {}  # track id -> (since, last) it has stood close ahead after that (replaced, never mutated)
+        self._making_way: tuple[float] | None = None  # (since when) backing out of the way of someone held back
 
     def respawn(self) -> Follower:
         return Follower(self.sim, name=self.name, limits=self.limits, rate=1.0 / self.period, distance=self.distance,
@@ -782,6 +803,12 @@ class Follower(Module):
                 self._command(*aside)
                 self._status(d, False, "giving_way")
                 return aside
+        if not approaching and not paused:
+            way = self._make_way(px, py, mapped)
+            if way is not None:  # someone stands held back in front of it: out of their way
+                self._command(*way)
+                self._status(d, False, "searching" if searching else "giving_way")
+                return way
         held = False
         if v_des <= 0.05:
             self._stuck_since, self._stuck_at, self._unstick_until = None, None, -math.inf
@@ -1129,6 +1156,60 @@ class Follower(Module):
         out = self._aside_clear(cmd.v, cmd.w, self._bodies(rx, ry), pts)
         return self._unstall(out, px, py, mapped)
 
+    def _make_way(self, px: float, py: float, mapped: np.ndarray) -> tuple[float, float] | None:
+        """The command that backs the robot out of the way of someone held back by it (they walked at it,
+        :data:`MAKE_WAY_WALK`, then stood close in front for :data:`MAKE_WAY_HELD` s; never the partner at
+        odom ``px, py``, nor anyone no nearer than she is), None when nobody is or it cannot back. It backs
+        straight the way it came (ground it drove over or saw free, nobody tracked behind, the floor plan's
+        sweep and everyone's body kept clear) while they stay close ahead and follow it no faster than
+        :data:`MAKE_WAY_WALK` (held back, they keep up with it) for at most :data:`MAKE_WAY_TIME` s: the way
+        they came from is free, and where they go (a door beside it) it cannot know, so no spot beside."""
+        if self.odom is None:
+            return None
+        rows = self.people.tracks(self.odom, self.now, exclude=self.partner_id)
+        echoes = self.scan.points()
+        prx, pry = self._to_robot(px, py)
+        her = math.hypot(prx, pry)
+        held: dict[str, tuple[float, float]] = {}
+        oncoming = {k: t for k, t in self._oncoming.items() if self.now - t <= MAKE_WAY_MEMORY}  # (bounded: recent walkers)
+        best = None
+        backing = self._making_way is not None and self.now - self._making_way[0] <= MAKE_WAY_TIME
+        for tid, x, y, vx, vy, var in rows:
+            r = math.hypot(x, y)
+            if math.hypot(x - prx, y - pry) < HELD_UP_SELF or r >= her:
+                continue  # her (a second track on her legs), or nobody between them
+            if x > 0.0 and r < MAKE_WAY_SEEN and -(x * vx + y * vy) / max(r, 1e-6) >= MAKE_WAY_WALK:
+                oncoming[tid] = self.now
+            came = oncoming.get(tid)
+            if came is None or x <= 0.0 or r >= MAKE_WAY_NEAR:
+                continue
+            if var > HELD_UP_SURE and not (len(echoes) and float(np.min(np.hypot(echoes[:, 0] - x, echoes[:, 1] - y))) < HELD_UP_ECHO):
+                continue  # coasting where the laser sees nothing: nobody there (a child's legs hidden by her brother's: an echo)
+            if math.hypot(vx, vy) < GIVE_WAY_STILL:
+                since = self._held_back.get(tid, (self.now, self.now))[0]
+                held[tid] = (since, self.now)
+                if self.now - since >= MAKE_WAY_HELD and (best is None or r < best[0]):
+                    best = (r, x, y)
+            elif backing and math.hypot(vx, vy) < MAKE_WAY_WALK and (best is None or r < best[0]):
+                best = (r, x, y)  # following it as it backs: still held back
+        for tid, (since, last) in self._held_back.items():  # a moment unsure or unseen (legs hidden): still there
+            if tid not in held and self.now - last <= HELD_UP_GAP:
+                held[tid] = (since, last)
+        self._held_back, self._oncoming = held, oncoming
+        if best is None:
+            self._making_way = None
+            return None
+        if not backing:
+            self._making_way = (self.now,)
+        self._aside = None  # (no step toward her meanwhile)
+        if not self.can_back_off():
+            return None
+        v, w = self._swept(-min(self.limits.max_reverse, MAKE_WAY_SPEED), 0.0, mapped)
+        if v >= 0.0:
+            return None
+        v, w = self._back_off_clear(v, 0.0, self._bodies(prx, pry), mapped)
+        return (v, w) if v < 0.0 else None
+
     def _unstall(self, cmd: tuple[float, float], px: float, py: float, mapped: np.ndarray) -> tuple[float, float]:
         """The forward give-way's command ``cmd``; when it has stayed zero for :data:`GIVE_WAY_STALL` s
         (the spot lies beside her and every step toward it swings a corner into her: galley_follow_bend,
@@ -1444,6 +1525,8 @@ class Follower(Module):
         if self._held_since is None or self.now - self._held_last > HELD_UP_GAP:
             self._held_since = self.now  # (gaps shorter than HELD_UP_GAP are bridged: a track beside it flickers at the laser's edge)
         self._held_last = self.now
+        if self._held_back:  # someone who walked at it stands close in front: it is in their way, not they in its
+            return True        # (it makes way once they have stood MAKE_WAY_HELD s; it asks nobody to let it pass)
         if self.now - self._held_since >= HELD_UP_TIME and self.now - self._excused_at >= self.warn_every:
             self._excused_at = self.now
             _, x, y = blocker

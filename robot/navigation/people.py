@@ -110,6 +110,34 @@ class People:
         self.lost = {}
         self.walked = {}
 
+    def tracks(self, odom: tuple[float, float, float], now: float, *, exclude: str | None = None,
+               sure: float | None = None) -> list[tuple[str, float, float, float, float, float]]:
+        """The confirmed tracks within :data:`REACH` m as (id, x, y, vx, vy, variance), robot frame, predicted to
+        ``now`` (``exclude``: a track id left out; ``sure``: as in :meth:`around`; variance: ``cxx`` + ``cyy``): who
+        walked at the robot is a matter of one person's track over time (the follower's making way)."""
+        xml = self.xml
+        if xml is None:
+            return []
+        age = self._age(xml, now)
+        ox, oy, oth = odom
+        c, s = math.cos(oth), math.sin(oth)
+        out = []
+        for t in xml.iterfind("track"):
+            if t.get("confirmed") != "true" or (exclude is not None and t.get("id") == exclude):
+                continue
+            try:
+                vx, vy = float(t.get("vx", "0")), float(t.get("vy", "0"))
+                x, y = float(t.get("x")) + vx * age, float(t.get("y")) + vy * age
+                var = float(t.get("cxx", "0")) + float(t.get("cyy", "0"))
+            except (TypeError, ValueError):
+                continue
+            if sure is not None and var > sure:
+                continue
+            dx, dy = x - ox, y - oy
+            if math.hypot(dx, dy) <= REACH:
+                out.append((str(t.get("id")), c * dx + s * dy, -s * dx + c * dy, c * vx + s * vy, -s * vx + c * vy, var))
+        return out
+
     def stopped(self, odom: tuple[float, float, float], now: float, *, reach: float = REACH) -> np.ndarray:
         """(K, 4) robot-frame centres (predicted to ``now``) of the confirmed tracks within ``reach`` m that are
         :data:`RESUME_SLOWER` m/s slower now than their fastest walk (:data:`RESUME_WALK` or faster) of the last
