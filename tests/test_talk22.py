@@ -79,3 +79,75 @@ def test_another_request_after_a_follow_or_go_to_question_is_that_request(first,
 def test_the_asked_request_said_again_in_other_words_still_confirms():
     steps = acts(heard("Interacting", ("follow me", 0.2), ("could you follow me please", 0.9)))
     assert "follow" in steps[1]
+
+
+# ------------------------------------------------------------------ language: a remark after a whole follow or greeting
+@pytest.fixture(scope="module")
+def u() -> Understander:
+    return shared_understander()
+
+
+FOLLOW_HEADS = ["follow me", "follow me quickly", "come with me please", "this way", "follow me robot", "come along"]
+HASTE = ["i have to go soon", "i must leave soon", "i am in a hurry", "i have to leave in a minute",
+         "i am running late", "i have not got much time"]
+SHOWS = ["i want to show you the garage", "i would like you to see the study", "i will show you our workshop"]
+
+
+@settings(max_examples=60, deadline=None)
+@given(head=st.sampled_from(FOLLOW_HEADS), remark=st.sampled_from(HASTE + SHOWS))
+def test_a_follow_then_why_she_hurries_or_what_she_will_show_is_the_follow(u: Understander, head: str,
+                                                                           remark: str) -> None:
+    """Before (integ b49cba5): "follow me quickly, I have to go soon" was a half-heard good-bye ("Do you want to end
+    the tour?"), "... I want you to see the garage" a follow with words lost ("Shall I follow you?")."""
+    res = u.understand(f"{head}, {remark}")
+    assert res.act == "FOLLOW" and not res.partial
+
+
+@pytest.mark.parametrize("words", ["follow me, we can stop here", "follow me, i need you to stop",
+                                   "follow me, i have to go", "hello biron, i need you to stop",
+                                   "follow me, no, i mean go to the kitchen"])
+def test_a_remark_that_is_a_request_of_its_own_is_not_set_aside(u: Understander, words: str) -> None:
+    res = u.understand(words)
+    assert not (res.act in ("FOLLOW", "GREETING") and not res.partial)
+
+
+GREET_HEADS = ["hello biron", "hi robot", "good morning biron", "hello", "hi there biron"]
+GREET_REMARKS = ["nice that you are here", "so good that you could come", "how lovely that you came",
+                 "i am marek", "my name is tilda", "i'm jo, welcome", "great that you are here"]
+
+
+@settings(max_examples=60, deadline=None)
+@given(head=st.sampled_from(GREET_HEADS), remark=st.sampled_from(GREET_REMARKS))
+def test_a_greeting_then_a_welcome_or_who_she_is_is_a_whole_greeting(u: Understander, head: str,
+                                                                      remark: str) -> None:
+    """Before: a greeting with words lost ("Did you say hello to me?"; fresh10: interacting only after 15 s)."""
+    res = u.understand(f"{head}, {remark}")
+    assert res.act == "GREETING" and not res.partial and not res.aside
+
+
+@pytest.mark.parametrize("words", ["hello biron, i am in the kitchen", "hello, nice weather today"])
+def test_a_remark_that_says_no_name_or_welcome_is_no_whole_greeting(u: Understander, words: str) -> None:
+    res = u.understand(words)
+    assert not (res.act == "GREETING" and not res.partial)
+
+
+@pytest.mark.parametrize(("words", "name"), [("we call this part the games corner", "games corner"),
+                                             ("this bit here we call the craft area", "craft area"),
+                                             ("this we call the den", "den"),
+                                             ("we call this the hobby nook", "hobby nook")])
+def test_a_part_of_the_room_named_with_we_call_is_a_place(u: Understander, words: str, name: str) -> None:
+    res = u.understand(words)
+    assert res.act == "PLACE" and res.frame.find("PLACE/TITLE").get("name") == name
+
+
+@pytest.mark.parametrize(("words", "wait"), [("i need a tissue, one moment", True),
+                                             ("just a second, i need some sugar", True),
+                                             ("wait, i need my glasses", True),
+                                             ("i need a new kettle", False), ("i need some help", False)])
+def test_what_she_needs_with_a_moment_asked_is_an_errand(u: Understander, words: str, wait: bool) -> None:
+    assert (u.understand(words).act == "WAIT") is wait
+
+
+def test_a_follow_in_a_hurry_is_followed_not_asked_as_a_good_bye():
+    steps = acts(said("Interacting", "follow me quickly, i have to leave soon"))
+    assert steps == [["follow"]]
