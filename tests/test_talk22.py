@@ -151,3 +151,19 @@ def test_what_she_needs_with_a_moment_asked_is_an_errand(u: Understander, words:
 def test_a_follow_in_a_hurry_is_followed_not_asked_as_a_good_bye():
     steps = acts(said("Interacting", "follow me quickly, i have to leave soon"))
     assert steps == [["follow"]]
+
+
+@pytest.mark.parametrize("words", ["this is my green one on the shelf", "this is my on the dresser",
+                                   "the yellow on the windowsill is from my aunt", "that is our red one at the sofa"])
+def test_a_landmark_after_on_the_is_never_the_thing_when_the_thing_s_noun_was_lost(u: Understander, words: str):
+    """Before: "this is my green one on the shelf" was "Is this your green shelf?" (fresh10's kind: a teapot on the
+    table taken as "your blue table"). Now the thing is unknown (the dialog asks what it is), words lost."""
+    res = u.understand(words)
+    assert res.act == "OBJECT" and res.partial and res.frame.find("OBJECT/TITLE") is None
+
+
+@pytest.mark.parametrize("words", ["this is my red cup on the shelf", "the blue bowl on the counter is mine",
+                                   "the one on the table"])
+def test_a_thing_said_with_its_landmark_keeps_both(u: Understander, words: str):
+    res = u.understand(words)
+    assert res.frame.find("*/POSITION/TITLE") is not None and not res.partial

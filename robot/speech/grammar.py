@@ -405,6 +405,10 @@ class Understander:
             if whose is not None:  # whose it is, a guess: at half the coverage, so the dialog confirms it
                 tree, ignored, partial = whose
                 guess = True
+        if tree is not None and ignored and tree_act(tree) in ("teach_object", "object_fragment"):
+            thing = self._landmark_taken(toks, ignored)
+            if thing is not None:
+                tree, ignored, partial = thing
         if tree is not None and ignored and tree_act(tree) == "teach_object" and build(tree).find("OBJECT/POSITION") is None:
             ground = self._relation_lost(toks)
             if ground is not None:
@@ -854,6 +858,27 @@ class Understander:
                 or _owned(tree) != "speaker":
             return None
         return tree, lost, True
+
+    def _landmark_taken(self, toks: list[Tok], ignored: list[str]) -> tuple[Tree, list[str], bool] | None:
+        """"this is my blue [mug] on the table", "the green [vase] on the piano was a present": the thing's noun
+        lost, the parse skipped the relation and took the landmark after it as the thing ("Is this your blue
+        table?"; talk22, fresh10's kind). The landmark said after "on/at/... the" is where the thing stands, never
+        the thing: the teaching without the landmark's words (what it is unknown: the dialog asks), still partial.
+        None when a noun came before the relation (the thing was said) or the relation was not left out."""
+        rel = next((i for i, t in enumerate(toks) if t.type in ("REL", "IN")), None)
+        if rel is None or toks[rel].text not in ignored or any(t.type == "OBJ" for t in toks[:rel]):
+            return None
+        end = rel + 1
+        while end < len(toks) and toks[end].type in ("THE", "A", "MY", "OUR", *_NP_MODIFIERS):
+            end += 1
+        if end >= len(toks) or toks[end].type != "OBJ" or end == rel + 1:
+            return None
+        kept = [*toks[:rel], *toks[end + 1:]]
+        alt, lost, _ = self._parse(kept) if kept else (None, [], True)
+        if alt is None or tree_act(alt) not in ("teach_object", "object_fragment") \
+                or build(alt).find("OBJECT/TITLE") is not None:
+            return None
+        return alt, [*lost, *(t.text for t in toks[rel:end + 1])], True
 
     def _relation_lost(self, toks: list[Tok]) -> tuple[Tree, list[str], bool] | None:
         """"That blue vase [on→this] the sideboard was a wedding present", "this is my cup [on→to] the table": an
