@@ -88,7 +88,8 @@ def u() -> Understander:
 
 
 FOLLOW_HEADS = ["follow me", "follow me quickly", "come with me please", "this way", "follow me robot", "come along"]
-HASTE = ["i have to go soon", "i must leave soon", "i am in a hurry", "i have to leave in a minute",
+HASTE = ["i have to go",  # after a follow, why she hurries, never a good-bye that confirms a good-bye question
+         "i have to go soon", "i must leave soon", "i am in a hurry", "i have to leave in a minute",
          "i am running late", "i have not got much time"]
 SHOWS = ["i want to show you the garage", "i would like you to see the study", "i will show you our workshop"]
 
@@ -104,7 +105,7 @@ def test_a_follow_then_why_she_hurries_or_what_she_will_show_is_the_follow(u: Un
 
 
 @pytest.mark.parametrize("words", ["follow me, we can stop here", "follow me, i need you to stop",
-                                   "follow me, i have to go", "hello biron, i need you to stop",
+                                   "hello biron, i need you to stop",
                                    "follow me, no, i mean go to the kitchen"])
 def test_a_remark_that_is_a_request_of_its_own_is_not_set_aside(u: Understander, words: str) -> None:
     res = u.understand(words)

@@ -1079,7 +1079,7 @@ class Understander:
             if rest.corrected or rest.answer or rest.aside:
                 return None
             if rest.act is not None and not (
-                    (rest.act == "GOODBYE" and rest.coverage < 1.0)
+                    (rest.act == "GOODBYE" and (rest.coverage < 1.0 or head.act == "FOLLOW"))
                     or (rest.act == "PLACE" and head.act == "FOLLOW" and _SHOWS & set(tail))):
                 return None
             head.words = words
