@@ -273,6 +273,7 @@ def _build_dialog(el: etree._Element, c: _Checker, states: dict[str, frozenset[s
         interrupts=el.get("interrupts") in ("true", "1"), clears=el.get("clears") in ("true", "1"),
         slots=tuple(slots), fills=tuple(fills), goal=goal,
         resume=_text(resume) if resume is not None else None, rules=tuple(rules), line=_line(el),
+        another_request_no=el.get("another-request") == "no",
     )
 
 

@@ -387,6 +387,8 @@ class DialogManager:
             if answered is not None:
                 answered.interrupted = False
                 said = ""
+        if answered is None and not said and msg.get("fragment") != "true":
+            self._superseded(act, out)
         for inst in self.stack:
             if inst.pending is not None:
                 inst.passed_over = 0 if inst is answered else inst.passed_over + 1
@@ -566,6 +568,28 @@ class DialogManager:
             return False
         own = self.doc.by_trigger(act)
         return own is not None and own is not inst.d
+
+    def _superseded(self, act: str, out: list[Output]) -> None:
+        """Another request said while a confirmation of a request to act is open answers it no.
+
+        "Do you want to end the tour?" - "follow me": she wants the tour to go on; before, the question
+        waited below the follow and her next "yes" or "okay" (to anything) ended the tour (fresh10
+        open_fast_crossing). Only a yes-word, the asked request again or its paraphrase confirm
+        (:meth:`_answered_by`); a request of another dialog that sends an event (follow, go to, stop, a
+        teaching, a where-question) is hers instead. The question ends silently (no "OK, I will stay
+        here." to a go-to): the new request's own answer follows. Dialogs without ``another-request="no"``
+        (a teaching's "Is this the kitchen?") keep their question open below, to be answered later."""
+        top = self._confirming()
+        new = self.doc.by_trigger(act)
+        if top is None or not top.d.another_request_no or new is None or new is top.d \
+                or not any(a.kind == "send" for r in new.rules for a in r.actions):
+            return
+        assert top.pending is not None
+        top.slots[top.pending[1]].status = "false"
+        top.pending, top.reasks, top.passed_over = None, 0, 0
+        self.metrics["superseded"] = self.metrics.get("superseded", 0) + 1
+        self._something_done()
+        self._finish(top, out, abandoned=True, resume=False)
 
     def _confirming(self) -> Instance | None:
         """The dialog whose confirmation question is the topmost open question, if any."""

@@ -88,6 +88,9 @@ class DialogDef:
     resume: str | None
     rules: tuple[Rule, ...]
     line: int | None = None
+    #: another request said while its confirmation is open answers that question no (``another-request="no"``):
+    #: the question asked whether to act ("Do you want to end the tour?"); she asked for something else instead
+    another_request_no: bool = False
 
 
 @dataclass(frozen=True, slots=True)

@@ -271,6 +271,13 @@ class Understander:
             # suggests is not here (no teaching: fresh8 lflat_bar_two_bottles, "Is this the kitchen?"), nor is
             # it a go-to or a stop: she leads the way
             return after
+        after = self._request_before_remark(words, Lexicon.words(words))
+        if after is not None:
+            # "follow me quickly, I have to go soon", "follow me, I want you to see the garage", "hello biron, nice
+            # that you are here", "hi robot, I am Tom": a whole follow or greeting, then a remark of hers (why, where
+            # to, who she is): the request is what she asks (fresh10: taken as a good-bye, a place teaching, or a
+            # doubted greeting, "Did you say hello to me?")
+            return after
         after = self._request_after_remark(words, Lexicon.words(words))
         if after is not None:
             # "the ramp is free now, go to the living room please", "she's gone, you can go to the kitchen now",
@@ -398,6 +405,10 @@ class Understander:
             if whose is not None:  # whose it is, a guess: at half the coverage, so the dialog confirms it
                 tree, ignored, partial = whose
                 guess = True
+        if tree is not None and ignored and tree_act(tree) in ("teach_object", "object_fragment"):
+            thing = self._landmark_taken(toks, ignored)
+            if thing is not None:
+                tree, ignored, partial = thing
         if tree is not None and ignored and tree_act(tree) == "teach_object" and build(tree).find("OBJECT/POSITION") is None:
             ground = self._relation_lost(toks)
             if ground is not None:
@@ -848,6 +859,27 @@ class Understander:
             return None
         return tree, lost, True
 
+    def _landmark_taken(self, toks: list[Tok], ignored: list[str]) -> tuple[Tree, list[str], bool] | None:
+        """"this is my blue [mug] on the table", "the green [vase] on the piano was a present": the thing's noun
+        lost, the parse skipped the relation and took the landmark after it as the thing ("Is this your blue
+        table?"; talk22, fresh10's kind). The landmark said after "on/at/... the" is where the thing stands, never
+        the thing: the teaching without the landmark's words (what it is unknown: the dialog asks), still partial.
+        None when a noun came before the relation (the thing was said) or the relation was not left out."""
+        rel = next((i for i, t in enumerate(toks) if t.type in ("REL", "IN")), None)
+        if rel is None or toks[rel].text not in ignored or any(t.type == "OBJ" for t in toks[:rel]):
+            return None
+        end = rel + 1
+        while end < len(toks) and toks[end].type in ("THE", "A", "MY", "OUR", *_NP_MODIFIERS):
+            end += 1
+        if end >= len(toks) or toks[end].type != "OBJ" or end == rel + 1:
+            return None
+        kept = [*toks[:rel], *toks[end + 1:]]
+        alt, lost, _ = self._parse(kept) if kept else (None, [], True)
+        if alt is None or tree_act(alt) not in ("teach_object", "object_fragment") \
+                or build(alt).find("OBJECT/TITLE") is not None:
+            return None
+        return alt, [*lost, *(t.text for t in toks[rel:end + 1])], True
+
     def _relation_lost(self, toks: list[Tok]) -> tuple[Tree, list[str], bool] | None:
         """"That blue vase [on→this] the sideboard was a wedding present", "this is my cup [on→to] the table": an
         object teaching whose relation word before the landmark was misheard (a function word that is no relation),
@@ -1018,6 +1050,42 @@ class Understander:
             return None
         return self._whole_follow_in_tail(words, plain, range(start + 2, min(len(plain), start + 6)),
                                           stop_after=_NOT_A_NOUN_PHRASE)
+
+    def _request_before_remark(self, words: str, said: list[str]) -> Understanding | None:
+        """A whole follow or greeting said first, then a remark of hers, or None (talk22).
+
+        The head ``said[:at]`` understood by itself is a whole FOLLOW or GREETING (no word lost) and the rest is a
+        remark: it opens with a first-person subject ("i", "we", "my name is") or, after a greeting, with a word
+        of welcome said of the robot ("nice that you are here", "how lovely that you came"); understood by itself
+        it asks for nothing else: nothing at all, a good-bye with words of its own ("I have to go soon": why she
+        hurries, not a good-bye), or, after a follow, the room she will show ("I want you to see the garage":
+        where they go, not a teaching here). A remark that is a whole request of its own ("follow me, we can
+        stop here", "hello, I need you to stop") or a repair is left to the other rules. The remark's words
+        count as set aside (``corrected``)."""
+        plain = [w for w in said if w not in _SOUNDS and w not in self.lexicon.hesitations]
+        for at in range(1, len(plain) - 1):
+            if plain[at] not in _REMARK_OPENERS:
+                continue
+            head = self.understand(" ".join(plain[:at]))
+            if head.act not in ("FOLLOW", "GREETING") or head.partial or head.aside or head.frame is None \
+                    or head.rest:
+                continue
+            tail = plain[at:]
+            if plain[at] not in _SUBJECTS and (head.act != "GREETING" or "you" not in tail):
+                return None
+            if plain[at] in _SUBJECTS and head.act == "GREETING" and not _introduces(tail):
+                return None
+            rest = self.understand(" ".join(tail))
+            if rest.corrected or rest.answer or rest.aside:
+                return None
+            if rest.act is not None and not (
+                    (rest.act == "GOODBYE" and (rest.coverage < 1.0 or head.act == "FOLLOW"))
+                    or (rest.act == "PLACE" and head.act == "FOLLOW" and _SHOWS & set(tail))):
+                return None
+            head.words = words
+            head.corrected = [*head.corrected, *tail]
+            return head
+        return None
 
     def _whole_follow_in_tail(self, words: str, plain: list[str], starts: range,
                               stop_after: frozenset[str] | set[str] = frozenset()) -> Understanding | None:
@@ -1304,6 +1372,22 @@ _BEFORE_VERB = frozenset({"YOU", "I", "ME", "WANT", "TO", "CAN"})
 _ALONE_WITH = {"BACK": frozenset({"again"}), "COMEON": frozenset({"please"})}
 #: Hesitation sounds: they say nothing about what else was said ("uh, come on" is still "come on").
 _SOUNDS = frozenset({"uh", "um", "uhm", "er", "erm", "hmm", "hm", "mm", "well"})
+#: First-person subjects that open a remark after a whole follow or greeting ("follow me, I have to go soon").
+_SUBJECTS = frozenset({"i", "we", "my"})
+#: Words that open a remark after a whole follow or greeting (a subject, or a welcome said of the robot).
+_REMARK_OPENERS = _SUBJECTS | frozenset({"nice", "good", "great", "lovely", "wonderful", "glad", "so", "how"})
+#: Words after "i am" that say where or how she is, not who ("i am in the kitchen", "i am just looking").
+_NOT_A_NAME = frozenset({"in", "at", "on", "here", "there", "going", "just", "not", "so", "very", "looking", "back",
+                         "coming", "busy", "sorry", "afraid", "the", "a", "your", "in"})
+#: Verbs of showing: after a follow, "I want you to see the garage" names where they go, no room here.
+_SHOWS = frozenset({"show", "see", "meet"})
+
+
+def _introduces(tail: list[str]) -> bool:
+    """Whether a first-person remark after a greeting says who she is ("i am tom", "my name is ida", "i'm
+    anna, welcome"): "i am" or "my name is" and at most three words more."""
+    lead = 2 if tail[:2] == ["i", "am"] else 3 if tail[:3] == ["my", "name", "is"] else 0
+    return bool(lead) and 0 < len(tail) - lead <= 3 and tail[lead] not in _NOT_A_NAME
 #: The spot words that say "we are there" in "that's the spot" (not "the corner", "the view").
 _ARRIVED = frozenset({"spot", "place"})
 
@@ -1523,6 +1607,8 @@ _ERRAND_BEFORE = frozenset({"oh", "wait", "hang", "hold", "on", "one", "moment",
                             "ah", "oops", "please"})
 
 
+#: Words before what she needs ("I need some milk").
+_SOME = frozenset({"a", "an", "some", "my", "the", "more"})
 #: Openers that make a first-person announcement a break in the tour ("oh wait, I have to get the door").
 _ERRAND_OPENERS = frozenset({"wait", "hang", "hold", "moment", "minute", "second", "sec", "sorry", "excuse", "oops"})
 #: Words that put the announcement off to later.
@@ -1599,6 +1685,12 @@ def _errand(words: list[str], hesitations: frozenset[str]) -> list[str] | None:
     said = [w for w in words if w not in hesitations]
     if _LATER & set(said):
         return None  # "I will call my sister later": what she plans, not an errand now
+    k = next((j for j, w in enumerate(said) if w not in _ERRAND_BEFORE), len(said))
+    if said[k:k + 2] == ["i", "need"] and len(said) > k + 3 and said[k + 2] in _SOME and _ERRAND_OPENERS & set(said):
+        # "I need a tea towel, one moment", "one second, I need some sugar": what she needs, with a word that
+        # asks for a moment, is her errand as "I need to get ..." is (talk22; without the moment, "I need a
+        # new kettle" is a remark)
+        return said[k + 3:]
     for i in range(len(said)):
         if said[i] not in ("i", "let"):
             if said[i] not in _ERRAND_BEFORE:

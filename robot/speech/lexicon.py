@@ -170,13 +170,13 @@ class Lexicon:
             else:
                 if i + 1 < n and words[i + 1] == "POSS":  # "sarah's cup": whoever owns it is named
                     toks.append(Tok("NAME", words[i], words[i]))
-                elif (i + 1 < n and words[i + 1] == "room" and toks and toks[-1].type in _NAMING
+                elif (i + 1 < n and words[i + 1] in _ROOM_WORDS and toks and toks[-1].type in _NAMING
                       and words[i] not in NEVER_ROOM):
                     # "the craft room", "my sewing room": a room she names with a word the lexicon lacks
                     # is a place, named in her words; a guess from a word not known (reported in
                     # ``coined``: the understanding halves the coverage, so the dialog asks first)
-                    toks.append(Tok("PLACE", f"{words[i]} room", f"{words[i]} room"))
-                    coined.append(f"{words[i]} room")
+                    toks.append(Tok("PLACE", f"{words[i]} {words[i + 1]}", f"{words[i]} {words[i + 1]}"))
+                    coined.append(f"{words[i]} {words[i + 1]}")
                     i += 2
                     continue
                 else:
@@ -196,6 +196,10 @@ class Lexicon:
         return out
 
 
+#: Words after a word the lexicon lacks that name a room or a part of one in her words ("the sewing room", "the
+#: dining corner", "our games area": talk22, an open plan's parts are named so). A known word before a part ("the
+#: reading corner", "the sofa corner") is left as it was: it may say where something is.
+_ROOM_WORDS = frozenset({"room", "corner", "area", "nook"})
 #: Words before a room she names ("the reading room", "my sewing room", "anna's blue room"): not "a"
 #: ("a lovely room", "a big room" evaluate a room, they name none).
 _NAMING = frozenset({"THE", "MY", "OUR", "POSS"})
