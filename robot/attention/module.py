@@ -190,6 +190,14 @@ class AttentionParams:
     camera_vfov: float = math.radians(37.6 - 4.0)
     face_view_fresh: float = 0.5  # s: the latest such look at the partner's face counts this long
     heights: dict[str, float] = field(default_factory=lambda: {"face": 1.60, "hands": 1.0, "torso": 1.25})
+    # Her hands in Interaction span from a hand pointing down at a table (``heights["hands"]``, the image's
+    # middle) up to a hand raised to point at a high shelf: about as high as her face and up to
+    # ``hand_reach`` m nearer the robot than she stands. Close to her (within about 1.7 m) an image centred on
+    # 1.0 m ends below the camera's own height, and her raised hand was never seen (fresh8 terr_long_tour:
+    # the red book on the 1.8 m bookcase, pointed at from 1.2 m, "Let me have a look." and nothing, 10/10);
+    # the camera then tilts up until that raised hand is ``hand_top_margin`` inside the image's top.
+    hand_reach: float = 0.3  # m
+    hand_top_margin: float = math.radians(1.0)
     ptu_deadband: float = math.radians(1.5)
     ptu_refresh: float = 1.0  # s
     steer_deadband: float = math.radians(3.0)
@@ -1688,6 +1696,9 @@ class PersonAttention(Module):
             tk = self.tracks.tracks[row]
             look = "face" if tk.id == self.partner and (self.turned_away or t - tk.last_legs > p.legs_hidden_after) else target
             tilt = math.atan2(p.heights[look] - p.camera_height, max(dist[row], 0.3))
+            if look == "hands":  # and a hand raised to point up (AttentionParams.hand_reach)
+                raised = math.atan2(p.heights["face"] - p.camera_height, max(dist[row] - p.hand_reach, 0.3))
+                tilt = max(tilt, raised - (p.camera_vfov / 2 + math.radians(2.0)) + p.hand_top_margin)
         voice = self._voice_heading(t, row, category)
         if voice is None:
             self._voice_blocked = False
