@@ -332,7 +332,6 @@ def _deg(a: float) -> str:
     return f"{math.degrees(a):.3f}"
 
 
-
 def hands_tilt(p: AttentionParams, distance: float) -> float:
     """The camera's tilt (rad) on her hands in Interaction, her at ``distance`` m: the image's middle on
     ``heights["hands"]`` (a hand pointing at a table), but not so low that a hand raised to point at a
