@@ -13,7 +13,7 @@ from hypothesis import strategies as st
 from robot.attention.module import AttentionParams, hands_tilt
 from robot.hardware.camera import CameraSpec, PanTilt, in_field_of_view
 
-P = AttentionParams()
+P = AttentionParams(raise_for_hands=True)  # off by default: see AttentionParams.raise_for_hands
 SPEC = CameraSpec()
 
 
@@ -54,3 +54,10 @@ def test_table_hand_first_when_very_close(d: float) -> None:
 def test_far_away_unchanged(d: float) -> None:
     # beyond about 2 m the image centred on her hands already holds a raised hand
     assert hands_tilt(P, d) == math.atan2(P.heights["hands"] - P.camera_height, d)
+
+
+@settings(max_examples=100)
+@given(st.floats(min_value=0.3, max_value=6.0))
+def test_off_by_default_the_tilt_is_the_hands_one(d: float) -> None:
+    q = AttentionParams()
+    assert hands_tilt(q, d) == math.atan2(q.heights["hands"] - q.camera_height, max(d, 0.3))
