@@ -190,6 +190,19 @@ class AttentionParams:
     camera_vfov: float = math.radians(37.6 - 4.0)
     face_view_fresh: float = 0.5  # s: the latest such look at the partner's face counts this long
     heights: dict[str, float] = field(default_factory=lambda: {"face": 1.60, "hands": 1.0, "torso": 1.25})
+    # Her hands in Interaction span from a hand pointing down at a table (``heights["hands"]``, the image's
+    # middle) up to a hand raised to point at a high shelf: about as high as her face and up to
+    # ``hand_reach`` m nearer the robot than she stands. Close to her (within about 2 m) an image centred on
+    # 1.0 m ends below the camera's own height, and her raised hand was never seen (fresh8 terr_long_tour:
+    # the red book on the 1.8 m bookcase, pointed at from 1.2 m, "Let me have a look." and nothing, 10/10);
+    # the camera then tilts up until that raised hand is ``hand_top_margin`` inside the image's top.
+    # OFF by default (lane high22): it fixes that book, but close up her face then comes into the image, the
+    # robot sees whether she faces it, and the dialog's addressee rule took a bystander's words in a group as
+    # addressed (flow/chat_group_bye seed 2, tests/test_flow_addressee.py); that rule must handle a known
+    # facing in Interaction before this is switched on.
+    raise_for_hands: bool = False
+    hand_reach: float = 0.3  # m
+    hand_top_margin: float = math.radians(1.0)
     ptu_deadband: float = math.radians(1.5)
     ptu_refresh: float = 1.0  # s
     steer_deadband: float = math.radians(3.0)
@@ -323,6 +336,20 @@ class Handover:
 def _deg(a: float) -> str:
     return f"{math.degrees(a):.3f}"
 
+
+def hands_tilt(p: AttentionParams, distance: float) -> float:
+    """The camera's tilt (rad) on her hands in Interaction, her at ``distance`` m: the image's middle on
+    ``heights["hands"]`` (a hand pointing at a table), but not so low that a hand raised to point at a
+    high shelf (as high as her face, ``hand_reach`` m nearer than she stands) falls out of its top (the
+    camera's own field, ``camera_vfov`` plus its 2 degree margin a side, less ``hand_top_margin``), as far
+    as the hands' height stays as far inside its bottom (within about 1 m of her both do not fit: the
+    hand at a table's height comes first)."""
+    tilt = math.atan2(p.heights["hands"] - p.camera_height, max(distance, 0.3))
+    if not p.raise_for_hands:
+        return tilt
+    half = p.camera_vfov / 2 + math.radians(2.0) - p.hand_top_margin
+    raised = math.atan2(p.heights["face"] - p.camera_height, max(distance - p.hand_reach, 0.3))
+    return max(tilt, min(raised - half, tilt + half))
 
 class PersonAttention(Module):
     """Leg detection, anchoring, selection and the attention FSM on the bus (see the module docstring)."""
@@ -1687,7 +1714,7 @@ class PersonAttention(Module):
             # tracker FACE): her face, or the robot loses her (beyond ~1.2 m her hands stay in the image)
             tk = self.tracks.tracks[row]
             look = "face" if tk.id == self.partner and (self.turned_away or t - tk.last_legs > p.legs_hidden_after) else target
-            tilt = math.atan2(p.heights[look] - p.camera_height, max(dist[row], 0.3))
+            tilt = hands_tilt(p, dist[row]) if look == "hands" else math.atan2(p.heights[look] - p.camera_height, max(dist[row], 0.3))
         voice = self._voice_heading(t, row, category)
         if voice is None:
             self._voice_blocked = False
