@@ -224,6 +224,11 @@ GIVE_WAY_STALL = 2.0
 #: s, m: a back-out search that found no way is not repeated for this long while neither the robot nor she
 #: has moved this far (the search plans over the whole grid: a stuck follower repeated it every stall)
 BACKOUT_RETRY, BACKOUT_MOVED = 10.0, 0.2
+#: s: backing out of her way, every reverse step refused this long (a corner at a jamb of the door it stands in,
+#: turned toward her), it turns on the spot or creeps back to get clear of the frame (:meth:`Follower._free_turn`)
+BACKOUT_ALIGN = 1.0
+#: m: ... a step of that kind must leave the footprint at least this much further from the floor plan
+BACKOUT_GAIN = 0.002
 #: s: when there is no give-way spot, it looks again after this long (the search plans on the grid)
 GIVE_WAY_RETRY = 1.0
 #: m/s: it gives way to a partner slower than this (held up in front of it), never into a walking one
@@ -349,6 +354,7 @@ class Follower(Module):
     _seen_v: tuple[float, float] = (0.0, 0.0)
     _closing: Closing | None = None  # (__init__ gives each follower its own)
     _backout_failed: tuple[float, float, float, float, float] | None = None
+    _backout_refused: tuple[float, float] | None = None
     #: nothing pressed, and never told otherwise (__init__ gives each follower its own, heard on the bus)
     bumpers = own_reflex()
 
@@ -414,6 +420,7 @@ class Follower(Module):
         self._no_spot_until = -math.inf  # no give-way spot found: the next search not before then
         self._aside_stall: tuple[float, float] | None = None  # (since, last): the forward give-way's command zero
         self._backout_failed: tuple[float, float, float, float, float] | None = None  # (when, robot x y, her x y): a back-out search found no way
+        self._backout_refused: tuple[float, float] | None = None  # (since, last): every back-out step refused
         self._map_asked = False
         self._pose_sub: Any = None
         self._turn_in = False  # following ended: turn back into the flat if it faces out of an exit door
@@ -1273,8 +1280,49 @@ class Follower(Module):
             # per body and at poses dense enough for the turn rate (six over 0.5 s missed corners)
             if not people_sweep_clear(cand[0], cand[1], bodies, duration=SWEEP_TIME):
                 continue
+            self._backout_refused = None
             return cand
-        return 0.0, 0.0
+        refused = self._backout_refused
+        if refused is None or self.now - refused[1] > 0.5:  # a new refusal, not one of an earlier back-out
+            self._backout_refused = (self.now, self.now)
+            return 0.0, 0.0
+        self._backout_refused = (refused[0], self.now)
+        if self.now - refused[0] < BACKOUT_ALIGN or not len(mapped):
+            return 0.0, 0.0
+        return self._free_turn(v, bodies, mapped, here)
+
+    def _free_turn(self, v: float, bodies: np.ndarray, mapped: np.ndarray, here: float) -> tuple[float, float]:
+        """Backing out of her way with every reverse step refused for :data:`BACKOUT_ALIGN` s: a slower step,
+        kept as every back-out step is (:func:`sweep_allowed`, no nearer to anyone's ``bodies`` than the social
+        gap or than now, the partner's included): backing at a half or a quarter of the back-out's speed ``v``
+        (0 when someone is behind) while turning either way, the one that leaves the footprint furthest from
+        the floor plan (``mapped``, robot frame); else a turn on the spot either way that takes it at least
+        :data:`BACKOUT_GAIN` m further from the floor plan than now (``here``); else (0, 0).
+        In a 0.9 m door it had come through, turned toward her with a rear corner 9 cm from a jamb and her
+        0.5 m off its front corner, every step at the back-out's speed dipped under the sweep's margin at the
+        jamb and every turn toward clearer ground swung a front corner toward her: it stood there, her only
+        way out blocked, for the rest of the run (long22's cause B, fresh7/corr_long_tour seed 0, where a
+        creep back at 0.05 m/s was allowed all along)."""
+        turn = self.limits.max_turn
+        best: tuple[float, float] = (0.0, 0.0)
+        score = -math.inf
+        backs = [(v * k, w) for k in (0.5, 0.25) for w in (0.0, turn / 4, -turn / 4, turn / 2, -turn / 2)] if v < 0.0 else []
+        turns = [(0.0, w) for w in (turn / 4, -turn / 4, turn / 2, -turn / 2)]
+        for group, floor in ((backs, -math.inf), (turns, here + BACKOUT_GAIN)):
+            for cand in group:
+                x, y, th = arcs(np.array([cand[0]]), np.array([cand[1]]), np.array([SWEEP_TIME]))
+                c, s_ = math.cos(float(th[0][0])), math.sin(float(th[0][0]))
+                dx, dy = mapped[:, 0] - float(x[0][0]), mapped[:, 1] - float(y[0][0])
+                after = float(footprint_distance(c * dx + s_ * dy, -s_ * dx + c * dy).min())
+                if after <= max(score, floor) or not sweep_allowed(cand[0], cand[1], mapped, here):
+                    continue
+                if not people_sweep_clear(cand[0], cand[1], bodies, duration=SWEEP_TIME,
+                                          gap=TURN_GAP if cand[0] == 0.0 else SOCIAL_GAP):
+                    continue
+                best, score = cand, after
+            if best != (0.0, 0.0):
+                return best
+        return best
 
     def _unstick(self, v: float, w: float, mapped: np.ndarray) -> tuple[float, float]:
         """Wedged (issue 26: a chair's corner beside the robot when the way turns off; a door jamb at
