@@ -111,3 +111,29 @@ def test_the_freeing_step_keeps_the_floor_plan_and_her_as_every_back_out_step(dx
     assert v <= 0.0
     assert sweep_allowed(v, w, pts, here)
     assert people_sweep_clear(v, w, her, duration=SWEEP_TIME, gap=TURN_GAP if v == 0.0 else SOCIAL_GAP)
+
+
+def _stepping(poses: list[tuple[float, float, float]], dt: float = 0.1) -> list[bool]:
+    f = _follower()
+    f._aside_moving = None
+    out = []
+    for k, pose in enumerate(poses):
+        f.sim.now = k * dt
+        f.odom = pose
+        out.append(f._aside_stuck())
+    return out
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.lists(st.tuples(st.floats(-0.015, 0.015), st.floats(-0.015, 0.015), st.floats(-0.12, 0.12)), min_size=30, max_size=30))
+def test_a_forward_give_way_that_only_turns_to_and_fro_in_place_counts_as_stalled_after_two_seconds(jitter):
+    # tests/scenarios/follow/laundry_stop_in_door.xml seed 3 on integ: in the door, her 0.5 m in front, the dynamic
+    # window's command never quite zero, a few degrees to and fro: the back-out that frees her way never began
+    stuck = _stepping([(3.0 + dx, 1.0 + dy, 0.5 + dth) for dx, dy, dth in jitter])
+    assert not any(stuck[:20])
+    assert all(stuck[21:])
+
+
+def test_a_forward_give_way_that_gets_somewhere_is_never_stalled():
+    assert not any(_stepping([(0.03 * k, 0.0, 0.0) for k in range(60)]))  # 0.3 m/s along
+    assert not any(_stepping([(0.0, 0.0, 0.05 * k) for k in range(60)]))  # turning on the spot, 0.5 rad/s
