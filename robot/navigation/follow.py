@@ -224,6 +224,11 @@ GIVE_WAY_STALL = 2.0
 #: s, m: a back-out search that found no way is not repeated for this long while neither the robot nor she
 #: has moved this far (the search plans over the whole grid: a stuck follower repeated it every stall)
 BACKOUT_RETRY, BACKOUT_MOVED = 10.0, 0.2
+#: s: backing out of her way, every reverse step refused this long (a corner at a jamb of the door it stands in,
+#: turned toward her), it turns on the spot or creeps back to get clear of the frame (:meth:`Follower._free_turn`)
+BACKOUT_ALIGN = 1.0
+#: m: ... a step of that kind must leave the footprint at least this much further from the floor plan
+BACKOUT_GAIN = 0.002
 #: s: when there is no give-way spot, it looks again after this long (the search plans on the grid)
 GIVE_WAY_RETRY = 1.0
 #: m/s: it gives way to a partner slower than this (held up in front of it), never into a walking one
@@ -367,6 +372,8 @@ class Follower(Module):
     _oncoming: dict[str, float] = {}  # (replaced by _make_way, never mutated)
     _held_back: dict[str, tuple[float, float]] = {}
     _making_way: tuple[float] | None = None
+    _backout_refused: tuple[float, float] | None = None
+    _aside_moving: tuple[float, float, float, float, float] | None = None
     #: nothing pressed, and never told otherwise (__init__ gives each follower its own, heard on the bus)
     bumpers = own_reflex()
 
@@ -432,6 +439,8 @@ class Follower(Module):
         self._no_spot_until = -math.inf  # no give-way spot found: the next search not before then
         self._aside_stall: tuple[float, float] | None = None  # (since, last): the forward give-way's command zero
         self._backout_failed: tuple[float, float, float, float, float] | None = None  # (when, robot x y, her x y): a back-out search found no way
+        self._backout_refused: tuple[float, float] | None = None  # (since, last): every back-out step refused
+        self._aside_moving: tuple[float, float, float, float, float] | None = None  # (since, x, y, heading, last): forward give-way progress
         self._map_asked = False
         self._pose_sub: Any = None
         self._turn_in = False  # following ended: turn back into the flat if it faces out of an exit door
@@ -1213,17 +1222,21 @@ class Follower(Module):
     def _unstall(self, cmd: tuple[float, float], px: float, py: float, mapped: np.ndarray) -> tuple[float, float]:
         """The forward give-way's command ``cmd``; when it has stayed zero for :data:`GIVE_WAY_STALL` s
         (the spot lies beside her and every step toward it swings a corner into her: galley_follow_bend,
-        the approach ended just inside a dead-end room's door with her 0.5 m in front), the robot backs
-        out of her way instead (:func:`~robot.navigation.giveway.back_out_spot`), if there is a way."""
+        the approach ended just inside a dead-end room's door with her 0.5 m in front), or has got it nowhere
+        for that long (:meth:`_aside_stuck`), the robot backs out of her way instead (:func:`~robot.navigation.giveway.back_out_spot`), if there is a way."""
         stall = self._aside_stall
-        if cmd != (0.0, 0.0):
+        stuck = self._aside_stuck()  # commands, but no progress
+        if cmd != (0.0, 0.0) and not stuck:
             self._aside_stall = None
             return cmd
-        if stall is None or self.now - stall[1] > 0.5:  # (a new stall, not one from an earlier give-way)
-            self._aside_stall = (self.now, self.now)
-            return cmd
-        self._aside_stall = (stall[0], self.now)
-        if self.now - stall[0] < GIVE_WAY_STALL or self.route.grid is None or self.odom is None:
+        if not stuck:
+            if stall is None or self.now - stall[1] > 0.5:  # (a new stall, not one from an earlier give-way)
+                self._aside_stall = (self.now, self.now)
+                return cmd
+            self._aside_stall = (stall[0], self.now)
+            if self.now - stall[0] < GIVE_WAY_STALL:
+                return cmd
+        if self.route.grid is None or self.odom is None:
             return cmd
         self._aside_stall = None
         failed = self._backout_failed
@@ -1242,6 +1255,22 @@ class Follower(Module):
         self._backout_failed = None
         self._aside = ([self.route.to_odom(p) for p in path], self.now + GIVE_WAY_TIME, True)
         return cmd
+
+    def _aside_stuck(self) -> bool:
+        """Whether the forward give-way has got nowhere for :data:`GIVE_WAY_STALL` s although it sends commands:
+        it neither moved :data:`STUCK_MOVE` nor turned :data:`STUCK_TURN` net (the dynamic window turning a little
+        to and fro, a corner at a jamb, her 0.5 m in front: tests/scenarios/follow/laundry_stop_in_door.xml seed 3
+        on integ stood so in the door for the rest of the run, its command never quite zero, so :meth:`_unstall`
+        never backed it out). A new window opens on progress or when the give-way was not asked for 0.5 s."""
+        if self.odom is None:
+            return False
+        x, at = self.odom, self._aside_moving
+        if (at is None or self.now - at[4] > 0.5 or math.hypot(x[0] - at[1], x[1] - at[2]) > STUCK_MOVE
+                or abs(math.remainder(x[2] - at[3], math.tau)) > STUCK_TURN):
+            self._aside_moving = (self.now, x[0], x[1], x[2], self.now)
+            return False
+        self._aside_moving = (at[0], at[1], at[2], at[3], self.now)
+        return self.now - at[0] >= GIVE_WAY_STALL
 
     def _walk_on(self, start: tuple[float, float], v: tuple[float, float], duration: float) -> tuple[float, float]:
         """``start`` (odom) carried on at velocity ``v`` for ``duration`` s, in steps of a quarter second,
@@ -1354,8 +1383,49 @@ class Follower(Module):
             # per body and at poses dense enough for the turn rate (six over 0.5 s missed corners)
             if not people_sweep_clear(cand[0], cand[1], bodies, duration=SWEEP_TIME):
                 continue
+            self._backout_refused = None
             return cand
-        return 0.0, 0.0
+        refused = self._backout_refused
+        if refused is None or self.now - refused[1] > 0.5:  # a new refusal, not one of an earlier back-out
+            self._backout_refused = (self.now, self.now)
+            return 0.0, 0.0
+        self._backout_refused = (refused[0], self.now)
+        if self.now - refused[0] < BACKOUT_ALIGN or not len(mapped):
+            return 0.0, 0.0
+        return self._free_turn(v, bodies, mapped, here)
+
+    def _free_turn(self, v: float, bodies: np.ndarray, mapped: np.ndarray, here: float) -> tuple[float, float]:
+        """Backing out of her way with every reverse step refused for :data:`BACKOUT_ALIGN` s: a slower step,
+        kept as every back-out step is (:func:`sweep_allowed`, no nearer to anyone's ``bodies`` than the social
+        gap or than now, the partner's included): backing at a half or a quarter of the back-out's speed ``v``
+        (0 when someone is behind) while turning either way, the one that leaves the footprint furthest from
+        the floor plan (``mapped``, robot frame); else a turn on the spot either way that takes it at least
+        :data:`BACKOUT_GAIN` m further from the floor plan than now (``here``); else (0, 0).
+        In a 0.9 m door it had come through, turned toward her with a rear corner 9 cm from a jamb and her
+        0.5 m off its front corner, every step at the back-out's speed dipped under the sweep's margin at the
+        jamb and every turn toward clearer ground swung a front corner toward her: it stood there, her only
+        way out blocked, for the rest of the run (long22's cause B, fresh7/corr_long_tour seed 0, where a
+        creep back at 0.05 m/s was allowed all along)."""
+        turn = self.limits.max_turn
+        best: tuple[float, float] = (0.0, 0.0)
+        score = -math.inf
+        backs = [(v * k, w) for k in (0.5, 0.25) for w in (0.0, turn / 4, -turn / 4, turn / 2, -turn / 2)] if v < 0.0 else []
+        turns = [(0.0, w) for w in (turn / 4, -turn / 4, turn / 2, -turn / 2)]
+        for group, floor in ((backs, -math.inf), (turns, here + BACKOUT_GAIN)):
+            for cand in group:
+                x, y, th = arcs(np.array([cand[0]]), np.array([cand[1]]), np.array([SWEEP_TIME]))
+                c, s_ = math.cos(float(th[0][0])), math.sin(float(th[0][0]))
+                dx, dy = mapped[:, 0] - float(x[0][0]), mapped[:, 1] - float(y[0][0])
+                after = float(footprint_distance(c * dx + s_ * dy, -s_ * dx + c * dy).min())
+                if after <= max(score, floor) or not sweep_allowed(cand[0], cand[1], mapped, here):
+                    continue
+                if not people_sweep_clear(cand[0], cand[1], bodies, duration=SWEEP_TIME,
+                                          gap=TURN_GAP if cand[0] == 0.0 else SOCIAL_GAP):
+                    continue
+                best, score = cand, after
+            if best != (0.0, 0.0):
+                return best
+        return best
 
     def _unstick(self, v: float, w: float, mapped: np.ndarray) -> tuple[float, float]:
         """Wedged (issue 26: a chair's corner beside the robot when the way turns off; a door jamb at
