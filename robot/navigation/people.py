@@ -25,6 +25,7 @@ the way the robot went in; tentative at 1.06 m, confirmed at 0.74 m, the robot s
 from __future__ import annotations
 
 import math
+from collections.abc import Iterator
 from typing import Any
 
 import numpy as np
@@ -118,16 +119,11 @@ class People:
         xml = self.xml
         if xml is None:
             return []
-        age = self._age(xml, now)
         ox, oy, oth = odom
         c, s = math.cos(oth), math.sin(oth)
         out = []
-        for t in xml.iterfind("track"):
-            if t.get("confirmed") != "true" or (exclude is not None and t.get("id") == exclude):
-                continue
+        for t, x, y, vx, vy in self._predicted(xml, now, exclude):
             try:
-                vx, vy = float(t.get("vx", "0")), float(t.get("vy", "0"))
-                x, y = float(t.get("x")) + vx * age, float(t.get("y")) + vy * age
                 var = float(t.get("cxx", "0")) + float(t.get("cyy", "0"))
             except (TypeError, ValueError):
                 continue
@@ -209,6 +205,20 @@ class People:
         except ValueError:
             return 0.0
 
+    def _predicted(self, xml: Any, now: float, exclude: str | None) -> Iterator[tuple[Any, float, float, float, float]]:
+        """The tracks message's confirmed tracks (but ``exclude``), each with its odom-frame position predicted to
+        ``now`` by its velocity, and that velocity: (track element, x, y, vx, vy); a track with a bad number is skipped."""
+        age = self._age(xml, now)
+        for t in xml.iterfind("track"):
+            if t.get("confirmed") != "true" or (exclude is not None and t.get("id") == exclude):
+                continue
+            try:
+                vx, vy = float(t.get("vx", "0")), float(t.get("vy", "0"))
+                x, y = float(t.get("x")) + vx * age, float(t.get("y")) + vy * age
+            except (TypeError, ValueError):
+                continue
+            yield t, x, y, vx, vy
+
     def around(self, odom: tuple[float, float, float], now: float, *, exclude: str | None = None,
                near: tuple[float, float] | None = None, near_radius: float = 0.6,
                echoes: np.ndarray | None = None, moving: float | None = None, velocity: bool = False,
@@ -228,19 +238,10 @@ class People:
         xml = self.xml
         if xml is None:
             return np.zeros((0, 4 if velocity else 2))
-        age = self._age(xml, now)
         ox, oy, oth = odom
         c, s = math.cos(oth), math.sin(oth)
         out = []
-        for t in xml.iterfind("track"):
-            if t.get("confirmed") != "true" or (exclude is not None and t.get("id") == exclude):
-                continue
-            try:
-                vx, vy = float(t.get("vx", "0")), float(t.get("vy", "0"))
-                x = float(t.get("x")) + vx * age
-                y = float(t.get("y")) + vy * age
-            except (TypeError, ValueError):
-                continue
+        for t, x, y, vx, vy in self._predicted(xml, now, exclude):
             if near is not None and math.hypot(x - near[0], y - near[1]) < near_radius:
                 continue
             if sure is not None and float(t.get("cxx", "0")) + float(t.get("cyy", "0")) > sure:
