@@ -425,13 +425,12 @@ def test_an_answer_that_picks_no_option_says_how_often_the_question_was_put(robo
     assert ans.get("none") == "true" and ans.get("asked") == "1" and ans.find("POSITION/TITLE").get("name") == "sofa"
 
 
-def test_the_occlusion_question_goes_through_the_supervisor_and_is_answered_once_said(robot):
-    """The object attention cannot see past the partner: event occluded -> condition step_aside -> the
-    dialog asks her to step aside -> event asked_aside (said) -> order asked_aside to the object attention,
-    after the question has been said (not before: the object attention then waits for her to move)."""
+def _teach_then_occluded(robot) -> list:
+    """Greeted, an object teaching at 7 s and the object attention's ``occluded`` at 7.5 s, through the ES; returns
+    the list the object attention's orders are collected in."""
     robot.greet()
     obj = robot.sim.bus.participant("object_attention")
-    orders = []
+    orders: list = []
     obj.subscribe("/robot/es/orders/object_attention", orders.append)
 
     def teach_and_occlude() -> None:
@@ -440,6 +439,14 @@ def test_the_occlusion_question_goes_through_the_supervisor_and_is_answered_once
         robot.sim.call_at(7.5, obj.publish, ES_EVENTS, etree.Element("event", name="occluded"))
 
     robot.sim.call_at(7.0, teach_and_occlude)
+    return orders
+
+
+def test_the_occlusion_question_goes_through_the_supervisor_and_is_answered_once_said(robot):
+    """The object attention cannot see past the partner: event occluded -> condition step_aside -> the
+    dialog asks her to step aside -> event asked_aside (said) -> order asked_aside to the object attention,
+    after the question has been said (not before: the object attention then waits for her to move)."""
+    orders = _teach_then_occluded(robot)
     robot.sim.run(until=20.0)
     assert any("step aside" in s for s in robot.sentences())
     conds = [r for r in robot.records("/robot/es/conditions/dialog") if 'name="step_aside"' in r["xml"]]
@@ -814,18 +821,8 @@ def test_a_step_aside_question_cut_by_her_voice_is_asked_again_and_reported_said
     """review22 R2 (fresh10 hall_wardrobe_bags): her voice cut the step-aside question after three words and the
     dialog still told the ES it had been said; the object attention then waited for a step she never heard of. A
     question cut by a barge-in is not said: it is put again once she pauses, and ``asked_aside`` comes after that."""
-    robot.greet()
     robot.partner_at(0.0, 1.5, 40.0)
-    obj = robot.sim.bus.participant("object_attention")
-    orders = []
-    obj.subscribe("/robot/es/orders/object_attention", orders.append)
-
-    def teach_and_occlude() -> None:
-        frame = etree.fromstring('<event name="object_teaching"><SPEECH><OBJECT type="plant"/></SPEECH></event>')
-        robot.sim.bus.get("dialog").publish(ES_EVENTS, frame)
-        robot.sim.call_at(7.5, obj.publish, ES_EVENTS, etree.Element("event", name="occluded"))
-
-    robot.sim.call_at(7.0, teach_and_occlude)
+    orders = _teach_then_occluded(robot)
     asked = None
     while asked is None and robot.sim.now < 20.0:
         robot.sim.run(until=robot.sim.now + 0.1)
