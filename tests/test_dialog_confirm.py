@@ -399,6 +399,8 @@ def test_after_two_requests_to_say_it_again_the_next_hearing_is_taken_without_a_
 # dev profile found it; the given-up dialog had left the stack, and the new one counted its question from zero)
 @example([("follow me", 0.2), ("this is the kitchen", 0.2), ("blah", 0.2), ("blah", 0.2), ("this is the kitchen", 0.2)])
 @example([("look at this", 0.2), ("blah", 0.2), ("blah", 0.2), ("blah", 0.2), ("look at this", 0.2), ("blah", 0.2)])
+# a question of a request to act answered no by another request (talk22's rule) is still asked: the CI profile found it
+@example([("follow me", 0.2), ("what can you do", 0.2), ("this is the kitchen", 0.2), ("follow me", 0.2)])
 def test_no_question_is_said_a_third_time_in_a_row_across_dialogs(seq):
     """Item 7 over the whole interaction, not per sub-dialog: while the user neither answers yes/no nor
     gets anything done (an event sent) and every robot turn is a question, the same question is never

@@ -589,6 +589,11 @@ class DialogManager:
         top.pending, top.reasks, top.passed_over = None, 0, 0
         self.metrics["superseded"] = self.metrics.get("superseded", 0) + 1
         self._something_done()
+        # what it asked is still asked: the same request said again after the new one must not put its question a
+        # third time (the CI profile's example: "follow me", "what can you do", "this is the kitchen", "follow me",
+        # each heard poorly, said "Shall I follow you?" three times; :meth:`_take_up_given_up` starts from these)
+        for q, n in top.asked.items():
+            self._given_up_asked[q] = max(self._given_up_asked.get(q, 0), n)
         self._finish(top, out, abandoned=True, resume=False)
 
     def _confirming(self) -> Instance | None:
