@@ -144,18 +144,12 @@ class People:
         xml = self.xml
         if xml is None or not self.walked:
             return np.zeros((0, 4))
-        age = self._age(xml, now)
         ox, oy, oth = odom
         c, s = math.cos(oth), math.sin(oth)
         out = []
-        for t in xml.iterfind("track"):
+        for t, x, y, vx, vy in self._predicted(xml, now, None):
             tid = str(t.get("id"))
-            if t.get("confirmed") != "true" or tid not in self.walked:
-                continue
-            try:
-                vx, vy = float(t.get("vx", "0")), float(t.get("vy", "0"))
-                x, y = float(t.get("x")) + vx * age, float(t.get("y")) + vy * age
-            except (TypeError, ValueError):
+            if tid not in self.walked:
                 continue
             wx, wy, _ = self.walked[tid]
             dx, dy = x - ox, y - oy
