@@ -252,6 +252,17 @@ VOICE_RUN_MAX = 15.0
 #: s of holding allowed in any HOLD_WINDOW s: beyond it the robot talks (a room where someone talks on and
 #: on near her would otherwise silence it for good)
 HOLD_BUDGET, HOLD_WINDOW = 15.0, 60.0
+#: the requests the robot makes on its own while it follows (asking someone in its way to let it pass, asking
+#: her to slow down): they are said only in a pause of *every* voice the microphones hear (any direction, any
+#: level they report), ASK_QUIET s long. While it follows, she may speak from where it cannot see her (through a
+#: door, 3 m off in the next room, her track coasting) and quieter than the barge-in level: begun over her, its own
+#: voice masks hers at the microphones and her words ("stop") are lost with no barge-in to cut it off (cross22,
+#: fresh10 hall_crossing_kids: "Excuse me, may I pass" over her "Okay, you can stop" three times). A request
+#: already waiting is not queued again (the follower repeats it while it is still held up).
+FOLLOW_ASKS = frozenset({"excuse_me", "too_fast"})
+#: s: the pause of every voice before such a request: her words' frame reaches the dialog about 1 s after
+#: her last word (recognition, understanding), and its answer comes first
+ASK_QUIET = 2.0
 #: the microphone pair's geometry (m: ahead of the centre, spacing, height) and a standing adult's
 #: mouth height, as the person attention's CueSpec has them (modules share no code: tests/test_layers.py)
 MIC_OFFSET, MIC_SPACING, MIC_HEIGHT, MOUTH_HEIGHT = 0.10, 0.281, 1.06, 1.6
@@ -571,6 +582,9 @@ class Dialog(Module):
         self._dropped_at: dict[str, float] = {}  # sub-dialog id -> when a sentence of it was last dropped unsaid (turn-taking)
         self._talk_dialogs: tuple[str, ...] = ()  # the sub-dialogs of the sentence being said (a barge-in drops them unsaid)
         self._voice_since = -math.inf  # when that voice began with no pause of TURN_GAP since (VOICE_RUN_MAX)
+        self._any_voice_at = -math.inf  # when any voice, from anywhere, was last heard (FOLLOW_ASKS)
+        self._any_voice_since = -math.inf  # when that sound began with no pause of TURN_GAP since (VOICE_RUN_MAX)
+        self.asks_held = 0  # follower requests that waited for a pause of every voice (metrics)
         self._hold_steps: deque[float] = deque(maxlen=int(HOLD_WINDOW / HOLD_STEP) + 1)  # when each hold step began
         self._repair_dropped = False  # the last repair due was dropped (the next is said: never twice in a row)
         self._holding = False  # a held sentence waits for a pause (one timer)
@@ -632,6 +646,7 @@ class Dialog(Module):
         out["not_addressed"] = self.not_addressed
         out["held_for_a_pause"] = self.held_sentences
         out["stale_repairs_dropped"] = self.stale_repairs
+        out["asks_held_for_a_pause"] = self.asks_held
         out["pauses_ended_by_teaching"] = self.pauses_ended
         return out
 
@@ -1363,6 +1378,11 @@ class Dialog(Module):
 
     def _on_sources(self, msg: Message) -> None:
         self._note_voice(msg)
+        if msg.xml.find("source") is not None:  # any voice, from anywhere (FOLLOW_ASKS wait for a pause of them all)
+            t = float(msg.xml.get("time", repr(msg.created)))
+            if t - self._any_voice_at >= TURN_GAP:
+                self._any_voice_since = t
+            self._any_voice_at = max(self._any_voice_at, t)
         # every state: the addressee rule asks where the words came from (bounded deque)
         heard = tuple(float(src.get("bearing", "nan")) for src in msg.xml.iterfind("source")
                       if float(src.get("level", "0")) >= VOICE_LEVEL and math.isfinite(float(src.get("bearing", "nan"))))
@@ -1492,12 +1512,14 @@ class Dialog(Module):
             return
         if made is not None and dialogs and all(self._withdrawn.get(d, -math.inf) >= made for d in dialogs):
             return  # made before its dialog's news was overtaken (see WITHDRAWN_BY): never said
+        if dialogs and dialogs <= FOLLOW_ASKS and any(q[0] == text for q in self._queue):
+            return  # the same request of its own already waits for a pause: asked once
         self._queue.append((text, (cause,), dialogs, self.now, text in self._repairs))
         if not self._talking:
             self._say_next()
 
     def _say_next(self) -> None:
-        if not self._queue or self.bus.closed or self.bus.hung or self._hold():
+        if not self._queue or self.bus.closed or self.bus.hung or self._hold_ask() or self._hold():
             return
         text, causes, dialogs, *_ = self._queue.popleft()
         self._talk_dialogs = tuple(sorted(dialogs))
@@ -1551,6 +1573,33 @@ class Dialog(Module):
         if self._queue[0] is not self._held_head:
             self._held_head = self._queue[0]
             self.held_sentences += 1
+        if not self._holding:
+            self._holding = True
+            self._hold_steps.append(self.now)
+            self.sim.loop.call_at_ns(to_ns(self.now + HOLD_STEP), self._hold_over)
+        return True
+
+    def _hold_ask(self) -> bool:
+        """A request of its own while it follows (:data:`FOLLOW_ASKS`) waits for a pause of every voice heard,
+        ``ASK_QUIET`` s (she may be speaking where it cannot see her, under the barge-in level: its voice would
+        mask hers). Something else to say behind it (an answer to her words) goes first, and the request is
+        dropped (the follower asks again while still held up). Like :meth:`_hold`: at most ``HOLD_MAX`` s,
+        never for a sound that does not pause (``VOICE_RUN_MAX``), within ``HOLD_BUDGET``. True while held."""
+        head = self._queue[0]
+        if not head[2] or not head[2] <= FOLLOW_ASKS:
+            return False
+        if any(not (q[2] and q[2] <= FOLLOW_ASKS) for q in self._queue):
+            while self._queue and self._queue[0][2] and self._queue[0][2] <= FOLLOW_ASKS:
+                for d in self._queue.popleft()[2]:
+                    self._dropped_at[d] = self.now
+            return False
+        if (self.now - self._any_voice_at >= ASK_QUIET or self._any_voice_at - self._any_voice_since >= VOICE_RUN_MAX
+                or self.now - head[3] >= HOLD_MAX
+                or sum(1 for t in self._hold_steps if self.now - t < HOLD_WINDOW) * HOLD_STEP >= HOLD_BUDGET):
+            return False
+        if head is not self._held_head:
+            self._held_head = head
+            self.asks_held += 1
         if not self._holding:
             self._holding = True
             self._hold_steps.append(self.now)
