@@ -44,10 +44,10 @@ def _said_at(robot, text: str) -> list[float]:
 
 
 def test_with_nobody_talking_the_robot_asks_at_once(following):
-    _blocked(following, 12.0)
+    _blocked(following, 13.0)  # 3 s after its "OK, I am following you." ended
     following.sim.run(until=16.0)
     (t,) = _said_at(following, EXCUSE)
-    assert 12.0 < t < 12.0 + 1.0
+    assert 13.0 < t < 13.0 + 1.0
     assert following.dialog.summary()["asks_held_for_a_pause"] == 0
 
 
@@ -91,3 +91,20 @@ def test_talk_that_never_pauses_holds_the_request_at_most_hold_max(following):
     following.sim.run(until=30.0)
     (said,) = _said_at(following, EXCUSE)
     assert 12.0 + HOLD_MAX - 0.5 <= said <= 12.0 + HOLD_MAX + 1.0
+
+
+def test_after_its_own_sentence_the_turn_is_hers_before_it_asks():
+    # split_children_cross seed 0: "Excuse me" begun the moment its "Could you say that again?" ended; his "Stop"
+    # 0.5 s later was lost under it. Blocked while it says "OK, I am following you.": it asks ASK_QUIET s after
+    r = Robot()
+    try:
+        r.greet()
+        r.partner_at(0.0, 1.5, 9.0)
+        r.utter("follow me", 7.0, 7.6)
+        _blocked(r, 8.6)
+        r.sim.run(until=16.0)
+        done = [x["t"] for x in r.records("/robot/speaker/status") if "<done" in x["xml"] and "following you" in x["xml"]]
+        (t,) = _said_at(r, EXCUSE)
+        assert done and done[0] + ASK_QUIET - 0.05 <= t < done[0] + ASK_QUIET + 1.0
+    finally:
+        r.sim.close()

@@ -584,6 +584,7 @@ class Dialog(Module):
         self._voice_since = -math.inf  # when that voice began with no pause of TURN_GAP since (VOICE_RUN_MAX)
         self._any_voice_at = -math.inf  # when any voice, from anywhere, was last heard (FOLLOW_ASKS)
         self._any_voice_since = -math.inf  # when that sound began with no pause of TURN_GAP since (VOICE_RUN_MAX)
+        self._spoke_at = -math.inf  # when its own last sentence ended (said or cut): FOLLOW_ASKS leave her the turn
         self.asks_held = 0  # follower requests that waited for a pause of every voice (metrics)
         self._hold_steps: deque[float] = deque(maxlen=int(HOLD_WINDOW / HOLD_STEP) + 1)  # when each hold step began
         self._repair_dropped = False  # the last repair due was dropped (the next is said: never twice in a row)
@@ -1309,6 +1310,7 @@ class Dialog(Module):
             if math.isfinite(start):
                 self._talk_start = start
         elif tag in ("done", "interrupted"):
+            self._spoke_at = self.now  # the turn is hers now (FOLLOW_ASKS leave it to her)
             if tag == "done" or not self._queue:
                 self._talking = False
             if tag == "done":
@@ -1582,7 +1584,9 @@ class Dialog(Module):
     def _hold_ask(self) -> bool:
         """A request of its own while it follows (:data:`FOLLOW_ASKS`) waits for a pause of every voice heard,
         ``ASK_QUIET`` s (she may be speaking where it cannot see her, under the barge-in level: its voice would
-        mask hers). Something else to say behind it (an answer to her words) goes first, and the request is
+        mask hers), and as long after its own last sentence (the turn is hers: split_children_cross seed 0 began
+        "Excuse me" the moment its "Could you say that again?" ended, and his "Stop" 0.5 s later was lost under
+        it). Something else to say behind it (an answer to her words) goes first, and the request is
         dropped (the follower asks again while still held up). Like :meth:`_hold`: at most ``HOLD_MAX`` s,
         never for a sound that does not pause (``VOICE_RUN_MAX``), within ``HOLD_BUDGET``. True while held."""
         head = self._queue[0]
@@ -1593,7 +1597,8 @@ class Dialog(Module):
                 for d in self._queue.popleft()[2]:
                     self._dropped_at[d] = self.now
             return False
-        if (self.now - self._any_voice_at >= ASK_QUIET or self._any_voice_at - self._any_voice_since >= VOICE_RUN_MAX
+        endless = self._any_voice_at - self._any_voice_since >= VOICE_RUN_MAX
+        if (self.now - max(self._spoke_at, -math.inf if endless else self._any_voice_at) >= ASK_QUIET
                 or self.now - head[3] >= HOLD_MAX
                 or sum(1 for t in self._hold_steps if self.now - t < HOLD_WINDOW) * HOLD_STEP >= HOLD_BUDGET):
             return False
