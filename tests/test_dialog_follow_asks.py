@@ -10,6 +10,8 @@ understanding and dialog on the bus; the microphones, the person attention and t
 from __future__ import annotations
 
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 from lxml import etree
 
 from robot.dialog.module import ASK_QUIET, HOLD_MAX
@@ -106,5 +108,33 @@ def test_after_its_own_sentence_the_turn_is_hers_before_it_asks():
         done = [x["t"] for x in r.records("/robot/speaker/status") if "<done" in x["xml"] and "following you" in x["xml"]]
         (t,) = _said_at(r, EXCUSE)
         assert done and done[0] + ASK_QUIET - 0.05 <= t < done[0] + ASK_QUIET + 1.0
+    finally:
+        r.sim.close()
+
+
+@given(bursts=st.lists(st.tuples(st.floats(10.5, 19.0), st.floats(0.2, 3.0), st.floats(-170.0, 170.0), st.floats(36.0, 62.0)),
+                       max_size=4),
+       block=st.floats(10.5, 16.0))
+@settings(max_examples=8, deadline=None)
+def test_a_request_of_its_own_is_never_begun_over_or_just_after_a_voice(bursts, block):
+    # any voices (any direction, quiet or loud, her partner reports gone since 9 s) and one way_blocked: the request
+    # is asked at most once, never within ASK_QUIET s after a voice frame unless it waited HOLD_MAX, and asked by then
+    r = Robot()
+    try:
+        r.greet()
+        r.partner_at(0.0, 1.5, 9.0)
+        r.utter("follow me", 7.0, 7.6)
+        frames = []
+        for start, dur, bearing, level in bursts:
+            _voices(r, bearing, start, start + dur, level=level)
+            frames += [start + 0.1 * k for k in range(int(dur / 0.1 + 1e-9) + 1)]
+        _blocked(r, block)
+        r.sim.run(until=block + HOLD_MAX + 2.0)
+        said = _said_at(r, EXCUSE)
+        assert len(said) <= 1
+        for t in said:
+            waited = t - block >= HOLD_MAX
+            assert waited or not any(t - ASK_QUIET + 0.15 < f < t for f in frames), (t, sorted(frames))
+        assert said or r.es.state != "Following"
     finally:
         r.sim.close()
