@@ -757,7 +757,7 @@ class Dialog(Module):
     def _walk_over(self, cause: str) -> bool:
         """Whether her walk is over for a teaching said while the robot follows (:data:`ENDS_A_PAUSE`): a pause
         (she said "hang on": the follower's status ``paused``), or the follower has said ``waiting`` (it stands by
-        her: she stands) for at least :data:`~robot.partner_search.STOOD_FOR` s when the words began and still
+        her: she stands; not ``held``, held up on its way to her beyond its band, review22 R4) for at least :data:`~robot.partner_search.STOOD_FOR` s when the words began and still
         says so, as for a stop from off her bearing (:meth:`_stop_after_she_stood`). fresh7 corr_fast_walker_goto:
         a fast leader's "here, stop" was not heard from 6 m behind a wall, the robot came up to him and stood by
         him, and "this is the guest room", the sunglasses and the go-to all got "say stop first" to the end. A
