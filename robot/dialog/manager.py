@@ -185,6 +185,30 @@ def _merge(old: Any, new: Any) -> Any:
     return out
 
 
+def _owner_pronoun_resolved(old: Any, new: Any) -> Any:
+    """``new`` with an owner said as "his", "her" or "their" taken as the owner ``old`` named, or as no owner when
+    it named none: a pronoun names nobody of its own (review22 R6). "Is this your husband's green cup?" - "no, his
+    mug" is the husband's mug; "Is this the green cup?" - "no, his mug", or "this is his cup" said unprompted, is a
+    mug or cup with no owner, never "His's" (the understanding keeps the word; the dialog, which knows what was
+    asked, decides)."""
+    if not _is_object(new):
+        return new
+    pronouns = [o for o in new.findall("OWNER") if (o.get("name") or "").lower() in OWNER_PRONOUNS]
+    if not pronouns:
+        return new
+    new = deepcopy(new)
+    for o in new.findall("OWNER"):
+        if (o.get("name") or "").lower() in OWNER_PRONOUNS:
+            new.remove(o)
+    named = [o for o in old.findall("OWNER") if (o.get("name") or "").lower() not in OWNER_PRONOUNS] \
+        if _is_object(old) else []
+    if named and new.find("OWNER") is None:
+        at = next((i for i, c in enumerate(new) if c.tag not in ("GESTURE", "TITLE")), len(new))
+        for k, o in enumerate(named):
+            new.insert(at + k, deepcopy(o))
+    return new
+
+
 def _select(fill: Fill, el: etree._Element) -> Any:
     """The value a fill takes from ``el``: the selected node/text, or ``el`` itself; None if the select is empty."""
     if fill.select is None:
@@ -1016,6 +1040,7 @@ class DialogManager:
                 continue
             slot = inst.slots[f.slot]
             status = f.status or ("true" if conf >= self.doc.confirm_below else "filled")
+            value = _owner_pronoun_resolved(slot.value if slot.status != "false" else None, value)
             slot.value = _merge(slot.value, value) if slot.status != "false" and not replace else value
             slot.status = status
             slot.stamp = stamp
