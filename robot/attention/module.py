@@ -865,7 +865,8 @@ class PersonAttention(Module):
         return self.now - self._stood_stop_at <= STOP_VOICE
 
     def _stood(self, t: float) -> bool:
-        """The follower has stood by the partner track (its status ``waiting``) at least ``STOOD_FOR`` s."""
+        """The follower has stood by the partner track (its status ``waiting``; ``held``, held up short of her, is
+        not standing by her) at least ``STOOD_FOR`` s."""
         w = self._follow_waiting
         return w is not None and t - w >= STOOD_FOR
 

@@ -773,7 +773,7 @@ class Dialog(Module):
     def _walk_over(self, cause: str) -> bool:
         """Whether her walk is over for a teaching said while the robot follows (:data:`ENDS_A_PAUSE`): a pause
         (she said "hang on": the follower's status ``paused``), or the follower has said ``waiting`` (it stands by
-        her: she stands) for at least :data:`~robot.partner_search.STOOD_FOR` s when the words began and still
+        her: she stands; not ``held``, held up on its way to her beyond its band, review22 R4) for at least :data:`~robot.partner_search.STOOD_FOR` s when the words began and still
         says so, as for a stop from off her bearing (:meth:`_stop_after_she_stood`). fresh7 corr_fast_walker_goto:
         a fast leader's "here, stop" was not heard from 6 m behind a wall, the robot came up to him and stood by
         him, and "this is the guest room", the sunglasses and the go-to all got "say stop first" to the end. A
@@ -1181,7 +1181,7 @@ class Dialog(Module):
             return
         if msg.xml.get("name") == "person_info":  # someone speaks facing the robot (potential partner)
             self._person_at = msg.created
-            self._person_place = self._place_of(msg.xml.find(".//PERSON"))
+            self._person_place = self._place_of(msg.xml.find(".//PERSON"), msg.created)
             if self._call is not None:
                 self._answer_call()  # her call by name, heard before the robot had turned to her
         if msg.xml.get("name") == "arrived":  # a go-to ended: her next request resumes the tour
@@ -1286,15 +1286,17 @@ class Dialog(Module):
         # sub-dialog is still open, e.g. the stop's "OK, I stopped." waits for its condition: then after it)
         self._emit(self.manager.take_up_in_passing(), msg.id)
 
-    def _place_of(self, person: etree._Element | None) -> tuple[float, float] | None:
-        """Where a reported PERSON (bearing in degrees and distance, robot frame now) stands in the map frame (the
-        localiser's latest pose), None without a pose or a place."""
+    def _place_of(self, person: etree._Element | None, at: float) -> tuple[float, float] | None:
+        """Where a reported PERSON (bearing in degrees and distance, robot frame when the report was made, ``at``)
+        stands in the map frame: placed with the localiser's pose nearest ``at``, not the latest one (review22 R8:
+        the report of someone found while the base still turns to her voice comes over the WLAN after poses the
+        turn has moved on by degrees, a good part of :data:`CALL_WIDTH`). None without a pose or a place."""
         if person is None or not self._poses:
             return None
         b, d = float(person.get("bearing", "nan")), float(person.get("distance", "nan"))
         if not (math.isfinite(b) and math.isfinite(d)):
             return None
-        _, ox, oy, oth = self._poses[-1]
+        _, ox, oy, oth = min(self._poses, key=lambda o: abs(o[0] - at))  # ties: the earlier pose (deque order)
         return ox + d * math.cos(oth + math.radians(b)), oy + d * math.sin(oth + math.radians(b))
 
     def _on_pose(self, msg: Message) -> None:

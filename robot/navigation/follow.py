@@ -919,7 +919,10 @@ class Follower(Module):
                 # guard its corners, but a body is wider than its legs): a corner swung into a man
                 # held up beside it while a couple crossed (cross_studio_four seeds 0, 3, 5, 8)
                 w = 0.0
-            state = "following" if cmd.ok else "waiting"
+            # no admissible way to her (she is beyond the band, people or furniture hold it): ``held``, never
+            # ``waiting``, which says it stands by her (the dialog's and the attention's "her walk is over" read
+            # only that one; review22 R4: a teaching said while held up in a door ended the walk)
+            state = "following" if cmd.ok else "held"
             v, w = self._unstick(v, w, mapped)
             held = self._held_up(v, v_des, goal, px, py)
         v = self._keep_inside(v, w)
