@@ -147,25 +147,29 @@ def test_someone_standing_in_the_only_door_makes_her_wait_then_stop_short_saying
     assert any("here I am" in line for _, _, line in ann.log), "her script goes on"
 
 
-# Points inside an 8 x 6 m room with a table in its middle, kept off the walls and the table.
-_FREE = st.tuples(st.floats(0.6, 7.4), st.floats(0.6, 5.4)).filter(lambda p: not (3.0 < p[0] < 5.0 and 2.2 < p[1] < 3.8))
+# Places inside an 8 x 6 m room with a table in its middle, a metre apart, off the walls and the table; each
+# drawn place is moved by up to 0.2 m.
 TABLE = '<furniture name="table" type="table" points="3.4,2.6 4.6,2.6 4.6,3.4 3.4,3.4" height="0.75"/>'
+PLACES = [(0.8 + i, 0.8 + j) for i in range(7) for j in range(5) if not (2.9 < 0.8 + i < 5.1 and 2.1 < 0.8 + j < 3.9)]
+_JIT = st.floats(-0.2, 0.2)
+
+
+def _place(draw, k: int) -> tuple[float, float]:  # type: ignore[no-untyped-def]
+    x, y = PLACES[k]
+    return round(x + draw(_JIT), 2), round(y + draw(_JIT), 2)
 
 
 @st.composite
 def _scenes(draw):  # type: ignore[no-untyped-def]
     n = draw(st.integers(2, 4))
-    starts: list[tuple[float, float]] = []
-    while len(starts) < n:
-        p = draw(_FREE)
-        if all(math.dist(p, q) > 0.8 for q in starts):
-            starts.append(p)
-    goals = [draw(st.lists(_FREE, min_size=1, max_size=2)) for _ in range(n)]
+    idx = draw(st.lists(st.integers(0, len(PLACES) - 1), min_size=n, max_size=n, unique=True))
+    starts = [_place(draw, k) for k in idx]
+    goals = [[_place(draw, k) for k in draw(st.lists(st.integers(0, len(PLACES) - 1), min_size=1, max_size=2))] for _ in range(n)]
     speeds = [draw(st.sampled_from((0.5, 0.9, 1.3))) for _ in range(n)]
     return starts, goals, speeds
 
 
-@settings(max_examples=12, deadline=None, suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much])
+@settings(max_examples=12, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(_scenes())
 def test_no_two_people_ever_overlap_and_every_walk_ends_at_its_place_or_says_why(scene):
     starts, goals, speeds = scene
@@ -173,7 +177,7 @@ def test_no_two_people_ever_overlap_and_every_walk_ends_at_its_place_or_says_why
     for k, ((x, y), walks, v) in enumerate(zip(starts, goals, speeds)):
         script = "".join(f'<walk-to point="{gx:.2f} {gy:.2f}"/>' for gx, gy in walks) + '<say text="done"/>'
         humans += _human(f"p{k}", round(x, 2), round(y, 2), script, k, speed=v)
-    stage, closest = _stage(humans, furniture=TABLE, robot_x=0.4)
+    stage, closest = _stage(humans, furniture=TABLE, robot_x=7.55)
     stage.run(55.0)
     assert closest[0] >= 2 * HUMAN_RADIUS, "two bodies overlapped"
     for k, walks in enumerate(goals):
