@@ -84,7 +84,8 @@ CLEAR = 2 * HUMAN_RADIUS + PASS_GAP
 #: s held back by someone before she steps back out of the way of someone held back by her (the one of the
 #: two whose name sorts later, so exactly one does), by YIELD_STEP m; she then waits at most YIELD_WAIT s for
 #: them to pass before walking on. Held back by people CROWD_GIVE_UP s in all on one walk, she ends it where
-#: she stands (as near as the people there allow), saying so in her log.
+#: she stands (as near as the people there allow), saying so in her log; but for leaving the flat, which she
+#: never ends short (she would vanish mid-room): she waits at the door for the way to clear.
 #: Someone whose way crosses hers (their closest approach within GIVE_WAY_HORIZON s, nearer than CLEAR; not
 #: head-on, which KEEP_RIGHT settles) and who reaches the crossing first is let pass: she stands GIVE_WAY_STEP s
 #: at a time (GIVE_WAY_MAX s at most in a row) and looks again. Who is first: the earlier arrival where the two
@@ -303,7 +304,7 @@ class Person(Actor):
                 # someone is in her way: round them, or wait; step back for someone who waits for her
                 crowded += self.body.crowded_time - crowd
                 crowd_total += self.body.crowded_time - crowd
-                if crowd_total >= CROWD_GIVE_UP:
+                if crowd_total >= CROWD_GIVE_UP and not self._leaving:  # (leaving, she waits to get out: never gone mid-room)
                     self.crowd_stops += 1
                     self.log.append((self.now, self.now, f"ends her walk at ({here[0]:.2f}, {here[1]:.2f}): people stand in her way"))
                     break

@@ -189,3 +189,18 @@ def test_no_two_people_ever_overlap_and_every_walk_ends_at_its_place_or_says_why
         others = [math.dist(_at(stage, f"p{j}"), (gx, gy)) for j in range(len(goals)) if j != k]
         # at her place; or beside someone standing on it; or she said why she stopped short
         assert d < 0.15 or any(o < d + 0.05 and d <= CLEAR + 0.35 for o in others) or any("people stand in her way" in line for line in lines), lines[-4:]
+
+
+def test_leaving_she_waits_at_the_door_for_whoever_stands_in_it_and_never_vanishes_mid_room():
+    """A leave blocked by someone in the exit is not ended short after CROWD_GIVE_UP s: she waits, then goes out."""
+    sc = ROOM.replace('<wall from="0 H" to="0 0"/>', '<wall from="0 H" to="0 0"><door name="exit" at="3" width="0.9" exit="true"/></wall>')
+    humans = (_human("ann", 4.0, 3.0, '<leave/>', 0)
+              + _human("bob", 0.45, 3.0, '<wait for="30"/><walk-to point="2.0 5.0"/><wait for="30"/>', 1))
+    text = (sc.replace("HUMANS", humans).replace("FURNITURE", "").replace("ROBX", "7.5").replace("W", "8.0").replace("H", "6.0"))
+    stage = Stage(Simulation(seed=1, scenario="among_people"), load_scenario_text(text, source="among_people.xml"), actors=PEOPLE)
+    stage.run(28.0)
+    assert stage.world.humans["ann"].present, "still waiting for bob to clear the door"
+    assert math.dist(_at(stage, "ann"), _at(stage, "bob")) >= 2 * HUMAN_RADIUS
+    stage.run(50.0)
+    assert not stage.world.humans["ann"].present, "out once he had gone"
+    assert stage.actors["ann"].crowd_stops == 0
