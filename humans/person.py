@@ -82,7 +82,7 @@ KEEP_RIGHT = 0.6
 AHEAD = 2.0
 CLEAR = 2 * HUMAN_RADIUS + PASS_GAP
 #: s held back by someone before she steps back out of the way of someone held back by her (the one of the
-#: two whose name sorts later, so exactly one does), by YIELD_STEP m; she then waits at most YIELD_WAIT s for
+#: two whose name sorts later, so exactly one does), YIELD_STEP m mostly aside (to her right) and a little back; she then waits at most YIELD_WAIT s for
 #: them to pass before walking on. Held back by people CROWD_GIVE_UP s in all on one walk, she ends it where
 #: she stands (as near as the people there allow), saying so in her log; but for leaving the flat, which she
 #: never ends short (she would vanish mid-room): she waits at the door for the way to clear.
@@ -244,6 +244,18 @@ class Person(Actor):
             if math.hypot(goal[0] - here[0], goal[1] - here[1]) <= max(stop_at, ARRIVED) and sees:
                 break
             if not path:
+                if not moving and self._kept_short(goal, max(stop_at, ARRIVED)):
+                    # short of her place only because people walk there (or will meet her there): she lets
+                    # them pass and goes on (someone standing on it she ends beside, as near as they allow)
+                    if crowd_total >= CROWD_GIVE_UP:
+                        self.crowd_stops += 1
+                        self.log.append((self.now, self.now, f"ends her walk at ({here[0]:.2f}, {here[1]:.2f}): people stand in her way"))
+                        break
+                    self.body.stand()
+                    await asyncio.sleep(LEG_TIME)
+                    crowd_total += LEG_TIME
+                    path = self.plan(goal)
+                    continue
                 break
             wx, wy = path[0]
             dx, dy = wx - here[0], wy - here[1]
@@ -308,9 +320,12 @@ class Person(Actor):
                     self.crowd_stops += 1
                     self.log.append((self.now, self.now, f"ends her walk at ({here[0]:.2f}, {here[1]:.2f}): people stand in her way"))
                     break
-                if crowded >= YIELD_AFTER and not aside and await self._make_room():
-                    crowded = 0.0
-                    goal = where()
+                if crowded >= YIELD_AFTER and not aside:
+                    t0 = self.now
+                    if await self._make_room():
+                        crowded = 0.0
+                        crowd_total += self.now - t0  # stepping back and waiting count as held back
+                        goal = where()
                 path = self.plan(goal)
             else:
                 crowded = 0.0
@@ -361,7 +376,24 @@ class Person(Actor):
         origin = self.body.position if here is None else here
         return bool(line_of_sight(origin, np.array([point], dtype=float), a, b)[0])
 
-    def plan(self, goal: tuple[float, float]) -> list[tuple[float, float]]:
+    def _kept_short(self, goal: tuple[float, float], near: float) -> bool:
+        """Whether her walk ended short of ``goal`` only because of people walking: nearer than ``near`` to it
+        she is not, nobody stands within CLEAR of it, and without the people's discs her path would take her
+        nearer to it."""
+        x, y = self.body.position
+        d = math.hypot(goal[0] - x, goal[1] - y)
+        if d <= near + 0.05:
+            return False
+        for o in self.others():
+            if o.walk_speed < 1e-3 and math.hypot(o.position[0] - goal[0], o.position[1] - goal[1]) < CLEAR + 0.05:
+                return False
+        try:
+            end = self.plan(goal, people=False)[-1]
+        except NoPathError:
+            return False
+        return math.hypot(goal[0] - end[0], goal[1] - end[1]) < d - 0.05
+
+    def plan(self, goal: tuple[float, float], *, people: bool = True) -> list[tuple[float, float]]:
         """A path to ``goal`` around walls, furniture and the robot where it stands now.
 
         When the robot blocks the only way (it stands in a doorway) the path
@@ -376,7 +408,7 @@ class Person(Actor):
         x, y, _ = self.world.robot.pose
         inside = not self._leaving  # every walk but leaving ends inside the flat
         robot = [(x, y, ROBOT_REACH)]
-        people = self.people_discs()
+        people = self.people_discs() if people else []
         if people:
             # round the people too; when they close the only way, through them: the world holds her
             # back where they stand and she waits (or steps back for them: walk_to)
@@ -494,7 +526,7 @@ class Person(Actor):
 
     async def _make_room(self) -> bool:
         """Held back by someone who is held back by her (two people face to face in a narrow place): the
-        one whose name sorts later steps back YIELD_STEP m, away from the other and to her own right, and
+        one whose name sorts later steps YIELD_STEP m to her right and a little back (away from the other), and
         waits (at most YIELD_WAIT s) for them to pass. True when she stepped back."""
         x, y = self.body.position
         near = [(math.hypot(o.position[0] - x, o.position[1] - y), o) for o in self.others()]
@@ -507,8 +539,9 @@ class Person(Actor):
         ox, oy = other.position
         ux, uy = (x - ox) / max(d, 1e-6), (y - oy) / max(d, 1e-6)  # away from them
         rx, ry = uy, -ux  # her right, facing them
-        k = math.sqrt(0.5)
-        spot = (x + YIELD_STEP * k * (ux + rx), y + YIELD_STEP * k * (uy + ry))
+        # mostly aside (to her right), a little back: out of their way, not on along it ahead of them
+        k = 1.0 / math.hypot(1.0, 0.5)
+        spot = (x + YIELD_STEP * k * (0.5 * ux + rx), y + YIELD_STEP * k * (0.5 * uy + ry))
         self.yielded += 1
         self.log.append((self.now, self.now, f"steps back for {other.name} to ({spot[0]:.2f}, {spot[1]:.2f})"))
         try:
