@@ -95,8 +95,6 @@ GIVE_WAY_STEP = 0.25
 GIVE_WAY_MAX = 4.0
 GIVE_WAY_TIE = 0.2
 YIELD_AFTER = 1.5
-#: s: held back by people, she plans round them at once and then every CROWD_REPLAN s (a plan costs 0.5-2.5 ms).
-CROWD_REPLAN = 1.0
 YIELD_STEP = 0.7
 YIELD_WAIT = 4.0
 CROWD_GIVE_UP = 20.0
@@ -119,7 +117,6 @@ class Person(Actor):
         self._stepping = False  # stepping aside for the robot: her script's next walk waits for it
         self._leaving = False  # walking out through an exit: the one walk that may end outside the flat
         self.yielded = 0  # times she stepped back out of someone's way
-        self._no_way_round = False  # her last plan found no way round the people (it goes through them)
         self.crowd_stops = 0  # walks she ended short because people stood in her way
 
     @property
@@ -239,8 +236,6 @@ class Person(Actor):
         path = self.plan(goal)
         blocked, asked = 0.0, 0  # seconds held back by the robot without a free leg; requests made
         crowded, crowd_total = 0.0, 0.0  # seconds held back by people: in a row, on this walk
-        replanned = 0.0  # the held-back time in a row at her last plan round them
-        ahead_quiet = 0.0  # no look for people ahead before this time (the last plan found no way round them)
         looked = False  # this leg's way was checked for people (walk_to plans round them once per leg)
         gave = 0.0  # seconds she has stood letting someone cross first
         while True:
@@ -276,15 +271,13 @@ class Person(Actor):
             if dist <= ARRIVED:
                 path.pop(0)
                 continue
-            if not looked and self.now >= ahead_quiet and self._someone_ahead(here, (wx, wy)):
+            if not looked and self._someone_ahead(here, (wx, wy)):
                 # someone stands or walks on her next leg: round them (a new plan keeps clear of people;
-                # once per leg: when they close the only way she walks up to them and waits, and looks
-                # again only after CROWD_REPLAN s)
+                # once per leg: when they close the only way she walks up to them and waits)
                 looked = True
                 path = self.plan(goal)
-                if self._no_way_round:
-                    ahead_quiet = self.now + CROWD_REPLAN
                 continue
+            looked = False
             if gave < GIVE_WAY_MAX and self._give_way(here, (dx / dist * speed, dy / dist * speed)):
                 # someone crosses her way and gets there first: she lets them pass, then walks on
                 self.body.stand()
@@ -299,7 +292,6 @@ class Person(Actor):
             self.body.walk_velocity(v * dx / dist, v * dy / dist)
             held, crowd = self.body.held_time, self.body.crowded_time
             await asyncio.sleep(t)
-            looked = False  # a leg walked: the next one is looked at afresh (not while she lets someone pass)
             if self.handlers and not aside and await self.react():
                 # she stopped to react (answer, point, step aside): on from where she is now
                 goal = where()
@@ -328,17 +320,13 @@ class Person(Actor):
                     self.crowd_stops += 1
                     self.log.append((self.now, self.now, f"ends her walk at ({here[0]:.2f}, {here[1]:.2f}): people stand in her way"))
                     break
-                replan = crowded - replanned >= CROWD_REPLAN or crowded <= self.body.crowded_time - crowd + 1e-9
                 if crowded >= YIELD_AFTER and not aside:
                     t0 = self.now
                     if await self._make_room():
                         crowded = 0.0
                         crowd_total += self.now - t0  # stepping back and waiting count as held back
                         goal = where()
-                        replan = True
-                if replan:  # round them: at once, then every CROWD_REPLAN s while they hold her back
-                    replanned = crowded
-                    path = self.plan(goal)
+                path = self.plan(goal)
             else:
                 crowded = 0.0
         self.body.stand()
@@ -421,14 +409,11 @@ class Person(Actor):
         inside = not self._leaving  # every walk but leaving ends inside the flat
         robot = [(x, y, ROBOT_REACH)]
         people = self.people_discs() if people else []
-        self._no_way_round = bool(people)  # until a plan round them is found
         if people:
             # round the people too; when they close the only way, through them: the world holds her
             # back where they stand and she waits (or steps back for them: walk_to)
             try:
-                found = grid.plan(self.body.position, goal, avoid=robot + people, inside=inside)
-                self._no_way_round = False
-                return found
+                return grid.plan(self.body.position, goal, avoid=robot + people, inside=inside)
             except NoPathError:
                 pass
         try:
