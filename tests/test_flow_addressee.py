@@ -118,10 +118,8 @@ def test_what_she_does_after_facing_the_robot_outweighs_the_older_facing(first, 
         # the invariant: every face seen during the words looked away, and she ended in a group: never addressed
         only_away = _dialog(state, _at(cues[-after:]))
         assert not only_away.addressed(10.0, 10.0 + 0.1 * (after - 1))
-        # ... but calling the robot by its name or showing it something is meant for it, and so is turning back
-        # to face it at the end
+        # ... but calling the robot by its name is meant for it, and so is turning back to face it at the end
         assert d.addressed(10.0, end, named=True)
-        assert d.addressed(10.0, end, shows=True)
         back = _dialog(state, _at([*cues, ("true", company)]))
         assert back.addressed(10.0, 10.0 + 0.1 * len(cues))
 
@@ -130,6 +128,9 @@ def test_a_glance_at_the_robot_as_the_group_chat_begins_does_not_make_it_a_reque
     # the shape of chat_group_bye seed 2 (raise on): 5 reports facing, then 14 turned away, ending in a group of 2
     cues = [("true", 0)] * 5 + [("false", 0)] * 10 + [("false", 1), ("false", 1), ("false", 2), ("false", 2)]
     assert not _dialog("Interacting", _at(cues)).addressed(10.0, 10.0 + 0.1 * (len(cues) - 1))
+    # misheard chat may parse as showing ("could you open the wine for us" heard as "it you open the wine": a
+    # deictic, addr23's scene seed 8): as in the group test without a facing, that does not make it a request
+    assert not _dialog("Interacting", _at(cues)).addressed(10.0, 10.0 + 0.1 * (len(cues) - 1), shows=True)
     # the same turn for less than half the words (she says most of it facing the robot): a request
     cues = [("true", 0)] * 12 + [("false", 0)] * 5 + [("false", 2)] * 2
     assert _dialog("Interacting", _at(cues)).addressed(10.0, 10.0 + 0.1 * (len(cues) - 1))

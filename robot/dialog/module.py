@@ -63,9 +63,9 @@ and the last one says ``"false"`` with ``company`` >= 1: she was not facing the 
 words were spoken and ended up in a group turned to the others, so the words (hers or a
 bystander's a few degrees beside her) are their chat. What she does after outweighs an older facing:
 when some reports during the words say ``facing="true"``, the reports after the last of them decide by
-the same test, provided they are at least half of the utterance's reports and the words neither name the
-robot nor show it something ("this is ...": showing needs someone to show it to) (seen facing it as
-a bystander began to speak, she turned and walked over to the group for most of his words:
+the same test, provided they are at least half of the utterance's reports and the words do not name the
+robot (seen facing it as a bystander began to speak, she turned and walked over to the group for most of
+his words:
 flow/chat_group_bye seed 2 with the camera raised for her hands, lane addr23); a facing in the last
 report keeps it addressed.
 Looking away alone is not enough (a user speaks while glancing at a shelf), nor is company alone (a
@@ -658,8 +658,8 @@ class Dialog(Module):
         the robot? No when no partner report in that span has her facing it, at least half have her
         turned away (``facing="false"``) and the last one too, with someone else near her (and when she
         faced it, the same of the reports after her last facing, if they are at least half of the span's
-        and the words neither name the robot nor show it something (``shows``): what she does after
-        outweighs the older facing); and no when
+        and the words do not name the robot: what she does after outweighs the older facing; a deictic
+        ``shows`` does not keep them, as in the group test without a facing); and no when
         every report has her turned aside (the attention's ``away``: she walked off and has not faced
         the robot or come back since, at least ``ASIDE_DISTANCE`` from it) and she does not call it by
         its name (``named``, the speech module's ``named="true"``) nor says again what got no answer
@@ -682,7 +682,7 @@ class Dialog(Module):
             # to someone near her (chat_group_bye seed 2 with the camera raised for her hands: Olga seen facing
             # the robot for 0.4 s as Rosa began "how was your holiday", then 1.4 s walking over to the group)
             after = during[faced[-1] + 1:]
-            return named or shows or 2 * len(after) < len(during) or not _turned_to_others(after)
+            return named or 2 * len(after) < len(during) or not _turned_to_others(after)
         if self._voice_elsewhere(start, end):
             # the microphones heard the words, and hardly any of it from where she stands (distractor
             # seed 0 on obj12: Tom's "I need to find my keys" 13 degrees off Anna, her face not seen,
