@@ -889,11 +889,6 @@ class Dialog(Module):
             if math.isfinite(end):
                 self._other_talk_end = max(self._other_talk_end, end)  # a talk with someone else goes on
             return
-        if x.tag == "not_understood" and x.get("overlaps") == "true":
-            # half-heard words over another voice whose words the robot understood or is still recognising: most
-            # often someone's chat over her request (tour 9100-07). The other is answered; no "say that again" first
-            self.not_addressed += 1
-            return
         if self._chat_before_greeting(x):
             # nobody has greeted the robot: half-heard words that neither greet nor call it are people
             # talking among themselves (tour-1000-014: after the good-bye, two visitors chatting face to

@@ -7,9 +7,8 @@ and its ``self="true"`` utterances are skipped).
 Output: ``/robot/speech/frames`` (``robot/schemas/speech-frames.xsd``):
 ``<understood start end confidence [unknown ignored corrected partial answer fragment named opens after]><SPEECH><TIMESTAMP val/>..</SPEECH><words>..</words></understood>``
 (``TIMESTAMP``: the utterance's start in virtual milliseconds, as the papers' frames carry it)
-or ``<not_understood start end confidence [unknown] reason [named] [call] [addressee] [overlaps]>words</not_understood>``
-(``call="true"``: the robot's name and at most one word more, :func:`only_calls_robot`; ``overlaps="true"``:
-another voice spoke at the same time and its words are understood or still being recognised, :meth:`Understanding._overlaps`).
+or ``<not_understood start end confidence [unknown] reason [named] [call] [addressee]>words</not_understood>``
+(``call="true"``: the robot's name and at most one word more, :func:`only_calls_robot`).
 A greeting that opens a request ("hello BIRON, follow me") is two frames: the greeting
 (``opens="true"``), then the request (``after="greeting"``), which the dialog handles once the
 greeting has been taken.
@@ -206,8 +205,6 @@ class SpeechUnderstanding(Module):
                           "tolerance_db": echo_tolerance_db}
         self._busy_until = 0.0
         self._robot_speech: deque[RobotSentence] = deque(maxlen=8)
-        # utterances heard: (start, end, message id, understood: None while still being recognised), the last few only
-        self._heard: deque[list[Any]] = deque(maxlen=16)
         self.counts = {"utterances": 0, "understood": 0, "not_understood": 0, "own_voice": 0}
         if typed and sim.bus.channel_schema(FRAMES) is None:
             sim.bus.declare_channel(FRAMES, FRAMES_XSD)
@@ -264,17 +261,7 @@ class SpeechUnderstanding(Module):
         now = self.now
         ready = max(now, end + self.recognition_time(n_words), self._busy_until) + self.understanding_cost
         self._busy_until = ready
-        self._heard.append([start, end, msg.id, None])
         self.sim.loop.call_at_ns(to_ns(ready), self._publish, msg.id, words, start, end, confidence)
-
-    def _overlaps(self, cause: str, start: float, end: float) -> bool:
-        """Did another voice speak during [``start``, ``end``] whose words are understood, or still being recognised?
-        Two people talking at once give two utterances (the microphones tell them apart by direction); the one not
-        understood is then most often the other's chat over her request (tour 9100-07: a bystander's "This new robot
-        is funny" over "What other things are you able to do"; the robot said "Sorry, I did not understand you" first
-        and answered her 5 s later, after an impatient user had given up). No "say that again" for it: the other is
-        answered. Of two not understood, the one published later is not marked, so the robot asks once."""
-        return any(h[2] != cause and h[3] is not False and h[0] < end and h[1] > start for h in self._heard)
 
     def _publish(self, cause: str, words: str, start: float, end: float, confidence: float) -> None:
         if self.bus.closed or self.bus.hung:
@@ -288,11 +275,6 @@ class SpeechUnderstanding(Module):
             rest = None
         call = named and u.frame is None and only_calls_robot(words, self.understander.lexicon)
         greeting = frame_message(u, start, end, confidence, named, call)
-        if u.frame is None and not call and self._overlaps(cause, start, end):
-            greeting.set("overlaps", "true")
-        for h in self._heard:
-            if h[2] == cause:
-                h[3] = u.frame is not None
         if rest is not None:
             greeting.set("opens", "true")
         self.bus.publish(FRAMES, greeting, causes=(cause,), transfer=True)
