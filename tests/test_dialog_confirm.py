@@ -502,3 +502,17 @@ def test_a_confirmation_keeps_the_time_of_the_request_its_gesture_went_with(dm, 
     (s,) = sends(out)
     assert s.event == "object_teaching"
     assert s.children[0][0].tag == "TIMESTAMP" and s.children[0][0].get("val") == "20500"
+
+
+@pytest.mark.parametrize("request_, answer", [("this is your red cup", "no that cup"),
+                                              ("this is your red cup", "no this cup"),
+                                              ("this is my red cup", "no that cup")])
+def test_a_correction_that_points_anew_keeps_its_own_time(dm, request_, answer):
+    """"Is this your red cup?" - "No, that cup" (pointing at the other one): the correction points again, so
+    the event carries the correction's time and the object attention looks at that gesture, not at the
+    first one made at the wrong cup (review23 N2; issue 26 item 5: "this one" with pointing)."""
+    out = dm.on_frame(heard(request_, LOW, start=20.5))
+    assert says(out) and says(out)[0].startswith("Is this")
+    (s,) = sends(dm.on_frame(heard(answer, start=29.8)))
+    assert s.event == "object_teaching"
+    assert s.children[0][0].tag == "TIMESTAMP" and s.children[0][0].get("val") == "29800"

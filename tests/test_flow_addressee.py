@@ -120,8 +120,20 @@ def test_what_she_does_after_facing_the_robot_outweighs_the_older_facing(first, 
         assert not only_away.addressed(10.0, 10.0 + 0.1 * (after - 1))
         # ... but calling the robot by its name is meant for it, and so is turning back to face it at the end
         assert d.addressed(10.0, end, named=True)
+        # ... and so is a request to follow her, said as she turns to lead the way past the people by her
+        assert d.addressed(10.0, end, leads=True)
         back = _dialog(state, _at([*cues, ("true", company)]))
         assert back.addressed(10.0, 10.0 + 0.1 * len(cues))
+
+
+def test_follow_me_said_facing_the_robot_then_turning_to_lead_past_a_friend_is_a_request():
+    # review23 N1: "please follow me into the kitchen", facing the robot for 0.8 s, then walking to the door past
+    # her friend (walking away: facing "false"; the friend within the group radius: company 1) for the rest
+    cues = [("true", 1)] * 8 + [("false", 1)] * 10
+    d = _dialog("Interacting", _at(cues))
+    assert d.addressed(10.0, 10.0 + 0.1 * (len(cues) - 1), leads=True)
+    # the same turn with words that are no request to follow her: the group's chat, as chat_group_bye seed 2
+    assert not d.addressed(10.0, 10.0 + 0.1 * (len(cues) - 1))
 
 
 def test_a_glance_at_the_robot_as_the_group_chat_begins_does_not_make_it_a_request():

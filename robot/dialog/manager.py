@@ -687,8 +687,10 @@ class DialogManager:
         unowned = same and _owner_left_out(old, new, act_el)
         if unowned and said == "no":
             # "Is this your kettle?" - "no, the kettle": the thing is right, whose it is was not (a guess
-            # from a lost word, robot/speech/grammar.py _determiner_lost): the same thing, no owner
-            kept = inst.slots[slot].stamp
+            # from a lost word, robot/speech/grammar.py _determiner_lost): the same thing, no owner. A
+            # correction with a deictic word of its own ("no, that cup") points anew: it keeps its own time,
+            # so the object attention looks at that gesture, not the first one (review23 N2; issue 26 item 5)
+            kept = inst.slots[slot].stamp if act_el.find("GESTURE") is None else None
             self._fill_frame(inst, fills, act_el, conf, stamp, replace=True)
             if kept is not None:
                 inst.slots[slot].stamp = kept

@@ -669,13 +669,14 @@ class Dialog(Module):
         return out
 
     def addressed(self, start: float, end: float, named: bool = False, shows: bool = False,
-                  repeated: bool = False, whole: bool = True) -> bool:
+                  repeated: bool = False, whole: bool = True, leads: bool = False) -> bool:
         """The addressee rule (module docstring): is speech heard from ``start`` to ``end`` meant for
         the robot? No when no partner report in that span has her facing it, at least half have her
         turned away (``facing="false"``) and the last one too, with someone else near her (and when she
         faced it, the same of the reports after her last facing, if they are at least half of the span's
         and the words do not name the robot: what she does after outweighs the older facing; a deictic
-        ``shows`` does not keep them, as in the group test without a facing); and no when
+        ``shows`` does not keep them, as in the group test without a facing; a request to follow her,
+        ``leads``, does: it is said turning to lead the way, past whoever stands there, review23 N1); and no when
         every report has her turned aside (the attention's ``away``: she walked off and has not faced
         the robot or come back since, at least ``ASIDE_DISTANCE`` from it) and she does not call it by
         its name (``named``, the speech module's ``named="true"``) nor says again what got no answer
@@ -697,8 +698,11 @@ class Dialog(Module):
             # outweighs it: for at least half the words she was then seen turned away, and at the end turned
             # to someone near her (chat_group_bye seed 2 with the camera raised for her hands: Olga seen facing
             # the robot for 0.4 s as Rosa began "how was your holiday", then 1.4 s walking over to the group)
+            # A request to follow her is said as she turns to lead the way, past whoever stands by her: the
+            # turn is the request's own (review23 N1: "please follow me into the kitchen" said facing the
+            # robot, then walking to the door past her friend, was dropped as chat)
             after = during[faced[-1] + 1:]
-            return named or 2 * len(after) < len(during) or not _turned_to_others(after)
+            return named or leads or 2 * len(after) < len(during) or not _turned_to_others(after)
         if self._voice_elsewhere(start, end):
             # the microphones heard the words, and hardly any of it from where she stands (distractor
             # seed 0 on obj12: Tom's "I need to find my keys" 13 degrees off Anna, her face not seen,
@@ -942,7 +946,8 @@ class Dialog(Module):
             repeated = last is not None and act == last[0] and 0.0 <= began - last[1] <= REPEAT_WINDOW
             if not self.addressed(began, float(x.get("end", "nan")), named=x.get("named") == "true",
                                   shows=x.tag == "understood" and x.find("SPEECH//GESTURE") is not None,
-                                  repeated=repeated, whole=_whole(x)):
+                                  repeated=repeated, whole=_whole(x),
+                                  leads=x.tag == "understood" and x.find("SPEECH/FOLLOW") is not None):
                 if not self._stop_after_she_stood(x, began):
                     self.not_addressed += 1  # chat among the partner's group: not a request to the robot
                     self._unanswered = (act, began) if math.isfinite(began) else None
