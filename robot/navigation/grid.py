@@ -13,7 +13,9 @@ than that cost a little more, so paths keep to the middle of doorways.
 Paths: Dijkstra (``scipy.sparse.csgraph.dijkstra``, C code, imported at the first plan) on the
 8-connected free cells, with octile step lengths times the clearance cost,
 diagonal moves only when both side cells are free (no corner cutting). The
-cell path is shortened by line-of-sight smoothing on the free cells.
+cell path is shortened by line-of-sight smoothing on the free cells. A grid keeps its latest
+shortest-path trees (one search answers every goal from a start cell) and paths (:data:`TREES`,
+:data:`PATHS`): the same answers as searching afresh, at a bounded cost in memory.
 
 How it fails: :class:`MapError` for a map reply it cannot read (naming what
 is wrong), :class:`NoPathError` when start or goal is not free (after a
