@@ -206,3 +206,78 @@ def test_a_pair_of_legs_becomes_a_body_a_wall_does_not():
     centre = extra.mean(axis=0)
     assert centre[0] == pytest.approx(0.13 + 1.56, abs=0.05) and abs(centre[1]) < 0.1
     assert len(narrow_clusters(np.full(361, 3.0), angles, 8.0)) == 0
+
+
+# ------------------------------------------------------------------ kept plans (fresh23 defect F)
+def _fresh():
+    return OccupancyGrid(parse_map(etree.fromstring(MAP)), radius=0.30)
+
+
+_REFERENCE = []
+
+
+@settings(max_examples=20, deadline=None)
+@given(st.lists(st.tuples(st.floats(0.3, 9.7), st.floats(0.3, 3.7), st.floats(0.3, 9.7), st.floats(0.3, 3.7)),
+                min_size=1, max_size=10),
+       st.sampled_from([(0.6, 1.0), (1.5, 1.0), (8.0, 2.0)]))
+def test_a_grid_that_keeps_its_searches_plans_as_a_fresh_one(questions, start):
+    """Plans (and refusals) from one grid asked many questions, some from one start, some again, are
+    exactly those of a grid asked each question once: keeping searches changes no path."""
+    if not _REFERENCE:
+        _REFERENCE.append(_fresh())
+    ref = _REFERENCE[0]  # asked each question with nothing kept: a whole search every time
+    kept = _fresh()
+    asked = [((sx, sy), (gx, gy)) for sx, sy, gx, gy in questions]
+    asked += [(start, (gx, gy)) for _, _, gx, gy in questions] + asked[:3]
+    for a, b in asked:
+        try:
+            got = kept.plan(a, b)
+        except NoPathError as e:
+            got = ("refused", str(e), e.reason)
+        ref._forget()
+        try:
+            want = ref.plan(a, b)
+        except NoPathError as e:
+            want = ("refused", str(e), e.reason)
+        assert got == want, (a, b)
+
+
+def test_a_grid_keeps_only_a_bounded_number_of_searches_and_paths(grid):
+    """Nothing keeps an unbounded record of a run: a robot wedged for an hour asks the same few
+    questions, a long tour many different ones; the grid keeps only the latest few of either."""
+    from robot.navigation import grid as gridmod
+
+    g = _fresh()
+    for i, x in enumerate(np.linspace(0.6, 5.4, 12)):
+        for goal in ((8.0, 2.0), (8.5, 2.0), (9.0, 2.0), (8.0, 3.0), (8.5, 3.0), (9.0, 3.0)):
+            g.plan((float(x), 3.0 + 0.05 * (i % 3)), goal)
+    assert len(g._trees) <= gridmod.TREES
+    assert len(g._paths) <= gridmod.PATHS
+
+
+def test_a_changed_copy_does_not_answer_with_the_originals_paths():
+    """A copy with a person standing in the door (the replan's local costmap) must not reuse the
+    original's kept search: the door is closed for it, open for the original."""
+    g = _fresh()
+    before = g.plan((1.5, 1.0), (8.2, 1.2))
+    blocked = g.with_obstacles(np.array([(6.0, y) for y in np.linspace(1.4, 2.6, 25)]))
+    with pytest.raises(NoPathError):
+        blocked.plan((1.5, 1.0), (8.2, 1.2))
+    costly = g.with_cost([(6.0, 2.0)], radius=0.6, cost=50.0)
+    assert costly.plan((1.5, 1.0), (8.2, 1.2)) == _fresh().with_cost([(6.0, 2.0)], radius=0.6, cost=50.0).plan((1.5, 1.0), (8.2, 1.2))
+    assert g.plan((1.5, 1.0), (8.2, 1.2)) == before
+
+
+def test_a_kept_path_is_the_callers_own_to_change():
+    g = _fresh()
+    p = g.plan((1.5, 1.0), (8.2, 1.2))
+    p.pop()
+    p.append((0.0, 0.0))
+    assert g.plan((1.5, 1.0), (8.2, 1.2))[-1] == (8.2, 1.2)
+    start = np.array([1.55, 1.0])
+    q = g.plan(start, (8.2, 1.2))
+    q[0][0] = 99.0  # the caller's array, or a copy of it: never the grid's kept one
+    again = g.plan((1.55, 1.0), (8.2, 1.2))
+    assert float(again[0][0]) == 1.55
+    again[0][0] = 98.0
+    assert float(g.plan((1.55, 1.0), (8.2, 1.2))[0][0]) == 1.55

@@ -13,7 +13,9 @@ than that cost a little more, so paths keep to the middle of doorways.
 Paths: Dijkstra (``scipy.sparse.csgraph.dijkstra``, C code, imported at the first plan) on the
 8-connected free cells, with octile step lengths times the clearance cost,
 diagonal moves only when both side cells are free (no corner cutting). The
-cell path is shortened by line-of-sight smoothing on the free cells.
+cell path is shortened by line-of-sight smoothing on the free cells. A grid keeps its latest
+shortest-path trees (one search answers every goal from a start cell) and paths (:data:`TREES`,
+:data:`PATHS`): the same answers as searching afresh, at a bounded cost in memory.
 
 How it fails: :class:`MapError` for a map reply it cannot read (naming what
 is wrong), :class:`NoPathError` when start or goal is not free (after a
@@ -25,6 +27,7 @@ from __future__ import annotations
 
 import copy
 import math
+from collections import OrderedDict
 from dataclasses import dataclass
 from typing import Any
 
@@ -42,6 +45,13 @@ Point = tuple[float, float]
 CELL = 0.05
 #: Extra cost weight for cells within ``soft`` metres of the inflated obstacles.
 SOFT_WEIGHT = 2.0
+#: Shortest-path trees kept per grid (one per start cell, the latest): a search for a place to give
+#: way plans from where the robot stands to up to 16 candidate spots, and again every second while
+#: it stands wedged (fresh11 twin_long_tour_elderly: 20 whole-grid Dijkstras a second). Each holds
+#: two arrays of the grid's size (about 1.5 MB for a 20 x 15 m flat).
+TREES = 2
+#: Smoothed paths kept per grid (the latest; a path is a few points).
+PATHS = 64
 
 
 class MapError(HomesimError):
@@ -140,6 +150,14 @@ class OccupancyGrid:
         extra = np.clip((radius + self.soft - self.clearance) / self.soft, 0.0, 1.0)
         self.cost = 1.0 + SOFT_WEIGHT * extra
         self._graph: Any = None  # scipy.sparse.csr_matrix, built at the first plan
+        self._forget()
+
+    def _forget(self) -> None:
+        """Drop the kept shortest-path trees and paths (the grid's cells or costs changed; a copy's own)."""
+        #: start cell index -> (dist, pred) of the single-source Dijkstra from it (the latest TREES)
+        self._trees: OrderedDict[int, tuple[np.ndarray, np.ndarray]] = OrderedDict()
+        #: (start, goal) -> the smoothed path or the NoPathError's (message, reason) (the latest PATHS)
+        self._paths: OrderedDict[tuple[float, float, float, float], tuple[Point, ...] | tuple[str, str]] = OrderedDict()
 
     def with_obstacles(self, points: np.ndarray) -> OccupancyGrid:
         """A copy in which the cells holding ``points`` ((N, 2), map frame) are occupied too.
@@ -174,6 +192,7 @@ class OccupancyGrid:
             extra[near] = cost
         new.cost = self.cost + extra
         new._graph = None
+        new._forget()
         return new
 
     # ------------------------------------------------------------- cells
@@ -240,19 +259,57 @@ class OccupancyGrid:
 
         Raises :class:`NoPathError` (reason ``start_blocked``, ``goal_blocked`` or
         ``no_path``).
+
+        A plan is a pure function of the grid and its two points: the last :data:`PATHS` answers
+        are kept, and the last :data:`TREES` shortest-path trees (a tree answers every goal from its
+        start cell), so candidate spots planned from one place, and the same question asked again
+        while the robot stands, cost one search. The same paths as searching afresh every time.
         """
+        key = (float(start[0]), float(start[1]), float(goal[0]), float(goal[1]))
+        got = self._paths.get(key)
+        if got is not None:
+            self._paths.move_to_end(key)
+            if len(got) == 2 and isinstance(got[0], str):
+                raise NoPathError(got[0], got[1])  # type: ignore[arg-type]
+            return [_own(p) for p in got]  # type: ignore[union-attr]
+        try:
+            path = self._plan(start, goal)
+        except NoPathError as e:
+            self._keep(key, (str(e), e.reason))
+            raise
+        self._keep(key, tuple(_own(p) for p in path))
+        return path
+
+    def _keep(self, key: tuple[float, float, float, float], answer: tuple[Point, ...] | tuple[str, str]) -> None:
+        self._paths[key] = answer
+        if len(self._paths) > PATHS:
+            self._paths.popitem(last=False)
+
+    def _tree(self, si: int) -> tuple[np.ndarray, np.ndarray]:
+        """The shortest-path tree (distances, predecessors) from cell index ``si`` (kept: :data:`TREES`)."""
+        got = self._trees.get(si)
+        if got is not None:
+            self._trees.move_to_end(si)
+            return got
+        if self._graph is None:
+            self._graph = self._build_graph()
+        from scipy.sparse.csgraph import dijkstra
+
+        dist, pred = dijkstra(self._graph, directed=False, indices=si, return_predecessors=True)
+        self._trees[si] = (dist, pred)
+        if len(self._trees) > TREES:
+            self._trees.popitem(last=False)
+        return dist, pred
+
+    def _plan(self, start: Point, goal: Point) -> list[Point]:
         s = self.cell_of(start) if self.is_free(start) else self.nearest_free(start)
         if s is None:
             raise NoPathError(f"the robot's position ({start[0]:.2f}, {start[1]:.2f}) is not free on the map", "start_blocked")
         g = self.cell_of(goal) if self.is_free(goal) else self.nearest_free(goal)
         if g is None:
             raise NoPathError(f"the goal ({goal[0]:.2f}, {goal[1]:.2f}) is not reachable by the robot's body", "goal_blocked")
-        if self._graph is None:
-            self._graph = self._build_graph()
         si, gi = s[0] * self.ny + s[1], g[0] * self.ny + g[1]
-        from scipy.sparse.csgraph import dijkstra
-
-        dist, pred = dijkstra(self._graph, directed=False, indices=si, return_predecessors=True)
+        dist, pred = self._tree(si)
         if not np.isfinite(dist[gi]):
             raise NoPathError(f"no free path from ({start[0]:.2f}, {start[1]:.2f}) to ({goal[0]:.2f}, {goal[1]:.2f})", "no_path")
         cells = [gi]
@@ -291,6 +348,12 @@ class OccupancyGrid:
             out.append(pts[j])
             i = j
         return out
+
+
+def _own(p: Any) -> Any:
+    """A point as kept or handed out by :meth:`OccupancyGrid.plan`: a tuple as it is, anything else (the
+    caller's start, an array) copied, so neither side's later changes reach the other."""
+    return p if type(p) is tuple else copy.copy(p)
 
 
 def without_end_corner(points: list[Point], grid: OccupancyGrid, near: float) -> list[Point]:
