@@ -285,6 +285,11 @@ class Understander:
             # teach: fresh7 split_goto_ramp_child, "Is this the living room?" to the go-to after it); the whole
             # request said after it is what she asks
             return after
+        after = self._come_and_see(words, Lexicon.words(words))
+        if after is not None:
+            # "and now come and see the gallery", "come and have a look at my study": she invites the robot to
+            # come with her to what she will show there (a follow with where to; talk23: not understood at all)
+            return after
         after = self._follow_after_destination(words, Lexicon.words(words))
         if after is not None:
             # "now the study, follow me please", "and now the last room, follow me": where they go next, named
@@ -517,6 +522,12 @@ class Understander:
             # "that's it for today, goodbye": whatever else was in a closing turn, it closes
             tree, ignored, partial = self._parse([t for t in toks if t.type == "GOODBYE"])
             ignored = [t.text for t in toks if t.type != "GOODBYE"]
+        opening = [t for t in lex.tokens if t.type != EDIT]
+        if tree is not None and tree_act(tree) == "goodbye" and not res.answer and len(opening) > 1 \
+                and opening[0].type in ("YES", "OKAY") and opening[-1].type == "GOODBYE":
+            # "okay, off you go", "alright, bye then": the yes-word before the send-off is said too (the dialog
+            # takes it as her yes to an open "Shall I go to ...?", not as the end of the tour; talk23)
+            res.answer = "yes"
         if (tree is None and _room_unnamed(toks)) or (_where_we_are(toks) and (
                 tree is None or (tree_act(tree) in _STATEMENT_ACTS and build(tree)[0].tag == "OBJECT"
                                  and build(tree)[0].get("type") is None))):
@@ -1035,6 +1046,36 @@ class Understander:
         if not any(tuple(plain[start:start + len(lead)]) == lead for lead in _SUGGESTION_LEADS):
             return None
         return self._whole_follow_in_tail(words, plain, range(start + 3, len(plain)))
+
+    def _come_and_see(self, words: str, said: list[str]) -> Understanding | None:
+        """A follow said as an invitation to come and see something ("come and see the gallery", "come have a
+        look at my study", "now come and see where I sleep"), or None (talk23).
+
+        After openers and hesitations the turn opens with :data:`_COME_AND_SEE` and goes on with a short noun
+        phrase (a determiner, then at most four words, none a verb or copula of :data:`_NOT_A_NOUN_PHRASE`) or
+        "where" and a short clause: where she goes, what she will show there. The frame is the follow
+        (``<FOLLOW/>``, as "follow me to the kitchen"); the words after the lead count as set aside."""
+        plain = [w for w in said if w not in _SOUNDS and w not in self.lexicon.hesitations]
+        start = next((i for i, w in enumerate(plain) if w not in _SUGGESTION_BEFORE), len(plain))
+        lead = next((n for n in _COME_AND_SEE if tuple(plain[start:start + len(n)]) == n), None)
+        if lead is None:
+            return None
+        rest = plain[start + len(lead):]
+        while rest and rest[-1] in ("please", "biron", "robot", "now", "then"):
+            rest = rest[:-1]
+        if not 2 <= len(rest) <= 5:
+            return None
+        if rest[0] in _DESTINATION_DETERMINERS or rest[0] in ("your", "his", "her", "their"):
+            if any(w in _NOT_A_NOUN_PHRASE for w in rest[1:]):
+                return None
+        elif rest[0] != "where":
+            return None
+        out = self.understand("follow me")
+        if out.act != "FOLLOW":
+            return None
+        out.words = words
+        out.corrected = [*plain[:start], *rest]
+        return out
 
     def _follow_after_destination(self, words: str, said: list[str]) -> Understanding | None:
         """The whole follow request said after a noun phrase alone that names where they go next ("now the
@@ -1591,6 +1632,9 @@ _SUGGESTION_LEADS = (("shall", "we"), ("should", "we"), ("shall", "i"), ("how", 
                      ("we're", "going"), ("we", "need", "to", "go"))
 #: Words that may open a turn before the suggestion ("so, shall we ...", "okay then, shall we ...").
 _DESTINATION_DETERMINERS = frozenset({"the", "my", "our"})
+#: The invitation that opens a follow "come and see ..." (talk23): come, then a verb of seeing.
+_COME_AND_SEE = (("come", "and", "have", "a", "look", "at"), ("come", "have", "a", "look", "at"), ("come", "and", "look", "at"),
+                 ("come", "look", "at"), ("come", "and", "see"), ("come", "see"), ("come", "and", "meet"), ("come", "meet"))
 # words that make the lead before a follow more than a noun phrase naming where (a clause: left to the other rules)
 _NOT_A_NOUN_PHRASE = frozenset({"is", "are", "was", "were", "be", "'s", "s", "this", "that", "here", "there", "where", "not",
                                 "don't", "dont", "do", "does", "has", "have", "had", "can", "will", "go", "come", "stop", "wait", "follow", "look",

@@ -1,0 +1,58 @@
+"""talk23: everyday answers the outside checker (fresh11) found misread.
+
+1. A yes with a send-off or a closing word ("yes, off you go", "okay, bye then") to a question whether to act
+   ("Shall I go to the kitchen?", "Shall I follow you?") confirms that act; it never ends the tour. On integ the
+   good-bye after the yes was carried out too: "OK, I am going to the lounge." then at once "Good-bye!".
+Phrasings are our own (fresh11's kinds; never the checker's sentences)."""
+
+from __future__ import annotations
+
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from robot.dialog.loader import load
+from robot.dialog.manager import DialogManager, Say, Send
+from robot.speech.module import frame_message
+from tests.test_speech_review_lang7 import understood
+
+
+def heard(state: str, *turns: tuple[str, float]) -> list[list[object]]:
+    dm = DialogManager(load())
+    dm.es_state = state
+    out, t = [], 1.0
+    for words, confidence in turns:
+        out.append(dm.on_frame(frame_message(understood(words), t, t + 1.0, confidence)))
+        t += 3.0
+    return out
+
+
+def acts(steps: list[list[object]]) -> list[list[str]]:
+    return [[o.text if isinstance(o, Say) else o.event for o in step if isinstance(o, (Say, Send))] for step in steps]
+
+
+YES = ["yes", "okay", "sure", "yeah", "alright", "yes please"]
+SEND_OFF = ["off you go", "bye", "goodbye", "bye then", "off you go then", "bye bye"]
+ASKED = {"go to the kitchen": "goto", "drive to the bedroom": "goto", "follow me": "follow", "come with me": "follow"}
+
+
+@settings(max_examples=40, deadline=None)
+@given(request=st.sampled_from(sorted(ASKED)), yes=st.sampled_from(YES), off=st.sampled_from(SEND_OFF))
+def test_a_yes_with_a_send_off_confirms_the_asked_act_and_never_ends_the_tour(request, yes, off):
+    steps = acts(heard("Interacting", (request, 0.2), (f"{yes}, {off}", 0.9)))
+    assert steps[0] and steps[0][0].startswith("Shall I"), steps
+    assert ASKED[request] in steps[1], steps
+    assert "goodbye" not in steps[1], steps
+
+
+@pytest.mark.parametrize("answer", ["yes, off you go", "okay, bye then"])
+def test_a_yes_with_a_send_off_to_the_good_bye_question_still_ends_the_tour(answer):
+    steps = acts(heard("Interacting", ("that will be all for the cup", 0.9), (answer, 0.9)))
+    assert steps[0] == ["Do you want to end the tour?"]
+    assert steps[1] == ["goodbye"]
+
+
+def test_a_good_bye_alone_after_a_go_to_question_is_still_asked_about():
+    """Only a yes with it makes a send-off an answer: "bye" alone to "Shall I go to the kitchen?" is her good-bye."""
+    steps = acts(heard("Interacting", ("go to the kitchen", 0.2), ("goodbye", 0.9)))
+    assert "goto" not in steps[1]
