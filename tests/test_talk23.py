@@ -56,3 +56,48 @@ def test_a_good_bye_alone_after_a_go_to_question_is_still_asked_about():
     """Only a yes with it makes a send-off an answer: "bye" alone to "Shall I go to the kitchen?" is her good-bye."""
     steps = acts(heard("Interacting", ("go to the kitchen", 0.2), ("goodbye", 0.9)))
     assert "goto" not in steps[1]
+
+
+# 3. Language (own phrasings of fresh11's kinds)
+def _frame(words: str):
+    return understood(words)
+
+
+@pytest.mark.parametrize("words", ["and now come and see the pantry", "come and have a look at my garden please",
+                                   "so come and see where I work", "now come see our balcony"])
+def test_come_and_see_something_is_a_whole_follow(words):
+    u = _frame(words)
+    assert u.act == "FOLLOW" and not u.partial
+
+
+@pytest.mark.parametrize(("words", "thing"), [("and the red scarf, where it is now", "scarf"),
+                                              ("my wallet, where is it", "wallet"),
+                                              ("our umbrellas, where are they please", "umbrella")])
+def test_a_thing_named_then_asked_where_is_a_where_question_not_a_teaching(words, thing):
+    u = _frame(words)
+    assert u.act == "WHERE" and not u.partial
+    assert thing in (u.frame.find("WHERE/OBJECT/TITLE").get("name") or "")
+
+
+@pytest.mark.parametrize("words", ["this stool is my favourite", "that blue vase is my favourite vase",
+                                   "that mug there is my favourite one"])
+def test_is_my_favourite_keeps_her_as_owner(words):
+    u = _frame(words)
+    assert u.act == "OBJECT"
+    assert u.frame.find("OBJECT/OWNER").get("name") == "speaker"
+
+
+@pytest.mark.parametrize(("words", "owner"), [("the lamp is my mother's", "mother"), ("this cup is my brother's", "brother")])
+def test_is_my_someones_stays_someone_elses(words, owner):
+    assert _frame(words).frame.find("OBJECT/OWNER").get("name") == owner
+
+
+@pytest.mark.parametrize("words", ["hello robot, let's get going then", "hi biron, let's start",
+                                   "hello, I am Ruth, welcome to our house", "hi biron, welcome to my flat"])
+def test_a_greeting_with_a_start_or_a_welcome_is_a_whole_greeting(words):
+    u = _frame(words)
+    assert u.act == "GREETING" and not u.partial
+
+
+def test_a_welcome_back_keeps_the_robots_name():
+    assert _frame("hello there welcome back biron").frame.find("GREETING").get("name") == "biron"
