@@ -101,3 +101,38 @@ def test_a_greeting_with_a_start_or_a_welcome_is_a_whole_greeting(words):
 
 def test_a_welcome_back_keeps_the_robots_name():
     assert _frame("hello there welcome back biron").frame.find("GREETING").get("name") == "biron"
+
+
+# 2. Three or more like objects: the question names the middle one, and the answers that pick it are understood
+from robot.dialog.module import choose  # noqa: E402
+from robot.objects.resolve import Wanted, option_texts  # noqa: E402
+from tests.test_object_attention import _cand  # noqa: E402
+
+
+def _three_books_options() -> list[tuple[int, str]]:
+    # three blue books in a row on a sideboard, seen from the robot at (1, 2.5) facing +x; listed out of order
+    right, left, middle = _cand(3.0, 1.9, "blue"), _cand(3.0, 3.1, "blue"), _cand(3.0, 2.5, "blue")
+    texts = option_texts([right, left, middle], Wanted(type="book"), (1.0, 2.5, 0.0))
+    return list(enumerate(texts))
+
+
+def test_the_question_about_three_like_things_names_the_middle_one():
+    texts = [t for _, t in _three_books_options()]
+    assert sum("on the left" in t for t in texts) == sum("on the right" in t for t in texts) == 1
+    assert "in the middle" in texts[2]
+
+
+@pytest.mark.parametrize(("answer", "picked"), [
+    ("the one in the middle", 2), ("the middle one please", 2), ("the one in between", 2), ("the centre one", 2),
+    ("the book in between", 2), ("the one between the other two", 2),
+    ("the second from the left", 2), ("the second from the right", 2), ("the first from the left", 1),
+    ("the third from the left", 0), ("the one on the right", 0), ("the left one", 1),
+])
+def test_an_answer_by_the_middle_or_by_its_place_in_the_row_picks_that_one(answer, picked):
+    assert choose(_three_books_options(), understood(answer).frame[0]) == picked
+
+
+def test_the_second_of_two_from_the_left_is_the_right_one():
+    two = [(0, "the cup on the right"), (1, "the one on the left")]
+    assert choose(two, understood("the second from the left").frame[0]) == 0
+    assert choose(two, understood("the one in the middle").frame[0]) is None  # no middle of two: not guessed
