@@ -45,6 +45,14 @@ def test_a_yes_with_a_send_off_confirms_the_asked_act_and_never_ends_the_tour(re
     assert "goodbye" not in steps[1], steps
 
 
+@pytest.mark.parametrize(("teaching", "event"), [("this is the bathroom", "place_teaching"), ("this is my mug", "object_teaching")])
+@pytest.mark.parametrize("answer", ["yes, off you go", "okay, bye then", "yeah, goodbye"])
+def test_a_yes_with_a_send_off_to_a_teachings_question_confirms_it_and_never_ends_the_tour(teaching, event, answer):
+    steps = acts(heard("Interacting", (teaching, 0.2), (answer, 0.9)))
+    assert steps[0] and steps[0][0].startswith("Is this"), steps
+    assert event in steps[1] and "goodbye" not in steps[1], steps
+
+
 @pytest.mark.parametrize("answer", ["yes, off you go", "okay, bye then"])
 def test_a_yes_with_a_send_off_to_the_good_bye_question_still_ends_the_tour(answer):
     steps = acts(heard("Interacting", ("that will be all for the cup", 0.9), (answer, 0.9)))
