@@ -534,8 +534,10 @@ class Understander:
             tree, ignored, partial = self._parse([t for t in toks if t.type == "GOODBYE"])
             ignored = [t.text for t in toks if t.type != "GOODBYE"]
         opening = [t for t in lex.tokens if t.type != EDIT]
-        if tree is not None and tree_act(tree) == "goodbye" and not res.answer and len(opening) > 1 \
-                and opening[0].type in ("YES", "OKAY") and opening[-1].type == "GOODBYE":
+        lead = next((k for k, t in enumerate(opening) if t.type not in ("YES", "OKAY")), len(opening))
+        if tree is not None and tree_act(tree) == "goodbye" and not res.answer and 0 < lead < len(opening) \
+                and all(t.type == "GOODBYE" for t in opening[lead:]):
+            # only yes-words, then only the send-off ("okay that was the tour, goodbye" stays her good-bye)
             # "okay, off you go", "alright, bye then": the yes-word before the send-off is said too (the dialog
             # takes it as her yes to an open "Shall I go to ...?", not as the end of the tour; talk23)
             res.answer = "yes"
