@@ -410,6 +410,12 @@ class DialogManager:
             top.slots[top.pending[1]].status = "true" if said == "yes" else "false"
             top.pending = None
             self._something_done()
+            if said == "yes" and act == "GOODBYE" and act not in top.d.trigger:
+                # "yes, off you go" / "okay, bye then" to "Shall I go to the lounge?" (or to "Is this your cup?"):
+                # the send-off or closing word is how she says yes, never a good-bye of its own (fresh11: the go-to
+                # was begun and the tour ended at once). To "Do you want to end the tour?" the yes ends it anyway.
+                self._step(top, out)
+                return out
             # as above: the rest of this turn goes on to the dialog below (it may answer its open
             # question: "Is this the kitchen?" - "follow me" - "no, the kitchen"), so that dialog does
             # not resume with its question first (it was asked, then asked again by the rest)

@@ -437,6 +437,10 @@ def choose(options: list[tuple[int, str]], answer: Any, facing: str = "unknown")
         if described and not any(words in text for _, text in options for words in DEPTH_RANKS):
             return _by_words(options, described)
         return _by_depth(options, side in ("near", "front"), answer.get("view"))
+    if side in ("left", "right") and (answer.get("index") or "").isdigit():
+        # "the second from the left" (talk23): counted along the options' sides, left to right (three like books:
+        # "on the left", "in the middle", "on the right"); before, taken as "the one on the left"
+        return _by_side_rank(options, robot_side(side, answer.get("view"), facing), int(str(answer.get("index"))))
     if side is not None:  # "the left one": the option the object attention worded by its side
         side = robot_side(side, answer.get("view"), facing)
         words = "in the middle" if side == "middle" else f"on the {side}"
@@ -459,6 +463,25 @@ def choose(options: list[tuple[int, str]], answer: Any, facing: str = "unknown")
     if answer.get("type"):
         words.add(answer.get("type", "").replace("_", " "))
     return _by_words(options, words)
+
+
+#: The side words of options from left to right (robot.objects.resolve.option_texts).
+SIDE_RANKS = ("on the left", "in the middle", "on the right")
+
+
+def _by_side_rank(options: list[tuple[int, str]], side: str, n: int) -> int | None:
+    """The ``n``-th option counted from ``side`` ("left"/"right") when each option is worded by one side word
+    (:data:`SIDE_RANKS`) and no two alike; None otherwise or when there is no ``n``-th."""
+    ranks = []
+    for idx, text in options:
+        hit = [r for r, words in enumerate(SIDE_RANKS) if words in text]
+        if len(hit) != 1:
+            return None
+        ranks.append((hit[0], idx))
+    if len({r for r, _ in ranks}) != len(ranks):
+        return None
+    order = [idx for _, idx in sorted(ranks, reverse=side == "right")]
+    return order[n - 1] if 1 <= n <= len(order) else None
 
 
 def _by_words(options: list[tuple[int, str]], words: set[str]) -> int | None:

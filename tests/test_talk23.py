@@ -1,0 +1,146 @@
+"""talk23: everyday answers the outside checker (fresh11) found misread.
+
+1. A yes with a send-off or a closing word ("yes, off you go", "okay, bye then") to a question whether to act
+   ("Shall I go to the kitchen?", "Shall I follow you?") confirms that act; it never ends the tour. On integ the
+   good-bye after the yes was carried out too: "OK, I am going to the lounge." then at once "Good-bye!".
+Phrasings are our own (fresh11's kinds; never the checker's sentences)."""
+
+from __future__ import annotations
+
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from robot.dialog.loader import load
+from robot.dialog.manager import DialogManager, Say, Send
+from robot.speech.module import frame_message
+from tests.test_speech_review_lang7 import understood
+
+
+def heard(state: str, *turns: tuple[str, float]) -> list[list[object]]:
+    dm = DialogManager(load())
+    dm.es_state = state
+    out, t = [], 1.0
+    for words, confidence in turns:
+        out.append(dm.on_frame(frame_message(understood(words), t, t + 1.0, confidence)))
+        t += 3.0
+    return out
+
+
+def acts(steps: list[list[object]]) -> list[list[str]]:
+    return [[o.text if isinstance(o, Say) else o.event for o in step if isinstance(o, (Say, Send))] for step in steps]
+
+
+YES = ["yes", "okay", "sure", "yeah", "alright", "yes please"]
+SEND_OFF = ["off you go", "bye", "goodbye", "bye then", "off you go then", "bye bye"]
+ASKED = {"go to the kitchen": "goto", "drive to the bedroom": "goto", "follow me": "follow", "come with me": "follow"}
+
+
+@settings(max_examples=40, deadline=None)
+@given(request=st.sampled_from(sorted(ASKED)), yes=st.sampled_from(YES), off=st.sampled_from(SEND_OFF))
+def test_a_yes_with_a_send_off_confirms_the_asked_act_and_never_ends_the_tour(request, yes, off):
+    steps = acts(heard("Interacting", (request, 0.2), (f"{yes}, {off}", 0.9)))
+    assert steps[0] and steps[0][0].startswith("Shall I"), steps
+    assert ASKED[request] in steps[1], steps
+    assert "goodbye" not in steps[1], steps
+
+
+@pytest.mark.parametrize(("teaching", "event"), [("this is the bathroom", "place_teaching"), ("this is my mug", "object_teaching")])
+@pytest.mark.parametrize("answer", ["yes, off you go", "okay, bye then", "yeah, goodbye"])
+def test_a_yes_with_a_send_off_to_a_teachings_question_confirms_it_and_never_ends_the_tour(teaching, event, answer):
+    steps = acts(heard("Interacting", (teaching, 0.2), (answer, 0.9)))
+    assert steps[0] and steps[0][0].startswith("Is this"), steps
+    assert event in steps[1] and "goodbye" not in steps[1], steps
+
+
+@pytest.mark.parametrize("answer", ["yes, off you go", "okay, bye then"])
+def test_a_yes_with_a_send_off_to_the_good_bye_question_still_ends_the_tour(answer):
+    steps = acts(heard("Interacting", ("that will be all for the cup", 0.9), (answer, 0.9)))
+    assert steps[0] == ["Do you want to end the tour?"]
+    assert steps[1] == ["goodbye"]
+
+
+def test_a_good_bye_alone_after_a_go_to_question_is_still_asked_about():
+    """Only a yes with it makes a send-off an answer: "bye" alone to "Shall I go to the kitchen?" is her good-bye."""
+    steps = acts(heard("Interacting", ("go to the kitchen", 0.2), ("goodbye", 0.9)))
+    assert "goto" not in steps[1]
+
+
+# 3. Language (own phrasings of fresh11's kinds)
+def _frame(words: str):
+    return understood(words)
+
+
+@pytest.mark.parametrize("words", ["and now come and see the pantry", "come and have a look at my garden please",
+                                   "so come and see where I work", "now come see our balcony"])
+def test_come_and_see_something_is_a_whole_follow(words):
+    u = _frame(words)
+    assert u.act == "FOLLOW" and not u.partial
+
+
+@pytest.mark.parametrize(("words", "thing"), [("and the red scarf, where it is now", "scarf"),
+                                              ("my wallet, where is it", "wallet"),
+                                              ("our umbrellas, where are they please", "umbrella")])
+def test_a_thing_named_then_asked_where_is_a_where_question_not_a_teaching(words, thing):
+    u = _frame(words)
+    assert u.act == "WHERE" and not u.partial
+    assert thing in (u.frame.find("WHERE/OBJECT/TITLE").get("name") or "")
+
+
+@pytest.mark.parametrize("words", ["this stool is my favourite", "that blue vase is my favourite vase",
+                                   "that mug there is my favourite one"])
+def test_is_my_favourite_keeps_her_as_owner(words):
+    u = _frame(words)
+    assert u.act == "OBJECT"
+    assert u.frame.find("OBJECT/OWNER").get("name") == "speaker"
+
+
+@pytest.mark.parametrize(("words", "owner"), [("the lamp is my mother's", "mother"), ("this cup is my brother's", "brother")])
+def test_is_my_someones_stays_someone_elses(words, owner):
+    assert _frame(words).frame.find("OBJECT/OWNER").get("name") == owner
+
+
+@pytest.mark.parametrize("words", ["hello robot, let's get going then", "hi biron, let's start",
+                                   "hello, I am Ruth, welcome to our house", "hi biron, welcome to my flat"])
+def test_a_greeting_with_a_start_or_a_welcome_is_a_whole_greeting(words):
+    u = _frame(words)
+    assert u.act == "GREETING" and not u.partial
+
+
+def test_a_welcome_back_keeps_the_robots_name():
+    assert _frame("hello there welcome back biron").frame.find("GREETING").get("name") == "biron"
+
+
+# 2. Three or more like objects: the question names the middle one, and the answers that pick it are understood
+from robot.dialog.module import choose  # noqa: E402
+from robot.objects.resolve import Wanted, option_texts  # noqa: E402
+from tests.test_object_attention import _cand  # noqa: E402
+
+
+def _three_books_options() -> list[tuple[int, str]]:
+    # three blue books in a row on a sideboard, seen from the robot at (1, 2.5) facing +x; listed out of order
+    right, left, middle = _cand(3.0, 1.9, "blue"), _cand(3.0, 3.1, "blue"), _cand(3.0, 2.5, "blue")
+    texts = option_texts([right, left, middle], Wanted(type="book"), (1.0, 2.5, 0.0))
+    return list(enumerate(texts))
+
+
+def test_the_question_about_three_like_things_names_the_middle_one():
+    texts = [t for _, t in _three_books_options()]
+    assert sum("on the left" in t for t in texts) == sum("on the right" in t for t in texts) == 1
+    assert "in the middle" in texts[2]
+
+
+@pytest.mark.parametrize(("answer", "picked"), [
+    ("the one in the middle", 2), ("the middle one please", 2), ("the one in between", 2), ("the centre one", 2),
+    ("the book in between", 2), ("the one between the other two", 2),
+    ("the second from the left", 2), ("the second from the right", 2), ("the first from the left", 1),
+    ("the third from the left", 0), ("the one on the right", 0), ("the left one", 1),
+])
+def test_an_answer_by_the_middle_or_by_its_place_in_the_row_picks_that_one(answer, picked):
+    assert choose(_three_books_options(), understood(answer).frame[0]) == picked
+
+
+def test_the_second_of_two_from_the_left_is_the_right_one():
+    two = [(0, "the cup on the right"), (1, "the one on the left")]
+    assert choose(two, understood("the second from the left").frame[0]) == 0
+    assert choose(two, understood("the one in the middle").frame[0]) is None  # no middle of two: not guessed
