@@ -227,3 +227,14 @@ def test_whoever_takes_the_place_after_the_loss_is_known_by_their_own_clothes():
     a._top_down(10.1, {other: 3})
     assert a.partner == other
     assert _run(a, other, lambda t: OTHER, 10.2, 20.0) == []
+
+
+def test_renew_gives_the_track_an_id_of_its_own_and_leaves_hers_without_a_track():
+    tr = Tracks(TrackerSpec())
+    tr._birth(0.0, np.array([(1.0, 0.0), (3.0, 0.0)], dtype=float), np.full(2, 0.01))
+    a_id, b_id = (tk.id for tk in tr.tracks)
+    fresh = tr.renew(a_id)
+    assert fresh not in (a_id, b_id) and tr.row(a_id) < 0 and tr.row(fresh) == 0 and tr.row(b_id) == 1
+    assert tr.renew(a_id) == -1  # nobody holds it any more
+    tr._birth(0.1, np.array([(5.0, 0.0)], dtype=float), np.full(1, 0.01))
+    assert tr.tracks[-1].id not in (a_id, b_id, fresh)  # ids are never given twice
