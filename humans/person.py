@@ -35,7 +35,7 @@ from collections.abc import Callable
 
 from homesim.scenario.model import Action, Face, Handler, HumanSpec, Leave, PointAt, Say, StepCloser, Target, WalkTo
 from homesim.world.acoustics import Utterance
-from homesim.world.bodies import ROBOT_REACH, HumanBody, Pointing
+from homesim.world.bodies import HUMAN_RADIUS, ROBOT_REACH, HumanBody, Pointing
 from homesim.world.raycast import line_of_sight
 from homesim.scenario.pathplan import NoPathError
 from homesim.world.world import World
@@ -70,6 +70,34 @@ PASS_POLL = 0.5
 #: other side of a wall at her distance (fresh10/hall_goto_music_room: he stopped in the hall 1.2 m from the robot
 #: standing in the music room behind the wall, and greeted it through the wall, unseen, for the rest of the run)
 SIGHT_HEIGHT = 1.0
+#: Other people (the user simulation's walking among people; docs/users.md "Walking among people"). Her
+#: paths keep PASS_GAP m between her body and anyone standing (centres 2 * HUMAN_RADIUS + PASS_GAP apart)
+#: and the world never lets two bodies overlap (homesim.world.world.PEOPLE_APART). Someone walking towards
+#: her within ONCOMING m is passed on her right, CLEAR / 2 right of where they meet (two discs to her left of that
+#: point, KEEP_RIGHT apart): both go to their own right, side by side, never the mirror dance. A person within AHEAD m of her next leg's
+#: line (closer than CLEAR of it) makes her plan again before she walks into her.
+PASS_GAP = 0.1
+ONCOMING = 2.5
+KEEP_RIGHT = 0.6
+AHEAD = 2.0
+CLEAR = 2 * HUMAN_RADIUS + PASS_GAP
+#: s held back by someone before she steps back out of the way of someone held back by her (the one of the
+#: two whose name sorts later, so exactly one does), YIELD_STEP m mostly aside (to her right) and a little back; she then waits at most YIELD_WAIT s for
+#: them to pass before walking on. Held back by people CROWD_GIVE_UP s in all on one walk, she ends it where
+#: she stands (as near as the people there allow), saying so in her log; but for leaving the flat, which she
+#: never ends short (she would vanish mid-room): she waits at the door for the way to clear.
+#: Someone whose way crosses hers (their closest approach within GIVE_WAY_HORIZON s, nearer than CLEAR; not
+#: head-on, which KEEP_RIGHT settles) and who reaches the crossing first is let pass: she stands GIVE_WAY_STEP s
+#: at a time (GIVE_WAY_MAX s at most in a row) and looks again. Who is first: the earlier arrival where the two
+#: lines cross (within GIVE_WAY_TIE s: the name that sorts first); walking the same way, the one ahead.
+GIVE_WAY_HORIZON = 3.0
+GIVE_WAY_STEP = 0.25
+GIVE_WAY_MAX = 4.0
+GIVE_WAY_TIE = 0.2
+YIELD_AFTER = 1.5
+YIELD_STEP = 0.7
+YIELD_WAIT = 4.0
+CROWD_GIVE_UP = 20.0
 
 
 class Person(Actor):
@@ -88,6 +116,8 @@ class Person(Actor):
         self.made_way = 0  # times she stepped out of the robot's way when it asked to pass
         self._stepping = False  # stepping aside for the robot: her script's next walk waits for it
         self._leaving = False  # walking out through an exit: the one walk that may end outside the flat
+        self.yielded = 0  # times she stepped back out of someone's way
+        self.crowd_stops = 0  # walks she ended short because people stood in her way
 
     @property
     def active(self) -> bool:
@@ -205,12 +235,27 @@ class Person(Actor):
         goal = where()
         path = self.plan(goal)
         blocked, asked = 0.0, 0  # seconds held back by the robot without a free leg; requests made
+        crowded, crowd_total = 0.0, 0.0  # seconds held back by people: in a row, on this walk
+        looked = False  # this leg's way was checked for people (walk_to plans round them once per leg)
+        gave = 0.0  # seconds she has stood letting someone cross first
         while True:
             here = self.body.position
             sees = not moving or self.sees(self.goal_of(target))  # (a walk up to someone ends in sight of them)
             if math.hypot(goal[0] - here[0], goal[1] - here[1]) <= max(stop_at, ARRIVED) and sees:
                 break
             if not path:
+                if not moving and self._kept_short(goal, max(stop_at, ARRIVED)):
+                    # short of her place only because people walk there (or will meet her there): she lets
+                    # them pass and goes on (someone standing on it she ends beside, as near as they allow)
+                    if crowd_total >= CROWD_GIVE_UP:
+                        self.crowd_stops += 1
+                        self.log.append((self.now, self.now, f"ends her walk at ({here[0]:.2f}, {here[1]:.2f}): people stand in her way"))
+                        break
+                    self.body.stand()
+                    await asyncio.sleep(LEG_TIME)
+                    crowd_total += LEG_TIME
+                    path = self.plan(goal)
+                    continue
                 break
             wx, wy = path[0]
             dx, dy = wx - here[0], wy - here[1]
@@ -226,12 +271,26 @@ class Person(Actor):
             if dist <= ARRIVED:
                 path.pop(0)
                 continue
+            if not looked and self._someone_ahead(here, (wx, wy)):
+                # someone stands or walks on her next leg: round them (a new plan keeps clear of people;
+                # once per leg: when they close the only way she walks up to them and waits)
+                looked = True
+                path = self.plan(goal)
+                continue
+            looked = False
+            if gave < GIVE_WAY_MAX and self._give_way(here, (dx / dist * speed, dy / dist * speed)):
+                # someone crosses her way and gets there first: she lets them pass, then walks on
+                self.body.stand()
+                await asyncio.sleep(GIVE_WAY_STEP)
+                gave += GIVE_WAY_STEP
+                continue
+            gave = 0.0
             t = min(LEG_TIME, travel / speed)
             t = max(t, self.world.dt)
             v = min(speed, travel / t)
             self.body.head = 0.0
             self.body.walk_velocity(v * dx / dist, v * dy / dist)
-            held = self.body.held_time
+            held, crowd = self.body.held_time, self.body.crowded_time
             await asyncio.sleep(t)
             if self.handlers and not aside and await self.react():
                 # she stopped to react (answer, point, step aside): on from where she is now
@@ -253,6 +312,23 @@ class Person(Actor):
                 path = self.plan(goal)  # the robot got in the way: around it, or wait for it
             else:
                 blocked = 0.0
+            if self.body.crowded_time > crowd:
+                # someone is in her way: round them, or wait; step back for someone who waits for her
+                crowded += self.body.crowded_time - crowd
+                crowd_total += self.body.crowded_time - crowd
+                if crowd_total >= CROWD_GIVE_UP and not self._leaving:  # (leaving, she waits to get out: never gone mid-room)
+                    self.crowd_stops += 1
+                    self.log.append((self.now, self.now, f"ends her walk at ({here[0]:.2f}, {here[1]:.2f}): people stand in her way"))
+                    break
+                if crowded >= YIELD_AFTER and not aside:
+                    t0 = self.now
+                    if await self._make_room():
+                        crowded = 0.0
+                        crowd_total += self.now - t0  # stepping back and waiting count as held back
+                        goal = where()
+                path = self.plan(goal)
+            else:
+                crowded = 0.0
         self.body.stand()
 
     async def _blocked(self, blocked: float, asked: int) -> bool:
@@ -300,7 +376,24 @@ class Person(Actor):
         origin = self.body.position if here is None else here
         return bool(line_of_sight(origin, np.array([point], dtype=float), a, b)[0])
 
-    def plan(self, goal: tuple[float, float]) -> list[tuple[float, float]]:
+    def _kept_short(self, goal: tuple[float, float], near: float) -> bool:
+        """Whether her walk ended short of ``goal`` only because of people walking: nearer than ``near`` to it
+        she is not, nobody stands within CLEAR of it, and without the people's discs her path would take her
+        nearer to it."""
+        x, y = self.body.position
+        d = math.hypot(goal[0] - x, goal[1] - y)
+        if d <= near + 0.05:
+            return False
+        for o in self.others():
+            if o.walk_speed < 1e-3 and math.hypot(o.position[0] - goal[0], o.position[1] - goal[1]) < CLEAR + 0.05:
+                return False
+        try:
+            end = self.plan(goal, people=False)[-1]
+        except NoPathError:
+            return False
+        return math.hypot(goal[0] - end[0], goal[1] - end[1]) < d - 0.05
+
+    def plan(self, goal: tuple[float, float], *, people: bool = True) -> list[tuple[float, float]]:
         """A path to ``goal`` around walls, furniture and the robot where it stands now.
 
         When the robot blocks the only way (it stands in a doorway) the path
@@ -314,10 +407,156 @@ class Person(Actor):
         grid = self.world.walk_grid()
         x, y, _ = self.world.robot.pose
         inside = not self._leaving  # every walk but leaving ends inside the flat
+        robot = [(x, y, ROBOT_REACH)]
+        people = self.people_discs() if people else []
+        if people:
+            # round the people too; when they close the only way, through them: the world holds her
+            # back where they stand and she waits (or steps back for them: walk_to)
+            try:
+                return grid.plan(self.body.position, goal, avoid=robot + people, inside=inside)
+            except NoPathError:
+                pass
         try:
-            return grid.plan(self.body.position, goal, avoid=[(x, y, ROBOT_REACH)], inside=inside)
+            return grid.plan(self.body.position, goal, avoid=robot, inside=inside)
         except NoPathError:
             return grid.plan(self.body.position, goal, inside=inside)
+
+    def others(self) -> list[HumanBody]:
+        """The other people in the flat, in the world's order."""
+        humans = getattr(self.world, "humans", {})
+        return [h for h in humans.values() if h is not self.body and h.present]
+
+    def people_discs(self) -> list[tuple[float, float, float]]:
+        """Discs her path keeps clear of (the grid grows each by her own radius): everyone standing, at
+        PASS_GAP from her body; anyone walking towards her within ONCOMING m, with a second disc KEEP_RIGHT m
+        to her left of them, so that she passes them on her right (and they, doing the same, her on theirs)."""
+        x, y = self.body.position
+        mvx, mvy = self.body.walk
+        r = HUMAN_RADIUS + PASS_GAP
+        discs: list[tuple[float, float, float]] = []
+        for o in self.others():
+            ox, oy = o.position
+            if o.walk_speed < 1e-3:
+                discs.append((ox, oy, r))
+                continue
+            dx, dy = ox - x, oy - y
+            d = math.hypot(dx, dy)
+            if d > ONCOMING or d < 1e-6:
+                continue
+            closing = (o.walk[0] - mvx) * dx + (o.walk[1] - mvy) * dy < 0.0
+            if not closing:
+                continue
+            lx, ly = -dy / d, dx / d  # her left, looking at them
+            # where they meet (their speeds share the way between them: both reckon the same point), she keeps
+            # CLEAR / 2 to her right of it, they (doing the same) CLEAR / 2 to theirs: side by side, CLEAR apart,
+            # never the mirror dance (the world keeps the bodies apart meanwhile)
+            mine = max(math.hypot(mvx, mvy), self.body.speed, 0.1)
+            f = mine / (mine + max(o.walk_speed, 0.1))
+            mx, my = x + f * dx, y + f * dy
+            shift = r + self.world.walk_grid().clearance - CLEAR / 2
+            for k in (shift, shift + KEEP_RIGHT):
+                discs.append((round(mx + k * lx, 3), round(my + k * ly, 3), r))
+        return discs
+
+    def _someone_ahead(self, here: tuple[float, float], to: tuple[float, float]) -> bool:
+        """Whether someone (standing, or walking towards her) is within AHEAD m along her leg ``here`` -> ``to``
+        and nearer than CLEAR to its line: she plans round them before walking on."""
+        ax, ay = here
+        dx, dy = to[0] - ax, to[1] - ay
+        n = math.hypot(dx, dy)
+        if n < 1e-9:
+            return False
+        ux, uy = dx / n, dy / n
+        reach = min(n, AHEAD)
+        for o in self.others():
+            ox, oy = o.position
+            along = (ox - ax) * ux + (oy - ay) * uy
+            if along <= 0.0 or along >= reach + CLEAR - 0.05:
+                continue  # behind her, or beyond where this leg ends
+            if abs(-(ox - ax) * uy + (oy - ay) * ux) >= CLEAR - 0.02:
+                continue
+            if o.walk_speed >= 1e-3 and (o.walk[0] * ux + o.walk[1] * uy) > 0.0:
+                continue  # walking on ahead of her, the same way
+            return True
+        return False
+
+    def _give_way(self, here: tuple[float, float], v: tuple[float, float]) -> bool:
+        """Whether she should let someone walking across her way pass first (see GIVE_WAY_HORIZON): walking
+        at ``v`` from ``here``, she would come nearer than CLEAR to them within the horizon, their ways are not
+        head-on, and they reach the crossing first."""
+        x, y = here
+        vx, vy = v
+        sp = math.hypot(vx, vy)
+        if sp < 1e-6:
+            return False
+        for o in self.others():
+            if o.walk_speed < 1e-3:
+                continue
+            ox, oy = o.position
+            wx, wy = o.walk
+            px, py = ox - x, oy - y
+            rvx, rvy = wx - vx, wy - vy
+            rv2 = rvx * rvx + rvy * rvy
+            if rv2 < 1e-9:
+                continue  # the same velocity: the distance stays as it is
+            tca = -(px * rvx + py * rvy) / rv2
+            if tca <= 0.0 or tca > GIVE_WAY_HORIZON:
+                continue
+            if math.hypot(px + rvx * tca, py + rvy * tca) >= CLEAR:
+                continue
+            ws = o.walk_speed
+            cos = (vx * wx + vy * wy) / (sp * ws)
+            if cos < -0.7:
+                continue  # head-on: both keep right (people_discs)
+            if cos > 0.7:
+                if px * vx + py * vy > 0.0:
+                    return True  # the same way, she is ahead: behind her
+                continue
+            # where the two ways cross: here + s * v / sp = o + r * w / ws
+            ux, uy, qx, qy = vx / sp, vy / sp, wx / ws, wy / ws
+            den = ux * (-qy) - uy * (-qx)
+            if abs(den) < 1e-9:
+                continue
+            s_ = (px * (-qy) - py * (-qx)) / den
+            r_ = (ux * py - uy * px) / den
+            mine, theirs = s_ / sp, r_ / ws
+            if theirs < mine - GIVE_WAY_TIE or (abs(theirs - mine) <= GIVE_WAY_TIE and o.name < self.name):
+                return True
+        return False
+
+    async def _make_room(self) -> bool:
+        """Held back by someone who is held back by her (two people face to face in a narrow place): the
+        one whose name sorts later steps YIELD_STEP m to her right and a little back (away from the other), and
+        waits (at most YIELD_WAIT s) for them to pass. True when she stepped back."""
+        x, y = self.body.position
+        near = [(math.hypot(o.position[0] - x, o.position[1] - y), o) for o in self.others()]
+        near = [(d, o) for d, o in near if d < CLEAR + 0.1]
+        if not near:
+            return False
+        d, other = min(near, key=lambda p: p[0])
+        if not (other.walk_speed >= 1e-3 and other.crowded and other.name < self.name):
+            return False
+        ox, oy = other.position
+        ux, uy = (x - ox) / max(d, 1e-6), (y - oy) / max(d, 1e-6)  # away from them
+        rx, ry = uy, -ux  # her right, facing them
+        # mostly aside (to her right), a little back: out of their way, not on along it ahead of them
+        k = 1.0 / math.hypot(1.0, 0.5)
+        spot = (x + YIELD_STEP * k * (0.5 * ux + rx), y + YIELD_STEP * k * (0.5 * uy + ry))
+        self.yielded += 1
+        self.log.append((self.now, self.now, f"steps back for {other.name} to ({spot[0]:.2f}, {spot[1]:.2f})"))
+        try:
+            await self.walk_to(Target("point", x=spot[0], y=spot[1]), aside=True)
+        except NoPathError:
+            pass
+        self.body.stand()
+        waited = 0.0
+        while waited < YIELD_WAIT and other.present and other.walk_speed >= 1e-3:
+            bx, by = self.body.position
+            if math.hypot(other.position[0] - bx, other.position[1] - by) > 1.5:
+                break
+            await asyncio.sleep(LEG_TIME)
+            waited += LEG_TIME
+        return True
 
     # ------------------------------------------------------- facing, pointing
     def direction_to(self, target: Target) -> float:

@@ -229,6 +229,42 @@ def test_whoever_takes_the_place_after_the_loss_is_known_by_their_own_clothes():
     assert _run(a, other, lambda t: OTHER, 10.2, 20.0) == []
 
 
+def _her_track_drifted_onto_a_guest_while_following() -> tuple[PersonAttention, int]:
+    """Following, her track shows HERS for 5 s, then OTHER for a little less than ``other_clothes_after`` (the
+    Follow rule, ident23, has not taken it off her yet): it went over to a guest she walked past. Then that track
+    dies."""
+    a, tid = _interacting("follow")
+    assert _run(a, tid, lambda t: HERS if t < 5.0 else OTHER, 0.0, 5.0 + a.params.other_clothes_after - 0.5) == []
+    assert not np.allclose(a._partner_colour, HERS, atol=0.1)  # the running colour went with the track
+    a.tracks.tracks = [tk for tk in a.tracks.tracks if tk.id != tid]
+    return a, tid
+
+
+def test_after_her_track_drifted_every_check_of_her_clothes_uses_hers_not_the_guests():
+    """review22 R5: one reference for "her clothes". Her track found again is hers; the guest's is not."""
+    a, _ = _her_track_drifted_onto_a_guest_while_following()
+    assert np.allclose(a._hers(), HERS, atol=0.02)
+    guest = _another_track(a, (1.05, 0.1), OTHER, 10.1)
+    her = _another_track(a, (1.0, 0.2), HERS, 10.1)
+    row = a._reacquire(10.2)
+    assert row >= 0 and a.tracks.tracks[row].id == her and a.partner == her
+    assert a.partner != guest
+
+
+def test_a_hand_over_opened_after_the_drift_is_undone_on_the_guests_clothes():
+    a, old = _her_track_drifted_onto_a_guest_while_following()
+    a.tracks._birth(10.1, np.array([(1.05, 0.1)], dtype=float), np.full(1, 0.01))
+    tk = a.tracks.tracks[-1]
+    tk.confirmed = True  # a track whose clothes the camera has not seen yet: taken on position alone
+    assert a._reacquire(10.2) >= 0 and a.partner == tk.id
+    h = a._handovers[tk.id]
+    assert np.allclose(h.colour, HERS, atol=0.02)  # judged against hers, not the drifted running colour
+    for k in range(a.colours.spec.min_obs):
+        a.colours.observe(tk.id, OTHER, 10.3 + 0.1 * k)
+    a._check_handovers(10.6, [])
+    assert a.partner == old and tk.id in a._not_her  # the guest in orange is not her: undone
+
+
 def test_renew_gives_the_track_an_id_of_its_own_and_leaves_hers_without_a_track():
     tr = Tracks(TrackerSpec())
     tr._birth(0.0, np.array([(1.0, 0.0), (3.0, 0.0)], dtype=float), np.full(2, 0.01))

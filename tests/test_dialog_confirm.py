@@ -487,3 +487,18 @@ def test_what_is_it_answered_with_the_noun_still_teaches_that_noun(dm):
     assert says(dm.on_frame(heard("this is my this", 0.6))) == ["What is it?"]
     (s,) = sends(dm.on_frame(heard("a cup", 0.9)))
     assert s.children[0].find("OBJECT").get("type") == "cup"
+
+
+@pytest.mark.parametrize("answer", ["yes that's my bag", "yes this is my bag", "yes my bag", "yes that one",
+                                    "yes", "that's my brown bag"])
+def test_a_confirmation_keeps_the_time_of_the_request_its_gesture_went_with(dm, answer):
+    """"The brown bag on the bench behind me" (pointing) - "Is this the brown bag?" - "Yes, that's my bag": the
+    event carries when the request was said, so the object attention looks back to the gesture that went with
+    it. A deictic word in the yes is no new gesture, and one made with the yes is later, so also seen from there
+    (fresh10 hall_wardrobe_bags: the yes's time lost the gesture, the robot asked her to step aside too late)."""
+    out = dm.on_frame(heard("this is the brown bag", LOW, start=20.5))
+    assert says(out) == ["Is this the brown bag?"]
+    out = dm.on_frame(heard(answer, start=29.8))
+    (s,) = sends(out)
+    assert s.event == "object_teaching"
+    assert s.children[0][0].tag == "TIMESTAMP" and s.children[0][0].get("val") == "20500"

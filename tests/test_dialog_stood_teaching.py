@@ -70,3 +70,13 @@ def test_a_place_named_while_she_walks_on_or_the_moment_it_stops_is_refused_as_b
     assert any("say stop first" in s for s in said)
     assert robot.es.state == "Following"
     assert not any('name="stop"' in r["xml"] for r in robot.records(ES_EVENTS))
+
+
+@pytest.mark.parametrize("stood", [STOOD_FOR + 0.5, 6.0])
+def test_a_place_named_while_it_is_held_up_on_its_way_to_her_is_refused_as_before(robot, stood):
+    # review22 R4: held up (status ``held``: she beyond the band, no way through) is no "she stands by it";
+    # the place would be taught where the robot is held, maybe the room before hers
+    said = _teach_while_following(robot, "held", stood)
+    assert any("say stop first" in s for s in said)
+    assert robot.es.state == "Following"
+    assert not any('name="stop"' in r["xml"] for r in robot.records(ES_EVENTS))

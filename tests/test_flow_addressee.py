@@ -37,6 +37,16 @@ def test_a_bystanders_good_bye_to_the_partner_in_their_group_does_not_end_the_in
     assert s["metrics"]["dialog"]["subdialogs"]["not_addressed"] >= 2
 
 
+def test_words_she_begins_facing_the_robot_and_says_on_turned_to_a_friend_are_not_a_request():
+    # addr23 (another flat, another pair): with the camera raised for her hands her face is in the image close up,
+    # so the robot sees her facing it as she begins "could you open the wine for us" and "good bye and see you
+    # tomorrow", and turn to her friend for the rest: neither "did not understand" nor a good-bye; her own
+    # requests facing it are served
+    s = run_file(Path(__file__).resolve().parent / "scenarios" / "flow" / "addr23_turns_to_friend_dining.xml", RunOptions(seed=0))
+    assert s["verdict"] == "PASS", [e for e in s["expectations"] if not e["passed"]]
+    assert s["metrics"]["dialog"]["subdialogs"]["not_addressed"] >= 3
+
+
 def test_a_request_while_following_is_answered_at_once_with_say_stop_first():
     s = _run("teach_while_following")
     assert s["verdict"] == "PASS", [e for e in s["expectations"] if not e["passed"]]
@@ -75,13 +85,58 @@ def test_the_addressee_rule(cues, state):
     d = _dialog(state, _at(cues))
     end = 10.0 + 0.1 * max(0, len(cues) - 1)
     addressed = d.addressed(10.0, end)
-    if state == "Following" or not cues or any(f == "true" for f, _ in cues) or cues[-1][1] == 0 or cues[-1][0] != "false":
-        assert addressed  # she leads, nothing known, she faced it, nobody with her, or not turned away at the end
+    if state == "Following" or not cues or cues[-1][1] == 0 or cues[-1][0] != "false":
+        assert addressed  # she leads, nothing known, nobody with her, or not turned away at the end
+    faced = [i for i, (f, _) in enumerate(cues) if f == "true"]
+    if state != "Following" and faced and 2 * (len(cues) - 1 - faced[-1]) < len(cues):
+        assert addressed  # she faced it during the words and turned away (if at all) for less than half of them
     if state != "Following" and cues and all(f == "false" for f, _ in cues) and cues[-1][1] >= 1:
         assert not addressed  # turned away throughout, in a group: their chat
     # reports outside the utterance change nothing
     before = _dialog(state, [(1.0, "true", 0), *_at(cues), (99.0, "true", 0)])
     assert before.addressed(10.0, end) == addressed
+
+
+AWAY = st.tuples(st.sampled_from(["false", "unknown"]), st.integers(0, 3))
+
+
+@settings(max_examples=300, deadline=None)
+@given(first=st.lists(st.tuples(FACING, st.integers(0, 3)), max_size=15), turn=st.lists(AWAY, min_size=1, max_size=30),
+       company=st.integers(1, 3), state=st.sampled_from(["Interacting", "ObjectTeaching"]))
+def test_what_she_does_after_facing_the_robot_outweighs_the_older_facing(first, turn, company, state):
+    # addr23: she faces the robot, then turns away to the people near her for at least half the words and ends
+    # turned to them: their chat, however she faced the robot at the start (with the camera raised for her hands,
+    # flow/chat_group_bye seed 2: Olga faced it 0.4 s as Rosa began "how was your holiday", then walked over)
+    cues = [*first, ("true", 0), *turn[:-1], ("false", company)]
+    after = len(cues) - 1 - max(i for i, (f, _) in enumerate(cues) if f == "true")
+    away = sum(f == "false" for f, _ in cues[-after:])
+    d = _dialog(state, _at(cues))
+    end = 10.0 + 0.1 * (len(cues) - 1)
+    expected = not (2 * after >= len(cues) and 2 * away >= after)
+    assert d.addressed(10.0, end) == expected
+    if not expected:
+        # the invariant: every face seen during the words looked away, and she ended in a group: never addressed
+        only_away = _dialog(state, _at(cues[-after:]))
+        assert not only_away.addressed(10.0, 10.0 + 0.1 * (after - 1))
+        # ... but calling the robot by its name is meant for it, and so is turning back to face it at the end
+        assert d.addressed(10.0, end, named=True)
+        back = _dialog(state, _at([*cues, ("true", company)]))
+        assert back.addressed(10.0, 10.0 + 0.1 * len(cues))
+
+
+def test_a_glance_at_the_robot_as_the_group_chat_begins_does_not_make_it_a_request():
+    # the shape of chat_group_bye seed 2 (raise on): 5 reports facing, then 14 turned away, ending in a group of 2
+    cues = [("true", 0)] * 5 + [("false", 0)] * 10 + [("false", 1), ("false", 1), ("false", 2), ("false", 2)]
+    assert not _dialog("Interacting", _at(cues)).addressed(10.0, 10.0 + 0.1 * (len(cues) - 1))
+    # misheard chat may parse as showing ("could you open the wine for us" heard as "it you open the wine": a
+    # deictic, addr23's scene seed 8): as in the group test without a facing, that does not make it a request
+    assert not _dialog("Interacting", _at(cues)).addressed(10.0, 10.0 + 0.1 * (len(cues) - 1), shows=True)
+    # the same turn for less than half the words (she says most of it facing the robot): a request
+    cues = [("true", 0)] * 12 + [("false", 0)] * 5 + [("false", 2)] * 2
+    assert _dialog("Interacting", _at(cues)).addressed(10.0, 10.0 + 0.1 * (len(cues) - 1))
+    # facing the robot again at the end: a request, whatever came between
+    cues = [("true", 0)] * 3 + [("false", 2)] * 14 + [("true", 2)]
+    assert _dialog("Interacting", _at(cues)).addressed(10.0, 10.0 + 0.1 * (len(cues) - 1))
 
 
 @settings(max_examples=200, deadline=None)

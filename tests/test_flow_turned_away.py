@@ -104,8 +104,14 @@ def test_words_said_turned_aside_throughout_are_not_for_the_robot(cues, state):
     heard = d.addressed(10.0, end)
     if all(f == ASIDE for f, _ in cues):
         assert not heard  # turned aside the whole time: talking to herself, alone or not
-    if any(f == "true" for f, _ in cues):
-        assert heard  # she faced it at some point while speaking
+    faced = [i for i, (f, _) in enumerate(cues) if f == "true"]
+    if faced:
+        # she faced it while speaking: hers, unless after her last facing she was turned away for at least half
+        # the words and ended turned to someone near her (addr23: what she does after outweighs an older facing)
+        after = cues[faced[-1] + 1:]
+        turned = (2 * len(after) >= len(cues) and 2 * sum(f in ("false", ASIDE) for f, _ in after) >= len(after)
+                  and after[-1][0] in ("false", ASIDE) and after[-1][1] >= 1)
+        assert heard == (not turned)
     if any(f == "unknown" for f, _ in cues) and cues[-1][1] == 0:
         assert heard  # not turned aside throughout (she turned back, or the camera could not tell), alone
 

@@ -401,3 +401,56 @@ def test_the_one_on_the_named_furniture_is_chosen_even_with_a_that_in_the_answer
     counter_cup, table_cup = Candidate(5.15, 1.5, 0.95), Candidate(3.45, 2.2, 0.8)
     got = asyncio.run(oa._chosen(etree.fromstring(answer), [counter_cup, table_cup], Wanted(type="cup"), (1.7, 2.0, 0.0), 0.0, None))
     assert got is table_cup
+
+
+def _tilt_to(pose, x, y, z):
+    """The camera's tilt (rad, up positive) that puts the point (x, y, z) in the middle of the image."""
+    from robot.objects.gestures import CAMERA_HEIGHT, CAMERA_OFFSET
+
+    cx, cy = pose[0] + CAMERA_OFFSET * math.cos(pose[2]), pose[1] + CAMERA_OFFSET * math.sin(pose[2])
+    return math.atan2(z - CAMERA_HEIGHT, math.hypot(x - cx, y - cy))
+
+
+def test_a_book_seen_looking_up_at_a_tall_bookcase_with_a_short_range_is_placed_on_its_top():
+    """high22's G (tests/scenarios/perceive/tall_shelf_book seeds 0, 6): looking up from 2.7 m at a book on a
+    1.85 m bookcase, a range 6 % short put the table-high guess before the case's front edge, and the detection
+    went to the floor (0.33 m short) in about half the frames. It stands on the surface whose top fits the ray."""
+    from robot.floorplan import MapObstacle
+
+    case = MapObstacle("bookcase", "shelf", ((4.0, 0.0), (4.35, 0.0), (4.35, 1.2), (4.0, 1.2)), 0.0, 1.85)
+    desk = MapObstacle("desk", "table", ((2.6, 0.2), (3.4, 0.2), (3.4, 1.0), (2.6, 1.0)), 0.7, 0.75)
+    pose = (1.45, 0.6, 0.0)
+    book = (4.15, 0.6, 1.9)
+    tilt = _tilt_to(pose, *book)
+    bearing, dist = _seen_at(pose, *book)
+    for short in (1.0, 0.97, 0.94, 0.9):
+        x, y, z = _placer([case, desk]).place(pose, bearing, dist * short, high=True, tilt=tilt)
+        assert z == pytest.approx(1.9), short
+        assert abs(y - 0.6) < 0.02 and 4.15 - 0.3 < x <= 4.16, short
+    # the old placement (no tilt known) put it on the floor with that range error
+    assert _placer([case, desk]).place(pose, bearing, dist * 0.94, high=True)[2] == pytest.approx(0.05)
+
+
+@settings(max_examples=80, deadline=None)
+@given(st.floats(1.5, 2.2), st.floats(1.5, 3.2), st.floats(0.25, 0.45), st.floats(0.2, 0.8), st.floats(-0.1, 0.1),
+       st.floats(-math.radians(8), math.radians(8)), st.floats(-math.pi, math.pi))
+def test_looking_up_a_thing_on_a_tall_piece_is_placed_at_its_top_within_the_cameras_range_error(top, reach, depth, at, err, aim, heading):
+    """Looking up at a thing on top of tall furniture (any height the camera looks up to, any distance, the thing
+    anywhere in the top's depth, a range error within the camera's 2 sigma, the image's middle up to 8 deg off
+    it): it is placed at the top's height, on the camera's ray, never on the floor in front."""
+    from robot.floorplan import MapObstacle
+
+    pose = (0.0, 0.0, heading)
+    ux, uy = math.cos(heading), math.sin(heading)
+    near = reach  # the piece's front edge, this far from the robot along its heading
+    corners = [(near, -0.6), (near + depth, -0.6), (near + depth, 0.6), (near, 0.6)]
+    piece = MapObstacle("tall", "shelf", tuple((a * ux - b * uy, a * uy + b * ux) for a, b in corners), 0.0, top)
+    along = near + depth * at
+    thing = (along * ux, along * uy, top + 0.05)
+    bearing, dist = _seen_at(pose, *thing)
+    tilt = _tilt_to(pose, *thing) + aim
+    if tilt < 0.0:
+        return  # looking down: the other rule
+    x, y, z = _placer([piece]).place(pose, bearing, dist * (1.0 + err), high=True, tilt=tilt)
+    assert z == pytest.approx(top + 0.05)
+    assert abs((x * -uy + y * ux)) < 0.05  # on the ray

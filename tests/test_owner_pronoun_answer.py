@@ -8,6 +8,8 @@ cup stored with the owner "his". Frames come from the real understanding (as tes
 from __future__ import annotations
 
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from robot.dialog.manager import DialogManager
 from tests.test_dialog_confirm import DOC, LOW, heard, says, sends
@@ -49,3 +51,46 @@ def test_a_pronoun_answer_to_a_question_that_named_no_owner_stores_no_owner(dm, 
     assert asked and "your" not in asked[0]
     (s,) = sends(dm.on_frame(heard(answer)))
     assert [o.get("name") for o in s.children[0].iter("OWNER")] == []
+
+
+@pytest.mark.parametrize(("said", "named"), [("the green cup on the table", None),
+                                             ("the green cup on the table is my husband's", "husband"),
+                                             ("this is my daughter's book", "daughter")])
+@pytest.mark.parametrize("pronoun", ["his", "her", "their"])
+def test_a_pronoun_in_a_correction_refers_to_the_owner_asked_about_or_to_none(dm, said, named, pronoun):
+    """review22 R6, the correction: "Is this the green cup?" - "no, his mug" stored the mug as "his" (the corrected
+    value replaced the old one whole); a pronoun names nobody: the owner the question named, else none."""
+    dm.on_frame(heard(said, LOW))
+    (s,) = sends(dm.on_frame(heard(f"no {pronoun} mug")))
+    assert s.children[0].find("OBJECT/TITLE").get("name") == "mug"
+    assert [o.get("name") for o in s.children[0].iter("OWNER")] == ([named] if named else [])
+
+
+@pytest.mark.parametrize("pronoun", ["his", "her", "their"])
+def test_a_pronoun_owner_said_unprompted_is_no_owner_name(dm, pronoun):
+    """"This is his cup" with nobody named before: stored without owner, and never said back as "His's cup"."""
+    (s,) = sends(dm.on_frame(heard(f"this is {pronoun} cup")))
+    assert [o.get("name") for o in s.children[0].iter("OWNER")] == []
+    dm2 = DialogManager(DOC)
+    dm2.es_state = "Interacting"
+    asked = says(dm2.on_frame(heard(f"this is {pronoun} cup", LOW)))
+    assert asked == ["Is this the cup?"]
+
+
+_OWNERS = ["my", "my husband's", "our", "the", "his", "her", "their"]
+_THINGS = ["cup", "green cup", "book", "radio", "mug"]
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.lists(st.tuples(st.sampled_from(["this is {o} {t}", "yes {o} {t}", "no {o} {t}", "{o} {t}", "yes", "no"]),
+                          st.sampled_from(_OWNERS), st.sampled_from(_THINGS), st.sampled_from([0.3, 0.9])),
+                min_size=1, max_size=4))
+def test_no_owner_sent_is_ever_a_pronoun(turns):
+    """Whatever she says and however well it is heard, no teaching the dialog sends names "his", "her" or "their" as
+    an owner (review22 R6: a pronoun refers to an owner, it is none)."""
+    m = DialogManager(DOC)
+    m.es_state = "Interacting"
+    for form, owner, thing, conf in turns:
+        for s in sends(m.on_frame(heard(form.format(o=owner, t=thing), conf))):
+            for c in s.children:
+                assert not {(o.get("name") or "").lower() for o in c.iter("OWNER")} & {"his", "her", "their"}, (turns, s)

@@ -120,3 +120,74 @@ def test_her_follow_me_while_another_question_is_open_is_not_taken_for_the_offer
     out = dm.on_frame(heard("follow me"))
     assert [s.event for s in sends(out)] == ["follow"]
     assert "Shall I follow you there?" not in says(out)
+
+
+# ------------------------------------------------------------ a room named alone to a question whether to act
+# review22 R3: "Shall I follow you there?" - "no, the kitchen" (she corrects the room the recogniser heard in her
+# go-to) was taken as "this is the kitchen": the room the robot stood in stored as the kitchen, unasked. A room
+# named alone to a question about going somewhere is where to go, never the name of this spot.
+ROOMS = ["kitchen", "bathroom", "study", "bedroom", "hall", "dining room", "laundry room", "garage"]
+
+
+def _room_alone(name: str, lead: str) -> str:
+    return f"{lead}the {name}".strip()
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.sampled_from(ROOMS), st.sampled_from(ROOMS), st.sampled_from(["no, ", "no ", "no I meant ", "", "yes, "]),
+       st.sampled_from(["offer", "goto"]))
+def test_a_room_named_alone_to_a_go_to_question_or_the_offer_is_never_taught_here(asked, named, lead, question):
+    """Whatever room she names alone, with or without "no", to "Shall I go to the X?" or to the offer after a
+    go-to to a room it does not know: no place is taught; another room is a go-to to it; the same room with
+    "no" is a plain no (nothing sent); the same room without it goes where she asked (goto or follow her)."""
+    m = DialogManager(DOC)
+    m.es_state = "Interacting"
+    if question == "offer":
+        assert OFFER in says(m.on_condition(unknown(asked)))
+    else:
+        assert says(m.on_frame(heard(f"go to the {asked}", 0.3))) == [f"Shall I go to the {asked}?"]
+    out = m.on_frame(heard(_room_alone(named, lead)))
+    events = [s.event for s in sends(out)]
+    assert "place_teaching" not in events
+    assert not any(d.d.id == "place_teaching" for d in m.stack)
+    if named != asked:
+        assert events == ["goto"]
+        assert sends(out)[0].children[0].find("PLACE/TITLE").get("name") == named
+    elif lead.startswith("no"):
+        assert events == []
+    else:
+        assert events == (["follow"] if question == "offer" else ["goto"])
+
+
+def test_no_the_other_room_to_the_offer_goes_there_and_offers_again_when_it_is_unknown_too(dm):
+    dm.on_condition(unknown("sitting room"))
+    out = dm.on_frame(heard("no, the kitchen"))
+    (s,) = sends(out)
+    assert s.event == "goto" and s.children[0].find("PLACE/TITLE").get("name") == "kitchen"
+    assert not any("show it to me" in line for line in says(out))  # the no is not said back: it goes
+    dm.es_state = "Navigating"
+    dm.on_condition(cond("navigating", '<param name="goal"><PLACE><TITLE name="kitchen"/></PLACE></param>'))
+    dm.es_state = "Interacting"
+    assert says(dm.on_condition(unknown("kitchen"))) == ["Sorry, I do not know where the kitchen is.", OFFER]
+    (f,) = sends(dm.on_frame(heard("yes")))
+    assert f.event == "follow"
+
+
+def test_no_this_is_the_kitchen_to_the_offer_still_teaches_the_room(dm):
+    # a whole statement with its deixis is a teaching (as to the go-to question): she names where they are
+    dm.on_condition(unknown("sitting room"))
+    assert [s.event for s in sends(dm.on_frame(heard("no, this is the kitchen")))] == ["place_teaching"]
+
+
+@pytest.mark.parametrize(("request_", "question"), [("follow me", "Shall I follow you?"),
+                                                    ("you are in my way", "Am I in your way?"),
+                                                    ("that will be all for the cup", "Do you want to end the tour?")])
+def test_no_and_a_room_alone_to_another_question_whether_to_act_is_asked_before_it_is_taught(dm, request_, question):
+    # "Shall I follow you?" - "no, the kitchen": "[this is] the kitchen" or "[go to] the kitchen"; the robot
+    # does not store the spot it stands in as the kitchen on a guess: it asks first
+    assert says(dm.on_frame(heard(request_, 0.3))) == [question]
+    out = dm.on_frame(heard("no, the kitchen"))
+    assert sends(out) == []
+    assert says(out)[-1] == "Is this the kitchen?"
+    (s,) = sends(dm.on_frame(heard("yes")))
+    assert s.event == "place_teaching"

@@ -161,6 +161,8 @@ class HumanBody:
         self.velocity = (0.0, 0.0)  # the body's velocity as last set (a kinematic body keeps it)
         self.held = False  # the last step was refused (the robot was in the way)
         self.held_time = 0.0  # seconds spent held back, in total
+        self.crowded = False  # the last step was refused (another person was in the way)
+        self.crowded_time = 0.0  # seconds spent held back by other people, in total
         self.space = space
         self._xy: tuple[float, float] | None = None  # the position, kept until the body moves
         self._placed: tuple[float, float] | None = None  # (heading, swing) last set on the body and legs

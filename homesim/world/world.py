@@ -50,6 +50,8 @@ Overlap = tuple[float, pymunk.Vec2d, pymunk.Shape]
 
 #: How close (metres) a person's body may walk up to the robot's footprint.
 PERSON_GAP = 0.02
+#: How close (metres, centre to centre) two people may come: their bodies (HUMAN_RADIUS circles) PERSON_GAP apart.
+PEOPLE_APART = 2 * HUMAN_RADIUS + PERSON_GAP
 #: The farthest (metres) anything moves in one physics sub-step (no tunnelling through walls).
 MAX_SUBSTEP_MOVE = 0.05
 #: Overlap with a wall (metres) beyond which the robot's last move is undone.
@@ -271,6 +273,9 @@ class World:
     def _hold_people_back(self, dt: float, robot_at: tuple[float, float] | None = None) -> None:
         """People never push the robot: a step that would bring someone within
         PERSON_GAP of the robot's footprint (and closer than now) is not taken.
+        Nor does anyone walk into someone else: a step that would bring two people's bodies
+        within PERSON_GAP of each other (centres closer than :data:`PEOPLE_APART`, and closer
+        than now) is not taken either (:meth:`_crowded`).
 
         Scripts set the velocity they want (``HumanBody.walk``); the person
         stands still for this step instead, and walks on when the way is free.
@@ -278,11 +283,13 @@ class World:
         """
         shape = self.robot.shape
         rx, ry = cp.position(self.robot.body) if robot_at is None else robot_at
-        for h in self._people:
+        people = self._people
+        several = len(people) > 1
+        for k, h in enumerate(people):
             if not h.present:
                 continue
             vx, vy = h.walk
-            held = False
+            held = crowded = False
             if vx or vy:
                 x, y = h.position
                 far = ROBOT_REACH + HUMAN_RADIUS + PERSON_GAP + math.hypot(vx, vy) * dt
@@ -290,13 +297,47 @@ class World:
                     now = cp.point_distance(shape, x, y)
                     nxt = cp.point_distance(shape, x + vx * dt, y + vy * dt)
                     held = nxt < HUMAN_RADIUS + PERSON_GAP and nxt < now
-            if held:
+                if not held and several:
+                    crowded = self._crowded(k, x + vx * dt, y + vy * dt, x, y, dt)
+            if held or crowded:
                 h.set_velocity(0.0, 0.0)
             else:
                 h.set_velocity(vx, vy)
             h.held = held
+            h.crowded = crowded
             if held:
                 h.held_time += dt
+            if crowded:
+                h.crowded_time += dt
+
+    def _crowded(self, k: int, nx: float, ny: float, x: float, y: float, dt: float) -> bool:
+        """Whether person ``k`` stepping from (x, y) to (nx, ny) would come within :data:`PEOPLE_APART`
+        of someone (centre to centre) and nearer than now.
+
+        People are decided in the world's order within a step: someone decided before her is where
+        her velocity for this step takes her; someone after her may still stand or walk, so both
+        where she stands and where she wants to be must be clear. Whatever each is then decided to
+        do, no two bodies end the step overlapping (that one steps away from an overlap is allowed)."""
+        apart2 = PEOPLE_APART * PEOPLE_APART
+        for j, o in enumerate(self._people):
+            if j == k or not o.present:
+                continue
+            ox, oy = o.position
+            reach = PEOPLE_APART + (abs(o.walk[0]) + abs(o.walk[1]) + abs(nx - x) / dt + abs(ny - y) / dt) * dt
+            if (ox - x) ** 2 + (oy - y) ** 2 >= reach * reach:
+                continue  # too far to matter this step
+            now2 = (ox - x) ** 2 + (oy - y) ** 2
+            if j < k:
+                vx, vy = o.velocity  # decided this step
+                spots = ((ox + vx * dt, oy + vy * dt),)
+            else:
+                wx, wy = o.walk
+                spots = ((ox, oy), (ox + wx * dt, oy + wy * dt)) if (wx or wy) else ((ox, oy),)
+            for px, py in spots:
+                d2 = (px - nx) ** 2 + (py - ny) ** 2
+                if d2 < apart2 and d2 < now2:
+                    return True
+        return False
 
     def _resolve_robot_contacts(self) -> bool:
         """Hard contacts: push the robot out of whatever it overlaps after a step; walls win.

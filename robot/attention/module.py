@@ -196,11 +196,11 @@ class AttentionParams:
     # 1.0 m ends below the camera's own height, and her raised hand was never seen (fresh8 terr_long_tour:
     # the red book on the 1.8 m bookcase, pointed at from 1.2 m, "Let me have a look." and nothing, 10/10);
     # the camera then tilts up until that raised hand is ``hand_top_margin`` inside the image's top.
-    # OFF by default (lane high22): it fixes that book, but close up her face then comes into the image, the
-    # robot sees whether she faces it, and the dialog's addressee rule took a bystander's words in a group as
-    # addressed (flow/chat_group_bye seed 2, tests/test_flow_addressee.py); that rule must handle a known
-    # facing in Interaction before this is switched on.
-    raise_for_hands: bool = False
+    # On by default since addr23. Close up her face then comes into the image and the robot sees whether she
+    # faces it in Interaction; lane high22 left it off because the dialog's addressee rule then took a bystander's
+    # words in a group as addressed (flow/chat_group_bye seed 2: she was seen facing the robot as he began, then
+    # walked over to the group); that rule now weighs what she does after an older facing (docs/subsystems.md).
+    raise_for_hands: bool = True
     hand_reach: float = 0.3  # m
     hand_top_margin: float = math.radians(1.0)
     ptu_deadband: float = math.radians(1.5)
@@ -379,11 +379,17 @@ class PersonAttention(Module):
     # following, the time since her last sighting spent yielding (set in __init__; here for the rule's
     # unit tests, which build the module without a bus)
     _yielded: float = 0.0
+    #: in Object, the time since her last sighting the camera spent on what she shows (:meth:`_count_looked_away`)
+    _looked_away: float = 0.0
+    _looked_t: float | None = None
+    _drive_start: float | None = None  # (set in __init__: since when the player drives on the ES's order)
     #: following, the time since her last sighting spent on the way to where she was last seen (None: not kept)
     _closing: Closing | None = None
     #: the lost partner's clothes (retake from afar) and since when the follower stands with its search
     #: over (set in __init__; here for the unit tests that build the module without a bus)
     _lost_colour: tuple[float, float, float] | None = None
+    #: her clothes as first seen once she was the partner (:meth:`_hers`; set in __init__, here for the same tests)
+    _her_clothes: tuple[float, float, float] | None = None
     _follow_stopped: float | None = None
     #: since when the follower says it stands by her (``waiting``; None: it does not)
     _follow_waiting: float | None = None
@@ -535,6 +541,10 @@ class PersonAttention(Module):
         # count as time unseen (robot.partner_search.yielding); the scan time it was last added up to
         self._yielded = 0.0
         self._yield_t: float | None = None
+        # In Object the camera looks at what she shows, not at her: time spent there since her last sighting is no
+        # evidence that she went out of view (:meth:`_count_looked_away`, the out-of-view clause of partner_left)
+        self._looked_away = 0.0
+        self._looked_t: float | None = None
         # ... nor the time it spends on its way to where she was last seen (robot.partner_search.Closing)
         self._closing = Closing()
         self._player_sub: Any = None
@@ -871,7 +881,8 @@ class PersonAttention(Module):
         return self.now - self._stood_stop_at <= STOP_VOICE
 
     def _stood(self, t: float) -> bool:
-        """The follower has stood by the partner track (its status ``waiting``) at least ``STOOD_FOR`` s."""
+        """The follower has stood by the partner track (its status ``waiting``; ``held``, held up short of her, is
+        not standing by her) at least ``STOOD_FOR`` s."""
         w = self._follow_waiting
         return w is not None and t - w >= STOOD_FOR
 
@@ -1212,6 +1223,7 @@ class PersonAttention(Module):
             row = -1  # her track is kept while she is hidden, but she is unseen: as if it had died
         if self.partner is not None and not self.partner_lost_sent:
             self._count_yield(t)  # (reset below when she is seen again)
+            self._count_looked_away(t)
         gone = row >= 0 and self._her_clothes_gone(t, tr.tracks[row])
         if gone and self.fsm.state == "Follow":
             # Following, her track shows another person's clothes (someone coming the other way passed her close
@@ -1258,6 +1270,7 @@ class PersonAttention(Module):
                 self._partner_last = (tk.last_seen, zx, zy, tk.x[2], tk.x[3], ox, oy)
                 self._driven = 0.0
                 self._yielded = 0.0
+                self._looked_away = 0.0
                 if self._closing is not None:
                     self._closing.reset()
         elif self.partner is not None and not self.partner_lost_sent:
@@ -1273,8 +1286,8 @@ class PersonAttention(Module):
         if row < 0 and (self.partner_lost_sent or self.partner is None):
             # (partner None: lost while following, her track died, and the ES's order back to
             # Interaction found nobody to choose: without this nobody could ever take the place)
-            if self.partner is not None and self._partner_colour is not None:
-                self._lost_colour = self._partner_colour  # she may come back: known by her clothes
+            if self.partner is not None and self._hers() is not None:
+                self._lost_colour = self._hers()  # she may come back: known by her clothes
             self.partner = None
             self._her_clothes = self._other_clothes_since = self._her_seen = None
             self._partner_last = self._partner_colour = None
@@ -1302,6 +1315,19 @@ class PersonAttention(Module):
                   for tk in self.tracks.tracks if tk.confirmed and not tk.dormant and tk.id != self.partner]
         if yielding(others):
             self._yielded += t - last
+
+    def _count_looked_away(self, t: float) -> None:
+        """In Object with her unseen: add the time since the last scan to
+        :attr:`_looked_away`. The camera then looks where she points, not at her (:meth:`_act`), and when the laser
+        cannot tell her legs from the furniture she stands by (behind an armchair, against a shelf: her track lives
+        on her face), the robot's own look away is all that hides her (generated tours 9100-11 and -16: "You left"
+        while the robot looked for what she showed, after asking her to step aside). The out-of-view clause of
+        :meth:`partner_left` does not count that time; last seen walking away or outside the interaction space,
+        she is still lost after ``partner_lost_after`` s."""
+        last, self._looked_t = self._looked_t, t
+        if self.fsm.state != "Object" or last is None or t - last > 1.0 or t <= last or self._drive_start is not None:
+            return  # (a drive on the ES's order is not counted already: :meth:`_unseen`)
+        self._looked_away += t - last
 
     def _turning_away(self, t: float) -> None:
         """Whether the partner has turned her back on the robot (:attr:`turned_away`): in Interaction,
@@ -1393,8 +1419,17 @@ class PersonAttention(Module):
             self._event("partner_lost")
             self.partner_lost_sent = True
 
+    def _hers(self) -> tuple[float, float, float] | None:
+        """Her clothes, the one reference of every rule that asks whether a track wears them (the hand-overs'
+        colour, the reacquisition and re-identification, who may retake her place after a loss): the first
+        colour her track showed once she was the partner (:meth:`_her_clothes_gone`), else, before the camera
+        gave one, her track's running colour. Not the running colour once hers is known: a track drifting
+        onto a bystander she walked past carries the running colour with it (review22 R5), and every
+        later check would then take the bystander's clothes for hers and refuse her own."""
+        return self._her_clothes or self._partner_colour
+
     def _her_clothes_gone(self, t: float, tk: Any) -> bool:
-        """In Interaction or Object: has the partner's track ``tk`` shown other clothes than hers for
+        """In Interaction, Object or Follow: has the partner's track ``tk`` shown other clothes than hers for
         ``other_clothes_after`` s? Clothes do not change during a tour, so her track is then on someone else (it
         went over to a bystander she walked past). Hers are the first colour the camera gives her track once she
         is the partner (greeted, chosen, taken back after a loss, or the one who said "stop": a new partner starts
@@ -1462,7 +1497,7 @@ class PersonAttention(Module):
             # stopped", a fast leader 4.3 m ahead past a divider). The follower keeps her last position
             # for its search time (at most 15 s) and then stands ("stopped"); then the rule below holds again.
             return False
-        if unseen >= p.out_of_view_after:
+        if unseen - self._looked_away >= p.out_of_view_after:
             return True
         away = (vx * dx + vy * dy) / dist if dist > 1e-6 else 0.0
         return dist > p.interaction_radius or away >= p.leave_speed
@@ -1483,12 +1518,12 @@ class PersonAttention(Module):
             colour = self.colours.colour(tk.id, t)
             # someone in other clothes is not her, however near (a person who crossed between), nor
             # someone the camera showed to be another after taking them for her (:meth:`_give_back`)
-            if tk.confirmed and not tk.dormant and same_clothes(self._partner_colour, colour) and tk.id not in self._not_her:
+            if tk.confirmed and not tk.dormant and same_clothes(self._hers(), colour) and tk.id not in self._not_her:
                 d = self._her_way(t, (tk.x[0], tk.x[1]))
                 # her colour known, this track's unseen: position alone, so only as near as she can have
                 # stepped unseen, not the growing radius, unless the track was born within it (four_people seed 8: a man walking past the
                 # robot 2.5 m from where she went out of view was taken as her, the search followed him)
-                if colour is None and self._partner_colour is not None and d > p.reacquire_radius:
+                if colour is None and self._hers() is not None and d > p.reacquire_radius:
                     # ... or first seen where she went out of view (she comes back from there); not while she
                     # leads (Follow): she walks on, ahead, and the camera looks at such a track meanwhile
                     # (_candidate, taken by its clothes in _reacquire_walking); a track born beside her way, never
@@ -1503,9 +1538,9 @@ class PersonAttention(Module):
             row = self._reacquire_walking(t, seen, x, y)
         if row >= 0:
             tid = self.tracks.tracks[row].id
-            if self._partner_colour is not None and self.colours.colour(tid, t) is None and tid != self.partner:
+            if self._hers() is not None and self.colours.colour(tid, t) is None and tid != self.partner:
                 # taken on position alone: open to the camera's verdict (:meth:`_check_handovers`)
-                self._open(tid, Handover(t, self._partner_colour, was=self.partner, partner=self._partner_state()))
+                self._open(tid, Handover(t, self._hers(), was=self.partner, partner=self._partner_state()))
             self.partner = tid
         return row
 
@@ -1530,13 +1565,14 @@ class PersonAttention(Module):
         the reacquisition radius (position history and clothes: issue 26 item 1, sq_cross_pair, where
         she was found again 4 m on, in the next room); two such tracks, or none whose colour is known:
         nobody (the camera looks at the candidates meanwhile, :meth:`_candidate`)."""
-        if self._partner_colour is None:
+        hers = self._hers()
+        if hers is None:
             return -1
         reach = self._walk_reach(t, seen)
         rows = [i for i, tk in enumerate(self.tracks.tracks)
                 if tk.confirmed and not tk.dormant and tk.id not in self._not_her
                 and math.hypot(tk.x[0] - x, tk.x[1] - y) <= reach
-                and (c := self.colours.colour(tk.id, t)) is not None and same_clothes(self._partner_colour, c)]
+                and (c := self.colours.colour(tk.id, t)) is not None and same_clothes(hers, c)]
         return rows[0] if len(rows) == 1 else -1
 
     def _walk_reach(self, t: float, seen: float) -> float:
@@ -1625,7 +1661,7 @@ class PersonAttention(Module):
                 way = None
                 if old.id == self.partner and self._partner_last is not None:
                     seen, x, y = self._partner_last[0], self._partner_last[1], self._partner_last[2]
-                    colour = self._partner_colour
+                    colour = self._hers()
                     way = lambda q: self._her_way(t, q)  # noqa: E731 (following: her way on)
                 else:
                     seen, (x, y), colour = old.last_seen, old.last_z, self.colours.colour(old.id)
@@ -1653,7 +1689,7 @@ class PersonAttention(Module):
         if self.partner in self._handovers:
             return
         record = self.colours.take(before.id)  # the clothes the track shows from now on are the track's own
-        self._open(before.id, Handover(t, self._partner_colour, old=before, old_colour=record,  # type: ignore[arg-type]
+        self._open(before.id, Handover(t, self._hers(), old=before, old_colour=record,  # type: ignore[arg-type]
                                        partner=self._partner_state(), restart=True))
 
     def _open(self, tid: int, h: Handover) -> None:

@@ -185,6 +185,30 @@ def _merge(old: Any, new: Any) -> Any:
     return out
 
 
+def _owner_pronoun_resolved(old: Any, new: Any) -> Any:
+    """``new`` with an owner said as "his", "her" or "their" taken as the owner ``old`` named, or as no owner when
+    it named none: a pronoun names nobody of its own (review22 R6). "Is this your husband's green cup?" - "no, his
+    mug" is the husband's mug; "Is this the green cup?" - "no, his mug", or "this is his cup" said unprompted, is a
+    mug or cup with no owner, never "His's" (the understanding keeps the word; the dialog, which knows what was
+    asked, decides)."""
+    if not _is_object(new):
+        return new
+    pronouns = [o for o in new.findall("OWNER") if (o.get("name") or "").lower() in OWNER_PRONOUNS]
+    if not pronouns:
+        return new
+    new = deepcopy(new)
+    for o in new.findall("OWNER"):
+        if (o.get("name") or "").lower() in OWNER_PRONOUNS:
+            new.remove(o)
+    named = [o for o in old.findall("OWNER") if (o.get("name") or "").lower() not in OWNER_PRONOUNS] \
+        if _is_object(old) else []
+    if named and new.find("OWNER") is None:
+        at = next((i for i, c in enumerate(new) if c.tag not in ("GESTURE", "TITLE")), len(new))
+        for k, o in enumerate(named):
+            new.insert(at + k, deepcopy(o))
+    return new
+
+
 def _select(fill: Fill, el: etree._Element) -> Any:
     """The value a fill takes from ``el``: the selected node/text, or ``el`` itself; None if the select is empty."""
     if fill.select is None:
@@ -343,6 +367,17 @@ class DialogManager:
         stamp = speech.find("TIMESTAMP") if speech is not None else None
         said = msg.get("answer", "")  # "yes"/"no" before the request: "no, the kitchen"
         out: list[Output] = []
+        if act == "PLACE" and msg.get("fragment") == "true":
+            # a room named alone ("no, the kitchen") answers a question whether to act in its own way
+            # (:meth:`_place_answer`): to the offer it is where to go, never the name of this spot
+            turned = self._place_answer(msg, act_el, said)
+            if turned is not None:
+                act, act_el, said, msg = turned
+            elif said == "no" and (asked := self._confirming()) is not None and asked.d.another_request_no \
+                    and self._answered_by(act) is None:
+                # "Shall I follow you?" - "no, the kitchen": the no answers it; the room alone may be a
+                # teaching whose "this is" was lost or a go-to whose verb was: asked before it is stored
+                conf = min(conf, self.doc.confirm_below / 2)
         offer = self._offer_taken(act, act_el, said)
         if offer is not None:
             return self._take_offer(offer)
@@ -469,6 +504,39 @@ class DialogManager:
         self._step(inst, out)
         return out
 
+    def _offer_open(self) -> Instance | None:
+        """The offer to follow her to a place it was never shown, when its question is the topmost open one."""
+        top = next((i for i in reversed(self.stack) if i.pending is not None), None)
+        if top is None or top.d.id != OFFER_DIALOG or top.pending != ("confirm", OFFER_SLOT, top.pending[2]):
+            return None
+        return top
+
+    def _place_answer(self, msg: etree._Element, place: etree._Element, said: str) \
+            -> tuple[str, etree._Element, str, etree._Element] | None:
+        """A room named alone (a noun phrase, ``fragment``: "no, the kitchen", "the kitchen") while the offer
+        ("Sorry, I do not know where the sitting room is. Shall I follow you there?") is open: the question was
+        where to go, so the room is where she wants the robot, as "Shall I go to the kitchen?" - "no, the
+        bathroom" is a go-to to the bathroom. Another room: a go-to to it (the offer ends unsaid; a room it was
+        never shown is offered again); the offered room again: a yes, or with "no" a no. Never the name of the
+        spot the robot stands in (review22 R3: "no, the kitchen" stored this spot as the kitchen). Returns the
+        (act, element, answer, message) the turn is taken as, or None when no offer is open."""
+        inst = self._offer_open()
+        if inst is None:
+            return None
+        if _same(inst.slots[OFFER_SLOT].value, place) and said == "no":
+            act_el = etree.Element("NO")
+        else:
+            act_el = etree.Element("GOTO")
+            if place.get("partial") is not None:
+                act_el.set("partial", str(place.get("partial")))
+            kept = deepcopy(place)
+            kept.attrib.pop("partial", None)
+            act_el.append(kept)
+        msg = deepcopy(msg)
+        for k in ("fragment", "answer"):
+            msg.attrib.pop(k, None)
+        return str(act_el.tag), act_el, "", msg
+
     def _offer_taken(self, act: str, act_el: etree._Element, said: str) -> Instance | None:
         """The open offer to follow her to a place it was never shown that this frame answers yes, or None.
 
@@ -478,8 +546,8 @@ class DialogManager:
         the same "Sorry", and she walked on alone). A go-to to another place, or a "no" first, is not."""
         if said == "no" or act not in ("FOLLOW", "GOTO"):
             return None
-        top = next((i for i in reversed(self.stack) if i.pending is not None), None)
-        if top is None or top.d.id != OFFER_DIALOG or top.pending != ("confirm", OFFER_SLOT, top.pending[2]):
+        top = self._offer_open()
+        if top is None:
             return None
         if act == "GOTO":
             place = act_el.find(".//PLACE") if act_el.tag != "PLACE" else act_el
@@ -622,7 +690,7 @@ class DialogManager:
             # from a lost word, robot/speech/grammar.py _determiner_lost): the same thing, no owner
             kept = inst.slots[slot].stamp
             self._fill_frame(inst, fills, act_el, conf, stamp, replace=True)
-            if kept is not None and act_el.find("GESTURE") is None:
+            if kept is not None:
                 inst.slots[slot].stamp = kept
             inst.slots[slot].status = "true"
             self.metrics["corrections"] += 1
@@ -635,10 +703,14 @@ class DialogManager:
                 value = inst.slots[slot].value
                 for o in value.findall("OWNER"):
                     value.remove(o)
-            if kept is not None and act_el.find("GESTURE") is None:
+            if kept is not None:
                 # "Is this your clock?" - "yes, my clock": the pointing went with the request, not with the
                 # yes; the event keeps when the request was said, so the object attention looks back to
-                # that gesture (fresh7 split_talkative_hidden: the yes's time lost it, "could not find")
+                # that gesture (fresh7 split_talkative_hidden: the yes's time lost it, "could not find").
+                # Also when the yes has a deictic word ("yes, that's my bag"): the word is no gesture, and
+                # one she makes with the yes is later than the request, so the look back from the request's
+                # start sees it too (fresh10 hall_wardrobe_bags: the yes's time lost the gesture behind her,
+                # the robot searched round her for 12 s and asked her to step aside too late, 9 of 10 runs)
                 inst.slots[slot].stamp = kept
             inst.slots[slot].status = "true"
             self.metrics["confirmed_by_repetition"] += 1
@@ -972,6 +1044,7 @@ class DialogManager:
                 continue
             slot = inst.slots[f.slot]
             status = f.status or ("true" if conf >= self.doc.confirm_below else "filled")
+            value = _owner_pronoun_resolved(slot.value if slot.status != "false" else None, value)
             slot.value = _merge(slot.value, value) if slot.status != "false" and not replace else value
             slot.status = status
             slot.stamp = stamp

@@ -61,7 +61,13 @@ others' chat) when, of the partner reports during the utterance (its ``start``..
 says ``facing="true"``, at least half say ``"false"`` (turned away, or walking away from the robot)
 and the last one says ``"false"`` with ``company`` >= 1: she was not facing the robot while the
 words were spoken and ended up in a group turned to the others, so the words (hers or a
-bystander's a few degrees beside her) are their chat.
+bystander's a few degrees beside her) are their chat. What she does after outweighs an older facing:
+when some reports during the words say ``facing="true"``, the reports after the last of them decide by
+the same test, provided they are at least half of the utterance's reports and the words do not name the
+robot (seen facing it as a bystander began to speak, she turned and walked over to the group for most of
+his words:
+flow/chat_group_bye seed 2 with the camera raised for her hands, lane addr23); a facing in the last
+report keeps it addressed.
 Looking away alone is not enough (a user speaks while glancing at a shelf), nor is company alone (a
 bystander beside a partner who faces the robot); without reports, or when the camera cannot tell,
 the utterance counts as addressed. Alone, she talks to herself (issue 26 item 3: "where did I put
@@ -282,6 +288,17 @@ def heard_bearing(bearing_deg: float, distance: float, mouth: float = MOUTH_HEIG
     dl = math.sqrt(x * x + (y - h) ** 2 + dz * dz)
     dr = math.sqrt(x * x + (y + h) ** 2 + dz * dz)
     return math.degrees(math.asin(max(-1.0, min(1.0, (dr - dl) / MIC_SPACING))))
+
+
+def _turned_to_others(cues: list[tuple[str, int]]) -> bool:
+    """The addressee rule's "turned to others" (module docstring): of partner reports ``(facing, company)``,
+    at least half have her turned away (``"false"`` or :data:`ASIDE`) and the last one too, with someone
+    else within the group radius of her (``company`` >= 1). False for no reports."""
+    if not cues:
+        return False
+    away = sum(f in ("false", ASIDE) for f, _ in cues)
+    last_f, last_c = cues[-1]
+    return 2 * away >= len(cues) and last_f in ("false", ASIDE) and last_c >= 1
 
 
 def heard_span(bearing_deg: float, distance: float) -> tuple[float, float]:
@@ -655,7 +672,10 @@ class Dialog(Module):
                   repeated: bool = False, whole: bool = True) -> bool:
         """The addressee rule (module docstring): is speech heard from ``start`` to ``end`` meant for
         the robot? No when no partner report in that span has her facing it, at least half have her
-        turned away (``facing="false"``) and the last one too, with someone else near her; and no when
+        turned away (``facing="false"``) and the last one too, with someone else near her (and when she
+        faced it, the same of the reports after her last facing, if they are at least half of the span's
+        and the words do not name the robot: what she does after outweighs the older facing; a deictic
+        ``shows`` does not keep them, as in the group test without a facing); and no when
         every report has her turned aside (the attention's ``away``: she walked off and has not faced
         the robot or come back since, at least ``ASIDE_DISTANCE`` from it) and she does not call it by
         its name (``named``, the speech module's ``named="true"``) nor says again what got no answer
@@ -671,8 +691,14 @@ class Dialog(Module):
             # tests/scenarios/flow/fixrev19_alone_softer.xml); words said again after no answer are hers too
             return False
         during = [(f, c) for t, f, c, _ in self._partner_cues if start <= t <= end]
-        if during and any(f == "true" for f, _ in during):
-            return True
+        faced = [i for i, (f, _) in enumerate(during) if f == "true"]
+        if faced:
+            # she faced the robot during the words: meant for it, unless what she did after her last facing
+            # outweighs it: for at least half the words she was then seen turned away, and at the end turned
+            # to someone near her (chat_group_bye seed 2 with the camera raised for her hands: Olga seen facing
+            # the robot for 0.4 s as Rosa began "how was your holiday", then 1.4 s walking over to the group)
+            after = during[faced[-1] + 1:]
+            return named or 2 * len(after) < len(during) or not _turned_to_others(after)
         if self._voice_elsewhere(start, end):
             # the microphones heard the words, and hardly any of it from where she stands (distractor
             # seed 0 on obj12: Tom's "I need to find my keys" 13 degrees off Anna, her face not seen,
@@ -696,9 +722,7 @@ class Dialog(Module):
             # that got no answer (a request repeated is waiting for one; without this rule nothing she
             # said turned aside could ever start that exchange: deaf to her for the rest of the run)
             return named or shows or repeated or self._addressed_at > self._aside_since
-        away = sum(f in ("false", ASIDE) for f, _ in during)
-        last_f, last_c = during[-1]
-        return not (2 * away >= len(during) and last_f in ("false", ASIDE) and last_c >= 1)
+        return not _turned_to_others(during)
 
     def _chat_before_greeting(self, x: etree._Element) -> bool:
         """Whether frame ``x`` is chat the robot overheard before anyone greeted it: the supervisor has
@@ -773,7 +797,7 @@ class Dialog(Module):
     def _walk_over(self, cause: str) -> bool:
         """Whether her walk is over for a teaching said while the robot follows (:data:`ENDS_A_PAUSE`): a pause
         (she said "hang on": the follower's status ``paused``), or the follower has said ``waiting`` (it stands by
-        her: she stands) for at least :data:`~robot.partner_search.STOOD_FOR` s when the words began and still
+        her: she stands; not ``held``, held up on its way to her beyond its band, review22 R4) for at least :data:`~robot.partner_search.STOOD_FOR` s when the words began and still
         says so, as for a stop from off her bearing (:meth:`_stop_after_she_stood`). fresh7 corr_fast_walker_goto:
         a fast leader's "here, stop" was not heard from 6 m behind a wall, the robot came up to him and stood by
         him, and "this is the guest room", the sunglasses and the go-to all got "say stop first" to the end. A
@@ -1181,7 +1205,7 @@ class Dialog(Module):
             return
         if msg.xml.get("name") == "person_info":  # someone speaks facing the robot (potential partner)
             self._person_at = msg.created
-            self._person_place = self._place_of(msg.xml.find(".//PERSON"))
+            self._person_place = self._place_of(msg.xml.find(".//PERSON"), msg.created)
             if self._call is not None:
                 self._answer_call()  # her call by name, heard before the robot had turned to her
         if msg.xml.get("name") == "arrived":  # a go-to ended: her next request resumes the tour
@@ -1286,15 +1310,17 @@ class Dialog(Module):
         # sub-dialog is still open, e.g. the stop's "OK, I stopped." waits for its condition: then after it)
         self._emit(self.manager.take_up_in_passing(), msg.id)
 
-    def _place_of(self, person: etree._Element | None) -> tuple[float, float] | None:
-        """Where a reported PERSON (bearing in degrees and distance, robot frame now) stands in the map frame (the
-        localiser's latest pose), None without a pose or a place."""
+    def _place_of(self, person: etree._Element | None, at: float) -> tuple[float, float] | None:
+        """Where a reported PERSON (bearing in degrees and distance, robot frame when the report was made, ``at``)
+        stands in the map frame: placed with the localiser's pose nearest ``at``, not the latest one (review22 R8:
+        the report of someone found while the base still turns to her voice comes over the WLAN after poses the
+        turn has moved on by degrees, a good part of :data:`CALL_WIDTH`). None without a pose or a place."""
         if person is None or not self._poses:
             return None
         b, d = float(person.get("bearing", "nan")), float(person.get("distance", "nan"))
         if not (math.isfinite(b) and math.isfinite(d)):
             return None
-        _, ox, oy, oth = self._poses[-1]
+        _, ox, oy, oth = min(self._poses, key=lambda o: abs(o[0] - at))  # ties: the earlier pose (deque order)
         return ox + d * math.cos(oth + math.radians(b)), oy + d * math.sin(oth + math.radians(b))
 
     def _on_pose(self, msg: Message) -> None:

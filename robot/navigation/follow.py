@@ -88,7 +88,8 @@ Control, every ``1/rate`` seconds:
   its room, so the people in the flat can speak to it.
 * Backing off (from a partner too close, or wedged) never reverses toward a person the attention
   tracks behind it (within the back-off's reach plus 0.45 m: ``people.behind_clear``).
-* Wedged (a jamb at a front corner in a 0.9 m door): when it should drive but has neither moved
+* Wedged (a jamb at a front corner in a 0.9 m door): when it should drive (a crawl slower than
+  :data:`CRAWL` is no driving) but has neither moved
   :data:`STUCK_MOVE` nor turned :data:`STUCK_TURN` net for :data:`STUCK_TIME` s, it backs for
   :data:`UNSTICK_TIME` s over ground it drove or saw free. Close to the floor plan already, its own
   commands may keep their distance (:func:`sweep_allowed`: the sweep's start pose is not "closer").
@@ -166,6 +167,10 @@ STUCK_MOVE = 0.05
 STUCK_TURN = math.radians(15)
 #: s: once stuck, it backs this long (10 cm at UNSTICK_SPEED) unless a way forward opens
 UNSTICK_TIME = 1.0
+#: m/s: a forward command slower than this would not take it :data:`STUCK_MOVE` in :data:`STUCK_TIME` s: a crawl the
+#: dynamic window alternates with standing (0.025 m/s, 0, 0.025, turning to and fro) at a jamb is no drive that
+#: makes progress, and the wedge rule still counts (fresh10 hall_child_remotes seed 9: 13 s so in a 0.95 m door)
+CRAWL = STUCK_MOVE / STUCK_TIME
 #: m: paused by a wait said while she leads, she has walked on (following again) once she is this far from
 #: where she stood when the pause began (a step to a shelf beside her is no walking on; her walker's pace,
 #: 0.3 m/s, crosses it in under 2 s)
@@ -919,7 +924,10 @@ class Follower(Module):
                 # guard its corners, but a body is wider than its legs): a corner swung into a man
                 # held up beside it while a couple crossed (cross_studio_four seeds 0, 3, 5, 8)
                 w = 0.0
-            state = "following" if cmd.ok else "waiting"
+            # no admissible way to her (she is beyond the band, people or furniture hold it): ``held``, never
+            # ``waiting``, which says it stands by her (the dialog's and the attention's "her walk is over" read
+            # only that one; review22 R4: a teaching said while held up in a door ended the walk)
+            state = "following" if cmd.ok else "held"
             v, w = self._unstick(v, w, mapped)
             held = self._held_up(v, v_des, goal, px, py)
         v = self._keep_inside(v, w)
@@ -1434,7 +1442,7 @@ class Follower(Module):
         net (standing, or turning a little to and fro). Then it backs for :data:`UNSTICK_TIME` s over
         ground it drove or saw free (never where the laser did not look), which gives the corners room
         to turn, unless a forward arc opens first; nothing when backing is unsafe."""
-        if abs(v) > 0.02 or self.odom is None:
+        if abs(v) >= CRAWL or self.odom is None:
             self._stuck_since, self._stuck_at, self._unstick_until = None, None, -math.inf
             return v, w
         if self.now < self._unstick_until and self.can_back_off():
