@@ -370,6 +370,9 @@ class PersonAttention(Module):
     _handovers: dict[int, Handover] = {}  # noqa: RUF012 (read-only default for unit tests; __init__ gives each its own)
     #: tracks whose clothes showed they are not the partner they were taken for (:meth:`_give_back`)
     _not_her: frozenset[int] = frozenset()
+    #: her evidence (``_partner_state``) when the camera last saw her own clothes on her track (:meth:`_on_torsos`):
+    #: where she really was when her track turns out to be on someone else (:meth:`_top_down`, following)
+    _her_seen: tuple[Any, Any, Any] | None = None
     #: (when, m/s): the partner's walking pace, renewed with ``_partner_last`` (:meth:`_walk_reach`)
     _partner_pace: tuple[float, float] = (-math.inf, 0.0)
 
@@ -715,7 +718,10 @@ class PersonAttention(Module):
         for j, i in anchor_torsos(tb, bearings, self.cues.torso_bearing_tolerance):
             if tracks[i].confirmed and not tracks[i].dormant:
                 r = rows[j]
-                self.colours.observe(tracks[i].id, (float(get(r, "r")), float(get(r, "g")), float(get(r, "b"))), t)
+                rgb = (float(get(r, "r")), float(get(r, "g")), float(get(r, "b")))
+                self.colours.observe(tracks[i].id, rgb, t)
+                if tracks[i].id == self.partner and self._her_clothes is not None and same_clothes(self._her_clothes, rgb):
+                    self._her_seen = self._partner_state()
         if self.partner is None:
             return
         prow = self.tracks.row(self.partner)
@@ -823,14 +829,14 @@ class PersonAttention(Module):
                 self.partner = self._caller if self._caller is not None and self.tracks.row(self._caller) >= 0 else self._choose_partner()
                 self.partner_lost_sent = False
                 self._partner_last = self._partner_colour = None
-                self._her_clothes = self._other_clothes_since = None
+                self._her_clothes = self._other_clothes_since = self._her_seen = None
                 if lost and self.partner is not None and self.partner != before and self.fsm.state == "Interaction":
                     self._new_partner(self.now, self.partner, "false")  # back from a loss: who it attends to now
         else:
             self.partner = None
             self.partner_lost_sent = False
             self._partner_last = self._partner_colour = self._lost_colour = None
-            self._her_clothes = self._other_clothes_since = None
+            self._her_clothes = self._other_clothes_since = self._her_seen = None
         self.pp_sent = None
         self._alone_since = None
         self.turned_away = False  # (leading her in Follow she walks away from it: no turning away)
@@ -861,7 +867,7 @@ class PersonAttention(Module):
         if heard:
             self.partner = max(heard)[1]
             self._partner_last = self._partner_colour = None
-            self._her_clothes = self._other_clothes_since = None
+            self._her_clothes = self._other_clothes_since = self._her_seen = None
 
     def _on_es_event(self, msg: Message) -> None:
         """The dialog's stop taken from off the partner's bearing after the robot stood by her track."""
@@ -1218,7 +1224,28 @@ class PersonAttention(Module):
         if self.partner is not None and not self.partner_lost_sent:
             self._count_yield(t)  # (reset below when she is seen again)
             self._count_looked_away(t)
-        if row >= 0 and self._her_clothes_gone(t, tr.tracks[row]):
+        gone = row >= 0 and self._her_clothes_gone(t, tr.tracks[row])
+        if gone and self.fsm.state == "Follow":
+            # Following, her track shows another person's clothes (someone coming the other way passed her close
+            # and the tracks swapped: fresh11/rail_fast_crossing seed 1): she is not there but walks on somewhere
+            # else. That track is someone else's and gets an id of its own (never taken back as hers); her id has
+            # no track, her evidence is what it was when the camera last saw her clothes on her track, and the
+            # follower is told so (one partner message, unseen, where she was then: it searches there, not where
+            # the other person went); she is found again as after any loss of sight (:meth:`_reacquire` by her
+            # clothes, the camera looking at the candidates, :meth:`_candidate`; re-identification), the leaving
+            # rule counting the time since she was really seen
+            tid = self.partner
+            fresh = tr.renew(tid)
+            self.colours.put(fresh, self.colours.take(tid))
+            self._not_her.add(fresh)
+            if self._her_seen is not None:
+                self._partner_last, self._partner_pace, _ = self._her_seen
+            self._her_seen = None
+            self._partner_colour = self._her_clothes or self._partner_colour
+            self._other_clothes_since = None
+            self._publish_unseen_partner(t, tid)
+            row = -1
+        elif gone:
             # her track shows another person's clothes: she is not there (where she is, the camera has not seen);
             # she may come back and is known by her own clothes (:meth:`_retake_reach`)
             if not self.partner_lost_sent:
@@ -1262,7 +1289,7 @@ class PersonAttention(Module):
             if self.partner is not None and self._hers() is not None:
                 self._lost_colour = self._hers()  # she may come back: known by her clothes
             self.partner = None
-            self._her_clothes = self._other_clothes_since = None
+            self._her_clothes = self._other_clothes_since = self._her_seen = None
             self._partner_last = self._partner_colour = None
             # The partner may come back: someone speaking while facing the robot takes the place.
             rx, ry, _ = self._pose_at(t)
@@ -1402,7 +1429,7 @@ class PersonAttention(Module):
         return self._her_clothes or self._partner_colour
 
     def _her_clothes_gone(self, t: float, tk: Any) -> bool:
-        """In Interaction or Object: has the partner's track ``tk`` shown other clothes than hers for
+        """In Interaction, Object or Follow: has the partner's track ``tk`` shown other clothes than hers for
         ``other_clothes_after`` s? Clothes do not change during a tour, so her track is then on someone else (it
         went over to a bystander she walked past). Hers are the first colour the camera gives her track once she
         is the partner (greeted, chosen, taken back after a loss, or the one who said "stop": a new partner starts
@@ -1416,7 +1443,7 @@ class PersonAttention(Module):
             self._other_clothes_since = None
             return False
         if colour is None or same_clothes(self._her_clothes, colour) or tk.id in self._handovers \
-                or self.fsm.state not in ("Interaction", "Object"):
+                or self.fsm.state not in ("Interaction", "Object", "Follow"):
             self._other_clothes_since = None
             return False
         if self._other_clothes_since is None:
@@ -1543,7 +1570,8 @@ class PersonAttention(Module):
             return -1
         reach = self._walk_reach(t, seen)
         rows = [i for i, tk in enumerate(self.tracks.tracks)
-                if tk.confirmed and not tk.dormant and math.hypot(tk.x[0] - x, tk.x[1] - y) <= reach
+                if tk.confirmed and not tk.dormant and tk.id not in self._not_her
+                and math.hypot(tk.x[0] - x, tk.x[1] - y) <= reach
                 and (c := self.colours.colour(tk.id, t)) is not None and same_clothes(hers, c)]
         return rows[0] if len(rows) == 1 else -1
 
@@ -2301,6 +2329,23 @@ class PersonAttention(Module):
             f' x="{x[0]:.3f}" y="{x[1]:.3f}" vx="{x[2]:.3f}" vy="{x[3]:.3f}" visible="{"true" if visible else "false"}"'
             f' lost_for="{max(0.0, t - tk.last_update):.3f}" facing="{self._facing(t, tk.id, self._walks_away(t, x))}"'
             f' company="{company}" others="{others}"{AWAY if self.turned_away else ""}/>'
+        ), transfer=True)
+
+    def _publish_unseen_partner(self, t: float, tid: int) -> None:
+        """The partner message for identity ``tid`` when no track holds it: where she was last seen (``_partner_last``,
+        odom), unseen since then."""
+        last = self._partner_last
+        if last is None or "bus" not in vars(self):
+            return
+        seen, x, y, vx, vy = last[:5]
+        px, py, th = self._pose_at(t)
+        dx, dy = x - px, y - py
+        b = math.atan2(dy, dx) - th
+        b = (b + math.pi) % (2 * math.pi) - math.pi
+        self.bus.publish(PARTNER, _own_document(
+            f'<partner id="t{tid}" bearing="{math.degrees(b):.3f}" distance="{math.hypot(dx, dy):.3f}"'
+            f' x="{x:.3f}" y="{y:.3f}" vx="{vx:.3f}" vy="{vy:.3f}" visible="false" lost_for="{max(0.0, t - seen):.3f}"'
+            f' facing="unknown" company="0" others="{sum(1 for o in self.tracks.tracks if o.confirmed and not o.dormant)}"/>'
         ), transfer=True)
 
     def _walks_away(self, t: float, x: Any) -> bool:

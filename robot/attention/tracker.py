@@ -429,6 +429,19 @@ class Tracks:
         self.tracks.insert(at, old)
         return fresh, at
 
+    def renew(self, track_id: int) -> int:
+        """The track holding ``track_id`` is someone else than the person the id stands for (the camera saw
+        other clothes on it): it gets a new id of its own, and ``track_id`` has no track until the person is
+        found again. Returns the new id, or -1 when no track holds ``track_id``."""
+        row = self.row(track_id)
+        if row < 0:
+            return -1
+        fresh = self._next
+        self._next += 1
+        self.tracks[row].id = fresh
+        self.confirmed_now = [fresh if i == track_id else i for i in self.confirmed_now]
+        return fresh
+
     def _twins(self, t: float) -> set[int]:
         """Ids of confirmed tracks that have followed an older confirmed track closer than
         ``merge_distance`` for ``merge_time`` s: one person tracked twice (a second track born on
