@@ -138,3 +138,23 @@ def test_a_request_of_its_own_is_never_begun_over_or_just_after_a_voice(bursts, 
         assert said or r.es.state != "Following"
     finally:
         r.sim.close()
+
+
+def test_a_held_request_to_pass_is_not_said_once_the_robot_drives_on_freely(following):
+    # review23 N4: two people chatting nearby, quiet, with short pauses, hold "may I pass"; from 13 s the follower
+    # drives on at 0.45 m/s (nobody holds it up any more): the request is stale and never said
+    from robot.contract import FOLLOW_STATUS
+    r = following
+    for k in range(6):
+        _voices(r, 100.0, 11.0 + 1.5 * k, 12.3 + 1.5 * k, level=40.0)
+    _blocked(r, 12.0)
+    fol = r.sim.bus.participant("follower")
+
+    def beat(t: float) -> None:
+        fol.publish(FOLLOW_STATUS, etree.Element("follow", distance="1.3", speed="0.45", at_limit="false", state="following"))
+        if t + 0.1 < 22.0:
+            r.sim.call_at(t + 0.1, lambda: beat(t + 0.1))
+
+    r.sim.call_at(13.0, lambda: beat(13.0))
+    r.sim.run(until=24.0)
+    assert not _said_at(r, EXCUSE)

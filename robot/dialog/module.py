@@ -266,6 +266,12 @@ HOLD_BUDGET, HOLD_WINDOW = 15.0, 60.0
 #: fresh10 hall_crossing_kids: "Excuse me, may I pass" over her "Okay, you can stop" three times). A request
 #: already waiting is not queued again (the follower repeats it while it is still held up).
 FOLLOW_ASKS = frozenset({"excuse_me", "too_fast"})
+# A held request of its own goes stale with the follower's news (review23 N4): "may I pass" once it drives on
+# freely (the follower's held-up crawl, HELD_UP_CRAWL, or faster; modules share no code) or stands by her; "slow
+# down" once she stopped or it came up to her (within the follower's band, 1.5 m). The follower asks again
+# while it is still held up or she still pulls away (every 5 s), so a request dropped here is never lost
+MOVING_FREELY = 0.25
+CAUGHT_UP = 1.5
 #: s: the pause of every voice before such a request: her words' frame reaches the dialog about 1 s after
 #: her last word (recognition, understanding), and its answer comes first
 ASK_QUIET = 2.0
@@ -1221,11 +1227,39 @@ class Dialog(Module):
         elif self._follow_state != "searching":
             self._searching_since = self.now
         self._follow_state = state
+        self._withdraw_stale_asks(msg)
         if msg.xml.get("state") == "approaching":
             self._approach_seen = self.now
             return
         self._approach_seen = -math.inf
         self._release_held()
+
+    def _withdraw_stale_asks(self, msg: Message) -> None:
+        """A request of its own still waiting in the queue (:meth:`_hold_ask` holds it up to ``HOLD_MAX``)
+        that the follower's status has overtaken is not said (:data:`MOVING_FREELY`, :data:`CAUGHT_UP`)."""
+        if not self._queue:
+            return
+        state = msg.xml.get("state", "")
+        try:
+            speed, distance = float(msg.xml.get("speed", "0")), float(msg.xml.get("distance", "nan"))
+        except ValueError:
+            return
+        stood = state in ("waiting", "stopped", "paused")
+        stale = set()
+        if stood or (state == "following" and speed >= MOVING_FREELY):
+            stale.add("excuse_me")
+        if stood or state == "approaching" or distance <= CAUGHT_UP:
+            stale.add("too_fast")
+        if not stale:
+            return
+        kept: deque[tuple[Any, ...]] = deque()
+        for q in self._queue:
+            if q[2] and q[2] <= stale and q[3] < msg.created:
+                for d in q[2]:
+                    self._dropped_at[d] = self.now
+                continue
+            kept.append(q)
+        self._queue = kept
 
     def _on_condition(self, msg: Message) -> None:
         if msg.xml.get("name") == "ask":  # a reactive module's question, routed through the ES
