@@ -255,7 +255,7 @@ def straight_leg_free(plan_blocks: list[tuple[tuple[Point, ...], float, float]],
 def viewpoint(plan: FloorPlan, robot: Point, target: tuple[float, float, float], people: Sequence[Point] = (), *,
               camera_height: float, camera_offset: float = 0.0, max_travel: float = MAX_TRAVEL,
               clearance: float = ROBOT_CLEARANCE, person_clearance: float = PERSON_CLEARANCE,
-              arrive: float = ARRIVE_TOLERANCE, apart_from: Point | None = None) -> tuple[float, float, float] | None:
+              arrive: float = ARRIVE_TOLERANCE, apart_from: Point | None = None, spread: float = 0.0) -> tuple[float, float, float] | None:
     """The nearest pose (x, y, heading towards the target) from which the camera sees ``target``:
     in a room of the plan, ``clearance`` from walls and furniture and ``person_clearance`` from
     every person, reached by a straight drive from ``robot`` that keeps those clearances (the
@@ -268,7 +268,7 @@ def viewpoint(plan: FloorPlan, robot: Point, target: tuple[float, float, float],
     With ``apart_from`` (where the camera saw the target from), only places that see it at least
     ``APART_TURN`` from that line of sight: two things one behind the other on it stand side by side there."""
     route = viewpoint_route(plan, robot, target, people, camera_height=camera_height, camera_offset=camera_offset, max_travel=max_travel,
-                            clearance=clearance, person_clearance=person_clearance, arrive=arrive, max_legs=1, apart_from=apart_from)
+                            clearance=clearance, person_clearance=person_clearance, arrive=arrive, max_legs=1, apart_from=apart_from, spread=spread)
     return None if route is None else route[-1]
 
 
@@ -276,7 +276,7 @@ def viewpoint_route(plan: FloorPlan, robot: Point, target: tuple[float, float, f
                     camera_height: float, camera_offset: float = 0.0, max_travel: float = MAX_ROUTE,
                     clearance: float = ROBOT_CLEARANCE, person_clearance: float = PERSON_CLEARANCE,
                     arrive: float = ARRIVE_TOLERANCE, max_legs: int = MAX_LEGS,
-                    apart_from: Point | None = None) -> list[tuple[float, float, float]] | None:
+                    apart_from: Point | None = None, spread: float = 0.0) -> list[tuple[float, float, float]] | None:
     """Like :func:`viewpoint`, but a place reached only round a corner (a sofa's end, a door
     frame, the partner) counts too: the way there is the grid's shortest path (:func:`travel_map`)
     cut into at most ``max_legs`` straight legs that keep the clearances (:func:`_legs`), since the
@@ -320,6 +320,15 @@ def viewpoint_route(plan: FloorPlan, robot: Point, target: tuple[float, float, f
             if not all(sight_clear(plan, (cam[0] + dx, cam[1] + dy, camera_height), target, people)
                        for dx, dy in ((0.0, 0.0), (arrive, 0.0), (-arrive, 0.0), (0.0, arrive), (0.0, -arrive))):
                 continue  # the player stops within ``arrive`` of the pose: the view must hold there too
+            if spread > 0.0:
+                # The spot is known only to ``spread`` (her aim over the way from her hand to it): the view must
+                # hold to either side of it too, from the pose and from where the player may stop (a line that
+                # just clears an armchair's corner to the estimate is hidden to the basket 4 cm beside it).
+                ux, uy = -math.sin(heading) * spread, math.cos(heading) * spread
+                if not all(sight_clear(plan, (cam[0] + dx, cam[1] + dy, camera_height), (target[0] + sx, target[1] + sy, target[2]), people)
+                           for sx, sy in ((ux, uy), (-ux, -uy))
+                           for dx, dy in ((0.0, 0.0), (arrive, 0.0), (-arrive, 0.0), (0.0, arrive), (0.0, -arrive))):
+                    continue
             if straight_leg_free(every, people, robot, q, clearance=drive_c, person_clearance=drive_p):
                 points = [q]
             elif max_legs > 1:
