@@ -61,7 +61,7 @@ from robot.floorplan import FloorPlan, parse_map
 from robot.contract import ES_EVENTS, ES_ORDERS, FOCUS, GESTURES, OBJECTS, PARTNER, PLAYER_STATUS, POSE, TRACKS
 
 from .gestures import CAMERA_HEIGHT, CAMERA_OFFSET, GestureTracker, camera_to_map
-from .resolve import MERGE_BEARING, Candidate, Pointing, Resolution, Wanted, along_ray, choose_pointed, learned_type, merge, option_texts, resolve
+from .resolve import AIM_SIGMA, MERGE_BEARING, Candidate, Pointing, Resolution, Wanted, along_ray, choose_pointed, learned_type, merge, option_texts, resolve
 from .viewpoint import ARRIVE_TOLERANCE, CAMERA_RANGE, POINT_REACH, in_range, pointed_spot, sight_clear, viewpoint, viewpoint_route
 
 if TYPE_CHECKING:
@@ -881,7 +881,9 @@ class ObjectAttention(Module):
             await asyncio.sleep(0.3)
         if not self.view_blocked(pointing):
             return False
-        return await self._move_to_see_spot(target, cause)
+        # her aim (AIM_SIGMA) over the way from her hand to the spot: how far beside it the thing may stand
+        spread = math.hypot(target[0] - pointing.x, target[1] - pointing.y) * math.tan(AIM_SIGMA)
+        return await self._move_to_see_spot(target, cause, spread=spread)
 
     def _partner_map(self) -> tuple[float, float] | None:
         """Where the partner stands (map frame), if the person attention reported her lately."""
@@ -895,7 +897,8 @@ class ObjectAttention(Module):
         p = self._partner
         return p is not None and self.now - p[0] <= 1.0 and p[2] > PARTNER_FAR
 
-    async def _move_to_see_spot(self, target: tuple[float, float, float], cause: str, apart_from: tuple[float, float] | None = None) -> bool:
+    async def _move_to_see_spot(self, target: tuple[float, float, float], cause: str, apart_from: tuple[float, float] | None = None,
+                                spread: float = 0.0) -> bool:
         """Drive to the nearest place from which the camera sees ``target`` (see :meth:`_move_to_see`);
         with ``apart_from``, one that sees it from another side than from there (:func:`viewpoint`)."""
         if self.pose is None or self.plan is None:
@@ -908,9 +911,10 @@ class ObjectAttention(Module):
         people = self._people_map(pose)
         # A place one straight leg away first (the player's own leg, the surest drive); only when there
         # is none, one round a corner (legs through waypoints).
-        one = viewpoint(self.plan, (pose[0], pose[1]), target, people, camera_height=CAMERA_HEIGHT, camera_offset=CAMERA_OFFSET, apart_from=apart_from)
+        one = viewpoint(self.plan, (pose[0], pose[1]), target, people, camera_height=CAMERA_HEIGHT, camera_offset=CAMERA_OFFSET, apart_from=apart_from,
+                        spread=spread)
         route = [one] if one is not None else viewpoint_route(self.plan, (pose[0], pose[1]), target, people, camera_height=CAMERA_HEIGHT,
-                                                              camera_offset=CAMERA_OFFSET, apart_from=apart_from)
+                                                              camera_offset=CAMERA_OFFSET, apart_from=apart_from, spread=spread)
         if route is None:
             return False
         self.moves += 1
