@@ -914,10 +914,8 @@ class Follower(Module):
             # and someone first seen close ahead (a tentative track's first sighting: no velocity yet), not
             # beside anyone known, as running at it (People.newborn: a boy out of a side door of a 1.1 m hallway
             # at 1.5 m/s, first seen 1.13 m off, was left out for that scan and touched; corr_hallway_crossing)
-            way = in_the_way(self.people, self.odom, self.now, echoes=self.scan.points())
-            born = self.people.newborn(self.odom, self.now, exclude=self.partner_id)
-            if len(born):
-                way = np.concatenate((way, born)) if len(way) else born
+            way = in_the_way(self.people, self.odom, self.now, echoes=self.scan.points(), first_seen=True,
+                             exclude=self.partner_id)
             contact = contact_speed_limit(way,
                                           limits.max_speed, decel=self.limits.max_accel, w=self.w,
                                           dw=self.limits.max_turn_accel * self.period)

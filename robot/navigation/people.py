@@ -343,15 +343,19 @@ def maybe_behind(people: People, odom: tuple[float, float, float], now: float, *
 EMERGING_WALK = 0.3
 
 
-def in_the_way(people: People, odom: tuple[float, float, float], now: float, *, echoes: np.ndarray | None = None) -> np.ndarray:
+def in_the_way(people: People, odom: tuple[float, float, float], now: float, *, echoes: np.ndarray | None = None,
+               first_seen: bool = False, exclude: str | None = None) -> np.ndarray:
     """(K, 4) robot-frame centres and velocities of everyone the contact limit
     (:func:`robot.footprint.contact_speed_limit`) reckons with: every confirmed track, the partner's too
     (she may turn back into its way), those lost standing where the laser still has an echo (``echoes``),
     and the tentative tracks that walk, freshly measured (:meth:`People.emerging`: a child running out of
     a side door is a few scans old when he is in the robot's lane); and, once more, those who stopped dead
-    a moment ago, walking on as they walked (:meth:`People.stopped`: the limit is the least over both)."""
+    a moment ago, walking on as they walked (:meth:`People.stopped`: the limit is the least over both).
+    ``first_seen`` (the follower's): also whoever is seen for the first time close ahead, as running at it
+    (:meth:`People.newborn`; ``exclude``: the partner's track id, left out of those)."""
+    born = people.newborn(odom, now, exclude=exclude) if first_seen else np.zeros((0, 4))
     rows = [a for a in (people.around(odom, now, echoes=echoes, velocity=True),
-                        people.emerging(odom, now, moving=EMERGING_WALK, reach=REACH), people.stopped(odom, now))
+                        people.emerging(odom, now, moving=EMERGING_WALK, reach=REACH), people.stopped(odom, now), born)
             if len(a)]
     return np.concatenate(rows) if rows else np.zeros((0, 4))
 
