@@ -1246,7 +1246,6 @@ class Follower(Module):
                 return cmd
         if self.route.grid is None or self.odom is None:
             return cmd
-        self._aside_stall = None
         failed = self._backout_failed
         rx_, ry_ = self.odom[0], self.odom[1]
         if (failed is not None and self.now - failed[0] < BACKOUT_RETRY
@@ -1254,15 +1253,33 @@ class Follower(Module):
                 and math.hypot(px - failed[3], py - failed[4]) < BACKOUT_MOVED):
             # the same search found no way out a moment ago from here with her there: not again every
             # stall (fresh hall_catch_up_fast seed 1: 39 searches of ~33 whole-grid plans each, half the run)
-            return cmd
+            return self._step_back(cmd, px, py, mapped)
         path = back_out_spot(self.route.grid, self.route.to_map(self.odom[:2]), self.route.to_map((px, py)),
                              keep=self.band[0], came=self._came_from())
         if path is None:
             self._backout_failed = (self.now, rx_, ry_, px, py)
-            return cmd
+            return self._step_back(cmd, px, py, mapped)
+        self._aside_stall = None
         self._backout_failed = None
         self._aside = ([self.route.to_odom(p) for p in path], self.now + GIVE_WAY_TIME, True)
         return cmd
+
+    def _step_back(self, cmd: tuple[float, float], px: float, py: float, mapped: np.ndarray) -> tuple[float, float]:
+        """The stalled give-way's last resort when no back-out spot exists either: straight back, away from her
+        (odom ``px, py``) while she stands ahead (:func:`back_off_away`), onto ground it drove over or saw free
+        (:meth:`can_back_off`), the floor plan's sweep and everyone's body kept clear (as the wait's back-off);
+        else ``cmd``. The stall is kept (it goes on backing step by step while the give-way is asked for).
+        tests/scenarios/follow/long23_hall_rooms_both_sides.xml on integ: come up to her just inside a 0.9 m
+        door, the spot deeper in the room, its first turn refused by her body, no back-out path: it stood in her
+        way out at speed 0 for the rest of the run; one step back takes its front corner off her way to the door."""
+        rx, ry = self._to_robot(px, py)
+        if not back_off_away(rx, ry) or not self.can_back_off():
+            return cmd
+        v, w = self._swept(-min(self.limits.max_reverse, GIVE_WAY_SPEED), 0.0, mapped)
+        if v >= 0.0:
+            return cmd
+        v, w = self._back_off_clear(v, 0.0, self._bodies(rx, ry), mapped)
+        return (v, w) if v < 0.0 else cmd
 
     def _aside_stuck(self) -> bool:
         """Whether the forward give-way has got nowhere for :data:`GIVE_WAY_STALL` s although it sends commands:
