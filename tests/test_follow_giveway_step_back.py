@@ -23,10 +23,13 @@ from robot.navigation.config import Limits
 from robot.navigation.follow import SWEEP_TIME, Follower, sweep_allowed
 from robot.navigation.local import SOCIAL_GAP, footprint_distance, people_sweep_clear
 
-#: a room's side wall 0.45 m to the robot's right and its back wall 1.6 m behind (odom = robot frame at start)
-WALLS = np.array([(x, -0.45) for x in np.arange(-1.6, 1.2, 0.05)] + [(-1.6, y) for y in np.arange(-0.45, 1.5, 0.05)])
-#: her, 0.55 m ahead and a little to the left: on her way back to the door past its front corner
+#: a room's wall 0.45 m to the robot's right with the 0.9 m door it came in by (its centre beside the robot's),
+#: and the room's back wall 1.6 m behind (odom = robot frame at start)
+WALLS = np.array([(x, -0.45) for x in np.arange(-1.6, 1.2, 0.05) if abs(x) > 0.45] + [(-1.6, y) for y in np.arange(-0.45, 1.5, 0.05)])
+#: her, 0.55 m ahead and a little to the left: on her way back to that door past its front corner
 HER = (0.55, 0.08)
+#: it came in through the door from the hall (1.5 m beyond it), then turned to face her
+CAME = [(0.0, -1.5 + 0.05 * k) for k in range(31)]
 
 
 class _Scan:
@@ -60,7 +63,8 @@ def _follower() -> Follower:
     f.sim = SimpleNamespace(now=0.0)  # type: ignore[assignment]
     f.band = (0.9, 1.4)
     f.partner_id = None
-    f.crumbs = deque([(-0.05 * k, 0.0) for k in range(20, -1, -1)])  # it drove in forwards along its x axis
+    f.crumbs = deque(CAME)
+    f.seen = SimpleNamespace(clear=lambda *_, **__: True)  # the room's floor behind it was seen free as it turned in  # type: ignore[assignment]
     f._aside_stall = None
     f._aside_moving = None
     f._backout_failed = None
@@ -84,7 +88,7 @@ def no_way_out(monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.setattr(follow, "back_out_spot", lambda *_, **__: None)
 
 
-def test_its_turn_refused_and_no_way_out_it_backs_straight_off_her_way_instead_of_standing_for_good(no_way_out):
+def test_its_turn_refused_and_no_way_out_it_backs_off_her_way_instead_of_standing_for_good(no_way_out):
     f = _follower()
     pose = (0.0, 0.0, 0.0)
     start_her = _clearance(np.array([HER]))
@@ -100,8 +104,10 @@ def test_its_turn_refused_and_no_way_out_it_backs_straight_off_her_way_instead_o
             moved_at = f.sim.now
     assert moved_at is not None, f"still standing in her way at {pose}"
     assert moved_at <= 2.5  # the give-way's 2 s stall, then back
-    assert pose[0] < -0.2 and abs(pose[2]) < 1e-9  # straight back, away from her
+    assert pose[0] < -0.2  # back, away from her
     assert _clearance(_to_robot(np.array(HER), pose)) > start_her + 0.2  # room made for her
+    way = np.array([(HER[0] * (1 - t), HER[1] + (-1.5 - HER[1]) * t) for t in np.linspace(0, 1, 30)])
+    assert _clearance(_to_robot(way, pose)) > _clearance(way) + 0.2  # and off her way to the door
     assert _clearance(_to_robot(WALLS, pose)) > 0.0
 
 
@@ -120,9 +126,10 @@ def test_with_her_beside_it_backing_would_not_take_it_away_from_her_so_it_does_n
 @settings(max_examples=80, deadline=None)
 @given(st.floats(0.35, 1.2), st.floats(-0.8, 0.8), st.floats(-0.3, 0.3), st.floats(-0.25, 0.25), st.floats(-0.6, 0.6))
 def test_the_step_back_never_goes_toward_her_nor_into_the_floor_plan(hx, hy, dx, dy, turn):
-    """Wherever she and the walls are, the step back is either the give-way's own command or straight back
-    (never a turn, never forward), its sweep off the floor plan (no nearer than now within the margin) and off
-    her body (the social gap, or no nearer than now), and only while she stands ahead."""
+    """Wherever she and the walls are, the step back is either the give-way's own command or a step back (never
+    forward, never a turn on the spot), its sweep off the floor plan (no nearer than now within the margin) and off
+    her body (the social gap, or no nearer than now), only while she stands ahead, and it leaves the footprint
+    further from her way to the door than it is."""
     c, s = math.cos(turn), math.sin(turn)
     walls = WALLS @ np.array([[c, s], [-s, c]]) + (dx, dy)
     here = _clearance(walls)
@@ -133,7 +140,11 @@ def test_the_step_back_never_goes_toward_her_nor_into_the_floor_plan(hx, hy, dx,
     v, w = f._step_back(cmd, hx, hy, walls)
     if (v, w) == cmd:
         return
-    assert v < 0.0 and w == 0.0
+    assert v < 0.0
     assert follow.back_off_away(hx, hy)
+    way = f._her_way(hx, hy)
+    x, y, th = follow.arcs(np.array([v]), np.array([w]), np.array([SWEEP_TIME]))
+    after = _to_robot(way, (float(x[0][0]), float(y[0][0]), float(th[0][0])))
+    assert _clearance(after) > _clearance(way)
     assert sweep_allowed(v, w, walls, here)
     assert people_sweep_clear(v, w, np.array([(hx, hy)]), duration=SWEEP_TIME, gap=SOCIAL_GAP)

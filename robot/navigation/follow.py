@@ -215,6 +215,8 @@ WAY_GOAL = 1.0
 APPROACH_ROOM = 0.5
 #: m: backing off must leave the centre this far from the floor plan's obstacles (the footprint's corners reach 0.34 m)
 TURN_ROOM = 0.40
+#: m: a stalled give-way's step back (Follower._step_back) takes the footprint at least this much further from her
+STEP_BACK_GAIN = 0.01
 #: m: with the partner inside the near band and its centre closer than this to the floor plan's walls (a door
 #: frame, a passage), the robot gives way (:mod:`robot.navigation.giveway`)
 GIVE_WAY_ROOM = 0.45
@@ -1265,21 +1267,55 @@ class Follower(Module):
         return cmd
 
     def _step_back(self, cmd: tuple[float, float], px: float, py: float, mapped: np.ndarray) -> tuple[float, float]:
-        """The stalled give-way's last resort when no back-out spot exists either: straight back, away from her
-        (odom ``px, py``) while she stands ahead (:func:`back_off_away`), onto ground it drove over or saw free
-        (:meth:`can_back_off`), the floor plan's sweep and everyone's body kept clear (as the wait's back-off);
-        else ``cmd``. The stall is kept (it goes on backing step by step while the give-way is asked for).
+        """The stalled give-way's last resort when no back-out spot exists either: a step back that takes its
+        footprint away from her (odom ``px, py``) while she stands ahead (:func:`back_off_away`), onto ground it
+        drove over or saw free (:meth:`can_back_off`): of straight back and backing while turning either way, at
+        the back-off's speed, a half or a quarter of it, the one that leaves the footprint furthest from her way
+        out (:meth:`_her_way`: from her to the door it came through), at least :data:`STEP_BACK_GAIN` m further than now, its sweep kept off the floor plan
+        (:func:`sweep_allowed`) and everyone's body (the social gap, or no nearer than now); else ``cmd``. The
+        stall is kept (it goes on step by step while the give-way is asked for).
         tests/scenarios/follow/long23_hall_rooms_both_sides.xml on integ: come up to her just inside a 0.9 m
         door, the spot deeper in the room, its first turn refused by her body, no back-out path: it stood in her
-        way out at speed 0 for the rest of the run; one step back takes its front corner off her way to the door."""
+        way out at speed 0 for the rest of the run (straight back away from her led along her way onto the
+        door's jamb: backing while turning takes it off her way)."""
         rx, ry = self._to_robot(px, py)
         if not back_off_away(rx, ry) or not self.can_back_off():
             return cmd
-        v, w = self._swept(-min(self.limits.max_reverse, GIVE_WAY_SPEED), 0.0, mapped)
-        if v >= 0.0:
-            return cmd
-        v, w = self._back_off_clear(v, 0.0, self._bodies(rx, ry), mapped)
-        return (v, w) if v < 0.0 else cmd
+        here = sweep_clearance(0.0, 0.0, mapped, 0.0, steps=1) if len(mapped) else math.inf
+        her = self._her_way(rx, ry)
+        now = float(footprint_distance(her[:, 0], her[:, 1]).min())
+        bodies = self._bodies(rx, ry)
+        v, turn = -min(self.limits.max_reverse, MAKE_WAY_SPEED), self.limits.max_turn
+        best, score = cmd, now + STEP_BACK_GAIN
+        for k in (1.0, 0.5, 0.25):
+            for w in (0.0, turn / 4, -turn / 4, turn / 2, -turn / 2):
+                x, y, th = arcs(np.array([v * k]), np.array([w]), np.array([SWEEP_TIME]))
+                c, s_ = math.cos(float(th[0][0])), math.sin(float(th[0][0]))
+                dx, dy = her[:, 0] - float(x[0][0]), her[:, 1] - float(y[0][0])
+                after = float(footprint_distance(c * dx + s_ * dy, -s_ * dx + c * dy).min())
+                if after <= score:
+                    continue
+                if len(mapped) and not sweep_allowed(v * k, w, mapped, here):
+                    continue
+                if not people_sweep_clear(v * k, w, bodies, duration=SWEEP_TIME):
+                    continue
+                best, score = (v * k, w), after
+        return best
+
+    def _her_way(self, rx: float, ry: float) -> np.ndarray:
+        """Robot-frame points every 0.1 m along her way out as far as the robot can tell: from her (``rx, ry``)
+        to where the robot drove from, :data:`CAME_FROM` m back along its own trail (she leads it back out the
+        way they came: the door it came through); her point alone when it has not driven that far."""
+        if self.odom is None:
+            return np.array([(rx, ry)])
+        x, y = self.odom[0], self.odom[1]
+        for cx, cy in reversed(self.crumbs):
+            if math.hypot(cx - x, cy - y) >= CAME_FROM:
+                bx, by = self._to_robot(cx, cy)
+                n = max(2, int(math.hypot(bx - rx, by - ry) / 0.1) + 1)
+                t = np.linspace(0.0, 1.0, n)
+                return np.stack((rx + t * (bx - rx), ry + t * (by - ry)), axis=1)
+        return np.array([(rx, ry)])
 
     def _aside_stuck(self) -> bool:
         """Whether the forward give-way has got nowhere for :data:`GIVE_WAY_STALL` s although it sends commands:
