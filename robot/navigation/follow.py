@@ -814,7 +814,7 @@ class Follower(Module):
             # while she walks, it stands (moving into a walking person's path is how one is touched)
             # or, in a door frame or passage, backs out
             aside = self._give_way(px, py, mapped, held=close and self.now - self._close_since >= GIVE_WAY_HELD,
-                                   back_only=not close)
+                                   back_only=not close, step_back=True)
             if aside is not None:  # she is close and it stands in her way in a door or passage: step aside
                 self._command(*aside)
                 self._status(d, False, "giving_way")
@@ -1115,13 +1115,14 @@ class Follower(Module):
         return self._walk_on((sx, sy), (vx, vy), min(self.now - st, SEARCH_WALK_ON))
 
     def _give_way(self, px: float, py: float, mapped: np.ndarray, *, held: bool = False,
-                  back_only: bool = False, view: float = GIVE_WAY_BEARING) -> tuple[float, float] | None:
+                  back_only: bool = False, view: float = GIVE_WAY_BEARING, step_back: bool = False) -> tuple[float, float] | None:
         """The command that takes the robot aside when the partner (odom ``px, py``) is too close and
         it stands in a door frame or a passage, or anywhere when ``held`` (she has stood held up in
         front of it a while) (:mod:`robot.navigation.giveway`), None otherwise (no floor plan, room
         enough here and she is not held up, or nowhere to go). ``back_only``: she walks at it, so
         only backing out the way it came (away from her) will do. ``view``: she is kept within this bearing
-        (turned to first when further off)."""
+        (turned to first when further off). ``step_back``: following (not the catch-up, whose request
+        distance a step back would lengthen), a stall with no way out steps back off her way (:meth:`_step_back`)."""
         if not self.route.ready or self.odom is None:
             self._aside = None
             return None
@@ -1173,7 +1174,7 @@ class Follower(Module):
         v_pref = heading_speed(GIVE_WAY_SPEED, math.atan2(gy, gx))
         cmd = dwa(self.v, self.w, (gx, gy), pts, limits, v_pref=v_pref, params=self.params, people=people)
         out = self._aside_clear(cmd.v, cmd.w, self._bodies(rx, ry), pts)
-        return self._unstall(out, px, py, mapped)
+        return self._unstall(out, px, py, mapped, step_back=step_back)
 
     def _make_way(self, px: float, py: float, mapped: np.ndarray) -> tuple[float, float] | None:
         """The command that backs the robot out of the way of someone held back by it (they walked at it,
@@ -1229,7 +1230,8 @@ class Follower(Module):
         v, w = self._back_off_clear(v, 0.0, self._bodies(prx, pry), mapped)
         return (v, w) if v < 0.0 else None
 
-    def _unstall(self, cmd: tuple[float, float], px: float, py: float, mapped: np.ndarray) -> tuple[float, float]:
+    def _unstall(self, cmd: tuple[float, float], px: float, py: float, mapped: np.ndarray,
+                 step_back: bool = True) -> tuple[float, float]:
         """The forward give-way's command ``cmd``; when it has stayed zero for :data:`GIVE_WAY_STALL` s
         (the spot lies beside her and every step toward it swings a corner into her: galley_follow_bend,
         the approach ended just inside a dead-end room's door with her 0.5 m in front), or has got it nowhere
@@ -1248,6 +1250,8 @@ class Follower(Module):
                 return cmd
         if self.route.grid is None or self.odom is None:
             return cmd
+        if not step_back:
+            self._aside_stall = None
         failed = self._backout_failed
         rx_, ry_ = self.odom[0], self.odom[1]
         if (failed is not None and self.now - failed[0] < BACKOUT_RETRY
@@ -1255,12 +1259,12 @@ class Follower(Module):
                 and math.hypot(px - failed[3], py - failed[4]) < BACKOUT_MOVED):
             # the same search found no way out a moment ago from here with her there: not again every
             # stall (fresh hall_catch_up_fast seed 1: 39 searches of ~33 whole-grid plans each, half the run)
-            return self._step_back(cmd, px, py, mapped)
+            return self._step_back(cmd, px, py, mapped) if step_back else cmd
         path = back_out_spot(self.route.grid, self.route.to_map(self.odom[:2]), self.route.to_map((px, py)),
                              keep=self.band[0], came=self._came_from())
         if path is None:
             self._backout_failed = (self.now, rx_, ry_, px, py)
-            return self._step_back(cmd, px, py, mapped)
+            return self._step_back(cmd, px, py, mapped) if step_back else cmd
         self._aside_stall = None
         self._backout_failed = None
         self._aside = ([self.route.to_odom(p) for p in path], self.now + GIVE_WAY_TIME, True)
