@@ -215,6 +215,8 @@ WAY_GOAL = 1.0
 APPROACH_ROOM = 0.5
 #: m: backing off must leave the centre this far from the floor plan's obstacles (the footprint's corners reach 0.34 m)
 TURN_ROOM = 0.40
+#: m: a stalled give-way's step back (Follower._step_back) takes the footprint at least this much further from her
+STEP_BACK_GAIN = 0.01
 #: m: with the partner inside the near band and its centre closer than this to the floor plan's walls (a door
 #: frame, a passage), the robot gives way (:mod:`robot.navigation.giveway`)
 GIVE_WAY_ROOM = 0.45
@@ -812,7 +814,7 @@ class Follower(Module):
             # while she walks, it stands (moving into a walking person's path is how one is touched)
             # or, in a door frame or passage, backs out
             aside = self._give_way(px, py, mapped, held=close and self.now - self._close_since >= GIVE_WAY_HELD,
-                                   back_only=not close)
+                                   back_only=not close, step_back=True)
             if aside is not None:  # she is close and it stands in her way in a door or passage: step aside
                 self._command(*aside)
                 self._status(d, False, "giving_way")
@@ -1118,13 +1120,14 @@ class Follower(Module):
         return self._walk_on((sx, sy), (vx, vy), min(self.now - st, SEARCH_WALK_ON))
 
     def _give_way(self, px: float, py: float, mapped: np.ndarray, *, held: bool = False,
-                  back_only: bool = False, view: float = GIVE_WAY_BEARING) -> tuple[float, float] | None:
+                  back_only: bool = False, view: float = GIVE_WAY_BEARING, step_back: bool = False) -> tuple[float, float] | None:
         """The command that takes the robot aside when the partner (odom ``px, py``) is too close and
         it stands in a door frame or a passage, or anywhere when ``held`` (she has stood held up in
         front of it a while) (:mod:`robot.navigation.giveway`), None otherwise (no floor plan, room
         enough here and she is not held up, or nowhere to go). ``back_only``: she walks at it, so
         only backing out the way it came (away from her) will do. ``view``: she is kept within this bearing
-        (turned to first when further off)."""
+        (turned to first when further off). ``step_back``: following (not the catch-up, whose request
+        distance a step back would lengthen), a stall with no way out steps back off her way (:meth:`_step_back`)."""
         if not self.route.ready or self.odom is None:
             self._aside = None
             return None
@@ -1176,7 +1179,7 @@ class Follower(Module):
         v_pref = heading_speed(GIVE_WAY_SPEED, math.atan2(gy, gx))
         cmd = dwa(self.v, self.w, (gx, gy), pts, limits, v_pref=v_pref, params=self.params, people=people)
         out = self._aside_clear(cmd.v, cmd.w, self._bodies(rx, ry), pts)
-        return self._unstall(out, px, py, mapped)
+        return self._unstall(out, px, py, mapped, step_back=step_back)
 
     def _make_way(self, px: float, py: float, mapped: np.ndarray) -> tuple[float, float] | None:
         """The command that backs the robot out of the way of someone held back by it (they walked at it,
@@ -1232,7 +1235,8 @@ class Follower(Module):
         v, w = self._back_off_clear(v, 0.0, self._bodies(prx, pry), mapped)
         return (v, w) if v < 0.0 else None
 
-    def _unstall(self, cmd: tuple[float, float], px: float, py: float, mapped: np.ndarray) -> tuple[float, float]:
+    def _unstall(self, cmd: tuple[float, float], px: float, py: float, mapped: np.ndarray,
+                 step_back: bool = True) -> tuple[float, float]:
         """The forward give-way's command ``cmd``; when it has stayed zero for :data:`GIVE_WAY_STALL` s
         (the spot lies beside her and every step toward it swings a corner into her: galley_follow_bend,
         the approach ended just inside a dead-end room's door with her 0.5 m in front), or has got it nowhere
@@ -1251,7 +1255,8 @@ class Follower(Module):
                 return cmd
         if self.route.grid is None or self.odom is None:
             return cmd
-        self._aside_stall = None
+        if not step_back:
+            self._aside_stall = None
         failed = self._backout_failed
         rx_, ry_ = self.odom[0], self.odom[1]
         if (failed is not None and self.now - failed[0] < BACKOUT_RETRY
@@ -1259,15 +1264,67 @@ class Follower(Module):
                 and math.hypot(px - failed[3], py - failed[4]) < BACKOUT_MOVED):
             # the same search found no way out a moment ago from here with her there: not again every
             # stall (fresh hall_catch_up_fast seed 1: 39 searches of ~33 whole-grid plans each, half the run)
-            return cmd
+            return self._step_back(cmd, px, py, mapped) if step_back else cmd
         path = back_out_spot(self.route.grid, self.route.to_map(self.odom[:2]), self.route.to_map((px, py)),
                              keep=self.band[0], came=self._came_from())
         if path is None:
             self._backout_failed = (self.now, rx_, ry_, px, py)
-            return cmd
+            return self._step_back(cmd, px, py, mapped) if step_back else cmd
+        self._aside_stall = None
         self._backout_failed = None
         self._aside = ([self.route.to_odom(p) for p in path], self.now + GIVE_WAY_TIME, True)
         return cmd
+
+    def _step_back(self, cmd: tuple[float, float], px: float, py: float, mapped: np.ndarray) -> tuple[float, float]:
+        """The stalled give-way's last resort when no back-out spot exists either: a step back that takes its
+        footprint away from her (odom ``px, py``) while she stands ahead (:func:`back_off_away`), onto ground it
+        drove over or saw free (:meth:`can_back_off`): of straight back and backing while turning either way, at
+        the back-off's speed, a half or a quarter of it, the one that leaves the footprint furthest from her way
+        out (:meth:`_her_way`: from her to the door it came through), at least :data:`STEP_BACK_GAIN` m further than now, its sweep kept off the floor plan
+        (:func:`sweep_allowed`) and everyone's body (the social gap, or no nearer than now); else ``cmd``. The
+        stall is kept (it goes on step by step while the give-way is asked for).
+        tests/scenarios/follow/long23_hall_rooms_both_sides.xml on integ: come up to her just inside a 0.9 m
+        door, the spot deeper in the room, its first turn refused by her body, no back-out path: it stood in her
+        way out at speed 0 for the rest of the run (straight back away from her led along her way onto the
+        door's jamb: backing while turning takes it off her way)."""
+        rx, ry = self._to_robot(px, py)
+        if not back_off_away(rx, ry) or not self.can_back_off():
+            return cmd
+        here = sweep_clearance(0.0, 0.0, mapped, 0.0, steps=1) if len(mapped) else math.inf
+        her = self._her_way(rx, ry)
+        now = float(footprint_distance(her[:, 0], her[:, 1]).min())
+        bodies = self._bodies(rx, ry)
+        v, turn = -min(self.limits.max_reverse, MAKE_WAY_SPEED), self.limits.max_turn
+        best, score = cmd, now + STEP_BACK_GAIN
+        for k in (1.0, 0.5, 0.25):
+            for w in (0.0, turn / 4, -turn / 4, turn / 2, -turn / 2):
+                x, y, th = arcs(np.array([v * k]), np.array([w]), np.array([SWEEP_TIME]))
+                c, s_ = math.cos(float(th[0][0])), math.sin(float(th[0][0]))
+                dx, dy = her[:, 0] - float(x[0][0]), her[:, 1] - float(y[0][0])
+                after = float(footprint_distance(c * dx + s_ * dy, -s_ * dx + c * dy).min())
+                if after <= score:
+                    continue
+                if len(mapped) and not sweep_allowed(v * k, w, mapped, here):
+                    continue
+                if not people_sweep_clear(v * k, w, bodies, duration=SWEEP_TIME):
+                    continue
+                best, score = (v * k, w), after
+        return best
+
+    def _her_way(self, rx: float, ry: float) -> np.ndarray:
+        """Robot-frame points every 0.1 m along her way out as far as the robot can tell: from her (``rx, ry``)
+        to where the robot drove from, :data:`CAME_FROM` m back along its own trail (she leads it back out the
+        way they came: the door it came through); her point alone when it has not driven that far."""
+        if self.odom is None:
+            return np.array([(rx, ry)])
+        x, y = self.odom[0], self.odom[1]
+        for cx, cy in reversed(self.crumbs):
+            if math.hypot(cx - x, cy - y) >= CAME_FROM:
+                bx, by = self._to_robot(cx, cy)
+                n = max(2, int(math.hypot(bx - rx, by - ry) / 0.1) + 1)
+                t = np.linspace(0.0, 1.0, n)
+                return np.stack((rx + t * (bx - rx), ry + t * (by - ry)), axis=1)
+        return np.array([(rx, ry)])
 
     def _aside_stuck(self) -> bool:
         """Whether the forward give-way has got nowhere for :data:`GIVE_WAY_STALL` s although it sends commands:
