@@ -143,16 +143,16 @@ SEARCH_HORIZON = 1.5
 #: never through a wall of the floor plan (issue 26 item 1, sq_cross_pair: the search stopped at the
 #: spot 1.5 s past where she went out of view while she stood in the next room, in view from a step on)
 SEARCH_WALK_ON = 5.0
-#: rad: the search point walking on turns by one of these (either way) where a wall stops its step:
+#: rad: the search point walking on turns, where a wall stops its step, to a heading in steps of this:
 #: she walks along the passage, round its bend (:meth:`Follower._walk_on`)
-WALK_TURNS = tuple(math.radians(a) for a in (22.5, 45.0, 67.5, 90.0, 112.5))
-#: rad: ... but never further than this off her heading when last seen (round a bend, not back the way she came;
-#: her track's heading a little off the passage's, round the bend is more than 90 degrees off it)
+WALK_STEP = math.radians(22.5)
+#: rad: ... of the headings never further than this off her heading when last seen (round a bend, not back the way
+#: she came; her track's heading a little off the passage's, round the bend is more than 90 degrees off it)
 WALK_BACK = math.radians(135)
 #: m: a searched point nearer the floor plan's walls or furniture than this is no place a person stands
 #: (:meth:`Follower._not_there`: a track coasting on into the passage's wall at its blind bend, bend23)
 WALL_BODY = 0.15
-#: quarter-second steps: the free run ahead by which the turn is chosen (the longest; of equal ones the least turn)
+#: quarter-second steps: the free run ahead by which the heading is chosen (the longest; of equal ones the least turn)
 WALK_RUN = 8
 #: s: ... and where that point is seen empty too (:meth:`Follower._not_there`), on up to this long (the longest
 #: follow search, :func:`robot.partner_search.follow_search_time`'s cap)
@@ -1313,8 +1313,8 @@ class Follower(Module):
     def _walk_on(self, start: tuple[float, float], v: tuple[float, float], duration: float) -> tuple[float, float]:
         """``start`` (odom) carried on at velocity ``v`` for ``duration`` s, in steps of a quarter second,
         never through a wall or furniture of the floor plan. A step that would cross one turns, as a person
-        walking along a passage does, by the one of :data:`WALK_TURNS` either way whose way on runs furthest
-        free (:data:`WALK_RUN` steps at most; of equal runs the lesser turn), and she walks on that way;
+        walking along a passage does, to the heading whose way on runs furthest free (:meth:`_walk_turn`:
+        :data:`WALK_RUN` steps at most; of equal runs the lesser turn), and she walks on that way;
         never more than :data:`WALK_BACK` off her heading (she does not walk back); where no step is free she stops
         (bend23, fresh11 twin_passage_chat: she turned round the blind bend of a 1.0 m passage, the point
         stopped on the passage's wall short of the bend and the robot stood in the straight leg until it
@@ -1343,26 +1343,29 @@ class Follower(Module):
 
     def _walk_turn(self, at: tuple[float, float], v: tuple[float, float],
                    first: tuple[float, float]) -> tuple[float, float] | None:
-        """``v`` turned by one of :data:`WALK_TURNS`, either way, whose quarter-second steps from ``at`` run
-        furthest (up to :data:`WALK_RUN` of them) without crossing the floor plan, the lesser turn of equal
-        runs first, never more than :data:`WALK_BACK` off her heading when last seen (``first``: she does not
-        walk back); None when no turn has a free step (a dead end: she stands there)."""
-        best, run = None, 0
-        back = math.cos(WALK_BACK) * math.hypot(*first) * math.hypot(*v)
-        for turn in WALK_TURNS:
-            for a in (turn, -turn):
-                c, s = math.cos(a), math.sin(a)
-                tv = (c * v[0] - s * v[1], s * v[0] + c * v[1])
-                if tv[0] * first[0] + tv[1] * first[1] < back:
-                    continue
-                k, (x, y) = 0, at
-                while k < WALK_RUN:
-                    nx, ny = x + tv[0] * 0.25, y + tv[1] * 0.25
-                    if not self._step_free((x, y), (nx, ny)):
-                        break
-                    k, x, y = k + 1, nx, ny
-                if k > run:
-                    best, run = tv, k
+        """Where she walks on from ``at`` when the step at velocity ``v`` is not free: of the headings within
+        :data:`WALK_BACK` of her heading when last seen (``first``, in :data:`WALK_STEP` steps: she does not walk
+        back), the one whose quarter-second steps run furthest (up to :data:`WALK_RUN` of them) without crossing
+        the floor plan, of equal runs the one nearest ``v``, of those the one ending furthest off the walls; None
+        when none has a free step (a dead end)."""
+        best: tuple[float, float] | None = None
+        rank: tuple[int, float, float] = (0, 0.0, 0.0)  # (run, -turn, clearance at the run's end)
+        speed, base, now = math.hypot(*v), math.atan2(first[1], first[0]), math.atan2(v[1], v[0])
+        n = int(round(WALK_BACK / WALK_STEP))
+        for i in range(-n, n + 1):
+            h = base + i * WALK_STEP
+            tv = (speed * math.cos(h), speed * math.sin(h))
+            k, (x, y) = 0, at
+            while k < WALK_RUN:
+                nx, ny = x + tv[0] * 0.25, y + tv[1] * 0.25
+                if not self._step_free((x, y), (nx, ny)):
+                    break
+                k, x, y = k + 1, nx, ny
+            # the longest run; of equal runs the least turn, of equal turns (either way) the one that ends furthest
+            # off the walls (along a wall met head-on: the way she drifted)
+            key = (k, -round(abs(math.remainder(h - now, math.tau)), 6), self.route.clearance((x, y)))
+            if k > 0 and (best is None or key > rank):
+                best, rank = tv, key
         return best
 
     def _count_yield(self, approaching: bool, seen: bool) -> float:
