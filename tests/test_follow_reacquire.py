@@ -132,9 +132,10 @@ def test_time_spent_yielding_to_a_crosser_is_not_time_she_was_unseen():
 @given(vx=st.floats(-1.0, 1.0), vy=st.floats(-1.0, 1.0), duration=st.floats(0.0, 5.0), wall=st.floats(0.5, 3.0))
 def test_the_search_walks_on_at_her_pace_and_never_through_a_wall(vx, vy, duration, wall):
     """Her track gone quiet, the search point walks on along her last seen velocity (a quarter second at
-    a time) for the time given, and stops before the first step that would cross a wall (here the
-    line x = ``wall``; the floor plan's ``in_sight`` in the follower)."""
-    from robot.navigation.follow import Follower
+    a time) for the time given, never through a wall (here the line x = ``wall``; the floor plan's
+    ``in_sight`` in the follower): straight on while the way is free, along the wall once it reaches it
+    (she walks along a passage), never back the way she came and never further than her pace carries her."""
+    from robot.navigation.follow import WALL_BODY, Follower
 
     f = Follower.__new__(Follower)
 
@@ -143,15 +144,67 @@ def test_the_search_walks_on_at_her_pace_and_never_through_a_wall(vx, vy, durati
         def in_sight(a, b):
             return (a[0] < wall) == (b[0] < wall)
 
+        @staticmethod
+        def clearance(p):
+            return abs(wall - p[0])
+
     f.route = _Plan()
     x, y = f._walk_on((0.0, 0.0), (vx, vy), duration)
     steps = int(duration / 0.25)
     # a step ending on the wall to the last bit (vx 1/3, wall 0.5: 6 steps sum to 0.5 or to 0.49999999999999994)
     # is on either side by rounding, in the search as in this test
-    assume(vx <= 0 or all(abs((k + 1) * 0.25 * vx - wall) > 1e-9 for k in range(steps + 1)))
-    free = steps if vx <= 0 else min(steps, next((k for k in range(steps + 1) if (k + 1) * 0.25 * vx >= wall), steps))
+    near = wall - WALL_BODY  # a person's centre keeps this far off the wall
+    assume(vx <= 0 or all(abs((k + 1) * 0.25 * vx - near) > 1e-9 for k in range(steps + 1)))
+    free = steps if vx <= 0 else min(steps, next((k for k in range(steps + 1) if (k + 1) * 0.25 * vx > near), steps))
     assert x < wall  # never through the wall
-    assert math.isclose(x, vx * 0.25 * free, abs_tol=1e-9) and math.isclose(y, vy * 0.25 * free, abs_tol=1e-9)
+    speed = math.hypot(vx, vy)
+    assert math.hypot(x, y) <= speed * 0.25 * steps + 1e-9  # never further than her pace carries her
+    if free == steps:  # the way straight on free: straight on
+        assert math.isclose(x, vx * 0.25 * free, abs_tol=1e-9) and math.isclose(y, vy * 0.25 * free, abs_tol=1e-9)
+    else:  # the wall reached: on along it, her way along it (never back)
+        assert y * vy >= -1e-9 and abs(y) >= abs(vy) * 0.25 * free - 1e-9
+
+
+def _l_corridor():
+    """A 1.0 m corridor east along y in [0, 1] up to x = 3, then north in x in [2, 3] (an L bend), as the
+    floor plan's ``in_sight`` would say (a segment crosses a wall when it leaves the corridor)."""
+
+    def inside(p):
+        x, y = p
+        return (0.0 <= y <= 1.0 and -5.0 <= x <= 3.0) or (2.0 <= x <= 3.0 and 0.0 <= y <= 6.0)
+
+    class _Plan:
+        @staticmethod
+        def clearance(p):
+            x, y = p
+            if not inside(p):
+                return 0.0
+            legs = [min(y, 1.0 - y, 3.0 - x) if y <= 1.0 else 0.0, min(x - 2.0, 3.0 - x, y) if x >= 2.0 else 0.0]
+            return max(legs)
+
+        @staticmethod
+        def in_sight(a, b):
+            return all(inside((a[0] + (b[0] - a[0]) * t / 8, a[1] + (b[1] - a[1]) * t / 8)) for t in range(9))
+
+    return _Plan()
+
+
+@settings(max_examples=60, deadline=None)
+@given(y0=st.floats(0.2, 0.8), x0=st.floats(0.0, 1.5), drift=st.floats(-0.3, 0.3), pace=st.floats(0.8, 1.2))
+def test_the_search_point_follows_her_round_the_blind_bend_of_a_passage(y0, x0, drift, pace):
+    """bend23, fresh11 twin_passage_chat: last seen walking east along a 1.0 m passage (her track's heading a
+    little off the passage's, as a tracker's is), she turned north round its bend out of view; the search
+    point walks on along the passage and round the bend into its other leg, not stopping on a wall short of
+    it (where the robot stood until it declared her lost); inside the corridor all the way."""
+    from robot.navigation.follow import Follower
+
+    f = Follower.__new__(Follower)
+    f.route = _l_corridor()
+    assume(pace * 5.0 >= 1.3 * (3.0 - x0) + 1.0)  # her pace takes her past the bend (a third more: along the walls)
+    c, s = math.cos(drift), math.sin(drift)
+    x, y = f._walk_on((x0, y0), (pace * c, pace * s), 5.0)
+    assert f.route.in_sight((x, y), (x, y))
+    assert y > 1.0 and 2.0 <= x <= 3.0  # round the bend, on north in its other leg
 
 
 def test_she_turned_through_the_door_as_she_went_out_of_view_her_pace_not_her_last_speed_is_her_reach():

@@ -143,6 +143,20 @@ SEARCH_HORIZON = 1.5
 #: never through a wall of the floor plan (issue 26 item 1, sq_cross_pair: the search stopped at the
 #: spot 1.5 s past where she went out of view while she stood in the next room, in view from a step on)
 SEARCH_WALK_ON = 5.0
+#: rad: the search point walking on turns, where a wall stops its step, to a heading in steps of this:
+#: she walks along the passage, round its bend (:meth:`Follower._walk_on`)
+WALK_STEP = math.radians(22.5)
+#: rad: ... of the headings never further than this off her heading when last seen (round a bend, not back the way
+#: she came; her track's heading a little off the passage's, round the bend is more than 90 degrees off it)
+WALK_BACK = math.radians(135)
+#: m: a searched point nearer the floor plan's walls or furniture than this is no place a person stands
+#: (:meth:`Follower._not_there`: a track coasting on into the passage's wall at its blind bend, bend23)
+WALL_BODY = 0.15
+#: quarter-second steps: the free run ahead by which the heading is chosen (the longest; of equal ones the least turn)
+WALK_RUN = 8
+#: s: ... and where that point is seen empty too (:meth:`Follower._not_there`), on up to this long (the longest
+#: follow search, :func:`robot.partner_search.follow_search_time`'s cap)
+SEARCH_WALK_FAR = 15.0
 #: m/s: searching, a partner last seen slower than this was standing: her velocity is no heading to look along
 WALKING = 0.3
 #: rad: searching, a point further off the heading than this is beside or behind: refused the short way
@@ -374,6 +388,7 @@ class Follower(Module):
     _corners_of: Any = None
     _corners: np.ndarray = np.zeros((0, 2))
     _seen_v: tuple[float, float] = (0.0, 0.0)
+    _walked_far: float | None = None  # when she was last seen, if the point she walked on to was seen empty since
     _closing: Closing | None = None  # (__init__ gives each follower its own)
     _backout_failed: tuple[float, float, float, float, float] | None = None
     _oncoming: dict[str, float] = {}  # (replaced by _make_way, never mutated)
@@ -1111,13 +1126,28 @@ class Follower(Module):
         if self._seen_pos is None or self.odom is None:
             return px, py
         rx, ry = self._to_robot(px, py)
-        if not self.scan.sees_through(rx, ry):
+        # nobody stands with their centre on a wall or outside the floor plan's rooms: a track coasting on into
+        # the wall (she turned round a blind bend, her track went on straight) is no place she can be (bend23)
+        if (not self.scan.sees_through(rx, ry) and self.route.clearance((px, py)) >= WALL_BODY
+                and self.route.inside((px, py))):
             return px, py
         vx, vy = self._seen_v
         if math.hypot(vx, vy) < WALKING:
             return px, py
         sx, sy, st = self._seen_pos
-        return self._walk_on((sx, sy), (vx, vy), min(self.now - st, SEARCH_WALK_ON))
+        q = self._walk_on((sx, sy), (vx, vy), min(self.now - st, SEARCH_WALK_ON))
+        if self.now - st > SEARCH_WALK_ON:
+            # that point seen empty too: she walked on further (round the blind bend of a passage and up its
+            # other leg, bend23), as far as her pace carries her in the time unseen (at most SEARCH_WALK_FAR)
+            # (once seen empty, it stays so until she is seen again: the robot come up to that point no longer
+            # sees it, standing on it)
+            qx, qy = self._to_robot(*q)
+            radius = min(0.25, max(0.1, self.route.clearance(q) - 0.05))
+            if self._walked_far != st and self.scan.sees_through(qx, qy, radius):
+                self._walked_far = st
+            if self._walked_far == st:
+                q = self._walk_on((sx, sy), (vx, vy), min(self.now - st, SEARCH_WALK_FAR))
+        return q
 
     def _give_way(self, px: float, py: float, mapped: np.ndarray, *, held: bool = False,
                   back_only: bool = False, view: float = GIVE_WAY_BEARING, step_back: bool = False) -> tuple[float, float] | None:
@@ -1344,14 +1374,61 @@ class Follower(Module):
 
     def _walk_on(self, start: tuple[float, float], v: tuple[float, float], duration: float) -> tuple[float, float]:
         """``start`` (odom) carried on at velocity ``v`` for ``duration`` s, in steps of a quarter second,
-        stopping before a step that would cross a wall or furniture of the floor plan."""
+        never through a wall or furniture of the floor plan. A step that would cross one turns, as a person
+        walking along a passage does, to the heading whose way on runs furthest free (:meth:`_walk_turn`:
+        :data:`WALK_RUN` steps at most; of equal runs the lesser turn), and she walks on that way;
+        never more than :data:`WALK_BACK` off her heading (she does not walk back); where no step is free she stops
+        (bend23, fresh11 twin_passage_chat: she turned round the blind bend of a 1.0 m passage, the point
+        stopped on the passage's wall short of the bend and the robot stood in the straight leg until it
+        declared her lost)."""
         x, y = start
+        vx, vy = v
         for _ in range(int(max(0.0, duration) / 0.25)):
-            nx, ny = x + v[0] * 0.25, y + v[1] * 0.25
-            if not self.route.in_sight((x, y), (nx, ny)):
-                break
+            nx, ny = x + vx * 0.25, y + vy * 0.25
+            if not self._step_free((x, y), (nx, ny)):
+                turned = self._walk_turn((x, y), (vx, vy), v)
+                if turned is None:
+                    break
+                vx, vy = turned
+                nx, ny = x + vx * 0.25, y + vy * 0.25
             x, y = nx, ny
         return x, y
+
+    def _step_free(self, a: tuple[float, float], b: tuple[float, float]) -> bool:
+        """A step of the walked-on search point from ``a`` to ``b`` (odom): through no wall or furniture of the
+        floor plan, and ending no nearer to them than :data:`WALL_BODY` unless it comes no nearer than it was
+        (a person's centre keeps off the walls: a point on a wall is never seen empty, nor someone's place)."""
+        if not self.route.in_sight(a, b):
+            return False
+        cb = self.route.clearance(b)
+        return cb >= WALL_BODY or cb >= self.route.clearance(a)
+
+    def _walk_turn(self, at: tuple[float, float], v: tuple[float, float],
+                   first: tuple[float, float]) -> tuple[float, float] | None:
+        """Where she walks on from ``at`` when the step at velocity ``v`` is not free: of the headings within
+        :data:`WALK_BACK` of her heading when last seen (``first``, in :data:`WALK_STEP` steps: she does not walk
+        back), the one whose quarter-second steps run furthest (up to :data:`WALK_RUN` of them) without crossing
+        the floor plan, of equal runs the one nearest ``v``, of those the one ending furthest off the walls; None
+        when none has a free step (a dead end)."""
+        best: tuple[float, float] | None = None
+        rank: tuple[int, float, float] = (0, 0.0, 0.0)  # (run, -turn, clearance at the run's end)
+        speed, base, now = math.hypot(*v), math.atan2(first[1], first[0]), math.atan2(v[1], v[0])
+        n = int(round(WALK_BACK / WALK_STEP))
+        for i in range(-n, n + 1):
+            h = base + i * WALK_STEP
+            tv = (speed * math.cos(h), speed * math.sin(h))
+            k, (x, y) = 0, at
+            while k < WALK_RUN:
+                nx, ny = x + tv[0] * 0.25, y + tv[1] * 0.25
+                if not self._step_free((x, y), (nx, ny)):
+                    break
+                k, x, y = k + 1, nx, ny
+            # the longest run; of equal runs the least turn, of equal turns (either way) the one that ends furthest
+            # off the walls (along a wall met head-on: the way she drifted)
+            key = (k, -round(abs(math.remainder(h - now, math.tau)), 6), self.route.clearance((x, y)))
+            if k > 0 and (best is None or key > rank):
+                best, rank = tv, key
+        return best
 
     def _count_yield(self, approaching: bool, seen: bool) -> float:
         """Seconds since she was last seen that the robot spent yielding to someone near it
