@@ -45,6 +45,19 @@ def test_sensor_streams_run_at_their_rates(stage):
     assert "/robot/audio/speech" not in counts
 
 
+def _behind_someone(people, p, ox: float, oy: float, d: float, bearing: float) -> bool:
+    """Whether someone else stands nearer the laser than ``p`` within the angle their legs (0.25 m off their
+    centre) and ``p``'s (0.15 m) cover: ``p``'s legs are then hidden, in part or whole."""
+    for q in people:
+        if q is p or not q.present:
+            continue
+        dq = math.hypot(q.x - ox, q.y - oy)
+        off = abs(math.remainder(math.atan2(q.y - oy, q.x - ox) - bearing, 2 * math.pi))
+        if dq < d and off < math.atan2(0.25, dq) + math.atan2(0.15, d):
+            return True
+    return False
+
+
 def test_laser_legs_follow_the_true_people_through_the_run(stage):
     """Every scan with a person in the open, 0.8-5 m ahead, shows their legs near their bearing
     (a pair, or a single leg when one hides the other along the line of sight)."""
@@ -63,6 +76,8 @@ def test_laser_legs_follow_the_true_people_through_the_run(stage):
             b = math.remainder(math.atan2(p.y - oy, p.x - ox) - rth, 2 * math.pi)
             if not (0.8 < d < 5.0 and abs(b) < math.radians(80)) or _near_furniture(stage.world, p.x, p.y):
                 continue
+            if _behind_someone(frame.people, p, ox, oy, d, b + rth):
+                continue  # people no longer walk inside each other (walk23): one may stand behind another's legs
             checked += 1
             assert any(abs(q.bearing - b) < math.radians(4) and abs(q.distance - d) < 0.25 for q in pairs), (m.created, p.name)
     assert checked >= 3
