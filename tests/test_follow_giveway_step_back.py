@@ -21,7 +21,8 @@ from hypothesis import strategies as st
 import robot.navigation.follow as follow
 from robot.navigation.config import Limits
 from robot.navigation.follow import SWEEP_TIME, Follower, sweep_allowed
-from robot.navigation.local import SOCIAL_GAP, footprint_distance, people_sweep_clear
+from robot.navigation.local import SOCIAL_GAP, people_sweep_clear
+from tests.test_follow_backout_door import _clearance, _to_robot
 
 #: a room's wall 0.45 m to the robot's right with the 0.9 m door it came in by (its centre beside the robot's),
 #: and the room's back wall 1.6 m behind (odom = robot frame at start)
@@ -70,17 +71,6 @@ def _follower() -> Follower:
     f._backout_failed = None
     f._aside = None
     return f
-
-
-def _to_robot(p: np.ndarray, pose: tuple[float, float, float]) -> np.ndarray:
-    x, y, th = pose
-    c, s = math.cos(th), math.sin(th)
-    d = np.atleast_2d(p) - (x, y)
-    return np.stack((c * d[:, 0] + s * d[:, 1], -s * d[:, 0] + c * d[:, 1]), axis=1)
-
-
-def _clearance(pts: np.ndarray) -> float:
-    return float(footprint_distance(pts[:, 0], pts[:, 1]).min())
 
 
 @pytest.fixture

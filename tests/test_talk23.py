@@ -15,20 +15,7 @@ from robot.dialog.loader import load
 from robot.dialog.manager import DialogManager, Say, Send
 from robot.speech.module import frame_message
 from tests.test_speech_review_lang7 import understood
-
-
-def heard(state: str, *turns: tuple[str, float]) -> list[list[object]]:
-    dm = DialogManager(load())
-    dm.es_state = state
-    out, t = [], 1.0
-    for words, confidence in turns:
-        out.append(dm.on_frame(frame_message(understood(words), t, t + 1.0, confidence)))
-        t += 3.0
-    return out
-
-
-def acts(steps: list[list[object]]) -> list[list[str]]:
-    return [[o.text if isinstance(o, Say) else o.event for o in step if isinstance(o, (Say, Send))] for step in steps]
+from tests.test_talk22 import acts, heard
 
 
 YES = ["yes", "okay", "sure", "yeah", "alright", "yes please"]
