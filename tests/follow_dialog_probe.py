@@ -33,6 +33,7 @@ def dialog_hearing_off_track(states: list[tuple[float, str]], said_at: float, ac
     d._follow_state, d._waiting_since, d._searching_since = "", math.inf, math.inf
     d._approach_seen = -math.inf
     d._release_held = lambda: None
+    d._queue = deque()  # nothing of its own waits to be said
     for t, state in states:
         d.now = t
         d._on_follow(SimpleNamespace(xml=etree.Element("follow", state=state)))
