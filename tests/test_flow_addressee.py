@@ -37,16 +37,6 @@ def test_a_bystanders_good_bye_to_the_partner_in_their_group_does_not_end_the_in
     assert s["metrics"]["dialog"]["subdialogs"]["not_addressed"] >= 2
 
 
-def test_words_she_begins_facing_the_robot_and_says_on_turned_to_a_friend_are_not_a_request():
-    # addr23 (another flat, another pair): with the camera raised for her hands her face is in the image close up,
-    # so the robot sees her facing it as she begins "could you open the wine for us" and "good bye and see you
-    # tomorrow", and turn to her friend for the rest: neither "did not understand" nor a good-bye; her own
-    # requests facing it are served
-    s = run_file(Path(__file__).resolve().parent / "scenarios" / "flow" / "addr23_turns_to_friend_dining.xml", RunOptions(seed=0))
-    assert s["verdict"] == "PASS", [e for e in s["expectations"] if not e["passed"]]
-    assert s["metrics"]["dialog"]["subdialogs"]["not_addressed"] >= 3
-
-
 def test_a_request_while_following_is_answered_at_once_with_say_stop_first():
     s = _run("teach_while_following")
     assert s["verdict"] == "PASS", [e for e in s["expectations"] if not e["passed"]]

@@ -13,7 +13,7 @@ from hypothesis import strategies as st
 from robot.attention.module import AttentionParams, hands_tilt
 from robot.hardware.camera import CameraSpec, PanTilt, in_field_of_view
 
-P = AttentionParams(raise_for_hands=True)  # on by default since addr23: see AttentionParams.raise_for_hands
+P = AttentionParams(raise_for_hands=True)  # off by default: see AttentionParams.raise_for_hands
 SPEC = CameraSpec()
 
 
@@ -58,7 +58,6 @@ def test_far_away_unchanged(d: float) -> None:
 
 @settings(max_examples=100)
 @given(st.floats(min_value=0.3, max_value=6.0))
-def test_switched_off_the_tilt_is_the_hands_one(d: float) -> None:
-    q = AttentionParams(raise_for_hands=False)
+def test_off_by_default_the_tilt_is_the_hands_one(d: float) -> None:
+    q = AttentionParams()
     assert hands_tilt(q, d) == math.atan2(q.heights["hands"] - q.camera_height, max(d, 0.3))
-
