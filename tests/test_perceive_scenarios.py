@@ -75,3 +75,20 @@ def test_a_far_object_she_hides_with_nowhere_to_see_it_from_is_learned_after_ask
     said = " ".join(_said(s)).lower()
     assert "step aside" in said and "could not find" not in said
     assert any(o.get("type") == "radio" and o.get("owner") == "partner" for o in s["learned"]["objects"])
+
+
+TEST_SCENES = Path(__file__).resolve().parent / "scenarios"
+
+
+def test_a_radio_hidden_behind_him_in_a_door_frame_is_learned_after_he_steps_aside_and_confirms_pointing():
+    # obj23 (issue 26 item 11 in another flat): he points at the radio behind him from the study's door frame, steps
+    # aside in view when asked, and confirms with "Yes, that's my radio": the request's gesture is kept, the radio stored
+    s = run_file(TEST_SCENES / "perceive" / "doorway_hides_radio_in_view.xml", RunOptions(seed=0))
+    assert s["verdict"] == "PASS", [e for e in s["expectations"] if not e["passed"]]
+
+
+def test_no_and_a_room_to_the_offer_after_a_go_to_to_an_unknown_room_is_a_go_to_there_not_a_teaching():
+    # dlg23 (review22 R3): "drive to the lounge" (never shown) - "Shall I follow you there?" - "No, the living room":
+    # the robot drives to the living room and stores no room where it stands
+    s = run_file(TEST_SCENES / "nav" / "dlg23_offer_no_the_room.xml", RunOptions(seed=0))
+    assert s["verdict"] == "PASS", [e for e in s["expectations"] if not e["passed"]]
