@@ -112,7 +112,7 @@ import os
 from collections import deque
 from copy import deepcopy
 from dataclasses import replace
-from typing import Any
+from typing import Any, Callable
 
 from lxml import etree
 
@@ -1252,14 +1252,21 @@ class Dialog(Module):
             stale.add("too_fast")
         if not stale:
             return
+        self._drop_queued(lambda q: bool(q[2]) and q[2] <= stale and q[3] < msg.created)
+
+    def _drop_queued(self, drop: Callable[[tuple[Any, ...]], bool]) -> int:
+        """Take the queued sentences ``drop`` picks (asked in queue order) out of the queue, each of their
+        dialog acts marked dropped now (never said: the speaker did not begin them); the count dropped."""
         kept: deque[tuple[Any, ...]] = deque()
         for q in self._queue:
-            if q[2] and q[2] <= stale and q[3] < msg.created:
+            if drop(q):
                 for d in q[2]:
                     self._dropped_at[d] = self.now
-                continue
-            kept.append(q)
+            else:
+                kept.append(q)
+        dropped = len(self._queue) - len(kept)
         self._queue = kept
+        return dropped
 
     def _on_condition(self, msg: Message) -> None:
         if msg.xml.get("name") == "ask":  # a reactive module's question, routed through the ES
@@ -1640,23 +1647,17 @@ class Dialog(Module):
             return False
         if sum(1 for t in self._hold_steps if self.now - t < HOLD_WINDOW) * HOLD_STEP >= HOLD_BUDGET:
             return False
-        kept: deque[tuple[Any, ...]] = deque()
-        dropped = 0
-        for q in self._queue:
-            if self._voice_at > q[3]:
-                if q[4]:
-                    if self._repair_dropped:
-                        kept.append(q)
-                        continue
-                    self._repair_dropped = True
-                    self.stale_repairs += 1
-                for d in q[2]:
-                    self._dropped_at[d] = self.now
-                dropped += 1
-                continue
-            kept.append(q)
-        self._queue = kept
-        if dropped:
+        def overtaken(q: tuple[Any, ...]) -> bool:
+            if self._voice_at <= q[3]:
+                return False
+            if q[4]:  # a repair: never two dropped in a row
+                if self._repair_dropped:
+                    return False
+                self._repair_dropped = True
+                self.stale_repairs += 1
+            return True
+
+        if self._drop_queued(overtaken):
             self.manager.barge_in()  # as if begun and cut: the dialog's barge-in count
         if not self._queue or self.now - self._queue[0][3] >= HOLD_MAX:
             return not self._queue
