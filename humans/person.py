@@ -82,14 +82,14 @@ KEEP_RIGHT = 0.6
 AHEAD = 2.0
 CLEAR = 2 * HUMAN_RADIUS + PASS_GAP
 #: s held back by someone before she steps back out of the way of someone held back by her (the one of the
-#: two whose name sorts later, so exactly one does), YIELD_STEP m mostly aside (to her right) and a little back; she then waits at most YIELD_WAIT s for
+#: two listed later in the scenario, so exactly one does), YIELD_STEP m mostly aside (to her right) and a little back; she then waits at most YIELD_WAIT s for
 #: them to pass before walking on. Held back by people CROWD_GIVE_UP s in all on one walk, she ends it where
 #: she stands (as near as the people there allow), saying so in her log; but for leaving the flat, which she
 #: never ends short (she would vanish mid-room): she waits at the door for the way to clear.
 #: Someone whose way crosses hers (their closest approach within GIVE_WAY_HORIZON s, nearer than CLEAR; not
 #: head-on, which KEEP_RIGHT settles) and who reaches the crossing first is let pass: she stands GIVE_WAY_STEP s
 #: at a time (GIVE_WAY_MAX s at most in a row) and looks again. Who is first: the earlier arrival where the two
-#: lines cross (within GIVE_WAY_TIE s: the name that sorts first); walking the same way, the one ahead.
+#: lines cross (within GIVE_WAY_TIE s: the one listed first in the scenario, never by name); walking the same way, the one ahead.
 GIVE_WAY_HORIZON = 3.0
 GIVE_WAY_STEP = 0.25
 GIVE_WAY_MAX = 4.0
@@ -520,13 +520,13 @@ class Person(Actor):
             s_ = (px * (-qy) - py * (-qx)) / den
             r_ = (ux * py - uy * px) / den
             mine, theirs = s_ / sp, r_ / ws
-            if theirs < mine - GIVE_WAY_TIE or (abs(theirs - mine) <= GIVE_WAY_TIE and o.name < self.name):
+            if theirs < mine - GIVE_WAY_TIE or (abs(theirs - mine) <= GIVE_WAY_TIE and o.order < self.body.order):
                 return True
         return False
 
     async def _make_room(self) -> bool:
         """Held back by someone who is held back by her (two people face to face in a narrow place): the
-        one whose name sorts later steps YIELD_STEP m to her right and a little back (away from the other), and
+        one listed later in the scenario steps YIELD_STEP m to her right and a little back (away from the other), and
         waits (at most YIELD_WAIT s) for them to pass. True when she stepped back."""
         x, y = self.body.position
         near = [(math.hypot(o.position[0] - x, o.position[1] - y), o) for o in self.others()]
@@ -534,7 +534,7 @@ class Person(Actor):
         if not near:
             return False
         d, other = min(near, key=lambda p: p[0])
-        if not (other.walk_speed >= 1e-3 and other.crowded and other.name < self.name):
+        if not (other.walk_speed >= 1e-3 and other.crowded and other.order < self.body.order):
             return False
         ox, oy = other.position
         ux, uy = (x - ox) / max(d, 1e-6), (y - oy) / max(d, 1e-6)  # away from them

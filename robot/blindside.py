@@ -50,6 +50,7 @@ ground truth: the robot sees only the sonar's messages and its own odometry.
 
 from __future__ import annotations
 
+import functools
 import math
 from collections.abc import Callable
 
@@ -109,10 +110,19 @@ def near_arcs(packet: etree._Element | SonarPacket) -> list[Arc]:
     return _arcs(packet)
 
 
+@functools.lru_cache(maxsize=8)
+def _arc_offsets(cone: float) -> np.ndarray:
+    """The ARC_POINTS bearings (rad) across a transducer's ``cone`` (degrees), read-only: one array per cone for
+    the whole run (every packet's arcs read it; the rings have one cone)."""
+    half = math.radians(cone) / 2
+    offsets = np.linspace(-half, half, ARC_POINTS)
+    offsets.flags.writeable = False
+    return offsets
+
+
 def _arcs(packet: etree._Element | SonarPacket) -> list[Arc]:
     top = float(packet.get("max_range", "5"))
-    half = math.radians(float(packet.get("cone", "30"))) / 2
-    offsets = np.linspace(-half, half, ARC_POINTS)
+    offsets = _arc_offsets(float(packet.get("cone", "30")))
     out: list[Arc] = []
     for e in (packet.echoes() if packet.__class__ is SonarPacket else echoes_of(packet)):  # type: ignore[union-attr]
         r = e.range

@@ -169,3 +169,35 @@ def test_the_routes_erosion_is_scipys(rows, cols, seed, share):
 
     occ = np.random.default_rng(seed).random((rows, cols)) < share
     assert (_eroded(occ) == ndimage.binary_erosion(occ, border_value=1)).all()
+
+
+@settings(max_examples=300, deadline=None)
+@given(st.tuples(st.floats(-1.0, 9.0), st.floats(-1.0, 5.0)), st.tuples(st.floats(-1.0, 9.0), st.floats(-1.0, 5.0)),
+       st.tuples(st.floats(-2.0, 2.0), st.floats(-2.0, 2.0), st.floats(-math.pi, math.pi)),
+       st.tuples(st.floats(-2.0, 2.0), st.floats(-2.0, 2.0), st.floats(-math.pi, math.pi)))
+@example((1.0, 2.0), (7.0, 2.0), (0.0, 0.0, 0.0), (0.0, 0.0, 0.0))  # through the door
+@example((1.0, 1.0), (7.0, 1.0), (0.0, 0.0, 0.0), (0.0, 0.0, 0.0))  # through the wall
+@example((-0.9, 2.0), (-0.5, 2.0), (0.0, 0.0, 0.0), (0.0, 0.0, 0.0))  # off the grid
+def test_in_sight_and_to_map_are_the_vectorised_answers(a, b, map_pose, odom) -> None:
+    """The follower asks ``in_sight`` and ``to_map`` hundreds of times a control step (its walk-on search), so
+    they run in plain floats with the pose pair's cosine and sine kept: the answers must be exactly the
+    vectorised reference's and ``_rebase``'s (a step's free or not decides where the robot looks for her)."""
+    from robot.navigation.grid import _inside
+    from robot.navigation.route import _in_sight_reference, _rebase
+
+    route = _route(_two_rooms(), map_pose, odom)
+    rooms = (_box(0.0, 0.0, 4.0, 4.0), np.array([[4.0, 0.0], [8.0, 0.0], [8.0, 4.0], [6.0, 2.0], [4.0, 4.0]]))  # one not convex
+    route.set_rooms(rooms)
+    g = route.grid
+    for _ in range(2):  # the second time with the kept transform and cells
+        ma, mb = _rebase(a, odom, map_pose), _rebase(b, odom, map_pose)
+        assert route.to_map(a) == ma
+        assert route.to_map(b) == mb
+        assert route.in_sight(a, b) == _in_sight_reference(g, ma, mb)
+        i, j = g.cell_of(mb)
+        assert route.clearance(b) == (float(g.clearance[i, j]) if g.inside((i, j)) else 0.0)
+        held = [r for r in rooms if bool(_inside(np.array([mb[0]]), np.array([mb[1]]), r)[0])]
+        assert route.room_at(b) is (None if not held else route.rooms[[id(r) for r in rooms].index(id(held[0]))])
+    moved = (odom[0] + 0.3, odom[1], odom[2] + 0.1)
+    route.on_pose(map_pose, moved)  # a new pose pair: the transform follows it
+    assert route.to_map(a) == _rebase(a, moved, map_pose)

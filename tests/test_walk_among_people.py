@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import math
 
+import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
@@ -223,3 +224,26 @@ def test_leaving_she_waits_at_the_door_for_whoever_stands_in_it_and_never_vanish
     stage.run(50.0)
     assert not stage.world.humans["ann"].present, "out once he had gone"
     assert stage.actors["ann"].crowd_stops == 0
+
+
+@pytest.mark.parametrize("listed", [("zoe", "bob"), ("bob", "zoe")])
+def test_a_tie_at_a_crossing_goes_to_whoever_the_scenario_lists_first_not_by_name(listed):
+    """Two reach a right-angle crossing at the same moment (each 2.5 m from it, the same speed): the one the scenario
+    lists first walks on, the other lets them pass, whatever their names (review23 N6: by name spelling a rename
+    changed who waits)."""
+    walks = {"zoe": (1.5, 3.0, '<walk-to point="7.0 3.0"/>', 0.0), "bob": (4.0, 0.5, '<walk-to point="4.0 5.5"/>', 90.0)}
+    humans = "".join(_human(n, walks[n][0], walks[n][1], walks[n][2], k, walks[n][3]) for k, n in enumerate(listed))
+    stage, closest = _stage(humans)
+    order: list[str] = []
+
+    def first_across(world):  # type: ignore[no-untyped-def]
+        for name, axis, line in (("zoe", 0, 4.0), ("bob", 1, 3.0)):
+            if name not in order and world.humans[name].position[axis] > line:
+                order.append(name)
+
+    stage.world.add_listener(first_across)
+    stage.run(15.0)
+    assert order == list(listed)
+    assert math.dist(_at(stage, "zoe"), (7.0, 3.0)) < 0.1
+    assert math.dist(_at(stage, "bob"), (4.0, 5.5)) < 0.1
+    assert closest[0] >= 2 * HUMAN_RADIUS

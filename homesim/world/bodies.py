@@ -145,8 +145,10 @@ class HumanBody:
     to move the gait. ``present`` turns False when the person has left.
     """
 
-    def __init__(self, space: pymunk.Space, name: str, x: float, y: float, heading: float, *, height: float, torso: tuple[float, float, float], speed: float) -> None:
+    def __init__(self, space: pymunk.Space, name: str, x: float, y: float, heading: float, *, height: float, torso: tuple[float, float, float], speed: float,
+                 order: int = 0) -> None:
         self.name = name
+        self.order = order  # her place in the scenario's list of people: who goes first in a tie (never her name)
         self.height = height
         self.torso = torso
         self.speed = speed

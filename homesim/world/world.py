@@ -103,8 +103,9 @@ class World:
         r = scenario.robot
         self.robot = RobotBody(self.space, r.x, r.y, r.heading, max_speed=r.max_speed, max_turn=r.max_turn)
         self.humans: dict[str, HumanBody] = {}
-        for h in scenario.humans:
-            self.humans[h.name] = HumanBody(self.space, h.name, h.x, h.y, h.heading, height=h.height, torso=h.torso, speed=h.speed)
+        for k, h in enumerate(scenario.humans):
+            self.humans[h.name] = HumanBody(self.space, h.name, h.x, h.y, h.heading, height=h.height, torso=h.torso, speed=h.speed,
+                                            order=k)
         self._people = list(self.humans.values())
         # Robot positions (5 cm cells) with no wall or furniture within reach: no contact to resolve there.
         self._clear_cells: dict[tuple[int, int], bool] = {}

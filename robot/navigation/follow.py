@@ -1732,10 +1732,12 @@ class Follower(Module):
             while self._standers and self.now - self._standers[0][0] > HELD_UP_MEMORY:
                 self._standers.popleft()
             echoes = self.scan.points()
-            for _, sx, sy in self._standers:  # remembered where the laser still sees something
-                x, y = self._to_robot(sx, sy)
-                if len(echoes) and float(np.min(np.hypot(echoes[:, 0] - x, echoes[:, 1] - y))) < HELD_UP_ECHO:
-                    here.append((x, y))
+            if self._standers and len(echoes):  # remembered where the laser still sees something (all at once:
+                # up to HELD_UP_MEMORY s of them, each its nearest echo; the same differences, hence the same answers)
+                them = [self._to_robot(sx, sy) for _, sx, sy in self._standers]
+                xs, ys = np.array([[x] for x, _ in them]), np.array([[y] for _, y in them])
+                seen = np.hypot(echoes[:, 0] - xs, echoes[:, 1] - ys).min(axis=1) < HELD_UP_ECHO
+                here.extend(p for p, k in zip(them, seen.tolist()) if k)
             blocker = way_blocker(here, (ux, uy), self._to_robot(px, py))
         if blocker is None:
             return False

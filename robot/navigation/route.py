@@ -50,7 +50,7 @@ import math
 
 import numpy as np
 
-from .grid import NoPathError, OccupancyGrid, _inside
+from .grid import NoPathError, OccupancyGrid
 from .local import carrot
 
 Point = tuple[float, float]
@@ -95,6 +95,10 @@ class Route:
         self.grid: OccupancyGrid | None = None
         self._map_pose: Pose | None = None
         self._odom_at: Pose | None = None
+        # odom -> map as (odom pose, map pose, sx, sy, dx, dy, cos, sin), worked out once per pose pair (to_map runs
+        # hundreds of times a control step in the follower's walk-on search); the same arithmetic as _rebase
+        self._tf: tuple[object, object, float, float, float, float, float, float] | None = None
+        self._occ: tuple[np.ndarray, bytes] | None = None  # the grid's occupied cells as bytes (in_sight's look-ups)
         self.path: list[Point] | None = None  # map frame, first point where the robot was when planned
         self._planned_at = -math.inf
         self.plans = 0  # how many paths were planned (for tests and the run's curiosity)
@@ -102,6 +106,8 @@ class Route:
         self._people: np.ndarray = np.zeros((0, 2))  # map-frame centres of the standing people on the plan
         self._with_people: OccupancyGrid | None = None  # the grid with them (None: nobody standing near)
         self.rooms: tuple[np.ndarray, ...] = ()  # map-frame outlines of the flat's rooms (the map's <room>s)
+        self._room_edges: tuple[list[tuple[float, float, float, float]], ...] = ()  # each room's edges (x1, y1, x2, y2)
+        self._clear: tuple[np.ndarray, list[float]] | None = None  # the grid's clearance as a flat list (clearance's look-ups)
 
     def set_grid(self, grid: OccupancyGrid) -> None:
         self.grid = grid
@@ -113,16 +119,23 @@ class Route:
     def set_rooms(self, rooms: tuple[np.ndarray, ...]) -> None:
         """The flat's rooms (map frame, as the map server's ``<room>`` outlines): the flat's inside."""
         self.rooms = tuple(np.asarray(r, dtype=float) for r in rooms if len(r) >= 3)
+        self._room_edges = tuple([(float(r[i][0]), float(r[i][1]), float(r[(i + 1) % len(r)][0]), float(r[(i + 1) % len(r)][1]))
+                                  for i in range(len(r))] for r in self.rooms)
 
     def room_at(self, p: Point) -> np.ndarray | None:
         """The outline (map frame) of the room holding ``p`` (odom), None outside the flat or
         without a plan or rooms (see :meth:`inside`)."""
         if not self.ready or not self.rooms:
             return None
-        m = self.to_map(p)
-        x, y = np.array([m[0]]), np.array([m[1]])
-        for r in self.rooms:
-            if bool(_inside(x, y, r)[0]):
+        x, y = self.to_map(p)
+        for r, edges in zip(self.rooms, self._room_edges):
+            # _inside's even-odd test for one point, in plain floats (the same operations; an edge whose ends
+            # lie on one side of y is skipped there as here, where its division would be by zero)
+            inside = False
+            for x1, y1, x2, y2 in edges:
+                if (y1 > y) != (y2 > y) and x < (x2 - x1) * (y - y1) / (y2 - y1) + x1:
+                    inside = not inside
+            if inside:
                 return r
         return None
 
@@ -148,8 +161,17 @@ class Route:
         return self.grid is not None and self._map_pose is not None
 
     def to_map(self, p: Point) -> Point:
-        """An odom-frame point in the map frame (needs :attr:`ready`)."""
-        return _rebase(p, self._odom_at, self._map_pose)  # type: ignore[arg-type]
+        """An odom-frame point in the map frame (needs :attr:`ready`): ``_rebase(p, odom pose, map pose)``, with
+        the pose pair's cosine and sine kept while the pair stays (the same operations, so the same floats)."""
+        tf = self._tf
+        if tf is None or tf[0] is not self._odom_at or tf[1] is not self._map_pose:
+            sx, sy, sth = self._odom_at  # type: ignore[misc]
+            dx_, dy_, dth = self._map_pose  # type: ignore[misc]
+            a = dth - sth
+            tf = self._tf = (self._odom_at, self._map_pose, sx, sy, dx_, dy_, math.cos(a), math.sin(a))
+        _, _, sx, sy, dx_, dy_, c, s = tf
+        dx, dy = p[0] - sx, p[1] - sy
+        return dx_ + c * dx - s * dy, dy_ + s * dx + c * dy
 
     def to_odom(self, p: Point) -> Point:
         """A map-frame point in the odometry frame (needs :attr:`ready`)."""
@@ -161,8 +183,14 @@ class Route:
             return math.inf
         g = self.grid
         assert g is not None
-        i, j = g.cell_of(self.to_map(robot))
-        return float(g.clearance[i, j]) if g.inside((i, j)) else 0.0
+        mx, my = self.to_map(robot)
+        i, j = int((mx - g.origin[0]) / g.cell), int((my - g.origin[1]) / g.cell)  # g.cell_of
+        if not (0 <= i < g.nx and 0 <= j < g.ny):
+            return 0.0
+        cl = self._clear
+        if cl is None or cl[0] is not g.clearance:
+            cl = self._clear = (g.clearance, g.clearance.ravel().tolist())
+        return cl[1][i * g.ny + j]  # type: ignore[no-any-return]
 
     def in_sight(self, robot: Point, target: Point) -> bool:
         """Whether the segment robot-target (odom) crosses no wall or furniture of the floor plan
@@ -173,11 +201,24 @@ class Route:
         assert g is not None
         a, b = self.to_map(robot), self.to_map(target)
         n = max(int(math.hypot(b[0] - a[0], b[1] - a[1]) / (g.cell / 2)) + 2, 2)
-        t = np.linspace(0.0, 1.0, n)
-        i = ((a[0] + (b[0] - a[0]) * t - g.origin[0]) / g.cell).astype(int)
-        j = ((a[1] + (b[1] - a[1]) * t - g.origin[1]) / g.cell).astype(int)
-        ok = (i >= 0) & (i < g.nx) & (j >= 0) & (j < g.ny)
-        return not bool(g.occupied[i[ok], j[ok]].any())
+        occ = self._occ
+        if occ is None or occ[0] is not g.occupied:
+            occ = self._occ = (g.occupied, np.ascontiguousarray(g.occupied, dtype=bool).tobytes())
+        cells = occ[1]
+        # n samples t = k / (n - 1) along a -> b (np.linspace's: k * (1 / (n - 1)), the last exactly 1), each cell
+        # by truncation (astype(int)), cells off the grid skipped: the answer of the vectorised form
+        # (_in_sight_reference), in plain floats, as most segments here are a few cells long
+        ax, ay, ox, oy, cell, nx, ny = a[0], a[1], g.origin[0], g.origin[1], g.cell, g.nx, g.ny
+        ddx, ddy = b[0] - ax, b[1] - ay
+        step = 1.0 / (n - 1)
+        last = n - 1
+        for k in range(n):
+            t = 1.0 if k == last else k * step
+            i = int((ax + ddx * t - ox) / cell)
+            j = int((ay + ddy * t - oy) / cell)
+            if 0 <= i < nx and 0 <= j < ny and cells[i * ny + j]:
+                return False
+        return True
 
     def obstacles_near(self, robot: Pose) -> np.ndarray:
         """The floor plan's obstacle outlines within :data:`NEAR` m of ``robot`` (odom pose), robot frame, (N, 2)."""
@@ -248,6 +289,16 @@ def _eroded(occ: np.ndarray) -> np.ndarray:
     occupied is all this needs."""
     p = np.pad(occ.astype(bool), 1, constant_values=True)
     return p[1:-1, 1:-1] & p[:-2, 1:-1] & p[2:, 1:-1] & p[1:-1, :-2] & p[1:-1, 2:]
+
+
+def _in_sight_reference(g: OccupancyGrid, a: Point, b: Point) -> bool:
+    """:meth:`Route.in_sight`'s test on map-frame points, vectorised (the reference its loop is checked against)."""
+    n = max(int(math.hypot(b[0] - a[0], b[1] - a[1]) / (g.cell / 2)) + 2, 2)
+    t = np.linspace(0.0, 1.0, n)
+    i = ((a[0] + (b[0] - a[0]) * t - g.origin[0]) / g.cell).astype(int)
+    j = ((a[1] + (b[1] - a[1]) * t - g.origin[1]) / g.cell).astype(int)
+    ok = (i >= 0) & (i < g.nx) & (j >= 0) & (j < g.ny)
+    return not bool(g.occupied[i[ok], j[ok]].any())
 
 
 def _rebase(p: Point, src: tuple[float, float, float], dst: tuple[float, float, float]) -> Point:
