@@ -295,7 +295,13 @@ class Actor:
         if rng is None:
             raise ScriptError(f"{self.name!r} has no paraphrase bank", source=self.world.scenario.source, line=act.line, element="say")
         bank = default_bank()
-        text = bank.render(bank.draw(rng, act.request, self.traits.phrasing, avoid=avoid, about=about), about)
+        drawn = bank.draw(rng, act.request, self.traits.phrasing, avoid=avoid, about=about)
+        if self._reacting and about and not drawn.has_slot and any(p.has_slot for p in bank.phrasings(act.request)):
+            # her answer to the robot's question names what it asked about ("Where shall I go?" -
+            # "Now go to the kitchen", never "Go over there" again; "Which room is this?" - never
+            # "This is where we live"): a second draw, only then, so every other draw stays as it was
+            drawn = bank.draw(rng, act.request, self.traits.phrasing, avoid=avoid, slotted=True, about=about)
+        text = bank.render(drawn, about)
         self._last_phrase[key] = text
         return text
 
