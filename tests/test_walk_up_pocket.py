@@ -1,0 +1,46 @@
+"""A walk up to the robot whose aimed-at place lies in a pocket closed off from her ends as near as she gets
+(gen24, generated tour 9700-07: the place 1.2 m in front of the robot fell between a bookshelf and a table,
+the run failed "cannot get there"); a scene's own walk to a closed-off point still fails, naming it."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from homesim.scenario.pathplan import Grid, NoPathError
+
+ROOM = np.array([(0.0, 0.0), (6.0, 0.0), (6.0, 4.0), (0.0, 4.0)])
+# a pocket 1 m square walled in on all four sides by furniture (no gap a person fits through)
+BARS = [np.array(p, dtype=float) for p in (
+    [(4.3, 1.3), (4.5, 1.3), (4.5, 2.7), (4.3, 2.7)],
+    [(5.5, 1.3), (5.7, 1.3), (5.7, 2.7), (5.5, 2.7)],
+    [(4.3, 1.3), (5.7, 1.3), (5.7, 1.5), (4.3, 1.5)],
+    [(4.3, 2.5), (5.7, 2.5), (5.7, 2.7), (4.3, 2.7)],
+)]
+
+
+def _grid() -> Grid:
+    return Grid(BARS, (0.0, 0.0, 6.0, 4.0), rooms=[ROOM])
+
+
+def test_a_goal_closed_off_is_refused_unless_she_only_walks_up_to_it():
+    g = _grid()
+    goal = (5.0, 2.0)
+    with pytest.raises(NoPathError):
+        g.plan((1.0, 1.0), goal, inside=True)
+    path = g.plan((1.0, 1.0), goal, inside=True, reachable=True)
+    end = path[-1]
+    assert 0.5 < math.hypot(end[0] - goal[0], end[1] - goal[1]) <= 1.5  # outside the pocket, near it
+    assert not (4.3 <= end[0] <= 5.7 and 1.3 <= end[1] <= 2.7)
+    here = (1.0, 1.0)
+    for p in path:  # every leg keeps to free space
+        assert g.line_free(here, p)
+        here = p
+
+
+@pytest.mark.parametrize("goal", [(2.0, 3.0), (5.0, 0.6), (3.9, 2.0)])
+def test_a_goal_she_reaches_is_planned_the_same_either_way(goal):
+    g = _grid()
+    assert g.plan((1.0, 1.0), goal, inside=True, reachable=True) == g.plan((1.0, 1.0), goal, inside=True)
