@@ -44,3 +44,46 @@ def test_a_goal_closed_off_is_refused_unless_she_only_walks_up_to_it():
 def test_a_goal_she_reaches_is_planned_the_same_either_way(goal):
     g = _grid()
     assert g.plan((1.0, 1.0), goal, inside=True, reachable=True) == g.plan((1.0, 1.0), goal, inside=True)
+
+
+POCKET_FLAT = """<?xml version="1.0" encoding="UTF-8"?>
+<scenario name="pocket" seed="1" duration="40">
+  <flat>
+    <room name="room" points="0,0 7,0 7,5 0,5"/>
+    <walls thickness="0.1">
+      <wall from="0 0" to="7 0"/>
+      <wall from="7 0" to="7 5"/>
+      <wall from="7 5" to="0 5"/>
+      <wall from="0 5" to="0 0"/>
+    </walls>
+    <furniture name="shelf a" type="shelf" points="4.3,1.3 4.5,1.3 4.5,2.7 4.3,2.7" height="0.8"/>
+    <furniture name="shelf b" type="shelf" points="5.5,1.3 5.7,1.3 5.7,2.7 5.5,2.7" height="0.8"/>
+    <furniture name="shelf c" type="shelf" points="4.5,1.3 5.5,1.3 5.5,1.5 4.5,1.5" height="0.8"/>
+    <furniture name="shelf d" type="shelf" points="4.5,2.5 5.5,2.5 5.5,2.7 4.5,2.7" height="0.8"/>
+  </flat>
+  <robot x="5.0" y="3.7" heading="-90"/>
+  <humans>
+    <human name="ann" x="5.0" y="0.5" heading="90" height="1.70" torso="red" distance="1.2">
+      <script><walk-to robot="true"/><wait for="1"/></script>
+    </human>
+  </humans>
+</scenario>
+"""
+
+
+def test_a_person_walking_up_to_the_robot_across_a_closed_pocket_ends_beside_it_not_failing_the_run():
+    """Her place in front of the robot (1.2 m on the line between them) lies inside four low shelves: she walks
+    round them and stops as near as she gets, in sight of the robot, touching nothing."""
+    from homesim.scenario.loader import load_scenario_text
+    from homesim.sim import Simulation
+    from homesim.tour.stage import Stage
+    from tests.stage_helpers import PEOPLE
+
+    sc = load_scenario_text(POCKET_FLAT, source="pocket.xml")
+    st = Stage(Simulation(seed=sc.seed, scenario=sc.name), sc, actors=PEOPLE)
+    st.run(30.0)
+    x, y = st.world.humans["ann"].position
+    rx, ry, _ = st.world.robot.pose
+    assert not (4.3 <= x <= 5.7 and 1.3 <= y <= 2.7)
+    assert math.hypot(x - rx, y - ry) <= 2.0  # she came round (from 3.2 m away), beside the pocket
+    assert st.world.contacts == []
