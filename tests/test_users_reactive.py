@@ -407,7 +407,8 @@ def test_a_scripted_person_without_a_profile_still_waits_for_the_robot():
 # ------------------------------------------------------------------ answers name what was asked
 VAGUE_ANSWERS = [("go-to", "where shall i go", "Where shall I go?", "the kitchen"),
                  ("teach-place", "which room is this", "Which room is this?", "the study"),
-                 ("where-is", "what are you looking for", "What are you looking for?", "my cup")]
+                 ("where-is", "what are you looking for", "What are you looking for?", "my cup"),
+                 ("teach-object", "^what is (it|this|that)", "What is it?", "my red cup")]
 
 
 @pytest.mark.parametrize("request_, hears, question, about", VAGUE_ANSWERS)
