@@ -74,6 +74,9 @@ DEFAULT_REPAIR = r"(say|point at) (that|it) again|pardon|repeat that|did not und
 LOUDER_DB = 6.0
 MAX_BOOST = 18.0
 
+#: Requests a reaction re-says to answer "which room / what is it / where shall I go / what are you looking
+#: for?": said then, they name what was asked (:meth:`Actor.phrase`).
+NAMING = ("teach-place", "teach-object", "go-to", "where-is")
 #: A reaction that fires this many times in a row without the script moving on is a loop.
 MAX_STREAK = 50
 
@@ -295,7 +298,14 @@ class Actor:
         if rng is None:
             raise ScriptError(f"{self.name!r} has no paraphrase bank", source=self.world.scenario.source, line=act.line, element="say")
         bank = default_bank()
-        text = bank.render(bank.draw(rng, act.request, self.traits.phrasing, avoid=avoid, about=about), about)
+        drawn = bank.draw(rng, act.request, self.traits.phrasing, avoid=avoid, about=about)
+        if self._reacting and about and act.request in NAMING and not drawn.has_slot:
+            # her answer to the robot's question names what it asked about ("Where shall I go?" -
+            # "Now go to the kitchen", never "Go over there" again; "Which room is this?" - never
+            # "This is where we live"): a second draw, only then, so every other draw stays as it was.
+            # A correction may name nothing ("No, the other one": the robot asked "Is this your cup?")
+            drawn = bank.draw(rng, act.request, self.traits.phrasing, avoid=avoid, slotted=True, about=about)
+        text = bank.render(drawn, about)
         self._last_phrase[key] = text
         return text
 

@@ -255,3 +255,20 @@ def test_inner_corners_are_the_reflex_vertices_in_either_winding():
     assert inner_corners(l_room) == [(2.8, 1.6)]
     assert inner_corners(tuple(reversed(l_room))) == [(2.8, 1.6)]
     assert inner_corners(((0, 0), (3, 0), (3, 2), (0, 2))) == []
+
+
+def test_after_a_go_to_she_walks_over_to_the_robot_before_she_speaks_again():
+    """The robot drives off alone; whatever she says next (a greeting to start again, her good-bye)
+    she says beside it, not called from the room it left (gen24: a good-bye nobody heard)."""
+    seen = 0
+    for k in (0, 3, 4, 6, 9):  # base 9700's first tours with a go-to
+        _, sc = tour(9700, k)
+        script = list(sc.humans[0].script)
+        for i, a in enumerate(script):
+            if isinstance(a, Say) and a.request == "go-to":
+                seen += 1
+                nxt = next(j for j in range(i + 1, len(script)) if isinstance(script[j], Say))
+                walks = [b for b in script[i + 1:nxt] if isinstance(b, WalkTo)]
+                assert walks and walks[-1].target.kind == "robot", (k, script[nxt].request)
+                assert script[nxt].request in ("greet-again", "goodbye")
+    assert seen >= 3

@@ -402,3 +402,30 @@ def test_a_scripted_person_without_a_profile_still_waits_for_the_robot():
     st = _doorway("")
     st.run(85)
     assert _said(st) == [] and st.actors["ann"].blocked_walks == 0
+
+
+# ------------------------------------------------------------------ answers name what was asked
+VAGUE_ANSWERS = [("go-to", "where shall i go", "Where shall I go?", "the kitchen"),
+                 ("teach-place", "which room is this", "Which room is this?", "the study"),
+                 ("where-is", "what are you looking for", "What are you looking for?", "my cup"),
+                 ("teach-object", "^what is (it|this|that)", "What is it?", "my red cup")]
+
+
+@pytest.mark.parametrize("request_, hears, question, about", VAGUE_ANSWERS)
+@pytest.mark.parametrize("seed", range(4))
+def test_a_vague_speaker_answers_the_robots_question_with_what_it_asked_for(request_, hears, question, about, seed):
+    """Her request may be vague ("Go over there"); asked "Where shall I go?" she names the room
+    (a person answers the question; the robot cannot learn or reach a room never named)."""
+    import dataclasses
+
+    st = _stage(f'<say request="{request_}" about="{about}"/>\n<wait for="20"/>',
+                on=f'<on hears="{hears}" max="3"><say request="{request_}" about="{about}"/></on>', seed=seed)
+    ann = st.actors["ann"]
+    ann.traits = dataclasses.replace(ann.traits, phrasing=(("vague", 1.0),))
+    _robot(st, 4.0, question)
+    st.run(14)
+    said = [t for _, t in _said(st)]
+    bank = default_bank()
+    vague = {p.text for p in bank.phrasings(request_) if not p.has_slot}
+    assert said[0] in vague  # her own request: her vague style, as drawn
+    assert len(said) == 2 and about in said[1].lower() and said[1] not in vague

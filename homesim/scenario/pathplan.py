@@ -236,7 +236,7 @@ class Grid:
         return ~np.logical_or.reduceat(bl[i, j], first)
 
     # ------------------------------------------------------------ planning
-    def plan(self, start: Point, goal: Point, *, avoid: Iterable[Disc] = (), inside: bool = False) -> list[Point]:
+    def plan(self, start: Point, goal: Point, *, avoid: Iterable[Disc] = (), inside: bool = False, reachable: bool = False) -> list[Point]:
         """Waypoints from ``start`` to ``goal`` (excluding start, ending at goal or the
         nearest free point to it), keeping clear of the ``avoid`` discs.
         Raises NoPathError when the goal is unreachable.
@@ -245,12 +245,17 @@ class Grid:
         cells in a room; a grid given no rooms has none to keep to), as the simulated people ask for
         on every walk but leaving the flat.
 
+        ``reachable`` (without ``avoid``): a goal whose free spot lies in a pocket that walls and
+        furniture close off from the start (a gap narrower than a person between a shelf and a table)
+        ends at the free spot nearest it that the start reaches, within the same 1.5 m; for a goal the
+        walker does not choose (the place in front of the robot), never a scene's own walk.
+
         A plan is a pure function of its arguments, so the last few are kept: a person held
         back by the robot re-plans from where she stands to the same goal, and people
         pacing between two places ask for the same cell path again (``_astar``'s own cache).
         """
         avoid = [(float(x), float(y), float(r)) for x, y, r in avoid]
-        key = (float(start[0]), float(start[1]), float(goal[0]), float(goal[1]), tuple(avoid), inside)
+        key = (float(start[0]), float(start[1]), float(goal[0]), float(goal[1]), tuple(avoid), inside, reachable)
         got = self._plans.get(key)
         if got is not None:
             self._plans.move_to_end(key)
@@ -258,7 +263,7 @@ class Grid:
                 raise NoPathError(got)
             return list(got)
         try:
-            pts = self._plan(start, goal, avoid, inside)
+            pts = self._plan(start, goal, avoid, inside, reachable and not avoid)
         except NoPathError as exc:
             self._remember(key, str(exc))
             raise
@@ -275,7 +280,7 @@ class Grid:
         if len(self._plans) > PLAN_CACHE:
             self._plans.popitem(last=False)
 
-    def _plan(self, start: Point, goal: Point, avoid: list[Disc], inside: bool = False) -> list[Point]:
+    def _plan(self, start: Point, goal: Point, avoid: list[Disc], inside: bool = False, reachable: bool = False) -> list[Point]:
         blocked = self.with_discs(avoid) if avoid else self.blocked
         s = self.nearest_free(self.cell_of(start), blocked=blocked)
         # A walk inside the flat ends inside it: the free spot nearest a goal by an outer wall (the robot's
@@ -288,6 +293,15 @@ class Grid:
         if s is None or g is None:
             raise NoPathError(f"no free space near ({(start if s is None else goal)[0]:.2f}, {(start if s is None else goal)[1]:.2f})"
                               + (" inside the flat" if keep and g is None else ""))
+        if reachable and s is not None and g is not None:
+            if self._components is None:
+                self._components = self._label()
+            comp = self._components
+            if comp[s] != comp[g]:  # the goal's free spot is closed off from her: the nearest one she reaches
+                mask = comp == comp[s]
+                g = self.nearest_free(gc, blocked=blocked, allowed=mask & cells_in if keep else mask)
+                if g is None:
+                    raise NoPathError(f"no free space near ({goal[0]:.2f}, {goal[1]:.2f}) reachable from ({start[0]:.2f}, {start[1]:.2f})")
         end = goal if g == gc else self.centre(g)
         if self.free(self.cell_of(start), blocked) and self.line_free(start, end, blocked):
             return [end]

@@ -430,10 +430,12 @@ class TourWriter:
         self.expect.append(("robot-says", {"pattern": f"going to the {rx(word)}"}, f"{self.user}: {text!r}"))
         drive = path_length(self.flat, self.pos, where) / 0.35 + 10
         self.wait(drive, drive + 5)
-        if more:  # she walks over to the robot and starts again
-            self.act("walk-to", robot="true", stop_at="1.2")
-            self.t += path_length(self.flat, self.pos, where) / 1.0 + 2
-            self.pos, self.room = where, target
+        # she walks over to the robot: to start again, or to say good-bye where it hears and sees her (a
+        # good-bye called from the room it left is none to it: nobody ends a conversation from another room)
+        self.act("walk-to", robot="true", stop_at="1.2")
+        self.t += path_length(self.flat, self.pos, where) / 1.0 + 2
+        self.pos, self.room = where, target
+        if more:  # and starts again
             self.greet(again=True)
 
     def goodbye(self) -> None:
