@@ -47,6 +47,8 @@ prediction coasts through occlusions and crossings meanwhile, with its
 velocity damped so it does not run away). Two confirmed tracks closer than ``merge_distance``
 for ``merge_time`` seconds (both measured, or one measured and the other held by torso or face where it last had
 the legs the first now measures) are one person tracked twice: the younger is dropped (:meth:`Tracks._twins`).
+A track standing still never takes a candidate that a walking track explains and predicts nearer
+(:func:`_claimed`): someone walking past a person who stands does not carry her track off.
 """
 
 from __future__ import annotations
