@@ -105,7 +105,7 @@ def _kept(hers, fed, off, tracks, dist, limit=0.3):
     assert r >= 0 and math.hypot(tracks.x[r, 0] - dist, tracks.x[r, 1]) < 0.2
 
 
-@settings(max_examples=100, deadline=None)
+@settings(max_examples=60, deadline=None)
 @given(
     dist=st.floats(1.5, 4.0), gap=st.floats(0.5, 0.9), front=st.booleans(), speed=st.floats(0.5, 1.5),
     angle=st.floats(-0.6, 0.6), split=st.floats(0.0, 0.7), seed=st.integers(0, 2**16),
