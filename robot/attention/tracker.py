@@ -611,10 +611,9 @@ def _contact_variance(tracks: list[Track], spec: TrackerSpec) -> list[float]:
     return out
 
 
-#: m/s: a track this slow stands (its person's legs jitter it by a decimetre a second) ...
-STAND_SPEED = 0.25
-#: m/s: ... and never takes a candidate a track walking this fast predicts nearer (:func:`_claimed`; a walker at 0.5 m/s
-#: whose legs show apart, one at a time, near someone reads down to 0.35 m/s in his track)
+#: m/s: walking pace in a track: a track slower than this never takes a candidate that a track at least this fast
+#: explains and predicts nearer (:func:`_claimed`). A walker at 0.5 m/s whose legs show apart, one at a time, near
+#: someone reads down to 0.35 m/s in his track; a standing person's track, coasting on a noisy leg, up to 0.28 m/s
 WALK_SPEED = 0.3
 
 #: m: the early stopped hypothesis (unobserved less than ``stop_after``) gates within its spread plus this 1-sigma floor
@@ -681,7 +680,7 @@ def _gated(
         # the spread a lone leg is gated with (capped at single_gate_std)
         k1 = min(1.0, spec.single_gate_std**2 / max(p00, p11, 1e-12))
         s00, s01, s11 = p00 * k1, b * k1, p11 * k1
-        stands = claimed and tk.x[2] * tk.x[2] + tk.x[3] * tk.x[3] <= STAND_SPEED**2
+        stands = claimed and tk.x[2] * tk.x[2] + tk.x[3] * tk.x[3] < WALK_SPEED**2
         for j, zj in enumerate(z):
             lone = single is not None and single[j]
             if dormant and lone:
@@ -738,7 +737,8 @@ def _claimed(
     fresh11/rail_fast_crossing showed in a dining-room door). A standing person does not move at
     walking speed from one scan to the next; a candidate where a walker's own track predicts him,
     nearer to that prediction than to where she stands, is his (:func:`_gated` skips it for every
-    track standing slower than ``STAND_SPEED``). Mixed candidates nearer to her stay hers to take."""
+    track slower than ``WALK_SPEED``). Mixed candidates nearer to her stay hers to take; two people
+    walking past each other are left to the contact allowance as before."""
     if len(tracks) < 2:
         return {}
     gap = spec.tentative_gap + 1e-9
