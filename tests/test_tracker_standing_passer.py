@@ -1,10 +1,11 @@
 """Someone walks past a person who stands (in front of her, as seen from the robot, or behind her): her
 track keeps her (robot/attention/tracker.py ``_claimed``).
 
-fresh11/rail_fast_crossing: the partner had stopped in a door, his flatmate walked through it past him
-between him and the robot; with the contact allowance and the "stopped" hypothesis his track gated her legs
-nearly as well as her own track did, took them, and walked off with her. A standing person does not move
-at walking speed from one scan to the next."""
+fresh11/rail_fast_crossing seed 1 as ident23 traced it on session 13's integ (main 5a86edb no longer
+reaches that moment): the partner had stopped in a door, his flatmate walked through it past him between
+him and the robot; with the contact allowance and the "stopped" hypothesis his track gated her legs nearly
+as well as her own track did, took them, and walked off with her. A standing person does not move at
+walking speed from one scan to the next."""
 
 from __future__ import annotations
 
