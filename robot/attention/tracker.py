@@ -47,7 +47,7 @@ prediction coasts through occlusions and crossings meanwhile, with its
 velocity damped so it does not run away). Two confirmed tracks closer than ``merge_distance``
 for ``merge_time`` seconds (both measured, or one measured and the other held by torso or face where it last had
 the legs the first now measures) are one person tracked twice: the younger is dropped (:meth:`Tracks._twins`).
-A track standing still never takes a candidate that a walking track explains and predicts nearer
+A track slower than walking pace never takes a candidate that a walking track explains and predicts nearer
 (:func:`_claimed`): someone walking past a person who stands does not carry her track off.
 """
 
@@ -734,7 +734,7 @@ def _claimed(
     allowance (:func:`_contact_variance`) and her track's "stopped" hypothesis gate his legs for her
     track nearly as well as for his own, and a hundredth of a cost decided: her track took his pair
     (restarted on it), his coasted, and a few scans later her track walked off with him (the swap
-    fresh11/rail_fast_crossing showed in a dining-room door). A standing person does not move at
+    fresh11/rail_fast_crossing showed in a dining-room door on session 13's integ). A standing person does not move at
     walking speed from one scan to the next; a candidate where a walker's own track predicts him,
     nearer to that prediction than to where she stands, is his (:func:`_gated` skips it for every
     track slower than ``WALK_SPEED``). Mixed candidates nearer to her stay hers to take; two people
