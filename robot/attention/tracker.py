@@ -47,6 +47,8 @@ prediction coasts through occlusions and crossings meanwhile, with its
 velocity damped so it does not run away). Two confirmed tracks closer than ``merge_distance``
 for ``merge_time`` seconds (both measured, or one measured and the other held by torso or face where it last had
 the legs the first now measures) are one person tracked twice: the younger is dropped (:meth:`Tracks._twins`).
+A track slower than walking pace never takes a candidate that a walking track explains and predicts nearer
+(:func:`_claimed`): someone walking past a person who stands does not carry her track off.
 """
 
 from __future__ import annotations
@@ -609,6 +611,11 @@ def _contact_variance(tracks: list[Track], spec: TrackerSpec) -> list[float]:
     return out
 
 
+#: m/s: walking pace in a track: a track slower than this never takes a candidate that a track at least this fast
+#: explains and predicts nearer (:func:`_claimed`). A walker at 0.5 m/s whose legs show apart, one at a time, near
+#: someone reads down to 0.35 m/s in his track; a standing person's track, coasting on a noisy leg, up to 0.28 m/s
+WALK_SPEED = 0.3
+
 #: m: the early stopped hypothesis (unobserved less than ``stop_after``) gates within its spread plus this 1-sigma floor
 #: (a leg pair's own measurement noise) ...
 EARLY_STOP_FLOOR = 0.05
@@ -643,6 +650,7 @@ def _gated(
     out = []
     stopped: set[tuple[int, int]] = set()
     wide, narrow = spec.max_gate_std**2, spec.dormant_gate_std**2
+    claimed = _claimed(tracks, z, var, gates, t, spec)
     for i, tk in enumerate(tracks):
         cap2 = narrow if tk.dormant else wide
         x0, x1 = tk.x[0], tk.x[1]
@@ -672,10 +680,15 @@ def _gated(
         # the spread a lone leg is gated with (capped at single_gate_std)
         k1 = min(1.0, spec.single_gate_std**2 / max(p00, p11, 1e-12))
         s00, s01, s11 = p00 * k1, b * k1, p11 * k1
+        stands = claimed and tk.x[2] * tk.x[2] + tk.x[3] * tk.x[3] < WALK_SPEED**2
         for j, zj in enumerate(z):
             lone = single is not None and single[j]
             if dormant and lone:
                 continue  # a lone leg where someone was long unseen is as likely a chair's: pairs and blobs only
+            if stands and j in claimed:
+                kx, ky, k = claimed[j]
+                if k != i and (zj[0] - x0) ** 2 + (zj[1] - x1) ** 2 > (zj[0] - kx) ** 2 + (zj[1] - ky) ** 2:
+                    continue  # someone walking past her, where his own track predicts him: never hers
             r = var[j] + ex
             a = p00 + r
             d = p11 + r
@@ -708,6 +721,43 @@ def _gated(
             if ok:
                 out.append((i, j, cost))
     return out, stopped
+
+
+def _claimed(
+    tracks: list[Track], z: Sequence[Sequence[float]], var: list[float], gates: list[float], t: float, spec: TrackerSpec,
+) -> dict[int, tuple[float, float, int]]:
+    """Candidates a walking track explains: candidate -> (the predicted position, row) of a confirmed track
+    measured within ``tentative_gap``, walking at ``WALK_SPEED`` or more, in whose own gate (its covariance
+    and the candidate's variance, without the contact allowance) the candidate lies; of several, the nearest.
+
+    Why: while someone walks past a person who stands (in front of her, in a doorway), the contact
+    allowance (:func:`_contact_variance`) and her track's "stopped" hypothesis gate his legs for her
+    track nearly as well as for his own, and a hundredth of a cost decided: her track took his pair
+    (restarted on it), his coasted, and a few scans later her track walked off with him (the swap
+    fresh11/rail_fast_crossing showed in a dining-room door on session 13's integ). A standing person does not move at
+    walking speed from one scan to the next; a candidate where a walker's own track predicts him,
+    nearer to that prediction than to where she stands, is his (:func:`_gated` skips it for every
+    track slower than ``WALK_SPEED``). Mixed candidates nearer to her stay hers to take; two people
+    walking past each other are left to the contact allowance as before."""
+    if len(tracks) < 2:
+        return {}
+    gap = spec.tentative_gap + 1e-9
+    walk2 = WALK_SPEED**2
+    out: dict[int, tuple[float, float, int]] = {}
+    best: dict[int, float] = {}
+    for k, tk in enumerate(tracks):
+        x = tk.x
+        if not tk.confirmed or tk.dormant or t - tk.last_update > gap or x[2] * x[2] + x[3] * x[3] < walk2:
+            continue
+        p00, b, p11 = tk.P[0], tk.P[1], tk.P[4]
+        for j, zj in enumerate(z):
+            a, d = p00 + var[j], p11 + var[j]
+            dx, dy = zj[0] - x[0], zj[1] - x[1]
+            d2 = (d * dx * dx - 2 * b * dx * dy + a * dy * dy) / (a * d - b * b)
+            if d2 <= gates[j] and d2 < best.get(j, math.inf):
+                best[j] = d2
+                out[j] = (x[0], x[1], k)
+    return out
 
 
 def _associate(pairs: list[tuple[int, int, float]], tracks: list[Track], m: int) -> list[tuple[int, int, float]]:
