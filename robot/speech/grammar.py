@@ -1184,8 +1184,8 @@ class Understander:
         plain = [w for w in said if w not in _SOUNDS and w not in self.lexicon.hesitations and w != "oh"]
         if len(plain) < 3 or len(plain) > 16:
             return None
-        first = self.lexicon.tokens(plain[0]).tokens
-        if not first or first[0].type != "HELLO":
+        first = self.lexicon.tokens(" ".join(plain[:2])).tokens  # "good evening": a greeting of two words
+        if not first or first[0].type != "HELLO" or not first[0].text.startswith(plain[0]):
             return None
         alone = self._without_new_rules(words)
         if alone.frame is not None and (alone.act != "GREETING" or not alone.partial or alone.aside or alone.rest):
@@ -1211,7 +1211,7 @@ class Understander:
                 continue
             if alone.act == "GREETING":
                 head.frame = alone.frame  # as the whole turn has it (its name, "hello there, ... biron")
-            head.words = words
+            head.words, head.unknown = words, list(alone.unknown)
             head.corrected = [*head.corrected, *plain[at:]]
             return head
         return None
@@ -1257,7 +1257,9 @@ class Understander:
             return not alone.partial or about_robot
         if piece[-1] in ("robot", "biron") and piece[0] in ("this", "that", "you") and alone.frame is None:
             return True  # "so this is the famous robot", "that's biron": the deixis is the robot itself
-        return alone.frame is None and about_robot and not any(w in _NOT_IN_A_PLEASANTRY for w in piece)
+        lost = len(self.lexicon.tokens(" ".join(piece)).unknown)
+        return alone.frame is None and about_robot and not any(w in _NOT_IN_A_PLEASANTRY for w in piece) \
+            and len(piece) >= 3 and 3 * lost <= len(piece)  # words about it, mostly known ("did you have a good trip")
 
     def _remark_about_a_thing(self, words: str, said: list[str]) -> Understanding | None:
         """A remark that names a thing without showing it, or None (lang24).
@@ -1287,7 +1289,7 @@ class Understander:
             if kinds == ["OBJ"]:
                 noun, j = j + span - 1, j + span
                 continue
-            if noun is not None or (kinds and kinds[0] not in ("ATTR", "COLOUR", "NAME", "MY")) \
+            if noun is not None or (kinds and kinds[0] not in ("ATTR", "COLOUR", "NAME", "MY", "USE")) \
                     or (not kinds and plain[j] != "POSS"):
                 break
             j += max(span, 1)
@@ -1296,6 +1298,14 @@ class Understander:
         rest = plain[noun + 1:]
         while rest and rest[0] in ("over", "here", "there", "back"):
             rest = rest[1:]
+        where = self.lexicon.tokens(" ".join(rest[:1])).tokens
+        if where and where[0].type in _RELATIONS and len(rest) > 2:
+            # "the plant by the window needs water": where the thing stands, then what is said of it
+            for k in range(2, min(5, len(rest) - 1) + 1):
+                kinds = [t.type for t in self.lexicon.tokens(" ".join(rest[1:k])).tokens]
+                if kinds and kinds[-1] in ("OBJ", "PLACE", "ROOM") and self.lexicon.tokens(rest[k]).unknown:
+                    rest = rest[k:]
+                    break
         if not rest:
             return None
         habit = len(rest) > 1 and rest[0] in _COPULAS and rest[1] in _HABITS \
