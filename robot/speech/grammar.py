@@ -1188,8 +1188,9 @@ class Understander:
         if not first or first[0].type != "HELLO" or not first[0].text.startswith(plain[0]):
             return None
         alone = self._without_new_rules(words)
-        if alone.frame is not None and (alone.act != "GREETING" or not alone.partial or alone.aside or alone.rest):
-            return None  # understood otherwise, or a whole greeting already
+        if alone.frame is not None and (alone.act not in ("GREETING", "GOODBYE") or not alone.partial or alone.aside
+                                        or alone.rest):
+            return None  # understood otherwise, or whole already (a half good-bye: "hello, ... lovely to see you")
         self._in_new_rule = True  # the head and the pieces are understood without lang24's rules (no nesting)
         try:
             return self._greeting_head(words, plain, alone)
@@ -1249,15 +1250,18 @@ class Understander:
             return True  # "welcome", "welcome welcome", "welcome to our home" (not "welcome to my study": a room)
         if piece[0] in _ANSWER_WORDS_ALONE:
             return False  # "yes", "no", "okay" answer something: not said in passing
+        if len(piece) <= 6 and piece[0] in ("nice", "lovely", "good", "great", "wonderful", "so") \
+                and any(piece[i:i + 3] == ["to", "see", "you"] for i in range(1, len(piece) - 2)):
+            return True  # "lovely to see you" after a hello greets (alone it may take leave)
         alone = self.understand(" ".join(piece))
-        if alone.aside or alone.corrected or alone.answer or alone.rest:
+        if alone.aside or (alone.corrected and alone.act != "GREETING") or alone.answer or alone.rest:
             return False
         about_robot = any(w in _ABOUT_THE_ROBOT for w in piece)
         if alone.act == "GREETING":
             return not alone.partial or about_robot
         if piece[-1] in ("robot", "biron") and piece[0] in ("this", "that", "you") and alone.frame is None:
             return True  # "so this is the famous robot", "that's biron": the deixis is the robot itself
-        lost = len(self.lexicon.tokens(" ".join(piece)).unknown)
+        lost = len([w for w in self.lexicon.tokens(" ".join(piece)).unknown if w not in _PLAIN_WORDS])
         return alone.frame is None and about_robot and not any(w in _NOT_IN_A_PLEASANTRY for w in piece) \
             and len(piece) >= 3 and 3 * lost <= len(piece)  # words about it, mostly known ("did you have a good trip")
 
@@ -1279,8 +1283,9 @@ class Understander:
         start = next((i for i, w in enumerate(plain) if w not in _REMARK_LEAD), len(plain))
         if start >= len(plain) - 2 or plain[start] not in _REMARK_DETERMINERS:
             return None
-        if any(w in ("this", "that", "these", "those") for w in plain):
-            return None
+        if any(w in ("this", "that", "these", "those") and plain[i + 1:i + 2] != [] and plain[i + 1] not in _TIME_NOUNS
+               or w in ("this", "that", "these", "those") and i + 1 == len(plain) for i, w in enumerate(plain)):
+            return None  # a deixis ("this morning" is a time, no deixis)
         noun = None  # the index of the thing's noun's last word (a noun of two words: "remote control")
         j = start + 1
         while j < min(start + 6, len(plain)):
@@ -1320,7 +1325,8 @@ class Understander:
             and not (after and after[0].type in (*_RELATIONS, *_DEIXIS))  # "lies on the table": where it is
         if not (habit or verb):
             return None
-        if any(t.type in (*_VERBS, "WAIT", "GOODBYE", "HELLO", "WHERE") for t in heard.tokens):
+        if any(t.type in (*_VERBS, "WAIT", "GOODBYE", "WHERE") or (t.type == "HELLO" and t.text not in _TIMES_OF_DAY)
+               for t in heard.tokens):
             return None  # "the flowers need water, wait a moment": a request said after the remark is no remark
         if self._without_new_rules(words).act != "OBJECT":
             return None  # only what would be taken as showing a thing (a half teaching) is set aside
@@ -1720,6 +1726,14 @@ _WELCOME_WORDS = frozenset({"welcome", "to", "our", "my", "the", "home", "house"
                             "here", "back", "again", "biron", "robot", "you", "are", "very", "most"})
 #: At most this many words make one pleasantry (lang24; a turn of at most 16 words is split into them).
 _PLEASANTRY_WORDS = 8
+#: Time words the lexicon has as greetings ("this morning", "every evening"): inside a remark no greeting (lang24).
+_TIMES_OF_DAY = frozenset({"morning", "afternoon", "evening", "night"})
+#: Nouns of time after "this"/"that" ("this morning", "that week"): no deixis (lang24).
+_TIME_NOUNS = frozenset({"morning", "afternoon", "evening", "night", "week", "weekend", "year", "month", "time",
+                         "summer", "winter", "spring", "autumn"})
+#: Everyday words the lexicon lacks that a pleasantry is made of (lang24): they count as known there.
+_PLAIN_WORDS = frozenset({"was", "were", "did", "had", "has", "been", "be", "meet", "finally", "at", "last", "all",
+                          "about", "heard", "told", "much", "so", "too", "really"})
 #: Words that say a pleasantry is about the robot (lang24): said to it or of it.
 _ABOUT_THE_ROBOT = frozenset({"you", "you're", "your", "yours", "biron", "robot"})
 #: Answer words: a piece that opens with one answers something (lang24).
@@ -1735,8 +1749,9 @@ _REMARK_DETERMINERS = frozenset({"the", "my", "our", "his", "her", "their", "you
 #: Habits: where a thing is usually kept is no showing (lang24).
 _HABITS = frozenset({"usually", "always", "normally", "generally", "often", "sometimes", "mostly", "typically",
                      "mainly", "kept"})
-#: Unknown words after a noun phrase that are no verb of a remark (lang24): function words, adverbs of place.
-_NOT_A_PREDICATE = frozenset({"POSS", "one", "ones", "about", "for", "with", "from", "of", "and", "or", "but", "which",
+#: Unknown words after a noun phrase that are no verb of a remark (lang24): function words, adverbs of place, and the
+#: copula or "belonged" in the past ("the teapot on the table was my mother's": whose it is, a teaching).
+_NOT_A_PREDICATE = frozenset({"POSS", "one", "ones", "was", "were", "be", "been", "belongs", "belonged", "belong", "about", "for", "with", "from", "of", "and", "or", "but", "which",
                               "who", "too", "also", "as", "like", "than", "down", "up", "out", "off", "right", "just",
                               "left", "there", "here", "over", "again", "now", "then", "still", "only", "even", "all",
                               "both", "each", "some", "any", "very", "really", "quite", "pretty", "so", "such"})
