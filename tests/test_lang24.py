@@ -30,6 +30,8 @@ PLEASANTRIES = ["nice to meet you", "lovely to see you", "i'm carla", "my name i
        more=st.lists(st.sampled_from(PLEASANTRIES), min_size=1, max_size=2, unique=True))
 def test_a_greeting_with_pleasantries_is_a_whole_greeting(hello, name, more):
     words = f"{hello}{name}, " + ", ".join(more)
+    if len(words.split()) > 20:
+        return  # the rule's bound (_GREETING_TURN_WORDS): a longer turn is left as it was
     r = understood(words)
     assert r.act == "GREETING" and not r.partial and r.coverage == 1.0, (words, r)
     if name == " biron":

@@ -1182,7 +1182,7 @@ class Understander:
         if self._in_new_rule:
             return None
         plain = [w for w in said if w not in _SOUNDS and w not in self.lexicon.hesitations and w != "oh"]
-        if len(plain) < 3 or len(plain) > 16:
+        if len(plain) < 3 or len(plain) > _GREETING_TURN_WORDS:
             return None
         first = self.lexicon.tokens(" ".join(plain[:2])).tokens  # "good evening": a greeting of two words
         if not first or first[0].type != "HELLO" or not first[0].text.startswith(plain[0]):
@@ -1204,6 +1204,8 @@ class Understander:
         for at in range(1, len(plain)):  # the shortest head: "hello biron" keeps the name a longer one may lose
             if plain[at] in ("biron", "robot", "there", "POSS"):
                 continue  # "hello biron, ...", "hello there, ...": the name goes with the greeting
+            if self.lexicon.tokens(plain[at]).unknown and plain[at] not in _PLAIN_WORDS:
+                return None  # "hi sara, how are you doing": a hello to someone named, not the robot (review17 F7)
             head = self.understand(" ".join(plain[:at]))
             if head.act != "GREETING" or head.partial or head.aside or head.frame is None or head.rest \
                     or head.answer or head.coverage < 1.0:
@@ -1724,8 +1726,9 @@ _NOT_A_NAME = frozenset({"in", "at", "on", "here", "there", "going", "just", "no
 #: Words a welcome to the home is made of, after "welcome" (lang24): "welcome to our home", "welcome welcome".
 _WELCOME_WORDS = frozenset({"welcome", "to", "our", "my", "the", "home", "house", "flat", "apartment", "place", "in",
                             "here", "back", "again", "biron", "robot", "you", "are", "very", "most"})
-#: At most this many words make one pleasantry (lang24; a turn of at most 16 words is split into them).
+#: At most this many words make one pleasantry, and a greeting turn split into them (lang24; bounds the search).
 _PLEASANTRY_WORDS = 8
+_GREETING_TURN_WORDS = 20
 #: Time words the lexicon has as greetings ("this morning", "every evening"): inside a remark no greeting (lang24).
 _TIMES_OF_DAY = frozenset({"morning", "afternoon", "evening", "night"})
 #: Nouns of time after "this"/"that" ("this morning", "that week"): no deixis (lang24).
