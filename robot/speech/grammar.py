@@ -1285,9 +1285,9 @@ class Understander:
         start = next((i for i, w in enumerate(plain) if w not in _REMARK_LEAD), len(plain))
         if start >= len(plain) - 2 or plain[start] not in _REMARK_DETERMINERS:
             return None
-        if any(w in ("this", "that", "these", "those") and plain[i + 1:i + 2] != [] and plain[i + 1] not in _TIME_NOUNS
-               or w in ("this", "that", "these", "those") and i + 1 == len(plain) for i, w in enumerate(plain)):
-            return None  # a deixis ("this morning" is a time, no deixis)
+        if any(w in ("this", "that", "these", "those") and (i + 1 == len(plain) or plain[i + 1] not in _NO_DEIXIS_AFTER)
+               for i, w in enumerate(plain)):
+            return None  # a deixis ("this morning" is a time; "kept [in→this] the bowl" a relation misheard: no deixis)
         noun = None  # the index of the thing's noun's last word (a noun of two words: "remote control")
         j = start + 1
         while j < min(start + 6, len(plain)):
@@ -1734,6 +1734,9 @@ _TIMES_OF_DAY = frozenset({"morning", "afternoon", "evening", "night"})
 #: Nouns of time after "this"/"that" ("this morning", "that week"): no deixis (lang24).
 _TIME_NOUNS = frozenset({"morning", "afternoon", "evening", "night", "week", "weekend", "year", "month", "time",
                          "summer", "winter", "spring", "autumn"})
+#: Words after "this"/"that" that make it no deixis (lang24): a time, or an article (a relation misheard, as
+#: `_relation_lost` reads "that vase [on→this] the sideboard").
+_NO_DEIXIS_AFTER = _TIME_NOUNS | frozenset({"the", "a", "an", "my", "our", "your", "his", "her", "their"})
 #: Everyday words the lexicon lacks that a pleasantry is made of (lang24): they count as known there.
 _PLAIN_WORDS = frozenset({"was", "were", "did", "had", "has", "been", "be", "meet", "finally", "at", "last", "all",
                           "about", "heard", "told", "much", "so", "too", "really"})
