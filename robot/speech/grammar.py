@@ -1286,8 +1286,10 @@ class Understander:
         if start >= len(plain) - 2 or plain[start] not in _REMARK_DETERMINERS:
             return None
         if any(w in ("this", "that", "these", "those") and (i + 1 == len(plain) or plain[i + 1] not in _NO_DEIXIS_AFTER)
-               for i, w in enumerate(plain)):
-            return None  # a deixis ("this morning" is a time; "kept [in→this] the bowl" a relation misheard: no deixis)
+               and (i == 0 or plain[i - 1] not in ("the", "a", "an")) for i, w in enumerate(plain)):
+            # a deixis ("this morning" is a time; "kept [in→this] the bowl" a relation misheard, "in the [blue→that]
+            # bowl" a word misheard after an article: no deixis)
+            return None
         noun = None  # the index of the thing's noun's last word (a noun of two words: "remote control")
         j = start + 1
         while j < min(start + 6, len(plain)):
