@@ -1729,7 +1729,7 @@ _NOT_A_NAME = frozenset({"in", "at", "on", "here", "there", "going", "just", "no
 _WELCOME_WORDS = frozenset({"welcome", "to", "our", "my", "the", "home", "house", "flat", "apartment", "place", "in",
                             "here", "back", "again", "biron", "robot", "you", "are", "very", "most"})
 #: At most this many words make one pleasantry, and a greeting turn split into them (lang24; bounds the search).
-_PLEASANTRY_WORDS = 8
+_PLEASANTRY_WORDS = 10
 _GREETING_TURN_WORDS = 20
 #: Time words the lexicon has as greetings ("this morning", "every evening"): inside a remark no greeting (lang24).
 _TIMES_OF_DAY = frozenset({"morning", "afternoon", "evening", "night"})
