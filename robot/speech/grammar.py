@@ -136,6 +136,7 @@ class Understander:
     def __init__(self, lexicon: Lexicon | None = None, grammar: str | Path = GRAMMAR_FILE) -> None:
         self.lexicon = lexicon or Lexicon.load()
         self._in_owned_after_copula = False  # :meth:`_owned_after_copula` asks how the turn is understood without it
+        self._in_new_rule = False  # :meth:`_without_new_rules`: lang24's greeting and remark rules switched off
         text = Path(grammar).read_text(encoding="utf-8")
         self.parser = _lalr_parser(text)
         declared = set(self.parser.terminals and [t.name for t in self.parser.terminals]) | _declared(text)
@@ -278,6 +279,16 @@ class Understander:
             # that you are here", "hi robot, I am Tom": a whole follow or greeting, then a remark of hers (why, where
             # to, who she is): the request is what she asks (fresh10: taken as a good-bye, a place teaching, or a
             # doubted greeting, "Did you say hello to me?")
+            return after
+        after = self._greeting_with_pleasantries(words, Lexicon.words(words))
+        if after is not None:
+            # "hello there robot, nice to meet you, I'm Anna", "good evening, so you're the new robot": a whole
+            # greeting, then pleasantries only (lang24: "Did you say hello to me?" to a greeting said whole)
+            return after
+        after = self._remark_about_a_thing(words, Lexicon.words(words))
+        if after is not None:
+            # "oh, and my keys are usually in the bowl by the door", "the plant over there needs water": a thing
+            # named, nothing shown; a remark, no half teaching (lang24)
             return after
         after = self._request_after_remark(words, Lexicon.words(words))
         if after is not None:
@@ -1157,6 +1168,177 @@ class Understander:
         head.words = words
         return head
 
+    def _greeting_with_pleasantries(self, words: str, said: list[str]) -> Understanding | None:
+        """A whole greeting, then only pleasantries said to the robot, or None (lang24).
+
+        The turn opens with a greeting word; the shortest head ``plain[:at]`` understood by itself as a whole
+        GREETING (no word lost, nothing left over) is followed by words that split into pleasantries only
+        (:meth:`_pleasantries`): a greeting formula of its own ("nice to meet you", "lovely to see you"), who she
+        is ("i'm anna"), a welcome to the home ("welcome", "welcome to our flat") or a remark or question about
+        the robot that asks for nothing the robot does ("so you're the new robot", "did you have a good trip").
+        The greeting is then whole, the pleasantries set aside (``corrected``); before, such a turn was a greeting
+        with words lost, and the robot asked "Did you say hello to me?" (fresh11 G). Anything that is a request,
+        a teaching or a question the robot answers in the tail leaves the turn to the other rules."""
+        if self._in_new_rule:
+            return None
+        plain = [w for w in said if w not in _SOUNDS and w not in self.lexicon.hesitations and w != "oh"]
+        if len(plain) < 3 or len(plain) > _GREETING_TURN_WORDS:
+            return None
+        first = self.lexicon.tokens(" ".join(plain[:2])).tokens  # "good evening": a greeting of two words
+        if not first or first[0].type != "HELLO" or not first[0].text.startswith(plain[0]):
+            return None
+        alone = self._without_new_rules(words)
+        if alone.frame is not None and (alone.act not in ("GREETING", "GOODBYE") or not alone.partial or alone.aside
+                                        or alone.rest):
+            return None  # understood otherwise, or whole already (a half good-bye: "hello, ... lovely to see you")
+        self._in_new_rule = True  # the head and the pieces are understood without lang24's rules (no nesting)
+        try:
+            return self._greeting_head(words, plain, alone)
+        finally:
+            self._in_new_rule = False
+
+    def _greeting_head(self, words: str, plain: list[str], alone: Understanding) -> Understanding | None:
+        """:meth:`_greeting_with_pleasantries` once the turn may be one: its shortest whole greeting head
+        followed by pleasantries only, or None."""
+        seen: dict[tuple[str, ...], bool] = {}
+        for at in range(1, len(plain)):  # the shortest head: "hello biron" keeps the name a longer one may lose
+            if plain[at] in ("biron", "robot", "there", "POSS"):
+                continue  # "hello biron, ...", "hello there, ...": the name goes with the greeting
+            if self.lexicon.tokens(plain[at]).unknown and plain[at] not in _PLAIN_WORDS:
+                return None  # "hi sara, how are you doing": a hello to someone named, not the robot (review17 F7)
+            head = self.understand(" ".join(plain[:at]))
+            if head.act != "GREETING" or head.partial or head.aside or head.frame is None or head.rest \
+                    or head.answer or head.coverage < 1.0:
+                continue
+            if not self._pleasantries(tuple(plain[at:]), seen):
+                continue
+            if alone.act == "GREETING":
+                head.frame = alone.frame  # as the whole turn has it (its name, "hello there, ... biron")
+            head.words, head.unknown = words, list(alone.unknown)
+            head.corrected = [*head.corrected, *plain[at:]]
+            return head
+        return None
+
+    def _without_new_rules(self, words: str) -> Understanding:
+        """How ``words`` are understood without lang24's two rules (they apply only where that is a half greeting
+        or a thing shown)."""
+        self._in_new_rule = True
+        try:
+            return self.understand(words)
+        finally:
+            self._in_new_rule = False
+
+    def _pleasantries(self, tail: tuple[str, ...], seen: dict[tuple[str, ...], bool]) -> bool:
+        """Whether ``tail`` splits into pleasantries said after a greeting (:meth:`_greeting_with_pleasantries`)."""
+        if not tail:
+            return True
+        if tail in seen:
+            return seen[tail]
+        seen[tail] = False
+        for k in range(min(len(tail), _PLEASANTRY_WORDS), 0, -1):
+            if self._pleasantry(list(tail[:k])) and self._pleasantries(tail[k:], seen):
+                seen[tail] = True
+                return True
+        return False
+
+    def _pleasantry(self, piece: list[str]) -> bool:
+        """One pleasantry (:meth:`_greeting_with_pleasantries`): a greeting formula, who she is, a welcome to the
+        home, or words about the robot ("you", its name, "robot") that the understanding takes as no act at all."""
+        if piece[0] in ("and", "so", "well", "oh") and len(piece) > 1:
+            piece = piece[1:]
+        if _introduces(piece):
+            return True
+        if piece[0] == "welcome" and all(w in _WELCOME_WORDS for w in piece):
+            return True  # "welcome", "welcome welcome", "welcome to our home" (not "welcome to my study": a room)
+        if piece[0] in _ANSWER_WORDS_ALONE:
+            return False  # "yes", "no", "okay" answer something: not said in passing
+        if len(piece) <= 6 and piece[0] in ("nice", "lovely", "good", "great", "wonderful", "so") \
+                and any(piece[i:i + 3] == ["to", "see", "you"] for i in range(1, len(piece) - 2)):
+            return True  # "lovely to see you" after a hello greets (alone it may take leave)
+        alone = self.understand(" ".join(piece))
+        if alone.aside or (alone.corrected and alone.act != "GREETING") or alone.answer or alone.rest:
+            return False
+        about_robot = any(w in _ABOUT_THE_ROBOT for w in piece)
+        if alone.act == "GREETING":
+            return not alone.partial or about_robot
+        if piece[-1] in ("robot", "biron") and piece[0] in ("this", "that", "you") and alone.frame is None:
+            return True  # "so this is the famous robot", "that's biron": the deixis is the robot itself
+        lost = len([w for w in self.lexicon.tokens(" ".join(piece)).unknown if w not in _PLAIN_WORDS])
+        return alone.frame is None and about_robot and not any(w in _NOT_IN_A_PLEASANTRY for w in piece) \
+            and len(piece) >= 3 and 3 * lost <= len(piece)  # words about it, mostly known ("did you have a good trip")
+
+    def _remark_about_a_thing(self, words: str, said: list[str]) -> Understanding | None:
+        """A remark that names a thing without showing it, or None (lang24).
+
+        A teaching needs a deictic act: a deictic word ("this", "that") with the gesture it goes with, or a
+        thing named and said to be here. A remark names a thing and says something else of it: the noun phrase
+        opens with an article or owner ("the", "my", "our", ...; never "this"/"that"), is followed at most by
+        "over there"/"here", and then by a predicate that is no naming: a verb the lexicon does not know ("the
+        plant over there needs water", "the printer caught fire, can you believe it") or a habit ("my keys are
+        usually in the bowl by the door", "the remote is always on the sofa": where things are kept, not shown
+        here; with "here"/"there" or a deixis anywhere in the turn it stays a teaching). Such a turn is not
+        understood, and set aside as said in passing (``aside``): no question "Is this the plant?", no half-stored
+        thing and no "say that again" (fresh11 H, the long tour's remarks)."""
+        if self._in_new_rule:
+            return None
+        plain = [w for w in said if w not in _SOUNDS and w not in self.lexicon.hesitations]
+        start = next((i for i, w in enumerate(plain) if w not in _REMARK_LEAD), len(plain))
+        if start >= len(plain) - 2 or plain[start] not in _REMARK_DETERMINERS:
+            return None
+        if any(w in ("this", "that", "these", "those") and (i + 1 == len(plain) or plain[i + 1] not in _NO_DEIXIS_AFTER)
+               and (i == 0 or plain[i - 1] not in ("the", "a", "an")) for i, w in enumerate(plain)):
+            # a deixis ("this morning" is a time; "kept [in→this] the bowl" a relation misheard, "in the [blue→that]
+            # bowl" a word misheard after an article: no deixis)
+            return None
+        noun = None  # the index of the thing's noun's last word (a noun of two words: "remote control")
+        j = start + 1
+        while j < min(start + 6, len(plain)):
+            span = next((k for k in (3, 2, 1) if j + k <= len(plain) and _one_token(self.lexicon, plain[j:j + k])), 0)
+            kinds = [t.type for t in self.lexicon.tokens(" ".join(plain[j:j + max(span, 1)])).tokens]
+            if kinds == ["OBJ"]:
+                noun, j = j + span - 1, j + span
+                continue
+            if noun is not None or (kinds and kinds[0] not in ("ATTR", "COLOUR", "NAME", "MY", "USE")) \
+                    or (not kinds and plain[j] != "POSS"):
+                break
+            j += max(span, 1)
+        if noun is None:
+            return None
+        rest = plain[noun + 1:]
+        while rest and rest[0] in ("over", "here", "there", "back"):
+            rest = rest[1:]
+        where = self.lexicon.tokens(" ".join(rest[:1])).tokens
+        if where and where[0].type in _RELATIONS and len(rest) > 2:
+            # "the plant by the window needs water": where the thing stands, then what is said of it
+            for k in range(2, min(5, len(rest) - 1) + 1):
+                kinds = [t.type for t in self.lexicon.tokens(" ".join(rest[1:k])).tokens]
+                if kinds and kinds[-1] in ("OBJ", "PLACE", "ROOM") and self.lexicon.tokens(rest[k]).unknown:
+                    rest = rest[k:]
+                    break
+        if not rest:
+            return None
+        habit = len(rest) > 1 and rest[0] in _COPULAS and rest[1] in _HABITS \
+            or rest[0] in _HABITS
+        if habit and any(w in ("here", "there") for w in plain):
+            return None
+        heard = self.lexicon.tokens(" ".join(rest))
+        after = self.lexicon.tokens(" ".join(rest[1:2])).tokens
+        verb = not habit and bool(heard.unknown) and heard.unknown[0] == rest[0] \
+            and not any(t.text.split()[:1] == [rest[0]] for t in heard.tokens) \
+            and rest[0] not in _NOT_A_PREDICATE and len(rest[0]) > 2 and len(rest) > 1 \
+            and not (after and after[0].type in (*_RELATIONS, *_DEIXIS))  # "lies on the table": where it is
+        if not (habit or verb):
+            return None
+        if any(t.type in (*_VERBS, "WAIT", "GOODBYE", "WHERE") or (t.type == "HELLO" and t.text not in _TIMES_OF_DAY)
+               for t in heard.tokens):
+            return None  # "the flowers need water, wait a moment": a request said after the remark is no remark
+        if self._without_new_rules(words).act != "OBJECT":
+            return None  # only what would be taken as showing a thing (a half teaching) is set aside
+        out = Understanding(words, None, unknown=self.lexicon.tokens(words).unknown)
+        out.ignored = [t.text for t in self.lexicon.tokens(words).tokens]
+        out.reason, out.aside = "a remark about a thing she does not show", True
+        return out
+
     def _come_and_see(self, words: str, said: list[str]) -> Understanding | None:
         """A follow said as an invitation to come and see something ("come and see the gallery", "come have a
         look at my study", "now come and see where I sleep"), or None (talk23).
@@ -1543,6 +1725,50 @@ _REMARK_OPENERS = _SUBJECTS | _GREETING_TAILS | frozenset({"nice", "good", "grea
 #: Words after "i am" that say where or how she is, not who ("i am in the kitchen", "i am just looking").
 _NOT_A_NAME = frozenset({"in", "at", "on", "here", "there", "going", "just", "not", "so", "very", "looking", "back",
                          "coming", "busy", "sorry", "afraid", "the", "a", "your", "in"})
+#: Words a welcome to the home is made of, after "welcome" (lang24): "welcome to our home", "welcome welcome".
+_WELCOME_WORDS = frozenset({"welcome", "to", "our", "my", "the", "home", "house", "flat", "apartment", "place", "in",
+                            "here", "back", "again", "biron", "robot", "you", "are", "very", "most"})
+#: At most this many words make one pleasantry, and a greeting turn split into them (lang24; bounds the search).
+_PLEASANTRY_WORDS = 10
+_GREETING_TURN_WORDS = 20
+#: Time words the lexicon has as greetings ("this morning", "every evening"): inside a remark no greeting (lang24).
+_TIMES_OF_DAY = frozenset({"morning", "afternoon", "evening", "night"})
+#: Nouns of time after "this"/"that" ("this morning", "that week"): no deixis (lang24).
+_TIME_NOUNS = frozenset({"morning", "afternoon", "evening", "night", "week", "weekend", "year", "month", "time",
+                         "summer", "winter", "spring", "autumn"})
+#: Words after "this"/"that" that make it no deixis (lang24): a time, or an article (a relation misheard, as
+#: `_relation_lost` reads "that vase [on→this] the sideboard").
+_NO_DEIXIS_AFTER = _TIME_NOUNS | frozenset({"the", "a", "an", "my", "our", "your", "his", "her", "their"})
+#: Everyday words the lexicon lacks that a pleasantry is made of (lang24): they count as known there.
+_PLAIN_WORDS = frozenset({"was", "were", "did", "had", "has", "been", "be", "meet", "finally", "at", "last", "all",
+                          "about", "heard", "told", "much", "so", "too", "really"})
+#: Words that say a pleasantry is about the robot (lang24): said to it or of it.
+_ABOUT_THE_ROBOT = frozenset({"you", "you're", "your", "yours", "biron", "robot"})
+#: Answer words: a piece that opens with one answers something (lang24).
+_ANSWER_WORDS_ALONE = frozenset({"yes", "yeah", "no", "nope", "okay", "ok", "sure", "right"})
+#: Words that make words about the robot no pleasantry: a deixis, a request's or a question's verb (lang24).
+_NOT_IN_A_PLEASANTRY = frozenset({"this", "that", "these", "those", "here", "there", "where", "what", "find", "follow",
+                                  "go", "stop", "wait", "come", "look", "show", "bring", "take", "not", "don't"})
+#: Words before the noun phrase of a remark (lang24): openers said in passing.
+_REMARK_LEAD = frozenset({"oh", "and", "also", "so", "btw", "anyway", "actually", "ah", "now",
+                          "look", "right", "okay", "ok", "well"})
+#: Determiners and owners a remark's noun phrase opens with (lang24; never a deixis).
+_REMARK_DETERMINERS = frozenset({"the", "my", "our", "his", "her", "their", "your", "a", "an"})
+#: Habits: where a thing is usually kept is no showing (lang24).
+_HABITS = frozenset({"usually", "always", "normally", "generally", "often", "sometimes", "mostly", "typically",
+                     "mainly", "kept"})
+#: Unknown words after a noun phrase that are no verb of a remark (lang24): function words, adverbs of place, and the
+#: copula or "belonged" in the past ("the teapot on the table was my mother's": whose it is, a teaching).
+_NOT_A_PREDICATE = frozenset({"POSS", "one", "ones", "was", "were", "be", "been", "belongs", "belonged", "belong", "about", "for", "with", "from", "of", "and", "or", "but", "which",
+                              "who", "too", "also", "as", "like", "than", "down", "up", "out", "off", "right", "just",
+                              "left", "there", "here", "over", "again", "now", "then", "still", "only", "even", "all",
+                              "both", "each", "some", "any", "very", "really", "quite", "pretty", "so", "such"})
+
+
+def _one_token(lexicon: Lexicon, words: list[str]) -> bool:
+    """Whether ``words`` are one lexicon entry (a noun of two words: "remote control"; lang24)."""
+    toks = lexicon.tokens(" ".join(words))
+    return len(toks.tokens) == 1 and not toks.unknown and len(toks.tokens[0].text.split()) == len(words)
 #: Verbs of showing: after a follow, "I want you to see the garage" names where they go, no room here.
 _SHOWS = frozenset({"show", "see", "meet"})
 
