@@ -216,3 +216,27 @@ def test_a_step_that_backs_away_brings_no_body_nearer_at_any_tenth_of_a_second(v
     nearer = any(_gap(_move((0.0, 0.0, 0.0), v, w, dt=t), (x, y)) < h - 1e-9
                  for t in (0.1, 0.2, 0.3, 0.4, 0.5) for (x, y), h in zip(bodies, here))
     assert backs_away(v, w, pts) == (not nearer)
+
+
+def test_closed_loop_two_children_held_back_in_a_corridor_are_let_by_after_two_asks_at_most():
+    """End to end (the real attention, dialog and people; tests/scenarios/follow/kids24_corridor_children_back.xml,
+    seed 0): Tim and Mia, walking down the 1.2 m corridor toward the following robot, are held back by it and do not
+    step aside. It asks at most twice, backs out of their way, and both get by it down the corridor to the living room
+    door within 80 s (they met it at 4.3-4.8 m up the corridor); it touches
+    nobody and drives on after Eva (on main it asked on every 5 s for the rest of the run and they never got by)."""
+    from pathlib import Path
+
+    from homesim.tour.runner import Run, RunOptions
+
+    scene = Path(__file__).resolve().parent / "scenarios" / "follow" / "kids24_corridor_children_back.xml"
+    with Run.from_file(scene, RunOptions(seed=0, until=80.0)) as run:
+        world = run.world
+        run.run()
+        said = [u.text for u in world.sound.all() if u.source == "robot"]
+        kids = {n: world.humans[n].position for n in ("tim", "mia")}
+        rx, ry, _ = world.robot.pose
+        contacts = list(world.contacts)
+    assert sum("may i pass" in t.lower() for t in said) <= ASK_MAX, said
+    assert all(y < 2.5 for _, y in kids.values()), kids  # by it, at the living room's door or in the room
+    assert contacts == []
+    assert ry > 4.5, (rx, ry)  # on up the corridor after her
