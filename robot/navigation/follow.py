@@ -413,6 +413,7 @@ class Follower(Module):
     _oncoming: dict[str, float] = {}  # (replaced by _make_way, never mutated)
     _held_back: dict[str, tuple[float, float]] = {}
     _making_way: tuple[float] | None = None
+    _block: list[Any] | None = None  # (__init__ sets it; _held_up replaces it, _make_room updates it)
     _backout_refused: tuple[float, float] | None = None
     _aside_moving: tuple[float, float, float, float, float] | None = None
     #: nothing pressed, and never told otherwise (__init__ gives each follower its own, heard on the bus)
