@@ -319,6 +319,25 @@ MAKE_WAY_HELD = 1.5
 MAKE_WAY_SPEED = 0.2  # m/s backing
 MAKE_WAY_TIME = 10.0  # s: one back-out at most this long
 
+#: Asking to pass at most twice (review23 N7, fresh10 hall_crossing_kids with children who no longer stand inside
+#: each other: a boy held back 0.55 m in front of it, his sister behind him, and it said "Excuse me, may I pass,
+#: please?" up to 31 times in 150 s inside his personal space, its partner's stop, place and good-bye unheard under
+#: it): for one blockage (whoever holds it up standing within BLOCK_SAME m of where the last blocker stood, seen again
+#: within BLOCK_FORGET s) it asks at most ASK_MAX times; still held up when the next ask would be due, it makes room
+#: instead: it backs along its own trail (ground it drove over; :meth:`Follower._make_room`) at MAKE_WAY_SPEED, each
+#: step leaving every person's body (the partner's too) no nearer than it is (:func:`backs_away`), until everyone
+#: standing ahead is ROOM_CLEAR m off (centre to centre: outside their personal space, within the yielding rule's
+#: 1.2 m, so the wait is yielding, not search time) or it has backed ROOM_BACK m, and waits there, listening as ever,
+#: until nobody has stood within BLOCK_SAME m of the blockage for ROOM_FREE s (the way has cleared): then it follows
+#: on. Held up at the same place again, it asks no more: it makes room again
+ASK_MAX = 2
+BLOCK_SAME = 0.8
+BLOCK_FORGET = 30.0
+ROOM_CLEAR = 1.1
+ROOM_BACK = 2.0
+ROOM_CARROT = 0.4  # m: the point of its own trail it backs toward
+ROOM_FREE = 1.0
+
 
 def speed_law(d: float, v_radial: float, *, distance: float, band: tuple[float, float], minimum: float,
               gain: float, limits: Limits) -> float:
@@ -394,6 +413,7 @@ class Follower(Module):
     _oncoming: dict[str, float] = {}  # (replaced by _make_way, never mutated)
     _held_back: dict[str, tuple[float, float]] = {}
     _making_way: tuple[float] | None = None
+    _block: list[Any] | None = None  # (__init__ sets it; _held_up replaces it, _make_room updates it)
     _backout_refused: tuple[float, float] | None = None
     _aside_moving: tuple[float, float, float, float, float] | None = None
     #: nothing pressed, and never told otherwise (__init__ gives each follower its own, heard on the bus)
@@ -475,6 +495,9 @@ class Follower(Module):
         self._oncoming: dict[str, float] = {}  # track id -> when it last walked at the robot (making way; replaced, never mutated)
         self._held_back: dict[str, tuple[float, float]] = {}  # track id -> (since, last) it has stood close ahead after that (replaced, never mutated)
         self._making_way: tuple[float] | None = None  # (since when) backing out of the way of someone held back
+        # the blockage it last asked to pass (ASK_MAX): [spot x, spot y (odom), asks, last seen, phase ("asking" | "backing" |
+        # "waiting"), where it began backing (x, y odom) or None, since when the spot has been free (or None)]
+        self._block: list[Any] | None = None
 
     def respawn(self) -> Follower:
         return Follower(self.sim, name=self.name, limits=self.limits, rate=1.0 / self.period, distance=self.distance,
@@ -506,6 +529,7 @@ class Follower(Module):
             # had put her). Her old track keeps the approach going until the new one's first message.
             self.partner_id = partner
         if follow and not self.following:
+            self._block = None  # (a new follow: no blockage asked about yet)
             self.trail.clear()
             self.route.clear()
             self._history.clear()
@@ -840,6 +864,11 @@ class Follower(Module):
                 self._command(*way)
                 self._status(d, False, "searching" if searching else "giving_way")
                 return way
+            room = self._make_room(px, py, mapped)
+            if room is not None:  # asked twice to pass, still held up: it backs out of the way and waits
+                self._command(*room)
+                self._status(d, False, "searching" if searching else ("giving_way" if room[0] < 0.0 else "held"))
+                return room
         held = False
         if v_des <= 0.05:
             self._stuck_since, self._stuck_at, self._unstick_until = None, None, -math.inf
@@ -951,7 +980,7 @@ class Follower(Module):
             # only that one; review22 R4: a teaching said while held up in a door ended the walk)
             state = "following" if cmd.ok else "held"
             v, w = self._unstick(v, w, mapped)
-            held = self._held_up(v, v_des, goal, px, py)
+            held = self._held_up(v, v_des, goal, px, py, may_room=not approaching and not paused)
         v = self._keep_inside(v, w)
         self._command(v, w)
         if approaching or paused:
@@ -1264,6 +1293,100 @@ class Follower(Module):
             return None
         v, w = self._back_off_clear(v, 0.0, self._bodies(prx, pry), mapped)
         return (v, w) if v < 0.0 else None
+
+    def _make_room(self, px: float, py: float, mapped: np.ndarray) -> tuple[float, float] | None:
+        """The command that makes room for someone who would not let it pass (asked :data:`ASK_MAX` times; see
+        :data:`ASK_MAX`), None when it is not making room (it follows). It backs along its own trail (the crumbs it
+        left driving forward: ground it drove over) toward the point :data:`ROOM_CARROT` m back, at
+        :data:`MAKE_WAY_SPEED`, gentler turns tried first, each step's sweep kept off the floor plan, nobody tracked
+        behind it, and every person's body (the partner's, odom ``px, py``, too) left no nearer than now
+        (:func:`backs_away`), until everyone standing ahead is :data:`ROOM_CLEAR` m off or it has backed
+        :data:`ROOM_BACK` m (or its trail ends); then it stands (0, 0). It follows on once nobody has stood within
+        :data:`BLOCK_SAME` m of the blockage for :data:`ROOM_FREE` s; someone standing there (the blocker shuffling,
+        the one behind him now in front) keeps it."""
+        b = self._block
+        if b is None or b[4] == "asking" or self.odom is None:
+            return None
+        ox, oy, oth = self.odom
+        c, s = math.cos(oth), math.sin(oth)
+        prx, pry = self._to_robot(px, py)
+        pts = self.scan.points()
+        standing = self.people.around(self.odom, self.now, exclude=self.partner_id, near=(px, py), standing=GIVE_WAY_STILL,
+                                      echoes=pts if len(pts) else None)
+        here = [(float(x), float(y)) for x, y in standing[:, :2]] if len(standing) else []
+        for t, sx, sy in self._standers:  # remembered standing where the laser still sees something (_held_up's memory)
+            x, y = self._to_robot(sx, sy)
+            if self.now - t <= HELD_UP_MEMORY and len(pts) and float(np.min(np.hypot(pts[:, 0] - x, pts[:, 1] - y))) < HELD_UP_ECHO:
+                here.append((x, y))
+        there = None
+        ahead = math.inf  # the nearest person ahead, walking or standing (held back, they follow it as it backs)
+        everyone = self.people.around(self.odom, self.now, exclude=self.partner_id, near=(px, py),
+                                      echoes=pts if len(pts) else None)
+        for x, y in [(float(x), float(y)) for x, y in everyone[:, :2]] + here if len(everyone) else here:
+            if x > 0.0 and math.hypot(x - prx, y - pry) >= HELD_UP_SELF:
+                ahead = min(ahead, math.hypot(x, y))
+        for x, y in here:
+            if math.hypot(x - prx, y - pry) < HELD_UP_SELF:
+                continue  # her
+            sx, sy = ox + c * x - s * y, oy + s * x + c * y
+            gap = math.hypot(sx - b[0], sy - b[1])
+            if gap < BLOCK_SAME and (there is None or gap < there[0]):
+                there = (gap, sx, sy)
+        if there is None:
+            b[6] = self.now if b[6] is None else b[6]
+            if self.now - b[6] >= ROOM_FREE:
+                b[4], b[6] = "asking", None  # the way has cleared: it follows on (asks no more for this blockage)
+                return None
+        else:
+            b[0], b[1], b[3], b[6] = there[1], there[2], self.now, None
+        if b[4] == "waiting" and ahead < ROOM_CLEAR - 0.2:
+            b[4] = "backing"  # they came after it: a little further, if its trail allows
+        if b[4] == "backing":
+            backed = math.hypot(ox - b[5][0], oy - b[5][1])
+            goal = self._trail_back()
+            if ahead >= ROOM_CLEAR or backed >= ROOM_BACK or goal is None:
+                b[4] = "waiting"
+            else:
+                cmd = self._room_step(goal, prx, pry, mapped)
+                if cmd is not None:
+                    return cmd
+        return 0.0, 0.0
+
+    def _trail_back(self) -> tuple[float, float] | None:
+        """The point of its own trail (the crumbs, odom) :data:`ROOM_CARROT` m back from the one nearest it, robot
+        frame; None when the trail ends sooner (it has not driven there) or it stands off its trail."""
+        if self.odom is None or not self.crumbs:
+            return None
+        x, y = self.odom[0], self.odom[1]
+        crumbs = list(self.crumbs)
+        k = min(range(len(crumbs)), key=lambda i: (math.hypot(crumbs[i][0] - x, crumbs[i][1] - y), -i))
+        if math.hypot(crumbs[k][0] - x, crumbs[k][1] - y) > CRUMB_NEAR + CRUMB:
+            return None
+        for j in range(k, -1, -1):
+            if math.hypot(crumbs[j][0] - x, crumbs[j][1] - y) >= ROOM_CARROT:
+                return self._to_robot(*crumbs[j])
+        return None
+
+    def _room_step(self, goal: tuple[float, float], prx: float, pry: float, mapped: np.ndarray) -> tuple[float, float] | None:
+        """One step back toward ``goal`` (robot frame, behind it on its trail): of the reverse command and gentler
+        turns, the first whose sweep keeps off the floor plan and brings nobody's body nearer (:func:`backs_away`,
+        her at ``prx, pry`` included), with nobody tracked behind; None when none is."""
+        v, w = reverse_command(goal, speed=min(self.limits.max_reverse, MAKE_WAY_SPEED), max_turn=self.limits.max_turn)
+        pts = self.scan.points()
+        people = self.people.around(self.odom, self.now, echoes=pts if len(pts) else None)  # type: ignore[arg-type]
+        if v < 0.0 and not behind_clear(people, length=FOOTPRINT[0], width=FOOTPRINT[1], reach=BACK_REACH):
+            return None
+        bodies = np.concatenate((people[:, :2], [(prx, pry)])) if len(people) else np.array([(prx, pry)])
+        here = sweep_clearance(0.0, 0.0, mapped, 0.0, steps=1) if len(mapped) else math.inf
+        for cand in ((v, w), (v, w / 2), (v, w / 4), (v, 0.0), (0.0, w)):
+            if cand == (0.0, 0.0):
+                continue
+            if len(mapped) and not sweep_allowed(cand[0], cand[1], mapped, here):
+                continue
+            if not backs_away(cand[0], cand[1], bodies):
+                continue
+            return cand
+        return None
 
     def _unstall(self, cmd: tuple[float, float], px: float, py: float, mapped: np.ndarray,
                  step_back: bool = True) -> tuple[float, float]:
@@ -1713,10 +1836,13 @@ class Follower(Module):
             self._corners = scan_corners(msg, mapped)
         return self._corners
 
-    def _held_up(self, v: float, v_des: float, goal: tuple[float, float], px: float, py: float) -> bool:
+    def _held_up(self, v: float, v_des: float, goal: tuple[float, float], px: float, py: float, *,
+                 may_room: bool = True) -> bool:
         """Is someone standing in its way holding it up (it should drive, it does not)? After
         ``HELD_UP_TIME`` s of it, ``way_blocked`` goes to the ES with that person's bearing and
-        distance (the dialog says "excuse me"), at most every ``warn_every`` s."""
+        distance (the dialog says "excuse me"), at most every ``warn_every`` s and at most
+        :data:`ASK_MAX` times for one blockage; when the next ask would be due it makes room instead
+        (``may_room``: following, not the catch-up; :meth:`_make_room`)."""
         blocker = None
         if v_des > HELD_UP_SPEED and v < min(HELD_UP_CRAWL, HELD_UP_SHARE * v_des) and self.odom is not None:
             n = math.hypot(*goal)
@@ -1746,9 +1872,22 @@ class Follower(Module):
         self._held_last = self.now
         if self._held_back:  # someone who walked at it stands close in front: it is in their way, not they in its
             return True        # (it makes way once they have stood MAKE_WAY_HELD s; it asks nobody to let it pass)
+        _, x, y = blocker
+        ox, oy, oth = self.odom  # type: ignore[misc]
+        c, s = math.cos(oth), math.sin(oth)
+        sx, sy = ox + c * x - s * y, oy + s * x + c * y
+        b = self._block
+        if b is None or self.now - b[3] > BLOCK_FORGET or math.hypot(sx - b[0], sy - b[1]) > BLOCK_SAME:
+            b = self._block = [sx, sy, 0, self.now, "asking", None, None]  # someone else, somewhere else: a new blockage
+        b[0], b[1], b[3] = sx, sy, self.now
+        if b[2] >= ASK_MAX and self.now - self._held_since >= HELD_UP_TIME and (
+                self.now - self._excused_at >= self.warn_every or b[2] > ASK_MAX):
+            if may_room:  # asked twice and still held up: it makes room (at once when held up there again)
+                b[2], b[4], b[5], b[6] = ASK_MAX + 1, "backing", (ox, oy), None
+            return True
         if self.now - self._held_since >= HELD_UP_TIME and self.now - self._excused_at >= self.warn_every:
             self._excused_at = self.now
-            _, x, y = blocker
+            b[2] += 1
             self.bus.publish(ES_EVENTS, etree.Element("event", name="way_blocked", bearing=f"{math.degrees(math.atan2(y, x)):.1f}",
                                                       distance=f"{math.hypot(x, y):.2f}"))
         return True
@@ -1783,6 +1922,22 @@ class Follower(Module):
                 await self._fetch_map()
             self.control_step()
             await asyncio.sleep(self.period)
+
+
+def backs_away(v: float, w: float, bodies: np.ndarray, duration: float = SWEEP_TIME, steps: int = 5) -> bool:
+    """Whether the command (``v``, ``w``) held ``duration`` s brings the footprint no nearer to any of ``bodies``
+    (robot-frame centres of people, the partner included) than it is now, at every one of ``steps`` poses (making
+    room for someone who will not let it pass: it never backs toward anyone)."""
+    if not len(bodies):
+        return True
+    pts = np.asarray(bodies, dtype=float)[:, :2]
+    here = footprint_distance(pts[:, 0], pts[:, 1])
+    t = np.linspace(0.0, duration, steps + 1)[1:]
+    x, y, th = arcs(np.array([v]), np.array([w]), t)
+    c, s = np.cos(th[0])[:, None], np.sin(th[0])[:, None]
+    dx, dy = pts[None, :, 0] - x[0][:, None], pts[None, :, 1] - y[0][:, None]
+    after = footprint_distance(c * dx + s * dy, -s * dx + c * dy)
+    return bool(np.all(after >= here[None, :] - 1e-9))
 
 
 def way_blocker(standers: list[tuple[float, float]], lane: tuple[float, float],
