@@ -1385,7 +1385,9 @@ class Follower(Module):
         it (following her into a small room, it stands in the door's mouth; she turns to leave), else None.
         Her way out is the segment from her (odom ``px, py``) to the robot's own position :data:`CAME_FROM` m back
         along where it drove (the door it came through); she walks toward it (at least :data:`GIVE_WAY_STILL`,
-        within :data:`LEAVE_HEADING` of it) within :data:`LEAVE_NEAR` m of the robot, and the robot's centre lies
+        within :data:`LEAVE_HEADING` of it) within :data:`LEAVE_NEAR` m of the robot but not yet within the near band
+        (``band[0]``: there the near band's give-way acts; long23 seed 3: begun with her 0.84 m off, the turn aside took
+        her out of view as she passed its side, and it lost her at the next door), and the robot's centre lies
         between her and that point, closer to the segment than :data:`~robot.navigation.giveway.LATERAL` (where
         she could not pass it). Only its own odometry and her track go into it."""
         if self.odom is None or not self.route.ready:
@@ -1395,8 +1397,8 @@ class Follower(Module):
         if speed < GIVE_WAY_STILL:
             return None
         x, y = self.odom[0], self.odom[1]
-        if math.hypot(px - x, py - y) > LEAVE_NEAR:
-            return None
+        if not self.band[0] < math.hypot(px - x, py - y) <= LEAVE_NEAR:
+            return None  # (closer, the near band's give-way and back-off act: turning aside then turned her out of view)
         out = None
         for cx, cy in reversed(self.crumbs):
             if math.hypot(cx - x, cy - y) >= CAME_FROM:
