@@ -1384,7 +1384,7 @@ class Follower(Module):
         """Where (odom) she walks out to when she walks toward the way the robot came in by and the robot stands on
         it (following her into a small room, it stands in the door's mouth; she turns to leave), else None.
         Her way out is the segment from her (odom ``px, py``) to the robot's own position :data:`CAME_FROM` m back
-        along where it drove (the door it came through); she walks toward it (at least :data:`GIVE_WAY_STILL`,
+        along where it drove (the door it came through); she walks toward it (at least :data:`WALKING`,
         within :data:`LEAVE_HEADING` of it) within :data:`LEAVE_NEAR` m of the robot but not yet within the near band
         (``band[0]``: there the near band's give-way acts; long23 seed 3: begun with her 0.84 m off, the turn aside took
         her out of view as she passed its side, and it lost her at the next door), and the robot's centre lies
@@ -1394,8 +1394,8 @@ class Follower(Module):
             return None
         vx, vy = tr["vx"], tr["vy"]
         speed = math.hypot(vx, vy)
-        if speed < GIVE_WAY_STILL:
-            return None
+        if speed < WALKING:
+            return None  # (turning round where she stopped moves her track too: library home_tour seed 2 on ea4daf0)
         x, y = self.odom[0], self.odom[1]
         if not self.band[0] < math.hypot(px - x, py - y) <= LEAVE_NEAR:
             return None  # (closer, the near band's give-way and back-off act: turning aside then turned her out of view)
