@@ -263,6 +263,11 @@ CAME_FROM = 1.5
 LEAVE_NEAR = 2.5
 #: rad: ... her walking direction at most this far off the direction from her to that way out
 LEAVE_HEADING = math.radians(45)
+#: making way so (Follower._leaving) is OFF by default (give24): on, it ends long23's deadlock in the door mouth, but
+#: it can lose her as she passes close beside it once it has stepped aside (library goto_blocked seed 2 on 120f17c:
+#: "I have lost you" on her walk back from the kitchen, the go-to then arrived at once: FAIL 2/5); the robot must turn
+#: back to her as she passes before this is switched on (reports/give24.md)
+MAKE_WAY_LEAVING = False
 #: rad: giving way, the partner is kept within this bearing (turned to when further off)
 GIVE_WAY_BEARING = math.radians(80)
 #: rad: the catch-up's end faces her when she is within this bearing
@@ -835,7 +840,7 @@ class Follower(Module):
         # stands on that way: out of it to a spot beside it before she reaches it (then it faces her, as waiting
         # does, and follows her out); a give-way begun so goes on while it lasts
         # (until she has passed it: then it follows her out)
-        way_out = None if approaching or paused or searching else self._leaving(px, py, tr)
+        way_out = None if approaching or paused or searching or not MAKE_WAY_LEAVING else self._leaving(px, py, tr)
         if self._leave_aside and self._aside is not None:
             if approaching or paused or searching or not self._before_her(px, py):
                 self._aside = None  # she has passed it (or following is over): no more stepping aside
