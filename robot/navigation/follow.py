@@ -127,7 +127,7 @@ from .grid import MapError, OccupancyGrid, parse_map
 from .local import (BODY, SOCIAL_GAP, TURN_GAP, DWAParams, LatestScan, arcs, carrot, dwa, footprint_distance, heading_speed,
                     people_gaps, people_sweep_clear, social_speed_limit, sweep_clearance, turn_clear)
 from .blind import follow_blind_limit, scan_corners
-from .giveway import NARROW, back_out_spot, give_way_spot, reverse_command
+from .giveway import LATERAL, NARROW, back_out_spot, give_way_spot, reverse_command, way_distance
 from .people import People, behind_clear, in_the_way, nearest
 from .route import Route
 from .seen import SeenGround, footprint_samples
@@ -258,6 +258,16 @@ GIVE_WAY_STILL = 0.2
 GIVE_WAY_HELD = 1.5
 #: m: backing out of her way into a corridor, where it came from is its own position this far back (see _came_from)
 CAME_FROM = 1.5
+#: m: following, a partner walking toward its way out (the door the robot came in by) within this distance, with
+#: the robot standing on that way, is made way for before she reaches it (Follower._leaving)
+LEAVE_NEAR = 2.5
+#: rad: ... her walking direction at most this far off the direction from her to that way out
+LEAVE_HEADING = math.radians(45)
+#: making way so (Follower._leaving) is OFF by default (give24): on, it ends long23's deadlock in the door mouth, but
+#: it can lose her as she passes close beside it once it has stepped aside (library goto_blocked seed 2 on 120f17c:
+#: "I have lost you" on her walk back from the kitchen, the go-to then arrived at once: FAIL 2/5); the robot must turn
+#: back to her as she passes before this is switched on (reports/give24.md)
+MAKE_WAY_LEAVING = False
 #: rad: giving way, the partner is kept within this bearing (turned to when further off)
 GIVE_WAY_BEARING = math.radians(80)
 #: rad: the catch-up's end faces her when she is within this bearing
@@ -479,6 +489,9 @@ class Follower(Module):
         self._aside: tuple[list[tuple[float, float]], float, bool] | None = None  # give-way path (odom), until when, reversing
         self._close_since: float | None = None  # following, since when she has stood close in front
         self._no_spot_until = -math.inf  # no give-way spot found: the next search not before then
+        self._no_leave_spot_until = -math.inf  # ... nor one off her way out (making way before she reaches it)
+        self._leave_aside = False  # the give-way under way makes way for her walking out (Follower._leaving)
+        self._leave_way = (0.0, 0.0)  # ... to this point (odom)
         self._aside_stall: tuple[float, float] | None = None  # (since, last): the forward give-way's command zero
         self._backout_failed: tuple[float, float, float, float, float] | None = None  # (when, robot x y, her x y): a back-out search found no way
         self._backout_refused: tuple[float, float] | None = None  # (since, last): every back-out step refused
@@ -847,6 +860,22 @@ class Follower(Module):
         miss = abs(rx * vry - ry * vrx) / speed if speed > 1e-6 else math.inf
         coming = (v_des <= 0.05 and not approaching and not searching and d < self.band[0]
                   and v_radial < -GIVE_WAY_STILL and miss < WALKS_AT and self.route.clearance(self.odom[:2]) < NARROW)
+        # she walks toward the way out the robot came in by (the door of the room it followed her into) and it
+        # stands on that way: out of it to a spot beside it before she reaches it (then it faces her, as waiting
+        # does, and follows her out); a give-way begun so goes on while it lasts
+        # (until she has passed it: then it follows her out)
+        way_out = None if approaching or paused or searching or not MAKE_WAY_LEAVING else self._leaving(px, py, tr)
+        if self._leave_aside and self._aside is not None:
+            if approaching or paused or searching or not self._before_her(px, py):
+                self._aside = None  # she has passed it (or following is over): no more stepping aside
+        if way_out is not None or (self._leave_aside and self._aside is not None and self.now <= self._aside[1]):
+            aside = self._give_way(px, py, mapped, held=True, step_back=True, way=way_out)
+            if aside is not None:
+                self._command(*aside)
+                self._status(d, False, "giving_way")
+                return aside
+        if self._aside is None:
+            self._leave_aside = False
         if close or coming:
             # she stands close in front of it while it follows: it is in her way (in a door frame or a
             # passage at once; anywhere once she has stood there GIVE_WAY_HELD s, held up): step aside;
@@ -1179,19 +1208,34 @@ class Follower(Module):
         return q
 
     def _give_way(self, px: float, py: float, mapped: np.ndarray, *, held: bool = False,
-                  back_only: bool = False, view: float = GIVE_WAY_BEARING, step_back: bool = False) -> tuple[float, float] | None:
+                  back_only: bool = False, view: float = GIVE_WAY_BEARING, step_back: bool = False,
+                  way: tuple[float, float] | None = None) -> tuple[float, float] | None:
         """The command that takes the robot aside when the partner (odom ``px, py``) is too close and
         it stands in a door frame or a passage, or anywhere when ``held`` (she has stood held up in
         front of it a while) (:mod:`robot.navigation.giveway`), None otherwise (no floor plan, room
         enough here and she is not held up, or nowhere to go). ``back_only``: she walks at it, so
         only backing out the way it came (away from her) will do. ``view``: she is kept within this bearing
         (turned to first when further off). ``step_back``: following (not the catch-up, whose request
-        distance a step back would lengthen), a stall with no way out steps back off her way (:meth:`_step_back`)."""
+        distance a step back would lengthen), a stall with no way out steps back off her way (:meth:`_step_back`).
+        ``way``: she walks to that point (odom; :meth:`_leaving`): a new spot is only one ahead, off her way there."""
         if not self.route.ready or self.odom is None:
             self._aside = None
             return None
         if self._aside is None or self.now > self._aside[1]:
             self._aside = None
+            if way is not None:
+                if self.now < self._no_leave_spot_until:
+                    return None
+                grid = self.route.grid
+                assert grid is not None
+                path = give_way_spot(grid, self.route.to_map(self.odom[:2]), self.route.to_map((px, py)),
+                                     keep=self.band[0], way=self.route.to_map(way))
+                if path is None:
+                    self._no_leave_spot_until = self.now + GIVE_WAY_RETRY
+                    return None
+                self._aside = ([self.route.to_odom(p) for p in path], self.now + GIVE_WAY_TIME, False)
+                self._leave_aside, self._leave_way = True, way
+                return self._give_way(px, py, mapped, step_back=step_back)
             if self.now < self._no_spot_until:
                 return None
             if not held and self.route.clearance(self.odom[:2]) >= GIVE_WAY_ROOM:
@@ -1463,6 +1507,51 @@ class Follower(Module):
                     continue
                 best, score = (v * k, w), after
         return best
+
+    def _leaving(self, px: float, py: float, tr: dict[str, Any]) -> tuple[float, float] | None:
+        """Where (odom) she walks out to when she walks toward the way the robot came in by and the robot stands on
+        it (following her into a small room, it stands in the door's mouth; she turns to leave), else None.
+        Her way out is the segment from her (odom ``px, py``) to the robot's own position :data:`CAME_FROM` m back
+        along where it drove (the door it came through); she walks toward it (at least :data:`WALKING`,
+        within :data:`LEAVE_HEADING` of it) within :data:`LEAVE_NEAR` m of the robot but not yet within the near band
+        (``band[0]``: there the near band's give-way acts; long23 seed 3: begun with her 0.84 m off, the turn aside took
+        her out of view as she passed its side, and it lost her at the next door), and the robot's centre lies
+        between her and that point, closer to the segment than :data:`~robot.navigation.giveway.LATERAL` (where
+        she could not pass it). Only its own odometry and her track go into it."""
+        if self.odom is None or not self.route.ready:
+            return None
+        vx, vy = tr["vx"], tr["vy"]
+        speed = math.hypot(vx, vy)
+        if speed < WALKING:
+            return None  # (turning round where she stopped moves her track too: library home_tour seed 2 on ea4daf0)
+        x, y = self.odom[0], self.odom[1]
+        if not self.band[0] < math.hypot(px - x, py - y) <= LEAVE_NEAR:
+            return None  # (closer, the near band's give-way and back-off act: turning aside then turned her out of view)
+        out = None
+        for cx, cy in reversed(self.crumbs):
+            if math.hypot(cx - x, cy - y) >= CAME_FROM:
+                out = (cx, cy)
+                break
+        if out is None:
+            return None
+        wx, wy = out[0] - px, out[1] - py
+        n = math.hypot(wx, wy)
+        if n < 1e-6 or (vx * wx + vy * wy) < math.cos(LEAVE_HEADING) * speed * n:
+            return None
+        along = ((x - px) * wx + (y - py) * wy) / n
+        if not 0.0 < along < n:
+            return None
+        if float(way_distance(np.array([x]), np.array([y]), (px, py), out)[0]) >= LATERAL:
+            return None
+        return out
+
+    def _before_her(self, px: float, py: float) -> bool:
+        """Whether the robot still lies between her (odom ``px, py``) and the way out it makes way for (not passed)."""
+        wx, wy = self._leave_way[0] - px, self._leave_way[1] - py
+        n = math.hypot(wx, wy)
+        if self.odom is None or n < 1e-6:
+            return False
+        return ((self.odom[0] - px) * wx + (self.odom[1] - py) * wy) / n > 0.0
 
     def _her_way(self, rx: float, ry: float) -> np.ndarray:
         """Robot-frame points every 0.1 m along her way out as far as the robot can tell: from her (``rx, ry``)

@@ -91,14 +91,17 @@ PASSAGE_FACE = math.radians(90)
 
 
 def give_way_spot(grid: OccupancyGrid, robot: Point, partner: Point, *, keep: float = 1.0, room: float = ROOM,
-                  lateral: float = LATERAL, reach: float = REACH) -> list[Point] | None:
+                  lateral: float = LATERAL, reach: float = REACH, way: Point | None = None) -> list[Point] | None:
     """The path (map frame, from ``robot``; its last point the spot) by which the robot steps aside
     for the partner at ``partner``, or None.
 
     See the module docstring for the rule; ``keep``: the least distance to her (the follower's
-    near band).
+    near band). ``way``: where she walks to (the way out of the room she is leaving, as far as the
+    robot can tell): her way is then the segment from her to that point, not the line from her
+    through the robot, and the spot lies at least ``lateral`` off that segment, no further down it
+    than the robot stands (beside the door's mouth on the room side, not in the door).
     """
-    return _spot(grid, robot, partner, keep=keep, room=room, lateral=lateral, reach=reach, backing=False)
+    return _spot(grid, robot, partner, keep=keep, room=room, lateral=lateral, reach=reach, backing=False, way=way)
 
 
 def back_out_spot(grid: OccupancyGrid, robot: Point, partner: Point, *, keep: float = 1.0, room: float = ROOM,
@@ -127,7 +130,8 @@ def reverse_command(goal: Point, *, speed: float, max_turn: float, gain: float =
 
 
 def _spot(grid: OccupancyGrid, robot: Point, partner: Point, *, keep: float, room: float, lateral: float,
-          reach: float, backing: bool, came: Point | None = None, passage: bool = False) -> list[Point] | None:
+          reach: float, backing: bool, came: Point | None = None, passage: bool = False,
+          way: Point | None = None) -> list[Point] | None:
     """:func:`give_way_spot` (ahead, ``backing`` False) and :func:`back_out_spot` (behind; ``passage``:
     its spot at least ``lateral`` off the line of the path's first leg, out of the door; ``came``: the
     side of her way it came from is taken only when the other side has no spot)."""
@@ -153,6 +157,12 @@ def _spot(grid: OccupancyGrid, robot: Point, partner: Point, *, keep: float, roo
     travel = np.hypot(x - robot[0], y - robot[1])
     if backing:  # further from her than it stands, off the door or passage it backs out of (checked below)
         ok = (travel <= reach) & (travel >= lateral) & (np.hypot(dx, dy) >= max(keep, d + BACK_GAIN))
+    elif way is not None:  # off her way to where she walks (the segment), no further down it than the robot
+        ok = (travel <= reach) & (np.hypot(dx, dy) >= keep) & (way_distance(x, y, partner, way) >= lateral)
+        wx, wy = way[0] - partner[0], way[1] - partner[1]
+        n = math.hypot(wx, wy)
+        if n > 1e-6:
+            ok &= (dx * wx + dy * wy) / n <= ((robot[0] - partner[0]) * wx + (robot[1] - partner[1]) * wy) / n
     else:
         ok = (travel <= reach) & (np.hypot(dx, dy) >= keep) & (side >= lateral) & (along <= d)
     if not ok.any():
@@ -194,6 +204,15 @@ def _spot(grid: OccupancyGrid, robot: Point, partner: Point, *, keep: float, roo
                 continue
         return path
     return fallback
+
+
+def way_distance(x: np.ndarray, y: np.ndarray, partner: Point, way: Point) -> np.ndarray:
+    """How far (m) the points ``x, y`` lie from the segment from ``partner`` to ``way`` (her way out)."""
+    wx, wy = way[0] - partner[0], way[1] - partner[1]
+    n2 = wx * wx + wy * wy
+    dx, dy = np.asarray(x, dtype=float) - partner[0], np.asarray(y, dtype=float) - partner[1]
+    t = np.clip((dx * wx + dy * wy) / n2, 0.0, 1.0) if n2 > 1e-12 else np.zeros_like(dx)
+    return np.hypot(dx - t * wx, dy - t * wy)
 
 
 def _off_the_way(grid: OccupancyGrid, path: list[Point], room: float, away: Point) -> bool:
