@@ -138,6 +138,11 @@ class AttentionParams:
     # talking to a silent guest and shut her every word out of the beam as a bystander's, for the rest of the tour)
     other_clothes_after: float = 3.0
     out_of_view_after: float = 10.0  # s without any evidence: gone, wherever she was last seen
+    # s after the robot asked her to step aside (the ES's order ``asked_aside``): her walking away is the step it
+    # asked for, no evidence of leaving (obj24; tests/scenarios/perceive/doorway_hides_radio: asked to step aside,
+    # he stepped through a door out of view and was "You left" 4 s later); the object attention waits 10 s for
+    # her step and 4 s for her to stand
+    aside_walk: float = 15.0
     # s with no partner at all after a loss (the robot asked her to come back): time to walk back from
     # the next room; then the interaction ends and the robot looks around (:meth:`_nobody_there`)
     come_back_after: float = 20.0
@@ -382,6 +387,8 @@ class PersonAttention(Module):
     #: in Object, the time since her last sighting the camera spent on what she shows (:meth:`_count_looked_away`)
     _looked_away: float = 0.0
     _looked_t: float | None = None
+    #: when the robot last asked her to step aside (the ES's order ``asked_aside``; ``aside_walk``)
+    _asked_aside: float | None = None
     _drive_start: float | None = None  # (set in __init__: since when the player drives on the ES's order)
     #: following, the time since her last sighting spent on the way to where she was last seen (None: not kept)
     _closing: Closing | None = None
@@ -545,6 +552,8 @@ class PersonAttention(Module):
         # evidence that she went out of view (:meth:`_count_looked_away`, the out-of-view clause of partner_left)
         self._looked_away = 0.0
         self._looked_t: float | None = None
+        # when the robot last asked her to step aside (the ES's order ``asked_aside``, said): see ``aside_walk``
+        self._asked_aside: float | None = None
         # ... nor the time it spends on its way to where she was last seen (robot.partner_search.Closing)
         self._closing = Closing()
         self._player_sub: Any = None
@@ -798,6 +807,13 @@ class PersonAttention(Module):
 
     def _on_order(self, msg: Message) -> None:
         name = msg.xml.get("name", "")
+        if name == "asked_aside":
+            # the dialog has asked her to step aside (said="true"): no change of state, only what her
+            # walking away means for a while (``aside_walk``, :meth:`partner_left`)
+            said = next((q.text for q in msg.xml.iterfind("param") if q.get("name") == "said"), None)
+            if (said or "").strip() == "true":
+                self._asked_aside = self.now
+            return
         was = self.fsm.state
         # (a stop heard while the follower searched for her is hers just as one heard after it stood by the
         # track: whoever seen spoke it is the partner now)
@@ -1500,6 +1516,11 @@ class PersonAttention(Module):
         if unseen - self._looked_away >= p.out_of_view_after:
             return True
         away = (vx * dx + vy * dy) / dist if dist > 1e-6 else 0.0
+        if self._asked_aside is not None and seen >= self._asked_aside - p.partner_lost_after and seen - self._asked_aside <= p.aside_walk:
+            # last seen walking away just after the robot asked her to step aside: the step it asked for (a
+            # door frame or a wall may hide her where she stepped), not evidence of leaving; she has left when
+            # last seen outside the interaction space, or unseen ``out_of_view_after`` as anywhere
+            return dist > p.interaction_radius
         return dist > p.interaction_radius or away >= p.leave_speed
 
     def _reacquire(self, t: float) -> int:
