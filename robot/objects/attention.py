@@ -241,6 +241,7 @@ class ObjectAttention(Module):
         self.moves = 0  # drives to a better viewpoint (for tests and introspection)
         self._subs: list[Any] = []  # people's tracks and the player's status, only while a search runs
         self._finds = 0  # searches begun
+        self._told_moving = False  # this search has told the ES (and so her) that the robot moves to see
         self._answer_owner = ""  # the owner her which-one answer named (her request named none)
         self._poses: deque[tuple[float, tuple[float, float, float]]] = deque(maxlen=30)  # (time, pose), the last 3 s
         self._pending: list[tuple[float, str, etree._Element]] = []  # percepts waiting for the pose of their time
@@ -475,6 +476,7 @@ class ObjectAttention(Module):
         self._answer_owner = ""  # whose it is, said in her answer to a which-one question
         self._finds += 1
         token = self._finds
+        self._told_moving = False  # "I will move over to see it": once per search, not per viewpoint
         try:
             waited = 0.0
             start = self._gesture_start(said)
@@ -918,6 +920,12 @@ class ObjectAttention(Module):
         if route is None:
             return False
         self.moves += 1
+        if not self._told_moving:
+            # A robot that drives off silently after "Let me have a look." looks to her like no answer
+            # (gen24: 9700-10 gave the tour up, 9700-16 rephrased vaguely during an 8-10 s drive): tell the
+            # ES once per search (event moving_to_see); in ObjectTeaching the dialog says so.
+            self._told_moving = True
+            self.bus.publish(ES_EVENTS, etree.Element("event", name="moving_to_see"), causes=(cause,))
         for k, goal in enumerate(route):
             state = await self._drive_leg(goal, k == len(route) - 1, cause)
             if state == "stopped":  # the ES stopped the base: no further leg
