@@ -77,10 +77,10 @@ MAX_BOOST = 18.0
 #: Requests a reaction re-says to answer "which room / what is it / where shall I go / what are you looking
 #: for?": said then, they name what was asked (:meth:`Actor.phrase`).
 NAMING = ("teach-place", "teach-object", "go-to", "where-is")
-#: What a person takes for the robot telling her it acts on her request by moving ("I will move over to see
-#: it", "I am coming", "let me turn round"): a person who repairs the way people do (a profile, or ``repairs``/
+#: What a person takes for the robot telling her it acts on her request by moving or searching ("I will move over
+#: to see it", "I will look around you for it", "I am coming", "let me turn round"): a person who repairs the way people do (a profile, or ``repairs``/
 #: ``patience``/``give-up``) waits for her answer anew from then (:meth:`Actor._wait_once`).
-ACTING_SAYS = re.compile(r"\bI will (move|go|come|drive|turn)\b|\bI am (moving|going over|coming|driving|turning)\b"
+ACTING_SAYS = re.compile(r"\bI will (move|go|come|drive|turn|look around)\b|\bI am (moving|going over|coming|driving|turning)\b"
                          r"|\blet me (move|go|come|drive|turn)\b", re.IGNORECASE)
 #: Such a person, seeing the robot drive or turn (base speed above these, m/s and rad/s), waits while it does and
 #: then her wait's timeout anew; but she gives up after at most this many seconds beyond her timeout (a long

@@ -15,6 +15,7 @@ from robot.supervisor import ES_EVENTS, event_xml
 from tests.test_dialog_bus import Robot
 
 MOVING = "I cannot see it from here. I will move over to see it."
+ROUND = "I do not see it yet. I will look around you for it."
 
 
 @pytest.fixture
@@ -24,7 +25,7 @@ def robot():
     r.sim.close()
 
 
-def _teach_with_drives(robot: Robot, drives: tuple[float, ...], learned: float) -> list[str]:
+def _teach_with_drives(robot: Robot, drives: tuple[float, ...], learned: float, how: str = "drive") -> list[str]:
     """Greeted, "this is my cup" at 6 s; the object attention reports a drive to see at each of ``drives`` (and
     one leg each), the cup learned at ``learned``. Returns what the robot said."""
     robot.greet()
@@ -32,7 +33,7 @@ def _teach_with_drives(robot: Robot, drives: tuple[float, ...], learned: float) 
     objects = robot.sim.bus.participant("object_attention")
     pose = etree.fromstring('<POSE x="1" y="1" theta="0" frame="map" tolerance="0.2" align="true"/>')
     for t in drives:
-        robot.sim.call_at(t, lambda: objects.publish(ES_EVENTS, event_xml("moving_to_see")))
+        robot.sim.call_at(t, lambda: objects.publish(ES_EVENTS, event_xml("moving_to_see", attrs={"how": how})))
         robot.sim.call_at(t + 0.01, lambda: objects.publish(ES_EVENTS, event_xml("view_blocked", children=(pose,))))
     cup = etree.fromstring('<OBJECT type="cup" name="cup" owner="partner" x="1" y="0" z="0.8" frame="map"/>')
     robot.sim.call_at(learned, lambda: objects.publish(ES_EVENTS, event_xml("object_recognized", children=(cup,))))
@@ -59,6 +60,12 @@ def test_a_drive_reported_outside_a_teaching_says_nothing(robot):
     # no search of hers under way (the ES in Interacting): the condition never reaches the dialog
     robot.greet()
     objects = robot.sim.bus.participant("object_attention")
-    robot.sim.call_at(6.0, lambda: objects.publish(ES_EVENTS, event_xml("moving_to_see")))
+    robot.sim.call_at(6.0, lambda: objects.publish(ES_EVENTS, event_xml("moving_to_see", attrs={"how": "drive"})))
     robot.sim.run(until=12.0)
     assert MOVING not in robot.sentences()
+
+
+def test_a_search_round_her_is_announced_in_its_own_words(robot):
+    said = _teach_with_drives(robot, (10.0,), 20.0, how="round")
+    assert said.count(ROUND) == 1 and MOVING not in said
+    assert said.index("Let me have a look.") < said.index(ROUND)
