@@ -1669,6 +1669,8 @@ class PersonAttention(Module):
             # rooms end there); inside the flat (to the next room, behind a wall) she is on an errand: waited for
             # as long as it takes to walk back from the next room (``come_back_after``)
             return self._toward_exit(seen, x, y, vx, vy) or out_of_view >= p.come_back_after
+        if self._rooms and self.furniture is not None and math.hypot(vx, vy) >= p.leave_speed and not self._toward_exit(seen, x, y, vx, vy):
+            return out_of_view >= p.come_back_after  # last seen walking (along, across) to somewhere in the flat: an errand
         return out_of_view >= p.out_of_view_after
 
     def _reacquire(self, t: float) -> int:
