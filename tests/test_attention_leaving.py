@@ -102,8 +102,8 @@ def test_walking_away_into_the_next_room_is_an_errand_waited_for(x, y, speed, un
     _say(pa, what, -1.0)
     p = pa.params
     d = math.hypot(x - ROBOT[0], y - ROBOT[1])
-    away = speed * (y - ROBOT[1]) / d >= p.leave_speed  # (slower away from it: she stood, ten seconds as ever)
-    patience = p.wait_patience if what != "nothing" else p.come_back_after if away else p.out_of_view_after
+    away = speed * (y - ROBOT[1]) / d >= p.leave_speed  # (walking, if not away from it: still an errand)
+    patience = p.wait_patience if what != "nothing" else p.come_back_after
     if abs(unseen - patience) > 1e-6 and abs(unseen - p.partner_lost_after) > 1e-6:
         assert pa.partner_left(unseen) == (unseen >= patience)
     bye = _attention("Interaction", _last(0.0, x, y, math.pi / 2, speed))
