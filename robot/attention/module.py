@@ -448,6 +448,7 @@ class PersonAttention(Module):
     _words_end: float = -math.inf
     _rooms: tuple[np.ndarray, ...] = ()
     _walls: tuple[tuple[float, float, float, float], ...] = ()
+    _frames_sub: Any = None  # (set in __init__; here for the rule's unit tests)
     _exit_way: tuple[float, bool] | None = None  # (her last sighting's time, whether her way led to the exit)
     _drive_start: float | None = None  # (set in __init__: since when the player drives on the ES's order)
     #: following, the time since her last sighting spent on the way to where she was last seen (None: not kept)
@@ -582,7 +583,10 @@ class PersonAttention(Module):
         self.bus.subscribe(FOCUS, self._on_focus)
         self.bus.subscribe(ORDERS, self._on_order)
         self.bus.subscribe(POSE, self._on_pose)
-        self.bus.subscribe(FRAMES, self._on_frame)  # what she said weighs her leaving (:meth:`partner_left`)
+        # what she said weighs her leaving (:meth:`partner_left`): the understanding's frames, subscribed only while
+        # the partner walks or is unseen in Interaction and Object (:meth:`_listen_to_words`; every other run's
+        # deliveries stay as they were)
+        self._frames_sub: Any = None
         # asking for help, the planner's watch (is the blocked way clear now?) answers "unseen" when the
         # way lies outside the laser's view: the odometry heading to look along it, and when (:meth:`_on_plan`)
         # (subscribed only while asking for help: every other run's deliveries stay as they were)
@@ -688,6 +692,23 @@ class PersonAttention(Module):
         return mx + cm * fx - sm * fy, my + sm * fx + cm * fy, mth + odom[2] - oth
 
     # ------------------------------------------------------------ inputs
+    def _listen_to_words(self, row: int) -> None:
+        """Subscribe to the understanding's frames while the partner walks (``leave_speed``) or is unseen in
+        Interaction or Object: what she says then (a wait request, a good-bye) weighs the leaving rule."""
+        want = False
+        if self.partner is not None and not self.partner_lost_sent and self.fsm.state in ("Interaction", "Object"):
+            if row < 0:
+                want = True
+            else:
+                tk = self.tracks.tracks[row]
+                want = math.hypot(tk.x[2], tk.x[3]) >= self.params.leave_speed
+        if want and self._frames_sub is None:
+            self._frames_sub = self.bus.subscribe(FRAMES, self._on_frame)
+        elif not want and self._frames_sub is not None and (self._partner_last is None or self.now - self._partner_last[0] < 0.5):
+            # (kept until she is seen again: her words may come while she stands out of view)
+            self._frames_sub.close()
+            self._frames_sub = None
+
     def _on_frame(self, msg: Message) -> None:
         """An understood utterance heard during the interaction: a wait request or a good-bye (any confidence)
         is noted for the leaving rule (:meth:`partner_left`); nothing else changes."""
@@ -1424,6 +1445,7 @@ class PersonAttention(Module):
             row = self._reacquire(t)
         if self.partner is None and not self.partner_lost_sent:
             self._partner_last = self._partner_colour = None
+        self._listen_to_words(row)
         if self.partner is not None and self.partner_left(t):
             if not self.partner_lost_sent:
                 self._event("partner_lost")
