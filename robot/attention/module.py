@@ -62,7 +62,7 @@ from homesim.module import Module
 
 from robot.blindside import SonarEchoes, blind_clear, blind_points, explained_by_points, seen_legs
 from robot.bumpers import BumperReflex, own_reflex
-from robot.contract import (ATTENTION_STATE, BASE_CMD, BUMPERS, ES_EVENTS, ES_ORDERS, FACES, FOCUS, FOLLOW_STATUS, ODOMETRY, PARTNER, PLAN,
+from robot.contract import (ATTENTION_STATE, BASE_CMD, BUMPERS, ES_EVENTS, ES_ORDERS, FACES, FOCUS, FOLLOW_STATUS, FRAMES, ODOMETRY, PARTNER, PLAN,
                             PLAYER_STATUS, POSE, PTU_CMD, SCAN, SONAR, SOURCES, STEER, TORSOS, TRACKS)
 
 from .appearance import Colours, anchor_torsos, same_clothes
@@ -143,6 +143,31 @@ class AttentionParams:
     # he stepped through a door out of view and was "You left" 4 s later); the object attention waits 10 s for
     # her step and 4 s for her to stand
     aside_walk: float = 15.0
+    # s: what she said weighs her walking away (aside24, fresh12 A and G). After a wait request of hers ("one moment",
+    # "hang on", "wait here": the understanding's WAIT) she comes back: for ``wait_walk`` s her walking away is no
+    # evidence of leaving (as the step aside the robot asked for), and a partner who asked it to wait, or whom it
+    # asked to step aside, is waited for ``wait_patience`` s unseen where she was last seen within the interaction
+    # space (a watering can fetched from behind the balcony wall; standing where she stepped, hidden)
+    wait_walk: float = 15.0
+    wait_patience: float = 30.0
+    # s: after a good-bye of hers (GOODBYE, understood at any confidence: the dialog may still doubt it and ask
+    # "Do you want to end the tour?"), for ``bye_walk`` s her walking away is evidence again whatever was asked or
+    # said before, and unseen ``bye_patience`` s anywhere she is gone (fresh12 studio_couple_turns: he said good-bye,
+    # doubted, and walked out of the front door)
+    bye_walk: float = 20.0
+    bye_patience: float = 4.0
+    # m: leaving through the flat's exit door: last seen walking (``leave_speed`` or faster) and her way on this
+    # far (at most, at her pace, over the time unseen) leads out of the map's rooms through a gap in its walls,
+    # she has left after ``partner_lost_after`` s, whatever she said (the robot's map: the flat is its rooms)
+    exit_reach: float = 1.2
+    # m: walking away within the interaction space, her way on this far (along her last velocity) leads out of the
+    # map's rooms before it meets a wall: she walks to the exit door (leaving); otherwise to somewhere in the flat
+    exit_look: float = 6.0
+    # s: she spoke (her voice from her track) up to this long before she was last seen: her words' frame (a wait
+    # request, a good-bye: "one moment" said while she walks off behind a wall) is waited for before her walking
+    # away or distance counts as evidence of leaving, at most ``words_wait`` s after her voice was last heard
+    voice_hold: float = 1.5
+    words_wait: float = 8.0
     # s with no partner at all after a loss (the robot asked her to come back): time to walk back from
     # the next room; then the interaction ends and the robot looks around (:meth:`_nobody_there`)
     come_back_after: float = 20.0
@@ -279,6 +304,30 @@ STOP_VOICE = 4.0
 WAY_LOOK_AGE = 2.5
 
 
+def _in_polygon(x: float, y: float, poly: np.ndarray) -> bool:
+    """Even-odd test of one point against a polygon's outline (map frame)."""
+    inside = False
+    n = len(poly)
+    for i in range(n):
+        x1, y1 = float(poly[i][0]), float(poly[i][1])
+        x2, y2 = float(poly[(i + 1) % n][0]), float(poly[(i + 1) % n][1])
+        if (y1 > y) != (y2 > y) and x < (x2 - x1) * (y - y1) / (y2 - y1) + x1:
+            inside = not inside
+    return inside
+
+
+def _crosses(ax: float, ay: float, bx: float, by: float, w: tuple[float, float, float, float]) -> bool:
+    """Whether segment a-b crosses a wall's centre line (proper or touching intersection)."""
+    cx, cy, ex, ey = w
+
+    def side(px: float, py: float, qx: float, qy: float, rx: float, ry: float) -> float:
+        return (qx - px) * (ry - py) - (qy - py) * (rx - px)
+
+    d1, d2 = side(cx, cy, ex, ey, ax, ay), side(cx, cy, ex, ey, bx, by)
+    d3, d4 = side(ax, ay, bx, by, cx, cy), side(ax, ay, bx, by, ex, ey)
+    return d1 * d2 <= 0.0 and d3 * d4 <= 0.0 and not (d1 == d2 == 0.0)
+
+
 def walking_pace(prev: tuple[float, float] | None, t: float, speed: float) -> tuple[float, float]:
     """(``t``, pace): a person's walking pace after a sighting at ``t`` with track speed ``speed`` (m/s),
     given the pace ``prev`` (when, m/s) kept so far (None: the first sighting). The faster of this speed
@@ -389,6 +438,18 @@ class PersonAttention(Module):
     _looked_t: float | None = None
     #: when the robot last asked her to step aside (the ES's order ``asked_aside``; ``aside_walk``)
     _asked_aside: float | None = None
+    #: when the partner last asked it to wait / said good-bye (the understanding's frames; ``wait_walk``, ``bye_walk``)
+    _said_wait: float | None = None
+    _said_bye: float | None = None
+    #: the map's rooms (outlines) and walls (centre lines), map frame: the flat's exit (:meth:`_out_of_flat`)
+    #: when her voice was last heard from her track, and where the latest understood or not understood utterance
+    #: ended (the understanding's frames, virtual s): her words still on their way (:meth:`partner_left`)
+    _her_voice: float = -math.inf
+    _words_end: float = -math.inf
+    _rooms: tuple[np.ndarray, ...] = ()
+    _walls: tuple[tuple[float, float, float, float], ...] = ()
+    _frames_sub: Any = None  # (set in __init__; here for the rule's unit tests)
+    _exit_way: tuple[float, bool] | None = None  # (her last sighting's time, whether her way led to the exit)
     _drive_start: float | None = None  # (set in __init__: since when the player drives on the ES's order)
     #: following, the time since her last sighting spent on the way to where she was last seen (None: not kept)
     _closing: Closing | None = None
@@ -522,6 +583,10 @@ class PersonAttention(Module):
         self.bus.subscribe(FOCUS, self._on_focus)
         self.bus.subscribe(ORDERS, self._on_order)
         self.bus.subscribe(POSE, self._on_pose)
+        # what she said weighs her leaving (:meth:`partner_left`): the understanding's frames, subscribed only while
+        # the partner walks or is unseen in Interaction and Object (:meth:`_listen_to_words`; every other run's
+        # deliveries stay as they were)
+        self._frames_sub: Any = None
         # asking for help, the planner's watch (is the blocked way clear now?) answers "unseen" when the
         # way lies outside the laser's view: the odometry heading to look along it, and when (:meth:`_on_plan`)
         # (subscribed only while asking for help: every other run's deliveries stay as they were)
@@ -598,6 +663,8 @@ class PersonAttention(Module):
             self.furniture = FurnitureLegs(plan)
             self._leg_plan = FurnitureLegs(plan, wall_margin=self.params.leg_wall_margin)
             self._plan_near = FurnitureLegs(plan, margin=self.params.plan_explains, wall_margin=self.params.plan_explains)
+            self._rooms = tuple(np.asarray(r.points, dtype=float) for r in plan.rooms if len(r.points) >= 3)
+            self._walls = tuple((w.x1, w.y1, w.x2, w.y2) for w in plan.walls)
         except (HomesimError, MapFormatError, TimeoutError) as exc:
             self.refused.append(f"no floor plan, furniture legs are not filtered: {exc}")
 
@@ -625,6 +692,89 @@ class PersonAttention(Module):
         return mx + cm * fx - sm * fy, my + sm * fx + cm * fy, mth + odom[2] - oth
 
     # ------------------------------------------------------------ inputs
+    def _listen_to_words(self, row: int) -> None:
+        """Subscribe to the understanding's frames while the partner walks (``leave_speed``) or is unseen in
+        Interaction or Object: what she says then (a wait request, a good-bye) weighs the leaving rule."""
+        want = False
+        if self.partner is not None and not self.partner_lost_sent and self.fsm.state in ("Interaction", "Object"):
+            if row < 0:
+                want = True
+            else:
+                tk = self.tracks.tracks[row]
+                want = math.hypot(tk.x[2], tk.x[3]) >= self.params.leave_speed
+        if want and self._frames_sub is None and hasattr(self, "bus"):  # (the rule's unit tests run without a bus)
+            self._frames_sub = self.bus.subscribe(FRAMES, self._on_frame)
+        elif not want and self._frames_sub is not None and (self._partner_last is None or self.now - self._partner_last[0] < 0.5):
+            # (kept until she is seen again: her words may come while she stands out of view)
+            self._frames_sub.close()
+            self._frames_sub = None
+
+    def _on_frame(self, msg: Message) -> None:
+        """An understood utterance heard during the interaction: a wait request or a good-bye (any confidence)
+        is noted for the leaving rule (:meth:`partner_left`); nothing else changes."""
+        start, end = float(msg.xml.get("start", self.now)), float(msg.xml.get("end", self.now))
+        self._words_end = max(self._words_end, end)
+        if msg.xml.tag != "understood" or self.fsm.state not in ("Interaction", "Object"):
+            return
+        # (when she began saying it: she may have walked off while she spoke)
+        if msg.xml.find("SPEECH/GOODBYE") is not None:
+            self._said_bye = start
+        elif msg.xml.find("SPEECH/WAIT") is not None:
+            self._said_wait = start
+
+    def _odom_point_in_map(self, x: float, y: float) -> tuple[float, float]:
+        """An odometry point in the map frame (the robot's current localisation)."""
+        ox, oy, oth = self._pose_at(self.now)
+        mx, my, mth = self._robot_in_map(self.now, (ox, oy, oth))
+        c, s = math.cos(mth - oth), math.sin(mth - oth)
+        dx, dy = x - ox, y - oy
+        return mx + c * dx - s * dy, my + s * dx + c * dy
+
+    def _out_of_flat(self, t: float) -> bool:
+        """Whether the partner walked out of the flat: last seen walking (``leave_speed`` or faster) and her way on
+        (her last velocity over the time unseen, at most ``exit_reach`` m) ends outside every room of the map and
+        crosses none of its walls (through a door gap: the exit door). False without a map with rooms."""
+        last = self._partner_last
+        if last is None or not self._rooms or self.furniture is None:
+            return False
+        seen, x, y, vx, vy, _, _ = last
+        speed = math.hypot(vx, vy)
+        if speed < self.params.leave_speed:
+            return False
+        reach = min(self.params.exit_reach, speed * max(t - seen, 0.0))
+        ax, ay = self._odom_point_in_map(x, y)
+        bx, by = self._odom_point_in_map(x + vx / speed * reach, y + vy / speed * reach)
+        if any(_in_polygon(bx, by, r) for r in self._rooms):
+            return False
+        return not any(_crosses(ax, ay, bx, by, w) for w in self._walls)
+
+    def _toward_exit(self, seen: float, x: float, y: float, vx: float, vy: float) -> bool:
+        """Whether her way (from where she was last seen, along her last velocity, at most ``exit_look`` m) leads
+        out of the map's rooms before it meets one of its walls: she walks to the flat's exit door. True without a
+        map with rooms (nothing says where the flat ends: walking away is then taken as leaving, as before)."""
+        if not self._rooms or self.furniture is None:
+            return True
+        if self._exit_way is not None and self._exit_way[0] == seen:
+            return self._exit_way[1]
+        speed = math.hypot(vx, vy)
+        ux, uy = (vx / speed, vy / speed) if speed > 1e-9 else (0.0, 0.0)
+        ax, ay = self._odom_point_in_map(x, y)
+        bx, by = self._odom_point_in_map(x + ux, y + uy)
+        ux, uy = bx - ax, by - ay
+        found = False
+        step, n = 0.1, int(self.params.exit_look / 0.1)
+        px, py = ax, ay
+        for k in range(1, n + 1):
+            qx, qy = ax + ux * step * k, ay + uy * step * k
+            if any(_crosses(px, py, qx, qy, w) for w in self._walls):
+                break
+            if not any(_in_polygon(qx, qy, r) for r in self._rooms):
+                found = True
+                break
+            px, py = qx, qy
+        self._exit_way = (seen, found)
+        return found
+
     def _on_odometry(self, msg: Message) -> None:
         el = msg.xml
         self._odom = (msg.created, float(el.get("x")), float(el.get("y")), float(el.get("theta")), float(el.get("v")), float(el.get("w")))
@@ -646,6 +796,8 @@ class PersonAttention(Module):
         track_bearings = sound_bearings_from(self._robot_xy(t), self.cues) if tracks and bearings else []
         rows = match_sounds(track_bearings, bearings, self.cues.sound_tolerance) if tracks and bearings else []
         self.speaking.feed(t, ids, {ids[r] for r in rows})
+        if rows and self.partner is not None and any(ids[r] == self.partner for r in rows):
+            self._her_voice = t  # her words may still be on their way to the understanding (:meth:`partner_left`)
         if rows:
             self._partner_seen(rows, t)  # the partner's voice from the partner's direction keeps the partner
             if self.seeking_help:
@@ -1293,6 +1445,7 @@ class PersonAttention(Module):
             row = self._reacquire(t)
         if self.partner is None and not self.partner_lost_sent:
             self._partner_last = self._partner_colour = None
+        self._listen_to_words(row)
         if self.partner is not None and self.partner_left(t):
             if not self.partner_lost_sent:
                 self._event("partner_lost")
@@ -1487,8 +1640,8 @@ class PersonAttention(Module):
         if last is None:
             return True
         seen, x, y, vx, vy, ox, oy = last
-        unseen = self._unseen(t, seen)
         p = self.params
+        unseen = self._unseen(t, seen)
         dx, dy = x - ox, y - oy
         dist = math.hypot(dx, dy)
         if self.fsm.state == "Follow":
@@ -1503,6 +1656,8 @@ class PersonAttention(Module):
                                                                                    pace=math.hypot(vx, vy))
         if unseen < p.partner_lost_after:
             return False
+        if unseen - self._looked_away >= p.wait_patience:
+            return True  # unseen longer than the longest patience: gone, whatever was said or asked
         if self._follower_drives or (self._follow_searching is not None and t - self._follow_ended < p.follow_handover):
             # (the follower searched for her when the stop came: its next status, a moment after the ES's order
             # reached both modules, says it comes up to where she was; fresh7 corr_fast_walker_goto seed 0:
@@ -1513,15 +1668,32 @@ class PersonAttention(Module):
             # stopped", a fast leader 4.3 m ahead past a divider). The follower keeps her last position
             # for its search time (at most 15 s) and then stands ("stopped"); then the rule below holds again.
             return False
-        if unseen - self._looked_away >= p.out_of_view_after:
-            return True
+        if self._out_of_flat(t):
+            return True  # out through the flat's exit door: leaving, whatever she said
         away = (vx * dx + vy * dy) / dist if dist > 1e-6 else 0.0
-        if self._asked_aside is not None and seen >= self._asked_aside - p.partner_lost_after and seen - self._asked_aside <= p.aside_walk:
-            # last seen walking away just after the robot asked her to step aside: the step it asked for (a
-            # door frame or a wall may hide her where she stepped), not evidence of leaving; she has left when
-            # last seen outside the interaction space, or unseen ``out_of_view_after`` as anywhere
-            return dist > p.interaction_radius
-        return dist > p.interaction_radius or away >= p.leave_speed
+        if self._her_voice >= seen - p.voice_hold and self._words_end < self._her_voice - p.voice_hold and t - self._her_voice <= p.words_wait:
+            return False  # she spoke as she went out of view: what she said is waited for (a wait, a good-bye)
+        if self._said_bye is not None and seen >= self._said_bye - p.partner_lost_after and seen - self._said_bye <= p.bye_walk:
+            # she said good-bye (even one the dialog doubts): walking away is leaving, and so is a short time unseen
+            return unseen >= p.bye_patience or dist > p.interaction_radius or away >= p.leave_speed
+        waited = [w for w, walk in ((self._asked_aside, p.aside_walk), (self._said_wait, p.wait_walk))
+                  if w is not None and seen >= w - p.partner_lost_after and seen - w <= walk]
+        if waited:
+            # last seen walking away just after the robot asked her to step aside or she asked it to wait: the step
+            # it asked for, the errand she announced (a door frame or a wall may hide her where she went), not evidence
+            # of leaving; she has left when last seen outside the interaction space, or unseen ``wait_patience`` s
+            return dist > p.interaction_radius or unseen - self._looked_away >= p.wait_patience
+        out_of_view = unseen - self._looked_away
+        if dist > p.interaction_radius:
+            return True  # last seen outside the interaction space
+        if away >= p.leave_speed:
+            # walking away within the interaction space: leaving when her way leads to the flat's exit (the map's
+            # rooms end there); inside the flat (to the next room, behind a wall) she is on an errand: waited for
+            # as long as it takes to walk back from the next room (``come_back_after``)
+            return self._toward_exit(seen, x, y, vx, vy) or out_of_view >= p.come_back_after
+        if self._rooms and self.furniture is not None and math.hypot(vx, vy) >= p.leave_speed and not self._toward_exit(seen, x, y, vx, vy):
+            return out_of_view >= p.come_back_after  # last seen walking (along, across) to somewhere in the flat: an errand
+        return out_of_view >= p.out_of_view_after
 
     def _reacquire(self, t: float) -> int:
         """The partner's track died while they were within the interaction space: a confirmed track
