@@ -263,10 +263,9 @@ CAME_FROM = 1.5
 LEAVE_NEAR = 2.5
 #: rad: ... her walking direction at most this far off the direction from her to that way out
 LEAVE_HEADING = math.radians(45)
-#: making way so (Follower._leaving) is OFF by default (give24): on, it ends long23's deadlock in the door mouth, but
-#: it can lose her as she passes close beside it once it has stepped aside (library goto_blocked seed 2 on 120f17c:
-#: "I have lost you" on her walk back from the kitchen, the go-to then arrived at once: FAIL 2/5); the robot must turn
-#: back to her as she passes before this is switched on (reports/give24.md)
+#: making way so (Follower._leaving) is on (give24b): give24 built it off, because it lost her in library goto_blocked
+#: seed 2 ("I have lost you" on her walk back from the kitchen) as she passed close beside it once it had stepped aside;
+#: the step now keeps her bearing a moment ahead within LEAVE_VIEW (Follower._bearing_ahead)
 MAKE_WAY_LEAVING = True
 #: rad: making way so, her bearing a moment ahead (her walk past its side, its own turn) is kept within this
 LEAVE_VIEW = math.radians(60)
