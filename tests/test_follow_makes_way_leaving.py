@@ -21,9 +21,11 @@ import numpy as np
 from hypothesis import given, settings, strategies as st
 
 from robot.floorplan import wall_rectangle
+from robot.navigation.config import Limits
 from robot.navigation.follow import CAME_FROM, LEAVE_NEAR, Follower
 from robot.navigation.giveway import LATERAL, ROOM, give_way_spot, way_distance
 from robot.navigation.grid import OccupancyGrid, Plan2D
+from robot.navigation.local import DWAParams
 
 
 def _hall_and_room() -> OccupancyGrid:
@@ -123,3 +125,63 @@ def test_it_makes_way_only_standing_on_her_way_out_between_her_and_it_while_she_
     assert vx * wx + vy * wy >= math.cos(math.radians(45)) * speed * n - 1e-9  # she walks toward the way out
     assert 0.0 < ((rx - px) * wx + (ry - py) * wy) / n < n  # it stands between her and it
     assert float(way_distance(np.array([rx]), np.array([ry]), (px, py), out)[0]) < LATERAL  # on her way: she cannot pass
+
+
+class _NoScan:
+    @staticmethod
+    def points() -> np.ndarray:
+        return np.zeros((0, 2))
+
+    @staticmethod
+    def sees_through(*_a: object) -> bool:
+        return False
+
+
+class _Nobody:
+    @staticmethod
+    def around(*_a: object, **_k: object) -> np.ndarray:
+        return np.zeros((0, 5))
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.floats(0.75, 1.2), st.floats(0.3, 0.6), st.floats(-1.7, 0.0), st.floats(-math.pi / 2, -math.pi / 6),
+       st.booleans())
+def test_making_way_she_is_kept_in_the_lasers_view_while_she_walks_past_its_side(offset, speed, turning, aside, left):
+    """During the step aside for her walking out (``_leave_aside``), she walks past the robot's side ``offset`` m
+    from its centre at ``speed`` m/s while the step's way leads ``aside`` off the direction to her (and the robot
+    already turns away from her at ``turning`` rad/s): her bearing stays within the laser's view (90 deg) until
+    she is past it, so her track is kept through the pass (give24: the step turned it away, she passed 0.7 m from
+    its side out of view, and it lost her). Mirrored with ``left``."""
+    sign = 1.0 if left else -1.0
+    f = Follower.__new__(Follower)
+    f.route = SimpleNamespace(ready=True)  # type: ignore[assignment]
+    f.sim = SimpleNamespace(now=0.0)  # type: ignore[assignment]
+    f.limits, f.params = Limits(), DWAParams()
+    f.scan, f.people = _NoScan(), _Nobody()  # type: ignore[assignment]
+    f._unstall = lambda out, *a, **k: out  # type: ignore[method-assign]
+    f._leave_aside = True
+    x, y, th = 0.0, 0.0, 0.0
+    v, w = 0.15, sign * turning
+    # the spot 1.0 m off along ``aside`` (away from her side), reached on a straight leg
+    spot = (math.cos(sign * aside), math.sin(sign * aside))
+    hx, hy = 2.0, sign * offset  # she walks from 2 m ahead past its side, toward -x
+    dt = 0.1
+    for _ in range(60):
+        f.odom, f.v, f.w = (x, y, th), v, w
+        f.track = {"vx": -speed, "vy": 0.0}
+        f._aside = ([(x, y), spot], 10.0, False)
+        cmd = f._give_way(hx, hy, np.zeros((0, 2)))
+        if cmd is None:
+            break  # there: it waits facing her (the follower's wait turns to her)
+        # the base: the turn rate changes at most max_turn_accel * dt a step
+        dw = f.limits.max_turn_accel * dt
+        w = max(w - dw, min(w + dw, cmd[1]))
+        v = cmd[0]
+        th += w * dt
+        x, y = x + v * math.cos(th) * dt, y + v * math.sin(th) * dt
+        hx -= speed * dt
+        rx = math.cos(th) * (hx - x) + math.sin(th) * (hy - y)
+        ry = -math.sin(th) * (hx - x) + math.cos(th) * (hy - y)
+        if hx < x - 0.2:
+            break  # she is past it
+        assert abs(math.atan2(ry, rx)) <= math.radians(90), (hx, hy, x, y, th)
