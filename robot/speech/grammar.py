@@ -1760,7 +1760,8 @@ _HABITS = frozenset({"usually", "always", "normally", "generally", "often", "som
                      "mainly", "kept"})
 #: Unknown words after a noun phrase that are no verb of a remark (lang24): function words, adverbs of place, and the
 #: copula or "belonged" in the past ("the teapot on the table was my mother's": whose it is, a teaching).
-_NOT_A_PREDICATE = frozenset({"POSS", "one", "ones", "was", "were", "be", "been", "belongs", "belonged", "belong", "about", "for", "with", "from", "of", "and", "or", "but", "which",
+_NOT_A_PREDICATE = frozenset({"POSS", "one", "ones", "was", "were", "be", "been", "belongs", "belonged", "belong", "about",
+                              "for", "with", "from", "of", "and", "or", "but", "which",
                               "who", "too", "also", "as", "like", "than", "down", "up", "out", "off", "right", "just",
                               "left", "there", "here", "over", "again", "now", "then", "still", "only", "even", "all",
                               "both", "each", "some", "any", "very", "really", "quite", "pretty", "so", "such"})
