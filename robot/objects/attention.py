@@ -878,7 +878,8 @@ class ObjectAttention(Module):
 
     async def _cover_area(self, wanted: Wanted, cause: str, pointing: Pointing | None = None) -> Resolution | None:
         """Bring the part of the search area, ``SEARCH_RADIUS`` round her, or with a gesture ``COVER_RAY`` round where
-        her ray shows an object (:meth:`_target_3d`), that no look of this search had in view into view (:func:`cover_views`: turned on the spot, or a short straight move that takes it nearer to no
+        her ray shows an object (:meth:`_target_3d`), that no look of this search had in view into
+        view (:func:`cover_views`: turned on the spot, or a short straight move that takes it nearer to no
         one) and look there, each view through the ES like a drive to a viewpoint (event ``view_blocked``, one leg,
         turned to the view); done when what she named is found within that radius (resolved against her ray, if any).
         None: no partner, no plan, nothing left unseen that a pose in reach sees, or nothing found."""
