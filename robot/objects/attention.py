@@ -112,7 +112,8 @@ STEP_ASIDE_START = 0.25  # m: that far from where she stood when asked, she has 
 UPRIGHT_STEPS = 8  # placements with the height the image shows (each 2-5x nearer; within 1 mm after a few)
 ROW_GAP = 0.4  # m: things alike stand this close side by side (books in a row, cups on a table): one seen this near the
 # strip a person's body hides may have a look-alike hidden next to it
-STILL_WAIT = 4.0  # s: after stepping aside she has come to a stand within this (a 1-2 m step at 0.5 m/s)
+#: s: after stepping aside she has come to a stand within this (a 2 m step at 0.45 m/s and her turn back to the robot)
+STILL_WAIT = 6.0
 #: s a look dwells before what the camera points at counts as viewed (the pan-tilt unit's 80 deg/s, the image settling)
 VIEW_SETTLE = 0.6
 STEP_ASIDE_AGAIN = 60.0  # s: a partner asked this recently who stays in the way is not asked again (the robot moves)
@@ -624,18 +625,18 @@ class ObjectAttention(Module):
         if await self._ask_step_aside(cause):
             self._asked_where = (since, stood)
             if await self._wait_partner_clear(pointing, stood):
-                res, pointing = await self._look_after_aside(wanted, pointing, cause, since)
+                res, pointing = await self._look_after_aside(wanted, pointing, cause, since, stood)
         return res, pointing
 
     async def _look_after_aside(self, wanted: Wanted, pointing: Pointing | None, cause: str,
-                                since: float) -> tuple[Resolution, Pointing | None]:
-        """She has stepped aside (asked at ``since``): her gesture since the question (else ``pointing``); look
-        where it points. With no gesture seen before, first until she stands (:meth:`_until_still`: she points
-        again once there), and with none at all round her where she stands now (the camera followed her: ahead
-        is no longer where she stood). With a ray, the look goes on at once (a drive to see where it comes down
-        may follow, planned while she still walks off its way: perceive/study_far_behind_user)."""
-        if pointing is None:
-            await self._until_still()
+                                since: float, stood: tuple[float, float] | None = None) -> tuple[Resolution, Pointing | None]:
+        """She has stepped aside (asked at ``since``, standing at ``stood``): first until she has got where she steps
+        to (:meth:`_until_still`: her track moving, then standing, bounded), then her gesture since the question (else
+        ``pointing``); look where it points, and with no gesture at all round her where she stands now (the camera
+        followed her: ahead is no longer where she stood). The time the look counts begins once she stands (fresh12
+        kink_long_tour: with her old ray the robot looked at once, as she walked, and said "could not find" while she
+        stepped aside, defect J)."""
+        await self._until_still(stood)
         waited = 0.0
         while self.gestures.pointing(self.now, since=since) is None and waited < self.gesture_wait:
             await asyncio.sleep(0.1)
@@ -646,15 +647,19 @@ class ObjectAttention(Module):
             res = await self._search_near_partner(wanted, cause) or res
         return res, pointing
 
-    async def _until_still(self) -> None:
+    async def _until_still(self, stood: tuple[float, float] | None = None) -> None:
         """Wait (at most ``STILL_WAIT`` s) until the partner stands: she moved less than ``STEP_ASIDE_START``
-        / 5 in the last 0.5 s (she points again once she has got where she steps to)."""
+        / 5 in the last 0.5 s (she points again once she has got where she steps to), and, when known where she stood
+        when asked (``stood``), only once she has moved ``STEP_ASIDE_START`` from there (her step, then her stand)."""
         waited, last = 0.0, self._partner_map()
         while waited < STILL_WAIT:
             await asyncio.sleep(0.5)
             waited += 0.5
             here = self._partner_map()
-            if here is None or last is None or math.hypot(here[0] - last[0], here[1] - last[1]) < STEP_ASIDE_START / 5:
+            if here is None or last is None:
+                return
+            stepped = stood is None or math.hypot(here[0] - stood[0], here[1] - stood[1]) >= STEP_ASIDE_START
+            if stepped and math.hypot(here[0] - last[0], here[1] - last[1]) < STEP_ASIDE_START / 5:
                 return
             last = here
 
@@ -685,7 +690,7 @@ class ObjectAttention(Module):
         self._asked_where = (since, stood)
         if not await self._stepped_off(stood, found):
             return res, pointing
-        return await self._look_after_aside(wanted, pointing, cause, since)
+        return await self._look_after_aside(wanted, pointing, cause, since, stood)
 
     async def _stepped_off(self, stood: tuple[float, float] | None, found: list[tuple[float, float]]) -> bool:
         """Wait (up to ``step_aside_wait`` s) until the partner has moved ``STEP_ASIDE_START`` m from where she

@@ -519,15 +519,12 @@ def sees(plan: FloorPlan, camera: tuple[float, float, float], bearing: float, sp
     return sight_clear(plan, camera, spot, people)
 
 
-def cover_views(plan: FloorPlan, robot: tuple[float, float, float], unseen: Sequence[tuple[float, float, float]], people: Sequence[Point] = (), *,
-                camera_height: float, camera_offset: float = 0.0, clearance: float = ROBOT_CLEARANCE,
-                person_clearance: float = PERSON_CLEARANCE) -> list[tuple[float, float, float, list[int]]]:
-    """Views (x, y, bearing, the indices of ``unseen`` each brings into the image) that together bring every
-    spot of ``unseen`` into view that any pose the robot may take sees: turned on the spot, or moved
-    ``COVER_MOVES`` m in one of ``COVER_DIRECTIONS`` on a straight leg that keeps the clearances
-    (:func:`straight_leg_free`) and ends no nearer to anyone than they stand now (never a drive at a person),
-    looking along any of ``COVER_BEARINGS``. Greedy: the view that brings most of what is left into view for
-    its cost first (``COVER_LOOK_COST`` + its move and turn), until no view brings more. Pure."""
+def cover_places(plan: FloorPlan, robot: Point, people: Sequence[Point] = (), *, clearance: float = ROBOT_CLEARANCE,
+                 person_clearance: float = PERSON_CLEARANCE) -> list[tuple[float, Point]]:
+    """Where the robot may stand to bring the rest of a search area into view, with how far it moves there: where
+    it stands, and ``COVER_MOVES`` m in each of ``COVER_DIRECTIONS`` on a straight leg in a room that keeps the
+    clearances (:func:`straight_leg_free`) and ends no nearer to anyone than they stand now (nor within
+    ``person_clearance`` + 0.5 m of anyone farther): never a drive at a person."""
     blocks = _blocks(plan)
     start = (robot[0], robot[1])
     places: list[tuple[float, Point]] = [(0.0, start)]
@@ -542,6 +539,17 @@ def cover_views(plan: FloorPlan, robot: tuple[float, float, float], unseen: Sequ
                 continue  # nearer to someone than now: never a drive at a person
             if straight_leg_free(blocks, people, start, q, clearance=clearance, person_clearance=person_clearance):
                 places.append((d, q))
+    return places
+
+
+def cover_views(plan: FloorPlan, robot: tuple[float, float, float], unseen: Sequence[tuple[float, float, float]], people: Sequence[Point] = (), *,
+                camera_height: float, camera_offset: float = 0.0, clearance: float = ROBOT_CLEARANCE,
+                person_clearance: float = PERSON_CLEARANCE) -> list[tuple[float, float, float, list[int]]]:
+    """Views (x, y, bearing, the indices of ``unseen`` each brings into the image) that together bring every
+    spot of ``unseen`` into view that any pose the robot may take sees: turned on the spot, or at one of the
+    :func:`cover_places` (never a drive at a person), looking along any of ``COVER_BEARINGS``. Greedy: the view that brings most of what is left into view for
+    its cost first (``COVER_LOOK_COST`` + its move and turn), until no view brings more. Pure."""
+    places = cover_places(plan, (robot[0], robot[1]), people, clearance=clearance, person_clearance=person_clearance)
     options: list[tuple[float, float, float, float, frozenset[int]]] = []  # move, turn, x, y, bearing ... covered
     for d, q in places:
         for k in range(COVER_BEARINGS):
