@@ -468,7 +468,7 @@ COVER_CELL = 0.2
 #: m: how far the robot may move (a straight leg, away from no one) to bring the rest of the search area into view:
 #: backing off 0.4-0.8 m puts what lies beside it, under the camera's 0.8 m minimum range, into the image
 COVER_MOVES = (0.4, 0.8, 1.2)
-COVER_DIRECTIONS = 12  # directions of such a move
+COVER_DIRECTIONS = 24  # directions of such a move (15 deg apart, as the viewpoint rings)
 COVER_BEARINGS = 24  # directions a view may look along (the base turns: the pan-tilt's reach does not limit it)
 #: rad: a spot this near the image's middle counts as viewed (the image's half width is 24 deg; the camera lags its focus)
 COVER_HALF = math.radians(20.0)
