@@ -630,13 +630,16 @@ class ObjectAttention(Module):
 
     async def _look_after_aside(self, wanted: Wanted, pointing: Pointing | None, cause: str,
                                 since: float, stood: tuple[float, float] | None = None) -> tuple[Resolution, Pointing | None]:
-        """She has stepped aside (asked at ``since``, standing at ``stood``): first until she has got where she steps
-        to (:meth:`_until_still`: her track moving, then standing, bounded), then her gesture since the question (else
+        """She has stepped aside (asked at ``since``, standing at ``stood``): first (unless her ray shows a spot out of
+        the camera's range) until she has got where she steps to (:meth:`_until_still`: her track moving, then standing, bounded), then her gesture since the question (else
         ``pointing``); look where it points, and with no gesture at all round her where she stands now (the camera
         followed her: ahead is no longer where she stood). The time the look counts begins once she stands (fresh12
         kink_long_tour: with her old ray the robot looked at once, as she walked, and said "could not find" while she
-        stepped aside, defect J)."""
-        await self._until_still(stood)
+        stepped aside, defect J). A ray out of the camera's range goes on at once: the robot drives to see where it
+        comes down, planned while she still walks off its way (perceive/study_far_behind_user: waiting, the base
+        turned after her and no drive was found)."""
+        if pointing is None or not self._out_of_range(pointing):
+            await self._until_still(stood)
         waited = 0.0
         while self.gestures.pointing(self.now, since=since) is None and waited < self.gesture_wait:
             await asyncio.sleep(0.1)
