@@ -77,6 +77,17 @@ MAX_BOOST = 18.0
 #: Requests a reaction re-says to answer "which room / what is it / where shall I go / what are you looking
 #: for?": said then, they name what was asked (:meth:`Actor.phrase`).
 NAMING = ("teach-place", "teach-object", "go-to", "where-is")
+#: What a person takes for the robot telling her it acts on her request by moving or searching ("I will move over
+#: to see it", "I will look around you for it", "I am coming", "let me turn round"): a person who repairs the way people do (a profile, or ``repairs``/
+#: ``patience``/``give-up``) waits for her answer anew from then (:meth:`Actor._wait_once`).
+ACTING_SAYS = re.compile(r"\bI will (move|go|come|drive|turn|look around)\b|\bI am (moving|going over|coming|driving|turning)\b"
+                         r"|\blet me (move|go|come|drive|turn)\b", re.IGNORECASE)
+#: Such a person, seeing the robot drive or turn (base speed above these, m/s and rad/s), waits while it does and
+#: then her wait's timeout anew; but she gives up after at most this many seconds beyond her timeout (a long
+#: silence stays a long silence, whatever the robot does meanwhile).
+ACTING_SPEED = 0.05
+ACTING_TURN = 0.2
+ACTING_WAIT_MAX = 30.0
 #: A reaction that fires this many times in a row without the script moving on is a loop.
 MAX_STREAK = 50
 
@@ -475,7 +486,7 @@ class Actor:
         self.turn = []
         outcome = "timeout"
         for attempt in range(patience + 1):
-            outcome = await self._wait_once(act, repair)
+            outcome = await self._wait_once(act, repair, acting=True)
             if outcome == "answered":
                 self.boost = 0.0
                 return True
@@ -548,13 +559,28 @@ class Actor:
             self.turn = []
         return False
 
-    async def _wait_once(self, act: WaitFor, repair: re.Pattern[str] | None) -> str:
-        """One wait: ``answered``, ``repair`` (the robot asked to hear it again) or ``timeout``."""
+    def sees_robot_act(self) -> bool:
+        """Whether the robot's base drives or turns (:data:`ACTING_SPEED`, :data:`ACTING_TURN`) where she can see it
+        (a body: nothing tall on the line from her to it)."""
+        r = self.world.robot
+        if abs(r.v) < ACTING_SPEED and abs(r.w) < ACTING_TURN:
+            return False
+        sees = getattr(self, "sees", None)
+        return sees is not None and self.world.source_point(self.name) is not None and bool(sees((r.pose[0], r.pose[1])))
+
+    async def _wait_once(self, act: WaitFor, repair: re.Pattern[str] | None, acting: bool = False) -> str:
+        """One wait: ``answered``, ``repair`` (the robot asked to hear it again) or ``timeout``.
+
+        ``acting`` (a person who repairs the way people do): the robot telling her it moves (:data:`ACTING_SAYS`),
+        or seen driving or turning (:meth:`sees_robot_act`), acts on her request: she waits for her answer anew
+        from then, at most :data:`ACTING_WAIT_MAX` s beyond her timeout (gen24: tour 9700-10 gave the tour up
+        during the robot's 9 s drive to see her vase, 4 s before "I have learned the blue vase")."""
         since = self.now
         pattern: re.Pattern[str] | WordPattern | None = re.compile(act.robot_says, re.IGNORECASE) if act.robot_says else None
         if act.hears:
             pattern = compile_words(act.hears)
         deadline = math.inf if act.timeout is None else since + act.timeout
+        longest = deadline + ACTING_WAIT_MAX
         # What was already heard and matched nothing: ended up to ``last`` (the previous poll),
         # ``seen`` those that ended exactly then. Each poll looks only at what ended since (a cut
         # at the very instant of the previous poll ends an utterance exactly then), which finds
@@ -584,12 +610,17 @@ class Actor:
                         return "repair"
                     if pattern.search(u.text):
                         return "answered"
+                    if acting and act.timeout is not None and ACTING_SAYS.search(u.text):
+                        deadline = min(max(deadline, self.now + act.timeout), longest)
             elif self.handlers or self.scoped:
                 await self.react(waiting=True)
             if act.robot_within is not None:
                 d = self.robot_within()
                 if d is not None and d <= act.robot_within:
                     return "answered"
+            if (acting and act.timeout is not None and self.now + act.timeout > deadline and deadline < longest
+                    and self.sees_robot_act()):
+                deadline = min(self.now + act.timeout, longest)  # it acts: she waits until it has, and then
             if self.now >= deadline - 1e-6:  # virtual time is integer ns: never sleep 0
                 # Nobody gives up on an answer while it is being spoken: wait for its end.
                 talking = self.world.sound.speaking("robot", self.now)

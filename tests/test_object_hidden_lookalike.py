@@ -7,7 +7,7 @@ from __future__ import annotations
 import math
 
 import pytest
-from hypothesis import given, settings
+from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 from lxml import etree
 
@@ -49,7 +49,9 @@ def test_a_thing_well_to_the_side_of_her_strip_is_not(h, d, behind, extra, left)
 @settings(max_examples=200, deadline=None)
 @given(headings, her_dist, st.floats(0.0, 1.0), st.floats(-2.0, 2.0))
 def test_nothing_in_front_of_her_is_hidden_by_her(h, d, share, across):
-    # between the camera and her (or level with her): she hides nothing next to it
+    # between the camera and her (or level with her): she hides nothing next to it (a thing inside her body, where
+    # nothing stands, is no case: Hypothesis once put it at her very place)
+    assume(math.hypot(d * (1.0 - share), across) >= 0.25)
     assert not beside_her_shadow(CAM, _at(d, 0.0, h), _at(d * share, across, h))
 
 

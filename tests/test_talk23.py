@@ -1,8 +1,9 @@
 """talk23: everyday answers the outside checker (fresh11) found misread.
 
-1. A yes with a send-off or a closing word ("yes, off you go", "okay, bye then") to a question whether to act
-   ("Shall I go to the kitchen?", "Shall I follow you?") confirms that act; it never ends the tour. On integ the
-   good-bye after the yes was carried out too: "OK, I am going to the lounge." then at once "Good-bye!".
+1. A yes with a send-off ("yes, off you go") to a question whether to act ("Shall I go to the kitchen?", "Shall I
+   follow you?") confirms that act; it never ends the tour. On integ the good-bye after the yes was carried out too:
+   "OK, I am going to the lounge." then at once "Good-bye!". A yes with a farewell ("okay, bye then", "OK that's all
+   for now, see you soon") is her good-bye, whatever was asked (review24 F1: it once started a follow).
 Phrasings are our own (fresh11's kinds; never the checker's sentences)."""
 
 from __future__ import annotations
@@ -19,7 +20,8 @@ from tests.test_talk22 import acts, heard
 
 
 YES = ["yes", "okay", "sure", "yeah", "alright", "yes please"]
-SEND_OFF = ["off you go", "bye", "goodbye", "bye then", "off you go then", "bye bye"]
+SEND_OFF = ["off you go", "off you go then", "off you go now"]
+FAREWELL = ["bye", "goodbye", "bye then", "bye bye", "see you later", "thanks, bye", "that's all for now, see you soon"]
 ASKED = {"go to the kitchen": "goto", "drive to the bedroom": "goto", "follow me": "follow", "come with me": "follow"}
 
 
@@ -32,15 +34,33 @@ def test_a_yes_with_a_send_off_confirms_the_asked_act_and_never_ends_the_tour(re
     assert "goodbye" not in steps[1], steps
 
 
+@settings(max_examples=40, deadline=None)
+@given(request=st.sampled_from(sorted(ASKED)), yes=st.sampled_from(YES), bye=st.sampled_from(FAREWELL))
+def test_a_yes_with_a_farewell_to_a_question_whether_to_act_is_her_good_bye(request, yes, bye):
+    # review24 F1: "OK that's all for now, see you soon" (the users' own chatty good-bye) to "Shall I follow you?"
+    # started a follow; to "Shall I go to the kitchen?" a go-to: the tour never ended
+    steps = acts(heard("Interacting", (request, 0.2), (f"{yes}, {bye}", 0.9)))
+    assert steps[0] and steps[0][0].startswith("Shall I"), steps
+    assert ASKED[request] not in steps[1], steps
+    assert "goodbye" in steps[1] or steps[1] == ["Do you want to end the tour?"], steps
+
+
 @pytest.mark.parametrize(("teaching", "event"), [("this is the bathroom", "place_teaching"), ("this is my mug", "object_teaching")])
-@pytest.mark.parametrize("answer", ["yes, off you go", "okay, bye then", "yeah, goodbye"])
-def test_a_yes_with_a_send_off_to_a_teachings_question_confirms_it_and_never_ends_the_tour(teaching, event, answer):
-    steps = acts(heard("Interacting", (teaching, 0.2), (answer, 0.9)))
+def test_a_yes_with_a_send_off_to_a_teachings_question_confirms_it_and_never_ends_the_tour(teaching, event):
+    steps = acts(heard("Interacting", (teaching, 0.2), ("yes, off you go", 0.9)))
     assert steps[0] and steps[0][0].startswith("Is this"), steps
     assert event in steps[1] and "goodbye" not in steps[1], steps
 
 
-@pytest.mark.parametrize("answer", ["yes, off you go", "okay, bye then"])
+@pytest.mark.parametrize("teaching", ["this is the bathroom", "this is my mug"])
+@pytest.mark.parametrize("answer", ["okay, bye then", "yeah, goodbye", "okay, thank you, good bye"])
+def test_a_yes_with_a_farewell_to_a_teachings_question_is_her_good_bye(teaching, answer):
+    steps = acts(heard("Interacting", (teaching, 0.2), (answer, 0.9)))
+    assert steps[0] and steps[0][0].startswith("Is this"), steps
+    assert "goodbye" in steps[1] or steps[1] == ["Do you want to end the tour?"], steps
+
+
+@pytest.mark.parametrize("answer", ["yes, off you go", "okay, bye then", "yes, see you soon"])
 def test_a_yes_with_a_send_off_to_the_good_bye_question_still_ends_the_tour(answer):
     steps = acts(heard("Interacting", ("that will be all for the cup", 0.9), (answer, 0.9)))
     assert steps[0] == ["Do you want to end the tour?"]

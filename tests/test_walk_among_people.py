@@ -14,14 +14,14 @@ from __future__ import annotations
 import math
 
 import pytest
-from hypothesis import HealthCheck, given, settings
+from hypothesis import HealthCheck, example, given, settings
 from hypothesis import strategies as st
 
 from homesim.scenario.loader import load_scenario_text
 from homesim.sim import Simulation
 from homesim.tour.stage import Stage
 from homesim.world.bodies import HUMAN_RADIUS
-from humans.person import CLEAR
+from humans.person import CLEAR, CROWD_GIVE_UP
 from tests.stage_helpers import PEOPLE
 
 ROOM = """<?xml version="1.0" encoding="UTF-8"?>
@@ -172,43 +172,52 @@ def _scenes(draw):  # type: ignore[no-untyped-def]
 
 @settings(max_examples=12, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(_scenes())
+# found by random runs: three people sent to one spot, the last twice; one sent next to where another then stands
+@example(([(0.8, 0.8), (0.8, 1.8), (0.8, 2.8)], [[(0.8, 0.8)], [(0.8, 0.8)], [(0.8, 0.8), (0.8, 0.8)]], [0.5, 0.5, 0.5]))
+@example(([(0.8, 0.8), (0.8, 1.8)], [[(0.8, 0.8), (0.93, 0.99)], [(0.8, 0.8)]], [0.5, 0.5]))
+@example(([(5.8, 0.8), (6.8, 0.84), (5.8, 4.74)], [[(0.8, 0.8), (3.8, 1.8)], [(0.8, 0.8), (0.8, 0.8)], [(3.8, 1.6), (0.8, 0.8)]],
+          [1.3, 0.5, 0.5]))
+@example(([(5.77, 0.94), (6.6, 0.84), (5.8, 4.74)], [[(0.8, 0.8)], [(0.8, 0.8)], [(0.8, 0.8)]], [0.5, 0.5, 0.5]))
 def test_no_two_people_ever_overlap_and_every_walk_ends_at_its_place_or_says_why(scene):
     starts, goals, speeds = scene
     humans = ""
     for k, ((x, y), walks, v) in enumerate(zip(starts, goals, speeds)):
-        # a marker after every walk, so each walk's end is checked, not only the last one's (review23 N5)
-        script = "".join(f'<walk-to point="{gx:.2f} {gy:.2f}"/><say text="end of walk {j}"/>' for j, (gx, gy) in enumerate(walks))
+        script = "".join(f'<walk-to point="{gx:.2f} {gy:.2f}"/>' for gx, gy in walks) + '<say text="done"/>'
         humans += _human(f"p{k}", round(x, 2), round(y, 2), script, k, speed=v)
     stage, closest = _stage(humans, furniture=TABLE, robot_x=7.55)
+    # every walk's end is checked, not only the last one's (review23 N5): a walk's line enters her log the step it
+    # ends; then where she stands, where the others stand, and whether this walk was given up for people in her way
     ends: dict[tuple[int, int], tuple[tuple[float, float], list[tuple[float, float]], bool]] = {}
     seen = [0] * len(goals)
+    walked = [0] * len(goals)
+    gave_up = [False] * len(goals)
 
     def mark(world):  # type: ignore[no-untyped-def]
-        # at each marker: where she stands, where the others stand, and whether this walk (since her previous
-        # marker) was given up for people in her way
         for k in range(len(goals)):
             lines = [line for _, _, line in stage.actors[f"p{k}"].log]
             for line in lines[seen[k]:]:
-                for j in range(len(goals[k])):
-                    if f"end of walk {j}" in line and (k, j) not in ends:
-                        since = lines[:lines.index(line)]
-                        prev = max((i for i, ln in enumerate(since) if "end of walk" in ln), default=-1)
-                        gave_up = any("people stand in her way" in ln for ln in since[prev + 1:])
-                        others = [world.humans[f"p{i}"].position for i in range(len(goals)) if i != k]
-                        ends[(k, j)] = (world.humans[f"p{k}"].position, others, gave_up)
+                if "people stand in her way" in line:
+                    gave_up[k] = True
+                elif line.startswith("walkto"):
+                    others = [world.humans[f"p{i}"].position for i in range(len(goals)) if i != k]
+                    ends[(k, walked[k])] = (world.humans[f"p{k}"].position, others, gave_up[k])
+                    walked[k] += 1
+                    gave_up[k] = False
             seen[k] = len(lines)
 
     stage.world.add_listener(mark)
-    stage.run(55.0)
+    # time for every walk: a walk held by people ends after CROWD_GIVE_UP s, plus the way there
+    stage.run(15.0 + (CROWD_GIVE_UP + 15.0) * max(len(walks) for walks in goals))
     assert closest[0] >= 2 * HUMAN_RADIUS, "two bodies overlapped"
     for k, walks in enumerate(goals):
         for j, (gx, gy) in enumerate(walks):
             assert (k, j) in ends, f"p{k} never finished walk {j}: {[ln for _, _, ln in stage.actors[f'p{k}'].log][-3:]}"
-            here, others, gave_up = ends[(k, j)]
+            here, others, excused = ends[(k, j)]
             d = math.dist(here, (gx, gy))
             near = [math.dist(o, (gx, gy)) for o in others]
-            # at her place; or beside someone standing on it; or she said, on this walk, why she stopped short
-            assert d < 0.15 or any(o < d + 0.05 and d <= CLEAR + 0.35 for o in near) or gave_up, (k, j, d)
+            # at her place; or as near as someone standing on or by it allows (a body whose clearance covers her
+            # place); or she said, on this walk, why she stopped short
+            assert d < 0.15 or (any(o < CLEAR + 0.05 for o in near) and d <= CLEAR + 0.35) or excused, (k, j, d, near)
 
 
 def test_leaving_she_waits_at_the_door_for_whoever_stands_in_it_and_never_vanishes_mid_room():

@@ -249,6 +249,7 @@ class ObjectAttention(Module):
         self.moves = 0  # drives to a better viewpoint (for tests and introspection)
         self._subs: list[Any] = []  # people's tracks and the player's status, only while a search runs
         self._finds = 0  # searches begun
+        self._told_moving = False  # this search has told the ES (and so her) that the robot moves to see
         self._answer_owner = ""  # the owner her which-one answer named (her request named none)
         self._poses: deque[tuple[float, tuple[float, float, float]]] = deque(maxlen=30)  # (time, pose), the last 3 s
         self._pending: list[tuple[float, str, etree._Element]] = []  # percepts waiting for the pose of their time
@@ -484,6 +485,7 @@ class ObjectAttention(Module):
         self._finds += 1
         token = self._finds
         self._views = {}
+        self._told_moving = False  # "I will move over to see it": once per search, not per viewpoint
         try:
             waited = 0.0
             start = self._gesture_start(said)
@@ -854,6 +856,7 @@ class ObjectAttention(Module):
             self.last = res
             return res
 
+        self._tell_acting("round", cause)  # a silent search of 6 s or more looks like no answer (look24)
         for off in SEARCH_OFFSETS:
             await look(off)
         res = found(SEARCH_RADIUS)
@@ -974,6 +977,15 @@ class ObjectAttention(Module):
         spread = math.hypot(target[0] - pointing.x, target[1] - pointing.y) * math.tan(AIM_SIGMA)
         return await self._move_to_see_spot(target, cause, spread=spread)
 
+    def _tell_acting(self, how: str, cause: str) -> None:
+        """Tell the ES, once per search, that the robot acts to find what she showed (event ``moving_to_see``,
+        ``how`` = ``drive``: to a viewpoint, ``round``: looks round her); in ObjectTeaching the dialog says so. Only
+        the first such act of a search is told: one sentence, never one per viewpoint."""
+        if self._told_moving:
+            return
+        self._told_moving = True
+        self.bus.publish(ES_EVENTS, etree.Element("event", name="moving_to_see", how=how), causes=(cause,))
+
     def _partner_map(self) -> tuple[float, float] | None:
         """Where the partner stands (map frame), if the person attention reported her lately."""
         pose, p = self.pose, self._partner
@@ -1007,6 +1019,9 @@ class ObjectAttention(Module):
         if route is None:
             return False
         self.moves += 1
+        # A robot that drives off silently after "Let me have a look." looks to her like no answer (gen24:
+        # 9700-10 gave the tour up, 9700-16 rephrased vaguely during an 8-10 s drive)
+        self._tell_acting("drive", cause)
         for k, goal in enumerate(route):
             state = await self._drive_leg(goal, k == len(route) - 1, cause)
             if state == "stopped":  # the ES stopped the base: no further leg

@@ -526,9 +526,10 @@ class Understander:
                     if rest[0] is not None and not rest[2] and not _guessed(rest[0]) \
                             and tree_act(rest[0]) not in _NOT_REQUESTS:
                         alt = (rest[0], [toks[lead].text], True)
-            if alt[0] is not None and tree_act(alt[0]) not in ("yes", "no") and not _owner_alone(alt[0]):
+            if alt[0] is not None and tree_act(alt[0]) not in ("yes", "no", "goodbye") and not _owner_alone(alt[0]):
                 # ("yes, that is mine" to "Is this your cup?" stays the yes: whose it is, said again, names
-                # nothing new to show)
+                # nothing new to show; "yes, bye" is her good-bye, review24 F1: only a send-off after a yes is
+                # a yes, below)
                 said = {t.type for t in toks[:lead]}
                 res.answer = "no" if "NO" in said else "yes"
                 toks = toks[lead:]
@@ -557,10 +558,10 @@ class Understander:
         opening = [t for t in lex.tokens if t.type != EDIT]
         lead = next((k for k, t in enumerate(opening) if t.type not in ("YES", "OKAY")), len(opening))
         if tree is not None and tree_act(tree) == "goodbye" and not res.answer and 0 < lead < len(opening) \
-                and all(t.type == "GOODBYE" for t in opening[lead:]):
-            # only yes-words, then only the send-off ("okay that was the tour, goodbye" stays her good-bye)
-            # "okay, off you go", "alright, bye then": the yes-word before the send-off is said too (the dialog
-            # takes it as her yes to an open "Shall I go to ...?", not as the end of the tour; talk23)
+                and all(t.type == "GOODBYE" and t.value == "sendoff" for t in opening[lead:]):
+            # only yes-words, then only a send-off: "okay, off you go" is her yes to an open "Shall I go to
+            # ...?" (talk23), not the end of the tour. A farewell after a yes ("okay, bye then", "OK that's all
+            # for now, see you soon") stays her good-bye, whatever the robot had asked (review24 F1)
             res.answer = "yes"
         if (tree is None and _room_unnamed(toks)) or (_where_we_are(toks) and (
                 tree is None or (tree_act(tree) in _STATEMENT_ACTS and build(tree)[0].tag == "OBJECT"
