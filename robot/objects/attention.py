@@ -62,7 +62,7 @@ from robot.contract import ES_EVENTS, ES_ORDERS, FOCUS, GESTURES, OBJECTS, PARTN
 
 from .gestures import CAMERA_HEIGHT, CAMERA_OFFSET, GestureTracker, camera_to_map
 from .resolve import AIM_SIGMA, MERGE_BEARING, Candidate, Pointing, Resolution, Wanted, along_ray, choose_pointed, learned_type, merge, option_texts, resolve
-from .viewpoint import ARRIVE_TOLERANCE, CAMERA_RANGE, POINT_REACH, in_range, pointed_spot, sight_clear, viewpoint, viewpoint_route
+from .viewpoint import ARRIVE_TOLERANCE, CAMERA_RANGE, POINT_REACH, cover_views, in_range, pointed_spot, search_area, sees, sight_clear, viewpoint, viewpoint_route
 
 if TYPE_CHECKING:
     from homesim.sim import Simulation
@@ -88,6 +88,9 @@ SEARCH_RADIUS = 1.5  # m: what she shows without a gesture the camera saw stands
 # of her (an arm's reach and a step: the plant by the armchair 1.6 m from her, diag_step_aside_child).
 SEARCH_OFFSETS_WIDE = (math.radians(-105.0), math.radians(105.0))
 SEARCH_RADIUS_WIDE = 2.0
+#: m round where her ray shows an object: the part of it no look had in view is brought into view before "could not
+#: find" (her aim, 6 deg, over 3 m is 0.3 m; twice that)
+COVER_RAY = 0.6
 # The pan-tilt unit (Sony EVI-D31's data sheet): it pans at most this fast and this far. A look of
 # SEARCH_LOOK s begins when the camera has got there: swinging from one side of her to the other (140
 # degrees) takes 1.75 s, and a look timed from the order saw the far side for no frame at all.
@@ -109,7 +112,10 @@ STEP_ASIDE_START = 0.25  # m: that far from where she stood when asked, she has 
 UPRIGHT_STEPS = 8  # placements with the height the image shows (each 2-5x nearer; within 1 mm after a few)
 ROW_GAP = 0.4  # m: things alike stand this close side by side (books in a row, cups on a table): one seen this near the
 # strip a person's body hides may have a look-alike hidden next to it
-STILL_WAIT = 4.0  # s: after stepping aside she has come to a stand within this (a 1-2 m step at 0.5 m/s)
+#: s: after stepping aside she has come to a stand within this (a 2 m step at 0.45 m/s and her turn back to the robot)
+STILL_WAIT = 6.0
+#: s a look dwells before what the camera points at counts as viewed (the pan-tilt unit's 80 deg/s, the image settling)
+VIEW_SETTLE = 0.6
 STEP_ASIDE_AGAIN = 60.0  # s: a partner asked this recently who stays in the way is not asked again (the robot moves)
 
 OWNER_WORDS = {"speaker": "partner", "my": "partner", "me": "partner", "mine": "partner"}
@@ -229,6 +235,8 @@ class ObjectAttention(Module):
         self._search: asyncio.Task[None] | None = None
         self._answer: asyncio.Future[etree._Element] | None = None  # waiting for the order "clarified"
         self._asked_aside: asyncio.Future[bool] | None = None  # waiting for the order "asked_aside"
+        #: where the camera looked during this search (camera x, y, bearing in the map, rounded: one entry per view)
+        self._views: dict[tuple[float, float, float], None] = {}
         self._asked_where: tuple[float, tuple[float, float] | None] | None = None  # when she was last asked to step aside, where she stood
         self.last: Resolution | None = None  # the latest resolution (for tests and introspection)
         self.bus.subscribe(ORDERS, self._on_order)
@@ -476,6 +484,7 @@ class ObjectAttention(Module):
         self._answer_owner = ""  # whose it is, said in her answer to a which-one question
         self._finds += 1
         token = self._finds
+        self._views = {}
         self._told_moving = False  # "I will move over to see it": once per search, not per viewpoint
         try:
             waited = 0.0
@@ -502,6 +511,10 @@ class ObjectAttention(Module):
                 near = await self._search_near_partner(wanted, cause)
                 if near is not None and near.kind != "none":
                     res = near
+                elif near is not None:
+                    # nothing round her either: bring what no look had in view (beside or behind the robot, under the
+                    # camera's minimum range) into view before asking her to step aside (she does not hide that)
+                    res = await self._cover_area(wanted, cause) or res
             asked = False
             if res.kind != "none" and self._lookalike_hidden(res, pointing) and not self._asked_in_vain():
                 # What she named found just beside the strip her body hides (her gesture unseen, or her ray
@@ -555,6 +568,11 @@ class ObjectAttention(Module):
                 # Nothing found where she pointed (her ray ends elsewhere, or the drive to see failed), but she
                 # said what it stands on and the map knows it: look there before saying "could not find".
                 res = await self._look_on_named(wanted, obj, cause) or res
+            if res.kind == "none" and (wanted.type or wanted.name):
+                # Nothing found: before saying so, bring the rest of the search area (round her, or round where her
+                # ray comes down) into view, what lay beyond the pan-tilt's reach (turn the base) or too close under
+                # the camera (back off): generated tour 9100-00, a bag 0.7 m beside-behind the robot.
+                res = await self._cover_area(wanted, cause, pointing) or res
             pose = self.pose
             assert pose is not None
             if res.kind == "none":
@@ -609,18 +627,21 @@ class ObjectAttention(Module):
         if await self._ask_step_aside(cause):
             self._asked_where = (since, stood)
             if await self._wait_partner_clear(pointing, stood):
-                res, pointing = await self._look_after_aside(wanted, pointing, cause, since)
+                res, pointing = await self._look_after_aside(wanted, pointing, cause, since, stood)
         return res, pointing
 
     async def _look_after_aside(self, wanted: Wanted, pointing: Pointing | None, cause: str,
-                                since: float) -> tuple[Resolution, Pointing | None]:
-        """She has stepped aside (asked at ``since``): her gesture since the question (else ``pointing``); look
-        where it points. With no gesture seen before, first until she stands (:meth:`_until_still`: she points
-        again once there), and with none at all round her where she stands now (the camera followed her: ahead
-        is no longer where she stood). With a ray, the look goes on at once (a drive to see where it comes down
-        may follow, planned while she still walks off its way: perceive/study_far_behind_user)."""
-        if pointing is None:
-            await self._until_still()
+                                since: float, stood: tuple[float, float] | None = None) -> tuple[Resolution, Pointing | None]:
+        """She has stepped aside (asked at ``since``, standing at ``stood``): first (unless her ray shows a spot out of
+        the camera's range) until she has got where she steps to (:meth:`_until_still`: her track moving, then standing, bounded), then her gesture since the question (else
+        ``pointing``); look where it points, and with no gesture at all round her where she stands now (the camera
+        followed her: ahead is no longer where she stood). The time the look counts begins once she stands (fresh12
+        kink_long_tour: with her old ray the robot looked at once, as she walked, and said "could not find" while she
+        stepped aside, defect J). A ray out of the camera's range goes on at once: the robot drives to see where it
+        comes down, planned while she still walks off its way (perceive/study_far_behind_user: waiting, the base
+        turned after her and no drive was found)."""
+        if pointing is None or not self._out_of_range(pointing):
+            await self._until_still(stood)
         waited = 0.0
         while self.gestures.pointing(self.now, since=since) is None and waited < self.gesture_wait:
             await asyncio.sleep(0.1)
@@ -631,15 +652,19 @@ class ObjectAttention(Module):
             res = await self._search_near_partner(wanted, cause) or res
         return res, pointing
 
-    async def _until_still(self) -> None:
+    async def _until_still(self, stood: tuple[float, float] | None = None) -> None:
         """Wait (at most ``STILL_WAIT`` s) until the partner stands: she moved less than ``STEP_ASIDE_START``
-        / 5 in the last 0.5 s (she points again once she has got where she steps to)."""
+        / 5 in the last 0.5 s (she points again once she has got where she steps to), and, when known where she stood
+        when asked (``stood``), only once she has moved ``STEP_ASIDE_START`` from there (her step, then her stand)."""
         waited, last = 0.0, self._partner_map()
         while waited < STILL_WAIT:
             await asyncio.sleep(0.5)
             waited += 0.5
             here = self._partner_map()
-            if here is None or last is None or math.hypot(here[0] - last[0], here[1] - last[1]) < STEP_ASIDE_START / 5:
+            if here is None or last is None:
+                return
+            stepped = stood is None or math.hypot(here[0] - stood[0], here[1] - stood[1]) >= STEP_ASIDE_START
+            if stepped and math.hypot(here[0] - last[0], here[1] - last[1]) < STEP_ASIDE_START / 5:
                 return
             last = here
 
@@ -670,7 +695,7 @@ class ObjectAttention(Module):
         self._asked_where = (since, stood)
         if not await self._stepped_off(stood, found):
             return res, pointing
-        return await self._look_after_aside(wanted, pointing, cause, since)
+        return await self._look_after_aside(wanted, pointing, cause, since, stood)
 
     async def _stepped_off(self, stood: tuple[float, float] | None, found: list[tuple[float, float]]) -> bool:
         """Wait (up to ``step_aside_wait`` s) until the partner has moved ``STEP_ASIDE_START`` m from where she
@@ -705,7 +730,7 @@ class ObjectAttention(Module):
             self._people = None
 
     async def _look(self, wanted: Wanted, pointing: Pointing | None, cause: str, spot: tuple[float, float, float] | None = None,
-                    on: str | None = None) -> Resolution:
+                    on: str | None = None, near: tuple[float, float, float] | None = None) -> Resolution:
         """Look where she points for ``look_time`` s, merge the detections, resolve the reference.
         ``spot``: where to look without a gesture; ``on``: only what stands on that furniture counts."""
         self._seen, self._frames, self._rays = [], [], []
@@ -715,6 +740,8 @@ class ObjectAttention(Module):
         latest = t_end + TURN_TO_LOOK
         while self.now < t_end - 1e-9:
             self._publish_focus(cause, fallback)
+            if self.now >= t_end - self.look_time + VIEW_SETTLE:
+                self._viewed(self._focus_bearing)
             if abs(self._focus_bearing) > PAN_LIMIT and t_end < latest:
                 # beyond the pan-tilt unit's reach (she points behind the robot): the person attention
                 # turns the base towards it; the look begins when the camera can get there
@@ -726,6 +753,8 @@ class ObjectAttention(Module):
         cands = merge(one_surface(self._seen, self._rays), (pose[0], pose[1]), eye_height=CAMERA_HEIGHT, frames=self._frames)
         if on is not None:
             cands = [c for c in cands if self._on_furniture(c, on)]
+        if near is not None:  # only what stands within near[2] m of (near[0], near[1]) counts (the search area round her)
+            cands = [c for c in cands if math.hypot(c.x - near[0], c.y - near[1]) <= near[2]]
         res = without_glimpses(resolve(cands, wanted, pointing, (pose[0], pose[1])), cands, wanted, pointing, (pose[0], pose[1]))
         self.last = res
         return res
@@ -812,6 +841,8 @@ class ObjectAttention(Module):
             try:
                 while self.now < t_end - 1e-9:
                     self.bus.publish(FOCUS, etree.Element("focus", bearing=f"{math.degrees(pb + off):.2f}", distance=f"{max(0.8, pd):.3f}"), causes=(cause,))
+                    if self.now >= t_end - SEARCH_LOOK + VIEW_SETTLE:
+                        self._viewed(pb + off)
                     await asyncio.sleep(0.2)
             finally:
                 self._looking = False
@@ -835,6 +866,64 @@ class ObjectAttention(Module):
                 break
             await look(off)
             res = found(SEARCH_RADIUS_WIDE)
+        return res
+
+    def _viewed(self, bearing: float) -> None:
+        """Note where the camera looks now: ``bearing`` (robot frame) as far as the pan-tilt unit reaches."""
+        pose = self.pose
+        if pose is None:
+            return
+        b = pose[2] + max(-PAN_LIMIT, min(PAN_LIMIT, bearing))
+        cam = (pose[0] + CAMERA_OFFSET * math.cos(pose[2]), pose[1] + CAMERA_OFFSET * math.sin(pose[2]))
+        self._views[(round(cam[0], 2), round(cam[1], 2), round(math.remainder(b, 2 * math.pi), 2))] = None
+
+    def unseen(self, centre: tuple[float, float], radius: float) -> list[tuple[float, float, float]]:
+        """The spots of the search area (:func:`search_area`, ``radius`` m round ``centre``) no view of this
+        search has had in the camera's image and range (:func:`sees`; the people as they stand now)."""
+        pose = self.pose
+        if pose is None or self.plan is None:
+            return []
+        people = self._people_map(pose)
+        views = [((x, y, CAMERA_HEIGHT), b) for x, y, b in self._views]
+        return [s for s in search_area(self.plan, centre, radius) if not any(sees(self.plan, cam, b, s, people) for cam, b in views)]
+
+    async def _cover_area(self, wanted: Wanted, cause: str, pointing: Pointing | None = None) -> Resolution | None:
+        """Bring the part of the search area, ``SEARCH_RADIUS`` round her, or with a gesture ``COVER_RAY`` round where
+        her ray shows an object (:meth:`_target_3d`), that no look of this search had in view into
+        view (:func:`cover_views`: turned on the spot, or a short straight move that takes it nearer to no
+        one) and look there, each view through the ES like a drive to a viewpoint (event ``view_blocked``, one leg,
+        turned to the view); done when what she named is found within that radius (resolved against her ray, if any).
+        None: no partner, no plan, nothing left unseen that a pose in reach sees, or nothing found."""
+        her, pose = self._partner_map(), self.pose
+        radius = SEARCH_RADIUS
+        if pointing is not None:
+            target = self._target_3d(pointing)
+            her, radius = (None, radius) if target is None else ((target[0], target[1]), COVER_RAY)
+        if her is None or pose is None or self.plan is None:
+            return None
+        if not self._subs:  # the people around and the player's status: from now until the search ends
+            self._listen(True)
+            await asyncio.sleep(0.3)
+            pose = self.pose
+            assert pose is not None
+        unseen = self.unseen(her, radius)
+        views = cover_views(self.plan, pose, unseen, self._people_map(pose), camera_height=CAMERA_HEIGHT, camera_offset=CAMERA_OFFSET)
+        res: Resolution | None = None
+        for x, y, b, got in views:
+            pose = self.pose
+            assert pose is not None
+            if math.hypot(x - pose[0], y - pose[1]) > ARRIVE_TOLERANCE / 2 or abs(math.remainder(b - pose[2], 2 * math.pi)) > PAN_LIMIT:
+                self.moves += 1
+                state = await self._drive_leg((x, y, b), True, cause)
+                if state == "failed":
+                    self.bus.publish(ES_EVENTS, etree.Element("event", name="view_stop"), causes=(cause,))
+                    await asyncio.sleep(0.5)
+                    continue
+            n = len(got)
+            spot = (sum(unseen[i][0] for i in got) / n, sum(unseen[i][1] for i in got) / n, sum(unseen[i][2] for i in got) / n)
+            res = await self._look(wanted, pointing, cause, spot=spot, near=(her[0], her[1], radius))
+            if res.kind != "none":
+                return res
         return res
 
     def _people_map(self, pose: tuple[float, float, float]) -> list[tuple[float, float]]:

@@ -460,3 +460,111 @@ def _spot_above(plan: FloorPlan, hand: tuple[float, float, float], direction: fl
                     return x, y, top + 0.05
         d += step
     return None
+
+
+# -- bringing the whole search area into view (beside24) ---------------------------------------------------------
+#: m: the search area's grid (a bag, a plant, a cup is about this big)
+COVER_CELL = 0.2
+#: m: how far the robot may move (a straight leg, away from no one) to bring the rest of the search area into view:
+#: backing off 0.4-0.8 m puts what lies beside it, under the camera's 0.8 m minimum range, into the image
+COVER_MOVES = (0.4, 0.8, 1.2)
+COVER_DIRECTIONS = 24  # directions of such a move (15 deg apart, as the viewpoint rings)
+COVER_BEARINGS = 24  # directions a view may look along (the base turns: the pan-tilt's reach does not limit it)
+#: rad: a spot this near the image's middle counts as viewed (the image's half width is 24 deg; the camera lags its focus)
+COVER_HALF = math.radians(20.0)
+#: rad: the lowest sight line in the image, the pan-tilt unit tilted down as far as it goes (25 deg, the EVI-D31) and
+#: the image's lower half (18.8 deg), less 2 deg: from the camera 1.41 m up the floor within about 1.3 m is never in view
+LOWEST_VIEW = math.radians(25.0 + 18.8 - 2.0)
+#: s: what a view costs, roughly: its look (2 s), each metre of the move there (the base's 0.3 m/s, the turns at either
+#: end), each radian of a turn on the spot (45 deg/s): of views that bring alike much into view, the cheaper first
+COVER_LOOK_COST, COVER_MOVE_COST, COVER_TURN_COST = 2.0, 5.0, 1.3
+COVER_TOP = 1.2  # m: furniture up to this height is searched on its top (the camera sees onto it); taller hides its footprint
+
+
+def search_area(plan: FloorPlan, centre: Point, radius: float, *, cell: float = COVER_CELL) -> list[tuple[float, float, float]]:
+    """The spots where a thing someone shows without a gesture may lie: a grid of ``cell`` m within
+    ``radius`` of ``centre``, in a room of the plan, on the floor or on a piece of furniture no taller than
+    ``COVER_TOP`` (0.05 m above the surface); none inside a wall or taller furniture."""
+    blocks = [(w, 0.0, math.inf) for w, _b, _t in _blocks(plan)[:len(plan.walls)]]
+    out: list[tuple[float, float, float]] = []
+    n = int(radius / cell)
+    for i in range(-n, n + 1):
+        for j in range(-n, n + 1):
+            x, y = centre[0] + i * cell, centre[1] + j * cell
+            if math.hypot(x - centre[0], y - centre[1]) > radius + 1e-9 or not _inside_room(plan, (x, y)):
+                continue
+            if any(_point_polygon((x, y), poly) <= 0.05 for poly, _b, _t in blocks):
+                continue
+            top, hidden = 0.0, False
+            for o in plan.obstacles:
+                if o.type != "leg" and _point_polygon((x, y), o.points) == 0.0:
+                    if o.top > COVER_TOP:
+                        hidden = True
+                    else:
+                        top = max(top, o.top)
+            if not hidden:
+                out.append((x, y, top + 0.05))
+    return out
+
+
+def sees(plan: FloorPlan, camera: tuple[float, float, float], bearing: float, spot: tuple[float, float, float],
+         people: Sequence[Point] = (), *, half: float = COVER_HALF) -> bool:
+    """Whether a camera at ``camera`` looking along ``bearing`` (map frame, rad) has ``spot`` in its image
+    (within ``half`` of its middle, no lower than ``LOWEST_VIEW``), in its object range, with a clear sight line."""
+    off = math.remainder(math.atan2(spot[1] - camera[1], spot[0] - camera[0]) - bearing, 2 * math.pi)
+    if abs(off) > half or not in_range(camera, spot):
+        return False
+    if math.atan2(camera[2] - spot[2], math.hypot(spot[0] - camera[0], spot[1] - camera[1])) > LOWEST_VIEW:
+        return False  # under the image's lower edge, the camera tilted down as far as it goes
+    return sight_clear(plan, camera, spot, people)
+
+
+def cover_places(plan: FloorPlan, robot: Point, people: Sequence[Point] = (), *, clearance: float = ROBOT_CLEARANCE,
+                 person_clearance: float = PERSON_CLEARANCE) -> list[tuple[float, Point]]:
+    """Where the robot may stand to bring the rest of a search area into view, with how far it moves there: where
+    it stands, and ``COVER_MOVES`` m in each of ``COVER_DIRECTIONS`` on a straight leg in a room that keeps the
+    clearances (:func:`straight_leg_free`) and ends no nearer to anyone than they stand now (nor within
+    ``person_clearance`` + 0.5 m of anyone farther): never a drive at a person."""
+    blocks = _blocks(plan)
+    start = (robot[0], robot[1])
+    places: list[tuple[float, Point]] = [(0.0, start)]
+    for d in COVER_MOVES:
+        for k in range(COVER_DIRECTIONS):
+            a = 2 * math.pi * k / COVER_DIRECTIONS
+            q = (robot[0] + d * math.cos(a), robot[1] + d * math.sin(a))
+            if not _inside_room(plan, q):
+                continue
+            if any(math.hypot(q[0] - px, q[1] - py) < min(math.hypot(start[0] - px, start[1] - py), person_clearance + 0.5) - 1e-9
+                   for px, py in people):
+                continue  # nearer to someone than now: never a drive at a person
+            if straight_leg_free(blocks, people, start, q, clearance=clearance, person_clearance=person_clearance):
+                places.append((d, q))
+    return places
+
+
+def cover_views(plan: FloorPlan, robot: tuple[float, float, float], unseen: Sequence[tuple[float, float, float]], people: Sequence[Point] = (), *,
+                camera_height: float, camera_offset: float = 0.0, clearance: float = ROBOT_CLEARANCE,
+                person_clearance: float = PERSON_CLEARANCE) -> list[tuple[float, float, float, list[int]]]:
+    """Views (x, y, bearing, the indices of ``unseen`` each brings into the image) that together bring every
+    spot of ``unseen`` into view that any pose the robot may take sees: turned on the spot, or at one of the
+    :func:`cover_places` (never a drive at a person), looking along any of ``COVER_BEARINGS``. Greedy: the view that brings most of what is left into view for
+    its cost first (``COVER_LOOK_COST`` + its move and turn), until no view brings more. Pure."""
+    places = cover_places(plan, (robot[0], robot[1]), people, clearance=clearance, person_clearance=person_clearance)
+    options: list[tuple[float, float, float, float, frozenset[int]]] = []  # move, turn, x, y, bearing ... covered
+    for d, q in places:
+        for k in range(COVER_BEARINGS):
+            b = math.remainder(2 * math.pi * k / COVER_BEARINGS, 2 * math.pi)
+            cam = (q[0] + camera_offset * math.cos(b), q[1] + camera_offset * math.sin(b), camera_height)
+            got = frozenset(i for i, s in enumerate(unseen) if sees(plan, cam, b, s, people))
+            if got:
+                options.append((d, abs(math.remainder(b - robot[2], 2 * math.pi)), q[0], q[1], b, got))  # type: ignore[arg-type]
+    left = set(range(len(unseen)))
+    out: list[tuple[float, float, float, list[int]]] = []
+    while options:
+        best = max(options, key=lambda o: (len(o[5] & left) / (COVER_LOOK_COST + COVER_MOVE_COST * o[0] + COVER_TURN_COST * o[1]), -o[0], -o[1]))  # type: ignore[operator]
+        new = best[5] & left  # type: ignore[operator]
+        if not new:
+            break
+        out.append((best[2], best[3], best[4], sorted(new)))
+        left -= new
+    return out
