@@ -200,6 +200,9 @@ class Understander:
             come_on = toks[0] if toks[0].type == "COMEON" else None
             toks = toks[1:]  # "okay, bye", "come on, this way": a leading okay or come-on only takes the turn
         if not toks:
+            relief = self._relief_remark(words, said)
+            if relief is not None:
+                return relief  # "so, where were we": the words are known but say nothing to the robot (talk24)
             res.reason = "no known words" if lex.unknown else "nothing said"
             return res
         spots = [t for t in toks if t.type not in ("ROBOTNAME", "ROBOT")]
@@ -266,6 +269,16 @@ class Understander:
             res.coverage = 1.0 - 1.0 / max(2, len(Lexicon.words(words))) if misheard else 1.0
             res.partial = misheard
             return res
+        after = self._follow_to_what_she_shows(words, Lexicon.words(words))
+        if after is not None:
+            # "come over to my study with me", "come on, now I'll show you the nursery", "let me show you the
+            # kitchen, come": she leads the way to what she will show there; a follow, never a teaching of this
+            # spot nor a go-to (talk24: "Is this the study?", "Shall I go to the study?")
+            return after
+        after = self._everyday_short_forms(words, Lexicon.words(words))
+        if after is not None:
+            # "good, now stop", "yes, come on", "there, that's better", "so, where were we" (talk24)
+            return after
         after = self._follow_after_suggestion(words, Lexicon.words(words))
         if after is not None:
             # "shall we go to the kitchen? follow me", "should we have a look at the study, come with me": a
@@ -1248,6 +1261,8 @@ class Understander:
             piece = piece[1:]
         if _introduces(piece):
             return True
+        if _praises_or_says_where_she_is(piece) or _introduces_another(piece):
+            return True  # "good job", "well done", "i'm here behind you", "this is my son ben" (talk24)
         if piece[0] == "welcome" and all(w in _WELCOME_WORDS for w in piece):
             return True  # "welcome", "welcome welcome", "welcome to our home" (not "welcome to my study": a room)
         if piece[0] in _ANSWER_WORDS_ALONE:
@@ -1383,6 +1398,123 @@ class Understander:
             return None
         return self._whole_follow_in_tail(words, plain, range(start + 2, min(len(plain), start + 6)),
                                           stop_after=_NOT_A_NOUN_PHRASE)
+
+    def _follow_to_what_she_shows(self, words: str, said: list[str]) -> Understanding | None:
+        """A follow request that names where she leads, or None (talk24).
+
+        After openers and hesitations, either (1) "come" [over/along/on/back] "to"/"into" a short noun phrase,
+        then "with me" ("come over to my study with me"), or (2) a head that understood by itself is a whole
+        follow ("come on", "come", "come with me", "follow me") with, before or after it, a clause that says
+        she will show something (:data:`_SHOW_LEADS`: "i will show you", "let me show you", "i want you to
+        see", ... and a short noun phrase: "come on, now I'll show you the nursery", "let me show you the
+        kitchen, come"). The frame is the follow (as "follow me to the kitchen": the room is named when they
+        are there); the words that name it are set aside (``corrected``). Before, the noun phrase was taken as
+        a teaching of this spot ("Is this the nursery?", or stored at once) or a go-to ("Shall I go to ...?")."""
+        plain = [w for w in said if w not in _SOUNDS and w not in self.lexicon.hesitations]
+        start = next((i for i, w in enumerate(plain) if w not in _SUGGESTION_BEFORE), len(plain))
+        body = plain[start:]
+        while body and body[-1] in _AFTER_A_REQUEST:
+            body = body[:-1]
+        if len(body) < 4 or len(body) > 14:
+            return None
+        if body[0] == "come" and body[-2:] == ["with", "me"]:
+            k = 1
+            while k < len(body) and body[k] in _COME_ADVERBS:
+                k += 1
+            if k < len(body) and body[k] in ("to", "into") and self._short_noun_phrase(body[k + 1:-2]):
+                return self._as_follow(words, "come with me", [*plain[:start], *body[1:-2]])
+            return None
+        for lead in _SHOW_LEADS:
+            for at in range(len(body) - len(lead)):
+                if tuple(body[at:at + len(lead)]) != lead:
+                    continue
+                before = body[:at]
+                while before and before[-1] in _SHOW_OPENERS:
+                    before = before[:-1]
+                after = body[at + len(lead):]
+                for cut in range(len(after), 0, -1):  # the noun phrase, then (maybe) the follow's head
+                    if not self._short_noun_phrase(after[:cut]):
+                        continue
+                    head = [*before, *after[cut:]] if not before or not after[cut:] else None
+                    if not head:
+                        return None
+                    said_head = "come with me" if head == ["come"] else " ".join(head)  # "..., come": come along
+                    out = self._as_follow(words, said_head, [w for w in body if w not in head])
+                    if out is not None:
+                        return out
+                return None
+        return None
+
+    def _short_noun_phrase(self, words: list[str]) -> bool:
+        """A determiner ("the", "my", "our") and one to four words, none a verb, copula or deixis of
+        :data:`_NOT_A_NOUN_PHRASE` ("the nursery", "my sleeping corner", "our little garden")."""
+        return 2 <= len(words) <= 5 and words[0] in _DESTINATION_DETERMINERS \
+            and not any(w in _NOT_A_NOUN_PHRASE or w in _SHOW_NOT_IN_NP for w in words[1:])
+
+    def _as_follow(self, words: str, head: str, aside: list[str]) -> Understanding | None:
+        """``head`` understood by itself as a whole follow, for the turn ``words`` (``aside`` set aside), or None."""
+        out = self.understand(head)
+        if out.act != "FOLLOW" or out.partial or out.aside or out.frame is None or out.rest:
+            return None
+        out.words = words
+        out.corrected = [*out.corrected, *aside]
+        return out
+
+    def _everyday_short_forms(self, words: str, said: list[str]) -> Understanding | None:
+        """Three everyday short forms (talk24), or None.
+
+        (1) A word of praise first ("good", "great", "lovely", "perfect"), then a whole stop, wait or follow
+        ("good, now stop", "great, wait here"): the praise takes the turn as "okay" does. (2) Yes-words or
+        "okay", then "come on" ("yes, come on", "okay, come on then"): a follow, with the yes as its answer (it
+        answers "Shall I follow you?"). (3) A remark of relief or of taking up the thread, said in passing
+        ("there, that's better", "that's much better", "so, where were we", "now, where was I"): not understood
+        and said in passing (``aside``), so the robot does not ask to hear it again."""
+        plain = [w for w in said if w not in _SOUNDS and w not in self.lexicon.hesitations]
+        while plain and plain[-1] in ("biron", "robot"):
+            plain = plain[:-1]
+        if len(plain) < 2 or len(plain) > 8:
+            return None
+        if plain[0] in _PRAISE_OPENERS:
+            k = 1
+            while k < len(plain) and plain[k] in ("now", "then", "so", "biron", "robot", "and"):
+                k += 1
+            if k < len(plain):
+                rest = self.understand(" ".join(plain[k:]))
+                if rest.act in ("STOP", "WAIT", "FOLLOW") and not rest.partial and not rest.aside and not rest.rest \
+                        and rest.frame is not None and not rest.answer:
+                    rest.words = words
+                    rest.corrected = [*plain[:k], *rest.corrected]
+                    return rest
+            return None
+        k = 0
+        while k < len(plain) and plain[k] in _YES_BEFORE_COME_ON:
+            k += 1
+        if 0 < k and plain[k:k + 2] == ["come", "on"] and all(w in _AFTER_A_REQUEST for w in plain[k + 2:]):
+            out = self.understand("come on")
+            if out.act != "FOLLOW" or out.frame is None:
+                return None
+            out.words = words
+            out.answer = "yes" if any(w in _ANSWER_WORDS_ALONE and w not in ("okay", "ok", "right") for w in plain[:k]) \
+                else out.answer
+            out.corrected = [*out.corrected, *[w for w in plain[:k] if w not in _ANSWER_WORDS_ALONE]]
+            return out
+        return self._relief_remark(words, said)
+
+    def _relief_remark(self, words: str, said: list[str]) -> Understanding | None:
+        """:meth:`_everyday_short_forms` (3): a remark of relief or of taking up the thread ("there, that's
+        better", "so, where were we"), not understood and said in passing (``aside``), or None."""
+        plain = [w for w in said if w not in _SOUNDS and w not in self.lexicon.hesitations]
+        while plain and plain[-1] in ("biron", "robot"):
+            plain = plain[:-1]
+        k = 0
+        while k < len(plain) and plain[k] in _RELIEF_OPENERS:
+            k += 1
+        if tuple(plain[k:]) not in _RELIEF_REMARKS:
+            return None
+        out = Understanding(words, None, unknown=self.lexicon.tokens(words).unknown)
+        out.ignored = [t.text for t in self.lexicon.tokens(words).tokens]
+        out.reason, out.aside = "a remark of relief or of taking up the thread", True
+        return out
 
     def _request_before_remark(self, words: str, said: list[str]) -> Understanding | None:
         """A whole follow or greeting said first, then a remark of hers, or None (talk22).
@@ -1782,6 +1914,44 @@ def _introduces(tail: list[str]) -> bool:
         end = tail.index("welcome", lead + 1)
         return 0 < end - lead <= 3 and len(tail) - end <= 5 and tail[lead] not in _NOT_A_NAME
     return bool(lead) and 0 < len(tail) - lead <= 3 and tail[lead] not in _NOT_A_NAME
+
+
+#: talk24: praise said to the robot after a greeting ("hi again biron, good job")
+_PRAISE_PIECES = frozenset({("good", "job"), ("great", "job"), ("nice", "job"), ("well", "done"), ("good", "work"),
+                            ("great", "work"), ("nice", "work"), ("good", "boy"), ("good", "girl"), ("clever", "robot"),
+                            ("good", "robot"), ("very", "good"), ("very", "well", "done")})
+#: talk24: where she is, said after a greeting ("i'm here behind you", "we are back")
+_WHERE_SHE_IS = frozenset({"here", "back", "behind", "you", "next", "to", "beside", "now", "already", "again",
+                           "with", "too", "over", "right"})
+#: talk24: who she brings along ("and this is my son ben")
+_KIN = frozenset({"son", "daughter", "husband", "wife", "partner", "friend", "mother", "father", "mum", "mom", "dad",
+                  "boy", "girl", "kids", "children", "brother", "sister", "flatmate", "grandson", "granddaughter",
+                  "little", "youngest", "oldest", "best", "neighbour", "colleague", "family"})
+
+
+def _praises_or_says_where_she_is(piece: list[str]) -> bool:
+    """Whether a piece said after a greeting praises the robot ("good job", "well done biron") or says where she
+    is ("i am here behind you", "we are back"): no request, nothing shown (talk24)."""
+    words = [w for w in piece if w not in ("biron", "robot", "again", "today", "there", "really", "so")] or piece
+    if tuple(words) in _PRAISE_PIECES:
+        return True
+    lead = 2 if words[:2] in (["i", "am"], ["we", "are"]) else 0
+    return bool(lead) and len(words) > lead and words[lead] in ("here", "back") and len(words) - lead <= 4 \
+        and all(w in _WHERE_SHE_IS for w in words[lead:])
+
+
+def _introduces_another(piece: list[str]) -> bool:
+    """Whether a piece said after a greeting says who she brings ("this is my son ben", "these are my kids"):
+    "this is" / "these are", "my" or "our", a word of kin, then at most two words (a name) (talk24)."""
+    lead = 2 if piece[:2] in (["this", "is"], ["these", "are"]) else 0
+    if not lead or len(piece) < lead + 2 or piece[lead] not in ("my", "our"):
+        return False
+    kin = [k for k, w in enumerate(piece[lead + 1:], lead + 1) if w in _KIN]
+    return bool(kin) and kin[0] <= lead + 2 and len(piece) - kin[-1] - 1 <= 2 \
+        and not any(w in _NOT_A_NAME or w in _DEIXIS_WORDS for w in piece[kin[-1] + 1:])
+
+
+_DEIXIS_WORDS = frozenset({"this", "that", "here", "there", "these", "those"})
 #: The spot words that say "we are there" in "that's the spot" (not "the corner", "the view").
 _ARRIVED = frozenset({"spot", "place"})
 
@@ -1997,6 +2167,32 @@ _NOT_A_NOUN_PHRASE = frozenset({"is", "are", "was", "were", "be", "'s", "s", "th
                                 # the robot or a pronoun after the article is no place ("[hey→the] biron, follow me",
                                 # "[can→the] you follow me": a word misheard, still partial)
                                 "one", "biron", "byron", "robot", "you", "me", "i"})
+#: talk24: what may follow a request at its end ("come with me please", "come on then")
+_AFTER_A_REQUEST = frozenset({"please", "biron", "robot", "now", "then", "too", "quickly"})
+#: talk24: words between "come" and "to" in "come over to my study with me"
+_COME_ADVERBS = frozenset({"over", "along", "on", "back", "here", "across", "through"})
+#: talk24: the leads of a clause that says she will show something (after Lexicon.words: "i'll" is "i will")
+_SHOW_LEADS = (("i", "will", "show", "you"), ("let", "me", "show", "you"), ("i", "want", "to", "show", "you"),
+               ("i", "am", "going", "to", "show", "you"), ("i", "want", "you", "to", "see"),
+               ("i", "would", "like", "to", "show", "you"), ("i", "will", "take", "you", "to"),
+               ("let", "me", "take", "you", "to"), ("i", "can", "show", "you"))
+#: talk24: what may come between the follow's head and the clause ("come on, now I'll show you ...")
+_SHOW_OPENERS = frozenset({"now", "and", "so", "then", "next", "i", "think"})
+#: talk24: words that end a noun phrase after a show lead (a clause of its own follows)
+_SHOW_NOT_IN_NP = frozenset({"come", "follow", "me", "with", "on", "please", "now", "then"})
+#: talk24: praise said first that only takes the turn ("good, now stop")
+_PRAISE_OPENERS = frozenset({"good", "great", "lovely", "perfect", "excellent", "brilliant", "wonderful", "super",
+                             "nice", "fine", "alright", "right"})
+#: talk24: yes-words before "come on" ("yes, come on", "okay, come on")
+_YES_BEFORE_COME_ON = frozenset({"yes", "yeah", "yep", "sure", "okay", "ok", "alright", "right", "oh", "well", "so"})
+#: talk24: remarks of relief or of taking up the thread, said in passing
+_RELIEF_OPENERS = frozenset({"there", "so", "now", "okay", "ok", "right", "well", "oh", "ah", "alright", "anyway",
+                             "phew", "then"})
+_RELIEF_REMARKS = frozenset({("that", "is", "better"), ("that", "is", "much", "better"), ("much", "better"),
+                             ("that", "is", "more", "like", "it"), ("where", "were", "we"), ("where", "was", "i"),
+                             ("that", "is", "better", "now"), ("that", "is", "a", "lot", "better"),
+                             ("where", "did", "we", "stop"), ("where", "did", "i", "stop"), ("that", "was", "better"),
+                             ("better",)})
 _SUGGESTION_BEFORE = frozenset({"so", "okay", "ok", "right", "now", "then", "well", "and", "alright", "biron", "robot"})
 #: Words between the lead and the verb ("I'll just quickly go and get").
 _ERRAND_FILL = frozenset({"just", "quickly", "quick", "first", "only", "go", "and", "run", "nip", "dash"})
