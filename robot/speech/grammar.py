@@ -1417,32 +1417,58 @@ class Understander:
             body = body[:-1]
         if len(body) < 4 or len(body) > 14:
             return None
-        if body[0] == "come" and body[-2:] == ["with", "me"]:
-            k = 1
+        come = next((i for i, w in enumerate(body[:2]) if w == "come"), None)
+        tail = next((n for n in (2, 1) if _with_me(body[-n:])), 0)
+        if come is not None and tail and come < len(body) - tail - 1:
+            # (1) "come [over] to my study with me"; one short word misheard ("[now→to] come over ...", "... with
+            # [me→the]", "come [over→a] to ...") leaves it a follow, but one not sure of (partial: "Shall I
+            # follow you?")
+            k = come + 1
             while k < len(body) and body[k] in _COME_ADVERBS:
                 k += 1
-            if k < len(body) and body[k] in ("to", "into") and self._short_noun_phrase(body[k + 1:-2]):
-                return self._as_follow(words, "come with me", [*plain[:start], *body[1:-2]])
+            lost = int(come > 0 and body[0] in _MISHEARD_SHORT) + int(tail == 1)
+            if body[k] in ("to", "into"):
+                k += 1
+            elif body[k] in _MISHEARD_SHORT:
+                lost += 1
+                k += 1 + int(body[k + 1] in ("to", "into"))
+            if lost <= 1 and self._short_noun_phrase(body[k:len(body) - tail]):
+                return self._as_follow(words, "come with me", [*plain[:start], *body[come + 1:len(body) - tail]],
+                                       sure=not lost)
             return None
-        for lead in _SHOW_LEADS:
-            for at in range(len(body) - len(lead)):
-                if tuple(body[at:at + len(lead)]) != lead:
-                    continue
-                before = body[:at]
-                while before and before[-1] in _SHOW_OPENERS:
-                    before = before[:-1]
-                after = body[at + len(lead):]
-                for cut in range(len(after), 0, -1):  # the noun phrase, then (maybe) the follow's head
-                    if not self._short_noun_phrase(after[:cut]):
-                        continue
-                    head = [*before, *after[cut:]] if not before or not after[cut:] else None
-                    if not head:
-                        return None
-                    said_head = "come with me" if head == ["come"] else " ".join(head)  # "..., come": come along
-                    out = self._as_follow(words, said_head, [w for w in body if w not in head])
-                    if out is not None:
-                        return out
+        shows = next((i for i in range(1, len(body) - 2) if body[i] in ("show", "see", "take")
+                      and (body[i + 1] == "you" or body[i - 1] == "you")), None)
+        if shows is None:
+            return None
+        # (2) a follow's head, then what she will show ("come on, now I'll show you the nursery"), or the other
+        # way round ("let me show you the kitchen, come"); the clause's lead may lose a word ("[i→a] will show")
+        after = body[shows + 1:]
+        if after[:1] == ["you"]:
+            after = after[1:]
+        if after[:1] == ["to"] and body[shows] == "take":
+            after = after[1:]
+        lead_at = shows
+        while lead_at > 0 and body[lead_at - 1] in _SHOW_LEAD_WORDS:
+            lead_at -= 1
+        lost = 0
+        if lead_at > 0 and body[lead_at - 1] in _MISHEARD_SHORT and lead_at < shows:
+            lead_at, lost = lead_at - 1, 1  # "come on [now→a] i will show you the nursery"
+        while lead_at > 0 and body[lead_at - 1] in _SHOW_OPENERS:
+            lead_at -= 1
+        lead = body[lead_at:shows]
+        if not any(w in ("i", "me", "let", "will", "want", "going") for w in lead):
+            return None  # "show you" alone: no clause of hers ("can you show me the kitchen" is no lead)
+        for cut in range(min(len(after), 5), 1, -1):  # the noun phrase, then (maybe) the follow's head
+            if not self._short_noun_phrase(after[:cut]):
+                continue
+            before, behind = body[:lead_at], after[cut:]
+            if before and behind:
                 return None
+            head = before or behind
+            if not head:
+                return None
+            said_head = "come with me" if head == ["come"] else " ".join(head)  # "..., come": come along
+            return self._as_follow(words, said_head, [w for w in body if w not in head], sure=not lost)
         return None
 
     def _short_noun_phrase(self, words: list[str]) -> bool:
@@ -1451,13 +1477,17 @@ class Understander:
         return 2 <= len(words) <= 5 and words[0] in _DESTINATION_DETERMINERS \
             and not any(w in _NOT_A_NOUN_PHRASE or w in _SHOW_NOT_IN_NP for w in words[1:])
 
-    def _as_follow(self, words: str, head: str, aside: list[str]) -> Understanding | None:
-        """``head`` understood by itself as a whole follow, for the turn ``words`` (``aside`` set aside), or None."""
+    def _as_follow(self, words: str, head: str, aside: list[str], sure: bool = True) -> Understanding | None:
+        """``head`` understood by itself as a whole follow, for the turn ``words`` (``aside`` set aside), or None;
+        not ``sure``: a word of the turn was misheard, so the follow is partial (the dialog asks first)."""
         out = self.understand(head)
         if out.act != "FOLLOW" or out.partial or out.aside or out.frame is None or out.rest:
             return None
         out.words = words
         out.corrected = [*out.corrected, *aside]
+        if not sure:
+            out.partial = True
+            out.coverage = 1.0 - 1.0 / max(2, len(Lexicon.words(words)))
         return out
 
     def _everyday_short_forms(self, words: str, said: list[str]) -> Understanding | None:
@@ -2176,6 +2206,20 @@ _SHOW_LEADS = (("i", "will", "show", "you"), ("let", "me", "show", "you"), ("i",
                ("i", "am", "going", "to", "show", "you"), ("i", "want", "you", "to", "see"),
                ("i", "would", "like", "to", "show", "you"), ("i", "will", "take", "you", "to"),
                ("let", "me", "take", "you", "to"), ("i", "can", "show", "you"))
+#: talk24: the words of a show clause's lead ("i will", "let me", "i want to", "i am going to", "i would like to")
+_SHOW_LEAD_WORDS = frozenset({"i", "will", "let", "me", "want", "to", "am", "going", "would", "like", "can", "you",
+                              "gonna", "just", "quickly"})
+
+
+def _with_me(words: list[str]) -> bool:
+    """Whether a follow request's last words are "with me", or it with one short word misheard or lost ("with
+    the", "in me", "me"; talk24)."""
+    if words == ["with", "me"] or words in (["me"], ["with"]):
+        return True
+    return len(words) == 2 and (words[0] == "with" and words[1] in _MISHEARD_SHORT
+                                or words[1] == "me" and words[0] in _MISHEARD_SHORT)
+
+
 #: talk24: what may come between the follow's head and the clause ("come on, now I'll show you ...")
 _SHOW_OPENERS = frozenset({"now", "and", "so", "then", "next", "i", "think"})
 #: talk24: words that end a noun phrase after a show lead (a clause of its own follows)
