@@ -1437,7 +1437,7 @@ class Understander:
                                        sure=not lost)
             return None
         shows = next((i for i in range(1, len(body) - 2) if body[i] in ("show", "see", "take")
-                      and (body[i + 1] == "you" or body[i - 1] == "you")), None)
+                      and (body[i + 1] == "you" or "you" in body[max(0, i - 2):i])), None)
         if shows is None:
             return None
         # (2) a follow's head, then what she will show ("come on, now I'll show you the nursery"), or the other
