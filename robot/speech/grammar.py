@@ -1201,8 +1201,8 @@ class Understander:
         if not first or first[0].type != "HELLO" or not first[0].text.startswith(plain[0]):
             return None
         alone = self._without_new_rules(words)
-        if alone.frame is not None and (alone.act not in ("GREETING", "GOODBYE") or not alone.partial or alone.aside
-                                        or alone.rest):
+        if alone.frame is not None and (alone.act not in ("GREETING", "GOODBYE") or alone.aside or alone.rest
+                                        or not (alone.partial or alone.coverage < 1.0)):
             return None  # understood otherwise, or whole already (a half good-bye: "hello, ... lovely to see you")
         self._in_new_rule = True  # the head and the pieces are understood without lang24's rules (no nesting)
         try:
@@ -1418,6 +1418,10 @@ class Understander:
         if len(body) < 4 or len(body) > 14:
             return None
         come = next((i for i, w in enumerate(body[:2]) if w == "come"), None)
+        misheard_come = come is None and len(body) > 1 and body[0] in _MISHEARD_SHORT \
+            and body[1] in ("over", "along", "across", "through")  # "[come→to] along to my study with me"
+        if misheard_come:
+            come = 0
         tail = next((n for n in (2, 1) if _with_me(body[-n:])), 0)
         if come is not None and tail and come < len(body) - tail - 1:
             # (1) "come [over] to my study with me"; one short word misheard ("[now→to] come over ...", "... with
@@ -1426,9 +1430,12 @@ class Understander:
             k = come + 1
             while k < len(body) and body[k] in _COME_ADVERBS:
                 k += 1
-            lost = int(come > 0 and body[0] in _MISHEARD_SHORT) + int(tail == 1)
+            lost = int(come > 0 and body[0] in _MISHEARD_SHORT) + int(body[-tail:] != ["with", "me"]) \
+                + int(misheard_come)
             if body[k] in ("to", "into"):
                 k += 1
+                if body[k] == "to":  # "come [along→to] to my study with me"
+                    k, lost = k + 1, lost + 1
             elif body[k] in _MISHEARD_SHORT:
                 lost += 1
                 k += 1 + int(body[k + 1] in ("to", "into"))
@@ -1451,24 +1458,28 @@ class Understander:
         while lead_at > 0 and body[lead_at - 1] in _SHOW_LEAD_WORDS:
             lead_at -= 1
         lost = 0
-        if lead_at > 0 and body[lead_at - 1] in _MISHEARD_SHORT and lead_at < shows:
+        if lead_at > 0 and body[lead_at - 1] in _MISHEARD_SHORT and body[lead_at - 1] not in _SHOW_OPENERS \
+                and lead_at < shows:
             lead_at, lost = lead_at - 1, 1  # "come on [now→a] i will show you the nursery"
         while lead_at > 0 and body[lead_at - 1] in _SHOW_OPENERS:
             lead_at -= 1
-        lead = body[lead_at:shows]
-        if not any(w in ("i", "me", "let", "will", "want", "going") for w in lead):
-            return None  # "show you" alone: no clause of hers ("can you show me the kitchen" is no lead)
-        for cut in range(min(len(after), 5), 1, -1):  # the noun phrase, then (maybe) the follow's head
-            if not self._short_noun_phrase(after[:cut]):
+        cut = next((c for c in range(min(len(after), 5), 1, -1) if self._short_noun_phrase(after[:c])), None)
+        if cut is None:
+            return None
+        behind = after[cut:]  # the noun phrase, then (maybe) the follow's head
+        for at in range(lead_at, shows):  # the clause may start later ("come with me, let me show you ...")
+            lead = body[at:shows]
+            if not any(w in ("i", "me", "let", "will", "want", "going") for w in lead):
+                break  # "show you" alone: no clause of hers ("can you show me the kitchen" is no lead)
+            before = body[:at]
+            if (before and behind) or not (before or behind):
                 continue
-            before, behind = body[:lead_at], after[cut:]
-            if before and behind:
-                return None
             head = before or behind
-            if not head:
-                return None
             said_head = "come with me" if head == ["come"] else " ".join(head)  # "..., come": come along
-            return self._as_follow(words, said_head, [w for w in body if w not in head], sure=not lost)
+            aside = body[len(head):] if before else body[:len(body) - len(head)]
+            out = self._as_follow(words, said_head, aside, sure=not lost)
+            if out is not None:
+                return out
         return None
 
     def _short_noun_phrase(self, words: list[str]) -> bool:
