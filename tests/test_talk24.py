@@ -64,7 +64,8 @@ def test_the_robot_follows_and_never_asks_to_go_there():
 
 @pytest.mark.parametrize("words", ["hello biron i am nina and this is my son tom", "hi robot, and these are my kids",
                                    "hello again biron, well done", "hi biron, good job today",
-                                   "hello biron, i am here behind you", "hi, i am back"])
+                                   "hello biron, i am here behind you", "hi, i am back",
+                                   "hello there robot, so nice to have you with us"])
 def test_greetings_with_who_she_brings_praise_or_where_she_is_are_whole(words):
     r = understood(words)
     assert r.act == "GREETING" and not r.partial and r.coverage == 1.0, r

@@ -1270,6 +1270,9 @@ class Understander:
         if len(piece) <= 6 and piece[0] in ("nice", "lovely", "good", "great", "wonderful", "so") \
                 and any(piece[i:i + 3] == ["to", "see", "you"] for i in range(1, len(piece) - 2)):
             return True  # "lovely to see you" after a hello greets (alone it may take leave)
+        if len(piece) <= 7 and piece[0] in ("nice", "lovely", "good", "great", "wonderful", "so") \
+                and piece[1:4] == ["to", "have", "you"] and all(w in _HAVE_YOU_TAIL for w in piece[4:]):
+            return True  # "nice to have you with us", "lovely to have you here" (talk24)
         alone = self.understand(" ".join(piece))
         if alone.aside or (alone.corrected and alone.act != "GREETING") or alone.answer or alone.rest:
             return False
@@ -1968,6 +1971,11 @@ _WHERE_SHE_IS = frozenset({"here", "back", "behind", "you", "next", "to", "besid
 _KIN = frozenset({"son", "daughter", "husband", "wife", "partner", "friend", "mother", "father", "mum", "mom", "dad",
                   "boy", "girl", "kids", "children", "brother", "sister", "flatmate", "grandson", "granddaughter",
                   "little", "youngest", "oldest", "best", "neighbour", "colleague", "family"})
+
+
+#: talk24: what may end "nice to have you ..." ("with us", "here", "around", "in our home")
+_HAVE_YOU_TAIL = frozenset({"with", "us", "here", "around", "at", "last", "finally", "in", "our", "home", "house", "flat",
+                            "biron", "robot", "today"})
 
 
 def _praises_or_says_where_she_is(piece: list[str]) -> bool:
