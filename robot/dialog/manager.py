@@ -42,6 +42,9 @@ from .model import Action, DialogDef, Dialogs, Fill, render
 
 #: The robot never asks the same question more than twice (issue 26: confirmations that loop).
 MAX_SAME_QUESTION = 2
+#: talk24: an act's own words; said again (in a turn not understood) to that act's own question, a yes
+_OWN_WORDS = {"GREETING": frozenset({"hello", "hi", "hey", "hallo", "hiya"}),
+              "GOODBYE": frozenset({"bye", "goodbye", "bye-bye", "farewell", "goodnight"})}
 #: ... nor says the same refusal outside a sub-dialog ("Please look at me and say hello first.") more
 #: than twice in a row, with nothing else said and the supervisor's state unchanged in between
 MAX_SAME_REFUSAL = 2
@@ -340,6 +343,9 @@ class DialogManager:
         speech = msg.find("SPEECH")
         acts = [c for c in speech if c.tag != "TIMESTAMP"] if speech is not None else []
         if msg.tag != "understood" or not acts:
+            again = self._own_word_again(msg)
+            if again is not None:
+                return again
             return self._not_understood()
         act_el = acts[0]
         act = str(act_el.tag)
@@ -669,6 +675,29 @@ class DialogManager:
         for q, n in top.asked.items():
             self._given_up_asked[q] = max(self._given_up_asked.get(q, 0), n)
         self._finish(top, out, abandoned=True, resume=False)
+
+    def _own_word_again(self, msg: etree._Element) -> list[Output] | None:
+        """A turn not understood, said while the greeting's or the good-bye's own question is open ("Did you
+        say hello to me?", "Do you want to end the tour?"), that holds that act's own word ("hello", "hi";
+        "bye", "goodbye"): she said it again, as people do, with more words the understanding lost; a yes
+        (talk24: "Sorry, I did not understand you. Do you want to end the tour?" to a repeated good-bye).
+        None when no such question is open, the turn was said to someone else, or the word is not there."""
+        top = self._confirming()
+        if top is None or top.pending is None or msg.get("addressee") == "other":
+            return None
+        heard = set("".join(c if c.isalpha() or c == "'" else " " for c in (msg.text or "").lower()).split())
+        if not any(act in top.d.trigger and heard & words for act, words in _OWN_WORDS.items()):
+            return None
+        top.passed_over, top.reasks = 0, 0
+        top.slots[top.pending[1]].status = "true"
+        top.pending = None
+        self._unheard = 0
+        self._repair, self._repairs_put = None, 0
+        self._something_done()
+        self.metrics["confirmed_by_repetition"] += 1
+        out: list[Output] = []
+        self._step(top, out)
+        return out
 
     def _confirming(self) -> Instance | None:
         """The dialog whose confirmation question is the topmost open question, if any."""

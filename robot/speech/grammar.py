@@ -200,6 +200,9 @@ class Understander:
             come_on = toks[0] if toks[0].type == "COMEON" else None
             toks = toks[1:]  # "okay, bye", "come on, this way": a leading okay or come-on only takes the turn
         if not toks:
+            relief = self._relief_remark(words, said)
+            if relief is not None:
+                return relief  # "so, where were we": the words are known but say nothing to the robot (talk24)
             res.reason = "no known words" if lex.unknown else "nothing said"
             return res
         spots = [t for t in toks if t.type not in ("ROBOTNAME", "ROBOT")]
@@ -266,6 +269,16 @@ class Understander:
             res.coverage = 1.0 - 1.0 / max(2, len(Lexicon.words(words))) if misheard else 1.0
             res.partial = misheard
             return res
+        after = self._follow_to_what_she_shows(words, Lexicon.words(words))
+        if after is not None:
+            # "come over to my study with me", "come on, now I'll show you the nursery", "let me show you the
+            # kitchen, come": she leads the way to what she will show there; a follow, never a teaching of this
+            # spot nor a go-to (talk24: "Is this the study?", "Shall I go to the study?")
+            return after
+        after = self._everyday_short_forms(words, Lexicon.words(words))
+        if after is not None:
+            # "good, now stop", "yes, come on", "there, that's better", "so, where were we" (talk24)
+            return after
         after = self._follow_after_suggestion(words, Lexicon.words(words))
         if after is not None:
             # "shall we go to the kitchen? follow me", "should we have a look at the study, come with me": a
@@ -1189,8 +1202,8 @@ class Understander:
         if not first or first[0].type != "HELLO" or not first[0].text.startswith(plain[0]):
             return None
         alone = self._without_new_rules(words)
-        if alone.frame is not None and (alone.act not in ("GREETING", "GOODBYE") or not alone.partial or alone.aside
-                                        or alone.rest):
+        if alone.frame is not None and (alone.act not in ("GREETING", "GOODBYE") or alone.aside or alone.rest
+                                        or not (alone.partial or alone.coverage < 1.0)):
             return None  # understood otherwise, or whole already (a half good-bye: "hello, ... lovely to see you")
         self._in_new_rule = True  # the head and the pieces are understood without lang24's rules (no nesting)
         try:
@@ -1249,6 +1262,8 @@ class Understander:
             piece = piece[1:]
         if _introduces(piece):
             return True
+        if _praises_or_says_where_she_is(piece) or _introduces_another(piece):
+            return True  # "good job", "well done", "i'm here behind you", "this is my son ben" (talk24)
         if piece[0] == "welcome" and all(w in _WELCOME_WORDS for w in piece):
             return True  # "welcome", "welcome welcome", "welcome to our home" (not "welcome to my study": a room)
         if piece[0] in _ANSWER_WORDS_ALONE:
@@ -1256,6 +1271,9 @@ class Understander:
         if len(piece) <= 6 and piece[0] in ("nice", "lovely", "good", "great", "wonderful", "so") \
                 and any(piece[i:i + 3] == ["to", "see", "you"] for i in range(1, len(piece) - 2)):
             return True  # "lovely to see you" after a hello greets (alone it may take leave)
+        if len(piece) <= 7 and piece[0] in ("nice", "lovely", "good", "great", "wonderful", "so") \
+                and piece[1:4] == ["to", "have", "you"] and all(w in _HAVE_YOU_TAIL for w in piece[4:]):
+            return True  # "nice to have you with us", "lovely to have you here" (talk24)
         alone = self.understand(" ".join(piece))
         if alone.aside or (alone.corrected and alone.act != "GREETING") or alone.answer or alone.rest:
             return False
@@ -1384,6 +1402,164 @@ class Understander:
             return None
         return self._whole_follow_in_tail(words, plain, range(start + 2, min(len(plain), start + 6)),
                                           stop_after=_NOT_A_NOUN_PHRASE)
+
+    def _follow_to_what_she_shows(self, words: str, said: list[str]) -> Understanding | None:
+        """A follow request that names where she leads, or None (talk24).
+
+        After openers and hesitations, either (1) "come" [over/along/on/back] "to"/"into" a short noun phrase,
+        then "with me" ("come over to my study with me"), or (2) a head that understood by itself is a whole
+        follow ("come on", "come", "come with me", "follow me") with, before or after it, a clause that says
+        she will show something (:data:`_SHOW_LEADS`: "i will show you", "let me show you", "i want you to
+        see", ... and a short noun phrase: "come on, now I'll show you the nursery", "let me show you the
+        kitchen, come"). The frame is the follow (as "follow me to the kitchen": the room is named when they
+        are there); the words that name it are set aside (``corrected``). Before, the noun phrase was taken as
+        a teaching of this spot ("Is this the nursery?", or stored at once) or a go-to ("Shall I go to ...?")."""
+        plain = [w for w in said if w not in _SOUNDS and w not in self.lexicon.hesitations]
+        start = next((i for i, w in enumerate(plain) if w not in _SUGGESTION_BEFORE), len(plain))
+        body = plain[start:]
+        while body and body[-1] in _AFTER_A_REQUEST:
+            body = body[:-1]
+        if len(body) < 4 or len(body) > 14:
+            return None
+        come = next((i for i, w in enumerate(body[:2]) if w == "come"), None)
+        misheard_come = come is None and len(body) > 1 and body[0] in _MISHEARD_SHORT \
+            and body[1] in ("over", "along", "across", "through")  # "[come→to] along to my study with me"
+        if misheard_come:
+            come = 0
+        tail = next((n for n in (2, 1) if _with_me(body[-n:])), 0)
+        if come is not None and tail and come < len(body) - tail - 1:
+            # (1) "come [over] to my study with me"; one short word misheard ("[now→to] come over ...", "... with
+            # [me→the]", "come [over→a] to ...") leaves it a follow, but one not sure of (partial: "Shall I
+            # follow you?")
+            k = come + 1
+            while k < len(body) and body[k] in _COME_ADVERBS:
+                k += 1
+            lost = int(come > 0 and body[0] in _MISHEARD_SHORT) + int(body[-tail:] != ["with", "me"]) \
+                + int(misheard_come)
+            if body[k] in ("to", "into"):
+                k += 1
+                if body[k] == "to":  # "come [along→to] to my study with me"
+                    k, lost = k + 1, lost + 1
+            elif body[k] in _MISHEARD_SHORT:
+                lost += 1
+                k += 1 + int(body[k + 1] in ("to", "into"))
+            if lost <= 1 and self._short_noun_phrase(body[k:len(body) - tail]):
+                return self._as_follow(words, "come with me", [*plain[:start], *body[come + 1:len(body) - tail]],
+                                       sure=not lost)
+            return None
+        shows = next((i for i in range(1, len(body) - 2) if body[i] in ("show", "see", "take")
+                      and (body[i + 1] == "you" or "you" in body[max(0, i - 2):i])), None)
+        if shows is None:
+            return None
+        # (2) a follow's head, then what she will show ("come on, now I'll show you the nursery"), or the other
+        # way round ("let me show you the kitchen, come"); the clause's lead may lose a word ("[i→a] will show")
+        after = body[shows + 1:]
+        if after[:1] == ["you"]:
+            after = after[1:]
+        if after[:1] == ["to"] and body[shows] == "take":
+            after = after[1:]
+        lead_at = shows
+        while lead_at > 0 and body[lead_at - 1] in _SHOW_LEAD_WORDS:
+            lead_at -= 1
+        lost = 0
+        if lead_at > 0 and body[lead_at - 1] in _MISHEARD_SHORT and body[lead_at - 1] not in _SHOW_OPENERS \
+                and lead_at < shows:
+            lead_at, lost = lead_at - 1, 1  # "come on [now→a] i will show you the nursery"
+        while lead_at > 0 and body[lead_at - 1] in _SHOW_OPENERS:
+            lead_at -= 1
+        cut = next((c for c in range(min(len(after), 5), 1, -1) if self._short_noun_phrase(after[:c])), None)
+        if cut is None:
+            return None
+        behind = after[cut:]  # the noun phrase, then (maybe) the follow's head
+        for at in range(lead_at, shows):  # the clause may start later ("come with me, let me show you ...")
+            lead = body[at:shows]
+            if not any(w in ("i", "me", "let", "will", "want", "going") for w in lead):
+                break  # "show you" alone: no clause of hers ("can you show me the kitchen" is no lead)
+            before = body[:at]
+            if (before and behind) or not (before or behind):
+                continue
+            head = before or behind
+            said_head = "come with me" if head == ["come"] else " ".join(head)  # "..., come": come along
+            aside = body[len(head):] if before else body[:len(body) - len(head)]
+            out = self._as_follow(words, said_head, aside, sure=not lost)
+            if out is not None:
+                return out
+        return None
+
+    def _short_noun_phrase(self, words: list[str]) -> bool:
+        """A determiner ("the", "my", "our") and one to four words, none a verb, copula or deixis of
+        :data:`_NOT_A_NOUN_PHRASE` ("the nursery", "my sleeping corner", "our little garden")."""
+        return 2 <= len(words) <= 5 and words[0] in _DESTINATION_DETERMINERS \
+            and not any(w in _NOT_A_NOUN_PHRASE or w in _SHOW_NOT_IN_NP for w in words[1:])
+
+    def _as_follow(self, words: str, head: str, aside: list[str], sure: bool = True) -> Understanding | None:
+        """``head`` understood by itself as a whole follow, for the turn ``words`` (``aside`` set aside), or None;
+        not ``sure``: a word of the turn was misheard, so the follow is partial (the dialog asks first)."""
+        out = self.understand(head)
+        if out.act != "FOLLOW" or out.partial or out.aside or out.frame is None or out.rest:
+            return None
+        out.words = words
+        out.corrected = [*out.corrected, *aside]
+        if not sure:
+            out.partial = True
+            out.coverage = 1.0 - 1.0 / max(2, len(Lexicon.words(words)))
+        return out
+
+    def _everyday_short_forms(self, words: str, said: list[str]) -> Understanding | None:
+        """Three everyday short forms (talk24), or None.
+
+        (1) A word of praise first ("good", "great", "lovely", "perfect"), then a whole stop, wait or follow
+        ("good, now stop", "great, wait here"): the praise takes the turn as "okay" does. (2) Yes-words or
+        "okay", then "come on" ("yes, come on", "okay, come on then"): a follow, with the yes as its answer (it
+        answers "Shall I follow you?"). (3) A remark of relief or of taking up the thread, said in passing
+        ("there, that's better", "that's much better", "so, where were we", "now, where was I"): not understood
+        and said in passing (``aside``), so the robot does not ask to hear it again."""
+        plain = [w for w in said if w not in _SOUNDS and w not in self.lexicon.hesitations]
+        while plain and plain[-1] in ("biron", "robot"):
+            plain = plain[:-1]
+        if len(plain) < 2 or len(plain) > 8:
+            return None
+        if plain[0] in _PRAISE_OPENERS:
+            k = 1
+            while k < len(plain) and plain[k] in ("now", "then", "so", "biron", "robot", "and"):
+                k += 1
+            if k < len(plain):
+                rest = self.understand(" ".join(plain[k:]))
+                if rest.act in ("STOP", "WAIT", "FOLLOW") and not rest.partial and not rest.aside and not rest.rest \
+                        and rest.frame is not None and not rest.answer:
+                    rest.words = words
+                    rest.corrected = [*plain[:k], *rest.corrected]
+                    return rest
+            return None
+        k = 0
+        while k < len(plain) and plain[k] in _YES_BEFORE_COME_ON:
+            k += 1
+        if 0 < k and plain[k:k + 2] == ["come", "on"] and all(w in _AFTER_A_REQUEST for w in plain[k + 2:]):
+            out = self.understand("come on")
+            if out.act != "FOLLOW" or out.frame is None:
+                return None
+            out.words = words
+            out.answer = "yes" if any(w in _ANSWER_WORDS_ALONE and w not in ("okay", "ok", "right") for w in plain[:k]) \
+                else out.answer
+            out.corrected = [*out.corrected, *[w for w in plain[:k] if w not in _ANSWER_WORDS_ALONE]]
+            return out
+        return self._relief_remark(words, said)
+
+    def _relief_remark(self, words: str, said: list[str]) -> Understanding | None:
+        """:meth:`_everyday_short_forms` (3): a remark of relief or of taking up the thread ("there, that's
+        better", "so, where were we"), not understood and said in passing (``aside``), or None."""
+        plain = [w for w in said if w not in _SOUNDS and w not in self.lexicon.hesitations]
+        while plain and plain[-1] in ("biron", "robot"):
+            plain = plain[:-1]
+        k = 0
+        while k < len(plain) and plain[k] in _RELIEF_OPENERS:
+            k += 1
+        if tuple(plain[k:]) not in _RELIEF_REMARKS:
+            return None
+        out = Understanding(words, None, unknown=self.lexicon.tokens(words).unknown)
+        out.ignored = [t.text for t in self.lexicon.tokens(words).tokens]
+        out.reason, out.aside = "a remark of relief or of taking up the thread", True
+        return out
 
     def _request_before_remark(self, words: str, said: list[str]) -> Understanding | None:
         """A whole follow or greeting said first, then a remark of hers, or None (talk22).
@@ -1784,6 +1960,49 @@ def _introduces(tail: list[str]) -> bool:
         end = tail.index("welcome", lead + 1)
         return 0 < end - lead <= 3 and len(tail) - end <= 5 and tail[lead] not in _NOT_A_NAME
     return bool(lead) and 0 < len(tail) - lead <= 3 and tail[lead] not in _NOT_A_NAME
+
+
+#: talk24: praise said to the robot after a greeting ("hi again biron, good job")
+_PRAISE_PIECES = frozenset({("good", "job"), ("great", "job"), ("nice", "job"), ("well", "done"), ("good", "work"),
+                            ("great", "work"), ("nice", "work"), ("good", "boy"), ("good", "girl"), ("clever", "robot"),
+                            ("good", "robot"), ("very", "good"), ("very", "well", "done")})
+#: talk24: where she is, said after a greeting ("i'm here behind you", "we are back")
+_WHERE_SHE_IS = frozenset({"here", "back", "behind", "you", "next", "to", "beside", "now", "already", "again",
+                           "with", "too", "over", "right"})
+#: talk24: who she brings along ("and this is my son ben")
+_KIN = frozenset({"son", "daughter", "husband", "wife", "partner", "friend", "mother", "father", "mum", "mom", "dad",
+                  "boy", "girl", "kids", "children", "brother", "sister", "flatmate", "grandson", "granddaughter",
+                  "little", "youngest", "oldest", "best", "neighbour", "colleague", "family"})
+
+
+#: talk24: what may end "nice to have you ..." ("with us", "here", "around", "in our home")
+_HAVE_YOU_TAIL = frozenset({"with", "us", "here", "around", "at", "last", "finally", "in", "our", "home", "house", "flat",
+                            "biron", "robot", "today"})
+
+
+def _praises_or_says_where_she_is(piece: list[str]) -> bool:
+    """Whether a piece said after a greeting praises the robot ("good job", "well done biron") or says where she
+    is ("i am here behind you", "we are back"): no request, nothing shown (talk24)."""
+    words = [w for w in piece if w not in ("biron", "robot", "again", "today", "there", "really", "so")] or piece
+    if tuple(words) in _PRAISE_PIECES:
+        return True
+    lead = 2 if words[:2] in (["i", "am"], ["we", "are"]) else 0
+    return bool(lead) and len(words) > lead and words[lead] in ("here", "back") and len(words) - lead <= 4 \
+        and all(w in _WHERE_SHE_IS for w in words[lead:])
+
+
+def _introduces_another(piece: list[str]) -> bool:
+    """Whether a piece said after a greeting says who she brings ("this is my son ben", "these are my kids"):
+    "this is" / "these are", "my" or "our", a word of kin, then at most two words (a name) (talk24)."""
+    lead = 2 if piece[:2] in (["this", "is"], ["these", "are"]) else 0
+    if not lead or len(piece) < lead + 2 or piece[lead] not in ("my", "our"):
+        return False
+    kin = [k for k, w in enumerate(piece[lead + 1:], lead + 1) if w in _KIN]
+    return bool(kin) and kin[0] <= lead + 2 and len(piece) - kin[-1] - 1 <= 2 \
+        and not any(w in _NOT_A_NAME or w in _DEIXIS_WORDS for w in piece[kin[-1] + 1:])
+
+
+_DEIXIS_WORDS = frozenset({"this", "that", "here", "there", "these", "those"})
 #: The spot words that say "we are there" in "that's the spot" (not "the corner", "the view").
 _ARRIVED = frozenset({"spot", "place"})
 
@@ -1999,6 +2218,46 @@ _NOT_A_NOUN_PHRASE = frozenset({"is", "are", "was", "were", "be", "'s", "s", "th
                                 # the robot or a pronoun after the article is no place ("[hey→the] biron, follow me",
                                 # "[can→the] you follow me": a word misheard, still partial)
                                 "one", "biron", "byron", "robot", "you", "me", "i"})
+#: talk24: what may follow a request at its end ("come with me please", "come on then")
+_AFTER_A_REQUEST = frozenset({"please", "biron", "robot", "now", "then", "too", "quickly"})
+#: talk24: words between "come" and "to" in "come over to my study with me"
+_COME_ADVERBS = frozenset({"over", "along", "on", "back", "here", "across", "through"})
+#: talk24: the leads of a clause that says she will show something (after Lexicon.words: "i'll" is "i will")
+_SHOW_LEADS = (("i", "will", "show", "you"), ("let", "me", "show", "you"), ("i", "want", "to", "show", "you"),
+               ("i", "am", "going", "to", "show", "you"), ("i", "want", "you", "to", "see"),
+               ("i", "would", "like", "to", "show", "you"), ("i", "will", "take", "you", "to"),
+               ("let", "me", "take", "you", "to"), ("i", "can", "show", "you"))
+#: talk24: the words of a show clause's lead ("i will", "let me", "i want to", "i am going to", "i would like to")
+_SHOW_LEAD_WORDS = frozenset({"i", "will", "let", "me", "want", "to", "am", "going", "would", "like", "can", "you",
+                              "gonna", "just", "quickly"})
+
+
+def _with_me(words: list[str]) -> bool:
+    """Whether a follow request's last words are "with me", or it with one short word misheard or lost ("with
+    the", "in me", "me"; talk24)."""
+    if words == ["with", "me"] or words in (["me"], ["with"]):
+        return True
+    return len(words) == 2 and (words[0] == "with" and words[1] in _MISHEARD_SHORT
+                                or words[1] == "me" and words[0] in _MISHEARD_SHORT)
+
+
+#: talk24: what may come between the follow's head and the clause ("come on, now I'll show you ...")
+_SHOW_OPENERS = frozenset({"now", "and", "so", "then", "next", "i", "think"})
+#: talk24: words that end a noun phrase after a show lead (a clause of its own follows)
+_SHOW_NOT_IN_NP = frozenset({"come", "follow", "me", "with", "on", "please", "now", "then"})
+#: talk24: praise said first that only takes the turn ("good, now stop")
+_PRAISE_OPENERS = frozenset({"good", "great", "lovely", "perfect", "excellent", "brilliant", "wonderful", "super",
+                             "nice", "fine", "alright", "right"})
+#: talk24: yes-words before "come on" ("yes, come on", "okay, come on")
+_YES_BEFORE_COME_ON = frozenset({"yes", "yeah", "yep", "sure", "okay", "ok", "alright", "right", "oh", "well", "so"})
+#: talk24: remarks of relief or of taking up the thread, said in passing
+_RELIEF_OPENERS = frozenset({"there", "so", "now", "okay", "ok", "right", "well", "oh", "ah", "alright", "anyway",
+                             "phew", "then"})
+_RELIEF_REMARKS = frozenset({("that", "is", "better"), ("that", "is", "much", "better"), ("much", "better"),
+                             ("that", "is", "more", "like", "it"), ("where", "were", "we"), ("where", "was", "i"),
+                             ("that", "is", "better", "now"), ("that", "is", "a", "lot", "better"),
+                             ("where", "did", "we", "stop"), ("where", "did", "i", "stop"), ("that", "was", "better"),
+                             ("better",)})
 _SUGGESTION_BEFORE = frozenset({"so", "okay", "ok", "right", "now", "then", "well", "and", "alright", "biron", "robot"})
 #: Words between the lead and the verb ("I'll just quickly go and get").
 _ERRAND_FILL = frozenset({"just", "quickly", "quick", "first", "only", "go", "and", "run", "nip", "dash"})
