@@ -1519,7 +1519,7 @@ class Understander:
             plain = plain[:-1]
         if len(plain) < 2 or len(plain) > 8:
             return None
-        if plain[0] in _PRAISE_OPENERS:
+        if plain[0] in _PRAISE_OPENERS and plain[1] not in _TIMES_OF_DAY:  # "good morning, follow me": a greeting
             k = 1
             while k < len(plain) and plain[k] in ("now", "then", "so", "biron", "robot", "and"):
                 k += 1
