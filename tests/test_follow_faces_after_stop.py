@@ -100,6 +100,7 @@ def _giving_way(bearing_deg: float, view: float) -> tuple[float, float] | None:
     f.route = SimpleNamespace(ready=True, obstacles_near=lambda odom: np.zeros((0, 2)), clearance=lambda p: 0.3)
     # a give-way spot chosen (its way leads off to the right, away from her)
     f._aside = ([(0.3, -0.2), (0.8, -0.9)], 100.0, False)
+    f._leave_aside = False  # a give-way for her standing there, not one that makes way for her walking out (give24b)
     f.scan = _StepScan(np.zeros((0, 2)))
     try:
         return f._give_way(px, py, np.zeros((0, 2)), view=view)

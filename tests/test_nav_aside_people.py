@@ -43,6 +43,7 @@ def _stepping_aside(her: tuple[float, float], goal: tuple[float, float], v0: flo
     f.scan = LatestScan()
     f.route = SimpleNamespace(ready=True)
     f._aside = ([(0.0, 0.0), goal], 100.0, False)
+    f._leave_aside = False  # a give-way for her standing there (give24b: one for her walking out keeps her in view)
     f._no_spot_until = -math.inf
     f.people = People()
     tracks = etree.Element("tracks", time="10.0", frame="odom")
