@@ -258,8 +258,7 @@ class Person(Actor):
                     # short of her place only because people walk there (or will meet her there): she lets
                     # them pass and goes on (someone standing on it she ends beside, as near as they allow)
                     if crowd_total >= CROWD_GIVE_UP:
-                        self.crowd_stops += 1
-                        self.log.append((self.now, self.now, f"ends her walk at ({here[0]:.2f}, {here[1]:.2f}): people stand in her way"))
+                        self._end_walk_short(here)
                         break
                     self.body.stand()
                     await asyncio.sleep(LEG_TIME)
@@ -327,8 +326,7 @@ class Person(Actor):
                 crowded += self.body.crowded_time - crowd
                 crowd_total += self.body.crowded_time - crowd
                 if crowd_total >= CROWD_GIVE_UP and not self._leaving:  # (leaving, she waits to get out: never gone mid-room)
-                    self.crowd_stops += 1
-                    self.log.append((self.now, self.now, f"ends her walk at ({here[0]:.2f}, {here[1]:.2f}): people stand in her way"))
+                    self._end_walk_short(here)
                     break
                 if crowded >= YIELD_AFTER and not aside:
                     t0 = self.now
@@ -340,6 +338,11 @@ class Person(Actor):
             else:
                 crowded = 0.0
         self.body.stand()
+
+    def _end_walk_short(self, here: tuple[float, float]) -> None:
+        """Count and log a walk given up because people stand in her way (the study counts these)."""
+        self.crowd_stops += 1
+        self.log.append((self.now, self.now, f"ends her walk at ({here[0]:.2f}, {here[1]:.2f}): people stand in her way"))
 
     async def _blocked(self, blocked: float, asked: int) -> bool:
         """Held back ``blocked`` s: ask the robot to make way / come along, or give the walk up (True)."""

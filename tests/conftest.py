@@ -78,3 +78,13 @@ def _close_left_simulations(monkeypatch: pytest.MonkeyPatch) -> Iterator[None]:
                 # A test that left a failed run behind: its own assertions
                 # already judged that failure, and close() closed the loop.
                 pass
+
+
+@pytest.fixture
+def robot() -> Iterator[object]:
+    """A dialog on a bus of its own (tests/test_dialog_bus.py's ``Robot`` harness), closed after the test."""
+    from tests.test_dialog_bus import Robot
+
+    r = Robot()
+    yield r
+    r.sim.close()

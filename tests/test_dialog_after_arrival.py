@@ -9,7 +9,6 @@ radio) nothing starts, and the robot asks to be looked at (docs/semantics.md §2
 
 from __future__ import annotations
 
-import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 from lxml import etree
@@ -31,13 +30,6 @@ def arrive(robot: Robot) -> float:
     said = robot.sentences()
     assert said[-1].startswith("I have arrived at the")
     return 10.0
-
-
-@pytest.fixture
-def robot():
-    r = Robot()
-    yield r
-    r.sim.close()
 
 
 def test_follow_me_after_the_arrival_is_obeyed_without_a_new_greeting(robot):

@@ -89,13 +89,6 @@ class Robot:
         self.partner(1.1)
 
 
-@pytest.fixture
-def robot():
-    r = Robot()
-    yield r
-    r.sim.close()
-
-
 def test_hello_biron_with_a_potential_partner_gets_the_spoken_answer(robot):
     robot.greet()
     robot.sim.run(until=4.0)

@@ -22,13 +22,6 @@ from tests.test_dialog_bus import Robot
 HELLO = "Hello, I am BIRON. What can I do for you?"
 
 
-@pytest.fixture
-def robot():
-    r = Robot()
-    yield r
-    r.sim.close()
-
-
 @pytest.mark.parametrize("words, call", [
     ("biron", True), ("that biron", True), ("byron", True), ("hey biron", True), ("biron um", True),
     ("and biron it this the in", False), ("biron go to the kitchen", False), ("the kitchen", False),

@@ -12,13 +12,6 @@ from robot.contract import ES_EVENTS
 from tests.test_dialog_bus import Robot
 
 
-@pytest.fixture
-def robot():
-    r = Robot()
-    yield r
-    r.sim.close()
-
-
 def _ask(robot: Robot, options: list[str], timeout: float = 8.0, at: float = 7.0, on_order=None) -> list:
     """Teach, then the object attention's clarification with these option texts; the orders it gets
     (``on_order(participant, msg)``: called with each, as the asker would act on it)."""

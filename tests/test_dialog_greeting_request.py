@@ -7,19 +7,11 @@ handles it once the supervisor has taken the greeting (docs/semantics.md §4).
 
 from __future__ import annotations
 
-import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from robot.speech.module import shared_understander
 from tests.test_dialog_bus import Robot
-
-
-@pytest.fixture
-def robot():
-    r = Robot()
-    yield r
-    r.sim.close()
 
 
 def frames(robot: Robot) -> list[str]:

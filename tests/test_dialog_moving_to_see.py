@@ -8,7 +8,6 @@ before its first drive of a search (event ``moving_to_see``) and in ObjectTeachi
 
 from __future__ import annotations
 
-import pytest
 from lxml import etree
 
 from robot.supervisor import ES_EVENTS, event_xml
@@ -16,13 +15,6 @@ from tests.test_dialog_bus import Robot
 
 MOVING = "I cannot see it from here. I will move over to see it."
 ROUND = "I do not see it yet. I will look around you for it."
-
-
-@pytest.fixture
-def robot():
-    r = Robot()
-    yield r
-    r.sim.close()
 
 
 def _teach_with_drives(robot: Robot, drives: tuple[float, ...], learned: float, how: str = "drive") -> list[str]:

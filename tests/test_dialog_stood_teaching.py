@@ -21,13 +21,6 @@ from robot.supervisor import ES_EVENTS
 from tests.test_dialog_bus import Robot
 
 
-@pytest.fixture
-def robot():
-    r = Robot()
-    yield r
-    r.sim.close()
-
-
 def _status(robot: Robot, state: str, start: float, end: float) -> None:
     """The follower's status ``state`` every 0.1 s from ``start`` to ``end``."""
     fol = robot.sim.bus.participant("follower")

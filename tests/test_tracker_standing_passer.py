@@ -46,29 +46,27 @@ def _pass(dist, gap, front, speed, angle, seed, lone_from=0.45, hidden_within=0.
             return
         W = start + max(walked, 0.0) * u if t >= 1.0 else None
         z, kind, whose = [], [], []
+
+        def seen(p, k, w):
+            z.append(p)
+            kind.append(k)
+            whose.append(w)
+
         if W is not None:
             if np.hypot(*(W - S)) < 0.7 and rng.random() < split:
                 for sg in (1.0, -1.0):
                     if rng.random() < 0.7:
-                        z.append(W + sg * 0.1 * n + rng.normal(0.0, 0.03, 2))
-                        kind.append(SINGLE)
-                        whose.append("W")
+                        seen(W + sg * 0.1 * n + rng.normal(0.0, 0.03, 2), SINGLE, "W")
             else:
-                z.append(W + rng.normal(0.0, 0.03, 2))
-                kind.append(PAIR)
-                whose.append("W")
+                seen(W + rng.normal(0.0, 0.03, 2), PAIR, "W")
         off = abs(math.atan2(W[1], W[0])) * dist if W is not None and front and W[0] < S[0] else math.inf
         if off < hidden_within:
             pass
         elif off < lone_from:
             side = -1.0 if W[1] > 0 else 1.0  # the leg on the side away from him shows
-            z.append(S + np.array([0.0, side * 0.1]) + rng.normal(0.0, 0.03, 2))
-            kind.append(SINGLE)
-            whose.append("S")
+            seen(S + np.array([0.0, side * 0.1]) + rng.normal(0.0, 0.03, 2), SINGLE, "S")
         else:
-            z.append(S + rng.normal(0.0, 0.03, 2))
-            kind.append(PAIR)
-            whose.append("S")
+            seen(S + rng.normal(0.0, 0.03, 2), PAIR, "S")
         yield t, np.array(z).reshape(-1, 2), np.array(kind, dtype=np.int8), whose
 
 
