@@ -9,6 +9,8 @@ Run: ``python benchmarks/bench_bus.py [--messages N]``. Every figure is process 
   copy is delivered; under the default policy (the module's element trusted) and under the
   strict one (every message XSD-validated, as in the tests and ``--strict``);
 - the same published as text (a document from outside: hardened parse + XSD);
+- the same with a run's two send interceptors on the bus (the metrics' dispatcher, the heartbeat backstop),
+  neither watching the channel: shown only the channels they want (speed25), they cost it nothing;
 - the same as a typed record (``homesim.message.Typed``, issue 25): shared by the receivers, its
   XML never built because no handler reads it (``typed``), and with every receiver reading
   ``msg.xml`` once (``typed, XML read``: each builds its own document);
@@ -56,11 +58,18 @@ class _PoseRecord(Typed):
 
 
 def run(n: int, *, receivers: int = 1, strict: bool = False, text: bool = False, trace: Path | None = None,
-        typed: bool = False, read: bool = False) -> tuple[float, int]:
+        typed: bool = False, read: bool = False, watched: bool = False) -> tuple[float, int]:
     """(CPU seconds, trace lines) for ``n`` publishes, each delivered to ``receivers`` handlers
-    (``read``: each handler reads ``msg.xml``)."""
+    (``read``: each handler reads ``msg.xml``; ``watched``: with a run's two send interceptors, a metrics
+    dispatcher and the heartbeat backstop, neither watching this channel)."""
     sim = Simulation(seed=1, scenario="bench", strict=strict)
     sim.bus.declare_channel(CHANNEL, POSE_SCHEMA)
+    if watched:
+        from homesim.heartbeat import BackstopMonitor
+        from homesim.observe import Dispatcher
+
+        Dispatcher(sim.bus).add("/robot/attention/", lambda m: None)
+        BackstopMonitor(sim.bus.participant("backstop", host="robot"), "watchdog")
     sender = sim.bus.participant("localisation", host="robot")
     got = [0]
 
@@ -157,6 +166,9 @@ def main() -> None:
             dt, _ = best(a.repeat, n, receivers=receivers, typed=True, read=read)
             label = f"typed, {receivers} receiver(s){', XML read' if read else ''}, default"
             print(f"{label:52} {1e6 * dt / n:10.1f}")
+    dt, _ = best(a.repeat, n, receivers=1, watched=True)
+    label = "element, 1 receiver, with the run's interceptors"
+    print(f"{label:52} {1e6 * dt / n:10.1f}")
     dt, _ = best(a.repeat, n, receivers=1, text=True)
     print(f"{'text from outside (parse + XSD), 1 receiver':52} {1e6 * dt / n:10.1f}")
     with tempfile.TemporaryDirectory() as tmp:

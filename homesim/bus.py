@@ -39,7 +39,9 @@ their hosts (:mod:`homesim.network`; on a link with a bandwidth the delay grows
 with the message's size: its XML and attachments); per (sender, receiver) pair
 delivery is FIFO (as over one TCP connection). A participant's host is the
 network's placement for its name, if it has one (the run's deployment). Interceptors see every send, delivery and drop and change nothing: the
-trace recorder is one.
+trace recorder is one. An interceptor with a ``wants(channel)`` method is shown the publishes on the channels it
+wants only (asked once per channel and kept; whoever changes what it wants calls :meth:`Bus.interceptors_changed`):
+a message nobody watches costs no observation and no calls.
 
 How it fails: sending on a closed participant or calling an unknown server
 raises at once; a call whose reply does not come in time raises
@@ -651,6 +653,9 @@ class Bus:
         self._channel_schemas: dict[str, Schema] = {}
         self._schema_cache: dict[str, Schema | None] = {}
         self._interceptors: list[Interceptor] = []
+        # Per channel: the interceptors shown a publish on it (those without ``wants``, and those that want it), in
+        # their order (:meth:`_watchers_of`; cleared by :meth:`interceptors_changed`).
+        self._watchers: dict[str, tuple[Interceptor, ...]] = {}
         # Handler tasks still running. asyncio keeps only weak references to tasks: a handler
         # awaiting a future nobody else holds would be collected (and the run failed, at a time
         # the garbage collector picks); held here, it just never answers and the caller times out.
@@ -753,7 +758,9 @@ class Bus:
 
         An interceptor with an ``observes`` attribute (a collection of
         ``"send"``, ``"deliver"``, ``"drop"``) is called only for those events;
-        one that watches sends only thus costs nothing per delivery.
+        one that watches sends only thus costs nothing per delivery. One with a
+        ``wants(channel)`` method is shown only the publishes on channels it wants
+        (asked once per channel; call :meth:`interceptors_changed` when that changes).
         """
         self._interceptors.append(interceptor)
         self._sort_interceptors()
@@ -761,6 +768,21 @@ class Bus:
     def remove_interceptor(self, interceptor: Interceptor) -> None:
         self._interceptors.remove(interceptor)
         self._sort_interceptors()
+
+    def interceptors_changed(self) -> None:
+        """What an interceptor ``wants`` may have changed (the run's dispatcher got a handler): ask again."""
+        self._watchers.clear()
+
+    def _watchers_of(self, channel: str) -> tuple[Interceptor, ...]:
+        """The interceptors a publish on ``channel`` is shown to (kept per channel): every one without a
+        ``wants(channel)`` method (the trace recorder), and those that want it, in their order."""
+        watchers = []
+        for fn in self._interceptors:
+            wants = getattr(fn, "wants", None)
+            if wants is None or wants(channel):
+                watchers.append(fn)
+        got = self._watchers[channel] = tuple(watchers)
+        return got
 
     def flooded(self, participant: Participant) -> None:
         """``participant`` sent more than :attr:`max_sends_per_s` messages in one virtual second: fail it.
@@ -783,13 +805,13 @@ class Bus:
             routes = self._routes(channel)
         if routes:
             return True
-        for fn in self._interceptors:
-            wants = getattr(fn, "wants", None)
-            if wants is None or wants(channel):
-                return True
-        return False
+        watchers = self._watchers.get(channel)
+        if watchers is None:
+            watchers = self._watchers_of(channel)
+        return bool(watchers)
 
     def _sort_interceptors(self) -> None:
+        self._watchers.clear()
         self._delivery_interceptors = [
             fn for fn in self._interceptors
             if not {DELIVER, DROP}.isdisjoint(getattr(fn, "observes", (SEND, DELIVER, DROP)))
@@ -917,13 +939,17 @@ class Bus:
         if not plan:
             self.unheard += 1
         if self._interceptors and msg[4] is not None:  # (an unbuilt lazy payload has no audience)
-            receivers = self._receivers_cache.get(channel)
-            if receivers is None:
-                routes = self._route_cache.get(channel) or self._routes(channel)
-                receivers = self._receivers_cache[channel] = tuple(sorted({s.participant.name for s in routes}))
-            obs = _tuple_new(Observation, (msg.sent_ns, SEND, msg, receivers, ""))
-            for fn in self._interceptors:
-                fn(obs)
+            watchers = self._watchers.get(channel)
+            if watchers is None:
+                watchers = self._watchers_of(channel)
+            if watchers:  # (an interceptor is shown the channels it wants only: the run's dispatcher, the backstop)
+                receivers = self._receivers_cache.get(channel)
+                if receivers is None:
+                    routes = self._route_cache.get(channel) or self._routes(channel)
+                    receivers = self._receivers_cache[channel] = tuple(sorted({s.participant.name for s in routes}))
+                obs = _tuple_new(Observation, (msg.sent_ns, SEND, msg, receivers, ""))
+                for fn in watchers:
+                    fn(obs)
         if not plan:
             return
         # What _schedule does per receiver, inlined (this is the hot path of every message):

@@ -39,6 +39,7 @@ class Dispatcher:
             prefixes = (prefixes,)
         self._handlers.append((tuple(prefixes), handler))
         self._routes.clear()
+        self.bus.interceptors_changed()  # (the bus shows it only the channels it wants)
 
     def _route(self, channel: str) -> tuple[Handler, ...]:
         route = tuple(h for prefixes, h in self._handlers if channel.startswith(prefixes))

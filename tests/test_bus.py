@@ -6,7 +6,7 @@ import asyncio
 from collections import defaultdict
 
 import pytest
-from hypothesis import given, settings
+from hypothesis import example, given, settings
 from hypothesis import strategies as st
 from lxml import etree
 
@@ -570,6 +570,83 @@ def test_a_lazy_payload_reaches_a_dispatcher_only_on_the_channels_it_watches():
         a.publish("/other", payload)
         a.publish("/watched/x", payload)
         assert len(built) == 1 and [m.channel for m in seen] == ["/watched/x"]
+
+
+_CHANNELS = ("/a", "/a/x", "/b", "/system/heartbeat/m")
+
+
+@settings(max_examples=examples(40, 200), deadline=None)
+@given(ops=st.lists(st.one_of(
+    st.tuples(st.just("publish"), st.sampled_from(_CHANNELS), st.booleans()),
+    st.tuples(st.just("handler"), st.sampled_from(("/a", "/b", "/system/", "/"))),
+    st.tuples(st.just("watcher"), st.sets(st.sampled_from(_CHANNELS))),
+    st.tuples(st.just("remove"),),
+), max_size=25))
+@example(ops=[("publish", "/a", False), ("handler", "/a"), ("publish", "/a", True)])  # a route asked before its handler
+@example(ops=[("watcher", {"/b"}), ("publish", "/b", False), ("remove",), ("publish", "/b", False),
+              ("watcher", {"/b"}), ("publish", "/b", True)])  # watchers coming and going
+def test_every_interceptor_sees_every_send_it_wants_in_order_however_watchers_change(ops):
+    """An interceptor with ``wants`` is shown only the publishes on channels it wants (the bus asks once
+    per channel and keeps the answer), so whoever changes what it wants must say so: a dispatcher's
+    handler added after its channel was used, a watcher added or removed mid-run, still see exactly
+    the sends a reference that looks at every send would give them, in send order, and an
+    interceptor without ``wants`` sees every send."""
+    from homesim.observe import Dispatcher
+
+    with Simulation(seed=3, strict=False) as s:
+        a = s.bus.participant("a")
+        s.bus.participant("r").subscribe("/a/**", lambda m: None)
+        everything: list[str] = []
+        s.bus.add_interceptor(lambda o: everything.append(o.message.id) if o.event == "send" else None)
+        disp = Dispatcher(s.bus)
+        handlers: list[tuple[str, list[str]]] = []  # (prefix, ids seen)
+        watchers: list[tuple[frozenset[str], list[str], object]] = []
+        sent: list[tuple[str, str]] = []
+        want_handlers: list[list[str]] = []
+        want_watchers: list[list[str]] = []
+
+        class Watcher:
+            observes = ("send",)
+
+            def __init__(self, channels: frozenset[str], seen: list[str]) -> None:
+                self.channels, self.seen = channels, seen
+
+            def wants(self, channel: str) -> bool:
+                return channel in self.channels
+
+            def __call__(self, obs) -> None:  # records everything it is shown
+                self.seen.append(obs.message.id)
+
+        for op in ops:
+            if op[0] == "publish":
+                _, channel, lazy = op
+                msg = a.publish(channel, (lambda: etree.Element("n")) if lazy else etree.Element("n"))
+                sent.append((msg.id, channel))
+                for (prefix, _), want in zip(handlers, want_handlers):
+                    if channel.startswith(prefix):
+                        want.append(msg.id)
+                for (chs, _, _), want in zip(watchers, want_watchers):
+                    if channel in chs:
+                        want.append(msg.id)
+            elif op[0] == "handler":
+                seen: list[str] = []
+                disp.add(op[1], lambda m, seen=seen: seen.append(m.id))
+                handlers.append((op[1], seen))
+                want_handlers.append([])
+            elif op[0] == "watcher":
+                seen = []
+                w = Watcher(frozenset(op[1]), seen)
+                s.bus.add_interceptor(w)
+                watchers.append((frozenset(op[1]), seen, w))
+                want_watchers.append([])
+            elif watchers:  # remove the latest watcher: it sees nothing more
+                chs, seen, w = watchers.pop()
+                s.bus.remove_interceptor(w)
+                assert seen == want_watchers.pop()
+        s.run()
+        assert everything == [i for i, _ in sent]
+        assert [seen for _, seen in handlers] == want_handlers
+        assert [seen for _, seen, _ in watchers] == want_watchers
 
 
 def test_the_suite_runs_strict(sim):
