@@ -168,6 +168,15 @@ def test_goto_normal_path_and_arrival(dm):
     assert says(dm.on_condition(arrived)) == ["I have arrived at the kitchen."]
 
 
+def test_a_go_to_that_stopped_beside_someone_on_the_place_says_so(dm):
+    # goto25: the sequencer's PLACE beside="true" (the player stopped short beside someone standing there)
+    sends(dm.on_frame(frame('<GOTO><PLACE><TITLE name="study"/></PLACE></GOTO>')))
+    dm.on_condition(cond("navigating"))
+    arrived = cond("arrived", '<param name="goal"><PLACE beside="true"><TITLE name="study"/></PLACE></param>')
+    assert says(dm.on_condition(arrived)) == [
+        "I have arrived at the study. Someone is standing on that spot, so I am keeping my distance."]
+
+
 def test_goto_without_a_goal_asks_where(dm):
     assert says(dm.on_frame(frame("<GOTO><PLACE/></GOTO>"))) == ["Where shall I go?"]
     (s,) = sends(dm.on_frame(frame('<PLACE><TITLE name="bedroom"/></PLACE>')))

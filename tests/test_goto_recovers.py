@@ -81,7 +81,7 @@ def _sequencer(max_resumes: int = 2) -> tuple[Sequencer, _Sim]:
     seq.__dict__.update(dict(_sim=sim, bus=sim.bus, blocked_timeout=10.0, start_timeout=3.0, replan_after=3.0, max_replans=3,
                              watch_time=60.0, watch_every=1.0, max_resumes=max_resumes, resumes=0, watching=None,
                              _watch_asked=-math.inf, _clear=0, _resumed=False, replans=0, _asked=False, goal="", steps=[],
-                             index=-1, sent_at=0.0, started=False, blocked_since=None))
+                             index=-1, sent_at=0.0, started=False, blocked_since=None, _beside=False))
     return seq, sim
 
 
@@ -242,3 +242,26 @@ def test_a_blockage_after_progress_gets_its_own_replans_but_one_blockage_no_more
     seq._on_player(_status("moving"))  # he stepped aside: on again, after 0.3 m of progress
     _blocked_for(seq, sim, 3.5)
     assert _replans(sim) == 4  # a new blockage further on: a way round is asked for again
+
+
+def _reached(beside: bool = False) -> etree._Element:
+    el = etree.Element("player", state="reached", x="3.0000", y="0.0000")
+    if beside:
+        el.set("beside", "true")
+    return el
+
+
+def _goal_place(sim: _Sim) -> etree._Element:
+    (el,) = [el for ch, el in sim.bus.sent if el.tag == "event" and el.get("name") == "goal_reached"]
+    return el.find("PLACE")
+
+
+def test_a_go_to_that_ends_beside_someone_on_the_place_says_so_in_its_goal_reached_and_only_then():
+    # goto25: the player stopped short beside someone standing on the place: the dialog is told (and says so)
+    for beside in (True, False):
+        seq, sim = _sequencer()
+        seq._on_plan(_Msg(_plan("study")))
+        seq._on_player(_Msg(_reached(beside)))
+        place = _goal_place(sim)
+        assert place.find("TITLE").get("name") == "study"
+        assert (place.get("beside") == "true") is beside

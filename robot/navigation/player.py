@@ -23,7 +23,8 @@ Orders arrive on ``/robot/es/orders/player`` (docs/robot-contract.md):
   0.2 m/s within 1.2 m of anyone, full speed from 2 m
   (:func:`~robot.navigation.local.social_speed_limit`).
   Within ``tolerance`` (default 0.2 m) it turns to ``theta`` when ``align`` is
-  true, then stops and reports ``reached``.
+  true, then stops and reports ``reached``. Held up near the place by someone standing on it
+  (:func:`goal_taken`) it arrives beside them and reports ``reached`` with ``beside="true"``.
 * ``stop``: zero velocity at once, the goal is dropped.
 * ``show_attention``: the avatar's attentive expression on the display.
 
@@ -488,7 +489,7 @@ class Player(Module):
         gap = sweep_clearance(v, w, mapped, SWEEP_TIME)
         return gap >= SWEEP_MARGIN or gap >= sweep_clearance(0.0, 0.0, mapped, 0.0, steps=1) + 1e-3
 
-    def _arrive(self, dist: float, turn: float, mapped: np.ndarray) -> tuple[float, float]:
+    def _arrive(self, dist: float, turn: float, mapped: np.ndarray, *, beside: bool = False) -> tuple[float, float]:
         """At the goal: turn on the spot to its heading (``turn`` rad to go), then report ``reached``.
 
         Where turning would sweep a corner into the floor plan's furniture or walls (a goal
@@ -519,7 +520,7 @@ class Player(Module):
             self._turning = True  # the whole turn is clear: make it
         if abs(turn) < math.radians(8):
             self.bus.publish(BASE_CMD, etree.Element("velocity", v="0", w="0"))
-            self._set_state("reached", dist)
+            self._set_state("reached", dist, beside=beside)
             self._reached, self.goal = self.goal, None
             self._aligning = None
             self._turning = False
@@ -588,11 +589,13 @@ class Player(Module):
         """The latest localised pose (map frame), None before the first."""
         return None if self._pose_xml is None else pose_of(self._pose_xml)
 
-    def _set_state(self, state: str, distance: float | None = None) -> None:
+    def _set_state(self, state: str, distance: float | None = None, *, beside: bool = False) -> None:
         if state == self.state:
             return
         self.state = state
         el = etree.Element("player", state=state)
+        if beside:
+            el.set("beside", "true")  # reached: it stopped short beside someone standing on the place (goal_taken)
         if self.goal is not None and state not in ("idle", "stopped"):
             el.set("x", f"{self.goal[0]:.4f}")
             el.set("y", f"{self.goal[1]:.4f}")
@@ -700,12 +703,17 @@ class Player(Module):
             giving_way = False
         if giving_way and cmd.v > 0.0:
             cmd = Command(0.0, 0.0, True, cmd.clearance)
-        if (held and align and dist <= ARRIVE_BESIDE and goal_taken(moving, local_goal(pose, (gx, gy)))
+        # held up for them, or standing where it would report (or has reported) ``blocked``: the window finds no
+        # arc past their space, or no progress for stall_time (approaching them from the side the window stops it
+        # short of their space before the lane's wait does; blocked there it replanned and asked for help)
+        stuck = held or self.state == "blocked" or (not cmd.ok and not for_walker) or self.now - self._best_t > self.stall_time
+        if (stuck and align and dist <= ARRIVE_BESIDE and goal_taken(moving, local_goal(pose, (gx, gy)))
                 and in_sight(local_goal(pose, (gx, gy)), mapped)):
             # someone standing on the place itself holds it up (waiting for them, not turning to a leg or
             # finding no arc): it has arrived as near as it politely can
-            # (it does not turn to the place's heading beside them: the corners swing behind it)
-            return self._arrive(dist, 0.0, mapped)
+            # (it does not turn to the place's heading beside them: the corners swing behind it); it reports
+            # that it stopped beside someone (``beside``), and the dialog says so
+            return self._arrive(dist, 0.0, mapped, beside=True)
         if held and abs(bearing) > WAY_ROUND and not self._waits_for(moving, odo, travel, turn=bearing):
             # held by someone standing in the lane of its heading while the leg (a replan's way round
             # them) points past them: turn on the spot toward the leg, if that swings no corner into

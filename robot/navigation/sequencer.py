@@ -8,7 +8,8 @@ heading along the next leg, the place's heading on the last step, which the
 player turns to (``align``). The ES turns each into a ``move_to`` order for
 the player; the player's ``/robot/player/status`` says when a step is
 ``reached``, and the next step goes out. After the last: ``goal_reached``
-with the ``PLACE`` frame.
+with the ``PLACE`` frame (``<PLACE beside="true">`` when the player stopped short beside
+someone standing on the place: the dialog says so).
 
 Failures, as ``navigation_failed`` with ``@reason`` and the goal's ``PLACE`` (the ES
 passes both to the dialog's ``need_help``: "I cannot get to the kitchen"):
@@ -107,6 +108,7 @@ class Sequencer(Module):
         self.sent_at = 0.0
         self.started = False
         self.blocked_since: float | None = None
+        self._beside = False  # the step just reached ended beside someone standing on it (the player's ``beside``)
         self.bus.subscribe(PLAN, self._on_plan)
         self.bus.subscribe(PLAYER_STATUS, self._on_player)
         self.bus.subscribe(ORDERS, self._on_order)
@@ -166,7 +168,10 @@ class Sequencer(Module):
         self.blocked_since, self._asked = None, False
         if self.index >= len(self.steps):
             self.steps, self.index = [], -1
-            self._event("goal_reached", child=self._place())
+            place = self._place()
+            if self._beside:  # the last step ended short, beside someone standing on the place: the dialog says so
+                place.set("beside", "true")
+            self._event("goal_reached", child=place)
             return
         self.sent_at, self.started = self.now, False
         self._event("plan_step", child=etree.Element("POSE", **self.steps[self.index]))
@@ -193,6 +198,7 @@ class Sequencer(Module):
             if self.blocked_since is None:
                 self.blocked_since = self.now
         elif state == "reached":
+            self._beside = msg.xml.get("beside") == "true"
             self._next()
         elif state == "stopped":
             self.steps, self.index = [], -1
