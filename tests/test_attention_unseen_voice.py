@@ -64,7 +64,7 @@ def test_talking_on_from_where_she_went_out_of_view_she_is_never_gone(r, a, head
     if said == "wait":
         pa._said_wait = -0.5
     p = pa.params
-    t = 1.0
+    t = p.partner_lost_after + 0.5  # (she has been out of view a moment: until then her voice goes to her track)
     for g in gaps:  # she speaks every g s (less than come_back_after), long past the longest patience in all
         pa._voice_from_where_she_went(t, [_reading(pa, x, y)])
         assert pa._heard_unseen[0] == t
@@ -94,9 +94,9 @@ def test_a_voice_from_elsewhere_is_not_hers(r, a, heading, speed, walk, state, o
     # someone else, clearly elsewhere: his reading (either way round: the pair cannot tell front from back) far off
     # hers beyond what her unknown height and her steps since can explain
     off = min(abs(b - mine), abs(math.remainder(math.pi - b - mine, 2 * math.pi)))
-    assume(off > pa.cues.sound_tolerance + math.asin(min(1.0, pa.params.unseen_voice_reach / r)) + math.radians(12))
+    assume(off > pa.cues.sound_tolerance + pa.params.unseen_voice_spread + math.radians(12))
     quiet = _attention(state, 0.0, x, y, speed * math.cos(walk), speed * math.sin(walk), heading)
-    pa._voice_from_where_she_went(1.0, [b])
+    pa._voice_from_where_she_went(2.5, [b])
     assert pa._heard_unseen[0] == -math.inf
     assert pa.partner_left(unseen) == quiet.partner_left(unseen)
 
@@ -106,6 +106,9 @@ def test_only_in_interaction_and_object(state):
     pa = _attention(state, 0.0, 4.0, 2.5, 0.0, 0.0, 0.0)
     pa._voice_from_where_she_went(3.0, [_reading(pa, 4.0, 2.5)])
     assert pa._heard_unseen[0] == -math.inf
+    seen = _attention("Interaction", 0.0, 4.0, 2.5, 0.0, 0.0, 0.0)  # (the same voice in Interaction is hers)
+    seen._voice_from_where_she_went(3.0, [_reading(seen, 4.0, 2.5)])
+    assert seen._heard_unseen[0] == 3.0
 
 
 def test_after_a_good_bye_her_voice_keeps_her_only_a_moment():
@@ -113,6 +116,7 @@ def test_after_a_good_bye_her_voice_keeps_her_only_a_moment():
     pa._said_bye = 5.0
     pa._words_end = 6.0
     pa._voice_from_where_she_went(5.5, [_reading(pa, 4.0, 2.5)])
+    assert pa._heard_unseen[0] == 5.5
     p = pa.params
     assert not pa.partner_left(5.5 + p.partner_lost_after - 0.1)
     assert pa.partner_left(5.5 + p.bye_patience + 0.1)
