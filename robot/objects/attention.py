@@ -851,8 +851,7 @@ class ObjectAttention(Module):
             pose = self.pose
             assert pose is not None
             merged = merge(one_surface(self._seen, self._rays), (pose[0], pose[1]), eye_height=CAMERA_HEIGHT, frames=self._frames)
-            near = [c for c in merged if math.hypot(c.x - px, c.y - py) <= radius]
-            res = without_glimpses(resolve(near, wanted, None, (px, py)), near, wanted, None, (px, py))
+            res = resolve_near(merged, wanted, (px, py), radius)
             self.last = res
             return res
 
@@ -1471,6 +1470,23 @@ def without_glimpses(res: Resolution, cands: list[Candidate], wanted: Wanted, po
     best = res.best
     if (res.kind == "one" and best is not None and evidence(best, wanted) < GLIMPSE) or all(evidence(c, wanted) < GLIMPSE for c in fitting):
         return Resolution("none", (), "nothing_seen")
+    return res
+
+
+def resolve_near(cands: list[Candidate], wanted: Wanted, her: tuple[float, float], radius: float) -> Resolution:
+    """What she named, found without a gesture: resolved among ``cands`` within ``radius`` of where she stands
+    (``her``, map frame), nearer preferred. The radius is a guess at how near her a thing she shows stands, not
+    evidence: a thing that fits as well just beyond it is as likely hers (fresh12/studio_three_mugs seed 3: "blue"
+    misheard, no gesture seen, the yellow of three mugs 0.25 m apart stored unasked, 1.42 m from her, the blue one
+    1.59 m). One found within ``radius`` is kept only when it is also clear of what fits out to
+    ``SEARCH_RADIUS_WIDE``; else the question is which one (all of those as options)."""
+    near = [c for c in cands if math.hypot(c.x - her[0], c.y - her[1]) <= radius]
+    res = without_glimpses(resolve(near, wanted, None, her), near, wanted, None, her)
+    if res.kind == "one" and radius < SEARCH_RADIUS_WIDE:
+        wide = [c for c in cands if math.hypot(c.x - her[0], c.y - her[1]) <= SEARCH_RADIUS_WIDE]
+        rivals = without_glimpses(resolve(wide, wanted, None, her), wide, wanted, None, her)
+        if rivals.kind == "ambiguous":
+            return rivals
     return res
 
 
