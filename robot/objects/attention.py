@@ -729,6 +729,15 @@ class ObjectAttention(Module):
             self._subs = []
             self._people = None
 
+    async def _listening(self) -> bool:
+        """Start following the people around and the player's status (:meth:`_listen`) if this search has not yet,
+        and give the first tracks 0.3 s to come in. True when it started them now (the pose may have moved on)."""
+        if self._subs:
+            return False
+        self._listen(True)
+        await asyncio.sleep(0.3)
+        return True
+
     async def _look(self, wanted: Wanted, pointing: Pointing | None, cause: str, spot: tuple[float, float, float] | None = None,
                     on: str | None = None, near: tuple[float, float, float] | None = None) -> Resolution:
         """Look where she points for ``look_time`` s, merge the detections, resolve the reference.
@@ -797,9 +806,7 @@ class ObjectAttention(Module):
         spot = self._named_spot(obj)
         if spot is None or self.pose is None or not (wanted.type or wanted.name):
             return None
-        if not self._subs:  # the people around: from now until the search ends
-            self._listen(True)
-            await asyncio.sleep(0.3)
+        await self._listening()
         pose = self.pose
         cam = (pose[0] + CAMERA_OFFSET * math.cos(pose[2]), pose[1] + CAMERA_OFFSET * math.sin(pose[2]), CAMERA_HEIGHT)
         if self.plan is not None and (not in_range(cam, spot) or not sight_clear(self.plan, cam, spot, self._people_map(pose))):
@@ -900,9 +907,7 @@ class ObjectAttention(Module):
             her, radius = (None, radius) if target is None else ((target[0], target[1]), COVER_RAY)
         if her is None or pose is None or self.plan is None:
             return None
-        if not self._subs:  # the people around and the player's status: from now until the search ends
-            self._listen(True)
-            await asyncio.sleep(0.3)
+        if await self._listening():
             pose = self.pose
             assert pose is not None
         unseen = self.unseen(her, radius)
@@ -967,9 +972,7 @@ class ObjectAttention(Module):
         target = self._target_3d(pointing)
         if target is None or self.pose is None or self.plan is None:
             return False
-        if not self._subs:  # the people around: from now until the search ends
-            self._listen(True)
-            await asyncio.sleep(0.3)
+        await self._listening()
         if not self.view_blocked(pointing):
             return False
         # her aim (AIM_SIGMA) over the way from her hand to the spot: how far beside it the thing may stand
@@ -1003,9 +1006,7 @@ class ObjectAttention(Module):
         with ``apart_from``, one that sees it from another side than from there (:func:`viewpoint`)."""
         if self.pose is None or self.plan is None:
             return False
-        if not self._subs:  # the people around and the player's status: from now until the search ends
-            self._listen(True)
-            await asyncio.sleep(0.3)
+        await self._listening()
         pose = self.pose
         assert pose is not None
         people = self._people_map(pose)
