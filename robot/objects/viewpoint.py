@@ -290,17 +290,19 @@ def viewpoint_route(plan: FloorPlan, robot: Point, target: tuple[float, float, f
     of one 0.33 m from a bookcase's end (perceive/view_round_corner seed 9). Such a route is planned again
     over a grid that keeps the standing clearance from furniture (the way round the corner a little wider),
     and that route is taken when there is one."""
-    args = (plan, robot, target, people)
-    kw = dict(camera_height=camera_height, camera_offset=camera_offset, max_travel=max_travel, clearance=clearance,
-              person_clearance=person_clearance, arrive=arrive, max_legs=max_legs, apart_from=apart_from, spread=spread)
-    route = _route(*args, grid_clearance=clearance * DRIVE_CLEARANCE, **kw)  # type: ignore[arg-type]
+    def plan_over(grid_clearance: float) -> list[tuple[float, float, float]] | None:
+        return _route(plan, robot, target, people, camera_height=camera_height, camera_offset=camera_offset, max_travel=max_travel,
+                      clearance=clearance, person_clearance=person_clearance, arrive=arrive, max_legs=max_legs, apart_from=apart_from,
+                      spread=spread, grid_clearance=grid_clearance)
+
+    route = plan_over(clearance * DRIVE_CLEARANCE)
     if route is None or len(route) < 2:
         return route
     every = _blocks(plan)
     drive_p = person_clearance * DRIVE_CLEARANCE
     if all(_free(every, (x, y), people, max(clearance * DRIVE_CLEARANCE, ROBOT_CLEARANCE), drive_p) for x, y, _ in route[:-1]):
         return route
-    wide = _route(*args, grid_clearance=max(clearance * DRIVE_CLEARANCE, ROBOT_CLEARANCE), **kw)  # type: ignore[arg-type]
+    wide = plan_over(max(clearance * DRIVE_CLEARANCE, ROBOT_CLEARANCE))
     return route if wide is None else wide
 
 
