@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import math
 
-from hypothesis import assume, given, settings
+from hypothesis import assume, example, given, settings
 from hypothesis import strategies as st
 
 from robot.attention.appearance import Colours
@@ -191,6 +191,10 @@ def _l_corridor():
 
 @settings(max_examples=60, deadline=None)
 @given(y0=st.floats(0.2, 0.8), x0=st.floats(0.0, 1.5), drift=st.floats(-0.3, 0.3), pace=st.floats(0.8, 1.2))
+# search25: the longest free run was the way back down the first leg, not on up the other one beside its wall
+@example(y0=0.21875, x0=0.25, drift=-0.0625, pace=1.0)
+@example(y0=0.22, x0=0.25, drift=-0.06, pace=1.0)
+@example(y0=0.5, x0=1.5, drift=-0.06, pace=1.19)
 def test_the_search_point_follows_her_round_the_blind_bend_of_a_passage(y0, x0, drift, pace):
     """bend23, fresh11 twin_passage_chat: last seen walking east along a 1.0 m passage (her track's heading a
     little off the passage's, as a tracker's is), she turned north round its bend out of view; the search

@@ -152,8 +152,13 @@ WALK_BACK = math.radians(135)
 #: m: a searched point nearer the floor plan's walls or furniture than this is no place a person stands
 #: (:meth:`Follower._not_there`: a track coasting on into the passage's wall at its blind bend, bend23)
 WALL_BODY = 0.15
-#: quarter-second steps: the free run ahead by which the heading is chosen (the longest; of equal ones the least turn)
+#: quarter-second steps: the free run ahead looked along for each heading (:meth:`Follower._walk_turn`)
 WALK_RUN = 8
+#: m: ... a heading whose run goes this far free (or all :data:`WALK_RUN` steps) is a way on, and of the ways on
+#: she takes the least turn from where she was walking, not the longest run: round the bend of a 1.0 m L passage
+#: the way back down its first leg ran 2 m free where the way on up its other leg, beside its wall, ran 1.5 m
+#: (search25); with no such way on, the longest run
+WALK_AHEAD = 1.0
 #: s: ... and where that point is seen empty too (:meth:`Follower._not_there`), on up to this long (the longest
 #: follow search, :func:`robot.partner_search.follow_search_time`'s cap)
 SEARCH_WALK_FAR = 15.0
@@ -1644,11 +1649,12 @@ class Follower(Module):
                    first: tuple[float, float]) -> tuple[float, float] | None:
         """Where she walks on from ``at`` when the step at velocity ``v`` is not free: of the headings within
         :data:`WALK_BACK` of her heading when last seen (``first``, in :data:`WALK_STEP` steps: she does not walk
-        back), the one whose quarter-second steps run furthest (up to :data:`WALK_RUN` of them) without crossing
-        the floor plan, of equal runs the one nearest ``v``, of those the one ending furthest off the walls; None
-        when none has a free step (a dead end)."""
+        back), those whose quarter-second steps run :data:`WALK_AHEAD` free or all :data:`WALK_RUN` of them
+        without crossing the floor plan are ways on, and of those she takes the one nearest ``v`` (the least
+        turn), of equal turns the longer run, then the one ending furthest off the walls; with no way on, the
+        longest run (of equal runs the least turn); None when no heading has a free step (a dead end)."""
         best: tuple[float, float] | None = None
-        rank: tuple[int, float, float] = (0, 0.0, 0.0)  # (run, -turn, clearance at the run's end)
+        rank: tuple[int, float, float, float] = (0, 0.0, 0.0, 0.0)
         speed, base, now = math.hypot(*v), math.atan2(first[1], first[0]), math.atan2(v[1], v[0])
         n = int(round(WALK_BACK / WALK_STEP))
         for i in range(-n, n + 1):
@@ -1660,9 +1666,11 @@ class Follower(Module):
                 if not self._step_free((x, y), (nx, ny)):
                     break
                 k, x, y = k + 1, nx, ny
-            # the longest run; of equal runs the least turn, of equal turns (either way) the one that ends furthest
-            # off the walls (along a wall met head-on: the way she drifted)
-            key = (k, -round(abs(math.remainder(h - now, math.tau)), 6), self.route.clearance((x, y)))
+            # a way on: the least turn, of equal turns the longer run, of equal runs (either way) the one that ends
+            # furthest off the walls (along a wall met head-on: the way she drifted); else the longest run
+            turn = -round(abs(math.remainder(h - now, math.tau)), 6)
+            on = k == WALK_RUN or k * speed * 0.25 >= WALK_AHEAD - 1e-9
+            key = (1, turn, k, self.route.clearance((x, y))) if on else (0, k, turn, self.route.clearance((x, y)))
             if k > 0 and (best is None or key > rank):
                 best, rank = tv, key
         return best
