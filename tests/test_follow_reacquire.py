@@ -211,6 +211,39 @@ def test_the_search_point_follows_her_round_the_blind_bend_of_a_passage(y0, x0, 
     assert y > 1.0 and 2.0 <= x <= 3.0  # round the bend, on north in its other leg
 
 
+def test_once_the_walked_on_point_is_seen_empty_the_robot_come_up_to_it_looks_further_on_not_back_at_it():
+    """search25, fresh11 twin_passage_chat seed 1: last seen walking east along the first leg of an L passage, she went
+    on round its bend and up the other leg; the robot saw the 5 s point (round the bend) empty and made for where her
+    pace carried her since, but come up beside that point it no longer saw it (not in the laser's view) and took it
+    as her place again: it stood there, facing it, until it declared her lost. Seen empty once for this sighting,
+    the point stays so: the search goes on up the other leg, whatever the scan now shows of it."""
+    from robot.navigation.follow import SEARCH_WALK_ON, Follower
+
+    plan = _l_corridor()
+    plan.inside = staticmethod(lambda p: plan.clearance(p) > 0.0)
+
+    class _Scan:
+        empty = True  # whether the latest scan looks at a point and finds it empty
+
+        def sees_through(self, x, y, radius=0.25):
+            return self.empty
+
+    class _Sim:
+        now = 10.0  # unseen 10 s: the 5 s point is round the bend, her pace has taken her 2.5 m further up
+
+    f = Follower.__new__(Follower)
+    f.sim, f.route, f.scan = _Sim(), plan, _Scan()
+    f._seen_pos, f._seen_v, f._walked_far = (0.5, 0.5, 0.0), (0.5, 0.0), None
+    near = f._walk_on((0.5, 0.5), (0.5, 0.0), SEARCH_WALK_ON)
+    assert near[0] > 2.0 and near[1] < 1.5  # (round the bend: the point the robot makes for first)
+    f.odom = (1.5, 0.5, 0.0)  # in the first leg, the 5 s point in view and empty: on up the other leg
+    first = f._not_there(*near)
+    assert first[1] > near[1] + 2.0
+    f.odom, f.scan.empty = (near[0] - 0.3, near[1], math.pi / 2), False  # come up beside it: out of the laser's view
+    f.sim.now = 11.0
+    assert f._not_there(*near)[1] > first[1]  # further on still, never back to the point seen empty
+
+
 def test_she_turned_through_the_door_as_she_went_out_of_view_her_pace_not_her_last_speed_is_her_reach():
     """sq_cross_pair seed 0: turning through the hall door slowed her constant-velocity track to 0.3 m/s
     just before the jamb hid her, though she walked 0.5 m/s; 8.3 s later she came into view in the next

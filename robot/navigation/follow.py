@@ -1196,9 +1196,12 @@ class Follower(Module):
             return px, py
         rx, ry = self._to_robot(px, py)
         # nobody stands with their centre on a wall or outside the floor plan's rooms: a track coasting on into
-        # the wall (she turned round a blind bend, her track went on straight) is no place she can be (bend23)
-        if (not self.scan.sees_through(rx, ry) and self.route.clearance((px, py)) >= WALL_BODY
-                and self.route.inside((px, py))):
+        # the wall (she turned round a blind bend, her track went on straight) is no place she can be (bend23);
+        # nor is the point already seen empty for this sighting (the far walk begun): come up to it, the robot no
+        # longer sees it (beside it, under the laser's reach) and had gone back to stand there until it declared
+        # her lost while she walked on up the passage's other leg (search25, fresh11 twin_passage_chat)
+        if (self._walked_far != self._seen_pos[2] and not self.scan.sees_through(rx, ry)
+                and self.route.clearance((px, py)) >= WALL_BODY and self.route.inside((px, py))):
             return px, py
         vx, vy = self._seen_v
         if math.hypot(vx, vy) < WALKING:
