@@ -244,6 +244,53 @@ def test_once_the_walked_on_point_is_seen_empty_the_robot_come_up_to_it_looks_fu
     assert f._not_there(*near)[1] > first[1]  # further on still, never back to the point seen empty
 
 
+def test_searching_her_coasting_track_on_a_wall_or_seen_empty_is_nobody_in_its_way_but_never_while_she_is_seen():
+    """search25 (own L passage scene): unseen round a blind bend, her track stood where she was last measured, its
+    centre at the passage's wall, kept by the wall's echo; the contact limit took it for her standing 0.7 m ahead and
+    halted the robot until the search ran out while she walked on up the other leg. Searching, her coasting track is
+    left out of the contact limit where nobody can stand (centre within WALL_BODY of the floor plan) or where the
+    laser looks and sees nobody; never while she is seen (following), nor where the laser does not look."""
+    from robot.navigation.follow import Follower
+
+    plan = _l_corridor()
+
+    class _Scan:
+        empty = False
+
+        def sees_through(self, x, y, radius=0.25):
+            return self.empty
+
+    class _Sim:
+        now = 12.0
+
+    f = Follower.__new__(Follower)
+    f.sim, f.route, f.scan, f.partner_id, f.odom = _Sim(), plan, _Scan(), "t1", (1.8, 0.5, 0.0)
+    on_wall = {"t": 11.9, "x": 2.5, "y": 0.05, "vx": 0.0, "vy": 0.0}  # 5 cm off the passage's wall
+    mid = {"t": 11.9, "x": 2.5, "y": 0.5, "vx": 0.0, "vy": 0.0}  # in the passage's middle
+    assert f._nobody_there(on_wall, True) == "t1"
+    assert f._nobody_there(on_wall, False) is None  # following: she is seen, her track is her
+    assert f._nobody_there(mid, True) is None  # the laser does not look there (or sees someone): she may stand there
+    f.scan.empty = True
+    assert f._nobody_there(mid, True) == "t1"  # looked at and empty: nobody there
+
+
+def test_the_contact_limit_leaves_out_only_the_track_said_gone():
+    """``in_the_way(gone=id)`` leaves that one track out of every row (its own, and as someone who stopped dead),
+    and nobody else: a person standing in the way still limits the robot."""
+    from robot.navigation.people import People, in_the_way
+
+    people = People()
+    xml = ('<tracks time="10.0" frame="odom"><track id="t1" x="1.0" y="0.0" vx="0.0" vy="0.0" cxx="30" cxy="0" '
+           'cyy="30" confirmed="true"/><track id="t2" x="2.0" y="0.5" vx="0.0" vy="0.0" cxx="0.01" cxy="0" '
+           'cyy="0.01" confirmed="true"/></tracks>')
+    from homesim.xmlio import parse_bytes
+
+    people.update(parse_bytes(xml))
+    both = in_the_way(people, (0.0, 0.0, 0.0), 10.0)
+    one = in_the_way(people, (0.0, 0.0, 0.0), 10.0, gone="t1")
+    assert len(both) == 2 and len(one) == 1 and abs(one[0][0] - 2.0) < 1e-9
+
+
 def test_she_turned_through_the_door_as_she_went_out_of_view_her_pace_not_her_last_speed_is_her_reach():
     """sq_cross_pair seed 0: turning through the hall door slowed her constant-velocity track to 0.3 m/s
     just before the jamb hid her, though she walked 0.5 m/s; 8.3 s later she came into view in the next

@@ -1001,7 +1001,7 @@ class Follower(Module):
             # beside anyone known, as running at it (People.newborn: a boy out of a side door of a 1.1 m hallway
             # at 1.5 m/s, first seen 1.13 m off, was left out for that scan and touched; corr_hallway_crossing)
             way = in_the_way(self.people, self.odom, self.now, echoes=self.scan.points(), first_seen=True,
-                             exclude=self.partner_id)
+                             exclude=self.partner_id, gone=self._nobody_there(tr, searching))
             contact = contact_speed_limit(way,
                                           limits.max_speed, decel=self.limits.max_accel, w=self.w,
                                           dw=self.limits.max_turn_accel * self.period)
@@ -1220,6 +1220,23 @@ class Follower(Module):
             if self._walked_far == st:
                 q = self._walk_on((sx, sy), (vx, vy), min(self.now - st, SEARCH_WALK_FAR))
         return q
+
+    def _nobody_there(self, tr: dict[str, Any], searching: bool) -> str | None:
+        """Searching (her track unmeasured over :attr:`lost_after`), her coasting track's id when its centre lies within
+        :data:`WALL_BODY` of the floor plan, or the latest scan looks at the disc round it and finds it empty
+        (:meth:`LatestScan.sees_through`, the disc kept off the floor plan's walls as in :meth:`_not_there`): nobody
+        stands there, so the contact limit leaves it out; else None. Her track stood where she was last measured, beside the wall at a passage's blind bend, kept "standing"
+        by the wall's echo; the contact limit took it for her standing in its way, brought the robot to a halt 0.7 m
+        from it and the search ran out there while she walked on up the passage's other leg (search25)."""
+        if not searching or self.partner_id is None:
+            return None
+        age = max(0.0, self.now - tr["t"])  # where the contact limit puts it: predicted by its velocity to now
+        x, y = tr["x"] + tr["vx"] * age, tr["y"] + tr["vy"] * age
+        clearance = self.route.clearance((x, y))
+        if clearance < WALL_BODY:  # nobody stands with their centre on a wall (as in _not_there)
+            return self.partner_id
+        radius = min(0.25, max(0.1, clearance - 0.05))
+        return self.partner_id if self.scan.sees_through(*self._to_robot(x, y), radius) else None
 
     def _give_way(self, px: float, py: float, mapped: np.ndarray, *, held: bool = False,
                   back_only: bool = False, view: float = GIVE_WAY_BEARING, step_back: bool = False,
