@@ -152,8 +152,13 @@ WALK_BACK = math.radians(135)
 #: m: a searched point nearer the floor plan's walls or furniture than this is no place a person stands
 #: (:meth:`Follower._not_there`: a track coasting on into the passage's wall at its blind bend, bend23)
 WALL_BODY = 0.15
-#: quarter-second steps: the free run ahead by which the heading is chosen (the longest; of equal ones the least turn)
+#: quarter-second steps: the free run ahead looked along for each heading (:meth:`Follower._walk_turn`)
 WALK_RUN = 8
+#: m: ... a heading whose run goes this far free (or all :data:`WALK_RUN` steps) is a way on, and of the ways on
+#: she takes the least turn from where she was walking, not the longest run: round the bend of a 1.0 m L passage
+#: the way back down its first leg ran 2 m free where the way on up its other leg, beside its wall, ran 1.5 m
+#: (search25); with no such way on, the longest run
+WALK_AHEAD = 1.0
 #: s: ... and where that point is seen empty too (:meth:`Follower._not_there`), on up to this long (the longest
 #: follow search, :func:`robot.partner_search.follow_search_time`'s cap)
 SEARCH_WALK_FAR = 15.0
@@ -996,7 +1001,7 @@ class Follower(Module):
             # beside anyone known, as running at it (People.newborn: a boy out of a side door of a 1.1 m hallway
             # at 1.5 m/s, first seen 1.13 m off, was left out for that scan and touched; corr_hallway_crossing)
             way = in_the_way(self.people, self.odom, self.now, echoes=self.scan.points(), first_seen=True,
-                             exclude=self.partner_id)
+                             exclude=self.partner_id, gone=self._nobody_there(tr, searching))
             contact = contact_speed_limit(way,
                                           limits.max_speed, decel=self.limits.max_accel, w=self.w,
                                           dw=self.limits.max_turn_accel * self.period)
@@ -1191,9 +1196,12 @@ class Follower(Module):
             return px, py
         rx, ry = self._to_robot(px, py)
         # nobody stands with their centre on a wall or outside the floor plan's rooms: a track coasting on into
-        # the wall (she turned round a blind bend, her track went on straight) is no place she can be (bend23)
-        if (not self.scan.sees_through(rx, ry) and self.route.clearance((px, py)) >= WALL_BODY
-                and self.route.inside((px, py))):
+        # the wall (she turned round a blind bend, her track went on straight) is no place she can be (bend23);
+        # nor is the point already seen empty for this sighting (the far walk begun): come up to it, the robot no
+        # longer sees it (beside it, under the laser's reach) and had gone back to stand there until it declared
+        # her lost while she walked on up the passage's other leg (search25, fresh11 twin_passage_chat)
+        if (self._walked_far != self._seen_pos[2] and not self.scan.sees_through(rx, ry)
+                and self.route.clearance((px, py)) >= WALL_BODY and self.route.inside((px, py))):
             return px, py
         vx, vy = self._seen_v
         if math.hypot(vx, vy) < WALKING:
@@ -1212,6 +1220,23 @@ class Follower(Module):
             if self._walked_far == st:
                 q = self._walk_on((sx, sy), (vx, vy), min(self.now - st, SEARCH_WALK_FAR))
         return q
+
+    def _nobody_there(self, tr: dict[str, Any], searching: bool) -> str | None:
+        """Searching (her track unmeasured over :attr:`lost_after`), her coasting track's id when its centre lies within
+        :data:`WALL_BODY` of the floor plan, or the latest scan looks at the disc round it and finds it empty
+        (:meth:`LatestScan.sees_through`, the disc kept off the floor plan's walls as in :meth:`_not_there`): nobody
+        stands there, so the contact limit leaves it out; else None. Her track stood where she was last measured, beside the wall at a passage's blind bend, kept "standing"
+        by the wall's echo; the contact limit took it for her standing in its way, brought the robot to a halt 0.7 m
+        from it and the search ran out there while she walked on up the passage's other leg (search25)."""
+        if not searching or self.partner_id is None:
+            return None
+        age = max(0.0, self.now - tr["t"])  # where the contact limit puts it: predicted by its velocity to now
+        x, y = tr["x"] + tr["vx"] * age, tr["y"] + tr["vy"] * age
+        clearance = self.route.clearance((x, y))
+        if clearance < WALL_BODY:  # nobody stands with their centre on a wall (as in _not_there)
+            return self.partner_id
+        radius = min(0.25, max(0.1, clearance - 0.05))
+        return self.partner_id if self.scan.sees_through(*self._to_robot(x, y), radius) else None
 
     def _give_way(self, px: float, py: float, mapped: np.ndarray, *, held: bool = False,
                   back_only: bool = False, view: float = GIVE_WAY_BEARING, step_back: bool = False,
@@ -1644,11 +1669,12 @@ class Follower(Module):
                    first: tuple[float, float]) -> tuple[float, float] | None:
         """Where she walks on from ``at`` when the step at velocity ``v`` is not free: of the headings within
         :data:`WALK_BACK` of her heading when last seen (``first``, in :data:`WALK_STEP` steps: she does not walk
-        back), the one whose quarter-second steps run furthest (up to :data:`WALK_RUN` of them) without crossing
-        the floor plan, of equal runs the one nearest ``v``, of those the one ending furthest off the walls; None
-        when none has a free step (a dead end)."""
+        back), those whose quarter-second steps run :data:`WALK_AHEAD` free or all :data:`WALK_RUN` of them
+        without crossing the floor plan are ways on, and of those she takes the one nearest ``v`` (the least
+        turn), of equal turns the longer run, then the one ending furthest off the walls; with no way on, the
+        longest run (of equal runs the least turn); None when no heading has a free step (a dead end)."""
         best: tuple[float, float] | None = None
-        rank: tuple[int, float, float] = (0, 0.0, 0.0)  # (run, -turn, clearance at the run's end)
+        rank: tuple[int, float, float, float] = (0, 0.0, 0.0, 0.0)
         speed, base, now = math.hypot(*v), math.atan2(first[1], first[0]), math.atan2(v[1], v[0])
         n = int(round(WALK_BACK / WALK_STEP))
         for i in range(-n, n + 1):
@@ -1660,9 +1686,11 @@ class Follower(Module):
                 if not self._step_free((x, y), (nx, ny)):
                     break
                 k, x, y = k + 1, nx, ny
-            # the longest run; of equal runs the least turn, of equal turns (either way) the one that ends furthest
-            # off the walls (along a wall met head-on: the way she drifted)
-            key = (k, -round(abs(math.remainder(h - now, math.tau)), 6), self.route.clearance((x, y)))
+            # a way on: the least turn, of equal turns the longer run, of equal runs (either way) the one that ends
+            # furthest off the walls (along a wall met head-on: the way she drifted); else the longest run
+            turn = -round(abs(math.remainder(h - now, math.tau)), 6)
+            on = k == WALK_RUN or k * speed * 0.25 >= WALK_AHEAD - 1e-9
+            key = (1, turn, k, self.route.clearance((x, y))) if on else (0, k, turn, self.route.clearance((x, y)))
             if k > 0 and (best is None or key > rank):
                 best, rank = tv, key
         return best
