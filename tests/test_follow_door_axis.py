@@ -122,3 +122,70 @@ def test_closed_loop_box_room_seed_2_she_gets_out_past_it():
     assert any("kitchen" in t.lower() for t in said), said
     assert any("good-bye" in t.lower() for t in said), said
     assert contacts == []
+
+
+class _Bus:
+    def __init__(self) -> None:
+        self.events: list[tuple[float, str]] = []
+        self.f: Follower | None = None
+
+    def publish(self, _channel: str, xml) -> None:
+        assert self.f is not None
+        self.events.append((self.f.now, xml.get("name")))
+
+
+def _stuck_follower(behind: bool) -> Follower:
+    """A follower standing in a 0.9 m door (the flat's east door, its centre in the door frame), her 0.55 m in front in
+    the room; someone standing 0.6 m behind it (``behind``), so no step back is allowed, or nobody."""
+    from tests.test_follow_giveway_step_back import _Behind, _follower
+
+    grid, _ = _flat(0.9, 0.0)
+    f = _follower()
+    f.route = _Route(grid)  # type: ignore[assignment]
+    f.route.clearance = lambda p: 0.4  # type: ignore[attr-defined]  # in the door frame
+    f.bus = _Bus()  # type: ignore[assignment]
+    f.bus.f = f
+    if behind:
+        f.people = _Behind(-0.6, 0.0)  # type: ignore[assignment]
+    return f
+
+
+def test_with_no_step_it_can_take_it_asks_her_to_step_back_at_most_every_ten_seconds():
+    """review24 F0's last resort: every give-way command zero, no step back (someone behind it), her 0.55 m in front:
+    after IN_WAY_ASK s it asks (ES ``in_her_way``), then not again for IN_WAY_EVERY s; never while she is 0.8 m or
+    more away, and never at all while it can step back."""
+    from robot.navigation.follow import IN_WAY_ASK, IN_WAY_EVERY
+
+    f = _stuck_follower(behind=True)
+    for k in range(250):  # 25 s
+        f.sim.now = k * 0.1
+        assert f._still_in_her_way((0.0, 0.0), 0.55, 0.55, 0.0, np.zeros((0, 2))) == (0.0, 0.0)
+    times = [t for t, name in f.bus.events if name == "in_her_way"]
+    assert times, f.bus.events
+    assert IN_WAY_ASK - 0.05 <= times[0] <= IN_WAY_ASK + 0.15
+    assert all(b - a >= IN_WAY_EVERY - 1e-9 for a, b in zip(times, times[1:]))
+    assert len(times) == 3  # at about 4, 14 and 24 s
+    far = _stuck_follower(behind=True)
+    for k in range(100):
+        far.sim.now = k * 0.1
+        far._still_in_her_way((0.0, 0.0), 0.85, 0.85, 0.0, np.zeros((0, 2)))
+    assert far.bus.events == []
+    free = _stuck_follower(behind=False)  # nobody behind: it steps back instead of asking
+    steps = []
+    for k in range(60):
+        free.sim.now = k * 0.1
+        steps.append(free._still_in_her_way((0.0, 0.0), 0.55, 0.55, 0.0, np.zeros((0, 2))))
+    assert any(v < 0.0 for v, _ in steps)
+    assert all(v <= 0.0 for v, _ in steps)  # never toward her
+
+
+def test_a_person_asked_so_steps_aside_as_when_asked_to_pass():
+    """The users' courtesy reaction (humans/person.py PASS_WORDS) covers the robot's new request."""
+    import re
+
+    from humans.person import PASS_WORDS
+
+    dialogs = (Path(__file__).resolve().parents[1] / "robot" / "dialog" / "biron-dialogs.xml").read_text()
+    said = re.search(r'<dialog id="in_her_way".*?<say>(.*?)</say>', dialogs, re.S)
+    assert said is not None
+    assert PASS_WORDS.search(said.group(1))

@@ -283,6 +283,10 @@ GIVE_WAY_BEARING = math.radians(80)
 #: back-out step refused (the jamb behind, her in front), her only way out blocked for the rest of the run
 #: (review24 F0: tests/scenarios/follow/way23_box_room_back_out.xml seeds 2 and 9). She stays in view at 20 degrees
 AXIS_TURN = math.radians(20)
+#: m, s: following, when every give-way and back-out command has stayed zero (``GIVE_WAY_STALL`` s: a step back
+#: first, :meth:`Follower._step_back`) for IN_WAY_ASK s with her within IN_WAY_NEAR and the robot in a door frame or a
+#: passage, it asks her to step back a little (ES event ``in_her_way``), at most every IN_WAY_EVERY s
+IN_WAY_NEAR, IN_WAY_ASK, IN_WAY_EVERY = 0.8, 4.0, 10.0
 #: m/s: a give-way step slower than this turns on the spot (held to :data:`AXIS_TURN`); a faster one drives out
 AXIS_CREEP = 0.05
 #: rad: the catch-up's end faces her when she is within this bearing
@@ -440,6 +444,9 @@ class Follower(Module):
     _making_way: tuple[float] | None = None
     _block: list[Any] | None = None  # (__init__ sets it; _held_up replaces it, _make_room updates it)
     _backout_refused: tuple[float, float] | None = None
+    _in_way_since: float | None = None
+    _in_way_last = -math.inf
+    _in_way_asked = -math.inf
     _aside_moving: tuple[float, float, float, float, float] | None = None
     #: nothing pressed, and never told otherwise (__init__ gives each follower its own, heard on the bus)
     bumpers = own_reflex()
@@ -508,6 +515,9 @@ class Follower(Module):
         self._leave_aside = False  # the give-way under way makes way for her walking out (Follower._leaving)
         self._leave_way = (0.0, 0.0)  # ... to this point (odom)
         self._aside_stall: tuple[float, float] | None = None  # (since, last): the forward give-way's command zero
+        self._in_way_since: float | None = None  # following, since when every give-way command has been zero, her close
+        self._in_way_last = -math.inf  # ... the last such command
+        self._in_way_asked = -math.inf  # when it last asked her to step back (in_her_way)
         self._backout_failed: tuple[float, float, float, float, float] | None = None  # (when, robot x y, her x y): a back-out search found no way
         self._backout_refused: tuple[float, float] | None = None  # (since, last): every back-out step refused
         self._aside_moving: tuple[float, float, float, float, float] | None = None  # (since, x, y, heading, last): forward give-way progress
@@ -891,6 +901,8 @@ class Follower(Module):
                 return aside
         if self._aside is None:
             self._leave_aside = False
+        if not (close or coming):
+            self._in_way_since = None
         if close or coming:
             # she stands close in front of it while it follows: it is in her way (in a door frame or a
             # passage at once; anywhere once she has stood there GIVE_WAY_HELD s, held up): step aside;
@@ -898,6 +910,7 @@ class Follower(Module):
             # or, in a door frame or passage, backs out
             aside = self._give_way(px, py, mapped, held=close and self.now - self._close_since >= GIVE_WAY_HELD,
                                    back_only=not close, step_back=True)
+            aside = self._still_in_her_way(aside, d, px, py, mapped)
             if aside is not None:  # she is close and it stands in her way in a door or passage: step aside
                 self._command(*aside)
                 self._status(d, False, "giving_way")
@@ -1796,6 +1809,35 @@ class Follower(Module):
         if self.now - refused[0] < BACKOUT_ALIGN or not len(mapped):
             return 0.0, 0.0
         return self._free_turn(v, bodies, mapped, here)
+
+    def _still_in_her_way(self, aside: tuple[float, float] | None, d: float, px: float, py: float,
+                          mapped: np.ndarray) -> tuple[float, float] | None:
+        """Following, the give-way's command ``aside`` (None: no give-way here) with her (odom ``px, py``) ``d`` m
+        off: when every give-way and back-out command has stayed zero for :data:`GIVE_WAY_STALL` s with her within
+        :data:`IN_WAY_NEAR` and the robot in a door frame or a passage, a step back off her way (:meth:`_step_back`);
+        with none either for :data:`IN_WAY_ASK` s, the ES event ``in_her_way`` (the dialog: "I am in your way. Could
+        you step back a little, please?"), at most every :data:`IN_WAY_EVERY` s. review24 F0: no step it can take
+        must leave it standing in her only way out without a word."""
+        if (aside not in (None, (0.0, 0.0)) or d >= IN_WAY_NEAR or self.odom is None
+                or self.route.clearance(self.odom[:2]) >= NARROW):
+            self._in_way_since = None
+            return aside
+        if self._in_way_since is None or self.now - self._in_way_last > 0.5:  # (a new stand, not an old one)
+            self._in_way_since = self.now
+        self._in_way_last = self.now
+        if self.now - self._in_way_since < GIVE_WAY_STALL:
+            return aside
+        if aside is not None:
+            out = self._step_back(aside, px, py, mapped)
+            if out != aside:
+                self._in_way_since = self.now  # it moves: the stand begins again
+                return out
+        if self.now - self._in_way_since >= IN_WAY_ASK and self.now - self._in_way_asked >= IN_WAY_EVERY:
+            self._in_way_asked = self.now
+            rx, ry = self._to_robot(px, py)
+            self.bus.publish(ES_EVENTS, etree.Element("event", name="in_her_way", bearing=f"{math.degrees(math.atan2(ry, rx)):.1f}",
+                                                      distance=f"{d:.2f}"))
+        return aside
 
     def _axis_turn(self, w: float) -> float:
         """The turn rate ``w`` limited so that, standing in a door frame or a passage (:func:`passage_axis` on the
