@@ -189,3 +189,10 @@ def test_a_person_asked_so_steps_aside_as_when_asked_to_pass():
     said = re.search(r'<dialog id="in_her_way".*?<say>(.*?)</say>', dialogs, re.S)
     assert said is not None
     assert PASS_WORDS.search(said.group(1))
+
+
+def test_its_other_words_about_being_in_the_way_are_no_request_to_step_aside():
+    from humans.person import PASS_WORDS
+
+    for said in ("Am I in your way?", "Sorry, I am in your way. I will back off if there is room behind me."):
+        assert not PASS_WORDS.search(said)
