@@ -1846,8 +1846,9 @@ class Follower(Module):
         without a floor plan."""
         if w == 0.0 or self.odom is None:
             return w
-        grid = getattr(self.route, "grid", None)
-        if not isinstance(grid, OccupancyGrid) or not getattr(self.route, "ready", True):
+        route = getattr(self, "route", None)  # (tests build followers without one)
+        grid = getattr(route, "grid", None)
+        if not isinstance(grid, OccupancyGrid) or not getattr(route, "ready", True):
             return w
         x, y, th = self.odom
         a = self.route.to_map((x, y))
