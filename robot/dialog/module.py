@@ -1248,6 +1248,7 @@ class Dialog(Module):
         stale = set()
         if stood or (state == "following" and speed >= MOVING_FREELY):
             stale.add("excuse_me")
+        if state == "following" and speed >= MOVING_FREELY:  # (standing by her in her way is when it asks)
             stale.add("in_her_way")
         if stood or state == "approaching" or distance <= CAUGHT_UP:
             stale.add("too_fast")

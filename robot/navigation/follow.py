@@ -939,7 +939,9 @@ class Follower(Module):
                 v, w = self._back_off_clear(v, w, self._bodies(rx, ry), mapped)
             if v == 0.0 and w != 0.0:  # turning to her: no corner swung into her (she may stand close) or anyone
                 w = w if turn_clear(w, self._bodies(rx, ry, guess=searching), duration=SWEEP_TIME) else 0.0
-            if w != 0.0 and not searching and d < self.band[0]:  # in a door frame: not across it (AXIS_TURN)
+            if w != 0.0 and not searching and d < self.band[0]:
+                # turning to face her close while it stands in a door frame: not across it (AXIS_TURN; past a right
+                # angle off the axis a turn nears its other way, so one who walked past its side is still turned to)
                 w = self._axis_turn(w)
             if searching and v == 0.0:
                 w = self._search_turn(w, bearing, rx, ry, mapped)
@@ -1856,11 +1858,12 @@ class Follower(Module):
         if axis is None:
             return w
         b = self.route.to_map((x + math.cos(th), y + math.sin(th)))
-        off = axis_offset(math.atan2(b[1] - a[1], b[0] - a[0]), axis)
-        after = off + w * SWEEP_TIME
+        heading = math.atan2(b[1] - a[1], b[0] - a[0])  # (map frame)
+        off = axis_offset(heading, axis)
+        after = axis_offset(heading + w * SWEEP_TIME, axis)  # (either way along the axis: past 90 degrees it nears the other)
         if abs(after) <= AXIS_TURN or abs(after) <= abs(off):
             return w
-        w2 = (math.copysign(AXIS_TURN, after) - off) / SWEEP_TIME
+        w2 = (math.copysign(AXIS_TURN, off + w * SWEEP_TIME) - off) / SWEEP_TIME
         return w2 if w2 * w > 0.0 else 0.0
 
     def _free_turn(self, v: float, bodies: np.ndarray, mapped: np.ndarray, here: float) -> tuple[float, float]:
