@@ -939,9 +939,11 @@ class Follower(Module):
                 v, w = self._back_off_clear(v, w, self._bodies(rx, ry), mapped)
             if v == 0.0 and w != 0.0:  # turning to her: no corner swung into her (she may stand close) or anyone
                 w = w if turn_clear(w, self._bodies(rx, ry, guess=searching), duration=SWEEP_TIME) else 0.0
-            if w != 0.0 and not searching and d < self.band[0]:
-                # turning to face her close while it stands in a door frame: not across it (AXIS_TURN; past a right
-                # angle off the axis a turn nears its other way, so one who walked past its side is still turned to)
+            if (v == 0.0 and w != 0.0 and not searching and d < self.band[0]
+                    and math.hypot(tr["vx"], tr["vy"]) < GIVE_WAY_STILL):
+                # turning on the spot to face her standing close while it stands in a door frame: not across it
+                # (AXIS_TURN). Not for one walking: backing off from her while turning to her, held straight, it came
+                # within 0.12 m of a partner walking back past it (library goto seed 8; main 0.50 m)
                 w = self._axis_turn(w)
             if searching and v == 0.0:
                 w = self._search_turn(w, bearing, rx, ry, mapped)
