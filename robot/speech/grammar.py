@@ -539,11 +539,12 @@ class Understander:
                     if rest[0] is not None and not rest[2] and not _guessed(rest[0]) \
                             and tree_act(rest[0]) not in _NOT_REQUESTS:
                         alt = (rest[0], [toks[lead].text], True)
-            if alt[0] is not None and tree_act(alt[0]) not in ("yes", "no", "goodbye") and not _owner_alone(alt[0]):
+            said = {t.type for t in toks[:lead]}
+            if alt[0] is not None and tree_act(alt[0]) not in ("yes", "no") and not _owner_alone(alt[0]) \
+                    and (tree_act(alt[0]) != "goodbye" or "NO" in said):
                 # ("yes, that is mine" to "Is this your cup?" stays the yes: whose it is, said again, names
                 # nothing new to show; "yes, bye" is her good-bye, review24 F1: only a send-off after a yes is
-                # a yes, below)
-                said = {t.type for t in toks[:lead]}
+                # a yes, below; "no, bye was for my son" keeps its no, review25 F-A: she waved someone else off)
                 res.answer = "no" if "NO" in said else "yes"
                 toks = toks[lead:]
                 tree, ignored, partial = alt
