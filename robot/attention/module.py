@@ -300,6 +300,9 @@ PACE_MEMORY = 3.0
 #: s: following ended by a stop, a voice heard from a track this recently is the stop's (her "stop" ends its
 #: words 1-3 s before the supervisor's order comes: recognition, understanding and the bus)
 STOP_VOICE = 4.0
+#: s: a good-bye frame is hers when her voice (from her track) was heard at most this long before its words began
+#: (the sound frames' period and the recogniser's start mark; review25 F-B)
+BYE_VOICE_SLACK = 0.3
 #: s: how long a watch answer "unseen" (the way outside the laser's view) is looked along (answers come every second)
 WAY_LOOK_AGE = 2.5
 
@@ -718,7 +721,11 @@ class PersonAttention(Module):
             return
         # (when she began saying it: she may have walked off while she spoke)
         if msg.xml.find("SPEECH/GOODBYE") is not None:
-            self._said_bye = start
+            # only her own whole good-bye (review25 F-B): a bystander's "bye everyone" (her voice not heard from her
+            # track while the words were said, the dialog's attribution) or a doubted one ("hang on, don't say goodbye
+            # yet": partial) leaves the errand rule as it is; the dialog's question and her answer decide those
+            if msg.xml.get("partial") != "true" and self._her_voice >= start - BYE_VOICE_SLACK:
+                self._said_bye = start
         elif msg.xml.find("SPEECH/WAIT") is not None:
             self._said_wait = start
 
