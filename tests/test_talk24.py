@@ -79,6 +79,23 @@ def test_a_greeting_then_something_shown_is_not_made_whole(words):
     assert not (r.act == "GREETING" and not r.partial and r.coverage == 1.0), r
 
 
+@pytest.mark.parametrize("words", ["hello, this is my son, follow me", "hello, this is my daughter, stop",
+                                   "hi, this is my husband, wait", "oh hello, this is our grandson, come with me",
+                                   "hi there, these are my kids, bye"])
+def test_a_request_after_who_she_brings_is_never_taken_for_a_name(words):
+    """review25 F-C: "this is my son" + two words was a name unchecked: "hello, this is my son, follow me" was one
+    whole greeting and the follow was dropped silently. The words after the kin word are a name only when they say
+    nothing the understanding takes as a request: the turn keeps its request, or at least is asked about."""
+    r = understood(words)
+    assert not (r.act == "GREETING" and not r.partial), r
+
+
+@pytest.mark.parametrize("words", ["hello, this is my daughter, stop", "hi, this is my son, wait"])
+def test_a_stop_or_wait_after_who_she_brings_is_not_lost_while_she_leads(words):
+    steps = acts(heard("Following", (words, 0.9)))
+    assert steps != [["greeting"]], steps
+
+
 @pytest.mark.parametrize(("words", "act"), [("good, now stop", "STOP"), ("great, stop here", "STOP"),
                                             ("lovely, now wait here", "WAIT"), ("brilliant, now come with me", "FOLLOW")])
 def test_praise_before_a_request_takes_the_turn(words, act):

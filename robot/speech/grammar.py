@@ -1263,8 +1263,13 @@ class Understander:
             piece = piece[1:]
         if _introduces(piece):
             return True
-        if _praises_or_says_where_she_is(piece) or _introduces_another(piece):
-            return True  # "good job", "well done", "i'm here behind you", "this is my son ben" (talk24)
+        if _introduces_another(piece):
+            # "this is my son ben" (talk24); the words after the kin word are a name only when the understanding
+            # takes them as nothing ("this is my son, follow me": the follow is no name, review25 F-C)
+            kin = max(k for k, w in enumerate(piece) if w in _KIN)
+            return not piece[kin + 1:] or self.understand(" ".join(piece[kin + 1:])).frame is None
+        if _praises_or_says_where_she_is(piece):
+            return True  # "good job", "well done", "i'm here behind you" (talk24)
         if piece[0] == "welcome" and all(w in _WELCOME_WORDS for w in piece):
             return True  # "welcome", "welcome welcome", "welcome to our home" (not "welcome to my study": a room)
         if piece[0] in _ANSWER_WORDS_ALONE:
