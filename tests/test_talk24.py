@@ -108,6 +108,19 @@ def test_good_now_stop_stops_the_follow():
 
 
 @pytest.mark.parametrize("words", ["yes, come on", "yeah, come on then", "sure, come on biron"])
+@pytest.mark.parametrize(("asked", "event"), [("go to the kitchen", "goto"), ("drive to the bedroom", "goto"),
+                                                ("this is the kitchen", "place_teaching"),
+                                                ("this is my mug", "object_teaching")])
+def test_yes_come_on_to_another_question_is_one_answer_and_one_action(words, asked, event):
+    """review25 F-I: "yes, come on" to "Shall I go to the kitchen?" sent both goto and follow (two contradictory
+    requests from one answer). A follow carried by a yes answers the open question of another dialog with the yes
+    alone: "come on" then says "go on, do it"."""
+    steps = acts(heard("Interacting", (asked, 0.3), (words, 0.8)))
+    assert steps[0] and steps[0][0].startswith(("Shall I", "Is this")), steps
+    assert event in steps[1] and "follow" not in steps[1], steps
+
+
+@pytest.mark.parametrize("words", ["yes, come on", "yeah, come on then", "sure, come on biron"])
 def test_yes_come_on_answers_shall_i_follow_you(words):
     r = understood(words)
     assert r.act == "FOLLOW" and r.answer == "yes", r
