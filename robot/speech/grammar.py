@@ -1297,9 +1297,10 @@ class Understander:
 
         A teaching needs a deictic act: a deictic word ("this", "that") with the gesture it goes with, or a
         thing named and said to be here. A remark names a thing and says something else of it: the noun phrase
-        opens with an article or owner ("the", "my", "our", ...; never "this"/"that"), is followed at most by
-        "over there"/"here", and then by a predicate that is no naming: a verb the lexicon does not know ("the
-        plant over there needs water", "the printer caught fire, can you believe it") or a habit ("my keys are
+        opens with an article or owner ("the", "my", "our", ...; never "this"/"that"), is not followed by
+        "here"/"there"/"over there" (a thing said to be here is shown: "the plant over there needs water" stays a
+        half teaching, review25 F-E), and then by a predicate that is no naming: a verb the lexicon does not know
+        ("the plant needs water", "the printer caught fire, can you believe it") or a habit ("my keys are
         usually in the bowl by the door", "the remote is always on the sofa": where things are kept, not shown
         here; with "here"/"there" or a deixis anywhere in the turn it stays a teaching). Such a turn is not
         understood, and set aside as said in passing (``aside``): no question "Is this the plant?", no half-stored
@@ -1330,7 +1331,11 @@ class Understander:
         if noun is None:
             return None
         rest = plain[noun + 1:]
-        while rest and rest[0] in ("over", "here", "there", "back"):
+        if rest[:1] in (["here"], ["there"]) or rest[:2] in (["over", "here"], ["over", "there"], ["back", "there"]):
+            # "my guitar over there needs new strings", "the sofa here folds out": a thing named and said to be
+            # here is shown, whatever is said of it; it stays a (half) teaching (review25 F-E)
+            return None
+        while rest and rest[0] in ("over", "back"):
             rest = rest[1:]
         where = self.lexicon.tokens(" ".join(rest[:1])).tokens
         if where and where[0].type in _RELATIONS and len(rest) > 2:
