@@ -1634,14 +1634,18 @@ class PersonAttention(Module):
         of theirs) for ``follow_lost_after`` s, longer when she was last seen further than the
         following band (:func:`robot.partner_search.follow_search_time`: the time to drive the
         gap, at most 15 s), while the follower drives to where she was heading and looks for her,
-        she is lost. Unseen for ``partner_lost_after`` s in Interaction and
-        Object, a partner unseen that long has left only when they were last seen outside the
-        interaction space (further than ``interaction_radius`` from the robot) or walking away from
-        it (``leave_speed``); one who stepped aside (to a shelf, to let someone pass, to chat
-        next to the robot) is waited for, found again where they went (:meth:`_reacquire`), and
-        declared gone only after ``out_of_view_after`` s without any evidence at all. Time the robot
-        drove on the ES's order (a viewpoint drive: she stood, the robot moved away and may have
-        turned its back on her) does not count as time unseen (:meth:`_unseen`).
+        she is lost. In Interaction and Object (docs/semantics.md §6, the leaving rule; docs/subsystems.md, the
+        person attention) a partner unseen less than ``partner_lost_after`` s has not left; otherwise, in this
+        order: unseen ``wait_patience`` s, gone whatever was said; while the follower still comes up to her after a
+        stop, not gone; out through the flat's exit door (:meth:`_out_of_flat`), gone; her words on their way to
+        the understanding (her voice as she went out of view), not gone yet; after her own whole good-bye
+        (:meth:`_on_frame`), walking away, outside the interaction space or unseen ``bye_patience`` s is gone; after
+        a wait request or a step aside asked for, only outside the interaction space or unseen ``wait_patience``
+        s; last seen outside the interaction space (``interaction_radius``), gone; walking away toward the exit
+        (:meth:`_toward_exit`), gone; walking to somewhere else in the flat (an errand), unseen
+        ``come_back_after`` s; else (she stepped aside: found again where she went, :meth:`_reacquire`) unseen
+        ``out_of_view_after`` s. Time the robot drove on the ES's order (a viewpoint drive: she stood, the robot
+        moved away and may have turned its back on her) does not count as time unseen (:meth:`_unseen`).
         """
         last = self._partner_last
         if last is None:
