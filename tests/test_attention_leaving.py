@@ -10,11 +10,11 @@ from __future__ import annotations
 
 import math
 
-from hypothesis import given, settings
+from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 from lxml import etree
 
-from robot.attention.module import AttentionParams, PersonAttention
+from robot.attention.module import BYE_VOICE_SLACK, AttentionParams, PersonAttention
 
 # A flat: a room 6 m x 4 m (robot at 3, 2) with the flat's exit door in its east wall (y 1.5-2.5) and a door in its
 # north wall (x 2-3) to a second room 6 m x 3 m.
@@ -126,6 +126,7 @@ def test_out_through_the_exit_door_after_a_wait_request_is_still_leaving(x, y, s
     pa = _attention("Interaction", _last(0.0, x, y, 0.0, speed))
     _say(pa, "wait", -1.0)
     p = pa.params
+    assume(abs(x + min(p.exit_reach, speed * unseen) - 6.0) > 1e-6)  # (exactly on the door line: either answer)
     beyond = x + min(p.exit_reach, speed * unseen) > 6.0
     assert pa.partner_left(unseen) == (beyond or unseen >= p.wait_patience)
 
@@ -140,6 +141,7 @@ def test_a_frame_of_hers_is_noted_when_she_began_to_say_it():
 
     pa._on_frame(frame("WAIT", 86.8, 91.5))  # type: ignore[arg-type]
     assert pa._said_wait == 86.8 and pa._words_end == 91.5
+    pa._her_voice = 92.5  # (her own voice heard during the words: review25 F-B)
     pa._on_frame(frame("GOODBYE", 92.0, 93.0))  # type: ignore[arg-type]
     assert pa._said_bye == 92.0
     pa.fsm.state = "Follow"
@@ -160,3 +162,35 @@ def test_her_words_on_their_way_are_waited_for(spoke, unseen):
     assert pa.partner_left(unseen) == (unseen - spoke > p.words_wait)
     pa._words_end = spoke  # her words came (not a wait, not a good-bye): the rule as without them
     assert pa.partner_left(unseen)
+
+
+def _bye(start: float, *, partial: bool = False) -> object:
+    mark = ' partial="true"' if partial else ""
+    xml = etree.fromstring(f'<understood start="{start}" end="{start + 1.0}" confidence="0.8"{mark}><SPEECH><GOODBYE/></SPEECH></understood>')
+    return type("M", (), {"xml": xml})()
+
+
+@settings(max_examples=100, deadline=None)
+@given(voice=st.one_of(st.just(-math.inf), st.floats(-20.0, 7.6)), partial=st.booleans(), unseen=st.floats(4.0, 18.0))
+def test_a_good_bye_not_hers_or_doubted_never_shortens_her_errand(voice, partial, unseen):
+    """review25 F-B: a bystander's "bye everyone" (her voice not heard while the words were said) or a doubted good-bye
+    ("hang on, don't say goodbye yet": partial) left her errand patience cut to ``bye_patience``. She walks through the
+    inner door into the next room (an errand): waited for ``come_back_after`` s whatever good-bye frame came that was
+    not hers and whole."""
+    pa = _attention("Interaction", _last(10.0, 2.5, 3.5, math.pi / 2, 0.6))
+    pa.sim = type("S", (), {"now": 10.0})()
+    pa._her_voice = voice
+    pa._on_frame(_bye(8.0, partial=partial))  # type: ignore[arg-type]
+    if voice >= 8.0 - BYE_VOICE_SLACK and not partial:
+        return  # (hers and whole: the next test)
+    assert pa._said_bye is None
+    assert not pa.partner_left(10.0 + unseen)
+
+
+def test_her_own_whole_good_bye_still_shortens_her_patience():
+    pa = _attention("Interaction", _last(10.0, 2.5, 3.5, math.pi / 2, 0.6))
+    pa.sim = type("S", (), {"now": 10.0})()
+    pa._her_voice = 8.4  # her voice heard while she said it
+    pa._on_frame(_bye(8.0))  # type: ignore[arg-type]
+    assert pa._said_bye == 8.0
+    assert pa.partner_left(10.0 + pa.params.bye_patience + 0.5)

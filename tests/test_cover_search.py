@@ -7,11 +7,11 @@ from __future__ import annotations
 
 import math
 
-from hypothesis import given, settings
+from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
 from robot.floorplan import FloorPlan, MapObstacle, MapRoom, MapWall
-from robot.objects.viewpoint import COVER_BEARINGS, cover_places, cover_views, search_area, sees
+from robot.objects.viewpoint import COVER_BEARINGS, PERSON_CLEARANCE, cover_leg_ok, cover_places, cover_views, search_area, sees
 
 CAM, OFF = 1.41, 0.05
 PAN = math.radians(100.0)
@@ -90,3 +90,62 @@ def test_every_spot_of_the_search_area_that_a_pose_in_reach_sees_is_brought_into
         assert any(abs(q[0] - x) < 1e-9 and abs(q[1] - y) < 1e-9 for _d, q in places)
         assert math.hypot(x - her[0], y - her[1]) >= min(hd, 1.3) - 1e-9
         assert all(sees(plan, _cam(x, y, b), b, unseen[i], [her]) for i in got)
+
+
+def _walk(plan, robot, unseen, her, *, check: bool = True):
+    """The cover search's walk as :meth:`ObjectAttention._cover_area` drives it: the first plan's views in order, each
+    leg checked against her before it is driven (:func:`cover_leg_ok`) and the rest planned afresh from where the
+    robot stands when one fails; at most as many views as the first plan had (``check=False``: the first plan's views
+    in order, unchecked, as before review25 F-D). The legs driven."""
+    pose, left = robot, list(unseen)
+    views = cover_views(plan, pose, left, [her], camera_height=CAM, camera_offset=OFF)
+    legs, budget, done = [], len(views), []
+    while views and budget > 0:
+        budget -= 1
+        x, y, b, got = views[0]
+        if check and not cover_leg_ok(plan, pose[:2], (x, y), [her]):
+            left = [s for s in left if not any(sees(plan, _cam(*v), v[2], s, [her]) for v in done)]
+            views = cover_views(plan, pose, left, [her], camera_height=CAM, camera_offset=OFF)
+            if not views:
+                break
+            x, y, b, got = views[0]
+        views = views[1:]
+        legs.append(((pose[0], pose[1]), (x, y)))
+        pose = (x, y, b)
+        done.append((x, y, b))
+    return legs
+
+
+def _closest(a, b, p):
+    dx, dy = b[0] - a[0], b[1] - a[1]
+    n2 = dx * dx + dy * dy
+    t = 0.0 if n2 < 1e-12 else max(0.0, min(1.0, ((p[0] - a[0]) * dx + (p[1] - a[1]) * dy) / n2))
+    return math.hypot(a[0] + t * dx - p[0], a[1] + t * dy - p[1])
+
+
+def _legs_keep_away(legs, her) -> bool:
+    return all(_closest(a, b, her) >= min(math.hypot(a[0] - her[0], a[1] - her[1]), PERSON_CLEARANCE + 0.5) - 1e-9
+               for a, b in legs)
+
+
+def test_the_review_case_no_leg_of_the_cover_walk_passes_nearer_her():
+    """review25 F-D: only the first leg was checked against the people; the leg from one view's place to the next
+    passed 0.73 m from her, who stood 1.06 m away (room 4.62 m x 5.82 m). Planned afresh from each place, every leg
+    is checked: none ends or passes nearer to her than she stands (nor within the clearance + 0.5 m)."""
+    plan = _plan(4.62, 5.82)
+    robot, her = (1.95, 1.71, 0.4), (0.92, 1.52)
+    unseen = search_area(plan, her, 1.5)
+    assert not _legs_keep_away(_walk(plan, robot, unseen, her, check=False), her)  # (the first plan's legs, in order)
+    legs = _walk(plan, robot, unseen, her)
+    assert legs and _legs_keep_away(legs, her)
+
+
+@settings(max_examples=6, deadline=None)
+@given(w=st.floats(3.0, 6.0), h=st.floats(3.0, 6.0), rx=st.floats(0.15, 0.85), ry=st.floats(0.15, 0.85), th=st.floats(-math.pi, math.pi),
+       hb=st.floats(-math.pi, math.pi), hd=st.floats(0.9, 1.6))
+def test_no_leg_of_the_cover_walk_passes_nearer_anyone_than_they_stand(w, h, rx, ry, th, hb, hd):
+    plan = _plan(w, h)
+    robot = (0.5 + rx * (w - 1.0), 0.5 + ry * (h - 1.0), th)
+    her = (robot[0] + hd * math.cos(hb), robot[1] + hd * math.sin(hb))
+    assume(0.3 < her[0] < w - 0.3 and 0.3 < her[1] < h - 0.3)
+    assert _legs_keep_away(_walk(plan, robot, search_area(plan, her, 1.5), her), her)

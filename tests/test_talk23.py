@@ -151,3 +151,14 @@ def test_the_second_of_two_from_the_left_is_the_right_one():
     two = [(0, "the cup on the right"), (1, "the one on the left")]
     assert choose(two, understood("the second from the left").frame[0]) == 0
     assert choose(two, understood("the one in the middle").frame[0]) is None  # no middle of two: not guessed
+
+
+@pytest.mark.parametrize("answer", ["no, bye was for my son", "no, I said bye to tom", "no no, bye was for the kids",
+                                    "nope, I said goodbye to my daughter"])
+def test_a_no_before_a_farewell_word_to_the_good_bye_question_keeps_the_tour(answer):
+    """review25 F-A, the other side of review24 F1: only a yes before a farewell is her good-bye. A no before one
+    ("no, bye was for my son": she waved someone else off) answers "Do you want to end the tour?" with no."""
+    steps = acts(heard("Interacting", ("that will be all for the cup", 0.8), (answer, 0.8)))
+    assert steps[0] == ["Do you want to end the tour?"], steps
+    assert "goodbye" not in steps[1], steps
+    assert steps[1] == ["OK, let us go on."], steps

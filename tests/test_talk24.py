@@ -79,6 +79,23 @@ def test_a_greeting_then_something_shown_is_not_made_whole(words):
     assert not (r.act == "GREETING" and not r.partial and r.coverage == 1.0), r
 
 
+@pytest.mark.parametrize("words", ["hello, this is my son, follow me", "hello, this is my daughter, stop",
+                                   "hi, this is my husband, wait", "oh hello, this is our grandson, come with me",
+                                   "hi there, these are my kids, bye"])
+def test_a_request_after_who_she_brings_is_never_taken_for_a_name(words):
+    """review25 F-C: "this is my son" + two words was a name unchecked: "hello, this is my son, follow me" was one
+    whole greeting and the follow was dropped silently. The words after the kin word are a name only when they say
+    nothing the understanding takes as a request: the turn keeps its request, or at least is asked about."""
+    r = understood(words)
+    assert not (r.act == "GREETING" and not r.partial), r
+
+
+@pytest.mark.parametrize("words", ["hello, this is my daughter, stop", "hi, this is my son, wait"])
+def test_a_stop_or_wait_after_who_she_brings_is_not_lost_while_she_leads(words):
+    steps = acts(heard("Following", (words, 0.9)))
+    assert steps != [["greeting"]], steps
+
+
 @pytest.mark.parametrize(("words", "act"), [("good, now stop", "STOP"), ("great, stop here", "STOP"),
                                             ("lovely, now wait here", "WAIT"), ("brilliant, now come with me", "FOLLOW")])
 def test_praise_before_a_request_takes_the_turn(words, act):
@@ -88,6 +105,19 @@ def test_praise_before_a_request_takes_the_turn(words, act):
 
 def test_good_now_stop_stops_the_follow():
     assert acts(heard("Following", ("good, now stop", 0.8))) == [["stop"]]
+
+
+@pytest.mark.parametrize("words", ["yes, come on", "yeah, come on then", "sure, come on biron"])
+@pytest.mark.parametrize(("asked", "event"), [("go to the kitchen", "goto"), ("drive to the bedroom", "goto"),
+                                                ("this is the kitchen", "place_teaching"),
+                                                ("this is my mug", "object_teaching")])
+def test_yes_come_on_to_another_question_is_one_answer_and_one_action(words, asked, event):
+    """review25 F-I: "yes, come on" to "Shall I go to the kitchen?" sent both goto and follow (two contradictory
+    requests from one answer). A follow carried by a yes answers the open question of another dialog with the yes
+    alone: "come on" then says "go on, do it"."""
+    steps = acts(heard("Interacting", (asked, 0.3), (words, 0.8)))
+    assert steps[0] and steps[0][0].startswith(("Shall I", "Is this")), steps
+    assert event in steps[1] and "follow" not in steps[1], steps
 
 
 @pytest.mark.parametrize("words", ["yes, come on", "yeah, come on then", "sure, come on biron"])

@@ -308,6 +308,9 @@ PACE_MEMORY = 3.0
 #: s: following ended by a stop, a voice heard from a track this recently is the stop's (her "stop" ends its
 #: words 1-3 s before the supervisor's order comes: recognition, understanding and the bus)
 STOP_VOICE = 4.0
+#: s: a good-bye frame is hers when her voice (from her track) was heard at most this long before its words began
+#: (the sound frames' period and the recogniser's start mark; review25 F-B)
+BYE_VOICE_SLACK = 0.3
 #: s: how long a watch answer "unseen" (the way outside the laser's view) is looked along (answers come every second)
 WAY_LOOK_AGE = 2.5
 
@@ -729,7 +732,11 @@ class PersonAttention(Module):
             return
         # (when she began saying it: she may have walked off while she spoke)
         if msg.xml.find("SPEECH/GOODBYE") is not None:
-            self._said_bye = start
+            # only her own whole good-bye (review25 F-B): a bystander's "bye everyone" (her voice not heard from her
+            # track while the words were said, the dialog's attribution) or a doubted one ("hang on, don't say goodbye
+            # yet": partial) leaves the errand rule as it is; the dialog's question and her answer decide those
+            if msg.xml.get("partial") != "true" and self._her_voice >= start - BYE_VOICE_SLACK:
+                self._said_bye = start
         elif msg.xml.find("SPEECH/WAIT") is not None:
             self._said_wait = start
 
@@ -1674,14 +1681,18 @@ class PersonAttention(Module):
         of theirs) for ``follow_lost_after`` s, longer when she was last seen further than the
         following band (:func:`robot.partner_search.follow_search_time`: the time to drive the
         gap, at most 15 s), while the follower drives to where she was heading and looks for her,
-        she is lost. Unseen for ``partner_lost_after`` s in Interaction and
-        Object, a partner unseen that long has left only when they were last seen outside the
-        interaction space (further than ``interaction_radius`` from the robot) or walking away from
-        it (``leave_speed``); one who stepped aside (to a shelf, to let someone pass, to chat
-        next to the robot) is waited for, found again where they went (:meth:`_reacquire`), and
-        declared gone only after ``out_of_view_after`` s without any evidence at all. Time the robot
-        drove on the ES's order (a viewpoint drive: she stood, the robot moved away and may have
-        turned its back on her) does not count as time unseen (:meth:`_unseen`).
+        she is lost. In Interaction and Object (docs/semantics.md §6, the leaving rule; docs/subsystems.md, the
+        person attention) a partner unseen less than ``partner_lost_after`` s has not left; otherwise, in this
+        order: unseen ``wait_patience`` s, gone whatever was said; while the follower still comes up to her after a
+        stop, not gone; out through the flat's exit door (:meth:`_out_of_flat`), gone; her words on their way to
+        the understanding (her voice as she went out of view), not gone yet; after her own whole good-bye
+        (:meth:`_on_frame`), walking away, outside the interaction space or unseen ``bye_patience`` s is gone; after
+        a wait request or a step aside asked for, only outside the interaction space or unseen ``wait_patience``
+        s; last seen outside the interaction space (``interaction_radius``), gone; walking away toward the exit
+        (:meth:`_toward_exit`), gone; walking to somewhere else in the flat (an errand), unseen
+        ``come_back_after`` s; else (she stepped aside: found again where she went, :meth:`_reacquire`) unseen
+        ``out_of_view_after`` s. Time the robot drove on the ES's order (a viewpoint drive: she stood, the robot
+        moved away and may have turned its back on her) does not count as time unseen (:meth:`_unseen`).
         """
         last = self._partner_last
         if last is None:

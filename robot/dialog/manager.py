@@ -434,10 +434,13 @@ class DialogManager:
             top.slots[top.pending[1]].status = "true" if said == "yes" else "false"
             top.pending = None
             self._something_done()
-            if said == "yes" and act == "GOODBYE" and act not in top.d.trigger:
+            if said == "yes" and act in ("GOODBYE", "FOLLOW") and act not in top.d.trigger:
                 # "yes, off you go" / "okay, bye then" to "Shall I go to the lounge?" (or to "Is this your cup?"):
                 # the send-off or closing word is how she says yes, never a good-bye of its own (fresh11: the go-to
                 # was begun and the tour ended at once). To "Do you want to end the tour?" the yes ends it anyway.
+                # So is a follow carried by a yes ("yes, come on": go on, do it) to another dialog's question: one
+                # answer, one action (review25 F-I: the go-to and a follow were both sent); to "Shall I follow
+                # you?" the follow's own dialog takes it above.
                 self._step(top, out)
                 return out
             # as above: the rest of this turn goes on to the dialog below (it may answer its open

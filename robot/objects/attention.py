@@ -62,7 +62,7 @@ from robot.contract import ES_EVENTS, ES_ORDERS, FOCUS, GESTURES, OBJECTS, PARTN
 
 from .gestures import CAMERA_HEIGHT, CAMERA_OFFSET, GestureTracker, camera_to_map
 from .resolve import AIM_SIGMA, MERGE_BEARING, Candidate, Pointing, Resolution, Wanted, along_ray, choose_pointed, learned_type, merge, option_texts, resolve
-from .viewpoint import ARRIVE_TOLERANCE, CAMERA_RANGE, POINT_REACH, cover_views, in_range, pointed_spot, search_area, sees, sight_clear, viewpoint, viewpoint_route
+from .viewpoint import ARRIVE_TOLERANCE, CAMERA_RANGE, POINT_REACH, cover_leg_ok, cover_views, in_range, pointed_spot, search_area, sees, sight_clear, viewpoint, viewpoint_route
 
 if TYPE_CHECKING:
     from homesim.sim import Simulation
@@ -891,7 +891,8 @@ class ObjectAttention(Module):
         """Bring the part of the search area, ``SEARCH_RADIUS`` round her, or with a gesture ``COVER_RAY`` round where
         her ray shows an object (:meth:`_target_3d`), that no look of this search had in view into
         view (:func:`cover_views`: turned on the spot, or a short straight move that takes it nearer to no
-        one) and look there, each view through the ES like a drive to a viewpoint (event ``view_blocked``, one leg,
+        one; each later leg checked against where the people stand when it begins, the rest planned afresh from
+        there when it fails: :func:`cover_leg_ok`) and look there, each view through the ES like a drive to a viewpoint (event ``view_blocked``, one leg,
         turned to the view); done when what she named is found within that radius (resolved against her ray, if any).
         None: no partner, no plan, nothing left unseen that a pose in reach sees, or nothing found."""
         her, pose = self._partner_map(), self.pose
@@ -909,9 +910,23 @@ class ObjectAttention(Module):
         unseen = self.unseen(her, radius)
         views = cover_views(self.plan, pose, unseen, self._people_map(pose), camera_height=CAMERA_HEIGHT, camera_offset=CAMERA_OFFSET)
         res: Resolution | None = None
-        for x, y, b, got in views:
+        # every leg is checked against where the people stand when it begins (the plan's later legs start at a view's
+        # place, not where the plan was made: review25 F-D); when one would end or pass nearer anyone than they stand,
+        # the rest is planned afresh from here; never more views than the first plan had
+        budget = len(views)
+        while views and budget > 0:
+            budget -= 1
             pose = self.pose
             assert pose is not None
+            x, y, b, got = views[0]
+            if math.hypot(x - pose[0], y - pose[1]) > ARRIVE_TOLERANCE / 2 \
+                    and not cover_leg_ok(self.plan, (pose[0], pose[1]), (x, y), self._people_map(pose)):
+                unseen = self.unseen(her, radius)
+                views = cover_views(self.plan, pose, unseen, self._people_map(pose), camera_height=CAMERA_HEIGHT, camera_offset=CAMERA_OFFSET)
+                if not views:
+                    break
+                x, y, b, got = views[0]  # (from where it stands: checked)
+            views = views[1:]
             if math.hypot(x - pose[0], y - pose[1]) > ARRIVE_TOLERANCE / 2 or abs(math.remainder(b - pose[2], 2 * math.pi)) > PAN_LIMIT:
                 self.moves += 1
                 state = await self._drive_leg((x, y, b), True, cause)

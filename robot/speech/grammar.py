@@ -548,11 +548,12 @@ class Understander:
                     if rest[0] is not None and not rest[2] and not _guessed(rest[0]) \
                             and tree_act(rest[0]) not in _NOT_REQUESTS:
                         alt = (rest[0], [toks[lead].text], True)
-            if alt[0] is not None and tree_act(alt[0]) not in ("yes", "no", "goodbye") and not _owner_alone(alt[0]):
+            said = {t.type for t in toks[:lead]}
+            if alt[0] is not None and tree_act(alt[0]) not in ("yes", "no") and not _owner_alone(alt[0]) \
+                    and (tree_act(alt[0]) != "goodbye" or "NO" in said):
                 # ("yes, that is mine" to "Is this your cup?" stays the yes: whose it is, said again, names
                 # nothing new to show; "yes, bye" is her good-bye, review24 F1: only a send-off after a yes is
-                # a yes, below)
-                said = {t.type for t in toks[:lead]}
+                # a yes, below; "no, bye was for my son" keeps its no, review25 F-A: she waved someone else off)
                 res.answer = "no" if "NO" in said else "yes"
                 toks = toks[lead:]
                 tree, ignored, partial = alt
@@ -1311,8 +1312,13 @@ class Understander:
             piece = piece[1:]
         if _introduces(piece):
             return True
-        if _praises_or_says_where_she_is(piece) or _introduces_another(piece):
-            return True  # "good job", "well done", "i'm here behind you", "this is my son ben" (talk24)
+        if _introduces_another(piece):
+            # "this is my son ben" (talk24); the words after the kin word are a name only when the understanding
+            # takes them as nothing ("this is my son, follow me": the follow is no name, review25 F-C)
+            kin = max(k for k, w in enumerate(piece) if w in _KIN)
+            return not piece[kin + 1:] or self.understand(" ".join(piece[kin + 1:])).frame is None
+        if _praises_or_says_where_she_is(piece):
+            return True  # "good job", "well done", "i'm here behind you" (talk24)
         if piece[0] == "welcome" and all(w in _WELCOME_WORDS for w in piece):
             return True  # "welcome", "welcome welcome", "welcome to our home" (not "welcome to my study": a room)
         if piece[0] in _ANSWER_WORDS_ALONE:
@@ -1340,9 +1346,10 @@ class Understander:
 
         A teaching needs a deictic act: a deictic word ("this", "that") with the gesture it goes with, or a
         thing named and said to be here. A remark names a thing and says something else of it: the noun phrase
-        opens with an article or owner ("the", "my", "our", ...; never "this"/"that"), is followed at most by
-        "over there"/"here", and then by a predicate that is no naming: a verb the lexicon does not know ("the
-        plant over there needs water", "the printer caught fire, can you believe it") or a habit ("my keys are
+        opens with an article or owner ("the", "my", "our", ...; never "this"/"that"), is not followed by
+        "here"/"there"/"over there" (a thing said to be here is shown: "the plant over there needs water" stays a
+        half teaching, review25 F-E), and then by a predicate that is no naming: a verb the lexicon does not know
+        ("the plant needs water", "the printer caught fire, can you believe it") or a habit ("my keys are
         usually in the bowl by the door", "the remote is always on the sofa": where things are kept, not shown
         here; with "here"/"there" or a deixis anywhere in the turn it stays a teaching). Such a turn is not
         understood, and set aside as said in passing (``aside``): no question "Is this the plant?", no half-stored
@@ -1373,7 +1380,11 @@ class Understander:
         if noun is None:
             return None
         rest = plain[noun + 1:]
-        while rest and rest[0] in ("over", "here", "there", "back"):
+        if rest[:1] in (["here"], ["there"]) or rest[:2] in (["over", "here"], ["over", "there"], ["back", "there"]):
+            # "my guitar over there needs new strings", "the sofa here folds out": a thing named and said to be
+            # here is shown, whatever is said of it; it stays a (half) teaching (review25 F-E)
+            return None
+        while rest and rest[0] in ("over", "back"):
             rest = rest[1:]
         where = self.lexicon.tokens(" ".join(rest[:1])).tokens
         if where and where[0].type in _RELATIONS and len(rest) > 2:
