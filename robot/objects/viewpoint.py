@@ -519,20 +519,12 @@ def sees(plan: FloorPlan, camera: tuple[float, float, float], bearing: float, sp
     return sight_clear(plan, camera, spot, people)
 
 
-def _leg_closest(a: Point, b: Point, p: Point) -> float:
-    """How near the straight leg from ``a`` to ``b`` comes to ``p`` (m)."""
-    dx, dy = b[0] - a[0], b[1] - a[1]
-    n2 = dx * dx + dy * dy
-    t = 0.0 if n2 < 1e-12 else max(0.0, min(1.0, ((p[0] - a[0]) * dx + (p[1] - a[1]) * dy) / n2))
-    return math.hypot(a[0] + t * dx - p[0], a[1] + t * dy - p[1])
-
-
 def cover_places(plan: FloorPlan, robot: Point, people: Sequence[Point] = (), *, clearance: float = ROBOT_CLEARANCE,
                  person_clearance: float = PERSON_CLEARANCE) -> list[tuple[float, Point]]:
     """Where the robot may stand to bring the rest of a search area into view, with how far it moves there: where
     it stands, and ``COVER_MOVES`` m in each of ``COVER_DIRECTIONS`` on a straight leg in a room that keeps the
-    clearances (:func:`straight_leg_free`) and neither ends nor passes nearer to anyone than they stand now (nor
-    within ``person_clearance`` + 0.5 m of anyone farther; :func:`cover_leg_ok`): never a drive at a person. Each
+    clearances (:func:`straight_leg_free`) and ends no nearer to anyone than they stand now (nor within
+    ``person_clearance`` + 0.5 m of anyone farther; :func:`cover_leg_ok`): never a drive at a person. Each
     leg starts where the robot stands: the cover search checks each later leg of its plan the same way against where
     the people stand then, and plans afresh from there when one fails (:meth:`ObjectAttention._cover_area`)."""
     blocks = _blocks(plan)
@@ -551,10 +543,11 @@ def cover_places(plan: FloorPlan, robot: Point, people: Sequence[Point] = (), *,
 
 def cover_leg_ok(plan: FloorPlan, start: Point, goal: Point, people: Sequence[Point] = (), *, clearance: float = ROBOT_CLEARANCE,
                  person_clearance: float = PERSON_CLEARANCE, blocks: list[tuple[tuple[Point, ...], float, float]] | None = None) -> bool:
-    """Whether the straight leg from ``start`` to ``goal`` keeps the clearances (:func:`straight_leg_free`) and neither
-    ends nor passes nearer to anyone than they stand now (nor within ``person_clearance`` + 0.5 m of anyone farther):
-    never a drive at a person (review25 F-D: a leg may pass nearer someone than both its ends)."""
-    if any(_leg_closest(start, goal, (px, py)) < min(math.hypot(start[0] - px, start[1] - py), person_clearance + 0.5) - 1e-9
+    """Whether the straight leg from ``start`` to ``goal`` keeps the clearances all along, ``person_clearance`` from
+    everyone included (:func:`straight_leg_free`), and ends no nearer to anyone than they stand now (nor within
+    ``person_clearance`` + 0.5 m of anyone farther): never a drive at a person. The cover search checks every leg so,
+    each from where it begins (review25 F-D: the legs after the first were checked against no one)."""
+    if any(math.hypot(goal[0] - px, goal[1] - py) < min(math.hypot(start[0] - px, start[1] - py), person_clearance + 0.5) - 1e-9
            for px, py in people):
         return False
     return straight_leg_free(_blocks(plan) if blocks is None else blocks, people, start, goal, clearance=clearance,
