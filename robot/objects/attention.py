@@ -1223,9 +1223,14 @@ class ObjectAttention(Module):
         """Where to look back for the gesture that went with the request: from ``GESTURE_LEAD`` s
         before the sentence began (``said``, from the order's ``TIMESTAMP``), if it began within
         ``SENTENCE_RECENT`` s (she points, then speaks: by the time the request is understood and
-        reaches this module the arm is down again); None: the gesture tracker's own window."""
-        if said is None or math.isnan(said) or self.now - said > SENTENCE_RECENT:
+        reaches this module the arm is down again); None: the gesture tracker's own window. A sentence begun
+        longer ago (a request completed by her answer to "What is it?", which keeps the request's time) looks back
+        ``SENTENCE_RECENT`` s, as far as the tracker keeps its rays: a gesture made with the answer is in there
+        (perceive/cups_across_10 seed 4: she pointed again as she answered, 21 s after the request)."""
+        if said is None or math.isnan(said):
             return None
+        if self.now - said > SENTENCE_RECENT:
+            return self.now - SENTENCE_RECENT
         return said - GESTURE_LEAD
 
     def _on_partner(self, msg: Message) -> None:
