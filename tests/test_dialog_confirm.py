@@ -504,6 +504,20 @@ def test_a_confirmation_keeps_the_time_of_the_request_its_gesture_went_with(dm, 
     assert s.children[0][0].tag == "TIMESTAMP" and s.children[0][0].get("val") == "20500"
 
 
+@pytest.mark.parametrize("request_", ["this is my this", "this is my that", "that is my this"])
+@pytest.mark.parametrize("answer", ["it is a teapot", "a teapot", "this is a teapot", "it's my teapot", "that is a teapot"])
+def test_the_answer_to_what_is_it_keeps_the_time_of_the_request_its_gesture_went_with(dm, request_, answer):
+    """"This is my teapot" (pointing behind her; the noun lost) - "What is it?" - "It is a teapot": the answer
+    completes the request, so the event carries when the request was said and the object attention looks back
+    to the gesture that went with it (flow/follow_while_looking seeds 2, 4: with the answer's time the gesture
+    was lost, the robot searched round her and covered the room for 40 s before asking her to step aside).
+    A gesture made with the answer is later, so it is seen from there too."""
+    assert says(dm.on_frame(heard(request_, 0.6, start=9.7))) == ["What is it?"]
+    (s,) = sends(dm.on_frame(heard(answer, start=14.1)))
+    assert s.event == "object_teaching" and s.children[0].find("OBJECT").get("type") == "teapot"
+    assert s.children[0][0].tag == "TIMESTAMP" and s.children[0][0].get("val") == "9700"
+
+
 @pytest.mark.parametrize("request_, answer", [("this is your red cup", "no that cup"),
                                               ("this is your red cup", "no this cup"),
                                               ("this is my red cup", "no that cup")])

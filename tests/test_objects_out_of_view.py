@@ -85,3 +85,29 @@ def test_a_vase_on_a_sideboard_she_stands_in_front_of_is_hidden_not_out_of_range
     p = Pointing(4.80 - 2.2, -0.1, 1.0, math.radians(-4.5), math.radians(-35.6))
     assert not oa._out_of_range(p)
     assert oa._in_the_way(math.radians(-1.0), 2.1, p)
+
+
+def test_a_teapot_on_a_dresser_against_the_wall_behind_her_is_hidden_by_her_not_out_of_range():
+    # scenarios/flow/follow_while_looking seeds 2, 4 (look25): Ines 1.3 m in front of the robot points back
+    # over the dresser behind her (its top 0.95 m, against the wall); her ray runs low over the dresser into the
+    # wall. Where it would come down on the floor lies 4.6 m out, beyond the wall: judged there, the teapot was
+    # "out of range" and the robot drove to see it instead of asking her to step aside
+    oa = _attention(_box(11.5, -1.0, 11.95, 1.0, 0.95), pose=(9.4, 0.0, 0.0))
+    p = Pointing(11.25, 0.0, 1.14, 0.0, math.radians(-14.0))
+    assert not oa._out_of_range(p)
+    assert oa._in_the_way(0.0, 1.3, p)  # she stands on the sight line: ask her to step aside
+
+
+@settings(max_examples=60, deadline=None)
+@given(x=st.floats(0.0, 11.0), y=st.floats(-2.5, 2.5), z=st.floats(0.9, 1.5), direction=st.floats(-math.pi, math.pi),
+       elevation=st.floats(math.radians(-60.0), math.radians(-4.0)))
+def test_where_a_ray_lands_is_never_beyond_a_wall_it_meets(x, y, z, direction, elevation):
+    # a ray that shows something (its last low stretch before it ends, pointed_spot) is judged there: the
+    # camera's range and who hides it are never taken from the floor beyond a wall (look25)
+    from robot.objects.viewpoint import pointed_spot, wall_before
+    oa = _attention(_box(11.5, -1.0, 11.95, 1.0, 0.95), _box(3.0, 2.5, 5.0, 2.95, 0.8))
+    p = Pointing(x, y, z, direction, elevation)
+    land = oa._landing(p)
+    assert land is not None
+    if pointed_spot(oa.plan, (x, y, z), direction, elevation) is not None:
+        assert not wall_before(oa.plan, (x, y), (land[0], land[1]))

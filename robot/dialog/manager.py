@@ -475,8 +475,18 @@ class DialogManager:
             elif kind == "confirm":
                 self._confirm_by_frame(answered, slot, act, act_el, conf, said, stamp)
             else:
+                # "This is my <lost word>" - "What is it?" - "It is a teapot": the answer completes the request,
+                # and the pointing went with the request. The slots it had filled keep when it was said, so the
+                # object attention looks back to that gesture, as after a yes to "Is this ...?" (below,
+                # _confirm_by_frame). With the answer's time the gesture was lost: the robot searched round her
+                # and covered the room for 40 s before asking her to step aside (flow/follow_while_looking 2, 4).
+                # A gesture she makes with the answer ("this is a teapot", pointing again) is later than the
+                # request, so the look back from the request's start sees it too (the largest group of rays).
+                kept = {n: s.stamp for n, s in answered.slots.items() if s.stamp is not None and s.status != "empty"}
                 self._fill_frame(answered, [f for f in answered.d.fills if f.frame and act in f.frame], act_el, conf,
                                  stamp)
+                for n, old in kept.items():
+                    answered.slots[n].stamp = old
                 if answered.ask_once and answered.slots[slot].status == "empty":
                     # "What is it?" - "this is my <lost word>" again: the same word lost twice; asking a
                     # third time does not converge, so the policy goes on without it (the camera says what)

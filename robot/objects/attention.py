@@ -62,7 +62,8 @@ from robot.contract import ES_EVENTS, ES_ORDERS, FOCUS, GESTURES, OBJECTS, PARTN
 
 from .gestures import CAMERA_HEIGHT, CAMERA_OFFSET, GestureTracker, camera_to_map
 from .resolve import AIM_SIGMA, MERGE_BEARING, Candidate, Pointing, Resolution, Wanted, along_ray, choose_pointed, learned_type, merge, option_texts, resolve
-from .viewpoint import ARRIVE_TOLERANCE, CAMERA_RANGE, POINT_REACH, cover_leg_ok, cover_views, in_range, pointed_spot, search_area, sees, sight_clear, viewpoint, viewpoint_route
+from .viewpoint import (ARRIVE_TOLERANCE, CAMERA_RANGE, POINT_REACH, cover_leg_ok, cover_views, in_range, pointed_spot, search_area, sees,
+                        sight_clear, viewpoint, viewpoint_route, wall_before)
 
 if TYPE_CHECKING:
     from homesim.sim import Simulation
@@ -1115,6 +1116,12 @@ class ObjectAttention(Module):
         t = self._ray_target(pointing)
         if t is None:
             return None
+        if self.plan is not None and wall_before(self.plan, (pointing.x, pointing.y), t):
+            # The ray meets a wall before it comes down (she points over a dresser against the wall): it shows
+            # what stands before the wall (:meth:`_target_3d`), never the floor beyond it. Judged through the wall,
+            # the teapot on the dresser 1.4 m behind her was "out of range" (the floor 4.6 m out, in the next
+            # flat), so the robot drove to see it instead of asking her to step aside (flow/follow_while_looking).
+            return self._target_3d(pointing)
         return t[0], t[1], self._top_under(t[0], t[1], pointing.z) + 0.05
 
     def _out_of_range(self, pointing: Pointing) -> bool:
@@ -1232,9 +1239,14 @@ class ObjectAttention(Module):
         """Where to look back for the gesture that went with the request: from ``GESTURE_LEAD`` s
         before the sentence began (``said``, from the order's ``TIMESTAMP``), if it began within
         ``SENTENCE_RECENT`` s (she points, then speaks: by the time the request is understood and
-        reaches this module the arm is down again); None: the gesture tracker's own window."""
-        if said is None or math.isnan(said) or self.now - said > SENTENCE_RECENT:
+        reaches this module the arm is down again); None: the gesture tracker's own window. A sentence begun
+        longer ago (a request completed by her answer to "What is it?", which keeps the request's time) looks back
+        ``SENTENCE_RECENT`` s, as far as the tracker keeps its rays: a gesture made with the answer is in there
+        (perceive/cups_across_10 seed 4: she pointed again as she answered, 21 s after the request)."""
+        if said is None or math.isnan(said):
             return None
+        if self.now - said > SENTENCE_RECENT:
+            return self.now - SENTENCE_RECENT
         return said - GESTURE_LEAD
 
     def _on_partner(self, msg: Message) -> None:

@@ -607,3 +607,17 @@ def cover_views(plan: FloorPlan, robot: tuple[float, float, float], unseen: Sequ
         out.append((best[2], best[3], best[4], sorted(new)))
         left -= new
     return out
+
+
+def wall_before(plan: FloorPlan, start: Point, end: Point, step: float = 0.05) -> bool:
+    """Whether the straight way on the floor from ``start`` to ``end`` (map frame) enters a wall of ``plan``
+    (sampled every ``step`` m after the start): a pointing ray that comes down beyond a wall met it first."""
+    walls = [tuple((float(x), float(y)) for x, y in w.rectangle()) for w in plan.walls]
+    length = math.hypot(end[0] - start[0], end[1] - start[1])
+    n = int(length / step)
+    for k in range(1, n + 1):
+        f = k * step / length
+        q = (start[0] + f * (end[0] - start[0]), start[1] + f * (end[1] - start[1]))
+        if any(_point_polygon(q, w) == 0.0 for w in walls):
+            return True
+    return False
