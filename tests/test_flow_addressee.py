@@ -108,10 +108,10 @@ def test_turning_to_the_group_for_most_of_the_words_outweighs_an_older_facing(fi
     # the words after the facing alone are no request either: every face seen then looked away, ending in a group
     only_away = _dialog(state, _at(after))
     assert not only_away.addressed(10.0, 10.0 + 0.1 * (len(after) - 1))
-    # ... but calling the robot by its name is meant for it, and so is a request to follow her, said as she turns
-    # to lead the way past the people by her (review23 N1)
+    # ... but calling the robot by its name is meant for it, and so is a request to follow her ("follow me"), said
+    # as she turns to lead the way past the people by her (review23 N1)
     assert d.addressed(10.0, end, named=True)
-    assert d.addressed(10.0, end, leads=True)
+    assert d.addressed(10.0, end, leads=True, to_robot=True)
     # ... and so is turning back to face it at the end
     back = _dialog(state, _at([*cues, ("true", company)]))
     assert back.addressed(10.0, 10.0 + 0.1 * len(cues))
@@ -138,9 +138,46 @@ def test_follow_me_said_facing_the_robot_then_turning_to_lead_past_a_friend_is_a
     # her friend (walking away: facing "false"; the friend within the group radius: company 1) for the rest
     cues = [("true", 1)] * 8 + [("false", 1)] * 10
     d = _dialog("Interacting", _at(cues))
-    assert d.addressed(10.0, 10.0 + 0.1 * (len(cues) - 1), leads=True)
+    assert d.addressed(10.0, 10.0 + 0.1 * (len(cues) - 1), leads=True, to_robot=True)
     # the same turn with words that are no request to follow her: the group's chat, as chat_group_bye seed 2
     assert not d.addressed(10.0, 10.0 + 0.1 * (len(cues) - 1))
+
+
+@settings(max_examples=200, deadline=None)
+@given(faced=st.integers(1, 9), turned=st.integers(10, 20), company=st.integers(1, 3), d0=st.floats(0.6, 2.5),
+       walked=st.floats(0.0, 1.5), to_robot=st.booleans())
+def test_a_follow_said_then_turned_to_a_friend_is_for_the_robot_only_when_she_leads_or_says_me(
+        faced, turned, company, d0, walked, to_robot):
+    # review24 F8: talk23 made "come and meet my sister" / "come and see the garden" a follow; said facing the robot,
+    # then turned to a friend beside her for most of the words, it is for the robot only when she walks off (leads
+    # the way: her distance grows by LEAD_WALK from her last facing) or its words ask the hearer along ("follow me",
+    # "come with me": said facing the robot, the hearer is the robot)
+    from robot.dialog.module import LEAD_WALK
+
+    cues = [("true", company)] * faced + [("false", company)] * turned
+    d = _dialog("Interacting", _at(cues))
+    n = len(cues)
+    d._partner_dists = deque([(10.0 + 0.1 * i, d0 + walked * max(0, i - faced + 1) / (n - faced)) for i in range(n)], maxlen=300)
+    end = 10.0 + 0.1 * (n - 1)
+    leads = walked >= LEAD_WALK + 1e-6
+    if abs(walked - LEAD_WALK) > 1e-3:
+        assert d.addressed(10.0, end, leads=True, to_robot=to_robot) == (to_robot or leads)
+    # no follow at all: the turn to the friend is chat, walking or not
+    assert not d.addressed(10.0, end, to_robot=to_robot)
+
+
+def test_follow_me_and_come_with_me_address_the_hearer_come_and_meet_does_not():
+    from lxml import etree
+
+    from robot.dialog.module import _to_the_robot
+
+    def frame(words: str):
+        return etree.fromstring(f'<understood><SPEECH><FOLLOW/></SPEECH><words>{words}</words></understood>')
+
+    for words in ("please follow me into the kitchen", "come with me", "Okay, come with us, BIRON", "follow me"):
+        assert _to_the_robot(frame(words)), words
+    for words in ("come and meet my sister", "come and see the garden", "come have a look at my study", "follow"):
+        assert not _to_the_robot(frame(words)), words
 
 
 def test_a_glance_at_the_robot_as_the_group_chat_begins_does_not_make_it_a_request():

@@ -168,6 +168,14 @@ class AttentionParams:
     # away or distance counts as evidence of leaving, at most ``words_wait`` s after her voice was last heard
     voice_hold: float = 1.5
     words_wait: float = 8.0
+    # rad: in Interaction/Object, she unseen (a shelf, a wardrobe hides her), a voice nobody seen explains read from
+    # where she can be (where her legs were last measured, within the reacquisition radius, ``reacquire_radius`` plus
+    # ``reacquire_speed`` per s unseen, at most 2.5 m: where a new track would be taken as hers, :meth:`_reacquire`),
+    # as seen from the robot now, is hers; the angle that radius spans is at most this (near the robot it would
+    # take in half the room): she stands out of view and talks to the robot. It keeps her the partner
+    # (:meth:`partner_left`, unseen patience counted from her last word, ``come_back_after`` s; ``wait_patience``
+    # after a wait request or a step aside) and the robot turns toward it (:meth:`_toward_her_voice`)
+    unseen_voice_spread: float = math.radians(50.0)
     # s with no partner at all after a loss (the robot asked her to come back): time to walk back from
     # the next room; then the interaction ends and the robot looks around (:meth:`_nobody_there`)
     come_back_after: float = 20.0
@@ -446,6 +454,9 @@ class PersonAttention(Module):
     #: ended (the understanding's frames, virtual s): her words still on their way (:meth:`partner_left`)
     _her_voice: float = -math.inf
     _words_end: float = -math.inf
+    #: (when, odometry heading) of the last voice heard from where the unseen partner was last measured
+    #: (:meth:`_voice_from_where_she_went`), renewed only after her last sighting
+    _heard_unseen: tuple[float, float] = (-math.inf, 0.0)
     _rooms: tuple[np.ndarray, ...] = ()
     _walls: tuple[tuple[float, float, float, float], ...] = ()
     _frames_sub: Any = None  # (set in __init__; here for the rule's unit tests)
@@ -824,12 +835,48 @@ class PersonAttention(Module):
             seen = [b for b, tk in zip(track_bearings, tracks) if tk.confirmed and not tk.dormant]
             free = [k for k in range(len(bearings)) if not match_sounds(seen, bearings[k : k + 1], self.cues.sound_tolerance)]
             if free:
+                self._voice_from_where_she_went(t, [bearings[k] for k in free])
                 k = max(free, key=lambda j: levels[j])
                 self._dominant = (t, bearings[k])
                 th = self._pose_at(t)[2]
                 in_view = [tk.id for tk in tracks if tk.confirmed and not tk.dormant]
                 for j in free:
                     self.heard.add(t, th + bearings[j], th + math.pi - bearings[j], in_view)
+
+    def _voice_from_where_she_went(self, t: float, free: list[float]) -> None:
+        """In Interaction/Object, the partner unseen for ``partner_lost_after`` (her track gone, dormant or coasting
+        unmeasured: she stepped behind a shelf or a wardrobe and talks on): a voice that nobody seen explains
+        (``free``: front readings, rad), read from where she can be (as seen from the robot now, the reacquisition radius around where her legs were last measured,
+        at most ``unseen_voice_spread`` off it; either reading: the pair cannot tell front from back), is hers: note
+        when, and its heading (the reading nearer that point) for the turn toward it (:meth:`_toward_her_voice`). The leaving rule counts her time unseen from
+        her last word (:meth:`partner_left`). A voice from elsewhere (a visitor out of view in another direction)
+        is not hers; one that someone seen explains never reaches here (aside24's "Left": she was declared gone
+        after the 30 s patience while she kept talking from behind the wall)."""
+        last = self._partner_last
+        if (self.partner is None or last is None or self.partner_lost_sent
+                or self.fsm.state not in ("Interaction", "Object")):
+            return
+        if t - last[0] < self.params.partner_lost_after:
+            return  # she is seen: her voice is matched to her track (:meth:`_partner_seen`)
+        # (her track may still coast, unmeasured, its prediction drifting on where she walked: her voice from
+        # where she stopped, behind the wardrobe, is not matched to it; where her legs were last measured is)
+        x, y = last[1], last[2]
+        px, py, th = self._pose_at(t)
+        c, s = math.cos(th), math.sin(th)
+        dx, dy = x - px, y - py
+        d = math.hypot(dx, dy)
+        if d < 1e-6:
+            return
+        p = self.params
+        reach = min(2.5, p.reacquire_radius + p.reacquire_speed * max(0.0, t - last[0]))  # (as :meth:`_reacquire`)
+        span = sound_bearing_span(c * dx + s * dy, -s * dx + c * dy, self.cues)
+        tol = self.cues.sound_tolerance + min(math.asin(min(1.0, reach / d)), p.unseen_voice_spread)
+        own = math.atan2(dy, dx) - th
+        for b in free:
+            if span_offset(span, b) <= tol:
+                reading = min((b, math.pi - b), key=lambda v: angle_between(v, own))
+                self._heard_unseen = (t, th + reading)
+                return
 
     def _mirror_voice(self, t: float, bearings: list[float], track_bearings: list[float]) -> None:
         """Asking for help: a voice that a seen person who does not face the robot explains may be someone
@@ -1687,6 +1734,9 @@ class PersonAttention(Module):
                                                                                    pace=math.hypot(vx, vy))
         if unseen < p.partner_lost_after:
             return False
+        heard = self._heard_unseen[0]
+        if heard > seen:
+            return self._quiet_too_long(t, seen, heard)
         if unseen - self._looked_away >= p.wait_patience:
             return True  # unseen longer than the longest patience: gone, whatever was said or asked
         if self._follower_drives or (self._follow_searching is not None and t - self._follow_ended < p.follow_handover):
@@ -1725,6 +1775,26 @@ class PersonAttention(Module):
         if self._rooms and self.furniture is not None and math.hypot(vx, vy) >= p.leave_speed and not self._toward_exit(seen, x, y, vx, vy):
             return out_of_view >= p.come_back_after  # last seen walking (along, across) to somewhere in the flat: an errand
         return out_of_view >= p.out_of_view_after
+
+    def _quiet_too_long(self, t: float, seen: float, heard: float) -> bool:
+        """The leaving rule for a partner unseen who has spoken since from where she went out of view
+        (:meth:`_voice_from_where_she_went`, at ``heard``): she stands there, hidden, and talks to the robot, so
+        how she walked when last seen (away, toward the exit, far) is no longer evidence of leaving; her time
+        unseen counts from her last word: not gone within ``partner_lost_after`` s of it nor while its frame is on
+        its way (``words_wait``); after a good-bye of hers, ``bye_patience`` s; after a wait request or a step
+        aside, ``wait_patience`` s; otherwise ``come_back_after`` s (she is somewhere near in the flat, as on an
+        errand). Talking on, she is never gone."""
+        p = self.params
+        quiet = t - heard
+        if quiet < p.partner_lost_after:
+            return False
+        if self._words_end < heard - p.voice_hold and quiet <= p.words_wait:
+            return False  # what she said is waited for (a good-bye, a wait request)
+        if self._said_bye is not None and self._said_bye >= seen - p.partner_lost_after:
+            return quiet >= p.bye_patience
+        waited = [w for w, walk in ((self._asked_aside, p.aside_walk), (self._said_wait, p.wait_walk))
+                  if w is not None and w >= seen - walk]
+        return quiet >= (p.wait_patience if waited else p.come_back_after)
 
     def _reacquire(self, t: float) -> int:
         """The partner's track died while they were within the interaction space: a confirmed track
@@ -2029,9 +2099,10 @@ class PersonAttention(Module):
             else:
                 self._turning = True
                 self._turn(turn)
-        elif state in TURNS and (row >= 0 or (unseen_at := self._where_she_stood(t)) is not None) \
+        elif state in TURNS and ((voice_at := self._toward_her_voice(t)) is not None or row >= 0
+                                 or (unseen_at := self._where_she_stood(t)) is not None) \
                 and not self._follower_drives and not self._player_drives:
-            b = bearing[row] if row >= 0 else unseen_at
+            b = voice_at if voice_at is not None else bearing[row] if row >= 0 else unseen_at
             if self._turning and abs(b) < p.turn_stop:
                 self._base(0.0)
                 self._turning = False
@@ -2102,20 +2173,36 @@ class PersonAttention(Module):
         last = self._partner_last
         if self.fsm.state != "Interaction" or self.partner is None or self.partner_lost_sent or last is None:
             return None
+        turn = self._toward_her_voice(t)
+        if turn is not None:
+            return turn
+        seen, x, y, vx, vy, ox, oy = last
+        p = self.params
+        px, py, th = self._pose_at(t)
         row = self.tracks.row(self.partner)
         if row >= 0 and not self.tracks.tracks[row].dormant:
             return None  # she is tracked: turned to as usual
-        _, x, y, vx, vy, ox, oy = last
-        p = self.params
         dx, dy = x - ox, y - oy
         dist = math.hypot(dx, dy)
         away = (vx * dx + vy * dy) / dist if dist > 1e-6 else 0.0
         if dist > p.interaction_radius or away >= p.leave_speed:
             return None  # evidence of leaving: nothing to turn to
-        px, py, th = self._pose_at(t)
         if math.hypot(x - px, y - py) < 1e-6:
             return None
         return math.remainder(math.atan2(y - py, x - px) - th, 2 * math.pi)
+
+    def _toward_her_voice(self, t: float) -> float | None:
+        """In Interaction, the partner unseen who has spoken since from where she went out of view
+        (:meth:`_voice_from_where_she_went`): the bearing (rad, robot frame) of her voice's reading nearer
+        where she was, to turn to, whatever her walk said before and rather than to her track coasting on
+        unmeasured; else None."""
+        last = self._partner_last
+        if self.fsm.state != "Interaction" or self.partner is None or self.partner_lost_sent or last is None:
+            return None
+        heard, heading = self._heard_unseen
+        if heard <= last[0]:
+            return None
+        return math.remainder(heading - self._pose_at(t)[2], 2 * math.pi)
 
     def _spoke_before(self, t: float, tk: Any, px: float, py: float) -> bool:
         """Is the track ``tk`` (the robot at odom ``px``, ``py``) where a voice came from lately that nobody

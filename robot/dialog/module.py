@@ -164,6 +164,13 @@ OTHER_TALK_GAP = 10.0
 #: muttering (issue 26, fresh12 defect 0: "where is my cup" and "good bye" three times each with her
 #: back to the robot, every one dropped, and the robot deaf to her for the rest of the tour)
 REPEAT_WINDOW = 20.0
+#: m: a request to follow her said facing the robot, then turned to someone near her, is for the robot when she walks
+#: off at least this much further from it from her last facing in the words to the frame's arrival (she leads:
+#: review23 N1), or when its words address the robot (:data:`TO_THE_ROBOT`); "come and meet my sister" said to a
+#: friend who stands there, she not walking off, is chat (review24 F8)
+LEAD_WALK = 0.3
+#: word pairs by which a follow request addresses its hearer as the one to come along ("follow me", "come with us")
+TO_THE_ROBOT = frozenset({("follow", "me"), ("follow", "us"), ("with", "me"), ("with", "us")})
 #: ES states where an expired greeting met nobody: a "late" one if a potential partner was reported meanwhile
 SEEN_STATES = frozenset({"LookingAround", "PotentialPartner", "AskingForHelp"})
 #: s: a potential partner reported this long before the greeting's recorded start still counts (the
@@ -369,6 +376,13 @@ def _plain_words(frame: etree._Element) -> str:
     w = frame.find("words")
     text = (w.text if w is not None else frame.text) or ""
     return " ".join(re.sub(r"[^a-z' ]+", " ", text.lower()).split())
+
+
+def _to_the_robot(frame: etree._Element) -> bool:
+    """Do the frame's words ask the hearer to come along with the speaker ("follow me", "come with us":
+    :data:`TO_THE_ROBOT`)? Said facing the robot, that hearer is the robot."""
+    words = (frame.findtext("words") or "").lower().replace(",", " ").replace(".", " ").split()
+    return any(pair in TO_THE_ROBOT for pair in zip(words, words[1:]))
 
 
 def _whole(frame: etree._Element) -> bool:
@@ -698,14 +712,16 @@ class Dialog(Module):
         return out
 
     def addressed(self, start: float, end: float, named: bool = False, shows: bool = False,
-                  repeated: bool = False, whole: bool = True, leads: bool = False) -> bool:
+                  repeated: bool = False, whole: bool = True, leads: bool = False, to_robot: bool = False) -> bool:
         """The addressee rule (module docstring): is speech heard from ``start`` to ``end`` meant for
         the robot? No when no partner report in that span has her facing it, at least half have her
         turned away (``facing="false"``) and the last one too, with someone else near her (and when she
         faced it, the same of the reports after her last facing, if they are at least half of the span's
         and the words do not name the robot: what she does after outweighs the older facing; a deictic
         ``shows`` does not keep them, as in the group test without a facing; a request to follow her,
-        ``leads``, does: it is said turning to lead the way, past whoever stands there, review23 N1); and no when
+        ``leads``, does when its words address the robot, ``to_robot``, "follow me", "come with me", or she walks off
+        (:meth:`_walks_off`): it is said turning to lead the way, past whoever stands there, review23 N1; "come and
+        meet my sister" said to a friend, then turned to her, is not, review24 F8); and no when
         every report has her turned aside (the attention's ``away``: she walked off and has not faced
         the robot or come back since, at least ``ASIDE_DISTANCE`` from it) and she does not call it by
         its name (``named``, the speech module's ``named="true"``) nor says again what got no answer
@@ -721,6 +737,7 @@ class Dialog(Module):
             # tests/scenarios/flow/fixrev19_alone_softer.xml); words said again after no answer are hers too
             return False
         during = [(f, c) for t, f, c, _ in self._partner_cues if start <= t <= end]
+        times = [t for t, _, _, _ in self._partner_cues if start <= t <= end]
         faced = [i for i, (f, _) in enumerate(during) if f == "true"]
         if faced:
             # she faced the robot during the words: meant for it, unless what she did after her last facing
@@ -731,6 +748,8 @@ class Dialog(Module):
             # turn is the request's own (review23 N1: "please follow me into the kitchen" said facing the
             # robot, then walking to the door past her friend, was dropped as chat)
             after = during[faced[-1] + 1:]
+            if leads and not (named or to_robot) and not self._walks_off(times[faced[-1]]):
+                leads = False  # neither "follow me" nor walking off: the turn to her friend is what it looks like
             return named or leads or 2 * len(after) < len(during) or not _turned_to_others(after)
         if self._voice_elsewhere(start, end):
             # the microphones heard the words, and hardly any of it from where she stands (distractor
@@ -756,6 +775,12 @@ class Dialog(Module):
             # said turned aside could ever start that exchange: deaf to her for the rest of the run)
             return named or shows or repeated or self._addressed_at > self._aside_since
         return not _turned_to_others(during)
+
+    def _walks_off(self, since: float) -> bool:
+        """Has the partner walked at least :data:`LEAD_WALK` further from the robot since ``since`` (her
+        distance reports up to now)? A request to follow her is said as she turns to lead the way."""
+        dists = [d for t, d in (self._partner_dists or ()) if t >= since]
+        return len(dists) >= 2 and max(dists) - dists[0] >= LEAD_WALK
 
     def _chat_before_greeting(self, x: etree._Element) -> bool:
         """Whether frame ``x`` is chat the robot overheard before anyone greeted it: the supervisor has
@@ -976,7 +1001,8 @@ class Dialog(Module):
             if not self.addressed(began, float(x.get("end", "nan")), named=x.get("named") == "true",
                                   shows=x.tag == "understood" and x.find("SPEECH//GESTURE") is not None,
                                   repeated=repeated, whole=_whole(x),
-                                  leads=x.tag == "understood" and x.find("SPEECH/FOLLOW") is not None):
+                                  leads=x.tag == "understood" and x.find("SPEECH/FOLLOW") is not None,
+                                  to_robot=_to_the_robot(x)):
                 if not self._stop_after_she_stood(x, began):
                     self.not_addressed += 1  # chat among the partner's group: not a request to the robot
                     self._unanswered = (act, began) if math.isfinite(began) else None

@@ -442,6 +442,15 @@ class Understander:
                 toks = toks[len(toks) - len(ignored):]
                 tree, ignored, partial = alt
         if tree is not None and ignored and tree_act(tree) in ("teach_object", "object_fragment") \
+                and _owned(tree) not in (None, "speaker") and any(t.type == "MINE" and t.text in ignored for t in toks):
+            # "the green jug there [is] mine, the white one belongs to my brother": the copula lost, the parse
+            # skipped "mine" and took the other thing's owner for this one's; "mine" said of the thing she shows
+            # is whose it is (the clause up to it, mended; the rest set aside: _owner_before_another_clause)
+            title = build(tree).find("OBJECT/TITLE")
+            mended = self._owner_before_another_clause(toks, title) if title is not None else None
+            if mended is not None:
+                tree, ignored, partial = mended
+        if tree is not None and ignored and tree_act(tree) in ("teach_object", "object_fragment") \
                 and _owned(tree) is None and any(t.type in ("MINE", "POSS") for t in toks):
             # "the red book [to] the shelf is mine" (the recogniser's "to" for "on"): the word that does not fit
             # sank every word after it, the owner said last with them (fresh5 stair_three_on_shelf: "I have
@@ -673,6 +682,8 @@ class Understander:
             res.corrected += [t.text for t in toks[split[0]:]]
             # whose the shown thing is, lost ("this lamp here [is mine], the other one is ..."): still a word lost
             tree, ignored, partial = split[1], [], split[2] or _owned(split[1]) is None
+            if _owned(tree) is None and (mended := self._owned_clause(toks[:split[0]], None)) is not None:
+                tree = mended  # only the copula lost ("this cup here [is] mine, that one is ..."): hers, partial
             frame = build(tree)
             obj = frame[0]
         res.frame = frame
@@ -846,16 +857,54 @@ class Understander:
             return None
         trials = [(i, 1, toks[:i] + [_SAID_IS] + toks[i + 1:]) for i in range(1, len(toks) - 1)
                   if toks[i].type not in ("IS", "ARE") and toks[i + 1].type in ("MINE", "MY", "NAME")]
+        trials += [(-1, 0, [])]  # (then the clause up to "mine", the rest set aside: _owner_before_another_clause)
         trials += [(i, n, toks[:i] + toks[i + n:]) for n in (1, 2, 3) for i in range(1, len(toks) - n)]
         # the copula misheard ("the red book on the shelf [is→a] mine", fresh5 stair_three_on_shelf seeds 5, 6)
         # first, then the fewest words left out
         for i, n, rest in trials:
+            if i < 0:
+                clause = self._owner_before_another_clause(toks, title)
+                if clause is not None:
+                    return clause
+                continue
             tree, lost, _ = self._parse(rest)
             if tree is None or lost or _guessed(tree) or tree_act(tree) not in ("teach_object", "object_fragment"):
                 continue
             said = build(tree).find("OBJECT/TITLE")
             if _owned(tree) is not None and said is not None and said.get("name") == title.get("name"):
                 return tree, [t.text for t in toks[i:i + n]], True
+        return None
+
+    def _owner_before_another_clause(self, toks: list[Tok], title: etree._Element) -> tuple[Tree, list[str], bool] | None:
+        """"The blue mug here [is] mine, the red and the yellow belong to my flatmates" (the copula lost, then a
+        second clause about other things): the clause up to the first "mine"/"ours" (``MINE``), with the copula put in
+        before it when it was lost, is the teaching of the same thing (``title``) with the speaker as owner; the words
+        after it are set aside (whose the other things are: she does not show them) and, with the copula lost, the
+        teaching is partial, so the dialog confirms it with the owner said back ("Is this your blue mug?"). Before,
+        the owner sank with the clause after it and the mug was stored without her (fresh12 studio_three_mugs seed
+        0). None when the clause, so mended, is no whole teaching of that thing with an owner, or nothing follows."""
+        m = next((k for k, t in enumerate(toks) if t.type == "MINE"), None)
+        if m is None or m < 2:
+            return None
+        tree = self._owned_clause(toks[:m + 1], title.get("name"))
+        return (tree, [t.text for t in toks[m + 1:]], True) if tree is not None else None
+
+    def _owned_clause(self, head: list[Tok], title: str | None) -> Tree | None:
+        """The whole teaching with an owner that the clause ``head`` (ending in "mine"/"ours") gives, with the
+        copula put in before the owner when it was lost ("the blue mug here [is] mine"), of the thing ``title``
+        (any, when None); None when it gives none."""
+        m = len(head) - 1
+        if m < 2 or head[m].type != "MINE":
+            return None
+        tries = [head] if head[m - 1].type in ("IS", "ARE") else [[*head[:m], _SAID_IS, head[m]], head]
+        for words in tries:
+            tree, lost, _ = self._parse(words)
+            if tree is None or lost or _guessed(tree) or tree_act(tree) not in ("teach_object", "object_fragment") \
+                    or _owned(tree) is None:
+                continue
+            said = build(tree).find("OBJECT/TITLE")
+            if title is None or (said is not None and said.get("name") == title):
+                return tree
         return None
 
     def _whose_lost(self, toks: list[Tok], ignored: list[str]) -> tuple[Tree, list[str], bool] | None:
