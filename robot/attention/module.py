@@ -1476,6 +1476,8 @@ class PersonAttention(Module):
             self._not_her.add(tr.tracks[row].id)
             self._partner_colour = self._her_clothes or self._partner_colour
             row = -1
+        if row >= 0 and self.fsm.state in ("Interaction", "Object"):
+            row = self._her_voice_on(t, row)
         if row >= 0:
             tk = tr.tracks[row]
             colour = self.colours.colour(tk.id, t)
@@ -1650,6 +1652,35 @@ class PersonAttention(Module):
         onto a bystander she walked past carries the running colour with it (review22 R5), and every
         later check would then take the bystander's clothes for hers and refuse her own."""
         return self._her_clothes or self._partner_colour
+
+    def _her_voice_on(self, t: float, row: int) -> int:
+        """Face to face (Interaction, Object): the partner's track (row ``row``) is silent and the camera, which
+        looks at it, gives it no clothes, while another confirmed track near the robot speaks wearing hers: that
+        track is her and the partner moves to it (its row is returned; else ``row``). Her track had gone over to
+        a silent man she walked up beside as the robot followed her (generated tour 9700-03: the legs of the two
+        crossed 0.5 m apart), and from then on each of her words came from another person's direction than her
+        track's, so the beam gate took her for a bystander and shut her out to the end of the tour. Her own clothes
+        on the speaker are the evidence: a bystander who talks, in other clothes or unseen, never takes her place,
+        nor anyone while her track shows her clothes or speaks itself (docs/semantics.md §3)."""
+        hers = self._her_clothes
+        tracks = self.tracks.tracks
+        tk = tracks[row]
+        if hers is None or self.colours.colour(tk.id, t) is not None or self.speaking.on(tk.id):
+            return row
+        rx, ry, _ = self._pose_at(t)
+        reach = self.params.interaction_radius
+        for i, other in enumerate(tracks):
+            if i == row or not other.confirmed or other.dormant or other.id in self._not_her or other.id in self._handovers:
+                continue
+            if not self.speaking.on(other.id) or math.hypot(other.x[0] - rx, other.x[1] - ry) > reach:
+                continue
+            colour = self.colours.colour(other.id, t)
+            if colour is None or not same_clothes(hers, colour):
+                continue
+            self.partner = other.id
+            self._other_clothes_since = None
+            return i
+        return row
 
     def _her_clothes_gone(self, t: float, tk: Any) -> bool:
         """In Interaction, Object or Follow: has the partner's track ``tk`` shown other clothes than hers for
