@@ -42,3 +42,17 @@ def test_her_request_repeated_over_the_word_that_it_is_done_gets_that_word_again
 def test_the_same_request_after_the_word_was_heard_is_a_new_one(again_at):
     _, said, teachings = _teach_and_repeat(again_at)
     assert teachings == 2 and said.count("Let me have a look.") == 2
+
+
+def test_in_a_flat_her_retry_over_i_have_learned_is_told_again_and_her_good_bye_comes_in_interacting():
+    # tests/scenarios/perceive/bedroom_clock_retry.xml seed 0: her retry begins 1 s into "OK, I have learned your
+    # clock." (before lib25: a second look, and her good-bye in ObjectTeaching)
+    from pathlib import Path
+
+    from homesim.tour.runner import RunOptions, run_file
+
+    s = run_file(Path(__file__).resolve().parent / "scenarios" / "perceive" / "bedroom_clock_retry.xml", RunOptions(seed=0))
+    said = [u["text"] for u in s["utterances"] if u.get("speaker") == "robot"]
+    assert s["verdict"] == "PASS"
+    assert s["metrics"]["dialog"]["subdialogs"]["told_again"] == 1
+    assert said.count("Let me have a look.") == 1  # one look: the retry began none
