@@ -56,10 +56,10 @@ BLOCKED_ASKS = ((4.0, "make-way"), (12.0, "follow"))
 BLOCKED_GIVE_UP = 25.0
 #: Making way (the other direction): the nearest person standing in the robot's way (ahead of it within
 #: PASS_NEAR m and PASS_LANE m of its axis, or beside it within PASS_BESIDE m, not behind) who hears it
-#: ask to pass ("excuse me") steps about PASS_STEP m aside, out of its lane, faces as before and carries
+#: ask to pass ("excuse me") or to step back ("Could you step back a little, please?", door25; not its "Am I in your way?") steps about PASS_STEP m aside, out of its lane, faces as before and carries
 #: on with what she was doing (someone further on, the partner it follows, stays).
 #: She listens every PASS_POLL s (a task of her own: her script's timing is untouched).
-PASS_WORDS = re.compile(r"\bexcuse me\b", re.IGNORECASE)
+PASS_WORDS = re.compile(r"\bexcuse me\b|\bcould you step back\b", re.IGNORECASE)
 PASS_NEAR = 1.6
 PASS_LANE = 0.9
 PASS_BESIDE = 1.2

@@ -81,7 +81,7 @@ def test_cross_child_stops_twins_geometry_needs_the_rule():
     args = (1.9, 2.0, 2.0, -math.pi / 2 - 0.3, 0.5, 0.8)
 
     class Forgetful(People):
-        def stopped(self, odom, now, *, reach=4.0):  # noqa: ARG002 - the rule taken out
+        def stopped(self, odom, now, *, reach=4.0, exclude=None):  # noqa: ARG002 - the rule taken out
             return np.zeros((0, 4))
 
     assert _drive(*args, people=Forgetful()) <= 0.0

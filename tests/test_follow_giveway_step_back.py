@@ -86,7 +86,7 @@ def test_its_turn_refused_and_no_way_out_it_backs_off_her_way_instead_of_standin
     for k in range(60):  # 6 s
         f.sim.now = k * 0.1
         f.odom = pose
-        v, w = f._unstall((0.0, 0.0), *HER, _to_robot(WALLS, pose))
+        v, w = f._unstall((0.0, 0.0), *HER, _to_robot(WALLS, pose), step_back=True)
         x, y, th = pose
         pose = (x + v * 0.1 * math.cos(th), y + v * 0.1 * math.sin(th), th + w * 0.1)
         assert _clearance(_to_robot(WALLS, pose)) > 0.0  # never touching the walls
@@ -103,14 +103,14 @@ def test_its_turn_refused_and_no_way_out_it_backs_off_her_way_instead_of_standin
 
 def test_a_give_way_that_moves_is_left_alone(no_way_out):
     f = _follower()
-    assert f._unstall((0.2, 0.1), *HER, WALLS) == (0.2, 0.1)
+    assert f._unstall((0.2, 0.1), *HER, WALLS, step_back=True) == (0.2, 0.1)
 
 
 def test_with_her_beside_it_backing_would_not_take_it_away_from_her_so_it_does_not(no_way_out):
     f = _follower()
     for k in range(40):
         f.sim.now = k * 0.1
-        assert f._unstall((0.0, 0.0), 0.05, 0.6, WALLS) == (0.0, 0.0)
+        assert f._unstall((0.0, 0.0), 0.05, 0.6, WALLS, step_back=True) == (0.0, 0.0)
 
 
 @settings(max_examples=80, deadline=None)
@@ -136,5 +136,39 @@ def test_the_step_back_never_goes_toward_her_nor_into_the_floor_plan(hx, hy, dx,
     x, y, th = follow.arcs(np.array([v]), np.array([w]), np.array([SWEEP_TIME]))
     after = _to_robot(way, (float(x[0][0]), float(y[0][0]), float(th[0][0])))
     assert _clearance(after) > _clearance(way)
-    assert sweep_allowed(v, w, walls, here)
-    assert people_sweep_clear(v, w, np.array([(hx, hy)]), duration=SWEEP_TIME, gap=SOCIAL_GAP)
+    # its footprint keeps 5 cm from the walls all along the step (or, closer already, no nearer than now)
+    for t in np.linspace(0.05, SWEEP_TIME, 10):
+        x, y, th = follow.arcs(np.array([v]), np.array([w]), np.array([t]))
+        pose = (float(x[0][0]), float(y[0][0]), float(th[0][0]))
+        assert _clearance(_to_robot(walls, pose)) >= min(0.05, here) - 1e-6
+        # and her body its social gap (or no nearer than now)
+        gap = _clearance(_to_robot(np.array([(hx, hy)]), pose)) - follow.BODY
+        assert gap >= min(SOCIAL_GAP, _clearance(np.array([(hx, hy)])) - follow.BODY) - 1e-6
+
+
+class _Behind:
+    """Someone the attention tracks, standing behind the robot (robot frame)."""
+
+    def __init__(self, x: float, y: float) -> None:
+        self.at = np.array([(x, y)])
+
+    def around(self, *_: object, **__: object) -> np.ndarray:
+        return self.at
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.floats(0.35, 1.2), st.floats(-0.5, 0.5), st.floats(-0.95, -0.45), st.floats(-0.3, 0.3))
+def test_the_step_back_never_backs_toward_someone_standing_behind_it(hx, hy, bx, by):
+    """review24 F9: a person 0.45-0.95 m behind its centre (the laser does not look there; the attention tracks
+    them): no step back, wherever she stands ahead and with no wall anywhere near."""
+    f = _follower()
+    f.people = _Behind(bx, by)  # type: ignore[assignment]
+    assert f._step_back((0.0, 0.0), hx, hy, np.zeros((0, 2))) == (0.0, 0.0)
+
+
+def test_with_nobody_behind_and_her_ahead_on_her_way_out_it_does_step_back(no_way_out):
+    """The counterpart of the above (so that test cannot pass by a step back that never happens): the same
+    follower with nobody behind steps back from her, 0.55 m ahead on her way to the door."""
+    f = _follower()
+    v, w = f._step_back((0.0, 0.0), *HER, np.zeros((0, 2)))
+    assert v < 0.0

@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import math
 
-from hypothesis import assume, given, settings
+from hypothesis import assume, example, given, settings
 from hypothesis import strategies as st
 
 from robot.attention.appearance import Colours
@@ -191,6 +191,10 @@ def _l_corridor():
 
 @settings(max_examples=60, deadline=None)
 @given(y0=st.floats(0.2, 0.8), x0=st.floats(0.0, 1.5), drift=st.floats(-0.3, 0.3), pace=st.floats(0.8, 1.2))
+# search25: the longest free run was the way back down the first leg, not on up the other one beside its wall
+@example(y0=0.21875, x0=0.25, drift=-0.0625, pace=1.0)
+@example(y0=0.22, x0=0.25, drift=-0.06, pace=1.0)
+@example(y0=0.5, x0=1.5, drift=-0.06, pace=1.19)
 def test_the_search_point_follows_her_round_the_blind_bend_of_a_passage(y0, x0, drift, pace):
     """bend23, fresh11 twin_passage_chat: last seen walking east along a 1.0 m passage (her track's heading a
     little off the passage's, as a tracker's is), she turned north round its bend out of view; the search
@@ -205,6 +209,86 @@ def test_the_search_point_follows_her_round_the_blind_bend_of_a_passage(y0, x0, 
     x, y = f._walk_on((x0, y0), (pace * c, pace * s), 5.0)
     assert f.route.in_sight((x, y), (x, y))
     assert y > 1.0 and 2.0 <= x <= 3.0  # round the bend, on north in its other leg
+
+
+def test_once_the_walked_on_point_is_seen_empty_the_robot_come_up_to_it_looks_further_on_not_back_at_it():
+    """search25, fresh11 twin_passage_chat seed 1: last seen walking east along the first leg of an L passage, she went
+    on round its bend and up the other leg; the robot saw the 5 s point (round the bend) empty and made for where her
+    pace carried her since, but come up beside that point it no longer saw it (not in the laser's view) and took it
+    as her place again: it stood there, facing it, until it declared her lost. Seen empty once for this sighting,
+    the point stays so: the search goes on up the other leg, whatever the scan now shows of it."""
+    from robot.navigation.follow import SEARCH_WALK_ON, Follower
+
+    plan = _l_corridor()
+    plan.inside = staticmethod(lambda p: plan.clearance(p) > 0.0)
+
+    class _Scan:
+        empty = True  # whether the latest scan looks at a point and finds it empty
+
+        def sees_through(self, x, y, radius=0.25):
+            return self.empty
+
+    class _Sim:
+        now = 10.0  # unseen 10 s: the 5 s point is round the bend, her pace has taken her 2.5 m further up
+
+    f = Follower.__new__(Follower)
+    f.sim, f.route, f.scan = _Sim(), plan, _Scan()
+    f._seen_pos, f._seen_v, f._walked_far = (0.5, 0.5, 0.0), (0.5, 0.0), None
+    near = f._walk_on((0.5, 0.5), (0.5, 0.0), SEARCH_WALK_ON)
+    assert near[0] > 2.0 and near[1] < 1.5  # (round the bend: the point the robot makes for first)
+    f.odom = (1.5, 0.5, 0.0)  # in the first leg, the 5 s point in view and empty: on up the other leg
+    first = f._not_there(*near)
+    assert first[1] > near[1] + 2.0
+    f.odom, f.scan.empty = (near[0] - 0.3, near[1], math.pi / 2), False  # come up beside it: out of the laser's view
+    f.sim.now = 11.0
+    assert f._not_there(*near)[1] > first[1]  # further on still, never back to the point seen empty
+
+
+def test_searching_her_coasting_track_on_a_wall_or_seen_empty_is_nobody_in_its_way_but_never_while_she_is_seen():
+    """search25 (own L passage scene): unseen round a blind bend, her track stood where she was last measured, its
+    centre at the passage's wall, kept by the wall's echo; the contact limit took it for her standing 0.7 m ahead and
+    halted the robot until the search ran out while she walked on up the other leg. Searching, her coasting track is
+    left out of the contact limit where nobody can stand (centre within WALL_BODY of the floor plan) or where the
+    laser looks and sees nobody; never while she is seen (following), nor where the laser does not look."""
+    from robot.navigation.follow import Follower
+
+    plan = _l_corridor()
+
+    class _Scan:
+        empty = False
+
+        def sees_through(self, x, y, radius=0.25):
+            return self.empty
+
+    class _Sim:
+        now = 12.0
+
+    f = Follower.__new__(Follower)
+    f.sim, f.route, f.scan, f.partner_id, f.odom = _Sim(), plan, _Scan(), "t1", (1.8, 0.5, 0.0)
+    on_wall = {"t": 11.9, "x": 2.5, "y": 0.05, "vx": 0.0, "vy": 0.0}  # 5 cm off the passage's wall
+    mid = {"t": 11.9, "x": 2.5, "y": 0.5, "vx": 0.0, "vy": 0.0}  # in the passage's middle
+    assert f._nobody_there(on_wall, True) == "t1"
+    assert f._nobody_there(on_wall, False) is None  # following: she is seen, her track is her
+    assert f._nobody_there(mid, True) is None  # the laser does not look there (or sees someone): she may stand there
+    f.scan.empty = True
+    assert f._nobody_there(mid, True) == "t1"  # looked at and empty: nobody there
+
+
+def test_the_contact_limit_leaves_out_only_the_track_said_gone():
+    """``in_the_way(gone=id)`` leaves that one track out of every row (its own, and as someone who stopped dead),
+    and nobody else: a person standing in the way still limits the robot."""
+    from robot.navigation.people import People, in_the_way
+
+    people = People()
+    xml = ('<tracks time="10.0" frame="odom"><track id="t1" x="1.0" y="0.0" vx="0.0" vy="0.0" cxx="30" cxy="0" '
+           'cyy="30" confirmed="true"/><track id="t2" x="2.0" y="0.5" vx="0.0" vy="0.0" cxx="0.01" cxy="0" '
+           'cyy="0.01" confirmed="true"/></tracks>')
+    from homesim.xmlio import parse_bytes
+
+    people.update(parse_bytes(xml))
+    both = in_the_way(people, (0.0, 0.0, 0.0), 10.0)
+    one = in_the_way(people, (0.0, 0.0, 0.0), 10.0, gone="t1")
+    assert len(both) == 2 and len(one) == 1 and abs(one[0][0] - 2.0) < 1e-9
 
 
 def test_she_turned_through_the_door_as_she_went_out_of_view_her_pace_not_her_last_speed_is_her_reach():

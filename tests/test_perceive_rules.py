@@ -257,11 +257,19 @@ def test_a_real_third_cup_between_two_others_is_kept(seed, sep):
     assert any(abs(c.y - 2.0) < sep * 0.45 for c in cands)
 
 
-@settings(max_examples=30, deadline=None)
+@settings(max_examples=60, deadline=None)
 @given(seed=st.integers(0, 2**31 - 1))
+@example(seed=15282)  # 14 and 6 of its bearings fell 2.6 noises apart: split in two by bearing alone
+@example(seed=2516)  # one slant range 4.4 noises short gated into a candidate of its own
 def test_one_cup_stays_one_candidate(seed):
+    # The robot merges with each detection's camera frame (the object attention always passes them):
+    # the camera reports a thing once per frame, so one cup's detections are never seen together, and
+    # a weak second cluster of them (a few bearings off to one side, a lone range far short) is given
+    # back to it. Without frames a cut by bearing alone cannot tell 14 + 6 bearings of one cup from
+    # two cups seen in 14 and 6 frames; even the weakest stray part is kept here (min_share 0).
     pose = (1.7, 2.0, 0.0)
-    assert len(merge(_look(pose, [(3.45, 2.0)], seed), pose[:2], min_share=0.0, eye_height=CAMERA_HEIGHT)) == 1
+    dets = _look(pose, [(3.45, 2.0)], seed)
+    assert len(merge(dets, pose[:2], min_share=0.0, eye_height=CAMERA_HEIGHT, frames=[float(k) for k in range(len(dets))])) == 1
 
 
 def test_a_precise_pointing_singles_out_one_of_two_similar_cups_a_coarse_one_asks():

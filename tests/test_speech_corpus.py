@@ -71,8 +71,12 @@ HELD_OUT = ("heldout.tsv", "heldout-2.tsv", "heldout-3.tsv", "heldout-4.tsv")
 # typical, cooperative; a couple handing over, a child, bystanders), zones and rooms in their words (kitchenette, sleeping corner,
 # living area, nursery), furniture the library rarely has (chest of drawers, trolley, umbrella stand, shoe rack, bench, cot);
 # measured and reported (corpus README), not held to the 9-in-10 line.
+# heldout-16.tsv (fresh25, the outside checker, committed before it was run): fresh13's users (silent, wrong, vague, distracted,
+# typical; a visitor talking to the partner, bystanders, a user who corrects herself mid-request), rooms in their words (lounge, den,
+# sunroom, reading nook, scullery, playroom), furniture (sideboard, nightstand, chest, hall stand); measured and reported (corpus
+# README), not held to the 9-in-10 line.
 ALL_HELD_OUT = (*HELD_OUT, "heldout-5.tsv", "heldout-6.tsv", "heldout-7.tsv", "heldout-8.tsv", "heldout-9.tsv", "heldout-10.tsv",
-                "heldout-11.tsv", "heldout-12.tsv", "heldout-13.tsv", "heldout-14.tsv", "heldout-15.tsv")
+                "heldout-11.tsv", "heldout-12.tsv", "heldout-13.tsv", "heldout-14.tsv", "heldout-15.tsv", "heldout-16.tsv")
 
 
 def test_the_corpus_has_500_utterances_and_a_fifth_held_out():

@@ -313,6 +313,29 @@ def test_a_waypoint_round_the_bookcase_leaves_room_to_turn(nora, robot):
         assert _point_polygon((x, y), bookcase) >= ROBOT_CLEARANCE - 1e-9
 
 
+@pytest.mark.parametrize("spread", [0.0, 0.23])
+def test_a_second_waypoint_round_the_bookcase_leaves_room_to_turn_too(spread):
+    """perceive/view_round_corner seed 9: the robot at (1.49, 2.01), Nora tracked at (3.70, 3.21), her ray's spot at
+    (4.08, 1.05): the grid's way hugged the bookcase's end at the legs' 0.28 m and no point of it a leg from the first
+    waypoint reached kept the standing clearance, so the second waypoint lay 0.33 m from the end; the player, turning
+    there, stood blocked 0.4 m short and the leg was given up ("could not find your box"). Such a route is planned
+    again over a grid keeping the standing clearance: every waypoint keeps it, each leg the legs' clearance."""
+    from robot.objects.gestures import CAMERA_OFFSET
+
+    plan, robot, spot, nora = _divider_flat(), (1.494, 2.009), (4.076, 1.046, 0.05), (3.700, 3.209)
+    route = viewpoint_route(plan, robot, spot, [nora, nora], camera_height=CAM, camera_offset=CAMERA_OFFSET, spread=spread)
+    assert route is not None
+    bookcase = ((3.0, 0.1), (3.3, 0.1), (3.3, 2.2), (3.0, 2.2))
+    for x, y, _ in route[:-1]:
+        assert _point_polygon((x, y), bookcase) >= ROBOT_CLEARANCE - 1e-9
+    legs = list(zip([robot, *[(p[0], p[1]) for p in route[:-1]]], [(p[0], p[1]) for p in route]))
+    for k, (a, b) in enumerate(legs):
+        assert straight_leg_free(_blocks(plan), [nora], a, b, clearance=ROBOT_CLEARANCE * DRIVE_CLEARANCE,
+                                 person_clearance=PERSON_CLEARANCE * DRIVE_CLEARANCE, leave=0.3 if k == 0 else 0.0)
+    x, y, _ = route[-1]
+    assert sight_clear(plan, (x, y, CAM), spot[:2] + (spot[2],), [nora])
+
+
 def test_a_plant_behind_an_armchair_is_seen_through_the_narrow_gap_between_armchair_and_sofa():
     """A plant on the floor in the corner behind an armchair, a sofa along the wall beside it: the camera
     sees it only through the gap between the armchair's and the sofa's corners, which lies between two of

@@ -272,7 +272,7 @@ HOLD_BUDGET, HOLD_WINDOW = 15.0, 60.0
 #: voice masks hers at the microphones and her words ("stop") are lost with no barge-in to cut it off (cross22,
 #: fresh10 hall_crossing_kids: "Excuse me, may I pass" over her "Okay, you can stop" three times). A request
 #: already waiting is not queued again (the follower repeats it while it is still held up).
-FOLLOW_ASKS = frozenset({"excuse_me", "too_fast"})
+FOLLOW_ASKS = frozenset({"excuse_me", "too_fast", "in_her_way"})
 # A held request of its own goes stale with the follower's news (review23 N4): "may I pass" once it drives on
 # freely (the follower's held-up crawl, HELD_UP_CRAWL, or faster; modules share no code) or stands by her; "slow
 # down" once she stopped or it came up to her (within the follower's band, 1.5 m). The follower asks again
@@ -1294,6 +1294,8 @@ class Dialog(Module):
         stale = set()
         if stood or (state == "following" and speed >= MOVING_FREELY):
             stale.add("excuse_me")
+        if state == "following" and speed >= MOVING_FREELY:  # (standing by her in her way is when it asks)
+            stale.add("in_her_way")
         if stood or state == "approaching" or distance <= CAUGHT_UP:
             stale.add("too_fast")
         if not stale:

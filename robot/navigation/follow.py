@@ -127,7 +127,7 @@ from .grid import MapError, OccupancyGrid, parse_map
 from .local import (BODY, SOCIAL_GAP, TURN_GAP, DWAParams, LatestScan, arcs, carrot, dwa, footprint_distance, heading_speed,
                     people_gaps, people_sweep_clear, social_speed_limit, sweep_clearance, turn_clear)
 from .blind import follow_blind_limit, scan_corners
-from .giveway import LATERAL, NARROW, back_out_spot, give_way_spot, reverse_command, way_distance
+from .giveway import LATERAL, NARROW, axis_offset, back_out_spot, give_way_spot, passage_axis, reverse_command, way_distance
 from .people import People, behind_clear, in_the_way, nearest
 from .route import Route
 from .seen import SeenGround, footprint_samples
@@ -152,8 +152,13 @@ WALK_BACK = math.radians(135)
 #: m: a searched point nearer the floor plan's walls or furniture than this is no place a person stands
 #: (:meth:`Follower._not_there`: a track coasting on into the passage's wall at its blind bend, bend23)
 WALL_BODY = 0.15
-#: quarter-second steps: the free run ahead by which the heading is chosen (the longest; of equal ones the least turn)
+#: quarter-second steps: the free run ahead looked along for each heading (:meth:`Follower._walk_turn`)
 WALK_RUN = 8
+#: m: ... a heading whose run goes this far free (or all :data:`WALK_RUN` steps) is a way on, and of the ways on
+#: she takes the least turn from where she was walking, not the longest run: round the bend of a 1.0 m L passage
+#: the way back down its first leg ran 2 m free where the way on up its other leg, beside its wall, ran 1.5 m
+#: (search25); with no such way on, the longest run
+WALK_AHEAD = 1.0
 #: s: ... and where that point is seen empty too (:meth:`Follower._not_there`), on up to this long (the longest
 #: follow search, :func:`robot.partner_search.follow_search_time`'s cap)
 SEARCH_WALK_FAR = 15.0
@@ -276,6 +281,19 @@ MAKE_WAY_LEAVING = False
 LEAVE_VIEW = math.radians(60)
 #: rad: giving way, the partner is kept within this bearing (turned to when further off)
 GIVE_WAY_BEARING = math.radians(80)
+#: rad: standing in a door frame or a passage (its centre within ``NARROW`` of the floor plan) with her within the
+#: near band, its turns (the wait's turn to face her, the give-way's turn to keep her in view, the back-out's steering)
+#: keep its heading within this of the passage's axis (:func:`~robot.navigation.giveway.passage_axis`), or turn it
+#: back toward it: turned 43 degrees off a 0.9 m door's axis to face her, it stood wedged in the door mouth, every
+#: back-out step refused (the jamb behind, her in front), her only way out blocked for the rest of the run
+#: (review24 F0: tests/scenarios/follow/way23_box_room_back_out.xml seeds 2 and 9). She stays in view at 20 degrees
+AXIS_TURN = math.radians(20)
+#: m, s: following, when every give-way and back-out command has stayed zero (``GIVE_WAY_STALL`` s: a step back
+#: first, :meth:`Follower._step_back`) for IN_WAY_ASK s with her within IN_WAY_NEAR and the robot in a door frame or a
+#: passage, it asks her to step back a little (ES event ``in_her_way``), at most every IN_WAY_EVERY s
+IN_WAY_NEAR, IN_WAY_ASK, IN_WAY_EVERY = 0.8, 4.0, 10.0
+#: m/s: a give-way step slower than this turns on the spot (held to :data:`AXIS_TURN`); a faster one drives out
+AXIS_CREEP = 0.05
 #: rad: the catch-up's end faces her when she is within this bearing
 FACED = math.radians(8)
 #: m: laser echoes this close to the partner's track are her legs (the rule shared with person attention:
@@ -431,6 +449,9 @@ class Follower(Module):
     _making_way: tuple[float] | None = None
     _block: list[Any] | None = None  # (__init__ sets it; _held_up replaces it, _make_room updates it)
     _backout_refused: tuple[float, float] | None = None
+    _in_way_since: float | None = None
+    _in_way_last = -math.inf
+    _in_way_asked = -math.inf
     _aside_moving: tuple[float, float, float, float, float] | None = None
     #: nothing pressed, and never told otherwise (__init__ gives each follower its own, heard on the bus)
     bumpers = own_reflex()
@@ -499,6 +520,9 @@ class Follower(Module):
         self._leave_aside = False  # the give-way under way makes way for her walking out (Follower._leaving)
         self._leave_way = (0.0, 0.0)  # ... to this point (odom)
         self._aside_stall: tuple[float, float] | None = None  # (since, last): the forward give-way's command zero
+        self._in_way_since: float | None = None  # following, since when every give-way command has been zero, her close
+        self._in_way_last = -math.inf  # ... the last such command
+        self._in_way_asked = -math.inf  # when it last asked her to step back (in_her_way)
         self._backout_failed: tuple[float, float, float, float, float] | None = None  # (when, robot x y, her x y): a back-out search found no way
         self._backout_refused: tuple[float, float] | None = None  # (since, last): every back-out step refused
         self._aside_moving: tuple[float, float, float, float, float] | None = None  # (since, x, y, heading, last): forward give-way progress
@@ -882,6 +906,8 @@ class Follower(Module):
                 return aside
         if self._aside is None:
             self._leave_aside = False
+        if not (close or coming):
+            self._in_way_since = None
         if close or coming:
             # she stands close in front of it while it follows: it is in her way (in a door frame or a
             # passage at once; anywhere once she has stood there GIVE_WAY_HELD s, held up): step aside;
@@ -889,6 +915,7 @@ class Follower(Module):
             # or, in a door frame or passage, backs out
             aside = self._give_way(px, py, mapped, held=close and self.now - self._close_since >= GIVE_WAY_HELD,
                                    back_only=not close, step_back=True)
+            aside = self._still_in_her_way(aside, d, px, py, mapped)
             if aside is not None:  # she is close and it stands in her way in a door or passage: step aside
                 self._command(*aside)
                 self._status(d, False, "giving_way")
@@ -917,6 +944,12 @@ class Follower(Module):
                 v, w = self._back_off_clear(v, w, self._bodies(rx, ry), mapped)
             if v == 0.0 and w != 0.0:  # turning to her: no corner swung into her (she may stand close) or anyone
                 w = w if turn_clear(w, self._bodies(rx, ry, guess=searching), duration=SWEEP_TIME) else 0.0
+            if (v == 0.0 and w != 0.0 and not searching and d < self.band[0]
+                    and math.hypot(tr["vx"], tr["vy"]) < GIVE_WAY_STILL):
+                # turning on the spot to face her standing close while it stands in a door frame: not across it
+                # (AXIS_TURN). Not for one walking: backing off from her while turning to her, held straight, it came
+                # within 0.12 m of a partner walking back past it (library goto seed 8; main 0.50 m)
+                w = self._axis_turn(w)
             if searching and v == 0.0:
                 w = self._search_turn(w, bearing, rx, ry, mapped)
             elif not searching:
@@ -996,7 +1029,7 @@ class Follower(Module):
             # beside anyone known, as running at it (People.newborn: a boy out of a side door of a 1.1 m hallway
             # at 1.5 m/s, first seen 1.13 m off, was left out for that scan and touched; corr_hallway_crossing)
             way = in_the_way(self.people, self.odom, self.now, echoes=self.scan.points(), first_seen=True,
-                             exclude=self.partner_id)
+                             exclude=self.partner_id, gone=self._nobody_there(tr, searching))
             contact = contact_speed_limit(way,
                                           limits.max_speed, decel=self.limits.max_accel, w=self.w,
                                           dw=self.limits.max_turn_accel * self.period)
@@ -1191,9 +1224,12 @@ class Follower(Module):
             return px, py
         rx, ry = self._to_robot(px, py)
         # nobody stands with their centre on a wall or outside the floor plan's rooms: a track coasting on into
-        # the wall (she turned round a blind bend, her track went on straight) is no place she can be (bend23)
-        if (not self.scan.sees_through(rx, ry) and self.route.clearance((px, py)) >= WALL_BODY
-                and self.route.inside((px, py))):
+        # the wall (she turned round a blind bend, her track went on straight) is no place she can be (bend23);
+        # nor is the point already seen empty for this sighting (the far walk begun): come up to it, the robot no
+        # longer sees it (beside it, under the laser's reach) and had gone back to stand there until it declared
+        # her lost while she walked on up the passage's other leg (search25, fresh11 twin_passage_chat)
+        if (self._walked_far != self._seen_pos[2] and not self.scan.sees_through(rx, ry)
+                and self.route.clearance((px, py)) >= WALL_BODY and self.route.inside((px, py))):
             return px, py
         vx, vy = self._seen_v
         if math.hypot(vx, vy) < WALKING:
@@ -1212,6 +1248,23 @@ class Follower(Module):
             if self._walked_far == st:
                 q = self._walk_on((sx, sy), (vx, vy), min(self.now - st, SEARCH_WALK_FAR))
         return q
+
+    def _nobody_there(self, tr: dict[str, Any], searching: bool) -> str | None:
+        """Searching (her track unmeasured over :attr:`lost_after`), her coasting track's id when its centre lies within
+        :data:`WALL_BODY` of the floor plan, or the latest scan looks at the disc round it and finds it empty
+        (:meth:`LatestScan.sees_through`, the disc kept off the floor plan's walls as in :meth:`_not_there`): nobody
+        stands there, so the contact limit leaves it out; else None. Her track stood where she was last measured, beside the wall at a passage's blind bend, kept "standing"
+        by the wall's echo; the contact limit took it for her standing in its way, brought the robot to a halt 0.7 m
+        from it and the search ran out there while she walked on up the passage's other leg (search25)."""
+        if not searching or self.partner_id is None:
+            return None
+        age = max(0.0, self.now - tr["t"])  # where the contact limit puts it: predicted by its velocity to now
+        x, y = tr["x"] + tr["vx"] * age, tr["y"] + tr["vy"] * age
+        clearance = self.route.clearance((x, y))
+        if clearance < WALL_BODY:  # nobody stands with their centre on a wall (as in _not_there)
+            return self.partner_id
+        radius = min(0.25, max(0.1, clearance - 0.05))
+        return self.partner_id if self.scan.sees_through(*self._to_robot(x, y), radius) else None
 
     def _give_way(self, px: float, py: float, mapped: np.ndarray, *, held: bool = False,
                   back_only: bool = False, view: float = GIVE_WAY_BEARING, step_back: bool = False,
@@ -1282,9 +1335,12 @@ class Follower(Module):
             # who is not seen for a while): turn towards her, then go on aside; not while a corner
             # would swing into her or anyone
             w = max(-self.limits.max_turn, min(self.limits.max_turn, 1.8 * bearing))
-            bodies = self._bodies(rx, ry)
-            v, w = self._swept(0.0, w, mapped)
-            return (v, w) if people_sweep_clear(v, w, bodies, duration=SWEEP_TIME, gap=TURN_GAP) else (0.0, 0.0)
+            # not across a door frame it stands in (AXIS_TURN): turned as far as that allows, it goes on aside
+            w = self._axis_turn(w)
+            if w != 0.0:
+                bodies = self._bodies(rx, ry)
+                v, w = self._swept(0.0, w, mapped)
+                return (v, w) if people_sweep_clear(v, w, bodies, duration=SWEEP_TIME, gap=TURN_GAP) else (0.0, 0.0)
         pts = self.scan.points()
         if len(mapped):
             pts = np.concatenate((pts, mapped))
@@ -1295,6 +1351,10 @@ class Follower(Module):
         v_pref = heading_speed(GIVE_WAY_SPEED, math.atan2(gy, gx))
         cmd = dwa(self.v, self.w, (gx, gy), pts, limits, v_pref=v_pref, params=self.params, people=people)
         out = self._aside_clear(cmd.v, cmd.w, self._bodies(rx, ry), pts)
+        if abs(out[0]) < AXIS_CREEP:  # turning on the spot toward the spot: not across a door frame (AXIS_TURN)
+            out = (out[0], self._axis_turn(out[1]))
+            if abs(out[0]) < 1e-9 and abs(out[1]) < 1e-9:
+                out = (0.0, 0.0)
         return self._unstall(out, px, py, mapped, step_back=step_back)
 
     def _make_way(self, px: float, py: float, mapped: np.ndarray) -> tuple[float, float] | None:
@@ -1446,7 +1506,7 @@ class Follower(Module):
         return None
 
     def _unstall(self, cmd: tuple[float, float], px: float, py: float, mapped: np.ndarray,
-                 step_back: bool = True) -> tuple[float, float]:
+                 step_back: bool = False) -> tuple[float, float]:
         """The forward give-way's command ``cmd``; when it has stayed zero for :data:`GIVE_WAY_STALL` s
         (the spot lies beside her and every step toward it swings a corner into her: galley_follow_bend,
         the approach ended just inside a dead-end room's door with her 0.5 m in front), or has got it nowhere
@@ -1644,11 +1704,12 @@ class Follower(Module):
                    first: tuple[float, float]) -> tuple[float, float] | None:
         """Where she walks on from ``at`` when the step at velocity ``v`` is not free: of the headings within
         :data:`WALK_BACK` of her heading when last seen (``first``, in :data:`WALK_STEP` steps: she does not walk
-        back), the one whose quarter-second steps run furthest (up to :data:`WALK_RUN` of them) without crossing
-        the floor plan, of equal runs the one nearest ``v``, of those the one ending furthest off the walls; None
-        when none has a free step (a dead end)."""
+        back), those whose quarter-second steps run :data:`WALK_AHEAD` free or all :data:`WALK_RUN` of them
+        without crossing the floor plan are ways on, and of those she takes the one nearest ``v`` (the least
+        turn), of equal turns the longer run, then the one ending furthest off the walls; with no way on, the
+        longest run (of equal runs the least turn); None when no heading has a free step (a dead end)."""
         best: tuple[float, float] | None = None
-        rank: tuple[int, float, float] = (0, 0.0, 0.0)  # (run, -turn, clearance at the run's end)
+        rank: tuple[int, float, float, float] = (0, 0.0, 0.0, 0.0)
         speed, base, now = math.hypot(*v), math.atan2(first[1], first[0]), math.atan2(v[1], v[0])
         n = int(round(WALK_BACK / WALK_STEP))
         for i in range(-n, n + 1):
@@ -1660,9 +1721,11 @@ class Follower(Module):
                 if not self._step_free((x, y), (nx, ny)):
                     break
                 k, x, y = k + 1, nx, ny
-            # the longest run; of equal runs the least turn, of equal turns (either way) the one that ends furthest
-            # off the walls (along a wall met head-on: the way she drifted)
-            key = (k, -round(abs(math.remainder(h - now, math.tau)), 6), self.route.clearance((x, y)))
+            # a way on: the least turn, of equal turns the longer run, of equal runs (either way) the one that ends
+            # furthest off the walls (along a wall met head-on: the way she drifted); else the longest run
+            turn = -round(abs(math.remainder(h - now, math.tau)), 6)
+            on = k == WALK_RUN or k * speed * 0.25 >= WALK_AHEAD - 1e-9
+            key = (1, turn, k, self.route.clearance((x, y))) if on else (0, k, turn, self.route.clearance((x, y)))
             if k > 0 and (best is None or key > rank):
                 best, rank = tv, key
         return best
@@ -1753,6 +1816,7 @@ class Follower(Module):
         :data:`~robot.navigation.local.SOCIAL_GAP` or than it is, never toward a person the
         attention tracks behind it."""
         v, w = reverse_command(goal, speed=min(self.limits.max_reverse, GIVE_WAY_SPEED), max_turn=self.limits.max_turn)
+        w = self._axis_turn(w)  # straight out of a door frame, not across it (AXIS_TURN)
         pts = self.scan.points()
         people = self.people.around(self.odom, self.now, echoes=pts if len(pts) else None)  # type: ignore[arg-type]
         if v < 0.0 and not behind_clear(people, length=FOOTPRINT[0], width=FOOTPRINT[1], reach=BACK_REACH):
@@ -1778,6 +1842,60 @@ class Follower(Module):
             return 0.0, 0.0
         return self._free_turn(v, bodies, mapped, here)
 
+    def _still_in_her_way(self, aside: tuple[float, float] | None, d: float, px: float, py: float,
+                          mapped: np.ndarray) -> tuple[float, float] | None:
+        """Following, the give-way's command ``aside`` (None: no give-way here) with her (odom ``px, py``) ``d`` m
+        off: when every give-way and back-out command has stayed zero for :data:`GIVE_WAY_STALL` s with her within
+        :data:`IN_WAY_NEAR` and the robot in a door frame or a passage, a step back off her way (:meth:`_step_back`);
+        with none either for :data:`IN_WAY_ASK` s, the ES event ``in_her_way`` (the dialog: "I am in your way. Could
+        you step back a little, please?"), at most every :data:`IN_WAY_EVERY` s. review24 F0: no step it can take
+        must leave it standing in her only way out without a word."""
+        if (aside not in (None, (0.0, 0.0)) or d >= IN_WAY_NEAR or self.odom is None
+                or self.route.clearance(self.odom[:2]) >= NARROW):
+            self._in_way_since = None
+            return aside
+        if self._in_way_since is None or self.now - self._in_way_last > 0.5:  # (a new stand, not an old one)
+            self._in_way_since = self.now
+        self._in_way_last = self.now
+        if self.now - self._in_way_since < GIVE_WAY_STALL:
+            return aside
+        if aside is not None:
+            out = self._step_back(aside, px, py, mapped)
+            if out != aside:
+                self._in_way_since = self.now  # it moves: the stand begins again
+                return out
+        if self.now - self._in_way_since >= IN_WAY_ASK and self.now - self._in_way_asked >= IN_WAY_EVERY:
+            self._in_way_asked = self.now
+            rx, ry = self._to_robot(px, py)
+            self.bus.publish(ES_EVENTS, etree.Element("event", name="in_her_way", bearing=f"{math.degrees(math.atan2(ry, rx)):.1f}",
+                                                      distance=f"{d:.2f}"))
+        return aside
+
+    def _axis_turn(self, w: float) -> float:
+        """The turn rate ``w`` limited so that, standing in a door frame or a passage (:func:`passage_axis` on the
+        floor plan), its heading a sweep from now (:data:`SWEEP_TIME`) stays within :data:`AXIS_TURN` of the passage's
+        axis (either way along it); a turn back toward the axis is never limited; ``w`` itself off a passage or
+        without a floor plan."""
+        if w == 0.0 or self.odom is None:
+            return w
+        route = getattr(self, "route", None)  # (tests build followers without one)
+        grid = getattr(route, "grid", None)
+        if not isinstance(grid, OccupancyGrid) or not getattr(route, "ready", True):
+            return w
+        x, y, th = self.odom
+        a = self.route.to_map((x, y))
+        axis = passage_axis(grid, a)
+        if axis is None:
+            return w
+        b = self.route.to_map((x + math.cos(th), y + math.sin(th)))
+        heading = math.atan2(b[1] - a[1], b[0] - a[0])  # (map frame)
+        off = axis_offset(heading, axis)
+        after = axis_offset(heading + w * SWEEP_TIME, axis)  # (either way along the axis: past 90 degrees it nears the other)
+        if abs(after) <= AXIS_TURN or abs(after) <= abs(off):
+            return w
+        w2 = (math.copysign(AXIS_TURN, off + w * SWEEP_TIME) - off) / SWEEP_TIME
+        return w2 if w2 * w > 0.0 else 0.0
+
     def _free_turn(self, v: float, bodies: np.ndarray, mapped: np.ndarray, here: float) -> tuple[float, float]:
         """Backing out of her way with every reverse step refused for :data:`BACKOUT_ALIGN` s: a slower step,
         kept as every back-out step is (:func:`sweep_allowed`, no nearer to anyone's ``bodies`` than the social
@@ -1797,6 +1915,8 @@ class Follower(Module):
         turns = [(0.0, w) for w in (turn / 4, -turn / 4, turn / 2, -turn / 2)]
         for group, floor in ((backs, -math.inf), (turns, here + BACKOUT_GAIN)):
             for cand in group:
+                if self._axis_turn(cand[1]) != cand[1]:
+                    continue  # not across a door frame (AXIS_TURN)
                 x, y, th = arcs(np.array([cand[0]]), np.array([cand[1]]), np.array([SWEEP_TIME]))
                 c, s_ = math.cos(float(th[0][0])), math.sin(float(th[0][0]))
                 dx, dy = mapped[:, 0] - float(x[0][0]), mapped[:, 1] - float(y[0][0])

@@ -254,3 +254,42 @@ def _passes(path: list[Point], p: Point) -> float:
     t = np.clip((ap * ab).sum(axis=1) / np.maximum((ab * ab).sum(axis=1), 1e-12), 0.0, 1.0)
     q = a + ab * t[:, None]
     return float(np.hypot(q[:, 0] - p[0], q[:, 1] - p[1]).min())
+
+
+
+#: m: a passage's sides are looked for within this distance of the robot's centre
+AXIS_REACH = 1.2
+
+
+def passage_axis(grid: OccupancyGrid, p: Point) -> float | None:
+    """The axis (map frame, radians in [0, pi): either way along it) of the door frame or passage whose
+    floor point ``p`` (map frame) lies within :data:`NARROW` of the floor plan, else None (a room's floor).
+
+    Its two sides: the floor plan's nearest point to ``p`` (a jamb's end, a hallway's wall) and the nearest on the
+    other side of ``p`` (the half-plane facing away from the first: the other jamb's end, the opposite wall), both
+    within :data:`AXIS_REACH`; the axis runs square to the line joining them (through a door, its normal, also
+    from the room side of its mouth or a little off its middle; along a hallway, the hallway). None without a
+    second side (a wall's face in a room)."""
+    cell = grid.cell
+    i, j = int((p[0] - grid.origin[0]) / cell), int((p[1] - grid.origin[1]) / cell)
+    if not (0 <= i < grid.nx and 0 <= j < grid.ny) or grid.clearance[i, j] >= NARROW:
+        return None
+    k = int(AXIS_REACH / cell) + 1
+    i0, j0 = max(i - k, 0), max(j - k, 0)
+    ii, jj = np.nonzero(grid.occupied[i0:i + k + 1, j0:j + k + 1])
+    if not len(ii):
+        return None
+    dx = grid.origin[0] + (ii + i0 + 0.5) * cell - p[0]
+    dy = grid.origin[1] + (jj + j0 + 0.5) * cell - p[1]
+    d = np.hypot(dx, dy)
+    a = int(np.argmin(d))
+    other = (dx * dx[a] + dy * dy[a] < 0.0) & (d <= AXIS_REACH)
+    if not other.any():
+        return None
+    b = int(np.flatnonzero(other)[np.argmin(d[other])])
+    return (math.atan2(dy[b] - dy[a], dx[b] - dx[a]) + math.pi / 2) % math.pi
+
+
+def axis_offset(heading: float, axis: float) -> float:
+    """How far (radians, signed, within +-pi/2) ``heading`` lies off a passage's ``axis`` (either way along it)."""
+    return (heading - axis + math.pi / 2) % math.pi - math.pi / 2

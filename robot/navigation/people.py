@@ -149,20 +149,22 @@ class People:
                 out.append((str(t.get("id")), c * dx + s * dy, -s * dx + c * dy, c * vx + s * vy, -s * vx + c * vy, var))
         return out
 
-    def stopped(self, odom: tuple[float, float, float], now: float, *, reach: float = REACH) -> np.ndarray:
+    def stopped(self, odom: tuple[float, float, float], now: float, *, reach: float = REACH,
+                exclude: str | None = None) -> np.ndarray:
         """(K, 4) robot-frame centres (predicted to ``now``) of the confirmed tracks within ``reach`` m that are
         :data:`RESUME_SLOWER` m/s slower now than their fastest walk (:data:`RESUME_WALK` or faster) of the last
         :data:`RESUME_FOR` s, each with the velocity of that walk: someone who stopped dead may walk on as they walked (a child running across stops for a moment in
         front of the robot and runs on, cross_child_stops_twins seed 4: met at 0.01 m of air by a robot at full speed,
         who reckoned her standing), and as they set off again the tracker's velocity lags theirs (the same child: 0.5
-        m/s reported three scans into her 2 m/s run). The tracks' own rows stay: the limit is the least over both."""
+        m/s reported three scans into her 2 m/s run). The tracks' own rows stay: the limit is the least over both.
+        ``exclude``: a track id left out."""
         xml = self.xml
         if xml is None or not self.walked:
             return np.zeros((0, 4))
         ox, oy, oth = odom
         c, s = math.cos(oth), math.sin(oth)
         out = []
-        for t, x, y, vx, vy in self._predicted(xml, now, None):
+        for t, x, y, vx, vy in self._predicted(xml, now, exclude):
             tid = str(t.get("id"))
             if tid not in self.walked:
                 continue
@@ -344,7 +346,7 @@ EMERGING_WALK = 0.3
 
 
 def in_the_way(people: People, odom: tuple[float, float, float], now: float, *, echoes: np.ndarray | None = None,
-               first_seen: bool = False, exclude: str | None = None) -> np.ndarray:
+               first_seen: bool = False, exclude: str | None = None, gone: str | None = None) -> np.ndarray:
     """(K, 4) robot-frame centres and velocities of everyone the contact limit
     (:func:`robot.footprint.contact_speed_limit`) reckons with: every confirmed track, the partner's too
     (she may turn back into its way), those lost standing where the laser still has an echo (``echoes``),
@@ -352,10 +354,12 @@ def in_the_way(people: People, odom: tuple[float, float, float], now: float, *, 
     a side door is a few scans old when he is in the robot's lane); and, once more, those who stopped dead
     a moment ago, walking on as they walked (:meth:`People.stopped`: the limit is the least over both).
     ``first_seen`` (the follower's): also whoever is seen for the first time close ahead, as running at it
-    (:meth:`People.newborn`; ``exclude``: the partner's track id, left out of those)."""
+    (:meth:`People.newborn`; ``exclude``: the partner's track id, left out of those). ``gone``: a track id left out
+    altogether (the follower's: its partner's coasting track where the laser looks and sees nobody)."""
     born = people.newborn(odom, now, exclude=exclude) if first_seen else np.zeros((0, 4))
-    rows = [a for a in (people.around(odom, now, echoes=echoes, velocity=True),
-                        people.emerging(odom, now, moving=EMERGING_WALK, reach=REACH), people.stopped(odom, now), born)
+    rows = [a for a in (people.around(odom, now, exclude=gone, echoes=echoes, velocity=True),
+                        people.emerging(odom, now, moving=EMERGING_WALK, reach=REACH),
+                        people.stopped(odom, now, exclude=gone), born)
             if len(a)]
     return np.concatenate(rows) if rows else np.zeros((0, 4))
 
