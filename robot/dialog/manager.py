@@ -91,6 +91,12 @@ class Slot:
     stamp: etree._Element | None = None  # the TIMESTAMP of the utterance that filled it
 
 
+#: acts that ask the robot to do nothing it could have just done (a greeting, an answer, the good-bye that ends
+#: the talk): never taken as a request repeated over the robot's word that it was done
+#: (:meth:`DialogManager.repeats_last_success`)
+NOT_A_REQUEST = frozenset({"GREETING", "GOODBYE", "YES", "NO", "THAT_ONE"})
+
+
 def _is_object(value: Any) -> bool:
     """Whether a slot holds a thing shown (an ``OBJECT`` frame), which "the one on the table" can pick out."""
     return isinstance(value, etree._Element) and value.tag == "OBJECT"
@@ -264,7 +270,7 @@ class DialogManager:
         self._repair_count = 0
         self._hold_resume = False  # a turn that closes one dialog goes on to the next: no resumption speech
         self.metrics: dict[str, Any] = {
-            "user_turns": 0, "robot_turns": 0, "not_understood": 0, "reasks": 0, "confirmations": 0,
+            "user_turns": 0, "robot_turns": 0, "told_again": 0, "not_understood": 0, "reasks": 0, "confirmations": 0,
             "give_ups": 0, "rejections": 0, "rejections_explained": 0, "interruptions": 0, "resumptions": 0,
             "barge_ins": 0, "dropped": 0, "events_sent": 0, "ignored_frames": 0, "unhandled_conditions": 0,
             "confirmed_by_repetition": 0, "corrections": 0, "asked_twice_gave_up": 0, "max_same_question": 0, "taken_after_repairs": 0,
@@ -650,6 +656,37 @@ class DialogManager:
         """An event sent or a question answered yes or no: a given-up question may be asked afresh."""
         self._given_up_asked.clear()
         self._given_up_values.clear()
+
+    @property
+    def last_success(self) -> tuple[str, dict[str, Any], int] | None:
+        """(sub-dialog id, slot values, user turns then) of the last sub-dialog that reached its goal."""
+        return self._last_done
+
+    def repeats_last_success(self, msg: etree._Element) -> bool:
+        """Whether frame ``msg`` asks again for what the last successful sub-dialog has just done: her next
+        turn since (no other turn between), a request of that sub-dialog (not a greeting or an answer) that
+        says the same (:func:`_same` on a slot its whole frame fills). The module decides whether she can
+        have heard the robot say it was done (:meth:`Dialog._told_again`)."""
+        last = self._last_done
+        if last is None or msg.tag != "understood" or self.metrics["user_turns"] != last[2]:
+            return False
+        speech = msg.find("SPEECH")
+        acts = [c for c in speech if c.tag != "TIMESTAMP"] if speech is not None else []
+        if not acts or str(acts[0].tag) in NOT_A_REQUEST:
+            return False
+        act = str(acts[0].tag)
+        d = self.doc.by_trigger(act)
+        if d is None or d.id != last[0]:
+            return False
+        whole = [f for f in d.fills if f.frame and act in f.frame and f.select is None]
+        return any(_same(last[1].get(f.slot), acts[0]) for f in whole if last[1].get(f.slot) is not None)
+
+    def told_again(self) -> None:
+        """Her request repeated over the robot's word that it was done: counted as her turn (metrics)."""
+        self.metrics["user_turns"] += 1
+        self.metrics["told_again"] += 1
+        if self._last_done is not None:
+            self._last_done = (self._last_done[0], self._last_done[1], self.metrics["user_turns"])
 
     def _correcting(self, did: str, act_el: etree._Element) -> etree._Element:
         """"No, this is the bedroom" right after "OK, this is the kitchen. I will remember it.": the

@@ -653,6 +653,9 @@ class Dialog(Module):
         self.held_sentences = 0  # sentences that waited for a pause (metrics)
         self.stale_repairs = 0  # "say that again" not said: the talk went on meanwhile (metrics)
         self.pauses_ended = 0  # a teaching said while following was paused: "stop" sent before it (metrics)
+        # the robot's word that the last successful sub-dialog was done ("OK, I have learned your radio."): [the
+        # success it tells of (the manager's last_success), its text, when it ended (said or cut; inf before)]
+        self._told: list[Any] | None = None
         self._repairs = frozenset(t for t in (self.doc.not_understood, self.doc.sentence("not-understood-reask"),
                                               self.doc.sentence("not-understood-help")) if t)
         self._said = 0  # serial of the last <say> sent
@@ -1093,8 +1096,25 @@ class Dialog(Module):
             # the question again itself if the pointing does not single one out (no "say that again" here)
             self._emit(self.manager.cancel(inst, quiet=True), msg.id)
             return
+        if self._told_again(x, msg.id):
+            return
         self._mark_unchosen(x)
         self._emit(self.manager.on_frame(x), msg.id)
+
+    def _told_again(self, x: etree._Element, cause: str) -> bool:
+        """Her request again, begun before the robot had said to its end that it was done (a retry over "OK, I have
+        learned your radio.", cutting it: perceive/study_far_behind_user seed 5 began the look a second time, and
+        her good-bye came in ObjectTeaching): it is not asked anew, the robot says it again, once. Words begun
+        after the robot's word was heard to its end are a new request (a second radio shown), as before."""
+        told = self._told
+        if told is None or x.tag != "understood" or not float(x.get("start", "inf")) < told[2]:
+            return False
+        if not self.manager.repeats_last_success(x):
+            return False
+        self._told = None  # once: a third time is a new request
+        self.manager.told_again()
+        self._enqueue(told[1], cause)
+        return True
 
     def _mark_unchosen(self, x: etree._Element) -> None:
         """While a clarification is open, tell its sub-dialog whether frame ``x``, taken as the answer,
@@ -1434,6 +1454,8 @@ class Dialog(Module):
                 self._talk_start = start
         elif tag in ("done", "interrupted"):
             self._spoke_at = self.now  # the turn is hers now (FOLLOW_ASKS leave it to her)
+            if self._told is not None and self._told[2] == math.inf and self._told[1] in msg.xml.get("text", ""):
+                self._told[2] = self.now
             if tag == "done" or not self._queue:
                 self._talking = False
             if tag == "done":
@@ -1577,6 +1599,11 @@ class Dialog(Module):
             self.sim.spawn(self._emit_with_explanation(outs, t, cause), name=f"{self.name}-explain")
             return
         self.sim.loop.call_at_ns(to_ns(t), self._send_events, outs, cause)
+        done = self.manager.last_success
+        if done is not None and (self._told is None or self._told[0] is not done):
+            told = " ".join(o.text for o in outs if isinstance(o, Say) and o.dialog == done[0] and o.text)
+            if told:
+                self._told = [done, told, math.inf]
         texts = [o.text for o in outs if isinstance(o, Say)]
         if texts:
             dialogs = frozenset(o.dialog for o in outs if isinstance(o, Say))
