@@ -939,9 +939,14 @@ class Follower(Module):
             # backing straight off takes it away from her only while she is ahead: beside or behind it (she
             # walks past its side) it would reverse into her, so it stands and turns to her (back_off_away)
             v = v_des if v_des < 0 and back_off_away(rx, ry) and self.can_back_off() else 0.0
+            backing = v_des < 0 and back_off_away(rx, ry)  # (its trail is ground it drove over)
             v, w = self._swept(v, w, mapped)
             if v != 0.0:
                 v, w = self._back_off_clear(v, w, self._bodies(rx, ry), mapped)
+            if backing and v == 0.0:
+                # straight back refused (turned to her, the corner of a 1.0 m corridor's wall behind it): back
+                # along its own trail instead, the rear steered onto it (:meth:`_trail_back`, :meth:`_room_step`)
+                v, w = self._trail_reverse(v, w, rx, ry, mapped)
             if v == 0.0 and w != 0.0:  # turning to her: no corner swung into her (she may stand close) or anyone
                 w = w if turn_clear(w, self._bodies(rx, ry, guess=searching), duration=SWEEP_TIME) else 0.0
             if (v == 0.0 and w != 0.0 and not searching and d < self.band[0]
@@ -1484,6 +1489,21 @@ class Follower(Module):
                 return self._to_robot(*crumbs[j])
         return None
 
+    def _trail_reverse(self, v: float, w: float, rx: float, ry: float, mapped: np.ndarray) -> tuple[float, float]:
+        """Backing off from her (robot frame ``rx, ry``) with the straight reverse refused by the floor plan or a
+        body: a step back along its own trail (:meth:`_trail_back`; of the reverse toward it and gentler turns,
+        the first whose sweep keeps off the floor plan and brings nobody nearer, nobody tracked behind:
+        :meth:`_room_step`), else ``(v, w)`` unchanged. Turned to her as she walked back at it along a 1.0 m
+        corridor, its straight reverse led onto the corridor's wall and it stood there, her way back through
+        the corridor blocked for the rest of the run (fresh13 rail_walk_back_pass seed 0)."""
+        goal = self._trail_back()
+        if goal is None:
+            return v, w
+        step = self._room_step(goal, rx, ry, mapped)
+        if step is None or step[0] >= 0.0:
+            return v, w
+        return step
+
     def _room_step(self, goal: tuple[float, float], prx: float, pry: float, mapped: np.ndarray) -> tuple[float, float] | None:
         """One step back toward ``goal`` (robot frame, behind it on its trail): of the reverse command and gentler
         turns, the first whose sweep keeps off the floor plan and brings nobody's body nearer (:func:`backs_away`,
@@ -1997,8 +2017,22 @@ class Follower(Module):
         _, w = self._swept(0.0, w, self.route.obstacles_near(self.odom))
         if w == 0.0:
             return None
+        # no corner swung into anyone, her above all: she has just said stop standing close in front of it (held
+        # back in a door it stood in); this turn at full rate, never checked against bodies, swung its corner
+        # into her (fresh13 rail_wrong_corrections seeds 2 and 4: the only contacts with a person of that set)
+        if not turn_clear(w, self._near_bodies(), duration=SWEEP_TIME):
+            return None
         self._command(0.0, w)
         return 0.0, w
+
+    def _near_bodies(self) -> np.ndarray:
+        """Robot-frame centres of everyone near and of the partner's track where it was last seen (:meth:`_bodies`);
+        everyone near alone without her track."""
+        tr = self.track
+        if tr is not None:
+            return self._bodies(*self._to_robot(tr["x"], tr["y"]))
+        near = self.people.around(self.odom, self.now)
+        return near[:, :2] if len(near) else np.zeros((0, 2))
 
     def _standing(self, partner: tuple[float, float]) -> np.ndarray:
         """Odom-frame centres of the people standing about (not the partner, nor a second track on
