@@ -81,6 +81,7 @@ def _acting(seeking: bool, speaking: bool):
     a.fsm.bottom_up(0.0, True, 3 if speaking else 1)
     a.sim = _Clock()
     a._way_look = None
+    a._partner_last = None  # no partner measured yet (voice25's turn toward her voice reads it)
     a._turning = False
     a.turned_away = False
     a._player_drives = a._follower_drives = False
